@@ -1,0 +1,40 @@
+# planerel: two commands do everything on a fresh Debian machine.
+#   make demo   set up, then run the main job end to end (writes out/)
+#   make test   set up, then run the whole test suite
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed
+
+.PHONY: setup demo test bench clean swipl
+
+setup: swipl $(STAMP)
+
+# SWI-Prolog from Debian when it is missing; as non-root, say the exact command instead.
+swipl:
+	@if command -v swipl >/dev/null 2>&1; then :; \
+	elif [ "$$(id -u)" = "0" ] && command -v apt-get >/dev/null 2>&1; then \
+		echo "installing SWI-Prolog (swi-prolog-nox) with apt-get"; \
+		apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends swi-prolog-nox; \
+	else \
+		echo "SWI-Prolog is missing; install it with: sudo apt-get install swi-prolog-nox" >&2; exit 1; \
+	fi
+
+$(STAMP): pyproject.toml
+	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[dev]'
+	@touch $(STAMP)
+
+demo: setup
+	$(PY) examples/demo.py --out out
+
+test: setup
+	$(PY) -m pytest -q
+
+bench: setup
+	$(PY) benchmarks/run_all.py
+
+clean:
+	rm -rf out .pytest_cache build *.egg-info
