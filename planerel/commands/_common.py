@@ -1,0 +1,73 @@
+"""Options and helpers shared by the subcommands that read scans."""
+
+from __future__ import annotations
+
+import argparse
+
+from planerel.errors import InputError
+
+__all__ = ["add_input_options", "read_input", "parse_vector", "parse_intrinsics"]
+
+
+def parse_vector(text: str, name: str = "vector") -> tuple[float, float, float]:
+    """``"x,y,z"`` -> three floats, with a clear error."""
+    try:
+        values = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        raise InputError(f"{name} must be three numbers like 0,-1,0; got {text!r}") from None
+    if len(values) != 3:
+        raise InputError(f"{name} must be three numbers like 0,-1,0; got {text!r}")
+    return values
+
+
+def parse_intrinsics(text: str | None):
+    """``"kinect"`` or ``"W,H,fx,fy,cx,cy"`` -> a value :func:`planerel.io.read` accepts."""
+    if text is None or text.lower() == "kinect":
+        return text
+    parts = text.split(",")
+    if len(parts) != 6:
+        raise InputError(f"--intrinsics must be 'kinect' or W,H,fx,fy,cx,cy; got {text!r}")
+    try:
+        w, h = int(parts[0]), int(parts[1])
+        return (w, h, *(float(p) for p in parts[2:]))
+    except ValueError:
+        raise InputError(f"--intrinsics must be 'kinect' or W,H,fx,fy,cx,cy; got {text!r}") from None
+
+
+def add_input_options(parser: argparse.ArgumentParser) -> None:
+    """``--intrinsics``, ``--depth-scale``, ``--up``, ``--subsample`` for commands that read scans."""
+    g = parser.add_argument_group("reading scans")
+    g.add_argument("--intrinsics", metavar="kinect|W,H,fx,fy,cx,cy",
+                   help="camera of depth images without a sidecar JSON / OpenNI XML "
+                        "(default: the Kinect preset, scaled to the image size)")
+    g.add_argument("--depth-scale", type=float, metavar="UNITS_PER_M",
+                   help="depth units per metre (default: sidecar value, else 1000 for 16-bit "
+                        "images, 1 for float images)")
+    g.add_argument("--up", metavar="X,Y,Z", help="gravity-up vector in the camera frame "
+                   "(default: from the sidecar, else estimated)")
+    g.add_argument("--subsample", type=int, default=1, metavar="K",
+                   help="keep every K-th row and column (the paper's 640x480 -> 160x120 is 4)")
+
+
+def read_input(path, args: argparse.Namespace):
+    """Read one scan with the options of :func:`add_input_options`.
+
+    Depth images with no camera information anywhere fall back to the Kinect preset, and
+    the fallback is printed.
+    """
+    import sys
+
+    from planerel import io
+    from planerel.cloud import subsample
+
+    intr = parse_intrinsics(getattr(args, "intrinsics", None))
+    up = parse_vector(args.up, "--up") if getattr(args, "up", None) else None
+    kwargs = dict(depth_scale=getattr(args, "depth_scale", None), up=up)
+    try:
+        cloud = io.read(path, intrinsics=intr, **kwargs)
+    except InputError as exc:
+        if intr is not None or "no intrinsics" not in str(exc) and "needs intrinsics" not in str(exc):
+            raise
+        print(f"note: {path}: no camera information; assuming Kinect intrinsics", file=sys.stderr)
+        cloud = io.read(path, intrinsics="kinect", **kwargs)
+    return subsample(cloud, getattr(args, "subsample", 1) or 1)

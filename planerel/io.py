@@ -1,0 +1,558 @@
+"""Readers for range images and point clouds.
+
+:func:`read` picks the reader by the file's content (magic bytes) and, failing that, its
+extension.  Every reader is public:
+
+=====================  ================================================================
+``read_depth_image``   16-bit PNG / TIFF depth frames (+ intrinsics from an argument, a
+                       sidecar JSON, or the OpenNI/PCL XML that sits next to the frame)
+``read_pcd``           PCD v0.7 ascii / binary / binary_compressed (LZF), organized or not
+``read_ply``           PLY vertices (ascii or binary), unorganized
+``read_npy``           ``.npy`` holding ``(H, W, 3)`` XYZ (metres) or ``(H, W)`` depth
+``read_abw``           SegComp ABW ``.range`` structured-light images (Sun rasterfile)
+``read_abw_gt``        their ``.gt-seg`` ground-truth label images
+=====================  ================================================================
+
+Libraries do the parsing where they read the format correctly (Pillow, tifffile, pypcd4,
+plyfile); planerel adds validation and a clear :class:`~planerel.errors.InputError` that names
+the file for anything wrong with it.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import struct
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+
+from planerel.cloud import (
+    DEFAULT_DEPTH_SCALE,
+    Cloud,
+    Intrinsics,
+    as_path,
+    depth_to_cloud,
+)
+from planerel.errors import InputError
+
+__all__ = [
+    "read",
+    "read_depth_image",
+    "read_depth_array",
+    "read_pcd",
+    "read_pcd_field",
+    "read_ply",
+    "read_npy",
+    "read_abw",
+    "read_abw_gt",
+    "read_label_image",
+    "find_camera_info",
+    "estimate_intrinsics",
+    "resolve_intrinsics",
+    "FORMATS",
+]
+
+#: Extensions :func:`read` knows, with the reader it uses.
+FORMATS = {
+    ".png": "depth image (16-bit PNG)",
+    ".tif": "depth image (16-bit TIFF)",
+    ".tiff": "depth image (16-bit TIFF)",
+    ".pcd": "PCD point cloud",
+    ".ply": "PLY point cloud",
+    ".npy": "numpy XYZ (H, W, 3) or depth (H, W)",
+    ".range": "SegComp ABW range image",
+}
+
+_SUN_MAGIC = 0x59A66A95
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _existing(path) -> Path:
+    p = as_path(path)
+    if not p.exists():
+        raise InputError(f"{p}: no such file")
+    if p.is_dir():
+        raise InputError(f"{p}: is a folder, not a file")
+    return p
+
+
+def _sniff(path: Path) -> str | None:
+    """The format named by the file's first bytes, or None."""
+    with open(path, "rb") as fh:
+        head = fh.read(64)
+    if head.startswith(b"\x89PNG\r\n\x1a\n"):
+        return ".png"
+    if head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"):
+        return ".tiff"
+    if head.startswith(b"\x93NUMPY"):
+        return ".npy"
+    if head.startswith(b"ply"):
+        return ".ply"
+    if len(head) >= 4 and struct.unpack(">I", head[:4])[0] == _SUN_MAGIC:
+        return ".range"
+    text = head.lstrip()
+    if text.startswith(b"# .PCD") or text.startswith(b"VERSION") or text.startswith(b"FIELDS"):
+        return ".pcd"
+    return None
+
+
+def read(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
+         max_range: float | None = None) -> Cloud:
+    """Read any supported file into a :class:`~planerel.cloud.Cloud`.
+
+    Parameters
+    ----------
+    path : str or Path
+        A depth image (``.png``, ``.tif``), cloud (``.pcd``, ``.ply``), ``.npy`` array or SegComp
+        ``.range`` file.  The content decides the reader when it is recognisable; the extension
+        otherwise.
+    intrinsics : Intrinsics, 6-sequence, dict or "kinect", optional
+        For depth images: overrides any sidecar; ``"kinect"`` is the Kinect preset scaled to the
+        image size.
+    depth_scale : float, optional
+        Depth units per metre for depth images (default: sidecar / XML value, else 1000 for
+        integer images and 1 for float images).
+    up : 3-sequence, optional
+        Gravity-up vector in the camera frame; overrides a sidecar's.
+    max_range : float, optional
+        Depth images only: depths beyond this many metres become invalid.
+    """
+    p = _existing(path)
+    kind = _sniff(p) or p.suffix.lower()
+    if kind in (".png", ".tif", ".tiff"):
+        return read_depth_image(p, intrinsics=intrinsics, depth_scale=depth_scale, up=up,
+                                max_range=max_range)
+    if kind == ".pcd":
+        return read_pcd(p, up=up)
+    if kind == ".ply":
+        return read_ply(p, up=up)
+    if kind == ".npy":
+        return read_npy(p, intrinsics=intrinsics, depth_scale=depth_scale, up=up)
+    if kind == ".range":
+        return read_abw(p)
+    known = ", ".join(sorted(FORMATS))
+    raise InputError(f"{p}: unknown file type {p.suffix or '(no extension)'!r}; planerel reads {known}")
+
+
+# --------------------------------------------------------------------------- intrinsics
+
+
+def _frame_stems(path: Path) -> list[Path]:
+    """Candidate sidecar stems: ``a/b_depth.png`` -> ``a/b_depth``, ``a/b``; ``s0.depth.png`` -> ``s0``."""
+    stems = [path.with_suffix("")]
+    name = stems[0].name
+    for tail in ("_depth", ".depth", "-depth"):
+        if name.endswith(tail):
+            stems.append(stems[0].with_name(name[: -len(tail)]))
+    return stems
+
+
+def _read_sidecar_json(path: Path) -> dict:
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"{path}: sidecar JSON cannot be read ({exc})") from None
+    if not isinstance(data, dict):
+        raise InputError(f"{path}: sidecar JSON must hold an object")
+    return data
+
+
+def _read_openni_xml(path: Path) -> dict:
+    # OpenNI/PCL camera files hold several top-level elements (<rgb>, <depth>): wrap them.
+    try:
+        text = path.read_text(encoding="utf-8")
+        root = ET.fromstring("<r>" + re.sub(r"<\?xml[^>]*\?>", "", text) + "</r>")
+    except (OSError, UnicodeDecodeError, ET.ParseError) as exc:
+        raise InputError(f"{path}: camera XML cannot be read ({exc})") from None
+    node = root.find("depth")
+    if node is None:
+        node = root.find("*/depth")
+    if node is None:
+        raise InputError(f"{path}: camera XML has no <depth> element")
+
+    def num(tag):
+        el = node.find(tag)
+        if el is None or el.text is None:
+            raise InputError(f"{path}: camera XML lacks <{tag}> in <depth>")
+        try:
+            return float(el.text)
+        except ValueError:
+            raise InputError(f"{path}: <{tag}> is not a number: {el.text!r}") from None
+
+    out = {"fx": num("focal_length_x"), "fy": num("focal_length_y"),
+           "cx": num("principal_point_x"), "cy": num("principal_point_y")}
+    if node.find("z_multiplication_factor") is not None:
+        factor = num("z_multiplication_factor")
+        if factor <= 0:
+            raise InputError(f"{path}: z_multiplication_factor must be positive, got {factor}")
+        out["depth_scale"] = 1.0 / factor
+    return out
+
+
+def find_camera_info(path) -> dict:
+    """Camera information stored next to a depth frame.
+
+    Looks for a sidecar ``STEM.json`` (keys ``intrinsics`` {width, height, fx, fy, cx, cy},
+    ``depth_scale``, ``up``) and then an OpenNI/PCL ``STEM.xml``, where STEM is the frame's name
+    without its extension and without a trailing ``_depth`` / ``.depth``.
+
+    Returns
+    -------
+    dict
+        Possibly empty; keys among ``intrinsics`` (dict without size for XML), ``depth_scale``,
+        ``up``, ``source``.
+    """
+    p = as_path(path)
+    for stem in _frame_stems(p):
+        js = stem.with_name(stem.name + ".json")
+        if js.is_file():
+            data = _read_sidecar_json(js)
+            out = {"source": str(js)}
+            for key in ("intrinsics", "depth_scale", "up"):
+                if data.get(key) is not None:
+                    out[key] = data[key]
+            return out
+    for stem in _frame_stems(p):
+        xml = stem.with_name(stem.name + ".xml")
+        if xml.is_file():
+            info = _read_openni_xml(xml)
+            out = {"source": str(xml), "intrinsics": {k: info[k] for k in ("fx", "fy", "cx", "cy")}}
+            if "depth_scale" in info:
+                out["depth_scale"] = info["depth_scale"]
+            return out
+    return {}
+
+
+def resolve_intrinsics(value, width: int, height: int, where: str = "image") -> Intrinsics:
+    """Turn a user's intrinsics (object, dict with or without size, 6-sequence, 3x3 K or
+    ``"kinect"``) into :class:`Intrinsics` for a ``width x height`` image."""
+    if isinstance(value, str):
+        if value.lower() != "kinect":
+            raise InputError(f"{where}: unknown intrinsics preset {value!r} (known: 'kinect')")
+        return Intrinsics.kinect(width, height)
+    if isinstance(value, dict) and ("width" not in value or "height" not in value):
+        value = {**value, "width": width, "height": height}
+    arr = np.asarray(value, dtype=object) if not isinstance(value, (dict, Intrinsics)) else None
+    if arr is not None and arr.shape == (3, 3):
+        return Intrinsics.from_matrix(np.asarray(value, dtype=float), width, height)
+    return Intrinsics.from_any(value)
+
+
+def estimate_intrinsics(xyz: np.ndarray, tolerance: float = 0.05) -> Intrinsics | None:
+    """Pinhole intrinsics that reproduce an organized cloud, or None when none fits.
+
+    Fits ``u = fx * x/z + cx`` and ``v = fy * y/z + cy`` by least squares over the valid pixels;
+    accepted when the worst residual is below ``tolerance`` pixels (exact back-projections, as
+    in PCL's organized clouds, fit to about 1e-4 px).
+
+    Parameters
+    ----------
+    xyz : ndarray, shape (H, W, 3)
+    """
+    h, w = xyz.shape[:2]
+    valid = np.all(np.isfinite(xyz), axis=2) & (xyz[:, :, 2] > 0)
+    if valid.sum() < 10:
+        return None
+    vv, uu = np.nonzero(valid)
+    step = max(1, len(uu) // 20000)
+    vv, uu = vv[::step], uu[::step]
+    p = xyz[vv, uu]
+    a = p[:, 0] / p[:, 2]
+    b = p[:, 1] / p[:, 2]
+    if np.ptp(a) == 0 or np.ptp(b) == 0:
+        return None
+    ax = np.stack([a, np.ones_like(a)], axis=1)
+    by = np.stack([b, np.ones_like(b)], axis=1)
+    (fx, cx), *_ = np.linalg.lstsq(ax, uu.astype(float), rcond=None)
+    (fy, cy), *_ = np.linalg.lstsq(by, vv.astype(float), rcond=None)
+    if fx <= 0 or fy <= 0:
+        return None
+    res = max(np.abs(ax @ [fx, cx] - uu).max(), np.abs(by @ [fy, cy] - vv).max())
+    if res > tolerance:
+        return None
+    return Intrinsics(w, h, round(fx, 3), round(fy, 3), round(cx, 3), round(cy, 3))
+
+
+# --------------------------------------------------------------------------- depth images
+
+
+def read_depth_array(path) -> np.ndarray:
+    """The raw pixel values of a depth PNG or TIFF, ``(H, W)``, as stored (uint16 usually)."""
+    p = _existing(path)
+    kind = _sniff(p) or p.suffix.lower()
+    try:
+        if kind in (".tif", ".tiff"):
+            import tifffile
+
+            arr = tifffile.imread(p)
+        elif kind == ".png":
+            from PIL import Image
+
+            with Image.open(p) as img:
+                img.load()
+                arr = np.asarray(img)
+        else:
+            raise InputError(f"{p}: not a PNG or TIFF depth image")
+    except InputError:
+        raise
+    except Exception as exc:  # library errors on corrupt data vary by library
+        raise InputError(f"{p}: cannot read the image ({type(exc).__name__}: {exc})") from None
+    arr = np.squeeze(arr)
+    if arr.ndim != 2:
+        raise InputError(f"{p}: a depth image must have one channel, got shape {arr.shape}")
+    if not (np.issubdtype(arr.dtype, np.integer) or np.issubdtype(arr.dtype, np.floating)):
+        raise InputError(f"{p}: depth pixels must be numbers, got dtype {arr.dtype}")
+    if arr.dtype == np.uint8:
+        raise InputError(f"{p}: an 8-bit image is not a depth image (expected 16-bit or float)")
+    return arr
+
+
+def read_depth_image(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
+                     max_range: float | None = None) -> Cloud:
+    """Read a 16-bit (or float) depth PNG/TIFF into an organized cloud.
+
+    Intrinsics and depth scale come from the arguments, else a sidecar ``.json``, else an
+    OpenNI/PCL ``.xml`` next to the frame (see :func:`find_camera_info`).
+
+    Raises
+    ------
+    InputError
+        Unreadable image, no intrinsics anywhere, bad depth scale, or no valid pixel.
+    """
+    p = _existing(path)
+    raw = read_depth_array(p)
+    h, w = raw.shape
+    info = find_camera_info(p)
+    intr_value = intrinsics if intrinsics is not None else info.get("intrinsics")
+    if intr_value is None:
+        raise InputError(
+            f"{p}: no intrinsics for this depth image: pass intrinsics (e.g. --intrinsics kinect "
+            "or width,height,fx,fy,cx,cy) or put a sidecar JSON / OpenNI XML next to it"
+        )
+    intr = resolve_intrinsics(intr_value, w, h, str(p))
+    if depth_scale is None:
+        depth_scale = info.get("depth_scale")
+    if depth_scale is None:
+        depth_scale = 1.0 if np.issubdtype(raw.dtype, np.floating) else DEFAULT_DEPTH_SCALE
+    return depth_to_cloud(raw, intr, depth_scale, up=up if up is not None else info.get("up"),
+                          source=str(p), max_range=max_range)
+
+
+# --------------------------------------------------------------------------- PCD
+
+
+def _load_pcd(path: Path):
+    import pypcd4
+
+    try:
+        pc = pypcd4.PointCloud.from_path(path)
+    except Exception as exc:  # pypcd4/pydantic/lzf raise many types on corrupt files
+        raise InputError(f"{path}: not a readable PCD file ({type(exc).__name__}: {exc})") from None
+    md = pc.metadata
+    if md.width * md.height != md.points or pc.pc_data.shape[0] != md.points:
+        raise InputError(
+            f"{path}: PCD header says {md.points} points ({md.width}x{md.height}) "
+            f"but the data holds {pc.pc_data.shape[0]}"
+        )
+    return pc
+
+
+def read_pcd(path, *, up=None) -> Cloud:
+    """Read a PCD file (ascii, binary or binary_compressed).
+
+    An organized cloud (HEIGHT > 1) keeps its ``(H, W)`` grid, and its intrinsics are recovered
+    by :func:`estimate_intrinsics` when the points are an exact pinhole back-projection.
+    An unorganized cloud becomes ``(1, N, 3)`` with ``organized=False``.
+    """
+    p = _existing(path)
+    pc = _load_pcd(p)
+    md = pc.metadata
+    missing = [f for f in ("x", "y", "z") if f not in md.fields]
+    if missing:
+        raise InputError(f"{p}: PCD has no {'/'.join(missing)} field (fields: {' '.join(md.fields)})")
+    xyz = np.asarray(pc.numpy(("x", "y", "z")), dtype=np.float64)
+    organized = md.height > 1
+    xyz = xyz.reshape(md.height, md.width, 3) if organized else xyz.reshape(1, -1, 3)
+    if xyz.size == 0:
+        raise InputError(f"{p}: PCD holds no points")
+    intr = estimate_intrinsics(xyz) if organized else None
+    return Cloud(xyz, intr, up, str(p), organized)
+
+
+def read_pcd_field(path, name: str) -> np.ndarray:
+    """One field of a PCD file (e.g. ``label``), shaped ``(H, W)`` (``(1, N)`` if unorganized)."""
+    p = _existing(path)
+    pc = _load_pcd(p)
+    md = pc.metadata
+    if name not in md.fields:
+        raise InputError(f"{p}: PCD has no field {name!r} (fields: {' '.join(md.fields)})")
+    values = pc.pc_data[name]
+    return np.asarray(values).reshape(md.height, md.width)
+
+
+# --------------------------------------------------------------------------- PLY and NPY
+
+
+def read_ply(path, *, up=None) -> Cloud:
+    """Read the vertices of a PLY file (ascii or binary) as an unorganized cloud ``(1, N, 3)``."""
+    from plyfile import PlyData
+
+    p = _existing(path)
+    try:
+        ply = PlyData.read(str(p))
+        vertex = ply["vertex"]
+        xyz = np.stack([np.asarray(vertex[c], dtype=np.float64) for c in ("x", "y", "z")], axis=1)
+    except KeyError as exc:
+        raise InputError(f"{p}: PLY has no vertex {exc.args[0]!r}") from None
+    except Exception as exc:  # plyfile raises several types on corrupt files
+        raise InputError(f"{p}: not a readable PLY file ({type(exc).__name__}: {exc})") from None
+    if len(xyz) == 0:
+        raise InputError(f"{p}: PLY holds no vertices")
+    return Cloud(xyz.reshape(1, -1, 3), None, up, str(p), organized=False)
+
+
+def read_npy(path, *, intrinsics=None, depth_scale: float | None = None, up=None) -> Cloud:
+    """Read a ``.npy`` array: ``(H, W, 3)`` XYZ in metres (NaN invalid) or ``(H, W)`` depth.
+
+    A depth array needs intrinsics (argument or sidecar); its scale defaults to 1 for float
+    arrays (metres) and 1000 for integer arrays (millimetres).  An XYZ array gets intrinsics
+    from the argument or, if it is an exact pinhole back-projection, from the points.
+    """
+    p = _existing(path)
+    try:
+        arr = np.load(p, allow_pickle=False)
+    except (ValueError, OSError, EOFError) as exc:
+        raise InputError(f"{p}: not a readable .npy array ({exc})") from None
+    if not isinstance(arr, np.ndarray) or arr.dtype.kind not in "iuf":
+        raise InputError(f"{p}: .npy must hold a numeric array, got dtype {getattr(arr, 'dtype', '?')}")
+    if arr.ndim == 3 and arr.shape[2] == 3:
+        info = find_camera_info(p)
+        value = intrinsics if intrinsics is not None else info.get("intrinsics")
+        h, w = arr.shape[:2]
+        intr = resolve_intrinsics(value, w, h, str(p)) if value is not None else estimate_intrinsics(
+            np.asarray(arr, dtype=np.float64))
+        return Cloud(arr, intr, up if up is not None else info.get("up"), str(p))
+    if arr.ndim == 2:
+        info = find_camera_info(p)
+        value = intrinsics if intrinsics is not None else info.get("intrinsics")
+        if value is None:
+            raise InputError(f"{p}: a depth array needs intrinsics (argument or sidecar JSON)")
+        intr = resolve_intrinsics(value, arr.shape[1], arr.shape[0], str(p))
+        if depth_scale is None:
+            depth_scale = info.get("depth_scale")
+        if depth_scale is None:
+            depth_scale = 1.0 if arr.dtype.kind == "f" else DEFAULT_DEPTH_SCALE
+        return depth_to_cloud(arr, intr, depth_scale, up=up if up is not None else info.get("up"),
+                              source=str(p))
+    raise InputError(f"{p}: .npy must hold (H, W, 3) XYZ or (H, W) depth, got shape {arr.shape}")
+
+
+# --------------------------------------------------------------------------- SegComp ABW
+
+# Calibrations from the SegComp tools (see ../shared/data/README.md); units are millimetres.
+_ABW_CAL1 = {"offset": 785.410786, "scal": 0.773545, "f": -1610.981722, "c": 1.4508}
+_ABW_CAL2 = {"offset": 771.016866, "scal": 0.791686, "f": -1586.072821, "c": 1.4508}
+_ABW_CAL1_IMAGES = {0, 19, 21, 25, 27, 28, 29}
+
+
+def _read_sun_raster(path: Path) -> np.ndarray:
+    """``(H, W)`` uint8 pixels of an 8-bit Sun rasterfile without colour map."""
+    data = path.read_bytes()
+    if len(data) < 32:
+        raise InputError(f"{path}: too short for a Sun rasterfile ({len(data)} bytes)")
+    magic, width, height, depth, length, _type, maptype, maplength = struct.unpack(">8I", data[:32])
+    if magic != _SUN_MAGIC:
+        raise InputError(f"{path}: not a Sun rasterfile (magic {magic:#x})")
+    if depth != 8:
+        raise InputError(f"{path}: expected 8 bits per pixel, got {depth}")
+    if width == 0 or height == 0:
+        raise InputError(f"{path}: empty image {width}x{height}")
+    row = width + (width % 2)  # rows are padded to 16 bits
+    start = 32 + maplength
+    need = row * height
+    if len(data) - start < need:
+        raise InputError(f"{path}: truncated: {len(data) - start} pixel bytes for {width}x{height}")
+    pix = np.frombuffer(data, dtype=np.uint8, count=need, offset=start).reshape(height, row)
+    return pix[:, :width].copy()
+
+
+def _abw_calibration(path: Path) -> dict:
+    m = re.search(r"(\d+)\.(range|gt-seg)$", path.name)
+    if not m:
+        raise InputError(
+            f"{path}: cannot tell the ABW image number (and so its calibration) from the name; "
+            "expected e.g. abw.test.6.range"
+        )
+    return _ABW_CAL1 if int(m.group(1)) in _ABW_CAL1_IMAGES else _ABW_CAL2
+
+
+def read_abw(path) -> Cloud:
+    """Read a SegComp ABW ``.range`` image as an organized cloud in metres.
+
+    The SegComp formula gives X right, Y up and Z towards the sensor in millimetres with the
+    sensor at distance ``v/SCAL + OFFSET``; planerel's camera frame is x = X, y = -Y,
+    z = v/SCAL + OFFSET, which is exactly a pinhole camera with fx = |F|, fy = C|F|,
+    cx = cy = 255 (a rigid motion of the SegComp points, so planes stay planes).
+    Pixels with v == 0 are invalid.
+    """
+    p = _existing(path)
+    cal = _abw_calibration(p)
+    v = _read_sun_raster(p).astype(np.float64)
+    h, w = v.shape
+    f = abs(cal["f"])
+    z = v / cal["scal"] + cal["offset"]
+    r = np.arange(h, dtype=np.float64)[:, None]
+    c = np.arange(w, dtype=np.float64)[None, :]
+    xyz = np.empty((h, w, 3))
+    xyz[:, :, 0] = (c - 255.0) * z / f
+    xyz[:, :, 1] = (r - 255.0) / cal["c"] * z / f
+    xyz[:, :, 2] = z
+    xyz /= 1000.0
+    xyz[v == 0] = np.nan
+    if not np.any(v > 0):
+        raise InputError(f"{p}: every pixel is invalid (no range measurement)")
+    intr = Intrinsics(w, h, f, cal["c"] * f, 255.0, 255.0)
+    return Cloud(xyz, intr, None, str(p))
+
+
+def read_abw_gt(path) -> np.ndarray:
+    """SegComp ground truth ``.gt-seg`` as ``(H, W)`` int32 labels: plane labels (>= 10) kept,
+    everything else (background, shadow, unlabelled) set to -1."""
+    p = _existing(path)
+    lab = _read_sun_raster(p).astype(np.int32)
+    lab[lab < 10] = -1
+    return lab
+
+
+def read_label_image(path) -> np.ndarray:
+    """A label image as ``(H, W)`` int32 with -1 = none, from any of: ``.npy`` int array,
+    a 16-bit label PNG of a planerel data set (value = label + 1, 0 = none), or a SegComp
+    ``.gt-seg`` file."""
+    p = _existing(path)
+    kind = _sniff(p) or p.suffix.lower()
+    if kind == ".npy":
+        try:
+            lab = np.load(p, allow_pickle=False)
+        except (ValueError, OSError, EOFError) as exc:
+            raise InputError(f"{p}: not a readable .npy array ({exc})") from None
+        if lab.ndim != 2 or lab.dtype.kind not in "iu":
+            raise InputError(f"{p}: a label array must be 2-D integers, got {lab.dtype} {lab.shape}")
+        return lab.astype(np.int32)
+    if kind == ".range" or p.name.endswith(".gt-seg"):
+        return read_abw_gt(p)
+    if kind == ".png":
+        from PIL import Image
+
+        try:
+            with Image.open(p) as img:
+                arr = np.asarray(img)
+        except Exception as exc:
+            raise InputError(f"{p}: cannot read the label image ({exc})") from None
+        if arr.ndim != 2 or arr.dtype.kind not in "iu":
+            raise InputError(f"{p}: a label PNG must be single-channel integers, got {arr.dtype} {arr.shape}")
+        return arr.astype(np.int32) - 1
+    raise InputError(f"{p}: not a label image (.npy, label .png or SegComp .gt-seg)")
