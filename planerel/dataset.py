@@ -1,0 +1,343 @@
+"""The on-disk data-set format: depth PNGs, JSON sidecars, ground-truth label PNGs, a manifest.
+
+A data set is a folder::
+
+    manifest.csv        one row per scene: scene_id,class,seed,width,height,depth,labels,meta
+    dataset.json        how the set was made (optional for hand-made sets)
+    s0000.depth.png     16-bit depth, units of 1/depth_scale metres (mm), 0 = missing
+    s0000.gt.png        16-bit ground-truth plane labels: value = plane index + 1, 0 = none
+    s0000.json          sidecar: intrinsics, depth_scale, up, pose, class, objects, planes, ...
+
+The sidecar makes ``planerel.io.read("s0000.depth.png")`` find the intrinsics, depth scale and up
+vector by itself.  The full description is in ``docs/formats.md`` ("Synthetic data sets").
+"""
+
+from __future__ import annotations
+
+import csv
+import io as _io
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from planerel.errors import InputError
+
+__all__ = [
+    "MANIFEST",
+    "INFO",
+    "MANIFEST_COLUMNS",
+    "ManifestRow",
+    "write_scene",
+    "write_manifest",
+    "write_dataset_info",
+    "write_label_png",
+    "load_manifest",
+    "load_dataset_info",
+    "load_scene",
+    "load_metadata",
+    "iter_scenes",
+]
+
+MANIFEST = "manifest.csv"
+INFO = "dataset.json"
+MANIFEST_COLUMNS = ("scene_id", "class", "seed", "width", "height", "depth", "labels", "meta")
+
+
+@dataclass(frozen=True)
+class ManifestRow:
+    """One scene of a data set.
+
+    Parameters
+    ----------
+    scene_id : str
+        ``s0007``.
+    klass : str
+        The scene's class (``box``, ``stairs``, ``ramp``; any non-empty word for other sets).
+    seed : int or None
+        The seed that regenerates a synthetic scene (None when unknown).
+    width, height : int
+        Image size.
+    depth, labels, meta : str
+        File names, relative to the data-set folder; ``labels`` may be empty (no ground truth).
+    """
+
+    scene_id: str
+    klass: str
+    seed: int | None
+    width: int
+    height: int
+    depth: str
+    labels: str
+    meta: str
+
+    def __post_init__(self) -> None:
+        if not self.scene_id or any(c in self.scene_id for c in "/\\,\n"):
+            raise InputError(f"bad scene id {self.scene_id!r}")
+        if not self.klass:
+            raise InputError(f"scene {self.scene_id}: empty class")
+        for name in ("width", "height"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
+                raise InputError(f"scene {self.scene_id}: {name} must be a positive integer, got {v!r}")
+        if not self.depth or not self.meta:
+            raise InputError(f"scene {self.scene_id}: the depth and meta file names are required")
+
+    def to_csv(self) -> list:
+        return [self.scene_id, self.klass, "" if self.seed is None else self.seed, self.width,
+                self.height, self.depth, self.labels, self.meta]
+
+
+# ----------------------------------------------------------------------- writing
+
+
+def write_label_png(path, labels) -> Path:
+    """Write an ``(H, W)`` int label image (-1 = none) as a 16-bit PNG holding ``label + 1``."""
+    from PIL import Image
+
+    from planerel.atomic import atomic_path
+
+    lab = np.asarray(labels)
+    if lab.ndim != 2 or lab.dtype.kind not in "iu":
+        raise InputError(f"{path}: a label image must be 2-D integers, got {lab.dtype} {lab.shape}")
+    if lab.size and (lab.min() < -1 or lab.max() > 65534):
+        raise InputError(f"{path}: labels must lie in -1..65534 for a 16-bit PNG")
+    img = Image.fromarray((lab.astype(np.int64) + 1).astype(np.uint16))
+    with atomic_path(path, suffix=".png") as tmp:
+        img.save(tmp, format="PNG")
+    return Path(path)
+
+
+def write_scene(out_dir, scene) -> ManifestRow:
+    """Write one :class:`planerel.synth.Scene`: depth PNG, label PNG and JSON sidecar.
+
+    Returns
+    -------
+    ManifestRow
+        The scene's manifest row (the manifest itself is written by :func:`write_manifest`).
+    """
+    from planerel.writers import write_depth_png, write_json
+
+    out = Path(out_dir)
+    sid = scene.scene_id
+    depth_name, labels_name, meta_name = f"{sid}.depth.png", f"{sid}.gt.png", f"{sid}.json"
+    meta = scene.metadata()
+    meta["files"] = {"depth": depth_name, "labels": labels_name}
+    write_depth_png(out / depth_name, scene.depth_mm)
+    write_label_png(out / labels_name, scene.gt_labels)
+    write_json(out / meta_name, meta)
+    h, w = scene.depth_mm.shape
+    return ManifestRow(sid, scene.klass, scene.seed, w, h, depth_name, labels_name, meta_name)
+
+
+def write_manifest(out_dir, rows) -> Path:
+    """Write ``manifest.csv`` (header :data:`MANIFEST_COLUMNS`, ``\\n`` line ends)."""
+    from planerel.atomic import write_text
+
+    rows = list(rows)
+    ids = [r.scene_id for r in rows]
+    if len(set(ids)) != len(ids):
+        dup = sorted({i for i in ids if ids.count(i) > 1})
+        raise InputError(f"duplicate scene ids in the manifest: {', '.join(dup)}")
+    buf = _io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(MANIFEST_COLUMNS)
+    for r in rows:
+        writer.writerow(r.to_csv())
+    return write_text(Path(out_dir) / MANIFEST, buf.getvalue())
+
+
+def write_dataset_info(out_dir, info: dict) -> Path:
+    """Write ``dataset.json`` (how the set was made)."""
+    from planerel.writers import write_json
+
+    return write_json(Path(out_dir) / INFO, info)
+
+
+# ----------------------------------------------------------------------- reading
+
+
+def _folder(path) -> Path:
+    try:
+        p = Path(path)
+    except TypeError:
+        raise InputError(f"expected a data-set folder, got {path!r}") from None
+    if not p.exists():
+        raise InputError(f"{p}: data-set folder does not exist")
+    if not p.is_dir():
+        raise InputError(f"{p}: a data set is a folder (with {MANIFEST}), not a file")
+    return p
+
+
+def load_manifest(path) -> tuple[ManifestRow, ...]:
+    """Read ``manifest.csv`` of a data-set folder.
+
+    Raises
+    ------
+    InputError
+        The folder or manifest is missing, the header is wrong, a row is malformed.
+    """
+    folder = _folder(path)
+    mf = folder / MANIFEST
+    if not mf.is_file():
+        raise InputError(f"{folder}: not a data set (no {MANIFEST}); make one with "
+                         "'planerel dataset synth DIR'")
+    try:
+        text = mf.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{mf}: cannot read the manifest ({exc})") from None
+    reader = csv.reader(_io.StringIO(text))
+    try:
+        header = next(reader)
+    except StopIteration:
+        raise InputError(f"{mf}: the manifest is empty") from None
+    if tuple(header) != MANIFEST_COLUMNS:
+        raise InputError(f"{mf}: manifest header must be {','.join(MANIFEST_COLUMNS)}, "
+                         f"got {','.join(header)}")
+    rows = []
+    for lineno, rec in enumerate(reader, start=2):
+        if not rec:
+            continue
+        if len(rec) != len(MANIFEST_COLUMNS):
+            raise InputError(f"{mf}: line {lineno} has {len(rec)} fields, expected "
+                             f"{len(MANIFEST_COLUMNS)}")
+        sid, klass, seed, w, h, depth, labels, meta = rec
+        try:
+            seed_v = int(seed) if seed.strip() else None
+            w_v, h_v = int(w), int(h)
+        except ValueError:
+            raise InputError(f"{mf}: line {lineno}: seed, width and height must be integers, "
+                             f"got {seed!r}, {w!r}, {h!r}") from None
+        try:
+            rows.append(ManifestRow(sid, klass, seed_v, w_v, h_v, depth, labels, meta))
+        except InputError as exc:
+            raise InputError(f"{mf}: line {lineno}: {exc}") from None
+    ids = [r.scene_id for r in rows]
+    if len(set(ids)) != len(ids):
+        raise InputError(f"{mf}: duplicate scene ids")
+    if not rows:
+        raise InputError(f"{mf}: the manifest lists no scene")
+    return tuple(rows)
+
+
+def load_dataset_info(path) -> dict:
+    """``dataset.json`` of a data-set folder, or ``{}`` when the set has none."""
+    folder = _folder(path)
+    p = folder / INFO
+    if not p.is_file():
+        return {}
+    try:
+        data = json.loads(p.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"{p}: cannot read the data-set description ({exc})") from None
+    if not isinstance(data, dict):
+        raise InputError(f"{p}: must hold a JSON object")
+    return data
+
+
+def _row(folder: Path, scene_id: str) -> ManifestRow:
+    for r in load_manifest(folder):
+        if r.scene_id == scene_id:
+            return r
+    raise InputError(f"{folder}: no scene {scene_id!r} in {MANIFEST}")
+
+
+def load_metadata(path, scene_id: str) -> dict:
+    """The JSON sidecar of one scene, checked: it must hold ``intrinsics``, ``depth_scale`` and a
+    ``planes`` list whose entries have ``index``, ``id``, ``normal``, ``offset``, ``role``."""
+    folder = _folder(path)
+    row = _row(folder, scene_id)
+    return _read_meta(folder / row.meta, row)
+
+
+def _read_meta(p: Path, row: ManifestRow) -> dict:
+    if not p.is_file():
+        raise InputError(f"{p}: sidecar of scene {row.scene_id} is missing")
+    try:
+        meta = json.loads(p.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"{p}: cannot read the scene sidecar ({exc})") from None
+    if not isinstance(meta, dict):
+        raise InputError(f"{p}: the scene sidecar must hold a JSON object")
+    for key in ("intrinsics", "depth_scale"):
+        if key not in meta:
+            raise InputError(f"{p}: the scene sidecar lacks {key!r}")
+    planes = meta.get("planes", [])
+    if not isinstance(planes, list):
+        raise InputError(f"{p}: 'planes' must be a list")
+    for i, pl in enumerate(planes):
+        if not isinstance(pl, dict) or any(k not in pl for k in ("index", "id", "normal", "offset", "role")):
+            raise InputError(f"{p}: plane {i} must have index, id, normal, offset and role")
+        if pl["index"] != i:
+            raise InputError(f"{p}: plane {i} has index {pl['index']}; planes must be in index order")
+    meta.setdefault("class", row.klass)
+    meta.setdefault("scene_id", row.scene_id)
+    return meta
+
+
+def load_scene(path, scene_id: str):
+    """Read one scene of a data set.
+
+    Parameters
+    ----------
+    path : str or Path
+        The data-set folder.
+    scene_id : str
+        ``s0007``.
+
+    Returns
+    -------
+    cloud : Cloud
+        ``(H, W, 3)`` with the sidecar's intrinsics and up vector; ``source`` is the depth file.
+    labels : ndarray, shape (H, W), int32, or None
+        Ground-truth plane index per pixel, -1 = none (None when the set has no labels).
+    meta : dict
+        The sidecar (class, pose, up, planes with normal/offset/role/object, params, ...).
+
+    Raises
+    ------
+    InputError
+        Missing folder, manifest, scene, file; a corrupt file; sizes that disagree.
+    """
+    folder = _folder(path)
+    return _load_row(folder, _row(folder, scene_id))
+
+
+def _load_row(folder: Path, row: ManifestRow):
+    from planerel import io
+
+    scene_id = row.scene_id
+    meta = _read_meta(folder / row.meta, row)
+    depth_path = folder / row.depth
+    if not depth_path.is_file():
+        raise InputError(f"{depth_path}: depth image of scene {scene_id} is missing")
+    cloud = io.read_depth_image(depth_path, intrinsics=meta["intrinsics"],
+                                depth_scale=meta["depth_scale"], up=meta.get("up"))
+    h, w = cloud.shape
+    if (w, h) != (row.width, row.height):
+        raise InputError(f"{depth_path}: image is {w}x{h} but {MANIFEST} says "
+                         f"{row.width}x{row.height}")
+    labels = None
+    if row.labels:
+        lp = folder / row.labels
+        if not lp.is_file():
+            raise InputError(f"{lp}: ground-truth labels of scene {scene_id} are missing")
+        labels = io.read_label_image(lp)
+        if labels.shape != (h, w):
+            raise InputError(f"{lp}: label image is {labels.shape[1]}x{labels.shape[0]} but the "
+                             f"depth image is {w}x{h}")
+        n = len(meta.get("planes", []))
+        if labels.size and labels.max() >= n:
+            raise InputError(f"{lp}: label {int(labels.max())} but the sidecar lists {n} planes")
+    return cloud, labels, meta
+
+
+def iter_scenes(path, klass: str | None = None):
+    """Yield ``(row, cloud, labels, meta)`` for every scene (of one class when given),
+    in manifest order."""
+    folder = _folder(path)
+    for row in load_manifest(folder):
+        if klass is None or row.klass == klass:
+            cloud, labels, meta = _load_row(folder, row)
+            yield row, cloud, labels, meta
