@@ -20,6 +20,11 @@ __all__ = ["main", "build_parser"]
 COMMAND_MODULES = [
     "planerel.commands.dataset",
     "planerel.commands.convert",
+    "planerel.commands.segment",
+    "planerel.commands.induce",
+    "planerel.commands.describe",
+    "planerel.commands.export_aleph",
+    "planerel.commands.report",
 ]
 
 

@@ -1,0 +1,1283 @@
+/*  planerel's own Aleph-compatible ILP learner.
+
+    Written for planerel from the published descriptions of Progol and Aleph
+    (Muggleton 1995, "Inverse entailment and Progol"; Srinivasan, "The Aleph
+    Manual").  No line of Aleph's source is used.
+
+    Input language: Aleph's.  read_all(Stem) reads Stem.b (background,
+    :- set/2, :- modeh/2, :- modeb/2, :- mode/2, :- determination/2,
+    :- lazy_evaluate/1), Stem.f (positive examples) and Stem.n (negative
+    examples); induce/0 learns a theory by greedy cover; write_rules/1 writes it.
+
+    Algorithm (see docs/learner.md):
+      repeat
+        seed      := first positive not yet covered
+        bottom    := saturation of seed (modes, recall, variable depth i, types)
+        search    := bf | df | heuristic over clauses made of bottom literals
+                     (head-connected, inputs bound, at most clauselength
+                     literals), scored by coverage | laplace | accuracy |
+                     compression, bounded by nodes
+        add the best clause meeting minpos, minacc and noise (or the seed
+        itself when there is none); remove the positives it covers
+      until no positive is left.
+
+    Efficiency: examples are indexed by id; a refinement is tested only on the
+    examples its parent covered; refinements add bottom literals in index
+    order, so no clause is generated twice; clauses covering fewer than
+    minpos positives are pruned, and so are nodes whose best possible
+    refinement cannot beat the best clause found so far.
+*/
+
+:- module(planerel_learner,
+          [ read_all/1,
+            induce/0,
+            write_rules/1,
+            set/2,
+            setting/2,
+            modeh/2,
+            modeb/2,
+            mode/2,
+            determination/2,
+            lazy_evaluate/1,
+            show_theory/0,
+            planerel_main/0
+          ]).
+
+:- op(500, fy, #).              % the constant marker of mode declarations
+:- op(500, fy, user:(#)).        % ... and for the files read into user
+
+:- use_module(library(lists)).
+:- use_module(library(apply)).
+:- use_module(library(heaps)).
+:- use_module(library(ordsets)).
+:- use_module(library(readutil)).
+
+:- dynamic
+    setting_value/3,        % Name, Value, Where
+    mode_decl/5,            % h|b, Recall, Template, Where, Seq
+    det_decl/3,             % Target N/A, Body N/A, Where
+    lazy_decl/2,            % N/A, Where
+    bg_pred/1,              % N/A defined by the background files
+    pos_ex/2, neg_ex/2,     % Id, Atom  (training examples)
+    tpos_ex/2, tneg_ex/2,   % Id, Atom  (test examples)
+    theory_clause/5,        % No, Head, BodyList, PosCover, NegCover
+    warned/1,
+    rec_target/1,           % N/A: target that appears in its own determinations
+    sat_var/3,              % Value, Type, VarId          (saturation scratch)
+    sat_avail/4,            % Type, VarId, Value, Depth
+    sat_lit/5,              % Idx, Literal, InIds, OutIds, Lazy
+    sat_seen/1,             % Literal
+    sat_done/2,             % ModeSeq, InIds
+    lazy_cache/2,           % variant hash of a lazy call, its constants
+    lazy_value_cache/4,     % NodeSeq, InIds, PosTuples, NegTuples (last node only)
+    loaded_stem/1.
+
+:- dynamic planerel_ext:'$planerel_none'/0.
+
+                 /*******************************
+                 *     ERRORS AND WARNINGS      *
+                 *******************************/
+
+%   Errors a user can cause are thrown as planerel_input_error(Text); the
+%   driver prints them as one line and exits with status 2.
+
+input_error(Fmt, Args) :-
+    format(string(S), Fmt, Args),
+    throw(planerel_input_error(S)).
+
+warn(Fmt, Args) :-
+    format(string(S), Fmt, Args),
+    format(user_error, "warning: ~s~n", [S]).
+
+warn_once(Key, Fmt, Args) :-
+    (   warned(Key)
+    ->  true
+    ;   assertz(warned(Key)),
+        warn(Fmt, Args)
+    ).
+
+where_text(File:Line, Text) :- !, format(string(Text), "~w:~w", [File, Line]).
+where_text(Other, Text) :- format(string(Text), "~w", [Other]).
+
+                 /*******************************
+                 *           SETTINGS           *
+                 *******************************/
+
+%   setting_spec(Name, Default, Type): the settings this learner implements,
+%   with Aleph's names and defaults.
+
+setting_spec(clauselength, 4,        int(1)).
+setting_spec(i,            2,        int(1)).
+setting_spec(nodes,        5000,     int(1)).
+setting_spec(minpos,       1,        int(1)).
+setting_spec(minacc,       0.0,      fraction).
+setting_spec(noise,        0,        int(0)).
+setting_spec(search,       bf,       oneof([bf, df, heuristic])).
+setting_spec(evalfn,       coverage, oneof([coverage, laplace, accuracy, compression])).
+setting_spec(depth,        10,       int(1)).
+setting_spec(verbosity,    1,        int(0)).
+setting_spec(test_pos,     none,     file).
+setting_spec(test_neg,     none,     file).
+setting_spec(recursion,    false,    oneof([true, false])).
+
+%   Values Aleph accepts for search/evalfn that this learner does not implement.
+aleph_other_value(search, [ar, ibs, ic, id, ils, rls, scs, false]).
+aleph_other_value(evalfn, [auto_m, mestimate, pbayes, posonly, sd, wracc,
+                           entropy, gini, user]).
+
+%   Settings of Aleph that this learner does not implement: warned about once.
+aleph_setting(Name) :-
+    memberchk(Name,
+              [ abduce, best, cache_clauselength, caching, check_redundant,
+                check_useless, classes, clauselength_distribution, clauses,
+                condition, confidence, construct_bottom, dependent, discretise,
+                explore, good, goodfile, gsamplesize, interactive, language,
+                lazy_negs, lazy_on_contradiction, lazy_on_cost, lookahead, m,
+                max_abducibles, max_features, mingain, minposfrac, minscore,
+                mode_overlap_threshold, moves, newvars, nreduce_bottom,
+                openlist, optimise_clauses, permute_bottom,
+                portray_examples, portray_hypothesis, portray_literals,
+                portray_search, print, proof_strategy, prooftime, prune_defs,
+                record, recordfile, refine, resample, rls_type, rulefile,
+                samplenum, samplesize, scs_percentile, scs_prob, scs_sample,
+                searchstrat, searchtime, skolemvars, splitvars, stage,
+                store_bottom, subsample, subsamplesize, temperature, threads,
+                train_pos, train_neg, tree_type, tries, typeoverlap,
+                uniform_sample, updateback, version, walk, minprec
+              ]).
+
+%!  set(+Name, +Value) is det.
+%
+%   Aleph's set/2, with validation: an unknown name or an illegal value is
+%   an error.
+set(Name, Value) :-
+    set_setting(Name, Value, 'set/2').
+
+%!  setting(?Name, ?Value) is nondet.
+%
+%   The value in effect (the default when it was not set).
+setting(Name, Value) :-
+    setting_spec(Name, Default, _),
+    (   setting_value(Name, V, _)
+    ->  Value = V
+    ;   Value = Default
+    ).
+
+set_setting(Name, Value, Where) :-
+    where_text(Where, W),
+    (   atom(Name)
+    ->  true
+    ;   input_error("~s: set/2 needs a setting name, got ~q", [W, Name])
+    ),
+    (   setting_spec(Name, Default, Type)
+    ->  (   check_value(Type, Value, V1)
+        ->  retractall(setting_value(Name, _, _)),
+            assertz(setting_value(Name, V1, Where))
+        ;   Type = oneof(_),
+            aleph_other_value(Name, Others),
+            memberchk(Value, Others)
+        ->  warn_once(value(Name, Value),
+                      "~s: ~w(~w) is an Aleph setting value that planerel's learner does not implement; using ~w(~w)",
+                      [W, Name, Value, Name, Default])
+        ;   type_text(Type, Expected),
+            input_error("~s: illegal value ~q for setting ~w (expected ~s)",
+                        [W, Value, Name, Expected])
+        )
+    ;   aleph_setting(Name)
+    ->  warn_once(setting(Name),
+                  "~s: the Aleph setting ~w is not implemented by planerel's learner; ignored (value ~q)",
+                  [W, Name, Value])
+    ;   input_error("~s: unknown setting ~q (value ~q): Aleph has no setting of this name",
+                    [W, Name, Value])
+    ).
+
+check_value(int(Min), V, V) :- integer(V), V >= Min.
+check_value(fraction, V, F) :- number(V), V >= 0, V =< 1, F is float(V).
+check_value(oneof(L), V, V) :- atom(V), memberchk(V, L).
+check_value(file, V, A) :- ( atom(V) ; string(V) ), V \== '', atom_string(A, V).
+
+type_text(int(Min), T) :- format(string(T), "an integer >= ~w", [Min]).
+type_text(fraction, "a number between 0 and 1").
+type_text(oneof(L), T) :- atomic_list_concat(L, ', ', A), format(string(T), "one of ~w", [A]).
+type_text(file, "a file name").
+
+                 /*******************************
+                 *         DECLARATIONS         *
+                 *******************************/
+
+modeh(Recall, Template) :- add_mode(h, Recall, Template, 'modeh/2').
+modeb(Recall, Template) :- add_mode(b, Recall, Template, 'modeb/2').
+mode(Recall, Template) :-
+    add_mode(h, Recall, Template, 'mode/2'),
+    add_mode(b, Recall, Template, 'mode/2').
+determination(Target, Body) :- add_det(Target, Body, 'determination/2').
+lazy_evaluate(Spec) :- add_lazy(Spec, 'lazy_evaluate/1').
+
+add_mode(Kind, Recall, Template, Where) :-
+    where_text(Where, W),
+    (   ( Recall == '*' ; integer(Recall), Recall >= 1 )
+    ->  true
+    ;   input_error("~s: illegal recall ~q in a mode declaration (expected a positive integer or *)",
+                    [W, Recall])
+    ),
+    (   callable(Template)
+    ->  true
+    ;   input_error("~s: a mode declaration needs an atom like p(+type,-type,#type), got ~q",
+                    [W, Template])
+    ),
+    Template =.. [_|Args],
+    forall(member(A, Args), check_mode_arg(A, W, Template)),
+    flag(planerel_mode_seq, Seq, Seq + 1),
+    assertz(mode_decl(Kind, Recall, Template, Where, Seq)).
+
+check_mode_arg(A, W, T) :-
+    (   var(A)
+    ->  input_error("~s: mode ~q has a variable argument; write +type, -type or #type", [W, T])
+    ;   A = +Ty -> check_type_name(Ty, W, T)
+    ;   A = -Ty -> check_type_name(Ty, W, T)
+    ;   A = #Ty -> check_type_name(Ty, W, T)
+    ;   atomic(A) -> true
+    ;   input_error("~s: mode ~q: structured argument ~q is not supported by planerel's learner",
+                    [W, T, A])
+    ).
+
+check_type_name(Ty, W, T) :-
+    (   atom(Ty)
+    ->  true
+    ;   input_error("~s: mode ~q: the type ~q must be an atom (a type name)", [W, T, Ty])
+    ).
+
+add_det(Target, Body, Where) :-
+    where_text(Where, W),
+    (   pred_spec(Target), pred_spec(Body)
+    ->  (   det_decl(Target, Body, _)
+        ->  true
+        ;   assertz(det_decl(Target, Body, Where))
+        )
+    ;   input_error("~s: determination(~q, ~q) needs Name/Arity for both arguments",
+                    [W, Target, Body])
+    ).
+
+add_lazy(Spec, Where) :-
+    (   pred_spec(Spec)
+    ->  assertz(lazy_decl(Spec, Where))
+    ;   where_text(Where, W),
+        input_error("~s: lazy_evaluate(~q) needs Name/Arity", [W, Spec])
+    ).
+
+pred_spec(N/A) :- atom(N), integer(A), A >= 0.
+
+                 /*******************************
+                 *            READING           *
+                 *******************************/
+
+%!  read_all(+Stem) is det.
+%
+%   Read Stem.b, Stem.f and Stem.n (a missing Stem.n means no negatives).
+%   Errors name the file and line.
+read_all(Stem0) :-
+    (   atom(Stem0) ; string(Stem0) ),
+    !,
+    atom_string(Stem, Stem0),
+    reset_all,
+    atom_concat(Stem, '.b', BFile),
+    atom_concat(Stem, '.f', FFile),
+    atom_concat(Stem, '.n', NFile),
+    read_source(BFile, background),
+    read_source(FFile, pos),
+    (   exists_file(NFile)
+    ->  read_source(NFile, neg)
+    ;   warn("~w: not found; learning with no negative examples", [NFile])
+    ),
+    check_declarations,
+    assertz(loaded_stem(Stem)).
+read_all(Stem) :-
+    input_error("read_all/1 needs a file stem (an atom), got ~q", [Stem]).
+
+reset_all :-
+    forall(retract(bg_pred(N/A)), ( functor(H, N, A), retractall(user:H) )),
+    retractall(setting_value(_, _, _)),
+    retractall(mode_decl(_, _, _, _, _)),
+    retractall(det_decl(_, _, _)),
+    retractall(lazy_decl(_, _)),
+    retractall(bg_pred(_)),
+    retractall(pos_ex(_, _)),
+    retractall(neg_ex(_, _)),
+    retractall(tpos_ex(_, _)),
+    retractall(tneg_ex(_, _)),
+    retractall(theory_clause(_, _, _, _, _)),
+    retractall(warned(_)),
+    retractall(rec_target(_)),
+    retractall(loaded_stem(_)),
+    flag(planerel_mode_seq, _, 0),
+    forall(member(S, [pos, neg, test_pos, test_neg]), (atom_concat(planerel_id_, S, F), flag(F, _, 0))).
+
+read_source(File, Kind) :-
+    (   exists_file(File)
+    ->  true
+    ;   input_error("~w: file not found", [File])
+    ),
+    file_directory_name(File, Dir),
+    setup_call_cleanup(open(File, read, S, [encoding(utf8)]),
+                       read_terms(S, File, Dir, Kind),
+                       close(S)).
+
+read_terms(S, File, Dir, Kind) :-
+    catch(read_term(S, T, [term_position(Pos), syntax_errors(error), module(user)]),
+          E, read_error(E, File)),
+    (   T == end_of_file
+    ->  true
+    ;   stream_position_data(line_count, Pos, Line),
+        handle_term(Kind, T, File:Line, Dir),
+        read_terms(S, File, Dir, Kind)
+    ).
+
+read_error(error(syntax_error(What), Ctx), File) :- !,
+    (   ( Ctx = file(_, Line, _, _) ; Ctx = stream(_, Line, _, _) )
+    ->  true
+    ;   Line = '?'
+    ),
+    input_error("~w:~w: syntax error: ~w", [File, Line, What]).
+read_error(E, File) :-
+    message_to_codes_text(E, Text),
+    input_error("~w: cannot read: ~s", [File, Text]).
+
+message_to_codes_text(E, Text) :-
+    (   catch(message_to_codes(E, _, Codes), _, fail)
+    ->  string_codes(Text, Codes)
+    ;   format(string(Text), "~q", [E])
+    ).
+
+handle_term(_, (:- D), Where, Dir) :- !, directive(D, Where, Dir).
+handle_term(_, (?- D), Where, Dir) :- !, directive(D, Where, Dir).
+handle_term(background, Clause, Where, _) :- !, add_background(Clause, Where).
+handle_term(Set, Atom, Where, _) :-
+    (   callable(Atom), Atom \= (_ :- _), Atom \= (_ , _)
+    ->  true
+    ;   where_text(Where, W),
+        input_error("~s: an example must be an atom like p(a,b), got ~q", [W, Atom])
+    ),
+    atom_concat(planerel_id_, Set, Flag),
+    flag(Flag, Id0, Id0 + 1),
+    Id is Id0 + 1,
+    example_fact(Set, Id, Atom, Fact),
+    assertz(Fact).
+
+example_fact(pos, Id, A, pos_ex(Id, A)).
+example_fact(neg, Id, A, neg_ex(Id, A)).
+example_fact(test_pos, Id, A, tpos_ex(Id, A)).
+example_fact(test_neg, Id, A, tneg_ex(Id, A)).
+
+add_background(Clause, Where) :-
+    (   Clause = (H :- _) -> true ; H = Clause ),
+    where_text(Where, W),
+    (   callable(H), H \= _:_
+    ->  true
+    ;   input_error("~s: not a clause: ~q", [W, Clause])
+    ),
+    functor(H, N, A),
+    catch(assertz(user:Clause), E,
+          ( message_to_codes_text(E, T),
+            input_error("~s: cannot add the clause for ~w/~w: ~s", [W, N, A, T]) )),
+    (   bg_pred(N/A) -> true ; assertz(bg_pred(N/A)) ).
+
+directive(D, Where, _) :- var(D), !,
+    where_text(Where, W),
+    input_error("~s: a directive must not be a variable", [W]).
+directive(set(N, V), Where, _) :- !, set_setting(N, V, Where).
+directive(modeh(R, T), Where, _) :- !, add_mode(h, R, T, Where).
+directive(modeb(R, T), Where, _) :- !, add_mode(b, R, T, Where).
+directive(mode(R, T), Where, _) :- !, add_mode(h, R, T, Where), add_mode(b, R, T, Where).
+directive(determination(T, B), Where, _) :- !, add_det(T, B, Where).
+directive(lazy_evaluate(S), Where, _) :- !, add_lazy(S, Where).
+directive(aleph, _, _) :- !.
+directive(use_module(library(aleph)), _, _) :- !.
+directive(D, Where, _) :-
+    aleph_declaration(D), !,
+    functor(D, F, A),
+    where_text(Where, W),
+    warn_once(decl(F/A), "~s: the Aleph declaration ~w/~w is not implemented by planerel's learner; ignored",
+              [W, F, A]).
+directive(D, Where, Dir) :-
+    where_text(Where, W),
+    working_directory(Old, Dir),
+    catch(( user:D -> R = true ; R = false ), E, R = error(E)),
+    working_directory(_, Old),
+    (   R == true
+    ->  true
+    ;   R == false
+    ->  input_error("~s: the directive ~q failed", [W, D])
+    ;   R = error(E1),
+        message_to_codes_text(E1, T),
+        input_error("~s: the directive ~q raised an error: ~s", [W, D, T])
+    ).
+
+aleph_declaration(D) :-
+    functor(D, F, A),
+    memberchk(F/A, [ commutative/1, symmetric/1, reflexive/1, transitive/1,
+                     positive_only/1, model/1, example_saturated/1,
+                     aleph_set/2, redundant/2, cost/3, sat/1, man/1 ]).
+
+check_declarations :-
+    forall(det_decl(T, B, Where), check_determination(T, B, Where)).
+
+check_determination(Target, N/A, Where) :-
+    where_text(Where, W),
+    (   has_modeb(N/A) -> HasMode = true ; HasMode = false ),
+    (   known_pred(N/A) ; N/A == Target ; lazy_decl(N/A, _) -> Known = true ; Known = false ),
+    (   HasMode == false, Known == false
+    ->  input_error("~s: determination(~q, ~q): ~w/~w is an unknown predicate (no mode declaration and no definition)",
+                    [W, Target, N/A, N, A])
+    ;   HasMode == false
+    ->  warn_once(nomode(N/A), "~s: ~w/~w has no modeb declaration, so determination(~q, ~q) is never used",
+                  [W, N, A, Target, N/A])
+    ;   Known == false
+    ->  warn_once(undef(N/A), "~s: ~w/~w has a mode declaration but no definition; its literals never hold",
+                  [W, N, A])
+    ;   true
+    ).
+
+has_modeb(N/A) :-
+    mode_decl(b, _, T, _, _),
+    functor(T, N, A), !.
+
+known_pred(N/A) :-
+    (   bg_pred(N/A)
+    ->  true
+    ;   functor(H, N, A),
+        catch(predicate_property(user:H, visible), _, fail)
+    ).
+
+                 /*******************************
+                 *          SATURATION          *
+                 *******************************/
+
+%   The bottom clause is built with the ground placeholders '$v'(Id) for
+%   variables (Id = the (value, type) pair's number) and '$lz' for the
+%   constants of lazily evaluated literals, then turned into one term with
+%   shared Prolog variables:
+%       bottom(Head, HeadInIds, HeadOutIds, Lits, NLits)
+%   Lits is lits(bl(Idx, Literal, InIds, OutIds, Lazy), ...).
+
+saturate(Seed, bottom(Head, HIn, HOut, LitsT, NB)) :-
+    clear_sat,
+    functor(Seed, F, A),
+    (   head_template(F/A, Seed, Tmpl)
+    ->  true
+    ;   input_error("no modeh declaration matches the example ~q", [Seed])
+    ),
+    Tmpl =.. [_|TArgs],
+    Seed =.. [Fn|SArgs],
+    head_args(TArgs, SArgs, HArgs, HIn0, HOut0),
+    sort(HIn0, HIn),
+    sort(HOut0, HOut),
+    HeadG =.. [Fn|HArgs],
+    setting(i, I),
+    body_modes(F/A, Modes),
+    forall(between(1, I, D), layer(D, Modes, F/A, HeadG)),
+    findall(bl(Idx, L, In, Out, Lz), sat_lit(Idx, L, In, Out, Lz), BLs0),
+    flag(planerel_var_id, NV, NV),
+    length(Vs, NV),
+    VT =.. [vs|Vs],
+    devar(HeadG, VT, Head),
+    maplist(devar_bl(VT), BLs0, BLs),
+    LitsT =.. [lits|BLs],
+    length(BLs, NB),
+    clear_sat.
+
+clear_sat :-
+    retractall(sat_var(_, _, _)),
+    retractall(sat_avail(_, _, _, _)),
+    retractall(sat_lit(_, _, _, _, _)),
+    retractall(sat_seen(_)),
+    retractall(sat_done(_, _)),
+    flag(planerel_var_id, _, 0),
+    flag(planerel_lit_id, _, 0).
+
+head_template(F/A, Seed, Tmpl) :-
+    mode_decl(h, _, Tmpl, _, _),
+    functor(Tmpl, F, A),
+    Tmpl =.. [_|TArgs],
+    Seed =.. [_|SArgs],
+    maplist(head_arg_matches, TArgs, SArgs), !.
+
+head_arg_matches(+_, V) :- ground(V).
+head_arg_matches(-_, V) :- ground(V).
+head_arg_matches(#_, V) :- ground(V).
+head_arg_matches(C, V) :- atomic(C), C == V.
+
+head_args([], [], [], [], []).
+head_args([M|Ms], [V|Vs], [H|Hs], In, Out) :-
+    (   M = +T
+    ->  var_id(V, T, Id, _), add_avail(T, Id, V, 0),
+        H = '$v'(Id), In = [Id|In1], Out = Out1
+    ;   M = -T
+    ->  var_id(V, T, Id, _),
+        H = '$v'(Id), In = In1, Out = [Id|Out1]
+    ;   H = V, In = In1, Out = Out1
+    ),
+    head_args(Ms, Vs, Hs, In1, Out1).
+
+var_id(V, T, Id, New) :-
+    (   sat_var(V, T, Id0)
+    ->  Id = Id0, New = false
+    ;   flag(planerel_var_id, Id, Id + 1),
+        assertz(sat_var(V, T, Id)),
+        New = true
+    ).
+
+add_avail(T, Id, V, D) :-
+    (   sat_avail(T, Id, _, _)
+    ->  true
+    ;   assertz(sat_avail(T, Id, V, D))
+    ).
+
+%   body_modes(+Target, -Modes): m(Recall, Template, Lazy, Seq, Rec) for the
+%   modeb declarations of the predicates the target's determinations name,
+%   in determination order then declaration order.
+body_modes(Target, Modes) :-
+    findall(B, det_decl(Target, B, _), Bs0),
+    list_to_set(Bs0, Bs),
+    (   memberchk(Target, Bs)
+    ->  ( rec_target(Target) -> true ; assertz(rec_target(Target)) )
+    ;   true
+    ),
+    findall(m(R, T, Lazy, Seq, Rec),
+            ( member(N/A, Bs),
+              mode_decl(b, R, T, _, Seq),
+              functor(T, N, A),
+              ( lazy_decl(N/A, _) -> Lazy = lazy ; Lazy = none ),
+              ( N/A == Target -> Rec = rec ; Rec = norec )
+            ),
+            Modes).
+
+layer(D, Modes, Target, HeadG) :-
+    D0 is D - 1,
+    forall(member(M, Modes), mode_layer(M, D0, D, Target, HeadG)).
+
+mode_layer(m(R, Tmpl, Lazy, Seq, Rec), D0, D, _Target, HeadG) :-
+    Tmpl =.. [P|TArgs],
+    findall(Ch, input_choice(TArgs, D0, Ch), Choices),
+    forall(member(Ch, Choices),
+           call_mode(Ch, P, R, Lazy, Seq, Rec, D, HeadG)).
+
+input_choice([], _, []).
+input_choice([M|Ms], D0, [C|Cs]) :-
+    (   M = +T
+    ->  sat_avail(T, Id, V, Dep), Dep =< D0, C = in(Id, V)
+    ;   M = -T
+    ->  C = out(T)
+    ;   M = #T
+    ->  C = const(T)
+    ;   C = fixed(M)
+    ),
+    input_choice(Ms, D0, Cs).
+
+call_mode(Ch, P, R, Lazy, Seq, Rec, D, HeadG) :-
+    findall(Id, member(in(Id, _), Ch), InIds),
+    (   sat_done(Seq, InIds)
+    ->  true
+    ;   assertz(sat_done(Seq, InIds)),
+        sort(InIds, InSet),
+        (   Lazy == lazy, \+ memberchk(out(_), Ch)
+        ->  lazy_literal(Ch, P, InSet)
+        ;   maplist(call_arg, Ch, CallArgs),
+            Call =.. [P|CallArgs],
+            solutions(Rec, R, Call, Sols),
+            forall(member(Call-_, Sols), add_solution(Ch, CallArgs, P, InSet, D, HeadG))
+        )
+    ).
+
+call_arg(in(_, V), V).
+call_arg(out(_), _).
+call_arg(const(_), _).
+call_arg(fixed(C), C).
+
+solutions(Rec, R, Call, Sols) :-
+    (   Rec == rec
+    ->  G = planerel_ext:Call
+    ;   G = user:Call
+    ),
+    functor(Call, N, A),
+    Safe = catch(G, E, (saturation_error(N/A, E), fail)),
+    (   R == '*'
+    ->  findall(Call-x, Safe, Sols)
+    ;   findall(Call-x, limit(R, Safe), Sols)
+    ).
+
+saturation_error(PI, E) :-
+    message_to_codes_text(E, T),
+    warn_once(sat_error(PI), "calling ~w during saturation raised an error (treated as failure): ~s", [PI, T]).
+
+lazy_literal(Ch, P, InSet) :-
+    maplist(lazy_arg, Ch, Args, Kinds),
+    Lit =.. [P|Args],
+    findall(I, nth1(I, Kinds, in), InPos),
+    findall(I, nth1(I, Kinds, const), CPos),
+    record_literal(Lit, InSet, [], lazy(InPos, CPos)).
+
+lazy_arg(in(Id, _), '$v'(Id), in).
+lazy_arg(const(_), '$lz', const).
+lazy_arg(fixed(C), C, fixed).
+
+add_solution(Ch, Vals, P, InSet, D, HeadG) :-
+    (   maplist(solution_arg(D), Ch, Vals, Args, Outs0)
+    ->  Lit =.. [P|Args],
+        (   Lit == HeadG
+        ->  true
+        ;   exclude(==(none), Outs0, Outs1),
+            sort(Outs1, Outs),
+            record_literal(Lit, InSet, Outs, none)
+        )
+    ;   true
+    ).
+
+solution_arg(_, in(Id, _), _, '$v'(Id), none).
+solution_arg(D, out(T), V, '$v'(Id), Id) :-
+    ground(V),
+    var_id(V, T, Id, _),
+    add_avail(T, Id, V, D).
+solution_arg(_, const(_), V, V, none) :- ground(V).
+solution_arg(_, fixed(C), _, C, none).
+
+record_literal(Lit, InSet, Outs, Lazy) :-
+    (   sat_seen(Lit)
+    ->  true
+    ;   assertz(sat_seen(Lit)),
+        flag(planerel_lit_id, I0, I0 + 1),
+        I is I0 + 1,
+        assertz(sat_lit(I, Lit, InSet, Outs, Lazy))
+    ).
+
+devar_bl(VT, bl(I, L0, In, Out, Lz), bl(I, L, In, Out, Lz)) :- devar(L0, VT, L).
+
+devar(T, _, T) :- var(T), !.
+devar('$v'(K), VT, V) :- integer(K), !, K1 is K + 1, arg(K1, VT, V).
+devar('$lz', _, _) :- !.
+devar(T, _, T) :- atomic(T), !.
+devar(T, VT, T2) :-
+    T =.. [F|As],
+    maplist(devar_(VT), As, As2),
+    T2 =.. [F|As2].
+devar_(VT, A, B) :- devar(A, VT, B).
+
+                 /*******************************
+                 *            PROVING           *
+                 *******************************/
+
+%   During the search a recursive literal (the target in its own body) is
+%   proved from the positive examples (asserted in module planerel_ext);
+%   everything else is proved by the background in module user.
+
+prove_body([]).
+prove_body([L|Ls]) :-
+    call_lit(L),
+    prove_body(Ls).
+
+call_lit('$rec'(L)) :- !, planerel_ext:L.
+call_lit(L) :- user:L.
+
+covers(Head, Body, Ex) :-
+    catch(\+ \+ ( Head = Ex, prove_body(Body) ), E, (coverage_error(E), fail)).
+
+coverage_error(E) :-
+    message_to_codes_text(E, T),
+    warn_once(coverage_error(T), "an error while testing coverage (treated as not covered): ~s", [T]).
+
+setup_extensional :-
+    forall(( current_predicate(planerel_ext:N0/A0), functor(H0, N0, A0) ),
+           retractall(planerel_ext:H0)),
+    forall(( rec_target(N/A), functor(H, N, A) ),
+           ( dynamic(planerel_ext:N/A),
+             forall(pos_ex(_, H), assertz(planerel_ext:H)) )).
+
+mark_recursive(Target, bl(I, L, In, Out, Lz), bl(I, L1, In, Out, Lz)) :-
+    (   functor(L, N, A), N/A == Target
+    ->  L1 = '$rec'(L)
+    ;   L1 = L
+    ).
+
+                 /*******************************
+                 *            SEARCH            *
+                 *******************************/
+
+%   A node is nd(Body, Last, Bound, Len, PosCov, NegCov, P, N, Score, Seq):
+%   Body the literals (in order), Last the index of the last bottom literal
+%   added, Bound the ordset of bound variable ids, Len the number of
+%   literals including the head, PosCov/NegCov the ids of the examples it
+%   covers.
+
+score(coverage, P, N, _, S) :- S is P - N.
+score(laplace, P, N, _, S) :- S is (P + 1) / (P + N + 2).
+score(accuracy, P, N, _, S) :- ( P + N =:= 0 -> S = 0.0 ; S is P / (P + N) ).
+score(compression, P, N, L, S) :- S is P - N - L + 1.
+
+%   The best score any refinement (one literal longer or more) can reach.
+bound(coverage, P, _, B) :- B = P.
+bound(laplace, P, _, B) :- B is (P + 1) / (P + 2).
+bound(accuracy, P, _, B) :- ( P > 0 -> B = 1.0 ; B = 0.0 ).
+bound(compression, P, L, B) :- B is P - L.
+
+search_clause(Bottom, PosIds, NegIds, Ctx, Best) :-
+    Bottom = bottom(Head, HIn, _HOut, _LitsT, _NB),
+    Ctx = ctx(_, _, Evalfn, _, _, _, _, _, _),
+    include(covers_id(pos, Head, []), PosIds, PC),
+    include(covers_id(neg, Head, []), NegIds, NC),
+    length(PC, P), length(NC, N),
+    score(Evalfn, P, N, 1, S),
+    count_node,
+    Root = nd([], 0, HIn, 1, PC, NC, P, N, S, 0),
+    consider(Root, Ctx, none, Best0),
+    Ctx = ctx(Search, _, _, _, _, _, _, _, _),
+    open_empty(Search, O0),
+    (   expandable(Root, Ctx, Best0)
+    ->  open_push(Search, [Root], O0, O1)
+    ;   O1 = O0
+    ),
+    search_loop(O1, Ctx, Best0, Best).
+
+covers_id(pos, Head, Body, Id) :- pos_ex(Id, E), covers(Head, Body, E).
+covers_id(neg, Head, Body, Id) :- neg_ex(Id, E), covers(Head, Body, E).
+
+count_node :-
+    flag(planerel_nodes, N, N + 1),
+    flag(planerel_search_nodes, M, M + 1).
+
+budget_left(Ctx) :-
+    Ctx = ctx(_, _, _, _, MaxNodes, _, _, _, _),
+    flag(planerel_search_nodes, M, M),
+    M < MaxNodes.
+
+search_loop(Open, Ctx, Best0, Best) :-
+    Ctx = ctx(Search, _, _, _, _, _, _, _, _),
+    (   budget_left(Ctx),
+        open_pop(Search, Open, Node, Open1)
+    ->  (   expandable(Node, Ctx, Best0)
+        ->  refine(Node, Ctx, Best0, Best1, Children),
+            include(expandable_child(Ctx), Children, Keep),
+            open_push(Search, Keep, Open1, Open2)
+        ;   Best1 = Best0, Open2 = Open1
+        ),
+        search_loop(Open2, Ctx, Best1, Best)
+    ;   Best = Best0
+    ).
+
+expandable_child(Ctx, Node) :- expandable(Node, Ctx, none).
+
+%   A node is worth refining if it can still be lengthened, covers at least
+%   minpos positives and some negatives, and its best refinement could beat
+%   the best clause so far.
+expandable(nd(_, _, Bound, Len, _, _, P, N, _, _), Ctx, Best) :-
+    Ctx = ctx(_, CL, Evalfn, bottom(_, _, HOut, _, _), _, MinPos, _, _, _),
+    Len < CL,
+    P >= MinPos,
+    (   N > 0
+    ->  true
+    ;   \+ ord_subset(HOut, Bound)        % consistent, but head outputs still unbound
+    ),
+    (   Best = best(BS, _, _)
+    ->  bound(Evalfn, P, Len, B),
+        B > BS
+    ;   true
+    ).
+
+refine(Node, Ctx, Best0, Best, Children) :-
+    Node = nd(_, Last, _, _, _, _, _, _, _, _),
+    Ctx = ctx(_, _, _, Bottom, _, _, _, _, _),
+    Bottom = bottom(_, _, _, _, NB),
+    From is Last + 1,
+    refine_from(From, NB, Node, Ctx, Best0, Best, Children).
+
+refine_from(J, NB, Node, Ctx, Best0, Best, Children) :-
+    (   J > NB
+    ->  Best = Best0, Children = []
+    ;   \+ budget_left(Ctx)
+    ->  Best = Best0, Children = []
+    ;   Ctx = ctx(_, _, _, bottom(_, _, _, LitsT, _), _, _, _, _, _),
+        arg(J, LitsT, BL),
+        BL = bl(_, _, In, _, _),
+        Node = nd(_, _, Bound, _, _, _, _, _, _, _),
+        (   ord_subset(In, Bound)
+        ->  children_of(BL, Node, Ctx, Best0, Best1, Cs, Rest)
+        ;   Best1 = Best0, Cs = Rest
+        ),
+        J1 is J + 1,
+        Children = Cs,
+        refine_from(J1, NB, Node, Ctx, Best1, Best, Rest)
+    ).
+
+children_of(bl(J, Lit, _, Out, none), Node, Ctx, Best0, Best, [Child|T], T) :- !,
+    make_child(J, Lit, Out, Node, Ctx, Child),
+    consider(Child, Ctx, Best0, Best).
+children_of(bl(J, Lit, In, Out, lazy(InPos, CPos)), Node, Ctx, Best0, Best, Cs, T) :-
+    lazy_constants(Lit, In, InPos, CPos, Node, Ctx, Consts),
+    lazy_children(Consts, J, Lit, CPos, Out, Node, Ctx, Best0, Best, Cs, T).
+
+lazy_children([], _, _, _, _, _, _, Best, Best, T, T).
+lazy_children([C|Cs], J, Lit, CPos, Out, Node, Ctx, Best0, Best, L, T) :-
+    (   budget_left(Ctx)
+    ->  set_args(CPos, C, Lit, Lit1),
+        make_child(J, Lit1, Out, Node, Ctx, Child),
+        consider(Child, Ctx, Best0, Best1),
+        L = [Child|L1],
+        lazy_children(Cs, J, Lit, CPos, Out, Node, Ctx, Best1, Best, L1, T)
+    ;   Best = Best0, L = T
+    ).
+
+set_args(Pos, Vals, Lit, Lit1) :-
+    Lit =.. [F|As],
+    set_args_(As, 1, Pos, Vals, As1),
+    Lit1 =.. [F|As1].
+
+set_args_([], _, _, _, []).
+set_args_([A|As], I, Pos, Vals, [B|Bs]) :-
+    (   nth1(K, Pos, I)
+    ->  nth1(K, Vals, B)
+    ;   B = A
+    ),
+    I1 is I + 1,
+    set_args_(As, I1, Pos, Vals, Bs).
+
+make_child(J, Lit, Out, nd(Body, _, Bound, Len, PC, NC, _, _, _, _), Ctx, Child) :-
+    Ctx = ctx(_, _, Evalfn, bottom(Head, _, _, _, _), _, MinPos, _, _, _),
+    append(Body, [Lit], Body1),
+    ord_union(Bound, Out, Bound1),
+    Len1 is Len + 1,
+    count_node,
+    include(covers_id(pos, Head, Body1), PC, PC1),
+    length(PC1, P1),
+    (   P1 >= MinPos
+    ->  include(covers_id(neg, Head, Body1), NC, NC1),
+        length(NC1, N1)
+    ;   NC1 = NC, length(NC, N1)           % pruned: its negatives do not matter
+    ),
+    score(Evalfn, P1, N1, Len1, S),
+    flag(planerel_search_nodes, Seq, Seq),
+    Child = nd(Body1, J, Bound1, Len1, PC1, NC1, P1, N1, S, Seq).
+
+%   consider(+Node, +Ctx, +Best0, -Best): keep Node if it is acceptable and
+%   better (higher score, then fewer literals, then found earlier).
+consider(Node, Ctx, Best0, Best) :-
+    Node = nd(_, _, Bound, Len, _, _, P, N, S, _),
+    Ctx = ctx(_, _, _, bottom(_, _, HOut, _, _), _, MinPos, MinAcc, Noise, _),
+    (   P >= MinPos,
+        N =< Noise,
+        P / (P + N) >= MinAcc,
+        ord_subset(HOut, Bound),
+        (   Best0 = best(BS, BL, _)
+        ->  ( S > BS ; S =:= BS, Len < BL )
+        ;   true
+        )
+    ->  Best = best(S, Len, Node)
+    ;   Best = Best0
+    ).
+
+%   Lazy evaluation: collect the values the literal's input arguments take
+%   on the covered positives and negatives, call the predicate with
+%   [PosValues, NegValues] in place of each input argument, and use each
+%   answer's constants.
+lazy_constants(Lit, In, InPos, CPos, Node, Ctx, Consts) :-
+    Node = nd(Body, _, _, _, PC, NC, _, _, _, Seq),
+    Ctx = ctx(_, _, _, bottom(Head, _, _, _, _), _, _, _, _, _),
+    Lit =.. [_|LitArgs],
+    args_at(InPos, LitArgs, InVars),
+    (   InPos = [_], lazy_value_cache(Seq, In, PosT0, NegT0)
+    ->  PosTuples = PosT0, NegTuples = NegT0      % same node, same input variable
+    ;   lazy_values(PC, pos, Head, Body, InVars, PosTuples),
+        lazy_values(NC, neg, Head, Body, InVars, NegTuples),
+        (   InPos = [_]
+        ->  retractall(lazy_value_cache(_, _, _, _)),
+            assertz(lazy_value_cache(Seq, In, PosTuples, NegTuples))
+        ;   true
+        )
+    ),
+    (   PosTuples == []
+    ->  Consts = []
+    ;   Lit =.. [F|As],
+        length(As, Ar),
+        length(CallArgs, Ar),
+        fill_lazy_args(InPos, 1, PosTuples, NegTuples, CallArgs),
+        Call =.. [F|CallArgs],
+        args_at(CPos, CallArgs, CVars),
+        fill_fixed(As, CallArgs, InPos, CPos),
+        variant_sha1(Call-CVars, Key),
+        (   lazy_cache(Key, Consts0)
+        ->  Consts = Consts0
+        ;   findall(CVars,
+                    limit(20, catch(user:Call, E, (lazy_error(F/Ar, E), fail))),
+                    Sols0),
+            include(ground, Sols0, Sols1),
+            list_to_set(Sols1, Consts),
+            assertz(lazy_cache(Key, Consts))
+        )
+    ).
+
+%   args_at(+Positions, +Args, -Values): the arguments at Positions (shared,
+%   not copied).
+args_at([], _, []).
+args_at([I|Is], Args, [V|Vs]) :- nth1(I, Args, V), args_at(Is, Args, Vs).
+
+fill_lazy_args([], _, _, _, _).
+fill_lazy_args([I|Is], K, PT, NT, CallArgs) :-
+    findall(V, (member(T, PT), nth1(K, T, V)), PV),
+    findall(V, (member(T, NT), nth1(K, T, V)), NV),
+    nth1(I, CallArgs, [PV, NV]),
+    K1 is K + 1,
+    fill_lazy_args(Is, K1, PT, NT, CallArgs).
+
+fill_fixed(As, CallArgs, InPos, CPos) :-
+    forall(( nth1(I, As, A), \+ memberchk(I, InPos), \+ memberchk(I, CPos) ),
+           nth1(I, CallArgs, A)).
+
+lazy_values(Ids, Set, Head, Body, InVars, Tuples) :-
+    findall(InVars,
+            ( member(Id, Ids),
+              example_atom(Set, Id, E),
+              catch(limit(50, (Head = E, prove_body(Body))), _, fail)
+            ),
+            Tuples0),
+    include(ground, Tuples0, Tuples).
+
+example_atom(pos, Id, E) :- pos_ex(Id, E).
+example_atom(neg, Id, E) :- neg_ex(Id, E).
+
+lazy_error(PI, E) :-
+    message_to_codes_text(E, T),
+    warn_once(lazy_error(PI),
+              "lazy evaluation of ~w raised an error (it must accept [PosValues, NegValues] in place of its input argument): ~s",
+              [PI, T]).
+
+%   The open list.
+open_empty(bf, q([], [])).
+open_empty(df, []).
+open_empty(heuristic, H) :- empty_heap(H).
+
+open_push(bf, Ns, q(F, B0), q(F, B)) :- reverse(Ns, R), append(R, B0, B).
+open_push(df, Ns, S0, S) :- append(Ns, S0, S).
+open_push(heuristic, Ns, H0, H) :- foldl(heap_add, Ns, H0, H).
+
+heap_add(Node, H0, H) :-
+    Node = nd(_, _, _, Len, _, _, _, _, S, Seq),
+    NS is -S,
+    add_to_heap(H0, k(NS, Len, Seq), Node, H).
+
+open_pop(bf, q(F, B), N, Q) :-
+    (   F = [N|F1]
+    ->  Q = q(F1, B)
+    ;   B \== [],
+        reverse(B, [N|F1]),
+        Q = q(F1, [])
+    ).
+open_pop(df, [N|S], N, S).
+open_pop(heuristic, H0, N, H) :- get_from_heap(H0, _, N, H).
+
+                 /*******************************
+                 *            INDUCE            *
+                 *******************************/
+
+%!  induce is det.
+%
+%   Learn a theory from the examples read by read_all/1 by greedy cover and
+%   print it with the confusion matrix of the training set (and of the test
+%   set when test_pos/test_neg are set).
+induce :-
+    (   loaded_stem(_)
+    ->  true
+    ;   input_error("induce/0: nothing read; call read_all(Stem) first", [])
+    ),
+    retractall(theory_clause(_, _, _, _, _)),
+    retractall(rec_target(_)),
+    retractall(lazy_cache(_, _)),
+    retractall(lazy_value_cache(_, _, _, _)),
+    statistics(cputime, T0),
+    nb_setval(planerel_t0, T0),
+    flag(planerel_nodes, _, 0),
+    flag(planerel_rule_no, _, 0),
+    findall(F/A, (pos_ex(_, E), functor(E, F, A)), Ts0),
+    list_to_set(Ts0, Targets),
+    forall(member(T, Targets), check_target(T)),
+    setup_extensional,
+    load_test_sets,
+    print_settings,
+    findall(Id, pos_ex(Id, _), Rem),
+    cover_loop(Rem),
+    statistics(cputime, T1),
+    T is T1 - T0,
+    nb_setval(planerel_search_time, T),
+    print_theory,
+    report_performance.
+
+check_target(T) :-
+    T = N/A,
+    (   mode_decl(h, _, Tm, _, _), functor(Tm, N, A)
+    ->  true
+    ;   input_error("no modeh declaration for the target ~w/~w of the positive examples", [N, A])
+    ),
+    body_modes(T, Modes),
+    findall(Ty, ( mode_decl(h, _, Tm2, _, _), functor(Tm2, N, A),
+                  Tm2 =.. [_|As], member(+Ty, As) ), HT),
+    findall(Ty, ( member(m(_, Tb, _, _, _), Modes), Tb =.. [_|As], member(-Ty, As) ), OT),
+    append(HT, OT, Provided),
+    forall(( member(m(_, Tb, _, Seq, _), Modes), Tb =.. [_|As], member(+Ty, As) ),
+           (   memberchk(Ty, Provided)
+           ->  true
+           ;   mode_decl(b, _, _, Where, Seq),
+               where_text(Where, W),
+               input_error("~s: undeclared type ~w in ~q: no modeh input (+~w) and no modeb output (-~w) of target ~w/~w provides it",
+                           [W, Ty, Tb, Ty, Ty, N, A])
+           )).
+
+load_test_sets :-
+    retractall(tpos_ex(_, _)),
+    retractall(tneg_ex(_, _)),
+    forall(member(S, [test_pos, test_neg]),
+           (   setting_value(S, File, Where)
+           ->  resolve_file(File, Where, Path, S),
+               atom_concat(planerel_id_, S, Flag),
+               flag(Flag, _, 0),
+               read_source(Path, S)
+           ;   true
+           )).
+
+resolve_file(File, Where, Path, S) :-
+    (   exists_file(File)
+    ->  Path = File
+    ;   Where = WFile:_,
+        file_directory_name(WFile, Dir),
+        directory_file_path(Dir, File, P1),
+        exists_file(P1)
+    ->  Path = P1
+    ;   where_text(Where, W),
+        input_error("~s: the file ~w of setting ~w does not exist", [W, File, S])
+    ).
+
+cover_loop([]) :- !.
+cover_loop([SeedId|Rest]) :-
+    pos_ex(SeedId, Seed),
+    functor(Seed, F, A),
+    saturate(Seed, Bottom0),
+    Bottom0 = bottom(Head, HIn, HOut, LitsT0, NB),
+    LitsT0 =.. [_|BLs0],
+    maplist(mark_recursive(F/A), BLs0, BLs),
+    LitsT =.. [lits|BLs],
+    Bottom = bottom(Head, HIn, HOut, LitsT, NB),
+    include(same_functor(pos, F, A), [SeedId|Rest], PosIds),
+    findall(Id, (neg_ex(Id, E), functor(E, F, A)), NegIds),
+    make_ctx(Bottom, Ctx),
+    flag(planerel_search_nodes, _, 0),
+    retractall(lazy_value_cache(_, _, _, _)),
+    search_clause(Bottom, PosIds, NegIds, Ctx, Best),
+    flag(planerel_search_nodes, Explored, Explored),
+    (   Best = best(_, _, nd(Body, _, _, _, PC, _, P, N, _, _))
+    ->  add_rule(Head, Body, P, N),
+        ord_subtract([SeedId|Rest], PC, Rem1),
+        (   Rem1 == [SeedId|Rest]       % cannot happen (P >= minpos >= 1); be safe
+        ->  Rem = Rest
+        ;   Rem = Rem1
+        )
+    ;   findall(x, (neg_ex(_, NE), NE =@= Seed), Ns),
+        length(Ns, NN),
+        add_rule(Seed, [], 1, NN),
+        Rem = Rest
+    ),
+    (   setting(verbosity, V), V >= 1
+    ->  flag(planerel_rule_no, RN, RN),
+        format("[seed ~w] ~q: bottom clause of ~w literals, ~w clauses explored -> rule ~w~n",
+               [SeedId, Seed, NB, Explored, RN])
+    ;   true
+    ),
+    cover_loop(Rem).
+
+same_functor(pos, F, A, Id) :- pos_ex(Id, E), functor(E, F, A).
+
+make_ctx(Bottom, ctx(Search, CL, Evalfn, Bottom, Nodes, MinPos, MinAcc, Noise, none)) :-
+    setting(search, Search),
+    setting(clauselength, CL),
+    setting(evalfn, Evalfn),
+    setting(nodes, Nodes),
+    setting(minpos, MinPos),
+    setting(minacc, MinAcc),
+    setting(noise, Noise).
+
+add_rule(Head, Body, P, N) :-
+    maplist(unwrap_rec, Body, Body1),
+    copy_term(Head-Body1, H-B),
+    flag(planerel_rule_no, K, K + 1),
+    K1 is K + 1,
+    assertz(theory_clause(K1, H, B, P, N)).
+
+unwrap_rec('$rec'(L), L) :- !.
+unwrap_rec(L, L).
+
+                 /*******************************
+                 *          EVALUATION          *
+                 *******************************/
+
+theory_covers(E) :-
+    setting(depth, D),
+    catch(\+ \+ prove_theory(E, D), Err, (coverage_error(Err), fail)).
+
+prove_theory(E, D) :-
+    D > 0,
+    D1 is D - 1,
+    theory_clause(_, H, B, _, _),
+    H = E,
+    prove_tbody(B, D1).
+
+prove_tbody([], _).
+prove_tbody([L|Ls], D) :-
+    (   functor(L, N, A), rec_target(N/A)
+    ->  prove_theory(L, D)
+    ;   user:L
+    ),
+    prove_tbody(Ls, D).
+
+confusion(PosGoal, NegGoal, cm(TP, FN, FP, TN)) :-
+    aggregate_all(count, (call(PosGoal, _, E), theory_covers(E)), TP),
+    aggregate_all(count, call(PosGoal, _, _), NP),
+    FN is NP - TP,
+    aggregate_all(count, (call(NegGoal, _, E2), theory_covers(E2)), FP),
+    aggregate_all(count, call(NegGoal, _, _), NN),
+    TN is NN - FP.
+
+accuracy(cm(TP, FN, FP, TN), Acc) :-
+    Tot is TP + FN + FP + TN,
+    (   Tot =:= 0 -> Acc = 0.0 ; Acc is (TP + TN) / Tot ).
+
+                 /*******************************
+                 *            OUTPUT            *
+                 *******************************/
+
+print_settings :-
+    (   setting(verbosity, V), V >= 1
+    ->  findall(S, ( member(N, [search, evalfn, clauselength, i, nodes, minpos,
+                                 minacc, noise, depth]),
+                     setting(N, Val), format(string(S), "~w=~w", [N, Val]) ), Ss),
+        atomic_list_concat(Ss, ' ', Text),
+        format("[planerel learner] ~w~n", [Text])
+    ;   true
+    ).
+
+clause_text(H, B, Text) :-
+    copy_term(H-B, H1-B1),
+    numbervars(H1-B1, 0, _),
+    Opts = [quoted(true), numbervars(true), spacing(standard)],
+    with_output_to(string(HT), write_term(H1, Opts)),
+    (   B1 == []
+    ->  format(string(Text), "~s.", [HT])
+    ;   maplist([L, LT]>>with_output_to(string(LT), write_term(L, Opts)), B1, LTs),
+        atomic_list_concat(LTs, ', ', BT),
+        format(string(Text), "~s :- ~w.", [HT, BT])
+    ).
+
+print_theory :-
+    format("~n[theory]~n", []),
+    (   theory_clause(_, _, _, _, _)
+    ->  forall(theory_clause(K, H, B, P, N),
+               ( clause_text(H, B, T),
+                 format("[rule ~w] [pos cover = ~w, neg cover = ~w]~n~s~n", [K, P, N, T]) ))
+    ;   format("(empty theory)~n", [])
+    ).
+
+%!  show_theory is det.
+%   Print the learned clauses, one per line.
+show_theory :-
+    forall(theory_clause(_, H, B, _, _), (clause_text(H, B, T), format("~s~n", [T]))).
+
+report_performance :-
+    confusion(pos_ex, neg_ex, CM),
+    print_confusion("training set performance", CM),
+    (   ( tpos_ex(_, _) ; tneg_ex(_, _) )
+    ->  confusion(tpos_ex, tneg_ex, TCM),
+        print_confusion("test set performance", TCM)
+    ;   true
+    ),
+    flag(planerel_nodes, Nodes, Nodes),
+    format("~n[clauses explored] ~w~n", [Nodes]).
+
+print_confusion(Title, CM) :-
+    CM = cm(TP, FN, FP, TN),
+    PP is TP + FP, PN is FN + TN, AP is TP + FN, AN is FP + TN, T is AP + AN,
+    accuracy(CM, Acc),
+    format("~n[~w]~n", [Title]),
+    format("~t~14|~tactual +~24|~tactual -~34|~n", []),
+    format("pred +~t~w~24|~t~w~34|~t~w~44|~n", [TP, FP, PP]),
+    format("pred -~t~w~24|~t~w~34|~t~w~44|~n", [FN, TN, PN]),
+    format("~t~w~24|~t~w~34|~t~w~44|~n", [AP, AN, T]),
+    format("accuracy: ~3f~n", [Acc]).
+
+%!  write_rules(+File) is det.
+%
+%   Write the learned clauses to File, one clause per line (valid Prolog).
+write_rules(File) :-
+    setup_call_cleanup(open(File, write, S, [encoding(utf8)]),
+                       forall(theory_clause(_, H, B, _, _),
+                              ( clause_text(H, B, T), format(S, "~s~n", [T]) )),
+                       close(S)).
+
+                 /*******************************
+                 *       DRIVER (planerel)      *
+                 *******************************/
+
+%!  planerel_main is det.
+%
+%   Entry point for `swipl learner.pl -- STEM [NAME=VALUE ...]`: read the
+%   problem, apply the settings, induce, then print a machine-readable
+%   summary (lines starting with @@) for planerel.learn.  Exit status 2 on
+%   a user error, 3 on any other error.
+planerel_main :-
+    current_prolog_flag(argv, Argv),
+    catch(main_(Argv), E, main_error(E)),
+    halt(0).
+
+main_([Stem|Sets]) :- !,
+    read_all(Stem),
+    forall(member(S, Sets), cli_setting(S)),
+    induce,
+    machine_summary.
+main_([]) :-
+    input_error("usage: swipl learner.pl -- STEM [NAME=VALUE ...]", []).
+
+cli_setting(Text) :-
+    (   sub_atom(Text, B, _, A, '=')
+    ->  sub_atom(Text, 0, B, _, Name),
+        sub_atom(Text, _, A, 0, VText),
+        cli_value(Name, VText, Value),
+        format(atom(Where), "--set ~w", [Text]),
+        set_setting(Name, Value, Where)
+    ;   input_error("--set ~w: expected NAME=VALUE", [Text])
+    ).
+
+cli_value(Name, VText, Value) :-
+    (   memberchk(Name, [test_pos, test_neg])
+    ->  Value = VText
+    ;   catch(term_string(T, VText), _, fail), atomic(T)
+    ->  Value = T
+    ;   Value = VText
+    ).
+
+machine_summary :-
+    format("@@begin~n", []),
+    format("@@engine builtin~n", []),
+    forall(theory_clause(_, H, B, _, _),
+           ( clause_text(H, B, T), format("@@rule ~s~n", [T]) )),
+    confusion(pos_ex, neg_ex, cm(TP, FN, FP, TN)),
+    format("@@train ~w ~w ~w ~w~n", [TP, FN, FP, TN]),
+    (   ( tpos_ex(_, _) ; tneg_ex(_, _) )
+    ->  confusion(tpos_ex, tneg_ex, cm(A, B2, C, D)),
+        format("@@test ~w ~w ~w ~w~n", [A, B2, C, D])
+    ;   true
+    ),
+    flag(planerel_nodes, Nodes, Nodes),
+    format("@@nodes ~w~n", [Nodes]),
+    nb_getval(planerel_search_time, T),
+    format("@@cputime ~6f~n", [T]),
+    format("@@end~n", []).
+
+main_error(planerel_input_error(Text)) :- !,
+    format(user_error, "error: ~s~n", [Text]),
+    halt(2).
+main_error(E) :-
+    message_to_codes_text(E, T),
+    format(user_error, "error: ~s~n", [T]),
+    halt(3).

@@ -1,0 +1,322 @@
+"""Scenes to Prolog facts: the relational description an ILP system learns from.
+
+:func:`describe_scene` measures the planes of one scene (:mod:`planerel.planes`), relates them
+(:mod:`planerel.relations`) and groups them into objects (ground truth when given, else
+proposals); :func:`facts_text` writes any number of described scenes as one Prolog text with
+every fact of a predicate together, predicates in the fixed order of :data:`PREDICATES`, scenes
+in the order given, planes by label, pairs by ``(p, q)``: the same input gives the same bytes.
+The vocabulary, with types, units and Aleph modes, is in ``docs/predicates.md``.
+
+Ids: scene ``s0007``; plane ``s0007_p03`` (its label, two digits or more); object ``s0007_o1``
+(objects numbered from 1 in order).  Any scene id is allowed; ids that are not plain Prolog
+atoms are quoted by :mod:`planerel.terms`.
+
+Described pairs: every ordered pair of planes within one object, and every ordered pair of
+adjacent planes anywhere in the scene (``FactParams.pairs`` selects other sets).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from planerel import terms
+from planerel.errors import InputError
+
+__all__ = [
+    "PREDICATES",
+    "FactParams",
+    "SceneObject",
+    "SceneDescription",
+    "describe_scene",
+    "scene_facts",
+    "facts_text",
+    "write_facts",
+    "DIGITS_M",
+    "DIGITS_DEG",
+]
+
+#: Decimal places written for metres and square metres (0.1 mm) and for degrees.
+DIGITS_M = 4
+DIGITS_DEG = 2
+
+#: The vocabulary, in the order facts are written: (name, arity, argument types, meaning).
+PREDICATES: tuple[tuple[str, int, str, str], ...] = (
+    ("scene", 1, "scene", "a scene"),
+    ("scene_plane", 2, "scene, plane", "the plane belongs to the scene"),
+    ("floor", 2, "scene, plane", "the scene's floor plane"),
+    ("up", 2, "scene, [x, y, z]", "gravity up in the camera frame (unit vector)"),
+    ("object", 2, "scene, obj", "an object (ground truth or proposal) of the scene"),
+    ("has_plane", 2, "obj, plane", "the plane belongs to the object"),
+    ("support", 1, "plane", "a support plane (floor, floor-level plane, large wall)"),
+    ("nplanes", 2, "obj, int", "number of planes of the object"),
+    ("nhorizontal", 2, "obj, int", "number of horizontal planes of the object"),
+    ("nvertical", 2, "obj, int", "number of vertical planes of the object"),
+    ("ninclined", 2, "obj, int", "number of inclined planes of the object"),
+    ("orientation", 2, "plane, horizontal|vertical|inclined", "orientation class"),
+    ("incline", 2, "plane, deg", "angle between plane and horizontal, 0..90"),
+    ("area", 2, "plane, m2", "convex-hull area"),
+    ("plane_length", 2, "plane, m", "long side of the hull's minimum rotated rectangle"),
+    ("plane_width", 2, "plane, m", "short side of that rectangle"),
+    ("height", 2, "plane, m", "centroid height above the floor / lowest support"),
+    ("distance", 2, "plane, m", "distance from the sensor to the centroid"),
+    ("npoints", 2, "plane, int", "number of points"),
+    ("rms", 2, "plane, m", "RMS point-to-plane residual"),
+    ("plane_model", 3, "plane, [x, y, z], [nx, ny, nz]", "centroid (m) and unit normal towards the sensor"),
+    ("hull", 2, "plane, [[x, y, z], ...]", "3-D convex-hull vertices (m), counter-clockwise seen from the sensor"),
+    ("angle", 3, "plane, plane, deg", "angle between the planes, 0..90"),
+    ("parallel", 2, "plane, plane", "angle within the parallel tolerance"),
+    ("perpendicular", 2, "plane, plane", "angle within the perpendicular tolerance of 90"),
+    ("adjacent", 2, "plane, plane", "touch in the image grid or hulls within the adjacency gap"),
+    ("gap", 3, "plane, plane, m", "closest distance between the 3-D hulls"),
+    ("rise", 3, "plane, plane, m", "how far the second centroid is above the first"),
+    ("above", 2, "plane, plane", "first centroid above the second by more than the tolerance"),
+    ("in_front_of", 2, "plane, plane", "first nearer the sensor along the horizontal view direction"),
+)
+_ARITY = {name: arity for name, arity, _, _ in PREDICATES}
+_PLANNER = ("plane_model", "hull")
+_PAIRS = ("object+adjacent", "object", "adjacent", "all", "none")
+
+
+@dataclass(frozen=True)
+class FactParams:
+    """What :func:`scene_facts` writes.
+
+    Parameters
+    ----------
+    pairs : str
+        Described pairs: ``"object+adjacent"`` (default: all pairs within an object and the
+        adjacent pairs of the scene), ``"object"``, ``"adjacent"``, ``"all"``, ``"none"``.
+    planner : bool
+        Write ``plane_model/3`` and ``hull/2`` (for robot planners, not for the learner).
+    planes : str
+        ``"all"`` planes of the scene, or only the planes of ``"objects"``.
+    """
+
+    pairs: str = "object+adjacent"
+    planner: bool = True
+    planes: str = "all"
+
+    def __post_init__(self) -> None:
+        if self.pairs not in _PAIRS:
+            raise InputError(f"pairs must be one of {', '.join(_PAIRS)}; got {self.pairs!r}")
+        if self.planes not in ("all", "objects"):
+            raise InputError(f"planes must be 'all' or 'objects', got {self.planes!r}")
+
+
+@dataclass(frozen=True)
+class SceneObject:
+    """An object of a scene: its id, its plane labels, and its class when known."""
+
+    id: str
+    planes: tuple
+    klass: str | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.id, str) or not self.id:
+            raise InputError(f"an object id must be a non-empty string, got {self.id!r}")
+        object.__setattr__(self, "planes", tuple(int(p) for p in self.planes))
+
+
+@dataclass(frozen=True, eq=False)
+class SceneDescription:
+    """One described scene: planes, relations, objects."""
+
+    scene_id: str
+    planes: object  # PlaneSet
+    relations: object  # Relations
+    objects: tuple
+    source: str | None = None
+    proposed: bool = True
+    support: tuple = field(default=())
+
+    def plane_id(self, label: int) -> str:
+        """``s0007_p03`` for label 3."""
+        return terms.plane_id(self.scene_id, label)
+
+
+def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=None,
+                   klass: str | None = None, plane_params=None, relation_params=None,
+                   proposal_params=None) -> SceneDescription:
+    """Measure, relate and group the planes of one scene.
+
+    Parameters
+    ----------
+    cloud : Cloud
+        Organized cloud ``(H, W, 3)``.
+    labels : ndarray, shape (H, W), int
+        Plane labels (ground truth or segmentation), -1 unassigned.
+    scene_id : str
+        Scene id (``s0007``); plane and object ids derive from it.
+    up : 3 numbers, optional
+        Gravity up; default the cloud's sidecar value, else estimated.
+    objects : sequence of sequences of int, optional
+        Plane labels per object (e.g. from :func:`planerel.relations.objects_from_truth`);
+        default: :func:`planerel.relations.propose_objects`.  Labels without a measured plane
+        are dropped; objects left empty are dropped.
+    klass : str, optional
+        Class of the objects (for training data: the scene's class).
+
+    Returns
+    -------
+    SceneDescription
+    """
+    from planerel.planes import measure_planes
+    from planerel.relations import propose_objects, relate, support_planes
+
+    if not isinstance(scene_id, str) or not scene_id:
+        raise InputError(f"a scene id must be a non-empty string, got {scene_id!r}")
+    planes = measure_planes(cloud, labels, up, plane_params)
+    rel = relate(planes, cloud, relation_params)
+    support = tuple(support_planes(planes, proposal_params))
+    known = {p.label for p in planes}
+    if objects is None:
+        groups = propose_objects(planes, rel, proposal_params)
+        proposed = True
+    else:
+        groups = []
+        for g in objects:
+            kept = tuple(sorted({int(x) for x in g} & known))
+            if kept:
+                groups.append(kept)
+        proposed = False
+    objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), g, klass)
+                 for k, g in enumerate(groups))
+    return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
+                            proposed, support)
+
+
+def _described_pairs(desc: SceneDescription, mode: str) -> list:
+    if mode == "none":
+        return []
+    same_object: set[tuple[int, int]] = set()
+    if mode in ("object", "object+adjacent"):
+        for o in desc.objects:
+            for a in o.planes:
+                for b in o.planes:
+                    if a != b:
+                        same_object.add((a, b))
+    out = []
+    for r in desc.relations:
+        if mode == "all" or (r.a, r.b) in same_object or (mode != "object" and r.adjacent):
+            out.append(r)
+    return out
+
+
+def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dict[str, list[str]]:
+    """The facts of one scene, by predicate name (values: lines ``name(args).``, in order)."""
+    params = params or FactParams()
+    out: dict[str, list[str]] = {name: [] for name, _, _, _ in PREDICATES}
+    F = terms.fact
+    S = desc.scene_id
+    pid = desc.plane_id
+    pset = desc.planes
+    in_objects = {lbl for o in desc.objects for lbl in o.planes}
+    planes = [p for p in pset if params.planes == "all" or p.label in in_objects]
+    kept = {p.label for p in planes}
+    out["scene"].append(F("scene", S))
+    for p in planes:
+        out["scene_plane"].append(F("scene_plane", S, pid(p.label)))
+    if pset.floor is not None and pset.floor in kept:
+        out["floor"].append(F("floor", S, pid(pset.floor)))
+    out["up"].append(F("up", S, [float(x) for x in pset.up], round_to=6))
+    by_label = {p.label: p for p in pset}
+    for o in desc.objects:
+        out["object"].append(F("object", S, o.id))
+        for lbl in o.planes:
+            out["has_plane"].append(F("has_plane", o.id, pid(lbl)))
+        ors = [by_label[lbl].orientation for lbl in o.planes]
+        out["nplanes"].append(F("nplanes", o.id, len(o.planes)))
+        out["nhorizontal"].append(F("nhorizontal", o.id, ors.count("horizontal")))
+        out["nvertical"].append(F("nvertical", o.id, ors.count("vertical")))
+        out["ninclined"].append(F("ninclined", o.id, ors.count("inclined")))
+    for lbl in desc.support:
+        if lbl in kept:
+            out["support"].append(F("support", pid(lbl)))
+    m, dg = DIGITS_M, DIGITS_DEG
+    for p in planes:
+        i = pid(p.label)
+        out["orientation"].append(F("orientation", i, p.orientation))
+        out["incline"].append(F("incline", i, p.incline, round_to=dg))
+        out["area"].append(F("area", i, p.area, round_to=m))
+        out["plane_length"].append(F("plane_length", i, p.length, round_to=m))
+        out["plane_width"].append(F("plane_width", i, p.width, round_to=m))
+        out["height"].append(F("height", i, p.height, round_to=m))
+        out["distance"].append(F("distance", i, p.distance, round_to=m))
+        out["npoints"].append(F("npoints", i, p.n_points))
+        out["rms"].append(F("rms", i, p.rms, round_to=6))
+        if params.planner:
+            out["plane_model"].append(F("plane_model", i, [float(x) for x in p.centroid],
+                                        terms.plist([float(x) for x in p.normal], round_to=6),
+                                        round_to=m))
+            out["hull"].append(F("hull", i, [[float(x) for x in v] for v in p.hull3d], round_to=m))
+    for r in _described_pairs(desc, params.pairs):
+        if r.a not in kept or r.b not in kept:
+            continue
+        a, b = pid(r.a), pid(r.b)
+        out["angle"].append(F("angle", a, b, r.angle, round_to=dg))
+        if r.parallel:
+            out["parallel"].append(F("parallel", a, b))
+        if r.perpendicular:
+            out["perpendicular"].append(F("perpendicular", a, b))
+        if r.adjacent:
+            out["adjacent"].append(F("adjacent", a, b))
+        out["gap"].append(F("gap", a, b, r.gap, round_to=m))
+        out["rise"].append(F("rise", a, b, r.rise, round_to=m))
+        if r.above:
+            out["above"].append(F("above", a, b))
+        if r.in_front_of:
+            out["in_front_of"].append(F("in_front_of", a, b))
+    if not params.planner:
+        for name in _PLANNER:
+            out[name] = []
+    return out
+
+
+def _merge(descs: Sequence[SceneDescription], params: FactParams) -> dict[str, list[str]]:
+    seen: set[str] = set()
+    merged: dict[str, list[str]] = {name: [] for name, _, _, _ in PREDICATES}
+    for d in descs:
+        if d.scene_id in seen:
+            raise InputError(f"scene id {d.scene_id!r} occurs twice; give every scene its own id")
+        seen.add(d.scene_id)
+        for name, lines in scene_facts(d, params).items():
+            merged[name].extend(lines)
+    return merged
+
+
+def facts_text(descs: Sequence[SceneDescription], params: FactParams | None = None, *,
+               header: str | None = None, declare: bool = True) -> str:
+    """All facts of the scenes as one loadable Prolog text.
+
+    Every predicate of the vocabulary is declared ``dynamic`` and ``multifile`` (so queries
+    about a relation no scene has fail instead of raising, and several fact files can be
+    loaded together); facts are grouped by predicate.  An empty list of scenes gives a
+    text with the declarations only.
+    """
+    params = params or FactParams()
+    if isinstance(descs, SceneDescription):
+        descs = [descs]
+    merged = _merge(list(descs), params)
+    lines = []
+    for text in (header or "planerel scene facts; vocabulary: docs/predicates.md").splitlines():
+        safe = "".join(ch if 32 <= ord(ch) < 127 else "?" for ch in text)
+        lines.append("% " + safe)
+    names = [n for n, _, _, _ in PREDICATES if params.planner or n not in _PLANNER]
+    if declare:
+        decl = ", ".join(f"{n}/{_ARITY[n]}" for n in names)
+        lines.append(f":- dynamic(({decl})).")
+        lines.append(f":- multifile(({decl})).")
+    for name in names:
+        if merged[name]:
+            lines.append("")
+            lines.extend(merged[name])
+    return "\n".join(lines) + "\n"
+
+
+def write_facts(path, descs, params: FactParams | None = None, *, header: str | None = None):
+    """Write :func:`facts_text` to ``path`` atomically; return the path."""
+    from planerel.atomic import write_text
+
+    return write_text(path, facts_text(descs, params, header=header))
+

@@ -1,0 +1,540 @@
+"""Pairwise plane relations, the scene graph, and object proposals.
+
+For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.planes.PlaneSet`,
+:func:`relate` computes (in both directions, see :class:`Relation`):
+
+================ =========================================================================
+``angle``        angle between the two planes (their normals, unoriented), 0..90 degrees
+``parallel``     ``angle <= parallel_tol``
+``perpendicular`` ``angle >= 90 - perpendicular_tol``
+``gap``          closest distance between the two 3-D convex hulls, metres (0 when they
+                 touch or cross)
+``touching``     the planes touch in the image grid: pixels of both labels lie within
+                 ``grid_gap`` pixels of each other and within ``max(touch_depth,
+                 touch_rel * z)`` metres in 3-D (z: the pixel's depth; one pixel on a surface
+                 seen at a grazing angle spans several cm, while an occluding edge in front of
+                 a far wall jumps by much more, so it does not touch)
+``adjacent``     ``touching or gap <= adjacency_gap``
+``rise``         ``up . (centroid_q - centroid_p)``: how far q's centroid is above p's, metres
+``above``        p is above q: ``-rise > above_tol``
+``in_front_of``  p is nearer the sensor than q along the horizontal viewing direction
+                 (the camera's optical axis with its up component removed) by ``front_tol``
+================ =========================================================================
+
+Which pairs reach the facts is decided in :mod:`planerel.facts`: all ordered pairs within an
+object, and the adjacent pairs across the scene.
+
+Object proposals (:func:`propose_objects`): support planes are dropped (the floor, horizontal
+planes at floor level, and planes of at least ``support_min_area`` m^2 that are vertical or
+horizontal), then each connected component of the adjacency graph of the remaining planes is a
+candidate object, except components made only of vertical planes that reach the image border
+(walls behind the object, seen in part).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from planerel.errors import InputError
+
+__all__ = [
+    "RelationParams",
+    "Relation",
+    "Relations",
+    "relate",
+    "hull_gap",
+    "scene_graph",
+    "ProposalParams",
+    "propose_objects",
+    "support_planes",
+    "objects_from_truth",
+    "proposal_match",
+]
+
+
+def _check_nonneg(obj, names) -> None:
+    for name in names:
+        v = getattr(obj, name)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+            raise InputError(f"{name} must be a non-negative number, got {v!r}")
+
+
+@dataclass(frozen=True)
+class RelationParams:
+    """Tolerances of :func:`relate` (degrees, metres, pixels)."""
+
+    parallel_tol: float = 10.0
+    perpendicular_tol: float = 10.0
+    adjacency_gap: float = 0.05
+    grid_gap: int = 2
+    touch_depth: float = 0.05
+    touch_rel: float = 0.05
+    above_tol: float = 0.02
+    front_tol: float = 0.05
+
+    def __post_init__(self) -> None:
+        _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
+                             "touch_rel", "above_tol", "front_tol"))
+        if self.parallel_tol >= 45 or self.perpendicular_tol >= 45:
+            raise InputError("parallel_tol and perpendicular_tol must be below 45 degrees, got "
+                             f"{self.parallel_tol!r} and {self.perpendicular_tol!r}")
+        if isinstance(self.grid_gap, bool) or not isinstance(self.grid_gap, int) or not 1 <= self.grid_gap <= 8:
+            raise InputError(f"grid_gap must be an integer number of pixels in 1..8, got {self.grid_gap!r}")
+
+
+@dataclass(frozen=True)
+class Relation:
+    """The relation of plane ``a`` to plane ``b`` (labels); directional fields read "a ... b"."""
+
+    a: int
+    b: int
+    angle: float
+    parallel: bool
+    perpendicular: bool
+    gap: float
+    touching: bool
+    adjacent: bool
+    rise: float
+    above: bool
+    in_front_of: bool
+
+
+@dataclass(frozen=True, eq=False)
+class Relations:
+    """All ordered pair relations of a scene (``a != b``), sorted by ``(a, b)``.
+
+    Attributes
+    ----------
+    pairs : tuple of Relation
+    params : RelationParams
+    """
+
+    pairs: tuple
+    params: RelationParams
+
+    def __len__(self) -> int:
+        return len(self.pairs)
+
+    def __iter__(self):
+        return iter(self.pairs)
+
+    def get(self, a: int, b: int) -> Relation:
+        """The relation of ``a`` to ``b`` (``KeyError`` when absent)."""
+        idx = getattr(self, "_index", None)
+        if idx is None:
+            idx = {(r.a, r.b): r for r in self.pairs}
+            object.__setattr__(self, "_index", idx)
+        return idx[(a, b)]
+
+    def adjacent_pairs(self) -> list[tuple[int, int]]:
+        """Unordered adjacent pairs ``(a, b)`` with ``a < b``."""
+        return [(r.a, r.b) for r in self.pairs if r.adjacent and r.a < r.b]
+
+
+def _edges(poly: np.ndarray):
+    """Start and end points ``(m, 3)`` of a closed polygon (a point gives one zero-length edge)."""
+    if poly.shape[0] == 1:
+        return poly, poly
+    if poly.shape[0] == 2:
+        return poly[:1], poly[1:]
+    return poly, np.roll(poly, -1, axis=0)
+
+
+def _segment_distances(p1, q1, p2, q2) -> np.ndarray:
+    """Closest distances between segments ``p1q1`` and ``p2q2``, all ``(T, 3)`` -> ``(T,)``."""
+    d1 = q1 - p1
+    d2 = q2 - p2
+    r = p1 - p2
+    a = np.einsum("ij,ij->i", d1, d1)
+    e = np.einsum("ij,ij->i", d2, d2)
+    f = np.einsum("ij,ij->i", d2, r)
+    c = np.einsum("ij,ij->i", d1, r)
+    b = np.einsum("ij,ij->i", d1, d2)
+    eps = 1e-18
+    a_ok = a > eps
+    e_ok = e > eps
+    safe_a = np.where(a_ok, a, 1.0)
+    safe_e = np.where(e_ok, e, 1.0)
+    denom = a * e - b * b
+    s = np.where(denom > eps * np.maximum(a * e, eps), (b * f - c * e) / np.where(denom > 0, denom, 1.0), 0.0)
+    s = np.clip(s, 0.0, 1.0)
+    t = (b * s + f) / safe_e
+    low = t < 0
+    high = t > 1
+    t = np.clip(t, 0.0, 1.0)
+    s = np.where(low, np.clip(-c / safe_a, 0, 1), s)
+    s = np.where(high, np.clip((b - c) / safe_a, 0, 1), s)
+    # degenerate segments
+    s = np.where(~a_ok, 0.0, s)
+    t = np.where(~a_ok & e_ok, np.clip(f / safe_e, 0, 1), t)
+    t = np.where(~e_ok, 0.0, t)
+    s = np.where(~e_ok & a_ok, np.clip(-c / safe_a, 0, 1), s)
+    diff = (p1 + d1 * s[:, None]) - (p2 + d2 * t[:, None])
+    return np.sqrt(np.einsum("ij,ij->i", diff, diff))
+
+
+def hull_gap(pa, pb) -> float:
+    """Closest distance between the 3-D convex hulls of two planes.
+
+    Parameters
+    ----------
+    pa, pb : Plane
+        Planes with ``hull3d`` (counter-clockwise vertices in their own plane), ``normal``,
+        ``centroid`` and ``axes``.
+
+    Returns
+    -------
+    float
+        Metres; 0 when the polygons touch or cross.
+    """
+    return float(_gap_matrix([pa, pb])[0, 1])
+
+
+def _gap_matrix(plist) -> np.ndarray:
+    """``(n, n)`` closest hull distances of all plane pairs, vectorized over all edges.
+
+    The distance between two convex planar polygons is the smallest of: the edge-edge segment
+    distances, the distance of a vertex of one polygon to the other polygon's face when it
+    projects inside it, and 0 when an edge of one pierces the other's face.
+    """
+    n = len(plist)
+    e0s, e1s, eown, vs, vown = [], [], [], [], []
+    M = max(p.hull3d.shape[0] for p in plist)
+    poly2 = np.zeros((n, M, 2))
+    isface = np.zeros(n, dtype=bool)
+    C = np.array([p.centroid for p in plist])
+    N = np.array([p.normal for p in plist])
+    AX = np.array([p.axes for p in plist])  # (n, 2, 3)
+    for k, p in enumerate(plist):
+        poly = p.hull3d
+        a0, a1 = _edges(poly)
+        e0s.append(a0)
+        e1s.append(a1)
+        eown.append(np.full(a0.shape[0], k))
+        vs.append(poly)
+        vown.append(np.full(poly.shape[0], k))
+        if poly.shape[0] >= 3:
+            isface[k] = True
+            p2 = (poly - p.centroid) @ p.axes.T
+            poly2[k, : p2.shape[0]] = p2
+            poly2[k, p2.shape[0]:] = p2[-1]
+    E0 = np.concatenate(e0s)
+    E1 = np.concatenate(e1s)
+    eo = np.concatenate(eown)
+    V = np.concatenate(vs)
+    vo = np.concatenate(vown)
+    T = E0.shape[0]
+    estart = np.searchsorted(eo, np.arange(n))
+    vstart = np.searchsorted(vo, np.arange(n))
+    # edge-edge distances over the upper triangle of owners
+    ii, jj = np.triu_indices(T, 1)
+    cross_owner = eo[ii] != eo[jj]
+    ii, jj = ii[cross_owner], jj[cross_owner]
+    dee = np.full((T, T), np.inf)
+    dee[ii, jj] = _segment_distances(E0[ii], E1[ii], E0[jj], E1[jj])
+    dee = np.minimum(dee, dee.T)
+    G = np.minimum.reduceat(np.minimum.reduceat(dee, estart, axis=0), estart, axis=1)
+
+    def inside(pts2):  # pts2 (K, n, 2) in each plane's frame -> (K, n) inside that face
+        ed = np.roll(poly2, -1, axis=1) - poly2  # (n, M, 2)
+        rel = pts2[:, :, None, :] - poly2[None]  # (K, n, M, 2)
+        cr = ed[None, :, :, 0] * rel[..., 1] - ed[None, :, :, 1] * rel[..., 0]
+        return np.all(cr >= -1e-12, axis=2) & isface[None, :]
+
+    # vertices over faces
+    rel = V[:, None, :] - C[None]  # (Nv, n, 3)
+    h = np.einsum("knj,nj->kn", rel, N)
+    v2 = np.einsum("knj,nij->kni", rel, AX)
+    dvf = np.where(inside(v2) & (vo[:, None] != np.arange(n)[None]), np.abs(h), np.inf)
+    Gv = np.minimum.reduceat(dvf, vstart, axis=0)
+    G = np.minimum(G, np.minimum(Gv, Gv.T))
+    # edges piercing faces
+    r0 = E0[:, None, :] - C[None]
+    r1 = E1[:, None, :] - C[None]
+    h0 = np.einsum("knj,nj->kn", r0, N)
+    h1 = np.einsum("knj,nj->kn", r1, N)
+    crosses = (h0 * h1) < 0
+    if crosses.any():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tt = np.where(crosses, h0 / np.where(crosses, h0 - h1, 1.0), 0.0)
+        pts = r0 + (r1 - r0) * tt[..., None]
+        p2 = np.einsum("knj,nij->kni", pts, AX)
+        pierce = crosses & inside(p2) & (eo[:, None] != np.arange(n)[None])
+        Pm = np.logical_or.reduceat(pierce, estart, axis=0)
+        G[Pm | Pm.T] = 0.0
+    np.fill_diagonal(G, 0.0)
+    return G
+
+
+def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int, int]]:
+    """Unordered label pairs whose boundary pixels touch in the grid and in 3-D."""
+    lab = planes.labels
+    if lab is None or lab.shape != xyz.shape[:2]:
+        return set()
+    from planerel._feature_kernels import touch_pairs
+    from planerel.planes import _boundary
+
+    known = np.zeros(int(lab.max()) + 1 if lab.size and lab.max() >= 0 else 1, dtype=bool)
+    for p in planes:
+        known[p.label] = True
+    brow, bcol = np.nonzero(_boundary(lab))
+    m = touch_pairs(np.ascontiguousarray(xyz), np.ascontiguousarray(lab, dtype=np.int32),
+                    brow.astype(np.int64), bcol.astype(np.int64), int(params.grid_gap),
+                    float(params.touch_depth), float(params.touch_rel), known)
+    a, b = np.nonzero(np.triu(m, 1))
+    return set(zip(a.tolist(), b.tolist(), strict=True))
+
+
+def relate(planes, cloud=None, params: RelationParams | None = None) -> Relations:
+    """Relations of every ordered pair of planes.
+
+    Parameters
+    ----------
+    planes : PlaneSet
+        From :func:`planerel.planes.measure_planes`.
+    cloud : Cloud, optional
+        The cloud the planes were measured in; needed for the image-grid ``touching`` test
+        (without it, adjacency uses the 3-D hull gap alone).
+    params : RelationParams, optional
+
+    Returns
+    -------
+    Relations
+        ``n * (n - 1)`` relations for ``n`` planes (none for 0 or 1 plane).
+    """
+    params = params or RelationParams()
+    plist = list(planes)
+    n = len(plist)
+    if n < 2:
+        return Relations((), params)
+    up = np.asarray(planes.up, dtype=float)
+    fwd = np.array([0.0, 0.0, 1.0]) - up[2] * up
+    if np.linalg.norm(fwd) < 1e-6:  # camera looking straight down/up: use the image's -y
+        fwd = np.array([0.0, -1.0, 0.0]) - (-up[1]) * up
+    fwd = fwd / np.linalg.norm(fwd)
+    touch = _touching(planes, params, cloud.xyz) if cloud is not None else set()
+    N = np.array([p.normal for p in plist])
+    C = np.array([p.centroid for p in plist])
+    cosang = np.clip(np.abs(N @ N.T), 0.0, 1.0)
+    ang = np.degrees(np.arccos(cosang))
+    level = C @ up
+    depth = C @ fwd
+    G = _gap_matrix(plist)
+    out = []
+    for i in range(n):
+        pi = plist[i]
+        for j in range(i + 1, n):
+            pj = plist[j]
+            gap = float(G[i, j])
+            t = (pi.label, pj.label) in touch
+            adj = t or gap <= params.adjacency_gap
+            a = float(ang[i, j])
+            par = a <= params.parallel_tol
+            perp = a >= 90.0 - params.perpendicular_tol
+            rise = float(level[j] - level[i])
+            dd = float(depth[j] - depth[i])
+            out.append(Relation(pi.label, pj.label, a, par, perp, gap, t, adj, rise,
+                                -rise > params.above_tol, dd > params.front_tol))
+            out.append(Relation(pj.label, pi.label, a, par, perp, gap, t, adj, -rise,
+                                rise > params.above_tol, -dd > params.front_tol))
+    out.sort(key=lambda r: (r.a, r.b))
+    return Relations(tuple(out), params)
+
+
+def scene_graph(planes, relations: Relations, *, edges: str = "adjacent"):
+    """A networkx graph: planes as nodes (attributes from :class:`Plane`), relations as edges.
+
+    Parameters
+    ----------
+    edges : ``"adjacent"`` or ``"all"``
+        Which unordered pairs become edges.  Edge attributes are those of the relation
+        ``(a, b)`` with ``a < b`` (``rise`` is ``b`` above ``a``).
+    """
+    import networkx as nx
+
+    if edges not in ("adjacent", "all"):
+        raise InputError(f"edges must be 'adjacent' or 'all', got {edges!r}")
+    g = nx.Graph(up=tuple(float(x) for x in planes.up), floor=planes.floor)
+    for p in planes:
+        g.add_node(p.label, n_points=p.n_points, normal=tuple(p.normal.tolist()),
+                   offset=p.offset, centroid=tuple(p.centroid.tolist()), rms=p.rms, area=p.area,
+                   length=p.length, width=p.width, incline=p.incline,
+                   orientation=p.orientation, height=p.height, distance=p.distance,
+                   is_floor=p.is_floor)
+    for r in relations:
+        if r.a < r.b and (edges == "all" or r.adjacent):
+            g.add_edge(r.a, r.b, angle=r.angle, parallel=r.parallel,
+                       perpendicular=r.perpendicular, gap=r.gap, touching=r.touching,
+                       adjacent=r.adjacent, rise=r.rise)
+    return g
+
+
+@dataclass(frozen=True)
+class ProposalParams:
+    """Parameters of :func:`propose_objects`.
+
+    Parameters
+    ----------
+    support_min_area : float
+        Vertical or horizontal planes at least this large (m^2) are support (walls, floors).
+    drop_border_walls : bool
+        Drop components made only of vertical planes of which one reaches the image border
+        (walls seen behind the object); objects have a non-vertical plane or lie in view.
+    min_points : int
+        Proposals with fewer points in total are dropped.
+    """
+
+    support_min_area: float = 2.0
+    drop_border_walls: bool = True
+    min_points: int = 0
+
+    def __post_init__(self) -> None:
+        _check_nonneg(self, ("support_min_area", "min_points"))
+
+
+def support_planes(planes, params: ProposalParams | None = None) -> list[int]:
+    """Labels of support planes: the floor, horizontal planes at floor level, large walls."""
+    params = params or ProposalParams()
+    tol = planes.params.floor_tol
+    out = []
+    for p in planes:
+        floorish = p.is_floor or (planes.floor is not None and p.orientation == "horizontal"
+                                  and abs(p.height) <= tol)
+        large = p.area >= params.support_min_area and p.orientation in ("vertical", "horizontal")
+        if floorish or large:
+            out.append(p.label)
+    return out
+
+
+def propose_objects(planes, relations: Relations, params: ProposalParams | None = None) -> list[tuple[int, ...]]:
+    """Candidate objects: connected components of adjacency after dropping support planes.
+
+    Returns
+    -------
+    list of tuple of int
+        Plane labels per object, each sorted; objects ordered by their smallest label.
+    """
+    import networkx as nx
+
+    params = params or ProposalParams()
+    drop = set(support_planes(planes, params))
+    g = nx.Graph()
+    g.add_nodes_from(p.label for p in planes if p.label not in drop)
+    for a, b in relations.adjacent_pairs():
+        if a not in drop and b not in drop:
+            g.add_edge(a, b)
+    byl = {p.label: p for p in planes}
+    comps = [tuple(sorted(c)) for c in nx.connected_components(g)]
+    comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
+    if params.drop_border_walls:
+        comps = [c for c in comps
+                 if not (all(byl[x].orientation == "vertical" for x in c)
+                         and any(byl[x].touches_border for x in c))]
+    return sorted(comps, key=lambda c: c[0])
+
+
+def objects_from_truth(labels, gt_labels, gt_object_of_label, min_fraction: float = 0.5) -> list[tuple[int, ...]]:
+    """Group (segmented) planes by the ground-truth object they mostly cover.
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W), int
+        Plane labels (a segmentation, or the ground truth itself).
+    gt_labels : ndarray, shape (H, W), int
+        Ground-truth plane labels.
+    gt_object_of_label : mapping or sequence
+        Ground-truth object id (>= 0) of each ground-truth plane label; < 0 or missing =
+        support / no object.
+    min_fraction : float
+        A plane joins an object when at least this fraction of its pixels lies on that
+        object's ground-truth planes.
+
+    Returns
+    -------
+    list of tuple of int
+        Plane labels per ground-truth object, ordered by object id (objects with no plane are
+        left out).
+    """
+    lab = np.asarray(labels)
+    gt = np.asarray(gt_labels)
+    if lab.shape != gt.shape:
+        raise InputError(f"label image {lab.shape} and ground truth {gt.shape} differ in shape")
+    if isinstance(gt_object_of_label, dict):
+        getobj = gt_object_of_label.get
+    else:
+        seq = list(gt_object_of_label)
+
+        def getobj(k, default=-1):
+            return seq[k] if 0 <= k < len(seq) else default
+    gmax = int(gt.max()) + 1 if gt.size and gt.max() >= 0 else 0
+    obj_map = np.full(gmax + 1, -1, np.int64)
+    for k in range(gmax):
+        o = getobj(k, -1)
+        obj_map[k] = -1 if o is None else int(o)
+    objpix = np.where(gt >= 0, obj_map[np.where(gt >= 0, gt, gmax)], -1)
+    groups: dict[int, list[int]] = {}
+    sel = lab >= 0
+    if not sel.any():
+        return []
+    L = lab[sel].astype(np.int64)
+    obj = objpix[sel]
+    nobj = int(obj.max()) + 2
+    code = L * nobj + (obj + 1)
+    uniq, cnt = np.unique(code, return_counts=True)
+    total = np.bincount(L)
+    best: dict[int, tuple[int, int]] = {}
+    for cde, c in zip(uniq.tolist(), cnt.tolist(), strict=True):
+        lbl, o = divmod(cde, nobj)
+        o -= 1
+        if lbl not in best or c > best[lbl][1]:
+            best[lbl] = (o, c)
+    for lbl, (o, c) in sorted(best.items()):
+        if o >= 0 and c >= min_fraction * total[lbl]:
+            groups.setdefault(o, []).append(lbl)
+    return [tuple(sorted(groups[o])) for o in sorted(groups)]
+
+
+def proposal_match(labels, proposals, truth, min_iou: float = 0.8) -> dict:
+    """How well proposals match true objects, by pixels.
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W)
+        Plane labels the proposals refer to.
+    proposals : list of tuple of int
+        Plane labels per proposed object.
+    truth : ndarray, shape (H, W), int
+        True object id per pixel (-1 = no object).
+    min_iou : float
+        A true object is matched when some proposal covers it with at least this pixel IoU.
+
+    Returns
+    -------
+    dict
+        ``n_true``, ``n_proposals``, ``matched`` (true objects matched), ``ious`` (best IoU per
+        true object, by object id order).
+    """
+    lab = np.asarray(labels)
+    tr = np.asarray(truth)
+    if lab.shape != tr.shape:
+        raise InputError(f"label image {lab.shape} and true objects {tr.shape} differ in shape")
+    prop_img = np.full(lab.shape, -1, np.int64)
+    for k, plist in enumerate(proposals):
+        prop_img[np.isin(lab, list(plist))] = k
+    ids = [int(x) for x in np.unique(tr) if x >= 0]
+    ious = []
+    for o in ids:
+        m = tr == o
+        best = 0.0
+        cand = np.unique(prop_img[m])
+        for k in cand[cand >= 0]:
+            pm = prop_img == k
+            inter = np.count_nonzero(pm & m)
+            union = np.count_nonzero(pm | m)
+            best = max(best, inter / union if union else 0.0)
+        ious.append(best)
+    matched = sum(1 for x in ious if x >= min_iou)
+    return {"n_true": len(ids), "n_proposals": len(proposals), "matched": matched, "ious": ious}

@@ -1,0 +1,264 @@
+"""Parameters of the segmentation methods, with the paper's defaults, validated when built."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from planerel.errors import InputError
+
+__all__ = [
+    "RegionGrowParams",
+    "RansacParams",
+    "REFERENCE_PIXELS",
+    "REFERENCE_MIN_REGION_SIZE",
+    "scaled_min_region_size",
+    "coerce_params",
+]
+
+#: The paper's ``min_region_size`` (90 points) is for 160x120 images.
+REFERENCE_PIXELS = 160 * 120
+REFERENCE_MIN_REGION_SIZE = 90
+
+
+def scaled_min_region_size(n_pixels: int) -> int:
+    """``min_region_size`` for an image (or cloud) of ``n_pixels`` points: the paper's 90 at
+    160x120, proportional to the pixel count (1440 at 640x480), at least 3."""
+    return max(3, int(round(REFERENCE_MIN_REGION_SIZE * n_pixels / REFERENCE_PIXELS)))
+
+
+def _num(owner: str, name: str, value, *, lo=None, hi=None, lo_open=False, hi_open=False) -> float:
+    if isinstance(value, bool):
+        raise InputError(f"{owner}: {name} must be a number, got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{owner}: {name} must be a number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise InputError(f"{owner}: {name} must be finite, got {value!r}")
+    if lo is not None and (v < lo or (lo_open and v == lo)):
+        raise InputError(f"{owner}: {name} must be {'>' if lo_open else '>='} {lo}, got {value!r}")
+    if hi is not None and (v > hi or (hi_open and v == hi)):
+        raise InputError(f"{owner}: {name} must be {'<' if hi_open else '<='} {hi}, got {value!r}")
+    return v
+
+
+def _int(owner: str, name: str, value, lo: int) -> int:
+    if isinstance(value, float) and math.isfinite(value) and value.is_integer():
+        value = int(value)
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{owner}: {name} must be an integer, got {value!r}")
+    if value < lo:
+        raise InputError(f"{owner}: {name} must be >= {lo}, got {value!r}")
+    return int(value)
+
+
+def _auto_or(owner, name, value, conv):
+    if isinstance(value, str):
+        if value == "auto":
+            return "auto"
+        raise InputError(f"{owner}: {name} must be 'auto' or a number, got {value!r}")
+    return conv(value)
+
+
+@dataclass(frozen=True)
+class RegionGrowParams:
+    """Parameters of region growing (the paper's Algorithm 1) and of its normals.
+
+    Parameters
+    ----------
+    theta : float
+        Angle threshold in degrees between a candidate's normal and the region's base normal
+        (paper: 15).  Must lie in (0, 90).
+    delta : float or "auto"
+        Distance threshold in metres between grid neighbours.  ``"auto"`` (paper): ``delta_factor``
+        times the mean, over valid points, of each point's distance to its nearest adjacent grid
+        neighbour.
+    delta_factor : float
+        Factor of the automatic delta (planerel's choice, see docs/segmentation.md): 6.
+    delta_mode : {"depth", "image"}
+        ``"image"``: one automatic delta per image (the paper).  ``"depth"`` (default): the same
+        mean, taken per depth band, and an edge uses the band of its farther point, because
+        neighbour spacing and sensor noise grow with depth.
+    min_neighbour_num : int
+        A point joins a region only when at least this many of its 8 grid neighbours lie within
+        delta (paper: 4).
+    base_update_step : int
+        After the first ``num_initial_points`` points, the base normal is refreshed every this
+        many added points (paper: 8).
+    num_initial_points : int
+        The base normal is refreshed at every added point until the region has this many (16).
+    angle_mf : float
+        Angle modifying factor (< 1): while the region has fewer than ``num_initial_points``
+        points, and for the seed test, the angle threshold is ``theta * angle_mf``: 0.5.
+    min_region_size : int or "auto"
+        Smallest region kept, in points.  ``"auto"``: 90 at 160x120, proportional to the number
+        of pixels (1440 at 640x480).
+    normal_smooth, normal_radius : int or "auto"
+        Normal estimation (see :mod:`planerel.normals`).
+    jump_factor : float
+        Depth-jump threshold of the normals in pixel sizes (see :mod:`planerel.normals`).
+    reference_depth : float or None
+        Depth (m) at which the normal window has its nominal size; it grows with depth
+        (see :mod:`planerel.normals`).  None = fixed window.
+    refine : bool
+        planerel's boundary completion after growing (not in the paper; see docs): unassigned
+        pixels next to a region join the region whose fitted plane is nearest, within
+        ``refine_factor`` times the region's RMS residual.
+    refine_factor : float
+        See ``refine``: 3.
+    refine_rounds : int or "auto"
+        Breadth-first rounds of the completion; ``"auto"`` = normal_smooth + normal_radius + 2.
+    knn : int
+        Neighbours per point for unorganized clouds (normals and the growing graph).
+    """
+
+    theta: float = 15.0
+    delta: float | str = "auto"
+    delta_factor: float = 6.0
+    delta_mode: str = "depth"
+    min_neighbour_num: int = 4
+    base_update_step: int = 8
+    num_initial_points: int = 16
+    angle_mf: float = 0.5
+    min_region_size: int | str = "auto"
+    normal_smooth: int | str = "auto"
+    normal_radius: int | str = "auto"
+    jump_factor: float = 12.0
+    reference_depth: float | None = 2.0
+    refine: bool = True
+    refine_factor: float = 3.0
+    refine_rounds: int | str = "auto"
+    knn: int = 16
+
+    def __post_init__(self) -> None:
+        o = "regiongrow"
+        s = object.__setattr__
+        s(self, "theta", _num(o, "theta (degrees)", self.theta, lo=0, hi=90, lo_open=True, hi_open=True))
+        s(self, "delta", _auto_or(o, "delta", self.delta,
+                                  lambda v: _num(o, "delta", v, lo=0, lo_open=True)))
+        s(self, "delta_factor", _num(o, "delta_factor", self.delta_factor, lo=0, lo_open=True))
+        if self.delta_mode not in ("depth", "image"):
+            raise InputError(f"{o}: delta_mode must be 'depth' or 'image', got {self.delta_mode!r}")
+        s(self, "min_neighbour_num", _int(o, "min_neighbour_num", self.min_neighbour_num, 0))
+        if self.min_neighbour_num > 8:
+            raise InputError(f"{o}: min_neighbour_num must be <= 8 (the grid has 8 neighbours), "
+                             f"got {self.min_neighbour_num}")
+        s(self, "base_update_step", _int(o, "base_update_step", self.base_update_step, 1))
+        s(self, "num_initial_points", _int(o, "num_initial_points", self.num_initial_points, 1))
+        s(self, "angle_mf", _num(o, "angle_mf", self.angle_mf, lo=0, hi=1, lo_open=True))
+        s(self, "min_region_size", _auto_or(o, "min_region_size", self.min_region_size,
+                                            lambda v: _int(o, "min_region_size", v, 1)))
+        s(self, "normal_smooth", _auto_or(o, "normal_smooth", self.normal_smooth,
+                                          lambda v: _int(o, "normal_smooth", v, 0)))
+        s(self, "normal_radius", _auto_or(o, "normal_radius", self.normal_radius,
+                                          lambda v: _int(o, "normal_radius", v, 1)))
+        s(self, "jump_factor", _num(o, "jump_factor", self.jump_factor, lo=0, lo_open=True))
+        if self.reference_depth is not None and self.reference_depth != "none":
+            s(self, "reference_depth", _num(o, "reference_depth", self.reference_depth, lo=0,
+                                            lo_open=True))
+        else:
+            s(self, "reference_depth", None)
+        if not isinstance(self.refine, (bool, np.bool_)):
+            raise InputError(f"{o}: refine must be true or false, got {self.refine!r}")
+        s(self, "refine", bool(self.refine))
+        s(self, "refine_factor", _num(o, "refine_factor", self.refine_factor, lo=0, lo_open=True))
+        s(self, "refine_rounds", _auto_or(o, "refine_rounds", self.refine_rounds,
+                                          lambda v: _int(o, "refine_rounds", v, 0)))
+        s(self, "knn", _int(o, "knn", self.knn, 3))
+
+
+@dataclass(frozen=True)
+class RansacParams:
+    """Parameters of the RANSAC baselines SP (plane) and SNP (plane with normals).
+
+    Parameters
+    ----------
+    threshold : float
+        Inlier distance in metres (paper: SP 0.005 / 0.01 / 0.03 / 0.05, SNP 0.01 / 0.03 / 0.05).
+    normal_weight : float
+        SNP only: weight ``w`` of the normal term; a point's distance to a plane is
+        ``w * angle(normal, plane normal) + (1 - w) * |point-plane distance|`` (paper: 0.1).
+    max_iterations : int
+        Hypotheses per extracted plane at most (1000, PCL's common setting).
+    probability : float
+        Stop drawing hypotheses once a plane at least as good would have been drawn with this
+        probability (0.99, PCL's default).
+    min_region_size : int or "auto"
+        Extraction stops when fewer points remain or the best plane has fewer inliers.
+    max_planes : int
+        Extraction stops after this many planes (100).
+    score_sample : int
+        Hypotheses are scored on a seeded random sample of this many remaining points; the best
+        is then evaluated on all of them (20000).
+    seed : int
+        Seed of the random generator: same input, same seed, same planes.
+    knn : int
+        Neighbours per point for normals of unorganized clouds (SNP).
+    """
+
+    threshold: float = 0.01
+    normal_weight: float = 0.1
+    max_iterations: int = 1000
+    probability: float = 0.99
+    min_region_size: int | str = "auto"
+    max_planes: int = 100
+    score_sample: int = 20000
+    seed: int = 0
+    knn: int = 16
+    normal_smooth: int | str = "auto"
+    normal_radius: int | str = "auto"
+    jump_factor: float = 12.0
+
+    def __post_init__(self) -> None:
+        o = "ransac"
+        s = object.__setattr__
+        s(self, "threshold", _num(o, "threshold", self.threshold, lo=0, lo_open=True))
+        s(self, "normal_weight", _num(o, "normal_weight", self.normal_weight, lo=0, hi=1))
+        s(self, "max_iterations", _int(o, "max_iterations", self.max_iterations, 1))
+        s(self, "probability", _num(o, "probability", self.probability, lo=0, hi=1,
+                                    lo_open=True, hi_open=True))
+        s(self, "min_region_size", _auto_or(o, "min_region_size", self.min_region_size,
+                                            lambda v: _int(o, "min_region_size", v, 1)))
+        s(self, "max_planes", _int(o, "max_planes", self.max_planes, 1))
+        s(self, "score_sample", _int(o, "score_sample", self.score_sample, 3))
+        s(self, "seed", _int(o, "seed", self.seed, 0))
+        s(self, "knn", _int(o, "knn", self.knn, 3))
+        s(self, "normal_smooth", _auto_or(o, "normal_smooth", self.normal_smooth,
+                                          lambda v: _int(o, "normal_smooth", v, 0)))
+        s(self, "normal_radius", _auto_or(o, "normal_radius", self.normal_radius,
+                                          lambda v: _int(o, "normal_radius", v, 1)))
+        s(self, "jump_factor", _num(o, "jump_factor", self.jump_factor, lo=0, lo_open=True))
+
+
+def coerce_params(cls, params: dict):
+    """Build ``cls`` from keyword parameters, naming unknown ones; strings from the command line
+    ("15", "auto", "true") become numbers / booleans."""
+    names = {f.name for f in fields(cls)}
+    unknown = sorted(set(params) - names)
+    if unknown:
+        raise InputError(
+            f"unknown parameter(s) {', '.join(unknown)} for {cls.__name__}; "
+            f"known: {', '.join(sorted(names))}"
+        )
+    out = {}
+    for k, v in params.items():
+        if isinstance(v, str) and v != "auto":
+            low = v.strip().lower()
+            if low in ("true", "yes", "on"):
+                v = True
+            elif low in ("false", "no", "off"):
+                v = False
+            else:
+                try:
+                    v = int(low)
+                except ValueError:
+                    try:
+                        v = float(low)
+                    except ValueError:
+                        raise InputError(f"parameter {k} must be a number, 'auto' or true/false; "
+                                         f"got {v!r}") from None
+        out[k] = v
+    return cls(**out)

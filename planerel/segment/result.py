@@ -1,0 +1,170 @@
+"""Result types of segmentation and the least-squares plane fit shared by every method."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from planerel.errors import InputError
+
+__all__ = ["SegPlane", "Segmentation", "fit_planes"]
+
+
+@dataclass(frozen=True, eq=False)
+class SegPlane:
+    """One segmented plane.
+
+    Parameters
+    ----------
+    id : int
+        Index of the plane; equals its value in :attr:`Segmentation.labels`.
+    normal : ndarray, shape (3,)
+        Unit normal towards the sensor (``normal . centroid < 0``).
+    offset : float
+        ``normal . x + offset = 0`` on the plane; > 0 (distance of the camera centre).
+    n_points : int
+        Number of points (pixels) in the segment.
+    centroid : ndarray, shape (3,)
+        Mean of the segment's points.
+    rms : float
+        Root-mean-square point-to-plane distance of the segment's points, metres.
+    """
+
+    id: int
+    normal: np.ndarray
+    offset: float
+    n_points: int
+    centroid: np.ndarray
+    rms: float
+
+    def __post_init__(self) -> None:
+        n = np.asarray(self.normal, dtype=np.float64).reshape(-1)
+        c = np.asarray(self.centroid, dtype=np.float64).reshape(-1)
+        if n.shape != (3,) or not np.all(np.isfinite(n)):
+            raise InputError(f"plane {self.id}: normal must be 3 finite numbers, got {self.normal!r}")
+        norm = float(np.linalg.norm(n))
+        if not 0.999 < norm < 1.001:
+            raise InputError(f"plane {self.id}: normal must have unit length, got length {norm:.4g}")
+        if c.shape != (3,) or not np.all(np.isfinite(c)):
+            raise InputError(f"plane {self.id}: centroid must be 3 finite numbers")
+        if int(self.n_points) < 1:
+            raise InputError(f"plane {self.id}: n_points must be >= 1, got {self.n_points}")
+        n.setflags(write=False)
+        c.setflags(write=False)
+        object.__setattr__(self, "normal", n)
+        object.__setattr__(self, "centroid", c)
+        object.__setattr__(self, "offset", float(self.offset))
+        object.__setattr__(self, "rms", float(self.rms))
+        object.__setattr__(self, "n_points", int(self.n_points))
+        object.__setattr__(self, "id", int(self.id))
+
+    def distance(self, points) -> np.ndarray:
+        """Signed distances ``normal . p + offset`` of ``points`` (..., 3)."""
+        return np.asarray(points, dtype=np.float64) @ self.normal + self.offset
+
+    def to_dict(self) -> dict:
+        """``{id, normal, offset, n_points, centroid, rms}`` with plain Python numbers."""
+        return {
+            "id": self.id,
+            "normal": [float(x) for x in self.normal],
+            "offset": self.offset,
+            "n_points": self.n_points,
+            "centroid": [float(x) for x in self.centroid],
+            "rms": self.rms,
+        }
+
+
+@dataclass(frozen=True, eq=False)
+class Segmentation:
+    """Output of :func:`planerel.segment.segment`.
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W), int32
+        Plane id per pixel (same layout as the cloud; ``(1, N)`` for unorganized clouds),
+        -1 = unassigned.  Ids are ``0 .. len(planes) - 1``.
+    planes : tuple of SegPlane
+        ``planes[i].id == i``.
+    method : str
+        ``"regiongrow"``, ``"sp"`` or ``"snp"``.
+    params : object
+        The parameter dataclass actually used.
+    normals : ndarray, shape (H, W, 3), or None
+        The per-pixel normals used (NaN = unknown), when the method computed them.
+    info : dict
+        Method details: e.g. ``delta`` (metres) and ``min_region_size`` actually used.
+    """
+
+    labels: np.ndarray
+    planes: tuple
+    method: str
+    params: object = None
+    normals: np.ndarray | None = None
+    info: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        lab = np.asarray(self.labels)
+        if lab.ndim != 2 or lab.dtype != np.int32:
+            raise InputError(f"labels must be an (H, W) int32 array, got {lab.dtype} {lab.shape}")
+        planes = tuple(self.planes)
+        for i, p in enumerate(planes):
+            if p.id != i:
+                raise InputError(f"plane ids must be 0..{len(planes) - 1} in order; plane {i} has id {p.id}")
+        object.__setattr__(self, "planes", planes)
+
+    @property
+    def n_planes(self) -> int:
+        return len(self.planes)
+
+    @property
+    def message(self) -> str:
+        """One line for people: how many planes, or that none was large enough."""
+        if not self.planes:
+            return f"{self.method}: no plane large enough was found (0 planes)"
+        n_lab = int((self.labels >= 0).sum())
+        return f"{self.method}: {len(self.planes)} planes covering {n_lab} points"
+
+    def planes_json(self) -> list[dict]:
+        """Per plane ``{id, normal, offset, n_points, centroid, rms}``."""
+        return [p.to_dict() for p in self.planes]
+
+
+def fit_planes(xyz_flat: np.ndarray, labels_flat: np.ndarray, n: int):
+    """Least-squares (PCA) planes of labelled points.
+
+    Parameters
+    ----------
+    xyz_flat : ndarray, shape (N, 3)
+    labels_flat : ndarray, shape (N,), int32
+        Region id per point (-1 = none); ids ``0 .. n - 1``.
+    n : int
+
+    Returns
+    -------
+    normals (n, 3), offsets (n,), counts (n,), centroids (n, 3), rms (n,)
+        Normals point towards the sensor (``normal . centroid < 0``).
+    """
+    from planerel.segment._kernels import region_sums
+
+    if n == 0:
+        z = np.zeros((0, 3))
+        return z, np.zeros(0), np.zeros(0, dtype=np.int64), z.copy(), np.zeros(0)
+    sums, ref = region_sums(xyz_flat, labels_flat, n)
+    cnt = sums[:, 0]
+    safe = np.maximum(cnt, 1.0)
+    mean = sums[:, 1:4] / safe[:, None]
+    sxx = sums[:, 4:10] / safe[:, None]
+    cov = np.empty((n, 3, 3))
+    idx = [(0, 0, 0), (1, 0, 1), (2, 0, 2), (3, 1, 1), (4, 1, 2), (5, 2, 2)]
+    for k, i, j in idx:
+        cov[:, i, j] = sxx[:, k] - mean[:, i] * mean[:, j]
+        cov[:, j, i] = cov[:, i, j]
+    w, vec = np.linalg.eigh(cov)
+    normals = vec[:, :, 0].copy()
+    centroids = mean + ref
+    flip = np.einsum("ij,ij->i", normals, centroids) > 0
+    normals[flip] *= -1.0
+    offsets = -np.einsum("ij,ij->i", normals, centroids)
+    rms = np.sqrt(np.maximum(w[:, 0], 0.0))
+    return normals, offsets, cnt.astype(np.int64), centroids, rms

@@ -1,0 +1,87 @@
+/*  planerel: numeric comparisons for learned thresholds.
+
+    lteq(X, T)  holds when the number X is at most the threshold T.
+    gteq(X, T)  holds when the number X is at least the threshold T.
+
+    They are called in three ways:
+
+    1. Ordinary test: X and T are numbers.
+    2. Saturation (building a bottom clause): X is a number and T is unbound;
+       T is bound to X itself, so the bottom clause holds the seed's value.
+    3. Lazy evaluation (Aleph's lazy_evaluate/1 protocol): X is the list
+       [PosValues, NegValues] of the values the input argument takes on the
+       positive and the negative examples covered so far, and T is unbound.
+       T is bound to the cut-off that separates the two lists best: the one
+       that maximises (positives kept - negatives kept), then keeps fewest
+       negatives.  The cut-off is the shortest decimal strictly between the last
+       value kept and the next value, or the value itself when every value
+       is an integer (counts), so learned rules read "gteq(N, 2)".
+
+    Written for planerel; no code is taken from Aleph.
+*/
+
+lteq([Pos, Neg], T) :- !,
+    planerel_cutoff(le, Pos, Neg, T).
+lteq(X, T) :-
+    number(X),
+    (   var(T)
+    ->  T = X
+    ;   number(T),
+        X =< T
+    ).
+
+gteq([Pos, Neg], T) :- !,
+    planerel_cutoff(ge, Pos, Neg, T).
+gteq(X, T) :-
+    number(X),
+    (   var(T)
+    ->  T = X
+    ;   number(T),
+        X >= T
+    ).
+
+%   planerel_cutoff(+Dir, +Pos, +Neg, -T)
+%   Dir = le: examples kept are those =< T; Dir = ge: those >= T.
+planerel_cutoff(Dir, Pos0, Neg0, T) :-
+    include(number, Pos0, Pos),
+    include(number, Neg0, Neg),
+    Pos \== [],
+    append(Pos, Neg, All0),
+    sort(All0, All),                      % distinct values, ascending
+    sort(Pos, PosValues),
+    findall(Score-NegKept-V,
+            ( member(V, PosValues),
+              planerel_kept(Dir, V, Pos, P),
+              planerel_kept(Dir, V, Neg, N),
+              Score is P - N,
+              NegKept is -N ),
+            Scored),
+    max_member(_-_-Best, Scored),
+    planerel_neighbour(Dir, Best, All, Next),
+    planerel_between(Dir, Best, Next, All, T).
+
+planerel_kept(le, V, Xs, K) :- aggregate_all(count, (member(X, Xs), X =< V), K).
+planerel_kept(ge, V, Xs, K) :- aggregate_all(count, (member(X, Xs), X >= V), K).
+
+% the next value beyond Best in the direction that is cut off (none: Best itself)
+planerel_neighbour(le, Best, All, Next) :-
+    (   member(X, All), X > Best -> Next = X ; Next = Best ).
+planerel_neighbour(ge, Best, All, Next) :-
+    reverse(All, Desc),
+    (   member(X, Desc), X < Best -> Next = X ; Next = Best ).
+
+planerel_between(_, Best, _, All, Best) :-
+    forall(member(X, All), integer(X)), !.
+planerel_between(_, Best, Best, _, Best) :- !.
+planerel_between(Dir, Best, Next, _, T) :-
+    Mid is (Best + Next) / 2,
+    (   between(0, 6, D),
+        Scale is 10.0 ** D,
+        T0 is round(Mid * Scale) / Scale,
+        planerel_inside(Dir, Best, Next, T0)
+    ->  T = T0
+    ;   T is float(Mid)
+    ).
+
+planerel_inside(le, Best, Next, T) :- T > Best, T < Next.
+planerel_inside(ge, Best, Next, T) :- T < Best, T > Next.

@@ -1,0 +1,14 @@
+good(o1).
+good(o2).
+good(o7).
+good(o10).
+good(o13).
+good(o16).
+good(o19).
+good(o22).
+good(o25).
+good(o28).
+good(o31).
+good(o34).
+good(o37).
+good(o40).

@@ -1,0 +1,3 @@
+heavy(t1).
+heavy(t2).
+heavy(t3).

@@ -1,0 +1,467 @@
+"""planerel's Aleph-compatible learner (aleph/learner.pl) through planerel.learn and the CLI.
+
+The problems in tests/ilp were written for these tests from the public descriptions of the
+classic ILP tasks (Michalski's trains, family relations, a numeric threshold, a noisy task).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+from importlib.resources import as_file, files
+from pathlib import Path
+
+import pytest
+
+from planerel.errors import DependencyError, InputError, LearnerError
+from planerel.learn import Confusion, find_aleph, format_report, learn, parse_settings
+
+ILP = Path(__file__).parent / "ilp"
+
+pytestmark = pytest.mark.skipif(shutil.which("swipl") is None, reason="SWI-Prolog not installed")
+
+
+def norm(clause: str) -> str:
+    return re.sub(r"\s+", "", clause)
+
+
+def copy_problem(name: str, dest: Path, extra_b: str = "", replace: tuple[str, str] | None = None):
+    """Copy tests/ilp/NAME.{b,f,n} to dest; optionally edit the .b text."""
+    for suffix in (".b", ".f", ".n"):
+        src = ILP / f"{name}{suffix}"
+        text = src.read_text()
+        if suffix == ".b":
+            if replace:
+                assert replace[0] in text  # guard the test data itself
+                text = text.replace(*replace)
+            text += extra_b
+        (dest / f"{name}{suffix}").write_text(text)
+    return dest / name
+
+
+# --------------------------------------------------------------------------- classic tasks
+
+
+def test_trains_learns_short_closed_car():
+    r = learn(ILP / "trains")
+    assert r.engine == "builtin"
+    assert [norm(c) for c in r.rules] == [norm("eastbound(A) :- has_car(A,B), short(B), closed(B).")]
+    assert r.train == Confusion(tp=5, fn=0, fp=0, tn=5)
+    assert r.accuracy == 1.0
+    assert r.test is None
+    assert r.clauses_explored > 0
+    assert "accuracy: 1.000" in r.output
+
+
+def test_trains_heuristic_laplace_finds_same_rule_with_fewer_nodes():
+    bf = learn(ILP / "trains")
+    heur = learn(ILP / "trains", settings={"search": "heuristic", "evalfn": "laplace"})
+    assert [norm(c) for c in heur.rules] == [norm(c) for c in bf.rules]
+    assert heur.clauses_explored <= bf.clauses_explored
+
+
+@pytest.mark.parametrize("search", ["bf", "df", "heuristic"])
+@pytest.mark.parametrize("evalfn", ["coverage", "laplace", "accuracy", "compression"])
+def test_every_search_and_evalfn_is_consistent_on_trains(search, evalfn):
+    r = learn(ILP / "trains", settings={"search": search, "evalfn": evalfn})
+    # every strategy must end with a theory that is complete and consistent on the data
+    assert r.train.fp == 0 and r.train.fn == 0
+    assert f"search={search} evalfn={evalfn}" in r.output
+
+
+def test_grandparent():
+    r = learn(ILP / "grandparent")
+    assert [norm(c) for c in r.rules] == [norm("grandparent(A,B) :- parent(A,C), parent(C,B).")]
+    assert r.train.accuracy == 1.0
+    assert r.train.tp == len((ILP / "grandparent.f").read_text().splitlines())
+
+
+def test_recursive_ancestor():
+    r = learn(ILP / "ancestor")
+    assert sorted(norm(c) for c in r.rules) == sorted([
+        norm("ancestor(A,B) :- parent(A,B)."),
+        norm("ancestor(A,B) :- parent(A,C), ancestor(C,B)."),
+    ])
+    n_pos = len((ILP / "ancestor.f").read_text().splitlines())
+    n_neg = len((ILP / "ancestor.n").read_text().splitlines())
+    assert r.train == Confusion(tp=n_pos, fn=0, fp=0, tn=n_neg)
+
+
+def test_lazy_threshold_and_test_set():
+    r = learn(ILP / "threshold")
+    # the cut-off lies halfway between the lightest heavy parcel (5.0) and the heaviest
+    # light one (4.0): it comes from lazy evaluation, not from the seed's weight
+    assert [norm(c) for c in r.rules] == [norm("heavy(A) :- weight(A,B), gteq(B,4.5).")]
+    assert r.train.accuracy == 1.0
+    assert r.test == Confusion(tp=3, fn=0, fp=0, tn=3)
+    assert r.test_accuracy == 1.0
+    assert "[test set performance]" in r.output
+
+
+def test_without_lazy_evaluation_the_threshold_is_not_learned(tmp_path):
+    stem = copy_problem("threshold", tmp_path,
+                        replace=(":- lazy_evaluate(gteq/2).\n:- lazy_evaluate(lteq/2).\n", ""))
+    for suffix in ("_test.f", "_test.n"):
+        shutil.copy(ILP / f"threshold{suffix}", tmp_path / f"threshold{suffix}")
+    r = learn(stem)
+    assert not any("gteq(B,4.5)" in c for c in r.rules)
+    assert r.test_accuracy < 1.0
+
+
+def test_noise_lets_a_general_clause_through():
+    strict = learn(ILP / "noisy")
+    # o4 (red) is negative: no clause with colour red alone is consistent
+    assert norm("good(A) :- colour(A,red).") not in [norm(c) for c in strict.rules]
+    assert strict.train.fp == 0
+    assert len(strict.rules) > 3
+
+    tolerant = learn(ILP / "noisy", settings={"noise": 1, "minacc": 0.9})
+    assert norm(tolerant.rules[0]) == norm("good(A) :- colour(A,red).")
+    assert tolerant.train.tp == 14 and tolerant.train.fp == 1
+    assert tolerant.accuracy == pytest.approx(39 / 40)
+    assert len(tolerant.rules) < len(strict.rules)
+
+
+def test_minacc_rejects_inaccurate_clauses():
+    r = learn(ILP / "noisy", settings={"noise": 5, "minacc": 0.99})
+    assert norm("good(A) :- colour(A,red).") not in [norm(c) for c in r.rules]
+    assert r.train.fp == 0
+
+
+def test_minpos_and_nodes_limit():
+    r = learn(ILP / "noisy", settings={"minpos": 20})
+    # no clause covers 20 positives: every positive ends up as its own ground fact
+    assert all(":-" not in c for c in r.rules)
+    assert len(r.rules) == 14
+    small = learn(ILP / "trains", settings={"nodes": 5})
+    per_search = [int(n) for n in re.findall(r"(\d+) clauses explored ->", small.output)]
+    assert per_search and max(per_search) <= 5   # nodes bounds each search
+    assert small.clauses_explored == sum(per_search)
+
+
+# --------------------------------------------------------------------------- determinism
+
+
+def test_byte_identical_output_across_runs():
+    for name in ("trains", "threshold", "ancestor"):
+        a = learn(ILP / name, settings={"search": "heuristic", "evalfn": "laplace"})
+        b = learn(ILP / name, settings={"search": "heuristic", "evalfn": "laplace"})
+        assert a.output == b.output
+        assert a.rules_text == b.rules_text
+        assert format_report(a, with_time=False) == format_report(b, with_time=False)
+
+
+# --------------------------------------------------------------------------- Prolog interface
+
+
+def test_prolog_interface_read_all_induce_write_rules(tmp_path):
+    out = tmp_path / "rules.pl"
+    with as_file(files("planerel.aleph").joinpath("learner.pl")) as pl:
+        goal = (f"use_module('{pl}'), read_all('{ILP / 'grandparent'}'), "
+                f"set(verbosity, 0), induce, write_rules('{out}')")
+        proc = subprocess.run(["swipl", "-q", "-g", goal, "-t", "halt"], capture_output=True,
+                              text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    assert "accuracy: 1.000" in proc.stdout
+    assert "[seed" not in proc.stdout  # verbosity 0
+    assert norm(out.read_text()) == norm("grandparent(A,B) :- parent(A,C), parent(C,B).")
+    # the written rules are valid Prolog: load them over the background and query them
+    with as_file(files("planerel.aleph").joinpath("learner.pl")) as pl:
+        check = (f"use_module('{pl}'), read_all('{ILP / 'grandparent'}'), consult('{out}'), "
+                 "(grandparent(george, elizabeth2), \\+ grandparent(george, mum) -> halt(0) ; halt(1))")
+        proc = subprocess.run(["swipl", "-q", "-g", check, "-t", "halt(1)"], capture_output=True,
+                              text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr
+
+
+def test_mode_declares_head_and_body(tmp_path):
+    (tmp_path / "m.b").write_text(
+        ":- mode(1, big(+n)).\n:- modeb(1, gt(+n, #n)).\n"
+        ":- determination(big/1, gt/2).\n:- lazy_evaluate(gt/2).\n"
+        "gt([P, N], T) :- !, min_list(P, T0), ( N == [] -> T = T0 ; max_list(N, M), T is (T0 + M) / 2 ).\n"
+        "gt(X, T) :- X > T.\n"
+        "n(1). n(2). n(3). n(10). n(11). n(12).\n")
+    (tmp_path / "m.f").write_text("big(10).\nbig(11).\nbig(12).\n")
+    (tmp_path / "m.n").write_text("big(1).\nbig(2).\nbig(3).\n")
+    r = learn(tmp_path / "m")
+    assert [norm(c) for c in r.rules] == [norm("big(A) :- gt(A,6.5).")]
+    assert r.accuracy == 1.0
+
+
+# --------------------------------------------------------------------------- settings
+
+
+def test_unimplemented_aleph_setting_warns_once(tmp_path):
+    stem = copy_problem("trains", tmp_path,
+                        extra_b=":- set(good, true).\n:- set(good, false).\n:- set(openlist, 10).\n")
+    r = learn(stem)
+    good = [w for w in r.warnings if "setting good" in w]
+    assert len(good) == 1
+    assert "trains.b:" in good[0]
+    assert any("setting openlist" in w for w in r.warnings)
+    assert [norm(c) for c in r.rules] == [norm("eastbound(A) :- has_car(A,B), short(B), closed(B).")]
+
+
+def test_unknown_setting_is_an_error_with_file_and_line(tmp_path):
+    stem = copy_problem("trains", tmp_path, extra_b=":- set(clauselenght, 5).\n")
+    n_lines = len((tmp_path / "trains.b").read_text().splitlines())
+    with pytest.raises(InputError, match=rf"trains\.b:{n_lines}: unknown setting clauselenght \(value 5\)"):
+        learn(stem)
+
+
+@pytest.mark.parametrize("line, value", [
+    (":- set(clauselength, 0).", "0"),
+    (":- set(minacc, 1.5).", "1.5"),
+    (":- set(search, sideways).", "sideways"),
+    (":- set(nodes, many).", "many"),
+])
+def test_illegal_value_is_an_error_with_file_line_and_value(tmp_path, line, value):
+    stem = copy_problem("trains", tmp_path, extra_b=line + "\n")
+    n_lines = len((tmp_path / "trains.b").read_text().splitlines())
+    with pytest.raises(InputError, match=rf"trains\.b:{n_lines}: illegal value {re.escape(value)} "):
+        learn(stem)
+
+
+def test_aleph_search_value_not_implemented_warns(tmp_path):
+    stem = copy_problem("trains", tmp_path, extra_b=":- set(search, ibs).\n")
+    r = learn(stem)
+    assert any("search(ibs)" in w and "using search(bf)" in w for w in r.warnings)
+
+
+def test_illegal_setting_from_the_command_line():
+    with pytest.raises(InputError, match=r"--set clauselength=abc: illegal value abc"):
+        learn(ILP / "trains", settings={"clauselength": "abc"})
+    with pytest.raises(InputError, match=r"--set frobnicate=1: unknown setting frobnicate"):
+        learn(ILP / "trains", settings={"frobnicate": 1})
+
+
+def test_parse_settings():
+    assert parse_settings(["nodes=20", "search=heuristic"]) == {"nodes": "20", "search": "heuristic"}
+    with pytest.raises(InputError, match="expected NAME=VALUE"):
+        parse_settings(["nodes"])
+    with pytest.raises(InputError, match="expected NAME=VALUE"):
+        parse_settings(["=3"])
+
+
+# --------------------------------------------------------------------------- malformed files
+
+
+def test_syntax_error_names_file_and_line(tmp_path):
+    (tmp_path / "bad.b").write_text(":- modeh(1, p(+t)).\nt(a).\nq(a :- .\n")
+    (tmp_path / "bad.f").write_text("p(a).\n")
+    with pytest.raises(InputError, match=r"bad\.b:3: syntax error"):
+        learn(tmp_path / "bad")
+
+
+def test_syntax_error_in_examples(tmp_path):
+    (tmp_path / "bad.b").write_text(":- modeh(1, p(+t)).\nt(a).\n")
+    (tmp_path / "bad.f").write_text("p(a).\np(b.\n")
+    with pytest.raises(InputError, match=r"bad\.f:2: syntax error"):
+        learn(tmp_path / "bad")
+
+
+def test_undeclared_type_is_an_error(tmp_path):
+    (tmp_path / "u.b").write_text(
+        ":- modeh(1, p(+t)).\n:- modeb(1, q(+colour)).\n:- determination(p/1, q/1).\n"
+        "q(red).\nt(a).\n")
+    (tmp_path / "u.f").write_text("p(a).\n")
+    (tmp_path / "u.n").write_text("p(b).\n")
+    with pytest.raises(InputError, match=r"u\.b:2: undeclared type colour"):
+        learn(tmp_path / "u")
+
+
+def test_determination_to_unknown_predicate(tmp_path):
+    (tmp_path / "d.b").write_text(
+        ":- modeh(1, p(+t)).\n\n:- determination(p/1, nosuch/2).\nt(a).\n")
+    (tmp_path / "d.f").write_text("p(a).\n")
+    with pytest.raises(InputError, match=r"d\.b:3: determination\(p/1, ?nosuch/2\).*unknown predicate"):
+        learn(tmp_path / "d")
+
+
+def test_bad_mode_declaration(tmp_path):
+    (tmp_path / "m.b").write_text(":- modeh(one, p(+t)).\n")
+    (tmp_path / "m.f").write_text("p(a).\n")
+    with pytest.raises(InputError, match=r"m\.b:1: illegal recall one"):
+        learn(tmp_path / "m")
+
+
+def test_missing_files(tmp_path):
+    with pytest.raises(InputError, match=r"nothing\.b: no such file"):
+        learn(tmp_path / "nothing")
+    (tmp_path / "only.b").write_text(":- modeh(1, p(+t)).\n")
+    with pytest.raises(InputError, match=r"only\.f: no such file"):
+        learn(tmp_path / "only")
+
+
+def test_bad_arguments():
+    with pytest.raises(InputError, match="engine must be one of"):
+        learn(ILP / "trains", engine="progol")
+    with pytest.raises(InputError, match="timeout must be a positive"):
+        learn(ILP / "trains", timeout=0)
+    with pytest.raises(InputError, match="Confusion.tp must be"):
+        Confusion(-1, 0, 0, 0)
+
+
+# --------------------------------------------------------------------------- processes
+
+
+def _processes_mentioning(text: str) -> list[int]:
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            cmdline = (entry / "cmdline").read_bytes().decode("utf-8", "replace")
+        except OSError:
+            continue
+        if text in cmdline:
+            found.append(int(entry.name))
+    return found
+
+
+def test_timeout_kills_the_learner(tmp_path):
+    (tmp_path / "spin.b").write_text(
+        ":- modeh(1, p(+t)).\n:- modeb(1, spin(+t)).\n:- determination(p/1, spin/1).\n"
+        "spin(_) :- repeat, fail.\nt(a). t(b).\n")
+    (tmp_path / "spin.f").write_text("p(a).\n")
+    (tmp_path / "spin.n").write_text("p(b).\n")
+    with pytest.raises(LearnerError, match=r"timed out after 1 s and was stopped"):
+        learn(tmp_path / "spin", timeout=1)
+    assert _processes_mentioning(str(tmp_path / "spin")) == []
+
+
+def test_missing_swipl_is_a_dependency_error():
+    with pytest.raises(DependencyError, match="apt-get install swi-prolog-nox"):
+        learn(ILP / "trains", swipl="/nonexistent/swipl")
+
+
+# --------------------------------------------------------------------------- CLI
+
+
+def test_cli_induce(capsys, tmp_path):
+    from planerel.cli import main
+
+    out = tmp_path / "rules.pl"
+    code = main(["induce", str(ILP / "threshold"), "--set", "search=heuristic",
+                 "--set", "evalfn=laplace", "--rules", str(out)])
+    text = capsys.readouterr().out
+    assert code == 0
+    assert "heavy(A) :- weight(A,B), gteq(B,4.5)." in text
+    assert text.count("accuracy: 1.000") == 2   # training and test set
+    assert re.search(r"^time: \d+\.\d\d s", text, re.M)
+    assert "engine: builtin" in text
+    assert out.read_text() == "heavy(A) :- weight(A,B), gteq(B,4.5).\n"
+
+
+def test_cli_reports_errors_in_one_line(capsys, tmp_path):
+    from planerel.cli import main
+
+    stem = copy_problem("trains", tmp_path, extra_b=":- set(i, -1).\n")
+    code = main(["induce", str(stem)])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert "illegal value -1 for setting i" in err
+    assert len(err.strip().splitlines()) == 1
+
+
+# --------------------------------------------------------------------------- engines
+
+
+def test_auto_engine_says_which_learner_ran(monkeypatch):
+    monkeypatch.delenv("PLANEREL_ALEPH", raising=False)
+    if find_aleph() is not None:
+        pytest.skip("the Aleph pack is installed here; auto would pick it")
+    r = learn(ILP / "trains", engine="auto")
+    assert r.engine == "builtin"
+    assert "real Aleph was not found" in r.engine_detail
+    with pytest.raises(DependencyError, match="PLANEREL_ALEPH"):
+        learn(ILP / "trains", engine="aleph")
+
+
+def test_missing_aleph_file_is_named(monkeypatch, tmp_path):
+    monkeypatch.setenv("PLANEREL_ALEPH", str(tmp_path / "aleph.pl"))
+    with pytest.raises(InputError, match=r"PLANEREL_ALEPH=.*aleph\.pl: no such file"):
+        learn(ILP / "trains", engine="aleph")
+
+
+def test_aleph_engine_driver_protocol_with_a_stand_in(monkeypatch, tmp_path):
+    """The aleph-engine driver (consult, read_all, set, induce, write_rules, scoring), run
+    against a classic-style single file that provides Aleph's interface in module user --
+    here planerel's learner stands in for aleph.pl, which is not installed."""
+    with as_file(files("planerel.aleph").joinpath("learner.pl")) as pl:
+        standin = tmp_path / "aleph.pl"
+        standin.write_text(f":- use_module('{pl}').\n")
+        monkeypatch.setenv("PLANEREL_ALEPH", str(standin))
+        for name in ("ancestor", "threshold"):
+            a = learn(ILP / name, engine="aleph", settings={"nodes": 1000})
+            b = learn(ILP / name, engine="builtin", settings={"nodes": 1000})
+            assert a.engine == "aleph" and str(standin) in a.engine_detail
+            assert [norm(c) for c in a.rules] == [norm(c) for c in b.rules]
+            assert a.train == b.train
+            assert a.test == b.test
+        assert a.test == Confusion(3, 0, 0, 3)   # test_pos/test_neg found through setting/2
+        auto = learn(ILP / "trains", engine="auto")
+        assert auto.engine == "aleph"
+
+
+real_aleph = pytest.mark.skipif(not os.environ.get("PLANEREL_ALEPH"),
+                                reason="the real Aleph is not installed: set PLANEREL_ALEPH=/path/aleph.pl")
+
+
+@pytest.mark.real_aleph
+@real_aleph
+def test_real_aleph_learns_trains():
+    r = learn(ILP / "trains", engine="aleph", timeout=300)
+    assert r.engine == "aleph"
+    assert r.train.accuracy == 1.0
+    assert any(norm(c) == norm("eastbound(A) :- has_car(A,B), short(B), closed(B).") for c in r.rules)
+
+
+@pytest.mark.real_aleph
+@real_aleph
+def test_real_aleph_lazy_threshold_and_test_set():
+    r = learn(ILP / "threshold", engine="aleph", timeout=300)
+    assert r.train.accuracy == 1.0
+    assert r.test is not None and r.test.accuracy == 1.0
+
+
+@pytest.mark.real_aleph
+@real_aleph
+def test_real_aleph_and_builtin_agree_on_family():
+    a = learn(ILP / "grandparent", engine="aleph", timeout=300)
+    b = learn(ILP / "grandparent", engine="builtin")
+    assert a.train == b.train
+    assert [norm(c) for c in a.rules] == [norm(c) for c in b.rules]
+
+
+# --------------------------------------------------------------------------- language details
+
+
+def test_head_output_variable_must_be_bound_by_the_body(tmp_path):
+    (tmp_path / "g.b").write_text(
+        ":- modeh(1, grandchild(+person, -person)).\n:- modeb(*, parent(-person, +person)).\n"
+        ":- determination(grandchild/2, parent/2).\n"
+        "parent(a, b). parent(b, c). parent(d, e). parent(e, f). parent(x, y).\n")
+    (tmp_path / "g.f").write_text("grandchild(c, a).\ngrandchild(f, d).\n")
+    (tmp_path / "g.n").write_text("grandchild(c, b).\ngrandchild(y, x).\ngrandchild(f, e).\n")
+    r = learn(tmp_path / "g")
+    assert [norm(c) for c in r.rules] == [norm("grandchild(A,B) :- parent(C,A), parent(B,C).")]
+
+
+def test_multiclass_head_with_constant(tmp_path):
+    objs = {"o1": "red", "o2": "red", "o3": "blue", "o4": "blue", "o5": "green", "o6": "green"}
+    cls = {"red": "hot", "blue": "cold", "green": "cold"}
+    bg = [":- modeh(1, class(+obj, #cls)).", ":- modeb(1, colour(+obj, #colour)).",
+          ":- determination(class/2, colour/2)."]
+    bg += [f"colour({o}, {c})." for o, c in objs.items()]
+    (tmp_path / "mc.b").write_text("\n".join(bg) + "\n")
+    (tmp_path / "mc.f").write_text("".join(f"class({o}, {cls[c]}).\n" for o, c in objs.items()))
+    (tmp_path / "mc.n").write_text("".join(
+        f"class({o}, {'cold' if cls[c] == 'hot' else 'hot'}).\n" for o, c in objs.items()))
+    r = learn(tmp_path / "mc")
+    assert [norm(c) for c in r.rules] == [norm("class(A,hot) :- colour(A,red)."),
+                                          norm("class(A,cold) :- colour(A,blue)."),
+                                          norm("class(A,cold) :- colour(A,green).")]
+    assert r.train == Confusion(tp=6, fn=0, fp=0, tn=6)

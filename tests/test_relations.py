@@ -1,0 +1,126 @@
+"""Pairwise relations, the scene graph and object proposals."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scenes_analytic import box, floor, render, stairs, wall
+
+from planerel.errors import InputError
+from planerel.planes import measure_planes
+from planerel.relations import (
+    ProposalParams,
+    RelationParams,
+    hull_gap,
+    objects_from_truth,
+    proposal_match,
+    propose_objects,
+    relate,
+    scene_graph,
+)
+
+
+@pytest.fixture(scope="module")
+def stair_scene():
+    rects = [floor(), wall()] + stairs(0.3, 2.2, 3, rise=0.17, run=0.28) + \
+        box(-1.0, 2.5, 0.5, 0.5, 0.4, obj=2)
+    cloud, lab, up, objs = render(rects, pitch=25, roll=5, noise=0.0012)
+    ps = measure_planes(cloud, lab)
+    return cloud, lab, objs, ps, relate(ps, cloud)
+
+
+def test_stairs_treads_rise_and_relations(stair_scene):
+    _, _, _, ps, rel = stair_scene
+    treads = [3, 5, 7]  # stairs() alternates riser, tread
+    risers = [2, 4, 6]
+    for t in treads:
+        assert ps.by_label(t).orientation == "horizontal"
+    for a, b in zip(treads, treads[1:], strict=False):
+        r = rel.get(a, b)
+        assert r.rise == pytest.approx(0.17, abs=0.01)
+        assert r.parallel and not r.perpendicular
+        assert rel.get(b, a).above and not r.above
+        assert rel.get(b, a).rise == pytest.approx(-r.rise)
+        assert r.gap == pytest.approx(0.17, abs=0.01)  # riser height between the treads
+        assert not r.adjacent
+    for rs, t in zip(risers, treads, strict=True):
+        r = rel.get(rs, t)
+        assert r.adjacent and r.touching and r.perpendicular
+        assert r.gap < 0.01
+    assert rel.get(2, 4).in_front_of and not rel.get(4, 2).in_front_of
+
+
+def test_relations_are_all_ordered_pairs(stair_scene):
+    _, _, _, ps, rel = stair_scene
+    n = len(ps)
+    assert len(rel) == n * (n - 1)
+    keys = [(r.a, r.b) for r in rel]
+    assert keys == sorted(keys)
+    for r in rel:
+        back = rel.get(r.b, r.a)
+        assert back.angle == r.angle and back.gap == r.gap and back.adjacent == r.adjacent
+
+
+def test_occluding_edge_is_not_touching(stair_scene):
+    _, _, _, ps, rel = stair_scene
+    # the box top (label 8) is seen against the far wall (label 1) but 2+ m in front of it
+    r = rel.get(1, 8)
+    assert not r.touching and not r.adjacent and r.gap > 1.0
+
+
+def test_proposals_match_truth(stair_scene):
+    cloud, lab, objs, ps, rel = stair_scene
+    props = propose_objects(ps, rel)
+    truth = objects_from_truth(lab, lab, objs)
+    assert props == truth == [(2, 3, 4, 5, 6, 7), (8, 9, 11)]
+    obj_img = np.where(lab >= 0, np.array(objs)[np.maximum(lab, 0)], -1)
+    m = proposal_match(lab, props, obj_img)
+    assert m["n_true"] == 2 and m["matched"] == 2
+    g = scene_graph(ps, rel)
+    assert set(g.nodes) == {p.label for p in ps}
+    assert g.has_edge(2, 3) and not g.has_edge(3, 5)
+    assert g.nodes[3]["orientation"] == "horizontal"
+    assert scene_graph(ps, rel, edges="all").number_of_edges() == len(ps) * (len(ps) - 1) // 2
+
+
+def test_synthetic_proposals():
+    from planerel.synth import generate_scene
+
+    matched = 0
+    for kind, seed in (("box", 1), ("stairs", 1), ("ramp", 1)):
+        sc = generate_scene(kind, seed, subsample=4)
+        ps = measure_planes(sc.cloud, sc.gt_labels)
+        props = propose_objects(ps, relate(ps, sc.cloud))
+        truth = np.where(sc.gt_objects == 1, 1, -1)
+        matched += proposal_match(sc.gt_labels, props, truth)["matched"]
+    assert matched == 3
+
+
+def test_hull_gap_simple_cases():
+    cloud, lab, _, _ = render([floor()] + box(0.0, 2.5, 0.5, 0.5, 0.4), pitch=30)
+    ps = measure_planes(cloud, lab)
+    top, front = ps.by_label(1), ps.by_label(2)
+    # one pixel footprint apart at 160x120 (the edge pixel is shared by neither plane)
+    assert hull_gap(top, front) < RelationParams().adjacency_gap
+    assert relate(ps, cloud).get(1, 2).adjacent
+    assert hull_gap(ps.by_label(0), top) == pytest.approx(0.4, abs=0.01)
+
+
+def test_zero_and_one_plane():
+    cloud, lab, _, _ = render([floor()])
+    ps = measure_planes(cloud, lab)
+    assert len(ps) == 1 and len(relate(ps, cloud)) == 0
+    assert propose_objects(ps, relate(ps, cloud)) == []
+    empty = measure_planes(cloud, np.full(lab.shape, -1, np.int32))
+    assert len(relate(empty, cloud)) == 0 and propose_objects(empty, relate(empty)) == []
+
+
+def test_bad_params():
+    with pytest.raises(InputError, match="grid_gap"):
+        RelationParams(grid_gap=0)
+    with pytest.raises(InputError, match="parallel_tol"):
+        RelationParams(parallel_tol=60)
+    with pytest.raises(InputError, match="support_min_area"):
+        ProposalParams(support_min_area=-1)
+    with pytest.raises(InputError, match="differ in shape"):
+        objects_from_truth(np.zeros((2, 2), int), np.zeros((3, 3), int), [0])

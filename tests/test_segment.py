@@ -1,0 +1,181 @@
+"""Region growing: quality on staircases, plane conventions, determinism, bad input."""
+
+import numpy as np
+import pytest
+
+from planerel.cloud import Cloud, Intrinsics
+from planerel.errors import InputError, PlanerelError
+from planerel.evaluate import evaluate
+from planerel.segment import RegionGrowParams, Segmentation, make_params, segment
+from planerel.segment._scenes import staircase
+
+
+@pytest.fixture(scope="module")
+def stairs160():
+    return staircase(160, 120, steps=4, seed=0)
+
+
+def _score(seg, gt, gn):
+    return evaluate(seg.labels, gt, pred_normals=[p.normal for p in seg.planes], gt_normals=gn)
+
+
+def test_staircase_160x120_default_parameters(stairs160):
+    cloud, gt, gn, _ = stairs160
+    assert len(gn) == 11  # floor, wall, side, 4 risers, 4 treads
+    seg = segment(cloud)
+    s = _score(seg, gt, gn)
+    assert s.correct >= 10
+    assert s.sparse == 0
+    assert s.mean_angle_error < 1.0
+
+
+@pytest.mark.parametrize("steps", [3, 5])
+def test_staircase_other_step_counts(steps):
+    cloud, gt, gn, _ = staircase(160, 120, steps=steps, seed=2)
+    s = _score(segment(cloud), gt, gn)
+    assert s.correct >= len(gn) - 1
+    assert s.sparse == 0
+
+
+def test_staircase_640x480_default_parameters():
+    cloud, gt, gn, _ = staircase(640, 480, steps=4, seed=1)
+    seg = segment(cloud)
+    s = _score(seg, gt, gn)
+    assert s.correct >= 10
+    assert s.sparse == 0
+    assert seg.info["min_region_size"] == 1440
+
+
+def test_plane_conventions_and_labels(stairs160):
+    cloud, gt, gn, go = stairs160
+    seg = segment(cloud)
+    assert isinstance(seg, Segmentation)
+    assert seg.labels.dtype == np.int32 and seg.labels.shape == cloud.shape
+    assert set(np.unique(seg.labels)) == set(range(-1, seg.n_planes)) - (
+        set() if (seg.labels == -1).any() else {-1})
+    assert not (seg.labels[~cloud.valid] >= 0).any()
+    for p in seg.planes:
+        assert abs(np.linalg.norm(p.normal) - 1) < 1e-9
+        assert p.offset > 0
+        assert p.normal @ p.centroid < 0
+        assert p.n_points == int((seg.labels == p.id).sum())
+        pts = cloud.xyz[seg.labels == p.id]
+        assert np.sqrt(np.mean((pts @ p.normal + p.offset) ** 2)) == pytest.approx(p.rms, rel=1e-6)
+    # each correct plane matches its true offset within 2 cm
+    s = _score(seg, gt, gn)
+    for pi, gi in s.correct_pairs:
+        assert abs(seg.planes[pi].offset - go[gi]) < 0.02
+
+
+def test_deterministic(stairs160):
+    cloud = stairs160[0]
+    a = segment(cloud)
+    b = segment(cloud)
+    assert np.array_equal(a.labels, b.labels)
+    assert [p.to_dict() for p in a.planes] == [p.to_dict() for p in b.planes]
+
+
+def test_paper_defaults_and_auto_scaling():
+    p = RegionGrowParams()
+    assert (p.theta, p.min_neighbour_num, p.base_update_step, p.num_initial_points) == (15.0, 4, 8, 16)
+    assert p.angle_mf < 1 and p.delta == "auto" and p.min_region_size == "auto"
+    cloud = staircase(80, 60, seed=0)[0]
+    seg = segment(cloud)
+    assert seg.info["min_region_size"] == 22  # 90 * (80*60) / (160*120)
+    assert seg.info["delta"] > 0
+
+
+def test_parameters_change_the_result(stairs160):
+    cloud = stairs160[0]
+    big = segment(cloud, min_region_size=5000)
+    assert all(p.n_points >= 5000 for p in big.planes)
+    assert 1 <= big.n_planes <= 2
+    fixed = segment(cloud, delta=0.05, refine=False)
+    assert fixed.info["delta"] == pytest.approx(0.05)
+    assert "refined_points" not in fixed.info
+
+
+def test_no_plane_large_enough_is_not_an_error():
+    cloud = staircase(80, 60, seed=0)[0]
+    seg = segment(cloud, min_region_size=10**6)
+    assert seg.n_planes == 0
+    assert (seg.labels == -1).all()
+    assert "no plane" in seg.message
+
+
+def test_unorganized_cloud(stairs160):
+    cloud, gt, gn, _ = stairs160
+    ok = cloud.valid
+    u = Cloud(cloud.xyz[ok][None], organized=False)
+    seg = segment(u, min_region_size=200)
+    assert seg.labels.shape == (1, int(ok.sum()))
+    lab = np.full(gt.shape, -1, np.int32)
+    lab[ok] = seg.labels[0]
+    s = evaluate(lab, gt, tolerance=0.8)
+    assert s.correct >= 4  # floor, wall and the larger step faces
+    assert s.sparse == 0
+
+
+def _cloud_from_points(points, shape=(10, 10)):
+    xyz = np.full(shape + (3,), np.nan)
+    flat = xyz.reshape(-1, 3)
+    flat[: len(points)] = points
+    return Cloud(xyz, None, source="test-cloud")
+
+
+def test_bad_clouds_raise_clear_errors():
+    with pytest.raises(InputError, match="no valid point"):
+        segment(Cloud(np.full((5, 5, 3), np.nan), source="empty"))
+    with pytest.raises(InputError, match="only 1 valid point"):
+        segment(_cloud_from_points([[0, 0, 1.0]]))
+    line = np.column_stack([np.linspace(0, 1, 50), np.zeros(50), np.full(50, 2.0)])
+    with pytest.raises(InputError, match="line"):
+        segment(_cloud_from_points(line))
+    with pytest.raises(InputError, match="same point"):
+        segment(_cloud_from_points(np.tile([[0.1, 0.2, 1.0]], (20, 1))))
+    with pytest.raises(InputError, match="Cloud"):
+        segment(np.zeros((4, 4, 3)))
+
+
+@pytest.mark.parametrize("bad, match", [
+    (dict(theta=0), "theta"), (dict(theta=90), "theta"), (dict(theta=-3), "theta"),
+    (dict(theta=float("nan")), "theta.*finite"), (dict(delta=float("nan")), "delta"),
+    (dict(min_region_size=0), "min_region_size"), (dict(angle_mf=1.5), "angle_mf"),
+    (dict(min_neighbour_num=9), "min_neighbour_num"), (dict(delta="big"), "delta"),
+    (dict(bogus=1), "unknown parameter"), (dict(delta_factor="nan"), "delta_factor"),
+])
+def test_bad_parameters(stairs160, bad, match):
+    with pytest.raises(InputError, match=match):
+        segment(stairs160[0], **bad)
+
+
+def test_bad_method_and_params_object(stairs160):
+    with pytest.raises(PlanerelError, match="unknown segmentation method"):
+        segment(stairs160[0], method="watershed")
+    p = make_params("regiongrow", theta="12", refine="false")
+    assert p.theta == 12.0 and p.refine is False
+    seg = segment(stairs160[0], params=p)
+    assert seg.params is p
+    with pytest.raises(InputError, match="not both"):
+        segment(stairs160[0], params=p, theta=10)
+
+
+def test_synthetic_stairs_scene_from_the_generator():
+    synth = pytest.importorskip("planerel.synth")
+    sc = synth.generate_scene("stairs", seed=1, subsample=4)
+    seg = segment(sc.cloud)
+    s = evaluate(seg.labels, sc.gt_labels)
+    big = [p for p in sc.planes if p.n_pixels >= 200]
+    assert s.correct >= len(big) - 1
+    assert s.sparse == 0
+    assert s.under == 0
+
+
+def test_intrinsics_do_not_change_the_result_much():
+    # same scene without intrinsics: f is estimated from the points
+    cloud = staircase(160, 120, seed=0)[0]
+    bare = Cloud(cloud.xyz)
+    a = segment(cloud)
+    b = segment(bare)
+    assert abs(a.n_planes - b.n_planes) <= 1
+    assert isinstance(Intrinsics.kinect(160, 120), Intrinsics)
