@@ -20,32 +20,29 @@
 :- set(search, heuristic).
 :- set(evalfn, laplace).
 :- set(clauselength, 5).
-:- set(i, 2).
+:- set(i, 3).
 :- set(nodes, 5000).
 :- set(minpos, 2).
 :- set(noise, 0).
 
-:- modeb(1, nplanes(+obj, -nplanes)).
+:- modeb(*, has_plane(+obj, -plane)).
+:- modeb(1, orientation(+plane, #orient)).
+:- modeb(*, step_up(+plane, -plane)).
+:- modeb(1, incline(+plane, -incline)).
+:- modeb(1, height(+plane, -height)).
 :- modeb(1, nhorizontal(+obj, -nhorizontal)).
 :- modeb(1, nvertical(+obj, -nvertical)).
 :- modeb(1, ninclined(+obj, -ninclined)).
-:- modeb(*, has_plane(+obj, -plane)).
-:- modeb(1, orientation(+plane, #orient)).
-:- modeb(1, incline(+plane, -incline)).
-:- modeb(1, height(+plane, -height)).
-:- modeb(*, step_up(+plane, -plane)).
-:- modeb(1, gteq(+nplanes, #nplanes)).
-:- modeb(1, lteq(+nplanes, #nplanes)).
+:- modeb(1, gteq(+incline, #incline)).
+:- modeb(1, lteq(+incline, #incline)).
+:- modeb(1, gteq(+height, #height)).
+:- modeb(1, lteq(+height, #height)).
 :- modeb(1, gteq(+nhorizontal, #nhorizontal)).
 :- modeb(1, lteq(+nhorizontal, #nhorizontal)).
 :- modeb(1, gteq(+nvertical, #nvertical)).
 :- modeb(1, lteq(+nvertical, #nvertical)).
 :- modeb(1, gteq(+ninclined, #ninclined)).
 :- modeb(1, lteq(+ninclined, #ninclined)).
-:- modeb(1, gteq(+incline, #incline)).
-:- modeb(1, lteq(+incline, #incline)).
-:- modeb(1, gteq(+height, #height)).
-:- modeb(1, lteq(+height, #height)).
 
 :- lazy_evaluate(lteq/2).
 :- lazy_evaluate(gteq/2).

@@ -24,6 +24,8 @@ COMMAND_MODULES = [
     "planerel.commands.induce",
     "planerel.commands.describe",
     "planerel.commands.export_aleph",
+    "planerel.commands.learn",
+    "planerel.commands.classify",
     "planerel.commands.report",
 ]
 

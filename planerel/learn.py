@@ -50,6 +50,7 @@ __all__ = [
     "find_aleph",
     "format_report",
     "parse_settings",
+    "run_process",
 ]
 
 ENGINES = ("builtin", "aleph", "auto")
@@ -275,7 +276,7 @@ def _check_stem(stem) -> str:
     return text
 
 
-def _run(cmd: list[str], timeout: float, what: str, cwd: str | None = None):
+def run_process(cmd: list[str], timeout: float, what: str, cwd: str | None = None):
     """Run ``cmd`` in its own process group; kill the group when ``timeout`` passes."""
     start = time.perf_counter()
     try:
@@ -402,7 +403,7 @@ def learn(
         with as_file(resource) as pl:
             cmd = [exe, "-q", "-g", "planerel_learner:planerel_main", "-t", "halt(3)", str(pl),
                    "--", abs_stem, *set_args]
-            code, out, err, secs = _run(cmd, timeout, f"the builtin learner on {stem_text}")
+            code, out, err, secs = run_process(cmd, timeout, f"the builtin learner on {stem_text}")
         rules, train, test, nodes, cputime, log, warns = _parse(out, err, code, "the builtin learner")
         used = "builtin"
     else:
@@ -415,7 +416,7 @@ def learn(
             rules_file = str(Path(tmp) / "rules.pl")
             cmd = [exe, "-q", str(pl), "--", kind, where if kind == "file" else "-", abs_stem,
                    rules_file, *set_args]
-            code, out, err, secs = _run(cmd, timeout, f"Aleph on {stem_text}",
+            code, out, err, secs = run_process(cmd, timeout, f"Aleph on {stem_text}",
                                         cwd=str(Path(abs_stem).parent))
         rules, train, test, nodes, cputime, log, warns = _parse(out, err, code, "Aleph")
         constructed = [int(m) for m in re.findall(r"\[clauses constructed\]\s*(\d+)", out)]

@@ -77,7 +77,8 @@ class PlaneParams:
     Parameters
     ----------
     horizontal_tol : float
-        A plane with incline <= this many degrees is ``horizontal`` (default 10).
+        A plane with incline <= this many degrees is ``horizontal`` (default 5: the gentlest
+        ramps a robot meets are about 8 degrees, floors and treads measure 0-2 degrees).
     vertical_tol : float
         A plane with incline >= 90 - this many degrees is ``vertical`` (default 10).
     min_points : int
@@ -90,7 +91,7 @@ class PlaneParams:
         Smallest floor area, m^2.
     """
 
-    horizontal_tol: float = 10.0
+    horizontal_tol: float = 5.0
     vertical_tol: float = 10.0
     min_points: int = 3
     hull_simplify: float = 0.005

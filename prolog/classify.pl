@@ -6,23 +6,23 @@
 
         planerel_rule_stats(Index, Class, TruePositives, FalsePositives).
 
-    Index counts the model's clauses from 1 in file order.  Loading the model
-    with planerel_load_model/1 consults it (so the rules can be called as
-    ordinary Prolog) and also records every clause with its variable names, so
-    that planerel_explain/5 can say which planes a rule bound.
+    Index counts the model's clauses from 1 in file order.  planerel_load_model/1
+    records every clause with its variable names, so that planerel_explain/5
+    can say which planes a rule bound; consult the model file as well to have
+    the rules and their statistics as ordinary Prolog.
 
     Written for planerel.
 */
 
 :- dynamic planerel_rule/6.          % Index, Class, Obj, Head, Body, VarNames
-:- dynamic planerel_rule_stats/4.    % Index, Class, TP, FP
+:- dynamic planerel_rule_stats/4.    % Index, Class, TP, FP (defined by the model file)
+:- multifile planerel_rule_stats/4.
 
 %   planerel_load_model(+File)
 %   Forget any earlier model, then read File's clauses with their variable
 %   names.  Syntax errors raise an exception naming file and line.
 planerel_load_model(File) :-
     retractall(planerel_rule(_, _, _, _, _, _)),
-    retractall(planerel_rule_stats(_, _, _, _)),
     setup_call_cleanup(
         open(File, read, In),
         planerel_read_model(In, 1),
@@ -36,8 +36,7 @@ planerel_read_model(In, I) :-
         planerel_read_model(In, I1)
     ).
 
-planerel_add_model_term(planerel_rule_stats(J, C, TP, FP), _, I, I) :- !,
-    assertz(planerel_rule_stats(J, C, TP, FP)).
+planerel_add_model_term(planerel_rule_stats(_, _, _, _), _, I, I) :- !.
 planerel_add_model_term((:- _), _, I, I) :- !.
 planerel_add_model_term((Head :- Body), Names, I, I1) :- !,
     planerel_head_class(Head, Obj, Class),
@@ -82,3 +81,11 @@ planerel_rule_text(Index, Text) :-
 planerel_classes(Classes) :-
     findall(C, planerel_rule(_, C, _, _, _, _), Cs),
     sort(Cs, Classes).
+
+%   planerel_explain_text(+Obj, -Class, -Index, -Bindings, -Text)
+%   As planerel_explain/5, with Bindings as one atom of "Name\tValue" lines
+%   (for callers that read answers as text, such as pyswip).
+planerel_explain_text(Obj, Class, Index, BindingsText, Text) :-
+    planerel_explain(Obj, Class, Index, Bindings, Text),
+    findall(Line, ( member(N-V, Bindings), format(atom(Line), '~w\t~w', [N, V]) ), Lines),
+    atomic_list_concat(Lines, '\n', BindingsText).

@@ -1,0 +1,248 @@
+"""Classify new scenes by logic query, with the planes that prove the answer.
+
+For each scan: segment, describe (plane attributes, relations, object proposals), load the facts
+into SWI-Prolog next to the model's rules, and ask which class each proposed object satisfies.
+The answer names the rule that fired and the planes bound to its variables — what a robot that
+plans to climb must see.
+
+Prolog runs in process through pyswip (started on the first query, never at import), so it
+must be used from the main thread.
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from planerel.errors import DependencyError, InputError, PrologError
+
+__all__ = ["Classifier", "ObjectAnswer", "SceneAnswer", "explanation_image", "UNKNOWN"]
+
+UNKNOWN = "unknown"
+
+
+@dataclass(frozen=True)
+class ObjectAnswer:
+    """The answer for one object proposal.
+
+    Attributes
+    ----------
+    object_id : str
+        ``s0000_o1``.
+    planes : tuple of str
+        Plane ids of the proposal.
+    labels : tuple of int
+        Their labels in the segmentation.
+    klass : str
+        The class, or ``"unknown"`` when no rule fires.
+    rule : str or None
+        The clause that proved the class.
+    bindings : dict
+        ``{variable: value}`` of the first proof of that clause.
+    proof_planes : tuple of str
+        The plane ids among the bindings: the planes that make the class.
+    fired : tuple
+        ``(class, rule index)`` of every rule that proved something about the object.
+    """
+
+    object_id: str
+    planes: tuple
+    labels: tuple
+    klass: str
+    rule: str | None = None
+    bindings: dict = field(default_factory=dict)
+    proof_planes: tuple = ()
+    fired: tuple = ()
+
+    def to_dict(self) -> dict:
+        return {"object": self.object_id, "class": self.klass, "rule": self.rule,
+                "bindings": dict(self.bindings), "proof_planes": list(self.proof_planes),
+                "planes": list(self.planes), "fired": [list(f) for f in self.fired]}
+
+
+@dataclass(frozen=True, eq=False)
+class SceneAnswer:
+    """Everything :meth:`Classifier.classify` found in one scan."""
+
+    source: str | None
+    scene_id: str
+    labels: np.ndarray
+    plane_ids: dict
+    objects: tuple
+    up_source: str
+    seconds: float
+
+    @property
+    def n_planes(self) -> int:
+        return len(self.plane_ids)
+
+    def to_dict(self) -> dict:
+        return {"input": self.source, "scene": self.scene_id, "n_planes": self.n_planes,
+                "up": self.up_source, "objects": [o.to_dict() for o in self.objects],
+                "seconds": round(self.seconds, 4)}
+
+
+def _prolog():
+    """The process's pyswip engine (created once)."""
+    global _PROLOG
+    if _PROLOG is None:
+        try:
+            from pyswip import Prolog
+        except Exception as exc:  # pyswip raises plain exceptions when libswipl is missing
+            raise DependencyError(
+                f"pyswip cannot load SWI-Prolog ({exc}); install it with: "
+                "sudo apt-get install swi-prolog-nox") from None
+        _PROLOG = Prolog()
+    return _PROLOG
+
+
+_PROLOG = None
+_LOADED_SUPPORT = False
+_LOADED_RULES: Path | None = None
+
+
+def _pl_path(path) -> str:
+    """A file path as a quoted Prolog atom."""
+    from planerel.terms import atom
+
+    return atom(str(Path(path).resolve()))
+
+
+def _query(goal: str, what: str) -> list[dict]:
+    try:
+        return list(_prolog().query(goal))
+    except Exception as exc:  # pyswip.prolog.PrologError and friends
+        raise PrologError(f"{what}: {exc}") from None
+
+
+class Classifier:
+    """Rules of a model loaded into Prolog, ready to classify scans.
+
+    Parameters
+    ----------
+    rules : path
+        A model file (``MODEL_DIR/rules.pl`` from ``planerel learn``) holding clauses
+        ``Class(Obj) :- ...`` or ``class(Obj, Class) :- ...`` and optional
+        ``planerel_rule_stats/4`` facts.
+    method : str
+        Segmentation method for scans.
+    seg_params : dict, optional
+        Segmentation parameters.
+    """
+
+    def __init__(self, rules, *, method: str = "regiongrow", seg_params: dict | None = None):
+        from planerel.pipeline import support_files
+
+        global _LOADED_SUPPORT, _LOADED_RULES
+        path = Path(rules)
+        if not path.is_file():
+            raise InputError(f"{path}: no such rules file")
+        self.rules_path = path
+        self.method = method
+        self.seg_params = dict(seg_params or {})
+        if not _LOADED_SUPPORT:
+            for f in support_files():
+                _query(f"load_files({_pl_path(f)}, [silent(true)])", f"cannot load {f.name}")
+            _LOADED_SUPPORT = True
+        # read with variable names first: a syntax error is an error, not a skipped clause
+        _query(f"planerel_load_model({_pl_path(path)})", f"{path}: not a valid rules file")
+        if _LOADED_RULES is not None:  # one model at a time in this process
+            _query(f"unload_file({_pl_path(_LOADED_RULES)})", "cannot unload the previous model")
+            _LOADED_RULES = None
+        _query(f"load_files({_pl_path(path)}, [silent(true)])", f"{path}: cannot load the rules")
+        _LOADED_RULES = path
+        self.classes = tuple(dict.fromkeys(
+            r["C"] for r in _query("planerel_rule(_, C, _, _, _, _)", "reading the model")))
+        self.stats = tuple((int(r["I"]), str(r["C"]), int(r["TP"]), int(r["FP"])) for r in _query(
+            "planerel_rule_stats(I, C, TP, FP)", "reading the rule statistics"))
+        if not self.classes:
+            raise InputError(f"{path}: the model has no rules")
+
+    def classify(self, cloud, *, scene_id: str = "s0000", up=None) -> SceneAnswer:
+        """Segment, describe and classify one cloud.
+
+        Returns
+        -------
+        SceneAnswer
+            One :class:`ObjectAnswer` per object proposal (none when the scene has no object).
+        """
+        from planerel.facts import FactParams, describe_scene, facts_text
+        from planerel.pipeline import choose_class, segment_cached
+
+        t0 = time.perf_counter()
+        cloud.require_points(3)
+        labels = segment_cached(cloud, method=self.method, params=self.seg_params)
+        desc = describe_scene(cloud, labels, scene_id=scene_id, up=up)
+        plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
+        answers = []
+        if desc.objects:
+            text = facts_text([desc], FactParams(pairs="object+adjacent", planner=False))
+            with tempfile.NamedTemporaryFile("w", suffix=".pl", prefix="planerel-scene-",
+                                             delete=False) as fh:
+                fh.write(text)
+                facts = Path(fh.name)
+            try:
+                _query(f"load_files({_pl_path(facts)}, [silent(true)])", "cannot load the scene facts")
+                for o in desc.objects:
+                    hits = []
+                    for r in _query(f"planerel_explain_text({_obj_atom(o.id)}, C, I, B, T)",
+                                    f"classifying {o.id}"):
+                        binds = dict(line.split("\t", 1) for line in _text(r["B"]).splitlines()
+                                     if "\t" in line)
+                        hits.append((_text(r["C"]), int(r["I"]), binds, _text(r["T"])))
+                    best = choose_class(hits, self.stats, self.classes)
+                    fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
+                    pids = tuple(plane_ids[lab] for lab in o.planes)
+                    if best is None:
+                        answers.append(ObjectAnswer(o.id, pids, o.planes, UNKNOWN, fired=fired))
+                    else:
+                        klass, _, binds, rule = best
+                        proof = tuple(v for v in binds.values() if v in plane_ids.values())
+                        answers.append(ObjectAnswer(o.id, pids, o.planes, klass, rule, binds,
+                                                    proof, fired))
+            finally:
+                _query(f"unload_file({_pl_path(facts)})", "cannot unload the scene facts")
+                facts.unlink(missing_ok=True)
+        return SceneAnswer(cloud.source, scene_id, labels, plane_ids, tuple(answers),
+                           desc.planes.up_source, time.perf_counter() - t0)
+
+
+def _obj_atom(name: str) -> str:
+    from planerel.terms import atom
+
+    return atom(name)
+
+
+def _text(value) -> str:
+    if isinstance(value, bytes):
+        return value.decode("utf-8", "replace")
+    return str(value)
+
+
+def explanation_image(answer: SceneAnswer, depth) -> np.ndarray:
+    """``(H, W, 3)`` uint8 picture: the proof planes of each classified object in bright
+    colours, the object's other planes tinted, everything else shaded grey by depth."""
+    from planerel.writers import colour_labels, label_colours
+
+    lab = np.asarray(answer.labels)
+    grey = colour_labels(np.full_like(lab, -1), depth).astype(float)
+    out = grey.copy()
+    pal = label_colours(max(1, len(answer.objects) * 4 + 4)).astype(float)
+    inv = {v: k for k, v in answer.plane_ids.items()}
+    for n, o in enumerate(answer.objects):
+        if o.klass == UNKNOWN:
+            for lab_id in o.labels:
+                m = lab == lab_id
+                out[m] = 0.7 * grey[m] + 0.3 * np.array([120, 120, 160])
+            continue
+        for lab_id in o.labels:
+            m = lab == lab_id
+            out[m] = 0.5 * grey[m] + 0.5 * np.array([255, 255, 255])
+        for k, pid in enumerate(o.proof_planes):
+            m = lab == inv[pid]
+            out[m] = 0.25 * grey[m] + 0.75 * pal[(n * 4 + k) % len(pal)]
+    return np.clip(np.round(out), 0, 255).astype(np.uint8)

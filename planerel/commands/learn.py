@@ -1,0 +1,85 @@
+"""``planerel learn``: segment, describe, export, learn and cross-validate a data set."""
+
+from __future__ import annotations
+
+import sys
+
+__all__ = ["register", "run"]
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "learn",
+        help="learn box/stairs/ramp rules from a data set (with k-fold cross-validation)",
+        description="Segment every scene of a data set (cached), describe its planes and "
+                    "relations, write the Aleph files, learn one theory per class and write "
+                    "MODEL_DIR/rules.pl, the Aleph files used, metrics.json and (with --folds) "
+                    "a cross-validated confusion matrix (confusion.png). The model folder is "
+                    "written whole or not at all.",
+    )
+    p.add_argument("dataset", help="a data set folder (planerel dataset synth, docs/formats.md)")
+    p.add_argument("-o", "--output", required=True, metavar="MODEL_DIR", help="model folder")
+    p.add_argument("--classes", metavar="A,B,...",
+                   help="classes to learn (default: all classes of the data set)")
+    p.add_argument("--engine", choices=["auto", "aleph", "builtin"], default="auto",
+                   help="auto (default): the real Aleph when found (PLANEREL_ALEPH or the SWI "
+                        "pack), else planerel's learner; aleph: require the real Aleph; "
+                        "builtin: planerel's learner")
+    p.add_argument("--folds", type=int, default=0, metavar="K",
+                   help="stratified K-fold cross-validation (0 = none; 10 is usual)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the fold assignment")
+    p.add_argument("--timeout", type=float, default=120.0, metavar="S",
+                   help="stop a learning run after S seconds (per class)")
+    p.add_argument("--jobs", type=int, default=None, metavar="N",
+                   help="worker processes for segmenting and describing (default: all cores)")
+    p.add_argument("--method", choices=["regiongrow", "sp", "snp", "gt"], default="regiongrow",
+                   help="planes from region growing (default), a RANSAC baseline, or the "
+                        "ground-truth labels (gt)")
+    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="segmentation parameter (repeatable)")
+    p.add_argument("--cache", metavar="DIR", help="segmentation cache folder (default "
+                   "$PLANEREL_CACHE or ~/.cache/planerel; 'none' disables it)")
+    p.set_defaults(func=run)
+
+
+def _params(items) -> dict:
+    from planerel.errors import InputError
+
+    out = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        if not sep or not name:
+            raise InputError(f"--param takes NAME=VALUE, got {item!r}")
+        out[name.strip()] = value.strip()
+    return out
+
+
+def run(args) -> int:
+    from planerel.pipeline import learn_model
+
+    classes = [c.strip() for c in args.classes.split(",") if c.strip()] if args.classes else None
+    m = learn_model(args.dataset, args.output, classes=classes, engine=args.engine,
+                    folds=args.folds, seed=args.seed, timeout=args.timeout, jobs=args.jobs,
+                    method=args.method, seg_params=_params(args.param), cache=args.cache,
+                    log=lambda s: print(s, file=sys.stderr))
+    print(f"engine: {m['engine']}")
+    print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
+          f"{', '.join(m['classes'])}")
+    print("rules (trained on all data):")
+    for k in m["classes"]:
+        rules = m["rules"].get(k) or []
+        for r in rules:
+            print(f"  {r}")
+        if not rules:
+            print(f"  % no rule for {k}")
+    cv = m.get("cross_validation")
+    if cv:
+        print(f"{cv['k']}-fold cross-validation: accuracy {cv['accuracy']:.3f}")
+        cols = m["classes"] + ["unknown"]
+        print("  " + " " * 8 + "".join(f"{c:>9}" for c in cols) + "   <- predicted")
+        for k, row in zip(m["classes"], cv["confusion"], strict=True):
+            acc = cv["per_class"].get(k)
+            print(f"  {k:>8}" + "".join(f"{v:>9}" for v in row)
+                  + (f"   {acc:.3f}" if acc is not None else ""))
+    print(f"model written to {args.output}")
+    return 0
