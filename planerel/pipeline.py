@@ -42,6 +42,9 @@ __all__ = [
     "learn_model",
     "evaluate_learning",
     "support_files",
+    "confusion_matrix",
+    "accuracy_scores",
+    "draw_confusion",
 ]
 
 DEFAULT_CLASSES = ("box", "stairs", "ramp")
@@ -569,7 +572,8 @@ def stratified_folds(labels: Sequence[str], k: int, seed: int = 0) -> list[int]:
     return fold
 
 
-def _confusion(truth: Sequence[str], pred: Sequence[str], classes: Sequence[str]):
+def confusion_matrix(truth: Sequence[str], pred: Sequence[str], classes: Sequence[str]):
+    """Rows: true class (``classes`` order); columns: predicted, ``unknown`` last."""
     cols = list(classes) + [UNKNOWN]
     m = [[0] * len(cols) for _ in classes]
     for t, p in zip(truth, pred, strict=True):
@@ -577,7 +581,8 @@ def _confusion(truth: Sequence[str], pred: Sequence[str], classes: Sequence[str]
     return m
 
 
-def _scores(truth, pred, classes):
+def accuracy_scores(truth, pred, classes):
+    """Overall accuracy and ``{class: accuracy}`` (None for a class with no example)."""
     n = len(truth)
     acc = sum(t == p for t, p in zip(truth, pred, strict=True)) / n if n else 0.0
     per = {}
@@ -628,15 +633,15 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         for p in preds:
             predictions[p.object_id] = p.klass
         truth = [dict(examples)[o] for o in test]
-        acc, _ = _scores(truth, [p.klass for p in preds], classes)
+        acc, _ = accuracy_scores(truth, [p.klass for p in preds], classes)
         fold_reports.append({"fold": f, "test": test, "predicted": [p.klass for p in preds],
                              "accuracy": acc, "rules": model.clauses(),
                              "seconds": round(time.perf_counter() - t0, 3)})
     truth = [k for _, k in examples]
     pred = [predictions[o] for o, _ in examples]
-    acc, per = _scores(truth, pred, classes)
+    acc, per = accuracy_scores(truth, pred, classes)
     return {"accuracy": acc, "per_class": per, "classes": list(classes),
-            "confusion": _confusion(truth, pred, classes), "folds": fold_reports,
+            "confusion": confusion_matrix(truth, pred, classes), "folds": fold_reports,
             "predictions": predictions, "n_examples": len(examples), "k": folds, "seed": seed}
 
 
