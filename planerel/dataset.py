@@ -16,13 +16,13 @@ from __future__ import annotations
 
 import csv
 import io as _io
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from planerel.errors import InputError
+from planerel.io import read_json_object
 
 __all__ = [
     "MANIFEST",
@@ -227,13 +227,7 @@ def load_dataset_info(path) -> dict:
     p = folder / INFO
     if not p.is_file():
         return {}
-    try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"{p}: cannot read the data-set description ({exc})") from None
-    if not isinstance(data, dict):
-        raise InputError(f"{p}: must hold a JSON object")
-    return data
+    return read_json_object(p, "data-set description")
 
 
 def _row(folder: Path, scene_id: str) -> ManifestRow:
@@ -254,12 +248,7 @@ def load_metadata(path, scene_id: str) -> dict:
 def _read_meta(p: Path, row: ManifestRow) -> dict:
     if not p.is_file():
         raise InputError(f"{p}: sidecar of scene {row.scene_id} is missing")
-    try:
-        meta = json.loads(p.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"{p}: cannot read the scene sidecar ({exc})") from None
-    if not isinstance(meta, dict):
-        raise InputError(f"{p}: the scene sidecar must hold a JSON object")
+    meta = read_json_object(p, "scene sidecar")
     for key in ("intrinsics", "depth_scale"):
         if key not in meta:
             raise InputError(f"{p}: the scene sidecar lacks {key!r}")

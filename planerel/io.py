@@ -49,6 +49,7 @@ __all__ = [
     "read_abw_gt",
     "read_label_image",
     "find_camera_info",
+    "read_json_object",
     "estimate_intrinsics",
     "resolve_intrinsics",
     "FORMATS",
@@ -151,13 +152,16 @@ def _frame_stems(path: Path) -> list[Path]:
     return stems
 
 
-def _read_sidecar_json(path: Path) -> dict:
+def read_json_object(path, what: str = "JSON file") -> dict:
+    """The JSON object stored in ``path``; :class:`InputError` naming the file and ``what``
+    it should be when it is unreadable or not an object."""
+    p = Path(path)
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(p.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"{path}: sidecar JSON cannot be read ({exc})") from None
+        raise InputError(f"{p}: cannot read the {what} ({exc})") from None
     if not isinstance(data, dict):
-        raise InputError(f"{path}: sidecar JSON must hold an object")
+        raise InputError(f"{p}: the {what} must hold a JSON object")
     return data
 
 
@@ -210,7 +214,7 @@ def find_camera_info(path) -> dict:
     for stem in _frame_stems(p):
         js = stem.with_name(stem.name + ".json")
         if js.is_file():
-            data = _read_sidecar_json(js)
+            data = read_json_object(js, "sidecar JSON")
             out = {"source": str(js)}
             for key in ("intrinsics", "depth_scale", "up"):
                 if data.get(key) is not None:
