@@ -57,7 +57,7 @@ def test_ramp_incline_within_two_degrees(angle):
     ps = measure_planes(cloud, lab)
     slope = ps.by_label(1)
     assert slope.incline == pytest.approx(angle, abs=2.0)
-    assert slope.orientation == ("inclined" if angle > 10 else "horizontal")
+    assert slope.orientation == ("inclined" if angle > 5 else "horizontal")  # horizontal_tol 5
 
 
 def test_synthetic_ground_truth_planes():
