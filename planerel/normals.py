@@ -37,6 +37,7 @@ __all__ = [
     "knn_normals",
     "pixel_angle",
     "auto_normal_scale",
+    "normal_kernel_args",
 ]
 
 #: Default ``(smooth, radius)`` in pixels at 160x120; larger images scale them with their width.
@@ -147,6 +148,28 @@ def organized_normals(
         neighbour along a row or a column.
     """
     a = np.ascontiguousarray(np.asarray(xyz, dtype=np.float64))
+    args = normal_kernel_args(a, smooth=smooth, radius=radius, jump_factor=jump_factor,
+                              reference_depth=reference_depth, intrinsics=intrinsics)
+    from planerel.segment.regiongrow import _workspace
+
+    out = np.empty_like(a)
+    ws = _workspace(a.shape[0], a.shape[1])  # reused scratch (see planerel.segment.regiongrow)
+    _kernels().normals_ws(a, *args, out, ws.runs, ws.colp, ws.sm, ws.mom)
+    return out
+
+
+def normal_kernel_args(
+    xyz: np.ndarray,
+    *,
+    smooth: int | str = "auto",
+    radius: int | str = "auto",
+    jump_factor: float = DEFAULT_JUMP_FACTOR,
+    reference_depth: float | None = DEFAULT_REFERENCE_DEPTH,
+    intrinsics=None,
+) -> tuple[float, float, float, int, int, float]:
+    """Validated arguments ``(smooth, radius, zref, smax, rmax, jump_per_z)`` of the compiled
+    normal kernels for the ``(H, W, 3)`` array ``xyz`` (see :func:`organized_normals`)."""
+    a = xyz
     if a.ndim != 3 or a.shape[2] != 3:
         raise InputError(f"normals: xyz must have shape (H, W, 3), got {a.shape}")
     s_auto, r_auto = auto_normal_scale(a.shape[1])
@@ -161,10 +184,7 @@ def organized_normals(
     if a.shape[0] >= 32768 or a.shape[1] >= 32768:
         raise InputError(f"normals: image too large ({a.shape[1]}x{a.shape[0]}); at most 32767 a side")
     pa = pixel_angle(a, intrinsics)
-    k = _kernels()
-    out = np.empty_like(a)
-    k.organized_normals_kernel(a, float(s), float(r), zref, smax, rmax, jf * pa, out)
-    return out
+    return float(s), float(r), float(zref), int(smax), int(rmax), float(jf * pa)
 
 
 def knn_normals(points, k: int = 16) -> np.ndarray:

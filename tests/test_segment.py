@@ -179,3 +179,103 @@ def test_intrinsics_do_not_change_the_result_much():
     b = segment(bare)
     assert abs(a.n_planes - b.n_planes) <= 1
     assert isinstance(Intrinsics.kinect(160, 120), Intrinsics)
+
+
+def _visible_gt(scene, min_size):
+    """The generator's GT labels without planes smaller than ``min_size`` pixels (SegComp
+    practice: regions below the minimum region size are not counted)."""
+    gt = scene.gt_labels.copy()
+    for p in scene.planes:
+        if p.n_pixels < min_size:
+            gt[gt == p.index] = -1
+    return gt
+
+
+@pytest.mark.parametrize("steps", [3, 4, 5])
+def test_closed_staircases_from_the_generator_160x120(steps):
+    synth = pytest.importorskip("planerel.synth")
+    sc = synth.generate_scene("stairs", 0, size=(640, 480), subsample=4, steps=steps,
+                              sides="closed", walls=1)
+    seg = segment(sc.cloud)
+    gt = _visible_gt(sc, seg.info["min_region_size"])
+    s = evaluate(seg.labels, gt)
+    assert s.n_gt >= 2 * steps + 2  # floor, wall, risers, treads, sides
+    assert s.correct >= s.n_gt - 1
+    assert s.sparse == 0 and s.under == 0
+
+
+def test_closed_staircase_from_the_generator_640x480():
+    synth = pytest.importorskip("planerel.synth")
+    sc = synth.generate_scene("stairs", 1, size=(640, 480), subsample=1, steps=4,
+                              sides="closed", walls=1)
+    seg = segment(sc.cloud)
+    s = evaluate(seg.labels, _visible_gt(sc, seg.info["min_region_size"]))
+    assert s.n_gt >= 11
+    assert s.correct >= s.n_gt - 1
+    assert s.sparse == 0 and s.under == 0
+
+
+def test_presets(stairs160):
+    from planerel.segment.params import PRESETS, scaled_min_region_size
+
+    p = make_params("regiongrow", preset="structured-light")
+    assert p.reference_depth is None and p.normal_smooth == 3 and p.min_region_scale == 0.25
+    assert make_params("regiongrow", preset="abw") == p
+    assert make_params("regiongrow", preset="kinect") == RegionGrowParams()
+    q = make_params("regiongrow", preset="abw", normal_smooth=2, reference_depth="none")
+    assert q.normal_smooth == 2 and q.normal_radius == 3 and q.reference_depth is None
+    assert set(PRESETS) >= {"kinect", "structured-light", "abw"}
+    seg = segment(stairs160[0], preset="structured-light")
+    assert seg.info["min_region_size"] == scaled_min_region_size(160 * 120, 0.25)
+    with pytest.raises(InputError, match="unknown preset 'laser'"):
+        make_params("regiongrow", preset="laser")
+    with pytest.raises(InputError, match="min_region_scale"):
+        segment(stairs160[0], min_region_scale=0)
+    with pytest.raises(InputError, match="leftover_planes"):
+        segment(stairs160[0], leftover_planes=3)
+
+
+def test_leftover_planes_only_add_planar_patches(stairs160):
+    cloud = stairs160[0]
+    a = segment(cloud, leftover_planes=False)
+    b = segment(cloud)
+    assert "leftover_planes" not in a.info
+    k = b.info["leftover_planes"]
+    assert b.n_planes == a.n_planes + k
+    # the grown and completed regions are the same; leftover regions only take unassigned pixels
+    assert np.array_equal(b.labels[a.labels >= 0], a.labels[a.labels >= 0])
+    med = np.median([p.rms for p in a.planes])
+    for p in b.planes[a.n_planes:]:
+        assert p.rms <= 3 * med * 1.0001
+
+
+ABW = __import__("pathlib").Path(__file__).resolve().parents[2] / "shared" / "data" / "abw"
+
+
+@pytest.mark.skipif(not (ABW / "abw.test.0.range").exists(), reason="SegComp ABW data not present")
+def test_abw_image_with_the_structured_light_preset():
+    from planerel.io import read_abw, read_abw_gt
+
+    cloud = read_abw(ABW / "abw.test.0.range")
+    gt = read_abw_gt(ABW / "abw.test.0.gt-seg")
+    s_default = evaluate(segment(cloud).labels, gt)
+    s_preset = evaluate(segment(cloud, preset="structured-light").labels, gt)
+    assert s_preset.n_gt == 27
+    assert s_preset.correct >= 13 and s_preset.correct > s_default.correct
+    assert s_preset.sparse == 0 and s_preset.under == 0
+
+
+def test_results_stay_valid_when_the_next_frame_is_segmented(stairs160):
+    # the organized pipeline reuses its buffers; a result still held must never change
+    cloud = stairs160[0]
+    first = segment(cloud)
+    labels, normals = first.labels.copy(), first.normals.copy()
+    other = staircase(160, 120, steps=3, seed=5)[0]
+    second = segment(other)
+    assert np.array_equal(first.labels, labels)
+    assert np.array_equal(first.normals, normals, equal_nan=True)
+    assert not np.shares_memory(first.labels, second.labels)
+    del first
+    third = segment(cloud)  # buffers of a dropped result may be reused
+    assert np.array_equal(third.labels, labels)
+    assert not np.shares_memory(third.labels, second.labels)

@@ -40,7 +40,9 @@ def register(sub) -> None:
                         "snp (RANSAC plane with normals)")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="a method parameter, e.g. --param theta=12 --param threshold=0.03 "
-                        "(see docs/segmentation.md); repeat for more")
+                        "(see docs/segmentation.md); repeat for more.  Region growing also "
+                        "takes --param preset=structured-light for high-resolution range "
+                        "images with coarse depth steps (e.g. SegComp ABW)")
     add_input_options(p)
     p.set_defaults(func=run_segment)
 

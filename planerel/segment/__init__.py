@@ -32,10 +32,17 @@ METHODS = ("regiongrow", "sp", "snp")
 
 def make_params(method: str = "regiongrow", **params):
     """The parameter dataclass of ``method`` built from keyword values (strings from the command
-    line are converted); unknown names raise :class:`InputError`."""
+    line are converted); unknown names raise :class:`InputError`.  Region growing also takes
+    ``preset`` (``"kinect"`` = the defaults, ``"structured-light"`` / ``"abw"``: see
+    :data:`planerel.segment.params.PRESETS`); explicit values override the preset's."""
     if method not in METHODS:
         raise InputError(f"unknown segmentation method {method!r}; choose one of {', '.join(METHODS)}")
     if method == "regiongrow":
+        preset = params.pop("preset", None)
+        if preset is not None:
+            from planerel.segment.params import preset_values
+
+            params = {**preset_values(preset), **params}
         return coerce_params(RegionGrowParams, params)
     return coerce_params(RansacParams, params)
 
@@ -54,7 +61,7 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, **params) -> Seg
         Precomputed normals (regiongrow, snp).
     **params
         Fields of :class:`RegionGrowParams` (regiongrow) or :class:`RansacParams` (sp, snp);
-        or ``params=<dataclass instance>``.
+        or ``params=<dataclass instance>``; regiongrow also ``preset="structured-light"``.
 
     Returns
     -------

@@ -11,12 +11,16 @@ import numpy as np
 from numba import njit
 
 __all__ = [
-    "organized_normals_kernel",
-    "grid_graph",
-    "region_grow_grid",
+    "normals_ws",
+    "grid_graph_ws",
     "region_grow_list",
-    "refine_grid",
+    "refine_grid_ws",
+    "region_grow_grid_ws",
     "region_sums",
+    "fit_planes_kernel",
+    "planes_from_sums",
+    "spread_of_moments",
+    "leftover_components",
     "POPCOUNT",
     "GRID_DV",
     "GRID_DU",
@@ -42,25 +46,38 @@ def _scale(z, base, zref, lo, hi):
     return k
 
 
-@njit(cache=True, nogil=True)
-def organized_normals_kernel(xyz, s0, r0, zref, smax, rmax, jump_per_z, out):  # pragma: no cover
-    """Depth-aware normals; see planerel.normals.  Window half-size s and difference radius r
-    grow with depth: round(s0 * z / zref) clipped to [min(1, s0), smax] (r likewise, >= 1)."""
+@njit(cache=True, nogil=True, error_model="numpy")
+def normals_ws(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, runs, colp, sm, mom):  # pragma: no cover
+    """Depth-aware normals of an organized cloud (see :mod:`planerel.normals`) into ``out``
+    (H, W, 3).  Window half-size s and difference radius r grow with depth: round(s0 * z / zref)
+    clipped to [s0, smax] (r likewise, >= 1; zref 0 = fixed).  Scratch from the caller (no page
+    faults when the arrays are reused): ``runs`` (6, H, W) int16 (row run start / end, column run start / end,
+    window half-size, difference radius), ``colp`` (H + 1, W, 4) float64, ``sm`` (H, W, 3)
+    float32.  Also fills ``mom`` (10,) with the moments of the valid points (count, sums and
+    second moments about the first valid point) for the degeneracy check."""
     H = xyz.shape[0]
     W = xyz.shape[1]
-    smin = 1 if s0 > 0 else 0
-    rs = np.empty((H, W), dtype=np.int16)
-    re = np.empty((H, W), dtype=np.int16)
-    cs = np.empty((H, W), dtype=np.int16)
-    ce = np.empty((H, W), dtype=np.int16)
-    colp = np.empty((H + 1, W, 4))
+    # the window grows with depth beyond zref but never shrinks below its nominal size
+    smin = int(s0 + 0.5)
+    rmin = max(1, int(r0 + 0.5))
+    rs = runs[0]
+    re = runs[1]
+    cs = runs[2]
+    ce = runs[3]
+    ks = runs[4]
+    kr = runs[5]
+    m0 = m1 = m2 = m3 = m4 = m5 = m6 = m7 = m8 = m9 = 0.0
+    refx = np.nan
+    refy = 0.0
+    refz = 0.0
     for u in range(W):
         for c in range(4):
             colp[0, u, c] = 0.0
     px = np.empty(W + 1)
     py = np.empty(W + 1)
     pz = np.empty(W + 1)
-    # rows: runs, horizontal box sums (clipped to the run), column prefix of those sums
+    # rows: row runs, column-run starts, window sizes, horizontal box sums (clipped to the
+    # run), column prefix of those sums, moments
     for v in range(H):
         start = 0
         zprev = np.nan
@@ -71,6 +88,7 @@ def organized_normals_kernel(xyz, s0, r0, zref, smax, rmax, jump_per_z, out):  #
             z = xyz[v, u, 2]
             if np.isnan(z):
                 rs[v, u] = -1
+                cs[v, u] = -1
                 start = u + 1
                 px[u + 1] = px[u]
                 py[u + 1] = py[u]
@@ -81,8 +99,37 @@ def organized_normals_kernel(xyz, s0, r0, zref, smax, rmax, jump_per_z, out):  #
                 start = u
             rs[v, u] = start
             zprev = z
-            px[u + 1] = px[u] + xyz[v, u, 0]
-            py[u + 1] = py[u] + xyz[v, u, 1]
+            if v > 0 and cs[v - 1, u] >= 0:
+                zp = xyz[v - 1, u, 2]
+                if abs(z - zp) > jump_per_z * min(z, zp):
+                    cs[v, u] = v
+                else:
+                    cs[v, u] = cs[v - 1, u]
+            else:
+                cs[v, u] = v
+            ks[v, u] = _scale(z, s0, zref, smin, smax)
+            kr[v, u] = _scale(z, r0, zref, rmin, rmax)
+            x = xyz[v, u, 0]
+            y = xyz[v, u, 1]
+            if np.isnan(refx):
+                refx = x
+                refy = y
+                refz = z
+            mx = x - refx
+            my = y - refy
+            mz = z - refz
+            m0 += 1.0
+            m1 += mx
+            m2 += my
+            m3 += mz
+            m4 += mx * mx
+            m5 += mx * my
+            m6 += mx * mz
+            m7 += my * my
+            m8 += my * mz
+            m9 += mz * mz
+            px[u + 1] = px[u] + x
+            py[u + 1] = py[u] + y
             pz[u + 1] = pz[u] + z
         end = W - 1
         znext = np.nan
@@ -98,55 +145,46 @@ def organized_normals_kernel(xyz, s0, r0, zref, smax, rmax, jump_per_z, out):  #
             re[v, u] = end
             znext = z
         for u in range(W):
-            z = xyz[v, u, 2]
-            if np.isnan(z):
+            if rs[v, u] < 0:
                 colp[v + 1, u, 0] = colp[v, u, 0]
                 colp[v + 1, u, 1] = colp[v, u, 1]
                 colp[v + 1, u, 2] = colp[v, u, 2]
                 colp[v + 1, u, 3] = colp[v, u, 3]
                 continue
-            s = _scale(z, s0, zref, smin, smax)
+            s = ks[v, u]
             lo = max(u - s, rs[v, u])
             hi = min(u + s, re[v, u])
             colp[v + 1, u, 0] = colp[v, u, 0] + px[hi + 1] - px[lo]
             colp[v + 1, u, 1] = colp[v, u, 1] + py[hi + 1] - py[lo]
             colp[v + 1, u, 2] = colp[v, u, 2] + pz[hi + 1] - pz[lo]
             colp[v + 1, u, 3] = colp[v, u, 3] + (hi - lo + 1)
-    # column runs
-    for v in range(H):
+    mom[0] = m0
+    mom[1] = m1
+    mom[2] = m2
+    mom[3] = m3
+    mom[4] = m4
+    mom[5] = m5
+    mom[6] = m6
+    mom[7] = m7
+    mom[8] = m8
+    mom[9] = m9
+    # column run ends (bottom-up)
+    for u in range(W):
+        ce[H - 1, u] = -1 if cs[H - 1, u] < 0 else H - 1
+    for v in range(H - 2, -1, -1):
         for u in range(W):
-            z = xyz[v, u, 2]
-            if np.isnan(z):
-                cs[v, u] = -1
-            elif v > 0 and cs[v - 1, u] >= 0:
-                zp = xyz[v - 1, u, 2]
-                if abs(z - zp) > jump_per_z * min(z, zp):
-                    cs[v, u] = v
-                else:
-                    cs[v, u] = cs[v - 1, u]
-            else:
-                cs[v, u] = v
-    for v in range(H - 1, -1, -1):
-        for u in range(W):
-            z = xyz[v, u, 2]
-            if np.isnan(z):
+            if cs[v, u] < 0:
                 ce[v, u] = -1
-            elif v < H - 1 and ce[v + 1, u] >= 0:
-                zn = xyz[v + 1, u, 2]
-                if abs(z - zn) > jump_per_z * min(z, zn):
-                    ce[v, u] = v
-                else:
-                    ce[v, u] = ce[v + 1, u]
+            elif ce[v + 1, u] >= 0 and cs[v + 1, u] == cs[v, u]:
+                ce[v, u] = ce[v + 1, u]
             else:
                 ce[v, u] = v
-    # smoothed points (vertical box over the horizontal sums), stored in out temporarily
-    sm = np.empty((H, W, 3), dtype=np.float32)
+    # smoothed points (vertical box over the horizontal sums)
     for v in range(H):
         for u in range(W):
-            z = xyz[v, u, 2]
-            if np.isnan(z):
+            if rs[v, u] < 0:
                 continue
-            s = _scale(z, s0, zref, smin, smax)
+            s = ks[v, u]
             lo = max(v - s, cs[v, u])
             hi = min(v + s, ce[v, u])
             n = colp[hi + 1, u, 3] - colp[lo, u, 3]
@@ -155,13 +193,12 @@ def organized_normals_kernel(xyz, s0, r0, zref, smax, rmax, jump_per_z, out):  #
             sm[v, u, 2] = (colp[hi + 1, u, 2] - colp[lo, u, 2]) / n
     for v in range(H):
         for u in range(W):
-            z = xyz[v, u, 2]
-            if np.isnan(z):
+            if rs[v, u] < 0:
                 out[v, u, 0] = np.nan
                 out[v, u, 1] = np.nan
                 out[v, u, 2] = np.nan
                 continue
-            r = _scale(z, r0, zref, 1, rmax)
+            r = kr[v, u]
             ur = min(u + r, re[v, u])
             ul = max(u - r, rs[v, u])
             vd = min(v + r, ce[v, u])
@@ -186,21 +223,25 @@ def organized_normals_kernel(xyz, s0, r0, zref, smax, rmax, jump_per_z, out):  #
                 out[v, u, 1] = np.nan
                 out[v, u, 2] = np.nan
                 continue
-            if nx * xyz[v, u, 0] + ny * xyz[v, u, 1] + nz * z > 0.0:
+            if nx * xyz[v, u, 0] + ny * xyz[v, u, 1] + nz * xyz[v, u, 2] > 0.0:
                 nn = -nn
             out[v, u, 0] = nx / nn
             out[v, u, 1] = ny / nn
             out[v, u, 2] = nz / nn
 
 
-@njit(cache=True, nogil=True)
-def grid_graph(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step, mask):  # pragma: no cover
-    """Fill ``mask`` (H, W) uint8 with the grid neighbours within delta.
+@njit(cache=True, nogil=True, error_model="numpy")
+def grid_graph_ws(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step, mask, d2,
+                  band):  # pragma: no cover
+    """Fill ``mask`` (H, W) uint8 with the grid neighbours within delta (bit k: direction k of
+    ``GRID_DV``/``GRID_DU``).
 
     delta: ``delta_fixed`` when > 0; else ``delta_factor`` x the mean over points of the distance
     to the nearest of the 8 adjacent neighbours, estimated on every ``row_step``-th row; with
     ``by_depth`` that mean is taken per depth band (``nbands`` bands) and an edge uses the band
-    of its farther point.  Returns (delta table (nbands,), band zmin, band width, global mean).
+    of its farther point.  Each edge's squared length is computed once (scratch ``d2``
+    (4, H, W) float32, the 4 forward directions; ``band`` (H, W) uint8 the depth band).
+    Returns (delta table (nbands,), band zmin, band width, global mean).
     """
     H = xyz.shape[0]
     W = xyz.shape[1]
@@ -224,38 +265,66 @@ def grid_graph(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step, mask)
     width = (zmax - zmin) / nbands
     if not width > 0:
         width = 1.0
+    inf = np.float32(np.inf)
+    # squared lengths of the forward edges (0: right, 1: down-left, 2: down, 3: down-right)
+    for v in range(H):
+        for u in range(W):
+            x0 = xyz[v, u, 0]
+            if np.isnan(x0):
+                d2[0, v, u] = inf
+                d2[1, v, u] = inf
+                d2[2, v, u] = inf
+                d2[3, v, u] = inf
+                band[v, u] = 0
+                continue
+            y0 = xyz[v, u, 1]
+            z0 = xyz[v, u, 2]
+            band[v, u] = min(nbands - 1, max(0, int((z0 - zmin) / width)))
+            for k in range(4):
+                if k == 0:
+                    vv = v
+                    uu = u + 1
+                elif k == 1:
+                    vv = v + 1
+                    uu = u - 1
+                elif k == 2:
+                    vv = v + 1
+                    uu = u
+                else:
+                    vv = v + 1
+                    uu = u + 1
+                if vv >= H or uu < 0 or uu >= W:
+                    d2[k, v, u] = inf
+                    continue
+                x1 = xyz[vv, uu, 0]
+                if np.isnan(x1):
+                    d2[k, v, u] = inf
+                    continue
+                dx = x1 - x0
+                dy = xyz[vv, uu, 1] - y0
+                dz = xyz[vv, uu, 2] - z0
+                d2[k, v, u] = dx * dx + dy * dy + dz * dz
+    # mean nearest-neighbour distance per band, on every row_step-th row
     bsum = np.zeros(nbands)
     bcnt = np.zeros(nbands)
     tot = 0.0
     totn = 0.0
     for v in range(0, H, row_step):
         for u in range(W):
-            x0 = xyz[v, u, 0]
-            if np.isnan(x0):
+            if np.isnan(xyz[v, u, 0]):
                 continue
-            y0 = xyz[v, u, 1]
-            z0 = xyz[v, u, 2]
-            best = np.inf
-            for dv in range(-1, 2):
-                vv = v + dv
-                if vv < 0 or vv >= H:
-                    continue
-                for du in range(-1, 2):
-                    uu = u + du
-                    if (dv == 0 and du == 0) or uu < 0 or uu >= W:
-                        continue
-                    x1 = xyz[vv, uu, 0]
-                    if np.isnan(x1):
-                        continue
-                    dx = x1 - x0
-                    dy = xyz[vv, uu, 1] - y0
-                    dz = xyz[vv, uu, 2] - z0
-                    d = dx * dx + dy * dy + dz * dz
-                    if d < best:
-                        best = d
-            if best < np.inf:
-                d = np.sqrt(best)
-                b = min(nbands - 1, max(0, int((z0 - zmin) / width)))
+            best = min(min(d2[0, v, u], d2[1, v, u]), min(d2[2, v, u], d2[3, v, u]))
+            if u > 0:
+                best = min(best, d2[0, v, u - 1])
+            if v > 0:
+                best = min(best, d2[2, v - 1, u])
+                if u + 1 < W:
+                    best = min(best, d2[1, v - 1, u + 1])
+                if u > 0:
+                    best = min(best, d2[3, v - 1, u - 1])
+            if best < inf:
+                d = np.sqrt(np.float64(best))
+                b = band[v, u]
                 bsum[b] += d
                 bcnt[b] += 1.0
                 tot += d
@@ -291,18 +360,22 @@ def grid_graph(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step, mask)
         for b in range(1, nbands):
             if table[b] < table[b - 1]:
                 table[b] = table[b - 1]
-    tab2 = table * table
+    tab2 = np.empty(nbands, dtype=np.float32)
+    for b in range(nbands):
+        tab2[b] = table[b] * table[b]
     for v in range(H):
         for u in range(W):
             mask[v, u] = 0
     for v in range(H):
         for u in range(W):
-            x0 = xyz[v, u, 0]
-            if np.isnan(x0):
+            if d2[0, v, u] == inf and d2[1, v, u] == inf and d2[2, v, u] == inf \
+                    and d2[3, v, u] == inf:
                 continue
-            y0 = xyz[v, u, 1]
-            z0 = xyz[v, u, 2]
+            b0 = band[v, u]
             for k in range(4):
+                dd = d2[k, v, u]
+                if dd == inf:
+                    continue
                 if k == 0:
                     vv = v
                     uu = u + 1
@@ -315,32 +388,25 @@ def grid_graph(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step, mask)
                 else:
                     vv = v + 1
                     uu = u + 1
-                if vv >= H or uu < 0 or uu >= W:
-                    continue
-                x1 = xyz[vv, uu, 0]
-                if np.isnan(x1):
-                    continue
-                z1 = xyz[vv, uu, 2]
-                dx = x1 - x0
-                dy = xyz[vv, uu, 1] - y0
-                dz = z1 - z0
-                zf = z1 if z1 > z0 else z0
-                b = min(nbands - 1, max(0, int((zf - zmin) / width)))
-                if dx * dx + dy * dy + dz * dz < tab2[b]:
+                b = max(b0, band[vv, uu])
+                if dd < tab2[b]:
                     mask[v, u] |= np.uint8(1 << k)
                     mask[vv, uu] |= np.uint8(1 << (k + 4))
     return table, zmin, width, mean
 
 
-@njit(cache=True, nogil=True)
-def region_grow_grid(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_seed,
-                     num_init, update_step, min_size, labels, queue):  # pragma: no cover
+@njit(cache=True, nogil=True, error_model="numpy")
+def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_seed,
+                        num_init, update_step, min_size, labels, queue, seedable, pts, sums,
+                        ref):  # pragma: no cover
     """The paper's Algorithm 1 on the 8-neighbour image grid (flat arrays).
 
     nrm (N, 3) unit normals; nvalid (N,) bool; mask (N,) uint8 neighbour bits; labels (N,) int32
     receives region ids (-1 = could join but did not, -2 = cannot join: no normal or fewer than
-    ``min_nb`` delta-neighbours); queue (N,) int32 scratch.  Returns the region count.
-    """
+    ``min_nb`` delta-neighbours); queue (N,) int32 and seedable (N,) bool scratch.  Returns the
+    region count.  Also accumulates the moments of each kept region's points ``pts`` (N, 3)
+    into ``sums`` (>= nreg, 10) about ``ref`` (>= nreg, 3), the region's seed point (see
+    :func:`region_sums`), so that the planes need no further pass over the image."""
     N = nrm.shape[0]
     offs = np.empty(8, dtype=np.int64)
     dv = (0, 1, 1, 1, 0, -1, -1, -1)
@@ -355,8 +421,8 @@ def region_grow_grid(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_seed,
             c += x & 1
             x >>= 1
         popc[i] = c
-    seedable = np.ones(N, dtype=np.bool_)
     for p in range(N):
+        seedable[p] = True
         nvalid[p] = not np.isnan(nrm[p, 0] + nrm[p, 1] + nrm[p, 2])
         labels[p] = -1 if (nvalid[p] and popc[mask[p]] >= min_nb) else -2
     nreg = 0
@@ -380,6 +446,13 @@ def region_grow_grid(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_seed,
             continue
         rid = nreg
         labels[p] = rid
+        r0x = pts[p, 0]
+        r0y = pts[p, 1]
+        r0z = pts[p, 2]
+        ref[rid, 0] = r0x
+        ref[rid, 1] = r0y
+        ref[rid, 2] = r0z
+        a1 = a2 = a3 = a4 = a5 = a6 = a7 = a8 = a9 = 0.0
         queue[0] = p
         head = 0
         tail = 1
@@ -407,6 +480,18 @@ def region_grow_grid(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_seed,
                 if qx * bx + qy * by + qz * bz < thr:
                     continue
                 labels[q] = rid
+                x = pts[q, 0] - r0x
+                y = pts[q, 1] - r0y
+                z = pts[q, 2] - r0z
+                a1 += x
+                a2 += y
+                a3 += z
+                a4 += x * x
+                a5 += x * y
+                a6 += x * z
+                a7 += y * y
+                a8 += y * z
+                a9 += z * z
                 queue[tail] = q
                 tail += 1
                 sx += qx
@@ -421,6 +506,16 @@ def region_grow_grid(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_seed,
                     if count >= num_init:
                         thr = cos_main
         if count >= min_size:
+            sums[rid, 0] = count
+            sums[rid, 1] = a1
+            sums[rid, 2] = a2
+            sums[rid, 3] = a3
+            sums[rid, 4] = a4
+            sums[rid, 5] = a5
+            sums[rid, 6] = a6
+            sums[rid, 7] = a7
+            sums[rid, 8] = a8
+            sums[rid, 9] = a9
             nreg += 1
         else:
             for i in range(tail):
@@ -429,7 +524,7 @@ def region_grow_grid(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_seed,
     return nreg
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def region_grow_list(nrm, nvalid, nbr, min_nb, cos_init, cos_main, cos_seed,
                      num_init, update_step, min_size, labels, queue):  # pragma: no cover
     """Algorithm 1 on a neighbour list ``nbr`` (N, K) int32 (-1 = none), for unorganized clouds."""
@@ -511,19 +606,17 @@ def region_grow_list(nrm, nvalid, nbr, min_nb, cos_init, cos_main, cos_seed,
     return nreg
 
 
-@njit(cache=True, nogil=True)
-def _grow(arr, n):  # pragma: no cover - compiled
-    out = np.empty(max(2 * arr.shape[0], n + 1), dtype=arr.dtype)
-    out[: arr.shape[0]] = arr
-    return out
-
-
-@njit(cache=True, nogil=True)
-def refine_grid(pts, mask, W, labels, planes, thr, rounds):  # pragma: no cover - compiled
+@njit(cache=True, nogil=True, error_model="numpy")
+def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, ent, sums,
+                   ref):  # pragma: no cover
     """Boundary completion by priority flood: unassigned valid pixels (label < 0) join a
     neighbouring region (over a delta edge) whose fitted plane is within the region's threshold,
     nearest plane first (16 distance levels per threshold, FIFO within a level), at most
-    ``rounds`` pixels away from the grown region.  Returns pixels assigned."""
+    ``rounds`` pixels away from the grown region.  The flood starts from the frontier only (each
+    unassigned pixel next to a region, queued once with its nearest neighbouring plane).
+    Scratch: ``depth`` (N,) uint8; ``ent`` (M, 3) int32 queue entries (pixel, region, next),
+    grown when full.  Each assigned pixel's moments are added to ``sums`` / ``ref`` (see
+    :func:`region_grow_grid_ws`).  Returns pixels assigned."""
     N = pts.shape[0]
     NB = 16
     offs = np.empty(8, dtype=np.int64)
@@ -531,62 +624,75 @@ def refine_grid(pts, mask, W, labels, planes, thr, rounds):  # pragma: no cover 
     du = (1, -1, 0, 1, -1, 1, 0, -1)
     for k in range(8):
         offs[k] = dv[k] * W + du[k]
-    depth = np.zeros(N, dtype=np.int32)
-    cap = 1024
-    ip = np.empty(cap, dtype=np.int32)
-    il = np.empty(cap, dtype=np.int32)
-    nx = np.empty(cap, dtype=np.int32)
     head = np.full(NB, -1, dtype=np.int32)
     tail = np.full(NB, -1, dtype=np.int32)
+    cap = ent.shape[0]
     n = 0
     cur = NB
     for p in range(N):
+        depth[p] = 0
         if labels[p] >= 0:
             continue
         m = mask[p]
         if m == 0:
             continue
-        px = pts[p, 0]
-        py = pts[p, 1]
-        pz = pts[p, 2]
+        bestl = -1
+        bestd = 1.0
         for k in range(8):
             if (m >> k) & 1:
                 lab = labels[p + offs[k]]
-                if lab >= 0:
-                    d = abs(planes[lab, 0] * px + planes[lab, 1] * py + planes[lab, 2] * pz + planes[lab, 3])
-                    if d < thr[lab]:
-                        lev = min(NB - 1, int(NB * d / thr[lab]))
-                        if n == cap:
-                            ip = _grow(ip, n)
-                            il = _grow(il, n)
-                            nx = _grow(nx, n)
-                            cap = ip.shape[0]
-                        ip[n] = p
-                        il[n] = lab
-                        nx[n] = -1
-                        if tail[lev] >= 0:
-                            nx[tail[lev]] = n
-                        else:
-                            head[lev] = n
-                        tail[lev] = n
-                        n += 1
-                        if lev < cur:
-                            cur = lev
+                if lab >= 0 and lab != bestl:
+                    d = abs(planes[lab, 0] * pts[p, 0] + planes[lab, 1] * pts[p, 1]
+                            + planes[lab, 2] * pts[p, 2] + planes[lab, 3]) / thr[lab]
+                    if d < bestd:
+                        bestd = d
+                        bestl = lab
+        if bestl >= 0:
+            lev = min(NB - 1, int(NB * bestd))
+            if n == cap:
+                cap *= 2
+                e2 = np.empty((cap, 3), dtype=np.int32)
+                e2[:n] = ent[:n]
+                ent = e2
+            ent[n, 0] = p
+            ent[n, 1] = bestl
+            ent[n, 2] = -1
+            if tail[lev] >= 0:
+                ent[tail[lev], 2] = n
+            else:
+                head[lev] = n
+            tail[lev] = n
+            n += 1
+            if lev < cur:
+                cur = lev
     total = 0
     while cur < NB:
         it = head[cur]
         if it < 0:
             cur += 1
             continue
-        head[cur] = nx[it]
+        head[cur] = ent[it, 2]
         if head[cur] < 0:
             tail[cur] = -1
-        p = ip[it]
-        lab = il[it]
+        p = ent[it, 0]
+        lab = ent[it, 1]
         if labels[p] >= 0:
             continue
         labels[p] = lab
         total += 1
+        x = pts[p, 0] - ref[lab, 0]
+        y = pts[p, 1] - ref[lab, 1]
+        z = pts[p, 2] - ref[lab, 2]
+        sums[lab, 0] += 1.0
+        sums[lab, 1] += x
+        sums[lab, 2] += y
+        sums[lab, 3] += z
+        sums[lab, 4] += x * x
+        sums[lab, 5] += x * y
+        sums[lab, 6] += x * z
+        sums[lab, 7] += y * y
+        sums[lab, 8] += y * z
+        sums[lab, 9] += z * z
         m = mask[p]
         best = rounds + 1
         for k in range(8):
@@ -594,27 +700,31 @@ def refine_grid(pts, mask, W, labels, planes, thr, rounds):  # pragma: no cover 
                 q = p + offs[k]
                 if labels[q] == lab and depth[q] + 1 < best:
                     best = depth[q] + 1
-        depth[p] = best
+        depth[p] = min(best, 255)
         if best >= rounds:
             continue
+        a0 = planes[lab, 0]
+        a1 = planes[lab, 1]
+        a2 = planes[lab, 2]
+        a3 = planes[lab, 3]
+        t = thr[lab]
         for k in range(8):
             if (m >> k) & 1:
                 q = p + offs[k]
                 if labels[q] < 0:
-                    dq = abs(planes[lab, 0] * pts[q, 0] + planes[lab, 1] * pts[q, 1]
-                             + planes[lab, 2] * pts[q, 2] + planes[lab, 3])
-                    if dq < thr[lab]:
-                        lev = min(NB - 1, int(NB * dq / thr[lab]))
+                    dq = abs(a0 * pts[q, 0] + a1 * pts[q, 1] + a2 * pts[q, 2] + a3) / t
+                    if dq < 1.0:
+                        lev = min(NB - 1, int(NB * dq))
                         if n == cap:
-                            ip = _grow(ip, n)
-                            il = _grow(il, n)
-                            nx = _grow(nx, n)
-                            cap = ip.shape[0]
-                        ip[n] = q
-                        il[n] = lab
-                        nx[n] = -1
+                            cap *= 2
+                            e2 = np.empty((cap, 3), dtype=np.int32)
+                            e2[:n] = ent[:n]
+                            ent = e2
+                        ent[n, 0] = q
+                        ent[n, 1] = lab
+                        ent[n, 2] = -1
                         if tail[lev] >= 0:
-                            nx[tail[lev]] = n
+                            ent[tail[lev], 2] = n
                         else:
                             head[lev] = n
                         tail[lev] = n
@@ -624,7 +734,7 @@ def refine_grid(pts, mask, W, labels, planes, thr, rounds):  # pragma: no cover 
     return total
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def region_sums(pts, labels, nreg):  # pragma: no cover - compiled
     """Per-region moments: (nreg, 10) = n, sx, sy, sz, sxx, sxy, sxz, syy, syz, szz, about each
     region's first point (for numerical stability), and (nreg, 3) those reference points."""
@@ -656,3 +766,126 @@ def region_sums(pts, labels, nreg):  # pragma: no cover - compiled
         o[8] += y * z
         o[9] += z * z
     return out, ref
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def leftover_components(mask, labels, W, min_size, comp, queue):  # pragma: no cover - compiled
+    """Connected components (over delta edges) of the unassigned valid pixels (label < 0 with at
+    least one delta edge) with at least ``min_size`` pixels: ``comp`` (N,) int32 receives the
+    component id (0..n-1), or a negative value for every other pixel.  ``queue`` (N,) int32
+    scratch.  Returns n."""
+    N = labels.shape[0]
+    offs = np.empty(8, dtype=np.int64)
+    dv = (0, 1, 1, 1, 0, -1, -1, -1)
+    du = (1, -1, 0, 1, -1, 1, 0, -1)
+    for k in range(8):
+        offs[k] = dv[k] * W + du[k]
+    for p in range(N):
+        comp[p] = -1 if (labels[p] < 0 and mask[p] != 0) else -2
+    n = 0
+    for p in range(N):
+        if comp[p] != -1:
+            continue
+        comp[p] = n
+        queue[0] = p
+        head = 0
+        tail = 1
+        while head < tail:
+            c = queue[head]
+            head += 1
+            m = mask[c]
+            for k in range(8):
+                if (m >> k) & 1:
+                    q = c + offs[k]
+                    if comp[q] == -1:
+                        comp[q] = n
+                        queue[tail] = q
+                        tail += 1
+        if tail >= min_size:
+            n += 1
+        else:
+            for i in range(tail):
+                comp[queue[i]] = -3
+    return n
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def fit_planes_kernel(pts, labels, nreg):  # pragma: no cover - compiled
+    """Least-squares (PCA) planes of the labelled points: per region the smallest-eigenvalue
+    eigenvector of the scatter matrix, turned towards the sensor.  Returns normals (nreg, 3),
+    offsets (nreg,), counts (nreg,) int64, centroids (nreg, 3), rms (nreg,)."""
+    sums, ref = region_sums(pts, labels, nreg)
+    return planes_from_sums(sums, ref, nreg)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def planes_from_sums(sums, ref, nreg):  # pragma: no cover - compiled
+    """:func:`fit_planes_kernel` from the moments (see :func:`region_sums`) of the first
+    ``nreg`` rows of ``sums`` / ``ref``."""
+    normals = np.zeros((nreg, 3))
+    offsets = np.zeros(nreg)
+    counts = np.zeros(nreg, dtype=np.int64)
+    cents = np.zeros((nreg, 3))
+    rms = np.zeros(nreg)
+    cov = np.empty((3, 3))
+    for i in range(nreg):
+        n = sums[i, 0]
+        counts[i] = int(n)
+        if n <= 0:
+            normals[i, 2] = -1.0
+            continue
+        mx = sums[i, 1] / n
+        my = sums[i, 2] / n
+        mz = sums[i, 3] / n
+        cov[0, 0] = sums[i, 4] / n - mx * mx
+        cov[0, 1] = sums[i, 5] / n - mx * my
+        cov[0, 2] = sums[i, 6] / n - mx * mz
+        cov[1, 1] = sums[i, 7] / n - my * my
+        cov[1, 2] = sums[i, 8] / n - my * mz
+        cov[2, 2] = sums[i, 9] / n - mz * mz
+        cov[1, 0] = cov[0, 1]
+        cov[2, 0] = cov[0, 2]
+        cov[2, 1] = cov[1, 2]
+        w, vec = np.linalg.eigh(cov)
+        nx = vec[0, 0]
+        ny = vec[1, 0]
+        nz = vec[2, 0]
+        cx = mx + ref[i, 0]
+        cy = my + ref[i, 1]
+        cz = mz + ref[i, 2]
+        if nx * cx + ny * cy + nz * cz > 0:
+            nx = -nx
+            ny = -ny
+            nz = -nz
+        normals[i, 0] = nx
+        normals[i, 1] = ny
+        normals[i, 2] = nz
+        cents[i, 0] = cx
+        cents[i, 1] = cy
+        cents[i, 2] = cz
+        offsets[i] = -(nx * cx + ny * cy + nz * cz)
+        rms[i] = np.sqrt(max(w[0], 0.0))
+    return normals, offsets, counts, cents, rms
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def spread_of_moments(mom):  # pragma: no cover - compiled
+    """Eigenvalues (ascending) of the covariance of points with moments ``mom`` (10,) (count,
+    sums, second moments; see :func:`normals_ws`)."""
+    n = mom[0]
+    cov = np.empty((3, 3))
+    if n <= 0:
+        return np.zeros(3)
+    mx = mom[1] / n
+    my = mom[2] / n
+    mz = mom[3] / n
+    cov[0, 0] = mom[4] / n - mx * mx
+    cov[0, 1] = mom[5] / n - mx * my
+    cov[0, 2] = mom[6] / n - mx * mz
+    cov[1, 1] = mom[7] / n - my * my
+    cov[1, 2] = mom[8] / n - my * mz
+    cov[2, 2] = mom[9] / n - mz * mz
+    cov[1, 0] = cov[0, 1]
+    cov[2, 0] = cov[0, 2]
+    cov[2, 1] = cov[1, 2]
+    return np.linalg.eigvalsh(cov)

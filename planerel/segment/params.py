@@ -16,6 +16,8 @@ __all__ = [
     "REFERENCE_MIN_REGION_SIZE",
     "scaled_min_region_size",
     "coerce_params",
+    "PRESETS",
+    "preset_values",
 ]
 
 #: The paper's ``min_region_size`` (90 points) is for 160x120 images.
@@ -23,10 +25,31 @@ REFERENCE_PIXELS = 160 * 120
 REFERENCE_MIN_REGION_SIZE = 90
 
 
-def scaled_min_region_size(n_pixels: int) -> int:
+def scaled_min_region_size(n_pixels: int, scale: float = 1.0) -> int:
     """``min_region_size`` for an image (or cloud) of ``n_pixels`` points: the paper's 90 at
-    160x120, proportional to the pixel count (1440 at 640x480), at least 3."""
-    return max(3, int(round(REFERENCE_MIN_REGION_SIZE * n_pixels / REFERENCE_PIXELS)))
+    160x120, proportional to the pixel count (1440 at 640x480), times ``scale``, at least 3."""
+    return max(3, int(round(scale * REFERENCE_MIN_REGION_SIZE * n_pixels / REFERENCE_PIXELS)))
+
+
+#: Named parameter sets of region growing (docs/segmentation.md, "Presets").  ``"kinect"`` is
+#: the default (Kinect-like depth: noise and quantisation grow as z^2, so the normal window
+#: grows with depth).  ``"structured-light"`` (alias ``"abw"``) is for high-resolution range
+#: images with a uniform depth quantisation several times the pixel footprint (SegComp ABW:
+#: 1.3 mm steps, 0.5 mm pixels): a fixed 3-pixel normal window, and smaller regions kept
+#: (a quarter of the automatic size: 307 at 512x512), since such scenes hold small true faces.
+PRESETS = {
+    "kinect": {},
+    "structured-light": {"normal_smooth": 3, "normal_radius": 3, "reference_depth": None,
+                         "min_region_scale": 0.25},
+}
+PRESETS["abw"] = PRESETS["structured-light"]
+
+
+def preset_values(name) -> dict:
+    """The parameter values of preset ``name`` (see :data:`PRESETS`)."""
+    if not isinstance(name, str) or name.lower() not in PRESETS:
+        raise InputError(f"unknown preset {name!r}; choose one of {', '.join(sorted(PRESETS))}")
+    return dict(PRESETS[name.lower()])
 
 
 def _num(owner: str, name: str, value, *, lo=None, hi=None, lo_open=False, hi_open=False) -> float:
@@ -95,7 +118,7 @@ class RegionGrowParams:
         points, and for the seed test, the angle threshold is ``theta * angle_mf``: 0.5.
     min_region_size : int or "auto"
         Smallest region kept, in points.  ``"auto"``: 90 at 160x120, proportional to the number
-        of pixels (1440 at 640x480).
+        of pixels (1440 at 640x480), times ``min_region_scale``.
     normal_smooth, normal_radius : int or "auto"
         Normal estimation (see :mod:`planerel.normals`).
     jump_factor : float
@@ -113,6 +136,14 @@ class RegionGrowParams:
         Breadth-first rounds of the completion; ``"auto"`` = normal_smooth + normal_radius + 2.
     knn : int
         Neighbours per point for unorganized clouds (normals and the growing graph).
+    min_region_scale : float
+        Factor of the automatic ``min_region_size`` (1; the ``"structured-light"`` preset: 0.25).
+    leftover_planes : bool
+        planerel's leftover step after completion (with ``refine``; not in the paper): a
+        connected patch of still unassigned pixels of at least ``min_region_size`` whose
+        least-squares plane has an RMS residual within ``refine_factor`` x the median RMS of the
+        grown regions becomes a region (thin faces whose normals are all blended with their
+        neighbours', e.g. far stair treads 3-4 pixels high).
     """
 
     theta: float = 15.0
@@ -132,6 +163,8 @@ class RegionGrowParams:
     refine_factor: float = 3.0
     refine_rounds: int | str = "auto"
     knn: int = 16
+    min_region_scale: float = 1.0
+    leftover_planes: bool = True
 
     def __post_init__(self) -> None:
         o = "regiongrow"
@@ -168,6 +201,12 @@ class RegionGrowParams:
         s(self, "refine_rounds", _auto_or(o, "refine_rounds", self.refine_rounds,
                                           lambda v: _int(o, "refine_rounds", v, 0)))
         s(self, "knn", _int(o, "knn", self.knn, 3))
+        if not isinstance(self.leftover_planes, (bool, np.bool_)):
+            raise InputError(f"{o}: leftover_planes must be true or false, got "
+                             f"{self.leftover_planes!r}")
+        s(self, "leftover_planes", bool(self.leftover_planes))
+        s(self, "min_region_scale", _num(o, "min_region_scale", self.min_region_scale, lo=0,
+                                         lo_open=True))
 
 
 @dataclass(frozen=True)
@@ -247,7 +286,9 @@ def coerce_params(cls, params: dict):
     for k, v in params.items():
         if isinstance(v, str) and v != "auto":
             low = v.strip().lower()
-            if low in ("true", "yes", "on"):
+            if low in ("none", "null"):
+                v = None
+            elif low in ("true", "yes", "on"):
                 v = True
             elif low in ("false", "no", "off"):
                 v = False

@@ -24,6 +24,9 @@ Per image:
 from __future__ import annotations
 
 import math
+import statistics
+import sys
+import threading
 
 import numpy as np
 
@@ -62,14 +65,87 @@ def _spread(pts) -> np.ndarray:
     return np.linalg.eigvalsh(c.T @ c / len(c))
 
 
-def resolve_min_region_size(value, n_pixels: int) -> int:
+def resolve_min_region_size(value, n_pixels: int, scale: float = 1.0) -> int:
     """The ``min_region_size`` to use for an image of ``n_pixels`` (``"auto"`` scales the paper's
-    90 at 160x120 with the pixel count)."""
-    return scaled_min_region_size(n_pixels) if value == "auto" else int(value)
+    90 at 160x120 with the pixel count, times ``scale``)."""
+    return scaled_min_region_size(n_pixels, scale) if value == "auto" else int(value)
 
 
-def _build(labels, xyz_flat, n, params, normals, info) -> Segmentation:
-    nrm, off, cnt, cen, rms = fit_planes(xyz_flat, labels.reshape(-1), n)
+class _Workspace:
+    """Scratch arrays of one image size, reused between calls.
+
+    Fresh memory costs a page fault per 4 KiB page on first touch (about 3 ms for 10 MB on the
+    reference VM, as much as the whole growing step), so the organized pipeline keeps its
+    scratch (~27 MB at 640x480) for the most recent image sizes (:data:`_WS_KEEP`) per thread.
+    """
+
+    def __init__(self, h: int, w: int) -> None:
+        n = h * w
+        self.runs = np.empty((6, h, w), dtype=np.int16)
+        self.colp = np.empty((h + 1, w, 4))
+        self.sm = np.empty((h, w, 3), dtype=np.float32)
+        self.mom = np.empty(10)
+        self.mask = np.empty((h, w), dtype=np.uint8)
+        self.d2 = np.empty((4, h, w), dtype=np.float32)
+        self.band = np.empty((h, w), dtype=np.uint8)
+        self.nvalid = np.empty(n, dtype=np.bool_)
+        self.queue = np.empty(n, dtype=np.int32)
+        self.seedable = np.empty(n, dtype=np.bool_)
+        self.depth = np.empty(n, dtype=np.uint8)
+        self.comp = np.empty(n, dtype=np.int32)
+        # output arrays handed to a Segmentation; reused only once no one refers to them
+        self.out_normals = None
+        self.out_labels = None
+        self.entries = np.empty((max(16, n // 4), 3), dtype=np.int32)
+
+
+def _output(ws: _Workspace, name: str, shape: tuple, dtype) -> np.ndarray:
+    """The workspace's output array ``name`` when nothing outside the workspace refers to it any
+    more (the Segmentation that received it, and every view of it, is gone), else a new one.
+
+    Reusing returned arrays this way avoids the page faults of fresh memory (CPython reference
+    counts are exact, so an array still held by a caller is never overwritten)."""
+    arr = getattr(ws, name)
+    # references: the workspace attribute, ``arr`` and getrefcount's argument
+    if arr is None or sys.getrefcount(arr) > 3:
+        arr = np.empty(shape, dtype=dtype)
+        setattr(ws, name, arr)
+    return arr
+
+
+#: Image sizes whose scratch is kept per thread.
+_WS_KEEP = 2
+_WS_LOCAL = threading.local()
+
+
+def _workspace(h: int, w: int) -> _Workspace:
+    cache = getattr(_WS_LOCAL, "cache", None)
+    if cache is None:
+        cache = _WS_LOCAL.cache = {}
+    ws = cache.pop((h, w), None)
+    if ws is None:
+        ws = _Workspace(h, w)
+    cache[(h, w)] = ws  # most recent last
+    while len(cache) > _WS_KEEP:
+        cache.pop(next(iter(cache)))
+    return ws
+
+
+def _check_moments(mom, name: str) -> None:
+    """The degeneracy check of :func:`check_cloud` from the moments the normals pass gathered."""
+    from planerel.segment._kernels import spread_of_moments
+
+    w = spread_of_moments(mom)
+    if w[2] <= 1e-18:
+        raise InputError(f"{name}: all valid points are the same point; no plane can be fitted")
+    if w[1] <= 1e-10 * w[2]:
+        raise InputError(f"{name}: all valid points lie on one line; no plane can be fitted")
+
+
+def _build(labels, xyz_flat, n, params, normals, info, fits=None) -> Segmentation:
+    if fits is None:
+        fits = fit_planes(xyz_flat, labels.reshape(-1), n)
+    nrm, off, cnt, cen, rms = fits
     planes = tuple(
         SegPlane(i, nrm[i], off[i], int(cnt[i]), cen[i], rms[i]) for i in range(n)
     )
@@ -99,57 +175,78 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
     p = params if params is not None else RegionGrowParams()
     if not isinstance(p, RegionGrowParams):
         raise InputError(f"regiongrow: params must be RegionGrowParams, got {type(p).__name__}")
-    check_cloud(cloud)
     xyz = cloud.xyz
     h, w, _ = xyz.shape
     n_pix = h * w
-    min_size = resolve_min_region_size(p.min_region_size, n_pix)
+    min_size = resolve_min_region_size(p.min_region_size, n_pix, p.min_region_scale)
     cos_main = math.cos(math.radians(p.theta))
     cos_init = math.cos(math.radians(p.theta * p.angle_mf))
     delta_fixed = -1.0 if p.delta == "auto" else float(p.delta)
-
-    if normals is None:
-        if cloud.organized:
-            nrm = nmod.organized_normals(
-                xyz, smooth=p.normal_smooth, radius=p.normal_radius,
-                jump_factor=p.jump_factor, intrinsics=cloud.intrinsics,
-            )
-        else:
-            nrm = nmod.knn_normals(xyz.reshape(-1, 3), k=p.knn).reshape(xyz.shape)
-    else:
-        nrm = np.asarray(normals, dtype=np.float64)
-        if nrm.shape != xyz.shape:
-            raise InputError(f"regiongrow: normals shape {nrm.shape} differs from the cloud's {xyz.shape}")
-    nrm = np.ascontiguousarray(nrm)
-    nflat = nrm.reshape(-1, 3)
-    nvalid = np.empty(n_pix, dtype=np.bool_)  # filled by the kernels from the normals
-    labels = np.empty(n_pix, dtype=np.int32)
-    queue = np.empty(n_pix, dtype=np.int32)
     xyz_flat = xyz.reshape(-1, 3)
     info: dict = {"min_region_size": min_size}
-
+    if cloud.organized and normals is None:
+        cloud.require_points(3)
+        ws = _workspace(h, w)
+        a = np.ascontiguousarray(xyz, dtype=np.float64)
+        s, r, zref, smax, rmax, jump = nmod.normal_kernel_args(
+            a, smooth=p.normal_smooth, radius=p.normal_radius, jump_factor=p.jump_factor,
+            reference_depth=p.reference_depth, intrinsics=cloud.intrinsics)
+        nrm = _output(ws, "out_normals", (h, w, 3), np.float32)
+        K.normals_ws(a, s, r, zref, smax, rmax, jump, nrm, ws.runs, ws.colp, ws.sm, ws.mom)
+        _check_moments(ws.mom, cloud.source or "cloud")
+    else:
+        check_cloud(cloud)
+        if normals is None:
+            nrm = nmod.knn_normals(xyz.reshape(-1, 3), k=p.knn).reshape(xyz.shape)
+        else:
+            nrm = np.asarray(normals, dtype=np.float64)
+            if nrm.shape != xyz.shape:
+                raise InputError(f"regiongrow: normals shape {nrm.shape} differs from the cloud's "
+                                 f"{xyz.shape}")
+        nrm = np.ascontiguousarray(nrm)
+    nflat = nrm.reshape(-1, 3)
     if cloud.organized:
-        mask = np.empty((h, w), dtype=np.uint8)
-        table, zmin, zwidth, mean_nn = K.grid_graph(
+        labels = _output(_workspace(h, w), "out_labels", (n_pix,), np.int32)
+    else:
+        labels = np.empty(n_pix, dtype=np.int32)
+
+    fits = None
+    if cloud.organized:
+        ws = _workspace(h, w)
+        pts = np.ascontiguousarray(xyz_flat, dtype=np.float64)
+        mask = ws.mask
+        table, zmin, zwidth, mean_nn = K.grid_graph_ws(
             xyz, float(p.delta_factor), delta_fixed, p.delta_mode == "depth", _NBANDS,
-            max(1, h // 120), mask)
-        info.update(delta=float(np.median(table)), delta_min=float(table.min()),
-                    delta_max=float(table.max()), mean_neighbour_distance=float(mean_nn))
+            max(1, h // 120), mask, ws.d2, ws.band)
+        tl = sorted(table.tolist())
+        info.update(delta=statistics.median(tl), delta_min=tl[0], delta_max=tl[-1],
+                    mean_neighbour_distance=float(mean_nn))
         mflat = mask.reshape(-1)
-        n = K.region_grow_grid(nflat, nvalid, mflat, w, p.min_neighbour_num, cos_init, cos_main,
-                               cos_init, p.num_initial_points, p.base_update_step, min_size,
-                               labels, queue)
-        n = int(n)
-        info["grown_points"] = int((labels >= 0).sum())
+        # moments of every region, kept up to date by the kernels (regions hold >= min_size
+        # pixels each, so at most n_pix // min_size of them)
+        maxreg = n_pix // max(min_size, 1) + 2
+        sums = np.zeros((maxreg, 10))
+        ref = np.zeros((maxreg, 3))
+        n = int(K.region_grow_grid_ws(nflat, ws.nvalid, mflat, w, p.min_neighbour_num,
+                                      cos_init, cos_main, cos_init, p.num_initial_points,
+                                      p.base_update_step, min_size, labels, ws.queue,
+                                      ws.seedable, pts, sums, ref))
+        info["grown_points"] = int(np.count_nonzero(labels >= 0))
         if p.refine and n > 0:
-            pn, po, _, _, prms = fit_planes(xyz_flat, labels, n)
+            pn, po, _, _, prms = K.planes_from_sums(sums, ref, n)
             planes = np.ascontiguousarray(np.column_stack([pn, po]))
             thr = p.refine_factor * np.maximum(prms, 1e-6)
             rounds = (p.refine_rounds if p.refine_rounds != "auto" else
                       _auto_rounds(p, w))
-            added = K.refine_grid(xyz_flat, mflat, w, labels, planes, thr, int(rounds))
+            added = K.refine_grid_ws(pts, mflat, w, labels, planes, thr,
+                                     min(int(rounds), 254), ws.depth, ws.entries, sums, ref)
             info["refined_points"] = int(added)
-        labels[labels < 0] = -1
+            if p.leftover_planes:
+                n = _leftover_planes(K, pts, mflat, w, labels, n, min_size,
+                                     p.refine_factor * float(np.median(prms)), ws, info,
+                                     sums, ref)
+        np.maximum(labels, -1, out=labels)
+        fits = K.planes_from_sums(sums, ref, n)
     else:
         from scipy.spatial import cKDTree
 
@@ -166,12 +263,39 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
         nbr = np.full((n_pix, nbr_local.shape[1]), -1, dtype=np.int32)
         nbr[idx_ok] = nbr_local
         info.update(delta=float(delta), mean_neighbour_distance=mean_nn)
+        nvalid = np.empty(n_pix, dtype=np.bool_)
+        queue = np.empty(n_pix, dtype=np.int32)
         n = int(K.region_grow_list(nflat, nvalid, nbr, p.min_neighbour_num, cos_init, cos_main,
                                    cos_init, p.num_initial_points, p.base_update_step, min_size,
                                    labels, queue))
         info["grown_points"] = int((labels >= 0).sum())
         labels[labels < 0] = -1
-    return _build(labels.reshape(h, w), xyz_flat, n, p, nrm, info)
+    return _build(labels.reshape(h, w), xyz_flat, n, p, nrm, info, fits)
+
+
+def _leftover_planes(K, pts, mflat, w, labels, n, min_size, tol, ws, info, sums, ref) -> int:
+    """planerel's leftover step: each connected patch (over delta edges) of pixels still
+    unassigned after completion, of at least ``min_size`` pixels, whose least-squares plane fits
+    within ``tol`` (RMS, metres) becomes a region (its moments go to ``sums`` / ``ref`` rows
+    n, n + 1, ...).  Returns the new region count."""
+    comp = ws.comp
+    m = int(K.leftover_components(mflat, labels, w, min_size, comp, ws.queue))
+    added = 0
+    if m:
+        csums, cref = K.region_sums(pts, comp, m)
+        rms = K.planes_from_sums(csums, cref, m)[4]
+        ok = rms <= tol
+        if ok.any():
+            k = int(ok.sum())
+            new_id = np.full(m + 1, -1, dtype=np.int32)
+            new_id[:m][ok] = n + np.arange(k, dtype=np.int32)
+            take = comp >= 0
+            labels[take] = np.maximum(labels[take], new_id[comp[take]])
+            sums[n:n + k] = csums[ok]
+            ref[n:n + k] = cref[ok]
+            added = k
+    info["leftover_planes"] = added
+    return n + added
 
 
 def _auto_rounds(p: RegionGrowParams, width: int) -> int:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,14 +40,14 @@ class SegPlane:
     rms: float
 
     def __post_init__(self) -> None:
-        n = np.asarray(self.normal, dtype=np.float64).reshape(-1)
-        c = np.asarray(self.centroid, dtype=np.float64).reshape(-1)
-        if n.shape != (3,) or not np.all(np.isfinite(n)):
+        n = np.array(self.normal, dtype=np.float64).reshape(-1)
+        c = np.array(self.centroid, dtype=np.float64).reshape(-1)
+        if n.shape != (3,) or not math.isfinite(n[0] + n[1] + n[2]):
             raise InputError(f"plane {self.id}: normal must be 3 finite numbers, got {self.normal!r}")
-        norm = float(np.linalg.norm(n))
+        norm = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
         if not 0.999 < norm < 1.001:
             raise InputError(f"plane {self.id}: normal must have unit length, got length {norm:.4g}")
-        if c.shape != (3,) or not np.all(np.isfinite(c)):
+        if c.shape != (3,) or not math.isfinite(c[0] + c[1] + c[2]):
             raise InputError(f"plane {self.id}: centroid must be 3 finite numbers")
         if int(self.n_points) < 1:
             raise InputError(f"plane {self.id}: n_points must be >= 1, got {self.n_points}")
@@ -91,7 +92,8 @@ class Segmentation:
     params : object
         The parameter dataclass actually used.
     normals : ndarray, shape (H, W, 3), or None
-        The per-pixel normals used (NaN = unknown), when the method computed them.
+        The per-pixel normals used (NaN = unknown), when the method computed them (float32
+        for organized clouds segmented by region growing, else float64).
     info : dict
         Method details: e.g. ``delta`` (metres) and ``min_region_size`` actually used.
     """
@@ -145,26 +147,11 @@ def fit_planes(xyz_flat: np.ndarray, labels_flat: np.ndarray, n: int):
     normals (n, 3), offsets (n,), counts (n,), centroids (n, 3), rms (n,)
         Normals point towards the sensor (``normal . centroid < 0``).
     """
-    from planerel.segment._kernels import region_sums
+    from planerel.segment._kernels import fit_planes_kernel
 
     if n == 0:
         z = np.zeros((0, 3))
         return z, np.zeros(0), np.zeros(0, dtype=np.int64), z.copy(), np.zeros(0)
-    sums, ref = region_sums(xyz_flat, labels_flat, n)
-    cnt = sums[:, 0]
-    safe = np.maximum(cnt, 1.0)
-    mean = sums[:, 1:4] / safe[:, None]
-    sxx = sums[:, 4:10] / safe[:, None]
-    cov = np.empty((n, 3, 3))
-    idx = [(0, 0, 0), (1, 0, 1), (2, 0, 2), (3, 1, 1), (4, 1, 2), (5, 2, 2)]
-    for k, i, j in idx:
-        cov[:, i, j] = sxx[:, k] - mean[:, i] * mean[:, j]
-        cov[:, j, i] = cov[:, i, j]
-    w, vec = np.linalg.eigh(cov)
-    normals = vec[:, :, 0].copy()
-    centroids = mean + ref
-    flip = np.einsum("ij,ij->i", normals, centroids) > 0
-    normals[flip] *= -1.0
-    offsets = -np.einsum("ij,ij->i", normals, centroids)
-    rms = np.sqrt(np.maximum(w[:, 0], 0.0))
-    return normals, offsets, cnt.astype(np.int64), centroids, rms
+    pts = np.ascontiguousarray(xyz_flat, dtype=np.float64)
+    lab = np.ascontiguousarray(labels_flat, dtype=np.int32)
+    return fit_planes_kernel(pts, lab, int(n))

@@ -1,0 +1,533 @@
+"""Splitting bent regions: a post-processing step after region growing (not in the paper).
+
+Region growing accepts a neighbour whose normal is within ``theta`` (15 degrees) of the region's
+base normal, so two surfaces meeting at a shallow crease -- a floor and a ramp of 8-15 degrees,
+or faces whose crease normals blend gradually -- grow into one region.  Such a region does not
+fit one plane: its least-squares residual is far above the sensor noise expected at its depth.
+
+:func:`split_bent_regions`, per region:
+
+1. **Residual test.**  Expected point-to-plane noise per point (Kinect-like model, see
+   :class:`SplitParams`): depth std ``sigma_z(z)^2 = (noise z^2)^2 + (q z^2)^2 / 12 +
+   unit^2 / 12`` with ``q = disparity_step / (focal_px * baseline)``, projected on the plane
+   normal (``sigma_z * |n . (x/z, y/z, 1)|``).  With ``local_noise`` the model is raised to the
+   region's own high-frequency noise (second differences of the residual along rows and
+   columns), so a sensor noisier than the model does not look bent.  The region is a candidate
+   when its RMS residual exceeds ``tolerance`` times the expected RMS.
+2. **Planar parts.**  Sequential seeded RANSAC over the region's points: hypotheses from three
+   points and from one point with its normal, scored on a regular sample by the number of
+   points within ``inlier_sigmas`` expected sigmas; the best is refined by least squares on its
+   inliers; its inliers are removed and the next part is sought in the rest, while at least
+   ``min_region_size`` points remain and agree (at most ``max_parts``).
+3. **Assignment.**  Every point goes to the part with the smallest normalised distance
+   ``|d| / sigma`` (none if it exceeds ``assign_sigmas``); planes are refitted and points
+   reassigned (``iterations`` times).
+4. **Pieces.**  The 8-connected image-grid components of each part; a component of at least
+   ``min_region_size`` points is a new region; smaller ones give their points to the adjacent
+   kept piece whose plane they fit (within ``assign_sigmas``) or become unassigned.  The split is
+   kept only when it yields two or more pieces; otherwise the region is left as it was.
+
+Labels are renumbered deterministically: regions in their original order, the pieces of a split
+region in its place, ordered by their first pixel (row-major).  Planes are refitted by PCA.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from planerel.errors import InputError
+from planerel.segment.params import _int, _num, coerce_params, scaled_min_region_size
+from planerel.segment.result import Segmentation, SegPlane, fit_planes
+
+__all__ = ["SplitParams", "split_bent_regions", "expected_sigma"]
+
+
+@dataclass(frozen=True)
+class SplitParams:
+    """Parameters of :func:`split_bent_regions`.
+
+    Parameters
+    ----------
+    tolerance : float
+        A region is tested for a split when its RMS point-to-plane residual exceeds
+        ``tolerance`` times the RMS residual the noise model expects for its points: 1.5 (true
+        planes of the synthetic Kinect data measure 0.95-1.1; a 8-degree floor + ramp measures
+        above 4).  Must be >= 1.
+    noise : float
+        Depth noise coefficient: std ``noise * z^2`` metres (Kinect: 0.0012).
+    disparity_step : float
+        Disparity quantisation in pixels (Kinect: 1/8); 0 = none.
+    baseline, focal_px : float
+        Baseline (m) and focal length (px, at the sensor's native 640x480) of the disparity
+        sensor: depth step ``disparity_step * z^2 / (focal_px * baseline)``.
+    depth_unit : float
+        Depth resolution in metres (1 mm).
+    local_noise : bool
+        Raise the model noise of each region to its measured high-frequency noise (see the
+        module docstring), so that a noisier sensor than the model does not split true planes.
+    inlier_sigmas : float
+        Half-width of a part's inlier band, in expected sigmas (3).
+    assign_sigmas : float
+        A point farther than this many sigmas from every part's plane becomes unassigned (4).
+        Must be >= ``inlier_sigmas``.
+    max_parts : int
+        Planar parts sought per region at most (6).
+    hypotheses : int
+        RANSAC hypotheses per part (64): half from three points, half from one point and its
+        normal (all from three points without normals).
+    sample : int
+        Hypotheses are scored on a regular sample of about this many points (1000).
+    iterations : int
+        Assign / refit rounds after the parts are found (2).
+    min_region_size : int or "auto"
+        Smallest piece kept; ``"auto"``: the segmentation's own (``seg.info["min_region_size"]``,
+        else 90 at 160x120 scaled with the pixel count).
+    seed : int
+        Seed of the random hypotheses: same input, same seed, same output.
+    """
+
+    tolerance: float = 1.5
+    noise: float = 0.0012
+    disparity_step: float = 0.125
+    baseline: float = 0.075
+    focal_px: float = 525.0
+    depth_unit: float = 0.001
+    local_noise: bool = True
+    inlier_sigmas: float = 3.0
+    assign_sigmas: float = 4.0
+    max_parts: int = 6
+    hypotheses: int = 64
+    sample: int = 1000
+    iterations: int = 2
+    min_region_size: int | str = "auto"
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        o = "split"
+        s = object.__setattr__
+        s(self, "tolerance", _num(o, "tolerance", self.tolerance, lo=1.0))
+        s(self, "noise", _num(o, "noise", self.noise, lo=0.0))
+        s(self, "disparity_step", _num(o, "disparity_step", self.disparity_step, lo=0.0))
+        s(self, "baseline", _num(o, "baseline", self.baseline, lo=0.0, lo_open=True))
+        s(self, "focal_px", _num(o, "focal_px", self.focal_px, lo=0.0, lo_open=True))
+        s(self, "depth_unit", _num(o, "depth_unit", self.depth_unit, lo=0.0))
+        if self.noise == 0 and self.disparity_step == 0 and self.depth_unit == 0:
+            raise InputError(f"{o}: the noise model is zero (noise, disparity_step and depth_unit "
+                             "are all 0); give at least one of them a positive value")
+        if not isinstance(self.local_noise, (bool, np.bool_)):
+            raise InputError(f"{o}: local_noise must be true or false, got {self.local_noise!r}")
+        s(self, "local_noise", bool(self.local_noise))
+        s(self, "inlier_sigmas", _num(o, "inlier_sigmas", self.inlier_sigmas, lo=0.0, lo_open=True))
+        s(self, "assign_sigmas", _num(o, "assign_sigmas", self.assign_sigmas, lo=0.0, lo_open=True))
+        if self.assign_sigmas < self.inlier_sigmas:
+            raise InputError(f"{o}: assign_sigmas ({self.assign_sigmas}) must be >= inlier_sigmas "
+                             f"({self.inlier_sigmas})")
+        s(self, "max_parts", _int(o, "max_parts", self.max_parts, 2))
+        s(self, "hypotheses", _int(o, "hypotheses", self.hypotheses, 1))
+        s(self, "sample", _int(o, "sample", self.sample, 3))
+        s(self, "iterations", _int(o, "iterations", self.iterations, 0))
+        if isinstance(self.min_region_size, str):
+            if self.min_region_size != "auto":
+                raise InputError(f"{o}: min_region_size must be 'auto' or an integer, "
+                                 f"got {self.min_region_size!r}")
+        else:
+            s(self, "min_region_size", _int(o, "min_region_size", self.min_region_size, 3))
+        s(self, "seed", _int(o, "seed", self.seed, 0))
+
+    def depth_sigma2(self, z: np.ndarray) -> np.ndarray:
+        """Variance (m^2) of a depth measurement at depth ``z`` (m), any shape."""
+        z2 = z * z
+        q = self.disparity_step / (self.focal_px * self.baseline)
+        return (self.noise * z2) ** 2 + (q * z2) ** 2 / 12.0 + self.depth_unit ** 2 / 12.0
+
+
+def expected_sigma(xyz, normal, params: SplitParams | None = None) -> np.ndarray:
+    """Expected std (m) of the point-to-plane distance of each point under the noise model.
+
+    Parameters
+    ----------
+    xyz : ndarray, shape (N, 3)
+        Points (z > 0).
+    normal : ndarray, shape (3,) or (N, 3)
+        Unit plane normal (per point or shared).
+    params : SplitParams, optional
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        ``sigma_z(z) * |n . (x/z, y/z, 1)|``: depth noise moves a point along its ray.
+    """
+    p = params if params is not None else SplitParams()
+    xyz = np.asarray(xyz, dtype=np.float64)
+    z = xyz[:, 2]
+    nrm = np.asarray(normal, dtype=np.float64)
+    proj = np.abs(xyz @ nrm if nrm.ndim == 1 else np.einsum("ij,ij->i", xyz, nrm)) / z
+    return np.sqrt(p.depth_sigma2(z)) * proj
+
+
+def _make_params(params, kw) -> SplitParams:
+    if params is not None:
+        if kw:
+            raise InputError("split: give either params=<SplitParams> or keyword parameters, not both")
+        if not isinstance(params, SplitParams):
+            raise InputError(f"split: params must be SplitParams, got {type(params).__name__}")
+        return params
+    return coerce_params(SplitParams, kw)
+
+
+def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitParams | None = None,
+                       **kw) -> Segmentation:
+    """Split regions that do not fit one plane into planar, connected parts.
+
+    Parameters
+    ----------
+    cloud : Cloud
+        The cloud ``seg`` was computed from, ``(H, W, 3)``.
+    seg : Segmentation
+        Any method's result; ``labels`` (H, W) int32.
+    normals : ndarray, shape (H, W, 3), optional
+        Per-pixel normals (NaN = unknown) for the one-point hypotheses; default ``seg.normals``
+        (three-point hypotheses only when neither is given).
+    params : SplitParams, optional
+        Or the fields of :class:`SplitParams` as keywords.
+
+    Returns
+    -------
+    Segmentation
+        Same method, params and normals as ``seg``; labels renumbered ``0 .. n-1`` (see the module
+        docstring), planes refitted; ``info`` adds ``split_tested`` (regions over the residual
+        tolerance), ``split_regions`` (regions split), ``split_new_regions`` (regions added) and
+        ``split_unassigned`` (points left unassigned by splits).  ``seg`` itself when nothing
+        was split, with the same ``info`` additions.
+
+    Raises
+    ------
+    InputError
+        Not a Cloud / Segmentation, shapes that disagree, bad parameters.
+    """
+    from planerel.cloud import Cloud
+
+    p = _make_params(params, kw)
+    if not isinstance(cloud, Cloud):
+        raise InputError(f"split: expected a planerel Cloud, got {type(cloud).__name__}")
+    if not isinstance(seg, Segmentation):
+        raise InputError(f"split: expected a Segmentation, got {type(seg).__name__}")
+    h, w, _ = cloud.xyz.shape
+    if seg.labels.shape != (h, w):
+        raise InputError(f"split: labels shape {seg.labels.shape} differs from the cloud's {(h, w)}")
+    nrm = normals if normals is not None else seg.normals
+    if nrm is not None:
+        nrm = np.asarray(nrm, dtype=np.float64)
+        if nrm.shape != (h, w, 3):
+            raise InputError(f"split: normals shape {nrm.shape} differs from the cloud's {(h, w, 3)}")
+    if p.min_region_size == "auto":
+        min_size = int(seg.info.get("min_region_size", scaled_min_region_size(h * w)))
+    else:
+        min_size = int(p.min_region_size)
+
+    n = seg.n_planes
+    labels = seg.labels
+    info = dict(seg.info)
+    info.update(split_tested=0, split_regions=0, split_new_regions=0, split_unassigned=0)
+    if n == 0:
+        return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
+    xyz = cloud.xyz
+    lab = labels.reshape(-1)
+    xyz_flat = xyz.reshape(-1, 3)
+    if labels.max() >= n or labels.min() < -1:
+        raise InputError(f"split: labels must lie in -1..{n - 1} (the segmentation has {n} planes)")
+    if np.any(~cloud.valid & (labels >= 0)):
+        raise InputError("split: some labelled pixels have no valid point")
+    cnt = np.bincount(lab + 1, minlength=n + 1)[1:]
+    pn = np.array([pl.normal for pl in seg.planes])
+    po = np.array([pl.offset for pl in seg.planes])
+    rms, exp_rms, local = _residual_stats(xyz, labels, pn, po, n, p, cloud.organized)
+    scale = np.ones(n)
+    if p.local_noise:
+        ok = np.isfinite(local) & (local > exp_rms) & (exp_rms > 0)
+        scale[ok] = local[ok] / exp_rms[ok]
+    with np.errstate(invalid="ignore"):
+        bent = np.flatnonzero((rms > p.tolerance * exp_rms * scale) & (cnt >= 2 * min_size))
+    info["split_tested"] = int(len(bent))
+    if len(bent) == 0:
+        return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
+
+    new_lab = None
+    extra: dict[int, list] = {}
+    next_id = n
+    n_unassigned = 0
+    nflat = nrm.reshape(-1, 3) if nrm is not None else None
+    for r in bent:
+        pix = np.flatnonzero(lab == r)
+        piece = _split_one(pix, xyz_flat[pix], None if nflat is None else nflat[pix], scale[r],
+                           min_size, p, w, cloud.organized, np.random.default_rng([p.seed, int(r)]))
+        if piece is None:
+            continue
+        if new_lab is None:
+            new_lab = lab.copy()
+        # pieces ordered by their first pixel (pix is ascending): the first keeps the id r
+        k = int(piece.max()) + 1
+        first = np.array([int(np.argmax(piece == q)) for q in range(k)])
+        rank = np.argsort(first, kind="stable")
+        ids = np.empty(k, dtype=np.int64)
+        ids[rank[0]] = r
+        ids[rank[1:]] = next_id + np.arange(k - 1)
+        extra[int(r)] = list(range(next_id, next_id + k - 1))
+        next_id += k - 1
+        new_lab[pix] = np.where(piece >= 0, ids[np.maximum(piece, 0)], -1)
+        n_unassigned += int((piece < 0).sum())
+        info["split_regions"] += 1
+        info["split_new_regions"] += k - 1
+    info["split_unassigned"] = n_unassigned
+    if new_lab is None:
+        return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
+    # deterministic renumbering: original order, new pieces right after their region
+    final_order = []
+    for r in range(n):
+        final_order.append(r)
+        final_order.extend(extra.get(r, []))
+    remap = np.full(next_id + 1, -1, dtype=np.int32)
+    remap[np.array(final_order) + 1] = np.arange(next_id, dtype=np.int32)
+    out = remap[new_lab + 1].astype(np.int32)
+    nrm_f, off_f, cnt_f, cen_f, rms_f = fit_planes(xyz_flat, out, next_id)
+    planes = tuple(SegPlane(i, nrm_f[i], off_f[i], int(cnt_f[i]), cen_f[i], rms_f[i])
+                   for i in range(next_id))
+    return Segmentation(out.reshape(h, w), planes, seg.method, seg.params, seg.normals, info)
+
+
+#: Points per region used to find the planar parts (a regular sample of larger regions).
+_DISCOVERY_POINTS = 4000
+#: Pixels of the regular grid sample used for the residual test.
+_TEST_PIXELS = 160 * 120
+
+
+def _residual_stats(xyz, labels, pn, po, n, p: SplitParams, organized):
+    """Per region, on a regular grid sample of about ``_TEST_PIXELS`` pixels: RMS residual to
+    the region's plane, RMS expected by the noise model, and the high-frequency noise (std of
+    the second differences of the residual along rows and columns, ``sqrt(mean(dd^2) / 6)``;
+    NaN for unorganized clouds or without three aligned samples).  Arrays of shape (n,)."""
+    h, w = labels.shape
+    s = max(1, int(math.sqrt(h * w / _TEST_PIXELS)))
+    if not organized:
+        s = 1
+    L = labels[::s, ::s]
+    X = xyz[::s, ::s]
+    on = L >= 0
+    lm = L[on]
+    P = X[on]
+    nn = pn[lm]
+    dist = np.einsum("ij,ij->i", P, nn) + po[lm]
+    sig = expected_sigma(P, nn, p)
+    c = np.maximum(np.bincount(lm, minlength=n), 1)
+    rms = np.sqrt(np.bincount(lm, dist * dist, minlength=n) / c)
+    exp_rms = np.sqrt(np.bincount(lm, sig * sig, minlength=n) / c)
+    local = np.full(n, np.nan)
+    if organized:
+        D = np.zeros(L.shape)
+        D[on] = dist
+        ssum = np.zeros(n)
+        scnt = np.zeros(n)
+        for a, b, cc, la, lb, lc in (
+            (D[:, :-2], D[:, 1:-1], D[:, 2:], L[:, :-2], L[:, 1:-1], L[:, 2:]),
+            (D[:-2], D[1:-1], D[2:], L[:-2], L[1:-1], L[2:]),
+        ):
+            ok = (lb >= 0) & (la == lb) & (lc == lb)
+            dd = (a - 2.0 * b + cc)[ok]
+            lbl = lb[ok]
+            ssum += np.bincount(lbl, dd * dd, minlength=n)
+            scnt += np.bincount(lbl, minlength=n)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            local = np.sqrt(ssum / scnt / 6.0)
+    return rms, exp_rms, local
+
+
+def _fit(P) -> tuple[np.ndarray, float]:
+    """Least-squares plane (unit normal, offset) of points ``P`` (m, 3), m >= 3."""
+    c = P.mean(axis=0)
+    q = P - c
+    _, vec = np.linalg.eigh(q.T @ q)
+    nr = vec[:, 0]
+    return nr, -float(nr @ c)
+
+
+def _cost(P, zs, nr, off) -> np.ndarray:
+    """Normalised distances ``|n . p + off| / sigma`` of points ``P`` (m, 3) to a plane, with
+    ``zs`` = z / (depth std), so that ``sigma = |n . p| / zs``."""
+    dn = P @ nr
+    return np.abs(dn + off) * zs / np.maximum(np.abs(dn), 1e-12)
+
+
+def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng):
+    """Pieces of one region: ``(len(P),)`` kept-piece index per point (-1 = unassigned), or
+    None when the region stays whole.  ``pix`` (m,) ascending flat pixel indices, ``P`` (m, 3)
+    their points, ``N`` (m, 3) their normals or None; the point-to-plane sigma of a plane ``n``
+    is ``scale * sigma_z(z) * |n . p| / z``."""
+    m = len(P)
+    zs_all = P[:, 2] / (scale * np.sqrt(p.depth_sigma2(P[:, 2])))
+    st = max(1, m // _DISCOVERY_POINTS)
+    Q = P[::st]
+    zs = zs_all[::st]
+    NQ = None if N is None else N[::st]
+    mq = len(Q)
+    min_q = max(3, int(math.ceil(min_size * mq / m)))
+    rem = np.arange(mq)
+    planes = []
+    for _ in range(p.max_parts):
+        if len(rem) < min_q:
+            break
+        best = _ransac(Q[rem], zs[rem], None if NQ is None else NQ[rem], p, rng)
+        if best is None:
+            break
+        nr, off = best
+        inl = None
+        for _it in range(3):  # least-squares refinement on the inliers
+            inl = _cost(Q[rem], zs[rem], nr, off) <= p.inlier_sigmas
+            if inl.sum() < 3:
+                break
+            nr, off = _fit(Q[rem[inl]])
+        if inl is None or inl.sum() < min_q:
+            break
+        planes.append((nr, off))
+        rem = rem[~inl]
+    if len(planes) < 2:
+        return None
+    for _it in range(p.iterations):  # assign the sample to the nearest part, refit
+        cost = np.stack([_cost(Q, zs, nr, off) for nr, off in planes], axis=1)
+        part = np.argmin(cost, axis=1)
+        part[cost[np.arange(mq), part] > p.assign_sigmas] = -1
+        for j in range(len(planes)):
+            mj = part == j
+            if mj.sum() >= 3:
+                planes[j] = _fit(Q[mj])
+    cost = np.stack([_cost(P, zs_all, nr, off) for nr, off in planes], axis=1)
+    part = np.argmin(cost, axis=1)
+    part[cost[np.arange(m), part] > p.assign_sigmas] = -1
+    grid = _grid(pix, w) if organized else None
+    pieces = _pieces(part, len(planes), min_size, grid)
+    if pieces is None:
+        return None
+    piece, piece_plane = pieces
+    if (piece == -2).any():
+        piece = _absorb(piece, piece_plane, cost, p.assign_sigmas, grid)
+    return piece
+
+
+def _ransac(Q, zs, N, p: SplitParams, rng):
+    """Best plane (normal, offset) of points ``Q`` (m, 3) by seeded RANSAC: three-point and
+    point-with-normal hypotheses scored on a regular sample by their inlier count."""
+    m = len(Q)
+    step = max(1, m // p.sample)
+    S = Q[::step]
+    Sz = zs[::step]
+    n3 = p.hypotheses if N is None else (p.hypotheses + 1) // 2
+    tri = rng.integers(0, m, size=(n3, 3))
+    a, b, c = Q[tri[:, 0]], Q[tri[:, 1]], Q[tri[:, 2]]
+    cr = np.cross(b - a, c - a)
+    ln = np.linalg.norm(cr, axis=1)
+    ok = ln > 1e-12
+    hyp_n = [cr[ok] / ln[ok, None]]
+    hyp_p = [a[ok]]
+    if N is not None and p.hypotheses > n3:
+        good = np.flatnonzero(np.all(np.isfinite(N), axis=1))
+        if len(good):
+            pick = good[rng.integers(0, len(good), size=p.hypotheses - n3)]
+            nn = N[pick]
+            ln = np.linalg.norm(nn, axis=1)
+            ok = ln > 1e-12
+            hyp_n.append(nn[ok] / ln[ok, None])
+            hyp_p.append(Q[pick[ok]])
+    Hn = np.concatenate(hyp_n)
+    if len(Hn) == 0:
+        return None
+    Ho = -np.einsum("ij,ij->i", Hn, np.concatenate(hyp_p))
+    dn = S @ Hn.T                                   # (s, H)
+    inl = np.abs(dn + Ho) * Sz[:, None] <= p.inlier_sigmas * np.abs(dn)
+    score = inl.sum(axis=0)
+    j = int(np.argmax(score))
+    if score[j] < 3:
+        return None
+    return Hn[j], float(Ho[j])
+
+
+def _grid(pix, w):
+    """Row, column of ``pix`` within their bounding box, and the box shape."""
+    rr, cc = np.divmod(pix, w)
+    r0, c0 = rr.min(), cc.min()
+    return rr - r0, cc - c0, (int(rr.max() - r0 + 1), int(cc.max() - c0 + 1))
+
+
+def _pieces(part, k, min_size, grid):
+    """Connected pieces of the parts.  Returns ``(piece, piece_plane)``: per point the kept
+    piece index (0..), -2 for a point in a too-small piece, -1 unassigned; and the part index of
+    each kept piece.  None when fewer than two pieces are kept."""
+    piece = np.full(len(part), -1, dtype=np.int64)
+    piece_plane = []
+    if grid is None:  # unorganized cloud: a part is one piece
+        for j in range(k):
+            mj = part == j
+            if mj.sum() >= min_size:
+                piece[mj] = len(piece_plane)
+                piece_plane.append(j)
+            else:
+                piece[mj] = -2
+    else:
+        from scipy import ndimage
+
+        rr, cc, shape = grid
+        struct = np.ones((3, 3), dtype=bool)
+        for j in range(k):
+            on = part == j
+            if not on.any():
+                continue
+            mask = np.zeros(shape, dtype=bool)
+            mask[rr[on], cc[on]] = True
+            comp, nc = ndimage.label(mask, structure=struct)
+            cl = comp[rr[on], cc[on]]
+            sizes = np.bincount(cl, minlength=nc + 1)
+            big = np.flatnonzero(sizes >= min_size)
+            big = big[big > 0]
+            lut = np.full(nc + 1, -2, dtype=np.int64)
+            lut[big] = len(piece_plane) + np.arange(len(big))
+            piece_plane.extend([j] * len(big))
+            piece[on] = lut[cl]
+    if len(piece_plane) < 2:
+        return None
+    return piece, np.array(piece_plane, dtype=np.int64)
+
+
+def _absorb(piece, piece_plane, cost, assign_sigmas, grid):
+    """Points of too-small pieces (-2) join the adjacent (8-connected) kept piece whose plane
+    is nearest in sigmas, within ``assign_sigmas``; else they become unassigned (-1).
+    ``cost`` (m, k): normalised distance of every point to every part's plane; ``grid``: the
+    points' (row, column, box shape) or None (unorganized: any kept piece)."""
+    piece = piece.copy()
+    small = np.flatnonzero(piece == -2)
+    cs = cost[small][:, piece_plane]                 # (ns, kept pieces)
+    if grid is not None:
+        from scipy import ndimage
+
+        rr, cc, (hh, ww) = grid
+        kept = np.full((hh + 2, ww + 2), -1, dtype=np.int64)  # padded by one
+        ok = piece >= 0
+        kept[rr[ok] + 1, cc[ok] + 1] = piece[ok]
+        rs, cs_ = rr[small], cc[small]
+        r0, c0 = rs.min(), cs_.min()
+        smallmask = np.zeros((rs.max() - r0 + 1, cs_.max() - c0 + 1), dtype=bool)
+        smallmask[rs - r0, cs_ - c0] = True
+        comp, nc = ndimage.label(smallmask, structure=np.ones((3, 3), dtype=bool))
+        comp_of = comp[rs - r0, cs_ - c0]
+        adj = np.zeros((nc + 1, len(piece_plane)), dtype=bool)
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                if dy or dx:
+                    nb = kept[rs + 1 + dy, cs_ + 1 + dx]
+                    mk = nb >= 0
+                    adj[comp_of[mk], nb[mk]] = True
+        cs = np.where(adj[comp_of], cs, np.inf)
+    best = np.argmin(cs, axis=1)
+    cb = cs[np.arange(len(small)), best]
+    piece[small] = np.where(cb <= assign_sigmas, best, -1)
+    return piece
