@@ -566,15 +566,18 @@ def run_timing(methods, sizes, *, repeats: int = 3, budget: float = 20.0, seed: 
 # learning
 
 def run_learning(dataset_dir, methods, *, folds: int = 10, seed: int = 0, engine: str = "builtin",
-                 timeout: float = 120.0, jobs: int = 1) -> dict:
+                 timeout: float = 120.0, jobs: int = 1, ground_truth: bool = True) -> dict:
     """Cross-validated learning outcome per segmentation method.
 
-    Calls ``planerel.pipeline.evaluate_learning`` for each method when it exists.
+    Calls ``planerel.pipeline.evaluate_learning`` for each method when it exists (and, with
+    ``ground_truth``, once more on the ground-truth planes, key ``"gt"``: the upper bound).
 
     Returns
     -------
     dict
-        ``available`` (bool), ``reason`` (when not available), ``methods`` {key: result or
+        ``available`` (bool), ``reason`` (when not available), ``methods`` {key: {accuracy
+        (over the scenes whose object kept a plane), accuracy_all_scenes (skipped scenes
+        counted as wrong), n_examples, skipped, per_class, classes, confusion, rules} or
         {"error": message}}.
     """
     try:
@@ -587,15 +590,25 @@ def run_learning(dataset_dir, methods, *, folds: int = 10, seed: int = 0, engine
         return {"available": False,
                 "reason": "planerel.pipeline has no evaluate_learning", "methods": {}}
     out = {"available": True, "folds": folds, "seed": seed, "engine": engine, "methods": {}}
-    for m in parse_methods(methods):
+    runs = [(m.key, m.method, m.params() or None) for m in parse_methods(methods)]
+    if ground_truth:
+        runs.append(("gt", "gt", None))
+    for key, method, params in runs:
         try:
-            r = fn(str(dataset_dir), method=m.method, seg_params=m.params() or None, folds=folds,
+            r = fn(str(dataset_dir), method=method, seg_params=params, folds=folds,
                    seed=seed, engine=engine, timeout=timeout, jobs=jobs)
         except PlanerelError as exc:
-            out["methods"][m.key] = {"error": str(exc)}
+            out["methods"][key] = {"error": str(exc)}
             continue
-        out["methods"][m.key] = {
-            "accuracy": float(r["accuracy"]),
+        skipped = [str(x) for x in r.get("skipped", [])]
+        n_ex = int(r.get("n_examples", 0))
+        acc = float(r["accuracy"])
+        out["methods"][key] = {
+            "accuracy": acc,
+            "accuracy_all_scenes": (acc * n_ex / (n_ex + len(skipped))
+                                    if n_ex + len(skipped) else None),
+            "n_examples": n_ex,
+            "skipped": skipped,
             "per_class": {str(k): (None if v is None else float(v))
                           for k, v in dict(r.get("per_class", {})).items()},
             "classes": [str(c) for c in r.get("classes", [])],

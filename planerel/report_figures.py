@@ -107,14 +107,38 @@ def panel_image(labels, depth=None, *, sparse_ids=(), width: int = 232) -> np.nd
     rgb = colour_labels(lab, depth)[rows[:, None], cols[None, :]]
     ids = [int(i) for i in sparse_ids]
     if ids:
-        big = lab[rows[:, None], cols[None, :]]
-        mask = np.isin(big, ids)
+        mask = _significant_pieces(lab, ids)[rows[:, None], cols[None, :]]
         inner = ndimage.binary_erosion(mask, structure=np.ones((3, 3), bool), iterations=2,
                                        border_value=0)
         edge = mask & ~inner
         rgb = rgb.copy()
         rgb[edge] = _dashed(edge)[edge]
     return rgb
+
+
+def _significant_pieces(lab: np.ndarray, ids, fraction: float = 0.1) -> np.ndarray:
+    """``(H, W)`` bool: the significant pieces of the regions ``ids`` (as
+    :func:`planerel.evaluate.sparse_planes` defines them: 8-connected components after a
+    one-pixel closing, each with at least ``fraction`` of the region and 10 pixels at 160x120),
+    filled, so the outline shows the separate pieces and not every stray pixel."""
+    from scipy import ndimage
+
+    h, w = lab.shape
+    min_px = max(3, int(round(10 * h * w / (160 * 120))))
+    st = np.ones((3, 3), bool)
+    out = np.zeros(lab.shape, bool)
+    for rid in ids:
+        m = lab == rid
+        total = int(m.sum())
+        if total == 0:
+            continue
+        closed = ndimage.binary_closing(m, structure=st) | m
+        comp, nc = ndimage.label(closed, structure=st)
+        sizes = np.bincount(comp[m], minlength=nc + 1)
+        keep = (sizes >= fraction * total) & (sizes >= min_px)
+        keep[0] = False
+        out |= ndimage.binary_fill_holes(keep[comp])
+    return out
 
 
 def _legend_strip(width: int, font) -> np.ndarray:
@@ -206,13 +230,21 @@ def compose_figure(rows, *, row_titles=None, columns: int = 5, legend: bool = Tr
     return np.ascontiguousarray(np.concatenate(blocks, axis=0))
 
 
-def png_bytes(rgb) -> bytes:
-    """Encode an ``(H, W, 3)`` uint8 image as PNG (deterministic, optimised)."""
+def png_bytes(rgb, *, palette: bool = True) -> bytes:
+    """Encode an ``(H, W, 3)`` uint8 image as PNG (deterministic, optimised).
+
+    With ``palette`` the image is reduced to 256 colours without dithering (octree
+    quantisation, about a third of the size; the depth shading gets slightly banded).
+    """
     from PIL import Image
 
     a = np.ascontiguousarray(np.asarray(rgb, dtype=np.uint8))
     if a.ndim != 3 or a.shape[2] != 3:
         raise InputError(f"an RGB image must be (H, W, 3), got shape {a.shape}")
+    img = Image.fromarray(a, "RGB")
+    if palette:
+        img = img.quantize(colors=256, method=Image.Quantize.FASTOCTREE,
+                           dither=Image.Dither.NONE)
     buf = io.BytesIO()
-    Image.fromarray(a, "RGB").save(buf, format="PNG", optimize=True)
+    img.save(buf, format="PNG", optimize=True)
     return buf.getvalue()

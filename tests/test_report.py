@@ -8,7 +8,6 @@ import csv
 import io
 import json
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -190,16 +189,22 @@ def test_cli_report(tiny, tmp_path, capsys):
     assert "positive distance threshold" in capsys.readouterr().err
 
 
-def test_learning_section_reports_outcome_or_why_not(tiny):
+def test_learning_section_reports_outcome_or_why_not(tiny, tmp_path, monkeypatch):
+    monkeypatch.setenv("PLANEREL_CACHE", str(tmp_path / "cache"))
     res = run_learning(tiny, parse_methods("regiongrow"), folds=2, timeout=30, jobs=1)
     if not res["available"]:
         assert "pipeline" in res["reason"]
         return
-    r = res["methods"]["regiongrow"]
-    # one scene per class cannot be cross-validated: either an explicit error or a result
-    if "error" not in r:
-        assert 0.0 <= r["accuracy"] <= 1.0
-        assert len(r["confusion"]) == len(r["classes"])
+    assert set(res["methods"]) == {"regiongrow", "gt"}
+    for r in res["methods"].values():
+        # one scene per class is a degenerate cross-validation: an explicit error or a result
+        if "error" not in r:
+            assert 0.0 <= r["accuracy"] <= 1.0
+            assert len(r["confusion"]) == len(r["classes"]) == 3
+            assert r["n_examples"] + len(r["skipped"]) == 3
+            assert all(":-" in rule for rule in r["rules"])
+        else:
+            assert r["error"]
 
 
 def test_missing_real_data_is_said(tiny, tmp_path):
@@ -260,7 +265,7 @@ def test_bad_data_set(tmp_path, tiny):
 
 
 def test_render_blocks_and_their_errors():
-    from planerel.report_figures import compose_figure, panel_image, Panel, png_bytes
+    from planerel.report_figures import Panel, compose_figure, panel_image, png_bytes
 
     lab = np.full((6, 8), -1, np.int32)
     lab[:3] = 0

@@ -79,10 +79,26 @@ def run(args) -> int:
         progress=not args.quiet and sys.stderr.isatty(),
     )
     log = None if args.quiet else (lambda msg: print(msg, file=sys.stderr))
-    argv = ["planerel", "report"] + sys.argv[2:] if sys.argv[1:2] == ["report"] else None
-    command = shlex.join(argv) if argv else None
+    command = shlex.join(_command_line(args))
     res = build_report(args.dataset, args.out, opts, command=command, log=log)
     for n in res.notes:
         print(f"note: {n}", file=sys.stderr)
     print(f"wrote {res.html} and {res.markdown} (raw numbers: {res.json}, {res.out_dir / 'csv'})")
     return 0
+
+
+def _command_line(args) -> list[str]:
+    """The options that differ from their defaults, as a command a reader can rerun."""
+    argv = ["planerel", "report", str(args.dataset), "-o", str(args.out)]
+    defaults = {"methods": "paper", "tolerance": 0.8, "sizes": "160x120,640x480",
+                "timing_repeats": 3, "folds": 10, "engine": "builtin", "timeout": 120.0,
+                "seed": 0, "real_data": None, "real_subsample": 4, "abw_subsample": 2,
+                "figure_scenes": "", "figure_per_class": 1, "jobs": 0}
+    for name, default in defaults.items():
+        value = getattr(args, name)
+        if value != default and not (name == "sizes" and args.no_timing):
+            argv += [f"--{name.replace('_', '-')}", str(value)]
+    for flag in ("no_timing", "no_learning", "no_real_data"):
+        if getattr(args, flag):
+            argv.append(f"--{flag.replace('_', '-')}")
+    return argv
