@@ -56,7 +56,8 @@ def main(argv=None) -> int:
         clf = Classifier(out / "model" / "rules.pl")
         res = classify_dataset(clf, held, out_dir=out / "classified")
         print(f"held-out accuracy: {res['accuracy']:.3f} "
-              f"({len(res['scenes'])} scenes, median {res['ms_per_scene']} ms per scene)")
+              f"({len(res['scenes'])} scenes, median {res['ms_per_scene']} ms per scene; "
+              f"object proposal matches the true object in {res['proposal_match']:.0%})")
         _print_confusion(res["confusion"], res["classes"])
         draw_confusion(out / "heldout_confusion.png", res["confusion"], res["classes"],
                        title=f"held-out set, accuracy {res['accuracy']:.3f}")

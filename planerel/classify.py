@@ -263,7 +263,8 @@ def classify_dataset(classifier: Classifier, dataset_dir, *, out_dir=None,
     dict
         ``accuracy``, ``per_class``, ``classes``, ``confusion`` (rows true class, columns
         predicted, ``unknown`` last), ``scenes`` (per scene: id, class, predicted, rule, proof
-        planes, IoU of the chosen proposal), ``ms_per_scene``.
+        planes, IoU of the chosen proposal), ``proposal_match`` (fraction of scenes whose best
+        proposal covers the true object with IoU >= 0.8), ``ms_per_scene``.
     """
     import sys
 
@@ -312,6 +313,8 @@ def classify_dataset(classifier: Classifier, dataset_dir, *, out_dir=None,
     truth = [r["class"] for r in rows]
     pred = [r["predicted"] for r in rows]
     acc, per = accuracy_scores(truth, pred, classes)
+    matched = [r["iou"] >= 0.8 for r in rows]
     return {"accuracy": acc, "per_class": per, "classes": classes,
             "confusion": confusion_matrix(truth, pred, classes), "scenes": rows,
+            "proposal_match": sum(matched) / len(matched) if matched else None,
             "ms_per_scene": round(1000 * float(np.median(times)), 2) if times else None}
