@@ -19,7 +19,7 @@
 
 :- set(search, heuristic).
 :- set(evalfn, laplace).
-:- set(clauselength, 5).
+:- set(clauselength, 7).
 :- set(i, 3).
 :- set(nodes, 5000).
 :- set(minpos, 2).

@@ -11,6 +11,7 @@ which says for every object which rules prove which class (:func:`prolog_predict
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -68,6 +69,20 @@ def cache_dir(path=None) -> Path | None:
     return Path(value)
 
 
+@functools.lru_cache(maxsize=1)
+def _segmentation_code_hash() -> str:
+    """Hash of the source of the segmentation code (planerel/segment/, normals), so that a
+    cache written by other code -- an edited checkout, another version -- is never read back."""
+    import planerel
+
+    root = Path(planerel.__file__).parent
+    h = hashlib.sha256()
+    for f in sorted([root / "normals.py", *(root / "segment").glob("*.py")]):
+        h.update(f.name.encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
 def _seg_key(files: Sequence[Path], method: str, params: dict) -> str:
     from planerel._version import __version__
 
@@ -75,7 +90,8 @@ def _seg_key(files: Sequence[Path], method: str, params: dict) -> str:
     for f in files:
         h.update(f.name.encode())
         h.update(Path(f).read_bytes())
-    h.update(json.dumps([method, sorted((k, repr(v)) for k, v in params.items()), __version__]).encode())
+    h.update(json.dumps([method, sorted((k, repr(v)) for k, v in params.items()), __version__,
+                         _segmentation_code_hash()]).encode())
     return h.hexdigest()[:32]
 
 

@@ -35,7 +35,7 @@ def test_floor_and_ramp_become_two_planes(angle):
     slope = [p.index for p in sc.planes if p.role == "slope" and p.n_pixels > 0]
     floor = [p.index for p in sc.planes if p.role == "floor"]
     assert len(slope) == 1 and len(floor) == 1
-    seg = segment(sc.cloud)
+    seg = segment(sc.cloud, split=False)
     out = split_bent_regions(sc.cloud, seg)
     _check_result(out, sc.cloud.shape)
     after = _correct_gt(out, sc.gt_labels)
@@ -77,7 +77,7 @@ def test_single_noisy_plane_is_not_split(kind, seed):
         cloud = _plane_scene((math.sin(math.radians(35)), 0, -math.cos(math.radians(35))), 2.5,
                              0, 0, seed)
     gt = np.where(cloud.valid, 0, -1).astype(np.int32)
-    seg = segment(cloud)
+    seg = segment(cloud, split=False)
     out = split_bent_regions(cloud, seg)
     assert out.info["split_regions"] == 0
     assert out.n_planes == seg.n_planes
@@ -88,7 +88,7 @@ def test_single_noisy_plane_is_not_split(kind, seed):
 @pytest.mark.parametrize("seed", [0, 1])
 def test_staircase_is_not_split(seed):
     cloud, gt, _, _ = staircase(160, 120, steps=4, seed=seed)
-    seg = segment(cloud)
+    seg = segment(cloud, split=False)
     out = split_bent_regions(cloud, seg)
     assert out.n_planes == seg.n_planes
     assert evaluate(out.labels, gt).correct == evaluate(seg.labels, gt).correct
@@ -97,7 +97,7 @@ def test_staircase_is_not_split(seed):
 def test_true_planes_match_the_noise_model():
     # the residual test's premise: a noisy floor's RMS is close to the model's expectation
     cloud = _plane_scene((0, -1, 0), 1.1, 1.1, 25, 5)
-    seg = segment(cloud)
+    seg = segment(cloud, split=False)
     big = max(seg.planes, key=lambda p: p.n_points)
     pts = cloud.xyz[seg.labels == big.id]
     exp = math.sqrt(float(np.mean(expected_sigma(pts, big.normal) ** 2)))
@@ -106,7 +106,7 @@ def test_true_planes_match_the_noise_model():
 
 def test_deterministic_and_seed_used():
     sc = generate_scene("ramp", 3, size=(640, 480), subsample=4, angle_deg=10)
-    seg = segment(sc.cloud)
+    seg = segment(sc.cloud, split=False)
     a = split_bent_regions(sc.cloud, seg)
     b = split_bent_regions(sc.cloud, seg)
     assert np.array_equal(a.labels, b.labels)
@@ -118,7 +118,7 @@ def test_deterministic_and_seed_used():
 
 def test_nothing_to_split_returns_same_labels_and_info():
     cloud, _, _, _ = staircase(160, 120, steps=3, seed=4)
-    seg = segment(cloud)
+    seg = segment(cloud, split=False)
     out = split_bent_regions(cloud, seg, tolerance=1000.0)
     assert out.info["split_tested"] == 0 and out.info["split_regions"] == 0
     assert np.array_equal(out.labels, seg.labels)
@@ -143,7 +143,7 @@ def test_bad_parameters(kw, match):
 
 def test_bad_input():
     cloud, _, _, _ = staircase(160, 120, steps=3, seed=0)
-    seg = segment(cloud)
+    seg = segment(cloud, split=False)
     with pytest.raises(InputError, match="unknown parameter"):
         split_bent_regions(cloud, seg, tolerence=2)
     with pytest.raises(InputError, match="Cloud"):

@@ -47,7 +47,8 @@ def make_params(method: str = "regiongrow", **params):
     return coerce_params(RansacParams, params)
 
 
-def segment(cloud, method: str = "regiongrow", *, normals=None, **params) -> Segmentation:
+def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, split_params=None,
+            **params) -> Segmentation:
     """Segment a cloud into planes.
 
     Parameters
@@ -59,6 +60,15 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, **params) -> Seg
         normals (SNP).
     normals : ndarray, shape (H, W, 3), optional
         Precomputed normals (regiongrow, snp).
+    split : bool or str, optional
+        planerel's planar post-processing: split regions that do not fit one plane (a floor and
+        a shallow ramp grown together) into planar parts and find planes in unassigned patches
+        (:func:`planerel.segment.split.split_bent_regions`), then merge touching regions of one
+        plane (:func:`planerel.segment.merge.merge_coplanar`).  Default: on for
+        regiongrow, off for the RANSAC baselines (they stay as the paper ran them).  Strings
+        ``"true"/"false"/"1"/"0"`` are accepted (``--param split=false``).
+    split_params : SplitParams, optional
+        Parameters of the split step (default :class:`SplitParams`).
     **params
         Fields of :class:`RegionGrowParams` (regiongrow) or :class:`RansacParams` (sp, snp);
         or ``params=<dataclass instance>``; regiongrow also ``preset="structured-light"``.
@@ -85,13 +95,36 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, **params) -> Seg
         p = given
     else:
         p = make_params(method, **params)
+    do_split = _as_bool(split, default=(method == "regiongrow"))
     if method == "regiongrow":
         from planerel.segment.regiongrow import region_grow
 
-        return region_grow(cloud, p, normals=normals)
-    if method not in METHODS:
-        raise InputError(f"unknown segmentation method {method!r}; choose one of {', '.join(METHODS)}")
-    from planerel.segment.ransac import ransac_segment
+        seg = region_grow(cloud, p, normals=normals)
+    elif method in METHODS:
+        from planerel.segment.ransac import ransac_segment
 
-    return ransac_segment(cloud, p, normals=normals if method == "snp" else None,
-                          use_normals=(method == "snp"))
+        seg = ransac_segment(cloud, p, normals=normals if method == "snp" else None,
+                             use_normals=(method == "snp"))
+    else:
+        raise InputError(f"unknown segmentation method {method!r}; choose one of {', '.join(METHODS)}")
+    if not do_split:
+        return seg
+    from planerel.segment.merge import merge_coplanar
+    from planerel.segment.split import split_bent_regions
+
+    seg = split_bent_regions(cloud, seg, normals=normals, params=split_params)
+    return merge_coplanar(cloud, seg, split_params)
+
+
+def _as_bool(value, *, default: bool) -> bool:
+    """``None`` -> default; bools as they are; ``"true"/"false"/"1"/"0"/"yes"/"no"``."""
+    if value is None:
+        return default
+    if isinstance(value, bool):
+        return value
+    text = str(value).strip().lower()
+    if text in ("1", "true", "yes", "on"):
+        return True
+    if text in ("0", "false", "no", "off"):
+        return False
+    raise InputError(f"split must be true or false, got {value!r}")

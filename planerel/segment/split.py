@@ -87,6 +87,20 @@ class SplitParams:
         else 90 at 160x120 scaled with the pixel count).
     seed : int
         Seed of the random hypotheses: same input, same seed, same output.
+    leftover : bool
+        Also search the connected patches of still unassigned valid pixels (organized clouds,
+        at least ``min_region_size`` points) for planar pieces, as for a bent region but
+        keeping a single piece too (True).  Small faces far from the sensor -- the top risers
+        and treads of a staircase, 3-8 pixels high at 160x120 -- have normals too blended and
+        noisy for region growing to seed them, yet their points fit planes within the noise.
+    merge : bool
+        Merge touching regions of one plane afterwards (True; :mod:`planerel.segment.merge`).
+    merge_angle : float
+        Largest angle in degrees between the normals of two regions that may merge (10).
+    merge_gap : int
+        Regions touch when pixels of both lie within this many pixels (2) ...
+    merge_jump : float
+        ... and their points within ``merge_jump * z`` metres (0.05).
     """
 
     tolerance: float = 1.5
@@ -104,6 +118,11 @@ class SplitParams:
     iterations: int = 2
     min_region_size: int | str = "auto"
     seed: int = 0
+    leftover: bool = True
+    merge: bool = True
+    merge_angle: float = 10.0
+    merge_gap: int = 2
+    merge_jump: float = 0.05
 
     def __post_init__(self) -> None:
         o = "split"
@@ -136,6 +155,15 @@ class SplitParams:
         else:
             s(self, "min_region_size", _int(o, "min_region_size", self.min_region_size, 3))
         s(self, "seed", _int(o, "seed", self.seed, 0))
+        if not isinstance(self.leftover, (bool, np.bool_)):
+            raise InputError(f"{o}: leftover must be true or false, got {self.leftover!r}")
+        s(self, "leftover", bool(self.leftover))
+        if not isinstance(self.merge, (bool, np.bool_)):
+            raise InputError(f"{o}: merge must be true or false, got {self.merge!r}")
+        s(self, "merge", bool(self.merge))
+        s(self, "merge_angle", _num(o, "merge_angle", self.merge_angle, lo=0.0, hi=90.0))
+        s(self, "merge_gap", _int(o, "merge_gap", self.merge_gap, 1))
+        s(self, "merge_jump", _num(o, "merge_jump", self.merge_jump, lo=0.0, lo_open=True))
 
     def depth_sigma2(self, z: np.ndarray) -> np.ndarray:
         """Variance (m^2) of a depth measurement at depth ``z`` (m), any shape."""
@@ -199,9 +227,12 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     Segmentation
         Same method, params and normals as ``seg``; labels renumbered ``0 .. n-1`` (see the module
         docstring), planes refitted; ``info`` adds ``split_tested`` (regions over the residual
-        tolerance), ``split_regions`` (regions split), ``split_new_regions`` (regions added) and
-        ``split_unassigned`` (points left unassigned by splits).  ``seg`` itself when nothing
-        was split, with the same ``info`` additions.
+        tolerance), ``split_regions`` (regions split), ``split_new_regions`` (regions added),
+        ``split_unassigned`` (points left unassigned by splits), ``leftover_patches`` /
+        ``leftover_regions`` (unassigned patches searched, planes found in them) and
+        ``noise_scale`` (median ratio of the measured to the modelled noise of the regions).
+        Planes found in unassigned patches are numbered after all others.  ``seg`` itself
+        when nothing changed, with the same ``info`` additions.
 
     Raises
     ------
@@ -231,71 +262,135 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     n = seg.n_planes
     labels = seg.labels
     info = dict(seg.info)
-    info.update(split_tested=0, split_regions=0, split_new_regions=0, split_unassigned=0)
-    if n == 0:
-        return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
+    info.update(split_tested=0, split_regions=0, split_new_regions=0, split_unassigned=0,
+                leftover_patches=0, leftover_regions=0)
     xyz = cloud.xyz
     lab = labels.reshape(-1)
     xyz_flat = xyz.reshape(-1, 3)
-    if labels.max() >= n or labels.min() < -1:
+    if n and (labels.max() >= n or labels.min() < -1):
         raise InputError(f"split: labels must lie in -1..{n - 1} (the segmentation has {n} planes)")
     if np.any(~cloud.valid & (labels >= 0)):
         raise InputError("split: some labelled pixels have no valid point")
-    cnt = np.bincount(lab + 1, minlength=n + 1)[1:]
-    pn = np.array([pl.normal for pl in seg.planes])
-    po = np.array([pl.offset for pl in seg.planes])
-    rms, exp_rms, local = _residual_stats(xyz, labels, pn, po, n, p, cloud.organized)
-    scale = np.ones(n)
-    if p.local_noise:
-        ok = np.isfinite(local) & (local > exp_rms) & (exp_rms > 0)
-        scale[ok] = local[ok] / exp_rms[ok]
-    with np.errstate(invalid="ignore"):
-        bent = np.flatnonzero((rms > p.tolerance * exp_rms * scale) & (cnt >= 2 * min_size))
-    info["split_tested"] = int(len(bent))
-    if len(bent) == 0:
-        return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
+    nflat = nrm.reshape(-1, 3) if nrm is not None else None
 
     new_lab = None
     extra: dict[int, list] = {}
     next_id = n
     n_unassigned = 0
-    nflat = nrm.reshape(-1, 3) if nrm is not None else None
-    for r in bent:
-        pix = np.flatnonzero(lab == r)
-        piece = _split_one(pix, xyz_flat[pix], None if nflat is None else nflat[pix], scale[r],
-                           min_size, p, w, cloud.organized, np.random.default_rng([p.seed, int(r)]))
-        if piece is None:
-            continue
-        if new_lab is None:
-            new_lab = lab.copy()
-        # pieces ordered by their first pixel (pix is ascending): the first keeps the id r
-        k = int(piece.max()) + 1
-        first = np.array([int(np.argmax(piece == q)) for q in range(k)])
-        rank = np.argsort(first, kind="stable")
-        ids = np.empty(k, dtype=np.int64)
-        ids[rank[0]] = r
-        ids[rank[1:]] = next_id + np.arange(k - 1)
-        extra[int(r)] = list(range(next_id, next_id + k - 1))
-        next_id += k - 1
-        new_lab[pix] = np.where(piece >= 0, ids[np.maximum(piece, 0)], -1)
-        n_unassigned += int((piece < 0).sum())
-        info["split_regions"] += 1
-        info["split_new_regions"] += k - 1
+    sensor_scale = 1.0
+    if n:
+        cnt = np.bincount(lab + 1, minlength=n + 1)[1:]
+        pn = np.array([pl.normal for pl in seg.planes])
+        po = np.array([pl.offset for pl in seg.planes])
+        rms, exp_rms, local = _residual_stats(xyz, labels, pn, po, n, p, cloud.organized)
+        scale = np.ones(n)
+        if p.local_noise:
+            ok = np.isfinite(local) & (local > exp_rms) & (exp_rms > 0)
+            scale[ok] = local[ok] / exp_rms[ok]
+            sensor_scale = float(np.median(scale))
+        info["noise_scale"] = sensor_scale
+        with np.errstate(invalid="ignore"):
+            bent = np.flatnonzero((rms > p.tolerance * exp_rms * scale) & (cnt >= 2 * min_size))
+        info["split_tested"] = int(len(bent))
+        for r in bent:
+            pix = np.flatnonzero(lab == r)
+            piece = _split_one(pix, xyz_flat[pix], None if nflat is None else nflat[pix], scale[r],
+                               min_size, p, w, cloud.organized,
+                               np.random.default_rng([p.seed, int(r)]))
+            if piece is None:
+                continue
+            if new_lab is None:
+                new_lab = lab.copy()
+            # pieces ordered by their first pixel (pix is ascending): the first keeps the id r
+            k = int(piece.max()) + 1
+            first = np.array([int(np.argmax(piece == q)) for q in range(k)])
+            rank = np.argsort(first, kind="stable")
+            ids = np.empty(k, dtype=np.int64)
+            ids[rank[0]] = r
+            ids[rank[1:]] = next_id + np.arange(k - 1)
+            extra[int(r)] = list(range(next_id, next_id + k - 1))
+            next_id += k - 1
+            new_lab[pix] = np.where(piece >= 0, ids[np.maximum(piece, 0)], -1)
+            n_unassigned += int((piece < 0).sum())
+            info["split_regions"] += 1
+            info["split_new_regions"] += k - 1
     info["split_unassigned"] = n_unassigned
+
+    leftover_ids: list[int] = []
+    if p.leftover and cloud.organized:
+        cur = lab if new_lab is None else new_lab
+        for t, pix in enumerate(_free_patches(cur.reshape(h, w), cloud.valid, min_size)):
+            info["leftover_patches"] += 1
+            piece = _split_one(pix, xyz_flat[pix], None if nflat is None else nflat[pix],
+                               sensor_scale, min_size, p, w, True,
+                               np.random.default_rng([p.seed, n + t]), min_parts=1)
+            if piece is not None:
+                piece = _keep_planar(piece, xyz_flat[pix], sensor_scale, p)
+            if piece is None:
+                continue
+            if new_lab is None:
+                new_lab = lab.copy()
+            k = int(piece.max()) + 1
+            new_lab[pix] = np.where(piece >= 0, next_id + piece, -1)
+            leftover_ids.extend(range(next_id, next_id + k))
+            next_id += k
+            info["leftover_regions"] += k
     if new_lab is None:
         return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
-    # deterministic renumbering: original order, new pieces right after their region
+    # deterministic renumbering: original order, new pieces right after their region,
+    # planes from unassigned patches last
     final_order = []
     for r in range(n):
         final_order.append(r)
         final_order.extend(extra.get(r, []))
+    final_order.extend(leftover_ids)
     remap = np.full(next_id + 1, -1, dtype=np.int32)
-    remap[np.array(final_order) + 1] = np.arange(next_id, dtype=np.int32)
+    remap[np.array(final_order, dtype=np.int64) + 1] = np.arange(next_id, dtype=np.int32)
     out = remap[new_lab + 1].astype(np.int32)
     nrm_f, off_f, cnt_f, cen_f, rms_f = fit_planes(xyz_flat, out, next_id)
     planes = tuple(SegPlane(i, nrm_f[i], off_f[i], int(cnt_f[i]), cen_f[i], rms_f[i])
                    for i in range(next_id))
     return Segmentation(out.reshape(h, w), planes, seg.method, seg.params, seg.normals, info)
+
+
+def _keep_planar(piece, P, scale, p: SplitParams):
+    """Pieces found in an unassigned patch that pass the split test themselves (RMS residual
+    within ``tolerance`` x the expected RMS), renumbered ``0..``; None when none does.  Far
+    from the sensor a plane through the nosings of several thin stair steps can hold enough
+    points within the noise band to win RANSAC, but its points spread over the whole band."""
+    k = int(piece.max()) + 1
+    new = np.full(k, -1, dtype=np.int64)
+    kept = 0
+    for q in range(k):
+        Q = P[piece == q]
+        nr, off = _fit(Q)
+        rms = math.sqrt(float(np.mean((Q @ nr + off) ** 2)))
+        exp = scale * math.sqrt(float(np.mean(expected_sigma(Q, nr, p) ** 2)))
+        if rms <= p.tolerance * exp:
+            new[q] = kept
+            kept += 1
+    if kept == 0:
+        return None
+    return np.where(piece >= 0, new[np.maximum(piece, 0)], -1)
+
+
+def _free_patches(labels, valid, min_size):
+    """Flat pixel indices (ascending) of each 8-connected patch of valid unassigned pixels
+    with at least ``min_size`` pixels, patches ordered by their first pixel (row-major)."""
+    from scipy import ndimage
+
+    comp, nc = ndimage.label(valid & (labels < 0), structure=np.ones((3, 3), dtype=bool))
+    if nc == 0:
+        return []
+    flat = comp.reshape(-1)
+    sizes = np.bincount(flat, minlength=nc + 1)
+    big = np.flatnonzero(sizes >= min_size)
+    big = big[big > 0]
+    if len(big) == 0:
+        return []
+    order = np.argsort(flat, kind="stable")  # pixels grouped by patch, ascending within one
+    starts = np.concatenate([[0], np.cumsum(sizes)])
+    return [order[starts[c]:starts[c + 1]] for c in big]
 
 
 #: Points per region used to find the planar parts (a regular sample of larger regions).
@@ -360,9 +455,9 @@ def _cost(P, zs, nr, off) -> np.ndarray:
     return np.abs(dn + off) * zs / np.maximum(np.abs(dn), 1e-12)
 
 
-def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng):
+def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, min_parts=2):
     """Pieces of one region: ``(len(P),)`` kept-piece index per point (-1 = unassigned), or
-    None when the region stays whole.  ``pix`` (m,) ascending flat pixel indices, ``P`` (m, 3)
+    None when fewer than ``min_parts`` pieces are found (the region stays as it was).  ``pix`` (m,) ascending flat pixel indices, ``P`` (m, 3)
     their points, ``N`` (m, 3) their normals or None; the point-to-plane sigma of a plane ``n``
     is ``scale * sigma_z(z) * |n . p| / z``."""
     m = len(P)
@@ -392,7 +487,7 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng):
             break
         planes.append((nr, off))
         rem = rem[~inl]
-    if len(planes) < 2:
+    if len(planes) < min_parts:
         return None
     for _it in range(p.iterations):  # assign the sample to the nearest part, refit
         cost = np.stack([_cost(Q, zs, nr, off) for nr, off in planes], axis=1)
@@ -406,7 +501,7 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng):
     part = np.argmin(cost, axis=1)
     part[cost[np.arange(m), part] > p.assign_sigmas] = -1
     grid = _grid(pix, w) if organized else None
-    pieces = _pieces(part, len(planes), min_size, grid)
+    pieces = _pieces(part, len(planes), min_size, grid, min_parts)
     if pieces is None:
         return None
     piece, piece_plane = pieces
@@ -459,10 +554,10 @@ def _grid(pix, w):
     return rr - r0, cc - c0, (int(rr.max() - r0 + 1), int(cc.max() - c0 + 1))
 
 
-def _pieces(part, k, min_size, grid):
+def _pieces(part, k, min_size, grid, min_pieces=2):
     """Connected pieces of the parts.  Returns ``(piece, piece_plane)``: per point the kept
     piece index (0..), -2 for a point in a too-small piece, -1 unassigned; and the part index of
-    each kept piece.  None when fewer than two pieces are kept."""
+    each kept piece.  None when fewer than ``min_pieces`` pieces are kept."""
     piece = np.full(len(part), -1, dtype=np.int64)
     piece_plane = []
     if grid is None:  # unorganized cloud: a part is one piece
@@ -493,7 +588,7 @@ def _pieces(part, k, min_size, grid):
             lut[big] = len(piece_plane) + np.arange(len(big))
             piece_plane.extend([j] * len(big))
             piece[on] = lut[cl]
-    if len(piece_plane) < 2:
+    if len(piece_plane) < min_pieces:
         return None
     return piece, np.array(piece_plane, dtype=np.int64)
 

@@ -1,0 +1,182 @@
+"""Merging coplanar regions: the last post-processing step after region growing (not in the
+paper).
+
+Region growing can stop a region and start a new one on the same surface -- a box top grown
+as two halves of 90 points each, a floor cut in three by a line of noisy normals -- and the
+leftover search of :mod:`planerel.segment.split` can find a piece beside a region of the same
+plane.  A learner counting horizontal planes then sees two box tops.
+
+:func:`merge_coplanar`, with the noise model of :class:`~planerel.segment.split.SplitParams`:
+
+1. **Candidates.**  Pairs of regions with pixels within ``merge_gap`` pixels of each other in
+   the image grid whose 3-D points there lie within ``merge_jump * z`` metres (the same surface,
+   not a near edge in front of a far one).
+2. **Test.**  The normals differ by at most ``merge_angle`` degrees and the least-squares plane
+   of the union fits it within the split test's tolerance: RMS residual <= ``tolerance`` x the
+   RMS the noise model expects (raised by the sensor's measured noise, as in the split test).
+   So a merge never makes a region the split step would cut again.
+3. **Greedy.**  The best-fitting pair (smallest RMS ratio) merges first; statistics are updated
+   and the remaining pairs re-tested, until no pair passes.  Plane fits use per-region sums
+   (count, sum, scatter), so each test is O(1).
+
+The merged region takes the smaller label; labels are renumbered ``0 .. n-1`` in the order of
+the regions' smallest original labels, and planes are refitted.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from planerel.errors import InputError
+from planerel.segment.result import Segmentation, SegPlane, fit_planes
+
+__all__ = ["merge_coplanar"]
+
+
+def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
+    """Merge touching regions that lie on one plane.
+
+    Parameters
+    ----------
+    cloud : Cloud
+        The organized ``(H, W, 3)`` cloud ``seg`` was computed from (unorganized clouds are
+        returned unchanged).
+    seg : Segmentation
+        ``labels`` (H, W) int32, -1 unassigned.
+    params : SplitParams, optional
+        ``merge_angle``, ``merge_gap``, ``merge_jump``, ``tolerance`` and the noise model.
+
+    Returns
+    -------
+    Segmentation
+        ``info`` adds ``merged`` (number of merges); ``seg`` itself when nothing merged.
+    """
+    from planerel.segment.split import SplitParams, _residual_stats
+
+    p = params if params is not None else SplitParams()
+    if not isinstance(p, SplitParams):
+        raise InputError(f"merge: params must be SplitParams, got {type(p).__name__}")
+    info = dict(seg.info, merged=0)
+    n = seg.n_planes
+    if n < 2 or not cloud.organized or not p.merge:
+        return Segmentation(seg.labels, seg.planes, seg.method, seg.params, seg.normals, info)
+    labels = seg.labels
+    xyz = cloud.xyz
+    pairs = _touching_pairs(labels, xyz, n, p.merge_gap, p.merge_jump)
+    if not pairs:
+        return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
+
+    # the sensor's noise relative to the model, as the split test measures it (the split step
+    # leaves its median in info; measured here otherwise)
+    pn = np.array([pl.normal for pl in seg.planes])
+    po = np.array([pl.offset for pl in seg.planes])
+    sensor = seg.info.get("noise_scale")
+    if sensor is None:
+        sensor = 1.0
+        if p.local_noise:
+            _, exp_rms, local = _residual_stats(xyz, labels, pn, po, n, p, True)
+            scale = np.ones(n)
+            ok = np.isfinite(local) & (local > exp_rms) & (exp_rms > 0)
+            scale[ok] = local[ok] / exp_rms[ok]
+            sensor = float(np.median(scale))
+
+    lab = labels.reshape(-1)
+    on = lab >= 0
+    P = xyz.reshape(-1, 3)[on]
+    L = lab[on]
+    cnt = np.bincount(L, minlength=n).astype(np.float64)
+    s1 = np.stack([np.bincount(L, P[:, k], minlength=n) for k in range(3)], axis=1)
+    s2 = np.empty((n, 3, 3))
+    for a in range(3):
+        for b in range(a, 3):
+            s2[:, a, b] = s2[:, b, a] = np.bincount(L, P[:, a] * P[:, b], minlength=n)
+    # expected point-to-plane variance summed per region (with the region's own normal; the
+    # union's normal differs by at most merge_angle, so this is close)
+    sig = _expected_var(P, pn[L], p) * float(sensor) ** 2
+    sv = np.bincount(L, sig, minlength=n)
+    normal = pn.copy()
+
+    parent = np.arange(n)
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    cos_max = math.cos(math.radians(p.merge_angle))
+    edges = set(pairs)
+    merged = 0
+    while True:
+        best = _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, p.tolerance)
+        if best is None:
+            break
+        _, ra, rb, nv = best
+        keep, drop = min(ra, rb), max(ra, rb)
+        parent[drop] = keep
+        cnt[keep] += cnt[drop]
+        s1[keep] += s1[drop]
+        s2[keep] += s2[drop]
+        sv[keep] += sv[drop]
+        normal[keep] = nv
+        merged += 1
+    if not merged:
+        return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
+    roots = np.array([root(i) for i in range(n)])
+    kept = np.unique(roots)  # ascending = order of the smallest original label of each group
+    new_id = np.full(n, -1, dtype=np.int32)
+    new_id[kept] = np.arange(len(kept), dtype=np.int32)
+    remap = np.concatenate([[-1], new_id[roots]]).astype(np.int32)
+    out = remap[lab + 1]
+    k = len(kept)
+    nrm_f, off_f, cnt_f, cen_f, rms_f = fit_planes(xyz.reshape(-1, 3), out, k)
+    planes = tuple(SegPlane(i, nrm_f[i], off_f[i], int(cnt_f[i]), cen_f[i], rms_f[i])
+                   for i in range(k))
+    info["merged"] = merged
+    return Segmentation(out.reshape(labels.shape), planes, seg.method, seg.params, seg.normals,
+                        info)
+
+
+def _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, tolerance):
+    """The pair of current groups that passes the merge test with the smallest RMS ratio:
+    ``(ratio, root_a, root_b, union normal)``, or None."""
+    cand = sorted({(min(ra, rb), max(ra, rb)) for ra, rb in ((root(a), root(b)) for a, b in edges)
+                   if ra != rb})
+    if not cand:
+        return None
+    A = np.array([c[0] for c in cand])
+    B = np.array([c[1] for c in cand])
+    ok = np.abs(np.einsum("ij,ij->i", normal[A], normal[B])) >= cos_max
+    if not ok.any():
+        return None
+    A, B = A[ok], B[ok]
+    m = cnt[A] + cnt[B]
+    c = (s1[A] + s1[B]) / m[:, None]
+    cov = (s2[A] + s2[B]) / m[:, None, None] - np.einsum("ki,kj->kij", c, c)
+    w, v = np.linalg.eigh(cov)
+    rms = np.sqrt(np.maximum(w[:, 0], 0.0))
+    ratio = rms / np.maximum(np.sqrt((sv[A] + sv[B]) / m), 1e-12)
+    j = int(np.argmin(ratio))
+    if ratio[j] > tolerance:
+        return None
+    return float(ratio[j]), int(A[j]), int(B[j]), v[j, :, 0]
+
+
+def _expected_var(P, N, p) -> np.ndarray:
+    """Expected point-to-plane variance of points ``P`` (m, 3) on planes with normals ``N``."""
+    z = P[:, 2]
+    proj = np.abs(np.einsum("ij,ij->i", P, N)) / z
+    return p.depth_sigma2(z) * proj * proj
+
+
+def _touching_pairs(labels, xyz, n: int, gap: int, jump: float) -> list[tuple[int, int]]:
+    """Sorted label pairs ``(a, b)``, ``a < b``, with pixels at most ``gap`` apart (Chebyshev
+    distance in the grid) whose points lie within ``jump * z`` metres of each other."""
+    from planerel.segment._kernels import touching_matrix
+
+    m = touching_matrix(np.ascontiguousarray(labels, dtype=np.int32),
+                        np.ascontiguousarray(xyz, dtype=np.float64), n, gap, float(jump))
+    a, b = np.nonzero(m)
+    return list(zip(a.tolist(), b.tolist(), strict=True))
