@@ -12,7 +12,7 @@ from planerel.errors import InputError
 from planerel.evaluate import evaluate
 from planerel.segment import segment
 from planerel.segment.merge import merge_coplanar
-from planerel.segment.result import Segmentation, fit_planes, SegPlane
+from planerel.segment.result import Segmentation, SegPlane, fit_planes
 from planerel.segment.split import SplitParams, split_bent_regions
 from planerel.synth import CameraRange, generate_scene, scene_seed
 
