@@ -101,10 +101,14 @@ def main(argv=None) -> int:
                             args.repeat)
         t_rg = _median_ms(lambda c=cloud: segment(c), args.repeat)
         cpu_rg = _CPU[-1]
-        t_paper = _median_ms(lambda c=cloud: segment(c, refine=False), args.repeat)
+        t_nopost = _median_ms(lambda c=cloud: segment(c, split=False), args.repeat)
+        cpu_nopost = _CPU[-1]
+        t_paper = _median_ms(lambda c=cloud: segment(c, refine=False, split=False), args.repeat)
         q = evaluate(segment(cloud).labels, gt)
+        q0 = evaluate(segment(cloud, split=False).labels, gt)
         row = {"size": f"{w}x{h}", "normals_ms": t_norm, "rg_total_ms": t_rg,
                "rg_cpu_ms": cpu_rg, "paper_ms": t_paper, "paper_cpu_ms": _CPU[-1],
+               "nopost_ms": t_nopost, "nopost_cpu_ms": cpu_nopost, "nopost_correct": q0.correct,
                "rg_correct": q.correct, "n_gt": q.n_gt, "rg_sparse": q.sparse}
         for method, thr in (("sp", 0.01), ("snp", 0.05)):
             t = _median_ms(lambda c=cloud, m=method, t=thr: segment(c, m, threshold=t, seed=0),
@@ -117,10 +121,14 @@ def main(argv=None) -> int:
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     print(f"load average (1, 5, 15 min) at the end: {os.getloadavg()}")
     for r in rows:
-        print(f"{r['size']}: segment() with completion {r['rg_total_ms']:.2f} ms median wall "
-              f"({r['rg_cpu_ms']:.2f} ms CPU); the paper's algorithm only (refine=False) "
-              f"{r['paper_ms']:.2f} ms wall ({r['paper_cpu_ms']:.2f} ms CPU)")
-        print(f"{r['size']}: normals {r['normals_ms']:.2f} ms, normals + region growing "
+        print(f"{r['size']}: segment() default (growing, completion, post-processing) "
+              f"{r['rg_total_ms']:.2f} ms median wall ({r['rg_cpu_ms']:.2f} ms CPU, "
+              f"{r['rg_correct']}/{r['n_gt']} correct); without post-processing (split=False) "
+              f"{r['nopost_ms']:.2f} ms wall ({r['nopost_cpu_ms']:.2f} ms CPU, "
+              f"{r['nopost_correct']}/{r['n_gt']} correct); the paper's algorithm only "
+              f"(refine=False, split=False) {r['paper_ms']:.2f} ms wall "
+              f"({r['paper_cpu_ms']:.2f} ms CPU)")
+        print(f"{r['size']}: normals {r['normals_ms']:.2f} ms, segment() "
               f"{r['rg_total_ms']:.2f} ms median ({r['rg_correct']}/{r['n_gt']} correct, "
               f"{r['rg_sparse']} sparse); "
               f"SP 0.01 {r['sp0.01_ms']:.0f} ms (x{r['sp0.01_ratio']:.0f}, {r['sp0.01_correct']} correct); "
@@ -191,6 +199,7 @@ def quality(args) -> int:
             sc = generate_scene(kind, seed, subsample=4)
             scores.append(evaluate(segment(sc.cloud).labels, sc.gt_labels))
     print(f"  regiongrow: {_row(scores)}")
+    _post_processing_table()
     abw = Path(args.abw) if args.abw else Path(__file__).resolve().parents[2] / "shared/data/abw"
     files = sorted(glob.glob(str(abw / "*.range")))
     if files:
@@ -209,6 +218,36 @@ def quality(args) -> int:
                       for c, gt in clouds]
             print(f"  {name}: {_row(scores)}")
     return 0
+
+
+def _post_processing_table() -> None:
+    """Per class, on the demo's two paper-sized sets (160x120): the paper's algorithm with
+    planerel's completion, then each post-processing step added."""
+    from planerel.evaluate import evaluate
+    from planerel.segment import segment
+    from planerel.segment.split import SplitParams
+    from planerel.synth import CameraRange, generate_scene, scene_seed
+
+    variants = (("growing + completion (split=False)", dict(split=False)),
+                ("+ split bent regions + merge", dict(split_params=SplitParams(leftover=False))),
+                ("+ planes in unassigned patches (default)", {}))
+    sets = (("training set (seed 0)", 0, None),
+            ("held-out set (seed 1000, camera height 0.7-1.7 m, distance 1.0-2.2 m)", 1000,
+             CameraRange(height=(0.7, 1.7), distance=(1.0, 2.2))))
+    counts = (("box", 12), ("stairs", 15), ("ramp", 18))
+    for title, seed, cam in sets:
+        print(f"paper-sized {title}, 160x120, all GT planes, per image:")
+        scenes, i = [], 0
+        for kind, k in counts:
+            for _ in range(k):
+                kw = {} if cam is None else {"camera": cam}
+                scenes.append((kind, generate_scene(kind, scene_seed(seed, i), (640, 480), 4, **kw)))
+                i += 1
+        for name, kw in variants:
+            for kind, _ in counts:
+                sc = [evaluate(segment(x.cloud, **kw).labels, x.gt_labels)
+                      for kk, x in scenes if kk == kind]
+                print(f"  {name}, {kind}: {_row(sc)}")
 
 
 def _peak_rg_only() -> float:

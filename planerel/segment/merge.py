@@ -10,7 +10,9 @@ plane.  A learner counting horizontal planes then sees two box tops.
 
 1. **Candidates.**  Pairs of regions with pixels within ``merge_gap`` pixels of each other in
    the image grid whose 3-D points there lie within ``merge_jump * z`` metres (the same surface,
-   not a near edge in front of a far one).
+   not a near edge in front of a far one).  Candidates and statistics come from a regular grid
+   sample of about 160x120 pixels (every pixel at 160x120, every 4th row and column at
+   640x480), as in the split test, so ``merge_gap`` means the same angle at every resolution.
 2. **Test.**  The normals differ by at most ``merge_angle`` degrees and the least-squares plane
    of the union fits it within the split test's tolerance: RMS residual <= ``tolerance`` x the
    RMS the noise model expects (raised by the sensor's measured noise, as in the split test).
@@ -53,7 +55,7 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
     Segmentation
         ``info`` adds ``merged`` (number of merges); ``seg`` itself when nothing merged.
     """
-    from planerel.segment.split import SplitParams, _residual_stats
+    from planerel.segment.split import _TEST_PIXELS, SplitParams, _residual_stats
 
     p = params if params is not None else SplitParams()
     if not isinstance(p, SplitParams):
@@ -64,7 +66,13 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
         return Segmentation(seg.labels, seg.planes, seg.method, seg.params, seg.normals, info)
     labels = seg.labels
     xyz = cloud.xyz
-    pairs = _touching_pairs(labels, xyz, n, p.merge_gap, p.merge_jump)
+    # tests on a regular grid sample of about 160x120 pixels, as the split test: merge_gap is
+    # then the same angle at every resolution, and a 640x480 frame costs what 160x120 does
+    h, w = labels.shape
+    st = max(1, int(math.sqrt(h * w / _TEST_PIXELS)))
+    Ls = np.ascontiguousarray(labels[::st, ::st])
+    Xs = np.ascontiguousarray(xyz[::st, ::st])
+    pairs = _touching_pairs(Ls, Xs, n, p.merge_gap, p.merge_jump)
     if not pairs:
         return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
 
@@ -76,16 +84,16 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
     if sensor is None:
         sensor = 1.0
         if p.local_noise:
-            _, exp_rms, local = _residual_stats(xyz, labels, pn, po, n, p, True)
+            _, exp_rms, local = _residual_stats(Xs, Ls, pn, po, n, p, True)
             scale = np.ones(n)
             ok = np.isfinite(local) & (local > exp_rms) & (exp_rms > 0)
             scale[ok] = local[ok] / exp_rms[ok]
             sensor = float(np.median(scale))
 
-    lab = labels.reshape(-1)
-    on = lab >= 0
-    P = xyz.reshape(-1, 3)[on]
-    L = lab[on]
+    lab_s = Ls.reshape(-1)
+    on = lab_s >= 0
+    P = Xs.reshape(-1, 3)[on]
+    L = lab_s[on]
     cnt = np.bincount(L, minlength=n).astype(np.float64)
     s1 = np.stack([np.bincount(L, P[:, k], minlength=n) for k in range(3)], axis=1)
     s2 = np.empty((n, 3, 3))
@@ -129,7 +137,7 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
     new_id = np.full(n, -1, dtype=np.int32)
     new_id[kept] = np.arange(len(kept), dtype=np.int32)
     remap = np.concatenate([[-1], new_id[roots]]).astype(np.int32)
-    out = remap[lab + 1]
+    out = remap[labels.reshape(-1) + 1]
     k = len(kept)
     nrm_f, off_f, cnt_f, cen_f, rms_f = fit_planes(xyz.reshape(-1, 3), out, k)
     planes = tuple(SegPlane(i, nrm_f[i], off_f[i], int(cnt_f[i]), cen_f[i], rms_f[i])

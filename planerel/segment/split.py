@@ -383,14 +383,16 @@ def _free_patches(labels, valid, min_size):
     if nc == 0:
         return []
     flat = comp.reshape(-1)
-    sizes = np.bincount(flat, minlength=nc + 1)
+    idx = np.flatnonzero(flat)  # the free pixels only: usually a small part of the image
+    lab = flat[idx]
+    sizes = np.bincount(lab, minlength=nc + 1)
     big = np.flatnonzero(sizes >= min_size)
     big = big[big > 0]
     if len(big) == 0:
         return []
-    order = np.argsort(flat, kind="stable")  # pixels grouped by patch, ascending within one
-    starts = np.concatenate([[0], np.cumsum(sizes)])
-    return [order[starts[c]:starts[c + 1]] for c in big]
+    order = idx[np.argsort(lab, kind="stable")]  # grouped by patch, ascending within one
+    starts = np.concatenate([[0], np.cumsum(sizes[1:])])
+    return [order[starts[c - 1]:starts[c]] for c in big]
 
 
 #: Points per region used to find the planar parts (a regular sample of larger regions).
