@@ -21,7 +21,7 @@
 :- set(evalfn, laplace).
 :- set(clauselength, 7).
 :- set(i, 3).
-:- set(nodes, 5000).
+:- set(nodes, 3000).
 :- set(minpos, 2).
 :- set(noise, 0).
 
