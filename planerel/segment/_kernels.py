@@ -21,7 +21,6 @@ __all__ = [
     "planes_from_sums",
     "spread_of_moments",
     "leftover_components",
-    "touching_matrix",
     "POPCOUNT",
     "GRID_DV",
     "GRID_DU",
@@ -891,39 +890,3 @@ def spread_of_moments(mom):  # pragma: no cover - compiled
     cov[2, 1] = cov[1, 2]
     return np.linalg.eigvalsh(cov)
 
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def touching_matrix(labels, xyz, nreg, gap, jump):  # pragma: no cover - compiled
-    """(nreg, nreg) bool: regions with pixels at most ``gap`` apart in the grid (Chebyshev)
-    whose points lie within ``jump * max(z)`` metres; upper triangle only (a < b)."""
-    h, w = labels.shape
-    out = np.zeros((nreg, nreg), dtype=np.bool_)
-    for r in range(h):
-        for c in range(w):
-            a = labels[r, c]
-            if a < 0:
-                continue
-            for dy in range(0, gap + 1):
-                rr = r + dy
-                if rr >= h:
-                    break
-                for dx in range(-gap, gap + 1):
-                    if dy == 0 and dx <= 0:
-                        continue
-                    cc = c + dx
-                    if cc < 0 or cc >= w:
-                        continue
-                    b = labels[rr, cc]
-                    if b < 0 or b == a:
-                        continue
-                    lo = min(a, b)
-                    hi = max(a, b)
-                    if out[lo, hi]:
-                        continue
-                    ex = xyz[r, c, 0] - xyz[rr, cc, 0]
-                    ey = xyz[r, c, 1] - xyz[rr, cc, 1]
-                    ez = xyz[r, c, 2] - xyz[rr, cc, 2]
-                    z = max(xyz[r, c, 2], xyz[rr, cc, 2])
-                    if ex * ex + ey * ey + ez * ez <= (jump * z) ** 2:
-                        out[lo, hi] = True
-    return out

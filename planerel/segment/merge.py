@@ -70,8 +70,8 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
     # then the same angle at every resolution, and a 640x480 frame costs what 160x120 does
     h, w = labels.shape
     st = max(1, int(math.sqrt(h * w / _TEST_PIXELS)))
-    Ls = np.ascontiguousarray(labels[::st, ::st])
-    Xs = np.ascontiguousarray(xyz[::st, ::st])
+    Ls = np.ascontiguousarray(labels[::st, ::st], dtype=np.int32)
+    Xs = np.ascontiguousarray(xyz[::st, ::st], dtype=np.float64)
     pairs = _touching_pairs(Ls, Xs, n, p.merge_gap, p.merge_jump)
     if not pairs:
         return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
@@ -181,10 +181,13 @@ def _expected_var(P, N, p) -> np.ndarray:
 
 def _touching_pairs(labels, xyz, n: int, gap: int, jump: float) -> list[tuple[int, int]]:
     """Sorted label pairs ``(a, b)``, ``a < b``, with pixels at most ``gap`` apart (Chebyshev
-    distance in the grid) whose points lie within ``jump * z`` metres of each other."""
-    from planerel.segment._kernels import touching_matrix
+    distance in the grid) whose points lie within ``jump * z`` metres of each other: the
+    relations' touching test (:func:`planerel.relations._touching`), run on the boundary pixels."""
+    from planerel._feature_kernels import touch_pairs
+    from planerel.planes import _boundary
 
-    m = touching_matrix(np.ascontiguousarray(labels, dtype=np.int32),
-                        np.ascontiguousarray(xyz, dtype=np.float64), n, gap, float(jump))
-    a, b = np.nonzero(m)
+    brow, bcol = np.nonzero(_boundary(labels))
+    m = touch_pairs(xyz, labels, brow.astype(np.int64), bcol.astype(np.int64), int(gap), 0.0,
+                    float(jump), np.ones(n, dtype=bool))
+    a, b = np.nonzero(np.triu(m, 1))
     return list(zip(a.tolist(), b.tolist(), strict=True))

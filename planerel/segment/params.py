@@ -78,6 +78,13 @@ def _int(owner: str, name: str, value, lo: int) -> int:
     return int(value)
 
 
+def _bool(owner: str, name: str, value) -> bool:
+    """A true/false parameter (numpy bools too); anything else is an :class:`InputError`."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{owner}: {name} must be true or false, got {value!r}")
+    return bool(value)
+
+
 def _auto_or(owner, name, value, conv):
     if isinstance(value, str):
         if value == "auto":
@@ -194,17 +201,12 @@ class RegionGrowParams:
                                             lo_open=True))
         else:
             s(self, "reference_depth", None)
-        if not isinstance(self.refine, (bool, np.bool_)):
-            raise InputError(f"{o}: refine must be true or false, got {self.refine!r}")
-        s(self, "refine", bool(self.refine))
+        s(self, "refine", _bool(o, "refine", self.refine))
         s(self, "refine_factor", _num(o, "refine_factor", self.refine_factor, lo=0, lo_open=True))
         s(self, "refine_rounds", _auto_or(o, "refine_rounds", self.refine_rounds,
                                           lambda v: _int(o, "refine_rounds", v, 0)))
         s(self, "knn", _int(o, "knn", self.knn, 3))
-        if not isinstance(self.leftover_planes, (bool, np.bool_)):
-            raise InputError(f"{o}: leftover_planes must be true or false, got "
-                             f"{self.leftover_planes!r}")
-        s(self, "leftover_planes", bool(self.leftover_planes))
+        s(self, "leftover_planes", _bool(o, "leftover_planes", self.leftover_planes))
         s(self, "min_region_scale", _num(o, "min_region_scale", self.min_region_scale, lo=0,
                                          lo_open=True))
 

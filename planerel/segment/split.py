@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planerel.errors import InputError
-from planerel.segment.params import _int, _num, coerce_params, scaled_min_region_size
+from planerel.segment.params import _bool, _int, _num, coerce_params, scaled_min_region_size
 from planerel.segment.result import Segmentation, SegPlane, fit_planes
 
 __all__ = ["SplitParams", "split_bent_regions", "expected_sigma"]
@@ -136,9 +136,7 @@ class SplitParams:
         if self.noise == 0 and self.disparity_step == 0 and self.depth_unit == 0:
             raise InputError(f"{o}: the noise model is zero (noise, disparity_step and depth_unit "
                              "are all 0); give at least one of them a positive value")
-        if not isinstance(self.local_noise, (bool, np.bool_)):
-            raise InputError(f"{o}: local_noise must be true or false, got {self.local_noise!r}")
-        s(self, "local_noise", bool(self.local_noise))
+        s(self, "local_noise", _bool(o, "local_noise", self.local_noise))
         s(self, "inlier_sigmas", _num(o, "inlier_sigmas", self.inlier_sigmas, lo=0.0, lo_open=True))
         s(self, "assign_sigmas", _num(o, "assign_sigmas", self.assign_sigmas, lo=0.0, lo_open=True))
         if self.assign_sigmas < self.inlier_sigmas:
@@ -155,12 +153,8 @@ class SplitParams:
         else:
             s(self, "min_region_size", _int(o, "min_region_size", self.min_region_size, 3))
         s(self, "seed", _int(o, "seed", self.seed, 0))
-        if not isinstance(self.leftover, (bool, np.bool_)):
-            raise InputError(f"{o}: leftover must be true or false, got {self.leftover!r}")
-        s(self, "leftover", bool(self.leftover))
-        if not isinstance(self.merge, (bool, np.bool_)):
-            raise InputError(f"{o}: merge must be true or false, got {self.merge!r}")
-        s(self, "merge", bool(self.merge))
+        s(self, "leftover", _bool(o, "leftover", self.leftover))
+        s(self, "merge", _bool(o, "merge", self.merge))
         s(self, "merge_angle", _num(o, "merge_angle", self.merge_angle, lo=0.0, hi=90.0))
         s(self, "merge_gap", _int(o, "merge_gap", self.merge_gap, 1))
         s(self, "merge_jump", _num(o, "merge_jump", self.merge_jump, lo=0.0, lo_open=True))
