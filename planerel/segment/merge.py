@@ -139,9 +139,7 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
     remap = np.concatenate([[-1], new_id[roots]]).astype(np.int32)
     out = remap[labels.reshape(-1) + 1]
     k = len(kept)
-    nrm_f, off_f, cnt_f, cen_f, rms_f = fit_planes(xyz.reshape(-1, 3), out, k)
-    planes = tuple(SegPlane(i, nrm_f[i], off_f[i], int(cnt_f[i]), cen_f[i], rms_f[i])
-                   for i in range(k))
+    planes = SegPlane.from_fits(*fit_planes(xyz.reshape(-1, 3), out, k))
     info["merged"] = merged
     return Segmentation(out.reshape(labels.shape), planes, seg.method, seg.params, seg.normals,
                         info)

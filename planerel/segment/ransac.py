@@ -150,8 +150,7 @@ def ransac_segment(cloud, params: RansacParams | None = None, *, normals=None,
         keep = np.ones(len(R), bool)
         keep[dall < p.threshold] = False
         remaining = R[keep]
-    nrm, offs, cnt, cen, rms = fit_planes(flat, labels, n_planes)
-    planes = tuple(SegPlane(i, nrm[i], offs[i], int(cnt[i]), cen[i], rms[i]) for i in range(n_planes))
+    planes = SegPlane.from_fits(*fit_planes(flat, labels, n_planes))
     info = {"min_region_size": min_size, "iterations": iters_used,
             "unassigned_remaining": int(len(remaining))}
     return Segmentation(labels.reshape(h, w), planes, method, p, nrm_img, info)

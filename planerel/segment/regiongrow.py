@@ -145,10 +145,7 @@ def _check_moments(mom, name: str) -> None:
 def _build(labels, xyz_flat, n, params, normals, info, fits=None) -> Segmentation:
     if fits is None:
         fits = fit_planes(xyz_flat, labels.reshape(-1), n)
-    nrm, off, cnt, cen, rms = fits
-    planes = tuple(
-        SegPlane(i, nrm[i], off[i], int(cnt[i]), cen[i], rms[i]) for i in range(n)
-    )
+    planes = SegPlane.from_fits(*fits)
     return Segmentation(labels, planes, "regiongrow", params, normals, info)
 
 
@@ -231,7 +228,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
                                       cos_init, cos_main, cos_init, p.num_initial_points,
                                       p.base_update_step, min_size, labels, ws.queue,
                                       ws.seedable, pts, sums, ref))
-        info["grown_points"] = int(np.count_nonzero(labels >= 0))
+        info["grown_points"] = int(sums[:n, 0].sum())  # the kept regions' pixel counts
         if p.refine and n > 0:
             pn, po, _, _, prms = K.planes_from_sums(sums, ref, n)
             planes = np.ascontiguousarray(np.column_stack([pn, po]))

@@ -60,6 +60,36 @@ class SegPlane:
         object.__setattr__(self, "n_points", int(self.n_points))
         object.__setattr__(self, "id", int(self.id))
 
+    @classmethod
+    def from_fits(cls, normals, offsets, counts, centroids, rms) -> tuple:
+        """The planes ``0 .. n - 1`` of a least-squares fit (:func:`fit_planes` outputs, shapes
+        (n, 3), (n,), (n,), (n, 3), (n,)), validated once for all of them (the per-plane
+        checks of the constructor cost ~10 us each, a tenth of a 160x120 segmentation)."""
+        nrm = np.array(normals, dtype=np.float64).reshape(-1, 3)
+        cen = np.array(centroids, dtype=np.float64).reshape(-1, 3)
+        off = np.asarray(offsets, dtype=np.float64).reshape(-1)
+        cnt = np.asarray(counts).reshape(-1)
+        rr = np.asarray(rms, dtype=np.float64).reshape(-1)
+        n = len(nrm)
+        if not (len(cen) == len(off) == len(cnt) == len(rr) == n):
+            raise InputError("planes: normals, offsets, counts, centroids and rms differ in length")
+        if n == 0:
+            return ()
+        bad = ~(np.isfinite(nrm).all(axis=1) & np.isfinite(cen).all(axis=1)
+                & (np.abs(np.einsum("ij,ij->i", nrm, nrm) - 1.0) < 0.002) & (cnt >= 1))
+        if bad.any():  # the constructor names the problem
+            i = int(np.flatnonzero(bad)[0])
+            cls(i, nrm[i], off[i], int(cnt[i]), cen[i], rr[i])
+        nrm.setflags(write=False)
+        cen.setflags(write=False)
+        planes = []
+        for i, (o, c, r) in enumerate(zip(off.tolist(), cnt.tolist(), rr.tolist(), strict=True)):
+            p = object.__new__(cls)
+            p.__dict__.update(id=i, normal=nrm[i], offset=o, n_points=int(c), centroid=cen[i],
+                              rms=r)
+            planes.append(p)
+        return tuple(planes)
+
     def distance(self, points) -> np.ndarray:
         """Signed distances ``normal . p + offset`` of ``points`` (..., 3)."""
         return np.asarray(points, dtype=np.float64) @ self.normal + self.offset

@@ -341,9 +341,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     remap = np.full(next_id + 1, -1, dtype=np.int32)
     remap[np.array(final_order, dtype=np.int64) + 1] = np.arange(next_id, dtype=np.int32)
     out = remap[new_lab + 1].astype(np.int32)
-    nrm_f, off_f, cnt_f, cen_f, rms_f = fit_planes(xyz_flat, out, next_id)
-    planes = tuple(SegPlane(i, nrm_f[i], off_f[i], int(cnt_f[i]), cen_f[i], rms_f[i])
-                   for i in range(next_id))
+    planes = SegPlane.from_fits(*fit_planes(xyz_flat, out, next_id))
     return Segmentation(out.reshape(h, w), planes, seg.method, seg.params, seg.normals, info)
 
 
