@@ -175,3 +175,38 @@ def test_segmentation_unchanged_by_the_cache():
     again = segment(cloud, refine=False, split=False)
     np.testing.assert_array_equal(first.labels, again.labels)
     assert first.params is again.params
+
+
+def test_residual_kernel_matches_a_numpy_statement():
+    from planerel.segment._split_kernels import residual_stats_grid
+    from planerel.segment.split import SplitParams, expected_sigma
+
+    rng = np.random.default_rng(1)
+    h, w, n = 30, 40, 3
+    X = np.stack([rng.uniform(-1, 1, (h, w)), rng.uniform(-1, 1, (h, w)),
+                  rng.uniform(1, 4, (h, w))], axis=-1)
+    L = rng.integers(-1, n, (h, w)).astype(np.int32)
+    L[:, :20] = 0  # a block where second differences exist
+    pn = rng.normal(size=(n, 3))
+    pn /= np.linalg.norm(pn, axis=1, keepdims=True)
+    po = rng.uniform(0.5, 2, n)
+    p = SplitParams()
+    q = p.disparity_step / (p.focal_px * p.baseline)
+    rms, exp_rms, local = residual_stats_grid(X, L, pn, po, n, p.noise, q, p.depth_unit, True)
+    on = L >= 0
+    lab, P = L[on], X[on]
+    d = np.einsum("ij,ij->i", P, pn[lab]) + po[lab]
+    c = np.bincount(lab, minlength=n)
+    np.testing.assert_allclose(rms, np.sqrt(np.bincount(lab, d * d, minlength=n) / c), rtol=1e-12)
+    sig = expected_sigma(P, pn[lab], p)
+    np.testing.assert_allclose(exp_rms, np.sqrt(np.bincount(lab, sig * sig, minlength=n) / c),
+                               rtol=1e-12)
+    D = np.zeros((h, w))
+    D[on] = d
+    dd = D[:, :-2] - 2 * D[:, 1:-1] + D[:, 2:]
+    ok = (L[:, 1:-1] == 0) & (L[:, :-2] == 0) & (L[:, 2:] == 0)
+    ddc = D[:-2] - 2 * D[1:-1] + D[2:]
+    okc = (L[1:-1] == 0) & (L[:-2] == 0) & (L[2:] == 0)
+    want0 = np.sqrt(((dd[ok] ** 2).sum() + (ddc[okc] ** 2).sum()) / (ok.sum() + okc.sum()) / 6)
+    assert local[0] == pytest.approx(want0, rel=1e-12)
+    assert np.isnan(residual_stats_grid(X, L, pn, po, n, p.noise, q, p.depth_unit, False)[2]).all()

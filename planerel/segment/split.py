@@ -398,39 +398,17 @@ def _residual_stats(xyz, labels, pn, po, n, p: SplitParams, organized):
     the region's plane, RMS expected by the noise model, and the high-frequency noise (std of
     the second differences of the residual along rows and columns, ``sqrt(mean(dd^2) / 6)``;
     NaN for unorganized clouds or without three aligned samples).  Arrays of shape (n,)."""
+    from planerel.segment._split_kernels import residual_stats_grid
+
     h, w = labels.shape
     s = max(1, int(math.sqrt(h * w / _TEST_PIXELS)))
     if not organized:
         s = 1
-    L = labels[::s, ::s]
-    X = xyz[::s, ::s]
-    on = L >= 0
-    lm = L[on]
-    P = X[on]
-    nn = pn[lm]
-    dist = np.einsum("ij,ij->i", P, nn) + po[lm]
-    sig = expected_sigma(P, nn, p)
-    c = np.maximum(np.bincount(lm, minlength=n), 1)
-    rms = np.sqrt(np.bincount(lm, dist * dist, minlength=n) / c)
-    exp_rms = np.sqrt(np.bincount(lm, sig * sig, minlength=n) / c)
-    local = np.full(n, np.nan)
-    if organized:
-        D = np.zeros(L.shape)
-        D[on] = dist
-        ssum = np.zeros(n)
-        scnt = np.zeros(n)
-        for a, b, cc, la, lb, lc in (
-            (D[:, :-2], D[:, 1:-1], D[:, 2:], L[:, :-2], L[:, 1:-1], L[:, 2:]),
-            (D[:-2], D[1:-1], D[2:], L[:-2], L[1:-1], L[2:]),
-        ):
-            ok = (lb >= 0) & (la == lb) & (lc == lb)
-            dd = (a - 2.0 * b + cc)[ok]
-            lbl = lb[ok]
-            ssum += np.bincount(lbl, dd * dd, minlength=n)
-            scnt += np.bincount(lbl, minlength=n)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            local = np.sqrt(ssum / scnt / 6.0)
-    return rms, exp_rms, local
+    q = p.disparity_step / (p.focal_px * p.baseline)
+    return residual_stats_grid(xyz[::s, ::s], np.asarray(labels[::s, ::s], dtype=np.int32),
+                               np.ascontiguousarray(pn, dtype=np.float64),
+                               np.ascontiguousarray(po, dtype=np.float64), int(n),
+                               float(p.noise), float(q), float(p.depth_unit), bool(organized))
 
 
 def _fit(P) -> tuple[np.ndarray, float]:
