@@ -210,3 +210,32 @@ def test_residual_kernel_matches_a_numpy_statement():
     want0 = np.sqrt(((dd[ok] ** 2).sum() + (ddc[okc] ** 2).sum()) / (ok.sum() + okc.sum()) / 6)
     assert local[0] == pytest.approx(want0, rel=1e-12)
     assert np.isnan(residual_stats_grid(X, L, pn, po, n, p.noise, q, p.depth_unit, False)[2]).all()
+
+
+def test_completion_queue_grows_without_changing_the_result():
+    xyz, nrm, mask = _stairs()
+    h, w, _ = xyz.shape
+    n = h * w
+    pts = xyz.reshape(-1, 3)
+    cos_main, cos_init = math.cos(math.radians(15)), math.cos(math.radians(7.5))
+    labels = np.empty(n, dtype=np.int32)
+    sums = np.zeros((n // 20 + 2, 10))
+    ref = np.zeros((n // 20 + 2, 3))
+    nreg = K.region_grow_grid_ws(nrm.reshape(-1, 3), np.empty(n, np.bool_), mask.reshape(-1), w, 4,
+                                 cos_init, cos_main, cos_init, 16, 8, 20, labels,
+                                 np.empty(n, np.int32), np.empty(n, np.bool_), pts, sums, ref)
+    pn, po, _, _, prms = K.planes_from_sums(sums, ref, nreg)
+    planes = np.ascontiguousarray(np.column_stack([pn, po]))
+    thr = 3.0 * np.maximum(prms, 1e-6)
+    out = []
+    for cap in (1, n):  # a one-entry queue must grow many times
+        lab, sm = labels.copy(), sums.copy()
+        added = K.refine_grid_ws(pts, mask.reshape(-1), w, lab, planes, thr, 6,
+                                 np.empty(n, np.uint8), np.empty((cap, 3), np.int32), sm, ref)
+        out.append((added, lab, sm))
+    assert out[0][0] == out[1][0] > 0
+    np.testing.assert_array_equal(out[0][1], out[1][1])
+    np.testing.assert_array_equal(out[0][2], out[1][2])
+    # the moments kept up to date while completing are those of the final labels
+    lab = out[0][1]
+    np.testing.assert_array_equal(out[0][2][:nreg, 0], np.bincount(lab[lab >= 0], minlength=nreg))

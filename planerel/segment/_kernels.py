@@ -611,6 +611,45 @@ def region_grow_list(nrm, nvalid, nbr, min_nb, cos_init, cos_main, cos_seed,
     return nreg
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _push(ent, n, head, tail, cur, p, lab, lev):
+    """Append (pixel ``p``, region ``lab``) to FIFO level ``lev`` of the completion queue
+    (entries ``ent`` (M, 3): pixel, region, next; doubled when full).  Returns (ent, n, lowest
+    non-empty level)."""
+    if n == ent.shape[0]:
+        e2 = np.empty((2 * n, 3), dtype=np.int32)
+        e2[:n] = ent[:n]
+        ent = e2
+    ent[n, 0] = p
+    ent[n, 1] = lab
+    ent[n, 2] = -1
+    if tail[lev] >= 0:
+        ent[tail[lev], 2] = n
+    else:
+        head[lev] = n
+    tail[lev] = n
+    return ent, n + 1, min(cur, lev)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _add_moments(sums, ref, lab, pts, p):
+    """Add point ``pts[p]`` to region ``lab``'s moments ``sums[lab]`` (n, sx, sy, sz, sxx, sxy,
+    sxz, syy, syz, szz about ``ref[lab]``)."""
+    x = pts[p, 0] - ref[lab, 0]
+    y = pts[p, 1] - ref[lab, 1]
+    z = pts[p, 2] - ref[lab, 2]
+    sums[lab, 0] += 1.0
+    sums[lab, 1] += x
+    sums[lab, 2] += y
+    sums[lab, 3] += z
+    sums[lab, 4] += x * x
+    sums[lab, 5] += x * y
+    sums[lab, 6] += x * z
+    sums[lab, 7] += y * y
+    sums[lab, 8] += y * z
+    sums[lab, 9] += z * z
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
 def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, ent, sums,
                    ref):  # pragma: no cover
@@ -631,7 +670,6 @@ def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, ent, sums,
         offs[k] = dv[k] * W + du[k]
     head = np.full(NB, -1, dtype=np.int32)
     tail = np.full(NB, -1, dtype=np.int32)
-    cap = ent.shape[0]
     n = 0
     cur = NB
     for p in range(N):
@@ -653,23 +691,7 @@ def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, ent, sums,
                         bestd = d
                         bestl = lab
         if bestl >= 0:
-            lev = min(NB - 1, int(NB * bestd))
-            if n == cap:
-                cap *= 2
-                e2 = np.empty((cap, 3), dtype=np.int32)
-                e2[:n] = ent[:n]
-                ent = e2
-            ent[n, 0] = p
-            ent[n, 1] = bestl
-            ent[n, 2] = -1
-            if tail[lev] >= 0:
-                ent[tail[lev], 2] = n
-            else:
-                head[lev] = n
-            tail[lev] = n
-            n += 1
-            if lev < cur:
-                cur = lev
+            ent, n, cur = _push(ent, n, head, tail, cur, p, bestl, min(NB - 1, int(NB * bestd)))
     total = 0
     while cur < NB:
         it = head[cur]
@@ -685,19 +707,7 @@ def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, ent, sums,
             continue
         labels[p] = lab
         total += 1
-        x = pts[p, 0] - ref[lab, 0]
-        y = pts[p, 1] - ref[lab, 1]
-        z = pts[p, 2] - ref[lab, 2]
-        sums[lab, 0] += 1.0
-        sums[lab, 1] += x
-        sums[lab, 2] += y
-        sums[lab, 3] += z
-        sums[lab, 4] += x * x
-        sums[lab, 5] += x * y
-        sums[lab, 6] += x * z
-        sums[lab, 7] += y * y
-        sums[lab, 8] += y * z
-        sums[lab, 9] += z * z
+        _add_moments(sums, ref, lab, pts, p)
         m = mask[p]
         best = rounds + 1
         for k in range(8):
@@ -719,23 +729,8 @@ def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, ent, sums,
                 if labels[q] < 0:
                     dq = abs(a0 * pts[q, 0] + a1 * pts[q, 1] + a2 * pts[q, 2] + a3) / t
                     if dq < 1.0:
-                        lev = min(NB - 1, int(NB * dq))
-                        if n == cap:
-                            cap *= 2
-                            e2 = np.empty((cap, 3), dtype=np.int32)
-                            e2[:n] = ent[:n]
-                            ent = e2
-                        ent[n, 0] = q
-                        ent[n, 1] = lab
-                        ent[n, 2] = -1
-                        if tail[lev] >= 0:
-                            ent[tail[lev], 2] = n
-                        else:
-                            head[lev] = n
-                        tail[lev] = n
-                        n += 1
-                        if lev < cur:
-                            cur = lev
+                        ent, n, cur = _push(ent, n, head, tail, cur, q, lab,
+                                            min(NB - 1, int(NB * dq)))
     return total
 
 
@@ -756,20 +751,7 @@ def region_sums(pts, labels, nreg):  # pragma: no cover - compiled
             ref[lab, 0] = pts[p, 0]
             ref[lab, 1] = pts[p, 1]
             ref[lab, 2] = pts[p, 2]
-        x = pts[p, 0] - ref[lab, 0]
-        y = pts[p, 1] - ref[lab, 1]
-        z = pts[p, 2] - ref[lab, 2]
-        o = out[lab]
-        o[0] += 1.0
-        o[1] += x
-        o[2] += y
-        o[3] += z
-        o[4] += x * x
-        o[5] += x * y
-        o[6] += x * z
-        o[7] += y * y
-        o[8] += y * z
-        o[9] += z * z
+        _add_moments(out, ref, lab, pts, p)
     return out, ref
 
 
