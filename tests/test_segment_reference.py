@@ -16,6 +16,7 @@ from planerel.errors import InputError
 from planerel.normals import organized_normals
 from planerel.segment import SegPlane, make_params, segment
 from planerel.segment import _kernels as K
+from planerel.segment._graph_kernels import grid_graph
 from planerel.segment._scenes import staircase
 
 _DIRS = [(0, 1), (1, -1), (1, 0), (1, 1), (0, -1), (-1, 1), (-1, 0), (-1, -1)]
@@ -82,8 +83,7 @@ def _reference_grow(nrm, mask, min_nb, cos_init, cos_main, num_init, step, min_s
 def _graph(xyz):
     h, w, _ = xyz.shape
     mask = np.empty((h, w), dtype=np.uint8)
-    K.grid_graph_ws(xyz, 6.0, -1.0, True, 24, 1, mask, np.empty((4, h, w), np.float32),
-                    np.empty((h, w), np.uint8))
+    grid_graph(xyz, 6.0, -1.0, True, 24, 1, mask)
     return mask
 
 

@@ -76,7 +76,7 @@ class _Workspace:
 
     Fresh memory costs a page fault per 4 KiB page on first touch (about 3 ms for 10 MB on the
     reference VM, as much as the whole growing step), so the organized pipeline keeps its
-    scratch (~27 MB at 640x480) for the most recent image sizes (:data:`_WS_KEEP`) per thread.
+    scratch (~22 MB at 640x480) for the most recent image sizes (:data:`_WS_KEEP`) per thread.
     """
 
     def __init__(self, h: int, w: int) -> None:
@@ -86,8 +86,6 @@ class _Workspace:
         self.sm = np.empty((h, w, 3), dtype=np.float32)
         self.mom = np.empty(10)
         self.mask = np.empty((h, w), dtype=np.uint8)
-        self.d2 = np.empty((4, h, w), dtype=np.float32)
-        self.band = np.empty((h, w), dtype=np.uint8)
         self.nvalid = np.empty(n, dtype=np.bool_)
         self.queue = np.empty(n, dtype=np.int32)
         self.seedable = np.empty(n, dtype=np.bool_)
@@ -168,6 +166,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
     """
     from planerel import normals as nmod
     from planerel.segment import _kernels as K
+    from planerel.segment._graph_kernels import grid_graph
 
     p = params if params is not None else RegionGrowParams()
     if not isinstance(p, RegionGrowParams):
@@ -212,9 +211,9 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
         ws = _workspace(h, w)
         pts = np.ascontiguousarray(xyz_flat, dtype=np.float64)
         mask = ws.mask
-        table, zmin, zwidth, mean_nn = K.grid_graph_ws(
+        table, zmin, zwidth, mean_nn = grid_graph(
             xyz, float(p.delta_factor), delta_fixed, p.delta_mode == "depth", _NBANDS,
-            max(1, h // 120), mask, ws.d2, ws.band)
+            max(1, h // 120), mask)
         tl = sorted(table.tolist())
         info.update(delta=statistics.median(tl), delta_min=tl[0], delta_max=tl[-1],
                     mean_neighbour_distance=float(mean_nn))

@@ -1,0 +1,248 @@
+"""numba kernel of the region-growing neighbour graph (compiled once, cached on disk).
+
+The graph joins 8-adjacent grid pixels whose points are closer than delta (the paper's
+distance threshold); ``"auto"`` delta comes from the mean nearest-neighbour distance per
+depth band (docs/segmentation.md).  The kernel streams the image row by row through small
+row buffers, so nothing image-sized is written but the (H, W) bit mask, and the per-row loops
+are simple enough for LLVM to vectorise (they compare squared edge lengths of whole rows at a
+time).  Import this module only from inside functions (numba is a heavy import).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["grid_graph"]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _load_row(xyz, v, r):  # pragma: no cover - compiled
+    """Row ``v`` of ``xyz`` into ``r`` (3, W + 2): x, y, z at columns 1..W; all NaN when ``v``
+    lies outside the image.  Columns 0 and W + 1 are padding and must hold NaN."""
+    H = xyz.shape[0]
+    W = xyz.shape[1]
+    if 0 <= v < H:
+        for u in range(W):
+            r[0, u + 1] = xyz[v, u, 0]
+            r[1, u + 1] = xyz[v, u, 1]
+            r[2, u + 1] = xyz[v, u, 2]
+    else:
+        for u in range(W + 2):
+            r[0, u] = np.nan
+            r[1, u] = np.nan
+            r[2, u] = np.nan
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _d2_row(a, b, shift, out):  # pragma: no cover - compiled
+    """``out[u]``: float32 squared distance between column ``u + 1`` of row buffer ``a`` and
+    column ``u + 1 + shift`` of row buffer ``b`` (inf where either point is NaN)."""
+    n = out.shape[0]
+    ax = a[0, 1:n + 1]
+    ay = a[1, 1:n + 1]
+    az = a[2, 1:n + 1]
+    bx = b[0, 1 + shift:n + 1 + shift]
+    by = b[1, 1 + shift:n + 1 + shift]
+    bz = b[2, 1 + shift:n + 1 + shift]
+    inf = np.float32(np.inf)
+    for i in range(n):
+        dx = bx[i] - ax[i]
+        dy = by[i] - ay[i]
+        dz = bz[i] - az[i]
+        d = np.float32(dx * dx + dy * dy + dz * dz)
+        out[i] = d if d < inf else inf
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _threshold_row(z, zmin, width, nbands, tab2, band, t):  # pragma: no cover - compiled
+    """``t[u + 1]``: squared delta of the depth band of ``z[u + 1]`` (row buffer with padding;
+    NaN goes to band 0, its edges fail anyway); ``band`` (W,) int32 scratch."""
+    n = band.shape[0]
+    top = nbands - 1
+    for i in range(n):
+        b = (z[i + 1] - zmin) / width
+        b = b if b > 0.0 else 0.0
+        b = b if b < top else top
+        band[i] = np.int32(b)
+    for i in range(n):
+        t[i + 1] = tab2[band[i]]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _edge_row(a, ta, b, tb, shift, e):  # pragma: no cover - compiled
+    """``e[u]`` = 1 when the edge from column ``u + 1`` of row buffer ``a`` to column
+    ``u + 1 + shift`` of ``b`` is shorter than the larger squared delta of its two ends
+    (``ta``, ``tb`` padded like the rows); 0 when either end is NaN."""
+    n = e.shape[0]
+    ax = a[0, 1:n + 1]
+    ay = a[1, 1:n + 1]
+    az = a[2, 1:n + 1]
+    at = ta[1:n + 1]
+    bx = b[0, 1 + shift:n + 1 + shift]
+    by = b[1, 1 + shift:n + 1 + shift]
+    bz = b[2, 1 + shift:n + 1 + shift]
+    bt = tb[1 + shift:n + 1 + shift]
+    for i in range(n):
+        dx = bx[i] - ax[i]
+        dy = by[i] - ay[i]
+        dz = bz[i] - az[i]
+        d = np.float32(dx * dx + dy * dy + dz * dz)
+        e[i] = d < max(at[i], bt[i])
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def grid_graph(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step,
+               mask):  # pragma: no cover - compiled
+    """Fill ``mask`` (H, W) uint8 with the grid neighbours within delta (bit k: direction k of
+    ``planerel.segment._kernels.GRID_DV`` / ``GRID_DU``).
+
+    ``xyz`` (H, W, 3) float64, NaN = invalid.  delta: ``delta_fixed`` when > 0; else
+    ``delta_factor`` x the mean over points of the distance to the nearest of the 8 adjacent
+    neighbours, estimated on every ``row_step``-th row; with ``by_depth`` that mean is taken
+    per depth band (``nbands`` equal bands between the smallest and largest depth of those
+    rows) and an edge uses the band of its farther point.  An edge exists when its float32
+    squared length is below the float32 squared delta.
+
+    Returns (delta table (nbands,), band zmin, band width, global mean nearest-neighbour
+    distance).
+    """
+    H = xyz.shape[0]
+    W = xyz.shape[1]
+    zmin = np.inf
+    zmax = -np.inf
+    for v in range(0, H, row_step):
+        for u in range(W):
+            z = xyz[v, u, 2]
+            if not np.isnan(z):
+                if z < zmin:
+                    zmin = z
+                if z > zmax:
+                    zmax = z
+    if not zmin < np.inf:
+        for v in range(H):
+            for u in range(W):
+                z = xyz[v, u, 2]
+                if not np.isnan(z):
+                    zmin = min(zmin, z)
+                    zmax = max(zmax, z)
+    width = (zmax - zmin) / nbands
+    if not width > 0:
+        width = 1.0
+
+    # --- mean nearest-neighbour distance per band, on every row_step-th row -------------
+    r0 = np.full((3, W + 2), np.nan)  # padding columns stay NaN
+    r1 = np.full((3, W + 2), np.nan)
+    r2 = np.full((3, W + 2), np.nan)
+    inf = np.float32(np.inf)
+    # padded squared lengths: 0 right edges of row v; 1-3 the down edges of row v - 1 (shift
+    # -1, 0, +1); 4-6 the down edges of row v
+    d = np.full((7, W + 2), inf, dtype=np.float32)
+    bsum = np.zeros(nbands)
+    bcnt = np.zeros(nbands)
+    tot = 0.0
+    totn = 0.0
+    prev = -2
+    for v in range(0, H, row_step):
+        if v == prev + 1:  # consecutive rows: reuse the rows and row v - 1's down edges
+            r0, r1, r2 = r1, r2, r0
+            _load_row(xyz, v + 1, r2)
+            for k in range(3):
+                for u in range(W + 2):
+                    d[1 + k, u] = d[4 + k, u]
+        else:
+            _load_row(xyz, v - 1, r0)
+            _load_row(xyz, v, r1)
+            _load_row(xyz, v + 1, r2)
+            for k in range(3):
+                _d2_row(r0, r1, k - 1, d[1 + k, 1:W + 1])
+        prev = v
+        _d2_row(r1, r1, 1, d[0, 1:W + 1])
+        for k in range(3):
+            _d2_row(r1, r2, k - 1, d[4 + k, 1:W + 1])
+        for u in range(W):
+            z0 = r1[2, u + 1]
+            # right, left, below-left, below, below-right, above-right, above, above-left
+            m = min(min(min(d[0, u + 1], d[0, u]), min(d[4, u + 1], d[5, u + 1])),
+                    min(min(d[6, u + 1], d[1, u + 2]), min(d[2, u + 1], d[3, u])))
+            if np.isnan(z0) or not m < inf:
+                continue
+            dd = np.sqrt(np.float64(m))
+            b = min(nbands - 1, max(0, int((z0 - zmin) / width)))
+            bsum[b] += dd
+            bcnt[b] += 1.0
+            tot += dd
+            totn += 1.0
+    mean = tot / totn if totn > 0 else 0.0
+
+    # --- delta per band ------------------------------------------------------------------
+    table = np.empty(nbands)
+    if delta_fixed > 0:
+        for b in range(nbands):
+            table[b] = delta_fixed
+    elif not by_depth:
+        for b in range(nbands):
+            table[b] = delta_factor * mean
+    else:
+        # band means; bands with few samples take the nearest well-sampled band's value
+        good = np.zeros(nbands, dtype=np.bool_)
+        for b in range(nbands):
+            good[b] = bcnt[b] >= 20
+        anygood = False
+        for b in range(nbands):
+            anygood = anygood or good[b]
+        for b in range(nbands):
+            if good[b]:
+                table[b] = delta_factor * bsum[b] / bcnt[b]
+            elif not anygood:
+                table[b] = delta_factor * mean
+            else:
+                best = -1
+                for k in range(nbands):
+                    if good[k] and (best < 0 or abs(k - b) < abs(best - b)):
+                        best = k
+                table[b] = delta_factor * bsum[best] / bcnt[best]
+        # monotone in depth, so that the band of an edge's farther point is its larger delta
+        for b in range(1, nbands):
+            if table[b] < table[b - 1]:
+                table[b] = table[b - 1]
+    tab2 = np.empty(nbands, dtype=np.float32)
+    for b in range(nbands):
+        tab2[b] = table[b] * table[b]
+
+    # --- edges: the 4 forward edges of row v, the backward bits from row v - 1 -------------
+    # (the table is monotone, so tab2[band of the farther point] = the larger of the two
+    # ends' squared deltas)
+    ta = np.zeros(W + 2, dtype=np.float32)
+    tb = np.zeros(W + 2, dtype=np.float32)
+    band = np.empty(W, dtype=np.int32)
+    e = np.zeros((8, W), dtype=np.uint8)
+    ra = r0
+    rb = r1
+    _load_row(xyz, 0, ra)
+    _threshold_row(ra[2], zmin, width, nbands, tab2, band, ta)
+    for v in range(H):
+        _load_row(xyz, v + 1, rb)
+        _threshold_row(rb[2], zmin, width, nbands, tab2, band, tb)
+        ec = e[0:4] if v % 2 == 0 else e[4:8]  # this row's forward edges
+        ep = e[4:8] if v % 2 == 0 else e[0:4]  # the previous row's (zero before row 0)
+        _edge_row(ra, ta, ra, ta, 1, ec[0])
+        _edge_row(ra, ta, rb, tb, -1, ec[1])
+        _edge_row(ra, ta, rb, tb, 0, ec[2])
+        _edge_row(ra, ta, rb, tb, 1, ec[3])
+        mr = mask[v]
+        if W == 1:
+            mr[0] = (ec[2, 0] << 2) | (ep[2, 0] << 6)
+        else:
+            mr[0] = (ec[0, 0] | (ec[2, 0] << 2) | (ec[3, 0] << 3) | (ep[1, 1] << 5)
+                     | (ep[2, 0] << 6))
+            for u in range(1, W - 1):
+                mr[u] = (ec[0, u] | (ec[1, u] << 1) | (ec[2, u] << 2) | (ec[3, u] << 3)
+                         | (ec[0, u - 1] << 4) | (ep[1, u + 1] << 5) | (ep[2, u] << 6)
+                         | (ep[3, u - 1] << 7))
+            u = W - 1
+            mr[u] = ((ec[1, u] << 1) | (ec[2, u] << 2) | (ec[0, u - 1] << 4) | (ep[2, u] << 6)
+                     | (ep[3, u - 1] << 7))
+        ra, rb = rb, ra
+        ta, tb = tb, ta
+    return table, zmin, width, mean
