@@ -122,17 +122,11 @@ def test_kernel_matches_the_reference_algorithm(small_scene, num_init, step, the
     min_size = 20
     want, want_n = _reference_grow(nrm, mask, 4, cos_init, cos_main, num_init, step, min_size)
     labels = np.empty(n, dtype=np.int32)
-    sums = np.zeros((n // min_size + 2, 10))
-    ref = np.zeros((n // min_size + 2, 3))
     got_n = K.region_grow_grid_ws(nrm.reshape(-1, 3), np.empty(n, np.bool_), mask.reshape(-1), w,
                                   4, cos_init, cos_main, cos_init, num_init, step, min_size,
-                                  labels, np.empty(n, np.int32), np.empty(n, np.bool_),
-                                  xyz.reshape(-1, 3), sums, ref)
+                                  labels, np.empty(n, np.int32), np.empty(n, np.bool_))
     assert got_n == want_n >= 3
     np.testing.assert_array_equal(labels.reshape(h, w), want)
-    # the moments gathered while growing are those of the labelled points
-    fits = K.fit_planes_kernel(xyz.reshape(-1, 3), labels, got_n)
-    np.testing.assert_array_equal(sums[:got_n, 0], fits[2])
 
 
 def test_planes_from_fits_validate_once_and_are_read_only():
@@ -219,11 +213,15 @@ def test_completion_queue_grows_without_changing_the_result():
     pts = xyz.reshape(-1, 3)
     cos_main, cos_init = math.cos(math.radians(15)), math.cos(math.radians(7.5))
     labels = np.empty(n, dtype=np.int32)
-    sums = np.zeros((n // 20 + 2, 10))
-    ref = np.zeros((n // 20 + 2, 3))
     nreg = K.region_grow_grid_ws(nrm.reshape(-1, 3), np.empty(n, np.bool_), mask.reshape(-1), w, 4,
                                  cos_init, cos_main, cos_init, 16, 8, 20, labels,
-                                 np.empty(n, np.int32), np.empty(n, np.bool_), pts, sums, ref)
+                                 np.empty(n, np.int32), np.empty(n, np.bool_))
+    sums = np.full((n // 20 + 2, 10), np.nan)  # rows past nreg: left alone by region_sums_into
+    ref = np.full((n // 20 + 2, 3), np.nan)
+    K.region_sums_into(pts, labels, nreg, sums, ref)
+    np.testing.assert_array_equal(np.column_stack(K.region_sums(pts, labels, nreg)),
+                                  np.column_stack([sums[:nreg], ref[:nreg]]))
+    assert np.isnan(sums[nreg:]).all() and np.isnan(ref[nreg:]).all()
     pn, po, _, _, prms = K.planes_from_sums(sums, ref, nreg)
     planes = np.ascontiguousarray(np.column_stack([pn, po]))
     thr = 3.0 * np.maximum(prms, 1e-6)

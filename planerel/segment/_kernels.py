@@ -16,6 +16,8 @@ __all__ = [
     "refine_grid_ws",
     "region_grow_grid_ws",
     "region_sums",
+    "region_sums_into",
+    "add_region_moments",
     "fit_planes_kernel",
     "planes_from_sums",
     "spread_of_moments",
@@ -233,16 +235,16 @@ def normals_ws(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, runs, colp, sm, m
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_seed,
-                        num_init, update_step, min_size, labels, queue, seedable, pts, sums,
-                        ref):  # pragma: no cover
+                        num_init, update_step, min_size, labels, queue,
+                        seedable):  # pragma: no cover
     """The paper's Algorithm 1 on the 8-neighbour image grid (flat arrays).
 
     nrm (N, 3) unit normals; nvalid (N,) bool; mask (N,) uint8 neighbour bits; labels (N,) int32
     receives region ids (-1 = could join but did not, -2 = cannot join: no normal or fewer than
     ``min_nb`` delta-neighbours); queue (N,) int32 and seedable (N,) bool scratch.  Returns the
-    region count.  Also accumulates the moments of each kept region's points ``pts`` (N, 3)
-    into ``sums`` (>= nreg, 10) about ``ref`` (>= nreg, 3), the region's seed point (see
-    :func:`region_sums`), so that the planes need no further pass over the image."""
+    region count.  The regions' moments come afterwards from one row-major pass
+    (:func:`region_sums_into`): accumulating them here, in growing order, cost more than the
+    pass (each joined point's coordinates are a cache miss on the growing's critical path)."""
     N = nrm.shape[0]
     offs = np.empty(8, dtype=np.int64)
     dv = (0, 1, 1, 1, 0, -1, -1, -1)
@@ -275,13 +277,6 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
             continue
         rid = nreg
         labels[p] = rid
-        r0x = pts[p, 0]
-        r0y = pts[p, 1]
-        r0z = pts[p, 2]
-        ref[rid, 0] = r0x
-        ref[rid, 1] = r0y
-        ref[rid, 2] = r0z
-        a1 = a2 = a3 = a4 = a5 = a6 = a7 = a8 = a9 = 0.0
         queue[0] = p
         head = 0
         tail = 1
@@ -312,18 +307,6 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
                 if qx * bx + qy * by + qz * bz < thr:
                     continue
                 labels[q] = rid
-                x = pts[q, 0] - r0x
-                y = pts[q, 1] - r0y
-                z = pts[q, 2] - r0z
-                a1 += x
-                a2 += y
-                a3 += z
-                a4 += x * x
-                a5 += x * y
-                a6 += x * z
-                a7 += y * y
-                a8 += y * z
-                a9 += z * z
                 queue[tail] = q
                 tail += 1
                 sx += qx
@@ -340,16 +323,6 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
                     if count >= num_init:
                         thr = cos_main
         if count >= min_size:
-            sums[rid, 0] = count
-            sums[rid, 1] = a1
-            sums[rid, 2] = a2
-            sums[rid, 3] = a3
-            sums[rid, 4] = a4
-            sums[rid, 5] = a5
-            sums[rid, 6] = a6
-            sums[rid, 7] = a7
-            sums[rid, 8] = a8
-            sums[rid, 9] = a9
             nreg += 1
         else:
             for i in range(tail):
@@ -569,24 +542,104 @@ def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, ent, sums,
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def add_region_moments(pts, labels, lo, hi, sums, ref):  # pragma: no cover - compiled
+    """Add the moments of every point whose label lies in ``[lo, hi)`` to ``sums`` (about
+    ``ref``; see :func:`region_sums`), in row-major order.  The current region's totals stay in
+    registers until the label changes: the same additions in the same order as updating
+    ``sums`` point by point, without a load and store of ten totals per point."""
+    N = pts.shape[0]
+    cur = -1
+    n = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    rx = ry = rz = 0.0
+    for p in range(N):
+        lab = labels[p]
+        if lab < lo or lab >= hi:
+            continue
+        if lab != cur:
+            if cur >= 0:
+                sums[cur, 0] = n
+                sums[cur, 1] = s1
+                sums[cur, 2] = s2
+                sums[cur, 3] = s3
+                sums[cur, 4] = s4
+                sums[cur, 5] = s5
+                sums[cur, 6] = s6
+                sums[cur, 7] = s7
+                sums[cur, 8] = s8
+                sums[cur, 9] = s9
+            cur = lab
+            n = sums[cur, 0]
+            s1 = sums[cur, 1]
+            s2 = sums[cur, 2]
+            s3 = sums[cur, 3]
+            s4 = sums[cur, 4]
+            s5 = sums[cur, 5]
+            s6 = sums[cur, 6]
+            s7 = sums[cur, 7]
+            s8 = sums[cur, 8]
+            s9 = sums[cur, 9]
+            rx = ref[cur, 0]
+            ry = ref[cur, 1]
+            rz = ref[cur, 2]
+        x = pts[p, 0] - rx
+        y = pts[p, 1] - ry
+        z = pts[p, 2] - rz
+        n += 1.0
+        s1 += x
+        s2 += y
+        s3 += z
+        s4 += x * x
+        s5 += x * y
+        s6 += x * z
+        s7 += y * y
+        s8 += y * z
+        s9 += z * z
+    if cur >= 0:
+        sums[cur, 0] = n
+        sums[cur, 1] = s1
+        sums[cur, 2] = s2
+        sums[cur, 3] = s3
+        sums[cur, 4] = s4
+        sums[cur, 5] = s5
+        sums[cur, 6] = s6
+        sums[cur, 7] = s7
+        sums[cur, 8] = s8
+        sums[cur, 9] = s9
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def region_sums(pts, labels, nreg):  # pragma: no cover - compiled
     """Per-region moments: (nreg, 10) = n, sx, sy, sz, sxx, sxy, sxz, syy, syz, szz, about each
     region's first point (for numerical stability), and (nreg, 3) those reference points."""
-    out = np.zeros((nreg, 10))
-    ref = np.zeros((nreg, 3))
+    out = np.empty((nreg, 10))
+    ref = np.empty((nreg, 3))
+    region_sums_into(pts, labels, nreg, out, ref)
+    return out, ref
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def region_sums_into(pts, labels, nreg, out, ref):  # pragma: no cover - compiled
+    """:func:`region_sums` into the first ``nreg`` rows of ``out`` (>= nreg, 10) and ``ref``
+    (>= nreg, 3) (other rows untouched)."""
+    for i in range(nreg):
+        for k in range(10):
+            out[i, k] = 0.0
+        for k in range(3):
+            ref[i, k] = 0.0
     seen = np.zeros(nreg, dtype=np.bool_)
+    left = nreg
     N = pts.shape[0]
     for p in range(N):
+        if left == 0:
+            break
         lab = labels[p]
-        if lab < 0:
-            continue
-        if not seen[lab]:
+        if lab >= 0 and not seen[lab]:
             seen[lab] = True
+            left -= 1
             ref[lab, 0] = pts[p, 0]
             ref[lab, 1] = pts[p, 1]
             ref[lab, 2] = pts[p, 2]
-        _add_moments(out, ref, lab, pts, p)
-    return out, ref
+    add_region_moments(pts, labels, 0, nreg, out, ref)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

@@ -226,7 +226,8 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
         n = int(K.region_grow_grid_ws(nflat, ws.nvalid, mflat, w, p.min_neighbour_num,
                                       cos_init, cos_main, cos_init, p.num_initial_points,
                                       p.base_update_step, min_size, labels, ws.queue,
-                                      ws.seedable, pts, sums, ref))
+                                      ws.seedable))
+        K.region_sums_into(pts, labels, n, sums, ref)
         info["grown_points"] = int(sums[:n, 0].sum())  # the kept regions' pixel counts
         if p.refine and n > 0:
             pn, po, _, _, prms = K.planes_from_sums(sums, ref, n)
