@@ -228,8 +228,9 @@ def test_completion_queue_grows_without_changing_the_result():
     out = []
     for cap in (1, n):  # a one-entry queue must grow many times
         lab, sm = labels.copy(), sums.copy()
-        added = K.refine_grid_ws(pts, mask.reshape(-1), w, lab, planes, thr, 6,
-                                 np.empty(n, np.uint8), np.empty((cap, 3), np.int32), sm, ref)
+        added, _ = K.refine_grid_ws(pts, mask.reshape(-1), w, lab, planes, thr, 6,
+                                    np.empty(n, np.uint8), np.empty(n, np.uint8),
+                                    np.empty((cap, 3), np.int32), sm, ref)
         out.append((added, lab, sm))
     assert out[0][0] == out[1][0] > 0
     np.testing.assert_array_equal(out[0][1], out[1][1])

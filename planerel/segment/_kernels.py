@@ -418,79 +418,37 @@ def region_grow_list(nrm, nvalid, nbr, min_nb, cos_init, cos_main, cos_seed,
     return nreg
 
 
-@njit(cache=True, nogil=True, inline="always")
-def _push(ent, n, head, tail, cur, p, lab, lev):
-    """Append (pixel ``p``, region ``lab``) to FIFO level ``lev`` of the completion queue
-    (entries ``ent`` (M, 3): pixel, region, next; doubled when full).  Returns (ent, n, lowest
-    non-empty level)."""
-    if n == ent.shape[0]:
-        e2 = np.empty((2 * n, 3), dtype=np.int32)
-        e2[:n] = ent[:n]
-        ent = e2
-    ent[n, 0] = p
-    ent[n, 1] = lab
-    ent[n, 2] = -1
-    if tail[lev] >= 0:
-        ent[tail[lev], 2] = n
-    else:
-        head[lev] = n
-    tail[lev] = n
-    return ent, n + 1, min(cur, lev)
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _add_moments(sums, ref, lab, pts, p):
-    """Add point ``pts[p]`` to region ``lab``'s moments ``sums[lab]`` (n, sx, sy, sz, sxx, sxy,
-    sxz, syy, syz, szz about ``ref[lab]``)."""
-    x = pts[p, 0] - ref[lab, 0]
-    y = pts[p, 1] - ref[lab, 1]
-    z = pts[p, 2] - ref[lab, 2]
-    sums[lab, 0] += 1.0
-    sums[lab, 1] += x
-    sums[lab, 2] += y
-    sums[lab, 3] += z
-    sums[lab, 4] += x * x
-    sums[lab, 5] += x * y
-    sums[lab, 6] += x * z
-    sums[lab, 7] += y * y
-    sums[lab, 8] += y * z
-    sums[lab, 9] += z * z
+#: Distance levels of the completion queue (per region threshold).
+_NB = 16
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, ent, sums,
-                   ref):  # pragma: no cover
-    """Boundary completion by priority flood: unassigned valid pixels (label < 0) join a
-    neighbouring region (over a delta edge) whose fitted plane is within the region's threshold,
-    nearest plane first (16 distance levels per threshold, FIFO within a level), at most
-    ``rounds`` pixels away from the grown region.  The flood starts from the frontier only (each
-    unassigned pixel next to a region, queued once with its nearest neighbouring plane).
-    Scratch: ``depth`` (N,) uint8; ``ent`` (M, 3) int32 queue entries (pixel, region, next),
-    grown when full.  Each assigned pixel's moments are added to ``sums`` / ``ref`` (see
-    :func:`region_grow_grid_ws`).  Returns pixels assigned."""
+def _refine_scan(pts, mask, W, labels, planes, thr, p0, qlev, ent, state,
+                 head, tail):  # pragma: no cover - compiled
+    """The completion's frontier from pixel ``p0`` on: each unassigned pixel next to a region
+    (over a delta edge) is queued once, with its nearest neighbouring plane (within that
+    region's threshold).  Stops early when ``ent`` is full; returns the next pixel to scan
+    (N when done).  Queue state: ``state`` [entries used, lowest non-empty level, assigned]."""
     N = pts.shape[0]
-    NB = 16
-    offs = np.empty(8, dtype=np.int64)
+    NB = _NB
     dv = (0, 1, 1, 1, 0, -1, -1, -1)
     du = (1, -1, 0, 1, -1, 1, 0, -1)
-    for k in range(8):
-        offs[k] = dv[k] * W + du[k]
-    head = np.full(NB, -1, dtype=np.int32)
-    tail = np.full(NB, -1, dtype=np.int32)
-    n = 0
-    cur = NB
-    for p in range(N):
-        depth[p] = 0
-        if labels[p] >= 0:
-            continue
+    n = state[0]
+    cur = state[1]
+    cap = ent.shape[0]
+    for p in range(p0, N):
         m = mask[p]
-        if m == 0:
+        if not ((labels[p] < 0) & (m != 0)):
             continue
+        if n == cap:
+            state[0] = n
+            state[1] = cur
+            return p
         bestl = -1
         bestd = 1.0
         for k in range(8):
             if (m >> k) & 1:
-                lab = labels[p + offs[k]]
+                lab = labels[p + dv[k] * W + du[k]]
                 if lab >= 0 and lab != bestl:
                     d = abs(planes[lab, 0] * pts[p, 0] + planes[lab, 1] * pts[p, 1]
                             + planes[lab, 2] * pts[p, 2] + planes[lab, 3]) / thr[lab]
@@ -498,47 +456,147 @@ def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, ent, sums,
                         bestd = d
                         bestl = lab
         if bestl >= 0:
-            ent, n, cur = _push(ent, n, head, tail, cur, p, bestl, min(NB - 1, int(NB * bestd)))
-    total = 0
+            lev = min(NB - 1, int(NB * bestd))
+            qlev[p] = lev
+            # FIFO per level: entries (pixel, region, next entry of the level)
+            ent[n, 0] = p
+            ent[n, 1] = bestl
+            ent[n, 2] = -1
+            if tail[lev] >= 0:
+                ent[tail[lev], 2] = n
+            else:
+                head[lev] = n
+            tail[lev] = n
+            n += 1
+            cur = min(cur, lev)
+    state[0] = n
+    state[1] = cur
+    return N
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _refine_flood(pts, mask, W, labels, planes, thr, rounds, depth, qlev, ent, state, head,
+                  tail, sums, ref):  # pragma: no cover - compiled
+    """The completion's priority flood (see :func:`refine_grid_ws`) until the queue is empty
+    (returns True) or ``ent`` is full (returns False; call again with a larger copy)."""
+    NB = _NB
+    dv = (0, 1, 1, 1, 0, -1, -1, -1)
+    du = (1, -1, 0, 1, -1, 1, 0, -1)
+    n = state[0]
+    cur = state[1]
+    total = state[2]
+    cap = ent.shape[0]
     while cur < NB:
         it = head[cur]
         if it < 0:
             cur += 1
             continue
+        if n + 8 > cap:  # a pixel queues at most 8 entries: stop before taking it
+            state[0] = n
+            state[1] = cur
+            state[2] = total
+            return False
         head[cur] = ent[it, 2]
         if head[cur] < 0:
             tail[cur] = -1
         p = ent[it, 0]
         lab = ent[it, 1]
-        if labels[p] >= 0:
-            continue
-        labels[p] = lab
-        total += 1
-        _add_moments(sums, ref, lab, pts, p)
-        m = mask[p]
-        best = rounds + 1
-        for k in range(8):
-            if (m >> k) & 1:
-                q = p + offs[k]
-                if labels[q] == lab and depth[q] + 1 < best:
-                    best = depth[q] + 1
-        depth[p] = min(best, 255)
-        if best >= rounds:
-            continue
-        a0 = planes[lab, 0]
-        a1 = planes[lab, 1]
-        a2 = planes[lab, 2]
-        a3 = planes[lab, 3]
-        t = thr[lab]
-        for k in range(8):
-            if (m >> k) & 1:
-                q = p + offs[k]
-                if labels[q] < 0:
-                    dq = abs(a0 * pts[q, 0] + a1 * pts[q, 1] + a2 * pts[q, 2] + a3) / t
-                    if dq < 1.0:
-                        ent, n, cur = _push(ent, n, head, tail, cur, q, lab,
-                                            min(NB - 1, int(NB * dq)))
-    return total
+        if labels[p] < 0:
+            m = mask[p]
+            labels[p] = lab
+            total += 1
+            # moments of the region (written out: an inlined helper taking the arrays costs a
+            # reference-count round trip per call)
+            x = pts[p, 0] - ref[lab, 0]
+            y = pts[p, 1] - ref[lab, 1]
+            z = pts[p, 2] - ref[lab, 2]
+            sums[lab, 0] += 1.0
+            sums[lab, 1] += x
+            sums[lab, 2] += y
+            sums[lab, 3] += z
+            sums[lab, 4] += x * x
+            sums[lab, 5] += x * y
+            sums[lab, 6] += x * z
+            sums[lab, 7] += y * y
+            sums[lab, 8] += y * z
+            sums[lab, 9] += z * z
+            best = rounds + 1
+            for k in range(8):
+                if (m >> k) & 1:
+                    q = p + dv[k] * W + du[k]
+                    if labels[q] == lab and depth[q] + 1 < best:
+                        best = depth[q] + 1
+            depth[p] = min(best, 255)
+            if best < rounds:
+                a0 = planes[lab, 0]
+                a1 = planes[lab, 1]
+                a2 = planes[lab, 2]
+                a3 = planes[lab, 3]
+                t = thr[lab]
+                for k in range(8):
+                    if (m >> k) & 1:
+                        q = p + dv[k] * W + du[k]
+                        if labels[q] < 0:
+                            dq = abs(a0 * pts[q, 0] + a1 * pts[q, 1] + a2 * pts[q, 2] + a3) / t
+                            if dq < 1.0:
+                                lev = min(NB - 1, int(NB * dq))
+                                # an entry at a level no lower than one queued before pops
+                                # after it, when q is taken already: not queued
+                                if lev < qlev[q]:
+                                    qlev[q] = lev
+                                    ent[n, 0] = q
+                                    ent[n, 1] = lab
+                                    ent[n, 2] = -1
+                                    if tail[lev] >= 0:
+                                        ent[tail[lev], 2] = n
+                                    else:
+                                        head[lev] = n
+                                    tail[lev] = n
+                                    n += 1
+                                    cur = min(cur, lev)
+    state[0] = n
+    state[1] = cur
+    state[2] = total
+    return True
+
+
+@njit(cache=True, nogil=True)
+def _grown(ent):  # pragma: no cover - compiled
+    e2 = np.empty((2 * ent.shape[0], 3), dtype=np.int32)
+    e2[:ent.shape[0]] = ent
+    return e2
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, qlev, ent, sums,
+                   ref):  # pragma: no cover
+    """Boundary completion by priority flood: unassigned valid pixels (label < 0) join a
+    neighbouring region (over a delta edge) whose fitted plane is within the region's threshold,
+    nearest plane first (16 distance levels per threshold, FIFO within a level), at most
+    ``rounds`` pixels away from the grown region.  The flood starts from the frontier only (each
+    unassigned pixel next to a region, queued once with its nearest neighbouring plane).
+    Scratch: ``depth``, ``qlev`` (N,) uint8; ``ent`` (M, 3) int32 queue entries (pixel, region,
+    next), copied to a larger array when full.  Each assigned pixel's moments are added to
+    ``sums`` / ``ref`` (see :func:`region_sums`).  Returns (pixels assigned, the entries array
+    used: ``ent`` or its larger copy)."""
+    N = pts.shape[0]
+    for p in range(N):
+        depth[p] = 0
+        qlev[p] = 255
+    head = np.full(_NB, -1, dtype=np.int64)
+    tail = np.full(_NB, -1, dtype=np.int64)
+    state = np.zeros(3, dtype=np.int64)
+    state[1] = _NB
+    p = 0
+    while True:
+        p = _refine_scan(pts, mask, W, labels, planes, thr, p, qlev, ent, state, head, tail)
+        if p == N:
+            break
+        ent = _grown(ent)
+    while not _refine_flood(pts, mask, W, labels, planes, thr, rounds, depth, qlev, ent, state,
+                            head, tail, sums, ref):
+        ent = _grown(ent)
+    return state[2], ent
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

@@ -90,6 +90,7 @@ class _Workspace:
         self.queue = np.empty(n, dtype=np.int32)
         self.seedable = np.empty(n, dtype=np.bool_)
         self.depth = np.empty(n, dtype=np.uint8)
+        self.qlev = np.empty(n, dtype=np.uint8)
         self.comp = np.empty(n, dtype=np.int32)
         # output arrays handed to a Segmentation; reused only once no one refers to them
         self.out_normals = None
@@ -235,8 +236,9 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
             thr = p.refine_factor * np.maximum(prms, 1e-6)
             rounds = (p.refine_rounds if p.refine_rounds != "auto" else
                       _auto_rounds(p, w))
-            added = K.refine_grid_ws(pts, mflat, w, labels, planes, thr,
-                                     min(int(rounds), 254), ws.depth, ws.entries, sums, ref)
+            added, ws.entries = K.refine_grid_ws(pts, mflat, w, labels, planes, thr,
+                                                 min(int(rounds), 254), ws.depth, ws.qlev,
+                                                 ws.entries, sums, ref)
             info["refined_points"] = int(added)
             if p.leftover_planes:
                 n = _leftover_planes(K, pts, mflat, w, labels, n, min_size,
