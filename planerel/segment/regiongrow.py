@@ -115,6 +115,8 @@ def _output(ws: _Workspace, name: str, shape: tuple, dtype) -> np.ndarray:
 #: Image sizes whose scratch is kept per thread.
 _WS_KEEP = 2
 _WS_LOCAL = threading.local()
+#: Per thread: a flat int32 pixel -> point map, all -1 between calls (the split's kernels).
+_CELLMAPS = threading.local()
 
 
 def _workspace(h: int, w: int) -> _Workspace:

@@ -234,6 +234,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         Not a Cloud / Segmentation, shapes that disagree, bad parameters.
     """
     from planerel.cloud import Cloud
+    from planerel.segment._post_kernels import label_counts
 
     p = _make_params(params, kw)
     if not isinstance(cloud, Cloud):
@@ -245,7 +246,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         raise InputError(f"split: labels shape {seg.labels.shape} differs from the cloud's {(h, w)}")
     nrm = normals if normals is not None else seg.normals
     if nrm is not None:
-        nrm = np.asarray(nrm, dtype=np.float64)
+        nrm = np.asarray(nrm)  # float64 only for the points a split looks at
         if nrm.shape != (h, w, 3):
             raise InputError(f"split: normals shape {nrm.shape} differs from the cloud's {(h, w, 3)}")
     if p.min_region_size == "auto":
@@ -261,11 +262,15 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     xyz = cloud.xyz
     lab = labels.reshape(-1)
     xyz_flat = xyz.reshape(-1, 3)
-    if n and (labels.max() >= n or labels.min() < -1):
+    cnt, status = label_counts(np.ascontiguousarray(lab, dtype=np.int32),
+                               cloud.valid.reshape(-1), n)
+    if status == 1:
         raise InputError(f"split: labels must lie in -1..{n - 1} (the segmentation has {n} planes)")
-    if np.any(~cloud.valid & (labels >= 0)):
+    if status == 2:
         raise InputError("split: some labelled pixels have no valid point")
-    nflat = nrm.reshape(-1, 3) if nrm is not None else None
+
+    def normals_of(pix):
+        return None if nrm is None else np.asarray(nrm.reshape(-1, 3)[pix], dtype=np.float64)
 
     new_lab = None
     extra: dict[int, list] = {}
@@ -273,7 +278,6 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     n_unassigned = 0
     sensor_scale = 1.0
     if n:
-        cnt = np.bincount(lab + 1, minlength=n + 1)[1:]
         pn = np.array([pl.normal for pl in seg.planes])
         po = np.array([pl.offset for pl in seg.planes])
         rms, exp_rms, local = _residual_stats(xyz, labels, pn, po, n, p, cloud.organized)
@@ -288,7 +292,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         info["split_tested"] = int(len(bent))
         for r in bent:
             pix = np.flatnonzero(lab == r)
-            piece = _split_one(pix, xyz_flat[pix], None if nflat is None else nflat[pix], scale[r],
+            piece = _split_one(pix, xyz_flat[pix], normals_of(pix), scale[r],
                                min_size, p, w, cloud.organized,
                                np.random.default_rng([p.seed, int(r)]))
             if piece is None:
@@ -315,7 +319,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         cur = lab if new_lab is None else new_lab
         for t, pix in enumerate(_free_patches(cur.reshape(h, w), cloud.valid, min_size)):
             info["leftover_patches"] += 1
-            piece = _split_one(pix, xyz_flat[pix], None if nflat is None else nflat[pix],
+            piece = _split_one(pix, xyz_flat[pix], normals_of(pix),
                                sensor_scale, min_size, p, w, True,
                                np.random.default_rng([p.seed, n + t]), min_parts=1)
             if piece is not None:
@@ -369,22 +373,12 @@ def _keep_planar(piece, P, scale, p: SplitParams):
 def _free_patches(labels, valid, min_size):
     """Flat pixel indices (ascending) of each 8-connected patch of valid unassigned pixels
     with at least ``min_size`` pixels, patches ordered by their first pixel (row-major)."""
-    from scipy import ndimage
+    from planerel.segment._post_kernels import free_patches
 
-    comp, nc = ndimage.label(valid & (labels < 0), structure=np.ones((3, 3), dtype=bool))
-    if nc == 0:
-        return []
-    flat = comp.reshape(-1)
-    idx = np.flatnonzero(flat)  # the free pixels only: usually a small part of the image
-    lab = flat[idx]
-    sizes = np.bincount(lab, minlength=nc + 1)
-    big = np.flatnonzero(sizes >= min_size)
-    big = big[big > 0]
-    if len(big) == 0:
-        return []
-    order = idx[np.argsort(lab, kind="stable")]  # grouped by patch, ascending within one
-    starts = np.concatenate([[0], np.cumsum(sizes[1:])])
-    return [order[starts[c - 1]:starts[c]] for c in big]
+    h, w = labels.shape
+    order, starts = free_patches(np.ascontiguousarray(labels, dtype=np.int32).reshape(-1),
+                                 np.ascontiguousarray(valid).reshape(-1), w, int(min_size))
+    return [order[starts[i]:starts[i + 1]] for i in range(len(starts) - 1)]
 
 
 #: Points per region used to find the planar parts (a regular sample of larger regions).
@@ -432,8 +426,12 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
     None when fewer than ``min_parts`` pieces are found (the region stays as it was).  ``pix`` (m,) ascending flat pixel indices, ``P`` (m, 3)
     their points, ``N`` (m, 3) their normals or None; the point-to-plane sigma of a plane ``n``
     is ``scale * sigma_z(z) * |n . p| / z``."""
+    from planerel.segment._post_kernels import absorb_small, assign_parts, depth_scales, part_pieces
+
     m = len(P)
-    zs_all = P[:, 2] / (scale * np.sqrt(p.depth_sigma2(P[:, 2])))
+    q = p.disparity_step / (p.focal_px * p.baseline)
+    zs_all = depth_scales(np.ascontiguousarray(P[:, 2]), float(scale), float(p.noise), float(q),
+                          float(p.depth_unit))
     st = max(1, m // _DISCOVERY_POINTS)
     Q = P[::st]
     zs = zs_all[::st]
@@ -469,17 +467,37 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
             mj = part == j
             if mj.sum() >= 3:
                 planes[j] = _fit(Q[mj])
-    cost = np.stack([_cost(P, zs_all, nr, off) for nr, off in planes], axis=1)
-    part = np.argmin(cost, axis=1)
-    part[cost[np.arange(m), part] > p.assign_sigmas] = -1
-    grid = _grid(pix, w) if organized else None
-    pieces = _pieces(part, len(planes), min_size, grid, min_parts)
-    if pieces is None:
+    pl = np.array([[*nr, off] for nr, off in planes], dtype=np.float64)
+    cost, part = assign_parts(np.ascontiguousarray(P, dtype=np.float64), zs_all, pl,
+                              float(p.assign_sigmas))
+    if not organized:
+        pieces = _pieces(part, len(planes), min_size, min_parts)
+        if pieces is None:
+            return None
+        piece, piece_plane = pieces
+        if (piece == -2).any():
+            piece = _absorb(piece, piece_plane, cost, p.assign_sigmas)
+        return piece
+    cellmap = _cellmap(len(pix), w, pix)
+    piece, piece_plane = part_pieces(pix, w, part, len(planes), int(min_size), cellmap)
+    if len(piece_plane) < min_parts:
         return None
-    piece, piece_plane = pieces
     if (piece == -2).any():
-        piece = _absorb(piece, piece_plane, cost, p.assign_sigmas, grid)
+        piece = absorb_small(pix, w, piece, piece_plane, cost, float(p.assign_sigmas), cellmap)
     return piece
+
+
+def _cellmap(m, w, pix):
+    """Scratch of the region's image: (N,) int32 all -1 (the kernels restore it), kept per
+    thread for the image size (``pix`` (m,) ascending flat pixels give a lower bound of N)."""
+    from planerel.segment.regiongrow import _CELLMAPS
+
+    n_min = int(pix[-1]) + 1 if m else 0
+    cm = getattr(_CELLMAPS, "arr", None)
+    if cm is None or len(cm) < n_min:
+        cm = np.full(max(n_min, 1), -1, dtype=np.int32)
+        _CELLMAPS.arr = cm
+    return cm
 
 
 def _ransac(Q, zs, N, p: SplitParams, rng):
@@ -519,81 +537,34 @@ def _ransac(Q, zs, N, p: SplitParams, rng):
     return Hn[j], float(Ho[j])
 
 
-def _grid(pix, w):
-    """Row, column of ``pix`` within their bounding box, and the box shape."""
-    rr, cc = np.divmod(pix, w)
-    r0, c0 = rr.min(), cc.min()
-    return rr - r0, cc - c0, (int(rr.max() - r0 + 1), int(cc.max() - c0 + 1))
-
-
-def _pieces(part, k, min_size, grid, min_pieces=2):
-    """Connected pieces of the parts.  Returns ``(piece, piece_plane)``: per point the kept
-    piece index (0..), -2 for a point in a too-small piece, -1 unassigned; and the part index of
-    each kept piece.  None when fewer than ``min_pieces`` pieces are kept."""
+def _pieces(part, k, min_size, min_pieces=2):
+    """Pieces of the parts of an unorganized cloud's region (a part is one piece; organized
+    clouds use :func:`planerel.segment._post_kernels.part_pieces`, connected pieces).  Returns
+    ``(piece, piece_plane)``: per point the kept piece index (0..), -2 for a point in a
+    too-small piece, -1 unassigned; and the part index of each kept piece.  None when fewer
+    than ``min_pieces`` pieces are kept."""
     piece = np.full(len(part), -1, dtype=np.int64)
     piece_plane = []
-    if grid is None:  # unorganized cloud: a part is one piece
-        for j in range(k):
-            mj = part == j
-            if mj.sum() >= min_size:
-                piece[mj] = len(piece_plane)
-                piece_plane.append(j)
-            else:
-                piece[mj] = -2
-    else:
-        from scipy import ndimage
-
-        rr, cc, shape = grid
-        struct = np.ones((3, 3), dtype=bool)
-        for j in range(k):
-            on = part == j
-            if not on.any():
-                continue
-            mask = np.zeros(shape, dtype=bool)
-            mask[rr[on], cc[on]] = True
-            comp, nc = ndimage.label(mask, structure=struct)
-            cl = comp[rr[on], cc[on]]
-            sizes = np.bincount(cl, minlength=nc + 1)
-            big = np.flatnonzero(sizes >= min_size)
-            big = big[big > 0]
-            lut = np.full(nc + 1, -2, dtype=np.int64)
-            lut[big] = len(piece_plane) + np.arange(len(big))
-            piece_plane.extend([j] * len(big))
-            piece[on] = lut[cl]
+    for j in range(k):
+        mj = part == j
+        if mj.sum() >= min_size:
+            piece[mj] = len(piece_plane)
+            piece_plane.append(j)
+        else:
+            piece[mj] = -2
     if len(piece_plane) < min_pieces:
         return None
     return piece, np.array(piece_plane, dtype=np.int64)
 
 
-def _absorb(piece, piece_plane, cost, assign_sigmas, grid):
-    """Points of too-small pieces (-2) join the adjacent (8-connected) kept piece whose plane
-    is nearest in sigmas, within ``assign_sigmas``; else they become unassigned (-1).
-    ``cost`` (m, k): normalised distance of every point to every part's plane; ``grid``: the
-    points' (row, column, box shape) or None (unorganized: any kept piece)."""
+def _absorb(piece, piece_plane, cost, assign_sigmas):
+    """Points of too-small pieces (-2) of an unorganized cloud's region join the kept piece
+    whose plane is nearest in sigmas, within ``assign_sigmas``; else they become unassigned
+    (-1) (organized clouds: :func:`planerel.segment._post_kernels.absorb_small`, adjacent
+    pieces only).  ``cost`` (m, k): normalised distance of every point to every part's plane."""
     piece = piece.copy()
     small = np.flatnonzero(piece == -2)
     cs = cost[small][:, piece_plane]                 # (ns, kept pieces)
-    if grid is not None:
-        from scipy import ndimage
-
-        rr, cc, (hh, ww) = grid
-        kept = np.full((hh + 2, ww + 2), -1, dtype=np.int64)  # padded by one
-        ok = piece >= 0
-        kept[rr[ok] + 1, cc[ok] + 1] = piece[ok]
-        rs, cs_ = rr[small], cc[small]
-        r0, c0 = rs.min(), cs_.min()
-        smallmask = np.zeros((rs.max() - r0 + 1, cs_.max() - c0 + 1), dtype=bool)
-        smallmask[rs - r0, cs_ - c0] = True
-        comp, nc = ndimage.label(smallmask, structure=np.ones((3, 3), dtype=bool))
-        comp_of = comp[rs - r0, cs_ - c0]
-        adj = np.zeros((nc + 1, len(piece_plane)), dtype=bool)
-        for dy in (-1, 0, 1):
-            for dx in (-1, 0, 1):
-                if dy or dx:
-                    nb = kept[rs + 1 + dy, cs_ + 1 + dx]
-                    mk = nb >= 0
-                    adj[comp_of[mk], nb[mk]] = True
-        cs = np.where(adj[comp_of], cs, np.inf)
     best = np.argmin(cs, axis=1)
     cb = cs[np.arange(len(small)), best]
     piece[small] = np.where(cb <= assign_sigmas, best, -1)

@@ -1,0 +1,307 @@
+"""numba kernels of the planar post-processing (:mod:`planerel.segment.split` and
+:mod:`planerel.segment.merge`): label checks and counts, connected patches, part assignment,
+connected pieces.  Compiled once, cached on disk; import only from inside functions.
+
+Each kernel replaces a few numpy / scipy calls over whole images or whole regions; they compute
+the same values in the same order (sums sequentially over points in pixel order, components
+numbered by their first pixel in row-major order), so results match the numpy statements they
+replace (tests in ``tests/test_segment_post_kernels.py``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["label_counts", "free_patches", "depth_scales", "assign_parts", "part_pieces",
+           "absorb_small"]
+
+
+@njit(cache=True, nogil=True)
+def label_counts(labels, valid, n):  # pragma: no cover - compiled
+    """Pixels per label ``0 .. n-1`` of ``labels`` (N,) int32, and a status: 0 when every
+    label lies in ``-1 .. n-1`` and every labelled pixel is ``valid`` (N,) bool; 1 when a label
+    is out of range; 2 when a labelled pixel is invalid."""
+    cnt = np.zeros(n, dtype=np.int64)
+    status = 0
+    for p in range(labels.shape[0]):
+        lab = labels[p]
+        if lab < 0:
+            if lab < -1:
+                return cnt, 1
+            continue
+        if lab >= n:
+            return cnt, 1
+        if not valid[p]:
+            status = 2
+        cnt[lab] += 1
+    return cnt, status
+
+
+@njit(cache=True, nogil=True)
+def _components(on, W, comp, queue):  # pragma: no cover - compiled
+    """8-connected components of the pixels with ``on`` (N,) true on a grid ``W`` wide:
+    ``comp`` (N,) int64 receives 0, 1, ... numbered by each component's first pixel in
+    row-major order (-1 elsewhere); ``queue`` (N,) int64 scratch.  Returns the sizes."""
+    N = on.shape[0]
+    for p in range(N):
+        comp[p] = -1
+    sizes = np.zeros(16, dtype=np.int64)
+    nc = 0
+    for p in range(N):
+        if not on[p] or comp[p] >= 0:
+            continue
+        if nc == sizes.shape[0]:
+            s2 = np.zeros(2 * nc, dtype=np.int64)
+            s2[:nc] = sizes
+            sizes = s2
+        comp[p] = nc
+        queue[0] = p
+        head = 0
+        tail = 1
+        while head < tail:
+            c = queue[head]
+            head += 1
+            v = c // W
+            u = c - v * W
+            for dv in range(-1, 2):
+                vv = v + dv
+                if vv < 0 or vv * W >= N:
+                    continue
+                for du in range(-1, 2):
+                    uu = u + du
+                    if uu < 0 or uu >= W:
+                        continue
+                    q = vv * W + uu
+                    if on[q] and comp[q] < 0:
+                        comp[q] = nc
+                        queue[tail] = q
+                        tail += 1
+        sizes[nc] = tail
+        nc += 1
+    return sizes[:nc]
+
+
+@njit(cache=True, nogil=True)
+def _grouped(comp, sizes, min_size):  # pragma: no cover - compiled
+    """The pixels of the components with at least ``min_size`` pixels, grouped by component
+    (in component order), ascending within one: (pixels (K,), starts (P + 1,))."""
+    nc = sizes.shape[0]
+    first = np.full(nc, -1, dtype=np.int64)
+    npk = 0
+    total = 0
+    for c in range(nc):
+        if sizes[c] >= min_size:
+            first[c] = total
+            total += sizes[c]
+            npk += 1
+    starts = np.empty(npk + 1, dtype=np.int64)
+    k = 0
+    for c in range(nc):
+        if first[c] >= 0:
+            starts[k] = first[c]
+            k += 1
+    starts[npk] = total
+    out = np.empty(total, dtype=np.int64)
+    fill = first.copy()
+    for p in range(comp.shape[0]):
+        c = comp[p]
+        if c >= 0 and fill[c] >= 0:
+            out[fill[c]] = p
+            fill[c] += 1
+    return out, starts
+
+
+@njit(cache=True, nogil=True)
+def free_patches(labels, valid, W, min_size):  # pragma: no cover - compiled
+    """8-connected patches of valid unassigned pixels (``labels`` (N,) < 0, ``valid`` (N,))
+    with at least ``min_size`` pixels: (flat pixel indices (K,) grouped by patch, ascending
+    within one; starts (P + 1,)), patches ordered by their first pixel (row-major)."""
+    N = labels.shape[0]
+    on = np.empty(N, dtype=np.bool_)
+    for p in range(N):
+        on[p] = valid[p] and labels[p] < 0
+    comp = np.empty(N, dtype=np.int64)
+    queue = np.empty(N, dtype=np.int64)
+    sizes = _components(on, W, comp, queue)
+    return _grouped(comp, sizes, min_size)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def depth_scales(z, scale, noise, q, unit):  # pragma: no cover - compiled
+    """``z / (scale * sigma_z(z))`` per point (:meth:`SplitParams.depth_sigma2`, the same
+    operations in the same order)."""
+    out = np.empty(z.shape[0])
+    u2 = unit ** 2 / 12.0
+    for i in range(z.shape[0]):
+        z2 = z[i] * z[i]
+        a = noise * z2
+        b = q * z2
+        out[i] = z[i] / (scale * np.sqrt(a * a + b * b / 12.0 + u2))
+    return out
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def assign_parts(P, zs, planes, assign_sigmas):  # pragma: no cover - compiled
+    """Normalised distances ``cost`` (m, k) of points ``P`` (m, 3) to the planes (k, 4: normal,
+    offset), ``|n . p + off| * zs / max(|n . p|, 1e-12)``, and per point the nearest part
+    (the first of equal ones), -1 beyond ``assign_sigmas``."""
+    m = P.shape[0]
+    k = planes.shape[0]
+    cost = np.empty((m, k))
+    part = np.empty(m, dtype=np.int64)
+    for i in range(m):
+        best = np.inf
+        bj = 0
+        for j in range(k):
+            dn = P[i, 0] * planes[j, 0] + P[i, 1] * planes[j, 1] + P[i, 2] * planes[j, 2]
+            c = abs(dn + planes[j, 3]) * zs[i] / max(abs(dn), 1e-12)
+            cost[i, j] = c
+            if c < best:
+                best = c
+                bj = j
+        part[i] = bj if best <= assign_sigmas else -1
+    return cost, part
+
+
+@njit(cache=True, nogil=True)
+def _columns(pix, W):  # pragma: no cover - compiled
+    """Image column of each of the ascending flat pixels ``pix`` (rows advance monotonically:
+    no integer division per pixel)."""
+    m = pix.shape[0]
+    col = np.empty(m, dtype=np.int64)
+    row0 = 0
+    for i in range(m):
+        while pix[i] >= row0 + W:
+            row0 += W
+        col[i] = pix[i] - row0
+    return col
+
+
+@njit(cache=True, nogil=True)
+def _point_components(pix, W, member, cellmap, queue, comp):  # pragma: no cover - compiled
+    """8-connected components (in the image grid ``W`` wide) of the points ``i`` of a region
+    (flat pixels ``pix`` (m,), ascending) with ``member[i] >= 0``, joining only points with
+    equal ``member`` values: ``comp`` (m,) receives 0, 1, ... numbered by first pixel (-1 for
+    non-members).  ``cellmap`` (N,) int32 scratch holding -1 everywhere (restored on return);
+    ``queue`` (m,) scratch.  Returns the component sizes.  (Breadth-first: a raster-order
+    union-find was twice as slow here.)"""
+    m = pix.shape[0]
+    N = cellmap.shape[0]
+    col = _columns(pix, W)
+    for i in range(m):
+        cellmap[pix[i]] = i
+        comp[i] = -1
+    sizes = np.zeros(16, dtype=np.int64)
+    nc = 0
+    for i0 in range(m):
+        if member[i0] < 0 or comp[i0] >= 0:
+            continue
+        if nc == sizes.shape[0]:
+            s2 = np.zeros(2 * nc, dtype=np.int64)
+            s2[:nc] = sizes
+            sizes = s2
+        g = member[i0]
+        comp[i0] = nc
+        queue[0] = i0
+        head = 0
+        tail = 1
+        while head < tail:
+            i = queue[head]
+            head += 1
+            c = pix[i]
+            u = col[i]
+            for dv in range(-1, 2):
+                for du in range(-1, 2):
+                    uu = u + du
+                    q = c + dv * W + du
+                    if uu < 0 or uu >= W or q < 0 or q >= N:
+                        continue
+                    j = cellmap[q]
+                    if j >= 0 and comp[j] < 0 and member[j] == g:
+                        comp[j] = nc
+                        queue[tail] = j
+                        tail += 1
+        sizes[nc] = tail
+        nc += 1
+    for i in range(m):
+        cellmap[pix[i]] = -1
+    return sizes[:nc]
+
+
+@njit(cache=True, nogil=True)
+def part_pieces(pix, W, part, k, min_size, cellmap):  # pragma: no cover - compiled
+    """Connected pieces of the parts of one region (see ``split._pieces``): per point the kept
+    piece (0.. ordered by part, then by first pixel), -2 in a piece of fewer than
+    ``min_size`` points, -1 unassigned; and each kept piece's part."""
+    m = pix.shape[0]
+    comp = np.empty(m, dtype=np.int64)
+    queue = np.empty(m, dtype=np.int64)
+    sizes = _point_components(pix, W, part, cellmap, queue, comp)
+    nc = sizes.shape[0]
+    cpart = np.empty(nc, dtype=np.int64)
+    for i in range(m):
+        if comp[i] >= 0:
+            cpart[comp[i]] = part[i]
+    lut = np.full(nc, -2, dtype=np.int64)
+    plane_of = np.empty(nc, dtype=np.int64)
+    kept = 0
+    for j in range(k):
+        for c in range(nc):
+            if cpart[c] == j and sizes[c] >= min_size:
+                lut[c] = kept
+                plane_of[kept] = j
+                kept += 1
+    piece = np.empty(m, dtype=np.int64)
+    for i in range(m):
+        piece[i] = -1 if comp[i] < 0 else lut[comp[i]]
+    return piece, plane_of[:kept].copy()
+
+
+@njit(cache=True, nogil=True)
+def absorb_small(pix, W, piece, piece_plane, cost, assign_sigmas, cellmap):  # pragma: no cover
+    """Points of too-small pieces (-2) join the adjacent kept piece (8-connected to their small
+    component) whose plane is nearest in ``cost`` (the first of equal ones), within
+    ``assign_sigmas``; else they become unassigned (-1) (see ``split._absorb``)."""
+    m = pix.shape[0]
+    N = cellmap.shape[0]
+    kept = piece_plane.shape[0]
+    small = np.empty(m, dtype=np.int64)
+    for i in range(m):
+        small[i] = 0 if piece[i] == -2 else -1
+    comp = np.empty(m, dtype=np.int64)
+    queue = np.empty(m, dtype=np.int64)
+    sizes = _point_components(pix, W, small, cellmap, queue, comp)
+    adj = np.zeros((sizes.shape[0], kept), dtype=np.bool_)
+    col = _columns(pix, W)
+    for i in range(m):
+        cellmap[pix[i]] = i
+    for i in range(m):
+        if comp[i] < 0:
+            continue
+        c = pix[i]
+        u = col[i]
+        for dv in range(-1, 2):
+            for du in range(-1, 2):
+                uu = u + du
+                q = c + dv * W + du
+                if (dv == 0 and du == 0) or uu < 0 or uu >= W or q < 0 or q >= N:
+                    continue
+                j = cellmap[q]
+                if j >= 0 and piece[j] >= 0:
+                    adj[comp[i], piece[j]] = True
+    for i in range(m):
+        cellmap[pix[i]] = -1
+    out = piece.copy()
+    for i in range(m):
+        if comp[i] < 0:
+            continue
+        best = np.inf
+        bj = 0
+        for t in range(kept):
+            c = cost[i, piece_plane[t]] if adj[comp[i], t] else np.inf
+            if c < best:
+                best = c
+                bj = t
+        out[i] = bj if best <= assign_sigmas else -1
+    return out
