@@ -168,3 +168,25 @@ def test_assignment_and_depth_scales_match_numpy():
     np.testing.assert_allclose(cost, want, rtol=1e-12)
     best = np.argmin(cost, axis=1)
     np.testing.assert_array_equal(part, np.where(cost[np.arange(500), best] <= 3.0, best, -1))
+
+
+def test_merge_stats_match_the_bincount_statement():
+    rng = np.random.default_rng(3)
+    X = rng.normal(size=(800, 3)) + [0.0, 0.0, 2.5]
+    L = rng.integers(-1, 5, size=800).astype(np.int32)
+    pn = rng.normal(size=(5, 3))
+    pn /= np.linalg.norm(pn, axis=1, keepdims=True)
+    p = SplitParams()
+    q = p.disparity_step / (p.focal_px * p.baseline)
+    cnt, s1, s2, sv = PK.merge_stats(X, L, pn, 5, p.noise, q, p.depth_unit, 1.7 ** 2)
+    on = L >= 0
+    P, lab = X[on], L[on]
+    np.testing.assert_array_equal(cnt, np.bincount(lab, minlength=5))
+    for k in range(3):
+        np.testing.assert_array_equal(s1[:, k], np.bincount(lab, P[:, k], minlength=5))
+        for j in range(3):
+            np.testing.assert_array_equal(s2[:, k, j], np.bincount(lab, P[:, k] * P[:, j], minlength=5))
+    z = P[:, 2]
+    proj = np.abs(np.einsum("ij,ij->i", P, pn[lab])) / z
+    want = np.bincount(lab, p.depth_sigma2(z) * proj * proj * 1.7 ** 2, minlength=5)
+    np.testing.assert_allclose(sv, want, rtol=1e-13)

@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["label_counts", "free_patches", "depth_scales", "assign_parts", "part_pieces",
-           "absorb_small"]
+           "absorb_small", "merge_stats"]
 
 
 @njit(cache=True, nogil=True)
@@ -305,3 +305,43 @@ def absorb_small(pix, W, piece, piece_plane, cost, assign_sigmas, cellmap):  # p
                 bj = t
         out[i] = bj if best <= assign_sigmas else -1
     return out
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def merge_stats(X, L, pn, n, noise, q, unit, sensor2):  # pragma: no cover - compiled
+    """Per region, over the labelled points of ``X`` (M, 3) with labels ``L`` (M,) (-1 =
+    none), in point order: count (n,), sums (n, 3), scatter sums (n, 3, 3) and the sum of the
+    expected point-to-plane variance with the region's normal ``pn`` (n, 3), times
+    ``sensor2`` (:meth:`SplitParams.depth_sigma2` projected on the normal)."""
+    cnt = np.zeros(n)
+    s1 = np.zeros((n, 3))
+    s2 = np.zeros((n, 3, 3))
+    sv = np.zeros(n)
+    u2 = unit ** 2 / 12.0
+    for i in range(L.shape[0]):
+        lab = L[i]
+        if lab < 0:
+            continue
+        x = X[i, 0]
+        y = X[i, 1]
+        z = X[i, 2]
+        cnt[lab] += 1.0
+        s1[lab, 0] += x
+        s1[lab, 1] += y
+        s1[lab, 2] += z
+        s2[lab, 0, 0] += x * x
+        s2[lab, 0, 1] += x * y
+        s2[lab, 0, 2] += x * z
+        s2[lab, 1, 1] += y * y
+        s2[lab, 1, 2] += y * z
+        s2[lab, 2, 2] += z * z
+        z2 = z * z
+        a = noise * z2
+        b = q * z2
+        proj = abs(x * pn[lab, 0] + y * pn[lab, 1] + z * pn[lab, 2]) / z
+        sv[lab] += (a * a + b * b / 12.0 + u2) * proj * proj * sensor2
+    for r in range(n):
+        s2[r, 1, 0] = s2[r, 0, 1]
+        s2[r, 2, 0] = s2[r, 0, 2]
+        s2[r, 2, 1] = s2[r, 1, 2]
+    return cnt, s1, s2, sv

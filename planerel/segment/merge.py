@@ -55,6 +55,7 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
     Segmentation
         ``info`` adds ``merged`` (number of merges); ``seg`` itself when nothing merged.
     """
+    from planerel.segment._post_kernels import merge_stats
     from planerel.segment.split import _TEST_PIXELS, SplitParams, _residual_stats
 
     p = params if params is not None else SplitParams()
@@ -90,20 +91,13 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
             scale[ok] = local[ok] / exp_rms[ok]
             sensor = float(np.median(scale))
 
-    lab_s = Ls.reshape(-1)
-    on = lab_s >= 0
-    P = Xs.reshape(-1, 3)[on]
-    L = lab_s[on]
-    cnt = np.bincount(L, minlength=n).astype(np.float64)
-    s1 = np.stack([np.bincount(L, P[:, k], minlength=n) for k in range(3)], axis=1)
-    s2 = np.empty((n, 3, 3))
-    for a in range(3):
-        for b in range(a, 3):
-            s2[:, a, b] = s2[:, b, a] = np.bincount(L, P[:, a] * P[:, b], minlength=n)
-    # expected point-to-plane variance summed per region (with the region's own normal; the
-    # union's normal differs by at most merge_angle, so this is close)
-    sig = _expected_var(P, pn[L], p) * float(sensor) ** 2
-    sv = np.bincount(L, sig, minlength=n)
+    # per-region sums (count, sum, scatter) and the expected point-to-plane variance summed
+    # with the region's own normal (the union's normal differs by at most merge_angle, so
+    # this is close), in one pass over the sample
+    q = p.disparity_step / (p.focal_px * p.baseline)
+    cnt, s1, s2, sv = merge_stats(Xs.reshape(-1, 3), Ls.reshape(-1),
+                                  np.ascontiguousarray(pn, dtype=np.float64), n, float(p.noise),
+                                  float(q), float(p.depth_unit), float(sensor) ** 2)
     normal = pn.copy()
 
     parent = np.arange(n)
@@ -168,13 +162,6 @@ def _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, tolerance):
     if ratio[j] > tolerance:
         return None
     return float(ratio[j]), int(A[j]), int(B[j]), v[j, :, 0]
-
-
-def _expected_var(P, N, p) -> np.ndarray:
-    """Expected point-to-plane variance of points ``P`` (m, 3) on planes with normals ``N``."""
-    z = P[:, 2]
-    proj = np.abs(np.einsum("ij,ij->i", P, N)) / z
-    return p.depth_sigma2(z) * proj * proj
 
 
 def _touching_pairs(labels, xyz, n: int, gap: int, jump: float) -> list[tuple[int, int]]:
