@@ -1,11 +1,12 @@
-"""Speed of normals + region growing, first-call cost, peak memory, and the ratio to the SP / SNP
+"""Speed of normals + region growing (the issue's targets), of the completion and the planar
+post-processing, per-stage times, first-call cost, peak memory, and the ratio to the SP / SNP
 baselines, all in one run on one core.
 
     .venv/bin/python benchmarks/bench_segment.py [--repeat 21] [--scene synth|analytic]
     .venv/bin/python benchmarks/bench_segment.py --quality [--abw DIR] [--abw-baselines]
 
-Scene: a synthetic staircase (planerel.synth ``stairs`` seed 3 when available, else the analytic
-staircase of planerel.segment._scenes) at 640x480 and 160x120.
+Scenes (:data:`SCENES`): the generator's staircase seed 3 and box seed 1 at 640x480 and 160x120
+(``--scene analytic``: the analytic staircase of planerel.segment._scenes).
 """
 
 from __future__ import annotations
@@ -28,12 +29,12 @@ def _one_core() -> None:
         pass
 
 
-def _scene(kind: str, sub: int):
+def _scene(kind: str, sub: int, cls: str = "stairs", seed: int = 3):
     if kind == "synth":
         try:
             from planerel.synth import generate_scene
 
-            sc = generate_scene("stairs", seed=3, subsample=sub)
+            sc = generate_scene(cls, seed=seed, subsample=sub)
             return sc.cloud, sc.gt_labels
         except ImportError:
             pass
@@ -71,6 +72,63 @@ def first_call_ms() -> float:
     return float(out.stdout.strip().splitlines()[-1])
 
 
+#: Speed scenes: the generator's staircase seed 3 (the issue's kind of scene; 44 % of the
+#: pixels invalid at 640x480: background beyond range) and a box scene seed 1 (99 % valid, the
+#: density of a real indoor Kinect frame).
+SCENES = (("stairs", 3), ("box", 1))
+#: The issue's targets for normals + region growing (ms) per image size.
+TARGETS = {"640x480": 10.0, "160x120": 1.0}
+
+
+def _stages(cloud, repeat: int) -> dict:
+    """Median CPU ms of each stage of the paper's algorithm, kernels called as ``segment()``
+    calls them (planerel internals: a breakdown, not an API)."""
+    import math
+
+    import numpy as np
+
+    from planerel.normals import normal_kernel_args
+    from planerel.segment import _kernels as K
+    from planerel.segment._graph_kernels import grid_graph
+    from planerel.segment._normal_kernels import normals_stream
+    from planerel.segment.regiongrow import _NBANDS, _workspace, normal_rings
+
+    xyz = np.ascontiguousarray(cloud.xyz)
+    h, w, _ = xyz.shape
+    ws = _workspace(h, w)
+    args = normal_kernel_args(xyz, intrinsics=cloud.intrinsics)
+    nrm = np.empty((h, w, 3), np.float32)
+    n = h * w
+    min_size = 90 * n // 19200
+    labels = np.empty(n, np.int32)
+    sums = np.zeros((n // min_size + 2, 10))
+    ref = np.zeros((n // min_size + 2, 3))
+    c1, c2 = math.cos(math.radians(7.5)), math.cos(math.radians(15.0))
+    out = {}
+    rings = normal_rings(ws, args[3], args[4])
+    out["normals"] = _cpu_ms(lambda: normals_stream(xyz, *args, nrm, *rings, ws.mom), repeat)
+    out["graph"] = _cpu_ms(lambda: grid_graph(xyz, 6.0, -1.0, True, _NBANDS, max(1, h // 120),
+                                              ws.mask), repeat)
+    def grow():
+        return K.region_grow_grid_ws(nrm.reshape(-1, 3), ws.nvalid, ws.mask.reshape(-1), w, 4,
+                                     c1, c2, c1, 16, 8, min_size, labels, ws.queue, ws.seedable)
+
+    out["growing"] = _cpu_ms(grow, repeat)
+    nreg = grow()
+    out["moments"] = _cpu_ms(lambda: K.region_sums_into(xyz.reshape(-1, 3), labels, nreg, sums,
+                                                        ref), repeat)
+    return out
+
+
+def _cpu_ms(fn, repeat: int) -> float:
+    ts = []
+    for _ in range(repeat):
+        c = time.process_time()
+        fn()
+        ts.append((time.process_time() - c) * 1000.0)
+    return statistics.median(ts)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=21)
@@ -87,55 +145,53 @@ def main(argv=None) -> int:
     if args.quality:
         return quality(args)
     from planerel.evaluate import evaluate
-    from planerel.normals import organized_normals
     from planerel.segment import segment
 
     first = first_call_ms()
     print(f"first call in a fresh process (numba cache load / compile): {first:.0f} ms")
-    rows = []
+    print("median CPU ms per call (wall time in brackets), one core; quality = SegComp correct "
+          "of the GT planes at T = 0.8")
     for sub in (1, 4):
-        cloud, gt = _scene(args.scene, sub)
-        h, w = cloud.shape
-        segment(cloud)  # warm
-        t_norm = _median_ms(lambda c=cloud: organized_normals(c.xyz, intrinsics=c.intrinsics),
-                            args.repeat)
-        t_rg = _median_ms(lambda c=cloud: segment(c), args.repeat)
-        cpu_rg = _CPU[-1]
-        t_nopost = _median_ms(lambda c=cloud: segment(c, split=False), args.repeat)
-        cpu_nopost = _CPU[-1]
-        t_paper = _median_ms(lambda c=cloud: segment(c, refine=False, split=False), args.repeat)
-        q = evaluate(segment(cloud).labels, gt)
-        q0 = evaluate(segment(cloud, split=False).labels, gt)
-        row = {"size": f"{w}x{h}", "normals_ms": t_norm, "rg_total_ms": t_rg,
-               "rg_cpu_ms": cpu_rg, "paper_ms": t_paper, "paper_cpu_ms": _CPU[-1],
-               "nopost_ms": t_nopost, "nopost_cpu_ms": cpu_nopost, "nopost_correct": q0.correct,
-               "rg_correct": q.correct, "n_gt": q.n_gt, "rg_sparse": q.sparse}
-        for method, thr in (("sp", 0.01), ("snp", 0.05)):
-            t = _median_ms(lambda c=cloud, m=method, t=thr: segment(c, m, threshold=t, seed=0),
-                           args.baseline_repeat)
-            qq = evaluate(segment(cloud, method, threshold=thr, seed=0).labels, gt)
-            row[f"{method}{thr}_ms"] = t
-            row[f"{method}{thr}_ratio"] = t / t_rg
-            row[f"{method}{thr}_correct"] = qq.correct
-        rows.append(row)
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+        for kind, seed in (SCENES if args.scene == "synth" else (("analytic", 0),)):
+            cloud, gt = _scene(args.scene, sub, kind, seed)
+            h, w = cloud.shape
+            size = f"{w}x{h}"
+            segment(cloud)  # warm
+            valid = 100.0 * cloud.n_valid / (h * w)
+            st = _stages(cloud, args.repeat)
+            res = {}
+            for name, kw in (("paper", dict(refine=False, split=False)),
+                             ("split=False", dict(split=False)), ("default", {})):
+                wall = _median_ms(lambda c=cloud, k=kw: segment(c, **k), args.repeat)
+                res[name] = (_CPU[-1], wall, evaluate(segment(cloud, **kw).labels, gt))
+            paper = res["paper"][0]
+            target = TARGETS[size]
+            print(f"{size} {kind} seed {seed} ({valid:.0f} % valid pixels, "
+                  f"{res['default'][2].n_gt} GT planes):")
+            print(f"  the paper's algorithm (normals + region growing, refine=False, split=False):"
+                  f" {paper:.2f} ms ({res['paper'][1]:.2f}); target {target:g} ms: ratio "
+                  f"{paper / target:.2f}; {res['paper'][2].correct} correct")
+            print("    stages: " + ", ".join(f"{k} {v:.2f}" for k, v in st.items())
+                  + f"; the rest (checks, planes, Python) {paper - sum(st.values()):.2f}")
+            print(f"  + boundary completion and leftover planes (split=False): "
+                  f"{res['split=False'][0]:.2f} ms ({res['split=False'][1]:.2f}); "
+                  f"{res['split=False'][2].correct} correct")
+            print(f"  + planar post-processing = segment() default: {res['default'][0]:.2f} ms "
+                  f"({res['default'][1]:.2f}); {res['default'][2].correct} correct, "
+                  f"{res['default'][2].sparse} sparse")
+            if kind == (SCENES[0][0] if args.scene == "synth" else "analytic"):
+                for method, thr in (("sp", 0.01), ("snp", 0.05)):
+                    t = _median_ms(lambda c=cloud, m=method, t=thr:
+                                   segment(c, m, threshold=t, seed=0), args.baseline_repeat)
+                    q = evaluate(segment(cloud, method, threshold=thr, seed=0).labels, gt)
+                    print(f"  {method.upper()} {thr}: {_CPU[-1]:.0f} ms ({t:.0f}), "
+                          f"x{_CPU[-1] / res['default'][0]:.0f} the default's time, "
+                          f"x{_CPU[-1] / paper:.0f} the paper's algorithm's; {q.correct} correct, "
+                          f"{q.sparse} sparse")
     print(f"load average (1, 5, 15 min) at the end: {os.getloadavg()}")
-    for r in rows:
-        print(f"{r['size']}: segment() default (growing, completion, post-processing) "
-              f"{r['rg_total_ms']:.2f} ms median wall ({r['rg_cpu_ms']:.2f} ms CPU, "
-              f"{r['rg_correct']}/{r['n_gt']} correct); without post-processing (split=False) "
-              f"{r['nopost_ms']:.2f} ms wall ({r['nopost_cpu_ms']:.2f} ms CPU, "
-              f"{r['nopost_correct']}/{r['n_gt']} correct); the paper's algorithm only "
-              f"(refine=False, split=False) {r['paper_ms']:.2f} ms wall "
-              f"({r['paper_cpu_ms']:.2f} ms CPU)")
-        print(f"{r['size']}: normals {r['normals_ms']:.2f} ms, segment() "
-              f"{r['rg_total_ms']:.2f} ms median ({r['rg_correct']}/{r['n_gt']} correct, "
-              f"{r['rg_sparse']} sparse); "
-              f"SP 0.01 {r['sp0.01_ms']:.0f} ms (x{r['sp0.01_ratio']:.0f}, {r['sp0.01_correct']} correct); "
-              f"SNP 0.05 {r['snp0.05_ms']:.0f} ms (x{r['snp0.05_ratio']:.0f}, {r['snp0.05_correct']} correct)")
-    print(f"peak RSS of this process (640x480 frame + baselines): {peak:.0f} MB")
-    peak_rg = _peak_rg_only()
-    print(f"peak RSS of a process that only segments one 640x480 frame: {peak_rg:.0f} MB")
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    print(f"peak RSS of this process (all frames + baselines): {peak:.0f} MB")
+    print(f"peak RSS of a process that only segments one 640x480 frame: {_peak_rg_only():.0f} MB")
     return 0
 
 

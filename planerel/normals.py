@@ -105,13 +105,6 @@ def pixel_angle(xyz: np.ndarray, intrinsics=None) -> float:
     return float(np.median(ratio))
 
 
-def _kernels():
-    """Compile (or load from the numba cache) the organized-normal kernels."""
-    from planerel.segment import _kernels as k
-
-    return k
-
-
 def organized_normals(
     xyz,
     *,
@@ -150,12 +143,13 @@ def organized_normals(
     a = np.ascontiguousarray(np.asarray(xyz, dtype=np.float64))
     args = normal_kernel_args(a, smooth=smooth, radius=radius, jump_factor=jump_factor,
                               reference_depth=reference_depth, intrinsics=intrinsics)
-    from planerel.segment.regiongrow import _workspace
+    from planerel.segment._normal_kernels import normals_stream
+    from planerel.segment.regiongrow import _workspace, normal_rings
 
-    out = np.empty_like(a)
+    out = np.empty(a.shape, dtype=np.float32)
     ws = _workspace(a.shape[0], a.shape[1])  # reused scratch (see planerel.segment.regiongrow)
-    _kernels().normals_ws(a, *args, out, ws.runs, ws.colp, ws.sm, ws.mom)
-    return out
+    normals_stream(a, *args, out, *normal_rings(ws, args[3], args[4]), ws.mom)
+    return out.astype(np.float64)
 
 
 def normal_kernel_args(

@@ -1,4 +1,5 @@
-"""numba kernels of normals and region growing (compiled once, cached on disk).
+"""numba kernels of region growing, boundary completion and plane fits (compiled once, cached
+on disk).
 
 Importing this module compiles nothing: numba compiles each kernel at its first call, or loads
 the machine code from its on-disk cache (``cache=True``, next to this file in ``__pycache__``).
@@ -11,7 +12,6 @@ import numpy as np
 from numba import njit
 
 __all__ = [
-    "normals_ws",
     "region_grow_list",
     "refine_grid_ws",
     "region_grow_grid_ws",
@@ -32,205 +32,6 @@ GRID_DV = np.array([0, 1, 1, 1, 0, -1, -1, -1], dtype=np.int64)
 GRID_DU = np.array([1, -1, 0, 1, -1, 1, 0, -1], dtype=np.int64)
 #: Number of set bits of each byte.
 POPCOUNT = np.array([bin(i).count("1") for i in range(256)], dtype=np.int64)
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _scale(z, ratio, lo, hi):
-    """round(z * ratio) (ratio = base / zref, or 0 for a fixed size) clipped to [lo, hi]."""
-    k = int(z * ratio + 0.5)
-    if k < lo:
-        return lo
-    if k > hi:
-        return hi
-    return k
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def normals_ws(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, runs, colp, sm, mom):  # pragma: no cover
-    """Depth-aware normals of an organized cloud (see :mod:`planerel.normals`) into ``out``
-    (H, W, 3).  Window half-size s and difference radius r grow with depth: round(s0 * z / zref)
-    clipped to [s0, smax] (r likewise, >= 1; zref 0 = fixed).  Scratch from the caller (no page
-    faults when the arrays are reused): ``runs`` (6, H, W) int16 (row run start / end, column run start / end,
-    window half-size, difference radius), ``colp`` (H + 1, W, 4) float64, ``sm`` (H, W, 3)
-    float32.  Also fills ``mom`` (10,) with the moments of the valid points (count, sums and
-    second moments about the first valid point) for the degeneracy check."""
-    H = xyz.shape[0]
-    W = xyz.shape[1]
-    # the window grows with depth beyond zref but never shrinks below its nominal size
-    smin = int(s0 + 0.5)
-    rmin = max(1, int(r0 + 0.5))
-    # z * (s0 / zref) instead of s0 * z / zref: one multiplication per pixel, no division
-    sratio = s0 / zref if zref > 0.0 else 0.0
-    rratio = r0 / zref if zref > 0.0 else 0.0
-    same_scale = sratio == rratio and smin == rmin and smax == rmax
-    rs = runs[0]
-    re = runs[1]
-    cs = runs[2]
-    ce = runs[3]
-    ks = runs[4]
-    kr = runs[5]
-    m0 = m1 = m2 = m3 = m4 = m5 = m6 = m7 = m8 = m9 = 0.0
-    refx = np.nan
-    refy = 0.0
-    refz = 0.0
-    for u in range(W):
-        for c in range(4):
-            colp[0, u, c] = 0.0
-    px = np.empty(W + 1)
-    py = np.empty(W + 1)
-    pz = np.empty(W + 1)
-    # rows: row runs, column-run starts, window sizes, horizontal box sums (clipped to the
-    # run), column prefix of those sums, moments
-    for v in range(H):
-        start = 0
-        zprev = np.nan
-        px[0] = 0.0
-        py[0] = 0.0
-        pz[0] = 0.0
-        for u in range(W):
-            z = xyz[v, u, 2]
-            if np.isnan(z):
-                rs[v, u] = -1
-                cs[v, u] = -1
-                start = u + 1
-                px[u + 1] = px[u]
-                py[u + 1] = py[u]
-                pz[u + 1] = pz[u]
-                zprev = np.nan
-                continue
-            if u > start and abs(z - zprev) > jump_per_z * min(z, zprev):
-                start = u
-            rs[v, u] = start
-            zprev = z
-            if v > 0 and cs[v - 1, u] >= 0:
-                zp = xyz[v - 1, u, 2]
-                if abs(z - zp) > jump_per_z * min(z, zp):
-                    cs[v, u] = v
-                else:
-                    cs[v, u] = cs[v - 1, u]
-            else:
-                cs[v, u] = v
-            ks[v, u] = _scale(z, sratio, smin, smax)
-            kr[v, u] = ks[v, u] if same_scale else _scale(z, rratio, rmin, rmax)
-            x = xyz[v, u, 0]
-            y = xyz[v, u, 1]
-            if np.isnan(refx):
-                refx = x
-                refy = y
-                refz = z
-            mx = x - refx
-            my = y - refy
-            mz = z - refz
-            m0 += 1.0
-            m1 += mx
-            m2 += my
-            m3 += mz
-            m4 += mx * mx
-            m5 += mx * my
-            m6 += mx * mz
-            m7 += my * my
-            m8 += my * mz
-            m9 += mz * mz
-            px[u + 1] = px[u] + x
-            py[u + 1] = py[u] + y
-            pz[u + 1] = pz[u] + z
-        end = W - 1
-        znext = np.nan
-        for u in range(W - 1, -1, -1):
-            z = xyz[v, u, 2]
-            if np.isnan(z):
-                re[v, u] = -1
-                end = u - 1
-                znext = np.nan
-                continue
-            if u < end and abs(z - znext) > jump_per_z * min(z, znext):
-                end = u
-            re[v, u] = end
-            znext = z
-        for u in range(W):
-            if rs[v, u] < 0:
-                colp[v + 1, u, 0] = colp[v, u, 0]
-                colp[v + 1, u, 1] = colp[v, u, 1]
-                colp[v + 1, u, 2] = colp[v, u, 2]
-                colp[v + 1, u, 3] = colp[v, u, 3]
-                continue
-            s = ks[v, u]
-            lo = max(u - s, rs[v, u])
-            hi = min(u + s, re[v, u])
-            colp[v + 1, u, 0] = colp[v, u, 0] + px[hi + 1] - px[lo]
-            colp[v + 1, u, 1] = colp[v, u, 1] + py[hi + 1] - py[lo]
-            colp[v + 1, u, 2] = colp[v, u, 2] + pz[hi + 1] - pz[lo]
-            colp[v + 1, u, 3] = colp[v, u, 3] + (hi - lo + 1)
-    mom[0] = m0
-    mom[1] = m1
-    mom[2] = m2
-    mom[3] = m3
-    mom[4] = m4
-    mom[5] = m5
-    mom[6] = m6
-    mom[7] = m7
-    mom[8] = m8
-    mom[9] = m9
-    # column run ends (bottom-up)
-    for u in range(W):
-        ce[H - 1, u] = -1 if cs[H - 1, u] < 0 else H - 1
-    for v in range(H - 2, -1, -1):
-        for u in range(W):
-            if cs[v, u] < 0:
-                ce[v, u] = -1
-            elif ce[v + 1, u] >= 0 and cs[v + 1, u] == cs[v, u]:
-                ce[v, u] = ce[v + 1, u]
-            else:
-                ce[v, u] = v
-    # smoothed points (vertical box over the horizontal sums)
-    for v in range(H):
-        for u in range(W):
-            if rs[v, u] < 0:
-                continue
-            s = ks[v, u]
-            lo = max(v - s, cs[v, u])
-            hi = min(v + s, ce[v, u])
-            inv = 1.0 / (colp[hi + 1, u, 3] - colp[lo, u, 3])
-            sm[v, u, 0] = (colp[hi + 1, u, 0] - colp[lo, u, 0]) * inv
-            sm[v, u, 1] = (colp[hi + 1, u, 1] - colp[lo, u, 1]) * inv
-            sm[v, u, 2] = (colp[hi + 1, u, 2] - colp[lo, u, 2]) * inv
-    for v in range(H):
-        for u in range(W):
-            if rs[v, u] < 0:
-                out[v, u, 0] = np.nan
-                out[v, u, 1] = np.nan
-                out[v, u, 2] = np.nan
-                continue
-            r = kr[v, u]
-            ur = min(u + r, re[v, u])
-            ul = max(u - r, rs[v, u])
-            vd = min(v + r, ce[v, u])
-            vu = max(v - r, cs[v, u])
-            if ur == ul or vd == vu:
-                out[v, u, 0] = np.nan
-                out[v, u, 1] = np.nan
-                out[v, u, 2] = np.nan
-                continue
-            ax = sm[v, ur, 0] - sm[v, ul, 0]
-            ay = sm[v, ur, 1] - sm[v, ul, 1]
-            az = sm[v, ur, 2] - sm[v, ul, 2]
-            bx = sm[vd, u, 0] - sm[vu, u, 0]
-            by = sm[vd, u, 1] - sm[vu, u, 1]
-            bz = sm[vd, u, 2] - sm[vu, u, 2]
-            nx = ay * bz - az * by
-            ny = az * bx - ax * bz
-            nz = ax * by - ay * bx
-            nn = np.sqrt(nx * nx + ny * ny + nz * nz)
-            if nn == 0.0:
-                out[v, u, 0] = np.nan
-                out[v, u, 1] = np.nan
-                out[v, u, 2] = np.nan
-                continue
-            if nx * xyz[v, u, 0] + ny * xyz[v, u, 1] + nz * xyz[v, u, 2] > 0.0:
-                nn = -nn
-            out[v, u, 0] = nx / nn
-            out[v, u, 1] = ny / nn
-            out[v, u, 2] = nz / nn
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -803,7 +604,8 @@ def planes_from_sums(sums, ref, nreg):  # pragma: no cover - compiled
 @njit(cache=True, nogil=True, error_model="numpy")
 def spread_of_moments(mom):  # pragma: no cover - compiled
     """Eigenvalues (ascending) of the covariance of points with moments ``mom`` (10,) (count,
-    sums, second moments; see :func:`normals_ws`)."""
+    sums, second moments; see
+    :func:`planerel.segment._normal_kernels.normals_stream`)."""
     n = mom[0]
     cov = np.empty((3, 3))
     if n <= 0:

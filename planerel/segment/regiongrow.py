@@ -76,14 +76,13 @@ class _Workspace:
 
     Fresh memory costs a page fault per 4 KiB page on first touch (about 3 ms for 10 MB on the
     reference VM, as much as the whole growing step), so the organized pipeline keeps its
-    scratch (~22 MB at 640x480) for the most recent image sizes (:data:`_WS_KEEP`) per thread.
+    scratch (~5 MB at 640x480) for the most recent image sizes (:data:`_WS_KEEP`) per thread.
     """
 
     def __init__(self, h: int, w: int) -> None:
         n = h * w
-        self.runs = np.empty((6, h, w), dtype=np.int16)
-        self.colp = np.empty((h + 1, w, 4))
-        self.sm = np.empty((h, w, 3), dtype=np.float32)
+        self.w = w
+        self.rings = None  # the normals' ring buffers, see normal_rings()
         self.mom = np.empty(10)
         self.mask = np.empty((h, w), dtype=np.uint8)
         self.nvalid = np.empty(n, dtype=np.bool_)
@@ -96,6 +95,19 @@ class _Workspace:
         self.out_normals = None
         self.out_labels = None
         self.entries = np.empty((max(16, n // 4), 3), dtype=np.int32)
+
+
+def normal_rings(ws: _Workspace, smax: int, rmax: int) -> tuple:
+    """The normals kernel's ring buffers ``(ri, rc, rsm)`` for window limits ``smax``,
+    ``rmax`` (kept in the workspace; about 1 MB at 640x480)."""
+    from planerel.segment._normal_kernels import ring_sizes
+
+    sizes = ring_sizes(smax, rmax)
+    if ws.rings is None or ws.rings[0] != sizes:
+        rr, rc, rs = sizes
+        ws.rings = (sizes, (np.empty((6, rr, ws.w), dtype=np.int16),
+                            np.empty((rc, ws.w, 4)), np.empty((rs, ws.w, 3), dtype=np.float32)))
+    return ws.rings[1]
 
 
 def _output(ws: _Workspace, name: str, shape: tuple, dtype) -> np.ndarray:
@@ -170,6 +182,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
     from planerel import normals as nmod
     from planerel.segment import _kernels as K
     from planerel.segment._graph_kernels import grid_graph
+    from planerel.segment._normal_kernels import normals_stream
 
     p = params if params is not None else RegionGrowParams()
     if not isinstance(p, RegionGrowParams):
@@ -191,7 +204,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
             a, smooth=p.normal_smooth, radius=p.normal_radius, jump_factor=p.jump_factor,
             reference_depth=p.reference_depth, intrinsics=cloud.intrinsics)
         nrm = _output(ws, "out_normals", (h, w, 3), np.float32)
-        K.normals_ws(a, s, r, zref, smax, rmax, jump, nrm, ws.runs, ws.colp, ws.sm, ws.mom)
+        normals_stream(a, s, r, zref, smax, rmax, jump, nrm, *normal_rings(ws, smax, rmax), ws.mom)
         _check_moments(ws.mom, cloud.source or "cloud")
     else:
         check_cloud(cloud)

@@ -1,0 +1,284 @@
+"""numba kernel of the organized-cloud normals (see :mod:`planerel.normals`), compiled once and
+cached on disk; import only from inside functions.
+
+The kernel streams the image: three stages run row by row with a lag, through ring buffers of
+a few dozen rows, so its scratch is about 1 MB at 640x480 instead of 17 MB of image-sized
+arrays (which pushed the cloud and the normals out of the cache before the neighbour graph
+and the growing read them):
+
+A. row ``t``: row runs (NaN holes and depth jumps cut them), column-run starts, window sizes,
+   horizontal box sums clipped to the run, and the column prefix of those sums; the moments
+   of the valid points (for the degeneracy check);
+B. row ``b = t - L`` (``L = max(smax, rmax)``): the column-run end, capped at ``b + L`` (all a
+   window can reach), then the smoothed points (vertical box over the horizontal sums, clipped
+   to the column run);
+C. row ``c = b - rmax``: central differences of the smoothed points clipped to the runs, the
+   cross product, normalised and turned towards the sensor.
+
+Every value is computed by the same operations in the same order as the earlier full-image
+kernel, so the normals are bit-identical to it (tests/test_normals.py checks them against a
+plain statement of the definition).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["normals_stream", "ring_sizes"]
+
+
+def ring_sizes(smax: int, rmax: int) -> tuple[int, int, int]:
+    """Rows of the (int, prefix, smoothed) ring buffers for window limits ``smax``, ``rmax``:
+    powers of two larger than the rows each stage keeps alive."""
+    lag = max(smax, rmax)
+
+    def pow2_above(n):
+        k = 1
+        while k <= n:
+            k *= 2
+        return k
+
+    return pow2_above(lag + rmax + 1), pow2_above(lag + smax + 2), pow2_above(2 * rmax + 1)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _scale(z, ratio, lo, hi):  # pragma: no cover - compiled
+    """round(z * ratio) (ratio = base / zref, or 0 for a fixed size) clipped to [lo, hi]."""
+    k = int(z * ratio + 0.5)
+    if k < lo:
+        return lo
+    if k > hi:
+        return hi
+    return k
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm,
+                   mom):  # pragma: no cover - compiled
+    """Depth-aware normals of an organized cloud ``xyz`` (H, W, 3) into ``out`` (H, W, 3)
+    float32 (NaN where a point is invalid or has no connected neighbour along its row or its
+    column).  Window half-size s and difference radius r grow with depth: round(s0 * z / zref)
+    clipped to [s0, smax] (r likewise, >= 1; zref 0 = fixed size).  Ring-buffer scratch (sizes
+    from :func:`ring_sizes`): ``ri`` (6, RR, W) int16 (row run start / end, column run start /
+    capped end, window half-size, difference radius), ``rc`` (RC, W, 4) float64 (column
+    prefix of the horizontal sums x, y, z, count), ``rsm`` (RS, W, 3) float32 (smoothed
+    points).  Also fills ``mom`` (10,) with the moments of the valid points (count, sums and
+    second moments about the first valid point)."""
+    H = xyz.shape[0]
+    W = xyz.shape[1]
+    # the window grows with depth beyond zref but never shrinks below its nominal size
+    smin = int(s0 + 0.5)
+    rmin = max(1, int(r0 + 0.5))
+    # z * (s0 / zref) instead of s0 * z / zref: one multiplication per pixel, no division
+    sratio = s0 / zref if zref > 0.0 else 0.0
+    rratio = r0 / zref if zref > 0.0 else 0.0
+    same_scale = sratio == rratio and smin == rmin and smax == rmax
+    L = max(smax, rmax)
+    MI = ri.shape[1] - 1
+    MC = rc.shape[0] - 1
+    MS = rsm.shape[0] - 1
+    rs_ = ri[0]
+    re_ = ri[1]
+    cs_ = ri[2]
+    ce_ = ri[3]
+    ks_ = ri[4]
+    kr_ = ri[5]
+    m0 = m1 = m2 = m3 = m4 = m5 = m6 = m7 = m8 = m9 = 0.0
+    refx = np.nan
+    refy = 0.0
+    refz = 0.0
+    for u in range(W):
+        for k in range(4):
+            rc[0, u, k] = 0.0
+    px = np.empty(W + 1)
+    py = np.empty(W + 1)
+    pz = np.empty(W + 1)
+    alive = np.empty(W, dtype=np.bool_)
+    nan = np.float32(np.nan)
+    for t in range(H + L + rmax):
+        # ---- A: row t ----------------------------------------------------------------------
+        if t < H:
+            v = t
+            iv = v & MI
+            ip = (v - 1) & MI
+            rs = rs_[iv]
+            re = re_[iv]
+            cs = cs_[iv]
+            ks = ks_[iv]
+            kr = kr_[iv]
+            csp = cs_[ip]
+            start = 0
+            zprev = np.nan
+            px[0] = 0.0
+            py[0] = 0.0
+            pz[0] = 0.0
+            for u in range(W):
+                z = xyz[v, u, 2]
+                if np.isnan(z):
+                    rs[u] = -1
+                    cs[u] = -1
+                    start = u + 1
+                    px[u + 1] = px[u]
+                    py[u + 1] = py[u]
+                    pz[u + 1] = pz[u]
+                    zprev = np.nan
+                    continue
+                if u > start and abs(z - zprev) > jump_per_z * min(z, zprev):
+                    start = u
+                rs[u] = start
+                zprev = z
+                if v > 0 and csp[u] >= 0:
+                    zp = xyz[v - 1, u, 2]
+                    if abs(z - zp) > jump_per_z * min(z, zp):
+                        cs[u] = v
+                    else:
+                        cs[u] = csp[u]
+                else:
+                    cs[u] = v
+                ks[u] = _scale(z, sratio, smin, smax)
+                kr[u] = ks[u] if same_scale else _scale(z, rratio, rmin, rmax)
+                x = xyz[v, u, 0]
+                y = xyz[v, u, 1]
+                if np.isnan(refx):
+                    refx = x
+                    refy = y
+                    refz = z
+                mx = x - refx
+                my = y - refy
+                mz = z - refz
+                m0 += 1.0
+                m1 += mx
+                m2 += my
+                m3 += mz
+                m4 += mx * mx
+                m5 += mx * my
+                m6 += mx * mz
+                m7 += my * my
+                m8 += my * mz
+                m9 += mz * mz
+                px[u + 1] = px[u] + x
+                py[u + 1] = py[u] + y
+                pz[u + 1] = pz[u] + z
+            end = W - 1
+            znext = np.nan
+            for u in range(W - 1, -1, -1):
+                z = xyz[v, u, 2]
+                if np.isnan(z):
+                    re[u] = -1
+                    end = u - 1
+                    znext = np.nan
+                    continue
+                if u < end and abs(z - znext) > jump_per_z * min(z, znext):
+                    end = u
+                re[u] = end
+                znext = z
+            c0 = rc[v & MC]
+            c1 = rc[(v + 1) & MC]
+            for u in range(W):
+                if rs[u] < 0:
+                    c1[u, 0] = c0[u, 0]
+                    c1[u, 1] = c0[u, 1]
+                    c1[u, 2] = c0[u, 2]
+                    c1[u, 3] = c0[u, 3]
+                    continue
+                s = ks[u]
+                lo = max(u - s, rs[u])
+                hi = min(u + s, re[u])
+                c1[u, 0] = c0[u, 0] + px[hi + 1] - px[lo]
+                c1[u, 1] = c0[u, 1] + py[hi + 1] - py[lo]
+                c1[u, 2] = c0[u, 2] + pz[hi + 1] - pz[lo]
+                c1[u, 3] = c0[u, 3] + (hi - lo + 1)
+        # ---- B: row b = t - L --------------------------------------------------------------
+        b = t - L
+        if 0 <= b < H:
+            ib = b & MI
+            cs = cs_[ib]
+            ce = ce_[ib]
+            ks = ks_[ib]
+            # column-run end, capped at b + L: the run goes on while the rows below share
+            # its start (rows up to min(t, H - 1) are known)
+            for u in range(W):
+                ce[u] = -1 if cs[u] < 0 else b
+                alive[u] = cs[u] >= 0
+            for k in range(1, L + 1):
+                if b + k >= H:
+                    break
+                csk = cs_[(b + k) & MI]
+                for u in range(W):
+                    cont = alive[u] and csk[u] == cs[u]
+                    alive[u] = cont
+                    if cont:
+                        ce[u] = b + k
+            sb = rsm[b & MS]
+            rs = rs_[ib]
+            for u in range(W):
+                if rs[u] < 0:
+                    continue
+                s = ks[u]
+                lo = max(b - s, cs[u])
+                hi = min(b + s, ce[u])
+                ch = rc[(hi + 1) & MC]
+                cl = rc[lo & MC]
+                inv = 1.0 / (ch[u, 3] - cl[u, 3])
+                sb[u, 0] = (ch[u, 0] - cl[u, 0]) * inv
+                sb[u, 1] = (ch[u, 1] - cl[u, 1]) * inv
+                sb[u, 2] = (ch[u, 2] - cl[u, 2]) * inv
+        # ---- C: row c = b - rmax -----------------------------------------------------------
+        c = b - rmax
+        if 0 <= c < H:
+            ic = c & MI
+            rs = rs_[ic]
+            re = re_[ic]
+            cs = cs_[ic]
+            ce = ce_[ic]
+            kr = kr_[ic]
+            srow = rsm[c & MS]
+            for u in range(W):
+                if rs[u] < 0:
+                    out[c, u, 0] = nan
+                    out[c, u, 1] = nan
+                    out[c, u, 2] = nan
+                    continue
+                r = kr[u]
+                ur = min(u + r, re[u])
+                ul = max(u - r, rs[u])
+                vd = min(c + r, ce[u])
+                vu = max(c - r, cs[u])
+                if ur == ul or vd == vu:
+                    out[c, u, 0] = nan
+                    out[c, u, 1] = nan
+                    out[c, u, 2] = nan
+                    continue
+                sd = rsm[vd & MS]
+                su = rsm[vu & MS]
+                ax = srow[ur, 0] - srow[ul, 0]
+                ay = srow[ur, 1] - srow[ul, 1]
+                az = srow[ur, 2] - srow[ul, 2]
+                bx = sd[u, 0] - su[u, 0]
+                by = sd[u, 1] - su[u, 1]
+                bz = sd[u, 2] - su[u, 2]
+                nx = ay * bz - az * by
+                ny = az * bx - ax * bz
+                nz = ax * by - ay * bx
+                nn = np.sqrt(nx * nx + ny * ny + nz * nz)
+                if nn == 0.0:
+                    out[c, u, 0] = nan
+                    out[c, u, 1] = nan
+                    out[c, u, 2] = nan
+                    continue
+                if nx * xyz[c, u, 0] + ny * xyz[c, u, 1] + nz * xyz[c, u, 2] > 0.0:
+                    nn = -nn
+                out[c, u, 0] = nx / nn
+                out[c, u, 1] = ny / nn
+                out[c, u, 2] = nz / nn
+    mom[0] = m0
+    mom[1] = m1
+    mom[2] = m2
+    mom[3] = m3
+    mom[4] = m4
+    mom[5] = m5
+    mom[6] = m6
+    mom[7] = m7
+    mom[8] = m8
+    mom[9] = m9
