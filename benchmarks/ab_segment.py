@@ -7,8 +7,9 @@ and reports, per case, the median and minimum of the per-call CPU time over all 
     git worktree add /tmp/before HEAD~1
     .venv/bin/python benchmarks/ab_segment.py --before /tmp/before --after . --rounds 5
 
-Cases: the generator's stairs seed 3 at 160x120 and 640x480; the paper's algorithm
-(``refine=False, split=False``), without post-processing (``split=False``) and the default.
+Cases: the generator's stairs seed 3 and box seed 1 at 160x120 and 640x480; the paper's
+algorithm (``refine=False, split=False``), without post-processing (``split=False``) and the
+default.
 """
 
 from __future__ import annotations
@@ -25,17 +26,18 @@ import json, statistics, time
 from planerel.synth import generate_scene
 from planerel.segment import segment
 res = {}
-for sub, inner in ((4, 60), (1, 12)):
-    c = generate_scene("stairs", seed=3, subsample=sub).cloud
-    for name, kw in (("paper", dict(refine=False, split=False)), ("split=False", dict(split=False)),
-                     ("default", {})):
-        segment(c, **kw)
-        ts = []
-        for _ in range(inner):
-            t = time.process_time()
+for kind, seed in (("stairs", 3), ("box", 1)):
+    for sub, inner in ((4, 60), (1, 12)):
+        c = generate_scene(kind, seed=seed, subsample=sub).cloud
+        for name, kw in (("paper", dict(refine=False, split=False)),
+                         ("split=False", dict(split=False)), ("default", {})):
             segment(c, **kw)
-            ts.append((time.process_time() - t) * 1000)
-        res[f"{640 // sub}x{480 // sub} {name}"] = ts
+            ts = []
+            for _ in range(inner):
+                t = time.process_time()
+                segment(c, **kw)
+                ts.append((time.process_time() - t) * 1000)
+            res[f"{kind} {640 // sub}x{480 // sub} {name}"] = ts
 print(json.dumps(res))
 """
 
@@ -61,12 +63,12 @@ def main(argv=None) -> int:
         for side in ("before", "after"):
             for case, ts in _run(getattr(a, side)).items():
                 acc[side].setdefault(case, []).extend(ts)
-    print(f"{'case (CPU ms per call)':28s} {'before median (min)':>20s} {'after median (min)':>20s}"
+    print(f"{'case (CPU ms per call)':32s} {'before median (min)':>20s} {'after median (min)':>20s}"
           "  ratio")
     for case, before in acc["before"].items():
         after = acc["after"][case]
         mb, ma = statistics.median(before), statistics.median(after)
-        print(f"{case:28s} {mb:11.2f} ({min(before):6.2f}) {ma:11.2f} ({min(after):6.2f})"
+        print(f"{case:32s} {mb:11.2f} ({min(before):6.2f}) {ma:11.2f} ({min(after):6.2f})"
               f"  {ma / mb:5.2f}")
     return 0
 
