@@ -137,6 +137,21 @@ def test_bad_clouds_raise_clear_errors():
         segment(np.zeros((4, 4, 3)))
 
 
+def test_points_off_a_line_outside_the_check_sample_are_not_an_error():
+    """The normals pass checks degeneracy on every 4th row and column; a cloud whose sampled
+    points lie on one line but whose other points do not is valid (the exact check decides)."""
+    xyz = np.full((30, 40, 3), np.nan)
+    u = np.arange(40, dtype=float)
+    xyz[0, :] = np.column_stack([u * 0.01, np.zeros(40), np.full(40, 2.0)])  # row 0: a line
+    xyz[1, 1] = [0.01, 0.02, 2.0]  # off the line, row 1 and column 1: outside the sample
+    xyz[2, 5] = [0.05, 0.04, 2.1]
+    seg = segment(Cloud(xyz, None, source="sparse-check"))
+    assert seg.labels.shape == (30, 40)
+    xyz[1, 1] = xyz[2, 5] = np.nan
+    with pytest.raises(InputError, match="line"):
+        segment(Cloud(xyz, None, source="sparse-check"))
+
+
 @pytest.mark.parametrize("bad, match", [
     (dict(theta=0), "theta"), (dict(theta=90), "theta"), (dict(theta=-3), "theta"),
     (dict(theta=float("nan")), "theta.*finite"), (dict(delta=float("nan")), "delta"),

@@ -144,15 +144,15 @@ def _workspace(h: int, w: int) -> _Workspace:
     return ws
 
 
-def _check_moments(mom, name: str) -> None:
-    """The degeneracy check of :func:`check_cloud` from the moments the normals pass gathered."""
+def _check_moments(mom, cloud) -> None:
+    """The degeneracy check of :func:`check_cloud` from the moments of the regular sample the
+    normals pass gathered; when the sample looks degenerate (it may miss the few points off a
+    line) the exact check on every point decides."""
     from planerel.segment._kernels import spread_of_moments
 
     w = spread_of_moments(mom)
-    if w[2] <= 1e-18:
-        raise InputError(f"{name}: all valid points are the same point; no plane can be fitted")
-    if w[1] <= 1e-10 * w[2]:
-        raise InputError(f"{name}: all valid points lie on one line; no plane can be fitted")
+    if mom[0] < 3 or w[2] <= 1e-18 or w[1] <= 1e-10 * w[2]:
+        check_cloud(cloud)
 
 
 def _build(labels, xyz_flat, n, params, normals, info, fits=None) -> Segmentation:
@@ -205,7 +205,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
             reference_depth=p.reference_depth, intrinsics=cloud.intrinsics)
         nrm = _output(ws, "out_normals", (h, w, 3), np.float32)
         normals_stream(a, s, r, zref, smax, rmax, jump, nrm, *normal_rings(ws, smax, rmax), ws.mom)
-        _check_moments(ws.mom, cloud.source or "cloud")
+        _check_moments(ws.mom, cloud)
     else:
         check_cloud(cloud)
         if normals is None:
