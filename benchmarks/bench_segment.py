@@ -116,7 +116,7 @@ def _stages(cloud, repeat: int) -> dict:
     out["growing"] = _cpu_ms(grow, repeat)
     nreg = grow()
     out["moments"] = _cpu_ms(lambda: K.region_sums_into(xyz.reshape(-1, 3), labels, nreg, sums,
-                                                        ref), repeat)
+                                                        ref, False), repeat)
     return out
 
 

@@ -218,7 +218,7 @@ def test_completion_queue_grows_without_changing_the_result():
                                  np.empty(n, np.int32), np.empty(n, np.bool_))
     sums = np.full((n // 20 + 2, 10), np.nan)  # rows past nreg: left alone by region_sums_into
     ref = np.full((n // 20 + 2, 3), np.nan)
-    K.region_sums_into(pts, labels, nreg, sums, ref)
+    K.region_sums_into(pts, labels, nreg, sums, ref, False)
     np.testing.assert_array_equal(np.column_stack(K.region_sums(pts, labels, nreg)),
                                   np.column_stack([sums[:nreg], ref[:nreg]]))
     assert np.isnan(sums[nreg:]).all() and np.isnan(ref[nreg:]).all()

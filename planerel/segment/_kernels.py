@@ -401,11 +401,12 @@ def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, qlev, ent, 
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def add_region_moments(pts, labels, lo, hi, sums, ref):  # pragma: no cover - compiled
+def add_region_moments(pts, labels, lo, hi, sums, ref, clamp):  # pragma: no cover - compiled
     """Add the moments of every point whose label lies in ``[lo, hi)`` to ``sums`` (about
     ``ref``; see :func:`region_sums`), in row-major order.  The current region's totals stay in
     registers until the label changes: the same additions in the same order as updating
-    ``sums`` point by point, without a load and store of ten totals per point."""
+    ``sums`` point by point, without a load and store of ten totals per point.  With ``clamp``
+    labels below -1 are set to -1 on the way (the growing's "cannot join" mark)."""
     N = pts.shape[0]
     cur = -1
     n = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
@@ -413,6 +414,8 @@ def add_region_moments(pts, labels, lo, hi, sums, ref):  # pragma: no cover - co
     for p in range(N):
         lab = labels[p]
         if lab < lo or lab >= hi:
+            if clamp and lab < -1:
+                labels[p] = -1
             continue
         if lab != cur:
             if cur >= 0:
@@ -472,14 +475,15 @@ def region_sums(pts, labels, nreg):  # pragma: no cover - compiled
     region's first point (for numerical stability), and (nreg, 3) those reference points."""
     out = np.empty((nreg, 10))
     ref = np.empty((nreg, 3))
-    region_sums_into(pts, labels, nreg, out, ref)
+    region_sums_into(pts, labels, nreg, out, ref, False)
     return out, ref
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def region_sums_into(pts, labels, nreg, out, ref):  # pragma: no cover - compiled
+def region_sums_into(pts, labels, nreg, out, ref, clamp):  # pragma: no cover - compiled
     """:func:`region_sums` into the first ``nreg`` rows of ``out`` (>= nreg, 10) and ``ref``
-    (>= nreg, 3) (other rows untouched)."""
+    (>= nreg, 3) (other rows untouched); ``clamp``: labels below -1 become -1 (see
+    :func:`add_region_moments`)."""
     for i in range(nreg):
         for k in range(10):
             out[i, k] = 0.0
@@ -498,7 +502,7 @@ def region_sums_into(pts, labels, nreg, out, ref):  # pragma: no cover - compile
             ref[lab, 0] = pts[p, 0]
             ref[lab, 1] = pts[p, 1]
             ref[lab, 2] = pts[p, 2]
-    add_region_moments(pts, labels, 0, nreg, out, ref)
+    add_region_moments(pts, labels, 0, nreg, out, ref, clamp)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

@@ -243,7 +243,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
                                       cos_init, cos_main, cos_init, p.num_initial_points,
                                       p.base_update_step, min_size, labels, ws.queue,
                                       ws.seedable))
-        K.region_sums_into(pts, labels, n, sums, ref)
+        K.region_sums_into(pts, labels, n, sums, ref, True)  # and -2 ("cannot join") -> -1
         info["grown_points"] = int(sums[:n, 0].sum())  # the kept regions' pixel counts
         if p.refine and n > 0:
             pn, po, _, _, prms = K.planes_from_sums(sums, ref, n)
@@ -259,7 +259,6 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
                 n = _leftover_planes(K, pts, mflat, w, labels, n, min_size,
                                      p.refine_factor * float(np.median(prms)), ws, info,
                                      sums, ref)
-        np.maximum(labels, -1, out=labels)
         fits = K.planes_from_sums(sums, ref, n)
     else:
         from scipy.spatial import cKDTree
