@@ -478,21 +478,21 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
         if (piece == -2).any():
             piece = _absorb(piece, piece_plane, cost, p.assign_sigmas)
         return piece
-    cellmap = _cellmap(len(pix), w, pix)
-    piece, piece_plane = part_pieces(pix, w, part, len(planes), int(min_size), cellmap)
+    piece, piece_plane = part_pieces(pix, w, part, len(planes), int(min_size))
     if len(piece_plane) < min_parts:
         return None
     if (piece == -2).any():
-        piece = absorb_small(pix, w, piece, piece_plane, cost, float(p.assign_sigmas), cellmap)
+        piece = absorb_small(pix, w, piece, piece_plane, cost, float(p.assign_sigmas),
+                             _cellmap(pix))
     return piece
 
 
-def _cellmap(m, w, pix):
+def _cellmap(pix):
     """Scratch of the region's image: (N,) int32 all -1 (the kernels restore it), kept per
-    thread for the image size (``pix`` (m,) ascending flat pixels give a lower bound of N)."""
+    thread (``pix`` ascending flat pixels: its last one bounds N from below)."""
     from planerel.segment.regiongrow import _CELLMAPS
 
-    n_min = int(pix[-1]) + 1 if m else 0
+    n_min = int(pix[-1]) + 1 if len(pix) else 0
     cm = getattr(_CELLMAPS, "arr", None)
     if cm is None or len(cm) < n_min:
         cm = np.full(max(n_min, 1), -1, dtype=np.int32)
