@@ -303,43 +303,56 @@ def part_pieces(pix, W, part, k, min_size):  # pragma: no cover - compiled
 def absorb_small(pix, W, piece, piece_plane, cost, assign_sigmas, cellmap):  # pragma: no cover
     """Points of too-small pieces (-2) join the adjacent kept piece (8-connected to their small
     component) whose plane is nearest in ``cost`` (the first of equal ones), within
-    ``assign_sigmas``; else they become unassigned (-1) (see ``split._absorb``)."""
+    ``assign_sigmas``; else they become unassigned (-1) (see ``split._absorb``).  ``cellmap``
+    (N,) int32 scratch, all -1 (restored): here the kept piece at each of the region's pixels.
+    Works on the small points only, apart from one pass writing and one clearing the map."""
     m = pix.shape[0]
     N = cellmap.shape[0]
     kept = piece_plane.shape[0]
-    small = np.empty(m, dtype=np.int64)
+    out = piece.copy()
+    ns = 0
     for i in range(m):
-        small[i] = 0 if piece[i] == -2 else -1
-    comp = np.empty(m, dtype=np.int64)
-    sizes = _point_components(pix, W, small, comp)
+        if piece[i] == -2:
+            ns += 1
+    if ns == 0:
+        return out
+    sidx = np.empty(ns, dtype=np.int64)
+    k = 0
+    for i in range(m):
+        if piece[i] == -2:
+            sidx[k] = i
+            k += 1
+    spix = np.empty(ns, dtype=np.int64)
+    for k in range(ns):
+        spix[k] = pix[sidx[k]]
+    comp = np.empty(ns, dtype=np.int64)
+    sizes = _point_components(spix, W, np.zeros(ns, dtype=np.int64), comp)
     adj = np.zeros((sizes.shape[0], kept), dtype=np.bool_)
-    col = _columns(pix, W)
     for i in range(m):
-        cellmap[pix[i]] = i
-    for i in range(m):
-        if comp[i] < 0:
-            continue
-        c = pix[i]
-        u = col[i]
+        if piece[i] >= 0:
+            cellmap[pix[i]] = piece[i]
+    col = _columns(spix, W)
+    for k in range(ns):
+        c = spix[k]
+        u = col[k]
         for dv in range(-1, 2):
             for du in range(-1, 2):
                 uu = u + du
                 q = c + dv * W + du
                 if (dv == 0 and du == 0) or uu < 0 or uu >= W or q < 0 or q >= N:
                     continue
-                j = cellmap[q]
-                if j >= 0 and piece[j] >= 0:
-                    adj[comp[i], piece[j]] = True
+                t = cellmap[q]
+                if t >= 0:
+                    adj[comp[k], t] = True
     for i in range(m):
-        cellmap[pix[i]] = -1
-    out = piece.copy()
-    for i in range(m):
-        if comp[i] < 0:
-            continue
+        if piece[i] >= 0:
+            cellmap[pix[i]] = -1
+    for k in range(ns):
+        i = sidx[k]
         best = np.inf
         bj = 0
         for t in range(kept):
-            c = cost[i, piece_plane[t]] if adj[comp[i], t] else np.inf
+            c = cost[i, piece_plane[t]] if adj[comp[k], t] else np.inf
             if c < best:
                 best = c
                 bj = t
