@@ -111,6 +111,7 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm,
             csp = cs_[ip]
             start = 0
             zprev = np.nan
+            sample_row = (v & 3) == 0
             px[0] = 0.0
             py[0] = 0.0
             pz[0] = 0.0
@@ -141,23 +142,24 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm,
                 kr[u] = ks[u] if same_scale else _scale(z, rratio, rmin, rmax)
                 x = xyz[v, u, 0]
                 y = xyz[v, u, 1]
-                if np.isnan(refx):
-                    refx = x
-                    refy = y
-                    refz = z
-                mx = x - refx
-                my = y - refy
-                mz = z - refz
-                m0 += 1.0
-                m1 += mx
-                m2 += my
-                m3 += mz
-                m4 += mx * mx
-                m5 += mx * my
-                m6 += mx * mz
-                m7 += my * my
-                m8 += my * mz
-                m9 += mz * mz
+                if sample_row and (u & 3) == 0:
+                    if np.isnan(refx):
+                        refx = x
+                        refy = y
+                        refz = z
+                    mx = x - refx
+                    my = y - refy
+                    mz = z - refz
+                    m0 += 1.0
+                    m1 += mx
+                    m2 += my
+                    m3 += mz
+                    m4 += mx * mx
+                    m5 += mx * my
+                    m6 += mx * mz
+                    m7 += my * my
+                    m8 += my * mz
+                    m9 += mz * mz
                 px[u + 1] = px[u] + x
                 py[u + 1] = py[u] + y
                 pz[u + 1] = pz[u] + z
