@@ -109,25 +109,47 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm,
             ks = ks_[iv]
             kr = kr_[iv]
             csp = cs_[ip]
+            c0 = rc[v & MC]
+            c1 = rc[(v + 1) & MC]
             start = 0
             zprev = np.nan
             sample_row = (v & 3) == 0
             px[0] = 0.0
             py[0] = 0.0
             pz[0] = 0.0
-            for u in range(W):
-                z = xyz[v, u, 2]
-                if np.isnan(z):
+            # one pass: runs, column-run starts, window sizes, moments, prefix sums; a run's
+            # ends, horizontal box sums and column prefix as soon as it ends
+            for u in range(W + 1):
+                z = xyz[v, u, 2] if u < W else np.nan
+                invalid = np.isnan(z)
+                if invalid or (u > start and abs(z - zprev) > jump_per_z * min(z, zprev)):
+                    if u > start:  # the run [start, u - 1] ends here
+                        end = u - 1
+                        for w in range(start, u):
+                            re[w] = end
+                            s = ks[w]
+                            lo = max(w - s, start)
+                            hi = min(w + s, end)
+                            c1[w, 0] = c0[w, 0] + px[hi + 1] - px[lo]
+                            c1[w, 1] = c0[w, 1] + py[hi + 1] - py[lo]
+                            c1[w, 2] = c0[w, 2] + pz[hi + 1] - pz[lo]
+                            c1[w, 3] = c0[w, 3] + (hi - lo + 1)
+                    start = u + 1 if invalid else u
+                if u == W:
+                    break
+                if invalid:
                     rs[u] = -1
+                    re[u] = -1
                     cs[u] = -1
-                    start = u + 1
                     px[u + 1] = px[u]
                     py[u + 1] = py[u]
                     pz[u + 1] = pz[u]
                     zprev = np.nan
+                    c1[u, 0] = c0[u, 0]
+                    c1[u, 1] = c0[u, 1]
+                    c1[u, 2] = c0[u, 2]
+                    c1[u, 3] = c0[u, 3]
                     continue
-                if u > start and abs(z - zprev) > jump_per_z * min(z, zprev):
-                    start = u
                 rs[u] = start
                 zprev = z
                 if v > 0 and csp[u] >= 0:
@@ -163,35 +185,6 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm,
                 px[u + 1] = px[u] + x
                 py[u + 1] = py[u] + y
                 pz[u + 1] = pz[u] + z
-            end = W - 1
-            znext = np.nan
-            for u in range(W - 1, -1, -1):
-                z = xyz[v, u, 2]
-                if np.isnan(z):
-                    re[u] = -1
-                    end = u - 1
-                    znext = np.nan
-                    continue
-                if u < end and abs(z - znext) > jump_per_z * min(z, znext):
-                    end = u
-                re[u] = end
-                znext = z
-            c0 = rc[v & MC]
-            c1 = rc[(v + 1) & MC]
-            for u in range(W):
-                if rs[u] < 0:
-                    c1[u, 0] = c0[u, 0]
-                    c1[u, 1] = c0[u, 1]
-                    c1[u, 2] = c0[u, 2]
-                    c1[u, 3] = c0[u, 3]
-                    continue
-                s = ks[u]
-                lo = max(u - s, rs[u])
-                hi = min(u + s, re[u])
-                c1[u, 0] = c0[u, 0] + px[hi + 1] - px[lo]
-                c1[u, 1] = c0[u, 1] + py[hi + 1] - py[lo]
-                c1[u, 2] = c0[u, 2] + pz[hi + 1] - pz[lo]
-                c1[u, 3] = c0[u, 3] + (hi - lo + 1)
         # ---- B: row b = t - L --------------------------------------------------------------
         b = t - L
         if 0 <= b < H:
