@@ -100,7 +100,7 @@ def _stages(cloud, repeat: int) -> dict:
     nrm = np.empty((h, w, 3), np.float32)
     n = h * w
     min_size = 90 * n // 19200
-    labels = np.empty(n, np.int32)
+    padded, labels = K.padded_labels(h, w)
     sums = np.zeros((n // min_size + 2, 10))
     ref = np.zeros((n // min_size + 2, 3))
     c1, c2 = math.cos(math.radians(7.5)), math.cos(math.radians(15.0))
@@ -111,7 +111,7 @@ def _stages(cloud, repeat: int) -> dict:
                                               ws.mask), repeat)
     def grow():
         return K.region_grow_grid_ws(nrm.reshape(-1, 3), ws.nvalid, ws.mask.reshape(-1), w, 4,
-                                     c1, c2, c1, 16, 8, min_size, labels, ws.queue, ws.seedable)
+                                     c1, c2, c1, 16, 8, min_size, padded, ws.queue, ws.seedable)
 
     out["growing"] = _cpu_ms(grow, repeat)
     nreg = grow()

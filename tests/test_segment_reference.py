@@ -121,12 +121,14 @@ def test_kernel_matches_the_reference_algorithm(small_scene, num_init, step, the
     cos_init = math.cos(math.radians(theta * 0.5))
     min_size = 20
     want, want_n = _reference_grow(nrm, mask, 4, cos_init, cos_main, num_init, step, min_size)
-    labels = np.empty(n, dtype=np.int32)
+    padded, labels = K.padded_labels(h, w)
     got_n = K.region_grow_grid_ws(nrm.reshape(-1, 3), np.empty(n, np.bool_), mask.reshape(-1), w,
                                   4, cos_init, cos_main, cos_init, num_init, step, min_size,
-                                  labels, np.empty(n, np.int32), np.empty(n, np.bool_))
+                                  padded, np.empty(n, np.int32), np.empty(n, np.bool_))
     assert got_n == want_n >= 3
     np.testing.assert_array_equal(labels.reshape(h, w), want)
+    # the padding is read, never written
+    assert (padded[:w + 1] == -2).all() and (padded[w + 1 + n:] == -2).all()
 
 
 def test_planes_from_fits_validate_once_and_are_read_only():
@@ -212,9 +214,9 @@ def test_completion_queue_grows_without_changing_the_result():
     n = h * w
     pts = xyz.reshape(-1, 3)
     cos_main, cos_init = math.cos(math.radians(15)), math.cos(math.radians(7.5))
-    labels = np.empty(n, dtype=np.int32)
+    padded, labels = K.padded_labels(h, w)
     nreg = K.region_grow_grid_ws(nrm.reshape(-1, 3), np.empty(n, np.bool_), mask.reshape(-1), w, 4,
-                                 cos_init, cos_main, cos_init, 16, 8, 20, labels,
+                                 cos_init, cos_main, cos_init, 16, 8, 20, padded,
                                  np.empty(n, np.int32), np.empty(n, np.bool_))
     sums = np.full((n // 20 + 2, 10), np.nan)  # rows past nreg: left alone by region_sums_into
     ref = np.full((n // 20 + 2, 3), np.nan)

@@ -10,11 +10,13 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
+from numba.cpython.unsafe.numbers import trailing_zeros
 
 __all__ = [
     "region_grow_list",
     "refine_grid_ws",
     "region_grow_grid_ws",
+    "padded_labels",
     "region_sums",
     "region_sums_into",
     "add_region_moments",
@@ -36,17 +38,21 @@ POPCOUNT = np.array([bin(i).count("1") for i in range(256)], dtype=np.int64)
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_seed,
-                        num_init, update_step, min_size, labels, queue,
+                        num_init, update_step, min_size, padded, queue,
                         seedable):  # pragma: no cover
     """The paper's Algorithm 1 on the 8-neighbour image grid (flat arrays).
 
-    nrm (N, 3) unit normals; nvalid (N,) bool; mask (N,) uint8 neighbour bits; labels (N,) int32
-    receives region ids (-1 = could join but did not, -2 = cannot join: no normal or fewer than
-    ``min_nb`` delta-neighbours); queue (N,) int32 and seedable (N,) bool scratch.  Returns the
-    region count.  The regions' moments come afterwards from one row-major pass
-    (:func:`region_sums_into`): accumulating them here, in growing order, cost more than the
-    pass (each joined point's coordinates are a cache miss on the growing's critical path)."""
+    nrm (N, 3) unit normals; nvalid (N,) bool; mask (N,) uint8 neighbour bits; ``padded``
+    (N + 2W + 2,) int32 holds the labels at ``[W + 1, W + 1 + N)`` (see :func:`padded_labels`)
+    between padding that must be -2 (read, never written, so that the eight neighbour labels
+    of any pixel are read without bounds tests).  The labels receive region ids (-1 = could
+    join but did not, -2 = cannot join: no normal or fewer than ``min_nb`` delta-neighbours);
+    queue (N,) int32 and seedable (N,) bool scratch.  Returns the region count.  The regions'
+    moments come afterwards from one row-major pass (:func:`region_sums_into`): accumulating
+    them here, in growing order, cost more than the pass (each joined point's coordinates are
+    a cache miss on the growing's critical path)."""
     N = nrm.shape[0]
+    B = W + 1
     offs = np.empty(8, dtype=np.int64)
     dv = (0, 1, 1, 1, 0, -1, -1, -1)
     du = (1, -1, 0, 1, -1, 1, 0, -1)
@@ -56,10 +62,14 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
     for p in range(N):
         seedable[p] = True
         nvalid[p] = not np.isnan(nrm[p, 0] + nrm[p, 1] + nrm[p, 2])
-        labels[p] = -1 if (nvalid[p] and popc[mask[p]] >= min_nb) else -2
+        padded[p + B] = -1 if (nvalid[p] and popc[mask[p]] >= min_nb) else -2
+    one = np.uint64(1)
+    o1 = np.uint64(W - 1)
+    o2 = np.uint64(W)
+    o3 = np.uint64(W + 1)
     nreg = 0
     for p in range(N):
-        if labels[p] != -1 or not seedable[p]:
+        if padded[p + B] != -1 or not seedable[p]:
             continue
         m = mask[p]
         # a seed must lie inside a smooth patch: every neighbour's normal close to its own
@@ -77,7 +87,7 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
             seedable[p] = False
             continue
         rid = nreg
-        labels[p] = rid
+        padded[p + B] = rid
         queue[0] = p
         head = 0
         tail = 1
@@ -95,19 +105,29 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
         while head < tail:
             c = queue[head]
             head += 1
-            mc = mask[c]
-            for k in range(8):
-                # the label first (most neighbours are taken already): ~10 % faster; min() keeps
-                # the read inside the array on the last row (a negative index wraps around)
+            # the free neighbours over delta edges as a bit set in direction order, without
+            # a branch per neighbour (which neighbours are free is unpredictable on noisy
+            # data); unsigned indices skip numba's negative-index handling
+            i = np.uint64(c + B)
+            f = (np.uint32(padded[i + one] == -1) | (np.uint32(padded[i + o1] == -1) << 1)
+                 | (np.uint32(padded[i + o2] == -1) << 2)
+                 | (np.uint32(padded[i + o3] == -1) << 3)
+                 | (np.uint32(padded[i - one] == -1) << 4)
+                 | (np.uint32(padded[i - o1] == -1) << 5)
+                 | (np.uint32(padded[i - o2] == -1) << 6)
+                 | (np.uint32(padded[i - o3] == -1) << 7)) & np.uint32(mask[c])
+            # in direction order, as a loop over the eight would visit them; joining one
+            # neighbour does not change whether another is free
+            while f != 0:
+                k = trailing_zeros(f)
+                f &= f - np.uint32(1)
                 q = c + offs[k]
-                if labels[min(q, N - 1)] != -1 or not (mc >> k) & 1:
-                    continue
                 qx = nrm[q, 0]
                 qy = nrm[q, 1]
                 qz = nrm[q, 2]
                 if qx * bx + qy * by + qz * bz < thr:
                     continue
-                labels[q] = rid
+                padded[q + B] = rid
                 queue[tail] = q
                 tail += 1
                 sx += qx
@@ -126,10 +146,17 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
         if count >= min_size:
             nreg += 1
         else:
-            for i in range(tail):
-                labels[queue[i]] = -1
-                seedable[queue[i]] = False
+            for t in range(tail):
+                padded[queue[t] + B] = -1
+                seedable[queue[t]] = False
     return nreg
+
+
+def padded_labels(h: int, w: int) -> tuple:
+    """A label buffer for :func:`region_grow_grid_ws`: ``(padded (h*w + 2w + 2,) int32 with
+    -2 padding, labels (h*w,) view of its middle)``."""
+    padded = np.full(h * w + 2 * w + 2, -2, dtype=np.int32)
+    return padded, padded[w + 1:w + 1 + h * w]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

@@ -110,6 +110,20 @@ def normal_rings(ws: _Workspace, smax: int, rmax: int) -> tuple:
     return ws.rings[1]
 
 
+def _padded_labels(ws: _Workspace, h: int, w: int) -> tuple:
+    """The growing's label buffer (``padded`` with -2 around ``labels`` (h*w,), see
+    :func:`planerel.segment._kernels.padded_labels`), reused like :func:`_output`: only when no
+    view of it is alive any more."""
+    from planerel.segment._kernels import padded_labels
+
+    arr = ws.out_labels
+    # references: the workspace attribute, ``arr`` and getrefcount's argument (views add more)
+    if arr is None or sys.getrefcount(arr) > 3:
+        arr, _ = padded_labels(h, w)
+        ws.out_labels = arr
+    return arr, arr[w + 1:w + 1 + h * w]
+
+
 def _output(ws: _Workspace, name: str, shape: tuple, dtype) -> np.ndarray:
     """The workspace's output array ``name`` when nothing outside the workspace refers to it any
     more (the Segmentation that received it, and every view of it, is gone), else a new one.
@@ -218,7 +232,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
         nrm = np.ascontiguousarray(nrm)
     nflat = nrm.reshape(-1, 3)
     if cloud.organized:
-        labels = _output(_workspace(h, w), "out_labels", (n_pix,), np.int32)
+        padded, labels = _padded_labels(_workspace(h, w), h, w)
     else:
         labels = np.empty(n_pix, dtype=np.int32)
 
@@ -241,7 +255,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
         ref = np.zeros((maxreg, 3))
         n = int(K.region_grow_grid_ws(nflat, ws.nvalid, mflat, w, p.min_neighbour_num,
                                       cos_init, cos_main, cos_init, p.num_initial_points,
-                                      p.base_update_step, min_size, labels, ws.queue,
+                                      p.base_update_step, min_size, padded, ws.queue,
                                       ws.seedable))
         K.region_sums_into(pts, labels, n, sums, ref, True)  # and -2 ("cannot join") -> -1
         info["grown_points"] = int(sums[:n, 0].sum())  # the kept regions' pixel counts
