@@ -38,95 +38,6 @@ def label_counts(labels, valid, n):  # pragma: no cover - compiled
     return cnt, status
 
 
-@njit(cache=True, nogil=True)
-def _components(on, W, comp, queue):  # pragma: no cover - compiled
-    """8-connected components of the pixels with ``on`` (N,) true on a grid ``W`` wide:
-    ``comp`` (N,) int64 receives 0, 1, ... numbered by each component's first pixel in
-    row-major order (-1 elsewhere); ``queue`` (N,) int64 scratch.  Returns the sizes."""
-    N = on.shape[0]
-    for p in range(N):
-        comp[p] = -1
-    sizes = np.zeros(16, dtype=np.int64)
-    nc = 0
-    for p in range(N):
-        if not on[p] or comp[p] >= 0:
-            continue
-        if nc == sizes.shape[0]:
-            s2 = np.zeros(2 * nc, dtype=np.int64)
-            s2[:nc] = sizes
-            sizes = s2
-        comp[p] = nc
-        queue[0] = p
-        head = 0
-        tail = 1
-        while head < tail:
-            c = queue[head]
-            head += 1
-            v = c // W
-            u = c - v * W
-            for dv in range(-1, 2):
-                vv = v + dv
-                if vv < 0 or vv * W >= N:
-                    continue
-                for du in range(-1, 2):
-                    uu = u + du
-                    if uu < 0 or uu >= W:
-                        continue
-                    q = vv * W + uu
-                    if on[q] and comp[q] < 0:
-                        comp[q] = nc
-                        queue[tail] = q
-                        tail += 1
-        sizes[nc] = tail
-        nc += 1
-    return sizes[:nc]
-
-
-@njit(cache=True, nogil=True)
-def _grouped(comp, sizes, min_size):  # pragma: no cover - compiled
-    """The pixels of the components with at least ``min_size`` pixels, grouped by component
-    (in component order), ascending within one: (pixels (K,), starts (P + 1,))."""
-    nc = sizes.shape[0]
-    first = np.full(nc, -1, dtype=np.int64)
-    npk = 0
-    total = 0
-    for c in range(nc):
-        if sizes[c] >= min_size:
-            first[c] = total
-            total += sizes[c]
-            npk += 1
-    starts = np.empty(npk + 1, dtype=np.int64)
-    k = 0
-    for c in range(nc):
-        if first[c] >= 0:
-            starts[k] = first[c]
-            k += 1
-    starts[npk] = total
-    out = np.empty(total, dtype=np.int64)
-    fill = first.copy()
-    for p in range(comp.shape[0]):
-        c = comp[p]
-        if c >= 0 and fill[c] >= 0:
-            out[fill[c]] = p
-            fill[c] += 1
-    return out, starts
-
-
-@njit(cache=True, nogil=True)
-def free_patches(labels, valid, W, min_size):  # pragma: no cover - compiled
-    """8-connected patches of valid unassigned pixels (``labels`` (N,) < 0, ``valid`` (N,))
-    with at least ``min_size`` pixels: (flat pixel indices (K,) grouped by patch, ascending
-    within one; starts (P + 1,)), patches ordered by their first pixel (row-major)."""
-    N = labels.shape[0]
-    on = np.empty(N, dtype=np.bool_)
-    for p in range(N):
-        on[p] = valid[p] and labels[p] < 0
-    comp = np.empty(N, dtype=np.int64)
-    queue = np.empty(N, dtype=np.int64)
-    sizes = _components(on, W, comp, queue)
-    return _grouped(comp, sizes, min_size)
-
-
 @njit(cache=True, nogil=True, error_model="numpy")
 def depth_scales(z, scale, noise, q, unit):  # pragma: no cover - compiled
     """``z / (scale * sigma_z(z))`` per point (:meth:`SplitParams.depth_sigma2`, the same
@@ -269,6 +180,49 @@ def _point_components(pix, W, member, comp):  # pragma: no cover - compiled
         for k in range(r_first[r], r_last[r] + 1):
             comp[k] = c
     return sizes[:nc]
+
+
+@njit(cache=True, nogil=True)
+def free_patches(labels, valid, W, min_size):  # pragma: no cover - compiled
+    """8-connected patches of valid unassigned pixels (``labels`` (N,) < 0, ``valid`` (N,))
+    with at least ``min_size`` pixels: (flat pixel indices (K,) grouped by patch, ascending
+    within one; starts (P + 1,)), patches ordered by their first pixel (row-major)."""
+    N = labels.shape[0]
+    m = 0
+    for p in range(N):
+        if valid[p] and labels[p] < 0:
+            m += 1
+    pix = np.empty(m, dtype=np.int64)
+    k = 0
+    for p in range(N):
+        if valid[p] and labels[p] < 0:
+            pix[k] = p
+            k += 1
+    comp = np.empty(m, dtype=np.int64)
+    sizes = _point_components(pix, W, np.zeros(m, dtype=np.int64), comp)
+    nc = sizes.shape[0]
+    first = np.full(nc, -1, dtype=np.int64)  # write position of each kept patch
+    npk = 0
+    total = 0
+    for c in range(nc):
+        if sizes[c] >= min_size:
+            first[c] = total
+            total += sizes[c]
+            npk += 1
+    starts = np.empty(npk + 1, dtype=np.int64)
+    k = 0
+    for c in range(nc):
+        if first[c] >= 0:
+            starts[k] = first[c]
+            k += 1
+    starts[npk] = total
+    out = np.empty(total, dtype=np.int64)
+    for i in range(m):  # points in pixel order: ascending within each patch
+        c = comp[i]
+        if first[c] >= 0:
+            out[first[c]] = pix[i]
+            first[c] += 1
+    return out, starts
 
 
 @njit(cache=True, nogil=True)
