@@ -75,6 +75,24 @@ def assign_parts(P, zs, planes, assign_sigmas):  # pragma: no cover - compiled
     return cost, part
 
 
+@njit(cache=True, nogil=True, error_model="numpy")
+def ransac_scores(S, Sz, Hn, Ho, sigmas):  # pragma: no cover - compiled
+    """Inlier count of each hypothesis plane (``Hn`` (H, 3) normals, ``Ho`` (H,) offsets) on
+    the sample ``S`` (s, 3): points with ``|n . p + o| * zs <= sigmas * |n . p|``."""
+    score = np.zeros(Hn.shape[0], dtype=np.int64)
+    for j in range(Hn.shape[0]):
+        a = Hn[j, 0]
+        b = Hn[j, 1]
+        c = Hn[j, 2]
+        o = Ho[j]
+        cnt = 0
+        for i in range(S.shape[0]):
+            dn = S[i, 0] * a + S[i, 1] * b + S[i, 2] * c
+            cnt += abs(dn + o) * Sz[i] <= sigmas * abs(dn)
+        score[j] = cnt
+    return score
+
+
 @njit(cache=True, nogil=True)
 def _columns(pix, W):  # pragma: no cover - compiled
     """Image column of each of the ascending flat pixels ``pix`` (rows advance monotonically:

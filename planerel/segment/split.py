@@ -503,6 +503,8 @@ def _cellmap(pix):
 def _ransac(Q, zs, N, p: SplitParams, rng):
     """Best plane (normal, offset) of points ``Q`` (m, 3) by seeded RANSAC: three-point and
     point-with-normal hypotheses scored on a regular sample by their inlier count."""
+    from planerel.segment._post_kernels import ransac_scores
+
     m = len(Q)
     step = max(1, m // p.sample)
     S = Q[::step]
@@ -528,9 +530,8 @@ def _ransac(Q, zs, N, p: SplitParams, rng):
     if len(Hn) == 0:
         return None
     Ho = -np.einsum("ij,ij->i", Hn, np.concatenate(hyp_p))
-    dn = S @ Hn.T                                   # (s, H)
-    inl = np.abs(dn + Ho) * Sz[:, None] <= p.inlier_sigmas * np.abs(dn)
-    score = inl.sum(axis=0)
+    score = ransac_scores(np.ascontiguousarray(S), np.ascontiguousarray(Sz), Hn, Ho,
+                          float(p.inlier_sigmas))
     j = int(np.argmax(score))
     if score[j] < 3:
         return None
