@@ -220,3 +220,19 @@ def test_ransac_scores_match_the_numpy_statement():
     assert np.abs(got - want).max() <= 1
     assert (got == want).mean() > 0.9
     assert want.max() > 50  # the test has real inliers
+
+
+def test_plane_fit_matches_the_numpy_pca():
+    rng = np.random.default_rng(11)
+    n_true = np.array([0.2, -0.3, -0.93])
+    n_true /= np.linalg.norm(n_true)
+    basis = np.linalg.svd(n_true[None])[2][1:]  # two directions in the plane
+    P = rng.normal(size=(3000, 2)) @ basis + 2.0 * -n_true + rng.normal(size=(3000, 1)) * 1e-3 * n_true
+    nr, off = PK.plane_fit(P)
+    c = P.mean(axis=0)
+    q = P - c
+    want = np.linalg.eigh(q.T @ q)[1][:, 0]
+    s = np.sign(nr @ want)  # an eigenvector's sign is arbitrary
+    np.testing.assert_allclose(s * nr, want, atol=1e-10)
+    np.testing.assert_allclose(s * off, -(want @ c), atol=1e-10)
+    assert abs(abs(nr @ n_true) - 1.0) < 1e-4

@@ -93,6 +93,42 @@ def ransac_scores(S, Sz, Hn, Ho, sigmas):  # pragma: no cover - compiled
     return score
 
 
+@njit(cache=True, nogil=True, error_model="numpy")
+def plane_fit(P):  # pragma: no cover - compiled
+    """Least-squares plane of points ``P`` (m, 3), m >= 3: (unit normal (3,), offset), the
+    smallest-eigenvalue eigenvector of the scatter about the mean."""
+    m = P.shape[0]
+    cx = cy = cz = 0.0
+    for i in range(m):
+        cx += P[i, 0]
+        cy += P[i, 1]
+        cz += P[i, 2]
+    cx /= m
+    cy /= m
+    cz /= m
+    sxx = sxy = sxz = syy = syz = szz = 0.0
+    for i in range(m):
+        x = P[i, 0] - cx
+        y = P[i, 1] - cy
+        z = P[i, 2] - cz
+        sxx += x * x
+        sxy += x * y
+        sxz += x * z
+        syy += y * y
+        syz += y * z
+        szz += z * z
+    cov = np.empty((3, 3))
+    cov[0, 0] = sxx
+    cov[0, 1] = cov[1, 0] = sxy
+    cov[0, 2] = cov[2, 0] = sxz
+    cov[1, 1] = syy
+    cov[1, 2] = cov[2, 1] = syz
+    cov[2, 2] = szz
+    _, vec = np.linalg.eigh(cov)
+    n = vec[:, 0].copy()
+    return n, -(n[0] * cx + n[1] * cy + n[2] * cz)
+
+
 @njit(cache=True, nogil=True)
 def _columns(pix, W):  # pragma: no cover - compiled
     """Image column of each of the ascending flat pixels ``pix`` (rows advance monotonically:
