@@ -286,7 +286,9 @@ def _refine_scan(pts, mask, W, labels, planes, thr, p0, qlev, ent, state,
         if bestl >= 0:
             lev = min(NB - 1, int(NB * bestd))
             qlev[p] = lev
-            # FIFO per level: entries (pixel, region, next entry of the level)
+            # FIFO per level: entries (pixel, region, next entry of the level); written out
+            # here and in _refine_flood: a shared helper taking the queue arrays measured 16 %
+            # slower (a reference-count round trip per call)
             ent[n, 0] = p
             ent[n, 1] = bestl
             ent[n, 2] = -1

@@ -231,17 +231,17 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm,
             kr = kr_[ic]
             srow = rsm[c & MS]
             for u in range(W):
-                if rs[u] < 0:
-                    out[c, u, 0] = nan
-                    out[c, u, 1] = nan
-                    out[c, u, 2] = nan
-                    continue
-                r = kr[u]
-                ur = min(u + r, re[u])
-                ul = max(u - r, rs[u])
-                vd = min(c + r, ce[u])
-                vu = max(c - r, cs[u])
-                if ur == ul or vd == vu:
+                # no normal for an invalid point or one with no neighbour along its row or
+                # its column (runs of one pixel)
+                ok = rs[u] >= 0
+                if ok:
+                    r = kr[u]
+                    ur = min(u + r, re[u])
+                    ul = max(u - r, rs[u])
+                    vd = min(c + r, ce[u])
+                    vu = max(c - r, cs[u])
+                    ok = ur != ul and vd != vu
+                if not ok:
                     out[c, u, 0] = nan
                     out[c, u, 1] = nan
                     out[c, u, 2] = nan

@@ -112,28 +112,29 @@ def normal_rings(ws: _Workspace, smax: int, rmax: int) -> tuple:
 
 def _padded_labels(ws: _Workspace, h: int, w: int) -> tuple:
     """The growing's label buffer (``padded`` with -2 around ``labels`` (h*w,), see
-    :func:`planerel.segment._kernels.padded_labels`), reused like :func:`_output`: only when no
-    view of it is alive any more."""
+    :func:`planerel.segment._kernels.padded_labels`), reused as :func:`_output` reuses."""
     from planerel.segment._kernels import padded_labels
 
-    arr = ws.out_labels
-    # references: the workspace attribute, ``arr`` and getrefcount's argument (views add more)
-    if arr is None or sys.getrefcount(arr) > 3:
-        arr, _ = padded_labels(h, w)
-        ws.out_labels = arr
+    arr = _reusable(ws, "out_labels", lambda: padded_labels(h, w)[0])
     return arr, arr[w + 1:w + 1 + h * w]
 
 
 def _output(ws: _Workspace, name: str, shape: tuple, dtype) -> np.ndarray:
+    """The workspace's output array ``name`` (see :func:`_reusable`), else a new one."""
+    return _reusable(ws, name, lambda: np.empty(shape, dtype=dtype))
+
+
+def _reusable(ws: _Workspace, name: str, make) -> np.ndarray:
     """The workspace's output array ``name`` when nothing outside the workspace refers to it any
-    more (the Segmentation that received it, and every view of it, is gone), else a new one.
+    more (the Segmentation that received it, and every view of it, is gone), else ``make()``,
+    kept for next time.
 
     Reusing returned arrays this way avoids the page faults of fresh memory (CPython reference
     counts are exact, so an array still held by a caller is never overwritten)."""
     arr = getattr(ws, name)
-    # references: the workspace attribute, ``arr`` and getrefcount's argument
+    # references: the workspace attribute, ``arr`` and getrefcount's argument; views add more
     if arr is None or sys.getrefcount(arr) > 3:
-        arr = np.empty(shape, dtype=dtype)
+        arr = make()
         setattr(ws, name, arr)
     return arr
 
@@ -141,8 +142,6 @@ def _output(ws: _Workspace, name: str, shape: tuple, dtype) -> np.ndarray:
 #: Image sizes whose scratch is kept per thread.
 _WS_KEEP = 2
 _WS_LOCAL = threading.local()
-#: Per thread: a flat int32 pixel -> point map, all -1 between calls (the split's kernels).
-_CELLMAPS = threading.local()
 
 
 def _workspace(h: int, w: int) -> _Workspace:

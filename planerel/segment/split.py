@@ -34,6 +34,7 @@ region in its place, ordered by their first pixel (row-major).  Planes are refit
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,6 +44,9 @@ from planerel.segment.params import _bool, _int, _num, coerce_params, scaled_min
 from planerel.segment.result import Segmentation, SegPlane, fit_planes
 
 __all__ = ["SplitParams", "split_bent_regions", "expected_sigma"]
+
+#: Per thread: a flat int32 pixel map, all -1 between calls (see :func:`_cellmap`).
+_CELLMAPS = threading.local()
 
 
 @dataclass(frozen=True)
@@ -489,8 +493,6 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
 def _cellmap(pix):
     """Scratch of the region's image: (N,) int32 all -1 (the kernels restore it), kept per
     thread (``pix`` ascending flat pixels: its last one bounds N from below)."""
-    from planerel.segment.regiongrow import _CELLMAPS
-
     n_min = int(pix[-1]) + 1 if len(pix) else 0
     cm = getattr(_CELLMAPS, "arr", None)
     if cm is None or len(cm) < n_min:
