@@ -72,9 +72,9 @@ def first_call_ms() -> float:
     return float(out.stdout.strip().splitlines()[-1])
 
 
-#: Speed scenes: the generator's staircase seed 3 (the benchmark's scene since the first revision; 44 % of the
-#: pixels invalid at 640x480: background beyond range) and a box scene seed 1 (99 % valid, the
-#: density of a real indoor Kinect frame).
+#: Speed scenes: the generator's staircase seed 3 (the benchmark's scene since the first
+#: revision; 44 % of the pixels invalid at 640x480: background beyond range) and a box scene
+#: seed 1 (99 % valid, the density of a real indoor Kinect frame).
 SCENES = (("stairs", 3), ("box", 1))
 #: The issue's targets for normals + region growing (ms) per image size.
 TARGETS = {"640x480": 10.0, "160x120": 1.0}
