@@ -12,8 +12,9 @@ A. row ``t``: row runs (NaN holes and depth jumps cut them), column-run starts, 
 B. row ``b = t - L`` (``L = max(smax, rmax)``): the column-run end, capped at ``b + L`` (all a
    window can reach), then the smoothed points (vertical box over the horizontal sums, clipped
    to the column run);
-C. row ``c = b - rmax``: central differences of the smoothed points clipped to the runs, the
-   cross product, normalised and turned towards the sensor.
+C. row ``c = b - rmax``: central differences of the smoothed points clipped to the runs (a
+   scalar loop: rows and columns differ per pixel), then the cross product, normalised and
+   turned towards the sensor, in a loop LLVM vectorises (:func:`_cross_row`).
 
 Every value is computed by the same operations in the same order as the earlier full-image
 kernel, so the normals are bit-identical to it (tests/test_normals.py checks them against a
@@ -51,6 +52,34 @@ def _scale(z, ratio, lo, hi):  # pragma: no cover - compiled
     if k > hi:
         return hi
     return k
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _cross_row(dif, p, o):  # pragma: no cover - compiled
+    """Normals of one row: ``o`` (3 W,) float32, the row's normals flattened, from ``dif``
+    (7, W) float32 (the row difference x, y, z, the column difference x, y, z, and 1 where the
+    pixel has a normal) and ``p`` (3 W,) the row's points flattened: the cross product
+    normalised and turned towards the sensor, NaN where there is none.  Flat arrays with
+    constant strides: with (W, 3) views the stride is a run-time value and LLVM leaves the
+    loop scalar (one square root and three divisions per pixel)."""
+    nan = np.float32(np.nan)
+    for u in range(dif.shape[1]):
+        ax = dif[0, u]
+        ay = dif[1, u]
+        az = dif[2, u]
+        bx = dif[3, u]
+        by = dif[4, u]
+        bz = dif[5, u]
+        nx = ay * bz - az * by
+        ny = az * bx - ax * bz
+        nz = ax * by - ay * bx
+        nn = np.sqrt(nx * nx + ny * ny + nz * nz)
+        ok = (dif[6, u] != 0.0) & (nn != 0.0)
+        # selects, not branches (the loop must stay branch-free to vectorise)
+        nn = -nn if nx * p[3 * u] + ny * p[3 * u + 1] + nz * p[3 * u + 2] > 0.0 else nn
+        o[3 * u] = nx / nn if ok else nan
+        o[3 * u + 1] = ny / nn if ok else nan
+        o[3 * u + 2] = nz / nn if ok else nan
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -96,7 +125,7 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm,
     py = np.empty(W + 1)
     pz = np.empty(W + 1)
     alive = np.empty(W, dtype=np.bool_)
-    nan = np.float32(np.nan)
+    dif = np.empty((7, W), dtype=np.float32)
     for t in range(H + L + rmax):
         # ---- A: row t ----------------------------------------------------------------------
         if t < H:
@@ -230,44 +259,28 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm,
             ce = ce_[ic]
             kr = kr_[ic]
             srow = rsm[c & MS]
+            # the two differences into row buffers (scalar: the rows and columns differ per
+            # pixel), then the normals in a loop LLVM vectorises
             for u in range(W):
                 # no normal for an invalid point or one with no neighbour along its row or
                 # its column (runs of one pixel)
-                ok = rs[u] >= 0
-                if ok:
-                    r = kr[u]
-                    ur = min(u + r, re[u])
-                    ul = max(u - r, rs[u])
-                    vd = min(c + r, ce[u])
-                    vu = max(c - r, cs[u])
-                    ok = ur != ul and vd != vu
-                if not ok:
-                    out[c, u, 0] = nan
-                    out[c, u, 1] = nan
-                    out[c, u, 2] = nan
-                    continue
+                r = kr[u]
+                ur = min(u + r, re[u])
+                ul = max(u - r, rs[u])
+                vd = min(c + r, ce[u])
+                vu = max(c - r, cs[u])
+                dif[6, u] = (rs[u] >= 0) & (ur != ul) & (vd != vu)
+                ur = max(ur, 0)  # -1 for an invalid point
+                ul = max(ul, 0)
                 sd = rsm[vd & MS]
                 su = rsm[vu & MS]
-                ax = srow[ur, 0] - srow[ul, 0]
-                ay = srow[ur, 1] - srow[ul, 1]
-                az = srow[ur, 2] - srow[ul, 2]
-                bx = sd[u, 0] - su[u, 0]
-                by = sd[u, 1] - su[u, 1]
-                bz = sd[u, 2] - su[u, 2]
-                nx = ay * bz - az * by
-                ny = az * bx - ax * bz
-                nz = ax * by - ay * bx
-                nn = np.sqrt(nx * nx + ny * ny + nz * nz)
-                if nn == 0.0:
-                    out[c, u, 0] = nan
-                    out[c, u, 1] = nan
-                    out[c, u, 2] = nan
-                    continue
-                if nx * xyz[c, u, 0] + ny * xyz[c, u, 1] + nz * xyz[c, u, 2] > 0.0:
-                    nn = -nn
-                out[c, u, 0] = nx / nn
-                out[c, u, 1] = ny / nn
-                out[c, u, 2] = nz / nn
+                dif[0, u] = srow[ur, 0] - srow[ul, 0]
+                dif[1, u] = srow[ur, 1] - srow[ul, 1]
+                dif[2, u] = srow[ur, 2] - srow[ul, 2]
+                dif[3, u] = sd[u, 0] - su[u, 0]
+                dif[4, u] = sd[u, 1] - su[u, 1]
+                dif[5, u] = sd[u, 2] - su[u, 2]
+            _cross_row(dif, xyz[c].reshape(-1), out[c].reshape(-1))
     mom[0] = m0
     mom[1] = m1
     mom[2] = m2
