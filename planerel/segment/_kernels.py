@@ -37,6 +37,25 @@ POPCOUNT = np.array([bin(i).count("1") for i in range(256)], dtype=np.int64)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def _valid_normals(n3, nvalid):  # pragma: no cover - compiled
+    """``nvalid[p]``: the normal ``n3[3p:3p + 3]`` (flattened (N, 3)) has no NaN."""
+    for p in range(nvalid.shape[0]):
+        nvalid[p] = not np.isnan(n3[3 * p] + n3[3 * p + 1] + n3[3 * p + 2])
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _free_or_not(nvalid, mask, min_nb, lab):  # pragma: no cover - compiled
+    """``lab[p]`` = -1 (free) where ``nvalid[p]`` and ``mask[p]`` has at least ``min_nb`` set
+    bits, else -2 (cannot join)."""
+    for p in range(lab.shape[0]):
+        x = np.int32(mask[p])
+        x = x - ((x >> 1) & 0x55)
+        x = (x & 0x33) + ((x >> 2) & 0x33)
+        x = (x + (x >> 4)) & 0x0F
+        lab[p] = np.int32(-1) if (nvalid[p] and x >= min_nb) else np.int32(-2)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_seed,
                         num_init, update_step, min_size, padded, queue,
                         seedable):  # pragma: no cover
@@ -58,11 +77,10 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
     du = (1, -1, 0, 1, -1, 1, 0, -1)
     for k in range(8):
         offs[k] = dv[k] * W + du[k]
-    popc = POPCOUNT
-    for p in range(N):
-        seedable[p] = True
-        nvalid[p] = not np.isnan(nrm[p, 0] + nrm[p, 1] + nrm[p, 2])
-        padded[p + B] = -1 if (nvalid[p] and popc[mask[p]] >= min_nb) else -2
+    # three loops LLVM vectorises (flat normals: constant stride; popcount by bit arithmetic)
+    seedable[:] = True
+    _valid_normals(nrm.reshape(-1), nvalid)
+    _free_or_not(nvalid, mask, min_nb, padded[B:B + N])
     one = np.uint64(1)
     o1 = np.uint64(W - 1)
     o2 = np.uint64(W)
