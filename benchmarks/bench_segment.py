@@ -89,8 +89,8 @@ def _stages(cloud, repeat: int) -> dict:
 
     from planerel.normals import normal_kernel_args
     from planerel.segment import _kernels as K
-    from planerel.segment._graph_kernels import grid_graph
-    from planerel.segment._normal_kernels import normals_stream
+    from planerel.segment._graph_kernels import graph_table
+    from planerel.segment._normal_kernels import normals_stream, with_graph
     from planerel.segment.regiongrow import _NBANDS, _workspace, normal_rings
 
     xyz = np.ascontiguousarray(cloud.xyz)
@@ -106,9 +106,11 @@ def _stages(cloud, repeat: int) -> dict:
     c1, c2 = math.cos(math.radians(7.5)), math.cos(math.radians(15.0))
     out = {}
     rings = normal_rings(ws, args[3], args[4])
-    out["normals"] = _cpu_ms(lambda: normals_stream(xyz, *args, nrm, *rings, ws.mom), repeat)
-    out["graph"] = _cpu_ms(lambda: grid_graph(xyz, 6.0, -1.0, True, _NBANDS, max(1, h // 120),
-                                              ws.mask), repeat)
+    table = (xyz, 6.0, -1.0, True, _NBANDS, max(1, h // 120))
+    out["delta table"] = _cpu_ms(lambda: graph_table(*table), repeat)
+    graph = with_graph(*graph_table(*table)[1:4], ws.mask)
+    out["normals + graph"] = _cpu_ms(lambda: normals_stream(xyz, *args, nrm, *rings, ws.mom,
+                                                            graph), repeat)
     def grow():
         return K.region_grow_grid_ws(nrm.reshape(-1, 3), ws.nvalid, ws.mask.reshape(-1), w, 4,
                                      c1, c2, c1, 16, 8, min_size, padded, ws.queue, ws.seedable)

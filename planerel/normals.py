@@ -143,12 +143,12 @@ def organized_normals(
     a = np.ascontiguousarray(np.asarray(xyz, dtype=np.float64))
     args = normal_kernel_args(a, smooth=smooth, radius=radius, jump_factor=jump_factor,
                               reference_depth=reference_depth, intrinsics=intrinsics)
-    from planerel.segment._normal_kernels import normals_stream
+    from planerel.segment._normal_kernels import no_graph, normals_stream
     from planerel.segment.regiongrow import _workspace, normal_rings
 
     out = np.empty(a.shape, dtype=np.float32)
     ws = _workspace(a.shape[0], a.shape[1])  # reused scratch (see planerel.segment.regiongrow)
-    normals_stream(a, *args, out, *normal_rings(ws, args[3], args[4]), ws.mom)
+    normals_stream(a, *args, out, *normal_rings(ws, args[3], args[4]), ws.mom, no_graph())
     return out.astype(np.float64)
 
 

@@ -152,3 +152,31 @@ def test_graph_kernel_repeats_exactly():
     again = np.empty(a.shape[:2], dtype=np.uint8)
     grid_graph(a, 6.0, -1.0, True, NB, 1, again)
     np.testing.assert_array_equal(first, again)
+
+
+@pytest.mark.parametrize("name,xyz", list(_clouds()), ids=[n for n, _ in _clouds()])
+def test_graph_in_the_normals_pass_matches_the_definition(name, xyz):
+    """Region growing fills the graph inside the normals' pass (each row right after the
+    normals read it): the same mask as the definition, and the normals unchanged."""
+    from planerel.normals import normal_kernel_args
+    from planerel.segment._graph_kernels import graph_table
+    from planerel.segment._normal_kernels import no_graph, normals_stream, ring_sizes, with_graph
+
+    xyz = np.ascontiguousarray(xyz)
+    h, w, _ = xyz.shape
+    args = normal_kernel_args(xyz)
+    scratch = []
+    for _ in range(2):
+        rr, rc, rs = ring_sizes(args[3], args[4])
+        scratch.append((np.empty((h, w, 3), np.float32), np.empty((6, rr, w), np.int16),
+                        np.empty((rc, w, 4)), np.empty((rs, w, 3), np.float32), np.empty(10)))
+    table, tab2, zmin, width, mean = graph_table(xyz, 6.0, -1.0, True, NB, 2)
+    mask = np.full((h, w), 255, dtype=np.uint8)
+    normals_stream(xyz, *args, *scratch[0], with_graph(tab2, zmin, width, mask))
+    normals_stream(xyz, *args, *scratch[1], no_graph())
+    rtable, rzmin, rwidth, rmean, rmask = _reference(xyz, 6.0, -1.0, True, 2)
+    assert (zmin, width, mean) == (rzmin, rwidth, rmean)
+    np.testing.assert_array_equal(table, rtable)
+    np.testing.assert_array_equal(mask, rmask)
+    np.testing.assert_array_equal(scratch[0][0], scratch[1][0])  # normals, NaN included
+    np.testing.assert_array_equal(scratch[0][4], scratch[1][4])  # the degeneracy sample

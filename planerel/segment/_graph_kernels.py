@@ -17,16 +17,23 @@ __all__ = ["grid_graph"]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def _deinterleave(a, x, y, z):  # pragma: no cover - compiled
+    """``x``, ``y``, ``z`` (n,) from the flat (n, 3) points ``a`` (3 n,): constant strides,
+    which LLVM vectorises (a (n, 3) view's stride is a run-time value)."""
+    for u in range(x.shape[0]):
+        x[u] = a[3 * u]
+        y[u] = a[3 * u + 1]
+        z[u] = a[3 * u + 2]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _load_row(xyz, v, r):  # pragma: no cover - compiled
     """Row ``v`` of ``xyz`` into ``r`` (3, W + 2): x, y, z at columns 1..W; all NaN when ``v``
     lies outside the image.  Columns 0 and W + 1 are padding and must hold NaN."""
     H = xyz.shape[0]
     W = xyz.shape[1]
     if 0 <= v < H:
-        for u in range(W):
-            r[0, u + 1] = xyz[v, u, 0]
-            r[1, u + 1] = xyz[v, u, 1]
-            r[2, u + 1] = xyz[v, u, 2]
+        _deinterleave(xyz[v].reshape(-1), r[0, 1:W + 1], r[1, 1:W + 1], r[2, 1:W + 1])
     else:
         for u in range(W + 2):
             r[0, u] = np.nan
@@ -52,6 +59,26 @@ def _d2_row(a, b, shift, out):  # pragma: no cover - compiled
         dz = bz[i] - az[i]
         d = np.float32(dx * dx + dy * dy + dz * dz)
         out[i] = d if d < inf else inf
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _nearest_row(d, z, zmin, width, nbands, near, band):  # pragma: no cover - compiled
+    """``near[u]``: distance from column ``u + 1`` of a row to its nearest of the 8 adjacent
+    points (-1 where the point is NaN or has no valid neighbour), ``band[u]`` its depth band;
+    ``d`` (7, W + 2) the padded float32 squared lengths of the table pass, ``z`` the padded
+    row's depths.  Branch-free, so that LLVM vectorises it."""
+    inf = np.float32(np.inf)
+    top = nbands - 1
+    for u in range(near.shape[0]):
+        z0 = z[u + 1]
+        # right, left, below-left, below, below-right, above-right, above, above-left
+        m = min(min(min(d[0, u + 1], d[0, u]), min(d[4, u + 1], d[5, u + 1])),
+                min(min(d[6, u + 1], d[1, u + 2]), min(d[2, u + 1], d[3, u])))
+        ok = not np.isnan(z0) and m < inf
+        near[u] = np.sqrt(np.float64(m)) if ok else -1.0
+        b = (z0 - zmin) / width if ok else 0.0
+        b = b if b > 0.0 else 0.0
+        band[u] = np.int32(b if b < top else top)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -91,21 +118,47 @@ def _edge_row(a, ta, b, tb, shift, e):  # pragma: no cover - compiled
         e[i] = d < max(at[i], bt[i])
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def grid_graph(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step,
-               mask):  # pragma: no cover - compiled
+def grid_graph(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step, mask):
     """Fill ``mask`` (H, W) uint8 with the grid neighbours within delta (bit k: direction k of
-    ``planerel.segment._kernels.GRID_DV`` / ``GRID_DU``).
+    ``planerel.segment._kernels.GRID_DV`` / ``GRID_DU``): :func:`graph_table`, then
+    :func:`graph_step` for every row.  Returns what :func:`graph_table` returns but ``tab2``.
 
-    ``xyz`` (H, W, 3) float64, NaN = invalid.  delta: ``delta_fixed`` when > 0; else
-    ``delta_factor`` x the mean over points of the distance to the nearest of the 8 adjacent
-    neighbours, estimated on every ``row_step``-th row; with ``by_depth`` that mean is taken
-    per depth band (``nbands`` equal bands between the smallest and largest depth of those
-    rows) and an edge uses the band of its farther point.  An edge exists when its float32
-    squared length is below the float32 squared delta.
+    (Region growing runs the steps inside the normals' pass instead, while each row of the
+    cloud is in the cache: :func:`planerel.segment._normal_kernels.normals_stream`.)"""
+    table, tab2, zmin, width, mean = graph_table(xyz, delta_factor, delta_fixed, by_depth,
+                                                 nbands, row_step)
+    gs = graph_scratch(xyz.shape[1])
+    _all_steps(xyz, tab2, zmin, width, *gs, mask)
+    return table, zmin, width, mean
 
-    Returns (delta table (nbands,), band zmin, band width, global mean nearest-neighbour
-    distance).
+
+def graph_scratch(w: int) -> tuple:
+    """Scratch of :func:`graph_step` for rows ``w`` pixels wide: ``rows`` (2, 3, W + 2) float64,
+    ``thr`` (2, W + 2) float32, ``band`` (W,) int32, ``edges`` (8, W) uint8."""
+    rows = np.full((2, 3, w + 2), np.nan)  # the padding columns stay NaN
+    return rows, np.zeros((2, w + 2), np.float32), np.empty(w, np.int32), np.zeros((8, w), np.uint8)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _all_steps(xyz, tab2, zmin, width, rows, thr, band, edges, mask):  # pragma: no cover
+    for t in range(xyz.shape[0] + 1):
+        graph_step(xyz, t, tab2, zmin, width, rows, thr, band, edges, mask)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def graph_table(xyz, delta_factor, delta_fixed, by_depth, nbands,
+                row_step):  # pragma: no cover - compiled
+    """The delta table of the grid graph of ``xyz`` (H, W, 3) float64, NaN = invalid.
+
+    delta: ``delta_fixed`` when > 0; else ``delta_factor`` x the mean over points of the
+    distance to the nearest of the 8 adjacent neighbours, estimated on every ``row_step``-th
+    row; with ``by_depth`` that mean is taken per depth band (``nbands`` equal bands between
+    the smallest and largest depth of those rows) and an edge uses the band of its farther
+    point.  An edge exists when its float32 squared length is below the float32 squared
+    delta.
+
+    Returns (delta table (nbands,), its float32 squares ``tab2``, band zmin, band width,
+    global mean nearest-neighbour distance).
     """
     H = xyz.shape[0]
     W = xyz.shape[1]
@@ -140,6 +193,8 @@ def grid_graph(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step,
     d = np.full((7, W + 2), inf, dtype=np.float32)
     bsum = np.zeros(nbands)
     bcnt = np.zeros(nbands)
+    near = np.empty(W)
+    band = np.empty(W, dtype=np.int32)
     tot = 0.0
     totn = 0.0
     prev = -2
@@ -160,15 +215,12 @@ def grid_graph(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step,
         _d2_row(r1, r1, 1, d[0, 1:W + 1])
         for k in range(3):
             _d2_row(r1, r2, k - 1, d[4 + k, 1:W + 1])
-        for u in range(W):
-            z0 = r1[2, u + 1]
-            # right, left, below-left, below, below-right, above-right, above, above-left
-            m = min(min(min(d[0, u + 1], d[0, u]), min(d[4, u + 1], d[5, u + 1])),
-                    min(min(d[6, u + 1], d[1, u + 2]), min(d[2, u + 1], d[3, u])))
-            if np.isnan(z0) or not m < inf:
+        _nearest_row(d, r1[2], zmin, width, nbands, near, band)
+        for u in range(W):  # in column order (the sums' rounding stays the same)
+            dd = near[u]
+            if not dd >= 0.0:
                 continue
-            dd = np.sqrt(np.float64(m))
-            b = min(nbands - 1, max(0, int((z0 - zmin) / width)))
+            b = band[u]
             bsum[b] += dd
             bcnt[b] += 1.0
             tot += dd
@@ -210,39 +262,48 @@ def grid_graph(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step,
     for b in range(nbands):
         tab2[b] = table[b] * table[b]
 
-    # --- edges: the 4 forward edges of row v, the backward bits from row v - 1 -------------
-    # (the table is monotone, so tab2[band of the farther point] = the larger of the two
-    # ends' squared deltas)
-    ta = np.zeros(W + 2, dtype=np.float32)
-    tb = np.zeros(W + 2, dtype=np.float32)
-    band = np.empty(W, dtype=np.int32)
-    e = np.zeros((8, W), dtype=np.uint8)
-    ra = r0
-    rb = r1
-    _load_row(xyz, 0, ra)
-    _threshold_row(ra[2], zmin, width, nbands, tab2, band, ta)
-    for v in range(H):
-        _load_row(xyz, v + 1, rb)
-        _threshold_row(rb[2], zmin, width, nbands, tab2, band, tb)
-        ec = e[0:4] if v % 2 == 0 else e[4:8]  # this row's forward edges
-        ep = e[4:8] if v % 2 == 0 else e[0:4]  # the previous row's (zero before row 0)
-        _edge_row(ra, ta, ra, ta, 1, ec[0])
-        _edge_row(ra, ta, rb, tb, -1, ec[1])
-        _edge_row(ra, ta, rb, tb, 0, ec[2])
-        _edge_row(ra, ta, rb, tb, 1, ec[3])
-        mr = mask[v]
-        if W == 1:
-            mr[0] = (ec[2, 0] << 2) | (ep[2, 0] << 6)
-        else:
-            mr[0] = (ec[0, 0] | (ec[2, 0] << 2) | (ec[3, 0] << 3) | (ep[1, 1] << 5)
-                     | (ep[2, 0] << 6))
-            for u in range(1, W - 1):
-                mr[u] = (ec[0, u] | (ec[1, u] << 1) | (ec[2, u] << 2) | (ec[3, u] << 3)
-                         | (ec[0, u - 1] << 4) | (ep[1, u + 1] << 5) | (ep[2, u] << 6)
-                         | (ep[3, u - 1] << 7))
-            u = W - 1
-            mr[u] = ((ec[1, u] << 1) | (ec[2, u] << 2) | (ec[0, u - 1] << 4) | (ep[2, u] << 6)
+    return table, tab2, zmin, width, mean
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def graph_step(xyz, t, tab2, zmin, width, rows, thr, band, edges,
+               mask):  # pragma: no cover - compiled
+    """Step ``t`` (0..H) of the graph: load row ``t`` of ``xyz`` (all NaN for t = H) into the
+    row buffers and, for t >= 1, fill ``mask[t - 1]`` from rows t - 1 and t.  The 4 forward
+    edges of a row are computed once; its 4 backward bits are the previous row's forward
+    edges.  ``tab2``, ``zmin``, ``width`` from :func:`graph_table`; scratch from
+    :func:`graph_scratch` (rows, thresholds and edges alternate by the parity of the row; the
+    table is monotone, so ``tab2`` of the farther point's band is the larger of the two ends'
+    squared deltas)."""
+    W = xyz.shape[1]
+    nbands = tab2.shape[0]
+    rb = rows[t & 1]
+    tb = thr[t & 1]
+    _load_row(xyz, t, rb)
+    _threshold_row(rb[2], zmin, width, nbands, tab2, band, tb)
+    if t == 0:
+        return
+    v = t - 1
+    ra = rows[v & 1]
+    ta = thr[v & 1]
+    ec = edges[0:4] if v % 2 == 0 else edges[4:8]  # this row's forward edges
+    ep = edges[4:8] if v % 2 == 0 else edges[0:4]  # the previous row's (zero before row 0)
+    if v == 0:
+        ep[:, :] = 0
+    _edge_row(ra, ta, ra, ta, 1, ec[0])
+    _edge_row(ra, ta, rb, tb, -1, ec[1])
+    _edge_row(ra, ta, rb, tb, 0, ec[2])
+    _edge_row(ra, ta, rb, tb, 1, ec[3])
+    mr = mask[v]
+    if W == 1:
+        mr[0] = (ec[2, 0] << 2) | (ep[2, 0] << 6)
+    else:
+        mr[0] = (ec[0, 0] | (ec[2, 0] << 2) | (ec[3, 0] << 3) | (ep[1, 1] << 5)
+                 | (ep[2, 0] << 6))
+        for u in range(1, W - 1):
+            mr[u] = (ec[0, u] | (ec[1, u] << 1) | (ec[2, u] << 2) | (ec[3, u] << 3)
+                     | (ec[0, u - 1] << 4) | (ep[1, u + 1] << 5) | (ep[2, u] << 6)
                      | (ep[3, u - 1] << 7))
-        ra, rb = rb, ra
-        ta, tb = tb, ta
-    return table, zmin, width, mean
+        u = W - 1
+        mr[u] = ((ec[1, u] << 1) | (ec[2, u] << 2) | (ec[0, u - 1] << 4) | (ep[2, u] << 6)
+                 | (ep[3, u - 1] << 7))

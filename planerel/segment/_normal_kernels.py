@@ -26,7 +26,21 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["normals_stream", "ring_sizes"]
+from planerel.segment._graph_kernels import graph_scratch, graph_step
+
+__all__ = ["normals_stream", "ring_sizes", "with_graph", "no_graph"]
+
+
+def with_graph(tab2, zmin: float, width: float, mask) -> tuple:
+    """The ``graph`` argument of :func:`normals_stream` that fills ``mask`` (H, W) uint8 with
+    the neighbour graph of the table ``tab2``, ``zmin``, ``width`` (from
+    :func:`planerel.segment._graph_kernels.graph_table`)."""
+    return (tab2, float(zmin), float(width), *graph_scratch(mask.shape[1]), mask)
+
+
+def no_graph() -> tuple:
+    """The ``graph`` argument of :func:`normals_stream` for normals alone."""
+    return with_graph(np.zeros(1, np.float32), 0.0, 1.0, np.zeros((0, 1), np.uint8))
 
 
 def ring_sizes(smax: int, rmax: int) -> tuple[int, int, int]:
@@ -83,8 +97,8 @@ def _cross_row(dif, p, o):  # pragma: no cover - compiled
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm,
-                   mom):  # pragma: no cover - compiled
+def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm, mom,
+                   graph):  # pragma: no cover - compiled
     """Depth-aware normals of an organized cloud ``xyz`` (H, W, 3) into ``out`` (H, W, 3)
     float32 (NaN where a point is invalid or has no connected neighbour along its row or its
     column).  Window half-size s and difference radius r grow with depth: round(s0 * z / zref)
@@ -94,9 +108,16 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm,
     prefix of the horizontal sums x, y, z, count), ``rsm`` (RS, W, 3) float32 (smoothed
     points).  Also fills ``mom`` (10,) with the moments (count, sums and second moments about
     the first one) of the valid points on every 4th row and column, a sample for the
-    degeneracy check (accumulating every point cost ~10 % of the kernel)."""
+    degeneracy check (accumulating every point cost ~10 % of the kernel).
+
+    ``graph``: :func:`with_graph` to fill the region growing's neighbour graph in the same
+    pass, each step right after stage A has read its row (the cloud is then read once; as a
+    separate pass it came back from memory, ~0.5 ms more at 640x480); :func:`no_graph` not
+    to."""
     H = xyz.shape[0]
     W = xyz.shape[1]
+    tab2, gzmin, gwidth, grows, gthr, gband, gedges, mask = graph
+    do_graph = mask.shape[0] == H
     # the window grows with depth beyond zref but never shrinks below its nominal size
     smin = int(s0 + 0.5)
     rmin = max(1, int(r0 + 0.5))
@@ -214,6 +235,8 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm,
                 px[u + 1] = px[u] + x
                 py[u + 1] = py[u] + y
                 pz[u + 1] = pz[u] + z
+        if do_graph and t <= H:
+            graph_step(xyz, t, tab2, gzmin, gwidth, grows, gthr, gband, gedges, mask)
         # ---- B: row b = t - L --------------------------------------------------------------
         b = t - L
         if 0 <= b < H:

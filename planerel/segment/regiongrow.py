@@ -194,8 +194,8 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
     """
     from planerel import normals as nmod
     from planerel.segment import _kernels as K
-    from planerel.segment._graph_kernels import grid_graph
-    from planerel.segment._normal_kernels import normals_stream
+    from planerel.segment._graph_kernels import graph_table, grid_graph
+    from planerel.segment._normal_kernels import normals_stream, with_graph
 
     p = params if params is not None else RegionGrowParams()
     if not isinstance(p, RegionGrowParams):
@@ -209,6 +209,9 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
     delta_fixed = -1.0 if p.delta == "auto" else float(p.delta)
     xyz_flat = xyz.reshape(-1, 3)
     info: dict = {"min_region_size": min_size}
+    if cloud.organized:
+        graph_args = (float(p.delta_factor), delta_fixed, p.delta_mode == "depth", _NBANDS,
+                      max(1, h // 120))
     if cloud.organized and normals is None:
         cloud.require_points(3)
         ws = _workspace(h, w)
@@ -217,7 +220,11 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
             a, smooth=p.normal_smooth, radius=p.normal_radius, jump_factor=p.jump_factor,
             reference_depth=p.reference_depth, intrinsics=cloud.intrinsics)
         nrm = _output(ws, "out_normals", (h, w, 3), np.float32)
-        normals_stream(a, s, r, zref, smax, rmax, jump, nrm, *normal_rings(ws, smax, rmax), ws.mom)
+        # the neighbour graph's delta table from a sample of rows, then its rows in the normals'
+        # pass (the cloud is read once)
+        table, tab2, zmin, zwidth, mean_nn = graph_table(a, *graph_args)
+        normals_stream(a, s, r, zref, smax, rmax, jump, nrm, *normal_rings(ws, smax, rmax), ws.mom,
+                       with_graph(tab2, zmin, zwidth, ws.mask))
         _check_moments(ws.mom, cloud)
     else:
         check_cloud(cloud)
@@ -240,9 +247,8 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
         ws = _workspace(h, w)
         pts = np.ascontiguousarray(xyz_flat, dtype=np.float64)
         mask = ws.mask
-        table, zmin, zwidth, mean_nn = grid_graph(
-            xyz, float(p.delta_factor), delta_fixed, p.delta_mode == "depth", _NBANDS,
-            max(1, h // 120), mask)
+        if normals is not None:  # the graph was not made in the normals' pass
+            table, zmin, zwidth, mean_nn = grid_graph(xyz, *graph_args, mask)
         tl = sorted(table.tolist())
         info.update(delta=statistics.median(tl), delta_min=tl[0], delta_max=tl[-1],
                     mean_neighbour_distance=float(mean_nn))
