@@ -31,16 +31,25 @@ from planerel.segment._graph_kernels import graph_scratch, graph_step
 __all__ = ["normals_stream", "ring_sizes", "with_graph", "no_graph"]
 
 
-def with_graph(tab2, zmin: float, width: float, mask) -> tuple:
+def with_graph(tab2, zmin: float, width: float, mask, scratch=None) -> tuple:
     """The ``graph`` argument of :func:`normals_stream` that fills ``mask`` (H, W) uint8 with
     the neighbour graph of the table ``tab2``, ``zmin``, ``width`` (from
-    :func:`planerel.segment._graph_kernels.graph_table`)."""
-    return (tab2, float(zmin), float(width), *graph_scratch(mask.shape[1]), mask)
+    :func:`planerel.segment._graph_kernels.graph_table`); ``scratch`` from
+    :func:`planerel.segment._graph_kernels.graph_scratch` (made when not given)."""
+    if scratch is None:
+        scratch = graph_scratch(mask.shape[1])
+    return (tab2, float(zmin), float(width), *scratch, mask)
+
+
+_NO_GRAPH = None
 
 
 def no_graph() -> tuple:
     """The ``graph`` argument of :func:`normals_stream` for normals alone."""
-    return with_graph(np.zeros(1, np.float32), 0.0, 1.0, np.zeros((0, 1), np.uint8))
+    global _NO_GRAPH
+    if _NO_GRAPH is None:  # never written: the kernel skips the graph when mask has no rows
+        _NO_GRAPH = with_graph(np.zeros(1, np.float32), 0.0, 1.0, np.zeros((0, 1), np.uint8))
+    return _NO_GRAPH
 
 
 def ring_sizes(smax: int, rmax: int) -> tuple[int, int, int]:

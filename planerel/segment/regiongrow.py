@@ -80,9 +80,12 @@ class _Workspace:
     """
 
     def __init__(self, h: int, w: int) -> None:
+        from planerel.segment._graph_kernels import graph_scratch
+
         n = h * w
         self.w = w
         self.rings = None  # the normals' ring buffers, see normal_rings()
+        self.graph = graph_scratch(w)  # the neighbour graph's row buffers
         self.mom = np.empty(10)
         self.mask = np.empty((h, w), dtype=np.uint8)
         self.nvalid = np.empty(n, dtype=np.bool_)
@@ -224,7 +227,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
         # pass (the cloud is read once)
         table, tab2, zmin, zwidth, mean_nn = graph_table(a, *graph_args)
         normals_stream(a, s, r, zref, smax, rmax, jump, nrm, *normal_rings(ws, smax, rmax), ws.mom,
-                       with_graph(tab2, zmin, zwidth, ws.mask))
+                       with_graph(tab2, zmin, zwidth, ws.mask, ws.graph))
         _check_moments(ws.mom, cloud)
     else:
         check_cloud(cloud)
