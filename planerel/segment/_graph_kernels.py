@@ -2,10 +2,12 @@
 
 The graph joins 8-adjacent grid pixels whose points are closer than delta (the paper's
 distance threshold); ``"auto"`` delta comes from the mean nearest-neighbour distance per
-depth band (docs/segmentation.md).  The kernel streams the image row by row through small
-row buffers, so nothing image-sized is written but the (H, W) bit mask, and the per-row loops
-are simple enough for LLVM to vectorise (they compare squared edge lengths of whole rows at a
-time).  Import this module only from inside functions (numba is a heavy import).
+depth band (docs/segmentation.md).  Two parts: :func:`graph_table` (the delta per depth band,
+from a sample of rows) and :func:`graph_step` (one row of the bit mask from two row buffers,
+in per-row loops simple enough for LLVM to vectorise); :func:`grid_graph` runs both, region
+growing runs the steps inside the normals' pass, while each row of the cloud is in the cache.
+Nothing image-sized is written but the (H, W) bit mask.  Import this module only from inside
+functions (numba is a heavy import).
 """
 
 from __future__ import annotations
@@ -79,43 +81,6 @@ def _nearest_row(d, z, zmin, width, nbands, near, band):  # pragma: no cover - c
         b = (z0 - zmin) / width if ok else 0.0
         b = b if b > 0.0 else 0.0
         band[u] = np.int32(b if b < top else top)
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def _threshold_row(z, zmin, width, nbands, tab2, band, t):  # pragma: no cover - compiled
-    """``t[u + 1]``: squared delta of the depth band of ``z[u + 1]`` (row buffer with padding;
-    NaN goes to band 0, its edges fail anyway); ``band`` (W,) int32 scratch."""
-    n = band.shape[0]
-    top = nbands - 1
-    for i in range(n):
-        b = (z[i + 1] - zmin) / width
-        b = b if b > 0.0 else 0.0
-        b = b if b < top else top
-        band[i] = np.int32(b)
-    for i in range(n):
-        t[i + 1] = tab2[band[i]]
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def _edge_row(a, ta, b, tb, shift, e):  # pragma: no cover - compiled
-    """``e[u]`` = 1 when the edge from column ``u + 1`` of row buffer ``a`` to column
-    ``u + 1 + shift`` of ``b`` is shorter than the larger squared delta of its two ends
-    (``ta``, ``tb`` padded like the rows); 0 when either end is NaN."""
-    n = e.shape[0]
-    ax = a[0, 1:n + 1]
-    ay = a[1, 1:n + 1]
-    az = a[2, 1:n + 1]
-    at = ta[1:n + 1]
-    bx = b[0, 1 + shift:n + 1 + shift]
-    by = b[1, 1 + shift:n + 1 + shift]
-    bz = b[2, 1 + shift:n + 1 + shift]
-    bt = tb[1 + shift:n + 1 + shift]
-    for i in range(n):
-        dx = bx[i] - ax[i]
-        dy = by[i] - ay[i]
-        dz = bz[i] - az[i]
-        d = np.float32(dx * dx + dy * dy + dz * dz)
-        e[i] = d < max(at[i], bt[i])
 
 
 def grid_graph(xyz, delta_factor, delta_fixed, by_depth, nbands, row_step, mask):
@@ -276,34 +241,58 @@ def graph_step(xyz, t, tab2, zmin, width, rows, thr, band, edges,
     table is monotone, so ``tab2`` of the farther point's band is the larger of the two ends'
     squared deltas)."""
     W = xyz.shape[1]
-    nbands = tab2.shape[0]
-    rb = rows[t & 1]
-    tb = thr[t & 1]
-    _load_row(xyz, t, rb)
-    _threshold_row(rb[2], zmin, width, nbands, tab2, band, tb)
+    top = tab2.shape[0] - 1
+    pb = t & 1
+    _load_row(xyz, t, rows[pb])
+    for u in range(W):  # band of each point (NaN: band 0, its edges fail anyway)
+        b = (rows[pb, 2, u + 1] - zmin) / width
+        b = b if b > 0.0 else 0.0
+        b = b if b < top else top
+        band[u] = np.int32(b)
+    for u in range(W):
+        thr[pb, u + 1] = tab2[band[u]]
     if t == 0:
         return
     v = t - 1
-    ra = rows[v & 1]
-    ta = thr[v & 1]
-    ec = edges[0:4] if v % 2 == 0 else edges[4:8]  # this row's forward edges
-    ep = edges[4:8] if v % 2 == 0 else edges[0:4]  # the previous row's (zero before row 0)
+    pa = v & 1
+    c0 = 0 if v % 2 == 0 else 4  # this row's forward edges: edges[c0:c0 + 4]
+    p0 = 4 - c0  # the previous row's (zero before row 0)
     if v == 0:
-        ep[:, :] = 0
-    _edge_row(ra, ta, ra, ta, 1, ec[0])
-    _edge_row(ra, ta, rb, tb, -1, ec[1])
-    _edge_row(ra, ta, rb, tb, 0, ec[2])
-    _edge_row(ra, ta, rb, tb, 1, ec[3])
+        edges[:, :] = 0
+    # the 4 forward edges (right, below-left, below, below-right) in one loop without calls
+    # (array arguments cost a reference-count round trip per call)
+    for u in range(W):
+        ax = rows[pa, 0, u + 1]
+        ay = rows[pa, 1, u + 1]
+        az = rows[pa, 2, u + 1]
+        at = thr[pa, u + 1]
+        dx = rows[pa, 0, u + 2] - ax
+        dy = rows[pa, 1, u + 2] - ay
+        dz = rows[pa, 2, u + 2] - az
+        edges[c0, u] = np.float32(dx * dx + dy * dy + dz * dz) < max(at, thr[pa, u + 2])
+        dx = rows[pb, 0, u] - ax
+        dy = rows[pb, 1, u] - ay
+        dz = rows[pb, 2, u] - az
+        edges[c0 + 1, u] = np.float32(dx * dx + dy * dy + dz * dz) < max(at, thr[pb, u])
+        dx = rows[pb, 0, u + 1] - ax
+        dy = rows[pb, 1, u + 1] - ay
+        dz = rows[pb, 2, u + 1] - az
+        edges[c0 + 2, u] = np.float32(dx * dx + dy * dy + dz * dz) < max(at, thr[pb, u + 1])
+        dx = rows[pb, 0, u + 2] - ax
+        dy = rows[pb, 1, u + 2] - ay
+        dz = rows[pb, 2, u + 2] - az
+        edges[c0 + 3, u] = np.float32(dx * dx + dy * dy + dz * dz) < max(at, thr[pb, u + 2])
     mr = mask[v]
     if W == 1:
-        mr[0] = (ec[2, 0] << 2) | (ep[2, 0] << 6)
+        mr[0] = (edges[c0 + 2, 0] << 2) | (edges[p0 + 2, 0] << 6)
     else:
-        mr[0] = (ec[0, 0] | (ec[2, 0] << 2) | (ec[3, 0] << 3) | (ep[1, 1] << 5)
-                 | (ep[2, 0] << 6))
+        mr[0] = (edges[c0, 0] | (edges[c0 + 2, 0] << 2) | (edges[c0 + 3, 0] << 3)
+                 | (edges[p0 + 1, 1] << 5) | (edges[p0 + 2, 0] << 6))
         for u in range(1, W - 1):
-            mr[u] = (ec[0, u] | (ec[1, u] << 1) | (ec[2, u] << 2) | (ec[3, u] << 3)
-                     | (ec[0, u - 1] << 4) | (ep[1, u + 1] << 5) | (ep[2, u] << 6)
-                     | (ep[3, u - 1] << 7))
+            mr[u] = (edges[c0, u] | (edges[c0 + 1, u] << 1) | (edges[c0 + 2, u] << 2)
+                     | (edges[c0 + 3, u] << 3) | (edges[c0, u - 1] << 4)
+                     | (edges[p0 + 1, u + 1] << 5) | (edges[p0 + 2, u] << 6)
+                     | (edges[p0 + 3, u - 1] << 7))
         u = W - 1
-        mr[u] = ((ec[1, u] << 1) | (ec[2, u] << 2) | (ec[0, u - 1] << 4) | (ep[2, u] << 6)
-                 | (ep[3, u - 1] << 7))
+        mr[u] = ((edges[c0 + 1, u] << 1) | (edges[c0 + 2, u] << 2) | (edges[c0, u - 1] << 4)
+                 | (edges[p0 + 2, u] << 6) | (edges[p0 + 3, u - 1] << 7))
