@@ -3,6 +3,7 @@ post-processing, per-stage times, first-call cost, peak memory, and the ratio to
 baselines, all in one run on one core.
 
     .venv/bin/python benchmarks/bench_segment.py [--repeat 21] [--scene synth|analytic]
+    .venv/bin/python benchmarks/bench_segment.py --real [DIR]   # real Kinect frames only
     .venv/bin/python benchmarks/bench_segment.py --quality [--abw DIR] [--abw-baselines]
 
 Scenes (:data:`SCENES`): the generator's staircase seed 3 and box seed 1 at 640x480 and 160x120
@@ -140,12 +141,17 @@ def main(argv=None) -> int:
                     help="print the quality tables of docs/segmentation.md instead of the speed")
     ap.add_argument("--abw", default=None, metavar="DIR",
                     help="SegComp ABW folder for --quality (default ../shared/data/abw)")
+    ap.add_argument("--real", nargs="?", const="", default=None, metavar="DIR",
+                    help="time the real frames of the Kinect folder instead (default "
+                         "../shared/data/kinect: its depth TIFFs and office1.pcd)")
     ap.add_argument("--abw-baselines", action="store_true",
                     help="with --quality: also SP / SNP at the paper's thresholds on ABW (slow)")
     args = ap.parse_args(argv)
     _one_core()
     if args.quality:
         return quality(args)
+    if args.real is not None:
+        return real_frames(args.real or _data_dir("kinect"), args.repeat)
     from planerel.evaluate import evaluate
     from planerel.segment import segment
 
@@ -194,6 +200,43 @@ def main(argv=None) -> int:
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     print(f"peak RSS of this process (all frames + baselines): {peak:.0f} MB")
     print(f"peak RSS of a process that only segments one 640x480 frame: {_peak_rg_only():.0f} MB")
+    return 0
+
+
+def _data_dir(name: str) -> str:
+    """``../shared/data/<name>`` next to the checkout."""
+    from pathlib import Path
+
+    return str(Path(__file__).resolve().parents[2] / "shared" / "data" / name)
+
+
+def real_frames(folder: str, repeat: int) -> int:
+    """Median CPU ms of ``segment()`` on real frames (the paper's algorithm, ``split=False``,
+    default) with the per-stage times of the paper's algorithm."""
+    import glob
+
+    from planerel.io import read
+    from planerel.segment import segment
+
+    files = sorted(glob.glob(os.path.join(folder, "*_depth.tiff")))
+    files += sorted(glob.glob(os.path.join(folder, "*.pcd")))
+    if not files:
+        print(f"no depth TIFFs or PCD files in {folder}: nothing to time")
+        return 0
+    print("median CPU ms per call (wall time in brackets), one core")
+    for f in files:
+        cloud = read(f)
+        h, w = cloud.shape
+        segment(cloud)  # warm
+        res = []
+        for kw in (dict(refine=False, split=False), dict(split=False), {}):
+            wall = _median_ms(lambda c=cloud, k=kw: segment(c, **k), repeat)
+            res.append(f"{_CPU[-1]:.2f} ({wall:.2f})")
+        st = _stages(cloud, repeat)
+        print(f"{os.path.basename(f)} {w}x{h}, {100.0 * cloud.n_valid / (h * w):.0f} % valid: "
+              f"the paper's algorithm {res[0]}, split=False {res[1]}, default {res[2]}")
+        print("    stages: " + ", ".join(f"{k} {v:.2f}" for k, v in st.items()))
+    print(f"load average (1, 5, 15 min) at the end: {os.getloadavg()}")
     return 0
 
 
@@ -258,7 +301,7 @@ def quality(args) -> int:
             scores.append(evaluate(segment(sc.cloud).labels, sc.gt_labels))
     print(f"  regiongrow: {_row(scores)}")
     _post_processing_table()
-    abw = Path(args.abw) if args.abw else Path(__file__).resolve().parents[2] / "shared/data/abw"
+    abw = Path(args.abw or _data_dir("abw"))
     files = sorted(glob.glob(str(abw / "*.range")))
     if files:
         from planerel.io import read_abw, read_abw_gt
