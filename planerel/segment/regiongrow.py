@@ -251,7 +251,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
         pts = np.ascontiguousarray(xyz_flat, dtype=np.float64)
         mask = ws.mask
         if normals is not None:  # the graph was not made in the normals' pass
-            table, zmin, zwidth, mean_nn = grid_graph(xyz, *graph_args, mask)
+            table, zmin, zwidth, mean_nn = grid_graph(pts.reshape(h, w, 3), *graph_args, mask)
         tl = sorted(table.tolist())
         info.update(delta=statistics.median(tl), delta_min=tl[0], delta_max=tl[-1],
                     mean_neighbour_distance=float(mean_nn))
