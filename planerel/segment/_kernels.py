@@ -77,6 +77,14 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
     du = (1, -1, 0, 1, -1, 1, 0, -1)
     for k in range(8):
         offs[k] = dv[k] * W + du[k]
+    # unsigned copies for the growing loop: numba handles a negative index on every load
+    # with a signed one (three more operations on the critical path); the offsets wrap
+    # modulo 2^64, so c + uoffs[k] is the neighbour's index
+    uoffs = np.empty(8, dtype=np.uint64)
+    for k in range(8):
+        uoffs[k] = np.uint64(offs[k])
+    uB = np.uint64(B)
+    nf = nrm.reshape(-1)  # flat: a constant stride instead of a multiplication by shape[1]
     # three loops LLVM vectorises (flat normals: constant stride; popcount by bit arithmetic)
     seedable[:] = True
     _valid_normals(nrm.reshape(-1), nvalid)
@@ -121,12 +129,12 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
         next_update = update_step * (num_init // update_step + 1)
         thr = cos_init if num_init > 1 else cos_main
         while head < tail:
-            c = queue[head]
+            c = np.uint64(queue[head])
             head += 1
             # the free neighbours over delta edges as a bit set in direction order, without
             # a branch per neighbour (which neighbours are free is unpredictable on noisy
-            # data); unsigned indices skip numba's negative-index handling
-            i = np.uint64(c + B)
+            # data)
+            i = c + uB
             f = (np.uint32(padded[i + one] == -1) | (np.uint32(padded[i + o1] == -1) << 1)
                  | (np.uint32(padded[i + o2] == -1) << 2)
                  | (np.uint32(padded[i + o3] == -1) << 3)
@@ -139,14 +147,15 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
             while f != 0:
                 k = trailing_zeros(f)
                 f &= f - np.uint32(1)
-                q = c + offs[k]
-                qx = nrm[q, 0]
-                qy = nrm[q, 1]
-                qz = nrm[q, 2]
+                q = c + uoffs[k]
+                uq = np.uint64(3) * q
+                qx = nf[uq]
+                qy = nf[uq + one]
+                qz = nf[uq + np.uint64(2)]
                 if qx * bx + qy * by + qz * bz < thr:
                     continue
-                padded[q + B] = rid
-                queue[tail] = q
+                padded[q + uB] = rid
+                queue[tail] = np.int32(q)
                 tail += 1
                 sx += qx
                 sy += qy

@@ -184,15 +184,17 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm, 
                 if invalid or (u > start and abs(z - zprev) > jump_per_z * min(z, zprev)):
                     if u > start:  # the run [start, u - 1] ends here
                         end = u - 1
+                        # unsigned indices: no negative-index handling per load
                         for w in range(start, u):
                             re[w] = end
                             s = ks[w]
-                            lo = max(w - s, start)
-                            hi = min(w + s, end)
-                            c1[w, 0] = c0[w, 0] + px[hi + 1] - px[lo]
-                            c1[w, 1] = c0[w, 1] + py[hi + 1] - py[lo]
-                            c1[w, 2] = c0[w, 2] + pz[hi + 1] - pz[lo]
-                            c1[w, 3] = c0[w, 3] + (hi - lo + 1)
+                            lo = np.uint64(max(w - s, start))
+                            hi = np.uint64(min(w + s, end) + 1)
+                            uw = np.uint64(w)
+                            c1[uw, 0] = c0[uw, 0] + px[hi] - px[lo]
+                            c1[uw, 1] = c0[uw, 1] + py[hi] - py[lo]
+                            c1[uw, 2] = c0[uw, 2] + pz[hi] - pz[lo]
+                            c1[uw, 3] = c0[uw, 3] + np.float64(hi - lo)
                     start = u + 1 if invalid else u
                 if u == W:
                     break
@@ -275,12 +277,14 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm, 
                 s = ks[u]
                 lo = max(b - s, cs[u])
                 hi = min(b + s, ce[u])
-                ch = rc[(hi + 1) & MC]
-                cl = rc[lo & MC]
-                inv = 1.0 / (ch[u, 3] - cl[u, 3])
-                sb[u, 0] = (ch[u, 0] - cl[u, 0]) * inv
-                sb[u, 1] = (ch[u, 1] - cl[u, 1]) * inv
-                sb[u, 2] = (ch[u, 2] - cl[u, 2]) * inv
+                # unsigned indices: no negative-index handling per load
+                ih = np.uint64((hi + 1) & MC)
+                il = np.uint64(lo & MC)
+                uu = np.uint64(u)
+                inv = 1.0 / (rc[ih, uu, 3] - rc[il, uu, 3])
+                sb[uu, 0] = (rc[ih, uu, 0] - rc[il, uu, 0]) * inv
+                sb[uu, 1] = (rc[ih, uu, 1] - rc[il, uu, 1]) * inv
+                sb[uu, 2] = (rc[ih, uu, 2] - rc[il, uu, 2]) * inv
         # ---- C: row c = b - rmax -----------------------------------------------------------
         c = b - rmax
         if 0 <= c < H:
@@ -302,16 +306,18 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm, 
                 vd = min(c + r, ce[u])
                 vu = max(c - r, cs[u])
                 dif[6, u] = (rs[u] >= 0) & (ur != ul) & (vd != vu)
-                ur = max(ur, 0)  # -1 for an invalid point
-                ul = max(ul, 0)
-                sd = rsm[vd & MS]
-                su = rsm[vu & MS]
+                # unsigned indices: no negative-index handling per load
+                ur = np.uint64(max(ur, 0))  # -1 for an invalid point
+                ul = np.uint64(max(ul, 0))
+                iu = np.uint64(vu & MS)
+                idn = np.uint64(vd & MS)
+                uu = np.uint64(u)
                 dif[0, u] = srow[ur, 0] - srow[ul, 0]
                 dif[1, u] = srow[ur, 1] - srow[ul, 1]
                 dif[2, u] = srow[ur, 2] - srow[ul, 2]
-                dif[3, u] = sd[u, 0] - su[u, 0]
-                dif[4, u] = sd[u, 1] - su[u, 1]
-                dif[5, u] = sd[u, 2] - su[u, 2]
+                dif[3, u] = rsm[idn, uu, 0] - rsm[iu, uu, 0]
+                dif[4, u] = rsm[idn, uu, 1] - rsm[iu, uu, 1]
+                dif[5, u] = rsm[idn, uu, 2] - rsm[iu, uu, 2]
             _cross_row(dif, xyz[c].reshape(-1), out[c].reshape(-1))
     mom[0] = m0
     mom[1] = m1
