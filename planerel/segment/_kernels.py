@@ -12,6 +12,8 @@ import numpy as np
 from numba import njit
 from numba.cpython.unsafe.numbers import trailing_zeros
 
+from planerel.segment._intrinsics import prefetch
+
 __all__ = [
     "region_grow_list",
     "refine_grid_ws",
@@ -155,6 +157,9 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
                 if qx * bx + qy * by + qz * bz < thr:
                     continue
                 padded[q + uB] = rid
+                # the normal one more step in this direction, which the next breadth-first
+                # level tests: its cache line is often not yet near (~7 % of the growing)
+                prefetch(nf, np.uint64(3) * (q + q - c))
                 queue[tail] = np.int32(q)
                 tail += 1
                 sx += qx

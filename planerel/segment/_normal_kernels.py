@@ -27,6 +27,7 @@ import numpy as np
 from numba import njit
 
 from planerel.segment._graph_kernels import graph_scratch, graph_step
+from planerel.segment._intrinsics import prefetch
 
 __all__ = ["normals_stream", "ring_sizes", "with_graph", "no_graph"]
 
@@ -125,6 +126,7 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm, 
     to."""
     H = xyz.shape[0]
     W = xyz.shape[1]
+    xflat = xyz.reshape(-1)
     tab2, gzmin, gwidth, grows, gthr, gband, gedges, mask = graph
     do_graph = mask.shape[0] == H
     # the window grows with depth beyond zref but never shrinks below its nominal size
@@ -179,6 +181,9 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm, 
             # one pass: runs, column-run starts, window sizes, moments, prefix sums; a run's
             # ends, horizontal box sums and column prefix as soon as it ends
             for u in range(W + 1):
+                # the point two rows below towards the cache (the hardware prefetcher alone
+                # left this loop waiting for the cloud: ~5 % of the kernel)
+                prefetch(xflat, ((v + 2) * W + u) * 3)
                 z = xyz[v, u, 2] if u < W else np.nan
                 invalid = np.isnan(z)
                 if invalid or (u > start and abs(z - zprev) > jump_per_z * min(z, zprev)):
