@@ -97,7 +97,7 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
     o3 = np.uint64(W + 1)
     nreg = 0
     for p in range(N):
-        if padded[p + B] != -1 or not seedable[p]:
+        if padded[np.uint64(p) + uB] != -1 or not seedable[p]:
             continue
         m = mask[p]
         # a seed must lie inside a smooth patch: every neighbour's normal close to its own
@@ -157,9 +157,11 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
                 if qx * bx + qy * by + qz * bz < thr:
                     continue
                 padded[q + uB] = rid
-                # the normal one more step in this direction, which the next breadth-first
-                # level tests: its cache line is often not yet near (~7 % of the growing)
+                # the normal and label one more step in this direction, which the next
+                # breadth-first level reads: their cache lines are often not yet near
+                # (~10 % of the growing)
                 prefetch(nf, np.uint64(3) * (q + q - c))
+                prefetch(padded, q + q - c + uB)
                 queue[tail] = np.int32(q)
                 tail += 1
                 sx += qx

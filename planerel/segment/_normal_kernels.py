@@ -11,10 +11,14 @@ A. row ``t``: row runs (NaN holes and depth jumps cut them), column-run starts, 
    of the valid points on every 4th row and column (for the degeneracy check);
 B. row ``b = t - L`` (``L = max(smax, rmax)``): the column-run end, capped at ``b + L`` (all a
    window can reach), then the smoothed points (vertical box over the horizontal sums, clipped
-   to the column run);
-C. row ``c = b - rmax``: central differences of the smoothed points clipped to the runs (a
-   scalar loop: rows and columns differ per pixel), then the cross product, normalised and
-   turned towards the sensor, in a loop LLVM vectorises (:func:`_cross_row`).
+   to the column run: :func:`_smooth_row`);
+C. row ``c = b - rmax``: central differences of the smoothed points clipped to the runs
+   (:func:`_diff_row`, scalar: rows and columns differ per pixel), then the cross product,
+   normalised and turned towards the sensor, in a loop LLVM vectorises (:func:`_cross_row`).
+
+The hot loops index with unsigned integers where the index is computed (numba adds
+negative-index handling to every load with a signed one), and the kernel prefetches the cloud
+two rows ahead (:func:`planerel.segment._intrinsics.prefetch`).
 
 Every value is computed by the same operations in the same order as the earlier full-image
 kernel, so the normals are bit-identical to it (tests/test_normals.py checks them against a
@@ -104,6 +108,65 @@ def _cross_row(dif, p, o):  # pragma: no cover - compiled
         o[3 * u] = nx / nn if ok else nan
         o[3 * u + 1] = ny / nn if ok else nan
         o[3 * u + 2] = nz / nn if ok else nan
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _smooth_row(rcf, cs, ce, ks, b, MC, sbf):  # pragma: no cover - compiled
+    """Stage B's smoothed points of row ``b`` into ``sbf`` (3 W,) float32 (its ring row,
+    flattened): the vertical box over the column prefix ``rcf`` (the (RC, W, 4) ring,
+    flattened) from row ``max(b - s, cs)`` to ``min(b + s, ce)``; ``cs``, ``ce``, ``ks`` the
+    row's column-run start / capped end and window half-sizes (W,) int16; ``MC`` = RC - 1.
+
+    A function of its own with flat arrays and unsigned indices: inside the streaming kernel
+    (signed indices into (W, 4) row views) the same loop took ~4 % more of the kernel (more
+    register spills, negative-index handling on each load)."""
+    W = cs.shape[0]
+    RW = 4 * W
+    for u in range(W):
+        if cs[u] < 0:
+            continue
+        s = np.int64(ks[u])
+        lo = max(b - s, np.int64(cs[u]))
+        hi = min(b + s, np.int64(ce[u]))
+        ih = np.uint64(((hi + 1) & MC) * RW + 4 * u)
+        il = np.uint64((lo & MC) * RW + 4 * u)
+        inv = 1.0 / (rcf[ih + np.uint64(3)] - rcf[il + np.uint64(3)])
+        sbf[3 * u] = (rcf[ih] - rcf[il]) * inv
+        sbf[3 * u + 1] = (rcf[ih + np.uint64(1)] - rcf[il + np.uint64(1)]) * inv
+        sbf[3 * u + 2] = (rcf[ih + np.uint64(2)] - rcf[il + np.uint64(2)]) * inv
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _diff_row(rsf, rs, re, cs, ce, kr, c, MS, dif):  # pragma: no cover - compiled
+    """Stage C's differences of row ``c`` into ``dif`` (7, W) (see :func:`_cross_row`): along
+    the row between columns ``u -+ r`` clipped to the row run ``rs``, ``re``; along the
+    column between rows ``c -+ r`` clipped to the column run ``cs``, ``ce``; ``dif[6]`` 1
+    where the pixel is valid and has a neighbour both ways (runs of one pixel have none).
+    ``rsf`` the smoothed-point ring (RS, W, 3) flattened, ``MS`` = RS - 1; ``kr`` the
+    difference radii.  Scalar (rows and columns differ per pixel); flat arrays and unsigned
+    indices as in :func:`_smooth_row`."""
+    W = rs.shape[0]
+    RW = 3 * W
+    row = (c & MS) * RW
+    for u in range(W):
+        r = np.int64(kr[u])
+        ur = min(u + r, np.int64(re[u]))
+        ul = max(u - r, np.int64(rs[u]))
+        vd = min(c + r, np.int64(ce[u]))
+        vu = max(c - r, np.int64(cs[u]))
+        dif[6, u] = (rs[u] >= 0) & (ur != ul) & (vd != vu)
+        ir = np.uint64(row + 3 * max(ur, 0))  # -1 for an invalid point
+        il = np.uint64(row + 3 * max(ul, 0))
+        idn = np.uint64((vd & MS) * RW + 3 * u)
+        iu = np.uint64((vu & MS) * RW + 3 * u)
+        one = np.uint64(1)
+        two = np.uint64(2)
+        dif[0, u] = rsf[ir] - rsf[il]
+        dif[1, u] = rsf[ir + one] - rsf[il + one]
+        dif[2, u] = rsf[ir + two] - rsf[il + two]
+        dif[3, u] = rsf[idn] - rsf[iu]
+        dif[4, u] = rsf[idn + one] - rsf[iu + one]
+        dif[5, u] = rsf[idn + two] - rsf[iu + two]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -274,22 +337,7 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm, 
                     alive[u] = cont
                     if cont:
                         ce[u] = b + k
-            sb = rsm[b & MS]
-            rs = rs_[ib]
-            for u in range(W):
-                if rs[u] < 0:
-                    continue
-                s = ks[u]
-                lo = max(b - s, cs[u])
-                hi = min(b + s, ce[u])
-                # unsigned indices: no negative-index handling per load
-                ih = np.uint64((hi + 1) & MC)
-                il = np.uint64(lo & MC)
-                uu = np.uint64(u)
-                inv = 1.0 / (rc[ih, uu, 3] - rc[il, uu, 3])
-                sb[uu, 0] = (rc[ih, uu, 0] - rc[il, uu, 0]) * inv
-                sb[uu, 1] = (rc[ih, uu, 1] - rc[il, uu, 1]) * inv
-                sb[uu, 2] = (rc[ih, uu, 2] - rc[il, uu, 2]) * inv
+            _smooth_row(rc.reshape(-1), cs, ce, ks, b, MC, rsm[b & MS].reshape(-1))
         # ---- C: row c = b - rmax -----------------------------------------------------------
         c = b - rmax
         if 0 <= c < H:
@@ -299,30 +347,7 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm, 
             cs = cs_[ic]
             ce = ce_[ic]
             kr = kr_[ic]
-            srow = rsm[c & MS]
-            # the two differences into row buffers (scalar: the rows and columns differ per
-            # pixel), then the normals in a loop LLVM vectorises
-            for u in range(W):
-                # no normal for an invalid point or one with no neighbour along its row or
-                # its column (runs of one pixel)
-                r = kr[u]
-                ur = min(u + r, re[u])
-                ul = max(u - r, rs[u])
-                vd = min(c + r, ce[u])
-                vu = max(c - r, cs[u])
-                dif[6, u] = (rs[u] >= 0) & (ur != ul) & (vd != vu)
-                # unsigned indices: no negative-index handling per load
-                ur = np.uint64(max(ur, 0))  # -1 for an invalid point
-                ul = np.uint64(max(ul, 0))
-                iu = np.uint64(vu & MS)
-                idn = np.uint64(vd & MS)
-                uu = np.uint64(u)
-                dif[0, u] = srow[ur, 0] - srow[ul, 0]
-                dif[1, u] = srow[ur, 1] - srow[ul, 1]
-                dif[2, u] = srow[ur, 2] - srow[ul, 2]
-                dif[3, u] = rsm[idn, uu, 0] - rsm[iu, uu, 0]
-                dif[4, u] = rsm[idn, uu, 1] - rsm[iu, uu, 1]
-                dif[5, u] = rsm[idn, uu, 2] - rsm[iu, uu, 2]
+            _diff_row(rsm.reshape(-1), rs, re, cs, ce, kr, c, MS, dif)
             _cross_row(dif, xyz[c].reshape(-1), out[c].reshape(-1))
     mom[0] = m0
     mom[1] = m1
