@@ -464,12 +464,15 @@ def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, qlev, ent, 
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def add_region_moments(pts, labels, lo, hi, sums, ref, clamp):  # pragma: no cover - compiled
+def add_region_moments(pts, labels, lo, hi, sums, ref, clamp,
+                       first_ref=False):  # pragma: no cover - compiled
     """Add the moments of every point whose label lies in ``[lo, hi)`` to ``sums`` (about
     ``ref``; see :func:`region_sums`), in row-major order.  The current region's totals stay in
     registers until the label changes: the same additions in the same order as updating
     ``sums`` point by point, without a load and store of ten totals per point.  With ``clamp``
-    labels below -1 are set to -1 on the way (the growing's "cannot join" mark)."""
+    labels below -1 are set to -1 on the way (the growing's "cannot join" mark).  With
+    ``first_ref`` a region whose count in ``sums`` is still 0 takes the point where it is met
+    first as its ``ref`` (for fresh sums: each region's first point in row-major order)."""
     N = pts.shape[0]
     cur = -1
     n = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
@@ -493,6 +496,10 @@ def add_region_moments(pts, labels, lo, hi, sums, ref, clamp):  # pragma: no cov
                 sums[cur, 8] = s8
                 sums[cur, 9] = s9
             cur = lab
+            if first_ref and sums[cur, 0] == 0.0:
+                ref[cur, 0] = pts[p, 0]
+                ref[cur, 1] = pts[p, 1]
+                ref[cur, 2] = pts[p, 2]
             n = sums[cur, 0]
             s1 = sums[cur, 1]
             s2 = sums[cur, 2]
@@ -552,20 +559,8 @@ def region_sums_into(pts, labels, nreg, out, ref, clamp):  # pragma: no cover - 
             out[i, k] = 0.0
         for k in range(3):
             ref[i, k] = 0.0
-    seen = np.zeros(nreg, dtype=np.bool_)
-    left = nreg
-    N = pts.shape[0]
-    for p in range(N):
-        if left == 0:
-            break
-        lab = labels[p]
-        if lab >= 0 and not seen[lab]:
-            seen[lab] = True
-            left -= 1
-            ref[lab, 0] = pts[p, 0]
-            ref[lab, 1] = pts[p, 1]
-            ref[lab, 2] = pts[p, 2]
-    add_region_moments(pts, labels, 0, nreg, out, ref, clamp)
+    # each region's reference point (its first in row-major order) is set in the same pass
+    add_region_moments(pts, labels, 0, nreg, out, ref, clamp, True)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
