@@ -89,7 +89,7 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
     nf = nrm.reshape(-1)  # flat: a constant stride instead of a multiplication by shape[1]
     # three loops LLVM vectorises (flat normals: constant stride; popcount by bit arithmetic)
     seedable[:] = True
-    _valid_normals(nrm.reshape(-1), nvalid)
+    _valid_normals(nf, nvalid)
     _free_or_not(nvalid, mask, min_nb, padded[B:B + N])
     one = np.uint64(1)
     o1 = np.uint64(W - 1)

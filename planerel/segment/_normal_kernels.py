@@ -190,6 +190,8 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm, 
     H = xyz.shape[0]
     W = xyz.shape[1]
     xflat = xyz.reshape(-1)
+    rcf = rc.reshape(-1)  # flat views for the row functions of stages B and C
+    rsf = rsm.reshape(-1)
     tab2, gzmin, gwidth, grows, gthr, gband, gedges, mask = graph
     do_graph = mask.shape[0] == H
     # the window grows with depth beyond zref but never shrinks below its nominal size
@@ -337,7 +339,7 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm, 
                     alive[u] = cont
                     if cont:
                         ce[u] = b + k
-            _smooth_row(rc.reshape(-1), cs, ce, ks, b, MC, rsm[b & MS].reshape(-1))
+            _smooth_row(rcf, cs, ce, ks, b, MC, rsm[b & MS].reshape(-1))
         # ---- C: row c = b - rmax -----------------------------------------------------------
         c = b - rmax
         if 0 <= c < H:
@@ -347,7 +349,7 @@ def normals_stream(xyz, s0, r0, zref, smax, rmax, jump_per_z, out, ri, rc, rsm, 
             cs = cs_[ic]
             ce = ce_[ic]
             kr = kr_[ic]
-            _diff_row(rsm.reshape(-1), rs, re, cs, ce, kr, c, MS, dif)
+            _diff_row(rsf, rs, re, cs, ce, kr, c, MS, dif)
             _cross_row(dif, xyz[c].reshape(-1), out[c].reshape(-1))
     mom[0] = m0
     mom[1] = m1
