@@ -39,6 +39,7 @@ __all__ = [
     "look_at_pose",
     "raycast",
     "apply_sensor",
+    "measure",
     "generate_scene",
     "generate_dataset",
     "scene_seed",
@@ -268,7 +269,8 @@ class Scene:
     intrinsics : Intrinsics
         Camera at the written resolution.
     gt_labels : ndarray, shape (H, W), int32
-        Plane index per pixel, -1 where the depth is missing.
+        Plane index per pixel, -1 where the depth is missing or a flying pixel (valid depth on
+        no surface, :mod:`planerel.synth_sensor`).
     gt_objects : ndarray, shape (H, W), int32
         Object index per pixel (0 environment, 1 object), -1 where the depth is missing.
     planes : tuple of GTPlane
@@ -279,7 +281,7 @@ class Scene:
         Unit gravity-up vector in the camera frame.
     params : dict
         The drawn scene parameters (object dimensions, walls, camera placement).
-    sensor : SensorModel
+    sensor : SensorModel, StructuredLight or TimeOfFlight
     depth_scale : float
         Depth units per metre (``1 / sensor.depth_unit``).
     """
@@ -297,7 +299,7 @@ class Scene:
     pose: np.ndarray
     up: np.ndarray
     params: dict = field(default_factory=dict)
-    sensor: SensorModel = field(default_factory=SensorModel)
+    sensor: object = field(default_factory=SensorModel)
     depth_scale: float = 1000.0
 
     @property
@@ -513,6 +515,32 @@ def apply_sensor(depth_true, cos_incidence, sensor: SensorModel, rng: np.random.
     return np.where(ok, units, 0).astype(np.uint16)
 
 
+def _check_sensor(sensor) -> None:
+    from planerel.synth_sensor import StructuredLight, TimeOfFlight
+
+    if not isinstance(sensor, (SensorModel, StructuredLight, TimeOfFlight)):
+        raise InputError(f"sensor must be a SensorModel, StructuredLight or TimeOfFlight, got "
+                         f"{type(sensor).__name__}")
+
+
+def measure(depth_true, cos_incidence, sensor, intrinsics: Intrinsics, rng: np.random.Generator,
+            surface=None):
+    """Measured depth of a ray-cast image with any sensor model (``surface``: the plane index
+    per pixel, for the realistic models' depth edges).
+
+    Returns
+    -------
+    units : ndarray, shape (H, W), uint16
+        Depth in ``sensor.depth_unit``, 0 = missing.
+    flying : ndarray, shape (H, W), bool
+        Valid pixels whose depth lies on no surface (always False for :class:`SensorModel`).
+    """
+    if isinstance(sensor, SensorModel):
+        units = apply_sensor(depth_true, cos_incidence, sensor, rng)
+        return units, np.zeros(units.shape, dtype=bool)
+    return sensor.apply(depth_true, cos_incidence, intrinsics, rng, surface)
+
+
 # ----------------------------------------------------------------------- scene generation
 
 
@@ -674,8 +702,9 @@ def generate_scene(kind: str, seed: int = 0, size=(640, 480), subsample: int = 1
         Keep every k-th row and column: the image written is ``ceil(W / k) x ceil(H / k)``.
     scene_id : str
         Prefix of the plane and object ids.
-    sensor : SensorModel, optional
-        Default :class:`SensorModel()`; ``SensorModel.ideal()`` for noise-free depth.
+    sensor : SensorModel, StructuredLight or TimeOfFlight, optional
+        Default :class:`SensorModel()`; ``SensorModel.ideal()`` for noise-free depth; the
+        realistic profiles are in :mod:`planerel.synth_sensor`.
     camera : CameraRange, optional
         Default :class:`CameraRange()`.
     min_object_fraction : float
@@ -707,8 +736,7 @@ def generate_scene(kind: str, seed: int = 0, size=(640, 480), subsample: int = 1
                          f"{', '.join(OPTIONS[kind] + _COMMON)}")
     sensor = SensorModel() if sensor is None else sensor
     camera = CameraRange() if camera is None else camera
-    if not isinstance(sensor, SensorModel):
-        raise InputError(f"sensor must be a SensorModel, got {type(sensor).__name__}")
+    _check_sensor(sensor)
     if not isinstance(camera, CameraRange):
         raise InputError(f"camera must be a CameraRange, got {type(camera).__name__}")
     _number("min_object_fraction", min_object_fraction, 0.0, 0.9)
@@ -768,9 +796,9 @@ def generate_scene(kind: str, seed: int = 0, size=(640, 480), subsample: int = 1
     nrm = normals_c[lab]
     dot = nrm[:, :, 0] * xn[None, :] + nrm[:, :, 1] * yn[:, None] + nrm[:, :, 2]
     cos_inc = np.abs(dot) / np.sqrt(xn[None, :] ** 2 + yn[:, None] ** 2 + 1.0)
-    depth_mm = apply_sensor(depth_true, cos_inc, sensor, rng)
+    depth_mm, flying = measure(depth_true, cos_inc, sensor, intr, rng, ideal_planes)
     valid = depth_mm > 0
-    gt_labels = np.where(valid, ideal_planes, -1).astype(np.int32)
+    gt_labels = np.where(valid & ~flying, ideal_planes, -1).astype(np.int32)
     gt_objects = np.where(gt_labels >= 0, obj_of_plane[np.maximum(gt_labels, 0)], -1).astype(np.int32)
     counts = np.bincount(gt_labels[gt_labels >= 0], minlength=len(world.planes))
     planes = []

@@ -185,6 +185,7 @@ def test_write_scene_then_load(tmp_path):
     (["--camera-height", "1.5"], "--camera-height must be two numbers"),
     (["--camera-distance", "2,1"], "camera distance must be a finite"),
     (["--max-range", "-3"], "sensor max range"),
+    (["--sensor", "tof", "--noise", "0.002"], "--noise sets the basic sensor's noise"),
 ])
 def test_cli_bad_options_exit_2_with_one_line(tmp_path, capsys, argv, match):
     assert main(["dataset", "synth", str(tmp_path / "x"), "--quiet", *argv]) == 2
@@ -193,3 +194,19 @@ def test_cli_bad_options_exit_2_with_one_line(tmp_path, capsys, argv, match):
     import re
 
     assert re.search(match, err), err
+
+
+@pytest.mark.parametrize("profile", ["structured-light", "tof"])
+def test_cli_sensor_profile_is_used_and_recorded(tmp_path, profile):
+    out = tmp_path / profile
+    assert main(["dataset", "synth", str(out), "--sensor", profile, "--max-range", "4.0",
+                 *SMALL_ARGS]) == 0
+    info = load_dataset_info(out)
+    assert info["sensor"]["profile"] == {"structured-light": "structured-light",
+                                         "tof": "time-of-flight"}[profile]
+    assert info["sensor"]["max_range"] == 4.0
+    for _row, cloud, labels, meta in iter_scenes(out):
+        assert meta["sensor"] == info["sensor"]
+        assert np.nanmax(cloud.xyz[..., 2]) <= 4.0
+        # flying pixels: valid depth without a plane label
+        assert np.all(cloud.valid[labels >= 0])

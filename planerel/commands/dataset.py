@@ -59,7 +59,11 @@ def register(sub) -> None:
     s.add_argument("--max-range", type=float, metavar="M",
                    help="sensor maximum range in metres (default 4.5)")
     s.add_argument("--noise", type=float, metavar="C",
-                   help="depth noise std = C * z^2 metres (default 0.0012; 0 = none)")
+                   help="basic sensor: depth noise std = C * z^2 metres (default 0.0012; 0 = none)")
+    s.add_argument("--sensor", choices=("basic", "structured-light", "tof", "laser"),
+                   help="sensor model (docs/synthetic-world.md): basic (the paper-sized set's, "
+                        "default), structured-light (Kinect v1: 1/8-px disparity, projector "
+                        "shadows, flying pixels), tof (Kinect v2), laser")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=run_synth)
     i = dsub.add_parser("info", help="summarise a data set (scenes per class, planes per role)",
@@ -88,11 +92,16 @@ def run_synth(args) -> int:
     if args.camera_distance:
         cam_kwargs["distance"] = parse_range(args.camera_distance, "--camera-distance")
     camera = CameraRange(**cam_kwargs)
-    sensor = SensorModel()
+    from planerel.synth_sensor import sensor_profile
+
+    sensor = sensor_profile(args.sensor) if args.sensor else SensorModel()
     changes = {}
     if args.max_range is not None:
         changes["max_range"] = args.max_range
     if args.noise is not None:
+        if not isinstance(sensor, SensorModel):
+            raise InputError(f"--noise sets the basic sensor's noise; the {args.sensor} sensor "
+                             "has its own documented noise model")
         changes["noise"] = args.noise
     if changes:
         sensor = dataclasses.replace(sensor, **changes)
