@@ -31,11 +31,15 @@ def test_every_subcommand_explains_itself(capsys):
     sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
     assert len(sub.choices) >= len(COMMAND_MODULES)
     for name, p in sub.choices.items():
-        assert p.description or p.format_help(), name
+        # a description of its own (argparse would otherwise print only the usage), shown by
+        # --help (argparse re-wraps it, also at hyphens: compared without whitespace)
+        assert len(p.description or "") >= 40, name
         with pytest.raises(SystemExit) as e:
             main([name, "--help"])
         assert e.value.code == 0
-        assert "usage: planerel" in capsys.readouterr().out
+        out = capsys.readouterr().out
+        assert out.startswith(f"usage: planerel {name}"), name
+        assert "".join(p.description.split()) in "".join(out.split()), name
 
 
 def test_user_error_is_one_line_exit_2(tmp_path):
@@ -53,3 +57,69 @@ def test_convert_npy_to_ply_and_back(tmp_path):
     assert main(["convert", str(tmp_path / "out.ply"), "-o", str(tmp_path / "back.npy")]) == 0
     back = np.load(tmp_path / "back.npy")
     assert back.shape == (1, 32, 3)
+
+
+# ------------------------------------------------------------------ option parsing
+
+
+def test_vector_and_intrinsics_options_parse():
+    from planerel.commands._common import parse_intrinsics, parse_vector
+
+    assert parse_vector("0,-1,0") == (0.0, -1.0, 0.0)
+    assert parse_vector(" 0.5, 1e-3 ,2") == (0.5, 0.001, 2.0)
+    assert parse_intrinsics(None) is None and parse_intrinsics("Kinect") == "Kinect"
+    got = parse_intrinsics("640,480,525,526.5,319.5,239.5")
+    assert got == (640, 480, 525.0, 526.5, 319.5, 239.5) and isinstance(got[0], int)
+
+
+@pytest.mark.parametrize("text", ["0,-1", "0,-1,0,1", "0,up,0", "", "0;-1;0"])
+def test_bad_vector_is_one_sentence(text):
+    from planerel.commands._common import parse_vector
+    from planerel.errors import InputError
+
+    with pytest.raises(InputError, match=r"^--up must be three numbers like 0,-1,0; got ") as e:
+        parse_vector(text, "--up")
+    assert repr(text) in str(e.value)
+
+
+@pytest.mark.parametrize("text", ["640,480,525,525,319.5", "640,480,525,525,319.5,239.5,1",
+                                  "640.5,480,525,525,319.5,239.5", "w,h,fx,fy,cx,cy", "kinect2"])
+def test_bad_intrinsics_is_one_sentence(text):
+    from planerel.commands._common import parse_intrinsics
+    from planerel.errors import InputError
+
+    with pytest.raises(InputError, match=r"^--intrinsics must be 'kinect' or W,H,fx,fy,cx,cy"):
+        parse_intrinsics(text)
+
+
+@pytest.mark.parametrize("value, match", [
+    ({"width": 640, "height": 480, "fx": 525, "fy": 525, "cx": 319.5}, "lacks 'cy'"),
+    ((640, 480, 525, 525), "need 6 values.*got 4"),
+    (42, "cannot read intrinsics from 42"),
+    ((640, 0, 525, 525, 319.5, 239.5), "height must be a positive integer"),
+    ((640, 480, -525, 525, 319.5, 239.5), "focal lengths must be positive"),
+    ((640, 480, 525, "f", 319.5, 239.5), "fy must be a number"),
+    ((640, 480, 525, 525, float("inf"), 239.5), "cx must be finite"),
+])
+def test_bad_intrinsics_values(value, match):
+    from planerel.cloud import Intrinsics
+    from planerel.errors import InputError
+
+    with pytest.raises(InputError, match=match):
+        Intrinsics.from_any(value)
+
+
+@pytest.mark.parametrize("opt, value, phrase", [
+    ("--up", "0,1", "--up must be three numbers"),
+    ("--intrinsics", "160,120,100", "--intrinsics must be 'kinect' or W,H,fx,fy,cx,cy"),
+])
+def test_bad_option_on_the_command_line_exits_2_with_one_line(tmp_path, opt, value, phrase):
+    xyz = np.zeros((12, 16, 3))
+    xyz[..., 2] = 2.0
+    xyz[..., 0] = np.arange(16) * 0.01
+    xyz[..., 1] = np.arange(12)[:, None] * 0.01
+    np.save(tmp_path / "in.npy", xyz)
+    r = _run("segment", str(tmp_path / "in.npy"), "-o", str(tmp_path / "out"), f"{opt}={value}")
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip().count("\n") == 0 and phrase in r.stderr
+    assert "Traceback" not in r.stderr
