@@ -139,4 +139,4 @@ def test_describe_command(tmp_path, capsys):
     text = out.read_text()
     assert "scene(s0003)." in text and "object(s0003, s0003_o1)." in text
     assert main(["describe", str(scan), str(scan), "-o", str(out)]) == 2
-    assert "occurs twice" in capsys.readouterr().err
+    assert "same scene name 's0003'" in capsys.readouterr().err

@@ -33,17 +33,18 @@ def register(sub) -> None:
 def run(args) -> int:
     from planerel.classify import Classifier, explanation_image
     from planerel.commands._common import read_input
+    from planerel.naming import scene_names
     from planerel.writers import write_json
 
+    names = scene_names(args.inputs)
     clf = Classifier(args.rules, method=args.method)
     results = []
-    for n, path in enumerate(args.inputs):
+    for path, stem in zip(args.inputs, names, strict=True):
         cloud = read_input(path, args)
-        ans = clf.classify(cloud, scene_id=f"s{n:04d}")
+        ans = clf.classify(cloud, scene_id=stem)
         results.append(ans.to_dict())
         if args.output:
             out = Path(args.output)
-            stem = Path(path).name.split(".")[0]
             from PIL import Image
 
             from planerel.atomic import atomic_path

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 from planerel.commands._common import add_input_options
 from planerel.errors import InputError
 
-__all__ = ["register", "run", "scene_id_of"]
+__all__ = ["register", "run"]
 
 
 def register(sub) -> None:
@@ -17,8 +16,9 @@ def register(sub) -> None:
         help="write Prolog facts (plane attributes, relations, object proposals) for scans",
         description="Segment each scan (or use given label images), measure every plane, relate "
                     "the planes, propose objects and write all facts as one Prolog file that loads "
-                    "in swipl. Scene ids come from the file names (s0007.depth.png -> s0007) "
-                    "unless --ids is given. Vocabulary: docs/predicates.md.",
+                    "in swipl. Scene ids come from the file names, the same names segment and classify "
+                    "use (s0007.depth.png -> s0007, frame_X_depth.tiff -> frame_X) unless "
+                    "--ids is given. Vocabulary: docs/predicates.md.",
     )
     p.add_argument("inputs", nargs="+", metavar="INPUT", help="scans (any format planerel reads)")
     p.add_argument("-o", "--output", required=True, metavar="OUT.pl", help="the facts file to write")
@@ -38,28 +38,17 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def scene_id_of(path) -> str:
-    """``dir/s0007.depth.png`` -> ``s0007`` (the file name up to its first dot)."""
-    name = Path(path).name
-    stem = name.split(".", 1)[0]
-    return stem or name
-
-
 def run(args) -> int:
     from planerel import io
     from planerel.commands._common import read_input
     from planerel.facts import FactParams, describe_scene, write_facts
+    from planerel.naming import scene_names
 
     n = len(args.inputs)
     if args.labels is not None and len(args.labels) != n:
         raise InputError(f"--labels needs one label image per input: {n} inputs, "
                          f"{len(args.labels)} label images")
-    if args.ids is not None and len(args.ids) != n:
-        raise InputError(f"--ids needs one id per input: {n} inputs, {len(args.ids)} ids")
-    ids = list(args.ids) if args.ids else [scene_id_of(p) for p in args.inputs]
-    dup = sorted({i for i in ids if ids.count(i) > 1})
-    if dup:
-        raise InputError(f"scene id {dup[0]!r} occurs twice; give unique ids with --ids")
+    ids = scene_names(args.inputs, args.ids)
     descs = []
     for k, path in enumerate(args.inputs):
         cloud = read_input(path, args)

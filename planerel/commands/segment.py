@@ -62,28 +62,19 @@ def register(sub) -> None:
     e.set_defaults(func=run_evaluate)
 
 
-def _stem(path: Path) -> str:
-    name = path.name
-    for suffix in (".range", ".npy", ".png", ".tiff", ".tif", ".pcd", ".ply"):
-        if name.lower().endswith(suffix):
-            return name[: -len(suffix)]
-    return path.stem
-
-
 def run_segment(args) -> int:
     import time
 
+    from planerel.naming import scene_names
     from planerel.segment import make_params, segment
     from planerel.writers import write_json, write_labels_npy, write_labels_png
 
     params = make_params(args.method, **parse_params(args.param))
+    stems = scene_names(args.inputs)
     out = Path(args.output)
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder")
     out.mkdir(parents=True, exist_ok=True)
-    stems = [_stem(Path(p)) for p in args.inputs]
-    if len(set(stems)) != len(stems):
-        raise InputError("two inputs have the same name; their outputs would overwrite each other")
     for path, stem in zip(args.inputs, stems, strict=True):
         cloud = read_input(path, args)
         t0 = time.perf_counter()
