@@ -21,6 +21,8 @@ an illegal value with only a message).
 
 from __future__ import annotations
 
+import functools
+
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -255,6 +257,7 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     for c in classes:
         if not terms.is_plain_atom(c):
             raise InputError(f"class name {c!r} must be a plain Prolog name ([a-z][a-zA-Z0-9_]*)")
+    check_class_names(classes)
     examples = [e for e in examples if e.klass in classes]
     stem = stem or target
     sets, modes, preds, other = load_task(task)
@@ -368,3 +371,53 @@ def export_dataset(dataset_dir, out_dir, target: str = "all", *, labels: str = "
     descs, skipped = describe_dataset(dataset_dir, labels=labels)
     res = export_aleph(descs, out_dir, target, task=task, settings=settings)
     return ExportResult(res.files, res.stems, res.counts, tuple(skipped))
+
+
+def check_class_names(classes) -> None:
+    """Refuse class names that are built-in or library predicates of arity 1 (``halt``,
+    ``shell``, ``atom``...), part of the scene vocabulary or of planerel's support code: a
+    class ``C`` becomes the predicate ``C/1`` of the learning task.
+
+    Raises
+    ------
+    InputError
+        Naming the first such class.
+    """
+    from planerel.pipeline import model_vocabulary
+
+    vocab = {n for n, _ in model_vocabulary()}
+    for c in classes:
+        if c in vocab or c.startswith("planerel_") or c == "class":
+            raise InputError(f"class name {c!r} is a predicate of planerel's vocabulary; "
+                             "choose another name")
+    clash = _reserved_names(tuple(sorted(set(classes))))
+    if clash:
+        raise InputError(f"class name {clash[0]!r} is a built-in or library predicate of "
+                         "SWI-Prolog; choose another name")
+
+
+@functools.lru_cache(maxsize=64)
+def _reserved_names(names: tuple) -> list:
+    """The names among ``names`` that ``planerel_reserved_class/1`` (prolog/classify.pl) refuses;
+    asked of a fresh ``swipl`` once per set of names (none when SWI-Prolog is missing: the
+    learner then fails with its own clear error)."""
+    import subprocess
+
+    from planerel.errors import DependencyError
+    from planerel.learn import find_swipl
+    from planerel.pipeline import support_files
+
+    try:
+        exe = find_swipl()
+    except DependencyError:
+        return []
+    classify_pl = [str(p) for p in support_files() if p.name == "classify.pl"][0]
+    goal = ("current_prolog_flag(argv, [F|Names]), load_files(F, [silent(true)]), "
+            "forall(( member(N, Names), planerel_reserved_class(N) ), writeln(N))")
+    try:
+        proc = subprocess.run([exe, "-q", "-g", goal, "-t", "halt", "--", classify_pl, *names],
+                              capture_output=True, text=True, timeout=60, check=False)
+    except (OSError, subprocess.TimeoutExpired):
+        return []
+    found = set(proc.stdout.split())
+    return [n for n in names if n in found]

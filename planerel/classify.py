@@ -11,6 +11,7 @@ must be used from the main thread.
 
 from __future__ import annotations
 
+import itertools
 import tempfile
 import time
 from dataclasses import dataclass, field
@@ -19,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from planerel.errors import DependencyError, InputError, PrologError
+from planerel.terms import Term
 
 __all__ = ["Classifier", "ObjectAnswer", "SceneAnswer", "explanation_image", "classify_dataset",
            "UNKNOWN"]
@@ -103,7 +105,7 @@ def _prolog():
 
 _PROLOG = None
 _LOADED_SUPPORT = False
-_LOADED_RULES: Path | None = None
+_MODEL_NUMBERS = itertools.count(1)
 
 
 def _pl_path(path) -> str:
@@ -120,8 +122,26 @@ def _query(goal: str, what: str) -> list[dict]:
         raise PrologError(f"{what}: {exc}") from None
 
 
+def _load_support() -> None:
+    global _LOADED_SUPPORT
+    if not _LOADED_SUPPORT:
+        from planerel.pipeline import support_files
+
+        for f in support_files():
+            _query(f"load_files({_pl_path(f)}, [silent(true)])", f"cannot load {f.name}")
+        _LOADED_SUPPORT = True
+
+
 class Classifier:
-    """Rules of a model loaded into Prolog, ready to classify scans.
+    """Rules of a model, read as data into their own Prolog module, ready to classify scans.
+
+    A model file is data, never code: it is read clause by clause with ``read_term`` and
+    nothing in it runs.  Directives, heads that are not a class, class names that are built-in
+    or library predicates, and rule bodies that call anything but planerel's vocabulary
+    (``docs/predicates.md``) and safe built-ins (comparisons, arithmetic, type tests) are
+    refused with an error naming the file and line.  Each classifier keeps its rules in a
+    module of its own, so any number of them coexist in one process and each answers with
+    its own rules.
 
     Parameters
     ----------
@@ -133,35 +153,55 @@ class Classifier:
         Segmentation method for scans.
     seg_params : dict, optional
         Segmentation parameters.
+
+    Raises
+    ------
+    InputError
+        The file is missing or holds a clause that is refused.
+    PrologError
+        The file is not valid Prolog text (syntax error; the message gives the line).
     """
 
     def __init__(self, rules, *, method: str = "regiongrow", seg_params: dict | None = None):
-        from planerel.pipeline import support_files
+        from planerel.pipeline import model_vocabulary
+        from planerel.terms import atom, plist
 
-        global _LOADED_SUPPORT, _LOADED_RULES
         path = Path(rules)
         if not path.is_file():
             raise InputError(f"{path}: no such rules file")
         self.rules_path = path
         self.method = method
         self.seg_params = dict(seg_params or {})
-        if not _LOADED_SUPPORT:
-            for f in support_files():
-                _query(f"load_files({_pl_path(f)}, [silent(true)])", f"cannot load {f.name}")
-            _LOADED_SUPPORT = True
-        # read with variable names first: a syntax error is an error, not a skipped clause
-        _query(f"planerel_load_model({_pl_path(path)})", f"{path}: not a valid rules file")
-        if _LOADED_RULES is not None:  # one model at a time in this process
-            _query(f"unload_file({_pl_path(_LOADED_RULES)})", "cannot unload the previous model")
-            _LOADED_RULES = None
-        _query(f"load_files({_pl_path(path)}, [silent(true)])", f"{path}: cannot load the rules")
-        _LOADED_RULES = path
-        self.classes = tuple(dict.fromkeys(
-            r["C"] for r in _query("planerel_rule(_, C, _, _, _, _)", "reading the model")))
-        self.stats = tuple((int(r["I"]), str(r["C"]), int(r["TP"]), int(r["FP"])) for r in _query(
-            "planerel_rule_stats(I, C, TP, FP)", "reading the rule statistics"))
+        self.module = f"planerel_model_{next(_MODEL_NUMBERS)}"
+        _load_support()
+        vocab = plist([Term(f"{atom(n)}/{a}") for n, a in model_vocabulary()])
+        answer = _query(f"planerel_load_model({self.module}, {_pl_path(path)}, {vocab}, S), "
+                        "(S = error(L, M) -> true ; L = 0, M = '')",
+                        f"{path}: cannot read the model")[0]
+        if _text(answer["M"]):
+            line, msg = int(answer["L"]), _text(answer["M"])
+            where = f"{path}:{line}" if line else f"{path}"
+            if msg.startswith("syntax error"):
+                raise PrologError(f"{where}: not a valid rules file: {msg}")
+            raise InputError(f"{where}: {msg}")
+        self.classes = tuple(dict.fromkeys(_text(r["C"]) for r in _query(
+            f"{self.module}:planerel_rule(_, C, _, _, _, _)", "reading the model")))
+        self.stats = tuple((int(r["I"]), _text(r["C"]), int(r["TP"]), int(r["FP"])) for r in _query(
+            f"{self.module}:planerel_stats(I, C, TP, FP)", "reading the rule statistics"))
         if not self.classes:
             raise InputError(f"{path}: the model has no rules")
+
+    def close(self) -> None:
+        """Forget this model's rules (the classifier cannot be used afterwards)."""
+        if getattr(self, "module", None):
+            _query(f"planerel_unload_model({self.module})", "unloading the model")
+            self.module = None
+
+    def __enter__(self) -> Classifier:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
 
     def classify(self, cloud, *, scene_id: str = "s0000", up=None) -> SceneAnswer:
         """Segment, describe and classify one cloud.
@@ -174,6 +214,8 @@ class Classifier:
         from planerel.facts import FactParams, describe_scene, facts_text
         from planerel.pipeline import choose_class, segment_cached
 
+        if not self.module:
+            raise InputError(f"{self.rules_path}: this classifier was closed")
         t0 = time.perf_counter()
         cloud.require_points(3)
         labels = segment_cached(cloud, method=self.method, params=self.seg_params)
@@ -190,7 +232,8 @@ class Classifier:
                 _query(f"load_files({_pl_path(facts)}, [silent(true)])", "cannot load the scene facts")
                 for o in desc.objects:
                     hits = []
-                    for r in _query(f"planerel_explain_text({_obj_atom(o.id)}, C, I, B, T)",
+                    for r in _query(f"planerel_explain_text({self.module}, {_obj_atom(o.id)}, "
+                                    "C, I, B, T)",
                                     f"classifying {o.id}"):
                         binds = dict(line.split("\t", 1) for line in _text(r["B"]).splitlines()
                                      if "\t" in line)

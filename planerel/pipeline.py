@@ -43,6 +43,8 @@ __all__ = [
     "learn_model",
     "evaluate_learning",
     "support_files",
+    "model_vocabulary",
+    "DERIVED_PREDICATES",
     "confusion_matrix",
     "accuracy_scores",
     "draw_confusion",
@@ -52,6 +54,9 @@ DEFAULT_CLASSES = ("box", "stairs", "ramp")
 UNKNOWN = "unknown"
 #: Support predicates loaded with every model, in order (package ``planerel.prolog``).
 SUPPORT_FILES = ("compare.pl", "derived.pl", "classify.pl")
+#: The predicates ``derived.pl`` and ``compare.pl`` define for rules (name, arity).
+DERIVED_PREDICATES = (("horizontal", 1), ("vertical", 1), ("inclined", 1), ("object_plane", 3),
+                      ("step_up", 2), ("lteq", 2), ("gteq", 2))
 
 
 # ----------------------------------------------------------------------------- caching
@@ -370,18 +375,25 @@ class Prediction:
         return [v for v in self.bindings.values() if "_p" in v]
 
 
-_PREDICT_GOAL = r"""
-planerel_report(O) :-
-    format("@@object ~q~n", [O]),
-    forall(planerel_explain(O, C, I, B, T),
-           ( format("@@fired ~q ~q ~q ~q~n", [C, I, B, T]) )).
-"""
+def model_vocabulary() -> list[tuple[str, int]]:
+    """What a model's rule bodies may call: the scene facts' vocabulary
+    (:data:`planerel.facts.PREDICATES`) and :data:`DERIVED_PREDICATES`, as (name, arity)."""
+    from planerel.facts import PREDICATES
+
+    return [(n, a) for n, a, _, _ in PREDICATES] + list(DERIVED_PREDICATES)
+
+
+# The goal text is constant: every path reaches swipl as data (argv), never inside a goal.
+_PREDICT_GOAL = ("current_prolog_flag(argv, Files), append(Support, [Facts, Rules, Data], Files), "
+                 "forall(member(F, Support), load_files(F, [silent(true)])), "
+                 "planerel_predict_main(Facts, Rules, Data)")
 
 
 def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
     """Run the support predicates + facts + rules in swipl; parse ``@@`` lines."""
     from planerel.facts import FactParams, facts_text
     from planerel.learn import find_swipl, run_process
+    from planerel.terms import Term, atom, plist
 
     swipl = find_swipl()
     with tempfile.TemporaryDirectory(prefix="planerel-predict-") as tmp:
@@ -389,19 +401,17 @@ def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
         facts.write_text(facts_text(descs, FactParams(pairs="object+adjacent", planner=False)))
         rules = Path(tmp) / "rules.pl"
         rules.write_text(model.text())
-        goal = Path(tmp) / "main.pl"
-        goal.write_text(_PREDICT_GOAL)
-        objs = Path(tmp) / "objects.txt"
-        from planerel.terms import atom, plist
-
-        objs.write_text(plist([atom(o) for o in object_ids]) + ".\n")
-        load = [str(p) for p in support_files()] + [str(facts), str(rules), str(goal)]
-        consult = ", ".join(f"consult('{p}')" for p in load)
-        cmd = [swipl, "-q", "--on-error=status", "--on-warning=status", "-g",
-               f"({consult}), planerel_load_model('{rules}')", "-g",
-               f"see('{objs}'), read(Objs), seen, forall(member(O, Objs), planerel_report(O))",
-               "-t", "halt"]
+        data = Path(tmp) / "objects.pl"
+        vocab = plist([Term(f"{atom(n)}/{a}") for n, a in model_vocabulary()])
+        data.write_text(plist([atom(o) for o in object_ids]) + ".\n" + vocab + ".\n")
+        files = [str(p) for p in support_files()] + [str(facts), str(rules), str(data)]
+        cmd = [swipl, "-q", "--on-error=status", "--on-warning=status", "-g", _PREDICT_GOAL,
+               "-t", "halt", "--", *files]
         code, out, err, _ = run_process(cmd, timeout, "the rule query")
+    if code == 2:
+        errors = [ln[len("error: "):] for ln in err.splitlines() if ln.startswith("error: ")]
+        if errors:
+            raise InputError(errors[0].replace(str(rules), "the model"))
     if code != 0:
         raise PrologError(f"the rule query failed: {err.strip()[-600:] or f'exit status {code}'}")
     return out

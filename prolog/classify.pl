@@ -6,69 +6,191 @@
 
         planerel_rule_stats(Index, Class, TruePositives, FalsePositives).
 
-    Index counts the model's clauses from 1 in file order.  planerel_load_model/1
-    records every clause with its variable names, so that planerel_explain/5
-    can say which planes a rule bound; consult the model file as well to have
-    the rules and their statistics as ordinary Prolog.
+    Index counts the model's clauses from 1 in file order.
+
+    A model is DATA, never code: planerel_load_model/4 reads the file with
+    read_term/3 (nothing in it is executed), refuses directives (except the
+    three harmless declarations planerel itself writes, which are skipped),
+    refuses heads that are not a class, class names that are built-in or
+    library predicates or planerel's vocabulary, and bodies that call anything
+    but the vocabulary, control constructs and a short list of safe built-ins
+    (comparisons, arithmetic, type tests), each also checked with
+    library(sandbox).  The clauses are kept as terms in the model's own
+    module, so any number of models coexist in one process: each is named by
+    the module the caller chooses and answers with its own rules.
 
     Written for planerel.
 */
 
-:- dynamic planerel_rule/6.          % Index, Class, Obj, Head, Body, VarNames
-:- dynamic planerel_rule_stats/4.    % Index, Class, TP, FP (defined by the model file)
+:- use_module(library(sandbox), [safe_goal/1]).
+
+:- dynamic planerel_rule_stats/4.    % kept so that consulting an old model file still works
 :- multifile planerel_rule_stats/4.
 
-%   planerel_load_model(+File)
-%   Forget any earlier model, then read File's clauses with their variable
-%   names.  Syntax errors raise an exception naming file and line.
-planerel_load_model(File) :-
-    retractall(planerel_rule(_, _, _, _, _, _)),
-    setup_call_cleanup(
-        open(File, read, In),
-        planerel_read_model(In, 1),
-        close(In)).
-
-planerel_read_model(In, I) :-
-    read_term(In, Term, [variable_names(Names), syntax_errors(error)]),
-    (   Term == end_of_file
-    ->  true
-    ;   planerel_add_model_term(Term, Names, I, I1),
-        planerel_read_model(In, I1)
+%   planerel_load_model(+Model, +File, +Vocabulary, -Status)
+%   Forget Model's earlier rules, then read File's clauses as data into
+%   module Model: Model:planerel_rule(Index, Class, Obj, Head, Body, VarNames)
+%   and Model:planerel_stats(Index, Class, TP, FP).  Vocabulary is a list of
+%   Name/Arity a rule body may call.  Status is ok, or error(Line, Message)
+%   for the first clause that is refused (the model is then left empty).
+planerel_load_model(Model, File, Vocabulary, Status) :-
+    must_be(atom, Model),
+    planerel_unload_model(Model),
+    catch(setup_call_cleanup(
+              open(File, read, In),
+              planerel_read_model(In, Model, Vocabulary, 1),
+              close(In)),
+          E,
+          planerel_load_error(E, Status0)),
+    (   var(Status0)
+    ->  Status = ok
+    ;   planerel_unload_model(Model),
+        Status = Status0
     ).
 
-planerel_add_model_term(planerel_rule_stats(_, _, _, _), _, I, I) :- !.
-planerel_add_model_term((:- _), _, I, I) :- !.
-planerel_add_model_term((Head :- Body), Names, I, I1) :- !,
-    planerel_head_class(Head, Obj, Class),
-    assertz(planerel_rule(I, Class, Obj, Head, Body, Names)),
+planerel_load_error(planerel_refused(Line, Msg), error(Line, Msg)) :- !.
+planerel_load_error(error(syntax_error(What), Ctx), error(Line, Msg)) :- !,
+    (   Ctx = stream(_, Line, _, _) -> true
+    ;   Ctx = file(_, Line, _, _) -> true
+    ;   Line = 0
+    ),
+    format(atom(Msg), 'syntax error: ~w', [What]).
+planerel_load_error(E, error(0, Msg)) :-
+    catch(( '$messages':translate_message(E, Lines, []),
+            with_output_to(string(S), print_message_lines(current_output, '', Lines)),
+            normalize_space(atom(Msg), S) ), _,
+          format(atom(Msg), '~q', [E])).
+
+%   planerel_unload_model(+Model): forget Model's rules and statistics.
+planerel_unload_model(Model) :-
+    retractall(Model:planerel_rule(_, _, _, _, _, _)),
+    retractall(Model:planerel_stats(_, _, _, _)).
+
+planerel_read_model(In, Model, Vocabulary, I) :-
+    read_term(In, Term, [variable_names(Names), syntax_errors(error),
+                         term_position(Pos), quasi_quotations(QQ)]),
+    stream_position_data(line_count, Pos, Line),
+    (   Term == end_of_file
+    ->  true
+    ;   (   QQ == []
+        ->  true
+        ;   planerel_refuse(Line, 'a quasi-quotation has no place in a model')
+        ),
+        planerel_add_model_term(Term, Names, Model, Vocabulary, Line, I, I1),
+        planerel_read_model(In, Model, Vocabulary, I1)
+    ).
+
+planerel_refuse(Line, Format-Args) :- !,
+    format(atom(Msg), Format, Args),
+    throw(planerel_refused(Line, Msg)).
+planerel_refuse(Line, Msg) :-
+    throw(planerel_refused(Line, Msg)).
+
+% the declarations older planerel versions wrote at the top of every model
+planerel_harmless_directive(dynamic(planerel_rule_stats/4)).
+planerel_harmless_directive(multifile(planerel_rule_stats/4)).
+planerel_harmless_directive(style_check(-singleton)).
+
+planerel_add_model_term(Var, _, _, _, Line, _, _) :-
+    var(Var), !,
+    planerel_refuse(Line, 'a clause may not be a variable').
+planerel_add_model_term((:- D), _, _, _, Line, I, I) :- !,
+    (   ground(D), planerel_harmless_directive(D)
+    ->  true
+    ;   planerel_refuse(Line, 'directive ~W refused: a model is data (rules and planerel_rule_stats/4 facts), nothing in it is run'-
+                        [(:- D), [quoted(true), max_depth(6)]])
+    ).
+planerel_add_model_term((?- D), N, M, V, Line, I, I1) :- !,
+    planerel_add_model_term((:- D), N, M, V, Line, I, I1).
+planerel_add_model_term(planerel_rule_stats(Ix, C, TP, FP), _, Model, _, Line, I, I) :- !,
+    (   integer(Ix), atom(C), integer(TP), integer(FP)
+    ->  assertz(Model:planerel_stats(Ix, C, TP, FP))
+    ;   planerel_refuse(Line, 'planerel_rule_stats/4 needs an integer index, a class name and two integer counts')
+    ).
+planerel_add_model_term((Head :- Body), Names, Model, Vocabulary, Line, I, I1) :- !,
+    planerel_head_class(Head, Obj, Class, Line),
+    planerel_check_body(Body, Vocabulary, Line),
+    assertz(Model:planerel_rule(I, Class, Obj, Head, Body, Names)),
     I1 is I + 1.
-planerel_add_model_term(Head, Names, I, I1) :-
-    planerel_head_class(Head, Obj, Class),
-    assertz(planerel_rule(I, Class, Obj, Head, true, Names)),
+planerel_add_model_term(Head, Names, Model, _, Line, I, I1) :-
+    planerel_head_class(Head, Obj, Class, Line),
+    assertz(Model:planerel_rule(I, Class, Obj, Head, true, Names)),
     I1 is I + 1.
 
-planerel_head_class(class(Obj, Class), Obj, Class) :- atom(Class), !.
-planerel_head_class(Head, Obj, Class) :-
+planerel_head_class(class(Obj, Class), Obj, Class, Line) :- !,
+    (   atom(Class)
+    ->  planerel_check_class(Class, Line)
+    ;   planerel_refuse(Line, 'the class of a class(Obj, Class) head must be a name')
+    ).
+planerel_head_class(Head, Obj, Class, Line) :-
     compound(Head),
-    Head =.. [Class, Obj], !.
-planerel_head_class(Head, _, _) :-
-    throw(error(domain_error(planerel_rule_head, Head), _)).
+    compound_name_arguments(Head, Class, [Obj]), !,
+    planerel_check_class(Class, Line).
+planerel_head_class(Head, _, _, Line) :-
+    planerel_refuse(Line, 'the head ~W is not a class: expected Class(Obj) or class(Obj, Class)'-
+                    [Head, [quoted(true), max_depth(6)]]).
 
-%   planerel_explain(+Obj, -Class, -Index, -Bindings, -Text)
-%   Some rule of the model proves that Obj is a Class.  Bindings is the list
-%   of Name-Value pairs of the rule's variables in the first proof (Values
+%   planerel_reserved_class(+Name): Name/1 is a built-in or library predicate
+%   or part of planerel's support code, so it may not name a class.
+planerel_reserved_class(Name) :-
+    functor(H, Name, 1),
+    (   predicate_property(system:H, defined)
+    ;   predicate_property(user:H, defined)
+    ;   '$autoload':library_index(H, _, _)
+    ;   sub_atom(Name, 0, _, _, planerel_)
+    ), !.
+
+planerel_check_class(Class, Line) :-
+    (   planerel_reserved_class(Class)
+    ->  planerel_refuse(Line, 'the class name ~q is a built-in, library or planerel predicate; choose another name'-[Class])
+    ;   true
+    ).
+
+%   planerel_check_body(+Body, +Vocabulary, +Line)
+planerel_check_body(G, _, Line) :-
+    var(G), !,
+    planerel_refuse(Line, 'a rule body may not call a variable').
+planerel_check_body((A, B), V, L) :- !, planerel_check_body(A, V, L), planerel_check_body(B, V, L).
+planerel_check_body((A ; B), V, L) :- !, planerel_check_body(A, V, L), planerel_check_body(B, V, L).
+planerel_check_body((A -> B), V, L) :- !, planerel_check_body(A, V, L), planerel_check_body(B, V, L).
+planerel_check_body(\+ A, V, L) :- !, planerel_check_body(A, V, L).
+planerel_check_body(true, _, _) :- !.
+planerel_check_body(G, V, Line) :-
+    (   callable(G) -> true
+    ;   planerel_refuse(Line, 'the body goal ~q is not callable'-[G])
+    ),
+    functor(G, N, A),
+    (   memberchk(N/A, V)
+    ->  true
+    ;   planerel_safe_builtin(N/A),
+        catch(safe_goal(G), _, fail)
+    ->  true
+    ;   planerel_refuse(Line, 'the rule calls ~q, which is neither planerel\'s vocabulary nor a safe built-in'-[N/A])
+    ).
+
+% comparisons, arithmetic, unification and type tests: all a learned rule needs
+planerel_safe_builtin(Op/2) :- memberchk(Op, [<, >, =<, >=, =:=, =\=, is, =, \=, ==, \==,
+                                              @<, @>, @=<, @>=]).
+planerel_safe_builtin(T/1) :- memberchk(T, [number, integer, float, atom, atomic, var,
+                                             nonvar, ground, is_list, callable]).
+planerel_safe_builtin(fail/0).
+planerel_safe_builtin(false/0).
+
+%   planerel_explain(+Model, +Obj, -Class, -Index, -Bindings, -Text)
+%   Some rule of Model proves that Obj is a Class.  Bindings is the list of
+%   Name-Value pairs of the rule's variables in the first proof (Values
 %   written as atoms), Text the clause as written, with its variable names.
-planerel_explain(Obj, Class, Index, Bindings, Text) :-
-    planerel_rule(Index, Class, Obj0, _, Body0, Names0),
+planerel_explain(Model, Obj, Class, Index, Bindings, Text) :-
+    Model:planerel_rule(Index, Class, Obj0, _, Body0, Names0),
     copy_term(t(Obj0, Body0, Names0), t(Obj, Body, Names)),
-    planerel_rule_text(Index, Text),
-    catch(once(call(Body)), E, (print_message(warning, E), fail)),
+    planerel_rule_text(Model, Index, Text),
+    catch(once(user:Body), E, (print_message(warning, E), fail)),
     findall(N-VA,
             ( member(N=V, Names), ground(V), format(atom(VA), '~w', [V]) ),
             Bindings).
 
-planerel_rule_text(Index, Text) :-
-    planerel_rule(Index, _, _, Head, Body, Names),
+planerel_rule_text(Model, Index, Text) :-
+    Model:planerel_rule(Index, _, _, Head, Body, Names),
     copy_term(t(Head, Body, Names), t(H, B, Ns)),
     maplist([N=V]>>(V = '$VAR'(N)), Ns),
     (   B == true
@@ -77,15 +199,39 @@ planerel_rule_text(Index, Text) :-
                                          B, [quoted(true), numbervars(true)]])
     ).
 
-%   planerel_classes(-Classes): the classes the model has rules for.
-planerel_classes(Classes) :-
-    findall(C, planerel_rule(_, C, _, _, _, _), Cs),
+%   planerel_classes(+Model, -Classes): the classes Model has rules for.
+planerel_classes(Model, Classes) :-
+    findall(C, Model:planerel_rule(_, C, _, _, _, _), Cs),
     sort(Cs, Classes).
 
-%   planerel_explain_text(+Obj, -Class, -Index, -Bindings, -Text)
-%   As planerel_explain/5, with Bindings as one atom of "Name\tValue" lines
+%   planerel_explain_text(+Model, +Obj, -Class, -Index, -Bindings, -Text)
+%   As planerel_explain/6, with Bindings as one atom of "Name\tValue" lines
 %   (for callers that read answers as text, such as pyswip).
-planerel_explain_text(Obj, Class, Index, BindingsText, Text) :-
-    planerel_explain(Obj, Class, Index, Bindings, Text),
+planerel_explain_text(Model, Obj, Class, Index, BindingsText, Text) :-
+    planerel_explain(Model, Obj, Class, Index, Bindings, Text),
     findall(Line, ( member(N-V, Bindings), format(atom(Line), '~w\t~w', [N, V]) ), Lines),
     atomic_list_concat(Lines, '\n', BindingsText).
+
+%   planerel_predict_main(+Facts, +Rules, +Data)
+%   The rule query of planerel's learner (pipeline.prolog_predict), run in its
+%   own swipl: load the scene facts, read the model as data, then for every
+%   object of the list in Data print "@@object O" and one "@@fired C I B T"
+%   line per rule that proves a class.  Data holds two terms: the object
+%   list and the vocabulary.  Paths come as data (argv), never pasted into
+%   a goal.  A refused model prints "error: File:Line: Message" and halts 2.
+planerel_predict_main(Facts, Rules, Data) :-
+    load_files(Facts, [silent(true)]),
+    setup_call_cleanup(open(Data, read, In),
+                       ( read_term(In, Objs, []), read_term(In, Vocabulary, []) ),
+                       close(In)),
+    planerel_load_model(planerel_predict, Rules, Vocabulary, Status),
+    (   Status = error(Line, Msg)
+    ->  format(user_error, 'error: ~w:~w: ~w~n', [Rules, Line, Msg]),
+        halt(2)
+    ;   forall(member(O, Objs), planerel_report(O))
+    ).
+
+planerel_report(O) :-
+    format("@@object ~q~n", [O]),
+    forall(planerel_explain(planerel_predict, O, C, I, B, T),
+           format("@@fired ~q ~q ~q ~q~n", [C, I, B, T])).

@@ -14,7 +14,9 @@ def register(sub) -> None:
         description="Run an ILP learner on STEM.b (background, modes, determinations, settings), "
                     "STEM.f (positive examples) and STEM.n (negative examples); print the theory, "
                     "the training confusion matrix with an 'accuracy:' line (and the test set's "
-                    "when test_pos/test_neg are set) and the time.",
+                    "when test_pos/test_neg are set) and the time. STEM.b is Prolog code and runs "
+                    "as written, as in Aleph: induce only problems you trust (a model file, by "
+                    "contrast, is read as data by 'planerel classify').",
     )
     p.add_argument("stem", help="the problem's file stem (STEM.b, STEM.f, STEM.n)")
     p.add_argument("--engine", choices=["builtin", "aleph", "auto"], default="builtin",
