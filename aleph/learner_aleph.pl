@@ -1,48 +1,86 @@
 /*  Driver that runs the real Aleph for planerel.learn (engine "aleph").
 
     Usage:
-        swipl learner_aleph.pl -- file  /path/to/aleph.pl STEM RULES [NAME=VALUE ...]
-        swipl learner_aleph.pl -- pack  -                 STEM RULES [NAME=VALUE ...]
+        swipl learner_aleph.pl -- classic /path/to/aleph_orig.pl STEM RULES [NAME=VALUE ...]
+        swipl learner_aleph.pl -- module  /path/to/aleph.pl      STEM RULES [NAME=VALUE ...]
+        swipl learner_aleph.pl -- module  library                STEM RULES [NAME=VALUE ...]
 
-    "file" consults a classic single-file Aleph (everything in module user);
-    "pack" loads the SWI-Prolog pack library(aleph), whose module does not
-    export set/2, read_all/1 or induce/0, so they are called module-qualified.
-    After induce the theory is written with Aleph's write_rules/1, read back
-    into the module planerel_theory, and scored on the examples by this file
-    (Aleph's own printed confusion matrix is left as it is), so that both
-    engines report the same machine-readable summary (@@ lines).
+    classic  a single-file Aleph that defines everything in module user
+             (Aleph 5 and its SWI-Prolog port aleph_orig.pl): read_all/1,
+             set/2, induce/0 are called in user.
+    module   the SWI-Prolog pack's module file (module aleph, from a path or
+             as library(aleph)): the problem's data live in user, Aleph's
+             predicates take that module as an extra argument (set/3,
+             read_all(user:Stem), induce(user:Program)); STEM.b's directives
+             set/2 and determination/2, which the module does not export, are
+             defined in user as calls to it.
+
+    This file is the module planerel_aleph_driver, so nothing it defines
+    meets a predicate of Aleph or of the problem in user.  After induce the
+    theory is taken from Aleph's own store (the clauses write_rules/1 would
+    print), not from printed text, so Aleph's portray_literals setting
+    (English output) changes nothing.  The theory is written to RULES,
+    asserted into the module planerel_theory (which sees user's background)
+    and scored on the examples here, so that both engines report the same
+    machine-readable summary (@@ lines).
     Written for planerel; contains nothing of Aleph's source.
 */
 
-:- initialization(planerel_aleph_main, main).
+:- module(planerel_aleph_driver, []).
 
-planerel_aleph_main :-
+:- initialization(main, main).
+
+:- dynamic theory_rule/1.
+
+main :-
     current_prolog_flag(argv, Argv),
-    catch(aleph_main(Argv), E, aleph_error(E)),
+    catch(run(Argv), E, report_error(E)),
     halt(0).
 
-aleph_main([Kind, Path, Stem, Rules|Sets]) :- !,
-    load_aleph(Kind, Path, M),
-    M:read_all(Stem),
-    forall(member(S, Sets), apply_setting(M, S)),
-    M:induce,
-    M:write_rules(Rules),
-    load_theory(Rules),
-    summary(M, Stem).
-aleph_main(_) :-
-    throw(planerel_input_error("usage: swipl learner_aleph.pl -- file|pack PATH STEM RULES [NAME=VALUE ...]")).
+run([Kind, Path, Stem, Rules|Sets]) :-
+    memberchk(Kind, [classic, module]), !,
+    load_aleph(Kind, Path),
+    read_problem(Kind, Stem),
+    forall(member(S, Sets), apply_setting(Kind, S)),
+    learn(Kind),
+    collect_theory(Kind),
+    write_theory(Rules),
+    summary(Kind, Stem).
+run(_) :-
+    throw(planerel_input_error("usage: swipl learner_aleph.pl -- classic|module PATH STEM RULES [NAME=VALUE ...]")).
 
-load_aleph(file, Path, user) :- !,
-    (   exists_file(Path)
-    ->  user:consult(Path)
-    ;   format(string(S), "PLANEREL_ALEPH=~w: file not found", [Path]),
-        throw(planerel_input_error(S))
-    ).
-load_aleph(pack, _, aleph) :-
-    user:use_module(library(aleph)),
-    (   catch(aleph:aleph, _, true) -> true ; true ).
+%   load_aleph(+Kind, +Path)
+load_aleph(_, Path) :-
+    Path \== library,
+    \+ exists_file(Path), !,
+    format(string(S), "PLANEREL_ALEPH=~w: file not found", [Path]),
+    throw(planerel_input_error(S)).
+load_aleph(classic, Path) :-
+    user:consult(Path).
+load_aleph(module, library) :- !,
+    user:use_module(library(aleph)).
+load_aleph(module, Path) :-
+    user:use_module(Path).
 
-apply_setting(M, Text) :-
+%   read_problem(+Kind, +Stem): STEM.b, STEM.f, STEM.n into user.
+read_problem(classic, Stem) :-
+    user:read_all(Stem).
+read_problem(module, Stem) :-
+    (   current_predicate(user:set/2) -> true
+    ;   user:assertz((set(N, V) :- aleph:set(N, V, user)))
+    ),
+    (   current_predicate(user:determination/2) -> true
+    ;   user:assertz((determination(P, Q) :- aleph:determination(P, Q, user)))
+    ),
+    aleph:read_all(user:Stem).
+
+aleph_set(classic, Name, Value) :- user:set(Name, Value).
+aleph_set(module, Name, Value)  :- aleph:set(Name, Value, user).
+
+aleph_setting(classic, Name, Value) :- user:setting(Name, Value).
+aleph_setting(module, Name, Value)  :- aleph:setting(Name, Value, user).
+
+apply_setting(Kind, Text) :-
     (   sub_atom(Text, B, _, A, '=')
     ->  sub_atom(Text, 0, B, _, Name),
         sub_atom(Text, _, A, 0, VText),
@@ -52,86 +90,107 @@ apply_setting(M, Text) :-
         ->  Value = T
         ;   Value = VText
         ),
-        M:set(Name, Value)
+        aleph_set(Kind, Name, Value)
     ;   format(string(S), "--set ~w: expected NAME=VALUE", [Text]),
         throw(planerel_input_error(S))
     ).
 
-:- dynamic planerel_theory:'$planerel_none'/0.
-:- dynamic planerel_rule/1.
+learn(classic) :- user:induce.
+learn(module)  :- aleph:induce(user:_).
 
-load_theory(File) :-
-    setup_call_cleanup(open(File, read, S),
-                       read_rules(S),
-                       close(S)).
+%   collect_theory(+Kind): the clauses of the theory, in the order Aleph
+%   found them, from the store Aleph's write_rules/1 prints from
+%   ('$aleph_global'(rules, rules(Ids)), newest first, and
+%   '$aleph_global'(theory, theory(Id, _, Clause, _, _))).
+%   A classic-style file without that store (an Aleph-compatible learner)
+%   is asked for its rules with write_rules/1, and the file is read back.
+collect_theory(Kind) :-
+    retractall(theory_rule(_)),
+    (   current_predicate(user:'$aleph_global'/2)
+    ->  (   user:'$aleph_global'(rules, rules(Ids0))
+        ->  reverse(Ids0, Ids)
+        ;   Ids = []
+        ),
+        forall(( member(Id, Ids),
+                 user:'$aleph_global'(theory, theory(Id, _, Clause, _, _)) ),
+               add_rule(Clause))
+    ;   Kind == classic
+    ->  tmp_file(rules, File),
+        user:write_rules(File),
+        setup_call_cleanup(open(File, read, S), read_rules(S), close(S)),
+        delete_file(File)
+    ;   true
+    ),
+    forall(theory_rule(C), assertz(planerel_theory:C)).
+
+add_rule((H :- true)) :- !, assertz(theory_rule(H)).
+add_rule(C) :- assertz(theory_rule(C)).
 
 read_rules(S) :-
     read_term(S, T, []),
     (   T == end_of_file
     ->  true
-    ;   (   T = (:- _)
-        ->  true
-        ;   assertz(planerel_theory:T),
-            assertz(planerel_rule(T))
-        ),
+    ;   (   T = (:- _) -> true ; add_rule(T) ),
         read_rules(S)
     ).
 
+write_theory(File) :-
+    setup_call_cleanup(open(File, write, S),
+                       forall(theory_rule(C), portray_clause(S, C)),
+                       close(S)).
+
 %   An example is covered when the theory proves it (depth-limited, so a
-%   left-recursive theory cannot loop).  Background predicates are found in
-%   user (and in aleph for the pack).
+%   left-recursive theory cannot loop).  planerel_theory imports from user,
+%   where the background is.
 covered(E) :-
     catch(call_with_depth_limit(planerel_theory:E, 10000, R), _, fail),
     R \== depth_exceeded,
     !.
 
-examples(File, Es) :-
+example_file(File, Es) :-
     (   exists_file(File)
-    ->  setup_call_cleanup(open(File, read, S), read_examples(S, Es), close(S))
+    ->  setup_call_cleanup(open(File, read, S), example_terms(S, Es), close(S))
     ;   Es = []
     ).
 
-read_examples(S, Es) :-
+example_terms(S, Es) :-
     read_term(S, T, []),
     (   T == end_of_file
     ->  Es = []
     ;   T = (:- _)
-    ->  read_examples(S, Es)
+    ->  example_terms(S, Es)
     ;   Es = [T|Es1],
-        read_examples(S, Es1)
+        example_terms(S, Es1)
     ).
 
 confusion(PosFile, NegFile, TP, FN, FP, TN) :-
-    examples(PosFile, Ps),
-    examples(NegFile, Ns),
-    prepare(Ps), prepare(Ns),
+    example_file(PosFile, Ps),
+    example_file(NegFile, Ns),
+    declare_targets(Ps), declare_targets(Ns),
     aggregate_all(count, (member(E, Ps), covered(E)), TP),
     length(Ps, NP), FN is NP - TP,
     aggregate_all(count, (member(E, Ns), covered(E)), FP),
     length(Ns, NN), TN is NN - FP.
 
-prepare(Es) :-
+%   A target with no learned clause fails instead of raising.
+declare_targets(Es) :-
     forall(( member(E, Es), functor(E, F, A) ),
            (   current_predicate(planerel_theory:F/A)
            ->  true
            ;   dynamic(planerel_theory:F/A)
-           )),
-    (   current_module(aleph)
-    ->  add_import_module(planerel_theory, aleph, end)
-    ;   true
-    ).
+           )).
 
-summary(M, Stem) :-
+summary(Kind, Stem) :-
     format("@@begin~n@@engine aleph~n", []),
-    forall(planerel_rule(R),
+    forall(theory_rule(R),
            (   (   R = (H :- B) -> rule_text(H, B, T) ; rule_text(R, true, T) ),
                format("@@rule ~s~n", [T])
            )),
     atom_concat(Stem, '.f', F), atom_concat(Stem, '.n', N),
     confusion(F, N, TP, FN, FP, TN),
     format("@@train ~w ~w ~w ~w~n", [TP, FN, FP, TN]),
-    (   test_file(M, test_pos, TPF) -> true ; TPF = none ),
-    (   test_file(M, test_neg, TNF) -> true ; TNF = none ),
+    (   test_file(Kind, test_pos, TPF) -> true ; TPF = none ),
+    (   test_file(Kind, test_neg, TNF) -> true ; TNF = none ),
     (   ( TPF \== none ; TNF \== none )
     ->  confusion(TPF, TNF, A, B1, C, D),
         format("@@test ~w ~w ~w ~w~n", [A, B1, C, D])
@@ -139,8 +198,8 @@ summary(M, Stem) :-
     ),
     format("@@end~n", []).
 
-test_file(M, Name, File) :-
-    catch(M:setting(Name, File0), _, fail),
+test_file(Kind, Name, File) :-
+    catch(aleph_setting(Kind, Name, File0), _, fail),
     atom(File0), File0 \== '', File0 \== none, File0 \== false,
     File = File0.
 
@@ -151,18 +210,20 @@ rule_text(H, B, Text) :-
     (   B1 == true
     ->  format(string(Text), "~W.", [H1, Opts])
     ;   conj_list(B1, Ls),
-        maplist([L, LT]>>format(string(LT), "~W", [L, Opts]), Ls, LTs),
+        maplist(literal_text(Opts), Ls, LTs),
         atomic_list_concat(LTs, ', ', BT),
         format(string(Text), "~W :- ~w.", [H1, Opts, BT])
     ).
 
+literal_text(Opts, L, T) :- format(string(T), "~W", [L, Opts]).
+
 conj_list((A, B), [A|Ls]) :- !, conj_list(B, Ls).
 conj_list(A, [A]).
 
-aleph_error(planerel_input_error(Text)) :- !,
+report_error(planerel_input_error(Text)) :- !,
     format(user_error, "error: ~s~n", [Text]),
     halt(2).
-aleph_error(E) :-
+report_error(E) :-
     (   catch(message_to_codes(E, _, Codes), _, fail)
     ->  string_codes(T, Codes)
     ;   format(string(T), "~q", [E])

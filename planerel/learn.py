@@ -6,8 +6,10 @@ Two engines read the same files:
     planerel's own Aleph-compatible learner (``aleph/learner.pl``, SWI-Prolog; see
     ``docs/learner.md``).
 ``aleph``
-    the real Aleph: a classic single-file ``aleph.pl`` named by the environment variable
-    ``PLANEREL_ALEPH``, or else the SWI-Prolog pack ``library(aleph)`` when it is installed.
+    the real Aleph: the file named by the environment variable ``PLANEREL_ALEPH`` -- a classic
+    single file that defines Aleph in module ``user`` (``aleph_orig.pl``) or the SWI-Prolog
+    pack's module file (``aleph.pl``, ``:- module(aleph, ...)``), told apart by their text --
+    or else the pack ``library(aleph)`` when it is installed.
 ``auto``
     the real Aleph when it is found, else ``builtin``; :attr:`LearnResult.engine_detail`
     says which ran and why.
@@ -48,6 +50,7 @@ __all__ = [
     "learn",
     "find_swipl",
     "find_aleph",
+    "aleph_kind",
     "format_report",
     "parse_settings",
     "run_process",
@@ -197,14 +200,28 @@ def find_swipl(swipl: str | None = None) -> str:
     return found
 
 
+_MODULE_DECL = re.compile(rb"^\s*:-\s*module\(\s*aleph\s*,", re.MULTILINE)
+
+
+def aleph_kind(path) -> str:
+    """``"module"`` when the file declares ``:- module(aleph, ...)`` (the pack), else ``"classic"``."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(1 << 16)
+    except OSError as exc:
+        raise InputError(f"PLANEREL_ALEPH={path}: cannot read the file ({exc.strerror})") from None
+    return "module" if _MODULE_DECL.search(head) else "classic"
+
+
 def find_aleph(swipl: str | None = None) -> tuple[str, str] | None:
     """Locate the real Aleph.
 
     Returns
     -------
     tuple or None
-        ``("file", path)`` for a classic ``aleph.pl`` named by ``PLANEREL_ALEPH``,
-        ``("pack", "library(aleph)")`` when the SWI-Prolog pack is installed, else None.
+        ``("classic", path)`` or ``("module", path)`` for the file named by ``PLANEREL_ALEPH``
+        (see :func:`aleph_kind`), ``("module", "library")`` when the SWI-Prolog pack is
+        installed, else None.
 
     Raises
     ------
@@ -216,7 +233,7 @@ def find_aleph(swipl: str | None = None) -> tuple[str, str] | None:
         path = Path(env).expanduser()
         if not path.is_file():
             raise InputError(f"PLANEREL_ALEPH={env}: no such file (it must name Aleph's aleph.pl)")
-        return ("file", str(path.resolve()))
+        return (aleph_kind(path), str(path.resolve()))
     exe = find_swipl(swipl)
     goal = ("(absolute_file_name(library(aleph), _, [file_type(prolog), access(read), "
             "file_errors(fail)]) -> halt(0) ; halt(1))")
@@ -225,7 +242,7 @@ def find_aleph(swipl: str | None = None) -> tuple[str, str] | None:
                               timeout=30, check=False)
     except (OSError, subprocess.TimeoutExpired):
         return None
-    return ("pack", "library(aleph)") if proc.returncode == 0 else None
+    return ("module", "library") if proc.returncode == 0 else None
 
 
 def parse_settings(items) -> dict[str, str]:
@@ -408,19 +425,20 @@ def learn(
         used = "builtin"
     else:
         kind, where = aleph
-        detail = f"aleph ({where})"
+        detail = f"aleph ({'library(aleph)' if where == 'library' else where}, {kind})"
         import tempfile
 
         resource = files("planerel.aleph").joinpath("learner_aleph.pl")
         with tempfile.TemporaryDirectory(prefix="planerel-aleph-") as tmp, as_file(resource) as pl:
             rules_file = str(Path(tmp) / "rules.pl")
-            cmd = [exe, "-q", str(pl), "--", kind, where if kind == "file" else "-", abs_stem,
-                   rules_file, *set_args]
+            cmd = [exe, "-q", str(pl), "--", kind, where, abs_stem, rules_file, *set_args]
             code, out, err, secs = run_process(cmd, timeout, f"Aleph on {stem_text}",
                                         cwd=str(Path(abs_stem).parent))
         rules, train, test, nodes, cputime, log, warns = _parse(out, err, code, "Aleph")
-        constructed = [int(m) for m in re.findall(r"\[clauses constructed\]\s*(\d+)", out)]
-        nodes = sum(constructed) if constructed else None
+        total = re.findall(r"\[total clauses constructed\]\s*\[?(\d+)", out)
+        constructed = [int(m) for m in re.findall(r"^\[clauses constructed\]\s*\[?(\d+)", out,
+                                                  re.MULTILINE)]
+        nodes = int(total[-1]) if total else (sum(constructed) if constructed else None)
         used = "aleph"
     rules_text = "".join(r + "\n" for r in rules)
     return LearnResult(engine=used, engine_detail=detail, stem=stem_text, rules_text=rules_text,

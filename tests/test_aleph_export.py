@@ -140,3 +140,26 @@ def test_builtin_learner_reads_the_export(tmp_path, descs):
     res = learn.learn(str(tmp_path / "stairs"), engine="builtin", timeout=60)
     assert res.rules, res.output
     assert res.train.tp == 2 and res.train.fp == 0
+
+
+def test_relational_task_learns_stairs_from_pairwise_relations(tmp_path, descs):
+    """aleph/modes_relational.pl: no step_up mode; the builtin learner's stairs rule joins
+    planes through pairwise relations."""
+    learn = pytest.importorskip("planerel.learn")
+    files = aleph_files(descs, "stairs", task="modes_relational.pl")
+    b = files["stairs.b"]
+    assert "step_up(+" not in b
+    for mode in ("adjacent(+plane, -plane)", "parallel(+plane, -plane)",
+                 "perpendicular(+plane, -plane)", "above(+plane, -plane)",
+                 "angle(+plane, +plane, -angle)", "gap(+plane, +plane, -gap)",
+                 "rise(+plane, +plane, -rise)", "area(+plane, -area)",
+                 "plane_length(+plane, -plength)", "plane_width(+plane, -pwidth)",
+                 "gteq(+gap, #gap)", "lteq(+angle, #angle)"):
+        assert f"modeb(1, {mode})" in b or f"modeb(*, {mode})" in b, mode
+    export_aleph(descs, tmp_path, "stairs", task="modes_relational.pl")
+    out = _swipl(tmp_path, f"check('{tmp_path / 'stairs'}')")
+    assert out.split()[:2] == ["2", "4"]
+    res = learn.learn(str(tmp_path / "stairs"), engine="builtin", timeout=60)
+    assert res.train.tp == 2 and res.train.fp == 0
+    pairwise = ("adjacent(", "parallel(", "perpendicular(", "above(", "angle(", "gap(", "rise(")
+    assert any(p in r for r in res.rules for p in pairwise), res.rules

@@ -6,7 +6,6 @@ classic ILP tasks (Michalski's trains, family relations, a numeric threshold, a 
 
 from __future__ import annotations
 
-import os
 import re
 import shutil
 import subprocess
@@ -406,34 +405,7 @@ def test_aleph_engine_driver_protocol_with_a_stand_in(monkeypatch, tmp_path):
         assert auto.engine == "aleph"
 
 
-real_aleph = pytest.mark.skipif(not os.environ.get("PLANEREL_ALEPH"),
-                                reason="the real Aleph is not installed: set PLANEREL_ALEPH=/path/aleph.pl")
-
-
-@pytest.mark.real_aleph
-@real_aleph
-def test_real_aleph_learns_trains():
-    r = learn(ILP / "trains", engine="aleph", timeout=300)
-    assert r.engine == "aleph"
-    assert r.train.accuracy == 1.0
-    assert any(norm(c) == norm("eastbound(A) :- has_car(A,B), short(B), closed(B).") for c in r.rules)
-
-
-@pytest.mark.real_aleph
-@real_aleph
-def test_real_aleph_lazy_threshold_and_test_set():
-    r = learn(ILP / "threshold", engine="aleph", timeout=300)
-    assert r.train.accuracy == 1.0
-    assert r.test is not None and r.test.accuracy == 1.0
-
-
-@pytest.mark.real_aleph
-@real_aleph
-def test_real_aleph_and_builtin_agree_on_family():
-    a = learn(ILP / "grandparent", engine="aleph", timeout=300)
-    b = learn(ILP / "grandparent", engine="builtin")
-    assert a.train == b.train
-    assert [norm(c) for c in a.rules] == [norm(c) for c in b.rules]
+# The real Aleph itself: tests/test_real_aleph.py (run when PLANEREL_ALEPH is set).
 
 
 # --------------------------------------------------------------------------- language details

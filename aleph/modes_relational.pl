@@ -1,0 +1,78 @@
+/*  planerel task: the class of an object (box / stairs / ramp) from its planes
+    and the relations between them.
+
+    Read by `planerel export-aleph`, which writes it into STEM.b after the
+    target's mode head (modeh(1, Class(+obj)), or modeh(1, class(+obj, #cls))
+    for a multi-class task) and adds one determination from the target to
+    every predicate declared below with modeb.
+
+    Vocabulary (docs/predicates.md): the planes of an object (has_plane), per
+    plane its orientation, incline, height and size (area, plane_length,
+    plane_width), per ordered pair of planes the relations adjacent,
+    parallel, perpendicular, above, and the measures angle, gap and rise,
+    and per object its counts of horizontal / vertical / inclined planes.
+    Thresholds on every measure come from lteq/2 and gteq/2, evaluated
+    lazily over the values of the covered examples, so the bottom clause
+    holds one comparison per value and the search picks the cut-off.
+
+    Types: obj, plane, orient, and one type per measure (incline, height,
+    area, plength, pwidth, angle, gap, rise, nhorizontal, nvertical,
+    ninclined), so that Aleph never joins or compares equal numbers of
+    different measures.  The pair measures take two planes already in the
+    clause (+plane, +plane): they describe pairs, they never introduce one.
+
+    No hand-written detector: step_up/2 stays in prolog/derived.pl as
+    background and is a mode only in aleph/modes_objects.pl.
+*/
+
+:- set(search, heuristic).
+:- set(evalfn, laplace).
+:- set(clauselength, 6).
+:- set(i, 3).
+:- set(nodes, 3000).
+:- set(minpos, 2).
+:- set(noise, 0).
+
+% planes and their pairwise relations
+:- modeb(*, has_plane(+obj, -plane)).
+:- modeb(1, orientation(+plane, #orient)).
+:- modeb(*, adjacent(+plane, -plane)).
+:- modeb(*, parallel(+plane, -plane)).
+:- modeb(*, perpendicular(+plane, -plane)).
+:- modeb(*, above(+plane, -plane)).
+:- modeb(1, angle(+plane, +plane, -angle)).
+:- modeb(1, gap(+plane, +plane, -gap)).
+:- modeb(1, rise(+plane, +plane, -rise)).
+
+% plane attributes: orientation, height and size
+:- modeb(1, incline(+plane, -incline)).
+:- modeb(1, height(+plane, -height)).
+:- modeb(1, area(+plane, -area)).
+:- modeb(1, plane_length(+plane, -plength)).
+:- modeb(1, plane_width(+plane, -pwidth)).
+
+% object counts, as constants: "exactly one horizontal plane" is one literal
+:- modeb(1, nhorizontal(+obj, #nhorizontal)).
+:- modeb(1, nvertical(+obj, #nvertical)).
+:- modeb(1, ninclined(+obj, #ninclined)).
+
+% lazily evaluated thresholds, one pair per measure
+:- modeb(1, gteq(+angle, #angle)).
+:- modeb(1, lteq(+angle, #angle)).
+:- modeb(1, gteq(+gap, #gap)).
+:- modeb(1, lteq(+gap, #gap)).
+:- modeb(1, gteq(+rise, #rise)).
+:- modeb(1, lteq(+rise, #rise)).
+:- modeb(1, gteq(+incline, #incline)).
+:- modeb(1, lteq(+incline, #incline)).
+:- modeb(1, gteq(+height, #height)).
+:- modeb(1, lteq(+height, #height)).
+:- modeb(1, gteq(+area, #area)).
+:- modeb(1, lteq(+area, #area)).
+:- modeb(1, gteq(+plength, #plength)).
+:- modeb(1, lteq(+plength, #plength)).
+:- modeb(1, gteq(+pwidth, #pwidth)).
+:- modeb(1, lteq(+pwidth, #pwidth)).
+
+:- lazy_evaluate(lteq/2).
+:- lazy_evaluate(gteq/2).
