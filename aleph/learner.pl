@@ -58,6 +58,10 @@
     det_decl/3,             % Target N/A, Body N/A, Where
     lazy_decl/2,            % N/A, Where
     bg_pred/1,              % N/A defined by the background files
+    bg_file/1,              % absolute path of the loaded background file
+    bg_loading/1,           % the background file being loaded
+    bg_problem/1,           % the first error met while loading it
+    constraint_decl/2,      % Body, Where: an integrity constraint false :- Body
     pos_ex/2, neg_ex/2,     % Id, Atom  (training examples)
     tpos_ex/2, tneg_ex/2,   % Id, Atom  (test examples)
     theory_clause/5,        % No, Head, BodyList, PosCover, NegCover
@@ -73,6 +77,7 @@
     loaded_stem/1.
 
 :- dynamic planerel_ext:'$planerel_none'/0.
+:- dynamic user:hypothesis/3.     % the clause under test, for integrity constraints
 
                  /*******************************
                  *     ERRORS AND WARNINGS      *
@@ -128,22 +133,23 @@ aleph_other_value(evalfn, [auto_m, mestimate, pbayes, posonly, sd, wracc,
 %   Settings of Aleph that this learner does not implement: warned about once.
 aleph_setting(Name) :-
     memberchk(Name,
-              [ abduce, best, cache_clauselength, caching, check_redundant,
+              [ abduce, best, cache_clauselength, caching, check_good, check_redundant,
                 check_useless, classes, clauselength_distribution, clauses,
                 condition, confidence, construct_bottom, dependent, discretise,
                 explore, good, goodfile, gsamplesize, interactive, language,
                 lazy_negs, lazy_on_contradiction, lazy_on_cost, lookahead, m,
                 max_abducibles, max_features, mingain, minposfrac, minscore,
                 mode_overlap_threshold, moves, newvars, nreduce_bottom,
-                openlist, optimise_clauses, permute_bottom,
+                openlist, optimise_clauses, permute_bottom, prior, prune_tree,
                 portray_examples, portray_hypothesis, portray_literals,
                 portray_search, print, proof_strategy, prooftime, prune_defs,
-                record, recordfile, refine, resample, rls_type, rulefile,
+                record, recordfile, refine, refineop, resample, rls_type, rulefile,
                 samplenum, samplesize, scs_percentile, scs_prob, scs_sample,
                 searchstrat, searchtime, skolemvars, splitvars, stage,
                 store_bottom, subsample, subsamplesize, temperature, threads,
                 train_pos, train_neg, tree_type, tries, typeoverlap,
-                uniform_sample, updateback, version, walk, minprec
+                uniform_sample, updateback, version, walk, minprec, date,
+                experiment
               ]).
 
 %!  set(+Name, +Value) is det.
@@ -163,6 +169,12 @@ setting(Name, Value) :-
     ;   Value = Default
     ).
 
+set_setting(verbose, Value, Where) :- !,       % Aleph's other name of verbosity
+    set_setting(verbosity, Value, Where).
+set_setting(evalfn, posonly, Where) :- !,
+    where_text(Where, W),
+    input_error("~s: evalfn(posonly) (learning from positive examples only, scored against randomly generated examples) is not implemented by planerel's learner: give negative examples in STEM.n, or use the real Aleph (--engine aleph)",
+                [W]).
 set_setting(Name, Value, Where) :-
     where_text(Where, W),
     (   atom(Name)
@@ -227,6 +239,10 @@ add_mode(Kind, Recall, Template, Where) :-
     ),
     Template =.. [_|Args],
     forall(member(A, Args), check_mode_arg(A, W, Template)),
+    (   mode_skeleton(Template, _, Phs0), Phs0 == []
+    ->  warn("~s: mode ~q has no +type, -type or #type argument", [W, Template])
+    ;   true
+    ),
     flag(planerel_mode_seq, Seq, Seq + 1),
     assertz(mode_decl(Kind, Recall, Template, Where, Seq)).
 
@@ -237,9 +253,33 @@ check_mode_arg(A, W, T) :-
     ;   A = -Ty -> check_type_name(Ty, W, T)
     ;   A = #Ty -> check_type_name(Ty, W, T)
     ;   atomic(A) -> true
-    ;   input_error("~s: mode ~q: structured argument ~q is not supported by planerel's learner",
-                    [W, T, A])
+    ;   A =.. [_|As],                    % structured: not(p(+t)), [-t|-list], ...
+        forall(member(B, As), check_mode_arg(B, W, T))
     ).
+
+%!  mode_skeleton(+Template, -Skel, -Phs) is det.
+%
+%   Skel is Template with every +Type, -Type and #Type (at any depth, e.g.
+%   in not(p(+t)) or (+list)=[-any|-list]) replaced by a fresh variable;
+%   Phs lists them left to right as ph(Kind, Type, Var), Kind in, out or
+%   const.
+mode_skeleton(T, Skel, Phs) :-
+    mode_skeleton(T, Skel, Phs, []).
+
+mode_skeleton(T, V, [ph(K, Ty, V)|Ps], Ps) :-
+    compound(T), placeholder(T, K, Ty), !.
+mode_skeleton(T, T, Ps, Ps) :-
+    \+ compound(T), !.
+mode_skeleton(T, S, Ps0, Ps) :-
+    T =.. [F|As],
+    foldl(skel_arg, As, Ss, Ps0, Ps),
+    S =.. [F|Ss].
+
+skel_arg(A, S, Ps0, Ps) :- mode_skeleton(A, S, Ps0, Ps).
+
+placeholder(+Ty, in, Ty).
+placeholder(-Ty, out, Ty).
+placeholder(#Ty, const, Ty).
 
 check_type_name(Ty, W, T) :-
     (   atom(Ty)
@@ -283,7 +323,7 @@ read_all(Stem0) :-
     atom_concat(Stem, '.b', BFile),
     atom_concat(Stem, '.f', FFile),
     atom_concat(Stem, '.n', NFile),
-    read_source(BFile, background),
+    load_background(BFile),
     read_source(FFile, pos),
     (   exists_file(NFile)
     ->  read_source(NFile, neg)
@@ -295,7 +335,9 @@ read_all(Stem) :-
     input_error("read_all/1 needs a file stem (an atom), got ~q", [Stem]).
 
 reset_all :-
-    forall(retract(bg_pred(N/A)), ( functor(H, N, A), retractall(user:H) )),
+    forall(retract(bg_file(F)), catch(unload_file(F), _, true)),
+    forall(retract(bg_pred(N/A)), ( functor(H, N, A), catch(retractall(user:H), _, true) )),
+    retractall(constraint_decl(_, _)),
     retractall(setting_value(_, _, _)),
     retractall(mode_decl(_, _, _, _, _)),
     retractall(det_decl(_, _, _)),
@@ -311,6 +353,102 @@ reset_all :-
     retractall(loaded_stem(_)),
     flag(planerel_mode_seq, _, 0),
     forall(member(S, [pos, neg, test_pos, test_neg]), (atom_concat(planerel_id_, S, F), flag(F, _, 0))).
+
+%   The background file is compiled into module user with load_files/2, so
+%   it may use everything a Prolog source file may (conditional compilation
+%   :- if/elif/else/endif, arithmetic_function/1, use_module, term
+%   expansion, ...) and its predicates are compiled with SWI-Prolog's
+%   indexing.  While it loads, user:term_expansion/2 takes Aleph's directives
+%   (set/2, modeh/2, modeb/2, mode/2, determination/2, lazy_evaluate/1, ...)
+%   and constraints (false :- Body) out of the file, and user:message_hook/3
+%   turns the first error (syntax error, failing or raising directive) into
+%   planerel_input_error with file and line.
+
+load_background(File) :-
+    (   exists_file(File)
+    ->  true
+    ;   input_error("~w: file not found", [File])
+    ),
+    absolute_file_name(File, Abs),
+    retractall(bg_problem(_)),
+    setup_call_cleanup(
+        assertz(bg_loading(Abs)),
+        catch(load_files(user:Abs, [silent(true), if(true)]), E, bg_exception(E)),
+        retractall(bg_loading(_))),
+    assertz(bg_file(Abs)),
+    forall(( source_file(user:H, Abs), functor(H, N, A) ),
+           ( bg_pred(N/A) -> true ; assertz(bg_pred(N/A)) )),
+    (   bg_problem(Text)
+    ->  retractall(bg_problem(_)),
+        throw(planerel_input_error(Text))
+    ;   true
+    ).
+
+bg_exception(planerel_input_error(T)) :- !, note_bg_problem(T).
+bg_exception(E) :- message_to_codes_text(E, T), note_bg_problem(T).
+
+note_bg_problem(Text) :-
+    (   bg_problem(_) -> true ; assertz(bg_problem(Text)) ).
+
+bg_where(File:Line) :-
+    (   prolog_load_context(term_position, Pos),
+        stream_position_data(line_count, Pos, Line),
+        prolog_load_context(file, File)
+    ->  true
+    ;   source_location(File, Line)
+    ->  true
+    ;   bg_loading(File), Line = '?'
+    ).
+
+:- multifile user:term_expansion/2, user:message_hook/3.
+
+user:term_expansion(Term, Out) :-
+    bg_loading(_),
+    nonvar(Term),
+    bg_expand(Term, Out).
+
+bg_expand((:- D), []) :-
+    nonvar(D),
+    aleph_directive(D), !,
+    bg_where(Where),
+    catch(directive(D, Where, none), E, bg_exception(E)).
+bg_expand((false :- Body), []) :- !,
+    bg_where(Where),
+    assertz(constraint_decl(Body, Where)).
+bg_expand(false, []) :- !,
+    bg_where(Where),
+    assertz(constraint_decl(true, Where)).
+
+%   Directives this learner handles itself (the rest run as in any source file).
+aleph_directive(D) :-
+    functor(D, F, A),
+    (   memberchk(F/A, [ set/2, aleph_set/2, modeh/2, modeb/2, mode/2, determination/2,
+                         lazy_evaluate/1, aleph/0, abducible/1 ])
+    ->  true
+    ;   D == use_module(library(aleph))
+    ->  true
+    ;   aleph_declaration(D)
+    ).
+
+user:message_hook(Msg, Kind, _) :-
+    bg_loading(_),
+    memberchk(Kind, [error, warning]),
+    bg_message(Kind, Msg).
+
+bg_message(error, error(syntax_error(What), Ctx)) :- !,
+    (   Ctx = file(File, Line, _, _) -> true ; bg_where(File:Line) ),
+    format(string(T), "~w:~w: syntax error: ~w", [File, Line, What]),
+    note_bg_problem(T).
+bg_message(error, E) :- !,
+    bg_where(Where), where_text(Where, W),
+    message_to_codes_text(E, M),
+    format(string(T), "~s: ~s", [W, M]),
+    note_bg_problem(T).
+bg_message(warning, goal_failed(directive, _:G)) :- !,
+    bg_where(Where), where_text(Where, W),
+    format(string(T), "~s: the directive ~q failed", [W, G]),
+    note_bg_problem(T).
+bg_message(warning, _).           % singletons, discontiguous clauses, ...: silent
 
 read_source(File, Kind) :-
     (   exists_file(File)
@@ -385,6 +523,12 @@ directive(D, Where, _) :- var(D), !,
     where_text(Where, W),
     input_error("~s: a directive must not be a variable", [W]).
 directive(set(N, V), Where, _) :- !, set_setting(N, V, Where).
+directive(aleph_set(N, V), Where, _) :- !, set_setting(N, V, Where).
+directive(abducible(S), Where, _) :- !,
+    where_text(Where, W),
+    warn_once(abducible,
+              "~s: abducible(~q): abduction is not implemented by planerel's learner; ~q is treated as ordinary background (the real Aleph, --engine aleph, implements it)",
+              [W, S, S]).
 directive(modeh(R, T), Where, _) :- !, add_mode(h, R, T, Where).
 directive(modeb(R, T), Where, _) :- !, add_mode(b, R, T, Where).
 directive(mode(R, T), Where, _) :- !, add_mode(h, R, T, Where), add_mode(b, R, T, Where).
@@ -466,12 +610,12 @@ saturate(Seed, bottom(Head, HIn, HOut, LitsT, NB)) :-
     ->  true
     ;   input_error("no modeh declaration matches the example ~q", [Seed])
     ),
-    Tmpl =.. [_|TArgs],
-    Seed =.. [Fn|SArgs],
-    head_args(TArgs, SArgs, HArgs, HIn0, HOut0),
+    mode_skeleton(Tmpl, Skel1, Phs1),
+    Skel1 = Seed,                             % Phs1 now hold the seed's values
+    mode_skeleton(Tmpl, HeadG, Phs2),
+    head_args(Phs1, Phs2, HIn0, HOut0),
     sort(HIn0, HIn),
     sort(HOut0, HOut),
-    HeadG =.. [Fn|HArgs],
     setting(i, I),
     body_modes(F/A, Modes),
     forall(between(1, I, D), layer(D, Modes, F/A, HeadG)),
@@ -497,26 +641,21 @@ clear_sat :-
 head_template(F/A, Seed, Tmpl) :-
     mode_decl(h, _, Tmpl, _, _),
     functor(Tmpl, F, A),
-    Tmpl =.. [_|TArgs],
-    Seed =.. [_|SArgs],
-    maplist(head_arg_matches, TArgs, SArgs), !.
+    mode_skeleton(Tmpl, Skel, Phs),
+    subsumes_term(Skel, Seed),
+    \+ \+ ( Skel = Seed, forall(member(ph(_, _, V), Phs), ground(V)) ), !.
 
-head_arg_matches(+_, V) :- ground(V).
-head_arg_matches(-_, V) :- ground(V).
-head_arg_matches(#_, V) :- ground(V).
-head_arg_matches(C, V) :- atomic(C), C == V.
-
-head_args([], [], [], [], []).
-head_args([M|Ms], [V|Vs], [H|Hs], In, Out) :-
-    (   M = +T
+head_args([], [], [], []).
+head_args([ph(K, T, V)|Ps], [ph(_, _, H)|Hs], In, Out) :-
+    (   K == in
     ->  var_id(V, T, Id, _), add_avail(T, Id, V, 0),
         H = '$v'(Id), In = [Id|In1], Out = Out1
-    ;   M = -T
+    ;   K == out
     ->  var_id(V, T, Id, _),
         H = '$v'(Id), In = In1, Out = [Id|Out1]
     ;   H = V, In = In1, Out = Out1
     ),
-    head_args(Ms, Vs, Hs, In1, Out1).
+    head_args(Ps, Hs, In1, Out1).
 
 var_id(V, T, Id, New) :-
     (   sat_var(V, T, Id0)
@@ -556,44 +695,47 @@ layer(D, Modes, Target, HeadG) :-
     forall(member(M, Modes), mode_layer(M, D0, D, Target, HeadG)).
 
 mode_layer(m(R, Tmpl, Lazy, Seq, Rec), D0, D, _Target, HeadG) :-
-    Tmpl =.. [P|TArgs],
-    findall(Ch, input_choice(TArgs, D0, Ch), Choices),
+    mode_skeleton(Tmpl, Skel, Phs),
+    findall(Ch, input_choice(Phs, D0, Ch), Choices),
     forall(member(Ch, Choices),
-           call_mode(Ch, P, R, Lazy, Seq, Rec, D, HeadG)).
+           call_mode(Ch, Skel-Phs, R, Lazy, Seq, Rec, D, HeadG)).
 
 input_choice([], _, []).
-input_choice([M|Ms], D0, [C|Cs]) :-
-    (   M = +T
+input_choice([ph(K, T, _)|Ps], D0, [C|Cs]) :-
+    (   K == in
     ->  sat_avail(T, Id, V, Dep), Dep =< D0, C = in(Id, V)
-    ;   M = -T
+    ;   K == out
     ->  C = out(T)
-    ;   M = #T
-    ->  C = const(T)
-    ;   C = fixed(M)
+    ;   C = const(T)
     ),
-    input_choice(Ms, D0, Cs).
+    input_choice(Ps, D0, Cs).
 
-call_mode(Ch, P, R, Lazy, Seq, Rec, D, HeadG) :-
+call_mode(Ch, SP, R, Lazy, Seq, Rec, D, HeadG) :-
     findall(Id, member(in(Id, _), Ch), InIds),
     (   sat_done(Seq, InIds)
     ->  true
     ;   assertz(sat_done(Seq, InIds)),
         sort(InIds, InSet),
-        (   Lazy == lazy, \+ memberchk(out(_), Ch)
-        ->  lazy_literal(Ch, P, InSet)
-        ;   maplist(call_arg, Ch, CallArgs),
-            Call =.. [P|CallArgs],
-            solutions(Rec, R, Call, Sols),
-            forall(member(Call-_, Sols), add_solution(Ch, CallArgs, P, InSet, D, HeadG))
+        (   Lazy == lazy, \+ memberchk(out(_), Ch), flat_skeleton(SP)
+        ->  lazy_literal(Ch, SP, InSet)
+        ;   copy_term(SP, Call-CPhs),
+            maplist(call_arg, Ch, CPhs, Vals),
+            solutions(Rec, R, Call, Vals, Sols),
+            forall(member(Vals1, Sols), add_solution(Ch, Vals1, SP, InSet, D, HeadG))
         )
     ).
 
-call_arg(in(_, V), V).
-call_arg(out(_), _).
-call_arg(const(_), _).
-call_arg(fixed(C), C).
+%   call_arg(+Choice, +Placeholder, -Value): bind an input, leave the rest open.
+call_arg(in(_, V), ph(_, _, V), V).
+call_arg(out(_), ph(_, _, V), V).
+call_arg(const(_), ph(_, _, V), V).
 
-solutions(Rec, R, Call, Sols) :-
+%   A lazily evaluated literal needs its placeholders as plain arguments.
+flat_skeleton(Skel-Phs) :-
+    Skel =.. [_|Args],
+    forall(member(ph(_, _, V), Phs), ( member(A, Args), A == V )).
+
+solutions(Rec, R, Call, Vals, Sols) :-
     (   Rec == rec
     ->  G = planerel_ext:Call
     ;   G = user:Call
@@ -601,29 +743,29 @@ solutions(Rec, R, Call, Sols) :-
     functor(Call, N, A),
     Safe = catch(G, E, (saturation_error(N/A, E), fail)),
     (   R == '*'
-    ->  findall(Call-x, Safe, Sols)
-    ;   findall(Call-x, limit(R, Safe), Sols)
+    ->  findall(Vals, Safe, Sols)
+    ;   findall(Vals, limit(R, Safe), Sols)
     ).
 
 saturation_error(PI, E) :-
     message_to_codes_text(E, T),
     warn_once(sat_error(PI), "calling ~w during saturation raised an error (treated as failure): ~s", [PI, T]).
 
-lazy_literal(Ch, P, InSet) :-
-    maplist(lazy_arg, Ch, Args, Kinds),
-    Lit =.. [P|Args],
-    findall(I, nth1(I, Kinds, in), InPos),
-    findall(I, nth1(I, Kinds, const), CPos),
+lazy_literal(Ch, SP, InSet) :-
+    copy_term(SP, Lit-LPhs),
+    maplist(lazy_arg, Ch, LPhs),
+    Lit =.. [_|Args],
+    findall(I, ( nth1(I, Args, A), A = '$v'(_) ), InPos),
+    findall(I, ( nth1(I, Args, A), A == '$lz' ), CPos),
     record_literal(Lit, InSet, [], lazy(InPos, CPos)).
 
-lazy_arg(in(Id, _), '$v'(Id), in).
-lazy_arg(const(_), '$lz', const).
-lazy_arg(fixed(C), C, fixed).
+lazy_arg(in(Id, _), ph(_, _, '$v'(Id))).
+lazy_arg(const(_), ph(_, _, '$lz')).
 
-add_solution(Ch, Vals, P, InSet, D, HeadG) :-
-    (   maplist(solution_arg(D), Ch, Vals, Args, Outs0)
-    ->  Lit =.. [P|Args],
-        (   Lit == HeadG
+add_solution(Ch, Vals, SP, InSet, D, HeadG) :-
+    copy_term(SP, Lit-LPhs),
+    (   maplist(solution_arg(D), Ch, Vals, LPhs, Outs0)
+    ->  (   Lit == HeadG
         ->  true
         ;   exclude(==(none), Outs0, Outs1),
             sort(Outs1, Outs),
@@ -632,13 +774,12 @@ add_solution(Ch, Vals, P, InSet, D, HeadG) :-
     ;   true
     ).
 
-solution_arg(_, in(Id, _), _, '$v'(Id), none).
-solution_arg(D, out(T), V, '$v'(Id), Id) :-
+solution_arg(_, in(Id, _), _, ph(_, _, '$v'(Id)), none).
+solution_arg(D, out(T), V, ph(_, _, '$v'(Id)), Id) :-
     ground(V),
     var_id(V, T, Id, _),
     add_avail(T, Id, V, D).
-solution_arg(_, const(_), V, V, none) :- ground(V).
-solution_arg(_, fixed(C), _, C, none).
+solution_arg(_, const(_), V, ph(_, _, V), none) :- ground(V).
 
 record_literal(Lit, InSet, Outs, Lazy) :-
     (   sat_seen(Lit)
@@ -867,10 +1008,36 @@ consider(Node, Ctx, Best0, Best) :-
         (   Best0 = best(BS, BL, _)
         ->  ( S > BS ; S =:= BS, Len < BL )
         ;   true
-        )
+        ),
+        \+ violates_constraint(Node, Ctx)
     ->  Best = best(S, Len, Node)
     ;   Best = Best0
     ).
+
+%   violates_constraint(+Node, +Ctx): some integrity constraint false :- Body
+%   of the background holds while the node's clause is the current
+%   hypothesis (user:hypothesis(Head, Body, [P, N, L]), as in Aleph).
+violates_constraint(Node, Ctx) :-
+    constraint_decl(_, _), !,
+    Node = nd(Body, _, _, Len, _, _, P, N, _, _),
+    Ctx = ctx(_, _, _, bottom(Head, _, _, _, _), _, _, _, _, _),
+    maplist(unwrap_rec, Body, Body1),
+    copy_term(Head-Body1, H-B),
+    list_to_conj(B, BC),
+    setup_call_cleanup(
+        ( retractall(user:hypothesis(_, _, _)),
+          assertz(user:hypothesis(H, BC, [P, N, Len])) ),
+        once(( constraint_decl(CBody, _),
+               catch(user:CBody, E, (constraint_error(E), fail)) )),
+        retractall(user:hypothesis(_, _, _))).
+
+list_to_conj([], true).
+list_to_conj([L], L) :- !.
+list_to_conj([L|Ls], (L, C)) :- list_to_conj(Ls, C).
+
+constraint_error(E) :-
+    message_to_codes_text(E, T),
+    warn_once(constraint_error(T), "an integrity constraint (false :- ...) raised an error (treated as not violated): ~s", [T]).
 
 %   Lazy evaluation: collect the values the literal's input arguments take
 %   on the covered positives and negatives, call the predicate with
@@ -1015,10 +1182,12 @@ check_target(T) :-
     ),
     body_modes(T, Modes),
     findall(Ty, ( mode_decl(h, _, Tm2, _, _), functor(Tm2, N, A),
-                  Tm2 =.. [_|As], member(+Ty, As) ), HT),
-    findall(Ty, ( member(m(_, Tb, _, _, _), Modes), Tb =.. [_|As], member(-Ty, As) ), OT),
+                  mode_skeleton(Tm2, _, Ps), member(ph(in, Ty, _), Ps) ), HT),
+    findall(Ty, ( member(m(_, Tb, _, _, _), Modes),
+                  mode_skeleton(Tb, _, Ps), member(ph(out, Ty, _), Ps) ), OT),
     append(HT, OT, Provided),
-    forall(( member(m(_, Tb, _, Seq, _), Modes), Tb =.. [_|As], member(+Ty, As) ),
+    forall(( member(m(_, Tb, _, Seq, _), Modes),
+             mode_skeleton(Tb, _, Ps), member(ph(in, Ty, _), Ps) ),
            (   memberchk(Ty, Provided)
            ->  true
            ;   mode_decl(b, _, _, Where, Seq),
