@@ -43,7 +43,14 @@ def test_staircase_640x480_default_parameters():
     s = _score(seg, gt, gn)
     assert s.correct >= 10
     assert s.sparse == 0
-    assert seg.info["min_region_size"] == 1440
+    # the minimum region: 20 noise stds a side at the median depth, in pixels (20 p)^2 with p
+    # the noise in pixel footprints, at least the resolution floor (360 px at 640x480); the
+    # fixed defaults: 90 px at 160x120 scaled with the pixel count
+    from planerel.segment.noise import estimate_noise
+
+    p = estimate_noise(cloud).pixels()
+    assert seg.info["min_region_size"] == max(360, round((20 * p) ** 2))
+    assert segment(cloud, preset="kinect").info["min_region_size"] == 1440
 
 
 def test_plane_conventions_and_labels(stairs160):
@@ -79,7 +86,7 @@ def test_paper_defaults_and_auto_scaling():
     assert (p.theta, p.min_neighbour_num, p.base_update_step, p.num_initial_points) == (15.0, 4, 8, 16)
     assert p.angle_mf < 1 and p.delta == "auto" and p.min_region_size == "auto"
     cloud = staircase(80, 60, seed=0)[0]
-    seg = segment(cloud)
+    seg = segment(cloud, adapt=False)
     assert seg.info["min_region_size"] == 22  # 90 * (80*60) / (160*120)
     assert seg.info["delta"] > 0
 
@@ -243,7 +250,8 @@ def test_presets(stairs160):
     p = make_params("regiongrow", preset="structured-light")
     assert p.reference_depth is None and p.normal_smooth == 3 and p.min_region_scale == 0.25
     assert make_params("regiongrow", preset="abw") == p
-    assert make_params("regiongrow", preset="kinect") == RegionGrowParams()
+    assert make_params("regiongrow", preset="kinect") == RegionGrowParams(adapt=False)
+    assert p.adapt is False
     q = make_params("regiongrow", preset="abw", normal_smooth=2, reference_depth="none")
     assert q.normal_smooth == 2 and q.normal_radius == 3 and q.reference_depth is None
     assert set(PRESETS) >= {"kinect", "structured-light", "abw"}
@@ -280,11 +288,19 @@ def test_abw_image_with_the_structured_light_preset():
 
     cloud = read_abw(ABW / "abw.test.0.range")
     gt = read_abw_gt(ABW / "abw.test.0.gt-seg")
-    s_default = evaluate(segment(cloud).labels, gt)
+    seg = segment(cloud)
+    s_default = evaluate(seg.labels, gt)
+    s_kinect = evaluate(segment(cloud, preset="kinect").labels, gt)
     s_preset = evaluate(segment(cloud, preset="structured-light").labels, gt)
     assert s_preset.n_gt == 27
-    assert s_preset.correct >= 13 and s_preset.correct > s_default.correct
+    assert s_preset.correct >= 13 and s_preset.correct > s_kinect.correct
     assert s_preset.sparse == 0 and s_preset.under == 0
+    # the default measures uniform depth steps and chooses structured-light-like settings itself
+    assert seg.info["noise_model"]["kind"] == "uniform"
+    assert seg.info["settings"]["reference_depth"] is None
+    assert seg.info["settings"]["normal_smooth"] == 3
+    assert s_default.correct >= s_preset.correct - 1 and s_default.correct > s_kinect.correct
+    assert s_default.sparse == 0 and s_default.under == 0
 
 
 def test_results_stay_valid_when_the_next_frame_is_segmented(stairs160):

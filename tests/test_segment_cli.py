@@ -50,3 +50,23 @@ def test_segment_cli_bad_input_is_one_line_and_exit_2(tmp_path, capsys):
     assert "name=value" in capsys.readouterr().err
     assert main(["segment", str(tmp_path / "missing.npy"), "-o", str(tmp_path / "o")]) == 2
     assert "no such file" in capsys.readouterr().err
+
+
+def test_planes_json_and_facts_header_report_the_noise_model(tmp_path, capsys):
+    cloud = staircase(160, 120, seed=0)[0]  # Kinect-like noise 0.0012 z^2
+    np.save(tmp_path / "scan.npy", cloud.xyz)
+    assert main(["segment", str(tmp_path / "scan.npy"), "-o", str(tmp_path / "o")]) == 0
+    info = json.loads((tmp_path / "o" / "scan.planes.json").read_text())["info"]
+    assert info["noise_model"]["kind"] == "z2"
+    assert abs(info["noise_model"]["quad_per_m"] - 0.0012) < 0.0003
+    assert info["settings"]["adapted"] is True
+    assert info["settings"]["min_region_size"] == info["min_region_size"]
+    # an override and a preset still win
+    assert main(["segment", str(tmp_path / "scan.npy"), "-o", str(tmp_path / "p"),
+                 "--param", "min_region_size=200", "--param", "preset=kinect"]) == 0
+    info = json.loads((tmp_path / "p" / "scan.planes.json").read_text())["info"]
+    assert info["min_region_size"] == 200 and info["settings"]["adapted"] is False
+    assert main(["describe", str(tmp_path / "scan.npy"), "-o", str(tmp_path / "f.pl")]) == 0
+    head = (tmp_path / "f.pl").read_text().splitlines()[:3]
+    assert any(line.startswith("% scan: depth noise z2, sigma") and "adapted to it" in line
+               for line in head)

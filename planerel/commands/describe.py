@@ -7,7 +7,7 @@ import sys
 from planerel.commands._common import add_input_options
 from planerel.errors import InputError
 
-__all__ = ["register", "run"]
+__all__ = ["register", "run", "seg_settings_line"]
 
 
 def register(sub) -> None:
@@ -38,6 +38,20 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+def seg_settings_line(info: dict) -> str:
+    """One line on the segmentation's measured depth noise and the settings chosen from it
+    (empty when the segmentation did not measure it)."""
+    nm, st = info.get("noise_model"), info.get("settings")
+    if not nm or not st:
+        return ""
+    how = "adapted to it" if st.get("adapted") else "fixed settings"
+    zref = st.get("reference_depth")
+    return (f"depth noise {nm['kind']}, sigma {1000 * nm['sigma_median_m']:.2f} mm "
+            f"({nm['noise_pixels']:.2f} px) at {nm['z_median_m']:.2f} m; {how}: min region "
+            f"{st['min_region_size']} px, normal window {st['normal_smooth']}/{st['normal_radius']} px"
+            f"{'' if zref is None else f' growing beyond {zref:g} m'}")
+
+
 def run(args) -> int:
     from planerel import io
     from planerel.commands._common import read_input
@@ -49,7 +63,7 @@ def run(args) -> int:
         raise InputError(f"--labels needs one label image per input: {n} inputs, "
                          f"{len(args.labels)} label images")
     ids = scene_names(args.inputs, args.ids)
-    descs = []
+    descs, notes = [], []
     for k, path in enumerate(args.inputs):
         cloud = read_input(path, args)
         if not cloud.organized:
@@ -60,7 +74,11 @@ def run(args) -> int:
         else:
             from planerel.segment import segment
 
-            labels = segment(cloud, args.method).labels
+            seg = segment(cloud, args.method)
+            labels = seg.labels
+            note = seg_settings_line(seg.info)
+            if note:
+                notes.append(f"{ids[k]}: {note}")
         d = describe_scene(cloud, labels, scene_id=ids[k])
         descs.append(d)
         print(f"{path}: {ids[k]}: {len(d.planes)} planes, {len(d.objects)} object proposals, "
@@ -68,7 +86,7 @@ def run(args) -> int:
               + ("" if len(d.planes) else " (no plane found: only the scene fact is written)"),
               file=sys.stderr)
     params = FactParams(pairs=args.pairs, planner=not args.no_planner)
-    write_facts(args.output, descs, params,
-                header="planerel describe: " + ", ".join(str(p) for p in args.inputs))
+    header = "planerel describe: " + ", ".join(str(p) for p in args.inputs)
+    write_facts(args.output, descs, params, header="\n".join([header, *notes]))
     print(f"facts for {n} scene{'s' if n != 1 else ''} -> {args.output}")
     return 0

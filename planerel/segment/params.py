@@ -31,16 +31,18 @@ def scaled_min_region_size(n_pixels: int, scale: float = 1.0) -> int:
     return max(3, int(round(scale * REFERENCE_MIN_REGION_SIZE * n_pixels / REFERENCE_PIXELS)))
 
 
-#: Named parameter sets of region growing (docs/segmentation.md, "Presets").  ``"kinect"`` is
-#: the default (Kinect-like depth: noise and quantisation grow as z^2, so the normal window
-#: grows with depth).  ``"structured-light"`` (alias ``"abw"``) is for high-resolution range
-#: images with a uniform depth quantisation several times the pixel footprint (SegComp ABW:
-#: 1.3 mm steps, 0.5 mm pixels): a fixed 3-pixel normal window, and smaller regions kept
-#: (a quarter of the automatic size: 307 at 512x512), since such scenes hold small true faces.
+#: Named parameter sets of region growing (docs/segmentation.md, "Presets"); each turns the
+#: adaptation to the measured sensor noise off (``adapt=False``).  ``"kinect"``: the fixed
+#: settings that were the default before the adaptation (Kinect-like depth: noise and
+#: quantisation grow as z^2, so the normal window grows with depth beyond 2 m).
+#: ``"structured-light"`` (alias ``"abw"``) is for high-resolution range images with a uniform
+#: depth quantisation several times the pixel footprint (SegComp ABW: 1.3 mm steps, 0.5 mm
+#: pixels): a fixed 3-pixel normal window, and smaller regions kept (a quarter of the automatic
+#: size: 307 at 512x512), since such scenes hold small true faces.
 PRESETS = {
-    "kinect": {},
+    "kinect": {"adapt": False},
     "structured-light": {"normal_smooth": 3, "normal_radius": 3, "reference_depth": None,
-                         "min_region_scale": 0.25},
+                         "min_region_scale": 0.25, "adapt": False},
 }
 PRESETS["abw"] = PRESETS["structured-light"]
 
@@ -130,9 +132,10 @@ class RegionGrowParams:
         Normal estimation (see :mod:`planerel.normals`).
     jump_factor : float
         Depth-jump threshold of the normals in pixel sizes (see :mod:`planerel.normals`).
-    reference_depth : float or None
+    reference_depth : float, None or "auto"
         Depth (m) at which the normal window has its nominal size; it grows with depth
-        (see :mod:`planerel.normals`).  None = fixed window.
+        (see :mod:`planerel.normals`).  None = fixed window.  ``"auto"``: 2 m, or None when the
+        adaptation finds uniform depth noise.
     refine : bool
         planerel's boundary completion after growing (not in the paper; see docs): unassigned
         pixels next to a region join the region whose fitted plane is nearest, within
@@ -151,6 +154,11 @@ class RegionGrowParams:
         least-squares plane has an RMS residual within ``refine_factor`` x the median RMS of the
         grown regions becomes a region (thin faces whose normals are all blended with their
         neighbours', e.g. far stair treads 3-4 pixels high).
+    adapt : bool
+        Measure the cloud's depth-noise model (:mod:`planerel.segment.noise`) and set the
+        ``"auto"`` values of ``min_region_size``, the normal window and ``reference_depth``
+        from it (:mod:`planerel.segment.adapt`); the planar post-processing uses the measured
+        model too.  False: the fixed defaults (the ``kinect`` preset).
     """
 
     theta: float = 15.0
@@ -165,13 +173,14 @@ class RegionGrowParams:
     normal_smooth: int | str = "auto"
     normal_radius: int | str = "auto"
     jump_factor: float = 12.0
-    reference_depth: float | None = 2.0
+    reference_depth: float | None | str = "auto"
     refine: bool = True
     refine_factor: float = 3.0
     refine_rounds: int | str = "auto"
     knn: int = 16
     min_region_scale: float = 1.0
     leftover_planes: bool = True
+    adapt: bool = True
 
     def __post_init__(self) -> None:
         o = "regiongrow"
@@ -196,7 +205,9 @@ class RegionGrowParams:
         s(self, "normal_radius", _auto_or(o, "normal_radius", self.normal_radius,
                                           lambda v: _int(o, "normal_radius", v, 1)))
         s(self, "jump_factor", _num(o, "jump_factor", self.jump_factor, lo=0, lo_open=True))
-        if self.reference_depth is not None and self.reference_depth != "none":
+        if self.reference_depth == "auto":
+            pass
+        elif self.reference_depth is not None and self.reference_depth != "none":
             s(self, "reference_depth", _num(o, "reference_depth", self.reference_depth, lo=0,
                                             lo_open=True))
         else:
@@ -207,6 +218,7 @@ class RegionGrowParams:
                                           lambda v: _int(o, "refine_rounds", v, 0)))
         s(self, "knn", _int(o, "knn", self.knn, 3))
         s(self, "leftover_planes", _bool(o, "leftover_planes", self.leftover_planes))
+        s(self, "adapt", _bool(o, "adapt", self.adapt))
         s(self, "min_region_scale", _num(o, "min_region_scale", self.min_region_scale, lo=0,
                                          lo_open=True))
 

@@ -31,6 +31,7 @@ import threading
 import numpy as np
 
 from planerel.errors import InputError
+from planerel.segment.adapt import adapt_params
 from planerel.segment.params import RegionGrowParams, scaled_min_region_size
 from planerel.segment.result import Segmentation, SegPlane, fit_planes
 
@@ -206,12 +207,21 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
     xyz = cloud.xyz
     h, w, _ = xyz.shape
     n_pix = h * w
+    model = None
+    if cloud.organized and p.adapt:
+        from planerel.segment.noise import estimate_noise
+
+        cloud.require_points(3)
+        model = estimate_noise(cloud)
+    given = p  # the Segmentation keeps the parameters as given; info["settings"] the used ones
+    p, chosen = adapt_params(p, model, (h, w))
     min_size = resolve_min_region_size(p.min_region_size, n_pix, p.min_region_scale)
     cos_main = math.cos(math.radians(p.theta))
     cos_init = math.cos(math.radians(p.theta * p.angle_mf))
     delta_fixed = -1.0 if p.delta == "auto" else float(p.delta)
     xyz_flat = xyz.reshape(-1, 3)
-    info: dict = {"min_region_size": min_size}
+    info: dict = {"min_region_size": min_size, "noise_model": _model_info(model),
+                  "settings": _settings(chosen, p, w, min_size)}
     if cloud.organized:
         graph_args = (float(p.delta_factor), delta_fixed, p.delta_mode == "depth", _NBANDS,
                       max(1, h // 120))
@@ -305,7 +315,26 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
                                    labels, queue))
         info["grown_points"] = int((labels >= 0).sum())
         labels[labels < 0] = -1
-    return _build(labels.reshape(h, w), xyz_flat, n, p, nrm, info, fits)
+    return _build(labels.reshape(h, w), xyz_flat, n, given, nrm, info, fits)
+
+
+def _model_info(model) -> dict | None:
+    """The noise model as reported in ``Segmentation.info`` (None when not measured)."""
+    return None if model is None else model.to_dict()
+
+
+def _settings(chosen: dict, p: RegionGrowParams, width: int, min_size: int) -> dict:
+    """The settings chosen for this cloud (``info["settings"]``): whether they were adapted to
+    the measured noise, the normal window and reference depth, the minimum region size."""
+    from planerel.normals import auto_normal_scale
+
+    s_auto, r_auto = auto_normal_scale(width)
+    out = dict(chosen)
+    out["normal_smooth"] = s_auto if p.normal_smooth == "auto" else int(p.normal_smooth)
+    out["normal_radius"] = r_auto if p.normal_radius == "auto" else int(p.normal_radius)
+    out["reference_depth"] = p.reference_depth
+    out["min_region_size"] = min_size
+    return out
 
 
 def _leftover_planes(K, pts, mflat, w, labels, n, min_size, tol, ws, info, sums, ref) -> int:

@@ -1,0 +1,172 @@
+"""The depth-noise estimator and the settings derived from it, on synthetic planes whose noise
+model is known by construction."""
+
+import math
+
+import numpy as np
+import pytest
+
+from planerel.cloud import Cloud, Intrinsics
+from planerel.errors import InputError
+from planerel.segment import make_params, segment
+from planerel.segment.adapt import FLOOR_SCALE, MIN_SIDE_SIGMAS, adapt_params
+from planerel.segment.noise import NoiseModel, estimate_noise
+from planerel.segment.params import scaled_min_region_size
+
+W, H = 320, 240
+INTR = Intrinsics.kinect(W, H)
+F_NATIVE, BASELINE, STEP = 525.0, 0.075, 0.125  # a Kinect's disparity: f (px), b (m), 1/8 px
+
+
+def _planes(depths=(1.0, 2.0, 3.0), tilt_deg=50.0):
+    """True depth (H, W): one plane per vertical strip of the image, strip k at ``depths[k]``
+    along the optical axis, turned by ``tilt_deg`` about the vertical axis (alternating sign)."""
+    u, v = np.meshgrid(np.arange(W, dtype=float), np.arange(H, dtype=float))
+    rx, ry = (u - INTR.cx) / INTR.fx, (v - INTR.cy) / INTR.fy
+    z = np.empty((H, W))
+    edges = np.linspace(0, W, len(depths) + 1).astype(int)
+    for k, d in enumerate(depths):
+        t = math.radians(tilt_deg) * (1 if k % 2 == 0 else -1)
+        n = np.array([math.sin(t), 0.0, -math.cos(t)])  # n . X + off = 0 through (0, 0, d)
+        off = n[2] * -d
+        sl = slice(edges[k], edges[k + 1])
+        z[:, sl] = -off / (n[0] * rx[:, sl] + n[1] * ry[:, sl] + n[2])
+    return z
+
+
+def _cloud(z):
+    u, v = np.meshgrid(np.arange(W, dtype=float), np.arange(H, dtype=float))
+    xyz = np.stack([(u - INTR.cx) / INTR.fx * z, (v - INTR.cy) / INTR.fy * z, z], axis=2)
+    return Cloud(xyz, INTR)
+
+
+def _disparity_quantised(z):
+    """Depth measured through a disparity quantised to STEP px: z = f b / round(f b / z)."""
+    fb = F_NATIVE * BASELINE
+    d = np.round(fb / z / STEP) * STEP
+    return fb / d
+
+
+def test_structured_light_quantisation_at_several_depths():
+    # disparity steps give depth steps q z^2 with q = STEP / (f b), uniform within a step:
+    # std q z^2 / sqrt(12).  A little Gaussian dither (0.0003 z^2) keeps the steps from
+    # lining up with the patches; it adds to the quadratic term in quadrature.
+    rng = np.random.default_rng(0)
+    zt = _planes((1.0, 1.8, 2.6, 3.4))
+    q = STEP / (F_NATIVE * BASELINE)
+    zm = _disparity_quantised(zt + 0.0003 * zt ** 2 * rng.standard_normal(zt.shape))
+    m = estimate_noise(_cloud(zm))
+    expected = math.sqrt((q / math.sqrt(12)) ** 2 + 0.0003 ** 2)
+    assert m.kind == "z2"
+    assert m.reliable
+    assert m.quad == pytest.approx(expected, rel=0.15)
+    for z in (1.0, 2.0, 3.0):  # the whole model, at several depths
+        assert float(m.sigma(z)) == pytest.approx(expected * z * z, rel=0.15)
+    # the bands themselves grow as z^2: std / z^2 the same within 25 % from 1 m to 3.4 m
+    ratio = [s / (z * z) for z, s in m.bands]
+    assert max(ratio) / min(ratio) < 1.25
+
+
+def test_kinect_like_gaussian_and_quantisation():
+    rng = np.random.default_rng(1)
+    zt = _planes((1.2, 2.2, 3.2))
+    q = STEP / (F_NATIVE * BASELINE)
+    zm = _disparity_quantised(zt + 0.0012 * zt ** 2 * rng.standard_normal(zt.shape))
+    m = estimate_noise(_cloud(zm))
+    assert m.kind == "z2"
+    assert m.quad == pytest.approx(math.sqrt(0.0012 ** 2 + q * q / 12), rel=0.1)
+
+
+@pytest.mark.parametrize("sigma", [0.0005, 0.002])
+def test_uniform_gaussian_noise(sigma):
+    rng = np.random.default_rng(2)
+    zt = _planes((0.9, 1.5, 2.5))
+    m = estimate_noise(_cloud(zt + sigma * rng.standard_normal(zt.shape)))
+    assert m.kind == "uniform"
+    for z in (0.9, 1.5, 2.5):  # constant in depth
+        assert float(m.sigma(z)) == pytest.approx(sigma, rel=0.12)
+    assert m.pixels(1.5) == pytest.approx(sigma / (1.5 / INTR.fx), rel=0.12)
+
+
+def test_noise_free_planes():
+    m = estimate_noise(_cloud(_planes()))
+    assert m.kind == "none"
+    assert float(m.sigma(2.0)) < 1e-9
+    assert m.reliable
+
+
+def test_edges_and_holes_do_not_raise_the_estimate():
+    # a quarter of the patches cross a depth step or hold a hole: the robust band statistic
+    # still gives the noise of the planes
+    rng = np.random.default_rng(3)
+    zt = _planes((1.0, 1.4, 1.8, 2.2, 2.6, 3.0, 3.4, 3.8))
+    zm = zt + 0.001 * rng.standard_normal(zt.shape)
+    zm[::17, :] += 0.2  # thin ridges: every patch row crossing them has an edge
+    zm[rng.random(zm.shape) < 0.01] = np.nan
+    m = estimate_noise(_cloud(zm))
+    assert float(m.sigma(2.0)) == pytest.approx(0.001, rel=0.2)
+
+
+def test_too_few_patches_and_bad_input():
+    z = np.full((H, W), np.nan)
+    z[:4, :4] = 1.0  # a few valid pixels: no complete patch
+    m = estimate_noise(_cloud(z))
+    assert m.n_patches == 0 and not m.reliable and m.kind == "none"
+    flat = Cloud(np.random.default_rng(0).random((1, 50, 3)), None, organized=False)
+    with pytest.raises(InputError, match="organized cloud"):
+        estimate_noise(flat)
+    with pytest.raises(InputError, match="patch must be an integer >= 3"):
+        estimate_noise(_cloud(_planes()), patch=2)
+    with pytest.raises(InputError, match="max_patches must be a positive integer"):
+        estimate_noise(_cloud(_planes()), max_patches=0)
+
+
+def _model(kind, sigma, z=1.0, fx=INTR.fx):
+    return NoiseModel(kind, sigma if kind == "uniform" else 0.0,
+                      sigma / z ** 2 if kind == "z2" else 0.0, z, z, z, 1.0 / fx, 1000)
+
+
+def test_settings_follow_the_noise_in_pixels():
+    p = make_params("regiongrow")
+    floor = scaled_min_region_size(W * H, FLOOR_SCALE)
+    # uniform noise of 1.5 pixel footprints: window round(sqrt(12) * 1.5) = 5 px at every
+    # depth, min region (20 * 1.5)^2 = 900 px
+    foot = 1.0 / INTR.fx
+    out, info = adapt_params(p, _model("uniform", 1.5 * foot), (H, W))
+    assert out.normal_smooth == out.normal_radius == round(math.sqrt(12) * 1.5)
+    assert out.reference_depth is None
+    assert out.min_region_size == round((MIN_SIDE_SIGMAS * 1.5) ** 2) == 900
+    assert info["adapted"] and info["min_region_area_m2"] == pytest.approx(900 * foot ** 2, rel=1e-4)
+    # disparity-type noise: the window keeps growing with depth beyond 2 m; low noise hits
+    # the resolution floor
+    out, info = adapt_params(p, _model("z2", 0.2 * foot), (H, W))
+    assert out.normal_smooth == "auto" and out.reference_depth == 2.0
+    assert out.min_region_size == floor
+    # explicit values and min_region_scale are kept / applied
+    q = make_params("regiongrow", normal_smooth=1, min_region_scale=0.5)
+    out, _ = adapt_params(q, _model("uniform", 1.5 * foot), (H, W))
+    assert out.normal_smooth == 1 and out.normal_radius == 5
+    assert out.min_region_size == 450
+    # no noise measured, or adaptation off: the fixed defaults
+    for prm, mdl in ((p, _model("none", 0.0)), (p, None),
+                     (make_params("regiongrow", preset="kinect"), _model("uniform", 1.5 * foot))):
+        out, info = adapt_params(prm, mdl, (H, W))
+        assert not info["adapted"]
+        assert out.min_region_size == "auto" and out.normal_smooth == "auto"
+        assert out.reference_depth == 2.0
+
+
+def test_segmentation_reports_model_and_settings():
+    rng = np.random.default_rng(4)
+    zt = _planes((0.9, 1.5, 2.5))
+    cloud = _cloud(zt + 0.0015 * rng.standard_normal(zt.shape))
+    seg = segment(cloud)
+    nm, st = seg.info["noise_model"], seg.info["settings"]
+    assert nm["kind"] == "uniform" and nm["sigma_median_m"] == pytest.approx(0.0015, rel=0.12)
+    assert st["adapted"] and st["min_region_size"] == seg.info["min_region_size"]
+    assert st["reference_depth"] is None
+    # the three planes come out
+    assert seg.n_planes == 3
+    fixed = segment(cloud, preset="kinect")
+    assert fixed.info["settings"]["adapted"] is False
+    assert fixed.info["min_region_size"] == scaled_min_region_size(W * H)
