@@ -22,7 +22,6 @@ an illegal value with only a message).
 from __future__ import annotations
 
 import functools
-
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass

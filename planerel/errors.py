@@ -11,7 +11,8 @@ exits with code 2.  Subclasses say which stage failed:
 
 from __future__ import annotations
 
-__all__ = ["PlanerelError", "InputError", "PrologError", "LearnerError", "DependencyError"]
+__all__ = ["PlanerelError", "InputError", "PrologError", "LearnerError", "DependencyError",
+           "user_message"]
 
 
 class PlanerelError(Exception):
@@ -32,3 +33,41 @@ class LearnerError(PlanerelError):
 
 class DependencyError(PlanerelError):
     """A needed program or package is missing; the message gives the install command."""
+
+
+def user_message(exc: BaseException) -> str | None:
+    """One sentence for an error the user can fix, or None for a bug (which keeps its traceback).
+
+    :class:`PlanerelError` keeps its message (squeezed onto one line); ``OSError`` (full disk,
+    read-only or missing folder, permissions), ``MemoryError`` and ``UnicodeError`` (a file
+    name that is not valid in the file system's encoding) become a sentence that names the
+    file and says what to do.
+    """
+    import errno
+
+    if isinstance(exc, PlanerelError):
+        return " ".join(str(exc).split())
+    if isinstance(exc, MemoryError):
+        return ("out of memory; use smaller inputs (--subsample, --max-points) or fewer parallel "
+                "jobs (--jobs)")
+    if isinstance(exc, UnicodeError):
+        return (f"a file name or text cannot be encoded ({exc.reason}); use file and folder "
+                "names in UTF-8")
+    if isinstance(exc, OSError):
+        where = exc.filename if exc.filename is not None else "a file"
+        if exc.filename2 is not None:
+            where = f"{where} -> {exc.filename2}"
+        what = exc.strerror or str(exc) or type(exc).__name__
+        advice = {
+            errno.ENOSPC: "free some space or write somewhere else",
+            errno.EDQUOT: "free some space or write somewhere else",
+            errno.EACCES: "choose a folder you may write to, or fix its permissions",
+            errno.EPERM: "choose a folder you may write to, or fix its permissions",
+            errno.EROFS: "the file system is read-only: write somewhere else",
+            errno.ENOENT: "check the path",
+            errno.ENOTDIR: "check the path",
+            errno.EISDIR: "give a file, not a folder",
+            errno.EMFILE: "too many open files: raise the limit (ulimit -n) or use fewer jobs",
+        }.get(exc.errno, "check the path and the disk")
+        return " ".join(f"{where}: {what}; {advice}".split())
+    return None

@@ -15,14 +15,22 @@ extension.  Every reader is public:
 
 Libraries do the parsing where they read the format correctly (Pillow, tifffile, pypcd4,
 plyfile); planerel adds validation and a clear :class:`~planerel.errors.InputError` that names
-the file for anything wrong with it.
+the file for anything wrong with it.  Before any pixel or point is allocated, the size a header
+declares is checked against the file's size (where the format is not compressed) and against a
+point limit (``max_points``, default :data:`DEFAULT_MAX_POINTS`, or ``$PLANEREL_MAX_POINTS``), so
+a crafted or damaged header gives one sentence, never a ``MemoryError``.  Every public reader
+turns any other failure (an ``OSError``, a library's own exception) into one
+:class:`~planerel.errors.InputError` sentence naming the file.
 """
 
 from __future__ import annotations
 
+import functools
 import json
+import os
 import re
 import struct
+import warnings
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -53,7 +61,13 @@ __all__ = [
     "estimate_intrinsics",
     "resolve_intrinsics",
     "FORMATS",
+    "DEFAULT_MAX_POINTS",
+    "max_points_limit",
 ]
+
+#: Points (pixels) a reader accepts by default: 20 million, 65x a 640x480 frame, ~0.5 GB of
+#: float64 XYZ; the pipeline's working arrays take several times that.
+DEFAULT_MAX_POINTS = 20_000_000
 
 #: Extensions :func:`read` knows, with the reader it uses.
 FORMATS = {
@@ -70,6 +84,61 @@ _SUN_MAGIC = 0x59A66A95
 
 
 # --------------------------------------------------------------------------- helpers
+
+
+def max_points_limit(value=None) -> int:
+    """The point limit in force: ``value``, else ``$PLANEREL_MAX_POINTS``, else
+    :data:`DEFAULT_MAX_POINTS`."""
+    if value is None:
+        env = os.environ.get("PLANEREL_MAX_POINTS")
+        if env:
+            try:
+                value = int(env)
+            except ValueError:
+                raise InputError(f"PLANEREL_MAX_POINTS={env!r} is not a whole number") from None
+        else:
+            value = DEFAULT_MAX_POINTS
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise InputError(f"the point limit must be a positive whole number, got {value!r}")
+    return int(value)
+
+
+def _check_points(path, n: int, what: str, max_points=None) -> None:
+    limit = max_points_limit(max_points)
+    if n > limit:
+        raise InputError(f"{path}: {what} declares {n:,} points, more than the limit of "
+                         f"{limit:,}; raise it with --max-points (or PLANEREL_MAX_POINTS) if the "
+                         "machine has the memory")
+
+
+def _one_line(text: str, limit: int = 300) -> str:
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _reader(func):
+    """Make a reader's every failure one :class:`InputError` sentence that names the file."""
+
+    @functools.wraps(func)
+    def wrapper(path, *args, **kwargs):
+        try:
+            return func(path, *args, **kwargs)
+        except InputError as exc:
+            msg = str(exc)
+            if "\n" in msg or len(msg) > 400:
+                raise InputError(_one_line(msg, 400)) from None
+            raise
+        except MemoryError:
+            raise InputError(f"{path}: too large to read into memory; lower --max-points or "
+                             "use a machine with more memory") from None
+        except OSError as exc:
+            where = exc.filename or path
+            raise InputError(f"{where}: cannot read the file ({exc.strerror or exc})") from None
+        except Exception as exc:  # a library's own exception on corrupt data
+            raise InputError(f"{path}: not a readable {func.__name__[5:].replace('_', ' ')} "
+                             f"file ({type(exc).__name__}: {_one_line(exc, 200)})") from None
+
+    return wrapper
 
 
 def _existing(path) -> Path:
@@ -101,8 +170,9 @@ def _sniff(path: Path) -> str | None:
     return None
 
 
+@_reader
 def read(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
-         max_range: float | None = None) -> Cloud:
+         max_range: float | None = None, max_points: int | None = None) -> Cloud:
     """Read any supported file into a :class:`~planerel.cloud.Cloud`.
 
     Parameters
@@ -121,20 +191,29 @@ def read(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
         Gravity-up vector in the camera frame; overrides a sidecar's.
     max_range : float, optional
         Depth images only: depths beyond this many metres become invalid.
+    max_points : int, optional
+        Refuse files that declare more points (pixels) than this, before reading them
+        (default :func:`max_points_limit`).
+
+    Raises
+    ------
+    InputError
+        One sentence naming the file, for every way the file can be wrong.
     """
     p = _existing(path)
     kind = _sniff(p) or p.suffix.lower()
     if kind in (".png", ".tif", ".tiff"):
         return read_depth_image(p, intrinsics=intrinsics, depth_scale=depth_scale, up=up,
-                                max_range=max_range)
+                                max_range=max_range, max_points=max_points)
     if kind == ".pcd":
-        return read_pcd(p, up=up)
+        return read_pcd(p, up=up, max_points=max_points)
     if kind == ".ply":
-        return read_ply(p, up=up)
+        return read_ply(p, up=up, max_points=max_points)
     if kind == ".npy":
-        return read_npy(p, intrinsics=intrinsics, depth_scale=depth_scale, up=up)
+        return read_npy(p, intrinsics=intrinsics, depth_scale=depth_scale, up=up,
+                        max_points=max_points)
     if kind == ".range":
-        return read_abw(p)
+        return read_abw(p, max_points=max_points)
     known = ", ".join(sorted(FORMATS))
     raise InputError(f"{p}: unknown file type {p.suffix or '(no extension)'!r}; planerel reads {known}")
 
@@ -197,6 +276,29 @@ def _read_openni_xml(path: Path) -> dict:
     return out
 
 
+def _is_number(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and np.isfinite(x)
+
+
+def _check_sidecar(js: Path, info: dict) -> None:
+    """Types of a sidecar's values, so that an error names the JSON file."""
+    intr = info.get("intrinsics")
+    if intr is not None:
+        if isinstance(intr, dict):
+            values = [intr.get(k) for k in ("fx", "fy", "cx", "cy")]
+            if not all(_is_number(v) for v in values):
+                raise InputError(f"{js}: 'intrinsics' needs numbers fx, fy, cx, cy")
+        elif not (isinstance(intr, list) and all(_is_number(v) for v in intr)):
+            raise InputError(f"{js}: 'intrinsics' must be an object or a list of numbers")
+    scale = info.get("depth_scale")
+    if scale is not None and not (_is_number(scale) and scale > 0):
+        raise InputError(f"{js}: 'depth_scale' must be a positive number, got {scale!r}")
+    up = info.get("up")
+    if up is not None and not (isinstance(up, list) and len(up) == 3
+                               and all(_is_number(v) for v in up)):
+        raise InputError(f"{js}: 'up' must be three numbers, got {up!r}")
+
+
 def find_camera_info(path) -> dict:
     """Camera information stored next to a depth frame.
 
@@ -219,6 +321,7 @@ def find_camera_info(path) -> dict:
             for key in ("intrinsics", "depth_scale", "up"):
                 if data.get(key) is not None:
                     out[key] = data[key]
+            _check_sidecar(js, out)
             return out
     for stem in _frame_stems(p):
         xml = stem.with_name(stem.name + ".xml")
@@ -240,10 +343,14 @@ def resolve_intrinsics(value, width: int, height: int, where: str = "image") -> 
         return Intrinsics.kinect(width, height)
     if isinstance(value, dict) and ("width" not in value or "height" not in value):
         value = {**value, "width": width, "height": height}
-    arr = np.asarray(value, dtype=object) if not isinstance(value, (dict, Intrinsics)) else None
-    if arr is not None and arr.shape == (3, 3):
-        return Intrinsics.from_matrix(np.asarray(value, dtype=float), width, height)
-    return Intrinsics.from_any(value)
+    try:
+        arr = np.asarray(value, dtype=object) if not isinstance(value, (dict, Intrinsics)) else None
+        if arr is not None and arr.shape == (3, 3):
+            return Intrinsics.from_matrix(np.asarray(value, dtype=float), width, height)
+        return Intrinsics.from_any(value)
+    except (InputError, TypeError, ValueError) as exc:
+        msg = str(exc)
+        raise InputError(msg if msg.startswith(where) else f"{where}: {msg}") from None
 
 
 def estimate_intrinsics(xyz: np.ndarray, tolerance: float = 0.05) -> Intrinsics | None:
@@ -284,28 +391,45 @@ def estimate_intrinsics(xyz: np.ndarray, tolerance: float = 0.05) -> Intrinsics 
 # --------------------------------------------------------------------------- depth images
 
 
-def read_depth_array(path) -> np.ndarray:
-    """The raw pixel values of a depth PNG or TIFF, ``(H, W)``, as stored (uint16 usually)."""
+@_reader
+def read_depth_array(path, *, max_points: int | None = None) -> np.ndarray:
+    """The raw pixel values of a depth PNG or TIFF, ``(H, W)``, as stored (uint16 usually).
+
+    The image size in the header is checked against ``max_points`` before the pixels are
+    decoded."""
     p = _existing(path)
     kind = _sniff(p) or p.suffix.lower()
     try:
         if kind in (".tif", ".tiff"):
             import tifffile
 
-            arr = tifffile.imread(p)
+            with tifffile.TiffFile(p) as tif:
+                if not tif.pages:
+                    raise InputError(f"{p}: the TIFF holds no image")
+                page = tif.pages[0]
+                _check_points(p, int(np.prod(page.shape[:2])), "the TIFF", max_points)
+                arr = page.asarray()
         elif kind == ".png":
             from PIL import Image
 
-            with Image.open(p) as img:
+            with warnings.catch_warnings():  # the point limit below is the check that counts
+                warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+                img = Image.open(p)
+            with img:
+                _check_points(p, img.width * img.height, "the PNG", max_points)
                 img.load()
                 arr = np.asarray(img)
         else:
             raise InputError(f"{p}: not a PNG or TIFF depth image")
     except InputError:
         raise
+    except MemoryError:
+        raise
     except Exception as exc:  # library errors on corrupt data vary by library
-        raise InputError(f"{p}: cannot read the image ({type(exc).__name__}: {exc})") from None
-    arr = np.squeeze(arr)
+        raise InputError(f"{p}: cannot read the image ({type(exc).__name__}: "
+                         f"{_one_line(exc, 200)})") from None
+    if arr.ndim == 3 and arr.shape[2] == 1:  # one channel stored as (H, W, 1)
+        arr = arr[:, :, 0]
     if arr.ndim != 2:
         raise InputError(f"{p}: a depth image must have one channel, got shape {arr.shape}")
     if not (np.issubdtype(arr.dtype, np.integer) or np.issubdtype(arr.dtype, np.floating)):
@@ -315,8 +439,9 @@ def read_depth_array(path) -> np.ndarray:
     return arr
 
 
+@_reader
 def read_depth_image(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
-                     max_range: float | None = None) -> Cloud:
+                     max_range: float | None = None, max_points: int | None = None) -> Cloud:
     """Read a 16-bit (or float) depth PNG/TIFF into an organized cloud.
 
     Intrinsics and depth scale come from the arguments, else a sidecar ``.json``, else an
@@ -328,7 +453,7 @@ def read_depth_image(path, *, intrinsics=None, depth_scale: float | None = None,
         Unreadable image, no intrinsics anywhere, bad depth scale, or no valid pixel.
     """
     p = _existing(path)
-    raw = read_depth_array(p)
+    raw = read_depth_array(p, max_points=max_points)
     h, w = raw.shape
     info = find_camera_info(p)
     intr_value = intrinsics if intrinsics is not None else info.get("intrinsics")
@@ -337,7 +462,8 @@ def read_depth_image(path, *, intrinsics=None, depth_scale: float | None = None,
             f"{p}: no intrinsics for this depth image: pass intrinsics (e.g. --intrinsics kinect "
             "or width,height,fx,fy,cx,cy) or put a sidecar JSON / OpenNI XML next to it"
         )
-    intr = resolve_intrinsics(intr_value, w, h, str(p))
+    intr = resolve_intrinsics(intr_value, w, h,
+                              str(p) if intrinsics is not None else info.get("source", str(p)))
     if depth_scale is None:
         depth_scale = info.get("depth_scale")
     if depth_scale is None:
@@ -349,13 +475,105 @@ def read_depth_image(path, *, intrinsics=None, depth_scale: float | None = None,
 # --------------------------------------------------------------------------- PCD
 
 
-def _load_pcd(path: Path):
+_PCD_SIZES = {"F": (2, 4, 8), "I": (1, 2, 4, 8), "U": (1, 2, 4, 8)}
+_PCD_DATA = ("ascii", "binary", "binary_compressed")
+
+
+def _pcd_int(path, key: str, text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise InputError(f"{path}: PCD {key} must be a whole number, got {text!r}") from None
+    return value
+
+
+def _check_pcd_header(path: Path, max_points=None) -> None:
+    """Validate a PCD header and the size of its data before anything is allocated."""
+    with open(path, "rb") as fh:
+        head = fh.read(65536)
+        size = os.fstat(fh.fileno()).st_size
+    if not head.strip():
+        raise InputError(f"{path}: the PCD file is empty")
+    entries, offset = {}, 0
+    data_kind = None
+    for raw in head.splitlines(keepends=True):
+        offset += len(raw)
+        line = raw.decode("ascii", "replace").strip()
+        if not line or line.startswith("#"):
+            continue
+        key, _, rest = line.partition(" ")
+        entries[key.upper()] = rest.split()
+        if key.upper() == "DATA":
+            data_kind = (rest.split() or [""])[0].lower()
+            break
+    else:
+        raise InputError(f"{path}: the PCD header ends before its DATA line (truncated or not "
+                         "a PCD file)")
+    if data_kind not in _PCD_DATA:
+        raise InputError(f"{path}: PCD DATA must be {', '.join(_PCD_DATA)}; got {data_kind!r}")
+    for key in ("FIELDS", "SIZE", "TYPE", "WIDTH", "HEIGHT"):
+        if not entries.get(key):
+            raise InputError(f"{path}: the PCD header has no {key} line")
+    fields, sizes, types = entries["FIELDS"], entries["SIZE"], entries["TYPE"]
+    counts = entries.get("COUNT") or ["1"] * len(fields)
+    if not len(fields) == len(sizes) == len(types) == len(counts):
+        raise InputError(f"{path}: PCD FIELDS, SIZE, TYPE and COUNT must have one entry per "
+                         f"field ({len(fields)}, {len(sizes)}, {len(types)}, {len(counts)})")
+    record = 0
+    for f, sz, ty, ct in zip(fields, sizes, types, counts, strict=True):
+        sz_i, ct_i = _pcd_int(path, "SIZE", sz), _pcd_int(path, "COUNT", ct)
+        if ty not in _PCD_SIZES:
+            raise InputError(f"{path}: PCD TYPE of field {f!r} must be F, I or U; got {ty!r}")
+        if sz_i not in _PCD_SIZES[ty]:
+            raise InputError(f"{path}: PCD field {f!r} has TYPE {ty} with SIZE {sz_i}; "
+                             f"allowed sizes: {', '.join(map(str, _PCD_SIZES[ty]))}")
+        if ct_i < 1:
+            raise InputError(f"{path}: PCD COUNT of field {f!r} must be at least 1, got {ct_i}")
+        record += sz_i * ct_i
+    width = _pcd_int(path, "WIDTH", entries["WIDTH"][0])
+    height = _pcd_int(path, "HEIGHT", entries["HEIGHT"][0])
+    if width < 1 or height < 1:
+        raise InputError(f"{path}: PCD WIDTH and HEIGHT must be positive, got {width}x{height}")
+    points = _pcd_int(path, "POINTS", entries["POINTS"][0]) if entries.get("POINTS") else width * height
+    if points != width * height:
+        raise InputError(f"{path}: PCD header says {points} points but WIDTH x HEIGHT is "
+                         f"{width}x{height}")
+    _check_points(path, points, "the PCD header", max_points)
+    payload = size - offset
+    if data_kind == "binary":
+        need = points * record
+        if payload < need:
+            raise InputError(f"{path}: truncated: the PCD header declares {points} points of "
+                             f"{record} bytes ({need} bytes), the file holds {payload}")
+        if payload > need + 1:
+            raise InputError(f"{path}: the PCD data holds {payload} bytes but the header declares "
+                             f"{need} ({points} points of {record} bytes): SIZE or TYPE is wrong")
+    elif data_kind == "binary_compressed":
+        with open(path, "rb") as fh:
+            fh.seek(offset)
+            sizes8 = fh.read(8)
+        if len(sizes8) < 8:
+            raise InputError(f"{path}: truncated: the compressed PCD data has no size header")
+        compressed, uncompressed = struct.unpack("<II", sizes8)
+        if uncompressed != points * record:
+            raise InputError(f"{path}: the compressed PCD data unpacks to {uncompressed} bytes but "
+                             f"the header declares {points * record}")
+        if compressed > payload - 8:
+            raise InputError(f"{path}: truncated: {payload - 8} bytes of compressed PCD data, "
+                             f"{compressed} declared")
+    elif payload < points * len(fields):  # ascii: at least one character per value
+        raise InputError(f"{path}: truncated: {payload} bytes of text for {points} points")
+
+
+def _load_pcd(path: Path, max_points=None):
     import pypcd4
 
+    _check_pcd_header(path, max_points)
     try:
         pc = pypcd4.PointCloud.from_path(path)
     except Exception as exc:  # pypcd4/pydantic/lzf raise many types on corrupt files
-        raise InputError(f"{path}: not a readable PCD file ({type(exc).__name__}: {exc})") from None
+        raise InputError(f"{path}: not a readable PCD file ({type(exc).__name__}: "
+                         f"{_one_line(exc, 200)})") from None
     md = pc.metadata
     if md.width * md.height != md.points or pc.pc_data.shape[0] != md.points:
         raise InputError(
@@ -365,7 +583,8 @@ def _load_pcd(path: Path):
     return pc
 
 
-def read_pcd(path, *, up=None) -> Cloud:
+@_reader
+def read_pcd(path, *, up=None, max_points: int | None = None) -> Cloud:
     """Read a PCD file (ascii, binary or binary_compressed).
 
     An organized cloud (HEIGHT > 1) keeps its ``(H, W)`` grid, and its intrinsics are recovered
@@ -373,7 +592,7 @@ def read_pcd(path, *, up=None) -> Cloud:
     An unorganized cloud becomes ``(1, N, 3)`` with ``organized=False``.
     """
     p = _existing(path)
-    pc = _load_pcd(p)
+    pc = _load_pcd(p, max_points)
     md = pc.metadata
     missing = [f for f in ("x", "y", "z") if f not in md.fields]
     if missing:
@@ -387,6 +606,7 @@ def read_pcd(path, *, up=None) -> Cloud:
     return Cloud(xyz, intr, up, str(p), organized)
 
 
+@_reader
 def read_pcd_field(path, name: str) -> np.ndarray:
     """One field of a PCD file (e.g. ``label``), shaped ``(H, W)`` (``(1, N)`` if unorganized)."""
     p = _existing(path)
@@ -401,11 +621,61 @@ def read_pcd_field(path, name: str) -> np.ndarray:
 # --------------------------------------------------------------------------- PLY and NPY
 
 
-def read_ply(path, *, up=None) -> Cloud:
+_PLY_SIZES = {"char": 1, "uchar": 1, "int8": 1, "uint8": 1, "short": 2, "ushort": 2,
+              "int16": 2, "uint16": 2, "int": 4, "uint": 4, "int32": 4, "uint32": 4,
+              "float": 4, "float32": 4, "double": 8, "float64": 8}
+
+
+def _check_ply_header(path: Path, max_points=None) -> None:
+    """Element counts of a PLY header against the point limit and the file's size."""
+    with open(path, "rb") as fh:
+        head = fh.read(65536)
+        size = os.fstat(fh.fileno()).st_size
+    end = head.find(b"end_header")
+    if not head.startswith(b"ply") or end < 0:
+        raise InputError(f"{path}: not a PLY file (no 'ply' ... 'end_header' header)")
+    offset = head.find(b"\n", end)
+    offset = (offset + 1) if offset >= 0 else len(head)
+    fmt, total_min = None, 0
+    elements: list[list] = []  # [name, count, fixed record size or None]
+    for raw in head[:end].decode("ascii", "replace").splitlines():
+        words = raw.split()
+        if not words:
+            continue
+        if words[0] == "format" and len(words) >= 2:
+            fmt = words[1]
+        elif words[0] == "element" and len(words) >= 3:
+            try:
+                count = int(words[2])
+            except ValueError:
+                raise InputError(f"{path}: PLY element {words[1]!r} has no whole-number count "
+                                 f"({words[2]!r})") from None
+            if count < 0:
+                raise InputError(f"{path}: PLY element {words[1]!r} has a negative count {count}")
+            elements.append([words[1], count, 0])
+        elif words[0] == "property" and elements and len(words) >= 3:
+            if words[1] == "list" or words[1] not in _PLY_SIZES or elements[-1][2] is None:
+                elements[-1][2] = None  # variable-size records: at least one byte each
+            else:
+                elements[-1][2] += _PLY_SIZES[words[1]]
+    vertex = [e for e in elements if e[0] == "vertex"]
+    if vertex:
+        _check_points(path, vertex[0][1], "the PLY header", max_points)
+    for _name, count, record in elements:
+        per = (record or 1) if fmt and fmt.startswith("binary") else 2  # ascii: value + space
+        total_min += count * per
+    if total_min > size - offset:
+        raise InputError(f"{path}: truncated: the PLY header declares at least {total_min} bytes "
+                         f"of data, the file holds {size - offset}")
+
+
+@_reader
+def read_ply(path, *, up=None, max_points: int | None = None) -> Cloud:
     """Read the vertices of a PLY file (ascii or binary) as an unorganized cloud ``(1, N, 3)``."""
     from plyfile import PlyData
 
     p = _existing(path)
+    _check_ply_header(p, max_points)
     try:
         ply = PlyData.read(str(p))
         vertex = ply["vertex"]
@@ -413,13 +683,44 @@ def read_ply(path, *, up=None) -> Cloud:
     except KeyError as exc:
         raise InputError(f"{p}: PLY has no vertex {exc.args[0]!r}") from None
     except Exception as exc:  # plyfile raises several types on corrupt files
-        raise InputError(f"{p}: not a readable PLY file ({type(exc).__name__}: {exc})") from None
+        raise InputError(f"{p}: not a readable PLY file ({type(exc).__name__}: "
+                         f"{_one_line(exc, 200)})") from None
     if len(xyz) == 0:
         raise InputError(f"{p}: PLY holds no vertices")
     return Cloud(xyz.reshape(1, -1, 3), None, up, str(p), organized=False)
 
 
-def read_npy(path, *, intrinsics=None, depth_scale: float | None = None, up=None) -> Cloud:
+def _load_npy(path: Path, max_points=None) -> np.ndarray:
+    """``np.load`` after checking the header's shape against the file's size and the limit."""
+    fmt = np.lib.format
+    with open(path, "rb") as fh:
+        try:
+            version = fmt.read_magic(fh)
+            if version == (1, 0):
+                shape, fortran, dtype = fmt.read_array_header_1_0(fh)
+            else:
+                shape, fortran, dtype = fmt._read_array_header(fh, version)
+        except (ValueError, EOFError, SyntaxError, TypeError) as exc:
+            raise InputError(f"{path}: not a readable .npy array ({_one_line(exc, 200)})") from None
+        offset = fh.tell()
+        size = os.fstat(fh.fileno()).st_size
+    if dtype.hasobject:
+        raise InputError(f"{path}: .npy must hold a numeric array, got dtype {dtype}")
+    n = int(np.prod(shape, dtype=object)) if shape else 1
+    points = n // shape[-1] if len(shape) == 3 and shape[-1] else n
+    _check_points(path, points, "the .npy header", max_points)
+    if n * dtype.itemsize != size - offset:
+        raise InputError(f"{path}: the .npy header declares {shape} {dtype} "
+                         f"({n * dtype.itemsize} bytes) but the file holds {size - offset}")
+    try:
+        return np.load(path, allow_pickle=False)
+    except (ValueError, OSError, EOFError) as exc:
+        raise InputError(f"{path}: not a readable .npy array ({_one_line(exc, 200)})") from None
+
+
+@_reader
+def read_npy(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
+             max_points: int | None = None) -> Cloud:
     """Read a ``.npy`` array: ``(H, W, 3)`` XYZ in metres (NaN invalid) or ``(H, W)`` depth.
 
     A depth array needs intrinsics (argument or sidecar); its scale defaults to 1 for float
@@ -427,17 +728,15 @@ def read_npy(path, *, intrinsics=None, depth_scale: float | None = None, up=None
     from the argument or, if it is an exact pinhole back-projection, from the points.
     """
     p = _existing(path)
-    try:
-        arr = np.load(p, allow_pickle=False)
-    except (ValueError, OSError, EOFError) as exc:
-        raise InputError(f"{p}: not a readable .npy array ({exc})") from None
+    arr = _load_npy(p, max_points)
     if not isinstance(arr, np.ndarray) or arr.dtype.kind not in "iuf":
         raise InputError(f"{p}: .npy must hold a numeric array, got dtype {getattr(arr, 'dtype', '?')}")
     if arr.ndim == 3 and arr.shape[2] == 3:
         info = find_camera_info(p)
         value = intrinsics if intrinsics is not None else info.get("intrinsics")
         h, w = arr.shape[:2]
-        intr = resolve_intrinsics(value, w, h, str(p)) if value is not None else estimate_intrinsics(
+        where = str(p) if intrinsics is not None else info.get("source", str(p))
+        intr = resolve_intrinsics(value, w, h, where) if value is not None else estimate_intrinsics(
             np.asarray(arr, dtype=np.float64))
         return Cloud(arr, intr, up if up is not None else info.get("up"), str(p))
     if arr.ndim == 2:
@@ -445,7 +744,8 @@ def read_npy(path, *, intrinsics=None, depth_scale: float | None = None, up=None
         value = intrinsics if intrinsics is not None else info.get("intrinsics")
         if value is None:
             raise InputError(f"{p}: a depth array needs intrinsics (argument or sidecar JSON)")
-        intr = resolve_intrinsics(value, arr.shape[1], arr.shape[0], str(p))
+        where = str(p) if intrinsics is not None else info.get("source", str(p))
+        intr = resolve_intrinsics(value, arr.shape[1], arr.shape[0], where)
         if depth_scale is None:
             depth_scale = info.get("depth_scale")
         if depth_scale is None:
@@ -461,14 +761,19 @@ def read_npy(path, *, intrinsics=None, depth_scale: float | None = None, up=None
 _ABW_CAL1 = {"offset": 785.410786, "scal": 0.773545, "f": -1610.981722, "c": 1.4508}
 _ABW_CAL2 = {"offset": 771.016866, "scal": 0.791686, "f": -1586.072821, "c": 1.4508}
 _ABW_CAL1_IMAGES = {0, 19, 21, 25, 27, 28, 29}
+_ABW_LAST_IMAGE = 29  # SegComp's ABW images are numbered 0..29; no calibration beyond
 
 
-def _read_sun_raster(path: Path) -> np.ndarray:
+def _read_sun_raster(path: Path, max_points=None) -> np.ndarray:
     """``(H, W)`` uint8 pixels of an 8-bit Sun rasterfile without colour map."""
+    with open(path, "rb") as fh:
+        header = fh.read(32)
+    if len(header) < 32:
+        raise InputError(f"{path}: too short for a Sun rasterfile ({len(header)} bytes)")
+    magic, width, height, depth, length, _type, maptype, maplength = struct.unpack(">8I", header)
+    if magic == _SUN_MAGIC and depth == 8:
+        _check_points(path, width * height, "the raster header", max_points)
     data = path.read_bytes()
-    if len(data) < 32:
-        raise InputError(f"{path}: too short for a Sun rasterfile ({len(data)} bytes)")
-    magic, width, height, depth, length, _type, maptype, maplength = struct.unpack(">8I", data[:32])
     if magic != _SUN_MAGIC:
         raise InputError(f"{path}: not a Sun rasterfile (magic {magic:#x})")
     if depth != 8:
@@ -491,10 +796,16 @@ def _abw_calibration(path: Path) -> dict:
             f"{path}: cannot tell the ABW image number (and so its calibration) from the name; "
             "expected e.g. abw.test.6.range"
         )
-    return _ABW_CAL1 if int(m.group(1)) in _ABW_CAL1_IMAGES else _ABW_CAL2
+    number = int(m.group(1))
+    if number > _ABW_LAST_IMAGE:
+        raise InputError(f"{path}: SegComp has no ABW image {number} (they are numbered 0 to "
+                         f"{_ABW_LAST_IMAGE}), so its calibration is unknown; rename the file "
+                         "after the SegComp image it is")
+    return _ABW_CAL1 if number in _ABW_CAL1_IMAGES else _ABW_CAL2
 
 
-def read_abw(path) -> Cloud:
+@_reader
+def read_abw(path, *, max_points: int | None = None) -> Cloud:
     """Read a SegComp ABW ``.range`` image as an organized cloud in metres.
 
     The SegComp formula gives X right, Y up and Z towards the sensor in millimetres with the
@@ -505,7 +816,7 @@ def read_abw(path) -> Cloud:
     """
     p = _existing(path)
     cal = _abw_calibration(p)
-    v = _read_sun_raster(p).astype(np.float64)
+    v = _read_sun_raster(p, max_points).astype(np.float64)
     h, w = v.shape
     f = abs(cal["f"])
     z = v / cal["scal"] + cal["offset"]
@@ -523,39 +834,41 @@ def read_abw(path) -> Cloud:
     return Cloud(xyz, intr, None, str(p))
 
 
-def read_abw_gt(path) -> np.ndarray:
+@_reader
+def read_abw_gt(path, *, max_points: int | None = None) -> np.ndarray:
     """SegComp ground truth ``.gt-seg`` as ``(H, W)`` int32 labels: plane labels (>= 10) kept,
     everything else (background, shadow, unlabelled) set to -1."""
     p = _existing(path)
-    lab = _read_sun_raster(p).astype(np.int32)
+    lab = _read_sun_raster(p, max_points).astype(np.int32)
     lab[lab < 10] = -1
     return lab
 
 
-def read_label_image(path) -> np.ndarray:
+@_reader
+def read_label_image(path, *, max_points: int | None = None) -> np.ndarray:
     """A label image as ``(H, W)`` int32 with -1 = none, from any of: ``.npy`` int array,
     a 16-bit label PNG of a planerel data set (value = label + 1, 0 = none), or a SegComp
     ``.gt-seg`` file."""
     p = _existing(path)
     kind = _sniff(p) or p.suffix.lower()
     if kind == ".npy":
-        try:
-            lab = np.load(p, allow_pickle=False)
-        except (ValueError, OSError, EOFError) as exc:
-            raise InputError(f"{p}: not a readable .npy array ({exc})") from None
+        lab = _load_npy(p, max_points)
         if lab.ndim != 2 or lab.dtype.kind not in "iu":
             raise InputError(f"{p}: a label array must be 2-D integers, got {lab.dtype} {lab.shape}")
         return lab.astype(np.int32)
     if kind == ".range" or p.name.endswith(".gt-seg"):
-        return read_abw_gt(p)
+        return read_abw_gt(p, max_points=max_points)
     if kind == ".png":
         from PIL import Image
 
         try:
             with Image.open(p) as img:
+                _check_points(p, img.width * img.height, "the PNG", max_points)
                 arr = np.asarray(img)
+        except InputError:
+            raise
         except Exception as exc:
-            raise InputError(f"{p}: cannot read the label image ({exc})") from None
+            raise InputError(f"{p}: cannot read the label image ({_one_line(exc, 200)})") from None
         if arr.ndim != 2 or arr.dtype.kind not in "iu":
             raise InputError(f"{p}: a label PNG must be single-channel integers, got {arr.dtype} {arr.shape}")
         return arr.astype(np.int32) - 1

@@ -209,8 +209,8 @@ def test_read_picks_reader_by_content(tmp_path):
     [
         (b"hello world", "unknown file type"),
         (b"\x89PNG\r\n\x1a\n" + b"\x00" * 20, "cannot read the image"),
-        (b"# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\n", "not a readable PCD"),
-        (b"ply\nformat ascii 1.0\nelement vertex 3\n", "not a readable PLY"),
+        (b"# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\n", "PCD header ends before its DATA line"),
+        (b"ply\nformat ascii 1.0\nelement vertex 3\n", "not a PLY file"),
         (b"\x93NUMPY\x01\x00garbage", "not a readable .npy"),
     ],
 )

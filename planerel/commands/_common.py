@@ -45,6 +45,9 @@ def add_input_options(parser: argparse.ArgumentParser) -> None:
                         "images, 1 for float images)")
     g.add_argument("--up", metavar="X,Y,Z", help="gravity-up vector in the camera frame "
                    "(default: from the sidecar, else estimated)")
+    g.add_argument("--max-points", type=int, metavar="N",
+                   help="refuse inputs that declare more than N points or pixels, before reading "
+                        "them (default 20,000,000 or $PLANEREL_MAX_POINTS)")
     g.add_argument("--subsample", type=int, default=1, metavar="K",
                    help="keep every K-th row and column (the paper's 640x480 -> 160x120 is 4)")
 
@@ -62,7 +65,8 @@ def read_input(path, args: argparse.Namespace):
 
     intr = parse_intrinsics(getattr(args, "intrinsics", None))
     up = parse_vector(args.up, "--up") if getattr(args, "up", None) else None
-    kwargs = dict(depth_scale=getattr(args, "depth_scale", None), up=up)
+    kwargs = dict(depth_scale=getattr(args, "depth_scale", None), up=up,
+                  max_points=getattr(args, "max_points", None))
     try:
         cloud = io.read(path, intrinsics=intr, **kwargs)
     except InputError as exc:
