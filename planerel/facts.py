@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from planerel import terms
 from planerel.errors import InputError
@@ -32,6 +33,7 @@ __all__ = [
     "scene_facts",
     "facts_text",
     "write_facts",
+    "FactsWriter",
     "DIGITS_M",
     "DIGITS_DEG",
 ]
@@ -285,6 +287,30 @@ def _merge(descs: Sequence[SceneDescription], params: FactParams) -> dict[str, l
     return merged
 
 
+_DEFAULT_HEADER = "planerel scene facts; vocabulary: docs/predicates.md"
+
+
+def _comment_lines(text: str) -> str:
+    """``text`` as Prolog comment lines (ASCII, one ``%`` line per line of text)."""
+    out = []
+    for line in text.splitlines():
+        out.append("% " + "".join(ch if 32 <= ord(ch) < 127 else "?" for ch in line) + "\n")
+    return "".join(out)
+
+
+def _preamble(params: FactParams, header: str | None, declare: bool,
+              comments: bool = True) -> tuple[list[str], list[str]]:
+    """The header comment (``header`` or the default one; none when not ``comments``) and
+    declaration lines, and the predicate names in file order."""
+    lines = _comment_lines(header or _DEFAULT_HEADER).splitlines() if comments else []
+    names = [n for n, _, _, _ in PREDICATES if params.planner or n not in _PLANNER]
+    if declare:
+        decl = ", ".join(f"{n}/{_ARITY[n]}" for n in names)
+        lines.append(f":- dynamic(({decl})).")
+        lines.append(f":- multifile(({decl})).")
+    return lines, names
+
+
 def facts_text(descs: Sequence[SceneDescription], params: FactParams | None = None, *,
                header: str | None = None, declare: bool = True) -> str:
     """All facts of the scenes as one loadable Prolog text.
@@ -298,15 +324,7 @@ def facts_text(descs: Sequence[SceneDescription], params: FactParams | None = No
     if isinstance(descs, SceneDescription):
         descs = [descs]
     merged = _merge(list(descs), params)
-    lines = []
-    for text in (header or "planerel scene facts; vocabulary: docs/predicates.md").splitlines():
-        safe = "".join(ch if 32 <= ord(ch) < 127 else "?" for ch in text)
-        lines.append("% " + safe)
-    names = [n for n, _, _, _ in PREDICATES if params.planner or n not in _PLANNER]
-    if declare:
-        decl = ", ".join(f"{n}/{_ARITY[n]}" for n in names)
-        lines.append(f":- dynamic(({decl})).")
-        lines.append(f":- multifile(({decl})).")
+    lines, names = _preamble(params, header, declare)
     for name in names:
         if merged[name]:
             lines.append("")
@@ -320,3 +338,107 @@ def write_facts(path, descs, params: FactParams | None = None, *, header: str | 
 
     return write_text(path, facts_text(descs, params, header=header))
 
+
+
+class FactsWriter:
+    """Write the facts of many scenes one scene at a time, with memory flat in their number.
+
+    The file is byte for byte what :func:`write_facts` writes for the same scenes in the same
+    order (facts grouped by predicate): each scene's lines are appended to one spool file per
+    predicate in a temporary folder next to ``path``; :meth:`close` joins them into ``path``
+    atomically.  Used as a context manager, an exception discards everything.
+
+    Parameters
+    ----------
+    path : path
+        The facts file to write.
+    params : FactParams, optional
+    header : str, optional
+        The comment at the top of the file.
+    """
+
+    def __init__(self, path, params: FactParams | None = None, *, header: str | None = None):
+        import tempfile
+
+        self.path = Path(path)
+        self.params = params or FactParams()
+        self.header = header
+        folder = self.path.parent if str(self.path.parent) else Path(".")
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            self._dir = tempfile.TemporaryDirectory(prefix=f".{self.path.name}.", dir=folder)
+        except OSError as exc:
+            raise InputError(f"cannot write {self.path}: {exc.strerror}") from None
+        self._spool: dict = {}
+        self._seen: set[str] = set()
+        self.n_scenes = 0
+
+    def add(self, scene) -> None:
+        """Append one scene: a :class:`SceneDescription`, or ``(scene_id, facts)`` with the
+        ``facts`` of :func:`scene_facts` (what a worker process sends back)."""
+        if isinstance(scene, SceneDescription):
+            sid, facts = scene.scene_id, scene_facts(scene, self.params)
+        else:
+            sid, facts = scene
+        if sid in self._seen:
+            raise InputError(f"scene id {sid!r} occurs twice; give every scene its own id")
+        self._seen.add(sid)
+        for name, lines in facts.items():
+            if not lines:
+                continue
+            fh = self._spool.get(name)
+            if fh is None:
+                fh = self._spool[name] = open(Path(self._dir.name) / name, "w+", encoding="utf-8")
+            fh.write("\n".join(lines) + "\n")
+        self.n_scenes += 1
+
+    def note(self, text: str) -> None:
+        """A comment line for the top of the file, below the header (e.g. how one scene was
+        segmented); kept on disk like the facts."""
+        fh = self._spool.get(None)
+        if fh is None:
+            fh = self._spool[None] = open(Path(self._dir.name) / "_notes", "w+", encoding="utf-8")
+        fh.write(_comment_lines(text))
+
+    def close(self) -> Path:
+        """Join the spools into the facts file; return its path."""
+        import shutil
+
+        from planerel.atomic import atomic_path
+
+        head = _comment_lines(self.header or _DEFAULT_HEADER)
+        lines, names = _preamble(self.params, None, True, comments=False)
+        try:
+            with atomic_path(self.path, suffix=".pl") as tmp, open(tmp, "w", encoding="utf-8") as out:
+                out.write(head)
+                notes = self._spool.get(None)
+                if notes is not None:
+                    notes.seek(0)
+                    shutil.copyfileobj(notes, out)
+                out.write("\n".join(lines) + "\n")
+                for name in names:
+                    fh = self._spool.get(name)
+                    if fh is None:
+                        continue
+                    out.write("\n")
+                    fh.seek(0)
+                    shutil.copyfileobj(fh, out)
+        finally:
+            self.discard()
+        return self.path
+
+    def discard(self) -> None:
+        """Remove the spool files (nothing is written to ``path``)."""
+        for fh in self._spool.values():
+            fh.close()
+        self._spool.clear()
+        self._dir.cleanup()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.discard()

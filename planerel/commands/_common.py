@@ -6,7 +6,8 @@ import argparse
 
 from planerel.errors import InputError
 
-__all__ = ["add_input_options", "read_input", "parse_vector", "parse_intrinsics"]
+__all__ = ["add_input_options", "add_batch_options", "read_input", "read_options", "inputs_of",
+           "parse_vector", "parse_intrinsics"]
 
 
 def parse_vector(text: str, name: str = "vector") -> tuple[float, float, float]:
@@ -50,6 +51,36 @@ def add_input_options(parser: argparse.ArgumentParser) -> None:
                         "them (default 20,000,000 or $PLANEREL_MAX_POINTS)")
     g.add_argument("--subsample", type=int, default=1, metavar="K",
                    help="keep every K-th row and column (the paper's 640x480 -> 160x120 is 4)")
+
+
+def add_batch_options(parser: argparse.ArgumentParser, *, keep_going: bool = True) -> None:
+    """``--jobs``, ``--scheduler`` and ``--keep-going`` for commands that loop over scenes."""
+    g = parser.add_argument_group("batches")
+    g.add_argument("-j", "--jobs", type=int, default=None, metavar="N",
+                   help="worker processes (default: all cores; 1 = this process only)")
+    g.add_argument("--scheduler", metavar="tcp://HOST:8786",
+                   help="run the scenes on a Dask cluster instead of local processes "
+                        "(needs planerel[dask]; the workers must see the input and output "
+                        "paths, docs/batches.md)")
+    if keep_going:
+        g.add_argument("-k", "--keep-going", action="store_true",
+                       help="go on past inputs that fail: write the good ones' results and a "
+                            "list of the failures, exit status 1 if any failed")
+
+
+def read_options(args: argparse.Namespace) -> argparse.Namespace:
+    """The reading options of ``args`` alone (small and picklable, for worker processes)."""
+    return argparse.Namespace(intrinsics=getattr(args, "intrinsics", None),
+                              depth_scale=getattr(args, "depth_scale", None),
+                              up=getattr(args, "up", None),
+                              subsample=getattr(args, "subsample", 1))
+
+
+def inputs_of(args: argparse.Namespace):
+    """The command's inputs with folders and globs expanded."""
+    from planerel.batch import expand_inputs
+
+    return expand_inputs(args.inputs)
 
 
 def read_input(path, args: argparse.Namespace):

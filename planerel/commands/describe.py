@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from planerel.commands._common import add_input_options
+from planerel.commands._common import add_batch_options, add_input_options
 from planerel.errors import InputError
 
 __all__ = ["register", "run", "seg_settings_line"]
@@ -20,7 +20,8 @@ def register(sub) -> None:
                     "use (s0007.depth.png -> s0007, frame_X_depth.tiff -> frame_X) unless "
                     "--ids is given. Vocabulary: docs/predicates.md.",
     )
-    p.add_argument("inputs", nargs="+", metavar="INPUT", help="scans (any format planerel reads)")
+    p.add_argument("inputs", nargs="+", metavar="INPUT",
+                   help="scans (any format planerel reads): files, folders or glob patterns")
     p.add_argument("-o", "--output", required=True, metavar="OUT.pl", help="the facts file to write")
     p.add_argument("--labels", nargs="+", metavar="LABELS",
                    help="label images (.npy, data-set label PNG, .gt-seg), one per input, used "
@@ -35,6 +36,7 @@ def register(sub) -> None:
                    help="which plane pairs get relation facts (default: all pairs within an "
                         "object and adjacent pairs across the scene)")
     add_input_options(p)
+    add_batch_options(p)
     p.set_defaults(func=run)
 
 
@@ -52,41 +54,63 @@ def seg_settings_line(info: dict) -> str:
             f"{'' if zref is None else f' growing beyond {zref:g} m'}")
 
 
-def run(args) -> int:
+def _describe_task(task: dict):
+    """Worker: read, segment (or read labels) and describe one scan; returns
+    ``(scene_id, facts by predicate, summary line, segmentation note)``."""
     from planerel import io
     from planerel.commands._common import read_input
-    from planerel.facts import FactParams, describe_scene, write_facts
+    from planerel.facts import describe_scene, scene_facts
+
+    path = task["path"]
+    note = ""
+    cloud = read_input(path, task["read"])
+    if not cloud.organized:
+        raise InputError(f"{path}: describe needs an organized cloud (a depth image or an "
+                         "organized PCD / .npy), got an unorganized one")
+    if task["labels"] is not None:
+        labels = io.read_label_image(task["labels"])
+    else:
+        from planerel.segment import segment
+
+        seg = segment(cloud, task["method"])
+        labels = seg.labels
+        note = seg_settings_line(seg.info)
+    d = describe_scene(cloud, labels, scene_id=task["name"])
+    line = (f"{path}: {d.scene_id}: {len(d.planes)} planes, {len(d.objects)} object proposals, "
+            f"up {d.planes.up_source}"
+            + ("" if len(d.planes) else " (no plane found: only the scene fact is written)"))
+    return d.scene_id, scene_facts(d, task["params"]), line, note
+
+
+def run(args) -> int:
+    from planerel.batch import BatchResult, report_failures, run_batch, write_errors
+    from planerel.commands._common import inputs_of, read_options
+    from planerel.facts import FactParams, FactsWriter
     from planerel.naming import scene_names
 
-    n = len(args.inputs)
+    paths = inputs_of(args)
+    n = len(paths)
     if args.labels is not None and len(args.labels) != n:
         raise InputError(f"--labels needs one label image per input: {n} inputs, "
                          f"{len(args.labels)} label images")
-    ids = scene_names(args.inputs, args.ids)
-    descs, notes = [], []
-    for k, path in enumerate(args.inputs):
-        cloud = read_input(path, args)
-        if not cloud.organized:
-            raise InputError(f"{path}: describe needs an organized cloud (a depth image or an "
-                             "organized PCD / .npy), got an unorganized one")
-        if args.labels:
-            labels = io.read_label_image(args.labels[k])
-        else:
-            from planerel.segment import segment
-
-            seg = segment(cloud, args.method)
-            labels = seg.labels
-            note = seg_settings_line(seg.info)
-            if note:
-                notes.append(f"{ids[k]}: {note}")
-        d = describe_scene(cloud, labels, scene_id=ids[k])
-        descs.append(d)
-        print(f"{path}: {ids[k]}: {len(d.planes)} planes, {len(d.objects)} object proposals, "
-              f"up {d.planes.up_source}"
-              + ("" if len(d.planes) else " (no plane found: only the scene fact is written)"),
-              file=sys.stderr)
+    ids = scene_names(paths, args.ids)
     params = FactParams(pairs=args.pairs, planner=not args.no_planner)
-    header = "planerel describe: " + ", ".join(str(p) for p in args.inputs)
-    write_facts(args.output, descs, params, header="\n".join([header, *notes]))
-    print(f"facts for {n} scene{'s' if n != 1 else ''} -> {args.output}")
-    return 0
+    opts = read_options(args)
+    tasks = [{"path": str(p), "name": i, "read": opts, "method": args.method, "params": params,
+              "labels": args.labels[k] if args.labels else None}
+             for k, (p, i) in enumerate(zip(paths, ids, strict=True))]
+    shown = ", ".join(str(p) for p in paths[:20]) + (f", ... ({n} inputs)" if n > 20 else "")
+    res = BatchResult()
+    with FactsWriter(args.output, params, header="planerel describe: " + shown) as out:
+        for _, (sid, facts, line, note) in run_batch(
+                _describe_task, tasks, jobs=args.jobs, scheduler=args.scheduler,
+                keep_going=args.keep_going, label=lambda t: t["path"], desc="describe",
+                result=res):
+            out.add((sid, facts))
+            if note:
+                out.note(f"{sid}: {note}")
+            print(line, file=sys.stderr)
+    errors = write_errors(str(args.output) + ".errors.tsv", res.failures)
+    k = out.n_scenes
+    print(f"facts for {k} scene{'s' if k != 1 else ''} -> {args.output}")
+    return report_failures("describe", res.failures, errors, res.n_tasks)

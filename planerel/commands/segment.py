@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from planerel.commands._common import add_input_options, read_input
+from planerel.commands._common import add_batch_options, add_input_options, read_input
 from planerel.errors import InputError
 
 __all__ = ["register", "run_segment", "run_evaluate", "parse_params"]
@@ -33,7 +33,8 @@ def register(sub) -> None:
                     "Reads every format planerel reads, including a bare (H, W, 3) XYZ .npy in "
                     "metres with NaN for invalid points.",
     )
-    p.add_argument("inputs", nargs="+", metavar="INPUT", help="scans to segment")
+    p.add_argument("inputs", nargs="+", metavar="INPUT",
+                   help="scans to segment: files, folders (their scans) or glob patterns")
     p.add_argument("-o", "--output", required=True, metavar="OUT_DIR", help="output folder")
     p.add_argument("--method", choices=("regiongrow", "sp", "snp"), default="regiongrow",
                    help="regiongrow (the paper's Algorithm 1, default), sp (RANSAC plane) or "
@@ -44,6 +45,7 @@ def register(sub) -> None:
                         "takes --param preset=structured-light for high-resolution range "
                         "images with coarse depth steps (e.g. SegComp ABW)")
     add_input_options(p)
+    add_batch_options(p)
     p.set_defaults(func=run_segment)
 
     e = sub.add_parser(
@@ -62,36 +64,54 @@ def register(sub) -> None:
     e.set_defaults(func=run_evaluate)
 
 
-def run_segment(args) -> int:
+def _segment_task(task: dict) -> str:
+    """Worker: read, segment and write one scan; returns the line to print."""
     import time
 
-    from planerel.naming import scene_names
-    from planerel.segment import make_params, segment
+    from planerel.segment import segment
     from planerel.writers import write_json, write_labels_npy, write_labels_png
 
+    path, stem, out = task["path"], task["name"], Path(task["out"])
+    cloud = read_input(path, task["read"])
+    t0 = time.perf_counter()
+    seg = segment(cloud, task["method"], params=task["params"])
+    ms = (time.perf_counter() - t0) * 1000.0
+    write_labels_npy(out / f"{stem}.labels.npy", seg.labels)
+    depth = cloud.depth if cloud.organized else None
+    write_labels_png(out / f"{stem}.labels.png", seg.labels, depth)
+    write_json(out / f"{stem}.planes.json", {
+        "source": str(path),
+        "method": seg.method,
+        "shape": list(seg.labels.shape),
+        "planes": seg.planes_json(),
+        "info": {k: v for k, v in seg.info.items() if k != "iterations"},
+    })
+    return f"{path}: {seg.message} ({ms:.1f} ms) -> {out / stem}.*"
+
+
+def run_segment(args) -> int:
+    from planerel.batch import BatchResult, report_failures, run_batch, write_errors
+    from planerel.commands._common import inputs_of, read_options
+    from planerel.naming import scene_names
+    from planerel.segment import make_params
+
     params = make_params(args.method, **parse_params(args.param))
-    stems = scene_names(args.inputs)
+    paths = inputs_of(args)
+    stems = scene_names(paths)
     out = Path(args.output)
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder")
     out.mkdir(parents=True, exist_ok=True)
-    for path, stem in zip(args.inputs, stems, strict=True):
-        cloud = read_input(path, args)
-        t0 = time.perf_counter()
-        seg = segment(cloud, args.method, params=params)
-        ms = (time.perf_counter() - t0) * 1000.0
-        write_labels_npy(out / f"{stem}.labels.npy", seg.labels)
-        depth = cloud.depth if cloud.organized else None
-        write_labels_png(out / f"{stem}.labels.png", seg.labels, depth)
-        write_json(out / f"{stem}.planes.json", {
-            "source": str(path),
-            "method": seg.method,
-            "shape": list(seg.labels.shape),
-            "planes": seg.planes_json(),
-            "info": {k: v for k, v in seg.info.items() if k != "iterations"},
-        })
-        print(f"{path}: {seg.message} ({ms:.1f} ms) -> {out / stem}.*")
-    return 0
+    opts = read_options(args)
+    tasks = [{"path": str(p), "name": n, "out": str(out), "read": opts, "method": args.method,
+              "params": params} for p, n in zip(paths, stems, strict=True)]
+    res = BatchResult()
+    for _, line in run_batch(_segment_task, tasks, jobs=args.jobs, scheduler=args.scheduler,
+                             keep_going=args.keep_going, label=lambda t: t["path"],
+                             desc="segment", result=res):
+        print(line)
+    errors = write_errors(out / "errors.tsv", res.failures)
+    return report_failures("segment", res.failures, errors, res.n_tasks)
 
 
 def run_evaluate(args) -> int:
