@@ -133,7 +133,7 @@ class _Pool:
 
 
 def make_executor(jobs: int | None = None, scheduler: str | None = None,
-                  n_tasks: int | None = None) -> _Pool:
+                  n_tasks: int | None = None, mp_context: str | None = None) -> _Pool:
     """The workers for a batch.
 
     Parameters
@@ -145,6 +145,10 @@ def make_executor(jobs: int | None = None, scheduler: str | None = None,
         tasks then run on that cluster's workers and ``jobs`` is ignored.
     n_tasks : int, optional
         The number of tasks, so that no more local processes than tasks are started.
+    mp_context : str, optional
+        How local workers start (``"fork"``, ``"forkserver"``, ``"spawn"``; default: the
+        platform's).  ``"forkserver"`` when this process holds state a child must not
+        inherit, such as a running Prolog engine.
     """
     if scheduler is not None:
         try:
@@ -164,7 +168,12 @@ def make_executor(jobs: int | None = None, scheduler: str | None = None,
         n = max(1, min(n, n_tasks))
     if n == 1:
         return _Pool(_InlineExecutor(), 1)
-    return _Pool(ProcessPoolExecutor(max_workers=n), n)
+    ctx = None
+    if mp_context is not None:
+        from multiprocessing import get_context
+
+        ctx = get_context(mp_context)
+    return _Pool(ProcessPoolExecutor(max_workers=n, mp_context=ctx), n)
 
 
 @dataclass(frozen=True)
@@ -246,7 +255,8 @@ class _Progress:
 def run_batch(fn: Callable, tasks: Sequence, *, jobs: int | None = None,
               scheduler=None, keep_going: bool = False,
               label: Callable = str, desc: str = "scenes", progress: bool | None = None,
-              result: BatchResult | None = None, window: int | None = None) -> Iterator:
+              result: BatchResult | None = None, window: int | None = None,
+              mp_context: str | None = None) -> Iterator:
     """Run ``fn(task)`` for every task on the chosen workers; yield ``(task, value)`` in order.
 
     Parameters
@@ -266,6 +276,8 @@ def run_batch(fn: Callable, tasks: Sequence, *, jobs: int | None = None,
         Filled in while the batch runs (counts, failures, seconds).
     window : int, optional
         Tasks in flight at once (default 4 per worker): bounds the results held in memory.
+    mp_context : str, optional
+        See :func:`make_executor`.
 
     Yields
     ------
@@ -275,7 +287,7 @@ def run_batch(fn: Callable, tasks: Sequence, *, jobs: int | None = None,
     res = result if result is not None else BatchResult()
     res.n_tasks = len(tasks)
     t0 = time.perf_counter()
-    pool = make_executor(jobs, scheduler, n_tasks=len(tasks))
+    pool = make_executor(jobs, scheduler, n_tasks=len(tasks), mp_context=mp_context)
     size = window or max(2, 4 * pool.workers)
     bar = _Progress(len(tasks), desc, progress)
     pending: deque = deque()

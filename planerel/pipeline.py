@@ -20,7 +20,6 @@ import sys
 import tempfile
 import time
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -173,7 +172,8 @@ def _progress(iterable, total: int, desc: str, enabled: bool | None):
 
 def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
                     method: str = "regiongrow", seg_params: dict | None = None,
-                    jobs: int | None = 1, cache=None, progress: bool | None = None):
+                    jobs: int | None = 1, cache=None, progress: bool | None = None,
+                    scheduler=None):
     """Segment and describe every scene of a data set, its ground-truth object as the example.
 
     Parameters
@@ -188,6 +188,8 @@ def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
         Segmentation parameters.
     jobs : int or None
         Worker processes (None: all cores).  Results are in data-set order whatever the value.
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler to run the scenes on instead (:func:`planerel.batch.make_executor`).
     cache : path, optional
         Segmentation cache (default :func:`cache_dir`); ``"none"`` disables it.
 
@@ -209,13 +211,12 @@ def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
         raise InputError(f"{dataset_dir}: the data set has no scenes")
     folder = cache_dir(cache) if cache is None or isinstance(cache, (str, Path)) else None
     jobs_list = [(str(dataset_dir), r, method, dict(seg_params or {}), folder) for r in rows]
-    n_jobs = (os.cpu_count() or 1) if jobs is None else max(1, int(jobs))
-    if n_jobs > 1 and len(rows) > 4:
-        with ProcessPoolExecutor(max_workers=min(n_jobs, len(rows))) as pool:
-            descs = list(_progress(pool.map(_describe_one, jobs_list, chunksize=4), len(rows),
-                                   "describing", progress))
-    else:
-        descs = [_describe_one(j) for j in _progress(jobs_list, len(rows), "describing", progress)]
+    from planerel.batch import resolve_jobs, run_batch
+
+    n_jobs = resolve_jobs(jobs) if scheduler is None and len(rows) > 4 else 1
+    descs = [d for _, d in run_batch(_describe_one, jobs_list, jobs=n_jobs, scheduler=scheduler,
+                                     label=lambda j: f"{j[0]}: scene {j[1].scene_id}",
+                                     desc="describing", progress=progress)]
     skipped = [f"{d.scene_id}: no plane of its object was measured" for d in descs if not d.objects]
     return descs, skipped
 
@@ -620,7 +621,7 @@ def accuracy_scores(truth, pred, classes):
 
 def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int = 0,
                    engine: str = "builtin", timeout: float = 120.0, settings: dict | None = None,
-                   progress: bool | None = None) -> dict:
+                   progress: bool | None = None, jobs: int | None = 1) -> dict:
     """Stratified k-fold cross-validation of the whole learner on described scenes.
 
     Returns
@@ -629,6 +630,8 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         ``accuracy``, ``per_class``, ``classes``, ``confusion`` (rows true class, columns
         predicted with ``unknown`` last), ``folds`` (per fold: test objects, predictions,
         rules, accuracy, seconds), ``predictions`` ({object: class}).
+
+    ``jobs`` folds run at once (None: all cores); the result does not depend on it.
     """
     examples = [(o, k) for o, k in _examples(descs) if k in classes]
     if not examples:
@@ -637,13 +640,8 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
     fold_of = stratified_folds(labels, folds, seed)
     scene_of = {o.id: d for d in descs for o in d.objects}
     predictions: dict[str, str] = {}
-    fold_reports = []
-    it = range(folds)
-    if progress or (progress is None and sys.stderr.isatty()):
-        from tqdm import tqdm
 
-        it = tqdm(it, desc="folds", unit="fold", leave=False)
-    for f in it:
+    def run_fold(f: int) -> dict:
         test = [o for (o, _), g in zip(examples, fold_of, strict=True) if g == f]
         test_set = set(test)
         train_descs = []
@@ -656,13 +654,46 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         model = learn_rules(train_descs, present, engine=engine, timeout=timeout, settings=settings)
         test_descs = list({id(scene_of[o]): scene_of[o] for o in test}.values())
         preds = prolog_predict(model, test_descs, test, timeout=timeout)
-        for p in preds:
-            predictions[p.object_id] = p.klass
         truth = [dict(examples)[o] for o in test]
         acc, _ = accuracy_scores(truth, [p.klass for p in preds], classes)
-        fold_reports.append({"fold": f, "test": test, "predicted": [p.klass for p in preds],
-                             "accuracy": acc, "rules": model.clauses(),
-                             "seconds": round(time.perf_counter() - t0, 3)})
+        return {"fold": f, "test": test, "predicted": [p.klass for p in preds],
+                "accuracy": acc, "rules": model.clauses(),
+                "seconds": round(time.perf_counter() - t0, 3),
+                "_answers": [(p.object_id, p.klass) for p in preds]}
+
+    # Folds are independent; each one's work is in SWI-Prolog child processes, so threads
+    # run them in parallel.  Reports come back in fold order whatever the number of jobs.
+    from planerel.batch import resolve_jobs
+
+    n_jobs = max(1, min(resolve_jobs(jobs), folds))
+    show = progress or (progress is None and sys.stderr.isatty())
+    bar = None
+    if show:
+        from tqdm import tqdm
+
+        bar = tqdm(total=folds, desc="folds", unit="fold", leave=False)
+    try:
+        if n_jobs == 1:
+            fold_reports = []
+            for f in range(folds):
+                fold_reports.append(run_fold(f))
+                if bar is not None:
+                    bar.update(1)
+        else:
+            from concurrent.futures import ThreadPoolExecutor
+
+            with ThreadPoolExecutor(n_jobs) as pool:
+                futures = [pool.submit(run_fold, f) for f in range(folds)]
+                fold_reports = []
+                for fut in futures:
+                    fold_reports.append(fut.result())
+                    if bar is not None:
+                        bar.update(1)
+    finally:
+        if bar is not None:
+            bar.close()
+    for rep in fold_reports:
+        predictions.update(rep.pop("_answers"))
     truth = [k for _, k in examples]
     pred = [predictions[o] for o, _ in examples]
     acc, per = accuracy_scores(truth, pred, classes)
@@ -705,7 +736,7 @@ def evaluate_learning(dataset_dir, *, method: str = "regiongrow", seg_params: di
                                      progress=progress)
     classes = _classes_arg(classes, descs)
     cv = cross_validate(descs, classes, folds=folds, seed=seed, engine=engine, timeout=timeout,
-                        progress=progress)
+                        progress=progress, jobs=jobs)
     model = learn_rules(descs, classes, engine=engine, timeout=timeout)
     cv.update(rules=model.clauses(), method=method, skipped=skipped)
     return cv
@@ -759,9 +790,12 @@ def draw_confusion(path, confusion, classes, *, title: str = "") -> Path:
 def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", folds: int = 0,
                 seed: int = 0, timeout: float = 120.0, jobs: int | None = None,
                 method: str = "regiongrow", seg_params: dict | None = None, cache=None,
-                progress: bool | None = None, log=print) -> dict:
+                progress: bool | None = None, log=print, scheduler=None) -> dict:
     """``planerel learn``: describe a data set, learn the class rules, optionally cross-validate,
     and write a model folder.
+
+    ``jobs`` worker processes describe the scenes (or the Dask ``scheduler``'s workers), and
+    ``jobs`` cross-validation folds run at once; the result does not depend on either.
 
     The folder is built in a temporary sibling and renamed into place when complete, so a run
     that fails or is interrupted never leaves a half-written model.  It holds ``rules.pl``
@@ -780,7 +814,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     t0 = time.perf_counter()
     descs, skipped = describe_scenes(dataset_dir, classes=classes, method=method,
                                      seg_params=seg_params, jobs=jobs, cache=cache,
-                                     progress=progress)
+                                     progress=progress, scheduler=scheduler)
     classes = _classes_arg(classes, descs)
     t_describe = time.perf_counter() - t0
     for s in skipped:
@@ -795,7 +829,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         if folds:
             t1 = time.perf_counter()
             cv = cross_validate(descs, classes, folds=folds, seed=seed, engine=engine,
-                                timeout=timeout, progress=progress)
+                                timeout=timeout, progress=progress, jobs=jobs)
             metrics["cross_validation"] = cv
             metrics["seconds"]["cross_validation"] = round(time.perf_counter() - t1, 3)
             draw_confusion(tmp / "confusion.png", cv["confusion"], list(classes),

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from planerel.commands._common import add_input_options
+from planerel.commands._common import add_batch_options, add_input_options
 
 __all__ = ["register", "run"]
 
@@ -21,47 +21,97 @@ def register(sub) -> None:
                     "NAME.classified.png (proof planes highlighted) and NAME.classified.json.",
     )
     p.add_argument("rules", help="MODEL_DIR/rules.pl from planerel learn")
-    p.add_argument("inputs", nargs="+", metavar="INPUT", help="scans (any format planerel reads)")
+    p.add_argument("inputs", nargs="+", metavar="INPUT",
+                   help="scans (any format planerel reads): files, folders or glob patterns")
     p.add_argument("--json", action="store_true", help="print one JSON document instead of text")
     p.add_argument("-o", "--output", metavar="OUT_DIR", help="write explanation images and JSON")
     p.add_argument("--method", choices=["regiongrow", "sp", "snp"], default="regiongrow",
                    help="segmentation method (default regiongrow)")
     add_input_options(p)
+    add_batch_options(p)
     p.set_defaults(func=run)
 
 
-def run(args) -> int:
-    from planerel.classify import Classifier, explanation_image
+_CLASSIFIERS: dict = {}
+
+
+def _classifier(rules: str, method: str):
+    """This process's classifier for a model (loaded once per worker process)."""
+    from planerel.classify import Classifier
+
+    key = (rules, method)
+    if key not in _CLASSIFIERS:
+        _CLASSIFIERS[key] = Classifier(rules, method=method)
+    return _CLASSIFIERS[key]
+
+
+def _classify_task(task: dict):
+    """Worker: read and classify one scan, write its explanation image and JSON when asked;
+    returns ``(answer as a dict, text lines)``."""
     from planerel.commands._common import read_input
+
+    path, stem = task["path"], task["name"]
+    clf = _classifier(task["rules"], task["method"])
+    cloud = read_input(path, task["read"])
+    ans = clf.classify(cloud, scene_id=stem)
+    if task["out"]:
+        from PIL import Image
+
+        from planerel.atomic import atomic_path
+        from planerel.classify import explanation_image
+        from planerel.writers import write_json
+
+        out = Path(task["out"])
+        with atomic_path(out / f"{stem}.classified.png", suffix=".png") as tmp:
+            Image.fromarray(explanation_image(ans, cloud.depth)).save(tmp, format="PNG")
+        write_json(out / f"{stem}.classified.json", ans.to_dict())
+    lines = [f"{path}: {ans.n_planes} planes, {len(ans.objects)} object(s) "
+             f"[{ans.seconds * 1000:.0f} ms]"]
+    if not ans.objects:
+        lines.append("  no object proposal (only support planes, or no plane at all)")
+    for o in ans.objects:
+        lines.append(f"  {o.object_id}: {o.klass}")
+        if o.rule:
+            lines.append(f"    rule:   {o.rule}")
+            lines.append(f"    planes: {', '.join(o.proof_planes) or '(the rule binds no plane)'}")
+    return ans.to_dict(), lines
+
+
+def run(args) -> int:
+    from planerel.batch import (
+        BatchResult,
+        report_failures,
+        resolve_jobs,
+        run_batch,
+        write_errors,
+    )
+    from planerel.commands._common import inputs_of, read_options
     from planerel.naming import scene_names
-    from planerel.writers import write_json
 
-    names = scene_names(args.inputs)
-    clf = Classifier(args.rules, method=args.method)
+    paths = inputs_of(args)
+    names = scene_names(paths)
+    rules = str(Path(args.rules).resolve())
+    jobs = 1 if len(paths) == 1 else resolve_jobs(args.jobs)
+    # A bad model fails here, before any scan is read.  Worker processes start from a fork
+    # server, so none inherits this process's Prolog engine; each loads the model once.
+    _classifier(rules, args.method)
+    opts = read_options(args)
+    tasks = [{"path": str(p), "name": n, "read": opts, "rules": rules, "method": args.method,
+              "out": args.output} for p, n in zip(paths, names, strict=True)]
+    res = BatchResult()
     results = []
-    for path, stem in zip(args.inputs, names, strict=True):
-        cloud = read_input(path, args)
-        ans = clf.classify(cloud, scene_id=stem)
-        results.append(ans.to_dict())
-        if args.output:
-            out = Path(args.output)
-            from PIL import Image
-
-            from planerel.atomic import atomic_path
-
-            with atomic_path(out / f"{stem}.classified.png", suffix=".png") as tmp:
-                Image.fromarray(explanation_image(ans, cloud.depth)).save(tmp, format="PNG")
-            write_json(out / f"{stem}.classified.json", ans.to_dict())
-        if not args.json:
-            print(f"{path}: {ans.n_planes} planes, {len(ans.objects)} object(s) "
-                  f"[{ans.seconds * 1000:.0f} ms]")
-            if not ans.objects:
-                print("  no object proposal (only support planes, or no plane at all)")
-            for o in ans.objects:
-                print(f"  {o.object_id}: {o.klass}")
-                if o.rule:
-                    print(f"    rule:   {o.rule}")
-                    print(f"    planes: {', '.join(o.proof_planes) or '(the rule binds no plane)'}")
+    for _, (answer, lines) in run_batch(_classify_task, tasks, jobs=jobs,
+                                        scheduler=args.scheduler, keep_going=args.keep_going,
+                                        label=lambda t: t["path"], desc="classify", result=res,
+                                        mp_context="forkserver"):
+        if args.json:
+            results.append(answer)
+        else:
+            print("\n".join(lines))
     if args.json:
         print(json.dumps(results, indent=2))
-    return 0
+    errors = None
+    if args.output:
+        errors = write_errors(Path(args.output) / "errors.tsv", res.failures)
+    return report_failures("classify", res.failures, errors, res.n_tasks)
+

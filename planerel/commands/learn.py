@@ -30,8 +30,11 @@ def register(sub) -> None:
     p.add_argument("--seed", type=int, default=0, help="seed of the fold assignment")
     p.add_argument("--timeout", type=float, default=120.0, metavar="S",
                    help="stop a learning run after S seconds (per class)")
-    p.add_argument("--jobs", type=int, default=None, metavar="N",
-                   help="worker processes for segmenting and describing (default: all cores)")
+    p.add_argument("-j", "--jobs", type=int, default=None, metavar="N",
+                   help="worker processes for segmenting and describing, and folds run at "
+                        "once (default: all cores)")
+    p.add_argument("--scheduler", metavar="tcp://HOST:8786",
+                   help="segment and describe the scenes on a Dask cluster (docs/batches.md)")
     p.add_argument("--method", choices=["regiongrow", "sp", "snp", "gt"], default="regiongrow",
                    help="planes from region growing (default), a RANSAC baseline, or the "
                         "ground-truth labels (gt)")
@@ -61,7 +64,7 @@ def run(args) -> int:
     m = learn_model(args.dataset, args.output, classes=classes, engine=args.engine,
                     folds=args.folds, seed=args.seed, timeout=args.timeout, jobs=args.jobs,
                     method=args.method, seg_params=_params(args.param), cache=args.cache,
-                    log=lambda s: print(s, file=sys.stderr))
+                    log=lambda s: print(s, file=sys.stderr), scheduler=args.scheduler)
     print(f"engine: {m['engine']}")
     print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
           f"{', '.join(m['classes'])}")
