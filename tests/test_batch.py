@@ -118,6 +118,10 @@ def test_streamed_facts_equal_the_whole_text(scans, tmp_path):
             for d in descs:
                 w.add(d)
         assert (tmp_path / "f.pl").read_text() == facts_text(descs, params, header="h")
+    with FactsWriter(tmp_path / "f.pl", header="h") as w:
+        w.add(descs[0])
+        w.note("s0000: noted")
+    assert (tmp_path / "f.pl").read_text() == facts_text(descs[:1], header="h\ns0000: noted")
     with pytest.raises(InputError, match="occurs twice"), FactsWriter(tmp_path / "g.pl") as w:
         w.add(descs[0])
         w.add(descs[0])
