@@ -1,4 +1,9 @@
-/*  planerel task: the class of an object (box / stairs / ramp) from its planes.
+/*  planerel task with the hand-written stairs detector step_up/2: optional.
+
+    The default task is aleph/modes_relational.pl (pairwise relations and
+    plane size as body modes, no detector).  This file keeps the older
+    vocabulary for comparison: `planerel export-aleph DS OUT --task
+    modes_objects.pl`.
 
     Read by `planerel export-aleph`, which writes it into STEM.b after the
     target's mode head (modeh(1, Class(+obj)), or modeh(1, class(+obj, #cls))

@@ -6,7 +6,7 @@ object of another class; a multi-class task uses ``class(+obj, #cls)`` with posi
 ``class(s0007_o1, stairs).`` and, as negatives, the other classes of each object.
 
 ``STEM.b`` holds, in this order: ``:- op(500, fy, #)`` (so the file also reads outside Aleph),
-the settings and body modes of the task file (``aleph/modes_objects.pl``), the target's
+the settings and body modes of the task file (``aleph/modes_relational.pl``), the target's
 ``modeh`` and one ``determination`` per body predicate, the lazy-evaluation declarations,
 ``dynamic`` declarations of every background predicate, the type facts (``obj/1``, ``plane/1``,
 ``orient/1``, ``cls/1``), the comparison predicates (``prolog/compare.pl``), the derived
@@ -34,8 +34,10 @@ __all__ = [
     "Example",
     "ExportResult",
     "TASK_FILE",
+    "PAIRS",
     "load_task",
     "examples_of",
+    "example_facts",
     "aleph_files",
     "export_aleph",
     "describe_dataset",
@@ -44,7 +46,12 @@ __all__ = [
 ]
 
 #: The default task file (package ``planerel.aleph``).
-TASK_FILE = "modes_objects.pl"
+TASK_FILE = "modes_relational.pl"
+
+#: The pairs of planes described for learning: every ordered pair within an object.  Classifying
+#: describes the same pairs, so a learned ``parallel(B, C)`` means the same at both ends (with the
+#: scene's adjacent pairs as well, C could be the floor or a wall at classification time only).
+PAIRS = "object"
 
 _MODEB = re.compile(r"^:-\s*modeb\(\s*([^,]+?)\s*,\s*([a-z][a-zA-Z0-9_]*)\((.*)\)\s*\)\.\s*$")
 _SET = re.compile(r"^:-\s*set\(\s*([a-z_]+)\s*,\s*(.+?)\s*\)\.\s*$")
@@ -174,28 +181,48 @@ def examples_of(descs) -> list[Example]:
     return out
 
 
-def _background(descs, examples: list[Example], classes: Sequence[str]) -> list[str]:
+#: Facts never exported for learning: scene structure and planner data.
+_NOT_EXPORTED = {"scene", "scene_plane", "floor", "up", "object", "support", "plane_model", "hull"}
+
+
+def example_facts(descs, examples: list[Example]):
+    """The scene facts of the example objects, as written for learning.
+
+    Returns
+    -------
+    names : list of str
+        The exported predicates, in vocabulary order.
+    arity : dict
+        Name -> arity.
+    facts : dict
+        Name -> list of fact lines (planes, attributes, the :data:`PAIRS` of each object).
+    objects, planes : list of str
+        The example objects and their planes, in scene order.
+    """
+    from dataclasses import replace
+
     from planerel.facts import PREDICATES, FactParams, scene_facts
 
     wanted = {e.object_id for e in examples}
-    params = FactParams(pairs="object", planner=False, planes="objects")
+    params = FactParams(pairs=PAIRS, planner=False, planes="objects")
     merged: dict[str, list[str]] = {}
     objs, planes = [], []
     for d in descs:
         keep = tuple(o for o in d.objects if o.id in wanted)
         if not keep:
             continue
-        from dataclasses import replace
-
-        d2 = replace(d, objects=keep)
-        for name, lines in scene_facts(d2, params).items():
+        for name, lines in scene_facts(replace(d, objects=keep), params).items():
             merged.setdefault(name, []).extend(lines)
         for o in keep:
             objs.append(o.id)
             planes.extend(d.plane_id(x) for x in o.planes)
-    skip = {"scene", "scene_plane", "floor", "up", "object", "support", "plane_model", "hull"}
-    names = [n for n, _, _, _ in PREDICATES if n not in skip]
+    names = [n for n, _, _, _ in PREDICATES if n not in _NOT_EXPORTED]
     arity = {n: a for n, a, _, _ in PREDICATES}
+    return names, arity, merged, objs, planes
+
+
+def _background(descs, examples: list[Example], classes: Sequence[str]) -> list[str]:
+    names, arity, merged, objs, planes = example_facts(descs, examples)
     lines = ["% ---- dynamic background predicates",
              ":- dynamic((" + ", ".join(f"{n}/{arity[n]}" for n in names) + ")).", "",
              "% ---- types"]
@@ -229,7 +256,8 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     classes : sequence of str, optional
         The classes of the task (default: those of the examples, in order of appearance).
     task : str, optional
-        Task file (default ``aleph/modes_objects.pl``).
+        Task file (default ``aleph/modes_relational.pl``; ``modes_objects.pl`` is the
+        variant with the hand-written ``step_up/2``).
     settings : dict, optional
         Extra ``set/2`` values, checked by :func:`check_setting`; they override the task file.
     stem : str, optional

@@ -211,6 +211,7 @@ class Classifier:
         SceneAnswer
             One :class:`ObjectAnswer` per object proposal (none when the scene has no object).
         """
+        from planerel.aleph_export import PAIRS
         from planerel.facts import FactParams, describe_scene, facts_text
         from planerel.pipeline import choose_class, segment_cached
 
@@ -223,7 +224,7 @@ class Classifier:
         plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
         answers = []
         if desc.objects:
-            text = facts_text([desc], FactParams(pairs="object+adjacent", planner=False))
+            text = facts_text([desc], FactParams(pairs=PAIRS, planner=False))
             with tempfile.NamedTemporaryFile("w", suffix=".pl", prefix="planerel-scene-",
                                              delete=False) as fh:
                 fh.write(text)

@@ -392,6 +392,7 @@ _PREDICT_GOAL = ("current_prolog_flag(argv, Files), append(Support, [Facts, Rule
 
 def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
     """Run the support predicates + facts + rules in swipl; parse ``@@`` lines."""
+    from planerel.aleph_export import PAIRS
     from planerel.facts import FactParams, facts_text
     from planerel.learn import find_swipl, run_process
     from planerel.terms import Term, atom, plist
@@ -399,7 +400,7 @@ def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
     swipl = find_swipl()
     with tempfile.TemporaryDirectory(prefix="planerel-predict-") as tmp:
         facts = Path(tmp) / "facts.pl"
-        facts.write_text(facts_text(descs, FactParams(pairs="object+adjacent", planner=False)))
+        facts.write_text(facts_text(descs, FactParams(pairs=PAIRS, planner=False)))
         rules = Path(tmp) / "rules.pl"
         rules.write_text(model.text())
         data = Path(tmp) / "objects.pl"

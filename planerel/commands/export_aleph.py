@@ -17,7 +17,7 @@ def register(sub) -> None:
                     "each scene's ground-truth object as an example of its class and write an "
                     "Aleph task: one stem per class (--target all, the default), one class, or "
                     "one multi-class stem 'class' (--target class). The files load in swipl and "
-                    "in Aleph; modes and settings come from aleph/modes_objects.pl.",
+                    "in Aleph; modes and settings come from aleph/modes_relational.pl.",
     )
     p.add_argument("dataset", metavar="DATASET_DIR", help="a data set (planerel dataset synth)")
     p.add_argument("out_dir", metavar="OUT_DIR", help="folder for the .b/.f/.n files")
@@ -28,7 +28,8 @@ def register(sub) -> None:
                    help="plane labels: the ground truth (default) or a region-growing segmentation")
     p.add_argument("--task", metavar="FILE.pl",
                    help="a task file with settings and modeb declarations (default: "
-                        "planerel's aleph/modes_objects.pl)")
+                        "planerel's aleph/modes_relational.pl; modes_objects.pl adds the "
+                        "hand-written step_up/2)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", dest="settings",
                    help="override an Aleph setting in STEM.b (repeatable), e.g. --set nodes=2000")
     p.set_defaults(func=run)
