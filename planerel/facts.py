@@ -34,6 +34,7 @@ __all__ = [
     "facts_text",
     "write_facts",
     "FactsWriter",
+    "up_comment",
     "DIGITS_M",
     "DIGITS_DEG",
 ]
@@ -298,6 +299,11 @@ def _comment_lines(text: str) -> str:
     return "".join(out)
 
 
+def up_comment(desc: SceneDescription) -> str:
+    """``s0001: up [0.012, -0.766, -0.643] estimated, confidence 0.78`` (for the header)."""
+    return f"{desc.scene_id}: {desc.planes.up_estimate.describe()}"
+
+
 def _preamble(params: FactParams, header: str | None, declare: bool,
               comments: bool = True) -> tuple[list[str], list[str]]:
     """The header comment (``header`` or the default one; none when not ``comments``) and
@@ -315,7 +321,8 @@ def facts_text(descs: Sequence[SceneDescription], params: FactParams | None = No
                header: str | None = None, declare: bool = True) -> str:
     """All facts of the scenes as one loadable Prolog text.
 
-    Every predicate of the vocabulary is declared ``dynamic`` and ``multifile`` (so queries
+    The header comment ends with one line per scene on its up vector (:func:`up_comment`:
+    where it came from and how sure it is).  Every predicate of the vocabulary is declared ``dynamic`` and ``multifile`` (so queries
     about a relation no scene has fail instead of raising, and several fact files can be
     loaded together); facts are grouped by predicate.  An empty list of scenes gives a
     text with the declarations only.
@@ -323,8 +330,10 @@ def facts_text(descs: Sequence[SceneDescription], params: FactParams | None = No
     params = params or FactParams()
     if isinstance(descs, SceneDescription):
         descs = [descs]
-    merged = _merge(list(descs), params)
-    lines, names = _preamble(params, header, declare)
+    descs = list(descs)
+    merged = _merge(descs, params)
+    text = "\n".join([header or _DEFAULT_HEADER, *(up_comment(d) for d in descs)])
+    lines, names = _preamble(params, text, declare)
     for name in names:
         if merged[name]:
             lines.append("")
@@ -375,9 +384,11 @@ class FactsWriter:
 
     def add(self, scene) -> None:
         """Append one scene: a :class:`SceneDescription`, or ``(scene_id, facts)`` with the
-        ``facts`` of :func:`scene_facts` (what a worker process sends back)."""
+        ``facts`` of :func:`scene_facts` (what a worker process sends back; then also give its
+        :func:`up_comment` to :meth:`note_up`)."""
         if isinstance(scene, SceneDescription):
             sid, facts = scene.scene_id, scene_facts(scene, self.params)
+            self.note_up(up_comment(scene))
         else:
             sid, facts = scene
         if sid in self._seen:
@@ -400,6 +411,13 @@ class FactsWriter:
             fh = self._spool[None] = open(Path(self._dir.name) / "_notes", "w+", encoding="utf-8")
         fh.write(_comment_lines(text))
 
+    def note_up(self, text: str) -> None:
+        """The scene's up-vector comment (:func:`up_comment`), listed below the notes."""
+        fh = self._spool.get("_up")
+        if fh is None:
+            fh = self._spool["_up"] = open(Path(self._dir.name) / "_up", "w+", encoding="utf-8")
+        fh.write(_comment_lines(text))
+
     def close(self) -> Path:
         """Join the spools into the facts file; return its path."""
         import shutil
@@ -411,10 +429,11 @@ class FactsWriter:
         try:
             with atomic_path(self.path, suffix=".pl") as tmp, open(tmp, "w", encoding="utf-8") as out:
                 out.write(head)
-                notes = self._spool.get(None)
-                if notes is not None:
-                    notes.seek(0)
-                    shutil.copyfileobj(notes, out)
+                for key in (None, "_up"):
+                    notes = self._spool.get(key)
+                    if notes is not None:
+                        notes.seek(0)
+                        shutil.copyfileobj(notes, out)
                 out.write("\n".join(lines) + "\n")
                 for name in names:
                     fh = self._spool.get(name)

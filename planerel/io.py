@@ -322,6 +322,10 @@ def find_camera_info(path) -> dict:
                 if data.get(key) is not None:
                     out[key] = data[key]
             _check_sidecar(js, out)
+            if "up" in out:
+                from planerel.gravity import unit_up
+
+                out["up"] = unit_up(out["up"], f"{js}: 'up'")
             return out
     for stem in _frame_stems(p):
         xml = stem.with_name(stem.name + ".xml")
@@ -583,13 +587,30 @@ def _load_pcd(path: Path, max_points=None):
     return pc
 
 
+def _sidecar_up(path: Path):
+    """The ``up`` of a sidecar ``STEM.json`` next to a cloud file, or None (only the JSON
+    sidecar is read: clouds carry their own geometry)."""
+    from planerel.gravity import unit_up
+
+    for stem in _frame_stems(path):
+        js = stem.with_name(stem.name + ".json")
+        if js.is_file():
+            data = read_json_object(js, "sidecar JSON")
+            if data.get("up") is None:
+                return None
+            _check_sidecar(js, {"up": data["up"]})
+            return unit_up(data["up"], f"{js}: 'up'")
+    return None
+
+
 @_reader
 def read_pcd(path, *, up=None, max_points: int | None = None) -> Cloud:
     """Read a PCD file (ascii, binary or binary_compressed).
 
     An organized cloud (HEIGHT > 1) keeps its ``(H, W)`` grid, and its intrinsics are recovered
     by :func:`estimate_intrinsics` when the points are an exact pinhole back-projection.
-    An unorganized cloud becomes ``(1, N, 3)`` with ``organized=False``.
+    An unorganized cloud becomes ``(1, N, 3)`` with ``organized=False``.  The up vector is
+    ``up``, else the ``up`` of a sidecar ``STEM.json``, else unknown.
     """
     p = _existing(path)
     pc = _load_pcd(p, max_points)
@@ -603,7 +624,7 @@ def read_pcd(path, *, up=None, max_points: int | None = None) -> Cloud:
     if xyz.size == 0:
         raise InputError(f"{p}: PCD holds no points")
     intr = estimate_intrinsics(xyz) if organized else None
-    return Cloud(xyz, intr, up, str(p), organized)
+    return Cloud(xyz, intr, up if up is not None else _sidecar_up(p), str(p), organized)
 
 
 @_reader
@@ -671,7 +692,8 @@ def _check_ply_header(path: Path, max_points=None) -> None:
 
 @_reader
 def read_ply(path, *, up=None, max_points: int | None = None) -> Cloud:
-    """Read the vertices of a PLY file (ascii or binary) as an unorganized cloud ``(1, N, 3)``."""
+    """Read the vertices of a PLY file (ascii or binary) as an unorganized cloud ``(1, N, 3)``;
+    the up vector is ``up``, else the ``up`` of a sidecar ``STEM.json``, else unknown."""
     from plyfile import PlyData
 
     p = _existing(path)
@@ -687,7 +709,8 @@ def read_ply(path, *, up=None, max_points: int | None = None) -> Cloud:
                          f"{_one_line(exc, 200)})") from None
     if len(xyz) == 0:
         raise InputError(f"{p}: PLY holds no vertices")
-    return Cloud(xyz.reshape(1, -1, 3), None, up, str(p), organized=False)
+    return Cloud(xyz.reshape(1, -1, 3), None, up if up is not None else _sidecar_up(p), str(p),
+                 organized=False)
 
 
 def _load_npy(path: Path, max_points=None) -> np.ndarray:

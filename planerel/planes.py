@@ -34,13 +34,10 @@ Floor.  The *floor* is the largest horizontal plane of at least ``floor_min_area
 centroid lies within ``floor_tol`` metres of the lowest hull point of the scene (along up).
 Heights are measured from the floor; without one, from that lowest hull point ("lowest support").
 
-Up vector.  ``up`` argument, else ``cloud.up`` (the scene's sidecar), else
-:func:`estimate_up`: the dominant near-horizontal direction.  Candidate normals within
-``max_tilt`` (45 deg) of the prior, the camera's -y axis, vote for each other when within 5 deg,
-weighted by their number of points and by how low in the image they lie (floors are low and
-large; stair treads and box tops agree with the floor); the winning group's weighted mean normal,
-refined once over the normals within 3 deg, is the estimate.  With a label image the candidates
-are the fitted planes; without one, per-pixel normals on a coarse grid of the cloud.
+Up vector.  ``up`` argument (``given``), else ``cloud.up`` (``file``: the scene's sidecar),
+else estimated from the labelled planes for any camera pitch and roll (``estimated``), else
+``(0, -1, 0)`` (``default``): :func:`planerel.gravity.resolve_up`, which also reports a
+confidence (``PlaneSet.up_confidence``).
 """
 
 from __future__ import annotations
@@ -51,6 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from planerel.errors import InputError
+from planerel.gravity import DEFAULT_UP, UpEstimate, estimate_up, resolve_up
 
 __all__ = [
     "PlaneParams",
@@ -66,8 +64,6 @@ __all__ = [
 
 #: The orientation classes, in this order.
 ORIENTATIONS = ("horizontal", "vertical", "inclined")
-#: Up of a level camera in the optical frame (x right, y down, z forward).
-DEFAULT_UP = (0.0, -1.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -175,7 +171,8 @@ class PlaneSet:
     up : ndarray, shape (3,)
         Unit up vector used.
     up_source : str
-        ``"given"``, ``"cloud"`` (sidecar) or ``"estimated"``.
+        ``"given"``, ``"file"`` (the cloud's own, e.g. a sidecar), ``"estimated"`` or
+        ``"default"`` (see :mod:`planerel.gravity`).
     floor : int or None
         Label of the floor plane.
     floor_level : float
@@ -184,6 +181,8 @@ class PlaneSet:
         Labels with fewer than ``min_points`` valid points.
     labels : ndarray, shape (H, W), int32
         The label image used (invalid cloud points set to -1), read-only.
+    up_confidence : float
+        Confidence of the up vector in [0, 1] (1 for a given or file vector).
     """
 
     planes: tuple
@@ -194,6 +193,16 @@ class PlaneSet:
     skipped: tuple = ()
     labels: np.ndarray | None = field(default=None, repr=False)
     params: PlaneParams = field(default_factory=PlaneParams, repr=False)
+    up_confidence: float = 1.0
+
+    @property
+    def up_estimate(self) -> UpEstimate:
+        """The up vector with its source and confidence."""
+        from planerel.gravity import GravityParams
+
+        low = self.up_source in ("estimated", "default") and \
+            self.up_confidence < GravityParams().low_confidence
+        return UpEstimate(self.up, self.up_source, self.up_confidence, 0, low)
 
     def __len__(self) -> int:
         return len(self.planes)
@@ -248,16 +257,6 @@ def check_labels(labels, shape: tuple[int, int]) -> np.ndarray:
     return lab.astype(np.int32, copy=False)
 
 
-def _unit(v, what: str) -> np.ndarray:
-    a = np.asarray(v, dtype=np.float64).reshape(-1)
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise InputError(f"{what} must be 3 finite numbers, got {v!r}")
-    n = float(np.linalg.norm(a))
-    if n == 0:
-        raise InputError(f"{what} must not be the zero vector")
-    return a / n
-
-
 def _moments(xyz: np.ndarray, lab: np.ndarray, nlab: int):
     """Counts ``(L,)``, centroids ``(L, 3)``, covariances ``(L, 3, 3)`` and mean pixel rows
     ``(L,)`` per label (one compiled pass over the image)."""
@@ -272,108 +271,6 @@ def _moments(xyz: np.ndarray, lab: np.ndarray, nlab: int):
     for k, (i, j) in enumerate(((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))):
         cov[:, i, j] = cov[:, j, i] = m2[:, k] - m1[:, i] * m1[:, j]
     return counts, ref + m1, cov, rows / safe
-
-
-def _vote(normals: np.ndarray, weights: np.ndarray, prior: np.ndarray, max_tilt: float) -> np.ndarray | None:
-    """Weighted consensus direction among ``normals`` (unit, ``(N, 3)``) near ``prior``."""
-    if normals.shape[0] == 0:
-        return None
-    cosp = normals @ prior
-    keep = cosp >= math.cos(math.radians(max_tilt))
-    if not keep.any():
-        return None
-    n = normals[keep]
-    w = weights[keep]
-    seeds = n
-    if seeds.shape[0] > 400:
-        seeds = seeds[np.linspace(0, seeds.shape[0] - 1, 400).astype(int)]
-    cos5 = math.cos(math.radians(5.0))
-    score = ((seeds @ n.T) >= cos5).astype(np.float64) @ w
-    best = seeds[int(np.argmax(score))]
-    est = best
-    for tol in (5.0, 3.0):
-        inl = (n @ est) >= math.cos(math.radians(tol))
-        if not inl.any():
-            break
-        m = (n[inl] * w[inl, None]).sum(axis=0)
-        norm = np.linalg.norm(m)
-        if norm == 0:
-            break
-        est = m / norm
-    return est
-
-
-def estimate_up(cloud, labels=None, *, prior=DEFAULT_UP, max_tilt: float = 45.0,
-                min_points: int = 50) -> np.ndarray:
-    """Estimate the gravity-up vector of a scene (method in the module docstring).
-
-    Parameters
-    ----------
-    cloud : Cloud
-        Organized cloud (``(H, W, 3)``).
-    labels : array_like, shape (H, W), optional
-        Plane labels; when given, fitted planes of at least ``min_points`` points vote.
-    prior : 3 numbers
-        Expected up direction (default the camera's -y axis).
-    max_tilt : float
-        Largest angle, degrees, between a candidate and the prior.
-
-    Returns
-    -------
-    ndarray, shape (3,)
-        Unit up vector; the prior when nothing near-horizontal is found.
-    """
-    prior_v = _unit(prior, "prior up vector")
-    if not 0 < max_tilt <= 90:
-        raise InputError(f"max_tilt must be in (0, 90] degrees, got {max_tilt!r}")
-    xyz = cloud.xyz
-    H, W = xyz.shape[:2]
-    if labels is not None:
-        lab = check_labels(labels, (H, W)).copy()
-        lab[~cloud.valid] = -1
-        nlab = int(lab.max()) + 1 if lab.size else 0
-        if nlab > 0:
-            counts, cent, cov, rows = _moments(xyz, lab, nlab)
-            ok = counts >= max(3, min_points)
-            if ok.any():
-                _, vecs = np.linalg.eigh(cov[ok])
-                nrm = vecs[:, :, 0]
-                flip = np.einsum("ij,ij->i", nrm, cent[ok]) > 0
-                nrm[flip] *= -1
-                w = counts[ok] * (0.5 + rows[ok] / max(H, 1))
-                est = _vote(nrm, w.astype(float), prior_v, max_tilt)
-                if est is not None:
-                    return est
-    # per-pixel normals on a coarse grid
-    step = max(1, W // 80)
-    g = xyz[::step, ::step]
-    if g.shape[0] < 3 or g.shape[1] < 3:
-        return prior_v
-    dx = g[1:-1, 2:] - g[1:-1, :-2]
-    dy = g[2:, 1:-1] - g[:-2, 1:-1]
-    nrm = np.cross(dx, dy).reshape(-1, 3)
-    ctr = g[1:-1, 1:-1].reshape(-1, 3)
-    rows = (np.arange(1, g.shape[0] - 1)[:, None] * step + np.zeros((1, g.shape[1] - 2))).reshape(-1)
-    with np.errstate(invalid="ignore"):
-        length = np.linalg.norm(nrm, axis=1)
-        good = np.isfinite(length) & (length > 0)
-    nrm = nrm[good] / length[good, None]
-    ctr = ctr[good]
-    rows = rows[good]
-    flip = np.einsum("ij,ij->i", nrm, ctr) > 0
-    nrm[flip] *= -1
-    est = _vote(nrm, 0.5 + rows / max(H, 1), prior_v, max_tilt)
-    return prior_v if est is None else est
-
-
-def resolve_up(cloud, labels=None, up=None) -> tuple[np.ndarray, str]:
-    """The up vector to use and where it came from: ``up`` argument (``"given"``), the cloud's
-    sidecar (``"cloud"``), else :func:`estimate_up` (``"estimated"``)."""
-    if up is not None:
-        return _unit(up, "up vector"), "given"
-    if getattr(cloud, "up", None) is not None:
-        return _unit(cloud.up, "cloud up vector"), "cloud"
-    return estimate_up(cloud, labels), "estimated"
 
 
 def _in_plane_axes(normal: np.ndarray, up: np.ndarray) -> np.ndarray:
@@ -440,7 +337,8 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None) ->
     labels : array_like, shape (H, W), int
         Plane label per pixel, ``-1`` unassigned.  Pixels whose point is invalid are ignored.
     up : 3 numbers, optional
-        Gravity up in the camera frame; default ``cloud.up``, else estimated.
+        Gravity up in the camera frame; default ``cloud.up``, else estimated
+        (:func:`planerel.gravity.resolve_up`).
     params : PlaneParams, optional
 
     Returns
@@ -457,17 +355,18 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None) ->
     H, W = xyz.shape[:2]
     lab = check_labels(labels, (H, W)).copy()
     lab[~cloud.valid] = -1
-    up_v, up_source = resolve_up(cloud, lab, up)
+    gravity = resolve_up(cloud, lab, up)
+    up_v, up_source, up_conf = np.array(gravity.vector), gravity.source, gravity.confidence
     nlab = int(lab.max()) + 1 if lab.size and lab.max() >= 0 else 0
     lab.setflags(write=False)
     if nlab == 0:
-        return PlaneSet((), up_v, up_source, None, 0.0, (), lab, params)
+        return PlaneSet((), up_v, up_source, None, 0.0, (), lab, params, up_conf)
     counts, cent, cov, _ = _moments(xyz, lab, nlab)
     present = np.flatnonzero(counts > 0)
     ok = present[counts[present] >= params.min_points]
     skipped = tuple(int(i) for i in present[counts[present] < params.min_points])
     if ok.size == 0:
-        return PlaneSet((), up_v, up_source, None, 0.0, skipped, lab, params)
+        return PlaneSet((), up_v, up_source, None, 0.0, skipped, lab, params, up_conf)
     evals, evecs = np.linalg.eigh(cov[ok])
     normals = evecs[:, :, 0].copy()
     flip = np.einsum("ij,ij->i", normals, cent[ok]) > 0
@@ -528,4 +427,4 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None) ->
         Plane(height=float(d["centroid"] @ up_v) - floor_level, is_floor=d["label"] == floor, **d)
         for d in pre
     )
-    return PlaneSet(planes, up_v, up_source, floor, floor_level, skipped, lab, params)
+    return PlaneSet(planes, up_v, up_source, floor, floor_level, skipped, lab, params, up_conf)

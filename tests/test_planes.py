@@ -21,7 +21,7 @@ def test_box_attributes_match_geometry():
     rects = [floor(), wall()] + box(0.3, 2.5, 0.6, 0.4, 0.5)
     cloud, lab, up, _ = render(rects, pitch=30, roll=0, noise=0.0, width=640, height=480)
     ps = measure_planes(cloud, lab)
-    assert ps.up_source == "cloud"
+    assert ps.up_source == "file"
     assert ps.floor == 0
     top = ps.by_label(2)
     assert top.orientation == "horizontal"
@@ -88,15 +88,17 @@ def test_up_estimate_pitched_and_rolled(pitch, roll):
     assert cloud.up is None
     assert _deg(estimate_up(cloud), up) < 3.0
     assert _deg(estimate_up(cloud, lab), up) < 3.0
-    vec, source = resolve_up(cloud, lab)
-    assert source == "estimated" and float(vec @ up) > 0
+    est = resolve_up(cloud, lab)
+    assert est.source == "estimated" and float(est.vector @ up) > 0
+    ps = measure_planes(cloud, lab)
+    assert ps.up_source == "estimated" and ps.up_confidence == pytest.approx(est.confidence)
 
 
 def test_up_sources():
     cloud, lab, up, _ = render([floor()], with_up=True)
-    assert resolve_up(cloud, lab)[1] == "cloud"
-    v, s = resolve_up(cloud, lab, up=(0, 0, 2))
-    assert s == "given" and np.allclose(v, (0, 0, 1))
+    assert resolve_up(cloud, lab).source == "file"
+    est = resolve_up(cloud, lab, up=(0, 0, 2))
+    assert est.source == "given" and np.allclose(est.vector, (0, 0, 1))
     with pytest.raises(InputError, match="up vector"):
         resolve_up(cloud, lab, up=(0, 0, 0))
 

@@ -7,7 +7,7 @@ import argparse
 from planerel.errors import InputError
 
 __all__ = ["add_input_options", "add_batch_options", "read_input", "read_options", "inputs_of",
-           "parse_vector", "parse_intrinsics"]
+           "given_up", "parse_vector", "parse_intrinsics"]
 
 
 def parse_vector(text: str, name: str = "vector") -> tuple[float, float, float]:
@@ -19,6 +19,25 @@ def parse_vector(text: str, name: str = "vector") -> tuple[float, float, float]:
     if len(values) != 3:
         raise InputError(f"{name} must be three numbers like 0,-1,0; got {text!r}")
     return values
+
+
+def given_up(args: argparse.Namespace):
+    """The ``--up X,Y,Z`` of the command line as a unit ``(3,)`` array, or None; a clear
+    one-line error for anything that is not three finite numbers, not all zero."""
+    text = getattr(args, "up", None)
+    if not text:
+        return None
+    import math
+
+    import numpy as np
+
+    values = parse_vector(text, "--up")
+    if not all(math.isfinite(v) for v in values):
+        raise InputError(f"--up must be three finite numbers like 0,-1,0; got {text!r}")
+    norm = math.sqrt(sum(v * v for v in values))
+    if norm == 0:
+        raise InputError(f"--up must not be the zero vector; got {text!r}")
+    return np.array(values) / norm
 
 
 def parse_intrinsics(text: str | None):
@@ -44,8 +63,9 @@ def add_input_options(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--depth-scale", type=float, metavar="UNITS_PER_M",
                    help="depth units per metre (default: sidecar value, else 1000 for 16-bit "
                         "images, 1 for float images)")
-    g.add_argument("--up", metavar="X,Y,Z", help="gravity-up vector in the camera frame "
-                   "(default: from the sidecar, else estimated)")
+    g.add_argument("--up", metavar="X,Y,Z", help="gravity-up vector in the camera frame, e.g. "
+                   "0,-1,0 for a level camera (default: the file's own, e.g. 'up' in a sidecar "
+                   "STEM.json, else estimated from the planes for any camera pitch and roll)")
     g.add_argument("--max-points", type=int, metavar="N",
                    help="refuse inputs that declare more than N points or pixels, before reading "
                         "them (default 20,000,000 or $PLANEREL_MAX_POINTS)")
@@ -87,7 +107,9 @@ def read_input(path, args: argparse.Namespace):
     """Read one scan with the options of :func:`add_input_options`.
 
     Depth images with no camera information anywhere fall back to the Kinect preset, and
-    the fallback is printed.
+    the fallback is printed.  ``--up`` is checked here but not put into the cloud: the
+    commands pass :func:`given_up` on, so the source of the up vector stays known
+    (``given`` vs ``file``).
     """
     import sys
 
@@ -95,8 +117,8 @@ def read_input(path, args: argparse.Namespace):
     from planerel.cloud import subsample
 
     intr = parse_intrinsics(getattr(args, "intrinsics", None))
-    up = parse_vector(args.up, "--up") if getattr(args, "up", None) else None
-    kwargs = dict(depth_scale=getattr(args, "depth_scale", None), up=up,
+    given_up(args)
+    kwargs = dict(depth_scale=getattr(args, "depth_scale", None),
                   max_points=getattr(args, "max_points", None))
     try:
         cloud = io.read(path, intrinsics=intr, **kwargs)

@@ -48,12 +48,12 @@ def _classifier(rules: str, method: str):
 def _classify_task(task: dict):
     """Worker: read and classify one scan, write its explanation image and JSON when asked;
     returns ``(answer as a dict, text lines)``."""
-    from planerel.commands._common import read_input
+    from planerel.commands._common import given_up, read_input
 
     path, stem = task["path"], task["name"]
     clf = _classifier(task["rules"], task["method"])
     cloud = read_input(path, task["read"])
-    ans = clf.classify(cloud, scene_id=stem)
+    ans = clf.classify(cloud, scene_id=stem, up=given_up(task["read"]))
     if task["out"]:
         from PIL import Image
 
@@ -85,9 +85,10 @@ def run(args) -> int:
         run_batch,
         write_errors,
     )
-    from planerel.commands._common import inputs_of, read_options
+    from planerel.commands._common import given_up, inputs_of, read_options
     from planerel.naming import scene_names
 
+    given_up(args)  # a bad --up fails here, before any work
     paths = inputs_of(args)
     names = scene_names(paths)
     rules = str(Path(args.rules).resolve())

@@ -58,8 +58,8 @@ def _describe_task(task: dict):
     """Worker: read, segment (or read labels) and describe one scan; returns
     ``(scene_id, facts by predicate, summary line, segmentation note)``."""
     from planerel import io
-    from planerel.commands._common import read_input
-    from planerel.facts import describe_scene, scene_facts
+    from planerel.commands._common import given_up, read_input
+    from planerel.facts import describe_scene, scene_facts, up_comment
 
     path = task["path"]
     note = ""
@@ -75,19 +75,20 @@ def _describe_task(task: dict):
         seg = segment(cloud, task["method"])
         labels = seg.labels
         note = seg_settings_line(seg.info)
-    d = describe_scene(cloud, labels, scene_id=task["name"])
+    d = describe_scene(cloud, labels, scene_id=task["name"], up=given_up(task["read"]))
     line = (f"{path}: {d.scene_id}: {len(d.planes)} planes, {len(d.objects)} object proposals, "
-            f"up {d.planes.up_source}"
+            f"{d.planes.up_estimate.describe()}"
             + ("" if len(d.planes) else " (no plane found: only the scene fact is written)"))
-    return d.scene_id, scene_facts(d, task["params"]), line, note
+    return d.scene_id, scene_facts(d, task["params"]), line, note, up_comment(d)
 
 
 def run(args) -> int:
     from planerel.batch import BatchResult, report_failures, run_batch, write_errors
-    from planerel.commands._common import inputs_of, read_options
+    from planerel.commands._common import given_up, inputs_of, read_options
     from planerel.facts import FactParams, FactsWriter
     from planerel.naming import scene_names
 
+    given_up(args)  # a bad --up fails here, before any work
     paths = inputs_of(args)
     n = len(paths)
     if args.labels is not None and len(args.labels) != n:
@@ -102,11 +103,12 @@ def run(args) -> int:
     shown = ", ".join(str(p) for p in paths[:20]) + (f", ... ({n} inputs)" if n > 20 else "")
     res = BatchResult()
     with FactsWriter(args.output, params, header="planerel describe: " + shown) as out:
-        for _, (sid, facts, line, note) in run_batch(
+        for _, (sid, facts, line, note, up_line) in run_batch(
                 _describe_task, tasks, jobs=args.jobs, scheduler=args.scheduler,
                 keep_going=args.keep_going, label=lambda t: t["path"], desc="describe",
                 result=res):
             out.add((sid, facts))
+            out.note_up(up_line)
             if note:
                 out.note(f"{sid}: {note}")
             print(line, file=sys.stderr)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from planerel.commands._common import add_batch_options, add_input_options, read_input
+from planerel.commands._common import add_batch_options, add_input_options, given_up, read_input
 from planerel.errors import InputError
 
 __all__ = ["register", "run_segment", "run_evaluate", "parse_params"]
@@ -29,7 +29,8 @@ def register(sub) -> None:
         help="segment scans into planes (region growing, or the SP / SNP RANSAC baselines)",
         description="Segment each scan into planes and write NAME.labels.npy ((H, W) int32, "
                     "-1 = unassigned), NAME.labels.png (colours over a depth shading) and "
-                    "NAME.planes.json (id, normal, offset, n_points, centroid, rms per plane). "
+                    "NAME.planes.json (id, normal, offset, n_points, centroid, rms per plane, and "
+                    "the up vector with its source and confidence). "
                     "Reads every format planerel reads, including a bare (H, W, 3) XYZ .npy in "
                     "metres with NaN for invalid points.",
     )
@@ -68,6 +69,7 @@ def _segment_task(task: dict) -> str:
     """Worker: read, segment and write one scan; returns the line to print."""
     import time
 
+    from planerel.gravity import resolve_up
     from planerel.segment import segment
     from planerel.writers import write_json, write_labels_npy, write_labels_png
 
@@ -76,6 +78,7 @@ def _segment_task(task: dict) -> str:
     t0 = time.perf_counter()
     seg = segment(cloud, task["method"], params=task["params"])
     ms = (time.perf_counter() - t0) * 1000.0
+    gravity = resolve_up(cloud, seg.labels, given_up(task["read"]))
     write_labels_npy(out / f"{stem}.labels.npy", seg.labels)
     depth = cloud.depth if cloud.organized else None
     write_labels_png(out / f"{stem}.labels.png", seg.labels, depth)
@@ -84,9 +87,10 @@ def _segment_task(task: dict) -> str:
         "method": seg.method,
         "shape": list(seg.labels.shape),
         "planes": seg.planes_json(),
+        "up": gravity.to_dict(),
         "info": {k: v for k, v in seg.info.items() if k != "iterations"},
     })
-    return f"{path}: {seg.message} ({ms:.1f} ms) -> {out / stem}.*"
+    return f"{path}: {seg.message} ({ms:.1f} ms); {gravity.describe()} -> {out / stem}.*"
 
 
 def run_segment(args) -> int:
@@ -96,6 +100,7 @@ def run_segment(args) -> int:
     from planerel.segment import make_params
 
     params = make_params(args.method, **parse_params(args.param))
+    given_up(args)  # a bad --up fails here, before any work
     paths = inputs_of(args)
     stems = scene_names(paths)
     out = Path(args.output)
