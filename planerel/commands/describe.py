@@ -56,7 +56,7 @@ def seg_settings_line(info: dict) -> str:
 
 def _describe_task(task: dict):
     """Worker: read, segment (or read labels) and describe one scan; returns
-    ``(scene_id, facts by predicate, summary line, segmentation note)``."""
+    ``(scene_id, facts by predicate, summary line, segmentation note, up comment)``."""
     from planerel import io
     from planerel.commands._common import given_up, read_input
     from planerel.facts import describe_scene, scene_facts, up_comment
