@@ -170,3 +170,37 @@ def test_segmentation_reports_model_and_settings():
     fixed = segment(cloud, preset="kinect")
     assert fixed.info["settings"]["adapted"] is False
     assert fixed.info["min_region_size"] == scaled_min_region_size(W * H)
+
+
+def _bent_floor(sag):
+    """A floor seen from 1 m height, pitched 45 degrees down, bent by ``sag`` metres at its
+    far corners (a paraboloid, as a Kinect's depth distortion bends real floors), with
+    Kinect-like noise and disparity steps."""
+    rng = np.random.default_rng(5)
+    u, v = np.meshgrid(np.arange(W, dtype=float), np.arange(H, dtype=float))
+    ray = np.stack([(u - INTR.cx) / INTR.fx, (v - INTR.cy) / INTR.fy, np.ones_like(u)], axis=2)
+    c, s = math.cos(math.radians(45)), math.sin(math.radians(45))
+    up = np.array([0.0, -c, -s])  # world up in the camera frame
+    t = 1.0 / np.maximum(-(ray @ up), 1e-9)  # ray hits the flat floor 1 m below the camera
+    p = ray * t[..., None]
+    fwd = np.array([0.0, s, -c])
+    side, ahead = p[..., 0], p @ fwd
+    bump = sag * ((side / 1.0) ** 2 + ((ahead - 1.2) / 1.0) ** 2)
+    t = t * (1.0 - bump / 1.0)  # raise the floor by `bump` along up (approximately)
+    z = t
+    z = np.where((z > 0.3) & (z < 4.0), z, np.nan)
+    zn = _disparity_quantised(z + 0.0012 * z ** 2 * rng.standard_normal(z.shape))
+    return _cloud(zn)
+
+
+def test_a_slightly_bent_floor_stays_one_region():
+    # a real floor is not planar within the sensor noise (here 12 mm of sag at the far
+    # corners); the split step cut it into parallel slabs and the merge step kept them apart
+    cloud = _bent_floor(0.012)
+    from planerel.segment.split import SplitParams
+
+    seg = segment(cloud)
+    largest = max(p.n_points for p in seg.planes)
+    assert largest >= 0.95 * cloud.n_valid
+    old = segment(cloud, split_params=SplitParams(min_split_angle=0))
+    assert max(p.n_points for p in old.planes) < 0.6 * cloud.n_valid

@@ -109,10 +109,11 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
         return i
 
     cos_max = math.cos(math.radians(p.merge_angle))
+    cos_par = math.cos(math.radians(p.min_split_angle)) if p.min_split_angle > 0 else 2.0
     edges = set(pairs)
     merged = 0
     while True:
-        best = _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, p.tolerance)
+        best = _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, p.tolerance, cos_par)
         if best is None:
             break
         _, ra, rb, nv = best
@@ -139,9 +140,22 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
                         info)
 
 
-def _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, tolerance):
+def _rms_of(m, s1, s2) -> np.ndarray:
+    """RMS distance to the least-squares plane of each group from its sums (k,)."""
+    c = s1 / m[:, None]
+    cov = s2 / m[:, None, None] - np.einsum("ki,kj->kij", c, c)
+    return np.sqrt(np.maximum(np.linalg.eigvalsh(cov)[:, 0], 0.0))
+
+
+def _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0):
     """The pair of current groups that passes the merge test with the smallest RMS ratio:
-    ``(ratio, root_a, root_b, union normal)``, or None."""
+    ``(ratio, root_a, root_b, union normal)``, or None.
+
+    The union's RMS is compared with the RMS the noise model expects; for two groups whose
+    normals lie within ``acos(cos_par)`` (``min_split_angle``) of each other, with the larger
+    of that and the groups' own RMS: a real sensor's large plane is bent by more than its
+    noise (a Kinect floor), and its pieces are still one surface when their union fits about
+    as well as each piece alone."""
     cand = sorted({(min(ra, rb), max(ra, rb)) for ra, rb in ((root(a), root(b)) for a, b in edges)
                    if ra != rb})
     if not cand:
@@ -157,7 +171,13 @@ def _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, tolerance):
     cov = (s2[A] + s2[B]) / m[:, None, None] - np.einsum("ki,kj->kij", c, c)
     w, v = np.linalg.eigh(cov)
     rms = np.sqrt(np.maximum(w[:, 0], 0.0))
-    ratio = rms / np.maximum(np.sqrt((sv[A] + sv[B]) / m), 1e-12)
+    ref = np.sqrt((sv[A] + sv[B]) / m)
+    par = np.abs(np.einsum("ij,ij->i", normal[A], normal[B])) >= cos_par
+    if par.any():
+        own = np.maximum(_rms_of(cnt[A[par]], s1[A[par]], s2[A[par]]),
+                         _rms_of(cnt[B[par]], s1[B[par]], s2[B[par]]))
+        ref[par] = np.maximum(ref[par], own)
+    ratio = rms / np.maximum(ref, 1e-12)
     j = int(np.argmin(ratio))
     if ratio[j] > tolerance:
         return None

@@ -105,6 +105,12 @@ class SplitParams:
         Regions touch when pixels of both lie within this many pixels (2) ...
     merge_jump : float
         ... and their points within ``merge_jump * z`` metres (0.05).
+    min_split_angle : float
+        A region is split only when two of its pieces' planes differ by at least this many
+        degrees (3).  Real depth sensors bend large planes slightly (a Kinect floor by a few
+        millimetres over a metre): such a floor fails the residual test and RANSAC cuts it into
+        parallel slabs 0.1-0.5 degrees apart, which are one surface; a floor and an 8-degree
+        ramp differ by 8.  0 turns the check off.
     """
 
     tolerance: float = 1.5
@@ -127,6 +133,7 @@ class SplitParams:
     merge_angle: float = 10.0
     merge_gap: int = 2
     merge_jump: float = 0.05
+    min_split_angle: float = 3.0
 
     def __post_init__(self) -> None:
         o = "split"
@@ -162,6 +169,8 @@ class SplitParams:
         s(self, "merge_angle", _num(o, "merge_angle", self.merge_angle, lo=0.0, hi=90.0))
         s(self, "merge_gap", _int(o, "merge_gap", self.merge_gap, 1))
         s(self, "merge_jump", _num(o, "merge_jump", self.merge_jump, lo=0.0, lo_open=True))
+        s(self, "min_split_angle", _num(o, "min_split_angle", self.min_split_angle, lo=0.0,
+                                        hi=90.0))
 
     def depth_sigma2(self, z: np.ndarray) -> np.ndarray:
         """Variance (m^2) of a depth measurement at depth ``z`` (m), any shape."""
@@ -262,7 +271,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     labels = seg.labels
     info = dict(seg.info)
     info.update(split_tested=0, split_regions=0, split_new_regions=0, split_unassigned=0,
-                leftover_patches=0, leftover_regions=0)
+                split_parallel=0, leftover_patches=0, leftover_regions=0)
     xyz = cloud.xyz
     lab = labels.reshape(-1)
     xyz_flat = xyz.reshape(-1, 3)
@@ -300,6 +309,9 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
                                min_size, p, w, cloud.organized,
                                np.random.default_rng([p.seed, int(r)]))
             if piece is None:
+                continue
+            if p.min_split_angle > 0 and not _distinct(piece, xyz_flat[pix], p.min_split_angle):
+                info["split_parallel"] += 1
                 continue
             if new_lab is None:
                 new_lab = lab.copy()
@@ -351,6 +363,15 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     out = remap[new_lab + 1].astype(np.int32)
     planes = SegPlane.from_fits(*fit_planes(xyz_flat, out, next_id))
     return Segmentation(out.reshape(h, w), planes, seg.method, seg.params, seg.normals, info)
+
+
+def _distinct(piece, P, min_angle: float) -> bool:
+    """Whether two of the pieces (``piece`` (m,) int, -1 = none, of points ``P`` (m, 3)) have
+    least-squares planes at least ``min_angle`` degrees apart."""
+    k = int(piece.max()) + 1
+    normals = np.array([_fit(P[piece == q])[0] for q in range(k)])
+    cos = np.abs(normals @ normals.T)
+    return bool(cos.min() <= math.cos(math.radians(min_angle)))
 
 
 def _keep_planar(piece, P, scale, p: SplitParams):
