@@ -3,7 +3,9 @@
 The examples are *objects*, not scenes: for a per-class task ``stairs`` the positives are
 ``stairs(s0007_o1).`` for every stairs object and the negatives ``stairs(s0003_o1).`` for every
 object of another class; a multi-class task uses ``class(+obj, #cls)`` with positives
-``class(s0007_o1, stairs).`` and, as negatives, the other classes of each object.
+``class(s0007_o1, stairs).`` and, as negatives, the other classes of each object.  Objects of
+class ``other`` (clutter of the varied world: none of the classes) are negatives for every class
+and never a class of their own.
 
 ``STEM.b`` holds, in this order: ``:- op(500, fy, #)`` (so the file also reads outside Aleph),
 the settings and body modes of the task file (``aleph/modes_relational.pl``), the target's
@@ -29,6 +31,9 @@ from pathlib import Path
 
 from planerel import terms
 from planerel.errors import InputError
+
+#: The class of objects that are none of the learned classes: negatives for every class.
+OTHER = "other"
 
 __all__ = [
     "Example",
@@ -165,9 +170,10 @@ def load_task(task: str | None = None) -> tuple[list[str], list[str], list[tuple
 
 
 def _class_order(names) -> list[str]:
-    """Distinct class names: box, stairs, ramp first (in that order), then the rest sorted."""
+    """Distinct class names: box, stairs, ramp first (in that order), then the rest sorted
+    (never :data:`OTHER`)."""
     known = ("box", "stairs", "ramp")
-    found = set(names)
+    found = set(names) - {OTHER}
     return [c for c in known if c in found] + sorted(found - set(known))
 
 
@@ -285,7 +291,7 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
         if not terms.is_plain_atom(c):
             raise InputError(f"class name {c!r} must be a plain Prolog name ([a-z][a-zA-Z0-9_]*)")
     check_class_names(classes)
-    examples = [e for e in examples if e.klass in classes]
+    examples = [e for e in examples if e.klass in classes or e.klass == OTHER]
     stem = stem or target
     sets, modes, preds, other = load_task(task)
     overrides = {k: check_setting(k, v) for k, v in (settings or {}).items()}
@@ -297,8 +303,9 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     set_lines += [f":- set({k}, {v})." for k, v in overrides.items()]
     head = "class(+obj, #cls)" if multi else f"{target}(+obj)"
     tname, tar = ("class", 2) if multi else (target, 1)
-    npos = sum(1 for e in examples if multi or e.klass == target)
-    nneg = sum(len(classes) - 1 for _ in examples) if multi else len(examples) - npos
+    npos = sum(1 for e in examples if (e.klass in classes if multi else e.klass == target))
+    nneg = (sum(len(classes) - (e.klass in classes) for e in examples) if multi
+            else len(examples) - npos)
     b = [f"% planerel Aleph task {stem}: {'multi-class' if multi else 'is the object a ' + target}",
          f"% examples: {npos} positive, {nneg} negative; classes: {', '.join(classes)}",
          "% written by planerel export-aleph; vocabulary: docs/predicates.md",
@@ -310,7 +317,7 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     b += _background(descs, examples, classes)
     F = terms.fact
     if multi:
-        pos = [F("class", e.object_id, e.klass) for e in examples]
+        pos = [F("class", e.object_id, e.klass) for e in examples if e.klass in classes]
         neg = [F("class", e.object_id, c) for e in examples for c in classes if c != e.klass]
     else:
         pos = [F(target, e.object_id) for e in examples if e.klass == target]
@@ -363,9 +370,7 @@ def describe_dataset(dataset_dir, *, labels: str = "gt", classes: Sequence[str] 
     skipped : list of str
         Scenes whose object has no measured plane, with the reason.
     """
-    from planerel.dataset import iter_scenes
-    from planerel.facts import describe_scene
-    from planerel.relations import objects_from_truth
+    from planerel.dataset import describe_truth_scene, iter_scenes
 
     if labels not in ("gt", "segment"):
         raise InputError(f"labels must be 'gt' or 'segment', got {labels!r}")
@@ -376,16 +381,13 @@ def describe_dataset(dataset_dir, *, labels: str = "gt", classes: Sequence[str] 
         if gt is None:
             raise InputError(f"{dataset_dir}: scene {row.scene_id} has no ground-truth labels, "
                              "so its object is unknown")
-        obj_of = {int(p["index"]): (int(p.get("object_index", 0)) if int(p.get("object_index", 0)) > 0 else -1)
-                  for p in meta.get("planes", [])}
         if labels == "gt":
             lab = gt
         else:
             from planerel.segment import segment
 
             lab = segment(cloud, method).labels
-        groups = objects_from_truth(lab, gt, obj_of)
-        d = describe_scene(cloud, lab, scene_id=row.scene_id, objects=groups, klass=row.klass)
+        d = describe_truth_scene(cloud, lab, gt, meta, row.scene_id, row.klass)
         if not d.objects:
             skipped.append(f"{row.scene_id}: no plane of its {row.klass} was measured")
         descs.append(d)

@@ -7,6 +7,7 @@ A data set is a folder::
     s0000.depth.png     16-bit depth, units of 1/depth_scale metres (mm), 0 = missing
     s0000.gt.png        16-bit ground-truth plane labels: value = plane index + 1, 0 = none
     s0000.json          sidecar: intrinsics, depth_scale, up, pose, class, objects, planes, ...
+    s0000.objects.png   (varied world) 16-bit ground-truth object index + 1, 0 = none
 
 The sidecar makes ``planerel.io.read("s0000.depth.png")`` find the intrinsics, depth scale and up
 vector by itself.  The full description is in ``docs/formats.md`` ("Synthetic data sets").
@@ -38,6 +39,9 @@ __all__ = [
     "load_scene",
     "load_metadata",
     "iter_scenes",
+    "load_object_labels",
+    "object_classes",
+    "describe_truth_scene",
 ]
 
 MANIFEST = "manifest.csv"
@@ -126,6 +130,9 @@ def write_scene(out_dir, scene) -> ManifestRow:
     meta["files"] = {"depth": depth_name, "labels": labels_name}
     write_depth_png(out / depth_name, scene.depth_mm)
     write_label_png(out / labels_name, scene.gt_labels)
+    if getattr(scene, "world", "paper") != "paper":
+        meta["files"]["objects"] = f"{sid}.objects.png"
+        write_label_png(out / meta["files"]["objects"], scene.gt_objects)
     write_json(out / meta_name, meta)
     h, w = scene.depth_mm.shape
     return ManifestRow(sid, scene.klass, scene.seed, w, h, depth_name, labels_name, meta_name)
@@ -320,6 +327,105 @@ def _load_row(folder: Path, row: ManifestRow):
         if labels.size and labels.max() >= n:
             raise InputError(f"{lp}: label {int(labels.max())} but the sidecar lists {n} planes")
     return cloud, labels, meta
+
+
+def load_object_labels(path, scene_id: str):
+    """The per-pixel ground-truth object index of one scene, ``(H, W)`` int32 (0 = the
+    environment, k = object k of the sidecar's ``objects``, -1 = none), from the scene's
+    ``objects`` image (varied world) or else from its plane labels and the planes' objects.
+    None when the scene has no ground truth."""
+    from planerel import io
+
+    folder = _folder(path)
+    row = _row(folder, scene_id)
+    meta = _read_meta(folder / row.meta, row)
+    name = (meta.get("files") or {}).get("objects")
+    if name:
+        p = folder / name
+        if not p.is_file():
+            raise InputError(f"{p}: object labels of scene {scene_id} are missing")
+        lab = io.read_label_image(p)
+        if lab.shape != (row.height, row.width):
+            raise InputError(f"{p}: object image is {lab.shape[1]}x{lab.shape[0]} but "
+                             f"{MANIFEST} says {row.width}x{row.height}")
+        return lab
+    if not row.labels:
+        return None
+    _cloud, labels, meta = _load_row(folder, row)
+    obj = np.array([int(p.get("object_index", 0)) for p in meta.get("planes", [])] or [0],
+                   dtype=np.int32)
+    return np.where(labels >= 0, obj[np.maximum(labels, 0)], -1).astype(np.int32)
+
+
+def object_classes(meta: dict, default: str | None = None) -> dict:
+    """``{object index: class}`` of a scene's sidecar for its objects (index >= 1): from its
+    ``objects`` list, else ``default`` (the scene's class) for every object its planes name."""
+    out = {}
+    for o in meta.get("objects") or []:
+        try:
+            k = int(o["index"])
+        except (KeyError, TypeError, ValueError):
+            continue
+        if k >= 1 and o.get("class"):
+            out[k] = str(o["class"])
+    if not out:
+        klass = default if default is not None else meta.get("class")
+        for p in meta.get("planes", []):
+            k = int(p.get("object_index", 0))
+            if k >= 1 and klass:
+                out[k] = klass
+    return out
+
+
+def describe_truth_scene(cloud, labels, gt, meta: dict, scene_id: str,
+                         default_class: str | None = None):
+    """Describe one data-set scene with its ground-truth objects as the examples.
+
+    Segmented (or ground-truth) planes join the ground-truth object whose planes they mostly
+    cover (:func:`planerel.relations.objects_from_truth`); every object gets its own class from
+    the sidecar (:func:`object_classes`: ``box``, ``stairs``, ``ramp`` or ``other``), so a scene
+    of the varied world gives one example per object.
+
+    Parameters
+    ----------
+    cloud : Cloud
+    labels, gt : ndarray, shape (H, W), int
+        Plane labels to describe (a segmentation or ``gt``) and the ground-truth plane labels.
+    meta : dict
+        The scene's sidecar.
+    scene_id : str
+    default_class : str, optional
+        Class of the objects when the sidecar has no ``objects`` list (the manifest's class).
+
+    Returns
+    -------
+    planerel.facts.SceneDescription
+    """
+    from dataclasses import replace
+
+    from planerel.facts import describe_scene
+    from planerel.relations import objects_from_truth
+
+    obj_of = {int(p["index"]): (int(p.get("object_index", 0)) if int(p.get("object_index", 0)) > 0 else -1)
+              for p in meta.get("planes", [])}
+    groups = objects_from_truth(labels, gt, obj_of)
+    classes = object_classes(meta, default_class)
+    lab = np.asarray(labels)
+    gtl = np.asarray(gt)
+    n = max(obj_of, default=-1) + 1
+    obj_map = np.array([obj_of.get(k, -1) for k in range(n)] + [-1], dtype=np.int64)
+    class_of_label = {}
+    for g in groups:
+        mask = np.isin(lab, g) & (gtl >= 0)
+        objs = obj_map[np.where(mask, np.minimum(gtl, n), n)[mask]]
+        objs = objs[objs >= 0]
+        k = int(np.bincount(objs).argmax()) if objs.size else -1
+        for x in g:
+            class_of_label[int(x)] = classes.get(k, default_class)
+    desc = describe_scene(cloud, labels, scene_id=scene_id, objects=groups, klass=default_class)
+    objs = tuple(replace(o, klass=class_of_label.get(o.planes[0], default_class))
+                 for o in desc.objects)
+    return replace(desc, objects=objs)
 
 
 def iter_scenes(path, klass: str | None = None):

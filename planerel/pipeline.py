@@ -139,9 +139,7 @@ def segment_cached(cloud, *, method: str = "regiongrow", params: dict | None = N
 def _describe_one(job):
     """Worker: load one data-set scene, segment (cached) and describe it with its
     ground-truth object.  Top-level so that a process pool can run it."""
-    from planerel.dataset import load_scene
-    from planerel.facts import describe_scene
-    from planerel.relations import objects_from_truth
+    from planerel.dataset import describe_truth_scene, load_scene
 
     dataset_dir, row, method, params, cache = job
     cloud, gt, meta = load_scene(dataset_dir, row.scene_id)
@@ -153,11 +151,7 @@ def _describe_one(job):
     else:
         files = [Path(dataset_dir) / row.depth, Path(dataset_dir) / row.meta]
         labels = segment_cached(cloud, method=method, params=params, files=files, cache=cache)
-    obj_of = {int(p["index"]): (int(p.get("object_index", 0)) if int(p.get("object_index", 0)) > 0 else -1)
-              for p in meta.get("planes", [])}
-    groups = objects_from_truth(labels, gt, obj_of)
-    desc = describe_scene(cloud, labels, scene_id=row.scene_id, objects=groups, klass=row.klass)
-    return desc
+    return describe_truth_scene(cloud, labels, gt, meta, row.scene_id, row.klass)
 
 
 def _progress(iterable, total: int, desc: str, enabled: bool | None):
@@ -625,25 +619,35 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
                    progress: bool | None = None, jobs: int | None = 1) -> dict:
     """Stratified k-fold cross-validation of the whole learner on described scenes.
 
+    Objects of class ``other`` (none of the classes) are split into the folds too: in training
+    they are negatives for every class; in testing the right answer for them is ``unknown``.
+    They are counted apart (``other``) so that ``accuracy`` and ``confusion`` keep their meaning.
+
     Returns
     -------
     dict
         ``accuracy``, ``per_class``, ``classes``, ``confusion`` (rows true class, columns
         predicted with ``unknown`` last), ``folds`` (per fold: test objects, predictions,
-        rules, accuracy, seconds), ``predictions`` ({object: class}).
+        rules, accuracy, seconds), ``predictions`` ({object: class}); with ``other`` objects
+        also ``other`` ({n, rejected: share predicted unknown, predicted: {class: n}}) and
+        ``open_set_accuracy`` (all objects, ``other`` right when predicted ``unknown``).
 
     ``jobs`` folds run at once (None: all cores); the result does not depend on it.
     """
-    examples = [(o, k) for o, k in _examples(descs) if k in classes]
+    from planerel.aleph_export import OTHER
+
+    all_examples = [(o, k) for o, k in _examples(descs) if k in classes or k == OTHER]
+    examples = [(o, k) for o, k in all_examples if k in classes]
     if not examples:
         raise InputError("no example objects of the requested classes")
-    labels = [k for _, k in examples]
+    labels = [k for _, k in all_examples]
     fold_of = stratified_folds(labels, folds, seed)
+    truth_of = dict(all_examples)
     scene_of = {o.id: d for d in descs for o in d.objects}
     predictions: dict[str, str] = {}
 
     def run_fold(f: int) -> dict:
-        test = [o for (o, _), g in zip(examples, fold_of, strict=True) if g == f]
+        test = [o for (o, _), g in zip(all_examples, fold_of, strict=True) if g == f]
         test_set = set(test)
         train_descs = []
         for d in descs:
@@ -655,8 +659,8 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         model = learn_rules(train_descs, present, engine=engine, timeout=timeout, settings=settings)
         test_descs = list({id(scene_of[o]): scene_of[o] for o in test}.values())
         preds = prolog_predict(model, test_descs, test, timeout=timeout)
-        truth = [dict(examples)[o] for o in test]
-        acc, _ = accuracy_scores(truth, [p.klass for p in preds], classes)
+        scored = [(truth_of[p.object_id], p.klass) for p in preds if truth_of[p.object_id] != OTHER]
+        acc, _ = accuracy_scores([t for t, _ in scored], [q for _, q in scored], classes)
         return {"fold": f, "test": test, "predicted": [p.klass for p in preds],
                 "accuracy": acc, "rules": model.clauses(),
                 "seconds": round(time.perf_counter() - t0, 3),
@@ -698,14 +702,26 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
     truth = [k for _, k in examples]
     pred = [predictions[o] for o, _ in examples]
     acc, per = accuracy_scores(truth, pred, classes)
-    return {"accuracy": acc, "per_class": per, "classes": list(classes),
-            "confusion": confusion_matrix(truth, pred, classes), "folds": fold_reports,
-            "predictions": predictions, "n_examples": len(examples), "k": folds, "seed": seed}
+    out = {"accuracy": acc, "per_class": per, "classes": list(classes),
+           "confusion": confusion_matrix(truth, pred, classes), "folds": fold_reports,
+           "predictions": predictions, "n_examples": len(examples), "k": folds, "seed": seed}
+    others = [o for o, k in all_examples if k == OTHER]
+    if others:
+        got = [predictions[o] for o in others]
+        counts = {k: got.count(k) for k in [*classes, UNKNOWN] if got.count(k)}
+        rejected = got.count(UNKNOWN)
+        out["other"] = {"n": len(others), "rejected": rejected / len(others), "predicted": counts}
+        right = sum(t == p for t, p in zip(truth, pred, strict=True)) + rejected
+        out["open_set_accuracy"] = right / (len(examples) + len(others))
+    return out
 
 
 def _classes_arg(classes, descs) -> tuple:
+    from planerel.aleph_export import OTHER
+
     present = [k for k in DEFAULT_CLASSES if any(o.klass == k for d in descs for o in d.objects)]
-    present += sorted({o.klass for d in descs for o in d.objects if o.klass} - set(present))
+    present += sorted({o.klass for d in descs for o in d.objects if o.klass} - set(present)
+                      - {OTHER})
     if classes is None:
         classes = present
     classes = tuple(classes)
@@ -825,7 +841,9 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     try:
         metrics: dict = {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
                          "seg_params": dict(seg_params or {}), "seed": seed,
-                         "n_scenes": len(descs), "n_examples": len(_examples(descs)),
+                         "n_scenes": len(descs),
+                         "n_examples": sum(k in classes for _, k in _examples(descs)),
+                         "n_other": sum(k == "other" for _, k in _examples(descs)),
                          "skipped": skipped, "seconds": {"describe": round(t_describe, 3)}}
         if folds:
             t1 = time.perf_counter()

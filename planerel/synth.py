@@ -41,6 +41,7 @@ __all__ = [
     "apply_sensor",
     "measure",
     "generate_scene",
+    "render_scene",
     "generate_dataset",
     "scene_seed",
     "OPTIONS",
@@ -301,10 +302,17 @@ class Scene:
     params: dict = field(default_factory=dict)
     sensor: object = field(default_factory=SensorModel)
     depth_scale: float = 1000.0
+    object_list: tuple = ()
+    world: str = "paper"
 
     @property
     def objects(self) -> tuple:
-        """``({"index": 0, "id": ..., "class": "environment"}, {"index": 1, ..., "class": klass})``."""
+        """One dict per object, in index order: ``{"index": 0, "id": ..., "class":
+        "environment"}``, then the objects (paper world: ``{"index": 1, ..., "class": klass}``;
+        varied world: every object with its class -- ``box``, ``stairs``, ``ramp`` or ``other``
+        -- its ``kind``, ``params`` and ``n_pixels``)."""
+        if self.object_list:
+            return self.object_list
         return ({"index": 0, "id": f"{self.scene_id}_o0", "class": "environment"},
                 {"index": 1, "id": f"{self.scene_id}_o1", "class": self.klass})
 
@@ -325,6 +333,7 @@ class Scene:
             "up": [_r(v) for v in self.up],
             "pose": {"world_to_camera": [[_r(v) for v in row] for row in self.pose],
                      "world": "z up, floor at z = 0, metres"},
+            **({"world": self.world} if self.world != "paper" else {}),
             "objects": list(self.objects),
             "planes": [p.to_dict() for p in self.planes],
             "params": self.params,
@@ -772,8 +781,16 @@ def generate_scene(kind: str, seed: int = 0, size=(640, 480), subsample: int = 1
     else:
         raise InputError(f"could not place the camera so that the {kind} is seen (seed {seed}); "
                          "widen the camera ranges or lower min_object_fraction")
-    # planes in the camera frame
-    up = rot[:, 2].copy()
+    params = _jsonable_params(params)
+    params.update({"size": [w, h], "subsample": int(subsample)})
+    return render_scene(world, pose, intr, sensor, rng, scene_id=scene_id, klass=kind, seed=seed,
+                        params=params, depth_true=depth_true, poly_index=poly_index)
+
+
+def camera_planes(world, pose):
+    """Every plane of ``world`` in the camera frame: ``(normals (P, 3), offsets (P,),
+    {plane: first polygon})``, normals towards the camera (offset > 0)."""
+    rot, t = pose[:3, :3], pose[:3, 3]
     normals_c, offsets_c = [], []
     first_poly = {}
     for p in world.polygons:
@@ -788,14 +805,43 @@ def generate_scene(kind: str, seed: int = 0, size=(640, 480), subsample: int = 1
             n_c, d_c = -n_c, -d_c
         normals_c.append(n_c)
         offsets_c.append(d_c)
-    normals_c = np.array(normals_c)
-    # incidence angle for each pixel
+    return np.array(normals_c), offsets_c, first_poly
+
+
+def cos_incidence(normals_c, plane_index, intr: Intrinsics) -> np.ndarray:
+    """``|cos|`` of the angle between each pixel's ray and the normal of the plane it hits,
+    ``(H, W)`` (pixels that hit nothing get the first plane's value; mask them)."""
     xn = (np.arange(intr.width) - intr.cx) / intr.fx
     yn = (np.arange(intr.height) - intr.cy) / intr.fy
-    lab = np.maximum(ideal_planes, 0)
-    nrm = normals_c[lab]
+    nrm = normals_c[np.maximum(plane_index, 0)]
     dot = nrm[:, :, 0] * xn[None, :] + nrm[:, :, 1] * yn[:, None] + nrm[:, :, 2]
-    cos_inc = np.abs(dot) / np.sqrt(xn[None, :] ** 2 + yn[:, None] ** 2 + 1.0)
+    return np.abs(dot) / np.sqrt(xn[None, :] ** 2 + yn[:, None] ** 2 + 1.0)
+
+
+def render_scene(world, pose, intr: Intrinsics, sensor, rng: np.random.Generator, *,
+                 scene_id: str, klass: str, seed: int, params: dict, depth_true=None,
+                 poly_index=None, object_list: tuple = (), world_name: str = "paper") -> Scene:
+    """Ray-cast (unless ``depth_true`` and ``poly_index`` are given), measure and label one
+    scene: the common tail of every world's generator.
+
+    Parameters
+    ----------
+    world : planerel.synth_geometry.Geometry
+        Everything in world coordinates (z up, floor z = 0).
+    pose : ndarray, shape (4, 4)
+        World-to-camera transform.
+    object_list : tuple of dict
+        ``{"index", "id", "class", ...}`` per object (default: environment + one ``klass``).
+    """
+    rot, t = pose[:3, :3], pose[:3, 3]
+    if depth_true is None:
+        depth_true, poly_index = raycast([p.vertices @ rot.T + t for p in world.polygons], intr)
+    plane_of_poly = np.array([p.plane for p in world.polygons], dtype=np.int32)
+    ideal_planes = np.where(poly_index >= 0, plane_of_poly[np.maximum(poly_index, 0)], -1)
+    obj_of_plane = np.array([sp.object_index for sp in world.planes], dtype=np.int32)
+    up = rot[:, 2].copy()
+    normals_c, offsets_c, first_poly = camera_planes(world, pose)
+    cos_inc = cos_incidence(normals_c, ideal_planes, intr)
     depth_mm, flying = measure(depth_true, cos_inc, sensor, intr, rng, ideal_planes)
     valid = depth_mm > 0
     gt_labels = np.where(valid & ~flying, ideal_planes, -1).astype(np.int32)
@@ -815,17 +861,19 @@ def generate_scene(kind: str, seed: int = 0, size=(640, 480), subsample: int = 1
             object_id=f"{scene_id}_o{spec.object_index}", n_pixels=int(counts[k]),
             incline_deg=_r(incline), height=height,
         ))
-    params = _jsonable_params(params)
-    params.update({"size": [w, h], "subsample": int(subsample)})
+    if object_list:
+        per_object = np.bincount(gt_objects[gt_objects >= 0], minlength=len(object_list))
+        object_list = tuple({**o, "n_pixels": int(per_object[o["index"]])} for o in object_list)
     cloud = depth_to_cloud(depth_mm, intr, 1.0 / sensor.depth_unit, up=up, source=scene_id)
     for arr in (depth_mm, depth_true, gt_labels, gt_objects):
         arr.setflags(write=False)
     pose.setflags(write=False)
     up.setflags(write=False)
-    return Scene(scene_id=scene_id, klass=kind, seed=seed, depth_mm=depth_mm,
+    return Scene(scene_id=scene_id, klass=klass, seed=seed, depth_mm=depth_mm,
                  depth_true=depth_true, cloud=cloud, intrinsics=intr, gt_labels=gt_labels,
                  gt_objects=gt_objects, planes=tuple(planes), pose=pose, up=up, params=params,
-                 sensor=sensor, depth_scale=1.0 / sensor.depth_unit)
+                 sensor=sensor, depth_scale=1.0 / sensor.depth_unit, object_list=object_list,
+                 world=world_name)
 
 
 def _jsonable_params(obj):
@@ -844,12 +892,17 @@ def _jsonable_params(obj):
 
 def generate_dataset(out_dir, n_box: int = 12, n_stairs: int = 15, n_ramp: int = 18,
                      seed: int = 0, size=(640, 480), subsample: int = 4, *,
-                     sensor: SensorModel | None = None, camera: CameraRange | None = None,
-                     progress: bool = False) -> Path:
+                     sensor=None, camera: CameraRange | None = None,
+                     progress: bool = False, world: str = "paper", ranges=None) -> Path:
     """Generate and write a synthetic data set (format: ``docs/formats.md``).
 
     Scenes ``s0000 ..`` are the boxes, then the stairs, then the ramps; scene ``i`` uses the seed
     :func:`scene_seed` ``(seed, i)``, so any scene can be regenerated alone.
+
+    ``world="paper"`` (default): one object per scene (:func:`generate_scene`, ``camera``
+    ranges); ``world="varied"``: the counts are scenes whose *primary* object has that class,
+    with more objects and clutter around it (:func:`planerel.synth_world.generate_world_scene`,
+    ``ranges`` a :class:`planerel.synth_world.WorldRange`; default sensor: structured light).
 
     Returns
     -------
@@ -867,7 +920,18 @@ def generate_dataset(out_dir, n_box: int = 12, n_stairs: int = 15, n_ramp: int =
     if sum(counts.values()) > 9999:
         raise InputError(f"at most 9999 scenes, got {sum(counts.values())}")
     seed = _check_seed(seed)
-    sensor = SensorModel() if sensor is None else sensor
+    from planerel.synth_world import WORLDS, WorldRange, generate_world_scene
+
+    if world not in WORLDS:
+        raise InputError(f"unknown world {world!r}; choose one of {', '.join(WORLDS)}")
+    if world == "paper":
+        sensor = SensorModel() if sensor is None else sensor
+    else:
+        from planerel.synth_sensor import StructuredLight
+
+        sensor = StructuredLight() if sensor is None else sensor
+        ranges = WorldRange() if ranges is None else ranges
+    _check_sensor(sensor)
     camera = CameraRange() if camera is None else camera
     out = Path(out_dir)
     jobs = [(kind, None) for kind in CLASSES for _ in range(counts[kind])]
@@ -879,13 +943,23 @@ def generate_dataset(out_dir, n_box: int = 12, n_stairs: int = 15, n_ramp: int =
         it = tqdm(it, desc="scenes", unit="scene")
     for i in it:
         kind = jobs[i][0]
-        scene = generate_scene(kind, scene_seed(seed, i), size, subsample, scene_id=f"s{i:04d}",
-                               sensor=sensor, camera=camera)
+        if world == "paper":
+            scene = generate_scene(kind, scene_seed(seed, i), size, subsample,
+                                   scene_id=f"s{i:04d}", sensor=sensor, camera=camera)
+        else:
+            scene = generate_world_scene(kind, scene_seed(seed, i), size, subsample,
+                                         scene_id=f"s{i:04d}", sensor=sensor, ranges=ranges)
         rows.append(write_scene(out, scene))
     write_manifest(out, rows)
-    write_dataset_info(out, {
+    info = {
         "format": "planerel-synth-dataset", "version": 1, "seed": seed,
         "counts": counts, "size": list(_check_size(size)), "subsample": int(subsample),
-        "sensor": sensor.to_dict(), "camera": camera.to_dict(),
-    })
+        "sensor": sensor.to_dict(),
+    }
+    if world == "paper":
+        info["camera"] = camera.to_dict()
+    else:
+        info["world"] = world
+        info["world_ranges"] = ranges.to_dict()
+    write_dataset_info(out, info)
     return out

@@ -31,10 +31,21 @@ __all__ = [
     "wall_geometry",
     "place",
     "combine",
+    "drop_planes",
+    "cuboid_geometry",
+    "table_geometry",
+    "chair_geometry",
+    "cylinder_geometry",
+    "laptop_geometry",
+    "plate_geometry",
+    "shelf_geometry",
+    "door_geometry",
+    "descent_geometry",
 ]
 
 #: Every plane role the builders use.
-ROLES = ("floor", "wall", "top", "face", "tread", "riser", "side", "back", "slope")
+ROLES = ("floor", "wall", "top", "face", "tread", "riser", "side", "back", "slope",
+         "ledge", "bottom", "leg", "seat", "lid", "base", "shelf", "door", "curved", "plate")
 
 
 @dataclass(frozen=True, eq=False)
@@ -166,7 +177,8 @@ def _positive(name: str, value: float) -> float:
     return value
 
 
-def box_geometry(length: float, width: float, height: float, object_index: int = 1) -> Geometry:
+def box_geometry(length: float, width: float, height: float, object_index: int = 1, *,
+                 top: bool = True) -> Geometry:
     """A cuboid standing on the floor, centred on the local origin.
 
     Planes: ``top`` and four vertical ``face`` planes (the bottom touches the floor and is
@@ -176,12 +188,15 @@ def box_geometry(length: float, width: float, height: float, object_index: int =
     ----------
     length, width, height : float
         Extent along local x, y, z in metres.
+    top : bool
+        False: an open box (no lid); its faces are then seen from inside too.
     """
     lx, wy, h = (_positive(n, v) for n, v in (("box length", length), ("box width", width),
                                               ("box height", height)))
     x0, x1, y0, y1 = -lx / 2, lx / 2, -wy / 2, wy / 2
     b = _Builder(object_index)
-    b.add("top", _rect_z(h, x0, x1, y0, y1))
+    if top:
+        b.add("top", _rect_z(h, x0, x1, y0, y1))
     b.add("face", _rect_x(x0, y0, y1, 0, h))
     b.add("face", _rect_x(x1, y0, y1, 0, h))
     b.add("face", _rect_y(y0, x0, x1, 0, h))
@@ -321,11 +336,12 @@ def wall_geometry(centre, direction_deg: float, length: float, height: float,
     return b.build()
 
 
-def place(geometry: Geometry, yaw_deg: float, position=(0.0, 0.0)) -> Geometry:
-    """Rotate ``geometry`` by ``yaw_deg`` about world z, then move it by ``(x, y)``."""
+def place(geometry: Geometry, yaw_deg: float, position=(0.0, 0.0), z: float = 0.0) -> Geometry:
+    """Rotate ``geometry`` by ``yaw_deg`` about world z, then move it by ``(x, y)`` and up by
+    ``z``."""
     a = math.radians(_float("yaw", yaw_deg))
     rot = np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1.0]])
-    t = np.array([float(position[0]), float(position[1]), 0.0])
+    t = np.array([float(position[0]), float(position[1]), float(z)])
     polys = tuple(Polygon(p.vertices @ rot.T + t, p.plane) for p in geometry.polygons)
     return Geometry(polys, geometry.planes)
 
@@ -338,3 +354,185 @@ def combine(*parts: Geometry) -> Geometry:
         planes.extend(g.planes)
         polys.extend(Polygon(p.vertices, p.plane + base) for p in g.polygons)
     return Geometry(tuple(polys), tuple(planes))
+
+
+def drop_planes(geometry: Geometry, roles_or_indices) -> Geometry:
+    """The geometry without the planes whose index (int) or role (str) is listed; the other
+    planes are renumbered in order."""
+    drop = set(roles_or_indices)
+    keep = [k for k, spec in enumerate(geometry.planes) if k not in drop and spec.role not in drop]
+    new_index = {k: i for i, k in enumerate(keep)}
+    polys = tuple(Polygon(p.vertices, new_index[p.plane]) for p in geometry.polygons
+                  if p.plane in new_index)
+    return Geometry(polys, tuple(geometry.planes[k] for k in keep))
+
+
+# ----------------------------------------------------------------------- clutter ("other")
+
+
+def _cuboid(b: _Builder, x0, x1, y0, y1, z0, z1, *, top="top", side="face",
+            bottom=None) -> None:
+    """Add the faces of an axis-aligned cuboid (roles None = face left out)."""
+    if top:
+        b.add(top, _rect_z(z1, x0, x1, y0, y1))
+    if bottom:
+        b.add(bottom, _rect_z(z0, x0, x1, y0, y1))
+    if side:
+        b.add(side, _rect_x(x0, y0, y1, z0, z1))
+        b.add(side, _rect_x(x1, y0, y1, z0, z1))
+        b.add(side, _rect_y(y0, x0, x1, z0, z1))
+        b.add(side, _rect_y(y1, x0, x1, z0, z1))
+
+
+def cuboid_geometry(length: float, width: float, height: float, z0: float = 0.0, *,
+                    top: str | None = "top", side: str | None = "face", bottom: str | None = None,
+                    object_index: int = 1) -> Geometry:
+    """A cuboid from ``z0`` to ``z0 + height`` centred on the local z axis (roles per face
+    kind; None leaves the faces out)."""
+    lx, wy, h = (_positive(n, v) for n, v in (("length", length), ("width", width),
+                                              ("height", height)))
+    b = _Builder(object_index)
+    _cuboid(b, -lx / 2, lx / 2, -wy / 2, wy / 2, z0, z0 + h, top=top, side=side, bottom=bottom)
+    return b.build()
+
+
+def table_geometry(length: float, width: float, height: float, *, thickness: float = 0.04,
+                   leg: float = 0.05, object_index: int = 1) -> Geometry:
+    """A table: a top slab (``top``, edge ``face`` planes, ``bottom`` underside) on four square
+    ``leg`` posts inset 3 cm from the corners."""
+    lx, wy, h = (_positive(n, v) for n, v in (("table length", length), ("table width", width),
+                                              ("table height", height)))
+    b = _Builder(object_index)
+    _cuboid(b, -lx / 2, lx / 2, -wy / 2, wy / 2, h - thickness, h, bottom="bottom")
+    for sx in (-1, 1):
+        for sy in (-1, 1):
+            cx, cy = sx * (lx / 2 - 0.03 - leg / 2), sy * (wy / 2 - 0.03 - leg / 2)
+            _cuboid(b, cx - leg / 2, cx + leg / 2, cy - leg / 2, cy + leg / 2, 0, h - thickness,
+                    top=None, side="leg")
+    return b.build()
+
+
+def chair_geometry(seat: float = 0.42, seat_height: float = 0.45, back_height: float = 0.45, *,
+                   thickness: float = 0.04, leg: float = 0.035, object_index: int = 1) -> Geometry:
+    """A chair: square ``seat`` slab on four legs, a vertical ``back`` rest at local -x."""
+    s, h, bh = (_positive(n, v) for n, v in (("chair seat", seat), ("chair seat height", seat_height),
+                                             ("chair back height", back_height)))
+    b = _Builder(object_index)
+    _cuboid(b, -s / 2, s / 2, -s / 2, s / 2, h - thickness, h, top="seat", bottom="bottom")
+    for sx in (-1, 1):
+        for sy in (-1, 1):
+            cx, cy = sx * (s / 2 - leg / 2), sy * (s / 2 - leg / 2)
+            _cuboid(b, cx - leg / 2, cx + leg / 2, cy - leg / 2, cy + leg / 2, 0, h - thickness,
+                    top=None, side="leg")
+    _cuboid(b, -s / 2, -s / 2 + thickness, -s / 2, s / 2, h, h + bh, side="back")
+    return b.build()
+
+
+def cylinder_geometry(radius: float, height: float, *, facets: int = 16,
+                      object_index: int = 1) -> Geometry:
+    """An upright cylinder (bin, pillar) as a prism of ``facets`` vertical ``curved`` planes
+    and a ``top`` disc."""
+    r, h = _positive("cylinder radius", radius), _positive("cylinder height", height)
+    ang = np.linspace(0.0, 2 * math.pi, facets, endpoint=False)
+    pts = np.stack([r * np.cos(ang), r * np.sin(ang)], axis=1)
+    b = _Builder(object_index)
+    b.add("top", [(x, y, h) for x, y in pts])
+    for i in range(facets):
+        (xa, ya), (xb, yb) = pts[i], pts[(i + 1) % facets]
+        b.add("curved", [(xa, ya, 0), (xb, yb, 0), (xb, yb, h), (xa, ya, h)])
+    return b.build()
+
+
+def laptop_geometry(width: float = 0.33, depth: float = 0.23, lid_deg: float = 110.0, *,
+                    thickness: float = 0.02, object_index: int = 1) -> Geometry:
+    """A laptop: a thin ``base`` slab and a ``lid`` plate hinged at its back edge (local -x),
+    opened ``lid_deg`` degrees from the closed position (90 = upright)."""
+    w, d = _positive("laptop width", width), _positive("laptop depth", depth)
+    a = math.radians(_float("laptop lid angle", lid_deg))
+    b = _Builder(object_index)
+    _cuboid(b, -d / 2, d / 2, -w / 2, w / 2, 0, thickness, top="base")
+    hx, hz = -d / 2, thickness
+    ex, ez = hx + d * math.cos(a), hz + d * math.sin(a)
+    b.add("lid", [(hx, -w / 2, hz), (hx, w / 2, hz), (ex, w / 2, ez), (ex, -w / 2, ez)])
+    return b.build()
+
+
+def plate_geometry(length: float, width: float, tilt_deg: float, *,
+                   object_index: int = 1) -> Geometry:
+    """A thin board leaning at ``tilt_deg`` from the floor, its low edge on the floor at local
+    ``x = -length * cos(tilt) / 2`` (a small tilted plane: a ``plate``)."""
+    length, w = _positive("plate length", length), _positive("plate width", width)
+    t = math.radians(_float("plate tilt", tilt_deg))
+    run, rise = length * math.cos(t), length * math.sin(t)
+    b = _Builder(object_index)
+    b.add("plate", [(-run / 2, -w / 2, 0), (-run / 2, w / 2, 0), (run / 2, w / 2, rise),
+                    (run / 2, -w / 2, rise)])
+    return b.build()
+
+
+def shelf_geometry(width: float, depth: float, height: float, boards: int, *,
+                   object_index: int = 1) -> Geometry:
+    """An open shelf: a ``back`` panel (local -x), two ``side`` panels and ``boards``
+    horizontal ``shelf`` boards evenly spaced up to the top (thin plates)."""
+    w, d, h = (_positive(n, v) for n, v in (("shelf width", width), ("shelf depth", depth),
+                                            ("shelf height", height)))
+    b = _Builder(object_index)
+    b.add("back", _rect_x(-d / 2, -w / 2, w / 2, 0, h))
+    for y in (-w / 2, w / 2):
+        b.add("side", _rect_y(y, -d / 2, d / 2, 0, h))
+    for k in range(1, int(boards) + 1):
+        b.add("shelf", _rect_z(h * k / boards, -d / 2, d / 2, -w / 2, w / 2))
+    return b.build()
+
+
+def door_geometry(width: float = 0.85, height: float = 2.0, thickness: float = 0.04, *,
+                  object_index: int = 1) -> Geometry:
+    """A door leaf standing on the floor: two large ``door`` faces, narrow ``face`` edges and a
+    ``top``."""
+    w, h, t = (_positive(n, v) for n, v in (("door width", width), ("door height", height),
+                                            ("door thickness", thickness)))
+    b = _Builder(object_index)
+    b.add("top", _rect_z(h, -t / 2, t / 2, -w / 2, w / 2))
+    b.add("door", _rect_x(-t / 2, -w / 2, w / 2, 0, h))
+    b.add("door", _rect_x(t / 2, -w / 2, w / 2, 0, h))
+    b.add("face", _rect_y(-w / 2, -t / 2, t / 2, 0, h))
+    b.add("face", _rect_y(w / 2, -t / 2, t / 2, 0, h))
+    return b.build()
+
+
+def descent_geometry(steps: int, rise: float, tread: float, width: float, *,
+                     sides: str = "open", rail: float = 0.3, object_index: int = 1,
+                     extent: float = 8.0) -> tuple:
+    """A staircase going down from the floor the camera stands on.
+
+    Local frame: the drop edge is the line ``x = 0``; the floor (``z = 0``) lies at ``x < 0``,
+    the flight descends along +x to a lower floor at ``z = -steps * rise``.  Beside the flight
+    the upper floor ends in a vertical ``ledge``.
+
+    Returns
+    -------
+    environment : Geometry
+        Upper ``floor``, ``ledge`` (both sides of the flight, one plane), lower ``floor``
+        (object index 0).
+    stairs : Geometry
+        ``steps`` risers and ``steps - 1`` treads below floor level, then the ``side`` planes
+        (the top step is the upper floor itself).
+    """
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 2:
+        raise InputError(f"descending stairs need a whole number of steps >= 2, got {steps!r}")
+    total = steps * rise
+    up = stairs_geometry(steps, rise, tread, width, top_depth=tread, sides=sides, rail=rail,
+                         object_index=object_index)
+    treads = [k for k, p in enumerate(up.planes) if p.role == "tread"]
+    up = drop_planes(up, [treads[-1], "back"])
+    # climbing along +x with its top riser at local x = (steps - 1) * tread - length / 2;
+    # turn it round (climbing along -x) and put that riser's top edge on the drop edge x = 0
+    length = steps * tread
+    top_riser_x = (steps - 1) * tread - length / 2
+    flight = place(up, 180.0, (top_riser_x, 0.0), -total)
+    w2, e = width / 2, extent
+    b = _Builder(0)
+    b.add("floor", _rect_z(0.0, -e, 0.0, -e, e))
+    b.add("ledge", _rect_x(0.0, -e, -w2, -total, 0.0), _rect_x(0.0, w2, e, -total, 0.0))
+    b.add("floor", _rect_z(-total, 0.0, 2 * e, -e, e))
+    return b.build(), flight

@@ -60,9 +60,15 @@ def register(sub) -> None:
                    help="sensor maximum range in metres (default 4.5)")
     s.add_argument("--noise", type=float, metavar="C",
                    help="basic sensor: depth noise std = C * z^2 metres (default 0.0012; 0 = none)")
+    s.add_argument("--world", choices=("paper", "varied"), default="paper",
+                   help="paper (default): one object per scene, the paper-sized set; varied: "
+                        "several objects and clutter (class other) per scene, camera 0.3-2 m "
+                        "high pitched 0-75 deg and rolled, real stair and ramp dimensions, "
+                        "descending stairs (docs/synthetic-world.md); --n-* count the scenes "
+                        "by their primary object")
     s.add_argument("--sensor", choices=("basic", "structured-light", "tof", "laser"),
-                   help="sensor model (docs/synthetic-world.md): basic (the paper-sized set's, "
-                        "default), structured-light (Kinect v1: 1/8-px disparity, projector "
+                   help="sensor model (docs/synthetic-world.md): basic (the paper world's "
+                        "default), structured-light (the varied world's default) (Kinect v1: 1/8-px disparity, projector "
                         "shadows, flying pixels), tof (Kinect v2), laser")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=run_synth)
@@ -85,16 +91,27 @@ def run_synth(args) -> int:
 
     from planerel.synth import CameraRange, SensorModel, generate_dataset
 
+    from planerel.synth_sensor import StructuredLight, sensor_profile
+    from planerel.synth_world import WorldRange
+
     size = parse_size(args.size)
     cam_kwargs = {}
     if args.camera_height:
         cam_kwargs["height"] = parse_range(args.camera_height, "--camera-height")
     if args.camera_distance:
+        if args.world != "paper":
+            raise InputError("--camera-distance applies to the paper world; the varied world "
+                             "places its objects 0.8-3.8 m from the camera")
         cam_kwargs["distance"] = parse_range(args.camera_distance, "--camera-distance")
-    camera = CameraRange(**cam_kwargs)
-    from planerel.synth_sensor import sensor_profile
-
-    sensor = sensor_profile(args.sensor) if args.sensor else SensorModel()
+    ranges = None
+    if args.world == "paper":
+        camera = CameraRange(**cam_kwargs)
+    else:
+        camera = None
+        ranges = WorldRange(**({"camera_height": cam_kwargs["height"]} if "height" in cam_kwargs
+                               else {}))
+    default_sensor = SensorModel() if args.world == "paper" else StructuredLight()
+    sensor = sensor_profile(args.sensor) if args.sensor else default_sensor
     changes = {}
     if args.max_range is not None:
         changes["max_range"] = args.max_range
@@ -109,10 +126,12 @@ def run_synth(args) -> int:
     out = generate_dataset(args.out_dir, n_box=args.n_box, n_stairs=args.n_stairs,
                            n_ramp=args.n_ramp, seed=args.seed, size=size,
                            subsample=args.subsample, sensor=sensor, camera=camera,
-                           progress=not args.quiet and sys.stderr.isatty())
+                           progress=not args.quiet and sys.stderr.isatty(), world=args.world,
+                           ranges=ranges)
     n = args.n_box + args.n_stairs + args.n_ramp
-    print(f"wrote {n} scenes ({args.n_box} box, {args.n_stairs} stairs, {args.n_ramp} ramp) "
-          f"to {out} in {time.perf_counter() - t0:.1f} s")
+    what = "" if args.world == "paper" else "primary object: "
+    print(f"wrote {n} {args.world}-world scenes ({what}{args.n_box} box, {args.n_stairs} stairs, "
+          f"{args.n_ramp} ramp) to {out} in {time.perf_counter() - t0:.1f} s")
     return 0
 
 

@@ -67,7 +67,9 @@ def run(args) -> int:
                     log=lambda s: print(s, file=sys.stderr), scheduler=args.scheduler)
     print(f"engine: {m['engine']}")
     print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
-          f"{', '.join(m['classes'])}")
+          f"{', '.join(m['classes'])}"
+          + (f"; {m['n_other']} objects of class other (negatives for every class)"
+             if m.get("n_other") else ""))
     print("rules (trained on all data):")
     for k in m["classes"]:
         rules = m["rules"].get(k) or []
@@ -84,5 +86,11 @@ def run(args) -> int:
             acc = cv["per_class"].get(k)
             print(f"  {k:>8}" + "".join(f"{v:>9}" for v in row)
                   + (f"   {acc:.3f}" if acc is not None else ""))
+        if cv.get("other"):
+            o = cv["other"]
+            print(f"  {'other':>8}" + "".join(f"{o['predicted'].get(c, 0):>9}" for c in cols)
+                  + f"   {o['rejected']:.3f} rejected (right answer: unknown)")
+            print(f"  open-set accuracy (all objects, other -> unknown): "
+                  f"{cv['open_set_accuracy']:.3f}")
     print(f"model written to {args.output}")
     return 0

@@ -1,0 +1,279 @@
+"""The varied synthetic world (planerel.synth_world): ranges, object ground truth, the data-set
+files it writes, and multi-object learning examples (``other`` = negatives for every class)."""
+
+from __future__ import annotations
+
+import hashlib
+import math
+
+import numpy as np
+import pytest
+
+from planerel import synth_geometry as sg
+from planerel.cli import main
+from planerel.dataset import (
+    describe_truth_scene,
+    iter_scenes,
+    load_dataset_info,
+    load_object_labels,
+    object_classes,
+)
+from planerel.errors import InputError
+from planerel.synth import generate_scene
+from planerel.synth_world import CLUTTER, WorldRange, generate_world_scene
+
+SMALL = dict(size=(640, 480), subsample=8)  # 80x60: enough for geometry checks
+
+
+@pytest.fixture(scope="module")
+def scenes():
+    out = {}
+    for kind in ("box", "stairs", "ramp"):
+        out[kind] = [generate_world_scene(kind, seed, **SMALL) for seed in range(14)]
+    return out
+
+
+def test_paper_world_scenes_are_unchanged():
+    """The default scenes are those of the code before the varied world (hashes taken from
+    that code)."""
+    expected = {("box", 1): "58d42ab3c171d292", ("stairs", 2): "a8d864bcea3e5626",
+                ("ramp", 3): "b3c8a9314480ad51"}
+    for (kind, seed), digest in expected.items():
+        s = generate_scene(kind, seed, subsample=4)
+        got = hashlib.sha256(s.depth_mm.tobytes() + s.gt_labels.tobytes()).hexdigest()[:16]
+        assert got == digest, kind
+        assert "world" not in s.metadata()
+
+
+def test_same_seed_same_scene():
+    a = generate_world_scene("stairs", 5, **SMALL)
+    b = generate_world_scene("stairs", 5, **SMALL)
+    c = generate_world_scene("stairs", 6, **SMALL)
+    np.testing.assert_array_equal(a.depth_mm, b.depth_mm)
+    np.testing.assert_array_equal(a.gt_objects, b.gt_objects)
+    assert a.metadata() == b.metadata()
+    assert not np.array_equal(a.depth_mm, c.depth_mm)
+
+
+def test_camera_and_object_parameters_stay_in_their_ranges(scenes):
+    r = WorldRange()
+    for kind, ss in scenes.items():
+        for s in ss:
+            cam = s.params["camera"]
+            assert r.camera_height[0] <= cam["height"] <= r.camera_height[1]
+            assert r.camera_pitch_deg[0] <= cam["pitch_deg"] <= r.camera_pitch_deg[1]
+            assert abs(cam["roll_deg"]) <= r.camera_roll_deg
+            # the pose agrees: the camera centre is `height` above the floor, the optical axis
+            # points `pitch` below the horizon
+            rot = s.pose[:3, :3]
+            eye = -rot.T @ s.pose[:3, 3]
+            assert eye[2] == pytest.approx(cam["height"], abs=1e-9)
+            assert math.degrees(math.asin(-rot[2, 2])) == pytest.approx(cam["pitch_deg"], abs=1e-6)
+            primary = s.objects[1]
+            assert primary["class"] == kind and primary["index"] == 1
+            p = primary["params"]
+            if kind == "stairs":
+                assert r.steps[0] <= p["steps"] <= r.steps[1]
+                assert r.rise[0] <= p["rise"] <= r.rise[1] and r.run[0] <= p["run"] <= r.run[1]
+            elif kind == "ramp":
+                assert r.ramp_angle_deg[0] <= p["angle_deg"] <= r.ramp_angle_deg[1]
+                assert r.ramp_length[0] <= p["length"] <= r.ramp_length[1]
+            else:
+                assert all(r.box_size[0] <= p[k] <= r.box_size[1] for k in ("length", "width"))
+                assert r.box_height[0] <= p["height"] <= r.box_height[1]
+
+
+def test_object_ground_truth_is_consistent(scenes):
+    classes = set()
+    for ss in scenes.values():
+        for s in ss:
+            obj_of_plane = np.array([p.object_index for p in s.planes])
+            lab = s.gt_labels
+            np.testing.assert_array_equal(
+                s.gt_objects, np.where(lab >= 0, obj_of_plane[np.maximum(lab, 0)], -1))
+            objs = s.objects
+            assert [o["index"] for o in objs] == list(range(len(objs)))
+            assert objs[0]["class"] == "environment"
+            for o in objs:
+                assert o["n_pixels"] == int((s.gt_objects == o["index"]).sum())
+                assert o["id"] == f"{s.scene_id}_o{o['index']}"
+                classes.add(o["class"])
+            assert set(obj_of_plane) <= {o["index"] for o in objs}
+            # the primary object is seen
+            assert objs[1]["n_pixels"] >= 0.03 * lab.size * 0.5
+    assert classes == {"environment", "box", "stairs", "ramp", "other"}
+
+
+def test_stairs_and_ramps_have_their_exact_geometry(scenes):
+    for s in scenes["stairs"]:
+        p = s.objects[1]["params"]
+        treads = [pl for pl in s.planes if pl.object_index == 1 and pl.role == "tread"]
+        heights = sorted(pl.height for pl in treads)
+        if p["direction"] == "up":
+            expected = [(i + 1) * p["rise"] for i in range(p["steps"])]
+        else:  # below the floor the camera stands on, the top step being that floor
+            expected = [-(p["steps"] - 1 - i) * p["rise"] for i in range(p["steps"] - 1)]
+        np.testing.assert_allclose(heights, expected, atol=1e-9)
+        assert all(pl.incline_deg == pytest.approx(0.0, abs=1e-6) for pl in treads)
+    for s in scenes["ramp"]:
+        slope = next(pl for pl in s.planes if pl.object_index == 1 and pl.role == "slope")
+        assert slope.incline_deg == pytest.approx(s.objects[1]["params"]["angle_deg"], abs=1e-6)
+
+
+def test_descending_stairs_are_seen_from_the_upper_floor():
+    r = WorldRange(descending=1.0)
+    s = generate_world_scene("stairs", 3, **SMALL, ranges=r)
+    p = s.objects[1]["params"]
+    assert p["direction"] == "down"
+    floors = sorted(pl.height for pl in s.planes if pl.role == "floor")
+    assert floors == pytest.approx([-p["steps"] * p["rise"], 0.0], abs=1e-9)
+    # treads are seen from above: their normal points to the camera and up
+    for pl in s.planes:
+        if pl.role == "tread" and pl.n_pixels:
+            assert float(np.dot(pl.normal, s.up)) == pytest.approx(1.0, abs=1e-9)
+    assert any(pl.role == "tread" and pl.n_pixels for pl in s.planes)
+
+
+def test_touching_boxes_share_a_face_plane_and_boxes_sit_on_tables():
+    touching = on_table = 0
+    for seed in range(60):
+        s = generate_world_scene("box", seed, **SMALL)
+        box = s.objects[1]["params"]
+        if box.get("touching") == "box":
+            other = next(o for o in s.objects[2:] if o["params"].get("touching") == "box")
+            fa = [pl for pl in s.planes if pl.object_index == 1 and pl.role == "face"]
+            fb = [pl for pl in s.planes if pl.object_index == other["index"] and pl.role == "face"]
+            shared = [(a, b) for a in fa for b in fb
+                      if np.allclose(a.normal, b.normal, atol=1e-9) and abs(a.offset - b.offset) < 1e-9]
+            assert len(shared) == 1
+            touching += 1
+        if box.get("on") == "table":
+            table = next(o for o in s.objects if o.get("kind") == "table")
+            top = next(pl for pl in s.planes if pl.object_index == 1 and pl.role == "top") \
+                if box["top"] else None
+            if top is not None:
+                assert top.height == pytest.approx(table["params"]["height"] + box["height"])
+            on_table += 1
+    assert touching >= 5 and on_table >= 3
+
+
+def test_clutter_of_every_kind_is_class_other():
+    kinds = {}
+    for seed in range(40):
+        s = generate_world_scene("ramp", seed, **SMALL)
+        for o in s.objects[2:]:
+            if o["class"] == "other":
+                kinds[o["kind"]] = kinds.get(o["kind"], 0) + 1
+            else:
+                assert o["class"] in ("box", "stairs", "ramp")
+    assert set(kinds) == set(CLUTTER)
+
+
+def test_clutter_builders():
+    g = sg.laptop_geometry(0.3, 0.2, 90.0)
+    lid = next(p for p in g.polygons if g.planes[p.plane].role == "lid")
+    assert abs(lid.normal()[2]) == pytest.approx(0.0, abs=1e-12)  # upright lid
+    g = sg.plate_geometry(0.5, 0.4, 30.0)
+    n = g.polygons[0].normal()
+    assert math.degrees(math.acos(abs(n[2]))) == pytest.approx(30.0)
+    g = sg.shelf_geometry(1.0, 0.3, 1.5, 3)
+    assert sorted(p.vertices[0, 2] for p in g.polygons if g.planes[p.plane].role == "shelf") == \
+        pytest.approx([0.5, 1.0, 1.5])
+    g = sg.table_geometry(1.2, 0.8, 0.75)
+    assert max(p.vertices[:, 2].max() for p in g.polygons) == pytest.approx(0.75)
+    assert sum(sp.role == "leg" for sp in g.planes) == 16
+    assert len(sg.cylinder_geometry(0.2, 1.0, facets=12).planes) == 13
+    assert [p.role for p in sg.box_geometry(1, 1, 1, top=False).planes] == ["face"] * 4
+
+
+@pytest.mark.parametrize("call,match", [
+    (lambda: WorldRange(camera_pitch_deg=(0, 95)), "camera pitch must lie in 0..85"),
+    (lambda: WorldRange(steps=(1, 4)), "steps must be integers with 2 <= min"),
+    (lambda: WorldRange(rise=(0.2, 0.1)), "rise must be a finite"),
+    (lambda: WorldRange(ramp_angle_deg=(0, 10)), "ramp angle must lie in"),
+    (lambda: generate_world_scene("table", 0), "unknown scene class 'table'"),
+    (lambda: generate_world_scene("box", 0, ranges={"steps": 3}), "ranges must be a WorldRange"),
+])
+def test_bad_world_parameters_raise_input_error(call, match):
+    with pytest.raises(InputError, match=match):
+        call()
+
+
+# ------------------------------------------------------------------ data set and learning
+
+
+@pytest.fixture(scope="module")
+def varied_set(tmp_path_factory):
+    out = tmp_path_factory.mktemp("varied") / "set"
+    assert main(["dataset", "synth", str(out), "--world", "varied", "--n-box", "3",
+                 "--n-stairs", "3", "--n-ramp", "3", "--subsample", "8", "--seed", "1",
+                 "--quiet"]) == 0
+    return out
+
+
+def test_varied_data_set_files_and_object_labels(varied_set):
+    info = load_dataset_info(varied_set)
+    assert info["world"] == "varied" and info["sensor"]["profile"] == "structured-light"
+    assert info["world_ranges"]["steps"] == [2, 10]
+    for row, _cloud, labels, meta in iter_scenes(varied_set):
+        assert meta["world"] == "varied" and (varied_set / meta["files"]["objects"]).is_file()
+        objects = load_object_labels(varied_set, row.scene_id)
+        obj_of_plane = np.array([p["object_index"] for p in meta["planes"]])
+        np.testing.assert_array_equal(
+            objects, np.where(labels >= 0, obj_of_plane[np.maximum(labels, 0)], -1))
+        classes = object_classes(meta)
+        assert classes[1] == row.klass
+        assert set(classes) == {o["index"] for o in meta["objects"][1:]}
+
+
+def test_object_labels_of_a_paper_set_come_from_the_planes(tmp_path):
+    out = tmp_path / "paper"
+    assert main(["dataset", "synth", str(out), "--n-box", "1", "--n-stairs", "0", "--n-ramp", "0",
+                 "--subsample", "8", "--quiet"]) == 0
+    _row, _cloud, labels, meta = next(iter_scenes(out))
+    objects = load_object_labels(out, "s0000")
+    assert set(np.unique(objects)) <= {-1, 0, 1} and (objects == 1).any()
+    np.testing.assert_array_equal(objects >= 0, labels >= 0)
+    assert object_classes(meta) == {1: "box"}
+
+
+def test_every_object_is_an_example_with_its_class(varied_set, tmp_path):
+    from planerel.aleph_export import export_aleph
+
+    descs = []
+    truth = {}
+    for row, cloud, labels, meta in iter_scenes(varied_set):
+        d = describe_truth_scene(cloud, labels, labels, meta, row.scene_id, row.klass)
+        descs.append(d)
+        seen = {o["index"]: o["class"] for o in meta["objects"][1:] if o["n_pixels"] > 0}
+        # one example per seen object (ground-truth planes), in object order, with its class
+        assert [o.klass for o in d.objects] == [seen[k] for k in sorted(seen)]
+        truth.update({o.id: o.klass for o in d.objects})
+    assert "other" in truth.values()
+    res = export_aleph(descs, tmp_path / "aleph", "all")
+    assert res.stems == ("box", "ramp", "stairs")
+    for c in ("box", "stairs", "ramp"):
+        pos = (tmp_path / "aleph" / f"{c}.f").read_text().split()
+        neg = (tmp_path / "aleph" / f"{c}.n").read_text().split()
+        ids = lambda facts: {f[len(c) + 1:-2] for f in facts}  # noqa: E731
+        assert ids(pos) == {o for o, k in truth.items() if k == c}
+        assert ids(neg) == {o for o, k in truth.items() if k != c}  # `other` included
+
+
+def test_cross_validation_tests_other_objects_apart(varied_set):
+    from planerel.pipeline import cross_validate, describe_scenes
+
+    descs, _ = describe_scenes(varied_set, method="gt", cache="none", progress=False)
+    truth = {o.id: o.klass for d in descs for o in d.objects}
+    n_other = sum(k == "other" for k in truth.values())
+    assert n_other >= 2
+    cv = cross_validate(descs, ("box", "stairs", "ramp"), folds=2, progress=False)
+    # every object, `other` included, is tested once; accuracy counts the class objects only
+    assert sorted(o for f in cv["folds"] for o in f["test"]) == sorted(truth)
+    assert cv["n_examples"] == len(truth) - n_other
+    assert sum(map(sum, cv["confusion"])) == cv["n_examples"]
+    got = [cv["predictions"][o] for o, k in truth.items() if k == "other"]
+    assert cv["other"]["n"] == n_other and sum(cv["other"]["predicted"].values()) == n_other
+    assert cv["other"]["rejected"] == pytest.approx(got.count("unknown") / n_other)
+    right = sum(cv["predictions"][o] == (k if k != "other" else "unknown") for o, k in truth.items())
+    assert cv["open_set_accuracy"] == pytest.approx(right / len(truth))
