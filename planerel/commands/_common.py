@@ -93,6 +93,7 @@ def read_options(args: argparse.Namespace) -> argparse.Namespace:
     return argparse.Namespace(intrinsics=getattr(args, "intrinsics", None),
                               depth_scale=getattr(args, "depth_scale", None),
                               up=getattr(args, "up", None),
+                              max_points=getattr(args, "max_points", None),
                               subsample=getattr(args, "subsample", 1))
 
 
