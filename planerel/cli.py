@@ -27,6 +27,7 @@ COMMAND_MODULES = [
     "planerel.commands.induce",
     "planerel.commands.describe",
     "planerel.commands.export_aleph",
+    "planerel.commands.export_popper",
     "planerel.commands.learn",
     "planerel.commands.classify",
     "planerel.commands.report",
