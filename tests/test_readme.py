@@ -107,3 +107,19 @@ def test_quick_start_runs_verbatim_on_a_fresh_copy(tmp_path):
               "out/classified/s0003.classified.png", "out/classified/s0003.classified.json"]:
         assert (proj / f).is_file(), f
     assert "scene(office1)." in (proj / "out/office1.pl").read_text()
+    # the Python API example, verbatim, with the model the Quick start learned
+    r = subprocess.run([sys.executable, "-c", python_example(README.read_text())], cwd=proj,
+                       env=env, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    klass, rest = r.stdout.strip().split(" ", 1)
+    assert klass == "stairs" and rest.startswith("stairs(A) :- has_plane(A,B),step_up(B,C). ("), r.stdout
+    # B and C are bound to two distinct planes of the scene
+    proof = rest.split(". ", 1)[1]
+    assert proof.count("'s0000_p") == 2, proof
+
+
+def python_example(text: str) -> str:
+    """The ``python`` block of the README's ``## Python API`` section."""
+    m = re.search(r"^## Python API\n.*?```python\n(.*?)```", text, flags=re.S | re.M)
+    assert m, "README has no python block under '## Python API'"
+    return m.group(1)
