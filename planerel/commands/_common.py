@@ -89,12 +89,9 @@ def add_batch_options(parser: argparse.ArgumentParser, *, keep_going: bool = Tru
 
 
 def read_options(args: argparse.Namespace) -> argparse.Namespace:
-    """The reading options of ``args`` alone (small and picklable, for worker processes)."""
-    return argparse.Namespace(intrinsics=getattr(args, "intrinsics", None),
-                              depth_scale=getattr(args, "depth_scale", None),
-                              up=getattr(args, "up", None),
-                              max_points=getattr(args, "max_points", None),
-                              subsample=getattr(args, "subsample", 1))
+    """The command's options without its function: small and picklable, for worker processes
+    (every reading option :func:`read_input` looks at travels with it)."""
+    return argparse.Namespace(**{k: v for k, v in vars(args).items() if k != "func"})
 
 
 def inputs_of(args: argparse.Namespace):
