@@ -73,7 +73,6 @@
     sat_seen/1,             % Literal
     sat_done/2,             % ModeSeq, InIds
     lazy_cache/2,           % variant hash of a lazy call, its constants
-    lazy_value_cache/4,     % NodeSeq, InIds, PosTuples, NegTuples (last node only)
     loaded_stem/1.
 
 :- dynamic planerel_ext:'$planerel_none'/0.
@@ -603,7 +602,7 @@ known_pred(N/A) :-
 %       bottom(Head, HeadInIds, HeadOutIds, Lits, NLits)
 %   Lits is lits(bl(Idx, Literal, InIds, OutIds, Lazy), ...).
 
-saturate(Seed, bottom(Head, HIn, HOut, LitsT, NB)) :-
+saturate(Seed, bottom(Head, HIn, HOut, LitsT, NB), VT) :-
     clear_sat,
     functor(Seed, F, A),
     (   head_template(F/A, Seed, Tmpl)
@@ -922,14 +921,24 @@ expandable(nd(_, _, Bound, Len, _, _, P, N, _, _), Ctx, Best) :-
     ;   true
     ).
 
+%   Refining a node: its clause is proved once on each example it covers,
+%   keeping every answer (the distinct values of its bound variables and
+%   the head's variables, up to tuple_cap/1 per example); a refinement adds
+%   one literal, so it covers an example iff the literal holds for one of
+%   those answers (the first that does ends the test).  Past the cap an
+%   example is tested by proving the whole refined clause.  The values a
+%   lazily evaluated literal collects are the answers projected on its
+%   input variables (cached per variable set).
+
 refine(Node, Ctx, Best0, Best, Children) :-
     Node = nd(_, Last, _, _, _, _, _, _, _, _),
     Ctx = ctx(_, _, _, Bottom, _, _, _, _, _),
     Bottom = bottom(_, _, _, _, NB),
     From is Last + 1,
-    refine_from(From, NB, Node, Ctx, Best0, Best, Children).
+    node_answers(Node, Ctx, X),
+    refine_from(From, NB, Node, X, Ctx, Best0, Best, Children).
 
-refine_from(J, NB, Node, Ctx, Best0, Best, Children) :-
+refine_from(J, NB, Node, X, Ctx, Best0, Best, Children) :-
     (   J > NB
     ->  Best = Best0, Children = []
     ;   \+ budget_left(Ctx)
@@ -939,29 +948,111 @@ refine_from(J, NB, Node, Ctx, Best0, Best, Children) :-
         BL = bl(_, _, In, _, _),
         Node = nd(_, _, Bound, _, _, _, _, _, _, _),
         (   ord_subset(In, Bound)
-        ->  children_of(BL, Node, Ctx, Best0, Best1, Cs, Rest)
+        ->  children_of(BL, Node, X, Ctx, Best0, Best1, Cs, Rest)
         ;   Best1 = Best0, Cs = Rest
         ),
         J1 is J + 1,
         Children = Cs,
-        refine_from(J1, NB, Node, Ctx, Best1, Best, Rest)
+        refine_from(J1, NB, Node, X, Ctx, Best1, Best, Rest)
     ).
 
-children_of(bl(J, Lit, _, Out, none), Node, Ctx, Best0, Best, [Child|T], T) :- !,
-    make_child(J, Lit, Out, Node, Ctx, Child),
-    consider(Child, Ctx, Best0, Best).
-children_of(bl(J, Lit, In, Out, lazy(InPos, CPos)), Node, Ctx, Best0, Best, Cs, T) :-
-    lazy_constants(Lit, In, InPos, CPos, Node, Ctx, Consts),
-    lazy_children(Consts, J, Lit, CPos, Out, Node, Ctx, Best0, Best, Cs, T).
+%   node_answers(+Node, +Ctx, -X): X = x(BV, BIds, VT, PT, NT, cache(Assoc)).
+node_answers(Node, Ctx, x(BV, BIds, VT, PT, NT, cache(A))) :-
+    Node = nd(Body, _, Bound, _, PC, NC, _, _, _, _),
+    Ctx = ctx(_, _, _, bottom(Head, _, HOut, _, _), _, _, _, _, VT),
+    ord_union(Bound, HOut, BIds),
+    vars_of(BIds, VT, BV),
+    maplist(ex_answers(pos, Head, Body, BV), PC, PT),
+    maplist(ex_answers(neg, Head, Body, BV), NC, NT),
+    empty_assoc(A).
 
-lazy_children([], _, _, _, _, _, _, Best, Best, T, T).
-lazy_children([C|Cs], J, Lit, CPos, Out, Node, Ctx, Best0, Best, L, T) :-
+vars_of(Ids, VT, T) :-
+    maplist(var_of(VT), Ids, Vs),
+    T =.. [t|Vs].
+
+var_of(VT, Id, V) :- K is Id + 1, arg(K, VT, V).
+
+tuple_cap(1000).
+
+ex_answers(Set, Head, Body, BV, Id, Id-Ts) :-
+    example_atom(Set, Id, E),
+    tuple_cap(Cap),
+    catch(findall(BV, limit(Cap, (Head = E, prove_body(Body))), L),
+          Err, (coverage_error(Err), L = [])),
+    length(L, N),
+    (   N >= Cap
+    ->  Ts = full
+    ;   sort(L, Ts)
+    ).
+
+%   projection(+X, +Side, +Ids, -IV, -Proj): Proj is Id-Tuples (or Id-full)
+%   for each example of Side covered by the node, the distinct values of the
+%   variables Ids (a subset of the node's bound and head variables) as IV.
+projection(X, Side, Ids, IV, Proj) :-
+    X = x(BV, _, VT, PT, NT, C),
+    vars_of(Ids, VT, IV),
+    C = cache(A0),
+    (   get_assoc(Side-Ids, A0, Proj)
+    ->  true
+    ;   ( Side == pos -> L = PT ; L = NT ),
+        X = x(_, BIds, _, _, _, _),
+        (   Ids = [Id1]
+        ->  nth1(K, BIds, Id1), !,
+            maplist(project1(K), L, Proj)
+        ;   maplist(project(BV, IV), L, Proj)
+        ),
+        put_assoc(Side-Ids, A0, Proj, A1),
+        setarg(1, C, A1)
+    ).
+
+project1(_, Id-full, Id-full) :- !.
+project1(K, Id-Ts, Id-Ps) :-
+    findall(t(V), ( member(T, Ts), arg(K, T, V) ), P0),
+    sort(P0, Ps).
+
+project(_, _, Id-full, Id-full) :- !.
+project(BV, IV, Id-Ts, Id-Ps) :-
+    findall(IV, member(BV, Ts), P0),
+    sort(P0, Ps).
+
+%   child_cover(+Answers, +BV, +Lit, +Set, +Head, +Body1, +Need, -Ids): the
+%   examples of Answers (Id-Tuples of the parent's variables BV) that the
+%   refined clause covers; fails as soon as fewer than Need could be covered.
+child_cover(Proj, IV, Lit, Set, Head, Body1, Need, Ids) :-
+    length(Proj, N),
+    child_cover(Proj, N, Need, IV, Lit, Set, Head, Body1, Ids).
+
+child_cover([], _, _, _, _, _, _, _, []).
+child_cover([Id-Ps|T], Left, Need, IV, Lit, Set, Head, Body1, Ids) :-
+    Left >= Need,
+    Left1 is Left - 1,
+    (   (   Ps == full
+        ->  covers_id(Set, Head, Body1, Id)
+        ;   member(P, Ps),
+            \+ \+ ( IV = P,
+                    catch(call_lit(Lit), E, (coverage_error(E), fail)) )
+        )
+    ->  Ids = [Id|Ids1],
+        Need1 is Need - 1
+    ;   Ids = Ids1,
+        Need1 = Need
+    ),
+    child_cover(T, Left1, Need1, IV, Lit, Set, Head, Body1, Ids1).
+
+children_of(bl(J, Lit, In, Out, none), Node, X, Ctx, Best0, Best, Cs, T) :- !,
+    make_child(J, Lit, In, Out, Node, X, Ctx, Best0, Child),
+    live_child(Child, Ctx, Best0, Best, Cs, T).
+children_of(bl(J, Lit, In, Out, lazy(InPos, CPos)), Node, X, Ctx, Best0, Best, Cs, T) :-
+    lazy_constants(Lit, InPos, CPos, Node, X, Ctx, Consts),
+    lazy_children(Consts, J, Lit, In, CPos, Out, Node, X, Ctx, Best0, Best, Cs, T).
+
+lazy_children([], _, _, _, _, _, _, _, _, Best, Best, T, T).
+lazy_children([C|Cs], J, Lit, In, CPos, Out, Node, X, Ctx, Best0, Best, L, T) :-
     (   budget_left(Ctx)
     ->  set_args(CPos, C, Lit, Lit1),
-        make_child(J, Lit1, Out, Node, Ctx, Child),
-        consider(Child, Ctx, Best0, Best1),
-        L = [Child|L1],
-        lazy_children(Cs, J, Lit, CPos, Out, Node, Ctx, Best1, Best, L1, T)
+        make_child(J, Lit1, In, Out, Node, X, Ctx, Best0, Child),
+        live_child(Child, Ctx, Best0, Best1, L, L1),
+        lazy_children(Cs, J, Lit, In, CPos, Out, Node, X, Ctx, Best1, Best, L1, T)
     ;   Best = Best0, L = T
     ).
 
@@ -979,22 +1070,47 @@ set_args_([A|As], I, Pos, Vals, [B|Bs]) :-
     I1 is I + 1,
     set_args_(As, I1, Pos, Vals, Bs).
 
-make_child(J, Lit, Out, nd(Body, _, Bound, Len, PC, NC, _, _, _, _), Ctx, Child) :-
+%   make_child(..., +Best0, -Child): Child is the refined node, or dead when
+%   it can neither be accepted as better than Best0 nor be refined (fewer
+%   than minpos positives, or too few positives for its best possible score
+%   to reach Best0's); a dead child's negatives are not tested.
+make_child(J, Lit, _In, Out, nd(Body, _, Bound, Len, _, _, _, _, _, _), X, Ctx, Best0, Child) :-
     Ctx = ctx(_, _, Evalfn, bottom(Head, _, _, _, _), _, MinPos, _, _, _),
     append(Body, [Lit], Body1),
     ord_union(Bound, Out, Bound1),
     Len1 is Len + 1,
     count_node,
-    include(covers_id(pos, Head, Body1), PC, PC1),
-    length(PC1, P1),
-    (   P1 >= MinPos
-    ->  include(covers_id(neg, Head, Body1), NC, NC1),
-        length(NC1, N1)
-    ;   NC1 = NC, length(NC, N1)           % pruned: its negatives do not matter
-    ),
-    score(Evalfn, P1, N1, Len1, S),
-    flag(planerel_search_nodes, Seq, Seq),
-    Child = nd(Body1, J, Bound1, Len1, PC1, NC1, P1, N1, S, Seq).
+    X = x(BV, _, _, PT, NT, _),
+    length(PT, NP),
+    pos_needed(Best0, Evalfn, MinPos, Len1, NP, Need),
+    (   child_cover(PT, BV, Lit, pos, Head, Body1, Need, PC1)
+    ->  length(PC1, P1),
+        child_cover(NT, BV, Lit, neg, Head, Body1, 0, NC1),
+        length(NC1, N1),
+        score(Evalfn, P1, N1, Len1, S),
+        flag(planerel_search_nodes, Seq, Seq),
+        Child = nd(Body1, J, Bound1, Len1, PC1, NC1, P1, N1, S, Seq)
+    ;   Child = dead
+    ).
+
+live_child(dead, _, Best, Best, T, T) :- !.
+live_child(Child, Ctx, Best0, Best, [Child|T], T) :-
+    consider(Child, Ctx, Best0, Best).
+
+%   pos_needed(+Best, +Evalfn, +MinPos, +Len, +NP, -Need): the fewest
+%   positives a clause of Len literals (or a refinement of it) must cover to
+%   score at least Best's score (NP + 1 when none can).
+pos_needed(none, _, MinPos, _, _, MinPos) :- !.
+pos_needed(best(BS, _, _), Evalfn, MinPos, Len, NP, Need) :-
+    (   between(MinPos, NP, P),
+        child_max(Evalfn, P, Len, M),
+        M >= BS
+    ->  Need = P
+    ;   Need is NP + 1
+    ).
+
+child_max(compression, P, Len, M) :- !, M is P - Len + 1.
+child_max(Evalfn, P, Len, M) :- bound(Evalfn, P, Len, M).
 
 %   consider(+Node, +Ctx, +Best0, -Best): keep Node if it is acceptable and
 %   better (higher score, then fewer literals, then found earlier).
@@ -1043,27 +1159,33 @@ constraint_error(E) :-
 %   on the covered positives and negatives, call the predicate with
 %   [PosValues, NegValues] in place of each input argument, and use each
 %   answer's constants.
-lazy_constants(Lit, In, InPos, CPos, Node, Ctx, Consts) :-
-    Node = nd(Body, _, _, _, PC, NC, _, _, _, Seq),
+lazy_constants(Lit, InPos, CPos, Node, X, Ctx, Consts) :-
+    Node = nd(Body, _, _, _, _, _, _, _, _, _),
     Ctx = ctx(_, _, _, bottom(Head, _, _, _, _), _, _, _, _, _),
     Lit =.. [_|LitArgs],
     args_at(InPos, LitArgs, InVars),
-    (   InPos = [_], lazy_value_cache(Seq, In, PosT0, NegT0)
-    ->  PosTuples = PosT0, NegTuples = NegT0      % same node, same input variable
-    ;   lazy_values(PC, pos, Head, Body, InVars, PosTuples),
-        lazy_values(NC, neg, Head, Body, InVars, NegTuples),
-        (   InPos = [_]
-        ->  retractall(lazy_value_cache(_, _, _, _)),
-            assertz(lazy_value_cache(Seq, In, PosTuples, NegTuples))
-        ;   true
-        )
+    term_variables(InVars, InVarSet),
+    X = x(_, _, VT, _, _, _),
+    var_ids(InVarSet, VT, Ids0),
+    sort(Ids0, Ids),
+    projection(X, pos, Ids, IV, PProj),
+    lazy_values(PProj, pos, Head, Body, IV, InVars, PosTuples),
+    (   PosTuples == []
+    ->  NegTuples = []
+    ;   projection(X, neg, Ids, IV, NProj),
+        lazy_values(NProj, neg, Head, Body, IV, InVars, NegTuples)
     ),
     (   PosTuples == []
     ->  Consts = []
     ;   Lit =.. [F|As],
         length(As, Ar),
         length(CallArgs, Ar),
-        fill_lazy_args(InPos, 1, PosTuples, NegTuples, CallArgs),
+        (   InPos = [I1]                       % one input: the value lists directly
+        ->  maplist(first_value, PosTuples, PV),
+            maplist(first_value, NegTuples, NV),
+            nth1(I1, CallArgs, [PV, NV])
+        ;   fill_lazy_args(InPos, 1, PosTuples, NegTuples, CallArgs)
+        ),
         Call =.. [F|CallArgs],
         args_at(CPos, CallArgs, CVars),
         fill_fixed(As, CallArgs, InPos, CPos),
@@ -1078,6 +1200,8 @@ lazy_constants(Lit, In, InPos, CPos, Node, Ctx, Consts) :-
             assertz(lazy_cache(Key, Consts))
         )
     ).
+
+first_value([V|_], V).
 
 %   args_at(+Positions, +Args, -Values): the arguments at Positions (shared,
 %   not copied).
@@ -1096,14 +1220,32 @@ fill_fixed(As, CallArgs, InPos, CPos) :-
     forall(( nth1(I, As, A), \+ memberchk(I, InPos), \+ memberchk(I, CPos) ),
            nth1(I, CallArgs, A)).
 
-lazy_values(Ids, Set, Head, Body, InVars, Tuples) :-
-    findall(InVars,
-            ( member(Id, Ids),
-              example_atom(Set, Id, E),
-              catch(limit(50, (Head = E, prove_body(Body))), _, fail)
-            ),
-            Tuples0),
-    include(ground, Tuples0, Tuples).
+%   var_ids(+Vars, +VT, -Ids): the bottom clause's variable numbers of Vars.
+var_ids(Vars, VT, Ids) :-
+    functor(VT, _, N),
+    findall(Id, ( member(V, Vars), between(1, N, K), arg(K, VT, W), W == V, Id is K - 1 ), Ids).
+
+%   lazy_values(+Proj, +Set, +Head, +Body, +IV, +InVars, -Tuples): the
+%   distinct values of InVars in the answers of each covered example (in
+%   example order; Proj is the projection of the answers on InVars' set IV);
+%   an example past the answer cap gives the values of its first 50 proofs.
+lazy_values(Answers, Set, Head, Body, BV, InVars, Tuples) :-
+    foldl(lazy_values_(Set, Head, Body, BV, InVars), Answers, Tuples, []).
+
+lazy_values_(Set, Head, Body, _, InVars, Id-full, T0, T) :- !,
+    example_atom(Set, Id, E),
+    findall(InVars, catch(limit(50, (Head = E, prove_body(Body))), _, fail), L0),
+    include(ground, L0, L),
+    append(L, T, T0).
+lazy_values_(_, _, _, BV, [V], _-Ts, T0, T) :- BV = t(V), !,   % one variable
+    maplist([t(X), [X]]>>true, Ts, L0),
+    include(ground, L0, L),
+    append(L, T, T0).
+lazy_values_(_, _, _, BV, InVars, _-Ts, T0, T) :-
+    findall(InVars, member(BV, Ts), L0),
+    include(ground, L0, L1),
+    sort(L1, L),
+    append(L, T, T0).
 
 example_atom(pos, Id, E) :- pos_ex(Id, E).
 example_atom(neg, Id, E) :- neg_ex(Id, E).
@@ -1155,7 +1297,6 @@ induce :-
     retractall(theory_clause(_, _, _, _, _)),
     retractall(rec_target(_)),
     retractall(lazy_cache(_, _)),
-    retractall(lazy_value_cache(_, _, _, _)),
     statistics(cputime, T0),
     nb_setval(planerel_t0, T0),
     flag(planerel_nodes, _, 0),
@@ -1224,7 +1365,7 @@ cover_loop([]) :- !.
 cover_loop([SeedId|Rest]) :-
     pos_ex(SeedId, Seed),
     functor(Seed, F, A),
-    saturate(Seed, Bottom0),
+    saturate(Seed, Bottom0, VT),
     Bottom0 = bottom(Head, HIn, HOut, LitsT0, NB),
     LitsT0 =.. [_|BLs0],
     maplist(mark_recursive(F/A), BLs0, BLs),
@@ -1232,9 +1373,8 @@ cover_loop([SeedId|Rest]) :-
     Bottom = bottom(Head, HIn, HOut, LitsT, NB),
     include(same_functor(pos, F, A), [SeedId|Rest], PosIds),
     findall(Id, (neg_ex(Id, E), functor(E, F, A)), NegIds),
-    make_ctx(Bottom, Ctx),
+    make_ctx(Bottom, VT, Ctx),
     flag(planerel_search_nodes, _, 0),
-    retractall(lazy_value_cache(_, _, _, _)),
     search_clause(Bottom, PosIds, NegIds, Ctx, Best),
     flag(planerel_search_nodes, Explored, Explored),
     (   Best = best(_, _, nd(Body, _, _, _, PC, _, P, N, _, _))
@@ -1259,7 +1399,7 @@ cover_loop([SeedId|Rest]) :-
 
 same_functor(pos, F, A, Id) :- pos_ex(Id, E), functor(E, F, A).
 
-make_ctx(Bottom, ctx(Search, CL, Evalfn, Bottom, Nodes, MinPos, MinAcc, Noise, none)) :-
+make_ctx(Bottom, VT, ctx(Search, CL, Evalfn, Bottom, Nodes, MinPos, MinAcc, Noise, VT)) :-
     setting(search, Search),
     setting(clauselength, CL),
     setting(evalfn, Evalfn),

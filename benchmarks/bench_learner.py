@@ -1,162 +1,117 @@
-"""Benchmark planerel's learner on the box / stairs / ramp task (one run per class).
+"""Benchmark planerel's learner on the box / stairs / ramp task, against the real Aleph.
 
 Usage
 -----
-    .venv/bin/python benchmarks/bench_learner.py                 # synthetic 45-object task
-    .venv/bin/python benchmarks/bench_learner.py STEM [STEM ...] # exported task(s), e.g. from
-                                                                 # planerel export-aleph
+    .venv/bin/python benchmarks/bench_learner.py                  # the demo's 45-scene set
+    .venv/bin/python benchmarks/bench_learner.py --scenes 1000    # a larger set, same generator
+    .venv/bin/python benchmarks/bench_learner.py --dataset DIR    # an existing data set
+    .venv/bin/python benchmarks/bench_learner.py --thresholds     # counts with lazy thresholds
+    .venv/bin/python benchmarks/bench_learner.py STEM [STEM ...]  # exported Aleph problems
 
-Without stems it writes a relational stand-in for the 45-scene task (15 boxes, 15 staircases,
-15 ramps; planes with orientation, incline, height, counts and step_up links, seeded noise)
-using the task's own mode file ``aleph/modes_objects.pl`` and comparison predicates
-``prolog/compare.pl`` when they are installed, and learns ``box/1``, ``stairs/1`` and
-``ramp/1`` in turn.  It prints, per class, the rules, training accuracy, clauses explored,
-search time and clauses per second, and the total time.  ``--set NAME=VALUE`` overrides
-settings (defaults: those of the mode file).
+Without stems it generates the data set (the demo's: 12 box, 15 stairs, 18 ramp scenes, seed 0,
+640x480 subsampled 4x; ``--scenes N`` scales the three counts), exports it with ``planerel
+export-aleph`` and the relational task file (``aleph/modes_relational.pl``, or ``--task FILE``),
+and learns ``box/1``, ``stairs/1`` and ``ramp/1`` in turn. Per class it prints the training
+accuracy, clauses explored, the learner's search CPU time and the whole process's wall and CPU
+time (SWI-Prolog start-up and loading the ``.b`` included). When the real Aleph is found
+(``PLANEREL_ALEPH=/path/to/aleph_orig.pl``) it runs on the same files in the same run and the
+ratios builtin / Aleph are printed (< 1: planerel's learner is faster). CPU times are the
+figures to compare on a shared machine; wall times depend on the load.
 """
 
 from __future__ import annotations
 
 import argparse
 import re
+import resource
 import sys
 import tempfile
 import time
 from pathlib import Path
 
 CLASSES = ("box", "stairs", "ramp")
-
-FALLBACK_MODES = """\
-:- set(search, heuristic).
-:- set(evalfn, laplace).
-:- set(clauselength, 4).
-:- set(i, 2).
-:- set(nodes, 5000).
-:- set(minpos, 2).
-:- modeb(1, nplanes(+obj, -nplanes)).
-:- modeb(1, nhorizontal(+obj, -nhorizontal)).
-:- modeb(1, nvertical(+obj, -nvertical)).
-:- modeb(1, ninclined(+obj, -ninclined)).
-:- modeb(*, has_plane(+obj, -plane)).
-:- modeb(1, orientation(+plane, #orient)).
-:- modeb(1, incline(+plane, -incline)).
-:- modeb(1, height(+plane, -height)).
-:- modeb(*, step_up(+plane, -plane)).
-:- modeb(1, gteq(+nplanes, #nplanes)).
-:- modeb(1, lteq(+nplanes, #nplanes)).
-:- modeb(1, gteq(+nhorizontal, #nhorizontal)).
-:- modeb(1, lteq(+nhorizontal, #nhorizontal)).
-:- modeb(1, gteq(+ninclined, #ninclined)).
-:- modeb(1, lteq(+ninclined, #ninclined)).
-:- lazy_evaluate(lteq/2).
-:- lazy_evaluate(gteq/2).
-"""
-
-FALLBACK_COMPARE = """\
-gteq([P, N], T) :- !, min_list(P, T0), include(>(T0), N, B),
-    ( B == [] -> T = T0 ; max_list(B, M), T is (T0 + M) / 2 ).
-gteq(X, T) :- number(X), ( var(T) -> T = X ; number(T), X >= T ).
-lteq([P, N], T) :- !, max_list(P, T0), include(<(T0), N, A),
-    ( A == [] -> T = T0 ; min_list(A, M), T is (T0 + M) / 2 ).
-lteq(X, T) :- number(X), ( var(T) -> T = X ; number(T), X =< T ).
-"""
+DEMO_COUNTS = (12, 15, 18)
 
 
-def _resource(package: str, name: str, fallback: str) -> str:
+def _child_cpu() -> float:
+    ru = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return ru.ru_utime + ru.ru_stime
+
+
+def run(stem: Path, engine: str, settings, timeout: float):
+    """One learning run: (LearnResult or None, process CPU seconds, error text)."""
+    from planerel.errors import PlanerelError
+    from planerel.learn import learn
+
+    c0 = _child_cpu()
+    try:
+        r = learn(stem, engine=engine, settings=settings, timeout=timeout)
+    except PlanerelError as exc:
+        return None, _child_cpu() - c0, str(exc)
+    return r, _child_cpu() - c0, ""
+
+
+def aleph_search_seconds(output: str) -> float | None:
+    """Aleph's own ``[time taken] [S]`` (induce), when its printout has it."""
+    m = re.findall(r"\[time taken\]\s*\[([0-9.eE+-]+)\]", output)
+    return float(m[-1]) if m else None
+
+
+def counts_as_thresholds(src: Path, dest: Path) -> Path:
+    """A harder variant of a task file: the plane counts as numbers compared with lazily
+    evaluated lteq/gteq thresholds (``nhorizontal(+obj, -nhorizontal)``, ``lteq(+nhorizontal,
+    #nhorizontal)``) instead of constants; bottom clauses grow and searches run longer."""
+    text = src.read_text()
+    extra = []
+    for name in ("nhorizontal", "nvertical", "ninclined"):
+        text = text.replace(f"{name}(+obj, #{name})", f"{name}(+obj, -{name})")
+        extra += [f":- modeb(1, gteq(+{name}, #{name})).", f":- modeb(1, lteq(+{name}, #{name}))."]
+    dest.write_text(text + "\n% counts compared with thresholds (bench_learner.py --thresholds)\n"
+                    + "\n".join(extra) + "\n")
+    return dest
+
+
+def make_task(folder: Path, scenes: int, dataset: str | None, task: str | None, seed: int,
+              thresholds: bool = False) -> list[Path]:
     from importlib.resources import files
 
-    try:
-        return files(package).joinpath(name).read_text()
-    except (FileNotFoundError, ModuleNotFoundError):
-        return fallback
+    from planerel.aleph_export import export_dataset
+    from planerel.synth import generate_dataset
 
-
-def synthetic_objects(n_per_class: int = 15, seed: int = 0, max_steps: int = 6):
-    """A list of ``(obj_id, cls, planes, step_ups)``; planes are ``(pid, orient, incline, height)``."""
-    import numpy as np
-
-    rng = np.random.default_rng(seed)
-    objs = []
-    k = 0
-    for i in range(n_per_class * len(CLASSES)):
-        cls = CLASSES[i % len(CLASSES)]
-        k += 1
-        sid = f"s{k:04d}"
-        planes = []
-        ups = []
-
-        def add(orient, incline, height, sid=sid, planes=planes):
-            pid = f"{sid}_p{len(planes):02d}"
-            planes.append((pid, orient, round(float(incline), 1), round(float(height), 3)))
-            return pid
-
-        if cls == "box":
-            top = rng.uniform(0.3, 0.9)
-            add("horizontal", rng.normal(0, 1.5), top)
-            for _ in range(int(rng.integers(1, 3))):
-                add("vertical", 90 + rng.normal(0, 1.5), top / 2)
-            if rng.random() < 0.15:                       # a spurious small plane (noise)
-                add("inclined", rng.uniform(20, 40), top * rng.uniform(0.3, 0.9))
-        elif cls == "stairs":
-            rise = rng.uniform(0.15, 0.2)
-            treads = []
-            for s in range(int(rng.integers(3, max_steps + 1))):
-                add("vertical", 90 + rng.normal(0, 1.5), (s + 0.5) * rise)
-                treads.append(add("horizontal", rng.normal(0, 1.5), (s + 1) * rise))
-            ups = list(zip(treads[:-1], treads[1:], strict=True))
-            if rng.random() < 0.3:
-                add("vertical", 90 + rng.normal(0, 1.5), rng.uniform(0.2, 0.6))  # a side wall
-        else:
-            h = rng.uniform(0.2, 0.5)
-            add("inclined", rng.uniform(8, 30), h / 2)
-            for _ in range(int(rng.integers(0, 3))):
-                add("vertical", 90 + rng.normal(0, 1.5), h / 3)
-            if rng.random() < 0.2:
-                add("horizontal", rng.normal(0, 1.5), h)   # a landing at the top
-        objs.append((f"{sid}_o1", cls, planes, ups))
-    return objs
-
-
-def write_task(folder: Path, objs, target: str) -> Path:
-    """Write ``folder/target.b/.f/.n`` for one class; return the stem."""
-    modes = _resource("planerel.aleph", "modes_objects.pl", FALLBACK_MODES)
-    compare = _resource("planerel.prolog", "compare.pl", FALLBACK_COMPARE)
-    preds = sorted({f"{m.group(1)}/{len(m.group(2).split(','))}"
-                    for m in re.finditer(r"^:- modeb\(\s*[^,]+,\s*([a-z]\w*)\((.*)\)\)\.",
-                                         modes, re.M)})
-    lines = [f"% synthetic box/stairs/ramp stand-in, target {target}/1", "",
-             f":- modeh(1, {target}(+obj)).", modes, ""]
-    lines += [f":- determination({target}/1, {p})." for p in preds]
-    lines += ["", compare, ""]
-    facts: list[str] = []
-    for oid, _cls, planes, ups in objs:
-        counts = {o: sum(1 for p in planes if p[1] == o) for o in ("horizontal", "vertical", "inclined")}
-        facts += [f"nplanes({oid}, {len(planes)}).", f"nhorizontal({oid}, {counts['horizontal']}).",
-                  f"nvertical({oid}, {counts['vertical']}).", f"ninclined({oid}, {counts['inclined']})."]
-        for pid, orient, inc, h in planes:
-            facts += [f"has_plane({oid}, {pid}).", f"orientation({pid}, {orient}).",
-                      f"incline({pid}, {inc!r}).", f"height({pid}, {h!r})."]
-        facts += [f"step_up({p}, {q})." for p, q in ups]
-    # group clauses by predicate (no discontiguous clauses)
-    facts.sort(key=lambda f: f.split("(")[0])
-    lines += facts
-    (folder / f"{target}.b").write_text("\n".join(lines) + "\n")
-    (folder / f"{target}.f").write_text("".join(f"{target}({o}).\n" for o, c, _, _ in objs if c == target))
-    (folder / f"{target}.n").write_text("".join(f"{target}({o}).\n" for o, c, _, _ in objs if c != target))
-    return folder / target
+    if dataset is None:
+        k = scenes / sum(DEMO_COUNTS)
+        nb, ns, nr = (max(1, round(c * k)) for c in DEMO_COUNTS)
+        t0 = time.perf_counter()
+        dataset = str(generate_dataset(folder / "data", n_box=nb, n_stairs=ns, n_ramp=nr, seed=seed,
+                                       size=(640, 480), subsample=4))
+        print(f"data set: {nb} box, {ns} stairs, {nr} ramp scenes (seed {seed}), generated in "
+              f"{time.perf_counter() - t0:.1f} s")
+    if task is None:
+        rel = files("planerel.aleph").joinpath("modes_relational.pl")
+        task = str(rel) if rel.is_file() else None
+    if thresholds and task is not None:
+        task = str(counts_as_thresholds(Path(task), folder / "task_thresholds.pl"))
+    print(f"task file: {task or 'planerel default (aleph/modes_objects.pl)'}")
+    export_dataset(dataset, folder / "aleph", target="all", task=task)
+    return [folder / "aleph" / c for c in CLASSES]
 
 
 def main(argv=None) -> int:
-    from planerel.learn import learn, parse_settings
+    from planerel.learn import find_aleph, parse_settings
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("stems", nargs="*", help="Aleph problem stems (default: the synthetic task)")
-    ap.add_argument("--set", action="append", default=[], dest="settings", metavar="NAME=VALUE")
+    ap.add_argument("stems", nargs="*", help="Aleph problem stems (default: export a data set)")
+    ap.add_argument("--scenes", type=int, default=sum(DEMO_COUNTS),
+                    help="scenes to generate (default 45, the demo's set)")
+    ap.add_argument("--dataset", help="an existing data set instead of generating one")
+    ap.add_argument("--task", help="task file for the export (default aleph/modes_relational.pl)")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--keep", metavar="DIR", help="write the synthetic task here and keep it")
-    ap.add_argument("--max-steps", type=int, default=6,
-                    help="most steps of a synthetic staircase (12 gives ~25-plane objects and "
-                         "bottom clauses of 150+ literals)")
+    ap.add_argument("--thresholds", action="store_true",
+                    help="harder variant: plane counts compared with lazy lteq/gteq thresholds")
+    ap.add_argument("--keep", metavar="DIR", help="write data and task here and keep them")
+    ap.add_argument("--set", action="append", default=[], dest="settings", metavar="NAME=VALUE")
+    ap.add_argument("--timeout", type=float, default=600.0, help="seconds per learning run")
+    ap.add_argument("--no-aleph", action="store_true", help="do not run the real Aleph")
     args = ap.parse_args(argv)
     settings = parse_settings(args.settings)
 
@@ -170,26 +125,48 @@ def main(argv=None) -> int:
         else:
             tmp = tempfile.TemporaryDirectory(prefix="planerel-bench-")
             folder = Path(tmp.name)
-        objs = synthetic_objects(seed=args.seed, max_steps=args.max_steps)
-        stems = [write_task(folder, objs, c) for c in CLASSES]
-    total_wall = total_search = 0.0
-    total_nodes = 0
-    t0 = time.perf_counter()
+        stems = make_task(folder, args.scenes, args.dataset, args.task, args.seed, args.thresholds)
+    aleph = None if args.no_aleph else find_aleph()
+    if aleph is None and not args.no_aleph:
+        print("real Aleph: not found (set PLANEREL_ALEPH=/path/to/aleph_orig.pl to compare)")
+    elif aleph is not None:
+        print(f"real Aleph: {aleph[1]}")
+
+    totals = {"builtin": [0.0, 0.0, 0.0], "aleph": [0.0, 0.0, 0.0]}   # wall, cpu, search
     for stem in stems:
-        r = learn(stem, settings=settings, timeout=300)
-        total_wall += r.seconds
-        total_search += r.search_seconds or 0.0
-        total_nodes += r.clauses_explored or 0
-        print(f"== {stem.name}: train accuracy {r.accuracy:.3f} "
-              f"(tp {r.train.tp} fn {r.train.fn} fp {r.train.fp} tn {r.train.tn}), "
-              f"{r.clauses_explored} clauses, search {r.search_seconds:.2f} s, "
-              f"{r.nodes_per_second:.0f} clauses/s, wall {r.seconds:.2f} s")
-        for rule in r.rules:
-            print("   ", rule)
-    elapsed = time.perf_counter() - t0
-    print(f"total: {len(stems)} classes, {total_nodes} clauses explored, search {total_search:.2f} s "
-          f"({total_nodes / max(total_search, 1e-9):.0f} clauses/s), learner wall {total_wall:.2f} s, "
-          f"elapsed {elapsed:.2f} s")
+        engines = ["builtin"] + (["aleph"] if aleph else [])
+        res = {}
+        for engine in engines:
+            r, cpu, err = run(stem, engine, settings, args.timeout)
+            res[engine] = (r, cpu)
+            if r is None:
+                print(f"== {stem.name} [{engine}]: {err}")
+                continue
+            search = r.search_seconds if engine == "builtin" else aleph_search_seconds(r.output)
+            t = totals[engine]
+            t[0] += r.seconds
+            t[1] += cpu
+            t[2] += search or 0.0
+            print(f"== {stem.name} [{engine}]: train accuracy {r.accuracy:.3f} "
+                  f"(tp {r.train.tp} fn {r.train.fn} fp {r.train.fp} tn {r.train.tn}), "
+                  f"{r.clauses_explored} clauses, search {search if search is not None else float('nan'):.3f} s, "
+                  f"process {cpu:.2f} s CPU / {r.seconds:.2f} s wall, {len(r.rules)} rules")
+            for rule in r.rules[:6]:
+                print("     ", rule)
+            if len(r.rules) > 6:
+                print(f"      ... {len(r.rules) - 6} more")
+        if all(res.get(e, (None,))[0] is not None for e in ("builtin", "aleph")):
+            b, a = res["builtin"][1], res["aleph"][1]
+            print(f"   ratio builtin/Aleph, process CPU: {b / a:.2f}")
+    b = totals["builtin"]
+    print(f"total builtin: process {b[1]:.2f} s CPU / {b[0]:.2f} s wall, search {b[2]:.2f} s "
+          f"({len(stems)} classes; target <= 5 s on the 45-scene set)")
+    if aleph:
+        a = totals["aleph"]
+        print(f"total Aleph:   process {a[1]:.2f} s CPU / {a[0]:.2f} s wall, search {a[2]:.2f} s")
+        if a[1] > 0:
+            print(f"ratio builtin/Aleph: process CPU {b[1] / a[1]:.2f}, wall {b[0] / max(a[0], 1e-9):.2f}, "
+                  f"search {b[2] / max(a[2], 1e-9):.2f}")
     if tmp is not None:
         tmp.cleanup()
     return 0

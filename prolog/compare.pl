@@ -49,19 +49,41 @@ planerel_cutoff(Dir, Pos0, Neg0, T) :-
     append(Pos, Neg, All0),
     sort(All0, All),                      % distinct values, ascending
     sort(Pos, PosValues),
-    findall(Score-NegKept-V,
-            ( member(V, PosValues),
-              planerel_kept(Dir, V, Pos, P),
-              planerel_kept(Dir, V, Neg, N),
-              Score is P - N,
-              NegKept is -N ),
-            Scored),
+    msort(Pos, PosSorted),
+    msort(Neg, NegSorted),
+    planerel_counts(Dir, PosValues, PosSorted, PCounts),
+    planerel_counts(Dir, PosValues, NegSorted, NCounts),
+    planerel_scored(PosValues, PCounts, NCounts, Scored),
     max_member(_-_-Best, Scored),
     planerel_neighbour(Dir, Best, All, Next),
     planerel_between(Dir, Best, Next, All, T).
 
-planerel_kept(le, V, Xs, K) :- aggregate_all(count, (member(X, Xs), X =< V), K).
-planerel_kept(ge, V, Xs, K) :- aggregate_all(count, (member(X, Xs), X >= V), K).
+%   planerel_counts(+Dir, +Values, +Sorted, -Counts): for each of the
+%   ascending Values, how many of the ascending list Sorted are kept
+%   (le: =< V; ge: >= V), in one sweep.
+planerel_counts(le, Vs, Sorted, Counts) :-
+    planerel_sweep(Vs, Sorted, 0, =<, Counts).
+planerel_counts(ge, Vs, Sorted, Counts) :-
+    length(Sorted, N),
+    planerel_sweep(Vs, Sorted, 0, <, Below),
+    maplist([B, C]>>(C is N - B), Below, Counts).
+
+planerel_sweep([], _, _, _, []).
+planerel_sweep([V|Vs], S0, K0, Op, [K|Ks]) :-
+    planerel_skip(S0, V, K0, Op, S, K),
+    planerel_sweep(Vs, S, K, Op, Ks).
+
+planerel_skip([X|Xs], V, K0, Op, S, K) :-
+    call(Op, X, V), !,
+    K1 is K0 + 1,
+    planerel_skip(Xs, V, K1, Op, S, K).
+planerel_skip(S, _, K, _, S, K).
+
+planerel_scored([], [], [], []).
+planerel_scored([V|Vs], [P|Ps], [N|Ns], [Score-NegKept-V|T]) :-
+    Score is P - N,
+    NegKept is -N,
+    planerel_scored(Vs, Ps, Ns, T).
 
 % the next value beyond Best in the direction that is cut off (none: Best itself)
 planerel_neighbour(le, Best, All, Next) :-

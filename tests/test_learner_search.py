@@ -1,0 +1,101 @@
+"""The learner's fast paths (issue 17, item 2) against independent computations.
+
+* coverage of a refinement from its parent's answers, including examples with more answers than
+  the learner keeps (the whole clause is then proved);
+* the lazy cut-off of ``prolog/compare.pl`` (one sweep over sorted values) against a brute-force
+  Python version of its documented definition.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+import shutil
+import subprocess
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+
+from planerel.learn import Confusion, learn
+
+pytestmark = pytest.mark.skipif(shutil.which("swipl") is None, reason="SWI-Prolog not installed")
+
+COMPARE = Path(__file__).resolve().parents[1] / "prolog" / "compare.pl"
+
+
+def test_coverage_past_the_answer_cap(tmp_path):
+    # 8 objects of 34 items; the clause item(A,B), item(A,C) has 34 * 34 = 1156 answers per object,
+    # more than the 1000 the learner keeps, so its refinements are tested by full proofs.
+    # Objects 0, 3, 5 have a red and a blue item (the positives); the others one colour or none.
+    kinds = ["both", "red", "blue", "both", "none", "both", "red", "blue"]
+    b = [":- set(i, 2).", ":- set(clauselength, 5).", ":- set(search, heuristic).",
+         ":- set(evalfn, laplace).", ":- set(nodes, 20000).",
+         ":- modeh(1, two_colours(+obj)).", ":- modeb(*, item(+obj, -item)).",
+         ":- modeb(1, colour(+item, #colour)).",
+         ":- determination(two_colours/1, item/2).", ":- determination(two_colours/1, colour/2)."]
+    items, colours, pos, neg = [], [], [], []
+    for k, kind in enumerate(kinds):
+        for i in range(34):
+            items.append(f"item(o{k}, o{k}_{i}).")
+            c = "red" if i == 3 and kind in ("both", "red") else \
+                "blue" if i == 20 and kind in ("both", "blue") else "green"
+            colours.append(f"colour(o{k}_{i}, {c}).")
+        (pos if kind == "both" else neg).append(f"two_colours(o{k}).\n")
+    (tmp_path / "cap.b").write_text("\n".join(b + items + colours) + "\n")
+    (tmp_path / "cap.f").write_text("".join(pos))
+    (tmp_path / "cap.n").write_text("".join(neg))
+    r = learn(tmp_path / "cap")
+    assert [c.replace(" ", "") for c in r.rules] == [
+        "two_colours(A):-item(A,B),item(A,C),colour(B,red),colour(C,blue)."]
+    assert r.train == Confusion(tp=3, fn=0, fp=0, tn=5)
+    assert "[pos cover = 3, neg cover = 0]" in r.output      # the search's own count
+
+
+# --------------------------------------------------------------------------- lazy cut-off
+
+
+def _round_away(x: float) -> int:
+    return int(math.floor(abs(x) + 0.5)) * (1 if x >= 0 else -1)
+
+
+def cutoff(direction: str, pos: list, neg: list):
+    """The documented cut-off: the positive value V maximising (positives kept - negatives
+    kept), then keeping fewest negatives, then the largest V; then the shortest decimal strictly
+    between V and the next value beyond it (V itself when every value is an integer)."""
+    def kept(v, xs):
+        return sum(1 for x in xs if (x <= v if direction == "le" else x >= v))
+    best = max(sorted(set(pos)), key=lambda v: (kept(v, pos) - kept(v, neg), -kept(v, neg), v))
+    values = sorted(set(pos + neg))
+    beyond = [x for x in values if (x > best if direction == "le" else x < best)]
+    nxt = (min(beyond) if direction == "le" else max(beyond)) if beyond else best
+    if all(isinstance(x, int) for x in values) or nxt == best:
+        return best
+    mid = (best + nxt) / 2
+    for d in range(7):
+        scale = 10.0 ** d
+        t = _round_away(mid * scale) / scale
+        if (best < t < nxt) if direction == "le" else (nxt < t < best):
+            return t
+    return float(mid)
+
+
+def test_cutoff_matches_its_definition_on_random_lists(tmp_path):
+    rng = random.Random(17)
+
+    def values(n):   # integers and halves, never an integer equal to a float
+        return [rng.randint(0, 6) if rng.random() < 0.4 else rng.randint(0, 60) / 10 + 0.05
+                for _ in range(n)]
+
+    cases = [(d, values(rng.randint(1, 9)), values(rng.randint(0, 9)))
+             for _ in range(150) for d in ("le", "ge")]
+    goals = "".join(f"(planerel_cutoff({d}, {p}, {n}, T{i}) -> writeq(T{i}) ; write(none)), nl, "
+                    for i, (d, p, n) in enumerate(cases))
+    proc = subprocess.run(["swipl", "-q", "-g", f"consult('{COMPARE}'), {goals} halt", "-t", "halt(1)"],
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    got = proc.stdout.split()
+    assert len(got) == len(cases)
+    for (d, p, n), text in zip(cases, got, strict=True):
+        want = cutoff(d, p, n)
+        assert Fraction(text) == pytest.approx(Fraction(want), abs=1e-9), (d, p, n, text, want)
