@@ -432,6 +432,7 @@ def _reserved_names(names: tuple) -> list:
     learner then fails with its own clear error)."""
     import subprocess
 
+    from planerel.children import child_preexec
     from planerel.errors import DependencyError
     from planerel.learn import find_swipl
     from planerel.pipeline import support_files
@@ -445,7 +446,8 @@ def _reserved_names(names: tuple) -> list:
             "forall(( member(N, Names), planerel_reserved_class(N) ), writeln(N))")
     try:
         proc = subprocess.run([exe, "-q", "-g", goal, "-t", "halt", "--", classify_pl, *names],
-                              capture_output=True, text=True, timeout=60, check=False)
+                              capture_output=True, text=True, timeout=60, check=False,
+                              preexec_fn=child_preexec(60))
     except (OSError, subprocess.TimeoutExpired):
         return []
     found = set(proc.stdout.split())

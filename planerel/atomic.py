@@ -1,19 +1,29 @@
-"""Atomic file writing: a temporary file in the target's folder, then ``os.replace``.
+"""Atomic writing of files and folders.
 
-An interrupted run never leaves a half-written file under the final name.
+A file is written to a temporary file in the target's folder, then moved onto it with
+``os.replace``; a folder (a data set, a model) is built in a hidden sibling ``.NAME.tmp-PID-*`` and swapped with
+the old one in one step (``renameat2(RENAME_EXCHANGE)`` on Linux).  A run that is interrupted,
+killed or fails leaves the previous state or nothing, never a mix; the leftovers of a SIGKILLed
+run are removed (or, for a folder caught between two renames, restored) by the next write of the
+same target.
 """
 
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import ctypes.util
+import errno
 import os
+import re
+import shutil
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
 from planerel.errors import InputError
 
-__all__ = ["atomic_path", "write_bytes", "write_text"]
+__all__ = ["atomic_path", "atomic_dir", "recover_dir", "write_bytes", "write_text"]
 
 
 def _file_mode() -> int:
@@ -67,3 +77,121 @@ def write_bytes(path, data: bytes) -> Path:
 def write_text(path, text: str) -> Path:
     """Write UTF-8 ``text`` to ``path`` atomically; return the path."""
     return write_bytes(path, text.encode("utf-8"))
+
+
+_RENAME_EXCHANGE = 2
+_AT_FDCWD = -100
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two paths in one step (Linux renameat2); False when the system cannot."""
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        fn = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    if fn(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE) == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP):
+        return False
+    raise OSError(err, os.strerror(err), str(b))
+
+
+def _pid_alive(pid: int) -> bool:
+    from planerel.children import pid_alive
+
+    return pid_alive(pid)
+
+
+def recover_dir(path) -> None:
+    """Clean up after a killed folder write of ``path``: remove ``.NAME.tmp-PID-*`` siblings of
+    processes that are gone; an ``.NAME.old-PID-*`` sibling is moved back to ``NAME`` when the
+    kill came between the two renames (``NAME`` missing), else removed."""
+    target = Path(path)
+    pat = re.compile(rf"\.{re.escape(target.name)}\.(tmp|old)-(\d+)-")
+    try:
+        entries = sorted(os.scandir(target.parent if str(target.parent) else "."),
+                         key=lambda e: e.name)
+    except OSError:
+        return
+    for entry in entries:
+        m = pat.match(entry.name)
+        if not m or _pid_alive(int(m.group(2))):
+            continue
+        if m.group(1) == "old" and not target.exists():
+            with contextlib.suppress(OSError):
+                os.replace(entry.path, target)
+                continue
+        shutil.rmtree(entry.path, ignore_errors=True)
+
+
+def _looks_like(folder: Path, markers) -> bool:
+    try:
+        names = set(os.listdir(folder))
+    except OSError:
+        return False
+    return not names or any(m in names for m in markers)
+
+
+@contextlib.contextmanager
+def atomic_dir(path, *, markers=()) -> Iterator[Path]:
+    """Yield an empty hidden folder next to ``path``; when the block ends normally it replaces
+    ``path`` in one step; on any exception (Ctrl-C and SIGTERM too) it is removed and ``path``
+    is untouched.
+
+    Parameters
+    ----------
+    path : path
+        The folder to (re)create.
+    markers : sequence of str
+        File names of which an existing, non-empty ``path`` must hold one to be replaced
+        (e.g. ``manifest.csv`` for a data set): a folder of something else is never deleted.
+
+    Raises
+    ------
+    InputError
+        ``path`` is a file, or a non-empty folder without any of ``markers``, or its parent
+        cannot be created.
+    """
+    target = Path(path)
+    folder = target.parent if str(target.parent) else Path(".")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create folder {folder}: {exc.strerror}") from None
+    recover_dir(target)
+    if target.exists():
+        if not target.is_dir():
+            raise InputError(f"{target}: exists and is not a folder")
+        if markers and not _looks_like(target, markers):
+            raise InputError(f"{target}: exists and holds something else (none of "
+                             f"{', '.join(markers)}); choose a new folder or empty it")
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-{os.getpid()}-", dir=folder))
+    os.chmod(tmp, 0o777 & ~_umask())
+    try:
+        yield tmp
+        _swap_in(tmp, target)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def _swap_in(tmp: Path, target: Path) -> None:
+    if not target.exists():
+        os.replace(tmp, target)
+        return
+    if _exchange(tmp, target):
+        shutil.rmtree(tmp, ignore_errors=True)  # now the old folder
+        return
+    old = Path(tempfile.mkdtemp(prefix=f".{target.name}.old-{os.getpid()}-", dir=target.parent))
+    os.replace(target, old)  # replaces the empty placeholder
+    os.replace(tmp, target)
+    shutil.rmtree(old, ignore_errors=True)

@@ -127,7 +127,12 @@ class _Pool:
     client: object = None
 
     def close(self, cancel: bool = False) -> None:
-        self.executor.shutdown(wait=not cancel, cancel_futures=cancel)
+        if cancel and isinstance(self.executor, ProcessPoolExecutor):
+            from planerel.children import stop_pool
+
+            stop_pool(self.executor)  # interrupted: kill the workers, do not wait for them
+        else:
+            self.executor.shutdown(wait=not cancel, cancel_futures=cancel)
         if self.client is not None:
             self.client.close()
 
@@ -173,7 +178,9 @@ def make_executor(jobs: int | None = None, scheduler: str | None = None,
         from multiprocessing import get_context
 
         ctx = get_context(mp_context)
-    return _Pool(ProcessPoolExecutor(max_workers=n, mp_context=ctx), n)
+    from planerel.children import pool_options
+
+    return _Pool(ProcessPoolExecutor(max_workers=n, mp_context=ctx, **pool_options()), n)
 
 
 @dataclass(frozen=True)

@@ -294,14 +294,20 @@ def _check_stem(stem) -> str:
 
 
 def run_process(cmd: list[str], timeout: float, what: str, cwd: str | None = None):
-    """Run ``cmd`` in its own process group; kill the group when ``timeout`` passes."""
+    """Run ``cmd`` in its own process group; kill the group when ``timeout`` passes or this
+    process is interrupted.  The child also dies with this process (even a SIGKILLed one) and
+    has its own CPU-time limit (:func:`planerel.children.child_preexec`)."""
+    from planerel.children import child_preexec, register_child, unregister_child
+
     start = time.perf_counter()
     try:
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                stdin=subprocess.DEVNULL, start_new_session=True, cwd=cwd)
+                                stdin=subprocess.DEVNULL, start_new_session=True, cwd=cwd,
+                                preexec_fn=child_preexec(timeout))
     except OSError as exc:
         raise LearnerError(f"cannot start {cmd[0]}: {exc.strerror}") from None
     try:
+        register_child(proc)
         out, err = proc.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
         try:
@@ -317,6 +323,8 @@ def run_process(cmd: list[str], timeout: float, what: str, cwd: str | None = Non
             pass
         proc.communicate()
         raise
+    finally:
+        unregister_child(proc)
     seconds = time.perf_counter() - start
     return proc.returncode, out.decode("utf-8", "replace"), err.decode("utf-8", "replace"), seconds
 
@@ -426,10 +434,11 @@ def learn(
     else:
         kind, where = aleph
         detail = f"aleph ({'library(aleph)' if where == 'library' else where}, {kind})"
-        import tempfile
 
         resource = files("planerel.aleph").joinpath("learner_aleph.pl")
-        with tempfile.TemporaryDirectory(prefix="planerel-aleph-") as tmp, as_file(resource) as pl:
+        from planerel.children import temp_dir
+
+        with temp_dir("aleph") as tmp, as_file(resource) as pl:
             rules_file = str(Path(tmp) / "rules.pl")
             cmd = [exe, "-q", str(pl), "--", kind, where, abs_stem, rules_file, *set_args]
             code, out, err, secs = run_process(cmd, timeout, f"Aleph on {stem_text}",

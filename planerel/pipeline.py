@@ -15,9 +15,7 @@ import functools
 import hashlib
 import json
 import os
-import shutil
 import sys
-import tempfile
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
@@ -25,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from planerel.children import temp_dir
 from planerel.errors import InputError, PrologError
 
 __all__ = [
@@ -308,7 +307,7 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         raise InputError(f"learning needs at least two classes, got {', '.join(classes) or 'none'}")
     tmp = None
     if work_dir is None:
-        tmp = tempfile.TemporaryDirectory(prefix="planerel-learn-")
+        tmp = temp_dir("learn")
         work_dir = tmp.name
     try:
         export_aleph(descs, work_dir, "all", classes=list(classes), task=task, settings=settings)
@@ -392,7 +391,7 @@ def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
     from planerel.terms import Term, atom, plist
 
     swipl = find_swipl()
-    with tempfile.TemporaryDirectory(prefix="planerel-predict-") as tmp:
+    with temp_dir("predict") as tmp:
         facts = Path(tmp) / "facts.pl"
         facts.write_text(facts_text(descs, FactParams(pairs=PAIRS, planner=False)))
         rules = Path(tmp) / "rules.pl"
@@ -687,13 +686,21 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         else:
             from concurrent.futures import ThreadPoolExecutor
 
-            with ThreadPoolExecutor(n_jobs) as pool:
+            from planerel.children import stop_children
+
+            pool = ThreadPoolExecutor(n_jobs)
+            try:
                 futures = [pool.submit(run_fold, f) for f in range(folds)]
                 fold_reports = []
                 for fut in futures:
                     fold_reports.append(fut.result())
                     if bar is not None:
                         bar.update(1)
+            except BaseException:  # a failed fold, Ctrl-C, SIGTERM: stop the others' learners
+                with stop_children():
+                    pool.shutdown(wait=True, cancel_futures=True)
+                raise
+            pool.shutdown()
     finally:
         if bar is not None:
             bar.close()
@@ -762,20 +769,6 @@ def evaluate_learning(dataset_dir, *, method: str = "regiongrow", seg_params: di
 # ----------------------------------------------------------------------------- model folder
 
 
-def _replace_dir(tmp: Path, out: Path) -> None:
-    """Move the finished folder ``tmp`` to ``out``; an existing ``out`` is replaced only once the
-    new one is complete."""
-    old = None
-    if out.exists():
-        if not out.is_dir():
-            raise InputError(f"{out}: exists and is not a folder")
-        old = out.with_name(f".{out.name}.old-{os.getpid()}")
-        os.replace(out, old)
-    os.replace(tmp, out)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-
-
 def draw_confusion(path, confusion, classes, *, title: str = "") -> Path:
     """Write a confusion matrix as a PNG (rows: true class; columns: predicted)."""
     from PIL import Image, ImageDraw
@@ -824,7 +817,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     dict
         The metrics written to ``metrics.json``.
     """
-    from planerel.atomic import write_text
+    from planerel.atomic import atomic_dir, write_text
     from planerel.writers import write_json
 
     out = Path(out_dir)
@@ -836,9 +829,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     t_describe = time.perf_counter() - t0
     for s in skipped:
         log(f"note: {s}")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
-    try:
+    with atomic_dir(out, markers=("rules.pl", "metrics.json")) as tmp:
         metrics: dict = {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
                          "seg_params": dict(seg_params or {}), "seed": seed,
                          "n_scenes": len(descs),
@@ -864,8 +855,4 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                   f"segmentation: {method}, engine: {model.engine})")
         write_text(tmp / "rules.pl", model.text(header))
         write_json(tmp / "metrics.json", metrics)
-        _replace_dir(tmp, out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     return metrics

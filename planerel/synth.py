@@ -909,6 +909,7 @@ def generate_dataset(out_dir, n_box: int = 12, n_stairs: int = 15, n_ramp: int =
     Path
         ``out_dir``.
     """
+    from planerel.atomic import atomic_dir
     from planerel.dataset import write_dataset_info, write_manifest, write_scene
 
     counts = {"box": n_box, "stairs": n_stairs, "ramp": n_ramp}
@@ -941,25 +942,27 @@ def generate_dataset(out_dir, n_box: int = 12, n_stairs: int = 15, n_ramp: int =
         from tqdm import tqdm
 
         it = tqdm(it, desc="scenes", unit="scene")
-    for i in it:
-        kind = jobs[i][0]
+    # built aside and swapped in whole: a killed run leaves the previous set or none, never a mix
+    with atomic_dir(out, markers=("manifest.csv", "dataset.json")) as tmp:
+        for i in it:
+            kind = jobs[i][0]
+            if world == "paper":
+                scene = generate_scene(kind, scene_seed(seed, i), size, subsample,
+                                       scene_id=f"s{i:04d}", sensor=sensor, camera=camera)
+            else:
+                scene = generate_world_scene(kind, scene_seed(seed, i), size, subsample,
+                                             scene_id=f"s{i:04d}", sensor=sensor, ranges=ranges)
+            rows.append(write_scene(tmp, scene))
+        write_manifest(tmp, rows)
+        info = {
+            "format": "planerel-synth-dataset", "version": 1, "seed": seed,
+            "counts": counts, "size": list(_check_size(size)), "subsample": int(subsample),
+            "sensor": sensor.to_dict(),
+        }
         if world == "paper":
-            scene = generate_scene(kind, scene_seed(seed, i), size, subsample,
-                                   scene_id=f"s{i:04d}", sensor=sensor, camera=camera)
+            info["camera"] = camera.to_dict()
         else:
-            scene = generate_world_scene(kind, scene_seed(seed, i), size, subsample,
-                                         scene_id=f"s{i:04d}", sensor=sensor, ranges=ranges)
-        rows.append(write_scene(out, scene))
-    write_manifest(out, rows)
-    info = {
-        "format": "planerel-synth-dataset", "version": 1, "seed": seed,
-        "counts": counts, "size": list(_check_size(size)), "subsample": int(subsample),
-        "sensor": sensor.to_dict(),
-    }
-    if world == "paper":
-        info["camera"] = camera.to_dict()
-    else:
-        info["world"] = world
-        info["world_ranges"] = ranges.to_dict()
-    write_dataset_info(out, info)
+            info["world"] = world
+            info["world_ranges"] = ranges.to_dict()
+        write_dataset_info(tmp, info)
     return out

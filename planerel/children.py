@@ -1,0 +1,194 @@
+"""Child processes that die with their parent, and temporary folders that do not outlive it.
+
+* :func:`die_with_parent` asks Linux to SIGKILL the calling process when its parent dies
+  (``PR_SET_PDEATHSIG``), even when the parent is SIGKILLed and runs no cleanup;
+* :func:`child_preexec` does that for a ``swipl`` started by :mod:`subprocess`, and gives it its
+  own time limit (a kernel CPU-time limit a little above the parent's timeout), so that even an
+  orphan cannot run on for ever;
+* :func:`pool_options` makes a ``ProcessPoolExecutor``'s workers die with the parent, and
+  :func:`stop_pool` kills them (instead of waiting for their work) when a batch is interrupted
+  (Ctrl-C, SIGTERM; :mod:`planerel.batch` uses both);
+* :func:`temp_dir` makes ``planerel-KIND-PID-*`` folders and first removes those whose process
+  is gone (left by a run that was SIGKILLed).
+
+On systems without ``prctl`` (not Linux) the parent-death signal is skipped; the rest works.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import ctypes.util
+import math
+import os
+import re
+import shutil
+import signal
+import tempfile
+import threading
+from collections.abc import Callable
+from pathlib import Path
+
+__all__ = ["die_with_parent", "child_preexec", "pool_worker_init", "pool_options", "stop_pool",
+           "register_child", "unregister_child", "stop_children", "temp_dir", "pid_alive",
+           "clean_stale_temp_dirs"]
+
+_PR_SET_PDEATHSIG = 1
+
+
+_LIBC = None
+
+
+def _libc():
+    global _LIBC
+    if _LIBC is None:
+        try:
+            _LIBC = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        except OSError:
+            _LIBC = False
+    return _LIBC
+
+
+def die_with_parent(parent_pid: int | None = None) -> None:
+    """Have the kernel SIGKILL this process when its parent dies (Linux; no-op elsewhere).
+
+    ``parent_pid`` is the parent this process was started by: if it is already gone (it died
+    between the fork and this call), exit at once.
+    """
+    libc = _libc()
+    if libc and hasattr(libc, "prctl"):
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    if parent_pid is not None and os.getppid() != parent_pid:
+        os._exit(1)
+
+
+def child_preexec(timeout: float | None = None) -> Callable[[], None]:
+    """A ``preexec_fn`` for :class:`subprocess.Popen`: the child dies with this process and,
+    with ``timeout``, may use at most ``timeout + 5`` CPU seconds (SIGXCPU, then SIGKILL 5 s
+    later): its own limit, which holds even if nothing is left to enforce the parent's."""
+    parent = os.getpid()
+    limit = None if timeout is None else int(math.ceil(timeout)) + 5
+
+    def preexec() -> None:
+        die_with_parent(parent)
+        if limit is not None:
+            import resource
+
+            with contextlib.suppress(ValueError, OSError):
+                resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 5))
+
+    return preexec
+
+
+def pool_worker_init(parent_pid: int) -> None:
+    """Initializer of pool workers: die with the parent; SIGTERM ends the worker quietly and
+    Ctrl-C is left to the parent (which stops its workers), so neither prints a traceback."""
+    die_with_parent(parent_pid)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def pool_options() -> dict:
+    """Keyword arguments for ``ProcessPoolExecutor`` whose workers die with this process."""
+    return {"initializer": pool_worker_init, "initargs": (os.getpid(),)}
+
+
+def stop_pool(executor) -> None:
+    """Stop a ``ProcessPoolExecutor`` now: queued work cancelled, workers killed, not awaited
+    (SIGKILL: a worker just forked may still run the parent's signal handlers)."""
+    procs = list((getattr(executor, "_processes", None) or {}).values())
+    executor.shutdown(wait=False, cancel_futures=True)
+    for proc in procs:
+        with contextlib.suppress(Exception):
+            proc.kill()
+    for proc in procs:
+        with contextlib.suppress(Exception):
+            proc.join(timeout=5)
+
+
+_RUNNING: set = set()
+_LOCK = threading.Lock()
+_STOPPING = threading.Event()
+
+
+def register_child(proc) -> None:
+    """Note a running child (started in its own session) so :func:`stop_children` can kill it.
+
+    Raises ``KeyboardInterrupt`` at once (killing it) while :func:`stop_children` is in force, so
+    that no thread starts new work during an interruption."""
+    with _LOCK:
+        _RUNNING.add(proc.pid)
+    if _STOPPING.is_set():
+        _kill_group(proc.pid)
+        raise KeyboardInterrupt
+
+
+def unregister_child(proc) -> None:
+    with _LOCK:
+        _RUNNING.discard(proc.pid)
+
+
+def _kill_group(pid: int) -> None:
+    with contextlib.suppress(ProcessLookupError, PermissionError):
+        os.killpg(pid, signal.SIGKILL)
+
+
+@contextlib.contextmanager
+def stop_children():
+    """Kill every registered child's process group, and keep killing new ones until the block
+    ends (use it around the wait for worker threads after an interruption)."""
+    _STOPPING.set()
+    try:
+        with _LOCK:
+            pids = list(_RUNNING)
+        for pid in pids:
+            _kill_group(pid)
+        yield
+    finally:
+        _STOPPING.clear()
+
+
+def pid_alive(pid: int) -> bool:
+    """Whether a process with this id exists."""
+    if pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+_TEMP = re.compile(r"planerel-[a-z]+-(\d+)-")
+
+
+def clean_stale_temp_dirs(folder=None) -> list[Path]:
+    """Remove ``planerel-KIND-PID-*`` folders of ``folder`` (default: the temporary folder)
+    whose process is gone; return what was removed."""
+    base = Path(folder or tempfile.gettempdir())
+    removed = []
+    try:
+        entries = list(os.scandir(base))
+    except OSError:
+        return removed
+    for entry in entries:
+        m = _TEMP.match(entry.name)
+        if m and entry.is_dir(follow_symlinks=False) and not pid_alive(int(m.group(1))):
+            shutil.rmtree(entry.path, ignore_errors=True)
+            removed.append(Path(entry.path))
+    return removed
+
+
+_CLEANED = False
+
+
+def temp_dir(kind: str) -> tempfile.TemporaryDirectory:
+    """``tempfile.TemporaryDirectory`` named ``planerel-KIND-PID-*``; the first call of a process
+    also removes such folders left by processes that are gone."""
+    global _CLEANED
+    if not _CLEANED:
+        _CLEANED = True
+        clean_stale_temp_dirs()
+    return tempfile.TemporaryDirectory(prefix=f"planerel-{kind}-{os.getpid()}-")
