@@ -83,7 +83,9 @@ def child_preexec(timeout: float | None = None) -> Callable[[], None]:
 def pool_worker_init(parent_pid: int) -> None:
     """Initializer of pool workers: die with the parent; SIGTERM ends the worker quietly and
     Ctrl-C is left to the parent (which stops its workers), so neither prints a traceback."""
-    die_with_parent(parent_pid)
+    die_with_parent()  # the parent: this process, or its forkserver (which exits with it)
+    if not pid_alive(parent_pid):
+        os._exit(1)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
