@@ -58,12 +58,12 @@ def _classify_task(task: dict):
         from PIL import Image
 
         from planerel.atomic import atomic_path
-        from planerel.classify import explanation_image
+        from planerel.explain_render import explanation_picture
         from planerel.writers import write_json
 
         out = Path(task["out"])
         with atomic_path(out / f"{stem}.classified.png", suffix=".png") as tmp:
-            Image.fromarray(explanation_image(ans, cloud.depth)).save(tmp, format="PNG")
+            Image.fromarray(explanation_picture(ans, cloud.depth)).save(tmp, format="PNG")
         write_json(out / f"{stem}.classified.json", ans.to_dict())
     lines = [f"{path}: {ans.n_planes} planes, {len(ans.objects)} object(s) "
              f"[{ans.seconds * 1000:.0f} ms]"]

@@ -13,12 +13,14 @@ __all__ = ["register"]
 def register(sub) -> None:
     p = sub.add_parser(
         "convert",
-        help="convert a scan (depth PNG/TIFF, PCD, PLY, NPY, ABW range) to .npy XYZ or .ply",
+        help="convert a scan (depth PNG/TIFF, PCD, PLY, NPY, ABW range) to .npy XYZ, .ply or .pcd",
         description="Read any scan planerel reads and write it as an (H, W, 3) XYZ .npy "
-                    "(metres, NaN = invalid) or a PLY of its valid points.",
+                    "(metres, NaN = invalid), a PLY of its valid points, or a binary PCD "
+                    "(organized when the scan is, NaN kept). The input's colours (PCD rgb/rgba, "
+                    "PLY red/green/blue) are kept in PLY and PCD.",
     )
     p.add_argument("input", help="the scan to read")
-    p.add_argument("-o", "--output", required=True, help="OUT.npy or OUT.ply")
+    p.add_argument("-o", "--output", required=True, help="OUT.npy, OUT.ply or OUT.pcd")
     add_input_options(p)
     p.set_defaults(func=run)
 
@@ -27,17 +29,22 @@ def run(args) -> int:
     import numpy as np
 
     from planerel.atomic import atomic_path
+    from planerel.exports import input_colours, write_pcd
     from planerel.writers import write_ply
 
     out = Path(args.output)
-    if out.suffix.lower() not in (".npy", ".ply"):
-        raise InputError(f"{out}: output must end in .npy or .ply")
+    kind = out.suffix.lower()
+    if kind not in (".npy", ".ply", ".pcd"):
+        raise InputError(f"{out}: output must end in .npy, .ply or .pcd")
     cloud = read_input(args.input, args)
-    if out.suffix.lower() == ".npy":
+    rgb = input_colours(args.input, cloud.shape, args.subsample or 1)
+    if kind == ".npy":
         with atomic_path(out, suffix=".npy") as tmp:
             np.save(tmp, cloud.xyz, allow_pickle=False)
+    elif kind == ".pcd":
+        write_pcd(out, cloud.xyz, colours=rgb)
     else:
-        write_ply(out, cloud.xyz)
+        write_ply(out, cloud.xyz, colours=rgb)
     h, w = cloud.shape
     print(f"{args.input}: {w}x{h}, {cloud.n_valid} valid points -> {out}")
     return 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 
 from planerel.commands._common import add_batch_options, add_input_options
 from planerel.errors import InputError
@@ -35,6 +36,16 @@ def register(sub) -> None:
                    choices=["object+adjacent", "object", "adjacent", "all", "none"],
                    help="which plane pairs get relation facts (default: all pairs within an "
                         "object and adjacent pairs across the scene)")
+    p.add_argument("--mesh", metavar="DIR",
+                   help="also write each scene's planes as a mesh DIR/NAME.planes.ply (each "
+                        "plane's polygon, one colour per plane; opens in any 3-D viewer)")
+    p.add_argument("--mesh-format", choices=["ply", "glb"], default="ply",
+                   help="mesh file type (default ply; glb for web viewers)")
+    p.add_argument("--graph", metavar="DIR",
+                   help="also write each scene graph (planes = nodes, relations = edges) as "
+                        "DIR/NAME.graphml")
+    p.add_argument("--graph-format", choices=["graphml", "json"], default="graphml",
+                   help="graph file type (default graphml; json = networkx node-link)")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)
@@ -76,6 +87,14 @@ def _describe_task(task: dict):
         labels = seg.labels
         note = seg_settings_line(seg.info)
     d = describe_scene(cloud, labels, scene_id=task["name"], up=given_up(task["read"]))
+    if task.get("mesh") and len(d.planes):
+        from planerel.exports import write_mesh
+
+        write_mesh(Path(task["mesh"]) / f"{d.scene_id}.planes.{task['mesh_format']}", d)
+    if task.get("graph"):
+        from planerel.exports import write_graph
+
+        write_graph(Path(task["graph"]) / f"{d.scene_id}.{task['graph_format']}", d)
     line = (f"{path}: {d.scene_id}: {len(d.planes)} planes, {len(d.objects)} object proposals, "
             f"{d.planes.up_estimate.describe()}"
             + ("" if len(d.planes) else " (no plane found: only the scene fact is written)"))
@@ -98,7 +117,9 @@ def run(args) -> int:
     params = FactParams(pairs=args.pairs, planner=not args.no_planner)
     opts = read_options(args)
     tasks = [{"path": str(p), "name": i, "read": opts, "method": args.method, "params": params,
-              "labels": args.labels[k] if args.labels else None}
+              "labels": args.labels[k] if args.labels else None, "mesh": args.mesh,
+              "mesh_format": args.mesh_format, "graph": args.graph,
+              "graph_format": args.graph_format}
              for k, (p, i) in enumerate(zip(paths, ids, strict=True))]
     shown = ", ".join(str(p) for p in paths[:20]) + (f", ... ({n} inputs)" if n > 20 else "")
     res = BatchResult()

@@ -28,9 +28,12 @@ def register(sub) -> None:
         "segment",
         help="segment scans into planes (region growing, or the SP / SNP RANSAC baselines)",
         description="Segment each scan into planes and write NAME.labels.npy ((H, W) int32, "
-                    "-1 = unassigned), NAME.labels.png (colours over a depth shading) and "
+                    "-1 = unassigned), NAME.labels.png (colours over a depth shading), "
                     "NAME.planes.json (id, normal, offset, n_points, centroid, rms per plane, and "
-                    "the up vector with its source and confidence). "
+                    "the up vector with its source and confidence), NAME.pcd (x y z rgb label, "
+                    "label = plane + 1, 0 = none; rgb = the input's colours when it has them, "
+                    "else the plane colours) and NAME.ply (valid points coloured by plane, int "
+                    "label); --formats picks. "
                     "Reads every format planerel reads, including a bare (H, W, 3) XYZ .npy in "
                     "metres with NaN for invalid points.",
     )
@@ -45,6 +48,10 @@ def register(sub) -> None:
                         "(see docs/segmentation.md); repeat for more.  Region growing also "
                         "takes --param preset=structured-light for high-resolution range "
                         "images with coarse depth steps (e.g. SegComp ABW)")
+    p.add_argument("--formats", default=",".join(FORMATS), metavar="LIST",
+                   help="what to write per scan, a comma list of npy (labels), png (label "
+                        "picture), json (planes), pcd (labelled PCD: x y z rgb label, PCL "
+                        "PointXYZRGBL), ply (points coloured by plane); default all")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run_segment)
@@ -65,6 +72,18 @@ def register(sub) -> None:
     e.set_defaults(func=run_evaluate)
 
 
+FORMATS = ("npy", "png", "json", "pcd", "ply")
+
+
+def _formats(text: str) -> tuple:
+    """``"npy,pcd"`` -> ``("npy", "pcd")``, refusing unknown names."""
+    items = tuple(dict.fromkeys(t.strip().lower() for t in text.split(",") if t.strip()))
+    bad = [t for t in items if t not in FORMATS]
+    if bad or not items:
+        raise InputError(f"--formats takes a comma list of {', '.join(FORMATS)}; got {text!r}")
+    return items
+
+
 def _segment_task(task: dict) -> str:
     """Worker: read, segment and write one scan; returns the line to print."""
     import time
@@ -79,10 +98,23 @@ def _segment_task(task: dict) -> str:
     seg = segment(cloud, task["method"], params=task["params"])
     ms = (time.perf_counter() - t0) * 1000.0
     gravity = resolve_up(cloud, seg.labels, given_up(task["read"]))
-    write_labels_npy(out / f"{stem}.labels.npy", seg.labels)
-    depth = cloud.depth if cloud.organized else None
-    write_labels_png(out / f"{stem}.labels.png", seg.labels, depth)
-    write_json(out / f"{stem}.planes.json", {
+    formats = task["formats"]
+    if "npy" in formats:
+        write_labels_npy(out / f"{stem}.labels.npy", seg.labels)
+    if "png" in formats:
+        depth = cloud.depth if cloud.organized else None
+        write_labels_png(out / f"{stem}.labels.png", seg.labels, depth)
+    if "pcd" in formats or "ply" in formats:
+        from planerel.exports import input_colours, plane_colours, write_pcd, write_segmentation_ply
+
+        if "pcd" in formats:
+            rgb = input_colours(path, cloud.shape, getattr(task["read"], "subsample", 1) or 1)
+            write_pcd(out / f"{stem}.pcd", cloud.xyz, labels=seg.labels,
+                      colours=rgb if rgb is not None else plane_colours(seg.labels))
+        if "ply" in formats:
+            write_segmentation_ply(out / f"{stem}.ply", cloud.xyz, seg.labels)
+    if "json" in formats:
+        write_json(out / f"{stem}.planes.json", {
         "source": str(path),
         "method": seg.method,
         "shape": list(seg.labels.shape),
@@ -108,8 +140,9 @@ def run_segment(args) -> int:
         raise InputError(f"{out}: exists and is not a folder")
     out.mkdir(parents=True, exist_ok=True)
     opts = read_options(args)
+    formats = _formats(args.formats)
     tasks = [{"path": str(p), "name": n, "out": str(out), "read": opts, "method": args.method,
-              "params": params} for p, n in zip(paths, stems, strict=True)]
+              "params": params, "formats": formats} for p, n in zip(paths, stems, strict=True)]
     res = BatchResult()
     for _, line in run_batch(_segment_task, tasks, jobs=args.jobs, scheduler=args.scheduler,
                              keep_going=args.keep_going, label=lambda t: t["path"],
