@@ -277,3 +277,24 @@ def test_cross_validation_tests_other_objects_apart(varied_set):
     assert cv["other"]["rejected"] == pytest.approx(got.count("unknown") / n_other)
     right = sum(cv["predictions"][o] == (k if k != "other" else "unknown") for o, k in truth.items())
     assert cv["open_set_accuracy"] == pytest.approx(right / len(truth))
+
+
+def test_cli_range_option_shifts_the_world(tmp_path, capsys):
+    out = tmp_path / "shifted"
+    assert main(["dataset", "synth", str(out), "--world", "varied", "--n-box", "0",
+                 "--n-stairs", "3", "--n-ramp", "0", "--subsample", "8", "--quiet",
+                 "--range", "steps=11,12", "--range", "camera_pitch_deg=30,40",
+                 "--range", "descending=0"]) == 0
+    assert load_dataset_info(out)["world_ranges"]["steps"] == [11, 12]
+    for _row, _cloud, _labels, meta in iter_scenes(out):
+        p = meta["objects"][1]["params"]
+        assert p["direction"] == "up" and 11 <= p["steps"] <= 12
+        assert 30 <= meta["params"]["camera"]["pitch_deg"] <= 40
+    capsys.readouterr()
+    assert main(["dataset", "info", str(out)]) == 0
+    assert "stairs (stairs up) 3" in capsys.readouterr().out
+    for argv, match in ((["--range", "steps=3,4"], "add --world varied"),
+                        (["--world", "varied", "--range", "stepz=3,4"], "NAME=MIN,MAX"),
+                        (["--world", "varied", "--range", "steps=2.5,4"], "whole numbers")):
+        assert main(["dataset", "synth", str(tmp_path / "x"), "--quiet", *argv]) == 2
+        assert match in capsys.readouterr().err

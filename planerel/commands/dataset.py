@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from planerel.errors import InputError
 
-__all__ = ["register", "parse_size", "parse_range"]
+__all__ = ["register", "parse_size", "parse_range", "parse_world_ranges"]
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -24,6 +24,39 @@ def parse_range(text: str, name: str) -> tuple[float, float]:
     except ValueError:
         raise InputError(f"{name} must be two numbers like 0.5,1.5; got {text!r}") from None
     return lo, hi
+
+
+def parse_world_ranges(items) -> dict:
+    """``["steps=3,12", "descending=0.5"]`` -> ``{"steps": (3.0, 12.0), "descending": 0.5}``
+    for :class:`planerel.synth_world.WorldRange` (which checks the values)."""
+    import dataclasses
+
+    from planerel.synth_world import WorldRange
+
+    fields = {f.name for f in dataclasses.fields(WorldRange)}
+    out = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        name = name.strip().replace("-", "_")
+        if not sep or name not in fields:
+            raise InputError(f"--range must look like NAME=MIN,MAX with NAME one of "
+                             f"{', '.join(sorted(fields))}; got {item!r}")
+        parts = value.split(",")
+        try:
+            nums = [float(p) for p in parts]
+        except ValueError:
+            raise InputError(f"--range {name}: numbers expected, got {value!r}") from None
+        if name in ("steps", "extra_objects"):
+            if any(x != int(x) for x in nums):
+                raise InputError(f"--range {name}: whole numbers expected, got {value!r}")
+            nums = [int(x) for x in nums]
+        if len(nums) == 1:
+            out[name] = nums[0]
+        elif len(nums) == 2:
+            out[name] = tuple(nums)
+        else:
+            raise InputError(f"--range {name}: one number or MIN,MAX expected, got {value!r}")
+    return out
 
 
 def register(sub) -> None:
@@ -56,6 +89,10 @@ def register(sub) -> None:
     s.add_argument("--camera-distance", metavar="MIN,MAX",
                    help="horizontal distance from the camera to the object's nearest point "
                         "(default 0.7,1.8)")
+    s.add_argument("--range", action="append", default=[], metavar="NAME=MIN,MAX",
+                   help="varied world: change one range of planerel.synth_world.WorldRange, e.g. "
+                        "--range camera_pitch_deg=10,60 --range steps=3,12 (repeatable; for "
+                        "held-out sets with shifted parameters)")
     s.add_argument("--max-range", type=float, metavar="M",
                    help="sensor maximum range in metres (default 4.5)")
     s.add_argument("--noise", type=float, metavar="C",
@@ -108,8 +145,11 @@ def run_synth(args) -> int:
         camera = CameraRange(**cam_kwargs)
     else:
         camera = None
-        ranges = WorldRange(**({"camera_height": cam_kwargs["height"]} if "height" in cam_kwargs
-                               else {}))
+        changes = {"camera_height": cam_kwargs["height"]} if "height" in cam_kwargs else {}
+        changes.update(parse_world_ranges(args.range))
+        ranges = WorldRange(**changes)
+    if args.range and args.world == "paper":
+        raise InputError("--range changes the varied world's ranges; add --world varied")
     default_sensor = SensorModel() if args.world == "paper" else StructuredLight()
     sensor = sensor_profile(args.sensor) if args.sensor else default_sensor
     changes = {}
@@ -149,6 +189,7 @@ def run_info(args) -> int:
     if info:
         print(f"made by {info.get('format', '?')} with seed {info.get('seed', '?')}")
     roles = Counter()
+    objects = Counter()
     seen = 0
     for r in rows:
         meta = load_metadata(args.path, r.scene_id)
@@ -156,5 +197,11 @@ def run_info(args) -> int:
             if pl.get("n_pixels", 1) > 0:
                 roles[pl["role"]] += 1
                 seen += 1
+        for o in meta.get("objects", [])[1:]:
+            if o.get("n_pixels", 1) > 0 and "kind" in o:
+                objects[f"{o.get('class')} ({o['kind']})"] += 1
     print(f"{seen} visible ground-truth planes: " + ", ".join(f"{k} {v}" for k, v in sorted(roles.items())))
+    if objects:
+        print(f"{sum(objects.values())} visible objects: "
+              + ", ".join(f"{k} {v}" for k, v in sorted(objects.items())))
     return 0
