@@ -35,8 +35,8 @@ METHODS = ("regiongrow", "sp", "snp")
 def make_params(method: str = "regiongrow", **params):
     """The parameter dataclass of ``method`` built from keyword values (strings from the command
     line are converted); unknown names raise :class:`InputError`.  Region growing also takes
-    ``preset`` (``"kinect"`` = the defaults, ``"structured-light"`` / ``"abw"``: see
-    :data:`planerel.segment.params.PRESETS`); explicit values override the preset's."""
+    ``preset`` (``"kinect"`` = the defaults, ``"structured-light"`` / ``"abw"``, ``"paper"``:
+    see :data:`planerel.segment.params.PRESETS`); explicit values override the preset's."""
     if method not in METHODS:
         raise InputError(f"unknown segmentation method {method!r}; choose one of {', '.join(METHODS)}")
     try:
@@ -86,12 +86,15 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
         (:func:`planerel.segment.split.split_bent_regions`), then merge touching regions of one
         plane (:func:`planerel.segment.merge.merge_coplanar`).  Default: on for
         regiongrow, off for the RANSAC baselines (they stay as the paper ran them).  Strings
-        ``"true"/"false"/"1"/"0"`` are accepted (``--param split=false``).
+        ``"true"/"false"/"1"/"0"`` are accepted (``--param split=false``).  With
+        ``refine=False`` as well, region growing follows the paper's Algorithm 1 (see
+        :meth:`RegionGrowParams.growing_variant`).
     split_params : SplitParams, optional
         Parameters of the split step (default :class:`SplitParams`).
     **params
         Fields of :class:`RegionGrowParams` (regiongrow) or :class:`RansacParams` (sp, snp);
-        or ``params=<dataclass instance>``; regiongrow also ``preset="structured-light"``.
+        or ``params=<dataclass instance>``; regiongrow also ``preset="structured-light"`` or
+        ``preset="paper"`` (Algorithm 1 as the paper writes it, post-processing off).
 
     Returns
     -------
@@ -115,11 +118,13 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
         p = given
     else:
         p = make_params(method, **params)
-    do_split = _as_bool(split, default=(method == "regiongrow"))
+    # the paper's preset is Algorithm 1 alone: no post-processing unless asked for
+    paper = method == "regiongrow" and str(params.get("preset", "")).lower() == "paper"
+    do_split = _as_bool(split, default=(method == "regiongrow" and not paper))
     if method == "regiongrow":
         from planerel.segment.regiongrow import region_grow
 
-        seg = region_grow(cloud, p, normals=normals)
+        seg = region_grow(cloud, p, normals=normals, split=do_split)
     elif method in METHODS:
         from planerel.segment.ransac import ransac_segment
 

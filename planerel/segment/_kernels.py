@@ -61,7 +61,13 @@ def _free_or_not(nvalid, mask, min_nb, lab):  # pragma: no cover - compiled
 def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_seed,
                         num_init, update_step, min_size, padded, queue,
                         seedable):  # pragma: no cover
-    """The paper's Algorithm 1 on the 8-neighbour image grid (flat arrays).
+    """Algorithm 1 on the 8-neighbour image grid (flat arrays).
+
+    A candidate joins when its normal's cosine with the base normal is at least ``cos_init``
+    while the region has fewer than ``num_init`` points, ``cos_main`` after (the paper:
+    cos theta, then cos(theta * angle_mf); planerel's reversed order swaps them).  A seed
+    needs every delta-neighbour's normal within ``cos_seed`` of its own (planerel's seed
+    test); ``cos_seed < -1`` turns the test off (the paper).
 
     nrm (N, 3) unit normals; nvalid (N,) bool; mask (N,) uint8 neighbour bits; ``padded``
     (N + 2W + 2,) int32 holds the labels at ``[W + 1, W + 1 + N)`` (see :func:`padded_labels`)
@@ -100,20 +106,23 @@ def region_grow_grid_ws(nrm, nvalid, mask, W, min_nb, cos_init, cos_main, cos_se
         if padded[np.uint64(p) + uB] != -1 or not seedable[p]:
             continue
         m = mask[p]
-        # a seed must lie inside a smooth patch: every neighbour's normal close to its own
         n0x = nrm[p, 0]
         n0y = nrm[p, 1]
         n0z = nrm[p, 2]
-        smooth = True
-        for k in range(8):
-            if (m >> k) & 1:
-                q = p + offs[k]
-                if not nvalid[q] or n0x * nrm[q, 0] + n0y * nrm[q, 1] + n0z * nrm[q, 2] < cos_seed:
-                    smooth = False
-                    break
-        if not smooth:
-            seedable[p] = False
-            continue
+        if cos_seed >= -1.0:
+            # planerel's seed test: a seed must lie inside a smooth patch, every neighbour's
+            # normal close to its own (cos_seed < -1: no test, as in the paper)
+            smooth = True
+            for k in range(8):
+                if (m >> k) & 1:
+                    q = p + offs[k]
+                    if (not nvalid[q]
+                            or n0x * nrm[q, 0] + n0y * nrm[q, 1] + n0z * nrm[q, 2] < cos_seed):
+                        smooth = False
+                        break
+            if not smooth:
+                seedable[p] = False
+                continue
         rid = nreg
         padded[p + B] = rid
         queue[0] = p
@@ -217,16 +226,18 @@ def region_grow_list(nrm, nvalid, nbr, min_nb, cos_init, cos_main, cos_seed,
         n0x = nrm[p, 0]
         n0y = nrm[p, 1]
         n0z = nrm[p, 2]
-        smooth = True
-        for k in range(K):
-            q = nbr[p, k]
-            if q >= 0:
-                if not nvalid[q] or n0x * nrm[q, 0] + n0y * nrm[q, 1] + n0z * nrm[q, 2] < cos_seed:
-                    smooth = False
-                    break
-        if not smooth:
-            seedable[p] = False
-            continue
+        if cos_seed >= -1.0:  # planerel's seed test (see region_grow_grid_ws)
+            smooth = True
+            for k in range(K):
+                q = nbr[p, k]
+                if q >= 0:
+                    if (not nvalid[q]
+                            or n0x * nrm[q, 0] + n0y * nrm[q, 1] + n0z * nrm[q, 2] < cos_seed):
+                        smooth = False
+                        break
+            if not smooth:
+                seedable[p] = False
+                continue
         rid = nreg
         labels[p] = rid
         queue[0] = p

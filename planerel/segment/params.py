@@ -41,6 +41,11 @@ def scaled_min_region_size(n_pixels: int, scale: float = 1.0) -> int:
 #: size: 307 at 512x512), since such scenes hold small true faces.
 PRESETS = {
     "kinect": {"adapt": False},
+    # Algorithm 1 as the paper writes it (docs/segmentation.md, "The paper's algorithm"): theta
+    # while the region is small, theta * angle_mf after; no seed test; one automatic delta per
+    # image; none of planerel's additions (segment() also turns the post-processing off)
+    "paper": {"angle_order": "paper", "seed_test": False, "delta_mode": "image",
+              "refine": False, "leftover_planes": False, "adapt": False},
     "structured-light": {"normal_smooth": 3, "normal_radius": 3, "reference_depth": None,
                          "min_region_scale": 0.25, "adapt": False},
 }
@@ -123,8 +128,18 @@ class RegionGrowParams:
     num_initial_points : int
         The base normal is refreshed at every added point until the region has this many (16).
     angle_mf : float
-        Angle modifying factor (< 1): while the region has fewer than ``num_initial_points``
-        points, and for the seed test, the angle threshold is ``theta * angle_mf``: 0.5.
+        Angle modifying factor (< 1): 0.5.  Where it applies depends on ``angle_order``.
+    angle_order : {"auto", "paper", "reversed"}
+        ``"paper"`` (Algorithm 1, lines 16-21): a candidate joins with an angle below ``theta``
+        while the region has fewer than ``num_initial_points`` points, below
+        ``theta * angle_mf`` after.  ``"reversed"`` (planerel's variant): ``theta * angle_mf``
+        first, ``theta`` after.  ``"auto"`` (default): ``"paper"`` when planerel's additions
+        are off (``refine=False``, and in :func:`planerel.segment.segment` also
+        ``split=False``), ``"reversed"`` otherwise.
+    seed_test : bool or "auto"
+        planerel's seed test (not in the paper): a seed's delta-neighbours must all have
+        normals within ``theta * angle_mf`` of its own.  ``"auto"``: as ``angle_order``
+        (off exactly when the paper's order is used).
     min_region_size : int or "auto"
         Smallest region kept, in points.  ``"auto"``: 90 at 160x120, proportional to the number
         of pixels (1440 at 640x480), times ``min_region_scale``.
@@ -181,6 +196,8 @@ class RegionGrowParams:
     min_region_scale: float = 1.0
     leftover_planes: bool = True
     adapt: bool = True
+    angle_order: str = "auto"
+    seed_test: bool | str = "auto"
 
     def __post_init__(self) -> None:
         o = "regiongrow"
@@ -221,6 +238,21 @@ class RegionGrowParams:
         s(self, "adapt", _bool(o, "adapt", self.adapt))
         s(self, "min_region_scale", _num(o, "min_region_scale", self.min_region_scale, lo=0,
                                          lo_open=True))
+        if self.angle_order not in ("auto", "paper", "reversed"):
+            raise InputError(f"{o}: angle_order must be 'auto', 'paper' or 'reversed', "
+                             f"got {self.angle_order!r}")
+        if self.seed_test != "auto":
+            s(self, "seed_test", _bool(o, "seed_test", self.seed_test))
+
+    def growing_variant(self, split: bool = False) -> tuple[str, bool]:
+        """``(angle_order, seed_test)`` with ``"auto"`` resolved: the paper's rules
+        (``("paper", False)``) when ``refine`` and ``split`` are both off, planerel's
+        (``("reversed", True)``) otherwise."""
+        paper = not self.refine and not split
+        order = self.angle_order if self.angle_order != "auto" else (
+            "paper" if paper else "reversed")
+        seed = self.seed_test if self.seed_test != "auto" else (order == "reversed")
+        return order, bool(seed)
 
 
 @dataclass(frozen=True)
@@ -296,9 +328,14 @@ def coerce_params(cls, params: dict):
             f"unknown parameter(s) {', '.join(unknown)} for {cls.__name__}; "
             f"known: {', '.join(sorted(names))}"
         )
+    # fields whose values are words (delta_mode, angle_order) keep them
+    words = {f.name for f in fields(cls) if isinstance(f.default, str) and f.default != "auto"
+             or f.name == "angle_order"}
     out = {}
     for k, v in params.items():
-        if isinstance(v, str) and v != "auto":
+        if isinstance(v, str) and k in words:
+            v = v.strip().lower()
+        elif isinstance(v, str) and v != "auto":
             low = v.strip().lower()
             if low in ("none", "null"):
                 v = None

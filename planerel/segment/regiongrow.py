@@ -39,6 +39,8 @@ __all__ = ["region_grow", "check_cloud", "resolve_min_region_size"]
 
 #: Depth bands of the automatic delta.
 _NBANDS = 24
+#: ``cos_seed`` of the growing kernels that turns the seed test off.
+_NO_SEED_TEST = -2.0
 
 
 def check_cloud(cloud) -> None:
@@ -179,7 +181,8 @@ def _build(labels, xyz_flat, n, params, normals, info, fits=None) -> Segmentatio
     return Segmentation(labels, planes, "regiongrow", params, normals, info)
 
 
-def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) -> Segmentation:
+def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None,
+                split: bool = False) -> Segmentation:
     """Segment a cloud into planes by region growing.
 
     Parameters
@@ -190,6 +193,9 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
         Defaults: the paper's.
     normals : ndarray, shape (H, W, 3), optional
         Precomputed normals (NaN = unknown); computed from ``params`` otherwise.
+    split : bool
+        Whether the caller post-processes the result (only resolves ``angle_order`` /
+        ``seed_test`` ``"auto"``: see :meth:`RegionGrowParams.growing_variant`).
 
     Returns
     -------
@@ -216,12 +222,20 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
     given = p  # the Segmentation keeps the parameters as given; info["settings"] the used ones
     p, chosen = adapt_params(p, model, (h, w))
     min_size = resolve_min_region_size(p.min_region_size, n_pix, p.min_region_scale)
-    cos_main = math.cos(math.radians(p.theta))
-    cos_init = math.cos(math.radians(p.theta * p.angle_mf))
+    order, seed_test = p.growing_variant(split)
+    cos_theta = math.cos(math.radians(p.theta))
+    cos_strict = math.cos(math.radians(p.theta * p.angle_mf))
+    # the angle threshold while the region has fewer than num_initial_points points, and after
+    if order == "paper":
+        cos_init, cos_main = cos_theta, cos_strict  # Algorithm 1, lines 16-21
+    else:
+        cos_init, cos_main = cos_strict, cos_theta
+    cos_seed = cos_strict if seed_test else _NO_SEED_TEST
     delta_fixed = -1.0 if p.delta == "auto" else float(p.delta)
     xyz_flat = xyz.reshape(-1, 3)
     info: dict = {"min_region_size": min_size, "noise_model": _model_info(model),
-                  "settings": _settings(chosen, p, w, min_size)}
+                  "settings": _settings(chosen, p, w, min_size), "angle_order": order,
+                  "seed_test": seed_test}
     if cloud.organized:
         graph_args = (float(p.delta_factor), delta_fixed, p.delta_mode == "depth", _NBANDS,
                       max(1, h // 120))
@@ -272,7 +286,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
         sums = np.zeros((maxreg, 10))
         ref = np.zeros((maxreg, 3))
         n = int(K.region_grow_grid_ws(nflat, ws.nvalid, mflat, w, p.min_neighbour_num,
-                                      cos_init, cos_main, cos_init, p.num_initial_points,
+                                      cos_init, cos_main, cos_seed, p.num_initial_points,
                                       p.base_update_step, min_size, padded, ws.queue,
                                       ws.seedable))
         K.region_sums_into(pts, labels, n, sums, ref, True)  # and -2 ("cannot join") -> -1
@@ -311,7 +325,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None) 
         nvalid = np.empty(n_pix, dtype=np.bool_)
         queue = np.empty(n_pix, dtype=np.int32)
         n = int(K.region_grow_list(nflat, nvalid, nbr, p.min_neighbour_num, cos_init, cos_main,
-                                   cos_init, p.num_initial_points, p.base_update_step, min_size,
+                                   cos_seed, p.num_initial_points, p.base_update_step, min_size,
                                    labels, queue))
         info["grown_points"] = int((labels >= 0).sum())
         labels[labels < 0] = -1

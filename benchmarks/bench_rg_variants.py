@@ -1,0 +1,134 @@
+"""Region growing: the paper's Algorithm 1 as written against planerel's variants of it, side
+by side, on the paper-sized synthetic sets (training seed 0 and held-out seed 1000) and on the
+SegComp ABW images.
+
+    .venv/bin/python benchmarks/bench_rg_variants.py [--abw DIR] [--sets train,heldout,abw]
+
+Each row adds or swaps one thing (docs/segmentation.md, "The paper's algorithm and planerel's
+variants"); scores are SegComp at T = 0.8, averages per image, all ground-truth planes; ms is
+the median wall time of segment() per image in this process (shared machine: a guide).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from pathlib import Path
+
+#: (name, segment() keywords).  "growing only" rows turn planerel's completion and
+#: post-processing off; the last rows add them.
+VARIANTS = (
+    ("paper: Algorithm 1 as written (preset=paper)", dict(preset="paper")),
+    ("paper + auto delta per depth band", dict(refine=False, split=False)),
+    ("paper + depth delta + reversed phases", dict(refine=False, split=False,
+                                                   angle_order="reversed", seed_test=False)),
+    ("paper + depth delta + seed test", dict(refine=False, split=False, seed_test=True)),
+    ("planerel's growing (reversed + seed test)", dict(refine=False, split=False,
+                                                        angle_order="reversed", seed_test=True)),
+    ("planerel's growing + completion (split=False)", dict(split=False)),
+    ("paper's growing + completion + post-processing", dict(angle_order="paper",
+                                                            seed_test=False)),
+    ("planerel default (all of the above)", {}),
+)
+
+#: planerel's preset for structured-light range images (the ABW rows use its values too).
+STRUCTURED = dict(normal_smooth=3, normal_radius=3, reference_depth=None, min_region_scale=0.25)
+
+
+def _row(scores, ms) -> str:
+    import numpy as np
+
+    a = np.array([[q.correct, q.over, q.under, q.missed, q.noise, q.sparse, q.n_gt]
+                  for q in scores], dtype=float)
+    m = a.mean(axis=0)
+    pct = 100 * a[:, 0].sum() / a[:, 6].sum()
+    return (f"correct {m[0]:5.2f} of {m[6]:5.2f} ({pct:3.0f} %) | over {m[1]:.2f} under "
+            f"{m[2]:.2f} missed {m[3]:.2f} noise {m[4]:.2f} sparse {m[5]:.2f} | {ms:6.1f} ms")
+
+
+def _score(items, kw, extra=None):
+    from planerel.evaluate import evaluate
+    from planerel.segment import segment
+
+    kw = dict(kw)
+    if extra:
+        if kw.get("preset") == "paper":  # the paper's preset with other normals / sizes
+            from planerel.segment.params import preset_values
+
+            kw = {**preset_values(kw.pop("preset")), "split": False, **extra}
+        else:
+            kw = {**kw, **extra}
+    scores, ts = [], []
+    for cloud, gt in items:
+        t = time.perf_counter()
+        seg = segment(cloud, **kw)
+        ts.append((time.perf_counter() - t) * 1000)
+        scores.append(evaluate(seg.labels, gt, tolerance=0.8))
+    return scores, statistics.median(ts)
+
+
+def _synthetic(seed: int, camera):
+    from planerel.synth import generate_scene, scene_seed
+
+    items, i = [], 0
+    for kind, k in (("box", 12), ("stairs", 15), ("ramp", 18)):
+        for _ in range(k):
+            kw = {} if camera is None else {"camera": camera}
+            sc = generate_scene(kind, scene_seed(seed, i), (640, 480), 4, **kw)
+            items.append((kind, (sc.cloud, sc.gt_labels)))
+            i += 1
+    return items
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--abw", default=None, metavar="DIR")
+    ap.add_argument("--sets", default="train,heldout,abw")
+    args = ap.parse_args(argv)
+    sets = set(args.sets.split(","))
+    from planerel.synth import CameraRange
+
+    synth_sets = []
+    if "train" in sets:
+        synth_sets.append(("paper-sized training set (seed 0; planerel's defaults were tuned on "
+                           "it)", 0, None))
+    if "heldout" in sets:
+        synth_sets.append(("held-out set (seed 1000, camera height 0.7-1.7 m, distance "
+                           "1.0-2.2 m)", 1000, CameraRange(height=(0.7, 1.7),
+                                                           distance=(1.0, 2.2))))
+    for title, seed, cam in synth_sets:
+        items = _synthetic(seed, cam)
+        print(f"{title}: 45 scenes (12 box, 15 stairs, 18 ramp) at 160x120, per image")
+        for name, kw in VARIANTS:
+            scores, ms = _score([x for _, x in items], kw)
+            print(f"  {name:50s} {_row(scores, ms)}")
+            per = []
+            for kind in ("box", "stairs", "ramp"):
+                sc = [s for (k, _), s in zip(items, scores, strict=True) if k == kind]
+                per.append(f"{kind} {100 * sum(q.correct for q in sc) / sum(q.n_gt for q in sc):.0f} %")
+            print(f"  {'':50s} {', '.join(per)}")
+    if "abw" in sets:
+        root = Path(__file__).resolve().parents[2] / "shared" / "data" / "abw"
+        abw = Path(args.abw) if args.abw else root
+        files = sorted(abw.glob("*.range"))
+        if not files:
+            print(f"SegComp ABW: no *.range files in {abw}")
+            return 0
+        from planerel.io import read_abw, read_abw_gt
+
+        items = [(read_abw(f), read_abw_gt(f.with_suffix(".gt-seg"))) for f in files]
+        h, w = items[0][1].shape
+        for label, extra in (("Kinect-oriented defaults", None),
+                             ("structured-light values (normal window 3 px, min_region_scale "
+                              "0.25)", STRUCTURED)):
+            print(f"SegComp ABW, {len(files)} images at {w}x{h}, {label}, per image")
+            for name, kw in VARIANTS:
+                scores, ms = _score(items, kw, extra)
+                print(f"  {name:50s} {_row(scores, ms)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
