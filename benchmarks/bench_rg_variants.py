@@ -3,6 +3,7 @@ by side, on the paper-sized synthetic sets (training seed 0 and held-out seed 10
 SegComp ABW images.
 
     .venv/bin/python benchmarks/bench_rg_variants.py [--abw DIR] [--sets train,heldout,abw]
+        [--baselines heldout]     # also SP / SNP at the paper's thresholds on those sets
 
 Each row adds or swaps one thing (docs/segmentation.md, "The paper's algorithm and planerel's
 variants"); scores are SegComp at T = 0.8, averages per image, all ground-truth planes; ms is
@@ -17,24 +18,27 @@ import sys
 import time
 from pathlib import Path
 
-#: (name, segment() keywords).  "growing only" rows turn planerel's completion and
-#: post-processing off; the last rows add them.
+_P = dict(preset="paper")  # adapt off, one delta per image, paper's order, no seed test
+_G = dict(_P, delta_mode="depth", angle_order="reversed", seed_test=True)  # planerel's growing
+
+#: (name, segment() keywords), each row changing one thing against the row it names.
 VARIANTS = (
-    ("paper: Algorithm 1 as written (preset=paper)", dict(preset="paper")),
-    ("paper + auto delta per depth band", dict(refine=False, split=False)),
-    ("paper + depth delta + reversed phases", dict(refine=False, split=False,
-                                                   angle_order="reversed", seed_test=False)),
-    ("paper + depth delta + seed test", dict(refine=False, split=False, seed_test=True)),
-    ("planerel's growing (reversed + seed test)", dict(refine=False, split=False,
-                                                        angle_order="reversed", seed_test=True)),
-    ("planerel's growing + completion (split=False)", dict(split=False)),
-    ("paper's growing + completion + post-processing", dict(angle_order="paper",
-                                                            seed_test=False)),
-    ("planerel default (all of the above)", {}),
+    ("1 paper: Algorithm 1 as written (preset=paper)", _P),
+    ("2 = 1 + delta per depth band", dict(_P, delta_mode="depth")),
+    ("3 = 2 + reversed phases", dict(_P, delta_mode="depth", angle_order="reversed")),
+    ("4 = 2 + seed test", dict(_P, delta_mode="depth", seed_test=True)),
+    ("5 = 2 + reversed + seed test (planerel's growing)", _G),
+    ("6 = 5 + completion + leftover planes", dict(_G, refine=True, leftover_planes=True)),
+    ("7 = 6 + post-processing (preset=kinect)", dict(preset="kinect")),
+    ("8 = 7 + noise adaptation (planerel default)", {}),
+    ("9 = 8 with the paper's growing rules", dict(angle_order="paper", seed_test=False)),
+    ("10 = 1 with adapted normals and sizes", dict(_P, adapt=True)),
 )
 
-#: planerel's preset for structured-light range images (the ABW rows use its values too).
-STRUCTURED = dict(normal_smooth=3, normal_radius=3, reference_depth=None, min_region_scale=0.25)
+#: The RANSAC baselines at the paper's thresholds (``--baselines``).
+BASELINES = tuple((f"{m.upper()} {t}", dict(method=m, threshold=t, seed=0))
+                  for m, ts in (("sp", (0.005, 0.01, 0.03, 0.05)), ("snp", (0.01, 0.03, 0.05)))
+                  for t in ts)
 
 
 def _row(scores, ms) -> str:
@@ -48,22 +52,16 @@ def _row(scores, ms) -> str:
             f"{m[2]:.2f} missed {m[3]:.2f} noise {m[4]:.2f} sparse {m[5]:.2f} | {ms:6.1f} ms")
 
 
-def _score(items, kw, extra=None):
+def _score(items, kw):
     from planerel.evaluate import evaluate
     from planerel.segment import segment
 
     kw = dict(kw)
-    if extra:
-        if kw.get("preset") == "paper":  # the paper's preset with other normals / sizes
-            from planerel.segment.params import preset_values
-
-            kw = {**preset_values(kw.pop("preset")), "split": False, **extra}
-        else:
-            kw = {**kw, **extra}
+    method = kw.pop("method", "regiongrow")
     scores, ts = [], []
     for cloud, gt in items:
         t = time.perf_counter()
-        seg = segment(cloud, **kw)
+        seg = segment(cloud, method, **kw)
         ts.append((time.perf_counter() - t) * 1000)
         scores.append(evaluate(seg.labels, gt, tolerance=0.8))
     return scores, statistics.median(ts)
@@ -86,22 +84,25 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--abw", default=None, metavar="DIR")
     ap.add_argument("--sets", default="train,heldout,abw")
+    ap.add_argument("--baselines", default="", metavar="SETS",
+                    help="also SP / SNP at the paper's thresholds on these sets (slow)")
     args = ap.parse_args(argv)
+    base_sets = set(filter(None, args.baselines.split(",")))
     sets = set(args.sets.split(","))
     from planerel.synth import CameraRange
 
     synth_sets = []
     if "train" in sets:
-        synth_sets.append(("paper-sized training set (seed 0; planerel's defaults were tuned on "
-                           "it)", 0, None))
+        synth_sets.append(("train", "paper-sized training set (seed 0; planerel's defaults "
+                           "were chosen on it)", 0, None))
     if "heldout" in sets:
-        synth_sets.append(("held-out set (seed 1000, camera height 0.7-1.7 m, distance "
-                           "1.0-2.2 m)", 1000, CameraRange(height=(0.7, 1.7),
-                                                           distance=(1.0, 2.2))))
-    for title, seed, cam in synth_sets:
+        synth_sets.append(("heldout", "held-out set (seed 1000, camera height 0.7-1.7 m, "
+                           "distance 1.0-2.2 m)", 1000, CameraRange(height=(0.7, 1.7),
+                                                                    distance=(1.0, 2.2))))
+    for key, title, seed, cam in synth_sets:
         items = _synthetic(seed, cam)
         print(f"{title}: 45 scenes (12 box, 15 stairs, 18 ramp) at 160x120, per image")
-        for name, kw in VARIANTS:
+        for name, kw in VARIANTS + (BASELINES if key in base_sets else ()):
             scores, ms = _score([x for _, x in items], kw)
             print(f"  {name:50s} {_row(scores, ms)}")
             per = []
@@ -120,13 +121,10 @@ def main(argv=None) -> int:
 
         items = [(read_abw(f), read_abw_gt(f.with_suffix(".gt-seg"))) for f in files]
         h, w = items[0][1].shape
-        for label, extra in (("Kinect-oriented defaults", None),
-                             ("structured-light values (normal window 3 px, min_region_scale "
-                              "0.25)", STRUCTURED)):
-            print(f"SegComp ABW, {len(files)} images at {w}x{h}, {label}, per image")
-            for name, kw in VARIANTS:
-                scores, ms = _score(items, kw, extra)
-                print(f"  {name:50s} {_row(scores, ms)}")
+        print(f"SegComp ABW, {len(files)} images at {w}x{h}, per image")
+        for name, kw in VARIANTS + (BASELINES if "abw" in base_sets else ()):
+            scores, ms = _score(items, kw)
+            print(f"  {name:50s} {_row(scores, ms)}")
     return 0
 
 

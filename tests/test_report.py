@@ -96,6 +96,19 @@ def test_markdown_and_figure_files_match_the_html(reports):
     for rel in links:
         assert (a.out_dir / rel).read_bytes() in html_pngs
     assert md.count("| RG |") >= 5  # planes, four SegComp tables, sparse
+    # the all-scenes SegComp row of RG, recomputed from the per-scene scores of results.json
+    from planerel.report_sections import grade
+
+    per = [sc["scores"]["regiongrow"] for sc in json.loads(a.json.read_text())["scenes"]]
+    section = md.split("**all scenes**", 1)[1]
+    row = next(ln for ln in section.splitlines() if ln.startswith("| RG |"))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    mean = {k: np.mean([r[k] for r in per]) for k in
+            ("n_gt", "correct", "over_segmented", "under_segmented", "missed", "noise")}
+    assert cells[1:7] == [f"{mean[k]:.2f}" for k in ("n_gt", "correct", "over_segmented",
+                                                     "under_segmented", "missed", "noise")]
+    frac = sum(r["correct"] for r in per) / sum(r["n_gt"] for r in per)
+    assert cells[7] == f"{100 * frac:.0f} %" and cells[10] == grade(frac)
 
 
 def test_raw_numbers_agree_with_an_independent_scoring(reports, tiny):

@@ -1,5 +1,8 @@
-"""The compiled growing kernel against a plain-Python statement of the paper's Algorithm 1, and
-the fast paths around it (plane construction, parameter cache).
+"""The compiled growing kernel against a plain-Python statement of planerel's variant of
+Algorithm 1 (reversed angle phases and the seed test, as docs/segmentation.md states them; the
+kernel receives its thresholds, so the same code runs the paper's order, which
+tests/test_segment_paper.py checks against the paper's pseudo-code), and the fast paths around
+it (plane construction, parameter cache).
 
 The kernel is tuned for speed (label test first, no integer division in the base-normal
 schedule, moments gathered while growing); the reference below is written for reading, so any
@@ -23,7 +26,8 @@ _DIRS = [(0, 1), (1, -1), (1, 0), (1, 1), (0, -1), (-1, 1), (-1, 0), (-1, -1)]
 
 
 def _reference_grow(nrm, mask, min_nb, cos_init, cos_main, num_init, step, min_size):
-    """Algorithm 1 on the image grid, as docs/segmentation.md states it (float32 normals and
+    """planerel's growing on the image grid, as docs/segmentation.md states it: ``cos_init``
+    while the region is small and for the seed test, ``cos_main`` after (float32 normals and
     running normal sums, float64 base normal, as the kernel keeps them)."""
     h, w, _ = nrm.shape
     f32 = np.float32

@@ -9,10 +9,16 @@ Import it only from inside functions (numba itself is a heavy import).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import config, njit
 from numba.cpython.unsafe.numbers import trailing_zeros
 
 from planerel.segment._intrinsics import prefetch
+
+if config.DISABLE_JIT:  # the kernels run as plain Python (coverage runs)
+    def trailing_zeros(x):  # noqa: F811
+        """Index of the lowest set bit of ``x`` (> 0), as numba's intrinsic."""
+        x = int(x)
+        return (x & -x).bit_length() - 1
 
 __all__ = [
     "region_grow_list",
