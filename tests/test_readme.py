@@ -66,7 +66,7 @@ def test_quick_start_extraction_finds_every_step():
     cmds = quick_start_commands(README.read_text())
     verbs = [shlex.split(c)[1] for c in cmds if c.startswith("planerel ")]
     assert verbs == ["segment", "describe", "dataset", "learn", "export-aleph", "induce",
-                     "dataset", "classify"], cmds
+                     "export-popper", "dataset", "classify"], cmds
 
 
 def test_every_readme_command_parses():
