@@ -163,3 +163,16 @@ def test_relational_task_learns_stairs_from_pairwise_relations(tmp_path, descs):
     assert res.train.tp == 2 and res.train.fp == 0
     pairwise = ("adjacent(", "parallel(", "perpendicular(", "above(", "angle(", "gap(", "rise(")
     assert any(p in r for r in res.rules for p in pairwise), res.rules
+
+
+def test_step_up_task_is_optional(tmp_path, descs):
+    """The hand-written detector is a mode only in aleph/modes_objects.pl (--task)."""
+    learn = pytest.importorskip("planerel.learn")
+    default = aleph_files(descs, "stairs")["stairs.b"]
+    assert "step_up(+" not in default and "parallel(+plane, -plane)" in default
+    export_aleph(descs, tmp_path, "stairs", task="modes_objects.pl")
+    text = (tmp_path / "stairs.b").read_text()
+    assert "modeb(*, step_up(+plane, -plane))" in text and "parallel(+plane" not in text
+    res = learn.learn(str(tmp_path / "stairs"), engine="builtin", timeout=60)
+    assert res.train.tp == 2 and res.train.fp == 0
+    assert any("step_up(" in r for r in res.rules), res.rules
