@@ -34,8 +34,11 @@
 
 main :-
     current_prolog_flag(argv, Argv),
-    catch(run(Argv), E, report_error(E)),
-    halt(0).
+    (   catch(run(Argv), E, report_error(E))
+    ->  halt(0)
+    ;   format(user_error, "error: the Aleph driver failed (see Aleph's output above)~n", []),
+        halt(3)
+    ).
 
 run([Kind, Path, Stem, Rules|Sets]) :-
     memberchk(Kind, [classic, module]), !,
@@ -95,8 +98,10 @@ apply_setting(Kind, Text) :-
         throw(planerel_input_error(S))
     ).
 
-learn(classic) :- user:induce.
-learn(module)  :- aleph:induce(user:_).
+%   induce fails in the module file when no positive example is left to cover
+%   (and in either when a problem has none): the theory is then empty.
+learn(classic) :- ( user:induce -> true ; true ).
+learn(module)  :- ( aleph:induce(user:_) -> true ; true ).
 
 %   collect_theory(+Kind): the clauses of the theory, in the order Aleph
 %   found them, from the store Aleph's write_rules/1 prints from

@@ -126,6 +126,15 @@ def test_test_set_and_settings_from_the_command(tmp_path):
     assert r.test == Confusion(tp=3, fn=0, fp=0, tn=3)
 
 
+def test_no_positive_example_gives_an_empty_theory(tmp_path):
+    stem = copy_problem("trains", tmp_path)
+    (tmp_path / "trains.f").write_text("")
+    negatives = len((ILP / "trains.n").read_text().split())
+    r = learn(stem, engine="aleph", timeout=120)
+    assert r.rules == ()
+    assert r.train == Confusion(tp=0, fn=0, fp=0, tn=negatives)
+
+
 def test_timeout_stops_the_process_group(tmp_path):
     stem = copy_problem("trains", tmp_path, "short(_) :- sleep(30), fail.\n")
     t0 = time.perf_counter()
