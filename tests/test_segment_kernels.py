@@ -61,3 +61,26 @@ def test_prefetch_rejects_what_is_not_an_array():
 
     with pytest.raises(Exception, match="prefetch"):
         bad(1.0)
+
+
+def test_diff_row_reads_stay_in_the_ring_for_invalid_points():
+    # an invalid pixel (row-run start -1) keeps stale run ends and radius in the rings; the
+    # differences must not load outside the smoothed-point ring for it (a read beyond it
+    # crashed a process once the memory after the ring was unmapped)
+    import numpy as np
+
+    from planerel.segment._normal_kernels import _diff_row
+
+    W, RS = 8, 4
+    rsf = np.arange(RS * W * 3, dtype=np.float32)
+    rs = np.full(W, 0, dtype=np.int16)
+    re = np.full(W, W - 1, dtype=np.int16)
+    cs = np.zeros(W, dtype=np.int16)
+    ce = np.full(W, 3, dtype=np.int16)
+    kr = np.ones(W, dtype=np.int16)
+    rs[3], re[3], kr[3] = -1, 30000, 30000  # invalid, stale values
+    dif = np.zeros((7, W), dtype=np.float32)
+    _diff_row.py_func(rsf, rs, re, cs, ce, kr, 1, RS - 1, dif)  # IndexError before the fix
+    assert dif[6, 3] == 0 and dif[6, 4] == 1
+    # a valid pixel's horizontal difference: columns u+1 and u-1 of the row, x component
+    assert dif[0, 4] == rsf[3 * W + 3 * 5] - rsf[3 * W + 3 * 3]

@@ -155,8 +155,10 @@ def _diff_row(rsf, rs, re, cs, ce, kr, c, MS, dif):  # pragma: no cover - compil
         vd = min(c + r, np.int64(ce[u]))
         vu = max(c - r, np.int64(cs[u]))
         dif[6, u] = (rs[u] >= 0) & (ur != ul) & (vd != vu)
-        ir = np.uint64(row + 3 * max(ur, 0))  # -1 for an invalid point
-        il = np.uint64(row + 3 * max(ul, 0))
+        # an invalid point's run ends and radius are stale ring values (its result is masked
+        # by dif[6]): clamp its columns into the row so that the loads stay inside the ring
+        ir = np.uint64(row + 3 * min(max(ur, 0), W - 1))
+        il = np.uint64(row + 3 * min(max(ul, 0), W - 1))
         idn = np.uint64((vd & MS) * RW + 3 * u)
         iu = np.uint64((vu & MS) * RW + 3 * u)
         one = np.uint64(1)

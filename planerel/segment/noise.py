@@ -191,10 +191,10 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES)
     order = np.argsort(zc, kind="stable")
     zc, sd = zc[order], sd[order]
     nb = max(1, min(MAX_BANDS, n // MIN_PER_BAND))
-    edges = np.linspace(0, n, nb + 1).astype(int)
-    bz = [float(np.median(zc[edges[i]:edges[i + 1]])) for i in range(nb)]
-    bz_a = np.array(bz)
-    band = np.repeat(np.arange(nb), np.diff(edges))
+    size = n // nb  # equal bands of consecutive depths (the last n % nb patches are left out)
+    zc, sd = zc[:nb * size], sd[:nb * size]
+    bz_a = np.median(zc.reshape(nb, size), axis=1)
+    band = np.repeat(np.arange(nb), size)
     const, quad = 1.0, 0.0
     for _ in range(2):
         # each patch's std carried to its band's depth under the current model's shape (the
@@ -202,13 +202,12 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES)
         # between two surfaces -- is not biased towards its nearer patches
         shape = np.sqrt(const ** 2 + (quad * bz_a[band] ** 2) ** 2) / np.sqrt(
             const ** 2 + (quad * zc * zc) ** 2)
-        t = sd * shape
-        bs = [float(np.quantile(t[edges[i]:edges[i + 1]], QUANTILE)) * QUANTILE_TO_MEDIAN
-              for i in range(nb)]
-        bs_a = np.array(bs)
+        t = (sd * shape).reshape(nb, size)
+        bs_a = np.quantile(t, QUANTILE, axis=1) * QUANTILE_TO_MEDIAN
         const, quad = _fit(bz_a, bs_a)
         if const == 0 and quad == 0:
             break
+    bz, bs = bz_a.tolist(), bs_a.tolist()
     zmed = float(np.median(zc))
     model = NoiseModel("none", const, quad, zmed, float(zc[0]), float(zc[-1]), pa, n,
                        tuple(zip(bz, bs, strict=True)))

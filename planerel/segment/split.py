@@ -105,12 +105,15 @@ class SplitParams:
         Regions touch when pixels of both lie within this many pixels (2) ...
     merge_jump : float
         ... and their points within ``merge_jump * z`` metres (0.05).
-    min_split_angle : float
-        A region is split only when two of its pieces' planes differ by at least this many
-        degrees (3).  Real depth sensors bend large planes slightly (a Kinect floor by a few
-        millimetres over a metre): such a floor fails the residual test and RANSAC cuts it into
-        parallel slabs 0.1-0.5 degrees apart, which are one surface; a floor and an 8-degree
-        ramp differ by 8.  0 turns the check off.
+    min_split_angle, parallel_gap : float
+        Planar parts of a region whose planes differ by less than ``min_split_angle`` degrees
+        (3) and lie within ``parallel_gap`` x depth (0.02: 2 cm at 1 m) of each other's points
+        are one surface: real depth sensors bend large planes slightly (a Kinect floor by a
+        few millimetres over a metre), so such a floor fails the residual test and RANSAC cuts
+        it into parallel slabs 0.1-0.5 degrees apart; a floor and an 8-degree ramp differ by 8
+        degrees, a stair tread and the floor by a riser.  The merge step compares nearly
+        parallel regions' union with their own RMS as well (:mod:`planerel.segment.merge`).
+        ``min_split_angle`` 0 turns both off.
     """
 
     tolerance: float = 1.5
@@ -134,6 +137,7 @@ class SplitParams:
     merge_gap: int = 2
     merge_jump: float = 0.05
     min_split_angle: float = 3.0
+    parallel_gap: float = 0.02
 
     def __post_init__(self) -> None:
         o = "split"
@@ -171,6 +175,7 @@ class SplitParams:
         s(self, "merge_jump", _num(o, "merge_jump", self.merge_jump, lo=0.0, lo_open=True))
         s(self, "min_split_angle", _num(o, "min_split_angle", self.min_split_angle, lo=0.0,
                                         hi=90.0))
+        s(self, "parallel_gap", _num(o, "parallel_gap", self.parallel_gap, lo=0.0))
 
     def depth_sigma2(self, z: np.ndarray) -> np.ndarray:
         """Variance (m^2) of a depth measurement at depth ``z`` (m), any shape."""
@@ -283,7 +288,8 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         raise InputError("split: some labelled pixels have no valid point")
 
     def normals_of(pix):
-        return None if nrm is None else np.asarray(nrm.reshape(-1, 3)[pix], dtype=np.float64)
+        # the flat normals (float32); _split_one converts only the sample it uses
+        return None if nrm is None else nrm.reshape(-1, 3)
 
     new_lab = None
     extra: dict[int, list] = {}
@@ -307,11 +313,8 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
             pix = np.flatnonzero(lab == r)
             piece = _split_one(pix, xyz_flat[pix], normals_of(pix), scale[r],
                                min_size, p, w, cloud.organized,
-                               np.random.default_rng([p.seed, int(r)]))
+                               np.random.default_rng([p.seed, int(r)]), stats=info)
             if piece is None:
-                continue
-            if p.min_split_angle > 0 and not _distinct(piece, xyz_flat[pix], p.min_split_angle):
-                info["split_parallel"] += 1
                 continue
             if new_lab is None:
                 new_lab = lab.copy()
@@ -365,13 +368,37 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     return Segmentation(out.reshape(h, w), planes, seg.method, seg.params, seg.normals, info)
 
 
-def _distinct(piece, P, min_angle: float) -> bool:
-    """Whether two of the pieces (``piece`` (m,) int, -1 = none, of points ``P`` (m, 3)) have
-    least-squares planes at least ``min_angle`` degrees apart."""
-    k = int(piece.max()) + 1
-    normals = np.array([_fit(P[piece == q])[0] for q in range(k)])
-    cos = np.abs(normals @ normals.T)
-    return bool(cos.min() <= math.cos(math.radians(min_angle)))
+def _surfaces(planes, Q, part, p: SplitParams) -> np.ndarray:
+    """Group index per planar part: parts whose planes lie within ``min_split_angle`` of each
+    other and within ``parallel_gap`` x depth of each other's centroid (of their sample points
+    ``Q[part == j]``) are one surface, bent by the sensor (parts with no sample point stay
+    alone).  Groups are numbered by their first part."""
+    k = len(planes)
+    parent = list(range(k))
+    if p.min_split_angle <= 0 or k < 2:
+        return np.arange(k)
+    cos_min = math.cos(math.radians(p.min_split_angle))
+    cen = [Q[part == j].mean(axis=0) if np.any(part == j) else None for j in range(k)]
+
+    def root(i):
+        while parent[i] != i:
+            i = parent[i]
+        return i
+
+    for a in range(k):
+        for b in range(a + 1, k):
+            if cen[a] is None or cen[b] is None:
+                continue
+            (na, oa), (nb, ob) = planes[a], planes[b]
+            if abs(float(na @ nb)) < cos_min:
+                continue
+            if (abs(float(na @ cen[b]) + oa) <= p.parallel_gap * cen[b][2]
+                    and abs(float(nb @ cen[a]) + ob) <= p.parallel_gap * cen[a][2]):
+                ra, rb = root(a), root(b)
+                parent[max(ra, rb)] = min(ra, rb)
+    roots = [root(i) for i in range(k)]
+    first = sorted(set(roots))
+    return np.array([first.index(r) for r in roots], dtype=np.int64)
 
 
 def _keep_planar(piece, P, scale, p: SplitParams):
@@ -445,21 +472,22 @@ def _cost(P, zs, nr, off) -> np.ndarray:
     return np.abs(dn + off) * zs / np.maximum(np.abs(dn), 1e-12)
 
 
-def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, min_parts=2):
+def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, min_parts=2,
+               stats=None):
     """Pieces of one region: ``(len(P),)`` kept-piece index per point (-1 = unassigned), or
     None when fewer than ``min_parts`` pieces are found (the region stays as it was).  ``pix`` (m,) ascending flat pixel indices, ``P`` (m, 3)
-    their points, ``N`` (m, 3) their normals or None; the point-to-plane sigma of a plane ``n``
+    their points, ``N`` (H*W, 3) the image's flat normals or None; the point-to-plane sigma of a plane ``n``
     is ``scale * sigma_z(z) * |n . p| / z``."""
     from planerel.segment._post_kernels import absorb_small, assign_parts, depth_scales, part_pieces
 
     m = len(P)
     q = p.disparity_step / (p.focal_px * p.baseline)
-    zs_all = depth_scales(np.ascontiguousarray(P[:, 2]), float(scale), float(p.noise), float(q),
-                          float(p.depth_unit))
     st = max(1, m // _DISCOVERY_POINTS)
     Q = P[::st]
-    zs = zs_all[::st]
-    NQ = None if N is None else N[::st]
+    zs = depth_scales(np.ascontiguousarray(Q[:, 2]), float(scale), float(p.noise), float(q),
+                      float(p.depth_unit))
+    # N: the image's flat normals (all pixels); only the sample's are read
+    NQ = None if N is None else np.asarray(N[pix[::st]], dtype=np.float64)
     mq = len(Q)
     min_q = max(3, int(math.ceil(min_size * mq / m)))
     rem = np.arange(mq)
@@ -483,6 +511,7 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
         rem = rem[~inl]
     if len(planes) < min_parts:
         return None
+    part = None
     for _it in range(p.iterations):  # assign the sample to the nearest part, refit
         cost = np.stack([_cost(Q, zs, nr, off) for nr, off in planes], axis=1)
         part = np.argmin(cost, axis=1)
@@ -491,9 +520,23 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
             mj = part == j
             if mj.sum() >= 3:
                 planes[j] = _fit(Q[mj])
+    if part is None:  # no refinement rounds: the sample's nearest parts
+        part = np.argmin(np.stack([_cost(Q, zs, nr, off) for nr, off in planes], axis=1), axis=1)
+    group = _surfaces(planes, Q, part, p)
+    ng = int(group.max()) + 1
+    if ng < min_parts:
+        if stats is not None:
+            stats["split_parallel"] = stats.get("split_parallel", 0) + 1
+        return None
     pl = np.array([[*nr, off] for nr, off in planes], dtype=np.float64)
+    zs_all = depth_scales(np.ascontiguousarray(P[:, 2]), float(scale), float(p.noise), float(q),
+                          float(p.depth_unit))
     cost, part = assign_parts(np.ascontiguousarray(P, dtype=np.float64), zs_all, pl,
                               float(p.assign_sigmas))
+    if ng < len(planes):  # parts of one surface: a point goes to its nearest part's surface
+        part = np.where(part >= 0, group[np.maximum(part, 0)], -1)
+        cost = np.stack([cost[:, group == g].min(axis=1) for g in range(ng)], axis=1)
+        planes = [None] * ng
     if not organized:
         pieces = _pieces(part, len(planes), min_size, min_parts)
         if pieces is None:

@@ -1,0 +1,86 @@
+"""Cost of adapting the segmentation to the sensor: ``segment()`` with the default settings
+(noise model measured, parameters set from it) against the fixed settings
+(``adapt=False``, = ``preset="kinect"``), interleaved call by call in one process on one core.
+
+    .venv/bin/python benchmarks/bench_adapt.py [--repeat 15]
+
+Scenes: the generator's staircase seed 3 and box seed 1 at 640x480 and 160x120, the three
+Kinect TIFFs and mOSD learn0 (640x480) and an ABW image (512x512) from ``../shared/data`` when
+present.  Prints the median CPU ms of each setting, their ratio, and the noise estimate alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import os
+import statistics
+import sys
+import time
+
+
+def _one_core() -> None:
+    for var in ("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(var, "1")
+    try:
+        os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
+    except (AttributeError, OSError):
+        pass
+
+
+def _scenes():
+    from pathlib import Path
+
+    from planerel.io import read, read_abw
+    from planerel.synth import generate_scene
+
+    out = []
+    for kind, seed in (("stairs", 3), ("box", 1)):
+        for sub in (1, 4):
+            c = generate_scene(kind, seed=seed, subsample=sub).cloud
+            out.append((f"{kind} seed {seed} {640 // sub}x{480 // sub}", c))
+    data = Path(__file__).resolve().parents[2] / "shared" / "data"
+    for k, f in enumerate(sorted(glob.glob(str(data / "kinect" / "*_depth.tiff")))):
+        out.append((f"kinect frame {k + 1} 640x480", read(f)))
+    f = data / "mosd" / "learn0.pcd"
+    if f.exists():
+        out.append(("mOSD learn0 640x480", read(f)))
+    f = data / "abw" / "abw.test.6.range"
+    if f.exists():
+        out.append(("ABW test.6 512x512", read_abw(f)))
+    return out
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=15)
+    args = ap.parse_args(argv)
+    _one_core()
+    from planerel.segment import segment
+    from planerel.segment.noise import estimate_noise
+
+    print(f"{'scene':30s} {'fixed ms':>9s} {'adaptive ms':>12s} {'ratio':>6s} {'estimate ms':>12s}")
+    ratios = []
+    for name, c in _scenes():
+        segment(c)
+        segment(c, adapt=False)
+        fixed, adapt, est = [], [], []
+        for _ in range(args.repeat):
+            t = time.process_time()
+            segment(c, adapt=False)
+            fixed.append(time.process_time() - t)
+            t = time.process_time()
+            segment(c)
+            adapt.append(time.process_time() - t)
+            t = time.process_time()
+            estimate_noise(c)
+            est.append(time.process_time() - t)
+        mf, ma, me = (1000 * statistics.median(x) for x in (fixed, adapt, est))
+        ratios.append(ma / mf)
+        print(f"{name:30s} {mf:9.2f} {ma:12.2f} {ma / mf:6.2f} {me:12.2f}")
+    print(f"load average (1, 5, 15 min) at the end: {os.getloadavg()}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
