@@ -245,7 +245,8 @@ def _candidates(normals: np.ndarray, weights: np.ndarray, params: GravityParams)
     cands = [top, np.array([DEFAULT_UP])]
     k = top.shape[0]
     if k >= 2:
-        i, j = np.triu_indices(k, 1)
+        idx = np.arange(k)
+        i, j = np.nonzero(idx[:, None] < idx[None, :])
         cr = np.cross(top[i], top[j])
         s = np.linalg.norm(cr, axis=1)
         ok = s >= math.sin(math.radians(params.min_pair_deg))

@@ -136,8 +136,7 @@ def posed_scene(kind: str, pitch_deg: float, roll_deg: float = 0.0, seed: int = 
         # stairs climb along local +x; the camera stands on the landing looking down (-x)
         obj = sg.place(geom, az + 180.0)
         verts = obj.vertices()
-        top = float(verts[:, 2].max())
-        height = top + float(rng.uniform(1.5, 1.9))
+        height = steps * rise + float(rng.uniform(1.5, 1.9))  # eye height above the landing
         # camera above the landing, 0.3 m back from the top nosing
         nosing = (steps - 1) * tread - 0.5 * ((steps - 1) * tread + 1.5)
         cam_xy = -direction * (nosing + 0.3)

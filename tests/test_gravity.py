@@ -67,13 +67,16 @@ def test_staircase_from_above_segmented_treads_horizontal(pitch):
     s = posed_scene("stairs_from_above", pitch, 0, seed=3)
     est = up_from_cloud(s.cloud, segment(s.cloud).labels)
     assert _deg(est.vector, s.up) <= 2.0
-    # measured with the estimated up, every seen tread is horizontal (within 2 degrees)
+    # measured with the estimated up, every seen tread is horizontal and measures what it
+    # measures with the true up (what is left is the noise of its own plane fit)
     ps = measure_planes(s.cloud, s.gt_labels, up=est.vector)
+    truth = measure_planes(s.cloud, s.gt_labels, up=s.up)
     # (slivers cut by the image border, under 10 cm across, have no reliable normal of their own)
     treads = [p for p in ps if s.roles[p.label] == "tread" and p.width >= 0.1]
     assert len(treads) >= 2
     for p in treads:
-        assert p.incline <= 2.0 and p.orientation == "horizontal"
+        assert p.orientation == "horizontal"
+        assert abs(p.incline - truth.by_label(p.label).incline) <= 0.5
 
 
 def test_sign_looking_straight_down_and_level():
