@@ -123,6 +123,9 @@ setting_spec(verbosity,    1,        int(0)).
 setting_spec(test_pos,     none,     file).
 setting_spec(test_neg,     none,     file).
 setting_spec(recursion,    false,    oneof([true, false])).
+setting_spec(openlist,     inf,      int_or_inf(1)).
+setting_spec(explore,      false,    oneof([true, false])).
+setting_spec(searchtime,   inf,      pos_or_inf).
 
 %   Values Aleph accepts for search/evalfn that this learner does not implement.
 aleph_other_value(search, [ar, ibs, ic, id, ils, rls, scs, false]).
@@ -135,16 +138,16 @@ aleph_setting(Name) :-
               [ abduce, best, cache_clauselength, caching, check_good, check_redundant,
                 check_useless, classes, clauselength_distribution, clauses,
                 condition, confidence, construct_bottom, dependent, discretise,
-                explore, good, goodfile, gsamplesize, interactive, language,
+                good, goodfile, gsamplesize, interactive, language,
                 lazy_negs, lazy_on_contradiction, lazy_on_cost, lookahead, m,
                 max_abducibles, max_features, mingain, minposfrac, minscore,
                 mode_overlap_threshold, moves, newvars, nreduce_bottom,
-                openlist, optimise_clauses, permute_bottom, prior, prune_tree,
+                optimise_clauses, permute_bottom, prior, prune_tree,
                 portray_examples, portray_hypothesis, portray_literals,
                 portray_search, print, proof_strategy, prooftime, prune_defs,
                 record, recordfile, refine, refineop, resample, rls_type, rulefile,
                 samplenum, samplesize, scs_percentile, scs_prob, scs_sample,
-                searchstrat, searchtime, skolemvars, splitvars, stage,
+                searchstrat, skolemvars, splitvars, stage,
                 store_bottom, subsample, subsamplesize, temperature, threads,
                 train_pos, train_neg, tree_type, tries, typeoverlap,
                 uniform_sample, updateback, version, walk, minprec, date,
@@ -206,11 +209,17 @@ check_value(int(Min), V, V) :- integer(V), V >= Min.
 check_value(fraction, V, F) :- number(V), V >= 0, V =< 1, F is float(V).
 check_value(oneof(L), V, V) :- atom(V), memberchk(V, L).
 check_value(file, V, A) :- ( atom(V) ; string(V) ), V \== '', atom_string(A, V).
+check_value(int_or_inf(_), inf, inf) :- !.
+check_value(int_or_inf(Min), V, V) :- integer(V), V >= Min.
+check_value(pos_or_inf, inf, inf) :- !.
+check_value(pos_or_inf, V, F) :- number(V), V > 0, F is float(V).
 
 type_text(int(Min), T) :- format(string(T), "an integer >= ~w", [Min]).
 type_text(fraction, "a number between 0 and 1").
 type_text(oneof(L), T) :- atomic_list_concat(L, ', ', A), format(string(T), "one of ~w", [A]).
 type_text(file, "a file name").
+type_text(int_or_inf(Min), T) :- format(string(T), "an integer >= ~w or inf", [Min]).
+type_text(pos_or_inf, "a positive number of seconds or inf").
 
                  /*******************************
                  *         DECLARATIONS         *
@@ -859,6 +868,13 @@ bound(accuracy, P, _, B) :- ( P > 0 -> B = 1.0 ; B = 0.0 ).
 bound(compression, P, L, B) :- B is P - L.
 
 search_clause(Bottom, PosIds, NegIds, Ctx, Best) :-
+    setting(searchtime, ST),
+    (   ST == inf
+    ->  nb_setval(planerel_search_deadline, inf)
+    ;   statistics(cputime, T0),
+        Deadline is T0 + ST,
+        nb_setval(planerel_search_deadline, Deadline)
+    ),
     Bottom = bottom(Head, HIn, _HOut, _LitsT, _NB),
     Ctx = ctx(_, _, Evalfn, _, _, _, _, _, _),
     include(covers_id(pos, Head, []), PosIds, PC),
@@ -866,6 +882,8 @@ search_clause(Bottom, PosIds, NegIds, Ctx, Best) :-
     length(PC, P), length(NC, N),
     score(Evalfn, P, N, 1, S),
     count_node,
+    length(PosIds, NPos),
+    nb_setval(planerel_search_npos, NPos),
     Root = nd([], 0, HIn, 1, PC, NC, P, N, S, 0),
     consider(Root, Ctx, none, Best0),
     Ctx = ctx(Search, _, _, _, _, _, _, _, _),
@@ -886,16 +904,24 @@ count_node :-
 budget_left(Ctx) :-
     Ctx = ctx(_, _, _, _, MaxNodes, _, _, _, _),
     flag(planerel_search_nodes, M, M),
-    M < MaxNodes.
+    M < MaxNodes,
+    (   nb_current(planerel_search_deadline, Deadline), Deadline \== inf
+    ->  statistics(cputime, Now),
+        Now < Deadline
+    ;   true
+    ).
 
 search_loop(Open, Ctx, Best0, Best) :-
     Ctx = ctx(Search, _, _, _, _, _, _, _, _),
     (   budget_left(Ctx),
-        open_pop(Search, Open, Node, Open1)
+        open_pop(Search, Open, Node, Open1),
+        \+ no_better_left(Search, Node, Best0)
     ->  (   expandable(Node, Ctx, Best0)
         ->  refine(Node, Ctx, Best0, Best1, Children),
             include(expandable_child(Ctx), Children, Keep),
-            open_push(Search, Keep, Open1, Open2)
+            open_push(Search, Keep, Open1, Open3),
+            setting(openlist, Beam),
+            open_limit(Beam, Search, Open3, Open2)
         ;   Best1 = Best0, Open2 = Open1
         ),
         search_loop(Open2, Ctx, Best1, Best)
@@ -904,16 +930,29 @@ search_loop(Open, Ctx, Best0, Best) :-
 
 expandable_child(Ctx, Node) :- expandable(Node, Ctx, none).
 
+%   no_better_left(+Search, +Node, +Best): without explore(true) a search
+%   stops, as Aleph's does, once its best acceptable clause covers every
+%   positive example still to cover (no clause can cover more); with
+%   explore(true) it goes on while a refinement could still score better
+%   (fewer negatives), which matters only when noise or minacc allow
+%   negatives (with noise 0 such a clause already has the best score).
+no_better_left(_, _, best(_, _, nd(_, _, _, _, _, _, P, _, _, _))) :-
+    setting(explore, false),
+    nb_getval(planerel_search_npos, NP),
+    P >= NP.
+
 %   A node is worth refining if it can still be lengthened, covers at least
-%   minpos positives and some negatives, and its best refinement could beat
-%   the best clause so far.
+%   minpos positives, is not yet acceptable (more than noise negatives, or
+%   precision below minacc: as in Aleph, an acceptable clause is not
+%   specialised further; with explore(true), not yet consistent), and its
+%   best refinement could beat the best clause so far.
 expandable(nd(_, _, Bound, Len, _, _, P, N, _, _), Ctx, Best) :-
-    Ctx = ctx(_, CL, Evalfn, bottom(_, _, HOut, _, _), _, MinPos, _, _, _),
+    Ctx = ctx(_, CL, Evalfn, bottom(_, _, HOut, _, _), _, MinPos, MinAcc, Noise, _),
     Len < CL,
     P >= MinPos,
-    (   N > 0
-    ->  true
-    ;   \+ ord_subset(HOut, Bound)        % consistent, but head outputs still unbound
+    (   ( N > Noise ; P / (P + N) < MinAcc ; N > 0, setting(explore, true) )
+    ->  true                              % not acceptable yet (explore: not consistent)
+    ;   \+ ord_subset(HOut, Bound)        % acceptable, but head outputs still unbound
     ),
     (   Best = best(BS, _, _)
     ->  bound(Evalfn, P, Len, B),
@@ -1255,6 +1294,28 @@ lazy_error(PI, E) :-
     warn_once(lazy_error(PI),
               "lazy evaluation of ~w raised an error (it must accept [PosValues, NegValues] in place of its input argument): ~s",
               [PI, T]).
+
+%   open_limit(+Beam, +Search, +Open0, -Open): Aleph's openlist: keep the
+%   Beam first nodes of the open list (the best ones for heuristic search).
+open_limit(inf, _, O, O) :- !.
+open_limit(N, bf, q(F, B), Q) :- !,
+    reverse(B, RB), append(F, RB, All),
+    (   length(All, L), L > N
+    ->  length(Keep, N), append(Keep, _, All), Q = q(Keep, [])
+    ;   Q = q(F, B)
+    ).
+open_limit(N, df, S, S1) :- !,
+    (   length(S, L), L > N
+    ->  length(S1, N), append(S1, _, S)
+    ;   S1 = S
+    ).
+open_limit(N, heuristic, H, H1) :-
+    (   heap_size(H, L), L > N
+    ->  heap_to_list(H, Pairs),
+        length(Keep, N), append(Keep, _, Pairs),
+        list_to_heap(Keep, H1)
+    ;   H1 = H
+    ).
 
 %   The open list.
 open_empty(bf, q([], [])).

@@ -194,12 +194,12 @@ def test_mode_declares_head_and_body(tmp_path):
 
 def test_unimplemented_aleph_setting_warns_once(tmp_path):
     stem = copy_problem("trains", tmp_path,
-                        extra_b=":- set(good, true).\n:- set(good, false).\n:- set(openlist, 10).\n")
+                        extra_b=":- set(good, true).\n:- set(good, false).\n:- set(lookahead, 2).\n")
     r = learn(stem)
     good = [w for w in r.warnings if "setting good" in w]
     assert len(good) == 1
     assert "trains.b:" in good[0]
-    assert any("setting openlist" in w for w in r.warnings)
+    assert any("setting lookahead" in w for w in r.warnings)
     assert [norm(c) for c in r.rules] == [norm("eastbound(A) :- has_car(A,B), short(B), closed(B).")]
 
 

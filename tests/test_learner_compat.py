@@ -237,3 +237,38 @@ def test_abducible_is_a_clear_warning(tmp_path):
     r = learn(stem)
     assert any("abducible(short/1)" in w and "abduction is not implemented" in w for w in r.warnings)
     assert [norm(c) for c in r.rules] == [SHORT_CLOSED]
+
+
+def test_openlist_is_a_beam_on_the_open_list():
+    # A beam of one node keeps only the first child of each expansion: the search explores fewer
+    # clauses and misses the short-closed rule that the unbounded search finds.
+    full = learn(ILP / "trains", settings={"search": "heuristic", "evalfn": "laplace"})
+    beam = learn(ILP / "trains", settings={"search": "heuristic", "evalfn": "laplace", "openlist": 1})
+    assert not beam.warnings and not full.warnings
+    assert [norm(c) for c in full.rules] == [norm("eastbound(A) :- has_car(A,B), short(B), closed(B).")]
+    assert beam.clauses_explored < full.clauses_explored
+    wide = learn(ILP / "trains", settings={"search": "heuristic", "evalfn": "laplace", "openlist": 10_000})
+    assert wide.rules == full.rules and wide.clauses_explored == full.clauses_explored
+
+
+def test_searchtime_bounds_each_search():
+    # A search that may use 0.1 ms of CPU stops after its first clauses: no rule is found and the
+    # positives stay as unit clauses; inf is the default.
+    r = learn(ILP / "trains", settings={"searchtime": 0.0001})
+    assert all(":-" not in c for c in r.rules) and len(r.rules) == 5
+    with pytest.raises(InputError, match=r"illegal value -1 for setting searchtime"):
+        learn(ILP / "trains", settings={"searchtime": -1})
+
+
+def test_explore_decides_whether_an_acceptable_clause_covering_every_positive_ends_the_search(tmp_path):
+    # With noise 1, has_car(A,B), short(B) covers both positives and one negative: acceptable.
+    # Aleph's default (explore false) stops there; explore(true) searches on and finds the
+    # consistent short-closed rule, whose laplace score 3/4 beats 3/5.
+    stem = write(tmp_path, "tr", ":- set(noise, 1).\n:- set(search, heuristic).\n"
+                 ":- set(evalfn, laplace).\n" + TRAINS_B, TRAINS_F, TRAINS_N)
+    quick = learn(stem)
+    assert [norm(c) for c in quick.rules] == [norm("eastbound(A) :- has_car(A,B), short(B).")]
+    assert quick.train == Confusion(tp=2, fn=0, fp=1, tn=1)
+    full = learn(stem, settings={"explore": "true"})
+    assert [norm(c) for c in full.rules] == [SHORT_CLOSED]
+    assert full.clauses_explored > quick.clauses_explored
