@@ -204,3 +204,20 @@ def test_a_slightly_bent_floor_stays_one_region():
     assert largest >= 0.95 * cloud.n_valid
     old = segment(cloud, split_params=SplitParams(min_split_angle=0))
     assert max(p.n_points for p in old.planes) < 0.6 * cloud.n_valid
+
+
+@pytest.mark.parametrize("sensor", ["structured-light", "laser"])
+def test_the_synthetic_worlds_sensor_models_are_recognised(sensor):
+    # planerel.synth_sensor's documented noise: structured light sigma_z = z^2 / (f b) *
+    # sqrt(sigma_d^2 + step^2 / 12) = 1.43e-3 z^2; the laser a constant 10 mm
+    from planerel.synth import generate_scene
+    from planerel.synth_sensor import StructuredLight, TimeOfFlight
+
+    sen = StructuredLight() if sensor == "structured-light" else TimeOfFlight.laser()
+    m = estimate_noise(generate_scene("box", 1, subsample=2, sensor=sen).cloud)
+    if sensor == "structured-light":
+        fb = sen.focal_px * abs(sen.baseline)
+        quad = math.sqrt(sen.disparity_noise ** 2 + sen.disparity_step ** 2 / 12) / fb
+        assert m.kind == "z2" and m.quad == pytest.approx(quad, rel=0.08)
+    else:
+        assert m.kind == "uniform" and float(m.sigma(2.0)) == pytest.approx(0.010, rel=0.08)
