@@ -252,8 +252,10 @@ def build_blocks(data: dict, opts, scenes, real, *, command: str | None = None) 
     b = [Heading("Region growing vs RANSAC plane segmentation: the paper's comparison, rerun", 1)]
     b.append(Para(
         "This report reruns the comparison of \"Region-Growing Planar Segmentation for Robot "
-        "Action Planning\": planerel's region growing (the paper's Algorithm 1 with planerel's "
-        "boundary completion and planar post-processing, **RG**; see docs/segmentation.md) against "
+        "Action Planning\": planerel's region growing (its variant of the paper's Algorithm 1, "
+        "with reversed angle phases and a seed test, plus planerel's boundary completion and "
+        "planar post-processing, **RG**; Algorithm 1 as written is `preset=paper`; see "
+        "docs/segmentation.md) against "
         "RANSAC plane extraction (**SP**, PCL's SACMODEL_PLANE) and RANSAC with normals (**SNP**, "
         "SACMODEL_NORMAL_PLANE, normal weight 0.1) at the paper's distance thresholds in metres. "
         "Both RANSAC baselines are planerel's own seeded implementations. The paper graded "
