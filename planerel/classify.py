@@ -78,6 +78,7 @@ class SceneAnswer:
     objects: tuple
     up_source: str
     seconds: float
+    up_confidence: float = 1.0
 
     @property
     def n_planes(self) -> int:
@@ -85,7 +86,8 @@ class SceneAnswer:
 
     def to_dict(self) -> dict:
         return {"input": self.source, "scene": self.scene_id, "n_planes": self.n_planes,
-                "up": self.up_source, "objects": [o.to_dict() for o in self.objects],
+                "up": self.up_source, "up_confidence": round(self.up_confidence, 3),
+                "objects": [o.to_dict() for o in self.objects],
                 "seconds": round(self.seconds, 4)}
 
 
@@ -253,7 +255,8 @@ class Classifier:
                 _query(f"unload_file({_pl_path(facts)})", "cannot unload the scene facts")
                 facts.unlink(missing_ok=True)
         return SceneAnswer(cloud.source, scene_id, labels, plane_ids, tuple(answers),
-                           desc.planes.up_source, time.perf_counter() - t0)
+                           desc.planes.up_source, time.perf_counter() - t0,
+                           desc.planes.up_confidence)
 
 
 def _obj_atom(name: str) -> str:

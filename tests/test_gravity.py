@@ -211,3 +211,16 @@ def test_deterministic():
     with pytest.raises(InputError, match="pitch"):
         posed_scene("box", 95, 0)
     assert isinstance(s.cloud, Cloud) and s.cloud.up is None
+
+
+def test_classify_reports_the_up_source_and_confidence(tmp_path):
+    from planerel.classify import Classifier
+
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(O) :- nplanes(O, N), gteq(N, 1).\n")
+    s = posed_scene("box", 55, 5, seed=21, walls=1)
+    with Classifier(rules) as clf:
+        est = clf.classify(s.cloud, scene_id="s0001").to_dict()
+        given = clf.classify(s.cloud, scene_id="s0002", up=s.up).to_dict()
+    assert est["up"] == "estimated" and 0.5 <= est["up_confidence"] <= 1.0
+    assert given["up"] == "given" and given["up_confidence"] == 1.0
