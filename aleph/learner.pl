@@ -410,10 +410,17 @@ bg_where(File:Line) :-
 
 :- multifile user:term_expansion/2, user:message_hook/3.
 
-user:term_expansion(Term, Out) :-
+%   One clause per term shape, so that the many facts of a background file
+%   are not looked at (first-argument indexing).
+user:term_expansion((:- D), Out) :-
     bg_loading(_),
-    nonvar(Term),
-    bg_expand(Term, Out).
+    bg_expand((:- D), Out).
+user:term_expansion((false :- B), Out) :-
+    bg_loading(_),
+    bg_expand((false :- B), Out).
+user:term_expansion(false, Out) :-
+    bg_loading(_),
+    bg_expand(false, Out).
 
 bg_expand((:- D), []) :-
     nonvar(D),
