@@ -31,6 +31,7 @@ from pathlib import Path
 
 __all__ = ["die_with_parent", "child_preexec", "pool_worker_init", "pool_options", "stop_pool",
            "register_child", "unregister_child", "stop_children", "temp_dir", "pid_alive",
+           "descendants",
            "clean_stale_temp_dirs"]
 
 _PR_SET_PDEATHSIG = 1
@@ -148,6 +149,32 @@ def stop_children():
         yield
     finally:
         _STOPPING.clear()
+
+
+def descendants(pid: int) -> dict[int, str]:
+    """``{pid: command name}`` of every living (not zombie) descendant of ``pid``, read from
+    ``/proc`` (empty where there is none)."""
+    table = {}
+    try:
+        entries = [e for e in os.listdir("/proc") if e.isdigit()]
+    except OSError:
+        return {}
+    for entry in entries:
+        try:
+            text = Path(f"/proc/{entry}/stat").read_text()
+        except OSError:
+            continue
+        fields = text[text.rindex(")") + 2:].split()
+        table[int(entry)] = (int(fields[1]), fields[0], text[text.index("(") + 1:text.rindex(")")])
+    out: dict[int, str] = {}
+    frontier = [pid]
+    while frontier:
+        parent = frontier.pop()
+        for child, (ppid, state, name) in table.items():
+            if ppid == parent and child not in out and state != "Z":
+                out[child] = name
+                frontier.append(child)
+    return out
 
 
 def pid_alive(pid: int) -> bool:

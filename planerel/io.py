@@ -344,7 +344,10 @@ def resolve_intrinsics(value, width: int, height: int, where: str = "image") -> 
     if isinstance(value, str):
         if value.lower() != "kinect":
             raise InputError(f"{where}: unknown intrinsics preset {value!r} (known: 'kinect')")
-        return Intrinsics.kinect(width, height)
+        try:
+            return Intrinsics.kinect(width, height)
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
     if isinstance(value, dict) and ("width" not in value or "height" not in value):
         value = {**value, "width": width, "height": height}
     try:
@@ -405,8 +408,12 @@ def read_depth_array(path, *, max_points: int | None = None) -> np.ndarray:
     kind = _sniff(p) or p.suffix.lower()
     try:
         if kind in (".tif", ".tiff"):
+            import logging
+
             import tifffile
 
+            # tifffile logs each oddity of a damaged file; the one sentence below says it all
+            logging.getLogger("tifffile").setLevel(logging.CRITICAL)
             with tifffile.TiffFile(p) as tif:
                 if not tif.pages:
                     raise InputError(f"{p}: the TIFF holds no image")
@@ -885,7 +892,10 @@ def read_label_image(path, *, max_points: int | None = None) -> np.ndarray:
         from PIL import Image
 
         try:
-            with Image.open(p) as img:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+                img = Image.open(p)
+            with img:
                 _check_points(p, img.width * img.height, "the PNG", max_points)
                 arr = np.asarray(img)
         except InputError:

@@ -254,7 +254,10 @@ class Model:
         """The model as a Prolog file: rules plus ``planerel_rule_stats/4`` facts."""
         from planerel.terms import fact
 
-        lines = [f"% {ln}" if ln else "%" for ln in header.splitlines()]
+        # comments in printable ASCII whatever the header holds (paths in any encoding)
+        safe = ["".join(ch if 32 <= ord(ch) < 127 else "?" for ch in ln)
+                for ln in header.splitlines()]
+        lines = [f"% {ln}" if ln else "%" for ln in safe]
         lines += ["% planerel model: learned rules, one class after another.",
                   "% Load with the support predicates of planerel's prolog/ folder",
                   "% (compare.pl, derived.pl) and scene facts; see docs/results.md.",

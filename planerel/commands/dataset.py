@@ -127,7 +127,6 @@ def run_synth(args) -> int:
     import time
 
     from planerel.synth import CameraRange, SensorModel, generate_dataset
-
     from planerel.synth_sensor import StructuredLight, sensor_profile
     from planerel.synth_world import WorldRange
 
