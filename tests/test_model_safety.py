@@ -161,3 +161,9 @@ def test_vocabulary_lists_every_predicate_of_the_support_files():
                          capture_output=True, text=True, timeout=60, check=True).stdout
     found = {(ln.split("/")[0], int(ln.split("/")[1])) for ln in out.split()}
     assert found == set(P.DERIVED_PREDICATES)
+
+
+def test_model_header_with_a_non_utf8_path_is_written_as_ascii():
+    text = P.Model(("box", "ramp"), {"box": (), "ramp": ()}).text("learned from /data/set\udcff")
+    assert "% learned from /data/set?" in text
+    text.encode("ascii")  # raises if anything is left that a file system could refuse

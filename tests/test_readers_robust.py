@@ -244,6 +244,8 @@ def test_npy_header_claiming_a_huge_array(tmp_path):
 def test_thin_png_is_read_as_an_image(tmp_path, shape):
     write_depth_png(tmp_path / "thin.png", np.full(shape, 1500, np.uint16))
     assert io.read_depth_array(tmp_path / "thin.png").shape == shape
+    with pytest.raises(InputError, match=r"thin\.png: no Kinect preset"):  # not 640x480 / k
+        io.read(tmp_path / "thin.png", intrinsics="kinect")
 
 
 def test_sidecar_errors_name_the_json(tmp_path):
