@@ -114,8 +114,8 @@ def test_kill_learn_during_the_pool(small_set, tmp_path, sig):
     kill_and_check(proc, sig, kids)
     assert not (tmp_path / "model").exists()
     if sig == signal.SIGTERM:
-        assert proc.returncode == 143, proc.stderr.read()
-        assert b"Traceback" not in proc.stderr.read()
+        err = proc.stderr.read()
+        assert proc.returncode == 143 and b"Traceback" not in err, (proc.returncode, err)
 
 
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL], ids=["SIGTERM", "SIGKILL"])
