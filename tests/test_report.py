@@ -327,8 +327,13 @@ def test_bad_input():
         ReportOptions(folds=1)
     with pytest.raises(InputError, match="positive distance"):
         MethodSpec("snp", float("nan"))
+    # the paper's SP and SNP thresholds (its Tables 1-7), then Algorithm 1 as written and
+    # planerel's region growing
     assert [m.label for m in parse_methods("paper")] == [
-        "SP 0.005", "SP 0.01", "SP 0.03", "SP 0.05", "SNP 0.01", "SNP 0.03", "SNP 0.05", "RG"]
+        "SP 0.005", "SP 0.01", "SP 0.03", "SP 0.05", "SNP 0.01", "SNP 0.03", "SNP 0.05",
+        "RG paper", "RG"]
+    with pytest.raises(InputError, match="rgpaper takes no RANSAC threshold"):
+        parse_methods("rgpaper:0.01")
 
 
 def test_bad_data_set(tmp_path, tiny):
@@ -362,3 +367,25 @@ def test_render_blocks_and_their_errors():
         Figure("f", b"GIF89a", "")
     with pytest.raises(InputError, match="plain file stem"):
         Figure("../x", png, "")
+
+
+def test_paper_algorithm_is_a_report_method(tiny, tmp_path):
+    """``rgpaper`` scores Algorithm 1 as written (``segment(preset="paper")``) beside RG."""
+    from planerel.dataset import load_scene
+    from planerel.evaluate import evaluate
+    from planerel.segment import segment
+
+    (m,) = parse_methods("rgpaper")
+    assert (m.key, m.label, m.segment_method, m.params()) == (
+        "rgpaper", "RG paper", "regiongrow", {"preset": "paper"})
+    res = build_report(tiny, tmp_path / "r", _opts(methods="rgpaper,regiongrow"))
+    data = json.loads(res.json.read_text())
+    cloud, gt, _ = load_scene(tiny, "s0001")
+    got = {}
+    for key, kw in (("rgpaper", {"preset": "paper"}), ("regiongrow", {})):
+        sc = evaluate(segment(cloud, **kw).labels, gt, tolerance=0.8)
+        rec = next(s for s in data["scenes"] if s["scene_id"] == "s0001")["scores"][key]
+        got[key] = (rec["correct"], rec["noise"], rec["missed"])
+        assert got[key] == (sc.correct, sc.noise, sc.missed)
+    assert got["rgpaper"] != got["regiongrow"]  # on this staircase the two differ
+    assert "<td>RG paper</td>" in res.html.read_text(encoding="utf-8")
