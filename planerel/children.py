@@ -30,7 +30,8 @@ from collections.abc import Callable
 from pathlib import Path
 
 __all__ = ["die_with_parent", "child_preexec", "pool_worker_init", "pool_options", "stop_pool",
-           "register_child", "unregister_child", "stop_children", "temp_dir", "pid_alive",
+           "register_child", "unregister_child", "stop_children", "temp_dir", "temp_prefix",
+           "pid_alive",
            "descendants",
            "clean_stale_temp_dirs"]
 
@@ -199,8 +200,8 @@ _TEMP = re.compile(r"planerel-[a-z]+-(\d+)-")
 
 
 def clean_stale_temp_dirs(folder=None) -> list[Path]:
-    """Remove ``planerel-KIND-PID-*`` folders of ``folder`` (default: the temporary folder)
-    whose process is gone; return what was removed."""
+    """Remove ``planerel-KIND-PID-*`` folders and files of ``folder`` (default: the temporary
+    folder) whose process is gone; return what was removed."""
     base = Path(folder or tempfile.gettempdir())
     removed = []
     try:
@@ -209,20 +210,30 @@ def clean_stale_temp_dirs(folder=None) -> list[Path]:
         return removed
     for entry in entries:
         m = _TEMP.match(entry.name)
-        if m and entry.is_dir(follow_symlinks=False) and not pid_alive(int(m.group(1))):
+        if not m or pid_alive(int(m.group(1))):
+            continue
+        if entry.is_dir(follow_symlinks=False):
             shutil.rmtree(entry.path, ignore_errors=True)
-            removed.append(Path(entry.path))
+        else:
+            with contextlib.suppress(OSError):
+                os.unlink(entry.path)
+        removed.append(Path(entry.path))
     return removed
 
 
 _CLEANED = False
 
 
-def temp_dir(kind: str) -> tempfile.TemporaryDirectory:
-    """``tempfile.TemporaryDirectory`` named ``planerel-KIND-PID-*``; the first call of a process
-    also removes such folders left by processes that are gone."""
+def temp_prefix(kind: str) -> str:
+    """``planerel-KIND-PID-``, the prefix of this process's temporary files and folders; the
+    first call of a process also removes those left by processes that are gone."""
     global _CLEANED
     if not _CLEANED:
         _CLEANED = True
         clean_stale_temp_dirs()
-    return tempfile.TemporaryDirectory(prefix=f"planerel-{kind}-{os.getpid()}-")
+    return f"planerel-{kind}-{os.getpid()}-"
+
+
+def temp_dir(kind: str) -> tempfile.TemporaryDirectory:
+    """``tempfile.TemporaryDirectory`` named ``planerel-KIND-PID-*`` (see :func:`temp_prefix`)."""
+    return tempfile.TemporaryDirectory(prefix=temp_prefix(kind))

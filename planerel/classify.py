@@ -227,7 +227,9 @@ class Classifier:
         answers = []
         if desc.objects:
             text = facts_text([desc], FactParams(pairs=PAIRS, planner=False))
-            with tempfile.NamedTemporaryFile("w", suffix=".pl", prefix="planerel-scene-",
+            from planerel.children import temp_prefix
+
+            with tempfile.NamedTemporaryFile("w", suffix=".pl", prefix=temp_prefix("scene"),
                                              delete=False) as fh:
                 fh.write(text)
                 facts = Path(fh.name)

@@ -67,10 +67,13 @@ def test_recover_after_a_kill_between_the_two_renames(tmp_path):
 def test_stale_temp_folders_of_dead_processes_are_removed(tmp_path):
     import os
 
-    dead = tmp_path / f"planerel-learn-{_dead_pid()}-x1"
+    pid = _dead_pid()
+    dead = tmp_path / f"planerel-learn-{pid}-x1"
+    dead_file = tmp_path / f"planerel-scene-{pid}-x3.pl"
     mine = tmp_path / f"planerel-learn-{os.getpid()}-x2"
     other = tmp_path / "planerel-notes"
     for d in (dead, mine, other):
         d.mkdir()
-    assert clean_stale_temp_dirs(tmp_path) == [dead]
+    dead_file.write_text("facts")
+    assert sorted(clean_stale_temp_dirs(tmp_path)) == sorted([dead, dead_file])
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted([mine.name, other.name])
