@@ -30,6 +30,7 @@ COMMAND_MODULES = [
     "planerel.commands.export_popper",
     "planerel.commands.learn",
     "planerel.commands.classify",
+    "planerel.commands.evaluate_objects",
     "planerel.commands.report",
 ]
 
