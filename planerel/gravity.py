@@ -34,8 +34,8 @@ to the sensor's side of the largest horizontal planes (the camera is above the f
 
 Confidence in [0, 1]: ``sqrt(explained) * separation * checked`` where ``explained`` is the
 fraction of the voting area consistent with the estimate; ``separation = min(1, 2 (1 - rival /
-best))`` with ``rival`` the best score of a candidate more than 20 degrees away (another reading
-of the same scene, e.g. a wall taken for the floor); ``checked`` is 1 when the consistent planes
+best))`` with ``rival`` the best score of a candidate more than ``2 tol_deg`` (10 degrees) away
+(another reading of the same scene: a wall taken for the floor, a ramp for the ground); ``checked`` is 1 when the consistent planes
 point in two directions at least ``min_pair_deg`` apart (up is cross-checked: a floor and a
 wall, two walls), 0.6 when they are parallel horizontal planes (a floor and stair treads),
 0.4 for a single horizontal plane, 0.2 when they are all parallel and vertical (up within the
@@ -361,7 +361,7 @@ def _estimate(n, w, hw, params: GravityParams) -> UpEstimate:
     # confidence
     s_best = float(_scores(_orient(c[None]), n, w, hw, params)[0])
     s_best = max(s_best, float(score[best]))
-    far = np.abs(cands @ c) < math.cos(math.radians(20.0))
+    far = np.abs(cands @ c) < math.cos(math.radians(2.0 * params.tol_deg))
     rival = float(score[far].max()) if far.any() else 0.0
     from_h, from_v = (a[0] for a in _angles(c[None], n))
     h = from_h <= params.tol_deg
