@@ -252,3 +252,22 @@ def test_paper_variant_options_are_validated():
     paper = segment(u, preset="paper", min_region_size=30)
     assert (paper.info["angle_order"], paper.info["seed_test"]) == ("paper", False)
     assert paper.n_planes >= 3
+
+
+def test_paper_rules_without_completion_skip_the_post_processing(tmp_path):
+    """preset=paper by keyword, as a params object (what the CLI passes) and on the command
+    line: Algorithm 1 alone, the same labels each way."""
+    from planerel.cli import main
+    from planerel.segment import make_params
+
+    cloud = _scene("stairs")
+    by_kw = segment(cloud, preset="paper")
+    by_obj = segment(cloud, params=make_params("regiongrow", preset="paper"))
+    assert "split_tested" not in by_kw.info and "split_tested" not in by_obj.info
+    np.testing.assert_array_equal(by_obj.labels, by_kw.labels)
+    with_split = segment(cloud, preset="paper", split=True)
+    assert "split_tested" in with_split.info
+    np.save(tmp_path / "s.npy", cloud.xyz)
+    assert main(["segment", str(tmp_path / "s.npy"), "--param", "preset=paper", "-o",
+                 str(tmp_path / "out"), "--formats", "npy"]) == 0
+    np.testing.assert_array_equal(np.load(tmp_path / "out" / "s.labels.npy"), by_kw.labels)

@@ -118,8 +118,10 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
         p = given
     else:
         p = make_params(method, **params)
-    # the paper's preset is Algorithm 1 alone: no post-processing unless asked for
-    paper = method == "regiongrow" and str(params.get("preset", "")).lower() == "paper"
+    # Algorithm 1 as written (the paper's order without planerel's completion, as preset=paper
+    # sets them) runs alone: no post-processing unless asked for
+    paper = (method == "regiongrow" and isinstance(p, RegionGrowParams)
+             and p.angle_order == "paper" and not p.refine)
     do_split = _as_bool(split, default=(method == "regiongrow" and not paper))
     if method == "regiongrow":
         from planerel.segment.regiongrow import region_grow
