@@ -131,8 +131,10 @@ class _Pool:
             from planerel.children import stop_pool
 
             stop_pool(self.executor)  # interrupted: kill the workers, do not wait for them
-        else:
+        elif isinstance(self.executor, (ProcessPoolExecutor, _InlineExecutor)):
             self.executor.shutdown(wait=not cancel, cancel_futures=cancel)
+        else:  # Dask's ClientExecutor: shutdown(wait=False) cancels what is pending
+            self.executor.shutdown(wait=not cancel)
         if self.client is not None:
             self.client.close()
 
@@ -163,8 +165,9 @@ def make_executor(jobs: int | None = None, scheduler: str | None = None,
                                   "pip install 'planerel[dask]'") from None
         own = isinstance(scheduler, str)
         try:
-            client = Client(scheduler, timeout=30) if own else scheduler
-        except OSError as exc:
+            wait = float(os.environ.get("PLANEREL_DASK_TIMEOUT", "30"))
+            client = Client(scheduler, timeout=wait) if own else scheduler
+        except (OSError, TimeoutError) as exc:
             raise InputError(f"cannot reach the Dask scheduler {scheduler}: {exc}") from None
         workers = max(1, sum(client.nthreads().values()))
         return _Pool(client.get_executor(pure=False), workers, client if own else None)
