@@ -174,7 +174,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     support = tuple(support_planes(planes, proposal_params))
     known = {p.label for p in planes}
     if objects is None:
-        groups = propose_objects(planes, rel, proposal_params)
+        groups = propose_objects(planes, rel, proposal_params, cloud)
         proposed = True
     else:
         groups = []

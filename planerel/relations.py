@@ -50,6 +50,8 @@ __all__ = [
     "ProposalParams",
     "propose_objects",
     "support_planes",
+    "edge_means",
+    "convex_pairs",
     "objects_from_truth",
     "proposal_match",
 ]
@@ -385,14 +387,37 @@ class ProposalParams:
         (walls seen behind the object); objects have a non-vertical plane or lie in view.
     min_points : int
         Proposals with fewer points in total are dropped.
+    split_concave : bool
+        Keep an adjacency edge only when the two planes meet convexly (:func:`convex_pairs`):
+        stacked boxes, boxes side by side and a box against a wall come apart.
+    concave_tol : float
+        Degrees: planes whose normals differ by at most this much stay joined whatever the
+        sign of their edge (noise on nearly coplanar pieces).
+    edge_band : int
+        Pixels: edge points of a pair are the pixels of each plane within this many pixels of
+        the other in the image grid.
+    edge_depth : float
+        Metres (at 1 m; scaled by the depth): such a pixel pair counts only when its 3-D
+        distance is at most ``edge_depth * max(1, z)`` (an occluding edge is not shared).
+    step_overlap : float
+        A concave horizontal-vertical edge stays joined when the two planes' extents along
+        it overlap by at least this (interval IoU; a staircase's tread and the riser above
+        it); 0 = cut every concave edge.
     """
 
     support_min_area: float = 2.0
     drop_border_walls: bool = True
     min_points: int = 0
+    split_concave: bool = True
+    concave_tol: float = 10.0
+    edge_band: int = 2
+    edge_depth: float = 0.03
+    step_overlap: float = 0.8
 
     def __post_init__(self) -> None:
-        _check_nonneg(self, ("support_min_area", "min_points"))
+        _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "edge_depth", "step_overlap"))
+        if isinstance(self.edge_band, bool) or not isinstance(self.edge_band, int) or not 1 <= self.edge_band <= 8:
+            raise InputError(f"edge_band must be an integer number of pixels in 1..8, got {self.edge_band!r}")
 
 
 def support_planes(planes, params: ProposalParams | None = None) -> list[int]:
@@ -409,8 +434,156 @@ def support_planes(planes, params: ProposalParams | None = None) -> list[int]:
     return out
 
 
-def propose_objects(planes, relations: Relations, params: ProposalParams | None = None) -> list[tuple[int, ...]]:
-    """Candidate objects: connected components of adjacency after dropping support planes.
+def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
+    """Mean 3-D points of each plane near its shared edge with another.
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W), int
+        Plane labels, -1 unassigned.
+    xyz : ndarray, shape (H, W, 3)
+        Organized points (NaN invalid).
+    pairs : iterable of (int, int)
+        Unordered label pairs to measure.
+    band : int
+        Pixel offsets 1..band in four grid directions (right, down, both diagonals down) from
+        each boundary pixel: every pixel pair within the band is seen once.
+    depth : float
+        Pixel pairs farther apart than ``depth * max(1, z)`` metres are left out.
+
+    Returns
+    -------
+    dict
+        ``{(a, b): (mean point of a near b (3,), mean point of b near a (3,), count)}`` for
+        the pairs with at least one such pixel pair (keys as given).
+    """
+    lab = np.asarray(labels)
+    want = {(min(a, b), max(a, b)) for a, b in pairs}
+    if not want or lab.size == 0:
+        return {}
+    from planerel.planes import _boundary
+
+    H, W = lab.shape
+    n = int(lab.max()) + 1
+    sums = {}
+    acc_a = np.zeros((n * n, 3))
+    acc_b = np.zeros((n * n, 3))
+    cnt = np.zeros(n * n)
+    # only boundary pixels can have another plane within the band: look around them alone
+    r0, c0 = np.nonzero(_boundary(lab))
+    a0 = lab[r0, c0].astype(np.int64)
+    used = np.zeros(n + 1, bool)
+    used[[x for pr in want for x in pr if 0 <= x < n]] = True
+    keep = used[np.where(a0 >= 0, a0, n)]
+    r0, c0, a0 = r0[keep], c0[keep], a0[keep]
+    P0 = xyz[r0, c0]
+    lim = depth * np.maximum(1.0, np.abs(P0[:, 2]))
+    for k in range(1, band + 1):
+        for dy, dx in ((0, k), (k, 0), (k, k), (k, -k)):
+            r, c = r0 + dy, c0 + dx
+            inb = (r >= 0) & (r < H) & (c >= 0) & (c < W)
+            b = np.full(r.shape, -1, np.int64)
+            b[inb] = lab[r[inb], c[inb]]
+            m = (b >= 0) & (b != a0) & (a0 >= 0)
+            if not m.any():
+                continue
+            PA = P0[m]
+            PB = xyz[r[m], c[m]]
+            a, bm = a0[m], b[m]
+            ok = np.linalg.norm(PA - PB, axis=1) <= lim[m]
+            if not ok.any():
+                continue
+            a, bm, PA, PB = a[ok], bm[ok], PA[ok], PB[ok]
+            code = np.minimum(a, bm) * n + np.maximum(a, bm)
+            swap = a > bm  # the "a" side is the lower label
+            plo = np.where(swap[:, None], PB, PA)
+            phi = np.where(swap[:, None], PA, PB)
+            cnt += np.bincount(code, minlength=n * n)
+            for j in range(3):
+                acc_a[:, j] += np.bincount(code, weights=plo[:, j], minlength=n * n)
+                acc_b[:, j] += np.bincount(code, weights=phi[:, j], minlength=n * n)
+    for lo, hi in want:
+        c = cnt[lo * n + hi] if lo < n and hi < n else 0
+        if c > 0:
+            sums[(lo, hi)] = (acc_a[lo * n + hi] / c, acc_b[lo * n + hi] / c, int(c))
+    return sums
+
+
+def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
+                 step_overlap: float | None = 0.8) -> set:
+    """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
+
+    For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
+    and points ``x_a``, ``x_b`` near their shared edge (:func:`edge_means`; the centroids when
+    the planes do not touch in the grid), the edge is convex when
+    ``(n_a - n_b) . (x_a - x_b) >= 0`` (each face bends away from the other, as two faces of
+    one box), concave otherwise (a box on another box, beside another, against a wall),
+    except that normals within ``concave_tol`` degrees count as convex (one noisy surface)
+    and that a concave edge between a horizontal and a vertical plane whose extents along the
+    edge overlap by at least ``step_overlap`` (interval IoU) stays joined: a tread and the
+    riser above it, the concave edges of a staircase (None: no exception).
+
+    Returns
+    -------
+    set of (int, int)
+        The convex pairs among ``pairs`` (as given).
+    """
+    byl = {p.label: p for p in planes}
+    cos_tol = math.cos(math.radians(concave_tol))
+    out = set()
+    for a, b in pairs:
+        pa, pb = byl[a], byl[b]
+        na = np.asarray(pa.normal, float)
+        nb = np.asarray(pb.normal, float)
+        if float(na @ pa.centroid) > 0:
+            na = -na
+        if float(nb @ pb.centroid) > 0:
+            nb = -nb
+        if abs(float(na @ nb)) >= cos_tol:
+            out.add((a, b))
+            continue
+        e = (edges or {}).get((min(a, b), max(a, b)))
+        if e is not None:
+            xa, xb = (e[0], e[1]) if a < b else (e[1], e[0])
+        else:
+            xa, xb = np.asarray(pa.centroid), np.asarray(pb.centroid)
+        if float((na - nb) @ (xa - xb)) >= 0 or (step_overlap is not None
+                                                  and _step_like(pa, pb, step_overlap)):
+            out.add((a, b))
+    return out
+
+
+def _extent(p, axis) -> tuple[float, float]:
+    t = np.asarray(p.hull3d, float) @ axis
+    return float(t.min()), float(t.max())
+
+
+def _step_like(pa, pb, min_overlap: float) -> bool:
+    """A horizontal and a vertical plane meeting as tread and riser: their extents along
+    the shared edge line overlap by at least ``min_overlap`` (IoU of the two intervals)."""
+    ors = {pa.orientation, pb.orientation}
+    if ors != {"horizontal", "vertical"}:
+        return False
+    axis = np.cross(np.asarray(pa.normal, float), np.asarray(pb.normal, float))
+    nrm = float(np.linalg.norm(axis))
+    if nrm < 1e-6:
+        return False
+    axis /= nrm
+    a0, a1 = _extent(pa, axis)
+    b0, b1 = _extent(pb, axis)
+    inter = min(a1, b1) - max(a0, b0)
+    union = max(a1, b1) - min(a0, b0)
+    return union > 0 and inter / union >= min_overlap
+
+
+def propose_objects(planes, relations: Relations, params: ProposalParams | None = None,
+                    cloud=None) -> list[tuple[int, ...]]:
+    """Candidate objects: connected components of the convex adjacency of the non-support planes.
+
+    Support planes (:func:`support_planes`) are dropped; of the adjacent pairs left, those
+    meeting at a concave edge (:func:`convex_pairs`, with the edge points of
+    :func:`edge_means` when ``cloud`` and the planes' label image are given) are cut unless
+    ``params.split_concave`` is False; each connected component is a candidate.
 
     Returns
     -------
@@ -423,9 +596,15 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     drop = set(support_planes(planes, params))
     g = nx.Graph()
     g.add_nodes_from(p.label for p in planes if p.label not in drop)
-    for a, b in relations.adjacent_pairs():
-        if a not in drop and b not in drop:
-            g.add_edge(a, b)
+    pairs = [(a, b) for a, b in relations.adjacent_pairs() if a not in drop and b not in drop]
+    if params.split_concave and pairs:
+        edges = None
+        lab = getattr(planes, "labels", None)
+        if cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]:
+            edges = edge_means(lab, cloud.xyz, pairs, params.edge_band, params.edge_depth)
+        pairs = sorted(convex_pairs(planes, pairs, edges, params.concave_tol,
+                                    params.step_overlap or None))
+    g.add_edges_from(pairs)
     byl = {p.label: p for p in planes}
     comps = [tuple(sorted(c)) for c in nx.connected_components(g)]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]

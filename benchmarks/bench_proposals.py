@@ -1,0 +1,82 @@
+"""Time of relations + object proposals with and without the concave-edge split, in one run.
+
+    .venv/bin/python benchmarks/bench_proposals.py [--repeat N] [--synth N]
+
+Frames: the mOSD frames of ``../shared/data/mosd`` (640x480) and N cluttered varied-world
+scenes (320x240, 2-3 extra objects, seed 22).  Each frame is segmented once; then
+``describe_scene`` (measure planes, relate, propose) runs with ``split_concave=False`` (the
+reference: plain connected components, the proposals before issue 22) and ``True``,
+interleaved, ``--repeat`` times; the median per frame is summed.  Printed: ms per frame of
+both and their ratio, and the proposals' found rate / false proposals per frame of both
+(planerel.object_eval).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--synth", type=int, default=15, help="synthetic scenes (0 = none)")
+    args = ap.parse_args(argv)
+    from planerel.facts import describe_scene
+    from planerel.object_eval import frame_truth, proposal_image, score_objects, summarize
+    from planerel.relations import ProposalParams
+    from planerel.segment import segment
+
+    data = Path(__file__).resolve().parents[2] / "shared" / "data" / "mosd"
+    inputs = sorted(data.glob("*.pcd")) if data.is_dir() else []
+    tmp = tempfile.TemporaryDirectory()
+    if args.synth:
+        from planerel.cli import main as cli
+
+        ds = Path(tmp.name) / "synth"
+        n = args.synth
+        cli(["dataset", "synth", str(ds), "--world", "varied", "--n-box", str(n - 2 * (n // 3)),
+             "--n-stairs", str(n // 3), "--n-ramp", str(n // 3), "--subsample", "2",
+             "--range", "extra_objects=2,3", "--seed", "22", "--quiet"])
+        inputs.append(ds)
+    frames = []
+    for path in inputs:
+        for name, cloud, truth, ty in frame_truth(path):
+            frames.append((name, cloud, segment(cloud).labels, truth, ty))
+    variants = {"before (components)": ProposalParams(split_concave=False),
+                "concave split": ProposalParams()}
+    times = {k: [] for k in variants}
+    scores = {k: {"mosd": [], "synth": []} for k in variants}
+    for name, cloud, labels, truth, ty in frames:
+        per = {k: [] for k in variants}
+        for _ in range(args.repeat):
+            for k, pp in variants.items():
+                t0 = time.perf_counter()
+                d = describe_scene(cloud, labels, proposal_params=pp)
+                per[k].append(1000 * (time.perf_counter() - t0))
+        for k, pp in variants.items():
+            times[k].append(statistics.median(per[k]))
+            d = describe_scene(cloud, labels, proposal_params=pp)
+            img = proposal_image(labels, [o.planes for o in d.objects])
+            group = "synth" if "/" in name else "mosd"
+            scores[k][group].append(score_objects(img, truth, name=name, types=ty))
+    ref = sum(times["before (components)"])
+    for k in variants:
+        t = sum(times[k])
+        print(f"{k:22s} describe+propose {t / len(frames):7.1f} ms/frame  ratio {t / ref:.3f}")
+        for g in ("mosd", "synth"):
+            if scores[k][g]:
+                s = summarize(scores[k][g])
+                print(f"    {g:5s}: {s['frames']} frames, found {s['found']}/{s['objects']} "
+                      f"({100 * s['found_rate']:.1f} %), false {s['false_per_frame']:.2f}/frame, "
+                      f"merged {s['merged']}, split {s['split']}")
+    tmp.cleanup()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

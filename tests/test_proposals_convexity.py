@@ -1,0 +1,83 @@
+"""Concave-edge splitting of object proposals (relations.convex_pairs / edge_means)."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from planerel.relations import convex_pairs, edge_means
+
+# Camera at the origin looking along +z, image y down: "up" is -y.  Normals face the sensor.
+
+
+def _plane(label, normal, centroid, orientation, hull):
+    return SimpleNamespace(label=label, normal=np.array(normal, float),
+                           centroid=np.array(centroid, float), orientation=orientation,
+                           hull3d=np.array(hull, float))
+
+
+FRONT = _plane(1, (0, 0, -1), (0, 0.75, 2.0), "vertical",
+               [(-0.5, 0.5, 2), (0.5, 0.5, 2), (0.5, 1.0, 2), (-0.5, 1.0, 2)])
+TOP = _plane(2, (0, -1, 0), (0, 0.5, 2.5), "horizontal",
+             [(-0.5, 0.5, 2), (0.5, 0.5, 2), (0.5, 0.5, 3), (-0.5, 0.5, 3)])
+WALL = _plane(3, (0, 0, -1), (0, 0.0, 3.0), "vertical",
+              [(-2, -1, 3), (2, -1, 3), (2, 0.5, 3), (-2, 0.5, 3)])
+# the side face of a box standing right of the front face, nearer the camera
+SIDE = _plane(4, (-1, 0, 0), (0.5, 0.6, 1.8), "vertical",
+              [(0.5, 0.2, 1.6), (0.5, 0.2, 2.0), (0.5, 1.0, 2.0), (0.5, 1.0, 1.6)])
+
+
+def test_faces_of_one_box_meet_convexly():
+    # points 5 cm from the edge on each face: (n_f - n_t) . (x_f - x_t) = (0,1,-1).(0,.05,-.05) > 0
+    edges = {(1, 2): (np.array([0, 0.55, 2.0]), np.array([0, 0.5, 2.05]), 10)}
+    assert convex_pairs([FRONT, TOP], [(1, 2)], edges) == {(1, 2)}
+    assert convex_pairs([FRONT, TOP], [(1, 2)]) == {(1, 2)}  # centroids give the same sign
+
+
+def test_box_top_against_a_wider_wall_is_concave_and_cut():
+    edges = {(2, 3): (np.array([0, 0.5, 2.95]), np.array([0, 0.45, 3.0]), 10)}
+    # (n_t - n_w) . (x_t - x_w) = (0,-1,1).(0,.05,-.05) = -0.1 < 0; the top spans x -0.5..0.5,
+    # the wall -2..2: interval IoU 0.25 < 0.8, not a tread and riser
+    assert convex_pairs([TOP, WALL], [(2, 3)], edges) == set()
+
+
+def test_tread_and_riser_of_equal_width_stay_joined_unless_steps_are_off():
+    riser = _plane(3, (0, 0, -1), (0, 0.25, 3.0), "vertical",
+                   [(-0.5, 0.0, 3), (0.5, 0.0, 3), (0.5, 0.5, 3), (-0.5, 0.5, 3)])
+    edges = {(2, 3): (np.array([0, 0.5, 2.95]), np.array([0, 0.45, 3.0]), 10)}
+    assert convex_pairs([TOP, riser], [(2, 3)], edges) == {(2, 3)}
+    assert convex_pairs([TOP, riser], [(2, 3)], edges, step_overlap=None) == set()
+
+
+def test_two_vertical_faces_at_a_concave_corner_are_cut():
+    # front face point left of the corner, side face point in front of it
+    edges = {(1, 4): (np.array([0.45, 0.75, 2.0]), np.array([0.5, 0.75, 1.95]), 10)}
+    # (n_f - n_s) . (x_f - x_s) = (1,0,-1).(-.05,0,.05) = -0.1
+    assert convex_pairs([FRONT, SIDE], [(1, 4)], edges) == set()
+
+
+def test_nearly_coplanar_pieces_stay_joined():
+    # the tilted piece bends towards the front face (concave by 8 degrees)
+    tilted = _plane(5, (-np.sin(np.radians(8)), 0, -np.cos(np.radians(8))), (1.0, 0.75, 2.0),
+                    "vertical", [(0.5, 0.5, 2), (1.5, 0.5, 2), (1.5, 1, 2)])
+    edges = {(1, 5): (np.array([0.45, 0.75, 2.0]), np.array([0.55, 0.75, 2.0]), 4)}
+    assert convex_pairs([FRONT, tilted], [(1, 5)], edges, concave_tol=10) == {(1, 5)}
+    assert convex_pairs([FRONT, tilted], [(1, 5)], edges, concave_tol=5) == set()
+
+
+def test_edge_means_average_the_pixels_next_to_the_other_plane():
+    lab = np.full((4, 6), -1)
+    lab[:, :3] = 0
+    lab[:, 3:] = 1
+    xyz = np.zeros((4, 6, 3))
+    xyz[..., 0] = np.arange(6)[None, :] * 0.01  # 1 cm per column
+    xyz[..., 2] = 1.0
+    e = edge_means(lab, xyz, [(1, 0)], band=1, depth=0.03)
+    a, b, n = e[(0, 1)]
+    # band 1: horizontal neighbours (4 rows) and two diagonals (3 rows each) cross columns 2 -> 3
+    assert n == 10
+    assert np.allclose(a, [0.02, 0, 1.0]) and np.allclose(b, [0.03, 0, 1.0])
+    # a 3-D gap beyond the depth tolerance is no shared edge
+    xyz[:, 3:, 2] = 1.5
+    assert edge_means(lab, xyz, [(0, 1)], band=1, depth=0.03) == {}
