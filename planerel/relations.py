@@ -400,9 +400,9 @@ class ProposalParams:
         Metres (at 1 m; scaled by the depth): such a pixel pair counts only when its 3-D
         distance is at most ``edge_depth * max(1, z)`` (an occluding edge is not shared).
     step_overlap : float
-        A concave horizontal-vertical edge stays joined when the two planes' extents along
-        it overlap by at least this (interval IoU; a staircase's tread and the riser above
-        it); 0 = cut every concave edge.
+        A concave edge between a horizontal or inclined plane and a vertical one stays joined
+        when the two planes' extents along it overlap by at least this (interval IoU; a
+        staircase's tread and the riser above it); 0 = cut every concave edge.
     """
 
     support_min_area: float = 2.0
@@ -412,7 +412,7 @@ class ProposalParams:
     concave_tol: float = 10.0
     edge_band: int = 2
     edge_depth: float = 0.03
-    step_overlap: float = 0.8
+    step_overlap: float = 0.5
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "edge_depth", "step_overlap"))
@@ -519,9 +519,10 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     ``(n_a - n_b) . (x_a - x_b) >= 0`` (each face bends away from the other, as two faces of
     one box), concave otherwise (a box on another box, beside another, against a wall),
     except that normals within ``concave_tol`` degrees count as convex (one noisy surface)
-    and that a concave edge between a horizontal and a vertical plane whose extents along the
-    edge overlap by at least ``step_overlap`` (interval IoU) stays joined: a tread and the
-    riser above it, the concave edges of a staircase (None: no exception).
+    and that a concave edge between a horizontal or inclined plane and a vertical one whose
+    extents along the edge overlap by at least ``step_overlap`` (interval IoU) stays joined: a
+    tread and the riser above it (the concave edges of a staircase), a slope and the face at
+    its end (None: no exception).
 
     Returns
     -------
@@ -559,10 +560,11 @@ def _extent(p, axis) -> tuple[float, float]:
 
 
 def _step_like(pa, pb, min_overlap: float) -> bool:
-    """A horizontal and a vertical plane meeting as tread and riser: their extents along
-    the shared edge line overlap by at least ``min_overlap`` (IoU of the two intervals)."""
-    ors = {pa.orientation, pb.orientation}
-    if ors != {"horizontal", "vertical"}:
+    """A horizontal or inclined plane and a vertical one meeting as tread and riser (or a
+    slope and the face at its end): their extents along the shared edge line overlap by at
+    least ``min_overlap`` (IoU of the two intervals)."""
+    ors = sorted((pa.orientation, pb.orientation))
+    if ors not in (["horizontal", "vertical"], ["inclined", "vertical"]):
         return False
     axis = np.cross(np.asarray(pa.normal, float), np.asarray(pb.normal, float))
     nrm = float(np.linalg.norm(axis))
