@@ -403,6 +403,10 @@ class ProposalParams:
         A concave edge between a horizontal or inclined plane and a vertical one stays joined
         when the two planes' extents along it overlap by at least this (interval IoU; a
         staircase's tread and the riser above it); 0 = cut every concave edge.
+    min_border_area : float
+        m^2: a proposal of one plane that reaches the image border and is smaller than this
+        is dropped (a sliver of something cut by the frame, e.g. a table's edge; too little
+        of it is seen to name it); 0 = keep them.
     """
 
     support_min_area: float = 2.0
@@ -413,9 +417,11 @@ class ProposalParams:
     edge_band: int = 2
     edge_depth: float = 0.03
     step_overlap: float = 0.5
+    min_border_area: float = 0.005
 
     def __post_init__(self) -> None:
-        _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "edge_depth", "step_overlap"))
+        _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "edge_depth", "step_overlap",
+                             "min_border_area"))
         if isinstance(self.edge_band, bool) or not isinstance(self.edge_band, int) or not 1 <= self.edge_band <= 8:
             raise InputError(f"edge_band must be an integer number of pixels in 1..8, got {self.edge_band!r}")
 
@@ -614,6 +620,10 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         comps = [c for c in comps
                  if not (all(byl[x].orientation == "vertical" for x in c)
                          and any(byl[x].touches_border for x in c))]
+    if params.min_border_area > 0:
+        comps = [c for c in comps
+                 if not (len(c) == 1 and byl[c[0]].touches_border
+                         and byl[c[0]].area < params.min_border_area)]
     return sorted(comps, key=lambda c: c[0])
 
 
