@@ -73,7 +73,7 @@ def main(argv=None) -> int:
 
 
 def _print_confusion(conf, classes):
-    cols = list(classes) + ["unknown"]
+    cols = list(classes) + ["other"]
     print("  " + " " * 8 + "".join(f"{c:>9}" for c in cols) + "   <- predicted")
     for k, row in zip(classes, conf, strict=True):
         print(f"  {k:>8}" + "".join(f"{v:>9}" for v in row))

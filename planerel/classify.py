@@ -23,9 +23,12 @@ from planerel.errors import DependencyError, InputError, PrologError
 from planerel.terms import Term
 
 __all__ = ["Classifier", "ObjectAnswer", "SceneAnswer", "explanation_image", "classify_dataset",
-           "UNKNOWN"]
+           "OTHER", "UNKNOWN"]
 
-UNKNOWN = "unknown"
+#: The answer "none of the classes" (see :func:`planerel.pipeline.choose_class`).
+OTHER = "other"
+#: Former name of :data:`OTHER`.
+UNKNOWN = OTHER
 
 
 @dataclass(frozen=True)
@@ -41,7 +44,8 @@ class ObjectAnswer:
     labels : tuple of int
         Their labels in the segmentation.
     klass : str
-        The class, or ``"unknown"`` when no rule fires.
+        The class, or ``"other"`` (none of the classes: no rule fires, or only rules that were
+        wrong at least as often as right on the training objects).
     rule : str or None
         The clause that proved the class.
     bindings : dict
@@ -50,6 +54,10 @@ class ObjectAnswer:
         The plane ids among the bindings: the planes that make the class.
     fired : tuple
         ``(class, rule index)`` of every rule that proved something about the object.
+    rule_index : int or None
+        Index of the chosen rule in the model (``planerel_rule_stats/4``).
+    precision : float or None
+        The chosen rule's Laplace precision on the training objects.
     """
 
     object_id: str
@@ -60,9 +68,13 @@ class ObjectAnswer:
     bindings: dict = field(default_factory=dict)
     proof_planes: tuple = ()
     fired: tuple = ()
+    rule_index: int | None = None
+    precision: float | None = None
 
     def to_dict(self) -> dict:
         return {"object": self.object_id, "class": self.klass, "rule": self.rule,
+                "rule_index": self.rule_index,
+                "precision": None if self.precision is None else round(self.precision, 4),
                 "bindings": dict(self.bindings), "proof_planes": list(self.proof_planes),
                 "planes": list(self.planes), "fired": [list(f) for f in self.fired]}
 
@@ -150,11 +162,14 @@ class Classifier:
     rules : path
         A model file (``MODEL_DIR/rules.pl`` from ``planerel learn``) holding clauses
         ``Class(Obj) :- ...`` or ``class(Obj, Class) :- ...`` and optional
-        ``planerel_rule_stats/4`` facts.
-    method : str
-        Segmentation method for scans.
+        ``planerel_rule_stats/4`` facts.  The settings the model was learned with
+        (``model.json`` next to it, :mod:`planerel.model_settings`) are used for scans.
+    method : str, optional
+        Segmentation method for scans (default: the model's, else ``regiongrow``).
     seg_params : dict, optional
-        Segmentation parameters.
+        Overrides of the model's settings: segmentation parameters by name, description
+        parameters as ``gravity.NAME``, ``planes.NAME``, ``relations.NAME``,
+        ``proposals.NAME``.  :attr:`warnings` lists those that differ from training.
 
     Raises
     ------
@@ -164,7 +179,8 @@ class Classifier:
         The file is not valid Prolog text (syntax error; the message gives the line).
     """
 
-    def __init__(self, rules, *, method: str = "regiongrow", seg_params: dict | None = None):
+    def __init__(self, rules, *, method: str | None = None, seg_params: dict | None = None):
+        from planerel.model_settings import read_settings, with_overrides
         from planerel.pipeline import model_vocabulary
         from planerel.terms import atom, plist
 
@@ -172,8 +188,13 @@ class Classifier:
         if not path.is_file():
             raise InputError(f"{path}: no such rules file")
         self.rules_path = path
-        self.method = method
-        self.seg_params = dict(seg_params or {})
+        self.trained = read_settings(path)
+        self.settings, warnings = with_overrides(self.trained, method=method,
+                                                 overrides=seg_params)
+        self.warnings = tuple(warnings)
+        self.method = self.settings.method
+        self.seg_params = dict(self.settings.seg_params)
+        self._describe_kw = self.settings.describe_kwargs()
         self.module = f"planerel_model_{next(_MODEL_NUMBERS)}"
         _load_support()
         vocab = plist([Term(f"{atom(n)}/{a}") for n, a in model_vocabulary()])
@@ -215,14 +236,14 @@ class Classifier:
         """
         from planerel.aleph_export import PAIRS
         from planerel.facts import FactParams, describe_scene, facts_text
-        from planerel.pipeline import choose_class, segment_cached
+        from planerel.pipeline import choose_class, laplace, segment_cached
 
         if not self.module:
             raise InputError(f"{self.rules_path}: this classifier was closed")
         t0 = time.perf_counter()
         cloud.require_points(3)
         labels = segment_cached(cloud, method=self.method, params=self.seg_params)
-        desc = describe_scene(cloud, labels, scene_id=scene_id, up=up)
+        desc = describe_scene(cloud, labels, scene_id=scene_id, up=up, **self._describe_kw)
         plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
         answers = []
         if desc.objects:
@@ -247,12 +268,13 @@ class Classifier:
                     fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
                     pids = tuple(plane_ids[lab] for lab in o.planes)
                     if best is None:
-                        answers.append(ObjectAnswer(o.id, pids, o.planes, UNKNOWN, fired=fired))
+                        answers.append(ObjectAnswer(o.id, pids, o.planes, OTHER, fired=fired))
                     else:
-                        klass, _, binds, rule = best
+                        klass, index, binds, rule = best
                         proof = tuple(v for v in binds.values() if v in plane_ids.values())
+                        tp, fp = {i: (a, b) for i, _, a, b in self.stats}.get(index, (0, 0))
                         answers.append(ObjectAnswer(o.id, pids, o.planes, klass, rule, binds,
-                                                    proof, fired))
+                                                    proof, fired, index, laplace(tp, fp)))
             finally:
                 _query(f"unload_file({_pl_path(facts)})", "cannot unload the scene facts")
                 facts.unlink(missing_ok=True)
@@ -284,7 +306,7 @@ def explanation_image(answer: SceneAnswer, depth) -> np.ndarray:
     pal = label_colours(max(1, len(answer.objects) * 4 + 4)).astype(float)
     inv = {v: k for k, v in answer.plane_ids.items()}
     for n, o in enumerate(answer.objects):
-        if o.klass == UNKNOWN:
+        if o.klass == OTHER:
             for lab_id in o.labels:
                 m = lab == lab_id
                 out[m] = 0.7 * grey[m] + 0.3 * np.array([120, 120, 160])
@@ -303,7 +325,8 @@ def classify_dataset(classifier: Classifier, dataset_dir, *, out_dir=None,
     """Classify every scene of a data set with ground truth and score the answers.
 
     A scene's answer is the class given to the object proposal that overlaps the scene's
-    ground-truth object (object 1: the primary object of a varied-world scene) most (intersection over union of their pixels); ``unknown`` when no
+    ground-truth object (object 1: the primary object of a varied-world scene) most
+    (intersection over union of their pixels); ``other`` when no
     proposal overlaps it or no rule fires.  With ``out_dir``, writes per scene
     ``ID.classified.png`` and ``ID.classified.json``.
 
@@ -311,7 +334,7 @@ def classify_dataset(classifier: Classifier, dataset_dir, *, out_dir=None,
     -------
     dict
         ``accuracy``, ``per_class``, ``classes``, ``confusion`` (rows true class, columns
-        predicted, ``unknown`` last), ``scenes`` (per scene: id, class, predicted, rule, proof
+        predicted, ``other`` last), ``scenes`` (per scene: id, class, predicted, rule, proof
         planes, IoU of the chosen proposal), ``proposal_match`` (fraction of scenes whose best
         proposal covers the true object with IoU >= 0.8), ``ms_per_scene``.
     """
@@ -345,7 +368,7 @@ def classify_dataset(classifier: Classifier, dataset_dir, *, out_dir=None,
             if iou > best_iou:
                 best, best_iou = o, iou
         rows.append({"scene": row.scene_id, "class": row.klass,
-                     "predicted": best.klass if best else UNKNOWN,
+                     "predicted": best.klass if best else OTHER,
                      "rule": best.rule if best else None,
                      "proof_planes": list(best.proof_planes) if best else [],
                      "iou": round(best_iou, 3), "objects": len(ans.objects)})

@@ -22,7 +22,7 @@ def binding_colours(answer) -> dict:
     object (distinct colours in a fixed order)."""
     from planerel.writers import label_colours
 
-    keys = [(n, pid) for n, o in enumerate(answer.objects) if o.klass != "unknown"
+    keys = [(n, pid) for n, o in enumerate(answer.objects) if o.klass != "other"
             for pid in dict.fromkeys(o.proof_planes)]
     pal = label_colours(max(1, len(keys)))
     return {k: tuple(int(c) for c in pal[i]) for i, k in enumerate(keys)}
@@ -39,9 +39,9 @@ def _picture(answer, depth) -> np.ndarray:
     for n, o in enumerate(answer.objects):
         for lab_id in o.labels:
             m = lab == lab_id
-            tint = (120, 120, 160) if o.klass == "unknown" else (255, 255, 255)
+            tint = (120, 120, 160) if o.klass == "other" else (255, 255, 255)
             out[m] = 0.6 * grey[m] + 0.4 * np.array(tint)
-        if o.klass == "unknown":
+        if o.klass == "other":
             continue
         for pid in o.proof_planes:
             m = lab == inv[pid]
@@ -84,7 +84,7 @@ def explanation_picture(answer, depth, *, min_width: int = MIN_WIDTH) -> np.ndar
         for pid in dict.fromkeys(o.proof_planes):
             var = plane_of.get(pid, "?")
             rows.append((f"{var} = {pid}", colours.get((n, pid), (0, 0, 0))))
-        if o.klass == "unknown":
+        if o.klass == "other":
             rows.append(("    no rule fires (planes tinted blue-grey)", None))
     legend_h = 10 + line_h * len(rows)
     img = Image.new("RGB", (W, pic.shape[0] + legend_h), (255, 255, 255))

@@ -140,7 +140,7 @@ class SceneDescription:
 
 def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=None,
                    klass: str | None = None, plane_params=None, relation_params=None,
-                   proposal_params=None) -> SceneDescription:
+                   proposal_params=None, gravity_params=None) -> SceneDescription:
     """Measure, relate and group the planes of one scene.
 
     Parameters
@@ -159,6 +159,10 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         are dropped; objects left empty are dropped.
     klass : str, optional
         Class of the objects (for training data: the scene's class).
+    plane_params, relation_params, proposal_params, gravity_params : optional
+        :class:`~planerel.planes.PlaneParams`, :class:`~planerel.relations.RelationParams`,
+        :class:`~planerel.relations.ProposalParams`, :class:`~planerel.gravity.GravityParams`
+        (defaults when None; a model's are in its ``model.json``).
 
     Returns
     -------
@@ -169,7 +173,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
 
     if not isinstance(scene_id, str) or not scene_id:
         raise InputError(f"a scene id must be a non-empty string, got {scene_id!r}")
-    planes = measure_planes(cloud, labels, up, plane_params)
+    planes = measure_planes(cloud, labels, up, plane_params, gravity_params)
     rel = relate(planes, cloud, relation_params)
     support = tuple(support_planes(planes, proposal_params))
     known = {p.label for p in planes}

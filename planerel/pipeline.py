@@ -36,6 +36,8 @@ __all__ = [
     "learn_rules",
     "prolog_predict",
     "choose_class",
+    "laplace",
+    "OTHER",
     "stratified_folds",
     "cross_validate",
     "learn_model",
@@ -44,12 +46,17 @@ __all__ = [
     "model_vocabulary",
     "DERIVED_PREDICATES",
     "confusion_matrix",
+    "confusion_columns",
     "accuracy_scores",
     "draw_confusion",
 ]
 
 DEFAULT_CLASSES = ("box", "stairs", "ramp")
-UNKNOWN = "unknown"
+#: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
+#: than right on the training objects (the class of the varied world's clutter, too).
+OTHER = "other"
+#: Former name of :data:`OTHER` (the answer used to be ``"unknown"``).
+UNKNOWN = OTHER
 #: Support predicates loaded with every model, in order (package ``planerel.prolog``).
 SUPPORT_FILES = ("compare.pl", "derived.pl", "classify.pl")
 #: The predicates ``derived.pl`` and ``compare.pl`` define for rules (name, arity).
@@ -350,7 +357,7 @@ class Prediction:
     ----------
     object_id : str
     klass : str
-        The chosen class, or ``"unknown"`` when no rule proves any class.
+        The chosen class, or ``"other"`` (none of the classes, see :func:`choose_class`).
     rule : str or None
         The clause that proved it.
     bindings : dict
@@ -365,6 +372,7 @@ class Prediction:
     rule_index: int | None = None
     bindings: dict = field(default_factory=dict)
     fired: tuple = ()
+    precision: float | None = None
 
     @property
     def planes(self) -> list[str]:
@@ -517,24 +525,34 @@ def rule_stats(model: Model, descs, *, timeout: float = 120.0) -> tuple:
     return tuple((i, k, counts[i][0], counts[i][1]) for i, k in index_class)
 
 
-def choose_class(hits, stats: Sequence, classes: Sequence[str]):
-    """Pick one answer among the rules that fired.
+def laplace(tp: int, fp: int) -> float:
+    """Laplace estimate of a rule's precision, ``(tp + 1) / (tp + fp + 2)``."""
+    return (tp + 1) / (tp + fp + 2)
 
-    The rule with the highest Laplace precision ``(tp + 1) / (tp + fp + 2)`` on the training
-    objects wins; ties go to the rule that covered more training objects, then to the earlier
-    class and rule.  No rule: ``None``.
+
+def choose_class(hits, stats: Sequence, classes: Sequence[str]):
+    """Pick one answer among the rules that fired (an open-set decision for one object).
+
+    A rule's precision is its Laplace estimate :func:`laplace` on the training objects
+    (``stats``, stored in the model; the ``other`` objects a rule covers count as its false
+    positives).  A rule that was wrong at least as often as right in training (``fp >= tp``,
+    ``fp > 0``: precision at most 0.5) does not count: an object it proves is at least as likely
+    *not* of its class.  Of the rest, the highest precision wins; ties go to the rule that
+    covered more training objects, then to the earlier class and rule.  Class frequencies play
+    no part.  A rule without statistics (hand-written rules) counts with precision 0.5.  No rule
+    left: ``None``, the answer :data:`OTHER` (none of the classes).
     """
-    if not hits:
-        return None
     table = {i: (tp, fp) for i, _, tp, fp in stats}
     order = {k: n for n, k in enumerate(classes)}
-
-    def key(hit):
-        klass, index = hit[0], hit[1]
-        tp, fp = table.get(index, (0, 0))
-        return (-(tp + 1) / (tp + fp + 2), -tp, order.get(klass, len(order)), index)
-
-    return min(hits, key=key)
+    kept = []
+    for hit in hits:
+        tp, fp = table.get(hit[1], (0, 0))
+        if fp > 0 and fp >= tp:
+            continue
+        kept.append((-laplace(tp, fp), -tp, order.get(hit[0], len(order)), hit[1], hit))
+    if not kept:
+        return None
+    return min(kept, key=lambda t: t[:4])[-1]
 
 
 def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None, *,
@@ -559,7 +577,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
     if not object_ids:
         return []
     if not model.clauses():
-        return [Prediction(o, UNKNOWN) for o in object_ids]
+        return [Prediction(o, OTHER) for o in object_ids]
     fired = _parse_fired(_prolog_run(model, descs, object_ids, timeout))
     out = []
     for o in object_ids:
@@ -567,10 +585,11 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
         best = choose_class(hits, model.stats, model.classes)
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
-            out.append(Prediction(o, UNKNOWN, fired=fired_pairs))
+            out.append(Prediction(o, OTHER, fired=fired_pairs))
         else:
             klass, index, binds, text = best
-            out.append(Prediction(o, klass, text, index, binds, fired_pairs))
+            tp_fp = {i: (tp, fp) for i, _, tp, fp in model.stats}.get(index, (0, 0))
+            out.append(Prediction(o, klass, text, index, binds, fired_pairs, laplace(*tp_fp)))
     return out
 
 
@@ -596,12 +615,19 @@ def stratified_folds(labels: Sequence[str], k: int, seed: int = 0) -> list[int]:
     return fold
 
 
+def confusion_columns(classes: Sequence[str]) -> list[str]:
+    """The predicted-class columns of a confusion matrix: ``classes``, then ``other`` (once,
+    also when ``other`` is a true class of the rows)."""
+    return list(classes) + ([] if OTHER in classes else [OTHER])
+
+
 def confusion_matrix(truth: Sequence[str], pred: Sequence[str], classes: Sequence[str]):
-    """Rows: true class (``classes`` order); columns: predicted, ``unknown`` last."""
-    cols = list(classes) + [UNKNOWN]
+    """Rows: true class (``classes`` order); columns: predicted, ``other`` last
+    (:func:`confusion_columns`)."""
+    cols = confusion_columns(classes)
     m = [[0] * len(cols) for _ in classes]
     for t, p in zip(truth, pred, strict=True):
-        m[list(classes).index(t)][cols.index(p if p in cols else UNKNOWN)] += 1
+        m[list(classes).index(t)][cols.index(p if p in cols else OTHER)] += 1
     return m
 
 
@@ -622,17 +648,17 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
     """Stratified k-fold cross-validation of the whole learner on described scenes.
 
     Objects of class ``other`` (none of the classes) are split into the folds too: in training
-    they are negatives for every class; in testing the right answer for them is ``unknown``.
+    they are negatives for every class; in testing the right answer for them is ``other``.
     They are counted apart (``other``) so that ``accuracy`` and ``confusion`` keep their meaning.
 
     Returns
     -------
     dict
         ``accuracy``, ``per_class``, ``classes``, ``confusion`` (rows true class, columns
-        predicted with ``unknown`` last), ``folds`` (per fold: test objects, predictions,
+        predicted with ``other`` last), ``folds`` (per fold: test objects, predictions,
         rules, accuracy, seconds), ``predictions`` ({object: class}); with ``other`` objects
-        also ``other`` ({n, rejected: share predicted unknown, predicted: {class: n}}) and
-        ``open_set_accuracy`` (all objects, ``other`` right when predicted ``unknown``).
+        also ``other`` ({n, rejected: share predicted ``other``, predicted: {class: n}}) and
+        ``open_set_accuracy`` (all objects, ``other`` right when predicted ``other``).
 
     ``jobs`` folds run at once (None: all cores); the result does not depend on it.
     """
@@ -718,8 +744,8 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
     others = [o for o, k in all_examples if k == OTHER]
     if others:
         got = [predictions[o] for o in others]
-        counts = {k: got.count(k) for k in [*classes, UNKNOWN] if got.count(k)}
-        rejected = got.count(UNKNOWN)
+        counts = {k: got.count(k) for k in [*classes, OTHER] if got.count(k)}
+        rejected = got.count(OTHER)
         out["other"] = {"n": len(others), "rejected": rejected / len(others), "predicted": counts}
         right = sum(t == p for t, p in zip(truth, pred, strict=True)) + rejected
         out["open_set_accuracy"] = right / (len(examples) + len(others))
@@ -778,7 +804,7 @@ def draw_confusion(path, confusion, classes, *, title: str = "") -> Path:
 
     from planerel.atomic import atomic_path
 
-    cols = list(classes) + [UNKNOWN]
+    cols = confusion_columns(classes)
     cell, left, top = 70, 90, 60
     w, h = left + cell * len(cols) + 10, top + cell * len(classes) + 30
     img = Image.new("RGB", (w, h), "white")
@@ -812,8 +838,10 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
 
     The folder is built in a temporary sibling and renamed into place when complete, so a run
     that fails or is interrupted never leaves a half-written model.  It holds ``rules.pl``
-    (loadable with ``prolog/compare.pl`` and ``prolog/derived.pl``), ``aleph/`` (the files the
-    final model was learned from), ``metrics.json`` and, with folds, ``confusion.png``.
+    (loadable with ``prolog/compare.pl`` and ``prolog/derived.pl``), ``model.json`` (the
+    segmentation, gravity and description settings it was learned with and the rules'
+    precision, :mod:`planerel.model_settings`; ``classify`` reuses them), ``aleph/`` (the files
+    the final model was learned from), ``metrics.json`` and, with folds, ``confusion.png``.
 
     Returns
     -------
@@ -857,5 +885,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         header = (f"learned by planerel from {dataset_dir} ({len(descs)} scenes, "
                   f"segmentation: {method}, engine: {model.engine})")
         write_text(tmp / "rules.pl", model.text(header))
+        from planerel.model_settings import MODEL_FILE, training_settings
+
+        write_json(tmp / MODEL_FILE, training_settings(method, seg_params, rule_stats=model.stats))
         write_json(tmp / "metrics.json", metrics)
     return metrics

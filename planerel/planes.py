@@ -327,7 +327,8 @@ def _boundary(lab: np.ndarray) -> np.ndarray:
     return label_boundary(np.ascontiguousarray(lab, dtype=np.int32))
 
 
-def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None) -> PlaneSet:
+def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
+                   gravity_params=None) -> PlaneSet:
     """Measure the attributes of every labelled plane.
 
     Parameters
@@ -340,6 +341,9 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None) ->
         Gravity up in the camera frame; default ``cloud.up``, else estimated
         (:func:`planerel.gravity.resolve_up`).
     params : PlaneParams, optional
+    gravity_params : GravityParams, optional
+        Parameters of the up estimate when ``up`` is not given (default
+        :class:`~planerel.gravity.GravityParams`).
 
     Returns
     -------
@@ -355,7 +359,7 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None) ->
     H, W = xyz.shape[:2]
     lab = check_labels(labels, (H, W)).copy()
     lab[~cloud.valid] = -1
-    gravity = resolve_up(cloud, lab, up)
+    gravity = resolve_up(cloud, lab, up, gravity_params)
     up_v, up_source, up_conf = np.array(gravity.vector), gravity.source, gravity.confidence
     nlab = int(lab.max()) + 1 if lab.size and lab.max() >= 0 else 0
     lab.setflags(write=False)

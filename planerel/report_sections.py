@@ -173,7 +173,7 @@ def _learning_blocks(learning, methods) -> list:
         blocks.append(Code("\n".join(r["rules"]) if r["rules"] else "(no rule learned)"))
         conf = r.get("confusion") or []
         if conf and r["classes"]:
-            cols = list(r["classes"]) + (["unknown"] if len(conf[0]) == len(r["classes"]) + 1
+            cols = list(r["classes"]) + (["other"] if len(conf[0]) == len(r["classes"]) + 1
                                          else [])
             blocks.append(Table(tuple(["true \\ predicted"] + cols),
                                 tuple([c] + [str(v) for v in row]

@@ -145,7 +145,13 @@ def test_learn_cli_then_classify_cli(small_set, tmp_path, capsys):
     for n, p, a in zip(heads, pick, answers, strict=True):
         o = a["objects"][0]
         assert lines[n].startswith(f"{p}: {a['n_planes']} planes, 1 object(s) [")
-        assert lines[n + 1:n + 4] == [f"  {o['object']}: {truth[p]}", f"    rule:   {o['rule']}",
+        # the rule's training precision: Laplace (tp + 1) / (tp + fp + 2) of its statistics
+        tp, fp = next((tp, fp) for i, _, tp, fp in
+                      json.loads((model / "metrics.json").read_text())["rule_stats"]
+                      if i == o["rule_index"])
+        assert lines[n + 1:n + 4] == [f"  {o['object']}: {truth[p]}",
+                                      f"    rule:   {o['rule']}  (training precision "
+                                      f"{(tp + 1) / (tp + fp + 2):.3f})",
                                       "    planes: " + (", ".join(o["proof_planes"])
                                                        or "(the rule binds no plane)")]
 
@@ -212,8 +218,12 @@ def _rules_file(path, stats):
     ({"box": (8, 0), "stairs": (1, 1)}, "box"),
     # equal precision 5/6 and equal coverage: the class whose rule comes first in the file
     ({"box": (4, 0), "stairs": (4, 0)}, "box"),
-    # equal precision 1/2 (box 1/1, stairs 3/3): more training objects covered wins
-    ({"box": (1, 1), "stairs": (3, 3)}, "stairs"),
+    # equal precision 3/5 (box 2/1, stairs 5/3): more training objects covered wins
+    ({"box": (2, 1), "stairs": (5, 3)}, "stairs"),
+    # both rules were wrong as often as right in training (precision 1/2): none of the classes
+    ({"box": (1, 1), "stairs": (3, 3)}, "other"),
+    # a rule wrong more often than right does not count, however many objects it covered
+    ({"box": (9, 12), "stairs": (1, 0)}, "stairs"),
 ])
 def test_classifier_chooses_between_two_classes_that_fire(tmp_path, stats, want):
     from planerel.classify import Classifier
@@ -227,7 +237,13 @@ def test_classifier_chooses_between_two_classes_that_fire(tmp_path, stats, want)
     o = ans.objects[0]
     assert o.fired == (("box", 1), ("stairs", 2))  # both rules proved the object
     assert o.klass == want
-    assert o.rule.startswith(want + "(")
+    if want == "other":
+        assert o.rule is None and o.precision is None
+    else:
+        assert o.rule.startswith(want + "(")
+        tp, fp = stats[want]
+        assert o.precision == pytest.approx((tp + 1) / (tp + fp + 2))
+        assert o.to_dict()["rule_index"] == (1 if want == "box" else 2)
 
 
 # ------------------------------------------------------------------ bad input
@@ -302,7 +318,7 @@ def test_classify_dataset_scores_against_the_sidecar_truth(small_set, gt_descs, 
     from planerel.classify import Classifier, classify_dataset
 
     model = P.learn_rules(gt_descs, ["box", "stairs", "ramp"], engine="builtin")
-    # a model that knows ramps only: box and stairs scenes must come out "unknown"
+    # a model that knows ramps only: box and stairs scenes must come out "other"
     (tmp_path / "ramp.pl").write_text(":- style_check(-singleton).\n"
                                       + "\n".join(model.rules["ramp"]) + "\n")
     res = classify_dataset(Classifier(tmp_path / "ramp.pl"), small_set, out_dir=tmp_path / "o",
@@ -317,13 +333,13 @@ def test_classify_dataset_scores_against_the_sidecar_truth(small_set, gt_descs, 
         sum(r["predicted"] == r["class"] for r in res["scenes"]) / 12)
     classes = res["classes"]
     assert classes[0] == "ramp" and set(classes) == {"box", "stairs", "ramp"}
-    cols = classes + ["unknown"]
+    cols = classes + ["other"]
     want = [[sum(1 for r in res["scenes"] if r["class"] == c and r["predicted"] == q)
              for q in cols] for c in classes]
     assert res["confusion"] == want
     for r in res["scenes"]:
         if r["class"] != "ramp":  # no inclined plane, so the ramp rule cannot fire
-            assert r["predicted"] == "unknown" and r["rule"] is None
+            assert r["predicted"] == "other" and r["rule"] is None
     assert pred.count("ramp") == 4
     assert sorted(f.name for f in (tmp_path / "o").glob("*.classified.json")) == sorted(
         f"{k}.classified.json" for k in truth)

@@ -249,7 +249,7 @@ def test_learning_section_table_from_known_numbers():
     conf = [b for b in blocks if isinstance(b, Table) and b.caption.startswith("Confusion")]
     assert [c.caption for c in conf] == ["Confusion matrix, RG (cross-validation)",
                                          "Confusion matrix, ground truth (cross-validation)"]
-    assert conf[0].headers == ("true \\ predicted", "box", "stairs", "unknown")
+    assert conf[0].headers == ("true \\ predicted", "box", "stairs", "other")
     assert conf[0].rows == (("box", "2", "0", "0"), ("stairs", "0", "1", "1"))
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 from planerel.commands._common import add_batch_options, add_input_options
@@ -15,8 +16,10 @@ def register(sub) -> None:
         "classify",
         help="classify the objects in scans with learned rules, and show the planes that prove it",
         description="For each scan: segment, describe, propose objects, and ask Prolog which "
-                    "class each object satisfies. Prints the class (or 'unknown' when no rule "
-                    "fires; when several fire, the rule with the best training precision wins), "
+                    "class each object satisfies. Prints the class (or 'other', none of the "
+                    "classes, when no rule fires; when several fire, the rule with the best "
+                    "training precision wins: Laplace (tp+1)/(tp+fp+2), and rules at or below "
+                    "0.5 do not count), "
                     "the rule and the planes bound to its variables. With -o, also writes "
                     "NAME.classified.png (proof planes highlighted) and NAME.classified.json.",
     )
@@ -25,8 +28,12 @@ def register(sub) -> None:
                    help="scans (any format planerel reads): files, folders or glob patterns")
     p.add_argument("--json", action="store_true", help="print one JSON document instead of text")
     p.add_argument("-o", "--output", metavar="OUT_DIR", help="write explanation images and JSON")
-    p.add_argument("--method", choices=["regiongrow", "sp", "snp"], default="regiongrow",
-                   help="segmentation method (default regiongrow)")
+    p.add_argument("--method", choices=["regiongrow", "sp", "snp"], default=None,
+                   help="segmentation method (default: the model's, from MODEL_DIR/model.json)")
+    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a setting the model was learned with (repeatable; a warning "
+                        "says when it differs from training): a segmentation parameter (theta=12) "
+                        "or gravity.NAME, planes.NAME, relations.NAME, proposals.NAME")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)
@@ -35,14 +42,26 @@ def register(sub) -> None:
 _CLASSIFIERS: dict = {}
 
 
-def _classifier(rules: str, method: str):
+def _classifier(rules: str, method: str | None, params: tuple = ()):
     """This process's classifier for a model (loaded once per worker process)."""
     from planerel.classify import Classifier
 
-    key = (rules, method)
+    key = (rules, method, params)
     if key not in _CLASSIFIERS:
-        _CLASSIFIERS[key] = Classifier(rules, method=method)
+        _CLASSIFIERS[key] = Classifier(rules, method=method, seg_params=dict(params))
     return _CLASSIFIERS[key]
+
+
+def _params(items) -> dict:
+    from planerel.errors import InputError
+
+    out = {}
+    for item in items:
+        name, sep, value = str(item).partition("=")
+        if not sep or not name.strip():
+            raise InputError(f"--param takes NAME=VALUE, got {item!r}")
+        out[name.strip()] = value.strip()
+    return out
 
 
 def _classify_task(task: dict):
@@ -51,7 +70,7 @@ def _classify_task(task: dict):
     from planerel.commands._common import given_up, read_input
 
     path, stem = task["path"], task["name"]
-    clf = _classifier(task["rules"], task["method"])
+    clf = _classifier(task["rules"], task["method"], task["params"])
     cloud = read_input(path, task["read"])
     ans = clf.classify(cloud, scene_id=stem, up=given_up(task["read"]))
     if task["out"]:
@@ -72,7 +91,8 @@ def _classify_task(task: dict):
     for o in ans.objects:
         lines.append(f"  {o.object_id}: {o.klass}")
         if o.rule:
-            lines.append(f"    rule:   {o.rule}")
+            prec = f"  (training precision {o.precision:.3f})" if o.precision is not None else ""
+            lines.append(f"    rule:   {o.rule}{prec}")
             lines.append(f"    planes: {', '.join(o.proof_planes) or '(the rule binds no plane)'}")
     return ans.to_dict(), lines
 
@@ -95,10 +115,13 @@ def run(args) -> int:
     jobs = 1 if len(paths) == 1 else resolve_jobs(args.jobs)
     # A bad model fails here, before any scan is read.  Worker processes start from a fork
     # server, so none inherits this process's Prolog engine; each loads the model once.
-    _classifier(rules, args.method)
+    params = tuple(sorted(_params(args.param).items()))
+    clf = _classifier(rules, args.method, params)
+    for w in clf.warnings:
+        print(f"warning: {w}", file=sys.stderr)
     opts = read_options(args)
     tasks = [{"path": str(p), "name": n, "read": opts, "rules": rules, "method": args.method,
-              "out": args.output} for p, n in zip(paths, names, strict=True)]
+              "params": params, "out": args.output} for p, n in zip(paths, names, strict=True)]
     res = BatchResult()
     results = []
     for _, (answer, lines) in run_batch(_classify_task, tasks, jobs=jobs,

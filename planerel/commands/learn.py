@@ -80,7 +80,7 @@ def run(args) -> int:
     cv = m.get("cross_validation")
     if cv:
         print(f"{cv['k']}-fold cross-validation: accuracy {cv['accuracy']:.3f}")
-        cols = m["classes"] + ["unknown"]
+        cols = m["classes"] + ["other"]
         print("  " + " " * 8 + "".join(f"{c:>9}" for c in cols) + "   <- predicted")
         for k, row in zip(m["classes"], cv["confusion"], strict=True):
             acc = cv["per_class"].get(k)
@@ -89,8 +89,8 @@ def run(args) -> int:
         if cv.get("other"):
             o = cv["other"]
             print(f"  {'other':>8}" + "".join(f"{o['predicted'].get(c, 0):>9}" for c in cols)
-                  + f"   {o['rejected']:.3f} rejected (right answer: unknown)")
-            print(f"  open-set accuracy (all objects, other -> unknown): "
+                  + f"   {o['rejected']:.3f} rejected (right answer: other)")
+            print(f"  open-set accuracy (all objects, other -> other): "
                   f"{cv['open_set_accuracy']:.3f}")
     print(f"model written to {args.output}")
     return 0

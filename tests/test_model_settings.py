@@ -1,0 +1,108 @@
+"""The model carries its settings: learn writes model.json, classify reuses it (issue 16, 4)."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from planerel import pipeline as P
+from planerel.cli import main
+from planerel.errors import InputError
+from planerel.synth import generate_dataset, generate_scene
+
+
+@pytest.fixture(scope="module")
+def model_dir(tmp_path_factory):
+    """A model learned from region-growing planes with theta=12 (not the default 15)."""
+    base = tmp_path_factory.mktemp("settings")
+    ds = base / "train"
+    generate_dataset(ds, n_box=3, n_stairs=0, n_ramp=3, seed=5, size=(640, 480), subsample=4)
+    P.learn_model(ds, base / "model", engine="builtin", jobs=1, seg_params={"theta": "12"},
+                  cache="none", log=lambda s: None)
+    return base / "model"
+
+
+def test_learn_writes_the_settings_it_learned_with(model_dir):
+    from planerel.gravity import GravityParams
+    from planerel.planes import PlaneParams
+    from planerel.relations import ProposalParams, RelationParams
+
+    data = json.loads((model_dir / "model.json").read_text())
+    seg = data["segmentation"]
+    assert seg["method"] == "regiongrow" and seg["params"] == {"theta": "12"}
+    assert seg["resolved"]["theta"] == 12.0
+    assert seg["resolved"]["adapt"] is True  # the sensor-adaptive settings are on by default
+    assert data["gravity"] == dataclasses.asdict(GravityParams())
+    assert data["planes"] == dataclasses.asdict(PlaneParams())
+    assert data["relations"] == dataclasses.asdict(RelationParams())
+    assert data["proposals"] == dataclasses.asdict(ProposalParams())
+    stats = json.loads((model_dir / "metrics.json").read_text())["rule_stats"]
+    assert [[r["index"], r["class"], r["tp"], r["fp"]] for r in data["rule_precision"]] == stats
+    for r in data["rule_precision"]:
+        assert r["laplace"] == pytest.approx((r["tp"] + 1) / (r["tp"] + r["fp"] + 2), abs=1e-6)
+
+
+def test_classify_segments_with_the_model_settings(model_dir):
+    from planerel.classify import Classifier
+    from planerel.segment import segment
+
+    scene = generate_scene("box", seed=21, size=(640, 480), subsample=4)
+    with Classifier(model_dir / "rules.pl") as clf:
+        assert clf.warnings == ()
+        assert (clf.method, clf.seg_params) == ("regiongrow", {"theta": "12"})
+        ans = clf.classify(scene.cloud, scene_id="s0001")
+    want = segment(scene.cloud, "regiongrow", theta=12.0).labels
+    default = segment(scene.cloud, "regiongrow").labels
+    assert np.array_equal(ans.labels, want)
+    assert not np.array_equal(want, default)  # so the test can tell the settings apart
+
+
+@pytest.mark.parametrize("overrides, method, warned", [
+    ({"theta": "12"}, None, []),                       # the training value: nothing to say
+    ({"theta": "15"}, None, ["theta=15.0", "12.0"]),
+    ({"gravity.tol_deg": "4"}, None, ["gravity.tol_deg=4.0", "5.0"]),
+    ({}, "sp", ["method sp", "regiongrow"]),
+])
+def test_overrides_differing_from_training_are_warned(model_dir, overrides, method, warned):
+    from planerel.classify import Classifier
+
+    with Classifier(model_dir / "rules.pl", method=method, seg_params=overrides) as clf:
+        text = " | ".join(clf.warnings)
+        assert len(clf.warnings) == (1 if warned else 0), text
+        for part in warned:
+            assert part in text
+        if "gravity.tol_deg" in overrides:
+            assert clf._describe_kw["gravity_params"].tol_deg == 4.0
+
+
+@pytest.mark.parametrize("overrides, match", [
+    ({"gravity.nope": "1"}, "gravity has no parameter 'nope'"),
+    ({"colour.x": "1"}, "unknown section 'colour'"),
+    ({"planes.min_points": "many"}, "expected a int"),
+])
+def test_bad_overrides_are_refused(model_dir, overrides, match):
+    from planerel.classify import Classifier
+
+    with pytest.raises(InputError, match=match):
+        Classifier(model_dir / "rules.pl", seg_params=overrides)
+
+
+def test_rules_without_settings_use_the_defaults(tmp_path):
+    from planerel.classify import Classifier
+
+    (tmp_path / "rules.pl").write_text("box(A) :- nplanes(A, 2).\n")
+    with Classifier(tmp_path / "rules.pl", seg_params={"theta": "12"}) as clf:
+        assert clf.warnings == () and clf.trained is None
+        assert (clf.method, clf.seg_params) == ("regiongrow", {"theta": "12"})
+
+
+def test_cli_warns_about_an_override(model_dir, tmp_path, capsys):
+    scene = generate_scene("box", seed=21, size=(640, 480), subsample=4)
+    np.save(tmp_path / "box.npy", scene.cloud.xyz)
+    assert main(["classify", str(model_dir / "rules.pl"), str(tmp_path / "box.npy"),
+                 "--param", "theta=14"]) == 0
+    err = capsys.readouterr().err
+    assert "warning: segmentation theta=14.0 differs from the model's training value 12.0" in err
