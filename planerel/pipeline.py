@@ -40,6 +40,8 @@ __all__ = [
     "OTHER",
     "stratified_folds",
     "cross_validate",
+    "score_objects",
+    "held_out_scores",
     "learn_model",
     "evaluate_learning",
     "support_files",
@@ -735,20 +737,84 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
             bar.close()
     for rep in fold_reports:
         predictions.update(rep.pop("_answers"))
-    truth = [k for _, k in examples]
-    pred = [predictions[o] for o, _ in examples]
+    out = score_objects(all_examples, predictions, classes)
+    out.update(folds=fold_reports, predictions=predictions, k=folds, seed=seed)
+    return out
+
+
+def score_objects(examples: Sequence, predictions: dict, classes: Sequence[str]) -> dict:
+    """Score the answers for objects of known class.
+
+    Parameters
+    ----------
+    examples : sequence of (object id, true class)
+        Class objects and ``other`` objects (none of the classes; others are ignored).
+    predictions : dict
+        ``{object id: answer}`` for every example.
+    classes : sequence of str
+
+    Returns
+    -------
+    dict
+        ``accuracy``, ``per_class``, ``classes``, ``confusion`` and ``n_examples`` over the
+        class objects; with ``other`` objects also ``other`` ({n, rejected: share answered
+        ``other``, predicted: {answer: n}}), ``open_set_accuracy`` (all objects, ``other``
+        right when answered ``other``), ``open_set_per_class`` and ``open_set_confusion``
+        (rows and columns ``classes`` then ``other``).
+    """
+    from planerel.aleph_export import OTHER as OTHER_CLASS
+
+    examples = [(o, k) for o, k in examples if k in classes or k == OTHER_CLASS]
+    kept = [(o, k) for o, k in examples if k in classes]
+    truth = [k for _, k in kept]
+    pred = [predictions[o] for o, _ in kept]
     acc, per = accuracy_scores(truth, pred, classes)
     out = {"accuracy": acc, "per_class": per, "classes": list(classes),
-           "confusion": confusion_matrix(truth, pred, classes), "folds": fold_reports,
-           "predictions": predictions, "n_examples": len(examples), "k": folds, "seed": seed}
-    others = [o for o, k in all_examples if k == OTHER]
+           "confusion": confusion_matrix(truth, pred, classes), "n_examples": len(kept)}
+    others = [o for o, k in examples if k == OTHER_CLASS]
     if others:
         got = [predictions[o] for o in others]
         counts = {k: got.count(k) for k in [*classes, OTHER] if got.count(k)}
         rejected = got.count(OTHER)
         out["other"] = {"n": len(others), "rejected": rejected / len(others), "predicted": counts}
         right = sum(t == p for t, p in zip(truth, pred, strict=True)) + rejected
-        out["open_set_accuracy"] = right / (len(examples) + len(others))
+        out["open_set_accuracy"] = right / (len(kept) + len(others))
+        rows = [*classes, OTHER]
+        all_truth, all_pred = truth + [OTHER] * len(others), pred + got
+        out["open_set_per_class"] = accuracy_scores(all_truth, all_pred, rows)[1]
+        out["open_set_confusion"] = confusion_matrix(all_truth, all_pred, rows)
+    return out
+
+
+def held_out_scores(model: Model, dataset_dir, *, method: str = "regiongrow",
+                    seg_params: dict | None = None, jobs: int | None = 1, cache=None,
+                    progress: bool | None = None, timeout: float = 120.0,
+                    scheduler=None) -> dict:
+    """Accuracy of ``model`` on another data set (a held-out set: another seed, other world
+    parameters), object by object, scored like :func:`cross_validate`: the set's ground-truth
+    objects, each made of the segmented planes that mostly cover it
+    (:func:`planerel.dataset.describe_truth_scene`), answered by the model's rules.
+
+    Returns
+    -------
+    dict
+        :func:`score_objects`' scores plus ``dataset``, ``n_scenes``, ``skipped`` and
+        ``predictions``.
+    """
+    from planerel.aleph_export import OTHER as OTHER_CLASS
+
+    descs, skipped = describe_scenes(dataset_dir, method=method, seg_params=seg_params,
+                                     jobs=jobs, cache=cache, progress=progress,
+                                     scheduler=scheduler)
+    examples = [(o, k) for o, k in _examples(descs) if k in model.classes or k == OTHER_CLASS]
+    if not examples:
+        raise InputError(f"{dataset_dir}: the held-out set has no object of the model's classes "
+                         f"({', '.join(model.classes)}) or of class other")
+    preds = prolog_predict(model, descs, [o for o, _ in examples], timeout=timeout)
+    predictions = {p.object_id: p.klass for p in preds}
+    out = score_objects(examples, predictions, model.classes)
+    out.update(dataset=str(dataset_dir), n_scenes=len(descs), skipped=skipped,
+               predictions=predictions)
     return out
 
 
@@ -829,9 +895,11 @@ def draw_confusion(path, confusion, classes, *, title: str = "") -> Path:
 def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", folds: int = 0,
                 seed: int = 0, timeout: float = 120.0, jobs: int | None = None,
                 method: str = "regiongrow", seg_params: dict | None = None, cache=None,
-                progress: bool | None = None, log=print, scheduler=None) -> dict:
+                progress: bool | None = None, log=print, scheduler=None,
+                heldout=None) -> dict:
     """``planerel learn``: describe a data set, learn the class rules, optionally cross-validate,
-    and write a model folder.
+    score the model on a held-out data set (``heldout``: :func:`held_out_scores`, in
+    ``metrics["heldout"]``), and write a model folder.
 
     ``jobs`` worker processes describe the scenes (or the Dask ``scheduler``'s workers), and
     ``jobs`` cross-validation folds run at once; the result does not depend on either.
@@ -882,6 +950,12 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         metrics["rules"] = {k: list(v) for k, v in model.rules.items()}
         metrics["rule_stats"] = [list(s) for s in model.stats]
         metrics["uncovered"] = model.uncovered
+        if heldout is not None:
+            t3 = time.perf_counter()
+            metrics["heldout"] = held_out_scores(
+                model, heldout, method=method, seg_params=seg_params,
+                jobs=jobs, cache=cache, progress=progress, timeout=timeout, scheduler=scheduler)
+            metrics["seconds"]["heldout"] = round(time.perf_counter() - t3, 3)
         header = (f"learned by planerel from {dataset_dir} ({len(descs)} scenes, "
                   f"segmentation: {method}, engine: {model.engine})")
         write_text(tmp / "rules.pl", model.text(header))

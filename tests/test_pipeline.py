@@ -369,3 +369,42 @@ def test_describe_uses_cache(small_set, tmp_path):
     assert [d.scene_id for d in a] == [d.scene_id for d in b]
     assert [[o.planes for o in d.objects] for d in a] == [[o.planes for o in d.objects] for d in b]
     assert Path(files[0]).suffix == ".npy"
+
+
+def test_score_objects_counts_other_as_an_answer():
+    ex = [("a", "box"), ("b", "other"), ("c", "ramp"), ("d", "other"), ("e", "stairs")]
+    pred = {"a": "box", "b": "other", "c": "box", "d": "ramp", "e": "other"}
+    res = P.score_objects(ex, pred, ("box", "stairs", "ramp"))
+    # class objects a, c, e: only a right
+    assert res["accuracy"] == pytest.approx(1 / 3) and res["n_examples"] == 3
+    assert res["confusion"] == [[1, 0, 0, 0], [0, 0, 0, 1], [1, 0, 0, 0]]
+    assert res["other"] == {"n": 2, "rejected": 0.5, "predicted": {"other": 1, "ramp": 1}}
+    # all five objects: a and b right
+    assert res["open_set_accuracy"] == pytest.approx(2 / 5)
+    assert res["open_set_confusion"][3] == [0, 0, 1, 1]
+    assert res["open_set_per_class"] == {"box": 1.0, "stairs": 0.0, "ramp": 0.0, "other": 0.5}
+
+
+def test_learn_scores_a_held_out_set(small_set, tmp_path):
+    held = tmp_path / "held"
+    generate_dataset(held, n_box=2, n_stairs=2, n_ramp=3, seed=77, size=(640, 480), subsample=4)
+    # a model whose only rule says "an object with one inclined plane is a ramp": on
+    # ground-truth planes the ramps are ramps and every other object is none of the classes
+    model = P.Model(("box", "stairs", "ramp"), {"ramp": ("ramp(A) :- ninclined(A,1).",)},
+                    ((1, "ramp", 5, 0),))
+    res = P.held_out_scores(model, held, method="gt", jobs=1, cache="none")
+    truth = {p.name.split(".")[0] + "_o1": json.loads(p.read_text())["class"]
+             for p in sorted(held.glob("s*.json"))}
+    assert res["predictions"] == {o: ("ramp" if k == "ramp" else "other") for o, k in truth.items()}
+    assert res["accuracy"] == pytest.approx(3 / 7) and res["n_scenes"] == 7
+    assert res["confusion"] == [[0, 0, 0, 2], [0, 0, 0, 2], [0, 0, 3, 0]]
+
+    # planerel learn --heldout writes the same kind of figures into metrics.json
+    m = P.learn_model(small_set, tmp_path / "model", method="gt", jobs=1, engine="builtin",
+                      heldout=held, log=lambda s: None)
+    h = m["heldout"]
+    assert h["n_examples"] == 7 and sum(map(sum, h["confusion"])) == 7
+    assert h["accuracy"] == pytest.approx(
+        sum(h["predictions"][o] == k for o, k in truth.items()) / 7)
+    assert json.loads((tmp_path / "model" / "metrics.json").read_text())["heldout"]["accuracy"] \
+        == pytest.approx(h["accuracy"])

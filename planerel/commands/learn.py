@@ -28,6 +28,10 @@ def register(sub) -> None:
     p.add_argument("--folds", type=int, default=0, metavar="K",
                    help="stratified K-fold cross-validation (0 = none; 10 is usual)")
     p.add_argument("--seed", type=int, default=0, help="seed of the fold assignment")
+    p.add_argument("--heldout", metavar="DATASET",
+                   help="also score the model on this data set, object by object (a held-out "
+                        "set: another seed and other world parameters, e.g. planerel dataset "
+                        "synth --world varied --seed 7 --range camera_pitch_deg=40,75)")
     p.add_argument("--timeout", type=float, default=120.0, metavar="S",
                    help="stop a learning run after S seconds (per class)")
     p.add_argument("-j", "--jobs", type=int, default=None, metavar="N",
@@ -64,7 +68,8 @@ def run(args) -> int:
     m = learn_model(args.dataset, args.output, classes=classes, engine=args.engine,
                     folds=args.folds, seed=args.seed, timeout=args.timeout, jobs=args.jobs,
                     method=args.method, seg_params=_params(args.param), cache=args.cache,
-                    log=lambda s: print(s, file=sys.stderr), scheduler=args.scheduler)
+                    log=lambda s: print(s, file=sys.stderr), scheduler=args.scheduler,
+                    heldout=args.heldout)
     print(f"engine: {m['engine']}")
     print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
           f"{', '.join(m['classes'])}"
@@ -80,17 +85,27 @@ def run(args) -> int:
     cv = m.get("cross_validation")
     if cv:
         print(f"{cv['k']}-fold cross-validation: accuracy {cv['accuracy']:.3f}")
-        cols = m["classes"] + ["other"]
-        print("  " + " " * 8 + "".join(f"{c:>9}" for c in cols) + "   <- predicted")
-        for k, row in zip(m["classes"], cv["confusion"], strict=True):
-            acc = cv["per_class"].get(k)
-            print(f"  {k:>8}" + "".join(f"{v:>9}" for v in row)
-                  + (f"   {acc:.3f}" if acc is not None else ""))
-        if cv.get("other"):
-            o = cv["other"]
-            print(f"  {'other':>8}" + "".join(f"{o['predicted'].get(c, 0):>9}" for c in cols)
-                  + f"   {o['rejected']:.3f} rejected (right answer: other)")
-            print(f"  open-set accuracy (all objects, other -> other): "
-                  f"{cv['open_set_accuracy']:.3f}")
+        _print_scores(cv, m["classes"])
+    held = m.get("heldout")
+    if held:
+        print(f"held out ({held['dataset']}, {held['n_scenes']} scenes): accuracy "
+              f"{held['accuracy']:.3f}")
+        _print_scores(held, m["classes"])
     print(f"model written to {args.output}")
     return 0
+
+
+def _print_scores(res: dict, classes) -> None:
+    """The confusion matrix of cross-validation or a held-out set, ``other`` as a row too."""
+    cols = list(classes) + ["other"]
+    print("  " + " " * 8 + "".join(f"{c:>9}" for c in cols) + "   <- predicted")
+    for k, row in zip(classes, res["confusion"], strict=True):
+        acc = res["per_class"].get(k)
+        print(f"  {k:>8}" + "".join(f"{v:>9}" for v in row)
+              + (f"   {acc:.3f}" if acc is not None else ""))
+    if res.get("other"):
+        o = res["other"]
+        print(f"  {'other':>8}" + "".join(f"{o['predicted'].get(c, 0):>9}" for c in cols)
+              + f"   {o['rejected']:.3f} (right answer: other)")
+        print(f"  open-set accuracy (all objects, other included): "
+              f"{res['open_set_accuracy']:.3f}")

@@ -1,0 +1,55 @@
+"""Cross-validation and held-out accuracy of rules learned from one training set (issue 16).
+
+What ``planerel learn TRAIN --folds K --heldout HELD`` reports, as one JSON line with the
+times of each stage, for tables over training seeds (docs/results.md, "Honest evaluation").
+
+Run: ``.venv/bin/python benchmarks/eval_heldout.py TRAIN HELD --folds 10 --tag paper_s0``
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("train")
+    ap.add_argument("held")
+    ap.add_argument("--folds", type=int, default=10, help="0: no cross-validation")
+    ap.add_argument("--timeout", type=float, default=120.0, help="seconds per learner run")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--tag", default="")
+    args = ap.parse_args(argv)
+
+    from planerel import pipeline as P
+
+    t0 = time.perf_counter()
+    descs, _ = P.describe_scenes(args.train, jobs=args.jobs, progress=False)
+    classes = P._classes_arg(None, descs)
+    t1 = time.perf_counter()
+    cv = None
+    if args.folds:
+        cv = P.cross_validate(descs, classes, folds=args.folds, jobs=args.jobs, progress=False,
+                              timeout=args.timeout)
+        cv = {k: cv.get(k) for k in ("accuracy", "per_class", "confusion", "other",
+                                     "open_set_accuracy", "open_set_confusion", "n_examples")}
+    t2 = time.perf_counter()
+    model = P.learn_rules(descs, classes, engine="auto", timeout=args.timeout)
+    t3 = time.perf_counter()
+    held = P.held_out_scores(model, args.held, jobs=args.jobs, progress=False,
+                             timeout=args.timeout)
+    held.pop("predictions")
+    t4 = time.perf_counter()
+    print(json.dumps({"tag": args.tag, "train": args.train, "held": args.held,
+                      "classes": list(classes), "rules": model.clauses(), "cv": cv,
+                      "heldout": held,
+                      "seconds": {"describe": round(t1 - t0, 1), "cv": round(t2 - t1, 1),
+                                  "learn": round(t3 - t2, 1), "heldout": round(t4 - t3, 1)}}))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
