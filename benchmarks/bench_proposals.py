@@ -5,7 +5,7 @@
 Frames: the mOSD frames of ``../shared/data/mosd`` (640x480) and N cluttered varied-world
 scenes (320x240, 2-3 extra objects, seed 22).  Each frame is segmented once; then
 ``describe_scene`` (measure planes, relate, propose) runs with ``split_concave=False,
-min_border_area=0`` (the reference: plain connected components, the proposals before issue
+min_border_area=0, border_wall_area=0`` (the reference: plain connected components, the proposals before issue
 22) and the defaults,
 interleaved, ``--repeat`` times; the median per frame is summed.  Printed: ms per frame of
 both and their ratio, and the proposals' found rate / false proposals per frame of both
@@ -48,7 +48,7 @@ def main(argv=None) -> int:
     for path in inputs:
         for name, cloud, truth, ty in frame_truth(path):
             frames.append((name, cloud, segment(cloud).labels, truth, ty))
-    variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0),
+    variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0, border_wall_area=0),
                 "concave split": ProposalParams()}
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": []} for k in variants}

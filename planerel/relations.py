@@ -385,6 +385,10 @@ class ProposalParams:
     drop_border_walls : bool
         Drop components made only of vertical planes of which one reaches the image border
         (walls seen behind the object); objects have a non-vertical plane or lie in view.
+    border_wall_area : float
+        m^2: such a component is dropped only when its largest plane is at least this large
+        (a box seen from the side at the edge of the view shows vertical faces only, smaller
+        than a wall); 0 = drop every such component.
     min_points : int
         Proposals with fewer points in total are dropped.
     split_concave : bool
@@ -411,6 +415,7 @@ class ProposalParams:
 
     support_min_area: float = 2.0
     drop_border_walls: bool = True
+    border_wall_area: float = 0.3
     min_points: int = 0
     split_concave: bool = True
     concave_tol: float = 10.0
@@ -420,8 +425,8 @@ class ProposalParams:
     min_border_area: float = 0.005
 
     def __post_init__(self) -> None:
-        _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "edge_depth", "step_overlap",
-                             "min_border_area"))
+        _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "border_wall_area",
+                             "edge_depth", "step_overlap", "min_border_area"))
         if isinstance(self.edge_band, bool) or not isinstance(self.edge_band, int) or not 1 <= self.edge_band <= 8:
             raise InputError(f"edge_band must be an integer number of pixels in 1..8, got {self.edge_band!r}")
 
@@ -619,7 +624,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     if params.drop_border_walls:
         comps = [c for c in comps
                  if not (all(byl[x].orientation == "vertical" for x in c)
-                         and any(byl[x].touches_border for x in c))]
+                         and any(byl[x].touches_border for x in c)
+                         and max(byl[x].area for x in c) >= params.border_wall_area)]
     if params.min_border_area > 0:
         comps = [c for c in comps
                  if not (len(c) == 1 and byl[c[0]].touches_border
