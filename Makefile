@@ -52,18 +52,15 @@ clean:
 	rm -rf out .pytest_cache build *.egg-info
 
 # Branch coverage (docs/testing.md): the whole suite, then the kernel tests again with the numba
-# kernels run as plain Python (NUMBA_DISABLE_JIT=1), combined. As plain Python the normals kernel
-# can index past its ring buffer for invalid pixels (docs/testing.md), so tests of the normals'
-# pass may fail in the second run: its exit status is ignored, its coverage is kept.
+# kernels run as plain Python (NUMBA_DISABLE_JIT=1: Python checks every index), combined. Both
+# runs must pass.
 PURE_PY_TESTS := tests/test_segment_kernels.py tests/test_segment_post_kernels.py \
 	tests/test_segment_reference.py tests/test_segment_paper.py tests/test_segment_graph.py \
 	tests/test_normals.py
-PURE_PY_SKIP := --deselect tests/test_segment_kernels.py::test_prefetch_rejects_what_is_not_an_array \
-	-k "not generator and not streamed_normals_match"
+
 coverage: setup
 	rm -f .coverage .coverage.*
 	$(PY) -m coverage run --rcfile=.coveragerc -m pytest -q
-	-NUMBA_DISABLE_JIT=1 $(PY) -m coverage run --rcfile=.coveragerc -m pytest -q \
-		$(PURE_PY_SKIP) $(PURE_PY_TESTS)
+	NUMBA_DISABLE_JIT=1 $(PY) -m coverage run --rcfile=.coveragerc -m pytest -q $(PURE_PY_TESTS)
 	$(PY) -m coverage combine --rcfile=.coveragerc -q
 	$(PY) -m coverage report --rcfile=.coveragerc

@@ -111,8 +111,8 @@ def test_bias_follows_poppers_format(tasks):
         assert set(dirs[p]) <= {"in", "out"}
     assert types["stairs"] == ["obj"] and dirs["stairs"] == ["in"]
     # every input argument has a type some other literal (or the head) can produce
-    produced = {"obj"} | {t for p in body for t, d in zip(types[p], dirs[p]) if d == "out"}
-    assert all(t in produced for p in body for t, d in zip(types[p], dirs[p]) if d == "in")
+    produced = {"obj"} | {t for p in body for t, d in zip(types[p], dirs[p], strict=True) if d == "out"}
+    assert all(t in produced for p in body for t, d in zip(types[p], dirs[p], strict=True) if d == "in")
     for key in ("max_vars", "max_body", "max_clauses"):
         assert len(atoms[key]) == 1 and atoms[key][0][0].number >= 1
     text = (folders["stairs"] / "bias.pl").read_text()

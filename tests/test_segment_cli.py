@@ -70,3 +70,38 @@ def test_planes_json_and_facts_header_report_the_noise_model(tmp_path, capsys):
     head = (tmp_path / "f.pl").read_text().splitlines()[:3]
     assert any(line.startswith("% scan: depth noise z2, sigma") and "adapted to it" in line
                for line in head)
+
+
+def test_segment_cli_split_and_refine_params_as_segment_keywords(tmp_path, capsys):
+    """``--param split=...`` / ``refine=...`` do what segment()'s keywords do (split is no
+    parameter-class field): same labels, and the post-processing ran (``split_tested`` in the
+    planes' info) exactly when asked or by default."""
+    from planerel.cloud import Cloud
+    from planerel.segment import segment
+
+    np.save(tmp_path / "scan.npy", staircase(160, 120, seed=0)[0].xyz)
+    cloud = Cloud(np.load(tmp_path / "scan.npy"))
+    for name, method, params, kw, post in [
+        ("default", "regiongrow", (), {}, True),
+        ("nosplit", "regiongrow", ("split=false",), {"split": False}, False),
+        ("paper", "regiongrow", ("refine=false", "split=false", "angle_order=paper"),
+         {"refine": False, "split": False, "angle_order": "paper"}, False),
+        ("paper_split", "regiongrow", ("preset=paper", "split=true"),
+         {"preset": "paper", "split": True}, True),
+        ("sp_split", "sp", ("split=1",), {"split": True}, True),
+    ]:
+        args = ["segment", str(tmp_path / "scan.npy"), "-o", str(tmp_path / name), "--method",
+                method, "--formats", "npy,json"]
+        for p in params:
+            args += ["--param", p]
+        assert main(args) == 0, name
+        info = json.loads((tmp_path / name / "scan.planes.json").read_text())["info"]
+        want = segment(cloud, method, **kw)
+        assert ("split_tested" in info) is post and ("split_tested" in want.info) is post, name
+        np.testing.assert_array_equal(np.load(tmp_path / name / "scan.labels.npy"), want.labels,
+                                      err_msg=name)
+    capsys.readouterr()
+    assert main(["segment", str(tmp_path / "scan.npy"), "-o", str(tmp_path / "bad"),
+                 "--param", "split=maybe"]) == 2
+    err = capsys.readouterr().err
+    assert "split" in err and err.count("\n") == 1

@@ -255,9 +255,9 @@ def test_every_object_is_an_example_with_its_class(varied_set, tmp_path):
     for c in ("box", "stairs", "ramp"):
         pos = (tmp_path / "aleph" / f"{c}.f").read_text().split()
         neg = (tmp_path / "aleph" / f"{c}.n").read_text().split()
-        ids = lambda facts: {f[len(c) + 1:-2] for f in facts}  # noqa: E731
-        assert ids(pos) == {o for o, k in truth.items() if k == c}
-        assert ids(neg) == {o for o, k in truth.items() if k != c}  # `other` included
+        n = len(c) + 1  # the facts are c(ID).
+        assert {f[n:-2] for f in pos} == {o for o, k in truth.items() if k == c}
+        assert {f[n:-2] for f in neg} == {o for o, k in truth.items() if k != c}  # `other` included
 
 
 def test_cross_validation_tests_other_objects_apart(varied_set):

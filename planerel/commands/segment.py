@@ -47,7 +47,9 @@ def register(sub) -> None:
                    help="a method parameter, e.g. --param theta=12 --param threshold=0.03 "
                         "(see docs/segmentation.md); repeat for more.  Region growing also "
                         "takes --param preset=structured-light for high-resolution range "
-                        "images with coarse depth steps (e.g. SegComp ABW)")
+                        "images with coarse depth steps (e.g. SegComp ABW); --param "
+                        "split=false skips the planar post-processing (split=true runs it, "
+                        "also after the RANSAC baselines)")
     p.add_argument("--formats", default=",".join(FORMATS), metavar="LIST",
                    help="what to write per scan, a comma list of npy (labels), png (label "
                         "picture), json (planes), pcd (labelled PCD: x y z rgb label, PCL "
@@ -95,7 +97,7 @@ def _segment_task(task: dict) -> str:
     path, stem, out = task["path"], task["name"], Path(task["out"])
     cloud = read_input(path, task["read"])
     t0 = time.perf_counter()
-    seg = segment(cloud, task["method"], params=task["params"])
+    seg = segment(cloud, task["method"], params=task["params"], split=task.get("split"))
     ms = (time.perf_counter() - t0) * 1000.0
     gravity = resolve_up(cloud, seg.labels, given_up(task["read"]))
     formats = task["formats"]
@@ -131,7 +133,14 @@ def run_segment(args) -> int:
     from planerel.naming import scene_names
     from planerel.segment import make_params
 
-    params = make_params(args.method, **parse_params(args.param))
+    given = parse_params(args.param)
+    # split is segment()'s keyword (the post-processing), not a parameter-class field
+    split = given.pop("split", None)
+    if split is not None:
+        from planerel.segment import _as_bool
+
+        split = _as_bool(split, default=True)  # a bad value fails here, before any work
+    params = make_params(args.method, **given)
     given_up(args)  # a bad --up fails here, before any work
     paths = inputs_of(args)
     stems = scene_names(paths)
@@ -142,7 +151,7 @@ def run_segment(args) -> int:
     opts = read_options(args)
     formats = _formats(args.formats)
     tasks = [{"path": str(p), "name": n, "out": str(out), "read": opts, "method": args.method,
-              "params": params, "formats": formats} for p, n in zip(paths, stems, strict=True)]
+              "params": params, "split": split, "formats": formats} for p, n in zip(paths, stems, strict=True)]
     res = BatchResult()
     for _, line in run_batch(_segment_task, tasks, jobs=args.jobs, scheduler=args.scheduler,
                              keep_going=args.keep_going, label=lambda t: t["path"],

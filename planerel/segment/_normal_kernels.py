@@ -123,7 +123,10 @@ def _smooth_row(rcf, cs, ce, ks, b, MC, sbf):  # pragma: no cover - compiled
     W = cs.shape[0]
     RW = 4 * W
     for u in range(W):
-        if cs[u] < 0:
+        if cs[u] < 0:  # invalid: zeros, so that stage C reads only written values for it
+            sbf[3 * u] = 0.0
+            sbf[3 * u + 1] = 0.0
+            sbf[3 * u + 2] = 0.0
             continue
         s = np.int64(ks[u])
         lo = max(b - s, np.int64(cs[u]))
@@ -149,16 +152,20 @@ def _diff_row(rsf, rs, re, cs, ce, kr, c, MS, dif):  # pragma: no cover - compil
     RW = 3 * W
     row = (c & MS) * RW
     for u in range(W):
+        # an invalid point's radius, column run and row-run end are stale ring values (never
+        # written for it, or left by an earlier row): it reads only its own smoothed point
+        # (zeros, written by stage B), so every load stays inside the ring and reads written
+        # values; its result is masked by dif[6].  A valid point's ends lie in [0, W - 1]
+        # and in rows stage B has written.
+        ok = rs[u] >= 0
         r = np.int64(kr[u])
-        ur = min(u + r, np.int64(re[u]))
-        ul = max(u - r, np.int64(rs[u]))
-        vd = min(c + r, np.int64(ce[u]))
-        vu = max(c - r, np.int64(cs[u]))
-        dif[6, u] = (rs[u] >= 0) & (ur != ul) & (vd != vu)
-        # an invalid point's run ends and radius are stale ring values (its result is masked
-        # by dif[6]): clamp its columns into the row so that the loads stay inside the ring
-        ir = np.uint64(row + 3 * min(max(ur, 0), W - 1))
-        il = np.uint64(row + 3 * min(max(ul, 0), W - 1))
+        ur = min(u + r, np.int64(re[u])) if ok else np.int64(u)
+        ul = max(u - r, np.int64(rs[u])) if ok else np.int64(u)
+        vd = min(c + r, np.int64(ce[u])) if ok else np.int64(c)
+        vu = max(c - r, np.int64(cs[u])) if ok else np.int64(c)
+        dif[6, u] = ok & (ur != ul) & (vd != vu)
+        ir = np.uint64(row + 3 * ur)
+        il = np.uint64(row + 3 * ul)
         idn = np.uint64((vd & MS) * RW + 3 * u)
         iu = np.uint64((vu & MS) * RW + 3 * u)
         one = np.uint64(1)
