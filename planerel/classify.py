@@ -160,7 +160,8 @@ class Classifier:
     Parameters
     ----------
     rules : path
-        A model file (``MODEL_DIR/rules.pl`` from ``planerel learn``) holding clauses
+        A model file (``MODEL_DIR/rules.pl`` from ``planerel learn``, or the folder
+        ``MODEL_DIR`` itself) holding clauses
         ``Class(Obj) :- ...`` or ``class(Obj, Class) :- ...`` and optional
         ``planerel_rule_stats/4`` facts.  The settings the model was learned with
         (``model.json`` next to it, :mod:`planerel.model_settings`) are used for scans.
@@ -185,8 +186,10 @@ class Classifier:
         from planerel.terms import atom, plist
 
         path = Path(rules)
+        if path.is_dir() and (path / "rules.pl").is_file():
+            path = path / "rules.pl"  # the model folder that `planerel learn -o` wrote
         if not path.is_file():
-            raise InputError(f"{path}: no such rules file")
+            raise InputError(f"{path}: no such rules file (give MODEL_DIR or MODEL_DIR/rules.pl)")
         self.rules_path = path
         self.trained = read_settings(path)
         self.settings, warnings = with_overrides(self.trained, method=method,

@@ -290,6 +290,19 @@ def test_rules_file_with_syntax_error(tmp_path):
         Classifier(tmp_path / "missing.pl")
 
 
+def test_classifier_takes_the_model_folder(tmp_path):
+    """`planerel learn -o MODEL` writes MODEL/rules.pl: the folder names the model too."""
+    from planerel.classify import Classifier
+
+    (tmp_path / "model").mkdir()
+    (tmp_path / "model" / "rules.pl").write_text("ramp(A) :- ninclined(A, 1).\n")
+    clf = Classifier(tmp_path / "model")
+    assert clf.rules_path == tmp_path / "model" / "rules.pl"
+    assert clf.classes == ("ramp",)
+    with pytest.raises(InputError, match="no such rules file"):
+        Classifier(tmp_path)  # a folder without rules.pl
+
+
 def test_no_swipl_on_path(gt_descs, monkeypatch, tmp_path):
     monkeypatch.setenv("PATH", str(tmp_path))
     with pytest.raises(DependencyError, match="apt-get install swi-prolog-nox"):

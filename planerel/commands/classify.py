@@ -23,7 +23,7 @@ def register(sub) -> None:
                     "the rule and the planes bound to its variables. With -o, also writes "
                     "NAME.classified.png (proof planes highlighted) and NAME.classified.json.",
     )
-    p.add_argument("rules", help="MODEL_DIR/rules.pl from planerel learn")
+    p.add_argument("rules", help="the model from planerel learn: MODEL_DIR or MODEL_DIR/rules.pl")
     p.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="scans (any format planerel reads): files, folders or glob patterns")
     p.add_argument("--json", action="store_true", help="print one JSON document instead of text")
