@@ -247,6 +247,48 @@ def _background(descs, examples: list[Example], classes: Sequence[str]) -> list[
     return lines
 
 
+
+def task_examples(descs, target, classes=None):
+    """The examples of a learning task and its classes, checked (shared by the Aleph and
+    Popper exports).
+
+    Parameters
+    ----------
+    descs : sequence of SceneDescription
+    target : str
+        The class to learn, or ``"class"`` for one multi-class task.
+    classes : sequence of str, optional
+        The task's classes (default: those of the examples, in the usual order).
+
+    Returns
+    -------
+    (list of Example, list of str)
+
+    Raises
+    ------
+    InputError
+        Fewer than two classes, a target without examples, or a name that is not a plain
+        Prolog atom.
+    """
+    examples = examples_of(descs)
+    if classes is None:
+        classes = _class_order(e.klass for e in examples)
+    classes = list(classes)
+    if len(classes) < 2:
+        raise InputError(f"a learning task needs objects of at least two classes; found "
+                         f"{', '.join(classes) or 'none'}")
+    if target != "class":
+        if target not in classes:
+            raise InputError(f"target class {target!r} has no examples; classes present: "
+                             f"{', '.join(classes)}")
+        if not terms.is_plain_atom(target):
+            raise InputError(f"target {target!r} must be a plain Prolog name "
+                             "([a-z][a-zA-Z0-9_]*)")
+    for c in classes:
+        if not terms.is_plain_atom(c):
+            raise InputError(f"class name {c!r} must be a plain Prolog name ([a-z][a-zA-Z0-9_]*)")
+    return examples, classes
+
 def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
                 task: str | None = None, settings: dict | None = None,
                 stem: str | None = None) -> dict[str, str]:
@@ -274,22 +316,8 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     dict
         ``{"STEM.b": text, "STEM.f": text, "STEM.n": text}``.
     """
-    examples = examples_of(descs)
-    if classes is None:
-        classes = _class_order(e.klass for e in examples)
-    classes = list(classes)
-    if len(classes) < 2:
-        raise InputError(f"a learning task needs objects of at least two classes; found "
-                         f"{', '.join(classes) or 'none'}")
+    examples, classes = task_examples(descs, target, classes)
     multi = target == "class"
-    if not multi and target not in classes:
-        raise InputError(f"target class {target!r} has no examples; classes present: "
-                         f"{', '.join(classes)}")
-    if not multi and not terms.is_plain_atom(target):
-        raise InputError(f"target {target!r} must be a plain Prolog name ([a-z][a-zA-Z0-9_]*)")
-    for c in classes:
-        if not terms.is_plain_atom(c):
-            raise InputError(f"class name {c!r} must be a plain Prolog name ([a-z][a-zA-Z0-9_]*)")
     check_class_names(classes)
     examples = [e for e in examples if e.klass in classes or e.klass == OTHER]
     stem = stem or target

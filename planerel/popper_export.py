@@ -94,21 +94,11 @@ def popper_files(descs, target: str, *, classes: Sequence[str] | None = None,
     dict
         ``{"bk.pl": text, "exs.pl": text, "bias.pl": text}``.
     """
-    from planerel.aleph_export import _class_order, _resource_text, example_facts, examples_of
+    from planerel.aleph_export import _resource_text, example_facts, task_examples
 
-    examples = examples_of(descs)
-    if classes is None:
-        classes = _class_order(e.klass for e in examples)
-    classes = list(classes)
-    if len(classes) < 2:
-        raise InputError(f"a learning task needs objects of at least two classes; found "
-                         f"{', '.join(classes) or 'none'}")
-    if target not in classes:
-        raise InputError(f"target class {target!r} has no examples; classes present: "
-                         f"{', '.join(classes)}")
-    for c in classes:
-        if not terms.is_plain_atom(c):
-            raise InputError(f"class name {c!r} must be a plain Prolog name ([a-z][a-zA-Z0-9_]*)")
+    if target == "class":
+        raise InputError("a Popper task learns one class at a time; name the class")
+    examples, classes = task_examples(descs, target, classes)
     if any(target == name for name, *_ in BODY_PREDICATES):
         raise InputError(f"class name {target!r} is a body predicate of the Popper task")
     b = _bounds(bounds)

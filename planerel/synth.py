@@ -73,6 +73,8 @@ def _pair(name: str, value, lo: float = 0.0, *, strict: bool = True) -> tuple[fl
 
 def _number(name: str, value, lo: float | None = None, hi: float | None = None,
             *, lo_strict: bool = False) -> float:
+    if isinstance(value, bool):  # float(True) is 1.0: a flag given where a number belongs
+        raise InputError(f"{name} must be a number, got {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planerel.errors import InputError
+from planerel.synth import _number as _num  # one checker for the generator's parameters
 
 __all__ = [
     "StructuredLight",
@@ -44,21 +45,6 @@ __all__ = [
     "projector_shadow",
     "edge_neighbours",
 ]
-
-
-def _num(name: str, value, lo: float | None = None, hi: float | None = None, *,
-         lo_strict: bool = False) -> float:
-    if isinstance(value, bool):
-        raise InputError(f"{name} must be a number, got {value!r}")
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(x) or (lo is not None and (x <= lo if lo_strict else x < lo)) or (
-            hi is not None and x > hi):
-        raise InputError(f"{name} must be a finite number in {'(' if lo_strict else '['}{lo}, "
-                         f"{hi}], got {value!r}")
-    return x
 
 
 def _check_common(s) -> None:
