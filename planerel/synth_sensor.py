@@ -107,6 +107,20 @@ def edge_neighbours(z: np.ndarray, jump: float, surface: np.ndarray | None = Non
     return other, far_side
 
 
+
+def _draws(depth_true, rng: np.random.Generator):
+    """The random draws both sensor models take, in one fixed order (so a seed gives the same
+    frame): ``z`` (H, W) float64, standard normal ``noise`` and uniform ``drop``, ``edge``,
+    ``mix`` draws (H, W), ``hit`` (H, W) bool where a surface was hit, ``zt`` = z with 1.0 at
+    misses (safe to divide by)."""
+    z = np.asarray(depth_true, dtype=np.float64)
+    noise = rng.standard_normal(z.shape)
+    drop_draw = rng.random(z.shape)
+    edge_draw = rng.random(z.shape)
+    mix_draw = rng.random(z.shape)
+    hit = np.isfinite(z)
+    return z, noise, drop_draw, edge_draw, mix_draw, hit, np.where(hit, z, 1.0)
+
 def projector_shadow(z: np.ndarray, fx: float, baseline: float) -> np.ndarray:
     """Pixels the camera sees but a projector ``baseline`` metres to its right (along the image
     +x axis; negative = to its left) does not light.
@@ -241,13 +255,7 @@ class StructuredLight:
         flying : ndarray, shape (H, W), bool
             Valid pixels whose depth lies on no surface.
         """
-        z = np.asarray(depth_true, dtype=np.float64)
-        noise = rng.standard_normal(z.shape)
-        drop_draw = rng.random(z.shape)
-        edge_draw = rng.random(z.shape)
-        mix_draw = rng.random(z.shape)
-        hit = np.isfinite(z)
-        zt = np.where(hit, z, 1.0)
+        z, noise, drop_draw, edge_draw, mix_draw, hit, zt = _draws(depth_true, rng)
         fb = self.focal_px * abs(self.baseline)
         other, far_side = edge_neighbours(z, self.edge_jump, surface)
         edge = np.isfinite(other)
@@ -339,13 +347,7 @@ class TimeOfFlight:
               surface=None):
         """Measured depth of a scene; same arguments and results as :meth:`StructuredLight.apply`
         (``intrinsics`` is unused).  The noise std is that of z (the model was measured on z)."""
-        z = np.asarray(depth_true, dtype=np.float64)
-        noise = rng.standard_normal(z.shape)
-        drop_draw = rng.random(z.shape)
-        edge_draw = rng.random(z.shape)
-        mix_draw = rng.random(z.shape)
-        hit = np.isfinite(z)
-        zt = np.where(hit, z, 1.0)
+        z, noise, drop_draw, edge_draw, mix_draw, hit, zt = _draws(depth_true, rng)
         other, far_side = edge_neighbours(z, self.edge_jump, surface)
         edge = np.isfinite(other)
         fly = hit & edge & (mix_draw < self.flying)
