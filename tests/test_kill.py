@@ -1,5 +1,9 @@
 """Kill planerel mid-run (SIGTERM and SIGKILL): no child survives, no output is half written.
 
+The process-table walk is planerel.children's (``descendants``, ``pid_alive``): every test first
+waits until that walk sees the children it is about to watch, so a walk that saw nothing would
+time out there instead of passing.
+
 Each test starts the real CLI in a subprocess, waits until the stage it wants to interrupt is
 running (a ``swipl`` learner, pool workers, scenes being written), kills it, and then looks at
 every process that descended from it and at the output folder.
@@ -18,43 +22,16 @@ from pathlib import Path
 
 import pytest
 
+from planerel.children import descendants, pid_alive
 from planerel.synth import generate_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
 
 
-def _stat(pid: int):
-    """(parent pid, state, command name) of a process, or None when it is gone."""
-    try:
-        text = Path(f"/proc/{pid}/stat").read_text()
-    except OSError:
-        return None
-    name = text[text.index("(") + 1:text.rindex(")")]
-    fields = text[text.rindex(")") + 2:].split()
-    return int(fields[1]), fields[0], name
-
-
-def descendants(pid: int) -> dict[int, str]:
-    """{pid: command name} of every living descendant of ``pid``."""
-    table = {}
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            st = _stat(int(entry))
-            if st is not None:
-                table[int(entry)] = st
-    out, frontier = {}, [pid]
-    while frontier:
-        parent = frontier.pop()
-        for child, (ppid, state, name) in table.items():
-            if ppid == parent and child not in out and state != "Z":
-                out[child] = name
-                frontier.append(child)
-    return out
-
-
 def alive(pids) -> list[int]:
-    return [p for p in pids if (st := _stat(p)) is not None and st[1] != "Z"]
+    """The processes of ``pids`` still alive (zombies count as dead)."""
+    return [p for p in pids if pid_alive(p)]
 
 
 def start(args, cwd) -> subprocess.Popen:
