@@ -12,40 +12,30 @@ present.  Prints the median CPU ms of each setting, their ratio, and the noise e
 from __future__ import annotations
 
 import argparse
-import glob
 import os
 import statistics
 import sys
 import time
 
-
-def _one_core() -> None:
-    for var in ("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-        os.environ.setdefault(var, "1")
-    try:
-        os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
-    except (AttributeError, OSError):
-        pass
+from _setup import SCENES, data_dir, kinect_files, one_core, synth_scene
 
 
 def _scenes():
-    from pathlib import Path
-
+    """``(name, cloud)``: the speed scenes of bench_segment.py at 640x480 and 160x120, the real
+    Kinect frames, mOSD learn0 and ABW test.6 when present."""
     from planerel.io import read, read_abw
-    from planerel.synth import generate_scene
 
     out = []
-    for kind, seed in (("stairs", 3), ("box", 1)):
+    for kind, seed in SCENES:
         for sub in (1, 4):
-            c = generate_scene(kind, seed=seed, subsample=sub).cloud
-            out.append((f"{kind} seed {seed} {640 // sub}x{480 // sub}", c))
-    data = Path(__file__).resolve().parents[2] / "shared" / "data"
-    for k, f in enumerate(sorted(glob.glob(str(data / "kinect" / "*_depth.tiff")))):
+            out.append((f"{kind} seed {seed} {640 // sub}x{480 // sub}",
+                        synth_scene("synth", sub, kind, seed)[0]))
+    for k, f in enumerate(kinect_files()):
         out.append((f"kinect frame {k + 1} 640x480", read(f)))
-    f = data / "mosd" / "learn0.pcd"
+    f = data_dir("mosd") / "learn0.pcd"
     if f.exists():
         out.append(("mOSD learn0 640x480", read(f)))
-    f = data / "abw" / "abw.test.6.range"
+    f = data_dir("abw") / "abw.test.6.range"
     if f.exists():
         out.append(("ABW test.6 512x512", read_abw(f)))
     return out
@@ -55,7 +45,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=15)
     args = ap.parse_args(argv)
-    _one_core()
+    one_core()
     from planerel.segment import segment
     from planerel.segment.noise import estimate_noise
 

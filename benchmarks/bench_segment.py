@@ -20,29 +20,8 @@ import subprocess
 import sys
 import time
 
-
-def _one_core() -> None:
-    for var in ("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-        os.environ.setdefault(var, "1")
-    try:
-        os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
-    except (AttributeError, OSError):
-        pass
-
-
-def _scene(kind: str, sub: int, cls: str = "stairs", seed: int = 3):
-    if kind == "synth":
-        try:
-            from planerel.synth import generate_scene
-
-            sc = generate_scene(cls, seed=seed, subsample=sub)
-            return sc.cloud, sc.gt_labels
-        except ImportError:
-            pass
-    from planerel.segment._scenes import staircase
-
-    c, gt, _, _ = staircase(640 // sub, 480 // sub, seed=0)
-    return c, gt
+from _setup import SCENES, data_dir, kinect_files, one_core
+from _setup import synth_scene as _scene
 
 
 def _median_ms(fn, repeat: int) -> float:
@@ -73,10 +52,6 @@ def first_call_ms() -> float:
     return float(out.stdout.strip().splitlines()[-1])
 
 
-#: Speed scenes: the generator's staircase seed 3 (the benchmark's scene since the first
-#: revision; 44 % of the pixels invalid at 640x480: background beyond range) and a box scene
-#: seed 1 (99 % valid, the density of a real indoor Kinect frame).
-SCENES = (("stairs", 3), ("box", 1))
 #: The issue's targets for normals + region growing (ms) per image size.
 TARGETS = {"640x480": 10.0, "160x120": 1.0}
 
@@ -151,11 +126,11 @@ def main(argv=None) -> int:
     ap.add_argument("--abw-baselines", action="store_true",
                     help="with --quality: also SP / SNP at the paper's thresholds on ABW (slow)")
     args = ap.parse_args(argv)
-    _one_core()
+    one_core()
     if args.quality:
         return quality(args)
     if args.real is not None:
-        return real_frames(args.real or _data_dir("kinect"), args.repeat)
+        return real_frames(args.real or data_dir("kinect"), args.repeat)
     from planerel.evaluate import evaluate
     from planerel.segment import segment
 
@@ -213,13 +188,6 @@ def main(argv=None) -> int:
     return 0
 
 
-def _data_dir(name: str) -> str:
-    """``../shared/data/<name>`` next to the checkout."""
-    from pathlib import Path
-
-    return str(Path(__file__).resolve().parents[2] / "shared" / "data" / name)
-
-
 def real_frames(folder: str, repeat: int) -> int:
     """Median CPU ms of ``segment()`` on real frames (the paper's algorithm, ``split=False``,
     default) with the per-stage times of the paper's algorithm."""
@@ -228,8 +196,7 @@ def real_frames(folder: str, repeat: int) -> int:
     from planerel.io import read
     from planerel.segment import segment
 
-    files = sorted(glob.glob(os.path.join(folder, "*_depth.tiff")))
-    files += sorted(glob.glob(os.path.join(folder, "*.pcd")))
+    files = kinect_files(folder) + sorted(glob.glob(os.path.join(str(folder), "*.pcd")))
     if not files:
         print(f"no depth TIFFs or PCD files in {folder}: nothing to time")
         return 0
@@ -311,7 +278,7 @@ def quality(args) -> int:
             scores.append(evaluate(segment(sc.cloud).labels, sc.gt_labels))
     print(f"  regiongrow: {_row(scores)}")
     _post_processing_table()
-    abw = Path(args.abw or _data_dir("abw"))
+    abw = Path(args.abw or data_dir("abw"))
     files = sorted(glob.glob(str(abw / "*.range")))
     if files:
         from planerel.io import read_abw, read_abw_gt

@@ -95,8 +95,10 @@ def posed_scene(kind: str, pitch_deg: float, roll_deg: float = 0.0, seed: int = 
         Dimensions, camera height and azimuth, walls and sensor noise.
     subsample : int
         Of the 640x480 Kinect image (4 gives 160x120).
-    sensor : SensorModel, optional
-        Default ``SensorModel()`` (Kinect-like noise and quantisation).
+    sensor : SensorModel, StructuredLight or TimeOfFlight, optional
+        Default ``SensorModel()`` (Kinect-like noise and quantisation);
+        :class:`planerel.synth_sensor.StructuredLight` adds the projector's shadows, flying
+        pixels at depth edges and grazing dropout (flying pixels are labelled -1).
     walls : int, optional
         0, 1 or 2 walls; default drawn.
 
@@ -106,7 +108,7 @@ def posed_scene(kind: str, pitch_deg: float, roll_deg: float = 0.0, seed: int = 
     """
     from planerel import synth_geometry as sg
     from planerel.cloud import Intrinsics, depth_to_cloud
-    from planerel.synth import SensorModel, apply_sensor, look_at_pose, raycast
+    from planerel.synth import SensorModel, _check_sensor, look_at_pose, measure, raycast
 
     if kind not in KINDS:
         raise InputError(f"unknown posed scene kind {kind!r}; choose one of {', '.join(KINDS)}")
@@ -117,6 +119,7 @@ def posed_scene(kind: str, pitch_deg: float, roll_deg: float = 0.0, seed: int = 
     if not -45.0 <= r <= 45.0:
         raise InputError(f"roll must be in [-45, 45] degrees, got {roll_deg!r}")
     sensor = SensorModel() if sensor is None else sensor
+    _check_sensor(sensor)
     rng = np.random.default_rng(seed)
     intr = Intrinsics.kinect().scaled(int(subsample))
     az = float(rng.uniform(-180.0, 180.0))
@@ -187,8 +190,8 @@ def posed_scene(kind: str, pitch_deg: float, roll_deg: float = 0.0, seed: int = 
     nrm = normals[np.maximum(planes, 0)]
     dot = nrm[:, :, 0] * xn[None, :] + nrm[:, :, 1] * yn[:, None] + nrm[:, :, 2]
     cos_inc = np.abs(dot) / np.sqrt(xn[None, :] ** 2 + yn[:, None] ** 2 + 1.0)
-    depth_mm = apply_sensor(depth_true, cos_inc, sensor, rng)
-    labels = np.where(depth_mm > 0, planes, -1).astype(np.int32)
+    depth_mm, flying = measure(depth_true, cos_inc, sensor, intr, rng, surface=planes)
+    labels = np.where((depth_mm > 0) & ~flying, planes, -1).astype(np.int32)
     cloud = depth_to_cloud(depth_mm, intr, 1.0 / sensor.depth_unit, source=f"{kind}-p{p:g}-r{r:g}")
     up = rot[:, 2].copy()
     params.update({"height": height, "pitch_deg": p, "roll_deg": r})
