@@ -56,6 +56,10 @@
 :- modeb(1, nvertical(+obj, #nvertical)).
 :- modeb(1, ninclined(+obj, #ninclined)).
 
+% how much of the object flat planes explain (planerel.curved): round objects are curved
+:- modeb(1, planar_fraction(+obj, -pfrac)).
+:- modeb(1, curved(+obj)).
+
 % lazily evaluated thresholds, one pair per measure
 :- modeb(1, gteq(+angle, #angle)).
 :- modeb(1, lteq(+angle, #angle)).
@@ -73,6 +77,8 @@
 :- modeb(1, lteq(+plength, #plength)).
 :- modeb(1, gteq(+pwidth, #pwidth)).
 :- modeb(1, lteq(+pwidth, #pwidth)).
+:- modeb(1, gteq(+pfrac, #pfrac)).
+:- modeb(1, lteq(+pfrac, #pfrac)).
 
 :- lazy_evaluate(lteq/2).
 :- lazy_evaluate(gteq/2).

@@ -58,6 +58,10 @@ class ObjectAnswer:
         Index of the chosen rule in the model (``planerel_rule_stats/4``).
     precision : float or None
         The chosen rule's Laplace precision on the training objects.
+    planar_fraction : float or None
+        Fraction of the object's points in flat planes (:mod:`planerel.curved`).
+    curved : bool or None
+        The planar fraction is below the model's ``curved.curved_below``: a round object.
     """
 
     object_id: str
@@ -70,13 +74,18 @@ class ObjectAnswer:
     fired: tuple = ()
     rule_index: int | None = None
     precision: float | None = None
+    planar_fraction: float | None = None
+    curved: bool | None = None
 
     def to_dict(self) -> dict:
         return {"object": self.object_id, "class": self.klass, "rule": self.rule,
                 "rule_index": self.rule_index,
                 "precision": None if self.precision is None else round(self.precision, 4),
                 "bindings": dict(self.bindings), "proof_planes": list(self.proof_planes),
-                "planes": list(self.planes), "fired": [list(f) for f in self.fired]}
+                "planes": list(self.planes), "fired": [list(f) for f in self.fired],
+                "planar_fraction": (None if self.planar_fraction is None
+                                    else round(self.planar_fraction, 3)),
+                "curved": self.curved}
 
 
 @dataclass(frozen=True, eq=False)
@@ -271,13 +280,16 @@ class Classifier:
                     fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
                     pids = tuple(plane_ids[lab] for lab in o.planes)
                     if best is None:
-                        answers.append(ObjectAnswer(o.id, pids, o.planes, OTHER, fired=fired))
+                        answers.append(ObjectAnswer(o.id, pids, o.planes, OTHER, fired=fired,
+                                                    planar_fraction=o.planar_fraction,
+                                                    curved=o.curved))
                     else:
                         klass, index, binds, rule = best
                         proof = tuple(v for v in binds.values() if v in plane_ids.values())
                         tp, fp = {i: (a, b) for i, _, a, b in self.stats}.get(index, (0, 0))
                         answers.append(ObjectAnswer(o.id, pids, o.planes, klass, rule, binds,
-                                                    proof, fired, index, laplace(tp, fp)))
+                                                    proof, fired, index, laplace(tp, fp),
+                                                    o.planar_fraction, o.curved))
             finally:
                 _query(f"unload_file({_pl_path(facts)})", "cannot unload the scene facts")
                 facts.unlink(missing_ok=True)

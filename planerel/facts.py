@@ -56,6 +56,8 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
     ("nhorizontal", 2, "obj, int", "number of horizontal planes of the object"),
     ("nvertical", 2, "obj, int", "number of vertical planes of the object"),
     ("ninclined", 2, "obj, int", "number of inclined planes of the object"),
+    ("planar_fraction", 2, "obj, 0..1", "fraction of the object's points in flat planes (planerel.curved)"),
+    ("curved", 1, "obj", "planar fraction below curved_below: a round object (planerel.curved)"),
     ("orientation", 2, "plane, horizontal|vertical|inclined", "orientation class"),
     ("incline", 2, "plane, deg", "angle between plane and horizontal, 0..90"),
     ("area", 2, "plane, m2", "convex-hull area"),
@@ -109,11 +111,19 @@ class FactParams:
 
 @dataclass(frozen=True)
 class SceneObject:
-    """An object of a scene: its id, its plane labels, and its class when known."""
+    """An object of a scene: its id, its plane labels, and its class when known.
+
+    ``mask`` holds the pixels no flat plane explains that belong to the object (``(H, W)``
+    bool, or None), ``planar_fraction`` the fraction of its points in flat planes and
+    ``curved`` whether that is below the threshold (:mod:`planerel.curved`; None: not measured).
+    """
 
     id: str
     planes: tuple
     klass: str | None = None
+    mask: object = field(default=None, compare=False, repr=False)
+    planar_fraction: float | None = None
+    curved: bool | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.id, str) or not self.id:
@@ -140,7 +150,8 @@ class SceneDescription:
 
 def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=None,
                    klass: str | None = None, plane_params=None, relation_params=None,
-                   proposal_params=None, gravity_params=None) -> SceneDescription:
+                   proposal_params=None, gravity_params=None,
+                   curved_params=None) -> SceneDescription:
     """Measure, relate and group the planes of one scene.
 
     Parameters
@@ -159,15 +170,18 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         are dropped; objects left empty are dropped.
     klass : str, optional
         Class of the objects (for training data: the scene's class).
-    plane_params, relation_params, proposal_params, gravity_params : optional
+    plane_params, relation_params, proposal_params, gravity_params, curved_params : optional
         :class:`~planerel.planes.PlaneParams`, :class:`~planerel.relations.RelationParams`,
-        :class:`~planerel.relations.ProposalParams`, :class:`~planerel.gravity.GravityParams`
-        (defaults when None; a model's are in its ``model.json``).
+        :class:`~planerel.relations.ProposalParams`, :class:`~planerel.gravity.GravityParams`,
+        :class:`~planerel.curved.CurvedParams` (defaults when None; a model's are in its
+        ``model.json``).  Proposals also take the clusters of points no flat plane explains
+        (:func:`planerel.curved.curved_objects`); every object gets its planar fraction.
 
     Returns
     -------
     SceneDescription
     """
+    from planerel.curved import curved_objects
     from planerel.planes import measure_planes
     from planerel.relations import propose_objects, relate, support_planes
 
@@ -187,8 +201,12 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
             if kept:
                 groups.append(kept)
         proposed = False
-    objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), g, klass)
-                 for k, g in enumerate(groups))
+    # proposals take the clusters of unexplained points; given objects keep their planes
+    cobjs = curved_objects(planes, rel, groups, cloud if proposed else None, labels, support,
+                           curved_params)
+    objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), c.planes, klass, c.mask,
+                             c.planar_fraction, c.curved)
+                 for k, c in enumerate(cobjs))
     return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
                             proposed, support)
 
@@ -237,6 +255,11 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
         out["nhorizontal"].append(F("nhorizontal", o.id, ors.count("horizontal")))
         out["nvertical"].append(F("nvertical", o.id, ors.count("vertical")))
         out["ninclined"].append(F("ninclined", o.id, ors.count("inclined")))
+        if o.planar_fraction is not None:
+            out["planar_fraction"].append(F("planar_fraction", o.id, o.planar_fraction,
+                                            round_to=3))
+        if o.curved:
+            out["curved"].append(F("curved", o.id))
     for lbl in desc.support:
         if lbl in kept:
             out["support"].append(F("support", pid(lbl)))

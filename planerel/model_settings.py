@@ -11,9 +11,9 @@ differs from the training value.
 
 Override names: a bare name is a segmentation parameter (``theta=12``, ``split=false``,
 ``preset=paper``); ``gravity.NAME``, ``planes.NAME``, ``relations.NAME`` and
-``proposals.NAME`` set a field of :class:`~planerel.gravity.GravityParams`,
-:class:`~planerel.planes.PlaneParams`, :class:`~planerel.relations.RelationParams` and
-:class:`~planerel.relations.ProposalParams`.
+``proposals.NAME`` and ``curved.NAME`` set a field of :class:`~planerel.gravity.GravityParams`,
+:class:`~planerel.planes.PlaneParams`, :class:`~planerel.relations.RelationParams`,
+:class:`~planerel.relations.ProposalParams` and :class:`~planerel.curved.CurvedParams`.
 """
 
 from __future__ import annotations
@@ -34,7 +34,8 @@ FORMAT = "planerel-model/1"
 SECTIONS = {"gravity": ("planerel.gravity", "GravityParams"),
             "planes": ("planerel.planes", "PlaneParams"),
             "relations": ("planerel.relations", "RelationParams"),
-            "proposals": ("planerel.relations", "ProposalParams")}
+            "proposals": ("planerel.relations", "ProposalParams"),
+            "curved": ("planerel.curved", "CurvedParams")}
 #: Segmentation keywords of :func:`planerel.segment.segment` that are not parameter fields.
 _SEGMENT_KEYWORDS = ("split",)
 
@@ -83,7 +84,8 @@ class ModelSettings:
         """Keyword arguments of :func:`planerel.facts.describe_scene` for these settings."""
         kw = {}
         names = {"gravity": "gravity_params", "planes": "plane_params",
-                 "relations": "relation_params", "proposals": "proposal_params"}
+                 "relations": "relation_params", "proposals": "proposal_params",
+                 "curved": "curved_params"}
         for name, values in self.sections.items():
             cls = _section_class(name)
             known = {f.name for f in dataclasses.fields(cls)}

@@ -89,7 +89,10 @@ def _classify_task(task: dict):
     if not ans.objects:
         lines.append("  no object proposal (only support planes, or no plane at all)")
     for o in ans.objects:
-        lines.append(f"  {o.object_id}: {o.klass}")
+        shape = ""
+        if o.planar_fraction is not None:
+            shape = f"  (planar fraction {o.planar_fraction:.2f}{', curved' if o.curved else ''})"
+        lines.append(f"  {o.object_id}: {o.klass}{shape}")
         if o.rule:
             prec = f"  (training precision {o.precision:.3f})" if o.precision is not None else ""
             lines.append(f"    rule:   {o.rule}{prec}")

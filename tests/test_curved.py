@@ -1,0 +1,154 @@
+"""Curved and unexplained surfaces as object proposals with a planar fraction (planerel.curved)."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from planerel import synth
+from planerel import synth_geometry as sg
+from planerel.cloud import Cloud, Intrinsics
+from planerel.curved import CurvedParams, curved_objects, pixel_areas, unexplained_clusters
+from planerel.errors import InputError
+from planerel.facts import describe_scene, facts_text
+from planerel.object_eval import mosd_objects, proposal_image, score_objects
+
+MOSD = Path(__file__).resolve().parents[2] / "shared" / "data" / "mosd"
+
+
+def _box_and_cylinder(facets=32):
+    """A 0.4 x 0.3 x 0.3 m box (object 1) and a cylinder r 0.15 m, h 0.45 m (object 2)."""
+    world = sg.combine(
+        sg.floor_geometry(5.0),
+        sg.place(sg.box_geometry(0.4, 0.3, 0.3, object_index=1), 20, (-0.35, 0.0)),
+        sg.place(sg.cylinder_geometry(0.15, 0.45, facets=facets, object_index=2), 0, (0.3, 0.05)))
+    intr = Intrinsics(320, 240, 262.5, 262.5, 159.5, 119.5)
+    pose = synth.look_at_pose((0.0, -1.8, 1.3), (0.0, 0.0, 0.2))
+    return synth.render_scene(world, pose, intr, synth.SensorModel(), np.random.default_rng(1),
+                              scene_id="s0000", klass="box", seed=1, params={})
+
+
+@pytest.fixture(scope="module")
+def box_cylinder():
+    from planerel.segment import segment
+
+    sc = _box_and_cylinder()
+    labels = segment(sc.cloud, "regiongrow").labels
+    return sc, labels, describe_scene(sc.cloud, labels)
+
+
+def test_cylinder_next_to_box_two_proposals_cylinder_curved_box_flat(box_cylinder):
+    sc, labels, desc = box_cylinder
+    img = proposal_image(labels, [o.planes for o in desc.objects], [o.mask for o in desc.objects])
+    truth = sc.gt_objects.astype(np.int32)
+    s = score_objects(img, truth)
+    assert (s.n_objects, s.found, s.false) == (2, 2, 0)
+    # the proposal that best covers each true object
+    best = {o: int(np.bincount(img[(truth == o) & (img >= 0)]).argmax()) for o in (1, 2)}
+    box, cyl = desc.objects[best[1]], desc.objects[best[2]]
+    assert box.planar_fraction > 0.95 and not box.curved
+    # truth: of the cylinder's visible pixels only the top disc is flat
+    roles = np.array([p.role for p in sc.planes])
+    on_cyl = sc.gt_labels[truth == 2]
+    top_share = float(np.mean(roles[on_cyl[on_cyl >= 0]] == "top"))
+    assert top_share < 0.5
+    assert abs(cyl.planar_fraction - top_share) < 0.1 and cyl.curved
+
+
+def test_planar_fraction_and_curved_are_written_as_facts_and_load(box_cylinder, tmp_path):
+    _sc, _labels, desc = box_cylinder
+    text = facts_text([desc])
+    for o in desc.objects:
+        assert f"planar_fraction({o.id}, {round(o.planar_fraction, 3)!r})." in text
+        assert (f"curved({o.id})." in text) == o.curved
+    f = tmp_path / "facts.pl"
+    f.write_text(text)
+    q = ("forall(curved(O), (planar_fraction(O, F), F < 0.8, format('~w~n', [O]))), halt.")
+    out = subprocess.run(["swipl", "-q", "-g", f"consult('{f}')", "-g", q, "-t", "halt(1)"],
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == [o.id for o in desc.objects if o.curved]
+
+
+def _flat_cloud(f=500.0, z=1.0, size=(200, 200)):
+    """A fronto-parallel plane at depth z: every pixel covers (z / f)^2 m^2."""
+    h, w = size
+    v, u = np.mgrid[0:h, 0:w].astype(float)
+    cx, cy = (w - 1) / 2, (h - 1) / 2
+    xyz = np.stack([(u - cx) * z / f, (v - cy) * z / f, np.full((h, w), z)], axis=2)
+    return Cloud(xyz)
+
+
+def test_pixel_areas_of_a_fronto_parallel_plane_are_z_over_f_squared():
+    cloud = _flat_cloud(f=500.0, z=2.0, size=(20, 30))
+    a = pixel_areas(cloud.xyz)
+    assert np.allclose(a, (2.0 / 500.0) ** 2)
+
+
+def test_unexplained_clusters_keep_patches_by_surface_area_not_pixels():
+    cloud = _flat_cloud(f=500.0, z=1.0)  # 2 mm pixels: 4e-6 m^2 each
+    labels = np.zeros((200, 200), np.int64)  # label 0 = support (the table)
+    labels[20:50, 20:50] = -1  # 900 px = 0.0036 m^2 >= 0.002: kept
+    labels[100:115, 100:115] = -1  # 225 px = 0.0009 m^2: too small
+    labels[150:152, 10:190] = -1  # a 2-px strip (an edge): removed by the opening
+    planes = []
+    masks = unexplained_clusters(cloud, labels, planes, support=(0,))
+    assert len(masks) == 1 and masks[0].sum() == 900 and masks[0][20:50, 20:50].all()
+    # the same 900 pixels at 0.7 m cover 0.0036 * 0.49 = 0.0018 m^2 < 0.002: dropped
+    near = _flat_cloud(f=500.0, z=0.7)
+    assert unexplained_clusters(near, labels, planes, support=(0,)) == []
+
+
+def test_a_cluster_without_planes_is_its_own_proposal_with_planar_fraction_zero():
+    cloud = _flat_cloud()
+    labels = np.zeros((200, 200), np.int64)
+    labels[20:50, 20:50] = -1
+    objs = curved_objects([], [], [], cloud, labels, support=(0,))
+    assert len(objs) == 1
+    o = objs[0]
+    assert o.planes == () and o.planar_fraction == 0.0 and o.curved and o.n_points == 900
+
+
+def test_a_depth_jump_separates_clusters():
+    cloud = _flat_cloud()
+    xyz = cloud.xyz.copy()
+    xyz[20:50, 35:50, 2] += 0.3  # right half of the patch 30 cm further away
+    labels = np.zeros((200, 200), np.int64)
+    labels[20:50, 20:50] = -1
+    masks = unexplained_clusters(Cloud(xyz), labels, [], support=(0,),
+                                 params=CurvedParams(min_area=0.001))
+    assert sorted(int(m.sum()) for m in masks) == [450, 450]
+
+
+def test_curved_params_refuse_bad_values():
+    with pytest.raises(InputError, match="facet angles"):
+        CurvedParams(facet_min_angle=50.0, facet_max_angle=40.0)
+    with pytest.raises(InputError, match="open_px"):
+        CurvedParams(open_px=-1)
+    with pytest.raises(InputError, match="curved_below"):
+        CurvedParams(curved_below=1.5)
+
+
+@pytest.mark.skipif(not (MOSD / "test31.pcd").is_file(), reason="shared mOSD frames absent")
+@pytest.mark.parametrize("name,curved", [("test31", True), ("learn1", False)])
+def test_real_mosd_round_objects_are_curved_and_boxes_flat(name, curved):
+    from planerel import io
+    from planerel.segment import segment
+
+    path = MOSD / f"{name}.pcd"
+    cloud = io.read(path)
+    truth = mosd_objects(io.read_pcd_field(path, "label"))
+    labels = segment(cloud, "regiongrow").labels
+    desc = describe_scene(cloud, labels)
+    img = proposal_image(labels, [o.planes for o in desc.objects], [o.mask for o in desc.objects])
+    ids = [int(o) for o in np.unique(truth) if o >= 1]
+    for o in ids:
+        k = int(np.bincount(img[(truth == o) & (img >= 0)]).argmax())
+        obj = desc.objects[k]
+        if curved:  # the three cylinders of test31
+            assert obj.curved and obj.planar_fraction < 0.8
+        else:  # learn1's two boxes
+            assert not obj.curved and obj.planar_fraction > 0.9
