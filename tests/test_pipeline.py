@@ -149,7 +149,10 @@ def test_learn_cli_then_classify_cli(small_set, tmp_path, capsys):
         tp, fp = next((tp, fp) for i, _, tp, fp in
                       json.loads((model / "metrics.json").read_text())["rule_stats"]
                       if i == o["rule_index"])
-        assert lines[n + 1:n + 4] == [f"  {o['object']}: {truth[p]}",
+        # the class, then the object's planar fraction (a generated box/stairs/ramp: flat)
+        shape = f"  (planar fraction {o['planar_fraction']:.2f})"
+        assert o["curved"] is False and o["planar_fraction"] > 0.9
+        assert lines[n + 1:n + 4] == [f"  {o['object']}: {truth[p]}{shape}",
                                       f"    rule:   {o['rule']}  (training precision "
                                       f"{(tp + 1) / (tp + fp + 2):.3f})",
                                       "    planes: " + (", ".join(o["proof_planes"])
