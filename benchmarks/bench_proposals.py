@@ -5,7 +5,7 @@
 Frames: the mOSD frames of ``../shared/data/mosd`` (640x480) and N cluttered varied-world
 scenes (320x240, 2-3 extra objects, seed 22).  Each frame is segmented once; then
 ``describe_scene`` (measure planes, relate, propose) runs with ``split_concave=False,
-min_border_area=0, border_wall_area=0`` (the reference: plain connected components, the proposals before issue
+min_border_area=0, border_wall_area=0, wall_behind=1`` (the reference: plain connected components, the proposals before issue
 22) and the defaults,
 interleaved, ``--repeat`` times; the median per frame is summed.  Printed: ms per frame of
 both and their ratio, and the proposals' found rate / false proposals per frame of both
@@ -26,9 +26,11 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--synth", type=int, default=15, help="synthetic scenes (0 = none)")
+    ap.add_argument("--seed", type=int, default=22, help="seed of the synthetic scenes")
     args = ap.parse_args(argv)
     from planerel.facts import describe_scene
-    from planerel.object_eval import frame_truth, proposal_image, score_objects, summarize
+    from planerel.object_eval import (MISS_KINDS, frame_truth, miss_breakdown, proposal_image,
+                                      score_objects, summarize)
     from planerel.relations import ProposalParams
     from planerel.segment import segment
 
@@ -42,16 +44,18 @@ def main(argv=None) -> int:
         n = args.synth
         cli(["dataset", "synth", str(ds), "--world", "varied", "--n-box", str(n - 2 * (n // 3)),
              "--n-stairs", str(n // 3), "--n-ramp", str(n // 3), "--subsample", "2",
-             "--range", "extra_objects=2,3", "--seed", "22", "--quiet"])
+             "--range", "extra_objects=2,3", "--seed", str(args.seed), "--quiet"])
         inputs.append(ds)
     frames = []
     for path in inputs:
         for name, cloud, truth, ty in frame_truth(path):
             frames.append((name, cloud, segment(cloud).labels, truth, ty))
-    variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0, border_wall_area=0),
+    variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0, border_wall_area=0,
+                                                    wall_behind=1),
                 "concave split": ProposalParams()}
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": []} for k in variants}
+    misses = {k: {"mosd": [], "synth": []} for k in variants}
     for name, cloud, labels, truth, ty in frames:
         per = {k: [] for k in variants}
         for _ in range(args.repeat):
@@ -64,7 +68,9 @@ def main(argv=None) -> int:
             d = describe_scene(cloud, labels, proposal_params=pp)
             img = proposal_image(labels, [o.planes for o in d.objects])
             group = "synth" if "/" in name else "mosd"
-            scores[k][group].append(score_objects(img, truth, name=name, types=ty))
+            sc = score_objects(img, truth, name=name, types=ty)
+            scores[k][group].append(sc)
+            misses[k][group].append((sc, img, truth, labels, d.support))
     ref = sum(times["before (components)"])
     for k in variants:
         t = sum(times[k])
@@ -75,6 +81,10 @@ def main(argv=None) -> int:
                 print(f"    {g:5s}: {s['frames']} frames, found {s['found']}/{s['objects']} "
                       f"({100 * s['found_rate']:.1f} %), false {s['false_per_frame']:.2f}/frame, "
                       f"merged {s['merged']}, split {s['split']}")
+                for t, c in sorted(miss_breakdown(misses[k][g]).items()):
+                    kinds = ", ".join(f"{x} {c[x]}" for x in MISS_KINDS if c.get(x))
+                    print(f"        {t:8s} found {c.get('found', 0)}/{sum(c.values())}"
+                          f"{'; missed: ' + kinds if kinds else ''}")
     tmp.cleanup()
     return 0
 

@@ -32,7 +32,7 @@ import numpy as np
 from planerel.errors import InputError
 
 __all__ = ["mosd_objects", "proposal_image", "score_objects", "FrameScore", "summarize",
-           "evaluate_frames", "frame_truth"]
+           "evaluate_frames", "frame_truth", "miss_kind", "miss_breakdown", "MISS_KINDS"]
 
 
 def mosd_objects(label_field) -> np.ndarray:
@@ -282,3 +282,82 @@ def evaluate_frames(inputs, *, types=None, method: str = "regiongrow", min_iou: 
             if progress:
                 progress(s)
     return scores, summarize(scores)
+
+
+#: Kinds of a missed object (:func:`miss_kind`), in the order they are tested.
+MISS_KINDS = ("tiny", "unsegmented", "in support", "dropped", "split", "merged with object",
+              "merged with environment", "low overlap")
+
+
+def miss_kind(obj: int, prop_img, truth, labels, support=(), *, share: float = 0.2,
+              min_pixels: int = 150) -> str:
+    """Why a true object has no proposal at IoU >= 0.5 (one of :data:`MISS_KINDS`).
+
+    Parameters
+    ----------
+    obj : int
+        Object id (>= 1) in ``truth``.
+    prop_img : ndarray, shape (H, W), int
+        Proposal index per pixel (:func:`proposal_image`).
+    truth : ndarray, shape (H, W), int
+        Object id per pixel (module convention).
+    labels : ndarray, shape (H, W), int
+        Plane labels of the segmentation the proposals name.
+    support : iterable of int
+        Labels of the support planes (dropped before proposing).
+
+    Returns
+    -------
+    str
+        ``tiny``: fewer than ``min_pixels`` pixels in view; ``unsegmented``: under half of its
+        pixels on a plane; ``in support``: at least 30 % on support planes (its faces were
+        segmented into the floor or a wall); ``dropped``: under half in a proposal (the rule
+        left its planes out); ``split``: two or more proposals hold ``share`` of it each;
+        ``merged with object`` / ``merged with environment``: its main proposal holds more
+        pixels of other objects / of the environment (table, floor, walls) than it may;
+        ``low overlap``: none of these.
+    """
+    P = np.asarray(prop_img)
+    T = np.asarray(truth)
+    L = np.asarray(labels)
+    m = T == obj
+    n = int(m.sum())
+    if n < min_pixels:
+        return "tiny"
+    lo = L[m]
+    if np.count_nonzero(lo >= 0) < 0.5 * n:
+        return "unsegmented"
+    sup = list(support)
+    if sup and np.count_nonzero(np.isin(lo, sup)) >= 0.3 * n:
+        return "in support"
+    po = P[m]
+    if np.count_nonzero(po >= 0) < 0.5 * n:
+        return "dropped"
+    ks, cnt = np.unique(po[po >= 0], return_counts=True)
+    if np.count_nonzero(cnt >= share * n) >= 2:
+        return "split"
+    pm = P == ks[np.argmax(cnt)]
+    other = np.count_nonzero(pm & (T > 0) & ~m)
+    env = np.count_nonzero(pm & (T == 0))
+    if other > 0 and other >= env:
+        return "merged with object"
+    if env > 0:
+        return "merged with environment"
+    return "low overlap"
+
+
+def miss_breakdown(frames) -> dict:
+    """``{type: {kind: count}}`` over frames, ``found`` counted as a kind.
+
+    Parameters
+    ----------
+    frames : iterable of (FrameScore, prop_img, truth, labels, support)
+        A frame's score and what :func:`miss_kind` needs.
+    """
+    out: dict = {}
+    for s, prop, truth, labels, support in frames:
+        for o, iou in s.best_iou.items():
+            kind = "found" if iou >= 0.5 else miss_kind(o, prop, truth, labels, support)
+            d = out.setdefault(s.types.get(o, "object"), {})
+            d[kind] = d.get(kind, 0) + 1
+    return out

@@ -389,6 +389,10 @@ class ProposalParams:
         m^2: such a component is dropped only when its largest plane is at least this large
         (a box seen from the side at the edge of the view shows vertical faces only, smaller
         than a wall); 0 = drop every such component.
+    wall_behind : float
+        ... and only when at most this fraction of the pixels just outside its planes' outlines
+        lies behind them (:func:`seen_behind`): a wall has nothing behind it, an object's face
+        has the floor or a wall behind its top and sides; 1 = no such test (needs the cloud).
     min_points : int
         Proposals with fewer points in total are dropped.
     split_concave : bool
@@ -416,6 +420,7 @@ class ProposalParams:
     support_min_area: float = 2.0
     drop_border_walls: bool = True
     border_wall_area: float = 0.3
+    wall_behind: float = 0.01
     min_points: int = 0
     split_concave: bool = True
     concave_tol: float = 10.0
@@ -426,7 +431,7 @@ class ProposalParams:
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "border_wall_area",
-                             "edge_depth", "step_overlap", "min_border_area"))
+                             "edge_depth", "step_overlap", "min_border_area", "wall_behind"))
         if isinstance(self.edge_band, bool) or not isinstance(self.edge_band, int) or not 1 <= self.edge_band <= 8:
             raise InputError(f"edge_band must be an integer number of pixels in 1..8, got {self.edge_band!r}")
 
@@ -520,8 +525,54 @@ def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
     return sums
 
 
+def seen_behind(labels, xyz, group, reach: int = 3, margin: float = 0.05) -> float:
+    """Fraction of the valid pixels just outside a group of planes that lie behind it.
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W), int
+        Plane labels.
+    xyz : ndarray, shape (H, W, 3)
+        Organized points (NaN invalid).
+    group : iterable of int
+        Plane labels of the group.
+    reach : int
+        Pixels: from each outline pixel of the group, the pixels 1 and ``reach`` steps away in
+        the four grid directions that are not in the group are looked at.
+    margin : float
+        Metres (at 1 m; scaled by the range): a pixel is behind when its range exceeds the
+        outline pixel's by more than ``margin * max(1, range)``.
+
+    Returns
+    -------
+    float
+        Behind / valid outside pixels looked at (0 when there are none).
+    """
+    from planerel.planes import _boundary
+
+    lab = np.asarray(labels)
+    inside = np.isin(lab, list(group))
+    H, W = lab.shape
+    r0, c0 = np.nonzero(inside & _boundary(lab))
+    if r0.size == 0:
+        return 0.0
+    rng0 = np.linalg.norm(xyz[r0, c0], axis=1)
+    lim = rng0 + margin * np.maximum(1.0, rng0)
+    n_valid = n_behind = 0
+    for dy, dx in ((0, 1), (0, -1), (1, 0), (-1, 0)):
+        for k in sorted({1, reach}):
+            r, c = r0 + dy * k, c0 + dx * k
+            ok = (r >= 0) & (r < H) & (c >= 0) & (c < W)
+            ok[ok] = ~inside[r[ok], c[ok]]
+            rng = np.linalg.norm(xyz[r[ok], c[ok]], axis=1)
+            valid = np.isfinite(rng)
+            n_valid += int(valid.sum())
+            n_behind += int((rng[valid] > lim[ok][valid]).sum())
+    return n_behind / n_valid if n_valid else 0.0
+
+
 def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
-                 step_overlap: float | None = 0.8) -> set:
+                 step_overlap: float | None = 0.8, min_edge: int = 5) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
     For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
@@ -533,7 +584,10 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     and that a concave edge between a horizontal or inclined plane and a vertical one whose
     extents along the edge overlap by at least ``step_overlap`` (interval IoU) stays joined: a
     tread and the riser above it (the concave edges of a staircase), a slope and the face at
-    its end (None: no exception).
+    its end (None: no exception).  When ``edges`` are given, a pair with fewer than
+    ``min_edge`` edge pixel pairs there shares no edge (its planes only come near in 3-D, e.g.
+    a face seen behind another object's top across an occluding edge): its sign is taken from
+    the centroids and the tread-and-riser exception does not apply.
 
     Returns
     -------
@@ -555,11 +609,16 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
             out.add((a, b))
             continue
         e = (edges or {}).get((min(a, b), max(a, b)))
+        if e is not None and e[2] < min_edge:
+            e = None  # a pixel pair or two across an occluding edge: no shared edge
         if e is not None:
             xa, xb = (e[0], e[1]) if a < b else (e[1], e[0])
         else:
             xa, xb = np.asarray(pa.centroid), np.asarray(pb.centroid)
-        if float((na - nb) @ (xa - xb)) >= 0 or (step_overlap is not None
+        # the step exception needs a shared edge: planes whose outlines only come near in 3-D
+        # (one behind the other across an occluding edge) are no tread and riser
+        shared = edges is None or e is not None
+        if float((na - nb) @ (xa - xb)) >= 0 or (step_overlap is not None and shared
                                                   and _step_like(pa, pb, step_overlap)):
             out.add((a, b))
     return out
@@ -622,10 +681,14 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     comps = [tuple(sorted(c)) for c in nx.connected_components(g)]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
     if params.drop_border_walls:
+        lab = getattr(planes, "labels", None)
+        look = (params.wall_behind < 1 and cloud is not None and lab is not None
+                and lab.shape == cloud.xyz.shape[:2])
         comps = [c for c in comps
                  if not (all(byl[x].orientation == "vertical" for x in c)
                          and any(byl[x].touches_border for x in c)
-                         and max(byl[x].area for x in c) >= params.border_wall_area)]
+                         and max(byl[x].area for x in c) >= params.border_wall_area
+                         and (not look or seen_behind(lab, cloud.xyz, c) <= params.wall_behind))]
     if params.min_border_area > 0:
         comps = [c for c in comps
                  if not (len(c) == 1 and byl[c[0]].touches_border

@@ -101,3 +101,26 @@ def test_cli_rejects_a_file_without_labels(tmp_path):
     f = tmp_path / "x.npy"
     np.save(f, np.ones((4, 4), np.float32))
     assert main(["evaluate-objects", str(f)]) != 0
+
+
+def test_miss_kinds_name_why_an_object_is_missed():
+    from planerel.object_eval import miss_kind
+
+    t = np.zeros((20, 20), np.int32)
+    t[2:12, 2:18] = 1  # 160 px
+    t[14:18, 2:6] = 2  # 16 px: under min_pixels
+    labels = np.full(t.shape, -1)
+    prop = np.full(t.shape, -1)
+    assert miss_kind(2, prop, t, labels) == "tiny"
+    assert miss_kind(1, prop, t, labels) == "unsegmented"  # no plane on it
+    labels[2:12, 2:18] = 5
+    assert miss_kind(1, prop, t, labels, support=[5]) == "in support"
+    assert miss_kind(1, prop, t, labels) == "dropped"  # planes, but in no proposal
+    prop[2:12, 2:10] = 0
+    prop[2:12, 10:18] = 1  # two halves
+    assert miss_kind(1, prop, t, labels) == "split"
+    prop[2:12, 2:18] = 0
+    prop[12:20, :] = 0  # the proposal runs on over the environment (and object 2)
+    assert miss_kind(1, prop, t, labels) == "merged with environment"
+    t[12:20, 6:] = 3  # now mostly another object
+    assert miss_kind(1, prop, t, labels) == "merged with object"
