@@ -35,7 +35,8 @@ def main(argv=None) -> int:
         cv = P.cross_validate(descs, classes, folds=args.folds, jobs=args.jobs, progress=False,
                               timeout=args.timeout)
         cv = {k: cv.get(k) for k in ("accuracy", "per_class", "confusion", "other",
-                                     "open_set_accuracy", "open_set_confusion", "n_examples")}
+                                     "open_set_accuracy", "open_set_confusion", "n_examples",
+                                     "excluded")}
     t2 = time.perf_counter()
     model = P.learn_rules(descs, classes, engine="auto", timeout=args.timeout)
     t3 = time.perf_counter()

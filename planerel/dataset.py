@@ -378,13 +378,16 @@ def object_classes(meta: dict, default: str | None = None) -> dict:
 
 
 def describe_truth_scene(cloud, labels, gt, meta: dict, scene_id: str,
-                         default_class: str | None = None):
+                         default_class: str | None = None, rule=None):
     """Describe one data-set scene with its ground-truth objects as the examples.
 
     Segmented (or ground-truth) planes join the ground-truth object whose planes they mostly
     cover (:func:`planerel.relations.objects_from_truth`); every object gets its own class from
     the sidecar (:func:`object_classes`: ``box``, ``stairs``, ``ramp`` or ``other``), so a scene
-    of the varied world gives one example per object.
+    of the varied world gives one example per object.  An object whose planes do not let one
+    decide its class (:func:`planerel.truth_examples.judge_objects`: planes not matching it,
+    mostly hidden, a box showing one face, ...) keeps its planes but no class, and is listed
+    in the description's ``excluded`` with the reason.
 
     Parameters
     ----------
@@ -396,6 +399,8 @@ def describe_truth_scene(cloud, labels, gt, meta: dict, scene_id: str,
     scene_id : str
     default_class : str, optional
         Class of the objects when the sidecar has no ``objects`` list (the manifest's class).
+    rule : planerel.truth_examples.ExampleRule, optional
+        Which objects are examples (default thresholds when None).
 
     Returns
     -------
@@ -405,6 +410,7 @@ def describe_truth_scene(cloud, labels, gt, meta: dict, scene_id: str,
 
     from planerel.facts import describe_scene
     from planerel.relations import objects_from_truth
+    from planerel.truth_examples import judge_objects
 
     obj_of = {int(p["index"]): (int(p.get("object_index", 0)) if int(p.get("object_index", 0)) > 0 else -1)
               for p in meta.get("planes", [])}
@@ -415,17 +421,31 @@ def describe_truth_scene(cloud, labels, gt, meta: dict, scene_id: str,
     n = max(obj_of, default=-1) + 1
     obj_map = np.array([obj_of.get(k, -1) for k in range(n)] + [-1], dtype=np.int64)
     class_of_label = {}
+    object_of_group = []
     for g in groups:
         mask = np.isin(lab, g) & (gtl >= 0)
         objs = obj_map[np.where(mask, np.minimum(gtl, n), n)[mask]]
         objs = objs[objs >= 0]
         k = int(np.bincount(objs).argmax()) if objs.size else -1
+        object_of_group.append(k)
         for x in g:
             class_of_label[int(x)] = classes.get(k, default_class)
+    verdict = judge_objects(lab, gtl, meta, groups, object_of_group,
+                            {k: c for k, c in classes.items() if c}, rule)
+    object_of_label = {}
+    for g, k in zip(groups, object_of_group, strict=True):
+        for x in g:
+            object_of_label[int(x)] = k
+            if verdict.get(k):
+                class_of_label[int(x)] = None
     desc = describe_scene(cloud, labels, scene_id=scene_id, objects=groups, klass=default_class)
     objs = tuple(replace(o, klass=class_of_label.get(o.planes[0], default_class))
                  for o in desc.objects)
-    return replace(desc, objects=objs)
+    # the described object's id; an object none of whose planes was found has none
+    described = {object_of_label.get(o.planes[0]): o.id for o in desc.objects}
+    excluded = tuple((described.get(k), classes[k], why)
+                     for k, why in sorted(verdict.items()) if why)
+    return replace(desc, objects=objs, excluded=excluded)
 
 
 def iter_scenes(path, klass: str | None = None):

@@ -142,6 +142,9 @@ class SceneDescription:
     source: str | None = None
     proposed: bool = True
     support: tuple = field(default=())
+    #: Ground-truth objects that are no example: ``(object id or None when no plane of it
+    #: was found, class, reason)`` (:func:`planerel.dataset.describe_truth_scene`).
+    excluded: tuple = field(default=())
 
     def plane_id(self, label: int) -> str:
         """``s0007_p03`` for label 3."""

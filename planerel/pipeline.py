@@ -286,6 +286,17 @@ def _examples(descs):
     return [(o.id, o.klass) for d in descs for o in d.objects if o.klass]
 
 
+def excluded_counts(descs) -> dict:
+    """``{class: {reason: n}}`` of the ground-truth objects that are no example
+    (:func:`planerel.truth_examples.judge_objects`), to report beside the scores."""
+    out: dict = {}
+    for d in descs:
+        for _oid, klass, why in getattr(d, "excluded", ()):
+            per = out.setdefault(klass, {})
+            per[why] = per.get(why, 0) + 1
+    return {k: dict(sorted(v.items())) for k, v in sorted(out.items())}
+
+
 def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeout: float = 120.0,
                 settings: dict | None = None, work_dir=None, task: str | None = None) -> Model:
     """Learn one theory per class from described scenes (one Aleph run per class).
@@ -738,7 +749,8 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
     for rep in fold_reports:
         predictions.update(rep.pop("_answers"))
     out = score_objects(all_examples, predictions, classes)
-    out.update(folds=fold_reports, predictions=predictions, k=folds, seed=seed)
+    out.update(folds=fold_reports, predictions=predictions, k=folds, seed=seed,
+               excluded=excluded_counts(descs))
     return out
 
 
@@ -798,8 +810,9 @@ def held_out_scores(model: Model, dataset_dir, *, method: str = "regiongrow",
     Returns
     -------
     dict
-        :func:`score_objects`' scores plus ``dataset``, ``n_scenes``, ``skipped`` and
-        ``predictions``.
+        :func:`score_objects`' scores plus ``dataset``, ``n_scenes``, ``skipped``,
+        ``predictions`` and ``excluded`` (:func:`excluded_counts`: objects that are no example,
+        by class and reason).
     """
     from planerel.aleph_export import OTHER as OTHER_CLASS
 
@@ -814,7 +827,7 @@ def held_out_scores(model: Model, dataset_dir, *, method: str = "regiongrow",
     predictions = {p.object_id: p.klass for p in preds}
     out = score_objects(examples, predictions, model.classes)
     out.update(dataset=str(dataset_dir), n_scenes=len(descs), skipped=skipped,
-               predictions=predictions)
+               predictions=predictions, excluded=excluded_counts(descs))
     return out
 
 

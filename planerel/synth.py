@@ -577,6 +577,36 @@ def _check_size(size) -> tuple[int, int]:
     return int(w), int(h)
 
 
+def _scene_setup(kind: str, seed, size, subsample) -> tuple[int, int, int, Intrinsics]:
+    """Check the arguments every world's scene generator takes; return ``(seed, width,
+    height, intrinsics)``: the Kinect preset scaled to ``size`` when it divides 640x480, else
+    fx = fy = 525 * width / 640 with a centred principal point, then subsampled."""
+    if kind not in CLASSES:
+        raise InputError(f"unknown scene class {kind!r}; choose one of {', '.join(CLASSES)}")
+    seed = _check_seed(seed)
+    w, h = _check_size(size)
+    if isinstance(subsample, bool) or not isinstance(subsample, (int, np.integer)) or subsample < 1:
+        raise InputError(f"subsample must be a positive integer, got {subsample!r}")
+    if (w, h) == (640, 480) or (640 % w == 0 and 480 % h == 0 and 640 // w == 480 // h):
+        full = Intrinsics.kinect(w, h)
+    else:
+        f = 525.0 * w / 640.0
+        full = Intrinsics(w, h, f, f, (w - 1) / 2, (h - 1) / 2)
+    return seed, w, h, full.scaled(int(subsample))
+
+
+def cast_world(world, pose, intr: Intrinsics):
+    """Ray-cast a world seen from ``pose``: ``(depth_true, poly_index, plane, obj)``, the last
+    two ``(H, W)`` images of the plane and the object each pixel sees (-1: nothing)."""
+    rot, t = pose[:3, :3], pose[:3, 3]
+    depth_true, poly_index = raycast([p.vertices @ rot.T + t for p in world.polygons], intr)
+    plane_of_poly = np.array([p.plane for p in world.polygons], dtype=np.int32)
+    obj_of_plane = np.array([sp.object_index for sp in world.planes], dtype=np.int32)
+    plane = np.where(poly_index >= 0, plane_of_poly[np.maximum(poly_index, 0)], -1)
+    obj = np.where(plane >= 0, obj_of_plane[np.maximum(plane, 0)], -1)
+    return depth_true, poly_index, plane, obj
+
+
 def _draw_object(kind: str, rng: np.random.Generator, opts: dict):
     """Draw the object's dimensions; ``opts`` overrides any of them. Returns (geometry, params,
     facing), where facing is the preferred camera azimuth relative to the object's yaw
@@ -735,12 +765,7 @@ def generate_scene(kind: str, seed: int = 0, size=(640, 480), subsample: int = 1
     InputError
         Unknown class or option, or a bad value.
     """
-    if kind not in CLASSES:
-        raise InputError(f"unknown scene class {kind!r}; choose one of {', '.join(CLASSES)}")
-    seed = _check_seed(seed)
-    w, h = _check_size(size)
-    if isinstance(subsample, bool) or not isinstance(subsample, (int, np.integer)) or subsample < 1:
-        raise InputError(f"subsample must be a positive integer, got {subsample!r}")
+    seed, w, h, intr = _scene_setup(kind, seed, size, subsample)
     unknown = sorted(set(options) - set(OPTIONS[kind]) - set(_COMMON))
     if unknown:
         raise InputError(f"unknown option(s) for a {kind} scene: {', '.join(unknown)}; known: "
@@ -751,18 +776,11 @@ def generate_scene(kind: str, seed: int = 0, size=(640, 480), subsample: int = 1
     if not isinstance(camera, CameraRange):
         raise InputError(f"camera must be a CameraRange, got {type(camera).__name__}")
     _number("min_object_fraction", min_object_fraction, 0.0, 0.9)
-    if (w, h) == (640, 480) or (640 % w == 0 and 480 % h == 0 and 640 // w == 480 // h):
-        full = Intrinsics.kinect(w, h)
-    else:
-        f = 525.0 * w / 640.0
-        full = Intrinsics(w, h, f, f, (w - 1) / 2, (h - 1) / 2)
-    intr = full.scaled(int(subsample))
     rng = np.random.default_rng(seed)
     margin = 0.03
     for _attempt in range(200):
         world, pose, params = _build(kind, rng, options, camera, intr)
         rot, t = pose[:3, :3], pose[:3, 3]
-        polys_cam = [p.vertices @ rot.T + t for p in world.polygons]
         # the object must (nearly) fit in the image
         obj_v = world.vertices(1) @ rot.T + t
         if np.any(obj_v[:, 2] < 0.3):
@@ -772,12 +790,8 @@ def generate_scene(kind: str, seed: int = 0, size=(640, 480), subsample: int = 1
         inside = (pu > -margin) & (pu < 1 + margin) & (pv > -margin) & (pv < 1 + margin)
         if inside.mean() < 0.85:
             continue
-        depth_true, poly_index = raycast(polys_cam, intr)
-        plane_of_poly = np.array([p.plane for p in world.polygons], dtype=np.int32)
-        ideal_planes = np.where(poly_index >= 0, plane_of_poly[np.maximum(poly_index, 0)], -1)
-        obj_of_plane = np.array([s.object_index for s in world.planes], dtype=np.int32)
-        obj_px = (ideal_planes >= 0) & (obj_of_plane[np.maximum(ideal_planes, 0)] == 1)
-        obj_px &= depth_true <= sensor.max_range
+        depth_true, poly_index, _plane, obj = cast_world(world, pose, intr)
+        obj_px = (obj == 1) & (depth_true <= sensor.max_range)
         if obj_px.mean() >= min_object_fraction:
             break
     else:
@@ -835,11 +849,12 @@ def render_scene(world, pose, intr: Intrinsics, sensor, rng: np.random.Generator
     object_list : tuple of dict
         ``{"index", "id", "class", ...}`` per object (default: environment + one ``klass``).
     """
-    rot, t = pose[:3, :3], pose[:3, 3]
+    rot = pose[:3, :3]
     if depth_true is None:
-        depth_true, poly_index = raycast([p.vertices @ rot.T + t for p in world.polygons], intr)
-    plane_of_poly = np.array([p.plane for p in world.polygons], dtype=np.int32)
-    ideal_planes = np.where(poly_index >= 0, plane_of_poly[np.maximum(poly_index, 0)], -1)
+        depth_true, poly_index, ideal_planes, _obj = cast_world(world, pose, intr)
+    else:
+        plane_of_poly = np.array([p.plane for p in world.polygons], dtype=np.int32)
+        ideal_planes = np.where(poly_index >= 0, plane_of_poly[np.maximum(poly_index, 0)], -1)
     obj_of_plane = np.array([sp.object_index for sp in world.planes], dtype=np.int32)
     up = rot[:, 2].copy()
     normals_c, offsets_c, first_poly = camera_planes(world, pose)

@@ -244,20 +244,28 @@ def _draw_box(rng, r: WorldRange, index: int, *, max_side=None, open_ok=True):
                   "params": {"length": length, "width": width, "height": height, "top": has_top}}
 
 
+def _flight(rng, r: WorldRange) -> dict:
+    """A flight's steps, rise, run and width (drawn in this order)."""
+    return {"steps": int(rng.integers(r.steps[0], r.steps[1] + 1)),
+            "rise": float(rng.uniform(*r.rise)), "run": float(rng.uniform(*r.run)),
+            "width": float(rng.uniform(*r.stairs_width))}
+
+
+def _flight_sides(rng) -> dict:
+    """Open or closed sides, and the side walls' height above the nosings."""
+    return {"sides": "open" if rng.random() < 0.5 else "closed",
+            "rail": float(rng.uniform(0.1, 0.9))}
+
+
 def _draw_stairs_up(rng, r: WorldRange, index: int):
-    steps = int(rng.integers(r.steps[0], r.steps[1] + 1))
-    rise, run = float(rng.uniform(*r.rise)), float(rng.uniform(*r.run))
-    width = float(rng.uniform(*r.stairs_width))
+    p = _flight(rng, r)
     landing = rng.random() < 0.4
-    top = run * float(rng.uniform(1.5, 4.0)) if landing else run
-    sides = "open" if rng.random() < 0.5 else "closed"
-    rail = float(rng.uniform(0.1, 0.9))
-    geom = sg.stairs_geometry(steps, rise, run, width, top_depth=top, sides=sides, rail=rail,
+    p["top_depth"] = p["run"] * float(rng.uniform(1.5, 4.0)) if landing else p["run"]
+    p.update(landing=bool(landing), **_flight_sides(rng), direction="up")
+    geom = sg.stairs_geometry(p["steps"], p["rise"], p["run"], p["width"],
+                              top_depth=p["top_depth"], sides=p["sides"], rail=p["rail"],
                               object_index=index)
-    return geom, {"class": "stairs", "kind": "stairs up",
-                  "params": {"steps": steps, "rise": rise, "run": run, "width": width,
-                             "top_depth": top, "landing": bool(landing), "sides": sides,
-                             "rail": rail, "direction": "up"}}
+    return geom, {"class": "stairs", "kind": "stairs up", "params": p}
 
 
 def _draw_ramp(rng, r: WorldRange, index: int):
@@ -275,40 +283,44 @@ def _draw_ramp(rng, r: WorldRange, index: int):
                              "platform": platform, "side_faces": side_faces, "axis": axis}}
 
 
+#: Clutter kinds: the geometry builder and its parameters, drawn in this order (uniform
+#: ``(lo, hi)``; integers from ``range(lo, hi)`` when both are int).
+_CLUTTER_DRAWS = {
+    "table": (sg.table_geometry, (("length", 0.6, 1.8), ("width", 0.5, 1.0),
+                                  ("height", 0.45, 0.8))),
+    "chair": (sg.chair_geometry, (("seat", 0.38, 0.5), ("seat_height", 0.4, 0.5),
+                                  ("back_height", 0.3, 0.55))),
+    "cylinder": (sg.cylinder_geometry, (("radius", 0.08, 0.35), ("height", 0.25, 1.2))),
+    "laptop": (sg.laptop_geometry, (("width", 0.28, 0.4), ("depth", 0.2, 0.28),
+                                    ("lid_deg", 90.0, 135.0))),
+    "plate": (sg.plate_geometry, (("length", 0.2, 0.7), ("width", 0.2, 0.7),
+                                  ("tilt_deg", 8.0, 70.0))),
+    "shelf": (sg.shelf_geometry, (("width", 0.5, 1.2), ("depth", 0.25, 0.45),
+                                  ("height", 0.6, 2.0), ("boards", 2, 6))),
+    "door": (sg.door_geometry, (("width", 0.7, 0.95), ("height", 1.9, 2.1))),
+}
+
+
 def _draw_clutter(rng, kind: str, index: int):
-    if kind == "table":
-        p = {"length": float(rng.uniform(0.6, 1.8)), "width": float(rng.uniform(0.5, 1.0)),
-             "height": float(rng.uniform(0.45, 0.8))}
-        geom = sg.table_geometry(p["length"], p["width"], p["height"], object_index=index)
-    elif kind == "chair":
-        p = {"seat": float(rng.uniform(0.38, 0.5)), "seat_height": float(rng.uniform(0.4, 0.5)),
-             "back_height": float(rng.uniform(0.3, 0.55))}
-        geom = sg.chair_geometry(p["seat"], p["seat_height"], p["back_height"], object_index=index)
-    elif kind == "cylinder":
-        p = {"radius": float(rng.uniform(0.08, 0.35)), "height": float(rng.uniform(0.25, 1.2))}
-        geom = sg.cylinder_geometry(p["radius"], p["height"], object_index=index)
-    elif kind == "laptop":
-        p = {"width": float(rng.uniform(0.28, 0.4)), "depth": float(rng.uniform(0.2, 0.28)),
-             "lid_deg": float(rng.uniform(90.0, 135.0))}
-        geom = sg.laptop_geometry(p["width"], p["depth"], p["lid_deg"], object_index=index)
-    elif kind == "plate":
-        p = {"length": float(rng.uniform(0.2, 0.7)), "width": float(rng.uniform(0.2, 0.7)),
-             "tilt_deg": float(rng.uniform(8.0, 70.0))}
-        geom = sg.plate_geometry(p["length"], p["width"], p["tilt_deg"], object_index=index)
-    elif kind == "shelf":
-        p = {"width": float(rng.uniform(0.5, 1.2)), "depth": float(rng.uniform(0.25, 0.45)),
-             "height": float(rng.uniform(0.6, 2.0)), "boards": int(rng.integers(2, 6))}
-        geom = sg.shelf_geometry(p["width"], p["depth"], p["height"], p["boards"],
-                                 object_index=index)
-    elif kind == "door":
-        p = {"width": float(rng.uniform(0.7, 0.95)), "height": float(rng.uniform(1.9, 2.1))}
-        geom = sg.door_geometry(p["width"], p["height"], object_index=index)
-    else:  # pragma: no cover - callers pass CLUTTER names
+    if kind not in _CLUTTER_DRAWS:  # pragma: no cover - callers pass CLUTTER names
         raise InputError(f"unknown clutter kind {kind!r}")
-    return geom, {"class": OTHER, "kind": kind, "params": p}
+    build, draws = _CLUTTER_DRAWS[kind]
+    p = {name: (int(rng.integers(lo, hi)) if isinstance(lo, int) and isinstance(hi, int)
+                else float(rng.uniform(lo, hi))) for name, lo, hi in draws}
+    return build(**p, object_index=index), {"class": OTHER, "kind": kind, "params": p}
 
 
 # ----------------------------------------------------------------------- the primary object
+
+
+def _put(lay: _Layout, geom, info: dict, yaw: float, pos) -> bool:
+    """Add ``geom`` turned by ``yaw`` at floor point ``pos`` with its footprint, unless the
+    footprint covers the camera's spot (then False)."""
+    fp = _place_fp(_footprint(geom), yaw, pos)
+    if _overlap(fp, _CAMERA_SPOT, 0.0):
+        return False
+    lay.add(sg.place(geom, yaw, np.asarray(pos, dtype=float)[:2]), info, fp)
+    return True
 
 
 def _place_primary(kind, rng, r: WorldRange, pose, intr, lay: _Layout):
@@ -339,10 +351,8 @@ def _place_primary(kind, rng, r: WorldRange, pose, intr, lay: _Layout):
             return True
         geom, info = _draw_box(rng, r, 1)
         yaw = float(rng.uniform(-180, 180))
-        fp = _place_fp(_footprint(geom), yaw, anchor)
-        if _overlap(fp, _CAMERA_SPOT, 0.0):
+        if not _put(lay, geom, info, yaw, anchor):
             return False
-        lay.add(sg.place(geom, yaw, anchor[:2]), info, fp)
         if variant < 0.5:  # a second box touching it (face to face, other height)
             g2, i2 = _draw_box(rng, r, 0, open_ok=False)
             p1, p2 = info["params"], i2["params"]
@@ -352,31 +362,23 @@ def _place_primary(kind, rng, r: WorldRange, pose, intr, lay: _Layout):
             a = math.radians(yaw)
             off = np.array([math.cos(a) * local[0] - math.sin(a) * local[1],
                             math.sin(a) * local[0] + math.cos(a) * local[1]])
-            pos = anchor[:2] + off
-            fp2 = _place_fp(_footprint(g2), yaw, pos)
-            if not _overlap(fp2, _CAMERA_SPOT, 0.0):
+            if _put(lay, g2, i2, yaw, anchor[:2] + off):
                 i2["params"]["touching"] = "box"
                 info["params"]["touching"] = "box"
-                lay.add(sg.place(g2, yaw, pos), i2, fp2)
         return True
     if kind == "stairs" and rng.random() < r.descending:
-        steps = int(rng.integers(max(2, r.steps[0]), r.steps[1] + 1))
-        rise, run = float(rng.uniform(*r.rise)), float(rng.uniform(*r.run))
-        width = float(rng.uniform(*r.stairs_width))
-        sides = "open" if rng.random() < 0.5 else "closed"
-        rail = float(rng.uniform(0.1, 0.9))
-        env, flight = sg.descent_geometry(steps, rise, run, width, sides=sides, rail=rail,
-                                          object_index=1)
+        p = _flight(rng, r)  # WorldRange keeps steps >= 2
+        p.update(**_flight_sides(rng), direction="down")
+        env, flight = sg.descent_geometry(p["steps"], p["rise"], p["run"], p["width"],
+                                          sides=p["sides"], rail=p["rail"], object_index=1)
         yaw = az + float(rng.uniform(-30, 30))
         lay.env.append(sg.place(env, yaw, anchor[:2]))
-        info = {"class": "stairs", "kind": "stairs down",
-                "params": {"steps": steps, "rise": rise, "run": run, "width": width,
-                           "sides": sides, "rail": rail, "direction": "down"}}
+        info = {"class": "stairs", "kind": "stairs down", "params": p}
         fp = _place_fp(_footprint(flight), yaw, anchor)
         lay.add(sg.place(flight, yaw, anchor[:2]), info, fp)
         a = math.radians(yaw)
         lay.keep_side = (anchor[:2].copy(), np.array([math.cos(a), math.sin(a)]))
-        lay.drop = steps * rise
+        lay.drop = p["steps"] * p["rise"]
         return True
     if kind == "stairs":
         geom, info = _draw_stairs_up(rng, r, 1)
@@ -391,12 +393,7 @@ def _place_primary(kind, rng, r: WorldRange, pose, intr, lay: _Layout):
     # the low end (local -x) at the anchor for stairs and pitch ramps; roll ramps centred
     front = 0.0 if kind == "ramp" and info["params"]["axis"] == "roll" else -fp_local[0, 0]
     a = math.radians(yaw)
-    pos = anchor[:2] + front * np.array([math.cos(a), math.sin(a)])
-    fp = _place_fp(fp_local, yaw, pos)
-    if _overlap(fp, _CAMERA_SPOT, 0.0):
-        return False
-    lay.add(sg.place(geom, yaw, pos), info, fp)
-    return True
+    return _put(lay, geom, info, yaw, anchor[:2] + front * np.array([math.cos(a), math.sin(a)]))
 
 
 def _place_extra(rng, r: WorldRange, pose, intr, lay: _Layout, index: int) -> None:
@@ -415,6 +412,10 @@ def _place_extra(rng, r: WorldRange, pose, intr, lay: _Layout, index: int) -> No
         yaw = float(rng.uniform(-180, 180))
         if p is None:
             continue
+        if info["kind"] == "shelf":
+            # shelves stand with their open side to the room (the camera), +-60 degrees: from
+            # behind, a shelf is a closed box (back panel, sides, top board)
+            yaw = math.degrees(math.atan2(-p[1], -p[0])) + yaw / 3.0
         fp = _place_fp(fp_local, yaw, p)
         if lay.free(fp) and not _overlap(fp, _CAMERA_SPOT, 0.0):
             lay.add(sg.place(geom, yaw, p[:2]), info, fp)
@@ -480,6 +481,32 @@ def _characteristic(world, plane: np.ndarray, seen: np.ndarray) -> bool:
     return True
 
 
+def _pixels_alone(world, pose, intr: Intrinsics, sensor, n_objects: int) -> np.ndarray:
+    """Pixels each object would cover alone, with nothing in front of it and an image three
+    times as wide and high (the same camera): what it shows when neither occluded nor cut by
+    the image border, in range and not at grazing incidence. ``(n_objects,)``; index 0 (the
+    environment) is 0."""
+    from planerel.synth import camera_planes, cos_incidence, raycast
+
+    rot, t = pose[:3, :3], pose[:3, 3]
+    big = Intrinsics(3 * intr.width, 3 * intr.height, intr.fx, intr.fy,
+                     intr.cx + intr.width, intr.cy + intr.height)
+    normals_c = camera_planes(world, pose)[0]
+    out = np.zeros(n_objects, dtype=np.int64)
+    for k in range(1, n_objects):
+        polys = [p for p in world.polygons if world.planes[p.plane].object_index == k]
+        if not polys:
+            continue
+        depth, idx = raycast([p.vertices @ rot.T + t for p in polys], big)
+        hit = idx >= 0
+        plane = np.where(hit, np.array([p.plane for p in polys])[np.maximum(idx, 0)], 0)
+        ok = hit & (depth >= sensor.min_range) & (depth <= sensor.max_range)
+        if sensor.grazing_deg is not None:
+            ok &= cos_incidence(normals_c, plane, big) >= math.cos(math.radians(sensor.grazing_deg))
+        out[k] = int(ok.sum())
+    return out
+
+
 # ----------------------------------------------------------------------- the scene
 
 
@@ -512,35 +539,22 @@ def generate_world_scene(kind: str, seed: int = 0, size=(640, 480), subsample: i
         parameters and pixel count; ``gt_objects`` is the per-pixel object index.
     """
     from planerel.synth import (
-        CLASSES,
-        _check_seed,
         _check_sensor,
-        _check_size,
         _jsonable_params,
+        _scene_setup,
         camera_planes,
+        cast_world,
         cos_incidence,
-        raycast,
         render_scene,
     )
     from planerel.synth_sensor import StructuredLight
 
-    if kind not in CLASSES:
-        raise InputError(f"unknown scene class {kind!r}; choose one of {', '.join(CLASSES)}")
-    seed = _check_seed(seed)
-    w, h = _check_size(size)
-    if isinstance(subsample, bool) or not isinstance(subsample, (int, np.integer)) or subsample < 1:
-        raise InputError(f"subsample must be a positive integer, got {subsample!r}")
+    seed, w, h, intr = _scene_setup(kind, seed, size, subsample)
     sensor = StructuredLight() if sensor is None else sensor
     _check_sensor(sensor)
     ranges = WorldRange() if ranges is None else ranges
     if not isinstance(ranges, WorldRange):
         raise InputError(f"ranges must be a WorldRange, got {type(ranges).__name__}")
-    if (w, h) == (640, 480) or (640 % w == 0 and 480 % h == 0 and 640 // w == 480 // h):
-        full = Intrinsics.kinect(w, h)
-    else:
-        f = 525.0 * w / 640.0
-        full = Intrinsics(w, h, f, f, (w - 1) / 2, (h - 1) / 2)
-    intr = full.scaled(int(subsample))
     rng = np.random.default_rng(seed)
     for _attempt in range(300):
         cam_h = float(rng.uniform(*ranges.camera_height))
@@ -562,12 +576,7 @@ def generate_world_scene(kind: str, seed: int = 0, size=(640, 480), subsample: i
             infos.append({"index": k, "id": f"{scene_id}_o{k}", "class": info["class"],
                           "kind": info["kind"], "params": info["params"]})
         world = sg.combine(*parts)
-        rot, t = pose[:3, :3], pose[:3, 3]
-        depth_true, poly_index = raycast([p.vertices @ rot.T + t for p in world.polygons], intr)
-        plane_of_poly = np.array([p.plane for p in world.polygons], dtype=np.int32)
-        obj_of_plane = np.array([s.object_index for s in world.planes], dtype=np.int32)
-        plane = np.where(poly_index >= 0, plane_of_poly[np.maximum(poly_index, 0)], -1)
-        obj = np.where(plane >= 0, obj_of_plane[np.maximum(plane, 0)], -1)
+        depth_true, poly_index, plane, obj = cast_world(world, pose, intr)
         seen = (obj == 1) & (depth_true <= sensor.max_range) & (depth_true >= sensor.min_range)
         if sensor.grazing_deg is not None:
             cos = cos_incidence(camera_planes(world, pose)[0], plane, intr)
@@ -577,6 +586,9 @@ def generate_world_scene(kind: str, seed: int = 0, size=(640, 480), subsample: i
     else:
         raise InputError(f"could not make a varied {kind} scene in which the {kind} is seen "
                          f"(seed {seed}); widen the world ranges")
+    full_px = _pixels_alone(world, pose, intr, sensor, len(infos))
+    infos = [{**i, "n_pixels_full": int(full_px[i["index"]])} if i["index"] >= 1 else i
+             for i in infos]
     params = _jsonable_params({
         "world": "varied",
         "camera": {"height": cam_h, "pitch_deg": pitch, "roll_deg": roll},
