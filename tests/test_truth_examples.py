@@ -24,10 +24,11 @@ def _meta(full=None):
             "objects": objects}
 
 
-def _scene(shown=range(len(PLANES))):
-    """A 16 x 16 image: plane i fills row block i (2 rows = 32 px) when shown, else floor."""
+def _scene(shown=None):
+    """A 16 x 16 image: plane i fills row block i (2 rows = 32 px) when shown (default: all),
+    else floor."""
     gt = np.zeros((16, 16), np.int32)
-    for i in shown:
+    for i in range(len(PLANES)) if shown is None else shown:
         gt[2 * i:2 * i + 2] = i
     return gt
 
