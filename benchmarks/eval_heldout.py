@@ -22,6 +22,8 @@ def main(argv=None) -> int:
     ap.add_argument("--timeout", type=float, default=120.0, help="seconds per learner run")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--tag", default="")
+    ap.add_argument("--save", default=None,
+                    help="folder for the model (rules.pl) and the held-out answers (answers.json)")
     args = ap.parse_args(argv)
 
     from planerel import pipeline as P
@@ -42,7 +44,16 @@ def main(argv=None) -> int:
     t3 = time.perf_counter()
     held = P.held_out_scores(model, args.held, jobs=args.jobs, progress=False,
                              timeout=args.timeout)
-    held.pop("predictions")
+    answers = held.pop("predictions")
+    if args.save:
+        from pathlib import Path
+
+        from planerel.atomic import write_text
+
+        out = Path(args.save)
+        out.mkdir(parents=True, exist_ok=True)
+        write_text(out / "rules.pl", model.text())
+        write_text(out / "answers.json", json.dumps(answers, indent=0, sort_keys=True))
     t4 = time.perf_counter()
     print(json.dumps({"tag": args.tag, "train": args.train, "held": args.held,
                       "classes": list(classes), "rules": model.clauses(), "cv": cv,
