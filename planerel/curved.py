@@ -9,16 +9,15 @@ The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
 
 1. **Facets.**  Among the non-support planes, link two adjacent planes (``relate``: touching
    in the grid or hulls within the adjacency gap) whose angle lies in ``[facet_min_angle,
-   facet_max_angle]`` (5-40 degrees: neighbouring strips of one round surface; the faces of a
+   facet_max_angle]`` (5-50 degrees: neighbouring strips of one round surface; the faces of a
    box meet at about 90, a ramp's slope and its platform form a chain of two).  Every plane in
    a linked group of at least ``facet_min_planes`` (3) planes is a facet of a curved surface.
 2. **Unexplained points.**  Valid pixels that are in no plane, or in a plane smaller than
    ``tiny_area`` m^2, and not on a support plane, are opened morphologically by
    ``open_px`` pixels (thin strips along box edges and occluding borders vanish), then grouped
    into clusters connected in the image grid with neighbours within ``edge_depth * max(1, z)``
-   metres in 3-D.  A cluster counts when its surface area (each pixel's footprint at its
-   measured depth, from the 3-D spacing of its neighbours; not a pixel count) is at least
-   ``min_area`` m^2.
+   metres in 3-D.  A cluster counts when its area (each pixel's footprint ``z^2 / (fx fy)`` at
+   its measured depth, :func:`pixel_areas`; not a pixel count) is at least ``min_area`` m^2.
 3. **Merging.**  A cluster joins every proposal it touches (grid neighbours within
    ``edge_depth``) whose planes are all facets or smaller than ``small_area`` m^2 (the rest
    of a round object); touching no such proposal, it is a proposal of its own (with the tiny
@@ -71,12 +70,12 @@ class CurvedParams:
     """
 
     facet_min_angle: float = 5.0
-    facet_max_angle: float = 40.0
+    facet_max_angle: float = 50.0
     facet_min_planes: int = 3
     tiny_area: float = 0.0005
     open_px: int = 2
     edge_depth: float = 0.02
-    min_area: float = 0.002
+    min_area: float = 0.01
     small_area: float = 0.002
     curved_below: float = 0.8
     enabled: bool = True
@@ -161,76 +160,90 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
     return out
 
 
-def _areas_at(xyz, r, c, edge_depth: float) -> np.ndarray:
-    """Footprint (m^2) of pixels ``(r, c)``: see :func:`pixel_areas`."""
+def _pitch(xyz, axis: int) -> float:
+    """Angular size of one pixel along image ``axis`` (1: along a row, 0: along a column):
+    the median of ``|d(x / z)|`` (``|d(y / z)|``) between valid grid neighbours, ``1 / fx``
+    (``1 / fy``) of a pinhole camera; 0 when no two neighbours are valid."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        q = xyz[..., 0 if axis == 1 else 1] / xyz[..., 2]
+    d = np.abs(np.diff(q, axis=axis))
+    d = d[np.isfinite(d)]
+    return float(np.median(d)) if d.size else 0.0
+
+
+def _pitch_at(xyz, r, c, axis: int) -> float:
+    """:func:`_pitch` measured at pixels ``(r, c)`` and their next neighbour along ``axis``
+    (the whole image when none of them has a valid one)."""
     H, W = xyz.shape[:2]
-    P = xyz[r, c]
-    z = np.abs(P[:, 2])
-    lim = edge_depth * np.maximum(1.0, z)
-    sides = []
-    for pair in (((0, 1), (0, -1)), ((1, 0), (-1, 0))):
-        tot = np.zeros(len(r))
-        cnt = np.zeros(len(r))
-        for dy, dx in pair:
-            rr, cc = r + dy, c + dx
-            inb = (rr >= 0) & (rr < H) & (cc >= 0) & (cc < W)
-            d = np.full(len(r), np.inf)
-            d[inb] = np.linalg.norm(xyz[rr[inb], cc[inb]] - P[inb], axis=1)
-            ok = d <= lim  # NaN (invalid neighbour) and depth jumps fail
-            tot[ok] += d[ok]
-            cnt[ok] += 1
-        s = np.where(cnt > 0, tot / np.maximum(cnt, 1), np.nan)
-        ratio = s / np.where(z > 0, z, np.nan)
-        pitch = float(np.nanmedian(ratio)) if np.isfinite(ratio).any() else 0.0
-        sides.append(np.where(np.isfinite(s), s, pitch * z))
-    return sides[0] * sides[1]
+    r2, c2 = (r, c + 1) if axis == 1 else (r + 1, c)
+    ok = (r2 < H) & (c2 < W)
+    j = 0 if axis == 1 else 1
+    with np.errstate(invalid="ignore", divide="ignore"):
+        d = np.abs(xyz[r2[ok], c2[ok], j] / xyz[r2[ok], c2[ok], 2] - xyz[r[ok], c[ok], j] / xyz[r[ok], c[ok], 2])
+    d = d[np.isfinite(d)]
+    return float(np.median(d)) if d.size else _pitch(xyz, axis)
 
 
-def pixel_areas(xyz, edge_depth: float = 0.02) -> np.ndarray:
-    """Surface area each pixel covers, from the 3-D spacing of its grid neighbours.
+def _areas_at(xyz, r, c, pitch) -> np.ndarray:
+    """Footprint (m^2) of pixels ``(r, c)``: ``z^2 * pitch_x * pitch_y``."""
+    z = np.abs(xyz[r, c, 2])
+    return z * z * pitch[0] * pitch[1]
+
+
+def pixel_areas(xyz) -> np.ndarray:
+    """Area each pixel covers at its measured depth (m^2).
 
     Parameters
     ----------
     xyz : ndarray, shape (H, W, 3)
         Organized points, NaN invalid.
-    edge_depth : float
-        Neighbours farther than ``edge_depth * max(1, z)`` (a depth jump) are not used.
 
     Returns
     -------
     ndarray, shape (H, W)
-        m^2 per pixel: the mean distance to the left / right neighbours times the mean
-        distance to the upper / lower ones (a pixel at depth z on a surface facing the sensor
-        covers about ``(z / f)^2``, more on a slanted one); where a direction has no usable
-        neighbour, the median spacing per metre of depth of the pixels given times the depth.
-        0 at invalid pixels.
+        ``z^2 * px * py``: ``px``, ``py`` the angular pixel size along x and y, measured on the
+        cloud itself (:func:`_pitch`: ``1 / fx``, ``1 / fy`` of a pinhole camera), so a pixel at
+        depth z on a surface facing the sensor covers ``(z / f)^2`` (a slanted surface more:
+        this is the area facing the sensor, unaffected by depth noise).  0 at invalid pixels.
     """
     xyz = np.asarray(xyz, float)
     valid = np.isfinite(xyz).all(axis=2)
     out = np.zeros(xyz.shape[:2])
     r, c = np.nonzero(valid)
     if len(r):
-        out[r, c] = _areas_at(xyz, r, c, edge_depth)
+        out[r, c] = _areas_at(xyz, r, c, (_pitch(xyz, 1), _pitch(xyz, 0)))
     return out
 
 
-def _box_count(mask, r: int) -> np.ndarray:
-    """Number of set pixels in the (2r+1)^2 window around each pixel (zero padded)."""
-    k = 2 * r + 1
-    m = np.pad(mask.astype(np.int32), r)
-    cs = np.cumsum(np.cumsum(np.pad(m, ((1, 0), (1, 0))), axis=0), axis=1)
-    return cs[k:, k:] - cs[:-k, k:] - cs[k:, :-k] + cs[:-k, :-k]
+def _shift_all(mask, r: int, axis: int, erode: bool) -> np.ndarray:
+    """AND (erode) or OR (dilate) of ``mask`` shifted by -r..r along ``axis`` (outside the
+    image counts as unset)."""
+    out = mask.copy()
+    n = mask.shape[axis]
+    for k in range(1, r + 1):
+        for sgn in (1, -1):
+            sh = np.zeros_like(mask)
+            src = [slice(None)] * 2
+            dst = [slice(None)] * 2
+            if k < n:
+                src[axis] = slice(k, None) if sgn > 0 else slice(None, n - k)
+                dst[axis] = slice(None, n - k) if sgn > 0 else slice(k, None)
+                sh[tuple(dst)] = mask[tuple(src)]
+            if erode:
+                out &= sh
+            else:
+                out |= sh
+    return out
 
 
 def _open(mask, r: int) -> np.ndarray:
-    """Morphological opening by a (2r+1)^2 square (erode, then dilate), by box sums."""
+    """Morphological opening by a (2r+1)^2 square: erode, then dilate (separable)."""
     if r <= 0:
         return mask
-    k2 = (2 * r + 1) ** 2
-    eroded = _box_count(mask, r) == k2
+    eroded = _shift_all(_shift_all(mask, r, 1, True), r, 0, True)
     if not eroded.any():
         return eroded
-    return _box_count(eroded, r) > 0
+    return _shift_all(_shift_all(eroded, r, 1, False), r, 0, False)
 
 
 def _components(mask, xyz, edge_depth: float) -> tuple[np.ndarray, int]:
@@ -301,25 +314,16 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     explained[[x for x in flat if 0 <= x < nl]] = True
     explained[[x for x in support if 0 <= x < nl]] = True
     un = valid & ~explained[np.where(lab >= 0, lab, nl)]
-    if not un.any():
-        return []
-    rows, cols = np.nonzero(un)
-    pad = params.open_px + 1
-    r0, c0 = max(0, rows.min() - pad), max(0, cols.min() - pad)
-    r1, c1 = rows.max() + 1 + pad, cols.max() + 1 + pad
-    crop = un[r0:r1, c0:c1]
-    un = np.zeros_like(un)
-    un[r0:r1, c0:c1] = _open(crop, params.open_px)
-    un &= valid
+    un = _open(un, params.open_px) & valid
     if not un.any():
         return []
     rows, cols = np.nonzero(un)
     r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
     sub = un[r0:r1, c0:c1]
     comp, k = _components(sub, xyz[r0:r1, c0:c1], params.edge_depth)
-    rr, cc = np.nonzero(sub)
-    area = np.bincount(comp[rr, cc], weights=_areas_at(xyz, rr + r0, cc + c0, params.edge_depth),
-                       minlength=k)
+    rr, cc = rows - r0, cols - c0
+    pitch = (_pitch_at(xyz, rows, cols, 1), _pitch_at(xyz, rows, cols, 0))
+    area = np.bincount(comp[rr, cc], weights=_areas_at(xyz, rows, cols, pitch), minlength=k)
     out = []
     for c in np.nonzero(area >= params.min_area)[0]:  # component ids follow the first pixel
         m = np.zeros(un.shape, bool)

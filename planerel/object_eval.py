@@ -100,13 +100,18 @@ class FrameScore:
     best_iou: dict = field(default_factory=dict)  # object id -> best IoU
     types: dict = field(default_factory=dict)  # object id -> type
     ms: float = 0.0
+    best_prop: dict = field(default_factory=dict)  # object id -> index of its best proposal
+    planar: dict = field(default_factory=dict)  # object id -> planar fraction of that proposal
+    curved: dict = field(default_factory=dict)  # object id -> that proposal is curved
 
     def as_dict(self) -> dict:
         return {"frame": self.name, "objects": self.n_objects, "proposals": self.n_proposals,
                 "found": self.found, "false": self.false, "background": self.background,
                 "fragment": self.fragment, "merged": self.merged, "split": self.split,
                 "best_iou": {str(k): round(v, 3) for k, v in self.best_iou.items()},
-                "types": {str(k): v for k, v in self.types.items()}, "ms": round(self.ms, 1)}
+                "types": {str(k): v for k, v in self.types.items()}, "ms": round(self.ms, 1),
+                "planar_fraction": {str(k): (None if v is None else round(v, 3))
+                                    for k, v in self.planar.items()}}
 
 
 def score_objects(prop_img, truth, *, name: str = "", types=None, min_iou: float = 0.5,
@@ -171,7 +176,8 @@ def score_objects(prop_img, truth, *, name: str = "", types=None, min_iou: float
         split = int(np.sum((frac >= share).sum(axis=0) >= 2))
     ty = {o: (types or {}).get(o, "object") for o in ids}
     return FrameScore(name, len(ids), sum(1 for k in range(npro) if prop_size[k] > 0), found,
-                      background + fragment, background, fragment, merged, split, best_iou, ty)
+                      background + fragment, background, fragment, merged, split, best_iou, ty,
+                      best_prop=best_prop)
 
 
 def summarize(scores) -> dict:
@@ -189,19 +195,28 @@ def summarize(scores) -> dict:
                              if n_obj else None),
            "ms_per_frame": (sum(s.ms for s in scores) / len(scores)) if scores else None,
            "by_type": {}}
+    pfs: dict = {}
     for s in scores:
         for o, t in s.types.items():
-            d = out["by_type"].setdefault(t, {"objects": 0, "found": 0})
+            d = out["by_type"].setdefault(t, {"objects": 0, "found": 0, "curved": 0})
             d["objects"] += 1
             d["found"] += int(s.best_iou[o] >= 0.5)
-    for d in out["by_type"].values():
+            pf = s.planar.get(o)
+            if pf is not None and s.best_iou[o] >= 0.5:
+                pfs.setdefault(t, []).append(pf)
+                d["curved"] += int(bool(s.curved.get(o)))
+    for t, d in out["by_type"].items():
         d["found_rate"] = d["found"] / d["objects"]
+        # planar fraction (planerel.curved) of the found objects' proposals
+        d["mean_planar_fraction"] = float(np.mean(pfs[t])) if t in pfs else None
     return out
 
 
-def frame_truth(path, type_name: str | None = None):
+def frame_truth(path, type_name: str | None = None, type_by: str = "class"):
     """``(cloud, truth, types)`` frames of one input: an mOSD-style PCD with a ``label`` field
-    (one frame) or a planerel data-set folder (every scene with object labels).
+    (one frame) or a planerel data-set folder (every scene with object labels).  A data set's
+    object types are their classes, or with ``type_by="kind"`` their kinds (``cylinder``,
+    ``chair``, ``open box``: the generator's finer names, where the sidecar has them).
 
     Yields
     ------
@@ -219,6 +234,10 @@ def frame_truth(path, type_name: str | None = None):
                 continue
             cloud, _labels, meta = dataset.load_scene(p, row.scene_id)
             classes = dataset.object_classes(meta, row.klass)
+            if type_by == "kind":
+                kinds = {int(o["index"]): str(o["kind"]) for o in meta.get("objects") or []
+                         if isinstance(o, dict) and o.get("kind") and "index" in o}
+                classes = {k: kinds.get(k, v) for k, v in classes.items()}
             found = True
             ty = {k: type_name or v for k, v in classes.items()}
             yield f"{p.name}/{row.scene_id}", cloud, truth.astype(np.int32), ty
@@ -254,7 +273,7 @@ def frame_proposals(cloud, *, method: str = "regiongrow", labels=None):
 
 
 def evaluate_frames(inputs, *, types=None, method: str = "regiongrow", min_iou: float = 0.5,
-                    progress=None):
+                    progress=None, type_by: str = "class"):
     """Score the default proposals of every frame of ``inputs``.
 
     Parameters
@@ -263,6 +282,8 @@ def evaluate_frames(inputs, *, types=None, method: str = "regiongrow", min_iou: 
         mOSD-style PCDs with a ``label`` field, or data-set folders.
     types : sequence of str, optional
         Object type per input (default: the data set's classes, else ``"object"``).
+    type_by : str
+        ``"class"`` or ``"kind"``: a data set's object types (:func:`frame_truth`).
 
     Returns
     -------
@@ -270,14 +291,20 @@ def evaluate_frames(inputs, *, types=None, method: str = "regiongrow", min_iou: 
         Per-frame scores and :func:`summarize` of them.
     """
     inputs = list(inputs)
+    if type_by not in ("class", "kind"):
+        raise InputError(f"type_by must be 'class' or 'kind', got {type_by!r}")
     if types is not None and len(types) != len(inputs):
         raise InputError(f"--types needs one type per input: {len(inputs)} inputs, {len(types)} types")
     scores = []
     for k, path in enumerate(inputs):
-        for name, cloud, truth, ty in frame_truth(path, types[k] if types else None):
-            prop, _desc, ms = frame_proposals(cloud, method=method)
+        for name, cloud, truth, ty in frame_truth(path, types[k] if types else None, type_by):
+            prop, desc, ms = frame_proposals(cloud, method=method)
             s = score_objects(prop, truth, name=name, types=ty, min_iou=min_iou)
             s.ms = ms
+            s.planar = {o: desc.objects[k].planar_fraction for o, k in s.best_prop.items()
+                        if 0 <= k < len(desc.objects)}
+            s.curved = {o: desc.objects[k].curved for o, k in s.best_prop.items()
+                        if 0 <= k < len(desc.objects)}
             scores.append(s)
             if progress:
                 progress(s)

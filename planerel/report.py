@@ -16,7 +16,8 @@ makes the whole output byte-identical).
 Sections (paper table numbers in brackets): planes per class [1, 4]; SegComp counts at 80 %
 overlap and mean IoU per method, threshold and class [2, 3, 5, 6, measured instead of graded];
 sparse planes per image [7]; coloured segmentations [figures 6-9]; learning outcome per
-method; timing at 160x120 and 640x480; real data.
+method; object proposals against ground-truth objects (``planerel evaluate-objects``: the data
+set's object labels, the mOSD frames' label field); timing at 160x120 and 640x480; real data.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ __all__ = [
     "parse_methods",
     "parse_sizes",
     "default_real_data_dir",
+    "run_objects",
     "score_scenes",
     "summarise",
     "run_timing",
@@ -203,6 +205,9 @@ class ReportOptions:
         Worker processes for segmenting scenes; 0 = all cores, 1 = no pool.
     progress : bool
         Progress bars (on terminals).
+    objects : bool
+        Score the default object proposals against ground-truth objects where labels are
+        present (:func:`run_objects`).
     """
 
     methods: tuple = field(default_factory=lambda: parse_methods(PAPER_METHODS))
@@ -222,6 +227,7 @@ class ReportOptions:
     figure_per_class: int = 1
     jobs: int = 0
     progress: bool = False
+    objects: bool = True
 
     def __post_init__(self) -> None:
         s = object.__setattr__
@@ -684,6 +690,63 @@ def run_real_data(folder, methods, *, tolerance: float = 0.8, abw_subsample: int
     return out
 
 
+#: Object type per shared mOSD frame for the object section (``mosd/README``: the ``learn``
+#: frames hold boxes, ``test31`` cylindrical objects); other frames count as ``object``.
+MOSD_OBJECT_TYPES = {**{f"learn{k}": "box" for k in range(6)}, "test31": "round"}
+
+
+def _object_source(name: str, command: str, inputs, types=None, type_by: str = "class") -> dict:
+    from planerel.object_eval import evaluate_frames
+
+    scores, total = evaluate_frames(inputs, types=types, type_by=type_by)
+    total = {k: v for k, v in total.items() if k != "ms_per_frame"}  # the report's numbers are
+    frames = [{k: v for k, v in s.as_dict().items() if k != "ms"} for s in scores]  # repeatable
+    return {"name": name, "command": command, "total": total, "frames": frames}
+
+
+def run_objects(dataset_dir, real_folder=None) -> dict:
+    """Object proposals scored against ground-truth objects (:mod:`planerel.object_eval`).
+
+    Parameters
+    ----------
+    dataset_dir : path
+        The report's data set: scored when its scenes have object labels (varied world),
+        with the generator's kinds as types.
+    real_folder : path, optional
+        Folder with ``mosd/``: its PCDs with a label field are scored (types from
+        :data:`MOSD_OBJECT_TYPES`).
+
+    Returns
+    -------
+    dict
+        ``sources``: one ``{name, command, total, frames}`` per scored source (``total`` as
+        :func:`planerel.object_eval.summarize` without the time); ``absent``: sentences on
+        what had no object labels.
+    """
+    from planerel import dataset
+
+    out = {"sources": [], "absent": []}
+    rows = dataset.load_manifest(dataset_dir)
+    if any(dataset.load_object_labels(dataset_dir, r.scene_id) is not None for r in rows):
+        out["sources"].append(_object_source(
+            "data set", f"planerel evaluate-objects {dataset_dir} --type-by kind", [dataset_dir],
+            type_by="kind"))
+    else:
+        out["absent"].append(f"the data set `{dataset_dir}` has no object labels (make one with "
+                             "`planerel dataset synth DIR --world varied`)")
+    if real_folder is not None:
+        pcds = sorted((Path(real_folder) / "mosd").glob("*.pcd"))
+        if pcds:
+            types = [MOSD_OBJECT_TYPES.get(p.stem, "object") for p in pcds]
+            out["sources"].append(_object_source(
+                "mOSD (real Kinect frames)",
+                "planerel evaluate-objects " + " ".join(str(p) for p in pcds)
+                + " --types " + " ".join(types), pcds, types=types))
+        else:
+            out["absent"].append(f"no mOSD frames under `{real_folder}`")
+    return out
+
+
 # --------------------------------------------------------------------------------------------
 # the whole report
 
@@ -777,6 +840,14 @@ def build_report(dataset_dir, out_dir, options: ReportOptions | None = None, *,
         if not learning["available"]:
             notes.append(f"learning outcome not available: {learning['reason']}")
 
+    objects = None
+    if opts.objects:
+        say("object proposals against ground-truth objects")
+        folder = None
+        if real is not None and real.get("present", {}).get("mosd"):
+            folder = real["folder"]
+        objects = run_objects(dataset_dir, folder)
+
     timing = None
     if opts.timing_sizes:
         say("timing " + ", ".join(f"{w}x{h}" for w, h in opts.timing_sizes))
@@ -800,6 +871,7 @@ def build_report(dataset_dir, out_dir, options: ReportOptions | None = None, *,
             **{k: v for k, v in real.items() if k not in ("abw", "clouds")},
             "abw": _strip_images(real["abw"]), "clouds": _strip_images(real["clouds"])},
         "learning": learning,
+        "objects": objects,
         "timing": timing,
         "notes": notes,
     }

@@ -321,6 +321,9 @@ def build_blocks(data: dict, opts, scenes, real, *, command: str | None = None) 
                   "cross-validated (stratified folds), the rules shown are learned on all data."))
     b.extend(_learning_blocks(data["learning"], methods))
 
+    b.append(Heading("Object proposals against ground-truth objects"))
+    b.extend(_object_blocks(data.get("objects")))
+
     b.append(Heading("Timing"))
     timing = data["timing"]
     if timing is None:
@@ -338,6 +341,48 @@ def build_blocks(data: dict, opts, scenes, real, *, command: str | None = None) 
     b.append(Heading("Real data"))
     b.extend(_real_blocks(real, opts))
     return b
+
+
+def _object_blocks(objects) -> list:
+    """The ``planerel evaluate-objects`` figures of each source with object labels."""
+    if objects is None:
+        return [Para("Not computed (the report was run with --no-objects).")]
+    out = [Para(
+        "Each frame is segmented with the default region growing, described and proposed "
+        "(docs/objects.md); a true object is **found** when its best proposal overlaps it by "
+        "pixel IoU >= 0.5. **False** proposals per frame are no object's best match, split into "
+        "background (under half of their pixels on objects) and fragments; **merged**: "
+        "proposals holding >= 20 % of each of two or more objects (under-merging of objects); "
+        "**split**: objects of which two or more proposals each hold >= 20 % (over-splitting). "
+        "Planar fraction: the mean, over the found objects of a type, of the fraction of their "
+        "proposal's points in flat planes (`planar_fraction/2`, planerel.curved); curved: how "
+        "many of them are `curved/1`.")]
+    if not objects["sources"]:
+        out.append(Para("No source with object labels: " + "; ".join(objects["absent"]) + "."))
+        return out
+    rows = []
+    for src in objects["sources"]:
+        t = src["total"]
+        rows.append([src["name"], _f(t["frames"]), _f(t["objects"]),
+                     f"{t['found']} ({_pct(t['found_rate'])})", _f(t["false_per_frame"]),
+                     _f(t["background_per_frame"]), _f(t["fragment_per_frame"]), _f(t["merged"]),
+                     _f(t["split"]), _f(t["mean_best_iou"])])
+    out.append(Table(["source", "frames", "objects", "found", "false / frame", "background / frame",
+                      "fragments / frame", "merged", "split", "mean best IoU"], rows,
+                     "Object proposals: totals"))
+    rows = []
+    for src in objects["sources"]:
+        for ty, d in sorted(src["total"]["by_type"].items()):
+            rows.append([src["name"], ty, _f(d["objects"]), f"{d['found']} ({_pct(d['found_rate'])})",
+                         _f(d.get("mean_planar_fraction")), _f(d.get("curved"))])
+    out.append(Table(["source", "object type", "objects", "found", "planar fraction", "curved"],
+                     rows, "Object proposals per object type"))
+    out.append(Para("Commands that give the same figures:"))
+    for src in objects["sources"]:
+        out.append(Code(src["command"]))
+    if objects["absent"]:
+        out.append(Para("Not scored: " + "; ".join(objects["absent"]) + "."))
+    return out
 
 
 def _real_blocks(real, opts) -> list:

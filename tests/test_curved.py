@@ -95,21 +95,43 @@ def test_unexplained_clusters_keep_patches_by_surface_area_not_pixels():
     labels[100:115, 100:115] = -1  # 225 px = 0.0009 m^2: too small
     labels[150:152, 10:190] = -1  # a 2-px strip (an edge): removed by the opening
     planes = []
-    masks = unexplained_clusters(cloud, labels, planes, support=(0,))
+    cp = CurvedParams(min_area=0.002)
+    masks = unexplained_clusters(cloud, labels, planes, support=(0,), params=cp)
     assert len(masks) == 1 and masks[0].sum() == 900 and masks[0][20:50, 20:50].all()
     # the same 900 pixels at 0.7 m cover 0.0036 * 0.49 = 0.0018 m^2 < 0.002: dropped
     near = _flat_cloud(f=500.0, z=0.7)
-    assert unexplained_clusters(near, labels, planes, support=(0,)) == []
+    assert unexplained_clusters(near, labels, planes, support=(0,), params=cp) == []
 
 
 def test_a_cluster_without_planes_is_its_own_proposal_with_planar_fraction_zero():
     cloud = _flat_cloud()
     labels = np.zeros((200, 200), np.int64)
     labels[20:50, 20:50] = -1
-    objs = curved_objects([], [], [], cloud, labels, support=(0,))
+    objs = curved_objects([], [], [], cloud, labels, support=(0,), params=CurvedParams(min_area=0.002))
     assert len(objs) == 1
     o = objs[0]
     assert o.planes == () and o.planar_fraction == 0.0 and o.curved and o.n_points == 900
+
+
+def test_a_cluster_joins_a_touching_proposal_of_small_planes_but_not_a_flat_one():
+    from types import SimpleNamespace as NS
+
+    cloud = _flat_cloud()  # 4e-6 m^2 per pixel
+    labels = np.zeros((200, 200), np.int64)  # 0: support
+    labels[20:40, 20:40] = 1  # 400 px = 0.0016 m^2 < small_area 0.002: a small plane
+    labels[20:60, 40:70] = -1  # 1200 px unexplained, touching plane 1
+    labels[100:180, 100:150] = 2  # 4000 px = 0.016 m^2: a flat face
+    labels[100:140, 150:180] = -1  # 1200 px unexplained, touching plane 2
+    planes = [NS(label=1, area=0.0016, n_points=400, normal=(0, 0, -1.0)),
+              NS(label=2, area=0.016, n_points=4000, normal=(0, 0, -1.0))]
+    objs = curved_objects(planes, [], [(1,), (2,)], cloud, labels, support=(0,),
+                          params=CurvedParams(min_area=0.002))
+    assert [o.planes for o in objs] == [(1,), (2,), ()]
+    assert objs[0].mask.sum() == 1200 and objs[0].n_points == 1600
+    # plane 1 (0.0016 m^2 >= tiny_area) is flat: 400 of 1600 points
+    assert objs[0].planar_fraction == pytest.approx(400 / 1600) and objs[0].curved
+    assert objs[1].mask is None and objs[1].planar_fraction == 1.0 and not objs[1].curved
+    assert objs[2].mask[100:140, 150:180].all() and objs[2].planar_fraction == 0.0
 
 
 def test_a_depth_jump_separates_clusters():

@@ -389,3 +389,31 @@ def test_paper_algorithm_is_a_report_method(tiny, tmp_path):
         assert got[key] == (sc.correct, sc.noise, sc.missed)
     assert got["rgpaper"] != got["regiongrow"]  # on this staircase the two differ
     assert "<td>RG paper</td>" in res.html.read_text(encoding="utf-8")
+
+
+def test_object_section_gives_the_evaluate_objects_figures_when_labels_are_present(tmp_path):
+    from planerel.object_eval import evaluate_frames
+    from planerel.synth import generate_dataset
+
+    d = tmp_path / "varied"
+    generate_dataset(d, n_box=1, n_stairs=1, n_ramp=0, seed=5, size=(640, 480), subsample=4,
+                     world="varied")
+    res = build_report(d, tmp_path / "r", _opts(methods="regiongrow"))
+    src = res.data["objects"]["sources"]
+    assert [s["name"] for s in src] == ["data set"]
+    _scores, total = evaluate_frames([d], type_by="kind")
+    got = src[0]["total"]
+    for key in ("objects", "found", "false_per_frame", "merged", "split"):
+        assert got[key] == total[key]
+    assert got["by_type"] == total["by_type"]
+    md = res.markdown.read_text()
+    assert "## Object proposals against ground-truth objects" in md
+    assert f"| data set | 2 | {total['objects']} | {total['found']} (" in md
+    for ty in total["by_type"]:
+        assert f"| data set | {ty} |" in md
+
+
+def test_object_section_is_left_out_with_no_objects(tiny, tmp_path):
+    res = build_report(tiny, tmp_path / "r", _opts(methods="regiongrow", objects=False))
+    assert res.data["objects"] is None
+    assert "Not computed (the report was run with --no-objects)." in res.markdown.read_text()

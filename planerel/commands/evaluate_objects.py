@@ -23,6 +23,9 @@ def register(sub) -> None:
     p.add_argument("--types", nargs="+", metavar="TYPE",
                    help="object type per input for the per-type figures (default: the data set's "
                         "classes, else 'object')")
+    p.add_argument("--type-by", default="class", choices=["class", "kind"],
+                   help="a data set's object types: their classes (default) or the generator's "
+                        "kinds (cylinder, chair, open box, ...)")
     p.add_argument("--method", default="regiongrow", choices=["regiongrow", "sp", "snp"],
                    help="segmentation method (default regiongrow)")
     p.add_argument("--min-iou", type=float, default=0.5, help="IoU for a found object (default 0.5)")
@@ -44,13 +47,16 @@ def run(args) -> int:
               f"{s.split} split, {s.ms:.0f} ms describe+propose", file=sys.stderr)
 
     scores, tot = evaluate_frames(args.inputs, types=args.types, method=args.method,
-                                  min_iou=args.min_iou, progress=show)
+                                  min_iou=args.min_iou, progress=show, type_by=args.type_by)
     print(f"{tot['frames']} frames, {tot['objects']} objects: found {tot['found']} "
           f"({_pct(tot['found_rate'])}), false proposals {tot['false_per_frame']:.2f} per frame "
           f"(background {tot['background_per_frame']:.2f}, fragments {tot['fragment_per_frame']:.2f}), "
           f"merged {tot['merged']}, split {tot['split']}")
     for t, d in sorted(tot["by_type"].items()):
-        print(f"  {t}: {d['found']}/{d['objects']} found ({_pct(d['found_rate'])})")
+        pf = d.get("mean_planar_fraction")
+        shape = "" if pf is None else (f", planar fraction {pf:.2f} (mean of the found), "
+                                       f"{d['curved']} curved")
+        print(f"  {t}: {d['found']}/{d['objects']} found ({_pct(d['found_rate'])}){shape}")
     if args.json:
         write_text(args.json, json.dumps({"frames": [s.as_dict() for s in scores], "total": tot},
                                          indent=1) + "\n")

@@ -32,6 +32,8 @@ def register(sub) -> None:
                    help="skip timing (the whole output is then byte-identical run to run)")
     p.add_argument("--timing-repeats", type=int, default=3,
                    help="timed calls per scene, method and size (default 3)")
+    p.add_argument("--no-objects", action="store_true",
+                   help="skip scoring object proposals against ground-truth objects")
     p.add_argument("--no-learning", action="store_true",
                    help="skip the learning comparison (the most expensive part)")
     p.add_argument("--folds", type=int, default=10, help="cross-validation folds (default 10)")
@@ -76,7 +78,7 @@ def run(args) -> int:
         real_subsample=args.real_subsample, abw_subsample=args.abw_subsample,
         figure_scenes=tuple(s.strip() for s in args.figure_scenes.split(",") if s.strip()),
         figure_per_class=args.figure_per_class, jobs=args.jobs,
-        progress=not args.quiet and sys.stderr.isatty(),
+        progress=not args.quiet and sys.stderr.isatty(), objects=not args.no_objects,
     )
     log = None if args.quiet else (lambda msg: print(msg, file=sys.stderr))
     command = shlex.join(_command_line(args))
