@@ -1129,7 +1129,8 @@ make_child(J, Lit, _In, Out, nd(Body, _, Bound, Len, _, _, _, _, _, _), X, Ctx, 
     X = x(BV, _, _, PT, NT, _),
     length(PT, NP),
     pos_needed(Best0, Evalfn, MinPos, Len1, NP, Need),
-    (   child_cover(PT, BV, Lit, pos, Head, Body1, Need, PC1)
+    (   child_cover(PT, BV, Lit, pos, Head, Body1, Need, PC1),
+        keeps_seed(PT, PC1)
     ->  length(PC1, P1),
         child_cover(NT, BV, Lit, neg, Head, Body1, 0, NC1),
         length(NC1, N1),
@@ -1137,6 +1138,17 @@ make_child(J, Lit, _In, Out, nd(Body, _, Bound, Len, _, _, _, _, _, _), X, Ctx, 
         flag(planerel_search_nodes, Seq, Seq),
         Child = nd(Body1, J, Bound1, Len1, PC1, NC1, P1, N1, S, Seq)
     ;   Child = dead
+    ).
+
+%   keeps_seed(+ParentAnswers, +Covered): a refinement of a clause that covers
+%   the seed covers it too.  Only a lazily evaluated threshold can lose it
+%   (its constant comes from the other covered examples); such a clause is
+%   dropped, as it is no generalisation of the seed's bottom clause, and
+%   keeping it would leave the seed uncovered and search it again.
+keeps_seed(PT, PC1) :-
+    (   nb_current(planerel_seed, S), PT = [S-_|_]
+    ->  PC1 = [S|_]
+    ;   true
     ).
 
 live_child(dead, _, Best, Best, T, T) :- !.
@@ -1284,14 +1296,22 @@ lazy_values_(Set, Head, Body, _, InVars, Id-full, T0, T) :- !,
     include(ground, L0, L),
     append(L, T, T0).
 lazy_values_(_, _, _, BV, [V], _-Ts, T0, T) :- BV = t(V), !,   % one variable
-    maplist([t(X), [X]]>>true, Ts, L0),
-    include(ground, L0, L),
-    append(L, T, T0).
+    ground_singletons(Ts, T0, T).
 lazy_values_(_, _, _, BV, InVars, _-Ts, T0, T) :-
     findall(InVars, member(BV, Ts), L0),
     include(ground, L0, L1),
     sort(L1, L),
     append(L, T, T0).
+
+%   ground_singletons(+Tuples, -L0, +L): the ground values of the t(X) in
+%   Tuples as [X] lists, in order, as the difference list L0-L.
+ground_singletons([], L, L).
+ground_singletons([t(X)|Ts], L0, L) :-
+    (   ground(X)
+    ->  L0 = [[X]|L1]
+    ;   L0 = L1
+    ),
+    ground_singletons(Ts, L1, L).
 
 example_atom(pos, Id, E) :- pos_ex(Id, E).
 example_atom(neg, Id, E) :- neg_ex(Id, E).
@@ -1442,6 +1462,7 @@ cover_loop([SeedId|Rest]) :-
     include(same_functor(pos, F, A), [SeedId|Rest], PosIds),
     findall(Id, (neg_ex(Id, E), functor(E, F, A)), NegIds),
     make_ctx(Bottom, VT, Ctx),
+    nb_setval(planerel_seed, SeedId),
     flag(planerel_search_nodes, _, 0),
     search_clause(Bottom, PosIds, NegIds, Ctx, Best),
     flag(planerel_search_nodes, Explored, Explored),
@@ -1460,10 +1481,26 @@ cover_loop([SeedId|Rest]) :-
     (   setting(verbosity, V), V >= 1
     ->  flag(planerel_rule_no, RN, RN),
         format("[seed ~w] ~q: bottom clause of ~w literals, ~w clauses explored -> rule ~w~n",
-               [SeedId, Seed, NB, Explored, RN])
+               [SeedId, Seed, NB, Explored, RN]),
+        progress_line(F/A, RN, Rem)
     ;   true
     ),
     cover_loop(Rem).
+
+%   progress_line(+Target, +RuleNo, +Remaining): one line on stderr per rule
+%   added ("progress: ..."), which planerel shows while a long search runs.
+progress_line(Target, RN, Rem) :-
+    length(Rem, Left),
+    aggregate_all(count, pos_ex(_, _), Total),
+    nb_getval(planerel_t0, T0),
+    statistics(cputime, T1),
+    T is T1 - T0,
+    theory_clause(RN, _, B, P, N), !,
+    length(B, L),
+    format(user_error, "progress: ~w rule ~w (~w literals, ~w pos, ~w neg): ~w of ~w positives left, ~1f s CPU~n",
+           [Target, RN, L, P, N, Left, Total, T]),
+    flush_output(user_error).
+progress_line(_, _, _).
 
 same_functor(pos, F, A, Id) :- pos_ex(Id, E), functor(E, F, A).
 

@@ -293,10 +293,45 @@ def _check_stem(stem) -> str:
     return text
 
 
-def run_process(cmd: list[str], timeout: float, what: str, cwd: str | None = None):
+def _communicate(proc, timeout: float, on_progress):
+    """``proc.communicate(timeout)``, calling ``on_progress(text)`` for each stderr line
+    ``progress: text`` as soon as the child prints it."""
+    if on_progress is None:
+        return proc.communicate(timeout=timeout)
+    import threading
+
+    chunks: dict[str, list[bytes]] = {"out": [], "err": []}
+
+    def read_out():
+        chunks["out"].append(proc.stdout.read())
+
+    def read_err():
+        for raw in iter(proc.stderr.readline, b""):
+            chunks["err"].append(raw)
+            line = raw.decode("utf-8", "replace").rstrip("\n")
+            if line.startswith("progress: "):
+                try:
+                    on_progress(line[len("progress: "):])
+                except Exception:  # noqa: BLE001 - a display problem must not stop learning
+                    pass
+
+    readers = [threading.Thread(target=read_out, daemon=True),
+               threading.Thread(target=read_err, daemon=True)]
+    for t in readers:
+        t.start()
+    proc.wait(timeout=timeout)
+    for t in readers:
+        t.join()
+    return b"".join(chunks["out"]), b"".join(chunks["err"])
+
+
+def run_process(cmd: list[str], timeout: float, what: str, cwd: str | None = None,
+                on_progress=None):
     """Run ``cmd`` in its own process group; kill the group when ``timeout`` passes or this
     process is interrupted.  The child also dies with this process (even a SIGKILLed one) and
-    has its own CPU-time limit (:func:`planerel.children.child_preexec`)."""
+    has its own CPU-time limit (:func:`planerel.children.child_preexec`).  ``on_progress``,
+    when given, receives the text of each ``progress: ...`` line of the child's stderr as it
+    comes."""
     from planerel.children import child_preexec, register_child, unregister_child
 
     start = time.perf_counter()
@@ -308,7 +343,7 @@ def run_process(cmd: list[str], timeout: float, what: str, cwd: str | None = Non
         raise LearnerError(f"cannot start {cmd[0]}: {exc.strerror}") from None
     try:
         register_child(proc)
-        out, err = proc.communicate(timeout=timeout)
+        out, err = _communicate(proc, timeout, on_progress)
     except subprocess.TimeoutExpired:
         try:
             os.killpg(proc.pid, signal.SIGKILL)
@@ -372,6 +407,7 @@ def learn(
     settings: Mapping[str, object] | None = None,
     timeout: float = 120.0,
     swipl: str | None = None,
+    progress=None,
 ) -> LearnResult:
     """Learn a theory for the Aleph problem ``STEM.b`` / ``STEM.f`` / ``STEM.n``.
 
@@ -388,6 +424,10 @@ def learn(
         Seconds before the learner process (group) is killed.
     swipl : str, optional
         The SWI-Prolog executable (default: ``swipl`` on ``PATH``).
+    progress : callable, optional
+        Called with one line of text per clause the builtin learner adds, while it runs
+        (e.g. ``"box/1 rule 3 (2 literals, 120 pos, 0 neg): 40 of 692 positives left, 4.1 s
+        CPU"``).
 
     Returns
     -------
@@ -428,7 +468,8 @@ def learn(
         with as_file(resource) as pl:
             cmd = [exe, "-q", "-g", "planerel_learner:planerel_main", "-t", "halt(3)", str(pl),
                    "--", abs_stem, *set_args]
-            code, out, err, secs = run_process(cmd, timeout, f"the builtin learner on {stem_text}")
+            code, out, err, secs = run_process(cmd, timeout, f"the builtin learner on {stem_text}",
+                                               on_progress=progress)
         rules, train, test, nodes, cputime, log, warns = _parse(out, err, code, "the builtin learner")
         used = "builtin"
     else:

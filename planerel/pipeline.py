@@ -298,7 +298,8 @@ def excluded_counts(descs) -> dict:
 
 
 def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeout: float = 120.0,
-                settings: dict | None = None, work_dir=None, task: str | None = None) -> Model:
+                settings: dict | None = None, work_dir=None, task: str | None = None,
+                jobs: int | None = None, log=None) -> Model:
     """Learn one theory per class from described scenes (one Aleph run per class).
 
     Parameters
@@ -312,6 +313,12 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         Seconds per class before the learner is stopped.
     work_dir : path, optional
         Where the Aleph files are written (kept); default a temporary folder.
+    jobs : int, optional
+        Classes learned at once, one ``swipl`` each (None: as many as cores, at most one per
+        class); the model does not depend on it.
+    log : callable, optional
+        Receives progress lines (``"[box] rule 3 ..."``, one per clause added, and one per
+        class learned).
 
     Returns
     -------
@@ -335,8 +342,26 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
     try:
         export_aleph(descs, work_dir, "all", classes=list(classes), task=task, settings=settings)
         rules, uncovered, seconds, explored, engines = {}, {}, 0.0, 0, set()
-        for k in classes:
-            res = learn(Path(work_dir) / k, engine=engine, timeout=timeout)
+
+        def one(k):
+            say = None if log is None else (lambda text, k=k: log(f"[{k}] {text}"))
+            t0 = time.perf_counter()
+            res = learn(Path(work_dir) / k, engine=engine, timeout=timeout, progress=say)
+            if log is not None:
+                log(f"[{k}] learned {len(res.rules)} clause(s) in {time.perf_counter() - t0:.1f} s")
+            return res
+
+        from planerel.batch import resolve_jobs
+
+        n_jobs = max(1, min(resolve_jobs(jobs), len(classes)))
+        if n_jobs == 1:
+            results = [one(k) for k in classes]
+        else:
+            from concurrent.futures import ThreadPoolExecutor
+
+            with ThreadPoolExecutor(n_jobs) as pool:     # each class is its own swipl process
+                results = list(pool.map(one, classes))
+        for k, res in zip(classes, results, strict=True):
             rules[k] = tuple(r for r in res.rules if ":-" in r)
             uncovered[k] = len(res.rules) - len(rules[k])
             seconds += res.seconds
@@ -697,7 +722,8 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
                 train_descs.append(replace(d, objects=keep))
         present = [k for k in classes if any(o.klass == k for d in train_descs for o in d.objects)]
         t0 = time.perf_counter()
-        model = learn_rules(train_descs, present, engine=engine, timeout=timeout, settings=settings)
+        model = learn_rules(train_descs, present, engine=engine, timeout=timeout, settings=settings,
+                            jobs=1)
         test_descs = list({id(scene_of[o]): scene_of[o] for o in test}.values())
         preds = prolog_predict(model, test_descs, test, timeout=timeout)
         scored = [(truth_of[p.object_id], p.klass) for p in preds if truth_of[p.object_id] != OTHER]
@@ -957,7 +983,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
             draw_confusion(tmp / "confusion.png", cv["confusion"], list(classes),
                            title=f"{folds}-fold cross-validation, accuracy {cv['accuracy']:.3f}")
         t2 = time.perf_counter()
-        model = learn_rules(descs, classes, engine=engine, timeout=timeout, work_dir=tmp / "aleph")
+        model = learn_rules(descs, classes, engine=engine, timeout=timeout, work_dir=tmp / "aleph",
+                            jobs=jobs, log=None if progress is False else log)
         metrics["seconds"]["learn"] = round(time.perf_counter() - t2, 3)
         metrics["engine"] = model.engine
         metrics["rules"] = {k: list(v) for k, v in model.rules.items()}

@@ -437,3 +437,40 @@ def test_multiclass_head_with_constant(tmp_path):
                                           norm("class(A,cold) :- colour(A,blue)."),
                                           norm("class(A,cold) :- colour(A,green).")]
     assert r.train == Confusion(tp=6, fn=0, fp=0, tn=6)
+
+
+# --------------------------------------------------------------------------- scaling aids
+
+
+def _seed_lines(output: str) -> list[str]:
+    return re.findall(r"^\[seed (\d+)\]", output, re.MULTILINE)
+
+
+def test_a_lazy_threshold_that_loses_the_seed_is_not_taken(tmp_path):
+    # p13 (0.75 kg, the lightest parcel) is made heavy and comes first.  The lazy gteq below
+    # cuts just above the heaviest negative (4.0 kg), so the search from p13 would find
+    # "weight >= 5.0": a clause that does not cover p13 itself, after which p13 is searched
+    # again.  Every clause must cover its seed, so no seed is searched twice.
+    lazy_gteq = ("gteq([Pos, Neg], T) :- !,\n"
+                 "    max_list(Neg, MaxN), include(<(MaxN), Pos, Above), min_list(Above, T).\n")
+    stem = copy_problem("threshold", tmp_path,
+                        replace=("gteq([Pos, Neg], T) :- !,\n", lazy_gteq + "gteq_old([Pos, Neg], T) :- !,\n"))
+    (tmp_path / "threshold.f").write_text("heavy(p13).\n" + (ILP / "threshold.f").read_text())
+    neg = [ln for ln in (ILP / "threshold.n").read_text().splitlines() if "p13" not in ln]
+    (tmp_path / "threshold.n").write_text("\n".join(neg) + "\n")
+    for suffix in ("_test.f", "_test.n"):
+        shutil.copy(ILP / f"threshold{suffix}", tmp_path / f"threshold{suffix}")
+    r = learn(stem)
+    seeds = _seed_lines(r.output)
+    assert seeds and len(seeds) == len(set(seeds)) == len(r.rules)
+    assert r.train.tp == 9 and r.train.fp == 0
+
+
+def test_progress_callback_gets_one_line_per_clause():
+    lines = []
+    r = learn(ILP / "noisy", progress=lines.append)
+    assert len(r.rules) > 3
+    assert len(lines) == len(r.rules)
+    n_pos = len((ILP / "noisy.f").read_text().splitlines())
+    assert lines[0].startswith("good/1 rule 1 ")
+    assert lines[-1].split(": ")[1].startswith(f"0 of {n_pos} positives left")

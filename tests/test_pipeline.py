@@ -37,6 +37,19 @@ def _private_cache(tmp_path, monkeypatch):
     monkeypatch.setenv("PLANEREL_CACHE", str(tmp_path / "cache"))
 
 
+def test_classes_learned_in_parallel_give_the_same_model_and_log_progress(gt_descs):
+    lines: list[str] = []
+    one = P.learn_rules(gt_descs, ["box", "stairs", "ramp"], engine="builtin", jobs=1)
+    two = P.learn_rules(gt_descs, ["box", "stairs", "ramp"], engine="builtin", jobs=2,
+                        log=lines.append)
+    assert two.rules == one.rules and two.stats == one.stats
+    # one line per clause added (from the learner, while it runs) and one per class
+    for k in ("box", "stairs", "ramp"):
+        done = [ln for ln in lines if ln.startswith(f"[{k}] learned ")]
+        per_clause = [ln for ln in lines if ln.startswith(f"[{k}] {k}/1 rule ")]
+        assert len(done) == 1 and len(per_clause) >= len(one.rules[k]) >= 1
+
+
 def test_rules_from_ground_truth_planes_are_relational(gt_descs):
     model = P.learn_rules(gt_descs, ["box", "stairs", "ramp"], engine="builtin")
     assert all(model.rules[k] for k in model.classes)
