@@ -179,7 +179,8 @@ class Classifier:
     seg_params : dict, optional
         Overrides of the model's settings: segmentation parameters by name, description
         parameters as ``gravity.NAME``, ``planes.NAME``, ``relations.NAME``,
-        ``proposals.NAME``.  :attr:`warnings` lists those that differ from training.
+        ``proposals.NAME``, ``curved.NAME``.  :attr:`warnings` lists those that differ from
+        training.
 
     Raises
     ------

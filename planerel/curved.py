@@ -348,7 +348,7 @@ def _touching_labels(mask, lab, xyz, edge_depth: float) -> dict:
             b = lab[rr, cc]
             d = np.linalg.norm(xyz[rr, cc] - P0[inb], axis=1)
             ok = (b >= 0) & (d <= lim[inb])
-            for x, n in zip(*np.unique(b[ok], return_counts=True)):
+            for x, n in zip(*np.unique(b[ok], return_counts=True), strict=True):
                 out[int(x)] = out.get(int(x), 0) + int(n)
     return out
 
@@ -412,7 +412,7 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
                                       and x not in owner and x not in support))
                 alone.append((inside, m))
     out = []
-    for g, m in list(zip(props, masks)) + alone:
+    for g, m in list(zip(props, masks, strict=True)) + alone:
         if not g and m is None:
             continue
         extra = 0

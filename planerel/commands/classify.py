@@ -33,7 +33,7 @@ def register(sub) -> None:
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="override a setting the model was learned with (repeatable; a warning "
                         "says when it differs from training): a segmentation parameter (theta=12) "
-                        "or gravity.NAME, planes.NAME, relations.NAME, proposals.NAME")
+                        "or gravity.NAME, planes.NAME, relations.NAME, proposals.NAME, curved.NAME")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)
