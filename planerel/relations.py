@@ -415,6 +415,12 @@ class ProposalParams:
         m^2: a proposal of one plane that reaches the image border and is smaller than this
         is dropped (a sliver of something cut by the frame, e.g. a table's edge; too little
         of it is seen to name it); 0 = keep them.
+    step_chains : bool
+        Join parallel treads (or parallel risers) that follow one another as the steps of a
+        staircase, whether or not the faces between them are seen (:func:`step_chain_pairs`):
+        stairs seen from above show treads only, from below risers only.
+    step_rise, step_run : (float, float)
+        Metres: the height and the horizontal offset between two such faces.
     """
 
     support_min_area: float = 2.0
@@ -428,6 +434,9 @@ class ProposalParams:
     edge_depth: float = 0.03
     step_overlap: float = 0.5
     min_border_area: float = 0.005
+    step_chains: bool = True
+    step_rise: tuple = (0.08, 0.30)
+    step_run: tuple = (0.12, 0.60)
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "border_wall_area",
@@ -494,30 +503,37 @@ def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
     r0, c0, a0 = r0[keep], c0[keep], a0[keep]
     P0 = xyz[r0, c0]
     lim = depth * np.maximum(1.0, np.abs(P0[:, 2]))
+    # every (boundary pixel, pixel within the band) pair of two different labels, all
+    # offsets at once, then one weighted count per coordinate
+    flat = lab.ravel()
+    pix = xyz.reshape(-1, 3)
+    sel_i, sel_j = [], []
     for k in range(1, band + 1):
         for dy, dx in ((0, k), (k, 0), (k, k), (k, -k)):
             r, c = r0 + dy, c0 + dx
-            inb = (r >= 0) & (r < H) & (c >= 0) & (c < W)
-            b = np.full(r.shape, -1, np.int64)
-            b[inb] = lab[r[inb], c[inb]]
-            m = (b >= 0) & (b != a0) & (a0 >= 0)
-            if not m.any():
-                continue
-            PA = P0[m]
-            PB = xyz[r[m], c[m]]
-            a, bm = a0[m], b[m]
-            ok = np.linalg.norm(PA - PB, axis=1) <= lim[m]
-            if not ok.any():
-                continue
-            a, bm, PA, PB = a[ok], bm[ok], PA[ok], PB[ok]
-            code = np.minimum(a, bm) * n + np.maximum(a, bm)
-            swap = a > bm  # the "a" side is the lower label
-            plo = np.where(swap[:, None], PB, PA)
-            phi = np.where(swap[:, None], PA, PB)
-            cnt += np.bincount(code, minlength=n * n)
-            for j in range(3):
-                acc_a[:, j] += np.bincount(code, weights=plo[:, j], minlength=n * n)
-                acc_b[:, j] += np.bincount(code, weights=phi[:, j], minlength=n * n)
+            i = np.nonzero((r >= 0) & (r < H) & (c >= 0) & (c < W))[0]
+            j = r[i] * W + c[i]
+            b = flat[j]
+            m = (b >= 0) & (b != a0[i])
+            sel_i.append(i[m])
+            sel_j.append(j[m])
+    i = np.concatenate(sel_i)
+    j = np.concatenate(sel_j)
+    if i.size:
+        PA = P0[i]
+        PB = pix[j]
+        ok = np.einsum("ij,ij->i", PA - PB, PA - PB) <= lim[i] ** 2
+        i, j, PA, PB = i[ok], j[ok], PA[ok], PB[ok]
+        a = a0[i]
+        bm = flat[j].astype(np.int64)
+        code = np.minimum(a, bm) * n + np.maximum(a, bm)
+        swap = (a > bm)[:, None]  # the "a" side is the lower label
+        plo = np.where(swap, PB, PA)
+        phi = np.where(swap, PA, PB)
+        cnt += np.bincount(code, minlength=n * n)
+        for jj in range(3):
+            acc_a[:, jj] += np.bincount(code, weights=plo[:, jj], minlength=n * n)
+            acc_b[:, jj] += np.bincount(code, weights=phi[:, jj], minlength=n * n)
     for lo, hi in want:
         c = cnt[lo * n + hi] if lo < n and hi < n else 0
         if c > 0:
@@ -624,6 +640,87 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     return out
 
 
+def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
+                     min_overlap: float = 0.5, angle_tol: float = 10.0,
+                     max_ratio: float = 3.0) -> set:
+    """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
+
+    Two horizontal planes (treads) or two vertical ones (risers) with normals within
+    ``angle_tol`` degrees are a *step* when the higher one's centroid lies ``rise`` above and
+    ``run`` beyond the lower one's (horizontally; for risers along their normal), their
+    extents across that direction overlap by at least ``min_overlap`` (interval IoU: one
+    flight's width), their areas differ by at most ``max_ratio`` times and each is at most
+    one step deep (a tread's extent along the step direction at most ``run[1]``, a riser's
+    height at most ``rise[1]``): not a landing or the floor a flight goes down from.  A step counts only when one of its faces is also a face of another step
+    in the same direction (unit horizontal offsets within 25 degrees) with a rise within 30 %:
+    three faces in a regular row.  Two boxes, one behind the other, make one step, not a
+    chain; a staircase seen from above (treads only) or below (risers only) makes many.
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    labels : iterable of int
+        Planes to consider (e.g. the non-support planes); empty = all.
+
+    Returns
+    -------
+    set of (int, int)
+        ``(lower, higher)`` label pairs of the steps that count.
+    """
+    want = set(labels)
+    up = np.asarray(planes.up, float)
+    cos_tol = math.cos(math.radians(angle_tol))
+    cands = [p for p in planes if (not want or p.label in want)
+             and p.orientation in ("horizontal", "vertical")]
+    steps = []  # (lower, higher, rise, unit horizontal direction)
+    for i, pa in enumerate(cands):
+        na = np.asarray(pa.normal, float)
+        for pb in cands[i + 1:]:
+            if pb.orientation != pa.orientation:
+                continue
+            nb = np.asarray(pb.normal, float)
+            if abs(float(na @ nb)) < cos_tol or max(pa.area, pb.area) > max_ratio * min(pa.area, pb.area):
+                continue
+            lo, hi = (pa, pb) if pa.height <= pb.height else (pb, pa)
+            dv = hi.height - lo.height
+            if not rise[0] <= dv <= rise[1]:
+                continue
+            d = np.asarray(hi.centroid, float) - np.asarray(lo.centroid, float)
+            dh = d - (d @ up) * up
+            if lo.orientation == "vertical":
+                nh = np.asarray(lo.normal, float) - (np.asarray(lo.normal, float) @ up) * up
+                nh /= max(float(np.linalg.norm(nh)), 1e-9)
+                dist = abs(float(dh @ nh))
+                direction = nh if float(dh @ nh) >= 0 else -nh
+            else:
+                dist = float(np.linalg.norm(dh))
+                direction = dh / max(dist, 1e-9)
+            if not run[0] <= dist <= run[1]:
+                continue
+            # each face is one step deep (treads) or high (risers): not a floor or a landing
+            depth_axis = direction if lo.orientation == "horizontal" else up
+            limit = run[1] if lo.orientation == "horizontal" else rise[1]
+            if any(np.ptp(np.asarray(q.hull3d, float) @ depth_axis) > limit for q in (lo, hi)):
+                continue
+            across = np.cross(up, direction)
+            a0, a1 = _extent(lo, across)
+            b0, b1 = _extent(hi, across)
+            union = max(a1, b1) - min(a0, b0)
+            if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < min_overlap:
+                continue
+            steps.append((lo.label, hi.label, dv, direction))
+    out = set()
+    cos_dir = math.cos(math.radians(25.0))
+    for s1 in steps:
+        for s2 in steps:
+            if s1 is s2 or not (s1[1] == s2[0] or s1[0] == s2[1]):
+                continue
+            if float(s1[3] @ s2[3]) >= cos_dir and 0.7 <= s1[2] / s2[2] <= 1 / 0.7:
+                out.add((s1[0], s1[1]))
+                break
+    return out
+
+
 def _extent(p, axis) -> tuple[float, float]:
     t = np.asarray(p.hull3d, float) @ axis
     return float(t.min()), float(t.max())
@@ -677,6 +774,9 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         pairs = sorted(convex_pairs(planes, pairs, edges, params.concave_tol,
                                     params.step_overlap or None))
     g.add_edges_from(pairs)
+    if params.step_chains:
+        g.add_edges_from(step_chain_pairs(planes, g.nodes, params.step_rise, params.step_run,
+                                          params.step_overlap or 0.5, params.concave_tol))
     byl = {p.label: p for p in planes}
     comps = [tuple(sorted(c)) for c in nx.connected_components(g)]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]

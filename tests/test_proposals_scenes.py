@@ -86,3 +86,26 @@ def test_box_behind_a_lower_box_is_no_step_of_it():
     rects = [floor()] + _box(0.3, 2.0, 0.4, 0.3, 0.3, obj=1) + _box(0.3, 2.34, 0.4, 0.3, 0.45, obj=2)
     props, seen = _proposals(rects, pitch=30, cam_height=1.3)
     assert _has_own_proposal(props, seen, 1) and _has_own_proposal(props, seen, 2)
+
+
+def _treads(n=4, rise=0.18, run=0.28, width=0.9, y0=2.0, obj=1):
+    """The treads of a flight rising away from the camera, without the risers between them
+    (as seen from above a descending flight, where the risers face away)."""
+    return [Rect((0.0, y0 + (k + 0.5) * run, (k + 1) * rise), (1, 0, 0), (0, 1, 0), width / 2,
+                 run / 2 - 0.01, obj) for k in range(n)]
+
+
+def test_treads_without_risers_are_one_staircase():
+    rects = [floor()] + _treads()
+    props, seen = _proposals(rects, pitch=35, cam_height=1.6)
+    assert len(seen[1]) == 4
+    assert _has_own_proposal(props, seen, 1)
+    apart, _ = _proposals(rects, ProposalParams(step_chains=False), pitch=35, cam_height=1.6)
+    assert not any(p == seen[1] for p in apart)
+
+
+def test_two_treads_are_no_staircase():
+    # a chain needs three faces in a row: two parallel faces a step apart stay apart
+    rects = [floor()] + _treads(n=2)
+    props, seen = _proposals(rects, pitch=35, cam_height=1.6)
+    assert len(seen[1]) == 2 and seen[1] not in props
