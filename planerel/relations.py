@@ -415,12 +415,15 @@ class ProposalParams:
         m^2: a proposal of one plane that reaches the image border and is smaller than this
         is dropped (a sliver of something cut by the frame, e.g. a table's edge; too little
         of it is seen to name it); 0 = keep them.
+    floor_tilt, tilt_min_area : float
+        Degrees, m^2: a horizontal plane at floor level is support only when it is within
+        ``floor_tilt`` of the floor plane or smaller than ``tilt_min_area`` (:func:`support_planes`).
     step_chains : bool
         Join parallel treads (or parallel risers) that follow one another as the steps of a
         staircase, whether or not the faces between them are seen (:func:`step_chain_pairs`):
         stairs seen from above show treads only, from below risers only.
-    step_rise, step_run : (float, float)
-        Metres: the height and the horizontal offset between two such faces.
+    step_rise_min, step_rise_max, step_run_min, step_run_max : float
+        Metres: the range of the height and of the horizontal offset between two such faces.
     """
 
     support_min_area: float = 2.0
@@ -434,25 +437,46 @@ class ProposalParams:
     edge_depth: float = 0.03
     step_overlap: float = 0.5
     min_border_area: float = 0.005
+    floor_tilt: float = 2.5
+    tilt_min_area: float = 0.1
     step_chains: bool = True
-    step_rise: tuple = (0.08, 0.30)
-    step_run: tuple = (0.12, 0.60)
+    step_rise_min: float = 0.08
+    step_rise_max: float = 0.30
+    step_run_min: float = 0.12
+    step_run_max: float = 0.60
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "border_wall_area",
-                             "edge_depth", "step_overlap", "min_border_area", "wall_behind"))
+                             "edge_depth", "step_overlap", "min_border_area", "wall_behind",
+                             "floor_tilt", "tilt_min_area", "step_rise_min", "step_rise_max",
+                             "step_run_min", "step_run_max"))
+        if self.step_rise_min > self.step_rise_max or self.step_run_min > self.step_run_max:
+            raise InputError("step_rise_min / step_run_min must not exceed step_rise_max / step_run_max, "
+                             f"got {self.step_rise_min!r}-{self.step_rise_max!r} and "
+                             f"{self.step_run_min!r}-{self.step_run_max!r}")
         if isinstance(self.edge_band, bool) or not isinstance(self.edge_band, int) or not 1 <= self.edge_band <= 8:
             raise InputError(f"edge_band must be an integer number of pixels in 1..8, got {self.edge_band!r}")
 
 
 def support_planes(planes, params: ProposalParams | None = None) -> list[int]:
-    """Labels of support planes: the floor, horizontal planes at floor level, large walls."""
+    """Labels of support planes: the floor, horizontal planes at floor level, large walls.
+
+    A horizontal plane at floor level of at least ``params.tilt_min_area`` m^2 that is tilted
+    more than ``params.floor_tilt`` degrees against the floor plane is no floor: a shallow
+    ramp or slab starting on the floor (smaller pieces have too noisy a normal to tell).
+    """
     params = params or ProposalParams()
     tol = planes.params.floor_tol
     out = []
+    floor_n = None
+    if planes.floor is not None:
+        floor_n = np.asarray(next(p.normal for p in planes if p.label == planes.floor), float)
+    cos_tilt = math.cos(math.radians(params.floor_tilt))
     for p in planes:
-        floorish = p.is_floor or (planes.floor is not None and p.orientation == "horizontal"
-                                  and abs(p.height) <= tol)
+        floorish = p.is_floor or (floor_n is not None and p.orientation == "horizontal"
+                                  and abs(p.height) <= tol
+                                  and (p.area < params.tilt_min_area
+                                       or abs(float(np.asarray(p.normal, float) @ floor_n)) >= cos_tilt))
         large = p.area >= params.support_min_area and p.orientation in ("vertical", "horizontal")
         if floorish or large:
             out.append(p.label)
@@ -775,8 +799,10 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                                     params.step_overlap or None))
     g.add_edges_from(pairs)
     if params.step_chains:
-        g.add_edges_from(step_chain_pairs(planes, g.nodes, params.step_rise, params.step_run,
-                                          params.step_overlap or 0.5, params.concave_tol))
+        g.add_edges_from(step_chain_pairs(
+            planes, g.nodes, (params.step_rise_min, params.step_rise_max),
+            (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
+            params.concave_tol))
     byl = {p.label: p for p in planes}
     comps = [tuple(sorted(c)) for c in nx.connected_components(g)]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
