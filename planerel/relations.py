@@ -415,9 +415,6 @@ class ProposalParams:
         m^2: a proposal of one plane that reaches the image border and is smaller than this
         is dropped (a sliver of something cut by the frame, e.g. a table's edge; too little
         of it is seen to name it); 0 = keep them.
-    floor_tilt, tilt_min_area : float
-        Degrees, m^2: a horizontal plane at floor level is support only when it is within
-        ``floor_tilt`` of the floor plane or smaller than ``tilt_min_area`` (:func:`support_planes`).
     step_chains : bool
         Join parallel treads (or parallel risers) that follow one another as the steps of a
         staircase, whether or not the faces between them are seen (:func:`step_chain_pairs`):
@@ -437,8 +434,6 @@ class ProposalParams:
     edge_depth: float = 0.03
     step_overlap: float = 0.5
     min_border_area: float = 0.005
-    floor_tilt: float = 2.5
-    tilt_min_area: float = 0.1
     step_chains: bool = True
     step_rise_min: float = 0.08
     step_rise_max: float = 0.30
@@ -448,7 +443,7 @@ class ProposalParams:
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "border_wall_area",
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
-                             "floor_tilt", "tilt_min_area", "step_rise_min", "step_rise_max",
+                             "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max"))
         if self.step_rise_min > self.step_rise_max or self.step_run_min > self.step_run_max:
             raise InputError("step_rise_min / step_run_min must not exceed step_rise_max / step_run_max, "
@@ -459,24 +454,13 @@ class ProposalParams:
 
 
 def support_planes(planes, params: ProposalParams | None = None) -> list[int]:
-    """Labels of support planes: the floor, horizontal planes at floor level, large walls.
-
-    A horizontal plane at floor level of at least ``params.tilt_min_area`` m^2 that is tilted
-    more than ``params.floor_tilt`` degrees against the floor plane is no floor: a shallow
-    ramp or slab starting on the floor (smaller pieces have too noisy a normal to tell).
-    """
+    """Labels of support planes: the floor, horizontal planes at floor level, large walls."""
     params = params or ProposalParams()
     tol = planes.params.floor_tol
     out = []
-    floor_n = None
-    if planes.floor is not None:
-        floor_n = np.asarray(next(p.normal for p in planes if p.label == planes.floor), float)
-    cos_tilt = math.cos(math.radians(params.floor_tilt))
     for p in planes:
-        floorish = p.is_floor or (floor_n is not None and p.orientation == "horizontal"
-                                  and abs(p.height) <= tol
-                                  and (p.area < params.tilt_min_area
-                                       or abs(float(np.asarray(p.normal, float) @ floor_n)) >= cos_tilt))
+        floorish = p.is_floor or (planes.floor is not None and p.orientation == "horizontal"
+                                  and abs(p.height) <= tol)
         large = p.area >= params.support_min_area and p.orientation in ("vertical", "horizontal")
         if floorish or large:
             out.append(p.label)

@@ -111,18 +111,6 @@ def test_two_treads_are_no_staircase():
     assert len(seen[1]) == 2 and seen[1] not in props
 
 
-def test_shallow_ramp_starting_on_the_floor_is_no_floor():
-    # 3.5 degrees, 1.5 m long: "horizontal" and its centroid 4.6 cm above the floor, but tilted
-    # against the floor plane by more than floor_tilt (2.5 degrees)
-    from scenes_analytic import ramp
-
-    rects = [floor()] + ramp(0.0, 2.0, angle=3.5, length=1.5, width=1.0)
-    props, seen = _proposals(rects, pitch=30, cam_height=1.5)
-    assert _has_own_proposal(props, seen, 1)
-    props, _ = _proposals(rects, ProposalParams(floor_tilt=5.0), pitch=30, cam_height=1.5)
-    assert not any(p & seen[1] for p in props)
-
-
 def test_step_ranges_are_checked():
     import pytest
 
