@@ -11,23 +11,26 @@ The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
    in the grid or hulls within the adjacency gap) whose angle lies in ``[facet_min_angle,
    facet_max_angle]`` (5-50 degrees: neighbouring strips of one round surface; the faces of a
    box meet at about 90, a ramp's slope and its platform form a chain of two).  Every plane in
-   a linked group of at least ``facet_min_planes`` (3) planes is a facet of a curved surface.
+   a linked group with at least ``facet_min_planes`` (3) distinct normal directions (normals
+   within ``facet_min_angle`` count once: two pieces of one box face linked through a sliver
+   are one direction) is a facet of a curved surface.
 2. **Unexplained points.**  Valid pixels that are in no plane, or in a plane smaller than
    ``tiny_area`` m^2, and not on a support plane, are opened morphologically by
    ``open_px`` pixels (thin strips along box edges and occluding borders vanish), then grouped
    into clusters connected in the image grid with neighbours within ``edge_depth * max(1, z)``
    metres in 3-D.  A cluster counts when its area (each pixel's footprint ``z^2 / (fx fy)`` at
-   its measured depth, :func:`pixel_areas`; not a pixel count) is at least ``min_area`` m^2.
+   its measured depth, :func:`pixel_areas`; not a pixel count) is at least ``min_area`` m^2
+   (0.01: smaller clusters are mostly noise of far surfaces).
 3. **Merging.**  A cluster joins every proposal it touches (grid neighbours within
    ``edge_depth``) whose planes are all facets or smaller than ``small_area`` m^2 (the rest
    of a round object); touching no such proposal, it is a proposal of its own (with the tiny
    planes inside it, which have no proposal).  Clusters joined to one proposal merge.
 4. **Attributes.**  ``planar_fraction``: the fraction of an object's points (its planes'
    points plus its cluster pixels) that lie in *flat* planes: not facets, at least
-   ``tiny_area`` m^2.  ``curved``: ``planar_fraction < curved_below`` (0.5).
-
-On the shared mOSD frames the boxes of ``learn0-5`` keep planar fractions near 1 and the
-cylinders of ``test31`` drop low (docs/objects.md gives the figures and commands).
+   ``tiny_area`` m^2.  ``curved``: ``planar_fraction < curved_below`` (0.8).
+On the shared mOSD frames the boxes of ``learn0-5`` keep a planar fraction of 1.00 and the
+three cylinders of ``test31`` have 0.16, 0.26 and 0.66 (all curved); docs/objects.md gives the
+figures and the commands.
 """
 
 from __future__ import annotations
@@ -51,7 +54,8 @@ class CurvedParams:
     facet_min_angle, facet_max_angle : float
         Degrees: two adjacent planes at an angle in this range are neighbouring facets.
     facet_min_planes : int
-        Planes linked this way in a group of at least this many are facets (curved).
+        Planes linked this way in a group with at least this many distinct normal directions
+        are facets (curved).
     tiny_area : float
         m^2: planes smaller than this are not flat planes; their pixels count as unexplained.
     open_px : int
