@@ -91,7 +91,7 @@ def main(argv=None) -> int:
               "held-out image:")
         loo, chosen = [], []
         for i in range(len(names)):
-            def key(k, i=i):
+            def key(k, i=i, objective=objective):
                 return (*objective(np.delete(grid[k], i, axis=0).mean(axis=0)), k == (20.0, 0.25))
             best = max(grid, key=key)
             loo.append(grid[best][i])

@@ -7,6 +7,7 @@ Per frame and resolution (``segment()`` with the given parameters, default setti
 
 - ``regions``: regions found; ``big``: regions of at least 0.05 m^2 (hull area);
 - ``in_big``: fraction of the valid pixels that lie in regions of at least 0.05 m^2;
+- ``per_m2``: regions per square metre of segmented surface (regions / their summed hull area);
 - ``support_pieces``: regions on the plane of the largest region (the floor, or mOSD's table):
   normals within 5 degrees of it and centroids within 3 cm of its plane, each holding at least
   0.5 % of the valid pixels (1 = the floor / table is one region);
@@ -127,7 +128,9 @@ def main(argv=None) -> int:
             big = {lb for lb, a in areas.items() if a >= 0.05}
             in_big = float(np.isin(seg.labels, list(big)).sum()) / cloud.n_valid if big else 0.0
             row = {"frame": name, "sub": k, "regions": seg.n_planes, "big": len(big),
-                   "in_big": round(in_big, 3), "support_pieces": _support_pieces(seg, cloud),
+                   "in_big": round(in_big, 3),
+                   "per_m2": round(seg.n_planes / max(sum(areas.values()), 1e-9), 2),
+                   "support_pieces": _support_pieces(seg, cloud),
                    "ms": round(ms, 1)}
             if truth_full is not None:
                 row.update(_mosd(seg, truth_full[::k, ::k]))

@@ -84,7 +84,9 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
         planerel's planar post-processing: split regions that do not fit one plane (a floor and
         a shallow ramp grown together) into planar parts and find planes in unassigned patches
         (:func:`planerel.segment.split.split_bent_regions`), then merge touching regions of one
-        plane (:func:`planerel.segment.merge.merge_coplanar`).  Default: on for
+        plane (:func:`planerel.segment.merge.merge_coplanar`) and, with ``adapt`` (the
+        default), dissolve fragments whose points lie on a touching larger region's plane
+        (:func:`planerel.segment.absorb.absorb_fragments`).  Default: on for
         regiongrow, off for the RANSAC baselines (they stay as the paper ran them).  Strings
         ``"true"/"false"/"1"/"0"`` are accepted (``--param split=false``).  With
         ``refine=False`` as well, region growing follows the paper's Algorithm 1 (see
@@ -140,7 +142,14 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
     from planerel.segment.split import split_bent_regions
 
     seg = split_bent_regions(cloud, seg, normals=normals, params=split_params)
-    return merge_coplanar(cloud, seg, split_params)
+    seg = merge_coplanar(cloud, seg, split_params)
+    if (isinstance(p, RegionGrowParams) and p.adapt
+            and (split_params is None or split_params.absorb)):
+        # crease fragments whose points lie on a neighbour's plane (planerel.segment.absorb)
+        from planerel.segment.absorb import absorb_fragments
+
+        seg = absorb_fragments(cloud, seg, refine_factor=p.refine_factor)
+    return seg
 
 
 def _as_bool(value, *, default: bool) -> bool:

@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["label_counts", "free_patches", "depth_scales", "assign_parts", "part_pieces",
-           "absorb_small", "merge_stats"]
+           "absorb_small", "merge_stats", "absorb_relabel", "fit_counts"]
 
 
 @njit(cache=True, nogil=True)
@@ -406,3 +406,95 @@ def merge_stats(X, L, pn, n, noise, q, unit, sensor2):  # pragma: no cover - com
         s2[r, 2, 0] = s2[r, 0, 2]
         s2[r, 2, 1] = s2[r, 1, 2]
     return cnt, s1, s2, sv
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def absorb_relabel(pts, labels, gone, keep_rest, cand_ptr, cand_idx, planes, thr, new_id,
+                   rec_row, sums, ref):  # pragma: no cover - compiled
+    """One pass of :func:`planerel.segment.absorb.absorb_fragments` over the image.
+
+    ``pts`` (N, 3), ``labels`` (N,) int32 (-1 none, ids 0..n-1); ``gone`` (n,) bool: the
+    fragments, ``keep_rest`` (n,) bool: fragments that keep the pixels fitting no neighbour
+    (the others leave them unassigned); ``cand_idx[cand_ptr[r]:cand_ptr[r + 1]]`` the neighbours a fragment ``r`` may
+    join; ``planes`` (n, 4) ``nx, ny, nz, offset``; ``thr`` (n,) fit distance per plane (m);
+    ``new_id`` (n,) int32 final id of each kept region; ``rec_row`` (n,) int: row of ``sums`` /
+    ``ref`` collecting the moments of a receiving region (-1: none), ``ref`` preset to a point
+    of it.  A fragment's pixel joins the neighbour with the smallest ``distance / thr`` when that
+    is <= 1, else stays (``keep_rest``) or becomes unassigned.  Returns the final labels (N,) int32, the number of
+    fragment pixels left unassigned and the pixels each ``sums`` row received."""
+    N = labels.shape[0]
+    out = np.empty(N, dtype=np.int32)
+    nrow = sums.shape[0]
+    got = np.zeros(nrow, dtype=np.int64)
+    for i in range(nrow):
+        for k in range(10):
+            sums[i, k] = 0.0
+    lost = 0
+    for p in range(N):
+        t = labels[p]
+        if t < 0:
+            out[p] = -1
+            continue
+        x = pts[p, 0]
+        y = pts[p, 1]
+        z = pts[p, 2]
+        if gone[t]:
+            best = -1
+            bd = 0.0
+            for k in range(cand_ptr[t], cand_ptr[t + 1]):
+                c = cand_idx[k]
+                d = abs(planes[c, 0] * x + planes[c, 1] * y + planes[c, 2] * z + planes[c, 3]) / thr[c]
+                if d <= 1.0 and (best < 0 or d < bd):
+                    bd = d
+                    best = c
+            if best >= 0:
+                t = best
+            elif not keep_rest[t]:
+                out[p] = -1
+                lost += 1
+                continue
+        out[p] = new_id[t]
+        r = rec_row[t]
+        if r >= 0:
+            dx = x - ref[r, 0]
+            dy = y - ref[r, 1]
+            dz = z - ref[r, 2]
+            sums[r, 0] += 1.0
+            sums[r, 1] += dx
+            sums[r, 2] += dy
+            sums[r, 3] += dz
+            sums[r, 4] += dx * dx
+            sums[r, 5] += dx * dy
+            sums[r, 6] += dx * dz
+            sums[r, 7] += dy * dy
+            sums[r, 8] += dy * dz
+            sums[r, 9] += dz * dz
+            if labels[p] != t:
+                got[r] += 1
+    return out, lost, got
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def fit_counts(X, L, n, active, cand_ptr, cand_idx, planes, thr):  # pragma: no cover - compiled
+    """Per region of the sample ``X`` (M, 3), ``L`` (M,) int32: its points, and those within
+    ``thr[c]`` of the plane ``planes[c]`` (``nx, ny, nz, offset``) of at least one of its
+    candidates ``c`` in ``cand_idx[cand_ptr[r]:cand_ptr[r + 1]]`` with ``active[c]``.
+    Returns two (n,) int64 arrays (see :func:`planerel.segment.absorb.absorb_fragments`)."""
+    tot = np.zeros(n, dtype=np.int64)
+    fit = np.zeros(n, dtype=np.int64)
+    for p in range(L.shape[0]):
+        r = L[p]
+        if r < 0:
+            continue
+        tot[r] += 1
+        x = X[p, 0]
+        y = X[p, 1]
+        z = X[p, 2]
+        for k in range(cand_ptr[r], cand_ptr[r + 1]):
+            c = cand_idx[k]
+            if not active[c]:
+                continue
+            if abs(planes[c, 0] * x + planes[c, 1] * y + planes[c, 2] * z + planes[c, 3]) <= thr[c]:
+                fit[r] += 1
+                break
+    return tot, fit

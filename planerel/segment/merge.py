@@ -27,6 +27,7 @@ the regions' smallest original labels, and planes are refitted.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -132,9 +133,19 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
     new_id = np.full(n, -1, dtype=np.int32)
     new_id[kept] = np.arange(len(kept), dtype=np.int32)
     remap = np.concatenate([[-1], new_id[roots]]).astype(np.int32)
-    out = remap[labels.reshape(-1) + 1]
-    k = len(kept)
-    planes = SegPlane.from_fits(*fit_planes(xyz.reshape(-1, 3), out, k))
+    lab = labels.reshape(-1)
+    out = remap[lab + 1]
+    # refit only the merged groups, from their pixels (in pixel order: the sums of a full refit)
+    grouped = np.bincount(roots, minlength=n) > 1
+    refit = np.flatnonzero(grouped)  # roots of merged groups, ascending = ascending new ids
+    sub = np.full(n + 1, -1, dtype=np.int32)
+    sub[np.flatnonzero(grouped[roots]) + 1] = np.searchsorted(refit, roots[grouped[roots]])
+    pix = np.flatnonzero(sub[lab + 1] >= 0)
+    fits = SegPlane.from_fits(*fit_planes(xyz.reshape(-1, 3)[pix], sub[lab[pix] + 1], len(refit)))
+    fit_of = dict(zip(new_id[refit].tolist(), fits, strict=True))
+    planes = tuple(dataclasses.replace(fit_of[i], id=i) if i in fit_of
+                   else dataclasses.replace(seg.planes[int(r)], id=i)
+                   for i, r in enumerate(kept.tolist()))
     info["merged"] = merged
     return Segmentation(out.reshape(labels.shape), planes, seg.method, seg.params, seg.normals,
                         info)

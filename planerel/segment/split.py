@@ -33,6 +33,7 @@ region in its place, ordered by their first pixel (row-major).  Planes are refit
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import threading
 from dataclasses import dataclass
@@ -99,6 +100,10 @@ class SplitParams:
         noisy for region growing to seed them, yet their points fit planes within the noise.
     merge : bool
         Merge touching regions of one plane afterwards (True; :mod:`planerel.segment.merge`).
+    absorb : bool
+        Then dissolve fragments whose points lie on a touching larger region's plane (True;
+        :mod:`planerel.segment.absorb`); :func:`planerel.segment.segment` runs it when region
+        growing adapts to the sensor (``adapt=True``, the default).
     merge_angle : float
         Largest angle in degrees between the normals of two regions that may merge (10).
     merge_gap : int
@@ -133,6 +138,7 @@ class SplitParams:
     seed: int = 0
     leftover: bool = True
     merge: bool = True
+    absorb: bool = True
     merge_angle: float = 10.0
     merge_gap: int = 2
     merge_jump: float = 0.05
@@ -170,6 +176,7 @@ class SplitParams:
         s(self, "seed", _int(o, "seed", self.seed, 0))
         s(self, "leftover", _bool(o, "leftover", self.leftover))
         s(self, "merge", _bool(o, "merge", self.merge))
+        s(self, "absorb", _bool(o, "absorb", self.absorb))
         s(self, "merge_angle", _num(o, "merge_angle", self.merge_angle, lo=0.0, hi=90.0))
         s(self, "merge_gap", _int(o, "merge_gap", self.merge_gap, 1))
         s(self, "merge_jump", _num(o, "merge_jump", self.merge_jump, lo=0.0, lo_open=True))
@@ -292,6 +299,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         return None if nrm is None else nrm.reshape(-1, 3)
 
     new_lab = None
+    changed_pix: list = []
     extra: dict[int, list] = {}
     next_id = n
     n_unassigned = 0
@@ -328,6 +336,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
             extra[int(r)] = list(range(next_id, next_id + k - 1))
             next_id += k - 1
             new_lab[pix] = np.where(piece >= 0, ids[np.maximum(piece, 0)], -1)
+            changed_pix.append(pix)
             n_unassigned += int((piece < 0).sum())
             info["split_regions"] += 1
             info["split_new_regions"] += k - 1
@@ -349,6 +358,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
                 new_lab = lab.copy()
             k = int(piece.max()) + 1
             new_lab[pix] = np.where(piece >= 0, next_id + piece, -1)
+            changed_pix.append(pix)
             leftover_ids.extend(range(next_id, next_id + k))
             next_id += k
             info["leftover_regions"] += k
@@ -364,7 +374,17 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     remap = np.full(next_id + 1, -1, dtype=np.int32)
     remap[np.array(final_order, dtype=np.int64) + 1] = np.arange(next_id, dtype=np.int32)
     out = remap[new_lab + 1].astype(np.int32)
-    planes = SegPlane.from_fits(*fit_planes(xyz_flat, out, next_id))
+    # refit only the regions whose pixels changed (split regions and leftover patches: all
+    # their pixels are in `changed`, in pixel order, so the sums are those of a full refit)
+    changed = np.unique(np.concatenate(changed_pix))
+    refit = [new for new, old in enumerate(final_order) if old >= n or old in extra]
+    sub = np.full(next_id + 1, -1, dtype=np.int32)
+    sub[np.array(refit, dtype=np.int64) + 1] = np.arange(len(refit), dtype=np.int32)
+    fits = SegPlane.from_fits(*fit_planes(xyz_flat[changed], sub[out[changed] + 1], len(refit)))
+    fit_of = dict(zip(refit, fits, strict=True))
+    planes = tuple(dataclasses.replace(fit_of[new], id=new) if new in fit_of
+                   else dataclasses.replace(seg.planes[old], id=new)
+                   for new, old in enumerate(final_order))
     return Segmentation(out.reshape(h, w), planes, seg.method, seg.params, seg.normals, info)
 
 
