@@ -142,14 +142,11 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
     from planerel.segment.split import split_bent_regions
 
     seg = split_bent_regions(cloud, seg, normals=normals, params=split_params)
-    seg = merge_coplanar(cloud, seg, split_params)
-    if (isinstance(p, RegionGrowParams) and p.adapt
-            and (split_params is None or split_params.absorb)):
-        # crease fragments whose points lie on a neighbour's plane (planerel.segment.absorb)
-        from planerel.segment.absorb import absorb_fragments
-
-        seg = absorb_fragments(cloud, seg, refine_factor=p.refine_factor)
-    return seg
+    # then crease fragments whose points lie on a neighbour's plane (planerel.segment.absorb)
+    absorb = (isinstance(p, RegionGrowParams) and p.adapt
+              and (split_params is None or split_params.absorb))
+    return merge_coplanar(cloud, seg, split_params,
+                          absorb_factor=p.refine_factor if absorb else None)
 
 
 def _as_bool(value, *, default: bool) -> bool:

@@ -19,6 +19,8 @@ region's plane when its distance is within ``refine_factor`` x the region's RMS 
    and not itself a fragment.  A true face fits its neighbours only along the shared edge
    (a box side on the floor: the few rows within a few millimetres of the floor; 0-8 % on the
    real Kinect frames), a crease fragment mostly (57-100 %).
+   A region meeting two or more touching regions at 5-40 degrees (a facet of a round
+   surface: a cylinder is a fan of them, :mod:`planerel.curved`) is never a fragment.
 3. **Reassignment.**  Each pixel of a fragment joins the fitting neighbour plane it lies
    nearest to (relative to the threshold); a pixel that fits none becomes unassigned.
 
@@ -46,7 +48,7 @@ RMS_FLOOR = 1e-4
 
 def absorb_fragments(cloud, seg: Segmentation, *, refine_factor: float = 3.0,
                      fraction: float = ABSORB_FRACTION, min_size: int | None = None, gap: int = 2,
-                     jump: float = 0.05) -> Segmentation:
+                     jump: float = 0.05, params=None) -> Segmentation:
     """Dissolve regions whose points lie on a touching larger region's plane.
 
     Parameters
@@ -65,6 +67,8 @@ def absorb_fragments(cloud, seg: Segmentation, *, refine_factor: float = 3.0,
         pixels (estimated from the sample) keeps them; default ``seg.info["min_region_size"]``.
     gap, jump : int, float
         The merge's touching test (pixels; fraction of depth).
+    params : SplitParams, optional
+        The noise model and ``tolerance`` bounding a curved neighbour's band (see below).
 
     Returns
     -------
@@ -73,23 +77,34 @@ def absorb_fragments(cloud, seg: Segmentation, *, refine_factor: float = 3.0,
         kept their other pixels) and ``absorbed_unassigned`` (pixels of dissolved regions that
         fit no neighbour); ``seg`` itself (with those counts) when none was.
     """
-    from planerel.segment._post_kernels import fit_counts
     from planerel.segment.merge import _touching_pairs
     from planerel.segment.split import _TEST_PIXELS
+
+    n = seg.n_planes
+    if n < 2 or not cloud.organized:
+        return _absorb(cloud, seg, None, None, (), refine_factor, fraction, min_size)
+    h, w = seg.labels.shape
+    st = max(1, int(math.sqrt(h * w / _TEST_PIXELS)))
+    Ls = np.ascontiguousarray(seg.labels[::st, ::st], dtype=np.int32)
+    Xs = np.ascontiguousarray(cloud.xyz[::st, ::st], dtype=np.float64)
+    pairs = _touching_pairs(Ls, Xs, n, gap, jump)
+    return _absorb(cloud, seg, Ls, Xs, pairs, refine_factor, fraction, min_size, params)
+
+
+def _absorb(cloud, seg, Ls, Xs, pairs, refine_factor, fraction, min_size,
+            params=None) -> Segmentation:
+    """:func:`absorb_fragments` given the merge step's regular grid sample of the labels ``Ls``
+    and points ``Xs`` and the touching pairs ``(a, b)`` of ``seg``'s regions on it (the merge
+    step passes its own when it ran: :func:`planerel.segment.merge.merge_coplanar`)."""
+    from planerel.segment._post_kernels import fit_counts
 
     info = dict(seg.info, absorbed=0, absorbed_shrunk=0, absorbed_unassigned=0)
     n = seg.n_planes
     same = Segmentation(seg.labels, seg.planes, seg.method, seg.params, seg.normals, info)
-    if n < 2 or not cloud.organized:
+    if n < 2 or not cloud.organized or not pairs:
         return same
     labels = seg.labels
     h, w = labels.shape
-    st = max(1, int(math.sqrt(h * w / _TEST_PIXELS)))
-    Ls = np.ascontiguousarray(labels[::st, ::st], dtype=np.int32)
-    Xs = np.ascontiguousarray(cloud.xyz[::st, ::st], dtype=np.float64)
-    pairs = _touching_pairs(Ls, Xs, n, gap, jump)
-    if not pairs:
-        return same
     size = np.array([p.n_points for p in seg.planes], dtype=np.int64)
     nbrs: list[list[int]] = [[] for _ in range(n)]
     for a, b in pairs:
@@ -97,7 +112,20 @@ def absorb_fragments(cloud, seg: Segmentation, *, refine_factor: float = 3.0,
         nbrs[b].append(a)
     normal = np.array([p.normal for p in seg.planes], dtype=np.float64)
     offset = np.array([p.offset for p in seg.planes], dtype=np.float64)
-    thr = refine_factor * np.maximum(np.array([p.rms for p in seg.planes]), RMS_FLOOR)
+    # a neighbour's fit band: refine_factor x its RMS, but a curved neighbour (RMS over the
+    # split test's tolerance x the RMS the noise model expects: a cylinder's facet) counts
+    # with that bound, so that a round surface's facets are not absorbed into each other
+    from planerel.segment._post_kernels import merge_stats
+    from planerel.segment.split import SplitParams
+
+    sp = SplitParams() if params is None else params
+    q = sp.disparity_step / (sp.focal_px * sp.baseline)
+    cnt, _, _, sv = merge_stats(Xs.reshape(-1, 3), Ls.reshape(-1), normal, n, float(sp.noise),
+                                float(q), float(sp.depth_unit),
+                                float(seg.info.get("noise_scale", 1.0)) ** 2)
+    rms = np.array([p.rms for p in seg.planes])
+    bound = np.where(cnt > 0, sp.tolerance * np.sqrt(sv / np.maximum(cnt, 1)), np.inf)
+    thr = refine_factor * np.maximum(np.minimum(rms, bound), RMS_FLOOR)
     planes4 = np.ascontiguousarray(np.column_stack([normal, offset]))
     # candidates of a region: its touching neighbours that are larger (CSR, ascending)
     cands = [sorted(j for j in nbrs[r] if size[j] > size[r]) for r in range(n)]
@@ -110,11 +138,12 @@ def absorb_fragments(cloud, seg: Segmentation, *, refine_factor: float = 3.0,
     active = np.ones(n, dtype=bool)  # candidates not dissolved themselves
     xs, ls = Xs.reshape(-1, 3), Ls.reshape(-1)
     tot, fit = fit_counts(xs, ls, n, active, ptr, idx, planes4, thr)
+    facet = _facets(normal, pairs, n)
     gone = np.zeros(n, dtype=bool)
     rest = np.zeros(n, dtype=bool)
     for r in sorted(range(n), key=lambda i: (-size[i], i)):  # largest first
         c = cands[r]
-        if not c or tot[r] == 0:
+        if not c or tot[r] == 0 or facet[r]:
             continue
         if not active[c].all():  # a candidate was dissolved: count against the others
             if not active[c].any():
@@ -159,3 +188,22 @@ def absorb_fragments(cloud, seg: Segmentation, *, refine_factor: float = 3.0,
                 absorbed_unassigned=int(lost))
     return Segmentation(out.reshape(h, w), tuple(planes), seg.method, seg.params, seg.normals,
                         info)
+
+
+def _facets(normal, pairs, n) -> np.ndarray:
+    """(n,) bool: regions meeting two or more touching regions at a shallow angle (the facet
+    angles of :class:`planerel.curved.CurvedParams`, 5-40 degrees): strips of a round surface
+    (a cylinder comes out as a fan of them), kept apart.  A crease fragment between two planes
+    meets at most one of them at so shallow an angle (between two walls at 90 degrees: 25 and
+    65, or 45 and 45)."""
+    from planerel.curved import CurvedParams
+
+    cp = CurvedParams()
+    lo, hi = math.cos(math.radians(cp.facet_min_angle)), math.cos(math.radians(cp.facet_max_angle))
+    shallow = np.zeros(n, dtype=np.int64)
+    for a, b in pairs:
+        c = abs(float(normal[a] @ normal[b]))
+        if hi <= c <= lo:
+            shallow[a] += 1
+            shallow[b] += 1
+    return shallow >= 2

@@ -33,12 +33,14 @@ import math
 import numpy as np
 
 from planerel.errors import InputError
+from planerel.segment.absorb import ABSORB_FRACTION
 from planerel.segment.result import Segmentation, SegPlane, fit_planes
 
 __all__ = ["merge_coplanar"]
 
 
-def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
+def merge_coplanar(cloud, seg: Segmentation, params=None, *,
+                   absorb_factor: float | None = None) -> Segmentation:
     """Merge touching regions that lie on one plane.
 
     Parameters
@@ -50,11 +52,15 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
         ``labels`` (H, W) int32, -1 unassigned.
     params : SplitParams, optional
         ``merge_angle``, ``merge_gap``, ``merge_jump``, ``tolerance`` and the noise model.
+    absorb_factor : float, optional
+        Then absorb crease fragments (:func:`planerel.segment.absorb.absorb_fragments` with
+        this ``refine_factor``), on this step's sample and touching pairs.
 
     Returns
     -------
     Segmentation
-        ``info`` adds ``merged`` (number of merges); ``seg`` itself when nothing merged.
+        ``info`` adds ``merged`` (number of merges) and, with ``absorb_factor``, the absorb
+        counts; ``seg`` itself when nothing changed.
     """
     from planerel.segment._post_kernels import merge_stats
     from planerel.segment.split import _TEST_PIXELS, SplitParams, _residual_stats
@@ -62,10 +68,22 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
     p = params if params is not None else SplitParams()
     if not isinstance(p, SplitParams):
         raise InputError(f"merge: params must be SplitParams, got {type(p).__name__}")
+    from planerel.segment.absorb import _absorb, absorb_fragments
+
     info = dict(seg.info, merged=0)
     n = seg.n_planes
+
+    def done(out, Ls=None, Xs=None, pairs=None):
+        if absorb_factor is None:
+            return out
+        if pairs is None:
+            return absorb_fragments(cloud, out, refine_factor=absorb_factor, gap=p.merge_gap,
+                                    jump=p.merge_jump, params=p)
+        return _absorb(cloud, out, Ls, Xs, pairs, absorb_factor, ABSORB_FRACTION, None, p)
+
     if n < 2 or not cloud.organized or not p.merge:
-        return Segmentation(seg.labels, seg.planes, seg.method, seg.params, seg.normals, info)
+        return done(Segmentation(seg.labels, seg.planes, seg.method, seg.params, seg.normals,
+                                 info))
     labels = seg.labels
     xyz = cloud.xyz
     # tests on a regular grid sample of about 160x120 pixels, as the split test: merge_gap is
@@ -76,7 +94,8 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
     Xs = np.ascontiguousarray(xyz[::st, ::st], dtype=np.float64)
     pairs = _touching_pairs(Ls, Xs, n, p.merge_gap, p.merge_jump)
     if not pairs:
-        return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
+        return done(Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info),
+                    Ls, Xs, pairs)
 
     # the sensor's noise relative to the model, as the split test measures it (the split step
     # leaves its median in info; measured here otherwise)
@@ -127,7 +146,8 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
         normal[keep] = nv
         merged += 1
     if not merged:
-        return Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info)
+        return done(Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info),
+                    Ls, Xs, pairs)
     roots = np.array([root(i) for i in range(n)])
     kept = np.unique(roots)  # ascending = order of the smallest original label of each group
     new_id = np.full(n, -1, dtype=np.int32)
@@ -147,8 +167,15 @@ def merge_coplanar(cloud, seg: Segmentation, params=None) -> Segmentation:
                    else dataclasses.replace(seg.planes[int(r)], id=i)
                    for i, r in enumerate(kept.tolist()))
     info["merged"] = merged
-    return Segmentation(out.reshape(labels.shape), planes, seg.method, seg.params, seg.normals,
-                        info)
+    res = Segmentation(out.reshape(labels.shape), planes, seg.method, seg.params, seg.normals, info)
+    if absorb_factor is None:
+        return res
+    # the sample and the touching pairs of the merged groups (a group touches what its
+    # members touched)
+    gid = new_id[roots]
+    pairs = sorted({(min(x, y), max(x, y)) for x, y in ((int(gid[a]), int(gid[b]))
+                                                      for a, b in pairs) if x != y})
+    return done(res, np.ascontiguousarray(remap[Ls + 1]), Xs, pairs)
 
 
 def _rms_of(m, s1, s2) -> np.ndarray:
