@@ -22,11 +22,18 @@ def main(argv=None) -> int:
     ap.add_argument("--timeout", type=float, default=120.0, help="seconds per learner run")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--tag", default="")
+    ap.add_argument("--setting", action="append", default=[], metavar="NAME=VALUE",
+                    help="learner setting (e.g. noise=10, minacc=0.8); repeatable")
     ap.add_argument("--save", default=None,
                     help="folder for the model (rules.pl) and the held-out answers (answers.json)")
     args = ap.parse_args(argv)
 
     from planerel import pipeline as P
+
+    settings = {}
+    for item in args.setting:
+        name, _, value = item.partition("=")
+        settings[name] = float(value) if "." in value else int(value)
 
     t0 = time.perf_counter()
     descs, _ = P.describe_scenes(args.train, jobs=args.jobs, progress=False)
@@ -35,12 +42,13 @@ def main(argv=None) -> int:
     cv = None
     if args.folds:
         cv = P.cross_validate(descs, classes, folds=args.folds, jobs=args.jobs, progress=False,
-                              timeout=args.timeout)
+                              timeout=args.timeout, settings=settings or None)
         cv = {k: cv.get(k) for k in ("accuracy", "per_class", "confusion", "other",
                                      "open_set_accuracy", "open_set_confusion", "n_examples",
                                      "excluded")}
     t2 = time.perf_counter()
-    model = P.learn_rules(descs, classes, engine="auto", timeout=args.timeout)
+    model = P.learn_rules(descs, classes, engine="auto", timeout=args.timeout,
+                          settings=settings or None)
     t3 = time.perf_counter()
     held = P.held_out_scores(model, args.held, jobs=args.jobs, progress=False,
                              timeout=args.timeout)
@@ -56,6 +64,7 @@ def main(argv=None) -> int:
         write_text(out / "answers.json", json.dumps(answers, indent=0, sort_keys=True))
     t4 = time.perf_counter()
     print(json.dumps({"tag": args.tag, "train": args.train, "held": args.held,
+                      "settings": settings,
                       "classes": list(classes), "rules": model.clauses(), "cv": cv,
                       "heldout": held,
                       "seconds": {"describe": round(t1 - t0, 1), "cv": round(t2 - t1, 1),
