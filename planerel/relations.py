@@ -620,6 +620,11 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     """
     byl = {p.label: p for p in planes}
     cos_tol = math.cos(math.radians(concave_tol))
+    pairs = list(pairs)
+    nbrs: dict = {}
+    for a, b in pairs:
+        nbrs.setdefault(a, []).append(b)
+        nbrs.setdefault(b, []).append(a)
     out = set()
     for a, b in pairs:
         pa, pb = byl[a], byl[b]
@@ -643,9 +648,34 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         # (one behind the other across an occluding edge) are no tread and riser
         shared = edges is None or e is not None
         if float((na - nb) @ (xa - xb)) >= 0 or (step_overlap is not None and shared
-                                                  and _step_like(pa, pb, step_overlap)):
+                                                  and _step_like(pa, pb, step_overlap)
+                                                  and _regular_step(pa, pb, byl, nbrs, cos_tol)):
             out.add((a, b))
     return out
+
+
+def _regular_step(pa, pb, byl, nbrs, cos_tol) -> bool:
+    """False when a tread and the riser above it are not one step of a regular flight: the
+    tread has a riser below it (a vertical neighbour parallel to the one above, lower than
+    the tread) and the two risers' heights differ by more than 30 %: a box standing on a
+    box of the same width, not a staircase, whose steps rise alike."""
+    if "horizontal" not in (pa.orientation, pb.orientation):
+        return True
+    tread, riser = (pa, pb) if pa.orientation == "horizontal" else (pb, pa)
+    if riser.orientation != "vertical" or riser.height <= tread.height:
+        return True
+    up = np.asarray(tread.normal, float)
+    nr = np.asarray(riser.normal, float)
+    high = float(np.ptp(np.asarray(riser.hull3d, float) @ up))
+    for k in nbrs.get(tread.label, ()):
+        q = byl[k]
+        if (q is riser or q.orientation != "vertical" or q.height >= tread.height
+                or abs(float(np.asarray(q.normal, float) @ nr)) < cos_tol):
+            continue
+        low = float(np.ptp(np.asarray(q.hull3d, float) @ up))
+        if abs(high - low) > 0.3 * max(high, low):
+            return False
+    return True
 
 
 def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),

@@ -118,3 +118,17 @@ def test_step_ranges_are_checked():
 
     with pytest.raises(InputError):
         ProposalParams(step_rise_min=0.3, step_rise_max=0.1)
+
+
+def test_box_on_a_box_of_the_same_width_comes_apart():
+    # a 0.25 m high box on a 0.4 m high one of the same width, set back so that a strip of
+    # the lower one's top is seen: tread and riser of one flight by width, but its "risers"
+    # (0.4 and 0.25 m) do not rise alike
+    rects = [floor()] + _box(0.0, 2.0, 0.5, 0.5, 0.4, obj=1) + _box(0.0, 2.1, 0.5, 0.3, 0.25, z0=0.4, obj=2)
+    props, seen = _proposals(rects, pitch=30, cam_height=1.4)
+    assert _has_own_proposal(props, seen, 1) and _has_own_proposal(props, seen, 2)
+    # a staircase's tread and the riser above it stay together (equal risers)
+    from scenes_analytic import stairs
+
+    props, seen = _proposals([floor()] + stairs(0.0, 2.0, n=3), pitch=30, cam_height=1.4)
+    assert _has_own_proposal(props, seen, 1)
