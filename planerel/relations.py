@@ -662,14 +662,16 @@ def _regular_step(pa, pb, byl, nbrs, cos_tol) -> bool:
     if "horizontal" not in (pa.orientation, pb.orientation):
         return True
     tread, riser = (pa, pb) if pa.orientation == "horizontal" else (pb, pa)
-    if riser.orientation != "vertical" or riser.height <= tread.height:
+    if (riser.orientation != "vertical" or getattr(tread, "height", None) is None
+            or getattr(riser, "height", None) is None or riser.height <= tread.height):
         return True
     up = np.asarray(tread.normal, float)
     nr = np.asarray(riser.normal, float)
     high = float(np.ptp(np.asarray(riser.hull3d, float) @ up))
     for k in nbrs.get(tread.label, ()):
         q = byl[k]
-        if (q is riser or q.orientation != "vertical" or q.height >= tread.height
+        if (q is riser or q.orientation != "vertical" or getattr(q, "height", None) is None
+                or q.height >= tread.height
                 or abs(float(np.asarray(q.normal, float) @ nr)) < cos_tol):
             continue
         low = float(np.ptp(np.asarray(q.hull3d, float) @ up))
