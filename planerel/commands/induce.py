@@ -39,7 +39,8 @@ def run(args) -> int:
     from planerel.learn import format_report, learn, parse_settings
 
     settings = parse_settings(args.settings)
-    result = learn(args.stem, engine=args.engine, settings=settings, timeout=args.timeout)
+    result = learn(args.stem, engine=args.engine, settings=settings, timeout=args.timeout,
+                   progress=lambda text: print(f"progress: {text}", file=sys.stderr, flush=True))
     for w in result.warnings:
         print(f"warning: {w}", file=sys.stderr)
     if args.verbose:
