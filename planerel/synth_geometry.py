@@ -182,14 +182,15 @@ def box_geometry(length: float, width: float, height: float, object_index: int =
     """A cuboid standing on the floor, centred on the local origin.
 
     Planes: ``top`` and four vertical ``face`` planes (the bottom touches the floor and is
-    never seen).
+    never seen).  An open box has no top but its ``bottom`` inside, 1 cm above the floor (a
+    tenth of the height for lower boxes), as a carton's.
 
     Parameters
     ----------
     length, width, height : float
         Extent along local x, y, z in metres.
     top : bool
-        False: an open box (no lid); its faces are then seen from inside too.
+        False: an open box (no lid); its faces and its bottom are then seen from inside.
     """
     lx, wy, h = (_positive(n, v) for n, v in (("box length", length), ("box width", width),
                                               ("box height", height)))
@@ -197,6 +198,8 @@ def box_geometry(length: float, width: float, height: float, object_index: int =
     b = _Builder(object_index)
     if top:
         b.add("top", _rect_z(h, x0, x1, y0, y1))
+    else:
+        b.add("bottom", _rect_z(min(0.01, h / 10), x0, x1, y0, y1))
     b.add("face", _rect_x(x0, y0, y1, 0, h))
     b.add("face", _rect_x(x1, y0, y1, 0, h))
     b.add("face", _rect_y(y0, x0, x1, 0, h))

@@ -10,8 +10,8 @@ anyone decide the class:
   the scene records how many pixels the object would cover alone in an unbounded view
   (varied world).  Staircases and ramps are long: half of them reach out of the image, and
   the part seen still shows their steps or slope, which the next test asks for;
-* its planes show what makes the class: a box two of its faces (top or sides: one face is
-  a plain rectangle, as a door, a shelf's side or a wall), a staircase two steps (treads or
+* its planes show what makes the class: a box two of its faces (top, sides or an open
+  box's bottom: one face is a plain rectangle, as a door, a shelf's side or a wall), a staircase two steps (treads or
   risers), a ramp its slope; an ``other`` object any plane.
 
 The other objects keep their planes in the scene's facts but are no example: they are left
@@ -34,7 +34,7 @@ REASONS = ("no plane found", "planes do not match (IoU)", "mostly hidden", "one 
 
 #: Plane roles that show a class (per class: roles, how many distinct planes are needed).
 _EVIDENCE = {
-    "box": (("top", "face"), 2, "one face"),
+    "box": (("top", "face", "bottom"), 2, "one face"),
     "stairs": (("tread", "riser"), 2, "fewer than two steps"),
     "ramp": (("slope",), 1, "slope not seen"),
 }

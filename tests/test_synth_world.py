@@ -183,7 +183,11 @@ def test_clutter_builders():
     assert max(p.vertices[:, 2].max() for p in g.polygons) == pytest.approx(0.75)
     assert sum(sp.role == "leg" for sp in g.planes) == 16
     assert len(sg.cylinder_geometry(0.2, 1.0, facets=12).planes) == 13
-    assert [p.role for p in sg.box_geometry(1, 1, 1, top=False).planes] == ["face"] * 4
+    g = sg.box_geometry(1, 1, 0.05, top=False)  # an open box: its bottom inside, no top
+    assert [p.role for p in g.planes] == ["bottom"] + ["face"] * 4
+    assert g.polygons[0].vertices[:, 2] == pytest.approx([0.005] * 4)  # a tenth of 5 cm
+    assert sg.box_geometry(1, 1, 0.5, top=False).polygons[0].vertices[:, 2] == \
+        pytest.approx([0.01] * 4)
 
 
 @pytest.mark.parametrize("call,match", [
