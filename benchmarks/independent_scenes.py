@@ -1,0 +1,514 @@
+"""Independent judge scenes: box / stairs / ramp / clutter scenes made WITHOUT planerel's generators.
+
+Nothing here imports ``planerel.synth*``: the geometry is built as trimesh meshes (world z up,
+floor ``z = 0``, metres), the depth image is ray cast by this file's own vectorised
+Moller-Trumbore routine (trimesh's ``ray`` module needs ``rtree``, which planerel does not
+install), the camera poses, dimensions and sensor noise are drawn here.  Each scene is written as
+
+``iNNNN.npy``          ``(H, W, 3)`` float32 XYZ in the camera frame (x right, y down, z forward), NaN = missing
+``iNNNN.json``         sidecar: ``intrinsics``, ``up`` (camera frame), ``objects`` [{index, class, kind}], ``params``
+``iNNNN.objects.npy``  ``(H, W)`` int32 truth: ``k >= 1`` object k, 0 environment (floor, walls, landings), -1 missing
+
+which :func:`planerel.io.read` reads as is (the sidecar gives the up vector).  Classes: ``box``,
+``stairs``, ``ramp`` and ``other`` (tables, chairs, cylinders, laptops).
+
+Usage::
+
+    python benchmarks/independent_scenes.py make OUT_DIR [--n 60] [--seed 7] [--size 160x120]
+    python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR]
+
+``score`` classifies every scene with each model (:class:`planerel.classify.Classifier`, the code
+behind ``planerel classify --json``), matches the proposals to the labelled objects
+(:func:`planerel.object_eval.score_objects`, IoU >= 0.5) and prints per model the object accuracy
+per class, the confusion matrix, and how many objects got no proposal.  Same seed, same scenes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+CLASSES = ("box", "stairs", "ramp", "other")
+
+# ----------------------------------------------------------------------------- geometry
+
+
+def _box(extents, center, yaw=0.0):
+    m = trimesh.creation.box(extents=extents)
+    T = trimesh.transformations.rotation_matrix(yaw, [0, 0, 1])
+    T[:3, 3] = center
+    m.apply_transform(T)
+    return m
+
+
+def _place(mesh, x, y, yaw):
+    """Rotate a mesh built at the origin by ``yaw`` about z and move it to (x, y)."""
+    T = trimesh.transformations.rotation_matrix(yaw, [0, 0, 1])
+    T[:3, 3] = [x, y, 0.0]
+    mesh.apply_transform(T)
+    return mesh
+
+
+def staircase(n, rise, run, width, side_walls):
+    """Stairs ascending along +x from x = 0; each step a solid block to the floor.
+
+    Returns (stairs mesh, list of environment meshes (side walls))."""
+    steps = [_box((run, width, (i + 1) * rise), ((i + 0.5) * run, 0.0, (i + 1) * rise / 2))
+             for i in range(n)]
+    walls = []
+    if side_walls:
+        h = n * rise + 0.9
+        for s in (-1, 1):
+            walls.append(_box((n * run + 0.4, 0.08, h), (n * run / 2, s * (width / 2 + 0.04), h / 2)))
+    return trimesh.util.concatenate(steps), walls
+
+
+def ramp(length, angle_deg, width):
+    """A wedge rising along +x from z = 0 at x = 0 to its top at x = length."""
+    h = length * np.tan(np.radians(angle_deg))
+    w = width / 2
+    pts = np.array([[0, -w, 0], [0, w, 0], [length, -w, 0], [length, w, 0],
+                    [length, -w, h], [length, w, h]], float)
+    return trimesh.convex.convex_hull(pts)
+
+
+def table(rng):
+    L, W, H = rng.uniform(0.6, 1.4), rng.uniform(0.5, 0.9), rng.uniform(0.65, 0.78)
+    t = 0.03
+    parts = [_box((L, W, t), (0, 0, H - t / 2))]
+    for sx in (-1, 1):
+        for sy in (-1, 1):
+            parts.append(_box((0.05, 0.05, H - t), (sx * (L / 2 - 0.05), sy * (W / 2 - 0.05), (H - t) / 2)))
+    return trimesh.util.concatenate(parts)
+
+
+def chair(rng):
+    s, H = rng.uniform(0.38, 0.48), rng.uniform(0.42, 0.48)
+    parts = [_box((s, s, 0.04), (0, 0, H)),
+             _box((0.03, s, rng.uniform(0.35, 0.5)), (-s / 2, 0, H + 0.22))]
+    for sx in (-1, 1):
+        for sy in (-1, 1):
+            parts.append(_box((0.03, 0.03, H), (sx * (s / 2 - 0.02), sy * (s / 2 - 0.02), H / 2)))
+    return trimesh.util.concatenate(parts)
+
+
+def cylinder(rng):
+    r, h = rng.uniform(0.08, 0.3), rng.uniform(0.2, 1.0)
+    m = trimesh.creation.cylinder(radius=r, height=h, sections=24)
+    m.apply_translation([0, 0, h / 2])
+    return m
+
+
+def laptop(rng):
+    w, d = rng.uniform(0.3, 0.4), rng.uniform(0.22, 0.28)
+    base = _box((d, w, 0.02), (0, 0, 0.01))
+    lid = _box((0.008, w, d), (0, 0, d / 2))
+    open_deg = rng.uniform(95, 125)  # lid angle to the base
+    T = trimesh.transformations.rotation_matrix(np.radians(open_deg - 90), [0, 1, 0])
+    lid.apply_transform(T)
+    lid.apply_translation([-d / 2, 0, 0.02])
+    return trimesh.util.concatenate([base, lid])
+
+
+# ----------------------------------------------------------------------------- scenes
+
+
+def build_scene(kind, rng):
+    """Meshes of one scene around a primary object of class ``kind``.
+
+    Returns
+    -------
+    meshes : list of (trimesh.Trimesh, int)
+        Each mesh with its object index (0 = environment).
+    objects : list of dict
+        ``{index, class, kind}`` for index 1, 2, ...
+    target : ndarray (3,)
+        The point the camera looks towards (the primary object's middle).
+    info : dict
+        Drawn parameters; ``camera_side`` (yaw the camera looks along), ``eye_floor`` (floor
+        height under the camera).
+    """
+    floor = _box((30, 30, 0.02), (0, 0, -0.01))
+    meshes = [(floor, 0)]
+    objects = []
+    info = {"kind": kind}
+    look_yaw = rng.uniform(-np.pi, np.pi)  # direction the camera looks along (horizontal)
+    eye_floor = 0.0
+    taken = []  # (x, y, radius) footprints to keep clutter apart
+
+    def add(mesh, klass, sub):
+        objects.append({"index": len(objects) + 1, "class": klass, "kind": sub})
+        meshes.append((mesh, len(objects)))
+
+    if kind == "box":
+        n = int(rng.integers(1, 4))
+        tall = rng.random() < 0.35  # camera below the top: the top is out of view
+        wall = rng.random() < 0.4
+        yaw = rng.uniform(-np.pi, np.pi)
+        c, s = np.cos(yaw), np.sin(yaw)
+        x0 = 0.0
+        dims = []
+        for i in range(n):
+            e = np.array([rng.uniform(0.15, 1.0), rng.uniform(0.15, 1.0),
+                          rng.uniform(0.5, 1.1) if tall else rng.uniform(0.1, 0.8)])
+            touching = i > 0 and rng.random() < 0.6
+            gap = 0.0 if touching else rng.uniform(0.25, 0.6)
+            if i > 0:
+                x0 += dims[-1][0] / 2 + gap + e[0] / 2
+            dims.append(e)
+            ctr = np.array([x0 * c, x0 * s, e[2] / 2])
+            add(_box(e, ctr, yaw), "box", "touching box" if touching else ("tall box" if tall else "box"))
+        info.update(n_boxes=n, tall=tall, wall=wall, dims=[d.round(3).tolist() for d in dims])
+        span = x0 + dims[0][0] / 2 + dims[-1][0] / 2
+        target = np.array([x0 / 2 * c, x0 / 2 * s, 0.3])
+        if wall:  # a wall touching the boxes' backs
+            depth = max(d[1] for d in dims)
+            off = np.array([-s, c]) * (depth / 2 + 0.05)
+            wc = np.array([x0 / 2 * c, x0 / 2 * s]) + off
+            meshes.append((_box((span + 3, 0.1, 2.5), (wc[0], wc[1], 1.25), yaw), 0))
+            look_yaw = yaw + np.pi / 2 + rng.uniform(-0.6, 0.6)  # look at the wall's front
+        taken.append((target[0], target[1], span / 2 + 0.6))
+    elif kind == "stairs":
+        n = int(rng.integers(2, 11))
+        rise, run = rng.uniform(0.14, 0.21), rng.uniform(0.22, 0.35)
+        width = rng.uniform(0.8, 1.6)
+        walls = rng.random() < 0.5
+        down = rng.random() < 0.35
+        st, ws = staircase(n, rise, run, width, walls)
+        yaw = rng.uniform(-np.pi, np.pi)
+        _place(st, 0, 0, yaw)
+        add(st, "stairs", "descending stairs" if down else "ascending stairs")
+        for w in ws:
+            meshes.append((_place(w, 0, 0, yaw), 0))
+        c, s = np.cos(yaw), np.sin(yaw)
+        if down:  # a landing at the top, the camera on it looking down the flight
+            land = _box((3.0, width + (0.16 if walls else 0.0) + 2, n * rise), (n * run + 1.5, 0, n * rise / 2))
+            meshes.append((_place(land, 0, 0, yaw), 0))
+            eye_floor = n * rise
+            look_yaw = yaw + np.pi + rng.uniform(-0.5, 0.5)
+            target = np.array([n * run / 2 * c, n * run / 2 * s, n * rise / 2])
+        else:
+            look_yaw = yaw + rng.uniform(-0.7, 0.7)
+            target = np.array([n * run / 2 * c, n * run / 2 * s, n * rise / 2])
+        info.update(steps=n, rise=round(rise, 3), run=round(run, 3), width=round(width, 3),
+                    side_walls=walls, descending=down)
+        taken.append((target[0], target[1], n * run / 2 + width / 2 + 0.6))
+    elif kind == "ramp":
+        L, a, w = rng.uniform(1.0, 4.0), rng.uniform(4.0, 20.0), rng.uniform(0.8, 2.0)
+        r = ramp(L, a, w)
+        yaw = rng.uniform(-np.pi, np.pi)
+        r.apply_translation([-L / 2, 0, 0])
+        _place(r, 0, 0, yaw)
+        add(r, "ramp", "ramp")
+        target = np.array([0.0, 0.0, L * np.tan(np.radians(a)) / 3])
+        info.update(length=round(L, 3), angle_deg=round(a, 2), width=round(w, 3))
+        taken.append((0.0, 0.0, L / 2 + 0.6))
+    else:
+        raise ValueError(kind)
+    # clutter: 0-2 objects of no class, to the sides of the primary
+    for _ in range(int(rng.integers(0, 3)) if kind != "other" else 0):
+        sub = ["table", "chair", "cylinder", "laptop"][int(rng.integers(0, 4))]
+        m = {"table": table, "chair": chair, "cylinder": cylinder, "laptop": laptop}[sub](rng)
+        rad = float(np.linalg.norm(m.bounds[1, :2] - m.bounds[0, :2])) / 2
+        for _try in range(20):
+            ang = look_yaw + rng.choice([-1, 1]) * rng.uniform(0.6, 1.4)
+            dist = rng.uniform(0.8, 2.2)
+            x, y = target[0] + dist * np.cos(ang), target[1] + dist * np.sin(ang)
+            if all(np.hypot(x - tx, y - ty) > rad + tr for tx, ty, tr in taken):
+                break
+        else:
+            continue
+        taken.append((x, y, rad))
+        add(_place(m, x, y, rng.uniform(-np.pi, np.pi)), "other", sub)
+    info["look_yaw"] = float(look_yaw)
+    info["eye_floor"] = float(eye_floor)
+    return meshes, objects, target, info
+
+
+# ----------------------------------------------------------------------------- camera + rays
+
+
+def camera_pose(target, look_yaw, eye_floor, rng, tall=False):
+    """Eye position and camera axes (right, down, forward as rows of R: x_cam = R (p - eye))."""
+    h = rng.uniform(0.3, 0.5) if tall else rng.uniform(0.3, 2.0)
+    eye_z = eye_floor + h
+    for _ in range(50):
+        D = rng.uniform(0.8, 4.0)
+        pitch = np.arctan2(eye_z - target[2], D)
+        if 0.0 <= pitch <= np.radians(75):
+            break
+    pitch = float(np.clip(pitch + np.radians(rng.uniform(-5, 5)), 0.0, np.radians(75)))
+    eye = np.array([target[0] - D * np.cos(look_yaw), target[1] - D * np.sin(look_yaw), eye_z])
+    yaw = look_yaw + np.radians(rng.uniform(-8, 8))
+    f = np.array([np.cos(pitch) * np.cos(yaw), np.cos(pitch) * np.sin(yaw), -np.sin(pitch)])
+    r = np.array([np.sin(yaw), -np.cos(yaw), 0.0])
+    d = np.cross(f, r)
+    roll = np.radians(rng.uniform(-12, 12))
+    r2 = np.cos(roll) * r + np.sin(roll) * d
+    d2 = np.cross(f, r2)
+    R = np.stack([r2, d2, f])
+    return eye, R, {"height": round(h, 3), "distance": round(D, 3),
+                    "pitch_deg": round(float(np.degrees(pitch)), 2),
+                    "roll_deg": round(float(np.degrees(roll)), 2)}
+
+
+def cast(tri, origin, dirs, chunk=1500):
+    """First hit of each ray on triangles (vectorised Moller-Trumbore).
+
+    Parameters
+    ----------
+    tri : ndarray (T, 3, 3)
+    origin : ndarray (3,)
+    dirs : ndarray (N, 3)
+
+    Returns
+    -------
+    t : ndarray (N,)   distance along the ray (inf = no hit)
+    face : ndarray (N,) int   hit triangle, -1 none
+    """
+    v0 = tri[:, 0]
+    e1 = tri[:, 1] - v0
+    e2 = tri[:, 2] - v0
+    s = origin[None, :] - v0  # (T, 3)
+    q = np.cross(s, e1)  # (T, 3), independent of the ray
+    tq = np.einsum("ij,ij->i", e2, q)
+    N = len(dirs)
+    t_out = np.full(N, np.inf)
+    f_out = np.full(N, -1, np.int64)
+    for a in range(0, N, chunk):
+        D = dirs[a:a + chunk]  # (n, 3)
+        p = np.cross(D[:, None, :], e2[None, :, :])  # (n, T, 3)
+        det = np.einsum("ntk,tk->nt", p, e1)
+        ok = np.abs(det) > 1e-12
+        inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+        u = np.einsum("ntk,tk->nt", p, s) * inv
+        v = (D @ q.T) * inv
+        t = tq[None, :] * inv
+        hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 1e-6)
+        t = np.where(hit, t, np.inf)
+        k = np.argmin(t, axis=1)
+        t_out[a:a + chunk] = t[np.arange(len(D)), k]
+        f_out[a:a + chunk] = np.where(np.isfinite(t_out[a:a + chunk]), k, -1)
+    return t_out, f_out
+
+
+def render(meshes, eye, R, intr, rng, noise=True):
+    """Organized XYZ ``(H, W, 3)`` in the camera frame and the object id per pixel.
+
+    Sensor model (this file's own): depth noise sigma = 1.5 mm + 2.5 mm * z^2, depth
+    quantised in steps of 1 mm * z^2 (coarser far away, as a disparity sensor), 2 %
+    random dropouts, no return beyond 6 m or at grazing incidence (|cos| < 0.1), and half of
+    the pixels at depth jumps > 4 cm dropped.
+    """
+    W, H, fx, fy, cx, cy = intr
+    uu, vv = np.meshgrid(np.arange(W), np.arange(H))
+    rays_cam = np.stack([(uu - cx) / fx, (vv - cy) / fy, np.ones_like(uu, float)], -1).reshape(-1, 3)
+    dirs = rays_cam @ R  # camera -> world (R rows are the axes)
+    dirs_n = dirs / np.linalg.norm(dirs, axis=1, keepdims=True)
+    tri = np.concatenate([m.triangles for m, _ in meshes])
+    normals = np.concatenate([m.face_normals for m, _ in meshes])
+    owner = np.concatenate([np.full(len(m.faces), k) for m, k in meshes])
+    t, face = cast(tri, eye, dirs_n)
+    z = t / np.linalg.norm(rays_cam, axis=1)  # range along the ray -> depth along z
+    valid = face >= 0
+    truth = np.where(valid, owner[np.maximum(face, 0)], -1)
+    cosi = np.abs(np.einsum("ij,ij->i", normals[np.maximum(face, 0)], dirs_n))
+    if noise:
+        valid &= z < 6.0
+        valid &= cosi > 0.1
+        valid &= rng.random(len(z)) > 0.02
+        zz = np.where(valid, z, 1.0)
+        zz = zz + rng.normal(0, 1, len(z)) * (0.0015 + 0.0025 * zz ** 2)
+        step = 0.001 * zz ** 2
+        zz = np.round(zz / step) * step
+        z = zz
+    z = np.where(valid, z, np.nan).reshape(H, W)
+    truth = np.where(valid, truth, -1).reshape(H, W)
+    if noise:
+        zp = np.nan_to_num(z, nan=1e3)
+        jump = np.zeros((H, W), bool)
+        jump[:, 1:] |= np.abs(np.diff(zp, axis=1)) > 0.04
+        jump[1:, :] |= np.abs(np.diff(zp, axis=0)) > 0.04
+        drop = jump & (rng.random((H, W)) < 0.5) & np.isfinite(z)
+        z[drop] = np.nan
+        truth[drop] = -1
+    xyz = rays_cam.reshape(H, W, 3) * z[..., None]
+    return xyz.astype(np.float32), truth.astype(np.int32)
+
+
+def make_scene(i, seed, size=(160, 120), noise=True):
+    """Scene ``i`` of the set of ``seed``: (xyz, truth, sidecar dict, meshes, eye, R)."""
+    rng = np.random.default_rng([seed, i])
+    kind = ("box", "stairs", "ramp")[i % 3]
+    meshes, objects, target, info = build_scene(kind, rng)
+    eye, R, cam = camera_pose(target, info["look_yaw"], info["eye_floor"], rng,
+                              tall=bool(info.get("tall")))
+    W, H = size
+    hfov = np.radians(rng.uniform(55, 70))
+    fx = (W / 2) / np.tan(hfov / 2)
+    intr = (W, H, fx, fx, (W - 1) / 2, (H - 1) / 2)
+    xyz, truth = render(meshes, eye, R, intr, rng, noise=noise)
+    up = R @ np.array([0.0, 0.0, 1.0])
+    side = {"format": "independent-scene", "version": 1, "scene_id": f"i{i:04d}", "class": kind,
+            "intrinsics": {"width": W, "height": H, "fx": float(fx), "fy": float(fx),
+                           "cx": (W - 1) / 2, "cy": (H - 1) / 2},
+            "up": up.round(9).tolist(),
+            "world_to_camera": np.vstack([np.hstack([R, (-R @ eye)[:, None]]), [0, 0, 0, 1]]).round(9).tolist(),
+            "objects": objects, "params": {**info, "camera": cam}}
+    return xyz, truth, side, meshes, eye, R
+
+
+def _write_json(path, obj):
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text(json.dumps(obj, indent=1, sort_keys=True))
+    tmp.replace(path)
+
+
+def _write_npy(path, arr):
+    tmp = path.with_name(path.name + ".tmp.npy")
+    np.save(tmp, arr)
+    tmp.replace(path)
+
+
+def make_set(out, n, seed, size):
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    for i in range(n):
+        xyz, truth, side, *_ = make_scene(i, seed, size)
+        sid = side["scene_id"]
+        _write_npy(out / f"{sid}.npy", xyz)
+        _write_npy(out / f"{sid}.objects.npy", truth)
+        _write_json(out / f"{sid}.json", side)
+    dt = time.perf_counter() - t0
+    _write_json(out / "independent.json", {"seed": seed, "n": n, "size": list(size)})
+    print(f"made {n} scenes ({size[0]}x{size[1]}) in {dt:.1f} s, {1000 * dt / max(n, 1):.0f} ms/scene -> {out}")
+
+
+# ----------------------------------------------------------------------------- scoring
+
+
+def score_set(out, models, figures=None, min_iou=0.5):
+    from planerel import io
+    from planerel.classify import Classifier, explanation_image
+    from planerel.object_eval import proposal_image, score_objects
+
+    out = Path(out)
+    scenes = sorted(p for p in out.glob("i[0-9][0-9][0-9][0-9].npy"))
+    results = {}
+    for mdir in models:
+        rows = []
+        t_all = []
+        spurious = 0  # proposals matching no labelled object that got a class
+        with Classifier(mdir) as clf:
+            for p in scenes:
+                side = json.loads(p.with_suffix(".json").read_text())
+                truth = np.load(p.with_name(p.stem + ".objects.npy"))
+                cloud = io.read(p)
+                ans = clf.classify(cloud, scene_id=p.stem)
+                t_all.append(ans.seconds)
+                prop = proposal_image(ans.labels, [o.labels for o in ans.objects])
+                types = {o["index"]: o["class"] for o in side["objects"]}
+                sc = score_objects(prop, truth, types=types, min_iou=min_iou)
+                matched = set()
+                bad = False
+                for o in side["objects"]:
+                    k = o["index"]
+                    if k not in sc.best_iou:  # not visible at all
+                        continue
+                    iou = sc.best_iou[k]
+                    pred = ans.objects[sc.best_prop[k]].klass if iou >= min_iou else "none"
+                    if iou >= min_iou:
+                        matched.add(sc.best_prop[k])
+                    rows.append({"scene": p.stem, "object": k, "class": o["class"], "kind": o["kind"],
+                                 "pred": pred, "iou": round(iou, 3),
+                                 "pixels": int((truth == k).sum())})
+                    ok = pred == o["class"] or (o["class"] == "other" and pred == "none")
+                    bad |= not ok
+                extra = [o.klass for j, o in enumerate(ans.objects)
+                         if j not in matched and o.klass != "other"]
+                spurious += len(extra)
+                if figures and (bad or extra):
+                    from PIL import Image
+                    fd = Path(figures) / Path(mdir).name
+                    fd.mkdir(parents=True, exist_ok=True)
+                    Image.fromarray(explanation_image(ans, cloud.depth)).save(fd / f"{p.stem}.png")
+        results[str(mdir)] = summarize(rows, spurious, len(scenes), t_all)
+        print_summary(str(mdir), results[str(mdir)], rows)
+    return results
+
+
+def summarize(rows, spurious, n_scenes, times):
+    preds = CLASSES + ("none",)
+    conf = {c: {q: 0 for q in preds} for c in CLASSES}
+    for r in rows:
+        conf[r["class"]][r["pred"]] += 1
+    per = {}
+    for c in CLASSES:
+        tot = sum(conf[c].values())
+        right = conf[c][c] + (conf[c]["none"] if c == "other" else 0)
+        per[c] = {"objects": tot, "correct": right, "accuracy": right / tot if tot else None,
+                  "no_proposal": conf[c]["none"]}
+    tot = sum(p["objects"] for p in per.values())
+    cls = [c for c in CLASSES if c != "other"]
+    tc = sum(per[c]["objects"] for c in cls)
+    return {"scenes": n_scenes, "objects": tot,
+            "accuracy": sum(p["correct"] for p in per.values()) / tot,
+            "accuracy_classes": sum(per[c]["correct"] for c in cls) / tc,
+            "per_class": per, "confusion": conf, "spurious_class_answers": spurious,
+            "ms_per_scene": 1000 * float(np.mean(times))}
+
+
+def print_summary(name, s, rows):
+    print(f"\n== model {name}: {s['scenes']} scenes, {s['objects']} visible objects, "
+          f"{s['ms_per_scene']:.0f} ms/scene classify")
+    print(f"object accuracy {s['accuracy']:.3f} (box/stairs/ramp only {s['accuracy_classes']:.3f}); "
+          f"class answers on proposals matching no object: {s['spurious_class_answers']}")
+    for c, p in s["per_class"].items():
+        acc = "-" if p["accuracy"] is None else f"{p['accuracy']:.3f}"
+        print(f"  {c:7s} {p['correct']:3d}/{p['objects']:3d} = {acc}   no proposal: {p['no_proposal']}")
+    preds = CLASSES + ("none",)
+    print("  confusion (rows true, columns predicted; none = no proposal at IoU >= 0.5)")
+    print("  " + " " * 8 + "".join(f"{q:>8s}" for q in preds))
+    for c in CLASSES:
+        print("  " + f"{c:>8s}" + "".join(f"{s['confusion'][c][q]:8d}" for q in preds))
+    by_kind = {}
+    for r in rows:
+        d = by_kind.setdefault(r["kind"], [0, 0])
+        d[0] += 1
+        d[1] += r["pred"] == r["class"] or (r["class"] == "other" and r["pred"] == "none")
+    print("  by kind: " + ", ".join(f"{k} {v[1]}/{v[0]}" for k, v in sorted(by_kind.items())))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    m = sub.add_parser("make")
+    m.add_argument("out")
+    m.add_argument("--n", type=int, default=60)
+    m.add_argument("--seed", type=int, default=7)
+    m.add_argument("--size", default="160x120")
+    s = sub.add_parser("score")
+    s.add_argument("out")
+    s.add_argument("models", nargs="+")
+    s.add_argument("--figures")
+    s.add_argument("--json")
+    a = ap.parse_args(argv)
+    if a.cmd == "make":
+        W, H = (int(v) for v in a.size.lower().split("x"))
+        make_set(a.out, a.n, a.seed, (W, H))
+    else:
+        res = score_set(a.out, a.models, a.figures)
+        if a.json:
+            _write_json(Path(a.json), res)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,91 @@
+"""The independent judge scenes (benchmarks/independent_scenes.py): labels and depth agree with
+the meshes they were cast from, and planerel reads the files as written."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+_SPEC = importlib.util.spec_from_file_location(
+    "independent_scenes", Path(__file__).resolve().parents[1] / "benchmarks" / "independent_scenes.py")
+ind = importlib.util.module_from_spec(_SPEC)
+_SPEC.loader.exec_module(ind)
+
+
+def _cam_to_world(xyz, R, eye):
+    return xyz.reshape(-1, 3).astype(float) @ R + eye  # R rows = camera axes in the world
+
+
+def _box_scene():
+    """A 0.6 x 0.4 x 0.5 box centred at the origin on the floor, seen from 2 m, 0.8 m high."""
+    box = ind._box((0.6, 0.4, 0.5), (0, 0, 0.25))
+    floor = ind._box((30, 30, 0.02), (0, 0, -0.01))
+    rng = np.random.default_rng(0)
+    eye, R, _ = ind.camera_pose(np.array([0.0, 0.0, 0.25]), 0.3, 0.0, rng)
+    return [(floor, 0), (box, 1)], eye, R
+
+
+def test_noiseless_box_pixels_lie_on_the_box_surface_and_floor_pixels_on_the_floor():
+    meshes, eye, R = _box_scene()
+    intr = (80, 60, 70.0, 70.0, 39.5, 29.5)
+    xyz, truth = ind.render(meshes, eye, R, intr, np.random.default_rng(1), noise=False)
+    p = _cam_to_world(xyz, R, eye)
+    t = truth.ravel()
+    assert (t == 1).sum() > 50 and (t == 0).sum() > 50
+    # a point on the box's surface: its largest normalised coordinate is exactly 1
+    half = np.array([0.3, 0.2, 0.25])
+    q = np.abs(p[t == 1] - [0, 0, 0.25]) / half
+    np.testing.assert_allclose(q.max(axis=1), 1.0, atol=1e-6)
+    np.testing.assert_allclose(p[t == 0, 2], 0.0, atol=1e-6)
+
+
+def test_noisy_depth_of_the_top_face_agrees_with_the_ray_plane_intersection_within_noise():
+    meshes, eye, R = _box_scene()
+    intr = (80, 60, 70.0, 70.0, 39.5, 29.5)
+    W, H, fx, fy, cx, cy = intr
+    xyz, truth = ind.render(meshes, eye, R, intr, np.random.default_rng(2), noise=True)
+    # exact depth of the top face z = 0.5 along each pixel's ray, computed here analytically
+    uu, vv = np.meshgrid(np.arange(W), np.arange(H))
+    ray = np.stack([(uu - cx) / fx, (vv - cy) / fy, np.ones((H, W))], -1).reshape(-1, 3)
+    d = ray @ R  # world direction per unit camera depth
+    z_true = (0.5 - eye[2]) / d[:, 2]  # camera depth where the ray meets z = 0.5
+    hit = eye + z_true[:, None] * d
+    on_top = (z_true > 0) & (np.abs(hit[:, 0]) < 0.29) & (np.abs(hit[:, 1]) < 0.19)
+    t = truth.ravel()
+    z = xyz.reshape(-1, 3)[:, 2].astype(float)
+    sel = on_top & (t == 1)
+    assert sel.sum() > 20
+    # every valid pixel whose ray meets the top face is labelled the box
+    assert np.all(t[on_top & np.isfinite(z)] == 1)
+    # noise 1.5 mm + 2.5 mm z^2 (3 sigma) plus the quantisation step 1 mm z^2
+    zt = z_true[sel]
+    bound = 3 * (0.0015 + 0.0025 * zt ** 2) + 0.001 * zt ** 2 + 1e-4
+    assert np.mean(np.abs(z[sel] - zt) <= bound) > 0.97
+    assert np.std(z[sel] - zt) > 0.0005  # the noise is there
+    assert np.all(np.isnan(xyz.reshape(-1, 3)[t == -1]).all(axis=1))
+
+
+def test_written_scene_reads_back_with_its_up_vector_and_truth(tmp_path):
+    from planerel import io
+
+    ind.make_set(tmp_path, 1, 5, (80, 60))
+    cloud = io.read(tmp_path / "i0000.npy")
+    xyz = np.load(tmp_path / "i0000.npy")
+    truth = np.load(tmp_path / "i0000.objects.npy")
+    assert cloud.xyz.shape == (60, 80, 3)
+    np.testing.assert_array_equal(np.isnan(cloud.xyz[..., 2]), np.isnan(xyz[..., 2]))
+    np.testing.assert_array_equal(truth == -1, np.isnan(xyz[..., 2]))
+    # same seed, same scene (deterministic)
+    xyz2, truth2, side, _m, eye, R = ind.make_scene(0, 5, (80, 60))
+    np.testing.assert_array_equal(truth2, truth)
+    np.testing.assert_allclose(cloud.up, R @ [0, 0, 1], atol=1e-8)
+
+
+@pytest.mark.parametrize("n,rise,run", [(3, 0.17, 0.3)])
+def test_staircase_treads_are_at_multiples_of_the_rise(n, rise, run):
+    st, _ = ind.staircase(n, rise, run, 1.0, False)
+    tops = sorted({round(float(z), 9) for z in st.vertices[:, 2]})
+    np.testing.assert_allclose(tops, [0.0] + [rise * (i + 1) for i in range(n)], atol=1e-9)
