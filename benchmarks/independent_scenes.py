@@ -187,10 +187,12 @@ def build_scene(kind, rng):
         for w in ws:
             meshes.append((_place(w, 0, 0, yaw), 0))
         c, s = np.cos(yaw), np.sin(yaw)
-        if down:  # a landing at the top, the camera on it looking down the flight
-            land = _box((3.0, width + (0.16 if walls else 0.0) + 2, n * rise), (n * run + 1.5, 0, n * rise / 2))
+        if down:  # a landing one rise above the top tread (its nose is the first riser down),
+            # the camera on it looking down the flight
+            hl = (n + 1) * rise
+            land = _box((3.0, width + (0.16 if walls else 0.0) + 2, hl), (n * run + 1.5, 0, hl / 2))
             meshes.append((_place(land, 0, 0, yaw), 0))
-            eye_floor = n * rise
+            eye_floor = hl
             look_yaw = yaw + np.pi + rng.uniform(-0.5, 0.5)
             target = np.array([n * run / 2 * c, n * run / 2 * s, n * rise / 2])
         else:
