@@ -15,12 +15,12 @@ which :func:`planerel.io.read` reads as is (the sidecar gives the up vector).  C
 Usage::
 
     python benchmarks/independent_scenes.py make OUT_DIR [--n 60] [--seed 7] [--size 160x120]
-    python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR]
+    python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150]
 
 ``score`` classifies every scene with each model (:class:`planerel.classify.Classifier`, the code
 behind ``planerel classify --json``), matches the proposals to the labelled objects
-(:func:`planerel.object_eval.score_objects`, IoU >= 0.5) and prints per model the object accuracy
-per class, the confusion matrix, and how many objects got no proposal.  Same seed, same scenes.
+(:func:`planerel.object_eval.score_objects`, IoU >= 0.5) and prints per model, over the objects with at least ``--min-pixels`` valid pixels, the object
+accuracy per class, the confusion matrix, and how many objects got no proposal.  Same seed, same scenes.
 """
 
 from __future__ import annotations
@@ -396,7 +396,7 @@ def make_set(out, n, seed, size):
 # ----------------------------------------------------------------------------- scoring
 
 
-def score_set(out, models, figures=None, min_iou=0.5):
+def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150):
     from planerel import io
     from planerel.classify import Classifier, explanation_image
     from planerel.object_eval import proposal_image, score_objects
@@ -422,8 +422,8 @@ def score_set(out, models, figures=None, min_iou=0.5):
                 bad = False
                 for o in side["objects"]:
                     k = o["index"]
-                    if k not in sc.best_iou:  # not visible at all
-                        continue
+                    if k not in sc.best_iou or (truth == k).sum() < min_pixels:
+                        continue  # not visible, or under min_pixels (1 % of 160x120): not judged
                     iou = sc.best_iou[k]
                     pred = ans.objects[sc.best_prop[k]].klass if iou >= min_iou else "none"
                     if iou >= min_iou:
@@ -501,12 +501,14 @@ def main(argv=None):
     s.add_argument("models", nargs="+")
     s.add_argument("--figures")
     s.add_argument("--json")
+    s.add_argument("--min-pixels", type=int, default=150,
+                   help="judge only objects with at least this many valid pixels (default 150)")
     a = ap.parse_args(argv)
     if a.cmd == "make":
         W, H = (int(v) for v in a.size.lower().split("x"))
         make_set(a.out, a.n, a.seed, (W, H))
     else:
-        res = score_set(a.out, a.models, a.figures)
+        res = score_set(a.out, a.models, a.figures, min_pixels=a.min_pixels)
         if a.json:
             _write_json(Path(a.json), res)
     return 0
