@@ -8,6 +8,7 @@ install), the camera poses, dimensions and sensor noise are drawn here.  Each sc
 ``iNNNN.npy``          ``(H, W, 3)`` float32 XYZ in the camera frame (x right, y down, z forward), NaN = missing
 ``iNNNN.json``         sidecar: ``intrinsics``, ``up`` (camera frame), ``objects`` [{index, class, kind}], ``params``
 ``iNNNN.objects.npy``  ``(H, W)`` int32 truth: ``k >= 1`` object k, 0 environment (floor, walls, landings), -1 missing
+``iNNNN.planes.npy``   ``(H, W)`` int32 true plane id (coplanar faces of one object), -1 missing
 
 which :func:`planerel.io.read` reads as is (the sidecar gives the up vector).  Classes: ``box``,
 ``stairs``, ``ramp`` and ``other`` (tables, chairs, cylinders, laptops).
@@ -300,8 +301,22 @@ def cast(tri, origin, dirs, chunk=1500):
     return t_out, f_out
 
 
-def render(meshes, eye, R, intr, rng, noise=True):
-    """Organized XYZ ``(H, W, 3)`` in the camera frame and the object id per pixel.
+def plane_ids(meshes):
+    """A plane id per face of the concatenated meshes: faces of one object with the same normal
+    and offset (to 1 mm / 0.001) share an id.  Returns ndarray (F,) int."""
+    keys = {}
+    out = []
+    for m, k in meshes:
+        n = m.face_normals
+        off = np.einsum("ij,ij->i", n, m.triangles[:, 0])
+        for a, b in zip(np.round(n, 3).tolist(), np.round(off, 3).tolist()):
+            out.append(keys.setdefault((k, *a, b), len(keys)))
+    return np.asarray(out)
+
+
+def render(meshes, eye, R, intr, rng, noise=True, planes=False):
+    """Organized XYZ ``(H, W, 3)`` in the camera frame and the object id per pixel (and with
+    ``planes`` the true plane id per pixel, -1 missing, as a third result).
 
     Sensor model (this file's own): depth noise sigma = 1.5 mm + 2.5 mm * z^2, depth
     quantised in steps of 1 mm * z^2 (coarser far away, as a disparity sensor), 2 %
@@ -317,6 +332,7 @@ def render(meshes, eye, R, intr, rng, noise=True):
     normals = np.concatenate([m.face_normals for m, _ in meshes])
     owner = np.concatenate([np.full(len(m.faces), k) for m, k in meshes])
     t, face = cast(tri, eye, dirs_n)
+    pid = np.where(face >= 0, plane_ids(meshes)[np.maximum(face, 0)], -1) if planes else None
     z = t / np.linalg.norm(rays_cam, axis=1)  # range along the ray -> depth along z
     valid = face >= 0
     truth = np.where(valid, owner[np.maximum(face, 0)], -1)
@@ -341,6 +357,9 @@ def render(meshes, eye, R, intr, rng, noise=True):
         z[drop] = np.nan
         truth[drop] = -1
     xyz = rays_cam.reshape(H, W, 3) * z[..., None]
+    if planes:
+        pid = np.where(np.isfinite(z), pid.reshape(H, W), -1).astype(np.int32)
+        return xyz.astype(np.float32), truth.astype(np.int32), pid
     return xyz.astype(np.float32), truth.astype(np.int32)
 
 
@@ -355,7 +374,7 @@ def make_scene(i, seed, size=(160, 120), noise=True):
     hfov = np.radians(rng.uniform(55, 70))
     fx = (W / 2) / np.tan(hfov / 2)
     intr = (W, H, fx, fx, (W - 1) / 2, (H - 1) / 2)
-    xyz, truth = render(meshes, eye, R, intr, rng, noise=noise)
+    xyz, truth, pid = render(meshes, eye, R, intr, rng, noise=noise, planes=True)
     up = R @ np.array([0.0, 0.0, 1.0])
     side = {"format": "independent-scene", "version": 1, "scene_id": f"i{i:04d}", "class": kind,
             "intrinsics": {"width": W, "height": H, "fx": float(fx), "fy": float(fx),
@@ -363,7 +382,7 @@ def make_scene(i, seed, size=(160, 120), noise=True):
             "up": up.round(9).tolist(),
             "world_to_camera": np.vstack([np.hstack([R, (-R @ eye)[:, None]]), [0, 0, 0, 1]]).round(9).tolist(),
             "objects": objects, "params": {**info, "camera": cam}}
-    return xyz, truth, side, meshes, eye, R
+    return xyz, truth, side, meshes, eye, R, pid
 
 
 def _write_json(path, obj):
@@ -383,8 +402,9 @@ def make_set(out, n, seed, size):
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     for i in range(n):
-        xyz, truth, side, *_ = make_scene(i, seed, size)
+        xyz, truth, side, *_, pid = make_scene(i, seed, size)
         sid = side["scene_id"]
+        _write_npy(out / f"{sid}.planes.npy", pid)
         _write_npy(out / f"{sid}.npy", xyz)
         _write_npy(out / f"{sid}.objects.npy", truth)
         _write_json(out / f"{sid}.json", side)
@@ -446,6 +466,32 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150):
     return results
 
 
+def proposals_on_true_planes(out, min_iou=0.5, min_pixels=150):
+    """Found rate per class of planerel's proposals (regiongrow segmentation vs the true planes
+    ``iNNNN.planes.npy``): how much of the proposal loss is segmentation."""
+    from planerel import io
+    from planerel.object_eval import frame_proposals, score_objects
+
+    found = {}
+    for p in sorted(Path(out).glob("i[0-9][0-9][0-9][0-9].npy")):
+        side = json.loads(p.with_suffix(".json").read_text())
+        truth = np.load(p.with_name(p.stem + ".objects.npy"))
+        planes = np.load(p.with_name(p.stem + ".planes.npy"))
+        cloud = io.read(p)
+        for how, lab in (("regiongrow", None), ("true planes", planes)):
+            prop, _d, _ms = frame_proposals(cloud, labels=lab)
+            sc = score_objects(prop, truth, min_iou=min_iou)
+            for o in side["objects"]:
+                k = o["index"]
+                if k in sc.best_iou and (truth == k).sum() >= min_pixels:
+                    d = found.setdefault(how, {}).setdefault(o["class"], [0, 0])
+                    d[0] += sc.best_iou[k] >= min_iou
+                    d[1] += 1
+    for how, d in found.items():
+        print(f"proposals on {how:11s}: " + ", ".join(f"{c} {v[0]}/{v[1]}" for c, v in sorted(d.items())))
+    return found
+
+
 def summarize(rows, spurious, n_scenes, times):
     preds = CLASSES + ("none",)
     conf = {c: {q: 0 for q in preds} for c in CLASSES}
@@ -501,6 +547,8 @@ def main(argv=None):
     s.add_argument("models", nargs="+")
     s.add_argument("--figures")
     s.add_argument("--json")
+    s.add_argument("--true-planes", action="store_true",
+                   help="also count proposals found on the true planes (segmentation's share)")
     s.add_argument("--min-pixels", type=int, default=150,
                    help="judge only objects with at least this many valid pixels (default 150)")
     a = ap.parse_args(argv)
@@ -509,6 +557,8 @@ def main(argv=None):
         make_set(a.out, a.n, a.seed, (W, H))
     else:
         res = score_set(a.out, a.models, a.figures, min_pixels=a.min_pixels)
+        if a.true_planes:
+            res["proposals_found"] = proposals_on_true_planes(a.out, min_pixels=a.min_pixels)
         if a.json:
             _write_json(Path(a.json), res)
     return 0

@@ -79,7 +79,7 @@ def test_written_scene_reads_back_with_its_up_vector_and_truth(tmp_path):
     np.testing.assert_array_equal(np.isnan(cloud.xyz[..., 2]), np.isnan(xyz[..., 2]))
     np.testing.assert_array_equal(truth == -1, np.isnan(xyz[..., 2]))
     # same seed, same scene (deterministic)
-    xyz2, truth2, side, _m, eye, R = ind.make_scene(0, 5, (80, 60))
+    xyz2, truth2, side, _m, eye, R, _pid = ind.make_scene(0, 5, (80, 60))
     np.testing.assert_array_equal(truth2, truth)
     np.testing.assert_allclose(cloud.up, R @ [0, 0, 1], atol=1e-8)
 
@@ -89,3 +89,17 @@ def test_staircase_treads_are_at_multiples_of_the_rise(n, rise, run):
     st, _ = ind.staircase(n, rise, run, 1.0, False)
     tops = sorted({round(float(z), 9) for z in st.vertices[:, 2]})
     np.testing.assert_allclose(tops, [0.0] + [rise * (i + 1) for i in range(n)], atol=1e-9)
+
+
+def test_true_planes_split_the_box_into_its_visible_faces():
+    meshes, eye, R = _box_scene()
+    intr = (80, 60, 70.0, 70.0, 39.5, 29.5)
+    xyz, truth, pid = ind.render(meshes, eye, R, intr, np.random.default_rng(1), noise=False, planes=True)
+    p = _cam_to_world(xyz, R, eye)
+    box_planes = np.unique(pid[truth == 1])
+    assert 2 <= len(box_planes) <= 3  # a box shows at most three faces
+    for k in box_planes:  # each plane's points are coplanar (noiseless)
+        q = p[pid.ravel() == k]
+        c = q - q.mean(axis=0)
+        assert np.linalg.svd(c, compute_uv=False)[-1] / np.sqrt(len(q)) < 1e-6
+    assert len(np.unique(pid[truth == 0])) == 1  # the floor is one plane
