@@ -169,25 +169,14 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES)
     if h < patch or w < patch:
         return empty
     step = max(patch, int(math.ceil(math.sqrt((h - patch + 1) * (w - patch + 1) / max_patches))))
-    win = np.lib.stride_tricks.sliding_window_view(xyz[:, :, 2], (patch, patch))[::step, ::step]
-    zp = win.reshape(-1, patch * patch)
-    with np.errstate(invalid="ignore"):
-        ok = np.all(zp > 0, axis=1)  # NaN compares False
-    zp = zp[ok]
-    n = len(zp)
+    # the patches' plane fits in one compiled pass over the image (no window copies)
+    from planerel.segment._noise_kernels import patch_noise
+
+    zc, sd = patch_noise(xyz[:, :, 2], int(step), int(patch),
+                         _slopes(patch))
+    n = len(zc)
     if n < MIN_PER_BAND:
         return empty
-    inv = 1.0 / zp
-    m = inv.mean(axis=1)
-    q = _slopes(patch)
-    r = inv - m[:, None]
-    # the plane's residuals; einsum, not BLAS: a threaded matrix product of this size costs
-    # ~25 ms on a busy 2-core machine, these loops 0.2 ms
-    c = np.einsum("ij,kj->ik", r, q)
-    r -= np.einsum("ik,kj->ij", c, q)
-    dof = patch * patch - 3
-    zc = 1.0 / m
-    sd = np.sqrt(np.einsum("ij,ij->i", r, r) / dof) * zc * zc
     order = np.argsort(zc, kind="stable")
     zc, sd = zc[order], sd[order]
     nb = max(1, min(MAX_BANDS, n // MIN_PER_BAND))

@@ -317,8 +317,14 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         with np.errstate(invalid="ignore"):
             bent = np.flatnonzero((rms > p.tolerance * exp_rms * scale) & (cnt >= 2 * min_size))
         info["split_tested"] = int(len(bent))
-        for r in bent:
-            pix = np.flatnonzero(lab == r)
+        # the pixels of every tested region from one pass over the image (ascending per region)
+        sel = np.zeros(n + 1, dtype=bool)
+        sel[bent + 1] = True
+        idx = np.flatnonzero(sel[lab + 1])
+        idx = idx[np.argsort(lab[idx], kind="stable")]
+        bounds = np.searchsorted(lab[idx], np.concatenate([bent, bent + 1]))
+        for t, r in enumerate(bent):
+            pix = idx[bounds[t]:bounds[len(bent) + t]]
             piece = _split_one(pix, xyz_flat[pix], normals_of(pix), scale[r],
                                min_size, p, w, cloud.organized,
                                np.random.default_rng([p.seed, int(r)]), stats=info)
@@ -515,16 +521,17 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
     for _ in range(p.max_parts):
         if len(rem) < min_q:
             break
-        best = _ransac(Q[rem], zs[rem], None if NQ is None else NQ[rem], p, rng)
+        Qr, zr = Q[rem], zs[rem]
+        best = _ransac(Qr, zr, None if NQ is None else NQ[rem], p, rng)
         if best is None:
             break
         nr, off = best
         inl = None
         for _it in range(3):  # least-squares refinement on the inliers
-            inl = _cost(Q[rem], zs[rem], nr, off) <= p.inlier_sigmas
+            inl = _cost(Qr, zr, nr, off) <= p.inlier_sigmas
             if inl.sum() < 3:
                 break
-            nr, off = _fit(Q[rem[inl]])
+            nr, off = _fit(Qr[inl])
         if inl is None or inl.sum() < min_q:
             break
         planes.append((nr, off))
