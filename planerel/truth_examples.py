@@ -32,11 +32,13 @@ __all__ = ["ExampleRule", "REASONS", "judge_objects"]
 REASONS = ("no plane found", "planes do not match (IoU)", "mostly hidden", "one face",
            "fewer than two steps", "slope not seen")
 
-#: Plane roles that show a class (per class: roles, how many distinct planes are needed).
+#: Plane roles that show a class: per class the roles, how many distinct planes are needed,
+#: the reason when fewer are shown, and whether they must share one role (two steps are two
+#: treads or two risers: one tread and one riser are one step, shaped like a box).
 _EVIDENCE = {
-    "box": (("top", "face", "bottom"), 2, "one face"),
-    "stairs": (("tread", "riser"), 2, "fewer than two steps"),
-    "ramp": (("slope",), 1, "slope not seen"),
+    "box": (("top", "face", "bottom"), 2, "one face", False),
+    "stairs": (("tread", "riser"), 2, "fewer than two steps", True),
+    "ramp": (("slope",), 1, "slope not seen", False),
 }
 
 
@@ -133,7 +135,7 @@ def judge_objects(labels, gt, meta: dict, groups, object_of_group, classes: dict
             continue
         evidence = _EVIDENCE.get(klass)
         if evidence is not None:
-            roles, need, reason = evidence
+            roles, need, reason, same_role = evidence
             shown = set()
             for x in g:
                 on = gsafe[(lab == x) & truth]
@@ -142,7 +144,8 @@ def judge_objects(labels, gt, meta: dict, groups, object_of_group, classes: dict
                     q = int(best.argmax())
                     if best[q] >= rule.min_plane_pixels and role_of_plane[q] in roles:
                         shown.add(q)
-            if len(shown) < need:
+            per_role = [sum(role_of_plane[q] == r for q in shown) for r in roles]
+            if (max(per_role) if same_role else sum(per_role)) < need:
                 out[k] = reason
                 continue
         out[k] = None

@@ -9,9 +9,10 @@ import pytest
 from planerel.errors import InputError
 from planerel.truth_examples import REASONS, ExampleRule, judge_objects
 
-# plane index: (role, object); objects 1 box, 2 stairs, 3 ramp, 4 other (a plate)
+# plane index: (role, object); objects 1 box, 2 stairs (two treads, one riser), 3 ramp,
+# 4 other (a plate)
 PLANES = [("floor", 0), ("top", 1), ("face", 1), ("tread", 2), ("riser", 2), ("slope", 3),
-          ("side", 3), ("plate", 4)]
+          ("side", 3), ("plate", 4), ("tread", 2)]
 CLASSES = {1: "box", 2: "stairs", 3: "ramp", 4: "other"}
 
 
@@ -25,9 +26,9 @@ def _meta(full=None):
 
 
 def _scene(shown=None):
-    """A 16 x 16 image: plane i fills row block i (2 rows = 32 px) when shown (default: all),
+    """An 18 x 16 image: plane i fills row block i (2 rows = 32 px) when shown (default: all),
     else floor."""
-    gt = np.zeros((16, 16), np.int32)
+    gt = np.zeros((2 * len(PLANES), 16), np.int32)
     for i in range(len(PLANES)) if shown is None else shown:
         gt[2 * i:2 * i + 2] = i
     return gt
@@ -82,7 +83,7 @@ def test_mostly_hidden_applies_to_compact_objects_only():
 
 
 def test_objects_without_planes_are_counted_and_unseen_ones_ignored():
-    gt = _scene(shown=[0, 1, 2, 3, 4, 5])  # the plate (object 4) is not seen
+    gt = _scene(shown=[0, 1, 2, 3, 4, 5, 8])  # the plate (object 4) is not seen
     groups, ks = _groups(gt, gt)
     groups, ks = groups[1:], ks[1:]  # the box's planes were not found
     got = judge_objects(gt, gt, _meta(), groups, ks, CLASSES)
@@ -103,3 +104,12 @@ def test_tiny_planes_do_not_count_as_shown():
 def test_bad_thresholds_are_refused(kw):
     with pytest.raises(InputError):
         ExampleRule(**kw)
+
+
+def test_one_tread_and_one_riser_are_one_step():
+    gt = _scene(shown=[0, 1, 2, 3, 4, 5, 7])  # the second tread (plane 8) not seen
+    groups, ks = _groups(gt, gt)
+    assert judge_objects(gt, gt, _meta(), groups, ks, CLASSES)[2] == "fewer than two steps"
+    gt = _scene(shown=[0, 1, 2, 3, 5, 7, 8])  # two treads, no riser: two steps
+    groups, ks = _groups(gt, gt)
+    assert judge_objects(gt, gt, _meta(), groups, ks, CLASSES)[2] is None
