@@ -52,6 +52,9 @@ class Intrinsics:
     def __post_init__(self) -> None:
         for name in ("width", "height"):
             value = getattr(self, name)
+            # JSON writers often store sizes as 160.0: a whole float is that integer
+            if isinstance(value, (float, np.floating)) and math.isfinite(value) and value == int(value):
+                value = int(value)
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
                 raise InputError(f"intrinsics {name} must be a positive integer, got {value!r}")
             object.__setattr__(self, name, int(value))

@@ -311,6 +311,11 @@ def test_intrinsics_validation_and_forms():
         Intrinsics(10, 10, 0, 1, 5, 5)
     with pytest.raises(InputError, match="width"):
         Intrinsics(0, 10, 1, 1, 5, 5)
+    # a JSON writer's 160.0 is the size 160; 160.5 is not a size
+    assert Intrinsics.from_any({"width": 160.0, "height": 120.0, "fx": 131.25, "fy": 131.25,
+                                "cx": 79.5, "cy": 59.5}).width == 160
+    with pytest.raises(InputError, match="width"):
+        Intrinsics(160.5, 120, 1, 1, 5, 5)
     with pytest.raises(InputError, match="6 values"):
         Intrinsics.from_any([1, 2, 3])
     with pytest.raises(InputError, match="no Kinect preset"):
