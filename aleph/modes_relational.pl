@@ -10,14 +10,20 @@
     plane its orientation, incline, height and size (area, plane_length,
     plane_width), per ordered pair of planes the relations adjacent,
     parallel, perpendicular, above, and the measures angle, gap and rise,
-    and per object its counts of horizontal / vertical / inclined planes.
+    and per object its number of horizontal planes and its oblique share
+    (the share of its area in planes meeting a larger plane of it at an
+    oblique angle: facets of a curved surface, a tilted lid on its base).
+    The counts of vertical and inclined planes are facts but not modes
+    here: "one inclined plane" fired on any tilted fragment and laptop
+    lid, and a rule on them binds no plane; rules about inclined or
+    vertical planes name the plane (orientation/2) and its size.
     Thresholds on every measure come from lteq/2 and gteq/2, evaluated
     lazily over the values of the covered examples, so the bottom clause
     holds one comparison per value and the search picks the cut-off.
 
     Types: obj, plane, orient, and one type per measure (incline, height,
-    area, plength, pwidth, angle, gap, rise, nhorizontal, nvertical,
-    ninclined), so that Aleph never joins or compares equal numbers of
+    area, plength, pwidth, angle, gap, rise, nhorizontal, oblique, pfrac),
+    so that Aleph never joins or compares equal numbers of
     different measures.  The pair measures take two planes already in the
     clause (+plane, +plane): they describe pairs, they never introduce one.
 
@@ -51,10 +57,10 @@
 :- modeb(1, plane_length(+plane, -plength)).
 :- modeb(1, plane_width(+plane, -pwidth)).
 
-% object counts, as constants: "exactly one horizontal plane" is one literal
+% object measures: the number of horizontal planes as a constant ("exactly one
+% horizontal plane" is one literal), the oblique share with a threshold
 :- modeb(1, nhorizontal(+obj, #nhorizontal)).
-:- modeb(1, nvertical(+obj, #nvertical)).
-:- modeb(1, ninclined(+obj, #ninclined)).
+:- modeb(1, oblique_share(+obj, -oblique)).
 
 % how much of the object flat planes explain (planerel.curved): round objects are curved
 :- modeb(1, planar_fraction(+obj, -pfrac)).
@@ -79,6 +85,8 @@
 :- modeb(1, lteq(+pwidth, #pwidth)).
 :- modeb(1, gteq(+pfrac, #pfrac)).
 :- modeb(1, lteq(+pfrac, #pfrac)).
+:- modeb(1, gteq(+oblique, #oblique)).
+:- modeb(1, lteq(+oblique, #oblique)).
 
 :- lazy_evaluate(lteq/2).
 :- lazy_evaluate(gteq/2).

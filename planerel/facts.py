@@ -30,6 +30,7 @@ __all__ = [
     "SceneObject",
     "SceneDescription",
     "describe_scene",
+    "oblique_share",
     "scene_facts",
     "facts_text",
     "write_facts",
@@ -58,6 +59,8 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
     ("ninclined", 2, "obj, int", "number of inclined planes of the object"),
     ("planar_fraction", 2, "obj, 0..1", "fraction of the object's points in flat planes (planerel.curved)"),
     ("curved", 1, "obj", "planar fraction below curved_below: a round object (planerel.curved)"),
+    ("oblique_share", 2, "obj, 0..1", "share of the object's area in planes that meet a larger "
+     "plane of the object at an oblique angle (curved or faceted surfaces)"),
     ("orientation", 2, "plane, horizontal|vertical|inclined", "orientation class"),
     ("incline", 2, "plane, deg", "angle between plane and horizontal, 0..90"),
     ("area", 2, "plane, m2", "convex-hull area"),
@@ -214,6 +217,42 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
                             proposed, support)
 
 
+def oblique_share(planes_by_label, relations, labels) -> float:
+    """Share of an object's plane area in planes that meet another plane of the object at an
+    oblique angle: adjacent, neither parallel nor perpendicular (the tolerances of
+    :class:`~planerel.relations.RelationParams`), and no larger than that plane.
+
+    The faces of a box meet at right angles (0); the facets of a cylinder or a bowl, or a
+    tilted lid on its base, meet obliquely.  Only the smaller plane of each such pair counts,
+    so a sliver at a box's edge adds its own small area, not the face it touches.
+
+    Parameters
+    ----------
+    planes_by_label : dict
+        ``{label: Plane}`` (``area`` in m^2).
+    relations : iterable of Relation
+        The scene's pair relations (``a``, ``b``, ``adjacent``, ``parallel``, ``perpendicular``).
+    labels : sequence of int
+        The object's planes.
+
+    Returns
+    -------
+    float
+        In ``[0, 1]``; 0 for an object without area.
+    """
+    own = set(labels)
+    total = sum(planes_by_label[k].area for k in own)
+    if total <= 0:
+        return 0.0
+    smaller = set()
+    for r in relations:
+        if (r.a < r.b and r.a in own and r.b in own and r.adjacent and not r.parallel
+                and not r.perpendicular):
+            pa, pb = planes_by_label[r.a], planes_by_label[r.b]
+            smaller.add(r.a if pa.area <= pb.area else r.b)
+    return float(min(1.0, sum(planes_by_label[k].area for k in smaller) / total))
+
+
 def _described_pairs(desc: SceneDescription, mode: str) -> list:
     if mode == "none":
         return []
@@ -263,6 +302,9 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
                                             round_to=3))
         if o.curved:
             out["curved"].append(F("curved", o.id))
+        out["oblique_share"].append(F("oblique_share", o.id,
+                                      oblique_share(by_label, desc.relations, o.planes),
+                                      round_to=3))
     for lbl in desc.support:
         if lbl in kept:
             out["support"].append(F("support", pid(lbl)))

@@ -682,7 +682,8 @@ def accuracy_scores(truth, pred, classes):
 
 def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int = 0,
                    engine: str = "builtin", timeout: float = 120.0, settings: dict | None = None,
-                   progress: bool | None = None, jobs: int | None = 1) -> dict:
+                   progress: bool | None = None, jobs: int | None = 1,
+                   task: str | None = None) -> dict:
     """Stratified k-fold cross-validation of the whole learner on described scenes.
 
     Objects of class ``other`` (none of the classes) are split into the folds too: in training
@@ -723,7 +724,7 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         present = [k for k in classes if any(o.klass == k for d in train_descs for o in d.objects)]
         t0 = time.perf_counter()
         model = learn_rules(train_descs, present, engine=engine, timeout=timeout, settings=settings,
-                            jobs=1)
+                            jobs=1, task=task)
         test_descs = list({id(scene_of[o]): scene_of[o] for o in test}.values())
         preds = prolog_predict(model, test_descs, test, timeout=timeout)
         scored = [(truth_of[p.object_id], p.klass) for p in preds if truth_of[p.object_id] != OTHER]
@@ -935,13 +936,14 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                 seed: int = 0, timeout: float = 120.0, jobs: int | None = None,
                 method: str = "regiongrow", seg_params: dict | None = None, cache=None,
                 progress: bool | None = None, log=print, scheduler=None,
-                heldout=None) -> dict:
+                heldout=None, settings: dict | None = None, task: str | None = None) -> dict:
     """``planerel learn``: describe a data set, learn the class rules, optionally cross-validate,
     score the model on a held-out data set (``heldout``: :func:`held_out_scores`, in
     ``metrics["heldout"]``), and write a model folder.
 
     ``jobs`` worker processes describe the scenes (or the Dask ``scheduler``'s workers), and
     ``jobs`` cross-validation folds run at once; the result does not depend on either.
+    ``settings`` (Aleph ``set/2`` values) and ``task`` (a task file) go to :func:`learn_rules`.
 
     The folder is built in a temporary sibling and renamed into place when complete, so a run
     that fails or is interrupted never leaves a half-written model.  It holds ``rules.pl``
@@ -970,6 +972,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     with atomic_dir(out, markers=("rules.pl", "metrics.json")) as tmp:
         metrics: dict = {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
                          "seg_params": dict(seg_params or {}), "seed": seed,
+                         "learner_settings": {k: str(v) for k, v in (settings or {}).items()},
+                         "task": task or "modes_relational.pl",
                          "n_scenes": len(descs),
                          "n_examples": sum(k in classes for _, k in _examples(descs)),
                          "n_other": sum(k == "other" for _, k in _examples(descs)),
@@ -977,14 +981,16 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         if folds:
             t1 = time.perf_counter()
             cv = cross_validate(descs, classes, folds=folds, seed=seed, engine=engine,
-                                timeout=timeout, progress=progress, jobs=jobs)
+                                timeout=timeout, progress=progress, jobs=jobs,
+                                settings=settings, task=task)
             metrics["cross_validation"] = cv
             metrics["seconds"]["cross_validation"] = round(time.perf_counter() - t1, 3)
             draw_confusion(tmp / "confusion.png", cv["confusion"], list(classes),
                            title=f"{folds}-fold cross-validation, accuracy {cv['accuracy']:.3f}")
         t2 = time.perf_counter()
         model = learn_rules(descs, classes, engine=engine, timeout=timeout, work_dir=tmp / "aleph",
-                            jobs=jobs, log=None if progress is False else log)
+                            jobs=jobs, log=None if progress is False else log,
+                            settings=settings, task=task)
         metrics["seconds"]["learn"] = round(time.perf_counter() - t2, 3)
         metrics["engine"] = model.engine
         metrics["rules"] = {k: list(v) for k, v in model.rules.items()}

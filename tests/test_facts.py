@@ -140,3 +140,23 @@ def test_describe_command(tmp_path, capsys):
     assert "scene(s0003)." in text and "object(s0003, s0003_o1)." in text
     assert main(["describe", str(scan), str(scan), "-o", str(out)]) == 2
     assert "same scene name 's0003'" in capsys.readouterr().err
+
+
+def test_oblique_share_counts_the_smaller_plane_of_each_oblique_adjacent_pair():
+    from types import SimpleNamespace as NS
+
+    from planerel.facts import oblique_share
+
+    planes = {1: NS(area=2.0), 2: NS(area=1.0), 3: NS(area=1.0), 4: NS(area=0.5), 5: NS(area=9.0)}
+
+    def rel(a, b, adjacent=True, parallel=False, perpendicular=False):
+        return NS(a=a, b=b, adjacent=adjacent, parallel=parallel, perpendicular=perpendicular)
+
+    box_like = [rel(1, 2, perpendicular=True), rel(2, 3, perpendicular=True),
+                rel(1, 3, parallel=True)]
+    assert oblique_share(planes, box_like, (1, 2, 3)) == 0.0
+    # 1-2 oblique (2 counts: 1.0), 2-4 oblique (4 counts: 0.5), 1-4 not adjacent;
+    # 2-5 oblique but 5 is not in the object: (1.0 + 0.5) / (2 + 1 + 0.5)
+    faceted = [rel(1, 2), rel(2, 4), rel(1, 4, adjacent=False), rel(2, 5)]
+    assert oblique_share(planes, faceted, (1, 2, 4)) == 1.5 / 3.5
+    assert oblique_share(planes, faceted, (5,)) == 0.0
