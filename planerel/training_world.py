@@ -9,7 +9,8 @@ edge fragment) or one horizontal plane (a cylinder's top).  The demo model is le
   seed), and
 * scenes of the varied world (:mod:`planerel.synth_world`) with the structured-light sensor and
   :data:`KINECT_ROOM` ranges: a hand-held or robot-mounted Kinect 0.6-1.6 m above the floor
-  looking 20-60 degrees down at desk- and floor-sized boxes, staircases of 2-6 steps, ramps, and
+  looking 20-60 degrees down at boxes 0.12-1.2 m, staircases of 2-6 steps (most seen from
+  above, going down), ramps, and
   one to three more objects per scene, most of them clutter (tables, chairs, cylinders, laptops,
   small tilted plates, shelves, doors) whose objects are labelled ``other``: negatives for every
   class.
@@ -36,6 +37,7 @@ KINECT_ROOM = {
     "box_size": (0.12, 1.2),
     "box_height": (0.08, 0.9),
     "steps": (2, 6),
+    "descending": 0.6,
 }
 
 
