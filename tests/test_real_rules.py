@@ -110,9 +110,6 @@ def test_kinect_box_is_box_in_every_frame(answers):
         assert box.klass == "box", f"{f.name}: the box is {box.klass} ({box.rule})"
 
 
-@pytest.mark.xfail(reason="not yet: since main's proposals of 8a3fca2 the first proposal of "
-                          "frame 814212 (top right corner, 5 planes in layers) passes the learned "
-                          "'above-chain' stairs rule; docs/results.md", strict=False)
 def test_kinect_frames_have_no_stairs_or_ramp(answers):
     for f in KINECT:
         got = {o.object_id: o.klass for o in answers[f.name].objects}
