@@ -1637,7 +1637,7 @@ write_rules(File) :-
 %
 %   Entry point for `swipl learner.pl -- STEM [NAME=VALUE ...]`: read the
 %   problem, apply the settings, induce, then print a machine-readable
-%   summary (lines starting with @@) for planerel.learn.  Exit status 2 on
+%   summary (lines starting with @@) for planerel.ilp.learn.  Exit status 2 on
 %   a user error, 3 on any other error.
 planerel_main :-
     current_prolog_flag(argv, Argv),

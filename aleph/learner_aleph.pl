@@ -1,4 +1,4 @@
-/*  Driver that runs the real Aleph for planerel.learn (engine "aleph").
+/*  Driver that runs the real Aleph for planerel.ilp.learn (engine "aleph").
 
     Usage:
         swipl learner_aleph.pl -- classic /path/to/aleph_orig.pl STEM RULES [NAME=VALUE ...]

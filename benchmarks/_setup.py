@@ -36,7 +36,7 @@ def synth_scene(kind: str, sub: int, cls: str = "stairs", seed: int = 3):
     scene (``kind="synth"``) or the analytic staircase of planerel.segment._scenes."""
     if kind == "synth":
         try:
-            from planerel.synth import generate_scene
+            from planerel.synth.generator import generate_scene
 
             sc = generate_scene(cls, seed=seed, subsample=sub)
             return sc.cloud, sc.gt_labels

@@ -23,7 +23,7 @@ import sys
 
 _CHILD = r"""
 import json, statistics, time
-from planerel.synth import generate_scene
+from planerel.synth.generator import generate_scene
 from planerel.segment import segment
 res = {}
 for kind, seed in (("stairs", 3), ("box", 1)):

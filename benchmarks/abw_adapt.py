@@ -25,8 +25,8 @@ FLOORS = (0.125, 0.25, 0.5)
 
 
 def _score(clouds, side, floor, **params):
-    from planerel.evaluate import evaluate
     from planerel.segment import adapt, segment
+    from planerel.segment.evaluate import evaluate
 
     old = adapt.MIN_SIDE_SIGMAS, adapt.FLOOR_SCALE
     adapt.MIN_SIDE_SIGMAS, adapt.FLOOR_SCALE = side, floor
@@ -45,7 +45,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--abw", default=None, metavar="DIR")
     a = ap.parse_args(argv)
-    from planerel.io import read_abw, read_abw_gt
+    from planerel.io.readers import read_abw, read_abw_gt
 
     folder = Path(a.abw) if a.abw else Path(__file__).resolve().parents[2] / "shared" / "data" / "abw"
     files = sorted(glob.glob(str(folder / "*.range")), key=lambda f: int(f.split(".")[-2]))

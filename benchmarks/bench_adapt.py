@@ -23,7 +23,7 @@ from _setup import SCENES, data_dir, kinect_files, one_core, synth_scene
 def _scenes():
     """``(name, cloud)``: the speed scenes of bench_segment.py at 640x480 and 160x120, the real
     Kinect frames, mOSD learn0 and ABW test.6 when present."""
-    from planerel.io import read, read_abw
+    from planerel.io.readers import read, read_abw
 
     out = []
     for kind, seed in SCENES:

@@ -25,11 +25,11 @@ def main() -> None:
     ap.add_argument("--subsample", type=int, default=4)
     args = ap.parse_args()
 
-    from planerel.classify import Classifier
-    from planerel.facts import describe_scene
-    from planerel.pipeline import describe_scenes, learn_rules
+    from planerel.classify.classifier import Classifier
+    from planerel.features.facts import describe_scene
+    from planerel.ilp.pipeline import describe_scenes, learn_rules
     from planerel.segment import segment
-    from planerel.synth import CLASSES, generate_dataset, generate_scene
+    from planerel.synth.generator import CLASSES, generate_dataset, generate_scene
 
     with tempfile.TemporaryDirectory() as tmp:
         ds = generate_dataset(Path(tmp) / "train", n_box=4, n_stairs=4, n_ramp=4, seed=5,

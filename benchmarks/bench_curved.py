@@ -1,4 +1,4 @@
-"""Curved / unexplained-point proposals (planerel.curved): found rate, planar fractions, time.
+"""Curved / unexplained-point proposals (planerel.features.curved): found rate, planar fractions, time.
 
     .venv/bin/python benchmarks/bench_curved.py [--repeat N] [--synth N]
 
@@ -28,9 +28,9 @@ def main(argv=None) -> int:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--synth", type=int, default=30, help="synthetic scenes (0 = none)")
     args = ap.parse_args(argv)
-    from planerel.curved import CurvedParams
-    from planerel.facts import describe_scene
-    from planerel.object_eval import frame_truth, proposal_image, score_objects, summarize
+    from planerel.features.curved import CurvedParams
+    from planerel.features.facts import describe_scene
+    from planerel.features.object_eval import frame_truth, proposal_image, score_objects, summarize
     from planerel.segment import segment
 
     data = Path(__file__).resolve().parents[2] / "shared" / "data" / "mosd"

@@ -2,7 +2,7 @@
 
     .venv/bin/python benchmarks/bench_features.py [--repeat 20]
 
-Ground-truth labels of a ``planerel.synth`` stairs scene are used (segmentation is timed by its
+Ground-truth labels of a ``planerel.synth.generator`` stairs scene are used (segmentation is timed by its
 own benchmark); the numba kernels are warmed up first.  Prints the median wall time per stage.
 """
 
@@ -14,10 +14,10 @@ import time
 
 
 def main() -> None:
-    from planerel.facts import describe_scene, facts_text
-    from planerel.planes import measure_planes
-    from planerel.relations import objects_from_truth, relate
-    from planerel.synth import generate_scene
+    from planerel.features.facts import describe_scene, facts_text
+    from planerel.features.planes import measure_planes
+    from planerel.features.relations import objects_from_truth, relate
+    from planerel.synth.generator import generate_scene
 
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--repeat", type=int, default=20)

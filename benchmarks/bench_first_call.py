@@ -20,9 +20,9 @@ import tempfile
 CHILD = r"""
 import time
 t0 = time.perf_counter()
-from planerel.synth import generate_scene
+from planerel.synth.generator import generate_scene
 scene = generate_scene("stairs", seed=1, size=(640, 480), subsample=4)
-from planerel.facts import describe_scene
+from planerel.features.facts import describe_scene
 from planerel.segment import segment
 a = time.perf_counter()
 d = describe_scene(scene.cloud, segment(scene.cloud).labels, scene_id="s")

@@ -4,20 +4,20 @@ one (a 45-degree cone around the camera's -y axis, kept here as the reference) i
 
     .venv/bin/python benchmarks/bench_gravity.py [--step 5] [--full-res]
 
-1. Pose sweep: box, stairs and ramp scenes (planerel.gravity_scenes: floor, 0-2 walls,
+1. Pose sweep: box, stairs and ramp scenes (planerel.synth.gravity_scenes: floor, 0-2 walls,
    Kinect-like noise and quantisation) at pitch 0..80 in ``--step`` degrees and roll
    -20, -10, 0, 10, 20; 160x120 (the paper's resolution; ``--full-res`` adds 640x480 at a
    coarser grid).  Planes from the default segmentation (the real pipeline) and, to separate
    the two, from the true labels; also the no-label path (per-pixel normals).  Error = angle
    between estimated and true up (a flipped vector is 180 degrees off).
-2. The varied synthetic world of planerel.synth_world (written independently of the
+2. The varied synthetic world of planerel.synth.world (written independently of the
    estimate: clutter, several objects, camera 0.3-2 m high, pitch 0-75, roll +-20, descending
    stairs seen from an upper floor), ``--varied`` scenes per class; "roll" is not printed.
 3. Staircase seen from above (issue 15's case; no such real frame is shared, so it is
    synthetic): camera 1.5-1.9 m above the top landing looking down the flight at pitch 39-70
    (tread normals 51-20 degrees from the optical axis), at 160x120 and 640x480.  Error and the
    incline the treads measure with each estimate (true tread regions at least 10 cm across).
-   The same with the realistic structured-light model of planerel.synth_sensor at 640x480,
+   The same with the realistic structured-light model of planerel.synth.sensor at 640x480,
    320x240 and 160x120: is each tread one region, and is it horizontal.
 4. Real frames (../shared/data kinect/ and mosd/): no true up is known; printed are the
    angle between the new and the old estimate, the confidence, and how horizontal the largest
@@ -44,7 +44,7 @@ DATA = ROOT.parent / "shared" / "data"
 def old_estimate_up(cloud, labels, max_tilt=45.0, min_points=50):
     """planerel's estimate before issue 15 (planes.py at d8db870): candidate normals within
     ``max_tilt`` of the camera's -y axis vote (5 deg), weighted by points and image row."""
-    from planerel.planes import _moments
+    from planerel.features.planes import _moments
 
     prior = np.array([0.0, -1.0, 0.0])
     xyz = cloud.xyz
@@ -88,9 +88,9 @@ def summary(errors) -> str:
 
 
 def sweep(step: int, subsample: int, pitches=None, rolls=(-20, -10, 0, 10, 20)):
-    from planerel.gravity import up_from_cloud
-    from planerel.gravity_scenes import posed_scene
+    from planerel.features.gravity import up_from_cloud
     from planerel.segment import segment
+    from planerel.synth.gravity_scenes import posed_scene
 
     pitches = list(range(0, 81, step)) if pitches is None else pitches
     rows = []
@@ -151,11 +151,11 @@ def report_sweep(rows, title):
 
 
 def varied_world(n_per_class: int):
-    """Scenes of planerel.synth_world (another generator: clutter, several objects, camera
+    """Scenes of planerel.synth.world (another generator: clutter, several objects, camera
     0.3-2 m high, pitch 0-75, roll +-20, descending stairs seen from an upper floor)."""
-    from planerel.gravity import up_from_cloud
+    from planerel.features.gravity import up_from_cloud
     from planerel.segment import segment
-    from planerel.synth_world import generate_world_scene
+    from planerel.synth.world import generate_world_scene
 
     rows = []
     for k, kind in enumerate(("box", "stairs", "ramp")):
@@ -176,10 +176,10 @@ def varied_world(n_per_class: int):
 
 
 def stairs_from_above(subsample: int, verbose: bool):
-    from planerel.gravity import up_from_cloud
-    from planerel.gravity_scenes import posed_scene
-    from planerel.planes import measure_planes
+    from planerel.features.gravity import up_from_cloud
+    from planerel.features.planes import measure_planes
     from planerel.segment import segment
+    from planerel.synth.gravity_scenes import posed_scene
 
     w, h = 640 // subsample, 480 // subsample
     print(f"\n== staircase seen from above (synthetic, {w}x{h}, default segmentation) ==")
@@ -215,15 +215,15 @@ def stairs_from_above(subsample: int, verbose: bool):
 
 def stairs_from_above_kinect(subsample: int, pitches=(39, 45, 51, 55, 60, 70), seeds=range(3)):
     """The staircase seen from above with the realistic structured-light model of
-    planerel.synth_sensor (projector shadows, flying pixels, z^2 disparity quantisation): per
+    planerel.synth.sensor (projector shadows, flying pixels, z^2 disparity quantisation): per
     tread at least 10 cm across, whether one region holds it (>= 90 % of its pixels, no other
     region >= 5 %, the region >= 95 % on the tread) and whether that region is horizontal
     (planes.py's orientation) under the estimated up."""
-    from planerel.gravity import up_from_cloud
-    from planerel.gravity_scenes import posed_scene
-    from planerel.planes import measure_planes
+    from planerel.features.gravity import up_from_cloud
+    from planerel.features.planes import measure_planes
     from planerel.segment import segment
-    from planerel.synth_sensor import StructuredLight
+    from planerel.synth.gravity_scenes import posed_scene
+    from planerel.synth.sensor import StructuredLight
 
     w, h = 640 // subsample, 480 // subsample
     errs, n_tread, one, hor, incl = [], 0, 0, 0, []
@@ -259,10 +259,10 @@ def stairs_from_above_kinect(subsample: int, pitches=(39, 45, 51, 55, 60, 70), s
 
 
 def real_frames():
-    from planerel import io
-    from planerel.cloud import subsample
-    from planerel.gravity import up_from_cloud
-    from planerel.planes import measure_planes
+    from planerel.features.gravity import up_from_cloud
+    from planerel.features.planes import measure_planes
+    from planerel.io import readers as io
+    from planerel.io.cloud import subsample
     from planerel.segment import segment
 
     files = sorted((DATA / "kinect").glob("*_depth.tiff")) + [DATA / "kinect" / "office1.pcd"] \
@@ -301,8 +301,8 @@ def main() -> int:
     ap.add_argument("--full-res", action="store_true", help="also sweep at 640x480 (pitch step 10)")
     ap.add_argument("--varied", type=int, default=30, help="varied-world scenes per class")
     args = ap.parse_args()
-    from planerel.gravity_scenes import posed_scene
     from planerel.segment import segment
+    from planerel.synth.gravity_scenes import posed_scene
 
     segment(posed_scene("box", 30, 0).cloud)  # compile the kernels before timing
     t0 = time.perf_counter()
@@ -314,7 +314,7 @@ def main() -> int:
         rows, ms_new, ms_old = sweep(10, 1, rolls=(-20, 0, 20))
         report_sweep(rows, "pose sweep at 640x480, pitch 0-80 step 10, roll -20/0/20")
         print(f"  estimate time per scene (median): new {ms_new:.2f} ms, old {ms_old:.2f} ms")
-    report_sweep(varied_world(args.varied), f"varied world (planerel.synth_world), "
+    report_sweep(varied_world(args.varied), f"varied world (planerel.synth.world), "
                  f"{args.varied} scenes per class at 160x120, pitch 0-75")
     stairs_from_above(4, verbose=True)
     stairs_from_above(1, verbose=False)

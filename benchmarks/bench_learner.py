@@ -41,7 +41,7 @@ def _child_cpu() -> float:
 def run(stem: Path, engine: str, settings, timeout: float):
     """One learning run: (LearnResult or None, process CPU seconds, error text)."""
     from planerel.errors import PlanerelError
-    from planerel.learn import learn
+    from planerel.ilp.learn import learn
 
     c0 = _child_cpu()
     try:
@@ -75,8 +75,8 @@ def make_task(folder: Path, scenes: int, dataset: str | None, task: str | None, 
               thresholds: bool = False) -> list[Path]:
     from importlib.resources import files
 
-    from planerel.aleph_export import export_dataset
-    from planerel.synth import generate_dataset
+    from planerel.ilp.aleph_export import export_dataset
+    from planerel.synth.generator import generate_dataset
 
     if dataset is None:
         k = scenes / sum(DEMO_COUNTS)
@@ -97,7 +97,7 @@ def make_task(folder: Path, scenes: int, dataset: str | None, task: str | None, 
 
 
 def main(argv=None) -> int:
-    from planerel.learn import find_aleph, parse_settings
+    from planerel.ilp.learn import find_aleph, parse_settings
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("stems", nargs="*", help="Aleph problem stems (default: export a data set)")

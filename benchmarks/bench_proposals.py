@@ -9,7 +9,7 @@ min_border_area=0, border_wall_area=0, wall_behind=1`` (the reference: plain con
 22) and the defaults,
 interleaved, ``--repeat`` times; the median per frame is summed.  Printed: ms per frame of
 both and their ratio, and the proposals' found rate / false proposals per frame of both
-(planerel.object_eval).
+(planerel.features.object_eval).
 """
 
 from __future__ import annotations
@@ -28,10 +28,16 @@ def main(argv=None) -> int:
     ap.add_argument("--synth", type=int, default=15, help="synthetic scenes (0 = none)")
     ap.add_argument("--seed", type=int, default=22, help="seed of the synthetic scenes")
     args = ap.parse_args(argv)
-    from planerel.facts import describe_scene
-    from planerel.object_eval import (MISS_KINDS, frame_truth, miss_breakdown, proposal_image,
-                                      score_objects, summarize)
-    from planerel.relations import ProposalParams
+    from planerel.features.facts import describe_scene
+    from planerel.features.object_eval import (
+        MISS_KINDS,
+        frame_truth,
+        miss_breakdown,
+        proposal_image,
+        score_objects,
+        summarize,
+    )
+    from planerel.features.relations import ProposalParams
     from planerel.segment import segment
 
     data = Path(__file__).resolve().parents[2] / "shared" / "data" / "mosd"

@@ -53,8 +53,8 @@ def _row(scores, ms) -> str:
 
 
 def _score(items, kw):
-    from planerel.evaluate import evaluate
     from planerel.segment import segment
+    from planerel.segment.evaluate import evaluate
 
     kw = dict(kw)
     method = kw.pop("method", "regiongrow")
@@ -68,7 +68,7 @@ def _score(items, kw):
 
 
 def _synthetic(seed: int, camera):
-    from planerel.synth import generate_scene, scene_seed
+    from planerel.synth.generator import generate_scene, scene_seed
 
     items, i = [], 0
     for kind, k in (("box", 12), ("stairs", 15), ("ramp", 18)):
@@ -89,7 +89,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     base_sets = set(filter(None, args.baselines.split(",")))
     sets = set(args.sets.split(","))
-    from planerel.synth import CameraRange
+    from planerel.synth.generator import CameraRange
 
     synth_sets = []
     if "train" in sets:
@@ -117,7 +117,7 @@ def main(argv=None) -> int:
         if not files:
             print(f"SegComp ABW: no *.range files in {abw}")
             return 0
-        from planerel.io import read_abw, read_abw_gt
+        from planerel.io.readers import read_abw, read_abw_gt
 
         items = [(read_abw(f), read_abw_gt(f.with_suffix(".gt-seg"))) for f in files]
         h, w = items[0][1].shape

@@ -63,11 +63,12 @@ def _stages(cloud, repeat: int) -> dict:
 
     import numpy as np
 
-    from planerel.normals import normal_kernel_args
     from planerel.segment import _kernels as K
     from planerel.segment._graph_kernels import graph_table
     from planerel.segment._normal_kernels import normals_stream, with_graph
-    from planerel.segment.regiongrow import _NBANDS, _workspace, normal_rings
+    from planerel.segment._workspace import _workspace, normal_rings
+    from planerel.segment.normals import normal_kernel_args
+    from planerel.segment.regiongrow import _NBANDS
 
     xyz = np.ascontiguousarray(cloud.xyz)
     h, w, _ = xyz.shape
@@ -131,8 +132,8 @@ def main(argv=None) -> int:
         return quality(args)
     if args.real is not None:
         return real_frames(args.real or data_dir("kinect"), args.repeat)
-    from planerel.evaluate import evaluate
     from planerel.segment import segment
+    from planerel.segment.evaluate import evaluate
 
     first = first_call_ms()
     print(f"first call in a fresh process (numba cache load / compile): {first:.0f} ms")
@@ -193,7 +194,7 @@ def real_frames(folder: str, repeat: int) -> int:
     default) with the per-stage times of the paper's algorithm."""
     import glob
 
-    from planerel.io import read
+    from planerel.io.readers import read
     from planerel.segment import segment
 
     files = kinect_files(folder) + sorted(glob.glob(os.path.join(str(folder), "*.pcd")))
@@ -240,11 +241,11 @@ def quality(args) -> int:
     import glob
     from pathlib import Path
 
-    from planerel.evaluate import evaluate
     from planerel.segment import segment
-    from planerel.synth import CLASSES, generate_scene
+    from planerel.segment.evaluate import evaluate
+    from planerel.synth.generator import CLASSES, generate_scene
 
-    print("generator stairs (planerel.synth defaults), per image:")
+    print("generator stairs (planerel.synth.generator defaults), per image:")
     for sub, seeds in ((1, range(4)), (4, range(8))):
         every, visible = [], []
         for seed in seeds:
@@ -281,7 +282,7 @@ def quality(args) -> int:
     abw = Path(args.abw or data_dir("abw"))
     files = sorted(glob.glob(str(abw / "*.range")))
     if files:
-        from planerel.io import read_abw, read_abw_gt
+        from planerel.io.readers import read_abw, read_abw_gt
 
         runs = [("regiongrow default", "regiongrow", {}),
                 ("regiongrow preset=structured-light", "regiongrow",
@@ -301,10 +302,10 @@ def quality(args) -> int:
 def _post_processing_table() -> None:
     """Per class, on the demo's two paper-sized sets (160x120): the paper's algorithm with
     planerel's completion, then each post-processing step added."""
-    from planerel.evaluate import evaluate
     from planerel.segment import segment
+    from planerel.segment.evaluate import evaluate
     from planerel.segment.split import SplitParams
-    from planerel.synth import CameraRange, generate_scene, scene_seed
+    from planerel.synth.generator import CameraRange, generate_scene, scene_seed
 
     variants = (("growing + completion (split=False)", dict(split=False)),
                 ("+ split bent regions + merge", dict(split_params=SplitParams(leftover=False))),

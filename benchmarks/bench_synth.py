@@ -16,7 +16,7 @@ import time
 
 
 def main(argv=None) -> int:
-    from planerel.synth import CLASSES, generate_dataset, generate_scene
+    from planerel.synth.generator import CLASSES, generate_dataset, generate_scene
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3, help="scenes per class at 640x480 (default 3)")
@@ -46,7 +46,7 @@ def main(argv=None) -> int:
         dt = time.perf_counter() - t0
     print(f"45-scene data set at 640x480, generated and written: {dt:.2f} s "
           f"({dt / 45 * 1000:.1f} ms per scene)")
-    from planerel.synth_sensor import sensor_profile
+    from planerel.synth.sensor import sensor_profile
 
     print("sensor profiles, 640x480 box scene (seed 0-2), mean:")
     base = None

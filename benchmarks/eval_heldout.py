@@ -28,7 +28,7 @@ def main(argv=None) -> int:
                     help="folder for the model (rules.pl) and the held-out answers (answers.json)")
     args = ap.parse_args(argv)
 
-    from planerel import pipeline as P
+    from planerel.ilp import pipeline as P
 
     settings = {}
     for item in args.setting:

@@ -1,6 +1,6 @@
 """Independent judge scenes: box / stairs / ramp / clutter scenes made WITHOUT planerel's generators.
 
-Nothing here imports ``planerel.synth*``: the geometry is built as trimesh meshes (world z up,
+Nothing here imports ``planerel.synth.generator*``: the geometry is built as trimesh meshes (world z up,
 floor ``z = 0``, metres), the depth image is ray cast by this file's own vectorised
 Moller-Trumbore routine (trimesh's ``ray`` module needs ``rtree``, which planerel does not
 install), the camera poses, dimensions and sensor noise are drawn here.  Each scene is written as
@@ -10,7 +10,7 @@ install), the camera poses, dimensions and sensor noise are drawn here.  Each sc
 ``iNNNN.objects.npy``  ``(H, W)`` int32 truth: ``k >= 1`` object k, 0 environment (floor, walls, landings), -1 missing
 ``iNNNN.planes.npy``   ``(H, W)`` int32 true plane id (coplanar faces of one object), -1 missing
 
-which :func:`planerel.io.read` reads as is (the sidecar gives the up vector).  Classes: ``box``,
+which :func:`planerel.io.readers.read` reads as is (the sidecar gives the up vector).  Classes: ``box``,
 ``stairs``, ``ramp`` and ``other`` (tables, chairs, cylinders, laptops).
 
 Usage::
@@ -18,9 +18,9 @@ Usage::
     python benchmarks/independent_scenes.py make OUT_DIR [--n 60] [--seed 7] [--size 160x120]
     python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150]
 
-``score`` classifies every scene with each model (:class:`planerel.classify.Classifier`, the code
+``score`` classifies every scene with each model (:class:`planerel.classify.classifier.Classifier`, the code
 behind ``planerel classify --json``), matches the proposals to the labelled objects
-(:func:`planerel.object_eval.score_objects`, IoU >= 0.5) and prints per model, over the objects with at least ``--min-pixels`` valid pixels, the object
+(:func:`planerel.features.object_eval.score_objects`, IoU >= 0.5) and prints per model, over the objects with at least ``--min-pixels`` valid pixels, the object
 accuracy per class, the confusion matrix, and how many objects got no proposal.  Same seed, same scenes.
 """
 
@@ -417,9 +417,9 @@ def make_set(out, n, seed, size):
 
 
 def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150):
-    from planerel import io
-    from planerel.classify import Classifier, explanation_image
-    from planerel.object_eval import proposal_image, score_objects
+    from planerel.classify.classifier import Classifier, explanation_image
+    from planerel.features.object_eval import proposal_image, score_objects
+    from planerel.io import readers as io
 
     out = Path(out)
     scenes = sorted(p for p in out.glob("i[0-9][0-9][0-9][0-9].npy"))
@@ -469,8 +469,8 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150):
 def proposals_on_true_planes(out, min_iou=0.5, min_pixels=150):
     """Found rate per class of planerel's proposals (regiongrow segmentation vs the true planes
     ``iNNNN.planes.npy``): how much of the proposal loss is segmentation."""
-    from planerel import io
-    from planerel.object_eval import frame_proposals, score_objects
+    from planerel.features.object_eval import frame_proposals, score_objects
+    from planerel.io import readers as io
 
     found = {}
     for p in sorted(Path(out).glob("i[0-9][0-9][0-9][0-9].npy")):

@@ -28,7 +28,6 @@ import sys
 
 def kernel_entries() -> list[tuple[int, str]]:
     """(address, name) of every compiled planerel kernel in this process, by address."""
-    from planerel import _feature_kernels
     from planerel.segment import (
         _graph_kernels,
         _kernels,
@@ -36,6 +35,7 @@ def kernel_entries() -> list[tuple[int, str]]:
         _post_kernels,
         _split_kernels,
     )
+    from planerel.segment import _label_kernels as _feature_kernels
 
     out = set()
     for mod in (_kernels, _graph_kernels, _normal_kernels, _post_kernels, _split_kernels,
@@ -70,7 +70,7 @@ def write_perf_map(entries, dump: str | None = None) -> str:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--scene", default="box", help="planerel.synth class (box, stairs, ramp) or "
+    ap.add_argument("--scene", default="box", help="planerel.synth.generator class (box, stairs, ramp) or "
                     "a file any planerel reader takes")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--subsample", type=int, default=1)
@@ -81,11 +81,11 @@ def main(argv=None) -> int:
     from planerel.segment import segment
 
     if a.scene in ("box", "stairs", "ramp"):
-        from planerel.synth import generate_scene
+        from planerel.synth.generator import generate_scene
 
         cloud = generate_scene(a.scene, seed=a.seed, subsample=a.subsample).cloud
     else:
-        from planerel.io import read
+        from planerel.io.readers import read
 
         cloud = read(a.scene)
     kw = dict(refine=False, split=False) if a.paper else {}

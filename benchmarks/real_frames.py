@@ -60,7 +60,7 @@ def _support_pieces(seg, cloud) -> int:
 
 
 def _areas(seg, cloud) -> dict:
-    from planerel.planes import measure_planes
+    from planerel.features.planes import measure_planes
 
     ps = measure_planes(cloud, seg.labels, up=(0.0, -1.0, 0.0))
     return {p.label: p.area for p in ps}
@@ -96,8 +96,8 @@ def main(argv=None) -> int:
     ap.add_argument("--data", default=None, metavar="DIR")
     ap.add_argument("--json", default=None, metavar="FILE", help="also write the rows as JSON")
     args = ap.parse_args(argv)
-    from planerel.cloud import subsample
-    from planerel.io import read, read_pcd_field
+    from planerel.io.cloud import subsample
+    from planerel.io.readers import read, read_pcd_field
     from planerel.segment import segment
 
     params = {}
@@ -137,7 +137,7 @@ def main(argv=None) -> int:
             rows.append(row)
             print(json.dumps(row))
             if args.png:
-                from planerel.writers import write_labels_png
+                from planerel.io.writers import write_labels_png
 
                 os.makedirs(args.png, exist_ok=True)
                 write_labels_png(os.path.join(args.png, f"{name}_s{k}.png"), seg.labels,

@@ -7,7 +7,7 @@ A. readers, in process: truncated, byte-mutated and header-edited versions of th
    ../shared/data (Kinect TIFF and PCD, MOSD PCD, SegComp ABW range and ground truth) and of
    small PNG/PCD/PLY/NPY files made here, random bytes behind every format's magic, and the
    named failures of issue 18 (giant PNG, .npy header of 100000x100000x3, bad PCD headers...).
-   Each input goes through ``planerel.io.read`` and ``read_label_image`` with a 20 s alarm.
+   Each input goes through ``planerel.io.readers.read`` and ``read_label_image`` with a 20 s alarm.
    A *clear error* is an InputError of one line that names the file; anything else raised is a
    *traceback*; the alarm is a *hang*.
 B. command line, in a subprocess: user mistakes (output below a file, a missing input, a
@@ -62,7 +62,7 @@ class Tally:
 
 
 def _small_files(folder: Path) -> list[Path]:
-    from planerel.writers import write_depth_png, write_ply
+    from planerel.io.writers import write_depth_png, write_ply
 
     v, u = np.mgrid[0:12, 0:16]
     write_depth_png(folder / "d.png", (1500 + 10 * v + u).astype(np.uint16))
@@ -129,8 +129,8 @@ def _alarm(signum, frame):
 
 
 def part_a(t: Tally, work: Path) -> None:
-    from planerel import io
     from planerel.errors import InputError
+    from planerel.io import readers as io
 
     rng = np.random.default_rng(18)
     small = work / "small"
@@ -148,7 +148,7 @@ def part_a(t: Tally, work: Path) -> None:
             inputs.append((f"abw.test.{n}{ext}", magic + rng.bytes(int(rng.integers(0, 3000)))))
     inputs += _named_cases()
     v, u = np.mgrid[0:1, 0:40]
-    from planerel.writers import write_depth_png
+    from planerel.io.writers import write_depth_png
 
     write_depth_png(small / "thin.png", (1000 + u).astype(np.uint16))
     inputs.append(("thin.png", (small / "thin.png").read_bytes()))
@@ -268,7 +268,7 @@ def _wait(cond, timeout=90.0):
 
 def part_c(t: Tally, work: Path, dataset: Path) -> None:
     from planerel.children import descendants, pid_alive
-    from planerel.synth import generate_dataset
+    from planerel.synth.generator import generate_dataset
 
     spin = work / "spin"
     spin.mkdir()
@@ -401,7 +401,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--keep", action="store_true", help="keep the work folder")
     args = ap.parse_args(argv)
-    from planerel.synth import generate_dataset
+    from planerel.synth.generator import generate_dataset
 
     t = Tally()
     work = Path(tempfile.mkdtemp(prefix="planerel-robustness-"))

@@ -3,7 +3,7 @@
 1. Generate the paper-sized synthetic set (12 box, 15 stairs, 18 ramp scenes at 160x120), a
    held-out set with another seed and other camera ranges, and the model's training world:
    the paper-sized scenes plus a Kinect-like room with clutter whose objects are none of the
-   classes (``other``; :mod:`planerel.training_world`).
+   classes (``other``; :mod:`planerel.synth.training_world`).
 2. Cross-validate the learner on the paper-sized set (10 folds; the real Aleph when installed,
    else planerel's own learner) and print the confusion matrix.
 3. Learn the model from the training world and print its rules; classify every held-out scene
@@ -20,7 +20,6 @@ import argparse
 import sys
 import time
 from pathlib import Path
-
 
 #: Scene counts (box, stairs, ramp) of the training world's two parts.
 PAPER = (12, 15, 18)
@@ -45,10 +44,10 @@ def main(argv=None) -> int:
 
     from planerel.classify import Classifier, classify_dataset
     from planerel.errors import PlanerelError
-    from planerel.pipeline import cross_validate, describe_scenes, draw_confusion, learn_model
+    from planerel.ilp.pipeline import cross_validate, describe_scenes, draw_confusion, learn_model
+    from planerel.io.writers import write_json
     from planerel.synth import CameraRange, generate_dataset
-    from planerel.training_world import generate_training_world
-    from planerel.writers import write_json
+    from planerel.synth.training_world import generate_training_world
 
     out = Path(args.out)
     t0 = time.perf_counter()

@@ -31,8 +31,8 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
 
     from planerel.cli import main as planerel
-    from planerel.dataset import MANIFEST
-    from planerel.report_browser import find_chromium, screenshot
+    from planerel.features.dataset import MANIFEST
+    from planerel.report.browser import find_chromium, screenshot
 
     out = Path(args.out)
     n = (3, 3, 3) if args.quick else (12, 15, 18)

@@ -8,7 +8,7 @@ The top level is the five-line API (:mod:`planerel.api`)::
     with planerel.Classifier("out/model/rules.pl") as clf:
         answer = clf.classify(cloud)                          # class, rule, proof planes
 
-The stages live in their own modules (``planerel.io``, ``planerel.synth``,
+The stages live in their own modules (``planerel.io.readers``, ``planerel.synth.generator``,
 ``planerel.segment``, ...).  Importing planerel does no work: numba compiles nothing and Prolog
 starts only when a query needs it.
 """
@@ -20,7 +20,6 @@ import planerel.segment as _segment_package
 from planerel._version import __version__
 from planerel.api import describe, read
 from planerel.api import segment as _segment_api
-from planerel.cloud import Cloud, Intrinsics
 from planerel.errors import (
     DependencyError,
     InputError,
@@ -28,6 +27,7 @@ from planerel.errors import (
     PlanerelError,
     PrologError,
 )
+from planerel.io.cloud import Cloud, Intrinsics
 
 
 class _CallableModule(_types.ModuleType):
@@ -43,7 +43,7 @@ segment = _sys.modules["planerel.segment"]
 
 def __getattr__(name: str):
     if name == "Classifier":  # imported on first use: it needs pyswip, not at import time
-        from planerel.classify import Classifier
+        from planerel.classify.classifier import Classifier
 
         return Classifier
     raise AttributeError(f"module 'planerel' has no attribute {name!r}")

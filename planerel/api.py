@@ -2,7 +2,7 @@
 ``planerel.Classifier``.
 
 Each function takes what the command line takes -- a file path, or a numpy array, or a
-:class:`~planerel.cloud.Cloud` -- and the same camera presets as strings (``"kinect"`` or
+:class:`~planerel.io.cloud.Cloud` -- and the same camera presets as strings (``"kinect"`` or
 ``"W,H,fx,fy,cx,cy"``)::
 
     import numpy as np, planerel
@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from planerel.cloud import Cloud
 from planerel.errors import InputError
+from planerel.io.cloud import Cloud
 
 __all__ = ["read", "segment", "describe"]
 
@@ -35,7 +35,7 @@ def _camera(intrinsics):
 
 def read(source, *, intrinsics=None, depth_scale: float | None = None, up=None,
          subsample: int = 1, max_range: float | None = None) -> Cloud:
-    """A scan as a :class:`~planerel.cloud.Cloud`, from a file, an array or a cloud.
+    """A scan as a :class:`~planerel.io.cloud.Cloud`, from a file, an array or a cloud.
 
     Parameters
     ----------
@@ -60,9 +60,9 @@ def read(source, *, intrinsics=None, depth_scale: float | None = None, up=None,
     -------
     Cloud
     """
-    from planerel import io
-    from planerel.cloud import depth_to_cloud
-    from planerel.cloud import subsample as _sub
+    from planerel.io import readers as io
+    from planerel.io.cloud import depth_to_cloud
+    from planerel.io.cloud import subsample as _sub
 
     camera = _camera(intrinsics)
     if isinstance(source, Cloud):
@@ -126,16 +126,16 @@ def describe(scan, labels=None, *, scene_id: str | None = None, method: str = "r
     labels : ndarray (H, W) int or path, optional
         Plane labels to use instead of segmenting.
     scene_id : str, optional
-        Default: the file's scene name (:mod:`planerel.naming`), else ``"s0000"``.
+        Default: the file's scene name (:mod:`planerel.io.naming`), else ``"s0000"``.
 
     Returns
     -------
     SceneDescription
-        ``facts()`` of it: :func:`planerel.facts.facts_text`.
+        ``facts()`` of it: :func:`planerel.features.facts.facts_text`.
     """
-    from planerel import io
-    from planerel.facts import describe_scene
-    from planerel.naming import scene_name
+    from planerel.features.facts import describe_scene
+    from planerel.io import readers as io
+    from planerel.io.naming import scene_name
 
     cloud = scan if isinstance(scan, Cloud) else read(scan, intrinsics=intrinsics)
     if scene_id is None:

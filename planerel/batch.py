@@ -36,7 +36,7 @@ _NOT_SCANS = (".labels.png", ".labels.npy", ".gt.png", ".classified.png", ".expl
 
 
 def _is_scan(p: Path) -> bool:
-    from planerel.naming import SCAN_EXTENSIONS
+    from planerel.io.naming import SCAN_EXTENSIONS
 
     low = p.name.lower()
     return (p.is_file() and low.endswith(SCAN_EXTENSIONS) and not low.endswith(_NOT_SCANS)
@@ -66,7 +66,7 @@ def expand_inputs(items: Iterable) -> list[Path]:
         p = Path(item)
         if p.is_dir():
             if (p / "manifest.csv").is_file():
-                from planerel.dataset import load_manifest
+                from planerel.features.dataset import load_manifest
 
                 found = [p / r.depth for r in load_manifest(p)]
             else:
@@ -88,7 +88,7 @@ def expand_inputs(items: Iterable) -> list[Path]:
 
 
 def _exts() -> list[str]:
-    from planerel.naming import SCAN_EXTENSIONS
+    from planerel.io.naming import SCAN_EXTENSIONS
 
     return sorted(SCAN_EXTENSIONS)
 

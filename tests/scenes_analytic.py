@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planerel.cloud import Cloud, Intrinsics
+from planerel.io.cloud import Cloud, Intrinsics
 
 
 @dataclass(frozen=True)

@@ -8,9 +8,9 @@ import subprocess
 
 import pytest
 
-from planerel.aleph_export import aleph_files, check_setting, describe_dataset, export_aleph
 from planerel.cli import main
 from planerel.errors import InputError
+from planerel.ilp.aleph_export import aleph_files, check_setting, describe_dataset, export_aleph
 
 SWIPL = shutil.which("swipl") or "/usr/bin/swipl"
 pytestmark = pytest.mark.skipif(not shutil.which(SWIPL), reason="swipl not installed")
@@ -135,7 +135,7 @@ def test_export_command(tmp_path, dataset, capsys):
 
 
 def test_builtin_learner_reads_the_export(tmp_path, descs):
-    learn = pytest.importorskip("planerel.learn")
+    learn = pytest.importorskip("planerel.ilp.learn")
     export_aleph(descs, tmp_path, "stairs")
     res = learn.learn(str(tmp_path / "stairs"), engine="builtin", timeout=60)
     assert res.rules, res.output
@@ -145,7 +145,7 @@ def test_builtin_learner_reads_the_export(tmp_path, descs):
 def test_relational_task_learns_stairs_from_pairwise_relations(tmp_path, descs):
     """aleph/modes_relational.pl: no step_up mode; the builtin learner's stairs rule joins
     planes through pairwise relations."""
-    learn = pytest.importorskip("planerel.learn")
+    learn = pytest.importorskip("planerel.ilp.learn")
     files = aleph_files(descs, "stairs", task="modes_relational.pl")
     b = files["stairs.b"]
     assert "step_up(+" not in b
@@ -167,7 +167,7 @@ def test_relational_task_learns_stairs_from_pairwise_relations(tmp_path, descs):
 
 def test_step_up_task_is_optional(tmp_path, descs):
     """The hand-written detector is a mode only in aleph/modes_objects.pl (--task)."""
-    learn = pytest.importorskip("planerel.learn")
+    learn = pytest.importorskip("planerel.ilp.learn")
     default = aleph_files(descs, "stairs")["stairs.b"]
     assert "step_up(+" not in default and "parallel(+plane, -plane)" in default
     export_aleph(descs, tmp_path, "stairs", task="modes_objects.pl")

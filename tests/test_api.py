@@ -81,7 +81,7 @@ def test_package_is_typed_and_import_is_light():
             "print('numba' in sys.modules, 'pyswip' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["False", "False"]
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     assert planerel.Classifier is Classifier
     with pytest.raises(AttributeError):

@@ -105,8 +105,8 @@ def test_jobs_do_not_change_results(scans, tmp_path):
 
 def test_streamed_facts_equal_the_whole_text(scans, tmp_path):
     """FactsWriter, one scene at a time, writes what facts_text writes for all at once."""
-    from planerel import io
-    from planerel.facts import FactParams, FactsWriter, describe_scene, facts_text
+    from planerel.features.facts import FactParams, FactsWriter, describe_scene, facts_text
+    from planerel.io import readers as io
     from planerel.segment import segment
 
     descs = []

@@ -102,8 +102,8 @@ def test_bad_intrinsics_is_one_sentence(text):
     ((640, 480, 525, 525, float("inf"), 239.5), "cx must be finite"),
 ])
 def test_bad_intrinsics_values(value, match):
-    from planerel.cloud import Intrinsics
     from planerel.errors import InputError
+    from planerel.io.cloud import Intrinsics
 
     with pytest.raises(InputError, match=match):
         Intrinsics.from_any(value)

@@ -1,4 +1,4 @@
-"""Curved and unexplained surfaces as object proposals with a planar fraction (planerel.curved)."""
+"""Curved and unexplained surfaces as object proposals with a planar fraction (planerel.features.curved)."""
 
 from __future__ import annotations
 
@@ -8,13 +8,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from planerel import synth
-from planerel import synth_geometry as sg
-from planerel.cloud import Cloud, Intrinsics
-from planerel.curved import CurvedParams, curved_objects, pixel_areas, unexplained_clusters
 from planerel.errors import InputError
-from planerel.facts import describe_scene, facts_text
-from planerel.object_eval import mosd_objects, proposal_image, score_objects
+from planerel.features.curved import CurvedParams, curved_objects, pixel_areas, unexplained_clusters
+from planerel.features.facts import describe_scene, facts_text
+from planerel.features.object_eval import mosd_objects, proposal_image, score_objects
+from planerel.io.cloud import Cloud, Intrinsics
+from planerel.synth import generator as synth
+from planerel.synth import geometry as sg
 
 MOSD = Path(__file__).resolve().parents[2] / "shared" / "data" / "mosd"
 
@@ -157,7 +157,7 @@ def test_curved_params_refuse_bad_values():
 @pytest.mark.skipif(not (MOSD / "test31.pcd").is_file(), reason="shared mOSD frames absent")
 @pytest.mark.parametrize("name,curved", [("test31", True), ("learn1", False)])
 def test_real_mosd_round_objects_are_curved_and_boxes_flat(name, curved):
-    from planerel import io
+    from planerel.io import readers as io
     from planerel.segment import segment
 
     path = MOSD / f"{name}.pcd"

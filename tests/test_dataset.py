@@ -1,4 +1,4 @@
-"""The data-set format (planerel.dataset) and ``planerel dataset synth`` / ``info``."""
+"""The data-set format (planerel.features.dataset) and ``planerel dataset synth`` / ``info``."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from planerel import io
 from planerel.cli import main
-from planerel.dataset import (
+from planerel.errors import InputError
+from planerel.features.dataset import (
     MANIFEST,
     ManifestRow,
     iter_scenes,
@@ -22,8 +22,8 @@ from planerel.dataset import (
     write_manifest,
     write_scene,
 )
-from planerel.errors import InputError
-from planerel.synth import generate_dataset, generate_scene, scene_seed
+from planerel.io import readers as io
+from planerel.synth.generator import generate_dataset, generate_scene, scene_seed
 
 SMALL_ARGS = ["--n-box", "1", "--n-stairs", "2", "--n-ramp", "1", "--size", "320x240",
               "--subsample", "4", "--quiet"]

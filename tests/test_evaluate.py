@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from planerel.errors import InputError
-from planerel.evaluate import evaluate, segcomp, sparse_planes
+from planerel.segment.evaluate import evaluate, segcomp, sparse_planes
 
 
 def _gt():

@@ -14,7 +14,7 @@ from plyfile import PlyData, PlyElement
 from pypcd4 import PointCloud
 
 from planerel.cli import main
-from planerel.writers import label_colours
+from planerel.io.writers import label_colours
 
 
 @pytest.fixture(scope="module")
@@ -36,7 +36,7 @@ def test_segment_writes_labelled_pcd_and_coloured_ply(scenes, tmp_path):
     assert main(["segment", str(scan), "-o", str(out)]) == 0
     labels = np.load(out / "s0000.labels.npy")
     h, w = labels.shape
-    from planerel import io
+    from planerel.io import readers as io
 
     xyz = io.read(scan).xyz
     pc, f = _pcd_fields(out / "s0000.pcd")
@@ -104,8 +104,8 @@ def test_input_colours_are_kept_in_segment_and_convert(tmp_path):
 
 @pytest.mark.parametrize("fmt", ["ply", "glb"])
 def test_describe_mesh_one_colour_per_plane_on_the_planes(scenes, tmp_path, fmt):
-    from planerel import io
-    from planerel.facts import describe_scene
+    from planerel.features.facts import describe_scene
+    from planerel.io import readers as io
     from planerel.segment import segment
 
     scan = scenes / "s0001.depth.png"
@@ -132,8 +132,8 @@ def test_describe_mesh_one_colour_per_plane_on_the_planes(scenes, tmp_path, fmt)
 
 
 def test_describe_graph_graphml_and_json(scenes, tmp_path):
-    from planerel import io
-    from planerel.facts import describe_scene
+    from planerel.features.facts import describe_scene
+    from planerel.io import readers as io
     from planerel.segment import segment
 
     scan = scenes / "s0000.depth.png"
@@ -161,8 +161,8 @@ def test_describe_graph_graphml_and_json(scenes, tmp_path):
 def test_explanation_image_is_wide_with_a_legend(scenes, tmp_path):
     from PIL import Image
 
-    from planerel.classify import Classifier
-    from planerel.explain_render import binding_colours
+    from planerel.classify.classifier import Classifier
+    from planerel.classify.explain_render import binding_colours
 
     rules = tmp_path / "rules.pl"
     rules.write_text("ramp(A) :- has_plane(A, B), orientation(B, inclined).\n")
@@ -173,7 +173,7 @@ def test_explanation_image_is_wide_with_a_legend(scenes, tmp_path):
     assert img.shape[1] >= 640
     pic_h = 480  # 160x120 scaled by 4 to 640x480
     assert img.shape[0] > pic_h + 40  # a legend below the picture
-    from planerel import io
+    from planerel.io import readers as io
 
     with Classifier(rules) as clf:
         ans = clf.classify(io.read(scan), scene_id="s0001")

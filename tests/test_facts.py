@@ -11,7 +11,7 @@ from scenes_analytic import box, floor, render, stairs, wall
 
 from planerel.cli import main
 from planerel.errors import InputError
-from planerel.facts import PREDICATES, FactParams, describe_scene, facts_text, write_facts
+from planerel.features.facts import PREDICATES, FactParams, describe_scene, facts_text, write_facts
 
 SWIPL = shutil.which("swipl") or "/usr/bin/swipl"
 pytestmark = pytest.mark.skipif(not shutil.which(SWIPL), reason="swipl not installed")
@@ -145,7 +145,7 @@ def test_describe_command(tmp_path, capsys):
 def test_oblique_share_counts_the_smaller_plane_of_each_oblique_adjacent_pair():
     from types import SimpleNamespace as NS
 
-    from planerel.facts import oblique_share
+    from planerel.features.facts import oblique_share
 
     planes = {1: NS(area=2.0), 2: NS(area=1.0), 3: NS(area=1.0), 4: NS(area=0.5), 5: NS(area=9.0)}
 

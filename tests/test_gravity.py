@@ -1,7 +1,7 @@
 """Gravity (up vector) for any camera pitch and roll, its sources and its confidence.
 
 Expected up vectors come from the camera poses the scenes are rendered with (two independent
-renderers: tests/scenes_analytic.py and planerel.gravity_scenes on planerel.synth's ray
+renderers: tests/scenes_analytic.py and planerel.synth.gravity_scenes on planerel.synth.generator's ray
 caster), never from the estimator itself.
 """
 
@@ -17,17 +17,17 @@ import pytest
 from scenes_analytic import box, floor, render, stairs, wall
 
 from planerel.cli import main
-from planerel.cloud import Cloud
 from planerel.errors import InputError
-from planerel.gravity import (
+from planerel.features.gravity import (
     GravityParams,
     UpEstimate,
     estimate_gravity,
     resolve_up,
     up_from_cloud,
 )
-from planerel.gravity_scenes import posed_scene
-from planerel.planes import measure_planes
+from planerel.features.planes import measure_planes
+from planerel.io.cloud import Cloud
+from planerel.synth.gravity_scenes import posed_scene
 
 
 def _deg(a, b) -> float:
@@ -86,7 +86,7 @@ def test_staircase_from_above_realistic_kinect_one_horizontal_region_per_tread(p
     # disparity quantisation) at the Kinect's native 640x480; seed 1: six steps, the most treads.
     # The truth is the renderer's: its pose (up) and its per-pixel plane labels.
     from planerel.segment import segment
-    from planerel.synth_sensor import StructuredLight
+    from planerel.synth.sensor import StructuredLight
 
     s = posed_scene("stairs_from_above", pitch, 0, seed=1, subsample=1, sensor=StructuredLight())
     seg = segment(s.cloud)
@@ -188,8 +188,8 @@ def _write_ascii_pcd(path, xyz):
 
 
 def test_sidecar_up_for_pcd_and_ply(tmp_path):
-    from planerel import io
-    from planerel.writers import write_ply
+    from planerel.io import readers as io
+    from planerel.io.writers import write_ply
 
     cloud, _, _, _ = render([floor()], width=16, height=12)
     _write_ascii_pcd(tmp_path / "scan.pcd", cloud.xyz)
@@ -246,7 +246,7 @@ def test_deterministic():
 
 
 def test_classify_reports_the_up_source_and_confidence(tmp_path):
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     rules = tmp_path / "rules.pl"
     rules.write_text("box(O) :- nplanes(O, N), gteq(N, 1).\n")

@@ -69,7 +69,7 @@ def test_noisy_depth_of_the_top_face_agrees_with_the_ray_plane_intersection_with
 
 
 def test_written_scene_reads_back_with_its_up_vector_and_truth(tmp_path):
-    from planerel import io
+    from planerel.io import readers as io
 
     ind.make_set(tmp_path, 1, 5, (80, 60))
     cloud = io.read(tmp_path / "i0000.npy")

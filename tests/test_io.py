@@ -8,10 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from planerel import io
-from planerel.cloud import KINECT, Cloud, Intrinsics, depth_to_cloud, subsample
 from planerel.errors import InputError, PlanerelError
-from planerel.writers import (
+from planerel.io import readers as io
+from planerel.io.cloud import KINECT, Cloud, Intrinsics, depth_to_cloud, subsample
+from planerel.io.writers import (
     colour_labels,
     write_depth_png,
     write_json,

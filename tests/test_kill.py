@@ -23,7 +23,7 @@ from pathlib import Path
 import pytest
 
 from planerel.children import descendants, pid_alive
-from planerel.synth import generate_dataset
+from planerel.synth.generator import generate_dataset
 
 ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")

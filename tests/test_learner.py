@@ -1,4 +1,4 @@
-"""planerel's Aleph-compatible learner (aleph/learner.pl) through planerel.learn and the CLI.
+"""planerel's Aleph-compatible learner (aleph/learner.pl) through planerel.ilp.learn and the CLI.
 
 The problems in tests/ilp were written for these tests from the public descriptions of the
 classic ILP tasks (Michalski's trains, family relations, a numeric threshold, a noisy task).
@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from planerel.errors import DependencyError, InputError, LearnerError
-from planerel.learn import Confusion, find_aleph, format_report, learn, parse_settings
+from planerel.ilp.learn import Confusion, find_aleph, format_report, learn, parse_settings
 
 ILP = Path(__file__).parent / "ilp"
 

@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from planerel.errors import InputError
-from planerel.learn import learn
+from planerel.ilp.learn import learn
 
 
 def _aleph_files():

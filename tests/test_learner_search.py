@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from planerel.learn import Confusion, learn
+from planerel.ilp.learn import Confusion, learn
 
 pytestmark = pytest.mark.skipif(shutil.which("swipl") is None, reason="SWI-Prolog not installed")
 

@@ -7,15 +7,15 @@ import subprocess
 
 import pytest
 
-from planerel import pipeline as P
 from planerel.errors import InputError, PrologError
+from planerel.ilp import pipeline as P
 
 ANY_OBJECT = "nplanes(O, N), gteq(N, 1)"  # true of every object proposal
 
 
 @pytest.fixture(scope="module")
 def stairs_scene():
-    from planerel.synth import generate_scene
+    from planerel.synth.generator import generate_scene
 
     return generate_scene("stairs", seed=11, size=(640, 480), subsample=4, steps=4,
                           sides="open", walls=0)
@@ -42,7 +42,7 @@ MALICIOUS = {
 
 @pytest.mark.parametrize("kind", sorted(MALICIOUS))
 def test_malicious_model_runs_nothing_in_classify(kind, tmp_path, stairs_scene):
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     marker = tmp_path / "pwned"
     rules = _model(tmp_path / "rules.pl", MALICIOUS[kind].format(m=marker))
@@ -55,7 +55,7 @@ def test_malicious_model_runs_nothing_in_classify(kind, tmp_path, stairs_scene):
 @pytest.mark.parametrize("kind", ["directive", "initialization", "body"])
 def test_malicious_rules_run_nothing_in_the_rule_query(kind, tmp_path, stairs_scene):
     """The learner's rule query (its own swipl) reads the model as data as well."""
-    from planerel.facts import describe_scene
+    from planerel.features.facts import describe_scene
 
     marker = tmp_path / "pwned"
     text = MALICIOUS[kind].format(m=marker)
@@ -70,7 +70,7 @@ def test_malicious_rules_run_nothing_in_the_rule_query(kind, tmp_path, stairs_sc
 
 
 def test_refused_clause_names_file_and_line(tmp_path):
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     rules = _model(tmp_path / "rules.pl", "% comment\nbox(O) :- " + ANY_OBJECT + ".\n\n"
                    "ramp(O) :- " + ANY_OBJECT + ", open('/etc/passwd', read, _).\n")
@@ -79,7 +79,7 @@ def test_refused_clause_names_file_and_line(tmp_path):
 
 
 def test_old_model_header_is_accepted_and_syntax_error_is_prolog_error(tmp_path):
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     header = (":- dynamic(planerel_rule_stats/4).\n:- multifile(planerel_rule_stats/4).\n"
               ":- style_check(-singleton).\n")
@@ -92,7 +92,7 @@ def test_old_model_header_is_accepted_and_syntax_error_is_prolog_error(tmp_path)
 
 @pytest.mark.parametrize("name", ["halt", "shell", "atom", "is_list", "horizontal", "adjacent"])
 def test_class_names_may_not_clash_with_predicates(name):
-    from planerel.aleph_export import check_class_names
+    from planerel.ilp.aleph_export import check_class_names
 
     with pytest.raises(InputError, match=f"class name '{name}' is a"):
         check_class_names(["box", name])
@@ -105,7 +105,7 @@ def test_class_names_may_not_clash_with_predicates(name):
 def test_two_models_interleaved_each_answer_with_their_own_rules(tmp_path, stairs_scene):
     """c1 and c2 fire for every object; c1 calls it stairs, c2 calls it ramp, whatever the
     order in which they are used and created."""
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     a = Classifier(_model(tmp_path / "a.pl", f"stairs(O) :- {ANY_OBJECT}.\n"
                           "planerel_rule_stats(1, stairs, 5, 0).\n"))
@@ -135,7 +135,7 @@ def test_rule_query_with_quotes_in_temp_folder(tmp_path, monkeypatch, stairs_sce
     goal) changes nothing: the paths reach swipl as data."""
     import tempfile
 
-    from planerel.facts import describe_scene
+    from planerel.features.facts import describe_scene
 
     monkeypatch.chdir(tmp_path)
     marker = tmp_path / "pwned"

@@ -8,10 +8,10 @@ import json
 import numpy as np
 import pytest
 
-from planerel import pipeline as P
 from planerel.cli import main
 from planerel.errors import InputError
-from planerel.synth import generate_dataset, generate_scene
+from planerel.ilp import pipeline as P
+from planerel.synth.generator import generate_dataset, generate_scene
 
 
 @pytest.fixture(scope="module")
@@ -26,9 +26,9 @@ def model_dir(tmp_path_factory):
 
 
 def test_learn_writes_the_settings_it_learned_with(model_dir):
-    from planerel.gravity import GravityParams
-    from planerel.planes import PlaneParams
-    from planerel.relations import ProposalParams, RelationParams
+    from planerel.features.gravity import GravityParams
+    from planerel.features.planes import PlaneParams
+    from planerel.features.relations import ProposalParams, RelationParams
 
     data = json.loads((model_dir / "model.json").read_text())
     seg = data["segmentation"]
@@ -46,7 +46,7 @@ def test_learn_writes_the_settings_it_learned_with(model_dir):
 
 
 def test_classify_segments_with_the_model_settings(model_dir):
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
     from planerel.segment import segment
 
     scene = generate_scene("box", seed=21, size=(640, 480), subsample=4)
@@ -67,7 +67,7 @@ def test_classify_segments_with_the_model_settings(model_dir):
     ({}, "sp", ["method sp", "regiongrow"]),
 ])
 def test_overrides_differing_from_training_are_warned(model_dir, overrides, method, warned):
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     with Classifier(model_dir / "rules.pl", method=method, seg_params=overrides) as clf:
         text = " | ".join(clf.warnings)
@@ -84,14 +84,14 @@ def test_overrides_differing_from_training_are_warned(model_dir, overrides, meth
     ({"planes.min_points": "many"}, "expected a int"),
 ])
 def test_bad_overrides_are_refused(model_dir, overrides, match):
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     with pytest.raises(InputError, match=match):
         Classifier(model_dir / "rules.pl", seg_params=overrides)
 
 
 def test_rules_without_settings_use_the_defaults(tmp_path):
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     (tmp_path / "rules.pl").write_text("box(A) :- nplanes(A, 2).\n")
     with Classifier(tmp_path / "rules.pl", seg_params={"theta": "12"}) as clf:

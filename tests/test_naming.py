@@ -7,7 +7,7 @@ import pytest
 
 from planerel.cli import main
 from planerel.errors import InputError
-from planerel.naming import scene_name, scene_names
+from planerel.io.naming import scene_name, scene_names
 
 
 @pytest.mark.parametrize("path, name", [

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from planerel.cloud import Cloud, Intrinsics
 from planerel.errors import InputError
-from planerel.normals import estimate_normals, knn_normals, organized_normals
+from planerel.io.cloud import Cloud, Intrinsics
+from planerel.segment.normals import estimate_normals, knn_normals, organized_normals
 
 
 def _raycast_planes(planes, width=80, height=60, rng=None, noise=0.0):
@@ -177,7 +177,7 @@ def test_streamed_normals_match_the_definition(radius, reference_depth):
     xyz[20:24, 30:38] = np.nan
     args = dict(smooth=radius, radius=radius, reference_depth=reference_depth)
     got = organized_normals(xyz, intrinsics=cloud.intrinsics, **args)
-    from planerel.normals import normal_kernel_args
+    from planerel.segment.normals import normal_kernel_args
 
     s0, r0, zref, smax, rmax, jpz = normal_kernel_args(np.ascontiguousarray(xyz),
                                                        intrinsics=cloud.intrinsics, **args)

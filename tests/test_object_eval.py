@@ -1,4 +1,4 @@
-"""Object proposals scored against per-pixel object truth (planerel.object_eval)."""
+"""Object proposals scored against per-pixel object truth (planerel.features.object_eval)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from planerel.errors import InputError
-from planerel.object_eval import mosd_objects, proposal_image, score_objects, summarize
+from planerel.features.object_eval import mosd_objects, proposal_image, score_objects, summarize
 
 
 def test_mosd_objects_maps_labels_to_object_ids():
@@ -84,7 +84,7 @@ def test_cli_scores_a_varied_world_data_set(tmp_path, capsys):
     assert main(["evaluate-objects", str(ds), "--json", str(out)]) == 0
     res = json.loads(out.read_text())
     truth_ids = set()
-    from planerel import dataset
+    from planerel.features import dataset
 
     for row in dataset.load_manifest(ds):
         t = dataset.load_object_labels(ds, row.scene_id)
@@ -104,7 +104,7 @@ def test_cli_rejects_a_file_without_labels(tmp_path):
 
 
 def test_miss_kinds_name_why_an_object_is_missed():
-    from planerel.object_eval import miss_kind
+    from planerel.features.object_eval import miss_kind
 
     t = np.zeros((20, 20), np.int32)
     t[2:12, 2:18] = 1  # 160 px

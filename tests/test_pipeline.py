@@ -11,10 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from planerel import pipeline as P
 from planerel.cli import main
 from planerel.errors import DependencyError, InputError, LearnerError, PrologError
-from planerel.synth import generate_dataset
+from planerel.ilp import pipeline as P
+from planerel.synth.generator import generate_dataset
 
 
 @pytest.fixture(scope="module")
@@ -173,8 +173,8 @@ def test_learn_cli_then_classify_cli(small_set, tmp_path, capsys):
 
 
 def test_classifier_explains_stairs_with_planes(gt_descs, tmp_path):
-    from planerel.classify import Classifier, explanation_image
-    from planerel.synth import generate_scene
+    from planerel.classify.classifier import Classifier, explanation_image
+    from planerel.synth.generator import generate_scene
 
     model = P.learn_rules(gt_descs, ["box", "stairs", "ramp"], engine="builtin")
     (tmp_path / "rules.pl").write_text(model.text())
@@ -242,8 +242,8 @@ def _rules_file(path, stats):
     ({"box": (9, 12), "stairs": (1, 0)}, "stairs"),
 ])
 def test_classifier_chooses_between_two_classes_that_fire(tmp_path, stats, want):
-    from planerel.classify import Classifier
-    from planerel.synth import generate_scene
+    from planerel.classify.classifier import Classifier
+    from planerel.synth.generator import generate_scene
 
     clf = Classifier(_rules_file(tmp_path / "rules.pl", stats))
     scene = generate_scene("stairs", seed=11, size=(640, 480), subsample=4, steps=4,
@@ -296,7 +296,7 @@ def test_existing_model_is_replaced_only_when_complete(small_set, tmp_path):
 
 
 def test_rules_file_with_syntax_error(tmp_path):
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     bad = tmp_path / "rules.pl"
     bad.write_text("stairs(A) :- has_plane(A, B), .\n")
@@ -308,7 +308,7 @@ def test_rules_file_with_syntax_error(tmp_path):
 
 def test_classifier_takes_the_model_folder(tmp_path):
     """`planerel learn -o MODEL` writes MODEL/rules.pl: the folder names the model too."""
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     (tmp_path / "model").mkdir()
     (tmp_path / "model" / "rules.pl").write_text("ramp(A) :- ninclined(A, 1).\n")
@@ -326,8 +326,8 @@ def test_no_swipl_on_path(gt_descs, monkeypatch, tmp_path):
 
 
 def test_empty_scene_gives_no_object(gt_descs, tmp_path):
-    from planerel.classify import Classifier
-    from planerel.cloud import Cloud, Intrinsics
+    from planerel.classify.classifier import Classifier
+    from planerel.io.cloud import Cloud, Intrinsics
 
     model = P.learn_rules(gt_descs, ["box", "stairs", "ramp"], engine="builtin")
     (tmp_path / "rules.pl").write_text(model.text())
@@ -344,7 +344,7 @@ def test_empty_scene_gives_no_object(gt_descs, tmp_path):
 
 def test_classify_dataset_scores_against_the_sidecar_truth(small_set, gt_descs, tmp_path):
     """classify_dataset (the held-out figure of docs/results.md) with a ramp-only model."""
-    from planerel.classify import Classifier, classify_dataset
+    from planerel.classify.classifier import Classifier, classify_dataset
 
     model = P.learn_rules(gt_descs, ["box", "stairs", "ramp"], engine="builtin")
     # a model that knows ramps only: box and stairs scenes must come out "other"

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from scenes_analytic import box, floor, ramp, render, stairs, wall
 
-from planerel.cloud import Cloud
 from planerel.errors import InputError
-from planerel.planes import PlaneParams, estimate_up, measure_planes, resolve_up
+from planerel.features.planes import PlaneParams, estimate_up, measure_planes, resolve_up
+from planerel.io.cloud import Cloud
 
 
 def _deg(a, b) -> float:
@@ -61,7 +61,7 @@ def test_ramp_incline_within_two_degrees(angle):
 
 
 def test_synthetic_ground_truth_planes():
-    from planerel.synth import generate_scene
+    from planerel.synth.generator import generate_scene
 
     for kind, seed in (("stairs", 1), ("ramp", 1), ("box", 2)):
         sc = generate_scene(kind, seed, subsample=4)

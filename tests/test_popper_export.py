@@ -9,10 +9,10 @@ import subprocess
 
 import pytest
 
-from planerel.aleph_export import describe_dataset
 from planerel.cli import main
 from planerel.errors import InputError
-from planerel.popper_export import BODY_PREDICATES, export_popper, popper_files
+from planerel.ilp.aleph_export import describe_dataset
+from planerel.ilp.popper_export import BODY_PREDICATES, export_popper, popper_files
 
 SWIPL = shutil.which("swipl")
 pytestmark = pytest.mark.skipif(SWIPL is None, reason="swipl not installed")

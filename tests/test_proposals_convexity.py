@@ -6,7 +6,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from planerel.relations import convex_pairs, edge_means
+from planerel.features.relations import convex_pairs, edge_means
 
 # Camera at the origin looking along +z, image y down: "up" is -y.  Normals face the sensor.
 
@@ -88,9 +88,9 @@ def test_border_slivers_are_dropped_on_a_real_mosd_frame():
 
     import pytest
 
-    from planerel.facts import describe_scene
-    from planerel.io import read
-    from planerel.relations import ProposalParams
+    from planerel.features.facts import describe_scene
+    from planerel.features.relations import ProposalParams
+    from planerel.io.readers import read
     from planerel.segment import segment
 
     f = Path(__file__).resolve().parents[2] / "shared" / "data" / "mosd" / "learn0.pcd"

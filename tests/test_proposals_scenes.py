@@ -2,17 +2,16 @@
 
 Each scene is ray-cast from rectangles that carry their object id (tests/scenes_analytic.py);
 the planes are the true ones (one label per rectangle), so what is tested is the proposal rule
-(planerel.relations.propose_objects), not the segmentation.  Expected proposals follow from
+(planerel.features.relations.propose_objects), not the segmentation.  Expected proposals follow from
 the scene's construction: every object's visible faces in one proposal of their own.
 """
 
 from __future__ import annotations
 
-import numpy as np
 from scenes_analytic import Rect, floor, render
 
-from planerel.facts import describe_scene
-from planerel.relations import ProposalParams
+from planerel.features.facts import describe_scene
+from planerel.features.relations import ProposalParams
 
 
 def _box(cx, cy, sx, sy, sz, z0=0.0, obj=1):

@@ -17,10 +17,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from planerel import io
-from planerel.cloud import Cloud
 from planerel.errors import InputError
-from planerel.writers import write_depth_png, write_ply
+from planerel.io import readers as io
+from planerel.io.cloud import Cloud
+from planerel.io.writers import write_depth_png, write_ply
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
 

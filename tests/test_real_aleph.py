@@ -17,7 +17,7 @@ import pytest
 
 from planerel.cli import main
 from planerel.errors import LearnerError
-from planerel.learn import Confusion, aleph_kind, find_aleph, learn
+from planerel.ilp.learn import Confusion, aleph_kind, find_aleph, learn
 
 ILP = Path(__file__).parent / "ilp"
 ALEPH = os.environ.get("PLANEREL_ALEPH", "")

@@ -63,8 +63,8 @@ def _code_hash() -> str:
 def demo_model(request):
     """The demo's model folder (learned here, or from the cache for this code)."""
     _need_data()
-    from planerel.pipeline import learn_model
-    from planerel.training_world import generate_training_world
+    from planerel.ilp.pipeline import learn_model
+    from planerel.synth.training_world import generate_training_world
 
     cache = Path(request.config.cache.mkdir("planerel-demo-model"))
     model = cache / _code_hash()
@@ -150,7 +150,7 @@ def test_synthetic_kinect_stairs_from_above_and_ramps_keep_their_class(demo_mode
     model before the training world had 5 of 10 too, so this guards against a regression and
     the rest is the proposals' work (issues 15, 22)."""
     from planerel.classify import Classifier
-    from planerel.synth_world import WorldRange, generate_world_scene
+    from planerel.synth.world import WorldRange, generate_world_scene
 
     ranges = WorldRange(camera_height=(0.8, 1.6), camera_pitch_deg=(25.0, 60.0),
                         object_range=(1.0, 3.0), extra_objects=(0, 1), **extra)

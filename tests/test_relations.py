@@ -7,8 +7,8 @@ import pytest
 from scenes_analytic import box, floor, render, stairs, wall
 
 from planerel.errors import InputError
-from planerel.planes import measure_planes
-from planerel.relations import (
+from planerel.features.planes import measure_planes
+from planerel.features.relations import (
     ProposalParams,
     RelationParams,
     hull_gap,
@@ -84,7 +84,7 @@ def test_proposals_match_truth(stair_scene):
 
 
 def test_synthetic_proposals():
-    from planerel.synth import generate_scene
+    from planerel.synth.generator import generate_scene
 
     matched = 0
     for kind, seed in (("box", 1), ("stairs", 1), ("ramp", 1)):

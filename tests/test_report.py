@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from planerel.errors import InputError
-from planerel.report import (
+from planerel.report.builder import (
     MethodSpec,
     ReportOptions,
     build_report,
@@ -23,7 +23,7 @@ from planerel.report import (
     run_learning,
     run_real_data,
 )
-from planerel.report_render import Figure, Heading, Para, Table, render_html, render_markdown
+from planerel.report.render import Figure, Heading, Para, Table, render_html, render_markdown
 
 METHODS = "sp:0.03,snp:0.05,regiongrow"
 
@@ -31,7 +31,7 @@ METHODS = "sp:0.03,snp:0.05,regiongrow"
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory):
     """One box, one stairs, one ramp scene at 80x60."""
-    from planerel.synth import generate_dataset
+    from planerel.synth.generator import generate_dataset
 
     d = tmp_path_factory.mktemp("tiny") / "set"
     generate_dataset(d, n_box=1, n_stairs=1, n_ramp=1, seed=3, size=(640, 480), subsample=8)
@@ -97,7 +97,7 @@ def test_markdown_and_figure_files_match_the_html(reports):
         assert (a.out_dir / rel).read_bytes() in html_pngs
     assert md.count("| RG |") >= 5  # planes, four SegComp tables, sparse
     # the all-scenes SegComp row of RG, recomputed from the per-scene scores of results.json
-    from planerel.report_sections import grade
+    from planerel.report.sections import grade
 
     per = [sc["scores"]["regiongrow"] for sc in json.loads(a.json.read_text())["scenes"]]
     section = md.split("**all scenes**", 1)[1]
@@ -112,9 +112,9 @@ def test_markdown_and_figure_files_match_the_html(reports):
 
 
 def test_raw_numbers_agree_with_an_independent_scoring(reports, tiny):
-    from planerel.dataset import load_scene
-    from planerel.evaluate import evaluate
+    from planerel.features.dataset import load_scene
     from planerel.segment import segment
+    from planerel.segment.evaluate import evaluate
 
     a, _ = reports
     data = json.loads(a.json.read_text())
@@ -172,7 +172,7 @@ def test_output_is_deterministic_apart_from_timing(reports):
 def test_page_renders_in_headless_chromium(reports, tmp_path):
     from PIL import Image
 
-    from planerel.report_browser import find_chromium, screenshot
+    from planerel.report.browser import find_chromium, screenshot
 
     if find_chromium() is None:
         pytest.skip("Chromium is not installed (apt-get install -y chromium); the page was "
@@ -205,7 +205,7 @@ def test_cli_report(tiny, tmp_path, capsys):
 def test_learning_section_says_why_when_a_fold_lacks_a_class(tiny, tmp_path, monkeypatch):
     """One scene per class and 2 stratified folds: the training half of one fold holds a single
     class, which learning refuses; the report keeps the error and shows it."""
-    from planerel.report_sections import _learning_blocks
+    from planerel.report.sections import _learning_blocks
 
     monkeypatch.setenv("PLANEREL_CACHE", str(tmp_path / "cache"))
     methods = parse_methods("regiongrow")
@@ -226,7 +226,7 @@ def test_learning_section_says_why_when_a_fold_lacks_a_class(tiny, tmp_path, mon
 def test_learning_section_table_from_known_numbers():
     """The section's table, sentence and confusion matrix from a result written by hand:
     RG 3 of 4 examples right with one scene skipped (all scenes: 3 / 5 = 60 %)."""
-    from planerel.report_sections import _learning_blocks
+    from planerel.report.sections import _learning_blocks
 
     methods = parse_methods("sp:0.03,regiongrow")
     rg = {"accuracy": 0.75, "accuracy_all_scenes": 0.6, "n_examples": 4, "skipped": ["s0004"],
@@ -260,7 +260,7 @@ def test_learning_section_table_from_known_numbers():
 def test_grade_thresholds(fraction, want):
     """The paper's four grades mapped to the fraction of true planes detected correctly:
     H >= 85 %, MH >= 70 %, ML >= 50 %, L below (docs/paper-reproduction.md)."""
-    from planerel.report_sections import grade
+    from planerel.report.sections import grade
 
     assert grade(fraction) == want
 
@@ -287,8 +287,8 @@ def test_real_data_when_present(tmp_path):
         assert len(res["clouds"]) == 5
         assert all(it["shape"] == [60, 80] for it in res["clouds"])
     # the section: per-image correct counts as computed, their mean in the SegComp table
-    from planerel.report import summarise
-    from planerel.report_sections import _real_blocks
+    from planerel.report.builder import summarise
+    from planerel.report.sections import _real_blocks
 
     res["summary"] = summarise(res["abw"], parse_methods("regiongrow"))  # as build_report does
     blocks = _real_blocks(res, _opts(methods="regiongrow", abw_subsample=4, real_subsample=8))
@@ -346,7 +346,7 @@ def test_bad_data_set(tmp_path, tiny):
 
 
 def test_render_blocks_and_their_errors():
-    from planerel.report_figures import Panel, compose_figure, panel_image, png_bytes
+    from planerel.report.figures import Panel, compose_figure, panel_image, png_bytes
 
     lab = np.full((6, 8), -1, np.int32)
     lab[:3] = 0
@@ -371,9 +371,9 @@ def test_render_blocks_and_their_errors():
 
 def test_paper_algorithm_is_a_report_method(tiny, tmp_path):
     """``rgpaper`` scores Algorithm 1 as written (``segment(preset="paper")``) beside RG."""
-    from planerel.dataset import load_scene
-    from planerel.evaluate import evaluate
+    from planerel.features.dataset import load_scene
     from planerel.segment import segment
+    from planerel.segment.evaluate import evaluate
 
     (m,) = parse_methods("rgpaper")
     assert (m.key, m.label, m.segment_method, m.params()) == (
@@ -392,8 +392,8 @@ def test_paper_algorithm_is_a_report_method(tiny, tmp_path):
 
 
 def test_object_section_gives_the_evaluate_objects_figures_when_labels_are_present(tmp_path):
-    from planerel.object_eval import evaluate_frames
-    from planerel.synth import generate_dataset
+    from planerel.features.object_eval import evaluate_frames
+    from planerel.synth.generator import generate_dataset
 
     d = tmp_path / "varied"
     generate_dataset(d, n_box=1, n_stairs=1, n_ramp=0, seed=5, size=(640, 480), subsample=4,

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from planerel.cloud import Cloud, Intrinsics
 from planerel.errors import InputError, PlanerelError
-from planerel.evaluate import evaluate
+from planerel.io.cloud import Cloud, Intrinsics
 from planerel.segment import RegionGrowParams, make_params, segment
 from planerel.segment._scenes import staircase
+from planerel.segment.evaluate import evaluate
 
 
 @pytest.fixture(scope="module")
@@ -182,7 +182,7 @@ def test_bad_method_and_params_object(stairs160):
 
 
 def test_synthetic_stairs_scene_from_the_generator():
-    synth = pytest.importorskip("planerel.synth")
+    synth = pytest.importorskip("planerel.synth.generator")
     sc = synth.generate_scene("stairs", seed=1, subsample=4)
     seg = segment(sc.cloud)
     s = evaluate(seg.labels, sc.gt_labels)
@@ -222,7 +222,7 @@ def _visible_gt(scene, min_size):
 
 @pytest.mark.parametrize("steps", [3, 4, 5])
 def test_closed_staircases_from_the_generator_160x120(steps):
-    synth = pytest.importorskip("planerel.synth")
+    synth = pytest.importorskip("planerel.synth.generator")
     sc = synth.generate_scene("stairs", 0, size=(640, 480), subsample=4, steps=steps,
                               sides="closed", walls=1)
     seg = segment(sc.cloud)
@@ -234,7 +234,7 @@ def test_closed_staircases_from_the_generator_160x120(steps):
 
 
 def test_closed_staircase_from_the_generator_640x480():
-    synth = pytest.importorskip("planerel.synth")
+    synth = pytest.importorskip("planerel.synth.generator")
     sc = synth.generate_scene("stairs", 1, size=(640, 480), subsample=1, steps=4,
                               sides="closed", walls=1)
     seg = segment(sc.cloud)
@@ -284,7 +284,7 @@ ABW = __import__("pathlib").Path(__file__).resolve().parents[2] / "shared" / "da
 
 @pytest.mark.skipif(not (ABW / "abw.test.0.range").exists(), reason="SegComp ABW data not present")
 def test_abw_image_with_the_structured_light_preset():
-    from planerel.io import read_abw, read_abw_gt
+    from planerel.io.readers import read_abw, read_abw_gt
 
     cloud = read_abw(ABW / "abw.test.0.range")
     gt = read_abw_gt(ABW / "abw.test.0.gt-seg")
@@ -323,7 +323,7 @@ def test_precomputed_normals_give_the_same_segmentation():
     """Organized cloud with normals given: the graph is built in its own pass (not in the
     normals' pass) and the result is the same, also for a cloud whose array is a strided view."""
     from planerel.segment import segment
-    from planerel.synth import generate_scene
+    from planerel.synth.generator import generate_scene
 
     cloud = generate_scene("stairs", seed=1, subsample=4).cloud
     ref = segment(cloud, refine=False, split=False)

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from planerel.cloud import Cloud, Intrinsics, subsample
+from planerel.io.cloud import Cloud, Intrinsics, subsample
 from planerel.segment import segment
 from planerel.segment.absorb import absorb_fragments
 from planerel.segment.result import Segmentation, SegPlane, fit_planes
@@ -127,8 +127,8 @@ BOX_PIXELS = {
 def test_the_kinect_box_is_one_proposal_of_its_three_faces(name, sub):
     # issue 15: the cardboard box by the laptop is proposed as an object, at 640x480 and
     # subsampled; its three visible faces are three regions and the proposal is exactly them
-    from planerel.facts import describe_scene
-    from planerel.io import read
+    from planerel.features.facts import describe_scene
+    from planerel.io.readers import read
 
     full = read(str(KINECT / name))
     cloud = full if sub == 1 else subsample(full, sub)

@@ -76,7 +76,7 @@ def test_segment_cli_split_and_refine_params_as_segment_keywords(tmp_path, capsy
     """``--param split=...`` / ``refine=...`` do what segment()'s keywords do (split is no
     parameter-class field): same labels, and the post-processing ran (``split_tested`` in the
     planes' info) exactly when asked or by default."""
-    from planerel.cloud import Cloud
+    from planerel.io.cloud import Cloud
     from planerel.segment import segment
 
     np.save(tmp_path / "scan.npy", staircase(160, 120, seed=0)[0].xyz)

@@ -13,7 +13,7 @@ import pytest
 from planerel.segment._graph_kernels import grid_graph
 from planerel.segment._kernels import GRID_DU, GRID_DV
 from planerel.segment._scenes import staircase
-from planerel.synth import generate_scene
+from planerel.synth.generator import generate_scene
 
 NB = 24
 
@@ -158,9 +158,9 @@ def test_graph_kernel_repeats_exactly():
 def test_graph_in_the_normals_pass_matches_the_definition(name, xyz):
     """Region growing fills the graph inside the normals' pass (each row right after the
     normals read it): the same mask as the definition, and the normals unchanged."""
-    from planerel.normals import normal_kernel_args
     from planerel.segment._graph_kernels import graph_table
     from planerel.segment._normal_kernels import no_graph, normals_stream, ring_sizes, with_graph
+    from planerel.segment.normals import normal_kernel_args
 
     xyz = np.ascontiguousarray(xyz)
     h, w, _ = xyz.shape

@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from planerel.cloud import Cloud, Intrinsics
 from planerel.errors import InputError
+from planerel.io.cloud import Cloud, Intrinsics
 from planerel.segment import make_params, segment
 from planerel.segment.adapt import FLOOR_SCALE, MIN_SIDE_SIGMAS, adapt_params
 from planerel.segment.noise import NoiseModel, estimate_noise
@@ -208,10 +208,10 @@ def test_a_slightly_bent_floor_stays_one_region():
 
 @pytest.mark.parametrize("sensor", ["structured-light", "laser"])
 def test_the_synthetic_worlds_sensor_models_are_recognised(sensor):
-    # planerel.synth_sensor's documented noise: structured light sigma_z = z^2 / (f b) *
+    # planerel.synth.sensor's documented noise: structured light sigma_z = z^2 / (f b) *
     # sqrt(sigma_d^2 + step^2 / 12) = 1.43e-3 z^2; the laser a constant 10 mm
-    from planerel.synth import generate_scene
-    from planerel.synth_sensor import StructuredLight, TimeOfFlight
+    from planerel.synth.generator import generate_scene
+    from planerel.synth.sensor import StructuredLight, TimeOfFlight
 
     sen = StructuredLight() if sensor == "structured-light" else TimeOfFlight.laser()
     m = estimate_noise(generate_scene("box", 1, subsample=2, sensor=sen).cloud)

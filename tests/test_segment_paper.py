@@ -124,7 +124,7 @@ def _scene(kind):
         z = 2.0 + 0.25 * np.sin(2.5 * x) + 0.15 * np.cos(3 * y) + rng.normal(0, 0.002, x.shape)
         xyz = np.stack([x, y, z], axis=-1)
         xyz[rng.random(x.shape) < 0.03] = np.nan
-        from planerel.cloud import Cloud
+        from planerel.io.cloud import Cloud
 
         cloud = Cloud(xyz)
     return cloud

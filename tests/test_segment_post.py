@@ -7,14 +7,14 @@ import math
 import numpy as np
 import pytest
 
-from planerel.cloud import Cloud, Intrinsics
 from planerel.errors import InputError
-from planerel.evaluate import evaluate
+from planerel.io.cloud import Cloud, Intrinsics
 from planerel.segment import segment
+from planerel.segment.evaluate import evaluate
 from planerel.segment.merge import merge_coplanar
 from planerel.segment.result import Segmentation, SegPlane, fit_planes
 from planerel.segment.split import SplitParams, split_bent_regions
-from planerel.synth import CameraRange, generate_scene, scene_seed
+from planerel.synth.generator import CameraRange, generate_scene, scene_seed
 
 # held-out-like stairs: a low camera, the top steps 3 m away and 3-8 pixels high at 160x120
 FAR = CameraRange(height=(0.7, 1.7), distance=(1.0, 2.2))

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from planerel.cloud import Cloud
 from planerel.errors import InputError
-from planerel.evaluate import evaluate
+from planerel.io.cloud import Cloud
 from planerel.segment import segment
 from planerel.segment._scenes import staircase
+from planerel.segment.evaluate import evaluate
 
 
 @pytest.fixture(scope="module")

@@ -16,11 +16,11 @@ import numpy as np
 import pytest
 
 from planerel.errors import InputError
-from planerel.normals import organized_normals
 from planerel.segment import SegPlane, make_params, segment
 from planerel.segment import _kernels as K
 from planerel.segment._graph_kernels import grid_graph
 from planerel.segment._scenes import staircase
+from planerel.segment.normals import organized_normals
 
 _DIRS = [(0, 1), (1, -1), (1, 0), (1, 1), (0, -1), (-1, 1), (-1, 0), (-1, -1)]
 

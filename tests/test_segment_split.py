@@ -6,13 +6,13 @@ import math
 import numpy as np
 import pytest
 
-from planerel.cloud import Intrinsics, depth_to_cloud
 from planerel.errors import InputError
-from planerel.evaluate import evaluate
+from planerel.io.cloud import Intrinsics, depth_to_cloud
 from planerel.segment import segment
 from planerel.segment._scenes import staircase
+from planerel.segment.evaluate import evaluate
 from planerel.segment.split import SplitParams, expected_sigma, split_bent_regions
-from planerel.synth import SensorModel, apply_sensor, generate_scene
+from planerel.synth.generator import SensorModel, apply_sensor, generate_scene
 
 
 def _correct_gt(seg, gt) -> set:

@@ -1,4 +1,4 @@
-"""Synthetic scenes: geometry, ray casting, sensor model and ground truth (planerel.synth)."""
+"""Synthetic scenes: geometry, ray casting, sensor model and ground truth (planerel.synth.generator)."""
 
 from __future__ import annotations
 
@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from planerel import synth_geometry as sg
-from planerel.cloud import Intrinsics
 from planerel.errors import InputError
-from planerel.synth import (
+from planerel.io.cloud import Intrinsics
+from planerel.synth import geometry as sg
+from planerel.synth.generator import (
     CameraRange,
     SensorModel,
     apply_sensor,

@@ -1,4 +1,4 @@
-"""Realistic sensor profiles (planerel.synth_sensor): the generated noise, quantisation, shadows,
+"""Realistic sensor profiles (planerel.synth.sensor): the generated noise, quantisation, shadows,
 flying pixels and dropouts follow the documented models."""
 
 from __future__ import annotations
@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from planerel.cloud import Intrinsics
 from planerel.errors import InputError
-from planerel.synth import generate_scene
-from planerel.synth_sensor import (
+from planerel.io.cloud import Intrinsics
+from planerel.synth.generator import generate_scene
+from planerel.synth.sensor import (
     StructuredLight,
     TimeOfFlight,
     edge_neighbours,

@@ -1,4 +1,4 @@
-"""The varied synthetic world (planerel.synth_world): ranges, object ground truth, the data-set
+"""The varied synthetic world (planerel.synth.world): ranges, object ground truth, the data-set
 files it writes, and multi-object learning examples (``other`` = negatives for every class)."""
 
 from __future__ import annotations
@@ -9,18 +9,18 @@ import math
 import numpy as np
 import pytest
 
-from planerel import synth_geometry as sg
 from planerel.cli import main
-from planerel.dataset import (
+from planerel.errors import InputError
+from planerel.features.dataset import (
     describe_truth_scene,
     iter_scenes,
     load_dataset_info,
     load_object_labels,
     object_classes,
 )
-from planerel.errors import InputError
-from planerel.synth import generate_scene
-from planerel.synth_world import CLUTTER, WorldRange, generate_world_scene
+from planerel.synth import geometry as sg
+from planerel.synth.generator import generate_scene
+from planerel.synth.world import CLUTTER, WorldRange, generate_world_scene
 
 SMALL = dict(size=(640, 480), subsample=8)  # 80x60: enough for geometry checks
 
@@ -242,7 +242,7 @@ def test_object_labels_of_a_paper_set_come_from_the_planes(tmp_path):
 
 
 def test_every_object_is_an_example_with_its_class(varied_set, tmp_path):
-    from planerel.aleph_export import export_aleph
+    from planerel.ilp.aleph_export import export_aleph
 
     descs = []
     truth = {}
@@ -268,7 +268,7 @@ def test_every_object_is_an_example_with_its_class(varied_set, tmp_path):
 
 
 def test_cross_validation_tests_other_objects_apart(varied_set):
-    from planerel.pipeline import cross_validate, describe_scenes
+    from planerel.ilp.pipeline import cross_validate, describe_scenes
 
     descs, _ = describe_scenes(varied_set, method="gt", cache="none", progress=False)
     truth = {o.id: o.klass for d in descs for o in d.objects if o.klass}  # fair examples

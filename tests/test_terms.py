@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from planerel import terms
 from planerel.errors import InputError
+from planerel.features import terms
 
 SWIPL = shutil.which("swipl") or "/usr/bin/swipl"
 needs_swipl = pytest.mark.skipif(not shutil.which(SWIPL), reason="swipl not installed")

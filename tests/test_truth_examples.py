@@ -1,4 +1,4 @@
-"""Which ground-truth objects are fair examples (planerel.truth_examples), on hand-made label
+"""Which ground-truth objects are fair examples (planerel.features.truth_examples), on hand-made label
 images whose answers follow from the rule's definition."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from planerel.errors import InputError
-from planerel.truth_examples import REASONS, ExampleRule, judge_objects
+from planerel.features.truth_examples import REASONS, ExampleRule, judge_objects
 
 # plane index: (role, object); objects 1 box, 2 stairs (two treads, one riser), 3 ramp,
 # 4 other (a plate)

@@ -41,7 +41,7 @@ def given_up(args: argparse.Namespace):
 
 
 def parse_intrinsics(text: str | None):
-    """``"kinect"`` or ``"W,H,fx,fy,cx,cy"`` -> a value :func:`planerel.io.read` accepts."""
+    """``"kinect"`` or ``"W,H,fx,fy,cx,cy"`` -> a value :func:`planerel.io.readers.read` accepts."""
     if text is None or text.lower() == "kinect":
         return text
     parts = text.split(",")
@@ -111,8 +111,8 @@ def read_input(path, args: argparse.Namespace):
     """
     import sys
 
-    from planerel import io
-    from planerel.cloud import subsample
+    from planerel.io import readers as io
+    from planerel.io.cloud import subsample
 
     intr = parse_intrinsics(getattr(args, "intrinsics", None))
     given_up(args)

@@ -44,7 +44,7 @@ _CLASSIFIERS: dict = {}
 
 def _classifier(rules: str, method: str | None, params: tuple = ()):
     """This process's classifier for a model (loaded once per worker process)."""
-    from planerel.classify import Classifier
+    from planerel.classify.classifier import Classifier
 
     key = (rules, method, params)
     if key not in _CLASSIFIERS:
@@ -77,8 +77,8 @@ def _classify_task(task: dict):
         from PIL import Image
 
         from planerel.atomic import atomic_path
-        from planerel.explain_render import explanation_picture
-        from planerel.writers import write_json
+        from planerel.classify.explain_render import explanation_picture
+        from planerel.io.writers import write_json
 
         out = Path(task["out"])
         with atomic_path(out / f"{stem}.classified.png", suffix=".png") as tmp:
@@ -109,7 +109,7 @@ def run(args) -> int:
         write_errors,
     )
     from planerel.commands._common import given_up, inputs_of, read_options
-    from planerel.naming import scene_names
+    from planerel.io.naming import scene_names
 
     given_up(args)  # a bad --up fails here, before any work
     paths = inputs_of(args)

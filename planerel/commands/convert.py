@@ -29,8 +29,8 @@ def run(args) -> int:
     import numpy as np
 
     from planerel.atomic import atomic_path
-    from planerel.exports import input_colours, write_pcd
-    from planerel.writers import write_ply
+    from planerel.io.exports import input_colours, write_pcd
+    from planerel.io.writers import write_ply
 
     out = Path(args.output)
     kind = out.suffix.lower()

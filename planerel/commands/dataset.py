@@ -28,10 +28,10 @@ def parse_range(text: str, name: str) -> tuple[float, float]:
 
 def parse_world_ranges(items) -> dict:
     """``["steps=3,12", "descending=0.5"]`` -> ``{"steps": (3.0, 12.0), "descending": 0.5}``
-    for :class:`planerel.synth_world.WorldRange` (which checks the values)."""
+    for :class:`planerel.synth.world.WorldRange` (which checks the values)."""
     import dataclasses
 
-    from planerel.synth_world import WorldRange
+    from planerel.synth.world import WorldRange
 
     fields = {f.name for f in dataclasses.fields(WorldRange)}
     out = {}
@@ -90,7 +90,7 @@ def register(sub) -> None:
                    help="horizontal distance from the camera to the object's nearest point "
                         "(default 0.7,1.8)")
     s.add_argument("--range", action="append", default=[], metavar="NAME=MIN,MAX",
-                   help="varied world: change one range of planerel.synth_world.WorldRange, e.g. "
+                   help="varied world: change one range of planerel.synth.world.WorldRange, e.g. "
                         "--range camera_pitch_deg=10,60 --range steps=3,12 (repeatable; for "
                         "held-out sets with shifted parameters)")
     s.add_argument("--max-range", type=float, metavar="M",
@@ -126,9 +126,9 @@ def run_synth(args) -> int:
     import sys
     import time
 
-    from planerel.synth import CameraRange, SensorModel, generate_dataset
-    from planerel.synth_sensor import StructuredLight, sensor_profile
-    from planerel.synth_world import WorldRange
+    from planerel.synth.generator import CameraRange, SensorModel, generate_dataset
+    from planerel.synth.sensor import StructuredLight, sensor_profile
+    from planerel.synth.world import WorldRange
 
     size = parse_size(args.size)
     cam_kwargs = {}
@@ -177,7 +177,7 @@ def run_synth(args) -> int:
 def run_info(args) -> int:
     from collections import Counter
 
-    from planerel.dataset import load_dataset_info, load_manifest, load_metadata
+    from planerel.features.dataset import load_dataset_info, load_manifest, load_metadata
 
     rows = load_manifest(args.path)
     info = load_dataset_info(args.path)

@@ -68,9 +68,9 @@ def seg_settings_line(info: dict) -> str:
 def _describe_task(task: dict):
     """Worker: read, segment (or read labels) and describe one scan; returns
     ``(scene_id, facts by predicate, summary line, segmentation note, up comment)``."""
-    from planerel import io
     from planerel.commands._common import given_up, read_input
-    from planerel.facts import describe_scene, scene_facts, up_comment
+    from planerel.features.facts import describe_scene, scene_facts, up_comment
+    from planerel.io import readers as io
 
     path = task["path"]
     note = ""
@@ -88,11 +88,11 @@ def _describe_task(task: dict):
         note = seg_settings_line(seg.info)
     d = describe_scene(cloud, labels, scene_id=task["name"], up=given_up(task["read"]))
     if task.get("mesh") and len(d.planes):
-        from planerel.exports import write_mesh
+        from planerel.io.exports import write_mesh
 
         write_mesh(Path(task["mesh"]) / f"{d.scene_id}.planes.{task['mesh_format']}", d)
     if task.get("graph"):
-        from planerel.exports import write_graph
+        from planerel.io.exports import write_graph
 
         write_graph(Path(task["graph"]) / f"{d.scene_id}.{task['graph_format']}", d)
     line = (f"{path}: {d.scene_id}: {len(d.planes)} planes, {len(d.objects)} object proposals, "
@@ -104,8 +104,8 @@ def _describe_task(task: dict):
 def run(args) -> int:
     from planerel.batch import BatchResult, report_failures, run_batch, write_errors
     from planerel.commands._common import given_up, inputs_of, read_options
-    from planerel.facts import FactParams, FactsWriter
-    from planerel.naming import scene_names
+    from planerel.features.facts import FactParams, FactsWriter
+    from planerel.io.naming import scene_names
 
     given_up(args)  # a bad --up fails here, before any work
     paths = inputs_of(args)

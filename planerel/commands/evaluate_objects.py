@@ -39,7 +39,7 @@ def _pct(x) -> str:
 
 def run(args) -> int:
     from planerel.atomic import write_text
-    from planerel.object_eval import evaluate_frames
+    from planerel.features.object_eval import evaluate_frames
 
     def show(s):
         print(f"{s.name}: {s.found}/{s.n_objects} found, {s.n_proposals} proposals, {s.false} false "

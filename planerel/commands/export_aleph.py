@@ -36,7 +36,7 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from planerel.aleph_export import export_dataset
+    from planerel.ilp.aleph_export import export_dataset
 
     settings = {}
     for item in args.settings:

@@ -33,7 +33,7 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from planerel.popper_export import export_dataset
+    from planerel.ilp.popper_export import export_dataset
 
     if args.target == "class":
         raise InputError("Popper tasks are per class: use --target box|stairs|ramp|all")

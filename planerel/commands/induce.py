@@ -36,7 +36,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from planerel.atomic import write_text
-    from planerel.learn import format_report, learn, parse_settings
+    from planerel.ilp.learn import format_report, learn, parse_settings
 
     settings = parse_settings(args.settings)
     result = learn(args.stem, engine=args.engine, settings=settings, timeout=args.timeout,

@@ -62,7 +62,7 @@ def _params(items) -> dict:
 
 
 def run(args) -> int:
-    from planerel.pipeline import learn_model
+    from planerel.ilp.pipeline import learn_model
 
     classes = [c.strip() for c in args.classes.split(",") if c.strip()] if args.classes else None
     m = learn_model(args.dataset, args.output, classes=classes, engine=args.engine,

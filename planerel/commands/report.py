@@ -67,7 +67,7 @@ def run(args) -> int:
     import shlex
     import sys
 
-    from planerel.report import ReportOptions, build_report, parse_sizes
+    from planerel.report.builder import ReportOptions, build_report, parse_sizes
 
     sizes = () if args.no_timing else parse_sizes(args.sizes)
     real = None if args.no_real_data else (args.real_data or "auto")

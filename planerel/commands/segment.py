@@ -90,9 +90,9 @@ def _segment_task(task: dict) -> str:
     """Worker: read, segment and write one scan; returns the line to print."""
     import time
 
-    from planerel.gravity import resolve_up
+    from planerel.features.gravity import resolve_up
+    from planerel.io.writers import write_json, write_labels_npy, write_labels_png
     from planerel.segment import segment
-    from planerel.writers import write_json, write_labels_npy, write_labels_png
 
     path, stem, out = task["path"], task["name"], Path(task["out"])
     cloud = read_input(path, task["read"])
@@ -107,7 +107,12 @@ def _segment_task(task: dict) -> str:
         depth = cloud.depth if cloud.organized else None
         write_labels_png(out / f"{stem}.labels.png", seg.labels, depth)
     if "pcd" in formats or "ply" in formats:
-        from planerel.exports import input_colours, plane_colours, write_pcd, write_segmentation_ply
+        from planerel.io.exports import (
+            input_colours,
+            plane_colours,
+            write_pcd,
+            write_segmentation_ply,
+        )
 
         if "pcd" in formats:
             rgb = input_colours(path, cloud.shape, getattr(task["read"], "subsample", 1) or 1)
@@ -130,7 +135,7 @@ def _segment_task(task: dict) -> str:
 def run_segment(args) -> int:
     from planerel.batch import BatchResult, report_failures, run_batch, write_errors
     from planerel.commands._common import inputs_of, read_options
-    from planerel.naming import scene_names
+    from planerel.io.naming import scene_names
     from planerel.segment import make_params
 
     given = parse_params(args.param)
@@ -164,8 +169,8 @@ def run_segment(args) -> int:
 def run_evaluate(args) -> int:
     import json
 
-    from planerel.evaluate import evaluate
-    from planerel.io import read_label_image
+    from planerel.io.readers import read_label_image
+    from planerel.segment.evaluate import evaluate
 
     pred = read_label_image(args.pred)
     gt = read_label_image(args.gt)

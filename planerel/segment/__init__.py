@@ -1,5 +1,10 @@
-"""Planar segmentation: region growing (the paper's Algorithm 1, default) and the RANSAC
+"""Stage 2, planar segmentation: region growing (the paper's Algorithm 1, default) and the RANSAC
 baselines SP (plane) and SNP (plane with normals).
+
+In: a :class:`~planerel.io.cloud.Cloud`.  Out: a :class:`Segmentation` (``(H, W)`` int32 plane
+labels and the fitted planes).  Also here: :mod:`~planerel.segment.normals` (per-pixel normals),
+:mod:`~planerel.segment.evaluate` (SegComp scoring of labels against ground truth) and the
+per-label kernels the later stages share (:mod:`~planerel.segment._label_kernels`).
 
 >>> from planerel.segment import segment
 >>> seg = segment(cloud)                                  # doctest: +SKIP
@@ -109,7 +114,7 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
     InputError
         No / one valid point, all points on a line, bad or unknown parameters.
     """
-    from planerel.cloud import Cloud
+    from planerel.io.cloud import Cloud
 
     if not isinstance(cloud, Cloud):
         raise InputError(f"segment: expected a planerel Cloud, got {type(cloud).__name__}")

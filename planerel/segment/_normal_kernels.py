@@ -1,4 +1,4 @@
-"""numba kernel of the organized-cloud normals (see :mod:`planerel.normals`), compiled once and
+"""numba kernel of the organized-cloud normals (see :mod:`planerel.segment.normals`), compiled once and
 cached on disk; import only from inside functions.
 
 The kernel streams the image: three stages run row by row with a lag, through ring buffers of

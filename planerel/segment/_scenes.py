@@ -1,6 +1,6 @@
 """Small analytic scenes with exact ground truth, for segmentation tests and the benchmark.
 
-The project's scene generator is :mod:`planerel.synth`; this private module only ray-casts a few
+The project's scene generator is :mod:`planerel.synth.generator`; this private module only ray-casts a few
 axis-aligned boxes with numpy so segmentation can be tested on its own.
 """
 
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from planerel.cloud import Cloud, Intrinsics
+from planerel.io.cloud import Cloud, Intrinsics
 
 __all__ = ["staircase", "look_at"]
 

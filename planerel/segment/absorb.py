@@ -20,7 +20,7 @@ region's plane when its distance is within ``refine_factor`` x the region's RMS 
    (a box side on the floor: the few rows within a few millimetres of the floor; 0-8 % on the
    real Kinect frames), a crease fragment mostly (57-100 %).
    A region meeting two or more touching regions at 5-40 degrees (a facet of a round
-   surface: a cylinder is a fan of them, :mod:`planerel.curved`) is never a fragment.
+   surface: a cylinder is a fan of them, :mod:`planerel.features.curved`) is never a fragment.
 3. **Reassignment.**  Each pixel of a fragment joins the fitting neighbour plane it lies
    nearest to (relative to the threshold); a pixel that fits none becomes unassigned.
 
@@ -44,6 +44,12 @@ __all__ = ["absorb_fragments", "ABSORB_FRACTION", "RMS_FLOOR"]
 ABSORB_FRACTION = 0.5
 #: Smallest RMS (m) a neighbour's fit threshold is based on (a tiny region fitted exactly).
 RMS_FLOOR = 1e-4
+
+#: Degrees: two adjacent planes at an angle in this range are neighbouring facets of a round
+#: surface (the defaults of :class:`planerel.features.curved.CurvedParams`, defined here because
+#: segmentation comes before the features stage).
+FACET_MIN_ANGLE = 5.0
+FACET_MAX_ANGLE = 50.0
 
 
 def absorb_fragments(cloud, seg: Segmentation, *, refine_factor: float = 3.0,
@@ -192,14 +198,11 @@ def _absorb(cloud, seg, Ls, Xs, pairs, refine_factor, fraction, min_size,
 
 def _facets(normal, pairs, n) -> np.ndarray:
     """(n,) bool: regions meeting two or more touching regions at a shallow angle (the facet
-    angles of :class:`planerel.curved.CurvedParams`, 5-40 degrees): strips of a round surface
+    angles of :class:`planerel.features.curved.CurvedParams`, 5-40 degrees): strips of a round surface
     (a cylinder comes out as a fan of them), kept apart.  A crease fragment between two planes
     meets at most one of them at so shallow an angle (between two walls at 90 degrees: 25 and
     65, or 45 and 45)."""
-    from planerel.curved import CurvedParams
-
-    cp = CurvedParams()
-    lo, hi = math.cos(math.radians(cp.facet_min_angle)), math.cos(math.radians(cp.facet_max_angle))
+    lo, hi = math.cos(math.radians(FACET_MIN_ANGLE)), math.cos(math.radians(FACET_MAX_ANGLE))
     shallow = np.zeros(n, dtype=np.int64)
     for a, b in pairs:
         c = abs(float(normal[a] @ normal[b]))

@@ -60,7 +60,7 @@ def adapt_params(p: RegionGrowParams, model, shape) -> tuple[RegionGrowParams, d
         The parameters to run with (``reference_depth`` resolved, ``min_region_size`` and the
         normal window set when adapted) and what was chosen (for ``Segmentation.info``).
     """
-    from planerel.normals import auto_normal_scale
+    from planerel.segment.normals import auto_normal_scale
 
     h, w = shape
     n_pix = h * w

@@ -225,11 +225,10 @@ def _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par
 def _touching_pairs(labels, xyz, n: int, gap: int, jump: float) -> list[tuple[int, int]]:
     """Sorted label pairs ``(a, b)``, ``a < b``, with pixels at most ``gap`` apart (Chebyshev
     distance in the grid) whose points lie within ``jump * z`` metres of each other: the
-    relations' touching test (:func:`planerel.relations._touching`), run on the boundary pixels."""
-    from planerel._feature_kernels import touch_pairs
-    from planerel.planes import _boundary
+    relations' touching test (:func:`planerel.features.relations._touching`), run on the boundary pixels."""
+    from planerel.segment._label_kernels import label_boundary, touch_pairs
 
-    brow, bcol = np.nonzero(_boundary(labels))
+    brow, bcol = np.nonzero(label_boundary(np.ascontiguousarray(labels, dtype=np.int32)))
     m = touch_pairs(xyz, labels, brow.astype(np.int64), bcol.astype(np.int64), int(gap), 0.0,
                     float(jump), np.ones(n, dtype=bool))
     a, b = np.nonzero(np.triu(m, 1))

@@ -153,7 +153,7 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES)
     InputError
         An unorganized cloud, or a bad ``patch`` / ``max_patches``.
     """
-    from planerel.normals import pixel_angle
+    from planerel.segment.normals import pixel_angle
 
     if not getattr(cloud, "organized", False):
         raise InputError("noise estimate: needs an organized cloud (image-grid neighbours)")

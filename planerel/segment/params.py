@@ -144,12 +144,12 @@ class RegionGrowParams:
         Smallest region kept, in points.  ``"auto"``: 90 at 160x120, proportional to the number
         of pixels (1440 at 640x480), times ``min_region_scale``.
     normal_smooth, normal_radius : int or "auto"
-        Normal estimation (see :mod:`planerel.normals`).
+        Normal estimation (see :mod:`planerel.segment.normals`).
     jump_factor : float
-        Depth-jump threshold of the normals in pixel sizes (see :mod:`planerel.normals`).
+        Depth-jump threshold of the normals in pixel sizes (see :mod:`planerel.segment.normals`).
     reference_depth : float, None or "auto"
         Depth (m) at which the normal window has its nominal size; it grows with depth
-        (see :mod:`planerel.normals`).  None = fixed window.  ``"auto"``: 2 m, or None when the
+        (see :mod:`planerel.segment.normals`).  None = fixed window.  ``"auto"``: 2 m, or None when the
         adaptation finds uniform depth noise.
     refine : bool
         planerel's boundary completion after growing (not in the paper; see docs): unassigned

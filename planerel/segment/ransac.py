@@ -54,7 +54,7 @@ def ransac_segment(cloud, params: RansacParams | None = None, *, normals=None,
     cloud : Cloud
     params : RansacParams, optional
     normals : ndarray, shape (H, W, 3), optional
-        SNP only; computed with :mod:`planerel.normals` when not given.
+        SNP only; computed with :mod:`planerel.segment.normals` when not given.
     use_normals : bool
         True for SNP.
 
@@ -79,7 +79,7 @@ def ransac_segment(cloud, params: RansacParams | None = None, *, normals=None,
     nrm_img = None
     if use_normals:
         if normals is None:
-            from planerel import normals as nmod
+            from planerel.segment import normals as nmod
 
             if cloud.organized:
                 nrm_img = nmod.organized_normals(xyz, smooth=p.normal_smooth, radius=p.normal_radius,

@@ -258,7 +258,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     InputError
         Not a Cloud / Segmentation, shapes that disagree, bad parameters.
     """
-    from planerel.cloud import Cloud
+    from planerel.io.cloud import Cloud
     from planerel.segment._post_kernels import label_counts
 
     p = _make_params(params, kw)

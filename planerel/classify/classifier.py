@@ -1,0 +1,410 @@
+"""Classify new scenes by logic query, with the planes that prove the answer.
+
+For each scan: segment, describe (plane attributes, relations, object proposals), load the facts
+into SWI-Prolog next to the model's rules, and ask which class each proposed object satisfies.
+The answer names the rule that fired and the planes bound to its variables — what a robot that
+plans to climb must see.
+
+Prolog runs in process through pyswip (started on the first query, never at import), so it
+must be used from the main thread.
+"""
+
+from __future__ import annotations
+
+import itertools
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from planerel.errors import DependencyError, InputError, PrologError
+from planerel.features.terms import Term
+
+__all__ = ["Classifier", "ObjectAnswer", "SceneAnswer", "explanation_image", "classify_dataset",
+           "OTHER", "UNKNOWN"]
+
+#: The answer "none of the classes" (see :func:`planerel.ilp.pipeline.choose_class`).
+OTHER = "other"
+#: Former name of :data:`OTHER`.
+UNKNOWN = OTHER
+
+
+@dataclass(frozen=True)
+class ObjectAnswer:
+    """The answer for one object proposal.
+
+    Attributes
+    ----------
+    object_id : str
+        ``s0000_o1``.
+    planes : tuple of str
+        Plane ids of the proposal.
+    labels : tuple of int
+        Their labels in the segmentation.
+    klass : str
+        The class, or ``"other"`` (none of the classes: no rule fires, or only rules that were
+        wrong at least as often as right on the training objects).
+    rule : str or None
+        The clause that proved the class.
+    bindings : dict
+        ``{variable: value}`` of the first proof of that clause.
+    proof_planes : tuple of str
+        The plane ids among the bindings: the planes that make the class.
+    fired : tuple
+        ``(class, rule index)`` of every rule that proved something about the object.
+    rule_index : int or None
+        Index of the chosen rule in the model (``planerel_rule_stats/4``).
+    precision : float or None
+        The chosen rule's Laplace precision on the training objects.
+    planar_fraction : float or None
+        Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
+    curved : bool or None
+        The planar fraction is below the model's ``curved.curved_below``: a round object.
+    """
+
+    object_id: str
+    planes: tuple
+    labels: tuple
+    klass: str
+    rule: str | None = None
+    bindings: dict = field(default_factory=dict)
+    proof_planes: tuple = ()
+    fired: tuple = ()
+    rule_index: int | None = None
+    precision: float | None = None
+    planar_fraction: float | None = None
+    curved: bool | None = None
+
+    def to_dict(self) -> dict:
+        return {"object": self.object_id, "class": self.klass, "rule": self.rule,
+                "rule_index": self.rule_index,
+                "precision": None if self.precision is None else round(self.precision, 4),
+                "bindings": dict(self.bindings), "proof_planes": list(self.proof_planes),
+                "planes": list(self.planes), "fired": [list(f) for f in self.fired],
+                "planar_fraction": (None if self.planar_fraction is None
+                                    else round(self.planar_fraction, 3)),
+                "curved": self.curved}
+
+
+@dataclass(frozen=True, eq=False)
+class SceneAnswer:
+    """Everything :meth:`Classifier.classify` found in one scan."""
+
+    source: str | None
+    scene_id: str
+    labels: np.ndarray
+    plane_ids: dict
+    objects: tuple
+    up_source: str
+    seconds: float
+    up_confidence: float = 1.0
+
+    @property
+    def n_planes(self) -> int:
+        return len(self.plane_ids)
+
+    def to_dict(self) -> dict:
+        return {"input": self.source, "scene": self.scene_id, "n_planes": self.n_planes,
+                "up": self.up_source, "up_confidence": round(self.up_confidence, 3),
+                "objects": [o.to_dict() for o in self.objects],
+                "seconds": round(self.seconds, 4)}
+
+
+def _prolog():
+    """The process's pyswip engine (created once)."""
+    global _PROLOG
+    if _PROLOG is None:
+        try:
+            from pyswip import Prolog
+        except Exception as exc:  # pyswip raises plain exceptions when libswipl is missing
+            raise DependencyError(
+                f"pyswip cannot load SWI-Prolog ({exc}); install it with: "
+                "sudo apt-get install swi-prolog-nox") from None
+        _PROLOG = Prolog()
+    return _PROLOG
+
+
+_PROLOG = None
+_LOADED_SUPPORT = False
+_MODEL_NUMBERS = itertools.count(1)
+
+
+def _pl_path(path) -> str:
+    """A file path as a quoted Prolog atom."""
+    from planerel.features.terms import atom
+
+    return atom(str(Path(path).resolve()))
+
+
+def _query(goal: str, what: str) -> list[dict]:
+    try:
+        return list(_prolog().query(goal))
+    except Exception as exc:  # pyswip.prolog.PrologError and friends
+        raise PrologError(f"{what}: {exc}") from None
+
+
+def _load_support() -> None:
+    global _LOADED_SUPPORT
+    if not _LOADED_SUPPORT:
+        from planerel.ilp.pipeline import support_files
+
+        for f in support_files():
+            _query(f"load_files({_pl_path(f)}, [silent(true)])", f"cannot load {f.name}")
+        _LOADED_SUPPORT = True
+
+
+class Classifier:
+    """Rules of a model, read as data into their own Prolog module, ready to classify scans.
+
+    A model file is data, never code: it is read clause by clause with ``read_term`` and
+    nothing in it runs.  Directives, heads that are not a class, class names that are built-in
+    or library predicates, and rule bodies that call anything but planerel's vocabulary
+    (``docs/predicates.md``) and safe built-ins (comparisons, arithmetic, type tests) are
+    refused with an error naming the file and line.  Each classifier keeps its rules in a
+    module of its own, so any number of them coexist in one process and each answers with
+    its own rules.
+
+    Parameters
+    ----------
+    rules : path
+        A model file (``MODEL_DIR/rules.pl`` from ``planerel learn``, or the folder
+        ``MODEL_DIR`` itself) holding clauses
+        ``Class(Obj) :- ...`` or ``class(Obj, Class) :- ...`` and optional
+        ``planerel_rule_stats/4`` facts.  The settings the model was learned with
+        (``model.json`` next to it, :mod:`planerel.ilp.model_settings`) are used for scans.
+    method : str, optional
+        Segmentation method for scans (default: the model's, else ``regiongrow``).
+    seg_params : dict, optional
+        Overrides of the model's settings: segmentation parameters by name, description
+        parameters as ``gravity.NAME``, ``planes.NAME``, ``relations.NAME``,
+        ``proposals.NAME``, ``curved.NAME``.  :attr:`warnings` lists those that differ from
+        training.
+
+    Raises
+    ------
+    InputError
+        The file is missing or holds a clause that is refused.
+    PrologError
+        The file is not valid Prolog text (syntax error; the message gives the line).
+    """
+
+    def __init__(self, rules, *, method: str | None = None, seg_params: dict | None = None):
+        from planerel.features.terms import atom, plist
+        from planerel.ilp.model_settings import read_settings, with_overrides
+        from planerel.ilp.pipeline import model_vocabulary
+
+        path = Path(rules)
+        if path.is_dir() and (path / "rules.pl").is_file():
+            path = path / "rules.pl"  # the model folder that `planerel learn -o` wrote
+        if not path.is_file():
+            raise InputError(f"{path}: no such rules file (give MODEL_DIR or MODEL_DIR/rules.pl)")
+        self.rules_path = path
+        self.trained = read_settings(path)
+        self.settings, warnings = with_overrides(self.trained, method=method,
+                                                 overrides=seg_params)
+        self.warnings = tuple(warnings)
+        self.method = self.settings.method
+        self.seg_params = dict(self.settings.seg_params)
+        self._describe_kw = self.settings.describe_kwargs()
+        self.module = f"planerel_model_{next(_MODEL_NUMBERS)}"
+        _load_support()
+        vocab = plist([Term(f"{atom(n)}/{a}") for n, a in model_vocabulary()])
+        answer = _query(f"planerel_load_model({self.module}, {_pl_path(path)}, {vocab}, S), "
+                        "(S = error(L, M) -> true ; L = 0, M = '')",
+                        f"{path}: cannot read the model")[0]
+        if _text(answer["M"]):
+            line, msg = int(answer["L"]), _text(answer["M"])
+            where = f"{path}:{line}" if line else f"{path}"
+            if msg.startswith("syntax error"):
+                raise PrologError(f"{where}: not a valid rules file: {msg}")
+            raise InputError(f"{where}: {msg}")
+        self.classes = tuple(dict.fromkeys(_text(r["C"]) for r in _query(
+            f"{self.module}:planerel_rule(_, C, _, _, _, _)", "reading the model")))
+        self.stats = tuple((int(r["I"]), _text(r["C"]), int(r["TP"]), int(r["FP"])) for r in _query(
+            f"{self.module}:planerel_stats(I, C, TP, FP)", "reading the rule statistics"))
+        if not self.classes:
+            raise InputError(f"{path}: the model has no rules")
+
+    def close(self) -> None:
+        """Forget this model's rules (the classifier cannot be used afterwards)."""
+        if getattr(self, "module", None):
+            _query(f"planerel_unload_model({self.module})", "unloading the model")
+            self.module = None
+
+    def __enter__(self) -> Classifier:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def classify(self, cloud, *, scene_id: str = "s0000", up=None) -> SceneAnswer:
+        """Segment, describe and classify one cloud.
+
+        Returns
+        -------
+        SceneAnswer
+            One :class:`ObjectAnswer` per object proposal (none when the scene has no object).
+        """
+        from planerel.features.facts import FactParams, describe_scene, facts_text
+        from planerel.ilp.aleph_export import PAIRS
+        from planerel.ilp.pipeline import choose_class, laplace, segment_cached
+
+        if not self.module:
+            raise InputError(f"{self.rules_path}: this classifier was closed")
+        t0 = time.perf_counter()
+        cloud.require_points(3)
+        labels = segment_cached(cloud, method=self.method, params=self.seg_params)
+        desc = describe_scene(cloud, labels, scene_id=scene_id, up=up, **self._describe_kw)
+        plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
+        answers = []
+        if desc.objects:
+            text = facts_text([desc], FactParams(pairs=PAIRS, planner=False))
+            from planerel.children import temp_prefix
+
+            with tempfile.NamedTemporaryFile("w", suffix=".pl", prefix=temp_prefix("scene"),
+                                             delete=False) as fh:
+                fh.write(text)
+                facts = Path(fh.name)
+            try:
+                _query(f"load_files({_pl_path(facts)}, [silent(true)])", "cannot load the scene facts")
+                for o in desc.objects:
+                    hits = []
+                    for r in _query(f"planerel_explain_text({self.module}, {_obj_atom(o.id)}, "
+                                    "C, I, B, T)",
+                                    f"classifying {o.id}"):
+                        binds = dict(line.split("\t", 1) for line in _text(r["B"]).splitlines()
+                                     if "\t" in line)
+                        hits.append((_text(r["C"]), int(r["I"]), binds, _text(r["T"])))
+                    best = choose_class(hits, self.stats, self.classes)
+                    fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
+                    pids = tuple(plane_ids[lab] for lab in o.planes)
+                    if best is None:
+                        answers.append(ObjectAnswer(o.id, pids, o.planes, OTHER, fired=fired,
+                                                    planar_fraction=o.planar_fraction,
+                                                    curved=o.curved))
+                    else:
+                        klass, index, binds, rule = best
+                        proof = tuple(v for v in binds.values() if v in plane_ids.values())
+                        tp, fp = {i: (a, b) for i, _, a, b in self.stats}.get(index, (0, 0))
+                        answers.append(ObjectAnswer(o.id, pids, o.planes, klass, rule, binds,
+                                                    proof, fired, index, laplace(tp, fp),
+                                                    o.planar_fraction, o.curved))
+            finally:
+                _query(f"unload_file({_pl_path(facts)})", "cannot unload the scene facts")
+                facts.unlink(missing_ok=True)
+        return SceneAnswer(cloud.source, scene_id, labels, plane_ids, tuple(answers),
+                           desc.planes.up_source, time.perf_counter() - t0,
+                           desc.planes.up_confidence)
+
+
+def _obj_atom(name: str) -> str:
+    from planerel.features.terms import atom
+
+    return atom(name)
+
+
+def _text(value) -> str:
+    if isinstance(value, bytes):
+        return value.decode("utf-8", "replace")
+    return str(value)
+
+
+def explanation_image(answer: SceneAnswer, depth) -> np.ndarray:
+    """``(H, W, 3)`` uint8 picture: the proof planes of each classified object in bright
+    colours, the object's other planes tinted, everything else shaded grey by depth."""
+    from planerel.io.writers import colour_labels, label_colours
+
+    lab = np.asarray(answer.labels)
+    grey = colour_labels(np.full_like(lab, -1), depth).astype(float)
+    out = grey.copy()
+    pal = label_colours(max(1, len(answer.objects) * 4 + 4)).astype(float)
+    inv = {v: k for k, v in answer.plane_ids.items()}
+    for n, o in enumerate(answer.objects):
+        if o.klass == OTHER:
+            for lab_id in o.labels:
+                m = lab == lab_id
+                out[m] = 0.7 * grey[m] + 0.3 * np.array([120, 120, 160])
+            continue
+        for lab_id in o.labels:
+            m = lab == lab_id
+            out[m] = 0.5 * grey[m] + 0.5 * np.array([255, 255, 255])
+        for k, pid in enumerate(o.proof_planes):
+            m = lab == inv[pid]
+            out[m] = 0.25 * grey[m] + 0.75 * pal[(n * 4 + k) % len(pal)]
+    return np.clip(np.round(out), 0, 255).astype(np.uint8)
+
+
+def classify_dataset(classifier: Classifier, dataset_dir, *, out_dir=None,
+                     progress: bool | None = None) -> dict:
+    """Classify every scene of a data set with ground truth and score the answers.
+
+    A scene's answer is the class given to the object proposal that overlaps the scene's
+    ground-truth object (object 1: the primary object of a varied-world scene) most
+    (intersection over union of their pixels); ``other`` when no
+    proposal overlaps it or no rule fires.  With ``out_dir``, writes per scene
+    ``ID.classified.png`` and ``ID.classified.json``.
+
+    Returns
+    -------
+    dict
+        ``accuracy``, ``per_class``, ``classes``, ``confusion`` (rows true class, columns
+        predicted, ``other`` last), ``scenes`` (per scene: id, class, predicted, rule, proof
+        planes, IoU of the chosen proposal), ``proposal_match`` (fraction of scenes whose best
+        proposal covers the true object with IoU >= 0.8), ``ms_per_scene``.
+    """
+    import sys
+
+    from planerel.features.dataset import iter_scenes
+    from planerel.ilp.pipeline import accuracy_scores, confusion_matrix
+
+    rows = []
+    times = []
+    it = iter_scenes(dataset_dir)
+    if progress or (progress is None and sys.stderr.isatty()):
+        from tqdm import tqdm
+
+        it = tqdm(it, desc="classifying", unit="scene", leave=False)
+    for row, cloud, gt, meta in it:
+        ans = classifier.classify(cloud, scene_id=row.scene_id)
+        times.append(ans.seconds)
+        # the scene's object: object 1 (in a varied-world scene the primary object, whose
+        # class is the manifest's; the others are scored by cross-validation, not here)
+        obj_planes = {int(p["index"]) for p in meta.get("planes", [])
+                      if int(p.get("object_index", 0)) == 1}
+        truth = np.isin(gt, list(obj_planes)) if gt is not None else None
+        best, best_iou = None, 0.0
+        for o in ans.objects:
+            mask = np.isin(ans.labels, list(o.labels))
+            if truth is None:
+                continue
+            inter = np.count_nonzero(mask & truth)
+            iou = inter / max(1, np.count_nonzero(mask | truth))
+            if iou > best_iou:
+                best, best_iou = o, iou
+        rows.append({"scene": row.scene_id, "class": row.klass,
+                     "predicted": best.klass if best else OTHER,
+                     "rule": best.rule if best else None,
+                     "proof_planes": list(best.proof_planes) if best else [],
+                     "iou": round(best_iou, 3), "objects": len(ans.objects)})
+        if out_dir is not None:
+            from PIL import Image
+
+            from planerel.atomic import atomic_path
+            from planerel.io.writers import write_json
+
+            out = Path(out_dir)
+            with atomic_path(out / f"{row.scene_id}.classified.png", suffix=".png") as tmp:
+                Image.fromarray(explanation_image(ans, cloud.depth)).save(tmp, format="PNG")
+            write_json(out / f"{row.scene_id}.classified.json", ans.to_dict())
+    classes = [k for k in classifier.classes]
+    classes += sorted({r["class"] for r in rows} - set(classes))
+    truth = [r["class"] for r in rows]
+    pred = [r["predicted"] for r in rows]
+    acc, per = accuracy_scores(truth, pred, classes)
+    matched = [r["iou"] >= 0.8 for r in rows]
+    return {"accuracy": acc, "per_class": per, "classes": classes,
+            "confusion": confusion_matrix(truth, pred, classes), "scenes": rows,
+            "proposal_match": sum(matched) / len(matched) if matched else None,
+            "ms_per_scene": round(1000 * float(np.median(times)), 2) if times else None}

@@ -1,0 +1,102 @@
+"""Readable explanation images: the proof planes of each classified object, with a legend.
+
+The picture is scaled up by a whole factor to at least 640 pixels wide (nearest neighbour, so
+every pixel stays one scan point), and a legend under it names, per object, the class, the
+rule that fired and which plane each of the rule's variables is bound to, with the plane's
+colour swatch.  The colours of the picture and of the legend come from one table.
+"""
+
+from __future__ import annotations
+
+import textwrap
+
+import numpy as np
+
+__all__ = ["MIN_WIDTH", "explanation_picture", "binding_colours"]
+
+MIN_WIDTH = 640
+
+
+def binding_colours(answer) -> dict:
+    """``{(object index, plane id): (r, g, b)}`` for the proof planes of every classified
+    object (distinct colours in a fixed order)."""
+    from planerel.io.writers import label_colours
+
+    keys = [(n, pid) for n, o in enumerate(answer.objects) if o.klass != "other"
+            for pid in dict.fromkeys(o.proof_planes)]
+    pal = label_colours(max(1, len(keys)))
+    return {k: tuple(int(c) for c in pal[i]) for i, k in enumerate(keys)}
+
+
+def _picture(answer, depth) -> np.ndarray:
+    from planerel.io.writers import colour_labels
+
+    lab = np.asarray(answer.labels)
+    grey = colour_labels(np.full_like(lab, -1), depth).astype(float)
+    out = grey.copy()
+    inv = {v: k for k, v in answer.plane_ids.items()}
+    colours = binding_colours(answer)
+    for n, o in enumerate(answer.objects):
+        for lab_id in o.labels:
+            m = lab == lab_id
+            tint = (120, 120, 160) if o.klass == "other" else (255, 255, 255)
+            out[m] = 0.6 * grey[m] + 0.4 * np.array(tint)
+        if o.klass == "other":
+            continue
+        for pid in o.proof_planes:
+            m = lab == inv[pid]
+            out[m] = 0.25 * grey[m] + 0.75 * np.array(colours[(n, pid)])
+    return np.clip(np.round(out), 0, 255).astype(np.uint8)
+
+
+def explanation_picture(answer, depth, *, min_width: int = MIN_WIDTH) -> np.ndarray:
+    """``(H', W', 3)`` uint8: the scan with each object's proof planes in colour, scaled to at
+    least ``min_width`` pixels wide, over a legend (class, rule, variable -> plane).
+
+    Parameters
+    ----------
+    answer : SceneAnswer
+        From :meth:`planerel.Classifier.classify`.
+    depth : ndarray (H, W)
+        The scan's depth (shading of the background).
+    """
+    from PIL import Image, ImageDraw, ImageFont
+
+    pic = _picture(answer, depth)
+    h, w = pic.shape[:2]
+    k = max(1, -(-min_width // w))
+    pic = np.repeat(np.repeat(pic, k, axis=0), k, axis=1)
+    W = pic.shape[1]
+    size = 15
+    font = ImageFont.load_default(size=size)
+    line_h = size + 6
+    chars = max(20, int(W / (0.6 * size)))
+    colours = binding_colours(answer)
+    rows: list[tuple[str, tuple | None]] = []  # (text, swatch colour)
+    if not answer.objects:
+        rows.append(("no object proposal in this scene", None))
+    for n, o in enumerate(answer.objects):
+        rows.append((f"{o.object_id}: {o.klass}", None))
+        if o.rule:
+            for part in textwrap.wrap(f"rule: {o.rule}", chars - 4) or [""]:
+                rows.append(("    " + part, None))
+        plane_of = {v: var for var, v in o.bindings.items()}
+        for pid in dict.fromkeys(o.proof_planes):
+            var = plane_of.get(pid, "?")
+            rows.append((f"{var} = {pid}", colours.get((n, pid), (0, 0, 0))))
+        if o.klass == "other":
+            rows.append(("    no rule fires (planes tinted blue-grey)", None))
+    legend_h = 10 + line_h * len(rows)
+    img = Image.new("RGB", (W, pic.shape[0] + legend_h), (255, 255, 255))
+    img.paste(Image.fromarray(pic), (0, 0))
+    draw = ImageDraw.Draw(img)
+    y = pic.shape[0] + 5
+    for text, swatch in rows:
+        x = 8
+        if swatch is not None:
+            draw.rectangle([x + 28, y + 2, x + 28 + size, y + 2 + size], fill=swatch,
+                           outline=(0, 0, 0))
+            x += 28 + size + 8
+        draw.text((x, y), text, fill=(0, 0, 0), font=font)
+        y += line_h
+    return np.asarray(img)

@@ -1,0 +1,433 @@
+"""Curved and unexplained surfaces: their own object proposals, and each object's planar fraction.
+
+A plane segmentation explains a box with a few large flat planes; a round object (bowl, mug,
+standing or lying cylinder) comes out either as a fan of narrow *facets* that meet at small
+angles, or as points no plane explains.  This module tells the two apart, so the learner can
+tell a bowl from a box and ``other`` can be the answer for it.
+
+The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
+
+1. **Facets.**  Among the non-support planes, link two adjacent planes (``relate``: touching
+   in the grid or hulls within the adjacency gap) whose angle lies in ``[facet_min_angle,
+   facet_max_angle]`` (5-50 degrees: neighbouring strips of one round surface; the faces of a
+   box meet at about 90, a ramp's slope and its platform form a chain of two).  Every plane in
+   a linked group with at least ``facet_min_planes`` (3) distinct normal directions (normals
+   within ``facet_min_angle`` count once: two pieces of one box face linked through a sliver
+   are one direction) is a facet of a curved surface.
+2. **Unexplained points.**  Valid pixels that are in no plane, or in a plane smaller than
+   ``tiny_area`` m^2, and not on a support plane, are opened morphologically by
+   ``open_px`` pixels (thin strips along box edges and occluding borders vanish), then grouped
+   into clusters connected in the image grid with neighbours within ``edge_depth * max(1, z)``
+   metres in 3-D.  A cluster counts when its area (each pixel's footprint ``z^2 / (fx fy)`` at
+   its measured depth, :func:`pixel_areas`; not a pixel count) is at least ``min_area`` m^2
+   (0.01: smaller clusters are mostly noise of far surfaces).
+3. **Merging.**  A cluster joins every proposal it touches (grid neighbours within
+   ``edge_depth``) whose planes are all facets or smaller than ``small_area`` m^2 (the rest
+   of a round object); touching no such proposal, it is a proposal of its own (with the tiny
+   planes inside it, which have no proposal).  Clusters joined to one proposal merge.
+4. **Attributes.**  ``planar_fraction``: the fraction of an object's points (its planes'
+   points plus its cluster pixels) that lie in *flat* planes: not facets, at least
+   ``tiny_area`` m^2.  ``curved``: ``planar_fraction < curved_below`` (0.8).
+On the shared mOSD frames the boxes of ``learn0-5`` keep a planar fraction of 1.00 and the
+three cylinders of ``test31`` have 0.16, 0.26 and 0.66 (all curved); docs/objects.md gives the
+figures and the commands.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from planerel.errors import InputError
+from planerel.segment.absorb import FACET_MAX_ANGLE, FACET_MIN_ANGLE
+
+__all__ = ["CurvedParams", "CurvedObject", "facet_planes", "pixel_areas",
+           "unexplained_clusters", "curved_objects"]
+
+
+@dataclass(frozen=True)
+class CurvedParams:
+    """Parameters of :func:`curved_objects` (see the module docstring for the rule).
+
+    Parameters
+    ----------
+    facet_min_angle, facet_max_angle : float
+        Degrees: two adjacent planes at an angle in this range are neighbouring facets.
+    facet_min_planes : int
+        Planes linked this way in a group with at least this many distinct normal directions
+        are facets (curved).
+    tiny_area : float
+        m^2: planes smaller than this are not flat planes; their pixels count as unexplained.
+    open_px : int
+        Pixels: radius of the morphological opening of the unexplained pixels (0 = none).
+    edge_depth : float
+        Metres at 1 m (scaled by the depth): grid neighbours farther apart in 3-D are not
+        connected.
+    min_area : float
+        m^2: smallest surface area of a cluster of unexplained points that is kept.
+    small_area : float
+        m^2: a cluster joins a touching proposal whose planes are all facets or smaller than this.
+    curved_below : float
+        An object is ``curved`` when its planar fraction is below this.
+    enabled : bool
+        False: no cluster proposals (planar fractions are still measured).
+    """
+
+    facet_min_angle: float = FACET_MIN_ANGLE
+    facet_max_angle: float = FACET_MAX_ANGLE
+    facet_min_planes: int = 3
+    tiny_area: float = 0.0005
+    open_px: int = 2
+    edge_depth: float = 0.02
+    min_area: float = 0.01
+    small_area: float = 0.002
+    curved_below: float = 0.8
+    enabled: bool = True
+
+    def __post_init__(self) -> None:
+        for name in ("facet_min_angle", "facet_max_angle", "tiny_area", "edge_depth", "min_area",
+                     "small_area", "curved_below"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
+                raise InputError(f"{name} must be a number >= 0, got {v!r}")
+        if not self.facet_min_angle <= self.facet_max_angle <= 90:
+            raise InputError(f"facet angles must satisfy 0 <= facet_min_angle <= facet_max_angle "
+                             f"<= 90, got {self.facet_min_angle!r} and {self.facet_max_angle!r}")
+        for name, lo, hi in (("facet_min_planes", 2, 1000), ("open_px", 0, 10)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
+                raise InputError(f"{name} must be an integer in {lo}..{hi}, got {v!r}")
+        if self.curved_below > 1:
+            raise InputError(f"curved_below is a fraction in [0, 1], got {self.curved_below!r}")
+
+
+@dataclass(frozen=True, eq=False)
+class CurvedObject:
+    """One object proposal with its unexplained pixels and planar fraction.
+
+    Attributes
+    ----------
+    planes : tuple of int
+        Plane labels (sorted).
+    mask : ndarray (H, W) bool or None
+        Unexplained pixels that belong to the object (None: none).
+    planar_fraction : float
+        Fraction of the object's points in flat planes, 0..1.
+    curved : bool
+        ``planar_fraction < curved_below``.
+    n_points : int
+        Points of the planes plus pixels of the mask.
+    """
+
+    planes: tuple
+    mask: np.ndarray | None
+    planar_fraction: float
+    curved: bool
+    n_points: int
+
+
+def facet_planes(planes, relations, candidates=None, params: CurvedParams | None = None) -> set:
+    """Labels of the planes that are facets of a curved surface (rule step 1).
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    relations : Relations
+    candidates : iterable of int, optional
+        Labels considered (default every plane).
+
+    Returns
+    -------
+    set of int
+    """
+    import networkx as nx
+
+    params = params or CurvedParams()
+    cand = {p.label for p in planes} if candidates is None else set(candidates)
+    g = nx.Graph()
+    for r in relations:
+        if (r.a < r.b and r.adjacent and r.a in cand and r.b in cand
+                and params.facet_min_angle <= r.angle <= params.facet_max_angle):
+            g.add_edge(r.a, r.b)
+    byl = {p.label: p for p in planes}
+    cos_min = np.cos(np.radians(params.facet_min_angle))
+    out: set = set()
+    for comp in nx.connected_components(g):
+        # distinct directions: nearly parallel planes linked through a sliver are one face
+        dirs: list = []
+        for x in sorted(comp, key=lambda x: (-byl[x].n_points, x)):
+            n = np.asarray(byl[x].normal, float)
+            if all(abs(float(n @ d)) < cos_min for d in dirs):
+                dirs.append(n)
+        if len(dirs) >= params.facet_min_planes:
+            out |= comp
+    return out
+
+
+def _pitch(xyz, axis: int) -> float:
+    """Angular size of one pixel along image ``axis`` (1: along a row, 0: along a column):
+    the median of ``|d(x / z)|`` (``|d(y / z)|``) between valid grid neighbours, ``1 / fx``
+    (``1 / fy``) of a pinhole camera; 0 when no two neighbours are valid."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        q = xyz[..., 0 if axis == 1 else 1] / xyz[..., 2]
+    d = np.abs(np.diff(q, axis=axis))
+    d = d[np.isfinite(d)]
+    return float(np.median(d)) if d.size else 0.0
+
+
+def _pitch_at(xyz, r, c, axis: int) -> float:
+    """:func:`_pitch` measured at pixels ``(r, c)`` and their next neighbour along ``axis``
+    (the whole image when none of them has a valid one)."""
+    H, W = xyz.shape[:2]
+    r2, c2 = (r, c + 1) if axis == 1 else (r + 1, c)
+    ok = (r2 < H) & (c2 < W)
+    j = 0 if axis == 1 else 1
+    with np.errstate(invalid="ignore", divide="ignore"):
+        d = np.abs(xyz[r2[ok], c2[ok], j] / xyz[r2[ok], c2[ok], 2] - xyz[r[ok], c[ok], j] / xyz[r[ok], c[ok], 2])
+    d = d[np.isfinite(d)]
+    return float(np.median(d)) if d.size else _pitch(xyz, axis)
+
+
+def _areas_at(xyz, r, c, pitch) -> np.ndarray:
+    """Footprint (m^2) of pixels ``(r, c)``: ``z^2 * pitch_x * pitch_y``."""
+    z = np.abs(xyz[r, c, 2])
+    return z * z * pitch[0] * pitch[1]
+
+
+def pixel_areas(xyz) -> np.ndarray:
+    """Area each pixel covers at its measured depth (m^2).
+
+    Parameters
+    ----------
+    xyz : ndarray, shape (H, W, 3)
+        Organized points, NaN invalid.
+
+    Returns
+    -------
+    ndarray, shape (H, W)
+        ``z^2 * px * py``: ``px``, ``py`` the angular pixel size along x and y, measured on the
+        cloud itself (:func:`_pitch`: ``1 / fx``, ``1 / fy`` of a pinhole camera), so a pixel at
+        depth z on a surface facing the sensor covers ``(z / f)^2`` (a slanted surface more:
+        this is the area facing the sensor, unaffected by depth noise).  0 at invalid pixels.
+    """
+    xyz = np.asarray(xyz, float)
+    valid = np.isfinite(xyz).all(axis=2)
+    out = np.zeros(xyz.shape[:2])
+    r, c = np.nonzero(valid)
+    if len(r):
+        out[r, c] = _areas_at(xyz, r, c, (_pitch(xyz, 1), _pitch(xyz, 0)))
+    return out
+
+
+def _shift_all(mask, r: int, axis: int, erode: bool) -> np.ndarray:
+    """AND (erode) or OR (dilate) of ``mask`` shifted by -r..r along ``axis`` (outside the
+    image counts as unset)."""
+    out = mask.copy()
+    n = mask.shape[axis]
+    for k in range(1, r + 1):
+        for sgn in (1, -1):
+            sh = np.zeros_like(mask)
+            src = [slice(None)] * 2
+            dst = [slice(None)] * 2
+            if k < n:
+                src[axis] = slice(k, None) if sgn > 0 else slice(None, n - k)
+                dst[axis] = slice(None, n - k) if sgn > 0 else slice(k, None)
+                sh[tuple(dst)] = mask[tuple(src)]
+            if erode:
+                out &= sh
+            else:
+                out |= sh
+    return out
+
+
+def _open(mask, r: int) -> np.ndarray:
+    """Morphological opening by a (2r+1)^2 square: erode, then dilate (separable)."""
+    if r <= 0:
+        return mask
+    eroded = _shift_all(_shift_all(mask, r, 1, True), r, 0, True)
+    if not eroded.any():
+        return eroded
+    return _shift_all(_shift_all(eroded, r, 1, False), r, 0, False)
+
+
+def _components(mask, xyz, edge_depth: float) -> tuple[np.ndarray, int]:
+    """Connected components of ``mask`` over 4-neighbours within ``edge_depth * max(1, z)``
+    in 3-D; returns ``(ids (H, W) int, -1 outside, numbered by first pixel; count)``."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    H, W = mask.shape
+    r, c = np.nonzero(mask)
+    n = len(r)
+    idx = np.full((H + 1, W + 1), -1, np.int64)  # padded: the extra row / column is outside
+    idx[r, c] = np.arange(n)
+    if n == 0:
+        return idx[:H, :W], 0
+    P = xyz[r, c]
+    lim = edge_depth * np.maximum(1.0, np.abs(P[:, 2]))
+    src, dst = [], []
+    for dy, dx in ((0, 1), (1, 0)):
+        j = idx[r + dy, c + dx]
+        ok = j >= 0
+        i = np.nonzero(ok)[0]
+        d = np.linalg.norm(P[j[ok]] - P[i], axis=1)
+        keep = d <= lim[i]
+        src.append(i[keep])
+        dst.append(j[ok][keep])
+    s_, d_ = np.concatenate(src), np.concatenate(dst)
+    g = coo_matrix((np.ones(len(s_), np.int8), (s_, d_)), shape=(n, n))
+    k, lab = connected_components(g, directed=False)
+    # renumber by first pixel (row-major) so the order does not depend on scipy's numbering
+    first = np.full(k, n, np.int64)
+    np.minimum.at(first, lab, np.arange(n))
+    rank = np.empty(k, np.int64)
+    rank[np.argsort(first, kind="stable")] = np.arange(k)
+    out = idx[:H, :W].copy()
+    out[r, c] = rank[lab]
+    return out, int(k)
+
+
+def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams | None = None):
+    """Clusters of points no flat plane explains (rule step 2).
+
+    Parameters
+    ----------
+    cloud : Cloud
+        Organized cloud ``(H, W, 3)``.
+    labels : ndarray, shape (H, W), int
+        Plane labels, -1 unassigned.
+    planes : PlaneSet
+    support : iterable of int
+        Support plane labels (their pixels are never unexplained).
+
+    Returns
+    -------
+    list of ndarray (H, W) bool
+        One mask per cluster of at least ``min_area`` m^2, ordered by their first pixel
+        (row-major).
+    """
+    params = params or CurvedParams()
+    xyz = np.asarray(cloud.xyz, float)
+    lab = np.asarray(labels)
+    if lab.shape != xyz.shape[:2]:
+        raise InputError(f"labels {lab.shape} and cloud {xyz.shape[:2]} differ in shape")
+    valid = np.isfinite(xyz[..., 2])
+    flat = {p.label for p in planes if p.area >= params.tiny_area}
+    nl = int(lab.max()) + 2 if lab.size else 1
+    explained = np.zeros(nl + 1, bool)
+    explained[[x for x in flat if 0 <= x < nl]] = True
+    explained[[x for x in support if 0 <= x < nl]] = True
+    un = valid & ~explained[np.where(lab >= 0, lab, nl)]
+    un = _open(un, params.open_px) & valid
+    if not un.any():
+        return []
+    rows, cols = np.nonzero(un)
+    r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
+    sub = un[r0:r1, c0:c1]
+    comp, k = _components(sub, xyz[r0:r1, c0:c1], params.edge_depth)
+    rr, cc = rows - r0, cols - c0
+    pitch = (_pitch_at(xyz, rows, cols, 1), _pitch_at(xyz, rows, cols, 0))
+    area = np.bincount(comp[rr, cc], weights=_areas_at(xyz, rows, cols, pitch), minlength=k)
+    out = []
+    for c in np.nonzero(area >= params.min_area)[0]:  # component ids follow the first pixel
+        m = np.zeros(un.shape, bool)
+        m[r0:r1, c0:c1] = comp == c
+        out.append(m)
+    return out
+
+
+def _touching_labels(mask, lab, xyz, edge_depth: float) -> dict:
+    """``{label: number of grid neighbour pairs}`` of the planes touching ``mask`` (within
+    two pixels, 3-D distance within ``edge_depth * max(1, z)``)."""
+    H, W = mask.shape
+    out: dict = {}
+    r0, c0 = np.nonzero(mask)
+    P0 = xyz[r0, c0]
+    lim = edge_depth * np.maximum(1.0, np.abs(P0[:, 2]))
+    for k in (1, 2):
+        for dy, dx in ((0, k), (k, 0), (0, -k), (-k, 0)):
+            r, c = r0 + dy, c0 + dx
+            inb = (r >= 0) & (r < H) & (c >= 0) & (c < W)
+            rr, cc = r[inb], c[inb]
+            b = lab[rr, cc]
+            d = np.linalg.norm(xyz[rr, cc] - P0[inb], axis=1)
+            ok = (b >= 0) & (d <= lim[inb])
+            for x, n in zip(*np.unique(b[ok], return_counts=True), strict=True):
+                out[int(x)] = out.get(int(x), 0) + int(n)
+    return out
+
+
+def curved_objects(planes, relations, proposals, cloud=None, labels=None, support=(),
+                   params: CurvedParams | None = None) -> list[CurvedObject]:
+    """Proposals with their unexplained points and planar fractions (the module's rule).
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    relations : Relations
+    proposals : sequence of sequence of int
+        Plane labels per proposal (e.g. :func:`planerel.features.relations.propose_objects`).
+    cloud : Cloud, optional
+        Without it (or without ``labels``) no clusters are made; planar fractions count plane
+        points only.
+    labels : ndarray, shape (H, W), int, optional
+        Plane labels of the segmentation (default ``planes.labels``).
+    support : iterable of int
+        Support plane labels.
+
+    Returns
+    -------
+    list of CurvedObject
+        The given proposals in their order (with the clusters they absorbed), then the
+        clusters that stand alone, ordered by their first pixel.
+    """
+    params = params or CurvedParams()
+    byl = {p.label: p for p in planes}
+    support = set(support)
+    props = [tuple(sorted(int(x) for x in g)) for g in proposals]
+    facets = facet_planes(planes, relations, [p.label for p in planes if p.label not in support],
+                          params)
+    masks: list = [None] * len(props)
+    alone: list = []
+    if labels is None:
+        labels = getattr(planes, "labels", None)
+    if params.enabled and cloud is not None and labels is not None:
+        lab = np.asarray(labels)
+        xyz = np.asarray(cloud.xyz, float)
+        owner = {x: k for k, g in enumerate(props) for x in g}
+        soft = [all(x in facets or byl[x].area < params.small_area for x in g) and len(g) > 0
+                for g in props]
+        for m in unexplained_clusters(cloud, lab, planes, support, params):
+            touch = _touching_labels(m, lab, xyz, params.edge_depth)
+            joined = sorted({owner[x] for x in touch if x in owner and soft[owner[x]]})
+            if joined:
+                # every soft proposal the cluster touches becomes one object
+                k0 = joined[0]
+                for k in joined[1:]:
+                    props[k0] = tuple(sorted(set(props[k0]) | set(props[k])))
+                    if masks[k] is not None:
+                        masks[k0] = masks[k] if masks[k0] is None else masks[k0] | masks[k]
+                    props[k], masks[k], soft[k] = (), None, False
+                for x in props[k0]:
+                    owner[x] = k0
+                masks[k0] = m if masks[k0] is None else masks[k0] | m
+            else:
+                inside = tuple(sorted(x for x in np.unique(lab[m]) if x >= 0 and x in byl
+                                      and x not in owner and x not in support))
+                alone.append((inside, m))
+    out = []
+    for g, m in list(zip(props, masks, strict=True)) + alone:
+        if not g and m is None:
+            continue
+        extra = 0
+        if m is not None:
+            lab = np.asarray(labels)
+            extra = int((m & ~np.isin(lab, list(g) if g else [-2])).sum())
+        n_pl = sum(byl[x].n_points for x in g if x in byl)
+        n_flat = sum(byl[x].n_points for x in g
+                     if x in byl and x not in facets and byl[x].area >= params.tiny_area)
+        total = n_pl + extra
+        frac = n_flat / total if total else 0.0
+        out.append(CurvedObject(g, m, float(frac), bool(frac < params.curved_below), int(total)))
+    return out

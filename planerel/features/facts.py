@@ -1,0 +1,535 @@
+"""Scenes to Prolog facts: the relational description an ILP system learns from.
+
+:func:`describe_scene` measures the planes of one scene (:mod:`planerel.features.planes`), relates them
+(:mod:`planerel.features.relations`) and groups them into objects (ground truth when given, else
+proposals); :func:`facts_text` writes any number of described scenes as one Prolog text with
+every fact of a predicate together, predicates in the fixed order of :data:`PREDICATES`, scenes
+in the order given, planes by label, pairs by ``(p, q)``: the same input gives the same bytes.
+The vocabulary, with types, units and Aleph modes, is in ``docs/predicates.md``.
+
+Ids: scene ``s0007``; plane ``s0007_p03`` (its label, two digits or more); object ``s0007_o1``
+(objects numbered from 1 in order).  Any scene id is allowed; ids that are not plain Prolog
+atoms are quoted by :mod:`planerel.features.terms`.
+
+Described pairs: every ordered pair of planes within one object, and every ordered pair of
+adjacent planes anywhere in the scene (``FactParams.pairs`` selects other sets).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from planerel.errors import InputError
+from planerel.features import terms
+
+__all__ = [
+    "PREDICATES",
+    "FactParams",
+    "SceneObject",
+    "SceneDescription",
+    "describe_scene",
+    "oblique_share",
+    "scene_facts",
+    "facts_text",
+    "write_facts",
+    "FactsWriter",
+    "up_comment",
+    "DIGITS_M",
+    "DIGITS_DEG",
+]
+
+#: Decimal places written for metres and square metres (0.1 mm) and for degrees.
+DIGITS_M = 4
+DIGITS_DEG = 2
+
+#: The vocabulary, in the order facts are written: (name, arity, argument types, meaning).
+PREDICATES: tuple[tuple[str, int, str, str], ...] = (
+    ("scene", 1, "scene", "a scene"),
+    ("scene_plane", 2, "scene, plane", "the plane belongs to the scene"),
+    ("floor", 2, "scene, plane", "the scene's floor plane"),
+    ("up", 2, "scene, [x, y, z]", "gravity up in the camera frame (unit vector)"),
+    ("object", 2, "scene, obj", "an object (ground truth or proposal) of the scene"),
+    ("has_plane", 2, "obj, plane", "the plane belongs to the object"),
+    ("support", 1, "plane", "a support plane (floor, floor-level plane, large wall)"),
+    ("nplanes", 2, "obj, int", "number of planes of the object"),
+    ("nhorizontal", 2, "obj, int", "number of horizontal planes of the object"),
+    ("nvertical", 2, "obj, int", "number of vertical planes of the object"),
+    ("ninclined", 2, "obj, int", "number of inclined planes of the object"),
+    ("planar_fraction", 2, "obj, 0..1", "fraction of the object's points in flat planes (planerel.features.curved)"),
+    ("curved", 1, "obj", "planar fraction below curved_below: a round object (planerel.features.curved)"),
+    ("oblique_share", 2, "obj, 0..1", "share of the object's area in planes that meet a larger "
+     "plane of the object at an oblique angle (curved or faceted surfaces)"),
+    ("orientation", 2, "plane, horizontal|vertical|inclined", "orientation class"),
+    ("incline", 2, "plane, deg", "angle between plane and horizontal, 0..90"),
+    ("area", 2, "plane, m2", "convex-hull area"),
+    ("plane_length", 2, "plane, m", "long side of the hull's minimum rotated rectangle"),
+    ("plane_width", 2, "plane, m", "short side of that rectangle"),
+    ("height", 2, "plane, m", "centroid height above the floor / lowest support"),
+    ("distance", 2, "plane, m", "distance from the sensor to the centroid"),
+    ("npoints", 2, "plane, int", "number of points"),
+    ("rms", 2, "plane, m", "RMS point-to-plane residual"),
+    ("plane_model", 3, "plane, [x, y, z], [nx, ny, nz]", "centroid (m) and unit normal towards the sensor"),
+    ("hull", 2, "plane, [[x, y, z], ...]", "3-D convex-hull vertices (m), counter-clockwise seen from the sensor"),
+    ("angle", 3, "plane, plane, deg", "angle between the planes, 0..90"),
+    ("parallel", 2, "plane, plane", "angle within the parallel tolerance"),
+    ("perpendicular", 2, "plane, plane", "angle within the perpendicular tolerance of 90"),
+    ("adjacent", 2, "plane, plane", "touch in the image grid or hulls within the adjacency gap"),
+    ("gap", 3, "plane, plane, m", "closest distance between the 3-D hulls"),
+    ("rise", 3, "plane, plane, m", "how far the second centroid is above the first"),
+    ("above", 2, "plane, plane", "first centroid above the second by more than the tolerance"),
+    ("in_front_of", 2, "plane, plane", "first nearer the sensor along the horizontal view direction"),
+)
+_ARITY = {name: arity for name, arity, _, _ in PREDICATES}
+_PLANNER = ("plane_model", "hull")
+_PAIRS = ("object+adjacent", "object", "adjacent", "all", "none")
+
+
+@dataclass(frozen=True)
+class FactParams:
+    """What :func:`scene_facts` writes.
+
+    Parameters
+    ----------
+    pairs : str
+        Described pairs: ``"object+adjacent"`` (default: all pairs within an object and the
+        adjacent pairs of the scene), ``"object"``, ``"adjacent"``, ``"all"``, ``"none"``.
+    planner : bool
+        Write ``plane_model/3`` and ``hull/2`` (for robot planners, not for the learner).
+    planes : str
+        ``"all"`` planes of the scene, or only the planes of ``"objects"``.
+    """
+
+    pairs: str = "object+adjacent"
+    planner: bool = True
+    planes: str = "all"
+
+    def __post_init__(self) -> None:
+        if self.pairs not in _PAIRS:
+            raise InputError(f"pairs must be one of {', '.join(_PAIRS)}; got {self.pairs!r}")
+        if self.planes not in ("all", "objects"):
+            raise InputError(f"planes must be 'all' or 'objects', got {self.planes!r}")
+
+
+@dataclass(frozen=True)
+class SceneObject:
+    """An object of a scene: its id, its plane labels, and its class when known.
+
+    ``mask`` holds the pixels no flat plane explains that belong to the object (``(H, W)``
+    bool, or None), ``planar_fraction`` the fraction of its points in flat planes and
+    ``curved`` whether that is below the threshold (:mod:`planerel.features.curved`; None: not measured).
+    """
+
+    id: str
+    planes: tuple
+    klass: str | None = None
+    mask: object = field(default=None, compare=False, repr=False)
+    planar_fraction: float | None = None
+    curved: bool | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.id, str) or not self.id:
+            raise InputError(f"an object id must be a non-empty string, got {self.id!r}")
+        object.__setattr__(self, "planes", tuple(int(p) for p in self.planes))
+
+
+@dataclass(frozen=True, eq=False)
+class SceneDescription:
+    """One described scene: planes, relations, objects."""
+
+    scene_id: str
+    planes: object  # PlaneSet
+    relations: object  # Relations
+    objects: tuple
+    source: str | None = None
+    proposed: bool = True
+    support: tuple = field(default=())
+    #: Ground-truth objects that are no example: ``(object id or None when no plane of it
+    #: was found, class, reason)`` (:func:`planerel.features.dataset.describe_truth_scene`).
+    excluded: tuple = field(default=())
+
+    def plane_id(self, label: int) -> str:
+        """``s0007_p03`` for label 3."""
+        return terms.plane_id(self.scene_id, label)
+
+
+def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=None,
+                   klass: str | None = None, plane_params=None, relation_params=None,
+                   proposal_params=None, gravity_params=None,
+                   curved_params=None) -> SceneDescription:
+    """Measure, relate and group the planes of one scene.
+
+    Parameters
+    ----------
+    cloud : Cloud
+        Organized cloud ``(H, W, 3)``.
+    labels : ndarray, shape (H, W), int
+        Plane labels (ground truth or segmentation), -1 unassigned.
+    scene_id : str
+        Scene id (``s0007``); plane and object ids derive from it.
+    up : 3 numbers, optional
+        Gravity up; default the cloud's sidecar value, else estimated.
+    objects : sequence of sequences of int, optional
+        Plane labels per object (e.g. from :func:`planerel.features.relations.objects_from_truth`);
+        default: :func:`planerel.features.relations.propose_objects`.  Labels without a measured plane
+        are dropped; objects left empty are dropped.
+    klass : str, optional
+        Class of the objects (for training data: the scene's class).
+    plane_params, relation_params, proposal_params, gravity_params, curved_params : optional
+        :class:`~planerel.features.planes.PlaneParams`, :class:`~planerel.features.relations.RelationParams`,
+        :class:`~planerel.features.relations.ProposalParams`, :class:`~planerel.features.gravity.GravityParams`,
+        :class:`~planerel.features.curved.CurvedParams` (defaults when None; a model's are in its
+        ``model.json``).  Proposals also take the clusters of points no flat plane explains
+        (:func:`planerel.features.curved.curved_objects`); every object gets its planar fraction.
+
+    Returns
+    -------
+    SceneDescription
+    """
+    from planerel.features.curved import curved_objects
+    from planerel.features.planes import measure_planes
+    from planerel.features.relations import propose_objects, relate, support_planes
+
+    if not isinstance(scene_id, str) or not scene_id:
+        raise InputError(f"a scene id must be a non-empty string, got {scene_id!r}")
+    planes = measure_planes(cloud, labels, up, plane_params, gravity_params)
+    rel = relate(planes, cloud, relation_params)
+    support = tuple(support_planes(planes, proposal_params))
+    known = {p.label for p in planes}
+    if objects is None:
+        groups = propose_objects(planes, rel, proposal_params, cloud)
+        proposed = True
+    else:
+        groups = []
+        for g in objects:
+            kept = tuple(sorted({int(x) for x in g} & known))
+            if kept:
+                groups.append(kept)
+        proposed = False
+    # proposals take the clusters of unexplained points; given objects keep their planes
+    cobjs = curved_objects(planes, rel, groups, cloud if proposed else None, labels, support,
+                           curved_params)
+    objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), c.planes, klass, c.mask,
+                             c.planar_fraction, c.curved)
+                 for k, c in enumerate(cobjs))
+    return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
+                            proposed, support)
+
+
+def oblique_share(planes_by_label, relations, labels) -> float:
+    """Share of an object's plane area in planes that meet another plane of the object at an
+    oblique angle: adjacent, neither parallel nor perpendicular (the tolerances of
+    :class:`~planerel.features.relations.RelationParams`), and no larger than that plane.
+
+    The faces of a box meet at right angles (0); the facets of a cylinder or a bowl, or a
+    tilted lid on its base, meet obliquely.  Only the smaller plane of each such pair counts,
+    so a sliver at a box's edge adds its own small area, not the face it touches.
+
+    Parameters
+    ----------
+    planes_by_label : dict
+        ``{label: Plane}`` (``area`` in m^2).
+    relations : iterable of Relation
+        The scene's pair relations (``a``, ``b``, ``adjacent``, ``parallel``, ``perpendicular``).
+    labels : sequence of int
+        The object's planes.
+
+    Returns
+    -------
+    float
+        In ``[0, 1]``; 0 for an object without area.
+    """
+    own = set(labels)
+    total = sum(planes_by_label[k].area for k in own)
+    if total <= 0:
+        return 0.0
+    smaller = set()
+    for r in relations:
+        if (r.a < r.b and r.a in own and r.b in own and r.adjacent and not r.parallel
+                and not r.perpendicular):
+            pa, pb = planes_by_label[r.a], planes_by_label[r.b]
+            smaller.add(r.a if pa.area <= pb.area else r.b)
+    return float(min(1.0, sum(planes_by_label[k].area for k in smaller) / total))
+
+
+def _described_pairs(desc: SceneDescription, mode: str) -> list:
+    if mode == "none":
+        return []
+    same_object: set[tuple[int, int]] = set()
+    if mode in ("object", "object+adjacent"):
+        for o in desc.objects:
+            for a in o.planes:
+                for b in o.planes:
+                    if a != b:
+                        same_object.add((a, b))
+    out = []
+    for r in desc.relations:
+        if mode == "all" or (r.a, r.b) in same_object or (mode != "object" and r.adjacent):
+            out.append(r)
+    return out
+
+
+def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dict[str, list[str]]:
+    """The facts of one scene, by predicate name (values: lines ``name(args).``, in order)."""
+    params = params or FactParams()
+    out: dict[str, list[str]] = {name: [] for name, _, _, _ in PREDICATES}
+    F = terms.fact
+    S = desc.scene_id
+    pid = desc.plane_id
+    pset = desc.planes
+    in_objects = {lbl for o in desc.objects for lbl in o.planes}
+    planes = [p for p in pset if params.planes == "all" or p.label in in_objects]
+    kept = {p.label for p in planes}
+    out["scene"].append(F("scene", S))
+    for p in planes:
+        out["scene_plane"].append(F("scene_plane", S, pid(p.label)))
+    if pset.floor is not None and pset.floor in kept:
+        out["floor"].append(F("floor", S, pid(pset.floor)))
+    out["up"].append(F("up", S, [float(x) for x in pset.up], round_to=6))
+    by_label = {p.label: p for p in pset}
+    for o in desc.objects:
+        out["object"].append(F("object", S, o.id))
+        for lbl in o.planes:
+            out["has_plane"].append(F("has_plane", o.id, pid(lbl)))
+        ors = [by_label[lbl].orientation for lbl in o.planes]
+        out["nplanes"].append(F("nplanes", o.id, len(o.planes)))
+        out["nhorizontal"].append(F("nhorizontal", o.id, ors.count("horizontal")))
+        out["nvertical"].append(F("nvertical", o.id, ors.count("vertical")))
+        out["ninclined"].append(F("ninclined", o.id, ors.count("inclined")))
+        if o.planar_fraction is not None:
+            out["planar_fraction"].append(F("planar_fraction", o.id, o.planar_fraction,
+                                            round_to=3))
+        if o.curved:
+            out["curved"].append(F("curved", o.id))
+        out["oblique_share"].append(F("oblique_share", o.id,
+                                      oblique_share(by_label, desc.relations, o.planes),
+                                      round_to=3))
+    for lbl in desc.support:
+        if lbl in kept:
+            out["support"].append(F("support", pid(lbl)))
+    m, dg = DIGITS_M, DIGITS_DEG
+    for p in planes:
+        i = pid(p.label)
+        out["orientation"].append(F("orientation", i, p.orientation))
+        out["incline"].append(F("incline", i, p.incline, round_to=dg))
+        out["area"].append(F("area", i, p.area, round_to=m))
+        out["plane_length"].append(F("plane_length", i, p.length, round_to=m))
+        out["plane_width"].append(F("plane_width", i, p.width, round_to=m))
+        out["height"].append(F("height", i, p.height, round_to=m))
+        out["distance"].append(F("distance", i, p.distance, round_to=m))
+        out["npoints"].append(F("npoints", i, p.n_points))
+        out["rms"].append(F("rms", i, p.rms, round_to=6))
+        if params.planner:
+            out["plane_model"].append(F("plane_model", i, [float(x) for x in p.centroid],
+                                        terms.plist([float(x) for x in p.normal], round_to=6),
+                                        round_to=m))
+            out["hull"].append(F("hull", i, [[float(x) for x in v] for v in p.hull3d], round_to=m))
+    for r in _described_pairs(desc, params.pairs):
+        if r.a not in kept or r.b not in kept:
+            continue
+        a, b = pid(r.a), pid(r.b)
+        out["angle"].append(F("angle", a, b, r.angle, round_to=dg))
+        if r.parallel:
+            out["parallel"].append(F("parallel", a, b))
+        if r.perpendicular:
+            out["perpendicular"].append(F("perpendicular", a, b))
+        if r.adjacent:
+            out["adjacent"].append(F("adjacent", a, b))
+        out["gap"].append(F("gap", a, b, r.gap, round_to=m))
+        out["rise"].append(F("rise", a, b, r.rise, round_to=m))
+        if r.above:
+            out["above"].append(F("above", a, b))
+        if r.in_front_of:
+            out["in_front_of"].append(F("in_front_of", a, b))
+    if not params.planner:
+        for name in _PLANNER:
+            out[name] = []
+    return out
+
+
+def _merge(descs: Sequence[SceneDescription], params: FactParams) -> dict[str, list[str]]:
+    seen: set[str] = set()
+    merged: dict[str, list[str]] = {name: [] for name, _, _, _ in PREDICATES}
+    for d in descs:
+        if d.scene_id in seen:
+            raise InputError(f"scene id {d.scene_id!r} occurs twice; give every scene its own id")
+        seen.add(d.scene_id)
+        for name, lines in scene_facts(d, params).items():
+            merged[name].extend(lines)
+    return merged
+
+
+_DEFAULT_HEADER = "planerel scene facts; vocabulary: docs/predicates.md"
+
+
+def _comment_lines(text: str) -> str:
+    """``text`` as Prolog comment lines (ASCII, one ``%`` line per line of text)."""
+    out = []
+    for line in text.splitlines():
+        out.append("% " + "".join(ch if 32 <= ord(ch) < 127 else "?" for ch in line) + "\n")
+    return "".join(out)
+
+
+def up_comment(desc: SceneDescription) -> str:
+    """``s0001: up [0.012, -0.766, -0.643] estimated, confidence 0.78`` (for the header)."""
+    return f"{desc.scene_id}: {desc.planes.up_estimate.describe()}"
+
+
+def _preamble(params: FactParams, header: str | None, declare: bool,
+              comments: bool = True) -> tuple[list[str], list[str]]:
+    """The header comment (``header`` or the default one; none when not ``comments``) and
+    declaration lines, and the predicate names in file order."""
+    lines = _comment_lines(header or _DEFAULT_HEADER).splitlines() if comments else []
+    names = [n for n, _, _, _ in PREDICATES if params.planner or n not in _PLANNER]
+    if declare:
+        decl = ", ".join(f"{n}/{_ARITY[n]}" for n in names)
+        lines.append(f":- dynamic(({decl})).")
+        lines.append(f":- multifile(({decl})).")
+    return lines, names
+
+
+def facts_text(descs: Sequence[SceneDescription], params: FactParams | None = None, *,
+               header: str | None = None, declare: bool = True) -> str:
+    """All facts of the scenes as one loadable Prolog text.
+
+    The header comment ends with one line per scene on its up vector (:func:`up_comment`:
+    where it came from and how sure it is).  Every predicate of the vocabulary is declared ``dynamic`` and ``multifile`` (so queries
+    about a relation no scene has fail instead of raising, and several fact files can be
+    loaded together); facts are grouped by predicate.  An empty list of scenes gives a
+    text with the declarations only.
+    """
+    params = params or FactParams()
+    if isinstance(descs, SceneDescription):
+        descs = [descs]
+    descs = list(descs)
+    merged = _merge(descs, params)
+    text = "\n".join([header or _DEFAULT_HEADER, *(up_comment(d) for d in descs)])
+    lines, names = _preamble(params, text, declare)
+    for name in names:
+        if merged[name]:
+            lines.append("")
+            lines.extend(merged[name])
+    return "\n".join(lines) + "\n"
+
+
+def write_facts(path, descs, params: FactParams | None = None, *, header: str | None = None):
+    """Write :func:`facts_text` to ``path`` atomically; return the path."""
+    from planerel.atomic import write_text
+
+    return write_text(path, facts_text(descs, params, header=header))
+
+
+
+class FactsWriter:
+    """Write the facts of many scenes one scene at a time, with memory flat in their number.
+
+    The file is byte for byte what :func:`write_facts` writes for the same scenes in the same
+    order (facts grouped by predicate): each scene's lines are appended to one spool file per
+    predicate in a temporary folder next to ``path``; :meth:`close` joins them into ``path``
+    atomically.  Used as a context manager, an exception discards everything.
+
+    Parameters
+    ----------
+    path : path
+        The facts file to write.
+    params : FactParams, optional
+    header : str, optional
+        The comment at the top of the file.
+    """
+
+    def __init__(self, path, params: FactParams | None = None, *, header: str | None = None):
+        import tempfile
+
+        self.path = Path(path)
+        self.params = params or FactParams()
+        self.header = header
+        folder = self.path.parent if str(self.path.parent) else Path(".")
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            self._dir = tempfile.TemporaryDirectory(prefix=f".{self.path.name}.", dir=folder)
+        except OSError as exc:
+            raise InputError(f"cannot write {self.path}: {exc.strerror}") from None
+        self._spool: dict = {}
+        self._seen: set[str] = set()
+        self.n_scenes = 0
+
+    def add(self, scene) -> None:
+        """Append one scene: a :class:`SceneDescription`, or ``(scene_id, facts)`` with the
+        ``facts`` of :func:`scene_facts` (what a worker process sends back; then also give its
+        :func:`up_comment` to :meth:`note_up`)."""
+        if isinstance(scene, SceneDescription):
+            sid, facts = scene.scene_id, scene_facts(scene, self.params)
+            self.note_up(up_comment(scene))
+        else:
+            sid, facts = scene
+        if sid in self._seen:
+            raise InputError(f"scene id {sid!r} occurs twice; give every scene its own id")
+        self._seen.add(sid)
+        for name, lines in facts.items():
+            if not lines:
+                continue
+            fh = self._spool.get(name)
+            if fh is None:
+                fh = self._spool[name] = open(Path(self._dir.name) / name, "w+", encoding="utf-8")
+            fh.write("\n".join(lines) + "\n")
+        self.n_scenes += 1
+
+    def note(self, text: str) -> None:
+        """A comment line for the top of the file, below the header (e.g. how one scene was
+        segmented); kept on disk like the facts."""
+        fh = self._spool.get(None)
+        if fh is None:
+            fh = self._spool[None] = open(Path(self._dir.name) / "_notes", "w+", encoding="utf-8")
+        fh.write(_comment_lines(text))
+
+    def note_up(self, text: str) -> None:
+        """The scene's up-vector comment (:func:`up_comment`), listed below the notes."""
+        fh = self._spool.get("_up")
+        if fh is None:
+            fh = self._spool["_up"] = open(Path(self._dir.name) / "_up", "w+", encoding="utf-8")
+        fh.write(_comment_lines(text))
+
+    def close(self) -> Path:
+        """Join the spools into the facts file; return its path."""
+        import shutil
+
+        from planerel.atomic import atomic_path
+
+        head = _comment_lines(self.header or _DEFAULT_HEADER)
+        lines, names = _preamble(self.params, None, True, comments=False)
+        try:
+            with atomic_path(self.path, suffix=".pl") as tmp, open(tmp, "w", encoding="utf-8") as out:
+                out.write(head)
+                for key in (None, "_up"):
+                    notes = self._spool.get(key)
+                    if notes is not None:
+                        notes.seek(0)
+                        shutil.copyfileobj(notes, out)
+                out.write("\n".join(lines) + "\n")
+                for name in names:
+                    fh = self._spool.get(name)
+                    if fh is None:
+                        continue
+                    out.write("\n")
+                    fh.seek(0)
+                    shutil.copyfileobj(fh, out)
+        finally:
+            self.discard()
+        return self.path
+
+    def discard(self) -> None:
+        """Remove the spool files (nothing is written to ``path``)."""
+        for fh in self._spool.values():
+            fh.close()
+        self._spool.clear()
+        self._dir.cleanup()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.discard()

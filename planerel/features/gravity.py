@@ -1,0 +1,492 @@
+"""Gravity: the up vector of a scene in the camera frame, for any camera pitch and roll.
+
+Where the up vector comes from (:func:`resolve_up`), in this order:
+
+``given``      the caller's ``up`` argument (the CLI's ``--up``)
+``file``       the cloud's own ``up`` (a sidecar ``STEM.json`` next to a depth image, PCD, PLY
+               or NPY file, or a synthetic scene)
+``estimated``  :func:`estimate_gravity` from the scene's planes
+``default``    nothing to estimate from: a level camera's up, ``(0, -1, 0)``, confidence 0
+
+Estimate.  Man-made scenes are made of planes that are either horizontal (floors, treads,
+table and box tops) or vertical (walls, risers, box faces).  Every large plane votes:
+
+- *candidates*: the normal of each large plane (it might be horizontal), the cross product
+  of each pair of large planes at least ``min_pair_deg`` from parallel (both might be
+  vertical), and for each plane the direction in it closest to the image's up axis (it might
+  be the only vertical plane, seen with no roll);
+- *score* of a candidate ``u``: the area of the planes that are horizontal with respect to
+  ``u`` (normal within ``tol_deg`` of ``u``) plus ``vertical_weight`` times the area of the
+  vertical ones (normal within ``tol_deg`` of perpendicular), with a smooth kernel
+  ``1 - (angle / tol_deg)^2``, times a roll prior: a candidate that would mean a camera rolled
+  by more than ``max_roll_deg`` is penalised (only as far as the roll is defined: looking
+  straight down it is not);
+- the best candidate is *refined* by least squares over its consistent planes (horizontal
+  normals parallel to up, vertical normals perpendicular to it), twice with a shrinking
+  tolerance.
+
+Nothing restricts the pitch: a camera looking straight ahead and one looking steeply down a
+staircase are handled alike (no cone around the camera's down axis).
+
+Sign.  Up points to the side of the image's top (``up . (0, -1, 0) > 0``: the camera is not
+upside down) when that is well defined; when the camera looks (nearly) straight down it points
+to the sensor's side of the largest horizontal planes (the camera is above the floor).
+
+Confidence in [0, 1]: ``sqrt(explained) * separation * checked`` where ``explained`` is the
+fraction of the voting area consistent with the estimate; ``separation = min(1, 2 (1 - rival /
+best))`` with ``rival`` the best score of a candidate more than ``2 tol_deg`` (10 degrees) away
+(another reading of the same scene: a wall taken for the floor, a ramp for the ground); ``checked`` is 1 when the consistent planes
+point in two directions at least ``min_pair_deg`` apart (up is cross-checked: a floor and a
+wall, two walls), 0.6 when they are parallel horizontal planes (a floor and stair treads),
+0.4 for a single horizontal plane, 0.2 when they are all parallel and vertical (up within the
+plane is then only the roll prior's guess).  Estimates below ``GravityParams.low_confidence`` (0.5) are flagged
+(:attr:`UpEstimate.low_confidence`): a single plane always is.
+
+Inputs.  With a label image the planes are least-squares fits of the labelled regions (area
+from their spread: ``12 sqrt(l1 l2)`` for the two in-plane eigenvalues, exact for a
+rectangle); without one, per-pixel normals on a coarse grid are grouped into dominant
+directions (greedy mode seeking on the sphere, 5-degree radius) which then vote the same way.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from planerel.errors import InputError
+from planerel.io.cloud import unit_up
+
+__all__ = [
+    "GravityParams",
+    "UpEstimate",
+    "estimate_gravity",
+    "up_from_cloud",
+    "resolve_up",
+    "estimate_up",
+    "unit_up",
+    "DEFAULT_UP",
+    "SOURCES",
+]
+
+#: Up of a level camera in the optical frame (x right, y down, z forward).
+DEFAULT_UP = (0.0, -1.0, 0.0)
+#: Where an up vector came from.
+SOURCES = ("given", "file", "estimated", "default")
+
+
+@dataclass(frozen=True)
+class GravityParams:
+    """Parameters of :func:`estimate_gravity`.
+
+    Parameters
+    ----------
+    tol_deg : float
+        A plane within this many degrees of horizontal (or vertical) w.r.t. a candidate is
+        consistent with it.
+    min_area : float
+        Planes smaller than this many m^2 do not vote.
+    min_points : int
+        Regions with fewer valid points do not vote.
+    max_planes : int
+        The largest this many planes make candidates (all voting planes are scored).
+    vertical_weight : float
+        A vertical plane's vote relative to a horizontal one's (a vertical plane is consistent
+        with a whole circle of directions, a horizontal one with a single direction).
+    max_roll_deg : float
+        Roll of the camera about its optical axis up to which no penalty applies.
+    max_up_pitch_deg : float
+        Angle of the optical axis above the horizon up to which no penalty applies (cameras
+        look ahead or down; looking steeply up is penalised, looking down never is).
+    max_height : float
+        Horizontal surfaces (floors, treads, tables, room ceilings) lie within this many metres
+        of the camera; a plane farther away counts less and less as a horizontal candidate
+        (1-metre scale), so a far wall seen head-on is not taken for a floor below a camera
+        looking straight down.  Raise it for sensors mounted high above the ground.
+    min_pair_deg : float
+        Two planes make a cross-product candidate when at least this far from parallel.
+    low_confidence : float
+        Estimates with a lower confidence are flagged.
+    """
+
+    tol_deg: float = 5.0
+    min_area: float = 0.01
+    min_points: int = 30
+    max_planes: int = 24
+    vertical_weight: float = 0.5
+    max_roll_deg: float = 35.0
+    max_up_pitch_deg: float = 20.0
+    max_height: float = 3.0
+    min_pair_deg: float = 30.0
+    low_confidence: float = 0.5
+
+    def __post_init__(self) -> None:
+        checks = (("tol_deg", 0.5, 20.0), ("min_area", 0.0, 100.0), ("vertical_weight", 0.0, 1.0),
+                  ("max_roll_deg", 0.0, 90.0), ("max_up_pitch_deg", 0.0, 90.0),
+                  ("max_height", 0.1, 1000.0), ("min_pair_deg", 5.0, 85.0),
+                  ("low_confidence", 0.0, 1.0))
+        for name, lo, hi in checks:
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
+                    or not lo <= v <= hi:
+                raise InputError(f"gravity {name} must be a number in [{lo}, {hi}], got {v!r}")
+        for name in ("min_points", "max_planes"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 3:
+                raise InputError(f"gravity {name} must be an integer >= 3, got {v!r}")
+
+
+@dataclass(frozen=True, eq=False)
+class UpEstimate:
+    """An up vector, where it came from and how sure it is.
+
+    Attributes
+    ----------
+    vector : ndarray, shape (3,)
+        Unit gravity-up in the camera frame (x right, y down, z forward).
+    source : str
+        One of :data:`SOURCES`.
+    confidence : float
+        In [0, 1]; 1 for a given or file vector, 0 for the default.
+    n_planes : int
+        Planes that voted (estimates only).
+    low_confidence : bool
+        ``confidence`` below :attr:`GravityParams.low_confidence`.
+    """
+
+    vector: np.ndarray
+    source: str
+    confidence: float
+    n_planes: int = 0
+    low_confidence: bool = False
+
+    def __post_init__(self) -> None:
+        if self.source not in SOURCES:
+            raise InputError(f"up source must be one of {SOURCES}, got {self.source!r}")
+        v = unit_up(self.vector, "up vector")
+        v.setflags(write=False)
+        object.__setattr__(self, "vector", v)
+        object.__setattr__(self, "confidence", float(min(1.0, max(0.0, self.confidence))))
+
+    def to_dict(self) -> dict:
+        """``{"vector": [x, y, z], "source": ..., "confidence": ...}`` (rounded for JSON)."""
+        out = {"vector": [round(float(x), 6) + 0.0 for x in self.vector], "source": self.source,
+               "confidence": round(self.confidence, 3)}
+        if self.source == "estimated":
+            out["n_planes"] = self.n_planes
+            out["low_confidence"] = self.low_confidence
+        return out
+
+    def describe(self) -> str:
+        """``up [0.01, -0.62, -0.78] estimated, confidence 0.78`` (one line)."""
+        vec = ", ".join(f"{x:.3f}" for x in self.vector)
+        text = f"up [{vec}] {self.source}, confidence {self.confidence:.2f}"
+        return text + (" (low)" if self.low_confidence else "")
+
+
+# ----------------------------------------------------------------------------- the estimate
+
+
+def _kernel(angle_deg: np.ndarray, tol: float) -> np.ndarray:
+    return np.clip(1.0 - (angle_deg / tol) ** 2, 0.0, None)
+
+
+def _angles(cands: np.ndarray, normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Degrees from horizontal and from vertical of each plane w.r.t. each candidate,
+    both ``(C, N)``."""
+    d = np.clip(np.abs(cands @ normals.T), 0.0, 1.0)
+    from_h = np.degrees(np.arccos(d))
+    return from_h, 90.0 - from_h
+
+
+def _orient(c: np.ndarray) -> np.ndarray:
+    """Sign convention for candidates before the prior: towards the image top, else backwards
+    along the optical axis (a camera looking down rather than up)."""
+    c = np.array(c, dtype=np.float64)
+    key = np.where(np.abs(c[:, 1]) > 1e-9, -c[:, 1], -c[:, 2])
+    c[key < 0] *= -1
+    return c
+
+
+def _pose_prior(cands: np.ndarray, params: GravityParams) -> np.ndarray:
+    """``(C,)`` factor in (0, 1] from the camera pose a candidate implies: 1 up to
+    ``max_roll_deg`` of roll and ``max_up_pitch_deg`` of looking up, then falling off (20-degree
+    scale).  The roll term fades out as the roll becomes undefined (camera looking straight
+    down)."""
+    proj = np.hypot(cands[:, 0], cands[:, 1])
+    roll = np.degrees(np.arctan2(np.abs(cands[:, 0]), -cands[:, 1]))  # 0..180
+    excess = np.maximum(roll - params.max_roll_deg, 0.0)
+    p_roll = np.exp(-((excess / 20.0) ** 2))
+    defined = np.clip(proj / math.sin(math.radians(20.0)), 0.0, 1.0)
+    # up_cam = (., -cos(pitch) cos(roll), -sin(pitch)) for a camera pitched down by `pitch`
+    pitch = np.degrees(np.arcsin(np.clip(-cands[:, 2], -1.0, 1.0)))
+    excess = np.maximum(-pitch - params.max_up_pitch_deg, 0.0)
+    p_pitch = np.exp(-((excess / 20.0) ** 2))
+    return (1.0 - defined * (1.0 - p_roll)) * p_pitch
+
+
+def _candidates(normals: np.ndarray, weights: np.ndarray, params: GravityParams) -> np.ndarray:
+    order = np.argsort(-weights, kind="stable")[: params.max_planes]
+    top = normals[order]
+    cands = [top, np.array([DEFAULT_UP])]
+    k = top.shape[0]
+    if k >= 2:
+        idx = np.arange(k)
+        i, j = np.nonzero(idx[:, None] < idx[None, :])
+        cr = np.cross(top[i], top[j])
+        s = np.linalg.norm(cr, axis=1)
+        ok = s >= math.sin(math.radians(params.min_pair_deg))
+        if ok.any():
+            cands.append(cr[ok] / s[ok, None])
+    # each plane taken as the only vertical one, seen with no roll
+    img_up = np.array(DEFAULT_UP)
+    perp = img_up - (top @ img_up)[:, None] * top
+    s = np.linalg.norm(perp, axis=1)
+    ok = s > 0.2
+    if ok.any():
+        cands.append(perp[ok] / s[ok, None])
+    return _orient(np.concatenate(cands, axis=0))
+
+
+def _height_factor(offsets: np.ndarray, params: GravityParams) -> np.ndarray:
+    """``(N,)`` plausibility in (0, 1] that a plane this far from the camera is horizontal."""
+    excess = np.maximum(offsets - params.max_height, 0.0)
+    return np.exp(-(excess ** 2))
+
+
+def _scores(cands, normals, weights, hweights, params):
+    from_h, from_v = _angles(cands, normals)
+    tol = params.tol_deg
+    score = _kernel(from_h, tol) @ hweights + params.vertical_weight * (_kernel(from_v, tol) @ weights)
+    return score * _pose_prior(cands, params)
+
+
+def _refine(c: np.ndarray, normals, weights, hweights, params) -> np.ndarray:
+    for tol in (params.tol_deg, 0.6 * params.tol_deg):
+        from_h, from_v = (a[0] for a in _angles(c[None], normals))
+        h = from_h <= tol
+        v = from_v <= tol
+        if not (h.any() or v.any()):
+            break
+        m = np.zeros((3, 3))
+        if h.any():
+            nh = normals[h]
+            m -= np.einsum("k,ki,kj->ij", hweights[h], nh, nh)
+            m += np.eye(3) * hweights[h].sum()
+        if v.any():
+            nv = normals[v]
+            m += params.vertical_weight * np.einsum("k,ki,kj->ij", weights[v], nv, nv)
+        vals, vecs = np.linalg.eigh(m)
+        # the smallest eigenvalue must be clearly alone, else the planes leave up undetermined
+        if vals[1] - vals[0] < 1e-3 * max(vals[2], 1e-12):
+            break
+        new = vecs[:, 0]
+        c = new if new @ c >= 0 else -new
+    return c
+
+
+def _choose_sign(c: np.ndarray, normals, weights, params) -> np.ndarray:
+    """Up towards the image top when defined, else towards the sensor side of horizontal planes."""
+    if abs(c[1]) >= math.sin(math.radians(12.0)):
+        return c if c[1] < 0 else -c
+    from_h, _ = _angles(c[None], normals)
+    h = from_h[0] <= params.tol_deg
+    if h.any():
+        side = float(np.sum(weights[h] * np.sign(normals[h] @ c)))
+        if side != 0:
+            return c if side > 0 else -c
+    return c if c[2] <= 0 else -c
+
+
+def estimate_gravity(normals, weights, offsets=None, params: GravityParams | None = None) -> UpEstimate:
+    """Estimate the up vector from oriented plane normals and their areas.
+
+    Parameters
+    ----------
+    normals : array_like, shape (N, 3)
+        Unit plane normals, each oriented towards the sensor.
+    weights : array_like, shape (N,)
+        Plane areas (m^2) or any non-negative weights.
+    offsets : array_like, shape (N,), optional
+        Distance from the camera centre to each plane, metres (``normal . x + offset = 0``);
+        planes farther than ``params.max_height`` count less as horizontal.  Default: all near.
+    params : GravityParams, optional
+
+    Returns
+    -------
+    UpEstimate
+        ``source == "estimated"``; ``"default"`` with confidence 0 when no plane votes.
+    """
+    params = params or GravityParams()
+    n = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
+    w = np.asarray(weights, dtype=np.float64).reshape(-1)
+    if n.shape[0] != w.shape[0]:
+        raise InputError(f"estimate_gravity needs one weight per normal, got {n.shape[0]} normals "
+                         f"and {w.shape[0]} weights")
+    d = np.zeros(n.shape[0]) if offsets is None else np.asarray(offsets, dtype=np.float64).reshape(-1)
+    if d.shape[0] != n.shape[0]:
+        raise InputError(f"estimate_gravity needs one offset per normal, got {n.shape[0]} normals "
+                         f"and {d.shape[0]} offsets")
+    return _estimate(n, w, w * _height_factor(np.abs(d), params), params)
+
+
+def _estimate(n, w, hw, params: GravityParams) -> UpEstimate:
+    """:func:`estimate_gravity` with the horizontal weights ``hw`` given."""
+    length = np.linalg.norm(n, axis=1)
+    keep = np.isfinite(length) & (length > 0) & np.isfinite(w) & (w > 0) & np.isfinite(hw)
+    n = n[keep] / length[keep, None]
+    w = w[keep]
+    hw = hw[keep]
+    if n.shape[0] == 0:
+        return UpEstimate(np.array(DEFAULT_UP), "default", 0.0, 0, True)
+    cands = _candidates(n, w, params)
+    score = _scores(cands, n, w, hw, params)
+    best = int(np.argmax(score))
+    c = _refine(cands[best], n, w, hw, params)
+    c = _choose_sign(c / np.linalg.norm(c), n, hw, params)
+    # confidence
+    s_best = float(_scores(_orient(c[None]), n, w, hw, params)[0])
+    s_best = max(s_best, float(score[best]))
+    far = np.abs(cands @ c) < math.cos(math.radians(2.0 * params.tol_deg))
+    rival = float(score[far].max()) if far.any() else 0.0
+    from_h, from_v = (a[0] for a in _angles(c[None], n))
+    h = from_h <= params.tol_deg
+    v = from_v <= params.tol_deg
+    explained = float(w[h | v].sum() / w.sum())
+    ratio = rival / s_best if s_best > 0 else 1.0
+    # cross-checked: the consistent planes point in two directions at least min_pair_deg apart
+    cons = n[h | v]
+    gram = np.abs(cons @ cons.T)
+    if (gram < math.cos(math.radians(params.min_pair_deg))).any():
+        checked = 1.0
+    elif h.any():  # parallel horizontal planes (floor and treads) / a single plane
+        checked = 0.6 if h.sum() >= 2 else 0.4
+    else:  # one vertical direction: up within it is the roll prior's guess
+        checked = 0.2
+    conf = math.sqrt(explained) * min(1.0, 2.0 * (1.0 - ratio)) * checked
+    return UpEstimate(c, "estimated", conf, int(n.shape[0]), conf < params.low_confidence)
+
+
+# ------------------------------------------------------------------------ from a cloud
+
+
+def _planes_from_labels(cloud, labels, params: GravityParams):
+    """Oriented normals ``(K, 3)``, areas ``(K,)`` and offsets ``(K,)`` of the labelled regions
+    that may vote."""
+    from planerel.features.planes import _moments, check_labels
+
+    xyz = cloud.xyz
+    lab = check_labels(labels, xyz.shape[:2]).copy()
+    lab[~cloud.valid] = -1
+    nlab = int(lab.max()) + 1 if lab.size else 0
+    if nlab <= 0:
+        return np.zeros((0, 3)), np.zeros(0), np.zeros(0)
+    counts, cent, cov, _ = _moments(xyz, lab, nlab)
+    ok = counts >= params.min_points
+    if not ok.any():
+        return np.zeros((0, 3)), np.zeros(0), np.zeros(0)
+    vals, vecs = np.linalg.eigh(cov[ok])
+    vals = np.maximum(vals, 0.0)
+    nrm = vecs[:, :, 0].copy()
+    flip = np.einsum("ij,ij->i", nrm, cent[ok]) > 0
+    nrm[flip] *= -1
+    area = 12.0 * np.sqrt(vals[:, 1] * vals[:, 2])
+    offset = -np.einsum("ij,ij->i", nrm, cent[ok])
+    flat = np.sqrt(vals[:, 0]) <= 0.25 * np.sqrt(vals[:, 1])
+    keep = flat & (area >= params.min_area)
+    return nrm[keep], area[keep], offset[keep]
+
+
+def _grid_directions(cloud, params: GravityParams):
+    """Dominant surface directions of an organized cloud without labels: ``(K, 3)`` oriented
+    unit normals, the area ``(K,)`` each covers and the part of it near enough to the camera to
+    be horizontal (see ``max_height``)."""
+    empty = np.zeros((0, 3)), np.zeros(0), np.zeros(0)
+    xyz = cloud.xyz
+    W = xyz.shape[1]
+    step = max(1, W // 80)
+    g = xyz[::step, ::step]
+    if g.shape[0] < 5 or g.shape[1] < 5:
+        return empty
+    dx = g[2:-2, 4:] - g[2:-2, :-4]
+    dy = g[4:, 2:-2] - g[:-4, 2:-2]
+    ctr = g[2:-2, 2:-2].reshape(-1, 3)
+    cr = np.cross(dx, dy).reshape(-1, 3)
+    with np.errstate(invalid="ignore"):
+        lx = np.linalg.norm(dx, axis=2).reshape(-1)
+        ly = np.linalg.norm(dy, axis=2).reshape(-1)
+        length = np.linalg.norm(cr, axis=1)
+        depth = np.linalg.norm(ctr, axis=1)
+        # no depth jump inside the 4-cell window: both spans short for their distance
+        reach = 4.0 * step * depth / (cloud.intrinsics.fx if cloud.intrinsics else 525.0)
+        good = np.isfinite(length) & (length > 0) & (lx < 4 * reach) & (ly < 4 * reach)
+    nrm = cr[good] / length[good, None]
+    ctr = ctr[good]
+    area = length[good] / 16.0  # |dx x dy| spans 4 x 4 grid cells
+    if nrm.shape[0] == 0:
+        return empty
+    flip = np.einsum("ij,ij->i", nrm, ctr) > 0
+    nrm[flip] *= -1
+    harea = area * _height_factor(-np.einsum("ij,ij->i", nrm, ctr), params)
+    # greedy mode seeking: densest direction (5 deg), its members' mean, remove, repeat
+    cos5 = math.cos(math.radians(5.0))
+    out = []
+    left = np.ones(nrm.shape[0], dtype=bool)
+    total = float(area.sum())
+    for _ in range(params.max_planes):
+        idx = np.flatnonzero(left)
+        if idx.size == 0 or float(area[idx].sum()) < 0.03 * total:
+            break
+        seeds = idx if idx.size <= 300 else idx[np.linspace(0, idx.size - 1, 300).astype(int)]
+        dens = ((nrm[seeds] @ nrm[idx].T) >= cos5).astype(np.float64) @ area[idx]
+        d = nrm[seeds[int(np.argmax(dens))]]
+        for _ in range(2):
+            mem = idx[(nrm[idx] @ d) >= cos5]
+            m = (nrm[mem] * area[mem, None]).sum(axis=0)
+            d = m / np.linalg.norm(m)
+        mem = idx[(nrm[idx] @ d) >= cos5]
+        out.append((d, float(area[mem].sum()), float(harea[mem].sum())))
+        left[mem] = False
+    if not out:
+        return empty
+    return (np.array([o[0] for o in out]), np.array([o[1] for o in out]),
+            np.array([o[2] for o in out]))
+
+
+def up_from_cloud(cloud, labels=None, params: GravityParams | None = None) -> UpEstimate:
+    """Estimate the up vector of an organized cloud (its own ``up`` is ignored).
+
+    Parameters
+    ----------
+    cloud : Cloud
+        Organized ``(H, W, 3)``.
+    labels : array_like, shape (H, W), optional
+        Plane labels (-1 unassigned); without them, per-pixel normals on a coarse grid.
+    params : GravityParams, optional
+
+    Returns
+    -------
+    UpEstimate
+    """
+    params = params or GravityParams()
+    if labels is not None:
+        normals, weights, offsets = _planes_from_labels(cloud, labels, params)
+        return estimate_gravity(normals, weights, offsets, params)
+    normals, weights, hweights = _grid_directions(cloud, params)
+    return _estimate(normals, weights, hweights, params)
+
+
+def resolve_up(cloud, labels=None, up=None, params: GravityParams | None = None) -> UpEstimate:
+    """The up vector to use: ``up`` (``given``), else ``cloud.up`` (``file``), else estimated
+    from the planes (``estimated``), else the level camera's (``default``)."""
+    if up is not None:
+        return UpEstimate(unit_up(up, "up vector"), "given", 1.0)
+    if getattr(cloud, "up", None) is not None:
+        return UpEstimate(unit_up(cloud.up, "cloud up vector"), "file", 1.0)
+    return up_from_cloud(cloud, labels, params)
+
+
+def estimate_up(cloud, labels=None, params: GravityParams | None = None) -> np.ndarray:
+    """Just the vector of :func:`up_from_cloud` (``(3,)``, unit)."""
+    return np.array(up_from_cloud(cloud, labels, params).vector)

@@ -1,0 +1,434 @@
+"""Plane attributes from a label image, and the gravity-up vector.
+
+:func:`measure_planes` takes an organized :class:`~planerel.io.cloud.Cloud`, an ``(H, W)`` int32
+label image (ground truth or a segmentation; ``-1`` = unassigned) and an up vector, and returns a
+:class:`PlaneSet`: one frozen :class:`Plane` per label with
+
+============== ======================================================================
+``normal``     unit normal from a least-squares (PCA) fit, oriented towards the sensor
+``offset``     ``normal . x + offset = 0``; > 0, metres (distance of the camera centre)
+``centroid``   mean of the plane's points, metres (camera frame)
+``n_points``   number of valid points with this label
+``rms``        RMS point-to-plane residual, metres
+``hull``       convex hull in the plane's own 2-D frame (``origin``, ``axes``), metres
+``hull3d``     the same hull vertices in 3-D (simplified by ``hull_simplify`` metres)
+``area``       hull area, m^2
+``length``     long side of the hull's minimum rotated rectangle, metres
+``width``      short side of that rectangle, metres
+``incline``    angle between the plane and the horizontal (normal vs. up), 0..90 degrees
+``orientation`` ``horizontal`` (incline <= ``horizontal_tol``), ``vertical``
+               (incline >= 90 - ``vertical_tol``) or ``inclined``
+``height``     height of the centroid above the floor (or the lowest support), metres
+``distance``   distance from the sensor to the centroid, metres
+``touches_border`` the plane reaches the image border (it may continue outside the view)
+============== ======================================================================
+
+Hull.  The convex hull of a plane's points is computed from its *boundary pixels* only (pixels
+with a 4-neighbour of another label or outside the image): a pinhole camera maps a plane to the
+image by a homography, which keeps convex-hull vertices, so every hull vertex is a boundary pixel.
+Points are projected into the plane's frame (``axes[0]`` is the up-slope direction, or the
+camera's x axis for horizontal planes) and hulled with shapely; collinear sets give a segment
+(area 0, width 0) and a single point gives zeros, never an error.
+
+Floor.  The *floor* is the largest horizontal plane of at least ``floor_min_area`` m^2 whose
+centroid lies within ``floor_tol`` metres of the lowest hull point of the scene (along up).
+Heights are measured from the floor; without one, from that lowest hull point ("lowest support").
+
+Up vector.  ``up`` argument (``given``), else ``cloud.up`` (``file``: the scene's sidecar),
+else estimated from the labelled planes for any camera pitch and roll (``estimated``), else
+``(0, -1, 0)`` (``default``): :func:`planerel.features.gravity.resolve_up`, which also reports a
+confidence (``PlaneSet.up_confidence``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from planerel.errors import InputError
+from planerel.features.gravity import DEFAULT_UP, UpEstimate, estimate_up, resolve_up
+
+__all__ = [
+    "PlaneParams",
+    "Plane",
+    "PlaneSet",
+    "measure_planes",
+    "estimate_up",
+    "resolve_up",
+    "check_labels",
+    "ORIENTATIONS",
+    "DEFAULT_UP",
+]
+
+#: The orientation classes, in this order.
+ORIENTATIONS = ("horizontal", "vertical", "inclined")
+
+
+@dataclass(frozen=True)
+class PlaneParams:
+    """Parameters of :func:`measure_planes`.
+
+    Parameters
+    ----------
+    horizontal_tol : float
+        A plane with incline <= this many degrees is ``horizontal`` (default 5: the gentlest
+        ramps a robot meets are about 8 degrees, floors and treads measure 0-2 degrees).
+    vertical_tol : float
+        A plane with incline >= 90 - this many degrees is ``vertical`` (default 10).
+    min_points : int
+        Labels with fewer valid points are skipped (reported in ``PlaneSet.skipped``); >= 3.
+    hull_simplify : float
+        Tolerance in metres for simplifying the hull written as ``hull3d`` (0 = none).
+    floor_tol : float
+        A floor's centroid lies within this many metres of the lowest hull point.
+    floor_min_area : float
+        Smallest floor area, m^2.
+    """
+
+    horizontal_tol: float = 5.0
+    vertical_tol: float = 10.0
+    min_points: int = 3
+    hull_simplify: float = 0.005
+    floor_tol: float = 0.05
+    floor_min_area: float = 0.05
+
+    def __post_init__(self) -> None:
+        for name in ("horizontal_tol", "vertical_tol"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or not 0 <= v < 45:
+                raise InputError(f"{name} must be a number of degrees in [0, 45), got {v!r}")
+        if isinstance(self.min_points, bool) or not isinstance(self.min_points, int) or self.min_points < 3:
+            raise InputError(f"min_points must be an integer >= 3, got {self.min_points!r}")
+        for name in ("hull_simplify", "floor_tol", "floor_min_area"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+                raise InputError(f"{name} must be a non-negative number, got {v!r}")
+
+
+@dataclass(frozen=True, eq=False)
+class Plane:
+    """Attributes of one plane (see the module docstring for units and meaning).
+
+    ``hull`` is ``(K, 2)`` in the frame ``origin + a * axes[0] + b * axes[1]``; ``hull3d`` is
+    ``(M, 3)`` (the simplified hull, counter-clockwise seen from the sensor side); K, M may be
+    1 or 2 for degenerate planes.  ``bbox`` is the pixel box ``(row0, col0, row1, col1)``,
+    end-exclusive.
+    """
+
+    label: int
+    n_points: int
+    normal: np.ndarray
+    offset: float
+    centroid: np.ndarray
+    rms: float
+    axes: np.ndarray
+    hull: np.ndarray
+    hull3d: np.ndarray
+    area: float
+    length: float
+    width: float
+    incline: float
+    orientation: str
+    height: float
+    distance: float
+    bbox: tuple[int, int, int, int]
+    is_floor: bool = False
+    touches_border: bool = False
+
+    def __post_init__(self) -> None:
+        if self.orientation not in ORIENTATIONS:
+            raise InputError(f"orientation must be one of {ORIENTATIONS}, got {self.orientation!r}")
+        for name in ("normal", "centroid", "axes", "hull", "hull3d"):
+            arr = np.array(getattr(self, name), dtype=np.float64)
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+
+    @property
+    def origin(self) -> np.ndarray:
+        """``(3,)`` origin of the in-plane frame (the centroid)."""
+        return self.centroid
+
+    @property
+    def degenerate(self) -> bool:
+        """True when the hull is a segment or a point (collinear or coincident points)."""
+        return self.hull.shape[0] < 3 or self.area <= 0.0
+
+
+_TABLE_SCALARS = ("label", "n_points", "offset", "rms", "area", "length", "width", "incline",
+                  "orientation", "height", "distance", "is_floor")
+
+
+@dataclass(frozen=True, eq=False)
+class PlaneSet:
+    """The planes of one scene with the frame they were measured in.
+
+    Attributes
+    ----------
+    planes : tuple of Plane
+        Sorted by label.
+    up : ndarray, shape (3,)
+        Unit up vector used.
+    up_source : str
+        ``"given"``, ``"file"`` (the cloud's own, e.g. a sidecar), ``"estimated"`` or
+        ``"default"`` (see :mod:`planerel.features.gravity`).
+    floor : int or None
+        Label of the floor plane.
+    floor_level : float
+        Up-coordinate (``up . x``) that heights are measured from, metres.
+    skipped : tuple of int
+        Labels with fewer than ``min_points`` valid points.
+    labels : ndarray, shape (H, W), int32
+        The label image used (invalid cloud points set to -1), read-only.
+    up_confidence : float
+        Confidence of the up vector in [0, 1] (1 for a given or file vector).
+    """
+
+    planes: tuple
+    up: np.ndarray
+    up_source: str
+    floor: int | None
+    floor_level: float
+    skipped: tuple = ()
+    labels: np.ndarray | None = field(default=None, repr=False)
+    params: PlaneParams = field(default_factory=PlaneParams, repr=False)
+    up_confidence: float = 1.0
+
+    @property
+    def up_estimate(self) -> UpEstimate:
+        """The up vector with its source and confidence."""
+        from planerel.features.gravity import GravityParams
+
+        low = self.up_source in ("estimated", "default") and \
+            self.up_confidence < GravityParams().low_confidence
+        return UpEstimate(self.up, self.up_source, self.up_confidence, 0, low)
+
+    def __len__(self) -> int:
+        return len(self.planes)
+
+    def __iter__(self):
+        return iter(self.planes)
+
+    def __getitem__(self, i) -> Plane:
+        return self.planes[i]
+
+    def by_label(self, label: int) -> Plane:
+        """The plane with this label (``KeyError`` when absent)."""
+        for p in self.planes:
+            if p.label == label:
+                return p
+        raise KeyError(label)
+
+    def table(self) -> dict[str, np.ndarray]:
+        """Columns of plane attributes, one row per plane (like skimage's regionprops_table).
+
+        Scalar attributes become 1-D arrays of length N; vector attributes are split into
+        ``normal_x``, ``normal_y``, ``normal_z``, ``centroid_x``, ...
+        """
+        cols: dict[str, np.ndarray] = {}
+        n = len(self.planes)
+        for name in _TABLE_SCALARS:
+            vals = [getattr(p, name) for p in self.planes]
+            if name == "orientation":
+                cols[name] = np.array(vals, dtype=object)
+            elif name in ("label", "n_points"):
+                cols[name] = np.array(vals, dtype=np.int64).reshape(n)
+            elif name == "is_floor":
+                cols[name] = np.array(vals, dtype=bool).reshape(n)
+            else:
+                cols[name] = np.array(vals, dtype=np.float64).reshape(n)
+        for vec in ("normal", "centroid"):
+            arr = np.array([getattr(p, vec) for p in self.planes], dtype=np.float64).reshape(n, 3)
+            for k, axis in enumerate("xyz"):
+                cols[f"{vec}_{axis}"] = arr[:, k].copy()
+        return cols
+
+
+def check_labels(labels, shape: tuple[int, int]) -> np.ndarray:
+    """Validate a label image: ``(H, W)`` integer array matching the cloud, values >= -1."""
+    lab = np.asarray(labels)
+    if lab.shape != tuple(shape):
+        raise InputError(f"label image has shape {lab.shape} but the cloud is {tuple(shape)}")
+    if not np.issubdtype(lab.dtype, np.integer):
+        raise InputError(f"label image must hold integers, got dtype {lab.dtype}")
+    if lab.size and lab.min() < -1:
+        raise InputError(f"label image holds {int(lab.min())}; labels are >= 0 and -1 = unassigned")
+    return lab.astype(np.int32, copy=False)
+
+
+def _moments(xyz: np.ndarray, lab: np.ndarray, nlab: int):
+    """Counts ``(L,)``, centroids ``(L, 3)``, covariances ``(L, 3, 3)`` and mean pixel rows
+    ``(L,)`` per label (one compiled pass over the image)."""
+    from planerel.segment._label_kernels import label_moments
+
+    counts, ref, s1, s2, rows = label_moments(np.ascontiguousarray(xyz),
+                                              np.ascontiguousarray(lab, dtype=np.int32), nlab)
+    safe = np.maximum(counts, 1).astype(np.float64)
+    m1 = s1 / safe[:, None]
+    m2 = s2 / safe[:, None]
+    cov = np.empty((nlab, 3, 3))
+    for k, (i, j) in enumerate(((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))):
+        cov[:, i, j] = cov[:, j, i] = m2[:, k] - m1[:, i] * m1[:, j]
+    return counts, ref + m1, cov, rows / safe
+
+
+def _in_plane_axes(normal: np.ndarray, up: np.ndarray) -> np.ndarray:
+    a = up - (up @ normal) * normal
+    if np.linalg.norm(a) < 0.1:
+        x = np.array([1.0, 0.0, 0.0])
+        a = x - (x @ normal) * normal
+        if np.linalg.norm(a) < 0.1:
+            x = np.array([0.0, 0.0, 1.0])
+            a = x - (x @ normal) * normal
+    u = a / np.linalg.norm(a)
+    v = np.cross(normal, u)
+    return np.stack([u, v])
+
+
+def _hull_geometry(p2: np.ndarray, simplify: float):
+    """Hull vertices ``(K, 2)``, simplified vertices, area, length, width of 2-D points."""
+    import shapely
+    from shapely.geometry.polygon import orient
+
+    pts = np.unique(np.round(p2, 9), axis=0) if p2.shape[0] < 4 else p2
+    geom = shapely.convex_hull(shapely.multipoints(pts))
+    kind = geom.geom_type
+    if kind == "Polygon":
+        geom = orient(geom, 1.0)
+        verts = np.asarray(geom.exterior.coords)[:-1]
+        area = float(geom.area)
+        rect = shapely.oriented_envelope(geom)
+        if rect.geom_type == "Polygon":
+            rc = np.asarray(rect.exterior.coords)
+            sides = np.linalg.norm(np.diff(rc[:3], axis=0), axis=1)
+            length, width = float(sides.max()), float(sides.min())
+        else:  # pragma: no cover - shapely returns a polygon for a polygon
+            length, width = float(rect.length), 0.0
+        simp = verts
+        if simplify > 0 and verts.shape[0] > 4:
+            s = geom.simplify(simplify, preserve_topology=False)
+            if s.geom_type == "Polygon" and not s.is_empty and len(s.exterior.coords) >= 4:
+                simp = np.asarray(s.exterior.coords)[:-1]
+        return verts, simp, area, length, width
+    if kind == "LineString":
+        verts = np.asarray(geom.coords)
+        return verts, verts, 0.0, float(geom.length), 0.0
+    verts = np.asarray(geom.coords).reshape(-1, 2)[:1]
+    if verts.shape[0] == 0:
+        verts = pts[:1]
+    return verts, verts, 0.0, 0.0, 0.0
+
+
+def _boundary(lab: np.ndarray) -> np.ndarray:
+    """``(H, W)`` bool: labelled pixels with a 4-neighbour of another label or at the border."""
+    from planerel.segment._label_kernels import label_boundary
+
+    return label_boundary(np.ascontiguousarray(lab, dtype=np.int32))
+
+
+def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
+                   gravity_params=None) -> PlaneSet:
+    """Measure the attributes of every labelled plane.
+
+    Parameters
+    ----------
+    cloud : Cloud
+        Organized cloud, ``xyz`` of shape ``(H, W, 3)``.
+    labels : array_like, shape (H, W), int
+        Plane label per pixel, ``-1`` unassigned.  Pixels whose point is invalid are ignored.
+    up : 3 numbers, optional
+        Gravity up in the camera frame; default ``cloud.up``, else estimated
+        (:func:`planerel.features.gravity.resolve_up`).
+    params : PlaneParams, optional
+    gravity_params : GravityParams, optional
+        Parameters of the up estimate when ``up`` is not given (default
+        :class:`~planerel.features.gravity.GravityParams`).
+
+    Returns
+    -------
+    PlaneSet
+        Empty (``len == 0``) when no label has ``min_points`` valid points.
+    """
+    from planerel.io.cloud import Cloud
+
+    if not isinstance(cloud, Cloud):
+        raise InputError(f"measure_planes needs a planerel Cloud, got {type(cloud).__name__}")
+    params = params or PlaneParams()
+    xyz = cloud.xyz
+    H, W = xyz.shape[:2]
+    lab = check_labels(labels, (H, W)).copy()
+    lab[~cloud.valid] = -1
+    gravity = resolve_up(cloud, lab, up, gravity_params)
+    up_v, up_source, up_conf = np.array(gravity.vector), gravity.source, gravity.confidence
+    nlab = int(lab.max()) + 1 if lab.size and lab.max() >= 0 else 0
+    lab.setflags(write=False)
+    if nlab == 0:
+        return PlaneSet((), up_v, up_source, None, 0.0, (), lab, params, up_conf)
+    counts, cent, cov, _ = _moments(xyz, lab, nlab)
+    present = np.flatnonzero(counts > 0)
+    ok = present[counts[present] >= params.min_points]
+    skipped = tuple(int(i) for i in present[counts[present] < params.min_points])
+    if ok.size == 0:
+        return PlaneSet((), up_v, up_source, None, 0.0, skipped, lab, params, up_conf)
+    evals, evecs = np.linalg.eigh(cov[ok])
+    normals = evecs[:, :, 0].copy()
+    flip = np.einsum("ij,ij->i", normals, cent[ok]) > 0
+    normals[flip] *= -1
+    rms = np.sqrt(np.maximum(evals[:, 0], 0.0))
+
+    bnd = _boundary(lab)
+    bidx = np.flatnonzero(bnd.reshape(-1))
+    blab = lab.reshape(-1)[bidx]
+    order = np.argsort(blab, kind="stable")
+    bidx = bidx[order]
+    blab = blab[order]
+    starts = np.searchsorted(blab, ok, side="left")
+    ends = np.searchsorted(blab, ok, side="right")
+    flat = xyz.reshape(-1, 3)
+
+    # pixel bounding boxes from the boundary pixels (they include the extreme rows/columns)
+    rows_all = bidx // W
+    cols_all = bidx % W
+
+    pre = []
+    for k, label in enumerate(ok):
+        n = normals[k]
+        c = cent[label]
+        axes = _in_plane_axes(n, up_v)
+        sl = slice(starts[k], ends[k])
+        pts = flat[bidx[sl]]
+        p2 = (pts - c) @ axes.T
+        verts, simp, area, length, width = _hull_geometry(p2, params.hull_simplify)
+        hull3d = c + simp @ axes
+        r, cc = rows_all[sl], cols_all[sl]
+        bbox = (int(r.min()), int(cc.min()), int(r.max()) + 1, int(cc.max()) + 1)
+        incline = math.degrees(math.acos(min(1.0, abs(float(n @ up_v)))))
+        if incline <= params.horizontal_tol:
+            orient = "horizontal"
+        elif incline >= 90.0 - params.vertical_tol:
+            orient = "vertical"
+        else:
+            orient = "inclined"
+        border = bbox[0] == 0 or bbox[1] == 0 or bbox[2] == H or bbox[3] == W
+        pre.append(dict(touches_border=bool(border), label=int(label), n_points=int(counts[label]), normal=n,
+                        offset=float(-(n @ c)), centroid=c, rms=float(rms[k]), axes=axes,
+                        hull=verts, hull3d=hull3d, area=area, length=length, width=width,
+                        incline=incline, orientation=orient, distance=float(np.linalg.norm(c)),
+                        bbox=bbox))
+
+    lowest = min(float((d["hull3d"] @ up_v).min()) for d in pre)
+    floor = None
+    best_area = -1.0
+    for d in pre:
+        level = float(d["centroid"] @ up_v)
+        if (d["orientation"] == "horizontal" and level <= lowest + params.floor_tol
+                and d["area"] >= params.floor_min_area and d["area"] > best_area):
+            floor, best_area = d["label"], d["area"]
+    floor_level = float(next(d for d in pre if d["label"] == floor)["centroid"] @ up_v) \
+        if floor is not None else lowest
+    planes = tuple(
+        Plane(height=float(d["centroid"] @ up_v) - floor_level, is_floor=d["label"] == floor, **d)
+        for d in pre
+    )
+    return PlaneSet(planes, up_v, up_source, floor, floor_level, skipped, lab, params, up_conf)

@@ -1,0 +1,942 @@
+"""Pairwise plane relations, the scene graph, and object proposals.
+
+For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.planes.PlaneSet`,
+:func:`relate` computes (in both directions, see :class:`Relation`):
+
+================ =========================================================================
+``angle``        angle between the two planes (their normals, unoriented), 0..90 degrees
+``parallel``     ``angle <= parallel_tol``
+``perpendicular`` ``angle >= 90 - perpendicular_tol``
+``gap``          closest distance between the two 3-D convex hulls, metres (0 when they
+                 touch or cross)
+``touching``     the planes touch in the image grid: pixels of both labels lie within
+                 ``grid_gap`` pixels of each other and within ``max(touch_depth,
+                 touch_rel * z)`` metres in 3-D (z: the pixel's depth; one pixel on a surface
+                 seen at a grazing angle spans several cm, while an occluding edge in front of
+                 a far wall jumps by much more, so it does not touch)
+``adjacent``     ``touching or gap <= adjacency_gap``
+``rise``         ``up . (centroid_q - centroid_p)``: how far q's centroid is above p's, metres
+``above``        p is above q: ``-rise > above_tol``
+``in_front_of``  p is nearer the sensor than q along the horizontal viewing direction
+                 (the camera's optical axis with its up component removed) by ``front_tol``
+================ =========================================================================
+
+Which pairs reach the facts is decided in :mod:`planerel.features.facts`: all ordered pairs within an
+object, and the adjacent pairs across the scene.
+
+Object proposals (:func:`propose_objects`): support planes are dropped (the floor, horizontal
+planes at floor level, and planes of at least ``support_min_area`` m^2 that are vertical or
+horizontal), then each connected component of the adjacency graph of the remaining planes is a
+candidate object, except components made only of vertical planes that reach the image border
+(walls behind the object, seen in part).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from planerel.errors import InputError
+
+__all__ = [
+    "RelationParams",
+    "Relation",
+    "Relations",
+    "relate",
+    "hull_gap",
+    "scene_graph",
+    "ProposalParams",
+    "propose_objects",
+    "support_planes",
+    "edge_means",
+    "convex_pairs",
+    "objects_from_truth",
+    "proposal_match",
+]
+
+
+def _check_nonneg(obj, names) -> None:
+    for name in names:
+        v = getattr(obj, name)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+            raise InputError(f"{name} must be a non-negative number, got {v!r}")
+
+
+@dataclass(frozen=True)
+class RelationParams:
+    """Tolerances of :func:`relate` (degrees, metres, pixels)."""
+
+    parallel_tol: float = 10.0
+    perpendicular_tol: float = 10.0
+    adjacency_gap: float = 0.05
+    grid_gap: int = 2
+    touch_depth: float = 0.05
+    touch_rel: float = 0.05
+    above_tol: float = 0.02
+    front_tol: float = 0.05
+
+    def __post_init__(self) -> None:
+        _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
+                             "touch_rel", "above_tol", "front_tol"))
+        if self.parallel_tol >= 45 or self.perpendicular_tol >= 45:
+            raise InputError("parallel_tol and perpendicular_tol must be below 45 degrees, got "
+                             f"{self.parallel_tol!r} and {self.perpendicular_tol!r}")
+        if isinstance(self.grid_gap, bool) or not isinstance(self.grid_gap, int) or not 1 <= self.grid_gap <= 8:
+            raise InputError(f"grid_gap must be an integer number of pixels in 1..8, got {self.grid_gap!r}")
+
+
+@dataclass(frozen=True)
+class Relation:
+    """The relation of plane ``a`` to plane ``b`` (labels); directional fields read "a ... b"."""
+
+    a: int
+    b: int
+    angle: float
+    parallel: bool
+    perpendicular: bool
+    gap: float
+    touching: bool
+    adjacent: bool
+    rise: float
+    above: bool
+    in_front_of: bool
+
+
+@dataclass(frozen=True, eq=False)
+class Relations:
+    """All ordered pair relations of a scene (``a != b``), sorted by ``(a, b)``.
+
+    Attributes
+    ----------
+    pairs : tuple of Relation
+    params : RelationParams
+    """
+
+    pairs: tuple
+    params: RelationParams
+
+    def __len__(self) -> int:
+        return len(self.pairs)
+
+    def __iter__(self):
+        return iter(self.pairs)
+
+    def get(self, a: int, b: int) -> Relation:
+        """The relation of ``a`` to ``b`` (``KeyError`` when absent)."""
+        idx = getattr(self, "_index", None)
+        if idx is None:
+            idx = {(r.a, r.b): r for r in self.pairs}
+            object.__setattr__(self, "_index", idx)
+        return idx[(a, b)]
+
+    def adjacent_pairs(self) -> list[tuple[int, int]]:
+        """Unordered adjacent pairs ``(a, b)`` with ``a < b``."""
+        return [(r.a, r.b) for r in self.pairs if r.adjacent and r.a < r.b]
+
+
+def _edges(poly: np.ndarray):
+    """Start and end points ``(m, 3)`` of a closed polygon (a point gives one zero-length edge)."""
+    if poly.shape[0] == 1:
+        return poly, poly
+    if poly.shape[0] == 2:
+        return poly[:1], poly[1:]
+    return poly, np.roll(poly, -1, axis=0)
+
+
+def _segment_distances(p1, q1, p2, q2) -> np.ndarray:
+    """Closest distances between segments ``p1q1`` and ``p2q2``, all ``(T, 3)`` -> ``(T,)``."""
+    d1 = q1 - p1
+    d2 = q2 - p2
+    r = p1 - p2
+    a = np.einsum("ij,ij->i", d1, d1)
+    e = np.einsum("ij,ij->i", d2, d2)
+    f = np.einsum("ij,ij->i", d2, r)
+    c = np.einsum("ij,ij->i", d1, r)
+    b = np.einsum("ij,ij->i", d1, d2)
+    eps = 1e-18
+    a_ok = a > eps
+    e_ok = e > eps
+    safe_a = np.where(a_ok, a, 1.0)
+    safe_e = np.where(e_ok, e, 1.0)
+    denom = a * e - b * b
+    s = np.where(denom > eps * np.maximum(a * e, eps), (b * f - c * e) / np.where(denom > 0, denom, 1.0), 0.0)
+    s = np.clip(s, 0.0, 1.0)
+    t = (b * s + f) / safe_e
+    low = t < 0
+    high = t > 1
+    t = np.clip(t, 0.0, 1.0)
+    s = np.where(low, np.clip(-c / safe_a, 0, 1), s)
+    s = np.where(high, np.clip((b - c) / safe_a, 0, 1), s)
+    # degenerate segments
+    s = np.where(~a_ok, 0.0, s)
+    t = np.where(~a_ok & e_ok, np.clip(f / safe_e, 0, 1), t)
+    t = np.where(~e_ok, 0.0, t)
+    s = np.where(~e_ok & a_ok, np.clip(-c / safe_a, 0, 1), s)
+    diff = (p1 + d1 * s[:, None]) - (p2 + d2 * t[:, None])
+    return np.sqrt(np.einsum("ij,ij->i", diff, diff))
+
+
+def hull_gap(pa, pb) -> float:
+    """Closest distance between the 3-D convex hulls of two planes.
+
+    Parameters
+    ----------
+    pa, pb : Plane
+        Planes with ``hull3d`` (counter-clockwise vertices in their own plane), ``normal``,
+        ``centroid`` and ``axes``.
+
+    Returns
+    -------
+    float
+        Metres; 0 when the polygons touch or cross.
+    """
+    return float(_gap_matrix([pa, pb])[0, 1])
+
+
+def _gap_matrix(plist) -> np.ndarray:
+    """``(n, n)`` closest hull distances of all plane pairs, vectorized over all edges.
+
+    The distance between two convex planar polygons is the smallest of: the edge-edge segment
+    distances, the distance of a vertex of one polygon to the other polygon's face when it
+    projects inside it, and 0 when an edge of one pierces the other's face.
+    """
+    n = len(plist)
+    e0s, e1s, eown, vs, vown = [], [], [], [], []
+    M = max(p.hull3d.shape[0] for p in plist)
+    poly2 = np.zeros((n, M, 2))
+    isface = np.zeros(n, dtype=bool)
+    C = np.array([p.centroid for p in plist])
+    N = np.array([p.normal for p in plist])
+    AX = np.array([p.axes for p in plist])  # (n, 2, 3)
+    for k, p in enumerate(plist):
+        poly = p.hull3d
+        a0, a1 = _edges(poly)
+        e0s.append(a0)
+        e1s.append(a1)
+        eown.append(np.full(a0.shape[0], k))
+        vs.append(poly)
+        vown.append(np.full(poly.shape[0], k))
+        if poly.shape[0] >= 3:
+            isface[k] = True
+            p2 = (poly - p.centroid) @ p.axes.T
+            poly2[k, : p2.shape[0]] = p2
+            poly2[k, p2.shape[0]:] = p2[-1]
+    E0 = np.concatenate(e0s)
+    E1 = np.concatenate(e1s)
+    eo = np.concatenate(eown)
+    V = np.concatenate(vs)
+    vo = np.concatenate(vown)
+    T = E0.shape[0]
+    estart = np.searchsorted(eo, np.arange(n))
+    vstart = np.searchsorted(vo, np.arange(n))
+    # edge-edge distances over the upper triangle of owners
+    ii, jj = np.triu_indices(T, 1)
+    cross_owner = eo[ii] != eo[jj]
+    ii, jj = ii[cross_owner], jj[cross_owner]
+    dee = np.full((T, T), np.inf)
+    dee[ii, jj] = _segment_distances(E0[ii], E1[ii], E0[jj], E1[jj])
+    dee = np.minimum(dee, dee.T)
+    G = np.minimum.reduceat(np.minimum.reduceat(dee, estart, axis=0), estart, axis=1)
+
+    def inside(pts2):  # pts2 (K, n, 2) in each plane's frame -> (K, n) inside that face
+        ed = np.roll(poly2, -1, axis=1) - poly2  # (n, M, 2)
+        rel = pts2[:, :, None, :] - poly2[None]  # (K, n, M, 2)
+        cr = ed[None, :, :, 0] * rel[..., 1] - ed[None, :, :, 1] * rel[..., 0]
+        return np.all(cr >= -1e-12, axis=2) & isface[None, :]
+
+    # vertices over faces
+    rel = V[:, None, :] - C[None]  # (Nv, n, 3)
+    h = np.einsum("knj,nj->kn", rel, N)
+    v2 = np.einsum("knj,nij->kni", rel, AX)
+    dvf = np.where(inside(v2) & (vo[:, None] != np.arange(n)[None]), np.abs(h), np.inf)
+    Gv = np.minimum.reduceat(dvf, vstart, axis=0)
+    G = np.minimum(G, np.minimum(Gv, Gv.T))
+    # edges piercing faces
+    r0 = E0[:, None, :] - C[None]
+    r1 = E1[:, None, :] - C[None]
+    h0 = np.einsum("knj,nj->kn", r0, N)
+    h1 = np.einsum("knj,nj->kn", r1, N)
+    crosses = (h0 * h1) < 0
+    if crosses.any():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tt = np.where(crosses, h0 / np.where(crosses, h0 - h1, 1.0), 0.0)
+        pts = r0 + (r1 - r0) * tt[..., None]
+        p2 = np.einsum("knj,nij->kni", pts, AX)
+        pierce = crosses & inside(p2) & (eo[:, None] != np.arange(n)[None])
+        Pm = np.logical_or.reduceat(pierce, estart, axis=0)
+        G[Pm | Pm.T] = 0.0
+    np.fill_diagonal(G, 0.0)
+    return G
+
+
+def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int, int]]:
+    """Unordered label pairs whose boundary pixels touch in the grid and in 3-D."""
+    lab = planes.labels
+    if lab is None or lab.shape != xyz.shape[:2]:
+        return set()
+    from planerel.features.planes import _boundary
+    from planerel.segment._label_kernels import touch_pairs
+
+    known = np.zeros(int(lab.max()) + 1 if lab.size and lab.max() >= 0 else 1, dtype=bool)
+    for p in planes:
+        known[p.label] = True
+    brow, bcol = np.nonzero(_boundary(lab))
+    m = touch_pairs(np.ascontiguousarray(xyz), np.ascontiguousarray(lab, dtype=np.int32),
+                    brow.astype(np.int64), bcol.astype(np.int64), int(params.grid_gap),
+                    float(params.touch_depth), float(params.touch_rel), known)
+    a, b = np.nonzero(np.triu(m, 1))
+    return set(zip(a.tolist(), b.tolist(), strict=True))
+
+
+def relate(planes, cloud=None, params: RelationParams | None = None) -> Relations:
+    """Relations of every ordered pair of planes.
+
+    Parameters
+    ----------
+    planes : PlaneSet
+        From :func:`planerel.features.planes.measure_planes`.
+    cloud : Cloud, optional
+        The cloud the planes were measured in; needed for the image-grid ``touching`` test
+        (without it, adjacency uses the 3-D hull gap alone).
+    params : RelationParams, optional
+
+    Returns
+    -------
+    Relations
+        ``n * (n - 1)`` relations for ``n`` planes (none for 0 or 1 plane).
+    """
+    params = params or RelationParams()
+    plist = list(planes)
+    n = len(plist)
+    if n < 2:
+        return Relations((), params)
+    up = np.asarray(planes.up, dtype=float)
+    fwd = np.array([0.0, 0.0, 1.0]) - up[2] * up
+    if np.linalg.norm(fwd) < 1e-6:  # camera looking straight down/up: use the image's -y
+        fwd = np.array([0.0, -1.0, 0.0]) - (-up[1]) * up
+    fwd = fwd / np.linalg.norm(fwd)
+    touch = _touching(planes, params, cloud.xyz) if cloud is not None else set()
+    N = np.array([p.normal for p in plist])
+    C = np.array([p.centroid for p in plist])
+    cosang = np.clip(np.abs(N @ N.T), 0.0, 1.0)
+    ang = np.degrees(np.arccos(cosang))
+    level = C @ up
+    depth = C @ fwd
+    G = _gap_matrix(plist)
+    out = []
+    for i in range(n):
+        pi = plist[i]
+        for j in range(i + 1, n):
+            pj = plist[j]
+            gap = float(G[i, j])
+            t = (pi.label, pj.label) in touch
+            adj = t or gap <= params.adjacency_gap
+            a = float(ang[i, j])
+            par = a <= params.parallel_tol
+            perp = a >= 90.0 - params.perpendicular_tol
+            rise = float(level[j] - level[i])
+            dd = float(depth[j] - depth[i])
+            out.append(Relation(pi.label, pj.label, a, par, perp, gap, t, adj, rise,
+                                -rise > params.above_tol, dd > params.front_tol))
+            out.append(Relation(pj.label, pi.label, a, par, perp, gap, t, adj, -rise,
+                                rise > params.above_tol, -dd > params.front_tol))
+    out.sort(key=lambda r: (r.a, r.b))
+    return Relations(tuple(out), params)
+
+
+def scene_graph(planes, relations: Relations, *, edges: str = "adjacent"):
+    """A networkx graph: planes as nodes (attributes from :class:`Plane`), relations as edges.
+
+    Parameters
+    ----------
+    edges : ``"adjacent"`` or ``"all"``
+        Which unordered pairs become edges.  Edge attributes are those of the relation
+        ``(a, b)`` with ``a < b`` (``rise`` is ``b`` above ``a``).
+    """
+    import networkx as nx
+
+    if edges not in ("adjacent", "all"):
+        raise InputError(f"edges must be 'adjacent' or 'all', got {edges!r}")
+    g = nx.Graph(up=tuple(float(x) for x in planes.up), floor=planes.floor)
+    for p in planes:
+        g.add_node(p.label, n_points=p.n_points, normal=tuple(p.normal.tolist()),
+                   offset=p.offset, centroid=tuple(p.centroid.tolist()), rms=p.rms, area=p.area,
+                   length=p.length, width=p.width, incline=p.incline,
+                   orientation=p.orientation, height=p.height, distance=p.distance,
+                   is_floor=p.is_floor)
+    for r in relations:
+        if r.a < r.b and (edges == "all" or r.adjacent):
+            g.add_edge(r.a, r.b, angle=r.angle, parallel=r.parallel,
+                       perpendicular=r.perpendicular, gap=r.gap, touching=r.touching,
+                       adjacent=r.adjacent, rise=r.rise)
+    return g
+
+
+@dataclass(frozen=True)
+class ProposalParams:
+    """Parameters of :func:`propose_objects`.
+
+    Parameters
+    ----------
+    support_min_area : float
+        Vertical or horizontal planes at least this large (m^2) are support (walls, floors).
+    drop_border_walls : bool
+        Drop components made only of vertical planes of which one reaches the image border
+        (walls seen behind the object); objects have a non-vertical plane or lie in view.
+    border_wall_area : float
+        m^2: such a component is dropped only when its largest plane is at least this large
+        (a box seen from the side at the edge of the view shows vertical faces only, smaller
+        than a wall); 0 = drop every such component.
+    wall_behind : float
+        ... and only when at most this fraction of the pixels just outside its planes' outlines
+        lies behind them (:func:`seen_behind`): a wall has nothing behind it, an object's face
+        has the floor or a wall behind its top and sides; 1 = no such test (needs the cloud).
+    min_points : int
+        Proposals with fewer points in total are dropped.
+    split_concave : bool
+        Keep an adjacency edge only when the two planes meet convexly (:func:`convex_pairs`):
+        stacked boxes, boxes side by side and a box against a wall come apart.
+    concave_tol : float
+        Degrees: planes whose normals differ by at most this much stay joined whatever the
+        sign of their edge (noise on nearly coplanar pieces).
+    edge_band : int
+        Pixels: edge points of a pair are the pixels of each plane within this many pixels of
+        the other in the image grid.
+    edge_depth : float
+        Metres (at 1 m; scaled by the depth): such a pixel pair counts only when its 3-D
+        distance is at most ``edge_depth * max(1, z)`` (an occluding edge is not shared).
+    step_overlap : float
+        A concave edge between a horizontal or inclined plane and a vertical one stays joined
+        when the two planes' extents along it overlap by at least this (interval IoU; a
+        staircase's tread and the riser above it); 0 = cut every concave edge.
+    min_border_area : float
+        m^2: a proposal of one plane that reaches the image border and is smaller than this
+        is dropped (a sliver of something cut by the frame, e.g. a table's edge; too little
+        of it is seen to name it); 0 = keep them.
+    step_chains : bool
+        Join parallel treads (or parallel risers) that follow one another as the steps of a
+        staircase, whether or not the faces between them are seen (:func:`step_chain_pairs`):
+        stairs seen from above show treads only, from below risers only.
+    step_rise_min, step_rise_max, step_run_min, step_run_max : float
+        Metres: the range of the height and of the horizontal offset between two such faces.
+    """
+
+    support_min_area: float = 2.0
+    drop_border_walls: bool = True
+    border_wall_area: float = 0.3
+    wall_behind: float = 0.01
+    min_points: int = 0
+    split_concave: bool = True
+    concave_tol: float = 10.0
+    edge_band: int = 2
+    edge_depth: float = 0.03
+    step_overlap: float = 0.5
+    min_border_area: float = 0.005
+    step_chains: bool = True
+    step_rise_min: float = 0.08
+    step_rise_max: float = 0.30
+    step_run_min: float = 0.12
+    step_run_max: float = 0.60
+
+    def __post_init__(self) -> None:
+        _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "border_wall_area",
+                             "edge_depth", "step_overlap", "min_border_area", "wall_behind",
+                             "step_rise_min", "step_rise_max",
+                             "step_run_min", "step_run_max"))
+        if self.step_rise_min > self.step_rise_max or self.step_run_min > self.step_run_max:
+            raise InputError("step_rise_min / step_run_min must not exceed step_rise_max / step_run_max, "
+                             f"got {self.step_rise_min!r}-{self.step_rise_max!r} and "
+                             f"{self.step_run_min!r}-{self.step_run_max!r}")
+        if isinstance(self.edge_band, bool) or not isinstance(self.edge_band, int) or not 1 <= self.edge_band <= 8:
+            raise InputError(f"edge_band must be an integer number of pixels in 1..8, got {self.edge_band!r}")
+
+
+def support_planes(planes, params: ProposalParams | None = None) -> list[int]:
+    """Labels of support planes: the floor, horizontal planes at floor level, large walls."""
+    params = params or ProposalParams()
+    tol = planes.params.floor_tol
+    out = []
+    for p in planes:
+        floorish = p.is_floor or (planes.floor is not None and p.orientation == "horizontal"
+                                  and abs(p.height) <= tol)
+        large = p.area >= params.support_min_area and p.orientation in ("vertical", "horizontal")
+        if floorish or large:
+            out.append(p.label)
+    return out
+
+
+def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
+    """Mean 3-D points of each plane near its shared edge with another.
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W), int
+        Plane labels, -1 unassigned.
+    xyz : ndarray, shape (H, W, 3)
+        Organized points (NaN invalid).
+    pairs : iterable of (int, int)
+        Unordered label pairs to measure.
+    band : int
+        Pixel offsets 1..band in four grid directions (right, down, both diagonals down) from
+        each boundary pixel: every pixel pair within the band is seen once.
+    depth : float
+        Pixel pairs farther apart than ``depth * max(1, z)`` metres are left out.
+
+    Returns
+    -------
+    dict
+        ``{(a, b): (mean point of a near b (3,), mean point of b near a (3,), count)}`` for
+        the pairs with at least one such pixel pair (keys as given).
+    """
+    lab = np.asarray(labels)
+    want = {(min(a, b), max(a, b)) for a, b in pairs}
+    if not want or lab.size == 0:
+        return {}
+    from planerel.features.planes import _boundary
+
+    H, W = lab.shape
+    n = int(lab.max()) + 1
+    sums = {}
+    acc_a = np.zeros((n * n, 3))
+    acc_b = np.zeros((n * n, 3))
+    cnt = np.zeros(n * n)
+    # only boundary pixels can have another plane within the band: look around them alone
+    r0, c0 = np.nonzero(_boundary(lab))
+    a0 = lab[r0, c0].astype(np.int64)
+    used = np.zeros(n + 1, bool)
+    used[[x for pr in want for x in pr if 0 <= x < n]] = True
+    keep = used[np.where(a0 >= 0, a0, n)]
+    r0, c0, a0 = r0[keep], c0[keep], a0[keep]
+    P0 = xyz[r0, c0]
+    lim = depth * np.maximum(1.0, np.abs(P0[:, 2]))
+    # every (boundary pixel, pixel within the band) pair of two different labels, all
+    # offsets at once, then one weighted count per coordinate
+    flat = lab.ravel()
+    pix = xyz.reshape(-1, 3)
+    sel_i, sel_j = [], []
+    for k in range(1, band + 1):
+        for dy, dx in ((0, k), (k, 0), (k, k), (k, -k)):
+            r, c = r0 + dy, c0 + dx
+            i = np.nonzero((r >= 0) & (r < H) & (c >= 0) & (c < W))[0]
+            j = r[i] * W + c[i]
+            b = flat[j]
+            m = (b >= 0) & (b != a0[i])
+            sel_i.append(i[m])
+            sel_j.append(j[m])
+    i = np.concatenate(sel_i)
+    j = np.concatenate(sel_j)
+    if i.size:
+        PA = P0[i]
+        PB = pix[j]
+        ok = np.einsum("ij,ij->i", PA - PB, PA - PB) <= lim[i] ** 2
+        i, j, PA, PB = i[ok], j[ok], PA[ok], PB[ok]
+        a = a0[i]
+        bm = flat[j].astype(np.int64)
+        code = np.minimum(a, bm) * n + np.maximum(a, bm)
+        swap = (a > bm)[:, None]  # the "a" side is the lower label
+        plo = np.where(swap, PB, PA)
+        phi = np.where(swap, PA, PB)
+        cnt += np.bincount(code, minlength=n * n)
+        for jj in range(3):
+            acc_a[:, jj] += np.bincount(code, weights=plo[:, jj], minlength=n * n)
+            acc_b[:, jj] += np.bincount(code, weights=phi[:, jj], minlength=n * n)
+    for lo, hi in want:
+        c = cnt[lo * n + hi] if lo < n and hi < n else 0
+        if c > 0:
+            sums[(lo, hi)] = (acc_a[lo * n + hi] / c, acc_b[lo * n + hi] / c, int(c))
+    return sums
+
+
+def seen_behind(labels, xyz, group, reach: int = 3, margin: float = 0.05) -> float:
+    """Fraction of the valid pixels just outside a group of planes that lie behind it.
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W), int
+        Plane labels.
+    xyz : ndarray, shape (H, W, 3)
+        Organized points (NaN invalid).
+    group : iterable of int
+        Plane labels of the group.
+    reach : int
+        Pixels: from each outline pixel of the group, the pixels 1 and ``reach`` steps away in
+        the four grid directions that are not in the group are looked at.
+    margin : float
+        Metres (at 1 m; scaled by the range): a pixel is behind when its range exceeds the
+        outline pixel's by more than ``margin * max(1, range)``.
+
+    Returns
+    -------
+    float
+        Behind / valid outside pixels looked at (0 when there are none).
+    """
+    from planerel.features.planes import _boundary
+
+    lab = np.asarray(labels)
+    inside = np.isin(lab, list(group))
+    H, W = lab.shape
+    r0, c0 = np.nonzero(inside & _boundary(lab))
+    if r0.size == 0:
+        return 0.0
+    rng0 = np.linalg.norm(xyz[r0, c0], axis=1)
+    lim = rng0 + margin * np.maximum(1.0, rng0)
+    n_valid = n_behind = 0
+    for dy, dx in ((0, 1), (0, -1), (1, 0), (-1, 0)):
+        for k in sorted({1, reach}):
+            r, c = r0 + dy * k, c0 + dx * k
+            ok = (r >= 0) & (r < H) & (c >= 0) & (c < W)
+            ok[ok] = ~inside[r[ok], c[ok]]
+            rng = np.linalg.norm(xyz[r[ok], c[ok]], axis=1)
+            valid = np.isfinite(rng)
+            n_valid += int(valid.sum())
+            n_behind += int((rng[valid] > lim[ok][valid]).sum())
+    return n_behind / n_valid if n_valid else 0.0
+
+
+def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
+                 step_overlap: float | None = 0.8, min_edge: int = 5) -> set:
+    """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
+
+    For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
+    and points ``x_a``, ``x_b`` near their shared edge (:func:`edge_means`; the centroids when
+    the planes do not touch in the grid), the edge is convex when
+    ``(n_a - n_b) . (x_a - x_b) >= 0`` (each face bends away from the other, as two faces of
+    one box), concave otherwise (a box on another box, beside another, against a wall),
+    except that normals within ``concave_tol`` degrees count as convex (one noisy surface)
+    and that a concave edge between a horizontal or inclined plane and a vertical one whose
+    extents along the edge overlap by at least ``step_overlap`` (interval IoU) stays joined: a
+    tread and the riser above it (the concave edges of a staircase), a slope and the face at
+    its end (None: no exception).  When ``edges`` are given, a pair with fewer than
+    ``min_edge`` edge pixel pairs there shares no edge (its planes only come near in 3-D, e.g.
+    a face seen behind another object's top across an occluding edge): its sign is taken from
+    the centroids and the tread-and-riser exception does not apply.
+
+    Returns
+    -------
+    set of (int, int)
+        The convex pairs among ``pairs`` (as given).
+    """
+    byl = {p.label: p for p in planes}
+    cos_tol = math.cos(math.radians(concave_tol))
+    pairs = list(pairs)
+    nbrs: dict = {}
+    for a, b in pairs:
+        nbrs.setdefault(a, []).append(b)
+        nbrs.setdefault(b, []).append(a)
+    out = set()
+    for a, b in pairs:
+        pa, pb = byl[a], byl[b]
+        na = np.asarray(pa.normal, float)
+        nb = np.asarray(pb.normal, float)
+        if float(na @ pa.centroid) > 0:
+            na = -na
+        if float(nb @ pb.centroid) > 0:
+            nb = -nb
+        if abs(float(na @ nb)) >= cos_tol:
+            out.add((a, b))
+            continue
+        e = (edges or {}).get((min(a, b), max(a, b)))
+        if e is not None and e[2] < min_edge:
+            e = None  # a pixel pair or two across an occluding edge: no shared edge
+        if e is not None:
+            xa, xb = (e[0], e[1]) if a < b else (e[1], e[0])
+        else:
+            xa, xb = np.asarray(pa.centroid), np.asarray(pb.centroid)
+        # the step exception needs a shared edge: planes whose outlines only come near in 3-D
+        # (one behind the other across an occluding edge) are no tread and riser
+        shared = edges is None or e is not None
+        if float((na - nb) @ (xa - xb)) >= 0 or (step_overlap is not None and shared
+                                                  and _step_like(pa, pb, step_overlap)
+                                                  and _regular_step(pa, pb, byl, nbrs, cos_tol)):
+            out.add((a, b))
+    return out
+
+
+def _regular_step(pa, pb, byl, nbrs, cos_tol) -> bool:
+    """False when a tread and the riser above it are not one step of a regular flight: the
+    tread has a riser below it (a vertical neighbour parallel to the one above, lower than
+    the tread) and the two risers' heights differ by more than 30 %: a box standing on a
+    box of the same width, not a staircase, whose steps rise alike."""
+    if "horizontal" not in (pa.orientation, pb.orientation):
+        return True
+    tread, riser = (pa, pb) if pa.orientation == "horizontal" else (pb, pa)
+    if (riser.orientation != "vertical" or getattr(tread, "height", None) is None
+            or getattr(riser, "height", None) is None or riser.height <= tread.height):
+        return True
+    up = np.asarray(tread.normal, float)
+    nr = np.asarray(riser.normal, float)
+    high = float(np.ptp(np.asarray(riser.hull3d, float) @ up))
+    for k in nbrs.get(tread.label, ()):
+        q = byl[k]
+        if (q is riser or q.orientation != "vertical" or getattr(q, "height", None) is None
+                or q.height >= tread.height
+                or abs(float(np.asarray(q.normal, float) @ nr)) < cos_tol):
+            continue
+        low = float(np.ptp(np.asarray(q.hull3d, float) @ up))
+        if abs(high - low) > 0.3 * max(high, low):
+            return False
+    return True
+
+
+def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
+                     min_overlap: float = 0.5, angle_tol: float = 10.0,
+                     max_ratio: float = 3.0) -> set:
+    """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
+
+    Two horizontal planes (treads) or two vertical ones (risers) with normals within
+    ``angle_tol`` degrees are a *step* when the higher one's centroid lies ``rise`` above and
+    ``run`` beyond the lower one's (horizontally; for risers along their normal), their
+    extents across that direction overlap by at least ``min_overlap`` (interval IoU: one
+    flight's width), their areas differ by at most ``max_ratio`` times and each is at most
+    one step deep (a tread's extent along the step direction at most ``run[1]``, a riser's
+    height at most ``rise[1]``): not a landing or the floor a flight goes down from.  A step counts only when one of its faces is also a face of another step
+    in the same direction (unit horizontal offsets within 25 degrees) with a rise within 30 %:
+    three faces in a regular row.  Two boxes, one behind the other, make one step, not a
+    chain; a staircase seen from above (treads only) or below (risers only) makes many.
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    labels : iterable of int
+        Planes to consider (e.g. the non-support planes); empty = all.
+
+    Returns
+    -------
+    set of (int, int)
+        ``(lower, higher)`` label pairs of the steps that count.
+    """
+    want = set(labels)
+    up = np.asarray(planes.up, float)
+    cos_tol = math.cos(math.radians(angle_tol))
+    cands = [p for p in planes if (not want or p.label in want)
+             and p.orientation in ("horizontal", "vertical")]
+    steps = []  # (lower, higher, rise, unit horizontal direction)
+    for i, pa in enumerate(cands):
+        na = np.asarray(pa.normal, float)
+        for pb in cands[i + 1:]:
+            if pb.orientation != pa.orientation:
+                continue
+            nb = np.asarray(pb.normal, float)
+            if abs(float(na @ nb)) < cos_tol or max(pa.area, pb.area) > max_ratio * min(pa.area, pb.area):
+                continue
+            lo, hi = (pa, pb) if pa.height <= pb.height else (pb, pa)
+            dv = hi.height - lo.height
+            if not rise[0] <= dv <= rise[1]:
+                continue
+            d = np.asarray(hi.centroid, float) - np.asarray(lo.centroid, float)
+            dh = d - (d @ up) * up
+            if lo.orientation == "vertical":
+                nh = np.asarray(lo.normal, float) - (np.asarray(lo.normal, float) @ up) * up
+                nh /= max(float(np.linalg.norm(nh)), 1e-9)
+                dist = abs(float(dh @ nh))
+                direction = nh if float(dh @ nh) >= 0 else -nh
+            else:
+                dist = float(np.linalg.norm(dh))
+                direction = dh / max(dist, 1e-9)
+            if not run[0] <= dist <= run[1]:
+                continue
+            # each face is one step deep (treads) or high (risers): not a floor or a landing
+            depth_axis = direction if lo.orientation == "horizontal" else up
+            limit = run[1] if lo.orientation == "horizontal" else rise[1]
+            if any(np.ptp(np.asarray(q.hull3d, float) @ depth_axis) > limit for q in (lo, hi)):
+                continue
+            across = np.cross(up, direction)
+            a0, a1 = _extent(lo, across)
+            b0, b1 = _extent(hi, across)
+            union = max(a1, b1) - min(a0, b0)
+            if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < min_overlap:
+                continue
+            steps.append((lo.label, hi.label, dv, direction))
+    out = set()
+    cos_dir = math.cos(math.radians(25.0))
+    for s1 in steps:
+        for s2 in steps:
+            if s1 is s2 or not (s1[1] == s2[0] or s1[0] == s2[1]):
+                continue
+            if float(s1[3] @ s2[3]) >= cos_dir and 0.7 <= s1[2] / s2[2] <= 1 / 0.7:
+                out.add((s1[0], s1[1]))
+                break
+    return out
+
+
+def _extent(p, axis) -> tuple[float, float]:
+    t = np.asarray(p.hull3d, float) @ axis
+    return float(t.min()), float(t.max())
+
+
+def _step_like(pa, pb, min_overlap: float) -> bool:
+    """A horizontal or inclined plane and a vertical one meeting as tread and riser (or a
+    slope and the face at its end): their extents along the shared edge line overlap by at
+    least ``min_overlap`` (IoU of the two intervals)."""
+    ors = sorted((pa.orientation, pb.orientation))
+    if ors not in (["horizontal", "vertical"], ["inclined", "vertical"]):
+        return False
+    axis = np.cross(np.asarray(pa.normal, float), np.asarray(pb.normal, float))
+    nrm = float(np.linalg.norm(axis))
+    if nrm < 1e-6:
+        return False
+    axis /= nrm
+    a0, a1 = _extent(pa, axis)
+    b0, b1 = _extent(pb, axis)
+    inter = min(a1, b1) - max(a0, b0)
+    union = max(a1, b1) - min(a0, b0)
+    return union > 0 and inter / union >= min_overlap
+
+
+def propose_objects(planes, relations: Relations, params: ProposalParams | None = None,
+                    cloud=None) -> list[tuple[int, ...]]:
+    """Candidate objects: connected components of the convex adjacency of the non-support planes.
+
+    Support planes (:func:`support_planes`) are dropped; of the adjacent pairs left, those
+    meeting at a concave edge (:func:`convex_pairs`, with the edge points of
+    :func:`edge_means` when ``cloud`` and the planes' label image are given) are cut unless
+    ``params.split_concave`` is False; each connected component is a candidate.
+
+    Returns
+    -------
+    list of tuple of int
+        Plane labels per object, each sorted; objects ordered by their smallest label.
+    """
+    import networkx as nx
+
+    params = params or ProposalParams()
+    drop = set(support_planes(planes, params))
+    g = nx.Graph()
+    g.add_nodes_from(p.label for p in planes if p.label not in drop)
+    pairs = [(a, b) for a, b in relations.adjacent_pairs() if a not in drop and b not in drop]
+    if params.split_concave and pairs:
+        edges = None
+        lab = getattr(planes, "labels", None)
+        if cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]:
+            edges = edge_means(lab, cloud.xyz, pairs, params.edge_band, params.edge_depth)
+        pairs = sorted(convex_pairs(planes, pairs, edges, params.concave_tol,
+                                    params.step_overlap or None))
+    g.add_edges_from(pairs)
+    if params.step_chains:
+        g.add_edges_from(step_chain_pairs(
+            planes, g.nodes, (params.step_rise_min, params.step_rise_max),
+            (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
+            params.concave_tol))
+    byl = {p.label: p for p in planes}
+    comps = [tuple(sorted(c)) for c in nx.connected_components(g)]
+    comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
+    if params.drop_border_walls:
+        lab = getattr(planes, "labels", None)
+        look = (params.wall_behind < 1 and cloud is not None and lab is not None
+                and lab.shape == cloud.xyz.shape[:2])
+        comps = [c for c in comps
+                 if not (all(byl[x].orientation == "vertical" for x in c)
+                         and any(byl[x].touches_border for x in c)
+                         and max(byl[x].area for x in c) >= params.border_wall_area
+                         and (not look or seen_behind(lab, cloud.xyz, c) <= params.wall_behind))]
+    if params.min_border_area > 0:
+        comps = [c for c in comps
+                 if not (len(c) == 1 and byl[c[0]].touches_border
+                         and byl[c[0]].area < params.min_border_area)]
+    return sorted(comps, key=lambda c: c[0])
+
+
+def objects_from_truth(labels, gt_labels, gt_object_of_label, min_fraction: float = 0.5) -> list[tuple[int, ...]]:
+    """Group (segmented) planes by the ground-truth object they mostly cover.
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W), int
+        Plane labels (a segmentation, or the ground truth itself).
+    gt_labels : ndarray, shape (H, W), int
+        Ground-truth plane labels.
+    gt_object_of_label : mapping or sequence
+        Ground-truth object id (>= 0) of each ground-truth plane label; < 0 or missing =
+        support / no object.
+    min_fraction : float
+        A plane joins an object when at least this fraction of its pixels lies on that
+        object's ground-truth planes.
+
+    Returns
+    -------
+    list of tuple of int
+        Plane labels per ground-truth object, ordered by object id (objects with no plane are
+        left out).
+    """
+    lab = np.asarray(labels)
+    gt = np.asarray(gt_labels)
+    if lab.shape != gt.shape:
+        raise InputError(f"label image {lab.shape} and ground truth {gt.shape} differ in shape")
+    if isinstance(gt_object_of_label, dict):
+        getobj = gt_object_of_label.get
+    else:
+        seq = list(gt_object_of_label)
+
+        def getobj(k, default=-1):
+            return seq[k] if 0 <= k < len(seq) else default
+    gmax = int(gt.max()) + 1 if gt.size and gt.max() >= 0 else 0
+    obj_map = np.full(gmax + 1, -1, np.int64)
+    for k in range(gmax):
+        o = getobj(k, -1)
+        obj_map[k] = -1 if o is None else int(o)
+    objpix = np.where(gt >= 0, obj_map[np.where(gt >= 0, gt, gmax)], -1)
+    groups: dict[int, list[int]] = {}
+    sel = lab >= 0
+    if not sel.any():
+        return []
+    L = lab[sel].astype(np.int64)
+    obj = objpix[sel]
+    nobj = int(obj.max()) + 2
+    code = L * nobj + (obj + 1)
+    uniq, cnt = np.unique(code, return_counts=True)
+    total = np.bincount(L)
+    best: dict[int, tuple[int, int]] = {}
+    for cde, c in zip(uniq.tolist(), cnt.tolist(), strict=True):
+        lbl, o = divmod(cde, nobj)
+        o -= 1
+        if lbl not in best or c > best[lbl][1]:
+            best[lbl] = (o, c)
+    for lbl, (o, c) in sorted(best.items()):
+        if o >= 0 and c >= min_fraction * total[lbl]:
+            groups.setdefault(o, []).append(lbl)
+    return [tuple(sorted(groups[o])) for o in sorted(groups)]
+
+
+def proposal_match(labels, proposals, truth, min_iou: float = 0.8) -> dict:
+    """How well proposals match true objects, by pixels.
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W)
+        Plane labels the proposals refer to.
+    proposals : list of tuple of int
+        Plane labels per proposed object.
+    truth : ndarray, shape (H, W), int
+        True object id per pixel (-1 = no object).
+    min_iou : float
+        A true object is matched when some proposal covers it with at least this pixel IoU.
+
+    Returns
+    -------
+    dict
+        ``n_true``, ``n_proposals``, ``matched`` (true objects matched), ``ious`` (best IoU per
+        true object, by object id order).
+    """
+    lab = np.asarray(labels)
+    tr = np.asarray(truth)
+    if lab.shape != tr.shape:
+        raise InputError(f"label image {lab.shape} and true objects {tr.shape} differ in shape")
+    prop_img = np.full(lab.shape, -1, np.int64)
+    for k, plist in enumerate(proposals):
+        prop_img[np.isin(lab, list(plist))] = k
+    ids = [int(x) for x in np.unique(tr) if x >= 0]
+    ious = []
+    for o in ids:
+        m = tr == o
+        best = 0.0
+        cand = np.unique(prop_img[m])
+        for k in cand[cand >= 0]:
+            pm = prop_img == k
+            inter = np.count_nonzero(pm & m)
+            union = np.count_nonzero(pm | m)
+            best = max(best, inter / union if union else 0.0)
+        ious.append(best)
+    matched = sum(1 for x in ious if x >= min_iou)
+    return {"n_true": len(ids), "n_proposals": len(proposals), "matched": matched, "ious": ious}

@@ -1,0 +1,482 @@
+"""Described scenes to an Aleph learning task: ``STEM.b``, ``STEM.f``, ``STEM.n``.
+
+The examples are *objects*, not scenes: for a per-class task ``stairs`` the positives are
+``stairs(s0007_o1).`` for every stairs object and the negatives ``stairs(s0003_o1).`` for every
+object of another class; a multi-class task uses ``class(+obj, #cls)`` with positives
+``class(s0007_o1, stairs).`` and, as negatives, the other classes of each object.  Objects of
+class ``other`` (clutter of the varied world: none of the classes) are negatives for every class
+and never a class of their own.
+
+``STEM.b`` holds, in this order: ``:- op(500, fy, #)`` (so the file also reads outside Aleph),
+the settings and body modes of the task file (``aleph/modes_relational.pl``), the target's
+``modeh`` and one ``determination`` per body predicate, the lazy-evaluation declarations,
+``dynamic`` declarations of every background predicate, the type facts (``obj/1``, ``plane/1``,
+``orient/1``, ``cls/1``), the comparison predicates (``prolog/compare.pl``), the derived
+relations (``prolog/derived.pl``) and the scene facts of the example objects (their planes,
+attributes and the relations of all pairs within each object; no planner facts).
+
+Files follow the facts about the real Aleph in the design notes: one type per numeric attribute,
+lazy thresholds (``lteq/2``, ``gteq/2``), dynamic background predicates, ``search(heuristic)``
+with ``evalfn(laplace)``.  Settings given by the caller are checked here (the real Aleph stores
+an illegal value with only a message).
+"""
+
+from __future__ import annotations
+
+import functools
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from planerel.errors import InputError
+from planerel.features import terms
+
+#: The class of objects that are none of the learned classes: negatives for every class.
+OTHER = "other"
+
+__all__ = [
+    "Example",
+    "ExportResult",
+    "TASK_FILE",
+    "PAIRS",
+    "load_task",
+    "examples_of",
+    "example_facts",
+    "aleph_files",
+    "export_aleph",
+    "describe_dataset",
+    "export_dataset",
+    "check_setting",
+]
+
+#: The default task file (package ``planerel.aleph``).
+TASK_FILE = "modes_relational.pl"
+
+#: The pairs of planes described for learning: every ordered pair within an object.  Classifying
+#: describes the same pairs, so a learned ``parallel(B, C)`` means the same at both ends (with the
+#: scene's adjacent pairs as well, C could be the floor or a wall at classification time only).
+PAIRS = "object"
+
+_MODEB = re.compile(r"^:-\s*modeb\(\s*([^,]+?)\s*,\s*([a-z][a-zA-Z0-9_]*)\((.*)\)\s*\)\.\s*$")
+_SET = re.compile(r"^:-\s*set\(\s*([a-z_]+)\s*,\s*(.+?)\s*\)\.\s*$")
+
+#: Settings this exporter accepts from callers, with a check of the value.
+_SETTINGS = {
+    "search": lambda v: v in ("bf", "df", "heuristic", "ibs", "ils", "rls", "scs", "id", "ic", "ar", "false"),
+    "evalfn": lambda v: v in ("coverage", "laplace", "accuracy", "compression", "auto_m", "mestimate",
+                              "pbayes", "posonly", "sd", "wracc", "entropy", "gini", "user"),
+    "clauselength": lambda v: isinstance(v, int) and v >= 1,
+    "i": lambda v: isinstance(v, int) and v >= 1,
+    "nodes": lambda v: isinstance(v, int) and v >= 1,
+    "minpos": lambda v: isinstance(v, int) and v >= 1,
+    "noise": lambda v: isinstance(v, int) and v >= 0,
+    "minacc": lambda v: isinstance(v, (int, float)) and 0 <= v <= 1,
+    "depth": lambda v: isinstance(v, int) and v >= 1,
+    "verbosity": lambda v: isinstance(v, int) and v >= 0,
+}
+
+
+def check_setting(name: str, value):
+    """Validate one Aleph setting; return the value as Prolog text.
+
+    Raises
+    ------
+    InputError
+        Unknown name or illegal value (named in the message).
+    """
+    if name not in _SETTINGS:
+        raise InputError(f"unknown or unsupported Aleph setting {name!r}; choose from "
+                         f"{', '.join(sorted(_SETTINGS))}")
+    if isinstance(value, str):
+        text = value.strip()
+        try:
+            value = int(text)
+        except ValueError:
+            try:
+                value = float(text)
+            except ValueError:
+                value = text
+    if isinstance(value, bool) or not _SETTINGS[name](value):
+        raise InputError(f"illegal value {value!r} for Aleph setting {name!r}")
+    return terms.atom(value) if isinstance(value, str) else terms.number(value)
+
+
+@dataclass(frozen=True)
+class Example:
+    """One training example: an object id and its class."""
+
+    object_id: str
+    klass: str
+
+
+@dataclass(frozen=True)
+class ExportResult:
+    """What :func:`export_aleph` wrote: the file paths, stems, and example counts per class."""
+
+    files: tuple
+    stems: tuple
+    counts: dict
+    skipped: tuple = ()
+
+
+def _resource_text(package: str, name: str) -> str:
+    from importlib.resources import files
+
+    try:
+        return files(package).joinpath(name).read_text(encoding="utf-8")
+    except (FileNotFoundError, OSError) as exc:
+        raise InputError(f"cannot read {name} from package {package}: {exc}") from None
+
+
+def load_task(task: str | None = None) -> tuple[list[str], list[str], list[tuple[str, int]], list[str]]:
+    """Read a task file: (set lines, modeb lines, body predicates (name, arity), other lines).
+
+    ``task`` is a file path, or the name of a file in the package ``planerel.aleph``
+    (default :data:`TASK_FILE`).
+    """
+    if task is None or ("/" not in str(task) and not Path(str(task)).exists()):
+        text = _resource_text("planerel.aleph", task or TASK_FILE)
+        where = task or TASK_FILE
+    else:
+        p = Path(task)
+        try:
+            text = p.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise InputError(f"{p}: cannot read the task file ({exc})") from None
+        where = str(p)
+    sets, modes, preds, other = [], [], [], []
+    for lineno, line in enumerate(text.splitlines(), 1):
+        s = line.strip()
+        if not s.startswith(":-"):
+            continue
+        m = _MODEB.match(s)
+        if m:
+            args = [a for a in m.group(3).split(",") if a.strip()]
+            key = (m.group(2), len(args))
+            if key not in preds:
+                preds.append(key)
+            modes.append(s)
+        elif _SET.match(s):
+            sets.append(s)
+        elif s.startswith(":- modeh") or s.startswith(":- determination"):
+            raise InputError(f"{where}:{lineno}: the task file must not hold modeh/determination "
+                             "(export-aleph writes them for the target)")
+        else:
+            other.append(s)
+    if not modes:
+        raise InputError(f"{where}: no modeb declarations found")
+    return sets, modes, preds, other
+
+
+def _class_order(names) -> list[str]:
+    """Distinct class names: box, stairs, ramp first (in that order), then the rest sorted
+    (never :data:`OTHER`)."""
+    known = ("box", "stairs", "ramp")
+    found = set(names) - {OTHER}
+    return [c for c in known if c in found] + sorted(found - set(known))
+
+
+def examples_of(descs) -> list[Example]:
+    """Objects with a class, in scene and object order."""
+    out = []
+    for d in descs:
+        for o in d.objects:
+            if o.klass:
+                out.append(Example(o.id, o.klass))
+    return out
+
+
+#: Facts never exported for learning: scene structure and planner data.
+_NOT_EXPORTED = {"scene", "scene_plane", "floor", "up", "object", "support", "plane_model", "hull"}
+
+
+def example_facts(descs, examples: list[Example]):
+    """The scene facts of the example objects, as written for learning.
+
+    Returns
+    -------
+    names : list of str
+        The exported predicates, in vocabulary order.
+    arity : dict
+        Name -> arity.
+    facts : dict
+        Name -> list of fact lines (planes, attributes, the :data:`PAIRS` of each object).
+    objects, planes : list of str
+        The example objects and their planes, in scene order.
+    """
+    from dataclasses import replace
+
+    from planerel.features.facts import PREDICATES, FactParams, scene_facts
+
+    wanted = {e.object_id for e in examples}
+    params = FactParams(pairs=PAIRS, planner=False, planes="objects")
+    merged: dict[str, list[str]] = {}
+    objs, planes = [], []
+    for d in descs:
+        keep = tuple(o for o in d.objects if o.id in wanted)
+        if not keep:
+            continue
+        for name, lines in scene_facts(replace(d, objects=keep), params).items():
+            merged.setdefault(name, []).extend(lines)
+        for o in keep:
+            objs.append(o.id)
+            planes.extend(d.plane_id(x) for x in o.planes)
+    names = [n for n, _, _, _ in PREDICATES if n not in _NOT_EXPORTED]
+    arity = {n: a for n, a, _, _ in PREDICATES}
+    return names, arity, merged, objs, planes
+
+
+def _background(descs, examples: list[Example], classes: Sequence[str]) -> list[str]:
+    names, arity, merged, objs, planes = example_facts(descs, examples)
+    lines = ["% ---- dynamic background predicates",
+             ":- dynamic((" + ", ".join(f"{n}/{arity[n]}" for n in names) + ")).", "",
+             "% ---- types"]
+    lines += [terms.fact("obj", o) for o in objs]
+    lines += [terms.fact("plane", p) for p in planes]
+    lines += [terms.fact("orient", o) for o in ("horizontal", "vertical", "inclined")]
+    lines += [terms.fact("cls", c) for c in classes]
+    lines += ["", "% ---- comparison predicates (prolog/compare.pl)",
+              _resource_text("planerel.prolog", "compare.pl").rstrip(),
+              "", "% ---- derived relations (prolog/derived.pl)",
+              _resource_text("planerel.prolog", "derived.pl").rstrip(),
+              "", "% ---- scene facts of the example objects"]
+    for n in names:
+        if merged.get(n):
+            lines += [""] + merged[n]
+    return lines
+
+
+
+def task_examples(descs, target, classes=None):
+    """The examples of a learning task and its classes, checked (shared by the Aleph and
+    Popper exports).
+
+    Parameters
+    ----------
+    descs : sequence of SceneDescription
+    target : str
+        The class to learn, or ``"class"`` for one multi-class task.
+    classes : sequence of str, optional
+        The task's classes (default: those of the examples, in the usual order).
+
+    Returns
+    -------
+    (list of Example, list of str)
+
+    Raises
+    ------
+    InputError
+        Fewer than two classes, a target without examples, or a name that is not a plain
+        Prolog atom.
+    """
+    examples = examples_of(descs)
+    if classes is None:
+        classes = _class_order(e.klass for e in examples)
+    classes = list(classes)
+    if len(classes) < 2:
+        raise InputError(f"a learning task needs objects of at least two classes; found "
+                         f"{', '.join(classes) or 'none'}")
+    if target != "class":
+        if target not in classes:
+            raise InputError(f"target class {target!r} has no examples; classes present: "
+                             f"{', '.join(classes)}")
+        if not terms.is_plain_atom(target):
+            raise InputError(f"target {target!r} must be a plain Prolog name "
+                             "([a-z][a-zA-Z0-9_]*)")
+    for c in classes:
+        if not terms.is_plain_atom(c):
+            raise InputError(f"class name {c!r} must be a plain Prolog name ([a-z][a-zA-Z0-9_]*)")
+    return examples, classes
+
+def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
+                task: str | None = None, settings: dict | None = None,
+                stem: str | None = None) -> dict[str, str]:
+    """The text of ``STEM.b``, ``STEM.f`` and ``STEM.n`` for one target.
+
+    Parameters
+    ----------
+    descs : sequence of SceneDescription
+        Described scenes whose objects carry a class (``SceneObject.klass``).
+    target : str
+        A class name (per-class task ``target(+obj)``) or ``"class"`` (multi-class task
+        ``class(+obj, #cls)``).
+    classes : sequence of str, optional
+        The classes of the task (default: those of the examples, in order of appearance).
+    task : str, optional
+        Task file (default ``aleph/modes_relational.pl``; ``modes_objects.pl`` is the
+        variant with the hand-written ``step_up/2``).
+    settings : dict, optional
+        Extra ``set/2`` values, checked by :func:`check_setting`; they override the task file.
+    stem : str, optional
+        File stem (default ``target``).
+
+    Returns
+    -------
+    dict
+        ``{"STEM.b": text, "STEM.f": text, "STEM.n": text}``.
+    """
+    examples, classes = task_examples(descs, target, classes)
+    multi = target == "class"
+    check_class_names(classes)
+    examples = [e for e in examples if e.klass in classes or e.klass == OTHER]
+    stem = stem or target
+    sets, modes, preds, other = load_task(task)
+    overrides = {k: check_setting(k, v) for k, v in (settings or {}).items()}
+    set_lines = []
+    for s in sets:
+        name = _SET.match(s).group(1)
+        if name not in overrides:
+            set_lines.append(s)
+    set_lines += [f":- set({k}, {v})." for k, v in overrides.items()]
+    head = "class(+obj, #cls)" if multi else f"{target}(+obj)"
+    tname, tar = ("class", 2) if multi else (target, 1)
+    npos = sum(1 for e in examples if (e.klass in classes if multi else e.klass == target))
+    nneg = (sum(len(classes) - (e.klass in classes) for e in examples) if multi
+            else len(examples) - npos)
+    b = [f"% planerel Aleph task {stem}: {'multi-class' if multi else 'is the object a ' + target}",
+         f"% examples: {npos} positive, {nneg} negative; classes: {', '.join(classes)}",
+         "% written by planerel export-aleph; vocabulary: docs/predicates.md",
+         ":- op(500, fy, #).", "", "% ---- settings"] + set_lines
+    b += ["", "% ---- modes", f":- modeh(1, {head})."] + modes
+    b += ["", "% ---- determinations"]
+    b += [f":- determination({tname}/{tar}, {n}/{a})." for n, a in preds]
+    b += ["", "% ---- other declarations"] + other + [""]
+    b += _background(descs, examples, classes)
+    F = terms.fact
+    if multi:
+        pos = [F("class", e.object_id, e.klass) for e in examples if e.klass in classes]
+        neg = [F("class", e.object_id, c) for e in examples for c in classes if c != e.klass]
+    else:
+        pos = [F(target, e.object_id) for e in examples if e.klass == target]
+        neg = [F(target, e.object_id) for e in examples if e.klass != target]
+    return {f"{stem}.b": "\n".join(b) + "\n", f"{stem}.f": "".join(x + "\n" for x in pos),
+            f"{stem}.n": "".join(x + "\n" for x in neg)}
+
+
+def export_aleph(descs, out_dir, target: str = "all", *, classes: Sequence[str] | None = None,
+                 task: str | None = None, settings: dict | None = None) -> ExportResult:
+    """Write the Aleph files of a target to ``out_dir``.
+
+    ``target``: a class name; ``"all"`` (one stem per class); ``"class"`` (one multi-class
+    stem ``class``).
+    """
+    from planerel.atomic import write_text
+
+    descs = list(descs)
+    examples = examples_of(descs)
+    if classes is None:
+        classes = _class_order(e.klass for e in examples)
+    targets = list(classes) if target == "all" else [target]
+    texts: dict[str, str] = {}
+    for t in targets:
+        texts.update(aleph_files(descs, t, classes=classes, task=task, settings=settings))
+    out = Path(out_dir)
+    paths = tuple(write_text(out / name, text) for name, text in sorted(texts.items()))
+    counts = {c: sum(1 for e in examples if e.klass == c) for c in classes}
+    stems = tuple(dict.fromkeys(Path(n).stem for n in sorted(texts)))
+    return ExportResult(paths, stems, counts)
+
+
+def describe_dataset(dataset_dir, *, labels: str = "gt", classes: Sequence[str] | None = None,
+                     method: str = "regiongrow"):
+    """Describe every scene of a data set, with its ground-truth object as the example.
+
+    Parameters
+    ----------
+    dataset_dir : path
+        A data set written by ``planerel dataset synth`` (or in the same format).
+    labels : ``"gt"`` or ``"segment"``
+        Plane labels from the ground truth, or from :func:`planerel.segment.segment`
+        (planes then join the ground-truth object they mostly cover).
+    classes : sequence of str, optional
+        Only scenes of these classes.
+
+    Returns
+    -------
+    descs : list of SceneDescription
+    skipped : list of str
+        Scenes whose object has no measured plane, with the reason.
+    """
+    from planerel.features.dataset import describe_truth_scene, iter_scenes
+
+    if labels not in ("gt", "segment"):
+        raise InputError(f"labels must be 'gt' or 'segment', got {labels!r}")
+    descs, skipped = [], []
+    for row, cloud, gt, meta in iter_scenes(dataset_dir):
+        if classes is not None and row.klass not in classes:
+            continue
+        if gt is None:
+            raise InputError(f"{dataset_dir}: scene {row.scene_id} has no ground-truth labels, "
+                             "so its object is unknown")
+        if labels == "gt":
+            lab = gt
+        else:
+            from planerel.segment import segment
+
+            lab = segment(cloud, method).labels
+        d = describe_truth_scene(cloud, lab, gt, meta, row.scene_id, row.klass)
+        if not d.objects:
+            skipped.append(f"{row.scene_id}: no plane of its {row.klass} was measured")
+        descs.append(d)
+    return descs, skipped
+
+
+def export_dataset(dataset_dir, out_dir, target: str = "all", *, labels: str = "gt",
+                   task: str | None = None, settings: dict | None = None) -> ExportResult:
+    """:func:`describe_dataset` then :func:`export_aleph`."""
+    descs, skipped = describe_dataset(dataset_dir, labels=labels)
+    res = export_aleph(descs, out_dir, target, task=task, settings=settings)
+    return ExportResult(res.files, res.stems, res.counts, tuple(skipped))
+
+
+def check_class_names(classes) -> None:
+    """Refuse class names that are built-in or library predicates of arity 1 (``halt``,
+    ``shell``, ``atom``...), part of the scene vocabulary or of planerel's support code: a
+    class ``C`` becomes the predicate ``C/1`` of the learning task.
+
+    Raises
+    ------
+    InputError
+        Naming the first such class.
+    """
+    from planerel.ilp.pipeline import model_vocabulary
+
+    vocab = {n for n, _ in model_vocabulary()}
+    for c in classes:
+        if c in vocab or c.startswith("planerel_") or c == "class":
+            raise InputError(f"class name {c!r} is a predicate of planerel's vocabulary; "
+                             "choose another name")
+    clash = _reserved_names(tuple(sorted(set(classes))))
+    if clash:
+        raise InputError(f"class name {clash[0]!r} is a built-in or library predicate of "
+                         "SWI-Prolog; choose another name")
+
+
+@functools.lru_cache(maxsize=64)
+def _reserved_names(names: tuple) -> list:
+    """The names among ``names`` that ``planerel_reserved_class/1`` (prolog/classify.pl) refuses;
+    asked of a fresh ``swipl`` once per set of names (none when SWI-Prolog is missing: the
+    learner then fails with its own clear error)."""
+    import subprocess
+
+    from planerel.children import child_preexec
+    from planerel.errors import DependencyError
+    from planerel.ilp.learn import find_swipl
+    from planerel.ilp.pipeline import support_files
+
+    try:
+        exe = find_swipl()
+    except DependencyError:
+        return []
+    classify_pl = [str(p) for p in support_files() if p.name == "classify.pl"][0]
+    goal = ("current_prolog_flag(argv, [F|Names]), load_files(F, [silent(true)]), "
+            "forall(( member(N, Names), planerel_reserved_class(N) ), writeln(N))")
+    try:
+        proc = subprocess.run([exe, "-q", "-g", goal, "-t", "halt", "--", classify_pl, *names],
+                              capture_output=True, text=True, timeout=60, check=False,
+                              preexec_fn=child_preexec(60))
+    except (OSError, subprocess.TimeoutExpired):
+        return []
+    found = set(proc.stdout.split())
+    return [n for n in names if n in found]

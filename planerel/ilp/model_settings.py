@@ -1,0 +1,213 @@
+"""The settings a model was learned with, kept in the model (``MODEL_DIR/model.json``).
+
+Rules are only as good as the planes they were learned on: a rule about "a plane 0.15 m above
+another" means something else when ``classify`` segments or measures differently.  ``planerel
+learn`` therefore writes next to ``rules.pl`` the segmentation (method, parameters as given
+and resolved, including the sensor-adaptive switch ``adapt`` of
+:mod:`planerel.segment.adapt`), the gravity estimate's parameters, the plane, relation and
+proposal parameters of the description, and the rules' measured precision.  ``classify`` reads
+them back and runs with the same settings; ``--param`` overrides one, with a warning when it
+differs from the training value.
+
+Override names: a bare name is a segmentation parameter (``theta=12``, ``split=false``,
+``preset=paper``); ``gravity.NAME``, ``planes.NAME``, ``relations.NAME`` and
+``proposals.NAME`` and ``curved.NAME`` set a field of :class:`~planerel.features.gravity.GravityParams`,
+:class:`~planerel.features.planes.PlaneParams`, :class:`~planerel.features.relations.RelationParams`,
+:class:`~planerel.features.relations.ProposalParams` and :class:`~planerel.features.curved.CurvedParams`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from planerel.errors import InputError
+
+__all__ = ["MODEL_FILE", "FORMAT", "SECTIONS", "ModelSettings", "training_settings",
+           "read_settings", "with_overrides"]
+
+MODEL_FILE = "model.json"
+FORMAT = "planerel-model/1"
+#: Description settings besides the segmentation: section name -> dataclass (import path).
+SECTIONS = {"gravity": ("planerel.features.gravity", "GravityParams"),
+            "planes": ("planerel.features.planes", "PlaneParams"),
+            "relations": ("planerel.features.relations", "RelationParams"),
+            "proposals": ("planerel.features.relations", "ProposalParams"),
+            "curved": ("planerel.features.curved", "CurvedParams")}
+#: Segmentation keywords of :func:`planerel.segment.segment` that are not parameter fields.
+_SEGMENT_KEYWORDS = ("split",)
+
+
+def _section_class(name: str):
+    import importlib
+
+    module, cls = SECTIONS[name]
+    return getattr(importlib.import_module(module), cls)
+
+
+def _resolved_segmentation(method: str, params: dict) -> dict | None:
+    """Every field of the method's parameter dataclass (defaults filled in), or None for
+    ``gt`` (ground-truth planes: nothing to resolve)."""
+    if method == "gt":
+        return None
+    from planerel.segment import make_params
+
+    fields = {k: v for k, v in params.items() if k not in _SEGMENT_KEYWORDS}
+    out = dataclasses.asdict(make_params(method, **fields))
+    for k in _SEGMENT_KEYWORDS:
+        if k in params:
+            out[k] = params[k]
+    return out
+
+
+@dataclass(frozen=True)
+class ModelSettings:
+    """Segmentation and description settings of a model.
+
+    Attributes
+    ----------
+    method : str
+        ``regiongrow``, ``sp``, ``snp`` (or ``gt`` for a model learned from ground-truth planes).
+    seg_params : dict
+        Segmentation parameters as given (the rest are the method's defaults).
+    sections : dict
+        ``{section: {field: value}}`` for :data:`SECTIONS`.
+    """
+
+    method: str = "regiongrow"
+    seg_params: dict = field(default_factory=dict)
+    sections: dict = field(default_factory=dict)
+
+    def describe_kwargs(self) -> dict:
+        """Keyword arguments of :func:`planerel.features.facts.describe_scene` for these settings."""
+        kw = {}
+        names = {"gravity": "gravity_params", "planes": "plane_params",
+                 "relations": "relation_params", "proposals": "proposal_params",
+                 "curved": "curved_params"}
+        for name, values in self.sections.items():
+            cls = _section_class(name)
+            known = {f.name for f in dataclasses.fields(cls)}
+            kw[names[name]] = cls(**{k: v for k, v in values.items() if k in known})
+        return kw
+
+    def resolved(self) -> dict | None:
+        """The segmentation parameters with defaults filled in."""
+        return _resolved_segmentation(self.method, self.seg_params)
+
+
+def training_settings(method: str, seg_params: dict | None, *, rule_stats=()) -> dict:
+    """The content of ``model.json`` for a model learned with these settings (the description
+    parameters are the defaults ``planerel learn`` describes scenes with)."""
+    from planerel.ilp.pipeline import laplace
+
+    seg_params = dict(seg_params or {})
+    return {
+        "format": FORMAT,
+        "segmentation": {"method": method, "params": seg_params,
+                         "resolved": _resolved_segmentation(method, seg_params)},
+        **{name: dataclasses.asdict(_section_class(name)()) for name in SECTIONS},
+        "rule_precision": [{"index": i, "class": k, "tp": tp, "fp": fp,
+                            "laplace": round(laplace(tp, fp), 6)} for i, k, tp, fp in rule_stats],
+    }
+
+
+def read_settings(rules_path) -> ModelSettings | None:
+    """The settings in ``model.json`` next to a model's ``rules.pl`` (None when the model has
+    none: a model written before the settings were kept, or rules written by hand).
+
+    Raises
+    ------
+    InputError
+        The file is not valid JSON or not a planerel model's settings.
+    """
+    path = Path(rules_path).parent / MODEL_FILE
+    if not path.is_file():
+        return None
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{path}: not a readable model settings file ({exc})") from None
+    if not isinstance(data, dict) or data.get("format") != FORMAT:
+        raise InputError(f"{path}: not a planerel model settings file (format {FORMAT!r} expected)")
+    seg = data.get("segmentation") or {}
+    sections = {name: dict(data[name]) for name in SECTIONS if isinstance(data.get(name), dict)}
+    return ModelSettings(str(seg.get("method", "regiongrow")), dict(seg.get("params") or {}),
+                         sections)
+
+
+def _coerce_like(value, like, name: str):
+    """A command-line string as the type of the training value ``like``."""
+    if not isinstance(value, str):
+        return value
+    text = value.strip()
+    try:
+        if isinstance(like, bool):
+            if text.lower() in ("true", "1", "yes"):
+                return True
+            if text.lower() in ("false", "0", "no"):
+                return False
+            raise ValueError(text)
+        if isinstance(like, int):
+            return int(text)
+        if isinstance(like, float):
+            return float(text)
+    except ValueError:
+        raise InputError(f"--param {name}={value}: expected a {type(like).__name__}") from None
+    return text
+
+
+def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
+                   overrides: dict | None = None) -> tuple[ModelSettings, list[str]]:
+    """Settings to classify with: the model's, changed by ``method`` and ``overrides``.
+
+    Returns
+    -------
+    (ModelSettings, list of str)
+        The settings, and one warning per value that differs from the training value (none
+        when the model keeps no settings: nothing to compare with).
+    """
+    base = settings or ModelSettings()
+    warnings: list[str] = []
+    new_method = base.method
+    if base.method == "gt":
+        new_method = method or "regiongrow"
+        warnings.append(f"the model was learned from ground-truth planes; scans are segmented "
+                        f"with {new_method}")
+    elif method is not None and method != base.method:
+        new_method = method
+        if settings is not None:
+            warnings.append(f"segmentation method {method} differs from the model's training "
+                            f"method {base.method}")
+    seg = dict(base.seg_params) if new_method == base.method else {}
+    sections = {k: dict(v) for k, v in base.sections.items()}
+    section_over: list[tuple[str, str, object]] = []
+    for name, value in (overrides or {}).items():
+        sec, dot, key = str(name).partition(".")
+        if dot:
+            if sec not in SECTIONS:
+                raise InputError(f"--param {name}: unknown section {sec!r} (use a segmentation "
+                                 f"parameter or one of {', '.join(f'{s}.NAME' for s in SECTIONS)})")
+            fields = {f.name: f for f in dataclasses.fields(_section_class(sec))}
+            if key not in fields:
+                raise InputError(f"--param {name}: {sec} has no parameter {key!r} (it has "
+                                 f"{', '.join(fields)})")
+            current = sections.get(sec, {}).get(key, dataclasses.asdict(_section_class(sec)())[key])
+            section_over.append((sec, key, _coerce_like(value, current, name)))
+        else:
+            seg[name] = value
+    for sec, key, value in section_over:
+        old = sections.setdefault(sec, {}).get(key, dataclasses.asdict(_section_class(sec)())[key])
+        sections[sec][key] = value
+        if settings is not None and value != old:
+            warnings.append(f"{sec}.{key}={value} differs from the model's training value {old}")
+    out = ModelSettings(new_method, seg, sections)
+    out.describe_kwargs()  # a bad value fails here, with the dataclass's message
+    if settings is not None and new_method == base.method and seg != base.seg_params:
+        before, after = base.resolved() or {}, out.resolved() or {}
+        for key in sorted(after):
+            if after[key] != before.get(key):
+                warnings.append(f"segmentation {key}={after[key]} differs from the model's "
+                                f"training value {before.get(key)}")
+    return out, warnings

@@ -1,0 +1,1010 @@
+"""The end-to-end job: data set -> segmentation (cached) -> descriptions -> Aleph files ->
+rules -> cross-validated metrics -> a model directory.
+
+Every function takes plain data and returns plain data; ``planerel learn`` and the report are
+thin layers over :func:`learn_model` and :func:`evaluate_learning`.
+
+Scoring a theory is a logic query, the same one ``planerel classify`` asks: the rules, the
+support predicates of ``prolog/`` and the scene facts are loaded into one ``swipl`` process,
+which says for every object which rules prove which class (:func:`prolog_predict`).
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import os
+import sys
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from planerel.children import temp_dir
+from planerel.errors import InputError, PrologError
+
+__all__ = [
+    "DEFAULT_CLASSES",
+    "Prediction",
+    "Model",
+    "cache_dir",
+    "segment_cached",
+    "describe_scenes",
+    "learn_rules",
+    "prolog_predict",
+    "choose_class",
+    "laplace",
+    "OTHER",
+    "stratified_folds",
+    "cross_validate",
+    "score_objects",
+    "held_out_scores",
+    "learn_model",
+    "evaluate_learning",
+    "support_files",
+    "model_vocabulary",
+    "DERIVED_PREDICATES",
+    "confusion_matrix",
+    "confusion_columns",
+    "accuracy_scores",
+    "draw_confusion",
+]
+
+DEFAULT_CLASSES = ("box", "stairs", "ramp")
+#: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
+#: than right on the training objects (the class of the varied world's clutter, too).
+OTHER = "other"
+#: Former name of :data:`OTHER` (the answer used to be ``"unknown"``).
+UNKNOWN = OTHER
+#: Support predicates loaded with every model, in order (package ``planerel.prolog``).
+SUPPORT_FILES = ("compare.pl", "derived.pl", "classify.pl")
+#: The predicates ``derived.pl`` and ``compare.pl`` define for rules (name, arity).
+DERIVED_PREDICATES = (("horizontal", 1), ("vertical", 1), ("inclined", 1), ("object_plane", 3),
+                      ("step_up", 2), ("lteq", 2), ("gteq", 2))
+
+
+# ----------------------------------------------------------------------------- caching
+
+
+def cache_dir(path=None) -> Path | None:
+    """The segmentation cache folder: ``path``, else ``$PLANEREL_CACHE``, else
+    ``~/.cache/planerel``.  ``"none"`` / ``""`` disables caching (returns None)."""
+    value = path if path is not None else os.environ.get("PLANEREL_CACHE")
+    if value is None:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        return Path(base) / "planerel"
+    if str(value).lower() in ("", "none", "off"):
+        return None
+    return Path(value)
+
+
+@functools.lru_cache(maxsize=1)
+def _segmentation_code_hash() -> str:
+    """Hash of the source of the segmentation code (planerel/segment/, normals included), so that a
+    cache written by other code -- an edited checkout, another version -- is never read back."""
+    root = Path(__file__).resolve().parents[1]  # the planerel package folder
+    h = hashlib.sha256()
+    for f in sorted((root / "segment").glob("*.py")):
+        h.update(f.name.encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def _seg_key(files: Sequence[Path], method: str, params: dict) -> str:
+    from planerel._version import __version__
+
+    h = hashlib.sha256()
+    for f in files:
+        h.update(f.name.encode())
+        h.update(Path(f).read_bytes())
+    h.update(json.dumps([method, sorted((k, repr(v)) for k, v in params.items()), __version__,
+                         _segmentation_code_hash()]).encode())
+    return h.hexdigest()[:32]
+
+
+def segment_cached(cloud, *, method: str = "regiongrow", params: dict | None = None,
+                   files: Sequence[Path] = (), cache: Path | None = None) -> np.ndarray:
+    """Segment ``cloud``; with ``files`` (the inputs it was read from) and a ``cache`` folder,
+    the labels are stored under a key of the files' content, the method, its parameters and
+    planerel's version, and a second call reads them back instead of segmenting.
+
+    Returns
+    -------
+    labels : ndarray, shape (H, W), int32
+    """
+    from planerel.segment import segment
+
+    params = dict(params or {})
+    path = None
+    if cache is not None and files:
+        path = Path(cache) / "seg" / f"{_seg_key([Path(f) for f in files], method, params)}.npy"
+        if path.is_file():
+            try:
+                labels = np.load(path, allow_pickle=False)
+                if labels.shape == cloud.shape and labels.dtype == np.int32:
+                    return labels
+            except (OSError, ValueError):
+                pass  # a damaged cache entry is recomputed and replaced
+    labels = segment(cloud, method, **params).labels
+    if path is not None:
+        from planerel.io.writers import write_labels_npy
+
+        try:
+            write_labels_npy(path, labels)
+        except (OSError, InputError):
+            pass  # an unwritable cache only costs time
+    return labels
+
+
+# ----------------------------------------------------------------------------- describing
+
+
+def _describe_one(job):
+    """Worker: load one data-set scene, segment (cached) and describe it with its
+    ground-truth object.  Top-level so that a process pool can run it."""
+    from planerel.features.dataset import describe_truth_scene, load_scene
+
+    dataset_dir, row, method, params, cache = job
+    cloud, gt, meta = load_scene(dataset_dir, row.scene_id)
+    if gt is None:
+        raise InputError(f"{dataset_dir}: scene {row.scene_id} has no ground-truth labels, so "
+                         "its object (the training example) is unknown")
+    if method == "gt":
+        labels = gt
+    else:
+        files = [Path(dataset_dir) / row.depth, Path(dataset_dir) / row.meta]
+        labels = segment_cached(cloud, method=method, params=params, files=files, cache=cache)
+    return describe_truth_scene(cloud, labels, gt, meta, row.scene_id, row.klass)
+
+
+def _progress(iterable, total: int, desc: str, enabled: bool | None):
+    if enabled is None:
+        enabled = sys.stderr.isatty()
+    if not enabled:
+        return iterable
+    from tqdm import tqdm
+
+    return tqdm(iterable, total=total, desc=desc, unit="scene", leave=False)
+
+
+def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
+                    method: str = "regiongrow", seg_params: dict | None = None,
+                    jobs: int | None = 1, cache=None, progress: bool | None = None,
+                    scheduler=None):
+    """Segment and describe every scene of a data set, its ground-truth object as the example.
+
+    Parameters
+    ----------
+    dataset_dir : path
+        A data set in planerel's format (``planerel dataset synth``).
+    classes : sequence of str, optional
+        Keep only scenes of these classes.
+    method : str
+        ``"regiongrow"``, ``"sp"``, ``"snp"``, or ``"gt"`` for the ground-truth planes.
+    seg_params : dict, optional
+        Segmentation parameters.
+    jobs : int or None
+        Worker processes (None: all cores).  Results are in data-set order whatever the value.
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler to run the scenes on instead (:func:`planerel.batch.make_executor`).
+    cache : path, optional
+        Segmentation cache (default :func:`cache_dir`); ``"none"`` disables it.
+
+    Returns
+    -------
+    descs : list of SceneDescription
+    skipped : list of str
+        Scenes whose object kept no measured plane, with the reason.
+    """
+    from planerel.features.dataset import load_manifest
+
+    rows = list(load_manifest(dataset_dir))
+    if classes is not None:
+        unknown = sorted(set(classes) - {r.klass for r in rows})
+        if unknown:
+            raise InputError(f"{dataset_dir}: no scene of class {', '.join(unknown)}")
+        rows = [r for r in rows if r.klass in classes]
+    if not rows:
+        raise InputError(f"{dataset_dir}: the data set has no scenes")
+    folder = cache_dir(cache) if cache is None or isinstance(cache, (str, Path)) else None
+    jobs_list = [(str(dataset_dir), r, method, dict(seg_params or {}), folder) for r in rows]
+    from planerel.batch import resolve_jobs, run_batch
+
+    n_jobs = resolve_jobs(jobs) if scheduler is None and len(rows) > 4 else 1
+    descs = [d for _, d in run_batch(_describe_one, jobs_list, jobs=n_jobs, scheduler=scheduler,
+                                     label=lambda j: f"{j[0]}: scene {j[1].scene_id}",
+                                     desc="describing", progress=progress)]
+    skipped = [f"{d.scene_id}: no plane of its object was measured" for d in descs if not d.objects]
+    return descs, skipped
+
+
+# ----------------------------------------------------------------------------- learning
+
+
+@dataclass(frozen=True)
+class Model:
+    """Rules learned for each class.
+
+    Attributes
+    ----------
+    classes : tuple of str
+    rules : dict
+        ``{class: (clause text, ...)}``.
+    stats : tuple
+        ``(index, class, tp, fp)`` per clause in file order, measured on the training objects.
+    engine : str
+        The learner that ran (``builtin`` or ``aleph``) and why.
+    seconds : float
+        Learning time (all classes).
+    clauses_explored : int
+    uncovered : dict
+        ``{class: n}`` training objects no rule covers (Aleph keeps them as ground facts; a
+        model for new scenes has no use for them, so they are counted, not kept).
+    """
+
+    classes: tuple
+    rules: dict
+    stats: tuple = ()
+    engine: str = ""
+    seconds: float = 0.0
+    clauses_explored: int = 0
+    uncovered: dict = field(default_factory=dict)
+
+    def clauses(self) -> list[str]:
+        """All clauses in class order (the order of :meth:`text`)."""
+        return [c for k in self.classes for c in self.rules.get(k, ())]
+
+    def text(self, header: str = "") -> str:
+        """The model as a Prolog file: rules plus ``planerel_rule_stats/4`` facts."""
+        from planerel.features.terms import fact
+
+        # comments in printable ASCII whatever the header holds (paths in any encoding)
+        safe = ["".join(ch if 32 <= ord(ch) < 127 else "?" for ch in ln)
+                for ln in header.splitlines()]
+        lines = [f"% {ln}" if ln else "%" for ln in safe]
+        lines += ["% planerel model: learned rules, one class after another.",
+                  "% Load with the support predicates of planerel's prolog/ folder",
+                  "% (compare.pl, derived.pl) and scene facts; see docs/results.md.",
+                  ":- dynamic(planerel_rule_stats/4).", ":- multifile(planerel_rule_stats/4).",
+                  ":- style_check(-singleton).  % learned rules name variables they only bind", ""]
+        for k in self.classes:
+            lines.append(f"% ---- {k}")
+            lines += list(self.rules.get(k, ())) or [f"% (no rule learned for {k})"]
+            lines.append("")
+        if self.stats:
+            lines.append("% planerel_rule_stats(Index, Class, TruePositives, FalsePositives)")
+            lines += [fact("planerel_rule_stats", i, k, tp, fp) for i, k, tp, fp in self.stats]
+        return "\n".join(lines) + "\n"
+
+
+def _examples(descs):
+    return [(o.id, o.klass) for d in descs for o in d.objects if o.klass]
+
+
+def excluded_counts(descs) -> dict:
+    """``{class: {reason: n}}`` of the ground-truth objects that are no example
+    (:func:`planerel.features.truth_examples.judge_objects`), to report beside the scores."""
+    out: dict = {}
+    for d in descs:
+        for _oid, klass, why in getattr(d, "excluded", ()):
+            per = out.setdefault(klass, {})
+            per[why] = per.get(why, 0) + 1
+    return {k: dict(sorted(v.items())) for k, v in sorted(out.items())}
+
+
+def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeout: float = 120.0,
+                settings: dict | None = None, work_dir=None, task: str | None = None,
+                jobs: int | None = None, log=None) -> Model:
+    """Learn one theory per class from described scenes (one Aleph run per class).
+
+    Parameters
+    ----------
+    descs : list of SceneDescription
+        Scenes whose objects carry their class.
+    classes : sequence of str
+        The classes; each needs at least one example, and there must be two or more.
+    engine : {"builtin", "aleph", "auto"}
+    timeout : float
+        Seconds per class before the learner is stopped.
+    work_dir : path, optional
+        Where the Aleph files are written (kept); default a temporary folder.
+    jobs : int, optional
+        Classes learned at once, one ``swipl`` each (None: as many as cores, at most one per
+        class); the model does not depend on it.
+    log : callable, optional
+        Receives progress lines (``"[box] rule 3 ..."``, one per clause added, and one per
+        class learned).
+
+    Returns
+    -------
+    Model
+        Rules per class, with coverage statistics on the training objects.
+    """
+    from planerel.ilp.aleph_export import export_aleph
+    from planerel.ilp.learn import learn
+
+    examples = _examples(descs)
+    present = {k for _, k in examples}
+    missing = [k for k in classes if k not in present]
+    if missing:
+        raise InputError(f"class {', '.join(missing)} has no example to learn from")
+    if len(classes) < 2:
+        raise InputError(f"learning needs at least two classes, got {', '.join(classes) or 'none'}")
+    tmp = None
+    if work_dir is None:
+        tmp = temp_dir("learn")
+        work_dir = tmp.name
+    try:
+        export_aleph(descs, work_dir, "all", classes=list(classes), task=task, settings=settings)
+        rules, uncovered, seconds, explored, engines = {}, {}, 0.0, 0, set()
+
+        def one(k):
+            say = None if log is None else (lambda text, k=k: log(f"[{k}] {text}"))
+            t0 = time.perf_counter()
+            res = learn(Path(work_dir) / k, engine=engine, timeout=timeout, progress=say)
+            if log is not None:
+                log(f"[{k}] learned {len(res.rules)} clause(s) in {time.perf_counter() - t0:.1f} s")
+            return res
+
+        from planerel.batch import resolve_jobs
+
+        n_jobs = max(1, min(resolve_jobs(jobs), len(classes)))
+        if n_jobs == 1:
+            results = [one(k) for k in classes]
+        else:
+            from concurrent.futures import ThreadPoolExecutor
+
+            with ThreadPoolExecutor(n_jobs) as pool:     # each class is its own swipl process
+                results = list(pool.map(one, classes))
+        for k, res in zip(classes, results, strict=True):
+            rules[k] = tuple(r for r in res.rules if ":-" in r)
+            uncovered[k] = len(res.rules) - len(rules[k])
+            seconds += res.seconds
+            explored += res.clauses_explored or 0
+            engines.add(res.engine_detail or res.engine)
+        model = Model(tuple(classes), rules, (), "; ".join(sorted(engines)), seconds, explored,
+                      uncovered)
+        stats = rule_stats(model, descs, timeout=timeout)
+        return replace(model, stats=stats)
+    finally:
+        if tmp is not None:
+            tmp.cleanup()
+
+
+# ----------------------------------------------------------------------------- logic queries
+
+
+def support_files() -> list[Path]:
+    """Paths of the support predicates (``prolog/*.pl``) as installed."""
+    from importlib.resources import files
+
+    base = files("planerel.prolog")
+    return [Path(str(base / name)) for name in SUPPORT_FILES]
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """The answer of the rules for one object.
+
+    Attributes
+    ----------
+    object_id : str
+    klass : str
+        The chosen class, or ``"other"`` (none of the classes, see :func:`choose_class`).
+    rule : str or None
+        The clause that proved it.
+    bindings : dict
+        ``{variable name: value}`` of that clause's first proof (plane ids among them).
+    fired : tuple
+        ``(class, rule index)`` for every rule that proves something about the object.
+    """
+
+    object_id: str
+    klass: str
+    rule: str | None = None
+    rule_index: int | None = None
+    bindings: dict = field(default_factory=dict)
+    fired: tuple = ()
+    precision: float | None = None
+
+    @property
+    def planes(self) -> list[str]:
+        """The plane ids bound by the rule's variables, in variable order."""
+        return [v for v in self.bindings.values() if "_p" in v]
+
+
+def model_vocabulary() -> list[tuple[str, int]]:
+    """What a model's rule bodies may call: the scene facts' vocabulary
+    (:data:`planerel.features.facts.PREDICATES`) and :data:`DERIVED_PREDICATES`, as (name, arity)."""
+    from planerel.features.facts import PREDICATES
+
+    return [(n, a) for n, a, _, _ in PREDICATES] + list(DERIVED_PREDICATES)
+
+
+# The goal text is constant: every path reaches swipl as data (argv), never inside a goal.
+_PREDICT_GOAL = ("current_prolog_flag(argv, Files), append(Support, [Facts, Rules, Data], Files), "
+                 "forall(member(F, Support), load_files(F, [silent(true)])), "
+                 "planerel_predict_main(Facts, Rules, Data)")
+
+
+def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
+    """Run the support predicates + facts + rules in swipl; parse ``@@`` lines."""
+    from planerel.features.facts import FactParams, facts_text
+    from planerel.features.terms import Term, atom, plist
+    from planerel.ilp.aleph_export import PAIRS
+    from planerel.ilp.learn import find_swipl, run_process
+
+    swipl = find_swipl()
+    with temp_dir("predict") as tmp:
+        facts = Path(tmp) / "facts.pl"
+        facts.write_text(facts_text(descs, FactParams(pairs=PAIRS, planner=False)))
+        rules = Path(tmp) / "rules.pl"
+        rules.write_text(model.text())
+        data = Path(tmp) / "objects.pl"
+        vocab = plist([Term(f"{atom(n)}/{a}") for n, a in model_vocabulary()])
+        data.write_text(plist([atom(o) for o in object_ids]) + ".\n" + vocab + ".\n")
+        files = [str(p) for p in support_files()] + [str(facts), str(rules), str(data)]
+        cmd = [swipl, "-q", "--on-error=status", "--on-warning=status", "-g", _PREDICT_GOAL,
+               "-t", "halt", "--", *files]
+        code, out, err, _ = run_process(cmd, timeout, "the rule query")
+    if code == 2:
+        errors = [ln[len("error: "):] for ln in err.splitlines() if ln.startswith("error: ")]
+        if errors:
+            raise InputError(errors[0].replace(str(rules), "the model"))
+    if code != 0:
+        raise PrologError(f"the rule query failed: {err.strip()[-600:] or f'exit status {code}'}")
+    return out
+
+
+def _parse_fired(out: str):
+    """``{object: [(class, index, bindings, text), ...]}`` from ``@@`` lines."""
+    import re
+
+    result: dict[str, list] = {}
+    current = None
+    pat = re.compile(r"^@@fired (\S+) (\d+) \[(.*)\] (.*)$")
+    for line in out.splitlines():
+        if line.startswith("@@object "):
+            current = _unquote(line[len("@@object "):])
+            result[current] = []
+        elif line.startswith("@@fired ") and current is not None:
+            m = pat.match(line)
+            if not m:
+                continue
+            klass, index, binds, text = m.groups()
+            pairs = {}
+            for item in _split_top(binds):
+                name, _, value = item.partition("-")
+                pairs[_unquote(name)] = _unquote(value)
+            result[current].append((_unquote(klass), int(index), pairs, _unquote(text)))
+    return result
+
+
+def _split_top(text: str) -> list[str]:
+    """Split a Prolog list body on top-level commas (quotes respected)."""
+    items, buf, quote, depth, i = [], [], False, 0, 0
+    while i < len(text):
+        ch = text[i]
+        if quote:
+            buf.append(ch)
+            if ch == "\\" and i + 1 < len(text):
+                buf.append(text[i + 1])
+                i += 1
+            elif ch == "'":
+                quote = False
+        elif ch == "'":
+            quote = True
+            buf.append(ch)
+        elif ch in "([":
+            depth += 1
+            buf.append(ch)
+        elif ch in ")]":
+            depth -= 1
+            buf.append(ch)
+        elif ch == "," and depth == 0:
+            items.append("".join(buf))
+            buf = []
+        else:
+            buf.append(ch)
+        i += 1
+    if buf:
+        items.append("".join(buf))
+    return [s.strip() for s in items if s.strip()]
+
+
+def _unquote(text: str) -> str:
+    text = text.strip()
+    if len(text) >= 2 and text[0] == "'" and text[-1] == "'":
+        body = text[1:-1]
+        out, i = [], 0
+        simple = {"n": "\n", "t": "\t", "\\": "\\", "'": "'", "r": "\r"}
+        while i < len(body):
+            ch = body[i]
+            if ch == "\\" and i + 1 < len(body):
+                nxt = body[i + 1]
+                if nxt in simple:
+                    out.append(simple[nxt])
+                    i += 2
+                    continue
+                if nxt == "x":
+                    end = body.index("\\", i + 2)
+                    out.append(chr(int(body[i + 2:end], 16)))
+                    i = end + 1
+                    continue
+            if ch == "'" and i + 1 < len(body) and body[i + 1] == "'":
+                out.append("'")
+                i += 2
+                continue
+            out.append(ch)
+            i += 1
+        return "".join(out)
+    return text
+
+
+def rule_stats(model: Model, descs, *, timeout: float = 120.0) -> tuple:
+    """``(index, class, tp, fp)`` of every clause of ``model`` on the objects of ``descs``."""
+    examples = _examples(descs)
+    if not model.clauses():
+        return ()
+    fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
+    truth = dict(examples)
+    index_class = [(i + 1, k) for i, k in enumerate(k for k in model.classes
+                                                    for _ in model.rules.get(k, ()))]
+    counts = {i: [0, 0] for i, _ in index_class}
+    for obj, hits in fired.items():
+        for i in sorted({idx for _, idx, _, _ in hits}):
+            k = dict(index_class)[i]
+            counts[i][0 if truth.get(obj) == k else 1] += 1
+    return tuple((i, k, counts[i][0], counts[i][1]) for i, k in index_class)
+
+
+def laplace(tp: int, fp: int) -> float:
+    """Laplace estimate of a rule's precision, ``(tp + 1) / (tp + fp + 2)``."""
+    return (tp + 1) / (tp + fp + 2)
+
+
+def choose_class(hits, stats: Sequence, classes: Sequence[str]):
+    """Pick one answer among the rules that fired (an open-set decision for one object).
+
+    A rule's precision is its Laplace estimate :func:`laplace` on the training objects
+    (``stats``, stored in the model; the ``other`` objects a rule covers count as its false
+    positives).  A rule that was wrong at least as often as right in training (``fp >= tp``,
+    ``fp > 0``: precision at most 0.5) does not count: an object it proves is at least as likely
+    *not* of its class.  Of the rest, the highest precision wins; ties go to the rule that
+    covered more training objects, then to the earlier class and rule.  Class frequencies play
+    no part.  A rule without statistics (hand-written rules) counts with precision 0.5.  No rule
+    left: ``None``, the answer :data:`OTHER` (none of the classes).
+    """
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    order = {k: n for n, k in enumerate(classes)}
+    kept = []
+    for hit in hits:
+        tp, fp = table.get(hit[1], (0, 0))
+        if fp > 0 and fp >= tp:
+            continue
+        kept.append((-laplace(tp, fp), -tp, order.get(hit[0], len(order)), hit[1], hit))
+    if not kept:
+        return None
+    return min(kept, key=lambda t: t[:4])[-1]
+
+
+def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None, *,
+                   timeout: float = 120.0) -> list[Prediction]:
+    """Classify objects by logic query: which rules of ``model`` prove which class.
+
+    Parameters
+    ----------
+    model : Model
+    descs : list of SceneDescription
+        The scenes the objects belong to (their facts are loaded).
+    object_ids : sequence of str, optional
+        Objects to classify (default: every object of ``descs``).
+
+    Returns
+    -------
+    list of Prediction, in the order of ``object_ids``.
+    """
+    if object_ids is None:
+        object_ids = [o.id for d in descs for o in d.objects]
+    object_ids = list(object_ids)
+    if not object_ids:
+        return []
+    if not model.clauses():
+        return [Prediction(o, OTHER) for o in object_ids]
+    fired = _parse_fired(_prolog_run(model, descs, object_ids, timeout))
+    out = []
+    for o in object_ids:
+        hits = fired.get(o, [])
+        best = choose_class(hits, model.stats, model.classes)
+        fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
+        if best is None:
+            out.append(Prediction(o, OTHER, fired=fired_pairs))
+        else:
+            klass, index, binds, text = best
+            tp_fp = {i: (tp, fp) for i, _, tp, fp in model.stats}.get(index, (0, 0))
+            out.append(Prediction(o, klass, text, index, binds, fired_pairs, laplace(*tp_fp)))
+    return out
+
+
+# ----------------------------------------------------------------------------- evaluation
+
+
+def stratified_folds(labels: Sequence[str], k: int, seed: int = 0) -> list[int]:
+    """Fold number (0..k-1) of every example: each class is shuffled with ``seed`` and dealt
+    round-robin, continuing where the previous class stopped, so folds differ in size by at
+    most one and every class is spread as evenly as it can be."""
+    if isinstance(k, bool) or not isinstance(k, int) or k < 2:
+        raise InputError(f"the number of folds must be an integer >= 2, got {k!r}")
+    if k > len(labels):
+        raise InputError(f"{k} folds for {len(labels)} examples: use at most {len(labels)} folds")
+    rng = np.random.default_rng(seed)
+    fold = [0] * len(labels)
+    nxt = 0
+    for klass in sorted(set(labels)):
+        idx = [i for i, lab in enumerate(labels) if lab == klass]
+        for i in rng.permutation(idx):
+            fold[int(i)] = nxt % k
+            nxt += 1
+    return fold
+
+
+def confusion_columns(classes: Sequence[str]) -> list[str]:
+    """The predicted-class columns of a confusion matrix: ``classes``, then ``other`` (once,
+    also when ``other`` is a true class of the rows)."""
+    return list(classes) + ([] if OTHER in classes else [OTHER])
+
+
+def confusion_matrix(truth: Sequence[str], pred: Sequence[str], classes: Sequence[str]):
+    """Rows: true class (``classes`` order); columns: predicted, ``other`` last
+    (:func:`confusion_columns`)."""
+    cols = confusion_columns(classes)
+    m = [[0] * len(cols) for _ in classes]
+    for t, p in zip(truth, pred, strict=True):
+        m[list(classes).index(t)][cols.index(p if p in cols else OTHER)] += 1
+    return m
+
+
+def accuracy_scores(truth, pred, classes):
+    """Overall accuracy and ``{class: accuracy}`` (None for a class with no example)."""
+    n = len(truth)
+    acc = sum(t == p for t, p in zip(truth, pred, strict=True)) / n if n else 0.0
+    per = {}
+    for k in classes:
+        idx = [i for i, t in enumerate(truth) if t == k]
+        per[k] = sum(pred[i] == k for i in idx) / len(idx) if idx else None
+    return acc, per
+
+
+def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int = 0,
+                   engine: str = "builtin", timeout: float = 120.0, settings: dict | None = None,
+                   progress: bool | None = None, jobs: int | None = 1,
+                   task: str | None = None) -> dict:
+    """Stratified k-fold cross-validation of the whole learner on described scenes.
+
+    Objects of class ``other`` (none of the classes) are split into the folds too: in training
+    they are negatives for every class; in testing the right answer for them is ``other``.
+    They are counted apart (``other``) so that ``accuracy`` and ``confusion`` keep their meaning.
+
+    Returns
+    -------
+    dict
+        ``accuracy``, ``per_class``, ``classes``, ``confusion`` (rows true class, columns
+        predicted with ``other`` last), ``folds`` (per fold: test objects, predictions,
+        rules, accuracy, seconds), ``predictions`` ({object: class}); with ``other`` objects
+        also ``other`` ({n, rejected: share predicted ``other``, predicted: {class: n}}) and
+        ``open_set_accuracy`` (all objects, ``other`` right when predicted ``other``).
+
+    ``jobs`` folds run at once (None: all cores); the result does not depend on it.
+    """
+    from planerel.ilp.aleph_export import OTHER
+
+    all_examples = [(o, k) for o, k in _examples(descs) if k in classes or k == OTHER]
+    examples = [(o, k) for o, k in all_examples if k in classes]
+    if not examples:
+        raise InputError("no example objects of the requested classes")
+    labels = [k for _, k in all_examples]
+    fold_of = stratified_folds(labels, folds, seed)
+    truth_of = dict(all_examples)
+    scene_of = {o.id: d for d in descs for o in d.objects}
+    predictions: dict[str, str] = {}
+
+    def run_fold(f: int) -> dict:
+        test = [o for (o, _), g in zip(all_examples, fold_of, strict=True) if g == f]
+        test_set = set(test)
+        train_descs = []
+        for d in descs:
+            keep = tuple(o for o in d.objects if o.id not in test_set)
+            if keep:
+                train_descs.append(replace(d, objects=keep))
+        present = [k for k in classes if any(o.klass == k for d in train_descs for o in d.objects)]
+        t0 = time.perf_counter()
+        model = learn_rules(train_descs, present, engine=engine, timeout=timeout, settings=settings,
+                            jobs=1, task=task)
+        test_descs = list({id(scene_of[o]): scene_of[o] for o in test}.values())
+        preds = prolog_predict(model, test_descs, test, timeout=timeout)
+        scored = [(truth_of[p.object_id], p.klass) for p in preds if truth_of[p.object_id] != OTHER]
+        acc, _ = accuracy_scores([t for t, _ in scored], [q for _, q in scored], classes)
+        return {"fold": f, "test": test, "predicted": [p.klass for p in preds],
+                "accuracy": acc, "rules": model.clauses(),
+                "seconds": round(time.perf_counter() - t0, 3),
+                "_answers": [(p.object_id, p.klass) for p in preds]}
+
+    # Folds are independent; each one's work is in SWI-Prolog child processes, so threads
+    # run them in parallel.  Reports come back in fold order whatever the number of jobs.
+    from planerel.batch import resolve_jobs
+
+    n_jobs = max(1, min(resolve_jobs(jobs), folds))
+    show = progress or (progress is None and sys.stderr.isatty())
+    bar = None
+    if show:
+        from tqdm import tqdm
+
+        bar = tqdm(total=folds, desc="folds", unit="fold", leave=False)
+    try:
+        if n_jobs == 1:
+            fold_reports = []
+            for f in range(folds):
+                fold_reports.append(run_fold(f))
+                if bar is not None:
+                    bar.update(1)
+        else:
+            from concurrent.futures import ThreadPoolExecutor
+
+            from planerel.children import stop_children
+
+            pool = ThreadPoolExecutor(n_jobs)
+            try:
+                futures = [pool.submit(run_fold, f) for f in range(folds)]
+                fold_reports = []
+                for fut in futures:
+                    fold_reports.append(fut.result())
+                    if bar is not None:
+                        bar.update(1)
+            except BaseException:  # a failed fold, Ctrl-C, SIGTERM: stop the others' learners
+                with stop_children():
+                    pool.shutdown(wait=True, cancel_futures=True)
+                raise
+            pool.shutdown()
+    finally:
+        if bar is not None:
+            bar.close()
+    for rep in fold_reports:
+        predictions.update(rep.pop("_answers"))
+    out = score_objects(all_examples, predictions, classes)
+    out.update(folds=fold_reports, predictions=predictions, k=folds, seed=seed,
+               excluded=excluded_counts(descs))
+    return out
+
+
+def score_objects(examples: Sequence, predictions: dict, classes: Sequence[str]) -> dict:
+    """Score the answers for objects of known class.
+
+    Parameters
+    ----------
+    examples : sequence of (object id, true class)
+        Class objects and ``other`` objects (none of the classes; others are ignored).
+    predictions : dict
+        ``{object id: answer}`` for every example.
+    classes : sequence of str
+
+    Returns
+    -------
+    dict
+        ``accuracy``, ``per_class``, ``classes``, ``confusion`` and ``n_examples`` over the
+        class objects; with ``other`` objects also ``other`` ({n, rejected: share answered
+        ``other``, predicted: {answer: n}}), ``open_set_accuracy`` (all objects, ``other``
+        right when answered ``other``), ``open_set_per_class`` and ``open_set_confusion``
+        (rows and columns ``classes`` then ``other``).
+    """
+    from planerel.ilp.aleph_export import OTHER as OTHER_CLASS
+
+    examples = [(o, k) for o, k in examples if k in classes or k == OTHER_CLASS]
+    kept = [(o, k) for o, k in examples if k in classes]
+    truth = [k for _, k in kept]
+    pred = [predictions[o] for o, _ in kept]
+    acc, per = accuracy_scores(truth, pred, classes)
+    out = {"accuracy": acc, "per_class": per, "classes": list(classes),
+           "confusion": confusion_matrix(truth, pred, classes), "n_examples": len(kept)}
+    others = [o for o, k in examples if k == OTHER_CLASS]
+    if others:
+        got = [predictions[o] for o in others]
+        counts = {k: got.count(k) for k in [*classes, OTHER] if got.count(k)}
+        rejected = got.count(OTHER)
+        out["other"] = {"n": len(others), "rejected": rejected / len(others), "predicted": counts}
+        right = sum(t == p for t, p in zip(truth, pred, strict=True)) + rejected
+        out["open_set_accuracy"] = right / (len(kept) + len(others))
+        rows = [*classes, OTHER]
+        all_truth, all_pred = truth + [OTHER] * len(others), pred + got
+        out["open_set_per_class"] = accuracy_scores(all_truth, all_pred, rows)[1]
+        out["open_set_confusion"] = confusion_matrix(all_truth, all_pred, rows)
+    return out
+
+
+def held_out_scores(model: Model, dataset_dir, *, method: str = "regiongrow",
+                    seg_params: dict | None = None, jobs: int | None = 1, cache=None,
+                    progress: bool | None = None, timeout: float = 120.0,
+                    scheduler=None) -> dict:
+    """Accuracy of ``model`` on another data set (a held-out set: another seed, other world
+    parameters), object by object, scored like :func:`cross_validate`: the set's ground-truth
+    objects, each made of the segmented planes that mostly cover it
+    (:func:`planerel.features.dataset.describe_truth_scene`), answered by the model's rules.
+
+    Returns
+    -------
+    dict
+        :func:`score_objects`' scores plus ``dataset``, ``n_scenes``, ``skipped``,
+        ``predictions`` and ``excluded`` (:func:`excluded_counts`: objects that are no example,
+        by class and reason).
+    """
+    from planerel.ilp.aleph_export import OTHER as OTHER_CLASS
+
+    descs, skipped = describe_scenes(dataset_dir, method=method, seg_params=seg_params,
+                                     jobs=jobs, cache=cache, progress=progress,
+                                     scheduler=scheduler)
+    examples = [(o, k) for o, k in _examples(descs) if k in model.classes or k == OTHER_CLASS]
+    if not examples:
+        raise InputError(f"{dataset_dir}: the held-out set has no object of the model's classes "
+                         f"({', '.join(model.classes)}) or of class other")
+    preds = prolog_predict(model, descs, [o for o, _ in examples], timeout=timeout)
+    predictions = {p.object_id: p.klass for p in preds}
+    out = score_objects(examples, predictions, model.classes)
+    out.update(dataset=str(dataset_dir), n_scenes=len(descs), skipped=skipped,
+               predictions=predictions, excluded=excluded_counts(descs))
+    return out
+
+
+def _classes_arg(classes, descs) -> tuple:
+    from planerel.ilp.aleph_export import OTHER
+
+    present = [k for k in DEFAULT_CLASSES if any(o.klass == k for d in descs for o in d.objects)]
+    present += sorted({o.klass for d in descs for o in d.objects if o.klass} - set(present)
+                      - {OTHER})
+    if classes is None:
+        classes = present
+    classes = tuple(classes)
+    missing = [k for k in classes if k not in present]
+    if missing:
+        raise InputError(f"class {', '.join(missing)} has no example in the data set "
+                         f"(classes present: {', '.join(present) or 'none'})")
+    if len(classes) < 2:
+        raise InputError(f"learning needs at least two classes; the data set has "
+                         f"{', '.join(classes) or 'none'}")
+    return classes
+
+
+def evaluate_learning(dataset_dir, *, method: str = "regiongrow", seg_params: dict | None = None,
+                      folds: int = 10, seed: int = 0, engine: str = "builtin",
+                      timeout: float = 120.0, jobs: int | None = 1, classes=None,
+                      cache=None, progress: bool | None = None) -> dict:
+    """Cross-validated accuracy of rules learned from one segmentation method's planes, and
+    the rules learned on all data (used by the report to compare SP / SNP / region growing).
+
+    Returns
+    -------
+    dict
+        The :func:`cross_validate` result plus ``rules`` (list of clause strings of the model
+        trained on all data), ``method`` and ``skipped``.
+    """
+    descs, skipped = describe_scenes(dataset_dir, classes=classes, method=method,
+                                     seg_params=seg_params, jobs=jobs, cache=cache,
+                                     progress=progress)
+    classes = _classes_arg(classes, descs)
+    cv = cross_validate(descs, classes, folds=folds, seed=seed, engine=engine, timeout=timeout,
+                        progress=progress, jobs=jobs)
+    model = learn_rules(descs, classes, engine=engine, timeout=timeout)
+    cv.update(rules=model.clauses(), method=method, skipped=skipped)
+    return cv
+
+
+# ----------------------------------------------------------------------------- model folder
+
+
+def draw_confusion(path, confusion, classes, *, title: str = "") -> Path:
+    """Write a confusion matrix as a PNG (rows: true class; columns: predicted)."""
+    from PIL import Image, ImageDraw
+
+    from planerel.atomic import atomic_path
+
+    cols = confusion_columns(classes)
+    cell, left, top = 70, 90, 60
+    w, h = left + cell * len(cols) + 10, top + cell * len(classes) + 30
+    img = Image.new("RGB", (w, h), "white")
+    d = ImageDraw.Draw(img)
+    d.text((10, 8), title or "confusion (rows: true, columns: predicted)", fill="black")
+    total = max(1, max(sum(r) for r in confusion))
+    for j, c in enumerate(cols):
+        d.text((left + j * cell + 6, top - 18), c, fill="black")
+    for i, r in enumerate(confusion):
+        d.text((8, top + i * cell + cell // 2 - 6), classes[i], fill="black")
+        for j, v in enumerate(r):
+            shade = int(255 - 200 * v / total)
+            colour = (shade, shade, 255) if cols[j] == classes[i] else (255, shade, shade)
+            x0, y0 = left + j * cell, top + i * cell
+            d.rectangle([x0, y0, x0 + cell - 2, y0 + cell - 2], fill=colour, outline="grey")
+            d.text((x0 + cell // 2 - 6, y0 + cell // 2 - 6), str(v), fill="black")
+    with atomic_path(path, suffix=".png") as tmp:
+        img.save(tmp, format="PNG")
+    return Path(path)
+
+
+def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", folds: int = 0,
+                seed: int = 0, timeout: float = 120.0, jobs: int | None = None,
+                method: str = "regiongrow", seg_params: dict | None = None, cache=None,
+                progress: bool | None = None, log=print, scheduler=None,
+                heldout=None, settings: dict | None = None, task: str | None = None) -> dict:
+    """``planerel learn``: describe a data set, learn the class rules, optionally cross-validate,
+    score the model on a held-out data set (``heldout``: :func:`held_out_scores`, in
+    ``metrics["heldout"]``), and write a model folder.
+
+    ``jobs`` worker processes describe the scenes (or the Dask ``scheduler``'s workers), and
+    ``jobs`` cross-validation folds run at once; the result does not depend on either.
+    ``settings`` (Aleph ``set/2`` values) and ``task`` (a task file) go to :func:`learn_rules`.
+
+    The folder is built in a temporary sibling and renamed into place when complete, so a run
+    that fails or is interrupted never leaves a half-written model.  It holds ``rules.pl``
+    (loadable with ``prolog/compare.pl`` and ``prolog/derived.pl``), ``model.json`` (the
+    segmentation, gravity and description settings it was learned with and the rules'
+    precision, :mod:`planerel.ilp.model_settings`; ``classify`` reuses them), ``aleph/`` (the files
+    the final model was learned from), ``metrics.json`` and, with folds, ``confusion.png``.
+
+    Returns
+    -------
+    dict
+        The metrics written to ``metrics.json``.
+    """
+    from planerel.atomic import atomic_dir, write_text
+    from planerel.io.writers import write_json
+
+    out = Path(out_dir)
+    t0 = time.perf_counter()
+    descs, skipped = describe_scenes(dataset_dir, classes=classes, method=method,
+                                     seg_params=seg_params, jobs=jobs, cache=cache,
+                                     progress=progress, scheduler=scheduler)
+    classes = _classes_arg(classes, descs)
+    t_describe = time.perf_counter() - t0
+    for s in skipped:
+        log(f"note: {s}")
+    with atomic_dir(out, markers=("rules.pl", "metrics.json")) as tmp:
+        metrics: dict = {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
+                         "seg_params": dict(seg_params or {}), "seed": seed,
+                         "learner_settings": {k: str(v) for k, v in (settings or {}).items()},
+                         "task": task or "modes_relational.pl",
+                         "n_scenes": len(descs),
+                         "n_examples": sum(k in classes for _, k in _examples(descs)),
+                         "n_other": sum(k == "other" for _, k in _examples(descs)),
+                         "skipped": skipped, "seconds": {"describe": round(t_describe, 3)}}
+        if folds:
+            t1 = time.perf_counter()
+            cv = cross_validate(descs, classes, folds=folds, seed=seed, engine=engine,
+                                timeout=timeout, progress=progress, jobs=jobs,
+                                settings=settings, task=task)
+            metrics["cross_validation"] = cv
+            metrics["seconds"]["cross_validation"] = round(time.perf_counter() - t1, 3)
+            draw_confusion(tmp / "confusion.png", cv["confusion"], list(classes),
+                           title=f"{folds}-fold cross-validation, accuracy {cv['accuracy']:.3f}")
+        t2 = time.perf_counter()
+        model = learn_rules(descs, classes, engine=engine, timeout=timeout, work_dir=tmp / "aleph",
+                            jobs=jobs, log=None if progress is False else log,
+                            settings=settings, task=task)
+        metrics["seconds"]["learn"] = round(time.perf_counter() - t2, 3)
+        metrics["engine"] = model.engine
+        metrics["rules"] = {k: list(v) for k, v in model.rules.items()}
+        metrics["rule_stats"] = [list(s) for s in model.stats]
+        metrics["uncovered"] = model.uncovered
+        if heldout is not None:
+            t3 = time.perf_counter()
+            metrics["heldout"] = held_out_scores(
+                model, heldout, method=method, seg_params=seg_params,
+                jobs=jobs, cache=cache, progress=progress, timeout=timeout, scheduler=scheduler)
+            metrics["seconds"]["heldout"] = round(time.perf_counter() - t3, 3)
+        header = (f"learned by planerel from {dataset_dir} ({len(descs)} scenes, "
+                  f"segmentation: {method}, engine: {model.engine})")
+        write_text(tmp / "rules.pl", model.text(header))
+        from planerel.ilp.model_settings import MODEL_FILE, training_settings
+
+        write_json(tmp / MODEL_FILE, training_settings(method, seg_params, rule_stats=model.stats))
+        write_json(tmp / "metrics.json", metrics)
+    return metrics
