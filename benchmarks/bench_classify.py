@@ -27,7 +27,8 @@ def main() -> None:
 
     from planerel.classify.classifier import Classifier
     from planerel.features.facts import describe_scene
-    from planerel.ilp.pipeline import describe_scenes, learn_rules
+    from planerel.ilp.pipeline import learn_rules
+    from planerel.ilp.scenes import describe_scenes
     from planerel.segment import segment
     from planerel.synth.generator import CLASSES, generate_dataset, generate_scene
 

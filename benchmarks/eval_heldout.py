@@ -29,6 +29,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
 
     from planerel.ilp import pipeline as P
+    from planerel.ilp.scenes import describe_scenes
 
     settings = {}
     for item in args.setting:
@@ -36,7 +37,7 @@ def main(argv=None) -> int:
         settings[name] = float(value) if "." in value else int(value)
 
     t0 = time.perf_counter()
-    descs, _ = P.describe_scenes(args.train, jobs=args.jobs, progress=False)
+    descs, _ = describe_scenes(args.train, jobs=args.jobs, progress=False)
     classes = P._classes_arg(None, descs)
     t1 = time.perf_counter()
     cv = None

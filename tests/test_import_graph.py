@@ -164,7 +164,6 @@ def test_no_import_cycle_between_modules_at_import_time():
 KNOWN_DEFERRED_CYCLES = [
     ["planerel.segment.absorb", "planerel.segment.merge"],
     ["planerel.features.gravity", "planerel.features.planes"],
-    ["planerel.ilp.aleph_export", "planerel.ilp.model_settings", "planerel.ilp.pipeline"],
     ["planerel.synth.generator", "planerel.synth.sensor", "planerel.synth.world"],
 ]
 
@@ -186,3 +185,26 @@ def test_the_checker_sees_imports_inside_functions_and_flags_an_upward_one(tmp_p
     found = [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
     assert found == ["planerel.ilp"]
     assert "ilp" not in ALLOWED["features"]
+
+
+def test_only_the_prolog_bridge_starts_prolog():
+    """Every ``swipl`` command line and the pyswip engine come from :mod:`planerel.ilp.prolog`:
+    no other module names pyswip or builds a command from ``find_swipl``'s executable."""
+    bridge = "planerel.ilp.prolog"
+    for mod, f in MODULES.items():
+        if mod == bridge:
+            continue
+        text = f.read_text()
+        assert "pyswip" not in imports_text(f), f"{mod} imports pyswip"
+        assert '"-g"' not in text and "'-g'" not in text, f"{mod} builds a swipl command itself"
+
+
+def imports_text(f: Path) -> str:
+    """The names of every module ``f`` imports (top level and inside functions)."""
+    names = []
+    for n in ast.walk(ast.parse(f.read_text())):
+        if isinstance(n, ast.Import):
+            names += [a.name for a in n.names]
+        elif isinstance(n, ast.ImportFrom) and n.module:
+            names.append(n.module)
+    return " ".join(names)

@@ -9,6 +9,7 @@ import pytest
 
 from planerel.errors import InputError, PrologError
 from planerel.ilp import pipeline as P
+from planerel.ilp.prolog import DERIVED_PREDICATES, support_files
 
 ANY_OBJECT = "nplanes(O, N), gteq(N, 1)"  # true of every object proposal
 
@@ -153,14 +154,14 @@ def test_rule_query_with_quotes_in_temp_folder(tmp_path, monkeypatch, stairs_sce
 def test_vocabulary_lists_every_predicate_of_the_support_files():
     """DERIVED_PREDICATES is what derived.pl and compare.pl define (apart from planerel_*
     helpers): asked of swipl, not copied from the code."""
-    files = [str(p) for p in P.support_files() if p.name in ("derived.pl", "compare.pl")]
+    files = [str(p) for p in support_files() if p.name in ("derived.pl", "compare.pl")]
     goal = ("current_prolog_flag(argv, Fs), forall(member(F, Fs), load_files(F, [silent(true)])), "
             "forall(( member(F, Fs), source_file(user:H, F), functor(H, N, A), "
             "\\+ sub_atom(N, 0, _, _, planerel_) ), (write(N/A), nl))")
     out = subprocess.run(["swipl", "-q", "-g", goal, "-t", "halt", "--", *files],
                          capture_output=True, text=True, timeout=60, check=True).stdout
     found = {(ln.split("/")[0], int(ln.split("/")[1])) for ln in out.split()}
-    assert found == set(P.DERIVED_PREDICATES)
+    assert found == set(DERIVED_PREDICATES)
 
 
 def test_model_header_with_a_non_utf8_path_is_written_as_ascii():

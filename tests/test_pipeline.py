@@ -13,7 +13,10 @@ import pytest
 
 from planerel.cli import main
 from planerel.errors import DependencyError, InputError, LearnerError, PrologError
+from planerel.ilp import metrics as M
 from planerel.ilp import pipeline as P
+from planerel.ilp import scenes as S
+from planerel.ilp.prolog import support_files
 from planerel.synth.generator import generate_dataset
 
 
@@ -27,7 +30,7 @@ def small_set(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def gt_descs(small_set):
-    descs, skipped = P.describe_scenes(small_set, method="gt", jobs=1, cache="none")
+    descs, skipped = S.describe_scenes(small_set, method="gt", jobs=1, cache="none")
     assert not skipped
     return descs
 
@@ -78,17 +81,17 @@ def test_rules_from_ground_truth_planes_are_relational(gt_descs):
 
 def test_stratified_folds_balance_classes():
     labels = ["a"] * 7 + ["b"] * 5 + ["c"] * 3
-    folds = P.stratified_folds(labels, 5, seed=1)
-    assert folds == P.stratified_folds(labels, 5, seed=1)
+    folds = M.stratified_folds(labels, 5, seed=1)
+    assert folds == M.stratified_folds(labels, 5, seed=1)
     sizes = np.bincount(folds, minlength=5)
     assert sizes.max() - sizes.min() <= 1
     for k in "abc":
         per = np.bincount([f for f, lab in zip(folds, labels, strict=True) if lab == k], minlength=5)
         assert per.max() - per.min() <= 1
     with pytest.raises(InputError, match="folds"):
-        P.stratified_folds(labels, 1)
+        M.stratified_folds(labels, 1)
     with pytest.raises(InputError, match="at most 15"):
-        P.stratified_folds(labels, 16)
+        M.stratified_folds(labels, 16)
 
 
 def test_cross_validation_is_deterministic(gt_descs):
@@ -124,7 +127,7 @@ def test_learn_cli_then_classify_cli(small_set, tmp_path, capsys):
     # the model loads by itself with the support predicates, without warnings
     import subprocess
 
-    support = [str(p) for p in P.support_files()]
+    support = [str(p) for p in support_files()]
     r = subprocess.run(["swipl", "-q", "--on-warning=status", "--on-error=status", "-g",
                         "maplist(consult, [" + ", ".join(f"'{s}'" for s in support + [str(model / 'rules.pl')]) + "])",
                         "-t", "halt"], capture_output=True, text=True, timeout=60)
@@ -389,11 +392,11 @@ def test_real_aleph_learns_the_task(gt_descs):
 
 def test_describe_uses_cache(small_set, tmp_path):
     cache = tmp_path / "segcache"
-    a, _ = P.describe_scenes(small_set, method="regiongrow", jobs=1, cache=cache)
+    a, _ = S.describe_scenes(small_set, method="regiongrow", jobs=1, cache=cache)
     files = sorted((cache / "seg").glob("*.npy"))
     assert len(files) == 12
     stamp = [f.stat().st_mtime_ns for f in files]
-    b, _ = P.describe_scenes(small_set, method="regiongrow", jobs=2, cache=cache)
+    b, _ = S.describe_scenes(small_set, method="regiongrow", jobs=2, cache=cache)
     assert [f.stat().st_mtime_ns for f in sorted((cache / "seg").glob("*.npy"))] == stamp
     assert [d.scene_id for d in a] == [d.scene_id for d in b]
     assert [[o.planes for o in d.objects] for d in a] == [[o.planes for o in d.objects] for d in b]
@@ -403,7 +406,7 @@ def test_describe_uses_cache(small_set, tmp_path):
 def test_score_objects_counts_other_as_an_answer():
     ex = [("a", "box"), ("b", "other"), ("c", "ramp"), ("d", "other"), ("e", "stairs")]
     pred = {"a": "box", "b": "other", "c": "box", "d": "ramp", "e": "other"}
-    res = P.score_objects(ex, pred, ("box", "stairs", "ramp"))
+    res = M.score_objects(ex, pred, ("box", "stairs", "ramp"))
     # class objects a, c, e: only a right
     assert res["accuracy"] == pytest.approx(1 / 3) and res["n_examples"] == 3
     assert res["confusion"] == [[1, 0, 0, 0], [0, 0, 0, 1], [1, 0, 0, 0]]

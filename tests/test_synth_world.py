@@ -268,7 +268,8 @@ def test_every_object_is_an_example_with_its_class(varied_set, tmp_path):
 
 
 def test_cross_validation_tests_other_objects_apart(varied_set):
-    from planerel.ilp.pipeline import cross_validate, describe_scenes
+    from planerel.ilp.pipeline import cross_validate
+    from planerel.ilp.scenes import describe_scenes
 
     descs, _ = describe_scenes(varied_set, method="gt", cache="none", progress=False)
     truth = {o.id: o.klass for d in descs for o in d.objects if o.klass}  # fair examples

@@ -19,13 +19,21 @@ from pathlib import Path
 
 import numpy as np
 
-from planerel.errors import DependencyError, InputError, PrologError
+from planerel.errors import InputError, PrologError
 from planerel.features.terms import Term
+from planerel.ilp.prolog import (
+    load_file,
+    load_support,
+    model_vocabulary,
+    pl_path,
+    query,
+    unload_file,
+)
 
 __all__ = ["Classifier", "ObjectAnswer", "SceneAnswer", "explanation_image", "classify_dataset",
            "OTHER", "UNKNOWN"]
 
-#: The answer "none of the classes" (see :func:`planerel.ilp.pipeline.choose_class`).
+#: The answer "none of the classes" (see :func:`planerel.ilp.metrics.choose_class`).
 OTHER = "other"
 #: Former name of :data:`OTHER`.
 UNKNOWN = OTHER
@@ -112,47 +120,7 @@ class SceneAnswer:
                 "seconds": round(self.seconds, 4)}
 
 
-def _prolog():
-    """The process's pyswip engine (created once)."""
-    global _PROLOG
-    if _PROLOG is None:
-        try:
-            from pyswip import Prolog
-        except Exception as exc:  # pyswip raises plain exceptions when libswipl is missing
-            raise DependencyError(
-                f"pyswip cannot load SWI-Prolog ({exc}); install it with: "
-                "sudo apt-get install swi-prolog-nox") from None
-        _PROLOG = Prolog()
-    return _PROLOG
-
-
-_PROLOG = None
-_LOADED_SUPPORT = False
 _MODEL_NUMBERS = itertools.count(1)
-
-
-def _pl_path(path) -> str:
-    """A file path as a quoted Prolog atom."""
-    from planerel.features.terms import atom
-
-    return atom(str(Path(path).resolve()))
-
-
-def _query(goal: str, what: str) -> list[dict]:
-    try:
-        return list(_prolog().query(goal))
-    except Exception as exc:  # pyswip.prolog.PrologError and friends
-        raise PrologError(f"{what}: {exc}") from None
-
-
-def _load_support() -> None:
-    global _LOADED_SUPPORT
-    if not _LOADED_SUPPORT:
-        from planerel.ilp.pipeline import support_files
-
-        for f in support_files():
-            _query(f"load_files({_pl_path(f)}, [silent(true)])", f"cannot load {f.name}")
-        _LOADED_SUPPORT = True
 
 
 class Classifier:
@@ -193,7 +161,6 @@ class Classifier:
     def __init__(self, rules, *, method: str | None = None, seg_params: dict | None = None):
         from planerel.features.terms import atom, plist
         from planerel.ilp.model_settings import read_settings, with_overrides
-        from planerel.ilp.pipeline import model_vocabulary
 
         path = Path(rules)
         if path.is_dir() and (path / "rules.pl").is_file():
@@ -209,9 +176,9 @@ class Classifier:
         self.seg_params = dict(self.settings.seg_params)
         self._describe_kw = self.settings.describe_kwargs()
         self.module = f"planerel_model_{next(_MODEL_NUMBERS)}"
-        _load_support()
+        load_support()
         vocab = plist([Term(f"{atom(n)}/{a}") for n, a in model_vocabulary()])
-        answer = _query(f"planerel_load_model({self.module}, {_pl_path(path)}, {vocab}, S), "
+        answer = query(f"planerel_load_model({self.module}, {pl_path(path)}, {vocab}, S), "
                         "(S = error(L, M) -> true ; L = 0, M = '')",
                         f"{path}: cannot read the model")[0]
         if _text(answer["M"]):
@@ -220,9 +187,9 @@ class Classifier:
             if msg.startswith("syntax error"):
                 raise PrologError(f"{where}: not a valid rules file: {msg}")
             raise InputError(f"{where}: {msg}")
-        self.classes = tuple(dict.fromkeys(_text(r["C"]) for r in _query(
+        self.classes = tuple(dict.fromkeys(_text(r["C"]) for r in query(
             f"{self.module}:planerel_rule(_, C, _, _, _, _)", "reading the model")))
-        self.stats = tuple((int(r["I"]), _text(r["C"]), int(r["TP"]), int(r["FP"])) for r in _query(
+        self.stats = tuple((int(r["I"]), _text(r["C"]), int(r["TP"]), int(r["FP"])) for r in query(
             f"{self.module}:planerel_stats(I, C, TP, FP)", "reading the rule statistics"))
         if not self.classes:
             raise InputError(f"{path}: the model has no rules")
@@ -230,7 +197,7 @@ class Classifier:
     def close(self) -> None:
         """Forget this model's rules (the classifier cannot be used afterwards)."""
         if getattr(self, "module", None):
-            _query(f"planerel_unload_model({self.module})", "unloading the model")
+            query(f"planerel_unload_model({self.module})", "unloading the model")
             self.module = None
 
     def __enter__(self) -> Classifier:
@@ -249,7 +216,8 @@ class Classifier:
         """
         from planerel.features.facts import FactParams, describe_scene, facts_text
         from planerel.ilp.aleph_export import PAIRS
-        from planerel.ilp.pipeline import choose_class, laplace, segment_cached
+        from planerel.ilp.metrics import choose_class, laplace
+        from planerel.ilp.scenes import segment_cached
 
         if not self.module:
             raise InputError(f"{self.rules_path}: this classifier was closed")
@@ -268,10 +236,10 @@ class Classifier:
                 fh.write(text)
                 facts = Path(fh.name)
             try:
-                _query(f"load_files({_pl_path(facts)}, [silent(true)])", "cannot load the scene facts")
+                load_file(facts, "cannot load the scene facts")
                 for o in desc.objects:
                     hits = []
-                    for r in _query(f"planerel_explain_text({self.module}, {_obj_atom(o.id)}, "
+                    for r in query(f"planerel_explain_text({self.module}, {_obj_atom(o.id)}, "
                                     "C, I, B, T)",
                                     f"classifying {o.id}"):
                         binds = dict(line.split("\t", 1) for line in _text(r["B"]).splitlines()
@@ -292,7 +260,7 @@ class Classifier:
                                                     proof, fired, index, laplace(tp, fp),
                                                     o.planar_fraction, o.curved))
             finally:
-                _query(f"unload_file({_pl_path(facts)})", "cannot unload the scene facts")
+                unload_file(facts, "cannot unload the scene facts")
                 facts.unlink(missing_ok=True)
         return SceneAnswer(cloud.source, scene_id, labels, plane_ids, tuple(answers),
                            desc.planes.up_source, time.perf_counter() - t0,
@@ -357,7 +325,7 @@ def classify_dataset(classifier: Classifier, dataset_dir, *, out_dir=None,
     import sys
 
     from planerel.features.dataset import iter_scenes
-    from planerel.ilp.pipeline import accuracy_scores, confusion_matrix
+    from planerel.ilp.metrics import accuracy_scores, confusion_matrix
 
     rows = []
     times = []

@@ -440,7 +440,7 @@ def check_class_names(classes) -> None:
     InputError
         Naming the first such class.
     """
-    from planerel.ilp.pipeline import model_vocabulary
+    from planerel.ilp.prolog import model_vocabulary
 
     vocab = {n for n, _ in model_vocabulary()}
     for c in classes:
@@ -462,18 +462,15 @@ def _reserved_names(names: tuple) -> list:
 
     from planerel.children import child_preexec
     from planerel.errors import DependencyError
-    from planerel.ilp.learn import find_swipl
-    from planerel.ilp.pipeline import support_files
+    from planerel.ilp.prolog import find_swipl, swipl_command
 
     try:
         exe = find_swipl()
     except DependencyError:
         return []
-    classify_pl = [str(p) for p in support_files() if p.name == "classify.pl"][0]
-    goal = ("current_prolog_flag(argv, [F|Names]), load_files(F, [silent(true)]), "
-            "forall(( member(N, Names), planerel_reserved_class(N) ), writeln(N))")
+    goal = "forall(( member(N, Args), planerel_reserved_class(N) ), writeln(N))"
     try:
-        proc = subprocess.run([exe, "-q", "-g", goal, "-t", "halt", "--", classify_pl, *names],
+        proc = subprocess.run(swipl_command(goal, names, exe=exe),
                               capture_output=True, text=True, timeout=60, check=False,
                               preexec_fn=child_preexec(60))
     except (OSError, subprocess.TimeoutExpired):

@@ -34,7 +34,6 @@ from __future__ import annotations
 import dataclasses
 import os
 import re
-import shutil
 import signal
 import subprocess
 import time
@@ -42,13 +41,13 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from planerel.errors import DependencyError, InputError, LearnerError
+from planerel.ilp.prolog import find_swipl, swipl_command
 
 __all__ = [
     "Confusion",
     "LearnResult",
     "ENGINES",
     "learn",
-    "find_swipl",
     "find_aleph",
     "aleph_kind",
     "format_report",
@@ -57,7 +56,6 @@ __all__ = [
 ]
 
 ENGINES = ("builtin", "aleph", "auto")
-SWIPL_INSTALL = "sudo apt-get install swi-prolog-nox"
 _SETTING_NAME = re.compile(r"^[a-z][a-zA-Z0-9_]*$")
 
 
@@ -180,26 +178,6 @@ class LearnResult:
         return self.clauses_explored / secs
 
 
-def find_swipl(swipl: str | None = None) -> str:
-    """The ``swipl`` executable to use.
-
-    Raises
-    ------
-    DependencyError
-        When SWI-Prolog is not installed (the message gives the apt command).
-    """
-    if swipl is not None:
-        found = shutil.which(swipl)
-        if found is None:
-            raise DependencyError(f"SWI-Prolog executable {swipl!r} not found; install SWI-Prolog "
-                                  f"with: {SWIPL_INSTALL}")
-        return found
-    found = shutil.which("swipl")
-    if found is None:
-        raise DependencyError(f"SWI-Prolog (swipl) is not installed; install it with: {SWIPL_INSTALL}")
-    return found
-
-
 _MODULE_DECL = re.compile(rb"^\s*:-\s*module\(\s*aleph\s*,", re.MULTILINE)
 
 
@@ -238,7 +216,8 @@ def find_aleph(swipl: str | None = None) -> tuple[str, str] | None:
     goal = ("(absolute_file_name(library(aleph), _, [file_type(prolog), access(read), "
             "file_errors(fail)]) -> halt(0) ; halt(1))")
     try:
-        proc = subprocess.run([exe, "-q", "-g", goal, "-t", "halt(1)"], capture_output=True,
+        proc = subprocess.run(swipl_command(goal, exe=exe, support=False, halt="halt(1)"),
+                              capture_output=True,
                               timeout=30, check=False)
     except (OSError, subprocess.TimeoutExpired):
         return None
@@ -466,8 +445,8 @@ def learn(
             detail += "; the real Aleph was not found (PLANEREL_ALEPH unset, no library(aleph))"
         resource = files("planerel.aleph").joinpath("learner.pl")
         with as_file(resource) as pl:
-            cmd = [exe, "-q", "-g", "planerel_learner:planerel_main", "-t", "halt(3)", str(pl),
-                   "--", abs_stem, *set_args]
+            cmd = swipl_command("planerel_learner:planerel_main", [abs_stem, *set_args],
+                                exe=exe, support=False, scripts=[pl], halt="halt(3)")
             code, out, err, secs = run_process(cmd, timeout, f"the builtin learner on {stem_text}",
                                                on_progress=progress)
         rules, train, test, nodes, cputime, log, warns = _parse(out, err, code, "the builtin learner")
@@ -481,7 +460,8 @@ def learn(
 
         with temp_dir("aleph") as tmp, as_file(resource) as pl:
             rules_file = str(Path(tmp) / "rules.pl")
-            cmd = [exe, "-q", str(pl), "--", kind, where, abs_stem, rules_file, *set_args]
+            cmd = swipl_command(None, [kind, where, abs_stem, rules_file, *set_args], exe=exe,
+                                support=False, scripts=[pl], halt=None)
             code, out, err, secs = run_process(cmd, timeout, f"Aleph on {stem_text}",
                                         cwd=str(Path(abs_stem).parent))
         rules, train, test, nodes, cputime, log, warns = _parse(out, err, code, "Aleph")

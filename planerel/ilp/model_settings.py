@@ -100,7 +100,7 @@ class ModelSettings:
 def training_settings(method: str, seg_params: dict | None, *, rule_stats=()) -> dict:
     """The content of ``model.json`` for a model learned with these settings (the description
     parameters are the defaults ``planerel learn`` describes scenes with)."""
-    from planerel.ilp.pipeline import laplace
+    from planerel.ilp.metrics import laplace
 
     seg_params = dict(seg_params or {})
     return {

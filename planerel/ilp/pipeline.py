@@ -11,214 +11,40 @@ which says for every object which rules prove which class (:func:`prolog_predict
 
 from __future__ import annotations
 
-import functools
-import hashlib
-import json
-import os
 import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-import numpy as np
-
 from planerel.children import temp_dir
 from planerel.errors import InputError, PrologError
+from planerel.ilp.metrics import (
+    OTHER,
+    accuracy_scores,
+    choose_class,
+    confusion_columns,
+    laplace,
+    score_objects,
+    stratified_folds,
+)
+from planerel.ilp.scenes import describe_scenes
 
 __all__ = [
     "DEFAULT_CLASSES",
     "Prediction",
     "Model",
-    "cache_dir",
-    "segment_cached",
-    "describe_scenes",
     "learn_rules",
     "prolog_predict",
-    "choose_class",
-    "laplace",
     "OTHER",
-    "stratified_folds",
     "cross_validate",
-    "score_objects",
     "held_out_scores",
     "learn_model",
     "evaluate_learning",
-    "support_files",
-    "model_vocabulary",
-    "DERIVED_PREDICATES",
-    "confusion_matrix",
-    "confusion_columns",
-    "accuracy_scores",
     "draw_confusion",
 ]
 
 DEFAULT_CLASSES = ("box", "stairs", "ramp")
-#: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
-#: than right on the training objects (the class of the varied world's clutter, too).
-OTHER = "other"
-#: Former name of :data:`OTHER` (the answer used to be ``"unknown"``).
-UNKNOWN = OTHER
-#: Support predicates loaded with every model, in order (package ``planerel.prolog``).
-SUPPORT_FILES = ("compare.pl", "derived.pl", "classify.pl")
-#: The predicates ``derived.pl`` and ``compare.pl`` define for rules (name, arity).
-DERIVED_PREDICATES = (("horizontal", 1), ("vertical", 1), ("inclined", 1), ("object_plane", 3),
-                      ("step_up", 2), ("lteq", 2), ("gteq", 2))
-
-
-# ----------------------------------------------------------------------------- caching
-
-
-def cache_dir(path=None) -> Path | None:
-    """The segmentation cache folder: ``path``, else ``$PLANEREL_CACHE``, else
-    ``~/.cache/planerel``.  ``"none"`` / ``""`` disables caching (returns None)."""
-    value = path if path is not None else os.environ.get("PLANEREL_CACHE")
-    if value is None:
-        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-        return Path(base) / "planerel"
-    if str(value).lower() in ("", "none", "off"):
-        return None
-    return Path(value)
-
-
-@functools.lru_cache(maxsize=1)
-def _segmentation_code_hash() -> str:
-    """Hash of the source of the segmentation code (planerel/segment/, normals included), so that a
-    cache written by other code -- an edited checkout, another version -- is never read back."""
-    root = Path(__file__).resolve().parents[1]  # the planerel package folder
-    h = hashlib.sha256()
-    for f in sorted((root / "segment").glob("*.py")):
-        h.update(f.name.encode())
-        h.update(f.read_bytes())
-    return h.hexdigest()[:16]
-
-
-def _seg_key(files: Sequence[Path], method: str, params: dict) -> str:
-    from planerel._version import __version__
-
-    h = hashlib.sha256()
-    for f in files:
-        h.update(f.name.encode())
-        h.update(Path(f).read_bytes())
-    h.update(json.dumps([method, sorted((k, repr(v)) for k, v in params.items()), __version__,
-                         _segmentation_code_hash()]).encode())
-    return h.hexdigest()[:32]
-
-
-def segment_cached(cloud, *, method: str = "regiongrow", params: dict | None = None,
-                   files: Sequence[Path] = (), cache: Path | None = None) -> np.ndarray:
-    """Segment ``cloud``; with ``files`` (the inputs it was read from) and a ``cache`` folder,
-    the labels are stored under a key of the files' content, the method, its parameters and
-    planerel's version, and a second call reads them back instead of segmenting.
-
-    Returns
-    -------
-    labels : ndarray, shape (H, W), int32
-    """
-    from planerel.segment import segment
-
-    params = dict(params or {})
-    path = None
-    if cache is not None and files:
-        path = Path(cache) / "seg" / f"{_seg_key([Path(f) for f in files], method, params)}.npy"
-        if path.is_file():
-            try:
-                labels = np.load(path, allow_pickle=False)
-                if labels.shape == cloud.shape and labels.dtype == np.int32:
-                    return labels
-            except (OSError, ValueError):
-                pass  # a damaged cache entry is recomputed and replaced
-    labels = segment(cloud, method, **params).labels
-    if path is not None:
-        from planerel.io.writers import write_labels_npy
-
-        try:
-            write_labels_npy(path, labels)
-        except (OSError, InputError):
-            pass  # an unwritable cache only costs time
-    return labels
-
-
-# ----------------------------------------------------------------------------- describing
-
-
-def _describe_one(job):
-    """Worker: load one data-set scene, segment (cached) and describe it with its
-    ground-truth object.  Top-level so that a process pool can run it."""
-    from planerel.features.dataset import describe_truth_scene, load_scene
-
-    dataset_dir, row, method, params, cache = job
-    cloud, gt, meta = load_scene(dataset_dir, row.scene_id)
-    if gt is None:
-        raise InputError(f"{dataset_dir}: scene {row.scene_id} has no ground-truth labels, so "
-                         "its object (the training example) is unknown")
-    if method == "gt":
-        labels = gt
-    else:
-        files = [Path(dataset_dir) / row.depth, Path(dataset_dir) / row.meta]
-        labels = segment_cached(cloud, method=method, params=params, files=files, cache=cache)
-    return describe_truth_scene(cloud, labels, gt, meta, row.scene_id, row.klass)
-
-
-def _progress(iterable, total: int, desc: str, enabled: bool | None):
-    if enabled is None:
-        enabled = sys.stderr.isatty()
-    if not enabled:
-        return iterable
-    from tqdm import tqdm
-
-    return tqdm(iterable, total=total, desc=desc, unit="scene", leave=False)
-
-
-def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
-                    method: str = "regiongrow", seg_params: dict | None = None,
-                    jobs: int | None = 1, cache=None, progress: bool | None = None,
-                    scheduler=None):
-    """Segment and describe every scene of a data set, its ground-truth object as the example.
-
-    Parameters
-    ----------
-    dataset_dir : path
-        A data set in planerel's format (``planerel dataset synth``).
-    classes : sequence of str, optional
-        Keep only scenes of these classes.
-    method : str
-        ``"regiongrow"``, ``"sp"``, ``"snp"``, or ``"gt"`` for the ground-truth planes.
-    seg_params : dict, optional
-        Segmentation parameters.
-    jobs : int or None
-        Worker processes (None: all cores).  Results are in data-set order whatever the value.
-    scheduler : str or distributed.Client, optional
-        A Dask scheduler to run the scenes on instead (:func:`planerel.batch.make_executor`).
-    cache : path, optional
-        Segmentation cache (default :func:`cache_dir`); ``"none"`` disables it.
-
-    Returns
-    -------
-    descs : list of SceneDescription
-    skipped : list of str
-        Scenes whose object kept no measured plane, with the reason.
-    """
-    from planerel.features.dataset import load_manifest
-
-    rows = list(load_manifest(dataset_dir))
-    if classes is not None:
-        unknown = sorted(set(classes) - {r.klass for r in rows})
-        if unknown:
-            raise InputError(f"{dataset_dir}: no scene of class {', '.join(unknown)}")
-        rows = [r for r in rows if r.klass in classes]
-    if not rows:
-        raise InputError(f"{dataset_dir}: the data set has no scenes")
-    folder = cache_dir(cache) if cache is None or isinstance(cache, (str, Path)) else None
-    jobs_list = [(str(dataset_dir), r, method, dict(seg_params or {}), folder) for r in rows]
-    from planerel.batch import resolve_jobs, run_batch
-
-    n_jobs = resolve_jobs(jobs) if scheduler is None and len(rows) > 4 else 1
-    descs = [d for _, d in run_batch(_describe_one, jobs_list, jobs=n_jobs, scheduler=scheduler,
-                                     label=lambda j: f"{j[0]}: scene {j[1].scene_id}",
-                                     desc="describing", progress=progress)]
-    skipped = [f"{d.scene_id}: no plane of its object was measured" for d in descs if not d.objects]
-    return descs, skipped
 
 
 # ----------------------------------------------------------------------------- learning
@@ -377,14 +203,6 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
 # ----------------------------------------------------------------------------- logic queries
 
 
-def support_files() -> list[Path]:
-    """Paths of the support predicates (``prolog/*.pl``) as installed."""
-    from importlib.resources import files
-
-    base = files("planerel.prolog")
-    return [Path(str(base / name)) for name in SUPPORT_FILES]
-
-
 @dataclass(frozen=True)
 class Prediction:
     """The answer of the rules for one object.
@@ -416,18 +234,9 @@ class Prediction:
         return [v for v in self.bindings.values() if "_p" in v]
 
 
-def model_vocabulary() -> list[tuple[str, int]]:
-    """What a model's rule bodies may call: the scene facts' vocabulary
-    (:data:`planerel.features.facts.PREDICATES`) and :data:`DERIVED_PREDICATES`, as (name, arity)."""
-    from planerel.features.facts import PREDICATES
-
-    return [(n, a) for n, a, _, _ in PREDICATES] + list(DERIVED_PREDICATES)
-
-
-# The goal text is constant: every path reaches swipl as data (argv), never inside a goal.
-_PREDICT_GOAL = ("current_prolog_flag(argv, Files), append(Support, [Facts, Rules, Data], Files), "
-                 "forall(member(F, Support), load_files(F, [silent(true)])), "
-                 "planerel_predict_main(Facts, Rules, Data)")
+# The goal text is constant: every path reaches swipl as data (argv), never inside a goal; the
+# support files come first (the bridge's loading rule, planerel.ilp.prolog).
+_PREDICT_GOAL = "Args = [Facts, Rules, Data], planerel_predict_main(Facts, Rules, Data)"
 
 
 def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
@@ -435,9 +244,9 @@ def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
     from planerel.features.facts import FactParams, facts_text
     from planerel.features.terms import Term, atom, plist
     from planerel.ilp.aleph_export import PAIRS
-    from planerel.ilp.learn import find_swipl, run_process
+    from planerel.ilp.learn import run_process
+    from planerel.ilp.prolog import model_vocabulary, swipl_command
 
-    swipl = find_swipl()
     with temp_dir("predict") as tmp:
         facts = Path(tmp) / "facts.pl"
         facts.write_text(facts_text(descs, FactParams(pairs=PAIRS, planner=False)))
@@ -446,9 +255,8 @@ def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
         data = Path(tmp) / "objects.pl"
         vocab = plist([Term(f"{atom(n)}/{a}") for n, a in model_vocabulary()])
         data.write_text(plist([atom(o) for o in object_ids]) + ".\n" + vocab + ".\n")
-        files = [str(p) for p in support_files()] + [str(facts), str(rules), str(data)]
-        cmd = [swipl, "-q", "--on-error=status", "--on-warning=status", "-g", _PREDICT_GOAL,
-               "-t", "halt", "--", *files]
+        cmd = swipl_command(_PREDICT_GOAL, [facts, rules, data],
+                            flags=("--on-error=status", "--on-warning=status"))
         code, out, err, _ = run_process(cmd, timeout, "the rule query")
     if code == 2:
         errors = [ln[len("error: "):] for ln in err.splitlines() if ln.startswith("error: ")]
@@ -561,36 +369,6 @@ def rule_stats(model: Model, descs, *, timeout: float = 120.0) -> tuple:
     return tuple((i, k, counts[i][0], counts[i][1]) for i, k in index_class)
 
 
-def laplace(tp: int, fp: int) -> float:
-    """Laplace estimate of a rule's precision, ``(tp + 1) / (tp + fp + 2)``."""
-    return (tp + 1) / (tp + fp + 2)
-
-
-def choose_class(hits, stats: Sequence, classes: Sequence[str]):
-    """Pick one answer among the rules that fired (an open-set decision for one object).
-
-    A rule's precision is its Laplace estimate :func:`laplace` on the training objects
-    (``stats``, stored in the model; the ``other`` objects a rule covers count as its false
-    positives).  A rule that was wrong at least as often as right in training (``fp >= tp``,
-    ``fp > 0``: precision at most 0.5) does not count: an object it proves is at least as likely
-    *not* of its class.  Of the rest, the highest precision wins; ties go to the rule that
-    covered more training objects, then to the earlier class and rule.  Class frequencies play
-    no part.  A rule without statistics (hand-written rules) counts with precision 0.5.  No rule
-    left: ``None``, the answer :data:`OTHER` (none of the classes).
-    """
-    table = {i: (tp, fp) for i, _, tp, fp in stats}
-    order = {k: n for n, k in enumerate(classes)}
-    kept = []
-    for hit in hits:
-        tp, fp = table.get(hit[1], (0, 0))
-        if fp > 0 and fp >= tp:
-            continue
-        kept.append((-laplace(tp, fp), -tp, order.get(hit[0], len(order)), hit[1], hit))
-    if not kept:
-        return None
-    return min(kept, key=lambda t: t[:4])[-1]
-
-
 def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None, *,
                    timeout: float = 120.0) -> list[Prediction]:
     """Classify objects by logic query: which rules of ``model`` prove which class.
@@ -627,55 +405,6 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
             tp_fp = {i: (tp, fp) for i, _, tp, fp in model.stats}.get(index, (0, 0))
             out.append(Prediction(o, klass, text, index, binds, fired_pairs, laplace(*tp_fp)))
     return out
-
-
-# ----------------------------------------------------------------------------- evaluation
-
-
-def stratified_folds(labels: Sequence[str], k: int, seed: int = 0) -> list[int]:
-    """Fold number (0..k-1) of every example: each class is shuffled with ``seed`` and dealt
-    round-robin, continuing where the previous class stopped, so folds differ in size by at
-    most one and every class is spread as evenly as it can be."""
-    if isinstance(k, bool) or not isinstance(k, int) or k < 2:
-        raise InputError(f"the number of folds must be an integer >= 2, got {k!r}")
-    if k > len(labels):
-        raise InputError(f"{k} folds for {len(labels)} examples: use at most {len(labels)} folds")
-    rng = np.random.default_rng(seed)
-    fold = [0] * len(labels)
-    nxt = 0
-    for klass in sorted(set(labels)):
-        idx = [i for i, lab in enumerate(labels) if lab == klass]
-        for i in rng.permutation(idx):
-            fold[int(i)] = nxt % k
-            nxt += 1
-    return fold
-
-
-def confusion_columns(classes: Sequence[str]) -> list[str]:
-    """The predicted-class columns of a confusion matrix: ``classes``, then ``other`` (once,
-    also when ``other`` is a true class of the rows)."""
-    return list(classes) + ([] if OTHER in classes else [OTHER])
-
-
-def confusion_matrix(truth: Sequence[str], pred: Sequence[str], classes: Sequence[str]):
-    """Rows: true class (``classes`` order); columns: predicted, ``other`` last
-    (:func:`confusion_columns`)."""
-    cols = confusion_columns(classes)
-    m = [[0] * len(cols) for _ in classes]
-    for t, p in zip(truth, pred, strict=True):
-        m[list(classes).index(t)][cols.index(p if p in cols else OTHER)] += 1
-    return m
-
-
-def accuracy_scores(truth, pred, classes):
-    """Overall accuracy and ``{class: accuracy}`` (None for a class with no example)."""
-    n = len(truth)
-    acc = sum(t == p for t, p in zip(truth, pred, strict=True)) / n if n else 0.0
-    per = {}
-    for k in classes:
-        idx = [i for i, t in enumerate(truth) if t == k]
-        per[k] = sum(pred[i] == k for i in idx) / len(idx) if idx else None
-    return acc, per
 
 
 def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int = 0,
@@ -776,50 +505,6 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
     out = score_objects(all_examples, predictions, classes)
     out.update(folds=fold_reports, predictions=predictions, k=folds, seed=seed,
                excluded=excluded_counts(descs))
-    return out
-
-
-def score_objects(examples: Sequence, predictions: dict, classes: Sequence[str]) -> dict:
-    """Score the answers for objects of known class.
-
-    Parameters
-    ----------
-    examples : sequence of (object id, true class)
-        Class objects and ``other`` objects (none of the classes; others are ignored).
-    predictions : dict
-        ``{object id: answer}`` for every example.
-    classes : sequence of str
-
-    Returns
-    -------
-    dict
-        ``accuracy``, ``per_class``, ``classes``, ``confusion`` and ``n_examples`` over the
-        class objects; with ``other`` objects also ``other`` ({n, rejected: share answered
-        ``other``, predicted: {answer: n}}), ``open_set_accuracy`` (all objects, ``other``
-        right when answered ``other``), ``open_set_per_class`` and ``open_set_confusion``
-        (rows and columns ``classes`` then ``other``).
-    """
-    from planerel.ilp.aleph_export import OTHER as OTHER_CLASS
-
-    examples = [(o, k) for o, k in examples if k in classes or k == OTHER_CLASS]
-    kept = [(o, k) for o, k in examples if k in classes]
-    truth = [k for _, k in kept]
-    pred = [predictions[o] for o, _ in kept]
-    acc, per = accuracy_scores(truth, pred, classes)
-    out = {"accuracy": acc, "per_class": per, "classes": list(classes),
-           "confusion": confusion_matrix(truth, pred, classes), "n_examples": len(kept)}
-    others = [o for o, k in examples if k == OTHER_CLASS]
-    if others:
-        got = [predictions[o] for o in others]
-        counts = {k: got.count(k) for k in [*classes, OTHER] if got.count(k)}
-        rejected = got.count(OTHER)
-        out["other"] = {"n": len(others), "rejected": rejected / len(others), "predicted": counts}
-        right = sum(t == p for t, p in zip(truth, pred, strict=True)) + rejected
-        out["open_set_accuracy"] = right / (len(kept) + len(others))
-        rows = [*classes, OTHER]
-        all_truth, all_pred = truth + [OTHER] * len(others), pred + got
-        out["open_set_per_class"] = accuracy_scores(all_truth, all_pred, rows)[1]
-        out["open_set_confusion"] = confusion_matrix(all_truth, all_pred, rows)
     return out
 
 

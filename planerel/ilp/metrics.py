@@ -1,0 +1,152 @@
+"""Answers in, scores out: the open-set decision among the rules that fired (:func:`choose_class`,
+by the Laplace precision of :func:`laplace`), stratified folds, confusion matrices and
+accuracies (:func:`score_objects`).  Plain arithmetic on labels; no Prolog, no files.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from planerel.errors import InputError
+
+__all__ = ["OTHER", "laplace", "choose_class", "stratified_folds", "confusion_columns",
+           "confusion_matrix", "accuracy_scores", "score_objects"]
+
+#: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
+#: than right on the training objects (the class of the varied world's clutter, too).
+OTHER = "other"
+#: Former name of :data:`OTHER` (the answer used to be ``"unknown"``).
+UNKNOWN = OTHER
+
+
+
+
+
+
+def laplace(tp: int, fp: int) -> float:
+    """Laplace estimate of a rule's precision, ``(tp + 1) / (tp + fp + 2)``."""
+    return (tp + 1) / (tp + fp + 2)
+
+
+def choose_class(hits, stats: Sequence, classes: Sequence[str]):
+    """Pick one answer among the rules that fired (an open-set decision for one object).
+
+    A rule's precision is its Laplace estimate :func:`laplace` on the training objects
+    (``stats``, stored in the model; the ``other`` objects a rule covers count as its false
+    positives).  A rule that was wrong at least as often as right in training (``fp >= tp``,
+    ``fp > 0``: precision at most 0.5) does not count: an object it proves is at least as likely
+    *not* of its class.  Of the rest, the highest precision wins; ties go to the rule that
+    covered more training objects, then to the earlier class and rule.  Class frequencies play
+    no part.  A rule without statistics (hand-written rules) counts with precision 0.5.  No rule
+    left: ``None``, the answer :data:`OTHER` (none of the classes).
+    """
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    order = {k: n for n, k in enumerate(classes)}
+    kept = []
+    for hit in hits:
+        tp, fp = table.get(hit[1], (0, 0))
+        if fp > 0 and fp >= tp:
+            continue
+        kept.append((-laplace(tp, fp), -tp, order.get(hit[0], len(order)), hit[1], hit))
+    if not kept:
+        return None
+    return min(kept, key=lambda t: t[:4])[-1]
+
+
+
+
+# ----------------------------------------------------------------------------- evaluation
+
+
+def stratified_folds(labels: Sequence[str], k: int, seed: int = 0) -> list[int]:
+    """Fold number (0..k-1) of every example: each class is shuffled with ``seed`` and dealt
+    round-robin, continuing where the previous class stopped, so folds differ in size by at
+    most one and every class is spread as evenly as it can be."""
+    if isinstance(k, bool) or not isinstance(k, int) or k < 2:
+        raise InputError(f"the number of folds must be an integer >= 2, got {k!r}")
+    if k > len(labels):
+        raise InputError(f"{k} folds for {len(labels)} examples: use at most {len(labels)} folds")
+    rng = np.random.default_rng(seed)
+    fold = [0] * len(labels)
+    nxt = 0
+    for klass in sorted(set(labels)):
+        idx = [i for i, lab in enumerate(labels) if lab == klass]
+        for i in rng.permutation(idx):
+            fold[int(i)] = nxt % k
+            nxt += 1
+    return fold
+
+
+def confusion_columns(classes: Sequence[str]) -> list[str]:
+    """The predicted-class columns of a confusion matrix: ``classes``, then ``other`` (once,
+    also when ``other`` is a true class of the rows)."""
+    return list(classes) + ([] if OTHER in classes else [OTHER])
+
+
+def confusion_matrix(truth: Sequence[str], pred: Sequence[str], classes: Sequence[str]):
+    """Rows: true class (``classes`` order); columns: predicted, ``other`` last
+    (:func:`confusion_columns`)."""
+    cols = confusion_columns(classes)
+    m = [[0] * len(cols) for _ in classes]
+    for t, p in zip(truth, pred, strict=True):
+        m[list(classes).index(t)][cols.index(p if p in cols else OTHER)] += 1
+    return m
+
+
+def accuracy_scores(truth, pred, classes):
+    """Overall accuracy and ``{class: accuracy}`` (None for a class with no example)."""
+    n = len(truth)
+    acc = sum(t == p for t, p in zip(truth, pred, strict=True)) / n if n else 0.0
+    per = {}
+    for k in classes:
+        idx = [i for i, t in enumerate(truth) if t == k]
+        per[k] = sum(pred[i] == k for i in idx) / len(idx) if idx else None
+    return acc, per
+
+
+
+
+def score_objects(examples: Sequence, predictions: dict, classes: Sequence[str]) -> dict:
+    """Score the answers for objects of known class.
+
+    Parameters
+    ----------
+    examples : sequence of (object id, true class)
+        Class objects and ``other`` objects (none of the classes; others are ignored).
+    predictions : dict
+        ``{object id: answer}`` for every example.
+    classes : sequence of str
+
+    Returns
+    -------
+    dict
+        ``accuracy``, ``per_class``, ``classes``, ``confusion`` and ``n_examples`` over the
+        class objects; with ``other`` objects also ``other`` ({n, rejected: share answered
+        ``other``, predicted: {answer: n}}), ``open_set_accuracy`` (all objects, ``other``
+        right when answered ``other``), ``open_set_per_class`` and ``open_set_confusion``
+        (rows and columns ``classes`` then ``other``).
+    """
+    from planerel.ilp.aleph_export import OTHER as OTHER_CLASS
+
+    examples = [(o, k) for o, k in examples if k in classes or k == OTHER_CLASS]
+    kept = [(o, k) for o, k in examples if k in classes]
+    truth = [k for _, k in kept]
+    pred = [predictions[o] for o, _ in kept]
+    acc, per = accuracy_scores(truth, pred, classes)
+    out = {"accuracy": acc, "per_class": per, "classes": list(classes),
+           "confusion": confusion_matrix(truth, pred, classes), "n_examples": len(kept)}
+    others = [o for o, k in examples if k == OTHER_CLASS]
+    if others:
+        got = [predictions[o] for o in others]
+        counts = {k: got.count(k) for k in [*classes, OTHER] if got.count(k)}
+        rejected = got.count(OTHER)
+        out["other"] = {"n": len(others), "rejected": rejected / len(others), "predicted": counts}
+        right = sum(t == p for t, p in zip(truth, pred, strict=True)) + rejected
+        out["open_set_accuracy"] = right / (len(kept) + len(others))
+        rows = [*classes, OTHER]
+        all_truth, all_pred = truth + [OTHER] * len(others), pred + got
+        out["open_set_per_class"] = accuracy_scores(all_truth, all_pred, rows)[1]
+        out["open_set_confusion"] = confusion_matrix(all_truth, all_pred, rows)
+    return out
