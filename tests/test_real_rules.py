@@ -172,7 +172,7 @@ def test_round_part_cylinders_are_other_and_mostly_curved(tmp_path):
     cylinder of class ``other``; described, most cylinders come out curved (facets 360/16 =
     22.5 degrees apart fall in the facet range 5-50 of planerel.curved; far small ones show
     too few facets: 63 of 76 curved in 40 scenes), every box flat."""
-    from planerel.ilp.pipeline import describe_scenes
+    from planerel.ilp.scenes import describe_scenes
     from planerel.synth.training_world import generate_training_world
 
     world = generate_training_world(tmp_path / "w", paper=(0, 0, 0), room=(0, 0, 0), round_=6,
