@@ -44,7 +44,7 @@ DATA = ROOT.parent / "shared" / "data"
 def old_estimate_up(cloud, labels, max_tilt=45.0, min_points=50):
     """planerel's estimate before issue 15 (planes.py at d8db870): candidate normals within
     ``max_tilt`` of the camera's -y axis vote (5 deg), weighted by points and image row."""
-    from planerel.features.planes import _moments
+    from planerel.features.labels import _moments
 
     prior = np.array([0.0, -1.0, 0.0])
     xyz = cloud.xyz

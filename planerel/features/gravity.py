@@ -374,7 +374,7 @@ def _estimate(n, w, hw, params: GravityParams) -> UpEstimate:
 def _planes_from_labels(cloud, labels, params: GravityParams):
     """Oriented normals ``(K, 3)``, areas ``(K,)`` and offsets ``(K,)`` of the labelled regions
     that may vote."""
-    from planerel.features.planes import _moments, check_labels
+    from planerel.features.labels import _moments, check_labels
 
     xyz = cloud.xyz
     lab = check_labels(labels, xyz.shape[:2]).copy()

@@ -83,7 +83,6 @@ def absorb_fragments(cloud, seg: Segmentation, *, refine_factor: float = 3.0,
         kept their other pixels) and ``absorbed_unassigned`` (pixels of dissolved regions that
         fit no neighbour); ``seg`` itself (with those counts) when none was.
     """
-    from planerel.segment.merge import _touching_pairs
     from planerel.segment.split import _TEST_PIXELS
 
     n = seg.n_planes
@@ -210,3 +209,16 @@ def _facets(normal, pairs, n) -> np.ndarray:
             shallow[a] += 1
             shallow[b] += 1
     return shallow >= 2
+
+
+def _touching_pairs(labels, xyz, n: int, gap: int, jump: float) -> list[tuple[int, int]]:
+    """Sorted label pairs ``(a, b)``, ``a < b``, with pixels at most ``gap`` apart (Chebyshev
+    distance in the grid) whose points lie within ``jump * z`` metres of each other: the
+    relations' touching test (:func:`planerel.features.relations._touching`), run on the boundary pixels."""
+    from planerel.segment._label_kernels import label_boundary, touch_pairs
+
+    brow, bcol = np.nonzero(label_boundary(np.ascontiguousarray(labels, dtype=np.int32)))
+    m = touch_pairs(xyz, labels, brow.astype(np.int64), bcol.astype(np.int64), int(gap), 0.0,
+                    float(jump), np.ones(n, dtype=bool))
+    a, b = np.nonzero(np.triu(m, 1))
+    return list(zip(a.tolist(), b.tolist(), strict=True))

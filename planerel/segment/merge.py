@@ -33,7 +33,7 @@ import math
 import numpy as np
 
 from planerel.errors import InputError
-from planerel.segment.absorb import ABSORB_FRACTION
+from planerel.segment.absorb import ABSORB_FRACTION, _touching_pairs
 from planerel.segment.result import Segmentation, SegPlane, fit_planes
 
 __all__ = ["merge_coplanar"]
@@ -220,16 +220,3 @@ def _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par
     if ratio[j] > tolerance:
         return None
     return float(ratio[j]), int(A[j]), int(B[j]), v[j, :, 0]
-
-
-def _touching_pairs(labels, xyz, n: int, gap: int, jump: float) -> list[tuple[int, int]]:
-    """Sorted label pairs ``(a, b)``, ``a < b``, with pixels at most ``gap`` apart (Chebyshev
-    distance in the grid) whose points lie within ``jump * z`` metres of each other: the
-    relations' touching test (:func:`planerel.features.relations._touching`), run on the boundary pixels."""
-    from planerel.segment._label_kernels import label_boundary, touch_pairs
-
-    brow, bcol = np.nonzero(label_boundary(np.ascontiguousarray(labels, dtype=np.int32)))
-    m = touch_pairs(xyz, labels, brow.astype(np.int64), bcol.astype(np.int64), int(gap), 0.0,
-                    float(jump), np.ones(n, dtype=bool))
-    a, b = np.nonzero(np.triu(m, 1))
-    return list(zip(a.tolist(), b.tolist(), strict=True))
