@@ -244,6 +244,18 @@ def test_parse_settings():
         parse_settings(["=3"])
 
 
+def test_real_aleph_division_by_zero_is_explained():
+    # the driver's stderr line as the real aleph_orig.pl left it on 1,000 varied scenes
+    from planerel.ilp.learn import _parse
+
+    err = "error: error(evaluation_error(zero_divisor),context((/)/2,_14058))\n"
+    with pytest.raises(LearnerError, match=r"zero_divisor.*maxlength_neg_ok/4.*--engine builtin"):
+        _parse("", err, 1, "Aleph")
+    with pytest.raises(LearnerError) as caught:  # the builtin learner's failures get no Aleph hint
+        _parse("", err, 1, "planerel's learner")
+    assert "maxlength_neg_ok" not in str(caught.value)
+
+
 # --------------------------------------------------------------------------- malformed files
 
 
