@@ -198,10 +198,8 @@ def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
     from planerel.synth import geometry as sg
     from planerel.synth import world as sw
     from planerel.synth.generator import (
-        _jsonable_params,
         _scene_setup,
         cast_world,
-        render_scene,
     )
     from planerel.synth.sensor import StructuredLight
 
@@ -253,26 +251,19 @@ def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
             tb.add("floor", [(c[0] + dx, c[1] + dy, support) for dx, dy in
                              ((-3, -3), (3, -3), (3, 3), (-3, 3))])
             parts.append(tb.build())
-        for k, (g, i) in enumerate(lay.objects, start=1):
-            parts.append(sw._with_index(g, k))
-            infos.append({"index": k, "id": f"{scene_id}_o{k}", "class": i["class"],
-                          "kind": i["kind"], "params": i["params"]})
+        sw._add_objects(parts, infos, lay, scene_id)
         world = sg.combine(*parts)
         depth_true, poly_index, _plane, obj = cast_world(world, pose, intr)
         seen = (obj == 1) & (depth_true <= sensor.max_range) & (depth_true >= sensor.min_range)
         if seen.mean() < min_object_fraction:
             continue
-        full_px = sw._pixels_alone(world, pose, intr, sensor, len(infos))
-        infos = [{**i, "n_pixels_full": int(full_px[i["index"]])} if i["index"] >= 1 else i
-                 for i in infos]
-        params = _jsonable_params({"world": "round", "where": where,
-                                   "camera": {"height": cam_h, "pitch_deg": pitch},
-                                   "size": [w, h], "subsample": int(subsample)})
-        scene = render_scene(world, pose, intr, sensor, rng, scene_id=scene_id, klass="box",
-                             seed=seed, params=params, depth_true=depth_true,
-                             poly_index=poly_index,
-                             object_list=tuple(_jsonable_params(i) for i in infos),
-                             world_name="varied")
-        if scene.objects[1]["n_pixels"] >= 0.5 * min_object_fraction * seen.size:
+        params = {"world": "round", "where": where,
+                  "camera": {"height": cam_h, "pitch_deg": pitch},
+                  "size": [w, h], "subsample": int(subsample)}
+        scene = sw._render_seen(world, pose, intr, sensor, rng, infos, params,
+                                scene_id=scene_id, klass="box", seed=seed,
+                                depth_true=depth_true, poly_index=poly_index, seen=seen,
+                                min_object_fraction=min_object_fraction)
+        if scene is not None:
             return scene
     raise InputError(f"could not make a round-clutter scene (seed {seed})")

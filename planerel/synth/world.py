@@ -463,6 +463,37 @@ def _with_index(geom, index: int):
     return sg.Geometry(geom.polygons, planes)
 
 
+def _add_objects(parts: list, infos: list, lay, scene_id: str) -> None:
+    """Append the layout's objects (index 1, 2, ...) to the world ``parts`` and their records
+    to ``infos`` (index 0, the environment, is already there)."""
+    for k, (geom, info) in enumerate(lay.objects, start=1):
+        parts.append(_with_index(geom, k))
+        infos.append({"index": k, "id": f"{scene_id}_o{k}", "class": info["class"],
+                      "kind": info["kind"], "params": info["params"]})
+
+
+def _render_seen(world, pose, intr: Intrinsics, sensor, rng, infos: list, params: dict, *,
+                 scene_id: str, klass: str, seed: int, depth_true, poly_index, seen,
+                 min_object_fraction: float):
+    """Render a drawn room through ``sensor`` with each object's unoccluded pixel count
+    (``n_pixels_full``), or None when the sensor model (projector shadows, flying pixels of
+    nearer clutter) leaves the primary object on less than half the required share of the
+    image: the caller then draws the scene again."""
+    from planerel.synth.generator import _jsonable_params, render_scene
+
+    full_px = _pixels_alone(world, pose, intr, sensor, len(infos))
+    infos = [{**i, "n_pixels_full": int(full_px[i["index"]])} if i["index"] >= 1 else i
+             for i in infos]
+    scene = render_scene(world, pose, intr, sensor, rng, scene_id=scene_id, klass=klass,
+                         seed=seed, params=_jsonable_params(params), depth_true=depth_true,
+                         poly_index=poly_index,
+                         object_list=tuple(_jsonable_params(i) for i in infos),
+                         world_name="varied")
+    if scene.objects[1]["n_pixels"] >= 0.5 * min_object_fraction * seen.size:
+        return scene
+    return None
+
+
 def _characteristic(world, plane: np.ndarray, seen: np.ndarray) -> bool:
     """The primary object shows what makes its class: two steps (treads or risers) of a
     staircase, the slope of a ramp (each on at least 0.5 % of the image)."""
@@ -541,12 +572,10 @@ def generate_world_scene(kind: str, seed: int = 0, size=(640, 480), subsample: i
     """
     from planerel.synth.generator import (
         _check_sensor,
-        _jsonable_params,
         _scene_setup,
         camera_planes,
         cast_world,
         cos_incidence,
-        render_scene,
     )
     from planerel.synth.sensor import StructuredLight
 
@@ -572,10 +601,7 @@ def generate_world_scene(kind: str, seed: int = 0, size=(640, 480), subsample: i
         env = lay.env if lay.env else [sg.floor_geometry(10.0)]
         parts, infos = list(env) + walls, [{"index": 0, "id": f"{scene_id}_o0",
                                             "class": "environment", "kind": "floor and walls"}]
-        for k, (geom, info) in enumerate(lay.objects, start=1):
-            parts.append(_with_index(geom, k))
-            infos.append({"index": k, "id": f"{scene_id}_o{k}", "class": info["class"],
-                          "kind": info["kind"], "params": info["params"]})
+        _add_objects(parts, infos, lay, scene_id)
         world = sg.combine(*parts)
         depth_true, poly_index, plane, obj = cast_world(world, pose, intr)
         seen = (obj == 1) & (depth_true <= sensor.max_range) & (depth_true >= sensor.min_range)
@@ -584,23 +610,17 @@ def generate_world_scene(kind: str, seed: int = 0, size=(640, 480), subsample: i
             seen &= cos >= math.cos(math.radians(sensor.grazing_deg))
         if not (seen.mean() >= min_object_fraction and _characteristic(world, plane, seen)):
             continue
-        full_px = _pixels_alone(world, pose, intr, sensor, len(infos))
-        infos = [{**i, "n_pixels_full": int(full_px[i["index"]])} if i["index"] >= 1 else i
-                 for i in infos]
-        params = _jsonable_params({
+        params = {
             "world": "varied",
             "camera": {"height": cam_h, "pitch_deg": pitch, "roll_deg": roll},
             "walls": len(walls),
             "size": [w, h], "subsample": int(subsample),
-        })
-        scene = render_scene(world, pose, intr, sensor, rng, scene_id=scene_id, klass=kind,
-                             seed=seed, params=params, depth_true=depth_true,
-                             poly_index=poly_index,
-                             object_list=tuple(_jsonable_params(i) for i in infos),
-                             world_name="varied")
-        # the sensor model keeps at least half of it (nearer clutter's projector shadows and
-        # flying pixels can hide more: then the scene is drawn again)
-        if scene.objects[1]["n_pixels"] >= 0.5 * min_object_fraction * seen.size:
+        }
+        scene = _render_seen(world, pose, intr, sensor, rng, infos, params, scene_id=scene_id,
+                             klass=kind, seed=seed, depth_true=depth_true,
+                             poly_index=poly_index, seen=seen,
+                             min_object_fraction=min_object_fraction)
+        if scene is not None:
             return scene
     raise InputError(f"could not make a varied {kind} scene in which the {kind} is seen "
                      f"(seed {seed}); widen the world ranges")
