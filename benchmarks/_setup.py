@@ -51,3 +51,16 @@ def synth_scene(kind: str, sub: int, cls: str = "stairs", seed: int = 3):
 def kinect_files(folder=None) -> list[str]:
     """The raw Kinect depth TIFFs (sorted) of ``folder`` (default ``../shared/data/kinect``)."""
     return sorted(glob.glob(os.path.join(str(folder or data_dir("kinect")), "*_depth.tiff")))
+
+
+def cluttered_set(folder, n: int, seed: int = 22) -> Path:
+    """Write ``n`` cluttered varied-world scenes (320x240, 2-3 extra objects; a third each
+    stairs and ramp, the rest boxes) into ``folder/synth`` with the CLI and return that
+    folder: the synthetic frames of bench_proposals.py and bench_curved.py."""
+    from planerel.cli import main as cli
+
+    ds = Path(folder) / "synth"
+    cli(["dataset", "synth", str(ds), "--world", "varied", "--n-box", str(n - 2 * (n // 3)),
+         "--n-stairs", str(n // 3), "--n-ramp", str(n // 3), "--subsample", "2",
+         "--range", "extra_objects=2,3", "--seed", str(seed), "--quiet"])
+    return ds

@@ -18,7 +18,8 @@ import argparse
 import statistics
 import tempfile
 import time
-from pathlib import Path
+
+from _setup import cluttered_set, data_dir
 
 MOSD_TYPES = {"test31": "round"}
 
@@ -33,19 +34,12 @@ def main(argv=None) -> int:
     from planerel.features.object_eval import frame_truth, proposal_image, score_objects, summarize
     from planerel.segment import segment
 
-    data = Path(__file__).resolve().parents[2] / "shared" / "data" / "mosd"
+    data = data_dir("mosd")
     inputs = [(p, MOSD_TYPES.get(p.stem, "box"), "mosd")
               for p in (sorted(data.glob("*.pcd")) if data.is_dir() else [])]
     tmp = tempfile.TemporaryDirectory()
     if args.synth:
-        from planerel.cli import main as cli
-
-        ds = Path(tmp.name) / "synth"
-        n = args.synth
-        cli(["dataset", "synth", str(ds), "--world", "varied", "--n-box", str(n - 2 * (n // 3)),
-             "--n-stairs", str(n // 3), "--n-ramp", str(n // 3), "--subsample", "2",
-             "--range", "extra_objects=2,3", "--seed", "22", "--quiet"])
-        inputs.append((ds, None, "synth"))
+        inputs.append((cluttered_set(tmp.name, args.synth, seed=22), None, "synth"))
     frames = []
     for path, ty_name, src in inputs:
         for name, cloud, truth, ty in frame_truth(path, ty_name, "kind"):

@@ -19,7 +19,8 @@ import statistics
 import sys
 import tempfile
 import time
-from pathlib import Path
+
+from _setup import cluttered_set, data_dir
 
 
 def main(argv=None) -> int:
@@ -40,18 +41,11 @@ def main(argv=None) -> int:
     from planerel.features.relations import ProposalParams
     from planerel.segment import segment
 
-    data = Path(__file__).resolve().parents[2] / "shared" / "data" / "mosd"
+    data = data_dir("mosd")
     inputs = sorted(data.glob("*.pcd")) if data.is_dir() else []
     tmp = tempfile.TemporaryDirectory()
     if args.synth:
-        from planerel.cli import main as cli
-
-        ds = Path(tmp.name) / "synth"
-        n = args.synth
-        cli(["dataset", "synth", str(ds), "--world", "varied", "--n-box", str(n - 2 * (n // 3)),
-             "--n-stairs", str(n // 3), "--n-ramp", str(n // 3), "--subsample", "2",
-             "--range", "extra_objects=2,3", "--seed", str(args.seed), "--quiet"])
-        inputs.append(ds)
+        inputs.append(cluttered_set(tmp.name, args.synth, seed=args.seed))
     frames = []
     for path in inputs:
         for name, cloud, truth, ty in frame_truth(path):

@@ -309,7 +309,7 @@ def plane_ids(meshes):
     for m, k in meshes:
         n = m.face_normals
         off = np.einsum("ij,ij->i", n, m.triangles[:, 0])
-        for a, b in zip(np.round(n, 3).tolist(), np.round(off, 3).tolist()):
+        for a, b in zip(np.round(n, 3).tolist(), np.round(off, 3).tolist(), strict=True):
             out.append(keys.setdefault((k, *a, b), len(keys)))
     return np.asarray(out)
 
