@@ -121,6 +121,41 @@ def _draws(depth_true, rng: np.random.Generator):
     hit = np.isfinite(z)
     return z, noise, drop_draw, edge_draw, mix_draw, hit, np.where(hit, z, 1.0)
 
+def _flying_edges(z, zt, hit, edge_draw, mix_draw, edge_jump: float, flying: float, surface):
+    """Flying pixels at depth edges, shared by both sensor models: ``(zt, fly, far_side)``
+    with ``zt`` moved a uniform share of the way to the other side of the edge where ``fly``
+    (``edge_draw`` is that share; flying pixels never use it for dropping)."""
+    other, far_side = edge_neighbours(z, edge_jump, surface)
+    edge = np.isfinite(other)
+    fly = hit & edge & (mix_draw < flying)
+    t = np.where(fly, edge_draw, 0.0)
+    zt = np.where(fly, zt + t * (np.where(edge, other, zt) - zt), zt)
+    return zt, fly, far_side
+
+
+def _kept(sensor, units, hit, cos, far_side, fly, edge_draw, drop_draw, shadow=None):
+    """The frame as written, shared by both sensor models: ``units`` where the sensor
+    returns a depth (in range, not grazing, not in ``shadow``, not dropped at the far side
+    of an edge or at random), 0 elsewhere; ``(uint16 (H, W), flying valid pixels (H, W))``."""
+    zq = units * sensor.depth_unit
+    ok = hit & (zq >= sensor.min_range) & (zq <= sensor.max_range)
+    if sensor.grazing_deg is not None:
+        ok &= np.asarray(cos, dtype=float) >= math.cos(math.radians(sensor.grazing_deg))
+    if shadow is not None:
+        ok &= ~shadow
+    ok &= ~(far_side & ~fly & (edge_draw < sensor.edge_dropout))
+    ok &= drop_draw >= sensor.dropout
+    return np.where(ok, units, 0).astype(np.uint16), fly & ok
+
+
+def _as_dict(sensor) -> dict:
+    """``{"profile": ..., field: value ...}`` of a sensor model (tuples as lists)."""
+    d = {"profile": sensor.profile}
+    d.update({f: (list(v) if isinstance(v := getattr(sensor, f), tuple) else v)
+              for f in sensor.__dataclass_fields__})
+    return d
+
+
 def projector_shadow(z: np.ndarray, fx: float, baseline: float) -> np.ndarray:
     """Pixels the camera sees but a projector ``baseline`` metres to its right (along the image
     +x axis; negative = to its left) does not light.
@@ -257,32 +292,21 @@ class StructuredLight:
         """
         z, noise, drop_draw, edge_draw, mix_draw, hit, zt = _draws(depth_true, rng)
         fb = self.focal_px * abs(self.baseline)
-        other, far_side = edge_neighbours(z, self.edge_jump, surface)
-        edge = np.isfinite(other)
         # flying pixels: a depth between the two sides of the edge
-        fly = hit & edge & (mix_draw < self.flying)
-        t = np.where(fly, edge_draw, 0.0)  # flying pixels never use edge_draw for dropping
-        zt = np.where(fly, zt + t * (np.where(edge, other, zt) - zt), zt)
+        zt, fly, far_side = _flying_edges(z, zt, hit, edge_draw, mix_draw, self.edge_jump,
+                                          self.flying, surface)
         disp = fb / zt + self.disparity_noise * noise
         if self.disparity_step > 0:
             disp = np.round(disp / self.disparity_step) * self.disparity_step
             disp = np.maximum(disp, self.disparity_step)
         disp = np.maximum(disp, 1e-6)
         units = np.round(fb / disp / self.depth_unit)
-        zq = units * self.depth_unit
-        ok = hit & (zq >= self.min_range) & (zq <= self.max_range)
-        if self.grazing_deg is not None:
-            ok &= np.asarray(cos_incidence) >= math.cos(math.radians(self.grazing_deg))
-        if self.shadows:
-            ok &= ~projector_shadow(z, intrinsics.fx, self.baseline)
-        ok &= ~(far_side & ~fly & (edge_draw < self.edge_dropout))
-        ok &= drop_draw >= self.dropout
-        return np.where(ok, units, 0).astype(np.uint16), fly & ok
+        shadow = projector_shadow(z, intrinsics.fx, self.baseline) if self.shadows else None
+        return _kept(self, units, hit, cos_incidence, far_side, fly, edge_draw, drop_draw,
+                     shadow)
 
     def to_dict(self) -> dict:
-        d = {"profile": self.profile}
-        d.update({f: getattr(self, f) for f in self.__dataclass_fields__})
-        return d
+        return _as_dict(self)
 
 
 @dataclass(frozen=True)
@@ -348,27 +372,15 @@ class TimeOfFlight:
         """Measured depth of a scene; same arguments and results as :meth:`StructuredLight.apply`
         (``intrinsics`` is unused).  The noise std is that of z (the model was measured on z)."""
         z, noise, drop_draw, edge_draw, mix_draw, hit, zt = _draws(depth_true, rng)
-        other, far_side = edge_neighbours(z, self.edge_jump, surface)
-        edge = np.isfinite(other)
-        fly = hit & edge & (mix_draw < self.flying)
-        t = np.where(fly, edge_draw, 0.0)
-        zt = np.where(fly, zt + t * (np.where(edge, other, zt) - zt), zt)
+        zt, fly, far_side = _flying_edges(z, zt, hit, edge_draw, mix_draw, self.edge_jump,
+                                          self.flying, surface)
         cos = np.asarray(cos_incidence, dtype=float)
         zn = zt + self.axial_sigma(zt, cos) * noise
         units = np.round(np.maximum(zn, 1e-3) / self.depth_unit)
-        zq = units * self.depth_unit
-        ok = hit & (zq >= self.min_range) & (zq <= self.max_range)
-        if self.grazing_deg is not None:
-            ok &= cos >= math.cos(math.radians(self.grazing_deg))
-        ok &= ~(far_side & ~fly & (edge_draw < self.edge_dropout))
-        ok &= drop_draw >= self.dropout
-        return np.where(ok, units, 0).astype(np.uint16), fly & ok
+        return _kept(self, units, hit, cos, far_side, fly, edge_draw, drop_draw)
 
     def to_dict(self) -> dict:
-        d = {"profile": self.profile}
-        d.update({f: getattr(self, f) for f in self.__dataclass_fields__})
-        d["sigma_coeffs"] = list(self.sigma_coeffs)
-        return d
+        return _as_dict(self)
 
 
 #: Sensor profiles by name (``planerel dataset synth --sensor``); ``basic`` is the original
