@@ -56,7 +56,7 @@ def main(argv=None) -> int:
                 d = describe_scene(cloud, labels, curved_params=cp)
                 per[k].append(time.perf_counter() - t0)
                 if len(per[k]) == 1:
-                    img = proposal_image(labels, [o.planes for o in d.objects],
+                    img = proposal_image(d.labels, [o.planes for o in d.objects],
                                          [o.mask for o in d.objects])
                     s = score_objects(img, truth, name=name, types=ty)
                     s.planar = {o: d.objects[j].planar_fraction for o, j in s.best_prop.items()

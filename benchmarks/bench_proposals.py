@@ -66,7 +66,7 @@ def main(argv=None) -> int:
         for k, pp in variants.items():
             times[k].append(statistics.median(per[k]))
             d = describe_scene(cloud, labels, proposal_params=pp)
-            img = proposal_image(labels, [o.planes for o in d.objects], [o.mask for o in d.objects])
+            img = proposal_image(d.labels, [o.planes for o in d.objects], [o.mask for o in d.objects])
             group = "synth" if "/" in name else "mosd"
             sc = score_objects(img, truth, name=name, types=ty)
             scores[k][group].append(sc)

@@ -8,6 +8,8 @@ the scene's construction: every object's visible faces in one proposal of their 
 
 from __future__ import annotations
 
+import numpy as np
+import pytest
 from scenes_analytic import Rect, floor, render
 
 from planerel.features.facts import describe_scene
@@ -103,16 +105,80 @@ def test_treads_without_risers_are_one_staircase():
     assert not any(p == seen[1] for p in apart)
 
 
-def test_two_treads_are_no_staircase():
-    # a chain needs three faces in a row: two parallel faces a step apart stay apart
-    rects = [floor()] + _treads(n=2)
+def test_two_narrow_treads_are_no_staircase():
+    # two faces a step apart, as narrow as box tops (0.4 m): a chain needs three faces in a
+    # row, and two alone count only when they are as wide as a flight
+    rects = [floor()] + _treads(n=2, width=0.4)
     props, seen = _proposals(rects, pitch=35, cam_height=1.6)
     assert len(seen[1]) == 2 and seen[1] not in props
 
 
-def test_step_ranges_are_checked():
-    import pytest
+def test_two_wide_treads_a_rise_above_the_floor_are_one_staircase():
+    # two 0.9 m wide treads, the floor one more rise below them: a short flight; the floor
+    # completes the row of three but does not join the proposal
+    rects = [floor()] + _treads(n=2)
+    props, seen = _proposals(rects, pitch=35, cam_height=1.6)
+    assert len(seen[1]) == 2 and seen[1] in props
 
+
+def _tilted_treads(n=4, rise=0.18, run=0.28, width=0.9, y0=2.0, tilt=8.0, obj=1):
+    t = np.radians(tilt)
+    return [Rect((0.0, y0 + (k + 0.5) * run, (k + 1) * rise), (1, 0, 0), (0, np.cos(t), np.sin(t)),
+                 width / 2, run / 2 - 0.01, obj) for k in range(n)]
+
+
+def test_treads_a_few_degrees_off_horizontal_still_chain():
+    # far treads of a real flight measure a few degrees off (inclined by the 5-degree
+    # horizontal tolerance); within step_tilt (12) they are treads of the chain
+    rects = [floor()] + _tilted_treads()
+    props, seen = _proposals(rects, pitch=35, cam_height=1.6)
+    assert seen[1] in props
+    apart, _ = _proposals(rects, ProposalParams(step_tilt=0.0), pitch=35, cam_height=1.6)
+    assert not any(p == seen[1] for p in apart)
+
+
+def test_a_missing_tread_does_not_cut_the_flight():
+    # five treads, the middle one not found (a rail across it, too few pixels): the treads
+    # two rises apart are a step of two
+    tr = _treads(n=5)
+    props, seen = _proposals([floor()] + tr[:2] + tr[3:], pitch=35, cam_height=1.6)
+    assert len(seen[1]) == 4 and seen[1] in props
+
+
+def _descending(n_treads, rise=0.18, run=0.28, width=0.9):
+    """The camera's landing (environment, nose 0.8 m ahead), ``n_treads`` treads going down
+    away from it (their risers face away: not seen) and the lower floor; and its height."""
+    top = (n_treads + 1) * rise
+    landing = Rect((0.0, -0.2, top), (1, 0, 0), (0, 1, 0), 1.5, 1.0, -1)
+    treads = [Rect((0.0, 0.8 + (k + 0.5) * run, top - (k + 1) * rise), (1, 0, 0), (0, 1, 0),
+                   width / 2, run / 2 - 0.01, 1) for k in range(n_treads)]
+    low = Rect((0.0, 0.8 + n_treads * run + 2.0, 0.0), (1, 0, 0), (0, 1, 0), 3.0, 2.0, -1)
+    return [landing, low, *treads], top
+
+
+def test_descending_flight_without_the_landing_it_starts_from():
+    # seen from the landing, cut by the image's bottom edge: the landing is one rise above
+    # the top tread and looks like a tread, but its depth is not seen: it is no step
+    for n in (2, 3, 4):
+        rects, top = _descending(n)
+        for pitch in (35, 45):
+            props, seen = _proposals(rects, pitch=pitch, cam_height=top + 1.2)
+            assert len(seen[1]) == n and seen[1] in props, (n, pitch, props)
+
+
+@pytest.mark.parametrize("h1,h2", [(0.2, 0.4), (0.2, 0.5), (0.18, 0.36), (0.1, 0.3)])
+def test_two_touching_boxes_of_different_heights_are_two_proposals(h1, h2):
+    # a box with a taller one touching its back (other width, shifted sideways), at room
+    # scale and at table-top (mOSD) scale: never one object, so never one staircase
+    rects = [floor()] + _box(0.0, 2.0, 0.5, 0.3, h1, obj=1) + _box(0.12, 2.3, 0.6, 0.3, h2, obj=2)
+    props, seen = _proposals(rects, pitch=30, cam_height=1.4)
+    assert seen[1] in props and seen[2] in props
+    rects = [floor()] + _box(0.0, 1.0, 0.25, 0.15, h1 / 2, obj=1) + _box(0.05, 1.15, 0.3, 0.15, h2 / 2, obj=2)
+    props, seen = _proposals(rects, pitch=45, cam_height=0.9)
+    assert seen[1] in props and seen[2] in props
+
+
+def test_step_ranges_are_checked():
     from planerel.errors import InputError
 
     with pytest.raises(InputError):

@@ -262,7 +262,8 @@ class Classifier:
             finally:
                 unload_file(facts, "cannot unload the scene facts")
                 facts.unlink(missing_ok=True)
-        return SceneAnswer(cloud.source, scene_id, labels, plane_ids, tuple(answers),
+        # the labels the planes refer to (a stepped plane may have been split into levels)
+        return SceneAnswer(cloud.source, scene_id, desc.labels, plane_ids, tuple(answers),
                            desc.planes.up_source, time.perf_counter() - t0,
                            desc.planes.up_confidence)
 

@@ -149,6 +149,13 @@ class SceneDescription:
     #: was found, class, reason)`` (:func:`planerel.features.dataset.describe_truth_scene`).
     excluded: tuple = field(default=())
 
+    @property
+    def labels(self):
+        """``(H, W)`` int32 label image the planes refer to: the one given, with invalid points
+        unassigned and the levels of split stepped planes (:mod:`planerel.features.stepped`)
+        labelled apart."""
+        return self.planes.labels
+
     def plane_id(self, label: int) -> str:
         """``s0007_p03`` for label 3."""
         return terms.plane_id(self.scene_id, label)
@@ -165,7 +172,11 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     cloud : Cloud
         Organized cloud ``(H, W, 3)``.
     labels : ndarray, shape (H, W), int
-        Plane labels (ground truth or segmentation), -1 unassigned.
+        Plane labels (ground truth or segmentation), -1 unassigned.  A plane whose points lie
+        on tread-like levels is split into one plane a level unless
+        ``proposal_params.split_stepped`` is False (:func:`planerel.features.stepped.split_stepped`;
+        the result's ``labels`` is the label image after that; the levels of a plane in a given
+        object join that object).
     scene_id : str
         Scene id (``s0007``); plane and object ids derive from it.
     up : 3 numbers, optional
@@ -189,11 +200,18 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     """
     from planerel.features.curved import curved_objects
     from planerel.features.planes import measure_planes
-    from planerel.features.relations import propose_objects, relate, support_planes
+    from planerel.features.relations import ProposalParams, propose_objects, relate, support_planes
+    from planerel.features.stepped import remeasure_stepped
 
     if not isinstance(scene_id, str) or not scene_id:
         raise InputError(f"a scene id must be a non-empty string, got {scene_id!r}")
     planes = measure_planes(cloud, labels, up, plane_params, gravity_params)
+    parent = {}
+    if (proposal_params or ProposalParams()).split_stepped:
+        # treads joined into one sloping "plane" (a flight seen from above) come apart
+        planes, parent = remeasure_stepped(
+            cloud, planes, ((proposal_params or ProposalParams()).step_rise_min,
+                            (proposal_params or ProposalParams()).step_rise_max), plane_params)
     rel = relate(planes, cloud, relation_params)
     support = tuple(support_planes(planes, proposal_params))
     known = {p.label for p in planes}
@@ -203,13 +221,15 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     else:
         groups = []
         for g in objects:
-            kept = tuple(sorted({int(x) for x in g} & known))
+            g = {int(x) for x in g}
+            g |= {k for k, v in parent.items() if v in g}  # the levels of a split plane
+            kept = tuple(sorted(g & known))
             if kept:
                 groups.append(kept)
         proposed = False
     # proposals take the clusters of unexplained points; given objects keep their planes
-    cobjs = curved_objects(planes, rel, groups, cloud if proposed else None, labels, support,
-                           curved_params)
+    cobjs = curved_objects(planes, rel, groups, cloud if proposed else None,
+                           planes.labels if parent else labels, support, curved_params)
     objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), c.planes, klass, c.mask,
                              c.planar_fraction, c.curved)
                  for k, c in enumerate(cobjs))

@@ -270,7 +270,7 @@ def frame_proposals(cloud, *, method: str = "regiongrow", labels=None):
     desc = describe_scene(cloud, labels)
     ms = 1000 * (time.perf_counter() - t0)
     masks = [getattr(o, "mask", None) for o in desc.objects]
-    return proposal_image(labels, [o.planes for o in desc.objects], masks), desc, ms
+    return proposal_image(desc.labels, [o.planes for o in desc.objects], masks), desc, ms
 
 
 def evaluate_frames(inputs, *, types=None, method: str = "regiongrow", min_iou: float = 0.5,

@@ -5,7 +5,9 @@ label image (ground truth or a segmentation; ``-1`` = unassigned) and an up vect
 :class:`PlaneSet`: one frozen :class:`Plane` per label with
 
 ============== ======================================================================
-``normal``     unit normal from a least-squares (PCA) fit, oriented towards the sensor
+``normal``     unit normal, oriented towards the sensor: fitted in disparity space (inverse
+               depth linear in the image coordinates; :mod:`planerel.features.disparity_fit`),
+               or by a least-squares (PCA) fit in 3-D (``PlaneParams.fit``)
 ``offset``     ``normal . x + offset = 0``; > 0, metres (distance of the camera centre)
 ``centroid``   mean of the plane's points, metres (camera frame)
 ``n_points``   number of valid points with this label
@@ -65,6 +67,8 @@ __all__ = [
 
 #: The orientation classes, in this order.
 ORIENTATIONS = ("horizontal", "vertical", "inclined")
+#: Plane fits (``PlaneParams.fit``).
+FITS = ("disparity", "pca")
 
 
 @dataclass(frozen=True)
@@ -86,6 +90,12 @@ class PlaneParams:
         A floor's centroid lies within this many metres of the lowest hull point.
     floor_min_area : float
         Smallest floor area, m^2.
+    fit : {"disparity", "pca"}
+        How normals are fitted: ``"disparity"`` (default) fits inverse depth, as a
+        structured-light sensor errs (along the ray, uniformly in disparity), and falls back
+        to PCA where that fit is undefined; ``"pca"`` is the plain 3-D least-squares fit,
+        which tilts surfaces seen at grazing angles (far stair treads 5-26 degrees on
+        Kinect-like frames).
     """
 
     horizontal_tol: float = 5.0
@@ -94,8 +104,11 @@ class PlaneParams:
     hull_simplify: float = 0.005
     floor_tol: float = 0.05
     floor_min_area: float = 0.05
+    fit: str = "disparity"
 
     def __post_init__(self) -> None:
+        if self.fit not in FITS:
+            raise InputError(f"fit must be one of {FITS}, got {self.fit!r}")
         for name in ("horizontal_tol", "vertical_tol"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not 0 <= v < 45:
@@ -344,11 +357,17 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     skipped = tuple(int(i) for i in present[counts[present] < params.min_points])
     if ok.size == 0:
         return PlaneSet((), up_v, up_source, None, 0.0, skipped, lab, params, up_conf)
-    evals, evecs = np.linalg.eigh(cov[ok])
+    _evals, evecs = np.linalg.eigh(cov[ok])
     normals = evecs[:, :, 0].copy()
+    if params.fit == "disparity":
+        from planerel.features.disparity_fit import disparity_normals
+
+        dn, fitted = disparity_normals(xyz, lab, ok)
+        normals[fitted] = dn[fitted]
     flip = np.einsum("ij,ij->i", normals, cent[ok]) > 0
     normals[flip] *= -1
-    rms = np.sqrt(np.maximum(evals[:, 0], 0.0))
+    # RMS distance of the points to the plane through their centroid with this normal
+    rms = np.sqrt(np.maximum(np.einsum("ki,kij,kj->k", normals, cov[ok], normals), 0.0))
 
     bnd = _boundary(lab)
     bidx = np.flatnonzero(bnd.reshape(-1))

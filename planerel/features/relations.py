@@ -421,6 +421,14 @@ class ProposalParams:
         stairs seen from above show treads only, from below risers only.
     step_rise_min, step_rise_max, step_run_min, step_run_max : float
         Metres: the range of the height and of the horizontal offset between two such faces.
+    step_tilt : float
+        Degrees: a face within this of horizontal (vertical) counts as a tread (riser) in a
+        step chain: the far treads of a flight measure a few degrees off.
+    split_stepped : bool
+        Before proposing, split an inclined plane whose points lie on horizontal levels one
+        rise apart (treads joined into one sloping plane, a flight seen from above) into one
+        plane a level (:func:`planerel.features.stepped.split_stepped`; applied by
+        :func:`planerel.features.facts.describe_scene`).
     """
 
     support_min_area: float = 2.0
@@ -439,12 +447,14 @@ class ProposalParams:
     step_rise_max: float = 0.30
     step_run_min: float = 0.12
     step_run_max: float = 0.60
+    step_tilt: float = 12.0
+    split_stepped: bool = True
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "border_wall_area",
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
-                             "step_run_min", "step_run_max"))
+                             "step_run_min", "step_run_max", "step_tilt"))
         if self.step_rise_min > self.step_rise_max or self.step_run_min > self.step_run_max:
             raise InputError("step_rise_min / step_run_min must not exceed step_rise_max / step_run_max, "
                              f"got {self.step_rise_min!r}-{self.step_rise_max!r} and "
@@ -603,8 +613,9 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     and points ``x_a``, ``x_b`` near their shared edge (:func:`edge_means`; the centroids when
     the planes do not touch in the grid), the edge is convex when
     ``(n_a - n_b) . (x_a - x_b) >= 0`` (each face bends away from the other, as two faces of
-    one box), concave otherwise (a box on another box, beside another, against a wall),
-    except that normals within ``concave_tol`` degrees count as convex (one noisy surface)
+    one box, or nearly so at a shared edge: a cosine above -0.1 between ``n_a - n_b`` and
+    ``x_a - x_b``, where noise decides the sign), concave otherwise (a box on another box, beside another, against
+    a wall), except that normals within ``concave_tol`` degrees count as convex (one noisy surface)
     and that a concave edge between a horizontal or inclined plane and a vertical one whose
     extents along the edge overlap by at least ``step_overlap`` (interval IoU) stays joined: a
     tread and the riser above it (the concave edges of a staircase), a slope and the face at
@@ -647,7 +658,12 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         # the step exception needs a shared edge: planes whose outlines only come near in 3-D
         # (one behind the other across an occluding edge) are no tread and riser
         shared = edges is None or e is not None
-        if float((na - nb) @ (xa - xb)) >= 0 or (step_overlap is not None and shared
+        # the sign, as the cosine between the normals' difference and the shared edge's
+        # points' offset: within +-0.1 (84-96 degrees) the offset lies along the edge (a
+        # corner, a few pixel pairs) and noise decides the sign: no evidence of a cut
+        dx = xa - xb
+        scale = 0.1 * float(np.linalg.norm(na - nb) * np.linalg.norm(dx)) if e is not None else 0.0
+        if float((na - nb) @ dx) >= -scale or (step_overlap is not None and shared
                                                   and _step_like(pa, pb, step_overlap)
                                                   and _regular_step(pa, pb, byl, nbrs, cos_tol)):
             out.add((a, b))
@@ -680,21 +696,84 @@ def _regular_step(pa, pb, byl, nbrs, cos_tol) -> bool:
     return True
 
 
+def _step_kind(p, tilt: float) -> str | None:
+    """``"tread"`` for a face within ``tilt`` degrees of horizontal, ``"riser"`` within ``tilt``
+    of vertical, else None (a far tread's strip measures a few degrees off horizontal)."""
+    if p.orientation == "horizontal" or p.incline <= tilt:
+        return "tread"
+    if p.orientation == "vertical" or p.incline >= 90.0 - tilt:
+        return "riser"
+    return None
+
+
+def _cut_lengthwise(planes) -> set:
+    """Labels of planes the image border cuts along their length: as many of their pixels lie on
+    the border as the long side of their pixel box (the floor or landing the camera stands on,
+    seen to the image's bottom edge), so how deep they are is not seen.  A tread cut at its
+    ends by the left or right border keeps its depth."""
+    lab = getattr(planes, "labels", None)
+    if lab is None or lab.size == 0 or lab.max() < 0:
+        return set()
+    edge = np.concatenate([lab[0], lab[-1], lab[1:-1, 0], lab[1:-1, -1]])
+    cnt = np.bincount(edge[edge >= 0], minlength=int(lab.max()) + 1)
+    out = set()
+    for p in planes:
+        r0, c0, r1, c1 = p.bbox
+        if p.label < cnt.size and cnt[p.label] >= 0.5 * max(r1 - r0, c1 - c0):
+            out.add(p.label)
+    return out
+
+
+def _anchor_offset(face, anchor, up) -> np.ndarray:
+    """Horizontal offset ``(3,)`` from a face's centroid to the nearest point of another plane's
+    hull (zero when the centroid lies over the hull)."""
+    import shapely
+    from shapely.geometry import Point, Polygon
+    from shapely.ops import nearest_points
+
+    c = np.asarray(face.centroid, float)
+    H = np.asarray(anchor.hull3d, float)
+    e1 = np.cross(up, [1.0, 0.0, 0.0])
+    if np.linalg.norm(e1) < 0.1:
+        e1 = np.cross(up, [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(up, e1)
+    P = np.stack([H @ e1, H @ e2], 1)
+    q = (float(c @ e1), float(c @ e2))
+    geom = Polygon(P) if len(P) >= 3 else shapely.LineString(P) if len(P) == 2 else Point(P[0])
+    if not geom.is_valid:
+        geom = geom.convex_hull
+    if geom.contains(Point(q)):
+        return np.zeros(3)
+    near = nearest_points(geom, Point(q))[0]
+    return (near.x - q[0]) * e1 + (near.y - q[1]) * e2
+
+
 def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_overlap: float = 0.5, angle_tol: float = 10.0,
-                     max_ratio: float = 3.0) -> set:
+                     max_ratio: float = 3.0, tilt: float = 12.0, skip: bool = True,
+                     min_width: float = 0.5) -> set:
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
-    Two horizontal planes (treads) or two vertical ones (risers) with normals within
-    ``angle_tol`` degrees are a *step* when the higher one's centroid lies ``rise`` above and
-    ``run`` beyond the lower one's (horizontally; for risers along their normal), their
-    extents across that direction overlap by at least ``min_overlap`` (interval IoU: one
-    flight's width), their areas differ by at most ``max_ratio`` times and each is at most
-    one step deep (a tread's extent along the step direction at most ``run[1]``, a riser's
-    height at most ``rise[1]``): not a landing or the floor a flight goes down from.  A step counts only when one of its faces is also a face of another step
-    in the same direction (unit horizontal offsets within 25 degrees) with a rise within 30 %:
-    three faces in a regular row.  Two boxes, one behind the other, make one step, not a
-    chain; a staircase seen from above (treads only) or below (risers only) makes many.
+    Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
+    vertical) with normals within ``angle_tol`` degrees are a *step* when the higher one's
+    centroid lies ``rise`` above and ``run`` beyond the lower one's (horizontally; for risers
+    along their normal), their extents across that direction overlap by at least
+    ``min_overlap`` (interval IoU: one flight's width), their areas differ by at most
+    ``max_ratio`` times and each is at most one step deep (a tread's extent along the step
+    direction at most ``run[1]``, a riser's height at most ``rise[1]``): not a landing or the
+    floor a flight goes down from.  With ``skip``, two faces two rises above and two runs
+    beyond each other are a step too (the face between them not found: cut by a rail, too few
+    pixels), counted as two.  A step counts only when one of its faces is also a face of
+    another step in the same direction (unit horizontal offsets within 25 degrees) with a rise
+    per step within 30 %: three faces in a regular row.  Two boxes, one behind the other, make
+    one step, not a chain; a staircase seen from above (treads only) or below (risers only)
+    makes many.  A tread the image border cuts along its length (the landing the camera stands
+    on, seen to the bottom edge) is no member: its depth is not seen.  Two treads alone make
+    a step that counts when both are at least ``min_width`` wide across the flight and 1.5
+    times wider than deep, and a third horizontal plane (any: the landing, the floor) lies
+    one more rise (within 30 %) above or below and comes within ``run[1]`` of them
+    horizontally, on the flight's line: a short flight seen from above.
 
     Parameters
     ----------
@@ -710,24 +789,25 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     want = set(labels)
     up = np.asarray(planes.up, float)
     cos_tol = math.cos(math.radians(angle_tol))
-    cands = [p for p in planes if (not want or p.label in want)
-             and p.orientation in ("horizontal", "vertical")]
-    steps = []  # (lower, higher, rise, unit horizontal direction)
+    kind = {p.label: _step_kind(p, tilt) for p in planes}
+    cut = _cut_lengthwise(planes)
+    cands = [p for p in planes if (not want or p.label in want) and kind[p.label]
+             and not (kind[p.label] == "tread" and p.label in cut)]
+    steps = []  # (lower, higher, rise per step, unit horizontal direction)
+    spans = (1, 2) if skip else (1,)
     for i, pa in enumerate(cands):
         na = np.asarray(pa.normal, float)
         for pb in cands[i + 1:]:
-            if pb.orientation != pa.orientation:
+            if kind[pb.label] != kind[pa.label]:
                 continue
             nb = np.asarray(pb.normal, float)
             if abs(float(na @ nb)) < cos_tol or max(pa.area, pb.area) > max_ratio * min(pa.area, pb.area):
                 continue
             lo, hi = (pa, pb) if pa.height <= pb.height else (pb, pa)
             dv = hi.height - lo.height
-            if not rise[0] <= dv <= rise[1]:
-                continue
             d = np.asarray(hi.centroid, float) - np.asarray(lo.centroid, float)
             dh = d - (d @ up) * up
-            if lo.orientation == "vertical":
+            if kind[lo.label] == "riser":
                 nh = np.asarray(lo.normal, float) - (np.asarray(lo.normal, float) @ up) * up
                 nh /= max(float(np.linalg.norm(nh)), 1e-9)
                 dist = abs(float(dh @ nh))
@@ -735,11 +815,13 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             else:
                 dist = float(np.linalg.norm(dh))
                 direction = dh / max(dist, 1e-9)
-            if not run[0] <= dist <= run[1]:
+            k = next((k for k in spans if rise[0] <= dv / k <= rise[1]
+                      and run[0] <= dist / k <= run[1]), None)
+            if k is None:
                 continue
             # each face is one step deep (treads) or high (risers): not a floor or a landing
-            depth_axis = direction if lo.orientation == "horizontal" else up
-            limit = run[1] if lo.orientation == "horizontal" else rise[1]
+            depth_axis = direction if kind[lo.label] == "tread" else up
+            limit = run[1] if kind[lo.label] == "tread" else rise[1]
             if any(np.ptp(np.asarray(q.hull3d, float) @ depth_axis) > limit for q in (lo, hi)):
                 continue
             across = np.cross(up, direction)
@@ -748,7 +830,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             union = max(a1, b1) - min(a0, b0)
             if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < min_overlap:
                 continue
-            steps.append((lo.label, hi.label, dv, direction))
+            steps.append((lo.label, hi.label, dv / k, direction, k))
     out = set()
     cos_dir = math.cos(math.radians(25.0))
     for s1 in steps:
@@ -758,6 +840,33 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             if float(s1[3] @ s2[3]) >= cos_dir and 0.7 <= s1[2] / s2[2] <= 1 / 0.7:
                 out.add((s1[0], s1[1]))
                 break
+    # two treads alone (a short flight seen from above: the landing, two treads, the floor):
+    # the third face may be any horizontal plane one more rise up or down that comes within a
+    # run of them (the landing or floor, support or cut by the border; it does not join the
+    # proposal), when both treads are flight-like: wide and shallow
+    byl = {p.label: p for p in planes}
+    anchors = [p for p in planes if kind[p.label] == "tread"]
+    for lo_l, hi_l, dv, direction, k in steps:
+        lo, hi = byl[lo_l], byl[hi_l]
+        if (lo_l, hi_l) in out or k != 1 or kind[lo_l] != "tread":
+            continue
+        across = np.cross(up, direction)
+        if any(np.ptp(np.asarray(q.hull3d, float) @ across) < max(min_width, 1.5 * np.ptp(
+                np.asarray(q.hull3d, float) @ direction)) for q in (lo, hi)):
+            continue
+        for a in anchors:
+            if a.label in (lo_l, hi_l):
+                continue
+            face, sign = (hi, 1.0) if a.height > hi.height else (lo, -1.0)
+            gap = abs(a.height - face.height)
+            if not 0.7 <= gap / dv <= 1 / 0.7 or abs(float(np.asarray(a.normal) @ up)) < cos_tol:
+                continue
+            off = _anchor_offset(face, a, up)
+            dist = float(np.linalg.norm(off))
+            if dist > run[1] or (dist >= 0.5 * run[0] and float(off @ direction) * sign < cos_dir * dist):
+                continue
+            out.add((lo_l, hi_l))
+            break
     return out
 
 
@@ -818,7 +927,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         g.add_edges_from(step_chain_pairs(
             planes, g.nodes, (params.step_rise_min, params.step_rise_max),
             (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
-            params.concave_tol))
+            params.concave_tol, tilt=params.step_tilt))
     byl = {p.label: p for p in planes}
     comps = [tuple(sorted(c)) for c in nx.connected_components(g)]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]

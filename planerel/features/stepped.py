@@ -1,0 +1,156 @@
+"""Split a segmented "plane" that is really the treads of a staircase seen from above.
+
+Looking down a flight, the risers face away and each tread shows only a strip; on a depth
+sensor's noise region growing can join the strips into one plane, which then measures as an
+inclined plane at the flight's slope: a ramp (a whole 8-step flight on a Kinect-like frame at
+2.3 m, two or four treads of flights 3-4 m away).  The points of such a plane are not spread
+over its height as a slope's are: they sit on a few horizontal levels, one rise apart, with
+almost nothing between them.  :func:`stepped_levels` finds those levels from a histogram of the
+points' heights; :func:`split_stepped` gives each level a label of its own.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["stepped_levels", "split_stepped", "remeasure_stepped"]
+
+
+def stepped_levels(heights: np.ndarray, rise=(0.08, 0.30), bin_size: float = 0.01,
+                   dense: float = 0.2, max_thickness: float = 0.08,
+                   min_share: float = 0.85, margin: float = 0.02) -> list[tuple[float, float]]:
+    """Horizontal levels a set of point heights falls into, when it looks like treads.
+
+    Parameters
+    ----------
+    heights : ndarray, shape (N,)
+        Heights (``up . x``) of one plane's points, metres.
+    rise : (float, float)
+        Consecutive levels' middles must lie this far apart (metres).
+    bin_size : float
+        Histogram bin, metres.
+    dense : float
+        A bin is populated when it holds at least this share of the fullest bin within half
+        the largest rise of it (and 3 points): near levels hold more points than far ones.
+    max_thickness : float
+        A level (a run of populated bins) is at most this thick (metres): a tread's noise,
+        not a slope.
+    min_share : float
+        The levels, each widened by ``margin`` metres up and down, hold at least this share
+        of the points.
+    margin : float
+
+    Returns
+    -------
+    list of (float, float)
+        ``(low, high)`` height interval of each level, lowest first; empty when the heights are
+        not two or more such levels (a slope's heights fill their range).
+    """
+    h = np.asarray(heights, float)
+    h = h[np.isfinite(h)]
+    if h.size < 20 or np.ptp(h) < rise[0]:
+        return []
+    lo = float(h.min())
+    nb = int(np.ptp(h) / bin_size) + 1
+    counts = np.bincount(np.minimum(((h - lo) / bin_size).astype(np.int64), nb - 1), minlength=nb)
+    w = int(0.5 * rise[1] / bin_size) + 1
+    pad = np.pad(counts, w)
+    local = np.lib.stride_tricks.sliding_window_view(pad, 2 * w + 1).max(axis=1)
+    pop = (counts >= 3) & (counts >= dense * local)
+    runs = []
+    k = 0
+    while k < nb:
+        if not pop[k]:
+            k += 1
+            continue
+        j = k
+        while j + 1 < nb and pop[j + 1]:
+            j += 1
+        runs.append((k, j))
+        k = j + 1
+    if len(runs) < 2:
+        return []
+    levels = [(lo + a * bin_size, lo + (b + 1) * bin_size) for a, b in runs]
+    if any(b - a > max_thickness for a, b in levels):
+        return []
+    near = np.zeros(h.size, bool)
+    for a, b in levels:
+        near |= (h >= a - margin) & (h <= b + margin)
+    if near.mean() < min_share:
+        return []
+    mids = [0.5 * (a + b) for a, b in levels]
+    steps = np.diff(mids)
+    if not all(rise[0] <= s <= rise[1] for s in steps):
+        return []
+    return levels
+
+
+def split_stepped(xyz: np.ndarray, labels: np.ndarray, planes, rise=(0.08, 0.30),
+                  margin: float = 0.02):
+    """Relabel every inclined plane whose points lie on tread-like levels, one label a level.
+
+    Parameters
+    ----------
+    xyz : ndarray, shape (H, W, 3)
+        Organized points (NaN invalid).
+    labels : ndarray, shape (H, W), int
+        Plane labels, -1 unassigned.
+    planes : PlaneSet
+        The measured planes of ``labels`` (their orientation and the up vector).
+    rise : (float, float)
+        Metres between consecutive levels (:func:`stepped_levels`).
+    margin : float
+        Points up to this far outside a level's interval (metres) join it; points between
+        levels become unassigned.
+
+    Returns
+    -------
+    (ndarray, dict) or None
+        The new ``(H, W)`` int32 label image (the lowest level keeps the plane's label, the
+        others get new labels after the largest one) and ``{new label: split label}``; None
+        when no plane was split.
+    """
+    up = np.asarray(planes.up, float)
+    lab = np.asarray(labels)
+    out = None
+    parent = {}
+    nxt = int(lab.max()) + 1 if lab.size else 0
+    for p in planes:
+        if p.orientation != "inclined" or p.is_floor:
+            continue
+        m = lab == p.label
+        h = xyz[m] @ up
+        levels = stepped_levels(h, rise, margin=margin)
+        if not levels:
+            continue
+        if out is None:
+            out = lab.astype(np.int32, copy=True)
+        new = np.full(h.shape, -1, np.int32)
+        for k, (a, b) in enumerate(levels):
+            new[(h >= a - margin) & (h <= b + margin)] = p.label if k == 0 else nxt
+            if k > 0:
+                parent[nxt] = p.label
+                nxt += 1
+        out[m] = new
+    return None if out is None else (out, parent)
+
+
+def remeasure_stepped(cloud, planes, rise=(0.08, 0.30), plane_params=None):
+    """:func:`split_stepped` on measured planes, and the planes measured again when a plane was
+    split (with the same up vector, its source and confidence kept).
+
+    Returns
+    -------
+    (PlaneSet, dict)
+        The planes (the given ones when nothing was split) and ``{new label: split label}``.
+    """
+    from dataclasses import replace
+
+    from planerel.features.planes import measure_planes
+
+    got = split_stepped(cloud.xyz, planes.labels, planes, rise)
+    if got is None:
+        return planes, {}
+    lab, parent = got
+    again = measure_planes(cloud, lab, planes.up, plane_params)
+    return replace(again, up_source=planes.up_source, up_confidence=planes.up_confidence), parent
