@@ -461,7 +461,7 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150):
                     fd = Path(figures) / Path(mdir).name
                     fd.mkdir(parents=True, exist_ok=True)
                     Image.fromarray(explanation_image(ans, cloud.depth)).save(fd / f"{p.stem}.png")
-        results[str(mdir)] = summarize(rows, spurious, len(scenes), t_all)
+        results[str(mdir)] = {**summarize(rows, spurious, len(scenes), t_all), "rows": rows}
         print_summary(str(mdir), results[str(mdir)], rows)
     return results
 

@@ -145,10 +145,11 @@ def test_mosd_cylinders_are_none_of_the_classes(answers):
 def test_synthetic_kinect_stairs_from_above_and_ramps_keep_their_class(demo_model, kind, extra):
     """Kinect-like frames (structured light, 640x480) of the varied world's ranges, seeds the
     model never saw: a proposal lying mostly on the primary object has its class in at least
-    8 of 10 ramp scenes and 5 of 10 staircases seen from above (going down).  Staircases:
-    the flight comes as several proposals, most of them single treads; the paper-world demo
-    model before the training world had 5 of 10 too, so this guards against a regression and
-    the rest is the proposals' work (issues 15, 22)."""
+    8 of 10 ramp scenes and 8 of 10 staircases seen from above (going down).  Staircases:
+    10 of 10 measured (benchmarks/bench_stairs_from_above.py); before the plane fit in
+    disparity space, the stepped split and the step chains of issue 16 the flight came as
+    several proposals, most of them single treads or one sloping "ramp" plane, and 5 of 10
+    were stairs."""
     from planerel.classify import Classifier
     from planerel.synth.world import WorldRange, generate_world_scene
 
@@ -164,7 +165,7 @@ def test_synthetic_kinect_stairs_from_above_and_ramps_keep_their_class(demo_mode
                   if np.sum(_pixels(ans, o) & mine) > 0.5 * max(1, np.sum(_pixels(ans, o)))]
             got.append(on)
             right += kind in on
-    assert right >= (5 if kind == "stairs" else 8), got
+    assert right >= 8, got
 
 
 def test_round_part_cylinders_are_other_and_mostly_curved(tmp_path):

@@ -23,29 +23,24 @@ import numpy as np
 __all__ = ["disparity_normals"]
 
 
-def _solve(code, n, u, v, w, keep):
-    """Per-label normal equations of ``w ~ a u + b v + c`` over the kept pixels: ``(n, 3)``
-    solutions and ``(n,)`` bool (solved: at least 3 pixels, well conditioned)."""
-    k = code[keep]
-    uk, vk, wk = u[keep], v[keep], w[keep]
-    s = lambda x: np.bincount(k, weights=x, minlength=n)  # noqa: E731
-    one = np.bincount(k, minlength=n).astype(np.float64)
-    su, sv = s(uk), s(vk)
-    M = np.empty((n, 3, 3))
-    M[:, 0, 0] = s(uk * uk)
-    M[:, 0, 1] = M[:, 1, 0] = s(uk * vk)
-    M[:, 0, 2] = M[:, 2, 0] = su
-    M[:, 1, 1] = s(vk * vk)
-    M[:, 1, 2] = M[:, 2, 1] = sv
-    M[:, 2, 2] = one
-    r = np.stack([s(uk * wk), s(vk * wk), s(wk)], 1)
-    ok = one >= 3
+def _solve(sums):
+    """``(K, 3)`` solutions of the normal equations from ``disparity_pass`` sums, and
+    ``(K,)`` bool: solved (at least 3 pixels, a well-conditioned pixel layout)."""
+    K = sums.shape[0]
+    M = np.empty((K, 3, 3))
+    M[:, 0, 0] = sums[:, 0]
+    M[:, 0, 1] = M[:, 1, 0] = sums[:, 1]
+    M[:, 0, 2] = M[:, 2, 0] = sums[:, 2]
+    M[:, 1, 1] = sums[:, 3]
+    M[:, 1, 2] = M[:, 2, 1] = sums[:, 4]
+    M[:, 2, 2] = sums[:, 5]
+    r = sums[:, 6:9]
+    ok = sums[:, 5] >= 3
     # scale-free conditioning test: a strip one pixel high or a line of pixels has a
     # (near-)singular design; PCA keeps those
     tr = np.trace(M, axis1=1, axis2=2)
-    det = np.linalg.det(M)
-    ok &= det > 1e-12 * np.maximum(tr, 1e-300) ** 3
-    sol = np.zeros((n, 3))
+    ok &= np.linalg.det(M) > 1e-12 * np.maximum(tr, 1e-300) ** 3
+    sol = np.zeros((K, 3))
     if ok.any():
         sol[ok] = np.linalg.solve(M[ok], r[ok][:, :, None])[:, :, 0]
     return sol, ok
@@ -65,7 +60,7 @@ def disparity_normals(xyz: np.ndarray, lab: np.ndarray, labels, passes: int = 3,
         The labels to fit.
     passes : int
         Fits; after each but the last, pixels whose inverse-depth residual exceeds ``trim``
-        times their label's RMS residual are left out.
+        times their label's RMS residual are left out of the next.
     trim : float
 
     Returns
@@ -76,41 +71,25 @@ def disparity_normals(xyz: np.ndarray, lab: np.ndarray, labels, passes: int = 3,
         False where the fit is not defined: fewer than 3 pixels, a degenerate pixel layout,
         or a point at ``z <= 0`` (not a camera-frame cloud).
     """
+    from planerel.features._disparity_kernels import disparity_gather, disparity_pass, disparity_rms
+
     labels = np.asarray(labels, np.int64)
     K = labels.size
-    if K == 0:
-        return np.zeros((0, 3)), np.zeros(0, bool)
-    n = int(lab.max()) + 1
-    idx = np.full(n, -1, np.int64)
+    if K == 0 or lab.size == 0 or lab.max() < 0:
+        return np.zeros((K, 3)), np.zeros(K, bool)
+    idx = np.full(int(lab.max()) + 1, -1, np.int64)
     idx[labels] = np.arange(K)
-    flat = lab.reshape(-1)
-    pts = xyz.reshape(-1, 3)
-    sel = np.flatnonzero(flat >= 0)
-    code = idx[flat[sel]]
-    m = code >= 0
-    sel, code = sel[m], code[m]
-    P = pts[sel].astype(np.float64)
-    finite = np.isfinite(P).all(1)
-    sel, code, P = sel[finite], code[finite], P[finite]
-    bad = np.zeros(K, bool)
-    neg = P[:, 2] <= 0
-    if neg.any():
-        bad[np.unique(code[neg])] = True
-        keep_pos = ~neg
-        code, P = code[keep_pos], P[keep_pos]
-    z = P[:, 2]
-    u, v, w = P[:, 0] / z, P[:, 1] / z, 1.0 / z
-    keep = np.ones(z.size, bool)
+    code, u, v, w, bad = disparity_gather(np.ascontiguousarray(xyz),
+                                          np.ascontiguousarray(lab, dtype=np.int32), idx)
     sol = np.zeros((K, 3))
+    thr = np.full(K, -1.0)  # the first pass takes every pixel
     ok = np.zeros(K, bool)
     for it in range(max(1, passes)):
-        sol, ok = _solve(code, K, u, v, w, keep)
-        if it == passes - 1:
-            break
-        res = sol[code, 0] * u + sol[code, 1] * v + sol[code, 2] - w
-        cnt = np.maximum(np.bincount(code[keep], minlength=K), 1)
-        rms = np.sqrt(np.bincount(code[keep], weights=res[keep] ** 2, minlength=K) / cnt)
-        keep = np.abs(res) <= trim * rms[code] + 1e-12
+        new, ok = _solve(disparity_pass(code, u, v, w, K, sol, thr))
+        if it < passes - 1:
+            rms = disparity_rms(code, u, v, w, K, sol, thr, new)
+            thr = np.where(ok, trim * rms + 1e-12, -1.0)
+        sol = new
     norm = np.linalg.norm(sol, axis=1)
     ok &= ~bad & (norm > 0) & np.isfinite(norm)
     out = np.zeros((K, 3))
