@@ -12,6 +12,15 @@ from numba import njit
 
 
 @njit(cache=True, nogil=True)
+def _takes_part(sol_prev, thr_prev, k, u, v, w) -> bool:
+    """A pixel of label index ``k`` takes part in a pass when its label's threshold is < 0
+    (the first pass) or its residual under ``sol_prev`` is within it."""
+    if thr_prev[k] < 0.0:
+        return True
+    return abs(sol_prev[k, 0] * u + sol_prev[k, 1] * v + sol_prev[k, 2] - w) <= thr_prev[k]
+
+
+@njit(cache=True, nogil=True)
 def disparity_pass(code, u, v, w, K, sol_prev, thr_prev):
     """One least-squares pass of ``w ~ a u + b v + c`` per label.
 
@@ -35,10 +44,8 @@ def disparity_pass(code, u, v, w, K, sol_prev, thr_prev):
     s = np.zeros((K, 9))
     for i in range(code.shape[0]):
         k = code[i]
-        if thr_prev[k] >= 0.0:
-            r = sol_prev[k, 0] * u[i] + sol_prev[k, 1] * v[i] + sol_prev[k, 2] - w[i]
-            if abs(r) > thr_prev[k]:
-                continue
+        if not _takes_part(sol_prev, thr_prev, k, u[i], v[i], w[i]):
+            continue
         s[k, 0] += u[i] * u[i]
         s[k, 1] += u[i] * v[i]
         s[k, 2] += u[i]
@@ -59,10 +66,8 @@ def disparity_rms(code, u, v, w, K, sol_prev, thr_prev, sol):
     n = np.zeros(K)
     for i in range(code.shape[0]):
         k = code[i]
-        if thr_prev[k] >= 0.0:
-            r = sol_prev[k, 0] * u[i] + sol_prev[k, 1] * v[i] + sol_prev[k, 2] - w[i]
-            if abs(r) > thr_prev[k]:
-                continue
+        if not _takes_part(sol_prev, thr_prev, k, u[i], v[i], w[i]):
+            continue
         r = sol[k, 0] * u[i] + sol[k, 1] * v[i] + sol[k, 2] - w[i]
         ss[k] += r * r
         n[k] += 1.0
