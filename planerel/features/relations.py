@@ -606,7 +606,8 @@ def seen_behind(labels, xyz, group, reach: int = 3, margin: float = 0.05) -> flo
 
 
 def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
-                 step_overlap: float | None = 0.8, min_edge: int = 5) -> set:
+                 step_overlap: float | None = 0.8, min_edge: int = 5,
+                 riser_max: float | None = None) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
     For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
@@ -622,7 +623,10 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     its end (None: no exception).  When ``edges`` are given, a pair with fewer than
     ``min_edge`` edge pixel pairs there shares no edge (its planes only come near in 3-D, e.g.
     a face seen behind another object's top across an occluding edge): its sign is taken from
-    the centroids and the tread-and-riser exception does not apply.
+    the centroids and the tread-and-riser exception does not apply.  With ``riser_max``
+    (metres; :func:`propose_objects` passes 1.5 x ``step_rise_max``) the exception also needs
+    the vertical plane no higher than that or 1.5 times the other plane's height range (a
+    wall behind a flight's lowest tread is no riser; a ramp's end face is as high as its slope).
 
     Returns
     -------
@@ -664,7 +668,8 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         dx = xa - xb
         scale = 0.1 * float(np.linalg.norm(na - nb) * np.linalg.norm(dx)) if e is not None else 0.0
         if float((na - nb) @ dx) >= -scale or (step_overlap is not None and shared
-                                                  and _step_like(pa, pb, step_overlap)
+                                                  and _step_like(pa, pb, step_overlap,
+                                                                 getattr(planes, "up", None), riser_max)
                                                   and _regular_step(pa, pb, byl, nbrs, cos_tol)):
             out.add((a, b))
     return out
@@ -875,13 +880,21 @@ def _extent(p, axis) -> tuple[float, float]:
     return float(t.min()), float(t.max())
 
 
-def _step_like(pa, pb, min_overlap: float) -> bool:
+def _step_like(pa, pb, min_overlap: float, up=None, riser_max: float | None = None) -> bool:
     """A horizontal or inclined plane and a vertical one meeting as tread and riser (or a
     slope and the face at its end): their extents along the shared edge line overlap by at
-    least ``min_overlap`` (IoU of the two intervals)."""
+    least ``min_overlap`` (IoU of the two intervals), and (with ``up`` and ``riser_max``) the
+    vertical one is at most ``riser_max`` high or 1.5 times the other's height range: a wall
+    seen behind a far tread is no riser, a ramp's end face is as high as its slope."""
     ors = sorted((pa.orientation, pb.orientation))
     if ors not in (["horizontal", "vertical"], ["inclined", "vertical"]):
         return False
+    if up is not None and riser_max is not None:
+        vert, other = (pa, pb) if pa.orientation == "vertical" else (pb, pa)
+        u = np.asarray(up, float)
+        high = float(np.ptp(np.asarray(vert.hull3d, float) @ u))
+        if high > max(riser_max, 1.5 * float(np.ptp(np.asarray(other.hull3d, float) @ u))):
+            return False
     axis = np.cross(np.asarray(pa.normal, float), np.asarray(pb.normal, float))
     nrm = float(np.linalg.norm(axis))
     if nrm < 1e-6:
@@ -921,7 +934,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         if cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]:
             edges = edge_means(lab, cloud.xyz, pairs, params.edge_band, params.edge_depth)
         pairs = sorted(convex_pairs(planes, pairs, edges, params.concave_tol,
-                                    params.step_overlap or None))
+                                    params.step_overlap or None,
+                                    riser_max=1.5 * params.step_rise_max))
     g.add_edges_from(pairs)
     if params.step_chains:
         g.add_edges_from(step_chain_pairs(

@@ -18,7 +18,8 @@ __all__ = ["stepped_levels", "split_stepped", "remeasure_stepped"]
 
 def stepped_levels(heights: np.ndarray, rise=(0.08, 0.30), bin_size: float = 0.01,
                    dense: float = 0.2, max_thickness: float = 0.08,
-                   min_share: float = 0.85, margin: float = 0.02) -> list[tuple[float, float]]:
+                   min_share: float = 0.85, margin: float = 0.02,
+                   min_level: float = 0.01) -> list[tuple[float, float]]:
     """Horizontal levels a set of point heights falls into, when it looks like treads.
 
     Parameters
@@ -33,12 +34,14 @@ def stepped_levels(heights: np.ndarray, rise=(0.08, 0.30), bin_size: float = 0.0
         A bin is populated when it holds at least this share of the fullest bin within half
         the largest rise of it (and 3 points): near levels hold more points than far ones.
     max_thickness : float
-        A level (a run of populated bins) is at most this thick (metres): a tread's noise,
-        not a slope.
+        A level (a run of populated bins; runs less than half ``rise[0]`` apart are one) is at
+        most this thick (metres): a tread's noise, not a slope.
     min_share : float
         The levels, each widened by ``margin`` metres up and down, hold at least this share
         of the points.
     margin : float
+    min_level : float
+        A level holds at least this share of the points (and 5 points).
 
     Returns
     -------
@@ -68,6 +71,17 @@ def stepped_levels(heights: np.ndarray, rise=(0.08, 0.30), bin_size: float = 0.0
             j += 1
         runs.append((k, j))
         k = j + 1
+    # a run of a few stray points is no level (far treads hold a few % of the points); runs
+    # less than half the smallest rise apart are one level broken by a sparse bin
+    merged = []
+    for a, b in runs:
+        if counts[a:b + 1].sum() < max(5, min_level * h.size):
+            continue
+        if merged and a - merged[-1][1] - 1 < 0.5 * rise[0] / bin_size:
+            merged[-1] = (merged[-1][0], b)
+        else:
+            merged.append((a, b))
+    runs = merged
     if len(runs) < 2:
         return []
     levels = [(lo + a * bin_size, lo + (b + 1) * bin_size) for a, b in runs]
