@@ -166,6 +166,17 @@ def test_descending_flight_without_the_landing_it_starts_from():
             assert len(seen[1]) == n and seen[1] in props, (n, pitch, props)
 
 
+def test_a_wall_behind_the_lowest_tread_is_no_riser():
+    # a 1.2 m wall (another object) across the bottom of a flight seen from its landing: it
+    # meets the lowest tread at a concave edge like the riser above a tread, but it is four
+    # rises high: the tread-and-riser exception does not take it (it did before)
+    for n in (3, 4):
+        rects, top = _descending(n)
+        rects.append(Rect((0.0, 0.8 + n * 0.28, 0.6), (1, 0, 0), (0, 0, 1), 0.5, 0.6, 2))
+        props, seen = _proposals(rects, pitch=40, cam_height=top + 1.2)
+        assert seen[1] in props and seen[2] in props, (n, props)
+
+
 @pytest.mark.parametrize("h1,h2", [(0.2, 0.4), (0.2, 0.5), (0.18, 0.36), (0.1, 0.3)])
 def test_two_touching_boxes_of_different_heights_are_two_proposals(h1, h2):
     # a box with a taller one touching its back (other width, shifted sideways), at room
