@@ -73,6 +73,8 @@
     sat_seen/1,             % Literal
     sat_done/2,             % ModeSeq, InIds
     lazy_cache/2,           % variant hash of a lazy call, its constants
+    cov_cache/3,            % variant hash of a clause, its positives and negatives as bit sets
+    ans_cache/3,            % variant hash of a short clause, its answers on positives, on negatives
     loaded_stem/1.
 
 :- dynamic planerel_ext:'$planerel_none'/0.
@@ -126,6 +128,8 @@ setting_spec(recursion,    false,    oneof([true, false])).
 setting_spec(openlist,     inf,      int_or_inf(1)).
 setting_spec(explore,      false,    oneof([true, false])).
 setting_spec(searchtime,   inf,      pos_or_inf).
+setting_spec(caching,      true,     oneof([true, false])).
+setting_spec(cache_clauselength, inf, int_or_inf(1)).
 
 %   Values Aleph accepts for search/evalfn that this learner does not implement.
 aleph_other_value(search, [ar, ibs, ic, id, ils, rls, scs, false]).
@@ -135,7 +139,7 @@ aleph_other_value(evalfn, [auto_m, mestimate, pbayes, posonly, sd, wracc,
 %   Settings of Aleph that this learner does not implement: warned about once.
 aleph_setting(Name) :-
     memberchk(Name,
-              [ abduce, best, cache_clauselength, caching, check_good, check_redundant,
+              [ abduce, best, check_good, check_redundant,
                 check_useless, classes, clauselength_distribution, clauses,
                 condition, confidence, construct_bottom, dependent, discretise,
                 good, goodfile, gsamplesize, interactive, language,
@@ -1008,9 +1012,39 @@ node_answers(Node, Ctx, x(BV, BIds, VT, PT, NT, cache(A))) :-
     Ctx = ctx(_, _, _, bottom(Head, _, HOut, _, _), _, _, _, _, VT),
     ord_union(Bound, HOut, BIds),
     vars_of(BIds, VT, BV),
-    maplist(ex_answers(pos, Head, Body, BV), PC, PT),
-    maplist(ex_answers(neg, Head, Body, BV), NC, NT),
+    Node = nd(_, _, _, Len, _, _, _, _, _, _),
+    (   answers_cache_key(Head, Body, BV, Len, Key)
+    ->  (   ans_cache(Key, PT0, NT0)
+        ->  answers_on(PC, PT0, PT),
+            answers_on(NC, NT0, NT)
+        ;   maplist(ex_answers(pos, Head, Body, BV), PC, PT),
+            maplist(ex_answers(neg, Head, Body, BV), NC, NT),
+            assertz(ans_cache(Key, PT, NT))
+        )
+    ;   maplist(ex_answers(pos, Head, Body, BV), PC, PT),
+        maplist(ex_answers(neg, Head, Body, BV), NC, NT)
+    ),
     empty_assoc(A).
+
+%   The answers of short clauses (at most two body literals: the ones every
+%   seed's search refines, over most examples) are kept per variant of the
+%   clause and its answer variables, as their coverage is (child_coverage/10).
+%   Longer clauses cover few examples and are rarely met again.
+answers_cache_key(Head, Body, BV, Len, Key) :-
+    Len =< 3,
+    setting(caching, true),
+    \+ rec_target(_),
+    variant_sha1(Head-Body-BV, Key).
+
+%   answers_on(+Ids, +Answers0, -Answers): the Id-Tuples of Answers0 (sorted
+%   by Id, a superset) for the ordset Ids.
+answers_on([], _, []).
+answers_on([Id|Ids], [Id0-T0|As0], As) :-
+    (   Id == Id0
+    ->  As = [Id-T0|As1],
+        answers_on(Ids, As0, As1)
+    ;   answers_on([Id|Ids], As0, As)
+    ).
 
 vars_of(Ids, VT, T) :-
     maplist(var_of(VT), Ids, Vs),
@@ -1129,16 +1163,70 @@ make_child(J, Lit, _In, Out, nd(Body, _, Bound, Len, _, _, _, _, _, _), X, Ctx, 
     X = x(BV, _, _, PT, NT, _),
     length(PT, NP),
     pos_needed(Best0, Evalfn, MinPos, Len1, NP, Need),
-    (   child_cover(PT, BV, Lit, pos, Head, Body1, Need, PC1),
-        keeps_seed(PT, PC1)
+    (   child_coverage(Head, Body1, Len1, PT, NT, BV, Lit, Need, PC1, NC1)
     ->  length(PC1, P1),
-        child_cover(NT, BV, Lit, neg, Head, Body1, 0, NC1),
         length(NC1, N1),
         score(Evalfn, P1, N1, Len1, S),
         flag(planerel_search_nodes, Seq, Seq),
         Child = nd(Body1, J, Bound1, Len1, PC1, NC1, P1, N1, S, Seq)
     ;   Child = dead
     ).
+
+%   child_coverage(+Head, +Body1, +Len1, +PT, +NT, +BV, +Lit, +Need, -PC1, -NC1):
+%   the positives and negatives of the parent's (PT, NT) that the refined
+%   clause Head :- Body1 covers; fails when fewer than Need positives or the
+%   seed would be lost.  With caching (Aleph's setting; here on by default)
+%   a clause's coverage is kept per variant of the clause as two bit sets
+%   and reused whenever the same clause comes up again: within a search the
+%   same refinement is reached once per plane of the object
+%   (has_plane(A,B), orientation(B,vertical) for each vertical plane B),
+%   and every seed's search starts with the same short clauses.  Reuse is
+%   exact: a variant clause has the same parent (its body minus the last
+%   literal), whose covered examples can only have shrunk since (positives
+%   are removed by greedy cover, negatives never change), so the cached set
+%   intersected with the parent's is the child's coverage.
+child_coverage(Head, Body1, Len1, PT, NT, BV, Lit, Need, PC1, NC1) :-
+    (   cache_key(Head, Body1, Len1, Key)
+    ->  (   cov_cache(Key, PB, NB)
+        ->  flag(planerel_cache_hits, H, H + 1),
+            bits_filter(PT, PB, PC1),
+            length(PC1, P1),
+            P1 >= Need,
+            keeps_seed(PT, PC1),
+            bits_filter(NT, NB, NC1)
+        ;   child_cover(PT, BV, Lit, pos, Head, Body1, Need, PC1),
+            keeps_seed(PT, PC1),
+            child_cover(NT, BV, Lit, neg, Head, Body1, 0, NC1),
+            ids_bits(PC1, PB),
+            ids_bits(NC1, NB),
+            assertz(cov_cache(Key, PB, NB))
+        )
+    ;   child_cover(PT, BV, Lit, pos, Head, Body1, Need, PC1),
+        keeps_seed(PT, PC1),
+        child_cover(NT, BV, Lit, neg, Head, Body1, 0, NC1)
+    ).
+
+%   cache_key(+Head, +Body, +Len, -Key): the variant hash of the clause, when
+%   caching is on, the clause is not longer than cache_clauselength and no
+%   target is recursive (its coverage then depends on the examples left).
+cache_key(Head, Body, Len, Key) :-
+    setting(caching, true),
+    setting(cache_clauselength, CL),
+    ( CL == inf -> true ; Len =< CL ),
+    \+ rec_target(_),
+    variant_sha1(Head-Body, Key).
+
+bits_filter([], _, []).
+bits_filter([Id-_|T], Bits, Ids) :-
+    (   getbit(Bits, Id) =:= 1
+    ->  Ids = [Id|Ids1]
+    ;   Ids = Ids1
+    ),
+    bits_filter(T, Bits, Ids1).
+
+ids_bits(Ids, Bits) :- foldl(set_bit, Ids, 0, Bits).
+
+set_bit(Id, B0, B) :- B is B0 \/ (1 << Id).
 
 %   keeps_seed(+ParentAnswers, +Covered): a refinement of a clause that covers
 %   the seed covers it too.  Only a lazily evaluated threshold can lose it
@@ -1385,6 +1473,9 @@ induce :-
     retractall(theory_clause(_, _, _, _, _)),
     retractall(rec_target(_)),
     retractall(lazy_cache(_, _)),
+    retractall(cov_cache(_, _, _)),
+    retractall(ans_cache(_, _, _)),
+    flag(planerel_cache_hits, _, 0),
     statistics(cputime, T0),
     nb_setval(planerel_t0, T0),
     flag(planerel_nodes, _, 0),
@@ -1607,7 +1698,9 @@ report_performance :-
     ;   true
     ),
     flag(planerel_nodes, Nodes, Nodes),
-    format("~n[clauses explored] ~w~n", [Nodes]).
+    format("~n[clauses explored] ~w~n", [Nodes]),
+    flag(planerel_cache_hits, Hits, Hits),
+    format("[coverage reused from the cache] ~w~n", [Hits]).
 
 print_confusion(Title, CM) :-
     CM = cm(TP, FN, FP, TN),

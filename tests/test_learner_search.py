@@ -9,6 +9,7 @@
 from __future__ import annotations
 
 import math
+import re
 import random
 import shutil
 import subprocess
@@ -99,3 +100,64 @@ def test_cutoff_matches_its_definition_on_random_lists(tmp_path):
     for (d, p, n), text in zip(cases, got, strict=True):
         want = cutoff(d, p, n)
         assert Fraction(text) == pytest.approx(Fraction(want), abs=1e-9), (d, p, n, text, want)
+
+
+# --------------------------------------------------------------------------- caching
+
+
+def _planes_problem(folder: Path, n_obj: int = 40, seed: int = 3) -> Path:
+    """A small relational problem like the exported ones: objects of 2-5 planes (orientation,
+    lazily thresholded area) joined by adjacency; positives have a large horizontal plane, and a
+    few positives look like negatives (no clause separates them), so several seeds' searches
+    run to the node limit."""
+    rng = random.Random(seed)
+    b = [":- set(search, heuristic).", ":- set(evalfn, laplace).", ":- set(clauselength, 5).",
+         ":- set(i, 3).", ":- set(nodes, 300).", ":- set(minpos, 2).",
+         ":- modeh(1, target(+obj)).", ":- modeb(*, has_plane(+obj, -plane)).",
+         ":- modeb(1, orientation(+plane, #orient)).", ":- modeb(*, adjacent(+plane, -plane)).",
+         ":- modeb(1, area(+plane, -area)).", ":- modeb(1, gteq(+area, #area)).",
+         ":- modeb(1, lteq(+area, #area)).", ":- lazy_evaluate(gteq/2).",
+         ":- lazy_evaluate(lteq/2)."]
+    b += [f":- determination(target/1, {p})." for p in
+          ("has_plane/2", "orientation/2", "adjacent/2", "area/2", "gteq/2", "lteq/2")]
+    facts, pos, neg = [], [], []
+    for k in range(n_obj):
+        planes = [(rng.choice("hvi"), round(rng.uniform(0.2, 2.0), 2)) for _ in range(rng.randint(2, 5))]
+        is_pos = k % 3 == 0
+        if is_pos:
+            planes[0] = ("h", round(rng.uniform(1.0, 2.0), 2))
+        else:
+            planes = [(o, min(a, 0.9) if o == "h" else a) for o, a in planes]
+        if k % 11 == 5:                         # a positive that looks like a negative
+            is_pos, planes = True, [("i", 0.4), ("i", 0.6)]
+        names = {"h": "horizontal", "v": "vertical", "i": "inclined"}
+        for j, (o, a) in enumerate(planes):
+            facts += [f"has_plane(o{k}, p{k}_{j}).", f"orientation(p{k}_{j}, {names[o]}).",
+                      f"area(p{k}_{j}, {a})."]
+            if j:
+                facts += [f"adjacent(p{k}_{j - 1}, p{k}_{j}).", f"adjacent(p{k}_{j}, p{k}_{j - 1})."]
+        (pos if is_pos else neg).append(f"target(o{k}).\n")
+    facts.sort(key=lambda f: f.split("(")[0])            # clauses of a predicate together
+    stem = folder / "planes"
+    stem.with_suffix(".b").write_text("\n".join(b + facts) + "\n" + COMPARE.read_text())
+    stem.with_suffix(".f").write_text("".join(pos))
+    stem.with_suffix(".n").write_text("".join(neg))
+    return stem
+
+
+def test_caching_gives_the_same_theory_and_search(tmp_path):
+    # Aleph's `caching`: a clause's coverage (and a short clause's answers) is kept per variant
+    # of the clause and reused; the theory, the clauses explored and the printed search must be
+    # exactly those computed without it.
+    stem = _planes_problem(tmp_path)
+    runs = {c: learn(stem, settings={"caching": c}) for c in ("false", "true")}
+    off, on = runs["false"], runs["true"]
+    assert on.rules == off.rules
+    assert any(":-" in r and "gteq(" in r for r in on.rules), on.rules
+    assert on.train == off.train
+    assert on.clauses_explored == off.clauses_explored
+    reused = [int(x) for x in re.findall(r"\[coverage reused from the cache\] (\d+)", on.output)]
+    assert reused and reused[0] > on.clauses_explored // 4, on.output[-300:]
+    assert "[coverage reused from the cache] 0" in off.output
+    drop = lambda out: re.sub(r"\[coverage reused from the cache\] \d+", "", out)
+    assert drop(on.output) == drop(off.output)
