@@ -861,9 +861,10 @@ mark_recursive(Target, bl(I, L, In, Out, Lz), bl(I, L1, In, Out, Lz)) :-
                  *            SEARCH            *
                  *******************************/
 
-%   A node is nd(Body, Last, Bound, Len, PosCov, NegCov, P, N, Score, Seq):
+%   A node is nd(Body, Last-PX, Bound, Len, PosCov, NegCov, P, N, Score, Seq):
 %   Body the literals (in order), Last the index of the last bottom literal
-%   added, Bound the ordset of bound variable ids, Len the number of
+%   added, PX its parent's answers (px(BV, PosAnswers, NegAnswers), none for
+%   the root; see node_answers/3), Bound the ordset of bound variable ids, Len the number of
 %   literals including the head, PosCov/NegCov the ids of the examples it
 %   covers.
 
@@ -895,7 +896,7 @@ search_clause(Bottom, PosIds, NegIds, Ctx, Best) :-
     count_node,
     length(PosIds, NPos),
     nb_setval(planerel_search_npos, NPos),
-    Root = nd([], 0, HIn, 1, PC, NC, P, N, S, 0),
+    Root = nd([], 0-none, HIn, 1, PC, NC, P, N, S, 0),
     consider(Root, Ctx, none, Best0),
     Ctx = ctx(Search, _, _, _, _, _, _, _, _),
     open_empty(Search, O0),
@@ -981,7 +982,7 @@ expandable(nd(_, _, Bound, Len, _, _, P, N, _, _), Ctx, Best) :-
 %   input variables (cached per variable set).
 
 refine(Node, Ctx, Best0, Best, Children) :-
-    Node = nd(_, Last, _, _, _, _, _, _, _, _),
+    Node = nd(_, Last-_, _, _, _, _, _, _, _, _),
     Ctx = ctx(_, _, _, Bottom, _, _, _, _, _),
     Bottom = bottom(_, _, _, _, NB),
     From is Last + 1,
@@ -1007,8 +1008,15 @@ refine_from(J, NB, Node, X, Ctx, Best0, Best, Children) :-
     ).
 
 %   node_answers(+Node, +Ctx, -X): X = x(BV, BIds, VT, PT, NT, cache(Assoc)).
+%   A node's answers come from its parent's: the node adds one literal, and
+%   every variable of the parent's body is among the parent's answer
+%   variables, so the node's answers on an example are the parent's answers
+%   extended by the solutions of that literal (one literal call per parent
+%   answer instead of a proof of the whole body; the parent's answers stay
+%   referenced by its children in the open list).  An example past the cap
+%   on either side is proved in full, as before.
 node_answers(Node, Ctx, x(BV, BIds, VT, PT, NT, cache(A))) :-
-    Node = nd(Body, _, Bound, _, PC, NC, _, _, _, _),
+    Node = nd(Body, _-PX, Bound, _, PC, NC, _, _, _, _),
     Ctx = ctx(_, _, _, bottom(Head, _, HOut, _, _), _, _, _, _, VT),
     ord_union(Bound, HOut, BIds),
     vars_of(BIds, VT, BV),
@@ -1017,14 +1025,36 @@ node_answers(Node, Ctx, x(BV, BIds, VT, PT, NT, cache(A))) :-
     ->  (   ans_cache(Key, PT0, NT0)
         ->  answers_on(PC, PT0, PT),
             answers_on(NC, NT0, NT)
-        ;   maplist(ex_answers(pos, Head, Body, BV), PC, PT),
-            maplist(ex_answers(neg, Head, Body, BV), NC, NT),
+        ;   all_answers(PX, Head, Body, BV, PC, NC, PT, NT),
             assertz(ans_cache(Key, PT, NT))
         )
-    ;   maplist(ex_answers(pos, Head, Body, BV), PC, PT),
-        maplist(ex_answers(neg, Head, Body, BV), NC, NT)
+    ;   all_answers(PX, Head, Body, BV, PC, NC, PT, NT)
     ),
     empty_assoc(A).
+
+all_answers(px(PBV, PPT, PNT), Head, Body, BV, PC, NC, PT, NT) :-
+    last(Body, Lit), !,
+    answers_on(PC, PPT, PA),
+    answers_on(NC, PNT, NA),
+    maplist(child_answers(pos, Head, Body, BV, PBV, Lit), PA, PT),
+    maplist(child_answers(neg, Head, Body, BV, PBV, Lit), NA, NT).
+all_answers(_, Head, Body, BV, PC, NC, PT, NT) :-
+    maplist(ex_answers(pos, Head, Body, BV), PC, PT),
+    maplist(ex_answers(neg, Head, Body, BV), NC, NT).
+
+child_answers(Set, Head, Body, BV, PBV, Lit, Id-PTs, Answers) :-
+    (   PTs == full
+    ->  ex_answers(Set, Head, Body, BV, Id, Answers)
+    ;   tuple_cap(Cap),
+        catch(findall(BV, limit(Cap, ( member(PBV, PTs), call_lit(Lit) )), L),
+              Err, (coverage_error(Err), L = [])),
+        length(L, N),
+        (   N >= Cap
+        ->  ex_answers(Set, Head, Body, BV, Id, Answers)
+        ;   sort(L, Ts),
+            Answers = Id-Ts
+        )
+    ).
 
 %   The answers of short clauses (at most two body literals: the ones every
 %   seed's search refines, over most examples) are kept per variant of the
@@ -1087,8 +1117,13 @@ projection(X, Side, Ids, IV, Proj) :-
 
 project1(_, Id-full, Id-full) :- !.
 project1(K, Id-Ts, Id-Ps) :-
-    findall(t(V), ( member(T, Ts), arg(K, T, V) ), P0),
+    args_of(Ts, K, P0),                 % no findall: no copy of the tuples
     sort(P0, Ps).
+
+args_of([], _, []).
+args_of([T|Ts], K, [t(V)|Vs]) :-
+    arg(K, T, V),
+    args_of(Ts, K, Vs).
 
 project(_, _, Id-full, Id-full) :- !.
 project(BV, IV, Id-Ts, Id-Ps) :-
@@ -1168,7 +1203,7 @@ make_child(J, Lit, _In, Out, nd(Body, _, Bound, Len, _, _, _, _, _, _), X, Ctx, 
         length(NC1, N1),
         score(Evalfn, P1, N1, Len1, S),
         flag(planerel_search_nodes, Seq, Seq),
-        Child = nd(Body1, J, Bound1, Len1, PC1, NC1, P1, N1, S, Seq)
+        Child = nd(Body1, J-px(BV, PT, NT), Bound1, Len1, PC1, NC1, P1, N1, S, Seq)
     ;   Child = dead
     ).
 
