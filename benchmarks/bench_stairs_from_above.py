@@ -1,7 +1,7 @@
 """Staircases on Kinect-like frames: is the flight ONE proposal, and is it called stairs?
 
     .venv/bin/python benchmarks/bench_stairs_from_above.py [--seeds 9000:9010] [--subsample 1 2]
-        [--model out/model] [--against /path/to/other/checkout [--against-model DIR]]
+        [--distance 1:3] [--model out/model] [--against CHECKOUT [--against-model DIR]]
 
 Scenes: the varied world's staircases (planerel.synth.world, structured-light sensor model,
 640x480 rendered, ``--subsample``), with the ranges of tests/test_real_rules.py (camera 0.8-1.6 m
@@ -39,12 +39,12 @@ from pathlib import Path
 import numpy as np
 
 
-def _scenes(seeds, sub, descending):
+def _scenes(seeds, sub, descending, distance=(1.0, 3.0)):
     from planerel.segment import segment
     from planerel.synth.world import WorldRange, generate_world_scene
 
     ranges = WorldRange(camera_height=(0.8, 1.6), camera_pitch_deg=(25.0, 60.0),
-                        object_range=(1.0, 3.0), extra_objects=(0, 1),
+                        object_range=distance, extra_objects=(0, 1),
                         descending=1.0 if descending else 0.0)
     for s in seeds:
         sc = generate_world_scene("stairs", s, size=(640, 480), subsample=sub, ranges=ranges)
@@ -69,7 +69,7 @@ def flight(sc, desc, min_px=200):
     return len(found), best[0], best[1]
 
 
-def measure(seeds, subs, variants, model=None):
+def measure(seeds, subs, variants, model=None, distance=(1.0, 3.0)):
     from planerel.features.facts import describe_scene
     from planerel.features.planes import PlaneParams
     from planerel.features.relations import ProposalParams
@@ -93,7 +93,7 @@ def measure(seeds, subs, variants, model=None):
                                             for v in variants})
                 if clf is not None:
                     rows["stairs answers"] = 0
-                for s, sc, lab in _scenes(seeds, sub, descending):
+                for s, sc, lab in _scenes(seeds, sub, descending, distance):
                     if not warm:  # numba and shapely warm-up, untimed
                         for v in variants:
                             describe_scene(sc.cloud, lab, up=sc.up, **settings[v])
@@ -125,6 +125,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", default="9000:9010", help="first:last+1 (default 9000:9010)")
     ap.add_argument("--subsample", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--distance", default="1:3", help="LO:HI metres from the camera to the "
+                    "flight (default 1:3)")
     ap.add_argument("--model", help="also classify with this model folder")
     ap.add_argument("--against", help="also measure 'now' with the planerel of this checkout")
     ap.add_argument("--against-model", help="... and classify there with this model (one that "
@@ -133,7 +135,8 @@ def main(argv=None) -> int:
     ap.add_argument("--variants", nargs="+", default=["before", "now"], help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     lo, hi = (int(x) for x in a.seeds.split(":"))
-    res = measure(range(lo, hi), a.subsample, a.variants, a.model)
+    dist = tuple(float(x) for x in a.distance.split(":"))
+    res = measure(range(lo, hi), a.subsample, a.variants, a.model, dist)
     if a.json:
         print(json.dumps(res))
         return 0
@@ -141,6 +144,7 @@ def main(argv=None) -> int:
     if a.against:
         env = dict(os.environ, PYTHONPATH=str(Path(a.against).resolve()))
         cmd = [sys.executable, __file__, "--seeds", a.seeds, "--json", "--variants", "now",
+               "--distance", a.distance,
                "--subsample", *map(str, a.subsample)] + (["--model", a.against_model]
                                                           if a.against_model else [])
         run = subprocess.run(cmd, env=env, capture_output=True, text=True)
@@ -148,7 +152,7 @@ def main(argv=None) -> int:
             print(run.stderr, file=sys.stderr)
         else:
             ref = json.loads(run.stdout)
-    print(f"seeds {a.seeds}; flight in one proposal (all found treads/risers) / in most (3/4)")
+    print(f"seeds {a.seeds}, flight {a.distance} m away; flight in one proposal (all found treads/risers) / in most (3/4)")
     for key, rows in res.items():
         parts = [f"{v} {r['one']}/{r['n']} ({r['most']}, describe {statistics.median(r['ms']):.0f} ms)"
                  for v, r in rows.items() if v in a.variants]
