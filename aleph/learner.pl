@@ -17,8 +17,11 @@
                      (head-connected, inputs bound, at most clauselength
                      literals), scored by coverage | laplace | accuracy |
                      compression, bounded by nodes
-        add the best clause meeting minpos, minacc and noise (or the seed
-        itself when there is none); remove the positives it covers
+        add the best clause meeting minpos, minacc and noise and remove
+        the positives it covers; when there is none, remove the seed (as
+        Aleph, the seed itself becomes a rule only when minpos =< 1), and
+        set aside without a search every later seed whose bottom clause
+        is a variant of this one (skip_same_bottom, planerel's own)
       until no positive is left.
 
     Efficiency: examples are indexed by id; a refinement is tested only on the
@@ -40,7 +43,8 @@
             determination/2,
             lazy_evaluate/1,
             show_theory/0,
-            planerel_main/0
+            planerel_main/0,
+            planerel_score_main/0
           ]).
 
 :- op(500, fy, #).              % the constant marker of mode declarations
@@ -75,6 +79,7 @@
     lazy_cache/2,           % variant hash of a lazy call, its constants
     cov_cache/3,            % variant hash of a clause, its positives and negatives as bit sets
     ans_cache/3,            % variant hash of a short clause, its answers on positives, on negatives
+    hopeless_bottom/1,      % variant hash of a bottom clause whose search found no clause
     loaded_stem/1.
 
 :- dynamic planerel_ext:'$planerel_none'/0.
@@ -130,6 +135,7 @@ setting_spec(explore,      false,    oneof([true, false])).
 setting_spec(searchtime,   inf,      pos_or_inf).
 setting_spec(caching,      true,     oneof([true, false])).
 setting_spec(cache_clauselength, inf, int_or_inf(1)).
+setting_spec(skip_same_bottom, true, oneof([true, false])).   % planerel's own (see cover_loop/1)
 
 %   Values Aleph accepts for search/evalfn that this learner does not implement.
 aleph_other_value(search, [ar, ibs, ic, id, ils, rls, scs, false]).
@@ -1511,6 +1517,8 @@ induce :-
     retractall(cov_cache(_, _, _)),
     retractall(ans_cache(_, _, _)),
     flag(planerel_cache_hits, _, 0),
+    retractall(hopeless_bottom(_)),
+    flag(planerel_set_aside, _, 0),
     statistics(cputime, T0),
     nb_setval(planerel_t0, T0),
     flag(planerel_nodes, _, 0),
@@ -1590,7 +1598,17 @@ cover_loop([SeedId|Rest]) :-
     make_ctx(Bottom, VT, Ctx),
     nb_setval(planerel_seed, SeedId),
     flag(planerel_search_nodes, _, 0),
-    search_clause(Bottom, PosIds, NegIds, Ctx, Best),
+    variant_sha1(Bottom, Sig),
+    setting(minpos, MinPos),
+    length(PosIds, NLeft),
+    (   NLeft < MinPos                  % as Aleph: no search for fewer than minpos left
+    ->  Best = none, Why = 'fewer than minpos positives left'
+    ;   setting(skip_same_bottom, true),
+        hopeless_bottom(Sig)
+    ->  Best = none, Why = 'same bottom clause as a seed without a clause'
+    ;   search_clause(Bottom, PosIds, NegIds, Ctx, Best),
+        Why = 'no acceptable clause'
+    ),
     flag(planerel_search_nodes, Explored, Explored),
     (   Best = best(_, _, nd(Body, _, _, _, PC, _, P, N, _, _))
     ->  add_rule(Head, Body, P, N),
@@ -1598,17 +1616,29 @@ cover_loop([SeedId|Rest]) :-
         (   Rem1 == [SeedId|Rest]       % cannot happen (P >= minpos >= 1); be safe
         ->  Rem = Rest
         ;   Rem = Rem1
-        )
-    ;   findall(x, (neg_ex(_, NE), NE =@= Seed), Ns),
-        length(Ns, NN),
-        add_rule(Seed, [], 1, NN),
+        ),
+        Outcome = rule
+    ;   ( hopeless_bottom(Sig) -> true ; assertz(hopeless_bottom(Sig)) ),
+        flag(planerel_set_aside, K, K + 1),
+        (   MinPos =< 1                 % as Aleph: the seed itself is a rule only
+        ->  findall(x, (neg_ex(_, NE), NE =@= Seed), Ns),   % if it reaches minpos
+            length(Ns, NN),
+            add_rule(Seed, [], 1, NN),
+            Outcome = rule
+        ;   Outcome = set_aside(Why)
+        ),
         Rem = Rest
     ),
     (   setting(verbosity, V), V >= 1
     ->  flag(planerel_rule_no, RN, RN),
-        format("[seed ~w] ~q: bottom clause of ~w literals, ~w clauses explored -> rule ~w~n",
-               [SeedId, Seed, NB, Explored, RN]),
-        progress_line(F/A, RN, Rem)
+        (   Outcome == rule
+        ->  format("[seed ~w] ~q: bottom clause of ~w literals, ~w clauses explored -> rule ~w~n",
+                   [SeedId, Seed, NB, Explored, RN]),
+            progress_line(F/A, RN, Rem)
+        ;   Outcome = set_aside(W),
+            format("[seed ~w] ~q: bottom clause of ~w literals, ~w clauses explored -> set aside (~w)~n",
+                   [SeedId, Seed, NB, Explored, W])
+        )
     ;   true
     ),
     cover_loop(Rem).
@@ -1735,7 +1765,9 @@ report_performance :-
     flag(planerel_nodes, Nodes, Nodes),
     format("~n[clauses explored] ~w~n", [Nodes]),
     flag(planerel_cache_hits, Hits, Hits),
-    format("[coverage reused from the cache] ~w~n", [Hits]).
+    format("[coverage reused from the cache] ~w~n", [Hits]),
+    flag(planerel_set_aside, Aside, Aside),
+    format("[set aside] ~w~n", [Aside]).
 
 print_confusion(Title, CM) :-
     CM = cm(TP, FN, FP, TN),
@@ -1771,6 +1803,41 @@ planerel_main :-
     current_prolog_flag(argv, Argv),
     catch(main_(Argv), E, main_error(E)),
     halt(0).
+
+%!  planerel_score_main is det.
+%
+%   `swipl -g planerel_learner:planerel_score_main -t 'halt(3)' learner.pl --
+%   STEM RULES`: the theory in the file RULES (clauses, e.g. those of a
+%   learner run on other data) scored on STEM.f / STEM.n over STEM.b, as in
+%   induce/0; prints `@@score TP FN FP TN`.  Used for held-out accuracy.
+planerel_score_main :-
+    current_prolog_flag(argv, Argv),
+    catch(score_main_(Argv), E, main_error(E)),
+    halt(0).
+
+score_main_([Stem, Rules]) :- !,
+    read_all(Stem),
+    setup_extensional,
+    retractall(theory_clause(_, _, _, _, _)),
+    setup_call_cleanup(open(Rules, read, In), read_theory(In, 1), close(In)),
+    confusion(pos_ex, neg_ex, cm(TP, FN, FP, TN)),
+    format("@@score ~w ~w ~w ~w~n", [TP, FN, FP, TN]).
+score_main_(_) :-
+    input_error("usage: swipl learner.pl -- STEM RULES", []).
+
+read_theory(In, K) :-
+    read_term(In, C, []),
+    (   C == end_of_file
+    ->  true
+    ;   (   C = (H :- B) -> conj_to_list(B, Bs) ; H = C, Bs = [] ),
+        assertz(theory_clause(K, H, Bs, 0, 0)),
+        K1 is K + 1,
+        read_theory(In, K1)
+    ).
+
+conj_to_list((A, B), [A|Bs]) :- !, conj_to_list(B, Bs).
+conj_to_list(true, []) :- !.
+conj_to_list(A, [A]).
 
 main_([Stem|Sets]) :- !,
     read_all(Stem),

@@ -67,8 +67,9 @@ class Model:
         Learning time (all classes).
     clauses_explored : int
     uncovered : dict
-        ``{class: n}`` training objects no rule covers (Aleph keeps them as ground facts; a
-        model for new scenes has no use for them, so they are counted, not kept).
+        ``{class: n}`` training objects no general rule covers (Aleph keeps them as ground
+        facts when ``minpos`` is 1 and leaves them out otherwise; a model for new scenes has no
+        use for them, so they are counted, not kept).
     """
 
     classes: tuple
@@ -187,7 +188,9 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
                 results = list(pool.map(one, classes))
         for k, res in zip(classes, results, strict=True):
             rules[k] = tuple(r for r in res.rules if ":-" in r)
-            uncovered[k] = len(res.rules) - len(rules[k])
+            # unit clauses (seeds Aleph keeps as facts when minpos =< 1) and the positives
+            # the theory leaves out (seeds without a clause when minpos > 1)
+            uncovered[k] = len(res.rules) - len(rules[k]) + res.train.fn
             seconds += res.seconds
             explored += res.clauses_explored or 0
             engines.add(res.engine_detail or res.engine)
