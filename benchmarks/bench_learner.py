@@ -7,6 +7,8 @@ Usage
     .venv/bin/python benchmarks/bench_learner.py --dataset DIR    # an existing data set
     .venv/bin/python benchmarks/bench_learner.py --thresholds     # counts with lazy thresholds
     .venv/bin/python benchmarks/bench_learner.py STEM [STEM ...]  # exported Aleph problems
+    .venv/bin/python benchmarks/bench_learner.py --world varied --counts 34 33 33 --seed 1 \
+        --heldout-counts 10 10 10                                 # varied world, held-out scored
 
 Without stems it generates the data set (the demo's: 12 box, 15 stairs, 18 ramp scenes, seed 0,
 640x480 subsampled 4x; ``--scenes N`` scales the three counts), exports it with ``planerel
@@ -17,6 +19,11 @@ time (SWI-Prolog start-up and loading the ``.b`` included). When the real Aleph 
 (``PLANEREL_ALEPH=/path/to/aleph_orig.pl``) it runs on the same files in the same run and the
 ratios builtin / Aleph are printed (< 1: planerel's learner is faster). CPU times are the
 figures to compare on a shared machine; wall times depend on the load.
+
+``--heldout DIR`` (an ``export-aleph`` folder with the same classes) or ``--heldout-counts``
+(a held-out set generated like the training set, seed + 1) scores every learned theory on
+unseen scenes (:func:`planerel.ilp.learn.score_theory`; unit clauses left out, as ``planerel
+learn`` does).
 """
 
 from __future__ import annotations
@@ -72,7 +79,7 @@ def counts_as_thresholds(src: Path, dest: Path) -> Path:
 
 
 def make_task(folder: Path, scenes: int, dataset: str | None, task: str | None, seed: int,
-              thresholds: bool = False) -> list[Path]:
+              thresholds: bool = False, world: str = "paper", counts=None) -> list[Path]:
     from importlib.resources import files
 
     from planerel.ilp.aleph_export import export_dataset
@@ -80,12 +87,12 @@ def make_task(folder: Path, scenes: int, dataset: str | None, task: str | None, 
 
     if dataset is None:
         k = scenes / sum(DEMO_COUNTS)
-        nb, ns, nr = (max(1, round(c * k)) for c in DEMO_COUNTS)
+        nb, ns, nr = counts or (max(1, round(c * k)) for c in DEMO_COUNTS)
         t0 = time.perf_counter()
         dataset = str(generate_dataset(folder / "data", n_box=nb, n_stairs=ns, n_ramp=nr, seed=seed,
-                                       size=(640, 480), subsample=4))
-        print(f"data set: {nb} box, {ns} stairs, {nr} ramp scenes (seed {seed}), generated in "
-              f"{time.perf_counter() - t0:.1f} s")
+                                       size=(640, 480), subsample=4, world=world))
+        print(f"data set: {nb} box, {ns} stairs, {nr} ramp scenes ({world} world, seed {seed}), "
+              f"generated in {time.perf_counter() - t0:.1f} s")
     if task is None:
         rel = files("planerel.aleph").joinpath("modes_relational.pl")
         task = str(rel) if rel.is_file() else None
@@ -97,7 +104,7 @@ def make_task(folder: Path, scenes: int, dataset: str | None, task: str | None, 
 
 
 def main(argv=None) -> int:
-    from planerel.ilp.learn import find_aleph, parse_settings
+    from planerel.ilp.learn import find_aleph, parse_settings, score_theory
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("stems", nargs="*", help="Aleph problem stems (default: export a data set)")
@@ -112,6 +119,13 @@ def main(argv=None) -> int:
     ap.add_argument("--set", action="append", default=[], dest="settings", metavar="NAME=VALUE")
     ap.add_argument("--timeout", type=float, default=600.0, help="seconds per learning run")
     ap.add_argument("--no-aleph", action="store_true", help="do not run the real Aleph")
+    ap.add_argument("--world", default="paper", choices=("paper", "varied"),
+                    help="synthetic world of the generated set (default: the demo's paper world)")
+    ap.add_argument("--counts", type=int, nargs=3, metavar=("BOX", "STAIRS", "RAMP"),
+                    help="scene counts of the generated set (instead of --scenes)")
+    ap.add_argument("--heldout", metavar="DIR", help="exported Aleph problems to score the theories on")
+    ap.add_argument("--heldout-counts", type=int, nargs=3, metavar=("BOX", "STAIRS", "RAMP"),
+                    help="generate a held-out set like the training set (seed + 1) and score on it")
     args = ap.parse_args(argv)
     settings = parse_settings(args.settings)
 
@@ -125,7 +139,12 @@ def main(argv=None) -> int:
         else:
             tmp = tempfile.TemporaryDirectory(prefix="planerel-bench-")
             folder = Path(tmp.name)
-        stems = make_task(folder, args.scenes, args.dataset, args.task, args.seed, args.thresholds)
+        stems = make_task(folder, args.scenes, args.dataset, args.task, args.seed, args.thresholds,
+                          args.world, args.counts)
+        if args.heldout_counts and not args.heldout:
+            held = make_task(folder / "heldout", 0, None, args.task, args.seed + 1, args.thresholds,
+                             args.world, args.heldout_counts)
+            args.heldout = str(held[0].parent)
     aleph = None if args.no_aleph else find_aleph()
     if aleph is None and not args.no_aleph:
         print("real Aleph: not found (set PLANEREL_ALEPH=/path/to/aleph_orig.pl to compare)")
@@ -151,6 +170,11 @@ def main(argv=None) -> int:
                   f"(tp {r.train.tp} fn {r.train.fn} fp {r.train.fp} tn {r.train.tn}), "
                   f"{r.clauses_explored} clauses, search {search if search is not None else float('nan'):.3f} s, "
                   f"process {cpu:.2f} s CPU / {r.seconds:.2f} s wall, {len(r.rules)} rules")
+            if args.heldout:
+                general = [c for c in r.rules if ":-" in c]
+                h = score_theory(Path(args.heldout) / stem.name, general, timeout=args.timeout)
+                print(f"   held out ({len(general)} general clauses): accuracy {h.accuracy:.3f} "
+                      f"(tp {h.tp} fn {h.fn} fp {h.fp} tn {h.tn})")
             for rule in r.rules[:6]:
                 print("     ", rule)
             if len(r.rules) > 6:

@@ -482,6 +482,41 @@ def learn(
                        seconds=secs, search_seconds=cputime, output=log, warnings=warns)
 
 
+def score_theory(stem, rules, *, timeout: float = 600.0, swipl: str | None = None) -> Confusion:
+    """A theory (e.g. learned on other data) scored on the examples ``STEM.f`` / ``STEM.n``
+    over ``STEM.b`` by the builtin learner's own coverage test (held-out accuracy).
+
+    Parameters
+    ----------
+    stem : str or path
+        An Aleph problem (its ``.b`` holds the facts of the examples' objects).
+    rules : sequence of str
+        Clauses, one string each (as :attr:`LearnResult.rules`).
+
+    Returns
+    -------
+    Confusion
+    """
+    from importlib.resources import as_file, files
+
+    from planerel.children import temp_dir
+
+    stem_text = _check_stem(stem)
+    exe = find_swipl(swipl)
+    resource = files("planerel.aleph").joinpath("learner.pl")
+    with temp_dir("score") as tmp, as_file(resource) as pl:
+        rules_file = Path(tmp) / "rules.pl"
+        rules_file.write_text("".join(r + "\n" for r in rules))
+        cmd = swipl_command("planerel_learner:planerel_score_main",
+                            [str(Path(stem_text).resolve()), str(rules_file)],
+                            exe=exe, support=False, scripts=[pl], halt="halt(3)")
+        code, out, err, _ = run_process(cmd, timeout, f"scoring a theory on {stem_text}")
+    m = re.search(r"^@@score (\d+) (\d+) (\d+) (\d+)$", out, re.MULTILINE)
+    if code != 0 or m is None:
+        raise LearnerError(f"scoring a theory on {stem_text} failed: {(err or out).strip()[-400:]}")
+    return Confusion(*(int(g) for g in m.groups()))
+
+
 def format_report(result: LearnResult, *, with_time: bool = True) -> str:
     """The theory, the confusion matrices with ``accuracy: 0.950`` lines, and the time."""
     lines = [f"engine: {result.engine_detail}", "", "[theory]"]
