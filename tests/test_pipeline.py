@@ -440,3 +440,24 @@ def test_learn_scores_a_held_out_set(small_set, tmp_path):
         sum(h["predictions"][o] == k for o, k in truth.items()) / 7)
     assert json.loads((tmp_path / "model" / "metrics.json").read_text())["heldout"]["accuracy"] \
         == pytest.approx(h["accuracy"])
+
+
+def test_a_class_prefixed_setting_changes_that_class_only(gt_descs):
+    classes = ["box", "stairs", "ramp"]
+    plain = P.learn_rules(gt_descs, classes, engine="builtin", jobs=1)
+    # box:minpos above the number of box positives (4): no box clause is acceptable
+    one = P.learn_rules(gt_descs, classes, engine="builtin", jobs=1, settings={"box:minpos": 50})
+    assert plain.rules["box"] and not one.rules["box"]
+    assert one.rules["stairs"] == plain.rules["stairs"] and one.rules["ramp"] == plain.rules["ramp"]
+    common, per_class = P.split_class_settings({"noise": 6, "box:noise": 12, "ramp:i": 2}, classes)
+    assert common == {"noise": 6} and per_class == {"box": {"noise": 12}, "ramp": {"i": 2}}
+    with pytest.raises(InputError, match="'chair' is not a class"):
+        P.split_class_settings({"chair:noise": 1}, classes)
+
+
+def test_learn_command_reads_class_settings():
+    from planerel.commands.learn import _settings
+
+    assert _settings(["noise=6", "box:noise=12"]) == {"noise": "6", "box:noise": "12"}
+    with pytest.raises(InputError, match="NAME=VALUE"):
+        _settings(["box:noise"])

@@ -46,6 +46,10 @@ def register(sub) -> None:
                    help="segmentation parameter (repeatable)")
     p.add_argument("--cache", metavar="DIR", help="segmentation cache folder (default "
                    "$PLANEREL_CACHE or ~/.cache/planerel; 'none' disables it)")
+    p.add_argument("--set", action="append", default=[], metavar="[CLASS:]NAME=VALUE",
+                   dest="settings",
+                   help="Aleph setting for the learner (repeatable), e.g. --set noise=6; "
+                        "CLASS:NAME for one class only, e.g. --set box:noise=12")
     p.set_defaults(func=run)
 
 
@@ -61,6 +65,20 @@ def _params(items) -> dict:
     return out
 
 
+def _settings(items) -> dict:
+    """``["noise=6", "box:noise=12"]`` -> ``{"noise": "6", "box:noise": "12"}``."""
+    from planerel.ilp.learn import parse_settings
+
+    out = {}
+    for item in items:
+        cls, sep, rest = item.partition(":")
+        if sep and "=" not in cls:
+            out.update({f"{cls.strip()}:{k}": v for k, v in parse_settings([rest]).items()})
+        else:
+            out.update(parse_settings([item]))
+    return out
+
+
 def run(args) -> int:
     from planerel.ilp.pipeline import learn_model
 
@@ -69,7 +87,7 @@ def run(args) -> int:
                     folds=args.folds, seed=args.seed, timeout=args.timeout, jobs=args.jobs,
                     method=args.method, seg_params=_params(args.param), cache=args.cache,
                     log=lambda s: print(s, file=sys.stderr), scheduler=args.scheduler,
-                    heldout=args.heldout)
+                    heldout=args.heldout, settings=_settings(args.settings) or None)
     print(f"engine: {m['engine']}")
     print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
           f"{', '.join(m['classes'])}"

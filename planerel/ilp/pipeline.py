@@ -122,6 +122,37 @@ def excluded_counts(descs) -> dict:
     return {k: dict(sorted(v.items())) for k, v in sorted(out.items())}
 
 
+def split_class_settings(settings: dict | None, classes: Sequence[str]) -> tuple[dict, dict]:
+    """Split learner settings into the ones for every class and per-class overrides.
+
+    A name ``CLASS:NAME`` (``box:noise``) applies to that class only, after the common
+    settings; a plain ``NAME`` applies to every class.  Classes differ in how many of their
+    examples look alike: the demo's box positives need more noise than its stairs.
+
+    Returns
+    -------
+    (dict, dict)
+        ``{name: value}`` for every class and ``{class: {name: value}}``.
+
+    Raises
+    ------
+    InputError
+        When ``CLASS`` is not one of ``classes``.
+    """
+    common: dict = {}
+    per_class: dict = {}
+    for name, value in (settings or {}).items():
+        cls, sep, rest = str(name).partition(":")
+        if not sep:
+            common[name] = value
+            continue
+        if cls not in classes:
+            raise InputError(f"setting {name!r}: {cls!r} is not a class being learned "
+                             f"({', '.join(classes)})")
+        per_class.setdefault(cls, {})[rest] = value
+    return common, per_class
+
+
 def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeout: float = 120.0,
                 settings: dict | None = None, work_dir=None, task: str | None = None,
                 jobs: int | None = None, log=None) -> Model:
@@ -136,6 +167,9 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
     engine : {"builtin", "aleph", "auto"}
     timeout : float
         Seconds per class before the learner is stopped.
+    settings : dict, optional
+        Aleph settings (``set/2``) for every class; a name ``CLASS:NAME`` sets it for one class
+        only (:func:`split_class_settings`).
     work_dir : path, optional
         Where the Aleph files are written (kept); default a temporary folder.
     jobs : int, optional
@@ -165,13 +199,15 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         tmp = temp_dir("learn")
         work_dir = tmp.name
     try:
-        export_aleph(descs, work_dir, "all", classes=list(classes), task=task, settings=settings)
+        common, per_class = split_class_settings(settings, classes)
+        export_aleph(descs, work_dir, "all", classes=list(classes), task=task, settings=common)
         rules, uncovered, seconds, explored, engines = {}, {}, 0.0, 0, set()
 
         def one(k):
             say = None if log is None else (lambda text, k=k: log(f"[{k}] {text}"))
             t0 = time.perf_counter()
-            res = learn(Path(work_dir) / k, engine=engine, timeout=timeout, progress=say)
+            res = learn(Path(work_dir) / k, engine=engine, timeout=timeout, progress=say,
+                        settings=per_class.get(k))
             if log is not None:
                 log(f"[{k}] learned {len(res.rules)} clause(s) in {time.perf_counter() - t0:.1f} s")
             return res
