@@ -1052,8 +1052,8 @@ child_answers(Set, Head, Body, BV, PBV, Lit, Id-PTs, Answers) :-
     (   PTs == full
     ->  ex_answers(Set, Head, Body, BV, Id, Answers)
     ;   tuple_cap(Cap),
-        catch(findall(BV, limit(Cap, ( member(PBV, PTs), call_lit(Lit) )), L),
-              Err, (coverage_error(Err), L = [])),
+        catch(findall(BV, ( member(PBV, PTs), call_lit(Lit) ), L),   % at most
+              Err, (coverage_error(Err), L = [])),        % |PTs| < Cap times the literal's answers
         length(L, N),
         (   N >= Cap
         ->  ex_answers(Set, Head, Body, BV, Id, Answers)
