@@ -382,6 +382,11 @@ class ProposalParams:
     ----------
     support_min_area : float
         Vertical or horizontal planes at least this large (m^2) are support (walls, floors).
+    floor_gap : float
+        Metres: a horizontal plane at floor level (within the planes' ``floor_tol``) other
+        than the floor is support only when its centroid lies within this of the floor's
+        plane (a piece of the floor cut off by an object); farther, it is an object lying on
+        the floor (an open box's bottom, a laptop's base, a shallow ramp: 1-3 cm up).
     drop_border_walls : bool
         Drop components made only of vertical planes of which one reaches the image border
         (walls seen behind the object); objects have a non-vertical plane or lie in view.
@@ -432,6 +437,7 @@ class ProposalParams:
     """
 
     support_min_area: float = 2.0
+    floor_gap: float = 0.006
     drop_border_walls: bool = True
     border_wall_area: float = 0.3
     wall_behind: float = 0.01
@@ -451,7 +457,7 @@ class ProposalParams:
     split_stepped: bool = True
 
     def __post_init__(self) -> None:
-        _check_nonneg(self, ("support_min_area", "min_points", "concave_tol", "border_wall_area",
+        _check_nonneg(self, ("support_min_area", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt"))
@@ -467,14 +473,28 @@ def support_planes(planes, params: ProposalParams | None = None) -> list[int]:
     """Labels of support planes: the floor, horizontal planes at floor level, large walls."""
     params = params or ProposalParams()
     tol = planes.params.floor_tol
+    byl = {p.label: p for p in planes}
+    floor = byl.get(planes.floor) if planes.floor is not None else None
     out = []
     for p in planes:
-        floorish = p.is_floor or (planes.floor is not None and p.orientation == "horizontal"
-                                  and abs(p.height) <= tol)
+        floorish = p.is_floor or (floor is not None and p.orientation == "horizontal"
+                                  and abs(p.height) <= tol
+                                  and _floor_offset(p, floor, planes.up) <= params.floor_gap)
         large = p.area >= params.support_min_area and p.orientation in ("vertical", "horizontal")
         if floorish or large:
             out.append(p.label)
     return out
+
+
+def _floor_offset(p, floor, up) -> float:
+    """Distance (m) of plane ``p``'s centroid from the floor's plane: a piece of the floor cut
+    off by an object lies on it (within a few mm), an open box's bottom or a laptop's base
+    lies 1-2 cm above it.  The floor's own plane is used, not the height along ``up``, so a
+    floor tilted a degree against ``up`` does not lift its far pieces."""
+    n = np.asarray(floor.normal, float)
+    if float(n @ np.asarray(up, float)) < 0:
+        n = -n
+    return abs(float((np.asarray(p.centroid, float) - np.asarray(floor.centroid, float)) @ n))
 
 
 def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
