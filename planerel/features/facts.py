@@ -21,6 +21,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from planerel.errors import InputError
 from planerel.features import terms
 
@@ -227,9 +229,24 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
             if kept:
                 groups.append(kept)
         proposed = False
+    raised = None
+    pp = proposal_params or ProposalParams()
+    if proposed and pp.raised_objects:
+        # objects the segmentation left in the floor (an open box's bottom, a laptop's base)
+        from planerel.features.raised import join_raised, raised_clusters
+
+        lab = planes.labels if parent else labels
+        groups, extra, alone = join_raised(groups, raised_clusters(cloud, lab, planes, support),
+                                           lab, np.asarray(cloud.xyz, float))
+        raised = (groups, extra, alone)
     # proposals take the clusters of unexplained points; given objects keep their planes
     cobjs = curved_objects(planes, rel, groups, cloud if proposed else None,
                            planes.labels if parent else labels, support, curved_params)
+    if raised is not None:
+        from planerel.features.curved import CurvedParams
+        from planerel.features.raised import with_raised
+
+        cobjs = with_raised(cobjs, *raised, (curved_params or CurvedParams()).curved_below)
     objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), c.planes, klass, c.mask,
                              c.planar_fraction, c.curved)
                  for k, c in enumerate(cobjs))

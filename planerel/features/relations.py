@@ -434,6 +434,11 @@ class ProposalParams:
         rise apart (treads joined into one sloping plane, a flight seen from above) into one
         plane a level (:func:`planerel.features.stepped.split_stepped`; applied by
         :func:`planerel.features.facts.describe_scene`).
+    raised_objects : bool
+        Pixels of a horizontal support plane that lie above it in a group (an open box's
+        bottom, a laptop's base or a plate the segmentation joined to the floor) join the
+        proposals whose planes touch them, or are a proposal of their own
+        (:mod:`planerel.features.raised`; applied by :func:`planerel.features.facts.describe_scene`).
     """
 
     support_min_area: float = 2.0
@@ -455,6 +460,7 @@ class ProposalParams:
     step_run_max: float = 0.60
     step_tilt: float = 12.0
     split_stepped: bool = True
+    raised_objects: bool = True
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "floor_gap", "min_points", "concave_tol", "border_wall_area",
