@@ -20,6 +20,10 @@ plate.  Their pixels then sit in a support plane and no proposal holds them.  Th
    wide around it that are not raised themselves (none: the group is walled in): a slow bend of a real floor (a sensor's depth distortion) lifts the ring
    as much as the group, an object lying on the floor ends at a step.
 
+4. A kept group grows into the neighbouring plane pixels whose window mean is above half
+   the limit, by as many steps as the opening and the window took off (``open_px +
+   smooth_px + 1``).
+
 :func:`planerel.features.facts.describe_scene` joins each group to every proposal whose planes
 touch it in the grid and in 3-D (an open box's inner walls; a laptop's lid), or makes it a
 proposal of its own (a plate).  Its pixels count as flat in the planar fraction.
@@ -111,7 +115,24 @@ def _raised_on(plane, on: np.ndarray, xyz: np.ndarray, up: np.ndarray,
     mean = np.where(cnt > 0, _box_sum(h, params.smooth_px) / np.maximum(cnt, 1), 0.0)
     z2 = np.where(on, z, 1.0) ** 2
     lim = np.maximum(params.min_rise, params.k_sigma * a * z2 / np.sqrt(np.maximum(cnt, 1)))
-    return on & (mean > lim), h
+    return on & (mean > lim), on & (mean > 0.5 * lim), h
+
+
+def _grow(m: np.ndarray, weak: np.ndarray, steps: int) -> np.ndarray:
+    """``m`` grown by up to ``steps`` 4-neighbour steps into ``weak`` pixels (hysteresis: the
+    opening and the window cut a small group's outline)."""
+    for _ in range(steps):
+        g = m.copy()
+        g[1:] |= m[:-1]
+        g[:-1] |= m[1:]
+        g[:, 1:] |= m[:, :-1]
+        g[:, :-1] |= m[:, 1:]
+        g &= weak
+        g |= m
+        if (g == m).all():
+            break
+        m = g
+    return m
 
 
 def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | None = None):
@@ -152,7 +173,7 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
         on = (lab == s) & np.isfinite(xyz[..., 2])
         if not on.any():
             continue
-        raw, h = _raised_on(p, on, xyz, up, params)
+        raw, weak, h = _raised_on(p, on, xyz, up, params)
         raised = _open(raw, params.open_px) & on
         if not raised.any():
             continue
@@ -177,7 +198,7 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
             ring = grown & on & ~raw
             if ring.any() and float(np.median(h[m]) - np.percentile(h[ring], 10)) < params.min_rise:
                 continue
-            found.append(m)
+            found.append(_grow(m, weak, params.open_px + params.smooth_px + 1))
     found.sort(key=lambda m: int(np.flatnonzero(m.ravel())[0]))
     return found
 
