@@ -5,11 +5,12 @@
 Frames: the mOSD frames of ``../shared/data/mosd`` (640x480) and N cluttered varied-world
 scenes (320x240, 2-3 extra objects, seed 22).  Each frame is segmented once; then
 ``describe_scene`` (measure planes, relate, propose) runs with ``split_concave=False,
-min_border_area=0, border_wall_area=0, wall_behind=1`` (the reference: plain connected components, the proposals before issue
-22) and the defaults,
-interleaved, ``--repeat`` times; the median per frame is summed.  Printed: ms per frame of
-both and their ratio, and the proposals' found rate / false proposals per frame of both
-(planerel.features.object_eval).
+min_border_area=0, border_wall_area=0, wall_behind=1, floor_gap=1, raised_objects=False``
+(the reference: plain connected components, the proposals before issue 22), with
+``floor_gap=1, raised_objects=False`` (the defaults before the floor-gap and raised-group
+rules) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
+Printed: ms per frame of each and its ratio to the reference, and the proposals' found rate /
+false proposals per frame (planerel.features.object_eval).
 """
 
 from __future__ import annotations
@@ -51,8 +52,9 @@ def main(argv=None) -> int:
         for name, cloud, truth, ty in frame_truth(path):
             frames.append((name, cloud, segment(cloud).labels, truth, ty))
     variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0, border_wall_area=0,
-                                                    wall_behind=1),
-                "concave split": ProposalParams()}
+                                                    wall_behind=1, floor_gap=1.0, raised_objects=False),
+                "no floor/raised rule": ProposalParams(floor_gap=1.0, raised_objects=False),
+                "defaults": ProposalParams()}
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": []} for k in variants}
     misses = {k: {"mosd": [], "synth": []} for k in variants}

@@ -91,31 +91,25 @@ class RaisedParams:
                 raise InputError(f"{name} must be an integer number of pixels in 0..16, got {v!r}")
 
 
-def _box_sum(a: np.ndarray, r: int) -> np.ndarray:
-    """Sum of ``a`` (H, W) over the ``(2r+1)^2`` window around each pixel (zero outside)."""
-    if r <= 0:
-        return a.astype(float)
-    c = np.pad(a.astype(float), ((r + 1, r), (r + 1, r))).cumsum(0).cumsum(1)
-    k = 2 * r + 1
-    return c[k:, k:] - c[:-k, k:] - c[k:, :-k] + c[:-k, :-k]
+def _raised_on(plane, xyz: np.ndarray, lab: np.ndarray, f: int, up: np.ndarray,
+               params: RaisedParams):
+    """The plane's pixels, its raised and weakly raised pixels (bool) and every pixel's height
+    above it (0 off it), on the grid of every ``f``-th pixel of ``plane.bbox`` (rule steps 1-2)."""
+    from planerel.features._raised_kernels import raised_pixels
 
-
-def _raised_on(plane, on: np.ndarray, xyz: np.ndarray, up: np.ndarray,
-               params: RaisedParams) -> np.ndarray:
-    """Raised pixels (H, W) bool of one support plane whose pixels are ``on``."""
     n = np.asarray(plane.normal, float)
     if float(n @ up) < 0:
         n = -n
-    h = np.zeros(on.shape)
-    h[on] = (xyz[on] - np.asarray(plane.centroid, float)) @ n
-    z = np.abs(xyz[..., 2])
-    zon = z[on]
-    a = 1.4826 * float(np.median(np.abs(h[on]) / np.maximum(zon, 0.1) ** 2))
-    cnt = _box_sum(on, params.smooth_px)
-    mean = np.where(cnt > 0, _box_sum(h, params.smooth_px) / np.maximum(cnt, 1), 0.0)
-    z2 = np.where(on, z, 1.0) ** 2
-    lim = np.maximum(params.min_rise, params.k_sigma * a * z2 / np.sqrt(np.maximum(cnt, 1)))
-    return on & (mean > lim), on & (mean > 0.5 * lim), h
+    d0 = float(np.asarray(plane.centroid, float) @ n)
+    r0, c0, r1, c1 = plane.bbox
+    # the noise scale a of h ~ a z^2, from every fifth pixel of the grid (robust: MAD)
+    ps = xyz[r0:r1:5 * f, c0:c1:5 * f][lab[r0:r1:5 * f, c0:c1:5 * f] == plane.label]
+    ps = ps[np.isfinite(ps[:, 2])]
+    zs = np.maximum(np.abs(ps[:, 2]), 0.1)
+    a = 1.4826 * float(np.median(np.abs(ps @ n - d0) / zs ** 2)) if zs.size else 0.0
+    return raised_pixels(xyz, lab, int(plane.label), r0, c0, -(-(r1 - r0) // f), -(-(c1 - c0) // f),
+                         f, n, d0, a, float(params.min_rise), float(params.k_sigma),
+                         int(params.smooth_px))
 
 
 def _grow(m: np.ndarray, weak: np.ndarray, steps: int) -> np.ndarray:
@@ -159,29 +153,35 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
     params = params or RaisedParams()
     if not params.enabled:
         return []
-    xyz = np.asarray(cloud.xyz, float)
-    lab = np.asarray(labels)
+    xyz = np.ascontiguousarray(cloud.xyz, dtype=np.float64)
+    lab = np.ascontiguousarray(labels)
     if lab.shape != xyz.shape[:2]:
         raise InputError(f"labels {lab.shape} and cloud {xyz.shape[:2]} differ in shape")
     up = np.asarray(planes.up, float)
     byl = {p.label: p for p in planes}
+    f = max(1, lab.shape[1] // 320)
     found = []
     for s in sorted(set(support)):
         p = byl.get(s)
         if p is None or p.orientation != "horizontal":
             continue
-        on = (lab == s) & np.isfinite(xyz[..., 2])
-        if not on.any():
+        # the plane's pixel box only (a table top is a part of the image), every f-th pixel
+        # of it: a 640x480 frame is searched at 320x240 (the window then spans 10 pixels),
+        # the groups found are taken back to every pixel and grown there
+        r0, c0, r1, c1 = p.bbox
+        box = (slice(r0, r1), slice(c0, c1))
+        on, raw, weak, h = _raised_on(p, xyz, lab, f, up, params)
+        if not raw.any():
             continue
-        raw, weak, h = _raised_on(p, on, xyz, up, params)
+        bx = xyz[r0:r1:f, c0:c1:f]
         raised = _open(raw, params.open_px) & on
         if not raised.any():
             continue
         rows, cols = np.nonzero(raised)
-        comp, k = _components(raised, xyz, params.edge_depth)
-        pitch = (_pitch_at(xyz, rows, cols, 1), _pitch_at(xyz, rows, cols, 0))
+        comp, k = _components(raised, bx, params.edge_depth)
+        pitch = (_pitch_at(bx, rows, cols, 1), _pitch_at(bx, rows, cols, 0))
         ids = comp[rows, cols]
-        area = np.bincount(ids, weights=_areas_at(xyz, rows, cols, pitch), minlength=k)
+        area = np.bincount(ids, weights=_areas_at(bx, rows, cols, pitch), minlength=k)
         n_on = int(on.sum())
         for c in np.nonzero(area >= params.min_area)[0]:
             m = comp == c
@@ -198,7 +198,17 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
             ring = grown & on & ~raw
             if ring.any() and float(np.median(h[m]) - np.percentile(h[ring], 10)) < params.min_rise:
                 continue
-            found.append(_grow(m, weak, params.open_px + params.smooth_px + 1))
+            steps = params.open_px + params.smooth_px + 1
+            if f > 1:
+                on_full = lab[box] == s
+                m, wk = (np.repeat(np.repeat(x, f, 0), f, 1)[:r1 - r0, :c1 - c0] & on_full
+                         for x in (m, weak))
+                steps *= f
+            else:
+                wk = weak
+            full = np.zeros(lab.shape, bool)
+            full[box] = _grow(m, wk, steps)
+            found.append(full)
     found.sort(key=lambda m: int(np.flatnonzero(m.ravel())[0]))
     return found
 

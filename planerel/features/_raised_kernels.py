@@ -1,0 +1,92 @@
+"""numba kernel of :mod:`planerel.features.raised` (compiled at first call, cached on disk).
+
+Import this module only from inside functions: numba itself is a heavy import.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, nogil=True)
+def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma, r):
+    """Raised and weakly raised pixels of one support plane, and each pixel's height above it,
+    on the grid of every ``f``-th pixel of the box ``(r0, c0, r0 + H f, c0 + W f)``.
+
+    Parameters
+    ----------
+    xyz : ndarray (rows, cols, 3) float64
+        Organized points.
+    lab : ndarray (rows, cols) int
+        Plane labels; the plane's pixels are those of ``label`` with a finite depth.
+    r0, c0, H, W, f : int
+        The grid: pixel ``(i, j)`` of the outputs is ``(r0 + i f, c0 + j f)``.
+    n : ndarray (3,) float64
+        The plane's unit normal, turned up; ``d0``: ``n . centroid``.
+    a : float
+        Noise scale of the height: ``a z^2`` per pixel.
+    min_rise, k_sigma : float
+        A pixel is raised when the mean height over its ``(2r+1)^2`` window of the grid (the
+        plane's pixels only) exceeds ``max(min_rise, k_sigma a z^2 / sqrt(count))``, weakly
+        raised when it exceeds half of that.
+    r : int
+
+    Returns
+    -------
+    (on (H, W) bool, raw (H, W) bool, weak (H, W) bool, h (H, W) float32)
+    """
+    on = np.zeros((H, W), np.bool_)
+    h = np.zeros((H, W), np.float32)
+    for i in range(H):
+        for j in range(W):
+            y = r0 + i * f
+            x = c0 + j * f
+            if lab[y, x] == label and math.isfinite(xyz[y, x, 2]):
+                on[i, j] = True
+                h[i, j] = xyz[y, x, 0] * n[0] + xyz[y, x, 1] * n[1] + xyz[y, x, 2] * n[2] - d0
+    # window sums of h and of the plane's pixels: along rows, then along columns
+    rs = np.zeros((H, W), np.float32)
+    rc = np.zeros((H, W), np.int32)
+    for i in range(H):
+        s = 0.0
+        c = 0
+        for j in range(min(r, W)):
+            s += h[i, j]
+            c += on[i, j]
+        for j in range(W):
+            if j + r < W:
+                s += h[i, j + r]
+                c += on[i, j + r]
+            if j - r - 1 >= 0:
+                s -= h[i, j - r - 1]
+                c -= on[i, j - r - 1]
+            rs[i, j] = s
+            rc[i, j] = c
+    raw = np.zeros((H, W), np.bool_)
+    weak = np.zeros((H, W), np.bool_)
+    for j in range(W):
+        s = 0.0
+        c = 0
+        for i in range(min(r, H)):
+            s += rs[i, j]
+            c += rc[i, j]
+        for i in range(H):
+            if i + r < H:
+                s += rs[i + r, j]
+                c += rc[i + r, j]
+            if i - r - 1 >= 0:
+                s -= rs[i - r - 1, j]
+                c -= rc[i - r - 1, j]
+            if not on[i, j] or c <= 0:
+                continue
+            mean = s / c
+            if mean <= 0.5 * min_rise:
+                continue
+            z = max(abs(xyz[r0 + i * f, c0 + j * f, 2]), 0.1)
+            lim = max(min_rise, k_sigma * a * z * z / math.sqrt(c))
+            raw[i, j] = mean > lim
+            weak[i, j] = mean > 0.5 * lim
+    return on, raw, weak, h
