@@ -11,7 +11,9 @@
 
     Algorithm (see docs/learner.md):
       repeat
-        seed      := first positive not yet covered
+        seed      := first positive not yet covered (samplesize K >= 2: K
+                     seeds spread over them, each searched as below, the
+                     best clause of the K kept)
         bottom    := saturation of seed (modes, recall, variable depth i, types)
         search    := bf | df | heuristic over clauses made of bottom literals
                      (head-connected, inputs bound, at most clauselength
@@ -136,6 +138,7 @@ setting_spec(searchtime,   inf,      pos_or_inf).
 setting_spec(caching,      true,     oneof([true, false])).
 setting_spec(cache_clauselength, inf, int_or_inf(1)).
 setting_spec(skip_same_bottom, true, oneof([true, false])).   % planerel's own (see cover_loop/1)
+setting_spec(samplesize,   0,        int(0)).                   % seeds per clause (see sample_seeds/2)
 
 %   Values Aleph accepts for search/evalfn that this learner does not implement.
 aleph_other_value(search, [ar, ibs, ic, id, ils, rls, scs, false]).
@@ -156,7 +159,7 @@ aleph_setting(Name) :-
                 portray_examples, portray_hypothesis, portray_literals,
                 portray_search, print, proof_strategy, prooftime, prune_defs,
                 record, recordfile, refine, refineop, resample, rls_type, rulefile,
-                samplenum, samplesize, scs_percentile, scs_prob, scs_sample,
+                samplenum, scs_percentile, scs_prob, scs_sample,
                 searchstrat, skolemvars, splitvars, stage,
                 store_bottom, subsample, subsamplesize, temperature, threads,
                 train_pos, train_neg, tree_type, tries, typeoverlap,
@@ -1584,7 +1587,50 @@ resolve_file(File, Where, Path, S) :-
     ).
 
 cover_loop([]) :- !.
-cover_loop([SeedId|Rest]) :-
+cover_loop(Rem0) :-
+    sample_seeds(Rem0, Seeds),
+    maplist(seed_search(Rem0), Seeds, Results),
+    partition(found_clause, Results, Found, Failed),
+    findall(Id, member(r(Id, _, _, _, _, _, _, _), Failed), FailedIds0),
+    sort(FailedIds0, FailedIds),
+    ord_subtract(Rem0, FailedIds, Rem1),
+    maplist(set_aside(Rem1), Failed),   % seeds without an acceptable clause
+    (   best_result(Found, r(SeedId, Seed, Head, best(_, _, Node), _, NB, Explored, _))
+    ->  Node = nd(Body, _, _, _, PC, _, P, N, _, _),
+        add_rule(Head, Body, P, N),
+        ord_subtract(Rem1, PC, Rem2),
+        ord_subtract(Rem2, [SeedId], Rem),   % the seed is covered (P >= minpos >= 1); be safe
+        report_seed(SeedId, Seed, NB, Explored, rule, Rem)
+    ;   Rem = Rem1
+    ),
+    cover_loop(Rem).
+
+found_clause(r(_, _, _, best(_, _, _), _, _, _, _)).
+
+%   sample_seeds(+Remaining, -Seeds): the seeds of the next clause.  Without
+%   samplesize (0 or 1, Aleph's default 0) the first positive not yet covered;
+%   with samplesize K >= 2, K of them spread evenly over the remaining
+%   positives in file order (the first among them), and the best clause of
+%   the K searches is added (Aleph draws its sample at random; evenly spaced
+%   keeps the theory deterministic without a random seed).
+sample_seeds(Rem, Seeds) :-
+    setting(samplesize, K),
+    length(Rem, L),
+    (   K >= 2, L >= 2
+    ->  M is min(K, L),
+        findall(Id, ( between(0, M, I0), I0 < M,
+                      Pos is (I0 * L) // M,
+                      nth0(Pos, Rem, Id) ), Ids0),
+        list_to_set(Ids0, Seeds)
+    ;   Rem = [Seed|_],
+        Seeds = [Seed]
+    ).
+
+%   seed_search(+Remaining, +SeedId, -Result): saturate the seed and search
+%   its best acceptable clause over the remaining positives of its target.
+%   Result = r(SeedId, Seed, Head, Best, BottomSig, BottomSize, Explored, Why),
+%   Best = none when there is no acceptable clause (Why says why).
+seed_search(Rem, SeedId, r(SeedId, Seed, Head, Best, Sig, NB, Explored, Why)) :-
     pos_ex(SeedId, Seed),
     functor(Seed, F, A),
     saturate(Seed, Bottom0, VT),
@@ -1593,7 +1639,7 @@ cover_loop([SeedId|Rest]) :-
     maplist(mark_recursive(F/A), BLs0, BLs),
     LitsT =.. [lits|BLs],
     Bottom = bottom(Head, HIn, HOut, LitsT, NB),
-    include(same_functor(pos, F, A), [SeedId|Rest], PosIds),
+    include(same_functor(pos, F, A), Rem, PosIds),
     findall(Id, (neg_ex(Id, E), functor(E, F, A)), NegIds),
     make_ctx(Bottom, VT, Ctx),
     nb_setval(planerel_seed, SeedId),
@@ -1609,39 +1655,50 @@ cover_loop([SeedId|Rest]) :-
     ;   search_clause(Bottom, PosIds, NegIds, Ctx, Best),
         Why = 'no acceptable clause'
     ),
-    flag(planerel_search_nodes, Explored, Explored),
-    (   Best = best(_, _, nd(Body, _, _, _, PC, _, P, N, _, _))
-    ->  add_rule(Head, Body, P, N),
-        ord_subtract([SeedId|Rest], PC, Rem1),
-        (   Rem1 == [SeedId|Rest]       % cannot happen (P >= minpos >= 1); be safe
-        ->  Rem = Rest
-        ;   Rem = Rem1
-        ),
+    flag(planerel_search_nodes, Explored, Explored).
+
+%   best_result(+Found, -Chosen): of the seeds that found a clause, the one
+%   with the best clause (higher score, then fewer literals, then the earlier
+%   seed); fails when there is none.
+best_result(Found, Chosen) :-
+    findall(k(NS, Len, Id)-R,
+            ( member(R, Found),
+              R = r(Id, _, _, best(S, Len, _), _, _, _, _),
+              NS is -S ),
+            Keyed),
+    keysort(Keyed, [_-Chosen|_]).
+
+%   set_aside(+Remaining, +Result): a seed without an acceptable clause is removed (as
+%   Aleph, the seed itself becomes a rule only when minpos =< 1), and later
+%   seeds with a variant of its bottom clause are set aside without a search
+%   (skip_same_bottom, planerel's own).
+set_aside(Rem, r(SeedId, Seed, _, _, Sig, NB, Explored, Why)) :-
+    ( hopeless_bottom(Sig) -> true ; assertz(hopeless_bottom(Sig)) ),
+    flag(planerel_set_aside, K, K + 1),
+    setting(minpos, MinPos),
+    (   MinPos =< 1                     % as Aleph: the seed itself is a rule only
+    ->  findall(x, (neg_ex(_, NE), NE =@= Seed), Ns),   % if it reaches minpos
+        length(Ns, NN),
+        add_rule(Seed, [], 1, NN),
         Outcome = rule
-    ;   ( hopeless_bottom(Sig) -> true ; assertz(hopeless_bottom(Sig)) ),
-        flag(planerel_set_aside, K, K + 1),
-        (   MinPos =< 1                 % as Aleph: the seed itself is a rule only
-        ->  findall(x, (neg_ex(_, NE), NE =@= Seed), Ns),   % if it reaches minpos
-            length(Ns, NN),
-            add_rule(Seed, [], 1, NN),
-            Outcome = rule
-        ;   Outcome = set_aside(Why)
-        ),
-        Rem = Rest
+    ;   Outcome = set_aside(Why)
     ),
+    report_seed(SeedId, Seed, NB, Explored, Outcome, Rem).
+
+report_seed(SeedId, Seed, NB, Explored, Outcome, Rem) :-
     (   setting(verbosity, V), V >= 1
     ->  flag(planerel_rule_no, RN, RN),
         (   Outcome == rule
         ->  format("[seed ~w] ~q: bottom clause of ~w literals, ~w clauses explored -> rule ~w~n",
                    [SeedId, Seed, NB, Explored, RN]),
+            functor(Seed, F, A),
             progress_line(F/A, RN, Rem)
         ;   Outcome = set_aside(W),
             format("[seed ~w] ~q: bottom clause of ~w literals, ~w clauses explored -> set aside (~w)~n",
                    [SeedId, Seed, NB, Explored, W])
         )
     ;   true
-    ),
-    cover_loop(Rem).
+    ).
 
 %   progress_line(+Target, +RuleNo, +Remaining): one line on stderr per rule
 %   added ("progress: ..."), which planerel shows while a long search runs.

@@ -26,6 +26,8 @@ def main(argv=None) -> int:
                     help="learner setting (e.g. noise=10, minacc=0.8); repeatable")
     ap.add_argument("--save", default=None,
                     help="folder for the model (rules.pl) and the held-out answers (answers.json)")
+    ap.add_argument("--other-rules", action="store_true",
+                    help="learn rules for class other too (planerel learn --other-rules)")
     args = ap.parse_args(argv)
 
     from planerel.ilp import pipeline as P
@@ -34,7 +36,10 @@ def main(argv=None) -> int:
     settings = {}
     for item in args.setting:
         name, _, value = item.partition("=")
-        settings[name] = float(value) if "." in value else int(value)
+        try:
+            settings[name] = float(value) if "." in value else int(value)
+        except ValueError:  # a word: evalfn=coverage, search=heuristic
+            settings[name] = value
 
     t0 = time.perf_counter()
     descs, _ = describe_scenes(args.train, jobs=args.jobs, progress=False)
@@ -43,13 +48,14 @@ def main(argv=None) -> int:
     cv = None
     if args.folds:
         cv = P.cross_validate(descs, classes, folds=args.folds, jobs=args.jobs, progress=False,
-                              timeout=args.timeout, settings=settings or None)
+                              timeout=args.timeout, settings=settings or None,
+                              other_rules=args.other_rules)
         cv = {k: cv.get(k) for k in ("accuracy", "per_class", "confusion", "other",
                                      "open_set_accuracy", "open_set_confusion", "n_examples",
                                      "excluded")}
     t2 = time.perf_counter()
     model = P.learn_rules(descs, classes, engine="auto", timeout=args.timeout,
-                          settings=settings or None)
+                          settings=settings or None, other_rules=args.other_rules)
     t3 = time.perf_counter()
     held = P.held_out_scores(model, args.held, jobs=args.jobs, progress=False,
                              timeout=args.timeout)
@@ -66,7 +72,7 @@ def main(argv=None) -> int:
     t4 = time.perf_counter()
     print(json.dumps({"tag": args.tag, "train": args.train, "held": args.held,
                       "settings": settings,
-                      "classes": list(classes), "rules": model.clauses(), "cv": cv,
+                      "classes": list(classes), "rules": model.clauses(), "stats": model.stats, "cv": cv,
                       "heldout": held,
                       "seconds": {"describe": round(t1 - t0, 1), "cv": round(t2 - t1, 1),
                                   "learn": round(t3 - t2, 1), "heldout": round(t4 - t3, 1)}}))

@@ -84,6 +84,8 @@ def main(argv=None) -> int:
         for k in m["classes"]:
             for r in m["rules"].get(k) or [f"% no rule for {k}"]:
                 print(f"  {r}")
+        for r in m["rules"].get("other") or []:
+            print(f"  {r}   % none of the classes")
 
         clf = Classifier(out / "model" / "rules.pl")
         res = classify_dataset(clf, held, out_dir=out / "classified")

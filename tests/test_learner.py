@@ -488,3 +488,45 @@ def test_progress_callback_gets_one_line_per_clause():
     n_pos = len((ILP / "noisy.f").read_text().splitlines())
     assert lines[0].startswith("good/1 rule 1 ")
     assert lines[-1].split(": ")[1].startswith(f"0 of {n_pos} positives left")
+
+
+# --------------------------------------------------------------------------- samplesize
+
+
+def _rare_first(dest: Path, samplesize: int | None) -> Path:
+    """p(1) has only a rare feature (a/1); p(2..6) share b/1; n(7..8) have neither."""
+    b = [":- set(minpos, 1).", ":- set(clauselength, 2).", ":- modeh(1, p(+t)).",
+         ":- modeb(1, a(+t)).", ":- modeb(1, b(+t)).",
+         ":- determination(p/1, a/1).", ":- determination(p/1, b/1).",
+         "a(1).", "c(7).", "c(8)."] + [f"b({i})." for i in range(2, 7)]
+    if samplesize is not None:
+        b.insert(0, f":- set(samplesize, {samplesize}).")
+    (dest / "rare.b").write_text("\n".join(b) + "\n")
+    (dest / "rare.f").write_text("".join(f"p({i}).\n" for i in range(1, 7)))
+    (dest / "rare.n").write_text("p(7).\np(8).\n")
+    return dest / "rare"
+
+
+def test_samplesize_adds_the_best_clause_of_several_seeds(tmp_path):
+    """Without samplesize the first seed's narrow clause comes first; with samplesize 3
+    (seeds 1, 3, 5: evenly spaced over the positives) the general clause of seed 3 or 5 is
+    added first, then seed 1's.  Same theory on a second run (no random sample)."""
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    plain = learn(_rare_first(tmp_path / "a", None))
+    assert [norm(c) for c in plain.rules] == [norm("p(A) :- a(A)."), norm("p(A) :- b(A).")]
+    sampled = learn(_rare_first(tmp_path / "b", 3))
+    assert [norm(c) for c in sampled.rules] == [norm("p(A) :- b(A)."), norm("p(A) :- a(A).")]
+    assert sampled.train.tp == 6 and sampled.train.fp == 0
+    assert not any("samplesize" in w for w in sampled.warnings)  # implemented, no warning
+    again = learn(_rare_first(tmp_path / "b", 3))
+    assert again.rules == sampled.rules
+
+
+def test_samplesize_seeds_without_a_clause_are_set_aside(tmp_path):
+    """minpos 2: seed 1's only clause covers one positive, so it is set aside from the
+    sample while the general clause is added; the theory then stops."""
+    stem = _rare_first(tmp_path, 3)
+    r = learn(stem, settings={"minpos": 2})
+    assert [norm(c) for c in r.rules] == [norm("p(A) :- b(A).")]
+    assert r.train.tp == 5 and r.train.fn == 1

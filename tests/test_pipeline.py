@@ -461,3 +461,76 @@ def test_learn_command_reads_class_settings():
     assert _settings(["noise=6", "box:noise=12"]) == {"noise": "6", "box:noise": "12"}
     with pytest.raises(InputError, match="NAME=VALUE"):
         _settings(["box:noise"])
+
+
+def _ramps_as_other(descs):
+    """The scenes with every ramp relabelled ``other`` (clutter: none of the classes)."""
+    from dataclasses import replace
+
+    return [replace(d, objects=tuple(replace(o, klass="other") if o.klass == "ramp" else o
+                                     for o in d.objects)) for d in descs]
+
+
+def test_other_rules_prove_none_of_the_classes(gt_descs, tmp_path):
+    """With ``other`` objects in the data, a theory for ``other`` is learned too: its rules
+    compete by precision, an object they prove is answered ``other`` *with* the rule, and the
+    model's classes stay the real ones (in Python and in the classifier)."""
+    from planerel.classify.classifier import Classifier
+
+    descs = _ramps_as_other(gt_descs)
+    model = P.learn_rules(descs, ["box", "stairs"], engine="builtin", other_rules=True)
+    assert model.classes == ("box", "stairs")
+    assert model.targets == ("box", "stairs", "other")
+    assert model.rules["other"], "no rule for other learned"
+    # statistics: one row per clause in file order, other's rules last, measured on the
+    # training objects (an other rule's true positives are other objects)
+    assert [k for _, k, _, _ in model.stats] == [k for k in model.targets
+                                                 for _ in model.rules.get(k, ())]
+    assert all(tp > 0 for _, k, tp, _ in model.stats if k == "other")
+    text = model.text()
+    assert "% ---- other" in text and text.index("% ---- other") > text.index("% ---- stairs")
+    preds = P.prolog_predict(model, descs)
+    truth = {o.id: o.klass for d in descs for o in d.objects}
+    others = [p for p in preds if truth[p.object_id] == "other"]
+    assert others and all(p.klass == "other" for p in others)
+    # proved by a rule of other, not only left over
+    assert all(p.rule and p.rule.startswith("other(") for p in others)
+    assert all(p.klass == truth[p.object_id] for p in preds)
+    (tmp_path / "rules.pl").write_text(text)
+    clf = Classifier(tmp_path / "rules.pl")
+    assert clf.classes == ("box", "stairs")
+    assert {k for _, k, _, _ in clf.stats} == {"box", "stairs", "other"}
+
+
+def test_no_other_rules_leaves_other_as_what_no_rule_proves(gt_descs):
+    descs = _ramps_as_other(gt_descs)
+    model = P.learn_rules(descs, ["box", "stairs"], engine="builtin")  # the default
+    assert model.targets == ("box", "stairs") and "other" not in model.rules
+    preds = P.prolog_predict(model, descs)
+    truth = {o.id: o.klass for d in descs for o in d.objects}
+    assert all(p.rule is None for p in preds if p.klass == "other")
+    assert [p.klass for p in preds if truth[p.object_id] == "other"].count("other") >= 3
+
+
+def test_learn_cli_other_rules(gt_descs, small_set, tmp_path):
+    """`planerel learn --other-rules` on a data set whose ramps are labelled other: the model
+    file has a section of rules for other; without the flag it has none."""
+    import json as _json
+
+    ds = tmp_path / "ds"
+    shutil.copytree(small_set, ds)
+    for p in ds.glob("s*.json"):
+        d = _json.loads(p.read_text())
+        if d["class"] == "ramp":
+            for o in d["objects"]:
+                if o["class"] == "ramp":
+                    o["class"] = "other"
+            d["class"] = "other"
+            p.write_text(_json.dumps(d))
+    assert main(["learn", str(ds), "-o", str(tmp_path / "m"), "--method", "gt",
+                 "--other-rules", "--cache", "none"]) == 0
+    rules = (tmp_path / "m" / "rules.pl").read_text()
+    assert "% ---- other" in rules
+    assert main(["learn", str(ds), "-o", str(tmp_path / "m2"), "--method", "gt",
+                 "--cache", "none"]) == 0
+    assert "% ---- other" not in (tmp_path / "m2" / "rules.pl").read_text()

@@ -187,8 +187,11 @@ class Classifier:
             if msg.startswith("syntax error"):
                 raise PrologError(f"{where}: not a valid rules file: {msg}")
             raise InputError(f"{where}: {msg}")
-        self.classes = tuple(dict.fromkeys(_text(r["C"]) for r in query(
+        heads = tuple(dict.fromkeys(_text(r["C"]) for r in query(
             f"{self.module}:planerel_rule(_, C, _, _, _, _)", "reading the model")))
+        # rules with head ``other`` prove "none of the classes" (learn_rules' other_rules):
+        # they compete in the decision but are no class of the model
+        self.classes = tuple(k for k in heads if k != OTHER)
         self.stats = tuple((int(r["I"]), _text(r["C"]), int(r["TP"]), int(r["FP"])) for r in query(
             f"{self.module}:planerel_stats(I, C, TP, FP)", "reading the rule statistics"))
         if not self.classes:

@@ -50,6 +50,10 @@ def register(sub) -> None:
                    dest="settings",
                    help="Aleph setting for the learner (repeatable), e.g. --set noise=6; "
                         "CLASS:NAME for one class only, e.g. --set box:noise=12")
+    p.add_argument("--other-rules", action="store_true",
+                   help="also learn rules for class other (objects of none of the classes in "
+                        "the data set): they prove 'none of the classes' and compete with the "
+                        "class rules by precision (docs/results.md, 'Rules for other')")
     p.set_defaults(func=run)
 
 
@@ -87,7 +91,8 @@ def run(args) -> int:
                     folds=args.folds, seed=args.seed, timeout=args.timeout, jobs=args.jobs,
                     method=args.method, seg_params=_params(args.param), cache=args.cache,
                     log=lambda s: print(s, file=sys.stderr), scheduler=args.scheduler,
-                    heldout=args.heldout, settings=_settings(args.settings) or None)
+                    heldout=args.heldout, settings=_settings(args.settings) or None,
+                    other_rules=args.other_rules)
     print(f"engine: {m['engine']}")
     print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
           f"{', '.join(m['classes'])}"
@@ -100,6 +105,8 @@ def run(args) -> int:
             print(f"  {r}")
         if not rules:
             print(f"  % no rule for {k}")
+    for r in m["rules"].get("other") or []:
+        print(f"  {r}   % none of the classes")
     cv = m.get("cross_validation")
     if cv:
         print(f"{cv['k']}-fold cross-validation: accuracy {cv['accuracy']:.3f}")

@@ -74,6 +74,7 @@ _SETTINGS = {
     "minacc": lambda v: isinstance(v, (int, float)) and 0 <= v <= 1,
     "depth": lambda v: isinstance(v, int) and v >= 1,
     "verbosity": lambda v: isinstance(v, int) and v >= 0,
+    "samplesize": lambda v: isinstance(v, int) and v >= 0,
 }
 
 

@@ -80,9 +80,16 @@ class Model:
     clauses_explored: int = 0
     uncovered: dict = field(default_factory=dict)
 
+    @property
+    def targets(self) -> tuple:
+        """The classes, then ``other`` when the model has rules for it (rules that describe
+        objects of none of the classes, :func:`learn_rules`' ``other_rules``)."""
+        return self.classes + ((OTHER,) if self.rules.get(OTHER) and OTHER not in self.classes
+                               else ())
+
     def clauses(self) -> list[str]:
-        """All clauses in class order (the order of :meth:`text`)."""
-        return [c for k in self.classes for c in self.rules.get(k, ())]
+        """All clauses in target order (the order of :meth:`text`)."""
+        return [c for k in self.targets for c in self.rules.get(k, ())]
 
     def text(self, header: str = "") -> str:
         """The model as a Prolog file: rules plus ``planerel_rule_stats/4`` facts."""
@@ -97,8 +104,9 @@ class Model:
                   "% (compare.pl, derived.pl) and scene facts; see docs/results.md.",
                   ":- dynamic(planerel_rule_stats/4).", ":- multifile(planerel_rule_stats/4).",
                   ":- style_check(-singleton).  % learned rules name variables they only bind", ""]
-        for k in self.classes:
-            lines.append(f"% ---- {k}")
+        for k in self.targets:
+            lines.append(f"% ---- {k}" + ("  (none of the classes: these rules win an object "
+                                          "when their precision is higher)" if k == OTHER else ""))
             lines += list(self.rules.get(k, ())) or [f"% (no rule learned for {k})"]
             lines.append("")
         if self.stats:
@@ -155,8 +163,15 @@ def split_class_settings(settings: dict | None, classes: Sequence[str]) -> tuple
 
 def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeout: float = 120.0,
                 settings: dict | None = None, work_dir=None, task: str | None = None,
-                jobs: int | None = None, log=None) -> Model:
+                jobs: int | None = None, log=None, other_rules: bool = False) -> Model:
     """Learn one theory per class from described scenes (one Aleph run per class).
+
+    With ``other_rules`` and objects of class ``other`` among the examples (clutter: none of
+    the classes), a theory for ``other`` is learned too (its negatives are the objects of
+    every class), so that "none of the classes" is an answer a rule proves, not only what is
+    left when no class rule fires: where a class rule and an ``other`` rule both prove an
+    object, the one with the higher training precision wins (:func:`choose_class`).  Off by
+    default: measured in docs/results.md ("Rules for other").
 
     Parameters
     ----------
@@ -178,6 +193,9 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
     log : callable, optional
         Receives progress lines (``"[box] rule 3 ..."``, one per clause added, and one per
         class learned).
+    other_rules : bool
+        Learn rules for ``other`` as well when there are at least two ``other`` objects
+        (settings for it: ``other:NAME``).
 
     Returns
     -------
@@ -198,9 +216,12 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
     if work_dir is None:
         tmp = temp_dir("learn")
         work_dir = tmp.name
+    targets = tuple(classes)
+    if other_rules and OTHER not in targets and sum(k == OTHER for _, k in examples) >= 2:
+        targets += (OTHER,)
     try:
-        common, per_class = split_class_settings(settings, classes)
-        export_aleph(descs, work_dir, "all", classes=list(classes), task=task, settings=common)
+        common, per_class = split_class_settings(settings, targets)
+        export_aleph(descs, work_dir, "all", classes=list(targets), task=task, settings=common)
         rules, uncovered, seconds, explored, engines = {}, {}, 0.0, 0, set()
 
         def one(k):
@@ -214,15 +235,15 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
 
         from planerel.batch import resolve_jobs
 
-        n_jobs = max(1, min(resolve_jobs(jobs), len(classes)))
+        n_jobs = max(1, min(resolve_jobs(jobs), len(targets)))
         if n_jobs == 1:
-            results = [one(k) for k in classes]
+            results = [one(k) for k in targets]
         else:
             from concurrent.futures import ThreadPoolExecutor
 
             with ThreadPoolExecutor(n_jobs) as pool:     # each class is its own swipl process
-                results = list(pool.map(one, classes))
-        for k, res in zip(classes, results, strict=True):
+                results = list(pool.map(one, targets))
+        for k, res in zip(targets, results, strict=True):
             rules[k] = tuple(r for r in res.rules if ":-" in r)
             # unit clauses (seeds Aleph keeps as facts when minpos =< 1) and the positives
             # the theory leaves out (seeds without a clause when minpos > 1)
@@ -398,7 +419,7 @@ def rule_stats(model: Model, descs, *, timeout: float = 120.0) -> tuple:
         return ()
     fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
     truth = dict(examples)
-    index_class = [(i + 1, k) for i, k in enumerate(k for k in model.classes
+    index_class = [(i + 1, k) for i, k in enumerate(k for k in model.targets
                                                     for _ in model.rules.get(k, ()))]
     counts = {i: [0, 0] for i, _ in index_class}
     for obj, hits in fired.items():
@@ -449,7 +470,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
 def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int = 0,
                    engine: str = "builtin", timeout: float = 120.0, settings: dict | None = None,
                    progress: bool | None = None, jobs: int | None = 1,
-                   task: str | None = None) -> dict:
+                   task: str | None = None, other_rules: bool = False) -> dict:
     """Stratified k-fold cross-validation of the whole learner on described scenes.
 
     Objects of class ``other`` (none of the classes) are split into the folds too: in training
@@ -466,6 +487,7 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         ``open_set_accuracy`` (all objects, ``other`` right when predicted ``other``).
 
     ``jobs`` folds run at once (None: all cores); the result does not depend on it.
+    ``other_rules``: as in :func:`learn_rules` (rules for ``other`` learned in each fold).
     """
     from planerel.ilp.aleph_export import OTHER
 
@@ -490,7 +512,7 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         present = [k for k in classes if any(o.klass == k for d in train_descs for o in d.objects)]
         t0 = time.perf_counter()
         model = learn_rules(train_descs, present, engine=engine, timeout=timeout, settings=settings,
-                            jobs=1, task=task)
+                            jobs=1, task=task, other_rules=other_rules)
         test_descs = list({id(scene_of[o]): scene_of[o] for o in test}.values())
         preds = prolog_predict(model, test_descs, test, timeout=timeout)
         scored = [(truth_of[p.object_id], p.klass) for p in preds if truth_of[p.object_id] != OTHER]
@@ -658,14 +680,16 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                 seed: int = 0, timeout: float = 120.0, jobs: int | None = None,
                 method: str = "regiongrow", seg_params: dict | None = None, cache=None,
                 progress: bool | None = None, log=print, scheduler=None,
-                heldout=None, settings: dict | None = None, task: str | None = None) -> dict:
+                heldout=None, settings: dict | None = None, task: str | None = None,
+                other_rules: bool = False) -> dict:
     """``planerel learn``: describe a data set, learn the class rules, optionally cross-validate,
     score the model on a held-out data set (``heldout``: :func:`held_out_scores`, in
     ``metrics["heldout"]``), and write a model folder.
 
     ``jobs`` worker processes describe the scenes (or the Dask ``scheduler``'s workers), and
     ``jobs`` cross-validation folds run at once; the result does not depend on either.
-    ``settings`` (Aleph ``set/2`` values) and ``task`` (a task file) go to :func:`learn_rules`.
+    ``settings`` (Aleph ``set/2`` values), ``task`` (a task file) and ``other_rules`` go to
+    :func:`learn_rules`.
 
     The folder is built in a temporary sibling and renamed into place when complete, so a run
     that fails or is interrupted never leaves a half-written model.  It holds ``rules.pl``
@@ -704,7 +728,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
             t1 = time.perf_counter()
             cv = cross_validate(descs, classes, folds=folds, seed=seed, engine=engine,
                                 timeout=timeout, progress=progress, jobs=jobs,
-                                settings=settings, task=task)
+                                settings=settings, task=task, other_rules=other_rules)
             metrics["cross_validation"] = cv
             metrics["seconds"]["cross_validation"] = round(time.perf_counter() - t1, 3)
             draw_confusion(tmp / "confusion.png", cv["confusion"], list(classes),
@@ -712,7 +736,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         t2 = time.perf_counter()
         model = learn_rules(descs, classes, engine=engine, timeout=timeout, work_dir=tmp / "aleph",
                             jobs=jobs, log=None if progress is False else log,
-                            settings=settings, task=task)
+                            settings=settings, task=task, other_rules=other_rules)
         metrics["seconds"]["learn"] = round(time.perf_counter() - t2, 3)
         metrics["engine"] = model.engine
         metrics["rules"] = {k: list(v) for k, v in model.rules.items()}
