@@ -530,54 +530,20 @@ def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
     want = {(min(a, b), max(a, b)) for a, b in pairs}
     if not want or lab.size == 0:
         return {}
+    from planerel.features._relation_kernels import edge_sums
     from planerel.features.planes import _boundary
 
-    H, W = lab.shape
     n = int(lab.max()) + 1
     sums = {}
-    acc_a = np.zeros((n * n, 3))
-    acc_b = np.zeros((n * n, 3))
-    cnt = np.zeros(n * n)
-    # only boundary pixels can have another plane within the band: look around them alone
+    # only boundary pixels can have another plane within the band: look around them alone;
+    # every (boundary pixel, pixel within the band) pair of two different used labels in one
+    # compiled pass
     r0, c0 = np.nonzero(_boundary(lab))
-    a0 = lab[r0, c0].astype(np.int64)
-    used = np.zeros(n + 1, bool)
+    used = np.zeros(max(n, 1), np.bool_)
     used[[x for pr in want for x in pr if 0 <= x < n]] = True
-    keep = used[np.where(a0 >= 0, a0, n)]
-    r0, c0, a0 = r0[keep], c0[keep], a0[keep]
-    P0 = xyz[r0, c0]
-    lim = depth * np.maximum(1.0, np.abs(P0[:, 2]))
-    # every (boundary pixel, pixel within the band) pair of two different labels, all
-    # offsets at once, then one weighted count per coordinate
-    flat = lab.ravel()
-    pix = xyz.reshape(-1, 3)
-    sel_i, sel_j = [], []
-    for k in range(1, band + 1):
-        for dy, dx in ((0, k), (k, 0), (k, k), (k, -k)):
-            r, c = r0 + dy, c0 + dx
-            i = np.nonzero((r >= 0) & (r < H) & (c >= 0) & (c < W))[0]
-            j = r[i] * W + c[i]
-            b = flat[j]
-            m = (b >= 0) & (b != a0[i])
-            sel_i.append(i[m])
-            sel_j.append(j[m])
-    i = np.concatenate(sel_i)
-    j = np.concatenate(sel_j)
-    if i.size:
-        PA = P0[i]
-        PB = pix[j]
-        ok = np.einsum("ij,ij->i", PA - PB, PA - PB) <= lim[i] ** 2
-        i, j, PA, PB = i[ok], j[ok], PA[ok], PB[ok]
-        a = a0[i]
-        bm = flat[j].astype(np.int64)
-        code = np.minimum(a, bm) * n + np.maximum(a, bm)
-        swap = (a > bm)[:, None]  # the "a" side is the lower label
-        plo = np.where(swap, PB, PA)
-        phi = np.where(swap, PA, PB)
-        cnt += np.bincount(code, minlength=n * n)
-        for jj in range(3):
-            acc_a[:, jj] += np.bincount(code, weights=plo[:, jj], minlength=n * n)
-            acc_b[:, jj] += np.bincount(code, weights=phi[:, jj], minlength=n * n)
+    cnt, acc_a, acc_b = edge_sums(np.ascontiguousarray(lab), np.ascontiguousarray(xyz, dtype=np.float64),
+                                  r0.astype(np.int64), c0.astype(np.int64), used, int(band),
+                                  float(depth), max(n, 1))
     for lo, hi in want:
         c = cnt[lo * n + hi] if lo < n and hi < n else 0
         if c > 0:
