@@ -1,12 +1,17 @@
-"""numba kernel of the post-processing's residual test (compiled once, cached on disk; import
-only from inside functions)."""
+"""numba kernels of the post-processing's residual test and of the search for planar parts in a
+bent region (compiled once, cached on disk; import only from inside functions).
+
+The part-search kernels replace the numpy statements of ``split._split_one`` with the same
+operations in the same order (the point-to-plane products ``P @ n`` stay numpy's, they are
+passed in), so the results are bit for bit those of the statements they replace
+(``tests/test_segment_split_kernels.py``)."""
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
 
-__all__ = ["residual_stats_grid"]
+__all__ = ["residual_stats_grid", "inliers_fit", "assign_refit", "part_centroids"]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -74,3 +79,127 @@ def residual_stats_grid(X, L, pn, po, n, noise, q, depth_unit, organized):  # pr
         for i in range(n):
             local[i] = np.sqrt((ssum[i] + csum[i]) / scnt[i] / 6.0)
     return rms, exp_rms, local
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _fit_selected(P, sel, m):  # pragma: no cover - compiled
+    """:func:`planerel.segment._post_kernels.plane_fit` of the ``m`` rows of ``P`` (M, 3) with
+    ``sel`` (M,) true, in row order: (unit normal (3,), offset)."""
+    cx = cy = cz = 0.0
+    for i in range(P.shape[0]):
+        if sel[i]:
+            cx += P[i, 0]
+            cy += P[i, 1]
+            cz += P[i, 2]
+    cx /= m
+    cy /= m
+    cz /= m
+    sxx = sxy = sxz = syy = syz = szz = 0.0
+    for i in range(P.shape[0]):
+        if sel[i]:
+            x = P[i, 0] - cx
+            y = P[i, 1] - cy
+            z = P[i, 2] - cz
+            sxx += x * x
+            sxy += x * y
+            sxz += x * z
+            syy += y * y
+            syz += y * z
+            szz += z * z
+    cov = np.empty((3, 3))
+    cov[0, 0] = sxx
+    cov[0, 1] = cov[1, 0] = sxy
+    cov[0, 2] = cov[2, 0] = sxz
+    cov[1, 1] = syy
+    cov[1, 2] = cov[2, 1] = syz
+    cov[2, 2] = szz
+    _, vec = np.linalg.eigh(cov)
+    n = vec[:, 0].copy()
+    return n, -(n[0] * cx + n[1] * cy + n[2] * cz)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def inliers_fit(P, dn, zs, off, sigmas):  # pragma: no cover - compiled
+    """One least-squares refinement of a part's plane: the inliers of the plane with products
+    ``dn`` (m,) = ``P @ normal`` and ``off`` (normalised distance ``|dn + off| * zs /
+    max(|dn|, 1e-12)`` <= ``sigmas``), and the plane fitted to them.
+    Returns (inlier mask (m,) bool, inlier count, normal (3,), offset); the plane is zeros when
+    fewer than 3 points are inliers."""
+    m = P.shape[0]
+    inl = np.empty(m, dtype=np.bool_)
+    cnt = 0
+    for i in range(m):
+        d = dn[i]
+        ok = abs(d + off) * zs[i] / max(abs(d), 1e-12) <= sigmas
+        inl[i] = ok
+        if ok:
+            cnt += 1
+    if cnt < 3:
+        return inl, cnt, np.zeros(3), 0.0
+    n, o = _fit_selected(P, inl, cnt)
+    return inl, cnt, n, o
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def assign_refit(P, DN, zs, offs, assign_sigmas, cut):  # pragma: no cover - compiled
+    """One assign / refit round of the sample: each point ``P`` (m, 3) goes to the part of
+    smallest normalised distance (the first of equal ones; ``DN`` (k, m) the products ``P @
+    normal_j``, ``offs`` (k,)), -1 beyond ``assign_sigmas`` when ``cut``; then each part with
+    at least 3 points is refitted.  Returns (part (m,) int64, planes (k, 4) normal and offset,
+    refitted (k,) bool)."""
+    m = P.shape[0]
+    k = DN.shape[0]
+    part = np.empty(m, dtype=np.int64)
+    cnt = np.zeros(k, dtype=np.int64)
+    for i in range(m):
+        bj = 0
+        best = 0.0
+        for j in range(k):
+            d = DN[j, i]
+            c = abs(d + offs[j]) * zs[i] / max(abs(d), 1e-12)
+            if j == 0 or c < best:
+                best = c
+                bj = j
+        if cut and best > assign_sigmas:
+            bj = -1
+        else:
+            cnt[bj] += 1
+        part[i] = bj
+    planes = np.zeros((k, 4))
+    done = np.zeros(k, dtype=np.bool_)
+    if not cut:
+        return part, planes, done
+    sel = np.empty(m, dtype=np.bool_)
+    for j in range(k):
+        if cnt[j] < 3:
+            continue
+        for i in range(m):
+            sel[i] = part[i] == j
+        n, o = _fit_selected(P, sel, cnt[j])
+        planes[j, 0] = n[0]
+        planes[j, 1] = n[1]
+        planes[j, 2] = n[2]
+        planes[j, 3] = o
+        done[j] = True
+    return part, planes, done
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def part_centroids(P, part, k):  # pragma: no cover - compiled
+    """Mean of the points ``P`` (m, 3) of each part ``0 .. k-1`` of ``part`` (m,), summed in
+    row order (numpy's ``P[part == j].mean(axis=0)``), and the count (k,)."""
+    s = np.zeros((k, 3))
+    c = np.zeros(k, dtype=np.int64)
+    for i in range(P.shape[0]):
+        j = part[i]
+        if j >= 0:
+            s[j, 0] += P[i, 0]
+            s[j, 1] += P[i, 1]
+            s[j, 2] += P[i, 2]
+            c[j] += 1
+    for j in range(k):
+        if c[j] > 0:
+            s[j, 0] /= c[j]
+            s[j, 1] /= c[j]
+            s[j, 2] /= c[j]
+    return s, c

@@ -403,8 +403,12 @@ def _surfaces(planes, Q, part, p: SplitParams) -> np.ndarray:
     parent = list(range(k))
     if p.min_split_angle <= 0 or k < 2:
         return np.arange(k)
+    from planerel.segment._split_kernels import part_centroids
+
     cos_min = math.cos(math.radians(p.min_split_angle))
-    cen = [Q[part == j].mean(axis=0) if np.any(part == j) else None for j in range(k)]
+    mean, count = part_centroids(np.ascontiguousarray(Q, dtype=np.float64),
+                                 np.ascontiguousarray(part, dtype=np.int64), k)
+    cen = [mean[j] if count[j] else None for j in range(k)]
 
     def root(i):
         while parent[i] != i:
@@ -491,11 +495,11 @@ def _fit(P) -> tuple[np.ndarray, float]:
     return nr, float(off)
 
 
-def _cost(P, zs, nr, off) -> np.ndarray:
-    """Normalised distances ``|n . p + off| / sigma`` of points ``P`` (m, 3) to a plane, with
-    ``zs`` = z / (depth std), so that ``sigma = |n . p| / zs``."""
-    dn = P @ nr
-    return np.abs(dn + off) * zs / np.maximum(np.abs(dn), 1e-12)
+def _products(P, planes) -> np.ndarray:
+    """``(k, m)``: ``P @ n`` of each plane ``(n, offset)`` of ``planes`` (numpy's products: a
+    point's normalised distance to a plane is ``|n . p + off| * zs / max(|n . p|, 1e-12)``,
+    ``zs`` = z / (depth std), so that ``sigma = |n . p| / zs``)."""
+    return np.stack([P @ nr for nr, _ in planes])
 
 
 def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, min_parts=2,
@@ -505,6 +509,7 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
     their points, ``N`` (H*W, 3) the image's flat normals or None; the point-to-plane sigma of a plane ``n``
     is ``scale * sigma_z(z) * |n . p| / z``."""
     from planerel.segment._post_kernels import absorb_small, assign_parts, depth_scales, part_pieces
+    from planerel.segment._split_kernels import assign_refit, inliers_fit
 
     m = len(P)
     q = p.disparity_step / (p.focal_px * p.baseline)
@@ -514,6 +519,8 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
                       float(p.depth_unit))
     # N: the image's flat normals (all pixels); only the sample's are read
     NQ = None if N is None else np.asarray(N[pix[::st]], dtype=np.float64)
+    # the sample's normals that are known (the one-point hypotheses' candidates)
+    fin = None if NQ is None else np.all(np.isfinite(NQ), axis=1)
     mq = len(Q)
     min_q = max(3, int(math.ceil(min_size * mq / m)))
     rem = np.arange(mq)
@@ -522,17 +529,18 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
         if len(rem) < min_q:
             break
         Qr, zr = Q[rem], zs[rem]
-        best = _ransac(Qr, zr, None if NQ is None else NQ[rem], p, rng)
+        best = _ransac(Qr, zr, None if NQ is None else NQ[rem], p, rng,
+                       None if fin is None else fin[rem])
         if best is None:
             break
         nr, off = best
-        inl = None
+        cnt = -1
         for _it in range(3):  # least-squares refinement on the inliers
-            inl = _cost(Qr, zr, nr, off) <= p.inlier_sigmas
-            if inl.sum() < 3:
+            inl, cnt, nr2, off2 = inliers_fit(Qr, Qr @ nr, zr, off, float(p.inlier_sigmas))
+            if cnt < 3:
                 break
-            nr, off = _fit(Qr[inl])
-        if inl is None or inl.sum() < min_q:
+            nr, off = nr2, float(off2)
+        if cnt < min_q:
             break
         planes.append((nr, off))
         rem = rem[~inl]
@@ -540,15 +548,14 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
         return None
     part = None
     for _it in range(p.iterations):  # assign the sample to the nearest part, refit
-        cost = np.stack([_cost(Q, zs, nr, off) for nr, off in planes], axis=1)
-        part = np.argmin(cost, axis=1)
-        part[cost[np.arange(mq), part] > p.assign_sigmas] = -1
-        for j in range(len(planes)):
-            mj = part == j
-            if mj.sum() >= 3:
-                planes[j] = _fit(Q[mj])
+        part, fits, done = assign_refit(Q, _products(Q, planes), zs,
+                                        np.array([off for _, off in planes]),
+                                        float(p.assign_sigmas), True)
+        for j in np.flatnonzero(done).tolist():
+            planes[j] = (fits[j, :3].copy(), float(fits[j, 3]))
     if part is None:  # no refinement rounds: the sample's nearest parts
-        part = np.argmin(np.stack([_cost(Q, zs, nr, off) for nr, off in planes], axis=1), axis=1)
+        part = assign_refit(Q, _products(Q, planes), zs, np.array([off for _, off in planes]),
+                            float(p.assign_sigmas), False)[0]
     group = _surfaces(planes, Q, part, p)
     ng = int(group.max()) + 1
     if ng < min_parts:
@@ -592,9 +599,10 @@ def _cellmap(pix):
     return cm
 
 
-def _ransac(Q, zs, N, p: SplitParams, rng):
+def _ransac(Q, zs, N, p: SplitParams, rng, finite=None):
     """Best plane (normal, offset) of points ``Q`` (m, 3) by seeded RANSAC: three-point and
-    point-with-normal hypotheses scored on a regular sample by their inlier count."""
+    point-with-normal hypotheses scored on a regular sample by their inlier count.  ``finite``
+    (m,) bool: the rows of ``N`` that are all finite, when the caller has them."""
     from planerel.segment._post_kernels import ransac_scores
 
     m = len(Q)
@@ -604,13 +612,21 @@ def _ransac(Q, zs, N, p: SplitParams, rng):
     n3 = p.hypotheses if N is None else (p.hypotheses + 1) // 2
     tri = rng.integers(0, m, size=(n3, 3))
     a, b, c = Q[tri[:, 0]], Q[tri[:, 1]], Q[tri[:, 2]]
-    cr = np.cross(b - a, c - a)
+    u, v = b - a, c - a
+    # np.cross(u, v) by its own elementwise statements, without its axis handling
+    cr = np.empty_like(u)
+    np.multiply(u[:, 1], v[:, 2], out=cr[:, 0])
+    cr[:, 0] -= u[:, 2] * v[:, 1]
+    np.multiply(u[:, 2], v[:, 0], out=cr[:, 1])
+    cr[:, 1] -= u[:, 0] * v[:, 2]
+    np.multiply(u[:, 0], v[:, 1], out=cr[:, 2])
+    cr[:, 2] -= u[:, 1] * v[:, 0]
     ln = np.linalg.norm(cr, axis=1)
     ok = ln > 1e-12
     hyp_n = [cr[ok] / ln[ok, None]]
     hyp_p = [a[ok]]
     if N is not None and p.hypotheses > n3:
-        good = np.flatnonzero(np.all(np.isfinite(N), axis=1))
+        good = np.flatnonzero(np.all(np.isfinite(N), axis=1) if finite is None else finite)
         if len(good):
             pick = good[rng.integers(0, len(good), size=p.hypotheses - n3)]
             nn = N[pick]
