@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["label_counts", "free_patches", "depth_scales", "assign_parts", "part_pieces",
-           "absorb_small", "merge_stats", "absorb_relabel", "fit_counts"]
+           "absorb_small", "merge_stats", "absorb_relabel", "fit_counts", "relabel_moments"]
 
 
 @njit(cache=True, nogil=True)
@@ -498,3 +498,43 @@ def fit_counts(X, L, n, active, cand_ptr, cand_idx, planes, thr):  # pragma: no 
                 fit[r] += 1
                 break
     return tot, fit
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def relabel_moments(labels, remap, row, pts, nrow):  # pragma: no cover - compiled
+    """New labels and the moments of the regions to refit, in one pass over the image.
+
+    ``labels`` (N,) int32 (-1 none), ``remap`` (n + 1,) int32: the new label of old label
+    ``l`` at ``remap[l + 1]``; ``row`` (n + 1,) int: the moments row of old label ``l`` at
+    ``row[l + 1]`` (-1: not refitted); ``pts`` (N, 3).  Returns the new labels (N,) int32 and
+    ``(sums (nrow, 10), ref (nrow, 3))`` as :func:`planerel.segment._kernels.region_sums` gives
+    them for the points of each row in pixel order (about each row's first point): so
+    ``planes_from_sums`` of them equals ``fit_planes`` of those points."""
+    N = labels.shape[0]
+    out = np.empty(N, dtype=np.int32)
+    sums = np.zeros((nrow, 10))
+    ref = np.zeros((nrow, 3))
+    for p in range(N):
+        lab = labels[p] + 1
+        out[p] = remap[lab]
+        r = row[lab]
+        if r < 0:
+            continue
+        if sums[r, 0] == 0.0:
+            ref[r, 0] = pts[p, 0]
+            ref[r, 1] = pts[p, 1]
+            ref[r, 2] = pts[p, 2]
+        x = pts[p, 0] - ref[r, 0]
+        y = pts[p, 1] - ref[r, 1]
+        z = pts[p, 2] - ref[r, 2]
+        sums[r, 0] += 1.0
+        sums[r, 1] += x
+        sums[r, 2] += y
+        sums[r, 3] += z
+        sums[r, 4] += x * x
+        sums[r, 5] += x * y
+        sums[r, 6] += x * z
+        sums[r, 7] += y * y
+        sums[r, 8] += y * z
+        sums[r, 9] += z * z
+    return out, sums, ref

@@ -34,7 +34,7 @@ import numpy as np
 
 from planerel.errors import InputError
 from planerel.segment.absorb import ABSORB_FRACTION, _touching_pairs
-from planerel.segment.result import Segmentation, SegPlane, fit_planes
+from planerel.segment.result import Segmentation
 
 __all__ = ["merge_coplanar"]
 
@@ -63,7 +63,7 @@ def merge_coplanar(cloud, seg: Segmentation, params=None, *,
         counts; ``seg`` itself when nothing changed.
     """
     from planerel.segment._post_kernels import merge_stats
-    from planerel.segment.split import _TEST_PIXELS, SplitParams, _residual_stats
+    from planerel.segment.split import _TEST_PIXELS, SplitParams, _relabel_refit, _residual_stats
 
     p = params if params is not None else SplitParams()
     if not isinstance(p, SplitParams):
@@ -153,15 +153,13 @@ def merge_coplanar(cloud, seg: Segmentation, params=None, *,
     new_id = np.full(n, -1, dtype=np.int32)
     new_id[kept] = np.arange(len(kept), dtype=np.int32)
     remap = np.concatenate([[-1], new_id[roots]]).astype(np.int32)
-    lab = labels.reshape(-1)
-    out = remap[lab + 1]
-    # refit only the merged groups, from their pixels (in pixel order: the sums of a full refit)
+    # refit only the merged groups, from their pixels (in pixel order: the sums of a full
+    # refit), in the relabelling's pass
     grouped = np.bincount(roots, minlength=n) > 1
     refit = np.flatnonzero(grouped)  # roots of merged groups, ascending = ascending new ids
-    sub = np.full(n + 1, -1, dtype=np.int32)
+    sub = np.full(n + 1, -1, dtype=np.int64)
     sub[np.flatnonzero(grouped[roots]) + 1] = np.searchsorted(refit, roots[grouped[roots]])
-    pix = np.flatnonzero(sub[lab + 1] >= 0)
-    fits = SegPlane.from_fits(*fit_planes(xyz.reshape(-1, 3)[pix], sub[lab[pix] + 1], len(refit)))
+    out, fits = _relabel_refit(labels.reshape(-1), remap, sub, xyz.reshape(-1, 3), len(refit))
     fit_of = dict(zip(new_id[refit].tolist(), fits, strict=True))
     planes = tuple(dataclasses.replace(fit_of[i], id=i) if i in fit_of
                    else dataclasses.replace(seg.planes[int(r)], id=i)

@@ -42,7 +42,7 @@ import numpy as np
 
 from planerel.errors import InputError
 from planerel.segment.params import _bool, _int, _num, coerce_params, scaled_min_region_size
-from planerel.segment.result import Segmentation, SegPlane, fit_planes
+from planerel.segment.result import Segmentation, SegPlane
 
 __all__ = ["SplitParams", "split_bent_regions", "expected_sigma"]
 
@@ -299,7 +299,6 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         return None if nrm is None else nrm.reshape(-1, 3)
 
     new_lab = None
-    changed_pix: list = []
     extra: dict[int, list] = {}
     next_id = n
     n_unassigned = 0
@@ -342,7 +341,6 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
             extra[int(r)] = list(range(next_id, next_id + k - 1))
             next_id += k - 1
             new_lab[pix] = np.where(piece >= 0, ids[np.maximum(piece, 0)], -1)
-            changed_pix.append(pix)
             n_unassigned += int((piece < 0).sum())
             info["split_regions"] += 1
             info["split_new_regions"] += k - 1
@@ -364,7 +362,6 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
                 new_lab = lab.copy()
             k = int(piece.max()) + 1
             new_lab[pix] = np.where(piece >= 0, next_id + piece, -1)
-            changed_pix.append(pix)
             leftover_ids.extend(range(next_id, next_id + k))
             next_id += k
             info["leftover_regions"] += k
@@ -379,19 +376,31 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     final_order.extend(leftover_ids)
     remap = np.full(next_id + 1, -1, dtype=np.int32)
     remap[np.array(final_order, dtype=np.int64) + 1] = np.arange(next_id, dtype=np.int32)
-    out = remap[new_lab + 1].astype(np.int32)
-    # refit only the regions whose pixels changed (split regions and leftover patches: all
-    # their pixels are in `changed`, in pixel order, so the sums are those of a full refit)
-    changed = np.unique(np.concatenate(changed_pix))
+    # refit only the regions whose pixels changed (split regions and leftover patches), from
+    # all their pixels in pixel order (the sums of a full refit), in the relabelling's pass
     refit = [new for new, old in enumerate(final_order) if old >= n or old in extra]
-    sub = np.full(next_id + 1, -1, dtype=np.int32)
-    sub[np.array(refit, dtype=np.int64) + 1] = np.arange(len(refit), dtype=np.int32)
-    fits = SegPlane.from_fits(*fit_planes(xyz_flat[changed], sub[out[changed] + 1], len(refit)))
+    sub = np.full(next_id + 1, -1, dtype=np.int64)
+    sub[np.array(refit, dtype=np.int64) + 1] = np.arange(len(refit))
+    out, fits = _relabel_refit(new_lab, remap, sub[remap + 1], xyz_flat, len(refit))
     fit_of = dict(zip(refit, fits, strict=True))
     planes = tuple(dataclasses.replace(fit_of[new], id=new) if new in fit_of
                    else dataclasses.replace(seg.planes[old], id=new)
                    for new, old in enumerate(final_order))
     return Segmentation(out.reshape(h, w), planes, seg.method, seg.params, seg.normals, info)
+
+
+def _relabel_refit(labels, remap, row, xyz_flat, nrow):
+    """``remap[labels + 1]`` (N,) int32 and the planes (:meth:`SegPlane.from_fits`) of the
+    ``nrow`` regions to refit, old label ``l`` feeding row ``row[l + 1]`` (-1: none), fitted
+    to their pixels in pixel order, in one pass (what ``fit_planes`` of those pixels gives)."""
+    from planerel.segment._kernels import planes_from_sums
+    from planerel.segment._post_kernels import relabel_moments
+
+    out, sums, ref = relabel_moments(np.ascontiguousarray(labels, dtype=np.int32),
+                                     np.ascontiguousarray(remap, dtype=np.int32),
+                                     np.ascontiguousarray(row, dtype=np.int64),
+                                     np.ascontiguousarray(xyz_flat), int(nrow))
+    return out, SegPlane.from_fits(*planes_from_sums(sums, ref, int(nrow)))
 
 
 def _surfaces(planes, Q, part, p: SplitParams) -> np.ndarray:
