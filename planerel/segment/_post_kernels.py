@@ -430,6 +430,11 @@ def absorb_relabel(pts, labels, gone, keep_rest, cand_ptr, cand_idx, planes, thr
         for k in range(10):
             sums[i, k] = 0.0
     lost = 0
+    # the current row's totals stay in registers until the row changes (the same additions in
+    # the same order, as in planerel.segment._kernels.add_region_moments)
+    cur = -1
+    n = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    rx = ry = rz = 0.0
     for p in range(N):
         t = labels[p]
         if t < 0:
@@ -456,21 +461,58 @@ def absorb_relabel(pts, labels, gone, keep_rest, cand_ptr, cand_idx, planes, thr
         out[p] = new_id[t]
         r = rec_row[t]
         if r >= 0:
-            dx = x - ref[r, 0]
-            dy = y - ref[r, 1]
-            dz = z - ref[r, 2]
-            sums[r, 0] += 1.0
-            sums[r, 1] += dx
-            sums[r, 2] += dy
-            sums[r, 3] += dz
-            sums[r, 4] += dx * dx
-            sums[r, 5] += dx * dy
-            sums[r, 6] += dx * dz
-            sums[r, 7] += dy * dy
-            sums[r, 8] += dy * dz
-            sums[r, 9] += dz * dz
+            if r != cur:
+                if cur >= 0:
+                    sums[cur, 0] = n
+                    sums[cur, 1] = s1
+                    sums[cur, 2] = s2
+                    sums[cur, 3] = s3
+                    sums[cur, 4] = s4
+                    sums[cur, 5] = s5
+                    sums[cur, 6] = s6
+                    sums[cur, 7] = s7
+                    sums[cur, 8] = s8
+                    sums[cur, 9] = s9
+                cur = r
+                n = sums[r, 0]
+                s1 = sums[r, 1]
+                s2 = sums[r, 2]
+                s3 = sums[r, 3]
+                s4 = sums[r, 4]
+                s5 = sums[r, 5]
+                s6 = sums[r, 6]
+                s7 = sums[r, 7]
+                s8 = sums[r, 8]
+                s9 = sums[r, 9]
+                rx = ref[r, 0]
+                ry = ref[r, 1]
+                rz = ref[r, 2]
+            dx = x - rx
+            dy = y - ry
+            dz = z - rz
+            n += 1.0
+            s1 += dx
+            s2 += dy
+            s3 += dz
+            s4 += dx * dx
+            s5 += dx * dy
+            s6 += dx * dz
+            s7 += dy * dy
+            s8 += dy * dz
+            s9 += dz * dz
             if labels[p] != t:
                 got[r] += 1
+    if cur >= 0:
+        sums[cur, 0] = n
+        sums[cur, 1] = s1
+        sums[cur, 2] = s2
+        sums[cur, 3] = s3
+        sums[cur, 4] = s4
+        sums[cur, 5] = s5
+        sums[cur, 6] = s6
+        sums[cur, 7] = s7
+        sums[cur, 8] = s8
+        sums[cur, 9] = s9
     return out, lost, got
 
 
@@ -514,27 +556,69 @@ def relabel_moments(labels, remap, row, pts, nrow):  # pragma: no cover - compil
     out = np.empty(N, dtype=np.int32)
     sums = np.zeros((nrow, 10))
     ref = np.zeros((nrow, 3))
+    # the current row's totals stay in registers until the row changes (the same additions in
+    # the same order, as in planerel.segment._kernels.add_region_moments)
+    cur = -1
+    n = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    rx = ry = rz = 0.0
     for p in range(N):
         lab = labels[p] + 1
         out[p] = remap[lab]
         r = row[lab]
         if r < 0:
             continue
-        if sums[r, 0] == 0.0:
-            ref[r, 0] = pts[p, 0]
-            ref[r, 1] = pts[p, 1]
-            ref[r, 2] = pts[p, 2]
-        x = pts[p, 0] - ref[r, 0]
-        y = pts[p, 1] - ref[r, 1]
-        z = pts[p, 2] - ref[r, 2]
-        sums[r, 0] += 1.0
-        sums[r, 1] += x
-        sums[r, 2] += y
-        sums[r, 3] += z
-        sums[r, 4] += x * x
-        sums[r, 5] += x * y
-        sums[r, 6] += x * z
-        sums[r, 7] += y * y
-        sums[r, 8] += y * z
-        sums[r, 9] += z * z
+        if r != cur:
+            if cur >= 0:
+                sums[cur, 0] = n
+                sums[cur, 1] = s1
+                sums[cur, 2] = s2
+                sums[cur, 3] = s3
+                sums[cur, 4] = s4
+                sums[cur, 5] = s5
+                sums[cur, 6] = s6
+                sums[cur, 7] = s7
+                sums[cur, 8] = s8
+                sums[cur, 9] = s9
+            cur = r
+            if sums[r, 0] == 0.0:  # the row's first point is its reference
+                ref[r, 0] = pts[p, 0]
+                ref[r, 1] = pts[p, 1]
+                ref[r, 2] = pts[p, 2]
+            n = sums[r, 0]
+            s1 = sums[r, 1]
+            s2 = sums[r, 2]
+            s3 = sums[r, 3]
+            s4 = sums[r, 4]
+            s5 = sums[r, 5]
+            s6 = sums[r, 6]
+            s7 = sums[r, 7]
+            s8 = sums[r, 8]
+            s9 = sums[r, 9]
+            rx = ref[r, 0]
+            ry = ref[r, 1]
+            rz = ref[r, 2]
+        x = pts[p, 0] - rx
+        y = pts[p, 1] - ry
+        z = pts[p, 2] - rz
+        n += 1.0
+        s1 += x
+        s2 += y
+        s3 += z
+        s4 += x * x
+        s5 += x * y
+        s6 += x * z
+        s7 += y * y
+        s8 += y * z
+        s9 += z * z
+    if cur >= 0:
+        sums[cur, 0] = n
+        sums[cur, 1] = s1
+        sums[cur, 2] = s2
+        sums[cur, 3] = s3
+        sums[cur, 4] = s4
+        sums[cur, 5] = s5
+        sums[cur, 6] = s6
+        sums[cur, 7] = s7
+        sums[cur, 8] = s8
+        sums[cur, 9] = s9
     return out, sums, ref
