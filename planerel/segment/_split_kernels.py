@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["residual_stats_grid", "inliers_fit", "assign_refit", "part_centroids"]
+__all__ = ["residual_stats_grid", "inliers_fit", "assign_refit", "part_centroids", "sample_normals"]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -169,19 +169,68 @@ def assign_refit(P, DN, zs, offs, assign_sigmas, cut):  # pragma: no cover - com
     done = np.zeros(k, dtype=np.bool_)
     if not cut:
         return part, planes, done
-    sel = np.empty(m, dtype=np.bool_)
+    # every part's plane_fit at once: the same sums per part in the same (row) order
+    c = np.zeros((k, 3))
+    for i in range(m):
+        j = part[i]
+        if j >= 0:
+            c[j, 0] += P[i, 0]
+            c[j, 1] += P[i, 1]
+            c[j, 2] += P[i, 2]
+    for j in range(k):
+        if cnt[j] >= 3:
+            c[j, 0] /= cnt[j]
+            c[j, 1] /= cnt[j]
+            c[j, 2] /= cnt[j]
+    sc = np.zeros((k, 6))
+    for i in range(m):
+        j = part[i]
+        if j >= 0:
+            x = P[i, 0] - c[j, 0]
+            y = P[i, 1] - c[j, 1]
+            z = P[i, 2] - c[j, 2]
+            sc[j, 0] += x * x
+            sc[j, 1] += x * y
+            sc[j, 2] += x * z
+            sc[j, 3] += y * y
+            sc[j, 4] += y * z
+            sc[j, 5] += z * z
+    cov = np.empty((3, 3))
     for j in range(k):
         if cnt[j] < 3:
             continue
-        for i in range(m):
-            sel[i] = part[i] == j
-        n, o = _fit_selected(P, sel, cnt[j])
-        planes[j, 0] = n[0]
-        planes[j, 1] = n[1]
-        planes[j, 2] = n[2]
-        planes[j, 3] = o
+        cov[0, 0] = sc[j, 0]
+        cov[0, 1] = cov[1, 0] = sc[j, 1]
+        cov[0, 2] = cov[2, 0] = sc[j, 2]
+        cov[1, 1] = sc[j, 3]
+        cov[1, 2] = cov[2, 1] = sc[j, 4]
+        cov[2, 2] = sc[j, 5]
+        _, vec = np.linalg.eigh(cov)
+        planes[j, 0] = vec[0, 0]
+        planes[j, 1] = vec[1, 0]
+        planes[j, 2] = vec[2, 0]
+        planes[j, 3] = -(vec[0, 0] * c[j, 0] + vec[1, 0] * c[j, 1] + vec[2, 0] * c[j, 2])
         done[j] = True
     return part, planes, done
+
+
+@njit(cache=True, nogil=True)
+def sample_normals(N, pix, step):  # pragma: no cover - compiled
+    """The normals ``N[pix[::step]]`` as float64 (m, 3) (``N`` (H*W, 3) flat normals, any
+    float type) and per row whether all three are finite (m,) bool."""
+    m = (pix.shape[0] + step - 1) // step
+    out = np.empty((m, 3))
+    fin = np.empty(m, dtype=np.bool_)
+    for t in range(m):
+        q = pix[t * step]
+        a = np.float64(N[q, 0])
+        b = np.float64(N[q, 1])
+        c = np.float64(N[q, 2])
+        out[t, 0] = a
+        out[t, 1] = b
+        out[t, 2] = c
+        fin[t] = np.isfinite(a) and np.isfinite(b) and np.isfinite(c)
+    return out, fin
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

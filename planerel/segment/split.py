@@ -518,7 +518,7 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
     their points, ``N`` (H*W, 3) the image's flat normals or None; the point-to-plane sigma of a plane ``n``
     is ``scale * sigma_z(z) * |n . p| / z``."""
     from planerel.segment._post_kernels import absorb_small, assign_parts, depth_scales, part_pieces
-    from planerel.segment._split_kernels import assign_refit, inliers_fit
+    from planerel.segment._split_kernels import assign_refit, inliers_fit, sample_normals
 
     m = len(P)
     q = p.disparity_step / (p.focal_px * p.baseline)
@@ -526,10 +526,9 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
     Q = P[::st]
     zs = depth_scales(np.ascontiguousarray(Q[:, 2]), float(scale), float(p.noise), float(q),
                       float(p.depth_unit))
-    # N: the image's flat normals (all pixels); only the sample's are read
-    NQ = None if N is None else np.asarray(N[pix[::st]], dtype=np.float64)
-    # the sample's normals that are known (the one-point hypotheses' candidates)
-    fin = None if NQ is None else np.all(np.isfinite(NQ), axis=1)
+    # N: the image's flat normals (all pixels); only the sample's are read, with whether they
+    # are known (the one-point hypotheses' candidates)
+    NQ, fin = (None, None) if N is None else sample_normals(N, pix, st)
     mq = len(Q)
     min_q = max(3, int(math.ceil(min_size * mq / m)))
     rem = np.arange(mq)
