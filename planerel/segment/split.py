@@ -324,7 +324,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         bounds = np.searchsorted(lab[idx], np.concatenate([bent, bent + 1]))
         for t, r in enumerate(bent):
             pix = idx[bounds[t]:bounds[len(bent) + t]]
-            piece = _split_one(pix, xyz_flat[pix], normals_of(pix), scale[r],
+            piece = _split_one(pix, xyz_flat, normals_of(pix), scale[r],
                                min_size, p, w, cloud.organized,
                                np.random.default_rng([p.seed, int(r)]), stats=info)
             if piece is None:
@@ -351,7 +351,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         cur = lab if new_lab is None else new_lab
         for t, pix in enumerate(_free_patches(cur.reshape(h, w), cloud.valid, min_size)):
             info["leftover_patches"] += 1
-            piece = _split_one(pix, xyz_flat[pix], normals_of(pix),
+            piece = _split_one(pix, xyz_flat, normals_of(pix),
                                sensor_scale, min_size, p, w, True,
                                np.random.default_rng([p.seed, n + t]), min_parts=1)
             if piece is not None:
@@ -511,19 +511,21 @@ def _products(P, planes) -> np.ndarray:
     return np.stack([P @ nr for nr, _ in planes])
 
 
-def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, min_parts=2,
+def _split_one(pix, X, N, scale, min_size, p: SplitParams, w, organized, rng, min_parts=2,
                stats=None):
-    """Pieces of one region: ``(len(P),)`` kept-piece index per point (-1 = unassigned), or
-    None when fewer than ``min_parts`` pieces are found (the region stays as it was).  ``pix`` (m,) ascending flat pixel indices, ``P`` (m, 3)
-    their points, ``N`` (H*W, 3) the image's flat normals or None; the point-to-plane sigma of a plane ``n``
-    is ``scale * sigma_z(z) * |n . p| / z``."""
+    """Pieces of one region: ``(len(pix),)`` kept-piece index per point (-1 = unassigned), or
+    None when fewer than ``min_parts`` pieces are found (the region stays as it was).  ``pix``
+    (m,) ascending flat pixel indices, ``X`` (H*W, 3) the image's flat points (the region's
+    are gathered only when it splits: most tested regions do not), ``N`` (H*W, 3) the
+    image's flat normals or None; the point-to-plane sigma of a plane ``n`` is ``scale *
+    sigma_z(z) * |n . p| / z``."""
     from planerel.segment._post_kernels import absorb_small, assign_parts, depth_scales, part_pieces
     from planerel.segment._split_kernels import assign_refit, inliers_fit, sample_normals
 
-    m = len(P)
+    m = len(pix)
     q = p.disparity_step / (p.focal_px * p.baseline)
     st = max(1, m // _DISCOVERY_POINTS)
-    Q = P[::st]
+    Q = X[pix[::st]]  # the points P[::st] of the region's points P = X[pix]
     zs = depth_scales(np.ascontiguousarray(Q[:, 2]), float(scale), float(p.noise), float(q),
                       float(p.depth_unit))
     # N: the image's flat normals (all pixels); only the sample's are read, with whether they
@@ -571,6 +573,7 @@ def _split_one(pix, P, N, scale, min_size, p: SplitParams, w, organized, rng, mi
             stats["split_parallel"] = stats.get("split_parallel", 0) + 1
         return None
     pl = np.array([[*nr, off] for nr, off in planes], dtype=np.float64)
+    P = X[pix]
     zs_all = depth_scales(np.ascontiguousarray(P[:, 2]), float(scale), float(p.noise), float(q),
                           float(p.depth_unit))
     cost, part = assign_parts(np.ascontiguousarray(P, dtype=np.float64), zs_all, pl,
