@@ -208,3 +208,18 @@ def test_box_on_a_box_of_the_same_width_comes_apart():
 
     props, seen = _proposals([floor()] + stairs(0.0, 2.0, n=3), pitch=30, cam_height=1.4)
     assert _has_own_proposal(props, seen, 1)
+
+
+def test_face_seen_behind_another_across_an_occluding_edge_comes_apart():
+    # a box's front 16 cm behind a low panel, 3.4 m away: the panel's top edge hides the box's
+    # lower part; in the grid they touch (a 16 cm jump is under 5 % of the depth), their hulls
+    # are 16 cm apart and no pixel pairs lie within 3 % of the depth: no shared edge, two
+    # objects (they were one as "parallel faces of one noisy surface")
+    panel = Rect((0.0, 3.3, 0.6), (1, 0, 0), (0, 0, 1), 0.5, 0.1, 2)
+    front = Rect((0.1, 3.46, 0.9), (1, 0, 0), (0, 0, 1), 0.3, 0.3, 1)
+    view = dict(pitch=10, cam_height=1.2, width=320, height=240, noise=0.001)
+    cloud, lab, _up, _objs = render([floor(), panel, front], **view)
+    d = describe_scene(cloud, lab)
+    rel = d.relations.get(1, 2)
+    assert rel.touching and rel.gap > 0.05
+    assert {o.planes for o in d.objects} == {(1,), (2,)}

@@ -597,8 +597,12 @@ def seen_behind(labels, xyz, group, reach: int = 3, margin: float = 0.05) -> flo
     return n_behind / n_valid if n_valid else 0.0
 
 
+#: Fewest edge pixel pairs (:func:`edge_means`) for two planes to share an edge.
+MIN_EDGE = 5
+
+
 def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
-                 step_overlap: float | None = 0.8, min_edge: int = 5,
+                 step_overlap: float | None = 0.8, min_edge: int = MIN_EDGE,
                  riser_max: float | None = None) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
@@ -925,6 +929,12 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         lab = getattr(planes, "labels", None)
         if cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]:
             edges = edge_means(lab, cloud.xyz, pairs, params.edge_band, params.edge_depth)
+            # a pair adjacent only through the grid's loose depth tolerance (within 5 % of the
+            # depth), sharing no edge and with hulls apart, is one face seen behind another
+            # (a box behind a table's frame), not two faces of one object
+            pairs = [(a, b) for a, b in pairs
+                     if edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE
+                     or relations.get(a, b).gap <= relations.params.adjacency_gap]
         pairs = sorted(convex_pairs(planes, pairs, edges, params.concave_tol,
                                     params.step_overlap or None,
                                     riser_max=1.5 * params.step_rise_max))
