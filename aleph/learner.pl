@@ -79,6 +79,7 @@
     sat_seen/1,             % Literal
     sat_done/2,             % ModeSeq, InIds
     lazy_cache/2,           % variant hash of a lazy call, its constants
+    lazy_clause_cache/4,    % variant hash of a clause and lazy literal, its covered pos and neg, the constants
     cov_cache/3,            % variant hash of a clause, its positives and negatives as bit sets
     ans_cache/3,            % variant hash of a short clause, its answers on positives, on negatives
     hopeless_bottom/1,      % variant hash of a bottom clause whose search found no clause
@@ -1016,33 +1017,51 @@ refine_from(J, NB, Node, X, Ctx, Best0, Best, Children) :-
         refine_from(J1, NB, Node, X, Ctx, Best1, Best, Rest)
     ).
 
-%   node_answers(+Node, +Ctx, -X): X = x(BV, BIds, VT, PT, NT, cache(Assoc)).
+%   node_answers(+Node, +Ctx, -X): X = x(BV, BIds, VT, AH, PC, NC, cache(Assoc)),
+%   where AH holds the node's answers (force_answers/3), computed only when
+%   something needs them: a refinement whose coverage is not in the cache,
+%   or a lazily evaluated literal whose constants are not (with caching on,
+%   most refinements of the short clauses every search starts with are).
 %   A node's answers come from its parent's: the node adds one literal, and
 %   every variable of the parent's body is among the parent's answer
 %   variables, so the node's answers on an example are the parent's answers
 %   extended by the solutions of that literal (one literal call per parent
-%   answer instead of a proof of the whole body; the parent's answers stay
-%   referenced by its children in the open list).  An example past the cap
-%   on either side is proved in full, as before.
-node_answers(Node, Ctx, x(BV, BIds, VT, PT, NT, cache(A))) :-
-    Node = nd(Body, _-PX, Bound, _, PC, NC, _, _, _, _),
+%   answer instead of a proof of the whole body; the parent's answer holder
+%   stays referenced by its children in the open list).  An example past the
+%   cap on either side is proved in full, as before.
+node_answers(Node, Ctx, x(BV, BIds, VT, AH, PC, NC, cache(A))) :-
+    Node = nd(Body, _-PX, Bound, Len, PC, NC, _, _, _, _),
     Ctx = ctx(_, _, _, bottom(Head, _, HOut, _, _), _, _, _, _, VT),
     ord_union(Bound, HOut, BIds),
     vars_of(BIds, VT, BV),
-    Node = nd(_, _, _, Len, _, _, _, _, _, _),
-    (   answers_cache_key(Head, Body, BV, Len, Key)
-    ->  (   ans_cache(Key, PT0, NT0)
-        ->  answers_on(PC, PT0, PT),
-            answers_on(NC, NT0, NT)
-        ;   all_answers(PX, Head, Body, BV, PC, NC, PT, NT),
-            assertz(ans_cache(Key, PT, NT))
-        )
-    ;   all_answers(PX, Head, Body, BV, PC, NC, PT, NT)
-    ),
+    AH = ah(todo(Head, Body, BV, Len, PX, PC, NC)),
     empty_assoc(A).
 
-all_answers(px(PBV, PPT, PNT), Head, Body, BV, PC, NC, PT, NT) :-
+%   force_answers(+AH, -PT, -NT): the answers of the holder's node on its
+%   covered positives and negatives (Id-Tuples, or Id-full past the cap),
+%   computed on first use and kept in the holder.  Called only where
+%   nothing backtracks over it (setarg/3 is undone on backtracking; the
+%   answers would then only be computed again).
+force_answers(AH, PT, NT) :-
+    arg(1, AH, State),
+    (   State = done(PT, NT)
+    ->  true
+    ;   State = todo(Head, Body, BV, Len, PX, PC, NC),
+        (   answers_cache_key(Head, Body, BV, Len, Key)
+        ->  (   ans_cache(Key, PT0, NT0)
+            ->  answers_on(PC, PT0, PT),
+                answers_on(NC, NT0, NT)
+            ;   all_answers(PX, Head, Body, BV, PC, NC, PT, NT),
+                assertz(ans_cache(Key, PT, NT))
+            )
+        ;   all_answers(PX, Head, Body, BV, PC, NC, PT, NT)
+        ),
+        setarg(1, AH, done(PT, NT))
+    ).
+
+all_answers(px(PBV, PAH), Head, Body, BV, PC, NC, PT, NT) :-
     last(Body, Lit), !,
+    force_answers(PAH, PPT, PNT),
     answers_on(PC, PPT, PA),
     answers_on(NC, PNT, NA),
     maplist(child_answers(pos, Head, Body, BV, PBV, Lit), PA, PT),
@@ -1108,13 +1127,13 @@ ex_answers(Set, Head, Body, BV, Id, Id-Ts) :-
 %   for each example of Side covered by the node, the distinct values of the
 %   variables Ids (a subset of the node's bound and head variables) as IV.
 projection(X, Side, Ids, IV, Proj) :-
-    X = x(BV, _, VT, PT, NT, C),
+    X = x(BV, BIds, VT, AH, _, _, C),
     vars_of(Ids, VT, IV),
     C = cache(A0),
     (   get_assoc(Side-Ids, A0, Proj)
     ->  true
-    ;   ( Side == pos -> L = PT ; L = NT ),
-        X = x(_, BIds, _, _, _, _),
+    ;   force_answers(AH, PT, NT),
+        ( Side == pos -> L = PT ; L = NT ),
         (   Ids = [Id1]
         ->  nth1(K, BIds, Id1), !,
             maplist(project1(K), L, Proj)
@@ -1164,7 +1183,7 @@ child_cover([Id-Ps|T], Left, Need, IV, Lit, Set, Head, Body1, Ids) :-
     child_cover(T, Left1, Need1, IV, Lit, Set, Head, Body1, Ids1).
 
 children_of(bl(J, Lit, In, Out, none), Node, X, Ctx, Best0, Best, Cs, T) :- !,
-    make_child(J, Lit, In, Out, Node, X, Ctx, Best0, Child),
+    make_child(J, Lit, In-all, Out, Node, X, Ctx, Best0, Child),
     live_child(Child, Ctx, Best0, Best, Cs, T).
 children_of(bl(J, Lit, In, Out, lazy(InPos, CPos)), Node, X, Ctx, Best0, Best, Cs, T) :-
     lazy_constants(Lit, InPos, CPos, Node, X, Ctx, Consts),
@@ -1174,7 +1193,7 @@ lazy_children([], _, _, _, _, _, _, _, _, Best, Best, T, T).
 lazy_children([C|Cs], J, Lit, In, CPos, Out, Node, X, Ctx, Best0, Best, L, T) :-
     (   budget_left(Ctx)
     ->  set_args(CPos, C, Lit, Lit1),
-        make_child(J, Lit1, In, Out, Node, X, Ctx, Best0, Child),
+        make_child(J, Lit1, In-lits, Out, Node, X, Ctx, Best0, Child),
         live_child(Child, Ctx, Best0, Best1, L, L1),
         lazy_children(Cs, J, Lit, In, CPos, Out, Node, X, Ctx, Best1, Best, L1, T)
     ;   Best = Best0, L = T
@@ -1198,56 +1217,93 @@ set_args_([A|As], I, Pos, Vals, [B|Bs]) :-
 %   it can neither be accepted as better than Best0 nor be refined (fewer
 %   than minpos positives, or too few positives for its best possible score
 %   to reach Best0's); a dead child's negatives are not tested.
-make_child(J, Lit, _In, Out, nd(Body, _, Bound, Len, _, _, _, _, _, _), X, Ctx, Best0, Child) :-
+make_child(J, Lit, In-How, Out, nd(Body, _, Bound, Len, _, _, _, _, _, _), X, Ctx, Best0, Child) :-
     Ctx = ctx(_, _, Evalfn, bottom(Head, _, _, _, _), _, MinPos, _, _, _),
     append(Body, [Lit], Body1),
     ord_union(Bound, Out, Bound1),
     Len1 is Len + 1,
     count_node,
-    X = x(BV, _, _, PT, NT, _),
-    length(PT, NP),
+    X = x(BV, _, _, AH, PC, _, _),
+    length(PC, NP),
     pos_needed(Best0, Evalfn, MinPos, Len1, NP, Need),
-    (   child_coverage(Head, Body1, Len1, PT, NT, BV, Lit, Need, PC1, NC1)
+    (   ( How == all ; Lit = '$rec'(_) )
+    ->  LitIds = all
+    ;   X = x(_, BIds, _, _, _, _, _),
+        ord_union(In, Out, LitIds0),
+        ord_intersection(LitIds0, BIds, LitIds)
+    ),
+    child_coverage(Head, Body1, Len1, X, Lit, LitIds, Need, Cov),
+    (   Cov = cov(PC1, NC1)
     ->  length(PC1, P1),
         length(NC1, N1),
         score(Evalfn, P1, N1, Len1, S),
         flag(planerel_search_nodes, Seq, Seq),
-        Child = nd(Body1, J-px(BV, PT, NT), Bound1, Len1, PC1, NC1, P1, N1, S, Seq)
+        Child = nd(Body1, J-px(BV, AH), Bound1, Len1, PC1, NC1, P1, N1, S, Seq)
     ;   Child = dead
     ).
 
-%   child_coverage(+Head, +Body1, +Len1, +PT, +NT, +BV, +Lit, +Need, -PC1, -NC1):
-%   the positives and negatives of the parent's (PT, NT) that the refined
-%   clause Head :- Body1 covers; fails when fewer than Need positives or the
-%   seed would be lost.  With caching (Aleph's setting; here on by default)
-%   a clause's coverage is kept per variant of the clause as two bit sets
-%   and reused whenever the same clause comes up again: within a search the
-%   same refinement is reached once per plane of the object
-%   (has_plane(A,B), orientation(B,vertical) for each vertical plane B),
-%   and every seed's search starts with the same short clauses.  Reuse is
-%   exact: a variant clause has the same parent (its body minus the last
-%   literal), whose covered examples can only have shrunk since (positives
-%   are removed by greedy cover, negatives never change), so the cached set
-%   intersected with the parent's is the child's coverage.
-child_coverage(Head, Body1, Len1, PT, NT, BV, Lit, Need, PC1, NC1) :-
+%   child_coverage(+Head, +Body1, +Len1, +X, +Lit, +LitIds, +Need, -Cov): Cov
+%   is cov(PC1, NC1), the positives and negatives of the parent's (X) that
+%   the refined clause Head :- Body1 covers, or dead when fewer than Need
+%   positives or the seed would be lost.  With caching (Aleph's setting;
+%   here on by default) a clause's coverage is kept per variant of the
+%   clause as two bit sets and reused whenever the same clause comes up
+%   again: within a search the same refinement is reached once per plane of
+%   the object (has_plane(A,B), orientation(B,vertical) for each vertical
+%   plane B), and every seed's search starts with the same short clauses.
+%   Reuse is exact: a variant clause has the same parent (its body minus the
+%   last literal), whose covered examples can only have shrunk since
+%   (positives are removed by greedy cover, negatives never change), so the
+%   cached set intersected with the parent's is the child's coverage.
+%
+%   Without a cached set the literal is tested on the parent's answers
+%   projected on the literal's own bound variables LitIds (the distinct
+%   values, shared by every refinement with the same variables, e.g. the
+%   thresholds of one lazily evaluated literal): the literal holds for some
+%   answer iff it holds for some projected value, as it touches no other
+%   variable.  The parent's answers are computed (force_answers/3) only on
+%   a cache miss, outside any condition, so that they are kept for its
+%   other refinements.
+child_coverage(Head, Body1, Len1, X, Lit, LitIds, Need, Cov) :-
+    X = x(_, _, _, _, PC, NC, _),
     (   cache_key(Head, Body1, Len1, Key)
     ->  (   cov_cache(Key, PB, NB)
         ->  flag(planerel_cache_hits, H, H + 1),
-            bits_filter(PT, PB, PC1),
-            length(PC1, P1),
-            P1 >= Need,
-            keeps_seed(PT, PC1),
-            bits_filter(NT, NB, NC1)
-        ;   child_cover(PT, BV, Lit, pos, Head, Body1, Need, PC1),
-            keeps_seed(PT, PC1),
-            child_cover(NT, BV, Lit, neg, Head, Body1, 0, NC1),
-            ids_bits(PC1, PB),
-            ids_bits(NC1, NB),
-            assertz(cov_cache(Key, PB, NB))
+            (   bits_filter(PC, PB, PC1),
+                length(PC1, P1),
+                P1 >= Need,
+                keeps_seed(PC, PC1)
+            ->  bits_filter(NC, NB, NC1),
+                Cov = cov(PC1, NC1)
+            ;   Cov = dead
+            )
+        ;   projected_cover(X, Head, Body1, Lit, LitIds, Need, Cov),
+            (   Cov = cov(PC1, NC1)
+            ->  ids_bits(PC1, PB),
+                ids_bits(NC1, NB),
+                assertz(cov_cache(Key, PB, NB))
+            ;   true
+            )
         )
-    ;   child_cover(PT, BV, Lit, pos, Head, Body1, Need, PC1),
-        keeps_seed(PT, PC1),
-        child_cover(NT, BV, Lit, neg, Head, Body1, 0, NC1)
+    ;   projected_cover(X, Head, Body1, Lit, LitIds, Need, Cov)
+    ).
+
+projected_cover(X, Head, Body1, Lit, LitIds, Need, Cov) :-
+    X = x(BV, _, _, AH, PC, _, _),
+    (   LitIds == all
+    ->  force_answers(AH, PProj, _),
+        IV = BV
+    ;   projection(X, pos, LitIds, IV, PProj)
+    ),
+    (   child_cover(PProj, IV, Lit, pos, Head, Body1, Need, PC1),
+        keeps_seed(PC, PC1)
+    ->  (   LitIds == all
+        ->  force_answers(AH, _, NProj)
+        ;   projection(X, neg, LitIds, IV, NProj)
+        ),
+        child_cover(NProj, IV, Lit, neg, Head, Body1, 0, NC1),
+        Cov = cov(PC1, NC1)
+    ;   Cov = dead
     ).
 
 %   cache_key(+Head, +Body, +Len, -Key): the variant hash of the clause, when
@@ -1261,7 +1317,7 @@ cache_key(Head, Body, Len, Key) :-
     variant_sha1(Head-Body, Key).
 
 bits_filter([], _, []).
-bits_filter([Id-_|T], Bits, Ids) :-
+bits_filter([Id|T], Bits, Ids) :-
     (   getbit(Bits, Id) =:= 1
     ->  Ids = [Id|Ids1]
     ;   Ids = Ids1
@@ -1272,13 +1328,13 @@ ids_bits(Ids, Bits) :- foldl(set_bit, Ids, 0, Bits).
 
 set_bit(Id, B0, B) :- B is B0 \/ (1 << Id).
 
-%   keeps_seed(+ParentAnswers, +Covered): a refinement of a clause that covers
+%   keeps_seed(+ParentCovered, +Covered): a refinement of a clause that covers
 %   the seed covers it too.  Only a lazily evaluated threshold can lose it
 %   (its constant comes from the other covered examples); such a clause is
 %   dropped, as it is no generalisation of the seed's bottom clause, and
 %   keeping it would leave the seed uncovered and search it again.
-keeps_seed(PT, PC1) :-
-    (   nb_current(planerel_seed, S), PT = [S-_|_]
+keeps_seed(PC, PC1) :-
+    (   nb_current(planerel_seed, S), PC = [S|_]
     ->  PC1 = [S|_]
     ;   true
     ).
@@ -1349,13 +1405,33 @@ constraint_error(E) :-
 %   on the covered positives and negatives, call the predicate with
 %   [PosValues, NegValues] in place of each input argument, and use each
 %   answer's constants.
+%   With caching the constants are kept per variant of the clause and the
+%   literal, with the examples the clause covers: they are a function of
+%   both (the values come from the clause's answers on those examples), and
+%   the same clause comes up once per plane of the object within a search
+%   and again in every search before a rule removes positives.  A hit needs
+%   no answers of the node (force_answers/3).
 lazy_constants(Lit, InPos, CPos, Node, X, Ctx, Consts) :-
-    Node = nd(Body, _, _, _, _, _, _, _, _, _),
+    Node = nd(Body, _, _, _, PC, NC, _, _, _, _),
     Ctx = ctx(_, _, _, bottom(Head, _, _, _, _), _, _, _, _, _),
+    (   setting(caching, true),
+        \+ rec_target(_)
+    ->  variant_sha1(Head-Body-Lit, Key),
+        (   lazy_clause_cache(Key, PC0, NC0, Consts0),
+            PC0 == PC,
+            NC0 == NC
+        ->  Consts = Consts0
+        ;   lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts),
+            assertz(lazy_clause_cache(Key, PC, NC, Consts))
+        )
+    ;   lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts)
+    ).
+
+lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts) :-
     Lit =.. [_|LitArgs],
     args_at(InPos, LitArgs, InVars),
     term_variables(InVars, InVarSet),
-    X = x(_, _, VT, _, _, _),
+    X = x(_, _, VT, _, _, _, _),
     var_ids(InVarSet, VT, Ids0),
     sort(Ids0, Ids),
     projection(X, pos, Ids, IV, PProj),
@@ -1517,6 +1593,7 @@ induce :-
     retractall(theory_clause(_, _, _, _, _)),
     retractall(rec_target(_)),
     retractall(lazy_cache(_, _)),
+    retractall(lazy_clause_cache(_, _, _, _)),
     retractall(cov_cache(_, _, _)),
     retractall(ans_cache(_, _, _)),
     flag(planerel_cache_hits, _, 0),
