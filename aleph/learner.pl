@@ -1163,14 +1163,21 @@ project(BV, IV, Id-Ts, Id-Ps) :-
 %   refined clause covers; fails as soon as fewer than Need could be covered.
 child_cover(Proj, IV, Lit, Set, Head, Body1, Need, Ids) :-
     length(Proj, N),
-    child_cover(Proj, N, Need, IV, Lit, Set, Head, Body1, Ids).
+    catch(child_cover(Proj, N, Need, IV, Lit, Set, Head, Body1, Ids, fast), _,
+          child_cover(Proj, N, Need, IV, Lit, Set, Head, Body1, Ids, safe)).
 
-child_cover([], _, _, _, _, _, _, _, []).
-child_cover([Id-Ps|T], Left, Need, IV, Lit, Set, Head, Body1, Ids) :-
+%   One catch/3 around the whole test (fast); only if some literal call
+%   raises is the test run again with one catch/3 per call (safe), where an
+%   error means "not covered" for that example alone and is reported once.
+child_cover([], _, _, _, _, _, _, _, [], _).
+child_cover([Id-Ps|T], Left, Need, IV, Lit, Set, Head, Body1, Ids, Mode) :-
     Left >= Need,
     Left1 is Left - 1,
     (   (   Ps == full
         ->  covers_id(Set, Head, Body1, Id)
+        ;   Mode == fast
+        ->  member(P, Ps),
+            \+ \+ ( IV = P, call_lit(Lit) )
         ;   member(P, Ps),
             \+ \+ ( IV = P,
                     catch(call_lit(Lit), E, (coverage_error(E), fail)) )
@@ -1180,7 +1187,7 @@ child_cover([Id-Ps|T], Left, Need, IV, Lit, Set, Head, Body1, Ids) :-
     ;   Ids = Ids1,
         Need1 = Need
     ),
-    child_cover(T, Left1, Need1, IV, Lit, Set, Head, Body1, Ids1).
+    child_cover(T, Left1, Need1, IV, Lit, Set, Head, Body1, Ids1, Mode).
 
 children_of(bl(J, Lit, In, Out, none), Node, X, Ctx, Best0, Best, Cs, T) :- !,
     make_child(J, Lit, In-all, Out, Node, X, Ctx, Best0, Child),
@@ -1324,9 +1331,26 @@ bits_filter([Id|T], Bits, Ids) :-
     ),
     bits_filter(T, Bits, Ids1).
 
-ids_bits(Ids, Bits) :- foldl(set_bit, Ids, 0, Bits).
+%   ids_bits(+Ids, -Bits): the ordset of ids as one integer.  The bits are
+%   gathered per 60-bit word (small integers) and the words combined once,
+%   instead of one big integer per id.
+ids_bits(Ids, Bits) :- ids_words(Ids, 0, Bits).
 
-set_bit(Id, B0, B) :- B is B0 \/ (1 << Id).
+ids_words([], Bits, Bits).
+ids_words([Id|Ids], Bits0, Bits) :-
+    W is Id // 60,
+    B0 is 1 << (Id - 60 * W),
+    word_bits(Ids, W, B0, Word, Rest),
+    Bits1 is Bits0 \/ (Word << (60 * W)),
+    ids_words(Rest, Bits1, Bits).
+
+word_bits([], _, Word, Word, []).
+word_bits([Id|Ids], W, B0, Word, Rest) :-
+    (   Id // 60 =:= W
+    ->  B1 is B0 \/ (1 << (Id - 60 * W)),
+        word_bits(Ids, W, B1, Word, Rest)
+    ;   Word = B0, Rest = [Id|Ids]
+    ).
 
 %   keeps_seed(+ParentCovered, +Covered): a refinement of a clause that covers
 %   the seed covers it too.  Only a lazily evaluated threshold can lose it

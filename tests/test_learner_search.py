@@ -161,3 +161,30 @@ def test_caching_gives_the_same_theory_and_search(tmp_path):
     assert "[coverage reused from the cache] 0" in off.output
     drop = lambda out: re.sub(r"\[coverage reused from the cache\] \d+", "", out)
     assert drop(on.output) == drop(off.output)
+
+
+# --------------------------------------------------------------------------- errors in coverage
+
+
+def test_error_in_a_literal_means_not_covered_for_that_example_only(tmp_path):
+    # Refinements are tested with one catch/3 around the whole test and, when a literal raises,
+    # again with one catch/3 per call: the example whose literal raises is not covered, every
+    # other example is tested as usual, and the error is reported.  colour/2 raises for the
+    # item of o5 (a negative with a red item), so item(A,B), colour(B,red) covers 3 / 0.
+    objs = {"o0": "red", "o1": "red", "o2": "red", "o3": "green", "o4": "blue", "o5": "red"}
+    b = [":- set(i, 2).", ":- set(clauselength, 3).", ":- set(nodes, 100).",
+         ":- modeh(1, t(+obj)).", ":- modeb(*, item(+obj, -item)).",
+         ":- modeb(1, colour(+item, #colour)).",
+         ":- determination(t/1, item/2).", ":- determination(t/1, colour/2).",
+         "colour(I, _) :- I == o5_i, throw(error(type_error(colour, I), _)).",
+         "colour(I, C) :- col(I, C)."]
+    b += [f"item({o}, {o}_i).\ncol({o}_i, {c})." for o, c in objs.items()]
+    (tmp_path / "err.b").write_text("\n".join(b) + "\n")
+    (tmp_path / "err.f").write_text("t(o0).\nt(o1).\nt(o2).\n")
+    (tmp_path / "err.n").write_text("t(o3).\nt(o4).\nt(o5).\n")
+    r = learn(tmp_path / "err")
+    assert [c.replace(" ", "") for c in r.rules] == ["t(A):-item(A,B),colour(B,red)."]
+    assert r.train == Confusion(tp=3, fn=0, fp=0, tn=3)
+    assert "[pos cover = 3, neg cover = 0]" in r.output
+    errs = [w for w in r.warnings if "treated as not covered" in w]
+    assert errs and all("o5_i" in w for w in errs), r.warnings
