@@ -9,6 +9,8 @@ Usage
     .venv/bin/python benchmarks/bench_learner.py STEM [STEM ...]  # exported Aleph problems
     .venv/bin/python benchmarks/bench_learner.py --world varied --counts 34 33 33 --seed 1 \
         --heldout-counts 10 10 10                                 # varied world, held-out scored
+    .venv/bin/python benchmarks/bench_learner.py --world varied --counts 334 333 333 --seed 1 \
+        --labels segment --heldout-counts 100 100 100             # what `planerel learn` learns from
 
 Without stems it generates the data set (the demo's: 12 box, 15 stairs, 18 ramp scenes, seed 0,
 640x480 subsampled 4x; ``--scenes N`` scales the three counts), exports it with ``planerel
@@ -79,7 +81,8 @@ def counts_as_thresholds(src: Path, dest: Path) -> Path:
 
 
 def make_task(folder: Path, scenes: int, dataset: str | None, task: str | None, seed: int,
-              thresholds: bool = False, world: str = "paper", counts=None) -> list[Path]:
+              thresholds: bool = False, world: str = "paper", counts=None,
+              labels: str = "gt") -> list[Path]:
     from importlib.resources import files
 
     from planerel.ilp.aleph_export import export_dataset
@@ -99,7 +102,7 @@ def make_task(folder: Path, scenes: int, dataset: str | None, task: str | None, 
     if thresholds and task is not None:
         task = str(counts_as_thresholds(Path(task), folder / "task_thresholds.pl"))
     print(f"task file: {task or 'planerel default (aleph/modes_objects.pl)'}")
-    export_dataset(dataset, folder / "aleph", target="all", task=task)
+    export_dataset(dataset, folder / "aleph", target="all", task=task, labels=labels)
     return [folder / "aleph" / c for c in CLASSES]
 
 
@@ -123,6 +126,9 @@ def main(argv=None) -> int:
                     help="synthetic world of the generated set (default: the demo's paper world)")
     ap.add_argument("--counts", type=int, nargs=3, metavar=("BOX", "STAIRS", "RAMP"),
                     help="scene counts of the generated set (instead of --scenes)")
+    ap.add_argument("--labels", default="gt", choices=("gt", "segment"),
+                    help="planes of the exported objects: ground truth (default) or region growing "
+                         "(segment: the files `planerel learn DATASET` writes and learns from)")
     ap.add_argument("--heldout", metavar="DIR", help="exported Aleph problems to score the theories on")
     ap.add_argument("--heldout-counts", type=int, nargs=3, metavar=("BOX", "STAIRS", "RAMP"),
                     help="generate a held-out set like the training set (seed + 1) and score on it")
@@ -140,10 +146,10 @@ def main(argv=None) -> int:
             tmp = tempfile.TemporaryDirectory(prefix="planerel-bench-")
             folder = Path(tmp.name)
         stems = make_task(folder, args.scenes, args.dataset, args.task, args.seed, args.thresholds,
-                          args.world, args.counts)
+                          args.world, args.counts, args.labels)
         if args.heldout_counts and not args.heldout:
             held = make_task(folder / "heldout", 0, None, args.task, args.seed + 1, args.thresholds,
-                             args.world, args.heldout_counts)
+                             args.world, args.heldout_counts, args.labels)
             args.heldout = str(held[0].parent)
     aleph = None if args.no_aleph else find_aleph()
     if aleph is None and not args.no_aleph:
