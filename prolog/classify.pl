@@ -26,11 +26,14 @@
 
 :- dynamic planerel_rule_stats/4.    % kept so that consulting an old model file still works
 :- multifile planerel_rule_stats/4.
+:- dynamic planerel_rule_cofire/4.
+:- multifile planerel_rule_cofire/4.
 
 %   planerel_load_model(+Model, +File, +Vocabulary, -Status)
 %   Forget Model's earlier rules, then read File's clauses as data into
 %   module Model: Model:planerel_rule(Index, Class, Obj, Head, Body, VarNames)
-%   and Model:planerel_stats(Index, Class, TP, FP).  Vocabulary is a list of
+%   Model:planerel_stats(Index, Class, TP, FP) and
+%   Model:planerel_cofire(I, J, Class, N).  Vocabulary is a list of
 %   Name/Arity a rule body may call.  Status is ok, or error(Line, Message)
 %   for the first clause that is refused (the model is then left empty).
 planerel_load_model(Model, File, Vocabulary, Status) :-
@@ -64,7 +67,8 @@ planerel_load_error(E, error(0, Msg)) :-
 %   planerel_unload_model(+Model): forget Model's rules and statistics.
 planerel_unload_model(Model) :-
     retractall(Model:planerel_rule(_, _, _, _, _, _)),
-    retractall(Model:planerel_stats(_, _, _, _)).
+    retractall(Model:planerel_stats(_, _, _, _)),
+    retractall(Model:planerel_cofire(_, _, _, _)).
 
 planerel_read_model(In, Model, Vocabulary, I) :-
     read_term(In, Term, [variable_names(Names), syntax_errors(error),
@@ -89,6 +93,8 @@ planerel_refuse(Line, Msg) :-
 % the declarations older planerel versions wrote at the top of every model
 planerel_harmless_directive(dynamic(planerel_rule_stats/4)).
 planerel_harmless_directive(multifile(planerel_rule_stats/4)).
+planerel_harmless_directive(dynamic(planerel_rule_cofire/4)).
+planerel_harmless_directive(multifile(planerel_rule_cofire/4)).
 planerel_harmless_directive(style_check(-singleton)).
 
 planerel_add_model_term(Var, _, _, _, Line, _, _) :-
@@ -97,7 +103,7 @@ planerel_add_model_term(Var, _, _, _, Line, _, _) :-
 planerel_add_model_term((:- D), _, _, _, Line, I, I) :- !,
     (   ground(D), planerel_harmless_directive(D)
     ->  true
-    ;   planerel_refuse(Line, 'directive ~W refused: a model is data (rules and planerel_rule_stats/4 facts), nothing in it is run'-
+    ;   planerel_refuse(Line, 'directive ~W refused: a model is data (rules, planerel_rule_stats/4 and planerel_rule_cofire/4 facts), nothing in it is run'-
                         [(:- D), [quoted(true), max_depth(6)]])
     ).
 planerel_add_model_term((?- D), N, M, V, Line, I, I1) :- !,
@@ -106,6 +112,11 @@ planerel_add_model_term(planerel_rule_stats(Ix, C, TP, FP), _, Model, _, Line, I
     (   integer(Ix), atom(C), integer(TP), integer(FP)
     ->  assertz(Model:planerel_stats(Ix, C, TP, FP))
     ;   planerel_refuse(Line, 'planerel_rule_stats/4 needs an integer index, a class name and two integer counts')
+    ).
+planerel_add_model_term(planerel_rule_cofire(Ix, Jx, C, N), _, Model, _, Line, I, I) :- !,
+    (   integer(Ix), integer(Jx), atom(C), integer(N)
+    ->  assertz(Model:planerel_cofire(Ix, Jx, C, N))
+    ;   planerel_refuse(Line, 'planerel_rule_cofire/4 needs two integer rule indices, a class name and an integer count')
     ).
 planerel_add_model_term((Head :- Body), Names, Model, Vocabulary, Line, I, I1) :- !,
     planerel_head_class(Head, Obj, Class, Line),

@@ -194,6 +194,8 @@ class Classifier:
         self.classes = tuple(k for k in heads if k != OTHER)
         self.stats = tuple((int(r["I"]), _text(r["C"]), int(r["TP"]), int(r["FP"])) for r in query(
             f"{self.module}:planerel_stats(I, C, TP, FP)", "reading the rule statistics"))
+        self.cofire = tuple((int(r["I"]), int(r["J"]), _text(r["C"]), int(r["N"])) for r in query(
+            f"{self.module}:planerel_cofire(I, J, C, N)", "reading the rule statistics"))
         if not self.classes:
             raise InputError(f"{path}: the model has no rules")
 
@@ -248,7 +250,7 @@ class Classifier:
                         binds = dict(line.split("\t", 1) for line in _text(r["B"]).splitlines()
                                      if "\t" in line)
                         hits.append((_text(r["C"]), int(r["I"]), binds, _text(r["T"])))
-                    best = choose_class(hits, self.stats, self.classes)
+                    best = choose_class(hits, self.stats, self.classes, self.cofire)
                     fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
                     pids = tuple(plane_ids[lab] for lab in o.planes)
                     if best is None:

@@ -30,7 +30,7 @@ def laplace(tp: int, fp: int) -> float:
     return (tp + 1) / (tp + fp + 2)
 
 
-def choose_class(hits, stats: Sequence, classes: Sequence[str]):
+def choose_class(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = ()):
     """Pick one answer among the rules that fired (an open-set decision for one object).
 
     A rule's precision is its Laplace estimate :func:`laplace` on the training objects
@@ -41,6 +41,16 @@ def choose_class(hits, stats: Sequence, classes: Sequence[str]):
     covered more training objects, then to the earlier class and rule.  Class frequencies play
     no part.  A rule without statistics (hand-written rules) counts with precision 0.5.  No rule
     left: ``None``, the answer :data:`OTHER` (none of the classes).
+
+    When rules of two or more classes are left and ``cofire`` is given (``(i, j, class, n)``:
+    ``n`` training objects of ``class`` on which rules ``i`` and ``j`` both fired, ``i < j``),
+    each pair of classes is decided on the training objects where their rules fired together:
+    the class with more of them wins the pair (the Laplace estimates ``(n_x + 1) / (n + 2)`` of
+    the two classes on those objects compared); a pair without such objects, or with as many
+    of each, is decided by the precision above.  The class that wins most pairs is the answer
+    (ties: the precision order), with its most precise rule.  A box rule and a stairs rule of
+    nearly equal precision that both prove a flight seen with one tread are then told apart by
+    what the training objects proved by both were.
     """
     table = {i: (tp, fp) for i, _, tp, fp in stats}
     order = {k: n for n, k in enumerate(classes)}
@@ -52,9 +62,32 @@ def choose_class(hits, stats: Sequence, classes: Sequence[str]):
         kept.append((-laplace(tp, fp), -tp, order.get(hit[0], len(order)), hit[1], hit))
     if not kept:
         return None
-    return min(kept, key=lambda t: t[:4])[-1]
-
-
+    kept.sort(key=lambda t: t[:4])
+    best_of = {}                             # class -> its best kept hit (precision order)
+    for t in kept:
+        best_of.setdefault(t[4][0], t)
+    if len(best_of) < 2 or not cofire:
+        return kept[0][-1]
+    together: dict = {}
+    for i, j, k, n in cofire:
+        together.setdefault((min(i, j), max(i, j)), {})[k] = n
+    rules_of: dict = {}
+    for t in kept:
+        rules_of.setdefault(t[4][0], set()).add(t[4][1])
+    ranked = list(best_of)                   # classes in precision order
+    wins = dict.fromkeys(ranked, 0)
+    for x_pos, x in enumerate(ranked):
+        for y in ranked[x_pos + 1:]:
+            nx = ny = 0
+            for a in rules_of[x]:
+                for b in rules_of[y]:
+                    counts = together.get((min(a, b), max(a, b)), {})
+                    nx += counts.get(x, 0)
+                    ny += counts.get(y, 0)
+            wins[y if ny > nx else x] += 1   # equal counts: the more precise class x
+    top = max(wins.values())
+    winner = next(k for k in ranked if wins[k] == top)
+    return best_of[winner][-1]
 
 
 # ----------------------------------------------------------------------------- evaluation

@@ -66,6 +66,10 @@ class Model:
     seconds : float
         Learning time (all classes).
     clauses_explored : int
+    cofire : tuple
+        ``(i, j, class, n)``: ``n`` training objects of ``class`` (or ``other``) on which the
+        clauses ``i < j`` of two different targets both fired (:func:`choose_class` decides
+        such conflicts with them).
     uncovered : dict
         ``{class: n}`` training objects no general rule covers (Aleph keeps them as ground
         facts when ``minpos`` is 1 and leaves them out otherwise; a model for new scenes has no
@@ -79,6 +83,7 @@ class Model:
     seconds: float = 0.0
     clauses_explored: int = 0
     uncovered: dict = field(default_factory=dict)
+    cofire: tuple = ()
 
     @property
     def targets(self) -> tuple:
@@ -92,7 +97,8 @@ class Model:
         return [c for k in self.targets for c in self.rules.get(k, ())]
 
     def text(self, header: str = "") -> str:
-        """The model as a Prolog file: rules plus ``planerel_rule_stats/4`` facts."""
+        """The model as a Prolog file: rules plus ``planerel_rule_stats/4`` and
+        ``planerel_rule_cofire/4`` facts."""
         from planerel.features.terms import fact
 
         # comments in printable ASCII whatever the header holds (paths in any encoding)
@@ -103,6 +109,7 @@ class Model:
                   "% Load with the support predicates of planerel's prolog/ folder",
                   "% (compare.pl, derived.pl) and scene facts; see docs/results.md.",
                   ":- dynamic(planerel_rule_stats/4).", ":- multifile(planerel_rule_stats/4).",
+                  ":- dynamic(planerel_rule_cofire/4).", ":- multifile(planerel_rule_cofire/4).",
                   ":- style_check(-singleton).  % learned rules name variables they only bind", ""]
         for k in self.targets:
             lines.append(f"% ---- {k}" + ("  (none of the classes: these rules win an object "
@@ -112,6 +119,10 @@ class Model:
         if self.stats:
             lines.append("% planerel_rule_stats(Index, Class, TruePositives, FalsePositives)")
             lines += [fact("planerel_rule_stats", i, k, tp, fp) for i, k, tp, fp in self.stats]
+        if self.cofire:
+            lines.append("% planerel_rule_cofire(I, J, Class, N): N training objects of Class on "
+                         "which clauses I and J (of two classes) both fired")
+            lines += [fact("planerel_rule_cofire", i, j, k, n) for i, j, k, n in self.cofire]
         return "\n".join(lines) + "\n"
 
 
@@ -253,8 +264,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
             engines.add(res.engine_detail or res.engine)
         model = Model(tuple(classes), rules, (), "; ".join(sorted(engines)), seconds, explored,
                       uncovered)
-        stats = rule_stats(model, descs, timeout=timeout)
-        return replace(model, stats=stats)
+        stats, cofire = rule_stats(model, descs, timeout=timeout, cofire=True)
+        return replace(model, stats=stats, cofire=cofire)
     finally:
         if tmp is not None:
             tmp.cleanup()
@@ -412,21 +423,34 @@ def _unquote(text: str) -> str:
     return text
 
 
-def rule_stats(model: Model, descs, *, timeout: float = 120.0) -> tuple:
-    """``(index, class, tp, fp)`` of every clause of ``model`` on the objects of ``descs``."""
+def rule_stats(model: Model, descs, *, timeout: float = 120.0, cofire: bool = False):
+    """``(index, class, tp, fp)`` of every clause of ``model`` on the objects of ``descs``;
+    with ``cofire``, also the :attr:`Model.cofire` rows, as ``(stats, cofire)``."""
     examples = _examples(descs)
     if not model.clauses():
-        return ()
+        return ((), ()) if cofire else ()
     fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
     truth = dict(examples)
     index_class = [(i + 1, k) for i, k in enumerate(k for k in model.targets
                                                     for _ in model.rules.get(k, ()))]
+    class_of = dict(index_class)
     counts = {i: [0, 0] for i, _ in index_class}
+    together: dict = {}
     for obj, hits in fired.items():
-        for i in sorted({idx for _, idx, _, _ in hits}):
-            k = dict(index_class)[i]
-            counts[i][0 if truth.get(obj) == k else 1] += 1
-    return tuple((i, k, counts[i][0], counts[i][1]) for i, k in index_class)
+        idx = sorted({i for _, i, _, _ in hits})
+        for i in idx:
+            counts[i][0 if truth.get(obj) == class_of[i] else 1] += 1
+        if truth.get(obj) is None:
+            continue
+        for a_pos, a in enumerate(idx):
+            for b in idx[a_pos + 1:]:
+                if class_of[a] != class_of[b]:
+                    key = (a, b, truth[obj])
+                    together[key] = together.get(key, 0) + 1
+    stats = tuple((i, k, counts[i][0], counts[i][1]) for i, k in index_class)
+    if not cofire:
+        return stats
+    return stats, tuple((a, b, k, n) for (a, b, k), n in sorted(together.items()))
 
 
 def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None, *,
@@ -456,7 +480,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
     out = []
     for o in object_ids:
         hits = fired.get(o, [])
-        best = choose_class(hits, model.stats, model.classes)
+        best = choose_class(hits, model.stats, model.classes, model.cofire)
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
             out.append(Prediction(o, OTHER, fired=fired_pairs))
