@@ -91,6 +91,18 @@ def test_old_model_header_is_accepted_and_syntax_error_is_prolog_error(tmp_path)
         Classifier(_model(tmp_path / "b.pl", "box(O) :- nplanes(O, N).\nbox(O) :- .\n"))
 
 
+def test_cofire_facts_are_read_as_data_and_checked(tmp_path):
+    from planerel.classify.classifier import Classifier
+
+    header = (":- dynamic(planerel_rule_cofire/4).\n:- multifile(planerel_rule_cofire/4).\n")
+    ok = Classifier(_model(tmp_path / "a.pl", header + "box(O) :- " + ANY_OBJECT + ".\n"
+                           "planerel_rule_cofire(1, 2, other, 4).\n"))
+    assert ok.cofire == ((1, 2, "other", 4),)
+    with pytest.raises(InputError, match=r"c\.pl:2: planerel_rule_cofire/4 needs"):
+        Classifier(_model(tmp_path / "c.pl", "box(O) :- " + ANY_OBJECT + ".\n"
+                          "planerel_rule_cofire(1, X, box, 4).\n"))
+
+
 @pytest.mark.parametrize("name", ["halt", "shell", "atom", "is_list", "horizontal", "adjacent"])
 def test_class_names_may_not_clash_with_predicates(name):
     from planerel.ilp.aleph_export import check_class_names
