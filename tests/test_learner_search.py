@@ -9,8 +9,8 @@
 from __future__ import annotations
 
 import math
-import re
 import random
+import re
 import shutil
 import subprocess
 from fractions import Fraction
@@ -159,7 +159,9 @@ def test_caching_gives_the_same_theory_and_search(tmp_path):
     reused = [int(x) for x in re.findall(r"\[coverage reused from the cache\] (\d+)", on.output)]
     assert reused and reused[0] > on.clauses_explored // 4, on.output[-300:]
     assert "[coverage reused from the cache] 0" in off.output
-    drop = lambda out: re.sub(r"\[coverage reused from the cache\] \d+", "", out)
+    def drop(out):
+        return re.sub(r"\[coverage reused from the cache\] \d+", "", out)
+
     assert drop(on.output) == drop(off.output)
 
 
