@@ -279,7 +279,7 @@ def test_rule_stats_count_what_two_rules_proved_together(gt_descs):
     file writes it as ``planerel_rule_cofire/4``."""
     model = P.Model(("box", "stairs"), {"box": ("box(A) :- has_plane(A,B).",),
                                         "stairs": ("stairs(A) :- has_plane(A,B), step_up(B,C).",)})
-    stats, cofire = P.rule_stats(model, gt_descs, cofire=True)
+    stats, cofire = P.training_stats(model, gt_descs)
     assert stats == ((1, "box", 4, 8), (2, "stairs", 4, 0))
     assert cofire == ((1, 2, "stairs", 4),)
     text = P.Model(model.classes, model.rules, stats, cofire=cofire).text()

@@ -264,7 +264,7 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
             engines.add(res.engine_detail or res.engine)
         model = Model(tuple(classes), rules, (), "; ".join(sorted(engines)), seconds, explored,
                       uncovered)
-        stats, cofire = rule_stats(model, descs, timeout=timeout, cofire=True)
+        stats, cofire = training_stats(model, descs, timeout=timeout)
         return replace(model, stats=stats, cofire=cofire)
     finally:
         if tmp is not None:
@@ -423,12 +423,16 @@ def _unquote(text: str) -> str:
     return text
 
 
-def rule_stats(model: Model, descs, *, timeout: float = 120.0, cofire: bool = False):
-    """``(index, class, tp, fp)`` of every clause of ``model`` on the objects of ``descs``;
-    with ``cofire``, also the :attr:`Model.cofire` rows, as ``(stats, cofire)``."""
+def rule_stats(model: Model, descs, *, timeout: float = 120.0) -> tuple:
+    """``(index, class, tp, fp)`` of every clause of ``model`` on the objects of ``descs``."""
+    return training_stats(model, descs, timeout=timeout)[0]
+
+
+def training_stats(model: Model, descs, *, timeout: float = 120.0) -> tuple[tuple, tuple]:
+    """:func:`rule_stats` and the :attr:`Model.cofire` rows, from one rule query."""
     examples = _examples(descs)
     if not model.clauses():
-        return ((), ()) if cofire else ()
+        return (), ()
     fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
     truth = dict(examples)
     index_class = [(i + 1, k) for i, k in enumerate(k for k in model.targets
@@ -448,8 +452,6 @@ def rule_stats(model: Model, descs, *, timeout: float = 120.0, cofire: bool = Fa
                     key = (a, b, truth[obj])
                     together[key] = together.get(key, 0) + 1
     stats = tuple((i, k, counts[i][0], counts[i][1]) for i, k in index_class)
-    if not cofire:
-        return stats
     return stats, tuple((a, b, k, n) for (a, b, k), n in sorted(together.items()))
 
 
