@@ -16,7 +16,7 @@ which :func:`planerel.io.readers.read` reads as is (the sidecar gives the up vec
 Usage::
 
     python benchmarks/independent_scenes.py make OUT_DIR [--n 60] [--seed 7] [--size 160x120]
-    python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150]
+    python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150] [--by-planes]
 
 ``score`` classifies every scene with each model (:class:`planerel.classify.classifier.Classifier`, the code
 behind ``planerel classify --json``), matches the proposals to the labelled objects
@@ -416,7 +416,19 @@ def make_set(out, n, seed, size):
 # ----------------------------------------------------------------------------- scoring
 
 
-def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150):
+def _shows(clf, cloud, scene_id, plane_ids):
+    """Orientation letters of the planes ``plane_ids`` (``h``/``v``/``i``, sorted): what a
+    proposal shows, e.g. ``vv`` for two vertical faces without a top."""
+    from planerel.features.facts import describe_scene
+    from planerel.ilp.scenes import segment_cached
+
+    labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
+    desc = describe_scene(cloud, labels, scene_id=scene_id, **clf.settings.describe_kwargs())
+    ori = {desc.plane_id(p.label): p.orientation[0] for p in desc.planes}
+    return "".join(sorted(ori[q] for q in plane_ids if q in ori))
+
+
+def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150, by_planes=False):
     from planerel.classify.classifier import Classifier, explanation_image
     from planerel.features.object_eval import proposal_image, score_objects
     from planerel.io import readers as io
@@ -451,6 +463,8 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150):
                     rows.append({"scene": p.stem, "object": k, "class": o["class"], "kind": o["kind"],
                                  "pred": pred, "iou": round(iou, 3),
                                  "pixels": int((truth == k).sum())})
+                    if by_planes and iou >= min_iou:
+                        rows[-1]["shows"] = _shows(clf, cloud, p.stem, ans.objects[sc.best_prop[k]].planes)
                     ok = pred == o["class"] or (o["class"] == "other" and pred == "none")
                     bad |= not ok
                 extra = [o.klass for j, o in enumerate(ans.objects)
@@ -463,7 +477,24 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150):
                     Image.fromarray(explanation_image(ans, cloud.depth)).save(fd / f"{p.stem}.png")
         results[str(mdir)] = {**summarize(rows, spurious, len(scenes), t_all), "rows": rows}
         print_summary(str(mdir), results[str(mdir)], rows)
+        if by_planes:
+            print_by_planes(rows)
     return results
+
+
+def print_by_planes(rows):
+    """Right / matched per class, kind and what the matched proposal shows (``--by-planes``)."""
+    from collections import Counter
+
+    seen, right = Counter(), Counter()
+    for r in rows:
+        if "shows" in r:
+            key = (r["class"], r["kind"], r["shows"] or "-")
+            seen[key] += 1
+            right[key] += r["pred"] == r["class"] or (r["class"] == "other" and r["pred"] == "none")
+    print("  by what the matched proposal shows (h horizontal, v vertical, i inclined planes):")
+    for key in sorted(seen):
+        print(f"    {key[0]:7s} {key[1]:18s} {key[2]:10s} {right[key]:3d}/{seen[key]:3d}")
 
 
 def proposals_on_true_planes(out, min_iou=0.5, min_pixels=150):
@@ -549,6 +580,8 @@ def main(argv=None):
     s.add_argument("--json")
     s.add_argument("--true-planes", action="store_true",
                    help="also count proposals found on the true planes (segmentation's share)")
+    s.add_argument("--by-planes", action="store_true",
+                   help="also split the matched objects by what their proposal shows (hv, vv, v, ...)")
     s.add_argument("--min-pixels", type=int, default=150,
                    help="judge only objects with at least this many valid pixels (default 150)")
     a = ap.parse_args(argv)
@@ -556,7 +589,7 @@ def main(argv=None):
         W, H = (int(v) for v in a.size.lower().split("x"))
         make_set(a.out, a.n, a.seed, (W, H))
     else:
-        res = score_set(a.out, a.models, a.figures, min_pixels=a.min_pixels)
+        res = score_set(a.out, a.models, a.figures, min_pixels=a.min_pixels, by_planes=a.by_planes)
         if a.true_planes:
             res["proposals_found"] = proposals_on_true_planes(a.out, min_pixels=a.min_pixels)
         if a.json:
