@@ -103,3 +103,32 @@ def test_true_planes_split_the_box_into_its_visible_faces():
         c = q - q.mean(axis=0)
         assert np.linalg.svd(c, compute_uv=False)[-1] / np.sqrt(len(q)) < 1e-6
     assert len(np.unique(pid[truth == 0])) == 1  # the floor is one plane
+
+
+def test_by_planes_names_the_faces_a_box_proposal_shows(tmp_path):
+    """``score --by-planes``: a box seen from above shows its top (``h``) and its sides, one
+    seen from below its top shows vertical faces only; the table counts right / matched."""
+    from planerel.classify.classifier import Classifier
+    from planerel.io.cloud import Cloud
+
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(A) :- has_plane(A,B), orientation(B,horizontal).\n")
+    box = ind._box((0.6, 0.4, 0.5), (0, 0, 0.25))
+    floor = ind._box((30, 30, 0.02), (0, 0, -0.01))
+    intr = (160, 120, 140.0, 140.0, 79.5, 59.5)
+    shows = {}
+    with Classifier(rules) as clf:
+        for name, eye_z in (("above", 1.2), ("below", 0.3)):
+            eye = np.array([-1.5, -1.3, eye_z])
+            f = np.array([0.0, 0.0, 0.25]) - eye
+            f /= np.linalg.norm(f)
+            r = np.cross(f, [0.0, 0.0, 1.0])
+            r /= np.linalg.norm(r)
+            R = np.stack([r, np.cross(f, r), f])
+            xyz, _truth = ind.render([(floor, 0), (box, 1)], eye, R, intr, np.random.default_rng(2))
+            cloud = Cloud(xyz.astype(float), up=R @ np.array([0.0, 0.0, 1.0]))
+            ans = clf.classify(cloud, scene_id=name)
+            assert len(ans.objects) == 1
+            shows[name] = ind._shows(clf, cloud, name, ans.objects[0].planes)
+    assert shows["above"].count("h") == 1 and shows["above"].count("v") == 2
+    assert "h" not in shows["below"] and shows["below"].count("v") == 2
