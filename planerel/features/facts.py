@@ -215,7 +215,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
             cloud, planes, ((proposal_params or ProposalParams()).step_rise_min,
                             (proposal_params or ProposalParams()).step_rise_max), plane_params)
     rel = relate(planes, cloud, relation_params)
-    support = tuple(support_planes(planes, proposal_params))
+    support = tuple(support_planes(planes, proposal_params, rel, cloud))
     known = {p.label for p in planes}
     if objects is None:
         groups = propose_objects(planes, rel, proposal_params, cloud)

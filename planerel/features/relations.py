@@ -26,7 +26,8 @@ object, and the adjacent pairs across the scene.
 
 Object proposals (:func:`propose_objects`): support planes are dropped (the floor, horizontal
 planes at floor level, and planes of at least ``support_min_area`` m^2 that are vertical or
-horizontal), then each connected component of the adjacency graph of the remaining planes is a
+horizontal, except a vertical one that is the side of a stepped structure: :mod:`planerel.features.walls`),
+then each connected component of the adjacency graph of the remaining planes is a
 candidate object, except components made only of vertical planes that reach the image border
 (walls behind the object, seen in part).
 """
@@ -382,6 +383,15 @@ class ProposalParams:
     ----------
     support_min_area : float
         Vertical or horizontal planes at least this large (m^2) are support (walls, floors).
+    wall_test : bool
+        A large vertical plane is a wall only when it reaches above the planes that meet it:
+        the side face of a solid staircase, whose top edge follows its steps, is not
+        (:func:`planerel.features.walls.stepped_side`; needs the relations and the cloud).
+    wall_tol, wall_window : float
+        Metres: a step *caps* the face when the face's top over the step's extent (a riser's
+        widened to ``+-wall_window``, a tread's shrunk by it) is at most ``wall_tol`` above the
+        step's top; two caps ``step_rise_min`` apart in height and no step with the face
+        higher than that make the side of a stepped structure.
     floor_gap : float
         Metres: a horizontal plane at floor level (within the planes' ``floor_tol``) other
         than the floor is support only when its centroid lies within this of the floor's
@@ -442,6 +452,9 @@ class ProposalParams:
     """
 
     support_min_area: float = 2.0
+    wall_test: bool = True
+    wall_tol: float = 0.10
+    wall_window: float = 0.05
     floor_gap: float = 0.006
     drop_border_walls: bool = True
     border_wall_area: float = 0.3
@@ -463,7 +476,7 @@ class ProposalParams:
     raised_objects: bool = True
 
     def __post_init__(self) -> None:
-        _check_nonneg(self, ("support_min_area", "floor_gap", "min_points", "concave_tol", "border_wall_area",
+        _check_nonneg(self, ("support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt"))
@@ -475,8 +488,14 @@ class ProposalParams:
             raise InputError(f"edge_band must be an integer number of pixels in 1..8, got {self.edge_band!r}")
 
 
-def support_planes(planes, params: ProposalParams | None = None) -> list[int]:
-    """Labels of support planes: the floor, horizontal planes at floor level, large walls."""
+def support_planes(planes, params: ProposalParams | None = None, relations: Relations | None = None,
+                   cloud=None) -> list[int]:
+    """Labels of support planes: the floor, horizontal planes at floor level, large walls.
+
+    With ``relations`` and ``cloud`` (and the planes' label image), a large vertical plane that
+    is the side of a stepped structure is no wall (``params.wall_test``,
+    :mod:`planerel.features.walls`).
+    """
     params = params or ProposalParams()
     tol = planes.params.floor_tol
     byl = {p.label: p for p in planes}
@@ -489,7 +508,24 @@ def support_planes(planes, params: ProposalParams | None = None) -> list[int]:
         large = p.area >= params.support_min_area and p.orientation in ("vertical", "horizontal")
         if floorish or large:
             out.append(p.label)
+    lab = getattr(planes, "labels", None)
+    if (params.wall_test and relations is not None and cloud is not None and lab is not None
+            and lab.shape == cloud.xyz.shape[:2]):
+        out = [x for x in out if not _stepped_side(planes, byl[x], set(out), relations, cloud, params)]
     return out
+
+
+def _stepped_side(planes, face, support, relations, cloud, params) -> bool:
+    """A large vertical, non-floor plane that is the side of a stepped structure."""
+    from planerel.features.walls import stepped_side
+
+    if face.orientation != "vertical" or face.is_floor:
+        return False
+    nbrs = [q for q in planes if q.label not in support and q.label != face.label
+            and relations.get(face.label, q.label).adjacent
+            and relations.get(face.label, q.label).perpendicular]
+    return len(nbrs) >= 2 and stepped_side(face, nbrs, planes.up, cloud.xyz, planes.labels,
+                                           params.wall_tol, params.wall_window, params.step_rise_min)
 
 
 def _floor_offset(p, floor, up) -> float:
@@ -920,7 +956,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     import networkx as nx
 
     params = params or ProposalParams()
-    drop = set(support_planes(planes, params))
+    drop = set(support_planes(planes, params, relations, cloud))
     g = nx.Graph()
     g.add_nodes_from(p.label for p in planes if p.label not in drop)
     pairs = [(a, b) for a, b in relations.adjacent_pairs() if a not in drop and b not in drop]
