@@ -7,8 +7,8 @@ scenes (320x240, 2-3 extra objects, seed 22).  Each frame is segmented once; the
 ``describe_scene`` (measure planes, relate, propose) runs with ``split_concave=False,
 min_border_area=0, border_wall_area=0, wall_behind=1, floor_gap=1, raised_objects=False``
 (the reference: plain connected components, the proposals before issue 22), with
-``floor_gap=1, raised_objects=False`` (the defaults before the floor-gap and raised-group
-rules) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
+``coplanar_depth=None, sanity_angle=0`` (the defaults before the coplanar check and the
+sanity criterion, main at 35c1ded) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
 Printed: ms per frame of each and its ratio to the reference, and the proposals' found rate /
 false proposals per frame (planerel.features.object_eval).
 """
@@ -53,7 +53,7 @@ def main(argv=None) -> int:
             frames.append((name, cloud, segment(cloud).labels, truth, ty))
     variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0, border_wall_area=0,
                                                     wall_behind=1, floor_gap=1.0, raised_objects=False),
-                "no floor/raised rule": ProposalParams(floor_gap=1.0, raised_objects=False),
+                "no coplanar/sanity": ProposalParams(coplanar_depth=None, sanity_angle=0.0),
                 "defaults": ProposalParams()}
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": []} for k in variants}

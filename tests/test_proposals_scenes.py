@@ -223,3 +223,16 @@ def test_face_seen_behind_another_across_an_occluding_edge_comes_apart():
     rel = d.relations.get(1, 2)
     assert rel.touching and rel.gap > 0.05
     assert {o.planes for o in d.objects} == {(1,), (2,)}
+
+
+@pytest.mark.parametrize("pitch,cx,cy", [(15, -0.5, 1.8), (35, 0.4, 1.8), (50, 0.0, 1.3)])
+def test_one_box_keeps_its_faces_with_the_parallel_and_sanity_checks(pitch, cx, cy):
+    # the coplanar check and LCCP's sanity criterion (defaults) must not cut one box's faces:
+    # seen from the front-left, front-right and above, at 320x240 with depth noise
+    rects = [floor()] + _box(cx, cy, 0.45, 0.35, 0.3, obj=1)
+    view = dict(pitch=pitch, cam_height=1.1, width=320, height=240, noise=0.0015)
+    props, seen = _proposals(rects, **view)
+    assert len(seen[1]) >= 2 and seen[1] in props
+    old, _ = _proposals(rects, ProposalParams(coplanar_depth=None, sanity_angle=0), **view)
+    assert old == props
+

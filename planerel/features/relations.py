@@ -444,6 +444,18 @@ class ProposalParams:
         rise apart (treads joined into one sloping plane, a flight seen from above) into one
         plane a level (:func:`planerel.features.stepped.split_stepped`; applied by
         :func:`planerel.features.facts.describe_scene`).
+    coplanar_depth : float or None
+        Metres (at 1 m; scaled by the depth like ``edge_depth``): two planes whose normals are
+        within ``concave_tol`` stay joined as one noisy surface only when they lie at most this
+        far apart along their normals (:func:`convex_pairs`; LCCP's smoothness check): two
+        parallel faces a step apart face each other, which no two faces of one convex object
+        do (a lower box's top seen behind a taller one's).  None = no check.
+    sanity_angle : float
+        Degrees (LCCP's sanity criterion, Stein et al. 2014; 0 = off): where the convexity
+        sign is no evidence (no shared edge, or inside its noise band) a pair stays joined
+        only when the offset of its points makes at least
+        ``sanity_angle / (1 + exp(-0.25 (beta - 25)))`` degrees with the planes' line of
+        intersection (60 for perpendicular faces): objects touching at a corner are cut.
     raised_objects : bool
         Pixels of a horizontal support plane that lie above it in a group (an open box's
         bottom, a laptop's base or a plate the segmentation joined to the floor) join the
@@ -474,6 +486,8 @@ class ProposalParams:
     step_tilt: float = 12.0
     split_stepped: bool = True
     raised_objects: bool = True
+    coplanar_depth: float | None = 0.03
+    sanity_angle: float = 60.0
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
@@ -484,6 +498,11 @@ class ProposalParams:
             raise InputError("step_rise_min / step_run_min must not exceed step_rise_max / step_run_max, "
                              f"got {self.step_rise_min!r}-{self.step_rise_max!r} and "
                              f"{self.step_run_min!r}-{self.step_run_max!r}")
+        if self.coplanar_depth is not None:
+            _check_nonneg(self, ("coplanar_depth",))
+        _check_nonneg(self, ("sanity_angle",))
+        if self.sanity_angle > 90:
+            raise InputError(f"sanity_angle must be in 0..90 degrees, got {self.sanity_angle!r}")
         if isinstance(self.edge_band, bool) or not isinstance(self.edge_band, int) or not 1 <= self.edge_band <= 8:
             raise InputError(f"edge_band must be an integer number of pixels in 1..8, got {self.edge_band!r}")
 
@@ -639,7 +658,8 @@ MIN_EDGE = 5
 
 def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                  step_overlap: float | None = 0.8, min_edge: int = MIN_EDGE,
-                 riser_max: float | None = None) -> set:
+                 riser_max: float | None = None, coplanar_depth: float | None = None,
+                 sanity_angle: float = 0.0) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
     For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
@@ -659,6 +679,16 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     (metres; :func:`propose_objects` passes 1.5 x ``step_rise_max``) the exception also needs
     the vertical plane no higher than that or 1.5 times the other plane's height range (a
     wall behind a flight's lowest tread is no riser; a ramp's end face is as high as its slope).
+    With ``coplanar_depth`` (metres at 1 m), nearly parallel planes count as one surface only
+    when their points lie within ``coplanar_depth * max(1, z)`` of the other's plane
+    (:func:`_step_apart`; LCCP's smoothness check): parallel faces a step apart are faces of two
+    objects (one convex object has no two faces with one outward normal), or of a non-convex
+    one (a staircase's treads, which the step chains join).  With ``sanity_angle`` (degrees,
+    LCCP's sanity criterion) a pair whose sign is no evidence (no shared edge, or within the
+    noise band) stays joined only when its points' offset makes at least
+    :func:`_sanity_limit` degrees with the line ``n_a x n_b`` where the planes meet: faces of
+    one object meet along that line, two objects touching at a corner have their points'
+    offset along it.
 
     Returns
     -------
@@ -681,9 +711,6 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
             na = -na
         if float(nb @ pb.centroid) > 0:
             nb = -nb
-        if abs(float(na @ nb)) >= cos_tol:
-            out.add((a, b))
-            continue
         e = (edges or {}).get((min(a, b), max(a, b)))
         if e is not None and e[2] < min_edge:
             e = None  # a pixel pair or two across an occluding edge: no shared edge
@@ -691,6 +718,14 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
             xa, xb = (e[0], e[1]) if a < b else (e[1], e[0])
         else:
             xa, xb = np.asarray(pa.centroid), np.asarray(pb.centroid)
+        if abs(float(na @ nb)) >= cos_tol:
+            # one surface only when coplanar: parallel faces a step apart face each other (a
+            # box's top seen behind another's, a lower top next to a higher one); one convex
+            # object has no two faces with one outward normal (LCCP's smoothness check)
+            if coplanar_depth is None or _step_apart(na, nb, xa, xb) <= coplanar_depth * max(
+                    1.0, 0.5 * abs(float(xa[2] + xb[2]))):
+                out.add((a, b))
+            continue
         # the step exception needs a shared edge: planes whose outlines only come near in 3-D
         # (one behind the other across an occluding edge) are no tread and riser
         shared = edges is None or e is not None
@@ -699,12 +734,43 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         # corner, a few pixel pairs) and noise decides the sign: no evidence of a cut
         dx = xa - xb
         scale = 0.1 * float(np.linalg.norm(na - nb) * np.linalg.norm(dx)) if e is not None else 0.0
-        if float((na - nb) @ dx) >= -scale or (step_overlap is not None and shared
-                                                  and _step_like(pa, pb, step_overlap,
-                                                                 getattr(planes, "up", None), riser_max)
-                                                  and _regular_step(pa, pb, byl, nbrs, cos_tol)):
+        sign = float((na - nb) @ dx)
+        # where the sign is no evidence (no shared edge: centroids; or inside the noise band),
+        # the connection must cross the planes' line of intersection (LCCP's sanity criterion):
+        # two objects touching at a corner have their points' offset along it
+        sane = (sanity_angle <= 0 or (e is not None and abs(sign) > scale)
+                or _crossing_angle(na, nb, dx) >= _sanity_limit(na, nb, sanity_angle))
+        if (sign >= -scale and sane) or (step_overlap is not None and shared
+                                         and _step_like(pa, pb, step_overlap,
+                                                        getattr(planes, "up", None), riser_max)
+                                         and _regular_step(pa, pb, byl, nbrs, cos_tol)):
             out.add((a, b))
     return out
+
+
+def _step_apart(na, nb, xa, xb) -> float:
+    """Metres between two (nearly) parallel planes along their normals: the smaller of the
+    distances of each plane's point from the other's plane (LCCP's smoothness check)."""
+    d = np.asarray(xa, float) - np.asarray(xb, float)
+    return min(abs(float(na @ d)), abs(float(nb @ d)))
+
+
+def _crossing_angle(na, nb, dx) -> float:
+    """Degrees (0-90) between the offset ``dx`` of two planes' points and their line of
+    intersection ``na x nb`` (90 when either is zero)."""
+    s = np.cross(na, nb)
+    den = float(np.linalg.norm(s) * np.linalg.norm(dx))
+    if den <= 0:
+        return 90.0
+    return math.degrees(math.acos(min(1.0, abs(float(s @ dx)) / den)))
+
+
+def _sanity_limit(na, nb, angle: float) -> float:
+    """LCCP's sanity threshold (degrees): ``angle / (1 + exp(-0.25 (beta - 25)))`` for normals
+    ``beta`` degrees apart (60 at 90 degrees with ``angle`` = 60; ~1 at 10 degrees, where the
+    intersection line is ill-defined anyway)."""
+    beta = math.degrees(math.acos(min(1.0, abs(float(na @ nb)))))
+    return angle / (1.0 + math.exp(-0.25 * (beta - 25.0)))
 
 
 def _regular_step(pa, pb, byl, nbrs, cos_tol) -> bool:
@@ -973,7 +1039,9 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                      or relations.get(a, b).gap <= relations.params.adjacency_gap]
         pairs = sorted(convex_pairs(planes, pairs, edges, params.concave_tol,
                                     params.step_overlap or None,
-                                    riser_max=1.5 * params.step_rise_max))
+                                    riser_max=1.5 * params.step_rise_max,
+                                    coplanar_depth=params.coplanar_depth,
+                                    sanity_angle=params.sanity_angle))
     g.add_edges_from(pairs)
     if params.step_chains:
         g.add_edges_from(step_chain_pairs(
