@@ -487,7 +487,7 @@ class ProposalParams:
     split_stepped: bool = True
     raised_objects: bool = True
     coplanar_depth: float | None = 0.03
-    sanity_angle: float = 60.0
+    sanity_angle: float = 50.0
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
