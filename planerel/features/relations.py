@@ -455,7 +455,9 @@ class ProposalParams:
         sign is no evidence (no shared edge, or inside its noise band) a pair stays joined
         only when the offset of its points makes at least
         ``sanity_angle / (1 + exp(-0.25 (beta - 25)))`` degrees with the planes' line of
-        intersection (60 for perpendicular faces): objects touching at a corner are cut.
+        intersection (50 for perpendicular faces; PCL's LCCP uses 60, which cut a paper-world
+        flight's side wall touching a riser's end at 58.8 degrees): objects touching at a
+        corner are cut.
     raised_objects : bool
         Pixels of a horizontal support plane that lie above it in a group (an open box's
         bottom, a laptop's base or a plate the segmentation joined to the floor) join the
