@@ -30,7 +30,6 @@ pixels are refitted (the others keep theirs).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -188,7 +187,7 @@ def _absorb(cloud, seg, Ls, Xs, pairs, refine_factor, fraction, min_size,
     for j, f, g in zip(recv.tolist(), fits, got.tolist(), strict=True):
         if g or rest[j]:
             planes[int(new_id[j])] = f
-    planes = [p if p.id == i else dataclasses.replace(p, id=i) for i, p in enumerate(planes)]
+    planes = [p.with_id(i) for i, p in enumerate(planes)]
     info.update(absorbed=int((gone & ~rest).sum()), absorbed_shrunk=int(rest.sum()),
                 absorbed_unassigned=int(lost))
     return Segmentation(out.reshape(h, w), tuple(planes), seg.method, seg.params, seg.normals,

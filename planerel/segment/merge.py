@@ -27,7 +27,6 @@ the regions' smallest original labels, and planes are refitted.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -130,15 +129,22 @@ def merge_coplanar(cloud, seg: Segmentation, params=None, *,
 
     cos_max = math.cos(math.radians(p.merge_angle))
     cos_par = math.cos(math.radians(p.min_split_angle)) if p.min_split_angle > 0 else 2.0
+    # the touching pairs of current groups (roots), a < b; a merge renames drop to keep
     edges = set(pairs)
     merged = 0
     while True:
-        best = _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, p.tolerance, cos_par)
+        best = _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, p.tolerance, cos_par)
         if best is None:
             break
         _, ra, rb, nv = best
         keep, drop = min(ra, rb), max(ra, rb)
         parent[drop] = keep
+        moved = [e for e in edges if drop in e]
+        edges.difference_update(moved)
+        for a, b in moved:
+            a, b = (keep if a == drop else a), (keep if b == drop else b)
+            if a != b:
+                edges.add((min(a, b), max(a, b)))
         cnt[keep] += cnt[drop]
         s1[keep] += s1[drop]
         s2[keep] += s2[drop]
@@ -161,8 +167,7 @@ def merge_coplanar(cloud, seg: Segmentation, params=None, *,
     sub[np.flatnonzero(grouped[roots]) + 1] = np.searchsorted(refit, roots[grouped[roots]])
     out, fits = _relabel_refit(labels.reshape(-1), remap, sub, xyz.reshape(-1, 3), len(refit))
     fit_of = dict(zip(new_id[refit].tolist(), fits, strict=True))
-    planes = tuple(dataclasses.replace(fit_of[i], id=i) if i in fit_of
-                   else dataclasses.replace(seg.planes[int(r)], id=i)
+    planes = tuple(fit_of[i].with_id(i) if i in fit_of else seg.planes[int(r)].with_id(i)
                    for i, r in enumerate(kept.tolist()))
     info["merged"] = merged
     res = Segmentation(out.reshape(labels.shape), planes, seg.method, seg.params, seg.normals, info)
@@ -183,17 +188,17 @@ def _rms_of(m, s1, s2) -> np.ndarray:
     return np.sqrt(np.maximum(np.linalg.eigvalsh(cov)[:, 0], 0.0))
 
 
-def _best_pair(edges, root, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0):
-    """The pair of current groups that passes the merge test with the smallest RMS ratio:
-    ``(ratio, root_a, root_b, union normal)``, or None.
+def _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0):
+    """The pair of current groups (``edges``: a set of touching root pairs ``(a, b)``,
+    ``a < b``) that passes the merge test with the smallest RMS ratio (the first in pair order
+    on a tie): ``(ratio, root_a, root_b, union normal)``, or None.
 
     The union's RMS is compared with the RMS the noise model expects; for two groups whose
     normals lie within ``acos(cos_par)`` (``min_split_angle``) of each other, with the larger
     of that and the groups' own RMS: a real sensor's large plane is bent by more than its
     noise (a Kinect floor), and its pieces are still one surface when their union fits about
     as well as each piece alone."""
-    cand = sorted({(min(ra, rb), max(ra, rb)) for ra, rb in ((root(a), root(b)) for a, b in edges)
-                   if ra != rb})
+    cand = sorted(edges)
     if not cand:
         return None
     A = np.array([c[0] for c in cand])

@@ -26,6 +26,7 @@ The model's ``kind`` names the term that dominates at the median depth: ``"z2"``
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -122,12 +123,16 @@ class NoiseModel:
                 f"quad {self.quad:.5f}/m; {self.n_patches} patches)")
 
 
+@functools.lru_cache(maxsize=8)
 def _slopes(k: int) -> np.ndarray:
     """(2, k*k): the centred pixel coordinates ``u``, ``v`` of a k x k patch, unit length.  With
-    the constant, they are an orthogonal basis of the planes ``a + b u + c v``."""
+    the constant, they are an orthogonal basis of the planes ``a + b u + c v``.  Cached per
+    ``k`` (read-only)."""
     v, u = np.mgrid[0:k, 0:k]
     q = np.stack([u.ravel() - (k - 1) / 2, v.ravel() - (k - 1) / 2]).astype(np.float64)
-    return q / np.linalg.norm(q, axis=1, keepdims=True)
+    q = q / np.linalg.norm(q, axis=1, keepdims=True)
+    q.setflags(write=False)
+    return q
 
 
 def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES) -> NoiseModel:

@@ -90,6 +90,18 @@ class SegPlane:
             planes.append(p)
         return tuple(planes)
 
+    def with_id(self, i: int) -> SegPlane:
+        """This plane renumbered ``i`` (itself when it already is): ``dataclasses.replace(self,
+        id=i)`` without re-validating the other fields (its arrays are read-only, so they are
+        shared).  The post-processing steps renumber every plane after each relabelling."""
+        i = int(i)
+        if self.id == i:
+            return self
+        p = object.__new__(SegPlane)
+        p.__dict__.update(self.__dict__)
+        p.__dict__["id"] = i
+        return p
+
     def distance(self, points) -> np.ndarray:
         """Signed distances ``normal . p + offset`` of ``points`` (..., 3)."""
         return np.asarray(points, dtype=np.float64) @ self.normal + self.offset

@@ -33,7 +33,6 @@ region in its place, ordered by their first pixel (row-major).  Planes are refit
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import threading
 from dataclasses import dataclass
@@ -355,7 +354,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
                                sensor_scale, min_size, p, w, True,
                                np.random.default_rng([p.seed, n + t]), min_parts=1)
             if piece is not None:
-                piece = _keep_planar(piece, xyz_flat[pix], sensor_scale, p)
+                piece = _keep_planar(piece, xyz_flat.take(pix, axis=0), sensor_scale, p)
             if piece is None:
                 continue
             if new_lab is None:
@@ -383,8 +382,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     sub[np.array(refit, dtype=np.int64) + 1] = np.arange(len(refit))
     out, fits = _relabel_refit(new_lab, remap, sub[remap + 1], xyz_flat, len(refit))
     fit_of = dict(zip(refit, fits, strict=True))
-    planes = tuple(dataclasses.replace(fit_of[new], id=new) if new in fit_of
-                   else dataclasses.replace(seg.planes[old], id=new)
+    planes = tuple(fit_of[new].with_id(new) if new in fit_of else seg.planes[old].with_id(new)
                    for new, old in enumerate(final_order))
     return Segmentation(out.reshape(h, w), planes, seg.method, seg.params, seg.normals, info)
 
@@ -525,7 +523,8 @@ def _split_one(pix, X, N, scale, min_size, p: SplitParams, w, organized, rng, mi
     m = len(pix)
     q = p.disparity_step / (p.focal_px * p.baseline)
     st = max(1, m // _DISCOVERY_POINTS)
-    Q = X[pix[::st]]  # the points P[::st] of the region's points P = X[pix]
+    # (take: a row gather several times faster than fancy indexing, the same values)
+    Q = X.take(pix[::st], axis=0)  # the points P[::st] of the region's points P = X[pix]
     zs = depth_scales(np.ascontiguousarray(Q[:, 2]), float(scale), float(p.noise), float(q),
                       float(p.depth_unit))
     # N: the image's flat normals (all pixels); only the sample's are read, with whether they
@@ -538,8 +537,8 @@ def _split_one(pix, X, N, scale, min_size, p: SplitParams, w, organized, rng, mi
     for _ in range(p.max_parts):
         if len(rem) < min_q:
             break
-        Qr, zr = Q[rem], zs[rem]
-        best = _ransac(Qr, zr, None if NQ is None else NQ[rem], p, rng,
+        Qr, zr = Q.take(rem, axis=0), zs[rem]
+        best = _ransac(Qr, zr, None if NQ is None else NQ.take(rem, axis=0), p, rng,
                        None if fin is None else fin[rem])
         if best is None:
             break
@@ -573,7 +572,7 @@ def _split_one(pix, X, N, scale, min_size, p: SplitParams, w, organized, rng, mi
             stats["split_parallel"] = stats.get("split_parallel", 0) + 1
         return None
     pl = np.array([[*nr, off] for nr, off in planes], dtype=np.float64)
-    P = X[pix]
+    P = X.take(pix, axis=0)
     zs_all = depth_scales(np.ascontiguousarray(P[:, 2]), float(scale), float(p.noise), float(q),
                           float(p.depth_unit))
     cost, part = assign_parts(np.ascontiguousarray(P, dtype=np.float64), zs_all, pl,
@@ -622,7 +621,7 @@ def _ransac(Q, zs, N, p: SplitParams, rng, finite=None):
     Sz = zs[::step]
     n3 = p.hypotheses if N is None else (p.hypotheses + 1) // 2
     tri = rng.integers(0, m, size=(n3, 3))
-    a, b, c = Q[tri[:, 0]], Q[tri[:, 1]], Q[tri[:, 2]]
+    a, b, c = Q.take(tri[:, 0], axis=0), Q.take(tri[:, 1], axis=0), Q.take(tri[:, 2], axis=0)
     u, v = b - a, c - a
     # np.cross(u, v) by its own elementwise statements, without its axis handling
     cr = np.empty_like(u)
@@ -640,11 +639,11 @@ def _ransac(Q, zs, N, p: SplitParams, rng, finite=None):
         good = np.flatnonzero(np.all(np.isfinite(N), axis=1) if finite is None else finite)
         if len(good):
             pick = good[rng.integers(0, len(good), size=p.hypotheses - n3)]
-            nn = N[pick]
+            nn = N.take(pick, axis=0)
             ln = np.linalg.norm(nn, axis=1)
             ok = ln > 1e-12
             hyp_n.append(nn[ok] / ln[ok, None])
-            hyp_p.append(Q[pick[ok]])
+            hyp_p.append(Q.take(pick[ok], axis=0))
     Hn = np.concatenate(hyp_n)
     if len(Hn) == 0:
         return None
