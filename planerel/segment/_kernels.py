@@ -28,6 +28,7 @@ __all__ = [
     "region_sums",
     "region_sums_into",
     "add_region_moments",
+    "index_moments",
     "fit_planes_kernel",
     "planes_from_sums",
     "spread_of_moments",
@@ -480,6 +481,40 @@ def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, qlev, ent, 
     return state[2], ent
 
 
+#: Moment sums of no point: ``(n, sx, sy, sz, sxx, sxy, sxz, syy, syz, szz)``.
+NO_MOMENTS = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+@njit(inline="always")
+def moments_load(sums, r):  # pragma: no cover - compiled
+    """Row ``r`` of ``sums`` (nrow, 10) as a tuple (kept in registers by the callers' loops)."""
+    return (sums[r, 0], sums[r, 1], sums[r, 2], sums[r, 3], sums[r, 4], sums[r, 5],
+            sums[r, 6], sums[r, 7], sums[r, 8], sums[r, 9])
+
+
+@njit(inline="always")
+def moments_store(sums, r, m):  # pragma: no cover - compiled
+    """Write the moments tuple ``m`` to row ``r`` of ``sums``."""
+    sums[r, 0] = m[0]
+    sums[r, 1] = m[1]
+    sums[r, 2] = m[2]
+    sums[r, 3] = m[3]
+    sums[r, 4] = m[4]
+    sums[r, 5] = m[5]
+    sums[r, 6] = m[6]
+    sums[r, 7] = m[7]
+    sums[r, 8] = m[8]
+    sums[r, 9] = m[9]
+
+
+@njit(inline="always")
+def moments_add(m, x, y, z):  # pragma: no cover - compiled
+    """The moments ``m`` plus one point ``(x, y, z)`` (relative to the row's reference): the
+    one accumulation every moment kernel shares (the same additions in the same order)."""
+    return (m[0] + 1.0, m[1] + x, m[2] + y, m[3] + z, m[4] + x * x, m[5] + x * y,
+            m[6] + x * z, m[7] + y * y, m[8] + y * z, m[9] + z * z)
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
 def add_region_moments(pts, labels, lo, hi, sums, ref, clamp,
                        first_ref=False):  # pragma: no cover - compiled
@@ -492,7 +527,7 @@ def add_region_moments(pts, labels, lo, hi, sums, ref, clamp,
     first as its ``ref`` (for fresh sums: each region's first point in row-major order)."""
     N = pts.shape[0]
     cur = -1
-    n = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    m = NO_MOMENTS
     rx = ry = rz = 0.0
     for p in range(N):
         lab = labels[p]
@@ -502,58 +537,51 @@ def add_region_moments(pts, labels, lo, hi, sums, ref, clamp,
             continue
         if lab != cur:
             if cur >= 0:
-                sums[cur, 0] = n
-                sums[cur, 1] = s1
-                sums[cur, 2] = s2
-                sums[cur, 3] = s3
-                sums[cur, 4] = s4
-                sums[cur, 5] = s5
-                sums[cur, 6] = s6
-                sums[cur, 7] = s7
-                sums[cur, 8] = s8
-                sums[cur, 9] = s9
+                moments_store(sums, cur, m)
             cur = lab
             if first_ref and sums[cur, 0] == 0.0:
                 ref[cur, 0] = pts[p, 0]
                 ref[cur, 1] = pts[p, 1]
                 ref[cur, 2] = pts[p, 2]
-            n = sums[cur, 0]
-            s1 = sums[cur, 1]
-            s2 = sums[cur, 2]
-            s3 = sums[cur, 3]
-            s4 = sums[cur, 4]
-            s5 = sums[cur, 5]
-            s6 = sums[cur, 6]
-            s7 = sums[cur, 7]
-            s8 = sums[cur, 8]
-            s9 = sums[cur, 9]
+            m = moments_load(sums, cur)
             rx = ref[cur, 0]
             ry = ref[cur, 1]
             rz = ref[cur, 2]
-        x = pts[p, 0] - rx
-        y = pts[p, 1] - ry
-        z = pts[p, 2] - rz
-        n += 1.0
-        s1 += x
-        s2 += y
-        s3 += z
-        s4 += x * x
-        s5 += x * y
-        s6 += x * z
-        s7 += y * y
-        s8 += y * z
-        s9 += z * z
+        m = moments_add(m, pts[p, 0] - rx, pts[p, 1] - ry, pts[p, 2] - rz)
     if cur >= 0:
-        sums[cur, 0] = n
-        sums[cur, 1] = s1
-        sums[cur, 2] = s2
-        sums[cur, 3] = s3
-        sums[cur, 4] = s4
-        sums[cur, 5] = s5
-        sums[cur, 6] = s6
-        sums[cur, 7] = s7
-        sums[cur, 8] = s8
-        sums[cur, 9] = s9
+        moments_store(sums, cur, m)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def index_moments(pts, idx, rows, sums, ref):  # pragma: no cover - compiled
+    """Add the moments of the points ``pts[idx[t]]`` to row ``rows[t]`` of ``sums`` (-1: none),
+    in the order of ``idx``; a row whose count is still 0 takes its first point as its ``ref``.
+    With ``idx`` ascending (or ascending within disjoint groups of rows) this is what
+    :func:`add_region_moments` with ``first_ref`` gives for those rows, without a pass over
+    the whole image."""
+    cur = -1
+    m = NO_MOMENTS
+    rx = ry = rz = 0.0
+    for t in range(idx.shape[0]):
+        r = rows[t]
+        if r < 0:
+            continue
+        p = idx[t]
+        if r != cur:
+            if cur >= 0:
+                moments_store(sums, cur, m)
+            cur = r
+            if sums[r, 0] == 0.0:
+                ref[r, 0] = pts[p, 0]
+                ref[r, 1] = pts[p, 1]
+                ref[r, 2] = pts[p, 2]
+            m = moments_load(sums, r)
+            rx = ref[r, 0]
+            ry = ref[r, 1]
+            rz = ref[r, 2]
+        m = moments_add(m, pts[p, 0] - rx, pts[p, 1] - ry, pts[p, 2] - rz)
+    if cur >= 0:
+        moments_store(sums, cur, m)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

@@ -62,3 +62,49 @@ def patch_noise(z, step, patch, q):  # pragma: no cover - compiled
             sd[n] = np.sqrt(ss / dof) * zm * zm
             n += 1
     return zc[:n], sd[:n]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def sorted_median(v, lo, hi):  # pragma: no cover - compiled
+    """``np.median(v[lo:hi])`` of an ascending ``v``: the middle value, or the mean of the two
+    middle values computed as numpy does (``(a + b) / 2``)."""
+    n = hi - lo
+    k = lo + n // 2
+    if n % 2 == 1:
+        return v[k]
+    return (v[k - 1] + v[k]) / 2.0
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def band_quantiles(zc, sd, bz, nb, size, c2, quad, q, factor):  # pragma: no cover - compiled
+    """Per depth band ``b`` (the patches ``b * size .. (b + 1) * size - 1`` of ``zc``, ``sd``):
+    the ``q`` quantile (numpy's default ``"linear"`` method) of the patches' std carried to the
+    band's depth ``bz[b]`` under the model ``sqrt(c2 + (quad z^2)^2)``, times ``factor``.  The
+    statements of :func:`planerel.segment.noise.estimate_noise` (``np.quantile`` of ``sd *
+    shape``) in the same operations, without numpy's per-call overhead."""
+    out = np.empty(nb)
+    vals = np.empty(size)
+    vi = (size - 1) * q
+    lo = int(np.floor(vi))
+    g = vi - lo
+    for b in range(nb):
+        t = quad * (bz[b] * bz[b])
+        num = np.sqrt(c2 + t * t)
+        for i in range(size):
+            k = b * size + i
+            u = quad * zc[k] * zc[k]
+            vals[i] = sd[k] * (num / np.sqrt(c2 + u * u))
+        # the order statistics lo and lo + 1 (numpy partitions for them too)
+        part = np.partition(vals, lo)
+        a = part[lo]
+        c = part[lo + 1]
+        for i in range(lo + 2, size):
+            if part[i] < c:
+                c = part[i]
+        d = c - a
+        if g >= 0.5:
+            r = c - d * (1 - g)
+        else:
+            r = a + d * g
+        out[b] = r * factor
+    return out

@@ -13,6 +13,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from planerel.segment._kernels import NO_MOMENTS, moments_add, moments_load, moments_store
+
 __all__ = ["label_counts", "free_patches", "depth_scales", "assign_parts", "part_pieces",
            "absorb_small", "merge_stats", "absorb_relabel", "fit_counts", "relabel_moments"]
 
@@ -433,7 +435,7 @@ def absorb_relabel(pts, labels, gone, keep_rest, cand_ptr, cand_idx, planes, thr
     # the current row's totals stay in registers until the row changes (the same additions in
     # the same order, as in planerel.segment._kernels.add_region_moments)
     cur = -1
-    n = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    m = NO_MOMENTS
     rx = ry = rz = 0.0
     for p in range(N):
         t = labels[p]
@@ -463,56 +465,17 @@ def absorb_relabel(pts, labels, gone, keep_rest, cand_ptr, cand_idx, planes, thr
         if r >= 0:
             if r != cur:
                 if cur >= 0:
-                    sums[cur, 0] = n
-                    sums[cur, 1] = s1
-                    sums[cur, 2] = s2
-                    sums[cur, 3] = s3
-                    sums[cur, 4] = s4
-                    sums[cur, 5] = s5
-                    sums[cur, 6] = s6
-                    sums[cur, 7] = s7
-                    sums[cur, 8] = s8
-                    sums[cur, 9] = s9
+                    moments_store(sums, cur, m)
                 cur = r
-                n = sums[r, 0]
-                s1 = sums[r, 1]
-                s2 = sums[r, 2]
-                s3 = sums[r, 3]
-                s4 = sums[r, 4]
-                s5 = sums[r, 5]
-                s6 = sums[r, 6]
-                s7 = sums[r, 7]
-                s8 = sums[r, 8]
-                s9 = sums[r, 9]
+                m = moments_load(sums, r)
                 rx = ref[r, 0]
                 ry = ref[r, 1]
                 rz = ref[r, 2]
-            dx = x - rx
-            dy = y - ry
-            dz = z - rz
-            n += 1.0
-            s1 += dx
-            s2 += dy
-            s3 += dz
-            s4 += dx * dx
-            s5 += dx * dy
-            s6 += dx * dz
-            s7 += dy * dy
-            s8 += dy * dz
-            s9 += dz * dz
+            m = moments_add(m, x - rx, y - ry, z - rz)
             if labels[p] != t:
                 got[r] += 1
     if cur >= 0:
-        sums[cur, 0] = n
-        sums[cur, 1] = s1
-        sums[cur, 2] = s2
-        sums[cur, 3] = s3
-        sums[cur, 4] = s4
-        sums[cur, 5] = s5
-        sums[cur, 6] = s6
-        sums[cur, 7] = s7
-        sums[cur, 8] = s8
-        sums[cur, 9] = s9
+        moments_store(sums, cur, m)
     return out, lost, got
 
 
@@ -559,7 +522,7 @@ def relabel_moments(labels, remap, row, pts, nrow):  # pragma: no cover - compil
     # the current row's totals stay in registers until the row changes (the same additions in
     # the same order, as in planerel.segment._kernels.add_region_moments)
     cur = -1
-    n = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    m = NO_MOMENTS
     rx = ry = rz = 0.0
     for p in range(N):
         lab = labels[p] + 1
@@ -569,56 +532,17 @@ def relabel_moments(labels, remap, row, pts, nrow):  # pragma: no cover - compil
             continue
         if r != cur:
             if cur >= 0:
-                sums[cur, 0] = n
-                sums[cur, 1] = s1
-                sums[cur, 2] = s2
-                sums[cur, 3] = s3
-                sums[cur, 4] = s4
-                sums[cur, 5] = s5
-                sums[cur, 6] = s6
-                sums[cur, 7] = s7
-                sums[cur, 8] = s8
-                sums[cur, 9] = s9
+                moments_store(sums, cur, m)
             cur = r
             if sums[r, 0] == 0.0:  # the row's first point is its reference
                 ref[r, 0] = pts[p, 0]
                 ref[r, 1] = pts[p, 1]
                 ref[r, 2] = pts[p, 2]
-            n = sums[r, 0]
-            s1 = sums[r, 1]
-            s2 = sums[r, 2]
-            s3 = sums[r, 3]
-            s4 = sums[r, 4]
-            s5 = sums[r, 5]
-            s6 = sums[r, 6]
-            s7 = sums[r, 7]
-            s8 = sums[r, 8]
-            s9 = sums[r, 9]
+            m = moments_load(sums, r)
             rx = ref[r, 0]
             ry = ref[r, 1]
             rz = ref[r, 2]
-        x = pts[p, 0] - rx
-        y = pts[p, 1] - ry
-        z = pts[p, 2] - rz
-        n += 1.0
-        s1 += x
-        s2 += y
-        s3 += z
-        s4 += x * x
-        s5 += x * y
-        s6 += x * z
-        s7 += y * y
-        s8 += y * z
-        s9 += z * z
+        m = moments_add(m, pts[p, 0] - rx, pts[p, 1] - ry, pts[p, 2] - rz)
     if cur >= 0:
-        sums[cur, 0] = n
-        sums[cur, 1] = s1
-        sums[cur, 2] = s2
-        sums[cur, 3] = s3
-        sums[cur, 4] = s4
-        sums[cur, 5] = s5
-        sums[cur, 6] = s6
-        sums[cur, 7] = s7
-        sums[cur, 8] = s8
-        sums[cur, 9] = s9
+        moments_store(sums, cur, m)
     return out, sums, ref

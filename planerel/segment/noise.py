@@ -175,7 +175,7 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES)
         return empty
     step = max(patch, int(math.ceil(math.sqrt((h - patch + 1) * (w - patch + 1) / max_patches))))
     # the patches' plane fits in one compiled pass over the image (no window copies)
-    from planerel.segment._noise_kernels import patch_noise
+    from planerel.segment._noise_kernels import band_quantiles, patch_noise, sorted_median
 
     zc, sd = patch_noise(xyz[:, :, 2], int(step), int(patch),
                          _slopes(patch))
@@ -187,22 +187,21 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES)
     nb = max(1, min(MAX_BANDS, n // MIN_PER_BAND))
     size = n // nb  # equal bands of consecutive depths (the last n % nb patches are left out)
     zc, sd = zc[:nb * size], sd[:nb * size]
-    bz_a = np.median(zc.reshape(nb, size), axis=1)
-    band = np.repeat(np.arange(nb), size)
+    # the bands' medians (np.median of sorted rows)
+    bz_a = np.array([sorted_median(zc, b * size, (b + 1) * size) for b in range(nb)])
     const, quad = 1.0, 0.0
     for _ in range(2):
         # each patch's std carried to its band's depth under the current model's shape (the
         # first pass assumes none), so that a band spanning a wide range of depths -- or a gap
-        # between two surfaces -- is not biased towards its nearer patches
-        shape = np.sqrt(const ** 2 + (quad * bz_a[band] ** 2) ** 2) / np.sqrt(
-            const ** 2 + (quad * zc * zc) ** 2)
-        t = (sd * shape).reshape(nb, size)
-        bs_a = np.quantile(t, QUANTILE, axis=1) * QUANTILE_TO_MEDIAN
+        # between two surfaces -- is not biased towards its nearer patches; per band the
+        # QUANTILE quantile (np.quantile's, compiled)
+        bs_a = band_quantiles(zc, sd, bz_a, nb, size, const ** 2, quad, QUANTILE,
+                              QUANTILE_TO_MEDIAN)
         const, quad = _fit(bz_a, bs_a)
         if const == 0 and quad == 0:
             break
     bz, bs = bz_a.tolist(), bs_a.tolist()
-    zmed = float(np.median(zc))
+    zmed = float(sorted_median(zc, 0, len(zc)))
     model = NoiseModel("none", const, quad, zmed, float(zc[0]), float(zc[-1]), pa, n,
                        tuple(zip(bz, bs, strict=True)))
     if model.pixels() < NONE_PIXELS:
