@@ -28,7 +28,6 @@ __all__ = [
     "region_sums",
     "region_sums_into",
     "add_region_moments",
-    "index_moments",
     "fit_planes_kernel",
     "planes_from_sums",
     "spread_of_moments",
@@ -547,38 +546,6 @@ def add_region_moments(pts, labels, lo, hi, sums, ref, clamp,
             rx = ref[cur, 0]
             ry = ref[cur, 1]
             rz = ref[cur, 2]
-        m = moments_add(m, pts[p, 0] - rx, pts[p, 1] - ry, pts[p, 2] - rz)
-    if cur >= 0:
-        moments_store(sums, cur, m)
-
-
-@njit(cache=True, nogil=True, error_model="numpy")
-def index_moments(pts, idx, rows, sums, ref):  # pragma: no cover - compiled
-    """Add the moments of the points ``pts[idx[t]]`` to row ``rows[t]`` of ``sums`` (-1: none),
-    in the order of ``idx``; a row whose count is still 0 takes its first point as its ``ref``.
-    With ``idx`` ascending (or ascending within disjoint groups of rows) this is what
-    :func:`add_region_moments` with ``first_ref`` gives for those rows, without a pass over
-    the whole image."""
-    cur = -1
-    m = NO_MOMENTS
-    rx = ry = rz = 0.0
-    for t in range(idx.shape[0]):
-        r = rows[t]
-        if r < 0:
-            continue
-        p = idx[t]
-        if r != cur:
-            if cur >= 0:
-                moments_store(sums, cur, m)
-            cur = r
-            if sums[r, 0] == 0.0:
-                ref[r, 0] = pts[p, 0]
-                ref[r, 1] = pts[p, 1]
-                ref[r, 2] = pts[p, 2]
-            m = moments_load(sums, r)
-            rx = ref[r, 0]
-            ry = ref[r, 1]
-            rz = ref[r, 2]
         m = moments_add(m, pts[p, 0] - rx, pts[p, 1] - ry, pts[p, 2] - rz)
     if cur >= 0:
         moments_store(sums, cur, m)

@@ -16,7 +16,7 @@ from numba import njit
 from planerel.segment._kernels import NO_MOMENTS, moments_add, moments_load, moments_store
 
 __all__ = ["label_counts", "free_patches", "depth_scales", "assign_parts", "part_pieces",
-           "absorb_small", "merge_stats", "absorb_relabel", "fit_counts", "relabel_moments"]
+           "absorb_small", "merge_stats", "ransac_hypotheses", "absorb_relabel", "fit_counts", "relabel_moments"]
 
 
 @njit(cache=True, nogil=True)
@@ -75,6 +75,64 @@ def assign_parts(P, zs, planes, assign_sigmas):  # pragma: no cover - compiled
                 bj = j
         part[i] = bj if best <= assign_sigmas else -1
     return cost, part
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def ransac_hypotheses(Q, tri, N, pick):  # pragma: no cover - compiled
+    """The hypothesis planes of :func:`planerel.segment.split._ransac`: one through each
+    point triple ``Q[tri[t]]`` (``tri`` (t, 3)), then one through each point ``Q[pick[t]]``
+    with its normal ``N[pick[t]]`` (``N`` (m, 3) float64, may be empty with ``pick``); a
+    triple on a line or a zero normal gives none.  Returns the unit normals (h, 3) and offsets
+    (h,) with the numpy statements' roundings: cross products as ``u1 v2 - u2 v1`` ...,
+    lengths ``sqrt(x^2 + y^2 + z^2)`` (``np.linalg.norm(axis=1)``), offsets ``-((n0 p0 + n2 p2)
+    + n1 p1)`` (``np.einsum("ij,ij->i")``'s order for three columns)."""
+    k = tri.shape[0] + pick.shape[0]
+    Hn = np.empty((k, 3))
+    P = np.empty((k, 3))
+    h = 0
+    for t in range(tri.shape[0]):
+        i0 = tri[t, 0]
+        i1 = tri[t, 1]
+        i2 = tri[t, 2]
+        ax = Q[i0, 0]
+        ay = Q[i0, 1]
+        az = Q[i0, 2]
+        ux = Q[i1, 0] - ax
+        uy = Q[i1, 1] - ay
+        uz = Q[i1, 2] - az
+        vx = Q[i2, 0] - ax
+        vy = Q[i2, 1] - ay
+        vz = Q[i2, 2] - az
+        c0 = uy * vz - uz * vy
+        c1 = uz * vx - ux * vz
+        c2 = ux * vy - uy * vx
+        ln = np.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+        if ln > 1e-12:
+            Hn[h, 0] = c0 / ln
+            Hn[h, 1] = c1 / ln
+            Hn[h, 2] = c2 / ln
+            P[h, 0] = ax
+            P[h, 1] = ay
+            P[h, 2] = az
+            h += 1
+    for t in range(pick.shape[0]):
+        j = pick[t]
+        a = N[j, 0]
+        b = N[j, 1]
+        c = N[j, 2]
+        ln = np.sqrt(a * a + b * b + c * c)
+        if ln > 1e-12:
+            Hn[h, 0] = a / ln
+            Hn[h, 1] = b / ln
+            Hn[h, 2] = c / ln
+            P[h, 0] = Q[j, 0]
+            P[h, 1] = Q[j, 1]
+            P[h, 2] = Q[j, 2]
+            h += 1
+    Ho = np.empty(h)
+    for t in range(h):
+        Ho[t] = -((Hn[t, 0] * P[t, 0] + Hn[t, 2] * P[t, 2]) + Hn[t, 1] * P[t, 1])
+    return Hn[:h], Ho
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

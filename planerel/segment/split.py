@@ -609,11 +609,16 @@ def _cellmap(pix):
     return cm
 
 
+#: No normal hypotheses (:func:`_ransac`).
+_NO_PICK = np.zeros(0, dtype=np.int64)
+_NO_NORMALS = np.zeros((0, 3))
+
+
 def _ransac(Q, zs, N, p: SplitParams, rng, finite=None):
     """Best plane (normal, offset) of points ``Q`` (m, 3) by seeded RANSAC: three-point and
     point-with-normal hypotheses scored on a regular sample by their inlier count.  ``finite``
     (m,) bool: the rows of ``N`` that are all finite, when the caller has them."""
-    from planerel.segment._post_kernels import ransac_scores
+    from planerel.segment._post_kernels import ransac_hypotheses, ransac_scores
 
     m = len(Q)
     step = max(1, m // p.sample)
@@ -621,33 +626,17 @@ def _ransac(Q, zs, N, p: SplitParams, rng, finite=None):
     Sz = zs[::step]
     n3 = p.hypotheses if N is None else (p.hypotheses + 1) // 2
     tri = rng.integers(0, m, size=(n3, 3))
-    a, b, c = Q.take(tri[:, 0], axis=0), Q.take(tri[:, 1], axis=0), Q.take(tri[:, 2], axis=0)
-    u, v = b - a, c - a
-    # np.cross(u, v) by its own elementwise statements, without its axis handling
-    cr = np.empty_like(u)
-    np.multiply(u[:, 1], v[:, 2], out=cr[:, 0])
-    cr[:, 0] -= u[:, 2] * v[:, 1]
-    np.multiply(u[:, 2], v[:, 0], out=cr[:, 1])
-    cr[:, 1] -= u[:, 0] * v[:, 2]
-    np.multiply(u[:, 0], v[:, 1], out=cr[:, 2])
-    cr[:, 2] -= u[:, 1] * v[:, 0]
-    ln = np.linalg.norm(cr, axis=1)
-    ok = ln > 1e-12
-    hyp_n = [cr[ok] / ln[ok, None]]
-    hyp_p = [a[ok]]
+    pick, NN = _NO_PICK, _NO_NORMALS
     if N is not None and p.hypotheses > n3:
         good = np.flatnonzero(np.all(np.isfinite(N), axis=1) if finite is None else finite)
         if len(good):
             pick = good[rng.integers(0, len(good), size=p.hypotheses - n3)]
-            nn = N.take(pick, axis=0)
-            ln = np.linalg.norm(nn, axis=1)
-            ok = ln > 1e-12
-            hyp_n.append(nn[ok] / ln[ok, None])
-            hyp_p.append(Q.take(pick[ok], axis=0))
-    Hn = np.concatenate(hyp_n)
+            NN = np.ascontiguousarray(N, dtype=np.float64)
+    # the planes through the triples (cross products) and through the picked points with
+    # their normals, compiled in the numpy statements' operations
+    Hn, Ho = ransac_hypotheses(np.ascontiguousarray(Q, dtype=np.float64), tri, NN, pick)
     if len(Hn) == 0:
         return None
-    Ho = -np.einsum("ij,ij->i", Hn, np.concatenate(hyp_p))
     score = ransac_scores(np.ascontiguousarray(S), np.ascontiguousarray(Sz), Hn, Ho,
                           float(p.inlier_sigmas))
     j = int(np.argmax(score))
