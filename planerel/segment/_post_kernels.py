@@ -16,7 +16,8 @@ from numba import njit
 from planerel.segment._kernels import NO_MOMENTS, moments_add, moments_load, moments_store
 
 __all__ = ["label_counts", "free_patches", "depth_scales", "assign_parts", "part_pieces",
-           "absorb_small", "merge_stats", "ransac_hypotheses", "absorb_relabel", "fit_counts", "relabel_moments"]
+           "absorb_small", "merge_stats", "ransac_hypotheses", "absorb_relabel", "fit_counts",
+           "relabel_moments", "relabel", "group_moments"]
 
 
 @njit(cache=True, nogil=True)
@@ -604,3 +605,47 @@ def relabel_moments(labels, remap, row, pts, nrow):  # pragma: no cover - compil
     if cur >= 0:
         moments_store(sums, cur, m)
     return out, sums, ref
+
+
+@njit(cache=True, nogil=True)
+def relabel(labels, remap):  # pragma: no cover - compiled
+    """``remap[labels + 1]`` (N,) int32 of ``labels`` (N,) int32 (-1 none)."""
+    N = labels.shape[0]
+    out = np.empty(N, dtype=np.int32)
+    for p in range(N):
+        out[p] = remap[labels[p] + 1]
+    return out
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def group_moments(pts, pix, labels, row, owner, g, sums, ref):  # pragma: no cover - compiled
+    """Add to ``sums`` / ``ref`` the moments of the pixels ``pix`` (ascending) whose label
+    ``l`` belongs to group ``g`` (``owner[l + 1] == g``), to row ``row[l + 1]``; a row whose
+    count is still 0 takes its first point as its reference.  When every pixel of those rows
+    lies in ``pix`` this is what :func:`relabel_moments` sums for them."""
+    cur = -1
+    m = NO_MOMENTS
+    rx = ry = rz = 0.0
+    for t in range(pix.shape[0]):
+        p = pix[t]
+        lab = labels[p] + 1
+        if owner[lab] != g:
+            continue
+        r = row[lab]
+        if r < 0:
+            continue
+        if r != cur:
+            if cur >= 0:
+                moments_store(sums, cur, m)
+            cur = r
+            if sums[r, 0] == 0.0:
+                ref[r, 0] = pts[p, 0]
+                ref[r, 1] = pts[p, 1]
+                ref[r, 2] = pts[p, 2]
+            m = moments_load(sums, r)
+            rx = ref[r, 0]
+            ry = ref[r, 1]
+            rz = ref[r, 2]
+        m = moments_add(m, pts[p, 0] - rx, pts[p, 1] - ry, pts[p, 2] - rz)
+    if cur >= 0:
+        moments_store(sums, cur, m)

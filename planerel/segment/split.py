@@ -299,6 +299,10 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
 
     new_lab = None
     extra: dict[int, list] = {}
+    # the pixels whose labels changed, per split region or leftover patch, and the labels
+    # each group's pixels now carry (its refitted regions: none has a pixel outside it)
+    changed: list[np.ndarray] = []
+    owned: list[list[int]] = []
     next_id = n
     n_unassigned = 0
     sensor_scale = 1.0
@@ -338,6 +342,8 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
             ids[rank[0]] = r
             ids[rank[1:]] = next_id + np.arange(k - 1)
             extra[int(r)] = list(range(next_id, next_id + k - 1))
+            changed.append(pix)
+            owned.append([int(r), *extra[int(r)]])
             next_id += k - 1
             new_lab[pix] = np.where(piece >= 0, ids[np.maximum(piece, 0)], -1)
             n_unassigned += int((piece < 0).sum())
@@ -362,6 +368,8 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
             k = int(piece.max()) + 1
             new_lab[pix] = np.where(piece >= 0, next_id + piece, -1)
             leftover_ids.extend(range(next_id, next_id + k))
+            changed.append(pix)
+            owned.append(list(range(next_id, next_id + k)))
             next_id += k
             info["leftover_regions"] += k
     if new_lab is None:
@@ -376,11 +384,12 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     remap = np.full(next_id + 1, -1, dtype=np.int32)
     remap[np.array(final_order, dtype=np.int64) + 1] = np.arange(next_id, dtype=np.int32)
     # refit only the regions whose pixels changed (split regions and leftover patches), from
-    # all their pixels in pixel order (the sums of a full refit), in the relabelling's pass
+    # all their pixels in pixel order (the sums of a full refit), visiting only those pixels
     refit = [new for new, old in enumerate(final_order) if old >= n or old in extra]
     sub = np.full(next_id + 1, -1, dtype=np.int64)
     sub[np.array(refit, dtype=np.int64) + 1] = np.arange(len(refit))
-    out, fits = _relabel_refit(new_lab, remap, sub[remap + 1], xyz_flat, len(refit))
+    out, fits = _relabel_refit_changed(new_lab, remap, sub[remap + 1], xyz_flat, len(refit),
+                                       changed, owned)
     fit_of = dict(zip(refit, fits, strict=True))
     planes = tuple(fit_of[new].with_id(new) if new in fit_of else seg.planes[old].with_id(new)
                    for new, old in enumerate(final_order))
@@ -398,6 +407,29 @@ def _relabel_refit(labels, remap, row, xyz_flat, nrow):
                                      np.ascontiguousarray(remap, dtype=np.int32),
                                      np.ascontiguousarray(row, dtype=np.int64),
                                      np.ascontiguousarray(xyz_flat), int(nrow))
+    return out, SegPlane.from_fits(*planes_from_sums(sums, ref, int(nrow)))
+
+
+def _relabel_refit_changed(labels, remap, row, xyz_flat, nrow, changed, owned):
+    """:func:`_relabel_refit` when the regions to refit lie in known pixel groups: ``changed``
+    (ascending flat pixels per group) and ``owned`` (the labels, before ``remap``, of each
+    group's regions; no pixel of them lies outside the group).  Each row's points are summed
+    in pixel order from its group's pixels alone (the same additions as the whole image's
+    pass), and the image is only relabelled."""
+    from planerel.segment._kernels import planes_from_sums
+    from planerel.segment._post_kernels import group_moments, relabel
+
+    labels = np.ascontiguousarray(labels, dtype=np.int32)
+    out = relabel(labels, np.ascontiguousarray(remap, dtype=np.int32))
+    owner = np.full(len(remap), -1, dtype=np.int64)
+    for g, ids in enumerate(owned):
+        owner[np.array(ids, dtype=np.int64) + 1] = g
+    row = np.ascontiguousarray(row, dtype=np.int64)
+    sums = np.zeros((int(nrow), 10))
+    ref = np.zeros((int(nrow), 3))
+    pts = np.ascontiguousarray(xyz_flat)
+    for g, pix in enumerate(changed):
+        group_moments(pts, pix, labels, row, owner, g, sums, ref)
     return out, SegPlane.from_fits(*planes_from_sums(sums, ref, int(nrow)))
 
 
