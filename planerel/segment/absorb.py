@@ -109,7 +109,8 @@ def _absorb(cloud, seg, Ls, Xs, pairs, refine_factor, fraction, min_size,
         return same
     labels = seg.labels
     h, w = labels.shape
-    size = np.array([p.n_points for p in seg.planes], dtype=np.int64)
+    sizes = [p.n_points for p in seg.planes]  # Python ints: compared pair by pair below
+    size = np.array(sizes, dtype=np.int64)
     nbrs: list[list[int]] = [[] for _ in range(n)]
     for a, b in pairs:
         nbrs[a].append(b)
@@ -132,7 +133,7 @@ def _absorb(cloud, seg, Ls, Xs, pairs, refine_factor, fraction, min_size,
     thr = refine_factor * np.maximum(np.minimum(rms, bound), RMS_FLOOR)
     planes4 = np.ascontiguousarray(np.column_stack([normal, offset]))
     # candidates of a region: its touching neighbours that are larger (CSR, ascending)
-    cands = [sorted(j for j in nbrs[r] if size[j] > size[r]) for r in range(n)]
+    cands = [sorted(j for j in nbrs[r] if sizes[j] > sizes[r]) for r in range(n)]
     ptr = np.cumsum([0] + [len(c) for c in cands]).astype(np.int64)
     idx = np.array([j for c in cands for j in c], dtype=np.int64)
     if len(idx) == 0:
@@ -145,7 +146,7 @@ def _absorb(cloud, seg, Ls, Xs, pairs, refine_factor, fraction, min_size,
     facet = _facets(normal, pairs, n)
     gone = np.zeros(n, dtype=bool)
     rest = np.zeros(n, dtype=bool)
-    for r in sorted(range(n), key=lambda i: (-size[i], i)):  # largest first
+    for r in sorted(range(n), key=lambda i: (-sizes[i], i)):  # largest first
         c = cands[r]
         if not c or tot[r] == 0 or facet[r]:
             continue

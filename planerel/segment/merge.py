@@ -198,26 +198,29 @@ def _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0):
     of that and the groups' own RMS: a real sensor's large plane is bent by more than its
     noise (a Kinect floor), and its pieces are still one surface when their union fits about
     as well as each piece alone."""
-    cand = sorted(edges)
-    if not cand:
+    if not edges:
         return None
-    A = np.array([c[0] for c in cand])
-    B = np.array([c[1] for c in cand])
-    ok = np.abs(np.einsum("ij,ij->i", normal[A], normal[B])) >= cos_max
+    cand = np.array(sorted(edges), dtype=np.int64)
+    A, B = cand[:, 0], cand[:, 1]
+    # |cos| of the normals' angle, once (einsum's row values do not depend on the other rows)
+    dots = np.abs(np.einsum("ij,ij->i", normal[A], normal[B]))
+    ok = dots >= cos_max
     if not ok.any():
         return None
-    A, B = A[ok], B[ok]
+    A, B, dots = A[ok], B[ok], dots[ok]
     m = cnt[A] + cnt[B]
     c = (s1[A] + s1[B]) / m[:, None]
     cov = (s2[A] + s2[B]) / m[:, None, None] - np.einsum("ki,kj->kij", c, c)
     w, v = np.linalg.eigh(cov)
     rms = np.sqrt(np.maximum(w[:, 0], 0.0))
     ref = np.sqrt((sv[A] + sv[B]) / m)
-    par = np.abs(np.einsum("ij,ij->i", normal[A], normal[B])) >= cos_par
+    par = dots >= cos_par
     if par.any():
-        own = np.maximum(_rms_of(cnt[A[par]], s1[A[par]], s2[A[par]]),
-                         _rms_of(cnt[B[par]], s1[B[par]], s2[B[par]]))
-        ref[par] = np.maximum(ref[par], own)
+        # both sides' own RMS in one batch of 3x3 eigenvalue problems
+        k = int(par.sum())
+        G = np.concatenate([A[par], B[par]])
+        own = _rms_of(cnt[G], s1[G], s2[G])
+        ref[par] = np.maximum(ref[par], np.maximum(own[:k], own[k:]))
     ratio = rms / np.maximum(ref, 1e-12)
     j = int(np.argmin(ratio))
     if ratio[j] > tolerance:
