@@ -10,7 +10,7 @@ from planerel.errors import InputError
 from planerel.io.cloud import Cloud, Intrinsics
 from planerel.segment import make_params, segment
 from planerel.segment.adapt import FLOOR_SCALE, MIN_SIDE_SIGMAS, adapt_params
-from planerel.segment.noise import NoiseModel, estimate_noise
+from planerel.segment.noise import QUANTILE, NoiseModel, estimate_noise
 from planerel.segment.params import scaled_min_region_size
 
 W, H = 320, 240
@@ -221,3 +221,25 @@ def test_the_synthetic_worlds_sensor_models_are_recognised(sensor):
         assert m.kind == "z2" and m.quad == pytest.approx(quad, rel=0.08)
     else:
         assert m.kind == "uniform" and float(m.sigma(2.0)) == pytest.approx(0.010, rel=0.08)
+
+
+def test_band_statistics_kernels_equal_numpy():
+    """The compiled band medians and quantiles of the estimate equal ``np.median`` /
+    ``np.quantile`` of the former statements, bit for bit."""
+    from planerel.segment._noise_kernels import band_quantiles, sorted_median
+
+    rng = np.random.default_rng(7)
+    for nb, size in ((1, 60), (3, 61), (8, 517)):
+        zc = np.sort(rng.uniform(0.4, 6.0, nb * size))
+        sd = rng.gamma(2.0, 1e-3, nb * size)
+        bz = np.median(zc.reshape(nb, size), axis=1)
+        np.testing.assert_array_equal(
+            [sorted_median(zc, b * size, (b + 1) * size) for b in range(nb)], bz)
+        assert sorted_median(zc, 0, len(zc)) == np.median(zc)
+        band = np.repeat(np.arange(nb), size)
+        for const, quad in ((1.0, 0.0), (2e-3, 1.5e-3), (0.0, 3e-3)):
+            shape = np.sqrt(const ** 2 + (quad * bz[band] ** 2) ** 2) / np.sqrt(
+                const ** 2 + (quad * zc * zc) ** 2)
+            want = np.quantile((sd * shape).reshape(nb, size), QUANTILE, axis=1) * 1.0614
+            got = band_quantiles(zc, sd, bz, nb, size, const ** 2, quad, QUANTILE, 1.0614)
+            np.testing.assert_array_equal(got, want)

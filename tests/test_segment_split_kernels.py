@@ -178,6 +178,70 @@ def test_relabel_moments_equals_fit_planes_of_the_pixels(dtype):
         np.testing.assert_array_equal(g, w)
 
 
+def _ref_ransac_hypotheses(Q, tri, N, pick):
+    """The former numpy statements of ``split._ransac`` building the hypothesis planes."""
+    a, b, c = Q[tri[:, 0]], Q[tri[:, 1]], Q[tri[:, 2]]
+    u, v = b - a, c - a
+    cr = np.empty_like(u)
+    np.multiply(u[:, 1], v[:, 2], out=cr[:, 0])
+    cr[:, 0] -= u[:, 2] * v[:, 1]
+    np.multiply(u[:, 2], v[:, 0], out=cr[:, 1])
+    cr[:, 1] -= u[:, 0] * v[:, 2]
+    np.multiply(u[:, 0], v[:, 1], out=cr[:, 2])
+    cr[:, 2] -= u[:, 1] * v[:, 0]
+    ln = np.linalg.norm(cr, axis=1)
+    ok = ln > 1e-12
+    hyp_n, hyp_p = [cr[ok] / ln[ok, None]], [a[ok]]
+    if len(pick):
+        nn = N[pick]
+        ln = np.linalg.norm(nn, axis=1)
+        ok = ln > 1e-12
+        hyp_n.append(nn[ok] / ln[ok, None])
+        hyp_p.append(Q[pick[ok]])
+    Hn = np.concatenate(hyp_n)
+    return Hn, -np.einsum("ij,ij->i", Hn, np.concatenate(hyp_p))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_ransac_hypotheses_equal_the_numpy_statements(seed):
+    P, _ = _two_planes(3000, seed)
+    rng = np.random.default_rng(seed)
+    tri = rng.integers(0, len(P), size=(32, 3))
+    tri[0] = [5, 5, 7]  # a degenerate triple gives no plane
+    N = rng.normal(size=(len(P), 3))
+    N[3] = 0.0  # a zero normal gives none
+    pick = np.concatenate([[3], rng.integers(0, len(P), size=31)]).astype(np.int64)
+    for pk in (pick, np.zeros(0, dtype=np.int64)):
+        Hn, Ho = PK.ransac_hypotheses(P, tri, N, pk)
+        wHn, wHo = _ref_ransac_hypotheses(P, tri, N, pk)
+        np.testing.assert_array_equal(Hn, wHn)
+        np.testing.assert_array_equal(Ho, wHo)
+    assert len(Hn) == 31
+
+
+def test_group_moments_and_relabel_equal_relabel_moments():
+    rng = np.random.default_rng(4)
+    n_pix = 5000
+    labels = rng.integers(-1, 5, size=n_pix).astype(np.int32)
+    pts = rng.normal(size=(n_pix, 3)) + [0, 0, 3]
+    # regions 1 and 3 changed (pixel groups: region 1's pixels, then region 3's and those of
+    # region 4 that a later group claims), 2 of its pixels moved to 4 (owned by group 1)
+    g0 = np.flatnonzero(labels == 1)
+    g1 = np.flatnonzero((labels == 3) | (labels == 4))
+    labels[g0[:2]] = 4
+    remap = np.array([-1, 0, 1, 2, 3, 4], dtype=np.int32)
+    row = np.array([-1, -1, 0, -1, 1, 2], dtype=np.int64)
+    owner = np.array([-1, -1, 0, -1, 1, 1], dtype=np.int64)
+    g1 = np.union1d(g1, g0[:2])
+    sums, ref = np.zeros((3, 10)), np.zeros((3, 3))
+    for g, pix in enumerate((g0, g1)):
+        PK.group_moments(pts, pix, labels, row, owner, g, sums, ref)
+    wout, wsums, wref = _ref_relabel_moments(labels, remap, row, pts, 3)
+    np.testing.assert_array_equal(PK.relabel(labels, remap), wout)
+    np.testing.assert_array_equal(sums, wsums)
+    np.testing.assert_array_equal(ref, wref)
+
+
 # --- the whole post-processing --------------------------------------------------------------
 
 def _numpy_kernels(monkeypatch):
@@ -188,6 +252,7 @@ def _numpy_kernels(monkeypatch):
     monkeypatch.setattr(SK, "part_centroids", _ref_part_centroids)
     monkeypatch.setattr(SK, "sample_normals", _ref_sample_normals)
     monkeypatch.setattr(PK, "relabel_moments", _ref_relabel_moments)
+    monkeypatch.setattr(PK, "ransac_hypotheses", _ref_ransac_hypotheses)
 
 
 @pytest.mark.parametrize("adapt", [True, False])

@@ -484,14 +484,14 @@ def refine_grid_ws(pts, mask, W, labels, planes, thr, rounds, depth, qlev, ent, 
 NO_MOMENTS = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
-@njit(inline="always")
+@njit(inline="always", cache=True)
 def moments_load(sums, r):  # pragma: no cover - compiled
     """Row ``r`` of ``sums`` (nrow, 10) as a tuple (kept in registers by the callers' loops)."""
     return (sums[r, 0], sums[r, 1], sums[r, 2], sums[r, 3], sums[r, 4], sums[r, 5],
             sums[r, 6], sums[r, 7], sums[r, 8], sums[r, 9])
 
 
-@njit(inline="always")
+@njit(inline="always", cache=True)
 def moments_store(sums, r, m):  # pragma: no cover - compiled
     """Write the moments tuple ``m`` to row ``r`` of ``sums``."""
     sums[r, 0] = m[0]
@@ -506,7 +506,7 @@ def moments_store(sums, r, m):  # pragma: no cover - compiled
     sums[r, 9] = m[9]
 
 
-@njit(inline="always")
+@njit(inline="always", cache=True)
 def moments_add(m, x, y, z):  # pragma: no cover - compiled
     """The moments ``m`` plus one point ``(x, y, z)`` (relative to the row's reference): the
     one accumulation every moment kernel shares (the same additions in the same order)."""
