@@ -107,3 +107,53 @@ def test_wall_behind_boxes_stays_support():
     for obj in (1, 2):
         truth = np.isin(lab, [k for k, o in enumerate(objs) if o == obj])
         assert _best_iou(d, truth) >= 0.9
+
+
+def _ramp_scene(side_height=None, strips=24, angle=15.0, length=4.5, cx=-1.2, y0=1.4, **view):
+    """Floor, a ramp rising away from the camera and its +x side face: vertical strips from
+    the floor to the slope (``side_height`` None), or a wall of that height along the side.
+    The side's rectangles share one label."""
+    from scenes_analytic import ramp
+
+    a = np.radians(angle)
+    run, x = length * np.cos(a), cx + 0.5
+    if side_height is None:
+        dy = run / strips
+        side = [Rect((x, y0 + (k + 0.5) * dy, (k + 0.5) * dy * np.tan(a) / 2), (0, 1, 0), (0, 0, 1),
+                     dy / 2, (k + 0.5) * dy * np.tan(a) / 2, 1) for k in range(strips)]
+    else:
+        side = [Rect((x, y0 + run / 2, side_height / 2), (0, 1, 0), (0, 0, 1), run / 2 + 0.2,
+                     side_height / 2)]
+    rects = [floor(size=12.0)] + ramp(cx, y0, angle, length, 1.0) + side
+    cloud, lab, _up, _objs = render(rects, **{**VIEW, "pitch": 20, "cam_height": 1.6, **view})
+    first = 2  # floor 0, slope 1, then the side
+    is_side = np.isin(lab, range(first, first + len(side)))
+    lab = np.where(is_side, first, lab).astype(np.int32)
+    return cloud, lab, is_side
+
+
+def test_ramp_side_face_is_no_wall():
+    # a 4.5 m ramp of 15 degrees: its solid side face (2.4 m^2) follows the slope
+    cloud, lab, side = _ramp_scene()
+    d = describe_scene(cloud, lab)
+    face = next(q for q in d.planes if q.label == _label_of(lab, side))
+    slope = next(q for q in d.planes if q.label == 1)
+    assert face.orientation == "vertical" and face.area >= ProposalParams().support_min_area
+    assert slope.orientation == "inclined"
+    caps = [c for c in side_caps(face, [slope], d.planes.up, cloud.xyz, d.labels) if c[2]]
+    assert len(caps) >= 2 and all(above <= 0.10 for above, _t, _ in caps)
+    assert max(t for _a, t, _ in caps) - min(t for _a, t, _ in caps) >= 0.08  # it rises
+    assert face.label not in d.support
+    ramp_px = lab >= 1
+    assert _best_iou(d, ramp_px) >= 0.9
+    old = describe_scene(cloud, lab, proposal_params=ProposalParams(wall_test=False))
+    assert face.label in old.support and _best_iou(old, ramp_px) < 0.9
+
+
+def test_wall_beside_a_ramp_stays_support():
+    # a 1.6 m wall along the ramp's side rises above the slope everywhere
+    cloud, lab, side = _ramp_scene(side_height=1.6)
+    d = describe_scene(cloud, lab)
+    face = next(q for q in d.planes if q.label == _label_of(lab, side))
+    assert face.area >= ProposalParams().support_min_area
+    assert face.label in d.support

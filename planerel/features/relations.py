@@ -537,7 +537,7 @@ def support_planes(planes, params: ProposalParams | None = None, relations: Rela
 
 
 def _stepped_side(planes, face, support, relations, cloud, params) -> bool:
-    """A large vertical, non-floor plane that is the side of a stepped structure."""
+    """A large vertical, non-floor plane that is the side of a stepped (or sloped) structure."""
     from planerel.features.walls import stepped_side
 
     if face.orientation != "vertical" or face.is_floor:
@@ -545,7 +545,9 @@ def _stepped_side(planes, face, support, relations, cloud, params) -> bool:
     nbrs = [q for q in planes if q.label not in support and q.label != face.label
             and relations.get(face.label, q.label).adjacent
             and relations.get(face.label, q.label).perpendicular]
-    return len(nbrs) >= 2 and stepped_side(face, nbrs, planes.up, cloud.xyz, planes.labels,
+    # two steps, or one slope (it gives a cap per part of its extent along the face)
+    enough = len(nbrs) >= 2 or any(q.orientation == "inclined" for q in nbrs)
+    return enough and stepped_side(face, nbrs, planes.up, cloud.xyz, planes.labels,
                                            params.wall_tol, params.wall_window, params.step_rise_min)
 
 

@@ -7,11 +7,16 @@ into pieces.  The two differ at their top edge.  A wall reaches above the object
 it; the side of a stepped structure ends where its steps end: its top edge follows the
 treads, so above every riser and tread that meets it the face's top is that step's height.
 
+A solid ramp's side face (a 4 m ramp of 15 degrees has one of 2 m^2) is the same case: its
+top edge follows the slope.
+
 **Rule** (:func:`stepped_side`).  A large vertical plane ``V`` is the *side of a stepped
-structure*, not a wall, when, of the non-support planes perpendicular to it and adjacent to it
-(its *neighbours*), looking at ``V``'s points over each neighbour's extent along ``V`` (a
-riser's extent widened to ``+-window`` metres, a tread's shrunk by ``window`` at both ends so
-that the next step is not in it):
+(or sloped) structure*, not a wall, when, of the non-support planes perpendicular to it and
+adjacent to it (its *neighbours*), looking at ``V``'s points over each neighbour's extent
+along ``V`` (a riser's extent widened to ``+-window`` metres, a tread's shrunk by ``window``
+at both ends so that the next step is not in it; an inclined neighbour's extent, shrunk by
+``window``, cut in three equal parts, each compared with the slope's own top in it, like three
+steps):
 
 - at least two neighbours *cap* ``V``: ``V``'s top there (median of its three highest
   points) is at most ``tol`` metres above the neighbour's top, and the capping neighbours'
@@ -81,6 +86,9 @@ def side_caps(face, neighbours, up, xyz, labels, window: float = 0.05):
     pa, ph = pts @ along, pts @ up
     out = []
     for q in neighbours:
+        if q.orientation == "inclined":
+            out.extend(_slope_caps(q, pa, ph, inner, along, up, xyz, labels, window))
+            continue
         hull = np.asarray(q.hull3d, float)
         qa = hull @ along
         top = float((hull @ up).max())
@@ -89,6 +97,34 @@ def side_caps(face, neighbours, up, xyz, labels, window: float = 0.05):
         if sel.size < 3:
             out.append((float("nan"), top, False))
             continue
+        k = sel[np.argsort(ph[sel])[-3:]]
+        out.append((float(np.median(ph[k])) - top, top, bool(inner[k].all())))
+    return out
+
+
+def _slope_caps(q, pa, ph, inner, along, up, xyz, labels, window: float, parts: int = 3):
+    """Caps of an inclined neighbour ``q`` (a ramp's slope meeting the face): its extent along
+    the face in ``parts`` equal windows, each compared like a step with the face's top there
+    and with the slope's own top in it (median of its three highest points).  A slope rising
+    along the face gives caps at rising heights, as the treads of a flight do."""
+    rr, cc = np.nonzero(labels == q.label)
+    qp = np.asarray(xyz, float)[rr, cc]
+    qp = qp[np.isfinite(qp).all(axis=1)]
+    if len(qp) < 3 * parts:
+        return []
+    qa, qh = qp @ along, qp @ up
+    lo, hi = float(qa.min()) + window, float(qa.max()) - window
+    if hi - lo < parts * 2 * window:
+        return []
+    out = []
+    edges = np.linspace(lo, hi, parts + 1)
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        sel = np.nonzero((pa >= a) & (pa <= b))[0]
+        qs = qh[(qa >= a) & (qa <= b)]
+        if sel.size < 3 or qs.size < 3:
+            out.append((float("nan"), float("nan"), False))
+            continue
+        top = float(np.median(np.sort(qs)[-3:]))
         k = sel[np.argsort(ph[sel])[-3:]]
         out.append((float(np.median(ph[k])) - top, top, bool(inner[k].all())))
     return out
