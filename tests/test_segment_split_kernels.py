@@ -269,3 +269,21 @@ def test_segment_with_kernels_equals_the_numpy_path_on_a_bent_region(monkeypatch
         assert np.array_equal(a.normal, b.normal) and np.array_equal(a.centroid, b.centroid)
         assert (a.offset, a.rms, a.n_points) == (b.offset, b.rms, b.n_points)
     assert fast.info == ref.info
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("dtype", [np.int32, np.int64])
+def test_group_pixels_is_the_stable_sort_it_replaces(seed, dtype):
+    rng = np.random.default_rng(seed)
+    n = 12
+    lab = rng.integers(-1, n, size=5000).astype(dtype)
+    sel = np.zeros(n + 1, dtype=bool)
+    sel[rng.choice(n, size=5, replace=False) + 1] = True
+    sel[0] = bool(seed % 2)  # the unassigned pixels may be selected too
+    idx, starts = SK.group_pixels(lab, sel)
+    ref = np.flatnonzero(sel[lab + 1])
+    ref = ref[np.argsort(lab[ref], kind="stable")]
+    assert np.array_equal(idx, ref)
+    for r in range(-1, n):
+        pix = idx[starts[r + 1]:starts[r + 2]]
+        assert np.array_equal(pix, np.flatnonzero(lab == r) if sel[r + 1] else np.empty(0, int))

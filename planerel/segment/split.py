@@ -319,14 +319,14 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         with np.errstate(invalid="ignore"):
             bent = np.flatnonzero((rms > p.tolerance * exp_rms * scale) & (cnt >= 2 * min_size))
         info["split_tested"] = int(len(bent))
-        # the pixels of every tested region from one pass over the image (ascending per region)
+        # the pixels of every tested region, grouped by a counting sort (ascending per region)
+        from planerel.segment._split_kernels import group_pixels
+
         sel = np.zeros(n + 1, dtype=bool)
         sel[bent + 1] = True
-        idx = np.flatnonzero(sel[lab + 1])
-        idx = idx[np.argsort(lab[idx], kind="stable")]
-        bounds = np.searchsorted(lab[idx], np.concatenate([bent, bent + 1]))
-        for t, r in enumerate(bent):
-            pix = idx[bounds[t]:bounds[len(bent) + t]]
+        idx, starts = group_pixels(lab, sel)
+        for r in bent:
+            pix = idx[starts[r + 1]:starts[r + 2]]
             piece = _split_one(pix, xyz_flat, normals_of(pix), scale[r],
                                min_size, p, w, cloud.organized,
                                np.random.default_rng([p.seed, int(r)]), stats=info)
