@@ -514,6 +514,36 @@ def moments_add(m, x, y, z):  # pragma: no cover - compiled
             m[6] + x * z, m[7] + y * y, m[8] + y * z, m[9] + z * z)
 
 
+@njit(inline="always", cache=True)
+def moments_enter(sums, ref, cur, m, r, pts, p, take_ref):  # pragma: no cover - compiled
+    """Close the running row ``cur`` (store ``m``; none when ``cur < 0``) and open row ``r`` at
+    point ``p``: with ``take_ref`` a row whose count is still 0 takes ``pts[p]`` as its
+    reference.  Returns row ``r``'s moments and its reference ``(m, rx, ry, rz)``."""
+    if cur >= 0:
+        moments_store(sums, cur, m)
+    if take_ref and sums[r, 0] == 0.0:
+        ref[r, 0] = pts[p, 0]
+        ref[r, 1] = pts[p, 1]
+        ref[r, 2] = pts[p, 2]
+    return moments_load(sums, r), ref[r, 0], ref[r, 1], ref[r, 2]
+
+
+@njit(inline="always", cache=True)
+def plane_from_scatter(sxx, sxy, sxz, syy, syz, szz, cx, cy, cz):  # pragma: no cover - compiled
+    """Unit normal (3,) and offset of the plane through ``(cx, cy, cz)`` whose scatter about
+    that point has these entries: the smallest-eigenvalue eigenvector."""
+    cov = np.empty((3, 3))
+    cov[0, 0] = sxx
+    cov[0, 1] = cov[1, 0] = sxy
+    cov[0, 2] = cov[2, 0] = sxz
+    cov[1, 1] = syy
+    cov[1, 2] = cov[2, 1] = syz
+    cov[2, 2] = szz
+    _, vec = np.linalg.eigh(cov)
+    n = vec[:, 0].copy()
+    return n, -(n[0] * cx + n[1] * cy + n[2] * cz)
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
 def add_region_moments(pts, labels, lo, hi, sums, ref, clamp,
                        first_ref=False):  # pragma: no cover - compiled
@@ -535,17 +565,8 @@ def add_region_moments(pts, labels, lo, hi, sums, ref, clamp,
                 labels[p] = -1
             continue
         if lab != cur:
-            if cur >= 0:
-                moments_store(sums, cur, m)
+            m, rx, ry, rz = moments_enter(sums, ref, cur, m, lab, pts, p, first_ref)
             cur = lab
-            if first_ref and sums[cur, 0] == 0.0:
-                ref[cur, 0] = pts[p, 0]
-                ref[cur, 1] = pts[p, 1]
-                ref[cur, 2] = pts[p, 2]
-            m = moments_load(sums, cur)
-            rx = ref[cur, 0]
-            ry = ref[cur, 1]
-            rz = ref[cur, 2]
         m = moments_add(m, pts[p, 0] - rx, pts[p, 1] - ry, pts[p, 2] - rz)
     if cur >= 0:
         moments_store(sums, cur, m)

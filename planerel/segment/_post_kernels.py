@@ -13,7 +13,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from planerel.segment._kernels import NO_MOMENTS, moments_add, moments_load, moments_store
+from planerel.segment._kernels import (
+    NO_MOMENTS,
+    moments_add,
+    moments_enter,
+    moments_store,
+    plane_from_scatter,
+)
 
 __all__ = ["label_counts", "free_patches", "depth_scales", "assign_parts", "part_pieces",
            "absorb_small", "merge_stats", "ransac_hypotheses", "absorb_relabel", "fit_counts",
@@ -178,16 +184,7 @@ def plane_fit(P):  # pragma: no cover - compiled
         syy += y * y
         syz += y * z
         szz += z * z
-    cov = np.empty((3, 3))
-    cov[0, 0] = sxx
-    cov[0, 1] = cov[1, 0] = sxy
-    cov[0, 2] = cov[2, 0] = sxz
-    cov[1, 1] = syy
-    cov[1, 2] = cov[2, 1] = syz
-    cov[2, 2] = szz
-    _, vec = np.linalg.eigh(cov)
-    n = vec[:, 0].copy()
-    return n, -(n[0] * cx + n[1] * cy + n[2] * cz)
+    return plane_from_scatter(sxx, sxy, sxz, syy, syz, szz, cx, cy, cz)
 
 
 @njit(cache=True, nogil=True)
@@ -523,13 +520,8 @@ def absorb_relabel(pts, labels, gone, keep_rest, cand_ptr, cand_idx, planes, thr
         r = rec_row[t]
         if r >= 0:
             if r != cur:
-                if cur >= 0:
-                    moments_store(sums, cur, m)
+                m, rx, ry, rz = moments_enter(sums, ref, cur, m, r, pts, p, False)
                 cur = r
-                m = moments_load(sums, r)
-                rx = ref[r, 0]
-                ry = ref[r, 1]
-                rz = ref[r, 2]
             m = moments_add(m, x - rx, y - ry, z - rz)
             if labels[p] != t:
                 got[r] += 1
@@ -589,18 +581,9 @@ def relabel_moments(labels, remap, row, pts, nrow):  # pragma: no cover - compil
         r = row[lab]
         if r < 0:
             continue
-        if r != cur:
-            if cur >= 0:
-                moments_store(sums, cur, m)
+        if r != cur:  # the row's first point is its reference
+            m, rx, ry, rz = moments_enter(sums, ref, cur, m, r, pts, p, True)
             cur = r
-            if sums[r, 0] == 0.0:  # the row's first point is its reference
-                ref[r, 0] = pts[p, 0]
-                ref[r, 1] = pts[p, 1]
-                ref[r, 2] = pts[p, 2]
-            m = moments_load(sums, r)
-            rx = ref[r, 0]
-            ry = ref[r, 1]
-            rz = ref[r, 2]
         m = moments_add(m, pts[p, 0] - rx, pts[p, 1] - ry, pts[p, 2] - rz)
     if cur >= 0:
         moments_store(sums, cur, m)
@@ -635,17 +618,8 @@ def group_moments(pts, pix, labels, row, owner, g, sums, ref):  # pragma: no cov
         if r < 0:
             continue
         if r != cur:
-            if cur >= 0:
-                moments_store(sums, cur, m)
+            m, rx, ry, rz = moments_enter(sums, ref, cur, m, r, pts, p, True)
             cur = r
-            if sums[r, 0] == 0.0:
-                ref[r, 0] = pts[p, 0]
-                ref[r, 1] = pts[p, 1]
-                ref[r, 2] = pts[p, 2]
-            m = moments_load(sums, r)
-            rx = ref[r, 0]
-            ry = ref[r, 1]
-            rz = ref[r, 2]
         m = moments_add(m, pts[p, 0] - rx, pts[p, 1] - ry, pts[p, 2] - rz)
     if cur >= 0:
         moments_store(sums, cur, m)

@@ -11,6 +11,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from planerel.segment._kernels import plane_from_scatter
+
 __all__ = ["residual_stats_grid", "inliers_fit", "assign_refit", "part_centroids", "sample_normals",
            "group_pixels"]
 
@@ -137,16 +139,7 @@ def _fit_selected(P, sel, m):  # pragma: no cover - compiled
             syy += y * y
             syz += y * z
             szz += z * z
-    cov = np.empty((3, 3))
-    cov[0, 0] = sxx
-    cov[0, 1] = cov[1, 0] = sxy
-    cov[0, 2] = cov[2, 0] = sxz
-    cov[1, 1] = syy
-    cov[1, 2] = cov[2, 1] = syz
-    cov[2, 2] = szz
-    _, vec = np.linalg.eigh(cov)
-    n = vec[:, 0].copy()
-    return n, -(n[0] * cx + n[1] * cy + n[2] * cz)
+    return plane_from_scatter(sxx, sxy, sxz, syy, syz, szz, cx, cy, cz)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
