@@ -63,7 +63,11 @@ def _run(pythonpath: str | None, repeat: int) -> dict:
         env.pop("PYTHONPATH", None)
     proc = subprocess.run([sys.executable, str(HERE / "bench_speed_class.py"), "--child",
                            "--repeat", str(repeat)], capture_output=True, text=True, env=env,
-                          cwd=str(HERE), check=True)
+                          cwd=str(HERE))
+    if proc.returncode != 0 or not proc.stdout.strip():
+        tail = (proc.stderr.strip().splitlines() or ["no output"])[-1]
+        sys.exit(f"bench_speed_class: the {'reference' if pythonpath else 'current'} planerel "
+                 f"failed ({pythonpath or 'this checkout'}): {tail}")
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 

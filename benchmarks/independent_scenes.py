@@ -416,15 +416,20 @@ def make_set(out, n, seed, size):
 # ----------------------------------------------------------------------------- scoring
 
 
-def _shows(clf, cloud, scene_id, plane_ids):
-    """Orientation letters of the planes ``plane_ids`` (``h``/``v``/``i``, sorted): what a
-    proposal shows, e.g. ``vv`` for two vertical faces without a top."""
+def _orientations(clf, cloud, scene_id):
+    """``{plane id: "h" | "v" | "i"}`` of a scene as ``clf`` segments and describes it."""
     from planerel.features.facts import describe_scene
     from planerel.ilp.scenes import segment_cached
 
     labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
     desc = describe_scene(cloud, labels, scene_id=scene_id, **clf.settings.describe_kwargs())
-    ori = {desc.plane_id(p.label): p.orientation[0] for p in desc.planes}
+    return {desc.plane_id(p.label): p.orientation[0] for p in desc.planes}
+
+
+def _shows(ori, plane_ids):
+    """Orientation letters of the planes ``plane_ids`` (sorted; ``ori`` from
+    :func:`_orientations`): what a proposal shows, e.g. ``vv`` for two vertical faces without
+    a top."""
     return "".join(sorted(ori[q] for q in plane_ids if q in ori))
 
 
@@ -452,6 +457,7 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150, by_planes=
                 sc = score_objects(prop, truth, types=types, min_iou=min_iou)
                 matched = set()
                 bad = False
+                ori = None  # the scene's plane orientations, described once when needed
                 for o in side["objects"]:
                     k = o["index"]
                     if k not in sc.best_iou or (truth == k).sum() < min_pixels:
@@ -464,7 +470,8 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150, by_planes=
                                  "pred": pred, "iou": round(iou, 3),
                                  "pixels": int((truth == k).sum())})
                     if by_planes and iou >= min_iou:
-                        rows[-1]["shows"] = _shows(clf, cloud, p.stem, ans.objects[sc.best_prop[k]].planes)
+                        ori = ori if ori is not None else _orientations(clf, cloud, p.stem)
+                        rows[-1]["shows"] = _shows(ori, ans.objects[sc.best_prop[k]].planes)
                     ok = pred == o["class"] or (o["class"] == "other" and pred == "none")
                     bad |= not ok
                 extra = [o.klass for j, o in enumerate(ans.objects)

@@ -129,6 +129,6 @@ def test_by_planes_names_the_faces_a_box_proposal_shows(tmp_path):
             cloud = Cloud(xyz.astype(float), up=R @ np.array([0.0, 0.0, 1.0]))
             ans = clf.classify(cloud, scene_id=name)
             assert len(ans.objects) == 1
-            shows[name] = ind._shows(clf, cloud, name, ans.objects[0].planes)
+            shows[name] = ind._shows(ind._orientations(clf, cloud, name), ans.objects[0].planes)
     assert shows["above"].count("h") == 1 and shows["above"].count("v") == 2
     assert "h" not in shows["below"] and shows["below"].count("v") == 2
