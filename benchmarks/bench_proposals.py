@@ -7,8 +7,8 @@ scenes (320x240, 2-3 extra objects, seed 22).  Each frame is segmented once; the
 ``describe_scene`` (measure planes, relate, propose) runs with ``split_concave=False,
 min_border_area=0, border_wall_area=0, wall_behind=1, floor_gap=1, raised_objects=False``
 (the reference: plain connected components, the proposals before issue 22), with
-``coplanar_depth=None, sanity_angle=0`` (the defaults before the coplanar check and the
-sanity criterion, main at 35c1ded) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
+``cavities=False, cut_apart_parallel=False`` (the defaults before the concave cavities and
+the cut of parallel faces apart, main at a760b49) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
 Printed: ms per frame of each and its ratio to the reference, and the proposals' found rate /
 false proposals per frame (planerel.features.object_eval).
 """
@@ -29,6 +29,7 @@ def main(argv=None) -> int:
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--synth", type=int, default=15, help="synthetic scenes (0 = none)")
     ap.add_argument("--seed", type=int, default=22, help="seed of the synthetic scenes")
+    ap.add_argument("--no-mosd", action="store_true", help="leave the mOSD frames out")
     args = ap.parse_args(argv)
     from planerel.features.facts import describe_scene
     from planerel.features.object_eval import (
@@ -43,7 +44,7 @@ def main(argv=None) -> int:
     from planerel.segment import segment
 
     data = data_dir("mosd")
-    inputs = sorted(data.glob("*.pcd")) if data.is_dir() else []
+    inputs = sorted(data.glob("*.pcd")) if data.is_dir() and not args.no_mosd else []
     tmp = tempfile.TemporaryDirectory()
     if args.synth:
         inputs.append(cluttered_set(tmp.name, args.synth, seed=args.seed))
@@ -53,7 +54,7 @@ def main(argv=None) -> int:
             frames.append((name, cloud, segment(cloud).labels, truth, ty))
     variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0, border_wall_area=0,
                                                     wall_behind=1, floor_gap=1.0, raised_objects=False),
-                "no coplanar/sanity": ProposalParams(coplanar_depth=None, sanity_angle=0.0),
+                "before cavities": ProposalParams(cavities=False, cut_apart_parallel=False),
                 "defaults": ProposalParams()}
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": []} for k in variants}

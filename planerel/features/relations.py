@@ -53,6 +53,7 @@ __all__ = [
     "support_planes",
     "edge_means",
     "convex_pairs",
+    "edge_overlap",
     "objects_from_truth",
     "proposal_match",
 ]
@@ -458,6 +459,23 @@ class ProposalParams:
         intersection (50 for perpendicular faces; PCL's LCCP uses 60, which cut a paper-world
         flight's side wall touching a riser's end at 58.8 degrees): objects touching at a
         corner are cut.
+    cavities : bool
+        Join the concave pairs that are the inside of one open object: a *channel* (a plane
+        between two parallel planes facing each other across it, both at shared concave
+        edges: a shelf's back panel or board between its side panels) or an *inside corner*
+        (three planes, each pair at a shared concave edge), every edge *whole*
+        (:func:`planerel.features.cavities.cavity_pairs`): a shelf or an open box stays one
+        proposal; a box against a wall or a larger box (one concave edge, or two and a
+        convex one) still comes apart.
+    cavity_overlap : float
+        An edge is whole when the two planes' extents along it overlap by at least this
+        (interval IoU, :func:`edge_overlap`): a board spans its shelf's width, the platform
+        a shelf stands on runs far beyond it.
+    cut_apart_parallel : bool
+        Cut a parallel pair that neither touches in the image nor shares an edge (adjacent
+        only because its hulls come within the relations' ``adjacency_gap``): two coplanar
+        faces side by side with a gap between them (two boxes in a row), not one surface,
+        whose pieces touch.
     raised_objects : bool
         Pixels of a horizontal support plane that lie above it in a group (an open box's
         bottom, a laptop's base or a plate the segmentation joined to the floor) join the
@@ -490,12 +508,15 @@ class ProposalParams:
     raised_objects: bool = True
     coplanar_depth: float | None = 0.03
     sanity_angle: float = 50.0
+    cavities: bool = True
+    cavity_overlap: float = 0.5
+    cut_apart_parallel: bool = True
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
-                             "step_run_min", "step_run_max", "step_tilt"))
+                             "step_run_min", "step_run_max", "step_tilt", "cavity_overlap"))
         if self.step_rise_min > self.step_rise_max or self.step_run_min > self.step_run_max:
             raise InputError("step_rise_min / step_run_min must not exceed step_rise_max / step_run_max, "
                              f"got {self.step_rise_min!r}-{self.step_rise_max!r} and "
@@ -997,16 +1018,21 @@ def _step_like(pa, pb, min_overlap: float, up=None, riser_max: float | None = No
         high = float(np.ptp(np.asarray(vert.hull3d, float) @ u))
         if high > max(riser_max, 1.5 * float(np.ptp(np.asarray(other.hull3d, float) @ u))):
             return False
+    return edge_overlap(pa, pb) >= min_overlap
+
+
+def edge_overlap(pa, pb) -> float:
+    """Interval IoU (0-1) of two planes' extents (their 3-D hulls) along the line where they
+    meet, ``n_a x n_b``; 0 for parallel planes."""
     axis = np.cross(np.asarray(pa.normal, float), np.asarray(pb.normal, float))
     nrm = float(np.linalg.norm(axis))
     if nrm < 1e-6:
-        return False
+        return 0.0
     axis /= nrm
     a0, a1 = _extent(pa, axis)
     b0, b1 = _extent(pb, axis)
-    inter = min(a1, b1) - max(a0, b0)
     union = max(a1, b1) - min(a0, b0)
-    return union > 0 and inter / union >= min_overlap
+    return max(0.0, min(a1, b1) - max(a0, b0)) / union if union > 0 else 0.0
 
 
 def propose_objects(planes, relations: Relations, params: ProposalParams | None = None,
@@ -1041,11 +1067,28 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             pairs = [(a, b) for a, b in pairs
                      if edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE
                      or relations.get(a, b).gap <= relations.params.adjacency_gap]
-        pairs = sorted(convex_pairs(planes, pairs, edges, params.concave_tol,
-                                    params.step_overlap or None,
-                                    riser_max=1.5 * params.step_rise_max,
-                                    coplanar_depth=params.coplanar_depth,
-                                    sanity_angle=params.sanity_angle))
+            if params.cut_apart_parallel:
+                # parallel faces that neither touch in the image nor share an edge, adjacent
+                # only because their hulls come within adjacency_gap: two coplanar faces side
+                # by side with a gap between them (two boxes in a row), not one surface,
+                # whose pieces touch
+                pairs = [(a, b) for a, b in pairs
+                         if edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE
+                         or relations.get(a, b).touching or not relations.get(a, b).parallel]
+        joined = convex_pairs(planes, pairs, edges, params.concave_tol,
+                              params.step_overlap or None,
+                              riser_max=1.5 * params.step_rise_max,
+                              coplanar_depth=params.coplanar_depth,
+                              sanity_angle=params.sanity_angle)
+        if params.cavities and edges is not None:
+            # the inside of one open object (a shelf, an open box): a channel or an inside
+            # corner of shared concave edges (planerel.features.cavities)
+            from planerel.features.cavities import cavity_pairs
+
+            concave = [(a, b) for a, b in pairs if (a, b) not in joined
+                       and edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE]
+            joined |= cavity_pairs(planes, concave, params.concave_tol, params.cavity_overlap)
+        pairs = sorted(joined)
     g.add_edges_from(pairs)
     if params.step_chains:
         g.add_edges_from(step_chain_pairs(

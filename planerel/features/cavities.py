@@ -1,0 +1,104 @@
+"""Concave cavities: the inside of one open object, seen through its open side.
+
+The locally-convex rule of :func:`planerel.features.relations.convex_pairs` cuts every concave
+edge: a box against a wall, a box on a box come apart.  An open object (a shelf, an open box,
+a drawer) is concave *inside*: its back panel meets each side panel and each board at a concave
+edge, and the rule cuts it into its panels.  What tells the inside of one object from two
+objects that touch is the *shape of the concave edges*, not one edge alone:
+
+- a **channel** (U): a plane ``B`` that meets two planes ``A`` and ``C`` at shared concave
+  edges, where ``A`` and ``C`` are parallel, face each other (each one's visible side turned
+  towards the other) and stand on opposite sides of ``B``: a shelf's back panel between its
+  side panels, a board between them, an open box's bottom between two walls;
+- an **inside corner**: three planes, no two parallel, each pair meeting at a shared concave
+  edge: a shelf's back panel, a side panel and a board; the corner inside an open box.
+
+Two convex objects touching along a face make one concave edge (a box against a wall) or a
+chain of them (boxes in a row against a wall), not a channel or a corner: that needs a third
+plane on the far side (an object squeezed between two others, a box in a room's corner,
+whose walls are support and never take part).  A staircase seen from the side of its flight
+with a side wall makes both (a tread and a riser between, or with, the wall): the side wall
+joins its flight.
+
+**Rule** (:func:`cavity_pairs`): the concave pairs of a channel or an inside corner are joined.
+Parameters: ``angle_tol`` (degrees; :class:`~planerel.features.relations.ProposalParams`'s
+``concave_tol``, 10) for "parallel"; shared edges are those with at least ``MIN_EDGE`` pixel
+pairs of :func:`~planerel.features.relations.edge_means`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["cavity_pairs"]
+
+
+def _towards_sensor(p) -> np.ndarray:
+    n = np.asarray(p.normal, float)
+    return -n if float(n @ np.asarray(p.centroid, float)) > 0 else n
+
+
+def cavity_pairs(planes, concave, angle_tol: float = 10.0, min_overlap: float = 0.5) -> set:
+    """Concave pairs that are the inside of one open object (a channel or an inside corner).
+
+    Parameters
+    ----------
+    planes : PlaneSet or sequence of Plane
+        The measured planes (``label``, ``normal``, ``centroid``, ``hull3d``).
+    concave : iterable of (int, int)
+        Label pairs meeting at a *shared* concave edge (adjacent, cut by the convexity rule,
+        with enough edge pixel pairs).
+    angle_tol : float
+        Degrees: normals within this are parallel.
+    min_overlap : float
+        An edge is *whole* when the two planes' extents along it overlap by at least this
+        (interval IoU, :func:`~planerel.features.relations.edge_overlap`): a shelf's board
+        spans its back panel's width; the floor or a platform a shelf stands on runs far
+        beyond its sides.  A channel and a corner need all their edges whole.
+
+    Returns
+    -------
+    set of (int, int)
+        The pairs of ``concave`` (as given) that belong to a channel or an inside corner.
+    """
+    from planerel.features.relations import edge_overlap
+
+    byl = {p.label: p for p in planes}
+    cos_tol = math.cos(math.radians(angle_tol))
+
+    def key(a, b):
+        return (min(a, b), max(a, b))
+
+    # the whole concave edges: each plane spans the other's side along the edge
+    conc = {key(a, b) for a, b in concave if a in byl and b in byl and a != b
+            and edge_overlap(byl[a], byl[b]) >= min_overlap}
+    nbrs: dict = {}
+    for a, b in conc:
+        nbrs.setdefault(a, set()).add(b)
+        nbrs.setdefault(b, set()).add(a)
+    n = {k: _towards_sensor(byl[k]) for k in nbrs}
+    c = {k: np.asarray(byl[k].centroid, float) for k in nbrs}
+
+    def parallel(x, y) -> bool:
+        return abs(float(n[x] @ n[y])) >= cos_tol
+
+    keep: set = set()
+    for b, around in nbrs.items():
+        around = sorted(around)
+        for i, a in enumerate(around):
+            for d in around[i + 1:]:
+                ab, db, ad = key(a, b), key(d, b), key(a, d)
+                if parallel(a, b) or parallel(d, b):
+                    continue
+                if parallel(a, d):
+                    # a channel: b between a and d, which face each other across it
+                    off = c[d] - c[a]
+                    if float(n[a] @ off) > 0 and float(n[d] @ -off) > 0:
+                        keep |= {ab, db}
+                elif ad in conc:
+                    # an inside corner: three faces, each pair at a concave edge (a box
+                    # against a larger one's face makes two and a convex one: its top and side)
+                    keep |= {ab, db, ad}
+    return {(a, b) for a, b in concave if key(a, b) in keep}

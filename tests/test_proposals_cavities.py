@@ -1,0 +1,125 @@
+"""Concave cavities (planerel.features.cavities): the inside of one open object stays one
+proposal, two objects touching at concave edges still come apart (issue 22, fourth pass).
+
+Scenes are ray-cast rectangles with one label each (tests/scenes_analytic.py): what is tested
+is the proposal rule, not the segmentation.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from scenes_analytic import Rect, floor, render
+
+from planerel.errors import InputError
+from planerel.features.cavities import cavity_pairs
+from planerel.features.facts import describe_scene
+from planerel.features.relations import ProposalParams
+
+
+def _shelf(cx=0.0, cy=2.5, width=0.8, depth=0.35, height=1.2, boards=(0.45, 0.9), obj=1):
+    """An open shelf facing the camera (-y): back panel, two side panels, boards."""
+    out = [Rect((cx, cy + depth / 2, height / 2), (1, 0, 0), (0, 0, 1), width / 2, height / 2, obj)]
+    for sx in (-1, 1):
+        out.append(Rect((cx + sx * width / 2, cy, height / 2), (0, 1, 0), (0, 0, 1), depth / 2,
+                        height / 2, obj))
+    for z in boards:
+        out.append(Rect((cx, cy, z), (1, 0, 0), (0, 1, 0), width / 2, depth / 2, obj))
+    return out
+
+
+def _proposals(rects, params=None, **view):
+    cloud, lab, _up, objs = render(rects, **view)
+    d = describe_scene(cloud, lab, proposal_params=params)
+    seen = {}
+    for p in d.planes:
+        seen.setdefault(objs[p.label], set()).add(p.label)
+    return [set(o.planes) for o in d.objects], seen
+
+
+VIEW = dict(pitch=15, cam_height=1.3, width=320, height=240, noise=0.001)
+
+
+def test_open_shelf_is_one_proposal():
+    # back panel between the side panels (a channel), each board between them too, and the
+    # corners of back, side and board: all edges concave, every one whole
+    props, seen = _proposals([floor()] + _shelf(), **VIEW)
+    assert len(seen[1]) >= 5  # back, two sides, two boards
+    assert seen[1] in props
+    cut, _ = _proposals([floor()] + _shelf(), ProposalParams(cavities=False), **VIEW)
+    assert seen[1] not in cut and sum(bool(p & seen[1]) for p in cut) >= 3
+
+
+def test_shelf_seen_from_one_side_is_one_proposal():
+    # turned view: one side panel hidden behind the shelf's edge; back, side and boards meet
+    # in inside corners
+    props, seen = _proposals([floor()] + _shelf(cx=-0.6), **VIEW)
+    assert seen[1] in props
+
+
+def test_box_in_the_corner_of_two_panels_comes_apart():
+    # a box pushed into the corner of two panels (1.6 m wide, 1 m high: under the support
+    # area): its top meets both panels and they meet each other, all concave, but the panels
+    # run far beyond the box's top (edges not whole): three objects
+    back = Rect((0.0, 3.0, 0.5), (1, 0, 0), (0, 0, 1), 0.8, 0.5, 2)
+    side = Rect((0.8, 2.4, 0.5), (0, 1, 0), (0, 0, 1), 0.6, 0.5, 3)
+    box = [Rect((0.55, 2.75, 0.3), (1, 0, 0), (0, 1, 0), 0.25, 0.25, 1),
+           Rect((0.55, 2.5, 0.15), (1, 0, 0), (0, 0, 1), 0.25, 0.15, 1),
+           Rect((0.3, 2.75, 0.15), (0, 1, 0), (0, 0, 1), 0.25, 0.15, 1)]
+    props, seen = _proposals([floor(), back, side] + box, **VIEW)
+    assert seen[1] in props
+    assert not any(p & seen[1] and p & (seen[2] | seen[3]) for p in props)
+
+
+def test_shelf_on_a_platform_stays_apart_from_it():
+    # a shelf standing on a low platform (0.3 m high, 1.2 x 1 m: not the floor, under the
+    # support area); the platform meets the shelf's panels at concave edges, but runs beyond
+    # them (an inside corner needs every edge whole)
+    plat = Rect((0.0, 2.6, 0.3), (1, 0, 0), (0, 1, 0), 0.6, 0.5, 2)
+    shelf = [Rect((r.center[0], r.center[1], r.center[2] + 0.3), r.e1, r.e2, r.a, r.b, r.obj)
+             for r in _shelf(cy=2.9, boards=(0.45,))]
+    props, seen = _proposals([floor(), plat] + shelf, **VIEW)
+    assert not any(p & seen[1] and p & seen[2] for p in props)
+
+
+def _plane(label, normal, centroid, hull):
+    return SimpleNamespace(label=label, normal=np.array(normal, float),
+                           centroid=np.array(centroid, float), hull3d=np.array(hull, float))
+
+
+def test_channel_needs_its_sides_to_face_each_other():
+    # camera at the origin looking along +z, up = -y; a floor-like plane between two walls
+    bottom = _plane(1, (0, -1, 0), (0, 0.5, 3), [(-0.5, 0.5, 2.5), (0.5, 0.5, 2.5), (0.5, 0.5, 3.5), (-0.5, 0.5, 3.5)])
+    left = _plane(2, (1, 0, 0), (-0.5, 0.25, 3), [(-0.5, 0, 2.5), (-0.5, 0.5, 2.5), (-0.5, 0.5, 3.5), (-0.5, 0, 3.5)])
+    right = _plane(3, (-1, 0, 0), (0.5, 0.25, 3), [(0.5, 0, 2.5), (0.5, 0.5, 2.5), (0.5, 0.5, 3.5), (0.5, 0, 3.5)])
+    assert cavity_pairs([bottom, left, right], [(1, 2), (1, 3)]) == {(1, 2), (1, 3)}
+    # the camera beside both sides (x < -0.5 shifted away): the nearer side shows its outer
+    # face, both normals turn towards the camera, one faces away from the other: no channel
+    shift = np.array([-1.0, 0, 0])
+    moved = [_plane(p.label, p.normal, p.centroid + shift, p.hull3d + shift) for p in (bottom, left, right)]
+    assert cavity_pairs(moved, [(1, 2), (1, 3)]) == set()
+    # one concave edge alone is no cavity
+    assert cavity_pairs([bottom, left], [(1, 2)]) == set()
+
+
+def test_cavity_overlap_is_checked():
+    with pytest.raises(InputError):
+        ProposalParams(cavity_overlap=-0.1)
+
+
+def test_coplanar_faces_with_a_gap_between_are_two_objects():
+    # two boxes of one height side by side, 3.5 cm apart, fronts and tops coplanar: their
+    # hulls come within adjacency_gap, but they neither touch in the image nor share an
+    # edge (the floor is seen between them): two surfaces, two objects
+    def box(cx, obj):
+        return [Rect((cx, 1.6, 0.3), (1, 0, 0), (0, 1, 0), 0.25, 0.15, obj),
+                Rect((cx, 1.45, 0.15), (1, 0, 0), (0, 0, 1), 0.25, 0.15, obj)]
+
+    rects = [floor()] + box(-0.2675, 1) + box(0.2675, 2)
+    view = dict(pitch=30, cam_height=1.1, width=320, height=240, noise=0.001)
+    props, seen = _proposals(rects, **view)
+    assert seen[1] in props and seen[2] in props
+    joined, _ = _proposals(rects, ProposalParams(cut_apart_parallel=False), **view)
+    assert seen[1] | seen[2] in joined
