@@ -123,3 +123,40 @@ def test_coplanar_faces_with_a_gap_between_are_two_objects():
     assert seen[1] in props and seen[2] in props
     joined, _ = _proposals(rects, ProposalParams(cut_apart_parallel=False), **view)
     assert seen[1] | seen[2] in joined
+
+
+def test_large_shallow_ramp_is_no_support():
+    # a 4.5-degree ramp 2.6 x 1 m rising from the floor (2.6 m^2, over support_min_area; the
+    # horizontal tolerance calls it horizontal): tilted against the floor and 10 cm up at
+    # its centroid, an object; a level platform of the same size stays support
+    import math
+
+    t = math.radians(4.5)
+    ramp = Rect((0.0, 2.8, 1.3 * math.sin(t)), (1, 0, 0), (0, math.cos(t), math.sin(t)), 0.5, 1.3, 1)
+    view = dict(pitch=35, cam_height=1.6, width=320, height=240, noise=0.001)
+    cloud, lab, _up, objs = render([floor(size=8, y=3.0), ramp], **view)
+    d = describe_scene(cloud, lab)
+    (ramp_label,) = [k for k, o in enumerate(objs) if o == 1]
+    assert {p.label: p for p in d.planes}[ramp_label].orientation == "horizontal"
+    assert ramp_label not in d.support and any(ramp_label in o.planes for o in d.objects)
+    old = describe_scene(cloud, lab, proposal_params=ProposalParams(ramp_tilt=0))
+    assert ramp_label in old.support
+    level = Rect((0.0, 2.8, 0.3), (1, 0, 0), (0, 1, 0), 0.5, 1.3, 1)
+    cloud, lab, _up, objs = render([floor(size=8, y=3.0), level], **view)
+    d = describe_scene(cloud, lab)
+    assert [k for k, o in enumerate(objs) if o == 1][0] in d.support
+
+
+def test_pieces_of_one_face_on_both_sides_of_an_occluder_stay_one_proposal():
+    # a panel seen on both sides of a thin post standing 30 cm in front of it: the two pieces
+    # (hulls 3.7 cm apart) neither touch in the image nor share an edge, but what lies between
+    # them is in front of both: one surface; with the floor seen between them instead (no
+    # post), two
+    pieces = [Rect((-0.185, 1.9, 0.3), (1, 0, 0), (0, 0, 1), 0.175, 0.2, 1),
+              Rect((0.185, 1.9, 0.3), (1, 0, 0), (0, 0, 1), 0.175, 0.2, 1)]
+    post = [Rect((0.0, 1.6, 0.5), (1, 0, 0), (0, 0, 1), 0.012, 0.5, 2)]
+    view = dict(pitch=20, cam_height=1.0, width=320, height=240, noise=0.001)
+    props, seen = _proposals([floor()] + pieces + post, **view)
+    assert len(seen[1]) == 2 and seen[1] in props
+    props, seen = _proposals([floor()] + pieces, **view)
+    assert len(seen[1]) == 2 and seen[1] not in props

@@ -16,14 +16,19 @@ objects that touch is the *shape of the concave edges*, not one edge alone:
 Two convex objects touching along a face make one concave edge (a box against a wall) or a
 chain of them (boxes in a row against a wall), not a channel or a corner: that needs a third
 plane on the far side (an object squeezed between two others, a box in a room's corner,
-whose walls are support and never take part).  A staircase seen from the side of its flight
-with a side wall makes both (a tread and a riser between, or with, the wall): the side wall
-joins its flight.
+whose walls are support and never take part).  A staircase's treads between its side walls
+make channels too, but a side wall runs along the whole flight and a tread is one step deep:
+those edges are not whole (below), and the side walls of a long flight stay apart from it.
 
-**Rule** (:func:`cavity_pairs`): the concave pairs of a channel or an inside corner are joined.
-Parameters: ``angle_tol`` (degrees; :class:`~planerel.features.relations.ProposalParams`'s
-``concave_tol``, 10) for "parallel"; shared edges are those with at least ``MIN_EDGE`` pixel
-pairs of :func:`~planerel.features.relations.edge_means`.
+**Rule** (:func:`cavity_pairs`): the concave pairs of a channel or an inside corner are
+joined when every concave edge of it is *whole*: the two planes' extents along the edge line
+overlap by at least ``min_overlap`` (interval IoU, 0.5; ``ProposalParams.cavity_overlap``).
+A board spans its shelf's width and a side panel its height; the floor or a platform a shelf
+stands on, or two panels a box is pushed against, run far beyond it (a box in a corner of two
+panels meets both at concave edges, and they meet each other: a corner, but not a whole one).
+Parameters: ``angle_tol`` (degrees; ``ProposalParams.concave_tol``, 10) for "parallel";
+shared edges are those with at least ``MIN_EDGE`` pixel pairs of
+:func:`~planerel.features.relations.edge_means`.
 """
 
 from __future__ import annotations

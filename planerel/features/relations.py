@@ -473,9 +473,16 @@ class ProposalParams:
         a shelf stands on runs far beyond it.
     cut_apart_parallel : bool
         Cut a parallel pair that neither touches in the image nor shares an edge (adjacent
-        only because its hulls come within the relations' ``adjacency_gap``): two coplanar
-        faces side by side with a gap between them (two boxes in a row), not one surface,
-        whose pieces touch.
+        only because its hulls come within the relations' ``adjacency_gap``) unless at least
+        half of the valid pixels on the image lines between them lie in front of both
+        (:func:`planerel.features.gaps.gap_in_front`; none valid: kept): two coplanar faces
+        side by side with the floor or another face seen between them (two boxes in a row),
+        not one surface, whose pieces touch or have an occluder between them.
+    ramp_tilt, ramp_rise : float
+        Degrees, metres: a horizontal plane of ``support_min_area`` or more that is not the
+        floor is no support when it is tilted at least ``ramp_tilt`` against the floor's plane
+        and its centroid lies at least ``ramp_rise`` above it: a shallow ramp rising from the
+        floor, which the horizontal tolerance calls horizontal; ``ramp_tilt=0`` = no test.
     raised_objects : bool
         Pixels of a horizontal support plane that lie above it in a group (an open box's
         bottom, a laptop's base or a plate the segmentation joined to the floor) join the
@@ -511,12 +518,15 @@ class ProposalParams:
     cavities: bool = True
     cavity_overlap: float = 0.5
     cut_apart_parallel: bool = True
+    ramp_tilt: float = 3.0
+    ramp_rise: float = 0.02
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
-                             "step_run_min", "step_run_max", "step_tilt", "cavity_overlap"))
+                             "step_run_min", "step_run_max", "step_tilt", "cavity_overlap",
+                             "ramp_tilt", "ramp_rise"))
         if self.step_rise_min > self.step_rise_max or self.step_run_min > self.step_run_max:
             raise InputError("step_rise_min / step_run_min must not exceed step_rise_max / step_run_max, "
                              f"got {self.step_rise_min!r}-{self.step_rise_max!r} and "
@@ -547,7 +557,8 @@ def support_planes(planes, params: ProposalParams | None = None, relations: Rela
         floorish = p.is_floor or (floor is not None and p.orientation == "horizontal"
                                   and abs(p.height) <= tol
                                   and _floor_offset(p, floor, planes.up) <= params.floor_gap)
-        large = p.area >= params.support_min_area and p.orientation in ("vertical", "horizontal")
+        large = (p.area >= params.support_min_area and p.orientation in ("vertical", "horizontal")
+                 and not _shallow_ramp(p, floor, planes.up, params))
         if floorish or large:
             out.append(p.label)
     lab = getattr(planes, "labels", None)
@@ -555,6 +566,18 @@ def support_planes(planes, params: ProposalParams | None = None, relations: Rela
             and lab.shape == cloud.xyz.shape[:2]):
         out = [x for x in out if not _stepped_side(planes, byl[x], set(out), relations, cloud, params)]
     return out
+
+
+def _shallow_ramp(p, floor, up, params) -> bool:
+    """A large nearly-horizontal plane, not the floor, tilted at least ``params.ramp_tilt``
+    degrees against the floor's plane and with its centroid at least ``params.ramp_rise``
+    above it: a shallow ramp rising from the floor (4-5 degrees, 5-9 cm up in the varied
+    world), not a floor piece (on the floor's plane) or a landing (level with it)."""
+    if floor is None or p.is_floor or p.orientation != "horizontal" or params.ramp_tilt <= 0:
+        return False
+    cos = abs(float(np.asarray(p.normal, float) @ np.asarray(floor.normal, float)))
+    tilt = math.degrees(math.acos(min(1.0, cos)))
+    return tilt >= params.ramp_tilt and _floor_offset(p, floor, up) >= params.ramp_rise
 
 
 def _stepped_side(planes, face, support, relations, cloud, params) -> bool:
@@ -1069,12 +1092,20 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                      or relations.get(a, b).gap <= relations.params.adjacency_gap]
             if params.cut_apart_parallel:
                 # parallel faces that neither touch in the image nor share an edge, adjacent
-                # only because their hulls come within adjacency_gap: two coplanar faces side
-                # by side with a gap between them (two boxes in a row), not one surface,
-                # whose pieces touch
+                # only because their hulls come within adjacency_gap, with no occluder in
+                # front of them between them in the image: two coplanar faces side by side
+                # (two boxes in a row), not one surface (whose pieces touch, or have
+                # something in front of it between them)
+                from planerel.features.gaps import gap_in_front
+
+                def one_surface(a, b) -> bool:
+                    f = gap_in_front(lab, cloud.xyz, a, b)
+                    return f is None or f >= 0.5
+
                 pairs = [(a, b) for a, b in pairs
                          if edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE
-                         or relations.get(a, b).touching or not relations.get(a, b).parallel]
+                         or relations.get(a, b).touching or not relations.get(a, b).parallel
+                         or one_surface(a, b)]
         joined = convex_pairs(planes, pairs, edges, params.concave_tol,
                               params.step_overlap or None,
                               riser_max=1.5 * params.step_rise_max,
