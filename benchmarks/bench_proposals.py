@@ -7,8 +7,9 @@ scenes (320x240, 2-3 extra objects, seed 22).  Each frame is segmented once; the
 ``describe_scene`` (measure planes, relate, propose) runs with ``split_concave=False,
 min_border_area=0, border_wall_area=0, wall_behind=1, floor_gap=1, raised_objects=False``
 (the reference: plain connected components, the proposals before issue 22), with
-``cavities=False, cut_apart_parallel=False`` (the defaults before the concave cavities and
-the cut of parallel faces apart, main at a760b49) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
+``cavities=False, cut_apart_parallel=False, ramp_tilt=0`` (the defaults before the concave
+cavities, the cut of parallel faces apart and the shallow-ramp test, main at a760b49) and the
+defaults, interleaved, ``--repeat`` times; the median per frame is summed.
 Printed: ms per frame of each and its ratio to the reference, and the proposals' found rate /
 false proposals per frame (planerel.features.object_eval).
 """
@@ -54,7 +55,7 @@ def main(argv=None) -> int:
             frames.append((name, cloud, segment(cloud).labels, truth, ty))
     variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0, border_wall_area=0,
                                                     wall_behind=1, floor_gap=1.0, raised_objects=False),
-                "before cavities": ProposalParams(cavities=False, cut_apart_parallel=False),
+                "before 4th pass": ProposalParams(cavities=False, cut_apart_parallel=False, ramp_tilt=0.0),
                 "defaults": ProposalParams()}
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": []} for k in variants}

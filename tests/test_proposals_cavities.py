@@ -12,6 +12,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from scenes_analytic import Rect, floor, render
+from test_proposals_scenes import _proposals
 
 from planerel.errors import InputError
 from planerel.features.cavities import cavity_pairs
@@ -28,15 +29,6 @@ def _shelf(cx=0.0, cy=2.5, width=0.8, depth=0.35, height=1.2, boards=(0.45, 0.9)
     for z in boards:
         out.append(Rect((cx, cy, z), (1, 0, 0), (0, 1, 0), width / 2, depth / 2, obj))
     return out
-
-
-def _proposals(rects, params=None, **view):
-    cloud, lab, _up, objs = render(rects, **view)
-    d = describe_scene(cloud, lab, proposal_params=params)
-    seen = {}
-    for p in d.planes:
-        seen.setdefault(objs[p.label], set()).add(p.label)
-    return [set(o.planes) for o in d.objects], seen
 
 
 VIEW = dict(pitch=15, cam_height=1.3, width=320, height=240, noise=0.001)

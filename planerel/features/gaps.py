@@ -15,23 +15,14 @@ import numpy as np
 __all__ = ["gap_in_front"]
 
 
-def _outline(mask: np.ndarray) -> np.ndarray:
-    """``(K, 2)`` row, column of the pixels of ``mask`` with a 4-neighbour outside it."""
-    m = np.pad(mask, 1)
-    inner = m[1:-1, 1:-1] & m[:-2, 1:-1] & m[2:, 1:-1] & m[1:-1, :-2] & m[1:-1, 2:]
-    return np.argwhere(mask & ~inner)
-
-
 def gap_in_front(labels, xyz, a: int, b: int, margin: float = 0.05, lines: int = 5,
                  max_outline: int = 400) -> float | None:
     """Fraction of the valid pixels between planes ``a`` and ``b`` that lie in front of both.
 
     Parameters
     ----------
-    labels : ndarray, shape (H, W), int
-        Plane labels.
-    xyz : ndarray, shape (H, W, 3)
-        Organized points (NaN invalid).
+    labels, xyz : ndarray, shapes (H, W) int and (H, W, 3) float
+        The plane label image and the organized points (NaN where invalid).
     a, b : int
         The two labels.
     margin : float
@@ -50,8 +41,11 @@ def gap_in_front(labels, xyz, a: int, b: int, margin: float = 0.05, lines: int =
         counted); None when there are none (the planes touch, or only invalid pixels lie
         between them: nothing is known).
     """
+    from planerel.features.planes import _boundary
+
     lab = np.asarray(labels)
-    pa, pb = _outline(lab == a), _outline(lab == b)
+    edge = _boundary(lab)
+    pa, pb = np.argwhere(edge & (lab == a)), np.argwhere(edge & (lab == b))
     if len(pa) == 0 or len(pb) == 0:
         return None
     while len(pa) > max_outline:
