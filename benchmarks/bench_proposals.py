@@ -5,7 +5,8 @@
 Frames: the mOSD frames of ``../shared/data/mosd`` (640x480) and N cluttered varied-world
 scenes (320x240, 2-3 extra objects, seed 22).  Each frame is segmented once; then
 ``describe_scene`` (measure planes, relate, propose) runs with ``split_concave=False,
-min_border_area=0, border_wall_area=0, wall_behind=1, floor_gap=1, raised_objects=False``
+min_border_area=0, border_wall_area=0, wall_behind=1, floor_gap=1, raised_objects=False,
+ramp_tilt=0``
 (the reference: plain connected components, the proposals before issue 22), with
 ``cavities=False, cut_apart_parallel=False, ramp_tilt=0`` (the defaults before the concave
 cavities, the cut of parallel faces apart and the shallow-ramp test, main at a760b49) and the
@@ -54,7 +55,8 @@ def main(argv=None) -> int:
         for name, cloud, truth, ty in frame_truth(path):
             frames.append((name, cloud, segment(cloud).labels, truth, ty))
     variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0, border_wall_area=0,
-                                                    wall_behind=1, floor_gap=1.0, raised_objects=False),
+                                                    wall_behind=1, floor_gap=1.0, raised_objects=False,
+                                                    ramp_tilt=0.0),
                 "before 4th pass": ProposalParams(cavities=False, cut_apart_parallel=False, ramp_tilt=0.0),
                 "defaults": ProposalParams()}
     times = {k: [] for k in variants}
