@@ -37,12 +37,26 @@ import math
 
 import numpy as np
 
-__all__ = ["cavity_pairs"]
+__all__ = ["cavity_pairs", "edge_overlap"]
 
 
 def _towards_sensor(p) -> np.ndarray:
     n = np.asarray(p.normal, float)
     return -n if float(n @ np.asarray(p.centroid, float)) > 0 else n
+
+
+def edge_overlap(pa, pb) -> float:
+    """Interval IoU (0-1) of two planes' extents (their 3-D hulls, ``hull3d``) along the line
+    where they meet, ``n_a x n_b``; 0 for parallel planes."""
+    axis = np.cross(np.asarray(pa.normal, float), np.asarray(pb.normal, float))
+    nrm = float(np.linalg.norm(axis))
+    if nrm < 1e-6:
+        return 0.0
+    ta = np.asarray(pa.hull3d, float) @ (axis / nrm)
+    tb = np.asarray(pb.hull3d, float) @ (axis / nrm)
+    union = max(ta.max(), tb.max()) - min(ta.min(), tb.min())
+    inter = min(ta.max(), tb.max()) - max(ta.min(), tb.min())
+    return max(0.0, float(inter)) / float(union) if union > 0 else 0.0
 
 
 def cavity_pairs(planes, concave, angle_tol: float = 10.0, min_overlap: float = 0.5) -> set:
@@ -59,7 +73,7 @@ def cavity_pairs(planes, concave, angle_tol: float = 10.0, min_overlap: float = 
         Degrees: normals within this are parallel.
     min_overlap : float
         An edge is *whole* when the two planes' extents along it overlap by at least this
-        (interval IoU, :func:`~planerel.features.relations.edge_overlap`): a shelf's board
+        (interval IoU, :func:`edge_overlap`): a shelf's board
         spans its back panel's width; the floor or a platform a shelf stands on runs far
         beyond its sides.  A channel and a corner need all their edges whole.
 
@@ -68,8 +82,6 @@ def cavity_pairs(planes, concave, angle_tol: float = 10.0, min_overlap: float = 
     set of (int, int)
         The pairs of ``concave`` (as given) that belong to a channel or an inside corner.
     """
-    from planerel.features.relations import edge_overlap
-
     byl = {p.label: p for p in planes}
     cos_tol = math.cos(math.radians(angle_tol))
 

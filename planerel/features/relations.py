@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planerel.errors import InputError
+from planerel.features.cavities import cavity_pairs, edge_overlap
 
 __all__ = [
     "RelationParams",
@@ -469,8 +470,8 @@ class ProposalParams:
         convex one) still comes apart.
     cavity_overlap : float
         An edge is whole when the two planes' extents along it overlap by at least this
-        (interval IoU, :func:`edge_overlap`): a board spans its shelf's width, the platform
-        a shelf stands on runs far beyond it.
+        (interval IoU, :func:`planerel.features.cavities.edge_overlap`): a board spans its
+        shelf's width, the platform a shelf stands on runs far beyond it.
     cut_apart_parallel : bool
         Cut a parallel pair that neither touches in the image nor shares an edge (adjacent
         only because its hulls come within the relations' ``adjacency_gap``) unless at least
@@ -1044,20 +1045,6 @@ def _step_like(pa, pb, min_overlap: float, up=None, riser_max: float | None = No
     return edge_overlap(pa, pb) >= min_overlap
 
 
-def edge_overlap(pa, pb) -> float:
-    """Interval IoU (0-1) of two planes' extents (their 3-D hulls) along the line where they
-    meet, ``n_a x n_b``; 0 for parallel planes."""
-    axis = np.cross(np.asarray(pa.normal, float), np.asarray(pb.normal, float))
-    nrm = float(np.linalg.norm(axis))
-    if nrm < 1e-6:
-        return 0.0
-    axis /= nrm
-    a0, a1 = _extent(pa, axis)
-    b0, b1 = _extent(pb, axis)
-    union = max(a1, b1) - min(a0, b0)
-    return max(0.0, min(a1, b1) - max(a0, b0)) / union if union > 0 else 0.0
-
-
 def propose_objects(planes, relations: Relations, params: ProposalParams | None = None,
                     cloud=None) -> list[tuple[int, ...]]:
     """Candidate objects: connected components of the convex adjacency of the non-support planes.
@@ -1114,8 +1101,6 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         if params.cavities and edges is not None:
             # the inside of one open object (a shelf, an open box): a channel or an inside
             # corner of shared concave edges (planerel.features.cavities)
-            from planerel.features.cavities import cavity_pairs
-
             concave = [(a, b) for a, b in pairs if (a, b) not in joined
                        and edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE]
             joined |= cavity_pairs(planes, concave, params.concave_tol, params.cavity_overlap)
