@@ -152,3 +152,20 @@ def test_pieces_of_one_face_on_both_sides_of_an_occluder_stay_one_proposal():
     assert len(seen[1]) == 2 and seen[1] in props
     props, seen = _proposals([floor()] + pieces, **view)
     assert len(seen[1]) == 2 and seen[1] not in props
+
+
+def test_flight_between_its_side_walls_is_one_proposal():
+    # a 4-step flight (1 m wide, 1.12 m long) between two side walls 0.9 m high as long as the
+    # flight: each tread and riser meets the walls at concave edges that are not whole (a
+    # tread is one run deep), but the flight's planes together span the walls
+    from scenes_analytic import stairs
+
+    y0, n, run = 2.0, 4, 0.28
+    walls = [Rect((sx * 0.5, y0 + n * run / 2, 0.45), (0, 1, 0), (0, 0, 1), n * run / 2, 0.45, 1)
+             for sx in (-1, 1)]
+    rects = [floor()] + stairs(0.0, y0, n=n, run=run) + walls
+    view = dict(pitch=30, cam_height=1.6, width=320, height=240, noise=0.001)
+    props, seen = _proposals(rects, **view)
+    assert len(seen[1]) >= 8 and seen[1] in props
+    apart, _ = _proposals(rects, ProposalParams(group_channels=False), **view)
+    assert seen[1] not in apart

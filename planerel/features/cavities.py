@@ -119,3 +119,69 @@ def cavity_pairs(planes, concave, angle_tol: float = 10.0, min_overlap: float = 
                     # against a larger one's face makes two and a convex one: its top and side)
                     keep |= {ab, db, ad}
     return {(a, b) for a, b in concave if key(a, b) in keep}
+
+
+def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
+                        min_overlap: float = 0.5) -> set:
+    """Two parallel planes facing each other across a *group* of joined planes (a channel
+    whose bottom is several planes: a flight's treads and risers between its side walls).
+
+    A side wall runs along a whole flight, a tread is one step deep: no edge between them is
+    whole, but the flight's planes together span the wall.  Walls ``A`` and ``C`` (parallel,
+    facing each other, neither in the group) each meeting some plane of the group at a shared
+    concave edge join the group when, for each wall, the group's extent (all its planes'
+    hulls) along the edge line overlaps the wall's by at least ``min_overlap``; the landing a
+    descending flight starts from, between the same walls, spans a fraction of them.
+
+    Parameters
+    ----------
+    planes : PlaneSet or sequence of Plane
+    concave : iterable of (int, int)
+        Pairs meeting at a shared concave edge.
+    group_of : dict
+        Label -> group id (the connected components of the pairs joined so far).
+
+    Returns
+    -------
+    set of (int, int)
+        ``(wall, member)`` pairs joining each such wall to the group.
+    """
+    byl = {p.label: p for p in planes}
+    cos_tol = math.cos(math.radians(angle_tol))
+    members: dict = {}
+    for k, gid in group_of.items():
+        if k in byl:
+            members.setdefault(gid, []).append(k)
+    touch: dict = {}  # (wall, group) -> members of the group the wall meets concavely
+    for a, b in concave:
+        for w, m in ((a, b), (b, a)):
+            if w in byl and m in byl and group_of.get(m) is not None and group_of.get(w) != group_of[m]:
+                touch.setdefault((w, group_of[m]), []).append(m)
+
+    def whole(w, gid, m) -> bool:
+        nw, nm = np.asarray(byl[w].normal, float), np.asarray(byl[m].normal, float)
+        axis = np.cross(nw, nm)
+        if float(np.linalg.norm(axis)) < 1e-6:
+            return False
+        axis /= np.linalg.norm(axis)
+        tw = np.asarray(byl[w].hull3d, float) @ axis
+        tg = np.concatenate([np.asarray(byl[k].hull3d, float) @ axis for k in members[gid]])
+        union = max(tw.max(), tg.max()) - min(tw.min(), tg.min())
+        inter = min(tw.max(), tg.max()) - max(tw.min(), tg.min())
+        return union > 0 and inter / union >= min_overlap
+
+    out: set = set()
+    by_group: dict = {}
+    for (w, gid), ms in touch.items():
+        by_group.setdefault(gid, []).append((w, ms[0]))
+    for gid, walls in by_group.items():
+        walls = [(w, m) for w, m in walls if whole(w, gid, m)]
+        for i, (a, ma) in enumerate(walls):
+            for d, md in walls[i + 1:]:
+                na, nd = _towards_sensor(byl[a]), _towards_sensor(byl[d])
+                if abs(float(na @ nd)) < cos_tol:
+                    continue
+                off = np.asarray(byl[d].centroid, float) - np.asarray(byl[a].centroid, float)
+                if float(na @ off) > 0 and float(nd @ -off) > 0:
+                    out |= {(a, ma), (d, md)}
+    return out

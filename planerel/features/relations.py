@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planerel.errors import InputError
-from planerel.features.cavities import cavity_pairs, edge_overlap
+from planerel.features.cavities import cavity_pairs, edge_overlap, group_channel_pairs
 
 __all__ = [
     "RelationParams",
@@ -468,6 +468,12 @@ class ProposalParams:
         (:func:`planerel.features.cavities.cavity_pairs`): a shelf or an open box stays one
         proposal; a box against a wall or a larger box (one concave edge, or two and a
         convex one) still comes apart.
+    group_channels : bool
+        Also join two parallel planes facing each other across a *group* of joined planes
+        that together span them (each wall meeting a member at a shared concave edge; the
+        group's extent along that edge overlapping the wall's by ``cavity_overlap``): a
+        flight's side walls, which no single tread spans
+        (:func:`planerel.features.cavities.group_channel_pairs`; needs ``cavities``).
     cavity_overlap : float
         An edge is whole when the two planes' extents along it overlap by at least this
         (interval IoU, :func:`planerel.features.cavities.edge_overlap`): a board spans its
@@ -519,6 +525,7 @@ class ProposalParams:
     cavities: bool = True
     cavity_overlap: float = 0.5
     cut_apart_parallel: bool = True
+    group_channels: bool = True
     ramp_tilt: float = 3.0
     ramp_rise: float = 0.02
 
@@ -1063,6 +1070,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
 
     params = params or ProposalParams()
     drop = set(support_planes(planes, params, relations, cloud))
+    concave: list = []
     g = nx.Graph()
     g.add_nodes_from(p.label for p in planes if p.label not in drop)
     pairs = [(a, b) for a, b in relations.adjacent_pairs() if a not in drop and b not in drop]
@@ -1111,6 +1119,12 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             planes, g.nodes, (params.step_rise_min, params.step_rise_max),
             (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
             params.concave_tol, tilt=params.step_tilt))
+    if params.split_concave and params.cavities and params.group_channels and concave:
+        # side walls facing each other across a group of joined planes that together span
+        # them (a flight between its side walls; planerel.features.cavities)
+        group_of = {k: i for i, c in enumerate(nx.connected_components(g)) for k in c}
+        g.add_edges_from(group_channel_pairs(planes, concave, group_of, params.concave_tol,
+                                             params.cavity_overlap))
     byl = {p.label: p for p in planes}
     comps = [tuple(sorted(c)) for c in nx.connected_components(g)]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
