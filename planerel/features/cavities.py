@@ -18,7 +18,8 @@ chain of them (boxes in a row against a wall), not a channel or a corner: that n
 plane on the far side (an object squeezed between two others, a box in a room's corner,
 whose walls are support and never take part).  A staircase's treads between its side walls
 make channels too, but a side wall runs along the whole flight and a tread is one step deep:
-those edges are not whole (below), and the side walls of a long flight stay apart from it.
+those edges are not whole (below); the flight's planes together span the walls
+(:func:`group_channel_pairs`).
 
 **Rule** (:func:`cavity_pairs`): the concave pairs of a channel or an inside corner are
 joined when every concave edge of it is *whole*: the two planes' extents along the edge line

@@ -16,7 +16,7 @@ __all__ = ["gap_in_front"]
 
 
 def gap_in_front(labels, xyz, a: int, b: int, margin: float = 0.05, lines: int = 5,
-                 max_outline: int = 400) -> float | None:
+                 max_outline: int = 200, window=None) -> float | None:
     """Fraction of the valid pixels between planes ``a`` and ``b`` that lie in front of both.
 
     Parameters
@@ -33,6 +33,8 @@ def gap_in_front(labels, xyz, a: int, b: int, margin: float = 0.05, lines: int =
         of each plane; every second outline pixel kept until at most ``max_outline`` are).
     max_outline : int
         Outline pixels per plane compared at most.
+    window : (row0, col0, row1, col1), optional
+        Pixel box holding both planes (their ``bbox`` joined): only it is looked at.
 
     Returns
     -------
@@ -44,6 +46,10 @@ def gap_in_front(labels, xyz, a: int, b: int, margin: float = 0.05, lines: int =
     from planerel.features.planes import _boundary
 
     lab = np.asarray(labels)
+    xyz = np.asarray(xyz)
+    if window is not None:
+        r0, c0, r1, c1 = (int(v) for v in window)
+        lab, xyz = lab[r0:r1, c0:c1], xyz[r0:r1, c0:c1]
     edge = _boundary(lab)
     pa, pb = np.argwhere(edge & (lab == a)), np.argwhere(edge & (lab == b))
     if len(pa) == 0 or len(pb) == 0:
@@ -54,7 +60,10 @@ def gap_in_front(labels, xyz, a: int, b: int, margin: float = 0.05, lines: int =
         pb = pb[::2]
     d2 = ((pa[:, None, :] - pb[None, :, :]) ** 2).sum(-1)
     order = np.argsort(d2, axis=None)[:lines]
-    rng = np.linalg.norm(np.asarray(xyz, float), axis=-1)
+
+    def rng(r, c):
+        return np.linalg.norm(np.asarray(xyz[r, c], float), axis=-1)
+
     n_valid = n_front = 0
     for k in order:
         i, j = np.unravel_index(k, d2.shape)
@@ -65,11 +74,11 @@ def gap_in_front(labels, xyz, a: int, b: int, margin: float = 0.05, lines: int =
         t = np.arange(1, steps) / steps
         rr = np.rint(r0 + t * (r1 - r0)).astype(int)
         cc = np.rint(c0 + t * (c1 - c0)).astype(int)
-        near = min(rng[r0, c0], rng[r1, c1])
+        near = float(min(rng(r0, c0), rng(r1, c1)))
         if not np.isfinite(near):
             continue
         keep = (lab[rr, cc] != a) & (lab[rr, cc] != b)
-        r = rng[rr[keep], cc[keep]]
+        r = rng(rr[keep], cc[keep])
         r = r[np.isfinite(r)]
         n_valid += r.size
         n_front += int((r < near - margin * max(1.0, near)).sum())

@@ -1093,8 +1093,12 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                 # something in front of it between them)
                 from planerel.features.gaps import gap_in_front
 
+                byl0 = {p.label: p for p in planes}
+
                 def one_surface(a, b) -> bool:
-                    f = gap_in_front(lab, cloud.xyz, a, b)
+                    ba, bb = byl0[a].bbox, byl0[b].bbox
+                    box = (min(ba[0], bb[0]), min(ba[1], bb[1]), max(ba[2], bb[2]), max(ba[3], bb[3]))
+                    f = gap_in_front(lab, cloud.xyz, a, b, window=box)
                     return f is None or f >= 0.5
 
                 pairs = [(a, b) for a, b in pairs
