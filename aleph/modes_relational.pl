@@ -9,7 +9,10 @@
     Vocabulary (docs/predicates.md): the planes of an object (has_plane), per
     plane its orientation, incline, height and size (area, plane_length,
     plane_width), per ordered pair of planes the relations adjacent,
-    parallel, perpendicular, above, and the measures angle, gap and rise,
+    parallel, perpendicular, above, skirt (a vertical face hanging below a
+    horizontal plane as a box's side below its top), corner (two vertical
+    walls of one solid: right angle, level tops, neither a post), and the
+    measures angle, gap and rise,
     and per object its number of horizontal planes and its oblique share
     (the share of its area in planes meeting a larger plane of it at an
     oblique angle: facets of a curved surface, a tilted lid on its base).
@@ -46,6 +49,8 @@
 :- modeb(*, parallel(+plane, -plane)).
 :- modeb(*, perpendicular(+plane, -plane)).
 :- modeb(*, above(+plane, -plane)).
+:- modeb(*, skirt(+plane, -plane)).
+:- modeb(*, corner(+plane, -plane)).
 :- modeb(1, angle(+plane, +plane, -angle)).
 :- modeb(1, gap(+plane, +plane, -gap)).
 :- modeb(1, rise(+plane, +plane, -rise)).

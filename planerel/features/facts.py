@@ -81,6 +81,10 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
     ("gap", 3, "plane, plane, m", "closest distance between the 3-D hulls"),
     ("rise", 3, "plane, plane, m", "how far the second centroid is above the first"),
     ("above", 2, "plane, plane", "first centroid above the second by more than the tolerance"),
+    ("skirt", 2, "plane, plane", "the second (vertical) hangs below the first (horizontal) as a "
+     "box's side below its top (planerel.features.solid)"),
+    ("corner", 2, "plane, plane", "vertical walls of one solid meeting at a right angle, "
+     "tops level (planerel.features.solid)"),
     ("in_front_of", 2, "plane, plane", "first nearer the sensor along the horizontal view direction"),
 )
 _ARITY = {name: arity for name, arity, _, _ in PREDICATES}
@@ -377,6 +381,10 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
         out["rise"].append(F("rise", a, b, r.rise, round_to=m))
         if r.above:
             out["above"].append(F("above", a, b))
+        if r.skirt:
+            out["skirt"].append(F("skirt", a, b))
+        if r.corner:
+            out["corner"].append(F("corner", a, b))
         if r.in_front_of:
             out["in_front_of"].append(F("in_front_of", a, b))
     if not params.planner:

@@ -19,6 +19,15 @@ For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.pl
 ``above``        p is above q: ``-rise > above_tol``
 ``in_front_of``  p is nearer the sensor than q along the horizontal viewing direction
                  (the camera's optical axis with its up component removed) by ``front_tol``
+``skirt``        p is horizontal, q vertical and adjacent, and q hangs below p as a box's
+                 side below its top: q's top edge at p's level, q reaching down at least
+                 ``skirt_reach`` and, halfway down, covering ``skirt_cover`` of p's extent
+                 along their edge where it can be seen, and ending within ``skirt_beyond``
+                 of where p ends (:mod:`planerel.features.solid`; needs the cloud and its
+                 camera)
+``corner``       p and q are vertical, adjacent and perpendicular walls of one solid: each
+                 at least ``corner_width`` wide, their top edges within ``corner_tol`` of
+                 each other (:mod:`planerel.features.solid`; needs the cloud)
 ================ =========================================================================
 
 Which pairs reach the facts is decided in :mod:`planerel.features.facts`: all ordered pairs within an
@@ -79,10 +88,19 @@ class RelationParams:
     touch_rel: float = 0.05
     above_tol: float = 0.02
     front_tol: float = 0.05
+    skirt_tol: float = 0.08
+    skirt_reach: float = 0.07
+    skirt_cover: float = 0.7
+    skirt_beyond: float = 0.4
+    corner_tol: float = 0.08
+    corner_width: float = 0.08
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
-                             "touch_rel", "above_tol", "front_tol"))
+                             "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
+                             "skirt_cover", "skirt_beyond", "corner_tol", "corner_width"))
+        if self.skirt_cover > 1:
+            raise InputError(f"skirt_cover is a share of the top's extent in 0..1, got {self.skirt_cover!r}")
         if self.parallel_tol >= 45 or self.perpendicular_tol >= 45:
             raise InputError("parallel_tol and perpendicular_tol must be below 45 degrees, got "
                              f"{self.parallel_tol!r} and {self.perpendicular_tol!r}")
@@ -105,6 +123,8 @@ class Relation:
     rise: float
     above: bool
     in_front_of: bool
+    skirt: bool = False
+    corner: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -293,6 +313,53 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
     return set(zip(a.tolist(), b.tolist(), strict=True))
 
 
+class _Solid:
+    """``skirt`` and ``corner`` of :func:`relate` (:func:`planerel.features.solid.is_skirt`,
+    :func:`~planerel.features.solid.is_corner`); each face is measured once."""
+
+    def __init__(self, planes, cloud, params: RelationParams):
+        lab = planes.labels
+        ok = cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]
+        self.xyz = cloud.xyz if ok else None
+        self.intrinsics = getattr(cloud, "intrinsics", None) if ok else None
+        self.labels, self.up, self.params = lab, np.asarray(planes.up, float), params
+        self._profiles: dict = {}
+        self.normals = None
+        if ok:
+            self.normals = np.full((max([int(lab.max()) + 1] + [p.label + 1 for p in planes]), 3),
+                                   np.nan)
+            for p in planes:
+                self.normals[p.label] = p.normal
+
+    def _profile(self, face):
+        from planerel.features.solid import face_points, face_profile
+
+        prof = self._profiles.get(face.label)
+        if prof is None:
+            prof = self._profiles[face.label] = face_profile(
+                face, self.up, face_points(face, self.labels, self.xyz))
+        return prof
+
+    def skirt(self, top, face) -> bool:
+        if self.xyz is None or top.orientation != "horizontal" or face.orientation != "vertical":
+            return False
+        from planerel.features.solid import is_skirt
+
+        p = self.params
+        return is_skirt(top, face, self.up, self._profile(face), self.labels, self.xyz,
+                        self.intrinsics, self.normals, p.parallel_tol, p.skirt_tol,
+                        p.skirt_reach, p.skirt_cover, p.skirt_beyond)
+
+    def corner(self, a, b) -> bool:
+        if self.xyz is None or a.orientation != "vertical" or b.orientation != "vertical":
+            return False
+        from planerel.features.solid import is_corner
+
+        p = self.params
+        return is_corner(a, b, self._profile(a), self._profile(b), p.corner_tol,
+                         p.corner_width)
+
+
 def relate(planes, cloud=None, params: RelationParams | None = None) -> Relations:
     """Relations of every ordered pair of planes.
 
@@ -302,7 +369,8 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
         From :func:`planerel.features.planes.measure_planes`.
     cloud : Cloud, optional
         The cloud the planes were measured in; needed for the image-grid ``touching`` test
-        (without it, adjacency uses the 3-D hull gap alone).
+        (without it, adjacency uses the 3-D hull gap alone) and for ``skirt`` and
+        ``corner`` (False without it).
     params : RelationParams, optional
 
     Returns
@@ -328,6 +396,7 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     level = C @ up
     depth = C @ fwd
     G = _gap_matrix(plist)
+    solid = _Solid(planes, cloud, params)
     out = []
     for i in range(n):
         pi = plist[i]
@@ -341,10 +410,13 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
             perp = a >= 90.0 - params.perpendicular_tol
             rise = float(level[j] - level[i])
             dd = float(depth[j] - depth[i])
+            corner = adj and perp and solid.corner(pi, pj)
             out.append(Relation(pi.label, pj.label, a, par, perp, gap, t, adj, rise,
-                                -rise > params.above_tol, dd > params.front_tol))
+                                -rise > params.above_tol, dd > params.front_tol,
+                                adj and solid.skirt(pi, pj), corner))
             out.append(Relation(pj.label, pi.label, a, par, perp, gap, t, adj, -rise,
-                                rise > params.above_tol, -dd > params.front_tol))
+                                rise > params.above_tol, -dd > params.front_tol,
+                                adj and solid.skirt(pj, pi), corner))
     out.sort(key=lambda r: (r.a, r.b))
     return Relations(tuple(out), params)
 

@@ -1,0 +1,257 @@
+"""What makes a box solid: a face hanging below its top (``skirt``) and two walls meeting at a
+corner (``corner``), pair relations of :func:`planerel.features.relations.relate`.
+
+**skirt(Top, Face)** tells a solid box from furniture that shows the same two planes.  A box's
+top and one of its sides are a horizontal and a vertical plane, adjacent and perpendicular;
+so are a chair's seat and its back or its planar legs, a table's top and a leg, a laptop's
+base and its lid, a faceted cylinder's top and a facet.  What only the box has: the side's top
+edge is the top's edge, the side reaches *down* from it (a chair's back and a laptop's lid
+reach up), by more than a slab's thickness (a table top's or a seat's edge strip), halfway
+down it is still as wide as the top along their shared edge (a leg, a facet, or a seat edge
+merged with the two legs flush with it, is not), and it ends where the top ends (the side
+face of a ramp with a top platform hangs below the platform, but runs on under the slope).
+A riser under its tread satisfies it too.
+
+Rule (:func:`skirt_measures`, :func:`is_skirt`), with ``up`` the unit up vector, ``d`` the
+horizontal direction in the face (``up x normal``), ``level = up . x``:
+
+- ``offset``: the top's level (its centroid's) minus the face's top (98th percentile of its
+  points' levels): within ``+-tol``;
+- ``reach``: the top's level minus the face's bottom (2nd percentile): at least ``reach_min``;
+- ``cover``: on the face's plane, at 30, 50 and 70 % of its reach below the top and at
+  ``samples`` positions along ``d`` over the top's extent (its hull's), the point is
+  projected into the image: *covered* when a pixel of the face lies within one pixel of it,
+  or the pixel there belongs to a plane parallel to the face whose point lies on the face's
+  plane (the same side, split in two by an object in front of it), *hidden* when the pixel there holds no point or a point nearer the sensor (another object
+  in front, as a box half hidden behind a smaller one), *open* otherwise (the sensor sees
+  past the face's plane or another surface on it: the floor between a chair's legs).
+  ``cover`` = covered / (covered + open), at least ``cover_min``; a face with no decided
+  position has cover 0.  Measured through the image, a face seen at a grazing angle counts
+  as much as one seen head on, and one half hidden by an object in front as one in full view;
+- ``beyond``: how far the face reaches past the top's extent along ``d`` (its points' 2nd to
+  98th percentile against the top's hull, both ends summed): at most ``beyond_max``.
+
+Defaults (:class:`~planerel.features.relations.RelationParams`): ``tol`` 0.08 m (a face's top
+row of pixels at 4 m on a 160x120 frame is 3 cm, the segmentation may leave one or two rows to
+the top or unassigned), ``reach_min`` 0.07 m (table and seat slabs are 4 cm thick, the smallest
+box 10 cm high), ``cover_min`` 0.7 (varied world, training set of seed 1, objects with one
+horizontal plane: 0.4 / 0.6 / 0.7 pass the same 107 boxes and 19 / 15 / 14 others, faceted
+cylinders 5 / 1 / 0), ``beyond_max`` 0.4 m (there the boxes' sides reach at most 0.38 m past
+their top, where the top is partly hidden; the side faces of ramps with a platform that pass
+the other tests reach 0.48-1.6 m past it, there and in the demo's training world).  Without
+the camera's intrinsics (an unorganized cloud) nothing can be projected and no face is a
+skirt.
+
+**corner(P, Q)**: P and Q are vertical walls of one solid (:func:`is_corner`): each at least
+``width_min`` wide (``Plane.width``, the short side of its hull's rectangle: a chair's or a
+table's leg, 3.5-5 cm, a door's or a table top's edge, 4 cm, are narrower) and their top
+edges (98th percentile of their points' levels) within ``tol`` of each other.  Adjacency and
+the right angle are checked by the caller.  Two faces of a box seen without its top (camera
+below it, or an open box whose bottom is not seen) are a corner; defaults 0.08 m and 0.08 m.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["face_points", "FaceProfile", "face_profile", "skirt_measures", "is_skirt",
+           "is_corner"]
+
+#: Levels of the cover test, as shares of the face's reach below the top.
+_LEVELS = (0.3, 0.5, 0.7)
+
+
+def face_points(plane, labels, xyz, max_points: int = 4000) -> tuple[np.ndarray, np.ndarray,
+                                                                      np.ndarray]:
+    """The finite points of ``plane`` and their pixels, from its pixel box: every pixel, or
+    every k-th row and column of the box when the plane has more than ``max_points`` points
+    (its percentiles are all the relations need).
+
+    Parameters
+    ----------
+    plane : Plane
+        With ``label``, ``bbox`` ``(row0, col0, row1, col1)`` and ``n_points``.
+    labels : ndarray, shape (H, W), int
+    xyz : ndarray, shape (H, W, 3)
+    max_points : int
+
+    Returns
+    -------
+    pts : ndarray, shape (N, 3), float64
+    rows, cols : ndarray, shape (N,), int64
+        Row-major order.
+    """
+    r0, c0, r1, c1 = plane.bbox
+    k = max(1, int(np.sqrt(plane.n_points / max_points)))
+    rr, cc = np.nonzero(labels[r0:r1:k, c0:c1:k] == plane.label)
+    rr, cc = rr * k + r0, cc * k + c0
+    pts = np.asarray(xyz[rr, cc], float)
+    ok = np.isfinite(pts).all(axis=1)
+    return pts[ok], rr[ok].astype(np.int64), cc[ok].astype(np.int64)
+
+
+class FaceProfile(NamedTuple):
+    """What the relations need of a vertical face, measured once (:func:`face_profile`).
+
+    ``top`` and ``bottom``: 98th and 2nd percentile of its points' ``up . x`` (metres);
+    ``along``: ``(3,)`` unit horizontal direction in the face (``up x normal``, zeros when the
+    face is horizontal); ``lo``, ``hi``: 2nd and 98th percentile of ``along . x``; all
+    ``nan`` with fewer than 3 points.
+    """
+
+    top: float
+    bottom: float
+    along: np.ndarray
+    lo: float
+    hi: float
+
+
+def face_profile(face, up, points) -> FaceProfile:
+    """:class:`FaceProfile` of ``face`` from its :func:`face_points`."""
+    pts = points[0]
+    up = np.asarray(up, float)
+    along = np.cross(up, np.asarray(face.normal, float))
+    norm = float(np.linalg.norm(along))
+    along = along / norm if norm > 1e-9 else np.zeros(3)
+    if pts.shape[0] < 3:
+        nan = float("nan")
+        return FaceProfile(nan, nan, along, nan, nan)
+    bottom, top = (float(v) for v in np.percentile(pts @ up, [2.0, 98.0]))
+    lo, hi = (float(v) for v in np.percentile(pts @ along, [2.0, 98.0]))
+    return FaceProfile(top, bottom, along, lo, hi)
+
+
+def _cover(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
+           samples: int, normals: np.ndarray, cos_par: float) -> float:
+    """``cover`` of the module rule: covered / (covered + open) over the sample points.
+
+    ``levels`` are the sample heights (``up . x``), ``[t0, t1]`` the top's extent along
+    ``along``; ``intr`` the camera (``fx``, ``fy``, ``cx``, ``cy``); ``normals`` ``(K, 3)``
+    the unit normal of each label (NaN where none), ``cos_par`` the cosine of the parallel
+    tolerance.
+    """
+    n = np.asarray(face.normal, float)
+    c = np.asarray(face.centroid, float)
+    vert = up - (up @ n) * n  # the face's own "up" (the face is vertical within tolerance)
+    vert /= max(float(np.linalg.norm(vert)), 1e-12)
+    s = np.linspace(t0, t1, samples)
+    S, L = np.meshgrid(s, np.asarray(levels, float))
+    X = (c + np.multiply.outer(S - c @ along, along)
+         + np.multiply.outer((L - c @ up) / (vert @ up), vert)).reshape(-1, 3)
+    H, W = labels.shape
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.rint(intr.fx * X[:, 0] / X[:, 2] + intr.cx)
+        v = np.rint(intr.fy * X[:, 1] / X[:, 2] + intr.cy)
+    inside = (X[:, 2] > 0) & (u >= 0) & (u < W) & (v >= 0) & (v < H)
+    u, v, X = u[inside].astype(np.int64), v[inside].astype(np.int64), X[inside]
+    if u.size == 0:
+        return 0.0
+    near = np.zeros(u.size, dtype=bool)
+    for dv in (-1, 0, 1):
+        for du in (-1, 0, 1):
+            vv, uu = np.clip(v + dv, 0, H - 1), np.clip(u + du, 0, W - 1)
+            near |= labels[vv, uu] == face.label
+    seen = np.asarray(xyz[v, u], float)
+    rng_seen = np.linalg.norm(seen, axis=1)
+    rng_face = np.linalg.norm(X, axis=1)
+    margin = np.maximum(0.03, 0.03 * rng_face)
+    hidden = ~np.isfinite(rng_seen) | (rng_seen < rng_face - margin)
+    # another piece of the same surface: a plane parallel to the face, its point on the
+    # face's plane (a side split in two by an object standing in front of it)
+    lab = labels[v, u]
+    cos = np.abs(normals[np.clip(lab, 0, None)] @ n)
+    with np.errstate(invalid="ignore"):
+        near |= (lab >= 0) & (cos >= cos_par) & (np.abs((seen - c) @ n) <= margin)
+    covered = int(near.sum())
+    open_ = int((~near & ~hidden).sum())
+    return covered / (covered + open_) if covered + open_ else 0.0
+
+
+def skirt_measures(top, face, up, profile: FaceProfile, labels, xyz, intrinsics, normals=None,
+                   parallel_tol: float = 10.0,
+                   samples: int = 24) -> tuple[float, float, float, float]:
+    """``(offset, reach, cover, beyond)`` of face ``face`` under plane ``top`` (module rule).
+
+    Parameters
+    ----------
+    top, face : Plane
+        A horizontal and a vertical plane (``centroid``, ``normal``, ``hull3d``, ``label``).
+    up : ndarray, shape (3,)
+        Unit up vector.
+    profile : FaceProfile
+        The face's :func:`face_profile`.
+    labels : ndarray, shape (H, W), int
+        The label image the planes refer to.
+    xyz : ndarray, shape (H, W, 3)
+        The organized cloud.
+    intrinsics : Intrinsics or None
+        The camera; None: ``cover`` is 0.
+    normals : ndarray, shape (K, 3), optional
+        Unit normal of each label of ``labels`` (NaN rows for labels without a plane); a
+        pixel of a plane parallel to the face (within ``parallel_tol`` degrees) whose point
+        lies on the face's plane counts as the face.  None: only the face's own pixels do.
+    parallel_tol : float
+        Degrees.
+    samples : int
+        Sample positions along the top's extent at each level.
+
+    Returns
+    -------
+    (float, float, float, float)
+        Metres, metres, share in ``[0, 1]``, metres; ``(nan, nan, 0, nan)`` for a face with
+        fewer than 3 points.
+    """
+    up = np.asarray(up, float)
+    nan = float("nan")
+    if not np.isfinite(profile.top):
+        return nan, nan, 0.0, nan
+    top_level = float(np.asarray(top.centroid, float) @ up)
+    offset, reach = top_level - profile.top, top_level - profile.bottom
+    along = profile.along
+    if reach <= 0 or not along.any():
+        return offset, reach, 0.0, nan
+    ext = np.asarray(top.hull3d, float) @ along
+    t0, t1 = float(ext.min()), float(ext.max())
+    beyond = max(0.0, t0 - profile.lo) + max(0.0, profile.hi - t1)
+    if t1 - t0 <= 0 or intrinsics is None:
+        return offset, reach, 0.0, beyond
+    if normals is None:
+        normals = np.full((int(labels.max()) + 1 if labels.size else 1, 3), np.nan)
+    cover = _cover(face, labels, xyz, intrinsics, up, along,
+                   [top_level - k * reach for k in _LEVELS], t0, t1, samples,
+                   np.asarray(normals, float), float(np.cos(np.radians(parallel_tol))))
+    return offset, reach, cover, beyond
+
+
+def is_skirt(top, face, up, profile: FaceProfile, labels, xyz, intrinsics, normals=None,
+             parallel_tol: float = 10.0, tol: float = 0.08, reach_min: float = 0.07,
+             cover_min: float = 0.7, beyond_max: float = 0.4) -> bool:
+    """True when ``face`` hangs below ``top`` (module rule; both planes' orientations are the
+    caller's to check).  Arguments as in :func:`skirt_measures`; metres and a share."""
+    offset, reach, cover, beyond = skirt_measures(top, face, up, profile, labels, xyz,
+                                                  intrinsics, normals, parallel_tol)
+    return bool(abs(offset) <= tol and reach >= reach_min and cover >= cover_min
+                and beyond <= beyond_max)
+
+
+def is_corner(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float = 0.08,
+              width_min: float = 0.08) -> bool:
+    """True when vertical faces ``p`` and ``q`` are walls of one solid (module rule
+    ``corner``): each at least ``width_min`` m wide (``Plane.width``, the short side) and
+    their top edges (:class:`FaceProfile` ``top``) within ``tol`` m of each other.
+
+    Orientation, adjacency and the right angle are the caller's to check.
+
+    Parameters
+    ----------
+    p, q : Plane
+    profile_p, profile_q : FaceProfile
+        :func:`face_profile` of each.
+    tol, width_min : float
+        Metres.
+    """
+    if min(p.width, q.width) < width_min:
+        return False
+    return bool(abs(profile_p.top - profile_q.top) <= tol)
