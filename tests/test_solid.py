@@ -53,10 +53,12 @@ def test_box_side_hangs_below_its_top_not_the_other_way():
     assert "skirt(s0001_p01, s0001_p02)." in text and "skirt(s0001_p02," not in text
 
 
-def test_riser_under_its_tread_is_a_skirt():
+def test_risers_are_no_skirts():
     _, _, ps, rel = _relations([floor()] + stairs(0.0, 2.2, 2, rise=0.17, run=0.28))
     # stairs(): riser 1, tread 2, riser 3, tread 4
-    assert rel.get(2, 1).skirt and rel.get(4, 3).skirt
+    assert not rel.get(2, 1).skirt  # the lowest riser: the next one rises from its tread
+    assert rel.get(4, 3).adjacent and rel.get(3, 2).adjacent
+    assert not rel.get(4, 3).skirt  # the next one stands on tread 2, 0.28 m deep: a step
     assert not rel.get(2, 3).skirt  # the next riser rises from the tread
 
 

@@ -22,9 +22,11 @@ For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.pl
 ``skirt``        p is horizontal, q vertical and adjacent, and q hangs below p as a box's
                  side below its top: q's top edge at p's level, q reaching down at least
                  ``skirt_reach`` and, halfway down, covering ``skirt_cover`` of p's extent
-                 along their edge where it can be seen, and ending within ``skirt_beyond``
-                 of where p ends (:mod:`planerel.features.solid`; needs the cloud and its
-                 camera)
+                 along their edge where it can be seen, ending within ``skirt_beyond``
+                 of where p ends; not a riser: q does not stand on a step (a horizontal
+                 plane at its foot reaching at most ``skirt_step`` out from it) and no
+                 vertical plane parallel to q rises from p (the next riser)
+                 (:mod:`planerel.features.solid`; needs the cloud and its camera)
 ``corner``       p and q are vertical, adjacent and perpendicular walls of one solid: each
                  at least ``corner_width`` wide, their top edges within ``corner_tol`` of
                  each other (:mod:`planerel.features.solid`; needs the cloud)
@@ -92,13 +94,14 @@ class RelationParams:
     skirt_reach: float = 0.07
     skirt_cover: float = 0.7
     skirt_beyond: float = 0.4
+    skirt_step: float = 0.45
     corner_tol: float = 0.08
     corner_width: float = 0.08
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
-                             "skirt_cover", "skirt_beyond", "corner_tol", "corner_width"))
+                             "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width"))
         if self.skirt_cover > 1:
             raise InputError(f"skirt_cover is a share of the top's extent in 0..1, got {self.skirt_cover!r}")
         if self.parallel_tol >= 45 or self.perpendicular_tol >= 45:
@@ -324,6 +327,8 @@ class _Solid:
         self.intrinsics = getattr(cloud, "intrinsics", None) if ok else None
         self.labels, self.up, self.params = lab, np.asarray(planes.up, float), params
         self._profiles: dict = {}
+        #: ``{label: [planes adjacent to it]}``, filled by :func:`relate`
+        self.touching: dict = {}
         self.normals = None
         if ok:
             self.normals = np.full((max([int(lab.max()) + 1] + [p.label + 1 for p in planes]), 3),
@@ -343,12 +348,23 @@ class _Solid:
     def skirt(self, top, face) -> bool:
         if self.xyz is None or top.orientation != "horizontal" or face.orientation != "vertical":
             return False
-        from planerel.features.solid import is_skirt
+        from planerel.features.solid import is_skirt, on_step, rises_from
 
         p = self.params
-        return is_skirt(top, face, self.up, self._profile(face), self.labels, self.xyz,
-                        self.intrinsics, self.normals, p.parallel_tol, p.skirt_tol,
-                        p.skirt_reach, p.skirt_cover, p.skirt_beyond)
+        prof = self._profile(face)
+        if not is_skirt(top, face, self.up, prof, self.labels, self.xyz, self.intrinsics,
+                        self.normals, p.parallel_tol, p.skirt_tol, p.skirt_reach,
+                        p.skirt_cover, p.skirt_beyond):
+            return False
+        near = self.touching.get(face.label, ())
+        if any(on_step(face, prof, h, self.up, p.skirt_tol, p.skirt_step)
+               for h in near if h.label != top.label and h.orientation == "horizontal"):
+            return False
+        cos_par = float(np.cos(np.radians(p.parallel_tol)))
+        return not any(rises_from(top, self._profile(v), self.up, p.skirt_tol, p.skirt_reach)
+                       for v in self.touching.get(top.label, ())
+                       if v.label != face.label and v.orientation == "vertical"
+                       and abs(float(np.dot(v.normal, face.normal))) >= cos_par)
 
     def corner(self, a, b) -> bool:
         if self.xyz is None or a.orientation != "vertical" or b.orientation != "vertical":
@@ -397,6 +413,12 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     depth = C @ fwd
     G = _gap_matrix(plist)
     solid = _Solid(planes, cloud, params)
+    for i in range(n):  # each plane's adjacent planes (a face's foot, a tread's next riser)
+        for j in range(n):
+            if i != j and (G[i, j] <= params.adjacency_gap
+                           or (min(plist[i].label, plist[j].label),
+                               max(plist[i].label, plist[j].label)) in touch):
+                solid.touching.setdefault(plist[i].label, []).append(plist[j])
     out = []
     for i in range(n):
         pi = plist[i]

@@ -29,7 +29,14 @@ horizontal direction in the face (``up x normal``), ``level = up . x``:
   position has cover 0.  Measured through the image, a face seen at a grazing angle counts
   as much as one seen head on, and one half hidden by an object in front as one in full view;
 - ``beyond``: how far the face reaches past the top's extent along ``d`` (its points' 2nd to
-  98th percentile against the top's hull, both ends summed): at most ``beyond_max``.
+  98th percentile against the top's hull, both ends summed): at most ``beyond_max``;
+- the face is no riser (checked by :func:`~planerel.features.relations.relate`, which knows
+  the planes adjacent to each plane): it does not stand on a step (:func:`on_step`: another
+  horizontal plane adjacent to it, above floor level, at its foot, reaching at most ``step``
+  = 0.45 m out from it; a tread is 0.22-0.35 m deep, the floor or a table under a box
+  reaches farther), and no vertical plane parallel to it rises from the top
+  (:func:`rises_from`: the next riser behind a tread).  A box against a wall or a taller box
+  loses the skirt of the side facing away from that wall; its other sides keep theirs.
 
 Defaults (:class:`~planerel.features.relations.RelationParams`): ``tol`` 0.08 m (a face's top
 row of pixels at 4 m on a 160x120 frame is 3 cm, the segmentation may leave one or two rows to
@@ -57,7 +64,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["face_points", "FaceProfile", "face_profile", "skirt_measures", "is_skirt",
-           "is_corner"]
+           "on_step", "rises_from", "is_corner"]
 
 #: Levels of the cover test, as shares of the face's reach below the top.
 _LEVELS = (0.3, 0.5, 0.7)
@@ -234,6 +241,40 @@ def is_skirt(top, face, up, profile: FaceProfile, labels, xyz, intrinsics, norma
                                                   intrinsics, normals, parallel_tol)
     return bool(abs(offset) <= tol and reach >= reach_min and cover >= cover_min
                 and beyond <= beyond_max)
+
+
+def on_step(face, profile: FaceProfile, plane, up, tol: float = 0.08,
+            step: float = 0.45) -> bool:
+    """True when vertical ``face`` stands on horizontal ``plane`` as a riser on the tread
+    below: ``plane`` above floor level (``Plane.height`` over ``tol``), its level (its
+    centroid's) within ``tol`` of the face's bottom, reaching at most ``step`` metres out from
+    the face (its hull's extent along the face's horizontal normal).  A box's side stands on
+    the floor (or a piece of it cut off by the box) or a table, which reaches farther; a tread
+    is 0.22-0.35 m deep.  Adjacency is the caller's to check."""
+    up = np.asarray(up, float)
+    if not np.isfinite(profile.bottom) or plane.height <= tol:
+        return False
+    if abs(float(np.asarray(plane.centroid, float) @ up) - profile.bottom) > tol:
+        return False
+    n = np.asarray(face.normal, float)
+    n = n - (n @ up) * up
+    norm = float(np.linalg.norm(n))
+    if norm < 1e-9:
+        return False
+    ext = np.asarray(plane.hull3d, float) @ (n / norm)
+    return bool(ext.max() - ext.min() <= step)
+
+
+def rises_from(plane, profile: FaceProfile, up, tol: float = 0.08,
+               reach_min: float = 0.07) -> bool:
+    """True when a vertical face (its :class:`FaceProfile`) rises from horizontal ``plane``:
+    its bottom within ``tol`` of the plane's level and its top at least ``reach_min`` above it
+    (the next riser behind a tread; a chair's back on its seat).  Adjacency is the caller's
+    to check."""
+    if not np.isfinite(profile.bottom):
+        return False
+    level = float(np.asarray(plane.centroid, float) @ np.asarray(up, float))
+    return bool(abs(profile.bottom - level) <= tol and profile.top - level >= reach_min)
 
 
 def is_corner(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float = 0.08,
