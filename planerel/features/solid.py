@@ -35,8 +35,9 @@ horizontal direction in the face (``up x normal``), ``level = up . x``:
   horizontal plane adjacent to it, above floor level, at its foot, reaching at most ``step``
   = 0.45 m out from it; a tread is 0.22-0.35 m deep, the floor or a table under a box
   reaches farther), and no vertical plane parallel to it rises from the top
-  (:func:`rises_from`: the next riser behind a tread).  A box against a wall or a taller box
-  loses the skirt of the side facing away from that wall; its other sides keep theirs.
+  (:func:`rises_from`: the next riser behind a tread).  A wall behind a box is seen down to
+  the floor beside it and does not count; a taller box touching it, seen only above the
+  lower box's top, takes the skirt of the lower box's side parallel to its own.
 
 Defaults (:class:`~planerel.features.relations.RelationParams`): ``tol`` 0.08 m (a face's top
 row of pixels at 4 m on a 160x120 frame is 3 cm, the segmentation may leave one or two rows to
