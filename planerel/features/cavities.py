@@ -38,7 +38,7 @@ import math
 
 import numpy as np
 
-__all__ = ["cavity_pairs", "edge_overlap"]
+__all__ = ["cavity_pairs", "edge_overlap", "group_channel_pairs"]
 
 
 def _towards_sensor(p) -> np.ndarray:
@@ -74,9 +74,9 @@ def cavity_pairs(planes, concave, angle_tol: float = 10.0, min_overlap: float = 
         Degrees: normals within this are parallel.
     min_overlap : float
         An edge is *whole* when the two planes' extents along it overlap by at least this
-        (interval IoU, :func:`edge_overlap`): a shelf's board
-        spans its back panel's width; the floor or a platform a shelf stands on runs far
-        beyond its sides.  A channel and a corner need all their edges whole.
+        (interval IoU, :func:`edge_overlap`): a shelf's board spans its back panel's width;
+        the floor or a platform a shelf stands on runs far beyond its sides.  A channel and
+        a corner need all their edges whole.
 
     Returns
     -------
