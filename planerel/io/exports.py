@@ -202,7 +202,7 @@ def scene_graph(desc):
     """The scene as a ``networkx.DiGraph``: one node per plane (id, orientation, area, incline,
     height, distance, n_points, normal and centroid components, floor, objects), one edge
     ``a -> b`` per ordered related pair, as in the facts (angle, gap, rise, parallel,
-    perpendicular, adjacent, above, in_front_of, skirt: ``rise(a, b)``, ``above(a, b)``, ...).
+    perpendicular, adjacent, above, in_front_of, skirt, corner: ``rise(a, b)``, ``above(a, b)``, ...).
     Graph attributes: scene, up, up_source."""
     import networkx as nx
 
@@ -224,7 +224,8 @@ def scene_graph(desc):
         g.add_edge(desc.plane_id(r.a), desc.plane_id(r.b), angle=float(r.angle), gap=float(r.gap), rise=float(r.rise),
                    parallel=bool(r.parallel), perpendicular=bool(r.perpendicular),
                    adjacent=bool(r.adjacent), above=bool(r.above),
-                   in_front_of=bool(r.in_front_of), skirt=bool(r.skirt))
+                   in_front_of=bool(r.in_front_of), skirt=bool(r.skirt),
+                   corner=bool(r.corner))
     return g
 
 
