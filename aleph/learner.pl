@@ -81,6 +81,7 @@
     lazy_cache/2,           % variant hash of a lazy call, its constants
     lazy_clause_cache/4,    % variant hash of a clause and lazy literal, its covered pos and neg, the constants
     cov_cache/3,            % variant hash of a clause, its positives and negatives as bit sets
+    cov_inconsistent/1,     % variant hash of a clause that covers more than noise negatives
     ans_cache/3,            % variant hash of a short clause, its answers on positives, on negatives
     hopeless_bottom/1,      % variant hash of a bottom clause whose search found no clause
     loaded_stem/1.
@@ -1173,21 +1174,46 @@ child_cover([], _, _, _, _, _, _, _, [], _).
 child_cover([Id-Ps|T], Left, Need, IV, Lit, Set, Head, Body1, Ids, Mode) :-
     Left >= Need,
     Left1 is Left - 1,
-    (   (   Ps == full
-        ->  covers_id(Set, Head, Body1, Id)
-        ;   Mode == fast
-        ->  member(P, Ps),
-            \+ \+ ( IV = P, call_lit(Lit) )
-        ;   member(P, Ps),
-            \+ \+ ( IV = P,
-                    catch(call_lit(Lit), E, (coverage_error(E), fail)) )
-        )
+    (   covered_by(Ps, Id, IV, Lit, Set, Head, Body1, Mode)
     ->  Ids = [Id|Ids1],
         Need1 is Need - 1
     ;   Ids = Ids1,
         Need1 = Need
     ),
     child_cover(T, Left1, Need1, IV, Lit, Set, Head, Body1, Ids1, Mode).
+
+%   covered_by(+Answers, +Id, +IV, +Lit, +Set, +Head, +Body1, +Mode): the
+%   refined clause covers example Id: Lit holds for one of the parent's
+%   answers Ps (Id-full: the whole clause is proved on the example).
+covered_by(Ps, Id, IV, Lit, Set, Head, Body1, Mode) :-
+    (   Ps == full
+    ->  covers_id(Set, Head, Body1, Id)
+    ;   Mode == fast
+    ->  member(P, Ps),
+        \+ \+ ( IV = P, call_lit(Lit) )
+    ;   member(P, Ps),
+        \+ \+ ( IV = P,
+                catch(call_lit(Lit), E, (coverage_error(E), fail)) )
+    ),
+    !.
+
+%   capped_cover(+Answers, +IV, +Lit, +Set, +Head, +Body1, +Max, -Ids): as
+%   child_cover/8 without a minimum, but fails as soon as more than Max
+%   examples are covered.
+capped_cover(Proj, IV, Lit, Set, Head, Body1, Max, Ids) :-
+    catch(capped_cover(Proj, Max, IV, Lit, Set, Head, Body1, Ids, fast), _,
+          capped_cover(Proj, Max, IV, Lit, Set, Head, Body1, Ids, safe)).
+
+capped_cover([], _, _, _, _, _, _, [], _).
+capped_cover([Id-Ps|T], Max, IV, Lit, Set, Head, Body1, Ids, Mode) :-
+    (   covered_by(Ps, Id, IV, Lit, Set, Head, Body1, Mode)
+    ->  Max > 0,
+        Max1 is Max - 1,
+        Ids = [Id|Ids1]
+    ;   Max1 = Max,
+        Ids = Ids1
+    ),
+    capped_cover(T, Max1, IV, Lit, Set, Head, Body1, Ids1, Mode).
 
 children_of(bl(J, Lit, In, Out, none), Node, X, Ctx, Best0, Best, Cs, T) :- !,
     make_child(J, Lit, In-all, Out, Node, X, Ctx, Best0, Child),
@@ -1239,7 +1265,12 @@ make_child(J, Lit, In-How, Out, nd(Body, _, Bound, Len, _, _, _, _, _, _), X, Ct
         ord_union(In, Out, LitIds0),
         ord_intersection(LitIds0, BIds, LitIds)
     ),
-    child_coverage(Head, Body1, Len1, X, Lit, LitIds, Need, Cov),
+    Ctx = ctx(_, CL, _, _, _, _, _, Noise, _),
+    (   Len1 >= CL
+    ->  NegMax = Noise                % cannot be refined: only acceptable or not
+    ;   NegMax = inf
+    ),
+    child_coverage(Head, Body1, Len1, X, Lit, LitIds, Need-NegMax, Cov),
     (   Cov = cov(PC1, NC1)
     ->  length(PC1, P1),
         length(NC1, N1),
@@ -1271,10 +1302,13 @@ make_child(J, Lit, In-How, Out, nd(Body, _, Bound, Len, _, _, _, _, _, _), X, Ct
 %   variable.  The parent's answers are computed (force_answers/3) only on
 %   a cache miss, outside any condition, so that they are kept for its
 %   other refinements.
-child_coverage(Head, Body1, Len1, X, Lit, LitIds, Need, Cov) :-
+child_coverage(Head, Body1, Len1, X, Lit, LitIds, Need-NegMax, Cov) :-
     X = x(_, _, _, _, PC, NC, _),
     (   cache_key(Head, Body1, Len1, Key)
-    ->  (   cov_cache(Key, PB, NB)
+    ->  (   cov_inconsistent(Key)
+        ->  flag(planerel_cache_hits, H, H + 1),
+            Cov = dead
+        ;   cov_cache(Key, PB, NB)
         ->  flag(planerel_cache_hits, H, H + 1),
             (   bits_filter(PC, PB, PC1),
                 length(PC1, P1),
@@ -1284,33 +1318,70 @@ child_coverage(Head, Body1, Len1, X, Lit, LitIds, Need, Cov) :-
                 Cov = cov(PC1, NC1)
             ;   Cov = dead
             )
-        ;   projected_cover(X, Head, Body1, Lit, LitIds, Need, Cov),
+        ;   projected_cover(X, Head, Body1, Lit, LitIds, Need-NegMax, Cov),
             (   Cov = cov(PC1, NC1)
             ->  ids_bits(PC1, PB),
                 ids_bits(NC1, NB),
                 assertz(cov_cache(Key, PB, NB))
+            ;   Cov = inconsistent
+            ->  assertz(cov_inconsistent(Key))
             ;   true
             )
         )
-    ;   projected_cover(X, Head, Body1, Lit, LitIds, Need, Cov)
+    ;   projected_cover(X, Head, Body1, Lit, LitIds, Need-NegMax, Cov)
     ).
 
-projected_cover(X, Head, Body1, Lit, LitIds, Need, Cov) :-
-    X = x(BV, _, _, AH, PC, _, _),
-    (   LitIds == all
-    ->  force_answers(AH, PProj, _),
-        IV = BV
-    ;   projection(X, pos, LitIds, IV, PProj)
-    ),
-    (   child_cover(PProj, IV, Lit, pos, Head, Body1, Need, PC1),
-        keeps_seed(PC, PC1)
-    ->  (   LitIds == all
-        ->  force_answers(AH, _, NProj)
-        ;   projection(X, neg, LitIds, IV, NProj)
-        ),
+%   A refinement at clauselength cannot be refined, so only whether it is
+%   acceptable matters: its negatives are tested first and only until more
+%   than noise are covered (Cov = inconsistent, a dead child: the clause
+%   covers too many negatives whatever positives are left, so this is kept
+%   per variant like a coverage).  Same clauses explored, same theory.
+projected_cover(X, Head, Body1, Lit, LitIds, Need-NegMax, Cov) :-
+    NegMax \== inf, !,
+    X = x(_, _, _, _, PC, _, _),
+    length(PC, NP),
+    (   Need > NP                      % too few positives whatever the negatives
+    ->  Cov = dead
+    ;   side_answers(X, neg, LitIds, IV, NProj),   % outside a condition: kept (setarg/3)
+        (   capped_cover(NProj, IV, Lit, neg, Head, Body1, NegMax, NC1)
+        ->  positive_cover(X, Head, Body1, Lit, LitIds, Need, Cov0),
+            (   Cov0 = pos(PC1)
+            ->  Cov = cov(PC1, NC1)
+            ;   Cov = dead
+            )
+        ;   Cov = inconsistent
+        )
+    ).
+projected_cover(X, Head, Body1, Lit, LitIds, Need-_, Cov) :-
+    positive_cover(X, Head, Body1, Lit, LitIds, Need, Cov0),
+    (   Cov0 = pos(PC1)
+    ->  side_answers(X, neg, LitIds, IV, NProj),
         child_cover(NProj, IV, Lit, neg, Head, Body1, 0, NC1),
         Cov = cov(PC1, NC1)
     ;   Cov = dead
+    ).
+
+%   positive_cover(..., -Cov): pos(PC1), the parent's positives the refined
+%   clause covers, or dead (fewer than Need, or the seed lost).
+positive_cover(X, Head, Body1, Lit, LitIds, Need, Cov) :-
+    X = x(_, _, _, _, PC, _, _),
+    side_answers(X, pos, LitIds, IV, PProj),
+    (   child_cover(PProj, IV, Lit, pos, Head, Body1, Need, PC1),
+        keeps_seed(PC, PC1)
+    ->  Cov = pos(PC1)
+    ;   Cov = dead
+    ).
+
+%   side_answers(+X, +Side, +LitIds, -IV, -Proj): the parent's answers on its
+%   covered examples of Side (pos or neg), all of them (LitIds = all) or
+%   projected on the literal's variables LitIds, with their variables IV.
+side_answers(X, Side, LitIds, IV, Proj) :-
+    X = x(BV, _, _, AH, _, _, _),
+    (   LitIds == all
+    ->  force_answers(AH, PT, NT),
+        ( Side == pos -> Proj = PT ; Proj = NT ),
+        IV = BV
+    ;   projection(X, Side, LitIds, IV, Proj)
     ).
 
 %   cache_key(+Head, +Body, +Len, -Key): the variant hash of the clause, when
@@ -1619,6 +1690,7 @@ induce :-
     retractall(lazy_cache(_, _)),
     retractall(lazy_clause_cache(_, _, _, _)),
     retractall(cov_cache(_, _, _)),
+    retractall(cov_inconsistent(_)),
     retractall(ans_cache(_, _, _)),
     flag(planerel_cache_hits, _, 0),
     retractall(hopeless_bottom(_)),

@@ -101,3 +101,21 @@ def test_minpos_1_keeps_the_seeds_as_unit_clauses_as_aleph_does(tmp_path):
     units = [c for c in r.rules if ":-" not in c]
     assert len(units) == N_HIDDEN
     assert r.train.fn == 0
+
+
+@pytest.mark.parametrize("noise, found", [(0, False), (1, True)])
+def test_a_clause_at_clauselength_is_accepted_within_noise_only(tmp_path, noise, found):
+    """A refinement at clauselength cannot be refined, so its negatives are tested only until
+    more than `noise` are covered: a rule of exactly clauselength literals that covers one
+    negative is learned with noise 1 (and reported with its one negative), not with noise 0."""
+    stem = write_problem(tmp_path)
+    b = (tmp_path / "box.b").read_text().replace(":- set(clauselength, 4).", ":- set(clauselength, 3).")
+    b += "has_plane(w_top, w_top_p0).\norientation(w_top_p0, horizontal).\narea(w_top_p0, 0.9).\n"
+    (tmp_path / "box.b").write_text(b)
+    (tmp_path / "box.n").write_text((tmp_path / "box.n").read_text() + "box(w_top).\n")
+    r = learn(stem, settings={"noise": noise}, timeout=60)
+    rule = "box(A):-has_plane(A,B),orientation(B,horizontal)."
+    assert ([re.sub(r"\s+", "", c) for c in r.rules] == [rule]) is found
+    if found:
+        assert r.train == Confusion(tp=N_GOOD, fn=N_HIDDEN, fp=1, tn=N_NEG)
+        assert "neg cover = 1" in r.output
