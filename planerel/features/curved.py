@@ -225,19 +225,23 @@ def _shift_all(mask, r: int, axis: int, erode: bool) -> np.ndarray:
     image counts as unset)."""
     out = mask.copy()
     n = mask.shape[axis]
+
+    def part(sl):  # the index of ``sl`` along ``axis``
+        return (slice(None), sl) if axis == 1 else (sl, slice(None))
+
     for k in range(1, r + 1):
-        for sgn in (1, -1):
-            sh = np.zeros_like(mask)
-            src = [slice(None)] * 2
-            dst = [slice(None)] * 2
-            if k < n:
-                src[axis] = slice(k, None) if sgn > 0 else slice(None, n - k)
-                dst[axis] = slice(None, n - k) if sgn > 0 else slice(k, None)
-                sh[tuple(dst)] = mask[tuple(src)]
+        if k >= n:  # every shifted copy is all outside
             if erode:
-                out &= sh
+                out[...] = False
+            continue
+        for sgn in (1, -1):
+            src = slice(k, None) if sgn > 0 else slice(None, n - k)
+            dst = slice(None, n - k) if sgn > 0 else slice(k, None)
+            if erode:
+                out[part(dst)] &= mask[part(src)]
+                out[part(slice(n - k, None) if sgn > 0 else slice(None, k))] = False
             else:
-                out |= sh
+                out[part(dst)] |= mask[part(src)]
     return out
 
 
@@ -254,37 +258,11 @@ def _open(mask, r: int) -> np.ndarray:
 def _components(mask, xyz, edge_depth: float) -> tuple[np.ndarray, int]:
     """Connected components of ``mask`` over 4-neighbours within ``edge_depth * max(1, z)``
     in 3-D; returns ``(ids (H, W) int, -1 outside, numbered by first pixel; count)``."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
+    from planerel.features._curved_kernels import grid_components
 
-    H, W = mask.shape
-    r, c = np.nonzero(mask)
-    n = len(r)
-    idx = np.full((H + 1, W + 1), -1, np.int64)  # padded: the extra row / column is outside
-    idx[r, c] = np.arange(n)
-    if n == 0:
-        return idx[:H, :W], 0
-    P = xyz[r, c]
-    lim = edge_depth * np.maximum(1.0, np.abs(P[:, 2]))
-    src, dst = [], []
-    for dy, dx in ((0, 1), (1, 0)):
-        j = idx[r + dy, c + dx]
-        ok = j >= 0
-        i = np.nonzero(ok)[0]
-        d = np.linalg.norm(P[j[ok]] - P[i], axis=1)
-        keep = d <= lim[i]
-        src.append(i[keep])
-        dst.append(j[ok][keep])
-    s_, d_ = np.concatenate(src), np.concatenate(dst)
-    g = coo_matrix((np.ones(len(s_), np.int8), (s_, d_)), shape=(n, n))
-    k, lab = connected_components(g, directed=False)
-    # renumber by first pixel (row-major) so the order does not depend on scipy's numbering
-    first = np.full(k, n, np.int64)
-    np.minimum.at(first, lab, np.arange(n))
-    rank = np.empty(k, np.int64)
-    rank[np.argsort(first, kind="stable")] = np.arange(k)
-    out = idx[:H, :W].copy()
-    out[r, c] = rank[lab]
+    # a window of the cloud is passed as it is (no copy)
+    out, k = grid_components(np.asarray(mask, dtype=np.bool_), np.asarray(xyz, dtype=np.float64),
+                             float(edge_depth))
     return out, int(k)
 
 
@@ -318,7 +296,8 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     explained = np.zeros(nl + 1, bool)
     explained[[x for x in flat if 0 <= x < nl]] = True
     explained[[x for x in support if 0 <= x < nl]] = True
-    un = valid & ~explained[np.where(lab >= 0, lab, nl)]
+    # -1 (unassigned) indexes the last entry, which is False
+    un = valid & ~explained[lab if lab.min(initial=0) >= -1 else np.where(lab >= 0, lab, nl)]
     un = _open(un, params.open_px) & valid
     if not un.any():
         return []

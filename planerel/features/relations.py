@@ -413,12 +413,15 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     depth = C @ fwd
     G = _gap_matrix(plist)
     solid = _Solid(planes, cloud, params)
-    for i in range(n):  # each plane's adjacent planes (a face's foot, a tread's next riser)
-        for j in range(n):
-            if i != j and (G[i, j] <= params.adjacency_gap
-                           or (min(plist[i].label, plist[j].label),
-                               max(plist[i].label, plist[j].label)) in touch):
-                solid.touching.setdefault(plist[i].label, []).append(plist[j])
+    # each plane's adjacent planes (a face's foot, a tread's next riser)
+    A = G <= params.adjacency_gap
+    pos = {p.label: k for k, p in enumerate(plist)}
+    for a, b in touch:
+        if a in pos and b in pos:
+            A[pos[a], pos[b]] = A[pos[b], pos[a]] = True
+    np.fill_diagonal(A, False)
+    for i, j in zip(*np.nonzero(A), strict=True):  # row-major: i, then j, as the planes
+        solid.touching.setdefault(plist[i].label, []).append(plist[j])
     out = []
     for i in range(n):
         pi = plist[i]

@@ -69,6 +69,8 @@ __all__ = ["face_points", "FaceProfile", "face_profile", "skirt_measures", "is_s
 
 #: Levels of the cover test, as shares of the face's reach below the top.
 _LEVELS = (0.3, 0.5, 0.7)
+#: Row and column offsets of a pixel's 3x3 neighbourhood.
+_DV, _DU = (a.ravel() for a in np.meshgrid([-1, 0, 1], [-1, 0, 1], indexing="ij"))
 
 
 def face_points(plane, labels, xyz, max_points: int = 4000) -> tuple[np.ndarray, np.ndarray,
@@ -120,14 +122,16 @@ def face_profile(face, up, points) -> FaceProfile:
     """:class:`FaceProfile` of ``face`` from its :func:`face_points`."""
     pts = points[0]
     up = np.asarray(up, float)
-    along = np.cross(up, np.asarray(face.normal, float))
+    (u0, u1, u2), (n0, n1, n2) = up.tolist(), np.asarray(face.normal, float).tolist()
+    along = np.array([u1 * n2 - u2 * n1, u2 * n0 - u0 * n2, u0 * n1 - u1 * n0])  # up x normal
     norm = float(np.linalg.norm(along))
     along = along / norm if norm > 1e-9 else np.zeros(3)
     if pts.shape[0] < 3:
         nan = float("nan")
         return FaceProfile(nan, nan, along, nan, nan)
-    bottom, top = (float(v) for v in np.percentile(pts @ up, [2.0, 98.0]))
-    lo, hi = (float(v) for v in np.percentile(pts @ along, [2.0, 98.0]))
+    # one call for both coordinates (the same order statistics as one call each)
+    (bottom, top), (lo, hi) = np.percentile(np.stack([pts @ up, pts @ along]), [2.0, 98.0],
+                                            axis=1).T.tolist()
     return FaceProfile(top, bottom, along, lo, hi)
 
 
@@ -156,11 +160,10 @@ def _cover(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
     u, v, X = u[inside].astype(np.int64), v[inside].astype(np.int64), X[inside]
     if u.size == 0:
         return 0.0
-    near = np.zeros(u.size, dtype=bool)
-    for dv in (-1, 0, 1):
-        for du in (-1, 0, 1):
-            vv, uu = np.clip(v + dv, 0, H - 1), np.clip(u + du, 0, W - 1)
-            near |= labels[vv, uu] == face.label
+    # a pixel of the face within one pixel (the 3x3 neighbourhood, clipped to the image)
+    vv = np.clip(v[None, :] + _DV[:, None], 0, H - 1)
+    uu = np.clip(u[None, :] + _DU[:, None], 0, W - 1)
+    near = (labels[vv, uu] == face.label).any(axis=0)
     seen = np.asarray(xyz[v, u], float)
     rng_seen = np.linalg.norm(seen, axis=1)
     rng_face = np.linalg.norm(X, axis=1)
@@ -211,26 +214,43 @@ def skirt_measures(top, face, up, profile: FaceProfile, labels, xyz, intrinsics,
         Metres, metres, share in ``[0, 1]``, metres; ``(nan, nan, 0, nan)`` for a face with
         fewer than 3 points.
     """
+    offset, reach, beyond, span = _skirt_geometry(top, up, profile)
+    if span is None or intrinsics is None:
+        return offset, reach, 0.0, beyond
+    return offset, reach, _skirt_cover(face, up, profile, labels, xyz, intrinsics, normals,
+                                       parallel_tol, samples, *span), beyond
+
+
+def _skirt_geometry(top, up, profile: FaceProfile):
+    """``(offset, reach, beyond, span)`` of :func:`skirt_measures` without the cover: ``span``
+    ``(top_level, reach, t0, t1)`` for the cover's samples, None when the face has no cover
+    (no points, no reach, no horizontal direction, or a top without extent along it)."""
     up = np.asarray(up, float)
     nan = float("nan")
     if not np.isfinite(profile.top):
-        return nan, nan, 0.0, nan
+        return nan, nan, nan, None
     top_level = float(np.asarray(top.centroid, float) @ up)
     offset, reach = top_level - profile.top, top_level - profile.bottom
     along = profile.along
     if reach <= 0 or not along.any():
-        return offset, reach, 0.0, nan
+        return offset, reach, nan, None
     ext = np.asarray(top.hull3d, float) @ along
     t0, t1 = float(ext.min()), float(ext.max())
     beyond = max(0.0, t0 - profile.lo) + max(0.0, profile.hi - t1)
-    if t1 - t0 <= 0 or intrinsics is None:
-        return offset, reach, 0.0, beyond
+    if t1 - t0 <= 0:
+        return offset, reach, beyond, None
+    return offset, reach, beyond, (top_level, reach, t0, t1)
+
+
+def _skirt_cover(face, up, profile: FaceProfile, labels, xyz, intrinsics, normals,
+                 parallel_tol: float, samples: int, top_level: float, reach: float, t0: float,
+                 t1: float) -> float:
+    """``cover`` of :func:`skirt_measures` over the span of :func:`_skirt_geometry`."""
     if normals is None:
         normals = np.full((int(labels.max()) + 1 if labels.size else 1, 3), np.nan)
-    cover = _cover(face, labels, xyz, intrinsics, up, along,
-                   [top_level - k * reach for k in _LEVELS], t0, t1, samples,
-                   np.asarray(normals, float), float(np.cos(np.radians(parallel_tol))))
-    return offset, reach, cover, beyond
+    return _cover(face, labels, xyz, intrinsics, np.asarray(up, float), profile.along,
+                  [top_level - k * reach for k in _LEVELS], t0, t1, samples,
+                  np.asarray(normals, float), float(np.cos(np.radians(parallel_tol))))
 
 
 def is_skirt(top, face, up, profile: FaceProfile, labels, xyz, intrinsics, normals=None,
@@ -238,10 +258,14 @@ def is_skirt(top, face, up, profile: FaceProfile, labels, xyz, intrinsics, norma
              cover_min: float = 0.7, beyond_max: float = 0.4) -> bool:
     """True when ``face`` hangs below ``top`` (module rule; both planes' orientations are the
     caller's to check).  Arguments as in :func:`skirt_measures`; metres and a share."""
-    offset, reach, cover, beyond = skirt_measures(top, face, up, profile, labels, xyz,
-                                                  intrinsics, normals, parallel_tol)
-    return bool(abs(offset) <= tol and reach >= reach_min and cover >= cover_min
-                and beyond <= beyond_max)
+    # the cheap tests first: the cover is measured only for a face that passes them
+    offset, reach, beyond, span = _skirt_geometry(top, up, profile)
+    if not (abs(offset) <= tol and reach >= reach_min and beyond <= beyond_max):
+        return False
+    if span is None or intrinsics is None:
+        return bool(0.0 >= cover_min)
+    return bool(_skirt_cover(face, up, profile, labels, xyz, intrinsics, normals, parallel_tol,
+                             24, *span) >= cover_min)
 
 
 def on_step(face, profile: FaceProfile, plane, up, tol: float = 0.08,

@@ -1,0 +1,67 @@
+"""numba kernels of :mod:`planerel.features.curved` (compiled at first call, cached on disk).
+
+Import this module only from inside functions: numba itself is a heavy import.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, nogil=True)
+def _root(parent, i):
+    while parent[i] != i:
+        parent[i] = parent[parent[i]]
+        i = parent[i]
+    return i
+
+
+@njit(cache=True, nogil=True)
+def grid_components(mask, xyz, edge_depth):
+    """Connected components of ``mask`` over 4-neighbours whose points lie within
+    ``edge_depth * max(1, |z|)`` of each other (``z`` the upper or left pixel's depth).
+
+    Parameters
+    ----------
+    mask : ndarray, shape (H, W), bool
+    xyz : ndarray, shape (H, W, 3), float64
+    edge_depth : float
+
+    Returns
+    -------
+    (ndarray (H, W) int64, int)
+        Component ids, -1 outside ``mask``, numbered 0, 1, ... by their first pixel
+        (row-major); the number of components.
+    """
+    H, W = mask.shape
+    parent = np.arange(H * W)
+    for r in range(H):
+        for c in range(W):
+            if not mask[r, c]:
+                continue
+            i = r * W + c
+            lim = edge_depth * max(1.0, abs(xyz[r, c, 2]))
+            for dy, dx in ((0, 1), (1, 0)):
+                rr, cc = r + dy, c + dx
+                if rr >= H or cc >= W or not mask[rr, cc]:
+                    continue
+                d0 = xyz[rr, cc, 0] - xyz[r, c, 0]
+                d1 = xyz[rr, cc, 1] - xyz[r, c, 1]
+                d2 = xyz[rr, cc, 2] - xyz[r, c, 2]
+                if np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) <= lim:
+                    a, b = _root(parent, i), _root(parent, rr * W + cc)
+                    if a != b:
+                        parent[max(a, b)] = min(a, b)
+    out = np.full((H, W), -1, np.int64)
+    ids = np.full(H * W, -1, np.int64)
+    k = 0
+    for r in range(H):
+        for c in range(W):
+            if mask[r, c]:
+                a = _root(parent, r * W + c)
+                if ids[a] < 0:
+                    ids[a] = k
+                    k += 1
+                out[r, c] = ids[a]
+    return out, k
