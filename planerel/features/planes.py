@@ -306,11 +306,39 @@ def _hull_geometry(p2: np.ndarray, simplify: float):
     return verts, verts, 0.0, 0.0, 0.0
 
 
+#: The last read-only label image owning its data (a :class:`PlaneSet`'s ``labels``), its
+#: boundary and its boundary pixels: measuring, relating and proposing look at the same one.
+_LAST_BOUNDARY: list = [None, None, None]
+
+
 def _boundary(lab: np.ndarray) -> np.ndarray:
-    """``(H, W)`` bool: labelled pixels with a 4-neighbour of another label or at the border."""
+    """``(H, W)`` bool: labelled pixels with a 4-neighbour of another label or at the border
+    (read-only when ``lab`` is: remembered for the last such label image)."""
     from planerel.segment._label_kernels import label_boundary
 
-    return label_boundary(np.ascontiguousarray(lab, dtype=np.int32))
+    last = _LAST_BOUNDARY
+    if last[0] is lab:
+        return last[1]
+    bnd = label_boundary(np.ascontiguousarray(lab, dtype=np.int32))
+    if isinstance(lab, np.ndarray) and not lab.flags.writeable and lab.base is None:
+        bnd.setflags(write=False)
+        last[:] = [lab, bnd, None]
+    return bnd
+
+
+def _boundary_pixels(lab: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``np.nonzero(_boundary(lab))``: rows and columns ``(N,)`` int64, row-major (read-only
+    and remembered as :func:`_boundary` is)."""
+    bnd = _boundary(lab)
+    last = _LAST_BOUNDARY
+    if last[0] is lab and last[1] is bnd:
+        if last[2] is None:
+            rc = np.nonzero(bnd)
+            for a in rc:
+                a.setflags(write=False)
+            last[2] = rc
+        return last[2]
+    return np.nonzero(bnd)
 
 
 def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,

@@ -302,13 +302,13 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
     lab = planes.labels
     if lab is None or lab.shape != xyz.shape[:2]:
         return set()
-    from planerel.features.planes import _boundary
+    from planerel.features.planes import _boundary_pixels
     from planerel.segment._label_kernels import touch_pairs
 
     known = np.zeros(int(lab.max()) + 1 if lab.size and lab.max() >= 0 else 1, dtype=bool)
     for p in planes:
         known[p.label] = True
-    brow, bcol = np.nonzero(_boundary(lab))
+    brow, bcol = _boundary_pixels(lab)
     m = touch_pairs(np.ascontiguousarray(xyz), np.ascontiguousarray(lab, dtype=np.int32),
                     brow.astype(np.int64), bcol.astype(np.int64), int(params.grid_gap),
                     float(params.touch_depth), float(params.touch_rel), known)
@@ -739,14 +739,14 @@ def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
     if not want or lab.size == 0:
         return {}
     from planerel.features._relation_kernels import edge_sums
-    from planerel.features.planes import _boundary
+    from planerel.features.planes import _boundary_pixels
 
     n = int(lab.max()) + 1
     sums = {}
     # only boundary pixels can have another plane within the band: look around them alone;
     # every (boundary pixel, pixel within the band) pair of two different used labels in one
     # compiled pass
-    r0, c0 = np.nonzero(_boundary(lab))
+    r0, c0 = _boundary_pixels(lab)
     used = np.zeros(max(n, 1), np.bool_)
     used[[x for pr in want for x in pr if 0 <= x < n]] = True
     cnt, acc_a, acc_b = edge_sums(np.ascontiguousarray(lab), np.ascontiguousarray(xyz, dtype=np.float64),

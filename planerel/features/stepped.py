@@ -132,8 +132,12 @@ def split_stepped(xyz: np.ndarray, labels: np.ndarray, planes, rise=(0.08, 0.30)
     for p in planes:
         if p.orientation != "inclined" or p.is_floor:
             continue
-        m = lab == p.label
-        h = xyz[m] @ up
+        # the planes' own label image: the plane's pixel box holds all its pixels (the same
+        # points, in the same order)
+        box = ((slice(p.bbox[0], p.bbox[2]), slice(p.bbox[1], p.bbox[3]))
+               if labels is planes.labels else (slice(None), slice(None)))
+        m = lab[box] == p.label
+        h = xyz[box][m] @ up
         levels = stepped_levels(h, rise, margin=margin)
         if not levels:
             continue
@@ -145,7 +149,7 @@ def split_stepped(xyz: np.ndarray, labels: np.ndarray, planes, rise=(0.08, 0.30)
             if k > 0:
                 parent[nxt] = p.label
                 nxt += 1
-        out[m] = new
+        out[box][m] = new
     return None if out is None else (out, parent)
 
 
