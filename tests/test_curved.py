@@ -174,3 +174,35 @@ def test_real_mosd_round_objects_are_curved_and_boxes_flat(name, curved):
             assert obj.curved and obj.planar_fraction < 0.8
         else:  # learn1's two boxes
             assert not obj.curved and obj.planar_fraction > 0.9
+
+
+def test_components_match_a_graph_search():
+    """The compiled grid components are scipy's connected components of the same 4-neighbour
+    graph (points within edge_depth * max(1, z)), numbered by first pixel."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from planerel.features.curved import _components
+
+    rng = np.random.default_rng(2)
+    for _ in range(200):
+        H, W = (int(v) for v in rng.integers(1, 15, 2))
+        mask = rng.random((H, W)) < rng.random()
+        xyz = np.round(rng.normal(size=(H, W, 3)) * 0.03 + [0, 0, 1.5], 2)
+        ids, k = _components(mask, xyz, 0.03)
+        flat = np.flatnonzero(mask)
+        src, dst = [], []
+        for i in flat:
+            r, c = divmod(int(i), W)
+            for rr, cc in ((r, c + 1), (r + 1, c)):
+                if rr < H and cc < W and mask[rr, cc] and np.linalg.norm(
+                        xyz[rr, cc] - xyz[r, c]) <= 0.03 * max(1.0, abs(xyz[r, c, 2])):
+                    src.append(i)
+                    dst.append(rr * W + cc)
+        g = coo_matrix((np.ones(len(src)), (src, dst)), shape=(H * W, H * W))
+        _, lab = connected_components(g, directed=False)
+        first = {}
+        want = np.full((H, W), -1)
+        for i in flat:
+            want.flat[i] = first.setdefault(lab[i], len(first))
+        assert k == len(first) and (ids == want).all()

@@ -151,3 +151,15 @@ def test_no_cloud_no_skirt_and_params_checked():
         RelationParams(skirt_cover=1.5)
     with pytest.raises(InputError, match="skirt_reach"):
         RelationParams(skirt_reach=-0.1)
+
+
+def test_face_percentiles_are_numpys():
+    """The face profile's percentiles without np.percentile's overhead are its floats, ties
+    and every small size included."""
+    from planerel.features.solid import _percentiles_2_98
+
+    rng = np.random.default_rng(4)
+    for n in [*range(1, 40), 97, 1000, 4001]:
+        for x in (rng.normal(size=(2, n)), np.round(rng.normal(size=(2, n)), 1)):
+            ref = [tuple(float(v) for v in np.percentile(row, [2.0, 98.0])) for row in x]
+            assert _percentiles_2_98(x) == ref

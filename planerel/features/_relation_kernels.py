@@ -68,3 +68,30 @@ def edge_sums(lab, xyz, r0, c0, used, band, depth, n):
                         acc_hi[code, j] += xyz[y0, x0, j]
                 cnt[code] += 1.0
     return cnt, acc_lo, acc_hi
+
+
+@njit(cache=True, nogil=True)
+def box_points(lab, xyz, label, r0, c0, r1, c1, k):
+    """The finite points of ``label`` on every ``k``-th row and column of the pixel box
+    ``[r0, r1) x [c0, c1)``, row-major (:func:`planerel.features.solid.face_points`).
+
+    Returns
+    -------
+    (pts (N, 3) float64, rows (N,) int64, cols (N,) int64)
+    """
+    nr = max(0, (r1 - r0 + k - 1) // k)
+    nc = max(0, (c1 - c0 + k - 1) // k)
+    pts = np.empty((nr * nc, 3))
+    rows = np.empty(nr * nc, np.int64)
+    cols = np.empty(nr * nc, np.int64)
+    m = 0
+    for r in range(r0, r1, k):
+        for c in range(c0, c1, k):
+            if lab[r, c] != label:
+                continue
+            x, y, z = xyz[r, c, 0], xyz[r, c, 1], xyz[r, c, 2]
+            if np.isfinite(x) and np.isfinite(y) and np.isfinite(z):
+                pts[m, 0], pts[m, 1], pts[m, 2] = x, y, z
+                rows[m], cols[m] = r, c
+                m += 1
+    return pts[:m].copy(), rows[:m].copy(), cols[:m].copy()

@@ -93,13 +93,14 @@ def face_points(plane, labels, xyz, max_points: int = 4000) -> tuple[np.ndarray,
     rows, cols : ndarray, shape (N,), int64
         Row-major order.
     """
+    from planerel.features._relation_kernels import box_points
+
     r0, c0, r1, c1 = plane.bbox
     k = max(1, int(np.sqrt(plane.n_points / max_points)))
-    rr, cc = np.nonzero(labels[r0:r1:k, c0:c1:k] == plane.label)
-    rr, cc = rr * k + r0, cc * k + c0
-    pts = np.asarray(xyz[rr, cc], float)
-    ok = np.isfinite(pts).all(axis=1)
-    return pts[ok], rr[ok].astype(np.int64), cc[ok].astype(np.int64)
+    H, W = labels.shape
+    r0, c0 = max(0, int(r0)), max(0, int(c0))  # the box clipped to the image, as slicing does
+    return box_points(labels, xyz, int(plane.label), r0, c0, max(r0, min(int(r1), H)),
+                      max(c0, min(int(c1), W)), k)
 
 
 class FaceProfile(NamedTuple):
@@ -129,10 +130,30 @@ def face_profile(face, up, points) -> FaceProfile:
     if pts.shape[0] < 3:
         nan = float("nan")
         return FaceProfile(nan, nan, along, nan, nan)
-    # one call for both coordinates (the same order statistics as one call each)
-    (bottom, top), (lo, hi) = np.percentile(np.stack([pts @ up, pts @ along]), [2.0, 98.0],
-                                            axis=1).T.tolist()
+    (bottom, top), (lo, hi) = _percentiles_2_98(np.stack([pts @ up, pts @ along]))
     return FaceProfile(top, bottom, along, lo, hi)
+
+
+def _percentiles_2_98(x: np.ndarray) -> list[tuple[float, float]]:
+    """``np.percentile(row, [2, 98])`` (its default, linear method) of each row of ``x``
+    ``(R, N)``, finite, ``N >= 1``, without its overhead: the same order statistics and the
+    same interpolation arithmetic, so the same floats (``tests/test_solid.py`` compares)."""
+    n = x.shape[1]
+    picks = []
+    for q in (0.02, 0.98):  # numpy: virtual index (n - 1) q between two order statistics
+        v = (n - 1) * q
+        k = min(int(np.floor(v)), n - 1)
+        picks.append((v, k, min(k + 1, n - 1)))
+    part = np.partition(x, sorted({i for _, k, k1 in picks for i in (k, k1)}), axis=1)
+    out = []
+    for row in part:
+        vals = []
+        for v, k, k1 in picks:
+            a, b, t = float(row[k]), float(row[k1]), v - k
+            d = b - a
+            vals.append(b - d * (1 - t) if t >= 0.5 else a + d * t)
+        out.append(tuple(vals))
+    return out
 
 
 def _cover(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
