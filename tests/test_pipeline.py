@@ -474,6 +474,21 @@ def test_score_objects_counts_other_as_an_answer():
     assert res["open_set_per_class"] == {"box": 1.0, "stairs": 0.0, "ramp": 0.0, "other": 0.5}
 
 
+def test_error_kinds_tell_a_lost_decision_from_an_unproved_object():
+    # rules 1 box (10 right, 1 wrong), 2 stairs (5, 5: does not count), 3 other (8, 2)
+    stats = ((1, "box", 10, 1), (2, "stairs", 5, 5), (3, "other", 8, 2))
+    ex = [("a", "box"), ("b", "box"), ("c", "stairs"), ("d", "other"), ("e", "other"),
+          ("f", "other")]
+    pred = {"a": "box", "b": "other", "c": "other", "d": "box", "e": "box", "f": "other"}
+    fired = {"a": (("box", 1),), "b": (("box", 1), ("other", 3)), "c": (("stairs", 2),),
+             "d": (("box", 1), ("other", 3)), "e": (("box", 1),), "f": ()}
+    res = M.error_kinds(ex, pred, fired, stats)
+    # b and d: the right rule fired and lost; c: its only rule does not count; e: no other rule
+    # fired (a decision could still answer other); only c is beyond any decision
+    assert res == {"decision": 2, "unproved": 1, "unvetoed": 1, "n": 6,
+                   "decision_bound": pytest.approx(5 / 6)}
+
+
 def test_learn_scores_a_held_out_set(small_set, tmp_path):
     held = tmp_path / "held"
     generate_dataset(held, n_box=2, n_stairs=2, n_ramp=3, seed=77, size=(640, 480), subsample=4)
@@ -487,6 +502,9 @@ def test_learn_scores_a_held_out_set(small_set, tmp_path):
     assert res["predictions"] == {o: ("ramp" if k == "ramp" else "other") for o, k in truth.items()}
     assert res["accuracy"] == pytest.approx(3 / 7) and res["n_scenes"] == 7
     assert res["confusion"] == [[0, 0, 0, 2], [0, 0, 0, 2], [0, 0, 3, 0]]
+    # the four wrong answers: no rule of their class fired
+    assert res["errors"] == {"decision": 0, "unproved": 4, "unvetoed": 0, "n": 7,
+                             "decision_bound": pytest.approx(3 / 7)}
 
     # planerel learn --heldout writes the same kind of figures into metrics.json
     m = P.learn_model(small_set, tmp_path / "model", method="gt", jobs=1, engine="builtin",

@@ -11,8 +11,8 @@ import numpy as np
 
 from planerel.errors import InputError
 
-__all__ = ["OTHER", "laplace", "choose_class", "stratified_folds", "confusion_columns",
-           "confusion_matrix", "accuracy_scores", "score_objects"]
+__all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "stratified_folds",
+           "confusion_columns", "confusion_matrix", "accuracy_scores", "score_objects"]
 
 #: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
 #: than right on the training objects (the class of the varied world's clutter, too).
@@ -28,6 +28,12 @@ UNKNOWN = OTHER
 def laplace(tp: int, fp: int) -> float:
     """Laplace estimate of a rule's precision, ``(tp + 1) / (tp + fp + 2)``."""
     return (tp + 1) / (tp + fp + 2)
+
+
+def takes_part(tp: int, fp: int) -> bool:
+    """Whether a rule with ``tp`` right and ``fp`` wrong training objects takes part in the
+    decision: not when it was wrong at least as often as right (``fp >= tp``, ``fp > 0``)."""
+    return not (fp > 0 and fp >= tp)
 
 
 def choose_class(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = ()):
@@ -57,7 +63,7 @@ def choose_class(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence
     kept = []
     for hit in hits:
         tp, fp = table.get(hit[1], (0, 0))
-        if fp > 0 and fp >= tp:
+        if not takes_part(tp, fp):
             continue
         kept.append((-laplace(tp, fp), -tp, order.get(hit[0], len(order)), hit[1], hit))
     if not kept:
@@ -88,6 +94,50 @@ def choose_class(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence
     top = max(wins.values())
     winner = next(k for k in ranked if wins[k] == top)
     return best_of[winner][-1]
+
+
+def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:
+    """Why each wrong answer is wrong: the decision among the rules, or the rules themselves.
+
+    Parameters
+    ----------
+    examples : sequence of (object id, true class)
+        Class objects and ``other`` objects (none of the classes).
+    predictions : dict
+        ``{object id: answer}``.
+    fired : dict
+        ``{object id: ((class, rule index), ...)}``: the rules that proved something about
+        the object (:attr:`planerel.ilp.pipeline.Prediction.fired`).
+    stats : sequence
+        ``(index, class, tp, fp)`` per rule (the model's); only rules that take part in the
+        decision (:func:`takes_part`) are looked at.
+
+    Returns
+    -------
+    dict
+        ``{kind: n}`` over the wrong answers, with kinds ``decision`` (a rule of the true
+        class, or an ``other`` rule for an ``other`` object, fired and lost the decision),
+        ``unproved`` (no rule of the true class fired: the class rules miss the object) and
+        ``unvetoed`` (an ``other`` object proved only by class rules); ``n`` (examples) and
+        ``decision_bound``: the share of objects that are ``other`` or proved by a rule of
+        their class, the most any decision among the same rules can score (``other`` is
+        always an answer it may give); only new or better rules lift it.
+    """
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    out = {"decision": 0, "unproved": 0, "unvetoed": 0}
+    n = 0
+    for obj, truth in examples:
+        n += 1
+        if predictions[obj] == truth:
+            continue
+        proved = {k for k, i in fired.get(obj, ()) if takes_part(*table.get(i, (0, 0)))}
+        if truth in proved:
+            out["decision"] += 1
+        else:
+            out["unvetoed" if truth == OTHER else "unproved"] += 1
+    out["n"] = n
+    out["decision_bound"] = (n - out["unproved"]) / n if n else 0.0
+    return out
 
 
 # ----------------------------------------------------------------------------- evaluation

@@ -24,6 +24,7 @@ from planerel.ilp.metrics import (
     accuracy_scores,
     choose_class,
     confusion_columns,
+    error_kinds,
     laplace,
     score_objects,
     stratified_folds,
@@ -608,8 +609,9 @@ def held_out_scores(model: Model, dataset_dir, *, method: str = "regiongrow",
     -------
     dict
         :func:`score_objects`' scores plus ``dataset``, ``n_scenes``, ``skipped``,
-        ``predictions`` and ``excluded`` (:func:`excluded_counts`: objects that are no example,
-        by class and reason).
+        ``predictions``, ``excluded`` (:func:`excluded_counts`: objects that are no example,
+        by class and reason) and ``errors`` (:func:`~planerel.ilp.metrics.error_kinds`: the
+        wrong answers split into lost decisions and objects the rules do not prove).
     """
     from planerel.ilp.aleph_export import OTHER as OTHER_CLASS
 
@@ -624,7 +626,9 @@ def held_out_scores(model: Model, dataset_dir, *, method: str = "regiongrow",
     predictions = {p.object_id: p.klass for p in preds}
     out = score_objects(examples, predictions, model.classes)
     out.update(dataset=str(dataset_dir), n_scenes=len(descs), skipped=skipped,
-               predictions=predictions, excluded=excluded_counts(descs))
+               predictions=predictions, excluded=excluded_counts(descs),
+               errors=error_kinds(examples, predictions, {p.object_id: p.fired for p in preds},
+                                  model.stats))
     return out
 
 
