@@ -206,3 +206,23 @@ def test_components_match_a_graph_search():
         for i in flat:
             want.flat[i] = first.setdefault(lab[i], len(first))
         assert k == len(first) and (ids == want).all()
+
+
+def test_pixel_kernels_match_numpy():
+    """The compiled pixel lists and unexplained mask are np.nonzero's and the numpy lookup's."""
+    from planerel.features._curved_kernels import unexplained_mask
+    from planerel.segment._label_kernels import mask_pixels
+
+    rng = np.random.default_rng(5)
+    for _ in range(100):
+        H, W = (int(v) for v in rng.integers(1, 20, 2))
+        lab = rng.integers(-3, 6, (H, W)).astype(np.int32)
+        xyz = rng.normal(size=(H, W, 3))
+        xyz[rng.random((H, W)) < 0.2, 2] = np.nan
+        nl = int(lab.max()) + 2
+        explained = np.zeros(nl + 1, bool)
+        explained[: nl - 1] = rng.random(nl - 1) < 0.5
+        want = np.isfinite(xyz[..., 2]) & ~explained[np.where(lab >= 0, lab, nl)]
+        assert (unexplained_mask(xyz, lab, explained) == want).all()
+        for got, ref in zip(mask_pixels(want), np.nonzero(want), strict=True):
+            assert got.dtype == ref.dtype and np.array_equal(got, ref)

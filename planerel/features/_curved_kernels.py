@@ -65,3 +65,17 @@ def grid_components(mask, xyz, edge_depth):
                     k += 1
                 out[r, c] = ids[a]
     return out, k
+
+
+@njit(cache=True, nogil=True)
+def unexplained_mask(xyz, lab, explained):
+    """``(H, W)`` bool: pixels with a finite depth whose label (-1 and other negatives: none)
+    is not ``explained`` (``(K,)`` bool, ``K`` above every label)."""
+    H, W = lab.shape
+    out = np.zeros((H, W), np.bool_)
+    for r in range(H):
+        for c in range(W):
+            a = lab[r, c]
+            out[r, c] = np.isfinite(xyz[r, c, 2]) and (a < 0 or not explained[a])
+    return out
+

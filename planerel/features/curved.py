@@ -290,18 +290,20 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     lab = np.asarray(labels)
     if lab.shape != xyz.shape[:2]:
         raise InputError(f"labels {lab.shape} and cloud {xyz.shape[:2]} differ in shape")
-    valid = np.isfinite(xyz[..., 2])
+    from planerel.features._curved_kernels import unexplained_mask
+    from planerel.segment._label_kernels import mask_pixels
+
     flat = {p.label for p in planes if p.area >= params.tiny_area}
     nl = int(lab.max()) + 2 if lab.size else 1
     explained = np.zeros(nl + 1, bool)
     explained[[x for x in flat if 0 <= x < nl]] = True
     explained[[x for x in support if 0 <= x < nl]] = True
-    # -1 (unassigned) indexes the last entry, which is False
-    un = valid & ~explained[lab if lab.min(initial=0) >= -1 else np.where(lab >= 0, lab, nl)]
-    un = _open(un, params.open_px) & valid
+    # valid pixels (finite depth) of no label or of a label not explained, in one pass
+    un = unexplained_mask(xyz, lab, explained)
+    un = _open(un, params.open_px) & np.isfinite(xyz[..., 2])
     if not un.any():
         return []
-    rows, cols = np.nonzero(un)
+    rows, cols = mask_pixels(un)
     r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
     sub = un[r0:r1, c0:c1]
     comp, k = _components(sub, xyz[r0:r1, c0:c1], params.edge_depth)
@@ -319,9 +321,11 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
 def _touching_labels(mask, lab, xyz, edge_depth: float) -> dict:
     """``{label: number of grid neighbour pairs}`` of the planes touching ``mask`` (within
     two pixels, 3-D distance within ``edge_depth * max(1, z)``)."""
+    from planerel.segment._label_kernels import mask_pixels
+
     H, W = mask.shape
     out: dict = {}
-    r0, c0 = np.nonzero(mask)
+    r0, c0 = mask_pixels(np.asarray(mask, dtype=np.bool_))
     P0 = xyz[r0, c0]
     lim = edge_depth * np.maximum(1.0, np.abs(P0[:, 2]))
     for k in (1, 2):

@@ -329,16 +329,18 @@ def _boundary(lab: np.ndarray) -> np.ndarray:
 def _boundary_pixels(lab: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``np.nonzero(_boundary(lab))``: rows and columns ``(N,)`` int64, row-major (read-only
     and remembered as :func:`_boundary` is)."""
+    from planerel.segment._label_kernels import mask_pixels
+
     bnd = _boundary(lab)
     last = _LAST_BOUNDARY
     if last[0] is lab and last[1] is bnd:
         if last[2] is None:
-            rc = np.nonzero(bnd)
+            rc = mask_pixels(bnd)
             for a in rc:
                 a.setflags(write=False)
             last[2] = rc
         return last[2]
-    return np.nonzero(bnd)
+    return mask_pixels(bnd)
 
 
 def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,

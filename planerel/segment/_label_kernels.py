@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["label_moments", "label_boundary", "touch_pairs"]
+__all__ = ["label_moments", "label_boundary", "touch_pairs", "mask_pixels"]
 
 
 @njit(cache=True, nogil=True)
@@ -111,3 +111,23 @@ def touch_pairs(xyz, lab, brow, bcol, g, max_dist, rel_dist, known):  # pragma: 
                     out[a, b] = True
                     out[b, a] = True
     return out
+
+
+@njit(cache=True, nogil=True)
+def mask_pixels(mask):  # pragma: no cover - compiled
+    """``np.nonzero(mask)`` of a 2-D bool mask: rows and columns ``(N,)`` int64, row-major."""
+    H, W = mask.shape
+    n = 0
+    for r in range(H):
+        for c in range(W):
+            if mask[r, c]:
+                n += 1
+    rows = np.empty(n, np.int64)
+    cols = np.empty(n, np.int64)
+    k = 0
+    for r in range(H):
+        for c in range(W):
+            if mask[r, c]:
+                rows[k], cols[k] = r, c
+                k += 1
+    return rows, cols
