@@ -306,9 +306,17 @@ def _hull_geometry(p2: np.ndarray, simplify: float):
     return verts, verts, 0.0, 0.0, 0.0
 
 
-#: The last read-only label image owning its data (a :class:`PlaneSet`'s ``labels``), its
+#: The last read-only label image owning its data (a :class:`PlaneSet`'s ``labels``), with its
 #: boundary and its boundary pixels: measuring, relating and proposing look at the same one.
-_LAST_BOUNDARY: list = [None, None, None]
+#: One tuple ``(labels, boundary, pixels or None)`` in one slot, replaced whole, so a thread
+#: (Dask's threaded workers) never pairs one image with another's boundary.
+_LAST_BOUNDARY: list = [None]
+
+
+def _remembered(lab):
+    """The remembered ``(labels, boundary, pixels)`` entry of ``lab``, or None."""
+    entry = _LAST_BOUNDARY[0]
+    return entry if entry is not None and entry[0] is lab else None
 
 
 def _boundary(lab: np.ndarray) -> np.ndarray:
@@ -316,13 +324,13 @@ def _boundary(lab: np.ndarray) -> np.ndarray:
     (read-only when ``lab`` is: remembered for the last such label image)."""
     from planerel.segment._label_kernels import label_boundary
 
-    last = _LAST_BOUNDARY
-    if last[0] is lab:
-        return last[1]
+    entry = _remembered(lab)
+    if entry is not None:
+        return entry[1]
     bnd = label_boundary(np.ascontiguousarray(lab, dtype=np.int32))
     if isinstance(lab, np.ndarray) and not lab.flags.writeable and lab.base is None:
         bnd.setflags(write=False)
-        last[:] = [lab, bnd, None]
+        _LAST_BOUNDARY[0] = (lab, bnd, None)
     return bnd
 
 
@@ -332,15 +340,16 @@ def _boundary_pixels(lab: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     from planerel.segment._label_kernels import mask_pixels
 
     bnd = _boundary(lab)
-    last = _LAST_BOUNDARY
-    if last[0] is lab and last[1] is bnd:
-        if last[2] is None:
-            rc = mask_pixels(bnd)
-            for a in rc:
-                a.setflags(write=False)
-            last[2] = rc
-        return last[2]
-    return mask_pixels(bnd)
+    entry = _remembered(lab)
+    if entry is None or entry[1] is not bnd:
+        return mask_pixels(bnd)
+    if entry[2] is None:
+        rc = mask_pixels(bnd)
+        for a in rc:
+            a.setflags(write=False)
+        entry = (lab, bnd, rc)
+        _LAST_BOUNDARY[0] = entry
+    return entry[2]
 
 
 def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
