@@ -429,7 +429,7 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
             pj = plist[j]
             gap = float(G[i, j])
             t = (pi.label, pj.label) in touch
-            adj = t or gap <= params.adjacency_gap
+            adj = bool(A[i, j])  # touching, or hulls within adjacency_gap
             a = float(ang[i, j])
             par = a <= params.parallel_tol
             perp = a >= 90.0 - params.perpendicular_tol
