@@ -26,6 +26,7 @@ from concurrent.futures import Executor, Future, ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
+from planerel.children import wait_result
 from planerel.errors import DependencyError, InputError, PlanerelError
 
 __all__ = ["expand_inputs", "resolve_jobs", "make_executor", "run_batch", "Failure",
@@ -181,9 +182,9 @@ def make_executor(jobs: int | None = None, scheduler: str | None = None,
         from multiprocessing import get_context
 
         ctx = get_context(mp_context)
-    from planerel.children import pool_options
+    from planerel.children import new_pool
 
-    return _Pool(ProcessPoolExecutor(max_workers=n, mp_context=ctx, **pool_options()), n)
+    return _Pool(new_pool(n, ctx), n)
 
 
 @dataclass(frozen=True)
@@ -317,7 +318,7 @@ def run_batch(fn: Callable, tasks: Sequence, *, jobs: int | None = None,
         while pending:
             task, fut = pending.popleft()
             try:
-                value = fut.result()
+                value = wait_result(fut)
             except Exception as exc:  # noqa: BLE001 - any failure of one input is reported
                 reason = _reason(exc)
                 name = label(task)

@@ -5,9 +5,12 @@
 * :func:`child_preexec` does that for a ``swipl`` started by :mod:`subprocess`, and gives it its
   own time limit (a kernel CPU-time limit a little above the parent's timeout), so that even an
   orphan cannot run on for ever;
-* :func:`pool_options` makes a ``ProcessPoolExecutor``'s workers die with the parent, and
+* :func:`new_pool` makes a ``ProcessPoolExecutor`` whose workers die with the parent, and
   :func:`stop_pool` kills them (instead of waiting for their work) when a batch is interrupted
-  (Ctrl-C, SIGTERM; :mod:`planerel.batch` uses both);
+  (Ctrl-C, SIGTERM; :mod:`planerel.batch` uses both), even a worker forked an instant before
+  the interruption and not yet recorded by the executor;
+* :func:`wait_result` waits for a future in short slices, so that a Ctrl-C or SIGTERM reaches
+  the waiting thread within a fraction of a second;
 * :func:`temp_dir` makes ``planerel-KIND-PID-*`` folders and first removes those whose process
   is gone (left by a run that was SIGKILLed).
 
@@ -29,7 +32,8 @@ import threading
 from collections.abc import Callable
 from pathlib import Path
 
-__all__ = ["die_with_parent", "child_preexec", "pool_worker_init", "pool_options", "stop_pool",
+__all__ = ["die_with_parent", "child_preexec", "pool_worker_init", "pool_options", "new_pool",
+           "stop_pool", "wait_result",
            "register_child", "unregister_child", "stop_children", "temp_dir", "temp_prefix",
            "pid_alive",
            "descendants",
@@ -97,10 +101,37 @@ def pool_options() -> dict:
     return {"initializer": pool_worker_init, "initargs": (os.getpid(),)}
 
 
+def new_pool(max_workers: int, mp_context=None):
+    """A ``ProcessPoolExecutor`` whose workers die with this process (:func:`pool_options`) and
+    that :func:`stop_pool` can stop completely.
+
+    The executor records a worker only after its fork returns; an interruption between the two
+    would leave a worker nobody kills (and an interpreter that waits for it at exit). So the
+    children this process has before the pool is made are remembered, and :func:`stop_pool`
+    also kills every child started after them.
+    """
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    before = set(multiprocessing.active_children())
+    executor = ProcessPoolExecutor(max_workers=max_workers, mp_context=mp_context,
+                                   **pool_options())
+    executor._planerel_children_before = before
+    return executor
+
+
 def stop_pool(executor) -> None:
     """Stop a ``ProcessPoolExecutor`` now: queued work cancelled, workers killed, not awaited
-    (SIGKILL: a worker just forked may still run the parent's signal handlers)."""
+    (SIGKILL: a worker just forked may still run the parent's signal handlers). A pool made by
+    :func:`new_pool` also loses the workers it had started but not yet recorded."""
     procs = list((getattr(executor, "_processes", None) or {}).values())
+    before = getattr(executor, "_planerel_children_before", None)
+    if before is not None:
+        import multiprocessing
+
+        known = {id(p) for p in procs}
+        procs += [p for p in multiprocessing.active_children()
+                  if p not in before and id(p) not in known]
     executor.shutdown(wait=False, cancel_futures=True)
     for proc in procs:
         with contextlib.suppress(Exception):
@@ -108,6 +139,23 @@ def stop_pool(executor) -> None:
     for proc in procs:
         with contextlib.suppress(Exception):
             proc.join(timeout=5)
+
+
+def wait_result(future, poll: float = 0.2):
+    """``future.result()``, waited for in slices of ``poll`` seconds.
+
+    An untimed ``result()`` blocks the main thread in one lock acquisition that a signal
+    interrupts only if the kernel delivers it to that thread; in slices, Python's handler for a
+    Ctrl-C or SIGTERM runs within ``poll`` seconds whichever thread the signal was given to.
+    """
+    from concurrent.futures import TimeoutError as FutureTimeout
+
+    while True:
+        try:
+            return future.result(timeout=poll)
+        except FutureTimeout:
+            if future.done():  # finished between the timeout and here
+                return future.result()
 
 
 _RUNNING: set = set()

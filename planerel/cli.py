@@ -4,12 +4,15 @@ Each subcommand lives in a module of :mod:`planerel.commands` that defines ``reg
 the modules import their heavy dependencies inside the command function, so ``--help`` is fast.
 Every :class:`~planerel.errors.PlanerelError`, and every ``OSError`` (full disk, read-only folder),
 ``MemoryError`` and ``UnicodeError``, becomes one sentence on stderr and exit code 2; SIGTERM is
-handled like Ctrl-C (children stopped, partial outputs removed), exit code 143.
+handled like Ctrl-C (children stopped, partial outputs removed), exit code 143; a signal that
+comes while an exception would be lost (inside logging's after-fork hook, a ``__del__``) is
+taken a moment later instead.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import signal
 import sys
@@ -74,8 +77,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"planerel {args.command}: interrupted", file=sys.stderr)
         return 130
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
     return int(result or 0)
 
 
@@ -84,17 +87,66 @@ class _Terminated(KeyboardInterrupt):
     cleans up (child processes killed, temporary folders removed)."""
 
 
-def _raise_terminated(signum, frame):
-    raise _Terminated()
+def _handle_stop(signum, frame):
+    """SIGTERM raises :class:`_Terminated`, SIGINT ``KeyboardInterrupt``, unless the signal
+    came while code that must not be interrupted runs (:func:`_unsafe_to_raise`): then it is
+    sent again a moment later."""
+    if _unsafe_to_raise(frame):
+        _deferred(signum)
+        return
+    if signum == signal.SIGTERM:
+        raise _Terminated()
+    raise KeyboardInterrupt()
 
 
-def _terminate_like_interrupt():
-    """Handle SIGTERM like SIGINT in the main thread; return the previous handler."""
+def _unsafe_to_raise(frame, depth: int = 8) -> bool:
+    """Whether an exception raised in ``frame`` would be lost or break a lock.
+
+    ``os.fork`` runs :mod:`logging`'s after-fork hook, which releases logging's module lock;
+    an exception raised inside it is printed as "Exception ignored" and dropped (the signal is
+    lost) and the lock stays held, so every later fork in the process waits for it forever.
+    Exceptions in ``__del__`` methods are dropped the same way.
+    """
+    import logging
+
+    logging_file = logging.__file__
+    while frame is not None and depth > 0:
+        code = frame.f_code
+        if code.co_filename == logging_file or code.co_name == "__del__":
+            return True
+        frame = frame.f_back
+        depth -= 1
+    return False
+
+
+def _deferred(signum: int, delay: float = 0.02) -> None:
+    """Send ``signum`` to the main thread again after ``delay`` seconds (from a helper thread:
+    raising it from inside the handler would run the handler again at once)."""
+    import threading
+
+    target = threading.main_thread().ident
+
+    def again() -> None:
+        with contextlib.suppress(OSError, ProcessLookupError):
+            signal.pthread_kill(target, signum)
+
+    timer = threading.Timer(delay, again)
+    timer.daemon = True
+    timer.start()
+
+
+def _terminate_like_interrupt() -> dict:
+    """Handle SIGTERM like SIGINT in the main thread, and both with :func:`_handle_stop`;
+    return the previous handlers to restore. A SIGINT handler someone else installed (not
+    Python's default) is left alone."""
     import threading
 
     if threading.current_thread() is not threading.main_thread():
-        return None
-    return signal.signal(signal.SIGTERM, _raise_terminated)
+        return {}
+    previous = {signal.SIGTERM: signal.signal(signal.SIGTERM, _handle_stop)}
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        previous[signal.SIGINT] = signal.signal(signal.SIGINT, _handle_stop)
+    return previous
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -162,3 +162,37 @@ def test_kill_synth_over_an_existing_set_keeps_it_whole(tmp_path, sig):
     else:
         generate_dataset(ds, n_box=1, n_stairs=1, n_ramp=1, seed=1, size=(640, 480), subsample=8)
         assert _hidden(tmp_path, "set") == [] and _digest(ds) == before
+
+
+_FORK_SCRIPT = r"""
+import ctypes, functools, os, signal, sys, time
+libc = ctypes.CDLL(None, use_errno=True)
+# registered before logging is imported, so it runs first after a fork in the parent: the
+# SIGTERM is pending when logging's own after-fork hook (which releases its lock) starts
+os.register_at_fork(after_in_parent=functools.partial(libc.kill, os.getpid(), signal.SIGTERM))
+import logging
+from planerel import cli
+cli._terminate_like_interrupt()
+try:
+    pid = os.fork()
+    if pid == 0:
+        os._exit(0)
+    os.waitpid(pid, 0)
+    time.sleep(5)
+    print("not terminated", flush=True)
+except cli._Terminated:
+    print("terminated", flush=True)
+lock = logging._lock
+print("logging lock free" if lock.acquire(timeout=2) else "logging lock held", flush=True)
+"""
+
+
+def test_sigterm_during_a_fork_is_not_lost(tmp_path):
+    """A SIGTERM that arrives while ``os.fork`` runs logging's after-fork hook ends the run
+    (it was dropped there, and logging's lock stayed held, so later forks hung)."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    proc = subprocess.run([sys.executable, "-c", _FORK_SCRIPT], env=env, cwd=tmp_path,
+                          capture_output=True, text=True, timeout=60)
+    assert proc.stdout.split("\n")[:2] == ["terminated", "logging lock free"], (
+        proc.stdout, proc.stderr)
+    assert "Exception ignored" not in proc.stderr

@@ -253,8 +253,17 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         else:
             from concurrent.futures import ThreadPoolExecutor
 
-            with ThreadPoolExecutor(n_jobs) as pool:     # each class is its own swipl process
-                results = list(pool.map(one, targets))
+            from planerel.children import stop_children, wait_result
+
+            pool = ThreadPoolExecutor(n_jobs)            # each class is its own swipl process
+            try:
+                futures = [pool.submit(one, k) for k in targets]
+                results = [wait_result(fut) for fut in futures]
+            except BaseException:  # a failed class, Ctrl-C, SIGTERM: stop the others' learners
+                with stop_children():
+                    pool.shutdown(wait=True, cancel_futures=True)
+                raise
+            pool.shutdown()
         for k, res in zip(targets, results, strict=True):
             rules[k] = tuple(r for r in res.rules if ":-" in r)
             # unit clauses (seeds Aleph keeps as facts when minpos =< 1) and the positives
@@ -570,14 +579,14 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         else:
             from concurrent.futures import ThreadPoolExecutor
 
-            from planerel.children import stop_children
+            from planerel.children import stop_children, wait_result
 
             pool = ThreadPoolExecutor(n_jobs)
             try:
                 futures = [pool.submit(run_fold, f) for f in range(folds)]
                 fold_reports = []
                 for fut in futures:
-                    fold_reports.append(fut.result())
+                    fold_reports.append(wait_result(fut))
                     if bar is not None:
                         bar.update(1)
             except BaseException:  # a failed fold, Ctrl-C, SIGTERM: stop the others' learners
