@@ -95,3 +95,185 @@ def box_points(lab, xyz, label, r0, c0, r1, c1, k):
                 rows[m], cols[m] = r, c
                 m += 1
     return pts[:m].copy(), rows[:m].copy(), cols[:m].copy()
+
+
+@njit(cache=True, inline="always")
+def _dot3(a0, a1, a2, b0, b1, b2):
+    """A 3-vector dot product summed as numpy's ``einsum`` sums it on two-lane SIMD: lanes 0
+    and 2 first, then lane 1 (``tests/test_relation_kernels.py`` compares the two)."""
+    return (a0 * b0 + a2 * b2) + a1 * b1
+
+
+@njit(cache=True, inline="always")
+def _clip01(x):
+    if x < 0.0:
+        return 0.0
+    if x > 1.0:
+        return 1.0
+    return x
+
+
+@njit(cache=True, inline="always")
+def _min(a, b):
+    """``np.minimum``: NaN wins."""
+    if a != a:
+        return a
+    if b != b or b < a:
+        return b
+    return a
+
+
+@njit(cache=True, nogil=True)
+def segment_distance(p1, q1, p2, q2):
+    """Closest distance between segments ``p1q1`` and ``p2q2`` (3-vectors): the arithmetic of
+    :func:`planerel.features.relations._segment_distances` for one pair, step for step."""
+    d10, d11, d12 = q1[0] - p1[0], q1[1] - p1[1], q1[2] - p1[2]
+    d20, d21, d22 = q2[0] - p2[0], q2[1] - p2[1], q2[2] - p2[2]
+    r0, r1, r2 = p1[0] - p2[0], p1[1] - p2[1], p1[2] - p2[2]
+    a = _dot3(d10, d11, d12, d10, d11, d12)
+    e = _dot3(d20, d21, d22, d20, d21, d22)
+    f = _dot3(d20, d21, d22, r0, r1, r2)
+    c = _dot3(d10, d11, d12, r0, r1, r2)
+    b = _dot3(d10, d11, d12, d20, d21, d22)
+    eps = 1e-18
+    a_ok = a > eps
+    e_ok = e > eps
+    safe_a = a if a_ok else 1.0
+    safe_e = e if e_ok else 1.0
+    denom = a * e - b * b
+    ae = a * e
+    if denom > eps * (ae if ae > eps or ae != ae else eps):
+        s = (b * f - c * e) / (denom if denom > 0 else 1.0)
+    else:
+        s = 0.0
+    s = _clip01(s)
+    t = (b * s + f) / safe_e
+    low = t < 0
+    high = t > 1
+    t = _clip01(t)
+    if low:
+        s = _clip01(-c / safe_a)
+    if high:
+        s = _clip01((b - c) / safe_a)
+    if not a_ok:
+        s = 0.0
+    if not a_ok and e_ok:
+        t = _clip01(f / safe_e)
+    if not e_ok:
+        t = 0.0
+    if not e_ok and a_ok:
+        s = _clip01(-c / safe_a)
+    x0 = (p1[0] + d10 * s) - (p2[0] + d20 * t)
+    x1 = (p1[1] + d11 * s) - (p2[1] + d21 * t)
+    x2 = (p1[2] + d12 * s) - (p2[2] + d22 * t)
+    return np.sqrt(_dot3(x0, x1, x2, x0, x1, x2))
+
+
+@njit(cache=True, inline="always")
+def _inside(poly2, n, u, v):
+    """Whether the in-plane point ``(u, v)`` lies inside face ``n``: every edge of the padded
+    polygon ``poly2[n]`` (``(M, 2)``, the last vertex repeated) has it on its left, as
+    :func:`planerel.features.relations._gap_matrix`'s ``inside``."""
+    M = poly2.shape[1]
+    for m in range(M):
+        m1 = m + 1 if m + 1 < M else 0
+        e0 = poly2[n, m1, 0] - poly2[n, m, 0]
+        e1 = poly2[n, m1, 1] - poly2[n, m, 1]
+        cr = e0 * (v - poly2[n, m, 1]) - e1 * (u - poly2[n, m, 0])
+        if not cr >= -1e-12:
+            return False
+    return True
+
+
+@njit(cache=True, nogil=True)
+def gap_matrix(V, vstart, C, N, AX, poly2, isface):
+    """``(n, n)`` closest distances between the 3-D convex hulls of ``n`` planes: the values
+    of :func:`planerel.features.relations._gap_matrix`'s numpy reference, pair by pair.
+
+    ``V[vstart[k]:vstart[k + 1]]`` are plane ``k``'s hull vertices (its edges join each to
+    the next and the last to the first; two vertices make one edge, one vertex a zero-length
+    edge); ``C``, ``N``, ``AX`` its centroid, normal and in-plane axes; ``poly2[k]`` its hull
+    in its own frame padded to a common length with its last vertex; ``isface[k]`` whether it
+    has at least 3 vertices.  A pair's distance is the smallest of the edge-edge distances
+    (the edge of the lower plane first), the distances of a vertex to the other's face where
+    it projects inside, and 0 when an edge of one pierces the other's face.
+    """
+    n = C.shape[0]
+    # edges: start and end vertex indices, owner
+    ne = 0
+    for k in range(n):
+        cnt = vstart[k + 1] - vstart[k]
+        ne += cnt if cnt >= 3 else 1
+    ea = np.empty(ne, np.int64)
+    eb = np.empty(ne, np.int64)
+    eo = np.empty(ne, np.int64)
+    estart = np.empty(n + 1, np.int64)
+    t = 0
+    for k in range(n):
+        s0 = vstart[k]
+        cnt = vstart[k + 1] - s0
+        estart[k] = t
+        if cnt == 1:
+            ea[t], eb[t], eo[t] = s0, s0, k
+            t += 1
+        elif cnt == 2:
+            ea[t], eb[t], eo[t] = s0, s0 + 1, k
+            t += 1
+        else:
+            for m in range(cnt):
+                ea[t], eb[t], eo[t] = s0 + m, s0 + (m + 1) % cnt, k
+                t += 1
+    estart[n] = t
+    G = np.full((n, n), np.inf)
+    for i in range(n):
+        for j in range(i + 1, n):
+            best = np.inf
+            for u in range(estart[i], estart[i + 1]):
+                for w in range(estart[j], estart[j + 1]):
+                    best = _min(best, segment_distance(V[ea[u]], V[eb[u]], V[ea[w]], V[eb[w]]))
+            G[i, j] = best
+            G[j, i] = best
+    # vertices over faces
+    for k in range(n):
+        for q in range(vstart[k], vstart[k + 1]):
+            for f in range(n):
+                if f == k or not isface[f]:
+                    continue
+                r0 = V[q, 0] - C[f, 0]
+                r1 = V[q, 1] - C[f, 1]
+                r2 = V[q, 2] - C[f, 2]
+                u = _dot3(r0, r1, r2, AX[f, 0, 0], AX[f, 0, 1], AX[f, 0, 2])
+                v = _dot3(r0, r1, r2, AX[f, 1, 0], AX[f, 1, 1], AX[f, 1, 2])
+                if _inside(poly2, f, u, v):
+                    h = abs(_dot3(r0, r1, r2, N[f, 0], N[f, 1], N[f, 2]))
+                    G[k, f] = _min(G[k, f], h)
+                    G[f, k] = _min(G[f, k], h)
+    # edges piercing faces
+    pierce = np.zeros((n, n), np.bool_)
+    for t in range(ne):
+        k = eo[t]
+        A = V[ea[t]]
+        B = V[eb[t]]
+        for f in range(n):
+            if f == k or not isface[f] or pierce[k, f]:
+                continue
+            a0, a1, a2 = A[0] - C[f, 0], A[1] - C[f, 1], A[2] - C[f, 2]
+            b0, b1, b2 = B[0] - C[f, 0], B[1] - C[f, 1], B[2] - C[f, 2]
+            h0 = _dot3(a0, a1, a2, N[f, 0], N[f, 1], N[f, 2])
+            h1 = _dot3(b0, b1, b2, N[f, 0], N[f, 1], N[f, 2])
+            if not h0 * h1 < 0:
+                continue
+            tt = h0 / (h0 - h1)
+            x0 = a0 + (b0 - a0) * tt
+            x1 = a1 + (b1 - a1) * tt
+            x2 = a2 + (b2 - a2) * tt
+            u = _dot3(x0, x1, x2, AX[f, 0, 0], AX[f, 0, 1], AX[f, 0, 2])
+            v = _dot3(x0, x1, x2, AX[f, 1, 0], AX[f, 1, 1], AX[f, 1, 2])
+            if _inside(poly2, f, u, v):
+                pierce[k, f] = True
+    for i in range(n):
+        for j in range(n):
+            if pierce[i, j] or pierce[j, i]:
+                G[i, j] = 0.0
+        G[i, i] = 0.0
+    return G

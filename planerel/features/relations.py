@@ -162,48 +162,6 @@ class Relations:
         return [(r.a, r.b) for r in self.pairs if r.adjacent and r.a < r.b]
 
 
-def _edges(poly: np.ndarray):
-    """Start and end points ``(m, 3)`` of a closed polygon (a point gives one zero-length edge)."""
-    if poly.shape[0] == 1:
-        return poly, poly
-    if poly.shape[0] == 2:
-        return poly[:1], poly[1:]
-    return poly, np.roll(poly, -1, axis=0)
-
-
-def _segment_distances(p1, q1, p2, q2) -> np.ndarray:
-    """Closest distances between segments ``p1q1`` and ``p2q2``, all ``(T, 3)`` -> ``(T,)``."""
-    d1 = q1 - p1
-    d2 = q2 - p2
-    r = p1 - p2
-    a = np.einsum("ij,ij->i", d1, d1)
-    e = np.einsum("ij,ij->i", d2, d2)
-    f = np.einsum("ij,ij->i", d2, r)
-    c = np.einsum("ij,ij->i", d1, r)
-    b = np.einsum("ij,ij->i", d1, d2)
-    eps = 1e-18
-    a_ok = a > eps
-    e_ok = e > eps
-    safe_a = np.where(a_ok, a, 1.0)
-    safe_e = np.where(e_ok, e, 1.0)
-    denom = a * e - b * b
-    s = np.where(denom > eps * np.maximum(a * e, eps), (b * f - c * e) / np.where(denom > 0, denom, 1.0), 0.0)
-    s = np.clip(s, 0.0, 1.0)
-    t = (b * s + f) / safe_e
-    low = t < 0
-    high = t > 1
-    t = np.clip(t, 0.0, 1.0)
-    s = np.where(low, np.clip(-c / safe_a, 0, 1), s)
-    s = np.where(high, np.clip((b - c) / safe_a, 0, 1), s)
-    # degenerate segments
-    s = np.where(~a_ok, 0.0, s)
-    t = np.where(~a_ok & e_ok, np.clip(f / safe_e, 0, 1), t)
-    t = np.where(~e_ok, 0.0, t)
-    s = np.where(~e_ok & a_ok, np.clip(-c / safe_a, 0, 1), s)
-    diff = (p1 + d1 * s[:, None]) - (p2 + d2 * t[:, None])
-    return np.sqrt(np.einsum("ij,ij->i", diff, diff))
-
-
 def hull_gap(pa, pb) -> float:
     """Closest distance between the 3-D convex hulls of two planes.
 
@@ -222,79 +180,35 @@ def hull_gap(pa, pb) -> float:
 
 
 def _gap_matrix(plist) -> np.ndarray:
-    """``(n, n)`` closest hull distances of all plane pairs, vectorized over all edges.
+    """``(n, n)`` closest hull distances of all plane pairs (one compiled pass,
+    :func:`planerel.features._relation_kernels.gap_matrix`).
 
     The distance between two convex planar polygons is the smallest of: the edge-edge segment
     distances, the distance of a vertex of one polygon to the other polygon's face when it
-    projects inside it, and 0 when an edge of one pierces the other's face.
+    projects inside it, and 0 when an edge of one pierces the other's face.  Each hull's
+    vertices in its own frame are taken with numpy's matrix product (as before the kernel:
+    the same floats).
     """
+    from planerel.features._relation_kernels import gap_matrix
+
     n = len(plist)
-    e0s, e1s, eown, vs, vown = [], [], [], [], []
     M = max(p.hull3d.shape[0] for p in plist)
     poly2 = np.zeros((n, M, 2))
     isface = np.zeros(n, dtype=bool)
-    C = np.array([p.centroid for p in plist])
-    N = np.array([p.normal for p in plist])
-    AX = np.array([p.axes for p in plist])  # (n, 2, 3)
+    vstart = np.zeros(n + 1, dtype=np.int64)
     for k, p in enumerate(plist):
         poly = p.hull3d
-        a0, a1 = _edges(poly)
-        e0s.append(a0)
-        e1s.append(a1)
-        eown.append(np.full(a0.shape[0], k))
-        vs.append(poly)
-        vown.append(np.full(poly.shape[0], k))
+        vstart[k + 1] = vstart[k] + poly.shape[0]
         if poly.shape[0] >= 3:
             isface[k] = True
             p2 = (poly - p.centroid) @ p.axes.T
             poly2[k, : p2.shape[0]] = p2
             poly2[k, p2.shape[0]:] = p2[-1]
-    E0 = np.concatenate(e0s)
-    E1 = np.concatenate(e1s)
-    eo = np.concatenate(eown)
-    V = np.concatenate(vs)
-    vo = np.concatenate(vown)
-    T = E0.shape[0]
-    estart = np.searchsorted(eo, np.arange(n))
-    vstart = np.searchsorted(vo, np.arange(n))
-    # edge-edge distances over the upper triangle of owners
-    ii, jj = np.triu_indices(T, 1)
-    cross_owner = eo[ii] != eo[jj]
-    ii, jj = ii[cross_owner], jj[cross_owner]
-    dee = np.full((T, T), np.inf)
-    dee[ii, jj] = _segment_distances(E0[ii], E1[ii], E0[jj], E1[jj])
-    dee = np.minimum(dee, dee.T)
-    G = np.minimum.reduceat(np.minimum.reduceat(dee, estart, axis=0), estart, axis=1)
-
-    def inside(pts2):  # pts2 (K, n, 2) in each plane's frame -> (K, n) inside that face
-        ed = np.roll(poly2, -1, axis=1) - poly2  # (n, M, 2)
-        rel = pts2[:, :, None, :] - poly2[None]  # (K, n, M, 2)
-        cr = ed[None, :, :, 0] * rel[..., 1] - ed[None, :, :, 1] * rel[..., 0]
-        return np.all(cr >= -1e-12, axis=2) & isface[None, :]
-
-    # vertices over faces
-    rel = V[:, None, :] - C[None]  # (Nv, n, 3)
-    h = np.einsum("knj,nj->kn", rel, N)
-    v2 = np.einsum("knj,nij->kni", rel, AX)
-    dvf = np.where(inside(v2) & (vo[:, None] != np.arange(n)[None]), np.abs(h), np.inf)
-    Gv = np.minimum.reduceat(dvf, vstart, axis=0)
-    G = np.minimum(G, np.minimum(Gv, Gv.T))
-    # edges piercing faces
-    r0 = E0[:, None, :] - C[None]
-    r1 = E1[:, None, :] - C[None]
-    h0 = np.einsum("knj,nj->kn", r0, N)
-    h1 = np.einsum("knj,nj->kn", r1, N)
-    crosses = (h0 * h1) < 0
-    if crosses.any():
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tt = np.where(crosses, h0 / np.where(crosses, h0 - h1, 1.0), 0.0)
-        pts = r0 + (r1 - r0) * tt[..., None]
-        p2 = np.einsum("knj,nij->kni", pts, AX)
-        pierce = crosses & inside(p2) & (eo[:, None] != np.arange(n)[None])
-        Pm = np.logical_or.reduceat(pierce, estart, axis=0)
-        G[Pm | Pm.T] = 0.0
-    np.fill_diagonal(G, 0.0)
-    return G
+    V = np.ascontiguousarray(np.concatenate([p.hull3d for p in plist]), dtype=float)
+    C = np.array([p.centroid for p in plist], dtype=float)
+    N = np.array([p.normal for p in plist], dtype=float)
+    AX = np.array([p.axes for p in plist], dtype=float)  # (n, 2, 3)
+    return gap_matrix(V, vstart, C, N, AX, poly2, isface)
 
 
 def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int, int]]:

@@ -1,0 +1,212 @@
+"""The compiled passes of planerel.features.relations against the numpy code they replace:
+the same floats, bit for bit (the facts of every scene stay byte-identical)."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from scenes_analytic import box, floor, render, stairs, wall
+
+from planerel.features.planes import measure_planes
+from planerel.features.relations import _gap_matrix, hull_gap
+
+# ---- numpy reference: planerel.features.relations._gap_matrix before the kernel (main 8c18deb)
+
+def _edges(poly: np.ndarray):
+    """Start and end points ``(m, 3)`` of a closed polygon (a point gives one zero-length edge)."""
+    if poly.shape[0] == 1:
+        return poly, poly
+    if poly.shape[0] == 2:
+        return poly[:1], poly[1:]
+    return poly, np.roll(poly, -1, axis=0)
+
+
+def _segment_distances(p1, q1, p2, q2) -> np.ndarray:
+    """Closest distances between segments ``p1q1`` and ``p2q2``, all ``(T, 3)`` -> ``(T,)``."""
+    d1 = q1 - p1
+    d2 = q2 - p2
+    r = p1 - p2
+    a = np.einsum("ij,ij->i", d1, d1)
+    e = np.einsum("ij,ij->i", d2, d2)
+    f = np.einsum("ij,ij->i", d2, r)
+    c = np.einsum("ij,ij->i", d1, r)
+    b = np.einsum("ij,ij->i", d1, d2)
+    eps = 1e-18
+    a_ok = a > eps
+    e_ok = e > eps
+    safe_a = np.where(a_ok, a, 1.0)
+    safe_e = np.where(e_ok, e, 1.0)
+    denom = a * e - b * b
+    s = np.where(denom > eps * np.maximum(a * e, eps), (b * f - c * e) / np.where(denom > 0, denom, 1.0), 0.0)
+    s = np.clip(s, 0.0, 1.0)
+    t = (b * s + f) / safe_e
+    low = t < 0
+    high = t > 1
+    t = np.clip(t, 0.0, 1.0)
+    s = np.where(low, np.clip(-c / safe_a, 0, 1), s)
+    s = np.where(high, np.clip((b - c) / safe_a, 0, 1), s)
+    # degenerate segments
+    s = np.where(~a_ok, 0.0, s)
+    t = np.where(~a_ok & e_ok, np.clip(f / safe_e, 0, 1), t)
+    t = np.where(~e_ok, 0.0, t)
+    s = np.where(~e_ok & a_ok, np.clip(-c / safe_a, 0, 1), s)
+    diff = (p1 + d1 * s[:, None]) - (p2 + d2 * t[:, None])
+    return np.sqrt(np.einsum("ij,ij->i", diff, diff))
+
+
+def _gap_matrix_numpy(plist) -> np.ndarray:
+    """``(n, n)`` closest hull distances of all plane pairs, vectorized over all edges.
+
+    The distance between two convex planar polygons is the smallest of: the edge-edge segment
+    distances, the distance of a vertex of one polygon to the other polygon's face when it
+    projects inside it, and 0 when an edge of one pierces the other's face.
+    """
+    n = len(plist)
+    e0s, e1s, eown, vs, vown = [], [], [], [], []
+    M = max(p.hull3d.shape[0] for p in plist)
+    poly2 = np.zeros((n, M, 2))
+    isface = np.zeros(n, dtype=bool)
+    C = np.array([p.centroid for p in plist])
+    N = np.array([p.normal for p in plist])
+    AX = np.array([p.axes for p in plist])  # (n, 2, 3)
+    for k, p in enumerate(plist):
+        poly = p.hull3d
+        a0, a1 = _edges(poly)
+        e0s.append(a0)
+        e1s.append(a1)
+        eown.append(np.full(a0.shape[0], k))
+        vs.append(poly)
+        vown.append(np.full(poly.shape[0], k))
+        if poly.shape[0] >= 3:
+            isface[k] = True
+            p2 = (poly - p.centroid) @ p.axes.T
+            poly2[k, : p2.shape[0]] = p2
+            poly2[k, p2.shape[0]:] = p2[-1]
+    E0 = np.concatenate(e0s)
+    E1 = np.concatenate(e1s)
+    eo = np.concatenate(eown)
+    V = np.concatenate(vs)
+    vo = np.concatenate(vown)
+    T = E0.shape[0]
+    estart = np.searchsorted(eo, np.arange(n))
+    vstart = np.searchsorted(vo, np.arange(n))
+    # edge-edge distances over the upper triangle of owners
+    ii, jj = np.triu_indices(T, 1)
+    cross_owner = eo[ii] != eo[jj]
+    ii, jj = ii[cross_owner], jj[cross_owner]
+    dee = np.full((T, T), np.inf)
+    dee[ii, jj] = _segment_distances(E0[ii], E1[ii], E0[jj], E1[jj])
+    dee = np.minimum(dee, dee.T)
+    G = np.minimum.reduceat(np.minimum.reduceat(dee, estart, axis=0), estart, axis=1)
+
+    def inside(pts2):  # pts2 (K, n, 2) in each plane's frame -> (K, n) inside that face
+        ed = np.roll(poly2, -1, axis=1) - poly2  # (n, M, 2)
+        rel = pts2[:, :, None, :] - poly2[None]  # (K, n, M, 2)
+        cr = ed[None, :, :, 0] * rel[..., 1] - ed[None, :, :, 1] * rel[..., 0]
+        return np.all(cr >= -1e-12, axis=2) & isface[None, :]
+
+    # vertices over faces
+    rel = V[:, None, :] - C[None]  # (Nv, n, 3)
+    h = np.einsum("knj,nj->kn", rel, N)
+    v2 = np.einsum("knj,nij->kni", rel, AX)
+    dvf = np.where(inside(v2) & (vo[:, None] != np.arange(n)[None]), np.abs(h), np.inf)
+    Gv = np.minimum.reduceat(dvf, vstart, axis=0)
+    G = np.minimum(G, np.minimum(Gv, Gv.T))
+    # edges piercing faces
+    r0 = E0[:, None, :] - C[None]
+    r1 = E1[:, None, :] - C[None]
+    h0 = np.einsum("knj,nj->kn", r0, N)
+    h1 = np.einsum("knj,nj->kn", r1, N)
+    crosses = (h0 * h1) < 0
+    if crosses.any():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tt = np.where(crosses, h0 / np.where(crosses, h0 - h1, 1.0), 0.0)
+        pts = r0 + (r1 - r0) * tt[..., None]
+        p2 = np.einsum("knj,nij->kni", pts, AX)
+        pierce = crosses & inside(p2) & (eo[:, None] != np.arange(n)[None])
+        Pm = np.logical_or.reduceat(pierce, estart, axis=0)
+        G[Pm | Pm.T] = 0.0
+    np.fill_diagonal(G, 0.0)
+    return G
+
+
+# ---- planes to compare on
+
+
+def _plane(poly, rng=None):
+    """A plane-like record with ``hull3d``, ``centroid``, ``normal``, ``axes`` from 3-D
+    polygon vertices (counter-clockwise in their own frame)."""
+    poly = np.asarray(poly, float)
+    c = poly.mean(axis=0)
+    if poly.shape[0] >= 3:
+        u, s, vt = np.linalg.svd(poly - c)
+        n = vt[2]
+        ax = vt[:2]
+        p2 = (poly - c) @ ax.T
+        ang = np.arctan2(p2[:, 1], p2[:, 0])
+        poly = poly[np.argsort(ang)]
+    else:
+        n = np.array([0.0, 0.0, 1.0])
+        ax = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    return SimpleNamespace(hull3d=poly, centroid=c, normal=n, axes=ax)
+
+
+def _random_planes(rng, n):
+    out = []
+    for _ in range(n):
+        k = int(rng.choice([1, 2, 3, 4, 5, 8, 12]))
+        centre = rng.normal(size=3) * rng.choice([0.05, 0.3, 1.0])
+        normal = rng.normal(size=3)
+        normal /= np.linalg.norm(normal)
+        a = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
+        a /= np.linalg.norm(a)
+        b = np.cross(normal, a)
+        t = np.sort(rng.uniform(0, 2 * np.pi, k))
+        r = rng.uniform(0.05, 0.6)
+        poly = centre + r * (np.cos(t)[:, None] * a + np.sin(t)[:, None] * b)
+        out.append(_plane(poly))
+    return out
+
+
+@pytest.fixture(scope="module")
+def scene_planes():
+    rects = [floor(), wall()] + stairs(0.3, 2.2, 3, rise=0.17, run=0.28) + \
+        box(-1.0, 2.5, 0.5, 0.5, 0.4, obj=2) + box(0.2, 1.6, 0.3, 0.3, 0.3, obj=3)
+    cloud, lab, _, _ = render(rects, pitch=25, roll=5, noise=0.0012)
+    return list(measure_planes(cloud, lab))
+
+
+def test_gap_matrix_is_the_numpy_reference_on_a_scene(scene_planes):
+    a = _gap_matrix(scene_planes)
+    b = _gap_matrix_numpy(scene_planes)
+    assert len(scene_planes) >= 8
+    assert (a == b).all()
+    assert np.array_equal(a, a.T) and (np.diag(a) == 0).all()
+    assert (a > 0).any() and (a == 0).sum() > len(scene_planes)  # gaps and touching pairs
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_gap_matrix_is_the_numpy_reference_on_random_polygons(seed):
+    rng = np.random.default_rng(seed)
+    planes = _random_planes(rng, 12)
+    # touching, crossing and degenerate pairs: a copy moved along its own plane, one rotated
+    planes.append(_plane(planes[0].hull3d + 0.3 * planes[0].axes[0]))
+    planes.append(_plane(planes[3].hull3d[:, [1, 0, 2]]))
+    planes.append(_plane(planes[4].hull3d[:1]))
+    planes.append(_plane(np.vstack([planes[5].centroid - planes[5].normal,
+                                    planes[5].centroid + planes[5].normal])))
+    a = _gap_matrix(planes)
+    b = _gap_matrix_numpy(planes)
+    assert (a == b).all(), np.argwhere(a != b)
+    assert (a == 0).sum() > len(planes)  # some pierce or touch
+
+
+def test_hull_gap_of_two_squares():
+    sq = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    p, q = _plane(sq), _plane(sq + [2.5, 0, 0])
+    assert hull_gap(p, q) == pytest.approx(1.5)
+    assert hull_gap(p, _plane(sq + [0.5, 0.5, 0.2])) == pytest.approx(0.2)
+    pierce = _plane(np.array([[0.5, 0.5, -1], [0.5, 0.6, 1], [0.6, 0.6, 1]], float))
+    assert hull_gap(p, pierce) == 0.0
