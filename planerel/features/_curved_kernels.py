@@ -79,3 +79,122 @@ def unexplained_mask(xyz, lab, explained):
             out[r, c] = np.isfinite(xyz[r, c, 2]) and (a < 0 or not explained[a])
     return out
 
+
+
+@njit(cache=True, nogil=True)
+def _erode_or_dilate(mask, r, axis, erode):
+    """``mask`` AND-ed (erode) or OR-ed (dilate) with its copies shifted by -r..r along
+    ``axis`` (outside the image counts as unset): :func:`planerel.features.curved._shift_all`."""
+    H, W = mask.shape
+    out = np.empty((H, W), np.bool_)
+    for y in range(H):
+        for x in range(W):
+            if axis == 1:
+                lo, hi, at = x - r, x + r, x
+                n = W
+            else:
+                lo, hi, at = y - r, y + r, y
+                n = H
+            if erode:
+                v = mask[y, x]
+                if lo < 0 or hi >= n:
+                    v = False
+                else:
+                    for k in range(lo, hi + 1):
+                        if k == at:
+                            continue
+                        if not (mask[y, k] if axis == 1 else mask[k, x]):
+                            v = False
+                            break
+            else:
+                v = False
+                for k in range(max(lo, 0), min(hi, n - 1) + 1):
+                    if mask[y, k] if axis == 1 else mask[k, x]:
+                        v = True
+                        break
+            out[y, x] = v
+    return out
+
+
+@njit(cache=True, nogil=True)
+def open_mask(mask, r):
+    """Morphological opening of ``mask`` by a ``(2r+1)^2`` square, as
+    :func:`planerel.features.curved._open`: erode along rows, then columns; then, unless
+    nothing is left, dilate the same way (``r <= 0``: ``mask`` itself)."""
+    if r <= 0:
+        return mask
+    er = _erode_or_dilate(_erode_or_dilate(mask, r, 1, True), r, 0, True)
+    H, W = er.shape
+    for y in range(H):
+        for x in range(W):
+            if er[y, x]:
+                return _erode_or_dilate(_erode_or_dilate(er, r, 1, False), r, 0, False)
+    return er
+
+
+@njit(cache=True, nogil=True)
+def unexplained_open(xyz, lab, explained, r):
+    """The unexplained pixels of :func:`planerel.features.curved.unexplained_clusters` in one
+    call: :func:`unexplained_mask` opened by :func:`open_mask`, kept where the depth is
+    finite."""
+    out = open_mask(unexplained_mask(xyz, lab, explained), r)
+    H, W = out.shape
+    for y in range(H):
+        for x in range(W):
+            if out[y, x] and not np.isfinite(xyz[y, x, 2]):
+                out[y, x] = False
+    return out
+
+
+@njit(cache=True, nogil=True)
+def touching_counts(mask, lab, xyz, edge_depth, nlab):
+    """Per label (``(nlab,)`` int64) the number of (pixel of ``mask``, grid neighbour 1 or 2
+    steps right, down, left or up of label ``b >= 0``) pairs whose points lie within
+    ``edge_depth * max(1, |z|)`` (``z`` the mask pixel's depth) of each other:
+    :func:`planerel.features.curved._touching_labels`.  The distance is summed as
+    ``np.linalg.norm`` sums it, ``(x^2 + y^2) + z^2``."""
+    H, W = mask.shape
+    out = np.zeros(nlab, np.int64)
+    for y in range(H):
+        for x in range(W):
+            if not mask[y, x]:
+                continue
+            az = abs(xyz[y, x, 2])
+            lim = edge_depth * (az if az > 1.0 or az != az else 1.0)  # np.maximum: NaN wins
+            for k in range(1, 3):
+                for d in range(4):
+                    if d == 0:
+                        yy, xx = y, x + k
+                    elif d == 1:
+                        yy, xx = y + k, x
+                    elif d == 2:
+                        yy, xx = y, x - k
+                    else:
+                        yy, xx = y - k, x
+                    if yy < 0 or yy >= H or xx < 0 or xx >= W:
+                        continue
+                    b = lab[yy, xx]
+                    if b < 0:
+                        continue
+                    d0 = xyz[yy, xx, 0] - xyz[y, x, 0]
+                    d1 = xyz[yy, xx, 1] - xyz[y, x, 1]
+                    d2 = xyz[yy, xx, 2] - xyz[y, x, 2]
+                    if np.sqrt((d0 * d0 + d1 * d1) + d2 * d2) <= lim:
+                        out[b] += 1
+    return out
+
+
+@njit(cache=True, nogil=True)
+def count_outside(mask, lab, member, skip):
+    """Pixels of ``mask`` whose label is not a ``member`` (``(K,)`` bool; labels outside
+    0..K-1 are no member) and not ``skip``."""
+    H, W = mask.shape
+    n = 0
+    K = member.shape[0]
+    for y in range(H):
+        for x in range(W):
+            if mask[y, x]:
+                a = lab[y, x]
+                if a != skip and (a < 0 or a >= K or not member[a]):
+                    n += 1
+    return n

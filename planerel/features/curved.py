@@ -245,16 +245,6 @@ def _shift_all(mask, r: int, axis: int, erode: bool) -> np.ndarray:
     return out
 
 
-def _open(mask, r: int) -> np.ndarray:
-    """Morphological opening by a (2r+1)^2 square: erode, then dilate (separable)."""
-    if r <= 0:
-        return mask
-    eroded = _shift_all(_shift_all(mask, r, 1, True), r, 0, True)
-    if not eroded.any():
-        return eroded
-    return _shift_all(_shift_all(eroded, r, 1, False), r, 0, False)
-
-
 def _components(mask, xyz, edge_depth: float) -> tuple[np.ndarray, int]:
     """Connected components of ``mask`` over 4-neighbours within ``edge_depth * max(1, z)``
     in 3-D; returns ``(ids (H, W) int, -1 outside, numbered by first pixel; count)``."""
@@ -290,7 +280,7 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     lab = np.asarray(labels)
     if lab.shape != xyz.shape[:2]:
         raise InputError(f"labels {lab.shape} and cloud {xyz.shape[:2]} differ in shape")
-    from planerel.features._curved_kernels import unexplained_mask
+    from planerel.features._curved_kernels import unexplained_open
     from planerel.segment._label_kernels import mask_pixels
 
     flat = {p.label for p in planes if p.area >= params.tiny_area}
@@ -299,11 +289,11 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     explained[[x for x in flat if 0 <= x < nl]] = True
     explained[[x for x in support if 0 <= x < nl]] = True
     # valid pixels (finite depth) of no label or of a label not explained, in one pass
-    un = unexplained_mask(xyz, lab, explained)
-    un = _open(un, params.open_px) & np.isfinite(xyz[..., 2])
-    if not un.any():
-        return []
+    # opened (erode, then dilate by a square of radius open_px), finite depth: one pass
+    un = unexplained_open(xyz, lab, explained, int(params.open_px))
     rows, cols = mask_pixels(un)
+    if not len(rows):
+        return []
     r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
     sub = un[r0:r1, c0:c1]
     comp, k = _components(sub, xyz[r0:r1, c0:c1], params.edge_depth)
@@ -321,24 +311,12 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
 def _touching_labels(mask, lab, xyz, edge_depth: float) -> dict:
     """``{label: number of grid neighbour pairs}`` of the planes touching ``mask`` (within
     two pixels, 3-D distance within ``edge_depth * max(1, z)``)."""
-    from planerel.segment._label_kernels import mask_pixels
+    from planerel.features._curved_kernels import touching_counts
 
-    H, W = mask.shape
-    out: dict = {}
-    r0, c0 = mask_pixels(np.asarray(mask, dtype=np.bool_))
-    P0 = xyz[r0, c0]
-    lim = edge_depth * np.maximum(1.0, np.abs(P0[:, 2]))
-    for k in (1, 2):
-        for dy, dx in ((0, k), (k, 0), (0, -k), (-k, 0)):
-            r, c = r0 + dy, c0 + dx
-            inb = (r >= 0) & (r < H) & (c >= 0) & (c < W)
-            rr, cc = r[inb], c[inb]
-            b = lab[rr, cc]
-            d = np.linalg.norm(xyz[rr, cc] - P0[inb], axis=1)
-            ok = (b >= 0) & (d <= lim[inb])
-            for x, n in zip(*np.unique(b[ok], return_counts=True), strict=True):
-                out[int(x)] = out.get(int(x), 0) + int(n)
-    return out
+    lab = np.asarray(lab)
+    n = touching_counts(np.asarray(mask, dtype=np.bool_), lab, np.asarray(xyz, float),
+                        float(edge_depth), int(lab.max()) + 1 if lab.size else 0)
+    return {int(x): int(n[x]) for x in np.nonzero(n)[0]}
 
 
 def curved_objects(planes, relations, proposals, cloud=None, labels=None, support=(),
@@ -405,8 +383,14 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
             continue
         extra = 0
         if m is not None:
+            from planerel.features._curved_kernels import count_outside
+
             lab = np.asarray(labels)
-            extra = int((m & ~np.isin(lab, list(g) if g else [-2])).sum())
+            # the pixels of m outside the object's planes (np.isin(lab, g or [-2]) before)
+            member = np.zeros(max([-1, *g]) + 1, dtype=bool)
+            member[list(g)] = True
+            extra = int(count_outside(np.asarray(m, dtype=np.bool_), lab, member,
+                                      -(1 << 40) if g else -2))
         n_pl = sum(byl[x].n_points for x in g if x in byl)
         n_flat = sum(byl[x].n_points for x in g
                      if x in byl and x not in facets and byl[x].area >= params.tiny_area)
