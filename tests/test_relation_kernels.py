@@ -210,3 +210,28 @@ def test_hull_gap_of_two_squares():
     assert hull_gap(p, _plane(sq + [0.5, 0.5, 0.2])) == pytest.approx(0.2)
     pierce = _plane(np.array([[0.5, 0.5, -1], [0.5, 0.6, 1], [0.6, 0.6, 1]], float))
     assert hull_gap(p, pierce) == 0.0
+
+
+def test_relations_built_without_init_equal_the_dataclass():
+    from planerel.features.relations import Relation, _relation
+
+    vals = (3, 7, 12.5, False, False, 0.031, True, True, -0.2, True, False, True, False)
+    r, q = _relation(*vals), Relation(*vals)
+    assert r == q and repr(r) == repr(q) and hash(r) == hash(q)
+    with pytest.raises(AttributeError):
+        r.a = 4  # still frozen
+
+
+def test_relations_sorted_by_pair_whatever_the_plane_order(scene_planes):
+    from planerel.features.planes import PlaneSet
+    from planerel.features.relations import relate
+
+    up = np.array([0.0, 0.0, 1.0])
+    ps = PlaneSet(tuple(scene_planes), up, "given", None, 0.0)
+    back = PlaneSet(tuple(reversed(scene_planes)), up, "given", None, 0.0)
+    a, b = relate(ps), relate(back)
+    assert [(r.a, r.b) for r in a] == sorted((r.a, r.b) for r in a)
+    assert [(r.a, r.b) for r in b] == [(r.a, r.b) for r in a]
+    for r, q in zip(a, b, strict=True):  # the gap's last bits follow which hull comes first
+        assert r.gap == pytest.approx(q.gap, abs=1e-12)
+        assert repr(r).replace(f"gap={r.gap!r}", "") == repr(q).replace(f"gap={q.gap!r}", "")

@@ -290,6 +290,17 @@ class _Solid:
                          p.corner_width)
 
 
+_FIELDS = tuple(Relation.__dataclass_fields__)
+
+
+def _relation(*values) -> Relation:
+    """``Relation(*values)`` without the frozen dataclass's ``__init__`` (13 guarded
+    attribute writes): the same fields in the same instance dictionary."""
+    r = object.__new__(Relation)
+    r.__dict__.update(zip(_FIELDS, values, strict=True))
+    return r
+
+
 def relate(planes, cloud=None, params: RelationParams | None = None) -> Relations:
     """Relations of every ordered pair of planes.
 
@@ -336,27 +347,33 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     np.fill_diagonal(A, False)
     for i, j in zip(*np.nonzero(A), strict=True):  # row-major: i, then j, as the planes
         solid.touching.setdefault(plist[i].label, []).append(plist[j])
-    out = []
+    # per pair the same floats as numpy's (Python floats of the same float64 operations)
+    Gl, angl, Al = G.tolist(), ang.tolist(), A.tolist()
+    lev, dep = level.tolist(), depth.tolist()
+    perp_min = 90.0 - params.perpendicular_tol
+    rows: list = [[None] * n for _ in range(n)]
     for i in range(n):
         pi = plist[i]
         for j in range(i + 1, n):
             pj = plist[j]
-            gap = float(G[i, j])
+            gap = Gl[i][j]
             t = (pi.label, pj.label) in touch
-            adj = bool(A[i, j])  # touching, or hulls within adjacency_gap
-            a = float(ang[i, j])
+            adj = Al[i][j]  # touching, or hulls within adjacency_gap
+            a = angl[i][j]
             par = a <= params.parallel_tol
-            perp = a >= 90.0 - params.perpendicular_tol
-            rise = float(level[j] - level[i])
-            dd = float(depth[j] - depth[i])
+            perp = a >= perp_min
+            rise = lev[j] - lev[i]
+            dd = dep[j] - dep[i]
             corner = adj and perp and solid.corner(pi, pj)
-            out.append(Relation(pi.label, pj.label, a, par, perp, gap, t, adj, rise,
-                                -rise > params.above_tol, dd > params.front_tol,
-                                adj and solid.skirt(pi, pj), corner))
-            out.append(Relation(pj.label, pi.label, a, par, perp, gap, t, adj, -rise,
-                                rise > params.above_tol, -dd > params.front_tol,
-                                adj and solid.skirt(pj, pi), corner))
-    out.sort(key=lambda r: (r.a, r.b))
+            rows[i][j] = _relation(pi.label, pj.label, a, par, perp, gap, t, adj, rise,
+                                   -rise > params.above_tol, dd > params.front_tol,
+                                   adj and solid.skirt(pi, pj), corner)
+            rows[j][i] = _relation(pj.label, pi.label, a, par, perp, gap, t, adj, -rise,
+                                   rise > params.above_tol, -dd > params.front_tol,
+                                   adj and solid.skirt(pj, pi), corner)
+    out = [r for i, row in enumerate(rows) for j, r in enumerate(row) if i != j]
+    if any(plist[k].label >= plist[k + 1].label for k in range(n - 1)):
+        out.sort(key=lambda r: (r.a, r.b))
     return Relations(tuple(out), params)
 
 
