@@ -278,3 +278,48 @@ def test_touching_and_outside_kernels_match_numpy():
         assert count_outside(mask, lab, member, -(1 << 40) if g else -2) == \
             int((mask & ~np.isin(lab, g if g else [-2])).sum())
     assert touched > 100
+
+
+def test_pitch_kernel_matches_numpy():
+    """pitch_diffs gives _pitch_at's numpy values (main 8c18deb), bit for bit, zero and NaN
+    depths included, on whole and strided (every f-th pixel) clouds."""
+    from planerel.features._curved_kernels import pitch_diffs
+
+    rng = np.random.default_rng(3)
+    for _ in range(100):
+        H, W = (int(v) for v in rng.integers(1, 25, 2))
+        xyz = rng.normal(size=(H, W, 3)) + [0, 0, 2.0]
+        xyz[rng.random((H, W)) < 0.1] = np.nan
+        xyz[rng.random((H, W)) < 0.05, 2] = 0.0
+        for view in (xyz, xyz[::2, 1::3]):
+            h, w = view.shape[:2]
+            m = rng.random((h, w)) < 0.5
+            r, c = np.nonzero(m)
+            for axis in (0, 1):
+                r2, c2 = (r, c + 1) if axis == 1 else (r + 1, c)
+                ok = (r2 < h) & (c2 < w)
+                j = 0 if axis == 1 else 1
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    d = np.abs(view[r2[ok], c2[ok], j] / view[r2[ok], c2[ok], 2]
+                               - view[r[ok], c[ok], j] / view[r[ok], c[ok], 2])
+                want = d[np.isfinite(d)]
+                got = pitch_diffs(view, r.astype(np.int64), c.astype(np.int64), axis)
+                assert got.dtype == want.dtype and np.array_equal(got, want)
+
+
+def test_component_areas_kernel_matches_bincount():
+    from planerel.features._curved_kernels import component_areas, grid_components
+    from planerel.features.curved import _areas_at
+
+    rng = np.random.default_rng(4)
+    for _ in range(50):
+        H, W = (int(v) for v in rng.integers(2, 30, 2))
+        xyz = rng.normal(size=(H, W, 3)) * 0.01 + [0, 0, rng.uniform(0.5, 4)]
+        mask = rng.random((H, W)) < 0.6
+        r, c = np.nonzero(mask)
+        r0, c0 = int(r.min()), int(c.min())
+        comp, k = grid_components(mask[r0:, c0:], xyz[r0:, c0:], 0.02)
+        pitch = (float(rng.uniform(1e-3, 5e-3)), float(rng.uniform(1e-3, 5e-3)))
+        want = np.bincount(comp[r - r0, c - c0], weights=_areas_at(xyz, r, c, pitch), minlength=k)
+        got = component_areas(xyz, r, c, comp, r0, c0, pitch[0], pitch[1], k)
+        assert np.array_equal(got, want)

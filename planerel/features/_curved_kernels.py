@@ -133,3 +133,37 @@ def count_outside(mask, lab, member, skip):
                 if a != skip and (a < 0 or a >= K or not member[a]):
                     n += 1
     return n
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def pitch_diffs(xyz, rows, cols, axis):
+    """The finite ``|x2 / z2 - x / z|`` (``axis`` 1: ``x``, the next pixel along the row;
+    ``axis`` 0: ``y``, the next pixel down) of pixels ``(rows, cols)`` whose next pixel lies
+    in the image, in their order: :func:`planerel.features.curved._pitch_at`'s values."""
+    H, W = xyz.shape[0], xyz.shape[1]
+    j = 0 if axis == 1 else 1
+    out = np.empty(rows.shape[0])
+    n = 0
+    for t in range(rows.shape[0]):
+        r, c = rows[t], cols[t]
+        r2, c2 = (r, c + 1) if axis == 1 else (r + 1, c)
+        if r2 >= H or c2 >= W:
+            continue
+        d = abs(xyz[r2, c2, j] / xyz[r2, c2, 2] - xyz[r, c, j] / xyz[r, c, 2])
+        if np.isfinite(d):
+            out[n] = d
+            n += 1
+    return out[:n]
+
+
+@njit(cache=True, nogil=True)
+def component_areas(xyz, rows, cols, comp, r0, c0, p0, p1, k):
+    """``np.bincount(comp[rows - r0, cols - c0], weights=z^2 p0 p1, minlength=k)`` of
+    pixels ``(rows, cols)`` of ``xyz`` (``z`` the depth's magnitude; component ids below
+    ``k``): the footprints of :func:`planerel.features.curved._areas_at`, summed per
+    component in the pixels' order, as ``bincount`` sums them."""
+    out = np.zeros(k)
+    for t in range(rows.shape[0]):
+        z = abs(xyz[rows[t], cols[t], 2])
+        out[comp[rows[t] - r0, cols[t] - c0]] += z * z * p0 * p1
+    return out

@@ -179,13 +179,10 @@ def _pitch(xyz, axis: int) -> float:
 def _pitch_at(xyz, r, c, axis: int) -> float:
     """:func:`_pitch` measured at pixels ``(r, c)`` and their next neighbour along ``axis``
     (the whole image when none of them has a valid one)."""
-    H, W = xyz.shape[:2]
-    r2, c2 = (r, c + 1) if axis == 1 else (r + 1, c)
-    ok = (r2 < H) & (c2 < W)
-    j = 0 if axis == 1 else 1
-    with np.errstate(invalid="ignore", divide="ignore"):
-        d = np.abs(xyz[r2[ok], c2[ok], j] / xyz[r2[ok], c2[ok], 2] - xyz[r[ok], c[ok], j] / xyz[r[ok], c[ok], 2])
-    d = d[np.isfinite(d)]
+    from planerel.features._curved_kernels import pitch_diffs
+
+    d = pitch_diffs(np.asarray(xyz, dtype=np.float64), np.asarray(r, dtype=np.int64),
+                    np.asarray(c, dtype=np.int64), int(axis))
     return float(np.median(d)) if d.size else _pitch(xyz, axis)
 
 
@@ -290,7 +287,7 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     lab = np.asarray(labels)
     if lab.shape != xyz.shape[:2]:
         raise InputError(f"labels {lab.shape} and cloud {xyz.shape[:2]} differ in shape")
-    from planerel.features._curved_kernels import unexplained_mask
+    from planerel.features._curved_kernels import component_areas, unexplained_mask
     from planerel.segment._label_kernels import mask_pixels
 
     flat = {p.label for p in planes if p.area >= params.tiny_area}
@@ -298,7 +295,6 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     explained = np.zeros(nl + 1, bool)
     explained[[x for x in flat if 0 <= x < nl]] = True
     explained[[x for x in support if 0 <= x < nl]] = True
-    # valid pixels (finite depth) of no label or of a label not explained, in one pass
     # valid pixels (finite depth) of no label or of a label not explained, in one pass,
     # opened (an opening keeps no pixel that was not set: the depth stays finite)
     un = _open(unexplained_mask(xyz, lab, explained), params.open_px)
@@ -308,9 +304,8 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
     sub = un[r0:r1, c0:c1]
     comp, k = _components(sub, xyz[r0:r1, c0:c1], params.edge_depth)
-    rr, cc = rows - r0, cols - c0
     pitch = (_pitch_at(xyz, rows, cols, 1), _pitch_at(xyz, rows, cols, 0))
-    area = np.bincount(comp[rr, cc], weights=_areas_at(xyz, rows, cols, pitch), minlength=k)
+    area = component_areas(xyz, rows, cols, comp, r0, c0, pitch[0], pitch[1], k)
     out = []
     for c in np.nonzero(area >= params.min_area)[0]:  # component ids follow the first pixel
         m = np.zeros(un.shape, bool)

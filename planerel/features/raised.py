@@ -148,7 +148,8 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
     list of ndarray (H, W) bool
         One mask per group, ordered by their first pixel (row-major).
     """
-    from planerel.features.curved import _areas_at, _components, _open, _pitch_at, _shift_all
+    from planerel.features._curved_kernels import component_areas
+    from planerel.features.curved import _components, _open, _pitch_at, _shift_all
 
     params = params or RaisedParams()
     if not params.enabled:
@@ -180,8 +181,7 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
         rows, cols = np.nonzero(raised)
         comp, k = _components(raised, bx, params.edge_depth)
         pitch = (_pitch_at(bx, rows, cols, 1), _pitch_at(bx, rows, cols, 0))
-        ids = comp[rows, cols]
-        area = np.bincount(ids, weights=_areas_at(bx, rows, cols, pitch), minlength=k)
+        area = component_areas(bx, rows, cols, comp, 0, 0, pitch[0], pitch[1], k)
         n_on = int(on.sum())
         for c in np.nonzero(area >= params.min_area)[0]:
             m = comp == c
