@@ -228,6 +228,40 @@ def test_pixel_kernels_match_numpy():
             assert got.dtype == ref.dtype and np.array_equal(got, ref)
 
 
+def _open_numpy(mask, r):
+    """The opening before the kernel (planerel.features.curved._open, main 8c18deb)."""
+    from planerel.features.curved import _shift_all
+
+    if r <= 0:
+        return mask
+    eroded = _shift_all(_shift_all(mask, r, 1, True), r, 0, True)
+    if not eroded.any():
+        return eroded
+    return _shift_all(_shift_all(eroded, r, 1, False), r, 0, False)
+
+
+def test_open_mask_kernel_matches_numpy():
+    """open_mask is the separable numpy opening, pixel for pixel (each pass too)."""
+    from planerel.features._curved_kernels import _shift_pass, open_mask
+    from planerel.features.curved import _shift_all
+
+    rng = np.random.default_rng(12)
+    kept = 0
+    for _ in range(400):
+        H, W = (int(v) for v in rng.integers(1, 30, 2))
+        mask = rng.random((H, W)) < rng.uniform(0.2, 0.97)
+        r = int(rng.integers(0, 6))
+        want = _open_numpy(mask, r)
+        kept += bool(want.any()) and r > 0
+        assert np.array_equal(open_mask(mask, r), want)
+        if r:
+            for axis in (0, 1):
+                for erode in (True, False):
+                    assert np.array_equal(_shift_pass(mask, r, axis, erode),
+                                          _shift_all(mask, r, axis, erode))
+    assert kept > 30  # openings that keep something
+
+
 def _touching_labels_numpy(mask, lab, xyz, edge_depth):
     """planerel.features.curved._touching_labels before the kernel (main 8c18deb)."""
     H, W = mask.shape
@@ -253,14 +287,14 @@ def test_touching_and_outside_kernels_match_numpy():
     distances, bit for bit); the opening keeps no pixel that was not set (so the unexplained
     pixels need no second finite-depth test)."""
     from planerel.features._curved_kernels import count_outside, touching_counts
-    from planerel.features.curved import _open, _touching_labels
+    from planerel.features.curved import _touching_labels
 
     rng = np.random.default_rng(11)
     touched = 0
     for t in range(300):
         H, W = (int(v) for v in rng.integers(1, 30, 2))
         mask = rng.random((H, W)) < rng.uniform(0.3, 0.95)
-        opened = _open(mask, int(rng.integers(0, 4)))
+        opened = _open_numpy(mask, int(rng.integers(0, 4)))
         assert not (opened & ~mask).any()
         lab = rng.integers(-2, 7, (H, W)).astype(np.int32)
         xyz = rng.normal(size=(H, W, 3)) * 0.02 + [0, 0, 1.5]

@@ -167,3 +167,78 @@ def component_areas(xyz, rows, cols, comp, r0, c0, p0, p1, k):
         z = abs(xyz[rows[t], cols[t], 2])
         out[comp[rows[t] - r0, cols[t] - c0]] += z * z * p0 * p1
     return out
+
+
+@njit(cache=True, nogil=True)
+def _shift_pass(mask, r, axis, erode):
+    """``mask`` AND-ed (erode) or OR-ed (dilate) with its copies shifted by -r..r along
+    ``axis`` (outside the image counts as unset), as
+    :func:`planerel.features.curved._shift_all`; row slices with non-negative indices, so the
+    inner loops are plain byte loops the compiler vectorizes."""
+    H, W = mask.shape
+    m = mask.view(np.uint8)
+    out = np.zeros((H, W), np.uint8)
+    if axis == 1:
+        for y in range(H):
+            row = m[y]
+            o = out[y]
+            if erode:
+                if W - 2 * r <= 0:
+                    continue
+                n = W - 2 * r
+                oo = o[r:W - r]
+                src = row[r:W - r]
+                for i in range(n):
+                    oo[i] = src[i]
+                for k in range(1, r + 1):
+                    lo = row[r - k:W - r - k]
+                    hi = row[r + k:W - r + k]
+                    for i in range(n):
+                        oo[i] &= lo[i] & hi[i]
+            else:
+                for i in range(W):
+                    o[i] = row[i]
+                for k in range(1, min(r, W - 1) + 1):
+                    a = o[:W - k]
+                    b = row[k:]
+                    for i in range(W - k):
+                        a[i] |= b[i]
+                    a = o[k:]
+                    b = row[:W - k]
+                    for i in range(W - k):
+                        a[i] |= b[i]
+    else:
+        for y in range(H):
+            o = out[y]
+            if erode:
+                if y - r < 0 or y + r >= H:
+                    continue
+                src = m[y]
+                for i in range(W):
+                    o[i] = src[i]
+                for k in range(1, r + 1):
+                    lo = m[y - k]
+                    hi = m[y + k]
+                    for i in range(W):
+                        o[i] &= lo[i] & hi[i]
+            else:
+                for yy in range(max(0, y - r), min(H - 1, y + r) + 1):
+                    src = m[yy]
+                    for i in range(W):
+                        o[i] |= src[i]
+    return out.view(np.bool_)
+
+@njit(cache=True, nogil=True)
+def open_mask(mask, r):
+    """Morphological opening of ``mask`` (C-contiguous bool) by a ``(2r+1)^2`` square, as
+    :func:`planerel.features.curved._open`: erode along rows, then columns; unless nothing is
+    left, dilate the same way (``r <= 0``: ``mask`` itself)."""
+    if r <= 0:
+        return mask
+    er = _shift_pass(_shift_pass(mask, r, 1, True), r, 0, True)
+    H, W = er.shape
+    for y in range(H):
+        for x in range(W):
+            if er[y, x]:
+                return _shift_pass(_shift_pass(er, r, 1, False), r, 0, False)
+    return er

@@ -242,16 +242,6 @@ def _shift_all(mask, r: int, axis: int, erode: bool) -> np.ndarray:
     return out
 
 
-def _open(mask, r: int) -> np.ndarray:
-    """Morphological opening by a (2r+1)^2 square: erode, then dilate (separable)."""
-    if r <= 0:
-        return mask
-    eroded = _shift_all(_shift_all(mask, r, 1, True), r, 0, True)
-    if not eroded.any():
-        return eroded
-    return _shift_all(_shift_all(eroded, r, 1, False), r, 0, False)
-
-
 def _components(mask, xyz, edge_depth: float) -> tuple[np.ndarray, int]:
     """Connected components of ``mask`` over 4-neighbours within ``edge_depth * max(1, z)``
     in 3-D; returns ``(ids (H, W) int, -1 outside, numbered by first pixel; count)``."""
@@ -287,7 +277,7 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     lab = np.asarray(labels)
     if lab.shape != xyz.shape[:2]:
         raise InputError(f"labels {lab.shape} and cloud {xyz.shape[:2]} differ in shape")
-    from planerel.features._curved_kernels import component_areas, unexplained_mask
+    from planerel.features._curved_kernels import component_areas, open_mask, unexplained_mask
     from planerel.segment._label_kernels import mask_pixels
 
     flat = {p.label for p in planes if p.area >= params.tiny_area}
@@ -297,7 +287,7 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     explained[[x for x in support if 0 <= x < nl]] = True
     # valid pixels (finite depth) of no label or of a label not explained, in one pass,
     # opened (an opening keeps no pixel that was not set: the depth stays finite)
-    un = _open(unexplained_mask(xyz, lab, explained), params.open_px)
+    un = open_mask(unexplained_mask(xyz, lab, explained), int(params.open_px))
     rows, cols = mask_pixels(un)
     if not len(rows):
         return []

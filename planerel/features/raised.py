@@ -148,8 +148,8 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
     list of ndarray (H, W) bool
         One mask per group, ordered by their first pixel (row-major).
     """
-    from planerel.features._curved_kernels import component_areas
-    from planerel.features.curved import _components, _open, _pitch_at, _shift_all
+    from planerel.features._curved_kernels import component_areas, open_mask
+    from planerel.features.curved import _components, _pitch_at, _shift_all
 
     params = params or RaisedParams()
     if not params.enabled:
@@ -175,7 +175,7 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
         if not raw.any():
             continue
         bx = xyz[r0:r1:f, c0:c1:f]
-        raised = _open(raw, params.open_px) & on
+        raised = open_mask(raw, int(params.open_px)) & on
         if not raised.any():
             continue
         rows, cols = np.nonzero(raised)
