@@ -76,7 +76,9 @@ def unexplained_mask(xyz, lab, explained):
     for r in range(H):
         for c in range(W):
             a = lab[r, c]
-            out[r, c] = np.isfinite(xyz[r, c, 2]) and (a < 0 or not explained[a])
+            # the label first: the depth (most of the cloud's memory) is read only for
+            # pixels that no explained plane holds
+            out[r, c] = (a < 0 or not explained[a]) and np.isfinite(xyz[r, c, 2])
     return out
 
 
