@@ -236,3 +236,49 @@ def test_relations_sorted_by_pair_whatever_the_plane_order(scene_planes):
         for name, x in vars(r).items():
             y = getattr(q, name)
             assert x == (pytest.approx(y, abs=1e-9) if isinstance(x, float) else y)
+
+
+def _touch_pairs_python(xyz, lab, rows, cols, g, max_dist, rel_dist, known):
+    """touch_pairs written out plainly: every listed pixel against the pixels after it within
+    ``g`` rows and columns."""
+    H, W = lab.shape
+    n = known.shape[0]
+    out = np.zeros((n, n), bool)
+    for v, u in zip(rows.tolist(), cols.tolist(), strict=True):
+        a = int(lab[v, u])
+        if a < 0 or a >= n or not known[a]:
+            continue
+        lim = max(max_dist, rel_dist * abs(float(xyz[v, u, 2])))
+        for dv in range(g + 1):
+            for du in range(-g, g + 1):
+                if dv == 0 and du <= 0:
+                    continue
+                v2, u2 = v + dv, u + du
+                if v2 >= H or u2 < 0 or u2 >= W:
+                    continue
+                b = int(lab[v2, u2])
+                if b < 0 or b == a or b >= n or not known[b]:
+                    continue
+                e = xyz[v, u] - xyz[v2, u2]
+                if float(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) <= lim * lim:
+                    out[a, b] = out[b, a] = True
+    return out
+
+
+def test_touch_pairs_kernel_matches_the_plain_definition():
+    from planerel.segment._label_kernels import touch_pairs
+
+    rng = np.random.default_rng(7)
+    found = 0
+    for _ in range(60):
+        H, W = (int(v) for v in rng.integers(2, 25, 2))
+        lab = rng.integers(-1, 6, (H, W)).astype(np.int32)
+        xyz = rng.normal(size=(H, W, 3)) * 0.03 + [0, 0, 2.0]
+        xyz[rng.random((H, W)) < 0.1] = np.nan
+        known = rng.random(int(lab.max()) + 1) < 0.8
+        rows, cols = (a.astype(np.int64) for a in np.nonzero(rng.random((H, W)) < 0.7))
+        g = int(rng.integers(1, 4))
+        want = _touch_pairs_python(xyz, lab, rows, cols, g, 0.05, 0.02, known)
+        found += int(want.sum())
+        assert np.array_equal(touch_pairs(xyz, lab, rows, cols, g, 0.05, 0.02, known), want)
+    assert found > 100

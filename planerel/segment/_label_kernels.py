@@ -87,8 +87,7 @@ def touch_pairs(xyz, lab, brow, bcol, g, max_dist, rel_dist, known):  # pragma: 
         a = lab[v, u]
         if a < 0 or a >= nlab or not known[a]:
             continue
-        lim = max(max_dist, rel_dist * abs(xyz[v, u, 2]))
-        d2max = lim * lim
+        d2max = -1.0  # the pixel's limit, read at its first candidate neighbour
         for dv in range(0, g + 1):
             v2 = v + dv
             if v2 >= H:
@@ -100,10 +99,13 @@ def touch_pairs(xyz, lab, brow, bcol, g, max_dist, rel_dist, known):  # pragma: 
                 if u2 < 0 or u2 >= W:
                     continue
                 b = lab[v2, u2]
-                if b < 0 or b == a or b >= nlab or not known[b]:
+                if b == a or b < 0 or b >= nlab or not known[b]:
                     continue
                 if out[a, b]:
                     continue
+                if d2max < 0:
+                    lim = max(max_dist, rel_dist * abs(xyz[v, u, 2]))
+                    d2max = lim * lim
                 ex = xyz[v, u, 0] - xyz[v2, u2, 0]
                 ey = xyz[v, u, 1] - xyz[v2, u2, 1]
                 ez = xyz[v, u, 2] - xyz[v2, u2, 2]
