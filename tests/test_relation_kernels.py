@@ -282,3 +282,100 @@ def test_touch_pairs_kernel_matches_the_plain_definition():
         found += int(want.sum())
         assert np.array_equal(touch_pairs(xyz, lab, rows, cols, g, 0.05, 0.02, known), want)
     assert found > 100
+
+
+# ---- planerel.features.solid._cover before its kernels (main 8c18deb)
+
+_DV, _DU = (a.ravel() for a in np.meshgrid([-1, 0, 1], [-1, 0, 1], indexing="ij"))
+
+
+def _cover_numpy(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
+           samples: int, normals: np.ndarray, cos_par: float) -> float:
+    """``cover`` of the module rule: covered / (covered + open) over the sample points.
+
+    ``levels`` are the sample heights (``up . x``), ``[t0, t1]`` the top's extent along
+    ``along``; ``intr`` the camera (``fx``, ``fy``, ``cx``, ``cy``); ``normals`` ``(K, 3)``
+    the unit normal of each label (NaN where none), ``cos_par`` the cosine of the parallel
+    tolerance.
+    """
+    n = np.asarray(face.normal, float)
+    c = np.asarray(face.centroid, float)
+    vert = up - (up @ n) * n  # the face's own "up" (the face is vertical within tolerance)
+    vert /= max(float(np.linalg.norm(vert)), 1e-12)
+    s = np.linspace(t0, t1, samples)
+    S, L = np.meshgrid(s, np.asarray(levels, float))
+    X = (c + np.multiply.outer(S - c @ along, along)
+         + np.multiply.outer((L - c @ up) / (vert @ up), vert)).reshape(-1, 3)
+    H, W = labels.shape
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.rint(intr.fx * X[:, 0] / X[:, 2] + intr.cx)
+        v = np.rint(intr.fy * X[:, 1] / X[:, 2] + intr.cy)
+    inside = (X[:, 2] > 0) & (u >= 0) & (u < W) & (v >= 0) & (v < H)
+    u, v, X = u[inside].astype(np.int64), v[inside].astype(np.int64), X[inside]
+    if u.size == 0:
+        return 0.0
+    # a pixel of the face within one pixel (the 3x3 neighbourhood, clipped to the image)
+    vv = np.clip(v[None, :] + _DV[:, None], 0, H - 1)
+    uu = np.clip(u[None, :] + _DU[:, None], 0, W - 1)
+    near = (labels[vv, uu] == face.label).any(axis=0)
+    seen = np.asarray(xyz[v, u], float)
+    rng_seen = np.linalg.norm(seen, axis=1)
+    rng_face = np.linalg.norm(X, axis=1)
+    margin = np.maximum(0.03, 0.03 * rng_face)
+    hidden = ~np.isfinite(rng_seen) | (rng_seen < rng_face - margin)
+    # another piece of the same surface: a plane parallel to the face, its point on the
+    # face's plane (a side split in two by an object standing in front of it)
+    lab = labels[v, u]
+    cos = np.abs(normals[np.clip(lab, 0, None)] @ n)
+    with np.errstate(invalid="ignore"):
+        near |= (lab >= 0) & (cos >= cos_par) & (np.abs((seen - c) @ n) <= margin)
+    covered = int(near.sum())
+    open_ = int((~near & ~hidden).sum())
+    return covered / (covered + open_) if covered + open_ else 0.0
+
+
+def test_cover_is_the_numpy_reference():
+    """solid._cover with its two kernels gives the numpy code's cover, on random faces seen
+    by a pinhole camera over random label images (parallel pieces, hidden and open samples,
+    samples off the image)."""
+    from planerel.features.solid import _cover
+
+    rng = np.random.default_rng(21)
+    intr = SimpleNamespace(fx=300.0, fy=300.0, cx=79.5, cy=59.5)
+    H, W = 120, 160
+    values = set()
+    for _ in range(300):
+        n = np.array([rng.normal(), rng.normal(), rng.normal() * 0.1])
+        n[2] = -abs(n[2]) - 0.5
+        n /= np.linalg.norm(n)
+        c = np.array([rng.uniform(-0.5, 0.5), rng.uniform(-0.3, 0.3), rng.uniform(1.0, 3.0)])
+        face = SimpleNamespace(normal=n, centroid=c, label=int(rng.integers(0, 4)))
+        up = np.array([0.0, -1.0, 0.0]) + rng.normal(size=3) * 0.05
+        up /= np.linalg.norm(up)
+        along = np.cross(up, n)
+        along /= np.linalg.norm(along)
+        labels = rng.integers(-1, 5, (H, W)).astype(np.int32)
+        labels[labels == face.label] = -1
+        r0, c0 = int(rng.integers(0, H)), int(rng.integers(0, W))
+        labels[r0:r0 + int(rng.integers(5, H)), c0:c0 + int(rng.integers(5, W))] = face.label
+        vv, uu = np.mgrid[0:H, 0:W]
+        ray = np.stack([(uu - intr.cx) / intr.fx, (vv - intr.cy) / intr.fy, np.ones((H, W))], -1)
+        depth = (c @ n) / (ray @ n) + rng.normal(size=(H, W)) * rng.choice([0.001, 0.05, 0.3])
+        xyz = ray * depth[..., None]
+        xyz[rng.random((H, W)) < 0.05] = np.nan
+        normals = rng.normal(size=(6, 3))
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        normals[face.label] = n
+        normals[int(rng.integers(0, 6))] = n * -1 + rng.normal(size=3) * 0.01
+        normals[5] = np.nan
+        t = c @ along
+        t0, t1 = t - rng.uniform(0.05, 1.5), t + rng.uniform(0.05, 1.5)
+        top = c @ up + rng.uniform(0, 0.3)
+        levels = [top - k * rng.uniform(0.05, 0.4) for k in (0.3, 0.5, 0.7)]
+        cos_par = float(np.cos(np.radians(10.0)))
+        args = (face, labels, xyz, intr, up, along, levels, t0, t1, 24, normals, cos_par)
+        want = _cover_numpy(*args)
+        got = _cover(*args)
+        assert got == want
+        values.add(round(want, 2))
+    assert len(values) > 10  # covers across the range, not one constant

@@ -277,3 +277,69 @@ def gap_matrix(V, vstart, C, N, AX, poly2, isface):
                 G[i, j] = 0.0
         G[i, i] = 0.0
     return G
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def cover_samples(c, along, vert, ca, cu, vu, s, levels, fx, fy, cx, cy, H, W):
+    """The sample points of :func:`planerel.features.solid._cover` that project into the
+    image, level by level, and their pixels: ``x = (c + (s - ca) along) + ((level - cu) / vu)
+    vert`` (``ca = c . along``, ``cu = c . up``, ``vu = vert . up``), pixel ``rint(f x / z +
+    c)``, kept when ``z > 0`` and the pixel lies in the ``H x W`` image.
+
+    Returns
+    -------
+    (X (K, 3) float64, u (K,) int64, v (K,) int64)
+    """
+    n = levels.shape[0] * s.shape[0]
+    X = np.empty((n, 3))
+    u = np.empty(n, np.int64)
+    v = np.empty(n, np.int64)
+    k = 0
+    for li in range(levels.shape[0]):
+        b = (levels[li] - cu) / vu
+        for si in range(s.shape[0]):
+            a = s[si] - ca
+            x0 = (c[0] + a * along[0]) + b * vert[0]
+            x1 = (c[1] + a * along[1]) + b * vert[1]
+            x2 = (c[2] + a * along[2]) + b * vert[2]
+            uu = np.rint(fx * x0 / x2 + cx)
+            vv = np.rint(fy * x1 / x2 + cy)
+            if x2 > 0 and uu >= 0 and uu < W and vv >= 0 and vv < H:
+                X[k, 0], X[k, 1], X[k, 2] = x0, x1, x2
+                u[k] = np.int64(uu)
+                v[k] = np.int64(vv)
+                k += 1
+    return X[:k].copy(), u[:k].copy(), v[:k].copy()
+
+
+@njit(cache=True, nogil=True)
+def cover_counts(labels, label, u, v, X, seen, lab, cos, proj, cos_par):
+    """``(covered, open)`` of :func:`planerel.features.solid._cover` from its samples: a
+    sample is covered when a pixel of ``label`` lies in its 3x3 neighbourhood (clipped to the
+    image) or its pixel's plane is parallel to the face (``cos >= cos_par``) with its point on
+    the face's plane (``|proj| <= margin``); open when not covered and not hidden (its pixel's
+    range finite and not nearer than the sample's by more than ``margin = max(0.03, 0.03
+    range)``).  Ranges summed as ``np.linalg.norm`` sums them."""
+    H, W = labels.shape
+    covered = 0
+    open_ = 0
+    for t in range(u.shape[0]):
+        near = False
+        for dv in range(-1, 2):
+            for du in range(-1, 2):
+                yy = min(max(v[t] + dv, 0), H - 1)
+                xx = min(max(u[t] + du, 0), W - 1)
+                if labels[yy, xx] == label:
+                    near = True
+        rs = np.sqrt((seen[t, 0] * seen[t, 0] + seen[t, 1] * seen[t, 1]) + seen[t, 2] * seen[t, 2])
+        rf = np.sqrt((X[t, 0] * X[t, 0] + X[t, 1] * X[t, 1]) + X[t, 2] * X[t, 2])
+        m = 0.03 * rf
+        margin = m if m > 0.03 or m != m else 0.03  # np.maximum: NaN wins
+        hidden = not np.isfinite(rs) or rs < rf - margin
+        if not near and lab[t] >= 0 and cos[t] >= cos_par and abs(proj[t]) <= margin:
+            near = True
+        if near:
+            covered += 1
+        elif not hidden:
+            open_ += 1
+    return covered, open_

@@ -69,8 +69,6 @@ __all__ = ["face_points", "FaceProfile", "face_profile", "skirt_measures", "is_s
 
 #: Levels of the cover test, as shares of the face's reach below the top.
 _LEVELS = (0.3, 0.5, 0.7)
-#: Row and column offsets of a pixel's 3x3 neighbourhood.
-_DV, _DU = (a.ravel() for a in np.meshgrid([-1, 0, 1], [-1, 0, 1], indexing="ij"))
 
 
 def face_points(plane, labels, xyz, max_points: int = 4000) -> tuple[np.ndarray, np.ndarray,
@@ -170,34 +168,27 @@ def _cover(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
     vert = up - (up @ n) * n  # the face's own "up" (the face is vertical within tolerance)
     vert /= max(float(np.linalg.norm(vert)), 1e-12)
     s = np.linspace(t0, t1, samples)
-    S, L = np.meshgrid(s, np.asarray(levels, float))
-    X = (c + np.multiply.outer(S - c @ along, along)
-         + np.multiply.outer((L - c @ up) / (vert @ up), vert)).reshape(-1, 3)
+    from planerel.features._relation_kernels import cover_counts, cover_samples
+
     H, W = labels.shape
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u = np.rint(intr.fx * X[:, 0] / X[:, 2] + intr.cx)
-        v = np.rint(intr.fy * X[:, 1] / X[:, 2] + intr.cy)
-    inside = (X[:, 2] > 0) & (u >= 0) & (u < W) & (v >= 0) & (v < H)
-    u, v, X = u[inside].astype(np.int64), v[inside].astype(np.int64), X[inside]
+    # the samples in the image and their pixels (one compiled pass: elementwise arithmetic,
+    # the same floats as numpy's)
+    X, u, v = cover_samples(c, np.asarray(along, float), vert, float(c @ along), float(c @ up),
+                            float(vert @ up), s, np.asarray(levels, float), float(intr.fx),
+                            float(intr.fy), float(intr.cx), float(intr.cy), H, W)
     if u.size == 0:
         return 0.0
-    # a pixel of the face within one pixel (the 3x3 neighbourhood, clipped to the image)
-    vv = np.clip(v[None, :] + _DV[:, None], 0, H - 1)
-    uu = np.clip(u[None, :] + _DU[:, None], 0, W - 1)
-    near = (labels[vv, uu] == face.label).any(axis=0)
     seen = np.asarray(xyz[v, u], float)
-    rng_seen = np.linalg.norm(seen, axis=1)
-    rng_face = np.linalg.norm(X, axis=1)
-    margin = np.maximum(0.03, 0.03 * rng_face)
-    hidden = ~np.isfinite(rng_seen) | (rng_seen < rng_face - margin)
     # another piece of the same surface: a plane parallel to the face, its point on the
-    # face's plane (a side split in two by an object standing in front of it)
+    # face's plane (a side split in two by an object standing in front of it); the two
+    # products stay numpy's (BLAS)
     lab = labels[v, u]
     cos = np.abs(normals[np.clip(lab, 0, None)] @ n)
-    with np.errstate(invalid="ignore"):
-        near |= (lab >= 0) & (cos >= cos_par) & (np.abs((seen - c) @ n) <= margin)
-    covered = int(near.sum())
-    open_ = int((~near & ~hidden).sum())
+    proj = (seen - c) @ n
+    # covered: a pixel of the face within one pixel (the 3x3 neighbourhood, clipped to the
+    # image) or that other piece; open: neither, and not hidden behind something nearer
+    covered, open_ = cover_counts(labels, int(face.label), u, v, X, seen, lab, cos, proj,
+                                  float(cos_par))
     return covered / (covered + open_) if covered + open_ else 0.0
 
 
