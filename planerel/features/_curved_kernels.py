@@ -35,12 +35,22 @@ def grid_components(mask, xyz, edge_depth):
         (row-major); the number of components.
     """
     H, W = mask.shape
-    parent = np.arange(H * W)
+    # the mask's pixels numbered in row-major order (in ``out`` until the last pass): a
+    # union-find over them alone; the components, numbered by their first pixel, do not
+    # depend on how the union-find joins them
+    out = np.full((H, W), -1, np.int64)
+    n = 0
+    for r in range(H):
+        for c in range(W):
+            if mask[r, c]:
+                out[r, c] = n
+                n += 1
+    parent = np.arange(n)
     for r in range(H):
         for c in range(W):
             if not mask[r, c]:
                 continue
-            i = r * W + c
+            i = out[r, c]
             lim = edge_depth * max(1.0, abs(xyz[r, c, 2]))
             for dy, dx in ((0, 1), (1, 0)):
                 rr, cc = r + dy, c + dx
@@ -50,16 +60,15 @@ def grid_components(mask, xyz, edge_depth):
                 d1 = xyz[rr, cc, 1] - xyz[r, c, 1]
                 d2 = xyz[rr, cc, 2] - xyz[r, c, 2]
                 if np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) <= lim:
-                    a, b = _root(parent, i), _root(parent, rr * W + cc)
+                    a, b = _root(parent, i), _root(parent, out[rr, cc])
                     if a != b:
                         parent[max(a, b)] = min(a, b)
-    out = np.full((H, W), -1, np.int64)
-    ids = np.full(H * W, -1, np.int64)
+    ids = np.full(n, -1, np.int64)
     k = 0
     for r in range(H):
         for c in range(W):
             if mask[r, c]:
-                a = _root(parent, r * W + c)
+                a = _root(parent, out[r, c])
                 if ids[a] < 0:
                     ids[a] = k
                     k += 1
