@@ -67,22 +67,27 @@ def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma,
             rc[i, j] = c
     raw = np.zeros((H, W), np.bool_)
     weak = np.zeros((H, W), np.bool_)
-    for j in range(W):
-        s = 0.0
-        c = 0
-        for i in range(min(r, H)):
-            s += rs[i, j]
-            c += rc[i, j]
-        for i in range(H):
+    # the columns' running sums kept side by side, row by row (each column's sum takes the
+    # same values in the same order as a column-by-column pass: the same floats)
+    cs = np.zeros(W)
+    cc = np.zeros(W, np.int64)
+    for i in range(min(r, H)):
+        for j in range(W):
+            cs[j] += rs[i, j]
+            cc[j] += rc[i, j]
+    for i in range(H):
+        for j in range(W):
             if i + r < H:
-                s += rs[i + r, j]
-                c += rc[i + r, j]
+                cs[j] += rs[i + r, j]
+                cc[j] += rc[i + r, j]
             if i - r - 1 >= 0:
-                s -= rs[i - r - 1, j]
-                c -= rc[i - r - 1, j]
+                cs[j] -= rs[i - r - 1, j]
+                cc[j] -= rc[i - r - 1, j]
+        for j in range(W):
+            c = cc[j]
             if not on[i, j] or c <= 0:
                 continue
-            mean = s / c
+            mean = cs[j] / c
             if mean <= 0.5 * min_rise:
                 continue
             z = max(abs(xyz[r0 + i * f, c0 + j * f, 2]), 0.1)
