@@ -379,3 +379,55 @@ def test_cover_is_the_numpy_reference():
         assert got == want
         values.add(round(want, 2))
     assert len(values) > 10  # covers across the range, not one constant
+
+
+def _edge_sums_python(lab, xyz, rows, cols, used, band, depth, n):
+    """edge_sums written out plainly, in its order (so its float sums are the same)."""
+    H, W = lab.shape
+    cnt = np.zeros(n * n)
+    lo_acc = np.zeros((n * n, 3))
+    hi_acc = np.zeros((n * n, 3))
+    for y0, x0 in zip(rows.tolist(), cols.tolist(), strict=True):
+        a = int(lab[y0, x0])
+        if a < 0 or a >= n or not used[a]:
+            continue
+        lim = depth * max(1.0, abs(float(xyz[y0, x0, 2])))
+        for k in range(1, band + 1):
+            for y, x in ((y0, x0 + k), (y0 + k, x0), (y0 + k, x0 + k), (y0 + k, x0 - k)):
+                if not (0 <= y < H and 0 <= x < W):
+                    continue
+                b = int(lab[y, x])
+                if b < 0 or b == a or b >= n or not used[b]:
+                    continue
+                d = xyz[y0, x0] - xyz[y, x]
+                if not float(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) <= lim * lim:
+                    continue
+                code = min(a, b) * n + max(a, b)
+                first, second = (xyz[y0, x0], xyz[y, x]) if a < b else (xyz[y, x], xyz[y0, x0])
+                for j in range(3):
+                    lo_acc[code, j] += first[j]
+                    hi_acc[code, j] += second[j]
+                cnt[code] += 1.0
+    return cnt, lo_acc, hi_acc
+
+
+def test_edge_sums_kernel_matches_the_plain_definition():
+    from planerel.features._relation_kernels import edge_sums
+
+    rng = np.random.default_rng(9)
+    counted = 0
+    for _ in range(40):
+        H, W = (int(v) for v in rng.integers(2, 25, 2))
+        lab = rng.integers(-1, 5, (H, W)).astype(np.int32)
+        xyz = rng.normal(size=(H, W, 3)) * 0.02 + [0, 0, 1.5]
+        xyz[rng.random((H, W)) < 0.1] = np.nan
+        n = int(lab.max()) + 1
+        used = rng.random(n) < 0.8
+        rows, cols = (a.astype(np.int64) for a in np.nonzero(rng.random((H, W)) < 0.7))
+        band = int(rng.integers(1, 4))
+        want = _edge_sums_python(lab, xyz, rows, cols, used, band, 0.03, n)
+        got = edge_sums(lab, xyz, rows, cols, used, band, 0.03, n)
+        counted += int(want[0].sum())
+        for g, w in zip(got, want, strict=True):
+            assert np.array_equal(g, w)
+    assert counted > 100

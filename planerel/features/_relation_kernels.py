@@ -34,8 +34,7 @@ def edge_sums(lab, xyz, r0, c0, used, band, depth, n):
         a = lab[y0, x0]
         if a < 0 or a >= n or not used[a]:
             continue
-        lim = depth * max(1.0, abs(xyz[y0, x0, 2]))
-        lim2 = lim * lim
+        lim2 = -1.0  # the pixel's limit, read at its first candidate neighbour
         for k in range(1, band + 1):
             for d in range(4):
                 if d == 0:
@@ -49,8 +48,11 @@ def edge_sums(lab, xyz, r0, c0, used, band, depth, n):
                 if y < 0 or y >= H or x < 0 or x >= W:
                     continue
                 b = lab[y, x]
-                if b < 0 or b == a or b >= n or not used[b]:
+                if b == a or b < 0 or b >= n or not used[b]:
                     continue
+                if lim2 < 0:
+                    lim = depth * max(1.0, abs(xyz[y0, x0, 2]))
+                    lim2 = lim * lim
                 dx = xyz[y0, x0, 0] - xyz[y, x, 0]
                 dy = xyz[y0, x0, 1] - xyz[y, x, 1]
                 dz = xyz[y0, x0, 2] - xyz[y, x, 2]
