@@ -211,18 +211,22 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
 
     if not isinstance(scene_id, str) or not scene_id:
         raise InputError(f"a scene id must be a non-empty string, got {scene_id!r}")
+    from planerel.features.curved import CurvedParams
+
+    # the defaults made once (each construction validates every field)
+    pp = proposal_params or ProposalParams()
+    cp = curved_params or CurvedParams()
     planes = measure_planes(cloud, labels, up, plane_params, gravity_params)
     parent = {}
-    if (proposal_params or ProposalParams()).split_stepped:
+    if pp.split_stepped:
         # treads joined into one sloping "plane" (a flight seen from above) come apart
-        planes, parent = remeasure_stepped(
-            cloud, planes, ((proposal_params or ProposalParams()).step_rise_min,
-                            (proposal_params or ProposalParams()).step_rise_max), plane_params)
+        planes, parent = remeasure_stepped(cloud, planes, (pp.step_rise_min, pp.step_rise_max),
+                                           plane_params)
     rel = relate(planes, cloud, relation_params)
-    support = tuple(support_planes(planes, proposal_params, rel, cloud))
+    support = tuple(support_planes(planes, pp, rel, cloud))
     known = {p.label for p in planes}
     if objects is None:
-        groups = propose_objects(planes, rel, proposal_params, cloud)
+        groups = propose_objects(planes, rel, pp, cloud)
         proposed = True
     else:
         groups = []
@@ -234,7 +238,6 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
                 groups.append(kept)
         proposed = False
     raised = None
-    pp = proposal_params or ProposalParams()
     if proposed and pp.raised_objects:
         # objects the segmentation left in the floor (an open box's bottom, a laptop's base)
         from planerel.features.raised import join_raised, raised_clusters
@@ -245,12 +248,11 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         raised = (groups, extra, alone)
     # proposals take the clusters of unexplained points; given objects keep their planes
     cobjs = curved_objects(planes, rel, groups, cloud if proposed else None,
-                           planes.labels if parent else labels, support, curved_params)
+                           planes.labels if parent else labels, support, cp)
     if raised is not None:
-        from planerel.features.curved import CurvedParams
         from planerel.features.raised import with_raised
 
-        cobjs = with_raised(cobjs, *raised, (curved_params or CurvedParams()).curved_below)
+        cobjs = with_raised(cobjs, *raised, cp.curved_below)
     objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), c.planes, klass, c.mask,
                              c.planar_fraction, c.curved)
                  for k, c in enumerate(cobjs))
