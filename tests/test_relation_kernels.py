@@ -431,3 +431,23 @@ def test_edge_sums_kernel_matches_the_plain_definition():
         for g, w in zip(got, want, strict=True):
             assert np.array_equal(g, w)
     assert counted > 100
+
+
+def test_box_points_of_a_label_are_numpys_gather():
+    from planerel.features.stepped import _box_points
+
+    rng = np.random.default_rng(13)
+    for _ in range(50):
+        H, W = (int(v) for v in rng.integers(1, 30, 2))
+        lab = rng.integers(-1, 4, (H, W)).astype(np.int32)
+        xyz = rng.normal(size=(H, W, 3))
+        xyz[rng.random((H, W)) < 0.1] = np.nan
+        r0, c0 = int(rng.integers(0, H)), int(rng.integers(0, W))
+        for window in ((slice(r0, r0 + int(rng.integers(0, H + 2))), slice(c0, W + 3)),
+                    (slice(None), slice(None))):
+            want = xyz[window][lab[window] == 2]
+            got = _box_points(lab, xyz, 2, window)
+            assert got.shape == want.shape and got.flags.c_contiguous
+            assert np.array_equal(got, want, equal_nan=True)
+            up = rng.normal(size=3)
+            assert np.array_equal(got @ up, want @ up, equal_nan=True)

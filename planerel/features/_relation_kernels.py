@@ -345,3 +345,28 @@ def cover_counts(labels, label, u, v, X, seen, lab, cos, proj, cos_par):
         elif not hidden:
             open_ += 1
     return covered, open_
+
+
+@njit(cache=True, nogil=True)
+def box_label_count(lab, label, r0, c0, r1, c1):
+    """Pixels of ``label`` in the pixel box ``[r0, r1) x [c0, c1)``."""
+    n = 0
+    for r in range(r0, r1):
+        for c in range(c0, c1):
+            if lab[r, c] == label:
+                n += 1
+    return n
+
+
+@njit(cache=True, nogil=True)
+def box_label_fill(lab, xyz, label, r0, c0, r1, c1, out):
+    """``out[:] = xyz[r0:r1, c0:c1][lab[r0:r1, c0:c1] == label]``: the points of ``label`` in
+    the box, row-major, finite or not (``out`` sized by :func:`box_label_count`)."""
+    k = 0
+    for r in range(r0, r1):
+        for c in range(c0, c1):
+            if lab[r, c] == label:
+                out[k, 0] = xyz[r, c, 0]
+                out[k, 1] = xyz[r, c, 1]
+                out[k, 2] = xyz[r, c, 2]
+                k += 1

@@ -99,6 +99,24 @@ def stepped_levels(heights: np.ndarray, rise=(0.08, 0.30), bin_size: float = 0.0
     return levels
 
 
+def _box_points(lab, xyz, label: int, box) -> np.ndarray:
+    """``xyz[box][lab[box] == label]`` (``(N, 3)`` float64, row-major) gathered by a compiled
+    pass into an array numpy allocates (the same values in the same kind of array, so the
+    heights' matrix product is numpy's own as before)."""
+    from planerel.features._relation_kernels import box_label_count, box_label_fill
+
+    H, W = lab.shape
+    r0, r1, _ = box[0].indices(H)
+    c0, c1, _ = box[1].indices(W)
+    lab = np.ascontiguousarray(lab)
+    xyz = np.asarray(xyz)
+    if xyz.dtype != np.float64 or r1 <= r0 or c1 <= c0:
+        return np.asarray(xyz[box][lab[box] == label], dtype=np.float64)
+    out = np.empty((box_label_count(lab, int(label), r0, c0, r1, c1), 3))
+    box_label_fill(lab, xyz, int(label), r0, c0, r1, c1, out)
+    return out
+
+
 def split_stepped(xyz: np.ndarray, labels: np.ndarray, planes, rise=(0.08, 0.30),
                   margin: float = 0.02):
     """Relabel every inclined plane whose points lie on tread-like levels, one label a level.
@@ -136,11 +154,11 @@ def split_stepped(xyz: np.ndarray, labels: np.ndarray, planes, rise=(0.08, 0.30)
         # points, in the same order)
         box = ((slice(p.bbox[0], p.bbox[2]), slice(p.bbox[1], p.bbox[3]))
                if labels is planes.labels else (slice(None), slice(None)))
-        m = lab[box] == p.label
-        h = xyz[box][m] @ up
+        h = _box_points(lab, xyz, p.label, box) @ up
         levels = stepped_levels(h, rise, margin=margin)
         if not levels:
             continue
+        m = lab[box] == p.label
         if out is None:
             out = lab.astype(np.int32, copy=True)
         new = np.full(h.shape, -1, np.int32)
