@@ -128,30 +128,20 @@ def face_profile(face, up, points) -> FaceProfile:
     if pts.shape[0] < 3:
         nan = float("nan")
         return FaceProfile(nan, nan, along, nan, nan)
-    (bottom, top), (lo, hi) = _percentiles_2_98(np.stack([pts @ up, pts @ along]))
+    (bottom, top), (lo, hi) = _percentiles_2_98((pts @ up, pts @ along))
     return FaceProfile(top, bottom, along, lo, hi)
 
 
 def _percentiles_2_98(x: np.ndarray) -> list[tuple[float, float]]:
     """``np.percentile(row, [2, 98])`` (its default, linear method) of each row of ``x``
-    ``(R, N)``, finite, ``N >= 1``, without its overhead: the same order statistics and the
-    same interpolation arithmetic, so the same floats (``tests/test_solid.py`` compares)."""
-    n = x.shape[1]
-    picks = []
-    for q in (0.02, 0.98):  # numpy: virtual index (n - 1) q between two order statistics
-        v = (n - 1) * q
-        k = min(int(np.floor(v)), n - 1)
-        picks.append((v, k, min(k + 1, n - 1)))
-    part = np.partition(x, sorted({i for _, k, k1 in picks for i in (k, k1)}), axis=1)
-    out = []
-    for row in part:
-        vals = []
-        for v, k, k1 in picks:
-            a, b, t = float(row[k]), float(row[k1]), v - k
-            d = b - a
-            vals.append(b - d * (1 - t) if t >= 0.5 else a + d * t)
-        out.append(tuple(vals))
-    return out
+    ``(R, N)`` (or a sequence of 1-D arrays), finite, ``N >= 1``, without its overhead: the same order statistics and the
+    same interpolation arithmetic, so the same floats (``tests/test_solid.py`` compares), one
+    compiled pass a row (:func:`planerel.features._relation_kernels.percentiles_2_98`)."""
+    from planerel.features._relation_kernels import percentiles_2_98
+
+    rows = x if isinstance(x, (tuple, list)) else np.asarray(x)
+    return [tuple(percentiles_2_98(np.ascontiguousarray(row, dtype=np.float64)).tolist())
+            for row in rows]
 
 
 def _cover(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
