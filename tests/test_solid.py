@@ -160,6 +160,8 @@ def test_face_percentiles_are_numpys():
 
     rng = np.random.default_rng(4)
     for n in [*range(1, 40), 97, 1000, 4001]:
-        for x in (rng.normal(size=(2, n)), np.round(rng.normal(size=(2, n)), 1)):
+        for x in (rng.normal(size=(2, n)), np.round(rng.normal(size=(2, n)), 1),
+                  np.stack([np.arange(n, dtype=float), np.arange(n, 0, -1, dtype=float)]),
+                  np.zeros((2, n))):
             ref = [tuple(float(v) for v in np.percentile(row, [2.0, 98.0])) for row in x]
             assert _percentiles_2_98(x) == ref

@@ -373,33 +373,73 @@ def box_label_fill(lab, xyz, label, r0, c0, r1, c1, out):
 
 
 @njit(cache=True, nogil=True)
-def _kth(x, k):
-    """The ``k``-th smallest value of ``x`` (a copy is partitioned) and the next one up."""
-    a = np.partition(x, k)
-    nxt = a[k]
-    if k + 1 < a.shape[0]:
-        nxt = a[k + 1]
-        for i in range(k + 2, a.shape[0]):
-            if a[i] < nxt:
-                nxt = a[i]
-    return a[k], nxt
+def _select(a, lo, hi, k):
+    """Move the ``k``-th smallest value of ``a[lo:hi]`` (``k`` an index of ``a``) to ``a[k]``,
+    with none larger before it and none smaller after it, in place (Hoare's partition around
+    a median of three; finite values)."""
+    hi -= 1
+    while hi > lo:
+        mid = (lo + hi) >> 1
+        x, y, z = a[lo], a[mid], a[hi]
+        if x > y:
+            x, y = y, x
+        if y > z:
+            y = z
+        if x > y:
+            y = x
+        p = y
+        i, j = lo, hi
+        while i <= j:
+            while a[i] < p:
+                i += 1
+            while a[j] > p:
+                j -= 1
+            if i <= j:
+                a[i], a[j] = a[j], a[i]
+                i += 1
+                j -= 1
+        if k <= j:
+            hi = j
+        elif k >= i:
+            lo = i
+        else:
+            return
 
 
 @njit(cache=True, nogil=True)
 def percentiles_2_98(x):
     """``np.percentile(x, [2, 98])`` (linear method) of a finite 1-D ``x``, ``N >= 1``: the
-    same order statistics and the same interpolation arithmetic
-    (:func:`planerel.features.solid._percentiles_2_98`)."""
+    same order statistics (two selections in a copy) and the same interpolation arithmetic
+    (:func:`planerel.features.solid._percentiles_2_98`; ``tests/test_solid.py`` compares)."""
     n = x.shape[0]
+    a = x.copy()
+    v_lo = (n - 1) * 0.02
+    k_lo = min(int(np.floor(v_lo)), n - 1)
+    v_hi = (n - 1) * 0.98
+    k_hi = min(int(np.floor(v_hi)), n - 1)
+    # the k_hi-th value and the next one up (the smallest after it)
+    _select(a, 0, n, k_hi)
+    hi_a = a[k_hi]
+    hi_b = hi_a
+    if k_hi + 1 <= n - 1:
+        hi_b = a[k_hi + 1]
+        for i in range(k_hi + 2, n):
+            if a[i] < hi_b:
+                hi_b = a[i]
+    # the k_lo-th value lies before k_hi; the next one up before k_hi or at it
+    if k_lo == k_hi:
+        lo_a, lo_b = hi_a, hi_b
+    else:
+        _select(a, 0, k_hi, k_lo)
+        lo_a = a[k_lo]
+        lo_b = hi_a
+        for i in range(k_lo + 1, k_hi):
+            if a[i] < lo_b:
+                lo_b = a[i]
     out = np.empty(2)
     for i in range(2):
-        q = 0.02 if i == 0 else 0.98
-        v = (n - 1) * q
-        k = min(int(np.floor(v)), n - 1)
-        a, b = _kth(x, k)
-        if k + 1 > n - 1:
-            b = a
+        v, k, va, vb = (v_lo, k_lo, lo_a, lo_b) if i == 0 else (v_hi, k_hi, hi_a, hi_b)
         t = v - k
-        d = b - a
-        out[i] = b - d * (1 - t) if t >= 0.5 else a + d * t
+        d = vb - va
+        out[i] = vb - d * (1 - t) if t >= 0.5 else va + d * t
     return out
