@@ -357,3 +357,21 @@ def test_component_areas_kernel_matches_bincount():
         want = np.bincount(comp[r - r0, c - c0], weights=_areas_at(xyz, r, c, pitch), minlength=k)
         got = component_areas(xyz, r, c, comp, r0, c0, pitch[0], pitch[1], k)
         assert np.array_equal(got, want)
+
+
+def test_unexplained_from_the_valid_mask_is_the_depth_test():
+    """A Cloud's valid mask marks the finite depths (invalid points are all NaN), so the
+    unexplained pixels found from it are those found from the depth."""
+    from planerel.features._curved_kernels import unexplained_mask, unexplained_valid
+
+    rng = np.random.default_rng(6)
+    for _ in range(50):
+        H, W = (int(v) for v in rng.integers(1, 20, 2))
+        xyz = rng.normal(size=(H, W, 3))
+        for j in range(3):
+            xyz[rng.random((H, W)) < 0.1, j] = rng.choice([np.nan, np.inf])
+        cloud = Cloud(xyz)
+        lab = rng.integers(-1, 5, (H, W)).astype(np.int32)
+        explained = rng.random(7) < 0.5
+        assert np.array_equal(unexplained_valid(cloud.valid, lab, explained),
+                              unexplained_mask(cloud.xyz, lab, explained))

@@ -253,3 +253,17 @@ def open_mask(mask, r):
             if er[y, x]:
                 return _shift_pass(_shift_pass(er, r, 1, False), r, 0, False)
     return er
+
+
+@njit(cache=True, nogil=True)
+def unexplained_valid(valid, lab, explained):
+    """:func:`unexplained_mask` from a cloud's valid mask (``(H, W)`` bool: a
+    :class:`planerel.io.cloud.Cloud`'s pixel is valid exactly when its depth is finite, the
+    invalid ones being all NaN): one byte a pixel read instead of the point."""
+    H, W = lab.shape
+    out = np.zeros((H, W), np.bool_)
+    for r in range(H):
+        for c in range(W):
+            a = lab[r, c]
+            out[r, c] = (a < 0 or not explained[a]) and valid[r, c]
+    return out

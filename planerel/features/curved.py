@@ -277,7 +277,12 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     lab = np.asarray(labels)
     if lab.shape != xyz.shape[:2]:
         raise InputError(f"labels {lab.shape} and cloud {xyz.shape[:2]} differ in shape")
-    from planerel.features._curved_kernels import component_areas, open_mask, unexplained_mask
+    from planerel.features._curved_kernels import (
+        component_areas,
+        open_mask,
+        unexplained_mask,
+        unexplained_valid,
+    )
     from planerel.segment._label_kernels import mask_pixels
 
     flat = {p.label for p in planes if p.area >= params.tiny_area}
@@ -287,7 +292,13 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     explained[[x for x in support if 0 <= x < nl]] = True
     # valid pixels (finite depth) of no label or of a label not explained, in one pass,
     # opened (an opening keeps no pixel that was not set: the depth stays finite)
-    un = open_mask(unexplained_mask(xyz, lab, explained), int(params.open_px))
+    from planerel.io.cloud import Cloud
+
+    # a Cloud's invalid pixels are all NaN: its valid mask tells a finite depth (one byte a
+    # pixel read, not the point)
+    found = (unexplained_valid(cloud.valid, lab, explained) if isinstance(cloud, Cloud)
+             and cloud.valid.shape == lab.shape else unexplained_mask(xyz, lab, explained))
+    un = open_mask(found, int(params.open_px))
     rows, cols = mask_pixels(un)
     if not len(rows):
         return []
