@@ -1065,11 +1065,52 @@ all_answers(px(PBV, PAH), Head, Body, BV, PC, NC, PT, NT) :-
     force_answers(PAH, PPT, PNT),
     answers_on(PC, PPT, PA),
     answers_on(NC, PNT, NA),
-    maplist(child_answers(pos, Head, Body, BV, PBV, Lit), PA, PT),
-    maplist(child_answers(neg, Head, Body, BV, PBV, Lit), NA, NT).
+    side_child_answers(pos, Head, Body, BV, PBV, Lit, PA, PT),
+    side_child_answers(neg, Head, Body, BV, PBV, Lit, NA, NT).
 all_answers(_, Head, Body, BV, PC, NC, PT, NT) :-
     maplist(ex_answers(pos, Head, Body, BV), PC, PT),
     maplist(ex_answers(neg, Head, Body, BV), NC, NT).
+
+%   side_child_answers(+Set, +Head, +Body, +BV, +PBV, +Lit, +ParentAnswers, -Answers):
+%   child_answers/8 for every example of one side with one findall/3 over
+%   all of them (Id-Tuple pairs, in example order), the pairs then cut into
+%   each example's list: the same answers, with one findall/3 per side
+%   instead of one per example.  Should a literal raise, the side is done
+%   again one example at a time (child_answers/8), where the error means "no
+%   answer" for that example alone.
+side_child_answers(Set, Head, Body, BV, PBV, Lit, PA, Answers) :-
+    catch(findall(Id-BV,
+                  ( member(Id-PTs, PA), PTs \== full,
+                    member(PBV, PTs), call_lit(Lit) ),
+                  Pairs),
+          _, fail),
+    !,
+    tuple_cap(Cap),
+    split_answers(PA, Pairs, Set, Head, Body, BV, Cap, Answers).
+side_child_answers(Set, Head, Body, BV, PBV, Lit, PA, Answers) :-
+    maplist(child_answers(Set, Head, Body, BV, PBV, Lit), PA, Answers).
+
+split_answers([], _, _, _, _, _, _, []).
+split_answers([Id-PTs|PA], Pairs0, Set, Head, Body, BV, Cap, [A|As]) :-
+    (   PTs == full
+    ->  Pairs = Pairs0,
+        ex_answers(Set, Head, Body, BV, Id, A)
+    ;   take_id(Pairs0, Id, L, Pairs),
+        length(L, N),
+        (   N >= Cap
+        ->  ex_answers(Set, Head, Body, BV, Id, A)
+        ;   sort(L, Ts),
+            A = Id-Ts
+        )
+    ),
+    split_answers(PA, Pairs, Set, Head, Body, BV, Cap, As).
+
+%   take_id(+Pairs0, +Id, -Tuples, -Pairs): the leading Id-Tuple pairs of Pairs0.
+take_id([Id0-T|Ps0], Id, L, Ps) :-
+    Id0 == Id, !,
+    L = [T|L1],
+    take_id(Ps0, Id, L1, Ps).
+take_id(Ps, _, [], Ps).
 
 child_answers(Set, Head, Body, BV, PBV, Lit, Id-PTs, Answers) :-
     (   PTs == full
@@ -1529,19 +1570,27 @@ lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts) :-
     X = x(_, _, VT, _, _, _, _),
     var_ids(InVarSet, VT, Ids0),
     sort(Ids0, Ids),
-    projection(X, pos, Ids, IV, PProj),
-    lazy_values(PProj, pos, Head, Body, IV, InVars, PosTuples),
-    (   PosTuples == []
-    ->  NegTuples = []
-    ;   projection(X, neg, Ids, IV, NProj),
-        lazy_values(NProj, neg, Head, Body, IV, InVars, NegTuples)
+    vars_of(Ids, VT, IV),
+    (   InPos = [I1], InVars = [V], var(V), IV = t(V0), V0 == V
+    ->  Flat = true,                       % one input variable: flat value lists
+        flat_lazy_values(X, Ids, IV, Head, Body, V, PosTuples, NegTuples, VHash)
+    ;   Flat = false,
+        projection(X, pos, Ids, IV, PProj),
+        lazy_values(PProj, pos, Head, Body, IV, InVars, PosTuples),
+        (   PosTuples == []
+        ->  NegTuples = []
+        ;   projection(X, neg, Ids, IV, NProj),
+            lazy_values(NProj, neg, Head, Body, IV, InVars, NegTuples)
+        )
     ),
     (   PosTuples == []
     ->  Consts = []
     ;   Lit =.. [F|As],
         length(As, Ar),
         length(CallArgs, Ar),
-        (   InPos = [I1]                       % one input: the value lists directly
+        (   Flat == true
+        ->  nth1(I1, CallArgs, [PosTuples, NegTuples])
+        ;   InPos = [I1]                       % one input: the value lists directly
         ->  maplist(first_value, PosTuples, PV),
             maplist(first_value, NegTuples, NV),
             nth1(I1, CallArgs, [PV, NV])
@@ -1550,7 +1599,12 @@ lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts) :-
         Call =.. [F|CallArgs],
         args_at(CPos, CallArgs, CVars),
         fill_fixed(As, CallArgs, InPos, CPos),
-        variant_sha1(Call-CVars, Key),
+        (   Flat == true                   % the value lists by their hash, made once
+        ->  set_nth1(CallArgs, I1, '$values'(VHash), KeyArgs),
+            KeyCall =.. [F|KeyArgs],
+            variant_sha1(KeyCall-CVars, Key)
+        ;   variant_sha1(Call-CVars, Key)
+        ),
         (   lazy_cache(Key, Consts0)
         ->  Consts = Consts0
         ;   findall(CVars,
@@ -1563,6 +1617,57 @@ lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts) :-
     ).
 
 first_value([V|_], V).
+
+set_nth1([_|T], 1, X, [X|T]) :- !.
+set_nth1([H|T], N, X, [H|T1]) :- N1 is N - 1, set_nth1(T, N1, X, T1).
+
+%   flat_lazy_values(+X, +Ids, +IV, +Head, +Body, +V, -PV, -NV, -VHash): for a
+%   lazily evaluated literal whose input is the one variable V, the values
+%   of V on the node's covered positives and negatives as flat lists (what
+%   lazy_values/7 gives, without a [Value] list per value; NV = [] when
+%   PV = []) and the variant hash of [PV, NV].  Made once per node and
+%   variable, kept in the node's cache: the gteq and the lteq of one
+%   measure share them, and the lazy call is cached by that hash instead of
+%   a hash of the value lists per literal.
+flat_lazy_values(X, Ids, IV, Head, Body, V, PV, NV, VHash) :-
+    X = x(_, _, _, _, _, _, C),
+    arg(1, C, A0),
+    (   get_assoc(flat-Ids, A0, fv(PV, NV, VHash))
+    ->  true
+    ;   projection(X, pos, Ids, IV, PProj),
+        lazy_flat(PProj, pos, Head, Body, V, PV),
+        (   PV == []
+        ->  NV = [], VHash = none
+        ;   projection(X, neg, Ids, IV, NProj),
+            lazy_flat(NProj, neg, Head, Body, V, NV),
+            variant_sha1([PV, NV], VHash)
+        ),
+        arg(1, C, A1),
+        put_assoc(flat-Ids, A1, fv(PV, NV, VHash), A2),
+        setarg(1, C, A2)
+    ).
+
+%   lazy_flat(+Proj, +Set, +Head, +Body, +V, -Values): the values of V in the
+%   answers of each covered example, in example order (an example past the
+%   answer cap: the values of its first 50 proofs), as lazy_values/7.
+lazy_flat([], _, _, _, _, []).
+lazy_flat([Id-Ps|T], Set, Head, Body, V, Vals) :-
+    (   Ps == full
+    ->  example_atom(Set, Id, E),
+        findall(V, catch(limit(50, (Head = E, prove_body(Body))), _, fail), L0),
+        include(ground, L0, L),
+        append(L, Vals1, Vals)
+    ;   ground_values(Ps, Vals, Vals1)
+    ),
+    lazy_flat(T, Set, Head, Body, V, Vals1).
+
+ground_values([], L, L).
+ground_values([t(X)|Ts], L0, L) :-
+    (   ground(X)
+    ->  L0 = [X|L1]
+    ;   L0 = L1
+    ),
+    ground_values(Ts, L1, L).
 
 %   args_at(+Positions, +Args, -Values): the arguments at Positions (shared,
 %   not copied).

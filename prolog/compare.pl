@@ -62,22 +62,41 @@ planerel_cutoff(Dir, Pos0, Neg0, T) :-
 %   ascending Values, how many of the ascending list Sorted are kept
 %   (le: =< V; ge: >= V), in one sweep.
 planerel_counts(le, Vs, Sorted, Counts) :-
-    planerel_sweep(Vs, Sorted, 0, =<, Counts).
+    planerel_sweep_le(Vs, Sorted, 0, Counts).
 planerel_counts(ge, Vs, Sorted, Counts) :-
     length(Sorted, N),
-    planerel_sweep(Vs, Sorted, 0, <, Below),
-    maplist([B, C]>>(C is N - B), Below, Counts).
+    planerel_sweep_lt(Vs, Sorted, 0, Below),
+    planerel_rest(Below, N, Counts).
 
-planerel_sweep([], _, _, _, []).
-planerel_sweep([V|Vs], S0, K0, Op, [K|Ks]) :-
-    planerel_skip(S0, V, K0, Op, S, K),
-    planerel_sweep(Vs, S, K, Op, Ks).
+% the sweep with =< (le) and < (ge), without a call/3 per value
+planerel_sweep_le([], _, _, []).
+planerel_sweep_le([V|Vs], S0, K0, [K|Ks]) :-
+    planerel_skip_le(S0, V, K0, S, K),
+    planerel_sweep_le(Vs, S, K, Ks).
 
-planerel_skip([X|Xs], V, K0, Op, S, K) :-
-    call(Op, X, V), !,
+planerel_skip_le([X|Xs], V, K0, S, K) :-
+    X =< V, !,
     K1 is K0 + 1,
-    planerel_skip(Xs, V, K1, Op, S, K).
-planerel_skip(S, _, K, _, S, K).
+    planerel_skip_le(Xs, V, K1, S, K).
+planerel_skip_le(S, _, K, S, K).
+
+planerel_sweep_lt([], _, _, []).
+planerel_sweep_lt([V|Vs], S0, K0, [K|Ks]) :-
+    planerel_skip_lt(S0, V, K0, S, K),
+    planerel_sweep_lt(Vs, S, K, Ks).
+
+planerel_skip_lt([X|Xs], V, K0, S, K) :-
+    X < V, !,
+    K1 is K0 + 1,
+    planerel_skip_lt(Xs, V, K1, S, K).
+planerel_skip_lt(S, _, K, S, K).
+
+% planerel_rest(+Below, +N, -Counts): N - B for each B (a plain loop: a lambda
+% would be copied once per value)
+planerel_rest([], _, []).
+planerel_rest([B|Bs], N, [C|Cs]) :-
+    C is N - B,
+    planerel_rest(Bs, N, Cs).
 
 planerel_scored([], [], [], []).
 planerel_scored([V|Vs], [P|Ps], [N|Ns], [Score-NegKept-V|T]) :-
