@@ -451,3 +451,51 @@ def test_box_points_of_a_label_are_numpys_gather():
             assert np.array_equal(got, want, equal_nan=True)
             up = rng.normal(size=3)
             assert np.array_equal(got @ up, want @ up, equal_nan=True)
+
+
+def test_box_profile_is_the_numpy_face_profile_within_rounding():
+    """The one-pass face profile (plain-order dot products) against numpy's: the points of
+    face_points, their heights by numpy's matrix product, np.percentile; within 1e-12."""
+    from planerel.features.solid import face_points, face_profile, face_profile_of
+
+    rects = [floor(), wall()] + stairs(0.3, 2.2, 3, rise=0.17, run=0.28) + \
+        box(-1.0, 2.5, 0.5, 0.5, 0.4, obj=2) + box(0.2, 1.6, 0.3, 0.3, 0.3, obj=3)
+    cloud, lab, _, _ = render(rects, pitch=25, roll=5, noise=0.0012)
+    planes = measure_planes(cloud, lab)
+    up = np.asarray(planes.up, float)
+    seen = 0
+    for p in planes:
+        for m in (4000, 50, 2):  # every pixel, every k-th row and column, < 3 points
+            pts = face_points(p, planes.labels, cloud.xyz, max_points=m)
+            want = face_profile(p, up, pts)
+            got = face_profile_of(p, up, planes.labels, cloud.xyz, max_points=m)
+            assert np.array_equal(got.along, want.along)
+            h, a = pts[0] @ up, pts[0] @ want.along
+            for x, y in ((got.bottom, want.bottom), (got.top, want.top), (got.lo, want.lo),
+                         (got.hi, want.hi)):
+                assert (np.isnan(x) and np.isnan(y)) or x == pytest.approx(y, rel=1e-12,
+                                                                           abs=1e-12)
+            if len(h) >= 3:
+                seen += 1
+                assert (want.bottom, want.top) == tuple(np.percentile(h, [2, 98]))
+                assert (want.lo, want.hi) == tuple(np.percentile(a, [2, 98]))
+    assert seen >= 2 * len(planes)
+    # random labels, NaN holes and boxes partly outside the image
+    rng = np.random.default_rng(5)
+    for _ in range(40):
+        H, W = (int(v) for v in rng.integers(3, 40, 2))
+        lab = rng.integers(-1, 3, (H, W)).astype(np.int32)
+        xyz = rng.normal(size=(H, W, 3))
+        xyz[rng.random((H, W)) < 0.1, int(rng.integers(0, 3))] = np.nan
+        n = rng.normal(size=3)
+        n[2] = 0.1 * n[2]
+        face = SimpleNamespace(label=1, normal=n / np.linalg.norm(n), n_points=H * W,
+                               bbox=(int(rng.integers(-2, H)), int(rng.integers(-2, W)),
+                                     int(rng.integers(0, H + 3)), int(rng.integers(0, W + 3))))
+        upv = np.array([0.0, 0.0, 1.0])
+        for m in (4000, 20):
+            want = face_profile(face, upv, face_points(face, lab, xyz, max_points=m))
+            got = face_profile_of(face, upv, lab, xyz, max_points=m)
+            assert np.allclose([got.bottom, got.top, got.lo, got.hi],
+                               [want.bottom, want.top, want.lo, want.hi], rtol=1e-12,
+                               atol=1e-12, equal_nan=True)

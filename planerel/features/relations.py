@@ -251,12 +251,12 @@ class _Solid:
                 self.normals[p.label] = p.normal
 
     def _profile(self, face):
-        from planerel.features.solid import face_points, face_profile
+        from planerel.features.solid import face_profile_of
 
         prof = self._profiles.get(face.label)
         if prof is None:
-            prof = self._profiles[face.label] = face_profile(
-                face, self.up, face_points(face, self.labels, self.xyz))
+            prof = self._profiles[face.label] = face_profile_of(face, self.up, self.labels,
+                                                                self.xyz)
         return prof
 
     def skirt(self, top, face) -> bool:
