@@ -337,7 +337,9 @@ def _cover_numpy(face, labels, xyz, intr, up, along, levels, t0: float, t1: floa
 def test_cover_is_the_numpy_reference():
     """solid._cover with its two kernels gives the numpy code's cover, on random faces seen
     by a pinhole camera over random label images (parallel pieces, hidden and open samples,
-    samples off the image)."""
+    samples off the image).  The kernel sums its two dot products in the plain order, not
+    numpy's BLAS order; a count can differ only for a sample within rounding of a limit,
+    which none of these is."""
     from planerel.features.solid import _cover
 
     rng = np.random.default_rng(21)
@@ -499,3 +501,26 @@ def test_box_profile_is_the_numpy_face_profile_within_rounding():
             assert np.allclose([got.bottom, got.top, got.lo, got.hi],
                                [want.bottom, want.top, want.lo, want.hi], rtol=1e-12,
                                atol=1e-12, equal_nan=True)
+
+
+def test_box_heights_are_numpys_product_within_rounding():
+    """split_stepped's heights in one pass (plain-order dot products) against the numpy gather
+    and matrix product, NaN points included, within 1e-12."""
+    from planerel.features.stepped import _box_heights, _box_points
+
+    rng = np.random.default_rng(17)
+    for _ in range(50):
+        H, W = (int(v) for v in rng.integers(1, 30, 2))
+        lab = rng.integers(-1, 4, (H, W)).astype(np.int32)
+        xyz = rng.normal(size=(H, W, 3)) * rng.choice([0.1, 1.0, 5.0])
+        xyz[rng.random((H, W)) < 0.1] = np.nan
+        up = rng.normal(size=3)
+        up /= np.linalg.norm(up)
+        r0, c0 = int(rng.integers(0, H)), int(rng.integers(0, W))
+        for window in ((slice(r0, r0 + int(rng.integers(0, H + 2))), slice(c0, W + 3)),
+                       (slice(None), slice(None))):
+            want = _box_points(lab, xyz, 2, window) @ up
+            got = _box_heights(lab, xyz, 2, window, up)
+            assert got.shape == want.shape
+            assert np.array_equal(np.isnan(got), np.isnan(want))
+            assert np.allclose(got, want, rtol=1e-12, atol=1e-12, equal_nan=True)

@@ -348,6 +348,29 @@ def cover_counts(labels, label, u, v, X, seen, lab, cos, proj, cos_par):
 
 
 @njit(cache=True, nogil=True)
+def cover_counts_at(labels, label, u, v, X, xyz, normals, n, c, cos_par):
+    """:func:`cover_counts` with its per-sample inputs taken here: ``seen = xyz[v, u]``
+    (float64), ``lab = labels[v, u]``, ``cos = |normals[max(lab, 0)] . n|`` and ``proj =
+    (seen - c) . n``, the dot products summed in the plain order (numpy's matrix products,
+    BLAS, may round the last bit otherwise: ``tests/test_relation_kernels.py`` compares)."""
+    m = u.shape[0]
+    seen = np.empty((m, 3))
+    lab = np.empty(m, np.int64)
+    cos = np.empty(m)
+    proj = np.empty(m)
+    for t in range(m):
+        y, x = v[t], u[t]
+        s0, s1, s2 = float(xyz[y, x, 0]), float(xyz[y, x, 1]), float(xyz[y, x, 2])
+        seen[t, 0], seen[t, 1], seen[t, 2] = s0, s1, s2
+        a = labels[y, x]
+        lab[t] = a
+        k = a if a > 0 else 0
+        cos[t] = abs(normals[k, 0] * n[0] + normals[k, 1] * n[1] + normals[k, 2] * n[2])
+        proj[t] = (s0 - c[0]) * n[0] + (s1 - c[1]) * n[1] + (s2 - c[2]) * n[2]
+    return cover_counts(labels, label, u, v, X, seen, lab, cos, proj, cos_par)
+
+
+@njit(cache=True, nogil=True)
 def box_label_count(lab, label, r0, c0, r1, c1):
     """Pixels of ``label`` in the pixel box ``[r0, r1) x [c0, c1)``."""
     n = 0
@@ -484,4 +507,21 @@ def box_profile(lab, xyz, label, r0, c0, r1, c1, k, up, along):
         p = _percentiles_in_place(hu[:m])
         q = _percentiles_in_place(ha[:m])
         out[0], out[1], out[2], out[3] = p[0], p[1], q[0], q[1]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def box_label_heights(lab, xyz, label, r0, c0, r1, c1, up):
+    """``xyz[r0:r1, c0:c1][lab[r0:r1, c0:c1] == label] @ up`` (finite or not, row-major) in
+    one pass, each dot product summed in the plain order ``x u0 + y u1 + z u2`` (numpy's
+    BLAS product may round the last bit otherwise: ``tests/test_relation_kernels.py``
+    compares within 1e-12)."""
+    out = np.empty(box_label_count(lab, label, r0, c0, r1, c1))
+    u0, u1, u2 = up[0], up[1], up[2]
+    k = 0
+    for r in range(r0, r1):
+        for c in range(c0, c1):
+            if lab[r, c] == label:
+                out[k] = xyz[r, c, 0] * u0 + xyz[r, c, 1] * u1 + xyz[r, c, 2] * u2
+                k += 1
     return out

@@ -180,7 +180,7 @@ def _cover(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
     vert = up - (up @ n) * n  # the face's own "up" (the face is vertical within tolerance)
     vert /= max(float(np.linalg.norm(vert)), 1e-12)
     s = np.linspace(t0, t1, samples)
-    from planerel.features._relation_kernels import cover_counts, cover_samples
+    from planerel.features._relation_kernels import cover_counts_at, cover_samples
 
     H, W = labels.shape
     # the samples in the image and their pixels (one compiled pass: elementwise arithmetic,
@@ -190,17 +190,13 @@ def _cover(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
                             float(intr.fy), float(intr.cx), float(intr.cy), H, W)
     if u.size == 0:
         return 0.0
-    seen = np.asarray(xyz[v, u], float)
     # another piece of the same surface: a plane parallel to the face, its point on the
-    # face's plane (a side split in two by an object standing in front of it); the two
-    # products stay numpy's (BLAS)
-    lab = labels[v, u]
-    cos = np.abs(normals[np.clip(lab, 0, None)] @ n)
-    proj = (seen - c) @ n
-    # covered: a pixel of the face within one pixel (the 3x3 neighbourhood, clipped to the
-    # image) or that other piece; open: neither, and not hidden behind something nearer
-    covered, open_ = cover_counts(labels, int(face.label), u, v, X, seen, lab, cos, proj,
-                                  float(cos_par))
+    # face's plane (a side split in two by an object standing in front of it); covered: a
+    # pixel of the face within one pixel (the 3x3 neighbourhood, clipped to the image) or
+    # that other piece; open: neither, and not hidden behind something nearer (one compiled
+    # pass; its dot products in the plain order, not numpy's BLAS products: within rounding)
+    covered, open_ = cover_counts_at(labels, int(face.label), u, v, X, xyz, normals, n, c,
+                                     float(cos_par))
     return covered / (covered + open_) if covered + open_ else 0.0
 
 

@@ -117,6 +117,22 @@ def _box_points(lab, xyz, label: int, box) -> np.ndarray:
     return out
 
 
+def _box_heights(lab, xyz, label: int, box, up) -> np.ndarray:
+    """``_box_points(lab, xyz, label, box) @ up`` in one compiled pass without the points
+    (:func:`planerel.features._relation_kernels.box_label_heights`: plain-order dot products,
+    within rounding of numpy's)."""
+    from planerel.features._relation_kernels import box_label_heights
+
+    H, W = lab.shape
+    r0, r1, _ = box[0].indices(H)
+    c0, c1, _ = box[1].indices(W)
+    xyz = np.asarray(xyz)
+    if xyz.dtype != np.float64 or r1 <= r0 or c1 <= c0:
+        return _box_points(lab, xyz, label, box) @ up
+    return box_label_heights(np.ascontiguousarray(lab), xyz, int(label), r0, c0, r1, c1,
+                             np.asarray(up, np.float64))
+
+
 def split_stepped(xyz: np.ndarray, labels: np.ndarray, planes, rise=(0.08, 0.30),
                   margin: float = 0.02):
     """Relabel every inclined plane whose points lie on tread-like levels, one label a level.
@@ -154,7 +170,7 @@ def split_stepped(xyz: np.ndarray, labels: np.ndarray, planes, rise=(0.08, 0.30)
         # points, in the same order)
         box = ((slice(p.bbox[0], p.bbox[2]), slice(p.bbox[1], p.bbox[3]))
                if labels is planes.labels else (slice(None), slice(None)))
-        h = _box_points(lab, xyz, p.label, box) @ up
+        h = _box_heights(lab, xyz, p.label, box, up)
         levels = stepped_levels(h, rise, margin=margin)
         if not levels:
             continue
