@@ -524,3 +524,19 @@ def test_box_heights_are_numpys_product_within_rounding():
             assert got.shape == want.shape
             assert np.array_equal(np.isnan(got), np.isnan(want))
             assert np.allclose(got, want, rtol=1e-12, atol=1e-12, equal_nan=True)
+
+
+def test_median_kernel_is_numpys_median():
+    """The compiled median against np.median, float for float: odd and even lengths, ties,
+    one element, sorted and reversed rows, a NaN."""
+    from planerel.features._relation_kernels import median
+
+    rng = np.random.default_rng(29)
+    for n in list(range(1, 40)) + [999, 1000, 4001]:
+        for x in (rng.normal(size=n), rng.integers(0, 4, n).astype(float),
+                  np.sort(rng.random(n)), np.sort(rng.random(n))[::-1].copy(),
+                  np.full(n, 0.25)):
+            assert median(x) == np.median(x)
+        y = rng.normal(size=n)
+        y[int(rng.integers(0, n))] = np.nan
+        assert np.isnan(median(y)) and np.isnan(np.median(y))

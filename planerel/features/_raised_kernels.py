@@ -95,3 +95,28 @@ def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma,
             raw[i, j] = mean > lim
             weak[i, j] = mean > 0.5 * lim
     return on, raw, weak, h
+
+
+@njit(cache=True, nogil=True)
+def noise_values(xyz, lab, label, r0, c0, r1, c1, step, n, d0):
+    """``|p . n - d0| / max(|z|, 0.1)^2`` of the points ``p`` of ``label`` with a finite depth
+    ``z`` on every ``step``-th row and column of the box ``[r0, r1) x [c0, c1)`` (row-major;
+    :func:`planerel.features.raised._raised_on`'s noise scale), the dot products summed in
+    the plain order (numpy's BLAS product may round the last bit otherwise:
+    ``tests/test_raised.py`` compares within 1e-12)."""
+    nr = max(0, (r1 - r0 + step - 1) // step)
+    nc = max(0, (c1 - c0 + step - 1) // step)
+    out = np.empty(nr * nc)
+    m = 0
+    for r in range(r0, r1, step):
+        for c in range(c0, c1, step):
+            if lab[r, c] != label:
+                continue
+            z = xyz[r, c, 2]
+            if not math.isfinite(z):
+                continue
+            zs = max(abs(z), 0.1)
+            h = xyz[r, c, 0] * n[0] + xyz[r, c, 1] * n[1] + z * n[2]
+            out[m] = abs(h - d0) / (zs * zs)
+            m += 1
+    return out[:m]

@@ -525,3 +525,26 @@ def box_label_heights(lab, xyz, label, r0, c0, r1, c1, up):
                 out[k] = xyz[r, c, 0] * u0 + xyz[r, c, 1] * u1 + xyz[r, c, 2] * u2
                 k += 1
     return out
+
+
+@njit(cache=True, nogil=True)
+def median(x):
+    """``np.median(x)`` of a 1-D ``x`` (``N >= 1``): the middle value, or the mean
+    ``(a + b) / 2`` of the two middle ones, found by selection in a copy (the same order
+    statistics, so the same float); NaN when ``x`` holds a NaN, as numpy's."""
+    n = x.shape[0]
+    a = np.empty(n)
+    for i in range(n):
+        v = x[i]
+        if v != v:
+            return np.nan
+        a[i] = v
+    k = n // 2
+    _select(a, 0, n, k)
+    if n % 2:
+        return a[k]
+    lo = a[0]
+    for i in range(1, k):
+        if a[i] > lo:
+            lo = a[i]
+    return (lo + a[k]) / 2.0

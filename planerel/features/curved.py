@@ -180,10 +180,11 @@ def _pitch_at(xyz, r, c, axis: int) -> float:
     """:func:`_pitch` measured at pixels ``(r, c)`` and their next neighbour along ``axis``
     (the whole image when none of them has a valid one)."""
     from planerel.features._curved_kernels import pitch_diffs
+    from planerel.features._relation_kernels import median
 
     d = pitch_diffs(np.asarray(xyz, dtype=np.float64), np.asarray(r, dtype=np.int64),
                     np.asarray(c, dtype=np.int64), int(axis))
-    return float(np.median(d)) if d.size else _pitch(xyz, axis)
+    return float(median(d)) if d.size else _pitch(xyz, axis)
 
 
 def _areas_at(xyz, r, c, pitch) -> np.ndarray:

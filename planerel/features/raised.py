@@ -96,20 +96,38 @@ def _raised_on(plane, xyz: np.ndarray, lab: np.ndarray, f: int, up: np.ndarray,
     """The plane's pixels, its raised and weakly raised pixels (bool) and every pixel's height
     above it (0 off it), on the grid of every ``f``-th pixel of ``plane.bbox`` (rule steps 1-2)."""
     from planerel.features._raised_kernels import raised_pixels
+    from planerel.features._relation_kernels import median
 
     n = np.asarray(plane.normal, float)
     if float(n @ up) < 0:
         n = -n
     d0 = float(np.asarray(plane.centroid, float) @ n)
     r0, c0, r1, c1 = plane.bbox
-    # the noise scale a of h ~ a z^2, from every fifth pixel of the grid (robust: MAD)
-    ps = xyz[r0:r1:5 * f, c0:c1:5 * f][lab[r0:r1:5 * f, c0:c1:5 * f] == plane.label]
-    ps = ps[np.isfinite(ps[:, 2])]
-    zs = np.maximum(np.abs(ps[:, 2]), 0.1)
-    a = 1.4826 * float(np.median(np.abs(ps @ n - d0) / zs ** 2)) if zs.size else 0.0
+    # the noise scale a of h ~ a z^2, from every fifth pixel of the grid (robust: MAD; one
+    # compiled pass, :func:`_noise_values`)
+    vals = _noise_values(xyz, lab, int(plane.label), (r0, c0, r1, c1), 5 * f, n, d0)
+    a = 1.4826 * float(median(vals)) if vals.size else 0.0
     return raised_pixels(xyz, lab, int(plane.label), r0, c0, -(-(r1 - r0) // f), -(-(c1 - c0) // f),
                          f, n, d0, a, float(params.min_rise), float(params.k_sigma),
                          int(params.smooth_px))
+
+
+def _noise_values(xyz, lab, label: int, bbox, step: int, n, d0: float) -> np.ndarray:
+    """``|p . n - d0| / max(|z|, 0.1)^2`` of the finite-depth points ``p`` of ``label`` on
+    every ``step``-th pixel of ``bbox`` (numpy's slicing of the box), row-major; the kernel
+    :func:`planerel.features._raised_kernels.noise_values` for float64 points and a box
+    inside the image, numpy otherwise (the same values within rounding)."""
+    from planerel.features._raised_kernels import noise_values
+
+    r0, c0, r1, c1 = (int(v) for v in bbox)
+    H, W = lab.shape
+    if (xyz.dtype == np.float64 and 0 <= r0 and 0 <= c0 and step > 0):
+        return noise_values(xyz, lab, label, r0, c0, min(r1, H), min(c1, W), step,
+                            np.asarray(n, np.float64), float(d0))
+    ps = xyz[r0:r1:step, c0:c1:step][lab[r0:r1:step, c0:c1:step] == label]
+    ps = ps[np.isfinite(ps[:, 2])]
+    zs = np.maximum(np.abs(ps[:, 2]), 0.1)
+    return np.abs(ps @ n - d0) / zs ** 2
 
 
 def _grow(m: np.ndarray, weak: np.ndarray, steps: int) -> np.ndarray:

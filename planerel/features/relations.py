@@ -351,27 +351,31 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     Gl, angl, Al = G.tolist(), ang.tolist(), A.tolist()
     lev, dep = level.tolist(), depth.tolist()
     perp_min = 90.0 - params.perpendicular_tol
-    rows: list = [[None] * n for _ in range(n)]
+    # (i, j) in row-major order without the diagonal: index i (n - 1) + j - (j > i)
+    out: list = [None] * (n * (n - 1))
+    m = n - 1
+    par_tol, above_tol, front_tol = params.parallel_tol, params.above_tol, params.front_tol
+    skirt, corner_of = solid.skirt, solid.corner
     for i in range(n):
         pi = plist[i]
+        li = pi.label
         for j in range(i + 1, n):
             pj = plist[j]
             gap = Gl[i][j]
-            t = (pi.label, pj.label) in touch
+            t = (li, pj.label) in touch
             adj = Al[i][j]  # touching, or hulls within adjacency_gap
             a = angl[i][j]
-            par = a <= params.parallel_tol
+            par = a <= par_tol
             perp = a >= perp_min
             rise = lev[j] - lev[i]
             dd = dep[j] - dep[i]
-            corner = adj and perp and solid.corner(pi, pj)
-            rows[i][j] = _relation(pi.label, pj.label, a, par, perp, gap, t, adj, rise,
-                                   -rise > params.above_tol, dd > params.front_tol,
-                                   adj and solid.skirt(pi, pj), corner)
-            rows[j][i] = _relation(pj.label, pi.label, a, par, perp, gap, t, adj, -rise,
-                                   rise > params.above_tol, -dd > params.front_tol,
-                                   adj and solid.skirt(pj, pi), corner)
-    out = [r for i, row in enumerate(rows) for j, r in enumerate(row) if i != j]
+            corner = adj and perp and corner_of(pi, pj)
+            out[i * m + j - 1] = _relation(li, pj.label, a, par, perp, gap, t, adj, rise,
+                                           -rise > above_tol, dd > front_tol,
+                                           adj and skirt(pi, pj), corner)
+            out[j * m + i] = _relation(pj.label, li, a, par, perp, gap, t, adj, -rise,
+                                       rise > above_tol, -dd > front_tol,
+                                       adj and skirt(pj, pi), corner)
     if any(plist[k].label >= plist[k + 1].label for k in range(n - 1)):
         out.sort(key=lambda r: (r.a, r.b))
     return Relations(tuple(out), params)

@@ -117,19 +117,28 @@ def touch_pairs(xyz, lab, brow, bcol, g, max_dist, rel_dist, known):  # pragma: 
 
 @njit(cache=True, nogil=True)
 def mask_pixels(mask):  # pragma: no cover - compiled
-    """``np.nonzero(mask)`` of a 2-D bool mask: rows and columns ``(N,)`` int64, row-major."""
+    """``np.nonzero(mask)`` of a 2-D bool mask: rows and columns ``(N,)`` int64, row-major.
+    A branch-free count a row first (a loop the compiler vectorizes), then only the rows
+    that hold a pixel are read again, each up to its last pixel."""
     H, W = mask.shape
+    per = np.zeros(H, np.int64)
     n = 0
     for r in range(H):
+        s = 0
         for c in range(W):
-            if mask[r, c]:
-                n += 1
+            s += np.uint8(mask[r, c])
+        per[r] = s
+        n += s
     rows = np.empty(n, np.int64)
     cols = np.empty(n, np.int64)
     k = 0
     for r in range(H):
-        for c in range(W):
+        left = per[r]
+        c = 0
+        while left > 0:
             if mask[r, c]:
                 rows[k], cols[k] = r, c
                 k += 1
+                left -= 1
+            c += 1
     return rows, cols
