@@ -540,3 +540,34 @@ def test_median_kernel_is_numpys_median():
         y = rng.normal(size=n)
         y[int(rng.integers(0, n))] = np.nan
         assert np.isnan(median(y)) and np.isnan(np.median(y))
+
+
+def test_convex_pairs_float_helpers_are_the_numpy_ones_within_rounding():
+    """convex_pairs' Python-float products (_dot, _crossing_angle_f, _sanity_limit_f) against
+    the numpy helpers they replace, on random normals and offsets."""
+    from planerel.features.relations import (
+        _crossing_angle,
+        _crossing_angle_f,
+        _dot,
+        _sanity_limit,
+        _sanity_limit_f,
+        _step_apart,
+    )
+
+    rng = np.random.default_rng(31)
+    for _ in range(500):
+        na, nb = (v / np.linalg.norm(v) for v in rng.normal(size=(2, 3)))
+        if rng.random() < 0.2:
+            nb = na + rng.normal(size=3) * 1e-4
+            nb /= np.linalg.norm(nb)
+        xa, xb = rng.normal(size=(2, 3))
+        dx = xa - xb
+        f = [v.tolist() for v in (na, nb, xa, xb, dx)]
+        assert _dot(f[0], f[1]) == pytest.approx(float(na @ nb), rel=1e-12, abs=1e-15)
+        assert min(abs(_dot(f[0], f[4])), abs(_dot(f[1], f[4]))) == pytest.approx(
+            _step_apart(na, nb, xa, xb), rel=1e-12, abs=1e-15)
+        assert _crossing_angle_f(f[0], f[1], f[4]) == pytest.approx(
+            _crossing_angle(na, nb, dx), rel=1e-9, abs=1e-6)
+        assert _sanity_limit_f(f[0], f[1], 60.0) == pytest.approx(
+            _sanity_limit(na, nb, 60.0), rel=1e-9, abs=1e-9)
+    assert _crossing_angle_f([0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]) == 90.0

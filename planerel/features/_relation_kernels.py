@@ -226,12 +226,31 @@ def gap_matrix(V, vstart, C, N, AX, poly2, isface):
                 ea[t], eb[t], eo[t] = s0 + m, s0 + (m + 1) % cnt, k
                 t += 1
     estart[n] = t
+    # each edge's box: an edge pair whose boxes lie clearly farther apart than the pair's
+    # nearest edges so far cannot be nearer (its distance is at least the boxes'): skipped,
+    # the minimum is the same value (a margin of 1e-9 relative keeps rounding out of it)
+    blo = np.empty((ne, 3))
+    bhi = np.empty((ne, 3))
+    for e in range(ne):
+        for d in range(3):
+            a, b = V[ea[e], d], V[eb[e], d]
+            blo[e, d] = a if a < b else b
+            bhi[e, d] = b if a < b else a
     G = np.full((n, n), np.inf)
     for i in range(n):
         for j in range(i + 1, n):
             best = np.inf
             for u in range(estart[i], estart[i + 1]):
                 for w in range(estart[j], estart[j + 1]):
+                    g2 = 0.0
+                    for d in range(3):
+                        g = blo[w, d] - bhi[u, d]
+                        if blo[u, d] - bhi[w, d] > g:
+                            g = blo[u, d] - bhi[w, d]
+                        if g > 0.0:
+                            g2 += g * g
+                    if np.sqrt(g2) * (1.0 - 1e-9) > best:
+                        continue
                     best = _min(best, segment_distance(V[ea[u]], V[eb[u]], V[ea[w]], V[eb[w]]))
             G[i, j] = best
             G[j, i] = best

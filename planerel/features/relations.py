@@ -791,27 +791,31 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         nbrs.setdefault(a, []).append(b)
         nbrs.setdefault(b, []).append(a)
     out = set()
+    # per pair a few 3-vector products, in Python floats (numpy's call overhead is most of
+    # their time; the sums' order may differ from numpy's in the last bit)
     for a, b in pairs:
         pa, pb = byl[a], byl[b]
-        na = np.asarray(pa.normal, float)
-        nb = np.asarray(pb.normal, float)
-        if float(na @ pa.centroid) > 0:
-            na = -na
-        if float(nb @ pb.centroid) > 0:
-            nb = -nb
+        na = np.asarray(pa.normal, float).tolist()
+        nb = np.asarray(pb.normal, float).tolist()
+        if _dot(na, np.asarray(pa.centroid, float).tolist()) > 0:
+            na = [-v for v in na]
+        if _dot(nb, np.asarray(pb.centroid, float).tolist()) > 0:
+            nb = [-v for v in nb]
         e = (edges or {}).get((min(a, b), max(a, b)))
         if e is not None and e[2] < min_edge:
             e = None  # a pixel pair or two across an occluding edge: no shared edge
         if e is not None:
             xa, xb = (e[0], e[1]) if a < b else (e[1], e[0])
         else:
-            xa, xb = np.asarray(pa.centroid), np.asarray(pb.centroid)
-        if abs(float(na @ nb)) >= cos_tol:
+            xa, xb = pa.centroid, pb.centroid
+        xa, xb = np.asarray(xa, float).tolist(), np.asarray(xb, float).tolist()
+        dx = [xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]]
+        if abs(_dot(na, nb)) >= cos_tol:
             # one surface only when coplanar: parallel faces a step apart face each other (a
             # box's top seen behind another's, a lower top next to a higher one); one convex
             # object has no two faces with one outward normal (LCCP's smoothness check)
-            if coplanar_depth is None or _step_apart(na, nb, xa, xb) <= coplanar_depth * max(
-                    1.0, 0.5 * abs(float(xa[2] + xb[2]))):
+            if coplanar_depth is None or min(abs(_dot(na, dx)), abs(_dot(nb, dx))) <= (
+                    coplanar_depth * max(1.0, 0.5 * abs(xa[2] + xb[2]))):
                 out.add((a, b))
             continue
         # the step exception needs a shared edge: planes whose outlines only come near in 3-D
@@ -820,20 +824,41 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         # the sign, as the cosine between the normals' difference and the shared edge's
         # points' offset: within +-0.1 (84-96 degrees) the offset lies along the edge (a
         # corner, a few pixel pairs) and noise decides the sign: no evidence of a cut
-        dx = xa - xb
-        scale = 0.1 * float(np.linalg.norm(na - nb) * np.linalg.norm(dx)) if e is not None else 0.0
-        sign = float((na - nb) @ dx)
+        dn = [na[0] - nb[0], na[1] - nb[1], na[2] - nb[2]]
+        scale = 0.1 * math.sqrt(_dot(dn, dn)) * math.sqrt(_dot(dx, dx)) if e is not None else 0.0
+        sign = _dot(dn, dx)
         # where the sign is no evidence (no shared edge: centroids; or inside the noise band),
         # the connection must cross the planes' line of intersection (LCCP's sanity criterion):
         # two objects touching at a corner have their points' offset along it
         sane = (sanity_angle <= 0 or (e is not None and abs(sign) > scale)
-                or _crossing_angle(na, nb, dx) >= _sanity_limit(na, nb, sanity_angle))
+                or _crossing_angle_f(na, nb, dx) >= _sanity_limit_f(na, nb, sanity_angle))
         if (sign >= -scale and sane) or (step_overlap is not None and shared
                                          and _step_like(pa, pb, step_overlap,
                                                         getattr(planes, "up", None), riser_max)
                                          and _regular_step(pa, pb, byl, nbrs, cos_tol)):
             out.add((a, b))
     return out
+
+
+def _dot(u, v) -> float:
+    """Dot product of two 3-sequences of Python floats."""
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def _crossing_angle_f(na, nb, dx) -> float:
+    """:func:`_crossing_angle` of 3-lists of Python floats."""
+    s = [na[1] * nb[2] - na[2] * nb[1], na[2] * nb[0] - na[0] * nb[2],
+         na[0] * nb[1] - na[1] * nb[0]]
+    den = math.sqrt(_dot(s, s)) * math.sqrt(_dot(dx, dx))
+    if den <= 0:
+        return 90.0
+    return math.degrees(math.acos(min(1.0, abs(_dot(s, dx)) / den)))
+
+
+def _sanity_limit_f(na, nb, angle: float) -> float:
+    """:func:`_sanity_limit` of 3-lists of Python floats."""
+    beta = math.degrees(math.acos(min(1.0, abs(_dot(na, nb)))))
+    return angle / (1.0 + math.exp(-0.25 * (beta - 25.0)))
 
 
 def _step_apart(na, nb, xa, xb) -> float:
