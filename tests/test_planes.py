@@ -151,3 +151,32 @@ def test_bad_input():
         PlaneParams(horizontal_tol=50)
     with pytest.raises(InputError, match="planerel Cloud"):
         measure_planes(np.zeros((4, 4, 3)), lab)
+
+
+@pytest.mark.parametrize("case", ["random", "collinear", "duplicates", "grid", "two"])
+def test_hull_geometry_equals_the_hull_of_the_points(case):
+    """The hull is taken of a line string through the points (cheap to build); it must be the
+    multipoint hull exactly: same vertices in the same order, same measures."""
+    import shapely
+
+    from planerel.features.planes import _hull_geometry
+
+    rng = np.random.default_rng(3)
+    pts = {
+        "random": rng.normal(size=(500, 2)),
+        "collinear": np.c_[np.linspace(0, 1, 50), 2 * np.linspace(0, 1, 50)],
+        "duplicates": np.repeat(rng.normal(size=(30, 2)), 4, axis=0),
+        "grid": np.stack(np.meshgrid(np.arange(20.0), np.arange(7.0)), -1).reshape(-1, 2),
+        "two": np.array([[0.0, 0.0], [1.0, 0.5]]),
+    }[case]
+    verts, simp, area, length, width = _hull_geometry(pts, 0.01)
+    ref = shapely.convex_hull(shapely.multipoints(pts))
+    if ref.geom_type == "Polygon":
+        from shapely.geometry.polygon import orient
+
+        ref = orient(ref, 1.0)
+        np.testing.assert_array_equal(verts, np.asarray(ref.exterior.coords)[:-1])
+        assert area == ref.area
+    else:
+        np.testing.assert_array_equal(verts, np.asarray(ref.coords))
+        assert area == 0.0

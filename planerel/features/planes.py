@@ -278,7 +278,10 @@ def _hull_geometry(p2: np.ndarray, simplify: float):
     from shapely.geometry.polygon import orient
 
     pts = np.unique(np.round(p2, 9), axis=0) if p2.shape[0] < 4 else p2
-    geom = shapely.convex_hull(shapely.multipoints(pts))
+    # the hull of a line string through the points is the hull of the points, and one
+    # geometry from a coordinate array is much cheaper to build than one point per row
+    geom = shapely.convex_hull(shapely.linestrings(pts) if pts.shape[0] >= 2
+                               else shapely.multipoints(pts))
     kind = geom.geom_type
     if kind == "Polygon":
         geom = orient(geom, 1.0)
