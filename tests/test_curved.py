@@ -375,3 +375,56 @@ def test_unexplained_from_the_valid_mask_is_the_depth_test():
         explained = rng.random(7) < 0.5
         assert np.array_equal(unexplained_valid(cloud.valid, lab, explained),
                               unexplained_mask(cloud.xyz, lab, explained))
+
+
+def test_unexplained_open_is_the_mask_opening_and_its_pixels():
+    """unexplained_open gives open_mask(unexplained_valid(...)) and np.nonzero of it, pixel
+    for pixel, on random labels, valid masks and opening radii (sparse and dense)."""
+    from planerel.features._curved_kernels import open_mask, unexplained_open, unexplained_valid
+
+    rng = np.random.default_rng(22)
+    kept = 0
+    for _ in range(600):
+        H, W = (int(v) for v in rng.integers(1, 40, 2))
+        valid = rng.random((H, W)) < rng.uniform(0.3, 1.0)
+        lab = rng.integers(-2, 6, (H, W)).astype(np.int32)
+        if rng.random() < 0.5:  # large blocks of one label, so that openings keep pixels
+            lab[:] = rng.integers(-1, 6)
+            y, x = (int(v) for v in rng.integers(0, max(H, W), 2))
+            lab[y:y + int(rng.integers(1, 20)), x:x + int(rng.integers(1, 20))] = 5
+        explained = rng.random(8) < 0.5
+        r = int(rng.integers(0, 5))
+        found = unexplained_valid(valid, lab, explained)
+        want = open_mask(found, r)
+        got, rows, cols = unexplained_open(valid, lab, explained, r)
+        kept += bool(want.any()) and r > 0
+        assert np.array_equal(got, want)
+        wr, wc = np.nonzero(want)
+        assert np.array_equal(rows, wr) and np.array_equal(cols, wc)
+    assert kept > 30
+
+
+def test_list_components_are_the_grid_components_of_the_pixels():
+    """list_components (from the pixel list) gives grid_components' ids at the same pixels,
+    and list_areas component_areas' sums, float for float."""
+    from planerel.features._curved_kernels import (
+        component_areas,
+        grid_components,
+        list_areas,
+        list_components,
+    )
+
+    rng = np.random.default_rng(23)
+    for _ in range(300):
+        H, W = (int(v) for v in rng.integers(1, 30, 2))
+        mask = rng.random((H, W)) < rng.uniform(0.1, 0.95)
+        xyz = rng.normal(size=(H, W, 3)) * rng.uniform(0.001, 0.05)
+        xyz[..., 2] += rng.uniform(0.5, 3)
+        rows, cols = np.nonzero(mask)
+        rows, cols = rows.astype(np.int64), cols.astype(np.int64)
+        comp, k = grid_components(mask, xyz, 0.02)
+        ids, k2 = list_components(rows, cols, xyz, 0.02, H)
+        assert k2 == k
+        assert np.array_equal(ids, comp[rows, cols])
+        assert np.array_equal(list_areas(xyz, rows, cols, ids, 0.0017, 0.0016, k),
+                              component_areas(xyz, rows, cols, comp, 0, 0, 0.0017, 0.0016, k))

@@ -267,3 +267,204 @@ def unexplained_valid(valid, lab, explained):
             a = lab[r, c]
             out[r, c] = (a < 0 or not explained[a]) and valid[r, c]
     return out
+
+
+@njit(cache=True, nogil=True)
+def unexplained_open(valid, lab, explained, r):
+    """``open_mask(unexplained_valid(valid, lab, explained), r)`` and its pixels' rows and
+    columns (``np.nonzero``, row-major) in one pass over the image: the erosion along rows
+    is taken from the runs of unexplained pixels as they are found (a run ``[s, e)`` of a row
+    keeps ``[s + r, e - r)``), the erosion along columns only on rows whose ``2r + 1``-row
+    window holds row-eroded pixels, the dilation and the pixel list only inside the bounding
+    box of what the erosion kept (the same pixels: ``tests/test_curved.py`` compares)."""
+    H, W = lab.shape
+    if r <= 0:
+        found = unexplained_valid(valid, lab, explained)
+        n = 0
+        for y in range(H):
+            for x in range(W):
+                n += found[y, x]
+        rows = np.empty(n, np.int64)
+        cols = np.empty(n, np.int64)
+        k = 0
+        for y in range(H):
+            for x in range(W):
+                if found[y, x]:
+                    rows[k], cols[k] = y, x
+                    k += 1
+        return found, rows, cols
+    span = 2 * r + 1
+    e1 = np.zeros((H, W), np.uint8)
+    rowany = np.zeros(H, np.bool_)
+    for y in range(H):
+        run = 0
+        for x in range(W):
+            a = lab[y, x]
+            if valid[y, x] and (a < 0 or not explained[a]):
+                run += 1
+                if run >= span:
+                    e1[y, x - r] = 1
+                    rowany[y] = True
+            else:
+                run = 0
+    e2 = np.zeros((H, W), np.uint8)
+    rowe2 = np.zeros(H, np.bool_)
+    y0, y1, x0, x1 = H, -1, W, -1
+    for y in range(r, H - r):
+        ok = True
+        for yy in range(y - r, y + r + 1):
+            if not rowany[yy]:
+                ok = False
+                break
+        if not ok:
+            continue
+        o = e2[y]
+        src = e1[y]
+        s = 0
+        for x in range(W):
+            o[x] = src[x]
+        for k in range(1, r + 1):
+            lo = e1[y - k]
+            hi = e1[y + k]
+            for x in range(W):
+                o[x] &= lo[x] & hi[x]
+        for x in range(W):
+            s += o[x]
+        if s:
+            rowe2[y] = True
+            if y0 > y:
+                y0 = y
+            y1 = y
+            x = 0
+            while not o[x]:
+                x += 1
+            x0 = min(x0, x)
+            x = W - 1
+            while not o[x]:
+                x -= 1
+            x1 = max(x1, x)
+    if y1 < 0:
+        return np.zeros((H, W), np.bool_), np.empty(0, np.int64), np.empty(0, np.int64)
+    # dilation along rows (clipped to the image), then along columns; only rows that hold
+    # eroded pixels are read (byte loops over row slices, as in _shift_pass)
+    d1 = np.zeros((H, W), np.uint8)
+    for y in range(y0, y1 + 1):
+        if not rowe2[y]:
+            continue
+        row = e2[y]
+        o = d1[y]
+        for x in range(W):
+            o[x] = row[x]
+        for k in range(1, min(r, W - 1) + 1):
+            a = o[:W - k]
+            b = row[k:]
+            for x in range(W - k):
+                a[x] |= b[x]
+            a = o[k:]
+            b = row[:W - k]
+            for x in range(W - k):
+                a[x] |= b[x]
+    out = np.zeros((H, W), np.uint8)
+    per = np.zeros(H, np.int64)
+    a0, a1 = max(0, y0 - r), min(H - 1, y1 + r)
+    b0, b1 = max(0, x0 - r), min(W - 1, x1 + r)
+    n = 0
+    for y in range(a0, a1 + 1):
+        o = out[y, b0:b1 + 1]
+        for yy in range(max(y0, y - r), min(y1, y + r) + 1):
+            if not rowe2[yy]:
+                continue
+            src = d1[yy, b0:b1 + 1]
+            for x in range(b1 + 1 - b0):
+                o[x] |= src[x]
+        s = 0
+        for x in range(b1 + 1 - b0):
+            s += o[x]
+        per[y] = s
+        n += s
+    rows = np.empty(n, np.int64)
+    cols = np.empty(n, np.int64)
+    k = 0
+    for y in range(a0, a1 + 1):
+        left = per[y]
+        x = b0
+        while left > 0:
+            if out[y, x]:
+                rows[k], cols[k] = y, x
+                k += 1
+                left -= 1
+            x += 1
+    return out.view(np.bool_), rows, cols
+
+
+@njit(cache=True, nogil=True)
+def list_components(rows, cols, xyz, edge_depth, H):
+    """:func:`grid_components` of the mask whose pixels are ``(rows, cols)`` (row-major, as
+    ``np.nonzero`` gives them; rows below ``H``), read from the pixel list alone: each
+    pixel's right neighbour is the next pixel of the list, its lower neighbour is found by
+    a binary search in the next row's pixels (no ``(H, W)`` map is written or read).
+
+    Returns
+    -------
+    (ndarray (N,) int64, int)
+        Each pixel's component id (numbered 0, 1, ... by their first pixel, as
+        :func:`grid_components`), the number of components.
+    """
+    n = rows.shape[0]
+    start = np.zeros(H + 2, np.int64)
+    for t in range(n):
+        start[rows[t] + 2] += 1
+    for y in range(H + 1):
+        start[y + 1] += start[y]
+    # start[y + 1] .. start[y + 2]: the pixels of row y
+    parent = np.arange(n)
+    for t in range(n):
+        r, c = rows[t], cols[t]
+        lim = edge_depth * max(1.0, abs(xyz[r, c, 2]))
+        # right neighbour
+        if t + 1 < n and rows[t + 1] == r and cols[t + 1] == c + 1:
+            d0 = xyz[r, c + 1, 0] - xyz[r, c, 0]
+            d1 = xyz[r, c + 1, 1] - xyz[r, c, 1]
+            d2 = xyz[r, c + 1, 2] - xyz[r, c, 2]
+            if np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) <= lim:
+                a, b = _root(parent, t), _root(parent, t + 1)
+                if a != b:
+                    parent[max(a, b)] = min(a, b)
+        # lower neighbour: the first pixel of row r + 1 at or after column c
+        if r + 1 < H:
+            lo, hi = start[r + 2], start[r + 3]
+            while lo < hi:
+                mid = (lo + hi) // 2
+                if cols[mid] < c:
+                    lo = mid + 1
+                else:
+                    hi = mid
+            if lo < start[r + 3] and cols[lo] == c:
+                d0 = xyz[r + 1, c, 0] - xyz[r, c, 0]
+                d1 = xyz[r + 1, c, 1] - xyz[r, c, 1]
+                d2 = xyz[r + 1, c, 2] - xyz[r, c, 2]
+                if np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) <= lim:
+                    a, b = _root(parent, t), _root(parent, lo)
+                    if a != b:
+                        parent[max(a, b)] = min(a, b)
+    ids = np.full(n, -1, np.int64)
+    out = np.empty(n, np.int64)
+    k = 0
+    for t in range(n):
+        a = _root(parent, t)
+        if ids[a] < 0:
+            ids[a] = k
+            k += 1
+        out[t] = ids[a]
+    return out, k
+
+
+@njit(cache=True, nogil=True)
+def list_areas(xyz, rows, cols, ids, p0, p1, k):
+    """:func:`component_areas` with each pixel's component id given in a list (``ids``, as
+    :func:`list_components` gives them): the same sums in the same order."""
+    out = np.zeros(k)
+    for t in range(rows.shape[0]):
+        z = abs(xyz[rows[t], cols[t], 2])
+        out[ids[t]] += z * z * p0 * p1
+    return out

@@ -279,10 +279,11 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     if lab.shape != xyz.shape[:2]:
         raise InputError(f"labels {lab.shape} and cloud {xyz.shape[:2]} differ in shape")
     from planerel.features._curved_kernels import (
-        component_areas,
+        list_areas,
+        list_components,
         open_mask,
         unexplained_mask,
-        unexplained_valid,
+        unexplained_open,
     )
     from planerel.segment._label_kernels import mask_pixels
 
@@ -297,21 +298,23 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
 
     # a Cloud's invalid pixels are all NaN: its valid mask tells a finite depth (one byte a
     # pixel read, not the point)
-    found = (unexplained_valid(cloud.valid, lab, explained) if isinstance(cloud, Cloud)
-             and cloud.valid.shape == lab.shape else unexplained_mask(xyz, lab, explained))
-    un = open_mask(found, int(params.open_px))
-    rows, cols = mask_pixels(un)
+    if isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
+        # the mask, its opening and its pixels in one pass (sparse: a few % of the image)
+        un, rows, cols = unexplained_open(cloud.valid, lab, explained, int(params.open_px))
+    else:
+        un = open_mask(unexplained_mask(xyz, lab, explained), int(params.open_px))
+        rows, cols = mask_pixels(un)
     if not len(rows):
         return []
-    r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
-    sub = un[r0:r1, c0:c1]
-    comp, k = _components(sub, xyz[r0:r1, c0:c1], params.edge_depth)
+    # the components from the pixel list (grid_components of the mask, without its map)
+    ids, k = list_components(rows, cols, xyz, float(params.edge_depth), un.shape[0])
     pitch = (_pitch_at(xyz, rows, cols, 1), _pitch_at(xyz, rows, cols, 0))
-    area = component_areas(xyz, rows, cols, comp, r0, c0, pitch[0], pitch[1], k)
+    area = list_areas(xyz, rows, cols, ids, pitch[0], pitch[1], k)
     out = []
     for c in np.nonzero(area >= params.min_area)[0]:  # component ids follow the first pixel
         m = np.zeros(un.shape, bool)
-        m[r0:r1, c0:c1] = comp == c
+        sel = ids == c
+        m[rows[sel], cols[sel]] = True
         out.append(m)
     return out
 
