@@ -899,6 +899,8 @@ search_clause(Bottom, PosIds, NegIds, Ctx, Best) :-
         nb_setval(planerel_search_deadline, Deadline)
     ),
     Bottom = bottom(Head, HIn, _HOut, _LitsT, _NB),
+    live_table(Bottom, LiveT),
+    nb_setval(planerel_live, LiveT),
     Ctx = ctx(_, _, Evalfn, _, _, _, _, _, _),
     include(covers_id(pos, Head, []), PosIds, PC),
     include(covers_id(neg, Head, []), NegIds, NC),
@@ -1031,12 +1033,41 @@ refine_from(J, NB, Node, X, Ctx, Best0, Best, Children) :-
 %   stays referenced by its children in the open list).  An example past the
 %   cap on either side is proved in full, as before.
 node_answers(Node, Ctx, x(BV, BIds, VT, AH, PC, NC, cache(A))) :-
-    Node = nd(Body, _-PX, Bound, Len, PC, NC, _, _, _, _),
+    Node = nd(Body, Last-PX, Bound, Len, PC, NC, _, _, _, _),
     Ctx = ctx(_, _, _, bottom(Head, _, HOut, _, _), _, _, _, _, VT),
-    ord_union(Bound, HOut, BIds),
+    ord_union(Bound, HOut, BIds0),
+    live_ids(Last, Live),
+    ord_intersection(BIds0, Live, BIds),
     vars_of(BIds, VT, BV),
     AH = ah(todo(Head, Body, BV, Len, PX, PC, NC)),
     empty_assoc(A).
+
+%   live_ids(+Last, -Live): the variable ids of the bottom literals
+%   after Last (their inputs and outputs), the only variables a refinement
+%   of a node whose last literal is Last can use (live_table/2, made once
+%   per search).
+live_ids(Last, Live) :-
+    nb_getval(planerel_live, LiveT),
+    K is Last + 1,
+    arg(K, LiveT, Live).
+
+%   live_table(+Bottom, -LiveT): arg K of LiveT is the ordset of the
+%   variable ids of the bottom literals K.. NB (inputs and outputs).
+live_table(bottom(_, _, _, LitsT, NB), LiveT) :-
+    NB1 is NB + 1,
+    functor(LiveT, live, NB1),
+    suffix_live(NB, LitsT, [], LiveT).
+
+suffix_live(0, _, Acc, LiveT) :- !,
+    arg(1, LiveT, Acc).
+suffix_live(J, LitsT, Acc, LiveT) :-
+    J1 is J + 1,
+    arg(J1, LiveT, Acc),
+    arg(J, LitsT, bl(_, _, In, Out, _)),
+    ord_union(In, Out, IO),
+    ord_union(Acc, IO, Acc1),
+    J0 is J - 1,
+    suffix_live(J0, LitsT, Acc1, LiveT).
 
 %   force_answers(+AH, -PT, -NT): the answers of the holder's node on its
 %   covered positives and negatives (Id-Tuples, or Id-full past the cap),

@@ -254,3 +254,84 @@ def test_batched_answers_and_flat_values_are_the_per_example_ones(tmp_path):
     # example 1 (o0) taken as past the cap gives the values of its proofs (34, fewer than 50),
     # example 2 its two bound values, example 3 none, example 4 (o3, no item) none
     assert "flat 36" in p.stdout, p.stdout
+
+
+# --------------------------------------------------------------------------- live variables
+
+_LIVE_GOAL = r"""
+check :-
+    planerel_learner:read_all('STEM'),
+    planerel_learner:pos_ex(2, Seed),                   % o1: a small bottom clause
+    planerel_learner:saturate(Seed, Bottom, VT),
+    Bottom = bottom(Head, HIn, _, LitsT, NB),
+    planerel_learner:live_table(Bottom, LiveT),
+    % arg K of the table: the variables of the bottom literals K..NB, found from the terms
+    NB1 is NB + 1,
+    forall(between(1, NB1, K),
+           ( findall(Id, ( between(K, NB, J), arg(J, LitsT, bl(_, L, _, _, _)),
+                           term_variables(L, Vs), planerel_learner:var_ids(Vs, VT, Ids),
+                           member(Id, Ids) ), Ids0),
+             sort(Ids0, S), arg(K, LiveT, S) )),
+    % the node item(A,B), part(B,P) with the last part literal: only colour(B, _) comes after
+    % it, so neither A nor P is used again and its answers are the distinct values of B
+    findall(J, ( between(1, NB, J), arg(J, LitsT, bl(_, part(_, _), _, _, _)) ), Parts),
+    last(Parts, J2), arg(J2, LitsT, bl(_, L2, _, _, _)), L2 = part(B, _),
+    between(1, NB, J1), arg(J1, LitsT, bl(_, L1, _, _, _)), L1 = item(_, B0), B0 == B, !,
+    arg(J1, LitsT, bl(_, _, _, O1, _)), arg(J2, LitsT, bl(_, _, _, O2, _)),
+    ord_union([HIn, O1, O2], Bound),
+    nb_setval(planerel_live, LiveT),
+    findall(Id, planerel_learner:pos_ex(Id, _), PC),
+    Ctx = ctx(_, _, _, Bottom, _, _, _, _, VT),
+    planerel_learner:node_answers(nd([L1, L2], J2-none, Bound, 3, PC, [], 0, 0, 0, 0), Ctx, X),
+    X = x(BV, _, _, AH, _, _, _),
+    planerel_learner:force_answers(AH, PT, _),
+    functor(BV, _, Ar),
+    findall(N, ( member(_-Ts, PT), ( Ts == full -> N = full ; length(Ts, N) ) ), Ns),
+    format("arity ~w answers ~w~n", [Ar, Ns]),
+    % without the projection: every bound variable
+    planerel_learner:vars_of(Bound, VT, BVAll),
+    maplist(planerel_learner:ex_answers(pos, Head, [L1, L2], BVAll), PC, PTAll),
+    findall(N, ( member(_-Ts, PTAll), ( Ts == full -> N = full ; length(Ts, N) ) ), NsAll),
+    format("all ~w~n", [NsAll]).
+"""
+
+
+def _live_problem(tmp_path):
+    # o0: 30 items of 30 parts (900 answers of item(A,B), part(B,P) over A, B, P);
+    # o1: 3 items of 2 parts; a red item on o0 and o1 (the positives) only.
+    b = [":- set(i, 2).", ":- set(clauselength, 4).", ":- set(nodes, 5000).",
+         ":- modeh(1, has_red(+obj)).", ":- modeb(*, item(+obj, -item)).",
+         ":- modeb(*, part(+item, -part)).", ":- modeb(1, colour(+item, #colour)).",
+         ":- determination(has_red/1, item/2).", ":- determination(has_red/1, part/2).",
+         ":- determination(has_red/1, colour/2)."]
+    facts = []
+    for o, (ni, np_, red) in {"o0": (30, 30, True), "o1": (3, 2, True), "o2": (4, 2, False),
+                              "o3": (2, 1, False), "o4": (5, 3, False)}.items():
+        for i in range(ni):
+            facts.append(f"item({o}, {o}_{i}).")
+            facts.append(f"colour({o}_{i}, {'red' if red and i == 1 else 'green'}).")
+            facts += [f"part({o}_{i}, {o}_{i}_{k})." for k in range(np_)]
+    (tmp_path / "live.b").write_text("\n".join(b + facts) + "\n")
+    (tmp_path / "live.f").write_text("has_red(o0).\nhas_red(o1).\n")
+    (tmp_path / "live.n").write_text("has_red(o2).\nhas_red(o3).\nhas_red(o4).\n")
+    return tmp_path / "live"
+
+
+def test_answers_keep_only_the_live_variables(tmp_path):
+    # A node's answers keep only the variables later bottom literals use (their inputs and
+    # outputs), deduplicated: after the last part/2 literal only colour(B, _) literals follow, so
+    # the answers of item(A,B), part(B,P) are the distinct items B with a part (30 on o0, not the
+    # 900 tuples of A, B, P).  The table of live variables is checked against the
+    # variables of the literals' terms; the search learns the rule from these answers.
+    stem = _live_problem(tmp_path)
+    goal = tmp_path / "goal.pl"
+    goal.write_text(_LIVE_GOAL.replace("STEM", stem.as_posix()))
+    p = subprocess.run(["swipl", "-q", "-g", f"consult('{LEARNER.as_posix()}')", "-g",
+                        f"consult('{goal.as_posix()}')", "-g", "check", "-t", "halt"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert "arity 1 answers [30,3]" in p.stdout, p.stdout
+    assert "all [900,6]" in p.stdout, p.stdout
+    r = learn(stem)
+    assert [c.replace(" ", "") for c in r.rules] == ["has_red(A):-item(A,B),colour(B,red)."]
+    assert r.train == Confusion(tp=2, fn=0, fp=0, tn=3), r.output
