@@ -181,6 +181,25 @@ def component_areas(xyz, rows, cols, comp, r0, c0, p0, p1, k):
 
 
 @njit(cache=True, nogil=True)
+def _dilate_row(o, row, r):
+    """``o`` := ``row`` OR-ed with its copies shifted by -r..r (outside the row counts as
+    unset); byte loops over row slices with non-negative indices, which the compiler
+    vectorizes."""
+    W = row.shape[0]
+    for i in range(W):
+        o[i] = row[i]
+    for k in range(1, min(r, W - 1) + 1):
+        a = o[:W - k]
+        b = row[k:]
+        for i in range(W - k):
+            a[i] |= b[i]
+        a = o[k:]
+        b = row[:W - k]
+        for i in range(W - k):
+            a[i] |= b[i]
+
+
+@njit(cache=True, nogil=True)
 def _shift_pass(mask, r, axis, erode):
     """``mask`` AND-ed (erode) or OR-ed (dilate) with its copies shifted by -r..r along
     ``axis`` (outside the image counts as unset), as
@@ -207,17 +226,7 @@ def _shift_pass(mask, r, axis, erode):
                     for i in range(n):
                         oo[i] &= lo[i] & hi[i]
             else:
-                for i in range(W):
-                    o[i] = row[i]
-                for k in range(1, min(r, W - 1) + 1):
-                    a = o[:W - k]
-                    b = row[k:]
-                    for i in range(W - k):
-                        a[i] |= b[i]
-                    a = o[k:]
-                    b = row[:W - k]
-                    for i in range(W - k):
-                        a[i] |= b[i]
+                _dilate_row(o, row, r)
     else:
         for y in range(H):
             o = out[y]
@@ -351,19 +360,7 @@ def unexplained_open(valid, lab, explained, r):
     for y in range(y0, y1 + 1):
         if not rowe2[y]:
             continue
-        row = e2[y]
-        o = d1[y]
-        for x in range(W):
-            o[x] = row[x]
-        for k in range(1, min(r, W - 1) + 1):
-            a = o[:W - k]
-            b = row[k:]
-            for x in range(W - k):
-                a[x] |= b[x]
-            a = o[k:]
-            b = row[:W - k]
-            for x in range(W - k):
-                a[x] |= b[x]
+        _dilate_row(d1[y], e2[y], r)
     out = np.zeros((H, W), np.uint8)
     per = np.zeros(H, np.int64)
     a0, a1 = max(0, y0 - r), min(H - 1, y1 + r)
