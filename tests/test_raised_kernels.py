@@ -1,5 +1,6 @@
 """planerel.features._raised_kernels against the kernel it replaced (main 8c18deb: the column
-sums column by column): the same masks and heights, bit for bit."""
+sums column by column, the row sums one row at a time): the same masks and heights, bit for
+bit."""
 
 from __future__ import annotations
 
@@ -117,3 +118,28 @@ def test_raised_pixels_match_the_column_by_column_kernel():
             assert g.dtype == w.dtype and np.array_equal(g, w)
         raised += int(want[1].sum())
     assert raised > 50
+
+
+def test_raised_pixels_match_on_every_row_count_and_window():
+    # the row sums go four rows at a time, then one at a time: grids of 1..11 rows (every
+    # remainder, fewer rows than a block), windows wider than the grid, narrow grids
+    rng = np.random.default_rng(22)
+    raised, seen = 0, set()
+    for H in range(1, 12):
+        for W in (1, 2, 5, 17):
+            for r in (1, 2, 4, 7):
+                lab = np.where(rng.random((H, W)) < 0.8, 1, 2).astype(np.int32)
+                xyz = np.stack(np.meshgrid(np.linspace(-1, 1, W), np.linspace(-1, 1, H)), -1)
+                xyz = np.concatenate([xyz, np.full((H, W, 1), 1.5)], -1)
+                xyz[..., 1] += rng.normal(size=(H, W)) * 0.002
+                xyz[rng.random((H, W)) < 0.3, 1] += 0.03
+                xyz[rng.random((H, W)) < 0.05] = np.nan
+                n = np.array([0.0, 1.0, 0.0])
+                args = (xyz, lab, 1, 0, 0, H, W, 1, n, 0.0, 0.001, 0.01, 2.5, r)
+                got = raised_pixels(*args)
+                want = _raised_pixels_old(*args)
+                for g, w in zip(got, want, strict=True):
+                    assert g.shape == (H, W) and g.dtype == w.dtype and np.array_equal(g, w)
+                raised += int(want[1].sum())
+                seen.add(H % 4)
+    assert seen == {0, 1, 2, 3} and raised > 50
