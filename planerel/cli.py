@@ -127,7 +127,7 @@ def _deferred(signum: int, delay: float = 0.02) -> None:
     target = threading.main_thread().ident
 
     def again() -> None:
-        with contextlib.suppress(OSError, ProcessLookupError):
+        with contextlib.suppress(OSError):  # the thread or process is gone
             signal.pthread_kill(target, signum)
 
     timer = threading.Timer(delay, again)

@@ -64,8 +64,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["face_points", "FaceProfile", "face_profile", "face_profile_of", "skirt_measures", "is_skirt",
-           "on_step", "rises_from", "is_corner"]
+__all__ = ["face_points", "FaceProfile", "face_profile", "face_profile_of", "skirt_measures",
+           "is_skirt", "on_step", "rises_from", "is_corner"]
 
 #: Levels of the cover test, as shares of the face's reach below the top.
 _LEVELS = (0.3, 0.5, 0.7)
@@ -93,12 +93,26 @@ def face_points(plane, labels, xyz, max_points: int = 4000) -> tuple[np.ndarray,
     """
     from planerel.features._relation_kernels import box_points
 
+    return box_points(labels, xyz, int(plane.label), *_face_box(plane, labels.shape, max_points))
+
+
+def _face_box(plane, shape, max_points: int) -> tuple[int, int, int, int, int]:
+    """``(r0, c0, r1, c1, k)``: ``plane``'s pixel box clipped to an image of ``shape`` (as
+    slicing clips it) and the step ``k`` that keeps about ``max_points`` of its points."""
     r0, c0, r1, c1 = plane.bbox
     k = max(1, int(np.sqrt(plane.n_points / max_points)))
-    H, W = labels.shape
-    r0, c0 = max(0, int(r0)), max(0, int(c0))  # the box clipped to the image, as slicing does
-    return box_points(labels, xyz, int(plane.label), r0, c0, max(r0, min(int(r1), H)),
-                      max(c0, min(int(c1), W)), k)
+    H, W = shape
+    r0, c0 = max(0, int(r0)), max(0, int(c0))
+    return r0, c0, max(r0, min(int(r1), H)), max(c0, min(int(c1), W)), k
+
+
+def _along(up: np.ndarray, normal) -> np.ndarray:
+    """``(3,)`` unit ``up x normal`` (the face's horizontal direction), zeros when the face is
+    horizontal."""
+    (u0, u1, u2), (n0, n1, n2) = up.tolist(), np.asarray(normal, float).tolist()
+    along = np.array([u1 * n2 - u2 * n1, u2 * n0 - u0 * n2, u0 * n1 - u1 * n0])
+    norm = float(np.linalg.norm(along))
+    return along / norm if norm > 1e-9 else np.zeros(3)
 
 
 class FaceProfile(NamedTuple):
@@ -121,10 +135,7 @@ def face_profile(face, up, points) -> FaceProfile:
     """:class:`FaceProfile` of ``face`` from its :func:`face_points`."""
     pts = points[0]
     up = np.asarray(up, float)
-    (u0, u1, u2), (n0, n1, n2) = up.tolist(), np.asarray(face.normal, float).tolist()
-    along = np.array([u1 * n2 - u2 * n1, u2 * n0 - u0 * n2, u0 * n1 - u1 * n0])  # up x normal
-    norm = float(np.linalg.norm(along))
-    along = along / norm if norm > 1e-9 else np.zeros(3)
+    along = _along(up, face.normal)
     if pts.shape[0] < 3:
         nan = float("nan")
         return FaceProfile(nan, nan, along, nan, nan)
@@ -140,16 +151,9 @@ def face_profile_of(face, up, labels, xyz, max_points: int = 4000) -> FaceProfil
     from planerel.features._relation_kernels import box_profile
 
     up = np.asarray(up, float)
-    (u0, u1, u2), (n0, n1, n2) = up.tolist(), np.asarray(face.normal, float).tolist()
-    along = np.array([u1 * n2 - u2 * n1, u2 * n0 - u0 * n2, u0 * n1 - u1 * n0])  # up x normal
-    norm = float(np.linalg.norm(along))
-    along = along / norm if norm > 1e-9 else np.zeros(3)
-    r0, c0, r1, c1 = face.bbox
-    k = max(1, int(np.sqrt(face.n_points / max_points)))
-    H, W = labels.shape
-    r0, c0 = max(0, int(r0)), max(0, int(c0))  # the box clipped to the image, as slicing does
-    bottom, top, lo, hi = box_profile(labels, xyz, int(face.label), r0, c0,
-                                      max(r0, min(int(r1), H)), max(c0, min(int(c1), W)), k,
+    along = _along(up, face.normal)
+    bottom, top, lo, hi = box_profile(labels, xyz, int(face.label),
+                                      *_face_box(face, labels.shape, max_points),
                                       up, along).tolist()
     return FaceProfile(top, bottom, along, lo, hi)
 
