@@ -34,6 +34,15 @@ camera's x axis for horizontal planes) and hulled with shapely; collinear sets g
 
 Floor.  The *floor* is the largest horizontal plane of at least ``floor_min_area`` m^2 whose
 centroid lies within ``floor_tol`` metres of the lowest hull point of the scene (along up).
+When no horizontal plane qualifies, a plane whose tilt the sensor cannot tell from level at its
+range may be the floor (:func:`_sensor_floor`, ``floor_noise_sigmas``): the largest plane of
+at least ``floor_min_area`` m^2, facing up with the camera above it, inclined by at most
+``horizontal_tol`` plus ``atan(floor_noise_sigmas * sigma(z) / width)`` degrees (``sigma(z)``
+the depth noise that :func:`planerel.segment.noise.estimate_noise` measures in the cloud at the
+plane's farthest hull point, ``width`` the plane's short side; the allowance is at most
+``horizontal_tol``), with no other plane of that area whose centroid lies more than
+``floor_tol`` below its plane.  Such a floor is called ``horizontal`` (its ``incline`` is
+kept as measured).  On a noise-free cloud the allowance is 0 and nothing changes.
 Heights are measured from the floor; without one, from that lowest hull point ("lowest support").
 
 Up vector.  ``up`` argument (``given``), else ``cloud.up`` (``file``: the scene's sidecar),
@@ -90,6 +99,10 @@ class PlaneParams:
         A floor's centroid lies within this many metres of the lowest hull point.
     floor_min_area : float
         Smallest floor area, m^2.
+    floor_noise_sigmas : float
+        When no horizontal plane is the floor, a plane inclined by at most ``horizontal_tol``
+        plus the tilt that this many depth-noise sigmas across its width make may be (see
+        the module docstring; default 2: one sigma at each edge, opposite signs; 0 = never).
     fit : {"disparity", "pca"}
         How normals are fitted: ``"disparity"`` (default) fits inverse depth, as a
         structured-light sensor errs (along the ray, uniformly in disparity), and falls back
@@ -104,6 +117,7 @@ class PlaneParams:
     hull_simplify: float = 0.005
     floor_tol: float = 0.05
     floor_min_area: float = 0.05
+    floor_noise_sigmas: float = 2.0
     fit: str = "disparity"
 
     def __post_init__(self) -> None:
@@ -115,7 +129,7 @@ class PlaneParams:
                 raise InputError(f"{name} must be a number of degrees in [0, 45), got {v!r}")
         if isinstance(self.min_points, bool) or not isinstance(self.min_points, int) or self.min_points < 3:
             raise InputError(f"min_points must be an integer >= 3, got {self.min_points!r}")
-        for name in ("hull_simplify", "floor_tol", "floor_min_area"):
+        for name in ("hull_simplify", "floor_tol", "floor_min_area", "floor_noise_sigmas"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
                 raise InputError(f"{name} must be a non-negative number, got {v!r}")
@@ -459,6 +473,10 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
         if (d["orientation"] == "horizontal" and level <= lowest + params.floor_tol
                 and d["area"] >= params.floor_min_area and d["area"] > best_area):
             floor, best_area = d["label"], d["area"]
+    if floor is None and params.floor_noise_sigmas > 0:
+        floor = _sensor_floor(cloud, pre, up_v, params)
+        if floor is not None:
+            next(d for d in pre if d["label"] == floor)["orientation"] = "horizontal"
     floor_level = float(next(d for d in pre if d["label"] == floor)["centroid"] @ up_v) \
         if floor is not None else lowest
     planes = tuple(
@@ -466,3 +484,46 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
         for d in pre
     )
     return PlaneSet(planes, up_v, up_source, floor, floor_level, skipped, lab, params, up_conf)
+
+
+def _sensor_floor(cloud, pre, up_v, params: PlaneParams) -> int | None:
+    """The floor of a scene where no horizontal plane qualifies: the label of the largest plane
+    (``>= floor_min_area`` m^2) that faces up with the camera above it, has no plane of that
+    area with its centroid more than ``floor_tol`` below its plane, and is inclined by at most
+    ``horizontal_tol`` plus the tilt the sensor's depth noise allows at its range:
+    ``atan(floor_noise_sigmas * sigma(z) / width)`` (``sigma`` from
+    :func:`planerel.segment.noise.estimate_noise` at the plane's farthest hull depth ``z``;
+    at most ``horizontal_tol``).  None when no plane qualifies or the noise is not measured.
+
+    Why: a structured-light sensor's depth errors grow as ``z^2`` and are partly systematic
+    (a depth bias that varies across the image), so a far floor can measure several degrees
+    off the up that near walls give (the PCL office cloud: a floor strip 3.1-3.9 m away at
+    6.2 degrees, docs/gravity.md).  A tilt within what the sensor can err at that range is
+    no evidence of an incline, and the lowest large such plane is the floor the scene stands
+    on.  Ramps seen close up keep their incline (the allowance shrinks with range and grows
+    only for narrow planes), and a scene with a horizontal floor never gets here.
+    """
+    cand = [d for d in pre if d["area"] >= params.floor_min_area and d["width"] > 0
+            and d["orientation"] == "inclined" and float(d["normal"] @ up_v) > 0
+            and d["incline"] <= 2 * params.horizontal_tol]
+    if not cand or not getattr(cloud, "organized", False):
+        return None
+    from planerel.segment.noise import estimate_noise
+
+    noise = estimate_noise(cloud)
+    if not noise.reliable or noise.kind == "none":
+        return None
+    big = [d for d in pre if d["area"] >= params.floor_min_area]
+    best, best_area = None, -1.0
+    for d in cand:
+        z = float(np.max(d["hull3d"][:, 2]))
+        allow = min(params.horizontal_tol, math.degrees(math.atan(
+            params.floor_noise_sigmas * float(noise.sigma(z)) / d["width"])))
+        if d["incline"] > params.horizontal_tol + allow or d["area"] <= best_area:
+            continue
+        # n . x + offset: the height above the plane (n faces the camera, which is above)
+        n, off = d["normal"], d["offset"]
+        if any(float(q["centroid"] @ n) + off < -params.floor_tol for q in big if q is not d):
+            continue
+        best, best_area = d["label"], d["area"]
+    return best
