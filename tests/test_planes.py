@@ -180,3 +180,37 @@ def test_hull_geometry_equals_the_hull_of_the_points(case):
     else:
         np.testing.assert_array_equal(verts, np.asarray(ref.coords))
         assert area == 0.0
+
+
+def test_label_max_and_boundary_pixels_remembered_for_the_planes_labels():
+    """``label_max`` and ``_boundary_pixels`` of a PlaneSet's labels: what ``lab.max()`` and
+    ``np.nonzero(label_boundary(lab))`` give, remembered by ``measure_planes`` (the relations
+    and proposals ask again); a writable image is never remembered (it may change)."""
+    from planerel.features import planes as P
+    from planerel.segment._label_kernels import label_boundary
+
+    rects = [floor(), wall()] + box(0.3, 2.5, 0.6, 0.4, 0.5)
+    cloud, lab, _, _ = render(rects, pitch=30, roll=0, noise=0.0, width=160, height=120)
+    ps = measure_planes(cloud, lab)
+    own = ps.labels
+    entry = P._remembered(own)
+    assert entry is not None and entry[3] == int(own.max())
+    rows, cols = np.nonzero(label_boundary(np.ascontiguousarray(own, dtype=np.int32)))
+    got = P._boundary_pixels(own)
+    assert got is entry[2]
+    for a, b in zip(got, (rows, cols), strict=True):
+        assert a.dtype == np.int64 and not a.flags.writeable
+        assert np.array_equal(a, b)
+    assert P.label_max(own) == int(own.max())
+    # a writable copy: computed each time, not remembered
+    mine = own.copy()
+    assert P.label_max(mine) == int(own.max())
+    mine[mine == int(own.max())] = -1
+    assert P.label_max(mine) == int(mine.max()) < int(own.max())
+    assert P._remembered(mine) is None
+    assert P.label_max(np.full((3, 4), -1, np.int32)) == -1
+    assert P.label_max(np.zeros((0, 4), np.int32)) == -1
+    # a read-only image of its own: remembered once asked
+    fixed = np.array([[0, 2], [5, -1]], np.int32)
+    fixed.setflags(write=False)
+    assert P.label_max(fixed) == 5 and P._remembered(fixed)[3] == 5

@@ -285,10 +285,11 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
         unexplained_mask,
         unexplained_open,
     )
+    from planerel.features.planes import label_max
     from planerel.segment._label_kernels import mask_pixels
 
     flat = {p.label for p in planes if p.area >= params.tiny_area}
-    nl = int(lab.max()) + 2 if lab.size else 1
+    nl = label_max(lab) + 2
     explained = np.zeros(nl + 1, bool)
     explained[[x for x in flat if 0 <= x < nl]] = True
     explained[[x for x in support if 0 <= x < nl]] = True
@@ -323,10 +324,11 @@ def _touching_labels(mask, lab, xyz, edge_depth: float) -> dict:
     """``{label: number of grid neighbour pairs}`` of the planes touching ``mask`` (within
     two pixels, 3-D distance within ``edge_depth * max(1, z)``)."""
     from planerel.features._curved_kernels import touching_counts
+    from planerel.features.planes import label_max
 
     lab = np.asarray(lab)
     n = touching_counts(np.asarray(mask, dtype=np.bool_), lab, np.asarray(xyz, float),
-                        float(edge_depth), int(lab.max()) + 1 if lab.size else 0)
+                        float(edge_depth), label_max(lab) + 1)
     return {int(x): int(n[x]) for x in np.nonzero(n)[0]}
 
 

@@ -323,17 +323,39 @@ def _hull_geometry(p2: np.ndarray, simplify: float):
     return verts, verts, 0.0, 0.0, 0.0
 
 
-#: The last read-only label image owning its data (a :class:`PlaneSet`'s ``labels``), with its
-#: boundary and its boundary pixels: measuring, relating and proposing look at the same one.
-#: One tuple ``(labels, boundary, pixels or None)`` in one slot, replaced whole, so a thread
-#: (Dask's threaded workers) never pairs one image with another's boundary.
+#: The last read-only label image owning its data (a :class:`PlaneSet`'s ``labels``) with
+#: what has been computed of it: ``(labels, boundary, boundary pixels, largest label)``, each
+#: part None until computed: measuring, relating and proposing look at the same one.  One
+#: tuple in one slot, replaced whole, so a thread (Dask's threaded workers) never pairs one
+#: image with another's parts.
 _LAST_BOUNDARY: list = [None]
 
 
 def _remembered(lab):
-    """The remembered ``(labels, boundary, pixels)`` entry of ``lab``, or None."""
+    """The remembered ``(labels, boundary, pixels, top)`` entry of ``lab``, or None."""
     entry = _LAST_BOUNDARY[0]
     return entry if entry is not None and entry[0] is lab else None
+
+
+def _remember(lab, part: int, value) -> None:
+    """Remember part ``part`` (1 boundary, 2 boundary pixels, 3 largest label) of ``lab``
+    when ``lab`` is a read-only array owning its data (nothing can change it)."""
+    if not (isinstance(lab, np.ndarray) and not lab.flags.writeable and lab.base is None):
+        return
+    entry = list(_remembered(lab) or (lab, None, None, None))
+    entry[part] = value
+    _LAST_BOUNDARY[0] = tuple(entry)
+
+
+def label_max(lab: np.ndarray) -> int:
+    """``int(lab.max())``, -1 for an empty image (remembered for the last read-only label
+    image, as :func:`_boundary` is: each step of a scene's description asks for it)."""
+    entry = _remembered(lab)
+    if entry is not None and entry[3] is not None:
+        return entry[3]
+    top = int(lab.max()) if lab.size else -1
+    _remember(lab, 3, top)
+    return top
 
 
 def _boundary(lab: np.ndarray) -> np.ndarray:
@@ -342,12 +364,12 @@ def _boundary(lab: np.ndarray) -> np.ndarray:
     from planerel.segment._label_kernels import label_boundary
 
     entry = _remembered(lab)
-    if entry is not None:
+    if entry is not None and entry[1] is not None:
         return entry[1]
     bnd = label_boundary(np.ascontiguousarray(lab, dtype=np.int32))
     if isinstance(lab, np.ndarray) and not lab.flags.writeable and lab.base is None:
         bnd.setflags(write=False)
-        _LAST_BOUNDARY[0] = (lab, bnd, None)
+        _remember(lab, 1, bnd)
     return bnd
 
 
@@ -364,8 +386,8 @@ def _boundary_pixels(lab: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         rc = mask_pixels(bnd)
         for a in rc:
             a.setflags(write=False)
-        entry = (lab, bnd, rc)
-        _LAST_BOUNDARY[0] = entry
+        _remember(lab, 2, rc)
+        return rc
     return entry[2]
 
 
@@ -403,8 +425,8 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     lab[~cloud.valid] = -1
     gravity = resolve_up(cloud, lab, up, gravity_params)
     up_v, up_source, up_conf = np.array(gravity.vector), gravity.source, gravity.confidence
-    nlab = int(lab.max()) + 1 if lab.size and lab.max() >= 0 else 0
     lab.setflags(write=False)
+    nlab = label_max(lab) + 1
     if nlab == 0:
         return PlaneSet((), up_v, up_source, None, 0.0, (), lab, params, up_conf)
     counts, cent, cov, _ = _moments(xyz, lab, nlab)
@@ -427,6 +449,13 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
 
     bnd = _boundary(lab)
     bidx = np.flatnonzero(bnd.reshape(-1))
+    # the boundary pixels' rows and columns, row-major (:func:`_boundary_pixels`: relating
+    # and proposing look at them again)
+    brow = bidx // W
+    bcol = bidx % W
+    for a in (brow, bcol):
+        a.setflags(write=False)
+    _remember(lab, 2, (brow, bcol))
     blab = lab.reshape(-1)[bidx]
     order = np.argsort(blab, kind="stable")
     bidx = bidx[order]
@@ -436,8 +465,8 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     flat = xyz.reshape(-1, 3)
 
     # pixel bounding boxes from the boundary pixels (they include the extreme rows/columns)
-    rows_all = bidx // W
-    cols_all = bidx % W
+    rows_all = brow[order]
+    cols_all = bcol[order]
 
     pre = []
     for k, label in enumerate(ok):

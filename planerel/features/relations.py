@@ -216,15 +216,16 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
     lab = planes.labels
     if lab is None or lab.shape != xyz.shape[:2]:
         return set()
-    from planerel.features.planes import _boundary_pixels
+    from planerel.features.planes import _boundary_pixels, label_max
     from planerel.segment._label_kernels import touch_pairs
 
-    known = np.zeros(int(lab.max()) + 1 if lab.size and lab.max() >= 0 else 1, dtype=bool)
+    top = label_max(lab)
+    known = np.zeros(top + 1 if top >= 0 else 1, dtype=bool)
     for p in planes:
         known[p.label] = True
     brow, bcol = _boundary_pixels(lab)
     m = touch_pairs(np.ascontiguousarray(xyz), np.ascontiguousarray(lab, dtype=np.int32),
-                    brow.astype(np.int64), bcol.astype(np.int64), int(params.grid_gap),
+                    np.asarray(brow, np.int64), np.asarray(bcol, np.int64), int(params.grid_gap),
                     float(params.touch_depth), float(params.touch_rel), known)
     a, b = np.nonzero(np.triu(m, 1))
     return set(zip(a.tolist(), b.tolist(), strict=True))
@@ -245,7 +246,9 @@ class _Solid:
         self.touching: dict = {}
         self.normals = None
         if ok:
-            self.normals = np.full((max([int(lab.max()) + 1] + [p.label + 1 for p in planes]), 3),
+            from planerel.features.planes import label_max
+
+            self.normals = np.full((max([label_max(lab) + 1] + [p.label + 1 for p in planes]), 3),
                                    np.nan)
             for p in planes:
                 self.normals[p.label] = p.normal
@@ -290,14 +293,17 @@ class _Solid:
                          p.corner_width)
 
 
-_FIELDS = tuple(Relation.__dataclass_fields__)
+_new = object.__new__
 
 
-def _relation(*values) -> Relation:
-    """``Relation(*values)`` without the frozen dataclass's ``__init__`` (13 guarded
-    attribute writes): the same fields in the same instance dictionary."""
-    r = object.__new__(Relation)
-    r.__dict__.update(zip(_FIELDS, values, strict=True))
+def _relation(a, b, angle, parallel, perpendicular, gap, touching, adjacent, rise, above,
+              in_front_of, skirt, corner) -> Relation:
+    """``Relation(...)`` without the frozen dataclass's ``__init__`` (13 guarded attribute
+    writes): the same fields, in the same order, in the instance dictionary."""
+    r = _new(Relation)
+    r.__dict__.update(a=a, b=b, angle=angle, parallel=parallel, perpendicular=perpendicular,
+                      gap=gap, touching=touching, adjacent=adjacent, rise=rise, above=above,
+                      in_front_of=in_front_of, skirt=skirt, corner=corner)
     return r
 
 
@@ -674,9 +680,9 @@ def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
     if not want or lab.size == 0:
         return {}
     from planerel.features._relation_kernels import edge_sums
-    from planerel.features.planes import _boundary_pixels
+    from planerel.features.planes import _boundary_pixels, label_max
 
-    n = int(lab.max()) + 1
+    n = label_max(lab) + 1
     sums = {}
     # only boundary pixels can have another plane within the band: look around them alone;
     # every (boundary pixel, pixel within the band) pair of two different used labels in one
@@ -685,7 +691,7 @@ def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
     used = np.zeros(max(n, 1), np.bool_)
     used[[x for pr in want for x in pr if 0 <= x < n]] = True
     cnt, acc_a, acc_b = edge_sums(np.ascontiguousarray(lab), np.ascontiguousarray(xyz, dtype=np.float64),
-                                  r0.astype(np.int64), c0.astype(np.int64), used, int(band),
+                                  np.asarray(r0, np.int64), np.asarray(c0, np.int64), used, int(band),
                                   float(depth), max(n, 1))
     for lo, hi in want:
         c = cnt[lo * n + hi] if lo < n and hi < n else 0
@@ -927,11 +933,13 @@ def _cut_lengthwise(planes) -> set:
     the border as the long side of their pixel box (the floor or landing the camera stands on,
     seen to the image's bottom edge), so how deep they are is not seen.  A tread cut at its
     ends by the left or right border keeps its depth."""
+    from planerel.features.planes import label_max
+
     lab = getattr(planes, "labels", None)
-    if lab is None or lab.size == 0 or lab.max() < 0:
+    if lab is None or label_max(lab) < 0:
         return set()
     edge = np.concatenate([lab[0], lab[-1], lab[1:-1, 0], lab[1:-1, -1]])
-    cnt = np.bincount(edge[edge >= 0], minlength=int(lab.max()) + 1)
+    cnt = np.bincount(edge[edge >= 0], minlength=label_max(lab) + 1)
     out = set()
     for p in planes:
         r0, c0, r1, c1 = p.bbox

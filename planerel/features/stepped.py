@@ -158,11 +158,13 @@ def split_stepped(xyz: np.ndarray, labels: np.ndarray, planes, rise=(0.08, 0.30)
         others get new labels after the largest one) and ``{new label: split label}``; None
         when no plane was split.
     """
+    from planerel.features.planes import label_max
+
     up = np.asarray(planes.up, float)
     lab = np.asarray(labels)
     out = None
     parent = {}
-    nxt = int(lab.max()) + 1 if lab.size else 0
+    nxt = None  # the next new label, found at the first split
     for p in planes:
         if p.orientation != "inclined" or p.is_floor:
             continue
@@ -177,6 +179,7 @@ def split_stepped(xyz: np.ndarray, labels: np.ndarray, planes, rise=(0.08, 0.30)
         m = lab[box] == p.label
         if out is None:
             out = lab.astype(np.int32, copy=True)
+            nxt = label_max(lab) + 1
         new = np.full(h.shape, -1, np.int32)
         for k, (a, b) in enumerate(levels):
             new[(h >= a - margin) & (h <= b + margin)] = p.label if k == 0 else nxt
