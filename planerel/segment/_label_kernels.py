@@ -77,14 +77,19 @@ def touch_pairs(xyz, lab, brow, bcol, g, max_dist, rel_dist, known):  # pragma: 
     """(nlab, nlab) bool, symmetric: labels a != b with pixels within ``g`` pixels (Chebyshev)
     whose 3-D points lie within ``max(max_dist, rel_dist * z)`` metres (z = depth of the first
     pixel).  Only boundary pixels (brow, bcol) are visited; ``known`` (nlab,) bool masks the
-    labels that count."""
+    labels that count.  ``xyz`` and ``lab`` C-contiguous: read through flat views by unsigned
+    offsets, each window row as a clipped column range (no wraparound or per-pixel column
+    tests; the same pixels in the same order)."""
     H, W = lab.shape
     nlab = known.shape[0]
     out = np.zeros((nlab, nlab), np.bool_)
+    L = lab.ravel()
+    X = xyz.ravel()
     for i in range(brow.shape[0]):
         v = brow[i]
         u = bcol[i]
-        a = lab[v, u]
+        p = np.uint64(v * W + u)
+        a = L[p]
         if a < 0 or a >= nlab or not known[a]:
             continue
         d2max = -1.0  # the pixel's limit, read at its first candidate neighbour
@@ -92,23 +97,23 @@ def touch_pairs(xyz, lab, brow, bcol, g, max_dist, rel_dist, known):  # pragma: 
             v2 = v + dv
             if v2 >= H:
                 break
-            for du in range(-g, g + 1):
-                if dv == 0 and du <= 0:
-                    continue
-                u2 = u + du
-                if u2 < 0 or u2 >= W:
-                    continue
-                b = lab[v2, u2]
+            # the window's columns on this row: after the pixel on its own row
+            ulo = max(u - g, 0) if dv > 0 else u + 1
+            uhi = min(u + g, W - 1)
+            row = v2 * W
+            for u2 in range(ulo, uhi + 1):
+                q = np.uint64(row + u2)
+                b = L[q]
                 if b == a or b < 0 or b >= nlab or not known[b]:
                     continue
                 if out[a, b]:
                     continue
                 if d2max < 0:
-                    lim = max(max_dist, rel_dist * abs(xyz[v, u, 2]))
+                    lim = max(max_dist, rel_dist * abs(X[3 * p + 2]))
                     d2max = lim * lim
-                ex = xyz[v, u, 0] - xyz[v2, u2, 0]
-                ey = xyz[v, u, 1] - xyz[v2, u2, 1]
-                ez = xyz[v, u, 2] - xyz[v2, u2, 2]
+                ex = X[3 * p] - X[3 * q]
+                ey = X[3 * p + 1] - X[3 * q + 1]
+                ez = X[3 * p + 2] - X[3 * q + 2]
                 if ex * ex + ey * ey + ez * ez <= d2max:
                     out[a, b] = True
                     out[b, a] = True

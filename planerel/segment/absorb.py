@@ -218,7 +218,8 @@ def _touching_pairs(labels, xyz, n: int, gap: int, jump: float) -> list[tuple[in
     from planerel.segment._label_kernels import label_boundary, touch_pairs
 
     brow, bcol = np.nonzero(label_boundary(np.ascontiguousarray(labels, dtype=np.int32)))
-    m = touch_pairs(xyz, labels, brow.astype(np.int64), bcol.astype(np.int64), int(gap), 0.0,
+    m = touch_pairs(np.ascontiguousarray(xyz), np.ascontiguousarray(labels), brow.astype(np.int64),
+                    bcol.astype(np.int64), int(gap), 0.0,
                     float(jump), np.ones(n, dtype=bool))
     a, b = np.nonzero(np.triu(m, 1))
     return list(zip(a.tolist(), b.tolist(), strict=True))
