@@ -124,3 +124,37 @@ def test_bad_params():
         ProposalParams(support_min_area=-1)
     with pytest.raises(InputError, match="differ in shape"):
         objects_from_truth(np.zeros((2, 2), int), np.zeros((3, 3), int), [0])
+
+
+def test_components_are_networkx_connected_components():
+    """``_Components`` (propose_objects' and facet_planes' union-find) gives networkx's
+    components: nodes given first or met in edges, self-loops, repeated edges."""
+    import networkx as nx
+
+    from planerel.features.relations import _Components
+
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        n = int(rng.integers(0, 15))
+        nodes = [int(x) for x in rng.permutation(20)[:n]]
+        edges = [tuple(int(x) for x in rng.integers(0, 20, 2)) for _ in range(int(rng.integers(0, 25)))]
+        g = nx.Graph()
+        g.add_nodes_from(nodes)
+        c = _Components(nodes)
+        half = len(edges) // 2
+        g.add_edges_from(edges[:half])
+        c.add_edges(edges[:half])
+        assert set(c.nodes) == set(g.nodes)
+        assert sorted(map(sorted, c.groups())) == sorted(map(sorted, nx.connected_components(g)))
+        g.add_edges_from(edges[half:])
+        c.add_edges(edges[half:])
+        assert sorted(map(sorted, c.groups())) == sorted(map(sorted, nx.connected_components(g)))
+        assert c.nodes == list(dict.fromkeys(nodes + [x for e in edges for x in e]))
+
+
+def test_default_parameters_made_once_and_equal_to_new_ones():
+    from planerel.features._defaults import defaults
+
+    for cls in (RelationParams, ProposalParams):
+        assert defaults(cls) is defaults(cls)
+        assert defaults(cls) == cls()

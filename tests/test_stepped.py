@@ -57,3 +57,91 @@ def test_a_ramp_is_not_split():
     d = describe_scene(cloud, lab, up=up)
     assert len(d.planes) == len(np.unique(lab[lab >= 0]))
     assert np.array_equal(d.labels[lab >= 0], lab[lab >= 0])
+
+
+def _stepped_levels_numpy(heights, rise=(0.08, 0.30), bin_size=0.01, dense=0.2,
+                          max_thickness=0.08, min_share=0.85, margin=0.02, min_level=0.01):
+    """stepped_levels before its kernels (main 19ca73c): numpy's filter, ptp, bincount and
+    padded sliding maximum."""
+    h = np.asarray(heights, float)
+    h = h[np.isfinite(h)]
+    if h.size < 20 or np.ptp(h) < rise[0]:
+        return []
+    lo = float(h.min())
+    nb = int(np.ptp(h) / bin_size) + 1
+    counts = np.bincount(np.minimum(((h - lo) / bin_size).astype(np.int64), nb - 1), minlength=nb)
+    w = int(0.5 * rise[1] / bin_size) + 1
+    pad = np.pad(counts, w)
+    local = np.lib.stride_tricks.sliding_window_view(pad, 2 * w + 1).max(axis=1)
+    pop = (counts >= 3) & (counts >= dense * local)
+    runs = []
+    k = 0
+    while k < nb:
+        if not pop[k]:
+            k += 1
+            continue
+        j = k
+        while j + 1 < nb and pop[j + 1]:
+            j += 1
+        runs.append((k, j))
+        k = j + 1
+    merged = []
+    for a, b in runs:
+        if counts[a:b + 1].sum() < max(5, min_level * h.size):
+            continue
+        if merged and a - merged[-1][1] - 1 < 0.5 * rise[0] / bin_size:
+            merged[-1] = (merged[-1][0], b)
+        else:
+            merged.append((a, b))
+    runs = merged
+    if len(runs) < 2:
+        return []
+    levels = [(lo + a * bin_size, lo + (b + 1) * bin_size) for a, b in runs]
+    if any(b - a > max_thickness for a, b in levels):
+        return []
+    near = np.zeros(h.size, bool)
+    for a, b in levels:
+        near |= (h >= a - margin) & (h <= b + margin)
+    if near.mean() < min_share:
+        return []
+    mids = [0.5 * (a + b) for a, b in levels]
+    if not all(rise[0] <= s <= rise[1] for s in np.diff(mids)):
+        return []
+    return levels
+
+
+def test_stepped_levels_and_its_kernels_are_the_numpy_code():
+    """stepped_levels (finite_range, level_bins compiled) against its numpy version, level
+    for level: treads, slopes, NaN heights, few points, flat sets, another bin size; and the
+    kernels against numpy's min / max and bincount + sliding maximum."""
+    from planerel.features._relation_kernels import finite_range, level_bins
+
+    rng = np.random.default_rng(3)
+    cases = [np.zeros(0), np.full(30, np.nan), np.full(25, 0.3), rng.normal(0, 0.006, 19)]
+    for _ in range(150):
+        n_lev = int(rng.integers(1, 6))
+        rise = float(rng.uniform(0.05, 0.35))
+        h = np.concatenate([rng.normal(k * rise, rng.uniform(0.002, 0.03), int(rng.integers(3, 400)))
+                            for k in range(n_lev)] + [rng.uniform(-0.1, n_lev * rise, int(rng.integers(0, 60)))])
+        h[rng.random(h.size) < 0.05] = rng.choice([np.nan, np.inf, -np.inf])
+        cases.append(rng.permutation(h))
+    found = 0
+    for h in cases:
+        for kw in ({}, {"bin_size": 0.013, "dense": 0.35}):
+            want = _stepped_levels_numpy(h, **kw)
+            assert stepped_levels(h, **kw) == want
+            found += len(want) > 0
+        f = h[np.isfinite(h)]
+        n, lo, hi = finite_range(h)
+        assert n == f.size
+        if f.size:
+            assert (lo, hi) == (f.min(), f.max())
+            nb = int(np.ptp(f) / 0.01) + 1
+            counts = np.bincount(np.minimum(((f - lo) / 0.01).astype(np.int64), nb - 1), minlength=nb)
+            local = np.lib.stride_tricks.sliding_window_view(np.pad(counts, 16), 33).max(axis=1)
+            got_c, got_p = level_bins(f, lo, 0.01, nb, 16, 0.2)
+            assert np.array_equal(got_c, counts)
+            assert np.array_equal(got_p, (counts >= 3) & (counts >= 0.2 * local))
+        else:
+            assert np.isnan(lo) and np.isnan(hi)
+    assert found > 20

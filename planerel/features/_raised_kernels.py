@@ -18,9 +18,9 @@ def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma,
 
     Parameters
     ----------
-    xyz : ndarray (rows, cols, 3) float64
+    xyz : ndarray (rows, cols, 3) float64, C-contiguous
         Organized points.
-    lab : ndarray (rows, cols) int
+    lab : ndarray (rows, cols) int, C-contiguous
         Plane labels; the plane's pixels are those of ``label`` with a finite depth.
     r0, c0, H, W, f : int
         The grid: pixel ``(i, j)`` of the outputs is ``(r0 + i f, c0 + j f)``.
@@ -40,13 +40,18 @@ def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma,
     """
     on = np.zeros((H, W), np.bool_)
     h = np.zeros((H, W), np.float32)
+    # the grid read through flat views by unsigned offsets (C-contiguous inputs)
+    L = lab.ravel()
+    X = xyz.ravel()
+    cols = lab.shape[1]
+    n0, n1, n2 = n[0], n[1], n[2]
     for i in range(H):
+        base = (r0 + i * f) * cols + c0
         for j in range(W):
-            y = r0 + i * f
-            x = c0 + j * f
-            if lab[y, x] == label and math.isfinite(xyz[y, x, 2]):
+            q = np.uint64(base + j * f)
+            if L[q] == label and math.isfinite(X[3 * q + 2]):
                 on[i, j] = True
-                h[i, j] = xyz[y, x, 0] * n[0] + xyz[y, x, 1] * n[1] + xyz[y, x, 2] * n[2] - d0
+                h[i, j] = X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0
     # window sums of h and of the plane's pixels: along rows, then along columns. Along rows
     # four rows at a time, each with its own running sum (four independent chains of adds
     # instead of one; each row's sum takes the same values in the same order: the same floats)

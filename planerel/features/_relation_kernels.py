@@ -532,10 +532,10 @@ def box_profile(lab, xyz, label, r0, c0, r1, c1, k, up, along):
 @njit(cache=True, nogil=True)
 def box_label_heights(lab, xyz, label, r0, c0, r1, c1, up):
     """``xyz[r0:r1, c0:c1][lab[r0:r1, c0:c1] == label] @ up`` (finite or not, row-major) in
-    one pass, each dot product summed in the plain order ``x u0 + y u1 + z u2`` (numpy's
-    BLAS product may round the last bit otherwise: ``tests/test_relation_kernels.py``
-    compares within 1e-12)."""
-    out = np.empty(box_label_count(lab, label, r0, c0, r1, c1))
+    one pass (into a buffer the size of the box, returned trimmed), each dot product summed
+    in the plain order ``x u0 + y u1 + z u2`` (numpy's BLAS product may round the last bit
+    otherwise: ``tests/test_relation_kernels.py`` compares within 1e-12)."""
+    out = np.empty(max(0, r1 - r0) * max(0, c1 - c0))
     u0, u1, u2 = up[0], up[1], up[2]
     k = 0
     for r in range(r0, r1):
@@ -543,7 +543,50 @@ def box_label_heights(lab, xyz, label, r0, c0, r1, c1, up):
             if lab[r, c] == label:
                 out[k] = xyz[r, c, 0] * u0 + xyz[r, c, 1] * u1 + xyz[r, c, 2] * u2
                 k += 1
-    return out
+    return out[:k]
+
+
+@njit(cache=True, nogil=True)
+def finite_range(x):
+    """``(count, min, max)`` of the finite values of a 1-D ``x`` in one pass (``np.min`` and
+    ``np.max`` of ``x[np.isfinite(x)]``; NaN for both when there is none)."""
+    n = 0
+    lo = np.nan
+    hi = np.nan
+    for i in range(x.shape[0]):
+        v = x[i]
+        if not np.isfinite(v):
+            continue
+        if n == 0:
+            lo = v
+            hi = v
+        elif v < lo:
+            lo = v
+        elif v > hi:
+            hi = v
+        n += 1
+    return n, lo, hi
+
+
+@njit(cache=True, nogil=True)
+def level_bins(h, lo, bin_size, nb, w, dense):
+    """The height histogram of :func:`planerel.features.stepped.stepped_levels` and its
+    populated bins: ``counts[k]`` the heights with ``min(int((h - lo) / bin_size), nb - 1)
+    == k``; bin ``k`` is populated when it holds at least 3 and at least ``dense`` times the
+    fullest bin within ``w`` bins of it (numpy's ``bincount``, zero-padded sliding maximum
+    and comparisons: the same integers and the same float products)."""
+    counts = np.zeros(nb, np.int64)
+    for i in range(h.shape[0]):
+        k = int((h[i] - lo) / bin_size)
+        counts[min(k, nb - 1)] += 1
+    pop = np.zeros(nb, np.bool_)
+    for k in range(nb):
+        local = 0
+        for j in range(max(0, k - w), min(nb, k + w + 1)):
+            if counts[j] > local:
+                local = counts[j]
+        pop[k] = counts[k] >= 3 and counts[k] >= dense * local
+    return counts, pop
 
 
 @njit(cache=True, nogil=True)

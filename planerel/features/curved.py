@@ -141,19 +141,18 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
     -------
     set of int
     """
-    import networkx as nx
+    from planerel.features.relations import _Components
 
     params = params or CurvedParams()
     cand = {p.label for p in planes} if candidates is None else set(candidates)
-    g = nx.Graph()
-    for r in relations:
-        if (r.a < r.b and r.adjacent and r.a in cand and r.b in cand
-                and params.facet_min_angle <= r.angle <= params.facet_max_angle):
-            g.add_edge(r.a, r.b)
+    g = _Components()
+    lo, hi = params.facet_min_angle, params.facet_max_angle
+    g.add_edges((r.a, r.b) for r in relations
+                if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi)
     byl = {p.label: p for p in planes}
     cos_min = np.cos(np.radians(params.facet_min_angle))
     out: set = set()
-    for comp in nx.connected_components(g):
+    for comp in g.groups():
         # distinct directions: nearly parallel planes linked through a sliver are one face
         dirs: list = []
         for x in sorted(comp, key=lambda x: (-byl[x].n_points, x)):
@@ -161,7 +160,7 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
             if all(abs(float(n @ d)) < cos_min for d in dirs):
                 dirs.append(n)
         if len(dirs) >= params.facet_min_planes:
-            out |= comp
+            out.update(comp)
     return out
 
 

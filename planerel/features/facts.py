@@ -211,11 +211,12 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
 
     if not isinstance(scene_id, str) or not scene_id:
         raise InputError(f"a scene id must be a non-empty string, got {scene_id!r}")
+    from planerel.features._defaults import defaults
     from planerel.features.curved import CurvedParams
 
     # the defaults made once (each construction validates every field)
-    pp = proposal_params or ProposalParams()
-    cp = curved_params or CurvedParams()
+    pp = proposal_params or defaults(ProposalParams)
+    cp = curved_params or defaults(CurvedParams)
     planes = measure_planes(cloud, labels, up, plane_params, gravity_params)
     parent = {}
     if pp.split_stepped:
@@ -226,7 +227,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     support = tuple(support_planes(planes, pp, rel, cloud))
     known = {p.label for p in planes}
     if objects is None:
-        groups = propose_objects(planes, rel, pp, cloud)
+        groups = propose_objects(planes, rel, pp, cloud, support)
         proposed = True
     else:
         groups = []

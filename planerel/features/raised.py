@@ -167,9 +167,10 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
         One mask per group, ordered by their first pixel (row-major).
     """
     from planerel.features._curved_kernels import component_areas, open_mask
+    from planerel.features._defaults import defaults
     from planerel.features.curved import _components, _pitch_at, _shift_all
 
-    params = params or RaisedParams()
+    params = params or defaults(RaisedParams)
     if not params.enabled:
         return []
     xyz = np.ascontiguousarray(cloud.xyz, dtype=np.float64)

@@ -325,7 +325,9 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     Relations
         ``n * (n - 1)`` relations for ``n`` planes (none for 0 or 1 plane).
     """
-    params = params or RelationParams()
+    from planerel.features._defaults import defaults
+
+    params = params or defaults(RelationParams)
     plist = list(planes)
     n = len(plist)
     if n < 2:
@@ -362,26 +364,33 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     m = n - 1
     par_tol, above_tol, front_tol = params.parallel_tol, params.above_tol, params.front_tol
     skirt, corner_of = solid.skirt, solid.corner
+    # who can be a skirt's top or face, a corner's wall (``_Solid`` answers False otherwise:
+    # its calls are left out, not its answers)
+    seen = solid.xyz is not None
+    horiz = [seen and p.orientation == "horizontal" for p in plist]
+    vert = [seen and p.orientation == "vertical" for p in plist]
     for i in range(n):
         pi = plist[i]
         li = pi.label
+        hi, vi = horiz[i], vert[i]
         for j in range(i + 1, n):
             pj = plist[j]
+            lj = pj.label
             gap = Gl[i][j]
-            t = (li, pj.label) in touch
+            t = (li, lj) in touch
             adj = Al[i][j]  # touching, or hulls within adjacency_gap
             a = angl[i][j]
             par = a <= par_tol
             perp = a >= perp_min
             rise = lev[j] - lev[i]
             dd = dep[j] - dep[i]
-            corner = adj and perp and corner_of(pi, pj)
-            out[i * m + j - 1] = _relation(li, pj.label, a, par, perp, gap, t, adj, rise,
+            corner = adj and perp and vi and vert[j] and corner_of(pi, pj)
+            out[i * m + j - 1] = _relation(li, lj, a, par, perp, gap, t, adj, rise,
                                            -rise > above_tol, dd > front_tol,
-                                           adj and skirt(pi, pj), corner)
-            out[j * m + i] = _relation(pj.label, li, a, par, perp, gap, t, adj, -rise,
+                                           adj and hi and vert[j] and skirt(pi, pj), corner)
+            out[j * m + i] = _relation(lj, li, a, par, perp, gap, t, adj, -rise,
                                        rise > above_tol, -dd > front_tol,
-                                       adj and skirt(pj, pi), corner)
+                                       adj and vi and horiz[j] and skirt(pj, pi), corner)
     if any(plist[k].label >= plist[k + 1].label for k in range(n - 1)):
         out.sort(key=lambda r: (r.a, r.b))
     return Relations(tuple(out), params)
@@ -1117,12 +1126,55 @@ def _step_like(pa, pb, min_overlap: float, up=None, riser_max: float | None = No
     return edge_overlap(pa, pb) >= min_overlap
 
 
+class _Components:
+    """Connected components of an undirected graph grown by nodes and edges (union-find; the
+    components networkx's ``connected_components`` gives, without building its graph)."""
+
+    def __init__(self, nodes=()):
+        #: node -> parent, in the order the nodes came
+        self.parent: dict = {}
+        for k in nodes:
+            self.parent.setdefault(k, k)
+
+    @property
+    def nodes(self) -> list:
+        """The nodes, in the order they came."""
+        return list(self.parent)
+
+    def _root(self, k):
+        parent = self.parent
+        r = k
+        while parent[r] != r:
+            r = parent[r]
+        while parent[k] != r:  # path compression
+            parent[k], k = r, parent[k]
+        return r
+
+    def add_edges(self, pairs) -> None:
+        """Join the two ends of each pair (a node seen first here is added)."""
+        parent = self.parent
+        for a, b in pairs:
+            parent.setdefault(a, a)
+            parent.setdefault(b, b)
+            ra, rb = self._root(a), self._root(b)
+            if ra != rb:
+                parent[rb] = ra
+
+    def groups(self) -> list[list]:
+        """The components, each a list of its nodes in the order they came."""
+        out: dict = {}
+        for k in self.parent:
+            out.setdefault(self._root(k), []).append(k)
+        return list(out.values())
+
+
 def propose_objects(planes, relations: Relations, params: ProposalParams | None = None,
-                    cloud=None) -> list[tuple[int, ...]]:
+                    cloud=None, support=None) -> list[tuple[int, ...]]:
     """Candidate objects: connected components of the convex adjacency of the non-support planes.
 
-    Support planes (:func:`support_planes`) are dropped; of the adjacent pairs left, those
-    meeting at a concave edge (:func:`convex_pairs`, with the edge points of
+    Support planes (:func:`support_planes`; or ``support``, their labels when already found
+    with the same planes, relations, parameters and cloud) are dropped; of the adjacent pairs
+    left, those meeting at a concave edge (:func:`convex_pairs`, with the edge points of
     :func:`edge_means` when ``cloud`` and the planes' label image are given) are cut unless
     ``params.split_concave`` is False; each connected component is a candidate.
 
@@ -1131,13 +1183,10 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     list of tuple of int
         Plane labels per object, each sorted; objects ordered by their smallest label.
     """
-    import networkx as nx
-
     params = params or ProposalParams()
-    drop = set(support_planes(planes, params, relations, cloud))
+    drop = set(support_planes(planes, params, relations, cloud) if support is None else support)
     concave: list = []
-    g = nx.Graph()
-    g.add_nodes_from(p.label for p in planes if p.label not in drop)
+    g = _Components(p.label for p in planes if p.label not in drop)
     pairs = [(a, b) for a, b in relations.adjacent_pairs() if a not in drop and b not in drop]
     if params.split_concave and pairs:
         edges = None
@@ -1182,20 +1231,20 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                        and edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE]
             joined |= cavity_pairs(planes, concave, params.concave_tol, params.cavity_overlap)
         pairs = sorted(joined)
-    g.add_edges_from(pairs)
+    g.add_edges(pairs)
     if params.step_chains:
-        g.add_edges_from(step_chain_pairs(
+        g.add_edges(step_chain_pairs(
             planes, g.nodes, (params.step_rise_min, params.step_rise_max),
             (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
             params.concave_tol, tilt=params.step_tilt))
     if params.split_concave and params.cavities and params.group_channels and concave:
         # side walls facing each other across a group of joined planes that together span
         # them (a flight between its side walls; planerel.features.cavities)
-        group_of = {k: i for i, c in enumerate(nx.connected_components(g)) for k in c}
-        g.add_edges_from(group_channel_pairs(planes, concave, group_of, params.concave_tol,
-                                             params.cavity_overlap))
+        group_of = {k: i for i, c in enumerate(g.groups()) for k in c}
+        g.add_edges(group_channel_pairs(planes, concave, group_of, params.concave_tol,
+                                        params.cavity_overlap))
     byl = {p.label: p for p in planes}
-    comps = [tuple(sorted(c)) for c in nx.connected_components(g)]
+    comps = [tuple(sorted(c)) for c in g.groups()]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
     if params.drop_border_walls:
         lab = getattr(planes, "labels", None)

@@ -49,17 +49,19 @@ def stepped_levels(heights: np.ndarray, rise=(0.08, 0.30), bin_size: float = 0.0
         ``(low, high)`` height interval of each level, lowest first; empty when the heights are
         not two or more such levels (a slope's heights fill their range).
     """
-    h = np.asarray(heights, float)
-    h = h[np.isfinite(h)]
-    if h.size < 20 or np.ptp(h) < rise[0]:
+    from planerel.features._relation_kernels import finite_range, level_bins
+
+    h = np.ascontiguousarray(heights, dtype=np.float64).reshape(-1)
+    # the finite heights' count and range first (one compiled pass): most planes stop here
+    n, lo, hi = finite_range(h)
+    if n < 20 or hi - lo < rise[0]:
         return []
-    lo = float(h.min())
-    nb = int(np.ptp(h) / bin_size) + 1
-    counts = np.bincount(np.minimum(((h - lo) / bin_size).astype(np.int64), nb - 1), minlength=nb)
+    if n < h.size:
+        h = h[np.isfinite(h)]
+    lo = float(lo)
+    nb = int((hi - lo) / bin_size) + 1
     w = int(0.5 * rise[1] / bin_size) + 1
-    pad = np.pad(counts, w)
-    local = np.lib.stride_tricks.sliding_window_view(pad, 2 * w + 1).max(axis=1)
-    pop = (counts >= 3) & (counts >= dense * local)
+    counts, pop = level_bins(h, lo, float(bin_size), nb, w, float(dense))
     runs = []
     k = 0
     while k < nb:
