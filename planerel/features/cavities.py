@@ -41,6 +41,14 @@ import numpy as np
 __all__ = ["cavity_pairs", "edge_overlap", "group_channel_pairs"]
 
 
+def cross3(u, v) -> np.ndarray:
+    """``np.cross(u, v)`` of two 3-vectors of floats: the same products and differences in
+    Python floats (``a1 b2 - a2 b1``, ...; the floats numpy's cross gives) without its
+    overhead (about 15 us a call)."""
+    (u0, u1, u2), (v0, v1, v2) = (float(x) for x in u), (float(x) for x in v)
+    return np.array([u1 * v2 - u2 * v1, u2 * v0 - u0 * v2, u0 * v1 - u1 * v0])
+
+
 def _towards_sensor(p) -> np.ndarray:
     n = np.asarray(p.normal, float)
     return -n if float(n @ np.asarray(p.centroid, float)) > 0 else n
@@ -49,7 +57,7 @@ def _towards_sensor(p) -> np.ndarray:
 def edge_overlap(pa, pb) -> float:
     """Interval IoU (0-1) of two planes' extents (their 3-D hulls, ``hull3d``) along the line
     where they meet, ``n_a x n_b``; 0 for parallel planes."""
-    axis = np.cross(np.asarray(pa.normal, float), np.asarray(pb.normal, float))
+    axis = cross3(pa.normal, pb.normal)
     nrm = float(np.linalg.norm(axis))
     if nrm < 1e-6:
         return 0.0
@@ -161,7 +169,7 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
 
     def whole(w, gid, m) -> bool:
         nw, nm = np.asarray(byl[w].normal, float), np.asarray(byl[m].normal, float)
-        axis = np.cross(nw, nm)
+        axis = cross3(nw, nm)
         if float(np.linalg.norm(axis)) < 1e-6:
             return False
         axis /= np.linalg.norm(axis)

@@ -51,7 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planerel.errors import InputError
-from planerel.features.cavities import cavity_pairs, edge_overlap, group_channel_pairs
+from planerel.features.cavities import cavity_pairs, cross3, edge_overlap, group_channel_pairs
 
 __all__ = [
     "RelationParams",
@@ -227,8 +227,8 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
     m = touch_pairs(np.ascontiguousarray(xyz), np.ascontiguousarray(lab, dtype=np.int32),
                     np.asarray(brow, np.int64), np.asarray(bcol, np.int64), int(params.grid_gap),
                     float(params.touch_depth), float(params.touch_rel), known)
-    a, b = np.nonzero(np.triu(m, 1))
-    return set(zip(a.tolist(), b.tolist(), strict=True))
+    a, b = np.nonzero(m)  # symmetric: each pair once, a < b
+    return {(x, y) for x, y in zip(a.tolist(), b.tolist(), strict=True) if x < y}
 
 
 class _Solid:
@@ -1057,7 +1057,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             limit = run[1] if kind[lo.label] == "tread" else rise[1]
             if any(np.ptp(np.asarray(q.hull3d, float) @ depth_axis) > limit for q in (lo, hi)):
                 continue
-            across = np.cross(up, direction)
+            across = cross3(up, direction)
             a0, a1 = _extent(lo, across)
             b0, b1 = _extent(hi, across)
             union = max(a1, b1) - min(a0, b0)
@@ -1083,7 +1083,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
         lo, hi = byl[lo_l], byl[hi_l]
         if (lo_l, hi_l) in out or k != 1 or kind[lo_l] != "tread":
             continue
-        across = np.cross(up, direction)
+        across = cross3(up, direction)
         if any(np.ptp(np.asarray(q.hull3d, float) @ across) < max(min_width, 1.5 * np.ptp(
                 np.asarray(q.hull3d, float) @ direction)) for q in (lo, hi)):
             continue
