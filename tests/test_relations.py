@@ -172,3 +172,52 @@ def test_cross3_is_numpys_cross_bit_for_bit():
         got, want = cross3(u, v), np.cross(u, v)
         assert got.dtype == want.dtype and np.array_equal(got.view(np.int64), want.view(np.int64))
     assert np.array_equal(cross3([0.0, 0.0, 1.0], [1, 0, 0]), np.cross([0.0, 0.0, 1.0], [1, 0, 0]))
+
+
+def _cut_lengthwise_numpy(planes) -> set:
+    """relations._cut_lengthwise before it read the border through the planes' boxes (main
+    19ca73c): every border pixel counted by label."""
+    lab = planes.labels
+    if lab is None or lab.size == 0 or lab.max() < 0:
+        return set()
+    edge = np.concatenate([lab[0], lab[-1], lab[1:-1, 0], lab[1:-1, -1]])
+    cnt = np.bincount(edge[edge >= 0], minlength=int(lab.max()) + 1)
+    out = set()
+    for p in planes:
+        r0, c0, r1, c1 = p.bbox
+        if p.label < cnt.size and cnt[p.label] >= 0.5 * max(r1 - r0, c1 - c0):
+            out.add(p.label)
+    return out
+
+
+class _Planes(list):
+    """Planes with a label image, as a PlaneSet holds them."""
+
+    def __init__(self, planes, labels):
+        super().__init__(planes)
+        self.labels = labels
+
+
+def test_cut_lengthwise_reads_the_border_through_the_boxes_as_numpy_counts_it():
+    from types import SimpleNamespace
+
+    from planerel.features.relations import _cut_lengthwise
+
+    rng = np.random.default_rng(21)
+    cut = 0
+    for _ in range(300):
+        H, W = (int(v) for v in rng.integers(1, 14, 2))
+        lab = rng.integers(-1, 5, (H, W)).astype(np.int32)
+        if rng.random() < 0.5:  # blocks, as planes are
+            lab = np.repeat(np.repeat(rng.integers(-1, 4, (H // 3 + 1, W // 3 + 1)), 3, 0), 3, 1)[:H, :W]
+            lab = np.ascontiguousarray(lab, dtype=np.int32)
+        planes = []
+        for k in np.unique(lab[lab >= 0]).tolist():
+            r, c = np.nonzero(lab == k)
+            planes.append(SimpleNamespace(label=k, bbox=(int(r.min()), int(c.min()),
+                                                         int(r.max()) + 1, int(c.max()) + 1)))
+        ps = _Planes(planes, lab)
+        want = _cut_lengthwise_numpy(ps)
+        assert _cut_lengthwise(ps) == want
+        cut += len(want)
+    assert cut > 100

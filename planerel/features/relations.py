@@ -942,19 +942,36 @@ def _cut_lengthwise(planes) -> set:
     the border as the long side of their pixel box (the floor or landing the camera stands on,
     seen to the image's bottom edge), so how deep they are is not seen.  A tread cut at its
     ends by the left or right border keeps its depth."""
-    from planerel.features.planes import label_max
-
     lab = getattr(planes, "labels", None)
-    if lab is None or label_max(lab) < 0:
+    if lab is None or lab.size == 0:
         return set()
-    edge = np.concatenate([lab[0], lab[-1], lab[1:-1, 0], lab[1:-1, -1]])
-    cnt = np.bincount(edge[edge >= 0], minlength=label_max(lab) + 1)
     out = set()
     for p in planes:
         r0, c0, r1, c1 = p.bbox
-        if p.label < cnt.size and cnt[p.label] >= 0.5 * max(r1 - r0, c1 - c0):
+        if _border_pixels(lab, p.label, p.bbox) >= 0.5 * max(r1 - r0, c1 - c0):
             out.add(p.label)
     return out
+
+
+def _border_pixels(lab, label: int, bbox) -> int:
+    """Pixels of ``label`` on the image border, counted as ``np.concatenate([lab[0], lab[-1],
+    lab[1:-1, 0], lab[1:-1, -1]])`` holds them (a one-row or one-column image counts its
+    row or column twice), read only where the label's pixel box ``bbox`` meets the border
+    (a plane's box holds all its pixels; a full column is a cache miss a pixel)."""
+    H, W = lab.shape
+    r0, c0, r1, c1 = (int(v) for v in bbox)
+    n = 0
+    if r0 <= 0:
+        n += int(np.count_nonzero(lab[0, max(c0, 0):c1] == label))
+    if r1 >= H:
+        n += int(np.count_nonzero(lab[H - 1, max(c0, 0):c1] == label))
+    lo, hi = max(r0, 1), min(r1, H - 1)
+    if hi > lo:
+        if c0 <= 0:
+            n += int(np.count_nonzero(lab[lo:hi, 0] == label))
+        if c1 >= W:
+            n += int(np.count_nonzero(lab[lo:hi, W - 1] == label))
+    return n
 
 
 def _anchor_offset(face, anchor, up) -> np.ndarray:
