@@ -571,3 +571,31 @@ def test_convex_pairs_float_helpers_are_the_numpy_ones_within_rounding():
         assert _sanity_limit_f(f[0], f[1], 60.0) == pytest.approx(
             _sanity_limit(na, nb, 60.0), rel=1e-9, abs=1e-9)
     assert _crossing_angle_f([0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]) == 90.0
+
+
+def test_percentiles_from_the_tails_are_numpys_and_fall_back_when_a_tail_is_short():
+    """percentiles_2_98 at and above _TAILS_MIN values (the two tails beyond sampled pivots,
+    _tails) against np.percentile float for float: random, sorted both ways, sawtooth rows
+    (an image's row-major order), ties, outliers; and the cases where a tail holds too few
+    (values tied with a pivot), where it selects in the whole array."""
+    from planerel.features._relation_kernels import _TAILS_MIN, _tails, percentiles_2_98
+
+    rng = np.random.default_rng(31)
+    short = 0
+    for n in (_TAILS_MIN, _TAILS_MIN + 1, 777, 1000, 4001, 16384):
+        rows = np.tile(np.linspace(-1, 1, 37), n // 37 + 1)[:n] + np.repeat(np.arange(n // 37 + 1), 37)[:n]
+        cases = [rng.normal(size=n), np.sort(rng.normal(size=n)), np.sort(rng.normal(size=n))[::-1],
+                 rows, rows[::-1], np.round(rng.normal(size=n), 1), rng.integers(0, 3, n).astype(float),
+                 np.zeros(n), np.r_[np.zeros(n - 3), 1e9, -1e9, 5.0],
+                 np.r_[np.full(n // 2, 0.5), rng.normal(size=n - n // 2)]]
+        for x in cases:
+            x = np.ascontiguousarray(x, dtype=float)
+            assert percentiles_2_98(x).tolist() == np.percentile(x, [2.0, 98.0]).tolist()
+            k_lo, k_hi = int(np.floor((n - 1) * 0.02)), int(np.floor((n - 1) * 0.98))
+            got = _tails(x.copy(), k_lo, k_hi)
+            if got[4]:
+                s = np.sort(x)
+                assert got[:4] == (s[k_lo], s[k_lo + 1], s[k_hi], s[k_hi + 1])
+            else:
+                short += 1
+    assert short >= 6  # the constant and three-valued arrays at least
