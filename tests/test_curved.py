@@ -428,3 +428,34 @@ def test_list_components_are_the_grid_components_of_the_pixels():
         assert np.array_equal(ids, comp[rows, cols])
         assert np.array_equal(list_areas(xyz, rows, cols, ids, 0.0017, 0.0016, k),
                               component_areas(xyz, rows, cols, comp, 0, 0, 0.0017, 0.0016, k))
+
+
+def test_unexplained_kernels_take_labels_past_the_array_as_not_explained():
+    """An ``explained`` array that stops at the largest explained label gives the masks of one
+    padded past every label (labels beyond it: not explained), for the three kernels."""
+    from planerel.features._curved_kernels import (
+        unexplained_mask,
+        unexplained_open,
+        unexplained_valid,
+    )
+
+    rng = np.random.default_rng(23)
+    for _ in range(200):
+        H, W = (int(v) for v in rng.integers(1, 30, 2))
+        lab = rng.integers(-2, 9, (H, W)).astype(np.int32)
+        if rng.random() < 0.5:
+            lab[:] = rng.integers(-1, 9)
+            y, x = (int(v) for v in rng.integers(0, max(H, W), 2))
+            lab[y:y + int(rng.integers(1, 20)), x:x + int(rng.integers(1, 20))] = 8
+        xyz = rng.normal(size=(H, W, 3))
+        xyz[rng.random((H, W)) < 0.2] = np.nan
+        valid = np.isfinite(xyz[..., 2])
+        short = rng.random(int(rng.integers(0, 6))) < 0.6
+        padded = np.zeros(12, bool)
+        padded[: short.size] = short
+        assert np.array_equal(unexplained_mask(xyz, lab, short), unexplained_mask(xyz, lab, padded))
+        assert np.array_equal(unexplained_valid(valid, lab, short), unexplained_valid(valid, lab, padded))
+        r = int(rng.integers(0, 4))
+        for a, b in zip(unexplained_open(valid, lab, short, r), unexplained_open(valid, lab, padded, r),
+                        strict=True):
+            assert np.array_equal(a, b)

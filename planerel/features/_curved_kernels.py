@@ -79,15 +79,16 @@ def grid_components(mask, xyz, edge_depth):
 @njit(cache=True, nogil=True)
 def unexplained_mask(xyz, lab, explained):
     """``(H, W)`` bool: pixels with a finite depth whose label (-1 and other negatives: none)
-    is not ``explained`` (``(K,)`` bool, ``K`` above every label)."""
+    is not ``explained`` (``(K,)`` bool; labels ``K`` and above are not explained)."""
     H, W = lab.shape
+    K = explained.shape[0]
     out = np.zeros((H, W), np.bool_)
     for r in range(H):
         for c in range(W):
             a = lab[r, c]
             # the label first: the depth (most of the cloud's memory) is read only for
             # pixels that no explained plane holds
-            out[r, c] = (a < 0 or not explained[a]) and np.isfinite(xyz[r, c, 2])
+            out[r, c] = (a < 0 or a >= K or not explained[a]) and np.isfinite(xyz[r, c, 2])
     return out
 
 
@@ -270,11 +271,12 @@ def unexplained_valid(valid, lab, explained):
     :class:`planerel.io.cloud.Cloud`'s pixel is valid exactly when its depth is finite, the
     invalid ones being all NaN): one byte a pixel read instead of the point."""
     H, W = lab.shape
+    K = explained.shape[0]
     out = np.zeros((H, W), np.bool_)
     for r in range(H):
         for c in range(W):
             a = lab[r, c]
-            out[r, c] = (a < 0 or not explained[a]) and valid[r, c]
+            out[r, c] = (a < 0 or a >= K or not explained[a]) and valid[r, c]
     return out
 
 
@@ -303,13 +305,14 @@ def unexplained_open(valid, lab, explained, r):
                     k += 1
         return found, rows, cols
     span = 2 * r + 1
+    K = explained.shape[0]
     e1 = np.zeros((H, W), np.uint8)
     rowany = np.zeros(H, np.bool_)
     for y in range(H):
         run = 0
         for x in range(W):
             a = lab[y, x]
-            if valid[y, x] and (a < 0 or not explained[a]):
+            if valid[y, x] and (a < 0 or a >= K or not explained[a]):
                 run += 1
                 if run >= span:
                     e1[y, x - r] = 1

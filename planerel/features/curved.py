@@ -284,14 +284,14 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
         unexplained_mask,
         unexplained_open,
     )
-    from planerel.features.planes import label_max
     from planerel.segment._label_kernels import mask_pixels
 
     flat = {p.label for p in planes if p.area >= params.tiny_area}
-    nl = label_max(lab) + 2
-    explained = np.zeros(nl + 1, bool)
-    explained[[x for x in flat if 0 <= x < nl]] = True
-    explained[[x for x in support if 0 <= x < nl]] = True
+    # the explained labels (the kernels take any label past the array as not explained:
+    # the label image's largest label is not needed)
+    known = [x for x in (*flat, *support) if x >= 0]
+    explained = np.zeros(max(known, default=-1) + 1, bool)
+    explained[known] = True
     # valid pixels (finite depth) of no label or of a label not explained, in one pass,
     # opened (an opening keeps no pixel that was not set: the depth stays finite)
     from planerel.io.cloud import Cloud
