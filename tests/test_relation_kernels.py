@@ -599,3 +599,19 @@ def test_percentiles_from_the_tails_are_numpys_and_fall_back_when_a_tail_is_shor
             else:
                 short += 1
     assert short >= 6  # the constant and three-valued arrays at least
+
+
+def test_linspace_kernel_is_numpys_float_for_float():
+    from planerel.features._relation_kernels import linspace
+
+    rng = np.random.default_rng(41)
+    for _ in range(3000):
+        a, b = (float(v) for v in rng.normal(size=2) * rng.choice([1e-3, 1.0, 1e3]))
+        if rng.random() < 0.1:
+            b = a
+        num = int(rng.integers(0, 40))
+        want = np.linspace(a, b, num)
+        got = linspace(a, b, num)
+        assert got.shape == want.shape and np.array_equal(got.view(np.int64), want.view(np.int64))
+    tiny = np.linspace(0.0, 5e-324, 7)  # a zero step (gh-5437's path)
+    assert np.array_equal(linspace(0.0, 5e-324, 7), tiny)

@@ -301,6 +301,24 @@ def gap_matrix(V, vstart, C, N, AX, poly2, isface):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def linspace(start, stop, num):
+    """``np.linspace(start, stop, num)`` of two floats (numpy 2's arithmetic: ``i * step +
+    start`` with ``step = (stop - start) / (num - 1)``, or ``i / (num - 1) * delta + start``
+    when the step is 0, and ``stop`` last), without its overhead."""
+    out = np.empty(max(num, 0))
+    div = num - 1
+    delta = stop - start
+    if div > 0:
+        step = delta / div
+        for i in range(num):
+            out[i] = (float(i) / div * delta if step == 0 else float(i) * step) + start
+        out[num - 1] = stop
+    elif num == 1:
+        out[0] = 0.0 * delta + start
+    return out
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def cover_samples(c, along, vert, ca, cu, vu, s, levels, fx, fy, cx, cy, H, W):
     """The sample points of :func:`planerel.features.solid._cover` that project into the
     image, level by level, and their pixels: ``x = (c + (s - ca) along) + ((level - cu) / vu)

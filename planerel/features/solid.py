@@ -183,8 +183,9 @@ def _cover(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
     c = np.asarray(face.centroid, float)
     vert = up - (up @ n) * n  # the face's own "up" (the face is vertical within tolerance)
     vert /= max(float(np.linalg.norm(vert)), 1e-12)
-    s = np.linspace(t0, t1, samples)
-    from planerel.features._relation_kernels import cover_counts_at, cover_samples
+    from planerel.features._relation_kernels import cover_counts_at, cover_samples, linspace
+
+    s = linspace(float(t0), float(t1), int(samples))
 
     H, W = labels.shape
     # the samples in the image and their pixels (one compiled pass: elementwise arithmetic,
