@@ -23,7 +23,8 @@ from pathlib import Path
 
 from planerel.errors import InputError
 
-__all__ = ["atomic_path", "atomic_dir", "recover_dir", "write_bytes", "write_text"]
+__all__ = ["atomic_path", "atomic_dir", "recover_dir", "write_bytes", "write_text",
+           "check_output_file", "check_output_dir"]
 
 
 def _file_mode() -> int:
@@ -33,6 +34,50 @@ def _file_mode() -> int:
 
 
 _FILE_MODE = _file_mode()
+
+
+def _probe_folder(folder: Path, target: Path) -> None:
+    """Create ``folder`` (and its parents) and check that a file can be made in it."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise InputError(f"cannot write {target}: {folder} is a file, not a folder") from None
+    except OSError as exc:
+        what = "" if folder == target else f" for {target}"
+        raise InputError(f"cannot create folder {folder}{what}: {exc.strerror}") from None
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".planerel-probe.", dir=folder)
+    except OSError as exc:
+        raise InputError(f"cannot write in {folder} ({exc.strerror}); choose a folder you may "
+                         "write to") from None
+    os.close(fd)
+    with contextlib.suppress(OSError):
+        os.unlink(tmp)
+
+
+def check_output_file(path, option: str = "output") -> Path:
+    """Refuse, before any work, an output file that cannot be written: an empty name, a
+    folder, a folder that cannot be made or written to.  Creates the missing parent folders
+    (as writing would).  Returns ``path`` as a :class:`Path`."""
+    if path is None or not str(path).strip():
+        raise InputError(f"{option} needs a file name")
+    target = Path(path)
+    if target.is_dir():
+        raise InputError(f"{option} {target}: is a folder; give a file name")
+    _probe_folder(target.parent if str(target.parent) else Path("."), target)
+    return target
+
+
+def check_output_dir(path, option: str = "output") -> Path:
+    """Create the output folder ``path`` (and its parents) before any work and check that files
+    can be written in it; refuse an empty name or a path that is a file."""
+    if path is None or not str(path).strip():
+        raise InputError(f"{option} needs a folder name")
+    folder = Path(path)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"{option} {folder}: exists and is not a folder")
+    _probe_folder(folder, folder)
+    return folder
 
 
 @contextlib.contextmanager
@@ -48,16 +93,24 @@ def atomic_path(path, suffix: str | None = None) -> Iterator[Path]:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"cannot create folder {folder}: {exc.strerror}") from None
-    fd, tmp = tempfile.mkstemp(
-        prefix=f".{target.name}.", suffix=suffix if suffix is not None else target.suffix,
-        dir=folder,
-    )
+    if target.is_dir():  # the rename would fail after all the work, naming the temporary file
+        raise InputError(f"{target}: is a folder; give a file name")
+    try:
+        fd, tmp = tempfile.mkstemp(
+            prefix=f".{target.name}.", suffix=suffix if suffix is not None else target.suffix,
+            dir=folder,
+        )
+    except OSError as exc:  # name the file asked for, not the temporary one
+        raise InputError(f"cannot write {target}: {exc.strerror}") from None
     os.close(fd)
     tmp_path = Path(tmp)
     os.chmod(tmp_path, _FILE_MODE)  # mkstemp makes 0600; results are ordinary files
     try:
         yield tmp_path
-        os.replace(tmp_path, target)
+        try:
+            os.replace(tmp_path, target)
+        except IsADirectoryError:
+            raise InputError(f"{target}: is a folder; give a file name") from None
     except BaseException:
         with contextlib.suppress(OSError):
             tmp_path.unlink()

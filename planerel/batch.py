@@ -267,7 +267,8 @@ def run_batch(fn: Callable, tasks: Sequence, *, jobs: int | None = None,
               scheduler=None, keep_going: bool = False,
               label: Callable = str, desc: str = "scenes", progress: bool | None = None,
               result: BatchResult | None = None, window: int | None = None,
-              mp_context: str | None = None) -> Iterator:
+              mp_context: str | None = None,
+              hint: str | None = "--keep-going goes on past bad inputs") -> Iterator:
     """Run ``fn(task)`` for every task on the chosen workers; yield ``(task, value)`` in order.
 
     Parameters
@@ -289,6 +290,9 @@ def run_batch(fn: Callable, tasks: Sequence, *, jobs: int | None = None,
         Tasks in flight at once (default 4 per worker): bounds the results held in memory.
     mp_context : str, optional
         See :func:`make_executor`.
+    hint : str, optional
+        Added in brackets to the error of a failing task when ``keep_going`` is off (None for
+        callers whose command has no ``--keep-going``).
 
     Yields
     ------
@@ -323,11 +327,12 @@ def run_batch(fn: Callable, tasks: Sequence, *, jobs: int | None = None,
                 reason = _reason(exc)
                 name = label(task)
                 if not keep_going:
+                    tail = f" ({hint})" if hint else ""
                     if isinstance(exc, PlanerelError) and name in reason:
-                        raise type(exc)(reason + " (--keep-going goes on past bad inputs)") from None
+                        raise type(exc)(reason + tail) from None
                     if not isinstance(exc, PlanerelError) and not isinstance(exc, OSError):
                         raise
-                    raise InputError(f"{name}: {reason} (--keep-going goes on past bad inputs)") from None
+                    raise InputError(f"{name}: {reason}{tail}") from None
                 res.failures.append(Failure(name, reason))
                 done += 1
                 bar.update(done, len(res.failures))

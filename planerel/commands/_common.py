@@ -7,7 +7,7 @@ import argparse
 from planerel.errors import InputError
 
 __all__ = ["add_input_options", "add_batch_options", "read_input", "read_options", "inputs_of",
-           "given_up", "parse_vector", "parse_intrinsics"]
+           "given_up", "check_input_options", "parse_vector", "parse_intrinsics"]
 
 
 def parse_vector(text: str, name: str = "vector") -> tuple[float, float, float]:
@@ -38,6 +38,26 @@ def given_up(args: argparse.Namespace):
     if norm == 0:
         raise InputError(f"--up must not be the zero vector; got {text!r}")
     return np.array(values) / norm
+
+
+def check_input_options(args: argparse.Namespace) -> None:
+    """Check the reading options of :func:`add_input_options` before any work: a bad
+    ``--subsample``, ``--depth-scale``, ``--max-points``, ``--intrinsics`` or ``--up`` is one
+    error about the option, not a failure of every input (which ``--keep-going`` would skip)."""
+    import math
+
+    k = getattr(args, "subsample", 1)
+    if k is not None and (isinstance(k, bool) or not isinstance(k, int) or k < 1):
+        raise InputError(f"--subsample must be a positive whole number (1 = every pixel), got {k!r}")
+    scale = getattr(args, "depth_scale", None)
+    if scale is not None and not (math.isfinite(scale) and scale > 0):
+        raise InputError(f"--depth-scale must be a positive number of depth units per metre, "
+                         f"got {scale!r}")
+    limit = getattr(args, "max_points", None)
+    if limit is not None and limit < 1:
+        raise InputError(f"--max-points must be a positive whole number, got {limit!r}")
+    parse_intrinsics(getattr(args, "intrinsics", None))
+    given_up(args)
 
 
 def parse_intrinsics(text: str | None):

@@ -108,10 +108,14 @@ def run(args) -> int:
         run_batch,
         write_errors,
     )
-    from planerel.commands._common import given_up, inputs_of, read_options
+    from planerel.commands._common import check_input_options, inputs_of, read_options
     from planerel.io.naming import scene_names
 
-    given_up(args)  # a bad --up fails here, before any work
+    check_input_options(args)  # a bad --up, --subsample, ... fails here, before any work
+    if args.output:  # a bad output folder is one error, not a failure of every scan
+        from planerel.atomic import check_output_dir
+
+        check_output_dir(args.output, "-o")
     paths = inputs_of(args)
     names = scene_names(paths)
     rules = str(Path(args.rules).resolve())

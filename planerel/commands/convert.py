@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from planerel.commands._common import add_input_options, read_input
+from planerel.commands._common import add_input_options, check_input_options, read_input
 from planerel.errors import InputError
 
 __all__ = ["register"]
@@ -28,7 +28,7 @@ def register(sub) -> None:
 def run(args) -> int:
     import numpy as np
 
-    from planerel.atomic import atomic_path
+    from planerel.atomic import atomic_path, check_output_file
     from planerel.io.exports import input_colours, write_pcd
     from planerel.io.writers import write_ply
 
@@ -36,7 +36,12 @@ def run(args) -> int:
     kind = out.suffix.lower()
     if kind not in (".npy", ".ply", ".pcd"):
         raise InputError(f"{out}: output must end in .npy, .ply or .pcd")
+    check_input_options(args)
+    check_output_file(out, "-o")
     cloud = read_input(args.input, args)
+    if cloud.n_valid == 0:
+        raise InputError(f"{args.input}: has no valid point (every depth is 0 or NaN); "
+                         "nothing to convert")
     rgb = input_colours(args.input, cloud.shape, args.subsample or 1)
     if kind == ".npy":
         with atomic_path(out, suffix=".npy") as tmp:

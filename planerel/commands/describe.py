@@ -97,17 +97,21 @@ def _describe_task(task: dict):
         write_graph(Path(task["graph"]) / f"{d.scene_id}.{task['graph_format']}", d)
     line = (f"{path}: {d.scene_id}: {len(d.planes)} planes, {len(d.objects)} object proposals, "
             f"{d.planes.up_estimate.describe()}"
-            + ("" if len(d.planes) else " (no plane found: only the scene fact is written)"))
+            + ("" if len(d.planes) or len(d.objects)
+               else " (no plane found: only the scene fact is written)"))
     return d.scene_id, scene_facts(d, task["params"]), line, note, up_comment(d)
 
 
 def run(args) -> int:
     from planerel.batch import BatchResult, report_failures, run_batch, write_errors
-    from planerel.commands._common import given_up, inputs_of, read_options
+    from planerel.commands._common import check_input_options, inputs_of, read_options
     from planerel.features.facts import FactParams, FactsWriter
     from planerel.io.naming import scene_names
 
-    given_up(args)  # a bad --up fails here, before any work
+    check_input_options(args)  # a bad --up, --subsample, ... fails here, before any work
+    from planerel.atomic import check_output_file
+
+    check_output_file(args.output, "-o")  # a folder or unwritable path fails before any work
     paths = inputs_of(args)
     n = len(paths)
     if args.labels is not None and len(args.labels) != n:

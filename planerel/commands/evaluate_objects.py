@@ -38,8 +38,11 @@ def _pct(x) -> str:
 
 
 def run(args) -> int:
-    from planerel.atomic import write_text
+    from planerel.atomic import check_output_file, write_text
     from planerel.features.object_eval import evaluate_frames
+
+    if args.json:  # a bad --json fails here, not after scoring every frame
+        check_output_file(args.json, "--json")
 
     def show(s):
         print(f"{s.name}: {s.found}/{s.n_objects} found, {s.n_proposals} proposals, {s.false} false "

@@ -35,10 +35,12 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from planerel.atomic import write_text
+    from planerel.atomic import check_output_file, write_text
     from planerel.ilp.learn import format_report, learn, parse_settings
 
     settings = parse_settings(args.settings)
+    if args.rules:  # a bad --rules fails here, not after the learning run
+        check_output_file(args.rules, "--rules")
     result = learn(args.stem, engine=args.engine, settings=settings, timeout=args.timeout,
                    progress=lambda text: print(f"progress: {text}", file=sys.stderr, flush=True))
     for w in result.warnings:

@@ -12,7 +12,7 @@ def register(sub) -> None:
              "report",
         description="Segment every scene of a data set with region growing and the RANSAC "
                     "baselines SP / SNP at the paper's thresholds, score them against ground "
-                    "truth (SegComp at 80%%, mean IoU, sparse planes), draw side-by-side "
+                    "truth (SegComp at 80%, mean IoU, sparse planes), draw side-by-side "
                     "segmentations, compare the rules learned from each method's planes, time "
                     "each method, and do the same on the real data in ../shared/data. Writes "
                     "REPORT_DIR/index.html (self-contained), report.md with figures/, "

@@ -4,7 +4,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from planerel.commands._common import add_batch_options, add_input_options, given_up, read_input
+from planerel.commands._common import (
+    add_batch_options,
+    add_input_options,
+    check_input_options,
+    given_up,
+    read_input,
+)
 from planerel.errors import InputError
 
 __all__ = ["register", "run_segment", "run_evaluate", "parse_params"]
@@ -146,7 +152,7 @@ def run_segment(args) -> int:
 
         split = _as_bool(split, default=True)  # a bad value fails here, before any work
     params = make_params(args.method, **given)
-    given_up(args)  # a bad --up fails here, before any work
+    check_input_options(args)  # a bad --up, --subsample, ... fails here, before any work
     paths = inputs_of(args)
     stems = scene_names(paths)
     out = Path(args.output)

@@ -125,6 +125,22 @@ def _progress(iterable, total: int, desc: str, enabled: bool | None):
     return tqdm(iterable, total=total, desc=desc, unit="scene", leave=False)
 
 
+def _check_seg_params(method: str, seg_params: dict | None) -> None:
+    """Unknown or bad segmentation parameters fail once, before any scene is segmented."""
+    params = dict(seg_params or {})
+    if method == "gt":
+        if params:
+            raise InputError(f"segmentation parameters ({', '.join(sorted(params))}) do not apply "
+                             "to the ground-truth planes (method gt)")
+        return
+    if "params" in params:  # a parameter dataclass given whole: validated when it was made
+        return
+    from planerel.segment import _as_bool, make_params
+
+    _as_bool(params.pop("split", None), default=True)
+    make_params(method, **params)
+
+
 def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
                     method: str = "regiongrow", seg_params: dict | None = None,
                     jobs: int | None = 1, cache=None, progress: bool | None = None,
@@ -164,6 +180,7 @@ def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
         rows = [r for r in rows if r.klass in classes]
     if not rows:
         raise InputError(f"{dataset_dir}: the data set has no scenes")
+    _check_seg_params(method, seg_params)
     folder = cache_dir(cache) if cache is None or isinstance(cache, (str, Path)) else None
     jobs_list = [(str(dataset_dir), r, method, dict(seg_params or {}), folder) for r in rows]
     from planerel.batch import resolve_jobs, run_batch
@@ -171,6 +188,6 @@ def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
     n_jobs = resolve_jobs(jobs) if scheduler is None and len(rows) > 4 else 1
     descs = [d for _, d in run_batch(_describe_one, jobs_list, jobs=n_jobs, scheduler=scheduler,
                                      label=lambda j: f"{j[0]}: scene {j[1].scene_id}",
-                                     desc="describing", progress=progress)]
+                                     desc="describing", progress=progress, hint=None)]
     skipped = [f"{d.scene_id}: no plane of its object was measured" for d in descs if not d.objects]
     return descs, skipped

@@ -81,8 +81,14 @@ def _number(name: str, value, lo: float | None = None, hi: float | None = None,
         raise InputError(f"{name} must be a number, got {value!r}") from None
     if not math.isfinite(x) or (lo is not None and (x <= lo if lo_strict else x < lo)) or (
             hi is not None and x > hi):
-        rng = f"{'(' if lo_strict else '['}{lo}, {hi}]"
-        raise InputError(f"{name} must be a finite number in {rng}, got {value!r}")
+        if hi is None:  # no upper bound: "in [0.0, None]" would read as a bug
+            rng = f"{'>' if lo_strict else '>='} {lo}" if lo is not None else ""
+        elif lo is None:
+            rng = f"<= {hi}"
+        else:
+            rng = f"in {'(' if lo_strict else '['}{lo}, {hi}]"
+        raise InputError(f"{name} must be a finite number{' ' + rng if rng else ''}, "
+                         f"got {value!r}")
     return x
 
 
