@@ -175,3 +175,49 @@ def test_noise_cloud_message_does_not_claim_only_the_scene_fact(tmp_path, capsys
     n_obj = text.count("\nobject(")
     assert "0 planes" in err
     assert ("only the scene fact" in err) == (n_obj == 0)
+
+
+def test_float_depth_in_millimetres_gets_a_note(tmp_path):
+    # a float TIFF of millimetres is read as metres (the documented default): the Kinect frame
+    # then lies ~1 km away and segments into other planes without a word; now a note says so
+    tifffile = pytest.importorskip("tifffile")
+    depth_m = np.asarray(generate_scene("box", seed=1, subsample=8).depth_mm, float) / 1000.0
+    tifffile.imwrite(tmp_path / "mm.tiff", (depth_m * 1000.0).astype(np.float32))
+    tifffile.imwrite(tmp_path / "m.tiff", depth_m.astype(np.float32))
+    r = _run("segment", tmp_path / "mm.tiff", "-o", tmp_path / "o", "--intrinsics", "kinect")
+    assert r.returncode == 0 and "median depth is" in r.stderr and "--depth-scale 1000" in r.stderr
+    for extra in ([], ["--depth-scale", "1000"]):
+        f = "m.tiff" if not extra else "mm.tiff"
+        r = _run("segment", tmp_path / f, "-o", tmp_path / "o2", "--intrinsics", "kinect", *extra)
+        assert r.returncode == 0 and "median depth" not in r.stderr, r.stderr
+
+
+def test_classify_says_when_a_cloud_is_unorganized(scan, tmp_path, capsys):
+    # describe refuses an unorganized cloud (its relations need the image grid); classify
+    # takes it and now says what is missing instead of answering as if nothing were
+    assert main(["convert", str(scan), "-o", str(tmp_path / "box_points.ply")]) == 0
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(A) :- nvertical(A, B), B >= 2.\n")
+    capsys.readouterr()
+    assert main(["classify", str(rules), str(tmp_path / "box_points.ply"), str(scan), "-j", "1"]) == 0
+    out = capsys.readouterr().out
+    ply, npy = out.split(str(scan) + ":")
+    assert "note: an unorganized cloud" in ply and "skirt/2" in ply
+    assert "unorganized" not in npy
+    assert main(["describe", str(tmp_path / "box_points.ply"), "-o", str(tmp_path / "f.pl")]) == 2
+    assert "needs an organized cloud" in capsys.readouterr().err
+    assert not (tmp_path / "f.pl").exists()
+
+
+def test_same_name_clash_suggests_ids_only_where_it_exists(scan, tmp_path, capsys):
+    # classify and segment said "(rename one, or give --ids)"; only describe has --ids
+    other = tmp_path / "box.npy"
+    other.write_bytes(scan.read_bytes())
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(A) :- nvertical(A, B), B >= 2.\n")
+    for argv, ids in ((["classify", str(rules)], False), (["segment", "-o", str(tmp_path / "o")],
+                                                          False),
+                      (["describe", "-o", str(tmp_path / "f.pl")], True)):
+        assert main([*argv, str(scan), str(other)]) == 2
+        err = capsys.readouterr().err
+        assert "same scene name 'box'" in err and ("--ids" in err) == ids, err

@@ -145,4 +145,28 @@ def read_input(path, args: argparse.Namespace):
             raise
         print(f"note: {path}: no camera information; assuming Kinect intrinsics", file=sys.stderr)
         cloud = io.read(path, intrinsics="kinect", **kwargs)
-    return subsample(cloud, getattr(args, "subsample", 1) or 1)
+    cloud = subsample(cloud, getattr(args, "subsample", 1) or 1)
+    _note_far_depth(path, cloud)
+    return cloud
+
+
+#: Median depth (metres) beyond which a scan is most likely not in metres (a float image of
+#: millimetres read as metres: the Kinect frames' median of ~1.2 m becomes ~1.2 km).
+FAR_MEDIAN_M = 100.0
+
+
+def _note_far_depth(path, cloud) -> None:
+    """Print a note when the scan's median depth is beyond :data:`FAR_MEDIAN_M`: the depth unit
+    is probably wrong (nothing is changed)."""
+    import sys
+
+    import numpy as np
+
+    if cloud.n_valid == 0:
+        return
+    z = np.asarray(cloud.xyz)[..., 2]
+    med = float(np.median(np.abs(z[np.isfinite(z)])))
+    if med > FAR_MEDIAN_M:
+        print(f"note: {path}: the median depth is {med:,.0f} m; planerel works in metres: if "
+              "the values are millimetres, give --depth-scale 1000 (depth images) or convert "
+              "the cloud to metres", file=sys.stderr)

@@ -86,6 +86,10 @@ def _classify_task(task: dict):
         write_json(out / f"{stem}.classified.json", ans.to_dict())
     lines = [f"{path}: {ans.n_planes} planes, {len(ans.objects)} object(s) "
              f"[{ans.seconds * 1000:.0f} ms]"]
+    if not cloud.organized:
+        lines.append("  note: an unorganized cloud (no image grid): relations that look through "
+                     "the image (skirt/2, a tilted floor) are not found; a depth image or an "
+                     "organized cloud of the scene gives the model what it was trained on")
     if not ans.objects:
         lines.append("  no object proposal (only support planes, or no plane at all)")
     for o in ans.objects:
@@ -117,7 +121,7 @@ def run(args) -> int:
 
         check_output_dir(args.output, "-o")
     paths = inputs_of(args)
-    names = scene_names(paths)
+    names = scene_names(paths, ids_option=False)
     rules = str(Path(args.rules).resolve())
     jobs = 1 if len(paths) == 1 else resolve_jobs(args.jobs)
     # A bad model fails here, before any scan is read.  Worker processes start from a fork

@@ -154,7 +154,7 @@ def run_segment(args) -> int:
     params = make_params(args.method, **given)
     check_input_options(args)  # a bad --up, --subsample, ... fails here, before any work
     paths = inputs_of(args)
-    stems = scene_names(paths)
+    stems = scene_names(paths, ids_option=False)
     out = Path(args.output)
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder")

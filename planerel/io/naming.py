@@ -56,7 +56,8 @@ def scene_name(path) -> str:
     return stem or name
 
 
-def scene_names(paths: Sequence, ids: Sequence[str] | None = None) -> list[str]:
+def scene_names(paths: Sequence, ids: Sequence[str] | None = None, *,
+                ids_option: bool = True) -> list[str]:
     """Names of many inputs, refusing two inputs that would share a scene id or output file.
 
     Parameters
@@ -64,6 +65,8 @@ def scene_names(paths: Sequence, ids: Sequence[str] | None = None) -> list[str]:
     paths : sequence of path
     ids : sequence of str, optional
         Explicit names, one per path (``--ids``), used instead of the file names.
+    ids_option : bool
+        Whether the command has ``--ids`` (the message of a clash suggests it only then).
 
     Returns
     -------
@@ -94,6 +97,7 @@ def scene_names(paths: Sequence, ids: Sequence[str] | None = None) -> list[str]:
             raise InputError(
                 f"{paths[j]} and {paths[k]} have the same scene {how} {names[j]!r}"
                 + (f" / {name!r}" if names[j] != name else "")
-                + "; their results would overwrite each other (rename one, or give --ids)")
+                + "; their results would overwrite each other ("
+                + ("rename one, or give --ids)" if ids_option else "rename one)"))
         seen[key] = k
     return names
