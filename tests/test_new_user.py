@@ -221,3 +221,37 @@ def test_same_name_clash_suggests_ids_only_where_it_exists(scan, tmp_path, capsy
         assert main([*argv, str(scan), str(other)]) == 2
         err = capsys.readouterr().err
         assert "same scene name 'box'" in err and ("--ids" in err) == ids, err
+
+
+def test_file_names_that_are_not_utf8(scan, tmp_path):
+    # classify with any argument that is not UTF-8 (a file or -o folder named in Latin-1)
+    # failed with "pyswip cannot load SWI-Prolog ...; install it with: sudo apt-get install
+    # swi-prolog-nox" (pyswip encodes sys.argv when imported); a scan so named is now refused
+    # by name, and an output folder so named works
+    import os
+
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(A) :- nvertical(A, B), B >= 2.\n")
+    bad = os.fsencode(tmp_path) + b"/scan\xff.npy"
+    with open(bad, "wb") as fh:
+        fh.write(scan.read_bytes())
+    env = {**os.environ, "LC_ALL": "C.UTF-8"}
+    exe = [sys.executable, "-m", "planerel.cli"]
+    r = subprocess.run([*exe, "classify", str(rules), bad], capture_output=True, timeout=300,
+                       env=env)
+    err = r.stderr.decode("utf-8", "replace")
+    assert r.returncode == 2 and "not valid UTF-8" in err and "install" not in err, err
+    out = os.fsencode(tmp_path) + b"/out\xff"
+    r = subprocess.run([*exe, "classify", str(rules), str(scan), "-o", out], capture_output=True,
+                       timeout=300, env=env)
+    assert r.returncode == 0, r.stderr
+    assert os.path.exists(out + b"/box.classified.json")
+    r = subprocess.run([*exe, "describe", bad, "-o", str(tmp_path / "f.pl")], capture_output=True,
+                       timeout=300, env=env)
+    assert r.returncode == 2 and b"--ids" in r.stderr and not (tmp_path / "f.pl").exists()
+    r = subprocess.run([*exe, "describe", bad, "-o", str(tmp_path / "f.pl"), "--ids", "scan_1"],
+                       capture_output=True, timeout=300, env=env)
+    assert r.returncode == 0 and "scene(scan_1)." in (tmp_path / "f.pl").read_text()
+    swipl = subprocess.run(["swipl", "-q", "-g", f"consult('{tmp_path / 'f.pl'}'),halt"],
+                           capture_output=True, text=True, timeout=60)
+    assert swipl.returncode == 0 and swipl.stderr == ""

@@ -121,7 +121,7 @@ def run(args) -> int:
 
         check_output_dir(args.output, "-o")
     paths = inputs_of(args)
-    names = scene_names(paths, ids_option=False)
+    names = scene_names(paths, ids_option=False, prolog=True)
     rules = str(Path(args.rules).resolve())
     jobs = 1 if len(paths) == 1 else resolve_jobs(args.jobs)
     # A bad model fails here, before any scan is read.  Worker processes start from a fork

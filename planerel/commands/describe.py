@@ -117,7 +117,7 @@ def run(args) -> int:
     if args.labels is not None and len(args.labels) != n:
         raise InputError(f"--labels needs one label image per input: {n} inputs, "
                          f"{len(args.labels)} label images")
-    ids = scene_names(paths, args.ids)
+    ids = scene_names(paths, args.ids, prolog=True)
     params = FactParams(pairs=args.pairs, planner=not args.no_planner)
     opts = read_options(args)
     tasks = [{"path": str(p), "name": i, "read": opts, "method": args.method, "params": params,

@@ -139,12 +139,20 @@ def engine():
     """The process's pyswip engine (created once, on first use)."""
     global _ENGINE
     if _ENGINE is None:
+        import sys
+
+        # pyswip encodes sys.argv to UTF-8 when imported (and uses it for nothing else): a
+        # command line with a file name that is not UTF-8 made the import fail, reported as
+        # "SWI-Prolog missing"
+        argv, sys.argv = sys.argv, sys.argv[:1]
         try:
             from pyswip import Prolog
         except Exception as exc:  # pyswip raises plain exceptions when libswipl is missing
             raise DependencyError(
                 f"pyswip cannot load SWI-Prolog ({exc}); install it with: "
                 f"{SWIPL_INSTALL}") from None
+        finally:
+            sys.argv = argv
         _ENGINE = Prolog()
     return _ENGINE
 

@@ -57,7 +57,7 @@ def scene_name(path) -> str:
 
 
 def scene_names(paths: Sequence, ids: Sequence[str] | None = None, *,
-                ids_option: bool = True) -> list[str]:
+                ids_option: bool = True, prolog: bool = False) -> list[str]:
     """Names of many inputs, refusing two inputs that would share a scene id or output file.
 
     Parameters
@@ -66,7 +66,10 @@ def scene_names(paths: Sequence, ids: Sequence[str] | None = None, *,
     ids : sequence of str, optional
         Explicit names, one per path (``--ids``), used instead of the file names.
     ids_option : bool
-        Whether the command has ``--ids`` (the message of a clash suggests it only then).
+        Whether the command has ``--ids`` (the messages suggest it only then).
+    prolog : bool
+        The names become Prolog atoms: refuse a file name that is not valid UTF-8 (Python
+        keeps its bytes as lone surrogates, which no atom can hold).
 
     Returns
     -------
@@ -90,6 +93,11 @@ def scene_names(paths: Sequence, ids: Sequence[str] | None = None, *,
     for k, name in enumerate(names):
         if not name:
             raise InputError(f"{paths[k]}: empty scene id")
+        if prolog and any(0xD800 <= ord(ch) <= 0xDFFF for ch in name):
+            shown = str(paths[k]).encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+            raise InputError(f"{shown}: the file name is not valid UTF-8, so it cannot be a scene "
+                             "id in Prolog; rename the file"
+                             + (" or give --ids" if ids_option else ""))
         key = name.casefold()
         if key in seen:
             j = seen[key]
