@@ -255,3 +255,24 @@ def test_file_names_that_are_not_utf8(scan, tmp_path):
     swipl = subprocess.run(["swipl", "-q", "-g", f"consult('{tmp_path / 'f.pl'}'),halt"],
                            capture_output=True, text=True, timeout=60)
     assert swipl.returncode == 0 and swipl.stderr == ""
+
+
+def test_model_without_its_settings_warns(scan, tmp_path, capsys):
+    # a model folder copied without model.json classified with planerel's defaults in silence
+    # (the demo model then called an mOSD cylinder a box); rules written by hand (no training
+    # statistics) have no settings to lose and stay quiet
+    ds = tmp_path / "ds"
+    assert main(["dataset", "synth", str(ds), "--n-box", "2", "--n-stairs", "2", "--n-ramp", "2",
+                 "--subsample", "8", "--quiet"]) == 0
+    model = tmp_path / "model"
+    assert main(["learn", str(ds), "-o", str(model), "--engine", "builtin", "-j", "1",
+                 "--cache", "none"]) == 0
+    r = _run("classify", model, scan)  # (a process each: classify keeps loaded models)
+    assert r.returncode == 0 and "model.json" not in r.stderr
+    (model / "model.json").unlink()
+    r = _run("classify", model, scan)
+    assert r.returncode == 0 and "model.json is missing" in r.stderr
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(A) :- nvertical(A, B), B >= 2.\n")
+    r = _run("classify", rules, scan)
+    assert r.returncode == 0 and "warning" not in r.stderr

@@ -198,6 +198,12 @@ class Classifier:
             f"{self.module}:planerel_cofire(I, J, C, N)", "reading the rule statistics"))
         if not self.classes:
             raise InputError(f"{path}: the model has no rules")
+        if self.trained is None and self.stats:
+            # rules from planerel learn (they carry its statistics) without their settings
+            self.warnings += (f"{path.parent / 'model.json'} is missing: the settings the rules "
+                              "were learned with are unknown and planerel's defaults are used, "
+                              "so the answers can differ from the model's; keep model.json "
+                              "next to rules.pl",)
 
     def close(self) -> None:
         """Forget this model's rules (the classifier cannot be used afterwards)."""
