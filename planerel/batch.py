@@ -170,6 +170,9 @@ def make_executor(jobs: int | None = None, scheduler: str | None = None,
             client = Client(scheduler, timeout=wait) if own else scheduler
         except (OSError, TimeoutError) as exc:
             raise InputError(f"cannot reach the Dask scheduler {scheduler}: {exc}") from None
+        except ValueError as exc:  # an address Dask cannot parse ("missing port number ...")
+            raise InputError(f"--scheduler {scheduler}: not a scheduler address ({exc}); give "
+                             "one like tcp://HOST:8786") from None
         workers = max(1, sum(client.nthreads().values()))
         return _Pool(client.get_executor(pure=False), workers, client if own else None)
     n = resolve_jobs(jobs)

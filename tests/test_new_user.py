@@ -276,3 +276,10 @@ def test_model_without_its_settings_warns(scan, tmp_path, capsys):
     rules.write_text("box(A) :- nvertical(A, B), B >= 2.\n")
     r = _run("classify", rules, scan)
     assert r.returncode == 0 and "warning" not in r.stderr
+
+
+def test_scheduler_address_that_is_not_one(scan, tmp_path):
+    # a traceback ending "ValueError: missing port number in address 'garbage'"
+    pytest.importorskip("distributed")
+    r = _run("segment", scan, "-o", tmp_path / "o", "--scheduler", "garbage")
+    _one_error_line(r, "--scheduler garbage: not a scheduler address", "tcp://HOST:8786")
