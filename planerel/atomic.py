@@ -24,7 +24,7 @@ from pathlib import Path
 from planerel.errors import InputError
 
 __all__ = ["atomic_path", "atomic_dir", "recover_dir", "write_bytes", "write_text",
-           "check_output_file", "check_output_dir"]
+           "check_output_file", "check_output_dir", "check_dir_target"]
 
 
 def _file_mode() -> int:
@@ -188,6 +188,36 @@ def _looks_like(folder: Path, markers) -> bool:
     return not names or any(m in names for m in markers)
 
 
+def _dir_target(path, markers) -> tuple[Path, Path]:
+    """The checks of :func:`atomic_dir` before its temporary folder: ``(target, parent)``."""
+    target = Path(path)
+    if not str(path).strip():
+        raise InputError("the output folder needs a name")
+    folder = target.parent if str(target.parent) else Path(".")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise InputError(f"cannot write {target}: {folder} is a file, not a folder") from None
+    except OSError as exc:
+        raise InputError(f"cannot create folder {folder}: {exc.strerror}") from None
+    recover_dir(target)
+    if target.exists():
+        if not target.is_dir():
+            raise InputError(f"{target}: exists and is not a folder")
+        if markers and not _looks_like(target, markers):
+            raise InputError(f"{target}: exists and holds something else (none of "
+                             f"{', '.join(markers)}); choose a new folder or empty it")
+    return target, folder
+
+
+def check_dir_target(path, *, markers=()) -> Path:
+    """Refuse, before any work, a folder :func:`atomic_dir` would refuse at the end (a file, a
+    folder of something else, a parent that cannot be made or written to)."""
+    target, folder = _dir_target(path, markers)
+    _probe_folder(folder, target)
+    return target
+
+
 @contextlib.contextmanager
 def atomic_dir(path, *, markers=()) -> Iterator[Path]:
     """Yield an empty hidden folder next to ``path``; when the block ends normally it replaces
@@ -208,20 +238,11 @@ def atomic_dir(path, *, markers=()) -> Iterator[Path]:
         ``path`` is a file, or a non-empty folder without any of ``markers``, or its parent
         cannot be created.
     """
-    target = Path(path)
-    folder = target.parent if str(target.parent) else Path(".")
+    target, folder = _dir_target(path, markers)
     try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"cannot create folder {folder}: {exc.strerror}") from None
-    recover_dir(target)
-    if target.exists():
-        if not target.is_dir():
-            raise InputError(f"{target}: exists and is not a folder")
-        if markers and not _looks_like(target, markers):
-            raise InputError(f"{target}: exists and holds something else (none of "
-                             f"{', '.join(markers)}); choose a new folder or empty it")
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-{os.getpid()}-", dir=folder))
+        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-{os.getpid()}-", dir=folder))
+    except OSError as exc:  # name the folder asked for, not the temporary one
+        raise InputError(f"cannot write {target}: {exc.strerror}") from None
     os.chmod(tmp, 0o777 & ~_umask())
     try:
         yield tmp

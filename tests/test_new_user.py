@@ -283,3 +283,54 @@ def test_scheduler_address_that_is_not_one(scan, tmp_path):
     pytest.importorskip("distributed")
     r = _run("segment", scan, "-o", tmp_path / "o", "--scheduler", "garbage")
     _one_error_line(r, "--scheduler garbage: not a scheduler address", "tcp://HOST:8786")
+
+
+def test_learn_and_report_refuse_their_outputs_before_the_work(tmp_path):
+    # learn described every scene (and with --heldout learned every class) before finding
+    # that the model folder or the held-out set was wrong; report ran to the end (minutes)
+    # before writing into a file; dataset synth named its hidden temporary folder
+    ds = tmp_path / "ds"
+    assert main(["dataset", "synth", str(ds), "--n-box", "1", "--n-stairs", "1", "--n-ramp", "1",
+                 "--subsample", "8", "--quiet"]) == 0
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    cache = tmp_path / "cache"
+    for argv, needle in (
+            (["learn", ds, "-o", blocker], "exists and is not a folder"),
+            (["learn", ds, "-o", blocker / "m"], "is a file, not a folder"),
+            (["learn", ds, "-o", tmp_path / "m", "--heldout", tmp_path], "not a data set"),
+            (["learn", ds, "-o", tmp_path / "m", "--classes", ","], "--classes names no class"),
+            (["report", ds, "-o", blocker, "--no-learning", "--no-real-data"],
+             "exists and is not a folder")):
+        r = _run(*argv, "--cache", cache) if argv[0] == "learn" else _run(*argv)
+        line = _one_error_line(r, needle)
+        assert "segmenting" not in r.stderr and "learned" not in r.stderr, r.stderr
+        assert ".tmp" not in line
+    assert not cache.exists() and not (tmp_path / "m").exists()
+    r = _run("dataset", "synth", "/proc/planerel-x", "--n-box", "1", "--quiet")
+    _one_error_line(r, "cannot write /proc/planerel-x")
+    assert ".tmp" not in r.stderr
+
+
+def test_bad_max_points_variable_is_one_error(scan, tmp_path):
+    import os
+
+    r = subprocess.run([sys.executable, "-m", "planerel.cli", "segment", str(scan), "-o",
+                        str(tmp_path / "o")], capture_output=True, text=True, timeout=120,
+                       env={**os.environ, "PLANEREL_MAX_POINTS": "abc"})
+    line = _one_error_line(r, "PLANEREL_MAX_POINTS='abc' is not a whole number")
+    assert "--keep-going" not in line
+
+
+def test_aleph_variable_naming_another_file(tmp_path, monkeypatch):
+    # "Aleph failed: error(existence_error(procedure,read_all/1),...)" and nothing else
+    from pathlib import Path
+
+    from planerel.errors import LearnerError
+    from planerel.ilp.learn import learn
+
+    other = tmp_path / "notes.pl"
+    other.write_text("hello(world).\n")
+    monkeypatch.setenv("PLANEREL_ALEPH", str(other))
+    with pytest.raises(LearnerError, match=r"PLANEREL_ALEPH=.*notes\.pl defines no read_all/1"):
+        learn(Path(__file__).parent / "ilp" / "trains", engine="aleph")

@@ -56,6 +56,9 @@ def check_input_options(args: argparse.Namespace) -> None:
     limit = getattr(args, "max_points", None)
     if limit is not None and limit < 1:
         raise InputError(f"--max-points must be a positive whole number, got {limit!r}")
+    from planerel.io.readers import max_points_limit
+
+    max_points_limit(limit)  # also a bad $PLANEREL_MAX_POINTS
     parse_intrinsics(getattr(args, "intrinsics", None))
     given_up(args)
 

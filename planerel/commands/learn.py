@@ -89,6 +89,10 @@ def run(args) -> int:
     from planerel.ilp.pipeline import learn_model
 
     classes = [c.strip() for c in args.classes.split(",") if c.strip()] if args.classes else None
+    if args.classes is not None and not classes:
+        from planerel.errors import InputError
+
+        raise InputError(f"--classes names no class, got {args.classes!r}; e.g. --classes box,stairs")
     m = learn_model(args.dataset, args.output, classes=classes, engine=args.engine,
                     folds=args.folds, seed=args.seed, timeout=args.timeout, jobs=args.jobs,
                     method=args.method, seg_params=_params(args.param), cache=args.cache,

@@ -67,9 +67,11 @@ def run(args) -> int:
     import shlex
     import sys
 
+    from planerel.atomic import check_output_dir
     from planerel.report.builder import ReportOptions, build_report, parse_sizes
 
     sizes = () if args.no_timing else parse_sizes(args.sizes)
+    check_output_dir(args.out, "-o")  # a file or unwritable folder fails here, not at the end
     real = None if args.no_real_data else (args.real_data or "auto")
     opts = ReportOptions(
         methods=args.methods, tolerance=args.tolerance, learning=not args.no_learning,

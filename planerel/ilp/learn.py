@@ -355,6 +355,11 @@ def _parse(stdout: str, stderr: str, code: int, what: str):
             detail += (" (a division by zero inside the real Aleph, in its clause-length check "
                        "maxlength_neg_ok/4, seen on large data sets; planerel's own learner, "
                        "--engine builtin, learns the same files)")
+        if what == "Aleph" and "procedure,read_all/1" in detail.replace(" ", ""):
+            env = os.environ.get("PLANEREL_ALEPH")
+            detail += (f" (PLANEREL_ALEPH={env} defines no read_all/1: it must name Aleph's "
+                       "aleph.pl or aleph_orig.pl)" if env else
+                       " (the Aleph found defines no read_all/1)")
         raise LearnerError(f"{what} failed: {detail}")
     rules: list[str] = []
     train = test = None

@@ -742,10 +742,16 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     dict
         The metrics written to ``metrics.json``.
     """
-    from planerel.atomic import atomic_dir, write_text
+    from planerel.atomic import atomic_dir, check_dir_target, write_text
     from planerel.io.writers import write_json
 
     out = Path(out_dir)
+    # what would fail at the end fails first: the model folder, the held-out set
+    check_dir_target(out, markers=("rules.pl", "metrics.json"))
+    if heldout is not None:
+        from planerel.features.dataset import load_manifest
+
+        load_manifest(heldout)
     t0 = time.perf_counter()
     descs, skipped = describe_scenes(dataset_dir, classes=classes, method=method,
                                      seg_params=seg_params, jobs=jobs, cache=cache,
