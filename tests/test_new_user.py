@@ -334,3 +334,19 @@ def test_aleph_variable_naming_another_file(tmp_path, monkeypatch):
     monkeypatch.setenv("PLANEREL_ALEPH", str(other))
     with pytest.raises(LearnerError, match=r"PLANEREL_ALEPH=.*notes\.pl defines no read_all/1"):
         learn(Path(__file__).parent / "ilp" / "trains", engine="aleph")
+
+
+def test_cloud_and_segmentation_print_in_one_line():
+    # at a Python prompt `cloud` and `planerel.segment(cloud)` printed their arrays whole
+    # (hundreds of lines of NaN for a 640x480 frame)
+    import planerel
+
+    sc = generate_scene("box", seed=1, subsample=4)
+    cloud = planerel.read(sc.depth_mm, intrinsics="kinect")
+    text = repr(cloud)
+    assert "\n" not in text and len(text) < 300 and text.startswith("Cloud(120x160, ")
+    assert f"{cloud.n_valid} valid points" in text
+    seg = planerel.segment(cloud)
+    text = repr(seg)
+    assert "\n" not in text and text.startswith(f"Segmentation(method='regiongrow', "
+                                                f"{len(seg.planes)} planes, labels 120x160")

@@ -233,6 +233,13 @@ class Cloud:
         """``(H, W)``."""
         return self.xyz.shape[:2]
 
+    def __repr__(self) -> str:
+        # the dataclass repr printed the whole (H, W, 3) array: pages of NaN at a prompt
+        h, w = self.shape
+        up = None if self.up is None else [round(float(v), 3) for v in self.up]
+        return (f"Cloud({h}x{w}{'' if self.organized else ' unorganized'}, {self.n_valid} valid "
+                f"points, source={self.source!r}, intrinsics={self.intrinsics!r}, up={up})")
+
     @property
     def valid(self) -> np.ndarray:
         """``(H, W)`` bool mask of valid points."""

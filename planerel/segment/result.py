@@ -161,6 +161,12 @@ class Segmentation:
     def n_planes(self) -> int:
         return len(self.planes)
 
+    def __repr__(self) -> str:
+        # the dataclass repr printed the label and normal arrays whole
+        h, w = self.labels.shape
+        return (f"Segmentation(method={self.method!r}, {len(self.planes)} planes, labels {h}x{w}, "
+                f"{int((self.labels >= 0).sum())} points in planes)")
+
     @property
     def message(self) -> str:
         """One line for people: how many planes, or that none was large enough."""
