@@ -350,3 +350,15 @@ def test_cloud_and_segmentation_print_in_one_line():
     text = repr(seg)
     assert "\n" not in text and text.startswith(f"Segmentation(method='regiongrow', "
                                                 f"{len(seg.planes)} planes, labels 120x160")
+
+
+def test_describe_mesh_and_graph_folders_checked_first(scan, tmp_path):
+    # a file given as --graph / --mesh failed per scan, after segmenting it, with the
+    # --keep-going hint
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    for option in ("--graph", "--mesh"):
+        r = _run("describe", scan, "-o", tmp_path / "f.pl", option, blocker)
+        line = _one_error_line(r, option, "exists and is not a folder")
+        assert "--keep-going" not in line and "planes" not in r.stderr
+    assert not (tmp_path / "f.pl").exists()

@@ -109,9 +109,12 @@ def run(args) -> int:
     from planerel.io.naming import scene_names
 
     check_input_options(args)  # a bad --up, --subsample, ... fails here, before any work
-    from planerel.atomic import check_output_file
+    from planerel.atomic import check_output_dir, check_output_file
 
     check_output_file(args.output, "-o")  # a folder or unwritable path fails before any work
+    for option, folder in (("--mesh", args.mesh), ("--graph", args.graph)):
+        if folder:
+            check_output_dir(folder, option)
     paths = inputs_of(args)
     n = len(paths)
     if args.labels is not None and len(args.labels) != n:
