@@ -24,7 +24,7 @@ from pathlib import Path
 from planerel.errors import InputError
 
 __all__ = ["atomic_path", "atomic_dir", "recover_dir", "write_bytes", "write_text",
-           "check_output_file", "check_output_dir", "check_dir_target"]
+           "check_output_file", "check_output_dir", "check_dir_target", "remove_stale_files"]
 
 
 def _file_mode() -> int:
@@ -96,9 +96,10 @@ def atomic_path(path, suffix: str | None = None) -> Iterator[Path]:
     if target.is_dir():  # the rename would fail after all the work, naming the temporary file
         raise InputError(f"{target}: is a folder; give a file name")
     try:
+        # the pid in the name lets remove_stale_files tell a killed writer's file
         fd, tmp = tempfile.mkstemp(
-            prefix=f".{target.name}.", suffix=suffix if suffix is not None else target.suffix,
-            dir=folder,
+            prefix=f".{target.name}.tmp-{os.getpid()}-",
+            suffix=suffix if suffix is not None else target.suffix, dir=folder,
         )
     except OSError as exc:  # name the file asked for, not the temporary one
         raise InputError(f"cannot write {target}: {exc.strerror}") from None
@@ -178,6 +179,28 @@ def recover_dir(path) -> None:
                 os.replace(entry.path, target)
                 continue
         shutil.rmtree(entry.path, ignore_errors=True)
+
+
+_STALE_FILE = re.compile(r"\..+\.tmp-(\d+)-")
+
+
+def remove_stale_files(folder) -> int:
+    """Remove the temporary files (``.NAME.tmp-PID-*``) that :func:`atomic_path` writers left in
+    ``folder`` when they were killed (a worker process stopped by Ctrl-C in the middle of a
+    write); files of live processes are kept.  Returns how many were removed."""
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return 0
+    n = 0
+    for entry in entries:
+        m = _STALE_FILE.match(entry.name)
+        if not m or not entry.is_file(follow_symlinks=False) or _pid_alive(int(m.group(1))):
+            continue
+        with contextlib.suppress(OSError):
+            os.unlink(entry.path)
+            n += 1
+    return n
 
 
 def _looks_like(folder: Path, markers) -> bool:

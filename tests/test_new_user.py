@@ -362,3 +362,39 @@ def test_describe_mesh_and_graph_folders_checked_first(scan, tmp_path):
         line = _one_error_line(r, option, "exists and is not a folder")
         assert "--keep-going" not in line and "planes" not in r.stderr
     assert not (tmp_path / "f.pl").exists()
+
+
+def test_half_written_files_of_killed_workers_are_removed(scan, tmp_path):
+    # Ctrl-C on `classify -o DIR -j 2` (workers are SIGKILLed mid-write) left hidden files like
+    # ".learn0.classified.png.9v3rp5n9.png" in DIR for good; temporary files now carry their
+    # writer's pid, and segment / classify remove those of dead processes, before and after
+    # their batch (also after an interrupt)
+    import os
+
+    dead = subprocess.Popen(["true"])
+    dead.wait()
+    out = tmp_path / "seg"
+    out.mkdir()
+    stale = out / f".box.labels.png.tmp-{dead.pid}-abc123.png"
+    live = out / f".other.png.tmp-{os.getpid()}-def456.png"
+    mine = out / ".notes.txt"
+    for f in (stale, live, mine):
+        f.write_bytes(b"partial")
+    assert main(["segment", str(scan), "-o", str(out), "--formats", "png"]) == 0
+    assert not stale.exists() and live.exists() and mine.exists()
+    assert (out / "box.labels.png").is_file()
+    # the temporary name carries the pid
+    from planerel.atomic import atomic_path
+
+    with atomic_path(out / "x.txt") as tmp:
+        assert tmp.name.startswith(f".x.txt.tmp-{os.getpid()}-")
+        tmp.write_text("done")
+    live.unlink()
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(A) :- nvertical(A, B), B >= 2.\n")
+    cls = tmp_path / "cls"
+    cls.mkdir()
+    stale2 = cls / f".box.classified.png.tmp-{dead.pid}-zz.png"
+    stale2.write_bytes(b"partial")
+    assert main(["classify", str(rules), str(scan), "-o", str(cls)]) == 0
+    assert sorted(p.name for p in cls.iterdir()) == ["box.classified.json", "box.classified.png"]

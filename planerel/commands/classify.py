@@ -135,14 +135,22 @@ def run(args) -> int:
               "params": params, "out": args.output} for p, n in zip(paths, names, strict=True)]
     res = BatchResult()
     results = []
-    for _, (answer, lines) in run_batch(_classify_task, tasks, jobs=jobs,
-                                        scheduler=args.scheduler, keep_going=args.keep_going,
-                                        label=lambda t: t["path"], desc="classify", result=res,
-                                        mp_context="forkserver"):
-        if args.json:
-            results.append(answer)
-        else:
-            print("\n".join(lines))
+    from planerel.atomic import remove_stale_files
+
+    if args.output:
+        remove_stale_files(args.output)  # what killed workers of an earlier run left
+    try:
+        for _, (answer, lines) in run_batch(_classify_task, tasks, jobs=jobs,
+                                            scheduler=args.scheduler, keep_going=args.keep_going,
+                                            label=lambda t: t["path"], desc="classify",
+                                            result=res, mp_context="forkserver"):
+            if args.json:
+                results.append(answer)
+            else:
+                print("\n".join(lines))
+    finally:  # Ctrl-C: the workers are killed mid-write; their temporary files go
+        if args.output:
+            remove_stale_files(args.output)
     if args.json:
         print(json.dumps(results, indent=2))
     errors = None

@@ -164,10 +164,16 @@ def run_segment(args) -> int:
     tasks = [{"path": str(p), "name": n, "out": str(out), "read": opts, "method": args.method,
               "params": params, "split": split, "formats": formats} for p, n in zip(paths, stems, strict=True)]
     res = BatchResult()
-    for _, line in run_batch(_segment_task, tasks, jobs=args.jobs, scheduler=args.scheduler,
-                             keep_going=args.keep_going, label=lambda t: t["path"],
-                             desc="segment", result=res):
-        print(line)
+    from planerel.atomic import remove_stale_files
+
+    remove_stale_files(out)  # what killed workers of an earlier run left half-written
+    try:
+        for _, line in run_batch(_segment_task, tasks, jobs=args.jobs, scheduler=args.scheduler,
+                                 keep_going=args.keep_going, label=lambda t: t["path"],
+                                 desc="segment", result=res):
+            print(line)
+    finally:  # Ctrl-C: the workers are killed mid-write; their temporary files go
+        remove_stale_files(out)
     errors = write_errors(out / "errors.tsv", res.failures)
     return report_failures("segment", res.failures, errors, res.n_tasks)
 
