@@ -106,7 +106,9 @@ def test_classify_output_that_is_a_file(scan, tmp_path):
     # raised per scan after the model was loaded
     blocker = tmp_path / "out"
     blocker.write_text("x")
-    r = _run("classify", tmp_path / "no-model", scan, "-o", blocker)
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(A) :- nvertical(A, B), B >= 2.\n")
+    r = _run("classify", rules, scan, "-o", blocker)
     _one_error_line(r, "-o", "exists and is not a folder")
     assert "--keep-going" not in r.stderr
 

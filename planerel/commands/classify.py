@@ -116,10 +116,6 @@ def run(args) -> int:
     from planerel.io.naming import scene_names
 
     check_input_options(args)  # a bad --up, --subsample, ... fails here, before any work
-    if args.output:  # a bad output folder is one error, not a failure of every scan
-        from planerel.atomic import check_output_dir
-
-        check_output_dir(args.output, "-o")
     paths = inputs_of(args)
     names = scene_names(paths, ids_option=False, prolog=True)
     rules = str(Path(args.rules).resolve())
@@ -130,6 +126,10 @@ def run(args) -> int:
     clf = _classifier(rules, args.method, params)
     for w in clf.warnings:
         print(f"warning: {w}", file=sys.stderr)
+    if args.output:  # a bad output folder is one error, not a failure of every scan
+        from planerel.atomic import check_output_dir
+
+        check_output_dir(args.output, "-o")
     opts = read_options(args)
     tasks = [{"path": str(p), "name": n, "read": opts, "rules": rules, "method": args.method,
               "params": params, "out": args.output} for p, n in zip(paths, names, strict=True)]

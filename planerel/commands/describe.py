@@ -109,18 +109,19 @@ def run(args) -> int:
     from planerel.io.naming import scene_names
 
     check_input_options(args)  # a bad --up, --subsample, ... fails here, before any work
-    from planerel.atomic import check_output_dir, check_output_file
-
-    check_output_file(args.output, "-o")  # a folder or unwritable path fails before any work
-    for option, folder in (("--mesh", args.mesh), ("--graph", args.graph)):
-        if folder:
-            check_output_dir(folder, option)
     paths = inputs_of(args)
     n = len(paths)
     if args.labels is not None and len(args.labels) != n:
         raise InputError(f"--labels needs one label image per input: {n} inputs, "
                          f"{len(args.labels)} label images")
     ids = scene_names(paths, args.ids, prolog=True)
+    # the outputs, after the inputs (a refused input creates nothing), before any work
+    from planerel.atomic import check_output_dir, check_output_file
+
+    check_output_file(args.output, "-o")
+    for option, folder in (("--mesh", args.mesh), ("--graph", args.graph)):
+        if folder:
+            check_output_dir(folder, option)
     params = FactParams(pairs=args.pairs, planner=not args.no_planner)
     opts = read_options(args)
     tasks = [{"path": str(p), "name": i, "read": opts, "method": args.method, "params": params,
