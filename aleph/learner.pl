@@ -83,6 +83,7 @@
     cov_cache/3,            % variant hash of a clause, its positives and negatives as bit sets
     cov_inconsistent/1,     % variant hash of a clause that covers more than noise negatives
     ans_cache/3,            % variant hash of a short clause, its answers on positives, on negatives
+    lazy_vals_cache/3,      % variant hash of a clause, its answer variables and a variable: its values per example
     hopeless_bottom/1,      % variant hash of a bottom clause whose search found no clause
     loaded_stem/1.
 
@@ -1039,7 +1040,11 @@ node_answers(Node, Ctx, x(BV, BIds, VT, AH, PC, NC, cache(A))) :-
     live_ids(Last, Live),
     ord_intersection(BIds0, Live, BIds),
     vars_of(BIds, VT, BV),
-    AH = ah(todo(Head, Body, BV, Len, PX, PC, NC)),
+    (   PX = px(_, PAH)
+    ->  arg(2, PAH, PChain)
+    ;   PChain = []
+    ),
+    AH = ah(todo(Head, Body, BV, Len, PX, PC, NC), [BV|PChain]),
     empty_assoc(A).
 
 %   live_ids(+Last, -Live): the variable ids of the bottom literals
@@ -1661,36 +1666,103 @@ set_nth1([H|T], N, X, [H|T1]) :- N1 is N - 1, set_nth1(T, N1, X, T1).
 %   measure share them, and the lazy call is cached by that hash instead of
 %   a hash of the value lists per literal.
 flat_lazy_values(X, Ids, IV, Head, Body, V, PV, NV, VHash) :-
-    X = x(_, _, _, _, _, _, C),
+    X = x(_, _, _, AH, PC, NC, C),
     arg(1, C, A0),
     (   get_assoc(flat-Ids, A0, fv(PV, NV, VHash))
     ->  true
-    ;   projection(X, pos, Ids, IV, PProj),
-        lazy_flat(PProj, pos, Head, Body, V, PV),
+    ;   (   vals_cache_key(Head, Body, V, AH, VKey)
+        ->  (   lazy_vals_cache(VKey, PEx, NEx),
+                ex_values_on(PC, PEx, PV),
+                (   PV == []
+                ->  NV = []
+                ;   ex_values_on(NC, NEx, NV)
+                )
+            ->  true
+            ;   fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx),
+                assertz(lazy_vals_cache(VKey, PEx, NEx)),
+                fresh_values_on(PC, NC, PEx, NEx, PV, NV)
+            )
+        ;   fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx),
+            fresh_values_on(PC, NC, PEx, NEx, PV, NV)
+        ),
         (   PV == []
-        ->  NV = [], VHash = none
-        ;   projection(X, neg, Ids, IV, NProj),
-            lazy_flat(NProj, neg, Head, Body, V, NV),
-            variant_sha1([PV, NV], VHash)
+        ->  VHash = none
+        ;   variant_sha1([PV, NV], VHash)
         ),
         arg(1, C, A1),
         put_assoc(flat-Ids, A1, fv(PV, NV, VHash), A2),
         setarg(1, C, A2)
     ).
 
-%   lazy_flat(+Proj, +Set, +Head, +Body, +V, -Values): the values of V in the
-%   answers of each covered example, in example order (an example past the
-%   answer cap: the values of its first 50 proofs), as lazy_values/7.
+%   fresh_flat_values(+X, +Ids, +IV, +Head, +Body, +V, -PEx, -NEx): the
+%   values of V on each covered positive and negative from the node's
+%   answers (lazy_flat/6), as Id-Values per example; NEx = none when no
+%   positive has a value (the negatives' values are then not needed).
+fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx) :-
+    projection(X, pos, Ids, IV, PProj),
+    lazy_flat(PProj, pos, Head, Body, V, PEx),
+    (   ex_values_on_all(PEx, [])
+    ->  NEx = none
+    ;   projection(X, neg, Ids, IV, NProj),
+        lazy_flat(NProj, neg, Head, Body, V, NEx)
+    ).
+
+fresh_values_on(PC, NC, PEx, NEx, PV, NV) :-
+    ex_values_on(PC, PEx, PV),
+    (   PV == []
+    ->  NV = []
+    ;   ex_values_on(NC, NEx, NV)
+    ).
+
+ex_values_on_all([], []).
+ex_values_on_all([_-Vs|T], L) :-
+    append(Vs, L1, L),
+    ex_values_on_all(T, L1).
+
+%   vals_cache_key(+Head, +Body, +V, +AH, -Key): the run-wide key of the
+%   values of V per example (lazy_vals_cache/3, with caching on and no
+%   recursive target): the variant of the clause, V and the answer
+%   variables of the node and of each of its ancestors (AH's chain).  The
+%   values of V on an example are then a function of the key and the
+%   example: all the values of V in the clause's answers, or those of its
+%   first 50 proofs past the answer cap, and whether the cap is passed
+%   depends only on the clause and the answer variables kept at each step.
+%   So when a later search (another seed, fewer positives left) meets the
+%   same clause, its values on the examples it covers are taken from the
+%   cache instead of from the node's answers: the covered examples can
+%   only have shrunk since (positives leave, negatives never change), and
+%   an example missing from the cached ones means computing them afresh.
+vals_cache_key(Head, Body, V, AH, Key) :-
+    setting(caching, true),
+    \+ rec_target(_),
+    arg(2, AH, Chain),
+    variant_sha1(Head-Body-V-Chain, Key).
+
+%   ex_values_on(+Ids, +IdValues, -Values): the values of the examples Ids
+%   (an ordset, each of them in IdValues: fails otherwise) in order, as one
+%   list.
+ex_values_on([], _, []).
+ex_values_on([Id|Ids], [Id0-Vs|T], Vals) :-
+    (   Id == Id0
+    ->  append(Vs, Vals1, Vals),
+        ex_values_on(Ids, T, Vals1)
+    ;   Id0 @< Id
+    ->  ex_values_on([Id|Ids], T, Vals)
+    ).
+
+%   lazy_flat(+Proj, +Set, +Head, +Body, +V, -IdValues): the values of V in
+%   the answers of each covered example, in example order (an example past
+%   the answer cap: the values of its first 50 proofs), as lazy_values/7,
+%   as Id-Values per example.
 lazy_flat([], _, _, _, _, []).
-lazy_flat([Id-Ps|T], Set, Head, Body, V, Vals) :-
+lazy_flat([Id-Ps|T], Set, Head, Body, V, [Id-Vals|IVs]) :-
     (   Ps == full
     ->  example_atom(Set, Id, E),
         findall(V, catch(limit(50, (Head = E, prove_body(Body))), _, fail), L0),
-        include(ground, L0, L),
-        append(L, Vals1, Vals)
-    ;   ground_values(Ps, Vals, Vals1)
+        include(ground, L0, Vals)
+    ;   ground_values(Ps, Vals, [])
     ),
-    lazy_flat(T, Set, Head, Body, V, Vals1).
+    lazy_flat(T, Set, Head, Body, V, IVs).
 
 ground_values([], L, L).
 ground_values([t(X)|Ts], L0, L) :-
@@ -1828,6 +1900,7 @@ induce :-
     retractall(cov_cache(_, _, _)),
     retractall(cov_inconsistent(_)),
     retractall(ans_cache(_, _, _)),
+    retractall(lazy_vals_cache(_, _, _)),
     flag(planerel_cache_hits, _, 0),
     retractall(hopeless_bottom(_)),
     flag(planerel_set_aside, _, 0),
