@@ -1084,10 +1084,11 @@ force_answers(AH, PT, NT) :-
     (   State = done(PT, NT)
     ->  true
     ;   State = todo(Head, Body, BV, Len, PX, PC, NC),
-        (   answers_cache_key(Head, Body, BV, Len, Key)
-        ->  (   ans_cache(Key, PT0, NT0)
-            ->  answers_on(PC, PT0, PT),
+        (   answers_cache_key(Head, Body, AH, Len, Key)
+        ->  (   ans_cache(Key, PT0, NT0),
+                answers_on(PC, PT0, PT),
                 answers_on(NC, NT0, NT)
+            ->  true
             ;   all_answers(PX, Head, Body, BV, PC, NC, PT, NT),
                 assertz(ans_cache(Key, PT, NT))
             )
@@ -1166,11 +1167,13 @@ child_answers(Set, Head, Body, BV, PBV, Lit, Id-PTs, Answers) :-
 %   seed's search refines, over most examples) are kept per variant of the
 %   clause and its answer variables, as their coverage is (child_coverage/10).
 %   Longer clauses cover few examples and are rarely met again.
-answers_cache_key(Head, Body, BV, Len, Key) :-
-    Len =< 3,
+answers_cache_key(Head, Body, AH, Len, Key) :-
     setting(caching, true),
+    setting(cache_clauselength, CL),
+    ( CL == inf -> true ; Len =< CL ),
     \+ rec_target(_),
-    variant_sha1(Head-Body-BV, Key).
+    arg(2, AH, Chain),
+    variant_sha1(Head-Body-Chain, Key).
 
 %   answers_on(+Ids, +Answers0, -Answers): the Id-Tuples of Answers0 (sorted
 %   by Id, a superset) for the ordset Ids.
