@@ -43,20 +43,40 @@ gteq(X, T) :-
 %   planerel_cutoff(+Dir, +Pos, +Neg, -T)
 %   Dir = le: examples kept are those =< T; Dir = ge: those >= T.
 planerel_cutoff(Dir, Pos0, Neg0, T) :-
-    include(number, Pos0, Pos),
-    include(number, Neg0, Neg),
+    planerel_numbers(Pos0, Pos),
+    planerel_numbers(Neg0, Neg),
     Pos \== [],
-    append(Pos, Neg, All0),
-    sort(All0, All),                      % distinct values, ascending
-    sort(Pos, PosValues),
     msort(Pos, PosSorted),
     msort(Neg, NegSorted),
+    planerel_dedup(PosSorted, PosValues), % distinct values, ascending (sort/2)
     planerel_counts(Dir, PosValues, PosSorted, PCounts),
     planerel_counts(Dir, PosValues, NegSorted, NCounts),
     planerel_scored(PosValues, PCounts, NCounts, Scored),
     max_member(_-_-Best, Scored),
-    planerel_neighbour(Dir, Best, All, Next),
-    planerel_between(Dir, Best, Next, All, T).
+    planerel_neighbour(Dir, Best, PosSorted, NegSorted, Next),
+    planerel_between(Dir, Best, Next, PosSorted, NegSorted, T).
+
+% the numbers of a list, in order (include(number, ...) without a call per element)
+planerel_numbers([], []).
+planerel_numbers([X|Xs], L) :-
+    (   number(X)
+    ->  L = [X|L1]
+    ;   L = L1
+    ),
+    planerel_numbers(Xs, L1).
+
+% planerel_dedup(+Sorted, -Set): the msort/2-ed list without repeats (== ), as sort/2
+planerel_dedup([], []).
+planerel_dedup([X|Xs], [X|Ys]) :-
+    planerel_dedup_(Xs, X, Ys).
+
+planerel_dedup_([], _, []).
+planerel_dedup_([X|Xs], P, Ys) :-
+    (   X == P
+    ->  planerel_dedup_(Xs, P, Ys)
+    ;   Ys = [X|Ys1],
+        planerel_dedup_(Xs, X, Ys1)
+    ).
 
 %   planerel_counts(+Dir, +Values, +Sorted, -Counts): for each of the
 %   ascending Values, how many of the ascending list Sorted are kept
@@ -104,17 +124,48 @@ planerel_scored([V|Vs], [P|Ps], [N|Ns], [Score-NegKept-V|T]) :-
     NegKept is -N,
     planerel_scored(Vs, Ps, Ns, T).
 
-% the next value beyond Best in the direction that is cut off (none: Best itself)
-planerel_neighbour(le, Best, All, Next) :-
-    (   member(X, All), X > Best -> Next = X ; Next = Best ).
-planerel_neighbour(ge, Best, All, Next) :-
-    reverse(All, Desc),
-    (   member(X, Desc), X < Best -> Next = X ; Next = Best ).
+% the next value beyond Best in the direction that is cut off (none: Best
+% itself): of all the values (both sorted lists), the first above Best (le) or
+% the last below it (ge) in the standard order, as in their sort/2-ed union
+planerel_neighbour(le, Best, PS, NS, Next) :-
+    (   planerel_first_above(PS, Best, X1)
+    ->  (   planerel_first_above(NS, Best, X2)
+        ->  ( X2 @< X1 -> Next = X2 ; Next = X1 )
+        ;   Next = X1
+        )
+    ;   planerel_first_above(NS, Best, X2)
+    ->  Next = X2
+    ;   Next = Best
+    ).
+planerel_neighbour(ge, Best, PS, NS, Next) :-
+    planerel_last_below(PS, Best, none, X1),
+    planerel_last_below(NS, Best, none, X2),
+    (   X1 == none
+    ->  ( X2 == none -> Next = Best ; Next = X2 )
+    ;   X2 == none
+    ->  Next = X1
+    ;   ( X2 @> X1 -> Next = X2 ; Next = X1 )
+    ).
 
-planerel_between(_, Best, _, All, Best) :-
-    forall(member(X, All), integer(X)), !.
-planerel_between(_, Best, Best, _, Best) :- !.
-planerel_between(Dir, Best, Next, _, T) :-
+planerel_first_above([X|Xs], Best, Y) :-
+    (   X > Best
+    ->  Y = X
+    ;   planerel_first_above(Xs, Best, Y)
+    ).
+
+% the last X < Best of an ascending list (Acc when none)
+planerel_last_below([], _, Acc, Acc).
+planerel_last_below([X|Xs], Best, Acc, Y) :-
+    (   X < Best
+    ->  planerel_last_below(Xs, Best, X, Y)
+    ;   planerel_last_below(Xs, Best, Acc, Y)
+    ).
+
+planerel_between(_, Best, _, PS, NS, Best) :-
+    planerel_all_integers(PS),
+    planerel_all_integers(NS), !.
+planerel_between(_, Best, Best, _, _, Best) :- !.
+planerel_between(Dir, Best, Next, _, _, T) :-
     Mid is (Best + Next) / 2,
     (   between(0, 6, D),
         Scale is 10.0 ** D,
@@ -123,6 +174,9 @@ planerel_between(Dir, Best, Next, _, T) :-
     ->  T = T0
     ;   T is float(Mid)
     ).
+
+planerel_all_integers([]).
+planerel_all_integers([X|Xs]) :- integer(X), planerel_all_integers(Xs).
 
 planerel_inside(le, Best, Next, T) :- T > Best, T < Next.
 planerel_inside(ge, Best, Next, T) :- T < Best, T > Next.
