@@ -79,7 +79,7 @@
     sat_seen/1,             % Literal
     sat_done/2,             % ModeSeq, InIds
     lazy_cache/2,           % variant hash of a lazy call, its constants
-    lazy_clause_cache/4,    % variant hash of a clause and lazy literal, its covered pos and neg, the constants
+    lazy_clause_cache/4,    % variant hash of a clause and lazy literal, its covered pos and neg (bit sets), the constants
     cov_cache/3,            % variant hash of a clause, its positives and negatives as bit sets
     cov_inconsistent/1,     % variant hash of a clause that covers more than noise negatives
     ans_cache/3,            % variant hash of a short clause, its answers on positives, on negatives
@@ -1587,19 +1587,31 @@ constraint_error(E) :-
 %   and again in every search before a rule removes positives.  A hit needs
 %   no answers of the node (force_answers/3).
 lazy_constants(Lit, InPos, CPos, Node, X, Ctx, Consts) :-
-    Node = nd(Body, _, _, _, PC, NC, _, _, _, _),
+    Node = nd(Body, _, _, _, _, _, _, _, _, _),
     Ctx = ctx(_, _, _, bottom(Head, _, _, _, _), _, _, _, _, _),
     (   setting(caching, true),
         \+ rec_target(_)
     ->  variant_sha1(Head-Body-Lit, Key),
-        (   lazy_clause_cache(Key, PC0, NC0, Consts0),
-            PC0 == PC,
-            NC0 == NC
+        covered_bits(X, PB, NB),
+        (   lazy_clause_cache(Key, PB, NB, Consts0)
         ->  Consts = Consts0
         ;   lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts),
-            assertz(lazy_clause_cache(Key, PC, NC, Consts))
+            assertz(lazy_clause_cache(Key, PB, NB, Consts))
         )
     ;   lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts)
+    ).
+
+%   covered_bits(+X, -PB, -NB): the node's covered positives and negatives
+%   as bit sets (ids_bits/2), made once per node and kept in its cache.
+covered_bits(X, PB, NB) :-
+    X = x(_, _, _, _, PC, NC, C),
+    arg(1, C, A0),
+    (   get_assoc(bits, A0, PB-NB)
+    ->  true
+    ;   ids_bits(PC, PB),
+        ids_bits(NC, NB),
+        put_assoc(bits, A0, PB-NB, A1),
+        setarg(1, C, A1)
     ).
 
 lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts) :-
