@@ -82,8 +82,7 @@
     lazy_clause_cache/4,    % variant hash of a clause and lazy literal, its covered pos and neg (bit sets), the constants
     cov_cache/3,            % variant hash of a clause, its positives and negatives as bit sets
     cov_inconsistent/1,     % variant hash of a clause that covers more than noise negatives
-    ans_cache/3,            % variant hash of a short clause, its answers on positives, on negatives
-    lazy_vals_cache/3,      % variant hash of a clause, its answer variables and a variable: its values per example
+    cache_record/1,         % reference of a record of the answer and value caches (big_cache/2)
     hopeless_bottom/1,      % variant hash of a bottom clause whose search found no clause
     loaded_stem/1.
 
@@ -1085,12 +1084,12 @@ force_answers(AH, PT, NT) :-
     ->  true
     ;   State = todo(Head, Body, BV, Len, PX, PC, NC),
         (   answers_cache_key(Head, Body, AH, Len, Key)
-        ->  (   ans_cache(Key, PT0, NT0),
+        ->  (   big_cache(Key, ans(PT0, NT0)),
                 answers_on(PC, PT0, PT),
                 answers_on(NC, NT0, NT)
             ->  true
             ;   all_answers(PX, Head, Body, BV, PC, NC, PT, NT),
-                assertz(ans_cache(Key, PT, NT))
+                add_big_cache(Key, ans(PT, NT))
             )
         ;   all_answers(PX, Head, Body, BV, PC, NC, PT, NT)
         ),
@@ -1174,6 +1173,19 @@ answers_cache_key(Head, Body, AH, Len, Key) :-
     \+ rec_target(_),
     arg(2, AH, Chain),
     variant_sha1(Head-Body-Chain, Key).
+
+%   The answers of a clause (ans(PosAnswers, NegAnswers)) and the values
+%   of a variable per example (vals(PosValues, NegValues)) are kept in the
+%   recorded database under the variant hash: they are large terms, which
+%   recordz/3 stores ~30 times faster than assertz/1 compiles them.
+big_cache(Key, Term) :- recorded(Key, Term).
+
+add_big_cache(Key, Term) :-
+    recordz(Key, Term, Ref),
+    assertz(cache_record(Ref)).
+
+clear_big_cache :-
+    forall(retract(cache_record(Ref)), erase(Ref)).
 
 %   answers_on(+Ids, +Answers0, -Answers): the Id-Tuples of Answers0 (sorted
 %   by Id, a superset) for the ordset Ids.
@@ -1686,7 +1698,7 @@ flat_lazy_values(X, Ids, IV, Head, Body, V, PV, NV, VHash) :-
     (   get_assoc(flat-Ids, A0, fv(PV, NV, VHash))
     ->  true
     ;   (   vals_cache_key(Head, Body, V, AH, VKey)
-        ->  (   lazy_vals_cache(VKey, PEx, NEx),
+        ->  (   big_cache(VKey, vals(PEx, NEx)),
                 ex_values_on(PC, PEx, PV),
                 (   PV == []
                 ->  NV = []
@@ -1694,7 +1706,7 @@ flat_lazy_values(X, Ids, IV, Head, Body, V, PV, NV, VHash) :-
                 )
             ->  true
             ;   fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx),
-                assertz(lazy_vals_cache(VKey, PEx, NEx)),
+                add_big_cache(VKey, vals(PEx, NEx)),
                 fresh_values_on(PC, NC, PEx, NEx, PV, NV)
             )
         ;   fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx),
@@ -1735,7 +1747,7 @@ ex_values_on_all([_-Vs|T], L) :-
     ex_values_on_all(T, L1).
 
 %   vals_cache_key(+Head, +Body, +V, +AH, -Key): the run-wide key of the
-%   values of V per example (lazy_vals_cache/3, with caching on and no
+%   values of V per example (big_cache/2, with caching on and no
 %   recursive target): the variant of the clause, V and the answer
 %   variables of the node and of each of its ancestors (AH's chain).  The
 %   values of V on an example are then a function of the key and the
@@ -1914,8 +1926,7 @@ induce :-
     retractall(lazy_clause_cache(_, _, _, _)),
     retractall(cov_cache(_, _, _)),
     retractall(cov_inconsistent(_)),
-    retractall(ans_cache(_, _, _)),
-    retractall(lazy_vals_cache(_, _, _)),
+    clear_big_cache,
     flag(planerel_cache_hits, _, 0),
     retractall(hopeless_bottom(_)),
     flag(planerel_set_aside, _, 0),
