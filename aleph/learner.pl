@@ -79,7 +79,7 @@
     sat_seen/1,             % Literal
     sat_done/2,             % ModeSeq, InIds
     lazy_cache/2,           % variant hash of a lazy call, its constants
-    lazy_clause_cache/4,    % variant hash of a clause and lazy literal, its covered pos and neg (bit sets), the constants
+    lazy_clause_cache/4,    % variant hash of a clause and lazy literal, how many pos and neg it covers, the constants
     cov_cache/3,            % variant hash of a clause, its positives and negatives as bit sets
     cov_inconsistent/1,     % variant hash of a clause that covers more than noise negatives
     cache_record/1,         % reference of a record of the answer and value caches (big_cache/2)
@@ -1597,33 +1597,23 @@ constraint_error(E) :-
 %   both (the values come from the clause's answers on those examples), and
 %   the same clause comes up once per plane of the object within a search
 %   and again in every search before a rule removes positives.  A hit needs
-%   no answers of the node (force_answers/3).
+%   no answers of the node (force_answers/3).  The covered examples are
+%   identified by their numbers P and N: a clause covers the examples left
+%   that it holds for, and during a run the positives left only shrink and
+%   the negatives never change, so for one clause two sets of covered
+%   examples of the same size are the same set.
 lazy_constants(Lit, InPos, CPos, Node, X, Ctx, Consts) :-
-    Node = nd(Body, _, _, _, _, _, _, _, _, _),
+    Node = nd(Body, _, _, _, _, _, P, N, _, _),
     Ctx = ctx(_, _, _, bottom(Head, _, _, _, _), _, _, _, _, _),
     (   setting(caching, true),
         \+ rec_target(_)
     ->  variant_sha1(Head-Body-Lit, Key),
-        covered_bits(X, PB, NB),
-        (   lazy_clause_cache(Key, PB, NB, Consts0)
+        (   lazy_clause_cache(Key, P, N, Consts0)
         ->  Consts = Consts0
         ;   lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts),
-            assertz(lazy_clause_cache(Key, PB, NB, Consts))
+            assertz(lazy_clause_cache(Key, P, N, Consts))
         )
     ;   lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts)
-    ).
-
-%   covered_bits(+X, -PB, -NB): the node's covered positives and negatives
-%   as bit sets (ids_bits/2), made once per node and kept in its cache.
-covered_bits(X, PB, NB) :-
-    X = x(_, _, _, _, PC, NC, C),
-    arg(1, C, A0),
-    (   get_assoc(bits, A0, PB-NB)
-    ->  true
-    ;   ids_bits(PC, PB),
-        ids_bits(NC, NB),
-        put_assoc(bits, A0, PB-NB, A1),
-        setarg(1, C, A1)
     ).
 
 lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts) :-
