@@ -1005,19 +1005,18 @@ refine(Node, Ctx, Best0, Best, Children) :-
 refine_from(J, NB, Node, X, Ctx, Best0, Best, Children) :-
     (   J > NB
     ->  Best = Best0, Children = []
-    ;   \+ budget_left(Ctx)
-    ->  Best = Best0, Children = []
     ;   Ctx = ctx(_, _, _, bottom(_, _, _, LitsT, _), _, _, _, _, _),
         arg(J, LitsT, BL),
         BL = bl(_, _, In, _, _),
         Node = nd(_, _, Bound, _, _, _, _, _, _, _),
-        (   ord_subset(In, Bound)
-        ->  children_of(BL, Node, X, Ctx, Best0, Best1, Cs, Rest)
-        ;   Best1 = Best0, Cs = Rest
-        ),
         J1 is J + 1,
-        Children = Cs,
-        refine_from(J1, NB, Node, X, Ctx, Best1, Best, Rest)
+        (   \+ ord_subset(In, Bound)     % inputs not bound: no refinement
+        ->  refine_from(J1, NB, Node, X, Ctx, Best0, Best, Children)
+        ;   \+ budget_left(Ctx)         % (checked only here: nothing else counts)
+        ->  Best = Best0, Children = []
+        ;   children_of(BL, Node, X, Ctx, Best0, Best1, Children, Rest),
+            refine_from(J1, NB, Node, X, Ctx, Best1, Best, Rest)
+        )
     ).
 
 %   node_answers(+Node, +Ctx, -X): X = x(BV, BIds, VT, AH, PC, NC, cache(Assoc)),

@@ -49,10 +49,7 @@ planerel_cutoff(Dir, Pos0, Neg0, T) :-
     msort(Pos, PosSorted),
     msort(Neg, NegSorted),
     planerel_dedup(PosSorted, PosValues), % distinct values, ascending (sort/2)
-    planerel_counts(Dir, PosValues, PosSorted, PCounts),
-    planerel_counts(Dir, PosValues, NegSorted, NCounts),
-    planerel_scored(PosValues, PCounts, NCounts, Scored),
-    max_member(_-_-Best, Scored),
+    planerel_best(Dir, PosValues, PosSorted, NegSorted, Best),
     planerel_neighbour(Dir, Best, PosSorted, NegSorted, Next),
     planerel_between(Dir, Best, Next, PosSorted, NegSorted, T).
 
@@ -78,32 +75,13 @@ planerel_dedup_([X|Xs], P, Ys) :-
         planerel_dedup_(Xs, X, Ys1)
     ).
 
-%   planerel_counts(+Dir, +Values, +Sorted, -Counts): for each of the
-%   ascending Values, how many of the ascending list Sorted are kept
-%   (le: =< V; ge: >= V), in one sweep.
-planerel_counts(le, Vs, Sorted, Counts) :-
-    planerel_sweep_le(Vs, Sorted, 0, Counts).
-planerel_counts(ge, Vs, Sorted, Counts) :-
-    length(Sorted, N),
-    planerel_sweep_lt(Vs, Sorted, 0, Below),
-    planerel_rest(Below, N, Counts).
-
-% the sweep with =< (le) and < (ge), without a call/3 per value
-planerel_sweep_le([], _, _, []).
-planerel_sweep_le([V|Vs], S0, K0, [K|Ks]) :-
-    planerel_skip_le(S0, V, K0, S, K),
-    planerel_sweep_le(Vs, S, K, Ks).
-
+% planerel_skip_le(+Sorted, +V, +K0, -Rest, -K): skip the leading X =< V of the
+% ascending list Sorted, counting them from K0 (planerel_skip_lt/5: X < V)
 planerel_skip_le([X|Xs], V, K0, S, K) :-
     X =< V, !,
     K1 is K0 + 1,
     planerel_skip_le(Xs, V, K1, S, K).
 planerel_skip_le(S, _, K, S, K).
-
-planerel_sweep_lt([], _, _, []).
-planerel_sweep_lt([V|Vs], S0, K0, [K|Ks]) :-
-    planerel_skip_lt(S0, V, K0, S, K),
-    planerel_sweep_lt(Vs, S, K, Ks).
 
 planerel_skip_lt([X|Xs], V, K0, S, K) :-
     X < V, !,
@@ -111,18 +89,39 @@ planerel_skip_lt([X|Xs], V, K0, S, K) :-
     planerel_skip_lt(Xs, V, K1, S, K).
 planerel_skip_lt(S, _, K, S, K).
 
-% planerel_rest(+Below, +N, -Counts): N - B for each B (a plain loop: a lambda
-% would be copied once per value)
-planerel_rest([], _, []).
-planerel_rest([B|Bs], N, [C|Cs]) :-
-    C is N - B,
-    planerel_rest(Bs, N, Cs).
+% planerel_best(+Dir, +Values, +PosSorted, +NegSorted, -Best): the value V of
+% the ascending Values whose Score-NegKept-V is the largest in the standard
+% order (Score = positives kept - negatives kept, NegKept = - negatives kept;
+% le: kept =< V, ge: kept >= V), the counts made in one sweep over both
+% sorted lists (each value's counts and the largest term, in one pass)
+planerel_best(le, [V|Vs], PS0, NS0, Best) :-
+    planerel_skip_le(PS0, V, 0, PS, P),
+    planerel_skip_le(NS0, V, 0, NS, N),
+    Score is P - N, NegKept is -N,
+    planerel_best_le(Vs, PS, P, NS, N, Score-NegKept-V, Best).
+planerel_best(ge, Vs, PS, NS, Best) :-
+    length(PS, NP),
+    length(NS, NN),
+    planerel_best_ge(Vs, PS, 0, NS, 0, NP, NN, none, Best).
 
-planerel_scored([], [], [], []).
-planerel_scored([V|Vs], [P|Ps], [N|Ns], [Score-NegKept-V|T]) :-
-    Score is P - N,
-    NegKept is -N,
-    planerel_scored(Vs, Ps, Ns, T).
+planerel_best_le([], _, _, _, _, _-_-Best, Best).
+planerel_best_le([V|Vs], PS0, P0, NS0, N0, B0, Best) :-
+    planerel_skip_le(PS0, V, P0, PS, P),
+    planerel_skip_le(NS0, V, N0, NS, N),
+    Score is P - N, NegKept is -N,
+    C = Score-NegKept-V,
+    ( C @> B0 -> B1 = C ; B1 = B0 ),
+    planerel_best_le(Vs, PS, P, NS, N, B1, Best).
+
+planerel_best_ge([], _, _, _, _, _, _, _-_-Best, Best).
+planerel_best_ge([V|Vs], PS0, BP0, NS0, BN0, NP, NN, B0, Best) :-
+    planerel_skip_lt(PS0, V, BP0, PS, BP),
+    planerel_skip_lt(NS0, V, BN0, NS, BN),
+    N is NN - BN,
+    Score is NP - BP - N, NegKept is -N,
+    C = Score-NegKept-V,
+    ( B0 == none -> B1 = C ; C @> B0 -> B1 = C ; B1 = B0 ),
+    planerel_best_ge(Vs, PS, BP, NS, BN, NP, NN, B1, Best).
 
 % the next value beyond Best in the direction that is cut off (none: Best
 % itself): of all the values (both sorted lists), the first above Best (le) or
@@ -158,7 +157,7 @@ planerel_last_below([], _, Acc, Acc).
 planerel_last_below([X|Xs], Best, Acc, Y) :-
     (   X < Best
     ->  planerel_last_below(Xs, Best, X, Y)
-    ;   planerel_last_below(Xs, Best, Acc, Y)
+    ;   Y = Acc                          % ascending: no later X is below
     ).
 
 planerel_between(_, Best, _, PS, NS, Best) :-
