@@ -1224,6 +1224,12 @@ projection(X, Side, Ids, IV, Proj) :-
     C = cache(A0),
     (   get_assoc(Side-Ids, A0, Proj)
     ->  true
+    ;   Ids = [_],
+        get_assoc(valsrc-Ids, A0, src(PEx, NEx)),
+        X = x(_, _, _, _, PC, NC, _),
+        ( Side == pos -> proj_from_vals(PC, PEx, Proj) ; proj_from_vals(NC, NEx, Proj) )
+    ->  put_assoc(Side-Ids, A0, Proj, A1),
+        setarg(1, C, A1)
     ;   force_answers(AH, PT, NT),
         ( Side == pos -> L = PT ; L = NT ),
         (   Ids = [Id1]
@@ -1234,6 +1240,29 @@ projection(X, Side, Ids, IV, Proj) :-
         put_assoc(Side-Ids, A0, Proj, A1),
         setarg(1, C, A1)
     ).
+
+%   proj_from_vals(+Ids, +IdValues, -Proj): the projection of a node's
+%   answers on one variable (as project1/3 makes it) from the values of the
+%   variable per example kept run-wide (big_cache/2, lazy_flat/6): Id-full
+%   for an example past the answer cap, Id-[t(V1), ...] for one whose values
+%   are all bound (the projected tuples are exactly those, in that order);
+%   fails for one with an unbound value (not kept) or not among IdValues.
+proj_from_vals([], _, []).
+proj_from_vals([Id|Ids], [Id0-E|T], Proj) :-
+    (   Id == Id0
+    ->  (   E = full(_)
+        ->  Proj = [Id-full|Proj1]
+        ;   E \= partial(_),
+            wrap_t(E, Ts),
+            Proj = [Id-Ts|Proj1]
+        ),
+        proj_from_vals(Ids, T, Proj1)
+    ;   Id0 < Id
+    ->  proj_from_vals([Id|Ids], T, Proj)
+    ).
+
+wrap_t([], []).
+wrap_t([V|Vs], [t(V)|Ts]) :- wrap_t(Vs, Ts).
 
 project1(_, Id-full, Id-full) :- !.
 project1(K, Id-Ts, Id-Ps) :-
@@ -1693,13 +1722,15 @@ flat_lazy_values(X, Ids, IV, Head, Body, V, PV, NV, VHash) :-
                 ->  NV = []
                 ;   ex_values_on(NC, NEx, NV)
                 )
-            ->  true
+            ->  Src = src(PEx, NEx)
             ;   fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx),
                 add_big_cache(VKey, vals(PEx, NEx)),
-                fresh_values_on(PC, NC, PEx, NEx, PV, NV)
+                fresh_values_on(PC, NC, PEx, NEx, PV, NV),
+                Src = none
             )
         ;   fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx),
-            fresh_values_on(PC, NC, PEx, NEx, PV, NV)
+            fresh_values_on(PC, NC, PEx, NEx, PV, NV),
+            Src = none
         ),
         (   PV == []
         ->  VHash = none
@@ -1707,7 +1738,11 @@ flat_lazy_values(X, Ids, IV, Head, Body, V, PV, NV, VHash) :-
         ),
         arg(1, C, A1),
         put_assoc(flat-Ids, A1, fv(PV, NV, VHash), A2),
-        setarg(1, C, A2)
+        (   Src = src(_, _)               % the projection on V without the answers
+        ->  put_assoc(valsrc-Ids, A2, Src, A3)
+        ;   A3 = A2
+        ),
+        setarg(1, C, A3)
     ).
 
 %   fresh_flat_values(+X, +Ids, +IV, +Head, +Body, +V, -PEx, -NEx): the
@@ -1730,8 +1765,14 @@ fresh_values_on(PC, NC, PEx, NEx, PV, NV) :-
     ;   ex_values_on(NC, NEx, NV)
     ).
 
+%   ex_vals(+Entry, -Values): the values of one example's entry (lazy_flat/6).
+ex_vals(full(Vs), Vs) :- !.
+ex_vals(partial(Vs), Vs) :- !.
+ex_vals(Vs, Vs).
+
 ex_values_on_all([], []).
-ex_values_on_all([_-Vs|T], L) :-
+ex_values_on_all([_-E|T], L) :-
+    ex_vals(E, Vs),
     append(Vs, L1, L),
     ex_values_on_all(T, L1).
 
@@ -1760,7 +1801,8 @@ vals_cache_key(Head, Body, V, AH, Key) :-
 ex_values_on([], _, []).
 ex_values_on([Id|Ids], [Id0-Vs|T], Vals) :-
     (   Id == Id0
-    ->  append(Vs, Vals1, Vals),
+    ->  ex_vals(Vs, Vs1),
+        append(Vs1, Vals1, Vals),
         ex_values_on(Ids, T, Vals1)
     ;   Id0 @< Id
     ->  ex_values_on([Id|Ids], T, Vals)
@@ -1769,14 +1811,21 @@ ex_values_on([Id|Ids], [Id0-Vs|T], Vals) :-
 %   lazy_flat(+Proj, +Set, +Head, +Body, +V, -IdValues): the values of V in
 %   the answers of each covered example, in example order (an example past
 %   the answer cap: the values of its first 50 proofs), as lazy_values/7,
-%   as Id-Values per example.
+%   as Id-Entry per example: Entry is the list of values, full(Values) past
+%   the cap, partial(Values) when some value was unbound (left out), so
+%   that proj_from_vals/3 can tell which entries are a projection.
 lazy_flat([], _, _, _, _, []).
-lazy_flat([Id-Ps|T], Set, Head, Body, V, [Id-Vals|IVs]) :-
+lazy_flat([Id-Ps|T], Set, Head, Body, V, [Id-Entry|IVs]) :-
     (   Ps == full
     ->  example_atom(Set, Id, E),
         findall(V, catch(limit(50, (Head = E, prove_body(Body))), _, fail), L0),
-        include(ground, L0, Vals)
-    ;   ground_values(Ps, Vals, [])
+        include(ground, L0, Vals),
+        Entry = full(Vals)
+    ;   ground_values(Ps, Vals, []),
+        (   same_length(Ps, Vals)
+        ->  Entry = Vals
+        ;   Entry = partial(Vals)         % some value unbound (left out)
+        )
     ),
     lazy_flat(T, Set, Head, Body, V, IVs).
 

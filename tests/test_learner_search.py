@@ -219,7 +219,7 @@ check :-
     % flat values of one variable against lazy_values/7, with examples past the answer cap
     Proj = [1-full, 2-[t(1.5), t(_), t(2.5)], 3-[], 4-full],
     planerel_learner:lazy_flat(Proj, pos, Head, [item(A, B), weight(B, W)], W, FlatEx),
-    FlatEx = [1-_, 2-[1.5, 2.5], 3-[], 4-_],             % per example
+    FlatEx = [1-full(_), 2-partial([1.5, 2.5]), 3-[], 4-full(_)],   % per example
     planerel_learner:ex_values_on_all(FlatEx, Flat),
     planerel_learner:lazy_values(Proj, pos, Head, [item(A, B), weight(B, W)], t(W), [W], Tuples),
     maplist(planerel_learner:first_value, Tuples, Flat2),
