@@ -1086,7 +1086,7 @@ force_answers(AH, PT, NT) :-
         ->  (   big_cache(Key, ans(PT0, NT0)),
                 answers_on(PC, PT0, PT),
                 answers_on(NC, NT0, NT)
-            ->  true
+            ->  flag(planerel_ans_reused, AR, AR + 1)
             ;   all_answers(PX, Head, Body, BV, PC, NC, PT, NT),
                 add_big_cache(Key, ans(PT, NT))
             )
@@ -1228,7 +1228,8 @@ projection(X, Side, Ids, IV, Proj) :-
         get_assoc(valsrc-Ids, A0, src(PEx, NEx)),
         X = x(_, _, _, _, PC, NC, _),
         ( Side == pos -> proj_from_vals(PC, PEx, Proj) ; proj_from_vals(NC, NEx, Proj) )
-    ->  put_assoc(Side-Ids, A0, Proj, A1),
+    ->  flag(planerel_proj_reused, PR, PR + 1),
+        put_assoc(Side-Ids, A0, Proj, A1),
         setarg(1, C, A1)
     ;   force_answers(AH, PT, NT),
         ( Side == pos -> L = PT ; L = NT ),
@@ -1722,7 +1723,8 @@ flat_lazy_values(X, Ids, IV, Head, Body, V, PV, NV, VHash) :-
                 ->  NV = []
                 ;   ex_values_on(NC, NEx, NV)
                 )
-            ->  Src = src(PEx, NEx)
+            ->  Src = src(PEx, NEx),
+                flag(planerel_vals_reused, VR, VR + 1)
             ;   fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx),
                 add_big_cache(VKey, vals(PEx, NEx)),
                 fresh_values_on(PC, NC, PEx, NEx, PV, NV),
@@ -1965,6 +1967,8 @@ induce :-
     retractall(cov_cache(_, _, _)),
     retractall(cov_inconsistent(_)),
     clear_big_cache,
+    forall(member(F, [planerel_ans_reused, planerel_vals_reused, planerel_proj_reused]),
+           flag(F, _, 0)),
     flag(planerel_cache_hits, _, 0),
     retractall(hopeless_bottom(_)),
     flag(planerel_set_aside, _, 0),
