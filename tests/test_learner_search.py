@@ -165,6 +165,43 @@ def test_caching_gives_the_same_theory_and_search(tmp_path):
     assert drop(on.output) == drop(off.output)
 
 
+_REUSE_GOAL = r"""
+check :-
+    planerel_learner:read_all('STEM'),
+    with_output_to(string(_), planerel_learner:induce),
+    forall(member(F, [planerel_ans_reused, planerel_vals_reused, planerel_proj_reused]),
+           ( flag(F, N, N), format("~w ~w~n", [F, N]) )).
+"""
+
+
+def test_run_wide_answers_values_and_projections_change_nothing(tmp_path):
+    # With caching, a node's answers, the values of a lazily evaluated literal's variable per
+    # example and the projection rebuilt from them are kept for the whole run (keyed by the
+    # clause's variant and the answer variables of its ancestors), so later seeds' searches take
+    # them instead of proving the clause again.  On a problem with several seeds' searches, all
+    # three are reused, and the theory, the clauses explored and the printed
+    # search are those of the run without any cache.
+    stem = _planes_problem(tmp_path, n_obj=60, seed=5)
+    goal = tmp_path / "goal.pl"
+    goal.write_text(_REUSE_GOAL.replace("STEM", stem.as_posix()))
+    p = subprocess.run(["swipl", "-q", "-g", f"consult('{LEARNER.as_posix()}')", "-g",
+                        f"consult('{goal.as_posix()}')", "-g", "check", "-t", "halt"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stdout + p.stderr
+    counts = dict(line.split() for line in p.stdout.splitlines())
+    assert all(int(counts[k]) > 0 for k in ("planerel_ans_reused", "planerel_vals_reused",
+                                             "planerel_proj_reused")), counts
+    off, on = (learn(stem, settings={"caching": c}) for c in ("false", "true"))
+    assert on.rules == off.rules and on.train == off.train
+    assert on.clauses_explored == off.clauses_explored
+    assert len(re.findall(r"^\[seed \d+\]", on.output, re.M)) >= 2, on.output[:2000]
+
+    def drop(out):
+        return re.sub(r"\[coverage reused from the cache\] \d+", "", out)
+
+    assert drop(on.output) == drop(off.output)
+
+
 # --------------------------------------------------------------------------- errors in coverage
 
 
@@ -225,7 +262,17 @@ check :-
     maplist(planerel_learner:first_value, Tuples, Flat2),
     Flat == Flat2,
     length(Flat, NF),
-    format("flat ~w~n", [NF]).
+    format("flat ~w~n", [NF]),
+    % the projection on one variable rebuilt from the values kept per example (run-wide cache):
+    % the same as the projection of the answers, Id-full past the cap; none with an unbound value
+    maplist(planerel_learner:project1(3), Batched, ProjC),
+    planerel_learner:lazy_flat(ProjC, pos, Head, Body2, C, ExC),
+    planerel_learner:proj_from_vals(Ids, ExC, ProjC2),
+    ProjC2 == ProjC,
+    aggregate_all(count, member(_-full, ProjC2), NFullC),
+    format("rebuilt ~w full ~w~n", [NFullC, NFull]),
+    \+ planerel_learner:proj_from_vals([1, 2, 3, 4], FlatEx, _),   % 2 has an unbound value
+    planerel_learner:proj_from_vals([3], FlatEx, [3-[]]).
 """
 
 
