@@ -12,7 +12,8 @@ synthetic set, and check the page in headless Chromium.
    (``apt-get install -y chromium``) and writes OUT_DIR/report/screenshot.png.
 
 ``--quick`` makes a small version in a minute (3 scenes per class, three methods, timing at
-160x120 only, no learning).  Default OUT_DIR: ``out/paper``.
+160x120 only, no learning) in OUT_DIR/report-quick instead of OUT_DIR/report.  Default
+OUT_DIR: ``out/paper``.
 """
 
 from __future__ import annotations

@@ -180,6 +180,7 @@ def test_write_scene_then_load(tmp_path):
 
 @pytest.mark.parametrize("argv,match", [
     (["--size", "640-480"], "--size must look like 640x480"),
+    (["--size", "10x10"], r"size 10x10 subsampled by 4 gives 3x3 images; both sides must stay >= 8"),
     (["--n-box", "-1"], "number of box scenes must be a non-negative integer"),
     (["--n-box", "0", "--n-stairs", "0", "--n-ramp", "0"], "at least one scene"),
     (["--camera-height", "1.5"], "--camera-height must be two numbers"),

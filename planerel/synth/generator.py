@@ -598,7 +598,12 @@ def _scene_setup(kind: str, seed, size, subsample) -> tuple[int, int, int, Intri
     else:
         f = 525.0 * w / 640.0
         full = Intrinsics(w, h, f, f, (w - 1) / 2, (h - 1) / 2)
-    return seed, w, h, full.scaled(int(subsample))
+    intr = full.scaled(int(subsample))
+    if intr.width < 8 or intr.height < 8:  # the size check's bound, after subsampling
+        raise InputError(f"size {w}x{h} subsampled by {int(subsample)} gives {intr.width}x"
+                         f"{intr.height} images; both sides must stay >= 8 pixels (a larger "
+                         f"size or a smaller subsample)")
+    return seed, w, h, intr
 
 
 def cast_world(world, pose, intr: Intrinsics):
