@@ -400,3 +400,19 @@ def test_half_written_files_of_killed_workers_are_removed(scan, tmp_path):
     stale2.write_bytes(b"partial")
     assert main(["classify", str(rules), str(scan), "-o", str(cls)]) == 0
     assert sorted(p.name for p in cls.iterdir()) == ["box.classified.json", "box.classified.png"]
+
+
+def test_learn_refuses_a_cache_folder_it_cannot_write(tmp_path):
+    # the cache skipped an unwritable folder silently: every run segmented again, unexplained
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    ds = tmp_path / "ds"  # need not exist: the cache is checked first, and leaves nothing
+    for cache, needle in ((blocker, "--cache"), (blocker / "sub", "cannot create folder"),
+                          ("/proc/planerel-cache", "/proc/planerel-cache")):
+        r = _run("learn", ds, "-o", tmp_path / "m", "--cache", cache)
+        _one_error_line(r, needle)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]
+    # a writable cache that does not exist yet passes the check without being left behind
+    r = _run("learn", ds, "-o", tmp_path / "m", "--cache", tmp_path / "c" / "d")
+    assert r.returncode == 2 and "--cache" not in r.stderr, r.stderr
+    assert not (tmp_path / "c").exists()

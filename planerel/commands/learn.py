@@ -85,6 +85,26 @@ def _settings(items) -> dict:
     return out
 
 
+def _check_cache(path) -> None:
+    """Refuse a ``--cache`` folder that cannot be written, leaving no folder behind.
+
+    The segmentation cache skips an unwritable folder without a word (an unwritable default
+    cache only costs time); a folder the user names and cannot write is a mistake to say."""
+    import contextlib
+    from pathlib import Path
+
+    from planerel.atomic import check_output_dir
+
+    folder = Path(path)
+    made = [p for p in (folder, *folder.parents) if not p.exists()]  # deepest first
+    try:
+        check_output_dir(folder, "--cache")
+    finally:  # the probe made them; learning makes them again when it writes
+        for p in made:
+            with contextlib.suppress(OSError):
+                p.rmdir()
+
+
 def run(args) -> int:
     from planerel.ilp.pipeline import learn_model
 
@@ -93,6 +113,8 @@ def run(args) -> int:
         from planerel.errors import InputError
 
         raise InputError(f"--classes names no class, got {args.classes!r}; e.g. --classes box,stairs")
+    if args.cache is not None and str(args.cache).lower() not in ("", "none", "off"):
+        _check_cache(args.cache)
     m = learn_model(args.dataset, args.output, classes=classes, engine=args.engine,
                     folds=args.folds, seed=args.seed, timeout=args.timeout, jobs=args.jobs,
                     method=args.method, seg_params=_params(args.param), cache=args.cache,
