@@ -9,7 +9,9 @@ min_border_area=0, border_wall_area=0, wall_behind=1, floor_gap=1, raised_object
 ramp_tilt=0``
 (the reference: plain connected components, the proposals before issue 22), with
 ``cavities=False, cut_apart_parallel=False, ramp_tilt=0`` (the defaults before the concave
-cavities, the cut of parallel faces apart and the shallow-ramp test, main at a760b49) and the
+cavities, the cut of parallel faces apart and the shallow-ramp test, main at a760b49), with
+``occluded_channels=False, cavity_skip_walls=False`` (the defaults before the occluded channels
+and walls kept out of cavities, main at c3a6d74) and the
 defaults, interleaved, ``--repeat`` times; the median per frame is summed.
 Printed: ms per frame of each and its ratio to the reference, and the proposals' found rate /
 false proposals per frame (planerel.features.object_eval).
@@ -58,6 +60,7 @@ def main(argv=None) -> int:
                                                     wall_behind=1, floor_gap=1.0, raised_objects=False,
                                                     ramp_tilt=0.0),
                 "before 4th pass": ProposalParams(cavities=False, cut_apart_parallel=False, ramp_tilt=0.0),
+                "before 5th pass": ProposalParams(occluded_channels=False, cavity_skip_walls=False),
                 "defaults": ProposalParams()}
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": []} for k in variants}

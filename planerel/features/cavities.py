@@ -27,6 +27,11 @@ overlap by at least ``min_overlap`` (interval IoU, 0.5; ``ProposalParams.cavity_
 A board spans its shelf's width and a side panel its height; the floor or a platform a shelf
 stands on, or two panels a box is pushed against, run far beyond it (a box in a corner of two
 panels meets both at concave edges, and they meet each other: a corner, but not a whole one).
+**Occluded channels** (:func:`occluded_channel_pairs`): seen from beside its open side, a
+shelf shows the inside of its far side panel and of its back panel (one whole concave edge)
+and the *outside* of its near side panel, which hides part of the back panel: a channel whose
+near wall is seen from outside and shares no edge with the bottom, only an occluding one.
+
 Parameters: ``angle_tol`` (degrees; ``ProposalParams.concave_tol``, 10) for "parallel";
 shared edges are those with at least ``MIN_EDGE`` pixel pairs of
 :func:`~planerel.features.relations.edge_means`.
@@ -38,7 +43,7 @@ import math
 
 import numpy as np
 
-__all__ = ["cavity_pairs", "edge_overlap", "group_channel_pairs"]
+__all__ = ["cavity_pairs", "edge_overlap", "group_channel_pairs", "occluded_channel_pairs", "occluding_edge"]
 
 
 def cross3(u, v) -> np.ndarray:
@@ -193,4 +198,126 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
                 off = np.asarray(byl[d].centroid, float) - np.asarray(byl[a].centroid, float)
                 if float(na @ off) > 0 and float(nd @ -off) > 0:
                     out |= {(a, ma), (d, md)}
+    return out
+
+
+def occluding_edge(labels, xyz, front: int, back: int, window=None, band: int = 2,
+                   jump: float = 0.05) -> int:
+    """Pixel pairs along which plane ``front`` hides plane ``back`` in the image: a pixel of
+    ``back`` within ``band`` pixels (along a row or a column) of a pixel of ``front`` whose
+    range is larger by more than ``jump * max(1, range)`` (an occluding edge, not a shared one).
+
+    Parameters
+    ----------
+    labels, xyz : ndarray, shapes (H, W) int and (H, W, 3) float
+        The plane label image and the organized points.
+    window : (row0, col0, row1, col1), optional
+        Pixel box holding both planes: only it is looked at.
+
+    Returns
+    -------
+    int
+        The number of such pixel pairs.
+    """
+    lab = np.asarray(labels)
+    xyz = np.asarray(xyz)
+    if window is not None:
+        r0, c0, r1, c1 = (int(v) for v in window)
+        lab, xyz = lab[r0:r1, c0:c1], xyz[r0:r1, c0:c1]
+    rng = np.sqrt((np.asarray(xyz, float) ** 2).sum(-1))
+    isf, isb = lab == front, lab == back
+    n = 0
+    for k in range(1, band + 1):
+        for ax in (0, 1):
+            for f_sl, b_sl in (((slice(None, -k), slice(k, None))), ((slice(k, None), slice(None, -k)))):
+                fs = (f_sl, slice(None)) if ax == 0 else (slice(None), f_sl)
+                bs = (b_sl, slice(None)) if ax == 0 else (slice(None), b_sl)
+                m = isf[fs] & isb[bs]
+                if m.any():
+                    rf, rb = rng[fs][m], rng[bs][m]
+                    n += int(np.count_nonzero(rb - rf > jump * np.maximum(1.0, rf)))
+    return n
+
+
+def _interval(p, axis) -> tuple[float, float]:
+    t = np.asarray(p.hull3d, float) @ axis
+    return float(t.min()), float(t.max())
+
+
+def occluded_channel_pairs(planes, concave, labels, xyz, angle_tol: float = 10.0,
+                           min_overlap: float = 0.5, reach: float = 0.05,
+                           min_occluded: int = 5, trace=None) -> set:
+    """A channel seen past its near wall: the near wall's *outside* face hides the bottom.
+
+    Seen from beside its open side, a shelf shows the inside of its far side panel ``A``, the
+    inside of its back panel ``B`` (meeting ``A`` at a whole concave edge) and the *outside*
+    of its near side panel ``C``: ``C`` is parallel to ``A`` and faces the same way (both
+    towards the sensor), and hides the part of ``B`` next to it, so ``B`` and ``C`` share no
+    edge, only an occluding one.  The three are one open object when ``C`` stands where
+    ``B`` ends: ``C`` lies in front of ``A`` (along ``A``'s normal), ``B`` reaches no farther
+    than ``C`` from ``A`` (``reach`` metres of slack), ``C``'s back end lies at ``B``'s plane
+    (within ``reach``), ``C`` spans ``A`` along the ``A``-``B`` edge (interval IoU at least
+    ``min_overlap``) and ``C`` hides ``B`` along at least ``min_occluded`` pixel pairs
+    (:func:`occluding_edge`).  A box against a larger face shows its front face where ``C``
+    would be, but that face shares a convex edge with the box's side (no occluding edge
+    between them) and stands off the larger face's plane, not at the side's.
+
+    Parameters
+    ----------
+    planes : PlaneSet or sequence of Plane
+    concave : iterable of (int, int)
+        Pairs meeting at a shared concave edge (as for :func:`cavity_pairs`).
+    labels, xyz : ndarray
+        The plane label image and the organized points.
+
+    Returns
+    -------
+    set of (int, int)
+        ``(A, B)`` and ``(B, C)`` of each such channel.
+    """
+    byl = {p.label: p for p in planes}
+    cos_tol = math.cos(math.radians(angle_tol))
+    out: set = set()
+    whole = [(a, b) for a, b in concave if a in byl and b in byl and a != b
+             and edge_overlap(byl[a], byl[b]) >= min_overlap]
+    if not whole:
+        return out
+    n = {k: _towards_sensor(p) for k, p in byl.items()}
+    for x, y in whole:
+        for a, b in ((x, y), (y, x)):
+            pa, pb = byl[a], byl[b]
+            ca = np.asarray(pa.centroid, float)
+            axis = cross3(n[a], n[b])
+            axis /= max(float(np.linalg.norm(axis)), 1e-12)
+            ib = _interval(pb, n[a])
+            ea = _interval(pa, axis)
+            for c, pc in byl.items():
+                if c in (a, b) or float(n[a] @ n[c]) < cos_tol:
+                    continue
+                s = float(n[a] @ (np.asarray(pc.centroid, float) - ca))
+                if s <= reach:
+                    continue
+                # B ends at C: reaches no farther from A than C stands
+                if ib[1] - float(n[a] @ ca) > s + reach:
+                    continue
+                # C's back end at B's plane (C cut by the image border: not behind it)
+                tol = reach * max(1.0, float(np.asarray(pc.centroid, float)[2]))
+                ic = _interval(pc, n[b])
+                back = ic[0] - float(n[b] @ np.asarray(pb.centroid, float))
+                cut = bool(pc.touches_border)
+                if back < -tol or (back > tol and not cut):
+                    continue
+                # C spans A along the edge (cut by the border: lies within A's extent)
+                ec = _interval(pc, axis)
+                inter = min(ea[1], ec[1]) - max(ea[0], ec[0])
+                whole_c = (ec[1] - ec[0]) if cut else max(ea[1], ec[1]) - min(ea[0], ec[0])
+                if whole_c <= 0 or inter / whole_c < min_overlap:
+                    continue
+                bb, bc = pb.bbox, pc.bbox
+                box = (min(bb[0], bc[0]), min(bb[1], bc[1]), max(bb[2], bc[2]), max(bb[3], bc[3]))
+                occ = occluding_edge(labels, xyz, c, b, window=box)
+                if trace is not None:
+                    trace.append((a, b, c, round(s, 3), round(back, 3), round(inter / whole_c, 2), cut, occ))
+                if occ >= min_occluded:
+                    out |= {(a, b), (b, c)}
     return out

@@ -51,7 +51,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from planerel.errors import InputError
-from planerel.features.cavities import cavity_pairs, cross3, edge_overlap, group_channel_pairs
+from planerel.features.cavities import (
+    cavity_pairs,
+    cross3,
+    edge_overlap,
+    group_channel_pairs,
+    occluded_channel_pairs,
+)
 
 __all__ = [
     "RelationParams",
@@ -521,6 +527,21 @@ class ProposalParams:
         group's extent along that edge overlapping the wall's by ``cavity_overlap``): a
         flight's side walls, which no single tread spans
         (:func:`planerel.features.cavities.group_channel_pairs`; needs ``cavities``).
+    occluded_channels : bool
+        Also join a channel seen past its near wall: a plane ``B`` meeting ``A`` at a whole
+        shared concave edge, and ``C`` parallel to ``A``, facing the same way and standing in
+        front of it where ``B`` ends, its back end at ``B``'s plane, spanning ``A`` along the
+        edge and hiding ``B`` along an occluding edge (a shelf seen from beside its open side:
+        the far side panel's inside, the back panel's inside and the near side panel's
+        outside; :func:`planerel.features.cavities.occluded_channel_pairs`; needs
+        ``cavities``).
+    cavity_skip_walls : bool
+        A plane the border-wall test (``drop_border_walls``) drops when alone (vertical, at
+        the image border, at least ``border_wall_area``, at most ``wall_behind`` seen behind
+        it) takes no part in a channel or an inside corner of :func:`cavity_pairs`: two room
+        walls under ``support_min_area`` and a ramp between them make an inside corner with
+        whole edges, not an open object.  (The occluded channels keep such planes: a shelf's
+        back panel at the border.)
     cavity_overlap : float
         An edge is whole when the two planes' extents along it overlap by at least this
         (interval IoU, :func:`planerel.features.cavities.edge_overlap`): a board spans its
@@ -573,6 +594,8 @@ class ProposalParams:
     cavity_overlap: float = 0.5
     cut_apart_parallel: bool = True
     group_channels: bool = True
+    occluded_channels: bool = True
+    cavity_skip_walls: bool = True
     ramp_tilt: float = 3.0
     ramp_rise: float = 0.02
 
@@ -1246,7 +1269,22 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             # corner of shared concave edges (planerel.features.cavities)
             concave = [(a, b) for a, b in pairs if (a, b) not in joined
                        and edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE]
-            joined |= cavity_pairs(planes, concave, params.concave_tol, params.cavity_overlap)
+            cav = concave
+            if params.cavity_skip_walls and params.drop_border_walls and concave:
+                # a plane the border-wall test drops when alone (a room wall seen at the
+                # border with nothing behind it) is no side of an open object's cavity
+                byl1 = {p.label: p for p in planes}
+                walls = {k for k in {x for pr in concave for x in pr}
+                         if byl1[k].orientation == "vertical" and byl1[k].touches_border
+                         and byl1[k].area >= params.border_wall_area
+                         and (params.wall_behind >= 1
+                              or seen_behind(lab, cloud.xyz, (k,)) <= params.wall_behind)}
+                cav = [pr for pr in concave if not (walls and (pr[0] in walls or pr[1] in walls))]
+            joined |= cavity_pairs(planes, cav, params.concave_tol, params.cavity_overlap)
+            if params.occluded_channels and concave:
+                # a channel whose near wall shows its outside and hides the bottom
+                joined |= occluded_channel_pairs(planes, concave, lab, cloud.xyz, params.concave_tol,
+                                                 params.cavity_overlap)
         pairs = sorted(joined)
     g.add_edges(pairs)
     if params.step_chains:
