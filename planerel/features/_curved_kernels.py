@@ -182,6 +182,21 @@ def component_areas(xyz, rows, cols, comp, r0, c0, p0, p1, k):
 
 
 @njit(cache=True, nogil=True)
+def _erode_rows(o, m, y, r):
+    """``o`` := row ``y`` of ``m`` AND-ed with rows ``y-r..y+r`` (the caller keeps them inside
+    ``m``); byte loops over whole rows, which the compiler vectorizes."""
+    W = o.shape[0]
+    src = m[y]
+    for i in range(W):
+        o[i] = src[i]
+    for k in range(1, r + 1):
+        lo = m[y - k]
+        hi = m[y + k]
+        for i in range(W):
+            o[i] &= lo[i] & hi[i]
+
+
+@njit(cache=True, nogil=True)
 def _dilate_row(o, row, r):
     """``o`` := ``row`` OR-ed with its copies shifted by -r..r (outside the row counts as
     unset); byte loops over row slices with non-negative indices, which the compiler
@@ -234,14 +249,7 @@ def _shift_pass(mask, r, axis, erode):
             if erode:
                 if y - r < 0 or y + r >= H:
                     continue
-                src = m[y]
-                for i in range(W):
-                    o[i] = src[i]
-                for k in range(1, r + 1):
-                    lo = m[y - k]
-                    hi = m[y + k]
-                    for i in range(W):
-                        o[i] &= lo[i] & hi[i]
+                _erode_rows(o, m, y, r)
             else:
                 for yy in range(max(0, y - r), min(H - 1, y + r) + 1):
                     src = m[yy]
@@ -331,15 +339,8 @@ def unexplained_open(valid, lab, explained, r):
         if not ok:
             continue
         o = e2[y]
-        src = e1[y]
+        _erode_rows(o, e1, y, r)
         s = 0
-        for x in range(W):
-            o[x] = src[x]
-        for k in range(1, r + 1):
-            lo = e1[y - k]
-            hi = e1[y + k]
-            for x in range(W):
-                o[x] &= lo[x] & hi[x]
         for x in range(W):
             s += o[x]
         if s:
