@@ -24,7 +24,8 @@ from pathlib import Path
 from planerel.errors import InputError
 
 __all__ = ["atomic_path", "atomic_dir", "recover_dir", "write_bytes", "write_text",
-           "check_output_file", "check_output_dir", "check_dir_target", "remove_stale_files"]
+           "check_output_file", "check_output_dir", "check_dir_target", "remove_stale_files",
+           "stale_files_removed"]
 
 
 def _file_mode() -> int:
@@ -36,8 +37,9 @@ def _file_mode() -> int:
 _FILE_MODE = _file_mode()
 
 
-def _probe_folder(folder: Path, target: Path) -> None:
-    """Create ``folder`` (and its parents) and check that a file can be made in it."""
+def _make_folder(folder: Path, target: Path) -> None:
+    """Create ``folder`` (and its parents) for writing ``target``; a clear error when a file
+    stands in the way or the folder cannot be made."""
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except FileExistsError:
@@ -45,6 +47,11 @@ def _probe_folder(folder: Path, target: Path) -> None:
     except OSError as exc:
         what = "" if folder == target else f" for {target}"
         raise InputError(f"cannot create folder {folder}{what}: {exc.strerror}") from None
+
+
+def _probe_folder(folder: Path, target: Path) -> None:
+    """Create ``folder`` (and its parents) and check that a file can be made in it."""
+    _make_folder(folder, target)
     try:
         fd, tmp = tempfile.mkstemp(prefix=".planerel-probe.", dir=folder)
     except OSError as exc:
@@ -89,10 +96,7 @@ def atomic_path(path, suffix: str | None = None) -> Iterator[Path]:
     """
     target = Path(path)
     folder = target.parent if str(target.parent) else Path(".")
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"cannot create folder {folder}: {exc.strerror}") from None
+    _make_folder(folder, target)
     if target.is_dir():  # the rename would fail after all the work, naming the temporary file
         raise InputError(f"{target}: is a folder; give a file name")
     try:
@@ -184,6 +188,20 @@ def recover_dir(path) -> None:
 _STALE_FILE = re.compile(r"\..+\.tmp-(\d+)-")
 
 
+@contextlib.contextmanager
+def stale_files_removed(folder) -> Iterator[None]:
+    """Remove the temporary files killed writers left in ``folder`` (:func:`remove_stale_files`)
+    before the block and again after it, however it ends: workers stopped by Ctrl-C in the
+    middle of a write leave theirs behind.  ``folder`` None: nothing to do."""
+    if folder is not None:
+        remove_stale_files(folder)
+    try:
+        yield
+    finally:
+        if folder is not None:
+            remove_stale_files(folder)
+
+
 def remove_stale_files(folder) -> int:
     """Remove the temporary files (``.NAME.tmp-PID-*``) that :func:`atomic_path` writers left in
     ``folder`` when they were killed (a worker process stopped by Ctrl-C in the middle of a
@@ -217,12 +235,7 @@ def _dir_target(path, markers) -> tuple[Path, Path]:
     if not str(path).strip():
         raise InputError("the output folder needs a name")
     folder = target.parent if str(target.parent) else Path(".")
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except FileExistsError:
-        raise InputError(f"cannot write {target}: {folder} is a file, not a folder") from None
-    except OSError as exc:
-        raise InputError(f"cannot create folder {folder}: {exc.strerror}") from None
+    _make_folder(folder, target)
     recover_dir(target)
     if target.exists():
         if not target.is_dir():

@@ -135,11 +135,10 @@ def run(args) -> int:
               "params": params, "out": args.output} for p, n in zip(paths, names, strict=True)]
     res = BatchResult()
     results = []
-    from planerel.atomic import remove_stale_files
+    from planerel.atomic import stale_files_removed
 
-    if args.output:
-        remove_stale_files(args.output)  # what killed workers of an earlier run left
-    try:
+    # half-written files of workers killed (Ctrl-C) in this run or an earlier one go
+    with stale_files_removed(args.output or None):
         for _, (answer, lines) in run_batch(_classify_task, tasks, jobs=jobs,
                                             scheduler=args.scheduler, keep_going=args.keep_going,
                                             label=lambda t: t["path"], desc="classify",
@@ -148,9 +147,6 @@ def run(args) -> int:
                 results.append(answer)
             else:
                 print("\n".join(lines))
-    finally:  # Ctrl-C: the workers are killed mid-write; their temporary files go
-        if args.output:
-            remove_stale_files(args.output)
     if args.json:
         print(json.dumps(results, indent=2))
     errors = None

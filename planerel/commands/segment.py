@@ -164,16 +164,14 @@ def run_segment(args) -> int:
     tasks = [{"path": str(p), "name": n, "out": str(out), "read": opts, "method": args.method,
               "params": params, "split": split, "formats": formats} for p, n in zip(paths, stems, strict=True)]
     res = BatchResult()
-    from planerel.atomic import remove_stale_files
+    from planerel.atomic import stale_files_removed
 
-    remove_stale_files(out)  # what killed workers of an earlier run left half-written
-    try:
+    # half-written files of workers killed (Ctrl-C) in this run or an earlier one go
+    with stale_files_removed(out):
         for _, line in run_batch(_segment_task, tasks, jobs=args.jobs, scheduler=args.scheduler,
                                  keep_going=args.keep_going, label=lambda t: t["path"],
                                  desc="segment", result=res):
             print(line)
-    finally:  # Ctrl-C: the workers are killed mid-write; their temporary files go
-        remove_stale_files(out)
     errors = write_errors(out / "errors.tsv", res.failures)
     return report_failures("segment", res.failures, errors, res.n_tasks)
 
