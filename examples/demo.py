@@ -47,12 +47,14 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
 
     from planerel.classify import Classifier, classify_dataset
+    from planerel.compile_notice import watch
     from planerel.errors import PlanerelError
     from planerel.ilp.pipeline import cross_validate, describe_scenes, draw_confusion, learn_model
     from planerel.io.writers import write_json
     from planerel.synth import CameraRange, generate_dataset
     from planerel.synth.training_world import generate_training_world
 
+    watch()  # one line on a terminal while numba compiles the kernels (the first run only)
     out = Path(args.out)
     t0 = time.perf_counter()
     try:

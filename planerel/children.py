@@ -88,12 +88,16 @@ def child_preexec(timeout: float | None = None) -> Callable[[], None]:
 
 def pool_worker_init(parent_pid: int) -> None:
     """Initializer of pool workers: die with the parent; SIGTERM ends the worker quietly and
-    Ctrl-C is left to the parent (which stops its workers), so neither prints a traceback."""
+    Ctrl-C is left to the parent (which stops its workers), so neither prints a traceback;
+    on a terminal, a worker that compiles numba kernels says so (:mod:`planerel.compile_notice`)."""
     die_with_parent()  # the parent: this process, or its forkserver (which exits with it)
     if not pid_alive(parent_pid):
         os._exit(1)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    from planerel.compile_notice import watch
+
+    watch()  # a worker compiles its own kernels: the same one line on a terminal
 
 
 def pool_options() -> dict:

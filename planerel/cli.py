@@ -62,6 +62,9 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help()
         return 2
     previous = _terminate_like_interrupt()
+    from planerel.compile_notice import watch
+
+    watch()  # one line on a terminal if numba compiles the kernels (first run after install)
     try:
         result = args.func(args)
     except (PlanerelError, OSError, MemoryError, UnicodeError) as exc:
