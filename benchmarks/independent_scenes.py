@@ -445,6 +445,7 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150, by_planes=
         rows = []
         t_all = []
         spurious = 0  # proposals matching no labelled object that got a class
+        spurious_at = {}  # scene -> those proposals' classes (in the --json output)
         with Classifier(mdir) as clf:
             for p in scenes:
                 side = json.loads(p.with_suffix(".json").read_text())
@@ -477,12 +478,15 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150, by_planes=
                 extra = [o.klass for j, o in enumerate(ans.objects)
                          if j not in matched and o.klass != "other"]
                 spurious += len(extra)
+                if extra:
+                    spurious_at[p.stem] = extra
                 if figures and (bad or extra):
                     from PIL import Image
                     fd = Path(figures) / Path(mdir).name
                     fd.mkdir(parents=True, exist_ok=True)
                     Image.fromarray(explanation_image(ans, cloud.depth)).save(fd / f"{p.stem}.png")
-        results[str(mdir)] = {**summarize(rows, spurious, len(scenes), t_all), "rows": rows}
+        results[str(mdir)] = {**summarize(rows, spurious, len(scenes), t_all), "rows": rows,
+                              "spurious_at": spurious_at}
         print_summary(str(mdir), results[str(mdir)], rows)
         if by_planes:
             print_by_planes(rows)

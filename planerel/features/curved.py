@@ -72,6 +72,10 @@ class CurvedParams:
         An object is ``curved`` when its planar fraction is below this.
     enabled : bool
         False: no cluster proposals (planar fractions are still measured).
+    stepped_clusters : bool
+        Clusters of unexplained points that lie on a staircase's profile become its treads and
+        risers, one proposal (:mod:`planerel.features.stairfit`; applied by
+        :func:`planerel.features.facts.describe_scene` when it proposes the objects).
     """
 
     facet_min_angle: float = FACET_MIN_ANGLE
@@ -84,6 +88,7 @@ class CurvedParams:
     small_area: float = 0.002
     curved_below: float = 0.8
     enabled: bool = True
+    stepped_clusters: bool = True
 
     def __post_init__(self) -> None:
         for name in ("facet_min_angle", "facet_max_angle", "tiny_area", "edge_depth", "min_area",

@@ -223,11 +223,22 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         # treads joined into one sloping "plane" (a flight seen from above) come apart
         planes, parent = remeasure_stepped(cloud, planes, (pp.step_rise_min, pp.step_rise_max),
                                            plane_params)
+    flights = []
+    if objects is None and cp.stepped_clusters:
+        # a far flight the region grower left unassigned: its treads and risers from the
+        # stepped profile of its points
+        from planerel.features.stairfit import remeasure_stepped_clusters
+
+        planes, flights = remeasure_stepped_clusters(cloud, planes, plane_params)
     rel = relate(planes, cloud, relation_params)
     support = tuple(support_planes(planes, pp, rel, cloud))
     known = {p.label for p in planes}
     if objects is None:
         groups = propose_objects(planes, rel, pp, cloud, support)
+        if flights:
+            from planerel.features.stairfit import join_groups
+
+            groups = join_groups(groups, [f - set(support) for f in flights])
         proposed = True
     else:
         groups = []
@@ -243,13 +254,13 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         # objects the segmentation left in the floor (an open box's bottom, a laptop's base)
         from planerel.features.raised import join_raised, raised_clusters
 
-        lab = planes.labels if parent else labels
+        lab = planes.labels if (parent or flights) else labels
         groups, extra, alone = join_raised(groups, raised_clusters(cloud, lab, planes, support),
                                            lab, np.asarray(cloud.xyz, float))
         raised = (groups, extra, alone)
     # proposals take the clusters of unexplained points; given objects keep their planes
     cobjs = curved_objects(planes, rel, groups, cloud if proposed else None,
-                           planes.labels if parent else labels, support, cp)
+                           planes.labels if (parent or flights) else labels, support, cp)
     if raised is not None:
         from planerel.features.raised import with_raised
 

@@ -392,7 +392,7 @@ def _boundary_pixels(lab: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
-                   gravity_params=None) -> PlaneSet:
+                   gravity_params=None, normals=None) -> PlaneSet:
     """Measure the attributes of every labelled plane.
 
     Parameters
@@ -408,6 +408,10 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     gravity_params : GravityParams, optional
         Parameters of the up estimate when ``up`` is not given (default
         :class:`~planerel.features.gravity.GravityParams`).
+    normals : dict, optional
+        ``{label: normal}``: planes whose orientation is known from a model of their points
+        (a fitted staircase's treads and risers, :mod:`planerel.features.stairfit`) take it
+        instead of a fitted one (oriented towards the sensor as the others).
 
     Returns
     -------
@@ -419,6 +423,7 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     if not isinstance(cloud, Cloud):
         raise InputError(f"measure_planes needs a planerel Cloud, got {type(cloud).__name__}")
     params = params or PlaneParams()
+    given_normals = normals
     xyz = cloud.xyz
     H, W = xyz.shape[:2]
     lab = check_labels(labels, (H, W)).copy()
@@ -442,6 +447,12 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
 
         dn, fitted = disparity_normals(xyz, lab, ok)
         normals[fitted] = dn[fitted]
+    if given_normals:
+        for k, label in enumerate(ok):
+            g = given_normals.get(int(label))
+            if g is not None:
+                g = np.asarray(g, float)
+                normals[k] = g / np.linalg.norm(g)
     flip = np.einsum("ij,ij->i", normals, cent[ok]) > 0
     normals[flip] *= -1
     # RMS distance of the points to the plane through their centroid with this normal
