@@ -10,7 +10,10 @@ in one region, which lies at least 70 % on the face), and prints, per thickness 
 faces and the share of their pixels that lie in any region.  Then, per class, the objects that
 planerel's proposals find at IoU >= 0.5 on those planes (as ``independent_scenes.py score
 --true-planes`` does for the default).  Each ``--variant`` (a ``segment()`` parameter, e.g.
-``min_region_scale=0.5``) is measured after the default, in the same run.
+``min_region_scale=0.5``) is measured after the default, in the same run.  The faces are
+counted twice: on the segmentation, and on the label image after describing the scene
+(``describe_scene``'s labels: stepped planes split, far flights' faces from the stepped profile
+of their unassigned points, :mod:`planerel.features.stairfit`).
 """
 
 from __future__ import annotations
@@ -63,6 +66,7 @@ def measure(out, params, min_pixels=150):
     from planerel.segment import segment
 
     counts = {b: [0, 0, 0.0] for b in BINS}
+    described = {b: [0, 0, 0.0] for b in BINS}
     found = {}
     for p in sorted(Path(out).glob("i[0-9][0-9][0-9][0-9].npy")):
         side = json.loads(p.with_suffix(".json").read_text())
@@ -70,15 +74,17 @@ def measure(out, params, min_pixels=150):
         cloud = io.read(p)
         lab = segment(cloud, **params).labels
         judged = [o for o in side["objects"] if (truth == o["index"]).sum() >= min_pixels]
-        face_stats(lab, truth, np.load(p.with_name(p.stem + ".planes.npy")),
-                   [o["index"] for o in judged if o["class"] == "stairs"], counts)
-        prop, _desc, _ms = frame_proposals(cloud, labels=lab)
+        planes = np.load(p.with_name(p.stem + ".planes.npy"))
+        stairs = [o["index"] for o in judged if o["class"] == "stairs"]
+        face_stats(lab, truth, planes, stairs, counts)
+        prop, desc, _ms = frame_proposals(cloud, labels=lab)
+        face_stats(np.asarray(desc.labels), truth, planes, stairs, described)
         sc = score_objects(prop, truth, min_iou=0.5)
         for o in judged:
             d = found.setdefault(o["class"], [0, 0])
             d[0] += sc.best_iou.get(o["index"], 0.0) >= 0.5
             d[1] += 1
-    return counts, found
+    return counts, found, described
 
 
 def main(argv=None) -> int:
@@ -88,11 +94,12 @@ def main(argv=None) -> int:
     a = ap.parse_args(argv)
     runs = [("default", {})] + [(v, {v.split("=", 1)[0]: _value(v.split("=", 1)[1])}) for v in a.variant]
     for name, params in runs:
-        counts, found = measure(a.dir, params)
+        counts, found, described = measure(a.dir, params)
         print(f"== {name}")
-        print("  staircase faces resolved by thickness (px): " + "; ".join(
-            f"{b[0]}-{b[1] - 1 if b[1] < 10**6 else '+'} {c[0]}/{c[1]} ({c[2] / max(c[1], 1):.2f} in a region)"
-            for b, c in counts.items()))
+        for what, cs in (("segmentation", counts), ("described", described)):
+            print(f"  staircase faces resolved by thickness (px), {what}: " + "; ".join(
+                f"{b[0]}-{b[1] - 1 if b[1] < 10**6 else '+'} {c[0]}/{c[1]} ({c[2] / max(c[1], 1):.2f} in a region)"
+                for b, c in cs.items()))
         print("  objects found by the proposals: " + ", ".join(f"{c} {v[0]}/{v[1]}" for c, v in sorted(found.items())))
     return 0
 

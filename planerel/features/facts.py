@@ -158,8 +158,9 @@ class SceneDescription:
     @property
     def labels(self):
         """``(H, W)`` int32 label image the planes refer to: the one given, with invalid points
-        unassigned and the levels of split stepped planes (:mod:`planerel.features.stepped`)
-        labelled apart."""
+        unassigned, the levels of split stepped planes (:mod:`planerel.features.stepped`)
+        labelled apart and, when proposing, the treads and risers fitted to unassigned flights
+        (:mod:`planerel.features.stairfit`)."""
         return self.planes.labels
 
     def plane_id(self, label: int) -> str:
