@@ -49,6 +49,12 @@
             planerel_score_main/0
           ]).
 
+%   Compiled in optimised mode (as `swipl -O`; the flag is scoped to this
+%   file): arithmetic becomes virtual-machine instructions instead of calls.
+%   The background file is loaded the same way (load_background/1).  The
+%   search is the same; docs/learner.md has the times.
+:- set_prolog_flag(optimise, true).
+
 :- op(500, fy, #).              % the constant marker of mode declarations
 :- op(500, fy, user:(#)).        % ... and for the files read into user
 
@@ -82,6 +88,7 @@
     lazy_clause_cache/4,    % variant hash of a clause and lazy literal, how many pos and neg it covers, the constants
     cov_cache/3,            % variant hash of a clause, its positives and negatives as bit sets
     cov_inconsistent/1,     % variant hash of a clause that covers more than noise negatives
+    nv_hash/3,              % run-wide key of a variable's values, number of covered negatives, hash of their values
     cache_record/1,         % reference of a record of the answer and value caches (big_cache/2)
     hopeless_bottom/1,      % variant hash of a bottom clause whose search found no clause
     loaded_stem/1.
@@ -396,7 +403,7 @@ load_background(File) :-
     retractall(bg_problem(_)),
     setup_call_cleanup(
         assertz(bg_loading(Abs)),
-        catch(load_files(user:Abs, [silent(true), if(true)]), E, bg_exception(E)),
+        catch(load_files(user:Abs, [silent(true), if(true), optimise(true)]), E, bg_exception(E)),
         retractall(bg_loading(_))),
     assertz(bg_file(Abs)),
     forall(( source_file(user:H, Abs), functor(H, N, A) ),
@@ -901,6 +908,10 @@ search_clause(Bottom, PosIds, NegIds, Ctx, Best) :-
     Bottom = bottom(Head, HIn, _HOut, _LitsT, _NB),
     live_table(Bottom, LiveT),
     nb_setval(planerel_live, LiveT),
+    Ctx = ctx(_, _, _, _, _, _, _, _, VT),
+    functor(VT, _, NVars),
+    consumer_table(Bottom, NVars, CT),
+    nb_setval(planerel_consumers, CT),
     Ctx = ctx(_, _, Evalfn, _, _, _, _, _, _),
     include(covers_id(pos, Head, []), PosIds, PC),
     include(covers_id(neg, Head, []), NegIds, NC),
@@ -995,29 +1006,79 @@ expandable(nd(_, _, Bound, Len, _, _, P, N, _, _), Ctx, Best) :-
 %   input variables (cached per variable set).
 
 refine(Node, Ctx, Best0, Best, Children) :-
-    Node = nd(_, Last-_, _, _, _, _, _, _, _, _),
-    Ctx = ctx(_, _, _, Bottom, _, _, _, _, _),
-    Bottom = bottom(_, _, _, _, NB),
-    From is Last + 1,
+    Node = nd(_, Last-_, Bound, _, _, _, _, _, _, _),
     node_answers(Node, Ctx, X),
-    refine_from(From, NB, Node, X, Ctx, Best0, Best, Children).
+    candidate_literals(Last, Bound, Js),
+    refine_from(Js, Node, X, Ctx, Best0, Best, Children).
 
-refine_from(J, NB, Node, X, Ctx, Best0, Best, Children) :-
-    (   J > NB
+%   refine_from(+Js, ...): the refinements by the bottom literals Js (in
+%   ascending order), those whose inputs are all bound.
+refine_from([], _, _, _, Best, Best, []).
+refine_from([J|Js], Node, X, Ctx, Best0, Best, Children) :-
+    Ctx = ctx(_, _, _, bottom(_, _, _, LitsT, _), _, _, _, _, _),
+    arg(J, LitsT, BL),
+    BL = bl(_, _, In, _, _),
+    Node = nd(_, _, Bound, _, _, _, _, _, _, _),
+    (   \+ ord_subset(In, Bound)         % inputs not bound: no refinement
+    ->  refine_from(Js, Node, X, Ctx, Best0, Best, Children)
+    ;   \+ budget_left(Ctx)             % (checked only here: nothing else counts)
     ->  Best = Best0, Children = []
-    ;   Ctx = ctx(_, _, _, bottom(_, _, _, LitsT, _), _, _, _, _, _),
-        arg(J, LitsT, BL),
-        BL = bl(_, _, In, _, _),
-        Node = nd(_, _, Bound, _, _, _, _, _, _, _),
-        J1 is J + 1,
-        (   \+ ord_subset(In, Bound)     % inputs not bound: no refinement
-        ->  refine_from(J1, NB, Node, X, Ctx, Best0, Best, Children)
-        ;   \+ budget_left(Ctx)         % (checked only here: nothing else counts)
-        ->  Best = Best0, Children = []
-        ;   children_of(BL, Node, X, Ctx, Best0, Best1, Children, Rest),
-            refine_from(J1, NB, Node, X, Ctx, Best1, Best, Rest)
-        )
+    ;   children_of(BL, Node, X, Ctx, Best0, Best1, Children, Rest),
+        refine_from(Js, Node, X, Ctx, Best1, Best, Rest)
     ).
+
+%   candidate_literals(+Last, +Bound, -Js): the bottom literals after Last
+%   that may have all their inputs bound, in ascending order: those without
+%   inputs and those with an input among the bound variables Bound (from the
+%   table of consumers made once per search, consumer_table/2), a superset
+%   of the literals a node can be refined by and usually a small part of a
+%   large bottom clause (a stairs object's has ~1 000 literals, a node binds
+%   a few of its variables).  refine_from/7 tests each one's inputs as a scan
+%   of every literal after Last did, in the same order, so the refinements
+%   are the same.
+candidate_literals(Last, Bound, Js) :-
+    nb_getval(planerel_consumers, CT),
+    arg(1, CT, Free),
+    consumer_lists(Bound, CT, Lists),
+    ord_union([Free|Lists], Js0),
+    drop_upto(Js0, Last, Js).
+
+consumer_lists([], _, []).
+consumer_lists([V|Vs], CT, [L|Ls]) :-
+    K is V + 2,
+    arg(K, CT, L),
+    consumer_lists(Vs, CT, Ls).
+
+drop_upto([J|Js], Last, Rest) :-
+    J =< Last, !,
+    drop_upto(Js, Last, Rest).
+drop_upto(Js, _, Js).
+
+%   consumer_table(+Bottom, +NVars, -CT): arg 1 of CT is the ordset of the
+%   bottom literals without inputs, arg Id + 2 the ordset of those with the
+%   variable Id among their inputs.
+consumer_table(bottom(_, _, _, LitsT, NB), NVars, CT) :-
+    findall(V-J, ( between(1, NB, J), arg(J, LitsT, bl(_, _, In, _, _)),
+                   ( In == [] -> V = free ; member(V, In) ) ),
+            Pairs0),
+    msort(Pairs0, Pairs),
+    N1 is NVars + 1,
+    functor(CT, consumers, N1),
+    fill_consumers(Pairs, CT),
+    term_variables(CT, Empty),            % variables no literal takes as input
+    maplist(=([]), Empty).
+
+fill_consumers([], _).
+fill_consumers([V-J|Ps], CT) :-
+    take_key(Ps, V, Js, Rest),
+    ( V == free -> K = 1 ; K is V + 2 ),
+    arg(K, CT, [J|Js]),
+    fill_consumers(Rest, CT).
+
+take_key([V0-J|Ps], V, [J|Js], Rest) :-
+    V0 == V, !,
+    take_key(Ps, V, Js, Rest).
+take_key(Ps, _, [], Ps).
 
 %   node_answers(+Node, +Ctx, -X): X = x(BV, BIds, VT, AH, PC, NC, cache(Assoc)),
 %   where AH holds the node's answers (force_answers/3), computed only when
@@ -1655,7 +1716,7 @@ lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts) :-
     vars_of(Ids, VT, IV),
     (   InPos = [I1], InVars = [V], var(V), IV = t(V0), V0 == V
     ->  Flat = true,                       % one input variable: flat value lists
-        flat_lazy_values(X, Ids, IV, Head, Body, V, PosTuples, NegTuples, VHash)
+        flat_lazy_values(X, Ids, IV, Head, Body, V, PosTuples, NegT, VHash)
     ;   Flat = false,
         projection(X, pos, Ids, IV, PProj),
         lazy_values(PProj, pos, Head, Body, IV, InVars, PosTuples),
@@ -1689,7 +1750,11 @@ lazy_constants_(Lit, InPos, CPos, Body, Head, X, Consts) :-
         ),
         (   lazy_cache(Key, Consts0)
         ->  Consts = Consts0
-        ;   findall(CVars,
+        ;   (   Flat == true               % the negatives' values, made only now
+            ->  neg_values(NegT, X, Ids, IV, Head, Body, V, NegTuples)
+            ;   true
+            ),
+            findall(CVars,
                     limit(20, catch(user:Call, E, (lazy_error(F/Ar, E), fail))),
                     Sols0),
             include(ground, Sols0, Sols1),
@@ -1703,48 +1768,92 @@ first_value([V|_], V).
 set_nth1([_|T], 1, X, [X|T]) :- !.
 set_nth1([H|T], N, X, [H|T1]) :- N1 is N - 1, set_nth1(T, N1, X, T1).
 
-%   flat_lazy_values(+X, +Ids, +IV, +Head, +Body, +V, -PV, -NV, -VHash): for a
-%   lazily evaluated literal whose input is the one variable V, the values
-%   of V on the node's covered positives and negatives as flat lists (what
-%   lazy_values/7 gives, without a [Value] list per value; NV = [] when
-%   PV = []) and the variant hash of [PV, NV].  Made once per node and
-%   variable, kept in the node's cache: the gteq and the lteq of one
-%   measure share them, and the lazy call is cached by that hash instead of
-%   a hash of the value lists per literal.
-flat_lazy_values(X, Ids, IV, Head, Body, V, PV, NV, VHash) :-
+%   flat_lazy_values(+X, +Ids, +IV, +Head, +Body, +V, -PV, -NVT, -VHash): for
+%   a lazily evaluated literal whose input is the one variable V, the values
+%   of V on the node's covered positives as a flat list PV (what
+%   lazy_values/7 gives, without a [Value] list per value), those on its
+%   covered negatives NV as NVT (nv(NV), or nv(NC, NEx): the values NEx per
+%   example kept run-wide, made into the list by neg_values/8 only when the
+%   lazy call is not in the cache; NV = [] when PV = []) and VHash, which
+%   identifies [PV, NV]: the variant hash of PV and of the hash of NV (none
+%   when PV = []).  Made once per node and variable, kept in the node's
+%   cache: the gteq and the lteq of one measure share them, and the lazy
+%   call is cached by that hash instead of a hash of the value lists per
+%   literal.
+%
+%   The hash of NV is kept per run-wide key of the values and number of
+%   covered negatives (nv_hash/3): a clause's covered negatives never change
+%   during a run (identified by their number, as in lazy_constants/7), and
+%   the values are a function of the key and the example
+%   (vals_cache_key/5), so NV is the same list whenever the same clause
+%   comes up again (in later searches, with fewer positives left): its
+%   hash is made once instead of hashing the ~1 000 negatives' values of
+%   every such node again, and the list itself is made only for a call.
+flat_lazy_values(X, Ids, IV, Head, Body, V, PV, NVT, VHash) :-
     X = x(_, _, _, AH, PC, NC, C),
     arg(1, C, A0),
-    (   get_assoc(flat-Ids, A0, fv(PV, NV, VHash))
+    (   get_assoc(flat-Ids, A0, fv(PV, NVT, VHash))
     ->  true
     ;   (   vals_cache_key(Head, Body, V, AH, VKey)
-        ->  (   big_cache(VKey, vals(PEx, NEx)),
+        ->  length(NC, NN),
+            (   big_cache(VKey, vals(PEx, NEx)),
                 ex_values_on(PC, PEx, PV),
                 (   PV == []
-                ->  NV = []
-                ;   ex_values_on(NC, NEx, NV)
+                ->  NVT = nv([])
+                ;   nv_hash(VKey, NN, NVHash0)
+                ->  NVT = nv(NC, NEx), NVHash = NVHash0
+                ;   ex_values_on(NC, NEx, NV),
+                    NVT = nv(NV)
                 )
             ->  Src = src(PEx, NEx),
                 flag(planerel_vals_reused, VR, VR + 1)
             ;   fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx),
                 add_big_cache(VKey, vals(PEx, NEx)),
                 fresh_values_on(PC, NC, PEx, NEx, PV, NV),
+                NVT = nv(NV),
                 Src = none
+            ),
+            (   PV == []
+            ->  VHash = none
+            ;   var(NVHash)
+            ->  NVT = nv(NV1),
+                variant_sha1(NV1, NVHash),
+                assertz(nv_hash(VKey, NN, NVHash)),
+                variant_sha1(PV-NVHash, VHash)
+            ;   variant_sha1(PV-NVHash, VHash)
             )
         ;   fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx),
             fresh_values_on(PC, NC, PEx, NEx, PV, NV),
-            Src = none
-        ),
-        (   PV == []
-        ->  VHash = none
-        ;   variant_sha1([PV, NV], VHash)
+            NVT = nv(NV),
+            Src = none,
+            (   PV == []
+            ->  VHash = none
+            ;   variant_sha1(NV, NVHash),
+                variant_sha1(PV-NVHash, VHash)
+            )
         ),
         arg(1, C, A1),
-        put_assoc(flat-Ids, A1, fv(PV, NV, VHash), A2),
+        put_assoc(flat-Ids, A1, fv(PV, NVT, VHash), A2),
         (   Src = src(_, _)               % the projection on V without the answers
         ->  put_assoc(valsrc-Ids, A2, Src, A3)
         ;   A3 = A2
         ),
         setarg(1, C, A3)
+    ).
+
+%   neg_values(+NVT, +X, +Ids, +IV, +Head, +Body, +V, -NV): the values of V on
+%   the node's covered negatives as one list (flat_lazy_values/9).  From the
+%   entry NEx kept run-wide that gave the node's positive values; should it
+%   not hold every covered negative (it does: see flat_lazy_values/9), the
+%   values are computed afresh from the node's answers, which gives the same
+%   list.
+neg_values(nv(NV), _, _, _, _, _, _, NV).
+neg_values(nv(NC, NEx), X, Ids, IV, Head, Body, V, NV) :-
+    (   ex_values_on(NC, NEx, NV0)
+    ->  NV = NV0
+    ;   X = x(_, _, _, _, PC, _, _),
+        fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx1),
+        fresh_values_on(PC, NC, PEx, NEx1, _, NV)
     ).
 
 %   fresh_flat_values(+X, +Ids, +IV, +Head, +Body, +V, -PEx, -NEx): the
@@ -1966,6 +2075,7 @@ induce :-
     retractall(lazy_clause_cache(_, _, _, _)),
     retractall(cov_cache(_, _, _)),
     retractall(cov_inconsistent(_)),
+    retractall(nv_hash(_, _, _)),
     clear_big_cache,
     forall(member(F, [planerel_ans_reused, planerel_vals_reused, planerel_proj_reused]),
            flag(F, _, 0)),
@@ -2308,8 +2418,19 @@ write_rules(File) :-
 %   a user error, 3 on any other error.
 planerel_main :-
     current_prolog_flag(argv, Argv),
+    stack_settings,
     catch(main_(Argv), E, main_error(E)),
     halt(0).
+
+%   stack_settings: at least 32 M cells (256 MB) free on the global stack
+%   after each garbage collection (SWI-Prolog's default: 256 K cells).  A
+%   search makes garbage fast (answer lists, findall/3 bags, copies of cached
+%   entries); with the default the stack is collected and shifted over and
+%   over (ramp of 1 000 varied scenes: 81 collections and 13 shifts of the
+%   global stack in 2.4 s; with this setting 28 collections and 2 shifts in
+%   1.1 s, and no higher peak memory).  Only for the driver's own process.
+stack_settings :-
+    set_prolog_stack(global, min_free(33554432)).
 
 %!  planerel_score_main is det.
 %
