@@ -1244,6 +1244,18 @@ add_big_cache(Key, Term) :-
     recordz(Key, Term, Ref),
     assertz(cache_record(Ref)).
 
+%   The values of a variable are kept as two records: those on the negatives
+%   (most of the examples) apart, so that a look-up copies them only when
+%   they are needed (a lazy call not in the cache, a projection of the
+%   negatives): vals(PosValues, Ref) under the key, Ref the record
+%   vneg(NegValues).
+add_vals_cache(Key, PEx, NEx) :-
+    recordz(planerel_vneg, vneg(NEx), NRef),
+    assertz(cache_record(NRef)),
+    add_big_cache(Key, vals(PEx, NRef)).
+
+neg_entry(NRef, NEx) :- recorded(_, vneg(NEx), NRef).
+
 clear_big_cache :-
     forall(retract(cache_record(Ref)), erase(Ref)).
 
@@ -1286,9 +1298,13 @@ projection(X, Side, Ids, IV, Proj) :-
     (   get_assoc(Side-Ids, A0, Proj)
     ->  true
     ;   Ids = [_],
-        get_assoc(valsrc-Ids, A0, src(PEx, NEx)),
+        get_assoc(valsrc-Ids, A0, src(PEx, NRef)),
         X = x(_, _, _, _, PC, NC, _),
-        ( Side == pos -> proj_from_vals(PC, PEx, Proj) ; proj_from_vals(NC, NEx, Proj) )
+        (   Side == pos
+        ->  proj_from_vals(PC, PEx, Proj)
+        ;   neg_entry(NRef, NEx),
+            proj_from_vals(NC, NEx, Proj)
+        )
     ->  flag(planerel_proj_reused, PR, PR + 1),
         put_assoc(Side-Ids, A0, Proj, A1),
         setarg(1, C, A1)
@@ -1796,19 +1812,21 @@ flat_lazy_values(X, Ids, IV, Head, Body, V, PV, NVT, VHash) :-
     ->  true
     ;   (   vals_cache_key(Head, Body, V, AH, VKey)
         ->  length(NC, NN),
-            (   big_cache(VKey, vals(PEx, NEx)),
+            (   big_cache(VKey, vals(PEx, NRef)),
                 ex_values_on(PC, PEx, PV),
                 (   PV == []
                 ->  NVT = nv([])
                 ;   nv_hash(VKey, NN, NVHash0)
-                ->  NVT = nv(NC, NEx), NVHash = NVHash0
-                ;   ex_values_on(NC, NEx, NV),
+                ->  NVT = nv(NC, NRef), NVHash = NVHash0,
+                    flag(planerel_nvhash_reused, NR, NR + 1)
+                ;   neg_entry(NRef, NEx),
+                    ex_values_on(NC, NEx, NV),
                     NVT = nv(NV)
                 )
-            ->  Src = src(PEx, NEx),
+            ->  Src = src(PEx, NRef),
                 flag(planerel_vals_reused, VR, VR + 1)
             ;   fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx),
-                add_big_cache(VKey, vals(PEx, NEx)),
+                add_vals_cache(VKey, PEx, NEx),
                 fresh_values_on(PC, NC, PEx, NEx, PV, NV),
                 NVT = nv(NV),
                 Src = none
@@ -1848,8 +1866,9 @@ flat_lazy_values(X, Ids, IV, Head, Body, V, PV, NVT, VHash) :-
 %   values are computed afresh from the node's answers, which gives the same
 %   list.
 neg_values(nv(NV), _, _, _, _, _, _, NV).
-neg_values(nv(NC, NEx), X, Ids, IV, Head, Body, V, NV) :-
-    (   ex_values_on(NC, NEx, NV0)
+neg_values(nv(NC, NRef), X, Ids, IV, Head, Body, V, NV) :-
+    (   neg_entry(NRef, NEx),
+        ex_values_on(NC, NEx, NV0)
     ->  NV = NV0
     ;   X = x(_, _, _, _, PC, _, _),
         fresh_flat_values(X, Ids, IV, Head, Body, V, PEx, NEx1),
@@ -2077,7 +2096,8 @@ induce :-
     retractall(cov_inconsistent(_)),
     retractall(nv_hash(_, _, _)),
     clear_big_cache,
-    forall(member(F, [planerel_ans_reused, planerel_vals_reused, planerel_proj_reused]),
+    forall(member(F, [planerel_ans_reused, planerel_vals_reused, planerel_proj_reused,
+                      planerel_nvhash_reused]),
            flag(F, _, 0)),
     flag(planerel_cache_hits, _, 0),
     retractall(hopeless_bottom(_)),

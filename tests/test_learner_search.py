@@ -169,7 +169,8 @@ _REUSE_GOAL = r"""
 check :-
     planerel_learner:read_all('STEM'),
     with_output_to(string(_), planerel_learner:induce),
-    forall(member(F, [planerel_ans_reused, planerel_vals_reused, planerel_proj_reused]),
+    forall(member(F, [planerel_ans_reused, planerel_vals_reused, planerel_proj_reused,
+                      planerel_nvhash_reused]),
            ( flag(F, N, N), format("~w ~w~n", [F, N]) )).
 """
 
@@ -178,9 +179,11 @@ def test_run_wide_answers_values_and_projections_change_nothing(tmp_path):
     # With caching, a node's answers, the values of a lazily evaluated literal's variable per
     # example and the projection rebuilt from them are kept for the whole run (keyed by the
     # clause's variant and the answer variables of its ancestors), so later seeds' searches take
-    # them instead of proving the clause again.  On a problem with several seeds' searches, all
-    # three are reused, and the theory, the clauses explored and the printed
-    # search are those of the run without any cache.
+    # them instead of proving the clause again; so is the hash of the values on the covered
+    # negatives (per key and number of negatives), whose list is then made only for a lazy call
+    # not in the cache.  On a problem with several seeds' searches, all four are reused, and the
+    # theory, the clauses explored and the printed search are those of the run without any
+    # cache.
     stem = _planes_problem(tmp_path, n_obj=60, seed=5)
     goal = tmp_path / "goal.pl"
     goal.write_text(_REUSE_GOAL.replace("STEM", stem.as_posix()))
@@ -190,7 +193,8 @@ def test_run_wide_answers_values_and_projections_change_nothing(tmp_path):
     assert p.returncode == 0, p.stdout + p.stderr
     counts = dict(line.split() for line in p.stdout.splitlines())
     assert all(int(counts[k]) > 0 for k in ("planerel_ans_reused", "planerel_vals_reused",
-                                             "planerel_proj_reused")), counts
+                                             "planerel_proj_reused",
+                                             "planerel_nvhash_reused")), counts
     off, on = (learn(stem, settings={"caching": c}) for c in ("false", "true"))
     assert on.rules == off.rules and on.train == off.train
     assert on.clauses_explored == off.clauses_explored
@@ -384,3 +388,60 @@ def test_answers_keep_only_the_live_variables(tmp_path):
     r = learn(stem)
     assert [c.replace(" ", "") for c in r.rules] == ["has_red(A):-item(A,B),colour(B,red)."]
     assert r.train == Confusion(tp=2, fn=0, fp=0, tn=3), r.output
+
+
+# --------------------------------------------------------------------------- candidate literals
+
+_CANDIDATES_GOAL = r"""
+inputs_bound(LitsT, Bound, J) :- arg(J, LitsT, bl(_, _, In, _, _)), ord_subset(In, Bound).
+
+check :-
+    planerel_learner:read_all('STEM'),
+    planerel_learner:pos_ex(1, Seed),
+    planerel_learner:saturate(Seed, Bottom, VT),
+    Bottom = bottom(_, HIn, _, LitsT, NB),
+    functor(VT, _, NV),
+    planerel_learner:consumer_table(Bottom, NV, CT),
+    nb_setval(planerel_consumers, CT),
+    % bound variables of nodes: the head's inputs and the outputs of one or two literals
+    findall(B, ( B = HIn
+               ; between(1, NB, J1), arg(J1, LitsT, bl(_, _, _, O1, _)), ord_union(HIn, O1, B)
+               ; between(1, NB, J1), arg(J1, LitsT, bl(_, _, _, O1, _)),
+                 between(J1, NB, J2), arg(J2, LitsT, bl(_, _, _, O2, _)),
+                 ord_union([HIn, O1, O2], B) ), Bs0),
+    sort(Bs0, Bs),
+    aggregate_all(count, ( member(B, Bs), between(0, NB, Last),
+                           planerel_learner:candidate_literals(Last, B, Js),
+                           findall(J, ( between(1, NB, J), J > Last, inputs_bound(LitsT, B, J) ),
+                                   Want),
+                           include(inputs_bound(LitsT, B), Js, Got),
+                           \+ ( Got == Want, sort(Js, Js), forall(member(J, Js), J > Last) ) ),
+                  Bad),
+    length(Bs, NBs),
+    aggregate_all(count, ( member(B, Bs), between(0, NB, Last),
+                           planerel_learner:candidate_literals(Last, B, Js), length(Js, L),
+                           L < NB - Last ), Fewer),
+    format("bottom ~w bounds ~w bad ~w fewer ~w~n", [NB, NBs, Bad, Fewer]).
+"""
+
+
+def test_candidate_literals_are_those_a_full_scan_finds(tmp_path):
+    # A node is refined by the bottom literals after its last one whose inputs are all bound.
+    # Instead of testing every later literal, the learner takes those without inputs and those
+    # with an input among the node's bound variables (a table of consumers per variable, made
+    # once per search) and tests only these.  For every set of bound variables a node of up to
+    # two literals can have and every last literal, the literals kept must be exactly those of
+    # the full scan, in the same (ascending) order, and the candidates fewer for some nodes.
+    stem = _planes_problem(tmp_path, n_obj=12, seed=4)
+    goal = tmp_path / "goal.pl"
+    goal.write_text(_CANDIDATES_GOAL.replace("STEM", stem.as_posix()))
+    p = subprocess.run(["swipl", "-q", "-g", f"consult('{LEARNER.as_posix()}')", "-g",
+                        f"consult('{goal.as_posix()}')", "-g", "check", "-t", "halt"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stdout + p.stderr
+    m = re.search(r"bottom (\d+) bounds (\d+) bad (\d+) fewer (\d+)", p.stdout)
+    assert m, p.stdout + p.stderr
+    nb, nbounds, bad, fewer = map(int, m.groups())
+    assert nb >= 10 and nbounds >= 10, p.stdout
+    assert bad == 0, p.stdout
+    assert fewer > 0, p.stdout
