@@ -855,6 +855,12 @@ prove_body([L|Ls]) :-
 call_lit('$rec'(L)) :- !, planerel_ext:L.
 call_lit(L) :- user:L.
 
+%   lit_goal(+Lit, -Goal): the goal call_lit(Lit) calls, made once for the
+%   loops that test one literal on many answers (call(Goal) there instead
+%   of call_lit(Lit) each time: one predicate call less per answer).
+lit_goal('$rec'(L), G) :- !, G = planerel_ext:L.
+lit_goal(L, user:L).
+
 covers(Head, Body, Ex) :-
     catch(\+ \+ ( Head = Ex, prove_body(Body) ), E, (coverage_error(E), fail)).
 
@@ -1175,9 +1181,10 @@ all_answers(_, Head, Body, BV, PC, NC, PT, NT) :-
 %   again one example at a time (child_answers/8), where the error means "no
 %   answer" for that example alone.
 side_child_answers(Set, Head, Body, BV, PBV, Lit, PA, Answers) :-
+    lit_goal(Lit, G),
     catch(findall(Id-BV,
                   ( member(Id-PTs, PA), PTs \== full,
-                    member(PBV, PTs), call_lit(Lit) ),
+                    member(PBV, PTs), call(G) ),
                   Pairs),
           _, fail),
     !,
@@ -1212,7 +1219,8 @@ child_answers(Set, Head, Body, BV, PBV, Lit, Id-PTs, Answers) :-
     (   PTs == full
     ->  ex_answers(Set, Head, Body, BV, Id, Answers)
     ;   tuple_cap(Cap),
-        catch(findall(BV, ( member(PBV, PTs), call_lit(Lit) ), L),   % at most
+        lit_goal(Lit, G),
+        catch(findall(BV, ( member(PBV, PTs), call(G) ), L),   % at most
               Err, (coverage_error(Err), L = [])),        % |PTs| < Cap times the literal's answers
         length(L, N),
         (   N >= Cap
@@ -1362,36 +1370,38 @@ project(BV, IV, Id-Ts, Id-Ps) :-
 %   refined clause covers; fails as soon as fewer than Need could be covered.
 child_cover(Proj, IV, Lit, Set, Head, Body1, Need, Ids) :-
     length(Proj, N),
-    catch(child_cover(Proj, N, Need, IV, Lit, Set, Head, Body1, Ids, fast), _,
-          child_cover(Proj, N, Need, IV, Lit, Set, Head, Body1, Ids, safe)).
+    lit_goal(Lit, G),
+    catch(child_cover(Proj, N, Need, IV, G, Set, Head, Body1, Ids, fast), _,
+          child_cover(Proj, N, Need, IV, G, Set, Head, Body1, Ids, safe)).
 
 %   One catch/3 around the whole test (fast); only if some literal call
 %   raises is the test run again with one catch/3 per call (safe), where an
 %   error means "not covered" for that example alone and is reported once.
 child_cover([], _, _, _, _, _, _, _, [], _).
-child_cover([Id-Ps|T], Left, Need, IV, Lit, Set, Head, Body1, Ids, Mode) :-
+child_cover([Id-Ps|T], Left, Need, IV, G, Set, Head, Body1, Ids, Mode) :-
     Left >= Need,
     Left1 is Left - 1,
-    (   covered_by(Ps, Id, IV, Lit, Set, Head, Body1, Mode)
+    (   covered_by(Ps, Id, IV, G, Set, Head, Body1, Mode)
     ->  Ids = [Id|Ids1],
         Need1 is Need - 1
     ;   Ids = Ids1,
         Need1 = Need
     ),
-    child_cover(T, Left1, Need1, IV, Lit, Set, Head, Body1, Ids1, Mode).
+    child_cover(T, Left1, Need1, IV, G, Set, Head, Body1, Ids1, Mode).
 
-%   covered_by(+Answers, +Id, +IV, +Lit, +Set, +Head, +Body1, +Mode): the
-%   refined clause covers example Id: Lit holds for one of the parent's
-%   answers Ps (Id-full: the whole clause is proved on the example).
-covered_by(Ps, Id, IV, Lit, Set, Head, Body1, Mode) :-
+%   covered_by(+Answers, +Id, +IV, +G, +Set, +Head, +Body1, +Mode): the
+%   refined clause covers example Id: the literal (G, its goal: lit_goal/2)
+%   holds for one of the parent's answers Ps (Id-full: the whole clause is
+%   proved on the example).
+covered_by(Ps, Id, IV, G, Set, Head, Body1, Mode) :-
     (   Ps == full
     ->  covers_id(Set, Head, Body1, Id)
     ;   Mode == fast
     ->  member(P, Ps),
-        \+ \+ ( IV = P, call_lit(Lit) )
+        \+ \+ ( IV = P, call(G) )
     ;   member(P, Ps),
         \+ \+ ( IV = P,
-                catch(call_lit(Lit), E, (coverage_error(E), fail)) )
+                catch(call(G), E, (coverage_error(E), fail)) )
     ),
     !.
 
@@ -1399,19 +1409,20 @@ covered_by(Ps, Id, IV, Lit, Set, Head, Body1, Mode) :-
 %   child_cover/8 without a minimum, but fails as soon as more than Max
 %   examples are covered.
 capped_cover(Proj, IV, Lit, Set, Head, Body1, Max, Ids) :-
-    catch(capped_cover(Proj, Max, IV, Lit, Set, Head, Body1, Ids, fast), _,
-          capped_cover(Proj, Max, IV, Lit, Set, Head, Body1, Ids, safe)).
+    lit_goal(Lit, G),
+    catch(capped_cover(Proj, Max, IV, G, Set, Head, Body1, Ids, fast), _,
+          capped_cover(Proj, Max, IV, G, Set, Head, Body1, Ids, safe)).
 
 capped_cover([], _, _, _, _, _, _, [], _).
-capped_cover([Id-Ps|T], Max, IV, Lit, Set, Head, Body1, Ids, Mode) :-
-    (   covered_by(Ps, Id, IV, Lit, Set, Head, Body1, Mode)
+capped_cover([Id-Ps|T], Max, IV, G, Set, Head, Body1, Ids, Mode) :-
+    (   covered_by(Ps, Id, IV, G, Set, Head, Body1, Mode)
     ->  Max > 0,
         Max1 is Max - 1,
         Ids = [Id|Ids1]
     ;   Max1 = Max,
         Ids = Ids1
     ),
-    capped_cover(T, Max1, IV, Lit, Set, Head, Body1, Ids1, Mode).
+    capped_cover(T, Max1, IV, G, Set, Head, Body1, Ids1, Mode).
 
 children_of(bl(J, Lit, In, Out, none), Node, X, Ctx, Best0, Best, Cs, T) :- !,
     make_child(J, Lit, In-all, Out, Node, X, Ctx, Best0, Child),
