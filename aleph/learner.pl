@@ -148,6 +148,7 @@ setting_spec(caching,      true,     oneof([true, false])).
 setting_spec(cache_clauselength, inf, int_or_inf(1)).
 setting_spec(skip_same_bottom, true, oneof([true, false])).   % planerel's own (see cover_loop/1)
 setting_spec(samplesize,   0,        int(0)).                   % seeds per clause (see sample_seeds/2)
+setting_spec(lazy_examples, false,   oneof([true, false])).     % planerel's own (see ex_values_on/3)
 
 %   Values Aleph accepts for search/evalfn that this learner does not implement.
 aleph_other_value(search, [ar, ibs, ic, id, ils, rls, scs, false]).
@@ -1938,15 +1939,38 @@ vals_cache_key(Head, Body, V, AH, Key) :-
 
 %   ex_values_on(+Ids, +IdValues, -Values): the values of the examples Ids
 %   (an ordset, each of them in IdValues: fails otherwise) in order, as one
-%   list.
-ex_values_on([], _, []).
-ex_values_on([Id|Ids], [Id0-Vs|T], Vals) :-
+%   list (Aleph's lazy protocol).  With set(lazy_examples, true) each
+%   example's values stay together as ex(Values) (examples without a value
+%   left out), so that a lazily evaluated threshold can count examples
+%   instead of values (prolog/compare.pl): an example with many answers
+%   -- a staircase's many pairs of parallel planes -- then weighs as one.
+ex_values_on(Ids, IdValues, Vals) :-
+    (   setting(lazy_examples, true)
+    ->  ex_values_grouped(Ids, IdValues, Vals)
+    ;   ex_values_flat(Ids, IdValues, Vals)
+    ).
+
+ex_values_flat([], _, []).
+ex_values_flat([Id|Ids], [Id0-Vs|T], Vals) :-
     (   Id == Id0
     ->  ex_vals(Vs, Vs1),
         append(Vs1, Vals1, Vals),
-        ex_values_on(Ids, T, Vals1)
+        ex_values_flat(Ids, T, Vals1)
     ;   Id0 @< Id
-    ->  ex_values_on([Id|Ids], T, Vals)
+    ->  ex_values_flat([Id|Ids], T, Vals)
+    ).
+
+ex_values_grouped([], _, []).
+ex_values_grouped([Id|Ids], [Id0-Vs|T], Vals) :-
+    (   Id == Id0
+    ->  ex_vals(Vs, Vs1),
+        (   Vs1 == []
+        ->  Vals = Vals1
+        ;   Vals = [ex(Vs1)|Vals1]
+        ),
+        ex_values_grouped(Ids, T, Vals1)
+    ;   Id0 @< Id
+    ->  ex_values_grouped([Id|Ids], T, Vals)
     ).
 
 %   lazy_flat(+Proj, +Set, +Head, +Body, +V, -IdValues): the values of V in

@@ -16,6 +16,10 @@
        negatives.  The cut-off is the shortest decimal strictly between the last
        value kept and the next value, or the value itself when every value
        is an integer (counts), so learned rules read "gteq(N, 2)".
+       An element ex(Values) of either list is one example's values (planerel's
+       learner with set(lazy_examples, true)): it counts as one example, by
+       its smallest value for lteq and its largest for gteq (the example is
+       covered when some answer passes the threshold).
 
     Written for planerel; no code is taken from Aleph.
 */
@@ -42,7 +46,9 @@ gteq(X, T) :-
 
 %   planerel_cutoff(+Dir, +Pos, +Neg, -T)
 %   Dir = le: examples kept are those =< T; Dir = ge: those >= T.
-planerel_cutoff(Dir, Pos0, Neg0, T) :-
+planerel_cutoff(Dir, Pos00, Neg00, T) :-
+    planerel_per_example(Pos00, Dir, Pos0),
+    planerel_per_example(Neg00, Dir, Neg0),
     planerel_numbers(Pos0, Pos),
     planerel_numbers(Neg0, Neg),
     Pos \== [],
@@ -52,6 +58,23 @@ planerel_cutoff(Dir, Pos0, Neg0, T) :-
     planerel_best(Dir, PosValues, PosSorted, NegSorted, Best),
     planerel_neighbour(Dir, Best, PosSorted, NegSorted, Next),
     planerel_between(Dir, Best, Next, PosSorted, NegSorted, T).
+
+% planerel_per_example(+List, +Dir, -Values): ex(Vs) -> the value of Vs that
+% decides whether the example passes (le: the smallest, ge: the largest);
+% anything else as it is
+planerel_per_example([], _, []).
+planerel_per_example([X|Xs], Dir, [Y|Ys]) :-
+    (   nonvar(X), X = ex(Vs0)
+    ->  planerel_numbers(Vs0, Vs),
+        (   Vs == []
+        ->  Y = none
+        ;   Dir == le
+        ->  min_list(Vs, Y)
+        ;   max_list(Vs, Y)
+        )
+    ;   Y = X
+    ),
+    planerel_per_example(Xs, Dir, Ys).
 
 % the numbers of a list, in order (include(number, ...) without a call per element)
 planerel_numbers([], []).

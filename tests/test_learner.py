@@ -530,3 +530,45 @@ def test_samplesize_seeds_without_a_clause_are_set_aside(tmp_path):
     r = learn(stem, settings={"minpos": 2})
     assert [norm(c) for c in r.rules] == [norm("p(A) :- b(A).")]
     assert r.train.tp == 5 and r.train.fn == 1
+
+
+# --------------------------------------------------------------------------- lazy_examples
+
+
+def _many_values(dest: Path, lazy_examples: bool | None) -> Path:
+    """p(o1..o4): one small value each (2.0-2.6) beside four large ones (10-13); the six
+    negatives one value 5.0 each.  A lazy lteq counting values keeps the large ones (20
+    positive values against 6 negative ones beat 4 against 0), a cut-off that covers every
+    negative; counting examples (each by its smallest value) it separates them at 4."""
+    compare = (Path(__file__).resolve().parents[1] / "prolog" / "compare.pl").read_text()
+    b = [":- set(i, 2).", ":- set(clauselength, 3).", ":- set(minpos, 2).",
+         ":- modeh(1, p(+obj)).", ":- modeb(*, m(+obj, -val)).", ":- modeb(1, lteq(+val, #val)).",
+         ":- determination(p/1, m/2).", ":- determination(p/1, lteq/2).",
+         ":- lazy_evaluate(lteq/2)."]
+    if lazy_examples is not None:
+        b.insert(0, f":- set(lazy_examples, {str(lazy_examples).lower()}).")
+    for i in range(1, 5):
+        b.append(f"m(o{i}, {2.0 + 0.2 * (i - 1):.1f}).")
+        b += [f"m(o{i}, {v}.0)." for v in (10, 11, 12, 13)]
+    b += [f"m(o{i}, 5.0)." for i in range(5, 11)]
+    (dest / "many.b").write_text("\n".join(b) + "\n" + compare)
+    (dest / "many.f").write_text("".join(f"p(o{i}).\n" for i in range(1, 5)))
+    (dest / "many.n").write_text("".join(f"p(o{i}).\n" for i in range(5, 11)))
+    return dest / "many"
+
+
+def test_lazy_examples_counts_each_example_once(tmp_path):
+    """Aleph's protocol (the default) hands the threshold every value; with
+    set(lazy_examples, true) each example's values arrive together and count as one
+    example, so the cut-off that keeps every positive and no negative is found."""
+    for name in ("a", "b", "c"):
+        (tmp_path / name).mkdir()
+    plain = learn(_many_values(tmp_path / "a", None))
+    assert not any("lteq" in c for c in plain.rules)
+    assert plain.train.fp == 0
+    off = learn(_many_values(tmp_path / "b", False))
+    assert off.rules == plain.rules
+    grouped = learn(_many_values(tmp_path / "c", True))
+    assert [norm(c) for c in grouped.rules] == [norm("p(A) :- m(A,B), lteq(B,4).")]
+    assert grouped.train == Confusion(tp=4, fn=0, fp=0, tn=6)
+    assert not any("lazy_examples" in w for w in grouped.warnings)

@@ -102,6 +102,36 @@ def test_cutoff_matches_its_definition_on_random_lists(tmp_path):
         assert Fraction(text) == pytest.approx(Fraction(want), abs=1e-9), (d, p, n, text, want)
 
 
+def test_cutoff_on_grouped_values_counts_examples(tmp_path):
+    """ex(Values) elements (set(lazy_examples, true)): one example each, by its smallest value
+    for le and its largest for ge -- the cut-off of those values; groups with no number are
+    left out, plain numbers beside them count as before."""
+    rng = random.Random(23)
+
+    def groups(n):
+        return [[rng.randint(0, 60) / 10 + 0.05 for _ in range(rng.randint(1, 4))] for _ in range(n)]
+
+    cases = [(d, groups(rng.randint(1, 7)), groups(rng.randint(0, 7)))
+             for _ in range(100) for d in ("le", "ge")]
+
+    def text(gs):
+        return "[" + ", ".join(f"ex({g})" for g in gs) + "]"
+
+    goals = "".join(f"(planerel_cutoff({d}, {text(p)}, {text(n)}, T{i}) -> writeq(T{i}) ; "
+                    f"write(none)), nl, " for i, (d, p, n) in enumerate(cases))
+    goals += "planerel_cutoff(le, [ex([2.0, 10.0]), ex([]), 2.2], [ex([5.0, 9.0])], T), writeq(T), nl, "
+    proc = subprocess.run(["swipl", "-q", "-g", f"consult('{COMPARE}'), {goals} halt", "-t", "halt(1)"],
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    got = proc.stdout.split()
+    assert len(got) == len(cases) + 1
+    for (d, p, n), out in zip(cases, got[:-1], strict=True):
+        pick = min if d == "le" else max
+        want = cutoff(d, [pick(g) for g in p], [pick(g) for g in n])
+        assert Fraction(out) == pytest.approx(Fraction(want), abs=1e-9), (d, p, n, out, want)
+    assert got[-1] == "4"           # 2.0 and 2.2 kept, the negative by its 5.0: cut at 4
+
+
 # --------------------------------------------------------------------------- caching
 
 

@@ -75,6 +75,8 @@ _SETTINGS = {
     "depth": lambda v: isinstance(v, int) and v >= 1,
     "verbosity": lambda v: isinstance(v, int) and v >= 0,
     "samplesize": lambda v: isinstance(v, int) and v >= 0,
+    # planerel's learner only: lazy thresholds count examples, not values (docs/learner.md)
+    "lazy_examples": lambda v: v in ("true", "false"),
 }
 
 
