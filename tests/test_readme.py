@@ -9,6 +9,7 @@ so a command that needs a file no earlier command writes fails here as it would 
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shlex
@@ -107,6 +108,9 @@ def test_quick_start_runs_verbatim_on_a_fresh_copy(tmp_path):
               "out/classified/s0003.classified.png", "out/classified/s0003.classified.json"]:
         assert (proj / f).is_file(), f
     assert "scene(office1)." in (proj / "out/office1.pl").read_text()
+    # the learn step's cross-validation is what the README says of it (0.978; >= 0.95 asked)
+    metrics = json.loads((proj / "out/model/metrics.json").read_text())
+    assert metrics["cross_validation"]["accuracy"] >= 0.95, metrics["cross_validation"]
     # the Python API example, verbatim, with the model the Quick start learned
     r = subprocess.run([sys.executable, "-c", python_example(README.read_text())], cwd=proj,
                        env=env, capture_output=True, text=True, timeout=300)
