@@ -11,7 +11,9 @@ ramp_tilt=0``
 ``cavities=False, cut_apart_parallel=False, ramp_tilt=0`` (the defaults before the concave
 cavities, the cut of parallel faces apart and the shallow-ramp test, main at a760b49), with
 ``occluded_channels=False, cavity_skip_walls=False`` (the defaults before the occluded channels
-and walls kept out of cavities, main at c3a6d74) and the
+and walls kept out of cavities, main at c3a6d74), with ``split_panels=False,
+occluded_pieces=False, side_wall_members=0, cut_long_side=False, apart_edge=0`` and
+``CurvedParams(join_area=0)`` (the defaults before the sixth pass, main at c986474) and the
 defaults, interleaved, ``--repeat`` times; the median per frame is summed.
 Printed: ms per frame of each and its ratio to the reference, and the proposals' found rate /
 false proposals per frame (planerel.features.object_eval).
@@ -35,6 +37,7 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=22, help="seed of the synthetic scenes")
     ap.add_argument("--no-mosd", action="store_true", help="leave the mOSD frames out")
     args = ap.parse_args(argv)
+    from planerel.features.curved import CurvedParams
     from planerel.features.facts import describe_scene
     from planerel.features.object_eval import (
         MISS_KINDS,
@@ -58,10 +61,23 @@ def main(argv=None) -> int:
             frames.append((name, cloud, segment(cloud).labels, truth, ty))
     variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0, border_wall_area=0,
                                                     wall_behind=1, floor_gap=1.0, raised_objects=False,
-                                                    ramp_tilt=0.0),
-                "before 4th pass": ProposalParams(cavities=False, cut_apart_parallel=False, ramp_tilt=0.0),
-                "before 5th pass": ProposalParams(occluded_channels=False, cavity_skip_walls=False),
+                                                    ramp_tilt=0.0, split_panels=False,
+                                                    occluded_pieces=False, side_wall_members=0,
+                                                    cut_long_side=False, apart_edge=0),
+                "before 4th pass": ProposalParams(cavities=False, cut_apart_parallel=False, ramp_tilt=0.0,
+                                                  split_panels=False, occluded_pieces=False,
+                                                  side_wall_members=0, cut_long_side=False,
+                                                  apart_edge=0),
+                "before 5th pass": ProposalParams(occluded_channels=False, cavity_skip_walls=False,
+                                                  split_panels=False, occluded_pieces=False,
+                                                  side_wall_members=0, cut_long_side=False,
+                                                  apart_edge=0),
+                "before 6th pass": ProposalParams(split_panels=False, occluded_pieces=False,
+                                                  side_wall_members=0, cut_long_side=False,
+                                                  apart_edge=0),
                 "defaults": ProposalParams()}
+    # the curved clusters' parameters of each variant (the sixth pass's one-plane join)
+    curved = {k: CurvedParams(join_area=0.0) if k != "defaults" else CurvedParams() for k in variants}
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": []} for k in variants}
     misses = {k: {"mosd": [], "synth": []} for k in variants}
@@ -70,11 +86,11 @@ def main(argv=None) -> int:
         for _ in range(args.repeat):
             for k, pp in variants.items():
                 t0 = time.perf_counter()
-                d = describe_scene(cloud, labels, proposal_params=pp)
+                d = describe_scene(cloud, labels, proposal_params=pp, curved_params=curved[k])
                 per[k].append(1000 * (time.perf_counter() - t0))
         for k, pp in variants.items():
             times[k].append(statistics.median(per[k]))
-            d = describe_scene(cloud, labels, proposal_params=pp)
+            d = describe_scene(cloud, labels, proposal_params=pp, curved_params=curved[k])
             img = proposal_image(d.labels, [o.planes for o in d.objects], [o.mask for o in d.objects])
             group = "synth" if "/" in name else "mosd"
             sc = score_objects(img, truth, name=name, types=ty)

@@ -125,13 +125,22 @@ def test_a_cluster_joins_a_touching_proposal_of_small_planes_but_not_a_flat_one(
     planes = [NS(label=1, area=0.0016, n_points=400, normal=(0, 0, -1.0)),
               NS(label=2, area=0.016, n_points=4000, normal=(0, 0, -1.0))]
     objs = curved_objects(planes, [], [(1,), (2,)], cloud, labels, support=(0,),
-                          params=CurvedParams(min_area=0.002))
+                          params=CurvedParams(min_area=0.002, join_area=0.0))
     assert [o.planes for o in objs] == [(1,), (2,), ()]
     assert objs[0].mask.sum() == 1200 and objs[0].n_points == 1600
     # plane 1 (0.0016 m^2 >= tiny_area) is flat: 400 of 1600 points
     assert objs[0].planar_fraction == pytest.approx(400 / 1600) and objs[0].curved
     assert objs[1].mask is None and objs[1].planar_fraction == 1.0 and not objs[1].curved
     assert objs[2].mask[100:140, 150:180].all() and objs[2].planar_fraction == 0.0
+    # the sixth pass's join (join_area 0.25 m^2): the cluster touching only the one-plane
+    # proposal of the flat face (0.016 m^2, 30 pixel pairs) joins it
+    objs = curved_objects(planes, [], [(1,), (2,)], cloud, labels, support=(0,),
+                          params=CurvedParams(min_area=0.002))
+    assert [o.planes for o in objs] == [(1,), (2,)]
+    assert objs[1].mask[100:140, 150:180].all() and objs[1].planar_fraction == pytest.approx(4000 / 5200)
+    objs = curved_objects(planes, [], [(1,), (2,)], cloud, labels, support=(0,),
+                          params=CurvedParams(min_area=0.002, join_area=0.01))
+    assert [o.planes for o in objs] == [(1,), (2,), ()]
 
 
 def test_a_depth_jump_separates_clusters():

@@ -43,7 +43,8 @@ import math
 
 import numpy as np
 
-__all__ = ["cavity_pairs", "edge_overlap", "group_channel_pairs", "occluded_channel_pairs", "occluding_edge"]
+__all__ = ["cavity_pairs", "edge_overlap", "group_channel_pairs", "occluded_channel_pairs", "occluding_edge",
+           "split_panel_pairs"]
 
 
 def cross3(u, v) -> np.ndarray:
@@ -136,7 +137,7 @@ def cavity_pairs(planes, concave, angle_tol: float = 10.0, min_overlap: float = 
 
 
 def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
-                        min_overlap: float = 0.5) -> set:
+                        min_overlap: float = 0.5, side_members: int = 0) -> set:
     """Two parallel planes facing each other across a *group* of joined planes (a channel
     whose bottom is several planes: a flight's treads and risers between its side walls).
 
@@ -146,6 +147,12 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
     concave edge join the group when, for each wall, the group's extent (all its planes'
     hulls) along the edge line overlaps the wall's by at least ``min_overlap``; the landing a
     descending flight starts from, between the same walls, spans a fraction of them.
+
+    With ``side_members`` (>= 1), one such wall alone joins the group when at least that many
+    distinct members meet it at shared concave edges (a flight seen with one side wall: each
+    tread meets it).  A box against a panel or a larger box meets it with its top and a side
+    at most; the panel behind a row of boxes meets them at a chain of concave edges but runs
+    along the row, and the boxes are no group of joined planes.
 
     Parameters
     ----------
@@ -190,6 +197,10 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
         by_group.setdefault(gid, []).append((w, ms[0]))
     for gid, walls in by_group.items():
         walls = [(w, m) for w, m in walls if whole(w, gid, m)]
+        if side_members:
+            for w, m in walls:
+                if len(set(touch[(w, gid)])) >= side_members:
+                    out.add((w, m))
         for i, (a, ma) in enumerate(walls):
             for d, md in walls[i + 1:]:
                 na, nd = _towards_sensor(byl[a]), _towards_sensor(byl[d])
@@ -320,4 +331,87 @@ def occluded_channel_pairs(planes, concave, labels, xyz, angle_tol: float = 10.0
                     trace.append((a, b, c, round(s, 3), round(back, 3), round(inter / whole_c, 2), cut, occ))
                 if occ >= min_occluded:
                     out |= {(a, b), (b, c)}
+    return out
+
+
+def split_panel_pairs(planes, concave, labels, xyz, angle_tol: float = 10.0,
+                      coplanar_depth: float = 0.03, min_overlap: float = 0.5,
+                      reach: float = 0.05, trace=None) -> set:
+    """A panel in coplanar pieces, each meeting one plane at a shared concave edge.
+
+    A shelf's back panel seen past a board that is not segmented (a thin plate seen nearly
+    edge-on) comes out in two pieces, one above and one below the board; each meets the side
+    panel ``S`` at a concave edge, neither spans it alone, and they share no edge with each
+    other.  Pieces ``P1`` and ``P2`` join ``S`` when: they are parallel (normals within
+    ``angle_tol``) and not parallel to ``S``; each lies within ``coplanar_depth * max(1, z)``
+    of the other's plane (one surface); along the ``S``-``P`` edge line they follow one another
+    (their extents overlap by at most ``reach * max(1, z)``) and each lies within ``S``'s
+    extent (``reach * max(1, z)`` of slack); their joint extent spans ``S`` (interval IoU at
+    least ``min_overlap``, as a whole edge of :func:`cavity_pairs`); and what the image shows
+    between them is no gap (:func:`planerel.features.gaps.gap_behind`: under half of the
+    valid pixels on the lines between them lie behind both, or none is valid: the board seen
+    nearly edge-on lies at the panel's depth or in front of it).  A box
+    against a wall makes one concave edge; a wall cut in two by something in front of it runs
+    beyond the box's side along the edge, and two boxes in a row against one face have the
+    floor or a face behind them seen between them.
+
+    Parameters
+    ----------
+    planes : PlaneSet or sequence of Plane
+    concave : iterable of (int, int)
+        Pairs meeting at a shared concave edge (as for :func:`cavity_pairs`).
+    labels, xyz : ndarray
+        The plane label image and the organized points.
+
+    Returns
+    -------
+    set of (int, int)
+        ``(S, P1)`` and ``(S, P2)`` of each such panel.
+    """
+    from planerel.features.gaps import gap_behind
+
+    byl = {p.label: p for p in planes}
+    cos_tol = math.cos(math.radians(angle_tol))
+    nbrs: dict = {}
+    for a, b in concave:
+        if a in byl and b in byl and a != b:
+            nbrs.setdefault(a, set()).add(b)
+            nbrs.setdefault(b, set()).add(a)
+    out: set = set()
+    for s, around in sorted(nbrs.items()):
+        if len(around) < 2:
+            continue
+        ps = byl[s]
+        ns = _towards_sensor(ps)
+        around = sorted(around)
+        for i, p1 in enumerate(around):
+            for p2 in around[i + 1:]:
+                a, b = byl[p1], byl[p2]
+                na, nb = _towards_sensor(a), _towards_sensor(b)
+                if float(na @ nb) < cos_tol or abs(float(na @ ns)) >= cos_tol:
+                    continue
+                ca, cb = np.asarray(a.centroid, float), np.asarray(b.centroid, float)
+                z = max(1.0, 0.5 * abs(float(ca[2] + cb[2])))
+                if max(abs(float(na @ (cb - ca))), abs(float(nb @ (ca - cb)))) > coplanar_depth * z:
+                    continue
+                axis = cross3(ns, na)
+                axis /= max(float(np.linalg.norm(axis)), 1e-12)
+                ia, ib, i_s = _interval(a, axis), _interval(b, axis), _interval(ps, axis)
+                slack = reach * z
+                if min(ia[1], ib[1]) - max(ia[0], ib[0]) > slack:
+                    continue
+                if any(iv[0] < i_s[0] - slack or iv[1] > i_s[1] + slack for iv in (ia, ib)):
+                    continue
+                lo, hi = min(ia[0], ib[0]), max(ia[1], ib[1])
+                union = max(hi, i_s[1]) - min(lo, i_s[0])
+                span = (min(hi, i_s[1]) - max(lo, i_s[0])) / union if union > 0 else 0.0
+                if span < min_overlap:
+                    continue
+                ba, bb = a.bbox, b.bbox
+                box = (min(ba[0], bb[0]), min(ba[1], bb[1]), max(ba[2], bb[2]), max(ba[3], bb[3]))
+                f = gap_behind(labels, xyz, p1, p2, window=box)
+                if trace is not None:
+                    trace.append((s, p1, p2, round(span, 2), f))
+                if f is None or f < 0.5:
+                    out |= {(s, p1), (s, p2)}
     return out

@@ -68,6 +68,15 @@ class CurvedParams:
         m^2: smallest surface area of a cluster of unexplained points that is kept.
     small_area : float
         m^2: a cluster joins a touching proposal whose planes are all facets or smaller than this.
+    join_area : float
+        m^2: a cluster that touches one proposal only (support planes aside), made of one plane
+        smaller than this, joins it when they touch along at least ``join_touch`` grid pixel
+        pairs: the rest of a round object one flat-looking piece of which the segmentation made
+        a plane (a cylinder's side seen at 3 m; a small box's face beside its unexplained
+        top); 0 = only the ``small_area`` rule.
+    join_touch : int
+        Grid pixel pairs (within two pixels, ``edge_depth``) such a cluster and plane touch
+        along at least.
     curved_below : float
         An object is ``curved`` when its planar fraction is below this.
     enabled : bool
@@ -86,20 +95,22 @@ class CurvedParams:
     edge_depth: float = 0.02
     min_area: float = 0.01
     small_area: float = 0.002
+    join_area: float = 0.25
+    join_touch: int = 10
     curved_below: float = 0.8
     enabled: bool = True
     stepped_clusters: bool = True
 
     def __post_init__(self) -> None:
         for name in ("facet_min_angle", "facet_max_angle", "tiny_area", "edge_depth", "min_area",
-                     "small_area", "curved_below"):
+                     "small_area", "join_area", "curved_below"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
                 raise InputError(f"{name} must be a number >= 0, got {v!r}")
         if not self.facet_min_angle <= self.facet_max_angle <= 90:
             raise InputError(f"facet angles must satisfy 0 <= facet_min_angle <= facet_max_angle "
                              f"<= 90, got {self.facet_min_angle!r} and {self.facet_max_angle!r}")
-        for name, lo, hi in (("facet_min_planes", 2, 1000), ("open_px", 0, 10)):
+        for name, lo, hi in (("facet_min_planes", 2, 1000), ("open_px", 0, 10), ("join_touch", 0, 10 ** 9)):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
                 raise InputError(f"{name} must be an integer in {lo}..{hi}, got {v!r}")
@@ -379,6 +390,14 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
         for m in unexplained_clusters(cloud, lab, planes, support, params):
             touch = _touching_labels(m, lab, xyz, params.edge_depth)
             joined = sorted({owner[x] for x in touch if x in owner and soft[owner[x]]})
+            if not joined and params.join_area > 0:
+                # the rest of a one-plane proposal it alone touches (module rule step 3)
+                near = {owner[x] for x in touch if x in owner}
+                if len(near) == 1:
+                    k = next(iter(near))
+                    if (len(props[k]) == 1 and byl[props[k][0]].area < params.join_area
+                            and touch.get(props[k][0], 0) >= params.join_touch):
+                        joined = [k]
             if joined:
                 # every soft proposal the cluster touches becomes one object
                 k0 = joined[0]

@@ -57,6 +57,7 @@ from planerel.features.cavities import (
     edge_overlap,
     group_channel_pairs,
     occluded_channel_pairs,
+    split_panel_pairs,
 )
 
 __all__ = [
@@ -68,6 +69,7 @@ __all__ = [
     "scene_graph",
     "ProposalParams",
     "propose_objects",
+    "shares_edge",
     "support_planes",
     "edge_means",
     "convex_pairs",
@@ -542,6 +544,39 @@ class ProposalParams:
         walls under ``support_min_area`` and a ramp between them make an inside corner with
         whole edges, not an open object.  (The occluded channels keep such planes: a shelf's
         back panel at the border.)
+    apart_edge : int
+        Pixel pairs at 320 pixels wide (scaled by the image width: 5 at 160, 20 at 640): a pair
+        adjacent by the grid test whose hulls lie farther apart than the relations'
+        ``adjacency_gap`` needs a shared edge of at least this many pixel pairs (at least
+        ``MIN_EDGE``) to stay a pair (:func:`shares_edge`).
+    cut_long_side : bool
+        In the step chains a tread counts as cut along its length by the image border (its
+        depth not seen: no member) only by its pixels on the image sides parallel to its pixel
+        box's long side (:func:`step_chain_pairs`); False = on any side (a tread the bottom
+        edge cuts at its end, seen with the camera rolled, was left out).
+    side_wall_members : int
+        With ``group_channels``: one wall alone joins a group when at least this many of the
+        group's planes meet it at shared concave edges and the group spans it (a flight seen
+        with one side wall, each tread meeting it); 0 = two walls needed (the default: the
+        varied world counts a flight's side wall as part of the staircase, the independent
+        judge scenes count the room wall beside a flight as environment, and the walls'
+        heights above the flights overlap; docs/objects.md, sixth pass).
+    split_panels : bool
+        Also join a panel in coplanar pieces to the plane they meet: two parallel, coplanar
+        planes (within ``coplanar_depth``) each meeting one plane at a shared concave edge,
+        following one another along it within its extent and together spanning it
+        (``cavity_overlap``), with something in front of them between them in the image (a
+        shelf's back panel above and below an unsegmented board, and its side panel;
+        :func:`planerel.features.cavities.split_panel_pairs`; needs ``cavities``).
+    occluded_pieces : bool
+        Join pieces of one surface seen on both sides of something in front of it: parallel
+        planes within ``coplanar_depth`` of each other's plane, their hulls more than the
+        relations' ``adjacency_gap`` and at most ``piece_gap`` apart, with at least half of the
+        valid pixels between them in the image in front of both (a shelf's back panel seen
+        from above between its boards; :func:`planerel.features.gaps.occluded_piece_pairs`;
+        needs the cloud and ``cavities``).
+    piece_gap : float
+        Metres: the largest hull distance of such pieces.
     cavity_overlap : float
         An edge is whole when the two planes' extents along it overlap by at least this
         (interval IoU, :func:`planerel.features.cavities.edge_overlap`): a board spans its
@@ -596,6 +631,12 @@ class ProposalParams:
     group_channels: bool = True
     occluded_channels: bool = True
     cavity_skip_walls: bool = True
+    split_panels: bool = True
+    apart_edge: int = 10
+    cut_long_side: bool = True
+    side_wall_members: int = 0
+    occluded_pieces: bool = True
+    piece_gap: float = 0.25
     ramp_tilt: float = 3.0
     ramp_rise: float = 0.02
 
@@ -603,7 +644,7 @@ class ProposalParams:
         _check_nonneg(self, ("support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
-                             "step_run_min", "step_run_max", "step_tilt", "cavity_overlap",
+                             "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
                              "ramp_tilt", "ramp_rise"))
         if self.step_rise_min > self.step_rise_max or self.step_run_min > self.step_run_max:
             raise InputError("step_rise_min / step_run_min must not exceed step_rise_max / step_run_max, "
@@ -614,6 +655,10 @@ class ProposalParams:
         _check_nonneg(self, ("sanity_angle",))
         if self.sanity_angle > 90:
             raise InputError(f"sanity_angle must be in 0..90 degrees, got {self.sanity_angle!r}")
+        for name in ("side_wall_members", "apart_edge"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+                raise InputError(f"{name} must be an integer >= 0, got {v!r}")
         if isinstance(self.edge_band, bool) or not isinstance(self.edge_band, int) or not 1 <= self.edge_band <= 8:
             raise InputError(f"edge_band must be an integer number of pixels in 1..8, got {self.edge_band!r}")
 
@@ -960,18 +1005,37 @@ def _step_kind(p, tilt: float) -> str | None:
     return None
 
 
-def _cut_lengthwise(planes) -> set:
+def _cut_lengthwise(planes, along_long_side: bool = True) -> set:
     """Labels of planes the image border cuts along their length: as many of their pixels lie on
-    the border as the long side of their pixel box (the floor or landing the camera stands on,
-    seen to the image's bottom edge), so how deep they are is not seen.  A tread cut at its
-    ends by the left or right border keeps its depth."""
+    the border as half the long side of their pixel box (the floor or landing the camera stands
+    on, seen to the image's bottom edge), so how deep they are is not seen.  A tread cut at its
+    ends by the left or right border keeps its depth.  With ``along_long_side`` only the
+    border pixels on the image sides parallel to the box's long side count (the top and bottom
+    rows for a box wider than high, else the left and right columns): a tread of a flight seen
+    with the camera rolled, a strip the bottom edge cuts across its narrow side, is cut at its
+    end and keeps its depth (seed 33 ``s0030``)."""
     lab = getattr(planes, "labels", None)
     if lab is None or lab.size == 0:
         return set()
     out = set()
+    H, W = lab.shape
     for p in planes:
         r0, c0, r1, c1 = p.bbox
-        if _border_pixels(lab, p.label, p.bbox) >= 0.5 * max(r1 - r0, c1 - c0):
+        long_side = max(r1 - r0, c1 - c0)
+        if along_long_side:
+            r0i, c0i, r1i, c1i = (int(v) for v in p.bbox)
+            n = 0
+            if c1 - c0 >= r1 - r0:
+                for row, hit in ((0, r0i <= 0), (H - 1, r1i >= H)):
+                    if hit:
+                        n += int(np.count_nonzero(lab[row, max(c0i, 0):c1i] == p.label))
+            else:
+                for col, hit in ((0, c0i <= 0), (W - 1, c1i >= W)):
+                    if hit:
+                        n += int(np.count_nonzero(lab[max(r0i, 0):r1i, col] == p.label))
+        else:
+            n = _border_pixels(lab, p.label, p.bbox)
+        if n >= 0.5 * long_side:
             out.add(p.label)
     return out
 
@@ -1025,7 +1089,7 @@ def _anchor_offset(face, anchor, up) -> np.ndarray:
 def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_overlap: float = 0.5, angle_tol: float = 10.0,
                      max_ratio: float = 3.0, tilt: float = 12.0, skip: bool = True,
-                     min_width: float = 0.5) -> set:
+                     min_width: float = 0.5, cut_long_side: bool = True) -> set:
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
     Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
@@ -1042,7 +1106,8 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     per step within 30 %: three faces in a regular row.  Two boxes, one behind the other, make
     one step, not a chain; a staircase seen from above (treads only) or below (risers only)
     makes many.  A tread the image border cuts along its length (the landing the camera stands
-    on, seen to the bottom edge) is no member: its depth is not seen.  Two treads alone make
+    on, seen to the bottom edge) is no member: its depth is not seen (``cut_long_side``: only
+    the border on the sides of its pixel box's long side counts, :func:`_cut_lengthwise`).  Two treads alone make
     a step that counts when both are at least ``min_width`` wide across the flight and 1.5
     times wider than deep, and a third horizontal plane (any: the landing, the floor) lies
     one more rise (within 30 %) above or below and comes within ``run[1]`` of them
@@ -1063,7 +1128,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     up = np.asarray(planes.up, float)
     cos_tol = math.cos(math.radians(angle_tol))
     kind = {p.label: _step_kind(p, tilt) for p in planes}
-    cut = _cut_lengthwise(planes)
+    cut = _cut_lengthwise(planes, cut_long_side)
     cands = [p for p in planes if (not want or p.label in want) and kind[p.label]
              and not (kind[p.label] == "tread" and p.label in cut)]
     steps = []  # (lower, higher, rise per step, unit horizontal direction)
@@ -1200,12 +1265,30 @@ class _Components:
             if ra != rb:
                 parent[rb] = ra
 
+    def together(self, a, b) -> bool:
+        """Whether ``a`` and ``b`` are in one component (False for a node not seen)."""
+        if a not in self.parent or b not in self.parent:
+            return False
+        return self._root(a) == self._root(b)
+
     def groups(self) -> list[list]:
         """The components, each a list of its nodes in the order they came."""
         out: dict = {}
         for k in self.parent:
             out.setdefault(self._root(k), []).append(k)
         return list(out.values())
+
+
+def shares_edge(n_edge: int, gap: float, adjacency_gap: float, apart_edge: int = 0) -> bool:
+    """Whether an adjacent pair stays a pair for the convexity rule: its hulls come within
+    ``adjacency_gap`` metres, or it shares an edge of at least :data:`MIN_EDGE` pixel pairs
+    (:func:`edge_means`), at least ``apart_edge`` when its hulls lie farther apart than that (a
+    few pixel pairs within ``edge_depth`` across an occluding edge are no shared edge: a
+    table's frame 6.4 cm from an open box behind it at 2.4 m, 8 pixel pairs, seed 32
+    ``s0014``)."""
+    if gap <= adjacency_gap:
+        return True
+    return n_edge >= max(MIN_EDGE, apart_edge)
 
 
 def propose_objects(planes, relations: Relations, params: ProposalParams | None = None,
@@ -1237,8 +1320,9 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             # depth), sharing no edge and with hulls apart, is one face seen behind another
             # (a box behind a table's frame), not two faces of one object
             pairs = [(a, b) for a, b in pairs
-                     if edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE
-                     or relations.get(a, b).gap <= relations.params.adjacency_gap]
+                     if shares_edge(edges.get((min(a, b), max(a, b)), (0, 0, 0))[2],
+                                    relations.get(a, b).gap, relations.params.adjacency_gap,
+                                    round(params.apart_edge * lab.shape[1] / 320))]
             if params.cut_apart_parallel:
                 # parallel faces that neither touch in the image nor share an edge, adjacent
                 # only because their hulls come within adjacency_gap, with no occluder in
@@ -1285,19 +1369,33 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                 # a channel whose near wall shows its outside and hides the bottom
                 joined |= occluded_channel_pairs(planes, concave, lab, cloud.xyz, params.concave_tol,
                                                  params.cavity_overlap)
+            if params.split_panels and concave:
+                # a panel in coplanar pieces (cut by a board) along one plane's concave edge
+                joined |= split_panel_pairs(planes, concave, lab, cloud.xyz, params.concave_tol,
+                                            params.coplanar_depth or 0.0, params.cavity_overlap)
         pairs = sorted(joined)
     g.add_edges(pairs)
+    lab = getattr(planes, "labels", None)
+    if (params.split_concave and params.cavities and params.occluded_pieces and cloud is not None
+            and lab is not None and lab.shape == cloud.xyz.shape[:2]):
+        # pieces of one surface seen on both sides of something in front of it (not adjacent)
+        from planerel.features.gaps import occluded_piece_pairs
+
+        g.add_edges(occluded_piece_pairs(planes, relations, lab, cloud.xyz, drop, params.concave_tol,
+                                         params.coplanar_depth or 0.0,
+                                         relations.params.adjacency_gap, params.piece_gap,
+                                         together=g.together))
     if params.step_chains:
         g.add_edges(step_chain_pairs(
             planes, g.nodes, (params.step_rise_min, params.step_rise_max),
             (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
-            params.concave_tol, tilt=params.step_tilt))
+            params.concave_tol, tilt=params.step_tilt, cut_long_side=params.cut_long_side))
     if params.split_concave and params.cavities and params.group_channels and concave:
         # side walls facing each other across a group of joined planes that together span
         # them (a flight between its side walls; planerel.features.cavities)
         group_of = {k: i for i, c in enumerate(g.groups()) for k in c}
         g.add_edges(group_channel_pairs(planes, concave, group_of, params.concave_tol,
-                                        params.cavity_overlap))
+                                        params.cavity_overlap, params.side_wall_members))
     byl = {p.label: p for p in planes}
     comps = [tuple(sorted(c)) for c in g.groups()]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
