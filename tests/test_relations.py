@@ -127,11 +127,11 @@ def test_bad_params():
 
 
 def test_components_are_networkx_connected_components():
-    """``_Components`` (propose_objects' and facet_planes' union-find) gives networkx's
+    """``Components`` (propose_objects' and facet_planes' union-find) gives networkx's
     components: nodes given first or met in edges, self-loops, repeated edges."""
     import networkx as nx
 
-    from planerel.features.relations import _Components
+    from planerel.features.relations import Components
 
     rng = np.random.default_rng(5)
     for _ in range(200):
@@ -140,7 +140,7 @@ def test_components_are_networkx_connected_components():
         edges = [tuple(int(x) for x in rng.integers(0, 20, 2)) for _ in range(int(rng.integers(0, 25)))]
         g = nx.Graph()
         g.add_nodes_from(nodes)
-        c = _Components(nodes)
+        c = Components(nodes)
         half = len(edges) // 2
         g.add_edges_from(edges[:half])
         c.add_edges(edges[:half])

@@ -157,11 +157,11 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
     -------
     set of int
     """
-    from planerel.features.relations import _Components
+    from planerel.features.relations import Components
 
     params = params or CurvedParams()
     cand = {p.label for p in planes} if candidates is None else set(candidates)
-    g = _Components()
+    g = Components()
     lo, hi = params.facet_min_angle, params.facet_max_angle
     g.add_edges((r.a, r.b) for r in relations
                 if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi)

@@ -69,6 +69,7 @@ __all__ = [
     "scene_graph",
     "ProposalParams",
     "propose_objects",
+    "Components",
     "shares_edge",
     "support_planes",
     "edge_means",
@@ -1231,7 +1232,7 @@ def _step_like(pa, pb, min_overlap: float, up=None, riser_max: float | None = No
     return edge_overlap(pa, pb) >= min_overlap
 
 
-class _Components:
+class Components:
     """Connected components of an undirected graph grown by nodes and edges (union-find; the
     components networkx's ``connected_components`` gives, without building its graph)."""
 
@@ -1309,7 +1310,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     params = params or ProposalParams()
     drop = set(support_planes(planes, params, relations, cloud) if support is None else support)
     concave: list = []
-    g = _Components(p.label for p in planes if p.label not in drop)
+    g = Components(p.label for p in planes if p.label not in drop)
     pairs = [(a, b) for a, b in relations.adjacent_pairs() if a not in drop and b not in drop]
     if params.split_concave and pairs:
         edges = None
