@@ -221,3 +221,25 @@ def test_cut_lengthwise_reads_the_border_through_the_boxes_as_numpy_counts_it():
         assert _cut_lengthwise(ps, along_long_side=False) == want
         cut += len(want)
     assert cut > 100
+
+
+def test_border_pixels_by_side_match_numpy():
+    """``_border_pixels``' ``sides`` (the step chains' "cut along the long side") count what
+    numpy counts on the image's rows / columns, whatever the label's pixel box."""
+    from planerel.features.relations import _border_pixels
+
+    rng = np.random.default_rng(5)
+    for shape in [(7, 9), (1, 6), (6, 1), (12, 5)]:
+        lab = rng.integers(0, 4, size=shape).astype(np.int32)
+        for label in range(4):
+            rr, cc = np.nonzero(lab == label)
+            if not rr.size:
+                continue
+            bbox = (rr.min(), cc.min(), rr.max() + 1, cc.max() + 1)
+            rows = int(np.count_nonzero(lab[0] == label) + np.count_nonzero(lab[-1] == label))
+            cols = int(np.count_nonzero(lab[:, 0] == label) + np.count_nonzero(lab[:, -1] == label))
+            every = int(np.count_nonzero(np.concatenate(
+                [lab[0], lab[-1], lab[1:-1, 0], lab[1:-1, -1]]) == label))
+            assert _border_pixels(lab, label, bbox, "rows") == rows
+            assert _border_pixels(lab, label, bbox, "cols") == cols
+            assert _border_pixels(lab, label, bbox) == every

@@ -1019,40 +1019,36 @@ def _cut_lengthwise(planes, along_long_side: bool = True) -> set:
     if lab is None or lab.size == 0:
         return set()
     out = set()
-    H, W = lab.shape
     for p in planes:
         r0, c0, r1, c1 = p.bbox
-        long_side = max(r1 - r0, c1 - c0)
-        if along_long_side:
-            r0i, c0i, r1i, c1i = (int(v) for v in p.bbox)
-            n = 0
-            if c1 - c0 >= r1 - r0:
-                for row, hit in ((0, r0i <= 0), (H - 1, r1i >= H)):
-                    if hit:
-                        n += int(np.count_nonzero(lab[row, max(c0i, 0):c1i] == p.label))
-            else:
-                for col, hit in ((0, c0i <= 0), (W - 1, c1i >= W)):
-                    if hit:
-                        n += int(np.count_nonzero(lab[max(r0i, 0):r1i, col] == p.label))
-        else:
-            n = _border_pixels(lab, p.label, p.bbox)
-        if n >= 0.5 * long_side:
+        sides = ("rows" if c1 - c0 >= r1 - r0 else "cols") if along_long_side else "all"
+        if _border_pixels(lab, p.label, p.bbox, sides) >= 0.5 * max(r1 - r0, c1 - c0):
             out.add(p.label)
     return out
 
 
-def _border_pixels(lab, label: int, bbox) -> int:
+def _border_pixels(lab, label: int, bbox, sides: str = "all") -> int:
     """Pixels of ``label`` on the image border, counted as ``np.concatenate([lab[0], lab[-1],
     lab[1:-1, 0], lab[1:-1, -1]])`` holds them (a one-row or one-column image counts its
     row or column twice), read only where the label's pixel box ``bbox`` meets the border
-    (a plane's box holds all its pixels; a full column is a cache miss a pixel)."""
+    (a plane's box holds all its pixels; a full column is a cache miss a pixel).
+    ``sides="rows"``: on the top and bottom rows only; ``"cols"``: on the left and right
+    columns only, corners included."""
     H, W = lab.shape
     r0, c0, r1, c1 = (int(v) for v in bbox)
     n = 0
+    if sides == "cols":
+        if c0 <= 0:
+            n += int(np.count_nonzero(lab[max(r0, 0):r1, 0] == label))
+        if c1 >= W:
+            n += int(np.count_nonzero(lab[max(r0, 0):r1, W - 1] == label))
+        return n
     if r0 <= 0:
         n += int(np.count_nonzero(lab[0, max(c0, 0):c1] == label))
     if r1 >= H:
         n += int(np.count_nonzero(lab[H - 1, max(c0, 0):c1] == label))
+    if sides == "rows":
+        return n
     lo, hi = max(r0, 1), min(r1, H - 1)
     if hi > lo:
         if c0 <= 0:
