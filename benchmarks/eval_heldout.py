@@ -30,6 +30,9 @@ def main(argv=None) -> int:
                     help="folder for the model (rules.pl) and the held-out answers (answers.json)")
     ap.add_argument("--other-rules", action="store_true",
                     help="learn rules for class other too (planerel learn --other-rules)")
+    ap.add_argument("--keep-redundant", action="store_true",
+                    help="keep clauses that add only false positives (planerel learn "
+                         "--keep-redundant)")
     args = ap.parse_args(argv)
 
     from planerel.ilp import pipeline as P
@@ -51,13 +54,14 @@ def main(argv=None) -> int:
     if args.folds:
         cv = P.cross_validate(descs, classes, folds=args.folds, jobs=args.jobs, progress=False,
                               timeout=args.timeout, settings=settings or None,
-                              other_rules=args.other_rules)
+                              other_rules=args.other_rules, keep_redundant=args.keep_redundant)
         cv = {k: cv.get(k) for k in ("accuracy", "per_class", "confusion", "other",
                                      "open_set_accuracy", "open_set_confusion", "n_examples",
                                      "excluded")}
     t2 = time.perf_counter()
     model = P.learn_rules(descs, classes, engine="auto", timeout=args.timeout,
-                          settings=settings or None, other_rules=args.other_rules)
+                          settings=settings or None, other_rules=args.other_rules,
+                          keep_redundant=args.keep_redundant)
     t3 = time.perf_counter()
     held = P.held_out_scores(model, args.held, jobs=args.jobs, progress=False,
                              timeout=args.timeout)

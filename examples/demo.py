@@ -88,6 +88,9 @@ def main(argv=None) -> int:
                 print(f"  {r}")
         for r in m["rules"].get("other") or []:
             print(f"  {r}   % none of the classes")
+        for k, r, tp, fp in m.get("dropped_redundant") or []:
+            print(f"  % left out: {r}  (its {tp} training {k} are proved by the other {k} "
+                  f"rules; it also proved {fp} other objects)")
 
         clf = Classifier(out / "model" / "rules.pl")
         res = classify_dataset(clf, held, out_dir=out / "classified")

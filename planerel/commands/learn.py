@@ -56,6 +56,10 @@ def register(sub) -> None:
                    help="also learn rules for class other (objects of none of the classes in "
                         "the data set): they prove 'none of the classes' and compete with the "
                         "class rules by precision (docs/results.md, 'Rules for other')")
+    p.add_argument("--keep-redundant", action="store_true",
+                   help="keep every clause the learner returned; by default a clause whose "
+                        "training positives the class's other clauses all prove, and that "
+                        "proves objects of other classes, is left out (docs/learner.md)")
     p.set_defaults(func=run)
 
 
@@ -120,7 +124,7 @@ def run(args) -> int:
                     method=args.method, seg_params=_params(args.param), cache=args.cache,
                     log=lambda s: print(s, file=sys.stderr), scheduler=args.scheduler,
                     heldout=args.heldout, settings=_settings(args.settings) or None,
-                    other_rules=args.other_rules)
+                    other_rules=args.other_rules, keep_redundant=args.keep_redundant)
     print(f"engine: {m['engine']}")
     print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
           f"{', '.join(m['classes'])}"
@@ -135,6 +139,9 @@ def run(args) -> int:
             print(f"  % no rule for {k}")
     for r in m["rules"].get("other") or []:
         print(f"  {r}   % none of the classes")
+    for k, r, tp, fp in m.get("dropped_redundant") or []:
+        print(f"  % left out: {r}  (its {tp} training {k} are proved by the other {k} rules; "
+              f"it also proved {fp} other objects)")
     cv = m.get("cross_validation")
     if cv:
         print(f"{cv['k']}-fold cross-validation: accuracy {cv['accuracy']:.3f}")

@@ -71,6 +71,10 @@ class Model:
         ``(i, j, class, n)``: ``n`` training objects of ``class`` (or ``other``) on which the
         clauses ``i < j`` of two different targets both fired (:func:`choose_class` decides
         such conflicts with them).
+    dropped : tuple
+        ``(class, clause text, tp, fp)`` of the clauses the learner found and
+        :func:`drop_redundant` left out (their training positives were all proved by the other
+        clauses of their class); written into :meth:`text` as comments.
     uncovered : dict
         ``{class: n}`` training objects no general rule covers (Aleph keeps them as ground
         facts when ``minpos`` is 1 and leaves them out otherwise; a model for new scenes has no
@@ -85,6 +89,7 @@ class Model:
     clauses_explored: int = 0
     uncovered: dict = field(default_factory=dict)
     cofire: tuple = ()
+    dropped: tuple = ()
 
     @property
     def targets(self) -> tuple:
@@ -116,6 +121,12 @@ class Model:
             lines.append(f"% ---- {k}" + ("  (none of the classes: these rules win an object "
                                           "when their precision is higher)" if k == OTHER else ""))
             lines += list(self.rules.get(k, ())) or [f"% (no rule learned for {k})"]
+            lines.append("")
+        if self.dropped:
+            lines.append("% clauses learned but left out: every training object of their class "
+                         "they proved, another clause proves too")
+            lines += [f"%   {k}: {text}  (proved {tp} {k}, {fp} other objects)"
+                      for k, text, tp, fp in self.dropped]
             lines.append("")
         if self.stats:
             lines.append("% planerel_rule_stats(Index, Class, TruePositives, FalsePositives)")
@@ -175,7 +186,8 @@ def split_class_settings(settings: dict | None, classes: Sequence[str]) -> tuple
 
 def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeout: float = 120.0,
                 settings: dict | None = None, work_dir=None, task: str | None = None,
-                jobs: int | None = None, log=None, other_rules: bool = False) -> Model:
+                jobs: int | None = None, log=None, other_rules: bool = False,
+                keep_redundant: bool = False) -> Model:
     """Learn one theory per class from described scenes (one Aleph run per class).
 
     With ``other_rules`` and objects of class ``other`` among the examples (clutter: none of
@@ -208,6 +220,10 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
     other_rules : bool
         Learn rules for ``other`` as well when there are at least two ``other`` objects
         (settings for it: ``other:NAME``).
+    keep_redundant : bool
+        Keep every clause the learner returned.  By default a clause whose training positives
+        the other clauses of its class all prove, and that proves some objects of other
+        classes, is left out (:func:`drop_redundant`).
 
     Returns
     -------
@@ -274,7 +290,13 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
             engines.add(res.engine_detail or res.engine)
         model = Model(tuple(classes), rules, (), "; ".join(sorted(engines)), seconds, explored,
                       uncovered)
-        stats, cofire = training_stats(model, descs, timeout=timeout)
+        if not model.clauses():
+            return model
+        examples = _examples(descs)
+        fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
+        if not keep_redundant:
+            model, fired = drop_redundant(model, fired, dict(examples))
+        stats, cofire = _stats_from_fired(model, fired, dict(examples))
         return replace(model, stats=stats, cofire=cofire)
     finally:
         if tmp is not None:
@@ -444,14 +466,24 @@ def training_stats(model: Model, descs, *, timeout: float = 120.0) -> tuple[tupl
     if not model.clauses():
         return (), ()
     fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
-    truth = dict(examples)
-    index_class = [(i + 1, k) for i, k in enumerate(k for k in model.targets
-                                                    for _ in model.rules.get(k, ()))]
+    return _stats_from_fired(model, fired, dict(examples))
+
+
+def _index_class(model: Model) -> list[tuple[int, str]]:
+    """``(index, class)`` of every clause, numbered from 1 in :meth:`Model.clauses` order."""
+    return [(i + 1, k) for i, k in enumerate(k for k in model.targets
+                                             for _ in model.rules.get(k, ()))]
+
+
+def _stats_from_fired(model: Model, fired: dict, truth: dict) -> tuple[tuple, tuple]:
+    """Rule statistics and co-fire rows from the rules each object fired (:func:`_parse_fired`)
+    and ``truth`` (``{object: class}``)."""
+    index_class = _index_class(model)
     class_of = dict(index_class)
     counts = {i: [0, 0] for i, _ in index_class}
     together: dict = {}
     for obj, hits in fired.items():
-        idx = sorted({i for _, i, _, _ in hits})
+        idx = sorted({h[1] for h in hits})
         for i in idx:
             counts[i][0 if truth.get(obj) == class_of[i] else 1] += 1
         if truth.get(obj) is None:
@@ -463,6 +495,68 @@ def training_stats(model: Model, descs, *, timeout: float = 120.0) -> tuple[tupl
                     together[key] = together.get(key, 0) + 1
     stats = tuple((i, k, counts[i][0], counts[i][1]) for i, k in index_class)
     return stats, tuple((a, b, k, n) for (a, b, k), n in sorted(together.items()))
+
+
+def drop_redundant(model: Model, fired: dict, truth: dict) -> tuple[Model, dict]:
+    """Leave out the clauses that add only false positives on the training objects.
+
+    Aleph's cover loop adds clauses one after another and never looks back: a later, more
+    general clause can prove every positive an earlier one proved, and the earlier one then
+    adds nothing but the objects of other classes it proves (the demo's ``ramp(A) :-
+    has_plane(A,B), above(B,C), plane_width(B,D), gteq(D,0.734)``: 22 ramps, all also proved by
+    the inclined-plane clause, and 4 other objects; on a real office cloud it called two wall
+    pieces a ramp).  Rule: while some clause proves no training object of its class that the
+    other remaining clauses of the class do not also prove, and proves at least one object of
+    another class, the one of them with the most such false positives (ties: the later clause)
+    is left out.  A redundant clause with no false positive stays (it costs nothing).
+
+    Parameters
+    ----------
+    model : Model
+        Without statistics (they are measured again on what is kept).
+    fired : dict
+        ``{object: [(class, index, bindings, text), ...]}`` on the training objects
+        (:func:`_parse_fired`), indices of ``model``'s clauses.
+    truth : dict
+        ``{object: class}`` of the training objects (``other`` included).
+
+    Returns
+    -------
+    (Model, dict)
+        The model without the clauses left out (recorded in :attr:`Model.dropped`), and
+        ``fired`` renumbered to its clauses.
+    """
+    index_class = _index_class(model)
+    class_of = dict(index_class)
+    text_of = dict(zip((i for i, _ in index_class), model.clauses(), strict=True))
+    proves: dict = {i: (set(), set()) for i, _ in index_class}   # (true, false) positives
+    for obj, hits in fired.items():
+        for i in {h[1] for h in hits}:
+            proves[i][0 if truth.get(obj) == class_of[i] else 1].add(obj)
+    keep = [i for i, _ in index_class]
+    dropped = []
+    while True:
+        worst = None
+        for i in keep:
+            tp, fp = proves[i]
+            if not fp:
+                continue
+            others = set().union(*(proves[j][0] for j in keep if j != i and class_of[j] == class_of[i]))
+            if tp <= others and (worst is None or len(fp) >= len(proves[worst][1])):
+                worst = i
+        if worst is None:
+            break
+        keep.remove(worst)
+        dropped.append(worst)
+    if not dropped:
+        return model, fired
+    new_index = {old: new for new, old in enumerate(keep, start=1)}
+    rules = {k: tuple(text_of[i] for i in keep if class_of[i] == k) for k in model.rules}
+    gone = tuple((class_of[i], text_of[i], len(proves[i][0]), len(proves[i][1]))
+                 for i in sorted(dropped))
+    renumbered = {obj: [(h[0], new_index[h[1]], *h[2:]) for h in hits if h[1] in new_index]
+                  for obj, hits in fired.items()}
+    return replace(model, rules=rules, dropped=model.dropped + gone), renumbered
 
 
 def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None, *,
@@ -506,7 +600,8 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
 def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int = 0,
                    engine: str = "builtin", timeout: float = 120.0, settings: dict | None = None,
                    progress: bool | None = None, jobs: int | None = 1,
-                   task: str | None = None, other_rules: bool = False) -> dict:
+                   task: str | None = None, other_rules: bool = False,
+                   keep_redundant: bool = False) -> dict:
     """Stratified k-fold cross-validation of the whole learner on described scenes.
 
     Objects of class ``other`` (none of the classes) are split into the folds too: in training
@@ -523,7 +618,7 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         ``open_set_accuracy`` (all objects, ``other`` right when predicted ``other``).
 
     ``jobs`` folds run at once (None: all cores); the result does not depend on it.
-    ``other_rules``: as in :func:`learn_rules` (rules for ``other`` learned in each fold).
+    ``other_rules``, ``keep_redundant``: as in :func:`learn_rules` (in each fold).
     """
     from planerel.ilp.aleph_export import OTHER
 
@@ -548,7 +643,8 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         present = [k for k in classes if any(o.klass == k for d in train_descs for o in d.objects)]
         t0 = time.perf_counter()
         model = learn_rules(train_descs, present, engine=engine, timeout=timeout, settings=settings,
-                            jobs=1, task=task, other_rules=other_rules)
+                            jobs=1, task=task, other_rules=other_rules,
+                            keep_redundant=keep_redundant)
         test_descs = list({id(scene_of[o]): scene_of[o] for o in test}.values())
         preds = prolog_predict(model, test_descs, test, timeout=timeout)
         scored = [(truth_of[p.object_id], p.klass) for p in preds if truth_of[p.object_id] != OTHER]
@@ -720,15 +816,15 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                 method: str = "regiongrow", seg_params: dict | None = None, cache=None,
                 progress: bool | None = None, log=print, scheduler=None,
                 heldout=None, settings: dict | None = None, task: str | None = None,
-                other_rules: bool = False) -> dict:
+                other_rules: bool = False, keep_redundant: bool = False) -> dict:
     """``planerel learn``: describe a data set, learn the class rules, optionally cross-validate,
     score the model on a held-out data set (``heldout``: :func:`held_out_scores`, in
     ``metrics["heldout"]``), and write a model folder.
 
     ``jobs`` worker processes describe the scenes (or the Dask ``scheduler``'s workers), and
     ``jobs`` cross-validation folds run at once; the result does not depend on either.
-    ``settings`` (Aleph ``set/2`` values), ``task`` (a task file) and ``other_rules`` go to
-    :func:`learn_rules`.
+    ``settings`` (Aleph ``set/2`` values), ``task`` (a task file), ``other_rules`` and
+    ``keep_redundant`` go to :func:`learn_rules`.
 
     The folder is built in a temporary sibling and renamed into place when complete, so a run
     that fails or is interrupted never leaves a half-written model.  It holds ``rules.pl``
@@ -773,7 +869,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
             t1 = time.perf_counter()
             cv = cross_validate(descs, classes, folds=folds, seed=seed, engine=engine,
                                 timeout=timeout, progress=progress, jobs=jobs,
-                                settings=settings, task=task, other_rules=other_rules)
+                                settings=settings, task=task, other_rules=other_rules,
+                                keep_redundant=keep_redundant)
             metrics["cross_validation"] = cv
             metrics["seconds"]["cross_validation"] = round(time.perf_counter() - t1, 3)
             draw_confusion(tmp / "confusion.png", cv["confusion"], list(classes),
@@ -781,12 +878,14 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         t2 = time.perf_counter()
         model = learn_rules(descs, classes, engine=engine, timeout=timeout, work_dir=tmp / "aleph",
                             jobs=jobs, log=None if progress is False else log,
-                            settings=settings, task=task, other_rules=other_rules)
+                            settings=settings, task=task, other_rules=other_rules,
+                            keep_redundant=keep_redundant)
         metrics["seconds"]["learn"] = round(time.perf_counter() - t2, 3)
         metrics["engine"] = model.engine
         metrics["rules"] = {k: list(v) for k, v in model.rules.items()}
         metrics["rule_stats"] = [list(s) for s in model.stats]
         metrics["uncovered"] = model.uncovered
+        metrics["dropped_redundant"] = [list(d) for d in model.dropped]
         if heldout is not None:
             t3 = time.perf_counter()
             metrics["heldout"] = held_out_scores(
