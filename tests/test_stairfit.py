@@ -19,9 +19,11 @@ from planerel.features.curved import CurvedParams
 from planerel.features.facts import describe_scene
 from planerel.features.stairfit import (
     StairFitParams,
+    depth_sigma,
     fit_profile,
     join_groups,
     profile_distance,
+    ray_metric,
     stepped_cluster_labels,
 )
 
@@ -93,9 +95,11 @@ def test_a_ramp_and_a_narrow_stepped_object_are_not_stairs():
                                  pitch=10.0, cam_height=1.0)
     d = describe_scene(cloud, lab, up=up)
     assert [p.label for p in d.planes] == [0]
-    # it is the plane test that tells: the ramp's points fit a staircase too, but their plane
-    # better
-    assert stepped_cluster_labels(cloud, d.planes, StairFitParams(plane_ratio=2.0)) is not None
+    # within an isotropic tolerance the ramp's points fit a staircase too and it is the plane
+    # test that tells (their plane fits better); with the noise along the rays they fit none
+    assert stepped_cluster_labels(cloud, d.planes,
+                                  StairFitParams(ray_noise=False, plane_ratio=2.0)) is not None
+    assert stepped_cluster_labels(cloud, d.planes, StairFitParams(plane_ratio=2.0)) is None
     # a 0.3 m wide stepped thing (a shelf, a stand): no flight is narrower than min_width
     cloud, lab, up = _unassigned(_flight(width=0.3, y0=1.8), pitch=10.0, cam_height=1.0)
     d = describe_scene(cloud, lab, up=up)
@@ -139,14 +143,125 @@ def test_the_grid_kernel_is_the_numpy_distance():
     tol = rng.uniform(0.01, 0.04, 200)
     rises = np.array([0.1, 0.17])
     factors = np.array([0.9, 1.1])
-    cost = profile_costs(d, h, tol, rises, factors, 4, 0.5, 0.12, 0.6)
-    for a, r in enumerate(rises):
-        for b, f in enumerate(factors):
-            s = 0.5 * f
-            for j in range(4):
-                h0 = j / 4 * r
-                d0 = (h0 - r / 2 - (h.mean() - s * d.mean())) / s
-                dist, _ = profile_distance(d, h, r, r / s, h0, d0)
-                assert cost[a, b, j] == pytest.approx(np.mean(np.minimum(dist, tol) ** 2), rel=1e-9)
-    # a run outside the range: no profile
-    assert np.isinf(profile_costs(d, h, tol, rises, factors, 4, 0.5, 0.5, 0.6)[0]).all()
+    eye = np.tile([1.0, 0.0, 1.0], (200, 1))
+    # an anisotropic metric per point (positive definite)
+    m = np.column_stack([rng.uniform(1, 9, 200), rng.uniform(-1, 1, 200), rng.uniform(1, 9, 200)])
+    for metric, trunc in ((eye, tol), (m, np.full(200, 2.0))):
+        cost = profile_costs(d, h, metric, trunc ** 2, rises, factors, 4, 0.5, 0.12, 0.6)
+        for a, r in enumerate(rises):
+            for b, f in enumerate(factors):
+                s = 0.5 * f
+                for j in range(4):
+                    h0 = j / 4 * r
+                    d0 = (h0 - r / 2 - (h.mean() - s * d.mean())) / s
+                    dist, _ = profile_distance(d, h, r, r / s, h0, d0,
+                                               None if metric is eye else metric)
+                    assert cost[a, b, j] == pytest.approx(np.mean(np.minimum(dist, trunc) ** 2),
+                                                          rel=1e-9)
+
+
+def test_the_metric_distance_is_the_noise_along_the_ray_in_sigmas():
+    rng = np.random.default_rng(2)
+    up = np.array([0.0, -0.9, -0.4358898943540674])  # camera looking down at about 26 degrees
+    f = np.cross(up, [1.0, 0.0, 0.0])
+    f /= np.linalg.norm(f)
+    p = np.column_stack([rng.uniform(-1, 1, 50), rng.uniform(-0.5, 0.5, 50),
+                         rng.uniform(2.0, 3.5, 50)])
+    sz = 0.0025 * p[:, 2] ** 2
+    m = ray_metric(p, f, up, sz, 0.005)
+    for i in range(50):
+        # against the inverse of the covariance of (p . f, p . up) built explicitly
+        v = np.array([p[i] @ f, p[i] @ up]) / p[i, 2]
+        c = 0.005 ** 2 * np.eye(2) + sz[i] ** 2 * np.outer(v, v)
+        ci = np.linalg.inv(c)
+        np.testing.assert_allclose(m[i], [ci[0, 0], ci[0, 1], ci[1, 1]], rtol=1e-9)
+    # a tread point moved along its own ray by 2 sigmas is 2 sigmas from the tread (the floor
+    # adds a little), however far that moves it vertically; 2 sigmas straight up is far more
+    r, t = 0.17, 0.28
+    # a point 1.5 m below the camera and 2.5 m ahead, on the middle of tread 0 of a profile
+    ahead = np.cross(np.cross(up, [0.0, 0.0, 1.0]), up)
+    pt = -1.5 * up + 2.5 * ahead / np.linalg.norm(ahead)
+    d0, h0 = float(pt @ f) - t / 2, float(pt @ up)
+    m1 = ray_metric(pt[None], f, up, [0.02], 0.001)
+    moved = pt + 2 * 0.02 * pt / pt[2]  # 2 sigmas along its ray
+    dist, _ = profile_distance(np.array([moved @ f]), np.array([moved @ up]), r, t, h0, d0, m1)
+    assert dist[0] == pytest.approx(2.0, abs=0.1)
+    assert abs((moved - pt) @ up) > 0.02  # though it left the tread by more than a sigma
+    lifted = pt + 2 * 0.02 * up  # the same 4 cm straight up: farther in sigmas
+    dist_up, _ = profile_distance(np.array([lifted @ f]), np.array([lifted @ up]), r, t, h0, d0,
+                                  m1)
+    assert dist_up[0] > 3.0
+
+
+def _descending(n=6, rise=0.17, run=0.28, width=1.2, y0=1.2):
+    """A flight going down away from the camera, seen from its top landing: treads (their
+    risers face away) at n*rise - k*rise, the landing and the floor below as support."""
+    top = n * rise
+    rects = [Rect((0, y0 - 1.5, top), (1, 0, 0), (0, 1, 0), 2.0, 1.5),
+             Rect((0, y0 + n * run + 3.0, 0), (1, 0, 0), (0, 1, 0), 4.0, 3.0)]
+    for k in range(1, n + 1):
+        y = y0 + (k - 1) * run
+        rects.append(Rect((0, y + run / 2, top - k * rise), (1, 0, 0), (0, 1, 0), width / 2,
+                          run / 2, 1))
+        rects.append(Rect((0, y, top - (k - 0.5) * rise), (1, 0, 0), (0, 0, 1), width / 2,
+                          rise / 2, 1))
+    return rects
+
+
+def _descending_view(keep=(0, 1)):
+    """The view down the flight with depth noise 2.5 mm z^2 along the rays (2-3.7 m away):
+    the flight's pixels unassigned except the rects in ``keep``."""
+    cloud, lab, up, _ = render(_descending(), pitch=35.0, cam_height=6 * 0.17 + 1.2,
+                               noise=0.0025, seed=3)
+    lab = np.where(np.isin(lab, keep), lab, -1).astype(np.int32)
+    return cloud, lab, up
+
+
+def test_a_descending_flight_fits_with_the_noise_along_the_rays_not_an_isotropic_tolerance():
+    cloud, lab, up = _descending_view()
+    planes = describe_scene(cloud, lab, up=up,
+                            curved_params=CurvedParams(stepped_clusters=False)).planes
+    sigma = depth_sigma(cloud)
+    assert sigma is not None  # the landing and the floor give the noise model
+    # measured near the camera and carried to the far treads as z^2: within a factor 1.5
+    assert 0.67 < float(sigma(3.5)) / (0.0025 * 3.5 ** 2) < 1.5
+    # rays looking down the flight smear its treads along the slope: its plane explains most
+    # points within an isotropic tolerance, and that fit is rejected
+    assert stepped_cluster_labels(cloud, planes, StairFitParams(ray_noise=False)) is None
+    got = stepped_cluster_labels(cloud, planes)
+    assert got is not None and len(got[1]) == 1
+    out, groups, normals = got
+    treads = [k for k in groups[0] if np.allclose(normals[k], up)]
+    assert len(treads) >= 3
+    # each fitted tread's pixels are on one true tread, the levels a rise apart
+    _, truth, _, _ = render(_descending(), pitch=35.0, cam_height=6 * 0.17 + 1.2)
+    heights = []
+    for k in treads:
+        px = truth[out == k]
+        assert np.bincount(px[px >= 0]).max() >= 0.9 * len(px)
+        heights.append(float(np.median(cloud.xyz[out == k] @ up)))
+    steps = np.diff(sorted(heights))
+    assert np.all(np.abs(steps / 0.17 - np.round(steps / 0.17)) < 0.2)
+    assert np.all(np.round(steps / 0.17) >= 1)
+
+
+def test_the_near_tread_the_region_grower_found_joins_the_fitted_flight():
+    # the first tread (rect 2) segmented on its own, the rest left to the fit
+    cloud, lab, up = _descending_view(keep=(0, 1, 2))
+    d = describe_scene(cloud, lab, up=up)
+    fitted = [p.label for p in d.planes if p.label > 2]
+    assert len(fitted) >= 3
+    holding = [o for o in d.objects if set(o.planes) & set(fitted)]
+    assert len(holding) == 1 and 2 in holding[0].planes
+    # without the join the near tread is an object of its own
+    lone = describe_scene(cloud, lab, up=up)  # same input, deterministic
+    assert [o.planes for o in lone.objects] == [o.planes for o in d.objects]
+    from planerel.features.stairfit import remeasure_stepped_clusters
+
+    planes = describe_scene(cloud, lab, up=up,
+                            curved_params=CurvedParams(stepped_clusters=False)).planes
+    _, flights = remeasure_stepped_clusters(cloud, planes,
+                                            params=StairFitParams(join_planes=False))
+    assert len(flights) == 1 and 2 not in flights[0]
+    _, flights = remeasure_stepped_clusters(cloud, planes)
+    assert len(flights) == 1 and 2 in flights[0]

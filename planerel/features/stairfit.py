@@ -21,22 +21,35 @@ The rule (:func:`stepped_cluster_labels`):
 3. **Profile.**  A grid search over the rise ``r`` (``rise``), the slope (0.75-1.3 times the
    fitted one, which a flight seen as treads alone underestimates) and the phase of the tread
    levels, with the profile's midline through the points' centroid, minimises the mean
-   truncated squared distance of the points to the polyline (truncated at ``tol(z) = clip(a +
-   b z^2, lo, hi)``: about two noise sigmas of a Kinect-like sensor); the run is ``r / slope``
-   and must lie in ``run``.
-4. **Test.**  The fit is kept when at least ``min_inliers`` of the points lie within ``tol``
-   of the polyline, at most ``plane_ratio`` times that share within ``tol`` of the plane of
-   step 2 (a ramp or a noisy flat patch fits its plane as well as any staircase), and at least
-   ``min_faces`` treads or risers hold ``face_pixels`` inliers each, and the faces are at least
-   ``min_width`` wide across the flight (median over the faces of the 2-98 % range of the
-   inliers' horizontal coordinate across the flight: a flight is at least 0.6 m wide, the
-   stepped pieces of furniture and clutter of a real office are 0.07-0.38 m wide).
+   truncated squared distance of the points to the polyline; the run is ``r / slope`` and must
+   lie in ``run``.  **Distances are in noise sigmas along each pixel's ray** (``ray_noise``,
+   :func:`ray_metric`): a depth sensor errs along the ray, so a point ``p`` has the covariance
+   ``noise_floor^2 I + sigma_z(z)^2 v v^T`` in the flight's ``(d, h)`` plane, ``v = (f . p, up
+   . p) / z``, with ``sigma_z`` the sensor's depth noise measured in the cloud
+   (:func:`depth_sigma`); the distance to a face is the Mahalanobis distance to its nearest
+   point, truncated at ``sigmas``.  A flight seen down its slope from a landing has rays at
+   a grazing angle to its treads: the noise smears each tread along the ray, nearly along the
+   flight's plane, and an isotropic tolerance large enough for it lets that plane explain the
+   points as well as the profile (docs/results.md, "Far flights ...").  When the cloud's noise
+   cannot be measured (``depth_sigma`` None) the distances are metres, truncated at the
+   isotropic ``tol(z) = clip(a + b z^2, lo, hi)`` (about two sigmas of a Kinect-like sensor).
+4. **Test.**  The fit is kept when at least ``min_inliers`` of the points lie within the
+   truncation of the polyline, at most ``plane_ratio`` times that share within it of the plane
+   of step 2 (in the same metric; a ramp or a noisy flat patch fits its plane as well as any
+   staircase), and at least ``min_faces`` treads or risers hold ``face_pixels`` inliers each,
+   and the faces are at least ``min_width`` wide across the flight (median over the faces of
+   the 2-98 % range of the inliers' horizontal coordinate across the flight: a flight is at
+   least 0.6 m wide, the stepped pieces of furniture and clutter of a real office are
+   0.07-0.38 m wide).
 5. **Labels.**  Each such face becomes a plane (new labels after the largest one) of the
-   points within ``keep * tol`` of it; then the unexplained pixels of the other clusters that
-   lie within the fitted flight's extent (its lateral extent widened by ``reach`` metres, its
-   length by one run) and within ``tol`` of the profile join the faces (a far flight's grazing
-   treads split its pixels into several clusters).  The faces of one fit are one proposal
-   (:func:`join_groups`).
+   points within ``keep`` truncations of it; then the unexplained pixels of the other clusters
+   that lie within the fitted flight's extent (its lateral extent widened by ``reach`` metres,
+   its length by one run) and on the profile join the faces (a far flight's grazing treads
+   split its pixels into several clusters).  Segmented planes (not the floor) with at least
+   ``join_share`` of their points inside that extent (its length widened by ``join_reach``
+   more: the near tread the region grower did find, whose inner part hides behind the
+   landing) and on the profile join the flight (``join_planes``).  The planes of one fit are
+   one proposal (:func:`join_groups`).
 
 The planes are measured as any other (:func:`planerel.features.planes.measure_planes`), except
 that a face's normal is the one the fit assumed and tested (up for a tread, the flight's
@@ -73,6 +86,9 @@ class StairFitParams:
     rise: tuple = (0.08, 0.30)
     run: tuple = (0.12, 0.60)
     tol: tuple = (0.005, 0.004, 0.01, 0.04)
+    ray_noise: bool = True
+    sigmas: float = 2.0
+    noise_floor: float = 0.005
     min_inliers: float = 0.8
     plane_ratio: float = 0.75
     min_faces: int = 3
@@ -81,13 +97,23 @@ class StairFitParams:
     keep: float = 2.0
     reach: float = 0.10
     max_fit_points: int = 400
+    join_planes: bool = True
+    join_share: float = 0.8
+    join_reach: float = 0.35
 
     def __post_init__(self) -> None:
         for name in ("edge_depth", "tiny_area", "min_inliers", "plane_ratio", "keep", "reach",
-                     "min_width"):
+                     "min_width", "join_share", "join_reach"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
                 raise InputError(f"{name} must be a number >= 0, got {v!r}")
+        for name in ("sigmas", "noise_floor"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
+                raise InputError(f"{name} must be a number > 0, got {v!r}")
+        for name in ("ray_noise", "join_planes"):
+            if not isinstance(getattr(self, name), (bool, np.bool_)):
+                raise InputError(f"{name} must be True or False, got {getattr(self, name)!r}")
         for name in ("min_pixels", "min_faces", "face_pixels", "max_fit_points"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
@@ -119,34 +145,100 @@ class ProfileFit:
     cost: float
 
 
-def profile_distance(d, h, r, t, h0, d0):
+def profile_distance(d, h, r, t, h0, d0, metric=None):
     """Distance of the points ``(d, h)`` to the staircase polyline, and the face each is
     nearest to: ``2k`` tread ``k``, ``2k + 1`` riser ``k`` (see :class:`ProfileFit`).
 
-    ``d``, ``h`` broadcast with ``h0``, ``d0`` (a grid of phases at once)."""
+    ``d``, ``h`` broadcast with ``h0``, ``d0`` (a grid of phases at once).  ``metric``: each
+    point's ``(m11, m12, m22)`` (columns of an ``(N, 3)`` array, :func:`ray_metric`): the
+    distance is then ``sqrt(e^T M e)`` to the nearest point of each face in that metric (in
+    noise sigmas); None: metres."""
+    if metric is None:
+        m11, m12, m22 = 1.0, 0.0, 1.0
+    else:
+        metric = np.asarray(metric, float)
+        m11, m12, m22 = metric[:, 0], metric[:, 1], metric[:, 2]
     u = (d - d0) / t
     v = (h - h0) / r
     k0 = np.floor((u + v) / 2)
     best = np.full(np.broadcast(u, v).shape, np.inf)
     seg = np.zeros(best.shape, np.int64)
+
+    def seg2(ax, ay, bx, by):
+        ux, uy, ex, ey = bx - ax, by - ay, d - ax, h - ay
+        umu = ux * ux * m11 + 2 * ux * uy * m12 + uy * uy * m22
+        ume = ux * ex * m11 + (ux * ey + uy * ex) * m12 + uy * ey * m22
+        s = np.clip(np.divide(ume, umu, out=np.zeros(np.broadcast(ume, umu).shape),
+                              where=umu > 0), 0.0, 1.0)
+        wx, wy = ex - s * ux, ey - s * uy
+        return wx * wx * m11 + 2 * wx * wy * m12 + wy * wy * m22
+
     for dk in (-1.0, 0.0, 1.0, 2.0):
         k = k0 + dk
-        # tread k
         a = d0 + k * t
-        e = np.hypot(d - np.clip(d, a, a + t), h - (h0 + k * r))
-        m = e < best
-        best = np.where(m, e, best)
-        seg = np.where(m, 2 * k.astype(np.int64), seg)
-        # riser k
         top = h0 + k * r
-        e = np.hypot(d - a, h - np.clip(h, top - r, top))
-        m = e < best
-        best = np.where(m, e, best)
-        seg = np.where(m, 2 * k.astype(np.int64) + 1, seg)
-    return best, seg
+        for e, face in ((seg2(a, top, a + t, top), 2 * k.astype(np.int64)),          # tread k
+                        (seg2(a, top - r, a, top), 2 * k.astype(np.int64) + 1)):     # riser k
+            m = e < best
+            best = np.where(m, e, best)
+            seg = np.where(m, face, seg)
+    return np.sqrt(best), seg
 
 
-def fit_profile(d, h, tol, params: StairFitParams | None = None, slope=None) -> ProfileFit | None:
+def ray_metric(points, f, up, sigma_z, floor):
+    """Each point's noise metric in the flight's ``(d, h)`` plane (rule step 3).
+
+    A depth sensor errs along each pixel's ray: a depth error ``e`` moves the point ``p`` by
+    ``e p / z``.  With ``sigma_z(z)`` along the ray and an isotropic ``floor`` (the faces'
+    own unevenness, the pixel's lateral extent), the covariance of ``(d, h) = (p . f, p . up)``
+    is ``C = floor^2 I + sigma_z^2 v v^T`` with ``v = (f . p, up . p) / z``.
+
+    Returns
+    -------
+    ndarray (N, 3)
+        ``(m11, m12, m22)`` of ``C^-1`` (Sherman-Morrison): ``e^T C^-1 e`` is the squared
+        distance in noise sigmas.
+    """
+    p = np.asarray(points, float)
+    z = p[:, 2]
+    vd = (p @ f) / z
+    vh = (p @ up) / z
+    a = float(floor) ** 2
+    s2 = np.asarray(sigma_z, float) ** 2
+    c = s2 / (a + s2 * (vd * vd + vh * vh))
+    return np.column_stack([(1 - c * vd * vd) / a, -c * vd * vh / a, (1 - c * vh * vh) / a])
+
+
+def depth_sigma(cloud):
+    """``sigma_z(z)``: the depth noise along the rays of ``cloud`` (rule step 3), or None.
+
+    The sensor's noise model measured in the cloud (:func:`planerel.segment.noise.estimate_noise`,
+    the model the segmentation and the floor test use); beyond the deepest depth band it was
+    measured in (``z_b``, noise ``s_b``) it grows at least as a disparity sensor's,
+    ``s_b (z / z_b)^2`` (a far flight lies beyond the patches a small image can measure: a
+    single band at 2 m fits a constant as well as ``z^2``).  None when the cloud is too small
+    or too broken to measure it (not ``reliable``): the scale of the noise is then unknown and
+    the fit keeps the isotropic tolerance ``tol``.
+    """
+    from planerel.segment.noise import estimate_noise
+
+    if not getattr(cloud, "organized", False):
+        return None
+    model = estimate_noise(cloud)
+    if not model.reliable or model.kind == "none":
+        return None
+    zb = model.bands[-1][0] if model.bands else model.z_median
+    sb = float(model.sigma(zb))
+
+    def sigma(z):
+        z = np.asarray(z, float)
+        return np.maximum(model.sigma(z), np.where(z > zb, sb * (z / zb) ** 2, 0.0))
+
+    return sigma
+
+
+def fit_profile(d, h, tol, params: StairFitParams | None = None, slope=None,
+                metric=None) -> ProfileFit | None:
     """Grid search of the staircase profile closest to the points (rule step 3).
 
     Parameters
@@ -154,9 +246,11 @@ def fit_profile(d, h, tol, params: StairFitParams | None = None, slope=None) -> 
     d, h : ndarray (N,)
         Horizontal coordinate along the rising direction and height, metres.
     tol : ndarray (N,)
-        Per-point truncation of the squared distance, metres.
+        Per-point truncation of the distance (metres; with ``metric``, in its units).
     slope : float, optional
         The points' fitted slope (default: least squares of ``h`` on ``d``).
+    metric : ndarray (N, 3), optional
+        Each point's noise metric (:func:`ray_metric`); default: metres.
 
     Returns
     -------
@@ -169,12 +263,16 @@ def fit_profile(d, h, tol, params: StairFitParams | None = None, slope=None) -> 
     d = np.ascontiguousarray(d, dtype=np.float64)
     h = np.ascontiguousarray(h, dtype=np.float64)
     tol = np.ascontiguousarray(tol, dtype=np.float64)
+    if metric is None:
+        metric = np.zeros((d.size, 3))
+        metric[:, 0] = metric[:, 2] = 1.0
+    metric = np.ascontiguousarray(metric, dtype=np.float64)
     if slope is None:
         slope = float(np.polyfit(d, h, 1)[0])
     if not slope > 0 or d.size == 0:
         return None
     rises = np.arange(p.rise[0], p.rise[1] + 1e-9, RISE_STEP)
-    cost = profile_costs(d, h, tol, rises, SLOPE_FACTORS, N_PHASES, float(slope),
+    cost = profile_costs(d, h, metric, tol * tol, rises, SLOPE_FACTORS, N_PHASES, float(slope),
                          float(p.run[0]), float(p.run[1]))
     k = int(np.argmin(cost))  # the first of equal costs: rise, slope factor, phase order
     if not np.isfinite(cost.flat[k]):
@@ -198,6 +296,27 @@ def _horizontal_axes(up):
     e1 = np.cross(up, x)
     e1 /= np.linalg.norm(e1)
     return e1, np.cross(up, e1)
+
+
+def _on_profile(Q, frame, p: StairFitParams):
+    """The points ``Q`` against a fitted flight (rule step 5): which lie inside its extent, and
+    for those the distance to the profile, the nearest face and the limit (metres or sigmas).
+
+    ``frame``: the flight's direction ``f``, its lateral axis, up, its extent ``(lateral low,
+    high, along low, high)``, the :class:`ProfileFit` and ``sigma_z`` (False: the
+    isotropic ``tol``)."""
+    f, side, up, (lo_l, hi_l, lo_d, hi_d), fit, sigma_z = frame
+    d2, l2 = Q @ f, Q @ side
+    near = (l2 >= lo_l) & (l2 <= hi_l) & (d2 >= lo_d) & (d2 <= hi_d)
+    Q = Q[near]
+    if sigma_z:
+        m2 = ray_metric(Q, f, up, sigma_z(Q[:, 2]), p.noise_floor)
+        lim2 = np.full(len(Q), float(p.sigmas))
+    else:
+        m2 = None
+        lim2 = _tolerance(Q[:, 2], p)
+    dist2, seg2 = profile_distance(d2[near], Q @ up, fit.rise, fit.run, fit.h0, fit.d0, m2)
+    return near, dist2, seg2, lim2
 
 
 def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
@@ -242,6 +361,7 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
     z = pts[:, 2]
     taken = np.zeros(len(rows), bool)
     e1, e2 = _horizontal_axes(up)
+    sigma_z = None  # the sensor's noise along the rays, measured when a cluster is fitted
     out = None
     groups = []
     normals = {}
@@ -264,19 +384,37 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
         if float(lat.max() - lat.min()) < p.min_width:
             continue  # no face can be min_width wide (step 4), no fit needed
         d = P @ f
-        tol = _tolerance(z[idx], p)
+        if p.ray_noise and sigma_z is None:
+            sigma_z = depth_sigma(cloud) or False
+        if sigma_z:
+            metric = ray_metric(P, f, up, sigma_z(P[:, 2]), p.noise_floor)
+            lim = np.full(len(d), float(p.sigmas))
+        else:
+            metric = None
+            lim = _tolerance(z[idx], p)
         if len(d) > p.max_fit_points:
             # a fixed, evenly spaced subset (row-major order): deterministic
             sub = np.linspace(0, len(d) - 1, p.max_fit_points).astype(np.int64)
         else:
             sub = np.arange(len(d))
-        fit = fit_profile(d[sub], h[sub], tol[sub], p, slope=g)
+        fit = fit_profile(d[sub], h[sub], lim[sub], p, slope=g,
+                          metric=None if metric is None else metric[sub])
         if fit is None:
             continue
-        dist, seg = profile_distance(d, h, fit.rise, fit.run, fit.h0, fit.d0)
-        inl = dist < tol
+        dist, seg = profile_distance(d, h, fit.rise, fit.run, fit.h0, fit.d0, metric)
+        inl = dist < lim
         share = float(inl.mean())
-        plane_share = float((np.abs(h - X @ coef) < tol).mean())
+        res = h - X @ coef
+        if metric is None:
+            plane_share = float((np.abs(res) < lim).mean())
+        else:
+            # the plane's distance in the same metric: its normal in (d, h) is (-g, 1)
+            # the plane's distance in the same metric: across the line h = g d + c of the
+            # (d, h) plane (normal n), e^2 / (n^T C n) with C = M^-1
+            n0, n1 = -g / np.hypot(g, 1.0), 1.0 / np.hypot(g, 1.0)
+            m11, m12, m22 = metric[:, 0], metric[:, 1], metric[:, 2]
+            ncn = (m22 * n0 * n0 - 2 * m12 * n0 * n1 + m11 * n1 * n1) / (m11 * m22 - m12 * m12)
+            plane_share = float((np.abs(res * n1) / np.sqrt(ncn) < lim).mean())
         faces, counts = np.unique(seg[inl], return_counts=True)
         faces = faces[counts >= p.face_pixels]
         if share < p.min_inliers or plane_share > p.plane_ratio * share or len(faces) < p.min_faces:
@@ -288,23 +426,20 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
         # the other unexplained pixels within the flight's extent that lie on its profile
         lo_l, hi_l = lat.min() - p.reach, lat.max() + p.reach
         lo_d, hi_d = d.min() - fit.run, d.max() + fit.run
+
+        frame = (f, side, up, (lo_l, hi_l, lo_d, hi_d), fit, sigma_z)
         other = np.flatnonzero((ids != c) & ~taken)
         if other.size:
-            Q = pts[other]
-            d2, l2 = Q @ f, Q @ side
-            near = (l2 >= lo_l) & (l2 <= hi_l) & (d2 >= lo_d) & (d2 <= hi_d)
+            near, dist2, seg2, lim2 = _on_profile(pts[other], frame, p)
             if near.any():
-                other, Q, d2 = other[near], Q[near], d2[near]
-                dist2, seg2 = profile_distance(d2, Q @ up, fit.rise, fit.run, fit.h0, fit.d0)
-                tol2 = _tolerance(Q[:, 2], p)
-                on = dist2 < tol2
-                idx = np.concatenate([idx, other[on]])
+                on = dist2 < lim2
+                idx = np.concatenate([idx, other[near][on]])
                 dist = np.concatenate([dist, dist2[on]])
                 seg = np.concatenate([seg, seg2[on]])
-                tol = np.concatenate([tol, tol2[on]])
+                lim = np.concatenate([lim, lim2[on]])
         if out is None:
             out = lab.astype(np.int32, copy=True)
-        keep = dist < p.keep * tol
+        keep = dist < p.keep * lim
         new = set()
         for face in faces:
             sel = idx[keep & (seg == face)]
@@ -314,6 +449,24 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
             normals[nxt] = up if face % 2 == 0 else f  # tread / riser
             nxt += 1
         taken[ids == c] = True
+        if p.join_planes:
+            # segmented planes of the flight (the near tread the region grower found): most of
+            # their points inside the flight's extent and on its profile
+            # (the extent along the flight widened by join_reach more: seen from above, the
+            # inner part of each tread, up to a whole run, is hidden behind the nosing of the
+            # one above it, and a fit may take every other level at half the rise and run)
+            wide = (f, side, up, (lo_l, hi_l, lo_d - p.join_reach, hi_d + p.join_reach), fit,
+                    sigma_z)
+            for q in planes:
+                if q.is_floor or q.label < 0:
+                    continue
+                rr, cc = np.nonzero((lab == q.label) & cloud.valid)
+                if not len(rr):
+                    continue
+                near, dist2, _, lim2 = _on_profile(xyz[rr, cc], wide, p)
+                if (near.mean() >= p.join_share
+                        and (dist2 < lim2).sum() >= p.join_share * len(rr)):
+                    new.add(int(q.label))
         groups.append(new)
     return None if out is None else (out, groups, normals)
 
