@@ -91,6 +91,7 @@
     nv_hash/3,              % run-wide key of a variable's values, number of covered negatives, hash of their values
     cache_record/1,         % reference of a record of the answer and value caches (big_cache/2)
     hopeless_bottom/1,      % variant hash of a bottom clause whose search found no clause
+    looked_ahead/2,         % Seq of a node of the current search, the lazy literals lazy_lookahead made for it
     loaded_stem/1.
 
 :- dynamic planerel_ext:'$planerel_none'/0.
@@ -149,6 +150,7 @@ setting_spec(cache_clauselength, inf, int_or_inf(1)).
 setting_spec(skip_same_bottom, true, oneof([true, false])).   % planerel's own (see cover_loop/1)
 setting_spec(samplesize,   0,        int(0)).                   % seeds per clause (see sample_seeds/2)
 setting_spec(lazy_examples, false,   oneof([true, false])).     % planerel's own (see ex_values_on/3)
+setting_spec(lazy_lookahead, false,  oneof([true, false])).     % planerel's own (see lookahead/6)
 
 %   Values Aleph accepts for search/evalfn that this learner does not implement.
 aleph_other_value(search, [ar, ibs, ic, id, ils, rls, scs, false]).
@@ -919,6 +921,12 @@ search_clause(Bottom, PosIds, NegIds, Ctx, Best) :-
     functor(VT, _, NVars),
     consumer_table(Bottom, NVars, CT),
     nb_setval(planerel_consumers, CT),
+    retractall(looked_ahead(_, _)),
+    (   setting(lazy_lookahead, true)
+    ->  lazy_table(Bottom, CT, LT),
+        nb_setval(planerel_lazy_next, LT)
+    ;   nb_setval(planerel_lazy_next, none)
+    ),
     Ctx = ctx(_, _, Evalfn, _, _, _, _, _, _),
     include(covers_id(pos, Head, []), PosIds, PC),
     include(covers_id(neg, Head, []), NegIds, NC),
@@ -960,8 +968,9 @@ search_loop(Open, Ctx, Best0, Best) :-
         open_pop(Search, Open, Node, Open1),
         \+ no_better_left(Search, Node, Best0)
     ->  (   expandable(Node, Ctx, Best0)
-        ->  refine(Node, Ctx, Best0, Best1, Children),
-            include(expandable_child(Ctx), Children, Keep),
+        ->  refine(Node, Ctx, Best0, Best2, Children),
+            include(expandable_child(Ctx), Children, Keep0),
+            lookahead(Keep0, Ctx, Best2, Best1, Keep, []),
             open_push(Search, Keep, Open1, Open3),
             setting(openlist, Beam),
             open_limit(Beam, Search, Open3, Open2)
@@ -972,6 +981,81 @@ search_loop(Open, Ctx, Best0, Best) :-
     ).
 
 expandable_child(Ctx, Node) :- expandable(Node, Ctx, none).
+
+%   lookahead(+Children, +Ctx, +Best0, -Best, -Open, ?Tail) (planerel's own,
+%   set(lazy_lookahead, true); otherwise Open is Children): a literal whose
+%   outputs only lazily evaluated literals take as input (a measure:
+%   rise(B,C,D), height(B,H)) changes no coverage by itself, and a first
+%   threshold on a measure often not enough (a band needs gteq and lteq), so
+%   in a best-first search such a node, scored as its parent, waits behind
+%   every better-scored node and its thresholds are never evaluated.  With
+%   the lookahead, a child whose last literal is a measure or a lazily
+%   evaluated literal is refined at once by the lazily evaluated literals on
+%   the same values (those after it in the bottom clause, lazy_table/3): its
+%   thresholds (and theirs, up to clauselength) are evaluated, counted as
+%   nodes and considered as clauses when the child is made, and go to the
+%   open list with their own scores.  The child keeps its place in the open
+%   list; when it is refined later those literals are left out
+%   (looked_ahead/2), so no clause is made twice.
+lookahead(Cs, Ctx, Best0, Best, Open, Tail) :-
+    nb_getval(planerel_lazy_next, LT),
+    (   LT == none
+    ->  Best = Best0,
+        append(Cs, Tail, Open)
+    ;   lookahead_(Cs, LT, Ctx, Best0, Best, Open, Tail)
+    ).
+
+lookahead_([], _, _, Best, Best, T, T).
+lookahead_([C|Cs], LT, Ctx, Best0, Best, [C|Open], Tail) :-
+    C = nd(_, J-_, Bound, _, _, _, _, _, _, Seq),
+    (   J > 0,
+        arg(J, LT, Js0),
+        Js0 \== [],
+        include(inputs_bound(Ctx, Bound), Js0, Js),
+        Js \== [],
+        budget_left(Ctx)
+    ->  assertz(looked_ahead(Seq, Js)),
+        node_answers(C, Ctx, X),
+        refine_from(Js, C, X, Ctx, Best0, Best1, GCs0),
+        include(expandable_child(Ctx), GCs0, GCs),
+        lookahead_(GCs, LT, Ctx, Best1, Best2, Open, Open1)
+    ;   Best2 = Best0,
+        Open1 = Open
+    ),
+    lookahead_(Cs, LT, Ctx, Best2, Best, Open1, Tail).
+
+inputs_bound(Ctx, Bound, J) :-
+    Ctx = ctx(_, _, _, bottom(_, _, _, LitsT, _), _, _, _, _, _),
+    arg(J, LitsT, bl(_, _, In, _, _)),
+    ord_subset(In, Bound).
+
+%   lazy_table(+Bottom, +CT, -LT): arg J of LT is the ordset of the lazily
+%   evaluated bottom literals after J that take as input a value bottom
+%   literal J makes (J a measure: not lazily evaluated, with outputs, each
+%   taken as input only by lazily evaluated literals) or takes (J lazily
+%   evaluated), [] for any other literal.
+lazy_table(bottom(_, _, _, LitsT, NB), CT, LT) :-
+    findall(Js, ( between(1, NB, J), lazy_next(J, LitsT, CT, Js) ), All),
+    LT =.. [lazy_next|All].
+
+lazy_next(J, LitsT, CT, Js) :-
+    arg(J, LitsT, bl(_, _, In, Out, Kind)),
+    (   Kind = lazy(_, _)
+    ->  lazy_consumers_after(In, J, LitsT, CT, Js)
+    ;   Out \== [],
+        forall(( member(V, Out), K is V + 2, arg(K, CT, Cons), member(J1, Cons) ),
+               arg(J1, LitsT, bl(_, _, _, _, lazy(_, _)))),
+        lazy_consumers_after(Out, J, LitsT, CT, Js0),
+        Js0 \== []
+    ->  Js = Js0
+    ;   Js = []
+    ).
+
+lazy_consumers_after(Vars, J, LitsT, CT, Js) :-
+    findall(J1, ( member(V, Vars), K is V + 2, arg(K, CT, Cons), member(J1, Cons),
+                  J1 > J, arg(J1, LitsT, bl(_, _, _, _, lazy(_, _))) ),
+            Js0),
+    sort(Js0, Js).
 
 %   no_better_left(+Search, +Node, +Best): without explore(true) a search
 %   stops, as Aleph's does, once its best acceptable clause covers every
@@ -1013,9 +1097,13 @@ expandable(nd(_, _, Bound, Len, _, _, P, N, _, _), Ctx, Best) :-
 %   input variables (cached per variable set).
 
 refine(Node, Ctx, Best0, Best, Children) :-
-    Node = nd(_, Last-_, Bound, _, _, _, _, _, _, _),
+    Node = nd(_, Last-_, Bound, _, _, _, _, _, _, Seq),
     node_answers(Node, Ctx, X),
-    candidate_literals(Last, Bound, Js),
+    candidate_literals(Last, Bound, Js1),
+    (   looked_ahead(Seq, Done)           % lazy_lookahead: made already
+    ->  ord_subtract(Js1, Done, Js)
+    ;   Js = Js1
+    ),
     refine_from(Js, Node, X, Ctx, Best0, Best, Children).
 
 %   refine_from(+Js, ...): the refinements by the bottom literals Js (in

@@ -572,3 +572,61 @@ def test_lazy_examples_counts_each_example_once(tmp_path):
     assert [norm(c) for c in grouped.rules] == [norm("p(A) :- m(A,B), lteq(B,4).")]
     assert grouped.train == Confusion(tp=4, fn=0, fp=0, tn=6)
     assert not any("lazy_examples" in w for w in grouped.warnings)
+
+
+# --------------------------------------------------------------------------- lazy_lookahead
+
+
+def _band_task(dest: Path, lookahead: bool | None) -> Path:
+    """p(o1..o10), whose size (5.0-5.9) lies in a band: five negatives are smaller (2.0-2.4),
+    five larger (8.5-8.9), so gteq or lteq alone keeps half the negatives and only the band
+    gteq + lteq separates the classes (10 / 0).  size(A,B) alone changes no coverage (score 0,
+    the root's), while ten features q1..q10 each hold for 9 of the positives and 4-5 negatives
+    (n1 and n6 among them, so no conjunction of them is consistent): in the best-first search
+    their conjunctions (score 4-5) are all refined before size(A,B), and `nodes` 100 runs out
+    first (300 nodes reach it)."""
+    compare = (Path(__file__).resolve().parents[1] / "prolog" / "compare.pl").read_text()
+    b = [":- set(search, heuristic).", ":- set(evalfn, coverage).", ":- set(i, 2).",
+         ":- set(clauselength, 5).", ":- set(minpos, 2).", ":- set(noise, 0).",
+         ":- set(nodes, 100).", ":- set(lazy_examples, true).",
+         ":- modeh(1, p(+obj)).", ":- modeb(1, size(+obj, -size)).",
+         ":- modeb(1, gteq(+size, #size)).", ":- modeb(1, lteq(+size, #size)).",
+         ":- lazy_evaluate(gteq/2).", ":- lazy_evaluate(lteq/2).",
+         ":- determination(p/1, size/2).", ":- determination(p/1, gteq/2).",
+         ":- determination(p/1, lteq/2)."]
+    if lookahead is not None:
+        b.insert(0, f":- set(lazy_lookahead, {str(lookahead).lower()}).")
+    b += [f":- modeb(1, q{k}(+obj)).\n:- determination(p/1, q{k}/1)." for k in range(1, 11)]
+    b += [f"size(o{i + 1}, {5.0 + 0.1 * i:.1f})." for i in range(10)]
+    b += [f"size(n{i + 1}, {2.0 + 0.1 * i if i < 5 else 8.0 + 0.1 * i:.1f})." for i in range(10)]
+    for k in range(1, 11):
+        b += [f"q{k}(o{i + 1})." for i in range(10) if (i + k) % 10 != 0]
+        b += [f"q{k}(n{i + 1})." for i in range(10) if i in (0, 5) or (i + k) % 4 == 0]
+    (dest / "band.b").write_text("\n".join(b) + "\n" + compare)
+    (dest / "band.f").write_text("".join(f"p(o{i}).\n" for i in range(1, 11)))
+    (dest / "band.n").write_text("".join(f"p(n{i}).\n" for i in range(1, 11)))
+    return dest / "band"
+
+
+def test_lazy_lookahead_reaches_a_band_the_search_starves(tmp_path):
+    """Best-first on the score, the measure size(A,B) (score 0, its thresholds unevaluated)
+    waits behind the q conjunctions until the 100 nodes are spent: no clause.  With
+    set(lazy_lookahead, true) its thresholds are evaluated when it is made, and the band is
+    the theory after a few nodes; off (or unset) is the same search."""
+    for name in ("a", "b", "c", "d"):
+        (tmp_path / name).mkdir()
+    plain = learn(_band_task(tmp_path / "a", None))
+    assert plain.rules == ()
+    assert plain.train == Confusion(tp=0, fn=10, fp=0, tn=10)
+    off = learn(_band_task(tmp_path / "b", False))
+    assert (off.rules, off.train, off.clauses_explored) == \
+        (plain.rules, plain.train, plain.clauses_explored)
+    look = learn(_band_task(tmp_path / "c", True))
+    assert [norm(c) for c in look.rules] == [norm("p(A) :- size(A,B), gteq(B,4), lteq(B,7).")]
+    assert look.train == Confusion(tp=10, fn=0, fp=0, tn=10)
+    assert look.clauses_explored < 30 < plain.clauses_explored
+    assert not any("lazy_lookahead" in w for w in look.warnings)
+    again = learn(_band_task(tmp_path / "d", True))
+    assert (again.rules, again.clauses_explored) == (look.rules, look.clauses_explored)
+    wide = learn(tmp_path / "a" / "band", settings={"nodes": 300})   # the search order, not
+    assert wide.rules == look.rules                                   # the language, hid it

@@ -77,6 +77,8 @@ _SETTINGS = {
     "samplesize": lambda v: isinstance(v, int) and v >= 0,
     # planerel's learner only: lazy thresholds count examples, not values (docs/learner.md)
     "lazy_examples": lambda v: v in ("true", "false"),
+    # planerel's learner only: a measure's lazy thresholds evaluated when it is made (docs/learner.md)
+    "lazy_lookahead": lambda v: v in ("true", "false"),
 }
 
 
