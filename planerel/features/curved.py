@@ -21,6 +21,13 @@ The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
    metres in 3-D.  A cluster counts when its area (each pixel's footprint ``z^2 / (fx fy)`` at
    its measured depth, :func:`pixel_areas`; not a pixel count) is at least ``min_area`` m^2
    (0.01: smaller clusters are mostly noise of far surfaces).
+   **Grown back** (``reconnect``; 2026-11-28, seventh pass: an opening by reconstruction):
+   each cluster so found becomes the whole connected component (same connection rule) of the
+   unexplained pixels *before* the opening that holds it, and clusters in one such component
+   are one cluster.  The opening cuts a small unsegmented box at 3-4 m into its top and its
+   front (the pixels along the edge between them form a strip one or two pixels wide, which
+   the opening removes) and shaves a third or more off a cluster of a few hundred pixels;
+   which clusters exist is still decided on the opened pixels (no new cluster from specks).
 3. **Merging.**  A cluster joins every proposal it touches (grid neighbours within
    ``edge_depth``) whose planes are all facets or smaller than ``small_area`` m^2 (the rest
    of a round object); touching no such proposal, it is a proposal of its own (with the tiny
@@ -81,6 +88,11 @@ class CurvedParams:
         An object is ``curved`` when its planar fraction is below this.
     enabled : bool
         False: no cluster proposals (planar fractions are still measured).
+    reconnect : bool
+        Each cluster kept (``min_area`` on the opened pixels) is grown back to the connected
+        component of the unexplained pixels before the opening that holds it; clusters in
+        one component become one (an opening by reconstruction).  False: the opened pixels'
+        components (before the seventh pass).
     stepped_clusters : bool
         Clusters of unexplained points that lie on a staircase's profile become its treads and
         risers, one proposal (:mod:`planerel.features.stairfit`; applied by
@@ -100,6 +112,7 @@ class CurvedParams:
     curved_below: float = 0.8
     enabled: bool = True
     stepped_clusters: bool = True
+    reconnect: bool = True
 
     def __post_init__(self) -> None:
         for name in ("facet_min_angle", "facet_max_angle", "tiny_area", "edge_depth", "min_area",
@@ -285,8 +298,8 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     Returns
     -------
     list of ndarray (H, W) bool
-        One mask per cluster of at least ``min_area`` m^2, ordered by their first pixel
-        (row-major).
+        One mask per cluster of at least ``min_area`` m^2 (opened pixels), ordered by their
+        first opened pixel (row-major).
     """
     params = params or CurvedParams()
     xyz = np.asarray(cloud.xyz, float)
@@ -326,8 +339,31 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     ids, k = list_components(rows, cols, xyz, float(params.edge_depth), un.shape[0])
     pitch = (_pitch_at(xyz, rows, cols, 1), _pitch_at(xyz, rows, cols, 0))
     area = list_areas(xyz, rows, cols, ids, pitch[0], pitch[1], k)
+    keep = np.nonzero(area >= params.min_area)[0]  # component ids follow the first pixel
     out = []
-    for c in np.nonzero(area >= params.min_area)[0]:  # component ids follow the first pixel
+    if params.reconnect and params.open_px > 0 and len(keep):
+        # the components of the mask before the opening (from its pixel list); each kept
+        # cluster's found by the place of its first pixel in that list (both row-major)
+        if isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
+            _, frows, fcols = unexplained_open(cloud.valid, lab, explained, 0)
+        else:
+            frows, fcols = mask_pixels(unexplained_mask(xyz, lab, explained))
+        fids, _ = list_components(frows, fcols, xyz, float(params.edge_depth), un.shape[0])
+        W = un.shape[1]
+        first = np.searchsorted(ids, keep, sorter=np.argsort(ids, kind="stable"))
+        first = np.argsort(ids, kind="stable")[first]  # each kept cluster's first pixel
+        comp = fids[np.searchsorted(frows * W + fcols, rows[first] * W + cols[first])]
+        done: set = set()
+        for g in comp.tolist():
+            if g in done:
+                continue
+            done.add(g)
+            m = np.zeros(un.shape, bool)
+            sel = fids == g
+            m[frows[sel], fcols[sel]] = True
+            out.append(m)
+        return out
+    for c in keep:
         m = np.zeros(un.shape, bool)
         sel = ids == c
         m[rows[sel], cols[sel]] = True
