@@ -13,8 +13,9 @@ cavities, the cut of parallel faces apart and the shallow-ramp test, main at a76
 ``occluded_channels=False, cavity_skip_walls=False`` (the defaults before the occluded channels
 and walls kept out of cavities, main at c3a6d74), with ``split_panels=False,
 occluded_pieces=False, side_wall_members=0, cut_long_side=False, apart_edge=0`` and
-``CurvedParams(join_area=0)`` (the defaults before the sixth pass, main at c986474) and the
-defaults, interleaved, ``--repeat`` times; the median per frame is summed.
+``CurvedParams(join_area=0)`` (the defaults before the sixth pass, main at c986474), with
+``CurvedParams(reconnect=False)`` (the defaults before the seventh pass, main at 09f30bd) and
+the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
 Printed: ms per frame of each and its ratio to the reference, and the proposals' found rate /
 false proposals per frame (planerel.features.object_eval).
 """
@@ -75,9 +76,13 @@ def main(argv=None) -> int:
                 "before 6th pass": ProposalParams(split_panels=False, occluded_pieces=False,
                                                   side_wall_members=0, cut_long_side=False,
                                                   apart_edge=0),
+                "before 7th pass": ProposalParams(),
                 "defaults": ProposalParams()}
-    # the curved clusters' parameters of each variant (the sixth pass's one-plane join)
-    curved = {k: CurvedParams(join_area=0.0) if k != "defaults" else CurvedParams() for k in variants}
+    # the curved clusters' parameters of each variant (the sixth pass's one-plane join, the
+    # seventh pass's clusters grown back)
+    curved = {k: CurvedParams(join_area=0.0, reconnect=False) for k in variants}
+    curved["before 7th pass"] = CurvedParams(reconnect=False)
+    curved["defaults"] = CurvedParams()
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": []} for k in variants}
     misses = {k: {"mosd": [], "synth": []} for k in variants}

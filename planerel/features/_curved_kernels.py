@@ -469,3 +469,69 @@ def list_areas(xyz, rows, cols, ids, p0, p1, k):
         z = abs(xyz[rows[t], cols[t], 2])
         out[ids[t]] += z * z * p0 * p1
     return out
+
+
+@njit(cache=True, nogil=True)
+def grow_clusters(rows, cols, ids, k, full, xyz, edge_depth, steps, cap):
+    """Clusters grown back into the mask before the opening: ``steps`` rounds of
+    4-neighbour growth into pixels of ``full`` whose points lie within
+    ``edge_depth * max(1, |z|)`` of the growing pixel's (``z`` its depth); two clusters whose
+    pixels meet so (growing or grown) become one.
+
+    Parameters
+    ----------
+    rows, cols, ids : ndarray (N,) int64
+        The clusters' pixels (opened) and each one's cluster, ``0 .. k-1``.
+    full : ndarray (H, W) bool
+        The unexplained pixels before the opening (a superset of the clusters' pixels).
+    cap : int
+        At least the number of pixels of ``full``.
+
+    Returns
+    -------
+    (rows, cols, group) : ndarray (M,) int64
+        The given pixels, then the grown ones in the order reached; each pixel's group, the
+        smallest cluster id among the clusters joined.
+    """
+    H, W = full.shape
+    lab = np.full((H, W), -1, np.int64)
+    parent = np.arange(k)
+    n = rows.shape[0]
+    R = np.empty(cap, np.int64)
+    C = np.empty(cap, np.int64)
+    for t in range(n):
+        R[t] = rows[t]
+        C[t] = cols[t]
+        lab[rows[t], cols[t]] = ids[t]
+    m = n
+    start, end = 0, n
+    for s in range(steps + 1):
+        for t in range(start, end):
+            r, c = R[t], C[t]
+            g = lab[r, c]
+            lim = edge_depth * max(1.0, abs(xyz[r, c, 2]))
+            for dy, dx in ((-1, 0), (0, -1), (0, 1), (1, 0)):
+                rr, cc = r + dy, c + dx
+                if rr < 0 or rr >= H or cc < 0 or cc >= W or not full[rr, cc]:
+                    continue
+                d0 = xyz[rr, cc, 0] - xyz[r, c, 0]
+                d1 = xyz[rr, cc, 1] - xyz[r, c, 1]
+                d2 = xyz[rr, cc, 2] - xyz[r, c, 2]
+                if not np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) <= lim:
+                    continue
+                h = lab[rr, cc]
+                if h < 0:
+                    if s < steps and m < cap:
+                        lab[rr, cc] = g
+                        R[m] = rr
+                        C[m] = cc
+                        m += 1
+                else:
+                    a, b = _root(parent, g), _root(parent, h)
+                    if a != b:
+                        parent[max(a, b)] = min(a, b)
+        start, end = end, m
+    G = np.empty(m, np.int64)
+    for t in range(m):
+        G[t] = _root(parent, lab[R[t], C[t]])
+    return R[:m].copy(), C[:m].copy(), G

@@ -21,13 +21,15 @@ The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
    metres in 3-D.  A cluster counts when its area (each pixel's footprint ``z^2 / (fx fy)`` at
    its measured depth, :func:`pixel_areas`; not a pixel count) is at least ``min_area`` m^2
    (0.01: smaller clusters are mostly noise of far surfaces).
-   **Grown back** (``reconnect``; 2026-11-28, seventh pass: an opening by reconstruction):
-   each cluster so found becomes the whole connected component (same connection rule) of the
-   unexplained pixels *before* the opening that holds it, and clusters in one such component
-   are one cluster.  The opening cuts a small unsegmented box at 3-4 m into its top and its
-   front (the pixels along the edge between them form a strip one or two pixels wide, which
-   the opening removes) and shaves a third or more off a cluster of a few hundred pixels;
-   which clusters exist is still decided on the opened pixels (no new cluster from specks).
+   **Grown back** (``reconnect``; 2026-11-28, seventh pass): each cluster so found grows
+   back ``open_px`` steps (4-neighbours, same connection rule) into the unexplained pixels
+   *before* the opening, and clusters that meet there become one.  The opening cuts a small
+   unsegmented box at 3-4 m into its top and its front (the pixels that connect them lie
+   along its outline, in strips one or two pixels wide, which the opening removes) and shaves
+   its rim; which clusters exist is still decided on the opened pixels (no new cluster from
+   specks).  Growing back whole components instead (an opening by reconstruction) found the
+   same boxes but crawled along the unexplained rims of planes: in office1 it joined a door's
+   outline, a floor strip and a wall's edge into one proposal.
 3. **Merging.**  A cluster joins every proposal it touches (grid neighbours within
    ``edge_depth``) whose planes are all facets or smaller than ``small_area`` m^2 (the rest
    of a round object); touching no such proposal, it is a proposal of its own (with the tiny
@@ -89,10 +91,10 @@ class CurvedParams:
     enabled : bool
         False: no cluster proposals (planar fractions are still measured).
     reconnect : bool
-        Each cluster kept (``min_area`` on the opened pixels) is grown back to the connected
-        component of the unexplained pixels before the opening that holds it; clusters in
-        one component become one (an opening by reconstruction).  False: the opened pixels'
-        components (before the seventh pass).
+        Each cluster kept (``min_area`` on the opened pixels) grows back ``open_px`` steps into
+        the unexplained pixels before the opening (4-neighbours within ``edge_depth``);
+        clusters that meet there become one.  False: the opened pixels' components (before
+        the seventh pass).
     stepped_clusters : bool
         Clusters of unexplained points that lie on a staircase's profile become its treads and
         risers, one proposal (:mod:`planerel.features.stairfit`; applied by
@@ -299,7 +301,7 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     -------
     list of ndarray (H, W) bool
         One mask per cluster of at least ``min_area`` m^2 (opened pixels), ordered by their
-        first opened pixel (row-major).
+        first opened pixel (row-major; clusters joined by ``reconnect``: the first one's).
     """
     params = params or CurvedParams()
     xyz = np.asarray(cloud.xyz, float)
@@ -342,25 +344,25 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     keep = np.nonzero(area >= params.min_area)[0]  # component ids follow the first pixel
     out = []
     if params.reconnect and params.open_px > 0 and len(keep):
-        # the components of the mask before the opening (from its pixel list); each kept
-        # cluster's found by the place of its first pixel in that list (both row-major)
+        # the kept clusters grown back open_px steps into the pixels before the opening,
+        # clusters meeting there joined (module rule step 2)
+        from planerel.features._curved_kernels import grow_clusters, unexplained_valid
+
         if isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
-            _, frows, fcols = unexplained_open(cloud.valid, lab, explained, 0)
+            full = unexplained_valid(cloud.valid, lab, explained)
         else:
-            frows, fcols = mask_pixels(unexplained_mask(xyz, lab, explained))
-        fids, _ = list_components(frows, fcols, xyz, float(params.edge_depth), un.shape[0])
-        W = un.shape[1]
-        first = np.searchsorted(ids, keep, sorter=np.argsort(ids, kind="stable"))
-        first = np.argsort(ids, kind="stable")[first]  # each kept cluster's first pixel
-        comp = fids[np.searchsorted(frows * W + fcols, rows[first] * W + cols[first])]
-        done: set = set()
-        for g in comp.tolist():
-            if g in done:
-                continue
-            done.add(g)
+            full = unexplained_mask(xyz, lab, explained)
+        remap = np.full(k, -1, np.int64)
+        remap[keep] = np.arange(len(keep))
+        kid = remap[ids]
+        sel = kid >= 0
+        gr, gc, grp = grow_clusters(rows[sel], cols[sel], kid[sel], len(keep), full, xyz,
+                                    float(params.edge_depth), int(params.open_px),
+                                    int(np.count_nonzero(full)))
+        for g in np.unique(grp):  # the smallest member's id: their first opened pixel's order
             m = np.zeros(un.shape, bool)
-            sel = fids == g
-            m[frows[sel], fcols[sel]] = True
+            s = grp == g
+            m[gr[s], gc[s]] = True
             out.append(m)
         return out
     for c in keep:

@@ -578,6 +578,12 @@ class ProposalParams:
         needs the cloud and ``cavities``).
     piece_gap : float
         Metres: the largest hull distance of such pieces.
+    shared_top : bool
+        A horizontal plane joined (convex edges) to two planes that meet each other at a
+        clearly concave shared edge, and through which alone their groups are joined, stays
+        with the group it shares more edge pixel pairs with (:func:`shared_top_cuts`): the tops
+        of two boxes standing side by side at one height, which the segmentation made one
+        plane (seventh pass).
     cavity_overlap : float
         An edge is whole when the two planes' extents along it overlap by at least this
         (interval IoU, :func:`planerel.features.cavities.edge_overlap`): a board spans its
@@ -638,6 +644,7 @@ class ProposalParams:
     side_wall_members: int = 0
     occluded_pieces: bool = True
     piece_gap: float = 0.25
+    shared_top: bool = True
     ramp_tilt: float = 3.0
     ramp_rise: float = 0.02
 
@@ -922,6 +929,87 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                                          and _regular_step(pa, pb, byl, nbrs, cos_tol)):
             out.add((a, b))
     return out
+
+
+def _normal_out(p) -> list:
+    """A plane's unit normal turned towards the sensor (the origin), as Python floats."""
+    n = np.asarray(p.normal, float).tolist()
+    if _dot(n, np.asarray(p.centroid, float).tolist()) > 0:
+        n = [-v for v in n]
+    return n
+
+
+def shared_top_cuts(planes, joined, concave, edges, concave_tol: float = 10.0,
+                    max_cos: float = -0.5) -> set:
+    """The joined pairs to cut so that a top shared by two objects stays with one of them.
+
+    A horizontal plane ``P`` joined (in ``joined``, the convex pairs) to planes ``a`` and
+    ``b`` that meet each other at a shared concave edge (a pair of ``concave``, at least
+    :data:`MIN_EDGE` edge pixel pairs in ``edges``, normals more than ``concave_tol`` apart,
+    not horizontal) whose sign is clearly concave (cosine between ``n_a - n_b`` and the edge
+    points' offset at most ``max_cos``; the noise band of :func:`convex_pairs` is +-0.1),
+    both with their centroids lower than ``P``'s (faces hanging below a top), while ``a`` and
+    ``b`` are not joined without ``P``: one convex object has no two faces
+    meeting at a concave edge, so ``P`` is the top of two objects that the segmentation made
+    one plane (two boxes of one height side by side).  ``P`` keeps its pairs with the group
+    (the planes joined to ``a`` or ``b`` without ``P``) it shares more edge pixel pairs with;
+    its pairs with the other group are returned (ties: the group of the smaller label).
+
+    Returns
+    -------
+    set of (int, int)
+        Pairs of ``joined`` (as given) to drop.
+    """
+    byl = {p.label: p for p in planes}
+    joined = list(joined)
+    nbrs: dict = {}
+    for a, b in joined:
+        nbrs.setdefault(a, set()).add(b)
+        nbrs.setdefault(b, set()).add(a)
+    cos_tol = math.cos(math.radians(concave_tol))
+    cut: set = set()
+    for a, b in sorted(concave):
+        e = edges.get((min(a, b), max(a, b)))
+        if e is None or e[2] < MIN_EDGE:
+            continue
+        pa, pb = byl[a], byl[b]
+        if pa.orientation == "horizontal" or pb.orientation == "horizontal":
+            continue
+        na, nb = _normal_out(pa), _normal_out(pb)
+        if abs(_dot(na, nb)) >= cos_tol:
+            continue
+        xa, xb = (e[0], e[1]) if a < b else (e[1], e[0])
+        dx = [float(xa[i]) - float(xb[i]) for i in range(3)]
+        dn = [na[i] - nb[i] for i in range(3)]
+        norm = math.sqrt(_dot(dn, dn) * _dot(dx, dx))
+        if norm == 0 or _dot(dn, dx) / norm > max_cos:
+            continue
+        for top in sorted(nbrs.get(a, set()) & nbrs.get(b, set())):
+            # a top over both: a and b hang below it (their centroids lower); a tread joined
+            # to a riser or side face rising above it is no such top
+            if byl[top].orientation != "horizontal" or not (
+                    pa.height < byl[top].height and pb.height < byl[top].height):
+                continue
+            # the two groups without the top (and without pairs already cut)
+            g = Components(k for k in nbrs if k != top)
+            g.add_edges((x, y) for x, y in joined if top not in (x, y)
+                        and (x, y) not in cut and (y, x) not in cut)
+            if g.together(a, b):
+                continue
+            side = {}
+            for k in nbrs[top]:
+                if g.together(k, a):
+                    side[k] = a
+                elif g.together(k, b):
+                    side[k] = b
+            weight = {a: 0, b: 0}
+            for k, s_ in side.items():
+                weight[s_] += (edges.get((min(top, k), max(top, k))) or (0, 0, 0))[2]
+            keep = a if (weight[a], -a) > (weight[b], -b) else b
+            for k, s_ in side.items():
+                if s_ != keep:
+                    cut.add((top, k) if (top, k) in set(joined) else (k, top))
+    return cut
 
 
 def _dot(u, v) -> float:
@@ -1370,6 +1458,12 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                 # a panel in coplanar pieces (cut by a board) along one plane's concave edge
                 joined |= split_panel_pairs(planes, concave, lab, cloud.xyz, params.concave_tol,
                                             params.coplanar_depth or 0.0, params.cavity_overlap)
+        if params.shared_top and edges is not None:
+            # a top joined to two planes that meet at a concave edge: the tops of two objects
+            # side by side made one plane stay with one of them
+            cc = [(a, b) for a, b in pairs if (a, b) not in joined]
+            if cc:
+                joined -= shared_top_cuts(planes, joined, cc, edges, params.concave_tol)
         pairs = sorted(joined)
     g.add_edges(pairs)
     lab = getattr(planes, "labels", None)
