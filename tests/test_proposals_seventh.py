@@ -43,13 +43,16 @@ def test_clusters_cut_apart_by_the_opening_are_one_grown_back():
     m = masks[0]
     # both faces with the strip below them (the opening keeps the strip under each face),
     # the strip under the support column (grown back, where the two meet) and the tail's
-    # first open_px = 2 rows; not the tail's rest: the growth goes open_px pixels
+    # first regrow_px = 3 rows; not the tail's rest: the growth goes regrow_px pixels
     assert m[20:52, 20:50].all() and m[20:52, 52:82].all() and m[50:52, 50:52].all()
-    assert m[52:54, 30:32].all() and not m[54:].any()
-    assert m.sum() == 32 * 30 * 2 + 4 + 4
+    assert m[52:55, 30:32].all() and not m[55:].any()
+    assert m.sum() == 32 * 30 * 2 + 4 + 6
+    one = unexplained_clusters(cloud, labels, [], support=(0,),
+                               params=CurvedParams(min_area=0.002, regrow_px=1))
+    assert len(one) == 1 and one[0][52, 30:32].all() and not one[0][53:].any()
     # before the seventh pass: the opened faces, two clusters, neither reaching the other
     old = unexplained_clusters(cloud, labels, [], support=(0,),
-                               params=CurvedParams(min_area=0.002, reconnect=False))
+                               params=CurvedParams(min_area=0.002, regrow_px=0))
     assert len(old) == 2 and [int(x.sum()) for x in old] == [960, 960]
     assert not any(x[:, 50:52].any() or x[52:].any() for x in old)
     # the two pieces: each under min_area when opened (together they would not be): none,
@@ -78,9 +81,9 @@ def test_a_box_cut_in_two_by_the_opening_is_one_proposal():
     labels = _two_faces_and_a_strip()
     cloud = _flat_cloud()
     objs = curved_objects([], [], [], cloud, labels, support=(0,), params=CurvedParams(min_area=0.002))
-    assert len(objs) == 1 and objs[0].n_points == 1928 and objs[0].planar_fraction == 0.0
+    assert len(objs) == 1 and objs[0].n_points == 1930 and objs[0].planar_fraction == 0.0
     old = curved_objects([], [], [], cloud, labels, support=(0,),
-                         params=CurvedParams(min_area=0.002, reconnect=False))
+                         params=CurvedParams(min_area=0.002, regrow_px=0))
     assert len(old) == 2
 
 
@@ -248,3 +251,13 @@ def test_shared_top_cuts_keeps_the_top_with_the_group_of_more_edge():
     # too few edge pixel pairs: no shared edge
     edges[(2, 3)] = ((0.33, 0.7, 1.8), (0.35, 0.7, 1.78), 4)
     assert shared_top_cuts(planes, joined, [(2, 3)], edges) == set()
+
+
+def test_regrow_px_refuses_bad_values():
+    import pytest
+
+    from planerel.errors import InputError
+
+    for bad in (-1, 1.5, True, 51):
+        with pytest.raises(InputError, match="regrow_px"):
+            CurvedParams(regrow_px=bad)

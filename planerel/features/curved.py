@@ -21,8 +21,8 @@ The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
    metres in 3-D.  A cluster counts when its area (each pixel's footprint ``z^2 / (fx fy)`` at
    its measured depth, :func:`pixel_areas`; not a pixel count) is at least ``min_area`` m^2
    (0.01: smaller clusters are mostly noise of far surfaces).
-   **Grown back** (``reconnect``; 2026-11-28, seventh pass): each cluster so found grows
-   back ``open_px`` steps (4-neighbours, same connection rule) into the unexplained pixels
+   **Grown back** (``regrow_px`` = 3; 2026-11-28, seventh pass): each cluster so found grows
+   back ``regrow_px`` steps (4-neighbours, same connection rule) into the unexplained pixels
    *before* the opening, and clusters that meet there become one.  The opening cuts a small
    unsegmented box at 3-4 m into its top and its front (the pixels that connect them lie
    along its outline, in strips one or two pixels wide, which the opening removes) and shaves
@@ -90,11 +90,11 @@ class CurvedParams:
         An object is ``curved`` when its planar fraction is below this.
     enabled : bool
         False: no cluster proposals (planar fractions are still measured).
-    reconnect : bool
-        Each cluster kept (``min_area`` on the opened pixels) grows back ``open_px`` steps into
-        the unexplained pixels before the opening (4-neighbours within ``edge_depth``);
-        clusters that meet there become one.  False: the opened pixels' components (before
-        the seventh pass).
+    regrow_px : int
+        Pixels: each cluster kept (``min_area`` on the opened pixels) grows back this many
+        steps into the unexplained pixels before the opening (4-neighbours within
+        ``edge_depth``); clusters that meet there become one.  0: the opened pixels'
+        components (before the seventh pass).
     stepped_clusters : bool
         Clusters of unexplained points that lie on a staircase's profile become its treads and
         risers, one proposal (:mod:`planerel.features.stairfit`; applied by
@@ -114,7 +114,7 @@ class CurvedParams:
     curved_below: float = 0.8
     enabled: bool = True
     stepped_clusters: bool = True
-    reconnect: bool = True
+    regrow_px: int = 3
 
     def __post_init__(self) -> None:
         for name in ("facet_min_angle", "facet_max_angle", "tiny_area", "edge_depth", "min_area",
@@ -125,7 +125,8 @@ class CurvedParams:
         if not self.facet_min_angle <= self.facet_max_angle <= 90:
             raise InputError(f"facet angles must satisfy 0 <= facet_min_angle <= facet_max_angle "
                              f"<= 90, got {self.facet_min_angle!r} and {self.facet_max_angle!r}")
-        for name, lo, hi in (("facet_min_planes", 2, 1000), ("open_px", 0, 10), ("join_touch", 0, 10 ** 9)):
+        for name, lo, hi in (("facet_min_planes", 2, 1000), ("open_px", 0, 10), ("regrow_px", 0, 50),
+                             ("join_touch", 0, 10 ** 9)):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
                 raise InputError(f"{name} must be an integer in {lo}..{hi}, got {v!r}")
@@ -301,7 +302,7 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     -------
     list of ndarray (H, W) bool
         One mask per cluster of at least ``min_area`` m^2 (opened pixels), ordered by their
-        first opened pixel (row-major; clusters joined by ``reconnect``: the first one's).
+        first opened pixel (row-major; clusters joined by ``regrow_px``: the first one's).
     """
     params = params or CurvedParams()
     xyz = np.asarray(cloud.xyz, float)
@@ -343,8 +344,8 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     area = list_areas(xyz, rows, cols, ids, pitch[0], pitch[1], k)
     keep = np.nonzero(area >= params.min_area)[0]  # component ids follow the first pixel
     out = []
-    if params.reconnect and params.open_px > 0 and len(keep):
-        # the kept clusters grown back open_px steps into the pixels before the opening,
+    if params.regrow_px > 0 and params.open_px > 0 and len(keep):
+        # the kept clusters grown back regrow_px steps into the pixels before the opening,
         # clusters meeting there joined (module rule step 2)
         from planerel.features._curved_kernels import grow_clusters, unexplained_valid
 
@@ -357,7 +358,7 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
         kid = remap[ids]
         sel = kid >= 0
         gr, gc, grp = grow_clusters(rows[sel], cols[sel], kid[sel], len(keep), full, xyz,
-                                    float(params.edge_depth), int(params.open_px),
+                                    float(params.edge_depth), int(params.regrow_px),
                                     int(np.count_nonzero(full)))
         for g in np.unique(grp):  # the smallest member's id: their first opened pixel's order
             m = np.zeros(un.shape, bool)
