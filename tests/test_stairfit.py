@@ -265,3 +265,31 @@ def test_the_near_tread_the_region_grower_found_joins_the_fitted_flight():
     assert len(flights) == 1 and 2 not in flights[0]
     _, flights = remeasure_stepped_clusters(cloud, planes)
     assert len(flights) == 1 and 2 in flights[0]
+
+
+def test_without_a_measurable_noise_model_the_fit_keeps_the_isotropic_tolerance():
+    # 24 x 32 pixels: fewer complete 5 x 5 patches than the noise estimate needs
+    cloud, _, _, _ = render(_descending(), pitch=35.0, cam_height=6 * 0.17 + 1.2, width=32,
+                            height=24, noise=0.0025, seed=3)
+    assert depth_sigma(cloud) is None
+    # the flight of the 160 x 120 view: measured, and beyond its deepest band it grows as z^2
+    big, _, _ = _descending_view()
+    sigma = depth_sigma(big)
+    from planerel.segment.noise import estimate_noise
+
+    model = estimate_noise(big)
+    zb = model.bands[-1][0]
+    assert float(sigma(zb)) == pytest.approx(float(model.sigma(zb)))
+    assert float(sigma(2 * zb)) == pytest.approx(max(float(model.sigma(2 * zb)),
+                                                     4 * float(model.sigma(zb))))
+
+
+def test_the_new_parameters_are_checked():
+    with pytest.raises(InputError):
+        StairFitParams(sigmas=0.0)
+    with pytest.raises(InputError):
+        StairFitParams(noise_floor=-0.01)
+    with pytest.raises(InputError):
+        StairFitParams(ray_noise="yes")
+    with pytest.raises(InputError):
+        StairFitParams(join_share=-1.0)

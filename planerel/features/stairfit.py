@@ -213,9 +213,9 @@ def depth_sigma(cloud):
     """``sigma_z(z)``: the depth noise along the rays of ``cloud`` (rule step 3), or None.
 
     The sensor's noise model measured in the cloud (:func:`planerel.segment.noise.estimate_noise`,
-    the model the segmentation and the floor test use); beyond the deepest depth band it was
-    measured in (``z_b``, noise ``s_b``) it grows at least as a disparity sensor's,
-    ``s_b (z / z_b)^2`` (a far flight lies beyond the patches a small image can measure: a
+    the model the segmentation and the floor test use); beyond the depth ``z_b`` of the deepest
+    band it was measured in it grows at least as a disparity sensor's, ``s_b (z / z_b)^2`` with
+    ``s_b`` the model's noise at ``z_b`` (a far flight lies beyond the patches a small image can measure: a
     single band at 2 m fits a constant as well as ``z^2``).  None when the cloud is too small
     or too broken to measure it (not ``reliable``): the scale of the noise is then unknown and
     the fit keeps the isotropic tolerance ``tol``.
