@@ -293,3 +293,52 @@ def test_the_new_parameters_are_checked():
         StairFitParams(ray_noise="yes")
     with pytest.raises(InputError):
         StairFitParams(join_share=-1.0)
+
+
+def _one_label(rects, label_of, *, noise=0.003, **kw):
+    """Render; rect indices in ``label_of`` get that label, the rest keep theirs (floor 0)."""
+    cloud, lab, up, _ = render(rects, width=160, height=120, noise=noise, seed=3, **kw)
+    out = np.full(lab.shape, -1, np.int32)
+    out[lab == 0] = 0
+    for k, v in label_of.items():
+        out[lab == k] = v
+    return cloud, out, up
+
+
+def test_a_flight_grown_into_one_sloping_plane_gets_its_treads_and_risers():
+    rects = _flight(n=5, y0=2.0)
+    cloud, lab, up = _one_label(rects, {k: 5 for k in range(1, len(rects))}, pitch=30.0,
+                                cam_height=1.8)
+    off = describe_scene(cloud, lab, up=up, curved_params=CurvedParams(stepped_clusters=False))
+    assert [p.orientation for p in off.planes if p.label == 5] == ["inclined"]
+    d = describe_scene(cloud, lab, up=up)
+    assert 5 not in {p.label for p in d.planes}  # replaced by the fitted faces
+    new = [p for p in d.planes if p.label > 5]
+    kinds = [p.orientation for p in new]
+    assert kinds.count("horizontal") >= 2 and kinds.count("vertical") >= 2
+    holding = [o for o in d.objects if set(o.planes) & {p.label for p in new}]
+    assert len(holding) == 1 and set(holding[0].planes) >= {p.label for p in new}
+    # off: the sloping plane stays
+    got = stepped_cluster_labels(cloud, off.planes, StairFitParams(inclined_planes=False))
+    assert got is None
+
+
+def test_a_ramp_plane_and_a_boxs_front_and_top_grown_into_one_plane_stay():
+    cloud, lab, up = _one_label([floor(size=12.0, y=4.0), *ramp(0.0, 2.2, angle=25.0, length=2.0,
+                                                                 width=1.2)], {1: 5},
+                                pitch=25.0, cam_height=1.6)
+    d = describe_scene(cloud, lab, up=up)
+    assert [p.orientation for p in d.planes if p.label == 5] == ["inclined"]
+    assert {p.label for p in d.planes} == {0, 5}
+    # a box's front, its top and the floor strip before it grown into one sloping plane (as
+    # the judge set's i0006) fits a profile of one rise: the floor strip's tread is the floor,
+    # which leaves two faces, not a flight
+    from scenes_analytic import box
+
+    rects = [floor(size=12.0, y=4.0), *box(0.0, 2.8, 1.0, 0.3, 0.25)[:2],
+             Rect((0, 2.53, 0.002), (1, 0, 0), (0, 1, 0), 0.5, 0.12, 1)]
+    cloud, lab, up = _one_label(rects, {1: 5, 2: 5, 3: 5}, pitch=25.0, cam_height=1.5)
+    d = describe_scene(cloud, lab, up=up, curved_params=CurvedParams(stepped_clusters=False))
+    assert [p.orientation for p in d.planes if p.label == 5] == ["inclined"]
+    assert stepped_cluster_labels(cloud, d.planes) is None
+    assert stepped_cluster_labels(cloud, d.planes, StairFitParams(min_faces=2)) is not None

@@ -100,6 +100,7 @@ class StairFitParams:
     join_planes: bool = True
     join_share: float = 0.8
     join_reach: float = 0.35
+    inclined_planes: bool = True
 
     def __post_init__(self) -> None:
         for name in ("edge_depth", "tiny_area", "min_inliers", "plane_ratio", "keep", "reach",
@@ -111,7 +112,7 @@ class StairFitParams:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
                 raise InputError(f"{name} must be a number > 0, got {v!r}")
-        for name in ("ray_noise", "join_planes"):
+        for name in ("ray_noise", "join_planes", "inclined_planes"):
             if not isinstance(getattr(self, name), (bool, np.bool_)):
                 raise InputError(f"{name} must be True or False, got {getattr(self, name)!r}")
         for name in ("min_pixels", "min_faces", "face_pixels", "max_fit_points"):
@@ -350,10 +351,34 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
     explained = np.zeros(max(known, default=-1) + 1, bool)
     explained[known] = True
     _, rows, cols = unexplained_open(cloud.valid, lab, explained, 0)
+    if len(rows):
+        ids, n_comp = list_components(rows, cols, xyz, float(p.edge_depth), lab.shape[0])
+    else:
+        ids, n_comp = np.zeros(0, np.int64), 0
+    n_all = n_comp
+    if p.inclined_planes:
+        # segmented inclined planes (not the floor) are candidates too: a flight seen from
+        # above whose treads and risers grew into one sloping region
+        # (only planes that could pass the slope and width tests: their incline within a
+        # factor 2 of the slopes', their length at least min_width)
+        lo, hi = np.degrees(np.arctan([p.slope[0] / 2, p.slope[1] * 2]))
+        cand = [q.label for q in planes
+                if q.orientation == "inclined" and not q.is_floor and q.label >= 0
+                and q.n_points >= p.min_pixels and lo <= q.incline <= hi
+                and q.length >= p.min_width]
+        if cand:
+            lut = np.full(max(label_max(lab), 0) + 1, -1, np.int64)
+            lut[cand] = n_comp + np.arange(len(cand))
+            rr, cc = np.nonzero(cloud.valid & (lab >= 0))
+            pid = lut[lab[rr, cc]]
+            on = pid >= 0
+            rows = np.concatenate([np.asarray(rows), rr[on]])
+            cols = np.concatenate([np.asarray(cols), cc[on]])
+            ids = np.concatenate([np.asarray(ids, np.int64), pid[on]])
+            n_all += len(cand)
     if not len(rows):
         return None
-    ids, n_comp = list_components(rows, cols, xyz, float(p.edge_depth), lab.shape[0])
-    sizes = np.bincount(ids, minlength=n_comp)
+    sizes = np.bincount(ids, minlength=n_all)
     big = np.flatnonzero(sizes >= p.min_pixels)
     if not big.size:
         return None
@@ -392,6 +417,18 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
         else:
             metric = None
             lim = _tolerance(z[idx], p)
+        res = h - X @ coef
+        if metric is None:
+            plane_share = float((np.abs(res) < lim).mean())
+        else:
+            # the plane's distance in the same metric: across the line h = g d + c of the
+            # (d, h) plane (normal n), e^2 / (n^T C n) with C = M^-1
+            n0, n1 = -g / np.hypot(g, 1.0), 1.0 / np.hypot(g, 1.0)
+            m11, m12, m22 = metric[:, 0], metric[:, 1], metric[:, 2]
+            ncn = (m22 * n0 * n0 - 2 * m12 * n0 * n1 + m11 * n1 * n1) / (m11 * m22 - m12 * m12)
+            plane_share = float((np.abs(res * n1) / np.sqrt(ncn) < lim).mean())
+        if plane_share > p.plane_ratio:
+            continue  # the plane test fails whatever the profile's share (at most 1)
         if len(d) > p.max_fit_points:
             # a fixed, evenly spaced subset (row-major order): deterministic
             sub = np.linspace(0, len(d) - 1, p.max_fit_points).astype(np.int64)
@@ -404,21 +441,18 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
         dist, seg = profile_distance(d, h, fit.rise, fit.run, fit.h0, fit.d0, metric)
         inl = dist < lim
         share = float(inl.mean())
-        res = h - X @ coef
-        if metric is None:
-            plane_share = float((np.abs(res) < lim).mean())
-        else:
-            # the plane's distance in the same metric: its normal in (d, h) is (-g, 1)
-            # the plane's distance in the same metric: across the line h = g d + c of the
-            # (d, h) plane (normal n), e^2 / (n^T C n) with C = M^-1
-            n0, n1 = -g / np.hypot(g, 1.0), 1.0 / np.hypot(g, 1.0)
-            m11, m12, m22 = metric[:, 0], metric[:, 1], metric[:, 2]
-            ncn = (m22 * n0 * n0 - 2 * m12 * n0 * n1 + m11 * n1 * n1) / (m11 * m22 - m12 * m12)
-            plane_share = float((np.abs(res * n1) / np.sqrt(ncn) < lim).mean())
         faces, counts = np.unique(seg[inl], return_counts=True)
         faces = faces[counts >= p.face_pixels]
         if share < p.min_inliers or plane_share > p.plane_ratio * share or len(faces) < p.min_faces:
             continue
+        if c >= n_comp:
+            # a sloping plane's points on the floor's level (the lowest plane's when no floor
+            # was found) are the floor, not a tread: a box's front and top grown into one
+            # plane with a strip of floor is one step
+            lvl = fit.h0 + (faces // 2) * fit.rise
+            faces = faces[(faces % 2 == 1) | (np.abs(lvl - planes.floor_level) >= fit.rise / 2)]
+            if len(faces) < p.min_faces:
+                continue
         widths = [float(np.subtract(*np.percentile(lat[inl & (seg == fc)], [98, 2])))
                   for fc in faces]
         if np.median(widths) < p.min_width:
@@ -428,7 +462,7 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
         lo_d, hi_d = d.min() - fit.run, d.max() + fit.run
 
         frame = (f, side, up, (lo_l, hi_l, lo_d, hi_d), fit, sigma_z)
-        other = np.flatnonzero((ids != c) & ~taken)
+        other = np.flatnonzero((ids != c) & (ids < n_comp) & ~taken)
         if other.size:
             near, dist2, seg2, lim2 = _on_profile(pts[other], frame, p)
             if near.any():
@@ -439,6 +473,9 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
                 lim = np.concatenate([lim, lim2[on]])
         if out is None:
             out = lab.astype(np.int32, copy=True)
+        if c >= n_comp:
+            own = ids == c  # a segmented inclined plane: its pixels go to the faces or none
+            out[rows[own], cols[own]] = -1
         keep = dist < p.keep * lim
         new = set()
         for face in faces:
