@@ -14,7 +14,13 @@ The rule (:func:`stepped_cluster_labels`):
 1. **Clusters.**  The unexplained pixels (no plane, or a plane under ``tiny_area``:
    :func:`planerel.features.curved.unexplained_clusters` without an opening) grouped in the
    grid with 3-D neighbours within ``edge_depth * max(1, z)``; clusters of at least
-   ``min_pixels`` pixels are tried.
+   ``min_pixels`` pixels are tried.  With ``inclined_planes`` the pixels of each segmented
+   inclined plane (not the floor; its incline within a factor 2 of ``slope``'s, its length at
+   least ``min_width``) are tried as a group too: a flight seen from above whose treads and
+   risers grew into one sloping region.  A tread of such a fit at the floor's level (the
+   lowest plane's when no floor was found) is the floor and does not count among the faces
+   (a box's front and top grown into one plane with a strip of floor is one step), and when
+   the fit is kept the plane's pixels go to the faces or to none.
 2. **Direction.**  A least-squares plane ``h = a . q + c`` over the points' horizontal
    positions ``q`` gives the flight's direction (the gradient) and its slope; the slope must
    lie in ``slope`` (a ramp of the judge set rises at most 0.36, a staircase 0.4-1).
