@@ -413,6 +413,26 @@ def test_unexplained_open_is_the_mask_opening_and_its_pixels():
     assert kept > 30
 
 
+def test_unexplained_pixels_are_the_unexplained_valid_pixels():
+    """unexplained_pixels gives np.nonzero(unexplained_valid(...)) (row-major, int64) on
+    random labels and valid masks, labels past ``explained`` as not explained, and no pixel."""
+    from planerel.features._curved_kernels import unexplained_pixels, unexplained_valid
+
+    rng = np.random.default_rng(24)
+    some = 0
+    for _ in range(400):
+        H, W = (int(v) for v in rng.integers(1, 40, 2))
+        valid = rng.random((H, W)) < rng.uniform(0.0, 1.0)
+        lab = rng.integers(-2, 9, (H, W)).astype(np.int32)
+        explained = rng.random(int(rng.integers(0, 8))) < 0.5
+        rows, cols = unexplained_pixels(valid, lab, explained)
+        wr, wc = np.nonzero(unexplained_valid(valid, lab, explained))
+        some += len(wr) > 0
+        assert rows.dtype == np.int64 and cols.dtype == np.int64
+        assert np.array_equal(rows, wr) and np.array_equal(cols, wc)
+    assert 30 < some < 400
+
+
 def test_list_components_are_the_grid_components_of_the_pixels():
     """list_components (from the pixel list) gives grid_components' ids at the same pixels,
     and list_areas component_areas' sums, float for float."""

@@ -342,3 +342,58 @@ def test_a_ramp_plane_and_a_boxs_front_and_top_grown_into_one_plane_stay():
     assert [p.orientation for p in d.planes if p.label == 5] == ["inclined"]
     assert stepped_cluster_labels(cloud, d.planes) is None
     assert stepped_cluster_labels(cloud, d.planes, StairFitParams(min_faces=2)) is not None
+
+
+def test_cross_and_slope_candidates_match_numpy():
+    """``_cross`` is ``np.cross`` bit for bit; the kernel ``cluster_slopes`` gives the slopes
+    of numpy's per-cluster least squares (``np.bincount`` sums, and ``np.linalg.lstsq`` as the
+    rule fits each cluster), and ``_slope_candidates`` never rules out a cluster whose exact
+    slope lies in the slope range, and does rule out the clearly flat or steep ones."""
+    from planerel.features._stairfit_kernels import cluster_slopes
+    from planerel.features.stairfit import _cross, _horizontal_axes, _slope_candidates
+
+    rng = np.random.default_rng(31)
+    for _ in range(500):
+        a, b = rng.normal(size=3) * rng.uniform(0.01, 10), rng.normal(size=3)
+        assert np.array_equal(_cross(a, b), np.cross(a, b))
+    lo_hi = (0.25, 1.5)
+    ruled_out = 0
+    for _ in range(60):
+        up = rng.normal(size=3)
+        up /= np.linalg.norm(up)
+        e1, e2 = _horizontal_axes(up)
+        n = int(rng.integers(1, 40))
+        sizes = rng.integers(1, 200, n)
+        ids = np.repeat(np.arange(n), sizes)
+        rng.shuffle(ids)
+        u = rng.normal(size=ids.size) * rng.uniform(0.01, 1, n)[ids] + rng.uniform(-3, 3, n)[ids]
+        v = rng.normal(size=ids.size) * rng.uniform(0.0, 1, n)[ids] + rng.uniform(-3, 3, n)[ids]
+        # slopes around the bounds and far from them; some clusters collinear (v = k u)
+        g = rng.choice([0.0, 0.1, 0.25, 0.2500001, 0.7, 1.5, 1.4999999, 3.0], n)
+        th = rng.uniform(0, 2 * np.pi, n)
+        v = np.where((rng.random(n) < 0.1)[ids], 0.5 * u, v)
+        h = (g * np.cos(th))[ids] * u + (g * np.sin(th))[ids] * v + rng.uniform(-1, 1, n)[ids]
+        h += rng.normal(size=ids.size) * rng.choice([0.0, 0.01, 0.1], n)[ids]
+        pts = np.outer(u, e1) + np.outer(v, e2) + np.outer(h, up)
+        got, sure = cluster_slopes(pts, ids, n, e1, e2, up, 1e-6)
+        # numpy: the same centred sums by np.bincount
+        pu, pv, ph = pts @ e1, pts @ e2, pts @ up
+        cnt = np.bincount(ids, minlength=n)
+        d = [x - (np.bincount(ids, x, n) / cnt)[ids] for x in (pu, pv, ph)]
+        suu, suv, svv, suh, svh = (np.bincount(ids, d[i] * d[j], n)
+                                   for i, j in ((0, 0), (0, 1), (1, 1), (0, 2), (1, 2)))
+        det = suu * svv - suv * suv
+        want_sure = (cnt >= 3) & (det > 0) & (det > 1e-6 * suu * svv)
+        assert np.array_equal(sure, want_sure)
+        a = (svv * suh - suv * svh)[sure] / det[sure]
+        b = (suu * svh - suv * suh)[sure] / det[sure]
+        assert np.allclose(got[sure], np.hypot(a, b), rtol=1e-9, atol=1e-12)
+        maybe = _slope_candidates(pts, ids, n, e1, e2, up, lo_hi)
+        for c in range(n):
+            P = pts[ids == c]
+            X = np.c_[P @ e1, P @ e2, np.ones(len(P))]
+            coef = np.linalg.lstsq(X, P @ up, rcond=None)[0]
+            if lo_hi[0] <= float(np.hypot(coef[0], coef[1])) <= lo_hi[1]:
+                assert maybe[c]
+            ruled_out += not maybe[c]
+    assert ruled_out > 300

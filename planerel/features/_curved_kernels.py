@@ -289,6 +289,26 @@ def unexplained_valid(valid, lab, explained):
 
 
 @njit(cache=True, nogil=True)
+def unexplained_pixels(valid, lab, explained):
+    """The rows and columns of :func:`unexplained_valid`'s pixels (``np.nonzero``, row-major)
+    in one pass over the image, without the mask (``unexplained_open(..., 0)``'s pixel list:
+    ``tests/test_curved.py`` compares)."""
+    H, W = lab.shape
+    K = explained.shape[0]
+    rows = np.empty(H * W, np.int64)
+    cols = np.empty(H * W, np.int64)
+    k = 0
+    for y in range(H):
+        for x in range(W):
+            a = lab[y, x]
+            if valid[y, x] and (a < 0 or a >= K or not explained[a]):
+                rows[k] = y
+                cols[k] = x
+                k += 1
+    return rows[:k].copy(), cols[:k].copy()
+
+
+@njit(cache=True, nogil=True)
 def unexplained_open(valid, lab, explained, r):
     """``open_mask(unexplained_valid(valid, lab, explained), r)`` and its pixels' rows and
     columns (``np.nonzero``, row-major) in one pass over the image: the erosion along rows
@@ -403,7 +423,9 @@ def list_components(rows, cols, xyz, edge_depth, H):
     """:func:`grid_components` of the mask whose pixels are ``(rows, cols)`` (row-major, as
     ``np.nonzero`` gives them; rows below ``H``), read from the pixel list alone: each
     pixel's right neighbour is the next pixel of the list, its lower neighbour is found by
-    a binary search in the next row's pixels (no ``(H, W)`` map is written or read).
+    a pointer that moves forward through the list (the first pixel of the next row at or
+    after the column: it only grows as the list is read; no ``(H, W)`` map is written or
+    read).
 
     Returns
     -------
@@ -412,13 +434,8 @@ def list_components(rows, cols, xyz, edge_depth, H):
         :func:`grid_components`), the number of components.
     """
     n = rows.shape[0]
-    start = np.zeros(H + 2, np.int64)
-    for t in range(n):
-        start[rows[t] + 2] += 1
-    for y in range(H + 1):
-        start[y + 1] += start[y]
-    # start[y + 1] .. start[y + 2]: the pixels of row y
     parent = np.arange(n)
+    lo = 0  # the first pixel of row r + 1 at or after column c (r, c: the current pixel's)
     for t in range(n):
         r, c = rows[t], cols[t]
         lim = edge_depth * max(1.0, abs(xyz[r, c, 2]))
@@ -431,16 +448,13 @@ def list_components(rows, cols, xyz, edge_depth, H):
                 a, b = _root(parent, t), _root(parent, t + 1)
                 if a != b:
                     parent[max(a, b)] = min(a, b)
-        # lower neighbour: the first pixel of row r + 1 at or after column c
+        # lower neighbour
         if r + 1 < H:
-            lo, hi = start[r + 2], start[r + 3]
-            while lo < hi:
-                mid = (lo + hi) // 2
-                if cols[mid] < c:
-                    lo = mid + 1
-                else:
-                    hi = mid
-            if lo < start[r + 3] and cols[lo] == c:
+            if lo <= t:
+                lo = t + 1
+            while lo < n and (rows[lo] == r or (rows[lo] == r + 1 and cols[lo] < c)):
+                lo += 1
+            if lo < n and rows[lo] == r + 1 and cols[lo] == c:
                 d0 = xyz[r + 1, c, 0] - xyz[r, c, 0]
                 d1 = xyz[r + 1, c, 1] - xyz[r, c, 1]
                 d2 = xyz[r + 1, c, 2] - xyz[r, c, 2]

@@ -101,3 +101,61 @@ def profile_costs(d, h, metric, trunc2, rises, factors, nphase, slope, run_lo, r
                     acc += e
                 out[a, b, j] = acc / n
     return out
+
+
+@njit(cache=True, nogil=True)
+def cluster_slopes(pts, ids, n, e1, e2, up, min_det):
+    """The slope of every cluster's least-squares plane ``h = a u + b v + c`` (``u, v, h``
+    the points' coordinates along ``e1``, ``e2``, ``up``; ``ids`` each point's cluster in
+    ``[0, n)``), from its sums centred on the cluster's mean, and whether that slope is
+    reliable: at least 3 points and normal equations with ``det >= min_det`` times the
+    product of their diagonal (else the slope is 0 and not reliable).
+
+    Returns
+    -------
+    (ndarray (n,) float64, ndarray (n,) bool)
+        ``hypot(a, b)`` and its reliability.
+    """
+    N = ids.shape[0]
+    cnt = np.zeros(n)
+    mu = np.zeros(n)
+    mv = np.zeros(n)
+    mh = np.zeros(n)
+    for i in range(N):
+        c = ids[i]
+        x, y, z = pts[i, 0], pts[i, 1], pts[i, 2]
+        cnt[c] += 1.0
+        mu[c] += x * e1[0] + y * e1[1] + z * e1[2]
+        mv[c] += x * e2[0] + y * e2[1] + z * e2[2]
+        mh[c] += x * up[0] + y * up[1] + z * up[2]
+    for c in range(n):
+        if cnt[c] > 0:
+            mu[c] /= cnt[c]
+            mv[c] /= cnt[c]
+            mh[c] /= cnt[c]
+    suu = np.zeros(n)
+    suv = np.zeros(n)
+    svv = np.zeros(n)
+    suh = np.zeros(n)
+    svh = np.zeros(n)
+    for i in range(N):
+        c = ids[i]
+        x, y, z = pts[i, 0], pts[i, 1], pts[i, 2]
+        du = x * e1[0] + y * e1[1] + z * e1[2] - mu[c]
+        dv = x * e2[0] + y * e2[1] + z * e2[2] - mv[c]
+        dh = x * up[0] + y * up[1] + z * up[2] - mh[c]
+        suu[c] += du * du
+        suv[c] += du * dv
+        svv[c] += dv * dv
+        suh[c] += du * dh
+        svh[c] += dv * dh
+    g = np.zeros(n)
+    sure = np.zeros(n, np.bool_)
+    for c in range(n):
+        det = suu[c] * svv[c] - suv[c] * suv[c]
+        if cnt[c] >= 3 and det > 0 and det > min_det * suu[c] * svv[c]:
+            a = (svv[c] * suh[c] - suv[c] * svh[c]) / det
+            b = (suu[c] * svh[c] - suv[c] * suh[c]) / det
+            g[c] = math.hypot(a, b)
+            sure[c] = True
+    return g, sure

@@ -297,12 +297,20 @@ def _tolerance(z, p: StairFitParams):
     return np.clip(a + b * np.asarray(z, float) ** 2, lo, hi)
 
 
+def _cross(a, b):
+    """``np.cross`` of two 3-vectors, the same products and differences (without its axis
+    handling, 10 us a call)."""
+    a0, a1, a2 = float(a[0]), float(a[1]), float(a[2])
+    b0, b1, b2 = float(b[0]), float(b[1]), float(b[2])
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+
+
 def _horizontal_axes(up):
     up = np.asarray(up, float)
     x = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    e1 = np.cross(up, x)
+    e1 = _cross(up, x)
     e1 /= np.linalg.norm(e1)
-    return e1, np.cross(up, e1)
+    return e1, _cross(up, e1)
 
 
 def _on_profile(Q, frame, p: StairFitParams):
@@ -326,6 +334,26 @@ def _on_profile(Q, frame, p: StairFitParams):
     return near, dist2, seg2, lim2
 
 
+def _slope_candidates(pts, ids, n, e1, e2, up, slope, margin=1e-4, min_det=1e-6):
+    """Which of the ``n`` clusters (``ids`` of the points ``pts``) may pass the slope test of
+    rule step 2.
+
+    The least-squares plane ``h = a . q + c`` of every cluster at once
+    (:func:`planerel.features._stairfit_kernels.cluster_slopes`, from its centred sums); a
+    cluster is ruled out only when that slope lies outside ``slope`` widened by ``margin``
+    (relative) and its normal equations are well conditioned (``min_det``): the exact fit
+    (``np.linalg.lstsq``) decides for every other one, so the rule's result does not change,
+    only the clusters that certainly fail are not fitted one by one.
+    """
+    from planerel.features._stairfit_kernels import cluster_slopes
+
+    g, sure = cluster_slopes(np.ascontiguousarray(pts, dtype=np.float64),
+                             np.ascontiguousarray(ids, dtype=np.int64), int(n),
+                             np.asarray(e1, float), np.asarray(e2, float), np.asarray(up, float),
+                             float(min_det))
+    return ~sure | ((g >= slope[0] * (1 - margin)) & (g <= slope[1] * (1 + margin)))
+
+
 def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
     """Planes for the staircases among the unexplained pixels (rule steps 1-5).
 
@@ -344,10 +372,11 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
         for a riser: the orientation the fit assumed and tested); None when no cluster is a
         staircase.
     """
-    from planerel.features._curved_kernels import list_components, unexplained_open
+    from planerel.features._curved_kernels import list_components, unexplained_pixels
+    from planerel.features._defaults import defaults
     from planerel.features.planes import label_max
 
-    p = params or StairFitParams()
+    p = params or defaults(StairFitParams)
     xyz = np.asarray(cloud.xyz, float)
     lab = np.asarray(planes.labels)
     up = np.asarray(planes.up, float)
@@ -356,7 +385,7 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
     known = [q.label for q in planes if q.area >= p.tiny_area and q.label >= 0]
     explained = np.zeros(max(known, default=-1) + 1, bool)
     explained[known] = True
-    _, rows, cols = unexplained_open(cloud.valid, lab, explained, 0)
+    rows, cols = unexplained_pixels(cloud.valid, lab, explained)
     if len(rows):
         ids, n_comp = list_components(rows, cols, xyz, float(p.edge_depth), lab.shape[0])
     else:
@@ -392,13 +421,16 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
     z = pts[:, 2]
     taken = np.zeros(len(rows), bool)
     e1, e2 = _horizontal_axes(up)
+    maybe = _slope_candidates(pts, ids, n_all, e1, e2, up, p.slope)
     sigma_z = None  # the sensor's noise along the rays, measured when a cluster is fitted
     out = None
     groups = []
     normals = {}
-    nxt = label_max(lab) + 1
+    nxt = None  # the first new label, label_max(lab) + 1, taken when a fit is kept
     # the largest first; equal sizes by their first pixel (row-major)
     for c in big[np.argsort(-sizes[big], kind="stable")]:
+        if not maybe[c]:
+            continue  # its plane's slope is outside p.slope (step 2), with a margin
         idx = np.flatnonzero(ids == c)
         if taken[idx].any():
             continue
@@ -410,7 +442,7 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
         if not p.slope[0] <= g <= p.slope[1]:
             continue
         f = (coef[0] * e1 + coef[1] * e2) / g
-        side = np.cross(up, f)
+        side = _cross(up, f)
         lat = P @ side
         if float(lat.max() - lat.min()) < p.min_width:
             continue  # no face can be min_width wide (step 4), no fit needed
@@ -479,6 +511,7 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
                 lim = np.concatenate([lim, lim2[on]])
         if out is None:
             out = lab.astype(np.int32, copy=True)
+            nxt = label_max(lab) + 1
         if c >= n_comp:
             own = ids == c  # a segmented inclined plane: its pixels go to the faces or none
             out[rows[own], cols[own]] = -1
