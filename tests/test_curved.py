@@ -413,6 +413,78 @@ def test_unexplained_open_is_the_mask_opening_and_its_pixels():
     assert kept > 30
 
 
+def test_open_pixels_from_the_list_is_unexplained_open_with_the_dropped_labels_explained():
+    """open_pixels(unexplained_pixels(valid, lab, explained), drop) gives
+    unexplained_open(valid, lab, explained | drop, r), mask and pixels, on random labels,
+    valid masks, drop sets and opening radii (0 included)."""
+    from planerel.features._curved_kernels import open_pixels, unexplained_open, unexplained_pixels
+
+    rng = np.random.default_rng(122)
+    kept = 0
+    for _ in range(600):
+        H, W = (int(v) for v in rng.integers(1, 40, 2))
+        valid = rng.random((H, W)) < rng.uniform(0.3, 1.0)
+        lab = rng.integers(-2, 7, (H, W)).astype(np.int32)
+        if rng.random() < 0.5:  # large blocks of one label, so that openings keep pixels
+            lab[:] = rng.integers(-1, 6)
+            y, x = (int(v) for v in rng.integers(0, max(H, W), 2))
+            lab[y:y + int(rng.integers(1, 20)), x:x + int(rng.integers(1, 20))] = 5
+        explained = rng.random(int(rng.integers(0, 8))) < 0.5
+        drop = rng.random(int(rng.integers(0, 8))) < 0.3
+        both = np.zeros(max(len(explained), len(drop)), bool)
+        both[:len(explained)] |= explained
+        both[:len(drop)] |= drop
+        r = int(rng.integers(0, 5))
+        rows, cols = unexplained_pixels(valid, lab, explained)
+        got, gr, gc = open_pixels(rows, cols, lab, drop, H, W, r)
+        want, wr, wc = unexplained_open(valid, lab, both, r)
+        kept += bool(want.any()) and r > 0
+        assert np.array_equal(got, want)
+        assert np.array_equal(gr, wr) and np.array_equal(gc, wc)
+    assert kept > 30
+
+
+def test_unexplained_clusters_from_the_stairfit_pixels_are_the_same():
+    """unexplained_clusters given the stairfit stage's pixel list (valid pixels of no plane of
+    tiny_area or more, support included; support dropped from it) gives the same clusters as
+    its own scan of the image: with and without support, with and without the regrowth, on a
+    flat cloud with invalid pixels, a small plane, a support plane and unexplained patches."""
+    from types import SimpleNamespace as NS
+
+    from planerel.features._curved_kernels import unexplained_pixels
+
+    xyz = _flat_cloud().xyz.copy()
+    xyz[60:64, 25:45] = np.nan  # invalid pixels across a patch
+    xyz[20:50, 35:50, 2] += 0.3  # a depth jump
+    cloud = Cloud(xyz)
+    labels = np.zeros((200, 200), np.int64)  # 0: support
+    labels[20:50, 20:50] = -1
+    labels[55:90, 20:50] = 3  # a plane under tiny_area: unexplained
+    labels[58:62, 22:48] = 1
+    labels[100:180, 100:150] = 2
+    labels[100:140, 150:180] = -1
+    labels[150:160, 10:90] = 0
+    planes = [NS(label=0, area=0.1, n_points=30000, normal=(0, 0, -1.0)),
+              NS(label=1, area=0.0004, n_points=104, normal=(0, 0, -1.0)),
+              NS(label=2, area=0.016, n_points=4000, normal=(0, 0, -1.0)),
+              NS(label=3, area=0.0001, n_points=900, normal=(0, 0, -1.0))]
+    n = 0
+    for support in ((), (0,), (0, 2), (2,)):
+        for cp in (CurvedParams(min_area=0.001), CurvedParams(min_area=0.001, regrow_px=0),
+                   CurvedParams(min_area=0.001, open_px=0)):
+            known = [q.label for q in planes if q.area >= cp.tiny_area]
+            explained = np.zeros(max(known) + 1, bool)
+            explained[known] = True
+            pixels = unexplained_pixels(cloud.valid, labels, explained)
+            want = unexplained_clusters(cloud, labels, planes, support, cp)
+            got = unexplained_clusters(cloud, labels, planes, support, cp, pixels=pixels)
+            assert len(got) == len(want)
+            n += len(got)
+            for a, b in zip(got, want, strict=True):
+                assert np.array_equal(a, b)
+    assert n > 12
+
+
 def test_unexplained_pixels_are_the_unexplained_valid_pixels():
     """unexplained_pixels gives np.nonzero(unexplained_valid(...)) (row-major, int64) on
     random labels and valid masks, labels past ``explained`` as not explained, and no pixel."""

@@ -347,6 +347,57 @@ def unexplained_open(valid, lab, explained, r):
                     rowany[y] = True
             else:
                 run = 0
+    return _open_tail(e1, rowany, H, W, r)
+
+
+@njit(cache=True, nogil=True)
+def open_pixels(rows, cols, lab, drop, H, W, r):
+    """:func:`unexplained_open` from a row-major pixel list instead of the image: the pixels
+    ``(rows, cols)`` (e.g. :func:`unexplained_pixels`' list) less those whose label ``a`` has
+    ``drop[a]`` (``0 <= a < len(drop)``), opened with radius ``r``; the same mask and pixel
+    list as :func:`unexplained_open` on the image of those pixels (``tests/test_curved.py``
+    compares). The row runs of the erosion are read from the list (consecutive columns of
+    one row)."""
+    K = drop.shape[0]
+    if r <= 0:
+        found = np.zeros((H, W), np.bool_)
+        ro = np.empty(len(rows), np.int64)
+        co = np.empty(len(rows), np.int64)
+        n = 0
+        for i in range(len(rows)):
+            y, x = rows[i], cols[i]
+            a = lab[y, x]
+            if 0 <= a < K and drop[a]:
+                continue
+            found[y, x] = True
+            ro[n], co[n] = y, x
+            n += 1
+        return found, ro[:n].copy(), co[:n].copy()
+    span = 2 * r + 1
+    e1 = np.zeros((H, W), np.uint8)
+    rowany = np.zeros(H, np.bool_)
+    run = 0
+    py, px = -1, -2
+    for i in range(len(rows)):
+        y, x = rows[i], cols[i]
+        a = lab[y, x]
+        if 0 <= a < K and drop[a]:
+            continue
+        if y == py and x == px + 1:
+            run += 1
+        else:
+            run = 1
+        py, px = y, x
+        if run >= span:
+            e1[y, x - r] = 1
+            rowany[y] = True
+    return _open_tail(e1, rowany, H, W, r)
+
+
+@njit(cache=True, nogil=True)
+def _open_tail(e1, rowany, H, W, r):
+    """:func:`unexplained_open` after the erosion along rows: the erosion along columns, the
+    dilation and the pixel list."""
     e2 = np.zeros((H, W), np.uint8)
     rowe2 = np.zeros(H, np.bool_)
     y0, y1, x0, x1 = H, -1, W, -1

@@ -285,7 +285,8 @@ def _components(mask, xyz, edge_depth: float) -> tuple[np.ndarray, int]:
     return out, int(k)
 
 
-def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams | None = None):
+def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams | None = None,
+                         pixels=None):
     """Clusters of points no flat plane explains (rule step 2).
 
     Parameters
@@ -297,6 +298,10 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     planes : PlaneSet
     support : iterable of int
         Support plane labels (their pixels are never unexplained).
+    pixels : (ndarray, ndarray), optional
+        The valid pixels (rows, columns, row-major) of ``labels`` of no plane of ``tiny_area``
+        m^2 or more, support planes included (the stairfit stage's list): opened from it
+        without scanning the image (the same clusters).
 
     Returns
     -------
@@ -313,6 +318,7 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
         list_areas,
         list_components,
         open_mask,
+        open_pixels,
         unexplained_mask,
         unexplained_open,
     )
@@ -330,7 +336,15 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
 
     # a Cloud's invalid pixels are all NaN: its valid mask tells a finite depth (one byte a
     # pixel read, not the point)
-    if isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
+    if pixels is not None and isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
+        # the same opening from the list of the pixels of no flat plane: the support planes'
+        # pixels dropped from it
+        sup = [x for x in support if x >= 0]
+        drop = np.zeros(max(sup, default=-1) + 1, bool)
+        drop[sup] = True
+        un, rows, cols = open_pixels(pixels[0], pixels[1], lab, drop, lab.shape[0], lab.shape[1],
+                                     int(params.open_px))
+    elif isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
         # the mask, its opening and its pixels in one pass (sparse: a few % of the image)
         un, rows, cols = unexplained_open(cloud.valid, lab, explained, int(params.open_px))
     else:
@@ -349,7 +363,10 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
         # clusters meeting there joined (module rule step 2)
         from planerel.features._curved_kernels import grow_clusters, unexplained_valid
 
-        if isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
+        if pixels is not None and isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
+            # the pixels before the opening from the list too (its opening with radius 0)
+            full = open_pixels(pixels[0], pixels[1], lab, drop, lab.shape[0], lab.shape[1], 0)[0]
+        elif isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
             full = unexplained_valid(cloud.valid, lab, explained)
         else:
             full = unexplained_mask(xyz, lab, explained)
@@ -387,7 +404,7 @@ def _touching_labels(mask, lab, xyz, edge_depth: float) -> dict:
 
 
 def curved_objects(planes, relations, proposals, cloud=None, labels=None, support=(),
-                   params: CurvedParams | None = None) -> list[CurvedObject]:
+                   params: CurvedParams | None = None, pixels=None) -> list[CurvedObject]:
     """Proposals with their unexplained points and planar fractions (the module's rule).
 
     Parameters
@@ -403,6 +420,8 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
         Plane labels of the segmentation (default ``planes.labels``).
     support : iterable of int
         Support plane labels.
+    pixels : (ndarray, ndarray), optional
+        Passed to :func:`unexplained_clusters`.
 
     Returns
     -------
@@ -426,7 +445,7 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
         owner = {x: k for k, g in enumerate(props) for x in g}
         soft = [all(x in facets or byl[x].area < params.small_area for x in g) and len(g) > 0
                 for g in props]
-        for m in unexplained_clusters(cloud, lab, planes, support, params):
+        for m in unexplained_clusters(cloud, lab, planes, support, params, pixels):
             touch = _touching_labels(m, lab, xyz, params.edge_depth)
             joined = sorted({owner[x] for x in touch if x in owner and soft[owner[x]]})
             if not joined and params.join_area > 0:

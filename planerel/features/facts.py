@@ -225,12 +225,17 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         planes, parent = remeasure_stepped(cloud, planes, (pp.step_rise_min, pp.step_rise_max),
                                            plane_params)
     flights = []
+    pixels = None  # the stairfit stage's unexplained pixels, when curved can open from them
     if objects is None and cp.stepped_clusters:
         # a far flight the region grower left unassigned: its treads and risers from the
         # stepped profile of its points
-        from planerel.features.stairfit import remeasure_stepped_clusters
+        from planerel.features.stairfit import StairFitParams, _remeasure_stepped_clusters
 
-        planes, flights = remeasure_stepped_clusters(cloud, planes, plane_params)
+        before = planes
+        planes, flights, pixels = _remeasure_stepped_clusters(cloud, planes, plane_params)
+        if (planes is not before or parent or defaults(StairFitParams).tiny_area != cp.tiny_area
+                or not cp.enabled):
+            pixels = None
     rel = relate(planes, cloud, relation_params)
     support = tuple(support_planes(planes, pp, rel, cloud))
     known = {p.label for p in planes}
@@ -261,7 +266,8 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         raised = (groups, extra, alone)
     # proposals take the clusters of unexplained points; given objects keep their planes
     cobjs = curved_objects(planes, rel, groups, cloud if proposed else None,
-                           planes.labels if (parent or flights) else labels, support, cp)
+                           planes.labels if (parent or flights) else labels, support, cp,
+                           pixels)
     if raised is not None:
         from planerel.features.raised import with_raised
 

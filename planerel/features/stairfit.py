@@ -354,7 +354,7 @@ def _slope_candidates(pts, ids, n, e1, e2, up, slope, margin=1e-4, min_det=1e-6)
     return ~sure | ((g >= slope[0] * (1 - margin)) & (g <= slope[1] * (1 + margin)))
 
 
-def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
+def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
     """Planes for the staircases among the unexplained pixels (rule steps 1-5).
 
     Parameters
@@ -366,11 +366,11 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
 
     Returns
     -------
-    (ndarray (H, W) int32, list of set of int, dict) or None
+    ((ndarray (H, W) int32, list of set of int, dict) or None, (ndarray, ndarray))
         The label image with the new faces, the new labels of each fitted flight, and
         ``{label: normal}`` of the new faces (up for a tread, the flight's horizontal direction
         for a riser: the orientation the fit assumed and tested); None when no cluster is a
-        staircase.
+        staircase. Then the unexplained pixels of step 1, ``(rows, cols)`` (row-major).
     """
     from planerel.features._curved_kernels import list_components, unexplained_pixels
     from planerel.features._defaults import defaults
@@ -386,6 +386,7 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
     explained = np.zeros(max(known, default=-1) + 1, bool)
     explained[known] = True
     rows, cols = unexplained_pixels(cloud.valid, lab, explained)
+    pixels = (rows, cols)
     if len(rows):
         ids, n_comp = list_components(rows, cols, xyz, float(p.edge_depth), lab.shape[0])
     else:
@@ -412,11 +413,11 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
             ids = np.concatenate([np.asarray(ids, np.int64), pid[on]])
             n_all += len(cand)
     if not len(rows):
-        return None
+        return None, pixels
     sizes = np.bincount(ids, minlength=n_all)
     big = np.flatnonzero(sizes >= p.min_pixels)
     if not big.size:
-        return None
+        return None, pixels
     pts = xyz[rows, cols]
     z = pts[:, 2]
     taken = np.zeros(len(rows), bool)
@@ -544,7 +545,25 @@ def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
                         and (dist2 < lim2).sum() >= p.join_share * len(rr)):
                     new.add(int(q.label))
         groups.append(new)
-    return None if out is None else (out, groups, normals)
+    return (None if out is None else (out, groups, normals)), pixels
+
+
+def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
+    """Planes for the staircases among the unexplained pixels (rule steps 1-5).
+
+    Parameters
+    ----------
+    cloud : Cloud
+        Organized cloud ``(H, W, 3)``.
+    planes : PlaneSet
+        The measured planes (their label image and up vector).
+
+    Returns
+    -------
+    (ndarray (H, W) int32, list of set of int, dict) or None
+        As :func:`_stepped_cluster_labels`' first item.
+    """
+    return _stepped_cluster_labels(cloud, planes, params)[0]
 
 
 def remeasure_stepped_clusters(cloud, planes, plane_params=None, params: StairFitParams | None = None):
@@ -557,19 +576,28 @@ def remeasure_stepped_clusters(cloud, planes, plane_params=None, params: StairFi
         The planes (the given ones when nothing was fitted) and each flight's plane labels
         (those that have a measured plane).
     """
+    return _remeasure_stepped_clusters(cloud, planes, plane_params, params)[:2]
+
+
+def _remeasure_stepped_clusters(cloud, planes, plane_params=None, params=None):
+    """:func:`remeasure_stepped_clusters` and, when nothing was fitted (the planes returned
+    are the given ones), the unexplained pixels of step 1 as rows and columns (row-major:
+    valid pixels of no plane of ``tiny_area`` m^2 or more), else None; for
+    :func:`planerel.features.curved.unexplained_clusters` to open without scanning the image
+    again."""
     from dataclasses import replace
 
     from planerel.features.planes import measure_planes
 
-    got = stepped_cluster_labels(cloud, planes, params)
+    got, pixels = _stepped_cluster_labels(cloud, planes, params)
     if got is None:
-        return planes, []
+        return planes, [], pixels
     lab, groups, normals = got
     again = measure_planes(cloud, lab, planes.up, plane_params, normals=normals)
     again = replace(again, up_source=planes.up_source, up_confidence=planes.up_confidence)
     known = {q.label for q in again}
     groups = [g & known for g in groups]
-    return again, [g for g in groups if g]
+    return again, [g for g in groups if g], None
 
 
 def join_groups(groups, flights):
