@@ -121,13 +121,14 @@ def test_raised_pixels_match_the_column_by_column_kernel():
 
 
 def test_raised_pixels_match_on_every_row_count_and_window():
-    # the row sums go four rows at a time, then one at a time: grids of 1..11 rows (every
+    # the rows are read and summed four at a time, then one at a time, the column pass follows
+    # them (a window of 0 too): grids of 1..11 rows (every
     # remainder, fewer rows than a block), windows wider than the grid, narrow grids
     rng = np.random.default_rng(22)
     raised, seen = 0, set()
     for H in range(1, 12):
         for W in (1, 2, 5, 17):
-            for r in (1, 2, 4, 7):
+            for r in (0, 1, 2, 4, 7, 12):
                 lab = np.where(rng.random((H, W)) < 0.8, 1, 2).astype(np.int32)
                 xyz = np.stack(np.meshgrid(np.linspace(-1, 1, W), np.linspace(-1, 1, H)), -1)
                 xyz = np.concatenate([xyz, np.full((H, W, 1), 1.5)], -1)

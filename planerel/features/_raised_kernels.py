@@ -40,115 +40,136 @@ def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma,
     """
     on = np.zeros((H, W), np.bool_)
     h = np.zeros((H, W), np.float32)
-    # the grid read through flat views by unsigned offsets (C-contiguous inputs)
+    # one pass over the grid: each block of four rows is read (the plane's pixels and their
+    # heights, column j + r just before the row sums need it) and summed along the rows with
+    # four running sums (four independent chains of adds; each row's sum takes the same values
+    # in the same order as a row-by-row pass: the same floats); the column sums and the tests
+    # of an output row follow as soon as its window's rows are summed
     L = lab.ravel()
     X = xyz.ravel()
     cols = lab.shape[1]
     n0, n1, n2 = n[0], n[1], n[2]
-    for i in range(H):
-        base = (r0 + i * f) * cols + c0
-        for j in range(W):
-            q = np.uint64(base + j * f)
-            if L[q] == label and math.isfinite(X[3 * q + 2]):
-                on[i, j] = True
-                h[i, j] = X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0
-    # window sums of h and of the plane's pixels: along rows, then along columns. Along rows
-    # four rows at a time, each with its own running sum (four independent chains of adds
-    # instead of one; each row's sum takes the same values in the same order: the same floats)
     rs = np.zeros((H, W), np.float32)
     rc = np.zeros((H, W), np.int32)
-    i = 0
-    while i + 4 <= H:
-        s0 = 0.0
-        s1 = 0.0
-        s2 = 0.0
-        s3 = 0.0
-        k0 = 0
-        k1 = 0
-        k2 = 0
-        k3 = 0
-        for j in range(min(r, W)):
-            s0 += h[i, j]
-            s1 += h[i + 1, j]
-            s2 += h[i + 2, j]
-            s3 += h[i + 3, j]
-            k0 += on[i, j]
-            k1 += on[i + 1, j]
-            k2 += on[i + 2, j]
-            k3 += on[i + 3, j]
-        for j in range(W):
-            if j + r < W:
-                s0 += h[i, j + r]
-                s1 += h[i + 1, j + r]
-                s2 += h[i + 2, j + r]
-                s3 += h[i + 3, j + r]
-                k0 += on[i, j + r]
-                k1 += on[i + 1, j + r]
-                k2 += on[i + 2, j + r]
-                k3 += on[i + 3, j + r]
-            if j - r - 1 >= 0:
-                s0 -= h[i, j - r - 1]
-                s1 -= h[i + 1, j - r - 1]
-                s2 -= h[i + 2, j - r - 1]
-                s3 -= h[i + 3, j - r - 1]
-                k0 -= on[i, j - r - 1]
-                k1 -= on[i + 1, j - r - 1]
-                k2 -= on[i + 2, j - r - 1]
-                k3 -= on[i + 3, j - r - 1]
-            rs[i, j] = s0
-            rs[i + 1, j] = s1
-            rs[i + 2, j] = s2
-            rs[i + 3, j] = s3
-            rc[i, j] = k0
-            rc[i + 1, j] = k1
-            rc[i + 2, j] = k2
-            rc[i + 3, j] = k3
-        i += 4
-    while i < H:
-        s = 0.0
-        c = 0
-        for j in range(min(r, W)):
-            s += h[i, j]
-            c += on[i, j]
-        for j in range(W):
-            if j + r < W:
-                s += h[i, j + r]
-                c += on[i, j + r]
-            if j - r - 1 >= 0:
-                s -= h[i, j - r - 1]
-                c -= on[i, j - r - 1]
-            rs[i, j] = s
-            rc[i, j] = c
-        i += 1
     raw = np.zeros((H, W), np.bool_)
     weak = np.zeros((H, W), np.bool_)
     # the columns' running sums kept side by side, row by row (each column's sum takes the
     # same values in the same order as a column-by-column pass: the same floats)
     cs = np.zeros(W)
     cc = np.zeros(W, np.int64)
-    for i in range(min(r, H)):
-        for j in range(W):
-            cs[j] += rs[i, j]
-            cc[j] += rc[i, j]
-    for i in range(H):
-        for j in range(W):
-            if i + r < H:
-                cs[j] += rs[i + r, j]
-                cc[j] += rc[i + r, j]
-            if i - r - 1 >= 0:
-                cs[j] -= rs[i - r - 1, j]
-                cc[j] -= rc[i - r - 1, j]
-        for j in range(W):
-            c = cc[j]
-            if not on[i, j] or c <= 0:
-                continue
-            mean = cs[j] / c
-            if mean <= 0.5 * min_rise:
-                continue
-            z = max(abs(xyz[r0 + i * f, c0 + j * f, 2]), 0.1)
-            lim = max(min_rise, k_sigma * a * z * z / math.sqrt(c))
-            raw[i, j] = mean > lim
-            weak[i, j] = mean > 0.5 * lim
+    rr = min(r, W)
+    o = 0
+    i = 0
+    while i < H:
+        m = 4 if i + 4 <= H else 1
+        for t in range(m):
+            base = (r0 + (i + t) * f) * cols + c0
+            for j in range(rr):
+                q = np.uint64(base + j * f)
+                if L[q] == label and math.isfinite(X[3 * q + 2]):
+                    on[i + t, j] = True
+                    h[i + t, j] = X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0
+        if m == 4:
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            s3 = 0.0
+            k0 = 0
+            k1 = 0
+            k2 = 0
+            k3 = 0
+            for j in range(rr):
+                s0 += h[i, j]
+                s1 += h[i + 1, j]
+                s2 += h[i + 2, j]
+                s3 += h[i + 3, j]
+                k0 += on[i, j]
+                k1 += on[i + 1, j]
+                k2 += on[i + 2, j]
+                k3 += on[i + 3, j]
+            for j in range(W):
+                if j + r < W:
+                    jr = j + r
+                    for t in range(4):
+                        q = np.uint64((r0 + (i + t) * f) * cols + c0 + jr * f)
+                        if L[q] == label and math.isfinite(X[3 * q + 2]):
+                            on[i + t, jr] = True
+                            h[i + t, jr] = (X[3 * q] * n0 + X[3 * q + 1] * n1
+                                            + X[3 * q + 2] * n2 - d0)
+                    s0 += h[i, jr]
+                    s1 += h[i + 1, jr]
+                    s2 += h[i + 2, jr]
+                    s3 += h[i + 3, jr]
+                    k0 += on[i, jr]
+                    k1 += on[i + 1, jr]
+                    k2 += on[i + 2, jr]
+                    k3 += on[i + 3, jr]
+                if j - r - 1 >= 0:
+                    s0 -= h[i, j - r - 1]
+                    s1 -= h[i + 1, j - r - 1]
+                    s2 -= h[i + 2, j - r - 1]
+                    s3 -= h[i + 3, j - r - 1]
+                    k0 -= on[i, j - r - 1]
+                    k1 -= on[i + 1, j - r - 1]
+                    k2 -= on[i + 2, j - r - 1]
+                    k3 -= on[i + 3, j - r - 1]
+                rs[i, j] = s0
+                rs[i + 1, j] = s1
+                rs[i + 2, j] = s2
+                rs[i + 3, j] = s3
+                rc[i, j] = k0
+                rc[i + 1, j] = k1
+                rc[i + 2, j] = k2
+                rc[i + 3, j] = k3
+        else:
+            s = 0.0
+            c = 0
+            for j in range(rr):
+                s += h[i, j]
+                c += on[i, j]
+            base = (r0 + i * f) * cols + c0
+            for j in range(W):
+                if j + r < W:
+                    jr = j + r
+                    q = np.uint64(base + jr * f)
+                    if L[q] == label and math.isfinite(X[3 * q + 2]):
+                        on[i, jr] = True
+                        h[i, jr] = X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0
+                    s += h[i, jr]
+                    c += on[i, jr]
+                if j - r - 1 >= 0:
+                    s -= h[i, j - r - 1]
+                    c -= on[i, j - r - 1]
+                rs[i, j] = s
+                rc[i, j] = c
+        if i < min(r, H) <= i + m:
+            for k in range(min(r, H)):
+                for j in range(W):
+                    cs[j] += rs[k, j]
+                    cc[j] += rc[k, j]
+        i += m
+        # the output rows whose window (rows up to o + r) is summed
+        while o < H and (o + r < i or i == H):
+            if o + r < H:
+                for j in range(W):
+                    cs[j] += rs[o + r, j]
+                    cc[j] += rc[o + r, j]
+            if o - r - 1 >= 0:
+                for j in range(W):
+                    cs[j] -= rs[o - r - 1, j]
+                    cc[j] -= rc[o - r - 1, j]
+            for j in range(W):
+                c = cc[j]
+                if not on[o, j] or c <= 0:
+                    continue
+                mean = cs[j] / c
+                if mean <= 0.5 * min_rise:
+                    continue
+                z = max(abs(xyz[r0 + o * f, c0 + j * f, 2]), 0.1)
+                lim = max(min_rise, k_sigma * a * z * z / math.sqrt(c))
+                raw[o, j] = mean > lim
+                weak[o, j] = mean > 0.5 * lim
+            o += 1
     return on, raw, weak, h
 
 
