@@ -549,20 +549,9 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
 
 
 def stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
-    """Planes for the staircases among the unexplained pixels (rule steps 1-5).
-
-    Parameters
-    ----------
-    cloud : Cloud
-        Organized cloud ``(H, W, 3)``.
-    planes : PlaneSet
-        The measured planes (their label image and up vector).
-
-    Returns
-    -------
-    (ndarray (H, W) int32, list of set of int, dict) or None
-        As :func:`_stepped_cluster_labels`' first item.
-    """
+    """Planes for the staircases among the unexplained pixels (rule steps 1-5): the first item
+    of :func:`_stepped_cluster_labels` (same parameters), ``(labels (H, W) int32, flights,
+    normals)`` or None; the pixel list it also returns is for ``describe_scene`` only."""
     return _stepped_cluster_labels(cloud, planes, params)[0]
 
 
