@@ -397,3 +397,63 @@ def test_cross_and_slope_candidates_match_numpy():
                 assert maybe[c]
             ruled_out += not maybe[c]
     assert ruled_out > 300
+
+
+def test_cluster_spans_and_narrow_clusters_never_rule_out_a_wide_cluster():
+    """``cluster_spans`` is numpy's ``hypot`` of the per-cluster ranges along ``e1`` and ``e2``
+    (NaN for a cluster holding a point that is not finite), and ``_narrow_clusters`` never
+    rules out a cluster that the rule's width test (the range along the lateral axis of its
+    fitted slope, numpy's products) would keep, including clusters just below and just above
+    ``min_width``."""
+    from planerel.features._stairfit_kernels import cluster_spans
+    from planerel.features.stairfit import _cross, _horizontal_axes, _narrow_clusters
+
+    rng = np.random.default_rng(47)
+    ruled_out = kept_wide = 0
+    for trial in range(80):
+        up = rng.normal(size=3)
+        up /= np.linalg.norm(up)
+        e1, e2 = _horizontal_axes(up)
+        n = int(rng.integers(1, 30))
+        sizes = rng.integers(1, 150, n)
+        ids = np.repeat(np.arange(n), sizes)
+        rng.shuffle(ids)
+        # clusters of reach around min_width (0.5): a line segment of length L (the range along
+        # its own direction is exactly its reach), some a blob, at up to 8 m away
+        L = rng.choice([0.1, 0.4999, 0.49999999, 0.5, 0.50000001, 0.7, 2.0], n)
+        th = rng.uniform(0, 2 * np.pi, n)
+        t = rng.uniform(0, 1, ids.size)
+        d = np.c_[np.cos(th), np.sin(th)][ids]
+        blob = (rng.random(n) < 0.3)[ids]
+        off = rng.uniform(-8, 8, (n, 2))[ids]
+        uv = off + d * (L[ids] * t)[:, None] + blob[:, None] * rng.normal(size=(ids.size, 2)) * 0.05
+        # both ends of every segment present: its reach is L
+        for c in range(n):
+            k = np.flatnonzero(ids == c)
+            uv[k[0]] = off[k[0]]
+            uv[k[-1]] = off[k[-1]] + d[k[-1]] * L[c]
+        h = rng.uniform(-1, 1, n)[ids] + rng.normal(size=ids.size) * 0.01
+        pts = np.outer(uv[:, 0], e1) + np.outer(uv[:, 1], e2) + np.outer(h, up)
+        if trial % 10 == 0:
+            pts[rng.integers(ids.size)] = np.nan
+        got = cluster_spans(pts, ids, n, e1, e2)
+        pu, pv = pts @ e1, pts @ e2
+        for c in range(n):
+            m = ids == c
+            if not np.isfinite(pts[m]).all():
+                assert np.isnan(got[c])
+                continue
+            want = np.hypot(pu[m].max() - pu[m].min(), pv[m].max() - pv[m].min())
+            assert got[c] == pytest.approx(want, rel=1e-12, abs=1e-12)
+        narrow = _narrow_clusters(pts, ids, n, e1, e2, 0.5)
+        for c in range(n):
+            P = pts[ids == c]
+            # the rule's lateral axis for any fitted slope direction: every horizontal one
+            for a in np.r_[th[c] + np.pi / 2, rng.uniform(0, 2 * np.pi, 20)]:
+                f = np.cos(a) * e1 + np.sin(a) * e2
+                lat = P @ _cross(up, f)
+                wide = not float(lat.max() - lat.min()) < 0.5
+                assert not (wide and narrow[c])
+                kept_wide += wide
+            ruled_out += bool(narrow[c])
+    assert ruled_out > 100 and kept_wide > 100

@@ -159,3 +159,42 @@ def cluster_slopes(pts, ids, n, e1, e2, up, min_det):
             g[c] = math.hypot(a, b)
             sure[c] = True
     return g, sure
+
+
+@njit(cache=True, nogil=True)
+def cluster_spans(pts, ids, n, e1, e2):
+    """How far each cluster reaches across the horizontal plane at most: ``hypot`` of the
+    ranges of its points' coordinates along ``e1`` and ``e2`` (``ids`` each point's cluster in
+    ``[0, n)``; 0 for a cluster without points).  Any horizontal unit direction's range of the
+    points is at most this (up to rounding): :func:`planerel.features.stairfit` rules out by
+    it the clusters that cannot be ``min_width`` wide before their fit.
+
+    Returns
+    -------
+    ndarray (n,) float64
+    """
+    N = ids.shape[0]
+    lo_u = np.full(n, np.inf)
+    hi_u = np.full(n, -np.inf)
+    lo_v = np.full(n, np.inf)
+    hi_v = np.full(n, -np.inf)
+    bad = np.zeros(n, np.bool_)
+    for i in range(N):
+        c = ids[i]
+        x, y, z = pts[i, 0], pts[i, 1], pts[i, 2]
+        u = x * e1[0] + y * e1[1] + z * e1[2]
+        v = x * e2[0] + y * e2[1] + z * e2[2]
+        if not (math.isfinite(u) and math.isfinite(v)):
+            bad[c] = True  # a point not finite: the span is NaN (never rules the cluster out)
+            continue
+        lo_u[c] = min(lo_u[c], u)
+        hi_u[c] = max(hi_u[c], u)
+        lo_v[c] = min(lo_v[c], v)
+        hi_v[c] = max(hi_v[c], v)
+    out = np.zeros(n)
+    for c in range(n):
+        if bad[c]:
+            out[c] = np.nan
+        elif hi_u[c] >= lo_u[c]:
+            out[c] = math.hypot(hi_u[c] - lo_u[c], hi_v[c] - lo_v[c])
+    return out

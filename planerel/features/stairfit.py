@@ -354,6 +354,23 @@ def _slope_candidates(pts, ids, n, e1, e2, up, slope, margin=1e-4, min_det=1e-6)
     return ~sure | ((g >= slope[0] * (1 - margin)) & (g <= slope[1] * (1 + margin)))
 
 
+def _narrow_clusters(pts, ids, n, e1, e2, min_width, margin=1e-9):
+    """Which of the ``n`` clusters (``ids`` of the points ``pts``) certainly fail the width
+    test of rule step 4 (``lat.max() - lat.min() < min_width`` along the fitted flight's
+    lateral axis, a horizontal unit vector): their points' horizontal reach
+    (:func:`planerel.features._stairfit_kernels.cluster_spans`, ``hypot`` of the ranges along
+    ``e1`` and ``e2``) bounds every horizontal direction's range, so a cluster whose reach is
+    below ``min_width`` with a margin (relative and in metres, for rounding) is left out
+    before its exact fit; every other one is fitted as before, so the rule's result does not
+    change."""
+    from planerel.features._stairfit_kernels import cluster_spans
+
+    span = cluster_spans(np.ascontiguousarray(pts, dtype=np.float64),
+                         np.ascontiguousarray(ids, dtype=np.int64), int(n),
+                         np.asarray(e1, float), np.asarray(e2, float))
+    return span * (1 + margin) + margin < min_width
+
+
 def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
     """Planes for the staircases among the unexplained pixels (rule steps 1-5).
 
@@ -423,6 +440,7 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
     taken = np.zeros(len(rows), bool)
     e1, e2 = _horizontal_axes(up)
     maybe = _slope_candidates(pts, ids, n_all, e1, e2, up, p.slope)
+    narrow = _narrow_clusters(pts, ids, n_all, e1, e2, p.min_width) if maybe[big].any() else None
     sigma_z = None  # the sensor's noise along the rays, measured when a cluster is fitted
     out = None
     groups = []
@@ -432,6 +450,8 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
     for c in big[np.argsort(-sizes[big], kind="stable")]:
         if not maybe[c]:
             continue  # its plane's slope is outside p.slope (step 2), with a margin
+        if narrow[c]:
+            continue  # no horizontal direction spans min_width (the width test below fails)
         idx = np.flatnonzero(ids == c)
         if taken[idx].any():
             continue
