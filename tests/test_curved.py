@@ -487,22 +487,31 @@ def test_unexplained_clusters_from_the_stairfit_pixels_are_the_same():
 
 def test_unexplained_pixels_are_the_unexplained_valid_pixels():
     """unexplained_pixels gives np.nonzero(unexplained_valid(...)) (row-major, int64) on
-    random labels and valid masks, labels past ``explained`` as not explained, and no pixel."""
+    random labels and valid masks, labels past ``explained`` as not explained, and no pixel;
+    with up to 32 labels in ``explained`` (the bit-word path) and more (the plain pass),
+    int32 and int64 labels, labels at and past 32 and beyond 2^32."""
     from planerel.features._curved_kernels import unexplained_pixels, unexplained_valid
 
     rng = np.random.default_rng(24)
     some = 0
-    for _ in range(400):
+    for t in range(800):
         H, W = (int(v) for v in rng.integers(1, 40, 2))
         valid = rng.random((H, W)) < rng.uniform(0.0, 1.0)
-        lab = rng.integers(-2, 9, (H, W)).astype(np.int32)
-        explained = rng.random(int(rng.integers(0, 8))) < 0.5
+        if t < 400:
+            lab = rng.integers(-2, 9, (H, W)).astype(np.int32)
+            explained = rng.random(int(rng.integers(0, 8))) < 0.5
+        else:
+            top = int(rng.choice([31, 32, 33, 40, 70]))
+            lab = rng.integers(-3, top + 4, (H, W)).astype(rng.choice([np.int32, np.int64]))
+            if lab.dtype == np.int64 and t % 5 == 0:
+                lab.flat[rng.integers(lab.size)] = 2**32 + int(rng.integers(0, 32))
+            explained = rng.random(int(rng.integers(top - 2, top + 1))) < rng.uniform(0.2, 1.0)
         rows, cols = unexplained_pixels(valid, lab, explained)
         wr, wc = np.nonzero(unexplained_valid(valid, lab, explained))
         some += len(wr) > 0
         assert rows.dtype == np.int64 and cols.dtype == np.int64
         assert np.array_equal(rows, wr) and np.array_equal(cols, wc)
-    assert 30 < some < 400
+    assert 60 < some < 800
 
 
 def test_list_components_are_the_grid_components_of_the_pixels():

@@ -291,8 +291,63 @@ def unexplained_valid(valid, lab, explained):
 @njit(cache=True, nogil=True)
 def unexplained_pixels(valid, lab, explained):
     """The rows and columns of :func:`unexplained_valid`'s pixels (``np.nonzero``, row-major)
-    in one pass over the image, without the mask (``unexplained_open(..., 0)``'s pixel list:
-    ``tests/test_curved.py`` compares)."""
+    without the mask (``unexplained_open(..., 0)``'s pixel list: ``tests/test_curved.py``
+    compares).
+
+    With at most 32 labels in ``explained`` (every scene seen so far), the labels that
+    explain a pixel are the bits of one word and the test of a pixel is branch-free
+    (:func:`_unexplained_flag`): a first pass counts each row's pixels (a loop the compiler
+    vectorizes), then only the rows that hold one are read again, their flags written to a
+    row buffer the same way and the buffer's nonzero 8-byte words alone looked at.  More
+    labels: one plain pass (:func:`_unexplained_pixels_any`), the same list."""
+    H, W = lab.shape
+    K = explained.shape[0]
+    if K > 32:
+        return _unexplained_pixels_any(valid, lab, explained)
+    bits = np.uint32(0)
+    for a in range(K):
+        if explained[a]:
+            bits |= np.uint32(1) << np.uint32(a)
+    per = np.zeros(H, np.int64)
+    n = 0
+    for y in range(H):
+        s = np.uint32(0)
+        for x in range(W):
+            s += _unexplained_flag(lab[y, x], valid[y, x], bits)
+        per[y] = s
+        n += s
+    rows = np.empty(n, np.int64)
+    cols = np.empty(n, np.int64)
+    nw = (W + 7) // 8
+    buf = np.zeros(nw * 8, np.uint8)  # one row's flags; the tail past W stays 0
+    words = buf.view(np.uint64)
+    k = 0
+    for y in range(H):
+        if per[y] == 0:
+            continue
+        for x in range(W):
+            buf[x] = np.uint8(_unexplained_flag(lab[y, x], valid[y, x], bits))
+        for w in range(nw):
+            if words[w] != 0:
+                for x in range(8 * w, 8 * w + 8):
+                    if buf[x]:
+                        rows[k] = y
+                        cols[k] = x
+                        k += 1
+    return rows, cols
+
+
+@njit(cache=True, inline="always")
+def _unexplained_flag(a, v, bits):
+    """1 when a pixel of label ``a`` and validity ``v`` is unexplained: valid, and ``a``
+    outside ``[0, 32)`` or its bit in ``bits`` not set; else 0 (no branch)."""
+    e = np.uint32((a >= 0) & (a < 32)) & ((bits >> (np.uint32(a) & np.uint32(31))) & np.uint32(1))
+    return np.uint32(v) & (e ^ np.uint32(1))
+
+
+@njit(cache=True, nogil=True)
+def _unexplained_pixels_any(valid, lab, explained):
+    """:func:`unexplained_pixels` for any number of labels, in one pass over the image."""
     H, W = lab.shape
     K = explained.shape[0]
     rows = np.empty(H * W, np.int64)
