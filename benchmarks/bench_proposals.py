@@ -15,7 +15,8 @@ and walls kept out of cavities, main at c3a6d74), with ``split_panels=False,
 occluded_pieces=False, side_wall_members=0, cut_long_side=False, apart_edge=0`` and
 ``CurvedParams(join_area=0)`` (the defaults before the sixth pass, main at c986474), with
 ``shared_top=False`` and ``CurvedParams(regrow_px=0)`` (the defaults before the seventh
-pass, main at 09f30bd; the earlier variants have these too) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
+pass, main at 09f30bd), with ``concave_cut=0`` (the defaults before the eighth pass, main at
+ec6f66b; the earlier variants have these too) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
 Printed: ms per frame of each and its ratio to the reference, and the proposals' found rate /
 false proposals per frame (planerel.features.object_eval).
 """
@@ -64,24 +65,27 @@ def main(argv=None) -> int:
                                                     wall_behind=1, floor_gap=1.0, raised_objects=False,
                                                     ramp_tilt=0.0, split_panels=False,
                                                     occluded_pieces=False, side_wall_members=0,
-                                                    cut_long_side=False, apart_edge=0, shared_top=False),
+                                                    cut_long_side=False, apart_edge=0, shared_top=False,
+                                                    concave_cut=0.0),
                 "before 4th pass": ProposalParams(cavities=False, cut_apart_parallel=False, ramp_tilt=0.0,
                                                   split_panels=False, occluded_pieces=False,
                                                   side_wall_members=0, cut_long_side=False,
-                                                  apart_edge=0, shared_top=False),
+                                                  apart_edge=0, shared_top=False, concave_cut=0.0),
                 "before 5th pass": ProposalParams(occluded_channels=False, cavity_skip_walls=False,
                                                   split_panels=False, occluded_pieces=False,
                                                   side_wall_members=0, cut_long_side=False,
-                                                  apart_edge=0, shared_top=False),
+                                                  apart_edge=0, shared_top=False, concave_cut=0.0),
                 "before 6th pass": ProposalParams(split_panels=False, occluded_pieces=False,
                                                   side_wall_members=0, cut_long_side=False,
-                                                  apart_edge=0, shared_top=False),
-                "before 7th pass": ProposalParams(shared_top=False),
+                                                  apart_edge=0, shared_top=False, concave_cut=0.0),
+                "before 7th pass": ProposalParams(shared_top=False, concave_cut=0.0),
+                "before 8th pass": ProposalParams(concave_cut=0.0),
                 "defaults": ProposalParams()}
     # the curved clusters' parameters of each variant (the sixth pass's one-plane join, the
     # seventh pass's clusters grown back)
     curved = {k: CurvedParams(join_area=0.0, regrow_px=0) for k in variants}
     curved["before 7th pass"] = CurvedParams(regrow_px=0)
+    curved["before 8th pass"] = CurvedParams()
     curved["defaults"] = CurvedParams()
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": []} for k in variants}

@@ -584,6 +584,15 @@ class ProposalParams:
         with the group it shares more edge pixel pairs with (:func:`shared_top_cuts`): the tops
         of two boxes standing side by side at one height, which the segmentation made one
         plane (seventh pass).
+    concave_cut : float
+        Two planes that meet at a clearly concave shared edge (at least 5 edge pixel pairs,
+        cosine of the convexity test at most -0.5) but are joined through other planes are
+        cut apart at the group's weakest place between them (a minimum cut of the joined pairs
+        weighted by their edge pixel pairs) when it weighs under ``concave_cut`` times the
+        concave edge's pixel pairs, unless their normals are under 50 degrees apart (facets of
+        a curved surface), either has under 100 points, or one of the two meets 3 or more
+        planes of the group at concave edges (a flight's side wall; :func:`planerel.features.concave_cut.concave_cuts`; eighth
+        pass); 0 = no cut.
     cavity_overlap : float
         An edge is whole when the two planes' extents along it overlap by at least this
         (interval IoU, :func:`planerel.features.cavities.edge_overlap`): a board spans its
@@ -645,6 +654,7 @@ class ProposalParams:
     occluded_pieces: bool = True
     piece_gap: float = 0.25
     shared_top: bool = True
+    concave_cut: float = 0.25
     ramp_tilt: float = 3.0
     ramp_rise: float = 0.02
 
@@ -653,7 +663,7 @@ class ProposalParams:
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
-                             "ramp_tilt", "ramp_rise"))
+                             "ramp_tilt", "ramp_rise", "concave_cut"))
         if self.step_rise_min > self.step_rise_max or self.step_run_min > self.step_run_max:
             raise InputError("step_rise_min / step_run_min must not exceed step_rise_max / step_run_max, "
                              f"got {self.step_rise_min!r}-{self.step_rise_max!r} and "
@@ -1464,6 +1474,14 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             cc = [(a, b) for a, b in pairs if (a, b) not in joined]
             if cc:
                 joined -= shared_top_cuts(planes, joined, cc, edges, params.concave_tol)
+        if params.concave_cut > 0 and edges is not None:
+            # two planes at a clear concave edge joined through other planes: the group is
+            # cut where it is weakest between them (planerel.features.concave_cut)
+            from planerel.features.concave_cut import concave_cuts
+
+            cc = [(a, b) for a, b in pairs if (a, b) not in joined]
+            if cc:
+                joined -= concave_cuts(planes, joined, cc, edges, params.concave_cut)
         pairs = sorted(joined)
     g.add_edges(pairs)
     lab = getattr(planes, "labels", None)

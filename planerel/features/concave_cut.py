@@ -1,0 +1,171 @@
+"""Cut a group of joined planes that holds two faces meeting at a clear concave edge.
+
+One convex object has no two faces meeting at a concave edge.  When two planes ``a`` and
+``b`` share a long, clearly concave edge (a lower box's top and the face of the taller box it
+stands against) but end up in one group through other joins (the lower box's top touching
+the taller box's other face at a corner, a few pixel pairs whose sign lies just outside the
+noise band), the group is cut where it is weakest between them: a minimum cut of the joined
+pairs weighted by their shared edge pixel pairs (:func:`planerel.features.relations.edge_means`),
+kept only when it weighs less than ``ratio`` times the concave edge.  Faces of one object are
+joined along whole edges (hundreds of pixel pairs); two objects touching at a corner share a
+few.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import numpy as np
+
+#: edge pixel pairs a concave edge needs to count (as :data:`relations.MIN_EDGE`)
+MIN_CONCAVE_EDGE = 5
+
+
+def _normal_out(p) -> np.ndarray:
+    n = np.asarray(p.normal, float)
+    return -n if float(n @ np.asarray(p.centroid, float)) > 0 else n
+
+
+def concave_cos(pa, pb, e) -> float:
+    """The cosine between ``n_a - n_b`` and the edge points' offset ``x_a - x_b`` (the sign
+    of the convexity test of :func:`planerel.features.relations.convex_pairs`; -1 clearly
+    concave, +1 clearly convex); ``e`` = ``(x_lo, x_hi, n)`` of the pair ``(min, max)``."""
+    xa, xb = (e[0], e[1]) if pa.label < pb.label else (e[1], e[0])
+    dx = np.asarray(xa, float) - np.asarray(xb, float)
+    dn = _normal_out(pa) - _normal_out(pb)
+    norm = float(np.linalg.norm(dn) * np.linalg.norm(dx))
+    return float(dn @ dx) / norm if norm > 0 else 0.0
+
+
+def _min_cut(nodes, weight, s, t):
+    """Minimum s-t cut of an undirected weighted graph (Edmonds-Karp): (value, cut pairs)."""
+    cap: dict = {}
+    adj: dict = {k: set() for k in nodes}
+    for (x, y), w in weight.items():
+        cap[(x, y)] = cap.get((x, y), 0.0) + w
+        cap[(y, x)] = cap.get((y, x), 0.0) + w
+        adj[x].add(y)
+        adj[y].add(x)
+    flow = 0.0
+    while True:
+        prev = {s: None}
+        q = deque([s])
+        while q and t not in prev:
+            u = q.popleft()
+            for v in sorted(adj[u]):
+                if v not in prev and cap[(u, v)] > 1e-12:
+                    prev[v] = u
+                    q.append(v)
+        if t not in prev:
+            break
+        f = math.inf
+        v = t
+        while prev[v] is not None:
+            f = min(f, cap[(prev[v], v)])
+            v = prev[v]
+        v = t
+        while prev[v] is not None:
+            cap[(prev[v], v)] -= f
+            cap[(v, prev[v])] += f
+            v = prev[v]
+        flow += f
+    # the side of s: reachable in the residual graph
+    side = set(prev)
+    cut = {pr for pr in weight if (pr[0] in side) != (pr[1] in side)}
+    return flow, cut
+
+
+def concave_cuts(planes, joined, concave, edges, ratio: float = 0.25, max_cos: float = -0.5,
+                 min_angle: float = 50.0, wall_members: int = 3, min_points: int = 100) -> set:
+    """Joined pairs to cut so that no group holds two planes at a clear concave edge.
+
+    Parameters
+    ----------
+    planes : iterable of Plane
+    joined : iterable of (int, int)
+        The pairs joined so far (convex, cavities, ...).
+    concave : iterable of (int, int)
+        Adjacent pairs not joined (concave edges).
+    edges : dict
+        :func:`planerel.features.relations.edge_means` of the pairs: ``(min, max) -> (x_min,
+        x_max, n)``.
+    ratio : float
+        A cut is made when its weight (edge pixel pairs of the pairs cut; a pair without a
+        shared edge weighs 1) is under ``ratio`` times the concave edge's pixel pairs.
+    max_cos : float
+        The concave edge's sign must be at most this (:func:`concave_cos`; the convexity
+        test's noise band is +-0.1).
+    min_angle : float
+        Degrees: the two planes' normals must be at least this far apart.  Planes meeting at
+        a smaller angle are no two objects' faces but facets of one curved surface (the
+        inside of a hollow cylinder is concave: 22.5 degrees between its facets; the curved
+        clusters' facets are 5-50 degrees apart, :class:`planerel.features.curved.CurvedParams`)
+        or one surface (within the convexity test's ``concave_tol``).
+    min_points : int
+        Both planes need at least this many points: a plane of fewer lies mostly within the
+        edge band, and its edge's sign is noise (a cylinder's facets at 3.5 m, 15-26 points,
+        measured concave at 90 degrees with the judge set's true planes).
+    wall_members : int
+        No cut when ``a`` or ``b`` meets at least this many planes of the group at shared
+        concave edges: a flight's side wall (each tread and riser meets it), the inside of an
+        open object; a box against another box meets it with one or two faces (0 = no such
+        exception).
+
+    Returns
+    -------
+    set of (int, int)
+        Pairs of ``joined`` (as given) to drop.
+    """
+    byl = {p.label: p for p in planes}
+    joined = set(joined)
+    cos_tol = math.cos(math.radians(min_angle))
+    cands = []
+    concave_nb: dict = {}
+    for a, b in concave:
+        e = edges.get((min(a, b), max(a, b)))
+        if e is not None and e[2] >= MIN_CONCAVE_EDGE:
+            concave_nb.setdefault(a, set()).add(b)
+            concave_nb.setdefault(b, set()).add(a)
+    for a, b in concave:
+        e = edges.get((min(a, b), max(a, b)))
+        if e is None or e[2] < MIN_CONCAVE_EDGE:
+            continue
+        pa, pb = byl[a], byl[b]
+        if min(pa.n_points, pb.n_points) < min_points:
+            continue
+        if abs(float(np.asarray(pa.normal, float) @ np.asarray(pb.normal, float))) >= cos_tol:
+            continue
+        if concave_cos(pa, pb, e) > max_cos:
+            continue
+        cands.append((-int(e[2]), min(a, b), max(a, b)))
+    cut: set = set()
+    for neg, a, b in sorted(cands):
+        live = [pr for pr in joined if pr not in cut]
+        # the group of a
+        nbrs: dict = {}
+        for x, y in live:
+            nbrs.setdefault(x, set()).add(y)
+            nbrs.setdefault(y, set()).add(x)
+        seen = {a}
+        q = deque([a])
+        while q:
+            u = q.popleft()
+            for v in nbrs.get(u, ()):
+                if v not in seen:
+                    seen.add(v)
+                    q.append(v)
+        if b not in seen:
+            continue
+        if wall_members and max(len(concave_nb.get(a, set()) & seen),
+                                len(concave_nb.get(b, set()) & seen)) >= wall_members:
+            continue
+        weight = {}
+        for x, y in live:
+            if x in seen:
+                w = (edges.get((min(x, y), max(x, y))) or (0, 0, 0))[2]
+                weight[(x, y)] = float(max(int(w), 1))
+        value, pairs = _min_cut(sorted(seen), weight, a, b)
+        if value < ratio * -neg:
+            cut |= pairs
+    return cut
