@@ -130,6 +130,18 @@ def _between(labels, xyz, a, b, lines, max_outline, window, fast: bool = False) 
     return out
 
 
+def _gap_pair(relations, a: int, b: int, min_gap: float, max_gap: float) -> bool:
+    """True when the relation of ``a`` and ``b`` (either order, as a missing one: False) is
+    not touching and its hulls' gap lies in ``(min_gap, max_gap]``: the relation tests of
+    :func:`occluded_piece_pairs`."""
+    a, b = (a, b) if a < b else (b, a)
+    try:
+        r = relations.get(a, b)
+    except KeyError:
+        return False
+    return not r.touching and min_gap < r.gap <= max_gap
+
+
 def occluded_piece_pairs(planes, relations, labels, xyz, skip=(), angle_tol: float = 10.0,
                          coplanar_depth: float = 0.03, min_gap: float = 0.05,
                          max_gap: float = 0.25, min_front: float = 0.5, together=None) -> set:
@@ -170,6 +182,11 @@ def occluded_piece_pairs(planes, relations, labels, xyz, skip=(), angle_tol: flo
     cand = [p for p in planes if p.label not in skip and p.orientation == "vertical"]
     out: set = set()
     if len(cand) < 2:
+        return out
+    # the relations' tests first (cheap): with no pair of candidates whose hulls lie in the
+    # gap range and that do not touch, nothing is joined (the same answer as the tests below)
+    if not any(_gap_pair(relations, pa.label, pb.label, min_gap, max_gap)
+               for k, pa in enumerate(cand) for pb in cand[k + 1:]):
         return out
     cos_tol = math.cos(math.radians(angle_tol))
     nrm = np.array([np.asarray(p.normal, float) for p in cand])
