@@ -429,7 +429,10 @@ def open_pixels(rows, cols, lab, drop, H, W, r):
             n += 1
         return found, ro[:n].copy(), co[:n].copy()
     span = 2 * r + 1
-    e1 = np.zeros((H, W), np.uint8)
+    # only the rows that receive an eroded pixel are read after (_open_tail reads a row of
+    # e1 only when rowany holds it): each is zeroed when its first pixel comes, the others
+    # are left as allocated
+    e1 = np.empty((H, W), np.uint8)
     rowany = np.zeros(H, np.bool_)
     run = 0
     py, px = -1, -2
@@ -444,8 +447,10 @@ def open_pixels(rows, cols, lab, drop, H, W, r):
             run = 1
         py, px = y, x
         if run >= span:
+            if not rowany[y]:
+                e1[y, :] = 0
+                rowany[y] = True
             e1[y, x - r] = 1
-            rowany[y] = True
     return _open_tail(e1, rowany, H, W, r)
 
 
@@ -453,7 +458,9 @@ def open_pixels(rows, cols, lab, drop, H, W, r):
 def _open_tail(e1, rowany, H, W, r):
     """:func:`unexplained_open` after the erosion along rows: the erosion along columns, the
     dilation and the pixel list."""
-    e2 = np.zeros((H, W), np.uint8)
+    # e2 and d1: a row is read only after it is written whole (_erode_rows, _dilate_row),
+    # the rows rowe2 holds; the others are left as allocated
+    e2 = np.empty((H, W), np.uint8)
     rowe2 = np.zeros(H, np.bool_)
     y0, y1, x0, x1 = H, -1, W, -1
     for y in range(r, H - r):
@@ -486,7 +493,7 @@ def _open_tail(e1, rowany, H, W, r):
         return np.zeros((H, W), np.bool_), np.empty(0, np.int64), np.empty(0, np.int64)
     # dilation along rows (clipped to the image), then along columns; only rows that hold
     # eroded pixels are read (byte loops over row slices, as in _shift_pass)
-    d1 = np.zeros((H, W), np.uint8)
+    d1 = np.empty((H, W), np.uint8)
     for y in range(y0, y1 + 1):
         if not rowe2[y]:
             continue
