@@ -1104,7 +1104,7 @@ def _step_kind(p, tilt: float) -> str | None:
     return None
 
 
-def _cut_lengthwise(planes, along_long_side: bool = True) -> set:
+def _cut_lengthwise(planes, along_long_side: bool = True, labels=None) -> set:
     """Labels of planes the image border cuts along their length: as many of their pixels lie on
     the border as half the long side of their pixel box (the floor or landing the camera stands
     on, seen to the image's bottom edge), so how deep they are is not seen.  A tread cut at its
@@ -1112,8 +1112,9 @@ def _cut_lengthwise(planes, along_long_side: bool = True) -> set:
     border pixels on the image sides parallel to the box's long side count (the top and bottom
     rows for a box wider than high, else the left and right columns): a tread of a flight seen
     with the camera rolled, a strip the bottom edge cuts across its narrow side, is cut at its
-    end and keeps its depth (seed 33 ``s0030``)."""
-    lab = getattr(planes, "labels", None)
+    end and keeps its depth (seed 33 ``s0030``).  ``labels``: the label image when ``planes``
+    is a list of planes (default: ``planes.labels``)."""
+    lab = getattr(planes, "labels", None) if labels is None else labels
     if lab is None or lab.size == 0:
         return set()
     out = set()
@@ -1223,7 +1224,10 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     up = np.asarray(planes.up, float)
     cos_tol = math.cos(math.radians(angle_tol))
     kind = {p.label: _step_kind(p, tilt) for p in planes}
-    cut = _cut_lengthwise(planes, cut_long_side)
+    # the border cut is asked of the candidate treads only (the same candidates)
+    cut = _cut_lengthwise([p for p in planes if (not want or p.label in want)
+                           and kind[p.label] == "tread"], cut_long_side,
+                          getattr(planes, "labels", None))
     cands = [p for p in planes if (not want or p.label in want) and kind[p.label]
              and not (kind[p.label] == "tread" and p.label in cut)]
     steps = []  # (lower, higher, rise per step, unit horizontal direction)
