@@ -457,3 +457,21 @@ def test_cluster_spans_and_narrow_clusters_never_rule_out_a_wide_cluster():
                 kept_wide += wide
             ruled_out += bool(narrow[c])
     assert ruled_out > 100 and kept_wide > 100
+
+
+def test_gather_is_the_fancy_indexing():
+    """``_gather`` gives ``xyz[rows, cols]`` (values, dtype, shape) for contiguous and strided
+    clouds, NaN points and no pixel."""
+    from planerel.features.stairfit import _gather
+
+    rng = np.random.default_rng(5)
+    for _ in range(50):
+        H, W = (int(v) for v in rng.integers(1, 30, 2))
+        xyz = rng.normal(size=(H, 2 * W, 3))
+        xyz[rng.random((H, 2 * W)) < 0.2] = np.nan
+        for cloud in (np.ascontiguousarray(xyz[:, :W]), xyz[:, ::2]):
+            n = int(rng.integers(0, 3 * H * W))
+            rows, cols = rng.integers(0, H, n), rng.integers(0, W, n)
+            got, want = _gather(cloud, rows, cols), cloud[rows, cols]
+            assert got.dtype == want.dtype and got.shape == want.shape
+            assert np.array_equal(got, want, equal_nan=True)

@@ -354,6 +354,16 @@ def _slope_candidates(pts, ids, n, e1, e2, up, slope, margin=1e-4, min_det=1e-6)
     return ~sure | ((g >= slope[0] * (1 - margin)) & (g <= slope[1] * (1 + margin)))
 
 
+def _gather(xyz: np.ndarray, rows, cols) -> np.ndarray:
+    """``xyz[rows, cols]`` (``(N, 3)``): for a C-contiguous cloud through the flat index
+    (``np.take``: the same values, about a quarter of the fancy indexing's time)."""
+    if xyz.ndim == 3 and xyz.flags.c_contiguous:
+        return np.take(xyz.reshape(-1, xyz.shape[2]),
+                       np.asarray(rows, np.int64) * xyz.shape[1] + np.asarray(cols, np.int64),
+                       axis=0)
+    return xyz[rows, cols]
+
+
 def _narrow_clusters(pts, ids, n, e1, e2, min_width, margin=1e-9):
     """Which of the ``n`` clusters (``ids`` of the points ``pts``) certainly fail the width
     test of rule step 4 (``lat.max() - lat.min() < min_width`` along the fitted flight's
@@ -435,7 +445,7 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
     big = np.flatnonzero(sizes >= p.min_pixels)
     if not big.size:
         return None, pixels
-    pts = xyz[rows, cols]
+    pts = _gather(xyz, rows, cols)
     z = pts[:, 2]
     taken = np.zeros(len(rows), bool)
     e1, e2 = _horizontal_axes(up)
