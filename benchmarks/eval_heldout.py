@@ -4,6 +4,9 @@ What ``planerel learn TRAIN --folds K --heldout HELD`` reports, as one JSON line
 times of each stage, for tables over training seeds (docs/results.md, "Honest evaluation").
 
 Run: ``.venv/bin/python benchmarks/eval_heldout.py TRAIN HELD --folds 10 --tag paper_s0``
+
+``--confirm HELD2`` (repeatable) scores the same model on a further held-out set, a
+confirmation set never used for a choice, so that one command gives both figures of a cell.
 """
 
 from __future__ import annotations
@@ -28,6 +31,9 @@ def main(argv=None) -> int:
                     help="learner setting (e.g. noise=10, minacc=0.8); repeatable")
     ap.add_argument("--save", default=None,
                     help="folder for the model (rules.pl) and the held-out answers (answers.json)")
+    ap.add_argument("--confirm", action="append", default=[], metavar="HELD2",
+                    help="a further held-out set (a confirmation set, never used for a choice) "
+                         "scored with the same model, under 'confirm' in the output; repeatable")
     ap.add_argument("--other-rules", action="store_true",
                     help="learn rules for class other too (planerel learn --other-rules)")
     ap.add_argument("--keep-redundant", action="store_true",
@@ -66,6 +72,12 @@ def main(argv=None) -> int:
     held = P.held_out_scores(model, args.held, jobs=args.jobs, progress=False,
                              timeout=args.timeout)
     answers = held.pop("predictions")
+    confirm = []
+    for other in args.confirm:
+        res = P.held_out_scores(model, other, jobs=args.jobs, progress=False,
+                                timeout=args.timeout)
+        res.pop("predictions")
+        confirm.append(res)
     if args.save:
         from pathlib import Path
 
@@ -79,7 +91,7 @@ def main(argv=None) -> int:
     print(json.dumps({"tag": args.tag, "train": args.train, "held": args.held,
                       "settings": settings,
                       "classes": list(classes), "rules": model.clauses(), "stats": model.stats, "cv": cv,
-                      "heldout": held,
+                      "heldout": held, "confirm": confirm,
                       "seconds": {"describe": round(t1 - t0, 1), "cv": round(t2 - t1, 1),
                                   "learn": round(t3 - t2, 1), "heldout": round(t4 - t3, 1)}}))
     return 0

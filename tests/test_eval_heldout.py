@@ -1,0 +1,44 @@
+"""benchmarks/eval_heldout.py: one model, scored on the held-out set and on confirmation sets."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+from pathlib import Path
+
+import pytest
+
+from planerel.synth.generator import generate_dataset
+
+_SPEC = importlib.util.spec_from_file_location(
+    "eval_heldout", Path(__file__).resolve().parents[1] / "benchmarks" / "eval_heldout.py")
+ev = importlib.util.module_from_spec(_SPEC)
+_SPEC.loader.exec_module(ev)
+
+
+@pytest.fixture(autouse=True)
+def _private_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("PLANEREL_CACHE", str(tmp_path / "cache"))
+
+
+def test_confirm_scores_the_same_model_on_each_further_set(tmp_path, capsys):
+    train, held, other = tmp_path / "train", tmp_path / "held", tmp_path / "other"
+    generate_dataset(train, n_box=2, n_stairs=2, n_ramp=2, seed=3, size=(640, 480), subsample=4)
+    generate_dataset(held, n_box=1, n_stairs=1, n_ramp=1, seed=77, size=(640, 480), subsample=4)
+    generate_dataset(other, n_box=1, n_stairs=0, n_ramp=1, seed=78, size=(640, 480), subsample=4)
+    assert ev.main([str(train), str(held), "--folds", "0", "--jobs", "1",
+                    "--confirm", str(held), "--confirm", str(other)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    first, again, second = out["heldout"], *out["confirm"]
+    # the held-out set again as a confirmation set: the same model gives the same figures
+    assert again["dataset"] == str(held) and again["n_scenes"] == first["n_scenes"] == 3
+    for key in ("accuracy", "per_class", "confusion", "errors"):
+        assert again[key] == first[key]
+    # the other set: its own scenes and objects, scored like the first
+    assert second["dataset"] == str(other) and second["n_scenes"] == 2
+    assert sum(map(sum, second["confusion"])) == second["n_examples"] == 2
+    assert 0.0 <= second["accuracy"] <= 1.0 and "predictions" not in second
+    # without --confirm: an empty list, the rest of the line as before
+    assert ev.main([str(train), str(held), "--folds", "0", "--jobs", "1"]) == 0
+    plain = json.loads(capsys.readouterr().out)
+    assert plain["confirm"] == [] and plain["heldout"]["confusion"] == first["confusion"]
