@@ -449,8 +449,11 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
     z = pts[:, 2]
     taken = np.zeros(len(rows), bool)
     e1, e2 = _horizontal_axes(up)
-    maybe = _slope_candidates(pts, ids, n_all, e1, e2, up, p.slope)
-    narrow = _narrow_clusters(pts, ids, n_all, e1, e2, p.min_width) if maybe[big].any() else None
+    # the clusters that certainly fail the width test (one compiled pass) first: when every
+    # large cluster does (most frames), their slopes are not needed
+    narrow = _narrow_clusters(pts, ids, n_all, e1, e2, p.min_width)
+    maybe = (_slope_candidates(pts, ids, n_all, e1, e2, up, p.slope)
+             if not narrow[big].all() else None)
     sigma_z = None  # the sensor's noise along the rays, measured when a cluster is fitted
     out = None
     groups = []
@@ -458,10 +461,10 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
     nxt = None  # the first new label, label_max(lab) + 1, taken when a fit is kept
     # the largest first; equal sizes by their first pixel (row-major)
     for c in big[np.argsort(-sizes[big], kind="stable")]:
-        if not maybe[c]:
-            continue  # its plane's slope is outside p.slope (step 2), with a margin
         if narrow[c]:
             continue  # no horizontal direction spans min_width (the width test below fails)
+        if not maybe[c]:
+            continue  # its plane's slope is outside p.slope (step 2), with a margin
         idx = np.flatnonzero(ids == c)
         if taken[idx].any():
             continue
