@@ -97,6 +97,14 @@ class SplitParams:
         keeping a single piece too (True).  Small faces far from the sensor -- the top risers
         and treads of a staircase, 3-8 pixels high at 160x120 -- have normals too blended and
         noisy for region growing to seed them, yet their points fit planes within the noise.
+    leftover_scale : float
+        Patches smaller than ``min_region_size`` but at least ``leftover_scale`` x it are
+        searched too, for one piece of their own size; such a piece is dropped when half of
+        its points lie within ``parallel_gap`` x depth of the plane of a region of at least
+        ``min_region_size`` points (a surface already found).  1 (the default): off.  0.5
+        finds small far box faces of the judge set (docs/objects.md, ninth pass) but changes
+        what ``make demo`` learns (a box rule that also fires on a non-box of the real Kinect
+        frames), so it is not the default.
     merge : bool
         Merge touching regions of one plane afterwards (True; :mod:`planerel.segment.merge`).
     absorb : bool
@@ -136,6 +144,7 @@ class SplitParams:
     min_region_size: int | str = "auto"
     seed: int = 0
     leftover: bool = True
+    leftover_scale: float = 1.0
     merge: bool = True
     absorb: bool = True
     merge_angle: float = 10.0
@@ -174,6 +183,8 @@ class SplitParams:
             s(self, "min_region_size", _int(o, "min_region_size", self.min_region_size, 3))
         s(self, "seed", _int(o, "seed", self.seed, 0))
         s(self, "leftover", _bool(o, "leftover", self.leftover))
+        s(self, "leftover_scale", _num(o, "leftover_scale", self.leftover_scale, lo=0.0, hi=1.0,
+                                       lo_open=True))
         s(self, "merge", _bool(o, "merge", self.merge))
         s(self, "absorb", _bool(o, "absorb", self.absorb))
         s(self, "merge_angle", _num(o, "merge_angle", self.merge_angle, lo=0.0, hi=90.0))
@@ -354,13 +365,23 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     leftover_ids: list[int] = []
     if p.leftover and cloud.organized:
         cur = lab if new_lab is None else new_lab
-        for t, pix in enumerate(_free_patches(cur.reshape(h, w), cloud.valid, min_size)):
+        lo_size = max(3, int(round(min_size * p.leftover_scale)))
+        # planes of the regions of at least the minimum size (surfaces already found)
+        big_planes = [(np.asarray(q.normal, dtype=np.float64), float(q.offset))
+                      for q in seg.planes if q.n_points >= min_size]
+        for t, pix in enumerate(_free_patches(cur.reshape(h, w), cloud.valid, lo_size)):
             info["leftover_patches"] += 1
+            # a patch of at least the minimum size is searched for pieces of that size, as
+            # before; a smaller one (down to lo_size) for one piece of its own size
+            part_min = min_size if len(pix) >= min_size else lo_size
             piece = _split_one(pix, xyz_flat, normals_of(pix),
-                               sensor_scale, min_size, p, w, True,
+                               sensor_scale, part_min, p, w, True,
                                np.random.default_rng([p.seed, n + t]), min_parts=1)
             if piece is not None:
-                piece = _keep_planar(piece, xyz_flat.take(pix, axis=0), sensor_scale, p)
+                P = xyz_flat.take(pix, axis=0)
+                piece = _keep_planar(piece, P, sensor_scale, p)
+                if piece is not None and lo_size < min_size:
+                    piece = _drop_small_on_found(piece, P, min_size, big_planes, p)
             if piece is None:
                 continue
             if new_lab is None:
@@ -484,6 +505,33 @@ def _keep_planar(piece, P, scale, p: SplitParams):
         rms = math.sqrt(float(np.mean((Q @ nr + off) ** 2)))
         exp = scale * math.sqrt(float(np.mean(expected_sigma(Q, nr, p) ** 2)))
         if rms <= p.tolerance * exp:
+            new[q] = kept
+            kept += 1
+    if kept == 0:
+        return None
+    return np.where(piece >= 0, new[np.maximum(piece, 0)], -1)
+
+
+def _drop_small_on_found(piece, P, min_size, big_planes, p: SplitParams):
+    """Pieces of a leftover patch under ``min_size`` points (kept down to ``leftover_scale``
+    x it) whose points lie on a surface already found are dropped: a piece is dropped when at
+    least half of its points lie within ``parallel_gap`` x depth of the plane of a region of
+    at least ``min_size`` points (a real floor's bent corner, 7 mm off the table's plane on
+    mOSD; a small box face stands off every larger plane).  Renumbered ``0..``; None when
+    none is left."""
+    k = int(piece.max()) + 1
+    new = np.full(k, -1, dtype=np.int64)
+    kept = 0
+    for q in range(k):
+        Q = P[piece == q]
+        on = False
+        if len(Q) < min_size:
+            band = p.parallel_gap * np.abs(Q[:, 2])
+            for nr, off in big_planes:
+                if np.mean(np.abs(Q @ nr + off) <= band) >= 0.5:
+                    on = True
+                    break
+        if not on:
             new[q] = kept
             kept += 1
     if kept == 0:
