@@ -98,13 +98,18 @@ def test_min_cut_against_all_partitions():
             if rng.random() < 0.6:
                 weight[(a, b)] = float(rng.integers(1, 20))
         value, cut = _min_cut(nodes, weight, 0, n - 1)
-        best = np.inf
+        sides = {}
         for k in range(n - 1):
             for side in itertools.combinations(nodes[1:-1], k):
-                s = {0, *side}
-                best = min(best, sum(w for (a, b), w in weight.items() if (a in s) != (b in s)))
+                s = frozenset({0, *side})
+                sides[s] = sum(w for (a, b), w in weight.items() if (a in s) != (b in s))
+        best = min(sides.values())
         assert value == pytest.approx(best)
         assert sum(weight[p] for p in cut) == pytest.approx(best)
+        # the cut is the one of the smallest side of 0 (every minimum side holds it): one
+        # answer whichever maximum flow is found
+        smallest = frozenset.intersection(*[s for s, v in sides.items() if v == pytest.approx(best)])
+        assert cut == {p for p in weight if (p[0] in smallest) != (p[1] in smallest)}
         # the cut separates them
         g = {k: set() for k in nodes}
         for a, b in weight:

@@ -39,41 +39,26 @@ def concave_cos(pa, pb, e) -> float:
 
 
 def _min_cut(nodes, weight, s, t):
-    """Minimum s-t cut of an undirected weighted graph (Edmonds-Karp): (value, cut pairs)."""
-    cap: dict = {}
-    adj: dict = {k: set() for k in nodes}
+    """Minimum s-t cut of an undirected weighted graph: (value, cut pairs).
+
+    networkx's maximum flow.  The side of ``s`` is the smallest minimum-cut side: the nodes the
+    residual network reaches from ``s``, the same whichever maximum flow is found, so the cut is
+    deterministic.  networkx returns as its second side the nodes that reach its sink in the
+    residual network, so it is asked for the flow from ``t`` to ``s``: on an undirected graph
+    that second side is the smallest one of ``s``.  ``weight``: ``(x, y) -> w`` (pairs given
+    twice add up)."""
+    import networkx as nx
+
+    g = nx.Graph()
+    g.add_nodes_from(nodes)
     for (x, y), w in weight.items():
-        cap[(x, y)] = cap.get((x, y), 0.0) + w
-        cap[(y, x)] = cap.get((y, x), 0.0) + w
-        adj[x].add(y)
-        adj[y].add(x)
-    flow = 0.0
-    while True:
-        prev = {s: None}
-        q = deque([s])
-        while q and t not in prev:
-            u = q.popleft()
-            for v in sorted(adj[u]):
-                if v not in prev and cap[(u, v)] > 1e-12:
-                    prev[v] = u
-                    q.append(v)
-        if t not in prev:
-            break
-        f = math.inf
-        v = t
-        while prev[v] is not None:
-            f = min(f, cap[(prev[v], v)])
-            v = prev[v]
-        v = t
-        while prev[v] is not None:
-            cap[(prev[v], v)] -= f
-            cap[(v, prev[v])] += f
-            v = prev[v]
-        flow += f
-    # the side of s: reachable in the residual graph
-    side = set(prev)
+        if g.has_edge(x, y):
+            g[x][y]["capacity"] += w
+        else:
+            g.add_edge(x, y, capacity=w)
+    value, (_, side) = nx.minimum_cut(g, t, s)
     cut = {pr for pr in weight if (pr[0] in side) != (pr[1] in side)}
-    return flow, cut
+    return float(value), cut
 
 
 def concave_cuts(planes, joined, concave, edges, ratio: float = 0.25, max_cos: float = -0.5,
