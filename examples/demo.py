@@ -12,6 +12,12 @@
    confusion images, explanation images of the held-out scenes, and summary.json.
 
 Run: ``.venv/bin/python examples/demo.py --out out``
+
+``--seed N`` (default 0: the shipped model) moves the generator seeds of the paper-sized set and
+of the training world to ``10 * N`` (see :func:`seeds`); the held-out set, the fold split and the
+learner's seed stay as they are, so runs with different N are scored on the same held-out scenes.
+It measures how much the learned rules depend on the scenes they were learned from
+(docs/results.md "The demo model over training-world seeds").
 """
 
 from __future__ import annotations
@@ -36,6 +42,24 @@ LEARNER = {"evalfn": "coverage", "minpos": 8, "noise": 6, "box:noise": 12}
 #: The same learner on the paper-sized set (about 11 objects of a class per fold): minpos and
 #: noise scaled down to its size.
 CV_LEARNER = {"evalfn": "coverage", "minpos": 3, "noise": 1}
+#: Largest ``--seed``: the generator seeds stay below the held-out set's (1000).
+MAX_SEED = 99
+
+
+def seeds(n: int = 0) -> dict:
+    """The seeds of a run with ``--seed n``.
+
+    ``train`` (the paper-sized set, cross-validated) and ``world`` (the model's training world,
+    whose paper part is that set; its room and round parts use ``world + 1`` and ``world + 2``)
+    are ``10 * n``, so the parts of two different n never share a generator seed; ``heldout``
+    (1000), ``folds`` (the fold split) and ``learner`` do not move.  ``n = 0`` gives the
+    shipped model's seeds.
+    """
+    from planerel.errors import InputError
+
+    if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n <= MAX_SEED:
+        raise InputError(f"--seed must be an integer from 0 to {MAX_SEED}, got {n!r}")
+    return {"train": 10 * n, "world": 10 * n, "heldout": 1000, "folds": 0, "learner": 0}
 
 
 def main(argv=None) -> int:
@@ -44,6 +68,10 @@ def main(argv=None) -> int:
     ap.add_argument("--folds", type=int, default=10)
     ap.add_argument("--engine", default="auto", choices=["auto", "builtin", "aleph"])
     ap.add_argument("--jobs", type=int, default=None, help="worker processes (default: all cores)")
+    ap.add_argument("--seed", type=int, default=0,
+                    help=f"training-world seed, 0-{MAX_SEED} (default 0: the shipped model); "
+                         "moves the paper-sized set's and the training world's generator seeds "
+                         "to 10*N, not the held-out set's")
     args = ap.parse_args(argv)
 
     from planerel.classify import Classifier, classify_dataset
@@ -58,26 +86,30 @@ def main(argv=None) -> int:
     out = Path(args.out)
     t0 = time.perf_counter()
     try:
+        sd = seeds(args.seed)
         train = generate_dataset(out / "data" / "train", n_box=12, n_stairs=15, n_ramp=18,
-                                 seed=0, size=(640, 480), subsample=4)
+                                 seed=sd["train"], size=(640, 480), subsample=4)
         held = generate_dataset(out / "data" / "heldout", n_box=12, n_stairs=15, n_ramp=18,
-                                seed=1000, size=(640, 480), subsample=4,
+                                seed=sd["heldout"], size=(640, 480), subsample=4,
                                 camera=CameraRange(height=(0.7, 1.7), distance=(1.0, 2.2)))
         world = generate_training_world(out / "data" / "model_train", paper=PAPER, room=ROOM,
-                                        seed=0, size=(640, 480), subsample=4)
+                                        seed=sd["world"], size=(640, 480), subsample=4)
+        if args.seed:
+            print(f"--seed {args.seed}: paper-sized set and training world from seed "
+                  f"{sd['train']} (the shipped model: 0)")
         print(f"data: {train} (paper-sized set), {held} (held out: seed 1000, other camera "
               f"ranges), {world} (the model's training world: the paper-sized scenes and "
               f"{sum(ROOM)} Kinect-like room scenes with clutter)")
         descs, _ = describe_scenes(train, jobs=args.jobs, progress=False)
         classes = ["box", "stairs", "ramp"]
-        cv = cross_validate(descs, classes, folds=args.folds, seed=0, engine=args.engine,
+        cv = cross_validate(descs, classes, folds=args.folds, seed=sd["folds"], engine=args.engine,
                             settings=CV_LEARNER, jobs=args.jobs, progress=False)
         print(f"paper-sized set, {args.folds}-fold cross-validation accuracy "
               f"({_settings_text(CV_LEARNER)}): {cv['accuracy']:.3f}")
         _print_confusion(cv["confusion"], classes)
         draw_confusion(out / "cv_confusion.png", cv["confusion"], classes,
                        title=f"paper-sized set, {args.folds}-fold CV, accuracy {cv['accuracy']:.3f}")
-        m = learn_model(world, out / "model", engine=args.engine, seed=0, jobs=args.jobs,
+        m = learn_model(world, out / "model", engine=args.engine, seed=sd["learner"], jobs=args.jobs,
                         settings=LEARNER, timeout=900, log=lambda s: print(s, file=sys.stderr))
         print(f"engine: {m['engine']}")
         print(f"model {out / 'model'} ({m['n_scenes']} scenes, {m['n_examples']} class "

@@ -14,6 +14,11 @@ What each frame shows was checked by looking at it (proposals drawn in colour):
 * mOSD ``learn0-5.pcd``: boxes on a table (the label field marks each object); every proposal
   that is mostly one labelled box is ``box``; nothing is stairs or ramp.
 * mOSD ``test31.pcd``: cylinders: no proposal is box, stairs or ramp (every one is ``other``).
+
+Over training-world seeds (``examples/demo.py --seed 1..5``, docs/results.md "The demo model over
+training-world seeds") the Kinect box's ``box``, the mOSD answers and the cylinders' ``other``
+held on every seed; "the Kinect box is the only box" and "no stairs in the Kinect frames" held
+only on the shipped seed 0 (the corner furniture became ``box`` or ``stairs`` on 5 of 5 others).
 """
 
 from __future__ import annotations
@@ -75,9 +80,11 @@ def demo_model(request):
 
                 shutil.rmtree(old, ignore_errors=True)
         demo = _demo()
+        seeds = demo.seeds()  # the shipped model's (make demo, --seed 0)
         world = generate_training_world(cache / "world", paper=demo.PAPER, room=demo.ROOM,
-                                        seed=0, size=(640, 480), subsample=4)
-        learn_model(world, model, engine="builtin", seed=0, jobs=2, settings=demo.LEARNER,
+                                        seed=seeds["world"], size=(640, 480), subsample=4)
+        learn_model(world, model, engine="builtin", seed=seeds["learner"], jobs=2,
+                    settings=demo.LEARNER,
                     cache="none", log=lambda s: None, progress=False)
     return model
 
