@@ -14,7 +14,6 @@ few.
 from __future__ import annotations
 
 import math
-from collections import deque
 
 import numpy as np
 
@@ -125,21 +124,15 @@ def concave_cuts(planes, joined, concave, edges, ratio: float = 0.25, max_cos: f
             continue
         cands.append((-int(e[2]), min(a, b), max(a, b)))
     cut: set = set()
+    if not cands:
+        return cut
+    import networkx as nx  # here, not at import: most frames have no candidate
+
     for neg, a, b in sorted(cands):
         live = [pr for pr in joined if pr not in cut]
-        # the group of a
-        nbrs: dict = {}
-        for x, y in live:
-            nbrs.setdefault(x, set()).add(y)
-            nbrs.setdefault(y, set()).add(x)
-        seen = {a}
-        q = deque([a])
-        while q:
-            u = q.popleft()
-            for v in nbrs.get(u, ()):
-                if v not in seen:
-                    seen.add(v)
-                    q.append(v)
+        # the group of a (its connected component over the pairs still joined)
+        g = nx.Graph(live)
+        seen = nx.node_connected_component(g, a) if a in g else {a}
         if b not in seen:
             continue
         if wall_members and max(len(concave_nb.get(a, set()) & seen),
