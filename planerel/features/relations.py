@@ -614,6 +614,20 @@ class ProposalParams:
         bottom, a laptop's base or a plate the segmentation joined to the floor) join the
         proposals whose planes touch them, or are a proposal of their own
         (:mod:`planerel.features.raised`; applied by :func:`planerel.features.facts.describe_scene`).
+    riser_max : float
+        Metres: a vertical plane higher than this and 1.5 times the other plane's height range
+        is no riser for the tread-and-riser exception of :func:`convex_pairs` (a wall across the
+        bottom of a flight; a ramp's end face is as high as its slope).  0.60 since the tenth
+        pass (2 x ``step_rise_max``; 0.45 = 1.5 x before): a chair's backrest rises 0.30-0.55 m
+        above its seat, which it meets as a riser meets its tread.
+    stacked_boards : bool
+        Join the boards of a shelf (:func:`planerel.features.boards.stacked_board_pairs`;
+        tenth pass): at least three planes within ``step_tilt`` of horizontal, each the next
+        one's ``step_rise_min``-``board_rise_max`` metres below it with their horizontal
+        footprints overlapping by ``board_overlap`` of the smaller (one lies over the other; a
+        staircase's treads lie one run beyond each other), their rises within 30 %.
+    board_rise_max, board_overlap : float
+        See ``stacked_boards``.
     """
 
     support_min_area: float = 2.0
@@ -657,13 +671,19 @@ class ProposalParams:
     concave_cut: float = 0.25
     ramp_tilt: float = 3.0
     ramp_rise: float = 0.02
+    riser_max: float = 0.60
+    stacked_boards: bool = True
+    board_rise_max: float = 0.60
+    board_overlap: float = 0.5
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
-                             "ramp_tilt", "ramp_rise", "concave_cut"))
+                             "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max"))
+        if not 0 <= self.board_overlap <= 1:
+            raise InputError(f"board_overlap must be in 0..1, got {self.board_overlap!r}")
         if self.step_rise_min > self.step_rise_max or self.step_run_min > self.step_run_max:
             raise InputError("step_rise_min / step_run_min must not exceed step_rise_max / step_run_max, "
                              f"got {self.step_rise_min!r}-{self.step_rise_max!r} and "
@@ -1444,7 +1464,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                          or one_surface(a, b)]
         joined = convex_pairs(planes, pairs, edges, params.concave_tol,
                               params.step_overlap or None,
-                              riser_max=1.5 * params.step_rise_max,
+                              riser_max=params.riser_max,
                               coplanar_depth=params.coplanar_depth,
                               sanity_angle=params.sanity_angle)
         if params.cavities and edges is not None:
@@ -1503,6 +1523,12 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             planes, g.nodes, (params.step_rise_min, params.step_rise_max),
             (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
             params.concave_tol, tilt=params.step_tilt, cut_long_side=params.cut_long_side))
+    if params.stacked_boards:
+        # a shelf's boards, one over another at regular heights (planerel.features.boards)
+        from planerel.features.boards import stacked_board_pairs
+
+        g.add_edges(stacked_board_pairs(planes, g.nodes, (params.step_rise_min, params.board_rise_max),
+                                        params.board_overlap, params.concave_tol, params.step_tilt))
     if params.split_concave and params.cavities and params.group_channels and concave:
         # side walls facing each other across a group of joined planes that together span
         # them (a flight between its side walls; planerel.features.cavities)

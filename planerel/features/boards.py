@@ -1,0 +1,140 @@
+"""Join the boards of a shelf: horizontal planes stacked one above another at regular heights.
+
+A shelf seen from above or from the front shows its boards as horizontal planes; its side and
+back panels are thin, far, or hidden by the boards, so the boards often share no edge with
+anything and each became a proposal of its own (seed 34 ``s0021``: five boards 0.154 m apart,
+five proposals).  The treads of a staircase are horizontal planes at regular heights too, but
+each lies one run *beyond* the one below, and the step chains
+(:func:`planerel.features.relations.step_chain_pairs`) join them.  A shelf's boards lie *over*
+each other: seen from the top, the footprint of each board lies on the one above or below it
+(the lower boards show the strip in front of the next board up, which lies inside that
+board's footprint).  :func:`stacked_board_pairs` joins such planes when at least three of them
+make a regular stack, as the step chains need three treads.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["footprint_overlap", "stacked_board_pairs"]
+
+
+def _horizontal_frame(up) -> tuple[np.ndarray, np.ndarray]:
+    u = np.asarray(up, float)
+    u = u / max(float(np.linalg.norm(u)), 1e-12)
+    e1 = np.cross(u, [1.0, 0.0, 0.0])
+    if np.linalg.norm(e1) < 0.1:
+        e1 = np.cross(u, [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    return e1, np.cross(u, e1)
+
+
+def _footprint(p, e1, e2):
+    """The convex hull of a plane's hull vertices projected on the horizontal plane (shapely)."""
+    from shapely.geometry import MultiPoint
+
+    H = np.asarray(p.hull3d, float).reshape(-1, 3)
+    return MultiPoint(np.stack([H @ e1, H @ e2], 1)).convex_hull
+
+
+def footprint_overlap(pa, pb, up) -> float:
+    """Area of the intersection of two planes' horizontal footprints (the convex hulls of their
+    hull vertices seen from above) over the smaller footprint's area; 0 when either footprint
+    has no area."""
+    e1, e2 = _horizontal_frame(up)
+    fa, fb = _footprint(pa, e1, e2), _footprint(pb, e1, e2)
+    small = min(fa.area, fb.area)
+    if small <= 0:
+        return 0.0
+    return float(fa.intersection(fb).area / small)
+
+
+def stacked_board_pairs(planes, labels=(), rise=(0.08, 0.60), min_overlap: float = 0.5,
+                        angle_tol: float = 10.0, tilt: float = 12.0, regular: float = 0.3,
+                        min_boards: int = 3) -> set:
+    """Pairs of horizontal planes that are consecutive boards of one stack (a shelf).
+
+    Two planes within ``tilt`` degrees of horizontal, with normals within ``angle_tol``
+    degrees, are consecutive boards when the higher one's centroid lies ``rise[0]``-``rise[1]``
+    metres above the lower one's and their horizontal footprints overlap by at least
+    ``min_overlap`` of the smaller (:func:`footprint_overlap`): one lies over the other, as a
+    staircase's treads, each one run beyond the last, do not.  Such pairs count only in a
+    stack of at least ``min_boards`` planes, each linked to the next, the rises of a stack
+    within ``regular`` (30 %) of each other: a shelf's boards are evenly spaced.  Two boxes one
+    on the other make two planes, not a stack; with a third plane they must be alike in height
+    and lie over each other.  The next board of a plane is the nearest one up that overlaps
+    it (a plane two boards up overlaps too, at twice the rise).
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    labels : iterable of int
+        Planes to consider (the non-support planes); empty = all.
+
+    Returns
+    -------
+    set of (int, int)
+        ``(lower, higher)`` label pairs of the consecutive boards of every stack found.
+    """
+    if not 0 <= min_overlap <= 1 or rise[0] < 0 or rise[1] < rise[0] or min_boards < 2:
+        from planerel.errors import InputError
+
+        raise InputError(f"stacked boards: bad parameters rise={rise!r}, min_overlap={min_overlap!r}, "
+                         f"min_boards={min_boards!r}")
+    want = set(labels)
+    up = np.asarray(planes.up, float)
+    up = up / max(float(np.linalg.norm(up)), 1e-12)
+    cos_tol = math.cos(math.radians(angle_tol))
+    cands = [p for p in planes if (not want or p.label in want)
+             and (p.orientation == "horizontal" or p.incline <= tilt)]
+    if len(cands) < min_boards:
+        return set()
+    cands.sort(key=lambda p: (p.height, p.label))
+    e1, e2 = _horizontal_frame(up)
+    foot: dict = {}
+
+    def fp(p):
+        if p.label not in foot:
+            foot[p.label] = _footprint(p, e1, e2)
+        return foot[p.label]
+
+    # the next board up of each plane: the nearest plane above within the rise that lies over it
+    nxt: dict = {}
+    for i, lo in enumerate(cands):
+        nl = np.asarray(lo.normal, float)
+        for hi in cands[i + 1:]:
+            dv = hi.height - lo.height
+            if dv < rise[0]:
+                continue
+            if dv > rise[1]:
+                break
+            if abs(float(nl @ np.asarray(hi.normal, float))) < cos_tol:
+                continue
+            fa, fb = fp(lo), fp(hi)
+            small = min(fa.area, fb.area)
+            if small > 0 and fa.intersection(fb).area >= min_overlap * small:
+                nxt[lo.label] = (hi.label, dv)
+                break
+    # stacks: chains of next boards, cut where a rise differs from the stack's first by more
+    # than ``regular``
+    out: set = set()
+    has_lower = {v[0] for v in nxt.values()}
+    for start in sorted(nxt):
+        if start in has_lower:
+            continue
+        chain = [start]
+        rises: list = []
+        while chain[-1] in nxt:
+            hi, dv = nxt[chain[-1]]
+            chain.append(hi)
+            rises.append(dv)
+        seg = 0  # index in chain of the current stack's lowest board
+        for k in range(1, len(chain) + 1):
+            if k < len(chain) and (1 - regular) <= rises[k - 1] / rises[seg] <= 1 / (1 - regular):
+                continue
+            if k - seg >= min_boards:
+                out.update(zip(chain[seg:k - 1], chain[seg + 1:k]))
+            seg = k - 1
+    return out
