@@ -93,12 +93,23 @@ def stacked_board_pairs(planes, labels=(), rise=(0.08, 0.60), min_overlap: float
         return set()
     cands.sort(key=lambda p: (p.height, p.label))
     e1, e2 = _horizontal_frame(up)
+    # each candidate's hull vertices seen from above and their bounding box; the shapely
+    # footprint only for pairs whose boxes overlap enough to pass
+    pts = {}
+    box = {}
+    for p in cands:
+        H = np.asarray(p.hull3d, float).reshape(-1, 3)
+        q = np.stack([H @ e1, H @ e2], 1)
+        pts[p.label] = q
+        box[p.label] = (q.min(0), q.max(0))
     foot: dict = {}
 
-    def fp(p):
-        if p.label not in foot:
-            foot[p.label] = _footprint(p, e1, e2)
-        return foot[p.label]
+    def fp(label):
+        if label not in foot:
+            from shapely.geometry import MultiPoint
+
+            foot[label] = MultiPoint(pts[label]).convex_hull
+        return foot[label]
 
     # the next board up of each plane: the nearest plane above within the rise that lies over it
     nxt: dict = {}
@@ -112,7 +123,12 @@ def stacked_board_pairs(planes, labels=(), rise=(0.08, 0.60), min_overlap: float
                 break
             if abs(float(nl @ np.asarray(hi.normal, float))) < cos_tol:
                 continue
-            fa, fb = fp(lo), fp(hi)
+            # footprints whose bounding boxes do not meet do not overlap (a staircase's
+            # treads, one beyond the other, mostly stop here)
+            (a0, a1), (b0, b1) = box[lo.label], box[hi.label]
+            if np.any(np.minimum(a1, b1) <= np.maximum(a0, b0)):
+                continue
+            fa, fb = fp(lo.label), fp(hi.label)
             small = min(fa.area, fb.area)
             if small > 0 and fa.intersection(fb).area >= min_overlap * small:
                 nxt[lo.label] = (hi.label, dv)
@@ -135,6 +151,6 @@ def stacked_board_pairs(planes, labels=(), rise=(0.08, 0.60), min_overlap: float
             if k < len(chain) and (1 - regular) <= rises[k - 1] / rises[seg] <= 1 / (1 - regular):
                 continue
             if k - seg >= min_boards:
-                out.update(zip(chain[seg:k - 1], chain[seg + 1:k]))
+                out.update(zip(chain[seg:k - 1], chain[seg + 1:k], strict=True))
             seg = k - 1
     return out

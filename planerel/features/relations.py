@@ -868,7 +868,7 @@ MIN_EDGE = 5
 def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                  step_overlap: float | None = 0.8, min_edge: int = MIN_EDGE,
                  riser_max: float | None = None, coplanar_depth: float | None = None,
-                 sanity_angle: float = 0.0) -> set:
+                 sanity_angle: float = 0.0, flight_riser_max: float | None = None) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
     For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
@@ -956,7 +956,8 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         if (sign >= -scale and sane) or (step_overlap is not None and shared
                                          and _step_like(pa, pb, step_overlap,
                                                         getattr(planes, "up", None), riser_max)
-                                         and _regular_step(pa, pb, byl, nbrs, cos_tol)):
+                                         and _regular_step(pa, pb, byl, nbrs, cos_tol,
+                                                           flight_riser_max)):
             out.add((a, b))
     return out
 
@@ -1088,11 +1089,14 @@ def _sanity_limit(na, nb, angle: float) -> float:
     return angle / (1.0 + math.exp(-0.25 * (beta - 25.0)))
 
 
-def _regular_step(pa, pb, byl, nbrs, cos_tol) -> bool:
+def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = None) -> bool:
     """False when a tread and the riser above it are not one step of a regular flight: the
     tread has a riser below it (a vertical neighbour parallel to the one above, lower than
     the tread) and the two risers' heights differ by more than 30 %: a box standing on a
-    box of the same width, not a staircase, whose steps rise alike."""
+    box of the same width, not a staircase, whose steps rise alike; or (with
+    ``flight_riser_max``, metres) the riser above is higher than that: a flight's risers are
+    not (two boxes of one width, 0.5 and 1.05 m high).  A tread without a riser below (a
+    chair's seat on its legs) keeps the exception up to :func:`convex_pairs`' ``riser_max``."""
     if "horizontal" not in (pa.orientation, pb.orientation):
         return True
     tread, riser = (pa, pb) if pa.orientation == "horizontal" else (pb, pa)
@@ -1109,7 +1113,8 @@ def _regular_step(pa, pb, byl, nbrs, cos_tol) -> bool:
                 or abs(float(np.asarray(q.normal, float) @ nr)) < cos_tol):
             continue
         low = float(np.ptp(np.asarray(q.hull3d, float) @ up))
-        if abs(high - low) > 0.3 * max(high, low):
+        if abs(high - low) > 0.3 * max(high, low) or (flight_riser_max is not None
+                                                       and high > flight_riser_max):
             return False
     return True
 
@@ -1466,7 +1471,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                               params.step_overlap or None,
                               riser_max=params.riser_max,
                               coplanar_depth=params.coplanar_depth,
-                              sanity_angle=params.sanity_angle)
+                              sanity_angle=params.sanity_angle,
+                              flight_riser_max=1.5 * params.step_rise_max)
         if params.cavities and edges is not None:
             # the inside of one open object (a shelf, an open box): a channel or an inside
             # corner of shared concave edges (planerel.features.cavities)
