@@ -868,7 +868,8 @@ MIN_EDGE = 5
 def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                  step_overlap: float | None = 0.8, min_edge: int = MIN_EDGE,
                  riser_max: float | None = None, coplanar_depth: float | None = None,
-                 sanity_angle: float = 0.0, flight_riser_max: float | None = None) -> set:
+                 sanity_angle: float = 0.0, flight_riser_max: float | None = None,
+                 seat_depth: float | None = None) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
     For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
@@ -957,7 +958,7 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                                          and _step_like(pa, pb, step_overlap,
                                                         getattr(planes, "up", None), riser_max)
                                          and _regular_step(pa, pb, byl, nbrs, cos_tol,
-                                                           flight_riser_max)):
+                                                           flight_riser_max, seat_depth)):
             out.add((a, b))
     return out
 
@@ -1089,14 +1090,16 @@ def _sanity_limit(na, nb, angle: float) -> float:
     return angle / (1.0 + math.exp(-0.25 * (beta - 25.0)))
 
 
-def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = None) -> bool:
+def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = None,
+                  seat_depth: float | None = None) -> bool:
     """False when a tread and the riser above it are not one step of a regular flight: the
     tread has a riser below it (a vertical neighbour parallel to the one above, lower than
     the tread) and the two risers' heights differ by more than 30 %: a box standing on a
-    box of the same width, not a staircase, whose steps rise alike; or (with
-    ``flight_riser_max``, metres) the riser above is higher than that: a flight's risers are
-    not (two boxes of one width, 0.5 and 1.05 m high).  A tread without a riser below (a
-    chair's seat on its legs) keeps the exception up to :func:`convex_pairs`' ``riser_max``."""
+    box of the same width, not a staircase, whose steps rise alike.  With
+    ``flight_riser_max`` (metres), a riser above higher than that (a flight's risers are not)
+    is taken only as a seat's backrest: the tread at most ``seat_depth`` metres deep across
+    the edge and with no vertical neighbour lower than it (a chair's seat stands on legs; a
+    box's top has its sides below it, a platform or floor is deeper)."""
     if "horizontal" not in (pa.orientation, pb.orientation):
         return True
     tread, riser = (pa, pb) if pa.orientation == "horizontal" else (pb, pa)
@@ -1106,6 +1109,16 @@ def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = N
     up = np.asarray(tread.normal, float)
     nr = np.asarray(riser.normal, float)
     high = float(np.ptp(np.asarray(riser.hull3d, float) @ up))
+    if flight_riser_max is not None and high > flight_riser_max:
+        # higher than a flight's riser: only a seat's backrest, a seat deep and with no face
+        # below it (a chair's seat stands on legs; a box's top has its sides below it)
+        if seat_depth is not None and float(np.ptp(np.asarray(tread.hull3d, float) @ nr)) > seat_depth:
+            return False
+        for k in nbrs.get(tread.label, ()):
+            q = byl[k]
+            if (q is not riser and q.orientation == "vertical"
+                    and getattr(q, "height", None) is not None and q.height < tread.height):
+                return False
     for k in nbrs.get(tread.label, ()):
         q = byl[k]
         if (q is riser or q.orientation != "vertical" or getattr(q, "height", None) is None
@@ -1113,8 +1126,7 @@ def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = N
                 or abs(float(np.asarray(q.normal, float) @ nr)) < cos_tol):
             continue
         low = float(np.ptp(np.asarray(q.hull3d, float) @ up))
-        if abs(high - low) > 0.3 * max(high, low) or (flight_riser_max is not None
-                                                       and high > flight_riser_max):
+        if abs(high - low) > 0.3 * max(high, low):
             return False
     return True
 
@@ -1472,7 +1484,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                               riser_max=params.riser_max,
                               coplanar_depth=params.coplanar_depth,
                               sanity_angle=params.sanity_angle,
-                              flight_riser_max=1.5 * params.step_rise_max)
+                              flight_riser_max=1.5 * params.step_rise_max,
+                              seat_depth=params.step_run_max)
         if params.cavities and edges is not None:
             # the inside of one open object (a shelf, an open box): a channel or an inside
             # corner of shared concave edges (planerel.features.cavities)
