@@ -18,17 +18,20 @@ import math
 
 import numpy as np
 
+from planerel.features.cavities import cross3
+
 __all__ = ["footprint_overlap", "stacked_board_pairs"]
 
 
 def _horizontal_frame(up) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors spanning the horizontal plane (perpendicular to ``up``)."""
     u = np.asarray(up, float)
     u = u / max(float(np.linalg.norm(u)), 1e-12)
-    e1 = np.cross(u, [1.0, 0.0, 0.0])
+    e1 = cross3(u, (1.0, 0.0, 0.0))
     if np.linalg.norm(e1) < 0.1:
-        e1 = np.cross(u, [0.0, 1.0, 0.0])
-    e1 /= np.linalg.norm(e1)
-    return e1, np.cross(u, e1)
+        e1 = cross3(u, (0.0, 1.0, 0.0))
+    e1 = e1 / np.linalg.norm(e1)
+    return e1, cross3(u, e1)
 
 
 def _footprint(p, e1, e2):
@@ -92,46 +95,70 @@ def stacked_board_pairs(planes, labels=(), rise=(0.08, 0.60), min_overlap: float
     if len(cands) < min_boards:
         return set()
     cands.sort(key=lambda p: (p.height, p.label))
+    # heights and normals alone first (Python floats: a few planes, numpy's call overhead is
+    # most of the time): without three planes a regular rise apart there is no stack, and no
+    # footprint is needed (most frames stop here)
+    normals = [[float(v) for v in np.asarray(p.normal, float)] for p in cands]
+    heights = [float(p.height) for p in cands]
+    above: dict = {}
+    for i in range(len(cands)):
+        ni = normals[i]
+        for j in range(i + 1, len(cands)):
+            dv = heights[j] - heights[i]
+            if dv > rise[1]:
+                break
+            nj = normals[j]
+            if dv >= rise[0] and abs(ni[0] * nj[0] + ni[1] * nj[1] + ni[2] * nj[2]) >= cos_tol:
+                above.setdefault(i, []).append((j, dv))
+    if min_boards >= 3 and not any(1 - regular <= d2 / d1 <= 1 / (1 - regular)
+                                   for ups in above.values() for j, d1 in ups
+                                   for _k, d2 in above.get(j, ())):
+        return set()
     e1, e2 = _horizontal_frame(up)
-    # each candidate's hull vertices seen from above and their bounding box; the shapely
-    # footprint only for pairs whose boxes overlap enough to pass
-    pts = {}
-    box = {}
-    for p in cands:
-        H = np.asarray(p.hull3d, float).reshape(-1, 3)
-        q = np.stack([H @ e1, H @ e2], 1)
-        pts[p.label] = q
-        box[p.label] = (q.min(0), q.max(0))
+    frame = np.stack([e1, e2], 1)
+    # each candidate's hull vertices seen from above, made when a pair needs them; the shapely
+    # footprint only for pairs that pass the cheaper tests
+    pts: dict = {}
     foot: dict = {}
 
-    def fp(label):
-        if label not in foot:
+    def seen_from_above(i):
+        if i not in pts:
+            q = np.asarray(cands[i].hull3d, float).reshape(-1, 3) @ frame
+            c = np.asarray(cands[i].centroid, float) @ frame
+            pts[i] = (q, q.min(0), q.max(0), c)
+        return pts[i]
+
+    def fp(i):
+        if i not in foot:
             from shapely.geometry import MultiPoint
 
-            foot[label] = MultiPoint(pts[label]).convex_hull
-        return foot[label]
+            foot[i] = MultiPoint(seen_from_above(i)[0]).convex_hull
+        return foot[i]
 
     # the next board up of each plane: the nearest plane above within the rise that lies over it
     nxt: dict = {}
-    for i, lo in enumerate(cands):
-        nl = np.asarray(lo.normal, float)
-        for hi in cands[i + 1:]:
-            dv = hi.height - lo.height
-            if dv < rise[0]:
+    for i, ups in above.items():
+        qa, a0, a1, ca = seen_from_above(i)
+        for j, dv in ups:
+            qb, b0, b1, cb = seen_from_above(j)
+            # footprints whose bounding boxes do not meet do not overlap
+            if (min(a1[0], b1[0]) <= max(a0[0], b0[0])) or (min(a1[1], b1[1]) <= max(a0[1], b0[1])):
                 continue
-            if dv > rise[1]:
-                break
-            if abs(float(nl @ np.asarray(hi.normal, float))) < cos_tol:
-                continue
-            # footprints whose bounding boxes do not meet do not overlap (a staircase's
-            # treads, one beyond the other, mostly stop here)
-            (a0, a1), (b0, b1) = box[lo.label], box[hi.label]
-            if np.any(np.minimum(a1, b1) <= np.maximum(a0, b0)):
-                continue
-            fa, fb = fp(lo.label), fp(hi.label)
+            # along the horizontal line between the centroids, footprints that overlap by
+            # min_overlap of the smaller overlap by at least min_overlap / 2 of the shorter
+            # extent (a convex footprint fills at least half of its extent times its width);
+            # a staircase's next tread lies beyond the one below along that line
+            u = cb - ca
+            nu = math.hypot(float(u[0]), float(u[1]))
+            if nu > 1e-9:
+                ta, tb = qa @ (u / nu), qb @ (u / nu)
+                span = min(float(ta.max()), float(tb.max())) - max(float(ta.min()), float(tb.min()))
+                if span < 0.5 * min_overlap * min(float(np.ptp(ta)), float(np.ptp(tb))):
+                    continue
+            fa, fb = fp(i), fp(j)
             small = min(fa.area, fb.area)
             if small > 0 and fa.intersection(fb).area >= min_overlap * small:
-                nxt[lo.label] = (hi.label, dv)
+                nxt[cands[i].label] = (cands[j].label, dv)
                 break
     # stacks: chains of next boards, cut where a rise differs from the stack's first by more
     # than ``regular``
