@@ -61,6 +61,11 @@
 :- modeb(1, area(+plane, -area)).
 :- modeb(1, plane_length(+plane, -plength)).
 :- modeb(1, plane_width(+plane, -pwidth)).
+% a plane seen whole (not cut by the image border, not partly hidden): its sizes are sizes;
+% plane_length / plane_width measure the part in view, a lower bound when it is cut, so they
+% take only gteq ("at least this long") and an upper bound is on seen_length / seen_width
+:- modeb(1, seen_length(+plane, -slength)).
+:- modeb(1, seen_width(+plane, -swidth)).
 
 % object measures: the number of horizontal planes as a constant ("exactly one
 % horizontal plane" is one literal), the oblique share with a threshold
@@ -85,9 +90,9 @@
 :- modeb(1, gteq(+area, #area)).
 :- modeb(1, lteq(+area, #area)).
 :- modeb(1, gteq(+plength, #plength)).
-:- modeb(1, lteq(+plength, #plength)).
 :- modeb(1, gteq(+pwidth, #pwidth)).
-:- modeb(1, lteq(+pwidth, #pwidth)).
+:- modeb(1, lteq(+slength, #slength)).
+:- modeb(1, lteq(+swidth, #swidth)).
 :- modeb(1, gteq(+pfrac, #pfrac)).
 :- modeb(1, lteq(+pfrac, #pfrac)).
 :- modeb(1, gteq(+oblique, #oblique)).

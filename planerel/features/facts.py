@@ -34,6 +34,7 @@ __all__ = [
     "describe_scene",
     "oblique_share",
     "scene_facts",
+    "truncated_planes",
     "facts_text",
     "write_facts",
     "FactsWriter",
@@ -66,8 +67,12 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
     ("orientation", 2, "plane, horizontal|vertical|inclined", "orientation class"),
     ("incline", 2, "plane, deg", "angle between plane and horizontal, 0..90"),
     ("area", 2, "plane, m2", "convex-hull area"),
-    ("plane_length", 2, "plane, m", "long side of the hull's minimum rotated rectangle"),
-    ("plane_width", 2, "plane, m", "short side of that rectangle"),
+    ("plane_length", 2, "plane, m", "long side of the hull's minimum rotated rectangle (of the "
+     "part in view: a lower bound when the plane is not seen whole)"),
+    ("plane_width", 2, "plane, m", "short side of that rectangle (likewise)"),
+    ("seen_length", 2, "plane, m", "plane_length of a plane seen whole: not cut by the image "
+     "border, not partly hidden by a nearer surface (truncated_planes)"),
+    ("seen_width", 2, "plane, m", "plane_width of a plane seen whole"),
     ("height", 2, "plane, m", "centroid height above the floor / lowest support"),
     ("distance", 2, "plane, m", "distance from the sensor to the centroid"),
     ("npoints", 2, "plane, int", "number of points"),
@@ -154,6 +159,10 @@ class SceneDescription:
     #: Ground-truth objects that are no example: ``(object id or None when no plane of it
     #: was found, class, reason)`` (:func:`planerel.features.dataset.describe_truth_scene`).
     excluded: tuple = field(default=())
+    #: Labels of the planes not seen whole (:func:`truncated_planes`): their outline meets the
+    #: image border or a nearer surface hides part of them, so their extent is a lower bound
+    #: and ``seen_length`` / ``seen_width`` are not written for them.
+    truncated: frozenset = field(default=frozenset())
 
     @property
     def labels(self):
@@ -275,8 +284,86 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), c.planes, klass, c.mask,
                              c.planar_fraction, c.curved)
                  for k, c in enumerate(cobjs))
+    cut = truncated_planes(planes.labels, np.asarray(cloud.xyz, float))
     return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
-                            proposed, support)
+                            proposed, support, truncated=cut)
+
+
+#: :func:`truncated_planes`' defaults: a neighbour nearer by more than ``TRUNC_JUMP * max(1,
+#: range)`` within ``TRUNC_BAND`` pixels hides the plane there; a plane is cut when such
+#: pixels are at least ``TRUNC_SHARE`` of its outline, or when it comes within
+#: ``TRUNC_BORDER`` pixels of the image border.
+TRUNC_JUMP = 0.05
+TRUNC_BAND = 2
+TRUNC_SHARE = 0.10
+TRUNC_BORDER = 1
+
+
+def truncated_planes(labels, xyz, *, jump: float = TRUNC_JUMP, band: int = TRUNC_BAND,
+                     share: float = TRUNC_SHARE, border: int = TRUNC_BORDER) -> frozenset:
+    """Labels of the planes not seen whole: cut by the image border or partly hidden.
+
+    A plane's hull measures what is in view.  Where its outline is the image border or an
+    occluding edge (a valid point of another label, or of none, within ``band`` pixels along
+    a row or column, nearer to the sensor by more than ``jump * max(1, range)``), the plane
+    may go on behind: its length and width are lower bounds, not sizes (a tread half hidden
+    by the riser in front looks as thin as a table's edge).  Such a plane is cut when it
+    reaches within ``border`` pixels of the image border, or when the hidden pixels are at
+    least ``share`` of its outline pixels (pixels with a 4-neighbour outside the plane).
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W), int
+        Plane labels, -1 (or any negative) unassigned.
+    xyz : ndarray, shape (H, W, 3), float
+        Organized points; NaN invalid.
+
+    Returns
+    -------
+    frozenset of int
+    """
+    lab = np.asarray(labels)
+    if lab.ndim != 2 or lab.size == 0:
+        return frozenset()
+    H, W = lab.shape
+    pts = np.asarray(xyz, float)
+    rng = np.sqrt((pts ** 2).sum(-1))
+    valid = np.isfinite(rng) & (rng > 0)
+    rng = np.where(valid, rng, np.inf)
+    own = lab >= 0
+    pad = np.pad(lab, 1, constant_values=-2)
+    outline = own & ((pad[:-2, 1:-1] != lab) | (pad[2:, 1:-1] != lab)
+                     | (pad[1:-1, :-2] != lab) | (pad[1:-1, 2:] != lab))
+    hidden = np.zeros_like(own)
+    for k in range(1, band + 1):
+        for dr, dc in ((k, 0), (-k, 0), (0, k), (0, -k)):
+            src_r = slice(max(dr, 0), H + min(dr, 0))
+            dst_r = slice(max(-dr, 0), H + min(-dr, 0))
+            src_c = slice(max(dc, 0), W + min(dc, 0))
+            dst_c = slice(max(-dc, 0), W + min(-dc, 0))
+            nl = lab[src_r, src_c]
+            nr = rng[src_r, src_c]
+            here = rng[dst_r, dst_c]
+            with np.errstate(invalid="ignore"):
+                gap = here - nr
+            near = (nl != lab[dst_r, dst_c]) & np.isfinite(nr) & (gap > jump * np.maximum(1.0, nr))
+            hidden[dst_r, dst_c] |= near
+    hidden &= outline
+    n = int(lab.max()) + 1 if own.any() else 0
+    if n == 0:
+        return frozenset()
+    n_out = np.bincount(lab[outline], minlength=n)
+    n_hid = np.bincount(lab[hidden], minlength=n)
+    edge = np.zeros((H, W), bool)
+    b = max(0, int(border))
+    edge[:b + 1, :] = True
+    edge[H - b - 1:, :] = True
+    edge[:, :b + 1] = True
+    edge[:, W - b - 1:] = True
+    at_edge = np.bincount(lab[edge & own], minlength=n) > 0
+    cut = at_edge | ((n_out > 0) & (n_hid >= share * np.maximum(n_out, 1)))
+    present = np.bincount(lab[own], minlength=n) > 0
+    return frozenset(int(k) for k in np.nonzero(cut & present)[0])
 
 
 def oblique_share(planes_by_label, relations, labels) -> float:
@@ -378,6 +465,9 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
         out["area"].append(F("area", i, p.area, round_to=m))
         out["plane_length"].append(F("plane_length", i, p.length, round_to=m))
         out["plane_width"].append(F("plane_width", i, p.width, round_to=m))
+        if p.label not in desc.truncated:
+            out["seen_length"].append(F("seen_length", i, p.length, round_to=m))
+            out["seen_width"].append(F("seen_width", i, p.width, round_to=m))
         out["height"].append(F("height", i, p.height, round_to=m))
         out["distance"].append(F("distance", i, p.distance, round_to=m))
         out["npoints"].append(F("npoints", i, p.n_points))
