@@ -34,20 +34,25 @@ def _horizontal_frame(up) -> tuple[np.ndarray, np.ndarray]:
     return e1, cross3(u, e1)
 
 
-def _footprint(p, e1, e2):
-    """The convex hull of a plane's hull vertices projected on the horizontal plane (shapely)."""
+def _seen_from_above(p, frame) -> np.ndarray:
+    """A plane's hull vertices in the horizontal frame ``(3, 2)`` (its columns ``e1``, ``e2``):
+    ``(n, 2)`` coordinates seen from above."""
+    return np.asarray(p.hull3d, float).reshape(-1, 3) @ frame
+
+
+def _footprint(q):
+    """The convex hull (shapely) of ``(n, 2)`` points seen from above."""
     from shapely.geometry import MultiPoint
 
-    H = np.asarray(p.hull3d, float).reshape(-1, 3)
-    return MultiPoint(np.stack([H @ e1, H @ e2], 1)).convex_hull
+    return MultiPoint(q).convex_hull
 
 
 def footprint_overlap(pa, pb, up) -> float:
     """Area of the intersection of two planes' horizontal footprints (the convex hulls of their
     hull vertices seen from above) over the smaller footprint's area; 0 when either footprint
     has no area."""
-    e1, e2 = _horizontal_frame(up)
-    fa, fb = _footprint(pa, e1, e2), _footprint(pb, e1, e2)
+    frame = np.stack(_horizontal_frame(up), 1)
+    fa, fb = _footprint(_seen_from_above(pa, frame)), _footprint(_seen_from_above(pb, frame))
     small = min(fa.area, fb.area)
     if small <= 0:
         return 0.0
@@ -114,8 +119,7 @@ def stacked_board_pairs(planes, labels=(), rise=(0.08, 0.60), min_overlap: float
                                    for ups in above.values() for j, d1 in ups
                                    for _k, d2 in above.get(j, ())):
         return set()
-    e1, e2 = _horizontal_frame(up)
-    frame = np.stack([e1, e2], 1)
+    frame = np.stack(_horizontal_frame(up), 1)
     # each candidate's hull vertices seen from above, made when a pair needs them; the shapely
     # footprint only for pairs that pass the cheaper tests
     pts: dict = {}
@@ -123,16 +127,14 @@ def stacked_board_pairs(planes, labels=(), rise=(0.08, 0.60), min_overlap: float
 
     def seen_from_above(i):
         if i not in pts:
-            q = np.asarray(cands[i].hull3d, float).reshape(-1, 3) @ frame
+            q = _seen_from_above(cands[i], frame)
             c = np.asarray(cands[i].centroid, float) @ frame
             pts[i] = (q, q.min(0), q.max(0), c)
         return pts[i]
 
     def fp(i):
         if i not in foot:
-            from shapely.geometry import MultiPoint
-
-            foot[i] = MultiPoint(seen_from_above(i)[0]).convex_hull
+            foot[i] = _footprint(seen_from_above(i)[0])
         return foot[i]
 
     # the next board up of each plane: the nearest plane above within the rise that lies over it
