@@ -87,3 +87,75 @@ def test_default_task_bounds_sizes_in_the_sound_direction():
     assert ":- modeb(1, lteq(+swidth, #swidth))." in modes
     assert ":- modeb(1, lteq(+slength, #slength))." in modes
     assert ":- modeb(1, seen_width(+plane, -swidth))." in modes
+
+
+def _truncated_reference(lab, xyz, jump=0.05, band=2, share=0.10, border=1):
+    """The numpy form of truncated_planes (as first written, before the kernel)."""
+    H, W = lab.shape
+    rng = np.sqrt((xyz ** 2).sum(-1))
+    rng = np.where(np.isfinite(rng) & (rng > 0), rng, np.inf)
+    own = lab >= 0
+    pad = np.pad(lab, 1, constant_values=-2)
+    outline = own & ((pad[:-2, 1:-1] != lab) | (pad[2:, 1:-1] != lab)
+                     | (pad[1:-1, :-2] != lab) | (pad[1:-1, 2:] != lab))
+    hidden = np.zeros_like(own)
+    for k in range(1, band + 1):
+        for dr, dc in ((k, 0), (-k, 0), (0, k), (0, -k)):
+            src_r = slice(max(dr, 0), H + min(dr, 0))
+            dst_r = slice(max(-dr, 0), H + min(-dr, 0))
+            src_c = slice(max(dc, 0), W + min(dc, 0))
+            dst_c = slice(max(-dc, 0), W + min(-dc, 0))
+            nr = rng[src_r, src_c]
+            with np.errstate(invalid="ignore"):
+                gap = rng[dst_r, dst_c] - nr
+            hidden[dst_r, dst_c] |= ((lab[src_r, src_c] != lab[dst_r, dst_c]) & np.isfinite(nr)
+                                     & (gap > jump * np.maximum(1.0, nr)))
+    hidden &= outline
+    n = int(lab.max()) + 1
+    n_out = np.bincount(lab[outline], minlength=n)
+    n_hid = np.bincount(lab[hidden], minlength=n)
+    edge = np.zeros((H, W), bool)
+    edge[:border + 1, :] = edge[H - border - 1:, :] = True
+    edge[:, :border + 1] = edge[:, W - border - 1:] = True
+    at_edge = np.bincount(lab[edge & own], minlength=n) > 0
+    cut = at_edge | ((n_out > 0) & (n_hid >= share * np.maximum(n_out, 1)))
+    present = np.bincount(lab[own], minlength=n) > 0
+    return frozenset(int(k) for k in np.nonzero(cut & present)[0]), (n_out, n_hid, at_edge, present)
+
+
+def test_kernel_matches_the_numpy_form_on_random_images():
+    from planerel.features._truncated_kernels import truncation_counts
+
+    rs = np.random.default_rng(5)
+    for t in range(80):
+        H, W = int(rs.integers(3, 40)), int(rs.integers(3, 40 if t < 60 else 200))
+        # blocky labels (runs of one label, as planes make) with holes, depths in steps
+        lab = np.repeat(np.repeat(rs.integers(-1, 6, (H // 3 + 1, W // 3 + 1)), 3, 0), 3, 1)[:H, :W]
+        z = np.repeat(np.repeat(rs.uniform(0.5, 4.0, (H // 3 + 1, W // 3 + 1)), 3, 0), 3, 1)[:H, :W]
+        z = z + rs.normal(0, 0.01, (H, W))
+        xyz = np.stack([rs.uniform(-1, 1, (H, W)), rs.uniform(-1, 1, (H, W)), z], -1)
+        if t % 2:
+            # a single odd pixel inside a plane: eight flags of which one is 0
+            lab = np.zeros((H, W), int)
+            lab[rs.integers(1, H - 1), rs.integers(1, W - 1)] = -1
+        xyz[rs.random((H, W)) < 0.05] = np.nan
+        xyz[rs.random((H, W)) < 0.02] = 0.0
+        kw = dict(jump=float(rs.choice([0.0, 0.05, 0.2])), band=int(rs.integers(0, 4)),
+                  share=float(rs.choice([0.0, 0.1, 0.5])), border=int(rs.integers(0, 3)))
+        if not (lab >= 0).any():
+            continue
+        want, counts = _truncated_reference(lab, xyz, **kw)
+        assert truncated_planes(lab, xyz, **kw) == want, (t, kw)
+        got = truncation_counts(lab.astype(np.int64), np.ascontiguousarray(xyz, float), kw["jump"],
+                                kw["band"], kw["border"], int(lab.max()) + 1)
+        for a, b in zip(got, counts, strict=True):
+            assert np.array_equal(a, b), (t, kw)
+
+
+def test_points_of_another_shape_are_refused():
+    import pytest
+
+    from planerel.errors import InputError
+
+    with pytest.raises(InputError):
+        truncated_planes(np.zeros((4, 5), int), np.zeros((5, 4, 3)))

@@ -322,47 +322,18 @@ def truncated_planes(labels, xyz, *, jump: float = TRUNC_JUMP, band: int = TRUNC
     -------
     frozenset of int
     """
+    from planerel.features._truncated_kernels import truncation_counts
+
     lab = np.asarray(labels)
-    if lab.ndim != 2 or lab.size == 0:
+    if lab.ndim != 2 or lab.size == 0 or not (lab >= 0).any():
         return frozenset()
-    H, W = lab.shape
-    pts = np.asarray(xyz, float)
-    rng = np.sqrt((pts ** 2).sum(-1))
-    valid = np.isfinite(rng) & (rng > 0)
-    rng = np.where(valid, rng, np.inf)
-    own = lab >= 0
-    pad = np.pad(lab, 1, constant_values=-2)
-    outline = own & ((pad[:-2, 1:-1] != lab) | (pad[2:, 1:-1] != lab)
-                     | (pad[1:-1, :-2] != lab) | (pad[1:-1, 2:] != lab))
-    hidden = np.zeros_like(own)
-    for k in range(1, band + 1):
-        for dr, dc in ((k, 0), (-k, 0), (0, k), (0, -k)):
-            src_r = slice(max(dr, 0), H + min(dr, 0))
-            dst_r = slice(max(-dr, 0), H + min(-dr, 0))
-            src_c = slice(max(dc, 0), W + min(dc, 0))
-            dst_c = slice(max(-dc, 0), W + min(-dc, 0))
-            nl = lab[src_r, src_c]
-            nr = rng[src_r, src_c]
-            here = rng[dst_r, dst_c]
-            with np.errstate(invalid="ignore"):
-                gap = here - nr
-            near = (nl != lab[dst_r, dst_c]) & np.isfinite(nr) & (gap > jump * np.maximum(1.0, nr))
-            hidden[dst_r, dst_c] |= near
-    hidden &= outline
-    n = int(lab.max()) + 1 if own.any() else 0
-    if n == 0:
-        return frozenset()
-    n_out = np.bincount(lab[outline], minlength=n)
-    n_hid = np.bincount(lab[hidden], minlength=n)
-    edge = np.zeros((H, W), bool)
-    b = max(0, int(border))
-    edge[:b + 1, :] = True
-    edge[H - b - 1:, :] = True
-    edge[:, :b + 1] = True
-    edge[:, W - b - 1:] = True
-    at_edge = np.bincount(lab[edge & own], minlength=n) > 0
+    pts = np.ascontiguousarray(xyz, dtype=np.float64)
+    if pts.shape != lab.shape + (3,):
+        raise InputError(f"truncated_planes: points of shape {pts.shape} for labels of shape {lab.shape}")
+    n_out, n_hid, at_edge, present = truncation_counts(
+        np.ascontiguousarray(lab if lab.dtype in (np.int32, np.int64) else lab.astype(np.int64)), pts, float(jump), max(0, int(band)),
+        max(0, int(border)), int(lab.max()) + 1)
     cut = at_edge | ((n_out > 0) & (n_hid >= share * np.maximum(n_out, 1)))
-    present = np.bincount(lab[own], minlength=n) > 0
     return frozenset(int(k) for k in np.nonzero(cut & present)[0])
 
 
