@@ -105,16 +105,14 @@ def concave_cuts(planes, joined, concave, edges, ratio: float = 0.25, max_cos: f
     joined = set(joined)
     cos_tol = math.cos(math.radians(min_angle))
     cands = []
+    # the concave pairs with a clear shared edge, and each plane's partners among them
+    strong = [(a, b, e) for a, b in concave
+              if (e := edges.get((min(a, b), max(a, b)))) is not None and e[2] >= MIN_CONCAVE_EDGE]
     concave_nb: dict = {}
-    for a, b in concave:
-        e = edges.get((min(a, b), max(a, b)))
-        if e is not None and e[2] >= MIN_CONCAVE_EDGE:
-            concave_nb.setdefault(a, set()).add(b)
-            concave_nb.setdefault(b, set()).add(a)
-    for a, b in concave:
-        e = edges.get((min(a, b), max(a, b)))
-        if e is None or e[2] < MIN_CONCAVE_EDGE:
-            continue
+    for a, b, _e in strong:
+        concave_nb.setdefault(a, set()).add(b)
+        concave_nb.setdefault(b, set()).add(a)
+    for a, b, e in strong:
         pa, pb = byl[a], byl[b]
         if min(pa.n_points, pb.n_points) < min_points:
             continue

@@ -366,9 +366,10 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     if p.leftover and cloud.organized:
         cur = lab if new_lab is None else new_lab
         lo_size = max(3, int(round(min_size * p.leftover_scale)))
-        # planes of the regions of at least the minimum size (surfaces already found)
-        big_planes = [(np.asarray(q.normal, dtype=np.float64), float(q.offset))
-                      for q in seg.planes if q.n_points >= min_size]
+        # planes of the regions of at least the minimum size (surfaces already found), needed
+        # only when patches under that size are searched
+        big_planes = ([(np.asarray(q.normal, dtype=np.float64), float(q.offset))
+                       for q in seg.planes if q.n_points >= min_size] if lo_size < min_size else [])
         for t, pix in enumerate(_free_patches(cur.reshape(h, w), cloud.valid, lo_size)):
             info["leftover_patches"] += 1
             # a patch of at least the minimum size is searched for pieces of that size, as
