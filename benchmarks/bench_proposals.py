@@ -17,7 +17,9 @@ occluded_pieces=False, side_wall_members=0, cut_long_side=False, apart_edge=0`` 
 ``shared_top=False`` and ``CurvedParams(regrow_px=0)`` (the defaults before the seventh
 pass, main at 09f30bd), with ``concave_cut=0`` (the defaults before the eighth pass, main at
 ec6f66b), with ``stacked_boards=False, riser_max=0.45`` (the defaults before the tenth pass,
-main at 99e83eb; the earlier variants have these too) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
+main at 99e83eb; the earlier variants have these too), with ``stacked_faces=0`` and
+``CurvedParams(join_facets=False, near_depth=0.0)`` (the defaults before tabletop22, main at 456e27b; the
+earlier variants have these too) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
 Printed: ms per frame of each and its ratio to the reference, and the proposals' found rate /
 false proposals per frame (planerel.features.object_eval).
 """
@@ -62,7 +64,8 @@ def main(argv=None) -> int:
     for path in inputs:
         for name, cloud, truth, ty in frame_truth(path):
             frames.append((name, cloud, segment(cloud).labels, truth, ty))
-    OLD10 = dict(stacked_boards=False, riser_max=0.45)  # noqa: N806 (the tenth pass's rules off)
+    # the tenth pass's rules off, and tabletop22's stacked faces
+    OLD10 = dict(stacked_boards=False, riser_max=0.45, stacked_faces=0.0)  # noqa: N806
     variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0, border_wall_area=0,
                                                     wall_behind=1, floor_gap=1.0, raised_objects=False,
                                                     ramp_tilt=0.0, split_panels=False,
@@ -83,13 +86,15 @@ def main(argv=None) -> int:
                 "before 7th pass": ProposalParams(shared_top=False, concave_cut=0.0, **OLD10),
                 "before 8th pass": ProposalParams(concave_cut=0.0, **OLD10),
                 "before 10th pass": ProposalParams(**OLD10),
+                "before tabletop22": ProposalParams(stacked_faces=0.0),
                 "defaults": ProposalParams()}
     # the curved clusters' parameters of each variant (the sixth pass's one-plane join, the
     # seventh pass's clusters grown back)
-    curved = {k: CurvedParams(join_area=0.0, regrow_px=0) for k in variants}
-    curved["before 7th pass"] = CurvedParams(regrow_px=0)
-    curved["before 8th pass"] = CurvedParams()
-    curved["before 10th pass"] = CurvedParams()
+    curved = {k: CurvedParams(join_area=0.0, regrow_px=0, join_facets=False, near_depth=0.0) for k in variants}
+    curved["before 7th pass"] = CurvedParams(regrow_px=0, join_facets=False, near_depth=0.0)
+    curved["before 8th pass"] = CurvedParams(join_facets=False, near_depth=0.0)
+    curved["before 10th pass"] = CurvedParams(join_facets=False, near_depth=0.0)
+    curved["before tabletop22"] = CurvedParams(join_facets=False, near_depth=0.0)
     curved["defaults"] = CurvedParams()
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": []} for k in variants}

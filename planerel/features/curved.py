@@ -99,6 +99,16 @@ class CurvedParams:
         Clusters of unexplained points that lie on a staircase's profile become its treads and
         risers, one proposal (:mod:`planerel.features.stairfit`; applied by
         :func:`planerel.features.facts.describe_scene` when it proposes the objects).
+    near_min_area, near_depth : float
+        m^2, metres: a cluster whose pixels' mean depth is at most ``near_depth`` is kept from
+        ``near_min_area`` (0.004: a mug or a can at 0.6-1.5 m shows 0.004-0.01 m^2; the
+        sensor's noise at that range makes few specks that survive the opening);
+        ``near_depth`` = 0: ``min_area`` everywhere (before tabletop22).
+    join_facets : bool
+        Proposals made only of facets (and planes under ``small_area``) that hold two facets
+        linked by the facet rule (adjacent, ``facet_min_angle``-``facet_max_angle`` apart) are
+        one proposal: the strips of a bowl's inside meet at concave edges, which the proposal
+        rule cuts, and each was a curved proposal of its own (tabletop22).
     """
 
     facet_min_angle: float = FACET_MIN_ANGLE
@@ -115,10 +125,13 @@ class CurvedParams:
     enabled: bool = True
     stepped_clusters: bool = True
     regrow_px: int = 3
+    join_facets: bool = True
+    near_min_area: float = 0.004
+    near_depth: float = 1.5
 
     def __post_init__(self) -> None:
         for name in ("facet_min_angle", "facet_max_angle", "tiny_area", "edge_depth", "min_area",
-                     "small_area", "join_area", "curved_below"):
+                     "small_area", "join_area", "curved_below", "near_min_area", "near_depth"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
                 raise InputError(f"{name} must be a number >= 0, got {v!r}")
@@ -356,7 +369,13 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     ids, k = list_components(rows, cols, xyz, float(params.edge_depth), un.shape[0])
     pitch = (_pitch_at(xyz, rows, cols, 1), _pitch_at(xyz, rows, cols, 0))
     area = list_areas(xyz, rows, cols, ids, pitch[0], pitch[1], k)
-    keep = np.nonzero(area >= params.min_area)[0]  # component ids follow the first pixel
+    lim = np.full(k, float(params.min_area))
+    if params.near_depth > 0 and k:
+        # near clusters (mean depth within near_depth) need only near_min_area
+        zc = np.bincount(ids, weights=xyz[rows, cols, 2], minlength=k) / np.maximum(
+            np.bincount(ids, minlength=k), 1)
+        lim[zc <= params.near_depth] = min(float(params.near_min_area), float(params.min_area))
+    keep = np.nonzero(area >= lim)[0]  # component ids follow the first pixel
     out = []
     if params.regrow_px > 0 and params.open_px > 0 and len(keep):
         # the kept clusters grown back regrow_px steps into the pixels before the opening,
@@ -403,6 +422,33 @@ def _touching_labels(mask, lab, xyz, edge_depth: float) -> dict:
     return {int(x): int(n[x]) for x in np.nonzero(n)[0]}
 
 
+def _join_facet_proposals(props, facets, byl, relations, params) -> list:
+    """``props`` with the proposals made only of facets (or planes under ``small_area``) that
+    two linked facets join merged into the first of them (``CurvedParams.join_facets``); the
+    merged ones are left empty, so indices keep their meaning."""
+    from planerel.features.relations import Components
+
+    owner = {x: k for k, g in enumerate(props) for x in g}
+    soft = [len(g) > 0 and all(x in facets or byl[x].area < params.small_area for x in g)
+            for g in props]
+    lo, hi = params.facet_min_angle, params.facet_max_angle
+    g = Components(range(len(props)))
+    g.add_edges((owner[r.a], owner[r.b]) for r in relations
+                if r.a < r.b and r.adjacent and lo <= r.angle <= hi
+                and r.a in facets and r.b in facets and r.a in owner and r.b in owner
+                and owner[r.a] != owner[r.b] and soft[owner[r.a]] and soft[owner[r.b]])
+    out = [tuple(p) for p in props]
+    for comp in g.groups():
+        if len(comp) < 2:
+            continue
+        k0 = min(comp)
+        out[k0] = tuple(sorted({x for k in comp for x in props[k]}))
+        for k in comp:
+            if k != k0:
+                out[k] = ()
+    return out
+
+
 def curved_objects(planes, relations, proposals, cloud=None, labels=None, support=(),
                    params: CurvedParams | None = None, pixels=None) -> list[CurvedObject]:
     """Proposals with their unexplained points and planar fractions (the module's rule).
@@ -435,6 +481,8 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
     props = [tuple(sorted(int(x) for x in g)) for g in proposals]
     facets = facet_planes(planes, relations, [p.label for p in planes if p.label not in support],
                           params)
+    if params.join_facets and facets and len(props) > 1:
+        props = _join_facet_proposals(props, facets, byl, relations, params)
     masks: list = [None] * len(props)
     alone: list = []
     if labels is None:

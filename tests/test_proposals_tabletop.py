@@ -1,0 +1,165 @@
+"""Table-top rules of tabletop22 (docs/objects.md "Table-top judge set (tabletop22)"): a box
+standing turned on another box comes apart, a face standing on another object's face is not
+joined to it, the strips of a bowl's inside are one proposal, and a small round object near the
+sensor (a mug at 0.9 m) gets a proposal of its own.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from scenes_analytic import Rect, floor
+from test_proposals_scenes import _proposals
+
+from planerel.errors import InputError
+from planerel.features.curved import CurvedParams
+from planerel.features.facts import describe_scene
+from planerel.features.object_eval import proposal_image, score_objects
+from planerel.features.relations import ProposalParams, convex_pairs
+
+
+def _yawed_box(cx, cy, sx, sy, sz, yaw, z0=0.0, obj=1):
+    """Top and four sides of a box turned by ``yaw`` about the vertical, bottom at ``z0``."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    ex, ey = (c, s, 0.0), (-s, c, 0.0)
+    zc = z0 + sz / 2
+    out = [Rect((cx, cy, z0 + sz), ex, ey, sx / 2, sy / 2, obj)]
+    for sgn in (-1, 1):
+        out.append(Rect((cx + sgn * ey[0] * sy / 2, cy + sgn * ey[1] * sy / 2, zc), ex, (0, 0, 1),
+                        sx / 2, sz / 2, obj))
+        out.append(Rect((cx + sgn * ex[0] * sx / 2, cy + sgn * ex[1] * sx / 2, zc), ey, (0, 0, 1),
+                        sy / 2, sz / 2, obj))
+    return out
+
+
+@pytest.mark.parametrize("turn", [0.5, 0.9])
+def test_a_box_standing_turned_on_a_box_comes_apart(turn):
+    # a 30 x 30 x 20 cm box on a 40 x 40 x 25 cm box, turned 29 / 52 degrees against it: the
+    # lower top meets the upper box's faces as a tread meets its riser, but no face of the
+    # lower box is parallel or perpendicular to them (no flight is built so)
+    rects = [floor()] + _yawed_box(0.0, 2.0, 0.4, 0.4, 0.25, 0.3, obj=1) \
+        + _yawed_box(0.02, 2.02, 0.3, 0.3, 0.2, 0.3 + turn, z0=0.25, obj=2)
+    view = dict(pitch=35, cam_height=1.3, width=320, height=240, noise=0.001)
+    props, seen = _proposals(rects, **view)
+    assert len(seen[1]) >= 3 and len(seen[2]) >= 3
+    assert seen[1] in props and seen[2] in props
+    merged, _ = _proposals(rects, ProposalParams(stacked_faces=0.0), **view)
+    assert seen[1] | seen[2] in merged  # the tread-and-riser exception joined them before
+
+
+def _vplane(label, normal, center, halfw, z0, z1):
+    n = np.asarray(normal, float)
+    n = n / np.linalg.norm(n)
+    t = np.cross([0.0, 0.0, 1.0], n)
+    t /= np.linalg.norm(t)
+    c = np.asarray(center, float)
+    hull = np.array([c + s * halfw * t + [0.0, 0.0, z - c[2]] for s in (-1, 1) for z in (z0, z1)])
+    cen = hull.mean(0)
+    return SimpleNamespace(label=label, normal=n, centroid=cen, orientation="vertical", hull3d=hull,
+                           height=float(cen[2]), n_points=100)
+
+
+class _Planes(list):
+    up = np.array([0.0, 0.0, 1.0])
+
+
+def test_a_face_standing_on_another_face_is_not_joined_to_it():
+    # the camera at the origin, up = +z: a lower box's front (0-20 cm high) and, above it, an
+    # upper box's face turned 45 degrees (20-35 cm), their edge points offset so that the
+    # convexity sign says convex, as noise makes it on real frames
+    kw = dict(riser_max=0.6, coplanar_depth=0.03, sanity_angle=50.0)
+    lower = _vplane(1, (0, -1, 0), (0, 1.5, 0.1), 0.15, 0.0, 0.2)
+    upper = _vplane(2, (-1, -1, 0), (0.02, 1.46, 0.3), 0.1, 0.2, 0.35)
+    edges = {(1, 2): (np.array([0.0, 1.5, 0.19]), np.array([-0.03, 1.5, 0.21]), 40)}
+    ps = _Planes([lower, upper])
+    assert convex_pairs(ps, [(1, 2)], edges, 10.0, 0.5, stacked_overlap=0.0, **kw) == {(1, 2)}
+    assert convex_pairs(ps, [(1, 2)], edges, 10.0, 0.5, stacked_overlap=0.3, **kw) == set()
+    # two sides of one box at a vertical corner span the same heights: still joined
+    a = _vplane(1, (0, -1, 0), (0, 1.5, 0.1), 0.15, 0.0, 0.2)
+    b = _vplane(2, (1, 0, 0), (0.15, 1.65, 0.1), 0.15, 0.0, 0.2)
+    e2 = {(1, 2): (np.array([0.14, 1.5, 0.1]), np.array([0.15, 1.51, 0.1]), 40)}
+    assert convex_pairs(_Planes([a, b]), [(1, 2)], e2, 10.0, 0.5, stacked_overlap=0.3, **kw) == {(1, 2)}
+    # an upper plane higher than riser_max (a flight's side wall above its lowest riser) is
+    # left to the other rules
+    tall = _vplane(2, (-1, -1, 0), (0.02, 1.46, 0.6), 0.1, 0.2, 1.0)
+    assert convex_pairs(_Planes([lower, tall]), [(1, 2)], edges, 10.0, 0.5, stacked_overlap=0.3,
+                        **kw) == {(1, 2)}
+
+
+def test_stacked_faces_is_a_fraction():
+    with pytest.raises(InputError):
+        ProposalParams(stacked_faces=1.5)
+    with pytest.raises(InputError):
+        CurvedParams(near_min_area=-1.0)
+
+
+def _trough(cx, cy, radius, length, n=7, span=150.0, obj=1):
+    """The inside of a half-pipe along x on the floor (a bowl's inside in one direction), in
+    ``n`` flat strips ``span / (n - 1)`` degrees apart."""
+    out = []
+    w = 2 * radius * math.sin(math.radians(span / 2 / (n - 1)))
+    for a in np.radians(np.linspace(-span / 2, span / 2, n)):
+        p = (cx, cy + radius * math.sin(a), radius - radius * math.cos(a))
+        out.append(Rect(p, (1, 0, 0), (0.0, math.cos(a), math.sin(a)), length / 2, w / 2 * 1.02, obj))
+    return out
+
+
+@pytest.mark.parametrize("pitch, height", [(50, 1.2), (40, 1.0)])
+def test_the_strips_of_a_bowls_inside_are_one_proposal(pitch, height):
+    # the strips meet at concave edges 25 degrees apart: cut apart by the convexity rule, each
+    # was a curved proposal of its own; linked facets of facet-only proposals are one
+    from scenes_analytic import render
+
+    cloud, lab, _up, objs = render([floor()] + _trough(0.0, 1.0, 0.15, 0.3), pitch=pitch,
+                                   cam_height=height, width=320, height=240, noise=0.0005)
+    d = describe_scene(cloud, lab)
+    curved = [set(o.planes) for o in d.objects if o.curved]
+    assert len(curved) == 1 and len(curved[0]) >= 3
+    assert all(objs[x] == 1 for x in curved[0])
+    apart = describe_scene(cloud, lab, curved_params=CurvedParams(join_facets=False))
+    assert sum(bool(o.curved) for o in apart.objects) >= 3
+
+
+_SPEC = importlib.util.spec_from_file_location(
+    "tabletop_scenes", Path(__file__).resolve().parents[1] / "benchmarks" / "tabletop_scenes.py")
+tt = importlib.util.module_from_spec(_SPEC)
+_SPEC.loader.exec_module(tt)
+
+
+@pytest.mark.parametrize("mug_seed", [2, 6, 11])
+def test_a_mug_near_the_sensor_is_a_proposal(mug_seed):
+    # one mug (8-9 cm across, 9-10 cm high) on a table, seen from 0.9 m, 45 degrees down, with the
+    # table-top judge set's sensor: its cluster of unexplained points is 0.004-0.01 m^2
+    rng = np.random.default_rng(3)
+    H = 0.75
+    table = tt._box((1.2, 0.8, 0.03), (0, 0, H - 0.015))
+    mug, _r = tt.mug(np.random.default_rng(mug_seed))
+    mug.apply_translation([0.0, 0.0, H])
+    pitch = math.radians(45)
+    f = np.array([0.0, math.cos(pitch), -math.sin(pitch)])
+    eye = np.array([0.0, 0.0, H + 0.05]) - 0.9 * f
+    r = np.array([1.0, 0.0, 0.0])
+    R = np.stack([r, np.cross(f, r), f])
+    intr = (640, 480, 525.0, 525.0, 319.5, 239.5)
+    t, nrm, owner, rays, dirs = tt.raycast([(table, 0), (mug, 1)], eye, R, intr)
+    z, own = tt.sense(t, nrm, owner, rays, dirs, intr, rng)
+    from planerel.io.cloud import Cloud, Intrinsics
+    from planerel.segment import segment
+
+    cloud = Cloud((rays * z[..., None]).astype(np.float32), Intrinsics(640, 480, 525.0, 525.0, 319.5, 239.5),
+                  None, "mug")
+    labels = segment(cloud).labels
+
+    def found(cp):
+        d = describe_scene(cloud, labels, curved_params=cp)
+        img = proposal_image(d.labels, [o.planes for o in d.objects], [o.mask for o in d.objects])
+        return score_objects(img, own).found
+
+    assert (own == 1).sum() > 300
+    assert found(CurvedParams()) == 1
+    assert found(CurvedParams(near_depth=0.0)) == 0
