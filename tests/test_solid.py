@@ -146,11 +146,45 @@ def test_no_cloud_no_skirt_and_params_checked():
     ps = measure_planes(cloud, lab)
     assert not any(r.skirt or r.corner for r in relate(ps))
     assert any(r.skirt for r in relate(ps, cloud))
-    assert not any(r.skirt for r in relate(ps, cloud, RelationParams(skirt_reach=0.5)))
+    assert not any(r.skirt for r in relate(ps, cloud, RelationParams(skirt_reach=0.5, skirt_reach_share=0)))
+    # the reach asked of a short top's face is scaled down: 0.15 x 0.5 m < 0.4 m
+    assert any(r.skirt for r in relate(ps, cloud, RelationParams(skirt_reach=0.5)))
     with pytest.raises(InputError, match="skirt_cover"):
         RelationParams(skirt_cover=1.5)
     with pytest.raises(InputError, match="skirt_reach"):
         RelationParams(skirt_reach=-0.1)
+    with pytest.raises(InputError, match="skirt_reach_share"):
+        RelationParams(skirt_reach_share=-0.1)
+
+
+@pytest.mark.parametrize("sx, sy, sz", [(0.24, 0.16, 0.045), (0.12, 0.10, 0.04), (0.30, 0.20, 0.05)])
+def test_low_box_lying_on_a_table_has_a_skirt(sx, sy, sz):
+    # a box lying flat (a tea or a cereal box: 4-5 cm high) seen from 1 m, 45 degrees down, as
+    # on a table top: its sides reach less than skirt_reach (7 cm), but its top is short, so
+    # the reach asked scales down with the top's long side (0.15 x 0.12-0.30 m)
+    cloud, lab, ps, rel = _relations([floor()] + box(0.0, 0.9, sx, sy, sz), pitch=45, cam_height=0.8,
+                                     width=320, height=240)
+    top, front = ps.by_label(1), ps.by_label(2)
+    assert top.orientation == "horizontal" and front.orientation == "vertical"
+    _, reach, cover, _ = skirt_measures(top, front, ps.up, _prof(front, ps, lab, cloud), lab,
+                                        cloud.xyz, cloud.intrinsics)
+    assert reach == pytest.approx(sz, abs=0.01) and reach < 0.07 and cover > 0.7
+    assert rel.get(1, 2).skirt
+    assert not relate(ps, cloud, RelationParams(skirt_reach_share=0)).get(1, 2).skirt
+
+
+def test_a_long_slab_edge_is_no_skirt():
+    # a table top 1.2 x 0.7 m and its 4 cm edge strip: the top is long, the full 7 cm is asked
+    t = 0.04
+    top = Rect((0.0, 2.4, 0.75), (1, 0, 0), (0, 1, 0), 0.6, 0.35, 1)
+    edge = _vrect(0.0, 2.4 - 0.35, 0.6, 0.75 - t, 0.75)
+    cloud, lab, ps, rel = _relations([floor(), top, edge], pitch=30)
+    assert rel.get(1, 2).adjacent and not rel.get(1, 2).skirt
+    # the same edge under a short top (a 0.2 m board) would pass: the scaling is by the top's length
+    top_s = Rect((0.0, 2.4, 0.75), (1, 0, 0), (0, 1, 0), 0.1, 0.08, 1)
+    edge_s = _vrect(0.0, 2.4 - 0.08, 0.1, 0.75 - t, 0.75)
+    cloud, lab, ps, rel = _relations([floor(), top_s, edge_s], pitch=30)
+    assert rel.get(1, 2).adjacent and rel.get(1, 2).skirt
 
 
 def test_face_percentiles_are_numpys():

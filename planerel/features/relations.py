@@ -21,7 +21,8 @@ For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.pl
                  (the camera's optical axis with its up component removed) by ``front_tol``
 ``skirt``        p is horizontal, q vertical and adjacent, and q hangs below p as a box's
                  side below its top: q's top edge at p's level, q reaching down at least
-                 ``skirt_reach`` and, halfway down, covering ``skirt_cover`` of p's extent
+                 ``skirt_reach``, or ``skirt_reach_share`` of p's length when that is less
+                 (a box lying flat on a table), and, halfway down, covering ``skirt_cover`` of p's extent
                  along their edge where it can be seen, ending within ``skirt_beyond``
                  of where p ends; not a riser: q does not stand on a step (a horizontal
                  plane at its foot reaching at most ``skirt_step`` out from it) and no
@@ -101,6 +102,7 @@ class RelationParams:
     front_tol: float = 0.05
     skirt_tol: float = 0.08
     skirt_reach: float = 0.07
+    skirt_reach_share: float = 0.15
     skirt_cover: float = 0.7
     skirt_beyond: float = 0.4
     skirt_step: float = 0.45
@@ -110,7 +112,7 @@ class RelationParams:
     def __post_init__(self) -> None:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
-                             "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width"))
+                             "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width"))
         if self.skirt_cover > 1:
             raise InputError(f"skirt_cover is a share of the top's extent in 0..1, got {self.skirt_cover!r}")
         if self.parallel_tol >= 45 or self.perpendicular_tol >= 45:
@@ -278,8 +280,11 @@ class _Solid:
 
         p = self.params
         prof = self._profile(face)
+        # a low box's side is as low as a slab's edge: the reach asked scales with the top's
+        # long side (a table top or a seat is long, a box lying flat is short)
+        reach = min(p.skirt_reach, p.skirt_reach_share * top.length) if p.skirt_reach_share else p.skirt_reach
         if not is_skirt(top, face, self.up, prof, self.labels, self.xyz, self.intrinsics,
-                        self.normals, p.parallel_tol, p.skirt_tol, p.skirt_reach,
+                        self.normals, p.parallel_tol, p.skirt_tol, reach,
                         p.skirt_cover, p.skirt_beyond):
             return False
         near = self.touching.get(face.label, ())
