@@ -34,6 +34,9 @@ def main(argv=None) -> int:
     ap.add_argument("--confirm", action="append", default=[], metavar="HELD2",
                     help="a further held-out set (a confirmation set, never used for a choice) "
                          "scored with the same model, under 'confirm' in the output; repeatable")
+    ap.add_argument("--task", default=None, metavar="FILE.pl",
+                    help="task file (default planerel's aleph/modes_relational.pl; a name in "
+                         "planerel.aleph such as modes_slope.pl, or a path)")
     ap.add_argument("--other-rules", action="store_true",
                     help="learn rules for class other too (planerel learn --other-rules)")
     ap.add_argument("--keep-redundant", action="store_true",
@@ -59,7 +62,7 @@ def main(argv=None) -> int:
     cv = None
     if args.folds:
         cv = P.cross_validate(descs, classes, folds=args.folds, jobs=args.jobs, progress=False,
-                              timeout=args.timeout, settings=settings or None,
+                              timeout=args.timeout, settings=settings or None, task=args.task,
                               other_rules=args.other_rules, keep_redundant=args.keep_redundant)
         cv = {k: cv.get(k) for k in ("accuracy", "per_class", "confusion", "other",
                                      "open_set_accuracy", "open_set_confusion", "n_examples",
@@ -67,7 +70,7 @@ def main(argv=None) -> int:
     t2 = time.perf_counter()
     model = P.learn_rules(descs, classes, engine="auto", timeout=args.timeout,
                           settings=settings or None, other_rules=args.other_rules,
-                          keep_redundant=args.keep_redundant)
+                          keep_redundant=args.keep_redundant, task=args.task)
     t3 = time.perf_counter()
     held = P.held_out_scores(model, args.held, jobs=args.jobs, progress=False,
                              timeout=args.timeout)
@@ -89,7 +92,7 @@ def main(argv=None) -> int:
         write_text(out / "answers.json", json.dumps(answers, indent=0, sort_keys=True))
     t4 = time.perf_counter()
     print(json.dumps({"tag": args.tag, "train": args.train, "held": args.held,
-                      "settings": settings,
+                      "settings": settings, "task": args.task,
                       "classes": list(classes), "rules": model.clauses(), "stats": model.stats, "cv": cv,
                       "heldout": held, "confirm": confirm,
                       "seconds": {"describe": round(t1 - t0, 1), "cv": round(t2 - t1, 1),

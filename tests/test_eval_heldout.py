@@ -42,3 +42,24 @@ def test_confirm_scores_the_same_model_on_each_further_set(tmp_path, capsys):
     assert ev.main([str(train), str(held), "--folds", "0", "--jobs", "1"]) == 0
     plain = json.loads(capsys.readouterr().out)
     assert plain["confirm"] == [] and plain["heldout"]["confusion"] == first["confusion"]
+
+
+def test_task_file_reaches_the_learner(tmp_path, capsys):
+    train, held = tmp_path / "train", tmp_path / "held"
+    generate_dataset(train, n_box=2, n_stairs=2, n_ramp=2, seed=3, size=(640, 480), subsample=4)
+    generate_dataset(held, n_box=1, n_stairs=1, n_ramp=1, seed=77, size=(640, 480), subsample=4)
+    # a task whose only body mode is has_plane/2 can learn no rule that tells the classes apart
+    bare = tmp_path / "bare.pl"
+    bare.write_text(":- set(clauselength, 2).\n:- modeb(*, has_plane(+obj, -plane)).\n")
+    assert ev.main([str(train), str(held), "--folds", "0", "--jobs", "1",
+                    "--task", str(bare)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["task"] == str(bare)
+    assert all(r.split(":-", 1)[1].replace(" ", "").rstrip(".").startswith("has_plane(")
+               for r in out["rules"] if ":-" in r)
+    # an unreadable task file is an input error, not a run with the default task
+    from planerel.errors import InputError
+
+    with pytest.raises(InputError):
+        ev.main([str(train), str(held), "--folds", "0", "--jobs", "1",
+                 "--task", str(tmp_path / "missing.pl")])

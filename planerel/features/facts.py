@@ -66,6 +66,8 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
      "plane of the object at an oblique angle (curved or faceted surfaces)"),
     ("orientation", 2, "plane, horizontal|vertical|inclined", "orientation class"),
     ("incline", 2, "plane, deg", "angle between plane and horizontal, 0..90"),
+    ("slope", 2, "plane, deg", "incline of an inclined plane (neither horizontal nor vertical); "
+     "no fact for the others"),
     ("area", 2, "plane, m2", "convex-hull area"),
     ("plane_length", 2, "plane, m", "long side of the hull's minimum rotated rectangle (of the "
      "part in view: a lower bound when the plane is not seen whole)"),
@@ -433,6 +435,8 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
         i = pid(p.label)
         out["orientation"].append(F("orientation", i, p.orientation))
         out["incline"].append(F("incline", i, p.incline, round_to=dg))
+        if p.orientation == "inclined":
+            out["slope"].append(F("slope", i, p.incline, round_to=dg))
         out["area"].append(F("area", i, p.area, round_to=m))
         out["plane_length"].append(F("plane_length", i, p.length, round_to=m))
         out["plane_width"].append(F("plane_width", i, p.width, round_to=m))

@@ -75,6 +75,9 @@ _SETTINGS = {
     "depth": lambda v: isinstance(v, int) and v >= 1,
     "verbosity": lambda v: isinstance(v, int) and v >= 0,
     "samplesize": lambda v: isinstance(v, int) and v >= 0,
+    # an acceptable clause (at most noise negatives) is specialised further while a
+    # refinement could still score better (Aleph's explore)
+    "explore": lambda v: v in ("true", "false"),
     # planerel's learner only: lazy thresholds count examples, not values (docs/learner.md)
     "lazy_examples": lambda v: v in ("true", "false"),
     # planerel's learner only: a measure's lazy thresholds evaluated when it is made (docs/learner.md)
