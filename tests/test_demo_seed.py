@@ -60,3 +60,9 @@ def test_bad_seed_on_the_command_line_exits_2_before_any_work(demo, tmp_path, ca
     assert "--seed must be an integer from 0 to 99" in capsys.readouterr().err
     assert not (tmp_path / "out").exists()
     assert issubclass(InputError, PlanerelError)
+
+
+def test_bad_round_on_the_command_line_exits_2_before_any_work(demo, tmp_path, capsys):
+    assert demo.main(["--round", "-1", "--out", str(tmp_path / "out")]) == 2
+    assert "--round must be a non-negative integer, got -1" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
