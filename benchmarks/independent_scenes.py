@@ -16,7 +16,18 @@ which :func:`planerel.io.readers.read` reads as is (the sidecar gives the up vec
 Usage::
 
     python benchmarks/independent_scenes.py make OUT_DIR [--n 60] [--seed 7] [--size 160x120]
+        [--kinds box,stairs,ramp] [--sensor plain|kinect]
     python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150] [--by-planes]
+
+``--kinds`` is the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``; a kind may
+repeat to weigh it): ``box``, ``stairs``, ``ramp`` and ``stairs_top`` (a descending flight seen
+from its landing as a person or a robot standing at the top would: 0.5-1.7 m eye height,
+0.15-1.0 m back from the landing's nose, pitch 30-60 degrees).  The default cycle
+``box,stairs,ramp`` makes the same scenes as before the option existed.  ``--sensor kinect``
+quantises depth as the real Kinect frames of ``../shared/data/kinect`` do (3 mm z^2) and drops a
+band of ``W / 160`` pixels (4 at 640x480) at depth jumps; ``plain`` (the default) is the original
+sensor, unchanged.  ``score``'s ``--min-pixels`` defaults to 150 pixels scaled with the image area (150 at
+160x120, 2 400 at 640x480).
 
 ``score`` classifies every scene with each model (:class:`planerel.classify.classifier.Classifier`, the code
 behind ``planerel classify --json``), matches the proposals to the labelled objects
@@ -175,16 +186,17 @@ def build_scene(kind, rng):
             meshes.append((_box((span + 3, 0.1, 2.5), (wc[0], wc[1], 1.25), yaw), 0))
             look_yaw = yaw + np.pi / 2 + rng.uniform(-0.6, 0.6)  # look at the wall's front
         taken.append((target[0], target[1], span / 2 + 0.6))
-    elif kind == "stairs":
+    elif kind in ("stairs", "stairs_top"):
         n = int(rng.integers(2, 11))
         rise, run = rng.uniform(0.14, 0.21), rng.uniform(0.22, 0.35)
         width = rng.uniform(0.8, 1.6)
         walls = rng.random() < 0.5
-        down = rng.random() < 0.35
+        down = rng.random() < 0.35 or kind == "stairs_top"
         st, ws = staircase(n, rise, run, width, walls)
         yaw = rng.uniform(-np.pi, np.pi)
         _place(st, 0, 0, yaw)
-        add(st, "stairs", "descending stairs" if down else "ascending stairs")
+        add(st, "stairs", "stairs from the top" if kind == "stairs_top"
+            else ("descending stairs" if down else "ascending stairs"))
         for w in ws:
             meshes.append((_place(w, 0, 0, yaw), 0))
         c, s = np.cos(yaw), np.sin(yaw)
@@ -201,6 +213,8 @@ def build_scene(kind, rng):
             target = np.array([n * run / 2 * c, n * run / 2 * s, n * rise / 2])
         info.update(steps=n, rise=round(rise, 3), run=round(run, 3), width=round(width, 3),
                     side_walls=walls, descending=down)
+        if kind == "stairs_top":  # the camera stands on the landing (see landing_pose)
+            info.update(flight_yaw=float(yaw), nose_x=float(n * run), landing_z=float((n + 1) * rise))
         taken.append((target[0], target[1], n * run / 2 + width / 2 + 0.6))
     elif kind == "ramp":
         L, a, w = rng.uniform(1.0, 4.0), rng.uniform(4.0, 20.0), rng.uniform(0.8, 2.0)
@@ -261,6 +275,31 @@ def camera_pose(target, look_yaw, eye_floor, rng, tall=False):
                     "roll_deg": round(float(np.degrees(roll)), 2)}
 
 
+def landing_pose(info, rng):
+    """Eye and camera axes of a ``stairs_top`` scene: standing on the landing 0.15-1.0 m back
+    from its nose (the first riser down), 0.5-1.7 m eye height (a small robot to a person),
+    up to a quarter of the flight's width off its middle, looking down the flight (yaw +-0.3 rad)
+    at a pitch of 30-60 degrees, roll +-8 degrees."""
+    back = rng.uniform(0.15, 1.0)
+    h = rng.uniform(0.5, 1.7)
+    off = rng.uniform(-0.25, 0.25) * info["width"]
+    fy = info["flight_yaw"]
+    c, s = np.cos(fy), np.sin(fy)
+    lx, ly = info["nose_x"] + back, off  # flight frame: the flight ascends along +x
+    eye = np.array([lx * c - ly * s, lx * s + ly * c, info["landing_z"] + h])
+    pitch = np.radians(rng.uniform(30, 60))
+    yaw = fy + np.pi + rng.uniform(-0.3, 0.3)
+    f = np.array([np.cos(pitch) * np.cos(yaw), np.cos(pitch) * np.sin(yaw), -np.sin(pitch)])
+    r = np.array([np.sin(yaw), -np.cos(yaw), 0.0])
+    d = np.cross(f, r)
+    roll = np.radians(rng.uniform(-8, 8))
+    r2 = np.cos(roll) * r + np.sin(roll) * d
+    R = np.stack([r2, np.cross(f, r2), f])
+    return eye, R, {"height": round(h, 3), "back_from_nose": round(back, 3),
+                    "pitch_deg": round(float(np.degrees(pitch)), 2),
+                    "roll_deg": round(float(np.degrees(roll)), 2)}
+
+
 def cast(tri, origin, dirs, chunk=1500):
     """First hit of each ray on triangles (vectorised Moller-Trumbore).
 
@@ -314,15 +353,32 @@ def plane_ids(meshes):
     return np.asarray(out)
 
 
-def render(meshes, eye, R, intr, rng, noise=True, planes=False):
+SENSORS = ("plain", "kinect")
+
+
+def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
     """Organized XYZ ``(H, W, 3)`` in the camera frame and the object id per pixel (and with
     ``planes`` the true plane id per pixel, -1 missing, as a third result).
 
-    Sensor model (this file's own): depth noise sigma = 1.5 mm + 2.5 mm * z^2, depth
-    quantised in steps of 1 mm * z^2 (coarser far away, as a disparity sensor), 2 %
-    random dropouts, no return beyond 6 m or at grazing incidence (|cos| < 0.1), and half of
-    the pixels at depth jumps > 4 cm dropped.
+    Sensor model ``plain`` (this file's own): depth noise sigma = 1.5 mm + 2.5 mm * z^2, depth
+    quantised in steps of 1 mm * z^2 (coarser far away, as a disparity sensor; the step is
+    taken at the noisy depth, so the values are no fixed lattice), 2 % random dropouts, no
+    return beyond 6 m or at grazing incidence (|cos| < 0.1), and half of the pixels at depth
+    jumps > 4 cm dropped.
+
+    ``kinect`` (stairs16r, measured on the real frames of ``../shared/data/kinect`` and
+    ``mosd``): depth noise sigma = 1.4 mm * z^2 (Khoshelham and Elberink 2012: 1.425 mm z^2)
+    correlated between neighbours (white noise averaged over a square of ``round(W / 160)``
+    pixels, scaled back to unit variance; the real frames' residuals on flat patches: 1.0 mm
+    at 1 m, 8-11 mm at 3-4 m, neighbour correlation 0.6-0.8); depth on fixed levels of
+    inverse depth 0.003 / m apart (disparity levels: steps of 3 mm * z^2; the real frames:
+    1-2 mm at 0.7 m, 3 mm at 1.0 m, 6-8 mm at 1.5 m); the same dropouts, range and grazing
+    limits; and at half the pixels of each depth jump > 4 cm of the noise-free depth, a band
+    of ``round(W / 160)`` pixels on its far side dropped (one pixel at 160x120, four at
+    640x480; the real frames' invalid runs across a > 4 cm jump: 2-5 px at 640x480).
     """
+    if sensor not in SENSORS:
+        raise ValueError(f"sensor {sensor!r}: one of {SENSORS}")
     W, H, fx, fy, cx, cy = intr
     uu, vv = np.meshgrid(np.arange(W), np.arange(H))
     rays_cam = np.stack([(uu - cx) / fx, (vv - cy) / fy, np.ones_like(uu, float)], -1).reshape(-1, 3)
@@ -340,20 +396,30 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False):
     if noise:
         valid &= z < 6.0
         valid &= cosi > 0.1
+        z_geo = np.where(valid, z, 1e3).reshape(H, W)  # noise-free depth, no return = far
         valid &= rng.random(len(z)) > 0.02
         zz = np.where(valid, z, 1.0)
-        zz = zz + rng.normal(0, 1, len(z)) * (0.0015 + 0.0025 * zz ** 2)
-        step = 0.001 * zz ** 2
-        zz = np.round(zz / step) * step
+        if sensor == "kinect":
+            zz = zz + _correlated_noise(rng, H, W, max(1, round(W / 160))) * 0.0014 * zz ** 2
+        else:
+            zz = zz + rng.normal(0, 1, len(z)) * (0.0015 + 0.0025 * zz ** 2)
+        if sensor == "kinect":  # levels of inverse depth 0.003 / m apart: steps of 3 mm z^2
+            zz = 1.0 / (np.maximum(np.round(1.0 / (zz * 0.003)), 1.0) * 0.003)
+        else:
+            step = 0.001 * zz ** 2
+            zz = np.round(zz / step) * step
         z = zz
     z = np.where(valid, z, np.nan).reshape(H, W)
     truth = np.where(valid, truth, -1).reshape(H, W)
     if noise:
         zp = np.nan_to_num(z, nan=1e3)
-        jump = np.zeros((H, W), bool)
-        jump[:, 1:] |= np.abs(np.diff(zp, axis=1)) > 0.04
-        jump[1:, :] |= np.abs(np.diff(zp, axis=0)) > 0.04
-        drop = jump & (rng.random((H, W)) < 0.5) & np.isfinite(z)
+        if sensor == "kinect":
+            drop = _edge_band(z_geo, max(1, round(W / 160)), rng) & np.isfinite(z)
+        else:
+            jump = np.zeros((H, W), bool)
+            jump[:, 1:] |= np.abs(np.diff(zp, axis=1)) > 0.04
+            jump[1:, :] |= np.abs(np.diff(zp, axis=0)) > 0.04
+            drop = jump & (rng.random((H, W)) < 0.5) & np.isfinite(z)
         z[drop] = np.nan
         truth[drop] = -1
     xyz = rays_cam.reshape(H, W, 3) * z[..., None]
@@ -363,25 +429,74 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False):
     return xyz.astype(np.float32), truth.astype(np.int32)
 
 
-def make_scene(i, seed, size=(160, 120), noise=True):
-    """Scene ``i`` of the set of ``seed``: (xyz, truth, sidecar dict, meshes, eye, R)."""
+def _correlated_noise(rng, H, W, k):
+    """Unit-variance noise ``(H * W,)`` correlated over ``k`` pixels: white noise averaged over a
+    ``k x k`` square (a sensor that matches windows, as a structured-light one does) and scaled
+    by ``k`` back to unit variance."""
+    from scipy.ndimage import uniform_filter
+
+    n = rng.normal(0, 1, (H, W))
+    if k > 1:
+        n = uniform_filter(n, size=k, mode="reflect") * k
+    return n.reshape(-1)
+
+
+def _edge_band(zp, width, rng):
+    """Pixels to drop at depth jumps > 4 cm (``kinect`` sensor): each jump pixel on the far side
+    is dropped with probability 1/2, and with it the ``width - 1`` pixels behind it along the
+    axis of the jump (a shadow band as a structured-light sensor leaves).  ``zp``: the
+    noise-free depth, pixels with no return set far (jumps of the geometry, not of the noise
+    or of random dropouts)."""
+    H, W = zp.shape
+    band = np.zeros((H, W), bool)
+    dx = np.diff(zp, axis=1)  # > 0: the right pixel is farther
+    dy = np.diff(zp, axis=0)
+    coin = rng.random((H, W)) < 0.5
+    for k in range(width):
+        right = np.zeros((H, W), bool)
+        right[:, 1 + k:] = (dx > 0.04)[:, :W - 1 - k] & coin[:, 1:W - k]
+        left = np.zeros((H, W), bool)
+        left[:, :W - 1 - k] = (dx < -0.04)[:, k:] & coin[:, k:W - 1]
+        down = np.zeros((H, W), bool)
+        down[1 + k:, :] = (dy > 0.04)[:H - 1 - k, :] & coin[1:H - k, :]
+        up = np.zeros((H, W), bool)
+        up[:H - 1 - k, :] = (dy < -0.04)[k:, :] & coin[k:H - 1, :]
+        band |= right | left | down | up
+    return band
+
+
+KINDS = ("box", "stairs", "ramp", "stairs_top")
+
+
+def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ramp"), sensor="plain"):
+    """Scene ``i`` of the set of ``seed``: (xyz, truth, sidecar dict, meshes, eye, R, plane ids).
+
+    ``kinds``: the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``)."""
     rng = np.random.default_rng([seed, i])
-    kind = ("box", "stairs", "ramp")[i % 3]
+    kind = kinds[i % len(kinds)]
+    if kind not in KINDS:
+        raise ValueError(f"kind {kind!r}: one of {KINDS}")
     meshes, objects, target, info = build_scene(kind, rng)
-    eye, R, cam = camera_pose(target, info["look_yaw"], info["eye_floor"], rng,
-                              tall=bool(info.get("tall")))
+    if kind == "stairs_top":
+        eye, R, cam = landing_pose(info, rng)
+    else:
+        eye, R, cam = camera_pose(target, info["look_yaw"], info["eye_floor"], rng,
+                                  tall=bool(info.get("tall")))
     W, H = size
     hfov = np.radians(rng.uniform(55, 70))
     fx = (W / 2) / np.tan(hfov / 2)
     intr = (W, H, fx, fx, (W - 1) / 2, (H - 1) / 2)
-    xyz, truth, pid = render(meshes, eye, R, intr, rng, noise=noise, planes=True)
+    xyz, truth, pid = render(meshes, eye, R, intr, rng, noise=noise, planes=True, sensor=sensor)
     up = R @ np.array([0.0, 0.0, 1.0])
-    side = {"format": "independent-scene", "version": 1, "scene_id": f"i{i:04d}", "class": kind,
+    side = {"format": "independent-scene", "version": 1, "scene_id": f"i{i:04d}",
+            "class": "stairs" if kind == "stairs_top" else kind,
             "intrinsics": {"width": W, "height": H, "fx": float(fx), "fy": float(fx),
                            "cx": (W - 1) / 2, "cy": (H - 1) / 2},
             "up": up.round(9).tolist(),
             "world_to_camera": np.vstack([np.hstack([R, (-R @ eye)[:, None]]), [0, 0, 0, 1]]).round(9).tolist(),
             "objects": objects, "params": {**info, "camera": cam}}
+    if sensor != "plain":
+        side["params"]["sensor"] = sensor
     return xyz, truth, side, meshes, eye, R, pid
 
 
@@ -397,19 +512,22 @@ def _write_npy(path, arr):
     tmp.replace(path)
 
 
-def make_set(out, n, seed, size):
+def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain"):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     for i in range(n):
-        xyz, truth, side, *_, pid = make_scene(i, seed, size)
+        xyz, truth, side, *_, pid = make_scene(i, seed, size, kinds=kinds, sensor=sensor)
         sid = side["scene_id"]
         _write_npy(out / f"{sid}.planes.npy", pid)
         _write_npy(out / f"{sid}.npy", xyz)
         _write_npy(out / f"{sid}.objects.npy", truth)
         _write_json(out / f"{sid}.json", side)
     dt = time.perf_counter() - t0
-    _write_json(out / "independent.json", {"seed": seed, "n": n, "size": list(size)})
+    meta = {"seed": seed, "n": n, "size": list(size)}
+    if tuple(kinds) != ("box", "stairs", "ramp") or sensor != "plain":
+        meta.update(kinds=list(kinds), sensor=sensor)
+    _write_json(out / "independent.json", meta)
     print(f"made {n} scenes ({size[0]}x{size[1]}) in {dt:.1f} s, {1000 * dt / max(n, 1):.0f} ms/scene -> {out}")
 
 
@@ -433,12 +551,21 @@ def _shows(ori, plane_ids):
     return "".join(sorted(ori[q] for q in plane_ids if q in ori))
 
 
-def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150, by_planes=False):
+def default_min_pixels(out):
+    """150 pixels at 160x120 (0.8 % of the image, about 1 %), scaled with the set's image area
+    (``independent.json``'s size): 2 400 at 640x480, the same share of the image."""
+    meta = Path(out) / "independent.json"
+    W, H = json.loads(meta.read_text())["size"] if meta.exists() else (160, 120)
+    return max(1, round(150 * W * H / (160 * 120)))
+
+
+def score_set(out, models, figures=None, min_iou=0.5, min_pixels=None, by_planes=False):
     from planerel.classify.classifier import Classifier, explanation_image
     from planerel.features.object_eval import proposal_image, score_objects
     from planerel.io import readers as io
 
     out = Path(out)
+    min_pixels = default_min_pixels(out) if min_pixels is None else min_pixels
     scenes = sorted(p for p in out.glob("i[0-9][0-9][0-9][0-9].npy"))
     results = {}
     for mdir in models:
@@ -462,7 +589,7 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=150, by_planes=
                 for o in side["objects"]:
                     k = o["index"]
                     if k not in sc.best_iou or (truth == k).sum() < min_pixels:
-                        continue  # not visible, or under min_pixels (1 % of 160x120): not judged
+                        continue  # not visible, or under min_pixels (1 % of the image): not judged
                     iou = sc.best_iou[k]
                     pred = ans.objects[sc.best_prop[k]].klass if iou >= min_iou else "none"
                     if iou >= min_iou:
@@ -508,12 +635,13 @@ def print_by_planes(rows):
         print(f"    {key[0]:7s} {key[1]:18s} {key[2]:10s} {right[key]:3d}/{seen[key]:3d}")
 
 
-def proposals_on_true_planes(out, min_iou=0.5, min_pixels=150):
+def proposals_on_true_planes(out, min_iou=0.5, min_pixels=None):
     """Found rate per class of planerel's proposals (regiongrow segmentation vs the true planes
     ``iNNNN.planes.npy``): how much of the proposal loss is segmentation."""
     from planerel.features.object_eval import frame_proposals, score_objects
     from planerel.io import readers as io
 
+    min_pixels = default_min_pixels(out) if min_pixels is None else min_pixels
     found = {}
     for p in sorted(Path(out).glob("i[0-9][0-9][0-9][0-9].npy")):
         side = json.loads(p.with_suffix(".json").read_text())
@@ -584,6 +712,9 @@ def main(argv=None):
     m.add_argument("--n", type=int, default=60)
     m.add_argument("--seed", type=int, default=7)
     m.add_argument("--size", default="160x120")
+    m.add_argument("--kinds", default="box,stairs,ramp",
+                   help=f"comma-separated cycle of primary kinds, of {', '.join(KINDS)} (a kind may repeat)")
+    m.add_argument("--sensor", default="plain", choices=SENSORS)
     s = sub.add_parser("score")
     s.add_argument("out")
     s.add_argument("models", nargs="+")
@@ -593,12 +724,13 @@ def main(argv=None):
                    help="also count proposals found on the true planes (segmentation's share)")
     s.add_argument("--by-planes", action="store_true",
                    help="also split the matched objects by what their proposal shows (hv, vv, v, ...)")
-    s.add_argument("--min-pixels", type=int, default=150,
-                   help="judge only objects with at least this many valid pixels (default 150)")
+    s.add_argument("--min-pixels", type=int, default=None,
+                   help="judge only objects with at least this many valid pixels "
+                        "(default 150 scaled with the image area: 150 at 160x120, 2400 at 640x480)")
     a = ap.parse_args(argv)
     if a.cmd == "make":
         W, H = (int(v) for v in a.size.lower().split("x"))
-        make_set(a.out, a.n, a.seed, (W, H))
+        make_set(a.out, a.n, a.seed, (W, H), kinds=tuple(a.kinds.split(",")), sensor=a.sensor)
     else:
         res = score_set(a.out, a.models, a.figures, min_pixels=a.min_pixels, by_planes=a.by_planes)
         if a.true_planes:

@@ -4,6 +4,7 @@ the meshes they were cast from, and planerel reads the files as written."""
 from __future__ import annotations
 
 import importlib.util
+import json
 from pathlib import Path
 
 import numpy as np
@@ -132,3 +133,86 @@ def test_by_planes_names_the_faces_a_box_proposal_shows(tmp_path):
             shows[name] = ind._shows(ind._orientations(clf, cloud, name), ans.objects[0].planes)
     assert shows["above"].count("h") == 1 and shows["above"].count("v") == 2
     assert "h" not in shows["below"] and shows["below"].count("v") == 2
+
+
+# -- stairs16r: kinds, the view from a landing, the kinect sensor, the judging threshold ------
+
+
+def test_default_kinds_make_the_scenes_they_made_before_the_option():
+    # the default cycle box, stairs, ramp: the same scene as a cycle given explicitly, and a
+    # cycle that puts stairs first makes scene 0 the stairs scene 1 of the default cycle is not
+    # (the kind is taken from the cycle, the draws from the seed and index)
+    a = ind.make_scene(1, 5, (40, 30))
+    b = ind.make_scene(1, 5, (40, 30), kinds=("box", "stairs", "ramp"))
+    np.testing.assert_array_equal(a[0], b[0])
+    assert a[2]["class"] == "stairs" and a[2] == b[2]
+    c = ind.make_scene(0, 5, (40, 30), kinds=("stairs",))
+    assert c[2]["class"] == "stairs"
+    with pytest.raises(ValueError):
+        ind.make_scene(0, 5, (40, 30), kinds=("spiral",))
+    with pytest.raises(ValueError):
+        ind.make_scene(0, 5, (40, 30), sensor="lidar")
+
+
+@pytest.mark.parametrize("i", [0, 1, 2])
+def test_stairs_from_the_top_stand_on_the_landing_and_look_down_the_flight(i):
+    xyz, truth, side, meshes, eye, R, _pid = ind.make_scene(i, 3, (80, 60), kinds=("stairs_top",))
+    p = side["params"]
+    cam = p["camera"]
+    assert side["class"] == "stairs" and side["objects"][0]["kind"] == "stairs from the top"
+    assert p["descending"] and 30 <= cam["pitch_deg"] <= 60 and 0.5 <= cam["height"] <= 1.7
+    np.testing.assert_allclose(eye[2], p["landing_z"] + cam["height"], atol=6e-4)  # height to 1 mm
+    # the eye is over the landing: back from the nose along the flight, inside its width
+    c, s = np.cos(p["flight_yaw"]), np.sin(p["flight_yaw"])
+    along = eye[0] * c + eye[1] * s
+    across = -eye[0] * s + eye[1] * c
+    assert 0.15 <= along - p["nose_x"] <= 1.0 and abs(across) <= 0.25 * p["width"] + 1e-9
+    # it looks down the flight (against the direction it ascends) and sees it
+    f = R[2]
+    assert f[0] * c + f[1] * s < 0 and f[2] < 0
+    assert (truth == 1).sum() > 0
+
+
+def test_kinect_edge_band_drops_only_the_far_side_of_a_jump_in_a_band_of_its_width():
+    zp = np.ones((200, 40))
+    zp[:, 20:] = 2.0  # a 1 m jump between columns 19 and 20
+    band = ind._edge_band(zp, 4, np.random.default_rng(0))
+    assert not band[:, :20].any() and not band[:, 24:].any()  # the far side, 4 columns
+    rows = band[:, 20:24].any(axis=1)
+    assert 0.35 < rows.mean() < 0.65  # half the jump's pixels
+    np.testing.assert_array_equal(band[rows, 20:24], True)  # each a whole band
+    # width 1: the jump pixel alone
+    one = ind._edge_band(zp, 1, np.random.default_rng(0))
+    assert not one[:, :20].any() and not one[:, 21:].any() and one[:, 20].any()
+    # no jump, no band
+    assert not ind._edge_band(np.ones((10, 10)), 4, np.random.default_rng(0)).any()
+
+
+def test_kinect_noise_is_unit_variance_and_correlated_between_neighbours():
+    n = ind._correlated_noise(np.random.default_rng(0), 240, 320, 4).reshape(240, 320)
+    assert abs(n.std() - 1) < 0.05
+    r = np.corrcoef(n[:, 1:].ravel(), n[:, :-1].ravel())[0, 1]
+    assert 0.6 < r < 0.9  # a 4-pixel window: 0.75
+    w = ind._correlated_noise(np.random.default_rng(0), 240, 320, 1).reshape(240, 320)
+    assert abs(np.corrcoef(w[:, 1:].ravel(), w[:, :-1].ravel())[0, 1]) < 0.02
+
+
+def test_kinect_sensor_puts_depth_on_levels_of_inverse_depth_3_mm_z2_apart():
+    meshes, eye, R = _box_scene()
+    intr = (160, 120, 140.0, 140.0, 79.5, 59.5)
+    xyz, truth = ind.render(meshes, eye, R, intr, np.random.default_rng(3), sensor="kinect")
+    z = xyz[..., 2][truth >= 0].astype(float)
+    k = 1.0 / (z * 0.003)  # the level of each depth
+    np.testing.assert_allclose(k, np.round(k), atol=1e-3)
+    near = np.unique(np.round(z[(z > 1.9) & (z < 2.1)], 6))
+    assert np.median(np.diff(near)) == pytest.approx(0.003 * 4, rel=0.05)  # 12 mm at 2 m
+
+
+def test_judged_objects_need_150_pixels_at_160x120_scaled_with_the_image(tmp_path):
+    assert ind.default_min_pixels(tmp_path) == 150  # no independent.json: 160x120
+    ind.make_set(tmp_path, 1, 5, (64, 48), kinds=("ramp",), sensor="kinect")
+    meta = json.loads((tmp_path / "independent.json").read_text())
+    assert meta["kinds"] == ["ramp"] and meta["sensor"] == "kinect"
+    assert ind.default_min_pixels(tmp_path) == round(150 * 64 * 48 / (160 * 120))
+    (tmp_path / "independent.json").write_text(json.dumps({"size": [640, 480]}))
+    assert ind.default_min_pixels(tmp_path) == 2400

@@ -171,6 +171,56 @@ def test_flight_between_its_side_walls_is_one_proposal():
     assert seen[1] not in apart
 
 
+@pytest.mark.parametrize("cam_height", [1.6, 2.2])
+def test_room_walls_beside_a_flight_stay_apart_from_it(cam_height):
+    # the same flight between two room walls 2 m high (objects 2 and 3): they stand far more
+    # than side_wall_rise_max (1.1 m) above the line through its treads, so they are the
+    # room's walls, not the flight's side walls (stairs16r: the judge scenes at 640x480)
+    from scenes_analytic import stairs
+
+    y0, n, run = 2.0, 4, 0.28
+    walls = [Rect((sx * 0.5, y0 + n * run / 2, 1.0), (0, 1, 0), (0, 0, 1), n * run / 2, 1.0, obj)
+             for sx, obj in ((-1, 2), (1, 3))]
+    rects = [floor()] + stairs(0.0, y0, n=n, run=run) + walls
+    view = dict(pitch=30, cam_height=cam_height, width=320, height=240, noise=0.001)
+    props, seen = _proposals(rects, **view)
+    assert len(seen[1]) >= 8 and seen[1] in props
+    joined, _ = _proposals(rects, ProposalParams(side_wall_rise_max=0.0), **view)
+    assert seen[1] not in joined and seen[1] | seen[2] | seen[3] in joined
+
+
+def test_wall_rise_is_the_height_above_the_line_through_the_treads():
+    from planerel.features.cavities import wall_rise
+
+    def plane(normal, centroid, hull, orientation):
+        return SimpleNamespace(normal=normal, centroid=centroid, hull3d=np.asarray(hull, float),
+                               orientation=orientation)
+
+    up = (0.0, 0.0, 1.0)
+    # treads rising 0.17 m per 0.28 m along +y, their middles at y = 0.14, 0.42, 0.70
+    treads = [plane((0, 0, 1), (0, 0.14 + 0.28 * k, 0.17 * (k + 1)), [[0, 0, 0]], "horizontal")
+              for k in range(3)]
+    riser = plane((0, -1, 0), (0, 0.28, 0.25), [[0, 0, 0]], "vertical")
+    # a wall in the plane x = 0.5 whose top corner at y = 0 stands 1.4 m high: the tread line
+    # is at 0.17 - 0.14 * 0.17 / 0.28 = 0.085 m there
+    wall = plane((1, 0, 0), (0.5, 0.4, 0.5), [[0.5, 0, 0], [0.5, 0, 1.4], [0.5, 0.84, 1.4],
+                                                [0.5, 0.84, 0]], "vertical")
+    assert wall_rise(wall, treads + [riser], up) == pytest.approx(1.4 - 0.085)
+    # one tread: nothing to tell; a wall across the flight (its normal along it): no line
+    assert wall_rise(wall, treads[:1] + [riser], up) == float("-inf")
+    across = plane((0, 1, 0), (0, 1.0, 0.5), [[0, 1.0, 2.0]], "vertical")
+    assert wall_rise(across, treads, up) == float("-inf")  # the treads do not spread along x
+    # treads spread along x (0.17 m per 0.3 m): the line is at 0.17 m at x = 0
+    along_x = [plane((0, 0, 1), (0.3 * k, 0.5, 0.17 * (k + 1)), [[0, 0, 0]], "horizontal")
+               for k in range(2)]
+    assert wall_rise(across, along_x, up) == pytest.approx(2.0 - 0.17)
+
+
+def test_side_wall_rise_max_must_not_be_negative():
+    with pytest.raises(InputError):
+        ProposalParams(side_wall_rise_max=-0.1)
+
+
 # -- occluded channels (fifth pass) -------------------------------------------------------
 
 

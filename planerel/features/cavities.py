@@ -137,7 +137,8 @@ def cavity_pairs(planes, concave, angle_tol: float = 10.0, min_overlap: float = 
 
 
 def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
-                        min_overlap: float = 0.5, side_members: int = 0) -> set:
+                        min_overlap: float = 0.5, side_members: int = 0,
+                        wall_rise_max: float = 0.0) -> set:
     """Two parallel planes facing each other across a *group* of joined planes (a channel
     whose bottom is several planes: a flight's treads and risers between its side walls).
 
@@ -154,6 +155,11 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
     at most; the panel behind a row of boxes meets them at a chain of concave edges but runs
     along the row, and the boxes are no group of joined planes.
 
+    With ``wall_rise_max`` (> 0, metres; needs ``planes.up``), a wall that stands higher than
+    that anywhere above the line through the group's horizontal members (height against
+    position along the wall, least squares over two or more treads) is a room wall beside the
+    flight, not its side wall, and does not join (:func:`wall_rise`).
+
     Parameters
     ----------
     planes : PlaneSet or sequence of Plane
@@ -168,6 +174,7 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
         ``(wall, member)`` pairs joining each such wall to the group.
     """
     byl = {p.label: p for p in planes}
+    up = getattr(planes, "up", None) if wall_rise_max > 0 else None
     cos_tol = math.cos(math.radians(angle_tol))
     members: dict = {}
     for k, gid in group_of.items():
@@ -197,6 +204,9 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
         by_group.setdefault(gid, []).append((w, ms[0]))
     for gid, walls in by_group.items():
         walls = [(w, m) for w, m in walls if whole(w, gid, m)]
+        if up is not None:
+            walls = [(w, m) for w, m in walls
+                     if wall_rise(byl[w], [byl[k] for k in members[gid]], up) <= wall_rise_max]
         if side_members:
             for w, m in walls:
                 if len(set(touch[(w, gid)])) >= side_members:
@@ -210,6 +220,33 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
                 if float(na @ off) > 0 and float(nd @ -off) > 0:
                     out |= {(a, ma), (d, md)}
     return out
+
+
+def wall_rise(wall, members, up) -> float:
+    """How high a wall stands above a flight: the largest height of the wall's hull above the
+    line through the flight's treads (the horizontal ``members``; their centroids' heights
+    against their positions along the wall, least squares), in metres.
+
+    The treads' middles lie half a rise below the line of nosings, so a side wall ``r``
+    above the nosings gives ``r`` plus half a rise.  Fewer than two treads, or treads not
+    apart along the wall (a vertical wall across the flight): ``-inf`` (nothing to tell).
+    """
+    u = np.asarray(up, float)
+    u = u / np.linalg.norm(u)
+    along = cross3(np.asarray(wall.normal, float), u)
+    if float(np.linalg.norm(along)) < 1e-6:
+        return float("-inf")
+    along = along / np.linalg.norm(along)
+    treads = [p for p in members if p.orientation == "horizontal"]
+    if len(treads) < 2:
+        return float("-inf")
+    x = np.array([float(np.asarray(p.centroid, float) @ along) for p in treads])
+    h = np.array([float(np.asarray(p.centroid, float) @ u) for p in treads])
+    if float(np.ptp(x)) < 0.05:
+        return float("-inf")
+    slope, icpt = np.polyfit(x, h, 1)
+    hull = np.asarray(wall.hull3d, float)
+    return float(np.max(hull @ u - (icpt + slope * (hull @ along))))
 
 
 def occluding_edge(labels, xyz, front: int, back: int, window=None, band: int = 2,

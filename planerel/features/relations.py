@@ -567,6 +567,13 @@ class ProposalParams:
         varied world counts a flight's side wall as part of the staircase, the independent
         judge scenes count the room wall beside a flight as environment, and the walls'
         heights above the flights overlap; docs/objects.md, sixth pass).
+    side_wall_rise_max : float
+        With ``group_channels``: a wall that stands more than this (metres) above the line
+        through the group's treads anywhere it is seen (:func:`planerel.features.cavities.wall_rise`)
+        is a room wall beside a flight, not the flight's side wall, and does not join it.
+        1.1: planerel's own closed sides stand 0.1-0.9 m above the nosings, at most 1.0 m
+        above the treads' middles (half a rise, <= 0.105 m, lower); 0 = no test (the rule
+        before stairs16r).  docs/results.md, "Independent scenes at 640x480".
     split_panels : bool
         Also join a panel in coplanar pieces to the plane they meet: two parallel, coplanar
         planes (within ``coplanar_depth``) each meeting one plane at a shared concave edge,
@@ -679,6 +686,7 @@ class ProposalParams:
     apart_edge: int = 10
     cut_long_side: bool = True
     side_wall_members: int = 0
+    side_wall_rise_max: float = 1.1
     occluded_pieces: bool = True
     piece_gap: float = 0.25
     shared_top: bool = True
@@ -696,7 +704,8 @@ class ProposalParams:
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
-                             "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max"))
+                             "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max",
+                             "side_wall_rise_max"))
         if not 0 <= self.board_overlap <= 1:
             raise InputError(f"board_overlap must be in 0..1, got {self.board_overlap!r}")
         if not 0 <= self.stacked_faces <= 1:
@@ -1608,7 +1617,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         # them (a flight between its side walls; planerel.features.cavities)
         group_of = {k: i for i, c in enumerate(g.groups()) for k in c}
         g.add_edges(group_channel_pairs(planes, concave, group_of, params.concave_tol,
-                                        params.cavity_overlap, params.side_wall_members))
+                                        params.cavity_overlap, params.side_wall_members,
+                                        params.side_wall_rise_max))
     byl = {p.label: p for p in planes}
     comps = [tuple(sorted(c)) for c in g.groups()]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
