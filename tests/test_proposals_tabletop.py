@@ -1,6 +1,7 @@
-"""Table-top rules of tabletop22 (docs/objects.md "Table-top judge set (tabletop22)"): a box
-standing turned on another box comes apart, a face standing on another object's face is not
-joined to it, the strips of a bowl's inside are one proposal, and a small round object near the
+"""Table-top rules of tabletop22 and tabletop22b (docs/objects.md "Table-top judge set
+(tabletop22)"): a box standing turned on another box comes apart, a face standing on another
+object's face (turned or aligned) is not joined to it, nor a face rising above a top it does not
+meet, the strips of a bowl's inside are one proposal, and a small round object near the
 sensor (a mug at 0.9 m) gets a proposal of its own.
 """
 
@@ -163,3 +164,53 @@ def test_a_mug_near_the_sensor_is_a_proposal(mug_seed):
     assert (own == 1).sum() > 300
     assert found(CurvedParams()) == 1
     assert found(CurvedParams(near_depth=0.0)) == 0
+
+
+def test_an_aligned_face_standing_on_a_parallel_face_is_not_joined_to_it():
+    # tabletop22b: an upper box aligned with the lower one, its front 4 mm before the lower
+    # front (within the coplanar depth) and standing on it (20-35 cm over 0-20 cm)
+    kw = dict(riser_max=0.6, coplanar_depth=0.03, sanity_angle=50.0, stacked_overlap=0.3)
+    lower = _vplane(1, (0, -1, 0), (0, 1.5, 0.1), 0.15, 0.0, 0.2)
+    upper = _vplane(2, (0, -1, 0), (0.02, 1.496, 0.3), 0.1, 0.2, 0.35)
+    edges = {(1, 2): (np.array([0.0, 1.5, 0.19]), np.array([0.0, 1.496, 0.21]), 40)}
+    ps = _Planes([lower, upper])
+    assert convex_pairs(ps, [(1, 2)], edges, 10.0, 0.5, stacked_parallel=False, **kw) == {(1, 2)}
+    assert convex_pairs(ps, [(1, 2)], edges, 10.0, 0.5, stacked_parallel=True, **kw) == set()
+    # coplanar pieces with a gap between their heights (a table's edge over its legs) and one
+    # face in two pieces that overlap in height stay one surface
+    gap = _vplane(2, (0, -1, 0), (0.02, 1.5, 0.3), 0.1, 0.23, 0.35)
+    assert convex_pairs(_Planes([lower, gap]), [(1, 2)], {}, 10.0, 0.5, stacked_parallel=True,
+                        **kw) == {(1, 2)}
+    # a table's 4 cm edge over one of its 5 cm legs (the edge 1 m wide) stays joined too
+    leg = _vplane(1, (0, -1, 0), (0, 1.5, 0.35), 0.025, 0.0, 0.7)
+    edge = _vplane(2, (0, -1, 0), (0.3, 1.5, 0.72), 0.5, 0.7, 0.74)
+    e3 = {(1, 2): (np.array([0.0, 1.5, 0.69]), np.array([0.0, 1.5, 0.71]), 40)}
+    assert convex_pairs(_Planes([leg, edge]), [(1, 2)], e3, 10.0, 0.5, stacked_parallel=True,
+                        **kw) == {(1, 2)}
+    piece = _vplane(2, (0, -1, 0), (0.02, 1.5, 0.2), 0.1, 0.1, 0.3)
+    assert convex_pairs(_Planes([lower, piece]), [(1, 2)], edges, 10.0, 0.5,
+                        stacked_parallel=True, **kw) == {(1, 2)}
+
+
+def _hplane(label, center, halfx, halfy):
+    c = np.asarray(center, float)
+    hull = np.array([c + [sx * halfx, sy * halfy, 0.0] for sx in (-1, 1) for sy in (-1, 1)])
+    return SimpleNamespace(label=label, normal=np.array([0.0, 0.0, 1.0]), centroid=c,
+                           orientation="horizontal", hull3d=hull, height=float(c[2]), n_points=100)
+
+
+def test_a_face_rising_above_a_top_it_does_not_meet_is_not_joined_to_it():
+    # the sensor at the origin above the table: a lower box's top at -0.50 m seen behind an
+    # upper box's front (-0.50 to -0.35 m), no shared edge: the centroids say convex
+    top = _hplane(1, (0.0, 1.7, -0.5), 0.15, 0.15)
+    face = _vplane(2, (0, -1, 0), (0.0, 1.5, -0.425), 0.1, -0.5, -0.35)
+    ps = _Planes([top, face])
+    assert convex_pairs(ps, [(1, 2)], {}, 10.0, 0.5, top_rise=0.0) == {(1, 2)}
+    assert convex_pairs(ps, [(1, 2)], {}, 10.0, 0.5, top_rise=0.02) == set()
+    # a box's own top, level with its front's top, stays joined; so does a pair when no edge
+    # points were measured at all (no cloud: nothing known)
+    own = _hplane(1, (0.0, 1.65, -0.35), 0.15, 0.15)
+    assert convex_pairs(_Planes([own, face]), [(1, 2)], {}, 10.0, 0.5, top_rise=0.02) == {(1, 2)}
+    assert convex_pairs(ps, [(1, 2)], None, 10.0, 0.5, top_rise=0.02) == {(1, 2)}
+    with pytest.raises(InputError):
+        ProposalParams(top_rise=-0.01)

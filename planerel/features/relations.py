@@ -649,6 +649,14 @@ class ProposalParams:
         also: a tread whose vertical neighbours below are all turned against the riser above
         (neither parallel nor perpendicular to it) is no step (``_regular_step``'s
         ``turned``): a box standing turned on another.
+    stacked_parallel : bool
+        With ``stacked_faces``, parallel vertical planes one over the other are not joined
+        either (``stacked_parallel`` of :func:`convex_pairs`): an aligned box on a box, its
+        face a few millimetres before or behind the lower one's (tabletop22b).
+    top_rise : float
+        Metres (0 = off): a vertical plane sharing no edge with a horizontal one is not joined
+        to it when its top rises more than this above the horizontal plane (``top_rise`` of
+        :func:`convex_pairs`; tabletop22b).
     """
 
     support_min_area: float = 2.0
@@ -698,6 +706,8 @@ class ProposalParams:
     board_rise_max: float = 0.60
     board_overlap: float = 0.5
     stacked_faces: float = 0.3
+    stacked_parallel: bool = True
+    top_rise: float = 0.02
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
@@ -705,7 +715,7 @@ class ProposalParams:
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
                              "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max",
-                             "side_wall_rise_max"))
+                             "side_wall_rise_max", "top_rise"))
         if not 0 <= self.board_overlap <= 1:
             raise InputError(f"board_overlap must be in 0..1, got {self.board_overlap!r}")
         if not 0 <= self.stacked_faces <= 1:
@@ -895,7 +905,8 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                  step_overlap: float | None = 0.8, min_edge: int = MIN_EDGE,
                  riser_max: float | None = None, coplanar_depth: float | None = None,
                  sanity_angle: float = 0.0, flight_riser_max: float | None = None,
-                 seat_depth: float | None = None, stacked_overlap: float = 0.0) -> set:
+                 seat_depth: float | None = None, stacked_overlap: float = 0.0,
+                 stacked_parallel: bool = False, top_rise: float = 0.0) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
     For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
@@ -931,7 +942,16 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     box meet along a vertical edge and span the same heights, a face standing on another
     object's face (a box stacked on a box at another yaw, or set back) begins where the
     lower one ends (tabletop22); not when the upper plane is higher than ``riser_max`` (a
-    flight's side wall seen above its lowest riser).
+    flight's side wall seen above its lowest riser).  With ``stacked_parallel`` (and
+    ``stacked_overlap`` > 0) the same holds for parallel vertical planes within the coplanar
+    depth whose height ranges meet (a gap of at most ``STACK_MEET`` = 1 cm between them): an
+    upper box's face standing on the lower box's face when the two are aligned, the upper at
+    most ``STACK_WIDER`` = 1.5 times as wide as the lower (tabletop22b; coplanar pieces with a
+    gap between them, or a table's edge over one of its legs, stay joined).  With ``top_rise`` > 0 (metres), a horizontal and a vertical plane that share
+    no edge are not joined when the vertical one's top (its hull along up) rises more than
+    ``top_rise`` above the horizontal one's centroid: the top of a convex object lies at the
+    top of its faces, and a face rising above a horizontal plane without meeting it along an
+    edge is another object's (a box standing on the lower box whose top is seen behind it).
 
     Returns
     -------
@@ -941,7 +961,7 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     byl = {p.label: p for p in planes}
     up_v = getattr(planes, "up", None)
     stacked = stacked_overlap > 0 and up_v is not None
-    if stacked:
+    if stacked or (top_rise > 0 and up_v is not None):
         up_l = np.asarray(up_v, float).tolist()
         spans: dict = {}
 
@@ -977,6 +997,12 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         xa, xb = np.asarray(xa, float).tolist(), np.asarray(xb, float).tolist()
         dx = [xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]]
         if abs(_dot(na, nb)) >= cos_tol:
+            if (stacked and stacked_parallel and pa.orientation == "vertical"
+                    and pb.orientation == "vertical" and _stacked_spans(span(pa), span(pb),
+                                                                        stacked_overlap, riser_max)
+                    and min(span(pa)[1], span(pb)[1]) - max(span(pa)[0], span(pb)[0]) >= -STACK_MEET
+                    and _upper_not_wider(pa, pb, span(pa)[1] >= span(pb)[1], up_l)):
+                continue  # a face over another: an aligned box standing on a box
             # one surface only when coplanar: parallel faces a step apart face each other (a
             # box's top seen behind another's, a lower top next to a higher one); one convex
             # object has no two faces with one outward normal (LCCP's smoothness check)
@@ -985,12 +1011,14 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                 out.add((a, b))
             continue
         if stacked and pa.orientation == "vertical" and pb.orientation == "vertical":
-            (lo_a, hi_a), (lo_b, hi_b) = span(pa), span(pb)
-            short = min(hi_a - lo_a, hi_b - lo_b)
-            upper = (hi_a - lo_a) if hi_a >= hi_b else (hi_b - lo_b)
-            if (short > 0 and min(hi_a, hi_b) - max(lo_a, lo_b) < stacked_overlap * short
-                    and (riser_max is None or upper <= riser_max)):
+            if _stacked_spans(span(pa), span(pb), stacked_overlap, riser_max):
                 continue  # one face stands on the other: two objects, one on the other
+        if top_rise > 0 and up_v is not None and edges is not None and e is None and {
+                pa.orientation, pb.orientation} == {
+                "horizontal", "vertical"}:
+            hp, vp = (pa, pb) if pa.orientation == "horizontal" else (pb, pa)
+            if span(vp)[1] - _dot(np.asarray(hp.centroid, float).tolist(), up_l) > top_rise:
+                continue  # a face rising above a top it does not meet: another object's
         # the step exception needs a shared edge: planes whose outlines only come near in 3-D
         # (one behind the other across an occluding edge) are no tread and riser
         shared = edges is None or e is not None
@@ -1013,6 +1041,37 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                                                            stacked_overlap > 0)):
             out.add((a, b))
     return out
+
+
+STACK_MEET = 0.01  # metres: a face standing on another begins within this of the other's top
+
+
+def _upper_not_wider(pa, pb, a_upper: bool, up) -> bool:
+    """The upper of two parallel vertical planes at most 1.5 times as wide (its hull along the
+    horizontal line in its plane) as the lower one: a box standing on a box is no wider than
+    the lower box (give or take), a table's edge over one of its legs is."""
+    n = np.asarray(pa.normal, float)
+    t = np.cross(np.asarray(up, float), n)
+    if not np.any(t):
+        return False
+    hi, lo = (pa, pb) if a_upper else (pb, pa)
+    wu = float(np.ptp(np.asarray(hi.hull3d, float) @ t))
+    wl = float(np.ptp(np.asarray(lo.hull3d, float) @ t))
+    return wu <= STACK_WIDER * wl
+
+
+STACK_WIDER = 1.5  # the upper face of a stack at most this times as wide as the lower one
+
+
+def _stacked_spans(sa, sb, overlap: float, riser_max: float | None) -> bool:
+    """Height ranges ``sa``, ``sb`` (low, high) of two vertical planes overlapping by less than
+    ``overlap`` of the shorter one's, the upper plane at most ``riser_max`` high: one face
+    standing on the other (``stacked_overlap`` of :func:`convex_pairs`)."""
+    (lo_a, hi_a), (lo_b, hi_b) = sa, sb
+    short = min(hi_a - lo_a, hi_b - lo_b)
+    upper = (hi_a - lo_a) if hi_a >= hi_b else (hi_b - lo_b)
+    return (short > 0 and min(hi_a, hi_b) - max(lo_a, lo_b) < overlap * short
+            and (riser_max is None or upper <= riser_max))
 
 
 def _normal_out(p) -> list:
@@ -1549,7 +1608,9 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                               sanity_angle=params.sanity_angle,
                               flight_riser_max=1.5 * params.step_rise_max,
                               seat_depth=params.step_run_max,
-                              stacked_overlap=params.stacked_faces)
+                              stacked_overlap=params.stacked_faces,
+                              stacked_parallel=params.stacked_parallel,
+                              top_rise=params.top_rise)
         if params.cavities and edges is not None:
             # the inside of one open object (a shelf, an open box): a channel or an inside
             # corner of shared concave edges (planerel.features.cavities)
