@@ -1044,6 +1044,7 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
 
 
 STACK_MEET = 0.01  # metres: a face standing on another begins within this of the other's top
+STACK_WIDER = 1.5  # the upper face of a stack at most this times as wide as the lower one
 
 
 def _upper_not_wider(pa, pb, a_upper: bool, up) -> bool:
@@ -1058,9 +1059,6 @@ def _upper_not_wider(pa, pb, a_upper: bool, up) -> bool:
     wu = float(np.ptp(np.asarray(hi.hull3d, float) @ t))
     wl = float(np.ptp(np.asarray(lo.hull3d, float) @ t))
     return wu <= STACK_WIDER * wl
-
-
-STACK_WIDER = 1.5  # the upper face of a stack at most this times as wide as the lower one
 
 
 def _stacked_spans(sa, sb, overlap: float, riser_max: float | None) -> bool:
