@@ -43,6 +43,24 @@ def test_learn_writes_the_settings_it_learned_with(model_dir):
     assert [[r["index"], r["class"], r["tp"], r["fp"]] for r in data["rule_precision"]] == stats
     for r in data["rule_precision"]:
         assert r["laplace"] == pytest.approx((r["tp"] + 1) / (r["tp"] + r["fp"] + 2), abs=1e-6)
+    # gate22: the least and most planar training positive of each class, and the decision's
+    # settings (the gate off by default)
+    from planerel.ilp.metrics import DecisionParams
+    from planerel.ilp.scenes import describe_scenes
+
+    assert data["decision"] == dataclasses.asdict(DecisionParams())
+    descs, _ = describe_scenes(model_dir.parent / "train", jobs=1, seg_params={"theta": "12"},
+                               cache="none", progress=False)
+    want = {}
+    for d in descs:
+        for o in d.objects:
+            if o.klass in ("box", "ramp"):
+                want.setdefault(o.klass, []).append(o.planar_fraction)
+    got = {e["class"]: e for e in data["planar_domain"]}
+    assert set(got) == set(want) == {"box", "ramp"}
+    for k, v in want.items():
+        assert (got[k]["low"], got[k]["high"], got[k]["n"]) == (
+            pytest.approx(min(v), abs=1e-4), pytest.approx(max(v), abs=1e-4), len(v))
 
 
 def test_classify_segments_with_the_model_settings(model_dir):

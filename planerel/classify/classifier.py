@@ -70,6 +70,12 @@ class ObjectAnswer:
         Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
     curved : bool or None
         The planar fraction is below the model's ``curved.curved_below``: a round object.
+    refused : tuple of Refusal
+        Classes whose rules proved the object and that the decision refused for it: its
+        planar fraction lies more than ``decision.planar_margin`` below the least planar of
+        the class's training positives (with ``decision.planar_gate``;
+        :func:`planerel.ilp.metrics.planar_refusals`).  The answer is then the next class
+        that holds, else ``other``.
     """
 
     object_id: str
@@ -84,6 +90,7 @@ class ObjectAnswer:
     precision: float | None = None
     planar_fraction: float | None = None
     curved: bool | None = None
+    refused: tuple = ()
 
     def to_dict(self) -> dict:
         return {"object": self.object_id, "class": self.klass, "rule": self.rule,
@@ -93,7 +100,7 @@ class ObjectAnswer:
                 "planes": list(self.planes), "fired": [list(f) for f in self.fired],
                 "planar_fraction": (None if self.planar_fraction is None
                                     else round(self.planar_fraction, 3)),
-                "curved": self.curved}
+                "curved": self.curved, "refused": [r.to_dict() for r in self.refused]}
 
 
 @dataclass(frozen=True, eq=False)
@@ -147,8 +154,9 @@ class Classifier:
     seg_params : dict, optional
         Overrides of the model's settings: segmentation parameters by name, description
         parameters as ``gravity.NAME``, ``planes.NAME``, ``relations.NAME``,
-        ``proposals.NAME``, ``curved.NAME``.  :attr:`warnings` lists those that differ from
-        training.
+        ``proposals.NAME``, ``curved.NAME``, and the decision's as ``decision.NAME``
+        (``decision.planar_gate``, ``decision.planar_margin``).  :attr:`warnings` lists those
+        that differ from training.
 
     Raises
     ------
@@ -198,6 +206,15 @@ class Classifier:
             f"{self.module}:planerel_cofire(I, J, C, N)", "reading the rule statistics"))
         if not self.classes:
             raise InputError(f"{path}: the model has no rules")
+        decision = self.settings.decision_params()
+        #: ``(class, low, high, n)`` the gate compares with (empty: no gate; the model keeps
+        #: none, or ``decision.planar_gate`` is off)
+        self.planar_domain = (self.settings.planar_domain if decision.planar_gate else ())
+        self.planar_margin = decision.planar_margin
+        if decision.planar_gate and not self.settings.planar_domain:
+            self.warnings += (f"{path.parent / 'model.json'} keeps no planar fractions of the "
+                              "training positives (a model learned before they were kept): "
+                              "decision.planar_gate refuses nothing",)
         if self.trained is None and self.stats:
             # rules from planerel learn (they carry its statistics) without their settings
             self.warnings += (f"{path.parent / 'model.json'} is missing: the settings the rules "
@@ -227,7 +244,7 @@ class Classifier:
         """
         from planerel.features.facts import FactParams, describe_scene, facts_text
         from planerel.ilp.aleph_export import PAIRS
-        from planerel.ilp.metrics import choose_class, laplace
+        from planerel.ilp.metrics import decide, laplace
         from planerel.ilp.scenes import segment_cached
 
         if not self.module:
@@ -256,20 +273,23 @@ class Classifier:
                         binds = dict(line.split("\t", 1) for line in _text(r["B"]).splitlines()
                                      if "\t" in line)
                         hits.append((_text(r["C"]), int(r["I"]), binds, _text(r["T"])))
-                    best = choose_class(hits, self.stats, self.classes, self.cofire)
+                    best, refused = decide(hits, self.stats, self.classes, self.cofire,
+                                           planar_fraction=o.planar_fraction,
+                                           domain=self.planar_domain,
+                                           margin=self.planar_margin)
                     fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
                     pids = tuple(plane_ids[lab] for lab in o.planes)
                     if best is None:
                         answers.append(ObjectAnswer(o.id, pids, o.planes, OTHER, fired=fired,
                                                     planar_fraction=o.planar_fraction,
-                                                    curved=o.curved))
+                                                    curved=o.curved, refused=refused))
                     else:
                         klass, index, binds, rule = best
                         proof = tuple(v for v in binds.values() if v in plane_ids.values())
                         tp, fp = {i: (a, b) for i, _, a, b in self.stats}.get(index, (0, 0))
                         answers.append(ObjectAnswer(o.id, pids, o.planes, klass, rule, binds,
                                                     proof, fired, index, laplace(tp, fp),
-                                                    o.planar_fraction, o.curved))
+                                                    o.planar_fraction, o.curved, refused))
             finally:
                 unload_file(facts, "cannot unload the scene facts")
                 facts.unlink(missing_ok=True)

@@ -33,7 +33,9 @@ def register(sub) -> None:
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="override a setting the model was learned with (repeatable; a warning "
                         "says when it differs from training): a segmentation parameter (theta=12) "
-                        "or gravity.NAME, planes.NAME, relations.NAME, proposals.NAME, curved.NAME")
+                        "or gravity.NAME, planes.NAME, relations.NAME, proposals.NAME, curved.NAME; "
+                        "decision.planar_gate=true refuses a class for an object far less planar "
+                        "than its training positives (decision.planar_margin)")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)
@@ -97,6 +99,8 @@ def _classify_task(task: dict):
         if o.planar_fraction is not None:
             shape = f"  (planar fraction {o.planar_fraction:.2f}{', curved' if o.curved else ''})"
         lines.append(f"  {o.object_id}: {o.klass}{shape}")
+        for r in o.refused:
+            lines.append(f"    refused {r.klass}: {r.reason}")
         if o.rule:
             prec = f"  (training precision {o.precision:.3f})" if o.precision is not None else ""
             lines.append(f"    rule:   {o.rule}{prec}")

@@ -6,23 +6,22 @@ accuracies (:func:`score_objects`).  Plain arithmetic on labels; no Prolog, no f
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
 from planerel.errors import InputError
 
 __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "stratified_folds",
-           "confusion_columns", "confusion_matrix", "accuracy_scores", "score_objects"]
+           "confusion_columns", "confusion_matrix", "accuracy_scores", "score_objects",
+           "PLANAR_MARGIN", "DecisionParams", "planar_domain", "Refusal", "planar_refusals",
+           "decide"]
 
 #: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
 #: than right on the training objects (the class of the varied world's clutter, too).
 OTHER = "other"
 #: Former name of :data:`OTHER` (the answer used to be ``"unknown"``).
 UNKNOWN = OTHER
-
-
-
-
 
 
 def laplace(tp: int, fp: int) -> float:
@@ -94,6 +93,139 @@ def choose_class(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence
     top = max(wins.values())
     winner = next(k for k in ranked if wins[k] == top)
     return best_of[winner][-1]
+
+
+#: Default of :attr:`DecisionParams.planar_margin`.
+PLANAR_MARGIN = 0.3
+
+
+@dataclass(frozen=True)
+class DecisionParams:
+    """Settings of the decision among the rules that fired (``model.json`` section ``decision``;
+    ``classify --param decision.NAME=VALUE`` overrides).
+
+    Attributes
+    ----------
+    planar_gate : bool
+        Refuse a class for an object whose planar fraction lies more than ``planar_margin``
+        below the lowest planar fraction of the class's training positives
+        (:func:`planar_refusals`; the model keeps them, ``planar_domain``).  Off by default:
+        on the table-top judge sets it also refuses boxes whose faces the facet test reads as
+        facets (docs/objects.md, "(gate22)").
+    planar_margin : float
+        The margin.  0.3: the demo's stairs positives reach down to 0.44 (a flight with a
+        curved cluster merged in), so its stairs are refused below 0.14, its boxes and ramps
+        (every positive at 1.0) below 0.7, under ``curved_below`` 0.8.
+    """
+
+    planar_gate: bool = False
+    planar_margin: float = PLANAR_MARGIN
+
+    def __post_init__(self):
+        if not isinstance(self.planar_gate, bool):
+            raise InputError(f"decision.planar_gate must be true or false, got {self.planar_gate!r}")
+        m = self.planar_margin
+        if isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m) or m < 0:
+            raise InputError(f"decision.planar_margin must be a number >= 0, got {m!r}")
+
+
+def planar_domain(examples: Sequence, planar: dict, classes: Sequence[str]) -> tuple:
+    """The planar fractions of each class's training positives: ``((class, low, high, n), ...)``.
+
+    ``low`` is the *minimum* over the class's positive objects (not a quantile): every object
+    the rules were counted right on lies inside the domain, so the gate of
+    :func:`planar_refusals` never refuses an object as planar as a training positive and the
+    rules' training statistics (``tp``, :func:`laplace`) hold under it unchanged.  ``n``
+    counts the positives with a planar fraction; a class with none has no entry (no gate).
+
+    Parameters
+    ----------
+    examples : sequence of (object id, class)
+    planar : dict
+        ``{object id: planar fraction or None}``.
+    """
+    out = []
+    for k in classes:
+        if k == OTHER:
+            continue
+        values = [planar.get(o) for o, c in examples if c == k]
+        values = [float(v) for v in values if v is not None]
+        if values:
+            out.append((k, round(min(values), 4), round(max(values), 4), len(values)))
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class Refusal:
+    """A class whose rules proved an object and that the decision did not trust there: the
+    object's planar fraction lies more than ``margin`` below ``low``, the least planar of the
+    class's training positives."""
+
+    klass: str
+    planar_fraction: float
+    low: float
+    high: float
+    margin: float
+
+    @property
+    def reason(self) -> str:
+        return (f"planar fraction {self.planar_fraction:.2f}, under "
+                f"{self.low - self.margin:.2f}: training {self.klass} "
+                f"{self.low:.2f}-{self.high:.2f}, margin {self.margin:g}")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "planar_fraction": round(self.planar_fraction, 3),
+                "positives_low": self.low, "positives_high": self.high, "margin": self.margin,
+                "reason": self.reason}
+
+
+def planar_refusals(hits, stats: Sequence, planar_fraction, domain: Sequence,
+                    margin: float = PLANAR_MARGIN):
+    """Leave out the hits of classes not trusted on an object so far off their positives.
+
+    A class with an entry ``(class, low, high, n)`` in ``domain`` (:func:`planar_domain`) is
+    refused for an object whose planar fraction is below ``low - margin``: its rules were only
+    ever counted on objects at least ``low`` planar, and a rule that proves a curved object from
+    two of its facets (a bowl's strips "one above another" for stairs) says nothing about it.
+    No domain, no planar fraction, or a class without an entry: nothing is refused (a model
+    learned before the domain was kept decides as before).
+
+    Returns
+    -------
+    (list, tuple of Refusal)
+        The hits left, and one :class:`Refusal` per refused class among the rules that take
+        part in the decision (:func:`takes_part`), in the order of the hits.
+    """
+    if not domain or planar_fraction is None:
+        return list(hits), ()
+    bounds = {k: (lo, hi) for k, lo, hi, _ in domain}
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    pf = float(planar_fraction)
+    kept, refused = [], {}
+    for hit in hits:
+        k = hit[0]
+        if k in bounds and pf < bounds[k][0] - margin:
+            if k not in refused and takes_part(*table.get(hit[1], (0, 0))):
+                refused[k] = Refusal(k, pf, bounds[k][0], bounds[k][1], float(margin))
+            continue
+        kept.append(hit)
+    return kept, tuple(refused.values())
+
+
+def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (), *,
+           planar_fraction=None, domain: Sequence = (), margin: float = PLANAR_MARGIN):
+    """The open-set decision for one object: :func:`planar_refusals`, then
+    :func:`choose_class` among the hits left.  The classifier and the learner's own scoring
+    (:func:`planerel.ilp.pipeline.prolog_predict`, whichever engine learned the rules) decide
+    with it.
+
+    Returns
+    -------
+    (hit or None, tuple of Refusal)
+        The chosen hit (None: :data:`OTHER`) and the classes refused.
+    """
+    kept, refused = planar_refusals(hits, stats, planar_fraction, domain, margin)
+    return choose_class(kept, stats, classes, cofire), refused
 
 
 def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:

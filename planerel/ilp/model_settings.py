@@ -5,15 +5,19 @@ another" means something else when ``classify`` segments or measures differently
 learn`` therefore writes next to ``rules.pl`` the segmentation (method, parameters as given
 and resolved, including the sensor-adaptive switch ``adapt`` of
 :mod:`planerel.segment.adapt`), the gravity estimate's parameters, the plane, relation and
-proposal parameters of the description, and the rules' measured precision.  ``classify`` reads
-them back and runs with the same settings; ``--param`` overrides one, with a warning when it
-differs from the training value.
+proposal parameters of the description, the rules' measured precision, and the planar
+fractions of each class's training positives with the decision's margin (section ``decision``,
+``planar_domain``: :func:`planerel.ilp.metrics.planar_refusals`).  ``classify`` reads them back
+and runs with the same settings; ``--param`` overrides one, with a warning when it differs from
+the training value.
 
 Override names: a bare name is a segmentation parameter (``theta=12``, ``split=false``,
 ``preset=paper``); ``gravity.NAME``, ``planes.NAME``, ``relations.NAME`` and
 ``proposals.NAME`` and ``curved.NAME`` set a field of :class:`~planerel.features.gravity.GravityParams`,
 :class:`~planerel.features.planes.PlaneParams`, :class:`~planerel.features.relations.RelationParams`,
-:class:`~planerel.features.relations.ProposalParams` and :class:`~planerel.features.curved.CurvedParams`.
+:class:`~planerel.features.relations.ProposalParams` and :class:`~planerel.features.curved.CurvedParams`;
+``decision.NAME`` one of :class:`~planerel.ilp.metrics.DecisionParams` (``decision.planar_gate``,
+``decision.planar_margin``).
 """
 
 from __future__ import annotations
@@ -35,7 +39,10 @@ SECTIONS = {"gravity": ("planerel.features.gravity", "GravityParams"),
             "planes": ("planerel.features.planes", "PlaneParams"),
             "relations": ("planerel.features.relations", "RelationParams"),
             "proposals": ("planerel.features.relations", "ProposalParams"),
-            "curved": ("planerel.features.curved", "CurvedParams")}
+            "curved": ("planerel.features.curved", "CurvedParams"),
+            "decision": ("planerel.ilp.metrics", "DecisionParams")}
+#: Sections that are not settings of the description (:meth:`ModelSettings.describe_kwargs`).
+_DECISION_SECTIONS = ("decision",)
 #: Segmentation keywords of :func:`planerel.segment.segment` that are not parameter fields.
 _SEGMENT_KEYWORDS = ("split",)
 
@@ -74,11 +81,15 @@ class ModelSettings:
         Segmentation parameters as given (the rest are the method's defaults).
     sections : dict
         ``{section: {field: value}}`` for :data:`SECTIONS`.
+    planar_domain : tuple
+        ``(class, low, high, n)``: planar fractions of each class's training positives
+        (empty for a model written before they were kept: no planar gate).
     """
 
     method: str = "regiongrow"
     seg_params: dict = field(default_factory=dict)
     sections: dict = field(default_factory=dict)
+    planar_domain: tuple = ()
 
     def describe_kwargs(self) -> dict:
         """Keyword arguments of :func:`planerel.features.facts.describe_scene` for these settings."""
@@ -87,19 +98,30 @@ class ModelSettings:
                  "relations": "relation_params", "proposals": "proposal_params",
                  "curved": "curved_params"}
         for name, values in self.sections.items():
+            if name in _DECISION_SECTIONS:
+                continue
             cls = _section_class(name)
             known = {f.name for f in dataclasses.fields(cls)}
             kw[names[name]] = cls(**{k: v for k, v in values.items() if k in known})
         return kw
+
+    def decision_params(self):
+        """The decision's settings (:class:`~planerel.ilp.metrics.DecisionParams`; its defaults
+        when the model keeps none)."""
+        cls = _section_class("decision")
+        known = {f.name for f in dataclasses.fields(cls)}
+        return cls(**{k: v for k, v in self.sections.get("decision", {}).items() if k in known})
 
     def resolved(self) -> dict | None:
         """The segmentation parameters with defaults filled in."""
         return _resolved_segmentation(self.method, self.seg_params)
 
 
-def training_settings(method: str, seg_params: dict | None, *, rule_stats=()) -> dict:
+def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
+                      planar_domain=()) -> dict:
     """The content of ``model.json`` for a model learned with these settings (the description
-    parameters are the defaults ``planerel learn`` describes scenes with)."""
+    parameters are the defaults ``planerel learn`` describes scenes with; ``planar_domain``:
+    :attr:`planerel.ilp.pipeline.Model.planar_domain`)."""
     from planerel.ilp.metrics import laplace
 
     seg_params = dict(seg_params or {})
@@ -110,6 +132,8 @@ def training_settings(method: str, seg_params: dict | None, *, rule_stats=()) ->
         **{name: dataclasses.asdict(_section_class(name)()) for name in SECTIONS},
         "rule_precision": [{"index": i, "class": k, "tp": tp, "fp": fp,
                             "laplace": round(laplace(tp, fp), 6)} for i, k, tp, fp in rule_stats],
+        "planar_domain": [{"class": k, "low": lo, "high": hi, "n": n}
+                          for k, lo, hi, n in planar_domain],
     }
 
 
@@ -133,8 +157,16 @@ def read_settings(rules_path) -> ModelSettings | None:
         raise InputError(f"{path}: not a planerel model settings file (format {FORMAT!r} expected)")
     seg = data.get("segmentation") or {}
     sections = {name: dict(data[name]) for name in SECTIONS if isinstance(data.get(name), dict)}
+    domain = []
+    for entry in data.get("planar_domain") or ():
+        try:
+            domain.append((str(entry["class"]), float(entry["low"]), float(entry["high"]),
+                           int(entry["n"])))
+        except (KeyError, TypeError, ValueError):
+            raise InputError(f"{path}: planar_domain entry {entry!r} is not "
+                             "{class, low, high, n}") from None
     return ModelSettings(str(seg.get("method", "regiongrow")), dict(seg.get("params") or {}),
-                         sections)
+                         sections, tuple(domain))
 
 
 def _coerce_like(value, like, name: str):
@@ -202,8 +234,9 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
         sections[sec][key] = value
         if settings is not None and value != old:
             warnings.append(f"{sec}.{key}={value} differs from the model's training value {old}")
-    out = ModelSettings(new_method, seg, sections)
+    out = ModelSettings(new_method, seg, sections, base.planar_domain)
     out.describe_kwargs()  # a bad value fails here, with the dataclass's message
+    out.decision_params()
     if settings is not None and new_method == base.method and seg != base.seg_params:
         before, after = base.resolved() or {}, out.resolved() or {}
         for key in sorted(after):

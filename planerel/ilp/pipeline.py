@@ -21,9 +21,10 @@ from planerel.children import temp_dir
 from planerel.errors import InputError, PrologError
 from planerel.ilp.metrics import (
     OTHER,
+    PLANAR_MARGIN,
     accuracy_scores,
-    choose_class,
     confusion_columns,
+    decide,
     error_kinds,
     laplace,
     score_objects,
@@ -79,6 +80,15 @@ class Model:
         ``{class: n}`` training objects no general rule covers (Aleph keeps them as ground
         facts when ``minpos`` is 1 and leaves them out otherwise; a model for new scenes has no
         use for them, so they are counted, not kept).
+    planar_domain : tuple
+        ``(class, low, high, n)``: the planar fractions of each class's training positives
+        (:func:`planerel.ilp.metrics.planar_domain`; ``model.json`` keeps them).  Empty: no
+        planar gate (a model from before they were kept).
+    planar_gate : bool
+        Whether :func:`prolog_predict` refuses a class for an object far less planar than the
+        class's training positives (:class:`planerel.ilp.metrics.DecisionParams`).
+    planar_margin : float
+        The gate's margin below ``low`` (:func:`planerel.ilp.metrics.planar_refusals`).
     """
 
     classes: tuple
@@ -90,6 +100,9 @@ class Model:
     uncovered: dict = field(default_factory=dict)
     cofire: tuple = ()
     dropped: tuple = ()
+    planar_domain: tuple = ()
+    planar_gate: bool = False
+    planar_margin: float = PLANAR_MARGIN
 
     @property
     def targets(self) -> tuple:
@@ -288,8 +301,11 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
             seconds += res.seconds
             explored += res.clauses_explored or 0
             engines.add(res.engine_detail or res.engine)
+        from planerel.ilp.metrics import planar_domain
+
+        planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
         model = Model(tuple(classes), rules, (), "; ".join(sorted(engines)), seconds, explored,
-                      uncovered)
+                      uncovered, planar_domain=planar_domain(examples, planar, classes))
         if not model.clauses():
             return model
         examples = _examples(descs)
@@ -321,6 +337,11 @@ class Prediction:
         ``{variable name: value}`` of that clause's first proof (plane ids among them).
     fired : tuple
         ``(class, rule index)`` for every rule that proves something about the object.
+    precision : float or None
+        The chosen rule's Laplace precision on the training objects.
+    refused : tuple of Refusal
+        Classes whose rules proved the object and that the decision refused there (its planar
+        fraction far below their training positives', :func:`planerel.ilp.metrics.decide`).
     """
 
     object_id: str
@@ -330,6 +351,7 @@ class Prediction:
     bindings: dict = field(default_factory=dict)
     fired: tuple = ()
     precision: float | None = None
+    refused: tuple = ()
 
     @property
     def planes(self) -> list[str]:
@@ -583,17 +605,22 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
     if not model.clauses():
         return [Prediction(o, OTHER) for o in object_ids]
     fired = _parse_fired(_prolog_run(model, descs, object_ids, timeout))
+    planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
     out = []
     for o in object_ids:
         hits = fired.get(o, [])
-        best = choose_class(hits, model.stats, model.classes, model.cofire)
+        best, refused = decide(hits, model.stats, model.classes, model.cofire,
+                               planar_fraction=planar.get(o),
+                               domain=model.planar_domain if model.planar_gate else (),
+                               margin=model.planar_margin)
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
-            out.append(Prediction(o, OTHER, fired=fired_pairs))
+            out.append(Prediction(o, OTHER, fired=fired_pairs, refused=refused))
         else:
             klass, index, binds, text = best
             tp_fp = {i: (tp, fp) for i, _, tp, fp in model.stats}.get(index, (0, 0))
-            out.append(Prediction(o, klass, text, index, binds, fired_pairs, laplace(*tp_fp)))
+            out.append(Prediction(o, klass, text, index, binds, fired_pairs, laplace(*tp_fp),
+                                  refused))
     return out
 
 
@@ -897,6 +924,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         write_text(tmp / "rules.pl", model.text(header))
         from planerel.ilp.model_settings import MODEL_FILE, training_settings
 
-        write_json(tmp / MODEL_FILE, training_settings(method, seg_params, rule_stats=model.stats))
+        write_json(tmp / MODEL_FILE, training_settings(method, seg_params, rule_stats=model.stats,
+                                                       planar_domain=model.planar_domain))
         write_json(tmp / "metrics.json", metrics)
     return metrics
