@@ -572,3 +572,47 @@ def test_unexplained_kernels_take_labels_past_the_array_as_not_explained():
         for a, b in zip(unexplained_open(valid, lab, short, r), unexplained_open(valid, lab, padded, r),
                         strict=True):
             assert np.array_equal(a, b)
+
+
+def _lying_cylinder(cx, cy, radius, length, n=9, obj=3):
+    """The upper half of a cylinder lying along y on the floor, in ``n`` flat strips
+    ``180 / (n - 1)`` degrees apart (analytic rectangles)."""
+    import math
+
+    from scenes_analytic import Rect
+
+    out = []
+    w = 2 * radius * math.sin(math.radians(90.0 / (n - 1)))
+    for a in np.radians(np.linspace(-90.0, 90.0, n)):
+        p = (cx + radius * math.sin(a), cy, radius + radius * math.cos(a))
+        out.append(Rect(p, (0, 1, 0), (math.cos(a), 0.0, -math.sin(a)), length / 2, w / 2 * 1.02, obj))
+    return out
+
+
+def test_a_box_face_beside_a_cylinder_strip_stays_planar():
+    # facets22: the box's side faces the cylinder's lowest strip 22.5 degrees apart, 4 cm away
+    # (adjacent): linked, the side joined the strips' facet group and the box read as partly
+    # round.  The box's proposal holds flat faces nothing links to (a solid object), so a link
+    # from it to another proposal's plane is no facet link; the strips stay facets.
+    from scenes_analytic import box, floor, render
+
+    from planerel.features.curved import facet_planes
+
+    cloud, lab, _up, objs = render([floor()] + box(-0.19, 1.0, 0.3, 0.3, 0.3, obj=2)
+                                   + _lying_cylinder(0.15, 1.0, 0.15, 0.4),
+                                   pitch=40, cam_height=1.2, width=320, height=240, noise=0.0005)
+    d = describe_scene(cloud, lab)
+    cand = [p.label for p in d.planes if p.label not in set(d.support)]
+    links = {(objs[r.a], objs[r.b]) for r in d.relations
+             if r.adjacent and 5 <= r.angle <= 50 and objs[r.a] != objs[r.b]}
+    assert (2, 3) in links  # the box's side and a strip are adjacent facet-like neighbours
+    alone = facet_planes(d.planes, d.relations, cand)
+    assert any(objs[x] == 2 for x in alone)  # without the proposals the side was a facet
+    props = {frozenset(objs[x] for x in o.planes): o for o in d.objects if o.planes}
+    assert set(props) == {frozenset({2}), frozenset({3})}
+    bx, cyl = props[frozenset({2})], props[frozenset({3})]
+    new = facet_planes(d.planes, d.relations, cand, proposals=[o.planes for o in d.objects])
+    assert not any(objs[x] == 2 for x in new)
+    assert {x for x in cyl.planes if d.planes.by_label(x).area >= 0.0005} <= new
+    assert bx.planar_fraction == 1.0 and not bx.curved
+    assert cyl.planar_fraction < 0.2 and cyl.curved

@@ -191,8 +191,9 @@ def test_prolog_predict_decides_with_the_same_gate(tmp_path, scene):
                                         "box": ("box(A) :- has_plane(A,B), "
                                                 "orientation(B,vertical).",)},
                     stats=tuple(STATS), planar_domain=tuple(DOMAIN))
-    off = {p.object_id: p for p in P.prolog_predict(model, [desc])}
-    on = {p.object_id: p for p in P.prolog_predict(replace(model, planar_gate=True), [desc])}
+    off = {p.object_id: p for p in P.prolog_predict(replace(model, planar_gate=False), [desc])}
+    on = {p.object_id: p for p in P.prolog_predict(model, [desc])}  # on by default (facets22)
+    assert model.planar_gate and M.DecisionParams().planar_gate
     pf = {o.id: o.planar_fraction for o in desc.objects}
     assert any(v < 0.5 for v in pf.values())
     for oid, p in on.items():

@@ -211,7 +211,10 @@ class Classifier:
         #: none, or ``decision.planar_gate`` is off)
         self.planar_domain = (self.settings.planar_domain if decision.planar_gate else ())
         self.planar_margin = decision.planar_margin
-        if decision.planar_gate and not self.settings.planar_domain:
+        # the gate is on by default: a model without the domain (learned before gate22)
+        # warns only when the gate is asked for (its model.json or ``decision.planar_gate``)
+        asked = "planar_gate" in self.settings.sections.get("decision", {})
+        if decision.planar_gate and asked and not self.settings.planar_domain:
             self.warnings += (f"{path.parent / 'model.json'} keeps no planar fractions of the "
                               "training positives (a model learned before they were kept): "
                               "decision.planar_gate refuses nothing",)

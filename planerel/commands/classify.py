@@ -34,8 +34,9 @@ def register(sub) -> None:
                    help="override a setting the model was learned with (repeatable; a warning "
                         "says when it differs from training): a segmentation parameter (theta=12) "
                         "or gravity.NAME, planes.NAME, relations.NAME, proposals.NAME, curved.NAME; "
-                        "decision.planar_gate=true refuses a class for an object far less planar "
-                        "than its training positives (decision.planar_margin)")
+                        "decision.planar_gate (on by default; false switches it off) refuses a "
+                        "class for an object far less planar than its training positives "
+                        "(decision.planar_margin)")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)

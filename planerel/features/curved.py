@@ -14,6 +14,13 @@ The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
    a linked group with at least ``facet_min_planes`` (3) distinct normal directions (normals
    within ``facet_min_angle`` count once: two pieces of one box face linked through a sliver
    are one direction) is a facet of a curved surface.
+   **Within objects** (facets22, 2026-11-28): a link between planes of two object proposals
+   counts only when both proposals are *soft* (every plane a facet of the links of every pair,
+   linked to a plane of its own proposal, or under ``small_area``).  A proposal that holds a
+   flat face is a solid object: its face 2-5 cm from a lying cylinder's strip, or from the
+   face of a box turned on it, is two objects side by side, and read as a facet it made a box
+   look round (planar fraction 0.16-0.55 on the table-top sets).  A bowl's inside strips, each
+   a proposal of its own (cut at their concave edges), stay linked.
 2. **Unexplained points.**  Valid pixels that are in no plane, or in a plane smaller than
    ``tiny_area`` m^2, and not on a support plane, are opened morphologically by
    ``open_px`` pixels (thin strips along box edges and occluding borders vanish), then grouped
@@ -172,28 +179,13 @@ class CurvedObject:
     n_points: int
 
 
-def facet_planes(planes, relations, candidates=None, params: CurvedParams | None = None) -> set:
-    """Labels of the planes that are facets of a curved surface (rule step 1).
-
-    Parameters
-    ----------
-    planes : PlaneSet
-    relations : Relations
-    candidates : iterable of int, optional
-        Labels considered (default every plane).
-
-    Returns
-    -------
-    set of int
-    """
+def _facet_groups(planes, links, params: CurvedParams) -> set:
+    """Planes of the groups that ``links`` (pairs of labels) join with at least
+    ``facet_min_planes`` distinct normal directions."""
     from planerel.features.relations import Components
 
-    params = params or CurvedParams()
-    cand = {p.label for p in planes} if candidates is None else set(candidates)
     g = Components()
-    lo, hi = params.facet_min_angle, params.facet_max_angle
-    g.add_edges((r.a, r.b) for r in relations
-                if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi)
+    g.add_edges(links)
     byl = {p.label: p for p in planes}
     cos_min = np.cos(np.radians(params.facet_min_angle))
     out: set = set()
@@ -207,6 +199,54 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
         if len(dirs) >= params.facet_min_planes:
             out.update(comp)
     return out
+
+
+def facet_planes(planes, relations, candidates=None, params: CurvedParams | None = None,
+                 proposals=None) -> set:
+    """Labels of the planes that are facets of a curved surface (rule step 1).
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    relations : Relations
+    candidates : iterable of int, optional
+        Labels considered (default every plane).
+    proposals : sequence of sequence of int, optional
+        Plane labels per object proposal.  With them a link between planes of two proposals
+        counts only when both proposals are *soft*: made of facets (of the links of every
+        pair), planes linked to a plane of their own proposal and planes under ``small_area``
+        alone.  A proposal that holds a flat face is a
+        solid object; a link from it to a plane of another object is two objects side by
+        side (a box's top beside a lying cylinder's strip), not one curved surface
+        (facets22).  Links within a proposal, and of planes in no proposal, always count.
+
+    Returns
+    -------
+    set of int
+    """
+    params = params or CurvedParams()
+    cand = {p.label for p in planes} if candidates is None else set(candidates)
+    lo, hi = params.facet_min_angle, params.facet_max_angle
+    links = [(r.a, r.b) for r in relations
+             if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi]
+    out = _facet_groups(planes, links, params)
+    if proposals is None or not out:
+        return out
+    byl = {p.label: p for p in planes}
+    owner = {int(x): k for k, g in enumerate(proposals) for x in g}
+    # planes linked to a plane of their own proposal: strips of one round surface, even when
+    # too few directions made them facets (a mug's two strips beside a third in another
+    # proposal)
+    inner = {x for a, b in links if a in owner and b in owner and owner[a] == owner[b]
+             for x in (a, b)}
+    soft = [all(x in out or x in inner or (x in byl and byl[x].area < params.small_area)
+                for x in g) for g in proposals]
+    kept = [(a, b) for a, b in links
+            if a not in owner or b not in owner or owner[a] == owner[b]
+            or (soft[owner[a]] and soft[owner[b]])]
+    if len(kept) == len(links):
+        return out
+    return _facet_groups(planes, kept, params)
 
 
 def _pitch(xyz, axis: int) -> float:
@@ -480,7 +520,7 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
     support = set(support)
     props = [tuple(sorted(int(x) for x in g)) for g in proposals]
     facets = facet_planes(planes, relations, [p.label for p in planes if p.label not in support],
-                          params)
+                          params, props)
     if params.join_facets and facets and len(props) > 1:
         props = _join_facet_proposals(props, facets, byl, relations, params)
     masks: list = [None] * len(props)

@@ -14,7 +14,7 @@ from planerel.errors import InputError
 
 __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "stratified_folds",
            "confusion_columns", "confusion_matrix", "accuracy_scores", "score_objects",
-           "PLANAR_MARGIN", "DecisionParams", "planar_domain", "Refusal", "planar_refusals",
+           "PLANAR_MARGIN", "PLANAR_GATE", "DecisionParams", "planar_domain", "Refusal", "planar_refusals",
            "decide"]
 
 #: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
@@ -97,6 +97,8 @@ def choose_class(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence
 
 #: Default of :attr:`DecisionParams.planar_margin`.
 PLANAR_MARGIN = 0.3
+#: Default of :attr:`DecisionParams.planar_gate` (on since facets22: docs/objects.md).
+PLANAR_GATE = True
 
 
 @dataclass(frozen=True)
@@ -109,16 +111,18 @@ class DecisionParams:
     planar_gate : bool
         Refuse a class for an object whose planar fraction lies more than ``planar_margin``
         below the lowest planar fraction of the class's training positives
-        (:func:`planar_refusals`; the model keeps them, ``planar_domain``).  Off by default:
-        on the table-top judge sets it also refuses boxes whose faces the facet test reads as
-        facets (docs/objects.md, "(gate22)").
+        (:func:`planar_refusals`; the model keeps them, ``planar_domain``).  On by default
+        since facets22: off at first (gate22), because on the table-top judge sets it also
+        refused 7 boxes whose faces the facet test linked to a neighbouring object's planes;
+        the facet test keeps such links out now and the gate refuses no box there
+        (docs/objects.md, "(gate22)", "(facets22)").
     planar_margin : float
         The margin.  0.3: the demo's stairs positives reach down to 0.44 (a flight with a
         curved cluster merged in), so its stairs are refused below 0.14, its boxes and ramps
         (every positive at 1.0) below 0.7, under ``curved_below`` 0.8.
     """
 
-    planar_gate: bool = False
+    planar_gate: bool = PLANAR_GATE
     planar_margin: float = PLANAR_MARGIN
 
     def __post_init__(self):

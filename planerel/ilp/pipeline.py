@@ -21,6 +21,7 @@ from planerel.children import temp_dir
 from planerel.errors import InputError, PrologError
 from planerel.ilp.metrics import (
     OTHER,
+    PLANAR_GATE,
     PLANAR_MARGIN,
     accuracy_scores,
     confusion_columns,
@@ -101,7 +102,7 @@ class Model:
     cofire: tuple = ()
     dropped: tuple = ()
     planar_domain: tuple = ()
-    planar_gate: bool = False
+    planar_gate: bool = PLANAR_GATE
     planar_margin: float = PLANAR_MARGIN
 
     @property
