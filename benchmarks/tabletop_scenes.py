@@ -16,6 +16,19 @@ rays inside its projected bounding box) and written with that script's writers; 
 - no depth nearer than 0.5 m, beyond 4.5 m or at incidence under 8 degrees; 1 % random dropouts;
   at depth jumps over 2.5 % of the depth, each pixel on either side dropped with probability 0.5.
 
+``--sensor mosd`` (tabsensor22; the default ``tabletop22`` is the model above, unchanged) is
+fitted to the shared real mOSD frames (learn0-5: residuals of the table and of large box faces
+against their plane fits, docs/objects.md "(tabsensor22)"): axial noise ``2.0 mm z^2``
+correlated between neighbours (white noise averaged over 8x8 pixels at 640x480, scaled back to
+unit variance: the real frames' residuals 0.9-1.0 mm at 0.55-0.70 m, 1.2-1.5 mm at 0.76-0.84 m,
+neighbour correlation 0.63-0.85) plus a white grazing term ``0.25 mm / sqrt(z) theta^2 / (pi/2 -
+theta)^2`` in quadrature (real faces at 59-65 degrees: 1.1-2.0 mm); the same 1/8-pixel disparity
+levels, then whole millimetres (the PCDs' depths are integer mm, levels 1 mm apart at 0.6 m, 2 mm
+at 0.8 m, 3 mm at 1.0 m); no random dropouts (none inside the real tables); the same projector
+shadow; at depth jumps over 2.5 % of the depth, 60 % of the far side's jump pixels start a band of
+1-5 dropped pixels (the real frames' gaps on the side away from the shadow: median 2 px, none in
+31 %).
+
 mOSD-like cropping: everything lower than 1 cm under the table top (the floor, the legs, the
 table's edge, a wall's lower part) is cut away (NaN) in 80 % of the scenes, as in the shared mOSD
 frames (no valid point there lies more than 1.1-2.2 cm under the table's plane); the rest keep
@@ -37,7 +50,7 @@ boxes side by side whose front faces are one plane), ``cylinder``, ``mug``, ``bo
 
 Usage::
 
-    python benchmarks/tabletop_scenes.py make OUT_DIR [--n 40] [--seed 11] [--size 640x480]
+    python benchmarks/tabletop_scenes.py make OUT_DIR [--n 40] [--seed 11] [--size 640x480] [--sensor tabletop22|mosd]
     python benchmarks/tabletop_scenes.py score OUT_DIR MODEL_DIR [--json FILE] [--min-pixels 150]
 
 ``score`` classifies every scene with the model (:class:`planerel.classify.classifier.Classifier`,
@@ -306,22 +319,78 @@ def raycast(meshes, eye, R, intr):
     return t_best, nrm, owner, rays_cam, dirs
 
 
-def sense(t, nrm, owner, rays_cam, dirs, intr, rng, *, baseline=0.075, f_sensor=580.0):
-    """The structured-light-like sensor (module docstring): depth ``(H, W)`` (NaN missing) and
-    the per-pixel owner (-1 missing)."""
+SENSORS = ("tabletop22", "mosd")
+
+# ``mosd`` sensor (tabsensor22): fitted to the shared real mOSD frames (learn0-5; docs/objects.md
+# "(tabsensor22)").  Axial noise MOSD_NOISE * z^2, correlated over MOSD_WINDOW-pixel squares at
+# 640x480 (scaled with the width), plus a white grazing-incidence term MOSD_GRAZE / sqrt(z) *
+# theta^2 / (pi/2 - theta)^2 added in quadrature; depth on the 1/8-pixel disparity levels (580 px
+# x 7.5 cm, as ``tabletop22``), then rounded to whole millimetres (the PCDs' depths are integer
+# mm); no random dropouts; at a depth jump, a band of 1-MOSD_BAND_MAX pixels on the far side
+# dropped at MOSD_BAND_P of the jump's pixels.
+MOSD_NOISE = 0.0020
+MOSD_WINDOW = 8
+MOSD_GRAZE = 0.00025
+MOSD_BAND_P = 0.6
+MOSD_BAND_MAX = 5
+
+
+def _far_band(z, rel, width, p, rng):
+    """Pixels to drop beside depth jumps over ``rel`` of the depth: the farther pixel of each jump
+    and, with it, ``width[pixel] - 1`` pixels behind it along the jump's axis, at ``p`` of the
+    jump pixels (``width`` an ``(H, W)`` integer array >= 1)."""
+    H, W = z.shape
+    zp = np.nan_to_num(z, nan=1e3)
+    lim = rel * np.nan_to_num(z, nan=1.0)
+    coin = (rng.random((H, W)) < p) & np.isfinite(z)
+    band = np.zeros((H, W), bool)
+    dx = np.diff(zp, axis=1)
+    dy = np.diff(zp, axis=0)
+    limx = np.minimum(lim[:, 1:], lim[:, :-1])
+    limy = np.minimum(lim[1:, :], lim[:-1, :])
+    for k in range(int(width.max()) if width.size else 0):
+        ok = width > k
+        right = np.zeros((H, W), bool)  # the right pixel is farther: band to the right
+        right[:, 1 + k:] = (dx > limx)[:, :W - 1 - k] & coin[:, 1:W - k] & ok[:, 1:W - k]
+        left = np.zeros((H, W), bool)
+        left[:, :W - 1 - k] = (-dx > limx)[:, k:] & coin[:, k:W - 1] & ok[:, k:W - 1]
+        down = np.zeros((H, W), bool)
+        down[1 + k:, :] = (dy > limy)[:H - 1 - k, :] & coin[1:H - k, :] & ok[1:H - k, :]
+        up = np.zeros((H, W), bool)
+        up[:H - 1 - k, :] = (-dy > limy)[k:, :] & coin[k:H - 1, :] & ok[k:H - 1, :]
+        band |= right | left | down | up
+    return band & np.isfinite(z)
+
+
+def sense(t, nrm, owner, rays_cam, dirs, intr, rng, *, baseline=0.075, f_sensor=580.0, sensor="tabletop22"):
+    """The structured-light-like sensor (module docstring; ``sensor`` ``"tabletop22"`` or
+    ``"mosd"``, the fit to the real mOSD frames): depth ``(H, W)`` (NaN missing) and the
+    per-pixel owner (-1 missing)."""
+    if sensor not in SENSORS:
+        raise ValueError(f"sensor {sensor!r}: one of {SENSORS}")
     W, H, fx, fy, cx, cy = intr
     z = t / np.linalg.norm(rays_cam.reshape(-1, 3), axis=1)
     valid = np.isfinite(z)
     cosi = np.abs(np.einsum("ij,ij->i", nrm, dirs))
     valid &= (z > 0.5) & (z < 4.5) & (cosi > np.sin(np.radians(8)))
-    valid &= rng.random(z.size) > 0.01
+    if sensor == "tabletop22":
+        valid &= rng.random(z.size) > 0.01
     zz = np.where(valid, z, 1.0)
     theta = np.arccos(np.clip(cosi, 0, 1))
     theta = np.minimum(theta, np.radians(82))
-    sig = 0.0012 + 0.0019 * (zz - 0.4) ** 2 + 0.0001 / np.sqrt(zz) * theta ** 2 / (np.pi / 2 - theta) ** 2
-    zn = zz + rng.normal(0, 1, zz.size) * sig
     fb8 = 8 * f_sensor * baseline  # disparity in 1/8 sensor pixels
-    zn = fb8 / np.maximum(np.round(fb8 / np.maximum(zn, 0.3)), 1)
+    if sensor == "mosd":
+        from independent_scenes import _correlated_noise
+
+        k = max(1, round(MOSD_WINDOW * W / 640))
+        graze = MOSD_GRAZE / np.sqrt(zz) * theta ** 2 / (np.pi / 2 - theta) ** 2
+        zn = zz + _correlated_noise(rng, H, W, k) * MOSD_NOISE * zz ** 2 + rng.normal(0, 1, zz.size) * graze
+        zn = fb8 / np.maximum(np.round(fb8 / np.maximum(zn, 0.3)), 1)
+        zn = np.round(zn * 1000) / 1000
+    else:
+        sig = 0.0012 + 0.0019 * (zz - 0.4) ** 2 + 0.0001 / np.sqrt(zz) * theta ** 2 / (np.pi / 2 - theta) ** 2
+        zn = zz + rng.normal(0, 1, zz.size) * sig
+        zn = fb8 / np.maximum(np.round(fb8 / np.maximum(zn, 0.3)), 1)
     z = np.where(valid, zn, np.nan).reshape(H, W)
     own = np.where(valid, owner, -1).reshape(H, W)
     # projector shadow: a point is dark when a nearer point lies on its line to the projector
@@ -339,6 +408,12 @@ def sense(t, nrm, owner, rays_cam, dirs, intr, rng, *, baseline=0.075, f_sensor=
     shadow = fin & (near[key] < zt * 0.97)
     z[shadow] = np.nan
     own[shadow] = -1
+    if sensor == "mosd":
+        width = rng.integers(1, MOSD_BAND_MAX + 1, (H, W))
+        drop = _far_band(z, 0.025, width, MOSD_BAND_P, rng)
+        z[drop] = np.nan
+        own[drop] = -1
+        return z, own
     # dropouts at depth edges
     zp = np.nan_to_num(z, nan=1e3)
     lim = 0.025 * np.nan_to_num(z, nan=1.0)
@@ -355,8 +430,11 @@ def sense(t, nrm, owner, rays_cam, dirs, intr, rng, *, baseline=0.075, f_sensor=
     return z, own
 
 
-def make_scene(i, seed, size=(640, 480)):
-    """Scene ``i`` of the set of ``seed``: ``(xyz (H, W, 3) float32, truth (H, W) int32, sidecar)``."""
+def make_scene(i, seed, size=(640, 480), sensor="tabletop22"):
+    """Scene ``i`` of the set of ``seed``: ``(xyz (H, W, 3) float32, truth (H, W) int32, sidecar)``.
+    ``sensor`` changes only the sensing: the geometry and the camera are the same draws."""
+    if sensor not in SENSORS:
+        raise ValueError(f"sensor {sensor!r}: one of {SENSORS}")
     rng = np.random.default_rng([seed, 2200 + i])
     meshes, objects, info = build_scene(rng)
     H_t = info["table"][2]
@@ -369,7 +447,7 @@ def make_scene(i, seed, size=(640, 480)):
     if not keep_floor:  # mOSD crop: nothing lower than 1 cm under the table top
         hit_z = eye[2] + t * dirs[:, 2]
         t = np.where(hit_z < H_t - 0.01, np.inf, t)
-    z, own = sense(t, nrm, owner, rays_cam, dirs, intr, rng)
+    z, own = sense(t, nrm, owner, rays_cam, dirs, intr, rng, sensor=sensor)
     xyz = (rays_cam * z[..., None]).astype(np.float32)
     up = R @ np.array([0.0, 0.0, 1.0])
     side = {"format": "tabletop-scene", "version": 1, "scene_id": f"t{i:04d}",
@@ -378,21 +456,26 @@ def make_scene(i, seed, size=(640, 480)):
             "params": {**info, "floor_kept": keep_floor, "camera": cam, "true_up": up.round(9).tolist(),
                        "world_to_camera": np.vstack([np.hstack([R, (-R @ eye)[:, None]]),
                                                      [0, 0, 0, 1]]).round(9).tolist()}}
+    if sensor != "tabletop22":
+        side["params"]["sensor"] = sensor
     return xyz, own.astype(np.int32), side
 
 
-def make_set(out, n, seed, size):
+def make_set(out, n, seed, size, sensor="tabletop22"):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     for i in range(n):
-        xyz, truth, side = make_scene(i, seed, size)
+        xyz, truth, side = make_scene(i, seed, size, sensor=sensor)
         sid = side["scene_id"]
         _write_npy(out / f"{sid}.npy", xyz)
         _write_npy(out / f"{sid}.objects.npy", truth)
         _write_json(out / f"{sid}.json", side)
     dt = time.perf_counter() - t0
-    _write_json(out / "tabletop.json", {"seed": seed, "n": n, "size": list(size)})
+    meta = {"seed": seed, "n": n, "size": list(size)}
+    if sensor != "tabletop22":
+        meta["sensor"] = sensor
+    _write_json(out / "tabletop.json", meta)
     print(f"made {n} scenes ({size[0]}x{size[1]}) in {dt:.1f} s, {1000 * dt / max(n, 1):.0f} ms/scene -> {out}")
 
 
@@ -524,6 +607,8 @@ def main(argv=None):
     m.add_argument("--n", type=int, default=40)
     m.add_argument("--seed", type=int, default=11)
     m.add_argument("--size", default="640x480")
+    m.add_argument("--sensor", default="tabletop22", choices=SENSORS,
+                   help="tabletop22 (default, the sets as made before) or mosd (fitted to the real mOSD frames)")
     s = sub.add_parser("score")
     s.add_argument("out")
     s.add_argument("model")
@@ -534,7 +619,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if a.cmd == "make":
         W, H = (int(v) for v in a.size.lower().split("x"))
-        make_set(a.out, a.n, a.seed, (W, H))
+        make_set(a.out, a.n, a.seed, (W, H), sensor=a.sensor)
     else:
         res = score_set(a.out, a.model, min_pixels=a.min_pixels, verbose=a.verbose)
         print_summary(res)
