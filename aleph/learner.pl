@@ -151,6 +151,8 @@ setting_spec(skip_same_bottom, true, oneof([true, false])).   % planerel's own (
 setting_spec(samplesize,   0,        int(0)).                   % seeds per clause (see sample_seeds/2)
 setting_spec(lazy_examples, false,   oneof([true, false])).     % planerel's own (see ex_values_on/3)
 setting_spec(lazy_lookahead, false,  oneof([true, false])).     % planerel's own (see lookahead/6)
+setting_spec(cutoff_slack, off,      num_or_off).               % planerel's own (prolog/compare.pl)
+setting_spec(lazy_band,    false,    oneof([true, false])).     % planerel's own (prolog/compare.pl)
 
 %   Values Aleph accepts for search/evalfn that this learner does not implement.
 aleph_other_value(search, [ar, ibs, ic, id, ils, rls, scs, false]).
@@ -238,6 +240,8 @@ check_value(int_or_inf(_), inf, inf) :- !.
 check_value(int_or_inf(Min), V, V) :- integer(V), V >= Min.
 check_value(pos_or_inf, inf, inf) :- !.
 check_value(pos_or_inf, V, F) :- number(V), V > 0, F is float(V).
+check_value(num_or_off, off, off) :- !.
+check_value(num_or_off, V, F) :- number(V), V >= 0, F is float(V).
 
 type_text(int(Min), T) :- format(string(T), "an integer >= ~w", [Min]).
 type_text(fraction, "a number between 0 and 1").
@@ -245,6 +249,7 @@ type_text(oneof(L), T) :- atomic_list_concat(L, ', ', A), format(string(T), "one
 type_text(file, "a file name").
 type_text(int_or_inf(Min), T) :- format(string(T), "an integer >= ~w or inf", [Min]).
 type_text(pos_or_inf, "a positive number of seconds or inf").
+type_text(num_or_off, "a number >= 0 or off").
 
                  /*******************************
                  *         DECLARATIONS         *

@@ -20,6 +20,28 @@
        learner with set(lazy_examples, true)): it counts as one example, by
        its smallest value for lteq and its largest for gteq (the example is
        covered when some answer passes the threshold).
+       With planerel's learner and set(lazy_band, true), gteq offers a
+       second cut-off: the lower edge of a band.  A band on a measure
+       (gteq then lteq: the bottom clause holds gteq first) has its lower
+       edge chosen alone, on each example's largest value, before the upper
+       edge exists, and the upper edge is then chosen above it; the pair is
+       not the best band.  One step of coordinate ascent gives a better
+       lower edge: the upper edge the first cut-off would get (lteq on the
+       values at or above it), then the best lower edge for the values at
+       or below that (each example by its largest value there).  When it
+       differs from the first cut-off, gteq has two solutions, the first
+       cut-off and this one (the learner makes a refinement for each).
+       With planerel's learner and set(cutoff_slack, K) (a number >= 0;
+       default off: the cut-off above), the best cut-off is then moved
+       outwards to the loosest positive value whose cut-off scores within K
+       standard deviations of the best: the examples it adds (dP
+       positives, dN negatives: the score falls by dN - dP) satisfy
+       dN - dP =< K * sqrt(dP + dN) (the "one standard error" rule for
+       K = 1).  K = 0 keeps the score and breaks a tie towards the looser
+       cut-off (more positives kept) instead of the tighter one.  A cut-off
+       placed where the training examples barely prefer it (a rise band's
+       edge among a few negatives) is then not placed inside the positives'
+       range (docs/learner.md, "cutoff_slack").
 
     Written for planerel; no code is taken from Aleph.
 */
@@ -35,7 +57,13 @@ lteq(X, T) :-
     ).
 
 gteq([Pos, Neg], T) :- !,
-    planerel_cutoff(ge, Pos, Neg, T).
+    planerel_cutoff(ge, Pos, Neg, T1),
+    (   planerel_band_on,
+        planerel_band_lower(T1, Pos, Neg, T2),
+        T2 =\= T1
+    ->  ( T = T1 ; T = T2 )
+    ;   T = T1
+    ).
 gteq(X, T) :-
     number(X),
     (   var(T)
@@ -55,7 +83,8 @@ planerel_cutoff(Dir, Pos00, Neg00, T) :-
     msort(Pos, PosSorted),
     msort(Neg, NegSorted),
     planerel_dedup(PosSorted, PosValues), % distinct values, ascending (sort/2)
-    planerel_best(Dir, PosValues, PosSorted, NegSorted, Best),
+    planerel_best(Dir, PosValues, PosSorted, NegSorted, Best0),
+    planerel_loosen(Dir, Best0, PosValues, PosSorted, NegSorted, Best),
     planerel_neighbour(Dir, Best, PosSorted, NegSorted, Next),
     planerel_between(Dir, Best, Next, PosSorted, NegSorted, T).
 
@@ -145,6 +174,104 @@ planerel_best_ge([V|Vs], PS0, BP0, NS0, BN0, NP, NN, B0, Best) :-
     C = Score-NegKept-V,
     ( B0 == none -> B1 = C ; C @> B0 -> B1 = C ; B1 = B0 ),
     planerel_best_ge(Vs, PS, BP, NS, BN, NP, NN, B1, Best).
+
+% planerel_band_on: planerel's learner's setting lazy_band is true (fails under
+% any other learner)
+planerel_band_on :-
+    catch(planerel_learner:setting(lazy_band, true), _, fail).
+
+% planerel_band_lower(+T1, +Pos, +Neg, -T): the lower edge of a band whose upper
+% edge is the le cut-off of the values at or above T1 (the comment at the top)
+planerel_band_lower(T1, Pos, Neg, T) :-
+    planerel_keep(ge, T1, Pos, PosA),
+    planerel_keep(ge, T1, Neg, NegA),
+    planerel_cutoff(le, PosA, NegA, U),
+    planerel_keep(le, U, Pos, PosB),
+    planerel_keep(le, U, Neg, NegB),
+    planerel_cutoff(ge, PosB, NegB, T).
+
+% planerel_keep(+Dir, +T, +List, -Kept): each example's values =< T (le) or >=
+% T (ge), as ex(Values); an example with none is left out (a number is an
+% example of one value)
+planerel_keep(_, _, [], []).
+planerel_keep(Dir, T, [X|Xs], Kept) :-
+    (   nonvar(X), X = ex(Vs0)
+    ->  planerel_numbers(Vs0, Vs)
+    ;   number(X)
+    ->  Vs = [X]
+    ;   Vs = []
+    ),
+    planerel_keep_values(Dir, T, Vs, Ks),
+    (   Ks == []
+    ->  Kept = Kept1
+    ;   Kept = [ex(Ks)|Kept1]
+    ),
+    planerel_keep(Dir, T, Xs, Kept1).
+
+planerel_keep_values(_, _, [], []).
+planerel_keep_values(Dir, T, [V|Vs], Ks) :-
+    (   ( Dir == le -> V =< T ; V >= T )
+    ->  Ks = [V|Ks1]
+    ;   Ks = Ks1
+    ),
+    planerel_keep_values(Dir, T, Vs, Ks1).
+
+% planerel_slack(-K): planerel's learner's setting cutoff_slack, when it is a
+% number (fails when it is off, and under any other learner)
+planerel_slack(K) :-
+    catch(planerel_learner:setting(cutoff_slack, K), _, fail),
+    number(K).
+
+% planerel_loosen(+Dir, +Best0, +Values, +PosSorted, +NegSorted, -Best): the
+% loosest positive value whose cut-off scores within K standard deviations of
+% Best0's (the comment at the top); Best0 itself without cutoff_slack.  ge is le on the negated values.
+planerel_loosen(Dir, Best0, PV, PS, NS, Best) :-
+    (   planerel_slack(K)
+    ->  (   Dir == le
+        ->  planerel_loosen_le(Best0, PV, PS, NS, K, Best)
+        ;   planerel_negated(PV, PVn),
+            planerel_negated(PS, PSn),
+            planerel_negated(NS, NSn),
+            B0n is -Best0,
+            planerel_loosen_le(B0n, PVn, PSn, NSn, K, Bn),
+            Best is -Bn
+        )
+    ;   Best = Best0
+    ).
+
+% the negated values of an ascending list, ascending
+planerel_negated(L, N) :-
+    planerel_negated_(L, [], N).
+planerel_negated_([], Acc, Acc).
+planerel_negated_([X|Xs], Acc, N) :-
+    Y is -X,
+    planerel_negated_(Xs, [Y|Acc], N).
+
+planerel_loosen_le(B0, PV, PS0, NS0, K, Best) :-
+    planerel_skip_le(PS0, B0, 0, PS, P0),
+    planerel_skip_le(NS0, B0, 0, NS, N0),
+    planerel_after(PV, B0, Cands),
+    planerel_loosen_walk(Cands, PS, P0, NS, N0, P0, N0, K, B0, Best).
+
+% the values of an ascending list above V
+planerel_after([], _, []).
+planerel_after([X|Xs], V, L) :-
+    (   X > V
+    ->  L = [X|Xs]
+    ;   planerel_after(Xs, V, L)
+    ).
+
+planerel_loosen_walk([], _, _, _, _, _, _, _, Best, Best).
+planerel_loosen_walk([V|Vs], PS0, P1, NS0, N1, P0, N0, K, Acc, Best) :-
+    planerel_skip_le(PS0, V, P1, PS, P),
+    planerel_skip_le(NS0, V, N1, NS, N),
+    DP is P - P0,
+    DN is N - N0,
+    (   DN - DP =< K * sqrt(DP + DN)
+    ->  Acc1 = V
+    ;   Acc1 = Acc
+    ),
+    planerel_loosen_walk(Vs, PS, P, NS, N, P0, N0, K, Acc1, Best).
 
 % the next value beyond Best in the direction that is cut off (none: Best
 % itself): of all the values (both sorted lists), the first above Best (le) or

@@ -82,6 +82,11 @@ _SETTINGS = {
     "lazy_examples": lambda v: v in ("true", "false"),
     # planerel's learner only: a measure's lazy thresholds evaluated when it is made (docs/learner.md)
     "lazy_lookahead": lambda v: v in ("true", "false"),
+    # planerel's learner only: a lazy threshold moved past further positives while they cost at
+    # most K standard deviations of the score (prolog/compare.pl; docs/learner.md)
+    "cutoff_slack": lambda v: v == "off" or (isinstance(v, (int, float)) and v >= 0),
+    # planerel's learner only: gteq also offers a band's lower edge (prolog/compare.pl)
+    "lazy_band": lambda v: v in ("true", "false"),
 }
 
 
