@@ -106,10 +106,11 @@ def _truncated_reference(lab, xyz, jump=0.05, band=2, share=0.10, border=1):
             src_c = slice(max(dc, 0), W + min(dc, 0))
             dst_c = slice(max(-dc, 0), W + min(-dc, 0))
             nr = rng[src_r, src_c]
+            # inf - inf and 0 x inf (a jump of 0 against an empty pixel) are NaN: no hidden pixel
             with np.errstate(invalid="ignore"):
                 gap = rng[dst_r, dst_c] - nr
-            hidden[dst_r, dst_c] |= ((lab[src_r, src_c] != lab[dst_r, dst_c]) & np.isfinite(nr)
-                                     & (gap > jump * np.maximum(1.0, nr)))
+                hidden[dst_r, dst_c] |= ((lab[src_r, src_c] != lab[dst_r, dst_c]) & np.isfinite(nr)
+                                         & (gap > jump * np.maximum(1.0, nr)))
     hidden &= outline
     n = int(lab.max()) + 1
     n_out = np.bincount(lab[outline], minlength=n)
