@@ -28,6 +28,7 @@ from planerel.ilp.metrics import (
     decide,
     error_kinds,
     laplace,
+    planar_domain,
     score_objects,
     stratified_folds,
 )
@@ -302,14 +303,11 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
             seconds += res.seconds
             explored += res.clauses_explored or 0
             engines.add(res.engine_detail or res.engine)
-        from planerel.ilp.metrics import planar_domain
-
         planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
         model = Model(tuple(classes), rules, (), "; ".join(sorted(engines)), seconds, explored,
                       uncovered, planar_domain=planar_domain(examples, planar, classes))
         if not model.clauses():
             return model
-        examples = _examples(descs)
         fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
         if not keep_redundant:
             model, fired = drop_redundant(model, fired, dict(examples))
