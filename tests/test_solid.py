@@ -199,3 +199,73 @@ def test_face_percentiles_are_numpys():
                   np.zeros((2, n))):
             ref = [tuple(float(v) for v in np.percentile(row, [2.0, 98.0])) for row in x]
             assert _percentiles_2_98(x) == ref
+
+
+def _raised_box(cx, cy, sx, sy, sz, z0, obj):
+    """``box()`` standing at height ``z0`` (on another box)."""
+    return [Rect((r.center[0], r.center[1], r.center[2] + z0), r.e1, r.e2, r.a, r.b, obj)
+            for r in box(cx, cy, sx, sy, sz, obj)]
+
+
+def _skirt_facts(cloud, lab, objects, **kw):
+    desc = describe_scene(cloud, lab, scene_id="s0001", objects=objects,
+                          relation_params=RelationParams(**kw))
+    return {line for line in facts_text([desc]).splitlines() if line.startswith("skirt(")}
+
+
+def test_a_box_on_a_box_is_a_skirt_of_its_own_object_not_a_riser():
+    # a 0.3 x 0.2 m box standing on a 0.6 x 0.4 m one (0.3 m high): the upper front stands on
+    # the lower top, 0.4 m deep (a tread's depth), as a riser on a tread; labels: floor 0, lower top 1, front 2,
+    # left 3, right 4, back 5, upper top 6, front 7, left 8, right 9, back 10
+    rects = [floor()] + box(0.0, 2.4, 0.6, 0.4, 0.3) + _raised_box(0.0, 2.4, 0.3, 0.2, 0.2, 0.3, 2)
+    cloud, lab, ps, rel = _relations(rects, pitch=30, width=320, height=240)
+    # relate alone: the upper front stands on a tread, and rises from the lower top parallel
+    # to the lower front (the next riser)
+    assert rel.get(6, 7).adjacent and not rel.get(6, 7).skirt
+    assert rel.get(1, 2).adjacent and not rel.get(1, 2).skirt
+    assert [lbl for lbl, _ in rel.skirt_steps[(6, 7)]] == [1]
+    assert [lbl for lbl, _ in rel.skirt_steps[(1, 2)]] == [7]
+    present = [p.label for p in ps]
+    lower = [k for k in present if 1 <= k <= 5]
+    upper = [k for k in present if 6 <= k <= 10]
+    # two objects: each box's front is its top's skirt (the riser over the lower top is the
+    # side of a solid with a top at its top edge)
+    two = _skirt_facts(cloud, lab, [lower, upper])
+    assert "skirt(s0001_p06, s0001_p07)." in two and "skirt(s0001_p01, s0001_p02)." in two
+    # one object (a flight of two steps): its risers stand on its own tread
+    one = _skirt_facts(cloud, lab, [lower + upper])
+    assert "skirt(s0001_p06, s0001_p07)." not in one and "skirt(s0001_p01, s0001_p02)." not in one
+    # the rule off: relate's answer
+    assert "skirt(s0001_p06, s0001_p07)." not in _skirt_facts(cloud, lab, [lower, upper],
+                                                              skirt_own_steps=False)
+    with pytest.raises(InputError, match="skirt_own_steps"):
+        RelationParams(skirt_own_steps=1)
+
+
+def test_a_panel_rising_from_a_top_stays_a_riser_unless_it_has_a_top():
+    # a low box (0.25 m) and a panel rising from the back of its top (a wall behind a desk,
+    # its lower part hidden by the box): another object, but with no top of its own, so the
+    # box's front is still no skirt; a taller box behind it (the panel with a top) is a solid
+    # beside the low box: then the front is a skirt
+    panel = _vrect(0.0, 2.4 + 0.2, 0.25, 0.25, 0.6)
+    rects = [floor()] + box(0.0, 2.4, 0.5, 0.4, 0.25) + [panel]
+    cloud, lab, ps, rel = _relations(rects, pitch=30, width=320, height=240)
+    assert rel.get(1, 2).adjacent and not rel.get(1, 2).skirt  # the panel rises from the top
+    assert [lbl for lbl, _ in rel.skirt_steps[(1, 2)]] == [6]
+    low = [k for k in (1, 2, 3, 4, 5) if k in {p.label for p in ps}]
+    assert "skirt(s0001_p01, s0001_p02)." not in _skirt_facts(cloud, lab, [low, [6]])
+    lid = Rect((0.0, 2.4 + 0.3, 0.6), (1, 0, 0), (0, 1, 0), 0.25, 0.1, 1)
+    cloud, lab, ps, rel = _relations(rects + [lid], pitch=30, width=320, height=240)
+    assert not rel.get(1, 2).skirt
+    assert "skirt(s0001_p01, s0001_p02)." in _skirt_facts(cloud, lab, [low, [6, 7]])
+    assert "skirt(s0001_p01, s0001_p02)." not in _skirt_facts(cloud, lab, [low + [6, 7]])
+
+
+def test_a_flights_risers_stay_risers_in_its_proposal():
+    # the proposals make the flight one object: its treads and risers keep each other no skirt
+    cloud, lab, _, rel = _relations([floor()] + stairs(0.0, 2.2, 3, rise=0.17, run=0.28), pitch=30,
+                                    width=320, height=240)
+    assert rel.skirt_steps  # relate denied skirts only for steps
+    desc = describe_scene(cloud, lab, scene_id="s0001")
+    assert len(desc.objects) == 1
+    assert not any(r.skirt for r in desc.relations)

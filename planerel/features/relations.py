@@ -27,7 +27,11 @@ For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.pl
                  of where p ends; not a riser: q does not stand on a step (a horizontal
                  plane at its foot reaching at most ``skirt_step`` out from it) and no
                  vertical plane parallel to q rises from p (the next riser)
-                 (:mod:`planerel.features.solid`; needs the cloud and its camera)
+                 (:mod:`planerel.features.solid`; needs the cloud and its camera); with
+                 ``skirt_own_steps``, a step or riser of another object (a riser: of one
+                 with a top at the riser's top) does not say so
+                 (:func:`skirts_within_objects`: a box standing on another box, or beside a
+                 lower one, is proposed apart from it and is no flight of steps)
 ``corner``       p and q are vertical, adjacent and perpendicular walls of one solid: each
                  at least ``corner_width`` wide, their top edges within ``corner_tol`` of
                  each other (:mod:`planerel.features.solid`; needs the cloud)
@@ -47,7 +51,7 @@ candidate object, except components made only of vertical planes that reach the 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -66,6 +70,7 @@ __all__ = [
     "Relation",
     "Relations",
     "relate",
+    "skirts_within_objects",
     "hull_gap",
     "scene_graph",
     "ProposalParams",
@@ -106,6 +111,7 @@ class RelationParams:
     skirt_cover: float = 0.7
     skirt_beyond: float = 0.4
     skirt_step: float = 0.45
+    skirt_own_steps: bool = True
     corner_tol: float = 0.08
     corner_width: float = 0.08
 
@@ -120,6 +126,8 @@ class RelationParams:
                              f"{self.parallel_tol!r} and {self.perpendicular_tol!r}")
         if isinstance(self.grid_gap, bool) or not isinstance(self.grid_gap, int) or not 1 <= self.grid_gap <= 8:
             raise InputError(f"grid_gap must be an integer number of pixels in 1..8, got {self.grid_gap!r}")
+        if not isinstance(self.skirt_own_steps, bool):
+            raise InputError(f"skirt_own_steps must be true or false, got {self.skirt_own_steps!r}")
 
 
 @dataclass(frozen=True)
@@ -149,10 +157,16 @@ class Relations:
     ----------
     pairs : tuple of Relation
     params : RelationParams
+    skirt_steps : dict
+        ``{(top, face): frozenset of (label, riser_top)}``: the pairs that pass every ``skirt``
+        test but the step's (``face`` stands on a tread, or a riser parallel to it rises from
+        ``top``), with the planes that are that tread (``riser_top`` NaN) or riser (the level
+        of its top edge, metres along up) (:func:`skirts_within_objects`).
     """
 
     pairs: tuple
     params: RelationParams
+    skirt_steps: dict = field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(self.pairs)
@@ -255,6 +269,8 @@ class _Solid:
         self._profiles: dict = {}
         #: ``{label: [planes adjacent to it]}``, filled by :func:`relate`
         self.touching: dict = {}
+        #: ``{(top, face): step and riser labels}`` of the skirts only a step denied
+        self.steps: dict = {}
         self.normals = None
         if ok:
             from planerel.features.planes import label_max
@@ -288,14 +304,23 @@ class _Solid:
                         p.skirt_cover, p.skirt_beyond):
             return False
         near = self.touching.get(face.label, ())
-        if any(on_step(face, prof, h, self.up, p.skirt_tol, p.skirt_step)
-               for h in near if h.label != top.label and h.orientation == "horizontal"):
+        nan = float("nan")
+        steps = [(h.label, nan) for h in near if h.label != top.label and h.orientation == "horizontal"
+                 and on_step(face, prof, h, self.up, p.skirt_tol, p.skirt_step)]
+        if steps and not p.skirt_own_steps:
             return False
         cos_par = float(np.cos(np.radians(p.parallel_tol)))
-        return not any(rises_from(top, self._profile(v), self.up, p.skirt_tol, p.skirt_reach)
-                       for v in self.touching.get(top.label, ())
-                       if v.label != face.label and v.orientation == "vertical"
-                       and abs(float(np.dot(v.normal, face.normal))) >= cos_par)
+        steps += [(v.label, self._profile(v).top) for v in self.touching.get(top.label, ())
+                  if v.label != face.label and v.orientation == "vertical"
+                  and abs(float(np.dot(v.normal, face.normal))) >= cos_par
+                  and rises_from(top, self._profile(v), self.up, p.skirt_tol, p.skirt_reach)]
+        if steps:
+            # a riser's side on a tread, unless the step is another object's
+            # (:func:`skirts_within_objects`)
+            if p.skirt_own_steps:
+                self.steps[(top.label, face.label)] = frozenset(steps)
+            return False
+        return True
 
     def corner(self, a, b) -> bool:
         if self.xyz is None or a.orientation != "vertical" or b.orientation != "vertical":
@@ -407,7 +432,70 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
                                        adj and vi and horiz[j] and skirt(pj, pi), corner)
     if any(plist[k].label >= plist[k + 1].label for k in range(n - 1)):
         out.sort(key=lambda r: (r.a, r.b))
-    return Relations(tuple(out), params)
+    return Relations(tuple(out), params, solid.steps)
+
+
+def skirts_within_objects(relations: Relations, objects, planes) -> Relations:
+    """``relations`` with ``skirt`` true for the pairs only another object's step denied.
+
+    :func:`relate` does not know the objects, so a face standing on any horizontal plane that
+    looks like a tread, or a top with a parallel face rising from it (the next riser), is no
+    skirt.  A box standing on another box, or beside a lower one, is such a riser-and-tread
+    pair, but the proposals make the two boxes two objects.  Once the objects are known, a top
+    and a face of one object whose skirt was denied only by planes of other objects
+    (:attr:`Relations.skirt_steps`) are a skirt, where each such plane is
+
+    - a tread (horizontal): the face stands on another object;
+    - a riser (vertical) whose top lies within ``skirt_tol`` of a horizontal plane of its own
+      object: the side of another solid with a top.  A wall rising behind a desk's top has no
+      top of its own and still says no.
+
+    A flight's treads and risers are one object, so its risers stay risers.
+
+    Parameters
+    ----------
+    relations : Relations
+        From :func:`relate`.
+    objects : iterable of sequences of int
+        Plane labels per object.
+    planes : PlaneSet
+        The planes ``relations`` relate (levels of the objects' horizontal planes).
+
+    Returns
+    -------
+    Relations
+        ``relations`` itself when nothing changes.
+    """
+    if not relations.skirt_steps:
+        return relations
+    owner: dict[int, set] = {}
+    for k, o in enumerate(objects):
+        for lbl in o:
+            owner.setdefault(int(lbl), set()).add(k)
+    up = np.asarray(planes.up, float)
+    tops: dict[int, list] = {}  # object -> levels of its horizontal planes
+    for p in planes:
+        if p.orientation == "horizontal":
+            for k in owner.get(p.label, ()):
+                tops.setdefault(k, []).append(float(np.asarray(p.centroid, float) @ up))
+    tol = relations.params.skirt_tol
+
+    def apart(label, riser_top, mine) -> bool:
+        theirs = owner.get(label, set())
+        if not theirs or theirs & mine:
+            return False
+        return math.isnan(riser_top) or any(abs(riser_top - h) <= tol
+                                            for k in theirs for h in tops.get(k, ()))
+
+    now = set()
+    for (top, face), steps in relations.skirt_steps.items():
+        mine = owner.get(top, set()) & owner.get(face, set())
+        if mine and all(apart(label, t, mine) for label, t in steps):
+            now.add((top, face))
+    if not now:
+        return relations
+    pairs = tuple(replace(r, skirt=True) if (r.a, r.b) in now else r for r in relations.pairs)
+    return Relations(pairs, relations.params, relations.skirt_steps)
 
 
 def scene_graph(planes, relations: Relations, *, edges: str = "adjacent"):
