@@ -124,3 +124,28 @@ def test_cli_warns_about_an_override(model_dir, tmp_path, capsys):
                  "--param", "theta=14"]) == 0
     err = capsys.readouterr().err
     assert "warning: segmentation theta=14.0 differs from the model's training value 12.0" in err
+
+
+def test_split_fields_are_settings_of_the_model(model_dir, tmp_path, capsys):
+    """``split.NAME`` sets a field of the segmentation's post-processing: kept in the model's
+    resolved settings, overridable in classify with a warning, and used when segmenting."""
+    from planerel.classify.classifier import Classifier
+    from planerel.segment import segment
+    from planerel.segment.split import SplitParams
+
+    resolved = json.loads((model_dir / "model.json").read_text())["segmentation"]["resolved"]
+    assert {k: resolved["split." + k] for k in ("small_faces", "merge", "leftover_scale")} == {
+        "small_faces": 0, "merge": True, "leftover_scale": 1.0}
+    scene = generate_scene("stairs", seed=2, size=(640, 480), subsample=4)
+    with Classifier(model_dir / "rules.pl", seg_params={"split.merge": "false"}) as clf:
+        assert clf.warnings == ("segmentation split.merge=False differs from the model's "
+                                "training value True",)
+        ans = clf.classify(scene.cloud, scene_id="s0001")
+    want = segment(scene.cloud, "regiongrow", theta=12.0,
+                   split_params=SplitParams(merge=False)).labels
+    assert np.array_equal(ans.labels, want)
+    assert not np.array_equal(want, segment(scene.cloud, "regiongrow", theta=12.0).labels)
+    np.save(tmp_path / "st.npy", scene.cloud.xyz)
+    assert main(["classify", str(model_dir / "rules.pl"), str(tmp_path / "st.npy"),
+                 "--param", "split.smal_faces=150"]) == 2
+    assert "unknown parameter(s) smal_faces for SplitParams" in capsys.readouterr().err

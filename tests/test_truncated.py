@@ -160,3 +160,86 @@ def test_points_of_another_shape_are_refused():
 
     with pytest.raises(InputError):
         truncated_planes(np.zeros((4, 5), int), np.zeros((5, 4, 3)))
+
+
+def _outline_pixels(lab):
+    from planerel.segment._label_kernels import label_boundary, mask_pixels
+
+    return mask_pixels(label_boundary(np.ascontiguousarray(lab, dtype=np.int32)))
+
+
+def test_listed_kernel_matches_the_image_kernel_on_random_images():
+    """truncated_at (the outline pixels given as measure_planes lists them, each plane's
+    tests stopped once its answer is certain) gives the answer of the image kernel's counts
+    and of the numpy form."""
+    from planerel.features._truncated_kernels import truncated_at, truncation_counts
+
+    rs = np.random.default_rng(11)
+    for t in range(160):
+        H, W = int(rs.integers(1, 40)), int(rs.integers(1, 40 if t < 120 else 200))
+        blk = int(rs.integers(1, 5))
+        lab = np.repeat(np.repeat(rs.integers(-1, 7, (H // blk + 1, W // blk + 1)), blk, 0),
+                        blk, 1)[:H, :W].astype(np.int32)
+        z = np.repeat(np.repeat(rs.uniform(0.3, 5.0, (H // blk + 1, W // blk + 1)), blk, 0),
+                      blk, 1)[:H, :W] + rs.normal(0, 0.01, (H, W))
+        xyz = np.stack([rs.uniform(-1, 1, (H, W)), rs.uniform(-1, 1, (H, W)), z], -1)
+        xyz[rs.random((H, W)) < 0.05] = np.nan
+        xyz[rs.random((H, W)) < 0.02] = 0.0
+        if not (lab >= 0).any():
+            continue
+        jump, band, border = float(rs.choice([0.0, 0.05, 0.2])), int(rs.integers(0, 4)), int(rs.integers(0, 3))
+        share = float(rs.choice([0.0, 0.02, 0.1, 0.3, 0.5, 1.0, 1.5, np.nan]))
+        n = int(lab.max()) + 1
+        brow, bcol = _outline_pixels(lab)
+        cut, present = truncated_at(lab, xyz, brow, bcol, jump, band, border, share, n)
+        n_out, n_hid, at_edge, present_img = truncation_counts(lab, xyz, jump, band, border, n)
+        want = at_edge | ((n_out > 0) & (n_hid >= share * np.maximum(n_out, 1)))
+        assert np.array_equal(present, present_img), t
+        assert np.array_equal(cut & present, want & present_img), (t, jump, band, border, share)
+        if min(H, W) > band + 1:  # (the numpy form's shifted slices wrap on a smaller image)
+            ref = _truncated_reference(lab, xyz, jump=jump, band=band, share=share, border=border)[0]
+            assert frozenset(int(k) for k in np.nonzero(cut & present)[0]) == ref, t
+
+
+def test_a_plane_sets_labels_take_the_listed_outline_with_the_same_answer():
+    """describe_scene's labels (a PlaneSet's, their boundary pixels remembered by
+    measure_planes) go through the listed kernel; a writeable copy of the same image through
+    the image kernel: the same cut planes, on a rendered scene and on real frames."""
+    from pathlib import Path
+
+    import planerel.features.planes as planes_mod
+    from planerel.features.planes import measure_planes
+
+    scenes = []
+    cloud, lab, _, _ = render([floor()] + box(0.0, 2.5, 0.5, 0.5, 0.4) + box(0.6, 3.2, 0.4, 0.6, 0.5),
+                              pitch=25)
+    scenes.append((cloud, lab))
+    data = Path(__file__).resolve().parents[2] / "shared" / "data"
+    frames = sorted((data / "kinect").glob("frame_*_depth.tiff"))[:1] + sorted((data / "mosd").glob("*.pcd"))[:2]
+    if frames:
+        from planerel.io.readers import read
+        from planerel.segment import segment
+
+        for f in frames:
+            c = read(f)
+            scenes.append((c, segment(c).labels))
+    calls = []
+    orig = planes_mod._listed_boundary_pixels
+
+    def spy(x):
+        r = orig(x)
+        calls.append(r is not None)
+        return r
+
+    for cloud, lab in scenes:
+        ps = measure_planes(cloud, lab)
+        xyz = np.asarray(cloud.xyz, float)
+        planes_mod._listed_boundary_pixels = spy
+        try:
+            fast = truncated_planes(ps.labels, xyz)
+        finally:
+            planes_mod._listed_boundary_pixels = orig
+        assert calls[-1], "the PlaneSet's outline was not taken from measure_planes"
+        plain = np.array(ps.labels)  # writeable: nothing remembered for it
+        assert planes_mod._listed_boundary_pixels(plain) is None
+        assert fast == truncated_planes(plain, xyz) == _truncated_reference(plain, xyz)[0]

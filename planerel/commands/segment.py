@@ -55,7 +55,8 @@ def register(sub) -> None:
                         "takes --param preset=structured-light for high-resolution range "
                         "images with coarse depth steps (e.g. SegComp ABW); --param "
                         "split=false skips the planar post-processing (split=true runs it, "
-                        "also after the RANSAC baselines)")
+                        "also after the RANSAC baselines); --param split.NAME=VALUE sets a "
+                        "field of the post-processing (e.g. split.small_faces=150)")
     p.add_argument("--formats", default=",".join(FORMATS), metavar="LIST",
                    help="what to write per scan, a comma list of npy (labels), png (label "
                         "picture), json (planes), pcd (labelled PCD: x y z rgb label, PCL "
@@ -103,7 +104,8 @@ def _segment_task(task: dict) -> str:
     path, stem, out = task["path"], task["name"], Path(task["out"])
     cloud = read_input(path, task["read"])
     t0 = time.perf_counter()
-    seg = segment(cloud, task["method"], params=task["params"], split=task.get("split"))
+    seg = segment(cloud, task["method"], params=task["params"], split=task.get("split"),
+                  split_params=task.get("split_params"))
     ms = (time.perf_counter() - t0) * 1000.0
     gravity = resolve_up(cloud, seg.labels, given_up(task["read"]))
     formats = task["formats"]
@@ -142,7 +144,7 @@ def run_segment(args) -> int:
     from planerel.batch import BatchResult, report_failures, run_batch, write_errors
     from planerel.commands._common import inputs_of, read_options
     from planerel.io.naming import scene_names
-    from planerel.segment import make_params
+    from planerel.segment import make_params, split_fields
 
     given = parse_params(args.param)
     # split is segment()'s keyword (the post-processing), not a parameter-class field
@@ -151,6 +153,7 @@ def run_segment(args) -> int:
         from planerel.segment import _as_bool
 
         split = _as_bool(split, default=True)  # a bad value fails here, before any work
+    given, split_params = split_fields(given)  # split.NAME: the post-processing's fields
     params = make_params(args.method, **given)
     check_input_options(args)  # a bad --up, --subsample, ... fails here, before any work
     paths = inputs_of(args)
@@ -162,7 +165,8 @@ def run_segment(args) -> int:
     opts = read_options(args)
     formats = _formats(args.formats)
     tasks = [{"path": str(p), "name": n, "out": str(out), "read": opts, "method": args.method,
-              "params": params, "split": split, "formats": formats} for p, n in zip(paths, stems, strict=True)]
+              "params": params, "split": split, "split_params": split_params,
+              "formats": formats} for p, n in zip(paths, stems, strict=True)]
     res = BatchResult()
     from planerel.atomic import stale_files_removed
 

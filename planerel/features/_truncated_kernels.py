@@ -26,6 +26,16 @@ def _range(xyz, r, c):
     return math.inf
 
 
+@njit(cache=True, inline="always")
+def _range_at(X, p):
+    """:func:`_range` of the point at flat pixel index ``p`` of the flat points ``X``."""
+    x, y, z = X[3 * p], X[3 * p + 1], X[3 * p + 2]
+    d = math.sqrt(x * x + y * y + z * z)
+    if math.isfinite(d) and d > 0:
+        return d
+    return math.inf
+
+
 @njit(cache=True, nogil=True)
 def truncation_counts(lab, xyz, jump, band, border, n):
     """Per plane label ``0..n-1``: outline pixels, hidden outline pixels, whether a pixel lies
@@ -112,3 +122,93 @@ def truncation_counts(lab, xyz, jump, band, border, n):
     # every label with a pixel has an outline pixel (its first pixel in row order has none
     # of its label above it or lies on the top row)
     return n_out, n_hid, at_edge, n_out > 0
+
+
+@njit(cache=True, nogil=True)
+def truncated_at(lab, xyz, brow, bcol, jump, band, border, share, n):
+    """:func:`planerel.features.facts.truncated_planes`' answer from the label image's outline
+    pixels already listed (``brow``, ``bcol``: every labelled pixel with a 4-neighbour of
+    another label or on the image border, as :func:`planerel.features.planes._boundary_pixels`
+    lists them), so the image is not scanned for them again.
+
+    Per label ``0..n-1``: cut (within ``border`` of the image border, or at least ``share`` of
+    its outline pixels hidden: :func:`truncation_counts`' counts, ``n_hid >= share *
+    max(n_out, 1)``) and present.  Only the outline pixels whose answer is still open are
+    tested: none of a plane at the border (cut whatever is hidden), and a plane's no more
+    once its hidden pixels reach the share (cut) or cannot reach it with the pixels left (not
+    cut); each plane's outline pixels are counted first.  The same answer as the counts give
+    (a test compares).  ``lab`` and ``xyz`` C-contiguous (read through flat views).
+
+    Returns
+    -------
+    cut, present : ndarray, shape (n,), bool
+    """
+    H, W = lab.shape
+    cut = np.zeros(n, np.bool_)
+    b = min(border + 1, H, W)
+    for r in range(H):
+        if r < b or r >= H - b:
+            for c in range(W):
+                if lab[r, c] >= 0:
+                    cut[lab[r, c]] = True
+        else:
+            for c in range(b):
+                if lab[r, c] >= 0:
+                    cut[lab[r, c]] = True
+                if lab[r, W - 1 - c] >= 0:
+                    cut[lab[r, W - 1 - c]] = True
+    L = lab.ravel()
+    X = xyz.ravel()
+    n_out = np.zeros(n, np.int64)
+    for i in range(brow.shape[0]):
+        lv = L[brow[i] * W + bcol[i]]
+        if lv >= 0:
+            n_out[lv] += 1
+    # per label: its share of hidden pixels (as truncated_planes computes it), the hidden
+    # pixels found and the outline pixels left to test; open: neither answer certain yet
+    need = np.empty(n)
+    n_hid = np.zeros(n, np.int64)
+    left = n_out.copy()
+    open_ = np.zeros(n, np.bool_)
+    for lv in range(n):
+        need[lv] = share * max(n_out[lv], 1)
+        if n_out[lv] > 0 and not cut[lv]:
+            if 0 >= need[lv]:
+                cut[lv] = True
+            elif not n_out[lv] < need[lv]:
+                open_[lv] = True
+    for i in range(brow.shape[0]):
+        r = brow[i]
+        c = bcol[i]
+        p = r * W + c
+        lv = L[p]
+        if lv < 0 or not open_[lv]:
+            continue
+        here = math.nan  # the pixel's range, computed at its first neighbour of another label
+        hid = False
+        for k in range(1, band + 1):
+            for d in range(4):
+                rr = r + k if d == 0 else (r - k if d == 1 else r)
+                cc = c + k if d == 2 else (c - k if d == 3 else c)
+                if rr < 0 or rr >= H or cc < 0 or cc >= W:
+                    continue
+                q = rr * W + cc
+                if L[q] == lv:
+                    continue
+                if here != here:
+                    here = _range_at(X, p)
+                nr = _range_at(X, q)
+                if nr != math.inf and here - nr > jump * max(1.0, nr):
+                    hid = True
+                    break
+            if hid:
+                break
+        left[lv] -= 1
+        if hid:
+            n_hid[lv] += 1
+            if n_hid[lv] >= need[lv]:
+                cut[lv] = True
+                open_[lv] = False
+        elif n_hid[lv] + left[lv] < need[lv]:
+            open_[lv] = False
+    return cut, n_out > 0

@@ -332,18 +332,29 @@ def truncated_planes(labels, xyz, *, jump: float = TRUNC_JUMP, band: int = TRUNC
     -------
     frozenset of int
     """
-    from planerel.features._truncated_kernels import truncation_counts
+    from planerel.features._truncated_kernels import truncated_at, truncation_counts
+    from planerel.features.planes import _listed_boundary_pixels, label_max
 
     lab = np.asarray(labels)
-    if lab.ndim != 2 or lab.size == 0 or not (lab >= 0).any():
+    if lab.ndim != 2 or lab.size == 0:
+        return frozenset()
+    top = label_max(lab)  # remembered for a PlaneSet's labels (measure_planes took it)
+    if top < 0:
         return frozenset()
     pts = np.ascontiguousarray(xyz, dtype=np.float64)
     if pts.shape != lab.shape + (3,):
         raise InputError(f"truncated_planes: points of shape {pts.shape} for labels of shape {lab.shape}")
-    n_out, n_hid, at_edge, present = truncation_counts(
-        np.ascontiguousarray(lab if lab.dtype in (np.int32, np.int64) else lab.astype(np.int64)), pts, float(jump), max(0, int(band)),
-        max(0, int(border)), int(lab.max()) + 1)
-    cut = at_edge | ((n_out > 0) & (n_hid >= share * np.maximum(n_out, 1)))
+    ints = np.ascontiguousarray(lab if lab.dtype in (np.int32, np.int64) else lab.astype(np.int64))
+    args = (float(jump), max(0, int(band)), max(0, int(border)), top + 1)
+    # the outline pixels are the label image's boundary pixels: when measure_planes listed
+    # them (a PlaneSet's labels), only those are visited, else one pass finds them
+    listed = _listed_boundary_pixels(lab)
+    if listed is not None:
+        cut, present = truncated_at(ints, pts, listed[0], listed[1], args[0], args[1], args[2],
+                                    float(share), args[3])
+    else:
+        n_out, n_hid, at_edge, present = truncation_counts(ints, pts, *args)
+        cut = at_edge | ((n_out > 0) & (n_hid >= share * np.maximum(n_out, 1)))
     return frozenset(int(k) for k in np.nonzero(cut & present)[0])
 
 

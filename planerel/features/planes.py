@@ -391,6 +391,15 @@ def _boundary_pixels(lab: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return entry[2]
 
 
+def _listed_boundary_pixels(lab):
+    """The remembered :func:`_boundary_pixels` of ``lab`` (listed from its remembered boundary
+    when only that is), or None when ``lab`` is not the remembered label image."""
+    entry = _remembered(lab)
+    if entry is None or entry[1] is None:
+        return None
+    return _boundary_pixels(lab)
+
+
 def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
                    gravity_params=None, normals=None) -> PlaneSet:
     """Measure the attributes of every labelled plane.

@@ -12,7 +12,8 @@ and runs with the same settings; ``--param`` overrides one, with a warning when 
 the training value.
 
 Override names: a bare name is a segmentation parameter (``theta=12``, ``split=false``,
-``preset=paper``); ``gravity.NAME``, ``planes.NAME``, ``relations.NAME`` and
+``preset=paper``), and so is ``split.NAME``, a field of the segmentation's post-processing
+(:class:`~planerel.segment.split.SplitParams`, e.g. ``split.small_faces=150``); ``gravity.NAME``, ``planes.NAME``, ``relations.NAME`` and
 ``proposals.NAME`` and ``curved.NAME`` set a field of :class:`~planerel.features.gravity.GravityParams`,
 :class:`~planerel.features.planes.PlaneParams`, :class:`~planerel.features.relations.RelationParams`,
 :class:`~planerel.features.relations.ProposalParams` and :class:`~planerel.features.curved.CurvedParams`;
@@ -59,13 +60,19 @@ def _resolved_segmentation(method: str, params: dict) -> dict | None:
     ``gt`` (ground-truth planes: nothing to resolve)."""
     if method == "gt":
         return None
-    from planerel.segment import make_params
+    from planerel.segment import SPLIT_PREFIX, make_params, split_fields
+    from planerel.segment.split import SplitParams
 
-    fields = {k: v for k, v in params.items() if k not in _SEGMENT_KEYWORDS}
+    fields, split_params = split_fields({k: v for k, v in params.items()
+                                         if k not in _SEGMENT_KEYWORDS})
     out = dataclasses.asdict(make_params(method, **fields))
     for k in _SEGMENT_KEYWORDS:
         if k in params:
             out[k] = params[k]
+    if method == "regiongrow" or split_params is not None:
+        # the post-processing's fields (it runs after region growing by default)
+        for k, v in dataclasses.asdict(split_params or SplitParams()).items():
+            out[SPLIT_PREFIX + k] = v
     return out
 
 
@@ -217,10 +224,10 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
     section_over: list[tuple[str, str, object]] = []
     for name, value in (overrides or {}).items():
         sec, dot, key = str(name).partition(".")
-        if dot:
+        if dot and sec != "split":  # split.NAME is a segmentation parameter
             if sec not in SECTIONS:
                 raise InputError(f"--param {name}: unknown section {sec!r} (use a segmentation "
-                                 f"parameter or one of {', '.join(f'{s}.NAME' for s in SECTIONS)})")
+                                 f"parameter, split.NAME or one of {', '.join(f'{s}.NAME' for s in SECTIONS)})")
             fields = {f.name: f for f in dataclasses.fields(_section_class(sec))}
             if key not in fields:
                 raise InputError(f"--param {name}: {sec} has no parameter {key!r} (it has "

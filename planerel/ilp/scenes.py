@@ -135,9 +135,10 @@ def _check_seg_params(method: str, seg_params: dict | None) -> None:
         return
     if "params" in params:  # a parameter dataclass given whole: validated when it was made
         return
-    from planerel.segment import _as_bool, make_params
+    from planerel.segment import _as_bool, make_params, split_fields
 
     _as_bool(params.pop("split", None), default=True)
+    params, _ = split_fields(params)  # split.NAME: the post-processing's, validated here
     make_params(method, **params)
 
 

@@ -31,10 +31,48 @@ __all__ = [
     "RansacParams",
     "fit_planes",
     "make_params",
+    "split_fields",
+    "SPLIT_PREFIX",
 ]
 
 #: Method names :func:`segment` accepts.
 METHODS = ("regiongrow", "sp", "snp")
+#: A segmentation parameter named ``split.NAME`` sets field NAME of the post-processing's
+#: :class:`~planerel.segment.split.SplitParams` (``--param split.small_faces=150``).
+SPLIT_PREFIX = "split."
+
+
+def split_fields(params: dict):
+    """Separate the post-processing's ``split.NAME`` parameters from the method's.
+
+    Parameters
+    ----------
+    params : dict
+        Segmentation parameters as a user gives them (``{"theta": 12, "split.small_faces": 150}``).
+
+    Returns
+    -------
+    (dict, SplitParams or None)
+        The other parameters (a new dict), and the :class:`~planerel.segment.split.SplitParams`
+        built from the ``split.NAME`` ones (strings converted as for ``--param``), or None when
+        there are none.
+
+    Raises
+    ------
+    InputError
+        An unknown field or a bad value (the dataclass's message).
+    """
+    rest, given = {}, {}
+    for key, value in params.items():
+        if isinstance(key, str) and key.startswith(SPLIT_PREFIX):
+            given[key[len(SPLIT_PREFIX):]] = value
+        else:
+            rest[key] = value
+    if not given:
+        return rest, None
+    from planerel.segment.split import SplitParams
+
+    return rest, coerce_params(SplitParams, given)
 
 
 def make_params(method: str = "regiongrow", **params):
@@ -97,7 +135,8 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
         ``refine=False`` as well, region growing follows the paper's Algorithm 1 (see
         :meth:`RegionGrowParams.growing_variant`).
     split_params : SplitParams, optional
-        Parameters of the split step (default :class:`SplitParams`).
+        Parameters of the split step (default :class:`SplitParams`); or give single fields as
+        ``**{"split.small_faces": 150}`` among ``params`` (not both).
     **params
         Fields of :class:`RegionGrowParams` (regiongrow) or :class:`RansacParams` (sp, snp);
         or ``params=<dataclass instance>``; regiongrow also ``preset="structured-light"`` or
@@ -118,6 +157,12 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
 
     if not isinstance(cloud, Cloud):
         raise InputError(f"segment: expected a planerel Cloud, got {type(cloud).__name__}")
+    params, split_given = split_fields(params)
+    if split_given is not None:
+        if split_params is not None:
+            raise InputError("segment: give either split_params=<SplitParams> or split.NAME "
+                             "parameters, not both")
+        split_params = split_given
     given = params.pop("params", None)
     if given is not None:
         if params:
