@@ -662,3 +662,76 @@ def grow_clusters(rows, cols, ids, k, full, xyz, edge_depth, steps, cap):
     for t in range(m):
         G[t] = _root(parent, lab[R[t], C[t]])
     return R[:m].copy(), C[:m].copy(), G
+
+
+@njit(cache=True, nogil=True)
+def nest_links(rows, cols, ids, near, part, xyz, H, W, g, nest_depth):
+    """Groups of the components of a pixel list linked across small gaps
+    (:func:`planerel.features.curved._nested_groups`).
+
+    Two pixels of different ``near`` components link when they lie within ``g`` grid pixels
+    (any direction) and within ``nest_depth * max(1, |z|)`` in 3-D (``z`` the earlier pixel's
+    depth), and at least one of the two components is a ``part``.
+
+    Parameters
+    ----------
+    rows, cols, ids : ndarray, shape (N,), int64
+        The pixels (row-major) and their component ids (``0 .. K-1``).
+    near, part : ndarray, shape (K,), bool
+    xyz : ndarray, shape (H, W, 3), float64
+    H, W, g : int
+    nest_depth : float
+
+    Returns
+    -------
+    ndarray, shape (K,), int64
+        Each component's group: the smallest component id of its linked group.
+    """
+    k = near.shape[0]
+    parent = np.arange(k)
+    n = rows.shape[0]
+    # a component map over the near pixels' bounding box only (-1: none)
+    r0, r1, c0, c1 = H, -1, W, -1
+    for t in range(n):
+        if near[ids[t]]:
+            r0 = min(r0, rows[t])
+            r1 = max(r1, rows[t])
+            c0 = min(c0, cols[t])
+            c1 = max(c1, cols[t])
+    if r1 < 0:
+        return parent
+    img = np.full((r1 - r0 + 1, c1 - c0 + 1), -1, np.int32)
+    for t in range(n):
+        if near[ids[t]]:
+            img[rows[t] - r0, cols[t] - c0] = ids[t]
+    for t in range(n):
+        a = ids[t]
+        if not near[a]:
+            continue
+        r, c = rows[t], cols[t]
+        lim = nest_depth * max(1.0, abs(xyz[r, c, 2]))
+        lim2 = lim * lim
+        for dr in range(0, g + 1):
+            r2 = r + dr
+            if r2 > r1:
+                break
+            for dc in range(-g, g + 1):
+                if dr == 0 and dc <= 0:
+                    continue  # each unordered pair of offsets once
+                c2 = c + dc
+                if c2 < c0 or c2 > c1:
+                    continue
+                b = img[r2 - r0, c2 - c0]
+                if b < 0 or b == a or not (part[a] or part[b]):
+                    continue
+                d0 = xyz[r2, c2, 0] - xyz[r, c, 0]
+                d1 = xyz[r2, c2, 1] - xyz[r, c, 1]
+                d2 = xyz[r2, c2, 2] - xyz[r, c, 2]
+                if d0 * d0 + d1 * d1 + d2 * d2 <= lim2:
+                    x, y = _root(parent, a), _root(parent, b)
+                    if x != y:
+                        parent[max(x, y)] = min(x, y)
+    out = np.empty(k, np.int64)
+    for i in range(k):
+        out[i] = _root(parent, i)
+    return out

@@ -111,6 +111,18 @@ class CurvedParams:
         ``near_min_area`` (0.004: a mug or a can at 0.6-1.5 m shows 0.004-0.01 m^2; the
         sensor's noise at that range makes few specks that survive the opening);
         ``near_depth`` = 0: ``min_area`` everywhere (before tabletop22).
+    nest_depth : float
+        Metres at 1 m (scaled by the depth): near clusters each too small to keep that touch in
+        the grid with their points at most this far apart in 3-D count together, and are kept
+        as one cluster when their areas together reach ``near_min_area`` (0.1).  The outside of
+        a mug and the inside wall seen over its rim touch in the image across a depth jump of
+        2-8 cm, wider than ``edge_depth``: each part alone (0.002-0.004 m^2 at 0.8-1.1 m) was
+        under ``near_min_area``, so the mug had no proposal (2026-11-29).  Clusters kept on
+        their own are not changed.  0: off.
+    nest_px : int
+        Pixels: such parts join when pixels of both lie within this many grid pixels (4): a
+        depth sensor leaves no depth in a band 1-5 px wide at the jump (the rim occluding the
+        inside), so the two parts do not touch in the image.
     join_facets : bool
         Proposals made only of facets (and planes under ``small_area``) that hold two facets
         linked by the facet rule (adjacent, ``facet_min_angle``-``facet_max_angle`` apart) are
@@ -135,17 +147,20 @@ class CurvedParams:
     join_facets: bool = True
     near_min_area: float = 0.004
     near_depth: float = 1.5
+    nest_depth: float = 0.1
+    nest_px: int = 4
 
     def __post_init__(self) -> None:
         for name in ("facet_min_angle", "facet_max_angle", "tiny_area", "edge_depth", "min_area",
-                     "small_area", "join_area", "curved_below", "near_min_area", "near_depth"):
+                     "small_area", "join_area", "curved_below", "near_min_area", "near_depth",
+                     "nest_depth"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
                 raise InputError(f"{name} must be a number >= 0, got {v!r}")
         if not self.facet_min_angle <= self.facet_max_angle <= 90:
             raise InputError(f"facet angles must satisfy 0 <= facet_min_angle <= facet_max_angle "
                              f"<= 90, got {self.facet_min_angle!r} and {self.facet_max_angle!r}")
-        for name, lo, hi in (("facet_min_planes", 2, 1000), ("open_px", 0, 10), ("regrow_px", 0, 50),
+        for name, lo, hi in (("facet_min_planes", 2, 1000), ("open_px", 0, 10), ("regrow_px", 0, 50), ("nest_px", 1, 20),
                              ("join_touch", 0, 10 ** 9)):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
@@ -415,7 +430,22 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
         zc = np.bincount(ids, weights=xyz[rows, cols, 2], minlength=k) / np.maximum(
             np.bincount(ids, minlength=k), 1)
         lim[zc <= params.near_depth] = min(float(params.near_min_area), float(params.min_area))
-    keep = np.nonzero(area >= lim)[0]  # component ids follow the first pixel
+    # cluster index of each component (-1: not kept), numbered by the first opened pixel
+    # each kept component's group: the component it is kept with (itself, or the cluster a
+    # nested part joins); -1: not kept
+    rep = np.where(area >= lim, np.arange(k), -1)
+    if params.nest_depth > 0 and params.near_depth > 0 and k > 1:
+        _nested_groups(rep, ids, rows, cols, xyz, area, lim, params, un.shape)
+    kept = np.nonzero(rep >= 0)[0]
+    gmin = np.full(k, k, np.int64)
+    np.minimum.at(gmin, rep[kept], kept)  # a group's first opened pixel: its smallest id
+    order = np.unique(rep[kept])
+    order = order[np.argsort(gmin[order], kind="stable")]
+    index = np.full(k, -1, np.int64)
+    index[order] = np.arange(len(order))
+    cluster = np.full(k, -1, np.int64)
+    cluster[kept] = index[rep[kept]]
+    keep = np.arange(len(order))
     out = []
     if params.regrow_px > 0 and params.open_px > 0 and len(keep):
         # the kept clusters grown back regrow_px steps into the pixels before the opening,
@@ -429,9 +459,7 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
             full = unexplained_valid(cloud.valid, lab, explained)
         else:
             full = unexplained_mask(xyz, lab, explained)
-        remap = np.full(k, -1, np.int64)
-        remap[keep] = np.arange(len(keep))
-        kid = remap[ids]
+        kid = cluster[ids]
         sel = kid >= 0
         gr, gc, grp = grow_clusters(rows[sel], cols[sel], kid[sel], len(keep), full, xyz,
                                     float(params.edge_depth), int(params.regrow_px),
@@ -442,12 +470,50 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
             m[gr[s], gc[s]] = True
             out.append(m)
         return out
+    kid = cluster[ids]
     for c in keep:
         m = np.zeros(un.shape, bool)
-        sel = ids == c
+        sel = kid == c
         m[rows[sel], cols[sel]] = True
         out.append(m)
     return out
+
+
+def _nested_groups(rep, ids, rows, cols, xyz, area, lim, params: CurvedParams, shape) -> None:
+    """Join near components too small to keep (``rep`` -1) whose pixels come within
+    ``nest_px`` grid pixels and ``nest_depth`` (x depth) in 3-D of another near component:
+    parts linked to one kept cluster join it (``rep`` = its id); parts linked to none that
+    reach ``near_min_area`` together become one cluster (``rep`` = their smallest id); parts
+    linked to two kept clusters stay out, and kept clusters never join each other.  The parts
+    of one round object seen over its rim, apart in the image by the band of invalid pixels a
+    depth sensor leaves at the jump (``CurvedParams.nest_depth``)."""
+    from planerel.features._curved_kernels import nest_links
+
+    k = len(area)
+    n_px = np.bincount(ids, minlength=k)
+    zc = np.bincount(ids, weights=xyz[rows, cols, 2], minlength=k) / np.maximum(n_px, 1)
+    near = (zc <= params.near_depth) & (area >= 0.5 * params.near_min_area)  # no specks
+    part = near & (rep < 0)
+    if not part.any():
+        return
+    grp = nest_links(rows, cols, ids, near, part, xyz, shape[0], shape[1], int(params.nest_px),
+                     float(params.nest_depth))
+    ng = k  # group ids are component ids (the smallest of the group)
+    kept = near & (rep >= 0)
+    n_kept = np.bincount(grp[kept], minlength=ng)
+    total = np.bincount(grp[part], weights=area[part], minlength=ng)
+    n_part = np.bincount(grp[part], minlength=ng)
+    anchor = np.full(ng, -1, np.int64)
+    anchor[grp[kept]] = np.nonzero(kept)[0]  # the kept cluster of a group that has one
+    first = np.full(ng, k, np.int64)
+    np.minimum.at(first, grp[part], np.nonzero(part)[0])
+    alone = (n_kept == 0) & (n_part >= 2) & (total >= lim[part].min(initial=np.inf))
+    joined = part & (n_kept == 1)[grp]
+    rep[joined] = anchor[grp[joined]]
+    new = part & alone[grp]
+    rep[new] = first[grp[new]]
+
+
 
 
 def _touching_labels(mask, lab, xyz, edge_depth: float) -> dict:
