@@ -340,9 +340,12 @@ def _relation(a, b, angle, parallel, perpendicular, gap, touching, adjacent, ris
     """``Relation(...)`` without the frozen dataclass's ``__init__`` (13 guarded attribute
     writes): the same fields, in the same order, in the instance dictionary."""
     r = _new(Relation)
-    r.__dict__.update(a=a, b=b, angle=angle, parallel=parallel, perpendicular=perpendicular,
-                      gap=gap, touching=touching, adjacent=adjacent, rise=rise, above=above,
-                      in_front_of=in_front_of, skirt=skirt, corner=corner)
+    # a dict display, not keywords: no keyword dictionary built and unpacked (0.84 against
+    # 1.2 us a relation)
+    r.__dict__.update({"a": a, "b": b, "angle": angle, "parallel": parallel,
+                       "perpendicular": perpendicular, "gap": gap, "touching": touching,
+                       "adjacent": adjacent, "rise": rise, "above": above,
+                       "in_front_of": in_front_of, "skirt": skirt, "corner": corner})
     return r
 
 
@@ -1065,24 +1068,24 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         nbrs.setdefault(a, []).append(b)
         nbrs.setdefault(b, []).append(a)
     out = set()
+    # each plane's normal turned towards the sensor and centroid as Python floats, once
+    vecs: dict = {}
+    for k in nbrs:
+        p = byl[k]
+        c = np.asarray(p.centroid, float).tolist()
+        nk = np.asarray(p.normal, float).tolist()
+        vecs[k] = ([-v for v in nk] if _dot(nk, c) > 0 else nk, c)
     # per pair a few 3-vector products, in Python floats (numpy's call overhead is most of
     # their time; the sums' order may differ from numpy's in the last bit)
     for a, b in pairs:
         pa, pb = byl[a], byl[b]
-        na = np.asarray(pa.normal, float).tolist()
-        nb = np.asarray(pb.normal, float).tolist()
-        if _dot(na, np.asarray(pa.centroid, float).tolist()) > 0:
-            na = [-v for v in na]
-        if _dot(nb, np.asarray(pb.centroid, float).tolist()) > 0:
-            nb = [-v for v in nb]
+        (na, xa), (nb, xb) = vecs[a], vecs[b]
         e = (edges or {}).get((min(a, b), max(a, b)))
         if e is not None and e[2] < min_edge:
             e = None  # a pixel pair or two across an occluding edge: no shared edge
         if e is not None:
             xa, xb = (e[0], e[1]) if a < b else (e[1], e[0])
-        else:
-            xa, xb = pa.centroid, pb.centroid
-        xa, xb = np.asarray(xa, float).tolist(), np.asarray(xb, float).tolist()
+            xa, xb = np.asarray(xa, float).tolist(), np.asarray(xb, float).tolist()
         dx = [xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]]
         if abs(_dot(na, nb)) >= cos_tol:
             if (stacked and stacked_parallel and pa.orientation == "vertical"
