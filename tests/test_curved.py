@@ -323,6 +323,34 @@ def test_touching_and_outside_kernels_match_numpy():
     assert touched > 100
 
 
+def test_touching_and_outside_kernels_skip_empty_rows():
+    """The kernels skip the rows of the mask without a pixel (a cluster holds a few rows of
+    the image): the same counts as the numpy code on sparse masks, empty masks and masks on
+    the first and last rows."""
+    from planerel.features._curved_kernels import count_outside
+    from planerel.features.curved import _touching_labels
+
+    rng = np.random.default_rng(23)
+    for t in range(200):
+        H, W = int(rng.integers(1, 60)), int(rng.integers(1, 90))
+        mask = np.zeros((H, W), bool)
+        for _ in range(int(rng.integers(0, 3))):
+            r0, c0 = int(rng.integers(0, H)), int(rng.integers(0, W))
+            mask[r0:r0 + int(rng.integers(1, 6)), c0:c0 + int(rng.integers(1, 9))] = True
+        if t % 7 == 0:
+            mask[[0, H - 1], int(rng.integers(0, W))] = True
+        lab = rng.integers(-2, 7, (H, W)).astype(np.int32)
+        xyz = rng.normal(size=(H, W, 3)) * 0.02 + [0, 0, 1.5]
+        xyz[rng.random((H, W)) < 0.1] = np.nan
+        edge = float(rng.choice([0.005, 0.02, 0.05]))
+        assert _touching_labels(mask, lab, xyz, edge) == _touching_labels_numpy(mask, lab, xyz, edge)
+        g = sorted({int(x) for x in rng.integers(0, 7, int(rng.integers(0, 4)))})
+        member = np.zeros(max([-1, *g]) + 1, bool)
+        member[g] = True
+        assert count_outside(mask, lab, member, -(1 << 40) if g else -2) == \
+            int((mask & ~np.isin(lab, g if g else [-2])).sum())
+
+
 def test_pitch_kernel_matches_numpy():
     """pitch_diffs gives _pitch_at's numpy values (main 8c18deb), bit for bit, zero and NaN
     depths included, on whole and strided (every f-th pixel) clouds."""
