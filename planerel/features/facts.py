@@ -92,6 +92,8 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
      "box's side below its top (planerel.features.solid)"),
     ("corner", 2, "plane, plane", "vertical walls of one solid meeting at a right angle, "
      "tops level (planerel.features.solid)"),
+    ("facing", 2, "plane, plane", "parallel vertical walls, not adjacent, tops level, "
+     "overlapping along the walls: the two sides of one solid or open box (planerel.features.solid)"),
     ("in_front_of", 2, "plane, plane", "first nearer the sensor along the horizontal view direction"),
 )
 _ARITY = {name: arity for name, arity, _, _ in PREDICATES}
@@ -490,6 +492,8 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
             out["skirt"].append(F("skirt", a, b))
         if r.corner:
             out["corner"].append(F("corner", a, b))
+        if r.facing:
+            out["facing"].append(F("facing", a, b))
         if r.in_front_of:
             out["in_front_of"].append(F("in_front_of", a, b))
     if not params.planner:

@@ -35,6 +35,11 @@ For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.pl
 ``corner``       p and q are vertical, adjacent and perpendicular walls of one solid: each
                  at least ``corner_width`` wide, their top edges within ``corner_tol`` of
                  each other (:mod:`planerel.features.solid`; needs the cloud)
+``facing``       p and q are vertical, parallel and *not* adjacent walls facing each other
+                 across one solid or open box: each at least ``corner_width`` wide, their top
+                 edges within ``corner_tol`` of each other, the shorter one's extent along
+                 the walls overlapping the other's by at least ``facing_overlap`` of it
+                 (:mod:`planerel.features.solid`; needs the cloud)
 ================ =========================================================================
 
 Which pairs reach the facts is decided in :mod:`planerel.features.facts`: all ordered pairs within an
@@ -114,13 +119,18 @@ class RelationParams:
     skirt_own_steps: bool = True
     corner_tol: float = 0.08
     corner_width: float = 0.08
+    facing_overlap: float = 0.5
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
-                             "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width"))
+                             "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width",
+                             "facing_overlap"))
         if self.skirt_cover > 1:
             raise InputError(f"skirt_cover is a share of the top's extent in 0..1, got {self.skirt_cover!r}")
+        if self.facing_overlap > 1:
+            raise InputError("facing_overlap is a share of the shorter wall's extent in 0..1, got "
+                             f"{self.facing_overlap!r}")
         if self.parallel_tol >= 45 or self.perpendicular_tol >= 45:
             raise InputError("parallel_tol and perpendicular_tol must be below 45 degrees, got "
                              f"{self.parallel_tol!r} and {self.perpendicular_tol!r}")
@@ -147,6 +157,7 @@ class Relation:
     in_front_of: bool
     skirt: bool = False
     corner: bool = False
+    facing: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -257,8 +268,9 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
 
 
 class _Solid:
-    """``skirt`` and ``corner`` of :func:`relate` (:func:`planerel.features.solid.is_skirt`,
-    :func:`~planerel.features.solid.is_corner`); each face is measured once."""
+    """``skirt``, ``corner`` and ``facing`` of :func:`relate`
+    (:func:`planerel.features.solid.is_skirt`, :func:`~planerel.features.solid.is_corner`,
+    :func:`~planerel.features.solid.is_facing`); each face is measured once."""
 
     def __init__(self, planes, cloud, params: RelationParams):
         lab = planes.labels
@@ -331,13 +343,22 @@ class _Solid:
         return is_corner(a, b, self._profile(a), self._profile(b), p.corner_tol,
                          p.corner_width)
 
+    def facing(self, a, b) -> bool:
+        if self.xyz is None or a.orientation != "vertical" or b.orientation != "vertical":
+            return False
+        from planerel.features.solid import is_facing
+
+        p = self.params
+        return is_facing(a, b, self._profile(a), self._profile(b), p.corner_tol,
+                         p.corner_width, p.facing_overlap)
+
 
 _new = object.__new__
 
 
 def _relation(a, b, angle, parallel, perpendicular, gap, touching, adjacent, rise, above,
-              in_front_of, skirt, corner) -> Relation:
-    """``Relation(...)`` without the frozen dataclass's ``__init__`` (13 guarded attribute
+              in_front_of, skirt, corner, facing=False) -> Relation:
+    """``Relation(...)`` without the frozen dataclass's ``__init__`` (14 guarded attribute
     writes): the same fields, in the same order, in the instance dictionary."""
     r = _new(Relation)
     # a dict display, not keywords: no keyword dictionary built and unpacked (0.84 against
@@ -345,7 +366,8 @@ def _relation(a, b, angle, parallel, perpendicular, gap, touching, adjacent, ris
     r.__dict__.update({"a": a, "b": b, "angle": angle, "parallel": parallel,
                        "perpendicular": perpendicular, "gap": gap, "touching": touching,
                        "adjacent": adjacent, "rise": rise, "above": above,
-                       "in_front_of": in_front_of, "skirt": skirt, "corner": corner})
+                       "in_front_of": in_front_of, "skirt": skirt, "corner": corner,
+                       "facing": facing})
     return r
 
 
@@ -359,7 +381,7 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     cloud : Cloud, optional
         The cloud the planes were measured in; needed for the image-grid ``touching`` test
         (without it, adjacency uses the 3-D hull gap alone) and for ``skirt`` and
-        ``corner`` (False without it).
+        ``corner`` and ``facing`` (False without it).
     params : RelationParams, optional
 
     Returns
@@ -405,7 +427,7 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     out: list = [None] * (n * (n - 1))
     m = n - 1
     par_tol, above_tol, front_tol = params.parallel_tol, params.above_tol, params.front_tol
-    skirt, corner_of = solid.skirt, solid.corner
+    skirt, corner_of, facing_of = solid.skirt, solid.corner, solid.facing
     # who can be a skirt's top or face, a corner's wall (``_Solid`` answers False otherwise:
     # its calls are left out, not its answers)
     seen = solid.xyz is not None
@@ -427,12 +449,15 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
             rise = lev[j] - lev[i]
             dd = dep[j] - dep[i]
             corner = adj and perp and vi and vert[j] and corner_of(pi, pj)
+            facing = not adj and par and vi and vert[j] and facing_of(pi, pj)
             out[i * m + j - 1] = _relation(li, lj, a, par, perp, gap, t, adj, rise,
                                            -rise > above_tol, dd > front_tol,
-                                           adj and hi and vert[j] and skirt(pi, pj), corner)
+                                           adj and hi and vert[j] and skirt(pi, pj), corner,
+                                           facing)
             out[j * m + i] = _relation(lj, li, a, par, perp, gap, t, adj, -rise,
                                        rise > above_tol, -dd > front_tol,
-                                       adj and vi and horiz[j] and skirt(pj, pi), corner)
+                                       adj and vi and horiz[j] and skirt(pj, pi), corner,
+                                       facing)
     if any(plist[k].label >= plist[k + 1].label for k in range(n - 1)):
         out.sort(key=lambda r: (r.a, r.b))
     return Relations(tuple(out), params, solid.steps)

@@ -59,6 +59,12 @@ table's leg, 3.5-5 cm, a door's or a table top's edge, 4 cm, are narrower) and t
 edges (98th percentile of their points' levels) within ``tol`` of each other.  Adjacency and
 the right angle are checked by the caller.  Two faces of a box seen without its top (camera
 below it, or an open box whose bottom is not seen) are a corner; defaults 0.08 m and 0.08 m.
+
+**facing(P, Q)**: P and Q are parallel vertical walls, not adjacent, of one solid or open box
+(:func:`is_facing`): each at least ``width_min`` wide, their top edges within ``tol`` of each
+other, and their extents along the walls overlapping by at least half the shorter one's.  An
+open box seen as its near and far side, both cut by the view, keeps level tops where a
+staircase's risers differ by the rise (openbox16, open16 in docs/results.md).
 """
 
 from __future__ import annotations
@@ -68,7 +74,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["face_points", "FaceProfile", "face_profile", "face_profile_of", "skirt_measures",
-           "is_skirt", "on_step", "rises_from", "is_corner"]
+           "is_skirt", "on_step", "rises_from", "is_corner", "is_facing"]
 
 #: Levels of the cover test, as shares of the face's reach below the top.
 _LEVELS = (0.3, 0.5, 0.7)
@@ -349,3 +355,38 @@ def is_corner(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float =
     if min(p.width, q.width) < width_min:
         return False
     return bool(abs(profile_p.top - profile_q.top) <= tol)
+
+
+def is_facing(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float = 0.08,
+              width_min: float = 0.08, overlap_min: float = 0.5) -> bool:
+    """True when parallel vertical faces ``p`` and ``q`` face each other across one solid or
+    open box (module rule ``facing``): each at least ``width_min`` m wide (``Plane.width``),
+    their top edges (:class:`FaceProfile` ``top``) within ``tol`` m of each other, and the
+    shorter face's extent along the walls (``lo`` .. ``hi`` on its ``along`` direction)
+    overlapping the other's by at least ``overlap_min`` of its own.
+
+    The two walls of an open box seen as its near and far side (the far one's bottom hidden
+    by the near one, both cut by the view) keep level tops; a staircase's risers differ by
+    the rise, a shelf's boards are horizontal.  Orientation, parallelism and that the faces
+    are not adjacent are the caller's to check.
+
+    Parameters
+    ----------
+    p, q : Plane
+    profile_p, profile_q : FaceProfile
+        :func:`face_profile` of each.
+    tol, width_min : float
+        Metres.
+    overlap_min : float
+        Share of the shorter face's extent, 0..1.
+    """
+    if min(p.width, q.width) < width_min:
+        return False
+    if not abs(profile_p.top - profile_q.top) <= tol:
+        return False
+    lo_q, hi_q = profile_q.lo, profile_q.hi
+    if float(np.dot(profile_p.along, profile_q.along)) < 0:  # the same direction for both
+        lo_q, hi_q = -hi_q, -lo_q
+    ext_p, ext_q = profile_p.hi - profile_p.lo, hi_q - lo_q
+    overlap = min(profile_p.hi, hi_q) - max(profile_p.lo, lo_q)
+    return bool(overlap >= overlap_min * min(ext_p, ext_q))
