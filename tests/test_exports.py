@@ -152,6 +152,7 @@ def test_describe_graph_graphml_and_json(scenes, tmp_path):
             assert e["angle"] == pytest.approx(r.angle) and e["adjacent"] == r.adjacent
             assert e["rise"] == pytest.approx(r.rise) and e["above"] == r.above
             assert e["skirt"] == r.skirt and e["corner"] == r.corner
+            assert e["facing"] == r.facing
         for p in desc.planes:
             node = g.nodes[desc.plane_id(p.label)]
             assert node["orientation"] == p.orientation

@@ -225,7 +225,7 @@ def scene_graph(desc):
                    parallel=bool(r.parallel), perpendicular=bool(r.perpendicular),
                    adjacent=bool(r.adjacent), above=bool(r.above),
                    in_front_of=bool(r.in_front_of), skirt=bool(r.skirt),
-                   corner=bool(r.corner))
+                   corner=bool(r.corner), facing=bool(r.facing))
     return g
 
 
