@@ -679,13 +679,15 @@ def grow_clusters(rows, cols, ids, k, full, xyz, edge_depth, steps, cap):
 
 
 @njit(cache=True, nogil=True)
-def nest_links(rows, cols, ids, near, part, xyz, H, W, g, nest_depth):
+def nest_links(rows, cols, ids, near, part, xyz, H, W, g, nest_depth, lab, credit):
     """Groups of the components of a pixel list linked across small gaps
     (:func:`planerel.features.curved._nested_groups`).
 
     Two pixels of different ``near`` components link when they lie within ``g`` grid pixels
     (any direction) and within ``nest_depth * max(1, |z|)`` in 3-D (``z`` the earlier pixel's
-    depth), and at least one of the two components is a ``part``.
+    depth), and at least one of the two components is a ``part``.  A pixel of a ``part`` also
+    links its component to a plane ``x`` with ``credit[x]`` whose pixel (in ``lab``) lies so
+    near it: node ``K + x``.
 
     Parameters
     ----------
@@ -695,14 +697,19 @@ def nest_links(rows, cols, ids, near, part, xyz, H, W, g, nest_depth):
     xyz : ndarray, shape (H, W, 3), float64
     H, W, g : int
     nest_depth : float
+    lab : ndarray, shape (H, W), int
+        Plane labels (-1: none).
+    credit : ndarray, shape (L,), bool
+        Planes a part may link to (labels ``0 .. L-1``; none when L is 0).
 
     Returns
     -------
-    ndarray, shape (K,), int64
-        Each component's group: the smallest component id of its linked group.
+    ndarray, shape (K + L,), int64
+        Each node's group: the smallest node id of its linked group.
     """
     k = near.shape[0]
-    parent = np.arange(k)
+    nl = credit.shape[0]
+    parent = np.arange(k + nl)
     n = rows.shape[0]
     # a component map over the near pixels' bounding box only (-1: none)
     r0, r1, c0, c1 = H, -1, W, -1
@@ -745,7 +752,21 @@ def nest_links(rows, cols, ids, near, part, xyz, H, W, g, nest_depth):
                     x, y = _root(parent, a), _root(parent, b)
                     if x != y:
                         parent[max(x, y)] = min(x, y)
-    out = np.empty(k, np.int64)
-    for i in range(k):
+        if nl == 0 or not part[a]:
+            continue
+        for r2 in range(max(0, r - g), min(H, r + g + 1)):
+            for c2 in range(max(0, c - g), min(W, c + g + 1)):
+                x = lab[r2, c2]
+                if x < 0 or x >= nl or not credit[x]:
+                    continue
+                d0 = xyz[r2, c2, 0] - xyz[r, c, 0]
+                d1 = xyz[r2, c2, 1] - xyz[r, c, 1]
+                d2 = xyz[r2, c2, 2] - xyz[r, c, 2]
+                if d0 * d0 + d1 * d1 + d2 * d2 <= lim2:
+                    u, v = _root(parent, a), _root(parent, k + x)
+                    if u != v:
+                        parent[max(u, v)] = min(u, v)
+    out = np.empty(k + nl, np.int64)
+    for i in range(k + nl):
         out[i] = _root(parent, i)
     return out

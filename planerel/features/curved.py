@@ -123,6 +123,12 @@ class CurvedParams:
         Pixels: such parts join when pixels of both lie within this many grid pixels (4): a
         depth sensor leaves no depth in a band 1-5 px wide at the jump (the rim occluding the
         inside), so the two parts do not touch in the image.
+    nest_credit : float
+        m^2: parts linked the same way (``nest_px``, ``nest_depth``) to the plane of a
+        proposal made of that plane alone, of at most this area (0.008), and to no kept
+        cluster, count that plane's area too; kept so, they join its proposal.  A mug whose
+        bottom or a flat-looking strip of its side is a small plane, its other points in parts
+        under ``near_min_area``.  0: off.
     join_facets : bool
         Proposals made only of facets (and planes under ``small_area``) that hold two facets
         linked by the facet rule (adjacent, ``facet_min_angle``-``facet_max_angle`` apart) are
@@ -149,11 +155,12 @@ class CurvedParams:
     near_depth: float = 1.5
     nest_depth: float = 0.1
     nest_px: int = 4
+    nest_credit: float = 0.008
 
     def __post_init__(self) -> None:
         for name in ("facet_min_angle", "facet_max_angle", "tiny_area", "edge_depth", "min_area",
                      "small_area", "join_area", "curved_below", "near_min_area", "near_depth",
-                     "nest_depth"):
+                     "nest_depth", "nest_credit"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
                 raise InputError(f"{name} must be a number >= 0, got {v!r}")
@@ -377,6 +384,18 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
         One mask per cluster of at least ``min_area`` m^2 (opened pixels), ordered by their
         first opened pixel (row-major; clusters joined by ``regrow_px``: the first one's).
     """
+    return _clusters(cloud, labels, planes, support, params, pixels)[0]
+
+
+def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = None, pixels=None,
+              credit=None):
+    """:func:`unexplained_clusters`, and for each cluster the plane it was kept with.
+
+    ``credit`` maps plane labels to areas (m^2): planes that are a proposal alone, small enough
+    that near parts too small to keep on their own count with them (``CurvedParams.nest_credit``).
+    Returns ``(masks, planes)``: ``planes[i]`` is the credited plane whose area kept cluster ``i``
+    (-1: none).
+    """
     params = params or CurvedParams()
     xyz = np.asarray(cloud.xyz, float)
     lab = np.asarray(labels)
@@ -419,7 +438,7 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
         un = open_mask(unexplained_mask(xyz, lab, explained), int(params.open_px))
         rows, cols = mask_pixels(un)
     if not len(rows):
-        return []
+        return [], []
     # the components from the pixel list (grid_components of the mask, without its map)
     ids, k = list_components(rows, cols, xyz, float(params.edge_depth), un.shape[0])
     pitch = (_pitch_at(xyz, rows, cols, 1), _pitch_at(xyz, rows, cols, 0))
@@ -434,8 +453,10 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     # each kept component's group: the component it is kept with (itself, or the cluster a
     # nested part joins); -1: not kept
     rep = np.where(area >= lim, np.arange(k), -1)
-    if params.nest_depth > 0 and params.near_depth > 0 and k > 1:
-        _nested_groups(rep, ids, rows, cols, xyz, area, lim, params, un.shape)
+    kept_with = np.full(k, -1, np.int64)  # the credited plane a kept group was kept with
+    if params.nest_depth > 0 and params.near_depth > 0 and (k > 1 or (k and credit)):
+        _nested_groups(rep, ids, rows, cols, xyz, area, lim, params, un.shape, lab, credit,
+                       kept_with)
     kept = np.nonzero(rep >= 0)[0]
     gmin = np.full(k, k, np.int64)
     np.minimum.at(gmin, rep[kept], kept)  # a group's first opened pixel: its smallest id
@@ -446,6 +467,7 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     cluster = np.full(k, -1, np.int64)
     cluster[kept] = index[rep[kept]]
     keep = np.arange(len(order))
+    plane_of = kept_with[order]  # per cluster index: its group's representative's plane
     out = []
     if params.regrow_px > 0 and params.open_px > 0 and len(keep):
         # the kept clusters grown back regrow_px steps into the pixels before the opening,
@@ -464,54 +486,80 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
         gr, gc, grp = grow_clusters(rows[sel], cols[sel], kid[sel], len(keep), full, xyz,
                                     float(params.edge_depth), int(params.regrow_px),
                                     int(np.count_nonzero(full)))
-        for g in np.unique(grp):  # the smallest member's id: their first opened pixel's order
+        gs = np.unique(grp)
+        for g in gs:  # the smallest member's id: their first opened pixel's order
             m = np.zeros(un.shape, bool)
             s = grp == g
             m[gr[s], gc[s]] = True
             out.append(m)
-        return out
+        return out, [int(plane_of[g]) for g in gs]
     kid = cluster[ids]
     for c in keep:
         m = np.zeros(un.shape, bool)
         sel = kid == c
         m[rows[sel], cols[sel]] = True
         out.append(m)
-    return out
+    return out, [int(x) for x in plane_of]
 
 
-def _nested_groups(rep, ids, rows, cols, xyz, area, lim, params: CurvedParams, shape) -> None:
+def _nested_groups(rep, ids, rows, cols, xyz, area, lim, params: CurvedParams, shape, lab=None,
+                   credit=None, kept_with=None) -> None:
     """Join near components too small to keep (``rep`` -1) whose pixels come within
     ``nest_px`` grid pixels and ``nest_depth`` (x depth) in 3-D of another near component:
     parts linked to one kept cluster join it (``rep`` = its id); parts linked to none that
     reach ``near_min_area`` together become one cluster (``rep`` = their smallest id); parts
     linked to two kept clusters stay out, and kept clusters never join each other.  The parts
     of one round object seen over its rim, apart in the image by the band of invalid pixels a
-    depth sensor leaves at the jump (``CurvedParams.nest_depth``)."""
+    depth sensor leaves at the jump (``CurvedParams.nest_depth``).  With ``credit`` (plane label
+    -> area), parts linked that way to one such plane and no kept cluster count its area too,
+    and ``kept_with[rep]`` records the plane (``CurvedParams.nest_credit``)."""
     from planerel.features._curved_kernels import nest_links
 
     k = len(area)
     n_px = np.bincount(ids, minlength=k)
     zc = np.bincount(ids, weights=xyz[rows, cols, 2], minlength=k) / np.maximum(n_px, 1)
-    near = (zc <= params.near_depth) & (area >= 0.5 * params.near_min_area)  # no specks
+    # parts from a quarter of the near limit make up a new cluster; only those from half of it
+    # join a kept one (a quarter let a bowl's rim piece join a lying cylinder beside it)
+    near = (zc <= params.near_depth) & (area >= 0.25 * params.near_min_area)  # no specks
     part = near & (rep < 0)
+    big_part = part & (area >= 0.5 * params.near_min_area)
     if not part.any():
         return
+    credit = credit or {}
+    nl = max(credit, default=-1) + 1
+    can = np.zeros(nl, np.bool_)
+    parea = np.zeros(nl)
+    for x, a in credit.items():
+        can[x], parea[x] = True, a
     grp = nest_links(rows, cols, ids, near, part, xyz, shape[0], shape[1], int(params.nest_px),
-                     float(params.nest_depth))
-    ng = k  # group ids are component ids (the smallest of the group)
+                     float(params.nest_depth), np.asarray(lab) if lab is not None and nl else
+                     np.full((1, 1), -1, np.int64), can)
+    ng = k + nl  # group ids are node ids (the smallest of the group: a component's when it has one)
     kept = near & (rep >= 0)
-    n_kept = np.bincount(grp[kept], minlength=ng)
-    total = np.bincount(grp[part], weights=area[part], minlength=ng)
-    n_part = np.bincount(grp[part], minlength=ng)
+    n_kept = np.bincount(grp[:k][kept], minlength=ng)
+    n_part = np.bincount(grp[:k][part], minlength=ng)
+    total = np.bincount(grp[:k][part], weights=area[part], minlength=ng)
+    linked = np.zeros(nl, np.bool_)
+    if nl:
+        linked = can & (grp[k:] != np.arange(k, k + nl))  # a credited plane a part reached
+    n_plane = np.bincount(grp[k:][linked], minlength=ng)
+    total += np.bincount(grp[k:][linked], weights=parea[linked], minlength=ng)
+    plane = np.full(ng, -1, np.int64)
+    plane[grp[k:][linked]] = np.nonzero(linked)[0]
     anchor = np.full(ng, -1, np.int64)
-    anchor[grp[kept]] = np.nonzero(kept)[0]  # the kept cluster of a group that has one
+    anchor[grp[:k][kept]] = np.nonzero(kept)[0]  # the kept cluster of a group that has one
     first = np.full(ng, k, np.int64)
-    np.minimum.at(first, grp[part], np.nonzero(part)[0])
-    alone = (n_kept == 0) & (n_part >= 2) & (total >= lim[part].min(initial=np.inf))
-    joined = part & (n_kept == 1)[grp]
-    rep[joined] = anchor[grp[joined]]
-    new = part & alone[grp]
-    rep[new] = first[grp[new]]
+    np.minimum.at(first, grp[:k][part], np.nonzero(part)[0])
+    alone = ((n_kept == 0) & (n_plane <= 1) & ((n_part >= 2) | (n_plane == 1))
+             & (n_part >= 1) & (total >= lim[part].min(initial=np.inf)))
+    g = grp[:k]
+    joined = big_part & (n_kept == 1)[g]
+    rep[joined] = anchor[g[joined]]
+    new = part & alone[g]
+    rep[new] = first[g[new]]
+    if kept_with is not None:
+        kept_with[first[g[new]]] = plane[g[new]]
+
 
 
 
@@ -599,9 +647,16 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
         owner = {x: k for k, g in enumerate(props) for x in g}
         soft = [all(x in facets or byl[x].area < params.small_area for x in g) and len(g) > 0
                 for g in props]
-        for m in unexplained_clusters(cloud, lab, planes, support, params, pixels):
+        # one-plane proposals small enough that near parts count with them (nest_credit)
+        credit = {g[0]: byl[g[0]].area for g in props
+                  if len(g) == 1 and byl[g[0]].area <= params.nest_credit}
+        masks_, kept_with = _clusters(cloud, lab, planes, support, params, pixels, credit)
+        for m, with_plane in zip(masks_, kept_with, strict=True):
             touch = _touching_labels(m, lab, xyz, params.edge_depth)
             joined = sorted({owner[x] for x in touch if x in owner and soft[owner[x]]})
+            if not joined and with_plane >= 0 and with_plane in owner:
+                # kept with that plane's area: the rest of its object, across the rim's band
+                joined = [owner[with_plane]]
             if not joined and params.join_area > 0:
                 # the rest of a one-plane proposal it alone touches (module rule step 3)
                 near = {owner[x] for x in touch if x in owner}
