@@ -38,7 +38,10 @@ def _two_faces_and_a_strip():
 def test_clusters_cut_apart_by_the_opening_are_one_grown_back():
     labels = _two_faces_and_a_strip()
     cloud = _flat_cloud()
-    masks = unexplained_clusters(cloud, labels, [], support=(0,), params=CurvedParams(min_area=0.002))
+    # (nest_depth 0: the pieces below are not joined across their two pixels of support;
+    # with it they are, see the end)
+    masks = unexplained_clusters(cloud, labels, [], support=(0,),
+                                 params=CurvedParams(min_area=0.002, nest_depth=0.0))
     assert len(masks) == 1
     m = masks[0]
     # both faces with the strip below them (the opening keeps the strip under each face),
@@ -48,16 +51,22 @@ def test_clusters_cut_apart_by_the_opening_are_one_grown_back():
     assert m[52:55, 30:32].all() and not m[55:].any()
     assert m.sum() == 32 * 30 * 2 + 4 + 6
     one = unexplained_clusters(cloud, labels, [], support=(0,),
-                               params=CurvedParams(min_area=0.002, regrow_px=1))
+                               params=CurvedParams(min_area=0.002, regrow_px=1, nest_depth=0.0))
     assert len(one) == 1 and one[0][52, 30:32].all() and not one[0][53:].any()
     # before the seventh pass: the opened faces, two clusters, neither reaching the other
     old = unexplained_clusters(cloud, labels, [], support=(0,),
-                               params=CurvedParams(min_area=0.002, regrow_px=0))
+                               params=CurvedParams(min_area=0.002, regrow_px=0, nest_depth=0.0))
     assert len(old) == 2 and [int(x.sum()) for x in old] == [960, 960]
     assert not any(x[:, 50:52].any() or x[52:].any() for x in old)
     # the two pieces: each under min_area when opened (together they would not be): none,
     # with the growth or without; nor the speck
     assert not m[100:].any() and not any(x[100:].any() for x in old)
+    # with the nest rule (the default since 2026-11-29) the two pieces, 2 px apart at one depth,
+    # are one cluster of 0.0032 m^2; the speck (0.00004 m^2) stays out
+    nested = unexplained_clusters(cloud, labels, [], support=(0,), params=CurvedParams(min_area=0.002))
+    assert len(nested) == 2 and nested[0][20:50, 20:82].any()
+    assert nested[1][110:130, 20:40].all() and nested[1][110:130, 42:62].all()
+    assert not nested[1][150:].any()
 
 
 def test_grown_back_clusters_keep_the_depth_rule_and_the_area_of_the_opened_pixels():
@@ -65,7 +74,7 @@ def test_grown_back_clusters_keep_the_depth_rule_and_the_area_of_the_opened_pixe
     xyz = _flat_cloud().xyz.copy()
     xyz[:100, 51:, 2] += 0.3  # the second face and its part of the strip 30 cm farther away
     masks = unexplained_clusters(Cloud(xyz), labels, [], support=(0,),
-                                 params=CurvedParams(min_area=0.002))
+                                 params=CurvedParams(min_area=0.002, nest_depth=0.0))
     assert len(masks) == 2
     near, far = masks
     assert near[20:50, 20:50].all() and not near[:, 51:].any()
@@ -80,10 +89,12 @@ def test_grown_back_clusters_keep_the_depth_rule_and_the_area_of_the_opened_pixe
 def test_a_box_cut_in_two_by_the_opening_is_one_proposal():
     labels = _two_faces_and_a_strip()
     cloud = _flat_cloud()
-    objs = curved_objects([], [], [], cloud, labels, support=(0,), params=CurvedParams(min_area=0.002))
+    # (nest_depth 0: the fixture's two small pieces stay out, as the rule of this pass has it)
+    objs = curved_objects([], [], [], cloud, labels, support=(0,),
+                          params=CurvedParams(min_area=0.002, nest_depth=0.0))
     assert len(objs) == 1 and objs[0].n_points == 1930 and objs[0].planar_fraction == 0.0
     old = curved_objects([], [], [], cloud, labels, support=(0,),
-                         params=CurvedParams(min_area=0.002, regrow_px=0))
+                         params=CurvedParams(min_area=0.002, regrow_px=0, nest_depth=0.0))
     assert len(old) == 2
 
 
