@@ -2,7 +2,8 @@
 (tabletop22)"): a box standing turned on another box comes apart, a face standing on another
 object's face (turned or aligned) is not joined to it, nor a face rising above a top it does not
 meet, the strips of a bowl's inside are one proposal, and a small round object near the
-sensor (a mug at 0.9 m) gets a proposal of its own.
+sensor (a mug at 0.9 m) gets a proposal of its own; pairs22: a box's face rising a few
+centimetres over a lower box's top is no riser of a flight.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from scenes_analytic import Rect, floor
+from scenes_analytic import Rect, box, floor
 from test_proposals_scenes import _proposals
 
 from planerel.errors import InputError
@@ -214,3 +215,42 @@ def test_a_face_rising_above_a_top_it_does_not_meet_is_not_joined_to_it():
     assert convex_pairs(ps, [(1, 2)], None, 10.0, 0.5, top_rise=0.02) == {(1, 2)}
     with pytest.raises(InputError):
         ProposalParams(top_rise=-0.01)
+
+
+@pytest.mark.parametrize("low, high", [(0.06, 0.13), (0.05, 0.11)])
+def test_a_box_rising_a_few_centimetres_behind_a_lower_box_is_no_flight(low, high):
+    # pairs22: a 30 cm wide box 6 (5) cm high and, touching its back, flush at the sides, a
+    # box 13 (11) cm high: the lower top meets the upper front, 7 (6) cm high, as a tread
+    # meets its riser, the lower front as high as that: a two-step flight's shape, at rises
+    # under step_rise_min (8 cm)
+    rects = [floor()] + box(0.0, 1.5, 0.3, 0.2, low, obj=1) + box(0.0, 1.65, 0.3, 0.1, high, obj=2)
+    view = dict(pitch=35, cam_height=0.8, width=320, height=240, noise=0.001)
+    props, seen = _proposals(rects, **view)
+    assert len(seen[1]) >= 2 and len(seen[2]) >= 2
+    assert seen[1] in props and seen[2] in props
+    merged, _ = _proposals(rects, ProposalParams(riser_min=0.0), **view)
+    assert seen[1] | seen[2] in merged  # the tread-and-riser exception joined them before
+
+
+def test_a_two_step_flight_of_full_rises_stays_one_proposal():
+    # the same shape at 15 cm rises (a flight's) keeps its tread-and-riser join
+    rects = [floor()] + box(0.0, 1.5, 0.3, 0.2, 0.15, obj=1) + box(0.0, 1.65, 0.3, 0.1, 0.30, obj=1)
+    view = dict(pitch=35, cam_height=0.8, width=320, height=240, noise=0.001)
+    props, seen = _proposals(rects, **view)
+    assert len(seen[1]) >= 4 and seen[1] in props
+
+
+def test_riser_min_in_convex_pairs():
+    # a top at 0 m and a face standing on it up to 5 cm, sharing an edge, the face concave
+    # against the top (a face behind a tread): joined only by the tread-and-riser exception
+    top = _hplane(1, (0.0, 1.4, -0.5), 0.15, 0.1)
+    face = _vplane(2, (0, -1, 0), (0.0, 1.5, -0.475), 0.15, -0.5, -0.45)
+    ps = _Planes([top, face])
+    ps.up = np.array([0.0, 0.0, 1.0])
+    edges = {(1, 2): (np.array([0.0, 1.49, -0.5]), np.array([0.0, 1.5, -0.49]), 40)}
+    assert convex_pairs(ps, [(1, 2)], edges, 10.0, 0.5) == {(1, 2)}
+    assert convex_pairs(ps, [(1, 2)], edges, 10.0, 0.5, riser_min=0.04) == {(1, 2)}
+    assert convex_pairs(ps, [(1, 2)], edges, 10.0, 0.5, riser_min=0.08) == set()
+    assert convex_pairs(ps, [(1, 2)], edges, 10.0, None, riser_min=0.0) == set()
+    with pytest.raises(InputError):
+        ProposalParams(riser_min=-0.01)

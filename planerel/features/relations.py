@@ -773,6 +773,11 @@ class ProposalParams:
         Metres (0 = off): a vertical plane sharing no edge with a horizontal one is not joined
         to it when its top rises more than this above the horizontal plane (``top_rise`` of
         :func:`convex_pairs`; tabletop22b).
+    riser_min : float
+        Metres (0 = off): the tread-and-riser exception of :func:`convex_pairs` needs the
+        vertical plane over a horizontal one at least this high (its hull along up; 0.08 =
+        ``step_rise_min``): a flight's riser rises a step, a box's face a few centimetres over
+        a lower box's top beside or under it is the side of another object (pairs22).
     """
 
     support_min_area: float = 2.0
@@ -824,13 +829,14 @@ class ProposalParams:
     stacked_faces: float = 0.3
     stacked_parallel: bool = True
     top_rise: float = 0.02
+    riser_min: float = 0.08
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
-                             "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max",
+                             "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max", "riser_min",
                              "side_wall_rise_max", "top_rise"))
         if not 0 <= self.board_overlap <= 1:
             raise InputError(f"board_overlap must be in 0..1, got {self.board_overlap!r}")
@@ -1022,7 +1028,8 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                  riser_max: float | None = None, coplanar_depth: float | None = None,
                  sanity_angle: float = 0.0, flight_riser_max: float | None = None,
                  seat_depth: float | None = None, stacked_overlap: float = 0.0,
-                 stacked_parallel: bool = False, top_rise: float = 0.0) -> set:
+                 stacked_parallel: bool = False, top_rise: float = 0.0,
+                 riser_min: float = 0.0) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
     For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
@@ -1068,6 +1075,8 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     ``top_rise`` above the horizontal one's centroid: the top of a convex object lies at the
     top of its faces, and a face rising above a horizontal plane without meeting it along an
     edge is another object's (a box standing on the lower box whose top is seen behind it).
+    With ``riser_min`` > 0 (metres) the tread-and-riser exception needs a vertical plane over
+    a horizontal one at least that high: a flight's riser rises a step (pairs22).
 
     Returns
     -------
@@ -1151,7 +1160,8 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                 or _crossing_angle_f(na, nb, dx) >= _sanity_limit_f(na, nb, sanity_angle))
         if (sign >= -scale and sane) or (step_overlap is not None and shared
                                          and _step_like(pa, pb, step_overlap,
-                                                        getattr(planes, "up", None), riser_max)
+                                                        getattr(planes, "up", None), riser_max,
+                                                        riser_min)
                                          and _regular_step(pa, pb, byl, nbrs, cos_tol,
                                                            flight_riser_max, seat_depth,
                                                            stacked_overlap > 0)):
@@ -1585,15 +1595,22 @@ def _extent(p, axis) -> tuple[float, float]:
     return float(t.min()), float(t.max())
 
 
-def _step_like(pa, pb, min_overlap: float, up=None, riser_max: float | None = None) -> bool:
+def _step_like(pa, pb, min_overlap: float, up=None, riser_max: float | None = None,
+               riser_min: float = 0.0) -> bool:
     """A horizontal or inclined plane and a vertical one meeting as tread and riser (or a
     slope and the face at its end): their extents along the shared edge line overlap by at
     least ``min_overlap`` (IoU of the two intervals), and (with ``up`` and ``riser_max``) the
     vertical one is at most ``riser_max`` high or 1.5 times the other's height range: a wall
-    seen behind a far tread is no riser, a ramp's end face is as high as its slope."""
+    seen behind a far tread is no riser, a ramp's end face is as high as its slope.  With
+    ``up`` and ``riser_min`` > 0, a vertical plane over a horizontal one lower than
+    ``riser_min`` is no riser (a box's face rising a few centimetres over a lower box)."""
     ors = sorted((pa.orientation, pb.orientation))
     if ors not in (["horizontal", "vertical"], ["inclined", "vertical"]):
         return False
+    if up is not None and riser_min > 0 and ors == ["horizontal", "vertical"]:
+        vert = pa if pa.orientation == "vertical" else pb
+        if float(np.ptp(np.asarray(vert.hull3d, float) @ np.asarray(up, float))) < riser_min:
+            return False
     if up is not None and riser_max is not None:
         vert, other = (pa, pb) if pa.orientation == "vertical" else (pb, pa)
         u = np.asarray(up, float)
@@ -1724,7 +1741,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                               seat_depth=params.step_run_max,
                               stacked_overlap=params.stacked_faces,
                               stacked_parallel=params.stacked_parallel,
-                              top_rise=params.top_rise)
+                              top_rise=params.top_rise,
+                              riser_min=params.riser_min)
         if params.cavities and edges is not None:
             # the inside of one open object (a shelf, an open box): a channel or an inside
             # corner of shared concave edges (planerel.features.cavities)
