@@ -380,10 +380,8 @@ def is_facing(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float =
     overlap_min : float
         Share of the shorter face's extent, 0..1.
     """
-    if min(p.width, q.width) < width_min:
-        return False
-    if not abs(profile_p.top - profile_q.top) <= tol:
-        return False
+    if not is_corner(p, q, profile_p, profile_q, tol, width_min):
+        return False  # a wall too narrow, or tops not level: the corner's own two tests
     lo_q, hi_q = profile_q.lo, profile_q.hi
     if float(np.dot(profile_p.along, profile_q.along)) < 0:  # the same direction for both
         lo_q, hi_q = -hi_q, -lo_q
