@@ -37,6 +37,11 @@ The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
    specks).  Growing back whole components instead (an opening by reconstruction) found the
    same boxes but crawled along the unexplained rims of planes: in office1 it joined a door's
    outline, a floor strip and a wall's edge into one proposal.
+   **Nested parts** (``nest_depth``, ``nest_px``, ``nest_credit``; 2026-11-29): near
+   components too small to keep that lie within ``nest_px`` pixels and ``nest_depth`` x depth
+   of each other (a mug's outside and its inside seen over the rim, apart across the sensor's
+   band of no depth) count together, with the area of a small one-plane proposal beside them;
+   a part of at least half ``near_min_area`` joins the one kept cluster it reaches.
 3. **Merging.**  A cluster joins every proposal it touches (grid neighbours within
    ``edge_depth``) whose planes are all facets or smaller than ``small_area`` m^2 (the rest
    of a round object); touching no such proposal, it is a proposal of its own (with the tiny
@@ -117,8 +122,9 @@ class CurvedParams:
         as one cluster when their areas together reach ``near_min_area`` (0.1).  The outside of
         a mug and the inside wall seen over its rim touch in the image across a depth jump of
         2-8 cm, wider than ``edge_depth``: each part alone (0.002-0.004 m^2 at 0.8-1.1 m) was
-        under ``near_min_area``, so the mug had no proposal (2026-11-29).  Clusters kept on
-        their own are not changed.  0: off.
+        under ``near_min_area``, so the mug had no proposal (2026-11-29).  A part of at least
+        half ``near_min_area`` linked to one kept cluster joins it; kept clusters never join
+        each other.  0: off (and ``nest_credit`` with it).
     nest_px : int
         Pixels: such parts join when pixels of both lie within this many grid pixels (4): a
         depth sensor leaves no depth in a band 1-5 px wide at the jump (the rim occluding the
@@ -449,14 +455,13 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
         zc = np.bincount(ids, weights=xyz[rows, cols, 2], minlength=k) / np.maximum(
             np.bincount(ids, minlength=k), 1)
         lim[zc <= params.near_depth] = min(float(params.near_min_area), float(params.min_area))
-    # cluster index of each component (-1: not kept), numbered by the first opened pixel
     # each kept component's group: the component it is kept with (itself, or the cluster a
     # nested part joins); -1: not kept
     rep = np.where(area >= lim, np.arange(k), -1)
     kept_with = np.full(k, -1, np.int64)  # the credited plane a kept group was kept with
     if params.nest_depth > 0 and params.near_depth > 0 and (k > 1 or (k and credit)):
-        _nested_groups(rep, ids, rows, cols, xyz, area, lim, params, un.shape, lab, credit,
-                       kept_with)
+        _nested_groups(rep, ids, rows, cols, xyz, area, lim, zc, params, un.shape, lab,
+                       credit or {}, kept_with)
     kept = np.nonzero(rep >= 0)[0]
     gmin = np.full(k, k, np.int64)
     np.minimum.at(gmin, rep[kept], kept)  # a group's first opened pixel: its smallest id
@@ -502,22 +507,21 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
     return out, [int(x) for x in plane_of]
 
 
-def _nested_groups(rep, ids, rows, cols, xyz, area, lim, params: CurvedParams, shape, lab=None,
-                   credit=None, kept_with=None) -> None:
+def _nested_groups(rep, ids, rows, cols, xyz, area, lim, zc, params: CurvedParams, shape, lab,
+                   credit: dict, kept_with) -> None:
     """Join near components too small to keep (``rep`` -1) whose pixels come within
     ``nest_px`` grid pixels and ``nest_depth`` (x depth) in 3-D of another near component:
     parts linked to one kept cluster join it (``rep`` = its id); parts linked to none that
     reach ``near_min_area`` together become one cluster (``rep`` = their smallest id); parts
     linked to two kept clusters stay out, and kept clusters never join each other.  The parts
     of one round object seen over its rim, apart in the image by the band of invalid pixels a
-    depth sensor leaves at the jump (``CurvedParams.nest_depth``).  With ``credit`` (plane label
-    -> area), parts linked that way to one such plane and no kept cluster count its area too,
-    and ``kept_with[rep]`` records the plane (``CurvedParams.nest_credit``)."""
+    depth sensor leaves at the jump (``CurvedParams.nest_depth``).  ``zc``: each component's
+    mean depth.  With ``credit`` (plane label -> area), parts linked that way to one such
+    plane and no kept cluster count its area too, and ``kept_with[rep]`` records the plane
+    (``CurvedParams.nest_credit``)."""
     from planerel.features._curved_kernels import nest_links
 
     k = len(area)
-    n_px = np.bincount(ids, minlength=k)
-    zc = np.bincount(ids, weights=xyz[rows, cols, 2], minlength=k) / np.maximum(n_px, 1)
     # parts from a quarter of the near limit make up a new cluster; only those from half of it
     # join a kept one (a quarter let a bowl's rim piece join a lying cylinder beside it)
     near = (zc <= params.near_depth) & (area >= 0.25 * params.near_min_area)  # no specks
@@ -525,15 +529,13 @@ def _nested_groups(rep, ids, rows, cols, xyz, area, lim, params: CurvedParams, s
     big_part = part & (area >= 0.5 * params.near_min_area)
     if not part.any():
         return
-    credit = credit or {}
     nl = max(credit, default=-1) + 1
     can = np.zeros(nl, np.bool_)
     parea = np.zeros(nl)
     for x, a in credit.items():
         can[x], parea[x] = True, a
     grp = nest_links(rows, cols, ids, near, part, xyz, shape[0], shape[1], int(params.nest_px),
-                     float(params.nest_depth), np.asarray(lab) if lab is not None and nl else
-                     np.full((1, 1), -1, np.int64), can)
+                     float(params.nest_depth), lab if nl else np.full((1, 1), -1, np.int64), can)
     ng = k + nl  # group ids are node ids (the smallest of the group: a component's when it has one)
     kept = near & (rep >= 0)
     n_kept = np.bincount(grp[:k][kept], minlength=ng)
@@ -550,17 +552,15 @@ def _nested_groups(rep, ids, rows, cols, xyz, area, lim, params: CurvedParams, s
     anchor[grp[:k][kept]] = np.nonzero(kept)[0]  # the kept cluster of a group that has one
     first = np.full(ng, k, np.int64)
     np.minimum.at(first, grp[:k][part], np.nonzero(part)[0])
+    # (a credited plane is only ever linked through a part)
     alone = ((n_kept == 0) & (n_plane <= 1) & ((n_part >= 2) | (n_plane == 1))
-             & (n_part >= 1) & (total >= lim[part].min(initial=np.inf)))
+             & (total >= lim[part].min(initial=np.inf)))
     g = grp[:k]
     joined = big_part & (n_kept == 1)[g]
     rep[joined] = anchor[g[joined]]
     new = part & alone[g]
     rep[new] = first[g[new]]
-    if kept_with is not None:
-        kept_with[first[g[new]]] = plane[g[new]]
-
-
+    kept_with[first[g[new]]] = plane[g[new]]
 
 
 

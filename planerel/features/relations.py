@@ -1607,15 +1607,14 @@ def _step_like(pa, pb, min_overlap: float, up=None, riser_max: float | None = No
     ors = sorted((pa.orientation, pb.orientation))
     if ors not in (["horizontal", "vertical"], ["inclined", "vertical"]):
         return False
-    if up is not None and riser_min > 0 and ors == ["horizontal", "vertical"]:
-        vert = pa if pa.orientation == "vertical" else pb
-        if float(np.ptp(np.asarray(vert.hull3d, float) @ np.asarray(up, float))) < riser_min:
-            return False
-    if up is not None and riser_max is not None:
+    if up is not None and (riser_max is not None or riser_min > 0):
         vert, other = (pa, pb) if pa.orientation == "vertical" else (pb, pa)
         u = np.asarray(up, float)
-        high = float(np.ptp(np.asarray(vert.hull3d, float) @ u))
-        if high > max(riser_max, 1.5 * float(np.ptp(np.asarray(other.hull3d, float) @ u))):
+        high = float(np.ptp(np.asarray(vert.hull3d, float) @ u))  # the riser's height
+        if riser_min > 0 and other.orientation == "horizontal" and high < riser_min:
+            return False
+        if riser_max is not None and high > max(
+                riser_max, 1.5 * float(np.ptp(np.asarray(other.hull3d, float) @ u))):
             return False
     return edge_overlap(pa, pb) >= min_overlap
 
