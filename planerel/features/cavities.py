@@ -43,7 +43,7 @@ import math
 
 import numpy as np
 
-__all__ = ["cavity_pairs", "edge_overlap", "group_channel_pairs", "occluded_channel_pairs", "occluding_edge",
+__all__ = ["cavity_pairs", "edge_overlap", "follows_flight", "group_channel_pairs", "occluded_channel_pairs", "occluding_edge",
            "split_panel_pairs"]
 
 
@@ -138,7 +138,8 @@ def cavity_pairs(planes, concave, angle_tol: float = 10.0, min_overlap: float = 
 
 def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
                         min_overlap: float = 0.5, side_members: int = 0,
-                        wall_rise_max: float = 0.0) -> set:
+                        wall_rise_max: float = 0.0, follow: float = 0.0, xyz=None,
+                        rise_min: float = 0.08, window: float = 0.05) -> set:
     """Two parallel planes facing each other across a *group* of joined planes (a channel
     whose bottom is several planes: a flight's treads and risers between its side walls).
 
@@ -159,6 +160,15 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
     that anywhere above the line through the group's horizontal members (height against
     position along the wall, least squares over two or more treads) is a room wall beside the
     flight, not its side wall, and does not join (:func:`wall_rise`).
+
+    With ``follow`` (> 0; needs ``planes.up``, ``planes.labels`` and ``xyz``), one wall alone
+    also joins the group, whether the group spans it or not, when its top *follows the flight*
+    (:func:`follows_flight`) and it passes ``wall_rise_max``: at least
+    two horizontal members meet it at shared concave edges, and over the members where its top
+    is in view it stands at one height above each of them (the spread of those heights at most
+    ``follow`` times the spread of the members' tops, which is at least ``rise_min``): a closed
+    side with its rail seen on one side of the flight.  A room wall's top is level: it stands
+    higher above the lower treads by as much as they are lower.
 
     Parameters
     ----------
@@ -203,6 +213,7 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
     for (w, gid), ms in touch.items():
         by_group.setdefault(gid, []).append((w, ms[0]))
     for gid, walls in by_group.items():
+        near = walls
         walls = [(w, m) for w, m in walls if whole(w, gid, m)]
         if up is not None:
             walls = [(w, m) for w, m in walls
@@ -210,6 +221,20 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
         if side_members:
             for w, m in walls:
                 if len(set(touch[(w, gid)])) >= side_members:
+                    out.add((w, m))
+        if follow > 0 and xyz is not None and getattr(planes, "labels", None) is not None \
+                and getattr(planes, "up", None) is not None:
+            # the group need not span the wall (the far treads of a flight are often not
+            # segmented); a wall standing higher than wall_rise_max above the flight does not join
+            for w, m in near:
+                if wall_rise_max > 0 and wall_rise(byl[w], [byl[k] for k in members[gid]],
+                                                   planes.up) > wall_rise_max:
+                    continue
+                flat = sorted({k for k in touch[(w, gid)] if byl[k].orientation == "horizontal"})
+                if len(flat) < 2 or byl[w].orientation != "vertical":
+                    continue
+                if follows_flight(byl[w], [byl[k] for k in flat], planes.up, xyz, planes.labels,
+                                  follow, rise_min, window):
                     out.add((w, m))
         for i, (a, ma) in enumerate(walls):
             for d, md in walls[i + 1:]:
@@ -220,6 +245,26 @@ def group_channel_pairs(planes, concave, group_of, angle_tol: float = 10.0,
                 if float(na @ off) > 0 and float(nd @ -off) > 0:
                     out |= {(a, ma), (d, md)}
     return out
+
+
+def follows_flight(wall, treads, up, xyz, labels, follow: float = 0.5, rise_min: float = 0.08,
+                   window: float = 0.05) -> bool:
+    """True when vertical plane ``wall``'s top follows the ``treads`` it meets: over each tread's
+    extent along the wall (:func:`planerel.features.walls.side_caps`; only where the wall's top
+    points lie off the image border), the wall's top stands at one height above the tread:
+    those heights spread by at most ``follow`` times the spread of the treads' tops, which is at
+    least ``rise_min`` metres, over two or more treads (False when the wall's top is in view
+    over fewer than two: nothing to tell)."""
+    from planerel.features.walls import side_caps
+
+    caps = [(above, top) for above, top, ok in side_caps(wall, treads, up, xyz, labels, window)
+            if ok and np.isfinite(above)]
+    if len(caps) < 2:
+        return False
+    above = np.array([c[0] for c in caps])
+    tops = np.array([c[1] for c in caps])
+    span = float(np.ptp(tops))
+    return span >= rise_min and float(np.ptp(above)) <= follow * span
 
 
 def wall_rise(wall, members, up) -> float:

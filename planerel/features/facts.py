@@ -288,9 +288,12 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
                            planes.labels if (parent or flights) else labels, support, cp,
                            pixels)
     if raised is not None:
-        from planerel.features.raised import with_raised
+        from planerel.features.raised import RaisedParams, with_raised
 
-        cobjs = with_raised(cobjs, *raised, cp.curved_below)
+        rp = defaults(RaisedParams)
+        cobjs = with_raised(cobjs, *raised, cp.curved_below,
+                            np.asarray(cloud.xyz, float) if rp.join_clusters else None,
+                            rp.edge_depth)
     objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), c.planes, klass, c.mask,
                              c.planar_fraction, c.curved)
                  for k, c in enumerate(cobjs))

@@ -32,7 +32,8 @@ import numpy as np
 from planerel.errors import InputError
 
 __all__ = ["mosd_objects", "proposal_image", "score_objects", "FrameScore", "summarize",
-           "evaluate_frames", "frame_truth", "miss_kind", "miss_breakdown", "MISS_KINDS"]
+           "evaluate_frames", "frame_truth", "miss_kind", "miss_breakdown", "MISS_KINDS",
+           "mostly_hidden"]
 
 
 def mosd_objects(label_field) -> np.ndarray:
@@ -115,7 +116,7 @@ class FrameScore:
 
 
 def score_objects(prop_img, truth, *, name: str = "", types=None, min_iou: float = 0.5,
-                  share: float = 0.2) -> FrameScore:
+                  share: float = 0.2, ignore=()) -> FrameScore:
     """Score one frame's proposals against its true objects.
 
     Parameters
@@ -128,6 +129,9 @@ def score_objects(prop_img, truth, *, name: str = "", types=None, min_iou: float
         Object types for the per-type figures (default ``"object"``).
     min_iou, share : float
         Thresholds of found / false and of merged / split.
+    ignore : iterable of int
+        Objects not scored (:func:`mostly_hidden`): neither found nor missed, in no merged or
+        split count, and the proposal that matches one at ``min_iou`` is no false proposal.
 
     Returns
     -------
@@ -140,7 +144,9 @@ def score_objects(prop_img, truth, *, name: str = "", types=None, min_iou: float
     if not (0 < min_iou <= 1) or not (0 < share <= 1):
         raise InputError(f"min_iou and share must be in (0, 1], got {min_iou!r} and {share!r}")
     npro = int(P.max()) + 1 if P.size and P.max() >= 0 else 0
-    ids = [int(o) for o in np.unique(T) if o >= 1]
+    skip = {int(o) for o in ignore}
+    all_ids = [int(o) for o in np.unique(T) if o >= 1]
+    ids = [o for o in all_ids if o not in skip]
     nt = int(T.max()) + 2 if T.size else 1
     # joint counts: rows proposals (+1 for none), columns truth (+1 for -1)
     code = (P.astype(np.int64) + 1) * nt + (T.astype(np.int64) + 1)
@@ -150,7 +156,7 @@ def score_objects(prop_img, truth, *, name: str = "", types=None, min_iou: float
     prop_size = C[1:, :].sum(axis=1)
     best_iou: dict = {}
     best_prop: dict = {}
-    for o in ids:
+    for o in all_ids:
         inter = C[1:, o + 1]
         union = prop_size + obj_size[o] - inter
         iou = np.where(union > 0, inter / np.maximum(union, 1), 0.0)
@@ -158,7 +164,9 @@ def score_objects(prop_img, truth, *, name: str = "", types=None, min_iou: float
         best_iou[o] = float(iou[k]) if npro else 0.0
         best_prop[o] = k
     found = sum(1 for o in ids if best_iou[o] >= min_iou)
-    matched = {best_prop[o] for o in ids if best_iou[o] >= min_iou}
+    matched = {best_prop[o] for o in all_ids if best_iou[o] >= min_iou}
+    best_iou = {o: best_iou[o] for o in ids}
+    best_prop = {o: best_prop[o] for o in ids}
     on_obj = C[1:, 2:].sum(axis=1) if nt > 2 else np.zeros(npro, np.int64)
     background = fragment = 0
     for k in range(npro):
@@ -209,6 +217,37 @@ def summarize(scores) -> dict:
         d["found_rate"] = d["found"] / d["objects"]
         # planar fraction (planerel.features.curved) of the found objects' proposals
         d["mean_planar_fraction"] = float(np.mean(pfs[t])) if t in pfs else None
+    return out
+
+
+def mostly_hidden(meta: dict, min_visible: float = 0.3, compact=("box", "other")) -> set:
+    """Objects of a varied-world scene that the learner's fairness rule calls *mostly hidden*
+    (:class:`planerel.features.truth_examples.ExampleRule`: a ``box`` or ``other`` object of
+    which under ``min_visible`` of its pixels alone, ``n_pixels_full``, is seen, ``n_pixels``):
+    a door leaf 10 % in view at the image border, a box 8 % visible behind another.  The
+    learner neither trains on nor scores them; :func:`score_objects` leaves them out with
+    ``ignore``.  Scenes without ``n_pixels_full`` (other data sets) have none.
+
+    Parameters
+    ----------
+    meta : dict
+        The scene's sidecar (``objects`` with ``index``, ``class``, ``n_pixels``,
+        ``n_pixels_full``).
+
+    Returns
+    -------
+    set of int
+        Object indices.
+    """
+    if not 0 <= min_visible <= 1:
+        raise InputError(f"min_visible must be in 0..1, got {min_visible!r}")
+    out = set()
+    for o in meta.get("objects") or []:
+        if not isinstance(o, dict) or int(o.get("index", 0)) < 1 or o.get("class") not in compact:
+            continue
+        full, seen = o.get("n_pixels_full"), o.get("n_pixels")
+        if full and seen is not None and seen < min_visible * float(full):
+            out.add(int(o["index"]))
     return out
 
 

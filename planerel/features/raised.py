@@ -23,10 +23,24 @@ plate.  Their pixels then sit in a support plane and no proposal holds them.  Th
 4. A kept group grows into the neighbouring plane pixels whose window mean is above half
    the limit, by as many steps as the opening and the window took off (``open_px +
    smooth_px + 1``).
+5. Groups of one support plane that meet after growing (``merge_grown``: their pixels overlap
+   or are 4-neighbours) become one group, unless together they hold more than ``max_share``
+   of the plane's pixels.  One surface comes out in several groups where bands of it stay
+   under the limit: a sensor's depth steps (disparity quantization, several centimetres at
+   3 m) cross a far, nearly flat surface in lines, and the window means of the lower side of
+   each step fall under the limit (seed 33 ``s0004``: an open box's bottom 1 cm up at 3.2 m
+   came out in four groups along such lines, joined back to one by their grown pixels).
 
 :func:`planerel.features.facts.describe_scene` joins each group to every proposal whose planes
 touch it in the grid and in 3-D (an open box's inner walls; a laptop's lid), or makes it a
 proposal of its own (a plate).  Its pixels count as flat in the planar fraction.
+
+6. A group that no proposal's planes touch joins the cluster of points no plane explains
+   (:mod:`planerel.features.curved`) that touches it, in the grid and in 3-D, at the most
+   pixel pairs (``join_clusters``): the inner walls of an open box far away are often not
+   segmented (seed 33 ``s0004``: a 13 cm open box at 3.2 m, its far inner wall a cluster of
+   272 pixels touching its raised bottom).  A group touching no such cluster is a proposal
+   of its own, as before.
 """
 
 from __future__ import annotations
@@ -68,6 +82,11 @@ class RaisedParams:
         that plane, not an object.
     enabled : bool
         False: no groups.
+    merge_grown : bool
+        Rule step 5: groups of one plane that meet after growing become one.
+    join_clusters : bool
+        Rule step 6: a group no proposal's planes touch joins a cluster of unexplained points
+        that touches it (:func:`with_raised`).
     """
 
     min_rise: float = 0.006
@@ -79,6 +98,8 @@ class RaisedParams:
     min_area: float = 0.005
     max_share: float = 0.25
     enabled: bool = True
+    merge_grown: bool = True
+    join_clusters: bool = True
 
     def __post_init__(self) -> None:
         for name in ("min_rise", "k_sigma", "edge_depth", "min_area", "max_share"):
@@ -147,6 +168,30 @@ def _grow(m: np.ndarray, weak: np.ndarray, steps: int) -> np.ndarray:
     return m
 
 
+def _merge_meeting(masks: list, cap: float) -> list:
+    """Masks (one plane's grown groups, in order) whose pixels overlap or are 4-neighbours
+    joined into one (rule step 5), in the place of the first; a join whose pixels would exceed
+    ``cap`` is not made (a bend of the plane, not an object)."""
+    out = [m.copy() for m in masks]
+    changed = True
+    while changed:
+        changed = False
+        for i in range(len(out)):
+            if out[i] is None:
+                continue
+            near = _grow(out[i], np.ones_like(out[i]), 1)
+            for j in range(i + 1, len(out)):
+                if out[j] is None or not (near & out[j]).any():
+                    continue
+                both = out[i] | out[j]
+                if int(np.count_nonzero(both)) > cap:
+                    continue
+                out[i], out[j] = both, None
+                near = _grow(out[i], np.ones_like(out[i]), 1)
+                changed = True
+    return [m for m in out if m is not None]
+
+
 def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | None = None):
     """Groups of support-plane pixels lying above their plane (the module's rule).
 
@@ -202,6 +247,7 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
         pitch = (_pitch_at(bx, rows, cols, 1), _pitch_at(bx, rows, cols, 0))
         area = component_areas(bx, rows, cols, comp, 0, 0, pitch[0], pitch[1], k)
         n_on = int(on.sum())
+        mine = []
         for c in np.nonzero(area >= params.min_area)[0]:
             m = comp == c
             if m.sum() > params.max_share * n_on:
@@ -225,8 +271,12 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
                 steps *= f
             else:
                 wk = weak
+            mine.append(_grow(m, wk, steps))
+        if params.merge_grown and len(mine) > 1:
+            mine = _merge_meeting(mine, params.max_share * int(np.count_nonzero(lab[box] == s)))
+        for g in mine:
             full = np.zeros(lab.shape, bool)
-            full[box] = _grow(m, wk, steps)
+            full[box] = g
             found.append(full)
     found.sort(key=lambda m: int(np.flatnonzero(m.ravel())[0]))
     return found
@@ -283,13 +333,41 @@ def join_raised(groups, masks, labels, xyz, edge_depth: float = 0.02, min_touch:
     return [groups[k] for k in keep], [extra[k] for k in keep], alone
 
 
-def with_raised(cobjs, groups, extra, alone, curved_below: float = 0.8):
+def with_raised(cobjs, groups, extra, alone, curved_below: float = 0.8, xyz=None,
+                edge_depth: float = 0.02, min_touch: int = 3):
     """Add the raised pixels to the objects of :func:`planerel.features.curved.curved_objects`
     (matched by their planes), as flat points of the planar fraction; the groups that stand
-    alone become objects of their own (planar fraction 1) after them."""
-    from planerel.features.curved import CurvedObject
+    alone become objects of their own (planar fraction 1) after them.
+
+    With ``xyz`` (rule step 6, ``RaisedParams.join_clusters``), a group that stands alone
+    joins instead the object whose points no plane explains (its cluster's pixels) touch it
+    at ``min_touch`` or more grid neighbour pairs within ``edge_depth * max(1, z)`` (the one
+    with the most such pairs): an open box whose bottom is raised and whose inner walls were
+    not segmented."""
+    from planerel.features.curved import CurvedObject, _touching_labels
 
     out = list(cobjs)
+    if xyz is not None and alone and any(c.mask is not None for c in out):
+        H, W = np.asarray(alone[0]).shape
+        owner = np.full((H, W), -1, np.int64)
+        for k, c in enumerate(out):
+            if c.mask is not None:
+                owner[np.asarray(c.mask, bool) & (owner < 0)] = k
+        left = []
+        for m in alone:
+            touch = {k: n for k, n in _touching_labels(m, owner, xyz, edge_depth).items()
+                     if n >= min_touch}
+            if not touch:
+                left.append(m)
+                continue
+            k = max(sorted(touch), key=lambda x: touch[x])
+            c = out[k]
+            nb = int((m & ~c.mask).sum())
+            frac = (c.planar_fraction * c.n_points + nb) / max(c.n_points + nb, 1)
+            out[k] = CurvedObject(c.planes, c.mask | m, float(frac), bool(frac < curved_below),
+                                  int(c.n_points + nb))
+            owner[m & (owner < 0)] = k
+        alone = left
     for g, e in zip(groups, extra, strict=True):
         if e is None:
             continue

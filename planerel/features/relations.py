@@ -690,6 +690,13 @@ class ProposalParams:
         1.1: planerel's own closed sides stand 0.1-0.9 m above the nosings, at most 1.0 m
         above the treads' middles (half a rise, <= 0.105 m, lower); 0 = no test (the rule
         before stairs16r).  docs/results.md, "Independent scenes at 640x480".
+    side_wall_follow : float
+        With ``group_channels``: one wall alone joins a group when two or more of the group's
+        treads meet it at shared concave edges and its top, where in view, stands at one
+        height above each of them (a closed side's rail follows the flight; a room wall's top
+        is level): the spread of those heights at most this times the spread of the treads'
+        tops (:func:`planerel.features.cavities.follows_flight`); 0 = off (the rule before
+        synth22q).
     split_panels : bool
         Also join a panel in coplanar pieces to the plane they meet: two parallel, coplanar
         planes (within ``coplanar_depth``) each meeting one plane at a shared concave edge,
@@ -816,6 +823,7 @@ class ProposalParams:
     cut_long_side: bool = True
     side_wall_members: int = 0
     side_wall_rise_max: float = 1.1
+    side_wall_follow: float = 0.5
     occluded_pieces: bool = True
     piece_gap: float = 0.25
     shared_top: bool = True
@@ -837,7 +845,7 @@ class ProposalParams:
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
                              "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max", "riser_min",
-                             "side_wall_rise_max", "top_rise"))
+                             "side_wall_rise_max", "top_rise", "side_wall_follow"))
         if not 0 <= self.board_overlap <= 1:
             raise InputError(f"board_overlap must be in 0..1, got {self.board_overlap!r}")
         if not 0 <= self.stacked_faces <= 1:
@@ -1810,7 +1818,9 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         group_of = {k: i for i, c in enumerate(g.groups()) for k in c}
         g.add_edges(group_channel_pairs(planes, concave, group_of, params.concave_tol,
                                         params.cavity_overlap, params.side_wall_members,
-                                        params.side_wall_rise_max))
+                                        params.side_wall_rise_max, params.side_wall_follow,
+                                        None if cloud is None else cloud.xyz,
+                                        params.step_rise_min, params.wall_window))
     byl = {p.label: p for p in planes}
     comps = [tuple(sorted(c)) for c in g.groups()]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
