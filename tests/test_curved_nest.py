@@ -228,3 +228,85 @@ def test_a_mug_seen_over_its_rim_is_found():
     assert all(new.best_iou[k] >= v for k, v in old.best_iou.items())
     assert new.best_iou[6] > 0.9 > old.best_iou[6]
     assert new.false <= old.false
+
+
+def _nest_links_every_near_pixel(rows, cols, ids, near, part, xyz, H, W, g, nest_depth, lab,
+                                 credit):
+    """nest_links as first written (every near pixel's forward window looked at): the
+    reference of the kernel that looks at the parts' windows alone."""
+    def root(parent, i):
+        while parent[i] != i:
+            i = parent[i]
+        return i
+
+    k, nl, n = near.shape[0], credit.shape[0], rows.shape[0]
+    parent = np.arange(k + nl)
+    sel = [t for t in range(n) if near[ids[t]]]
+    if not sel:
+        return parent
+    r0, r1 = min(rows[t] for t in sel), max(rows[t] for t in sel)
+    c0, c1 = min(cols[t] for t in sel), max(cols[t] for t in sel)
+    img = np.full((r1 - r0 + 1, c1 - c0 + 1), -1, np.int64)
+    for t in sel:
+        img[rows[t] - r0, cols[t] - c0] = ids[t]
+    for t in sel:
+        a = ids[t]
+        r, c = rows[t], cols[t]
+        lim = nest_depth * max(1.0, abs(xyz[r, c, 2]))
+        lim2 = lim * lim
+        for dr in range(0, g + 1):
+            r2 = r + dr
+            if r2 > r1:
+                break
+            for dc in range(-g, g + 1):
+                if dr == 0 and dc <= 0:
+                    continue
+                c2 = c + dc
+                if c2 < c0 or c2 > c1:
+                    continue
+                b = img[r2 - r0, c2 - c0]
+                if b < 0 or b == a or not (part[a] or part[b]):
+                    continue
+                d = xyz[r2, c2] - xyz[r, c]
+                if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= lim2:
+                    x, y = root(parent, a), root(parent, b)
+                    if x != y:
+                        parent[max(x, y)] = min(x, y)
+        if nl == 0 or not part[a]:
+            continue
+        for r2 in range(max(0, r - g), min(H, r + g + 1)):
+            for c2 in range(max(0, c - g), min(W, c + g + 1)):
+                x = lab[r2, c2]
+                if x < 0 or x >= nl or not credit[x]:
+                    continue
+                d = xyz[r2, c2] - xyz[r, c]
+                if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= lim2:
+                    u, v = root(parent, a), root(parent, k + x)
+                    if u != v:
+                        parent[max(u, v)] = min(u, v)
+    return np.array([root(parent, i) for i in range(k + nl)])
+
+
+def test_nest_links_parts_windows_as_every_near_pixel():
+    from planerel.features._curved_kernels import nest_links
+
+    rng = np.random.default_rng(12)
+    for case in range(150):
+        H, W, k = int(rng.integers(3, 30)), int(rng.integers(3, 30)), int(rng.integers(1, 9))
+        n = int(rng.integers(1, min(H * W, 200) + 1))
+        flat = np.sort(rng.choice(H * W, n, replace=False))
+        rows, cols = flat // W, flat % W
+        ids = rng.integers(0, k, n)
+        # depths in steps, some limits met exactly often enough to matter
+        xyz = np.round(rng.normal(0, 0.05, (H, W, 3)), 2) + [0, 0, float(rng.choice([0.5, 1.0, 2.0]))]
+        near, part = rng.random(k) < 0.8, rng.random(k) < 0.5
+        if case % 3 == 0:
+            part &= ~near  # parts that are not near: never linked
+        g, depth = int(rng.integers(0, 6)), float(rng.choice([0.02, 0.05, 0.1, 0.3]))
+        nl = int(rng.integers(0, 4))
+        lab = rng.integers(-1, nl, (H, W)) if nl else np.full((1, 1), -1)
+        credit = rng.random(nl) < 0.7
+        got = nest_links(rows, cols, ids, near, part, xyz, H, W, g, depth, lab, credit)
+        want = _nest_links_every_near_pixel(rows, cols, ids, near, part, xyz, H, W, g, depth,
+                                            lab, credit)
+        assert got.tolist() == want.tolist(), case

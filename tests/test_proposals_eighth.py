@@ -148,3 +148,18 @@ def test_facets_of_a_curved_surface_are_not_cut():
     joined = {(1, 3), (2, 3)}
     assert concave_cuts(planes, joined, [(1, 2)], edges) == set()
     assert concave_cuts(planes, joined, [(1, 2)], edges, min_angle=20) == {(2, 3)}
+
+
+def test_component_is_networkx_connected_component():
+    import networkx as nx
+
+    from planerel.features.concave_cut import _component
+
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        n = int(rng.integers(1, 12))
+        pairs = [tuple(int(v) for v in rng.integers(0, n, 2)) for _ in range(int(rng.integers(0, 15)))]
+        a = int(rng.integers(0, n))
+        g = nx.Graph(pairs)
+        want = nx.node_connected_component(g, a) if a in g else {a}
+        assert _component(pairs, a) == want

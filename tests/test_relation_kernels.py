@@ -615,3 +615,75 @@ def test_linspace_kernel_is_numpys_float_for_float():
         assert got.shape == want.shape and np.array_equal(got.view(np.int64), want.view(np.int64))
     tiny = np.linspace(0.0, 5e-324, 7)  # a zero step (gh-5437's path)
     assert np.array_equal(linspace(0.0, 5e-324, 7), tiny)
+
+
+def test_window_outlines_are_the_outline_of_the_window_copy():
+    from planerel.features._relation_kernels import window_outlines
+    from planerel.segment._label_kernels import label_boundary
+
+    rng = np.random.default_rng(31)
+    for case in range(300):
+        H, W = int(rng.integers(1, 25)), int(rng.integers(1, 25))
+        k = int(rng.integers(1, 5))
+        lab = rng.integers(-1, k, (H, W)).astype(np.int32)
+        if case % 2:  # blocks, as planes are
+            lab = np.repeat(np.repeat(lab[: (H + 2) // 3, : (W + 2) // 3], 3, 0), 3, 1)[:H, :W]
+            lab = np.ascontiguousarray(lab)
+        r0, r1 = sorted(int(v) for v in rng.integers(0, H + 1, 2))
+        c0, c1 = sorted(int(v) for v in rng.integers(0, W + 1, 2))
+        a, b = int(rng.integers(-1, k)), int(rng.integers(-1, k))
+        w = lab[r0:r1, c0:c1]
+        pa, pb = window_outlines(lab, r0, c0, r1, c1, a, b)
+        if w.size:
+            edge = label_boundary(np.ascontiguousarray(w))
+            want_a, want_b = np.argwhere(edge & (w == a)), np.argwhere(edge & (w == b))
+        else:
+            want_a = want_b = np.zeros((0, 2), np.int64)
+        assert pa.dtype == np.int64 and pa.shape == want_a.shape and (pa == want_a).all(), case
+        assert pb.shape == want_b.shape and (pb == want_b).all(), case
+
+
+def test_gaps_between_uses_the_window_outlines():
+    from planerel.features import gaps
+
+    rng = np.random.default_rng(8)
+    for case in range(40):
+        H, W = 30, 40
+        lab = np.full((H, W), -1, np.int32)
+        lab[2:12, 3:15] = 1
+        lab[int(rng.integers(14, 20)):28, int(rng.integers(16, 25)):38] = 2
+        lab[12:14, 10:30] = 3  # something between them
+        gx, gy = np.meshgrid(np.arange(W) * 0.01, np.arange(H) * 0.01)
+        xyz = np.dstack([gx, gy, np.ones((H, W))])
+        xyz[..., 2] += rng.normal(0, 0.05, (H, W))
+        xyz[lab == 3, 2] -= 0.3
+        xyz[rng.random((H, W)) < 0.05] = np.nan
+        box = (0, 0, 30, 40) if case % 2 else (1, 2, 29, 39)
+        got = gaps._between(lab, xyz, 1, 2, 5, 100, box, fast=bool(case % 3))
+        want = gaps._between(lab.astype(np.int64), xyz, 1, 2, 5, 100, box, fast=bool(case % 3))
+        assert len(got) == len(want)
+        for (r, n, f), (r2, n2, f2) in zip(got, want, strict=True):
+            assert n == n2 and f == f2 and np.array_equal(r, r2)
+        assert gaps.gap_in_front(lab, xyz, 1, 2, window=box) == gaps.gap_in_front(
+            lab.astype(np.int64), xyz, 1, 2, window=box)
+        assert gaps.gap_behind(lab, xyz, 1, 2) == gaps.gap_behind(lab.astype(np.int64), xyz, 1, 2)
+
+
+def test_range_at_is_numpys_norm():
+    from planerel.features.gaps import _range_at
+
+    rng = np.random.default_rng(2)
+    xyz = rng.normal(0, 1, (40, 50, 3)) * 10.0 ** rng.integers(-3, 3, (40, 50, 1))
+    xyz[rng.random((40, 50)) < 0.1] = np.nan
+    xyz[0, 0, 1] = np.inf
+    for r in range(40):
+        for c in range(50):
+            want = float(np.linalg.norm(np.asarray(xyz[r, c], float), axis=-1))
+            got = _range_at(xyz, r, c)
+            assert got == want or (np.isnan(got) and np.isnan(want)), (r, c)
+    x32 = xyz.astype(np.float32)
+    for r in range(40):
+        for c in range(50):
+            want = float(np.linalg.norm(np.asarray(x32[r, c], float), axis=-1))
+            got = _range_at(x32, r, c)
+            assert got == want or (np.isnan(got) and np.isnan(want)), (r, c)

@@ -725,35 +725,36 @@ def nest_links(rows, cols, ids, near, part, xyz, H, W, g, nest_depth, lab, credi
     for t in range(n):
         if near[ids[t]]:
             img[rows[t] - r0, cols[t] - c0] = ids[t]
+    # a link needs a part on one side: the windows of the parts' pixels alone are looked at,
+    # each pair's limit from its earlier pixel (row-major); a pair of two parts is looked at
+    # from both sides, with the same limit (each group's root is its smallest node whatever
+    # the order of the unions)
     for t in range(n):
         a = ids[t]
-        if not near[a]:
+        if not (part[a] and near[a]):
             continue
         r, c = rows[t], cols[t]
-        lim = nest_depth * max(1.0, abs(xyz[r, c, 2]))
-        lim2 = lim * lim
-        for dr in range(0, g + 1):
-            r2 = r + dr
-            if r2 > r1:
-                break
-            for dc in range(-g, g + 1):
-                if dr == 0 and dc <= 0:
-                    continue  # each unordered pair of offsets once
-                c2 = c + dc
-                if c2 < c0 or c2 > c1:
-                    continue
+        za = abs(xyz[r, c, 2])
+        for r2 in range(max(r0, r - g), min(r1, r + g) + 1):
+            for c2 in range(max(c0, c - g), min(c1, c + g) + 1):
                 b = img[r2 - r0, c2 - c0]
-                if b < 0 or b == a or not (part[a] or part[b]):
+                if b < 0 or b == a:
                     continue
+                if r2 < r or (r2 == r and c2 < c):
+                    lim = nest_depth * max(1.0, abs(xyz[r2, c2, 2]))
+                else:
+                    lim = nest_depth * max(1.0, za)
                 d0 = xyz[r2, c2, 0] - xyz[r, c, 0]
                 d1 = xyz[r2, c2, 1] - xyz[r, c, 1]
                 d2 = xyz[r2, c2, 2] - xyz[r, c, 2]
-                if d0 * d0 + d1 * d1 + d2 * d2 <= lim2:
+                if d0 * d0 + d1 * d1 + d2 * d2 <= lim * lim:
                     x, y = _root(parent, a), _root(parent, b)
                     if x != y:
                         parent[max(x, y)] = min(x, y)
-        if nl == 0 or not part[a]:
+        if nl == 0:
             continue
+        lim = nest_depth * max(1.0, za)
+        lim2 = lim * lim
         for r2 in range(max(0, r - g), min(H, r + g + 1)):
             for c2 in range(max(0, c - g), min(W, c + g + 1)):
                 x = lab[r2, c2]

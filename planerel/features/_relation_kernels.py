@@ -707,3 +707,47 @@ def median(x):
         if a[i] > lo:
             lo = a[i]
     return (lo + a[k]) / 2.0
+
+
+@njit(cache=True, nogil=True)
+def _window_outline_pass(lab, r0, c0, r1, c1, a, b, pa, pb):
+    """Count (and, where ``pa`` / ``pb`` have room, write) the outline pixels of labels ``a``
+    and ``b`` in the window (see :func:`window_outlines`); return the two counts."""
+    na = nb = 0
+    for v in range(r0, r1):
+        for u in range(c0, c1):
+            k = lab[v, u]
+            if k < 0 or (k != a and k != b):
+                continue
+            if not (v == r0 or u == c0 or v == r1 - 1 or u == c1 - 1
+                    or lab[v - 1, u] != k or lab[v + 1, u] != k
+                    or lab[v, u - 1] != k or lab[v, u + 1] != k):
+                continue
+            if k == a:
+                if pa.shape[0] > na:
+                    pa[na, 0] = v - r0
+                    pa[na, 1] = u - c0
+                na += 1
+            if k == b:
+                if pb.shape[0] > nb:
+                    pb[nb, 0] = v - r0
+                    pb[nb, 1] = u - c0
+                nb += 1
+    return na, nb
+
+
+@njit(cache=True, nogil=True)
+def window_outlines(lab, r0, c0, r1, c1, a, b):
+    """``np.argwhere(edge & (w == a))`` and the same of ``b``, ``w = lab[r0:r1, c0:c1]`` and
+    ``edge`` its outline (:func:`planerel.segment._label_kernels.label_boundary` of ``w``: a
+    labelled pixel with a 4-neighbour of another label or on the window's border), without
+    the window's copy, outline image and label masks; ``(N, 2)`` int64 window coordinates,
+    row-major.  The window lies inside the image (``0 <= r0 <= r1 <= H``, the same of
+    columns)."""
+    none = np.empty((0, 2), np.int64)
+    na, nb = _window_outline_pass(lab, r0, c0, r1, c1, a, b, none, none)
+    pa = np.empty((na, 2), np.int64)
+    pb = np.empty((nb, 2), np.int64)
+    if na or nb:
+        _window_outline_pass(lab, r0, c0, r1, c1, a, b, pa, pb)
+    return pa, pb

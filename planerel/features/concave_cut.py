@@ -60,6 +60,24 @@ def _min_cut(nodes, weight, s, t):
     return float(value), cut
 
 
+def _component(pairs, a) -> set:
+    """The nodes joined to ``a`` through ``pairs`` (``a`` alone when none is): a breadth-first
+    search over the pairs' adjacency (a plain search, not a networkx graph: building one took
+    about 0.1 ms a call, several a frame with many planes)."""
+    nb: dict = {}
+    for x, y in pairs:
+        nb.setdefault(x, []).append(y)
+        nb.setdefault(y, []).append(x)
+    seen = {a}
+    todo = [a]
+    while todo:
+        for y in nb.get(todo.pop(), ()):
+            if y not in seen:
+                seen.add(y)
+                todo.append(y)
+    return seen
+
+
 def concave_cuts(planes, joined, concave, edges, ratio: float = 0.25, max_cos: float = -0.5,
                  min_angle: float = 50.0, wall_members: int = 3, min_points: int = 100) -> set:
     """Joined pairs to cut so that no group holds two planes at a clear concave edge.
@@ -124,13 +142,10 @@ def concave_cuts(planes, joined, concave, edges, ratio: float = 0.25, max_cos: f
     cut: set = set()
     if not cands:
         return cut
-    import networkx as nx  # here, not at import: most frames have no candidate
-
     for neg, a, b in sorted(cands):
         live = [pr for pr in joined if pr not in cut]
         # the group of a (its connected component over the pairs still joined)
-        g = nx.Graph(live)
-        seen = nx.node_connected_component(g, a) if a in g else {a}
+        seen = _component(live, a)
         if b not in seen:
             continue
         if wall_members and max(len(concave_nb.get(a, set()) & seen),

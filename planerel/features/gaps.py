@@ -10,6 +10,8 @@ occluder lies in front of both planes; a gap shows what is behind them or beside
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = ["gap_behind", "gap_in_front", "occluded_piece_pairs"]
@@ -83,22 +85,38 @@ def _between(labels, xyz, a, b, lines, max_outline, window, fast: bool = False) 
     ``a`` or ``b`` left out) and the smaller and larger range of its two end pixels (lines with
     a non-finite end or under two steps long left out).  ``fast``: the closest pairs by a
     partial sort, ties in the pairs' order (see :func:`gap_in_front`)."""
+    from planerel.features._relation_kernels import window_outlines
     from planerel.features.planes import _boundary
 
     lab = np.asarray(labels)
     xyz = np.asarray(xyz)
+    H, W = lab.shape
     if window is not None:
         r0, c0, r1, c1 = (int(v) for v in window)
+        rs, cs = slice(r0, r1).indices(H), slice(c0, c1).indices(W)
         lab, xyz = lab[r0:r1, c0:c1], xyz[r0:r1, c0:c1]
-    edge = _boundary(lab)
-    pa, pb = np.argwhere(edge & (lab == a)), np.argwhere(edge & (lab == b))
+    else:
+        rs, cs = (0, H, 1), (0, W, 1)
+    if lab.dtype == np.int32 and lab.size:
+        # the window's outline pixels of a and b in one compiled pass over the image's window
+        # (the same pixels, in the same order, as the outline of the window's copy)
+        full = np.asarray(labels)
+        pa, pb = window_outlines(full if full.flags.c_contiguous else np.ascontiguousarray(full),
+                                 rs[0], cs[0], max(rs[0], rs[1]), max(cs[0], cs[1]),
+                                 int(a), int(b))
+    else:
+        edge = _boundary(lab)
+        pa, pb = np.argwhere(edge & (lab == a)), np.argwhere(edge & (lab == b))
     if len(pa) == 0 or len(pb) == 0:
         return []
     while len(pa) > max_outline:
         pa = pa[::2]
     while len(pb) > max_outline:
         pb = pb[::2]
-    d2 = ((pa[:, None, :] - pb[None, :, :]) ** 2).sum(-1)
+    # squared pixel distances of every pair (integers: the same values whatever the order)
+    dr = pa[:, 0][:, None] - pb[:, 0][None, :]
+    dc = pa[:, 1][:, None] - pb[:, 1][None, :]
+    d2 = dr * dr + dc * dc
     if fast and d2.size > lines:
         flat = d2.ravel()
         part = np.argpartition(flat, lines - 1)[:lines]
@@ -119,7 +137,7 @@ def _between(labels, xyz, a, b, lines, max_outline, window, fast: bool = False) 
         t = np.arange(1, steps) / steps
         rr = np.rint(r0 + t * (r1 - r0)).astype(int)
         cc = np.rint(c0 + t * (c1 - c0)).astype(int)
-        ends = (float(rng(r0, c0)), float(rng(r1, c1)))
+        ends = (_range_at(xyz, r0, c0), _range_at(xyz, r1, c1))
         near = min(ends)
         if not np.isfinite(near):
             continue
@@ -128,6 +146,14 @@ def _between(labels, xyz, a, b, lines, max_outline, window, fast: bool = False) 
         r = r[np.isfinite(r)]
         out.append((r, near, max(ends)))
     return out
+
+
+def _range_at(xyz, r, c) -> float:
+    """``float(np.linalg.norm(np.asarray(xyz[r, c], float), axis=-1))`` of one pixel without
+    numpy's calls: its arithmetic, ``sqrt((x x + y y) + z z)`` (``tests/test_relation_kernels.py``
+    compares)."""
+    x, y, z = (float(v) for v in xyz[r, c].tolist())
+    return math.sqrt(x * x + y * y + z * z)
 
 
 def _gap_pair(relations, a: int, b: int, min_gap: float, max_gap: float) -> bool:
