@@ -256,6 +256,10 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
                 or not cp.enabled):
             pixels = None
     rel = relate(planes, cloud, relation_params)
+    # the planes cut by the border or hidden in part (their outline pixels and the points
+    # around them): here, right after the relations' grid touch test read the same pixels'
+    # neighbourhoods (0.17-0.18 ms a frame on the real frames against 0.24-0.26 at the end)
+    cut = truncated_planes(planes.labels, np.asarray(cloud.xyz, float))
     support = tuple(support_planes(planes, pp, rel, cloud))
     known = {p.label for p in planes}
     if objects is None:
@@ -299,7 +303,6 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
                  for k, c in enumerate(cobjs))
     # a skirt denied only by another object's step (a box on a box) is one after all
     rel = skirts_within_objects(rel, [o.planes for o in objs], planes)
-    cut = truncated_planes(planes.labels, np.asarray(cloud.xyz, float))
     return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
                             proposed, support, truncated=cut)
 
