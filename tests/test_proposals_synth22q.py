@@ -146,3 +146,55 @@ def test_mostly_hidden_objects_are_not_scored():
     assert (s.n_objects, s.found, s.false) == (2, 1, 0) and 1 not in s.best_iou
     s = score_objects(prop, truth, ignore={2})
     assert (s.n_objects, s.found, s.false) == (2, 2, 0)
+
+
+def test_unassigned_part_touching_one_proposal_joins_it():
+    from planerel.features.curved import CurvedParams, join_parts
+
+    h, w = 14, 14
+    yy, xx = np.mgrid[0:h, 0:w]
+    xyz = np.stack([xx * 0.01, yy * 0.01, np.full((h, w), 1.0)], axis=-1)
+    lab = np.full((h, w), -1, np.int32)
+    lab[0:4, 0:8] = 1     # a seat (32 px)
+    lab[0:4, 10:14] = 2   # another object's plane (16 px)
+    valid = lab >= 0
+    valid[4:12, 1:3] = True    # a leg under the seat: touches it only
+    valid[0:4, 8:10] = True    # a part between the two planes: touches both
+    valid[4:14, 10:14] = True  # a part under plane 2, larger than plane 2
+    xyz[~valid] = np.nan
+    objs = [CurvedObject((1,), None, 1.0, False, 32), CurvedObject((2,), None, 1.0, False, 16)]
+    out = join_parts(objs, xyz, lab)
+    leg = np.zeros((h, w), bool)
+    leg[4:12, 1:3] = True
+    assert (out[0].mask == leg).all()
+    # in the proposal's pixels, not in its planar fraction
+    assert out[0].planar_fraction == 1.0 and not out[0].curved and out[0].n_points == 48
+    assert out[1].mask is None
+    # a part far in depth from the plane it touches in the grid is not joined
+    far = xyz.copy()
+    far[4:12, 1:3, 2] = 1.5
+    assert join_parts(objs, far, lab)[0].mask is None
+    assert not CurvedParams().join_parts  # an option: its cost (docs/objects.md)
+
+
+def test_chair_legs_join_the_seat_in_a_rendered_scene():
+    # a seat 0.45 m up on two 3 cm legs in view, the legs left unassigned (thin: the clusters'
+    # opening removes them): with join_parts they are in the seat's proposal
+    from planerel.features.curved import CurvedParams
+
+    seat = Rect((0.0, 2.0, 0.45), (1, 0, 0), (0, 1, 0), 0.22, 0.22, 1)
+    legs = [Rect((sx * 0.2, 2.0 - 0.2, 0.225), (1, 0, 0), (0, 0, 1), 0.015, 0.225, 1)
+            for sx in (-1, 1)]
+    cloud, lab, _up, objs = render([floor(), seat] + legs, pitch=20, cam_height=1.2,
+                                   width=320, height=240, noise=0.001)
+    truth = np.where(lab >= 1, 1, np.where(lab == 0, 0, -1))
+    lab = lab.copy()
+    lab[lab >= 2] = -1
+    from planerel.features.object_eval import proposal_image
+
+    def iou(cp):
+        d = describe_scene(cloud, lab, curved_params=cp)
+        img = proposal_image(d.labels, [o.planes for o in d.objects], [o.mask for o in d.objects])
+        return score_objects(img, truth).best_iou[1]
+
+    assert iou(CurvedParams(join_parts=True)) > iou(CurvedParams()) + 0.05

@@ -298,6 +298,12 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         cobjs = with_raised(cobjs, *raised, cp.curved_below,
                             np.asarray(cloud.xyz, float) if rp.join_clusters else None,
                             rp.edge_depth)
+    if proposed and cp.enabled and cp.join_parts:
+        # unassigned parts touching one proposal only (a chair's legs): joined to it
+        from planerel.features.curved import join_parts
+
+        cobjs = join_parts(cobjs, cloud.xyz, planes.labels if (parent or flights) else labels,
+                           cp.edge_depth)
     objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), c.planes, klass, c.mask,
                              c.planar_fraction, c.curved)
                  for k, c in enumerate(cobjs))
