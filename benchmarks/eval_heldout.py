@@ -45,6 +45,10 @@ def main(argv=None) -> int:
     ap.add_argument("--task", default=None, metavar="FILE.pl",
                     help="task file (default planerel's aleph/modes_relational.pl; a name in "
                          "planerel.aleph such as modes_slope.pl, or a path)")
+    ap.add_argument("--recipe", default=None, metavar="NAME",
+                    help="a named task + settings + --other-rules (planerel learn --recipe; "
+                         "'varied' is the facing cell); --task, --setting and --other-rules "
+                         "given as well take precedence")
     ap.add_argument("--other-rules", action="store_true",
                     help="learn rules for class other too (planerel learn --other-rules)")
     ap.add_argument("--keep-redundant", action="store_true",
@@ -63,6 +67,10 @@ def main(argv=None) -> int:
         except ValueError:  # a word: evalfn=coverage, search=heuristic
             settings[name] = value
 
+    from planerel.ilp.recipes import apply_recipe
+
+    args.task, settings, args.other_rules = apply_recipe(
+        args.recipe, task=args.task, settings=settings, other_rules=args.other_rules)
     t0 = time.perf_counter()
     descs, _ = describe_scenes(args.train, jobs=args.jobs, progress=False)
     classes = P._classes_arg(None, descs)
@@ -102,7 +110,7 @@ def main(argv=None) -> int:
     for res in (held, *confirm):
         print(summary(res), file=sys.stderr)
     print(json.dumps({"tag": args.tag, "train": args.train, "held": args.held,
-                      "settings": settings, "task": args.task,
+                      "settings": settings, "task": args.task, "recipe": args.recipe,
                       "classes": list(classes), "rules": model.clauses(), "stats": model.stats, "cv": cv,
                       "heldout": held, "confirm": confirm,
                       "seconds": {"describe": round(t1 - t0, 1), "cv": round(t2 - t1, 1),

@@ -528,6 +528,10 @@ def test_a_class_prefixed_setting_changes_that_class_only(gt_descs):
     assert common == {"noise": 6} and per_class == {"box": {"noise": 12}, "ramp": {"i": 2}}
     with pytest.raises(InputError, match="'chair' is not a class"):
         P.split_class_settings({"chair:noise": 1}, classes)
+    # other's settings wait for rules for other: none are learned here, so they are left out
+    assert P.split_class_settings({"noise": 6, "other:noise": 5}, classes) == ({"noise": 6}, {})
+    assert P.split_class_settings({"other:noise": 5}, [*classes, "other"])[1] == {
+        "other": {"noise": 5}}
 
 
 def test_learn_command_reads_class_settings():

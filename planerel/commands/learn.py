@@ -52,6 +52,14 @@ def register(sub) -> None:
                    dest="settings",
                    help="Aleph setting for the learner (repeatable), e.g. --set noise=6; "
                         "CLASS:NAME for one class only, e.g. --set box:noise=12")
+    p.add_argument("--task", metavar="FILE.pl",
+                   help="task file with settings and modeb declarations (default "
+                        "modes_relational.pl; a name in planerel's aleph/ folder such as "
+                        "modes_facing.pl, or a path)")
+    p.add_argument("--recipe", metavar="NAME",
+                   help="a named task + settings + --other-rules measured together; "
+                        "'varied' for --world varied data sets (docs/learner.md, 'Recipes'); "
+                        "--task, --set and --other-rules given as well take precedence")
     p.add_argument("--other-rules", action="store_true",
                    help="also learn rules for class other (objects of none of the classes in "
                         "the data set): they prove 'none of the classes' and compete with the "
@@ -124,7 +132,8 @@ def run(args) -> int:
                     method=args.method, seg_params=_params(args.param), cache=args.cache,
                     log=lambda s: print(s, file=sys.stderr), scheduler=args.scheduler,
                     heldout=args.heldout, settings=_settings(args.settings) or None,
-                    other_rules=args.other_rules, keep_redundant=args.keep_redundant)
+                    other_rules=args.other_rules, keep_redundant=args.keep_redundant,
+                    task=args.task, recipe=args.recipe)
     print(f"engine: {m['engine']}")
     print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
           f"{', '.join(m['classes'])}"

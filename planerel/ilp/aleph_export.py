@@ -368,11 +368,13 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
 
 
 def export_aleph(descs, out_dir, target: str = "all", *, classes: Sequence[str] | None = None,
-                 task: str | None = None, settings: dict | None = None) -> ExportResult:
+                 task: str | None = None, settings: dict | None = None,
+                 class_settings: dict | None = None) -> ExportResult:
     """Write the Aleph files of a target to ``out_dir``.
 
     ``target``: a class name; ``"all"`` (one stem per class); ``"class"`` (one multi-class
-    stem ``class``).
+    stem ``class``).  ``class_settings`` (``{stem: {name: value}}``) replace ``settings`` in
+    that stem's ``.b`` only, so each file says what its class was learned with.
     """
     from planerel.atomic import write_text
 
@@ -383,7 +385,8 @@ def export_aleph(descs, out_dir, target: str = "all", *, classes: Sequence[str] 
     targets = list(classes) if target == "all" else [target]
     texts: dict[str, str] = {}
     for t in targets:
-        texts.update(aleph_files(descs, t, classes=classes, task=task, settings=settings))
+        own = {**(settings or {}), **(class_settings or {}).get(t, {})}
+        texts.update(aleph_files(descs, t, classes=classes, task=task, settings=own or None))
     out = Path(out_dir)
     paths = tuple(write_text(out / name, text) for name, text in sorted(texts.items()))
     counts = {c: sum(1 for e in examples if e.klass == c) for c in classes}

@@ -180,10 +180,14 @@ def split_class_settings(settings: dict | None, classes: Sequence[str]) -> tuple
     (dict, dict)
         ``{name: value}`` for every class and ``{class: {name: value}}``.
 
+    Settings for ``other`` are left out when ``other`` is not learned (no ``other_rules``, or
+    fewer than two ``other`` objects), as ``other_rules`` itself then learns nothing: a recipe
+    with rules for ``other`` still applies to a data set without clutter.
+
     Raises
     ------
     InputError
-        When ``CLASS`` is not one of ``classes``.
+        When ``CLASS`` is not one of ``classes`` nor ``other``.
     """
     common: dict = {}
     per_class: dict = {}
@@ -191,6 +195,8 @@ def split_class_settings(settings: dict | None, classes: Sequence[str]) -> tuple
         cls, sep, rest = str(name).partition(":")
         if not sep:
             common[name] = value
+            continue
+        if cls == OTHER and cls not in classes:
             continue
         if cls not in classes:
             raise InputError(f"setting {name!r}: {cls!r} is not a class being learned "
@@ -264,7 +270,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         targets += (OTHER,)
     try:
         common, per_class = split_class_settings(settings, targets)
-        export_aleph(descs, work_dir, "all", classes=list(targets), task=task, settings=common)
+        export_aleph(descs, work_dir, "all", classes=list(targets), task=task, settings=common,
+                     class_settings=per_class)
         rules, uncovered, seconds, explored, engines = {}, {}, 0.0, 0, set()
 
         def one(k):
@@ -842,7 +849,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                 method: str = "regiongrow", seg_params: dict | None = None, cache=None,
                 progress: bool | None = None, log=print, scheduler=None,
                 heldout=None, settings: dict | None = None, task: str | None = None,
-                other_rules: bool = False, keep_redundant: bool = False) -> dict:
+                other_rules: bool = False, keep_redundant: bool = False,
+                recipe: str | None = None) -> dict:
     """``planerel learn``: describe a data set, learn the class rules, optionally cross-validate,
     score the model on a held-out data set (``heldout``: :func:`held_out_scores`, in
     ``metrics["heldout"]``), and write a model folder.
@@ -850,7 +858,9 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     ``jobs`` worker processes describe the scenes (or the Dask ``scheduler``'s workers), and
     ``jobs`` cross-validation folds run at once; the result does not depend on either.
     ``settings`` (Aleph ``set/2`` values), ``task`` (a task file), ``other_rules`` and
-    ``keep_redundant`` go to :func:`learn_rules`.
+    ``keep_redundant`` go to :func:`learn_rules`.  ``recipe`` names a
+    :mod:`planerel.ilp.recipes` entry (a task, settings and ``other_rules`` measured together);
+    a task or setting given explicitly replaces the recipe's.
 
     The folder is built in a temporary sibling and renamed into place when complete, so a run
     that fails or is interrupted never leaves a half-written model.  It holds ``rules.pl``
@@ -865,10 +875,20 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         The metrics written to ``metrics.json``.
     """
     from planerel.atomic import atomic_dir, check_dir_target, write_text
+    from planerel.ilp.recipes import apply_recipe
     from planerel.io.writers import write_json
 
     out = Path(out_dir)
-    # what would fail at the end fails first: the model folder, the held-out set
+    task, settings, other_rules = apply_recipe(recipe, task=task, settings=settings,
+                                               other_rules=other_rules)
+    settings = settings or None
+    # what would fail at the end fails first: the task, the settings, the model folder, the
+    # held-out set
+    from planerel.ilp.aleph_export import check_setting, load_task
+
+    load_task(task)
+    for name, value in (settings or {}).items():
+        check_setting(name.rpartition(":")[2], value)
     check_dir_target(out, markers=("rules.pl", "metrics.json"))
     if heldout is not None:
         from planerel.features.dataset import load_manifest
@@ -886,7 +906,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         metrics: dict = {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
                          "seg_params": dict(seg_params or {}), "seed": seed,
                          "learner_settings": {k: str(v) for k, v in (settings or {}).items()},
-                         "task": task or "modes_relational.pl",
+                         "task": task or "modes_relational.pl", "recipe": recipe,
+                         "other_rules": other_rules,
                          "n_scenes": len(descs),
                          "n_examples": sum(k in classes for _, k in _examples(descs)),
                          "n_other": sum(k == "other" for _, k in _examples(descs)),
