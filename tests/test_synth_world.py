@@ -190,7 +190,34 @@ def test_clutter_builders():
         pytest.approx([0.01] * 4)
 
 
+def test_tilted_boxes_lean_by_the_drawn_angle_and_rest_on_the_floor():
+    """``box_tilt_deg``: the top leans by the drawn tilt, the faces by the same from vertical,
+    the lowest corner stays on the floor; level worlds draw nothing (their scenes stay)."""
+    seen = 0
+    for seed in range(6):
+        s = generate_world_scene("box", seed, **SMALL, ranges=WorldRange(box_tilt_deg=(2.5, 2.5)))
+        p = s.objects[1]["params"]
+        assert p["tilt_deg"] == 2.5 and 0 <= p["tilt_azimuth_deg"] < 360
+        for pl in s.planes:
+            if pl.object_index != 1 or not pl.n_pixels:
+                continue
+            incline = math.degrees(math.acos(min(1.0, abs(float(np.dot(pl.normal, s.up))))))
+            if pl.role in ("top", "bottom"):
+                assert incline == pytest.approx(2.5, abs=1e-6)
+                seen += 1
+            else:  # a face leans by up to the tilt (none when its normal is the tilt's axis)
+                assert 87.5 - 1e-6 <= incline <= 90 + 1e-6
+        level = generate_world_scene("box", seed, **SMALL)
+        assert "tilt_deg" not in level.objects[1]["params"]
+    assert seen >= 4
+    box = sg.box_geometry(0.4, 0.3, 0.2)
+    tipped = sg.tilt(box, 4.0, 30.0)
+    assert tipped.vertices()[:, 2].min() == pytest.approx(0.0, abs=1e-12)
+    assert np.allclose(sg.tilt(box, 0.0, 30.0).vertices(), box.vertices())
+
+
 @pytest.mark.parametrize("call,match", [
+    (lambda: WorldRange(box_tilt_deg=(0, 12)), "box tilt must lie in 0..10"),
     (lambda: WorldRange(camera_pitch_deg=(0, 95)), "camera pitch must lie in 0..85"),
     (lambda: WorldRange(steps=(1, 4)), "steps must be integers with 2 <= min"),
     (lambda: WorldRange(rise=(0.2, 0.1)), "rise must be a finite"),

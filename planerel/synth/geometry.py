@@ -349,6 +349,26 @@ def place(geometry: Geometry, yaw_deg: float, position=(0.0, 0.0), z: float = 0.
     return Geometry(polys, geometry.planes)
 
 
+def tilt(geometry: Geometry, tilt_deg: float, azimuth_deg: float) -> Geometry:
+    """Tip ``geometry`` by ``tilt_deg`` about the horizontal axis through the local origin at
+    ``azimuth_deg`` from x, then lift it so that its lowest corner is where it was: an object
+    resting on one edge, its top no longer level (a carton's bulging lid, a box on an uneven
+    floor)."""
+    a, t = math.radians(_float("azimuth", azimuth_deg)), math.radians(_float("tilt", tilt_deg))
+    ux, uy = math.cos(a), math.sin(a)
+    c, s = math.cos(t), math.sin(t)
+    # Rodrigues' rotation about the unit axis (ux, uy, 0)
+    rot = np.array([[c + ux * ux * (1 - c), ux * uy * (1 - c), uy * s],
+                    [ux * uy * (1 - c), c + uy * uy * (1 - c), -ux * s],
+                    [-uy * s, ux * s, c]])
+    low = min(float(p.vertices[:, 2].min()) for p in geometry.polygons)
+    polys = [p.vertices @ rot.T for p in geometry.polygons]
+    lift = low - min(float(v[:, 2].min()) for v in polys)
+    return Geometry(tuple(Polygon(v + [0.0, 0.0, lift], p.plane)
+                          for v, p in zip(polys, geometry.polygons, strict=True)),
+                    geometry.planes)
+
+
 def combine(*parts: Geometry) -> Geometry:
     """One geometry from several; plane indices are renumbered in order of the parts."""
     polys, planes = [], []

@@ -76,6 +76,12 @@ class WorldRange:
         Number of further objects.
     box_size, box_height : (float, float)
         Box footprint sides and height, metres.
+    box_tilt_deg : (float, float)
+        A box's tilt from level, degrees (about a horizontal axis at any azimuth; drawn only
+        when the upper bound is above 0).  Real table-top boxes' tops measure 1-4 degrees
+        from the table they stand on (the shared mOSD frames, docs/results.md "The varied
+        recipe on real frames"); a world of exactly level boxes teaches rules that ask for a
+        top within a degree of level.
     steps : (int, int)
         Number of steps (risers).
     rise, run, stairs_width : (float, float)
@@ -93,6 +99,7 @@ class WorldRange:
     extra_objects: tuple = (0, 3)
     box_size: tuple = (0.12, 1.2)
     box_height: tuple = (0.1, 1.0)
+    box_tilt_deg: tuple = (0.0, 0.0)
     steps: tuple = (2, 10)
     rise: tuple = (0.14, 0.21)
     run: tuple = (0.22, 0.35)
@@ -113,6 +120,10 @@ class WorldRange:
         if pitch[1] > 85:
             raise InputError(f"camera pitch must lie in 0..85 degrees, got {self.camera_pitch_deg!r}")
         object.__setattr__(self, "camera_pitch_deg", pitch)
+        tilt = _pair("box tilt", self.box_tilt_deg)
+        if tilt[1] > 10:
+            raise InputError(f"box tilt must lie in 0..10 degrees, got {self.box_tilt_deg!r}")
+        object.__setattr__(self, "box_tilt_deg", tilt)
         ang = _pair("ramp angle", self.ramp_angle_deg)
         if ang[0] <= 0 or ang[1] >= 60:
             raise InputError(f"ramp angle must lie in (0, 60) degrees, got {self.ramp_angle_deg!r}")
@@ -240,8 +251,12 @@ def _draw_box(rng, r: WorldRange, index: int, *, max_side=None, open_ok=True):
     height = float(math.exp(rng.uniform(*np.log(r.box_height))))
     has_top = not (open_ok and rng.random() < 0.2)
     geom = sg.box_geometry(length, width, height, index, top=has_top)
-    return geom, {"class": "box", "kind": "box" if has_top else "open box",
-                  "params": {"length": length, "width": width, "height": height, "top": has_top}}
+    params = {"length": length, "width": width, "height": height, "top": has_top}
+    if r.box_tilt_deg[1] > 0:  # no draw at all otherwise: level worlds keep their scenes
+        params["tilt_deg"] = float(rng.uniform(*r.box_tilt_deg))
+        params["tilt_azimuth_deg"] = float(rng.uniform(0.0, 360.0))
+        geom = sg.tilt(geom, params["tilt_deg"], params["tilt_azimuth_deg"])
+    return geom, {"class": "box", "kind": "box" if has_top else "open box", "params": params}
 
 
 def _flight(rng, r: WorldRange) -> dict:
