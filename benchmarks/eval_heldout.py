@@ -38,7 +38,8 @@ def main(argv=None) -> int:
     ap.add_argument("--setting", action="append", default=[], metavar="NAME=VALUE",
                     help="learner setting (e.g. noise=10, minacc=0.8); repeatable")
     ap.add_argument("--save", default=None,
-                    help="folder for the model (rules.pl) and the held-out answers (answers.json)")
+                    help="folder for the model (rules.pl, model.json: planerel classify reads it) and "
+                         "the held-out answers (answers.json)")
     ap.add_argument("--confirm", action="append", default=[], metavar="HELD2",
                     help="a further held-out set (a confirmation set, never used for a choice) "
                          "scored with the same model, under 'confirm' in the output; repeatable")
@@ -105,6 +106,13 @@ def main(argv=None) -> int:
         out = Path(args.save)
         out.mkdir(parents=True, exist_ok=True)
         write_text(out / "rules.pl", model.text())
+        # a model folder planerel classify reads as planerel learn's (settings, rule precision,
+        # the classes' planar fractions)
+        from planerel.ilp.model_settings import MODEL_FILE, training_settings
+        from planerel.io.writers import write_json
+
+        write_json(out / MODEL_FILE, training_settings("regiongrow", None, rule_stats=model.stats,
+                                                       planar_domain=model.planar_domain))
         write_text(out / "answers.json", json.dumps(answers, indent=0, sort_keys=True))
     t4 = time.perf_counter()
     for res in (held, *confirm):
