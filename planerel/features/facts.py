@@ -41,11 +41,19 @@ __all__ = [
     "up_comment",
     "DIGITS_M",
     "DIGITS_DEG",
+    "DIGITS_INCLINE",
 ]
 
 #: Decimal places written for metres and square metres (0.1 mm) and for degrees.
 DIGITS_M = 4
 DIGITS_DEG = 2
+#: Decimal places written for a plane's ``incline`` and ``slope`` (its angle to gravity): whole
+#: degrees.  The up vector is estimated (docs/gravity.md: p95 0.15 degrees, up to 2) and a small
+#: plane's own fit tilts it by up to a few degrees, so decimals of a degree there are the fit's
+#: noise, not the object's shape; written with them, the learner placed cut-offs among them
+#: ("a facing wall of incline at most 89.8": vertical walls at 90.0 left out; docs/results.md,
+#: cut16).  ``angle`` (between two planes, not against gravity) keeps ``DIGITS_DEG``.
+DIGITS_INCLINE = 0
 
 #: The vocabulary, in the order facts are written: (name, arity, argument types, meaning).
 PREDICATES: tuple[tuple[str, int, str, str], ...] = (
@@ -467,9 +475,9 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
     for p in planes:
         i = pid(p.label)
         out["orientation"].append(F("orientation", i, p.orientation))
-        out["incline"].append(F("incline", i, p.incline, round_to=dg))
+        out["incline"].append(F("incline", i, p.incline, round_to=DIGITS_INCLINE))
         if p.orientation == "inclined":
-            out["slope"].append(F("slope", i, p.incline, round_to=dg))
+            out["slope"].append(F("slope", i, p.incline, round_to=DIGITS_INCLINE))
         out["area"].append(F("area", i, p.area, round_to=m))
         out["plane_length"].append(F("plane_length", i, p.length, round_to=m))
         out["plane_width"].append(F("plane_width", i, p.width, round_to=m))
