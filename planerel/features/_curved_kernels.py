@@ -771,3 +771,138 @@ def nest_links(rows, cols, ids, near, part, xyz, H, W, g, nest_depth, lab, credi
     for i in range(k + nl):
         out[i] = _root(parent, i)
     return out
+
+
+
+@njit(cache=True, nogil=True)
+def join_owners(lab, lut, xyz):
+    """:func:`planerel.features.curved.join_parts`' owner map in one pass over the image:
+    ``(H, W)`` int32, a labelled pixel's proposal (``lut[label]``, -2 for none), -1 an
+    unassigned pixel with a finite depth (-2 without), and those pixels' rows and columns
+    (row-major)."""
+    H, W = lab.shape
+    nl = lut.shape[0]
+    own = np.empty((H, W), np.int32)
+    rows = np.empty(H * W, np.int64)
+    cols = np.empty(H * W, np.int64)
+    n = 0
+    for y in range(H):
+        for x in range(W):
+            a = lab[y, x]
+            if a >= 0:
+                b = lut[a] if a < nl else -1
+                own[y, x] = b if b >= 0 else -2
+            elif np.isfinite(xyz[y, x, 2]):
+                own[y, x] = -1
+                rows[n], cols[n] = y, x
+                n += 1
+            else:
+                own[y, x] = -2
+    return own, rows[:n].copy(), cols[:n].copy()
+
+
+@njit(cache=True, nogil=True)
+def mark_held(mask, own, k):
+    """``own[y, x] = k`` where ``own`` is -1 (an unassigned pixel no earlier mask holds) and
+    ``mask`` holds the pixel: the first proposal's mask wins; rows without a pixel of
+    ``mask`` are skipped at a byte a pixel."""
+    H, W = mask.shape
+    for y in range(H):
+        if not _row_any(mask, y, W):
+            continue
+        for x in range(W):
+            if mask[y, x] and own[y, x] == -1:
+                own[y, x] = k
+
+
+@njit(cache=True, nogil=True)
+def join_part_targets(rows, cols, own, xyz, edge_depth, npts, min_touch):
+    """The proposal each unassigned pixel ``(rows, cols)`` (row-major) joins, for
+    :func:`planerel.features.curved.join_parts`, in one pass over the parts' pixels.
+
+    ``own`` (:func:`join_owners`, then :func:`mark_held`): the pixels still -1 form parts
+    (:func:`list_components`); each part pixel's grid neighbours 1 or 2 steps right, down,
+    left or up are read once: one ``own`` holds for a proposal (``>= 0``) touches it where
+    the points lie within ``edge_depth * max(1, |z|)`` (``z`` the part pixel's; the
+    distance summed as ``np.linalg.norm`` sums it). A part touching one proposal only, at
+    least ``min_touch`` times, and no larger than that proposal's ``npts`` (grown, in part
+    order, by the parts joined before) joins it.
+
+    Returns
+    -------
+    (ndarray (N,) int64, ndarray (M,) int64)
+        Per pixel the proposal it joins (-1: none; held pixels are -1), the proposals'
+        grown point counts.
+    """
+    H, W = own.shape
+    n = rows.shape[0]
+    m = npts.shape[0]
+    dest = np.full(n, -1, np.int64)
+    out_n = npts.copy()
+    kept = 0
+    for i in range(n):
+        if own[rows[i], cols[i]] == -1:
+            kept += 1
+    if kept == 0:
+        return dest, out_n
+    pr = np.empty(kept, np.int64)
+    pc = np.empty(kept, np.int64)
+    src = np.empty(kept, np.int64)
+    j = 0
+    for i in range(n):
+        if own[rows[i], cols[i]] == -1:
+            pr[j], pc[j], src[j] = rows[i], cols[i], i
+            j += 1
+    pid, np_ = list_components(pr, pc, xyz, edge_depth, H)
+    counts = np.zeros((np_, m), np.int64)
+    size = np.zeros(np_, np.int64)
+    for t in range(kept):
+        y, x = pr[t], pc[t]
+        p = pid[t]
+        size[p] += 1
+        az = abs(xyz[y, x, 2])
+        lim = edge_depth * (az if az > 1.0 else 1.0)
+        for d in range(8):
+            if d == 0:
+                yy, xx = y, x + 1
+            elif d == 1:
+                yy, xx = y, x + 2
+            elif d == 2:
+                yy, xx = y + 1, x
+            elif d == 3:
+                yy, xx = y + 2, x
+            elif d == 4:
+                yy, xx = y, x - 1
+            elif d == 5:
+                yy, xx = y, x - 2
+            elif d == 6:
+                yy, xx = y - 1, x
+            else:
+                yy, xx = y - 2, x
+            if yy < 0 or yy >= H or xx < 0 or xx >= W:
+                continue
+            b = own[yy, xx]
+            if b < 0:
+                continue
+            d0 = xyz[y, x, 0] - xyz[yy, xx, 0]
+            d1 = xyz[y, x, 1] - xyz[yy, xx, 1]
+            d2 = xyz[y, x, 2] - xyz[yy, xx, 2]
+            if np.sqrt((d0 * d0 + d1 * d1) + d2 * d2) <= lim:
+                counts[p, b] += 1
+    target = np.full(np_, -1, np.int64)
+    for p in range(np_):
+        k = -1
+        many = False
+        for b in range(m):
+            if counts[p, b] > 0:
+                if k >= 0:
+                    many = True
+                    break
+                k = b
+        if k < 0 or many or counts[p, k] < min_touch or size[p] > out_n[k]:
+            continue
+        target[p] = k
+        out_n[k] += size[p]
+    for t in range(kept):
+        dest[src[t]] = target[pid[t]]
+    return dest, out_n

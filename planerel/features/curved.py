@@ -144,10 +144,10 @@ class CurvedParams:
         which the clusters' opening removes, and a seat's edge (synth22q: seed 33 ``s0040``'s
         chair, IoU 0.49 -> 0.90).  It widens the proposal's pixels only: the planar
         fraction and ``curved`` stay as they were.  Off by default: it found 3 more objects on
-        five synthetic seeds and 11 on two table-top sets, but costs 3-4 ms a 640x480 frame
-        (58 ms on ``office1``, whose 100 000 unassigned pixels are gathered under each of its
-        37 masks): more than relations and proposals take together (docs/objects.md,
-        "Synthetic misses (synth22q)").
+        five synthetic seeds and 11 on two table-top sets; compiled (join22) it costs
+        0.35-1.2 ms a 640x480 frame and ~4 ms on ``office1`` (numpy: 1.7-4.9 and 22 ms), not
+        yet the ~0.3 ms wanted of a default (docs/objects.md, "Synthetic misses (synth22q)"
+        and "join_parts compiled (join22)").
     join_facets : bool
         Proposals made only of facets (and planes under ``small_area``) that hold two facets
         linked by the facet rule (adjacent, ``facet_min_angle``-``facet_max_angle`` apart) are
@@ -604,7 +604,7 @@ def join_parts(cobjs, xyz, labels, edge_depth: float = 0.02, min_touch: int = 3)
         thin (a leg) or a rim, no evidence of a curved surface, and a box whose unsegmented
         face joined so would read as round.
     """
-    from planerel.features._curved_kernels import list_components, unexplained_open
+    from planerel.features._curved_kernels import join_owners, join_part_targets, mark_held
 
     lab = np.asarray(labels)
     xyz = np.asarray(xyz, float)
@@ -612,69 +612,36 @@ def join_parts(cobjs, xyz, labels, edge_depth: float = 0.02, min_touch: int = 3)
         return list(cobjs)
     H, W = lab.shape
     nl = max(int(lab.max()) + 1, 1)
-    lut = np.full(nl + 1, -1, np.int64)
+    lut = np.full(nl, -1, np.int64)
     for k, c in enumerate(cobjs):
         for x in c.planes:
             if 0 <= int(x) < nl:
                 lut[int(x)] = k
-    # the unassigned pixels with a depth (one compiled pass: every label explained)
-    _un, rows, cols = unexplained_open(np.isfinite(xyz[..., 2]), lab, np.ones(nl, np.bool_), 0)
+    # compiled passes: each pixel's proposal (its plane's) and the unassigned pixels with a
+    # depth; those a proposal's mask holds (clusters, raised groups) are its, the first
+    # mask's; the rest form parts, their touches decide whom they join
+    own, rows, cols = join_owners(lab, lut, xyz)
     if not len(rows):
         return list(cobjs)
-    # those a proposal's mask holds (clusters, raised groups) are its; the rest are parts
-    held = np.full(len(rows), -1, np.int64)
     for k, c in enumerate(cobjs):
         if c.mask is not None:
-            inm = np.asarray(c.mask, bool)[rows, cols] & (held < 0)
-            held[inm] = k
-    keep = held < 0
-    mo = np.full((H, W), -1, np.int64)
-    mo[rows[~keep], cols[~keep]] = held[~keep]
-    rows, cols = rows[keep], cols[keep]
-    if not len(rows):
-        return list(cobjs)
-    pid, n = list_components(rows, cols, xyz, float(edge_depth), H)
-    pts = xyz[rows, cols]
-    z = np.abs(pts[:, 2])
-    lim = edge_depth * np.where(z > 1.0, z, 1.0)
-    # (part, proposal) pixel pairs: a part's pixel and a proposal's pixel 1 or 2 steps right,
-    # down, left or up, their points within edge_depth * max(1, z) (z: the part's pixel)
-    m = len(cobjs)
-    counts = np.zeros(n * m, np.int64)
-    for dy, dx in ((0, 1), (0, 2), (1, 0), (2, 0), (0, -1), (0, -2), (-1, 0), (-2, 0)):
-        r2, c2 = rows + dy, cols + dx
-        ok = np.nonzero((r2 >= 0) & (r2 < H) & (c2 >= 0) & (c2 < W))[0]
-        r2, c2 = r2[ok], c2[ok]
-        lb = lab[r2, c2]
-        b = np.where(lb >= 0, lut[np.clip(lb, 0, nl)], mo[r2, c2])
-        hit = b >= 0
-        ok, b, r2, c2 = ok[hit], b[hit], r2[hit], c2[hit]
-        if not len(ok):
-            continue
-        d = np.linalg.norm(pts[ok] - xyz[r2, c2], axis=1)
-        near = d <= lim[ok]
-        counts += np.bincount(pid[ok[near]] * m + b[near], minlength=n * m)
-    counts = counts.reshape(n, m)
-    size = np.bincount(pid, minlength=n)
+            mark_held(np.asarray(c.mask, dtype=np.bool_), own, k)
+    npts = np.array([int(c.n_points) for c in cobjs], np.int64)
+    dest, grown_n = join_part_targets(rows, cols, own, xyz, float(edge_depth), npts,
+                                      int(min_touch))
     out = list(cobjs)
-    order = np.argsort(pid, kind="stable")
-    start = np.searchsorted(pid[order], np.arange(n + 1))
-    grown: dict = {}
-    for part in np.nonzero((counts > 0).sum(axis=1) == 1)[0]:
-        k = int(np.argmax(counts[part]))
-        if counts[part, k] < min_touch or size[part] > out[k].n_points:
-            continue
-        if k not in grown:
-            grown[k] = (np.zeros((H, W), bool) if out[k].mask is None
-                        else np.array(out[k].mask, dtype=bool))
-        sel = order[start[part]:start[part + 1]]
-        grown[k][rows[sel], cols[sel]] = True
-        c = out[k]
-        out[k] = CurvedObject(c.planes, c.mask, c.planar_fraction, c.curved,
-                              int(c.n_points + size[part]))
-    for k, g in grown.items():
-        c = out[k]
-        out[k] = CurvedObject(c.planes, g, c.planar_fraction, c.curved, c.n_points)
+    grown = np.nonzero(grown_n != npts)[0]
+    if not len(grown):
+        return out
+    j = np.nonzero(dest >= 0)[0]
+    j = j[np.argsort(dest[j], kind="stable")]
+    start = np.searchsorted(dest[j], np.arange(len(cobjs) + 1))
+    for k in grown:
+        c = out[int(k)]
+        g = np.zeros((H, W), bool) if c.mask is None else np.array(c.mask, dtype=bool)
+        sel = j[start[k]:start[k + 1]]
+        g[rows[sel], cols[sel]] = True
+        out[int(k)] = CurvedObject(c.planes, g, c.planar_fraction, c.curved, int(grown_n[k]))
     return out
 
 
