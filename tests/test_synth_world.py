@@ -197,7 +197,7 @@ def test_tilted_boxes_lean_by_the_drawn_angle_and_rest_on_the_floor():
     for seed in range(6):
         s = generate_world_scene("box", seed, **SMALL, ranges=WorldRange(box_tilt_deg=(2.5, 2.5)))
         p = s.objects[1]["params"]
-        assert p["tilt_deg"] == 2.5 and 0 <= p["tilt_azimuth_deg"] < 360
+        assert p["tip_deg"] == 2.5 and 0 <= p["tip_azimuth_deg"] < 360
         for pl in s.planes:
             if pl.object_index != 1 or not pl.n_pixels:
                 continue
@@ -208,8 +208,18 @@ def test_tilted_boxes_lean_by_the_drawn_angle_and_rest_on_the_floor():
             else:  # a face leans by up to the tilt (none when its normal is the tilt's axis)
                 assert 87.5 - 1e-6 <= incline <= 90 + 1e-6
         level = generate_world_scene("box", seed, **SMALL)
-        assert "tilt_deg" not in level.objects[1]["params"]
+        assert "tip_deg" not in level.objects[1]["params"]
     assert seen >= 4
+    # clutter tips too when asked (a plate keeps its own tilt_deg, the slope it was made with)
+    tipped_clutter = 0
+    for seed in range(6):
+        s = generate_world_scene("box", seed, **SMALL,
+                                 ranges=WorldRange(clutter_tilt_deg=(1.0, 1.0), extra_objects=(3, 3)))
+        for o in s.objects[2:]:
+            if o["class"] == "other" and o["kind"] != "table":
+                assert o["params"]["tip_deg"] == 1.0
+                tipped_clutter += 1
+    assert tipped_clutter
     box = sg.box_geometry(0.4, 0.3, 0.2)
     tipped = sg.tilt(box, 4.0, 30.0)
     assert tipped.vertices()[:, 2].min() == pytest.approx(0.0, abs=1e-12)
@@ -218,6 +228,7 @@ def test_tilted_boxes_lean_by_the_drawn_angle_and_rest_on_the_floor():
 
 @pytest.mark.parametrize("call,match", [
     (lambda: WorldRange(box_tilt_deg=(0, 12)), "box tilt must lie in 0..10"),
+    (lambda: WorldRange(clutter_tilt_deg=(-1, 2)), "clutter tilt must be a finite"),
     (lambda: WorldRange(camera_pitch_deg=(0, 95)), "camera pitch must lie in 0..85"),
     (lambda: WorldRange(steps=(1, 4)), "steps must be integers with 2 <= min"),
     (lambda: WorldRange(rise=(0.2, 0.1)), "rise must be a finite"),

@@ -82,6 +82,9 @@ class WorldRange:
         from the table they stand on (the shared mOSD frames, docs/results.md "The varied
         recipe on real frames"); a world of exactly level boxes teaches rules that ask for a
         top within a degree of level.
+    clutter_tilt_deg : (float, float)
+        The same for the further clutter objects (tables, chairs, shelves, ...; not a table
+        under a box): with boxes alone tipped, a tipped top is a box's cue (measured).
     steps : (int, int)
         Number of steps (risers).
     rise, run, stairs_width : (float, float)
@@ -100,6 +103,7 @@ class WorldRange:
     box_size: tuple = (0.12, 1.2)
     box_height: tuple = (0.1, 1.0)
     box_tilt_deg: tuple = (0.0, 0.0)
+    clutter_tilt_deg: tuple = (0.0, 0.0)
     steps: tuple = (2, 10)
     rise: tuple = (0.14, 0.21)
     run: tuple = (0.22, 0.35)
@@ -120,10 +124,12 @@ class WorldRange:
         if pitch[1] > 85:
             raise InputError(f"camera pitch must lie in 0..85 degrees, got {self.camera_pitch_deg!r}")
         object.__setattr__(self, "camera_pitch_deg", pitch)
-        tilt = _pair("box tilt", self.box_tilt_deg)
-        if tilt[1] > 10:
-            raise InputError(f"box tilt must lie in 0..10 degrees, got {self.box_tilt_deg!r}")
-        object.__setattr__(self, "box_tilt_deg", tilt)
+        for name in ("box_tilt_deg", "clutter_tilt_deg"):
+            what = name[:-9].replace("_", " ") + " tilt"
+            tilt = _pair(what, getattr(self, name))
+            if tilt[1] > 10:
+                raise InputError(f"{what} must lie in 0..10 degrees, got {getattr(self, name)!r}")
+            object.__setattr__(self, name, tilt)
         ang = _pair("ramp angle", self.ramp_angle_deg)
         if ang[0] <= 0 or ang[1] >= 60:
             raise InputError(f"ramp angle must lie in (0, 60) degrees, got {self.ramp_angle_deg!r}")
@@ -252,11 +258,18 @@ def _draw_box(rng, r: WorldRange, index: int, *, max_side=None, open_ok=True):
     has_top = not (open_ok and rng.random() < 0.2)
     geom = sg.box_geometry(length, width, height, index, top=has_top)
     params = {"length": length, "width": width, "height": height, "top": has_top}
-    if r.box_tilt_deg[1] > 0:  # no draw at all otherwise: level worlds keep their scenes
-        params["tilt_deg"] = float(rng.uniform(*r.box_tilt_deg))
-        params["tilt_azimuth_deg"] = float(rng.uniform(0.0, 360.0))
-        geom = sg.tilt(geom, params["tilt_deg"], params["tilt_azimuth_deg"])
+    geom = _tipped(rng, geom, params, r.box_tilt_deg)
     return geom, {"class": "box", "kind": "box" if has_top else "open box", "params": params}
+
+
+def _tipped(rng, geom, params: dict, tilt_range):
+    """``geom`` tipped by a tilt drawn from ``tilt_range`` (recorded in ``params``); no draw at
+    all when its upper bound is 0, so that level worlds keep their scenes."""
+    if tilt_range[1] <= 0:
+        return geom
+    params["tip_deg"] = float(rng.uniform(*tilt_range))
+    params["tip_azimuth_deg"] = float(rng.uniform(0.0, 360.0))
+    return sg.tilt(geom, params["tip_deg"], params["tip_azimuth_deg"])
 
 
 def _flight(rng, r: WorldRange) -> dict:
@@ -421,6 +434,7 @@ def _place_extra(rng, r: WorldRange, pose, intr, lay: _Layout, index: int) -> No
         geom, info = _draw_stairs_up(rng, r, index)
     else:
         geom, info = _draw_clutter(rng, CLUTTER[int(rng.integers(len(CLUTTER)))], index)
+        geom = _tipped(rng, geom, info["params"], r.clutter_tilt_deg)
     fp_local = _footprint(geom)
     for _ in range(10):
         p = _floor_point(rng, pose, intr, 0.6, 4.2, region=(0.0, 1.0, 0.2, 1.0))
