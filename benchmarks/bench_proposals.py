@@ -20,7 +20,9 @@ ec6f66b), with ``stacked_boards=False, riser_max=0.45`` (the defaults before the
 main at 99e83eb; the earlier variants have these too), with ``stacked_faces=0`` and
 ``CurvedParams(join_facets=False, near_depth=0.0)`` (the defaults before tabletop22, main at 456e27b; the
 earlier variants have these too, and ``side_wall_follow=0``: synth22q's one side wall whose top
-follows the flight; synth22q's raised groups, ``RaisedParams``, are the same in every variant) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
+follows the flight; synth22q's raised groups, ``RaisedParams``, are the same in every variant;
+every variant but the defaults also has synth22r's ``riser_floor=False, skip_missing=False`` and
+``CurvedParams(bridge_area=0)``) and the defaults, interleaved, ``--repeat`` times; the median per frame is summed.
 Printed: ms per frame of each and its ratio to the reference, and the proposals' found rate /
 false proposals per frame (planerel.features.object_eval).  For the synthetic scenes a second
 line, ``fair``, scores them without the objects the learner calls mostly hidden (a box or
@@ -78,7 +80,8 @@ def main(argv=None) -> int:
         for name, cloud, truth, ty in frame_truth(path):
             frames.append((name, cloud, segment(cloud).labels, truth, ty))
     # the tenth pass's rules off, and tabletop22's stacked faces
-    OLD10 = dict(stacked_boards=False, riser_max=0.45, stacked_faces=0.0, side_wall_follow=0.0)  # noqa: N806
+    OLD10 = dict(stacked_boards=False, riser_max=0.45, stacked_faces=0.0, side_wall_follow=0.0,  # noqa: N806
+                 riser_floor=False, skip_missing=False)
     variants = {"before (components)": ProposalParams(split_concave=False, min_border_area=0, border_wall_area=0,
                                                     wall_behind=1, floor_gap=1.0, raised_objects=False,
                                                     ramp_tilt=0.0, split_panels=False,
@@ -99,15 +102,17 @@ def main(argv=None) -> int:
                 "before 7th pass": ProposalParams(shared_top=False, concave_cut=0.0, **OLD10),
                 "before 8th pass": ProposalParams(concave_cut=0.0, **OLD10),
                 "before 10th pass": ProposalParams(**OLD10),
-                "before tabletop22": ProposalParams(stacked_faces=0.0),
+                "before tabletop22": ProposalParams(stacked_faces=0.0, riser_floor=False,
+                                                   skip_missing=False),
                 "defaults": ProposalParams()}
     # the curved clusters' parameters of each variant (the sixth pass's one-plane join, the
     # seventh pass's clusters grown back)
-    curved = {k: CurvedParams(join_area=0.0, regrow_px=0, join_facets=False, near_depth=0.0) for k in variants}
-    curved["before 7th pass"] = CurvedParams(regrow_px=0, join_facets=False, near_depth=0.0)
-    curved["before 8th pass"] = CurvedParams(join_facets=False, near_depth=0.0)
-    curved["before 10th pass"] = CurvedParams(join_facets=False, near_depth=0.0)
-    curved["before tabletop22"] = CurvedParams(join_facets=False, near_depth=0.0)
+    curved = {k: CurvedParams(join_area=0.0, regrow_px=0, join_facets=False, near_depth=0.0,
+                              bridge_area=0.0) for k in variants}
+    curved["before 7th pass"] = CurvedParams(regrow_px=0, join_facets=False, near_depth=0.0, bridge_area=0.0)
+    curved["before 8th pass"] = CurvedParams(join_facets=False, near_depth=0.0, bridge_area=0.0)
+    curved["before 10th pass"] = CurvedParams(join_facets=False, near_depth=0.0, bridge_area=0.0)
+    curved["before tabletop22"] = CurvedParams(join_facets=False, near_depth=0.0, bridge_area=0.0)
     curved["defaults"] = CurvedParams()
     times = {k: [] for k in variants}
     scores = {k: {"mosd": [], "synth": [], "fair": []} for k in variants}

@@ -98,6 +98,24 @@ class CurvedParams:
     join_touch : int
         Grid pixel pairs (within two pixels, ``edge_depth``) such a cluster and plane touch
         along at least.
+    bridge_area : float
+        m^2: a cluster that joins nothing else and touches exactly two proposals (support
+        aside), each along at least ``bridge_touch`` grid pixel pairs and each with planes of
+        ``bridge_min`` to under this area in all, and has at most as many pixels as their
+        planes together, joins both: the unsegmented faces between two faces of one
+        object (an open box's end walls between its long walls, a closed flight's middle
+        risers between its top tread and its lower steps, a shelf's back and boards between
+        its side panels; synth22r).  0 = off (before synth22r).
+    bridge_touch : int
+        Grid pixel pairs such a cluster touches each of the two proposals along at least (3,
+        as ``join_parts``: a face's unsegmented neighbour meets it along its edge band, which
+        the clusters' opening narrows).
+    bridge_min : float
+        m^2: the least area of each proposal ``bridge_area`` joins (0.03).  A table-top
+        object's faces are smaller, and there a lying cylinder's unexplained side touching its
+        own top strip and a box beside it made one proposal, answered ``stairs`` (table-top
+        seed 11 ``t0005``, planes of 0.018 and 0.075 m^2); the room-scale joins it is for had
+        0.049-0.44 m^2 (synth22r).
     curved_below : float
         An object is ``curved`` when its planar fraction is below this.
     enabled : bool
@@ -164,6 +182,9 @@ class CurvedParams:
     min_area: float = 0.01
     small_area: float = 0.002
     join_area: float = 0.25
+    bridge_area: float = 0.5
+    bridge_touch: int = 3
+    bridge_min: float = 0.03
     join_touch: int = 10
     curved_below: float = 0.8
     enabled: bool = True
@@ -179,7 +200,7 @@ class CurvedParams:
 
     def __post_init__(self) -> None:
         for name in ("facet_min_angle", "facet_max_angle", "tiny_area", "edge_depth", "min_area",
-                     "small_area", "join_area", "curved_below", "near_min_area", "near_depth",
+                     "small_area", "join_area", "bridge_area", "bridge_min", "curved_below", "near_min_area", "near_depth",
                      "nest_depth", "nest_credit"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
@@ -188,7 +209,7 @@ class CurvedParams:
             raise InputError(f"facet angles must satisfy 0 <= facet_min_angle <= facet_max_angle "
                              f"<= 90, got {self.facet_min_angle!r} and {self.facet_max_angle!r}")
         for name, lo, hi in (("facet_min_planes", 2, 1000), ("open_px", 0, 10), ("regrow_px", 0, 50), ("nest_px", 1, 20),
-                             ("join_touch", 0, 10 ** 9)):
+                             ("join_touch", 0, 10 ** 9), ("bridge_touch", 0, 10 ** 9)):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
                 raise InputError(f"{name} must be an integer in {lo}..{hi}, got {v!r}")
@@ -746,6 +767,19 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
                     if (len(props[k]) == 1 and byl[props[k][0]].area < params.join_area
                             and touch.get(props[k][0], 0) >= params.join_touch):
                         joined = [k]
+            if not joined and params.bridge_area > 0:
+                # the unexplained part between two small proposals it touches (module rule
+                # step 3): faces of one object whose connecting faces were not segmented
+                per: dict = {}
+                for x, c in touch.items():
+                    if x in owner:
+                        per[owner[x]] = per.get(owner[x], 0) + c
+                near = sorted(k for k, c in per.items() if c >= params.bridge_touch)
+                if (len(near) == 2 and len(per) == 2 and all(
+                        params.bridge_min <= sum(byl[x].area for x in props[k]) < params.bridge_area
+                        for k in near)
+                        and int(m.sum()) <= sum(byl[x].n_points for k in near for x in props[k])):
+                    joined = near
             if joined:
                 # every soft proposal the cluster touches becomes one object
                 k0 = joined[0]

@@ -785,6 +785,19 @@ class ProposalParams:
         vertical plane over a horizontal one at least this high (its hull along up; 0.08 =
         ``step_rise_min``): a flight's riser rises a step, a box's face a few centimetres over
         a lower box's top beside or under it is the side of another object (pairs22).
+    riser_floor : bool
+        The riser-below test of the tread-and-riser exception (``_regular_step``: the risers
+        below and above a tread rise alike) measures the riser below no higher than the
+        tread's height above the floor when that is lower than the riser's hull: the hull's
+        outliers (flying pixels at its edges) made a 0.11 m box's side 0.13 m and let a box
+        next to a taller one pass as a flight's first step (synth22r, docs/objects.md).
+        A flight's riser below a tread never rises above the tread's height over the floor.
+    skip_missing : bool
+        The step chains' two-rise steps (a tread between two faces not seen) only where the
+        face between is missing: a face between them in height that makes a one-rise step
+        with one end and none with the other, the other end off the flight's rises (15 % of
+        a rise), ends it (``skip_missing`` of
+        :func:`step_chain_pairs`; a box's top two runs before a flight's tread; synth22r).
     """
 
     support_min_area: float = 2.0
@@ -838,6 +851,8 @@ class ProposalParams:
     stacked_parallel: bool = True
     top_rise: float = 0.02
     riser_min: float = 0.08
+    riser_floor: bool = True
+    skip_missing: bool = True
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
@@ -1037,7 +1052,7 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                  sanity_angle: float = 0.0, flight_riser_max: float | None = None,
                  seat_depth: float | None = None, stacked_overlap: float = 0.0,
                  stacked_parallel: bool = False, top_rise: float = 0.0,
-                 riser_min: float = 0.0) -> set:
+                 riser_min: float = 0.0, riser_floor: bool = False) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
     For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
@@ -1084,7 +1099,9 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     top of its faces, and a face rising above a horizontal plane without meeting it along an
     edge is another object's (a box standing on the lower box whose top is seen behind it).
     With ``riser_min`` > 0 (metres) the tread-and-riser exception needs a vertical plane over
-    a horizontal one at least that high: a flight's riser rises a step (pairs22).
+    a horizontal one at least that high: a flight's riser rises a step (pairs22).  With
+    ``riser_floor``, ``_regular_step`` measures the riser below a tread no higher than the
+    tread's height above the floor (synth22r).
 
     Returns
     -------
@@ -1172,7 +1189,7 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                                                         riser_min)
                                          and _regular_step(pa, pb, byl, nbrs, cos_tol,
                                                            flight_riser_max, seat_depth,
-                                                           stacked_overlap > 0)):
+                                                           stacked_overlap > 0, riser_floor)):
             out.add((a, b))
     return out
 
@@ -1334,7 +1351,8 @@ def _sanity_limit(na, nb, angle: float) -> float:
 
 
 def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = None,
-                  seat_depth: float | None = None, turned: bool = False) -> bool:
+                  seat_depth: float | None = None, turned: bool = False,
+                  floor_low: bool = False) -> bool:
     """False when a tread and the riser above it are not one step of a regular flight: the
     tread has a riser below it (a vertical neighbour parallel to the one above, lower than
     the tread) and the two risers' heights differ by more than 30 %: a box standing on a
@@ -1346,7 +1364,10 @@ def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = N
     tread with vertical neighbours lower than it none of which is parallel or perpendicular
     (within the angle of ``cos_tol``) to the riser above is no step either: a box standing
     turned on another box (a flight's riser above is parallel to the riser below, a solid
-    flight's side is perpendicular to both; tabletop22)."""
+    flight's side is perpendicular to both; tabletop22).  With ``floor_low``, the riser
+    below counts no higher than the tread's height above the floor when that is lower (and
+    above 0): a hull's outliers made a low box's side as high as the taller box's face over
+    it (synth22r)."""
     if "horizontal" not in (pa.orientation, pb.orientation):
         return True
     tread, riser = (pa, pb) if pa.orientation == "horizontal" else (pb, pa)
@@ -1380,6 +1401,8 @@ def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = N
                 or abs(float(np.asarray(q.normal, float) @ nr)) < cos_tol):
             continue
         low = float(np.ptp(np.asarray(q.hull3d, float) @ up))
+        if floor_low and 0.0 < tread.height < low:
+            low = float(tread.height)
         if abs(high - low) > 0.3 * max(high, low):
             return False
     return True
@@ -1473,10 +1496,16 @@ def _anchor_offset(face, anchor, up) -> np.ndarray:
     return (near.x - q[0]) * e1 + (near.y - q[1]) * e2
 
 
+#: a two-rise step whose face between is seen needs its other end within this fraction of a
+#: rise of one rise beyond that face (``skip_missing``)
+SKIP_GRID = 0.15
+
+
 def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_overlap: float = 0.5, angle_tol: float = 10.0,
                      max_ratio: float = 3.0, tilt: float = 12.0, skip: bool = True,
-                     min_width: float = 0.5, cut_long_side: bool = True) -> set:
+                     min_width: float = 0.5, cut_long_side: bool = True,
+                     skip_missing: bool = False) -> set:
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
     Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
@@ -1494,7 +1523,14 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     one step, not a chain; a staircase seen from above (treads only) or below (risers only)
     makes many.  A tread the image border cuts along its length (the landing the camera stands
     on, seen to the bottom edge) is no member: its depth is not seen (``cut_long_side``: only
-    the border on the sides of its pixel box's long side counts, :func:`_cut_lengthwise`).  Two treads alone make
+    the border on the sides of its pixel box's long side counts, :func:`_cut_lengthwise`).
+    With ``skip_missing``, a two-rise step spans a *missing* face only: when one of its faces
+    already makes a one-rise step (same direction) with a face lying between the two in
+    height, makes none with the other end, and the other end lies more than ``SKIP_GRID``
+    (15 %) of a rise off one rise beyond it, the two-rise step is dropped (a box's top 0.21 m
+    high two runs before a flight's tread, the tread between at 0.33 m, rise 0.17 m; a
+    flight's lowest riser, partly hidden and no step of the next, lies on the flight's
+    rises; synth22r).  Two treads alone make
     a step that counts when both are at least ``min_width`` wide across the flight and 1.5
     times wider than deep, and a third horizontal plane (any: the landing, the floor) lies
     one more rise (within 30 %) above or below and comes within ``run[1]`` of them
@@ -1559,8 +1595,33 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < min_overlap:
                 continue
             steps.append((lo.label, hi.label, dv / k, direction, k))
-    out = set()
     cos_dir = math.cos(math.radians(25.0))
+    if skip_missing and any(s[4] == 2 for s in steps):
+        hgt = {p.label: p.height for p in cands}
+        one = [s for s in steps if s[4] == 1]
+        ones = {(s[0], s[1]) for s in one}
+
+        def spans_seen(s2) -> bool:
+            lo_l, hi_l, r, dirn, _ = s2
+            for s1 in one:
+                if float(s1[3] @ dirn) < cos_dir:
+                    continue
+                for end, other, mid in ((hi_l, lo_l, s1[0]), (lo_l, hi_l, s1[1])):
+                    if (s1[1] if end == hi_l else s1[0]) != end or mid in (lo_l, hi_l):
+                        continue
+                    if abs(hgt[mid] - (hgt[lo_l] + r)) > 0.3 * r:
+                        continue  # not the face between them
+                    if ((other, mid) if end == hi_l else (mid, other)) in ones:
+                        continue
+                    # the face between is seen: the other end lies one rise beyond it
+                    step = s1[2]
+                    want = hgt[mid] - step if end == hi_l else hgt[mid] + step
+                    if abs(hgt[other] - want) > SKIP_GRID * step:
+                        return True
+            return False
+
+        steps = [s2 for s2 in steps if s2[4] != 2 or not spans_seen(s2)]
+    out = set()
     for s1 in steps:
         for s2 in steps:
             if s1 is s2 or not (s1[1] == s2[0] or s1[0] == s2[1]):
@@ -1749,7 +1810,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                               stacked_overlap=params.stacked_faces,
                               stacked_parallel=params.stacked_parallel,
                               top_rise=params.top_rise,
-                              riser_min=params.riser_min)
+                              riser_min=params.riser_min,
+                              riser_floor=params.riser_floor)
         if params.cavities and edges is not None:
             # the inside of one open object (a shelf, an open box): a channel or an inside
             # corner of shared concave edges (planerel.features.cavities)
@@ -1805,7 +1867,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         g.add_edges(step_chain_pairs(
             planes, g.nodes, (params.step_rise_min, params.step_rise_max),
             (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
-            params.concave_tol, tilt=params.step_tilt, cut_long_side=params.cut_long_side))
+            params.concave_tol, tilt=params.step_tilt, cut_long_side=params.cut_long_side,
+            skip_missing=params.skip_missing))
     if params.stacked_boards:
         # a shelf's boards, one over another at regular heights (planerel.features.boards)
         from planerel.features.boards import stacked_board_pairs
