@@ -220,6 +220,28 @@ def test_tilted_boxes_lean_by_the_drawn_angle_and_rest_on_the_floor():
                 assert o["params"]["tip_deg"] == 1.0
                 tipped_clutter += 1
     assert tipped_clutter
+    # ascending staircases too: treads lean by the tilt, risers by up to it; a descending
+    # flight (cut into the floor) stays level
+    treads = 0
+    for seed in range(8):
+        s = generate_world_scene("stairs", seed, **SMALL,
+                                 ranges=WorldRange(stairs_tilt_deg=(3.0, 3.0)))
+        o = s.objects[1]
+        if o["kind"] == "stairs down":
+            assert "tip_deg" not in o["params"]
+            continue
+        assert o["params"]["tip_deg"] == 3.0
+        for pl in s.planes:
+            if pl.object_index != 1 or not pl.n_pixels:
+                continue
+            incline = math.degrees(math.acos(min(1.0, abs(float(np.dot(pl.normal, s.up))))))
+            if pl.role == "tread":
+                assert incline == pytest.approx(3.0, abs=1e-6)
+                treads += 1
+            elif pl.role == "riser":
+                assert 87.0 - 1e-6 <= incline <= 90 + 1e-6
+        assert "tip_deg" not in generate_world_scene("stairs", seed, **SMALL).objects[1]["params"]
+    assert treads >= 4
     box = sg.box_geometry(0.4, 0.3, 0.2)
     tipped = sg.tilt(box, 4.0, 30.0)
     assert tipped.vertices()[:, 2].min() == pytest.approx(0.0, abs=1e-12)
@@ -229,6 +251,7 @@ def test_tilted_boxes_lean_by_the_drawn_angle_and_rest_on_the_floor():
 @pytest.mark.parametrize("call,match", [
     (lambda: WorldRange(box_tilt_deg=(0, 12)), "box tilt must lie in 0..10"),
     (lambda: WorldRange(clutter_tilt_deg=(-1, 2)), "clutter tilt must be a finite"),
+    (lambda: WorldRange(stairs_tilt_deg=(0, 11)), "stairs tilt must lie in 0..10"),
     (lambda: WorldRange(camera_pitch_deg=(0, 95)), "camera pitch must lie in 0..85"),
     (lambda: WorldRange(steps=(1, 4)), "steps must be integers with 2 <= min"),
     (lambda: WorldRange(rise=(0.2, 0.1)), "rise must be a finite"),

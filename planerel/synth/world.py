@@ -85,6 +85,9 @@ class WorldRange:
     clutter_tilt_deg : (float, float)
         The same for the further clutter objects (tables, chairs, shelves, ...; not a table
         under a box): with boxes alone tipped, a tipped top is a box's cue (measured).
+    stairs_tilt_deg : (float, float)
+        The same for ascending staircases (a descending flight is cut into the floor and stays
+        level): with boxes and clutter tipped, level treads would be a staircase's cue.
     steps : (int, int)
         Number of steps (risers).
     rise, run, stairs_width : (float, float)
@@ -104,6 +107,7 @@ class WorldRange:
     box_height: tuple = (0.1, 1.0)
     box_tilt_deg: tuple = (0.0, 0.0)
     clutter_tilt_deg: tuple = (0.0, 0.0)
+    stairs_tilt_deg: tuple = (0.0, 0.0)
     steps: tuple = (2, 10)
     rise: tuple = (0.14, 0.21)
     run: tuple = (0.22, 0.35)
@@ -124,7 +128,7 @@ class WorldRange:
         if pitch[1] > 85:
             raise InputError(f"camera pitch must lie in 0..85 degrees, got {self.camera_pitch_deg!r}")
         object.__setattr__(self, "camera_pitch_deg", pitch)
-        for name in ("box_tilt_deg", "clutter_tilt_deg"):
+        for name in ("box_tilt_deg", "clutter_tilt_deg", "stairs_tilt_deg"):
             what = name[:-9].replace("_", " ") + " tilt"
             tilt = _pair(what, getattr(self, name))
             if tilt[1] > 10:
@@ -293,6 +297,7 @@ def _draw_stairs_up(rng, r: WorldRange, index: int):
     geom = sg.stairs_geometry(p["steps"], p["rise"], p["run"], p["width"],
                               top_depth=p["top_depth"], sides=p["sides"], rail=p["rail"],
                               object_index=index)
+    geom = _tipped(rng, geom, p, r.stairs_tilt_deg)
     return geom, {"class": "stairs", "kind": "stairs up", "params": p}
 
 
