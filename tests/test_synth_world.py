@@ -242,6 +242,14 @@ def test_tilted_boxes_lean_by_the_drawn_angle_and_rest_on_the_floor():
                 assert 87.0 - 1e-6 <= incline <= 90 + 1e-6
         assert "tip_deg" not in generate_world_scene("stairs", seed, **SMALL).objects[1]["params"]
     assert treads >= 4
+    # level_share: that share of the tipped kinds stands level (tip_deg 0), the rest tip
+    tips = [generate_world_scene("box", seed, **SMALL,
+                                 ranges=WorldRange(box_tilt_deg=(2.0, 4.0), level_share=0.5)
+                                 ).objects[1]["params"]["tip_deg"] for seed in range(12)]
+    assert 0 < tips.count(0.0) < len(tips) and all(t == 0.0 or 2.0 <= t <= 4.0 for t in tips)
+    assert [o.get("params") for o in generate_world_scene("box", 3, **SMALL, ranges=WorldRange(
+        level_share=0.5)).objects] == [o.get("params") for o in generate_world_scene(
+            "box", 3, **SMALL).objects]  # no tilt range on: no draw
     box = sg.box_geometry(0.4, 0.3, 0.2)
     tipped = sg.tilt(box, 4.0, 30.0)
     assert tipped.vertices()[:, 2].min() == pytest.approx(0.0, abs=1e-12)
@@ -252,6 +260,7 @@ def test_tilted_boxes_lean_by_the_drawn_angle_and_rest_on_the_floor():
     (lambda: WorldRange(box_tilt_deg=(0, 12)), "box tilt must lie in 0..10"),
     (lambda: WorldRange(clutter_tilt_deg=(-1, 2)), "clutter tilt must be a finite"),
     (lambda: WorldRange(stairs_tilt_deg=(0, 11)), "stairs tilt must lie in 0..10"),
+    (lambda: WorldRange(level_share=1.5), "level share must lie in 0..1"),
     (lambda: WorldRange(camera_pitch_deg=(0, 95)), "camera pitch must lie in 0..85"),
     (lambda: WorldRange(steps=(1, 4)), "steps must be integers with 2 <= min"),
     (lambda: WorldRange(rise=(0.2, 0.1)), "rise must be a finite"),

@@ -88,6 +88,11 @@ class WorldRange:
     stairs_tilt_deg : (float, float)
         The same for ascending staircases (a descending flight is cut into the floor and stays
         level): with boxes and clutter tipped, level treads would be a staircase's cue.
+    level_share : float
+        With any of the tilt ranges on, the share of those objects that stand level all the
+        same (one more draw per object, only when above 0): with every such object tipped,
+        level planes belong to the floor, a table under a box and descending flights only,
+        and rules learn that (measured, docs/results.md "Every object tipped").
     steps : (int, int)
         Number of steps (risers).
     rise, run, stairs_width : (float, float)
@@ -108,6 +113,7 @@ class WorldRange:
     box_tilt_deg: tuple = (0.0, 0.0)
     clutter_tilt_deg: tuple = (0.0, 0.0)
     stairs_tilt_deg: tuple = (0.0, 0.0)
+    level_share: float = 0.0
     steps: tuple = (2, 10)
     rise: tuple = (0.14, 0.21)
     run: tuple = (0.22, 0.35)
@@ -150,6 +156,13 @@ class WorldRange:
         roll = float(self.camera_roll_deg)
         if not 0 <= roll <= 45:
             raise InputError(f"camera roll must lie in 0..45 degrees, got {self.camera_roll_deg!r}")
+        try:
+            share = float(self.level_share)
+        except (TypeError, ValueError):
+            share = math.nan
+        if not 0 <= share <= 1:
+            raise InputError(f"level share must lie in 0..1, got {self.level_share!r}")
+        object.__setattr__(self, "level_share", share)
         if not 0 <= float(self.descending) <= 1:
             raise InputError(f"descending share must lie in 0..1, got {self.descending!r}")
 
@@ -262,14 +275,18 @@ def _draw_box(rng, r: WorldRange, index: int, *, max_side=None, open_ok=True):
     has_top = not (open_ok and rng.random() < 0.2)
     geom = sg.box_geometry(length, width, height, index, top=has_top)
     params = {"length": length, "width": width, "height": height, "top": has_top}
-    geom = _tipped(rng, geom, params, r.box_tilt_deg)
+    geom = _tipped(rng, geom, params, r.box_tilt_deg, r.level_share)
     return geom, {"class": "box", "kind": "box" if has_top else "open box", "params": params}
 
 
-def _tipped(rng, geom, params: dict, tilt_range):
+def _tipped(rng, geom, params: dict, tilt_range, level_share: float = 0.0):
     """``geom`` tipped by a tilt drawn from ``tilt_range`` (recorded in ``params``); no draw at
-    all when its upper bound is 0, so that level worlds keep their scenes."""
+    all when its upper bound is 0, so that level worlds keep their scenes.  With ``level_share``
+    above 0 that share of the objects stays level (``tip_deg`` 0; one draw more)."""
     if tilt_range[1] <= 0:
+        return geom
+    if level_share > 0 and rng.random() < level_share:
+        params["tip_deg"] = 0.0
         return geom
     params["tip_deg"] = float(rng.uniform(*tilt_range))
     params["tip_azimuth_deg"] = float(rng.uniform(0.0, 360.0))
@@ -297,7 +314,7 @@ def _draw_stairs_up(rng, r: WorldRange, index: int):
     geom = sg.stairs_geometry(p["steps"], p["rise"], p["run"], p["width"],
                               top_depth=p["top_depth"], sides=p["sides"], rail=p["rail"],
                               object_index=index)
-    geom = _tipped(rng, geom, p, r.stairs_tilt_deg)
+    geom = _tipped(rng, geom, p, r.stairs_tilt_deg, r.level_share)
     return geom, {"class": "stairs", "kind": "stairs up", "params": p}
 
 
@@ -439,7 +456,7 @@ def _place_extra(rng, r: WorldRange, pose, intr, lay: _Layout, index: int) -> No
         geom, info = _draw_stairs_up(rng, r, index)
     else:
         geom, info = _draw_clutter(rng, CLUTTER[int(rng.integers(len(CLUTTER)))], index)
-        geom = _tipped(rng, geom, info["params"], r.clutter_tilt_deg)
+        geom = _tipped(rng, geom, info["params"], r.clutter_tilt_deg, r.level_share)
     fp_local = _footprint(geom)
     for _ in range(10):
         p = _floor_point(rng, pose, intr, 0.6, 4.2, region=(0.0, 1.0, 0.2, 1.0))
