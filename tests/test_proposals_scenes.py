@@ -121,6 +121,81 @@ def test_two_wide_treads_a_rise_above_the_floor_are_one_staircase():
     assert len(seen[1]) == 2 and seen[1] in props
 
 
+def test_two_treads_one_partly_hidden_are_one_staircase_by_their_own_axes():
+    # the real Kinect v2 staircase seen from above (stair-perception 0000): a leg hides one
+    # side of the lower tread, so its centroid sits off to the side; measured along the line
+    # between the centroids the step looked 0.5 m deep and the treads too narrow for a flight.
+    # Measured across the treads' own shortest extent (step_tread_axes) it is one step.
+    upper = _treads(n=2)[1]
+    lower = Rect((0.15, 2.0 + 0.5 * 0.28, 0.18), (1, 0, 0), (0, 1, 0), 0.3, 0.28 / 2 - 0.01, 1)
+    rects = [floor(), lower, upper]
+    props, seen = _proposals(rects, ProposalParams(step_tread_axes=True), pitch=35,
+                             cam_height=1.6)
+    assert len(seen[1]) == 2 and seen[1] in props
+    apart, _ = _proposals(rects, ProposalParams(step_tread_axes=False), pitch=35, cam_height=1.6)
+    assert seen[1] not in apart
+
+
+def test_a_riser_below_in_two_pieces_still_makes_a_regular_step():
+    # a real stair seen close (elmasry 1347691665): the riser below the tread segments as the
+    # riser and a 5 cm strip under the nosing; measured alone, the strip (0.05 m) made the
+    # step irregular against the 0.18 m riser above, and the tread and the riser above were
+    # cut apart.  Measured together (riser_pieces) the riser below is 0.18 m high too.
+    y0, rise, run, w = 1.6, 0.18, 0.28, 0.45
+    # the strip (drawn first: it wins where the two overlap) along half the riser's top edge;
+    # both the strip and the rest of the riser meet the tread
+    rects = [floor(),
+             Rect((-w / 2, y0, 0.155), (1, 0, 0), (0, 0, 1), w / 2, 0.025, 1),  # strip, 0.13-0.18 m
+             Rect((0.0, y0, rise / 2), (1, 0, 0), (0, 0, 1), w, rise / 2, 1),     # riser 1, 0-0.18 m
+             Rect((0.0, y0 + run / 2, rise), (1, 0, 0), (0, 1, 0), w, run / 2, 1),   # tread 1
+             Rect((0.0, y0 + run, 1.5 * rise), (1, 0, 0), (0, 0, 1), w, rise / 2, 1),  # riser 2
+             Rect((0.0, y0 + 1.5 * run, 2 * rise), (1, 0, 0), (0, 1, 0), w, run / 2, 1)]  # tread 2
+    view = {"pitch": 30, "cam_height": 1.2}
+    kw = {"step_chains": False}  # the tread-and-riser exception alone
+    props, seen = _proposals(rects, ProposalParams(riser_pieces=True, **kw), **view)
+    assert len(seen[1]) == 5 and seen[1] in props
+    apart, _ = _proposals(rects, ProposalParams(riser_pieces=False, **kw), **view)
+    assert not any({3, 4} <= p for p in apart)  # tread 1 and riser 2 cut apart
+
+
+def test_the_lowest_tread_is_no_floor_when_no_floor_is_seen():
+    # a camera close to a flight (elmasry 1347691665): no floor in view, the lowest tread is
+    # the lowest horizontal plane and was taken as the floor; the flight kept one tread.  It is
+    # step-shaped, a riser of one rise goes up to a tread with a riser of that height above
+    # it: a tread (floor_tread), and the flight's proposal holds it.
+    y0, rise, run, w = 1.0, 0.17, 0.3, 0.45
+    rects = [Rect((0.0, y0 - run / 2, rise), (1, 0, 0), (0, 1, 0), w, run / 2, 1),        # tread 0
+             Rect((0.0, y0, 1.5 * rise), (1, 0, 0), (0, 0, 1), w, rise / 2, 1),          # riser 1
+             Rect((0.0, y0 + run / 2, 2 * rise), (1, 0, 0), (0, 1, 0), w, run / 2, 1),   # tread 1
+             Rect((0.0, y0 + run, 2.5 * rise), (1, 0, 0), (0, 0, 1), w, rise / 2, 1)]    # riser 2
+    view = {"pitch": 45, "cam_height": 0.95}
+    props, seen = _proposals(rects, ProposalParams(floor_tread=True), **view)
+    assert len(seen[1]) == 4 and seen[1] in props
+    apart, _ = _proposals(rects, ProposalParams(floor_tread=False), **view)
+    assert not any(0 in p for p in apart)  # tread 0 was the floor: support, in no proposal
+    # the same flight on a floor, its first riser in view: the floor stays support
+    riser0 = Rect((0.0, y0 - run, rise / 2), (1, 0, 0), (0, 0, 1), w, rise / 2, 1)
+    props, seen = _proposals([floor(), riser0, *rects], pitch=45, cam_height=1.2)
+    assert len(seen[1]) == 5 and seen[1] in props and not any(0 in p for p in props)
+
+
+def test_tread_depth_axis_is_across_the_tread():
+    from types import SimpleNamespace
+
+    from planerel.features.relations import _tread_depth_axis
+
+    # a 0.9 x 0.28 m tread turned 30 degrees about the vertical, z up
+    t = np.radians(30)
+    along, across = np.array([np.cos(t), np.sin(t), 0]), np.array([-np.sin(t), np.cos(t), 0])
+    hull = np.array([s * 0.45 * along + r * 0.14 * across
+                     for s, r in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
+    axis, elong = _tread_depth_axis(SimpleNamespace(hull3d=hull), np.array([0.0, 0, 1]))
+    assert abs(abs(float(axis @ across)) - 1) < 1e-9
+    assert elong == pytest.approx(0.9 / 0.28)
+    axis, elong = _tread_depth_axis(SimpleNamespace(hull3d=hull[:2]), np.array([0.0, 0, 1]))
+    assert elong == 0.0  # a segment has no depth direction
+
+
 def _tilted_treads(n=4, rise=0.18, run=0.28, width=0.9, y0=2.0, tilt=8.0, obj=1):
     t = np.radians(tilt)
     return [Rect((0.0, y0 + (k + 0.5) * run, (k + 1) * rise), (1, 0, 0), (0, np.cos(t), np.sin(t)),

@@ -296,3 +296,15 @@ def test_unwritable_output_folder_is_one_sentence(tmp_path, capsys):
                  "-o", str(tmp_path / "afile" / "out")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err and "afile" in err
+
+
+def test_pcd_page_padding_is_read(tmp_path):
+    """PCL's binary writer maps whole pages, so a real file (Kinect v2 clouds saved by PCL) can
+    end in zero bytes after the declared points: read as PCL reads it. Non-zero extra bytes are
+    still refused (SIZE or TYPE wrong)."""
+    pts = np.array([[0.1, 0.2, 1.0], [0.3, 0.4, 1.5]])
+    f4 = pts.astype("<f4").tobytes()
+    cloud = io.read(_pcd(tmp_path, f4 + bytes(4096 - 24)))
+    assert np.allclose(cloud.xyz.reshape(-1, 3), pts, atol=1e-6)
+    with pytest.raises(InputError, match="SIZE or TYPE is wrong"):
+        io.read(_pcd(tmp_path, f4 + b"\x01" + bytes(100)))

@@ -255,3 +255,38 @@ def test_synthetic_office_floor_strip_and_ramps_without_floor(demo_model):
             on = [o.klass for o in ans.objects
                   if np.sum(_pixels(ans, o) & slope) > 0.5 * slope.sum()]
             assert on == ["ramp"], (angle, distance, [(o.klass, o.rule) for o in ans.objects])
+
+
+#: Real staircases from public repositories (never copied here; benchmarks/real_stairs.py says
+#: where to get them): ``$PLANEREL_STAIRS_DATA/stair-perception`` (Shiaoming/stair-perception
+#: ``samples/``: two Kinect v2 frames, 512x424) and ``$PLANEREL_STAIRS_DATA/elmasry``
+#: (moatazelmasry2/stair_perception ``pcds/``: two organized 320x240 Kinect clouds).
+STAIRS_DATA = Path(__import__("os").environ.get("PLANEREL_STAIRS_DATA", "/nonexistent"))
+
+
+def test_real_staircases_are_one_stairs_answer(demo_model):
+    """Each real staircase frame: exactly one proposal answered ``stairs``, holding every tread
+    of 0.05 m^2 or more, and nothing answered ``box`` or ``ramp``."""
+    frames = [(f, "512,424,365.32,365.32,254.67,208.54")
+              for f in sorted((STAIRS_DATA / "stair-perception").glob("*_depth.png"))]
+    frames += [(f, None) for f in sorted((STAIRS_DATA / "elmasry").glob("*.pcd"))]
+    if not frames:
+        pytest.skip(f"no real staircase frames under {STAIRS_DATA} (set PLANEREL_STAIRS_DATA)")
+    import planerel
+    from planerel.classify import Classifier
+    from planerel.features.facts import describe_scene
+    from planerel.ilp.scenes import segment_cached
+
+    with Classifier(demo_model) as clf:
+        for f, intr in frames:
+            cloud = planerel.read(f, intrinsics=intr, depth_scale=1000 if intr else None)
+            ans = clf.classify(cloud, scene_id="s")
+            classes = [o.klass for o in ans.objects]
+            assert classes.count("stairs") == 1, f"{f.name}: {classes}"
+            assert "box" not in classes and "ramp" not in classes, f"{f.name}: {classes}"
+            labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
+            desc = describe_scene(cloud, labels, scene_id="s", **clf.settings.describe_kwargs())
+            (flight,) = [o for o in ans.objects if o.klass == "stairs"]
+            treads = {p.label for p in desc.planes if p.orientation == "horizontal"
+                      and p.area >= 0.05 and p.height >= 0.05}
+            assert treads <= set(flight.labels), f"{f.name}: treads {treads - set(flight.labels)} apart"

@@ -13,7 +13,11 @@ The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
    box meet at about 90, a ramp's slope and its platform form a chain of two).  Every plane in
    a linked group with at least ``facet_min_planes`` (3) distinct normal directions (normals
    within ``facet_min_angle`` count once: two pieces of one box face linked through a sliver
-   are one direction) is a facet of a curved surface.
+   are one direction) is a facet of a curved surface.  A plane at least ``facet_max_width``
+   (0.12 m) wide and ``facet_wide_ratio`` (1.5) times wider than every plane it links to is a
+   flat face, in no link (2026-11-29): a real carpeted stair's rounded nosings are narrow
+   strips between its wide treads and risers, and through them the whole flight read as
+   round.
    **Within objects** (facets22, 2026-11-28): a link between planes of two object proposals
    counts only when both proposals are *soft* (every plane a facet of the links of every pair,
    linked to a plane of its own proposal, or under ``small_area``).  A proposal that holds a
@@ -78,6 +82,18 @@ class CurvedParams:
     facet_min_planes : int
         Planes linked this way in a group with at least this many distinct normal directions
         are facets (curved).
+    facet_max_width, facet_wide_ratio : float
+        Metres, a ratio: a plane at least ``facet_max_width`` wide (its hull's shorter side,
+        ``Plane.width``) and ``facet_wide_ratio`` times wider than every plane it is linked to
+        is a flat face, never a facet, and facet links do not pass through it.  A real
+        carpeted staircase's rounded nosings segment into strips 2-9 cm wide, 11-65 degrees
+        from each other and from the tread and riser they join: the links ran through them
+        into the 0.14-0.28 m wide treads and risers, and the whole flight read as round
+        (planar fraction 0.06, the stairs answer refused; stair-perception ``0000``,
+        benchmarks/real_stairs.py).  A round object's strips are alike in width, however
+        wide: 2-4 cm on the mOSD cylinders, 0.11-0.13 m on a 0.15 m cylinder at 2 m, 0.137 m
+        on the synthetic worlds' 16-sided drums of radius 0.35.  ``facet_max_width`` 0 = no
+        such face (before 2026-11-29).
     tiny_area : float
         m^2: planes smaller than this are not flat planes; their pixels count as unexplained.
     open_px : int
@@ -176,6 +192,8 @@ class CurvedParams:
     facet_min_angle: float = FACET_MIN_ANGLE
     facet_max_angle: float = FACET_MAX_ANGLE
     facet_min_planes: int = 3
+    facet_max_width: float = 0.12
+    facet_wide_ratio: float = 1.5
     tiny_area: float = 0.0005
     open_px: int = 2
     edge_depth: float = 0.02
@@ -199,7 +217,8 @@ class CurvedParams:
     join_parts: bool = False
 
     def __post_init__(self) -> None:
-        for name in ("facet_min_angle", "facet_max_angle", "tiny_area", "edge_depth", "min_area",
+        for name in ("facet_min_angle", "facet_max_angle", "facet_max_width", "facet_wide_ratio",
+                     "tiny_area", "edge_depth", "min_area",
                      "small_area", "join_area", "bridge_area", "bridge_min", "curved_below", "near_min_area", "near_depth",
                      "nest_depth", "nest_credit"):
             v = getattr(self, name)
@@ -247,9 +266,20 @@ def _facet_groups(planes, links, params: CurvedParams) -> set:
     ``facet_min_planes`` distinct normal directions."""
     from planerel.features.relations import Components
 
+    byl = {p.label: p for p in planes}
+    if params.facet_max_width > 0:
+        # a plane this wide, and much wider than every plane it links to, is a flat face (a
+        # step's tread or riser beside its rounded nosing's strips), never a facet, and links
+        # through it do not join strips; a round object's strips are alike in width
+        near: dict = {}
+        for a, b in links:
+            near[a] = max(near.get(a, 0.0), byl[b].width)
+            near[b] = max(near.get(b, 0.0), byl[a].width)
+        wide = {x for x, w in near.items() if byl[x].width >= params.facet_max_width
+                and byl[x].width >= params.facet_wide_ratio * w}
+        links = [(a, b) for a, b in links if a not in wide and b not in wide]
     g = Components()
     g.add_edges(links)
-    byl = {p.label: p for p in planes}
     cos_min = np.cos(np.radians(params.facet_min_angle))
     out: set = set()
     for comp in g.groups():

@@ -676,6 +676,29 @@ class ProposalParams:
         depth not seen: no member) only by its pixels on the image sides parallel to its pixel
         box's long side (:func:`step_chain_pairs`); False = on any side (a tread the bottom
         edge cuts at its end, seen with the camera rolled, was left out).
+    step_tread_axes : bool
+        In the step chains two long treads (1.5 times longer than deep, their step directions
+        within 25 degrees) measure the step across their own shortest extent (rotating
+        calipers over their hulls, :func:`_tread_depth_axis`), not along the line between
+        their centroids: a tread partly hidden (a leg on the lower step, the image border) has
+        its centroid off to one side, and measured along that slanted line it looked deeper
+        than a step and narrower than a flight (the real Kinect v2 staircase seen from above,
+        stair-perception ``0000``, benchmarks/real_stairs.py).  False: the centroids' line
+        (before 2026-11-29).
+    riser_pieces : bool
+        The tread-and-riser exception's regularity test (a tread's riser below and riser
+        above rise alike, within 30 %) measures the riser below in all its pieces together
+        (the parallel vertical neighbours lower than the tread): a real stair's riser under a
+        rounded nosing segments as the riser and a 5 cm strip, and the strip alone made the
+        step irregular (a real Kinect staircase seen close, elmasry ``1347691665``;
+        benchmarks/real_stairs.py).  False: each piece on its own (before 2026-11-29).
+    floor_tread : bool
+        The plane taken as the floor is no support when it is the lowest tread in view of a
+        regular flight (:func:`_floor_is_tread`: step-shaped, a riser of one rise up to a
+        tread, and a riser of that height again above it): a camera on or close to a
+        staircase sees no floor (a real Kinect staircase seen close, elmasry
+        ``1347691665``: its lowest tread was the floor and the flight kept one tread, no
+        stairs rule could fire).  False: the floor is always support (before 2026-11-29).
     side_wall_members : int
         With ``group_channels``: one wall alone joins a group when at least this many of the
         group's planes meet it at shared concave edges and the group spans it (a flight seen
@@ -834,6 +857,9 @@ class ProposalParams:
     split_panels: bool = True
     apart_edge: int = 10
     cut_long_side: bool = True
+    step_tread_axes: bool = True
+    riser_pieces: bool = True
+    floor_tread: bool = True
     side_wall_members: int = 0
     side_wall_rise_max: float = 1.1
     side_wall_follow: float = 0.5
@@ -894,8 +920,12 @@ def support_planes(planes, params: ProposalParams | None = None, relations: Rela
     tol = planes.params.floor_tol
     byl = {p.label: p for p in planes}
     floor = byl.get(planes.floor) if planes.floor is not None else None
+    tread = (params.floor_tread and floor is not None and relations is not None
+             and _floor_is_tread(planes, floor, relations, params))
     out = []
     for p in planes:
+        if tread and p is floor:
+            continue  # the lowest tread in view of a flight whose floor is not seen
         floorish = p.is_floor or (floor is not None and p.orientation == "horizontal"
                                   and abs(p.height) <= tol
                                   and _floor_offset(p, floor, planes.up) <= params.floor_gap)
@@ -908,6 +938,71 @@ def support_planes(planes, params: ProposalParams | None = None, relations: Rela
             and lab.shape == cloud.xyz.shape[:2]):
         out = [x for x in out if not _stepped_side(planes, byl[x], set(out), relations, cloud, params)]
     return out
+
+
+def _floor_is_tread(planes, floor, relations, params) -> bool:
+    """The plane taken as the floor is the lowest tread in view of a flight (``floor_tread``).
+
+    A camera close to a staircase (a robot on its lower steps) sees no floor: the lowest
+    horizontal plane is a tread.  It is one when it is step-shaped (1.5 times longer than deep
+    across its shortest extent, at most ``step_run_max`` deep), and a regular step of a flight
+    rises from it: a riser meets it (vertical, adjacent) whose height range is the rise, within
+    30 %, up to a tread (horizontal, parallel step direction, ``step_rise_min`` -
+    ``step_rise_max`` above it and ``step_run_min`` - ``step_run_max`` beyond it, the two
+    overlapping by half across the flight) that the riser meets too, and that tread has a riser
+    above it (vertical, adjacent, parallel to the first, rising from it) of that height
+    again, within 30 %.  A floor has nothing of this: a box on a floor strip has no second
+    riser of its front's height rising from its top (a wall behind it is far higher).
+    """
+    up = np.asarray(planes.up, float)
+    if floor.orientation != "horizontal":
+        return False
+    f_dir, f_elong = _tread_depth_axis(floor, up)
+    if f_elong < 1.5 or np.ptp(np.asarray(floor.hull3d, float) @ f_dir) > params.step_run_max:
+        return False
+    cos_dir = math.cos(math.radians(25.0))
+    cos_par = math.cos(math.radians(params.concave_tol))
+
+    def adjacent(a, b) -> bool:
+        try:
+            return relations.get(a.label, b.label).adjacent
+        except KeyError:
+            return False
+
+    def high(p) -> float:
+        return float(np.ptp(np.asarray(p.hull3d, float) @ up))
+
+    verts = [p for p in planes if p.orientation == "vertical" and p is not floor]
+    for t in planes:
+        if t is floor or t.orientation != "horizontal":
+            continue
+        dv = t.height - floor.height
+        if not params.step_rise_min <= dv <= params.step_rise_max:
+            continue
+        t_dir, t_elong = _tread_depth_axis(t, up)
+        if t_elong < 1.5 or abs(float(t_dir @ f_dir)) < cos_dir:
+            continue
+        d = np.asarray(t.centroid, float) - np.asarray(floor.centroid, float)
+        run = abs(float(d @ f_dir))
+        if not params.step_run_min <= run <= params.step_run_max:
+            continue
+        across = cross3(up, f_dir)
+        a0, a1 = _extent(floor, across)
+        b0, b1 = _extent(t, across)
+        union = max(a1, b1) - min(a0, b0)
+        if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < 0.5:
+            continue
+        for r1 in verts:
+            if not (adjacent(r1, floor) and adjacent(r1, t)
+                    and abs(high(r1) - dv) <= 0.3 * dv):
+                continue
+            n1 = np.asarray(r1.normal, float)
+            for r2 in verts:
+                if (r2 is not r1 and r2.height > t.height and adjacent(r2, t)
+                        and abs(float(np.asarray(r2.normal, float) @ n1)) >= cos_par
+                        and abs(high(r2) - high(r1)) <= 0.3 * max(high(r1), high(r2))):
+                    return True
+    return False
 
 
 def _shallow_ramp(p, floor, up, params) -> bool:
@@ -1052,7 +1147,8 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                  sanity_angle: float = 0.0, flight_riser_max: float | None = None,
                  seat_depth: float | None = None, stacked_overlap: float = 0.0,
                  stacked_parallel: bool = False, top_rise: float = 0.0,
-                 riser_min: float = 0.0, riser_floor: bool = False) -> set:
+                 riser_min: float = 0.0, riser_floor: bool = False,
+                 riser_pieces: bool = False) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
     For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
@@ -1189,7 +1285,8 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                                                         riser_min)
                                          and _regular_step(pa, pb, byl, nbrs, cos_tol,
                                                            flight_riser_max, seat_depth,
-                                                           stacked_overlap > 0, riser_floor)):
+                                                           stacked_overlap > 0, riser_floor,
+                                                           riser_pieces)):
             out.add((a, b))
     return out
 
@@ -1352,7 +1449,7 @@ def _sanity_limit(na, nb, angle: float) -> float:
 
 def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = None,
                   seat_depth: float | None = None, turned: bool = False,
-                  floor_low: bool = False) -> bool:
+                  floor_low: bool = False, riser_pieces: bool = False) -> bool:
     """False when a tread and the riser above it are not one step of a regular flight: the
     tread has a riser below it (a vertical neighbour parallel to the one above, lower than
     the tread) and the two risers' heights differ by more than 30 %: a box standing on a
@@ -1367,7 +1464,10 @@ def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = N
     flight's side is perpendicular to both; tabletop22).  With ``floor_low``, the riser
     below counts no higher than the tread's height above the floor when that is lower (and
     above 0): a hull's outliers made a low box's side as high as the taller box's face over
-    it (synth22r)."""
+    it (synth22r).  With ``riser_pieces`` the risers
+    below are measured together (the height range of all their hulls) rather than each on its
+    own: a real riser below a rounded nosing comes in pieces, and a 5 cm strip of it measured
+    alone against the riser above cut a real staircase (2026-11-29)."""
     if "horizontal" not in (pa.orientation, pb.orientation):
         return True
     tread, riser = (pa, pb) if pa.orientation == "horizontal" else (pb, pa)
@@ -1394,13 +1494,27 @@ def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = N
         sin_tol = math.sqrt(max(0.0, 1.0 - cos_tol * cos_tol))
         if below and all(sin_tol < c < cos_tol for c in below):
             return False
+    lows = []
     for k in nbrs.get(tread.label, ()):
         q = byl[k]
         if (q is riser or q.orientation != "vertical" or getattr(q, "height", None) is None
                 or q.height >= tread.height
                 or abs(float(np.asarray(q.normal, float) @ nr)) < cos_tol):
             continue
-        low = float(np.ptp(np.asarray(q.hull3d, float) @ up))
+        h = np.asarray(q.hull3d, float) @ up
+        if riser_pieces:
+            lows.append(h)
+            continue
+        low = float(np.ptp(h))
+        if floor_low and 0.0 < tread.height < low:
+            low = float(tread.height)
+        if abs(high - low) > 0.3 * max(high, low):
+            return False
+    if lows:
+        # the riser below in however many pieces (a strip under a real stair's nosing apart
+        # from the rest of its riser): their height range together
+        h = np.concatenate(lows)
+        low = float(h.max() - h.min())
         if floor_low and 0.0 < tread.height < low:
             low = float(tread.height)
         if abs(high - low) > 0.3 * max(high, low):
@@ -1501,11 +1615,38 @@ def _anchor_offset(face, anchor, up) -> np.ndarray:
 SKIP_GRID = 0.15
 
 
+def _tread_depth_axis(p, up) -> tuple[np.ndarray, float]:
+    """A tread's step direction: the horizontal unit vector ``(3,)`` across its shortest
+    extent (rotating calipers over the horizontal projection of ``hull3d``), and its
+    elongation (extent along the edge / extent across it; 0 for a degenerate hull)."""
+    H = np.asarray(p.hull3d, float)
+    e1 = np.cross(up, [1.0, 0.0, 0.0])
+    if np.linalg.norm(e1) < 0.1:
+        e1 = np.cross(up, [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(up, e1)
+    P = np.stack([H @ e1, H @ e2], 1)
+    if len(P) < 3:
+        return e1, 0.0
+    t = np.roll(P, -1, axis=0) - P
+    t = t[np.hypot(t[:, 0], t[:, 1]) > 1e-9]
+    if not len(t):
+        return e1, 0.0
+    t /= np.hypot(t[:, 0], t[:, 1])[:, None]
+    n = np.stack([-t[:, 1], t[:, 0]], 1)
+    deep = np.ptp(P @ n.T, axis=0)  # the extent across each edge direction
+    k = int(np.argmin(deep))
+    if deep[k] <= 0:
+        return e1, 0.0
+    along = float(np.ptp(P @ t[k]))
+    return n[k, 0] * e1 + n[k, 1] * e2, along / float(deep[k])
+
+
 def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_overlap: float = 0.5, angle_tol: float = 10.0,
                      max_ratio: float = 3.0, tilt: float = 12.0, skip: bool = True,
                      min_width: float = 0.5, cut_long_side: bool = True,
-                     skip_missing: bool = False) -> set:
+                     skip_missing: bool = False, tread_axes: bool = False) -> set:
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
     Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
@@ -1559,6 +1700,14 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
              and not (kind[p.label] == "tread" and p.label in cut)]
     steps = []  # (lower, higher, rise per step, unit horizontal direction)
     spans = (1, 2) if skip else (1,)
+    cos_dir = math.cos(math.radians(25.0))
+    axes_of: dict = {}
+
+    def tread_axis(q):
+        if q.label not in axes_of:
+            axes_of[q.label] = _tread_depth_axis(q, up)
+        return axes_of[q.label]
+
     for i, pa in enumerate(cands):
         na = np.asarray(pa.normal, float)
         for pb in cands[i + 1:]:
@@ -1579,6 +1728,14 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             else:
                 dist = float(np.linalg.norm(dh))
                 direction = dh / max(dist, 1e-9)
+                if tread_axes:
+                    # two long treads: the step runs across them, whatever the lateral offset
+                    # of their centroids (a tread partly hidden by a leg or the image border)
+                    (da, ea), (db, eb) = tread_axis(lo), tread_axis(hi)
+                    if min(ea, eb) >= 1.5 and abs(float(da @ db)) >= cos_dir:
+                        along = float(dh @ da)
+                        direction = da if along >= 0 else -da
+                        dist = abs(along)
             k = next((k for k in spans if rise[0] <= dv / k <= rise[1]
                       and run[0] <= dist / k <= run[1]), None)
             if k is None:
@@ -1811,7 +1968,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                               stacked_parallel=params.stacked_parallel,
                               top_rise=params.top_rise,
                               riser_min=params.riser_min,
-                              riser_floor=params.riser_floor)
+                              riser_floor=params.riser_floor,
+                              riser_pieces=params.riser_pieces)
         if params.cavities and edges is not None:
             # the inside of one open object (a shelf, an open box): a channel or an inside
             # corner of shared concave edges (planerel.features.cavities)
@@ -1868,7 +2026,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             planes, g.nodes, (params.step_rise_min, params.step_rise_max),
             (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
             params.concave_tol, tilt=params.step_tilt, cut_long_side=params.cut_long_side,
-            skip_missing=params.skip_missing))
+            skip_missing=params.skip_missing, tread_axes=params.step_tread_axes))
     if params.stacked_boards:
         # a shelf's boards, one over another at regular heights (planerel.features.boards)
         from planerel.features.boards import stacked_board_pairs

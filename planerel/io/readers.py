@@ -556,7 +556,7 @@ def _check_pcd_header(path: Path, max_points=None) -> None:
         if payload < need:
             raise InputError(f"{path}: truncated: the PCD header declares {points} points of "
                              f"{record} bytes ({need} bytes), the file holds {payload}")
-        if payload > need + 1:
+        if payload > need + 1 and not _zero_padding(path, offset + need, payload - need):
             raise InputError(f"{path}: the PCD data holds {payload} bytes but the header declares "
                              f"{need} ({points} points of {record} bytes): SIZE or TYPE is wrong")
     elif data_kind == "binary_compressed":
@@ -574,6 +574,23 @@ def _check_pcd_header(path: Path, max_points=None) -> None:
                              f"{compressed} declared")
     elif payload < points * len(fields):  # ascii: at least one character per value
         raise InputError(f"{path}: truncated: {payload} bytes of text for {points} points")
+
+
+# PCL's binary writer maps whole memory pages, so its files can end in up to a page of zero
+# bytes after the declared points (for example Kinect v2 clouds saved by PCL 1.8); PCL's own
+# reader ignores them.
+_PCD_MAX_PADDING = 65536
+
+
+def _zero_padding(path: Path, start: int, length: int) -> bool:
+    """True when the ``length`` bytes of ``path`` from ``start`` are a writer's page padding:
+    fewer than ``_PCD_MAX_PADDING`` and all zero."""
+    if length >= _PCD_MAX_PADDING:
+        return False
+    with open(path, "rb") as fh:
+        fh.seek(start)
+        tail = fh.read(length)
+    return len(tail) == length and not any(tail)
 
 
 def _load_pcd(path: Path, max_points=None):
