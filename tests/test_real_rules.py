@@ -26,6 +26,7 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -261,7 +262,7 @@ def test_synthetic_office_floor_strip_and_ramps_without_floor(demo_model):
 #: where to get them): ``$PLANEREL_STAIRS_DATA/stair-perception`` (Shiaoming/stair-perception
 #: ``samples/``: two Kinect v2 frames, 512x424) and ``$PLANEREL_STAIRS_DATA/elmasry``
 #: (moatazelmasry2/stair_perception ``pcds/``: two organized 320x240 Kinect clouds).
-STAIRS_DATA = Path(__import__("os").environ.get("PLANEREL_STAIRS_DATA", "/nonexistent"))
+STAIRS_DATA = Path(os.environ.get("PLANEREL_STAIRS_DATA", "/nonexistent"))
 
 
 def test_real_staircases_are_one_stairs_answer(demo_model):

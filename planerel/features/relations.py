@@ -1585,6 +1585,15 @@ def _border_pixels(lab, label: int, bbox, sides: str = "all") -> int:
     return n
 
 
+def _horizontal_basis(up) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors ``(3,)`` spanning the horizontal plane (perpendicular to ``up``)."""
+    e1 = np.cross(up, [1.0, 0.0, 0.0])
+    if np.linalg.norm(e1) < 0.1:
+        e1 = np.cross(up, [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    return e1, np.cross(up, e1)
+
+
 def _anchor_offset(face, anchor, up) -> np.ndarray:
     """Horizontal offset ``(3,)`` from a face's centroid to the nearest point of another plane's
     hull (zero when the centroid lies over the hull)."""
@@ -1594,11 +1603,7 @@ def _anchor_offset(face, anchor, up) -> np.ndarray:
 
     c = np.asarray(face.centroid, float)
     H = np.asarray(anchor.hull3d, float)
-    e1 = np.cross(up, [1.0, 0.0, 0.0])
-    if np.linalg.norm(e1) < 0.1:
-        e1 = np.cross(up, [0.0, 1.0, 0.0])
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(up, e1)
+    e1, e2 = _horizontal_basis(up)
     P = np.stack([H @ e1, H @ e2], 1)
     q = (float(c @ e1), float(c @ e2))
     geom = Polygon(P) if len(P) >= 3 else shapely.LineString(P) if len(P) == 2 else Point(P[0])
@@ -1620,11 +1625,7 @@ def _tread_depth_axis(p, up) -> tuple[np.ndarray, float]:
     extent (rotating calipers over the horizontal projection of ``hull3d``), and its
     elongation (extent along the edge / extent across it; 0 for a degenerate hull)."""
     H = np.asarray(p.hull3d, float)
-    e1 = np.cross(up, [1.0, 0.0, 0.0])
-    if np.linalg.norm(e1) < 0.1:
-        e1 = np.cross(up, [0.0, 1.0, 0.0])
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(up, e1)
+    e1, e2 = _horizontal_basis(up)
     P = np.stack([H @ e1, H @ e2], 1)
     if len(P) < 3:
         return e1, 0.0
