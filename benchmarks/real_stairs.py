@@ -1,7 +1,7 @@
 """Real staircases nobody on the team made: Kinect v2 frames with the sensor's own gravity.
 
-    .venv/bin/python benchmarks/real_stairs.py DIR [--model out/model] [--param NAME=VALUE ...]
-        [--json F]
+    .venv/bin/python benchmarks/real_stairs.py [DIR] [--clouds FILE ...] [--model out/model]
+        [--param NAME=VALUE ...] [--json F]
 
 ``DIR`` holds the sample frames of the public repository Shiaoming/stair-perception (BSD-3,
 ``samples/``; get it with ``git clone https://github.com/Shiaoming/stair-perception`` and give
@@ -13,6 +13,10 @@ its ``samples`` folder; the files are never copied into planerel):
   rotated (no translation), and its x axis points down (the floor lies at one x: 0.97-1.00 m
   in ``0000``, 0.59-0.60 m in ``0001``);
 * ``NNNN_imu.txt``: the IMU's Euler angles (the first is the camera's pitch, degrees).
+
+``--clouds`` adds organized clouds of other staircases (no gravity truth), e.g. the two
+320x240 Kinect clouds of moatazelmasry2/stair_perception ``pcds/`` (no licence file: research
+use): a terrazzo flight seen from 0.6-0.8 m, two treads and two risers, no floor in view.
 
 ``0000`` looks steeply down (about 76 degrees) at a two-step carpeted flight with rounded
 nosings, a leg and a shoe on its lower step; ``0001`` looks along a five-step flight of the
@@ -79,13 +83,19 @@ def pitch_down(up) -> float:
 
 
 def frame(clf, depth: str) -> dict:
+    """The figures of one frame: a stair-perception ``NNNN_depth.png`` (its levelled cloud
+    and IMU file beside it) or an organized cloud file (``--clouds``: no gravity truth)."""
     import planerel
     from planerel.features.facts import describe_scene
     from planerel.ilp.scenes import segment_cached
 
-    stem = os.path.basename(depth)[: -len("_depth.png")]
     folder = os.path.dirname(depth)
-    cloud = planerel.read(depth, intrinsics=INTRINSICS, depth_scale=1000)
+    if depth.endswith("_depth.png"):
+        stem = os.path.basename(depth)[: -len("_depth.png")]
+        cloud = planerel.read(depth, intrinsics=INTRINSICS, depth_scale=1000)
+    else:
+        stem = os.path.splitext(os.path.basename(depth))[0]
+        cloud = planerel.read(depth)
     labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
     desc = describe_scene(cloud, labels, scene_id=stem, **clf.settings.describe_kwargs())
     ans = clf.classify(cloud, scene_id=stem)
@@ -124,7 +134,10 @@ def frame(clf, depth: str) -> dict:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("folder", help="stair-perception's samples/ folder")
+    ap.add_argument("folder", nargs="?", help="stair-perception's samples/ folder")
+    ap.add_argument("--clouds", nargs="+", default=[], metavar="FILE",
+                    help="organized staircase clouds too (e.g. moatazelmasry2/stair_perception's "
+                         "pcds/*.pcd: a stone flight seen close, no floor in view)")
     ap.add_argument("--model", default="out/model")
     ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
     ap.add_argument("--json", help="write the figures here")
@@ -132,11 +145,14 @@ def main(argv=None) -> int:
     from planerel.classify.classifier import Classifier
     from planerel.commands.classify import _params
 
-    depths = sorted(glob.glob(os.path.join(a.folder, "*_depth.png")))
-    if not depths:
+    depths = sorted(glob.glob(os.path.join(a.folder, "*_depth.png"))) if a.folder else []
+    if a.folder and not depths:
         print(f"{a.folder}: no NNNN_depth.png frames (stair-perception's samples/ folder)",
               file=sys.stderr)
         return 2
+    depths += a.clouds
+    if not depths:
+        ap.error("give stair-perception's samples/ folder or --clouds FILE ...")
     with Classifier(a.model, seg_params=_params(a.param)) as clf:
         rows = [frame(clf, d) for d in depths]
     for r in rows:
