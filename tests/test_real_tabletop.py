@@ -1,0 +1,87 @@
+"""benchmarks/real_tabletop.py: its point annotations and their lookup; with the real frames
+present (``PLANEREL_TABLETOP_DATA`` holding ``osd/`` and ``uois/``), the demo model on them."""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+_SPEC = importlib.util.spec_from_file_location(
+    "real_tabletop", Path(__file__).resolve().parents[1] / "benchmarks" / "real_tabletop.py")
+rt = importlib.util.module_from_spec(_SPEC)
+_SPEC.loader.exec_module(rt)
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_real_rules import demo_model  # noqa: E402,F401  (the fixture)
+
+DATA = Path(os.environ.get("PLANEREL_TABLETOP_DATA", "/nonexistent"))
+
+
+def test_annotations_are_inside_the_image_and_apart():
+    kinds = {"box", "round", "other", "thing"}
+    assert len(rt.TRUTH) == 14
+    for key, pts in rt.TRUTH.items():
+        assert key.split("/")[0] in ("osd", "uois")
+        for x, y, kind, name in pts:
+            assert 4 <= x < 636 and 4 <= y < 476, (key, name)
+            assert kind in kinds, (key, name)
+        # two objects' points never share a lookup window
+        xy = np.array([(x, y) for x, y, _, _ in pts])
+        d = np.abs(xy[:, None] - xy[None]).max(-1) + 100 * np.eye(len(xy), dtype=int)
+        assert d.min() > 8, key
+
+
+def test_point_answer_takes_the_window_majority():
+    prop = np.full((20, 20), -1, np.int32)
+    assert rt.point_answer(prop, 10, 10) == -1
+    prop[8:13, 6:10] = 2   # 20 pixels of proposal 2 in the window at (10, 10)
+    prop[8:13, 10:13] = 5  # 15 of proposal 5
+    assert rt.point_answer(prop, 10, 10) == 2
+    assert rt.point_answer(prop, 14, 10) == 5
+    assert rt.point_answer(prop, 0, 0) == -1  # clipped at the border, nothing there
+
+
+def test_frames_are_found_in_either_form(tmp_path):
+    osd, uois = tmp_path / "osd", tmp_path / "uois"
+    osd.mkdir()
+    uois.mkdir()
+    (osd / "test42_depth.png").write_bytes(b"")
+    (uois / "image_0003.npy").write_bytes(b"")
+    (uois / "image_0005_depth.png").write_bytes(b"")
+    got = [(k, Path(p).name, intr) for k, p, intr in rt.frames(str(osd), str(uois))]
+    assert got == [("osd/test42", "test42_depth.png", rt.OSD_INTRINSICS),
+                   ("uois/image_0003", "image_0003.npy", rt.UOIS_INTRINSICS),
+                   ("uois/image_0005", "image_0005_depth.png", rt.UOIS_INTRINSICS)]
+    assert rt.frames(str(tmp_path / "none"), None) == []
+
+
+def test_summary_counts_each_line():
+    rows = [{"frame": "osd/x", "answered": [{"class": "stairs"}, {"class": "box"}],
+             "points": [{"kind": "box", "answer": "box"}, {"kind": "box", "answer": "stairs"},
+                        {"kind": "round", "answer": "stairs"}, {"kind": "round", "answer": "none"},
+                        {"kind": "other", "answer": "box"}, {"kind": "thing", "answer": "ramp"}]}]
+    s = rt.summarize(rows)
+    assert (s["boxes"], s["boxes_box"], s["round"], s["round_stairs_ramp"]) == (2, 1, 2, 1)
+    assert (s["other"], s["other_box"], s["objects_stairs_ramp"]) == (1, 1, 3)
+    assert (s["stairs_answers"], s["ramp_answers"], s["box_answers"]) == (1, 0, 1)
+
+
+def test_real_tabletop_frames(demo_model):  # noqa: F811  (the imported fixture)
+    """The demo model on the real table-top frames: the OSD frame learn6's two boxes are
+    ``box`` (as the shared mOSD frames' are)."""
+    todo = rt.frames(str(DATA / "osd"), str(DATA / "uois"))
+    if not todo:
+        pytest.skip(f"no real table-top frames under {DATA} (set PLANEREL_TABLETOP_DATA)")
+    from planerel.classify import Classifier
+
+    with Classifier(demo_model) as clf:
+        rows = {t[0]: rt.frame(clf, *t) for t in todo}
+    if "osd/learn6" in rows:
+        assert [p["answer"] for p in rows["osd/learn6"]["points"]] == ["box", "box"]
+    for r in rows.values():
+        assert len(r["points"]) == len(rt.TRUTH[r["frame"]])
