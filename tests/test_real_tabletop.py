@@ -85,3 +85,42 @@ def test_real_tabletop_frames(demo_model):  # noqa: F811  (the imported fixture)
         assert [p["answer"] for p in rows["osd/learn6"]["points"]] == ["box", "box"]
     for r in rows.values():
         assert len(r["points"]) == len(rt.TRUTH[r["frame"]])
+
+
+_MSPEC = importlib.util.spec_from_file_location(
+    "real_mosd", Path(__file__).resolve().parents[1] / "benchmarks" / "real_mosd.py")
+rm = importlib.util.module_from_spec(_MSPEC)
+_MSPEC.loader.exec_module(rm)
+
+
+def test_mosd_categories_follow_osd_readme():
+    assert rm.category("learn0") == ("learn", "boxes", "box")
+    assert rm.category("learn24") == ("learn", "stacked boxes", "box")
+    assert rm.category("learn25") == ("learn", "occluded", None)
+    assert rm.category("test31") == ("test", "cylindric", "round")
+    assert rm.category("test42") == ("test", "cylindric", "round")
+    assert rm.category("test43") == ("test", "mixed", None)
+    assert rm.category("test65") == ("test", "complex", None)
+    for bad in ("learn45", "test66", "frame_1", "learn"):
+        with pytest.raises(ValueError):
+            rm.category(bad)
+    # every frame number of the set falls in exactly one category
+    for split, last in (("learn", 44), ("test", 65)):
+        for n in range(last + 1):
+            hits = [c for c in rm.CATEGORIES if c[0] == split and c[1] <= n <= c[2]]
+            assert len(hits) == 1, (split, n)
+
+
+def test_mosd_frame_on_a_shared_frame(demo_model):  # noqa: F811  (the imported fixture)
+    """A shared mOSD frame (learn0: two boxes) through the benchmark: both found, both `box`."""
+    p = Path(__file__).resolve().parents[2] / "shared" / "data" / "mosd" / "learn0.pcd"
+    if not p.is_file():
+        pytest.skip(f"{p} absent")
+    from planerel.classify import Classifier
+
+    with Classifier(demo_model) as clf:
+        fr, rows = rm.frame(clf, p)
+    assert (fr["split"], fr["category"], fr["objects"], fr["found"], fr["false"]) == ("learn", "boxes", 2, 2, 0)
+    assert [r["pred"] for r in rows] == ["box", "box"]
+    s = rm.summarize([fr], rows)
+    assert (s["boxes"], s["boxes_box"], s["stairs_answers"]) == (2, 2, 0)
