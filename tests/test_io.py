@@ -162,7 +162,7 @@ def test_pcd_encodings_round_trip(tmp_path, encoding, organized):
         pc.metadata.width, pc.metadata.height = 16, 12
     path = tmp_path / f"c_{encoding}.pcd"
     pc.save(path, encoding=pypcd4.Encoding(encoding))
-    back = io.read(path)
+    back = io.read_pcd(path, regrid=False)
     assert back.organized == organized
     assert back.shape == ((12, 16) if organized else (1, 192))
     assert back.n_valid == 191
@@ -371,3 +371,56 @@ def test_atomic_write_leaves_nothing_on_failure(tmp_path):
             raise RuntimeError("interrupted")
     assert target.read_text() == "old"
     assert [p.name for p in tmp_path.iterdir()] == ["out.txt"]
+
+
+@pytest.mark.parametrize("encoding", ["ascii", "binary_compressed"])
+def test_unorganized_pcd_of_a_depth_frame_is_put_back_on_its_grid(tmp_path, encoding):
+    """A depth frame saved without its invalid points (HEIGHT 1, as PCL's tools and three mOSD
+    frames do) comes back on its pixel grid with its intrinsics; its fields follow it."""
+    import pypcd4
+
+    rng = np.random.default_rng(3)
+    h, w = 30, 40
+    depth = 1.0 + 0.3 * rng.random((h, w))
+    depth[rng.random((h, w)) < 0.3] = 0  # invalid pixels, dropped from the file
+    depth[:4] = 0  # a crop: the top rows hold nothing
+    intr = Intrinsics(w, h, 525.0, 530.0, 19.5, 14.5)
+    cloud = depth_to_cloud(depth, intr, depth_scale=1.0)
+    full = cloud.xyz.astype(np.float32)
+    keep = np.isfinite(full[..., 2])
+    pts = full[keep]
+    label = (np.arange(h * w).reshape(h, w)[keep] % 7 + 10).astype(np.uint32)
+    order = rng.permutation(len(pts))  # any order of the points
+    pc = pypcd4.PointCloud.from_points(
+        [pts[order, 0], pts[order, 1], pts[order, 2], label[order]],
+        ("x", "y", "z", "label"), (np.float32, np.float32, np.float32, np.uint32))
+    path = tmp_path / "frame.pcd"
+    pc.save(path, encoding=pypcd4.Encoding(encoding))
+
+    back = io.read(path)
+    assert back.organized and back.shape == (h - 4, w)  # the grid starts at the first row in use
+    assert back.n_valid == len(pts)
+    i = back.intrinsics
+    assert (i.width, i.height) == (w, h - 4)
+    assert (i.fx, i.fy, i.cx, i.cy) == pytest.approx((525.0, 530.0, 19.5, 10.5), abs=1e-2)
+    assert np.allclose(back.xyz, full[4:], atol=1e-6, equal_nan=True)
+    lab = io.read_pcd_field(path, "label")
+    want = np.where(keep, np.arange(h * w).reshape(h, w) % 7 + 10, 0)[4:]
+    assert lab.shape == (h - 4, w) and np.array_equal(lab, want)
+    # kept as it is on request
+    assert io.read_pcd(path, regrid=False).shape == (1, len(pts))
+    assert io.read_pcd_field(path, "label", regrid=False).shape == (1, len(pts))
+
+
+def test_pinhole_grid_refuses_clouds_off_any_grid():
+    rng = np.random.default_rng(4)
+    assert io.pinhole_grid(rng.normal(size=(500, 3)) + [0, 0, 5]) is None  # scattered points
+    depth, intr = _plane_depth(12, 16)
+    pts = depth_to_cloud(depth, intr).xyz.reshape(-1, 3)
+    assert io.pinhole_grid(pts) is not None
+    jittered = pts + rng.normal(scale=2e-3, size=pts.shape)  # 0.1-1 px off their rays
+    assert io.pinhole_grid(jittered) is None
+    twice = np.concatenate([pts, pts * 1.01])  # two points on one pixel's ray
+    assert io.pinhole_grid(twice) is None
+    assert io.pinhole_grid(pts[:50]) is None  # too few points to tell
+    assert io.pinhole_grid(np.full((300, 3), np.nan)) is None

@@ -59,6 +59,7 @@ __all__ = [
     "find_camera_info",
     "read_json_object",
     "estimate_intrinsics",
+    "pinhole_grid",
     "resolve_intrinsics",
     "FORMATS",
     "DEFAULT_MAX_POINTS",
@@ -395,6 +396,82 @@ def estimate_intrinsics(xyz: np.ndarray, tolerance: float = 0.05) -> Intrinsics 
     return Intrinsics(w, h, round(fx, 3), round(fy, 3), round(cx, 3), round(cy, 3))
 
 
+def _grid_axis(s: np.ndarray, tolerance: float):
+    """Integer pixel index ``k`` with ``k = f * s + c`` for every value of ``s`` (x/z or y/z of
+    the valid points), with ``f`` and ``c`` fitted; None when no such grid fits."""
+    srt = np.sort(s)
+    gaps = np.diff(srt)
+    # neighbouring columns differ by 1/f (>= 5e-5 for any f under 20 000 px); the float32
+    # coordinates of one column scatter by ~1e-7
+    big = gaps[gaps > 1e-5]
+    if big.size < 2:
+        return None
+    k = np.rint((s - srt[0]) / np.median(big))
+    a = np.stack([s, np.ones_like(s)], axis=1)
+    (f, c), *_ = np.linalg.lstsq(a, k, rcond=None)
+    if not (np.isfinite(f) and f > 0):
+        return None
+    fit = a @ [f, c]
+    k = np.rint(fit)
+    if np.abs(fit - k).max() > tolerance or k.min() < 0:
+        return None
+    return k.astype(np.int64), float(f), float(c)
+
+
+def pinhole_grid(points: np.ndarray, tolerance: float = 0.05, max_side: int = 20000):
+    """The pixel grid of an unorganized cloud that is an exact pinhole back-projection.
+
+    PCL's tools drop a frame's invalid points and save what is left as an unorganized cloud
+    (``HEIGHT 1``), as three frames of the mOSD set are; their points still lie on the camera's
+    pixel rays.  Fits ``u = fx x/z + cx`` and ``v = fy y/z + cy`` with whole-pixel ``u, v``
+    (the spacing of the distinct ``x/z`` and ``y/z`` values gives ``1/fx`` and ``1/fy``) and
+    accepts the grid when every valid point is within ``tolerance`` pixels of its pixel and no
+    two points share one.  The grid starts at the smallest pixel in use: a crop of the
+    sensor's frame, with ``cx, cy`` counted from its corner.
+
+    Parameters
+    ----------
+    points : ndarray, shape (N, 3)
+        Points in metres (NaN or ``z <= 0``: invalid, left out).
+    tolerance : float
+        Worst distance of a point from its pixel, in pixels.
+    max_side : int
+        Largest grid side accepted.
+
+    Returns
+    -------
+    (ndarray (N,) int64, ndarray (N,) int64, Intrinsics) or None
+        Row and column of every point (-1 for invalid points) and the grid's intrinsics; None
+        when the points are no pinhole grid (then the cloud stays unorganized).
+    """
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    valid = np.all(np.isfinite(p), axis=1) & (p[:, 2] > 0)
+    if valid.sum() < 100:
+        return None
+    q = p[valid]
+    cols = _grid_axis(q[:, 0] / q[:, 2], tolerance)
+    rows = _grid_axis(q[:, 1] / q[:, 2], tolerance) if cols is not None else None
+    if rows is None:
+        return None
+    (u, fx, cx), (v, fy, cy) = cols, rows
+    w, h = int(u.max()) + 1, int(v.max()) + 1
+    if w > max_side or h > max_side or np.unique(v * w + u).size != u.size:
+        return None
+    r = np.full(len(p), -1, np.int64)
+    c = np.full(len(p), -1, np.int64)
+    r[valid], c[valid] = v, u
+    return r, c, Intrinsics(w, h, round(fx, 3), round(fy, 3), round(cx, 3), round(cy, 3))
+
+
+def _on_grid(values: np.ndarray, grid, fill) -> np.ndarray:
+    """``values`` (N, ...) of an unorganized cloud placed on its :func:`pinhole_grid`."""
+    r, c, intr = grid
+    out = np.full((intr.height, intr.width) + values.shape[1:], fill, dtype=values.dtype)
+    ok = r >= 0
+    out[r[ok], c[ok]] = values[ok]
+    return out
+
+
 # --------------------------------------------------------------------------- depth images
 
 
@@ -628,13 +705,16 @@ def _sidecar_up(path: Path):
 
 
 @_reader
-def read_pcd(path, *, up=None, max_points: int | None = None) -> Cloud:
+def read_pcd(path, *, up=None, max_points: int | None = None, regrid: bool = True) -> Cloud:
     """Read a PCD file (ascii, binary or binary_compressed).
 
     An organized cloud (HEIGHT > 1) keeps its ``(H, W)`` grid, and its intrinsics are recovered
     by :func:`estimate_intrinsics` when the points are an exact pinhole back-projection.
-    An unorganized cloud becomes ``(1, N, 3)`` with ``organized=False``.  The up vector is
-    ``up``, else the ``up`` of a sidecar ``STEM.json``, else unknown.
+    An unorganized cloud whose valid points are such a back-projection (a depth camera's frame
+    saved without its invalid points) is put back on its pixel grid (:func:`pinhole_grid`;
+    ``regrid=False`` keeps it as it is); any other unorganized cloud becomes ``(1, N, 3)`` with
+    ``organized=False``.  The up vector is ``up``, else the ``up`` of a sidecar ``STEM.json``,
+    else unknown.
     """
     p = _existing(path)
     pc = _load_pcd(p, max_points)
@@ -648,19 +728,28 @@ def read_pcd(path, *, up=None, max_points: int | None = None) -> Cloud:
     if xyz.size == 0:
         raise InputError(f"{p}: PCD holds no points")
     intr = estimate_intrinsics(xyz) if organized else None
+    grid = pinhole_grid(xyz[0]) if regrid and not organized else None
+    if grid is not None:
+        xyz, intr, organized = _on_grid(xyz[0], grid, np.nan), grid[2], True
     return Cloud(xyz, intr, up if up is not None else _sidecar_up(p), str(p), organized)
 
 
 @_reader
-def read_pcd_field(path, name: str) -> np.ndarray:
-    """One field of a PCD file (e.g. ``label``), shaped ``(H, W)`` (``(1, N)`` if unorganized)."""
+def read_pcd_field(path, name: str, *, regrid: bool = True) -> np.ndarray:
+    """One field of a PCD file (e.g. ``label``), shaped ``(H, W)`` as :func:`read_pcd` shapes
+    the points (``(1, N)`` if unorganized; on the recovered grid, with 0 or NaN where no point
+    is, when :func:`read_pcd` regrids the cloud)."""
     p = _existing(path)
     pc = _load_pcd(p)
     md = pc.metadata
     if name not in md.fields:
         raise InputError(f"{p}: PCD has no field {name!r} (fields: {' '.join(md.fields)})")
-    values = pc.pc_data[name]
-    return np.asarray(values).reshape(md.height, md.width)
+    values = np.asarray(pc.pc_data[name])
+    if md.height == 1 and regrid:
+        grid = pinhole_grid(np.asarray(pc.numpy(("x", "y", "z")), dtype=np.float64))
+        if grid is not None:
+            return _on_grid(values, grid, np.nan if values.dtype.kind == "f" else 0)
+    return values.reshape(md.height, md.width)
 
 
 # --------------------------------------------------------------------------- PLY and NPY
