@@ -215,6 +215,7 @@ class CurvedParams:
     nest_px: int = 4
     nest_credit: float = 0.008
     join_parts: bool = False
+    skirt_faces: bool = True
 
     def __post_init__(self) -> None:
         for name in ("facet_min_angle", "facet_max_angle", "facet_max_width", "facet_wide_ratio",
@@ -234,6 +235,8 @@ class CurvedParams:
                 raise InputError(f"{name} must be an integer in {lo}..{hi}, got {v!r}")
         if self.curved_below > 1:
             raise InputError(f"curved_below is a fraction in [0, 1], got {self.curved_below!r}")
+        if not isinstance(self.skirt_faces, bool):
+            raise InputError(f"skirt_faces must be true or false, got {self.skirt_faces!r}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -319,6 +322,11 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
     """
     params = params or CurvedParams()
     cand = {p.label for p in planes} if candidates is None else set(candidates)
+    if params.skirt_faces:
+        # a box's top and the side hanging below it (``skirt``, or a pair only a step denied)
+        # are flat faces, never facets: a bevel's or a cap's strips between them are not a fan
+        denied = getattr(relations, "skirt_steps", {})
+        cand -= {x for r in relations if r.skirt or (r.a, r.b) in denied for x in (r.a, r.b)}
     lo, hi = params.facet_min_angle, params.facet_max_angle
     links = [(r.a, r.b) for r in relations
              if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi]
