@@ -19,8 +19,9 @@ For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.pl
 ``above``        p is above q: ``-rise > above_tol``
 ``in_front_of``  p is nearer the sensor than q along the horizontal viewing direction
                  (the camera's optical axis with its up component removed) by ``front_tol``
-``skirt``        p is horizontal, q vertical and adjacent, and q hangs below p as a box's
-                 side below its top: q's top edge at p's level, q reaching down at least
+``skirt``        p is horizontal (or inclined at most ``skirt_top_tilt`` towards q: a
+                 narrow top whose fit the rounded edge above q tilts), q vertical and
+                 adjacent, and q hangs below p as a box's side below its top: q's top edge at p's level, q reaching down at least
                  ``skirt_reach``, or ``skirt_reach_share`` of p's length when that is less
                  (a box lying flat on a table), and, halfway down, covering ``skirt_cover`` of p's extent
                  along their edge where it can be seen, ending within ``skirt_beyond``
@@ -76,6 +77,7 @@ __all__ = [
     "Relations",
     "relate",
     "skirts_within_objects",
+    "leans_towards",
     "hull_gap",
     "scene_graph",
     "ProposalParams",
@@ -117,6 +119,7 @@ class RelationParams:
     skirt_beyond: float = 0.4
     skirt_step: float = 0.45
     skirt_own_steps: bool = True
+    skirt_top_tilt: float = 10.0
     corner_tol: float = 0.08
     corner_width: float = 0.08
     facing_overlap: float = 0.5
@@ -125,7 +128,7 @@ class RelationParams:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width",
-                             "facing_overlap"))
+                             "facing_overlap", "skirt_top_tilt"))
         if self.skirt_cover > 1:
             raise InputError(f"skirt_cover is a share of the top's extent in 0..1, got {self.skirt_cover!r}")
         if self.facing_overlap > 1:
@@ -136,6 +139,8 @@ class RelationParams:
                              f"{self.parallel_tol!r} and {self.perpendicular_tol!r}")
         if isinstance(self.grid_gap, bool) or not isinstance(self.grid_gap, int) or not 1 <= self.grid_gap <= 8:
             raise InputError(f"grid_gap must be an integer number of pixels in 1..8, got {self.grid_gap!r}")
+        if self.skirt_top_tilt >= 45:
+            raise InputError(f"skirt_top_tilt must be below 45 degrees, got {self.skirt_top_tilt!r}")
         if not isinstance(self.skirt_own_steps, bool):
             raise InputError(f"skirt_own_steps must be true or false, got {self.skirt_own_steps!r}")
 
@@ -301,8 +306,16 @@ class _Solid:
                                                                 self.xyz)
         return prof
 
+    def top_candidate(self, top) -> bool:
+        """True when ``top`` can be a skirt's top: horizontal, or inclined at most
+        ``skirt_top_tilt`` degrees (whether it leans towards the face is :meth:`skirt`'s)."""
+        return top.orientation == "horizontal" or (
+            top.orientation == "inclined" and top.incline <= self.params.skirt_top_tilt)
+
     def skirt(self, top, face) -> bool:
-        if self.xyz is None or top.orientation != "horizontal" or face.orientation != "vertical":
+        if self.xyz is None or face.orientation != "vertical" or not self.top_candidate(top):
+            return False
+        if top.orientation != "horizontal" and not leans_towards(top, face, self.up):
             return False
         from planerel.features.solid import is_skirt, on_step, rises_from
 
@@ -351,6 +364,35 @@ class _Solid:
         p = self.params
         return is_facing(a, b, self._profile(a), self._profile(b), p.corner_tol,
                          p.corner_width, p.facing_overlap)
+
+
+#: Cosine of the widest angle between an inclined top's downhill direction and a face's
+#: normal (towards the sensor) at which the top leans towards the face (:func:`leans_towards`).
+LEAN_COS = math.cos(math.radians(30.0))
+
+
+def leans_towards(top, face, up) -> bool:
+    """True when inclined plane ``top`` slopes down towards vertical ``face``'s seen side: the
+    horizontal part of its upward normal within 30 degrees of the face's horizontal normal
+    (planerel orients normals towards the sensor, so that is the side the face is seen from).
+
+    A box's top and side meet at a rounded edge; on a narrow top (the 6 cm top of a standing
+    cereal box) the edge's points tilt the top's fit by 6-7 degrees towards the side (real
+    Kinect and RealSense frames, docs/objects.md "realbox").  A ramp's slope falls along its
+    side faces (about 90 degrees from their normals) and away from the face below its high
+    end (180 degrees), so neither leans towards its face.
+    """
+    up = np.asarray(up, float)
+    nt = np.asarray(top.normal, float)
+    if nt @ up < 0:
+        nt = -nt
+    h = nt - (nt @ up) * up
+    nf = np.asarray(face.normal, float)
+    nf = nf - (nf @ up) * up
+    hn, fn = float(np.linalg.norm(h)), float(np.linalg.norm(nf))
+    if hn < 1e-9 or fn < 1e-9:
+        return False
+    return bool(float(h @ nf) / (hn * fn) >= LEAN_COS)
 
 
 _new = object.__new__
@@ -431,7 +473,7 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     # who can be a skirt's top or face, a corner's wall (``_Solid`` answers False otherwise:
     # its calls are left out, not its answers)
     seen = solid.xyz is not None
-    horiz = [seen and p.orientation == "horizontal" for p in plist]
+    horiz = [seen and solid.top_candidate(p) for p in plist]
     vert = [seen and p.orientation == "vertical" for p in plist]
     for i in range(n):
         pi = plist[i]
