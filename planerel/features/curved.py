@@ -326,7 +326,10 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
         # a box's top and the side hanging below it (``skirt``, or a pair only a step denied)
         # are flat faces, never facets: a bevel's or a cap's strips between them are not a fan
         denied = getattr(relations, "skirt_steps", {})
-        cand -= {x for r in relations if r.skirt or (r.a, r.b) in denied for x in (r.a, r.b)}
+        tilt = getattr(getattr(relations, "params", None), "skirt_top_tilt", 90.0)
+        incl = {p.label: p.incline for p in planes}
+        cand -= {x for r in relations if (r.skirt or (r.a, r.b) in denied)
+                 and incl.get(r.a, 90.0) <= tilt for x in (r.a, r.b)}
     lo, hi = params.facet_min_angle, params.facet_max_angle
     links = [(r.a, r.b) for r in relations
              if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi]

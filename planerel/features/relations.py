@@ -120,6 +120,7 @@ class RelationParams:
     skirt_step: float = 0.45
     skirt_own_steps: bool = True
     skirt_top_tilt: float = 10.0
+    skirt_tilted: float = 30.0
     corner_tol: float = 0.08
     corner_width: float = 0.08
     facing_overlap: float = 0.5
@@ -128,7 +129,7 @@ class RelationParams:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width",
-                             "facing_overlap", "skirt_top_tilt"))
+                             "facing_overlap", "skirt_top_tilt", "skirt_tilted"))
         if self.skirt_cover > 1:
             raise InputError(f"skirt_cover is a share of the top's extent in 0..1, got {self.skirt_cover!r}")
         if self.facing_overlap > 1:
@@ -309,11 +310,48 @@ class _Solid:
     def top_candidate(self, top) -> bool:
         """True when ``top`` can be a skirt's top: horizontal, or inclined at most
         ``skirt_top_tilt`` degrees (whether it leans towards the face is :meth:`skirt`'s)."""
-        return top.orientation == "horizontal" or (
-            top.orientation == "inclined" and top.incline <= self.params.skirt_top_tilt)
+        p = self.params
+        if top.orientation == "horizontal":
+            return True
+        if top.orientation != "inclined":
+            return False
+        return top.incline <= p.skirt_top_tilt or (top.incline <= p.skirt_tilted
+                                                   and top.length <= TILTED_MAX_LENGTH)
+
+    def face_candidate(self, face) -> bool:
+        return face.orientation == "vertical" or (
+            self.params.skirt_tilted > 0
+            and face.incline >= 90.0 - self.params.skirt_tilted - self.params.perpendicular_tol)
+
+    def tilted_skirt(self, top, face) -> bool:
+        """EXPERIMENT: the skirt measured in a tilted top's own frame."""
+        from planerel.features.solid import face_profile_of, is_skirt
+
+        p = self.params
+        n = np.asarray(top.normal, float)
+        if n @ self.up < 0:
+            n = -n
+        if abs(float(np.dot(n, face.normal))) > np.sin(np.radians(p.perpendicular_tol)):
+            return False
+        prof = face_profile_of(face, n, self.labels, self.xyz)
+        reach = min(p.skirt_reach, p.skirt_reach_share * top.length) if p.skirt_reach_share else p.skirt_reach
+        # a tilted box's side ends where its top ends; a lying cylinder's end disk reaches
+        # past the strip on its top
+        ext = np.asarray(top.hull3d, float) @ prof.along
+        t0, t1 = float(ext.min()), float(ext.max())
+        beyond = max(0.0, t0 - prof.lo) + max(0.0, prof.hi - t1)
+        if not beyond <= TILTED_BEYOND * (t1 - t0):
+            return False
+        return is_skirt(top, face, n, prof, self.labels, self.xyz, self.intrinsics,
+                        self.normals, p.parallel_tol, p.skirt_tol, reach,
+                        p.skirt_cover, p.skirt_beyond)
 
     def skirt(self, top, face) -> bool:
-        if self.xyz is None or face.orientation != "vertical" or not self.top_candidate(top):
+        if self.xyz is None or not self.top_candidate(top):
+            return False
+        if self.params.skirt_tilted > 0 and top.incline > self.params.skirt_top_tilt:
+            return self.tilted_skirt(top, face)
+        if face.orientation != "vertical":
             return False
         if top.orientation != "horizontal" and not leans_towards(top, face, self.up):
             return False
@@ -365,6 +403,13 @@ class _Solid:
         return is_facing(a, b, self._profile(a), self._profile(b), p.corner_tol,
                          p.corner_width, p.facing_overlap)
 
+
+#: Metres: the longest tilted top (``skirt_tilted``): a box one can tip over; a ramp's slope
+#: is longer.
+TILTED_MAX_LENGTH = 0.5
+
+#: Share of a tilted top's extent its face may reach past the top's ends (``skirt_tilted``).
+TILTED_BEYOND = 0.25
 
 #: Cosine of the widest angle between an inclined top's downhill direction and a face's
 #: normal (towards the sensor) at which the top leans towards the face (:func:`leans_towards`).
@@ -475,6 +520,7 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     seen = solid.xyz is not None
     horiz = [seen and solid.top_candidate(p) for p in plist]
     vert = [seen and p.orientation == "vertical" for p in plist]
+    fcand = [seen and solid.face_candidate(p) for p in plist]
     for i in range(n):
         pi = plist[i]
         li = pi.label
@@ -494,11 +540,11 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
             facing = not adj and par and vi and vert[j] and facing_of(pi, pj)
             out[i * m + j - 1] = _relation(li, lj, a, par, perp, gap, t, adj, rise,
                                            -rise > above_tol, dd > front_tol,
-                                           adj and hi and vert[j] and skirt(pi, pj), corner,
+                                           adj and hi and fcand[j] and skirt(pi, pj), corner,
                                            facing)
             out[j * m + i] = _relation(lj, li, a, par, perp, gap, t, adj, -rise,
                                        rise > above_tol, -dd > front_tol,
-                                       adj and vi and horiz[j] and skirt(pj, pi), corner,
+                                       adj and fcand[i] and horiz[j] and skirt(pj, pi), corner,
                                        facing)
     if any(plist[k].label >= plist[k + 1].label for k in range(n - 1)):
         out.sort(key=lambda r: (r.a, r.b))
