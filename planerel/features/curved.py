@@ -297,6 +297,16 @@ def _facet_groups(planes, links, params: CurvedParams) -> set:
     return out
 
 
+def _level_top(top, face, up, tilt: float) -> bool:
+    """True when a skirt's ``top`` is horizontal, or inclined at most ``tilt`` degrees
+    towards ``face`` (:func:`planerel.features.relations.leans_towards`)."""
+    from planerel.features.relations import leans_towards
+
+    if top.orientation == "horizontal":
+        return True
+    return top.incline <= tilt and face.orientation == "vertical" and leans_towards(top, face, up)
+
+
 def facet_planes(planes, relations, candidates=None, params: CurvedParams | None = None,
                  proposals=None) -> set:
     """Labels of the planes that are facets of a curved surface (rule step 1).
@@ -325,11 +335,14 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
     if params.skirt_faces:
         # a box's top and the side hanging below it (``skirt``, or a pair only a step denied)
         # are flat faces, never facets: a bevel's or a cap's strips between them are not a fan
+        # (a level top, or one leaning towards the face: not a tilted box's, whose top may be
+        # a lying cylinder's strip)
         denied = getattr(relations, "skirt_steps", {})
-        tilt = getattr(getattr(relations, "params", None), "skirt_top_tilt", 90.0)
-        incl = {p.label: p.incline for p in planes}
+        tilt = getattr(getattr(relations, "params", None), "skirt_top_tilt", 0.0)
+        byl = {p.label: p for p in planes}
         cand -= {x for r in relations if (r.skirt or (r.a, r.b) in denied)
-                 and incl.get(r.a, 90.0) <= tilt for x in (r.a, r.b)}
+                 and r.a in byl and r.b in byl and _level_top(byl[r.a], byl[r.b], planes.up, tilt)
+                 for x in (r.a, r.b)}
     lo, hi = params.facet_min_angle, params.facet_max_angle
     links = [(r.a, r.b) for r in relations
              if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi]

@@ -307,24 +307,32 @@ class _Solid:
                                                                 self.xyz)
         return prof
 
+    def _tilted(self, top) -> bool:
+        """True when ``top`` may be a tilted box's top (``skirt_tilted``): inclined at most
+        ``skirt_tilted`` degrees and at most ``TILTED_MAX_LENGTH`` long."""
+        return (top.orientation == "inclined" and top.incline <= self.params.skirt_tilted
+                and top.length <= TILTED_MAX_LENGTH)
+
     def top_candidate(self, top) -> bool:
-        """True when ``top`` can be a skirt's top: horizontal, or inclined at most
-        ``skirt_top_tilt`` degrees (whether it leans towards the face is :meth:`skirt`'s)."""
-        p = self.params
+        """True when ``top`` can be a skirt's top: horizontal, inclined at most
+        ``skirt_top_tilt`` degrees (whether it leans towards the face is :meth:`skirt`'s), or
+        a tilted box's top (:meth:`_tilted`)."""
         if top.orientation == "horizontal":
             return True
-        if top.orientation != "inclined":
-            return False
-        return top.incline <= p.skirt_top_tilt or (top.incline <= p.skirt_tilted
-                                                   and top.length <= TILTED_MAX_LENGTH)
+        return (top.orientation == "inclined" and top.incline <= self.params.skirt_top_tilt) \
+            or self._tilted(top)
 
     def face_candidate(self, face) -> bool:
+        """True when ``face`` can be a skirt's face: vertical, or (``skirt_tilted``) steep
+        enough to be perpendicular to a tilted top."""
+        p = self.params
         return face.orientation == "vertical" or (
-            self.params.skirt_tilted > 0
-            and face.incline >= 90.0 - self.params.skirt_tilted - self.params.perpendicular_tol)
+            p.skirt_tilted > 0 and face.incline >= 90.0 - p.skirt_tilted - p.perpendicular_tol)
 
     def tilted_skirt(self, top, face) -> bool:
-        """EXPERIMENT: the skirt measured in a tilted top's own frame."""
+        """The skirt of a tilted box: the module rule (:func:`~planerel.features.solid.is_skirt`)
+        in the top's own frame (its upward normal for ``up``), the face perpendicular to the
+        top and reaching at most ``TILTED_BEYOND`` of the top's extent past its ends."""
         from planerel.features.solid import face_profile_of, is_skirt
 
         p = self.params
@@ -349,11 +357,13 @@ class _Solid:
     def skirt(self, top, face) -> bool:
         if self.xyz is None or not self.top_candidate(top):
             return False
-        if self.params.skirt_tilted > 0 and top.incline > self.params.skirt_top_tilt:
-            return self.tilted_skirt(top, face)
-        if face.orientation != "vertical":
-            return False
-        if top.orientation != "horizontal" and not leans_towards(top, face, self.up):
+        if top.orientation != "horizontal":
+            # a narrow top whose fit the rounded edge tilts towards its face: the level rule;
+            # else a tilted box's (in its top's frame)
+            if not (face.orientation == "vertical" and top.incline <= self.params.skirt_top_tilt
+                    and leans_towards(top, face, self.up)):
+                return self._tilted(top) and self.tilted_skirt(top, face)
+        elif face.orientation != "vertical":
             return False
         from planerel.features.solid import is_skirt, on_step, rises_from
 
