@@ -140,8 +140,9 @@ class RelationParams:
                              f"{self.parallel_tol!r} and {self.perpendicular_tol!r}")
         if isinstance(self.grid_gap, bool) or not isinstance(self.grid_gap, int) or not 1 <= self.grid_gap <= 8:
             raise InputError(f"grid_gap must be an integer number of pixels in 1..8, got {self.grid_gap!r}")
-        if self.skirt_top_tilt >= 45:
-            raise InputError(f"skirt_top_tilt must be below 45 degrees, got {self.skirt_top_tilt!r}")
+        for name in ("skirt_top_tilt", "skirt_tilted"):
+            if getattr(self, name) >= 45:
+                raise InputError(f"{name} must be below 45 degrees, got {getattr(self, name)!r}")
         if not isinstance(self.skirt_own_steps, bool):
             raise InputError(f"skirt_own_steps must be true or false, got {self.skirt_own_steps!r}")
 
