@@ -147,3 +147,20 @@ def test_realbox_parameters_are_checked():
         RelationParams(skirt_top_tilt=50.0)
     with pytest.raises(InputError, match="skirt_tilted"):
         RelationParams(skirt_tilted=-1.0)
+
+
+def test_a_lying_cylinders_strip_and_end_face_are_no_flat_faces():
+    from planerel.features.curved import skirt_faces
+
+    # the strip on top of a lying cylinder (14 x 5 cm, level) and its end face below it, 10 cm
+    # across: a skirt (as before realbox), but the end reaches past both ends of the strip
+    strip = Rect((0.0, 0.75, 0.10), (1, 0, 0), (0, 1, 0), 0.07, 0.025, 1)
+    end = Rect((-0.07, 0.75, 0.05), (0, 1, 0), (0, 0, 1), 0.05, 0.05, 1)
+    cloud, _, ps, rel = _relate([floor(), strip, end])
+    assert rel.get(1, 2).skirt
+    assert skirt_faces(ps, rel, cloud) == set()
+    # a box's top and front end together: flat faces; without the cloud nothing is measured
+    cloud, _, ps, rel = _relate([floor()] + box(0.0, 0.8, 0.16, 0.10, 0.08))
+    assert rel.get(1, 2).skirt
+    assert {1, 2} <= skirt_faces(ps, rel, cloud)
+    assert skirt_faces(ps, rel, None) == set()

@@ -67,7 +67,7 @@ import numpy as np
 from planerel.errors import InputError
 from planerel.segment.absorb import FACET_MAX_ANGLE, FACET_MIN_ANGLE
 
-__all__ = ["CurvedParams", "CurvedObject", "facet_planes", "pixel_areas", "join_parts",
+__all__ = ["CurvedParams", "CurvedObject", "facet_planes", "skirt_faces", "pixel_areas", "join_parts",
            "unexplained_clusters", "curved_objects"]
 
 
@@ -297,18 +297,59 @@ def _facet_groups(planes, links, params: CurvedParams) -> set:
     return out
 
 
-def _level_top(top, face, up, tilt: float) -> bool:
-    """True when a skirt's ``top`` is horizontal, or inclined at most ``tilt`` degrees
-    towards ``face`` (:func:`planerel.features.relations.leans_towards`)."""
-    from planerel.features.relations import leans_towards
+#: Share of a skirt's top's extent its face may reach past the top's ends for the two to be
+#: flat faces (:func:`skirt_faces`).
+FLUSH_BEYOND = 0.25
 
-    if top.orientation == "horizontal":
-        return True
-    return top.incline <= tilt and face.orientation == "vertical" and leans_towards(top, face, up)
+
+def skirt_faces(planes, relations, cloud, tilt: float | None = None) -> set:
+    """Labels of the planes that are a box's flat top and side: the two planes of a ``skirt``
+    pair (or of a pair only a step denied, :attr:`~planerel.features.relations.Relations.skirt_steps`)
+    whose top is horizontal or leans at most ``tilt`` degrees towards the face
+    (:func:`~planerel.features.relations.leans_towards`; default the relations'
+    ``skirt_top_tilt``) and whose face ends where the top ends: it reaches at most
+    ``FLUSH_BEYOND`` of the top's extent along their edge past the top's ends.
+
+    A box's top and side meet at a rounded edge (a cereal box, a carton, a plastic
+    container); segmented, the edge is one or two narrow strips 30-60 degrees from both, and
+    top, strips and side linked 5-50 degrees apart made a fan of four directions: the top (and
+    a narrow side) read as facets of a round surface, the box's planar fraction fell to
+    0.0-0.7 and the planar gate refused ``box`` (real OSD and RealSense frames, realbox).  A
+    lying cylinder's top strip and its end face pass ``skirt`` too, but the end face reaches
+    past both ends of the strip; a tilted top (a tilted box's, or a lying cylinder's strip
+    seen aslant) counts no plane flat.  Without the cloud (an unorganized one) nothing is
+    measured and no plane is flat.
+    """
+    from planerel.features.relations import leans_towards
+    from planerel.features.solid import _skirt_geometry, face_profile_of
+
+    labels = getattr(planes, "labels", None)
+    if cloud is None or labels is None:
+        return set()
+    if tilt is None:
+        tilt = getattr(getattr(relations, "params", None), "skirt_top_tilt", 0.0)
+    denied = getattr(relations, "skirt_steps", {})
+    byl = {p.label: p for p in planes}
+    up = np.asarray(planes.up, float)
+    xyz = np.asarray(cloud.xyz, float)
+    out: set = set()
+    for r in relations:
+        if not (r.skirt or (r.a, r.b) in denied) or r.a not in byl or r.b not in byl:
+            continue
+        top, face = byl[r.a], byl[r.b]
+        if face.orientation != "vertical":
+            continue
+        if top.orientation != "horizontal" and not (top.incline <= tilt
+                                                     and leans_towards(top, face, up)):
+            continue
+        _, _, beyond, span = _skirt_geometry(top, up, face_profile_of(face, up, labels, xyz))
+        if span is not None and beyond <= FLUSH_BEYOND * (span[3] - span[2]):
+            out.update((r.a, r.b))
+    return out
 
 
 def facet_planes(planes, relations, candidates=None, params: CurvedParams | None = None,
-                 proposals=None) -> set:
+                 proposals=None, flat=()) -> set:
     """Labels of the planes that are facets of a curved surface (rule step 1).
 
     Parameters
@@ -325,6 +366,8 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
         solid object; a link from it to a plane of another object is two objects side by
         side (a box's top beside a lying cylinder's strip), not one curved surface
         (facets22).  Links within a proposal, and of planes in no proposal, always count.
+    flat : iterable of int, optional
+        Labels of planes that are flat faces, never facets (:func:`skirt_faces`).
 
     Returns
     -------
@@ -332,17 +375,7 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
     """
     params = params or CurvedParams()
     cand = {p.label for p in planes} if candidates is None else set(candidates)
-    if params.skirt_faces:
-        # a box's top and the side hanging below it (``skirt``, or a pair only a step denied)
-        # are flat faces, never facets: a bevel's or a cap's strips between them are not a fan
-        # (a level top, or one leaning towards the face: not a tilted box's, whose top may be
-        # a lying cylinder's strip)
-        denied = getattr(relations, "skirt_steps", {})
-        tilt = getattr(getattr(relations, "params", None), "skirt_top_tilt", 0.0)
-        byl = {p.label: p for p in planes}
-        cand -= {x for r in relations if (r.skirt or (r.a, r.b) in denied)
-                 and r.a in byl and r.b in byl and _level_top(byl[r.a], byl[r.b], planes.up, tilt)
-                 for x in (r.a, r.b)}
+    cand -= set(flat)
     lo, hi = params.facet_min_angle, params.facet_max_angle
     links = [(r.a, r.b) for r in relations
              if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi]
@@ -789,8 +822,9 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
     byl = {p.label: p for p in planes}
     support = set(support)
     props = [tuple(sorted(int(x) for x in g)) for g in proposals]
+    flat = skirt_faces(planes, relations, cloud) if params.skirt_faces else ()
     facets = facet_planes(planes, relations, [p.label for p in planes if p.label not in support],
-                          params, props)
+                          params, props, flat)
     if params.join_facets and facets and len(props) > 1:
         props = _join_facet_proposals(props, facets, byl, relations, params)
     masks: list = [None] * len(props)
