@@ -254,3 +254,27 @@ def test_riser_min_in_convex_pairs():
     assert convex_pairs(ps, [(1, 2)], edges, 10.0, None, riser_min=0.0) == set()
     with pytest.raises(InputError):
         ProposalParams(riser_min=-0.01)
+
+
+@pytest.mark.parametrize("gap,tilt,pitch", [(0.035, 20, 55), (0.025, 30, 40)])
+def test_faces_adjacent_only_across_a_gap_are_two_objects(gap, tilt, pitch):
+    # a book lying tilted (a 24 x 16 cm panel, 10 cm up) in front of a 15 cm box, 2.5-3.5 cm
+    # between them: the panel and the box's faces share no edge and do not touch in the grid,
+    # but their hulls come within the relations' adjacency_gap (5 cm), and the sign taken from
+    # their centroids is convex (the real mOSD frames' most common join of two objects)
+    t = math.radians(tilt)
+    book = Rect((0.0, 1.0 - (0.1 + gap + 0.08), 0.1), (1, 0, 0), (0, math.cos(t), math.sin(t)),
+                0.12, 0.08, 2)
+    rects = [floor(), book] + box(0.0, 1.0, 0.2, 0.2, 0.15, obj=1)
+    view = dict(pitch=pitch, cam_height=0.9, width=320, height=240, noise=0.001)
+    props, seen = _proposals(rects, **view)
+    assert seen[1] in props and seen[2] in props
+    merged, _ = _proposals(rects, ProposalParams(apart_gap=0.0), **view)
+    assert seen[1] | seen[2] in merged  # joined without the rule
+    near, _ = _proposals(rects, ProposalParams(apart_gap=0.06), **view)
+    assert seen[1] | seen[2] in near  # a gap within apart_gap still joins
+
+
+def test_apart_gap_is_checked():
+    with pytest.raises(InputError):
+        ProposalParams(apart_gap=-0.01)

@@ -765,6 +765,14 @@ class ProposalParams:
         walls under ``support_min_area`` and a ramp between them make an inside corner with
         whole edges, not an open object.  (The occluded channels keep such planes: a shelf's
         back panel at the border.)
+    apart_gap : float
+        Metres at 1 m from the sensor (scaled by the pair's mean distance beyond 1 m): a pair
+        that neither touches in the image grid nor shares an edge (:data:`MIN_EDGE` pixel
+        pairs, :func:`edge_means`) stays a pair only when its hulls come within this (the
+        relations' ``adjacency_gap`` otherwise; 0 = off).  On the real mOSD frames faces of
+        two objects (a book lying on a tin, a box beside a carton) are adjacent so 2-5 cm
+        apart with a depth jump between them, while the faces of one object that share no
+        edge (an unsegmented band along a rounded edge) mostly come within 2 cm.
     apart_edge : int
         Pixel pairs at 320 pixels wide (scaled by the image width: 5 at 160, 20 at 640): a pair
         adjacent by the grid test whose hulls lie farther apart than the relations'
@@ -955,6 +963,7 @@ class ProposalParams:
     cavity_skip_walls: bool = True
     split_panels: bool = True
     apart_edge: int = 10
+    apart_gap: float = 0.02
     cut_long_side: bool = True
     step_tread_axes: bool = True
     riser_pieces: bool = True
@@ -985,7 +994,7 @@ class ProposalParams:
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
                              "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max", "riser_min",
-                             "side_wall_rise_max", "top_rise", "side_wall_follow"))
+                             "side_wall_rise_max", "top_rise", "side_wall_follow", "apart_gap"))
         if not 0 <= self.board_overlap <= 1:
             raise InputError(f"board_overlap must be in 0..1, got {self.board_overlap!r}")
         if not 0 <= self.stacked_faces <= 1:
@@ -2037,6 +2046,20 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                      if shares_edge(edges.get((min(a, b), max(a, b)), (0, 0, 0))[2],
                                     relations.get(a, b).gap, relations.params.adjacency_gap,
                                     round(params.apart_edge * lab.shape[1] / 320))]
+            if params.apart_gap > 0:
+                # a pair that neither touches nor shares an edge: adjacent only by its hulls'
+                # gap, which must be small for two faces of one object (see apart_gap)
+                byl_g = {p.label: p for p in planes}
+
+                def near(a, b) -> bool:
+                    r = relations.get(a, b)
+                    if r.touching or edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE:
+                        return True
+                    z = 0.5 * (math.sqrt(_dot(*[np.asarray(byl_g[a].centroid, float).tolist()] * 2))
+                               + math.sqrt(_dot(*[np.asarray(byl_g[b].centroid, float).tolist()] * 2)))
+                    return r.gap <= params.apart_gap * max(1.0, z)
+
+                pairs = [(a, b) for a, b in pairs if near(a, b)]
             if params.cut_apart_parallel:
                 # parallel faces that neither touch in the image nor share an edge, adjacent
                 # only because their hulls come within adjacency_gap, with no occluder in
