@@ -113,8 +113,11 @@ def test_coplanar_faces_with_a_gap_between_are_two_objects():
     view = dict(pitch=30, cam_height=1.1, width=320, height=240, noise=0.001)
     props, seen = _proposals(rects, **view)
     assert seen[1] in props and seen[2] in props
-    joined, _ = _proposals(rects, ProposalParams(cut_apart_parallel=False), **view)
+    joined, _ = _proposals(rects, ProposalParams(cut_apart_parallel=False, apart_gap=0.0), **view)
     assert seen[1] | seen[2] in joined
+    # apart_gap alone cuts them too: 3.5 cm apart, no edge, not touching
+    alone, _ = _proposals(rects, ProposalParams(cut_apart_parallel=False), **view)
+    assert seen[1] in alone and seen[2] in alone
 
 
 def test_large_shallow_ramp_is_no_support():
