@@ -278,3 +278,28 @@ def test_faces_adjacent_only_across_a_gap_are_two_objects(gap, tilt, pitch):
 def test_apart_gap_is_checked():
     with pytest.raises(InputError):
         ProposalParams(apart_gap=-0.01)
+
+
+@pytest.mark.parametrize("cos,band,joined", [(-0.05, 1.0, True), (-0.05, 0.0, False),
+                                             (-0.05, 0.4, False), (-0.03, 0.4, True),
+                                             (0.05, 0.0, True), (-0.3, 1.0, False)])
+def test_concave_band_decides_a_shared_edge_slightly_concave(cos, band, joined):
+    # two vertical faces sharing an edge (40 pixel pairs), 90 degrees apart; the edge points'
+    # offset makes the given cosine with the normals' difference (the noise band is +-0.1)
+    a = _vplane(1, (0, -1, 0), (0, 1.5, 0.1), 0.15, 0.0, 0.2)
+    b = _vplane(2, (1, 0, 0), (0.15, 1.65, 0.1), 0.15, 0.0, 0.2)
+    na, nb = np.array([0.0, -1.0, 0.0]), np.array([-1.0, 0.0, 0.0])  # both turned to the sensor
+    dn = (na - nb) / np.linalg.norm(na - nb)
+    side = np.array([0.0, 0.0, 1.0])  # along the edge, orthogonal to dn
+    dx = 0.01 * (cos * dn + math.sqrt(1 - cos * cos) * side)
+    xb = np.array([0.15, 1.5, 0.1])
+    edges = {(1, 2): (xb + dx, xb, 40)}
+    got = convex_pairs(_Planes([a, b]), [(1, 2)], edges, 10.0, 0.5, sanity_angle=0.0,
+                       concave_band=band)
+    assert (got == {(1, 2)}) == joined
+
+
+def test_concave_band_is_checked():
+    for bad in (-0.1, 1.5):
+        with pytest.raises(InputError):
+            ProposalParams(concave_band=bad)

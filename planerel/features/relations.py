@@ -765,6 +765,13 @@ class ProposalParams:
         walls under ``support_min_area`` and a ramp between them make an inside corner with
         whole edges, not an open object.  (The occluded channels keep such planes: a shelf's
         back panel at the border.)
+    concave_band : float
+        Of :func:`convex_pairs`' noise band (a cosine of 0.1 between the normals' difference and
+        the shared edge's points' offset), the part on the concave side that still joins a
+        pair sharing an edge: 1 = all of it (a sign within noise is no evidence), 0 = none (a
+        pair whose sign is below zero is cut, however slightly).  On the real mOSD frames 13 of
+        the 16 pairs sharing an edge whose sign lies in (-0.1, 0) are faces of two objects (a
+        box against a box, a carton on a book), 3 of one object (docs/objects.md).
     apart_gap : float
         Metres at 1 m from the sensor (scaled by the pair's mean distance beyond 1 m): a pair
         that neither touches in the image grid nor shares an edge (:data:`MIN_EDGE` pixel
@@ -964,6 +971,7 @@ class ProposalParams:
     split_panels: bool = True
     apart_edge: int = 10
     apart_gap: float = 0.02
+    concave_band: float = 0.0
     cut_long_side: bool = True
     step_tread_axes: bool = True
     riser_pieces: bool = True
@@ -995,6 +1003,8 @@ class ProposalParams:
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
                              "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max", "riser_min",
                              "side_wall_rise_max", "top_rise", "side_wall_follow", "apart_gap"))
+        if not 0 <= self.concave_band <= 1:
+            raise InputError(f"concave_band must be in 0..1, got {self.concave_band!r}")
         if not 0 <= self.board_overlap <= 1:
             raise InputError(f"board_overlap must be in 0..1, got {self.board_overlap!r}")
         if not 0 <= self.stacked_faces <= 1:
@@ -1256,7 +1266,7 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                  seat_depth: float | None = None, stacked_overlap: float = 0.0,
                  stacked_parallel: bool = False, top_rise: float = 0.0,
                  riser_min: float = 0.0, riser_floor: bool = False,
-                 riser_pieces: bool = False) -> set:
+                 riser_pieces: bool = False, concave_band: float = 1.0) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
     For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
@@ -1305,7 +1315,10 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     With ``riser_min`` > 0 (metres) the tread-and-riser exception needs a vertical plane over
     a horizontal one at least that high: a flight's riser rises a step (pairs22).  With
     ``riser_floor``, ``_regular_step`` measures the riser below a tread no higher than the
-    tread's height above the floor (synth22r).
+    tread's height above the floor (synth22r).  ``concave_band`` (a fraction of the noise band)
+    is how far below zero the sign of a pair sharing an edge may be and still count as convex:
+    1 joins the whole band's concave side (the sign within noise), 0 asks a sign of zero or more
+    (``ProposalParams.concave_band``).
 
     Returns
     -------
@@ -1387,7 +1400,7 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         # two objects touching at a corner have their points' offset along it
         sane = (sanity_angle <= 0 or (e is not None and abs(sign) > scale)
                 or _crossing_angle_f(na, nb, dx) >= _sanity_limit_f(na, nb, sanity_angle))
-        if (sign >= -scale and sane) or (step_overlap is not None and shared
+        if (sign >= -concave_band * scale and sane) or (step_overlap is not None and shared
                                          and _step_like(pa, pb, step_overlap,
                                                         getattr(planes, "up", None), riser_max,
                                                         riser_min)
@@ -2092,7 +2105,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                               top_rise=params.top_rise,
                               riser_min=params.riser_min,
                               riser_floor=params.riser_floor,
-                              riser_pieces=params.riser_pieces)
+                              riser_pieces=params.riser_pieces,
+                              concave_band=params.concave_band)
         if params.cavities and edges is not None:
             # the inside of one open object (a shelf, an open box): a channel or an inside
             # corner of shared concave edges (planerel.features.cavities)
