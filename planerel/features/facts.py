@@ -316,7 +316,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
                              c.planar_fraction, c.curved)
                  for k, c in enumerate(cobjs))
     # a skirt denied only by another object's step (a box on a box) is one after all
-    rel = skirts_within_objects(rel, [o.planes for o in objs], planes)
+    rel = skirts_within_objects(rel, [o.planes for o in objs], planes, support)
     return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
                             proposed, support, truncated=cut)
 

@@ -562,7 +562,7 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     return Relations(tuple(out), params, solid.steps)
 
 
-def skirts_within_objects(relations: Relations, objects, planes) -> Relations:
+def skirts_within_objects(relations: Relations, objects, planes, support=()) -> Relations:
     """``relations`` with ``skirt`` true for the pairs only another object's step denied.
 
     :func:`relate` does not know the objects, so a face standing on any horizontal plane that
@@ -572,7 +572,9 @@ def skirts_within_objects(relations: Relations, objects, planes) -> Relations:
     and a face of one object whose skirt was denied only by planes of other objects
     (:attr:`Relations.skirt_steps`) are a skirt, where each such plane is
 
-    - a tread (horizontal): the face stands on another object;
+    - a tread (horizontal): the face stands on another object, or on a support plane (a
+      table top, :func:`support_planes`' ``table_area``: in no object, it is the ground the
+      object stands on);
     - a riser (vertical) whose top lies within ``skirt_tol`` of a horizontal plane of its own
       object: the side of another solid with a top.  A wall rising behind a desk's top has no
       top of its own and still says no.
@@ -587,6 +589,8 @@ def skirts_within_objects(relations: Relations, objects, planes) -> Relations:
         Plane labels per object.
     planes : PlaneSet
         The planes ``relations`` relate (levels of the objects' horizontal planes).
+    support : iterable of int
+        Support plane labels.
 
     Returns
     -------
@@ -606,8 +610,11 @@ def skirts_within_objects(relations: Relations, objects, planes) -> Relations:
             for k in owner.get(p.label, ()):
                 tops.setdefault(k, []).append(float(np.asarray(p.centroid, float) @ up))
     tol = relations.params.skirt_tol
+    support = {int(x) for x in support}
 
     def apart(label, riser_top, mine) -> bool:
+        if label in support and math.isnan(riser_top):
+            return True  # a tread that is support: the ground the face stands on
         theirs = owner.get(label, set())
         if not theirs or theirs & mine:
             return False
@@ -929,6 +936,16 @@ class ProposalParams:
         outliers (flying pixels at its edges) made a 0.11 m box's side 0.13 m and let a box
         next to a taller one pass as a flight's first step (synth22r, docs/objects.md).
         A flight's riser below a tread never rises above the tread's height over the floor.
+    table_area, table_height : float
+        m^2, metres (``table_area`` 0 = off): a table top seen with the room's floor in view is
+        support (:func:`support_planes`, falsecls): a horizontal plane of at least
+        ``table_area``, at least ``table_height`` above the floor (higher than one step), that
+        carries something (a plane that meets it, lies above it and stands 5 cm inside its
+        horizontal outline, ``TABLE_INSET``) and is no level of a flight (no horizontal plane of half its area
+        or more ``step_rise_min``-``step_rise_max`` above or below), with the horizontal planes
+        on its plane (within ``floor_gap``).  Before, it was a plane of the object proposal of
+        what stood on it, and a tin's lid over it proved the demo's stairs rule 4 on real
+        OSD and RealSense frames.
     skip_missing : bool
         The step chains' two-rise steps (a tread between two faces not seen) only where the
         face between is missing: a face between them in height that makes a one-rise step
@@ -995,9 +1012,11 @@ class ProposalParams:
     riser_min: float = 0.08
     riser_floor: bool = True
     skip_missing: bool = True
+    table_area: float = 0.2
+    table_height: float = 0.30
 
     def __post_init__(self) -> None:
-        _check_nonneg(self, ("support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
+        _check_nonneg(self, ("table_area", "table_height", "support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
@@ -1028,7 +1047,8 @@ class ProposalParams:
 
 def support_planes(planes, params: ProposalParams | None = None, relations: Relations | None = None,
                    cloud=None) -> list[int]:
-    """Labels of support planes: the floor, horizontal planes at floor level, large walls.
+    """Labels of support planes: the floor, horizontal planes at floor level, large walls,
+    table tops (``params.table_area``, :func:`_tables`).
 
     With ``relations`` and ``cloud`` (and the planes' label image), a large vertical plane that
     is the side of a stepped structure is no wall (``params.wall_test``,
@@ -1051,11 +1071,66 @@ def support_planes(planes, params: ProposalParams | None = None, relations: Rela
                  and not _shallow_ramp(p, floor, planes.up, params))
         if floorish or large:
             out.append(p.label)
+    if params.table_area > 0 and floor is not None and relations is not None:
+        out += _tables(planes, floor, set(out), relations, params)
     lab = getattr(planes, "labels", None)
     if (params.wall_test and relations is not None and cloud is not None and lab is not None
             and lab.shape == cloud.xyz.shape[:2]):
         out = [x for x in out if not _stepped_side(planes, byl[x], set(out), relations, cloud, params)]
     return out
+
+
+#: Metres: a plane a table top carries stands at least this far inside the top's outline (its
+#: centroid, seen from above): a panel or wall beside a box stands on the top's edge.
+TABLE_INSET = 0.05
+
+
+def _tables(planes, floor, support, relations, params) -> list[int]:
+    """Labels of table tops (``params.table_area``): horizontal planes, not support, at least
+    ``table_area`` m^2 and ``table_height`` m above the floor (higher than one step, so no
+    flight's lowest tread), that carry something (a plane that meets the top, lies above it
+    and stands ``TABLE_INSET`` inside its horizontal outline), and that are no level of a flight (no other
+    horizontal plane of at least half their area lies ``step_rise_min``-``step_rise_max``
+    above or below them); and the horizontal planes on a table top's plane (within
+    ``floor_gap`` of it, its pieces cut off by the objects on it)."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    up = np.asarray(planes.up, float)
+    e1, e2 = _horizontal_basis(up)
+    flat = [p for p in planes if p.orientation == "horizontal" and p.label not in support]
+    tops = []
+    for t in flat:
+        if t.area < params.table_area or t.height < params.table_height:
+            continue
+        if any(u is not t and u.area >= 0.5 * t.area
+               and params.step_rise_min <= abs(u.height - t.height) <= params.step_rise_max
+               for u in flat):
+            continue
+        hull = np.asarray(t.hull3d, float)
+        try:
+            eq = ConvexHull(np.stack([hull @ e1, hull @ e2], 1)).equations  # unit normals
+        except (QhullError, ValueError):
+            continue
+        base = float(np.asarray(t.centroid, float) @ up)
+        for q in planes:
+            if q is t or q.label in support:
+                continue
+            try:
+                if not relations.get(t.label, q.label).adjacent:
+                    continue
+            except KeyError:
+                continue
+            if float((np.asarray(q.hull3d, float) @ up).min()) < base - params.edge_depth:
+                continue
+            c = np.asarray(q.centroid, float)
+            if float((eq @ np.array([c @ e1, c @ e2, 1.0])).max()) <= -TABLE_INSET:
+                tops.append(t)  # inside the outline, not on its edge (a panel beside a box)
+                break
+    out = {t.label for t in tops}
+    for p in flat:
+        if p.label not in out and any(_floor_offset(p, t, up) <= params.floor_gap for t in tops):
+            out.add(p.label)
+    return sorted(out)
 
 
 def _floor_is_tread(planes, floor, relations, params) -> bool:
