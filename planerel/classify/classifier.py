@@ -72,7 +72,7 @@ class ObjectAnswer:
         The planar fraction is below the model's ``curved.curved_below``: a round object.
     refused : tuple of Refusal
         Classes whose rules proved the object and that the decision refused for it: its
-        planar fraction lies more than ``decision.planar_margin`` below the least planar of
+        planar fraction lies under ``1 - decision.planar_margin`` times the least planar of
         the class's training positives (with ``decision.planar_gate``;
         :func:`planerel.ilp.metrics.planar_refusals`).  The answer is then the next class
         that holds, else ``other``.

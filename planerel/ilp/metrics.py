@@ -14,7 +14,8 @@ from planerel.errors import InputError
 
 __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "stratified_folds",
            "confusion_columns", "confusion_matrix", "accuracy_scores", "score_objects",
-           "PLANAR_MARGIN", "PLANAR_GATE", "DecisionParams", "planar_domain", "Refusal", "planar_refusals",
+           "PLANAR_MARGIN", "PLANAR_GATE", "DecisionParams", "planar_domain", "Refusal", "planar_bound",
+           "planar_refusals",
            "decide"]
 
 #: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
@@ -109,17 +110,23 @@ class DecisionParams:
     Attributes
     ----------
     planar_gate : bool
-        Refuse a class for an object whose planar fraction lies more than ``planar_margin``
-        below the lowest planar fraction of the class's training positives
+        Refuse a class for an object whose planar fraction lies below ``1 - planar_margin``
+        times the lowest planar fraction of the class's training positives
         (:func:`planar_refusals`; the model keeps them, ``planar_domain``).  On by default
         since facets22: off at first (gate22), because on the table-top judge sets it also
         refused 7 boxes whose faces the facet test linked to a neighbouring object's planes;
         the facet test keeps such links out now and the gate refuses no box there
         (docs/objects.md, "(gate22)", "(facets22)").
     planar_margin : float
-        The margin.  0.3: the demo's stairs positives reach down to 0.44 (a flight with a
-        curved cluster merged in), so its stairs are refused below 0.14, its boxes and ramps
-        (every positive at 1.0) below 0.7, under ``curved_below`` 0.8.
+        The margin, a fraction of ``low`` (0..1): a class is refused below ``low * (1 -
+        planar_margin)``.  0.3: the demo's boxes and ramps (every positive at 1.0) are
+        refused below 0.7, under ``curved_below`` 0.8, and its stairs, whose positives reach
+        down to 0.44 (a flight with a curved cluster merged in), below 0.31.  Until
+        falsecls (2026-11-29) the margin was subtracted (``low - planar_margin``): the same
+        bound for a class whose positives are all planar, but 0.14 for the demo's stairs,
+        and real mugs, a bowl and a dome-topped can on a RealSense (planar fraction
+        0.14-0.28) were ``stairs`` from their facets (docs/objects.md, "Real table-tops
+        nobody on the team made").
     """
 
     planar_gate: bool = PLANAR_GATE
@@ -129,8 +136,9 @@ class DecisionParams:
         if not isinstance(self.planar_gate, bool):
             raise InputError(f"decision.planar_gate must be true or false, got {self.planar_gate!r}")
         m = self.planar_margin
-        if isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m) or m < 0:
-            raise InputError(f"decision.planar_margin must be a number >= 0, got {m!r}")
+        if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
+                or not 0 <= m <= 1):
+            raise InputError(f"decision.planar_margin must be a number in 0..1, got {m!r}")
 
 
 def planar_domain(examples: Sequence, planar: dict, classes: Sequence[str]) -> tuple:
@@ -162,8 +170,8 @@ def planar_domain(examples: Sequence, planar: dict, classes: Sequence[str]) -> t
 @dataclass(frozen=True)
 class Refusal:
     """A class whose rules proved an object and that the decision did not trust there: the
-    object's planar fraction lies more than ``margin`` below ``low``, the least planar of the
-    class's training positives."""
+    object's planar fraction lies under ``bound = low * (1 - margin)``, ``low`` the least planar
+    of the class's training positives."""
 
     klass: str
     planar_fraction: float
@@ -172,9 +180,14 @@ class Refusal:
     margin: float
 
     @property
+    def bound(self) -> float:
+        """The planar fraction under which the class is refused: ``low * (1 - margin)``."""
+        return planar_bound(self.low, self.margin)
+
+    @property
     def reason(self) -> str:
         return (f"planar fraction {self.planar_fraction:.2f}, under "
-                f"{self.low - self.margin:.2f}: training {self.klass} "
+                f"{self.bound:.2f}: training {self.klass} "
                 f"{self.low:.2f}-{self.high:.2f}, margin {self.margin:g}")
 
     def to_dict(self) -> dict:
@@ -183,12 +196,20 @@ class Refusal:
                 "reason": self.reason}
 
 
+def planar_bound(low: float, margin: float = PLANAR_MARGIN) -> float:
+    """The planar fraction under which :func:`planar_refusals` refuses a class whose least
+    planar training positive is ``low``: ``low * (1 - margin)`` (falsecls; ``low - margin``
+    before, the same for a class of fully planar positives, ``low`` = 1)."""
+    return float(low) * (1.0 - float(margin))
+
+
 def planar_refusals(hits, stats: Sequence, planar_fraction, domain: Sequence,
                     margin: float = PLANAR_MARGIN):
     """Leave out the hits of classes not trusted on an object so far off their positives.
 
     A class with an entry ``(class, low, high, n)`` in ``domain`` (:func:`planar_domain`) is
-    refused for an object whose planar fraction is below ``low - margin``: its rules were only
+    refused for an object whose planar fraction is below ``low * (1 - margin)``
+    (:func:`planar_bound`): its rules were only
     ever counted on objects at least ``low`` planar, and a rule that proves a curved object from
     two of its facets (a bowl's strips "one above another" for stairs) says nothing about it.
     No domain, no planar fraction, or a class without an entry: nothing is refused (a model
@@ -208,7 +229,7 @@ def planar_refusals(hits, stats: Sequence, planar_fraction, domain: Sequence,
     kept, refused = [], {}
     for hit in hits:
         k = hit[0]
-        if k in bounds and pf < bounds[k][0] - margin:
+        if k in bounds and pf < planar_bound(bounds[k][0], margin):
             if k not in refused and takes_part(*table.get(hit[1], (0, 0))):
                 refused[k] = Refusal(k, pf, bounds[k][0], bounds[k][1], float(margin))
             continue
