@@ -185,7 +185,8 @@ _FIXED = {  # (frame, annotation name): the rule that made it `box`
     ("osd/test50", "grey block"): "skirt_tilted",
     ("osd/test64", "wooden block"): "skirt_tilted",
     ("osd/test63", "tea box on a book"): "skirt_tilted",
-    ("osd/test63", "green book"): "skirt_tilted",
+    # ("osd/test63", "green book") was `box` only as part of the tea box's proposal; since
+    # apart_gap (docs/objects.md) the two are separate proposals and the book alone is `other`
 }
 
 
@@ -205,4 +206,5 @@ def test_real_tabletop_boxes_fixed(demo_model):  # noqa: F811  (the imported fix
     assert all(got[k] == "box" for k in _FIXED), {k: got[k] for k in _FIXED}
     s = rt.summarize(rows)
     assert s["boxes_box"] >= 15  # main: 6 of 34
-    assert s["round_stairs_ramp"] <= 10 and s["other_box"] == 0  # main: 10 of 54, 0 of 8
+    assert s["round_stairs_ramp"] == 0 and s["other_box"] == 0  # 14b64af: 10 of 54, 0 of 8
+    assert s["stairs_answers"] <= 1  # 14b64af: 11 (falsecls, docs/results.md)
