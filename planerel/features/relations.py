@@ -2137,15 +2137,13 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             if params.apart_gap > 0:
                 # a pair that neither touches nor shares an edge: adjacent only by its hulls'
                 # gap, which must be small for two faces of one object (see apart_gap)
-                byl_g = {p.label: p for p in planes}
+                dist = {p.label: math.hypot(*np.asarray(p.centroid, float).tolist()) for p in planes}
 
                 def near(a, b) -> bool:
                     r = relations.get(a, b)
                     if r.touching or edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE:
                         return True
-                    z = 0.5 * (math.sqrt(_dot(*[np.asarray(byl_g[a].centroid, float).tolist()] * 2))
-                               + math.sqrt(_dot(*[np.asarray(byl_g[b].centroid, float).tolist()] * 2)))
-                    return r.gap <= params.apart_gap * max(1.0, z)
+                    return r.gap <= params.apart_gap * max(1.0, 0.5 * (dist[a] + dist[b]))
 
                 pairs = [(a, b) for a, b in pairs if near(a, b)]
             if params.cut_apart_parallel:
