@@ -302,7 +302,8 @@ def _facet_groups(planes, links, params: CurvedParams) -> set:
 FLUSH_BEYOND = 0.25
 
 
-def skirt_faces(planes, relations, cloud, tilt: float | None = None) -> set:
+def skirt_faces(planes, relations, cloud, tilt: float | None = None,
+                profiles: dict | None = None) -> set:
     """Labels of the planes that are a box's flat top and side: the two planes of a ``skirt``
     pair (or of a pair only a step denied, :attr:`~planerel.features.relations.Relations.skirt_steps`)
     whose top is horizontal or leans at most ``tilt`` degrees towards the face
@@ -318,7 +319,9 @@ def skirt_faces(planes, relations, cloud, tilt: float | None = None) -> set:
     lying cylinder's top strip and its end face pass ``skirt`` too, but the end face reaches
     past both ends of the strip; a tilted top (a tilted box's, or a lying cylinder's strip
     seen aslant) counts no plane flat.  Without the cloud (an unorganized one) nothing is
-    measured and no plane is flat.
+    measured and no plane is flat.  ``profiles``: the faces' profiles already measured along
+    ``planes.up`` in ``planes.labels`` and ``cloud.xyz`` (:func:`~planerel.features.relations.relate`'s
+    ``profiles``), ``{label: FaceProfile}``; the others are measured here.
     """
     from planerel.features.relations import leans_towards
     from planerel.features.solid import _skirt_geometry, face_profile_of
@@ -342,7 +345,10 @@ def skirt_faces(planes, relations, cloud, tilt: float | None = None) -> set:
         if top.orientation != "horizontal" and not (top.incline <= tilt
                                                      and leans_towards(top, face, up)):
             continue
-        _, _, beyond, span = _skirt_geometry(top, up, face_profile_of(face, up, labels, xyz))
+        prof = profiles.get(face.label) if profiles else None
+        if prof is None:
+            prof = face_profile_of(face, up, labels, xyz)
+        _, _, beyond, span = _skirt_geometry(top, up, prof)
         if span is not None and beyond <= FLUSH_BEYOND * (span[3] - span[2]):
             out.update((r.a, r.b))
     return out
@@ -793,7 +799,8 @@ def _join_facet_proposals(props, facets, byl, relations, params) -> list:
 
 
 def curved_objects(planes, relations, proposals, cloud=None, labels=None, support=(),
-                   params: CurvedParams | None = None, pixels=None) -> list[CurvedObject]:
+                   params: CurvedParams | None = None, pixels=None,
+                   profiles: dict | None = None) -> list[CurvedObject]:
     """Proposals with their unexplained points and planar fractions (the module's rule).
 
     Parameters
@@ -811,6 +818,9 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
         Support plane labels.
     pixels : (ndarray, ndarray), optional
         Passed to :func:`unexplained_clusters`.
+    profiles : dict, optional
+        Passed to :func:`skirt_faces` (the face profiles :func:`~planerel.features.relations.relate`
+        measured for ``planes`` in ``cloud``).
 
     Returns
     -------
@@ -822,7 +832,7 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
     byl = {p.label: p for p in planes}
     support = set(support)
     props = [tuple(sorted(int(x) for x in g)) for g in proposals]
-    flat = skirt_faces(planes, relations, cloud) if params.skirt_faces else ()
+    flat = skirt_faces(planes, relations, cloud, profiles=profiles) if params.skirt_faces else ()
     facets = facet_planes(planes, relations, [p.label for p in planes if p.label not in support],
                           params, props, flat)
     if params.join_facets and facets and len(props) > 1:

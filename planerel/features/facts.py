@@ -263,7 +263,9 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         if (planes is not before or parent or defaults(StairFitParams).tiny_area != cp.tiny_area
                 or not cp.enabled):
             pixels = None
-    rel = relate(planes, cloud, relation_params)
+    # the face profiles the skirt tests measure, asked again by the curved stage's flat faces
+    profiles: dict = {}
+    rel = relate(planes, cloud, relation_params, profiles)
     # the planes cut by the border or hidden in part (their outline pixels and the points
     # around them): here, right after the relations' grid touch test read the same pixels'
     # neighbourhoods (0.17-0.18 ms a frame on the real frames against 0.24-0.26 at the end)
@@ -298,7 +300,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     # proposals take the clusters of unexplained points; given objects keep their planes
     cobjs = curved_objects(planes, rel, groups, cloud if proposed else None,
                            planes.labels if (parent or flights) else labels, support, cp,
-                           pixels)
+                           pixels, profiles)
     if raised is not None:
         from planerel.features.raised import RaisedParams, with_raised
 

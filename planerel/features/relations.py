@@ -279,13 +279,14 @@ class _Solid:
     (:func:`planerel.features.solid.is_skirt`, :func:`~planerel.features.solid.is_corner`,
     :func:`~planerel.features.solid.is_facing`); each face is measured once."""
 
-    def __init__(self, planes, cloud, params: RelationParams):
+    def __init__(self, planes, cloud, params: RelationParams, profiles: dict | None = None):
         lab = planes.labels
         ok = cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]
         self.xyz = cloud.xyz if ok else None
         self.intrinsics = getattr(cloud, "intrinsics", None) if ok else None
         self.labels, self.up, self.params = lab, np.asarray(planes.up, float), params
-        self._profiles: dict = {}
+        #: ``{face label: FaceProfile}`` along ``planes.up`` (:func:`relate`'s ``profiles``)
+        self._profiles: dict = {} if profiles is None else profiles
         #: ``{label: [planes adjacent to it]}``, filled by :func:`relate`
         self.touching: dict = {}
         #: ``{(top, face): step and riser labels}`` of the skirts only a step denied
@@ -469,7 +470,8 @@ def _relation(a, b, angle, parallel, perpendicular, gap, touching, adjacent, ris
     return r
 
 
-def relate(planes, cloud=None, params: RelationParams | None = None) -> Relations:
+def relate(planes, cloud=None, params: RelationParams | None = None,
+           profiles: dict | None = None) -> Relations:
     """Relations of every ordered pair of planes.
 
     Parameters
@@ -481,6 +483,12 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
         (without it, adjacency uses the 3-D hull gap alone) and for ``skirt`` and
         ``corner`` and ``facing`` (False without it).
     params : RelationParams, optional
+    profiles : dict, optional
+        Filled with the face profiles the skirt, corner and facing tests measured,
+        ``{face label: FaceProfile}``
+        (:func:`planerel.features.solid.face_profile_of` along ``planes.up`` in
+        ``planes.labels`` and ``cloud.xyz``), for later steps that ask for the same
+        (:func:`planerel.features.curved.skirt_faces`).
 
     Returns
     -------
@@ -507,7 +515,7 @@ def relate(planes, cloud=None, params: RelationParams | None = None) -> Relation
     level = C @ up
     depth = C @ fwd
     G = _gap_matrix(plist)
-    solid = _Solid(planes, cloud, params)
+    solid = _Solid(planes, cloud, params, profiles)
     # each plane's adjacent planes (a face's foot, a tread's next riser)
     A = G <= params.adjacency_gap
     pos = {p.label: k for k, p in enumerate(plist)}
@@ -1782,12 +1790,14 @@ def _border_pixels(lab, label: int, bbox, sides: str = "all") -> int:
 
 
 def _horizontal_basis(up) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit vectors ``(3,)`` spanning the horizontal plane (perpendicular to ``up``)."""
-    e1 = np.cross(up, [1.0, 0.0, 0.0])
+    """Two unit vectors ``(3,)`` spanning the horizontal plane (perpendicular to ``up``).
+    The cross products in Python floats (:func:`~planerel.features.cavities.cross3`: the
+    floats ``np.cross`` gives, without its 15-40 us a call)."""
+    e1 = cross3(up, (1.0, 0.0, 0.0))
     if np.linalg.norm(e1) < 0.1:
-        e1 = np.cross(up, [0.0, 1.0, 0.0])
+        e1 = cross3(up, (0.0, 1.0, 0.0))
     e1 /= np.linalg.norm(e1)
-    return e1, np.cross(up, e1)
+    return e1, cross3(up, e1)
 
 
 def _anchor_offset(face, anchor, up) -> np.ndarray:
