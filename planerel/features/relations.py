@@ -1829,23 +1829,38 @@ SKIP_GRID = 0.15
 def _tread_depth_axis(p, up) -> tuple[np.ndarray, float]:
     """A tread's step direction: the horizontal unit vector ``(3,)`` across its shortest
     extent (rotating calipers over the horizontal projection of ``hull3d``), and its
-    elongation (extent along the edge / extent across it; 0 for a degenerate hull)."""
+    elongation (extent along the edge / extent across it; 0 for a degenerate hull).
+
+    (The arrays are filled in place rather than stacked and rolled: 45 against 100 us a
+    call, the same products and differences, so the same floats.)"""
     H = np.asarray(p.hull3d, float)
     e1, e2 = _horizontal_basis(up)
-    P = np.stack([H @ e1, H @ e2], 1)
-    if len(P) < 3:
+    m = len(H)
+    if m < 3:
         return e1, 0.0
-    t = np.roll(P, -1, axis=0) - P
-    t = t[np.hypot(t[:, 0], t[:, 1]) > 1e-9]
-    if not len(t):
-        return e1, 0.0
-    t /= np.hypot(t[:, 0], t[:, 1])[:, None]
-    n = np.stack([-t[:, 1], t[:, 0]], 1)
-    deep = np.ptp(P @ n.T, axis=0)  # the extent across each edge direction
+    P = np.empty((m, 2))
+    P[:, 0] = H @ e1
+    P[:, 1] = H @ e2
+    t = np.empty_like(P)  # each edge: the next vertex minus this one
+    np.subtract(P[1:], P[:-1], out=t[:-1])
+    np.subtract(P[0], P[-1], out=t[-1])
+    length = np.hypot(t[:, 0], t[:, 1])
+    keep = length > 1e-9
+    if not keep.all():
+        t, length = t[keep], length[keep]
+        if not len(t):
+            return e1, 0.0
+    t /= length[:, None]
+    n = np.empty_like(t)
+    np.negative(t[:, 1], out=n[:, 0])
+    n[:, 1] = t[:, 0]
+    across = P @ n.T
+    deep = across.max(0) - across.min(0)  # the extent across each edge direction
     k = int(np.argmin(deep))
     if deep[k] <= 0:
         return e1, 0.0
-    along = float(np.ptp(P @ t[k]))
+    a = P @ t[k]
+    along = float(a.max() - a.min())
     return n[k, 0] * e1 + n[k, 1] * e2, along / float(deep[k])
 
 
