@@ -66,9 +66,22 @@ def _random_ups(rng, n):
 
 def test_horizontal_basis_is_numpys_cross():
     rng = np.random.default_rng(22)
+    prev = None
     for up in _random_ups(rng, 3000):
-        got, want = _horizontal_basis(up), _basis_numpy(up)
-        assert all(_same(g, w) for g, w in zip(got, want, strict=True)), up
+        want = _basis_numpy(up)
+        # asked again (the remembered basis), and after another up (computed anew)
+        for ask in (up, up, prev, up, list(up)):
+            if ask is None:
+                continue
+            got = _horizontal_basis(ask)
+            ref = want if ask is not prev else _basis_numpy(prev)
+            assert all(_same(g, w) for g, w in zip(got, ref, strict=True)), up
+            assert not any(g.flags.writeable for g in got)
+        prev = up
+    # -0.0 and 0.0 are different ups to np.cross
+    for up in ([0.0, 0.0, 1.0], [-0.0, 0.0, 1.0], [0.0, -0.0, -1.0]):
+        got = _horizontal_basis(np.array(up))
+        assert all(_same(g, w) for g, w in zip(got, _basis_numpy(np.array(up)), strict=True))
     # float32 and list input as numpy takes them
     up = np.array([0.1, -0.9, -0.3], np.float32)
     assert all(_same(g, w) for g, w in zip(_horizontal_basis(np.asarray(up, float)),

@@ -1789,15 +1789,30 @@ def _border_pixels(lab, label: int, bbox, sides: str = "all") -> int:
     return n
 
 
+#: The last ``up``'s horizontal basis, ``(up bytes, (e1, e2))`` (:func:`_horizontal_basis`:
+#: a scene's steps ask for the same up two to six times).
+_LAST_BASIS: list = [None]
+
+
 def _horizontal_basis(up) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit vectors ``(3,)`` spanning the horizontal plane (perpendicular to ``up``).
-    The cross products in Python floats (:func:`~planerel.features.cavities.cross3`: the
-    floats ``np.cross`` gives, without its 15-40 us a call)."""
+    """Two unit vectors ``(3,)`` spanning the horizontal plane (perpendicular to ``up``),
+    read-only (remembered for the last ``up``).  The cross products in Python floats
+    (:func:`~planerel.features.cavities.cross3`: the floats ``np.cross`` gives, without its
+    15-40 us a call)."""
+    up = np.asarray(up, float)
+    key = up.tobytes()
+    last = _LAST_BASIS[0]
+    if last is not None and last[0] == key:
+        return last[1]
     e1 = cross3(up, (1.0, 0.0, 0.0))
     if np.linalg.norm(e1) < 0.1:
         e1 = cross3(up, (0.0, 1.0, 0.0))
     e1 /= np.linalg.norm(e1)
-    return e1, cross3(up, e1)
+    e2 = cross3(up, e1)
+    for e in (e1, e2):
+        e.setflags(write=False)
+    _LAST_BASIS[0] = (key, (e1, e2))
+    return e1, e2
 
 
 def _anchor_offset(face, anchor, up) -> np.ndarray:
