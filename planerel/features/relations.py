@@ -795,6 +795,20 @@ class ProposalParams:
         two objects (a book lying on a tin, a box beside a carton) are adjacent so 2-5 cm
         apart with a depth jump between them, while the faces of one object that share no
         edge (an unsegmented band along a rounded edge) mostly come within 2 cm.
+    touch_gap : float
+        Pixel footprints (``z / fx`` metres each, z the pair's mean distance; 0 = off): a pair
+        that touches in the image grid or shares an edge stays a pair only when its hulls come
+        within this many.  Two faces of one object meet (their hulls touch, or are apart by
+        the few pixels left unsegmented between them); two objects one in front of the other
+        border each other in the image across a depth jump.  On the real mOSD frames (640x480,
+        8 footprints = 1.1 cm at 0.75 m) the touching pairs of two objects lie 1-4 cm apart,
+        those of one object within 1 cm but 5 (docs/objects.md).
+    skin_height, skin_angle : float
+        Metres at 1 m (scaled by the plane's distance beyond 1 m; 0 = off) and degrees: a
+        proposal of one plane that is not vertical, adjacent to a horizontal support plane at
+        most ``skin_angle`` from it, with its hull within ``skin_height`` of that plane, is a
+        piece of the support's surface (the sensor bends a table near the image's corners
+        into small planes tilted 5-20 degrees) and is dropped.
     apart_edge : int
         Pixel pairs at 320 pixels wide (scaled by the image width: 5 at 160, 20 at 640): a pair
         adjacent by the grid test whose hulls lie farther apart than the relations'
@@ -996,6 +1010,9 @@ class ProposalParams:
     split_panels: bool = True
     apart_edge: int = 10
     apart_gap: float = 0.02
+    touch_gap: float = 8.0
+    skin_height: float = 0.015
+    skin_angle: float = 25.0
     concave_band: float = 0.0
     cut_long_side: bool = True
     step_tread_axes: bool = True
@@ -1029,7 +1046,8 @@ class ProposalParams:
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
                              "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max", "riser_min",
-                             "side_wall_rise_max", "top_rise", "side_wall_follow", "apart_gap"))
+                             "side_wall_rise_max", "top_rise", "side_wall_follow", "apart_gap",
+                             "touch_gap", "skin_height", "skin_angle"))
         if not 0 <= self.concave_band <= 1:
             raise InputError(f"concave_band must be in 0..1, got {self.concave_band!r}")
         if not 0 <= self.board_overlap <= 1:
@@ -2174,16 +2192,20 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                      if shares_edge(edges.get((min(a, b), max(a, b)), (0, 0, 0))[2],
                                     relations.get(a, b).gap, relations.params.adjacency_gap,
                                     round(params.apart_edge * lab.shape[1] / 320))]
-            if params.apart_gap > 0:
+            if params.apart_gap > 0 or params.touch_gap > 0:
                 # a pair that neither touches nor shares an edge: adjacent only by its hulls'
-                # gap, which must be small for two faces of one object (see apart_gap)
+                # gap, which must be small for two faces of one object (see apart_gap); one
+                # that does: its hulls still meet (see touch_gap)
                 dist = {p.label: math.hypot(*np.asarray(p.centroid, float).tolist()) for p in planes}
+                intr = getattr(cloud, "intrinsics", None)
+                footprint = 1.0 / (intr.fx if intr is not None else 525.0)  # metres a pixel at 1 m
 
                 def near(a, b) -> bool:
                     r = relations.get(a, b)
+                    z = 0.5 * (dist[a] + dist[b])
                     if r.touching or edges.get((min(a, b), max(a, b)), (0, 0, 0))[2] >= MIN_EDGE:
-                        return True
-                    return r.gap <= params.apart_gap * max(1.0, 0.5 * (dist[a] + dist[b]))
+                        return params.touch_gap <= 0 or r.gap <= params.touch_gap * footprint * z
+                    return params.apart_gap <= 0 or r.gap <= params.apart_gap * max(1.0, z)
 
                 pairs = [(a, b) for a, b in pairs if near(a, b)]
             if params.cut_apart_parallel:
@@ -2308,7 +2330,33 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         comps = [c for c in comps
                  if not (len(c) == 1 and byl[c[0]].touches_border
                          and byl[c[0]].area < params.min_border_area)]
+    if params.skin_height > 0 and drop:
+        comps = [c for c in comps if not (len(c) == 1 and _support_skin(byl[c[0]], drop, byl, relations, params))]
     return sorted(comps, key=lambda c: c[0])
+
+
+def _support_skin(p, support, byl, relations: Relations, params: ProposalParams) -> bool:
+    """``p`` is a piece of a horizontal support plane's surface (``params.skin_height``): not
+    vertical, adjacent to such a plane at most ``skin_angle`` degrees from it, and its hull
+    within ``skin_height * max(1, z)`` of that plane (z: p's distance from the sensor)."""
+    if p.orientation == "vertical":
+        return False
+    scale = max(1.0, math.hypot(*np.asarray(p.centroid, float).tolist()))
+    hull = np.asarray(p.hull3d, float)
+    for s in support:
+        q = byl.get(s)
+        if q is None or q.orientation != "horizontal":
+            continue
+        try:
+            r = relations.get(p.label, s)
+        except KeyError:
+            continue
+        if not r.adjacent or r.angle > params.skin_angle:
+            continue
+        n = np.asarray(q.normal, float)
+        if float(np.abs((hull - np.asarray(q.centroid, float)) @ n).max()) <= params.skin_height * scale:
+            return True
+    return False
 
 
 def objects_from_truth(labels, gt_labels, gt_object_of_label, min_fraction: float = 0.5) -> list[tuple[int, ...]]:
