@@ -364,3 +364,26 @@ def test_touch_gap_and_skin_are_checked():
     for name in ("touch_gap", "skin_height", "skin_angle"):
         with pytest.raises(InputError):
             ProposalParams(**{name: -1.0})
+
+
+def test_a_piece_on_the_floors_plane_need_not_touch_the_floor():
+    # the same 5-degree piece, its relation to the floor made not adjacent (as a piece of the
+    # table seen only between objects): lying on the floor's plane, it is still no proposal
+    import dataclasses
+
+    from planerel.features.relations import propose_objects
+
+    t = math.radians(5)
+    piece = Rect((0.3, 1.0, 0.05 * math.sin(t) + 0.0005), (1, 0, 0), (0, math.cos(t), math.sin(t)),
+                 0.06, 0.05, 2)
+    cloud, lab, _up, objs = render([floor(), piece], pitch=40, cam_height=0.8, width=640,
+                                   height=480, noise=0.001)
+    d = describe_scene(cloud, lab)
+    (pl,) = [p.label for p in d.planes if objs[p.label] == 2]
+    fl = d.planes.floor
+    cut = dataclasses.replace(d.relations, pairs=tuple(
+        dataclasses.replace(r, adjacent=False, touching=False) if {r.a, r.b} == {pl, fl} else r
+        for r in d.relations.pairs))
+    assert not cut.get(pl, fl).adjacent
+    assert (pl,) not in propose_objects(d.planes, cut, ProposalParams(), cloud)
+    assert (pl,) in propose_objects(d.planes, cut, ProposalParams(skin_height=0.0), cloud)

@@ -805,9 +805,9 @@ class ProposalParams:
         those of one object within 1 cm but 5 (docs/objects.md).
     skin_height, skin_angle : float
         Metres at 1 m (scaled by the plane's distance beyond 1 m; 0 = off) and degrees: a
-        proposal of one plane that is not vertical, adjacent to a horizontal support plane at
-        most ``skin_angle`` from it, with its hull within ``skin_height`` of that plane, is a
-        piece of the support's surface (the sensor bends a table near the image's corners
+        proposal of one plane that is not vertical, at most ``skin_angle`` from a horizontal
+        support plane that is the floor or adjacent to it, with its hull within
+        ``skin_height`` of that plane, is a piece of the support's surface (the sensor bends a table near the image's corners
         into small planes tilted 5-20 degrees) and is dropped.
     apart_edge : int
         Pixel pairs at 320 pixels wide (scaled by the image width: 5 at 160, 20 at 640): a pair
@@ -2331,14 +2331,15 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                  if not (len(c) == 1 and byl[c[0]].touches_border
                          and byl[c[0]].area < params.min_border_area)]
     if params.skin_height > 0 and drop:
-        comps = [c for c in comps if not (len(c) == 1 and _support_skin(byl[c[0]], drop, byl, relations, params))]
+        comps = [c for c in comps if not (len(c) == 1 and _support_skin(byl[c[0]], drop, byl, relations, params, planes.floor))]
     return sorted(comps, key=lambda c: c[0])
 
 
-def _support_skin(p, support, byl, relations: Relations, params: ProposalParams) -> bool:
+def _support_skin(p, support, byl, relations: Relations, params: ProposalParams, floor=None) -> bool:
     """``p`` is a piece of a horizontal support plane's surface (``params.skin_height``): not
-    vertical, adjacent to such a plane at most ``skin_angle`` degrees from it, and its hull
-    within ``skin_height * max(1, z)`` of that plane (z: p's distance from the sensor)."""
+    vertical, at most ``skin_angle`` degrees from such a plane that is the floor (label
+    ``floor``) or adjacent to it, and its hull within ``skin_height * max(1, z)`` of that
+    plane (z: p's distance from the sensor)."""
     if p.orientation == "vertical":
         return False
     scale = max(1.0, math.hypot(*np.asarray(p.centroid, float).tolist()))
@@ -2351,7 +2352,7 @@ def _support_skin(p, support, byl, relations: Relations, params: ProposalParams)
             r = relations.get(p.label, s)
         except KeyError:
             continue
-        if not r.adjacent or r.angle > params.skin_angle:
+        if not (r.adjacent or s == floor) or r.angle > params.skin_angle:
             continue
         n = np.asarray(q.normal, float)
         if float(np.abs((hull - np.asarray(q.centroid, float)) @ n).max()) <= params.skin_height * scale:
