@@ -807,8 +807,9 @@ class ProposalParams:
         Metres at 1 m (scaled by the plane's distance beyond 1 m; 0 = off) and degrees: a
         proposal of one plane that is not vertical, at most ``skin_angle`` from a horizontal
         support plane that is the floor or adjacent to it, with its hull within
-        ``skin_height`` of that plane, is a piece of the support's surface (the sensor bends a table near the image's corners
-        into small planes tilted 5-20 degrees) and is dropped.
+        ``skin_height`` of that plane, is a piece of the support's surface (the sensor bends
+        a table near the image's corners into small planes tilted 5-20 degrees) and is
+        dropped.
     apart_edge : int
         Pixel pairs at 320 pixels wide (scaled by the image width: 5 at 160, 20 at 640): a pair
         adjacent by the grid test whose hulls lie farther apart than the relations'
@@ -2331,7 +2332,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                  if not (len(c) == 1 and byl[c[0]].touches_border
                          and byl[c[0]].area < params.min_border_area)]
     if params.skin_height > 0 and drop:
-        comps = [c for c in comps if not (len(c) == 1 and _support_skin(byl[c[0]], drop, byl, relations, params, planes.floor))]
+        comps = [c for c in comps
+                 if not (len(c) == 1 and _support_skin(byl[c[0]], drop, byl, relations, params, planes.floor))]
     return sorted(comps, key=lambda c: c[0])
 
 
