@@ -126,22 +126,28 @@ def test_mosd_frame_on_a_shared_frame(demo_model):  # noqa: F811  (the imported 
     assert (s["boxes"], s["boxes_box"], s["stairs_answers"]) == (2, 2, 0)
 
 
-def test_real_mosd_learn_half(demo_model):  # noqa: F811  (the imported fixture)
-    """The mOSD set's learn half (``$PLANEREL_TABLETOP_DATA/mosd``, PointCloudLibrary/data's
-    ``segmentation/mOSD/learn``) with the demo model: the figures of docs/results.md ("The
-    whole mOSD set") hold."""
-    paths = sorted((DATA / "mosd").glob("learn*.pcd"))
-    if len(paths) < 45:
-        pytest.skip(f"no mOSD learn frames under {DATA / 'mosd'} (set PLANEREL_TABLETOP_DATA)")
+def _mosd_half(model, half: str, n: int) -> dict:
+    """``real_mosd.summarize`` of one half of the mOSD set (``learn`` or ``test``, ``n``
+    frames) classified with ``model``; skips when the frames are not given."""
+    paths = sorted((DATA / "mosd").glob(f"{half}*.pcd"))
+    if len(paths) < n:
+        pytest.skip(f"no mOSD {half} frames under {DATA / 'mosd'} (set PLANEREL_TABLETOP_DATA)")
     from planerel.classify import Classifier
 
     frames, rows = [], []
-    with Classifier(demo_model) as clf:
+    with Classifier(model) as clf:
         for p in paths:
             fr, rw = rm.frame(clf, p)
             frames.append(fr)
             rows += rw
-    s = rm.summarize(frames, rows)
+    return rm.summarize(frames, rows)
+
+
+def test_real_mosd_learn_half(demo_model):  # noqa: F811  (the imported fixture)
+    """The mOSD set's learn half (``$PLANEREL_TABLETOP_DATA/mosd``, PointCloudLibrary/data's
+    ``segmentation/mOSD/learn``) with the demo model: the figures of docs/results.md ("The
+    whole mOSD set") hold."""
+    s = _mosd_half(demo_model, "learn", 45)
     assert s["objects"] == 112
     assert s["found"] >= 106 and s["false_per_frame"] <= 0.3  # 14b64af: 106, 0.33; 416930a: 108, 0.27
     assert s["boxes_box"] >= 55  # 14b64af: 52 of 58
@@ -152,18 +158,7 @@ def test_real_mosd_test_half(demo_model):  # noqa: F811  (the imported fixture)
     """The mOSD set's test half (``$PLANEREL_TABLETOP_DATA/mosd``) with the demo model: the
     figures of docs/results.md ("The whole mOSD set", with ``touch_gap`` and ``skin_height``)
     hold; together with the learn half, issue 22's found and false lines on the whole set."""
-    paths = sorted((DATA / "mosd").glob("test*.pcd"))
-    if len(paths) < 65:
-        pytest.skip(f"no mOSD test frames under {DATA / 'mosd'} (set PLANEREL_TABLETOP_DATA)")
-    from planerel.classify import Classifier
-
-    frames, rows = [], []
-    with Classifier(demo_model) as clf:
-        for p in paths:
-            fr, rw = rm.frame(clf, p)
-            frames.append(fr)
-            rows += rw
-    s = rm.summarize(frames, rows)
+    s = _mosd_half(demo_model, "test", 65)
     assert s["objects"] == 344
     assert s["found"] >= 306 and s["false_per_frame"] <= 0.67  # 416930a: 308, 0.65 (d143631: 286, 0.80)
     assert s["boxes_box"] >= 54  # 416930a: 55 of 57
