@@ -210,6 +210,29 @@ planerel_rule_text(Model, Index, Text) :-
                                          B, [quoted(true), numbervars(true)]])
     ).
 
+%   planerel_proof_scale(+Model, +Obj, +Index, -Scale)
+%   How large the planes are that rule Index of Model proves Obj with: the
+%   largest, over the rule's first 1000 proofs, of the smallest area (area/2,
+%   m^2) among the planes the proof binds.  A proof made only of slivers has
+%   a small scale even when the object is large; a flight of real treads a
+%   large one.  Scale is `none` when no proof binds a plane with an area.
+planerel_proof_scale(Model, Obj, Index, Scale) :-
+    Model:planerel_rule(Index, _, Obj0, _, Body0, Names0),
+    copy_term(t(Obj0, Body0, Names0), t(Obj, Body, Names)),
+    (   aggregate_all(max(S),
+                      limit(1000, ( catch(user:Body, _, fail),
+                                    planerel_smallest_plane(Names, S) )),
+                      Max)
+    ->  Scale = Max
+    ;   Scale = none
+    ).
+
+planerel_smallest_plane(Names, Smallest) :-
+    findall(A, ( member(_=V, Names), atom(V),
+                 catch(user:area(V, A), _, fail), number(A) ), Areas),
+    Areas \== [],
+    min_list(Areas, Smallest).
+
 %   planerel_classes(+Model, -Classes): the classes Model has rules for.
 planerel_classes(Model, Classes) :-
     findall(C, Model:planerel_rule(_, C, _, _, _, _), Cs),
@@ -245,4 +268,5 @@ planerel_predict_main(Facts, Rules, Data) :-
 planerel_report(O) :-
     format("@@object ~q~n", [O]),
     forall(planerel_explain(planerel_predict, O, C, I, B, T),
-           format("@@fired ~q ~q ~q ~q~n", [C, I, B, T])).
+           ( planerel_proof_scale(planerel_predict, O, I, S),
+             format("@@fired ~q ~q ~q ~q~n@@scale ~q~n", [C, I, B, T, S]) )).

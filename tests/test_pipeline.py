@@ -696,6 +696,40 @@ def test_redundant_clauses_are_found_by_the_real_rule_query(gt_descs):
     assert stats[1][2:] == (n_ramps, 0)
 
 
+def test_learn_rules_keeps_each_rules_proof_scales(gt_descs):
+    """proof22: the model keeps, per rule, the least and largest proof scale over the objects
+    of its class the rule proves in training, measured by the real rule query."""
+    classes = ["box", "stairs", "ramp"]
+    model = P.learn_rules(gt_descs, classes, engine="builtin", jobs=1)
+    examples = P._examples(gt_descs)
+    truth = dict(examples)
+    fired = P._parse_fired(P._prolog_run(model, gt_descs, [o for o, _ in examples], 120.0))
+    area = {f"{d.scene_id}_p{p.label:02d}": p.area for d in gt_descs for p in d.planes}
+    assert model.proof_domain
+    for i, k, lo, hi, n in model.proof_domain:
+        scales = [h[4] for o, hits in fired.items() for h in hits
+                  if h[1] == i and truth[o] == k]
+        tp = {j: t for j, _, t, _ in model.stats}[i]
+        assert n == len(scales) == tp and 0 < lo <= hi
+        assert (lo, hi) == (round(min(scales), 5), round(max(scales), 5))
+        # a scale is at least the first proof's smallest plane (area/2 facts are rounded)
+        for hits in fired.values():
+            for h in hits:
+                if h[1] == i and h[4] is not None:
+                    planes = [v for v in h[2].values() if v in area]
+                    assert planes and h[4] >= min(area[v] for v in planes) * 0.999 - 5e-4
+    # under the gate (counted on however few positives) no training positive loses its class:
+    # each one's own proofs lie inside its rule's range
+    from dataclasses import replace
+
+    on = {p.object_id: p.klass
+          for p in P.prolog_predict(replace(model, proof_min_positives=1), gt_descs)}
+    off = {p.object_id: p.klass
+           for p in P.prolog_predict(replace(model, proof_gate=False), gt_descs)}
+    right = [o for o, k in examples if off[o] == k]
+    assert right and all(on[o] == truth[o] for o in right)
+
+
 def test_learn_rules_keeps_every_clause_on_request(gt_descs):
     """learn_rules runs the step on the learner's answer: every clause it returned is either
     kept or recorded as left out, and ``keep_redundant`` keeps them all."""

@@ -211,6 +211,10 @@ class Classifier:
         #: none, or ``decision.planar_gate`` is off)
         self.planar_domain = (self.settings.planar_domain if decision.planar_gate else ())
         self.planar_margin = decision.planar_margin
+        #: ``(index, class, low, high, n)`` the proof gate compares with (empty: no gate)
+        self.proof_domain = (self.settings.proof_domain if decision.proof_gate else ())
+        self.proof_margin = decision.proof_margin
+        self.proof_min_positives = decision.proof_min_positives
         # the gate is on by default: a model without the domain (learned before gate22)
         # warns only when the gate is asked for (its model.json or ``decision.planar_gate``)
         asked = "planar_gate" in self.settings.sections.get("decision", {})
@@ -271,15 +275,20 @@ class Classifier:
                 for o in desc.objects:
                     hits = []
                     for r in query(f"planerel_explain_text({self.module}, {_obj_atom(o.id)}, "
-                                    "C, I, B, T)",
+                                    f"C, I, B, T), planerel_proof_scale({self.module}, "
+                                    f"{_obj_atom(o.id)}, I, S)",
                                     f"classifying {o.id}"):
                         binds = dict(line.split("\t", 1) for line in _text(r["B"]).splitlines()
                                      if "\t" in line)
-                        hits.append((_text(r["C"]), int(r["I"]), binds, _text(r["T"])))
+                        scale = r["S"] if isinstance(r["S"], (int, float)) else None
+                        hits.append((_text(r["C"]), int(r["I"]), binds, _text(r["T"]), scale))
                     best, refused = decide(hits, self.stats, self.classes, self.cofire,
                                            planar_fraction=o.planar_fraction,
                                            domain=self.planar_domain,
-                                           margin=self.planar_margin)
+                                           margin=self.planar_margin,
+                                           proofs=self.proof_domain,
+                                           proof_margin=self.proof_margin,
+                                           proof_min_positives=self.proof_min_positives)
                     fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
                     pids = tuple(plane_ids[lab] for lab in o.planes)
                     if best is None:
@@ -287,7 +296,7 @@ class Classifier:
                                                     planar_fraction=o.planar_fraction,
                                                     curved=o.curved, refused=refused))
                     else:
-                        klass, index, binds, rule = best
+                        klass, index, binds, rule = best[:4]
                         proof = tuple(v for v in binds.values() if v in plane_ids.values())
                         tp, fp = {i: (a, b) for i, _, a, b in self.stats}.get(index, (0, 0))
                         answers.append(ObjectAnswer(o.id, pids, o.planes, klass, rule, binds,

@@ -15,8 +15,8 @@ from planerel.errors import InputError
 __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "stratified_folds",
            "confusion_columns", "confusion_matrix", "accuracy_scores", "score_objects",
            "PLANAR_MARGIN", "PLANAR_GATE", "DecisionParams", "planar_domain", "Refusal", "planar_bound",
-           "planar_refusals",
-           "decide"]
+           "planar_refusals", "PROOF_MARGIN", "PROOF_GATE", "PROOF_MIN_POSITIVES", "proof_domain", "proof_bound", "ProofRefusal",
+           "proof_refusals", "decide"]
 
 #: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
 #: than right on the training objects (the class of the varied world's clutter, too).
@@ -100,6 +100,12 @@ def choose_class(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence
 PLANAR_MARGIN = 0.3
 #: Default of :attr:`DecisionParams.planar_gate` (on since facets22: docs/objects.md).
 PLANAR_GATE = True
+#: Default of :attr:`DecisionParams.proof_margin`.
+PROOF_MARGIN = 0.3
+#: Default of :attr:`DecisionParams.proof_gate`.
+PROOF_GATE = True
+#: Default of :attr:`DecisionParams.proof_min_positives`.
+PROOF_MIN_POSITIVES = 10
 
 
 @dataclass(frozen=True)
@@ -131,14 +137,23 @@ class DecisionParams:
 
     planar_gate: bool = PLANAR_GATE
     planar_margin: float = PLANAR_MARGIN
+    proof_gate: bool = PROOF_GATE
+    proof_margin: float = PROOF_MARGIN
+    proof_min_positives: int = PROOF_MIN_POSITIVES
 
     def __post_init__(self):
-        if not isinstance(self.planar_gate, bool):
-            raise InputError(f"decision.planar_gate must be true or false, got {self.planar_gate!r}")
-        m = self.planar_margin
-        if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
-                or not 0 <= m <= 1):
-            raise InputError(f"decision.planar_margin must be a number in 0..1, got {m!r}")
+        for gate in ("planar_gate", "proof_gate"):
+            if not isinstance(getattr(self, gate), bool):
+                raise InputError(f"decision.{gate} must be true or false, "
+                                 f"got {getattr(self, gate)!r}")
+        for name in ("planar_margin", "proof_margin"):
+            m = getattr(self, name)
+            if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
+                    or not 0 <= m <= 1):
+                raise InputError(f"decision.{name} must be a number in 0..1, got {m!r}")
+        n = self.proof_min_positives
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            raise InputError(f"decision.proof_min_positives must be a whole number >= 1, got {n!r}")
 
 
 def planar_domain(examples: Sequence, planar: dict, classes: Sequence[str]) -> tuple:
@@ -237,20 +252,137 @@ def planar_refusals(hits, stats: Sequence, planar_fraction, domain: Sequence,
     return kept, tuple(refused.values())
 
 
+def proof_domain(fired: dict, truth: dict) -> tuple:
+    """How large the planes are that each rule proved its training positives with:
+    ``((index, class, low, high, n), ...)`` per rule of a class (not :data:`OTHER`).
+
+    A hit's proof scale (its fifth element, ``planerel_proof_scale/4`` in
+    ``prolog/classify.pl``) is the largest, over the rule's proofs of the object, of the
+    smallest area among the planes a proof binds (m^2).  ``low`` is the minimum over the
+    objects of the rule's class it proves (its true positives), so the gate of
+    :func:`proof_refusals` refuses no proof as large as a training one and the rule's
+    ``tp`` holds under it.  A rule without a true positive with a scale has no entry.
+
+    Parameters
+    ----------
+    fired : dict
+        ``{object: [(class, index, bindings, text, scale), ...]}``.
+    truth : dict
+        ``{object: class}`` of the training objects.
+    """
+    scales: dict = {}
+    for obj, hits in fired.items():
+        for hit in hits:
+            k, i = hit[0], hit[1]
+            scale = hit[4] if len(hit) > 4 else None
+            if k != OTHER and truth.get(obj) == k and scale is not None:
+                scales.setdefault((i, k), []).append(float(scale))
+    return tuple((i, k, round(min(v), 5), round(max(v), 5), len(v))
+                 for (i, k), v in sorted(scales.items()))
+
+
+@dataclass(frozen=True)
+class ProofRefusal:
+    """A rule that proved an object only with planes far smaller than in any of its training
+    proofs: the object's proof scale lies under ``bound`` (:func:`proof_bound`)."""
+
+    klass: str
+    rule: int
+    scale: float
+    low: float
+    high: float
+    margin: float
+
+    @property
+    def bound(self) -> float:
+        """The proof scale (m^2) under which the rule is refused (:func:`proof_bound`)."""
+        return proof_bound(self.low, self.high, self.margin)
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it with planes of {self.scale:.4f} m^2, under "
+                f"{self.bound:.4f}: its training {self.klass} proofs {self.low:.4f}-"
+                f"{self.high:.4f} m^2, margin {self.margin:g}")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "proof_scale": round(self.scale, 5),
+                "proofs_low": self.low, "proofs_high": self.high, "margin": self.margin,
+                "reason": self.reason}
+
+
+def proof_bound(low: float, high: float, margin: float = PROOF_MARGIN) -> float:
+    """The proof scale under which :func:`proof_refusals` refuses a rule whose training proofs
+    span ``low``-``high`` m^2: the range widened below by ``margin`` of its width on a log
+    scale, ``low * (low / high) ** margin``.
+
+    A rule whose training proofs span two orders of magnitude (the demo's box rule: faces of
+    6 cm to 75 cm) says little about where its smallest positives end, and gets a wide margin
+    (0.0036 -> 0.0008 m^2); one whose proofs keep a physical scale (treads of a flight: one
+    order) a narrow one (0.042 -> 0.021 m^2).  0 when ``low`` or ``high`` is not positive.
+    """
+    low, high = float(low), float(high)
+    if low <= 0 or high <= 0:
+        return 0.0
+    return low * (low / high) ** float(margin)
+
+
+def proof_refusals(hits, stats: Sequence, domain: Sequence, margin: float = PROOF_MARGIN,
+                   min_positives: int = PROOF_MIN_POSITIVES):
+    """Leave out the hits whose proof is made of planes far smaller than the rule's training
+    proofs.
+
+    A rule with an entry ``(index, class, low, high, n)`` in ``domain`` (:func:`proof_domain`)
+    is refused for an object whose proof scale (the hit's fifth element) is below
+    :func:`proof_bound`: the rule was only ever counted right on proofs of planes at least
+    ``low`` m^2,
+    and "a plane parallel to and above another" said of two slivers of a pile of tins is not
+    what it learned (docs/results.md, "The proof gate").  An entry counts only when it was
+    measured on at least ``min_positives`` true positives: the least of a handful of proofs
+    says little about where the rule's positives end.  No domain, no entry or no scale:
+    nothing is refused.
+
+    Returns
+    -------
+    (list, tuple of ProofRefusal)
+        The hits left, and one :class:`ProofRefusal` per refused rule that takes part in the
+        decision (:func:`takes_part`).
+    """
+    if not domain:
+        return list(hits), ()
+    bounds = {i: (k, lo, hi) for i, k, lo, hi, n in domain if n >= min_positives}
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    kept, refused = [], []
+    for hit in hits:
+        scale = hit[4] if len(hit) > 4 else None
+        entry = bounds.get(hit[1])
+        if entry is not None and scale is not None and entry[0] == hit[0]:
+            k, lo, hi = entry
+            if float(scale) < proof_bound(lo, hi, margin):
+                if takes_part(*table.get(hit[1], (0, 0))):
+                    refused.append(ProofRefusal(k, hit[1], float(scale), lo, hi, float(margin)))
+                continue
+        kept.append(hit)
+    return kept, tuple(refused)
+
+
 def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (), *,
-           planar_fraction=None, domain: Sequence = (), margin: float = PLANAR_MARGIN):
-    """The open-set decision for one object: :func:`planar_refusals`, then
+           planar_fraction=None, domain: Sequence = (), margin: float = PLANAR_MARGIN,
+           proofs: Sequence = (), proof_margin: float = PROOF_MARGIN,
+           proof_min_positives: int = PROOF_MIN_POSITIVES):
+    """The open-set decision for one object: :func:`proof_refusals` (with ``proofs``, the
+    model's :func:`proof_domain`), :func:`planar_refusals` (``domain``), then
     :func:`choose_class` among the hits left.  The classifier and the learner's own scoring
     (:func:`planerel.ilp.pipeline.prolog_predict`, whichever engine learned the rules) decide
     with it.
 
     Returns
     -------
-    (hit or None, tuple of Refusal)
-        The chosen hit (None: :data:`OTHER`) and the classes refused.
+    (hit or None, tuple of Refusal and ProofRefusal)
+        The chosen hit (None: :data:`OTHER`) and the rules and classes refused.
     """
-    kept, refused = planar_refusals(hits, stats, planar_fraction, domain, margin)
-    return choose_class(kept, stats, classes, cofire), refused
+    kept, small = proof_refusals(hits, stats, proofs, proof_margin, proof_min_positives)
+    kept, refused = planar_refusals(kept, stats, planar_fraction, domain, margin)
+    return choose_class(kept, stats, classes, cofire), small + refused
 
 
 def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:

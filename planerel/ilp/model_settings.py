@@ -6,8 +6,9 @@ learn`` therefore writes next to ``rules.pl`` the segmentation (method, paramete
 and resolved, including the sensor-adaptive switch ``adapt`` of
 :mod:`planerel.segment.adapt`), the gravity estimate's parameters, the plane, relation and
 proposal parameters of the description, the rules' measured precision, and the planar
-fractions of each class's training positives with the decision's margin (section ``decision``,
-``planar_domain``: :func:`planerel.ilp.metrics.planar_refusals`).  ``classify`` reads them back
+fractions of each class's training positives and the proof scales of each rule's, with the
+decision's margins (section ``decision``, ``planar_domain``, ``proof_domain``:
+:func:`planerel.ilp.metrics.planar_refusals`, :func:`~planerel.ilp.metrics.proof_refusals`).  ``classify`` reads them back
 and runs with the same settings; ``--param`` overrides one, with a warning when it differs from
 the training value.
 
@@ -18,7 +19,7 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 :class:`~planerel.features.planes.PlaneParams`, :class:`~planerel.features.relations.RelationParams`,
 :class:`~planerel.features.relations.ProposalParams` and :class:`~planerel.features.curved.CurvedParams`;
 ``decision.NAME`` one of :class:`~planerel.ilp.metrics.DecisionParams` (``decision.planar_gate``,
-``decision.planar_margin``).
+``decision.planar_margin``, ``decision.proof_gate``, ``decision.proof_margin``).
 """
 
 from __future__ import annotations
@@ -91,12 +92,17 @@ class ModelSettings:
     planar_domain : tuple
         ``(class, low, high, n)``: planar fractions of each class's training positives
         (empty for a model written before they were kept: no planar gate).
+    proof_domain : tuple
+        ``(index, class, low, high, n)``: the proof scales of each rule's training positives
+        (:func:`planerel.ilp.metrics.proof_domain`; empty for a model written before they
+        were kept: no proof gate).
     """
 
     method: str = "regiongrow"
     seg_params: dict = field(default_factory=dict)
     sections: dict = field(default_factory=dict)
     planar_domain: tuple = ()
+    proof_domain: tuple = ()
 
     def describe_kwargs(self) -> dict:
         """Keyword arguments of :func:`planerel.features.facts.describe_scene` for these settings."""
@@ -125,10 +131,10 @@ class ModelSettings:
 
 
 def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
-                      planar_domain=()) -> dict:
+                      planar_domain=(), proof_domain=()) -> dict:
     """The content of ``model.json`` for a model learned with these settings (the description
-    parameters are the defaults ``planerel learn`` describes scenes with; ``planar_domain``:
-    :attr:`planerel.ilp.pipeline.Model.planar_domain`)."""
+    parameters are the defaults ``planerel learn`` describes scenes with; ``planar_domain``,
+    ``proof_domain``: :attr:`planerel.ilp.pipeline.Model.planar_domain`, ``.proof_domain``)."""
     from planerel.ilp.metrics import laplace
 
     seg_params = dict(seg_params or {})
@@ -141,6 +147,8 @@ def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
                             "laplace": round(laplace(tp, fp), 6)} for i, k, tp, fp in rule_stats],
         "planar_domain": [{"class": k, "low": lo, "high": hi, "n": n}
                           for k, lo, hi, n in planar_domain],
+        "proof_domain": [{"rule": i, "class": k, "low": lo, "high": hi, "n": n}
+                         for i, k, lo, hi, n in proof_domain],
     }
 
 
@@ -172,8 +180,16 @@ def read_settings(rules_path) -> ModelSettings | None:
         except (KeyError, TypeError, ValueError):
             raise InputError(f"{path}: planar_domain entry {entry!r} is not "
                              "{class, low, high, n}") from None
+    proofs = []
+    for entry in data.get("proof_domain") or ():
+        try:
+            proofs.append((int(entry["rule"]), str(entry["class"]), float(entry["low"]),
+                           float(entry["high"]), int(entry["n"])))
+        except (KeyError, TypeError, ValueError):
+            raise InputError(f"{path}: proof_domain entry {entry!r} is not "
+                             "{rule, class, low, high, n}") from None
     return ModelSettings(str(seg.get("method", "regiongrow")), dict(seg.get("params") or {}),
-                         sections, tuple(domain))
+                         sections, tuple(domain), tuple(proofs))
 
 
 def _coerce_like(value, like, name: str):
@@ -241,7 +257,7 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
         sections[sec][key] = value
         if settings is not None and value != old:
             warnings.append(f"{sec}.{key}={value} differs from the model's training value {old}")
-    out = ModelSettings(new_method, seg, sections, base.planar_domain)
+    out = ModelSettings(new_method, seg, sections, base.planar_domain, base.proof_domain)
     out.describe_kwargs()  # a bad value fails here, with the dataclass's message
     out.decision_params()
     if settings is not None and new_method == base.method and seg != base.seg_params:

@@ -23,12 +23,16 @@ from planerel.ilp.metrics import (
     OTHER,
     PLANAR_GATE,
     PLANAR_MARGIN,
+    PROOF_GATE,
+    PROOF_MARGIN,
+    PROOF_MIN_POSITIVES,
     accuracy_scores,
     confusion_columns,
     decide,
     error_kinds,
     laplace,
     planar_domain,
+    proof_domain,
     score_objects,
     stratified_folds,
 )
@@ -91,6 +95,17 @@ class Model:
         class's training positives (:class:`planerel.ilp.metrics.DecisionParams`).
     planar_margin : float
         The gate's margin below ``low`` (:func:`planerel.ilp.metrics.planar_refusals`).
+    proof_domain : tuple
+        ``(index, class, low, high, n)``: how large the planes are that each rule proved its
+        training positives with (:func:`planerel.ilp.metrics.proof_domain`; ``model.json``
+        keeps them).  Empty: no proof gate (a model from before they were kept).
+    proof_gate : bool
+        Whether :func:`prolog_predict` refuses a rule whose proof of an object is made of
+        planes far smaller than its training proofs' (:func:`planerel.ilp.metrics.proof_refusals`).
+    proof_margin : float
+        That gate's margin below ``low``.
+    proof_min_positives : int
+        The fewest true positives a rule's entry must have been measured on to count.
     """
 
     classes: tuple
@@ -105,6 +120,10 @@ class Model:
     planar_domain: tuple = ()
     planar_gate: bool = PLANAR_GATE
     planar_margin: float = PLANAR_MARGIN
+    proof_domain: tuple = ()
+    proof_gate: bool = PROOF_GATE
+    proof_margin: float = PROOF_MARGIN
+    proof_min_positives: int = PROOF_MIN_POSITIVES
 
     @property
     def targets(self) -> tuple:
@@ -319,7 +338,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         if not keep_redundant:
             model, fired = drop_redundant(model, fired, dict(examples))
         stats, cofire = _stats_from_fired(model, fired, dict(examples))
-        return replace(model, stats=stats, cofire=cofire)
+        return replace(model, stats=stats, cofire=cofire,
+                       proof_domain=proof_domain(fired, dict(examples)))
     finally:
         if tmp is not None:
             tmp.cleanup()
@@ -399,7 +419,8 @@ def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
 
 
 def _parse_fired(out: str):
-    """``{object: [(class, index, bindings, text), ...]}`` from ``@@`` lines."""
+    """``{object: [(class, index, bindings, text, scale), ...]}`` from ``@@`` lines (``scale``:
+    the proof scale of the ``@@scale`` line after each ``@@fired`` line, m^2, or None)."""
     import re
 
     result: dict[str, list] = {}
@@ -418,7 +439,15 @@ def _parse_fired(out: str):
             for item in _split_top(binds):
                 name, _, value = item.partition("-")
                 pairs[_unquote(name)] = _unquote(value)
-            result[current].append((_unquote(klass), int(index), pairs, _unquote(text)))
+            result[current].append((_unquote(klass), int(index), pairs, _unquote(text), None))
+        elif line.startswith("@@scale ") and current is not None and result[current]:
+            value = line[len("@@scale "):].strip()
+            try:
+                scale = float(value)
+            except ValueError:       # "none": no proof binds a plane with an area
+                continue
+            hit = result[current][-1]
+            result[current][-1] = (*hit[:4], scale)
     return result
 
 
@@ -618,12 +647,15 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
         best, refused = decide(hits, model.stats, model.classes, model.cofire,
                                planar_fraction=planar.get(o),
                                domain=model.planar_domain if model.planar_gate else (),
-                               margin=model.planar_margin)
+                               margin=model.planar_margin,
+                               proofs=model.proof_domain if model.proof_gate else (),
+                               proof_margin=model.proof_margin,
+                               proof_min_positives=model.proof_min_positives)
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
             out.append(Prediction(o, OTHER, fired=fired_pairs, refused=refused))
         else:
-            klass, index, binds, text = best
+            klass, index, binds, text = best[:4]
             tp_fp = {i: (tp, fp) for i, _, tp, fp in model.stats}.get(index, (0, 0))
             out.append(Prediction(o, klass, text, index, binds, fired_pairs, laplace(*tp_fp),
                                   refused))
@@ -945,6 +977,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         from planerel.ilp.model_settings import MODEL_FILE, training_settings
 
         write_json(tmp / MODEL_FILE, training_settings(method, seg_params, rule_stats=model.stats,
-                                                       planar_domain=model.planar_domain))
+                                                       planar_domain=model.planar_domain,
+                                                       proof_domain=model.proof_domain))
         write_json(tmp / "metrics.json", metrics)
     return metrics
