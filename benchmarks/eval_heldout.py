@@ -107,12 +107,13 @@ def main(argv=None) -> int:
         out.mkdir(parents=True, exist_ok=True)
         write_text(out / "rules.pl", model.text())
         # a model folder planerel classify reads as planerel learn's (settings, rule precision,
-        # the classes' planar fractions)
+        # the classes' planar fractions, the rules' proof scales)
         from planerel.ilp.model_settings import MODEL_FILE, training_settings
         from planerel.io.writers import write_json
 
         write_json(out / MODEL_FILE, training_settings("regiongrow", None, rule_stats=model.stats,
-                                                       planar_domain=model.planar_domain))
+                                                       planar_domain=model.planar_domain,
+                                                       proof_domain=model.proof_domain))
         write_text(out / "answers.json", json.dumps(answers, indent=0, sort_keys=True))
     t4 = time.perf_counter()
     for res in (held, *confirm):

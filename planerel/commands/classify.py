@@ -36,7 +36,9 @@ def register(sub) -> None:
                         "or gravity.NAME, planes.NAME, relations.NAME, proposals.NAME, curved.NAME; "
                         "decision.planar_gate (on by default; false switches it off) refuses a "
                         "class for an object far less planar than its training positives "
-                        "(decision.planar_margin)")
+                        "(decision.planar_margin); decision.proof_gate (on by default) refuses a "
+                        "rule that proves an object only with planes far smaller than its "
+                        "training proofs (decision.proof_margin, decision.proof_min_positives)")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)

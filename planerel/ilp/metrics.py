@@ -133,6 +133,20 @@ class DecisionParams:
         and real mugs, a bowl and a dome-topped can on a RealSense (planar fraction
         0.14-0.28) were ``stairs`` from their facets (docs/objects.md, "Real table-tops
         nobody on the team made").
+    proof_gate : bool
+        Refuse a rule on an object it proves only with planes far smaller than in all of its
+        training proofs (:func:`proof_refusals`; the model keeps the proofs' scales,
+        ``proof_domain``).  On by default (proof22): on the whole real mOSD set it leaves
+        1 of 12 false ``stairs`` answers (piles proved from slivers) and no round object
+        ``stairs``, with every box answer and the real staircases kept (docs/results.md,
+        "The proof gate").
+    proof_margin : float
+        How far below the training proofs a rule still holds, as a share of their range on
+        a log scale (:func:`proof_bound`, 0..1).  0.3: the demo's stairs rule 4 (treads of
+        0.042-0.455 m^2) is refused under 0.021 m^2, its box rule 1 (faces of 0.0036-0.57
+        m^2) under 0.0008.
+    proof_min_positives : int
+        The fewest true positives a rule's scales must rest on for the gate to use them.
     """
 
     planar_gate: bool = PLANAR_GATE
