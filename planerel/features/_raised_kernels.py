@@ -10,6 +10,8 @@ import math
 import numpy as np
 from numba import njit
 
+from planerel.features._relation_kernels import median
+
 
 @njit(cache=True, nogil=True)
 def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma, r):
@@ -38,27 +40,48 @@ def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma,
     -------
     (on (H, W) bool, raw (H, W) bool, weak (H, W) bool, h (H, W) float32)
     """
+    on, h, rs, rc, _ = _raised_rows(xyz, lab, label, r0, c0, H, W, f, n, d0, r, 0)
+    raw, weak = _raised_tests(xyz, r0, c0, f, on, rs, rc, a, min_rise, k_sigma, r)
+    return on, raw, weak, h
+
+
+@njit(cache=True, nogil=True)
+def raised_noise_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, min_rise, k_sigma, r, step):
+    """:func:`raised_pixels` with its noise scale ``a`` measured in the same pass over the
+    grid: ``1.4826`` times the median of :func:`noise_values` on every ``step``-th pixel of
+    every ``step``-th row of the grid (:func:`planerel.features.raised._raised_on`'s, which
+    read them in a pass of their own before; the same values, so the same median and the
+    same masks: ``tests/test_shared_work.py`` compares), 0 when there is none."""
+    on, h, rs, rc, vals = _raised_rows(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step)
+    a = 1.4826 * median(vals) if vals.shape[0] else 0.0
+    raw, weak = _raised_tests(xyz, r0, c0, f, on, rs, rc, a, min_rise, k_sigma, r)
+    return on, raw, weak, h
+
+
+@njit(cache=True, nogil=True)
+def _raised_rows(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step):
+    """:func:`raised_pixels`' pass over the grid: the plane's pixels ``on``, their heights
+    ``h``, each row's window sums of the heights ``rs`` and of the plane's pixels ``rc``
+    (``2r + 1`` columns), and with ``step > 0`` the noise values (:func:`noise_values`) of
+    every ``step``-th pixel of every ``step``-th row, read while the block's rows are in
+    the cache."""
     on = np.zeros((H, W), np.bool_)
     h = np.zeros((H, W), np.float32)
-    # one pass over the grid: each block of four rows is read (the plane's pixels and their
-    # heights, column j + r just before the row sums need it) and summed along the rows with
-    # four running sums (four independent chains of adds; each row's sum takes the same values
-    # in the same order as a row-by-row pass: the same floats); the column sums and the tests
-    # of an output row follow as soon as its window's rows are summed
+    # each block of four rows is read (the plane's pixels and their heights, column j + r
+    # just before the row sums need it) and summed along the rows with four running sums
+    # (four independent chains of adds; each row's sum takes the same values in the same
+    # order as a row-by-row pass: the same floats)
     L = lab.ravel()
     X = xyz.ravel()
     cols = lab.shape[1]
     n0, n1, n2 = n[0], n[1], n[2]
     rs = np.zeros((H, W), np.float32)
     rc = np.zeros((H, W), np.int32)
-    raw = np.zeros((H, W), np.bool_)
-    weak = np.zeros((H, W), np.bool_)
-    # the columns' running sums kept side by side, row by row (each column's sum takes the
-    # same values in the same order as a column-by-column pass: the same floats)
-    cs = np.zeros(W)
-    cc = np.zeros(W, np.int64)
+    # the noise sample: every step-th pixel of every step-th row of the grid
+    nv = -(-H // step) * -(-W // step) if step > 0 else 0
+    vals = np.empty(nv)
+    k = 0
     rr = min(r, W)
-    o = 0
     i = 0
     while i < H:
         m = 4 if i + 4 <= H else 1
@@ -142,35 +165,59 @@ def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma,
                     c -= on[i, j - r - 1]
                 rs[i, j] = s
                 rc[i, j] = c
-        if i < min(r, H) <= i + m:
-            for k in range(min(r, H)):
-                for j in range(W):
-                    cs[j] += rs[k, j]
-                    cc[j] += rc[k, j]
+        if step > 0:
+            for t in range(m):
+                if (i + t) % step:
+                    continue
+                y = r0 + (i + t) * f
+                for j in range(0, W, step):
+                    if on[i + t, j]:
+                        x = c0 + j * f
+                        z = xyz[y, x, 2]
+                        zs = max(abs(z), 0.1)
+                        hh = xyz[y, x, 0] * n0 + xyz[y, x, 1] * n1 + z * n2
+                        vals[k] = abs(hh - d0) / (zs * zs)
+                        k += 1
         i += m
-        # the output rows whose window (rows up to o + r) is summed
-        while o < H and (o + r < i or i == H):
-            if o + r < H:
-                for j in range(W):
-                    cs[j] += rs[o + r, j]
-                    cc[j] += rc[o + r, j]
-            if o - r - 1 >= 0:
-                for j in range(W):
-                    cs[j] -= rs[o - r - 1, j]
-                    cc[j] -= rc[o - r - 1, j]
+    return on, h, rs, rc, vals[:k]
+
+
+@njit(cache=True, nogil=True)
+def _raised_tests(xyz, r0, c0, f, on, rs, rc, a, min_rise, k_sigma, r):
+    """:func:`raised_pixels`' tests: the columns' running sums of the row sums kept side by
+    side, row by row (each column's sum takes the same values in the same order as a
+    column-by-column pass: the same floats), and each plane pixel's window mean against
+    the limits."""
+    H, W = on.shape
+    raw = np.zeros((H, W), np.bool_)
+    weak = np.zeros((H, W), np.bool_)
+    cs = np.zeros(W)
+    cc = np.zeros(W, np.int64)
+    for k in range(min(r, H)):
+        for j in range(W):
+            cs[j] += rs[k, j]
+            cc[j] += rc[k, j]
+    for o in range(H):
+        if o + r < H:
             for j in range(W):
-                c = cc[j]
-                if not on[o, j] or c <= 0:
-                    continue
-                mean = cs[j] / c
-                if mean <= 0.5 * min_rise:
-                    continue
-                z = max(abs(xyz[r0 + o * f, c0 + j * f, 2]), 0.1)
-                lim = max(min_rise, k_sigma * a * z * z / math.sqrt(c))
-                raw[o, j] = mean > lim
-                weak[o, j] = mean > 0.5 * lim
-            o += 1
-    return on, raw, weak, h
+                cs[j] += rs[o + r, j]
+                cc[j] += rc[o + r, j]
+        if o - r - 1 >= 0:
+            for j in range(W):
+                cs[j] -= rs[o - r - 1, j]
+                cc[j] -= rc[o - r - 1, j]
+        for j in range(W):
+            c = cc[j]
+            if not on[o, j] or c <= 0:
+                continue
+            mean = cs[j] / c
+            if mean <= 0.5 * min_rise:
+                continue
+            z = max(abs(xyz[r0 + o * f, c0 + j * f, 2]), 0.1)
+            lim = max(min_rise, k_sigma * a * z * z / math.sqrt(c))
+            raw[o, j] = mean > lim
+            weak[o, j] = mean > 0.5 * lim
+    return raw, weak
 
 
 @njit(cache=True, nogil=True)

@@ -116,7 +116,7 @@ def _raised_on(plane, xyz: np.ndarray, lab: np.ndarray, f: int, up: np.ndarray,
                params: RaisedParams):
     """The plane's pixels, its raised and weakly raised pixels (bool) and every pixel's height
     above it (0 off it), on the grid of every ``f``-th pixel of ``plane.bbox`` (rule steps 1-2)."""
-    from planerel.features._raised_kernels import raised_pixels
+    from planerel.features._raised_kernels import raised_noise_pixels, raised_pixels
     from planerel.features._relation_kernels import median
 
     n = np.asarray(plane.normal, float)
@@ -124,13 +124,20 @@ def _raised_on(plane, xyz: np.ndarray, lab: np.ndarray, f: int, up: np.ndarray,
         n = -n
     d0 = float(np.asarray(plane.centroid, float) @ n)
     r0, c0, r1, c1 = plane.bbox
+    H, W = -(-(r1 - r0) // f), -(-(c1 - c0) // f)
+    if (xyz.dtype == np.float64 and 0 <= r0 and 0 <= c0 and r1 <= lab.shape[0]
+            and c1 <= lab.shape[1]):
+        # the noise scale measured in the same pass over the grid (raised_noise_pixels: the
+        # values _noise_values gives, the same median)
+        return raised_noise_pixels(xyz, lab, int(plane.label), r0, c0, H, W, f, n, d0,
+                                   float(params.min_rise), float(params.k_sigma),
+                                   int(params.smooth_px), 5)
     # the noise scale a of h ~ a z^2, from every fifth pixel of the grid (robust: MAD; one
     # compiled pass, :func:`_noise_values`)
     vals = _noise_values(xyz, lab, int(plane.label), (r0, c0, r1, c1), 5 * f, n, d0)
     a = 1.4826 * float(median(vals)) if vals.size else 0.0
-    return raised_pixels(xyz, lab, int(plane.label), r0, c0, -(-(r1 - r0) // f), -(-(c1 - c0) // f),
-                         f, n, d0, a, float(params.min_rise), float(params.k_sigma),
-                         int(params.smooth_px))
+    return raised_pixels(xyz, lab, int(plane.label), r0, c0, H, W, f, n, d0, a,
+                         float(params.min_rise), float(params.k_sigma), int(params.smooth_px))
 
 
 def _noise_values(xyz, lab, label: int, bbox, step: int, n, d0: float) -> np.ndarray:

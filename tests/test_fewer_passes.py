@@ -1,0 +1,104 @@
+"""Full-image passes of the description's kernels done fewer times (speed22t, issue 22): each
+fused or narrowed kernel against the calls it replaced, which the tests keep as the reference,
+on random cases and on real frames; the results must be the same values, bit for bit."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+_DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+
+
+def _same(a, b) -> bool:
+    """The same values, bit for bit (signed zeros and NaN payloads too)."""
+    a, b = np.asarray(a), np.asarray(b)
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def _real_frames(n: int = 2):
+    """``(cloud, labels, planes)`` of the first Kinect frame and of ``n`` mOSD frames."""
+    from planerel.features.planes import measure_planes
+    from planerel.io.readers import read
+    from planerel.segment import segment
+
+    files = sorted((_DATA / "kinect").glob("*_depth.tiff"))[:1]
+    files += sorted((_DATA / "mosd").glob("*.pcd"))[:n]
+    for f in files:
+        cloud = read(f)
+        labels = segment(cloud).labels
+        yield cloud, labels, measure_planes(cloud, labels)
+
+
+def _raised_the_old_way(xyz, lab, label, r0, c0, H, W, f, n, d0, min_rise, k_sigma, r, step):
+    """``_raised_on`` as it was: the noise values in a pass of their own, their median, then
+    ``raised_pixels``."""
+    from planerel.features._raised_kernels import raised_pixels
+    from planerel.features._relation_kernels import median
+    from planerel.features.raised import _noise_values
+
+    vals = _noise_values(xyz, lab, label, (r0, c0, r0 + H * f, c0 + W * f), step * f, n, d0)
+    a = 1.4826 * float(median(vals)) if vals.size else 0.0
+    return raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma, r)
+
+
+def test_raised_noise_pixels_is_the_noise_pass_then_raised_pixels():
+    from planerel.features._raised_kernels import raised_noise_pixels
+
+    rng = np.random.default_rng(2211)
+    raised = 0
+    for _ in range(80):
+        rows, cols = (int(v) for v in rng.integers(1, 70, 2))
+        lab = rng.integers(-1, 3, (rows, cols)).astype(np.int32)
+        lab[rng.random((rows, cols)) < 0.6] = 1
+        xyz = np.stack(np.meshgrid(np.linspace(-1, 1, cols), np.linspace(-1, 1, rows)), -1)
+        z = np.full((rows, cols, 1), float(rng.uniform(0.05, 4.0)))
+        xyz = np.concatenate([xyz, z], -1) + rng.normal(size=(rows, cols, 3)) * 0.002
+        xyz[rng.random((rows, cols)) < 0.2, 1] += rng.uniform(0.005, 0.05)
+        xyz[rng.random((rows, cols)) < 0.05] = np.nan
+        f = int(rng.integers(1, 4))
+        r0, c0 = int(rng.integers(0, min(3, rows))), int(rng.integers(0, min(3, cols)))
+        H, W = -(-(rows - r0) // f), -(-(cols - c0) // f)
+        n = rng.normal(size=3) * 0.05 + [0.0, 1.0, 0.0]
+        n /= np.linalg.norm(n)
+        args = (xyz, lab, 1 if rng.random() < 0.9 else 5, r0, c0, H, W, f, n,
+                float(rng.normal() * 0.01), float(rng.uniform(0, 0.01)), 2.5,
+                int(rng.integers(0, 6)), int(rng.integers(1, 7)))
+        got = raised_noise_pixels(*args)
+        want = _raised_the_old_way(*args)
+        for g, w in zip(got, want, strict=True):
+            assert _same(g, w)
+        raised += int(want[1].sum())
+    assert raised > 50
+
+
+@pytest.mark.skipif(not (_DATA / "mosd").is_dir(), reason="needs ../shared/data")
+def test_raised_noise_pixels_on_real_support_planes():
+    from planerel.features._defaults import defaults
+    from planerel.features._raised_kernels import raised_noise_pixels
+    from planerel.features.raised import RaisedParams
+
+    rp = defaults(RaisedParams)
+    seen = 0
+    for cloud, labels, planes in _real_frames():
+        xyz = np.ascontiguousarray(cloud.xyz, dtype=np.float64)
+        lab = np.ascontiguousarray(labels)
+        up = np.asarray(planes.up, float)
+        f = max(1, lab.shape[1] // 320)
+        for p in planes:
+            if p.orientation != "horizontal":
+                continue
+            n = np.asarray(p.normal, float)
+            n = -n if float(n @ up) < 0 else n
+            d0 = float(np.asarray(p.centroid, float) @ n)
+            r0, c0, r1, c1 = p.bbox
+            args = (xyz, lab, int(p.label), r0, c0, -(-(r1 - r0) // f), -(-(c1 - c0) // f), f,
+                    n, d0, float(rp.min_rise), float(rp.k_sigma), int(rp.smooth_px), 5)
+            got = raised_noise_pixels(*args)
+            want = _raised_the_old_way(*args)
+            for g, w in zip(got, want, strict=True):
+                assert _same(g, w)
+            seen += int(want[0].sum())
+    assert seen > 50_000
