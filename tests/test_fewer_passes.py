@@ -102,3 +102,39 @@ def test_raised_noise_pixels_on_real_support_planes():
                 assert _same(g, w)
             seen += int(want[0].sum())
     assert seen > 50_000
+
+
+def test_unexplained_pixels_in_one_pass_as_numpy_finds_them():
+    """unexplained_pixels (one pass, its lists grown as they fill) against ``np.nonzero`` of
+    unexplained_valid's mask: sparse and dense images (the lists' first size is 1/32 of the
+    image: denser ones grow them, once or many times), rows of every width modulo 8."""
+    from planerel.features._curved_kernels import unexplained_pixels, unexplained_valid
+
+    rng = np.random.default_rng(2212)
+    grown = 0
+    for _ in range(120):
+        H, W = int(rng.integers(1, 200)), int(rng.integers(1, 300))
+        valid = rng.random((H, W)) < rng.choice([0.02, 0.5, 1.0])
+        lab = rng.integers(-1, 12, (H, W)).astype(np.int32)
+        explained = rng.random(int(rng.integers(0, 14))) < rng.choice([0.3, 0.9, 1.0])
+        rows, cols = unexplained_pixels(valid, lab, explained)
+        wr, wc = np.nonzero(unexplained_valid(valid, lab, explained))
+        assert _same(rows, wr.astype(np.int64)) and _same(cols, wc.astype(np.int64))
+        grown += len(wr) > max(1024, H * W // 32)
+    assert grown > 20
+
+
+@pytest.mark.skipif(not (_DATA / "mosd").is_dir(), reason="needs ../shared/data")
+def test_unexplained_pixels_on_real_frames():
+    from planerel.features._curved_kernels import unexplained_pixels, unexplained_valid
+
+    n = 0
+    for cloud, labels, planes in _real_frames():
+        known = [q.label for q in planes if q.area >= 0.002 and q.label >= 0]
+        explained = np.zeros(max(known, default=-1) + 1, bool)
+        explained[known] = True
+        rows, cols = unexplained_pixels(cloud.valid, labels, explained)
+        wr, wc = np.nonzero(unexplained_valid(cloud.valid, labels, explained))
+        assert _same(rows, wr.astype(np.int64)) and _same(cols, wc.astype(np.int64))
+        n += len(wr)
+    assert n > 3000

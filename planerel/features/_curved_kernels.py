@@ -310,10 +310,11 @@ def unexplained_pixels(valid, lab, explained):
 
     With at most 32 labels in ``explained`` (every scene seen so far), the labels that
     explain a pixel are the bits of one word and the test of a pixel is branch-free
-    (:func:`_unexplained_flag`): a first pass counts each row's pixels (a loop the compiler
-    vectorizes), then only the rows that hold one are read again, their flags written to a
-    row buffer the same way and the buffer's nonzero 8-byte words alone looked at.  More
-    labels: one plain pass (:func:`_unexplained_pixels_any`), the same list."""
+    (:func:`_unexplained_flag`): one pass over the image, each row's flags written to a row
+    buffer (a loop the compiler vectorizes), counted by its 8-byte words and, when there are
+    any, the nonzero words alone looked at; the lists grow by doubling (a few % of the
+    pixels: rarely). More labels: one plain pass (:func:`_unexplained_pixels_any`), the
+    same list."""
     H, W = lab.shape
     K = explained.shape[0]
     if K > 32:
@@ -322,25 +323,29 @@ def unexplained_pixels(valid, lab, explained):
     for a in range(K):
         if explained[a]:
             bits |= np.uint32(1) << np.uint32(a)
-    per = np.zeros(H, np.int64)
-    n = 0
-    for y in range(H):
-        s = np.uint32(0)
-        for x in range(W):
-            s += _unexplained_flag(lab[y, x], valid[y, x], bits)
-        per[y] = s
-        n += s
-    rows = np.empty(n, np.int64)
-    cols = np.empty(n, np.int64)
+    cap = max(1024, H * W // 32)
+    rows = np.empty(cap, np.int64)
+    cols = np.empty(cap, np.int64)
     nw = (W + 7) // 8
     buf = np.zeros(nw * 8, np.uint8)  # one row's flags; the tail past W stays 0
     words = buf.view(np.uint64)
+    ones = np.uint64(0x0101010101010101)
     k = 0
     for y in range(H):
-        if per[y] == 0:
-            continue
         for x in range(W):
             buf[x] = np.uint8(_unexplained_flag(lab[y, x], valid[y, x], bits))
+        s = 0
+        for w in range(nw):
+            # the word's bytes are 0 or 1: their sum is the top byte of the product
+            s += (words[w] * ones) >> np.uint64(56)
+        if s == 0:
+            continue
+        if k + s > cap:
+            while k + s > cap:
+                cap *= 2
+            r2, c2 = np.empty(cap, np.int64), np.empty(cap, np.int64)
+            r2[:k], c2[:k] = rows[:k], cols[:k]
+            rows, cols = r2, c2
         for w in range(nw):
             if words[w] != 0:
                 for x in range(8 * w, 8 * w + 8):
@@ -348,7 +353,7 @@ def unexplained_pixels(valid, lab, explained):
                         rows[k] = y
                         cols[k] = x
                         k += 1
-    return rows, cols
+    return rows[:k].copy(), cols[:k].copy()
 
 
 @njit(cache=True, inline="always")
