@@ -138,3 +138,71 @@ def test_unexplained_pixels_on_real_frames():
         assert _same(rows, wr.astype(np.int64)) and _same(cols, wc.astype(np.int64))
         n += len(wr)
     assert n > 3000
+
+
+def test_growth_in_the_clusters_box_is_the_growth_in_the_image():
+    """grow_in_box with list_mask's box of the pixels before the opening against
+    grow_clusters with open_pixels' whole mask (radius 0), as curved's regrowth called them:
+    the same pixels in the same order and the same groups, clusters at the image's border
+    and far from it, 0-4 steps."""
+    from planerel.features._curved_kernels import (
+        grow_box,
+        grow_clusters,
+        grow_in_box,
+        list_mask,
+        open_pixels,
+    )
+
+    rng = np.random.default_rng(2213)
+    grew = 0
+    for _ in range(150):
+        H, W = (int(v) for v in rng.integers(3, 60, 2))
+        lab = rng.integers(-1, 4, (H, W)).astype(np.int32)
+        drop = rng.random(int(rng.integers(0, 5))) < 0.5
+        pr, pc = np.nonzero(rng.random((H, W)) < rng.uniform(0.2, 0.9))
+        xyz = np.zeros((H, W, 3))
+        xyz[..., 2] = 1.0 + 0.05 * (rng.random((H, W)) < 0.2)
+        full_img = open_pixels(pr, pc, lab, drop, H, W, 0)[0]
+        # seeds: some pixels of the mask in a random window (a cluster somewhere)
+        wy, wx = int(rng.integers(0, H)), int(rng.integers(0, W))
+        win = np.zeros((H, W), bool)
+        win[wy:wy + int(rng.integers(1, 12)), wx:wx + int(rng.integers(1, 12))] = True
+        sr, sc = np.nonzero(full_img & win & (rng.random((H, W)) < 0.5))
+        k = int(rng.integers(1, 4))
+        ids = rng.integers(0, k, len(sr)).astype(np.int64)
+        steps = int(rng.integers(0, 5))
+        want = grow_clusters(sr, sc, ids, k, full_img, xyz, 0.02, steps,
+                             int(np.count_nonzero(full_img)))
+        y0, y1, x0, x1 = grow_box(sr, sc, H, W, steps)
+        full, nf = list_mask(pr, pc, lab, drop, y0, y1, x0, x1)
+        assert _same(full, full_img[y0:y1, x0:x1]) and nf == int(full.sum())
+        got = grow_in_box(sr, sc, ids, k, full, y0, x0, H, W, xyz, 0.02, steps, nf)
+        for g, w in zip(got, want, strict=True):
+            assert _same(g, w)
+        grew += len(want[0]) > len(sr)
+    assert grew > 50
+
+
+@pytest.mark.skipif(not (_DATA / "mosd").is_dir(), reason="needs ../shared/data")
+def test_clusters_from_the_pixel_list_on_real_frames():
+    """The curved stage from the stairfit stage's pixel list (the regrowth in the clusters'
+    box) against its own scan of the image (the regrowth in the whole image)."""
+    from planerel.features._curved_kernels import unexplained_pixels
+    from planerel.features.curved import CurvedParams, unexplained_clusters
+    from planerel.features.relations import relate, support_planes
+
+    cp = CurvedParams()
+    n = 0
+    for cloud, labels, planes in _real_frames():
+        support = tuple(support_planes(planes, None, relate(planes, cloud), cloud))
+        known = [q.label for q in planes if q.area >= cp.tiny_area and q.label >= 0]
+        explained = np.zeros(max(known, default=-1) + 1, bool)
+        explained[known] = True
+        pixels = unexplained_pixels(cloud.valid, labels, explained)
+        want = unexplained_clusters(cloud, labels, planes, support, cp)
+        got = unexplained_clusters(cloud, labels, planes, support, cp, pixels=pixels)
+        assert len(got) == len(want)
+        for a, b in zip(got, want, strict=True):
+            assert _same(a, b)
+        n += sum(int(m.sum()) for m in got)
+    assert n > 1000

@@ -639,36 +639,48 @@ def grow_clusters(rows, cols, ids, k, full, xyz, edge_depth, steps, cap):
         The given pixels, then the grown ones in the order reached; each pixel's group, the
         smallest cluster id among the clusters joined.
     """
-    H, W = full.shape
-    lab = np.full((H, W), -1, np.int64)
-    parent = np.arange(k)
+    return grow_in_box(rows, cols, ids, k, full, 0, 0, full.shape[0], full.shape[1], xyz,
+                       edge_depth, steps, cap)
+
+
+@njit(cache=True, nogil=True)
+def grow_in_box(rows, cols, ids, k, full, fy, fx, H, W, xyz, edge_depth, steps, cap):
+    """:func:`grow_clusters` with ``full`` given for a part of the ``(H, W)`` image only: its
+    pixel ``(i, j)`` is the image's ``(fy + i, fx + j)``, and it covers the box of the given
+    pixels grown by ``steps`` (clipped to the image; :func:`grow_box`). The clusters'
+    map is kept for that box only, not the image: nothing grows past it (a pixel ``steps``
+    4-neighbour steps from every given one is only reached in the last round, which grows
+    nothing), so the same pixels, in the same order, and the same groups."""
     n = rows.shape[0]
+    y0, y1, x0, x1 = grow_box(rows, cols, H, W, steps)
+    lab = np.full((y1 - y0, x1 - x0), -1, np.int64)
+    parent = np.arange(k)
     R = np.empty(cap, np.int64)
     C = np.empty(cap, np.int64)
     for t in range(n):
         R[t] = rows[t]
         C[t] = cols[t]
-        lab[rows[t], cols[t]] = ids[t]
+        lab[rows[t] - y0, cols[t] - x0] = ids[t]
     m = n
     start, end = 0, n
     for s in range(steps + 1):
         for t in range(start, end):
             r, c = R[t], C[t]
-            g = lab[r, c]
+            g = lab[r - y0, c - x0]
             lim = edge_depth * max(1.0, abs(xyz[r, c, 2]))
             for dy, dx in ((-1, 0), (0, -1), (0, 1), (1, 0)):
                 rr, cc = r + dy, c + dx
-                if rr < 0 or rr >= H or cc < 0 or cc >= W or not full[rr, cc]:
+                if rr < y0 or rr >= y1 or cc < x0 or cc >= x1 or not full[rr - fy, cc - fx]:
                     continue
                 d0 = xyz[rr, cc, 0] - xyz[r, c, 0]
                 d1 = xyz[rr, cc, 1] - xyz[r, c, 1]
                 d2 = xyz[rr, cc, 2] - xyz[r, c, 2]
                 if not np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) <= lim:
                     continue
-                h = lab[rr, cc]
+                h = lab[rr - y0, cc - x0]
                 if h < 0:
                     if s < steps and m < cap:
-                        lab[rr, cc] = g
+                        lab[rr - y0, cc - x0] = g
                         R[m] = rr
                         C[m] = cc
                         m += 1
@@ -679,8 +691,43 @@ def grow_clusters(rows, cols, ids, k, full, xyz, edge_depth, steps, cap):
         start, end = end, m
     G = np.empty(m, np.int64)
     for t in range(m):
-        G[t] = _root(parent, lab[R[t], C[t]])
+        G[t] = _root(parent, lab[R[t] - y0, C[t] - x0])
     return R[:m].copy(), C[:m].copy(), G
+
+
+@njit(cache=True, nogil=True)
+def grow_box(rows, cols, H, W, steps):
+    """``(y0, y1, x0, x1)``: the box ``[y0, y1) x [x0, x1)`` of the pixels ``(rows, cols)``
+    grown by ``steps`` on every side, clipped to the ``(H, W)`` image (empty: no pixel)."""
+    if rows.shape[0] == 0:
+        return 0, 0, 0, 0
+    y0, y1, x0, x1 = H, -1, W, -1
+    for t in range(rows.shape[0]):
+        y0 = min(y0, rows[t])
+        y1 = max(y1, rows[t])
+        x0 = min(x0, cols[t])
+        x1 = max(x1, cols[t])
+    return max(0, y0 - steps), min(H, y1 + 1 + steps), max(0, x0 - steps), min(W, x1 + 1 + steps)
+
+
+@njit(cache=True, nogil=True)
+def list_mask(rows, cols, lab, drop, y0, y1, x0, x1):
+    """The pixels ``(rows, cols)`` less those whose label ``a`` has ``drop[a]`` (``0 <= a <
+    len(drop)``; :func:`open_pixels` with radius 0) as a mask of the box ``[y0, y1) x [x0,
+    x1)`` only (pixel ``(i, j)``: the image's ``(y0 + i, x0 + j)``), and how many it holds."""
+    K = drop.shape[0]
+    out = np.zeros((max(0, y1 - y0), max(0, x1 - x0)), np.bool_)
+    n = 0
+    for i in range(len(rows)):
+        y, x = rows[i], cols[i]
+        if y < y0 or y >= y1 or x < x0 or x >= x1:
+            continue
+        a = lab[y, x]
+        if 0 <= a < K and drop[a]:
+            continue
+        out[y - y0, x - x0] = True
+        n += 1
+    return out, n
 
 
 @njit(cache=True, nogil=True)

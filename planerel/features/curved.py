@@ -605,20 +605,33 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
     if params.regrow_px > 0 and params.open_px > 0 and len(keep):
         # the kept clusters grown back regrow_px steps into the pixels before the opening,
         # clusters meeting there joined (module rule step 2)
-        from planerel.features._curved_kernels import grow_clusters, unexplained_valid
+        from planerel.features._curved_kernels import (
+            grow_box,
+            grow_clusters,
+            grow_in_box,
+            list_mask,
+            unexplained_valid,
+        )
 
-        if pixels is not None and isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
-            # the pixels before the opening from the list too (its opening with radius 0)
-            full = open_pixels(pixels[0], pixels[1], lab, drop, lab.shape[0], lab.shape[1], 0)[0]
-        elif isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
-            full = unexplained_valid(cloud.valid, lab, explained)
-        else:
-            full = unexplained_mask(xyz, lab, explained)
         kid = cluster[ids]
         sel = kid >= 0
-        gr, gc, grp = grow_clusters(rows[sel], cols[sel], kid[sel], len(keep), full, xyz,
-                                    float(params.edge_depth), int(params.regrow_px),
-                                    int(np.count_nonzero(full)))
+        steps = int(params.regrow_px)
+        if pixels is not None and isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
+            # the pixels before the opening from the list too (its opening with radius 0),
+            # only in the box the clusters can grow into
+            H, W = lab.shape
+            y0, y1, x0, x1 = grow_box(rows[sel], cols[sel], H, W, steps)
+            full, nf = list_mask(pixels[0], pixels[1], lab, drop, y0, y1, x0, x1)
+            gr, gc, grp = grow_in_box(rows[sel], cols[sel], kid[sel], len(keep), full, y0, x0,
+                                      H, W, xyz, float(params.edge_depth), steps, nf)
+        else:
+            if isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
+                full = unexplained_valid(cloud.valid, lab, explained)
+            else:
+                full = unexplained_mask(xyz, lab, explained)
+            gr, gc, grp = grow_clusters(rows[sel], cols[sel], kid[sel], len(keep), full, xyz,
+                                        float(params.edge_depth), steps,
+                                        int(np.count_nonzero(full)))
         gs = np.unique(grp)
         for g in gs:  # the smallest member's id: their first opened pixel's order
             m = np.zeros(un.shape, bool)
