@@ -206,3 +206,53 @@ def test_clusters_from_the_pixel_list_on_real_frames():
             assert _same(a, b)
         n += sum(int(m.sum()) for m in got)
     assert n > 1000
+
+
+def _staircase_frames():
+    """``(cloud, labels, planes)`` of the real staircase frames of ``$PLANEREL_STAIRS_DATA``
+    (tests/test_real_rules.py's), when given."""
+    import os
+
+    import planerel
+    from planerel.features.planes import measure_planes
+    from planerel.segment import segment
+
+    d = Path(os.environ.get("PLANEREL_STAIRS_DATA", "/nonexistent"))
+    for f in sorted((d / "stair-perception").glob("*_depth.png")):
+        cloud = planerel.read(f, intrinsics="512,424,365.32,365.32,254.67,208.54",
+                              depth_scale=1000)
+        labels = segment(cloud).labels
+        yield cloud, labels, measure_planes(cloud, labels)
+
+
+@pytest.mark.skipif(not (_DATA / "mosd").is_dir(), reason="needs ../shared/data")
+def test_plane_pixels_from_their_boxes_are_the_whole_image_scan():
+    """The stairfit stage's inclined-plane pixels (_lut_pixels: from the box of the planes'
+    pixel boxes) against the scan of the whole image, for every plane alone, for random sets
+    of planes and for the inclined ones, on real frames (and the real staircases when
+    $PLANEREL_STAIRS_DATA holds them)."""
+    from planerel.features.planes import label_max
+    from planerel.features.stairfit import _lut_pixels
+
+    rng = np.random.default_rng(2214)
+    n = 0
+    for cloud, _labels, planes in [*_real_frames(), *_staircase_frames()]:
+        lab = np.asarray(planes.labels)
+        byl = {q.label: q for q in planes if q.label >= 0}
+        sets = [[x] for x in byl]
+        sets += [list(rng.choice(list(byl), int(rng.integers(1, len(byl) + 1)), replace=False))
+                 for _ in range(6)]
+        sets += [[q.label for q in planes if q.orientation == "inclined"]]
+        for chosen in sets:
+            if not chosen:
+                continue
+            lut = np.full(max(label_max(lab), 0) + 1, -1, np.int64)
+            lut[chosen] = 7 + np.arange(len(chosen))
+            rr, cc, pid = _lut_pixels(lab, cloud.valid, lut, [byl[x].bbox for x in chosen])
+            wr, wc = np.nonzero(cloud.valid & (lab >= 0))
+            wp = lut[lab[wr, wc]]
+            got, want = pid >= 0, wp >= 0
+            assert _same(rr[got], wr[want]) and _same(cc[got], wc[want])
+            assert _same(pid[got], wp[want])
+            n += int(want.sum())
+    assert n > 100_000

@@ -364,6 +364,18 @@ def _gather(xyz: np.ndarray, rows, cols) -> np.ndarray:
     return xyz[rows, cols]
 
 
+def _lut_pixels(lab, valid, lut, boxes):
+    """``rr, cc = np.nonzero(valid & (lab >= 0))`` and ``lut[lab[rr, cc]]``, read from the box
+    that holds the pixel ``boxes`` ``(row0, col0, row1, col1)`` only: the same pixels, in the
+    same order, when every pixel whose ``lut`` entry is wanted lies in one of the boxes (the
+    planes' pixel boxes of ``lab``; others may be missed)."""
+    y0, x0 = min(b[0] for b in boxes), min(b[1] for b in boxes)
+    y1, x1 = max(b[2] for b in boxes), max(b[3] for b in boxes)
+    sub = lab[y0:y1, x0:x1]
+    rr, cc = np.nonzero(valid[y0:y1, x0:x1] & (sub >= 0))
+    return rr + y0, cc + x0, lut[sub[rr, cc]]
+
+
 def _narrow_clusters(pts, ids, n, e1, e2, min_width, margin=1e-9):
     """Which of the ``n`` clusters (``ids`` of the points ``pts``) certainly fail the width
     test of rule step 4 (``lat.max() - lat.min() < min_width`` along the fitted flight's
@@ -432,8 +444,10 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
         if cand:
             lut = np.full(max(label_max(lab), 0) + 1, -1, np.int64)
             lut[cand] = n_comp + np.arange(len(cand))
-            rr, cc = np.nonzero(cloud.valid & (lab >= 0))
-            pid = lut[lab[rr, cc]]
+            # their pixels from the box of their pixel boxes, not the whole image
+            chosen = set(cand)
+            rr, cc, pid = _lut_pixels(lab, cloud.valid, lut,
+                                      [q.bbox for q in planes if q.label in chosen])
             on = pid >= 0
             rows = np.concatenate([np.asarray(rows), rr[on]])
             cols = np.concatenate([np.asarray(cols), cc[on]])
