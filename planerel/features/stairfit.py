@@ -66,6 +66,7 @@ those of a segmented one.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -376,6 +377,36 @@ def _lut_pixels(lab, valid, lut, boxes):
     return rr + y0, cc + x0, lut[sub[rr, cc]]
 
 
+def _surely_narrow(P, e1, e2, up, min_width, margin=1e-3, min_det=1e-3) -> bool:
+    """Whether the width test of rule step 4 fails for the points ``P`` (``lat.max() -
+    lat.min() < min_width`` along ``up x f``, ``f`` the horizontal direction of the slope of
+    their least-squares plane ``h = a u + b v + c``), known without ``np.linalg.lstsq``: the
+    plane from its centred normal equations (well conditioned: ``det >= min_det`` times the
+    product of their diagonal, else False), the width along its direction plus ``margin``
+    times the points' horizontal reach ``R`` (``hypot`` of their ranges along ``e1``, ``e2``)
+    below ``min_width``.  Two directions ``d`` apart give widths at most ``R d`` apart, and
+    ``d <= 2 |da, db| / g``: the margin covers coefficients up to ``1.25e-4`` apart at a
+    slope ``g`` of 0.25 or more (a smaller one fails the slope test before the width test),
+    where the two solutions of one well-conditioned system agree to about 1e-14 (the real
+    frames' clusters).  So the rule's result does not change; the exact fit is skipped."""
+    u, v, h = P @ e1, P @ e2, P @ up
+    du, dv, dh = u - u.mean(), v - v.mean(), h - h.mean()
+    suu, suv, svv = float(du @ du), float(du @ dv), float(dv @ dv)
+    suh, svh = float(du @ dh), float(dv @ dh)
+    det = suu * svv - suv * suv
+    if not (len(P) >= 3 and det > 0 and det >= min_det * suu * svv):
+        return False
+    a = (svv * suh - suv * svh) / det
+    b = (suu * svh - suv * suh) / det
+    g = math.hypot(a, b)
+    if not g > 0:
+        return False
+    side = _cross(up, (a * np.asarray(e1) + b * np.asarray(e2)) / g)
+    lat = P @ side
+    reach = math.hypot(float(np.ptp(u)), float(np.ptp(v)))
+    return float(np.ptp(lat)) + margin * reach < min_width
+
+
 def _narrow_clusters(pts, ids, n, e1, e2, min_width, margin=1e-9):
     """Which of the ``n`` clusters (``ids`` of the points ``pts``) certainly fail the width
     test of rule step 4 (``lat.max() - lat.min() < min_width`` along the fitted flight's
@@ -483,6 +514,8 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
         if taken[idx].any():
             continue
         P = pts[idx]
+        if _surely_narrow(P, e1, e2, up, p.min_width):
+            continue  # the width test below fails whatever the exact fit's slope
         h = P @ up
         X = np.c_[P @ e1, P @ e2, np.ones(len(h))]
         coef = np.linalg.lstsq(X, h, rcond=None)[0]
