@@ -331,3 +331,51 @@ def test_surely_narrow_on_real_clusters():
         S._surely_narrow = real
     assert not any(g and k for g, k in calls)
     assert sum(g for g, _ in calls) >= 1
+
+
+def test_raised_groups_from_the_pixel_list_are_the_grid_forms():
+    """raised_clusters' groups from the raised pixels' list (mask_pixels, list_components,
+    list_areas) against the whole grid's (np.nonzero, grid_components, component_areas) on a
+    window of a cloud (the strided grid of a plane's box), and a group's ring dilated in its
+    box widened by ring_px against the whole grid's dilation: bit for bit."""
+    from planerel.features._curved_kernels import component_areas, list_areas, list_components
+    from planerel.features.curved import _components, _shift_all
+    from planerel.segment._label_kernels import mask_pixels
+
+    rng = np.random.default_rng(2216)
+    groups = 0
+    for _ in range(120):
+        rows_, cols_ = (int(v) for v in rng.integers(2, 90, 2))
+        xyz = np.stack(np.meshgrid(np.linspace(-1, 1, cols_), np.linspace(-1, 1, rows_)), -1)
+        xyz = np.concatenate([xyz, np.full((rows_, cols_, 1), 1.5)], -1)
+        xyz[..., 2] += 0.05 * (rng.random((rows_, cols_)) < 0.1)
+        f = int(rng.integers(1, 3))
+        r0, c0 = int(rng.integers(0, 2)), int(rng.integers(0, 2))
+        bx = xyz[r0::f, c0::f]
+        mask = rng.random(bx.shape[:2]) < rng.uniform(0.05, 0.7)
+        rr, cc = np.nonzero(mask)
+        comp, k = _components(mask, bx, 0.02)
+        rows, cols = mask_pixels(mask)
+        ids, k2 = list_components(rows, cols, bx, 0.02, mask.shape[0])
+        assert _same(rows, rr.astype(np.int64)) and _same(cols, cc.astype(np.int64))
+        assert k2 == k and _same(ids, comp[rr, cc])
+        want = component_areas(bx, rr, cc, comp, 0, 0, 0.0017, 0.0019, k)
+        assert _same(list_areas(bx, rows, cols, ids, 0.0017, 0.0019, k), want)
+        for c in range(min(k, 3)):
+            sel = ids == c
+            m = np.zeros(mask.shape, bool)
+            m[rows[sel], cols[sel]] = True
+            ring_px = int(rng.integers(0, 5))
+            full = m
+            for axis in (0, 1):
+                full = _shift_all(full, ring_px, axis, False)
+            g0, g1 = max(0, int(rows[sel].min()) - ring_px), int(rows[sel].max()) + ring_px + 1
+            h0, h1 = max(0, int(cols[sel].min()) - ring_px), int(cols[sel].max()) + ring_px + 1
+            grown = np.zeros(mask.shape, bool)
+            part = m[g0:g1, h0:h1]
+            for axis in (0, 1):
+                part = _shift_all(part, ring_px, axis, False)
+            grown[g0:g1, h0:h1] = part
+            assert _same(grown, full)
+            groups += 1
+    assert groups > 150

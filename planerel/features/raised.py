@@ -218,9 +218,10 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
     list of ndarray (H, W) bool
         One mask per group, ordered by their first pixel (row-major).
     """
-    from planerel.features._curved_kernels import component_areas, open_mask
+    from planerel.features._curved_kernels import list_areas, list_components, open_mask
     from planerel.features._defaults import defaults
-    from planerel.features.curved import _components, _pitch_at, _shift_all
+    from planerel.features.curved import _pitch_at, _shift_all
+    from planerel.segment._label_kernels import mask_pixels
 
     params = params or defaults(RaisedParams)
     if not params.enabled:
@@ -249,19 +250,31 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
         raised = open_mask(raw, int(params.open_px)) & on
         if not raised.any():
             continue
-        rows, cols = np.nonzero(raised)
-        comp, k = _components(raised, bx, params.edge_depth)
+        # the groups from the raised pixels' list (a few % of the grid: list_components, the
+        # components of the mask numbered as grid_components numbers them, and list_areas,
+        # the same sums in the same order), not from maps of the whole grid
+        rows, cols = mask_pixels(raised)
+        comp, k = list_components(rows, cols, bx, float(params.edge_depth), raised.shape[0])
         pitch = (_pitch_at(bx, rows, cols, 1), _pitch_at(bx, rows, cols, 0))
-        area = component_areas(bx, rows, cols, comp, 0, 0, pitch[0], pitch[1], k)
-        n_on = int(on.sum())
+        area = list_areas(bx, rows, cols, comp, pitch[0], pitch[1], k)
+        n_on = int(np.count_nonzero(on))
         mine = []
         for c in np.nonzero(area >= params.min_area)[0]:
-            m = comp == c
-            if m.sum() > params.max_share * n_on:
+            sel = comp == c
+            if int(np.count_nonzero(sel)) > params.max_share * n_on:
                 continue
-            grown = m
+            m = np.zeros(raised.shape, bool)
+            m[rows[sel], cols[sel]] = True
+            # grown by ring_px in the group's box widened by ring_px (nothing grows past it)
+            g0 = max(0, int(rows[sel].min()) - params.ring_px)
+            g1 = int(rows[sel].max()) + params.ring_px + 1
+            h0 = max(0, int(cols[sel].min()) - params.ring_px)
+            h1 = int(cols[sel].max()) + params.ring_px + 1
+            grown = np.zeros(raised.shape, bool)
+            part = m[g0:g1, h0:h1]
             for axis in (0, 1):
-                grown = _shift_all(grown, params.ring_px, axis, False)
+                part = _shift_all(part, params.ring_px, axis, False)
+            grown[g0:g1, h0:h1] = part
             # the ring: plane pixels around the group that are not raised themselves (an open
             # box's bottom, walled in, has none: nothing of the plane around it to bend); they
             # mix the group's edge, which the window mean left below the limit, with the plane
