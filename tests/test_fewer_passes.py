@@ -379,3 +379,23 @@ def test_raised_groups_from_the_pixel_list_are_the_grid_forms():
             assert _same(grown, full)
             groups += 1
     assert groups > 150
+
+
+def test_touching_labels_with_the_label_count_given():
+    """_touching_labels with ``nlab`` taken once by its caller (any count above the largest
+    label) gives what it gives taking ``label_max`` itself."""
+    from planerel.features.curved import _touching_labels
+
+    rng = np.random.default_rng(2217)
+    seen = 0
+    for _ in range(60):
+        H, W = (int(v) for v in rng.integers(3, 50, 2))
+        lab = rng.integers(-1, int(rng.integers(1, 20)), (H, W)).astype(np.int32)
+        xyz = np.concatenate([rng.normal(size=(H, W, 2)) * 0.01,
+                              np.full((H, W, 1), 1.0)], -1)
+        mask = rng.random((H, W)) < 0.2
+        want = _touching_labels(mask, lab, xyz, 0.02)
+        for extra in (1, 2, 9):
+            assert _touching_labels(mask, lab, xyz, 0.02, int(lab.max()) + extra) == want
+        seen += len(want)
+    assert seen > 100

@@ -772,15 +772,17 @@ def join_parts(cobjs, xyz, labels, edge_depth: float = 0.02, min_touch: int = 3)
     return out
 
 
-def _touching_labels(mask, lab, xyz, edge_depth: float) -> dict:
+def _touching_labels(mask, lab, xyz, edge_depth: float, nlab: int | None = None) -> dict:
     """``{label: number of grid neighbour pairs}`` of the planes touching ``mask`` (within
-    two pixels, 3-D distance within ``edge_depth * max(1, z)``)."""
+    two pixels, 3-D distance within ``edge_depth * max(1, z)``).  ``nlab``: more than the
+    largest label of ``lab`` (default ``label_max(lab) + 1``, a pass over the image when the
+    label image is not remembered: callers with many masks take it once)."""
     from planerel.features._curved_kernels import touching_counts
     from planerel.features.planes import label_max
 
     lab = np.asarray(lab)
     n = touching_counts(np.asarray(mask, dtype=np.bool_), lab, np.asarray(xyz, float),
-                        float(edge_depth), label_max(lab) + 1)
+                        float(edge_depth), label_max(lab) + 1 if nlab is None else int(nlab))
     return {int(x): int(n[x]) for x in np.nonzero(n)[0]}
 
 
@@ -864,8 +866,12 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
         credit = {g[0]: byl[g[0]].area for g in props
                   if len(g) == 1 and byl[g[0]].area <= params.nest_credit}
         masks_, kept_with = _clusters(cloud, lab, planes, support, params, pixels, credit)
+        if masks_:
+            from planerel.features.planes import label_max
+
+            nlab = label_max(lab) + 1  # once for every cluster's touching planes
         for m, with_plane in zip(masks_, kept_with, strict=True):
-            touch = _touching_labels(m, lab, xyz, params.edge_depth)
+            touch = _touching_labels(m, lab, xyz, params.edge_depth, nlab)
             joined = sorted({owner[x] for x in touch if x in owner and soft[owner[x]]})
             if not joined and with_plane >= 0 and with_plane in owner:
                 # kept with that plane's area: the rest of its object, across the rim's band

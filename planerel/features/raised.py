@@ -328,14 +328,16 @@ def join_raised(groups, masks, labels, xyz, edge_depth: float = 0.02, min_touch:
         each one's raised pixels (None: none), and the groups that touch no proposal.
     """
     from planerel.features.curved import _touching_labels
+    from planerel.features.planes import label_max
 
     groups = [tuple(g) for g in groups]
     extra: list = [None] * len(groups)
     alone = []
     lab = np.asarray(labels)
     owner = {x: k for k, g in enumerate(groups) for x in g}
+    nlab = label_max(lab) + 1 if masks else 0  # once for every group's touching planes
     for m in masks:
-        touch = _touching_labels(m, lab, xyz, edge_depth)
+        touch = _touching_labels(m, lab, xyz, edge_depth, nlab)
         ks = sorted({owner[x] for x, n in touch.items() if n >= min_touch and x in owner})
         if not ks:
             alone.append(m)
