@@ -701,6 +701,16 @@ class ProposalParams:
         ... and only when at most this fraction of the pixels just outside its planes' outlines
         lies behind them (:func:`seen_behind`): a wall has nothing behind it, an object's face
         has the floor or a wall behind its top and sides; 1 = no such test (needs the cloud).
+    wall_floor_behind : float
+        Fraction (0 = off): ... and only when, for each of its planes of at least
+        ``border_wall_area``, fewer horizontal support pixels (the floor, a table top) than
+        this fraction of the plane's points lie beyond its plane (farther from the sensor by
+        more than 5 cm at 1 m, scaled by the range beyond 1 m; :func:`floor_beyond`; needs
+        the cloud).  A room's wall bounds its floor: the floor lies on the
+        sensor's side of it.  A floor seen beyond the plane (past its side, under or over it)
+        shows a face standing inside the room: a box or a cabinet whose top is out of view,
+        a door leaf, a balustrade, with nothing but the floor around it (synth22t,
+        docs/objects.md).
     min_points : int
         Proposals with fewer points in total are dropped.
     split_concave : bool
@@ -985,6 +995,7 @@ class ProposalParams:
     drop_border_walls: bool = True
     border_wall_area: float = 0.3
     wall_behind: float = 0.01
+    wall_floor_behind: float = 0.05
     min_points: int = 0
     split_concave: bool = True
     concave_tol: float = 10.0
@@ -1043,7 +1054,7 @@ class ProposalParams:
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("table_area", "table_height", "support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
-                             "edge_depth", "step_overlap", "min_border_area", "wall_behind",
+                             "wall_floor_behind", "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
                              "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max", "riser_min",
@@ -1355,6 +1366,51 @@ def seen_behind(labels, xyz, group, reach: int = 3, margin: float = 0.05) -> flo
             n_valid += int(valid.sum())
             n_behind += int((rng[valid] > lim[ok][valid]).sum())
     return n_behind / n_valid if n_valid else 0.0
+
+
+def floor_beyond(labels, xyz, plane, floors, margin: float = 0.05) -> float:
+    """Pixels of the ``floors`` lying beyond ``plane``'s plane, per point of ``plane``.
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W), int
+        Plane labels.
+    xyz : ndarray, shape (H, W, 3)
+        Organized points (NaN invalid).
+    plane : Plane
+        A (vertical) plane: its normal, centroid and point count.
+    floors : sequence of Plane
+        The horizontal support planes (their labels, pixel boxes and hulls are used).
+    margin : float
+        Metres (at 1 m; scaled by the range): a floor pixel is beyond the plane when it lies
+        farther from the sensor than the plane's plane by more than ``margin * max(1, range)``.
+
+    Returns
+    -------
+    float
+        Floor pixels beyond the plane / ``plane.n_points`` (0 when it has none).
+    """
+    if plane.n_points <= 0:
+        return 0.0
+    n = np.asarray(plane.normal, float)
+    c = np.asarray(plane.centroid, float)
+    if float(n @ c) > 0:
+        n = -n  # turned towards the sensor
+    lab = np.asarray(labels)
+    count = 0
+    for f in floors:
+        # no hull vertex beyond the plane by half the margin: no pixel is (the hull holds the
+        # plane's pixels but for its simplification, a few millimetres)
+        if float(((c - np.asarray(f.hull3d, float)) @ n).max()) <= 0.5 * margin:
+            continue
+        r0, c0, r1, c1 = f.bbox
+        pts = np.asarray(xyz)[r0:r1, c0:c1][lab[r0:r1, c0:c1] == f.label]
+        d = (c - pts) @ n  # NaN for invalid points: never beyond
+        far = d > margin
+        if far.any():
+            rng = np.linalg.norm(pts[far], axis=1)
+            count += int(np.count_nonzero(d[far] > margin * np.maximum(1.0, rng)))
+    return count / plane.n_points
 
 
 #: Fewest edge pixel pairs (:func:`edge_means`) for two planes to share an edge.
@@ -2320,13 +2376,17 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
     if params.drop_border_walls:
         lab = getattr(planes, "labels", None)
-        look = (params.wall_behind < 1 and cloud is not None and lab is not None
-                and lab.shape == cloud.xyz.shape[:2])
+        grid = cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]
+        look = params.wall_behind < 1 and grid
+        floors = [byl[s] for s in drop if s in byl and byl[s].orientation == "horizontal"] if grid else []
         comps = [c for c in comps
                  if not (all(byl[x].orientation == "vertical" for x in c)
                          and any(byl[x].touches_border for x in c)
                          and max(byl[x].area for x in c) >= params.border_wall_area
-                         and (not look or seen_behind(lab, cloud.xyz, c) <= params.wall_behind))]
+                         and (not look or seen_behind(lab, cloud.xyz, c) <= params.wall_behind)
+                         and not (params.wall_floor_behind > 0 and floors
+                                  and any(floor_beyond(lab, cloud.xyz, byl[x], floors) >= params.wall_floor_behind
+                                          for x in c if byl[x].area >= params.border_wall_area)))]
     if params.min_border_area > 0:
         comps = [c for c in comps
                  if not (len(c) == 1 and byl[c[0]].touches_border
