@@ -80,8 +80,11 @@ def test_tall_box_at_the_border_is_kept_and_a_wall_there_is_dropped():
     props, seen = _proposals(rects)
     assert _has_own_proposal(props, seen, 1)
     assert not any(p & seen[2] for p in props)
-    # without the look behind (wall_behind=1) both count as walls
+    # without the look behind (wall_behind=1) the box is still kept by the floor seen beyond its
+    # front's plane (wall_floor_behind, synth22t); without both tests both count as walls
     props, _ = _proposals(rects, ProposalParams(wall_behind=1))
+    assert _has_own_proposal(props, seen, 1) and not any(p & seen[2] for p in props)
+    props, _ = _proposals(rects, ProposalParams(wall_behind=1, wall_floor_behind=0))
     assert not any(p & seen[1] for p in props)
 
 
