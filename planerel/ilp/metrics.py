@@ -348,9 +348,8 @@ def proof_refusals(hits, stats: Sequence, domain: Sequence, margin: float = PROO
     A rule with an entry ``(index, class, low, high, n)`` in ``domain`` (:func:`proof_domain`)
     is refused for an object whose proof scale (the hit's fifth element) is below
     :func:`proof_bound`: the rule was only ever counted right on proofs of planes at least
-    ``low`` m^2,
-    and "a plane parallel to and above another" said of two slivers of a pile of tins is not
-    what it learned (docs/results.md, "The proof gate").  An entry counts only when it was
+    ``low`` m^2, and "a plane parallel to and above another" said of two slivers of a pile of
+    tins is not what it learned (docs/results.md, "The proof gate").  An entry counts only when it was
     measured on at least ``min_positives`` true positives: the least of a handful of proofs
     says little about where the rule's positives end.  No domain, no entry or no scale:
     nothing is refused.
