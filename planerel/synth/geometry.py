@@ -45,7 +45,8 @@ __all__ = [
 
 #: Every plane role the builders use.
 ROLES = ("floor", "wall", "top", "face", "tread", "riser", "side", "back", "slope",
-         "ledge", "bottom", "leg", "seat", "lid", "base", "shelf", "door", "curved", "plate")
+         "ledge", "bottom", "leg", "seat", "lid", "base", "shelf", "door", "curved", "plate",
+         "nosing")
 
 
 @dataclass(frozen=True, eq=False)
@@ -209,11 +210,13 @@ def box_geometry(length: float, width: float, height: float, object_index: int =
 
 def stairs_geometry(steps: int, rise: float, tread: float, width: float, *,
                     top_depth: float | None = None, sides: str = "open",
-                    rail: float = 0.3, object_index: int = 1) -> Geometry:
+                    rail: float = 0.3, nosing: float = 0.0, nosing_deg: float = 45.0,
+                    object_index: int = 1) -> Geometry:
     """A solid flight of stairs climbing along local +x, centred on the local origin.
 
-    Planes (in this order): for each step ``i`` a vertical ``riser`` then a horizontal
-    ``tread`` at height ``(i + 1) * rise``; the vertical ``back`` face; two ``side`` planes.
+    Planes (in this order): for each step ``i`` a vertical ``riser``, with ``nosing`` a
+    chamfered ``nosing`` strip, then a horizontal ``tread`` at height ``(i + 1) * rise``; the
+    vertical ``back`` face; two ``side`` planes.
 
     Parameters
     ----------
@@ -229,6 +232,13 @@ def stairs_geometry(steps: int, rise: float, tread: float, width: float, *,
         slope ``rail`` metres above the step nosings and hide the profile.
     rail : float
         Height of closed side walls above the nosings.
+    nosing : float
+        Width (m, across the edge, along its surface) of a chamfer where each riser meets its
+        tread; 0: a sharp edge.  Real treads end in a rounded or chamfered nosing that a
+        range sensor segments as a narrow inclined strip (a real stone flight's: 1.2 cm at 21
+        degrees, docs/results.md "The proof gate").
+    nosing_deg : float
+        The chamfer's incline from the horizontal, degrees (0..90, exclusive).
     """
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
         raise InputError(f"stairs need a whole number of steps >= 1, got {steps!r}")
@@ -238,6 +248,16 @@ def stairs_geometry(steps: int, rise: float, tread: float, width: float, *,
     top = tread if top_depth is None else _positive("stairs top depth", top_depth)
     if sides not in ("open", "closed"):
         raise InputError(f"stairs sides must be 'open' or 'closed', got {sides!r}")
+    nosing, nosing_deg = _float("stairs nosing", nosing), _float("stairs nosing angle", nosing_deg)
+    if not (math.isfinite(nosing_deg) and 0 < nosing_deg < 90):
+        raise InputError(f"stairs nosing angle must lie strictly between 0 and 90 degrees, "
+                         f"got {nosing_deg!r}")
+    # the chamfer's run along the tread and drop down the riser
+    run_n = nosing * math.cos(math.radians(nosing_deg))
+    drop_n = nosing * math.sin(math.radians(nosing_deg))
+    if not math.isfinite(nosing) or nosing < 0 or drop_n >= rise or run_n >= min(tread, top):
+        raise InputError(f"stairs nosing must be >= 0 metres and smaller than a step, got "
+                         f"{nosing!r}")
     xs = [i * tread for i in range(steps)] + [(steps - 1) * tread + top]
     length = xs[-1]
     shift = -length / 2
@@ -245,12 +265,20 @@ def stairs_geometry(steps: int, rise: float, tread: float, width: float, *,
     y0, y1 = -width / 2, width / 2
     b = _Builder(object_index)
     for i in range(steps):
-        b.add("riser", _rect_x(xs[i], y0, y1, i * rise, (i + 1) * rise))
-        b.add("tread", _rect_z((i + 1) * rise, xs[i], xs[i + 1], y0, y1))
+        z = (i + 1) * rise
+        b.add("riser", _rect_x(xs[i], y0, y1, i * rise, z - drop_n))
+        if nosing > 0:
+            b.add("nosing", [(xs[i], y0, z - drop_n), (xs[i], y1, z - drop_n),
+                             (xs[i] + run_n, y1, z), (xs[i] + run_n, y0, z)])
+        b.add("tread", _rect_z(z, xs[i] + run_n, xs[i + 1], y0, y1))
     total = steps * rise
     b.add("back", _rect_x(xs[-1], y0, y1, 0, total))
     for y in (y0, y1):
-        if sides == "open":
+        if sides == "open" and nosing > 0:   # each step's profile with its corner cut
+            pieces = [[(xs[i], y, 0), (xs[i + 1], y, 0), (xs[i + 1], y, (i + 1) * rise),
+                       (xs[i] + run_n, y, (i + 1) * rise), (xs[i], y, (i + 1) * rise - drop_n)]
+                      for i in range(steps)]
+        elif sides == "open":
             pieces = [_rect_y(y, xs[i], xs[i + 1], 0, (i + 1) * rise) for i in range(steps)]
         else:
             rail = _positive("stairs rail height", rail)
@@ -524,7 +552,8 @@ def door_geometry(width: float = 0.85, height: float = 2.0, thickness: float = 0
 
 
 def descent_geometry(steps: int, rise: float, tread: float, width: float, *,
-                     sides: str = "open", rail: float = 0.3, object_index: int = 1,
+                     sides: str = "open", rail: float = 0.3, nosing: float = 0.0,
+                     nosing_deg: float = 45.0, object_index: int = 1,
                      extent: float = 8.0) -> tuple:
     """A staircase going down from the floor the camera stands on.
 
@@ -539,15 +568,18 @@ def descent_geometry(steps: int, rise: float, tread: float, width: float, *,
         (object index 0).
     stairs : Geometry
         ``steps`` risers and ``steps - 1`` treads below floor level, then the ``side`` planes
-        (the top step is the upper floor itself).
+        (the top step is the upper floor itself).  With ``nosing`` (:func:`stairs_geometry`)
+        every step's edge is chamfered, the drop edge's too (the upper floor stops short of
+        it across the flight).
     """
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 2:
         raise InputError(f"descending stairs need a whole number of steps >= 2, got {steps!r}")
     total = steps * rise
     up = stairs_geometry(steps, rise, tread, width, top_depth=tread, sides=sides, rail=rail,
-                         object_index=object_index)
+                         nosing=nosing, nosing_deg=nosing_deg, object_index=object_index)
     treads = [k for k, p in enumerate(up.planes) if p.role == "tread"]
     up = drop_planes(up, [treads[-1], "back"])
+    run_n = float(nosing) * math.cos(math.radians(float(nosing_deg)))
     # climbing along +x with its top riser at local x = (steps - 1) * tread - length / 2;
     # turn it round (climbing along -x) and put that riser's top edge on the drop edge x = 0
     length = steps * tread
@@ -555,7 +587,11 @@ def descent_geometry(steps: int, rise: float, tread: float, width: float, *,
     flight = place(up, 180.0, (top_riser_x, 0.0), -total)
     w2, e = width / 2, extent
     b = _Builder(0)
-    b.add("floor", _rect_z(0.0, -e, 0.0, -e, e))
+    if run_n > 0:   # the top step's chamfer replaces the floor's edge across the flight
+        b.add("floor", _rect_z(0.0, -e, -run_n, -e, e), _rect_z(0.0, -run_n, 0.0, -e, -w2),
+              _rect_z(0.0, -run_n, 0.0, w2, e))
+    else:
+        b.add("floor", _rect_z(0.0, -e, 0.0, -e, e))
     b.add("ledge", _rect_x(0.0, -e, -w2, -total, 0.0), _rect_x(0.0, w2, e, -total, 0.0))
     b.add("floor", _rect_z(-total, 0.0, 2 * e, -e, e))
     return b.build(), flight

@@ -99,6 +99,12 @@ class WorldRange:
         Step rise, step run (tread depth) and flight width, metres.
     descending : float
         Share of staircases seen from the top (going down).
+    nosing : (float, float)
+        Width of the chamfer where each riser meets its tread, metres (drawn, with its angle
+        from 20-60 degrees, only when the upper bound is above 0; :func:`~planerel.synth.
+        geometry.stairs_geometry`).  Real treads end in a rounded or chamfered nosing, a
+        narrow inclined strip to a range sensor; a world of sharp steps teaches rules that a
+        short inclined plane is never part of a staircase (docs/results.md, "The proof gate").
     ramp_angle_deg, ramp_length, ramp_width : (float, float)
         Incline, length along the slope, width.
     """
@@ -119,6 +125,7 @@ class WorldRange:
     run: tuple = (0.22, 0.35)
     stairs_width: tuple = (0.6, 1.6)
     descending: float = 0.35
+    nosing: tuple = (0.0, 0.0)
     ramp_angle_deg: tuple = (4.0, 20.0)
     ramp_length: tuple = (1.0, 4.0)
     ramp_width: tuple = (0.6, 1.6)
@@ -165,6 +172,10 @@ class WorldRange:
         object.__setattr__(self, "level_share", share)
         if not 0 <= float(self.descending) <= 1:
             raise InputError(f"descending share must lie in 0..1, got {self.descending!r}")
+        nosing = _pair("nosing", self.nosing)
+        if nosing[1] > 0.06:
+            raise InputError(f"nosing must lie in 0..0.06 metres, got {self.nosing!r}")
+        object.__setattr__(self, "nosing", nosing)
 
     def to_dict(self) -> dict:
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.__dict__.items()}
@@ -300,20 +311,26 @@ def _flight(rng, r: WorldRange) -> dict:
             "width": float(rng.uniform(*r.stairs_width))}
 
 
-def _flight_sides(rng) -> dict:
-    """Open or closed sides, and the side walls' height above the nosings."""
-    return {"sides": "open" if rng.random() < 0.5 else "closed",
-            "rail": float(rng.uniform(0.1, 0.9))}
+def _flight_sides(rng, r: WorldRange) -> dict:
+    """Open or closed sides, the side walls' height above the nosings, and the nosings'
+    chamfer (drawn only when ``r.nosing`` is on, so that other worlds keep their scenes)."""
+    out = {"sides": "open" if rng.random() < 0.5 else "closed",
+           "rail": float(rng.uniform(0.1, 0.9))}
+    if r.nosing[1] > 0:
+        out["nosing"] = float(rng.uniform(*r.nosing))
+        out["nosing_deg"] = float(rng.uniform(20.0, 60.0))
+    return out
 
 
 def _draw_stairs_up(rng, r: WorldRange, index: int):
     p = _flight(rng, r)
     landing = rng.random() < 0.4
     p["top_depth"] = p["run"] * float(rng.uniform(1.5, 4.0)) if landing else p["run"]
-    p.update(landing=bool(landing), **_flight_sides(rng), direction="up")
+    p.update(landing=bool(landing), **_flight_sides(rng, r), direction="up")
     geom = sg.stairs_geometry(p["steps"], p["rise"], p["run"], p["width"],
                               top_depth=p["top_depth"], sides=p["sides"], rail=p["rail"],
-                              object_index=index)
+                              nosing=p.get("nosing", 0.0),
+                              nosing_deg=p.get("nosing_deg", 45.0), object_index=index)
     geom = _tipped(rng, geom, p, r.stairs_tilt_deg, r.level_share)
     return geom, {"class": "stairs", "kind": "stairs up", "params": p}
 
@@ -418,9 +435,11 @@ def _place_primary(kind, rng, r: WorldRange, pose, intr, lay: _Layout):
         return True
     if kind == "stairs" and rng.random() < r.descending:
         p = _flight(rng, r)  # WorldRange keeps steps >= 2
-        p.update(**_flight_sides(rng), direction="down")
+        p.update(**_flight_sides(rng, r), direction="down")
         env, flight = sg.descent_geometry(p["steps"], p["rise"], p["run"], p["width"],
-                                          sides=p["sides"], rail=p["rail"], object_index=1)
+                                          sides=p["sides"], rail=p["rail"],
+                                          nosing=p.get("nosing", 0.0),
+                                          nosing_deg=p.get("nosing_deg", 45.0), object_index=1)
         yaw = az + float(rng.uniform(-30, 30))
         lay.env.append(sg.place(env, yaw, anchor[:2]))
         info = {"class": "stairs", "kind": "stairs down", "params": p}
