@@ -260,7 +260,10 @@ def test_tilted_boxes_lean_by_the_drawn_angle_and_rest_on_the_floor():
     (lambda: WorldRange(box_tilt_deg=(0, 12)), "box tilt must lie in 0..10"),
     (lambda: WorldRange(clutter_tilt_deg=(-1, 2)), "clutter tilt must be a finite"),
     (lambda: WorldRange(stairs_tilt_deg=(0, 11)), "stairs tilt must lie in 0..10"),
-    (lambda: WorldRange(level_share=1.5), "level share must lie in 0..1"),
+    (lambda: WorldRange(level_share=1.5), "level share must be one number in 0..1"),
+    (lambda: WorldRange(descending=(0.0, 0.0)), "descending share must be one number in 0..1"),
+    (lambda: WorldRange(camera_roll_deg=(0, 10)), "camera roll must be one number in 0..45"),
+    (lambda: WorldRange(descending=True), "descending share must be one number"),
     (lambda: WorldRange(camera_pitch_deg=(0, 95)), "camera pitch must lie in 0..85"),
     (lambda: WorldRange(steps=(1, 4)), "steps must be integers with 2 <= min"),
     (lambda: WorldRange(rise=(0.2, 0.1)), "rise must be a finite"),
@@ -373,7 +376,10 @@ def test_cli_range_option_shifts_the_world(tmp_path, capsys):
     assert "stairs (stairs up) 3" in capsys.readouterr().out
     for argv, match in ((["--range", "steps=3,4"], "add --world varied"),
                         (["--world", "varied", "--range", "stepz=3,4"], "NAME=MIN,MAX"),
-                        (["--world", "varied", "--range", "steps=2.5,4"], "whole numbers")):
+                        (["--world", "varied", "--range", "steps=2.5,4"], "whole numbers"),
+                        # a share is one number (nose16: a pair gave a TypeError traceback)
+                        (["--world", "varied", "--range", "descending=0,0"],
+                         "descending share must be one number in 0..1")):
         assert main(["dataset", "synth", str(tmp_path / "x"), "--quiet", *argv]) == 2
         assert match in capsys.readouterr().err
 

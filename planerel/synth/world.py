@@ -160,18 +160,19 @@ class WorldRange:
             if a < lo or a > b:
                 raise InputError(f"{name} must be integers with {lo} <= min <= max, got {v!r}")
             object.__setattr__(self, name, (a, b))
-        roll = float(self.camera_roll_deg)
-        if not 0 <= roll <= 45:
-            raise InputError(f"camera roll must lie in 0..45 degrees, got {self.camera_roll_deg!r}")
-        try:
-            share = float(self.level_share)
-        except (TypeError, ValueError):
-            share = math.nan
-        if not 0 <= share <= 1:
-            raise InputError(f"level share must lie in 0..1, got {self.level_share!r}")
-        object.__setattr__(self, "level_share", share)
-        if not 0 <= float(self.descending) <= 1:
-            raise InputError(f"descending share must lie in 0..1, got {self.descending!r}")
+        # one number each (``--range descending=0,0`` is a pair: refused with the same message)
+        for name, what, hi in (("camera_roll_deg", "camera roll", 45.0),
+                               ("level_share", "level share", 1.0),
+                               ("descending", "descending share", 1.0)):
+            v = getattr(self, name)
+            try:
+                x = math.nan if isinstance(v, bool) else float(v)
+            except (TypeError, ValueError):
+                x = math.nan
+            if not 0 <= x <= hi:
+                unit = " degrees" if name == "camera_roll_deg" else ""
+                raise InputError(f"{what} must be one number in 0..{hi:g}{unit}, got {v!r}")
+            object.__setattr__(self, name, x)
         nosing = _pair("nosing", self.nosing)
         if nosing[1] > 0.06:
             raise InputError(f"nosing must lie in 0..0.06 metres, got {self.nosing!r}")
