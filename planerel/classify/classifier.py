@@ -274,9 +274,11 @@ class Classifier:
                 load_file(facts, "cannot load the scene facts")
                 for o in desc.objects:
                     hits = []
+                    # the proof scale only when the gate has a domain to compare it with
+                    scale_goal = (f", planerel_proof_scale({self.module}, {_obj_atom(o.id)}, I, S)"
+                                  if self.proof_domain else ", S = none")
                     for r in query(f"planerel_explain_text({self.module}, {_obj_atom(o.id)}, "
-                                    f"C, I, B, T), planerel_proof_scale({self.module}, "
-                                    f"{_obj_atom(o.id)}, I, S)",
+                                    f"C, I, B, T){scale_goal}",
                                     f"classifying {o.id}"):
                         binds = dict(line.split("\t", 1) for line in _text(r["B"]).splitlines()
                                      if "\t" in line)

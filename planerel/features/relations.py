@@ -2379,14 +2379,21 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         grid = cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]
         look = params.wall_behind < 1 and grid
         floors = [byl[s] for s in drop if s in byl and byl[s].orientation == "horizontal"] if grid else []
-        comps = [c for c in comps
-                 if not (all(byl[x].orientation == "vertical" for x in c)
-                         and any(byl[x].touches_border for x in c)
-                         and max(byl[x].area for x in c) >= params.border_wall_area
-                         and (not look or seen_behind(lab, cloud.xyz, c) <= params.wall_behind)
-                         and not (params.wall_floor_behind > 0 and floors
-                                  and any(floor_beyond(lab, cloud.xyz, byl[x], floors) >= params.wall_floor_behind
-                                          for x in c if byl[x].area >= params.border_wall_area)))]
+
+        def floor_behind(c) -> bool:
+            """A wall-sized plane of ``c`` has the floor beyond it (wall_floor_behind)."""
+            return (params.wall_floor_behind > 0 and bool(floors)
+                    and any(floor_beyond(lab, cloud.xyz, byl[x], floors) >= params.wall_floor_behind
+                            for x in c if byl[x].area >= params.border_wall_area))
+
+        def border_wall(c) -> bool:
+            return (all(byl[x].orientation == "vertical" for x in c)
+                    and any(byl[x].touches_border for x in c)
+                    and max(byl[x].area for x in c) >= params.border_wall_area
+                    and (not look or seen_behind(lab, cloud.xyz, c) <= params.wall_behind)
+                    and not floor_behind(c))
+
+        comps = [c for c in comps if not border_wall(c)]
     if params.min_border_area > 0:
         comps = [c for c in comps
                  if not (len(c) == 1 and byl[c[0]].touches_border
