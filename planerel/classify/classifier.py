@@ -70,11 +70,14 @@ class ObjectAnswer:
         Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
     curved : bool or None
         The planar fraction is below the model's ``curved.curved_below``: a round object.
-    refused : tuple of Refusal
+    refused : tuple of Refusal, ProofRefusal and VetoRefusal
         Classes whose rules proved the object and that the decision refused for it: its
         planar fraction lies under ``1 - decision.planar_margin`` times the least planar of
         the class's training positives (with ``decision.planar_gate``;
-        :func:`planerel.ilp.metrics.planar_refusals`).  The answer is then the next class
+        :func:`planerel.ilp.metrics.planar_refusals`), a rule whose proof is made of planes far
+        smaller than its training proofs' (:func:`~planerel.ilp.metrics.proof_refusals`), or a
+        rule for ``other`` proved through planes far smaller than a class proof's
+        (:func:`~planerel.ilp.metrics.veto_refusals`).  The answer is then the next class
         that holds, else ``other``.
     """
 
@@ -215,6 +218,9 @@ class Classifier:
         self.proof_domain = (self.settings.proof_domain if decision.proof_gate else ())
         self.proof_margin = decision.proof_margin
         self.proof_min_positives = decision.proof_min_positives
+        #: vetoes (rules for ``other``) proved through far smaller planes than a class proof
+        #: are set aside (0: off; nothing to set aside without rules for ``other``)
+        self.veto_ratio = decision.veto_ratio if OTHER in heads else 0.0
         # the gate is on by default: a model without the domain (learned before gate22)
         # warns only when the gate is asked for (its model.json or ``decision.planar_gate``)
         asked = "planar_gate" in self.settings.sections.get("decision", {})
@@ -274,9 +280,9 @@ class Classifier:
                 load_file(facts, "cannot load the scene facts")
                 for o in desc.objects:
                     hits = []
-                    # the proof scale only when the gate has a domain to compare it with
+                    # the proof scale only when the proof gate or the vetoes' ratio uses it
                     scale_goal = (f", planerel_proof_scale({self.module}, {_obj_atom(o.id)}, I, S)"
-                                  if self.proof_domain else ", S = none")
+                                  if self.proof_domain or self.veto_ratio else ", S = none")
                     for r in query(f"planerel_explain_text({self.module}, {_obj_atom(o.id)}, "
                                     f"C, I, B, T){scale_goal}",
                                     f"classifying {o.id}"):
@@ -290,7 +296,8 @@ class Classifier:
                                            margin=self.planar_margin,
                                            proofs=self.proof_domain,
                                            proof_margin=self.proof_margin,
-                                           proof_min_positives=self.proof_min_positives)
+                                           proof_min_positives=self.proof_min_positives,
+                                           veto_ratio=self.veto_ratio)
                     fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
                     pids = tuple(plane_ids[lab] for lab in o.planes)
                     if best is None:

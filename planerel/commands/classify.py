@@ -38,7 +38,10 @@ def register(sub) -> None:
                         "class for an object far less planar than its training positives "
                         "(decision.planar_margin); decision.proof_gate (on by default) refuses a "
                         "rule that proves an object only with planes far smaller than its "
-                        "training proofs (decision.proof_margin, decision.proof_min_positives)")
+                        "training proofs (decision.proof_margin, decision.proof_min_positives); "
+                        "decision.veto_ratio (3; 0 switches it off) sets aside a rule for other "
+                        "proved only through planes that many times smaller than a class rule's "
+                        "proof")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)

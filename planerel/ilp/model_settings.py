@@ -19,7 +19,8 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 :class:`~planerel.features.planes.PlaneParams`, :class:`~planerel.features.relations.RelationParams`,
 :class:`~planerel.features.relations.ProposalParams` and :class:`~planerel.features.curved.CurvedParams`;
 ``decision.NAME`` one of :class:`~planerel.ilp.metrics.DecisionParams` (``decision.planar_gate``,
-``decision.planar_margin``, ``decision.proof_gate``, ``decision.proof_margin``).
+``decision.planar_margin``, ``decision.proof_gate``, ``decision.proof_margin``,
+``decision.veto_ratio``).
 """
 
 from __future__ import annotations

@@ -26,6 +26,7 @@ from planerel.ilp.metrics import (
     PROOF_GATE,
     PROOF_MARGIN,
     PROOF_MIN_POSITIVES,
+    VETO_RATIO,
     accuracy_scores,
     confusion_columns,
     decide,
@@ -106,6 +107,9 @@ class Model:
         That gate's margin below ``low``.
     proof_min_positives : int
         The fewest true positives a rule's entry must have been measured on to count.
+    veto_ratio : float
+        A rule for ``other`` is set aside for an object a class rule proves with planes more
+        than this many times larger (:func:`planerel.ilp.metrics.veto_refusals`; 0 = off).
     """
 
     classes: tuple
@@ -124,6 +128,7 @@ class Model:
     proof_gate: bool = PROOF_GATE
     proof_margin: float = PROOF_MARGIN
     proof_min_positives: int = PROOF_MIN_POSITIVES
+    veto_ratio: float = VETO_RATIO
 
     @property
     def targets(self) -> tuple:
@@ -650,7 +655,8 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                                margin=model.planar_margin,
                                proofs=model.proof_domain if model.proof_gate else (),
                                proof_margin=model.proof_margin,
-                               proof_min_positives=model.proof_min_positives)
+                               proof_min_positives=model.proof_min_positives,
+                               veto_ratio=model.veto_ratio)
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
             out.append(Prediction(o, OTHER, fired=fired_pairs, refused=refused))
