@@ -314,6 +314,12 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
 
         cobjs = join_parts(cobjs, cloud.xyz, planes.labels if (parent or flights) else labels,
                            cp.edge_depth)
+    if proposed and pp.table_legs > 0 and support:
+        # a table standing in the room: its top support for what stands on it, and an object
+        from planerel.features.tables import table_objects
+
+        cobjs = table_objects(planes, support, cobjs, pp, cp.curved_below,
+                              np.asarray(cloud.xyz, float))
     objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), c.planes, klass, c.mask,
                              c.planar_fraction, c.curved)
                  for k, c in enumerate(cobjs))

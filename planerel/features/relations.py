@@ -979,6 +979,13 @@ class ProposalParams:
         on its plane (within ``floor_gap``).  Before, it was a plane of the object proposal of
         what stood on it, and a tin's lid over it proved the demo's stairs rule 4 on real
         OSD and RealSense frames.
+    table_legs : float
+        Metres (0 = off): a table top made support by ``table_area`` is also an object, with
+        the proposals under it (its edge faces, apron and legs), when one vertical plane among
+        them reaches at least this below the top: a table standing in the room, seen with a leg
+        or its apron (:mod:`planerel.features.tables`, applied by
+        :func:`planerel.features.facts.describe_scene`; table22u).  What stands on the top is
+        still proposed apart; a top seen without legs or apron stays support only.
     skip_missing : bool
         The step chains' two-rise steps (a tread between two faces not seen) only where the
         face between is missing: a face between them in height that makes a one-rise step
@@ -1051,9 +1058,10 @@ class ProposalParams:
     skip_missing: bool = True
     table_area: float = 0.2
     table_height: float = 0.30
+    table_legs: float = 0.08
 
     def __post_init__(self) -> None:
-        _check_nonneg(self, ("table_area", "table_height", "support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
+        _check_nonneg(self, ("table_area", "table_height", "table_legs", "support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "wall_floor_behind", "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
