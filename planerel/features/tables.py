@@ -18,8 +18,8 @@ taking the top's support role away (``ProposalParams.table_legs``):
    What stands on the top rises above it; a box stored low under the table does not reach up
    to it.
 3. **Standing in the room.**  When a leg or an apron is among them (a vertical plane reaching
-   at least ``table_legs`` below the top, deeper than a top's edge; or an 8-connected part of
-   unexplained pixels, at least ``MIN_LEG_PIXELS``, that reaches as far and is taller than it
+   at least ``table_legs`` below the top, deeper than a top's edge; or a connected part of
+   unexplained pixels (4-neighbours within ``edge_depth`` in 3-D), at least ``MIN_LEG_PIXELS``, that reaches as far and is taller than it
    is wide: a post), the top, its pieces within its outline and those proposals are one
    object, which takes their places.  A top whose legs and apron are out of view (a table-top
    frame seen from close by) stays support only.
@@ -105,21 +105,18 @@ class _Top:
         return self.under(h, pts.mean(0)) and self.reaches(h) and float(np.ptp(h)) >= wide
 
     def mask(self, m, xyz) -> tuple[bool, bool]:
-        """(under the top, a leg among its 8-connected parts) for the pixels of mask ``m``."""
-        from scipy import ndimage
+        """(under the top, a leg among its connected parts) for the pixels of mask ``m``."""
+        from planerel.features._curved_kernels import list_components
 
-        pts = xyz[m]
-        pts = pts[np.isfinite(pts).all(1)]
-        if not len(pts) or not self.under(pts @ self.up, pts.mean(0)):
-            return False, False
         rows, cols = np.nonzero(m)
-        r0, c0 = int(rows.min()), int(cols.min())
-        crop = m[r0:int(rows.max()) + 1, c0:int(cols.max()) + 1]
-        parts, n = ndimage.label(crop, structure=np.ones((3, 3), bool))
-        sub = xyz[r0:r0 + crop.shape[0], c0:c0 + crop.shape[1]]
-        for k in range(1, n + 1):
-            q = sub[parts == k]
-            q = q[np.isfinite(q).all(1)]
+        pts = xyz[rows, cols]
+        fin = np.isfinite(pts).all(1)
+        if not fin.any() or not self.under(pts[fin] @ self.up, pts[fin].mean(0)):
+            return False, False
+        # the parts as the curved stage numbers its clusters (4-neighbours within edge_depth)
+        ids, n = list_components(rows, cols, xyz, float(self.params.edge_depth), m.shape[0])
+        for k in range(int(n)):
+            q = pts[(ids == k) & fin]
             if len(q) >= MIN_LEG_PIXELS and self.post(q):
                 return True, True
         return True, False
