@@ -291,3 +291,33 @@ def test_real_staircases_are_one_stairs_answer(demo_model):
             treads = {p.label for p in desc.planes if p.orientation == "horizontal"
                       and p.area >= 0.05 and p.height >= 0.05}
             assert treads <= set(flight.labels), f"{f.name}: treads {treads - set(flight.labels)} apart"
+
+
+@pytest.mark.parametrize("legs,apron", [(True, 0.0), (False, 0.12), (True, 0.1)])
+def test_a_table_standing_in_the_room_is_other_and_the_box_on_it_box(demo_model, legs, apron):
+    """table22u: a table seen with its legs or apron is a proposal of its own (its top still
+    the ground of what stands on it, ``ProposalParams.table_legs``); the box rules, whose
+    ``skirt`` is a face hanging below a top, must not take the top with its apron: the table
+    is ``other``, the box on it ``box`` (docs/objects.md, table22u)."""
+    from scenes_analytic import box, floor, render
+    from test_proposals_table22u import TABLE, VIEW, _on_table, _table
+
+    from planerel.classify import Classifier
+
+    rects = [floor(), *_table(legs=legs, apron=apron),
+             *_on_table(box(0.1, 2.0, 0.25, 0.2, 0.15, obj=1))]
+    cloud, lab, up, objs = render(rects, **VIEW)
+    truth = np.where(lab >= 0, np.asarray(objs)[np.maximum(lab, 0)], -1)
+    with Classifier(demo_model) as clf:
+        ans = clf.classify(cloud, scene_id="t", up=up)
+    held = {}
+    for o in ans.objects:
+        m = _pixels(ans, o)
+        for obj in (1, TABLE):
+            held.setdefault(obj, []).append((int((m & (truth == obj)).sum()), o))
+    n_table, table = max(held[TABLE], key=lambda t: t[0])
+    n_box, box_ = max(held[1], key=lambda t: t[0])
+    assert n_table > 0.8 * (truth == TABLE).sum() and table.klass == "other", (table.klass, table.rule)
+    assert n_box > 0.8 * (truth == 1).sum() and box_.klass == "box", (box_.klass, box_.rule)
+    assert table is not box_
+    assert not any(o.klass in ("stairs", "ramp") for o in ans.objects)
