@@ -124,12 +124,15 @@ class RelationParams:
     corner_tol: float = 0.08
     corner_width: float = 0.08
     facing_overlap: float = 0.5
+    #: m: planes narrower than this (``plane_width``) do not count in ``oblique_share``
+    #: (:func:`planerel.features.facts.oblique_share`); 0 = every plane counts
+    oblique_min_width: float = 0.025
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width",
-                             "facing_overlap", "skirt_top_tilt", "skirt_tilted"))
+                             "facing_overlap", "skirt_top_tilt", "skirt_tilted", "oblique_min_width"))
         if self.skirt_cover > 1:
             raise InputError(f"skirt_cover is a share of the top's extent in 0..1, got {self.skirt_cover!r}")
         if self.facing_overlap > 1:
