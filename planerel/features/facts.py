@@ -436,7 +436,7 @@ def oblique_share(planes_by_label, relations, labels, min_width: float = 0.0) ->
                 and not r.perpendicular):
             pa, pb = planes_by_label[r.a], planes_by_label[r.b]
             k, p = (r.a, pa) if pa.area <= pb.area else (r.b, pb)
-            if p.width >= min_width:
+            if min_width <= 0 or p.width >= min_width:
                 smaller.add(k)
     return float(min(1.0, sum(planes_by_label[k].area for k in smaller) / total))
 
