@@ -72,6 +72,182 @@ def edge_sums(lab, xyz, r0, c0, used, band, depth, n):
     return cnt, acc_lo, acc_hi
 
 
+#: Tiles of ``2**TILE_SHIFT`` pixels a side: :func:`boundary_tiles`' grid.
+TILE_SHIFT = 3
+
+
+@njit(cache=True, inline="always")
+def _label_bit(k):
+    """The bit of label ``k >= 0`` in a tile's mask: bit ``k``, or bit 63 for every label from
+    63 on (a bound shared by those labels: never a reason to skip one of them)."""
+    return np.uint64(1) << np.uint64(k if k < 63 else 63)
+
+
+@njit(cache=True, nogil=True)
+def boundary_tiles(lab, brow, bcol):
+    """``(ceil(H / T), ceil(W / T))`` uint64, ``T = 2**TILE_SHIFT``: per tile of the image the
+    bits (:func:`_label_bit`) of the labels ``>= 0`` of the pixels ``(brow, bcol)`` in it.
+
+    Given every boundary pixel of ``lab`` (a labelled pixel with a 4-neighbour of another
+    label or on the image border, as :func:`planerel.features.planes._boundary_pixels` lists
+    them), a tile mask bounds which labels can occur near a pixel: when a pixel ``q`` of label
+    ``b`` lies in a box that also holds a pixel ``p`` of another label, a 4-connected path
+    from ``q`` to ``p`` inside the box leaves ``b`` at a pixel of ``b`` with a 4-neighbour of
+    another label, a boundary pixel of ``b`` in the box.  So a label whose bit is in none of
+    the tiles a box meets has no pixel in that box (next to a pixel of another label)."""
+    H, W = lab.shape
+    out = np.zeros((((H - 1) >> TILE_SHIFT) + 1, ((W - 1) >> TILE_SHIFT) + 1), np.uint64)
+    for i in range(brow.shape[0]):
+        k = lab[brow[i], bcol[i]]
+        if k >= 0:
+            out[brow[i] >> TILE_SHIFT, bcol[i] >> TILE_SHIFT] |= _label_bit(k)
+    return out
+
+
+@njit(cache=True, inline="always")
+def _box_bits(tiles, v0, v1, u0, u1):
+    """The union of the tile masks over the pixel box ``[v0, v1] x [u0, u1]`` (inclusive)."""
+    m = np.uint64(0)
+    for tv in range(v0 >> TILE_SHIFT, (v1 >> TILE_SHIFT) + 1):
+        for tu in range(u0 >> TILE_SHIFT, (u1 >> TILE_SHIFT) + 1):
+            m |= tiles[tv, tu]
+    return m
+
+
+@njit(cache=True, nogil=True)
+def touch_pairs_tiled(xyz, lab, brow, bcol, g, max_dist, rel_dist, known):
+    """:func:`planerel.segment._label_kernels.touch_pairs` when ``(brow, bcol)`` are every
+    boundary pixel of ``lab`` (row-major): the same pixels in the same order, the same answer,
+    but a pixel's window (``g`` rows down, ``g`` columns either side) is read only when the
+    tiles it meets (:func:`boundary_tiles`) hold a known label other than the pixel's own whose
+    pair with it is not found yet: a window with none of those can change nothing (the pairs
+    found are skipped in the window too).  About half the boundary pixels of the real frames
+    border only unassigned pixels or labels already found touching."""
+    H, W = lab.shape
+    nlab = known.shape[0]
+    out = np.zeros((nlab, nlab), np.bool_)
+    tiles = boundary_tiles(lab, brow, bcol)
+    kmask = np.uint64(0)
+    for k in range(nlab):
+        if known[k]:
+            kmask |= _label_bit(k)
+    # per label: the bits of the known labels not (yet) found touching it; its own bit off
+    # (labels from 63 on share bit 63, which is never taken off)
+    open_ = np.empty(nlab, np.uint64)
+    for k in range(nlab):
+        open_[k] = kmask & ~_label_bit(k) if k < 63 else kmask
+    L = lab.ravel()
+    X = xyz.ravel()
+    for i in range(brow.shape[0]):
+        v = brow[i]
+        u = bcol[i]
+        p = np.uint64(v * W + u)
+        a = L[p]
+        if a < 0 or a >= nlab or not known[a]:
+            continue
+        if _box_bits(tiles, v, min(v + g, H - 1), max(u - g, 0), min(u + g, W - 1)) \
+                & open_[a] == 0:
+            continue
+        d2max = -1.0  # the pixel's limit, read at its first candidate neighbour
+        for dv in range(0, g + 1):
+            v2 = v + dv
+            if v2 >= H:
+                break
+            ulo = max(u - g, 0) if dv > 0 else u + 1
+            uhi = min(u + g, W - 1)
+            row = v2 * W
+            for u2 in range(ulo, uhi + 1):
+                q = np.uint64(row + u2)
+                b = L[q]
+                if b == a or b < 0 or b >= nlab or not known[b]:
+                    continue
+                if out[a, b]:
+                    continue
+                if d2max < 0:
+                    lim = max(max_dist, rel_dist * abs(X[3 * p + 2]))
+                    d2max = lim * lim
+                ex = X[3 * p] - X[3 * q]
+                ey = X[3 * p + 1] - X[3 * q + 1]
+                ez = X[3 * p + 2] - X[3 * q + 2]
+                if ex * ex + ey * ey + ez * ez <= d2max:
+                    out[a, b] = True
+                    out[b, a] = True
+                    if b < 63:
+                        open_[a] &= ~_label_bit(b)
+                    if a < 63:
+                        open_[b] &= ~_label_bit(a)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def edge_sums_pairs(lab, xyz, r0, c0, partner, band, depth):
+    """:func:`edge_sums` of the pairs ``partner`` ``(n, n)`` bool (symmetric) marks, when
+    ``(r0, c0)`` are every boundary pixel of ``lab`` (row-major): the same sums, counts and
+    order for those pairs (other pairs' entries stay 0).  A boundary pixel is read only when
+    the tiles its band's box meets (:func:`boundary_tiles`: ``band`` rows down, ``band``
+    columns either side) hold a partner of its label; the support planes, which
+    :func:`planerel.features.relations.propose_objects` leaves out of its pairs, border most
+    objects' outlines."""
+    H, W = lab.shape
+    n = partner.shape[0]
+    cnt = np.zeros(n * n)
+    acc_lo = np.zeros((n * n, 3))
+    acc_hi = np.zeros((n * n, 3))
+    tiles = boundary_tiles(lab, r0, c0)
+    pmask = np.zeros(n, np.uint64)
+    used = np.zeros(n, np.bool_)
+    for a in range(n):
+        for b in range(n):
+            if partner[a, b]:
+                pmask[a] |= _label_bit(b)
+                used[a] = True
+    for t in range(r0.shape[0]):
+        y0 = r0[t]
+        x0 = c0[t]
+        a = lab[y0, x0]
+        if a < 0 or a >= n or not used[a]:
+            continue
+        if _box_bits(tiles, y0, min(y0 + band, H - 1), max(x0 - band, 0),
+                     min(x0 + band, W - 1)) & pmask[a] == 0:
+            continue
+        lim2 = -1.0  # the pixel's limit, read at its first candidate neighbour
+        for k in range(1, band + 1):
+            for d in range(4):
+                if d == 0:
+                    y, x = y0, x0 + k
+                elif d == 1:
+                    y, x = y0 + k, x0
+                elif d == 2:
+                    y, x = y0 + k, x0 + k
+                else:
+                    y, x = y0 + k, x0 - k
+                if y < 0 or y >= H or x < 0 or x >= W:
+                    continue
+                b = lab[y, x]
+                if b == a or b < 0 or b >= n or not partner[a, b]:
+                    continue
+                if lim2 < 0:
+                    lim = depth * max(1.0, abs(xyz[y0, x0, 2]))
+                    lim2 = lim * lim
+                dx = xyz[y0, x0, 0] - xyz[y, x, 0]
+                dy = xyz[y0, x0, 1] - xyz[y, x, 1]
+                dz = xyz[y0, x0, 2] - xyz[y, x, 2]
+                if not dx * dx + dy * dy + dz * dz <= lim2:
+                    continue
+                if a < b:
+                    code = a * n + b
+                    for j in range(3):
+                        acc_lo[code, j] += xyz[y0, x0, j]
+                        acc_hi[code, j] += xyz[y, x, j]
+                else:
+                    code = b * n + a
+                    for j in range(3):
+                        acc_lo[code, j] += xyz[y, x, j]
+                        acc_hi[code, j] += xyz[y0, x0, j]
+                cnt[code] += 1.0
+    return cnt, acc_lo, acc_hi
+
+
 @njit(cache=True, nogil=True)
 def box_points(lab, xyz, label, r0, c0, r1, c1, k):
     """The finite points of ``label`` on every ``k``-th row and column of the pixel box

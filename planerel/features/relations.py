@@ -262,17 +262,20 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
     lab = planes.labels
     if lab is None or lab.shape != xyz.shape[:2]:
         return set()
+    from planerel.features._relation_kernels import touch_pairs_tiled
     from planerel.features.planes import _boundary_pixels, label_max
-    from planerel.segment._label_kernels import touch_pairs
 
     top = label_max(lab)
     known = np.zeros(top + 1 if top >= 0 else 1, dtype=bool)
     for p in planes:
         known[p.label] = True
     brow, bcol = _boundary_pixels(lab)
-    m = touch_pairs(np.ascontiguousarray(xyz), np.ascontiguousarray(lab, dtype=np.int32),
-                    np.asarray(brow, np.int64), np.asarray(bcol, np.int64), int(params.grid_gap),
-                    float(params.touch_depth), float(params.touch_rel), known)
+    # every boundary pixel of lab: touch_pairs' answer, windows that can find nothing new
+    # (no boundary pixel of an untested label in the tiles they meet) not read
+    m = touch_pairs_tiled(np.ascontiguousarray(xyz), np.ascontiguousarray(lab, dtype=np.int32),
+                          np.asarray(brow, np.int64), np.asarray(bcol, np.int64),
+                          int(params.grid_gap), float(params.touch_depth),
+                          float(params.touch_rel), known)
     a, b = np.nonzero(m)  # symmetric: each pair once, a < b
     return {(x, y) for x, y in zip(a.tolist(), b.tolist(), strict=True) if x < y}
 
@@ -1312,20 +1315,24 @@ def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
     want = {(min(a, b), max(a, b)) for a, b in pairs}
     if not want or lab.size == 0:
         return {}
-    from planerel.features._relation_kernels import edge_sums
+    from planerel.features._relation_kernels import edge_sums_pairs
     from planerel.features.planes import _boundary_pixels, label_max
 
     n = label_max(lab) + 1
     sums = {}
     # only boundary pixels can have another plane within the band: look around them alone;
-    # every (boundary pixel, pixel within the band) pair of two different used labels in one
-    # compiled pass
+    # every (boundary pixel, pixel within the band) pair of two labels of a wanted pair in
+    # one compiled pass (edge_sums' sums of those pairs; a pixel whose band meets no
+    # boundary pixel of a partner of its label is not read)
     r0, c0 = _boundary_pixels(lab)
-    used = np.zeros(max(n, 1), np.bool_)
-    used[[x for pr in want for x in pr if 0 <= x < n]] = True
-    cnt, acc_a, acc_b = edge_sums(np.ascontiguousarray(lab), np.ascontiguousarray(xyz, dtype=np.float64),
-                                  np.asarray(r0, np.int64), np.asarray(c0, np.int64), used, int(band),
-                                  float(depth), max(n, 1))
+    partner = np.zeros((max(n, 1), max(n, 1)), np.bool_)
+    for lo, hi in want:
+        if 0 <= lo < n and 0 <= hi < n:
+            partner[lo, hi] = partner[hi, lo] = True
+    cnt, acc_a, acc_b = edge_sums_pairs(np.ascontiguousarray(lab),
+                                        np.ascontiguousarray(xyz, dtype=np.float64),
+                                        np.asarray(r0, np.int64), np.asarray(c0, np.int64),
+                                        partner, int(band), float(depth))
     for lo, hi in want:
         c = cnt[lo * n + hi] if lo < n and hi < n else 0
         if c > 0:
@@ -1965,6 +1972,13 @@ def _tread_depth_axis(p, up) -> tuple[np.ndarray, float]:
     return n[k, 0] * e1 + n[k, 1] * e2, along / float(deep[k])
 
 
+def _some_rise(dv: float, rise, spans) -> bool:
+    """Whether ``dv`` is one rise of a step over one of ``spans`` (1 or 2 faces apart): the
+    rise half of :func:`step_chain_pairs`' step test, asked before the pair's run and its
+    treads' step directions (``_tread_depth_axis``, 30-300 us a tread) are measured."""
+    return any(rise[0] <= dv / k <= rise[1] for k in spans)
+
+
 def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_overlap: float = 0.5, angle_tol: float = 10.0,
                      max_ratio: float = 3.0, tilt: float = 12.0, skip: bool = True,
@@ -2041,6 +2055,8 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                 continue
             lo, hi = (pa, pb) if pa.height <= pb.height else (pb, pa)
             dv = hi.height - lo.height
+            if not _some_rise(dv, rise, spans):
+                continue  # no span's rise: the step test below fails whatever the run
             d = np.asarray(hi.centroid, float) - np.asarray(lo.centroid, float)
             dh = d - (d @ up) * up
             if kind[lo.label] == "riser":
