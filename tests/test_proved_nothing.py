@@ -239,3 +239,104 @@ def test_some_rise_is_the_rise_half_of_the_step_test():
     assert not _some_rise(0.5, rise, (1,)) and not _some_rise(0.61, rise, (1, 2))
     assert not _some_rise(0.05, rise, (1, 2)) and _some_rise(0.16, rise, (2,))
     assert not _some_rise(float("nan"), rise, (1, 2))
+
+
+# ---- the floor as a tread: a floor wider than a step's run across every direction
+
+def _random_hull(rng):
+    """``(hull3d (K, 3), up)``: the convex hull of random points (round, long, thin, tiny or
+    few), in a plane tilted up to 15 degrees from the horizontal, the up vector random."""
+    import shapely
+
+    n = int(rng.integers(3, 40))
+    pts = rng.normal(size=(n, 2)) * [rng.uniform(0.01, 3.0), rng.uniform(0.001, 3.0)]
+    if rng.random() < 0.2:
+        pts = pts.round(1)  # repeated and collinear vertices
+    geom = shapely.convex_hull(shapely.multipoints(pts))
+    if geom.geom_type != "Polygon":
+        return None, None
+    v = np.asarray(shapely.geometry.polygon.orient(geom, 1.0).exterior.coords)[:-1]
+    up = rng.normal(size=3)
+    up /= np.linalg.norm(up)
+    tilt = np.radians(rng.uniform(0, 15))
+    a = np.cross(up, rng.normal(size=3))
+    a /= np.linalg.norm(a)
+    b = np.cross(up, a)
+    # the plane's axes: b tilted towards up
+    u = a
+    w = np.cos(tilt) * b + np.sin(tilt) * up
+    c = rng.normal(size=3)
+    return c + v[:, :1] * u + v[:, 1:] * w, up
+
+
+def test_surely_deep_never_says_deep_where_the_calipers_measure_a_step():
+    from types import SimpleNamespace
+
+    from planerel.features.relations import _surely_deep, _tread_depth_axis
+
+    rng = np.random.default_rng(2205)
+    said = tested = 0
+    for _ in range(3000):
+        H, up = _random_hull(rng)
+        if H is None:
+            continue
+        p = SimpleNamespace(hull3d=H)
+        f_dir, _ = _tread_depth_axis(p, up)
+        width = float(np.ptp(H @ f_dir))  # what _floor_is_tread compares with the run
+        for limit in (width * rng.uniform(0.3, 1.0), width, width * rng.uniform(1.0, 1.5)):
+            deep = _surely_deep(p, up, float(limit))
+            tested += 1
+            said += deep
+            assert not (deep and width <= limit), (width, limit)
+    assert tested > 6000 and said > 1000  # the bound takes a good part of the floors
+
+
+def test_surely_deep_on_small_and_degenerate_hulls():
+    from types import SimpleNamespace
+
+    from planerel.features.relations import _surely_deep
+
+    up = np.array([0.0, 0.0, 1.0])
+    square = np.array([[0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0.0]])
+    assert _surely_deep(SimpleNamespace(hull3d=square), up, 0.6)  # 2 x 2 m: A/D = 1.41
+    assert not _surely_deep(SimpleNamespace(hull3d=square), up, 1.5)
+    strip = np.array([[0, 0, 0], [5, 0, 0], [5, 0.5, 0], [0, 0.5, 0.0]])
+    assert not _surely_deep(SimpleNamespace(hull3d=strip), up, 0.6)  # 0.5 m deep: a run
+    for H in (square[:2], square[:0], np.zeros((4, 3)), np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0.0]])):
+        assert not _surely_deep(SimpleNamespace(hull3d=H), up, 0.0)
+    # a wall (vertical): its projection has no area
+    wall = np.array([[0, 0, 0], [3, 0, 0], [3, 0, 2], [0, 0, 2.0]])
+    assert not _surely_deep(SimpleNamespace(hull3d=wall), up, 0.01)
+
+
+@pytest.mark.skipif(not (_DATA / "mosd").is_dir(), reason="needs ../shared/data")
+def test_surely_deep_on_real_floors():
+    from planerel.features.facts import describe_scene
+    from planerel.features.relations import (
+        ProposalParams,
+        _floor_is_tread,
+        _surely_deep,
+        _tread_depth_axis,
+    )
+    from planerel.io.readers import read
+    from planerel.segment import segment
+
+    files = sorted((_DATA / "kinect").glob("*_depth.tiff"))[:1] + sorted((_DATA / "mosd").glob("*.pcd"))
+    deep = 0
+    pp = ProposalParams()
+    for f in files:
+        cloud = read(f)
+        d = describe_scene(cloud, segment(cloud).labels)
+        up = np.asarray(d.planes.up, float)
+        for p in d.planes:
+            if p.orientation != "horizontal":
+                continue
+            f_dir, _ = _tread_depth_axis(p, up)
+            width = float(np.ptp(np.asarray(p.hull3d, float) @ f_dir))
+            for limit in (pp.step_run_max, 0.5 * width, width):
+                if _surely_deep(p, up, limit):
+                    assert width > limit
+                    deep += p.is_floor
+        floor = next(p for p in d.planes if p.is_floor)
+        assert not _floor_is_tread(d.planes, floor, d.relations, pp)
+    assert deep >= len(files)  # every real floor is proved deeper than a run

@@ -1202,6 +1202,8 @@ def _floor_is_tread(planes, floor, relations, params) -> bool:
     up = np.asarray(planes.up, float)
     if floor.orientation != "horizontal":
         return False
+    if _surely_deep(floor, up, params.step_run_max):
+        return False  # deeper than a step across every direction: the test below fails
     f_dir, f_elong = _tread_depth_axis(floor, up)
     if f_elong < 1.5 or np.ptp(np.asarray(floor.hull3d, float) @ f_dir) > params.step_run_max:
         return False
@@ -1932,6 +1934,40 @@ def _anchor_offset(face, anchor, up) -> np.ndarray:
 #: a two-rise step whose face between is seen needs its other end within this fraction of a
 #: rise of one rise beyond that face (``skip_missing``)
 SKIP_GRID = 0.15
+
+
+def _surely_deep(p, up, limit: float) -> bool:
+    """True when ``p``'s hull, projected on the horizontal plane, is more than ``limit`` wide
+    across every direction, known without :func:`_tread_depth_axis`' rotating calipers.
+
+    The projection's area ``A`` over its diameter ``D`` (the largest distance between two
+    of its vertices) bounds its smallest width ``w`` from below: a convex polygon lies in a
+    strip ``w`` wide and at most ``D`` long, so ``A <= w D``; ``hull3d`` is the outline of a
+    convex hull (a subset of its vertices when simplified), so its projection is a simple
+    polygon with at most its own hull's area and the same diameter.  The extent across any
+    horizontal direction, the calipers' included, is at least ``w``; the margin (relative
+    ``1e-6``) covers the rounding of either computation.  In Python floats: a hull has 3-20
+    vertices, and the calipers' numpy calls take 30 us warm, 150 us in the flow.  False for
+    fewer than 3 vertices or no area (the calipers decide)."""
+    H = p.hull3d
+    m = len(H)
+    if m < 3:
+        return False
+    (a0, a1, a2), (b0, b1, b2) = (e.tolist() for e in _horizontal_basis(up))
+    xs, ys = [], []
+    for x, y, z in np.asarray(H, float).tolist():
+        xs.append(x * a0 + y * a1 + z * a2)
+        ys.append(x * b0 + y * b1 + z * b2)
+    twice = 0.0
+    for i in range(m):
+        twice += xs[i] * ys[i - 1] - xs[i - 1] * ys[i]
+    need = limit * (1 + 1e-6)
+    # the diagonal of the vertices' box first (at least D); the diameter itself only then
+    diag = math.hypot(max(xs) - min(xs), max(ys) - min(ys))
+    if diag > 0 and 0.5 * abs(twice) > need * diag:
+        return True
+    d2 = max((xs[i] - xs[j]) ** 2 + (ys[i] - ys[j]) ** 2 for i in range(m) for j in range(i))
+    return d2 > 0 and 0.5 * abs(twice) > need * math.sqrt(d2)
 
 
 def _tread_depth_axis(p, up) -> tuple[np.ndarray, float]:
