@@ -12,6 +12,7 @@ must be used from the main thread.
 from __future__ import annotations
 
 import itertools
+import re
 import tempfile
 import time
 from dataclasses import dataclass, field
@@ -133,6 +134,22 @@ class SceneAnswer:
 _MODEL_NUMBERS = itertools.count(1)
 
 
+def _as_cloud(scan):
+    """``scan`` when it is a Cloud; a scan file read (its sidecar's intrinsics); else an
+    :class:`InputError` that says what to pass (an array needs ``planerel.read`` and its
+    intrinsics)."""
+    from planerel.io.cloud import Cloud
+
+    if isinstance(scan, Cloud):
+        return scan
+    if isinstance(scan, (str, Path)) or hasattr(scan, "__fspath__"):
+        from planerel.io.readers import read
+
+        return read(scan)
+    raise InputError(f"classify takes a Cloud or the path of a scan, got a {type(scan).__name__}; "
+                     "make a Cloud with planerel.read(array, intrinsics=...)")
+
+
 class Classifier:
     """Rules of a model, read as data into their own Prolog module, ready to classify scans.
 
@@ -173,6 +190,9 @@ class Classifier:
         from planerel.features.terms import atom, plist
         from planerel.ilp.model_settings import read_settings, with_overrides
 
+        if not isinstance(rules, (str, Path)) and not hasattr(rules, "__fspath__"):
+            raise InputError(f"a model is a folder or its rules.pl file, got a "
+                             f"{type(rules).__name__}")
         path = Path(rules)
         if path.is_dir() and (path / "rules.pl").is_file():
             path = path / "rules.pl"  # the model folder that `planerel learn -o` wrote
@@ -248,7 +268,8 @@ class Classifier:
         self.close()
 
     def classify(self, cloud, *, scene_id: str = "s0000", up=None) -> SceneAnswer:
-        """Segment, describe and classify one cloud.
+        """Segment, describe and classify one cloud (a :class:`~planerel.io.cloud.Cloud`, as
+        ``planerel.read`` returns, or the path of a scan file).
 
         Returns
         -------
@@ -263,6 +284,7 @@ class Classifier:
         if not self.module:
             raise InputError(f"{self.rules_path}: this classifier was closed")
         t0 = time.perf_counter()
+        cloud = _as_cloud(cloud)
         cloud.require_points(3)
         labels = segment_cached(cloud, method=self.method, params=self.seg_params)
         desc = describe_scene(cloud, labels, scene_id=scene_id, up=up, **self._describe_kw)
@@ -286,8 +308,7 @@ class Classifier:
                     for r in query(f"planerel_explain_text({self.module}, {_obj_atom(o.id)}, "
                                     f"C, I, B, T){scale_goal}",
                                     f"classifying {o.id}"):
-                        binds = dict(line.split("\t", 1) for line in _text(r["B"]).splitlines()
-                                     if "\t" in line)
+                        binds = _bindings(_text(r["B"]))
                         scale = r["S"] if isinstance(r["S"], (int, float)) else None
                         hits.append((_text(r["C"]), int(r["I"]), binds, _text(r["T"]), scale))
                     best, refused = decide(hits, self.stats, self.classes, self.cofire,
@@ -318,6 +339,16 @@ class Classifier:
         return SceneAnswer(cloud.source, scene_id, desc.labels, plane_ids, tuple(answers),
                            desc.planes.up_source, time.perf_counter() - t0,
                            desc.planes.up_confidence)
+
+
+#: where one "Name\tValue" line of planerel_explain_text's bindings starts: a Prolog variable
+#: name and a tab (a value, a scene's plane id, may hold line breaks of its file's name)
+_BINDING_START = re.compile(r"(?:^|\n)(?=[A-Z_][A-Za-z0-9_]*\t)")
+
+
+def _bindings(text: str) -> dict[str, str]:
+    """The ``{variable: value}`` of planerel_explain_text's bindings text."""
+    return dict(line.split("\t", 1) for line in _BINDING_START.split(text) if "\t" in line)
 
 
 def _obj_atom(name: str) -> str:

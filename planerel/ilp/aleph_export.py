@@ -440,10 +440,27 @@ def describe_dataset(dataset_dir, *, labels: str = "gt", classes: Sequence[str] 
 
 def export_dataset(dataset_dir, out_dir, target: str = "all", *, labels: str = "gt",
                    task: str | None = None, settings: dict | None = None) -> ExportResult:
-    """:func:`describe_dataset` then :func:`export_aleph`."""
+    """:func:`describe_dataset` then :func:`export_aleph`.
+
+    What would fail after describing every scene fails first: the task file, the settings and
+    the output folder (an empty name, a file, a folder that cannot be written)."""
+    load_task(task)
+    for name, value in (settings or {}).items():
+        check_setting(name, value)
+    check_export_target(dataset_dir, out_dir)
     descs, skipped = describe_dataset(dataset_dir, labels=labels)
     res = export_aleph(descs, out_dir, target, task=task, settings=settings)
     return ExportResult(res.files, res.stems, res.counts, tuple(skipped))
+
+
+def check_export_target(dataset_dir, out_dir) -> None:
+    """Before describing a data set for an export: its manifest reads, and ``out_dir`` is a
+    folder that can be written (made when missing, :func:`planerel.atomic.check_output_dir`)."""
+    from planerel.atomic import check_output_dir
+    from planerel.features.dataset import load_manifest
+
+    load_manifest(dataset_dir)
+    check_output_dir(out_dir, "OUT_DIR")
 
 
 def check_class_names(classes) -> None:

@@ -191,6 +191,36 @@ def aleph_kind(path) -> str:
     return "module" if _MODULE_DECL.search(head) else "classic"
 
 
+ALEPH_MISSING = ("the real Aleph was not found: set PLANEREL_ALEPH=/path/to/aleph.pl (the classic "
+                 "single-file Aleph) or install the SWI-Prolog pack with: "
+                 "swipl -g \"pack_install(aleph)\" -t halt; or use --engine builtin")
+
+
+def check_engine(engine: str, swipl: str | None = None) -> None:
+    """Fail now, not after hours of describing, when ``engine`` cannot run: an unknown name,
+    SWI-Prolog missing, or ``"aleph"`` with no real Aleph to be found."""
+    if engine not in ENGINES:
+        raise InputError(f"engine must be one of {', '.join(ENGINES)}; got {engine!r}")
+    exe = find_swipl(swipl)
+    if engine == "aleph" and find_aleph(exe) is None:
+        raise DependencyError(ALEPH_MISSING)
+
+
+class LearnerTimeout(LearnerError):
+    """A learner or a rule query ran past its time limit and was stopped."""
+
+
+def check_timeout(timeout) -> float:
+    """``timeout`` as a float, or an :class:`InputError`: a learning run's time limit must be a
+    positive, finite number of seconds (``inf`` would also be no CPU limit for the child)."""
+    import math
+
+    if isinstance(timeout, bool) or not isinstance(timeout, (int, float)) or \
+            not math.isfinite(timeout) or timeout <= 0:
+        raise InputError(f"timeout must be a positive, finite number of seconds, got {timeout!r}")
+    return float(timeout)
+
+
 def find_aleph(swipl: str | None = None) -> tuple[str, str] | None:
     """Locate the real Aleph.
 
@@ -329,7 +359,7 @@ def run_process(cmd: list[str], timeout: float, what: str, cwd: str | None = Non
         except ProcessLookupError:
             pass
         proc.communicate()
-        raise LearnerError(f"{what} timed out after {timeout:g} s and was stopped") from None
+        raise LearnerTimeout(f"{what} timed out after {timeout:g} s and was stopped") from None
     except BaseException:
         try:
             os.killpg(proc.pid, signal.SIGKILL)
@@ -434,8 +464,7 @@ def learn(
     """
     if engine not in ENGINES:
         raise InputError(f"engine must be one of {', '.join(ENGINES)}; got {engine!r}")
-    if not (isinstance(timeout, (int, float)) and timeout > 0):
-        raise InputError(f"timeout must be a positive number of seconds, got {timeout!r}")
+    check_timeout(timeout)
     stem_text = _check_stem(stem)
     exe = find_swipl(swipl)
     set_args = _setting_args(settings)
@@ -445,10 +474,7 @@ def learn(
     if engine in ("aleph", "auto"):
         aleph = find_aleph(exe)
         if aleph is None and engine == "aleph":
-            raise DependencyError(
-                "the real Aleph was not found: set PLANEREL_ALEPH=/path/to/aleph.pl (the classic "
-                "single-file Aleph) or install the SWI-Prolog pack with: "
-                "swipl -g \"pack_install(aleph)\" -t halt; or use --engine builtin")
+            raise DependencyError(ALEPH_MISSING)
     abs_stem = str(Path(stem_text).resolve())
     if aleph is None:
         detail = "builtin (planerel's learner)"

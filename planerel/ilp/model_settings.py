@@ -224,6 +224,17 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
         The settings, and one warning per value that differs from the training value (none
         when the model keeps no settings: nothing to compare with).
     """
+    from collections.abc import Mapping
+
+    from planerel.segment import METHODS
+
+    if method is not None and method not in METHODS:
+        raise InputError(f"unknown segmentation method {method!r}; choose one of "
+                         f"{', '.join(METHODS)}")
+    if overrides is not None and (not isinstance(overrides, Mapping)
+                                  or not all(isinstance(k, str) for k in overrides)):
+        raise InputError(f"parameters must be a mapping of names to values, e.g. "
+                         f"{{'theta': 20}}; got {overrides!r}")
     base = settings or ModelSettings()
     warnings: list[str] = []
     new_method = base.method

@@ -276,7 +276,7 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         Rules per class, with coverage statistics on the training objects.
     """
     from planerel.ilp.aleph_export import export_aleph
-    from planerel.ilp.learn import learn
+    from planerel.ilp.learn import LearnerTimeout, learn
 
     examples = _examples(descs)
     present = {k for _, k in examples}
@@ -301,8 +301,14 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         def one(k):
             say = None if log is None else (lambda text, k=k: log(f"[{k}] {text}"))
             t0 = time.perf_counter()
-            res = learn(Path(work_dir) / k, engine=engine, timeout=timeout, progress=say,
-                        settings=per_class.get(k))
+            try:
+                res = learn(Path(work_dir) / k, engine=engine, timeout=timeout, progress=say,
+                            settings=per_class.get(k))
+            except LearnerTimeout:  # not the temporary folder's name: the class and the option
+                raise LearnerTimeout(
+                    f"learning the {k} rules timed out after {timeout:g} s and was stopped "
+                    "(the time limit of each class's learner: --timeout, or timeout= in "
+                    "Python)") from None
             if log is not None:
                 log(f"[{k}] learned {len(res.rules)} clause(s) in {time.perf_counter() - t0:.1f} s")
             return res
@@ -923,7 +929,10 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     # what would fail at the end fails first: the task, the settings, the model folder, the
     # held-out set
     from planerel.ilp.aleph_export import check_setting, load_task
+    from planerel.ilp.learn import check_engine, check_timeout
 
+    check_timeout(timeout)
+    check_engine(engine)
     load_task(task)
     for name, value in (settings or {}).items():
         check_setting(name.rpartition(":")[2], value)

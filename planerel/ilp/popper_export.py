@@ -163,8 +163,14 @@ def export_dataset(dataset_dir, out_dir, target: str = "all", *, labels: str = "
                    bounds: dict | None = None):
     """Describe a data set (:func:`planerel.ilp.aleph_export.describe_dataset`) and write the
     Popper tasks. Returns ``(folders, counts, skipped)``."""
-    from planerel.ilp.aleph_export import _class_order, describe_dataset, examples_of
+    from planerel.ilp.aleph_export import (
+        _class_order,
+        check_export_target,
+        describe_dataset,
+        examples_of,
+    )
 
+    check_export_target(dataset_dir, out_dir)  # before describing every scene
     descs, skipped = describe_dataset(dataset_dir, labels=labels)
     examples = examples_of(descs)
     classes = _class_order(e.klass for e in examples)
