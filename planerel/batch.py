@@ -373,7 +373,9 @@ def report_failures(command: str, failures: Sequence[Failure], errors_file, n_ta
     if not failures:
         return 0
     for f in failures[:20]:
-        print(f"planerel {command}: failed: {f.input}: {f.message}", file=sys.stderr)
+        # most messages name the input already ("x.png: cannot read the image (...)")
+        said = f.message if f.message.startswith(f"{f.input}:") else f"{f.input}: {f.message}"
+        print(f"planerel {command}: failed: {said}", file=sys.stderr)
     if len(failures) > 20:
         print(f"planerel {command}: ... and {len(failures) - 20} more", file=sys.stderr)
     where = f"; list in {errors_file}" if errors_file else ""

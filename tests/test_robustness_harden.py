@@ -169,3 +169,17 @@ def test_scene_name_with_a_line_break_keeps_its_proof_planes(sets):
                 assert {k: v.replace("a\nb", "ab") for k, v in b.bindings.items()} == p.bindings
                 seen += bool(p.proof_planes)
     assert seen >= 2  # some training objects are classes, proved by planes
+
+
+def test_keep_going_names_a_failed_input_once(sets, tmp_path):
+    # before: "planerel segment: failed: x.png: x.png: cannot read the image (...)"
+    good, _, _ = sets
+    broken = tmp_path / "broken.png"
+    broken.write_bytes(b"\x89PNG\r\n\x1a\ngarbage")
+    scan = sorted(good.glob("*.depth.png"))[0]
+    r = _run("segment", broken, scan, "-o", tmp_path / "seg", "--keep-going", "-j", "1")
+    assert r.returncode == 1, r.stderr
+    failed = [ln for ln in r.stderr.splitlines() if ": failed: " in ln]
+    assert len(failed) == 1 and failed[0].count(f"{broken}: ") == 1, r.stderr
+    assert "cannot read the image" in failed[0]
+    assert "1 of 2 inputs failed" in r.stderr
