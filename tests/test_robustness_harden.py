@@ -183,3 +183,16 @@ def test_keep_going_names_a_failed_input_once(sets, tmp_path):
     assert len(failed) == 1 and failed[0].count(f"{broken}: ") == 1, r.stderr
     assert "cannot read the image" in failed[0]
     assert "1 of 2 inputs failed" in r.stderr
+
+
+def test_an_empty_output_name_is_refused_not_ignored(sets, tmp_path):
+    # before: induce --rules "", evaluate-objects --json "" and describe --mesh "" / --graph ""
+    # ran (exit 0) and wrote nothing, where -o "" is refused everywhere
+    good, _, _ = sets
+    scan = sorted(good.glob("*.depth.png"))[0]
+    _one_error_line(_run("induce", TRAINS, "--rules", ""), "--rules needs a file name")
+    _one_error_line(_run("evaluate-objects", scan, "--json", ""), "--json needs a file name")
+    for option in ("--mesh", "--graph"):
+        _one_error_line(_run("describe", scan, "-o", tmp_path / "f.pl", option, ""),
+                        f"{option} needs a folder name")
+    assert not (tmp_path / "f.pl").exists()

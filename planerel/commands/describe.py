@@ -120,7 +120,7 @@ def run(args) -> int:
 
     check_output_file(args.output, "-o")
     for option, folder in (("--mesh", args.mesh), ("--graph", args.graph)):
-        if folder:
+        if folder is not None:  # "" is refused, not ignored
             check_output_dir(folder, option)
     params = FactParams(pairs=args.pairs, planner=not args.no_planner)
     opts = read_options(args)

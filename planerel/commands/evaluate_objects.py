@@ -41,7 +41,7 @@ def run(args) -> int:
     from planerel.atomic import check_output_file, write_text
     from planerel.features.object_eval import evaluate_frames
 
-    if args.json:  # a bad --json fails here, not after scoring every frame
+    if args.json is not None:  # a bad --json (also "") fails here, not after scoring every frame
         check_output_file(args.json, "--json")
 
     def show(s):
@@ -60,7 +60,7 @@ def run(args) -> int:
         shape = "" if pf is None else (f", planar fraction {pf:.2f} (mean of the found), "
                                        f"{d['curved']} curved")
         print(f"  {t}: {d['found']}/{d['objects']} found ({_pct(d['found_rate'])}){shape}")
-    if args.json:
+    if args.json is not None:
         write_text(args.json, json.dumps({"frames": [s.as_dict() for s in scores], "total": tot},
                                          indent=1) + "\n")
     return 0

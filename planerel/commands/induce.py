@@ -39,7 +39,7 @@ def run(args) -> int:
     from planerel.ilp.learn import format_report, learn, parse_settings
 
     settings = parse_settings(args.settings)
-    if args.rules:  # a bad --rules fails here, not after the learning run
+    if args.rules is not None:  # a bad --rules (also "") fails here, not after the learning run
         check_output_file(args.rules, "--rules")
     result = learn(args.stem, engine=args.engine, settings=settings, timeout=args.timeout,
                    progress=lambda text: print(f"progress: {text}", file=sys.stderr, flush=True))
@@ -48,7 +48,7 @@ def run(args) -> int:
     if args.verbose:
         print(result.output)
     print(format_report(result), end="")
-    if args.rules:
+    if args.rules is not None:
         write_text(args.rules, result.rules_text)
         print(f"rules written to {args.rules}")
     return 0
