@@ -196,3 +196,15 @@ def test_an_empty_output_name_is_refused_not_ignored(sets, tmp_path):
         _one_error_line(_run("describe", scan, "-o", tmp_path / "f.pl", option, ""),
                         f"{option} needs a folder name")
     assert not (tmp_path / "f.pl").exists()
+
+
+def test_learn_says_where_a_classify_setting_belongs(sets, tmp_path):
+    # before: "unknown parameter(s) decision.veto_ratio for RegionGrowParams; known: adapt,
+    # angle_mf, ..." (a list of 20 segmentation names that did not say where the setting goes)
+    _, bad, _ = sets
+    for name in ("decision.veto_ratio=1", "gravity.tol_deg=3"):
+        line = _one_error_line(_run("learn", bad, "-o", tmp_path / "m", "--param", name),
+                               "learn takes segmentation parameters",
+                               f"planerel classify MODEL --param {name.partition('=')[0]}=VALUE")
+        assert "s0000" not in line
+    assert not (tmp_path / "m").exists()

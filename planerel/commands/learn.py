@@ -73,12 +73,18 @@ def register(sub) -> None:
 
 def _params(items) -> dict:
     from planerel.errors import InputError
+    from planerel.ilp.model_settings import SECTIONS
 
     out = {}
     for item in items:
         name, sep, value = item.partition("=")
         if not sep or not name:
             raise InputError(f"--param takes NAME=VALUE, got {item!r}")
+        section = name.strip().partition(".")[0]
+        if "." in name and section in SECTIONS:
+            raise InputError(f"--param {name.strip()}: learn takes segmentation parameters "
+                             f"(NAME or split.NAME); {section}.NAME is a setting of "
+                             f"'planerel classify MODEL --param {name.strip()}=VALUE'")
         out[name.strip()] = value.strip()
     return out
 
