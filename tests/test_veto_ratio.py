@@ -21,6 +21,7 @@ from planerel.ilp import metrics as M
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from scenes_analytic import box, floor, render  # noqa: E402
+from test_proof_gate import _answers  # noqa: E402  (classify a (cloud, up) scene)
 
 # the veto is the more precise rule: without the ratio it wins wherever both fire
 STATS = [(1, "box", 9, 1), (2, "other", 20, 1)]
@@ -53,14 +54,6 @@ def scene():
                                     pitch=45, cam_height=1.0, width=640, height=480,
                                     noise=0.0003)
     return cloud, up
-
-
-def _answers(model, scene, **kw):
-    from planerel.classify.classifier import Classifier
-
-    cloud, up = scene
-    with Classifier(model, **kw) as clf:
-        return clf.warnings, clf.classify(cloud, up=up).objects
 
 
 def test_a_veto_through_a_sliver_is_set_aside_and_a_comparable_one_decides(tmp_path, scene):

@@ -13,6 +13,10 @@ from numba import njit
 def edge_sums(lab, xyz, r0, c0, used, band, depth, n):
     """Sums of :func:`planerel.features.relations.edge_means` in one pass.
 
+    The flow calls :func:`edge_sums_pairs` (the same sums for the asked pairs, windows proved
+    empty skipped); this plainer form of every pair is kept as the reference it is tested
+    against (tests/test_proved_nothing.py, tests/test_relation_kernels.py).
+
     For each boundary pixel ``(r0[t], c0[t])`` of a used label ``a`` and each pixel ``k``
     = 1..``band`` steps away to the right, down and along both down diagonals whose label
     ``b`` is used and differs, the pair counts when the two points lie within
