@@ -19,21 +19,15 @@ import planerel
 from planerel.cli import main
 from planerel.errors import InputError
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_new_user import _one_error_line  # noqa: E402  (exit 2, one line, no traceback)
+
 TRAINS = Path(__file__).parent / "ilp" / "trains"  # a small Aleph problem (trains.b/.f/.n)
 
 
 def _run(*args, cwd=None, env=None):
     return subprocess.run([sys.executable, "-m", "planerel.cli", *map(str, args)],
                           capture_output=True, text=True, timeout=300, cwd=cwd, env=env)
-
-
-def _one_error_line(r, *needles):
-    assert r.returncode == 2, (r.returncode, r.stdout, r.stderr)
-    err = [ln for ln in r.stderr.splitlines() if ln.strip()]
-    assert len(err) == 1 and "Traceback" not in r.stderr, r.stderr
-    for n in needles:
-        assert n in err[0], err[0]
-    return err[0]
 
 
 @pytest.fixture(scope="module")
