@@ -147,6 +147,11 @@ class SplitParams:
         degrees, a stair tread and the floor by a riser.  The merge step compares nearly
         parallel regions' union with their own RMS as well (:mod:`planerel.segment.merge`).
         ``min_split_angle`` 0 turns both off.
+    piece_offset : float
+        Last, touching regions whose normals lie within ``merge_angle`` are joined when the
+        smaller one's points lie within ``piece_offset`` metres RMS of the larger one's plane: pieces of one
+        face a real sensor bends by more than its noise (:func:`planerel.segment.merge.join_pieces`).
+        0 turns it off.
     """
 
     tolerance: float = 1.5
@@ -174,6 +179,7 @@ class SplitParams:
     merge_jump: float = 0.05
     min_split_angle: float = 3.0
     parallel_gap: float = 0.02
+    piece_offset: float = 0.005
 
     def __post_init__(self) -> None:
         o = "split"
@@ -213,6 +219,7 @@ class SplitParams:
         s(self, "merge_angle", _num(o, "merge_angle", self.merge_angle, lo=0.0, hi=90.0))
         s(self, "merge_gap", _int(o, "merge_gap", self.merge_gap, 1))
         s(self, "merge_jump", _num(o, "merge_jump", self.merge_jump, lo=0.0, lo_open=True))
+        s(self, "piece_offset", _num(o, "piece_offset", self.piece_offset, lo=0.0))
         s(self, "min_split_angle", _num(o, "min_split_angle", self.min_split_angle, lo=0.0,
                                         hi=90.0))
         s(self, "parallel_gap", _num(o, "parallel_gap", self.parallel_gap, lo=0.0))
