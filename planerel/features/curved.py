@@ -324,7 +324,7 @@ def skirt_faces(planes, relations, cloud, tilt: float | None = None,
     ``profiles``), ``{label: FaceProfile}``; the others are measured here.
     """
     from planerel.features.relations import leans_towards
-    from planerel.features.solid import _skirt_geometry, face_profile_of
+    from planerel.features.solid import PROFILE_POINTS, _skirt_geometry, face_profile_of
 
     labels = getattr(planes, "labels", None)
     if cloud is None or labels is None:
@@ -332,6 +332,8 @@ def skirt_faces(planes, relations, cloud, tilt: float | None = None,
     if tilt is None:
         tilt = getattr(getattr(relations, "params", None), "skirt_top_tilt", 0.0)
     denied = getattr(relations, "skirt_steps", {})
+    # the relations' profile sample (relate's profiles are measured on it)
+    points = getattr(getattr(relations, "params", None), "profile_points", PROFILE_POINTS)
     byl = {p.label: p for p in planes}
     up = np.asarray(planes.up, float)
     xyz = np.asarray(cloud.xyz, float)
@@ -347,7 +349,7 @@ def skirt_faces(planes, relations, cloud, tilt: float | None = None,
             continue
         prof = profiles.get(face.label) if profiles else None
         if prof is None:
-            prof = face_profile_of(face, up, labels, xyz)
+            prof = face_profile_of(face, up, labels, xyz, points)
         _, _, beyond, span = _skirt_geometry(top, up, prof)
         if span is not None and beyond <= FLUSH_BEYOND * (span[3] - span[2]):
             out.update((r.a, r.b))

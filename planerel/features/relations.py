@@ -70,6 +70,7 @@ from planerel.features.cavities import (
     occluded_channel_pairs,
     split_panel_pairs,
 )
+from planerel.features.solid import PROFILE_POINTS
 
 __all__ = [
     "RelationParams",
@@ -127,6 +128,11 @@ class RelationParams:
     #: m: planes narrower than this (``plane_width``) do not count in ``oblique_share``
     #: (:func:`planerel.features.facts.oblique_share`); 0 = every plane counts
     oblique_min_width: float = 0.025
+    #: about how many of a vertical face's points its profile (the 2nd and 98th percentiles
+    #: of their heights and of their positions along it) is measured on: every k-th row and
+    #: column of its pixel box, k = int(sqrt(n_points / profile_points)) (at least 1)
+    #: (:func:`planerel.features.solid.face_profile_of`; 4000 before 2026-11-29)
+    profile_points: int = PROFILE_POINTS
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
@@ -148,6 +154,9 @@ class RelationParams:
                 raise InputError(f"{name} must be below 45 degrees, got {getattr(self, name)!r}")
         if not isinstance(self.skirt_own_steps, bool):
             raise InputError(f"skirt_own_steps must be true or false, got {self.skirt_own_steps!r}")
+        if (isinstance(self.profile_points, bool) or not isinstance(self.profile_points, int)
+                or self.profile_points < 1):
+            raise InputError(f"profile_points must be an integer >= 1, got {self.profile_points!r}")
 
 
 @dataclass(frozen=True)
@@ -312,7 +321,8 @@ class _Solid:
         prof = self._profiles.get(face.label)
         if prof is None:
             prof = self._profiles[face.label] = face_profile_of(face, self.up, self.labels,
-                                                                self.xyz)
+                                                                self.xyz,
+                                                                self.params.profile_points)
         return prof
 
     def _tilted(self, top) -> bool:
@@ -349,7 +359,7 @@ class _Solid:
             n = -n
         if abs(float(np.dot(n, face.normal))) > np.sin(np.radians(p.perpendicular_tol)):
             return False
-        prof = face_profile_of(face, n, self.labels, self.xyz)
+        prof = face_profile_of(face, n, self.labels, self.xyz, p.profile_points)
         reach = min(p.skirt_reach, p.skirt_reach_share * top.length) if p.skirt_reach_share else p.skirt_reach
         # a tilted box's side ends where its top ends; a lying cylinder's end disk reaches
         # past the strip on its top

@@ -79,9 +79,16 @@ __all__ = ["face_points", "FaceProfile", "face_profile", "face_profile_of", "ski
 #: Levels of the cover test, as shares of the face's reach below the top.
 _LEVELS = (0.3, 0.5, 0.7)
 
+#: About how many of a face's points its profile is measured on (:func:`face_points`,
+#: :func:`face_profile_of`; :attr:`planerel.features.relations.RelationParams.profile_points`):
+#: every k-th row and column of its pixel box, ``k = int(sqrt(n_points / PROFILE_POINTS))``.
+#: 4000 until 2026-11-29 (speed22v, docs/benchmarks.md "Eighteenth pass"): the same facts on
+#: every checked real and rendered frame at 1000, with a fifth of the reads on large faces.
+PROFILE_POINTS = 1000
 
-def face_points(plane, labels, xyz, max_points: int = 4000) -> tuple[np.ndarray, np.ndarray,
-                                                                      np.ndarray]:
+
+def face_points(plane, labels, xyz, max_points: int = PROFILE_POINTS
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The finite points of ``plane`` and their pixels, from its pixel box: every pixel, or
     every k-th row and column of the box when the plane has more than ``max_points`` points
     (its percentiles are all the relations need).
@@ -152,7 +159,7 @@ def face_profile(face, up, points) -> FaceProfile:
     return FaceProfile(top, bottom, along, lo, hi)
 
 
-def face_profile_of(face, up, labels, xyz, max_points: int = 4000) -> FaceProfile:
+def face_profile_of(face, up, labels, xyz, max_points: int = PROFILE_POINTS) -> FaceProfile:
     """:func:`face_profile` of the points :func:`face_points` takes, in one compiled pass
     that keeps no points (:func:`planerel.features._relation_kernels.box_profile`).  The
     heights are summed in the plain order instead of numpy's matrix product: the same floats
