@@ -25,6 +25,7 @@ from planerel.segment.split import SplitParams
 W, H = 160, 120
 INTR = Intrinsics.kinect(W, H)
 MOSD = Path(__file__).resolve().parents[2] / "shared" / "data" / "mosd"
+ABW = Path(__file__).resolve().parents[2] / "shared" / "data" / "abw"
 ON = SplitParams(piece_offset=0.005)
 
 
@@ -102,6 +103,18 @@ def test_a_strip_standing_off_the_wall_stays_apart(step):
     assert out.info["joined"] == 0 and out.n_planes == 2
 
 
+@pytest.mark.parametrize("tilt", [0.0, 2.0])
+def test_nearly_parallel_pieces_are_left_to_the_merge(tilt):
+    # within min_split_angle (3 degrees) the merge judges the pieces against their own noise;
+    # a 0.4 mm step between two pieces of a 0.1 mm-noise sensor is two surfaces (SegComp ABW:
+    # two blocks' flush tops), though it is far within piece_offset
+    cloud, lab = _wall(W - 16, tilt_deg=tilt, step=0.0004, noise=0.0001)
+    seg = _seg(cloud, lab)
+    assert join_pieces(cloud, seg, ON).n_planes == 2
+    # with the parallel band off, the join takes them
+    assert join_pieces(cloud, seg, SplitParams(piece_offset=0.005, min_split_angle=0.0)).n_planes == 1
+
+
 def test_a_wide_fold_stays_two_planes():
     # half the wall (about 0.5 m) turned by 4 degrees: its centroid lies about 17 mm off the
     # wall's plane (a 4-degree ramp from the floor is the same geometry)
@@ -136,6 +149,23 @@ def test_off_and_bad_values():
         SplitParams(piece_offset=-0.001)
     with pytest.raises(InputError, match="SplitParams"):
         join_pieces(cloud, seg, {"piece_offset": 0.005})
+
+
+@pytest.mark.skipif(not (ABW / "abw.test.21.range").exists(), reason="../shared/data/abw not present")
+def test_the_flush_blocks_of_segcomp_abw_stay_two_planes():
+    """ABW image 21: two blocks' tops (ground-truth planes 10 and 14) lie 0.12 degrees and
+    0.4 mm apart, about twice the sensor's noise: every ground-truth plane stays a correct
+    detection at T = 0.8."""
+    from planerel.io.readers import read_abw, read_abw_gt
+    from planerel.segment.evaluate import segcomp
+
+    f = ABW / "abw.test.21.range"
+    gt = read_abw_gt(str(f).replace(".range", ".gt-seg"))
+    gt = np.where(gt >= 10, gt, -1)
+    seg = segment(read_abw(f))
+    score = segcomp(seg.labels, gt)
+    assert len(score["correct"]) == score["n_gt"] == 10
+    assert not score["under"]
 
 
 def test_deterministic():

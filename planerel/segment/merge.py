@@ -205,24 +205,28 @@ def join_pieces(cloud, seg: Segmentation, params=None) -> Segmentation:
     """Join touching pieces of one bent surface: the last post-processing step.
 
     A real sensor bends a flat face by a few millimetres (a cardboard box's side on a Kinect
-    v1 at 0.6-0.8 m: pieces 1-6 degrees apart whose points lie 2-4 mm off each other's
-    plane, about four times the noise model's RMS), so region growing, the split test and
+    v1 at 0.6-0.8 m: pieces 3-9 degrees apart, the smaller one's points 2-5 mm RMS off the
+    larger one's plane, 1.6-6.6 times its own RMS), so region growing, the split test and
     the merge (which judge the union against the noise) leave it in two or three pieces.
     Downstream these pieces are two planes ``parallel`` and touching, which no sharp
     synthetic face ever is: the varied world's rules for ``other`` read it as two faces of a
     thin slab (docs/results.md, "Faces split in two").
 
     Two regions touching as the merge finds them (pixels within ``merge_gap``, points within
-    ``merge_jump * z``) whose normals differ by at most ``merge_angle`` degrees, and where
-    the smaller one's points lie within ``piece_offset`` metres RMS of the larger one's plane,
-    are one surface. The test keeps apart what is really two surfaces: two treads or a tread
-    and the floor differ by a rise, a book lying on a table by its thickness, a table's leg
-    by the few centimetres it stands back from the apron, and a plane meeting another at an
-    angle lies off the other's plane by its extent times the angle's sine (a ramp starting
-    from the floor: centimetres). Closest pair first, greedily, from the merge step's sample
-    (per-region sums; the joined region's normal from its union's sums). A facet of a round surface (a region meeting two or more
-    touching regions at 5-40 degrees, as absorbing judges it) is not joined: a cylinder's fan
-    of strips stays a fan.
+    ``merge_jump * z``) whose normals differ by more than ``min_split_angle`` and at most
+    ``merge_angle`` degrees, and where the smaller one's points lie within ``piece_offset``
+    metres RMS of the larger one's plane, are one surface.  Nearly parallel pieces are left
+    to the merge, which judges their union against their own noise: a step of a few noise
+    widths between them is two surfaces (two blocks' flush tops on the SegComp ABW set, 0.12
+    degrees and 0.4 mm apart).  The RMS test keeps apart what is really two surfaces: two
+    treads or a tread and the floor differ by a rise, a book lying on a table by its
+    thickness, a table's leg by the few centimetres it stands back from the apron, and a
+    plane meeting another at an angle lies off the other's plane by its extent times the
+    angle's sine (a ramp starting from the floor: centimetres).  A facet of a round surface
+    (a region meeting two or more touching regions at 5-40 degrees, as absorbing judges it)
+    is not joined: a cylinder's fan of strips stays a fan.  Closest pair first, greedily,
+    from the merge step's sample (per-region sums; the joined region's normal from its
+    union's sums).
 
     Parameters
     ----------
@@ -230,7 +234,8 @@ def join_pieces(cloud, seg: Segmentation, params=None) -> Segmentation:
         The organized cloud ``seg`` was computed from (unorganized clouds: unchanged).
     seg : Segmentation
     params : SplitParams, optional
-        ``piece_offset`` (metres; 0 = off), ``merge_angle``, ``merge_gap``, ``merge_jump``.
+        ``piece_offset`` (metres; 0 = off), ``min_split_angle``, ``merge_angle``,
+        ``merge_gap``, ``merge_jump``.
 
     Returns
     -------
@@ -260,6 +265,10 @@ def join_pieces(cloud, seg: Segmentation, params=None) -> Segmentation:
     cnt, s1, s2, _ = merge_stats(Xs.reshape(-1, 3), Ls.reshape(-1), normal, n, 0.0, 0.0, 0.0,
                                  0.0)
     cos_max = math.cos(math.radians(p.merge_angle))
+    # pieces within min_split_angle of each other are the merge's: it judges their union
+    # against their own noise, and a step of a few noise widths between two such pieces is
+    # two surfaces (two blocks' flush tops on the SegComp ABW set: 0.12 degrees, 0.4 mm)
+    cos_par = math.cos(math.radians(p.min_split_angle)) if p.min_split_angle > 0 else 2.0
     # a facet of a round surface (meeting two or more regions at 5-40 degrees: a cylinder is a
     # fan of them) is no piece of a flat face, as in absorbing
     facet = _facets(normal, edges, n)
@@ -268,8 +277,8 @@ def join_pieces(cloud, seg: Segmentation, params=None) -> Segmentation:
     while True:
         best = None
         for a, b in sorted(edges):
-            if (cnt[a] == 0 or cnt[b] == 0 or facet[a] or facet[b]
-                    or abs(normal[a] @ normal[b]) < cos_max):
+            c = abs(normal[a] @ normal[b])
+            if cnt[a] == 0 or cnt[b] == 0 or facet[a] or facet[b] or not cos_max <= c < cos_par:
                 continue
             big, small = (a, b) if cnt[a] >= cnt[b] else (b, a)
             # the smaller piece's RMS distance to the larger one's plane, from the sums: its
