@@ -139,12 +139,7 @@ def merge_coplanar(cloud, seg: Segmentation, params=None, *,
         _, ra, rb, nv = best
         keep, drop = min(ra, rb), max(ra, rb)
         parent[drop] = keep
-        moved = [e for e in edges if drop in e]
-        edges.difference_update(moved)
-        for a, b in moved:
-            a, b = (keep if a == drop else a), (keep if b == drop else b)
-            if a != b:
-                edges.add((min(a, b), max(a, b)))
+        _rename(edges, keep, drop)
         cnt[keep] += cnt[drop]
         s1[keep] += s1[drop]
         s2[keep] += s2[drop]
@@ -167,6 +162,17 @@ def merge_coplanar(cloud, seg: Segmentation, params=None, *,
                                                       for a, b in pairs) if x != y})
     remap = np.concatenate([[-1], gid]).astype(np.int32)
     return done(res, np.ascontiguousarray(remap[Ls + 1]), Xs, pairs)
+
+
+def _rename(edges: set, keep: int, drop: int) -> None:
+    """Rename ``drop`` to ``keep`` in the touching pairs ``edges`` (``(a, b)``, ``a < b``), in
+    place: a group that touched either touches the joined one."""
+    moved = [e for e in edges if drop in e]
+    edges.difference_update(moved)
+    for a, b in moved:
+        a, b = (keep if a == drop else a), (keep if b == drop else b)
+        if a != b:
+            edges.add((min(a, b), max(a, b)))
 
 
 def _apply_groups(labels, xyz, planes, roots):
@@ -293,12 +299,7 @@ def join_pieces(cloud, seg: Segmentation, params=None) -> Segmentation:
             break
         _, keep, drop = best
         parent[parent == drop] = keep
-        moved = [e for e in edges if drop in e]
-        edges.difference_update(moved)
-        for a, b in moved:
-            a, b = (keep if a == drop else a), (keep if b == drop else b)
-            if a != b:
-                edges.add((min(a, b), max(a, b)))
+        _rename(edges, keep, drop)
         cnt[keep] += cnt[drop]
         s1[keep] += s1[drop]
         s2[keep] += s2[drop]
