@@ -149,3 +149,32 @@ def test_split_fields_are_settings_of_the_model(model_dir, tmp_path, capsys):
     assert main(["classify", str(model_dir / "rules.pl"), str(tmp_path / "st.npy"),
                  "--param", "split.smal_faces=150"]) == 2
     assert "unknown parameter(s) smal_faces for SplitParams" in capsys.readouterr().err
+
+
+def test_a_setting_the_model_predates_is_not_called_a_training_value(model_dir, tmp_path):
+    """A model written before a setting existed does not record it: it runs at today's
+    default, and an override is warned about as differing from that default, not from a
+    training value the model never had."""
+    import shutil
+
+    from planerel.classify.classifier import Classifier
+
+    old = tmp_path / "old"
+    shutil.copytree(model_dir, old)
+    data = json.loads((old / "model.json").read_text())
+    del data["segmentation"]["resolved"]["split.piece_offset"]
+    del data["relations"]["profile_points"]
+    (old / "model.json").write_text(json.dumps(data))
+    over = {"split.piece_offset": "0", "relations.profile_points": "4000"}
+    with Classifier(old / "rules.pl", seg_params=over) as clf:
+        w = "\n".join(clf.warnings)
+    assert "relations.profile_points=4000 differs from the default 1000 (the model does not " \
+           "record relations.profile_points" in w
+    assert "segmentation split.piece_offset=0.0 differs from the default 0.005 (the model does " \
+           "not record split.piece_offset" in w
+    assert "training value" not in w
+    # the model as written records both: the same overrides are training-value warnings
+    with Classifier(model_dir / "rules.pl", seg_params=over) as clf:
+        w = "\n".join(clf.warnings)
+    assert "relations.profile_points=4000 differs from the model's training value 1000" in w
+    assert "segmentation split.piece_offset=0.0 differs from the model's training value 0.005" in w

@@ -104,6 +104,10 @@ class ModelSettings:
     sections: dict = field(default_factory=dict)
     planar_domain: tuple = ()
     proof_domain: tuple = ()
+    #: The segmentation parameters ``model.json`` records (its ``resolved`` keys), or None
+    #: when unknown: a parameter added after the model was written is not among them, and its
+    #: value is today's default, not a training value.
+    seg_recorded: frozenset | None = None
 
     def describe_kwargs(self) -> dict:
         """Keyword arguments of :func:`planerel.features.facts.describe_scene` for these settings."""
@@ -189,8 +193,10 @@ def read_settings(rules_path) -> ModelSettings | None:
         except (KeyError, TypeError, ValueError):
             raise InputError(f"{path}: proof_domain entry {entry!r} is not "
                              "{rule, class, low, high, n}") from None
+    resolved = seg.get("resolved")
     return ModelSettings(str(seg.get("method", "regiongrow")), dict(seg.get("params") or {}),
-                         sections, tuple(domain), tuple(proofs))
+                         sections, tuple(domain), tuple(proofs),
+                         frozenset(resolved) if isinstance(resolved, dict) else None)
 
 
 def _coerce_like(value, like, name: str):
@@ -265,17 +271,28 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
         else:
             seg[name] = value
     for sec, key, value in section_over:
+        recorded = key in sections.get(sec, {})
         old = sections.setdefault(sec, {}).get(key, dataclasses.asdict(_section_class(sec)())[key])
         sections[sec][key] = value
         if settings is not None and value != old:
-            warnings.append(f"{sec}.{key}={value} differs from the model's training value {old}")
-    out = ModelSettings(new_method, seg, sections, base.planar_domain, base.proof_domain)
+            warnings.append(f"{sec}.{key}={value} differs from the model's training value {old}"
+                            if recorded else
+                            f"{sec}.{key}={value} differs from the default {old} (the model "
+                            f"does not record {sec}.{key}: it was written before the setting "
+                            f"existed)")
+    out = ModelSettings(new_method, seg, sections, base.planar_domain, base.proof_domain,
+                        base.seg_recorded)
     out.describe_kwargs()  # a bad value fails here, with the dataclass's message
     out.decision_params()
     if settings is not None and new_method == base.method and seg != base.seg_params:
         before, after = base.resolved() or {}, out.resolved() or {}
+        known = base.seg_recorded
         for key in sorted(after):
             if after[key] != before.get(key):
                 warnings.append(f"segmentation {key}={after[key]} differs from the model's "
-                                f"training value {before.get(key)}")
+                                f"training value {before.get(key)}"
+                                if known is None or key in known else
+                                f"segmentation {key}={after[key]} differs from the default "
+                                f"{before.get(key)} (the model does not record {key}: it was "
+                                f"written before the setting existed)")
     return out, warnings
