@@ -1008,6 +1008,20 @@ class ProposalParams:
         with one end and none with the other, the other end off the flight's rises (15 % of
         a rise), ends it (``skip_missing`` of
         :func:`step_chain_pairs`; a box's top two runs before a flight's tread; synth22r).
+    flight_sides : bool
+        A vertical plane of ``support_min_area`` or more whose seen top edge rises with the
+        flight beside it is that flight's side, not a room wall: a solid balustrade's or a
+        closed string's face, 2 m^2 and more on a long flight.  Its top edge (where seen: off
+        the image border, hidden by nothing in front) is a straight line that stands at one
+        height, up to ``side_wall_rise_max`` m, above the nosings of two or more steps near it
+        (treads, and risers across it, within ``FLIGHT_SIDE_REACH`` m of its plane) whose
+        tops span at least ``step_rise_min``: the heights spread by at most
+        ``side_wall_follow`` times the tops' span (:func:`planerel.features.walls.flight_side`).
+        A room wall's top is level (or out of view).  Such a plane is no support, and it joins
+        the proposal holding those steps; so does any vertical plane of ``border_wall_area`` or
+        more whose top follows them (a far balustrade's inside face, seen over the flight).
+        (synth22v, docs/objects.md.)  False: support by area, and no such join (before
+        2026-11-29).
     """
 
     support_min_area: float = 2.0
@@ -1075,6 +1089,7 @@ class ProposalParams:
     table_area: float = 0.2
     table_height: float = 0.30
     table_legs: float = 0.08
+    flight_sides: bool = True
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("table_area", "table_height", "table_legs", "support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
@@ -1139,7 +1154,64 @@ def support_planes(planes, params: ProposalParams | None = None, relations: Rela
     if (params.wall_test and relations is not None and cloud is not None and lab is not None
             and lab.shape == cloud.xyz.shape[:2]):
         out = [x for x in out if not _stepped_side(planes, byl[x], set(out), relations, cloud, params)]
+    if params.flight_sides and cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]:
+        sup = set(out)
+        out = [x for x in out
+               if not (byl[x].orientation == "vertical" and byl[x].area >= params.support_min_area
+                       and _flight_side(planes, byl[x], [q for q in planes if q.label not in sup],
+                                        cloud, params))]
     return out
+
+
+#: Metres: a step counts towards a flight's side face (``ProposalParams.flight_sides``) when its
+#: hull comes within this of the face's plane (a balustrade's thickness, a string's).
+FLIGHT_SIDE_REACH = 0.5
+
+
+def _flight_steps(planes, face, candidates, params) -> list:
+    """Of ``candidates``, the steps beside vertical plane ``face``: treads, and risers across
+    it (vertical, normals within 20 degrees of perpendicular to its), smaller than
+    ``support_min_area``, within ``FLIGHT_SIDE_REACH`` of its plane and overlapping its
+    extent along it (widened by 0.3 m)."""
+    up = np.asarray(planes.up, float)
+    n = np.asarray(face.normal, float)
+    along = cross3(up, n)
+    norm = float(np.linalg.norm(along))
+    if norm < 1e-6:
+        return []
+    along = along / norm
+    c = np.asarray(face.centroid, float)
+    fa = np.asarray(face.hull3d, float) @ along
+    lo, hi = float(fa.min()) - 0.3, float(fa.max()) + 0.3
+    across = math.sin(math.radians(20.0))
+    out = []
+    for q in candidates:
+        if q.label == face.label or q.area >= params.support_min_area:
+            continue
+        if q.orientation == "vertical":
+            if abs(float(np.asarray(q.normal, float) @ n)) > across:
+                continue
+        elif q.orientation != "horizontal":
+            continue
+        hull = np.asarray(q.hull3d, float)
+        qa = hull @ along
+        if qa.max() < lo or qa.min() > hi:
+            continue
+        if float(np.abs((hull - c) @ n).min()) <= FLIGHT_SIDE_REACH:
+            out.append(q)
+    return out
+
+
+def _flight_side(planes, face, candidates, cloud, params) -> bool:
+    """Vertical plane ``face``'s top rises with the flight of the steps among ``candidates``
+    (``params.flight_sides``; :func:`planerel.features.walls.flight_side`)."""
+    from planerel.features.walls import flight_side
+
+    steps = _flight_steps(planes, face, candidates, params)
+    if len(steps) < 2:
+        return False
+    return flight_side(face, steps, planes.up, cloud.xyz, planes.labels, params.side_wall_follow,
+                       params.step_rise_min, params.side_wall_rise_max, params.wall_tol)
 
 
 #: Metres: a plane a table top carries stands at least this far inside the top's outline (its
@@ -2445,6 +2517,18 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                                         None if cloud is None else cloud.xyz,
                                         params.step_rise_min, params.wall_window))
     byl = {p.label: p for p in planes}
+    if params.flight_sides and cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]:
+        # a flight's side face (no support, or under support_min_area: a far balustrade's
+        # inside) joins the flight whose nosings its top follows
+        for v in planes:
+            if v.label in drop or v.orientation != "vertical" or v.area < params.border_wall_area:
+                continue
+            for grp in g.groups():
+                if v.label in grp:
+                    continue
+                steps = _flight_steps(planes, v, [byl[k] for k in grp], params)
+                if len(steps) >= 2 and _flight_side(planes, v, steps, cloud, params):
+                    g.add_edges([(v.label, steps[0].label)])
     comps = [tuple(sorted(c)) for c in g.groups()]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
     if params.drop_border_walls:

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["stepped_side", "side_caps"]
+__all__ = ["flight_caps", "flight_side", "side_caps", "stepped_side", "top_line"]
 
 
 def _window(lo: float, hi: float, window: float) -> tuple[float, float]:
@@ -141,3 +141,129 @@ def stepped_side(face, neighbours, up, xyz, labels, tol: float = 0.10, window: f
         return False
     tops = [top for above, top, _ in caps if above <= tol]
     return len(tops) >= 2 and max(tops) - min(tops) >= rise_min
+
+
+def top_line(face, up, xyz, labels, bin_width: float = 0.05, jump: float = 0.05, band: int = 2):
+    """The line along a vertical plane's top edge, where the edge is seen.
+
+    ``face``'s points are binned along the face (``bin_width`` metres, horizontal); each bin's
+    highest point is a point of the top edge when none of its points within ``bin_width`` of
+    its height, nor of the next bins', lies within ``band + 1`` pixels of the image border
+    (pixels drop out there: a bin's highest seen point may lie a few pixels in) and no point within ``band`` pixels of it (of another plane or of none) is nearer
+    to the sensor by more than ``jump * max(1, range)`` (the face is not hidden there: the edge
+    is its own).  A line ``height = slope * along + offset`` is fitted to those points
+    (least squares).
+
+    Returns
+    -------
+    tuple or None
+        ``(slope, offset, along_lo, along_hi, rms, along)``: the fitted line (metres of height
+        per metre along ``along``, a unit horizontal vector in the face), the along-extent of
+        the edge points, their residual RMS (metres); None when fewer than three bins
+        ``2 * bin_width`` apart hold an edge point.
+    """
+    up = np.asarray(up, float)
+    along = np.cross(up, np.asarray(face.normal, float))
+    norm = float(np.linalg.norm(along))
+    if norm < 1e-6:
+        return None
+    along /= norm
+    lab = np.asarray(labels)
+    h, w = lab.shape
+    r0, c0, r1, c1 = (int(v) for v in face.bbox)
+    rr, cc = np.nonzero(lab[r0:r1, c0:c1] == face.label)
+    rr, cc = rr + r0, cc + c0
+    xyz = np.asarray(xyz)
+    pts = np.asarray(xyz[rr, cc], float)
+    ok = np.isfinite(pts).all(axis=1)
+    rr, cc, pts = rr[ok], cc[ok], pts[ok]
+    if len(pts) < 3:
+        return None
+    pa, ph = pts @ along, pts @ up
+    b = np.floor((pa - pa.min()) / bin_width).astype(np.int64)
+    order = np.lexsort((ph, b))  # by bin, then height: each bin's last is its highest
+    last = np.nonzero(np.diff(np.append(b[order], -1)) != 0)[0]
+    m = band + 1
+    edge = (rr <= m) | (rr >= h - 1 - m) | (cc <= m) | (cc >= w - 1 - m)
+    starts = np.append(0, last[:-1] + 1)
+    bins = b[order[last]]
+    at_border = set()
+    for s0, s1, bn in zip(starts.tolist(), last.tolist(), bins.tolist(), strict=True):
+        seg = order[s0:s1 + 1]
+        if edge[seg[ph[seg] >= ph[order[s1]] - bin_width]].any():
+            at_border.update((bn - 1, bn, bn + 1))  # and its neighbours: pixels drop out there
+    xs, ys = [], []
+    for s1, bn in zip(last.tolist(), bins.tolist(), strict=True):
+        if bn in at_border:
+            continue  # the face's top here is at the border: it may go on out of view
+        k = order[s1]
+        r, c = int(rr[k]), int(cc[k])
+        win = xyz[max(r - band, 0):r + band + 1, max(c - band, 0):c + band + 1]
+        rng = np.sqrt((np.asarray(win, float) ** 2).sum(-1))
+        here = float(np.sqrt((pts[k] ** 2).sum()))
+        other = lab[max(r - band, 0):r + band + 1, max(c - band, 0):c + band + 1] != face.label
+        if np.any(other & np.isfinite(rng) & (rng < here - jump * max(1.0, here))):
+            continue  # something in front hides the face's top here
+        xs.append(float(pa[k]))
+        ys.append(float(ph[k]))
+    if len(xs) < 3 or max(xs) - min(xs) < 2 * bin_width:
+        return None
+    x, y = np.array(xs), np.array(ys)
+    slope, offset = np.polyfit(x, y, 1)
+    rms = float(np.sqrt(np.mean((y - (slope * x + offset)) ** 2)))
+    return float(slope), float(offset), float(x.min()), float(x.max()), rms, along
+
+
+def flight_caps(line, steps, up, reach: float = 0.3):
+    """How far a face's top line stands above each step's nosing.
+
+    ``line`` is :func:`top_line`'s answer.  A riser's nosing is its top edge (at its middle
+    along the face); a tread's is the end of its extent along the face where the line is
+    lower (where the tread meets the riser below it, when the line rises with the flight).
+    Only steps whose nosing lies within ``reach`` metres of the line's seen extent count.
+
+    Returns
+    -------
+    list of (float, float)
+        Per counted step: the line's height at its nosing minus the step's top, and the
+        step's top (``up . x``, metres).
+    """
+    slope, offset, lo, hi, _rms, along = line
+    up = np.asarray(up, float)
+    out = []
+    for q in steps:
+        hull = np.asarray(q.hull3d, float)
+        qa = hull @ along
+        top = float((hull @ up).max())
+        if q.orientation == "horizontal":
+            ends = [float(qa.min()), float(qa.max())]
+            at = min(ends, key=lambda a: slope * a + offset)
+        else:
+            at = 0.5 * float(qa.min() + qa.max())
+        if lo - reach <= at <= hi + reach:
+            out.append((slope * at + offset - top, top))
+    return out
+
+
+def flight_side(face, steps, up, xyz, labels, follow: float = 0.5, rise_min: float = 0.08,
+                rise_max: float = 1.1, tol: float = 0.10, straight: float = 0.03) -> bool:
+    """True when vertical plane ``face``'s top edge rises with the flight of ``steps``: a solid
+    balustrade's or a stair string's face, whose top follows the nosings at the flight's
+    pitch, not a room wall (whose top is level, or out of view).
+
+    The seen top edge (:func:`top_line`) is straight (residual RMS at most ``straight``
+    metres); over two or more steps (:func:`flight_caps`) whose tops span at least
+    ``rise_min`` metres, it stands at one height above their nosings (those heights spread by
+    at most ``follow`` times the tops' span), between ``-tol`` and ``rise_max`` metres.
+    """
+    line = top_line(face, up, xyz, labels)
+    if line is None or line[4] > straight:
+        return False
+    caps = flight_caps(line, steps, up)
+    if len(caps) < 2:
+        return False
+    above = np.array([c[0] for c in caps])
+    tops = np.array([c[1] for c in caps])
+    span = float(np.ptp(tops))
+    return (span >= rise_min and float(np.ptp(above)) <= follow * span
+            and float(above.min()) >= -tol and float(above.max()) <= rise_max)
