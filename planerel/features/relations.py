@@ -2521,14 +2521,30 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     if params.flight_sides and cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]:
         # a flight's side face (no support, or under support_min_area: a far balustrade's
         # inside) joins the flight whose nosings its top follows
-        for v in planes:
-            if v.label in drop or v.orientation != "vertical" or v.area < params.border_wall_area:
+        from planerel.features.walls import flight_side, top_line
+
+        kept = [p for p in planes if p.label not in drop]
+        for v in kept:
+            if v.orientation != "vertical" or v.area < params.border_wall_area:
                 continue
+            near = _flight_steps(planes, v, kept, params)
+            if len(near) < 2:
+                continue
+            line = None
             for grp in g.groups():
                 if v.label in grp:
                     continue
-                steps = _flight_steps(planes, v, [byl[k] for k in grp], params)
-                if len(steps) >= 2 and _flight_side(planes, v, steps, cloud, params):
+                inside = set(grp)
+                steps = [q for q in near if q.label in inside]
+                if len(steps) < 2:
+                    continue
+                if line is None:
+                    line = top_line(v, planes.up, cloud.xyz, lab)
+                    if line is None:
+                        break  # no top edge seen: nothing to follow
+                if flight_side(v, steps, planes.up, cloud.xyz, lab, params.side_wall_follow,
+                               params.step_rise_min, params.side_wall_rise_max, params.wall_tol,
+                               line=line):
                     g.add_edges([(v.label, steps[0].label)])
     comps = [tuple(sorted(c)) for c in g.groups()]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
