@@ -247,19 +247,20 @@ def flight_caps(line, steps, up, reach: float = 0.3):
 
 def flight_side(face, steps, up, xyz, labels, follow: float = 0.5, rise_min: float = 0.08,
                 rise_max: float = 1.1, tol: float = 0.10, straight: float = 0.03,
-                line=None) -> bool:
+                line=None, min_extent: float = 0.3) -> bool:
     """True when vertical plane ``face``'s top edge rises with the flight of ``steps``: a solid
     balustrade's or a stair string's face, whose top follows the nosings at the flight's
     pitch, not a room wall (whose top is level, or out of view).
 
     The seen top edge (:func:`top_line`) is straight (residual RMS at most ``straight``
-    metres); over two or more steps (:func:`flight_caps`) whose tops span at least
+    metres) over at least ``min_extent`` metres along the face (a few bins of a level wall's
+    top seen past a corner can slope); over two or more steps (:func:`flight_caps`) whose tops span at least
     ``rise_min`` metres, it stands at one height above their nosings (those heights spread by
     at most ``follow`` times the tops' span), between ``-tol`` and ``rise_max`` metres.
     ``line``: :func:`top_line`'s answer for ``face`` when already measured.
     """
     line = top_line(face, up, xyz, labels) if line is None else line
-    if line is None or line[4] > straight:
+    if line is None or line[4] > straight or line[3] - line[2] < min_extent:
         return False
     caps = flight_caps(line, steps, up)
     if len(caps) < 2:
