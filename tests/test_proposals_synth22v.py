@@ -120,6 +120,11 @@ def test_top_line_and_caps_measure_the_rail():
     assert flight_side(byl[NEAR], steps, up, cloud.xyz, d.labels)
     # one step: nothing to follow
     assert not flight_side(byl[NEAR], steps[:1], up, cloud.xyz, d.labels)
+    # a top seen over 0.2 m only (a few bins of a level wall's top past a corner can slope)
+    short = (slope, _off, 0.5 * (lo + hi) - 0.1, 0.5 * (lo + hi) + 0.1, rms, _along)
+    assert not flight_side(byl[NEAR], steps, up, cloud.xyz, d.labels, line=short)
+    assert flight_side(byl[NEAR], steps, up, cloud.xyz, d.labels, line=short, min_extent=0.0)
+    assert flight_side(byl[NEAR], steps, up, cloud.xyz, d.labels, line=line)
 
 
 def test_a_top_at_the_image_border_gives_no_line():
