@@ -165,10 +165,10 @@ def test_a_setting_the_model_predates_is_not_called_a_training_value(model_dir, 
     del data["segmentation"]["resolved"]["split.piece_offset"]
     del data["relations"]["profile_points"]
     (old / "model.json").write_text(json.dumps(data))
-    over = {"split.piece_offset": "0", "relations.profile_points": "4000"}
+    over = {"split.piece_offset": "0", "relations.profile_points": "1000"}
     with Classifier(old / "rules.pl", seg_params=over) as clf:
         w = "\n".join(clf.warnings)
-    assert "relations.profile_points=4000 differs from the default 1000 (the model does not " \
+    assert "relations.profile_points=1000 differs from the default 4000 (the model does not " \
            "record relations.profile_points" in w
     assert "segmentation split.piece_offset=0.0 differs from the default 0.005 (the model does " \
            "not record split.piece_offset" in w
@@ -176,5 +176,5 @@ def test_a_setting_the_model_predates_is_not_called_a_training_value(model_dir, 
     # the model as written records both: the same overrides are training-value warnings
     with Classifier(model_dir / "rules.pl", seg_params=over) as clf:
         w = "\n".join(clf.warnings)
-    assert "relations.profile_points=4000 differs from the model's training value 1000" in w
+    assert "relations.profile_points=1000 differs from the model's training value 4000" in w
     assert "segmentation split.piece_offset=0.0 differs from the model's training value 0.005" in w
