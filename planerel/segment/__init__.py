@@ -189,7 +189,7 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
     if not do_split:
         return seg
     from planerel.segment.merge import join_pieces, merge_coplanar
-    from planerel.segment.split import SplitParams, split_bent_regions
+    from planerel.segment.split import split_bent_regions
 
     seg = split_bent_regions(cloud, seg, normals=normals, params=split_params)
     # then crease fragments whose points lie on a neighbour's plane (planerel.segment.absorb)
@@ -197,8 +197,7 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
               and (split_params is None or split_params.absorb))
     seg = merge_coplanar(cloud, seg, split_params,
                          absorb_factor=p.refine_factor if absorb else None)
-    sp = split_params if split_params is not None else SplitParams()
-    return join_pieces(cloud, seg, sp) if sp.piece_offset > 0 else seg
+    return join_pieces(cloud, seg, split_params)  # itself off at piece_offset 0
 
 
 def _as_bool(value, *, default: bool) -> bool:

@@ -149,9 +149,9 @@ class SplitParams:
         ``min_split_angle`` 0 turns both off.
     piece_offset : float
         Last, touching regions whose normals lie more than ``min_split_angle`` and at most
-        ``merge_angle`` degrees apart are joined when the
-        smaller one's points lie within ``piece_offset`` metres RMS of the larger one's plane: pieces of one
-        face a real sensor bends by more than its noise (:func:`planerel.segment.merge.join_pieces`).
+        ``merge_angle`` degrees apart are joined when the smaller one's points lie within
+        ``piece_offset`` metres RMS of the larger one's plane (0.005): pieces of one face a
+        real sensor bends by more than its noise (:func:`planerel.segment.merge.join_pieces`).
         0 turns it off.
     """
 
