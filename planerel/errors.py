@@ -12,7 +12,7 @@ exits with code 2.  Subclasses say which stage failed:
 from __future__ import annotations
 
 __all__ = ["PlanerelError", "InputError", "PrologError", "LearnerError", "DependencyError",
-           "user_message"]
+           "user_message", "check_bools"]
 
 
 class PlanerelError(Exception):
@@ -33,6 +33,19 @@ class LearnerError(PlanerelError):
 
 class DependencyError(PlanerelError):
     """A needed program or package is missing; the message gives the install command."""
+
+
+def check_bools(params) -> None:
+    """Raise :class:`InputError` when a field of the dataclass ``params`` annotated ``bool``
+    holds anything but ``True`` or ``False`` (a switch given as ``"yes"`` or ``1`` from Python;
+    the command line's ``--param`` is parsed to a bool before)."""
+    import dataclasses
+
+    for f in dataclasses.fields(params):
+        if f.type in (bool, "bool"):
+            v = getattr(params, f.name)
+            if not isinstance(v, bool):
+                raise InputError(f"{f.name} must be true or false, got {v!r}")
 
 
 def user_message(exc: BaseException) -> str | None:

@@ -64,7 +64,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planerel.errors import InputError
+from planerel.errors import InputError, check_bools
 from planerel.segment.absorb import FACET_MAX_ANGLE, FACET_MIN_ANGLE
 
 __all__ = ["CurvedParams", "CurvedObject", "facet_planes", "skirt_faces", "pixel_areas", "join_parts",
@@ -235,8 +235,7 @@ class CurvedParams:
                 raise InputError(f"{name} must be an integer in {lo}..{hi}, got {v!r}")
         if self.curved_below > 1:
             raise InputError(f"curved_below is a fraction in [0, 1], got {self.curved_below!r}")
-        if not isinstance(self.skirt_faces, bool):
-            raise InputError(f"skirt_faces must be true or false, got {self.skirt_faces!r}")
+        check_bools(self)
 
 
 @dataclass(frozen=True, eq=False)

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from planerel.errors import InputError
+from planerel.errors import InputError, check_bools
 from planerel.features import terms
 
 __all__ = [
@@ -133,6 +133,7 @@ class FactParams:
             raise InputError(f"pairs must be one of {', '.join(_PAIRS)}; got {self.pairs!r}")
         if self.planes not in ("all", "objects"):
             raise InputError(f"planes must be 'all' or 'objects', got {self.planes!r}")
+        check_bools(self)
 
 
 @dataclass(frozen=True)

@@ -49,7 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planerel.errors import InputError
+from planerel.errors import InputError, check_bools
 
 __all__ = ["RaisedParams", "raised_clusters"]
 
@@ -110,6 +110,7 @@ class RaisedParams:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v <= 16:
                 raise InputError(f"{name} must be an integer number of pixels in 0..16, got {v!r}")
+        check_bools(self)
 
 
 def _raised_on(plane, xyz: np.ndarray, lab: np.ndarray, f: int, up: np.ndarray,

@@ -61,7 +61,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from planerel.errors import InputError
+from planerel.errors import InputError, check_bools
 from planerel.features.cavities import (
     cavity_pairs,
     cross3,
@@ -152,8 +152,7 @@ class RelationParams:
         for name in ("skirt_top_tilt", "skirt_tilted"):
             if getattr(self, name) >= 45:
                 raise InputError(f"{name} must be below 45 degrees, got {getattr(self, name)!r}")
-        if not isinstance(self.skirt_own_steps, bool):
-            raise InputError(f"skirt_own_steps must be true or false, got {self.skirt_own_steps!r}")
+        check_bools(self)
         if (isinstance(self.profile_points, bool) or not isinstance(self.profile_points, int)
                 or self.profile_points < 1):
             raise InputError(f"profile_points must be an integer >= 1, got {self.profile_points!r}")
@@ -1130,6 +1129,7 @@ class ProposalParams:
                 raise InputError(f"{name} must be an integer >= 0, got {v!r}")
         if isinstance(self.edge_band, bool) or not isinstance(self.edge_band, int) or not 1 <= self.edge_band <= 8:
             raise InputError(f"edge_band must be an integer number of pixels in 1..8, got {self.edge_band!r}")
+        check_bools(self)
 
 
 def support_planes(planes, params: ProposalParams | None = None, relations: Relations | None = None,
