@@ -9,7 +9,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _root(parent, i):
     while parent[i] != i:
         parent[i] = parent[parent[i]]
@@ -17,7 +17,7 @@ def _root(parent, i):
     return i
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def grid_components(mask, xyz, edge_depth):
     """Connected components of ``mask`` over 4-neighbours whose points lie within
     ``edge_depth * max(1, |z|)`` of each other (``z`` the upper or left pixel's depth).
@@ -76,7 +76,7 @@ def grid_components(mask, xyz, edge_depth):
     return out, k
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def unexplained_mask(xyz, lab, explained):
     """``(H, W)`` bool: pixels with a finite depth whose label (-1 and other negatives: none)
     is not ``explained`` (``(K,)`` bool; labels ``K`` and above are not explained)."""
@@ -93,7 +93,7 @@ def unexplained_mask(xyz, lab, explained):
 
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _row_any(mask, y, W):
     """Whether row ``y`` of ``mask`` holds a pixel: a branch-free count the compiler
     vectorizes (empty rows are skipped at a byte a pixel instead of a branch a pixel)."""
@@ -103,7 +103,7 @@ def _row_any(mask, y, W):
     return s > 0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def touching_counts(mask, lab, xyz, edge_depth, nlab):
     """Per label (``(nlab,)`` int64) the number of (pixel of ``mask``, grid neighbour 1 or 2
     steps right, down, left or up of label ``b >= 0``) pairs whose points lie within
@@ -143,7 +143,7 @@ def touching_counts(mask, lab, xyz, edge_depth, nlab):
     return out
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def count_outside(mask, lab, member, skip):
     """Pixels of ``mask`` whose label is not a ``member`` (``(K,)`` bool; labels outside
     0..K-1 are no member) and not ``skip``."""
@@ -182,7 +182,56 @@ def pitch_diffs(xyz, rows, cols, axis):
     return out[:n]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
+def pitch_diffs_both(xyz, rows, cols):
+    """``(pitch_diffs(xyz, rows, cols, 1), pitch_diffs(xyz, rows, cols, 0))`` in one pass over
+    the pixels (each pixel's point read once for both): the same values in the same order."""
+    H, W = xyz.shape[0], xyz.shape[1]
+    n = rows.shape[0]
+    out1 = np.empty(n)
+    out0 = np.empty(n)
+    n1 = 0
+    n0 = 0
+    for t in range(n):
+        r, c = rows[t], cols[t]
+        z = xyz[r, c, 2]
+        if c + 1 < W:
+            d = abs(xyz[r, c + 1, 0] / xyz[r, c + 1, 2] - xyz[r, c, 0] / z)
+            if np.isfinite(d):
+                out1[n1] = d
+                n1 += 1
+        if r + 1 < H:
+            d = abs(xyz[r + 1, c, 1] / xyz[r + 1, c, 2] - xyz[r, c, 1] / z)
+            if np.isfinite(d):
+                out0[n0] = d
+                n0 += 1
+    return out1[:n1], out0[:n0]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def mask_values(mask, lab):
+    """``lab[mask]`` (row-major) reading only the rows of ``mask`` that hold a pixel (a
+    cluster's mask holds a few rows of the image)."""
+    H, W = mask.shape
+    n = 0
+    for y in range(H):
+        if not _row_any(mask, y, W):
+            continue
+        for x in range(W):
+            n += mask[y, x]
+    out = np.empty(n, lab.dtype)
+    k = 0
+    for y in range(H):
+        if not _row_any(mask, y, W):
+            continue
+        for x in range(W):
+            if mask[y, x]:
+                out[k] = lab[y, x]
+                k += 1
+    return out
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def component_areas(xyz, rows, cols, comp, r0, c0, p0, p1, k):
     """``np.bincount(comp[rows - r0, cols - c0], weights=z^2 p0 p1, minlength=k)`` of
     pixels ``(rows, cols)`` of ``xyz`` (``z`` the depth's magnitude; component ids below
@@ -195,7 +244,7 @@ def component_areas(xyz, rows, cols, comp, r0, c0, p0, p1, k):
     return out
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _erode_rows(o, m, y, r):
     """``o`` := row ``y`` of ``m`` AND-ed with rows ``y-r..y+r`` (the caller keeps them inside
     ``m``); byte loops over whole rows, which the compiler vectorizes."""
@@ -210,7 +259,7 @@ def _erode_rows(o, m, y, r):
             o[i] &= lo[i] & hi[i]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _dilate_row(o, row, r):
     """``o`` := ``row`` OR-ed with its copies shifted by -r..r (outside the row counts as
     unset); byte loops over row slices with non-negative indices, which the compiler
@@ -229,7 +278,7 @@ def _dilate_row(o, row, r):
             a[i] |= b[i]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _shift_pass(mask, r, axis, erode):
     """``mask`` AND-ed (erode) or OR-ed (dilate) with its copies shifted by -r..r along
     ``axis`` (outside the image counts as unset), as
@@ -271,7 +320,7 @@ def _shift_pass(mask, r, axis, erode):
                         o[i] |= src[i]
     return out.view(np.bool_)
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def open_mask(mask, r):
     """Morphological opening of ``mask`` (C-contiguous bool) by a ``(2r+1)^2`` square, as
     :func:`planerel.features.curved._open`: erode along rows, then columns; unless nothing is
@@ -287,7 +336,7 @@ def open_mask(mask, r):
     return er
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def unexplained_valid(valid, lab, explained):
     """:func:`unexplained_mask` from a cloud's valid mask (``(H, W)`` bool: a
     :class:`planerel.io.cloud.Cloud`'s pixel is valid exactly when its depth is finite, the
@@ -302,7 +351,7 @@ def unexplained_valid(valid, lab, explained):
     return out
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def unexplained_pixels(valid, lab, explained):
     """The rows and columns of :func:`unexplained_valid`'s pixels (``np.nonzero``, row-major)
     without the mask (``unexplained_open(..., 0)``'s pixel list: ``tests/test_curved.py``
@@ -356,7 +405,7 @@ def unexplained_pixels(valid, lab, explained):
     return rows[:k].copy(), cols[:k].copy()
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _unexplained_flag(a, v, bits):
     """1 when a pixel of label ``a`` and validity ``v`` is unexplained: valid, and ``a``
     outside ``[0, 32)`` or its bit in ``bits`` not set; else 0 (no branch)."""
@@ -364,7 +413,7 @@ def _unexplained_flag(a, v, bits):
     return np.uint32(v) & (e ^ np.uint32(1))
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _unexplained_pixels_any(valid, lab, explained):
     """:func:`unexplained_pixels` for any number of labels, in one pass over the image."""
     H, W = lab.shape
@@ -382,7 +431,7 @@ def _unexplained_pixels_any(valid, lab, explained):
     return rows[:k].copy(), cols[:k].copy()
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def unexplained_open(valid, lab, explained, r):
     """``open_mask(unexplained_valid(valid, lab, explained), r)`` and its pixels' rows and
     columns (``np.nonzero``, row-major) in one pass over the image: the erosion along rows
@@ -424,7 +473,7 @@ def unexplained_open(valid, lab, explained, r):
     return _open_tail(e1, rowany, H, W, r)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def open_pixels(rows, cols, lab, drop, H, W, r):
     """:func:`unexplained_open` from a row-major pixel list instead of the image: the pixels
     ``(rows, cols)`` (e.g. :func:`unexplained_pixels`' list) less those whose label ``a`` has
@@ -473,7 +522,7 @@ def open_pixels(rows, cols, lab, drop, H, W, r):
     return _open_tail(e1, rowany, H, W, r)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _open_tail(e1, rowany, H, W, r):
     """:func:`unexplained_open` after the erosion along rows: the erosion along columns, the
     dilation and the pixel list."""
@@ -550,7 +599,7 @@ def _open_tail(e1, rowany, H, W, r):
     return out.view(np.bool_), rows, cols
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def list_components(rows, cols, xyz, edge_depth, H):
     """:func:`grid_components` of the mask whose pixels are ``(rows, cols)`` (row-major, as
     ``np.nonzero`` gives them; rows below ``H``), read from the pixel list alone: each
@@ -606,7 +655,7 @@ def list_components(rows, cols, xyz, edge_depth, H):
     return out, k
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def list_areas(xyz, rows, cols, ids, p0, p1, k):
     """:func:`component_areas` with each pixel's component id given in a list (``ids``, as
     :func:`list_components` gives them): the same sums in the same order."""
@@ -617,7 +666,7 @@ def list_areas(xyz, rows, cols, ids, p0, p1, k):
     return out
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def grow_clusters(rows, cols, ids, k, full, xyz, edge_depth, steps, cap):
     """Clusters grown back into the mask before the opening: ``steps`` rounds of
     4-neighbour growth into pixels of ``full`` whose points lie within
@@ -643,7 +692,7 @@ def grow_clusters(rows, cols, ids, k, full, xyz, edge_depth, steps, cap):
                        edge_depth, steps, cap)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def grow_in_box(rows, cols, ids, k, full, fy, fx, H, W, xyz, edge_depth, steps, cap):
     """:func:`grow_clusters` with ``full`` given for a part of the ``(H, W)`` image only: its
     pixel ``(i, j)`` is the image's ``(fy + i, fx + j)``, and it covers the box of the given
@@ -695,7 +744,7 @@ def grow_in_box(rows, cols, ids, k, full, fy, fx, H, W, xyz, edge_depth, steps, 
     return R[:m].copy(), C[:m].copy(), G
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def grow_box(rows, cols, H, W, steps):
     """``(y0, y1, x0, x1)``: the box ``[y0, y1) x [x0, x1)`` of the pixels ``(rows, cols)``
     grown by ``steps`` on every side, clipped to the ``(H, W)`` image (empty: no pixel)."""
@@ -710,7 +759,7 @@ def grow_box(rows, cols, H, W, steps):
     return max(0, y0 - steps), min(H, y1 + 1 + steps), max(0, x0 - steps), min(W, x1 + 1 + steps)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def list_mask(rows, cols, lab, drop, y0, y1, x0, x1):
     """The pixels ``(rows, cols)`` less those whose label ``a`` has ``drop[a]`` (``0 <= a <
     len(drop)``; :func:`open_pixels` with radius 0) as a mask of the box ``[y0, y1) x [x0,
@@ -730,7 +779,7 @@ def list_mask(rows, cols, lab, drop, y0, y1, x0, x1):
     return out, n
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def nest_links(rows, cols, ids, near, part, xyz, H, W, g, nest_depth, lab, credit):
     """Groups of the components of a pixel list linked across small gaps
     (:func:`planerel.features.curved._nested_groups`).
@@ -826,7 +875,7 @@ def nest_links(rows, cols, ids, near, part, xyz, H, W, g, nest_depth, lab, credi
 
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def join_owners(lab, lut, xyz):
     """:func:`planerel.features.curved.join_parts`' owner map in one pass over the image:
     ``(H, W)`` int32, a labelled pixel's proposal (``lut[label]``, -2 for none), -1 an
@@ -853,7 +902,7 @@ def join_owners(lab, lut, xyz):
     return own, rows[:n].copy(), cols[:n].copy()
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def mark_held(mask, own, k):
     """``own[y, x] = k`` where ``own`` is -1 (an unassigned pixel no earlier mask holds) and
     ``mask`` holds the pixel: the first proposal's mask wins; rows without a pixel of
@@ -867,7 +916,7 @@ def mark_held(mask, own, k):
                 own[y, x] = k
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def join_part_targets(rows, cols, own, xyz, edge_depth, npts, min_touch):
     """The proposal each unassigned pixel ``(rows, cols)`` (row-major) joins, for
     :func:`planerel.features.curved.join_parts`, in one pass over the parts' pixels.

@@ -13,7 +13,7 @@ from numba import njit
 from planerel.features._relation_kernels import median
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma, r):
     """Raised and weakly raised pixels of one support plane, and each pixel's height above it,
     on the grid of every ``f``-th pixel of the box ``(r0, c0, r0 + H f, c0 + W f)``.
@@ -45,7 +45,7 @@ def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma,
     return on, raw, weak, h
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def raised_noise_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, min_rise, k_sigma, r, step):
     """:func:`raised_pixels` with its noise scale ``a`` measured in the same pass over the
     grid: ``1.4826`` times the median of :func:`noise_values` on every ``step``-th pixel of
@@ -58,7 +58,7 @@ def raised_noise_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, min_rise, k_sig
     return on, raw, weak, h
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _raised_rows(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step):
     """:func:`raised_pixels`' pass over the grid: the plane's pixels ``on``, their heights
     ``h``, each row's window sums of the heights ``rs`` and of the plane's pixels ``rc``
@@ -182,7 +182,7 @@ def _raised_rows(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step):
     return on, h, rs, rc, vals[:k]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _raised_tests(xyz, r0, c0, f, on, rs, rc, a, min_rise, k_sigma, r):
     """:func:`raised_pixels`' tests: the columns' running sums of the row sums kept side by
     side, row by row (each column's sum takes the same values in the same order as a
@@ -220,7 +220,7 @@ def _raised_tests(xyz, r0, c0, f, on, rs, rc, a, min_rise, k_sigma, r):
     return raw, weak
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def noise_values(xyz, lab, label, r0, c0, r1, c1, step, n, d0):
     """``|p . n - d0| / max(|z|, 0.1)^2`` of the points ``p`` of ``label`` with a finite depth
     ``z`` on every ``step``-th row and column of the box ``[r0, r1) x [c0, c1)`` (row-major;

@@ -9,7 +9,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def edge_sums(lab, xyz, r0, c0, used, band, depth, n):
     """Sums of :func:`planerel.features.relations.edge_means` in one pass.
 
@@ -80,14 +80,14 @@ def edge_sums(lab, xyz, r0, c0, used, band, depth, n):
 TILE_SHIFT = 3
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _label_bit(k):
     """The bit of label ``k >= 0`` in a tile's mask: bit ``k``, or bit 63 for every label from
     63 on (a bound shared by those labels: never a reason to skip one of them)."""
     return np.uint64(1) << np.uint64(k if k < 63 else 63)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def boundary_tiles(lab, brow, bcol):
     """``(ceil(H / T), ceil(W / T))`` uint64, ``T = 2**TILE_SHIFT``: per tile of the image the
     bits (:func:`_label_bit`) of the labels ``>= 0`` of the pixels ``(brow, bcol)`` in it.
@@ -108,7 +108,7 @@ def boundary_tiles(lab, brow, bcol):
     return out
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _box_bits(tiles, v0, v1, u0, u1):
     """The union of the tile masks over the pixel box ``[v0, v1] x [u0, u1]`` (inclusive)."""
     m = np.uint64(0)
@@ -118,7 +118,7 @@ def _box_bits(tiles, v0, v1, u0, u1):
     return m
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def touch_pairs_tiled(xyz, lab, brow, bcol, g, max_dist, rel_dist, known):
     """:func:`planerel.segment._label_kernels.touch_pairs` when ``(brow, bcol)`` are every
     boundary pixel of ``lab`` (row-major): the same pixels in the same order, the same answer,
@@ -183,7 +183,7 @@ def touch_pairs_tiled(xyz, lab, brow, bcol, g, max_dist, rel_dist, known):
     return out
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def edge_sums_pairs(lab, xyz, r0, c0, partner, band, depth):
     """:func:`edge_sums` of the pairs ``partner`` ``(n, n)`` bool (symmetric) marks, when
     ``(r0, c0)`` are every boundary pixel of ``lab`` (row-major): the same sums, counts and
@@ -252,7 +252,7 @@ def edge_sums_pairs(lab, xyz, r0, c0, partner, band, depth):
     return cnt, acc_lo, acc_hi
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def box_points(lab, xyz, label, r0, c0, r1, c1, k):
     """The finite points of ``label`` on every ``k``-th row and column of the pixel box
     ``[r0, r1) x [c0, c1)``, row-major (:func:`planerel.features.solid.face_points`).
@@ -279,14 +279,14 @@ def box_points(lab, xyz, label, r0, c0, r1, c1, k):
     return pts[:m].copy(), rows[:m].copy(), cols[:m].copy()
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _dot3(a0, a1, a2, b0, b1, b2):
     """A 3-vector dot product summed as numpy's ``einsum`` sums it on two-lane SIMD: lanes 0
     and 2 first, then lane 1 (``tests/test_relation_kernels.py`` compares the two)."""
     return (a0 * b0 + a2 * b2) + a1 * b1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _clip01(x):
     if x < 0.0:
         return 0.0
@@ -295,7 +295,7 @@ def _clip01(x):
     return x
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _min(a, b):
     """``np.minimum``: NaN wins."""
     if a != a:
@@ -305,7 +305,7 @@ def _min(a, b):
     return a
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def segment_distance(p1, q1, p2, q2):
     """Closest distance between segments ``p1q1`` and ``p2q2`` (3-vectors): the arithmetic of
     :func:`planerel.features.relations._segment_distances` for one pair, step for step."""
@@ -351,7 +351,7 @@ def segment_distance(p1, q1, p2, q2):
     return np.sqrt(_dot3(x0, x1, x2, x0, x1, x2))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _inside(poly2, n, u, v):
     """Whether the in-plane point ``(u, v)`` lies inside face ``n``: every edge of the padded
     polygon ``poly2[n]`` (``(M, 2)``, the last vertex repeated) has it on its left, as
@@ -367,7 +367,7 @@ def _inside(poly2, n, u, v):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def gap_matrix(V, vstart, C, N, AX, poly2, isface):
     """``(n, n)`` closest distances between the 3-D convex hulls of ``n`` planes: the values
     of :func:`planerel.features.relations._gap_matrix`'s numpy reference, pair by pair.
@@ -531,7 +531,7 @@ def cover_samples(c, along, vert, ca, cu, vu, s, levels, fx, fy, cx, cy, H, W):
     return X[:k].copy(), u[:k].copy(), v[:k].copy()
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def cover_counts(labels, label, u, v, X, seen, lab, cos, proj, cos_par):
     """``(covered, open)`` of :func:`planerel.features.solid._cover` from its samples: a
     sample is covered when a pixel of ``label`` lies in its 3x3 neighbourhood (clipped to the
@@ -564,7 +564,7 @@ def cover_counts(labels, label, u, v, X, seen, lab, cos, proj, cos_par):
     return covered, open_
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def cover_counts_at(labels, label, u, v, X, xyz, normals, n, c, cos_par):
     """:func:`cover_counts` with its per-sample inputs taken here: ``seen = xyz[v, u]``
     (float64), ``lab = labels[v, u]``, ``cos = |normals[max(lab, 0)] . n|`` and ``proj =
@@ -587,7 +587,7 @@ def cover_counts_at(labels, label, u, v, X, xyz, normals, n, c, cos_par):
     return cover_counts(labels, label, u, v, X, seen, lab, cos, proj, cos_par)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def box_label_count(lab, label, r0, c0, r1, c1):
     """Pixels of ``label`` in the pixel box ``[r0, r1) x [c0, c1)``."""
     n = 0
@@ -598,7 +598,7 @@ def box_label_count(lab, label, r0, c0, r1, c1):
     return n
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def box_label_fill(lab, xyz, label, r0, c0, r1, c1, out):
     """``out[:] = xyz[r0:r1, c0:c1][lab[r0:r1, c0:c1] == label]``: the points of ``label`` in
     the box, row-major, finite or not (``out`` sized by :func:`box_label_count`)."""
@@ -612,7 +612,7 @@ def box_label_fill(lab, xyz, label, r0, c0, r1, c1, out):
                 k += 1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _select(a, lo, hi, k):
     """Move the ``k``-th smallest value of ``a[lo:hi]`` (``k`` an index of ``a``) to ``a[k]``,
     with none larger before it and none smaller after it, in place (Hoare's partition around
@@ -646,7 +646,7 @@ def _select(a, lo, hi, k):
             return
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def percentiles_2_98(x):
     """``np.percentile(x, [2, 98])`` (linear method) of a finite 1-D ``x``, ``N >= 1``: the
     same order statistics (two selections in a copy) and the same interpolation arithmetic
@@ -660,7 +660,7 @@ _TAILS_MIN = 512
 _TAILS_SAMPLE = 64
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _tails(a, k_lo, k_hi):
     """The order statistics ``s(k_lo), s(k_lo + 1), s(k_hi), s(k_hi + 1)`` of ``a`` (0-based,
     ``k_lo + 1 < n``, ``k_hi + 1 < n``, ``n >= _TAILS_SAMPLE``), found in its two tails.
@@ -721,7 +721,7 @@ def _tails(a, k_lo, k_hi):
     return lo_a, lo_b, hi_a, hi_b, True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _percentiles_in_place(a):
     """:func:`percentiles_2_98` of ``a``, reordering ``a`` (at least :data:`_TAILS_MIN`
     values: from the tails, :func:`_tails`; the same order statistics)."""
@@ -756,7 +756,7 @@ def _percentiles_in_place(a):
     return _interpolate_2_98(v_lo, k_lo, lo_a, lo_b, v_hi, k_hi, hi_a, hi_b)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _interpolate_2_98(v_lo, k_lo, lo_a, lo_b, v_hi, k_hi, hi_a, hi_b):
     """``np.percentile``'s linear interpolation between each pair of order statistics
     (``va = s(k)``, ``vb = s(k + 1)`` at the virtual index ``v``), its arithmetic."""
@@ -769,7 +769,7 @@ def _interpolate_2_98(v_lo, k_lo, lo_a, lo_b, v_hi, k_hi, hi_a, hi_b):
     return out
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def box_profile(lab, xyz, label, r0, c0, r1, c1, k, up, along):
     """The 2nd and 98th percentiles of ``up . x`` and of ``along . x`` over the points of
     :func:`box_points` (the same pixels), in one pass without the points: the face profile
@@ -806,7 +806,7 @@ def box_profile(lab, xyz, label, r0, c0, r1, c1, k, up, along):
     return out
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def box_label_heights(lab, xyz, label, r0, c0, r1, c1, up):
     """``xyz[r0:r1, c0:c1][lab[r0:r1, c0:c1] == label] @ up`` (finite or not, row-major) in
     one pass (into a buffer the size of the box, returned trimmed), each dot product summed
@@ -823,7 +823,7 @@ def box_label_heights(lab, xyz, label, r0, c0, r1, c1, up):
     return out[:k]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def finite_range(x):
     """``(count, min, max)`` of the finite values of a 1-D ``x`` in one pass (``np.min`` and
     ``np.max`` of ``x[np.isfinite(x)]``; NaN for both when there is none)."""
@@ -845,7 +845,7 @@ def finite_range(x):
     return n, lo, hi
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def level_bins(h, lo, bin_size, nb, w, dense):
     """The height histogram of :func:`planerel.features.stepped.stepped_levels` and its
     populated bins: ``counts[k]`` the heights with ``min(int((h - lo) / bin_size), nb - 1)
@@ -866,7 +866,7 @@ def level_bins(h, lo, bin_size, nb, w, dense):
     return counts, pop
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def median(x):
     """``np.median(x)`` of a 1-D ``x`` (``N >= 1``): the middle value, or the mean
     ``(a + b) / 2`` of the two middle ones, found by selection in a copy (the same order
@@ -889,7 +889,7 @@ def median(x):
     return (lo + a[k]) / 2.0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _window_outline_pass(lab, r0, c0, r1, c1, a, b, pa, pb):
     """Count (and, where ``pa`` / ``pb`` have room, write) the outline pixels of labels ``a``
     and ``b`` in the window (see :func:`window_outlines`); return the two counts."""
@@ -916,7 +916,7 @@ def _window_outline_pass(lab, r0, c0, r1, c1, a, b, pa, pb):
     return na, nb
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def window_outlines(lab, r0, c0, r1, c1, a, b):
     """``np.argwhere(edge & (w == a))`` and the same of ``b``, ``w = lab[r0:r1, c0:c1]`` and
     ``edge`` its outline (:func:`planerel.segment._label_kernels.label_boundary` of ``w``: a

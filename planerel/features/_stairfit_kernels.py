@@ -11,7 +11,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _point_distance2(d, h, r, t, h0, d0, m11, m12, m22, c1, c2):
     """Squared distance of one point to the staircase polyline in its metric
     ``[[m11, m12], [m12, m22]]`` (:func:`planerel.features.stairfit.profile_distance` of one
@@ -44,7 +44,7 @@ def _point_distance2(d, h, r, t, h0, d0, m11, m12, m22, c1, c2):
     return best
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def profile_costs(d, h, metric, trunc2, rises, factors, nphase, slope, run_lo, run_hi):
     """Mean truncated squared distance of the points to each profile of the grid.
 
@@ -103,7 +103,7 @@ def profile_costs(d, h, metric, trunc2, rises, factors, nphase, slope, run_lo, r
     return out
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def cluster_slopes(pts, ids, n, e1, e2, up, min_det):
     """The slope of every cluster's least-squares plane ``h = a u + b v + c`` (``u, v, h``
     the points' coordinates along ``e1``, ``e2``, ``up``; ``ids`` each point's cluster in
@@ -161,7 +161,7 @@ def cluster_slopes(pts, ids, n, e1, e2, up, min_det):
     return g, sure
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def cluster_spans(pts, ids, n, e1, e2):
     """How far each cluster reaches across the horizontal plane at most: ``hypot`` of the
     ranges of its points' coordinates along ``e1`` and ``e2`` (``ids`` each point's cluster in

@@ -16,7 +16,7 @@ from numba import njit
 _ALL_SAME = np.uint64(0x0101010101010101)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _range(xyz, r, c):
     """The point's distance from the sensor; inf when the point is invalid (NaN or 0)."""
     x, y, z = xyz[r, c, 0], xyz[r, c, 1], xyz[r, c, 2]
@@ -26,7 +26,7 @@ def _range(xyz, r, c):
     return math.inf
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _range_at(X, p):
     """:func:`_range` of the point at flat pixel index ``p`` of the flat points ``X``."""
     x, y, z = X[3 * p], X[3 * p + 1], X[3 * p + 2]
@@ -36,7 +36,7 @@ def _range_at(X, p):
     return math.inf
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def truncation_counts(lab, xyz, jump, band, border, n):
     """Per plane label ``0..n-1``: outline pixels, hidden outline pixels, whether a pixel lies
     within ``border`` pixels of the image border, whether the label has a pixel at all.
@@ -124,7 +124,7 @@ def truncation_counts(lab, xyz, jump, band, border, n):
     return n_out, n_hid, at_edge, n_out > 0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def truncated_at(lab, xyz, brow, bcol, jump, band, border, share, n):
     """:func:`planerel.features.facts.truncated_planes`' answer from the label image's outline
     pixels already listed (``brow``, ``bcol``: every labelled pixel with a 4-neighbour of

@@ -428,6 +428,18 @@ def _pitch_at(xyz, r, c, axis: int) -> float:
     return float(median(d)) if d.size else _pitch(xyz, axis)
 
 
+def _pitches_at(xyz, r, c) -> tuple[float, float]:
+    """``(_pitch_at(xyz, r, c, 1), _pitch_at(xyz, r, c, 0))`` from one pass over the pixels
+    (:func:`planerel.features._curved_kernels.pitch_diffs_both`: the same values)."""
+    from planerel.features._curved_kernels import pitch_diffs_both
+    from planerel.features._relation_kernels import median
+
+    d1, d0 = pitch_diffs_both(np.asarray(xyz, dtype=np.float64), np.asarray(r, dtype=np.int64),
+                              np.asarray(c, dtype=np.int64))
+    return (float(median(d1)) if d1.size else _pitch(xyz, 1),
+            float(median(d0)) if d0.size else _pitch(xyz, 0))
+
+
 def _areas_at(xyz, r, c, pitch) -> np.ndarray:
     """Footprint (m^2) of pixels ``(r, c)``: ``z^2 * pitch_x * pitch_y``."""
     z = np.abs(xyz[r, c, 2])
@@ -576,7 +588,7 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
         return [], []
     # the components from the pixel list (grid_components of the mask, without its map)
     ids, k = list_components(rows, cols, xyz, float(params.edge_depth), un.shape[0])
-    pitch = (_pitch_at(xyz, rows, cols, 1), _pitch_at(xyz, rows, cols, 0))
+    pitch = _pitches_at(xyz, rows, cols)
     area = list_areas(xyz, rows, cols, ids, pitch[0], pitch[1], k)
     lim = np.full(k, float(params.min_area))
     if params.near_depth > 0 and k:
@@ -816,7 +828,8 @@ def _join_facet_proposals(props, facets, byl, relations, params) -> list:
 
 def curved_objects(planes, relations, proposals, cloud=None, labels=None, support=(),
                    params: CurvedParams | None = None, pixels=None,
-                   profiles: dict | None = None) -> list[CurvedObject]:
+                   profiles: dict | None = None,
+                   label_bound: int | None = None) -> list[CurvedObject]:
     """Proposals with their unexplained points and planar fractions (the module's rule).
 
     Parameters
@@ -837,6 +850,11 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
     profiles : dict, optional
         Passed to :func:`skirt_faces` (the face profiles :func:`~planerel.features.relations.relate`
         measured for ``planes`` in ``cloud``).
+    label_bound : int, optional
+        More than every label ``labels`` holds at a valid pixel of ``cloud`` (the clusters'
+        touching planes are counted there only); default ``label_max(labels) + 1``, a pass
+        over the image unless ``labels`` is ``planes.labels``
+        (:func:`~planerel.features.facts.describe_scene` gives its planes' own bound).
 
     Returns
     -------
@@ -870,7 +888,8 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
         if masks_:
             from planerel.features.planes import label_max
 
-            nlab = label_max(lab) + 1  # once for every cluster's touching planes
+            # once for every cluster's touching planes
+            nlab = label_max(lab) + 1 if label_bound is None else int(label_bound)
         for m, with_plane in zip(masks_, kept_with, strict=True):
             touch = _touching_labels(m, lab, xyz, params.edge_depth, nlab)
             joined = sorted({owner[x] for x in touch if x in owner and soft[owner[x]]})
@@ -910,7 +929,10 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
                     owner[x] = k0
                 masks[k0] = m if masks[k0] is None else masks[k0] | m
             else:
-                inside = tuple(sorted(x for x in np.unique(lab[m]) if x >= 0 and x in byl
+                from planerel.features._curved_kernels import mask_values
+
+                # lab[m] from the mask's rows that hold a pixel
+                inside = tuple(sorted(x for x in np.unique(mask_values(m, lab)) if x >= 0 and x in byl
                                       and x not in owner and x not in support))
                 alone.append((inside, m))
     out = []

@@ -301,7 +301,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     # proposals take the clusters of unexplained points; given objects keep their planes
     cobjs = curved_objects(planes, rel, groups, cloud if proposed else None,
                            planes.labels if (parent or flights) else labels, support, cp,
-                           pixels, profiles)
+                           pixels, profiles, _label_bound(labels, planes, parent or flights))
     if raised is not None:
         from planerel.features.raised import RaisedParams, with_raised
 
@@ -328,6 +328,22 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     rel = skirts_within_objects(rel, [o.planes for o in objs], planes, support)
     return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
                             proposed, support, truncated=cut)
+
+
+def _label_bound(labels, planes, split) -> int | None:
+    """More than every label ``labels`` holds at a valid pixel (:func:`curved_objects`'
+    ``label_bound``), without a pass over it: ``planes.labels`` is ``labels`` at every valid
+    pixel (:func:`~planerel.features.planes.measure_planes` copies it as int32 and sets the
+    invalid pixels to -1) and remembers its largest label.  None (the curved stage takes the
+    image's own) when the planes were split again (``split``: their labels are the ones
+    asked) or when ``labels`` may hold values int32 does not (their copy then differs)."""
+    from planerel.features.planes import label_max
+
+    lab = np.asarray(labels)
+    if split or planes.labels is None or lab.dtype.kind not in "iu" or lab.dtype.itemsize > 4 \
+            or (lab.dtype.kind == "u" and lab.dtype.itemsize == 4):
+        return None
+    return label_max(planes.labels) + 1
 
 
 #: :func:`truncated_planes`' defaults: a neighbour nearer by more than ``TRUNC_JUMP * max(1,

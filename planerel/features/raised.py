@@ -221,7 +221,7 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
     """
     from planerel.features._curved_kernels import list_areas, list_components, open_mask
     from planerel.features._defaults import defaults
-    from planerel.features.curved import _pitch_at, _shift_all
+    from planerel.features.curved import _pitches_at, _shift_all
     from planerel.segment._label_kernels import mask_pixels
 
     params = params or defaults(RaisedParams)
@@ -256,7 +256,7 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
         # the same sums in the same order), not from maps of the whole grid
         rows, cols = mask_pixels(raised)
         comp, k = list_components(rows, cols, bx, float(params.edge_depth), raised.shape[0])
-        pitch = (_pitch_at(bx, rows, cols, 1), _pitch_at(bx, rows, cols, 0))
+        pitch = _pitches_at(bx, rows, cols)
         area = list_areas(bx, rows, cols, comp, pitch[0], pitch[1], k)
         n_on = int(np.count_nonzero(on))
         mine = []

@@ -1,0 +1,178 @@
+"""Small calls of the description made cheaper (speed22w, issue 22): each replacement against
+the numpy call or kernel it replaced, which the tests keep as the reference, on random cases
+and on real frames; the results must be the same values, bit for bit."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+_DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+
+
+def _same(a, b) -> bool:
+    """The same values, bit for bit (signed zeros and NaN payloads too)."""
+    a, b = np.asarray(a), np.asarray(b)
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def _vectors(rng, n):
+    """3-vectors at scales 1e-9-1e9, unit ones, zeros, signed zeros, NaN and infinities."""
+    out = [rng.normal(size=3) * 10.0 ** rng.integers(-9, 10) for _ in range(n)]
+    out += [v / np.linalg.norm(v) for v in out[:200]]
+    out += [np.zeros(3), np.array([-0.0, 0.0, -0.0]), np.array([np.nan, 1.0, 2.0]),
+            np.array([np.inf, 1.0, 0.0]), np.array([-np.inf, np.inf, 0.0]),
+            np.array([1e-300, 1e-300, 0.0]), np.array([1e300, 1e300, 1e300])]
+    return out
+
+
+def test_vec_norm_is_numpys_norm_bit_for_bit():
+    from planerel.features.cavities import vec_norm
+
+    rng = np.random.default_rng(2222)
+    for v in _vectors(rng, 4000):
+        want = float(np.linalg.norm(v))
+        got = vec_norm(v)
+        assert isinstance(got, float)
+        assert _same(np.float64(got), np.float64(want)), (v, got, want)
+    # a strided view (numpy's norm ravels it first) and longer vectors
+    base = rng.normal(size=(50, 3))
+    for v in (base[:, 1], base[::3, 0], base.ravel()[:7], rng.normal(size=40)):
+        assert _same(np.float64(vec_norm(v)), np.linalg.norm(v))
+
+
+def test_lo_hi_is_numpys_min_and_max():
+    from planerel.features.cavities import lo_hi
+
+    rng = np.random.default_rng(2223)
+    cases = [rng.normal(size=int(rng.integers(1, 30))) * 10.0 ** rng.integers(-6, 7)
+             for _ in range(3000)]
+    cases += [np.array([0.0, -0.0, 1.0]), np.array([-0.0, 0.0]), np.array([1.0, -0.0, 2.0]),
+              np.array([np.nan, 1.0]), np.array([1.0, np.nan, -1.0]), np.array([np.inf, 1.0]),
+              np.array([-np.inf, np.inf]), np.array([np.inf, np.inf]), np.array([5.0]),
+              np.array([2.0, 2.0, 2.0]), np.array([1e308, 1e308, -1.0])]
+    for a in cases:
+        lo, hi = lo_hi(a)
+        assert isinstance(lo, float) and isinstance(hi, float)
+        assert _same(np.float64(lo), np.float64(a.min())), (a, lo)
+        assert _same(np.float64(hi), np.float64(a.max())), (a, hi)
+    with pytest.raises(ValueError):
+        lo_hi(np.zeros(0))
+
+
+def test_pitch_diffs_both_is_pitch_diffs_of_each_axis():
+    from planerel.features._curved_kernels import pitch_diffs, pitch_diffs_both
+
+    rng = np.random.default_rng(2224)
+    for _ in range(200):
+        H, W = (int(v) for v in rng.integers(1, 40, 2))
+        xyz = rng.normal(size=(H, W, 3))
+        xyz[..., 2] = rng.uniform(0.3, 5.0, (H, W))
+        xyz[rng.random((H, W)) < 0.15] = np.nan
+        xyz[rng.random((H, W)) < 0.03, 2] = 0.0  # a division by zero: inf, left out
+        n = int(rng.integers(0, H * W + 1))
+        flat = np.sort(rng.choice(H * W, n, replace=False)).astype(np.int64)
+        rows, cols = flat // W, flat % W
+        d1, d0 = pitch_diffs_both(xyz, rows, cols)
+        assert _same(d1, pitch_diffs(xyz, rows, cols, 1))
+        assert _same(d0, pitch_diffs(xyz, rows, cols, 0))
+
+
+def test_pitches_at_is_pitch_at_of_each_axis():
+    from planerel.features.curved import _pitch_at, _pitches_at
+
+    rng = np.random.default_rng(2225)
+    xyz = rng.normal(size=(30, 40, 3))
+    xyz[..., 2] = rng.uniform(0.5, 3.0, (30, 40))
+    for rows, cols in ((np.array([3, 3, 7]), np.array([5, 6, 39])),
+                       (np.array([29]), np.array([39])),  # no neighbour: the whole image's
+                       (np.arange(30), np.full(30, 12))):
+        got = _pitches_at(xyz, rows, cols)
+        assert got == (_pitch_at(xyz, rows, cols, 1), _pitch_at(xyz, rows, cols, 0))
+    # a strided window (the raised groups' grid)
+    bx = xyz[1:29:2, 0:40:2]
+    rows, cols = np.array([0, 2, 5]), np.array([1, 1, 3])
+    assert _pitches_at(bx, rows, cols) == (_pitch_at(bx, rows, cols, 1), _pitch_at(bx, rows, cols, 0))
+
+
+def test_mask_values_is_boolean_indexing():
+    from planerel.features._curved_kernels import mask_values
+
+    rng = np.random.default_rng(2226)
+    for dtype in (np.int32, np.int64):
+        for _ in range(100):
+            H, W = (int(v) for v in rng.integers(1, 50, 2))
+            lab = rng.integers(-1, 20, (H, W)).astype(dtype)
+            m = np.zeros((H, W), bool)
+            for _ in range(int(rng.integers(0, 4))):  # a few blobs on a few rows
+                r0, c0 = int(rng.integers(0, H)), int(rng.integers(0, W))
+                m[r0:r0 + int(rng.integers(1, 6)), c0:c0 + int(rng.integers(1, 9))] = True
+            got = mask_values(m, lab)
+            assert _same(got, lab[m])
+            assert _same(np.unique(got), np.unique(lab[m]))
+
+
+def test_label_bound_only_where_the_planes_labels_are_the_labels():
+    from planerel.features.facts import _label_bound
+    from planerel.features.planes import label_max, measure_planes
+    from planerel.synth.generator import generate_scene
+
+    sc = generate_scene("box", seed=3, subsample=4)
+    lab = np.asarray(sc.gt_labels)
+    planes = measure_planes(sc.cloud, lab)
+    assert _label_bound(lab.astype(np.int32), planes, False) == label_max(planes.labels) + 1
+    assert _label_bound(lab.astype(np.int16), planes, False) == label_max(planes.labels) + 1
+    valid = sc.cloud.valid
+    assert label_max(planes.labels) == int(lab[valid].max())
+    # labels int32 cannot hold, or planes split again: the curved stage takes the image's own
+    assert _label_bound(lab.astype(np.int64), planes, False) is None
+    assert _label_bound(lab.astype(np.uint32), planes, False) is None
+    assert _label_bound(lab.astype(np.int32), planes, True) is None
+
+
+def _curved_both_ways(cloud, labels):
+    """``describe_scene``'s objects with the label bound, and ``curved_objects`` asked again
+    without it (the image's own largest label) on the same inputs."""
+    from planerel.features import curved as C
+    from planerel.features.facts import describe_scene
+
+    seen = []
+    orig = C.curved_objects
+
+    def spy(*args, **kw):
+        out = orig(*args, **kw)
+        seen.append((args, kw, out))
+        return out
+
+    C.curved_objects = spy
+    try:
+        describe_scene(cloud, labels)
+    finally:
+        C.curved_objects = orig
+    (args, kw, out), = seen
+    return args, kw, out, orig(*args[:-1], None, **kw)
+
+
+def _same_objects(a, b) -> bool:
+    return len(a) == len(b) and all(
+        x.planes == y.planes and x.planar_fraction == y.planar_fraction and x.curved == y.curved
+        and x.n_points == y.n_points
+        and ((x.mask is None and y.mask is None) or _same(x.mask, y.mask)) for x, y in zip(a, b))
+
+
+@pytest.mark.skipif(not (_DATA / "kinect").is_dir(), reason="needs ../shared/data")
+def test_curved_objects_with_the_label_bound_on_real_frames():
+    from planerel.io.readers import read
+    from planerel.segment import segment
+
+    clustered = 0
+    for f in sorted((_DATA / "kinect").glob("*_depth.tiff")):
+        cloud = read(f)
+        labels = segment(cloud).labels
+        args, _kw, with_bound, without = _curved_both_ways(cloud, labels)
+        assert args[-1] is not None  # the bound was given
+        assert _same_objects(with_bound, without)
+        clustered += sum(o.mask is not None for o in with_bound)
+    assert clustered >= 3  # the Kinect frames' clusters were counted both ways
