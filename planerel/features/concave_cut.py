@@ -17,6 +17,8 @@ import math
 
 import numpy as np
 
+from planerel.features.cavities import vec_norm
+
 #: edge pixel pairs a concave edge needs to count (as :data:`relations.MIN_EDGE`)
 MIN_CONCAVE_EDGE = 5
 
@@ -33,7 +35,7 @@ def concave_cos(pa, pb, e) -> float:
     xa, xb = (e[0], e[1]) if pa.label < pb.label else (e[1], e[0])
     dx = np.asarray(xa, float) - np.asarray(xb, float)
     dn = _normal_out(pa) - _normal_out(pb)
-    norm = float(np.linalg.norm(dn) * np.linalg.norm(dx))
+    norm = vec_norm(dn) * vec_norm(dx)
     return float(dn @ dx) / norm if norm > 0 else 0.0
 
 

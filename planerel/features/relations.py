@@ -67,8 +67,10 @@ from planerel.features.cavities import (
     cross3,
     edge_overlap,
     group_channel_pairs,
+    lo_hi,
     occluded_channel_pairs,
     split_panel_pairs,
+    vec_norm,
 )
 from planerel.features.solid import PROFILE_POINTS
 
@@ -461,7 +463,7 @@ def leans_towards(top, face, up) -> bool:
     h = nt - (nt @ up) * up
     nf = np.asarray(face.normal, float)
     nf = nf - (nf @ up) * up
-    hn, fn = float(np.linalg.norm(h)), float(np.linalg.norm(nf))
+    hn, fn = vec_norm(h), vec_norm(nf)
     if hn < 1e-9 or fn < 1e-9:
         return False
     return bool(float(h @ nf) / (hn * fn) >= LEAN_COS)
@@ -519,9 +521,9 @@ def relate(planes, cloud=None, params: RelationParams | None = None,
         return Relations((), params)
     up = np.asarray(planes.up, dtype=float)
     fwd = np.array([0.0, 0.0, 1.0]) - up[2] * up
-    if np.linalg.norm(fwd) < 1e-6:  # camera looking straight down/up: use the image's -y
+    if vec_norm(fwd) < 1e-6:  # camera looking straight down/up: use the image's -y
         fwd = np.array([0.0, -1.0, 0.0]) - (-up[1]) * up
-    fwd = fwd / np.linalg.norm(fwd)
+    fwd = fwd / vec_norm(fwd)
     touch = _touching(planes, params, cloud.xyz) if cloud is not None else set()
     N = np.array([p.normal for p in plist])
     C = np.array([p.centroid for p in plist])
@@ -1606,7 +1608,7 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         def span(p):
             if p.label not in spans:
                 h = np.asarray(p.hull3d, float) @ np.asarray(up_l)
-                spans[p.label] = (float(h.min()), float(h.max())) if h.size else (0.0, 0.0)
+                spans[p.label] = lo_hi(h) if h.size else (0.0, 0.0)
             return spans[p.label]
     cos_tol = math.cos(math.radians(concave_tol))
     pairs = list(pairs)
@@ -1993,9 +1995,9 @@ def _horizontal_basis(up) -> tuple[np.ndarray, np.ndarray]:
     if last is not None and last[0] == key:
         return last[1]
     e1 = cross3(up, (1.0, 0.0, 0.0))
-    if np.linalg.norm(e1) < 0.1:
+    if vec_norm(e1) < 0.1:
         e1 = cross3(up, (0.0, 1.0, 0.0))
-    e1 /= np.linalg.norm(e1)
+    e1 /= vec_norm(e1)
     e2 = cross3(up, e1)
     for e in (e1, e2):
         e.setflags(write=False)

@@ -69,9 +69,12 @@ staircase's risers differ by the rise (openbox16, open16 in docs/results.md).
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
+
+from planerel.features.cavities import lo_hi, vec_norm
 
 __all__ = ["face_points", "FaceProfile", "face_profile", "face_profile_of", "skirt_measures",
            "is_skirt", "on_step", "rises_from", "is_corner", "is_facing"]
@@ -128,7 +131,7 @@ def _along(up: np.ndarray, normal) -> np.ndarray:
     horizontal."""
     (u0, u1, u2), (n0, n1, n2) = up.tolist(), np.asarray(normal, float).tolist()
     along = np.array([u1 * n2 - u2 * n1, u2 * n0 - u0 * n2, u0 * n1 - u1 * n0])
-    norm = float(np.linalg.norm(along))
+    norm = vec_norm(along)
     return along / norm if norm > 1e-9 else np.zeros(3)
 
 
@@ -199,7 +202,7 @@ def _cover(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
     n = np.asarray(face.normal, float)
     c = np.asarray(face.centroid, float)
     vert = up - (up @ n) * n  # the face's own "up" (the face is vertical within tolerance)
-    vert /= max(float(np.linalg.norm(vert)), 1e-12)
+    vert /= max(vec_norm(vert), 1e-12)
     from planerel.features._relation_kernels import cover_counts_at, cover_samples, linspace
 
     s = linspace(float(t0), float(t1), int(samples))
@@ -269,15 +272,14 @@ def _skirt_geometry(top, up, profile: FaceProfile):
     (no points, no reach, no horizontal direction, or a top without extent along it)."""
     up = np.asarray(up, float)
     nan = float("nan")
-    if not np.isfinite(profile.top):
+    if not math.isfinite(profile.top):
         return nan, nan, nan, None
     top_level = float(np.asarray(top.centroid, float) @ up)
     offset, reach = top_level - profile.top, top_level - profile.bottom
     along = profile.along
-    if reach <= 0 or not along.any():
+    if reach <= 0 or not any(along.tolist()):
         return offset, reach, nan, None
-    ext = np.asarray(top.hull3d, float) @ along
-    t0, t1 = float(ext.min()), float(ext.max())
+    t0, t1 = lo_hi(np.asarray(top.hull3d, float) @ along)
     beyond = max(0.0, t0 - profile.lo) + max(0.0, profile.hi - t1)
     if t1 - t0 <= 0:
         return offset, reach, beyond, None

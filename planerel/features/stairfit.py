@@ -72,6 +72,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planerel.errors import InputError
+from planerel.features.cavities import vec_norm
 
 #: The grid of :func:`fit_profile`: rise step (metres), slope factors, phases of the levels.
 RISE_STEP = 0.005
@@ -310,7 +311,7 @@ def _horizontal_axes(up):
     up = np.asarray(up, float)
     x = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     e1 = _cross(up, x)
-    e1 /= np.linalg.norm(e1)
+    e1 /= vec_norm(e1)
     return e1, _cross(up, e1)
 
 
