@@ -159,7 +159,7 @@ def _same_objects(a, b) -> bool:
     return len(a) == len(b) and all(
         x.planes == y.planes and x.planar_fraction == y.planar_fraction and x.curved == y.curved
         and x.n_points == y.n_points
-        and ((x.mask is None and y.mask is None) or _same(x.mask, y.mask)) for x, y in zip(a, b))
+        and ((x.mask is None and y.mask is None) or _same(x.mask, y.mask)) for x, y in zip(a, b, strict=True))
 
 
 @pytest.mark.skipif(not (_DATA / "kinect").is_dir(), reason="needs ../shared/data")
@@ -176,3 +176,84 @@ def test_curved_objects_with_the_label_bound_on_real_frames():
         assert _same_objects(with_bound, without)
         clustered += sum(o.mask is not None for o in with_bound)
     assert clustered >= 3  # the Kinect frames' clusters were counted both ways
+
+
+def test_open_pixels_of_a_mask_list_is_open_mask():
+    """raised_clusters opens the raw pixels from their list (open_pixels with nothing
+    dropped) instead of open_mask over the grid: the same pixels, row-major."""
+    from planerel.features._curved_kernels import open_mask, open_pixels
+    from planerel.features.raised import _NO_DROP
+    from planerel.segment._label_kernels import mask_pixels
+
+    rng = np.random.default_rng(2227)
+    kept = 0
+    for _ in range(300):
+        H, W = (int(v) for v in rng.integers(1, 60, 2))
+        mask = rng.random((H, W)) < rng.uniform(0.0, 0.3)
+        for _ in range(int(rng.integers(0, 4))):  # blocks that survive an opening
+            r0, c0 = int(rng.integers(0, H)), int(rng.integers(0, W))
+            mask[r0:r0 + int(rng.integers(1, 12)), c0:c0 + int(rng.integers(1, 12))] = True
+        rows, cols = mask_pixels(mask)
+        for r in (0, 1, 2, 3):
+            want = open_mask(mask, r)
+            _, ro, co = open_pixels(rows, cols, mask.view(np.uint8), _NO_DROP, H, W, r)
+            wr, wc = np.nonzero(want)
+            assert _same(ro, wr.astype(np.int64)) and _same(co, wc.astype(np.int64))
+            kept += len(ro) > 0
+    assert kept > 300
+
+
+def _raised_clusters_with_open_mask(cloud, labels, planes, support):
+    """raised_clusters as it was (open_mask over the grid), patched in for the comparison."""
+    import planerel.features.raised as R
+    from planerel.features._curved_kernels import open_mask, open_pixels
+
+    def old_open(rows, cols, raw8, drop, H, W, r):
+        # the mask alone, at the default radius (not the arguments the new code passes)
+        raw = raw8.view(np.bool_)
+        m = open_mask(raw, R.RaisedParams().open_px)
+        rr, cc = np.nonzero(m)
+        return m, rr.astype(np.int64), cc.astype(np.int64)
+
+    import planerel.features._curved_kernels as K
+    K.open_pixels = old_open
+    try:
+        return R.raised_clusters(cloud, labels, planes, support)
+    finally:
+        K.open_pixels = open_pixels
+
+
+def test_raised_clusters_as_with_open_mask():
+    from scenes_analytic import camera_rotation, floor, render
+
+    from planerel.features.facts import describe_scene
+    from planerel.features.raised import RaisedParams, raised_clusters
+    from planerel.io.cloud import Cloud
+
+    cloud, lab, up, _objs = render([floor()], noise=0.001, pitch=45, cam_height=1.2, width=320,
+                                   height=240)
+    d = describe_scene(cloud, lab)
+    xyz = np.array(cloud.xyz)
+    world = xyz @ camera_rotation(45, 0).T + np.array([0.0, 0.0, 1.2])
+    found = 0
+    sensitive = 0
+    shapes = [(r2 < rad ** 2) for r2, rad in
+              (((world[..., 0] - cx) ** 2 + (world[..., 1] - cy) ** 2, rad)
+               for cx, cy, rad in ((0.2, 1.6, 0.15), (-0.3, 1.3, 0.1), (0.0, 2.0, 0.3),
+                                   (0.4, 1.2, 0.03)))]
+    # thin strips 40 cm long: whether they survive the opening depends on its radius
+    shapes += [(np.abs(world[..., 0] - 0.1) < w / 2) & (np.abs(world[..., 1] - 1.5) < 0.2)
+               for w in (0.02, 0.03, 0.04, 0.05, 0.06)]
+    for k, where in enumerate(shapes):
+        hgt = (0.008, 0.012, 0.02, 0.01)[k % 4]
+        step = Cloud(xyz + np.where(where, hgt, 0.0)[..., None] * up, cloud.intrinsics, up,
+                     "analytic")
+        got = raised_clusters(step, lab, d.planes, d.support)
+        want = _raised_clusters_with_open_mask(step, lab, d.planes, d.support)
+        assert len(got) == len(want) and all(_same(a, b) for a, b in zip(got, want, strict=True))
+        found += len(got)
+        for r in (1, 3):
+            other = raised_clusters(step, lab, d.planes, d.support, RaisedParams(open_px=r))
+            sensitive += len(other) != len(got) or not all(_same(a, b) for a, b in zip(got, other, strict=True))
+    assert found >= 2
+    assert sensitive >= 1  # the scenes tell the opening's radius apart

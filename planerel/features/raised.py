@@ -200,6 +200,10 @@ def _merge_meeting(masks: list, cap: float) -> list:
     return [m for m in out if m is not None]
 
 
+#: No label dropped (:func:`planerel.features._curved_kernels.open_pixels`' ``drop``).
+_NO_DROP = np.zeros(0, np.bool_)
+
+
 def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | None = None):
     """Groups of support-plane pixels lying above their plane (the module's rule).
 
@@ -219,7 +223,7 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
     list of ndarray (H, W) bool
         One mask per group, ordered by their first pixel (row-major).
     """
-    from planerel.features._curved_kernels import list_areas, list_components, open_mask
+    from planerel.features._curved_kernels import list_areas, list_components, open_pixels
     from planerel.features._defaults import defaults
     from planerel.features.curved import _pitches_at, _shift_all
     from planerel.segment._label_kernels import mask_pixels
@@ -245,17 +249,23 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
         r0, c0, r1, c1 = p.bbox
         box = (slice(r0, r1), slice(c0, c1))
         on, raw, weak, h = _raised_on(p, xyz, lab, f, up, params)
-        if not raw.any():
+        # the raw pixels' list (a few of the grid's pixels, most often none) opened from the
+        # list (open_pixels: the pixels of open_mask(raw), row-major, without its passes
+        # over the whole grid), less any pixel not of the plane (none: raw is on the plane)
+        rows, cols = mask_pixels(raw)
+        if not len(rows):
+            continue
+        _, rows, cols = open_pixels(rows, cols, raw.view(np.uint8), _NO_DROP, raw.shape[0],
+                                    raw.shape[1], int(params.open_px))
+        keep = on[rows, cols]
+        rows, cols = rows[keep], cols[keep]
+        if not len(rows):
             continue
         bx = xyz[r0:r1:f, c0:c1:f]
-        raised = open_mask(raw, int(params.open_px)) & on
-        if not raised.any():
-            continue
         # the groups from the raised pixels' list (a few % of the grid: list_components, the
         # components of the mask numbered as grid_components numbers them, and list_areas,
         # the same sums in the same order), not from maps of the whole grid
-        rows, cols = mask_pixels(raised)
-        comp, k = list_components(rows, cols, bx, float(params.edge_depth), raised.shape[0])
+        comp, k = list_components(rows, cols, bx, float(params.edge_depth), on.shape[0])
         pitch = _pitches_at(bx, rows, cols)
         area = list_areas(bx, rows, cols, comp, pitch[0], pitch[1], k)
         n_on = int(np.count_nonzero(on))
@@ -264,14 +274,14 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
             sel = comp == c
             if int(np.count_nonzero(sel)) > params.max_share * n_on:
                 continue
-            m = np.zeros(raised.shape, bool)
+            m = np.zeros(on.shape, bool)
             m[rows[sel], cols[sel]] = True
             # grown by ring_px in the group's box widened by ring_px (nothing grows past it)
             g0 = max(0, int(rows[sel].min()) - params.ring_px)
             g1 = int(rows[sel].max()) + params.ring_px + 1
             h0 = max(0, int(cols[sel].min()) - params.ring_px)
             h1 = int(cols[sel].max()) + params.ring_px + 1
-            grown = np.zeros(raised.shape, bool)
+            grown = np.zeros(on.shape, bool)
             part = m[g0:g1, h0:h1]
             for axis in (0, 1):
                 part = _shift_all(part, params.ring_px, axis, False)
