@@ -257,3 +257,82 @@ def test_raised_clusters_as_with_open_mask():
             sensitive += len(other) != len(got) or not all(_same(a, b) for a, b in zip(got, other, strict=True))
     assert found >= 2
     assert sensitive >= 1  # the scenes tell the opening's radius apart
+
+
+def test_box_label_heights_range_is_heights_then_finite_range():
+    from planerel.features._relation_kernels import (
+        box_label_heights,
+        box_label_heights_range,
+        finite_range,
+    )
+
+    rng = np.random.default_rng(2228)
+    for _ in range(200):
+        H, W = (int(v) for v in rng.integers(1, 40, 2))
+        lab = rng.integers(-1, 4, (H, W)).astype(np.int32)
+        xyz = rng.normal(size=(H, W, 3)) * rng.uniform(0.01, 3.0)
+        xyz[rng.random((H, W)) < 0.1] = np.nan
+        xyz[rng.random((H, W)) < 0.02, 0] = np.inf
+        up = rng.normal(size=3)
+        up /= np.linalg.norm(up)
+        r0, c0 = int(rng.integers(0, H)), int(rng.integers(0, W))
+        r1, c1 = int(rng.integers(r0, H + 1)), int(rng.integers(c0, W + 1))
+        label = int(rng.integers(-1, 4))
+        h, n, lo, hi = box_label_heights_range(lab, xyz, label, r0, c0, r1, c1, up)
+        want = box_label_heights(lab, xyz, label, r0, c0, r1, c1, up)
+        assert _same(h, want)
+        n0, lo0, hi0 = finite_range(want)
+        assert n == n0 and _same(np.float64(lo), np.float64(lo0)) and _same(np.float64(hi), np.float64(hi0))
+
+
+def test_split_stepped_as_with_stepped_levels():
+    """split_stepped takes the heights' range from their own pass: the same split as
+    stepped_levels of the heights (on rendered flights seen from above, split or not)."""
+    from planerel.features import stepped as S
+    from planerel.features.planes import measure_planes
+    from planerel.synth.generator import generate_scene
+
+    def old(xyz, labels, planes, rise=(0.08, 0.30), margin=0.02):
+        up = np.asarray(planes.up, float)
+        out, parent, nxt = None, {}, None
+        lab = np.asarray(labels)
+        for p in planes:
+            if p.orientation != "inclined" or p.is_floor:
+                continue
+            box = (slice(p.bbox[0], p.bbox[2]), slice(p.bbox[1], p.bbox[3]))
+            h = S._box_heights(lab, xyz, p.label, box, up)
+            levels = S.stepped_levels(h, rise, margin=margin)
+            if not levels:
+                continue
+            m = lab[box] == p.label
+            if out is None:
+                out = lab.astype(np.int32, copy=True)
+                nxt = int(lab.max()) + 1
+            new = np.full(h.shape, -1, np.int32)
+            for k, (a, b) in enumerate(levels):
+                new[(h >= a - margin) & (h <= b + margin)] = p.label if k == 0 else nxt
+                if k > 0:
+                    parent[nxt] = p.label
+                    nxt += 1
+            out[box][m] = new
+        return None if out is None else (out, parent)
+
+    split = 0
+    for kind, seed in (("stairs", 1), ("stairs", 2), ("stairs", 3), ("ramp", 1), ("box", 2)):
+        sc = generate_scene(kind, seed=seed, subsample=2)
+        lab = np.asarray(sc.gt_labels)
+        # the treads of a flight joined into one label: a "plane" that lies on levels
+        if kind == "stairs":
+            planes0 = measure_planes(sc.cloud, lab)
+            treads = [p.label for p in planes0 if p.orientation == "horizontal" and not p.is_floor]
+            lab = lab.copy()
+            for t in treads[1:]:
+                lab[lab == t] = treads[0]
+        planes = measure_planes(sc.cloud, lab)
+        got, want = S.split_stepped(sc.cloud.xyz, planes.labels, planes), old(
+            sc.cloud.xyz, planes.labels, planes)
+        assert (got is None) == (want is None)
+        if got is not None:
+            assert _same(got[0], want[0]) and got[1] == want[1]
+            split += 1
+    assert split >= 1

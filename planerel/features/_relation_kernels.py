@@ -824,6 +824,36 @@ def box_label_heights(lab, xyz, label, r0, c0, r1, c1, up):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def box_label_heights_range(lab, xyz, label, r0, c0, r1, c1, up):
+    """``(h, *finite_range(h))`` of ``h = box_label_heights(...)`` in its one pass: the same
+    heights, and their finite count, min and max taken as they are computed (the same
+    comparisons in the same order as :func:`finite_range`)."""
+    out = np.empty(max(0, r1 - r0) * max(0, c1 - c0))
+    u0, u1, u2 = up[0], up[1], up[2]
+    k = 0
+    n = 0
+    lo = np.nan
+    hi = np.nan
+    for r in range(r0, r1):
+        for c in range(c0, c1):
+            if lab[r, c] == label:
+                v = xyz[r, c, 0] * u0 + xyz[r, c, 1] * u1 + xyz[r, c, 2] * u2
+                out[k] = v
+                k += 1
+                if not np.isfinite(v):
+                    continue
+                if n == 0:
+                    lo = v
+                    hi = v
+                elif v < lo:
+                    lo = v
+                elif v > hi:
+                    hi = v
+                n += 1
+    return out[:k], n, lo, hi
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def finite_range(x):
     """``(count, min, max)`` of the finite values of a 1-D ``x`` in one pass (``np.min`` and
     ``np.max`` of ``x[np.isfinite(x)]``; NaN for both when there is none)."""

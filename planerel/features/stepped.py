@@ -16,10 +16,16 @@ import numpy as np
 __all__ = ["stepped_levels", "split_stepped", "remeasure_stepped"]
 
 
-def stepped_levels(heights: np.ndarray, rise=(0.08, 0.30), bin_size: float = 0.01,
-                   dense: float = 0.2, max_thickness: float = 0.08,
-                   min_share: float = 0.85, margin: float = 0.02,
-                   min_level: float = 0.01) -> list[tuple[float, float]]:
+#: :func:`stepped_levels`' defaults of ``bin_size``, ``dense``, ``max_thickness`` and
+#: ``min_share``, and of ``min_level`` (:func:`split_stepped` takes them too)
+_LEVEL_DEFAULTS = (0.01, 0.2, 0.08, 0.85)
+_LEVEL_MIN = 0.01
+
+
+def stepped_levels(heights: np.ndarray, rise=(0.08, 0.30), bin_size: float = _LEVEL_DEFAULTS[0],
+                   dense: float = _LEVEL_DEFAULTS[1], max_thickness: float = _LEVEL_DEFAULTS[2],
+                   min_share: float = _LEVEL_DEFAULTS[3], margin: float = 0.02,
+                   min_level: float = _LEVEL_MIN) -> list[tuple[float, float]]:
     """Horizontal levels a set of point heights falls into, when it looks like treads.
 
     Parameters
@@ -49,11 +55,20 @@ def stepped_levels(heights: np.ndarray, rise=(0.08, 0.30), bin_size: float = 0.0
         ``(low, high)`` height interval of each level, lowest first; empty when the heights are
         not two or more such levels (a slope's heights fill their range).
     """
-    from planerel.features._relation_kernels import finite_range, level_bins
+    from planerel.features._relation_kernels import finite_range
 
     h = np.ascontiguousarray(heights, dtype=np.float64).reshape(-1)
     # the finite heights' count and range first (one compiled pass): most planes stop here
-    n, lo, hi = finite_range(h)
+    return _levels(h, *finite_range(h), rise, bin_size, dense, max_thickness, min_share,
+                   margin, min_level)
+
+
+def _levels(h, n, lo, hi, rise, bin_size, dense, max_thickness, min_share, margin,
+            min_level) -> list[tuple[float, float]]:
+    """:func:`stepped_levels` of the heights ``h`` (1-D float64) whose finite count, min and
+    max are ``n``, ``lo``, ``hi`` (:func:`planerel.features._relation_kernels.finite_range`)."""
+    from planerel.features._relation_kernels import level_bins
+
     if n < 20 or hi - lo < rise[0]:
         return []
     if n < h.size:
@@ -119,6 +134,22 @@ def _box_points(lab, xyz, label: int, box) -> np.ndarray:
     return out
 
 
+def _box_heights_range(lab, xyz, label: int, box, up):
+    """``(h, n, lo, hi)``: :func:`_box_heights` and its finite count, min and max
+    (:func:`planerel.features._relation_kernels.finite_range`) in the heights' own pass."""
+    from planerel.features._relation_kernels import box_label_heights_range, finite_range
+
+    H, W = lab.shape
+    r0, r1, _ = box[0].indices(H)
+    c0, c1, _ = box[1].indices(W)
+    xyz = np.asarray(xyz)
+    if xyz.dtype != np.float64 or r1 <= r0 or c1 <= c0:
+        h = np.ascontiguousarray(_box_heights(lab, xyz, label, box, up), dtype=np.float64)
+        return (h, *finite_range(h))
+    return box_label_heights_range(np.ascontiguousarray(lab), xyz, int(label), r0, c0, r1, c1,
+                                   np.asarray(up, np.float64))
+
+
 def _box_heights(lab, xyz, label: int, box, up) -> np.ndarray:
     """``_box_points(lab, xyz, label, box) @ up`` in one compiled pass without the points
     (:func:`planerel.features._relation_kernels.box_label_heights`: plain-order dot products,
@@ -174,8 +205,9 @@ def split_stepped(xyz: np.ndarray, labels: np.ndarray, planes, rise=(0.08, 0.30)
         # points, in the same order)
         box = ((slice(p.bbox[0], p.bbox[2]), slice(p.bbox[1], p.bbox[3]))
                if labels is planes.labels else (slice(None), slice(None)))
-        h = _box_heights(lab, xyz, p.label, box, up)
-        levels = stepped_levels(h, rise, margin=margin)
+        # the heights and their range in one pass (stepped_levels' first test)
+        h, n, lo, hi = _box_heights_range(lab, xyz, p.label, box, up)
+        levels = _levels(h, n, lo, hi, rise, *_LEVEL_DEFAULTS, margin, _LEVEL_MIN)
         if not levels:
             continue
         m = lab[box] == p.label
