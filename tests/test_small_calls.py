@@ -336,3 +336,28 @@ def test_split_stepped_as_with_stepped_levels():
             assert _same(got[0], want[0]) and got[1] == want[1]
             split += 1
     assert split >= 1
+
+
+def test_cluster_spans_at_is_cluster_spans_of_the_gathered_points():
+    from planerel.features._stairfit_kernels import cluster_spans, cluster_spans_at
+    from planerel.features.stairfit import _gather, _narrow_clusters, _narrow_clusters_at
+
+    rng = np.random.default_rng(2229)
+    for _ in range(150):
+        H, W = (int(v) for v in rng.integers(1, 40, 2))
+        xyz = rng.normal(size=(H, W, 3)) * rng.uniform(0.05, 3.0)
+        xyz[rng.random((H, W)) < 0.05] = np.nan
+        N = int(rng.integers(0, H * W + 1))
+        flat = np.sort(rng.choice(H * W, N, replace=False)).astype(np.int64)
+        rows, cols = flat // W, flat % W
+        n = int(rng.integers(1, 8))
+        ids = rng.integers(0, n, N).astype(np.int64)
+        e1 = rng.normal(size=3)
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(e1, [0.0, 0.0, 1.0])
+        pts = _gather(xyz, rows, cols)
+        assert _same(cluster_spans_at(xyz, rows, cols, ids, n, e1, e2),
+                     cluster_spans(pts, ids, n, e1, e2))
+        w = float(rng.uniform(0.1, 3.0))
+        assert _same(_narrow_clusters_at(xyz, rows, cols, ids, n, e1, e2, w),
+                     _narrow_clusters(pts, ids, n, e1, e2, w))

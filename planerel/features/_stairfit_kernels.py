@@ -162,6 +162,38 @@ def cluster_slopes(pts, ids, n, e1, e2, up, min_det):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def cluster_spans_at(xyz, rows, cols, ids, n, e1, e2):
+    """:func:`cluster_spans` of the points ``xyz[rows, cols]`` read in place (no gathered
+    copy): the same values in the same order, so the same spans."""
+    N = ids.shape[0]
+    lo_u = np.full(n, np.inf)
+    hi_u = np.full(n, -np.inf)
+    lo_v = np.full(n, np.inf)
+    hi_v = np.full(n, -np.inf)
+    bad = np.zeros(n, np.bool_)
+    for i in range(N):
+        c = ids[i]
+        r, q = rows[i], cols[i]
+        x, y, z = xyz[r, q, 0], xyz[r, q, 1], xyz[r, q, 2]
+        u = x * e1[0] + y * e1[1] + z * e1[2]
+        v = x * e2[0] + y * e2[1] + z * e2[2]
+        if not (math.isfinite(u) and math.isfinite(v)):
+            bad[c] = True
+            continue
+        lo_u[c] = min(lo_u[c], u)
+        hi_u[c] = max(hi_u[c], u)
+        lo_v[c] = min(lo_v[c], v)
+        hi_v[c] = max(hi_v[c], v)
+    out = np.zeros(n)
+    for c in range(n):
+        if bad[c]:
+            out[c] = np.nan
+        elif hi_u[c] >= lo_u[c]:
+            out[c] = math.hypot(hi_u[c] - lo_u[c], hi_v[c] - lo_v[c])
+    return out
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def cluster_spans(pts, ids, n, e1, e2):
     """How far each cluster reaches across the horizontal plane at most: ``hypot`` of the
     ranges of its points' coordinates along ``e1`` and ``e2`` (``ids`` each point's cluster in

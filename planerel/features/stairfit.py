@@ -425,6 +425,21 @@ def _narrow_clusters(pts, ids, n, e1, e2, min_width, margin=1e-9):
     return span * (1 + margin) + margin < min_width
 
 
+def _narrow_clusters_at(xyz, rows, cols, ids, n, e1, e2, min_width, margin=1e-9):
+    """:func:`_narrow_clusters` of the points ``xyz[rows, cols]`` read in place
+    (:func:`planerel.features._stairfit_kernels.cluster_spans_at`: the same values as from
+    their gathered copy)."""
+    from planerel.features._stairfit_kernels import cluster_spans_at
+
+    xyz = np.asarray(xyz)
+    if xyz.dtype != np.float64 or xyz.ndim != 3:
+        return _narrow_clusters(_gather(xyz, rows, cols), ids, n, e1, e2, min_width, margin)
+    span = cluster_spans_at(xyz, np.asarray(rows, np.int64), np.asarray(cols, np.int64),
+                            np.ascontiguousarray(ids, dtype=np.int64), int(n),
+                            np.asarray(e1, float), np.asarray(e2, float))
+    return span * (1 + margin) + margin < min_width
+
+
 def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
     """Planes for the staircases among the unexplained pixels (rule steps 1-5).
 
@@ -491,15 +506,17 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
     big = np.flatnonzero(sizes >= p.min_pixels)
     if not big.size:
         return None, pixels
+    e1, e2 = _horizontal_axes(up)
+    # the clusters that certainly fail the width test (one compiled pass over their pixels'
+    # points) first: when every large cluster does (most frames), nothing below is needed
+    # (no point gathered, no slope; the loop would skip every cluster)
+    narrow = _narrow_clusters_at(xyz, rows, cols, ids, n_all, e1, e2, p.min_width)
+    if narrow[big].all():
+        return None, pixels
     pts = _gather(xyz, rows, cols)
     z = pts[:, 2]
     taken = np.zeros(len(rows), bool)
-    e1, e2 = _horizontal_axes(up)
-    # the clusters that certainly fail the width test (one compiled pass) first: when every
-    # large cluster does (most frames), their slopes are not needed
-    narrow = _narrow_clusters(pts, ids, n_all, e1, e2, p.min_width)
-    maybe = (_slope_candidates(pts, ids, n_all, e1, e2, up, p.slope)
-             if not narrow[big].all() else None)
+    maybe = _slope_candidates(pts, ids, n_all, e1, e2, up, p.slope)
     sigma_z = None  # the sensor's noise along the rays, measured when a cluster is fitted
     out = None
     groups = []
