@@ -179,8 +179,8 @@ def test_curved_objects_with_the_label_bound_on_real_frames():
 
 
 def test_open_pixels_of_a_mask_list_is_open_mask():
-    """raised_clusters opens the raw pixels from their list (open_pixels with nothing
-    dropped) instead of open_mask over the grid: the same pixels, row-major."""
+    """The raw pixels opened from their list (open_pixels with nothing dropped, as
+    raised_clusters asks open_pixel_list) are open_mask's pixels, row-major."""
     from planerel.features._curved_kernels import open_mask, open_pixels
     from planerel.features.raised import _NO_DROP
     from planerel.segment._label_kernels import mask_pixels
@@ -205,22 +205,22 @@ def test_open_pixels_of_a_mask_list_is_open_mask():
 
 def _raised_clusters_with_open_mask(cloud, labels, planes, support):
     """raised_clusters as it was (open_mask over the grid), patched in for the comparison."""
+    import planerel.features._curved_kernels as K
     import planerel.features.raised as R
-    from planerel.features._curved_kernels import open_mask, open_pixels
+
+    keep = K.open_pixel_list
 
     def old_open(rows, cols, raw8, drop, H, W, r):
         # the mask alone, at the default radius (not the arguments the new code passes)
-        raw = raw8.view(np.bool_)
-        m = open_mask(raw, R.RaisedParams().open_px)
+        m = K.open_mask(raw8.view(np.bool_), R.RaisedParams().open_px)
         rr, cc = np.nonzero(m)
-        return m, rr.astype(np.int64), cc.astype(np.int64)
+        return rr.astype(np.int64), cc.astype(np.int64)
 
-    import planerel.features._curved_kernels as K
-    K.open_pixels = old_open
+    K.open_pixel_list = old_open
     try:
         return R.raised_clusters(cloud, labels, planes, support)
     finally:
-        K.open_pixels = open_pixels
+        K.open_pixel_list = keep
 
 
 def test_raised_clusters_as_with_open_mask():
@@ -361,3 +361,33 @@ def test_cluster_spans_at_is_cluster_spans_of_the_gathered_points():
         w = float(rng.uniform(0.1, 3.0))
         assert _same(_narrow_clusters_at(xyz, rows, cols, ids, n, e1, e2, w),
                      _narrow_clusters(pts, ids, n, e1, e2, w))
+
+
+def test_open_pixel_list_is_open_pixels():
+    """The opening from each row's runs (no image) against open_pixels (and so open_mask):
+    random masks of blocks and noise, labels dropped, radii 0-3, the image's borders."""
+    from planerel.features._curved_kernels import open_mask, open_pixel_list, open_pixels
+    from planerel.segment._label_kernels import mask_pixels
+
+    rng = np.random.default_rng(2230)
+    kept = 0
+    for _ in range(400):
+        H, W = (int(v) for v in rng.integers(1, 70, 2))
+        mask = rng.random((H, W)) < rng.uniform(0.0, 0.5)
+        for _ in range(int(rng.integers(0, 6))):
+            r0, c0 = int(rng.integers(0, H)), int(rng.integers(0, W))
+            mask[r0:r0 + int(rng.integers(1, 15)), c0:c0 + int(rng.integers(1, 15))] = True
+        lab = rng.integers(-1, 6, (H, W)).astype(np.int32)
+        drop = rng.random(int(rng.integers(0, 7))) < 0.3
+        rows, cols = mask_pixels(mask)
+        for r in (0, 1, 2, 3):
+            _, wr, wc = open_pixels(rows, cols, lab, drop, H, W, r)
+            gr, gc = open_pixel_list(rows, cols, lab, drop, H, W, r)
+            assert _same(gr, wr) and _same(gc, wc), (H, W, r)
+            kept += len(gr) > 0
+        # nothing dropped: open_mask of the mask itself
+        for r in (1, 2):
+            want = np.nonzero(open_mask(mask, r))
+            got = open_pixel_list(rows, cols, lab, np.zeros(0, np.bool_), H, W, r)
+            assert _same(got[0], want[0].astype(np.int64)) and _same(got[1], want[1].astype(np.int64))
+    assert kept > 400

@@ -523,6 +523,165 @@ def open_pixels(rows, cols, lab, drop, H, W, r):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def open_pixel_list(rows, cols, lab, drop, H, W, r):
+    """The pixel list of :func:`open_pixels` (``open_pixels(...)[1:]``: the same pixels,
+    row-major) without any ``(H, W)`` array: the opening worked on each row's runs of
+    pixels (intervals of columns) instead of on images.  Erosion along a row keeps
+    ``[s + r, e - r]`` of a run ``[s, e]`` at least ``2r + 1`` long; along columns, a row's
+    intervals intersected with those of the ``r`` rows above and below; dilation along a row
+    widens each interval by ``r`` (clipped to the image) and joins those that meet; along
+    columns, a row's pixels are the union of the dilated intervals of the rows within ``r``
+    of it (``tests/test_small_calls.py`` compares with :func:`open_pixels` and
+    :func:`open_mask`)."""
+    K = drop.shape[0]
+    n = len(rows)
+    if r <= 0:
+        ro = np.empty(n, np.int64)
+        co = np.empty(n, np.int64)
+        m = 0
+        for i in range(n):
+            y, x = rows[i], cols[i]
+            a = lab[y, x]
+            if 0 <= a < K and drop[a]:
+                continue
+            ro[m], co[m] = y, x
+            m += 1
+        return ro[:m].copy(), co[:m].copy()
+    span = 2 * r + 1
+    # the row-eroded intervals, row-major: row, first and last column
+    e_r = np.empty(n + 1, np.int64)
+    e_a = np.empty(n + 1, np.int64)
+    e_b = np.empty(n + 1, np.int64)
+    ne = 0
+    py, s, px = -1, 0, -2
+    for i in range(n + 1):
+        if i < n:
+            y, x = rows[i], cols[i]
+            a = lab[y, x]
+            if 0 <= a < K and drop[a]:
+                continue
+            if y == py and x == px + 1:
+                px = x
+                continue
+        # the run [s, px] of row py has ended
+        if py >= 0 and px - s + 1 >= span:
+            e_r[ne], e_a[ne], e_b[ne] = py, s + r, px - r
+            ne += 1
+        if i < n:
+            py, s, px = y, x, x
+    if ne == 0:
+        return np.empty(0, np.int64), np.empty(0, np.int64)
+    # each row's intervals: [off[y], off[y + 1])
+    off = np.zeros(H + 1, np.int64)
+    for k in range(ne):
+        off[e_r[k] + 1] += 1
+    for y in range(H):
+        off[y + 1] += off[y]
+    # erosion along columns: the rows whose 2r + 1 rows all hold intervals, intersected
+    cap = span * ne + 1
+    c_r = np.empty(cap, np.int64)
+    c_a = np.empty(cap, np.int64)
+    c_b = np.empty(cap, np.int64)
+    ta = np.empty(cap, np.int64)
+    tb = np.empty(cap, np.int64)
+    ua = np.empty(cap, np.int64)
+    ub = np.empty(cap, np.int64)
+    nc = 0
+    for y in range(r, H - r):
+        ok = True
+        for yy in range(y - r, y + r + 1):
+            if off[yy + 1] == off[yy]:
+                ok = False
+                break
+        if not ok:
+            continue
+        m = 0
+        for k in range(off[y - r], off[y - r + 1]):
+            ta[m], tb[m] = e_a[k], e_b[k]
+            m += 1
+        for yy in range(y - r + 1, y + r + 1):
+            # ta[:m] AND the intervals of row yy, into ua, back to ta
+            q = 0
+            i = 0
+            j = off[yy]
+            jend = off[yy + 1]
+            while i < m and j < jend:
+                lo = max(ta[i], e_a[j])
+                hi = min(tb[i], e_b[j])
+                if lo <= hi:
+                    ua[q], ub[q] = lo, hi
+                    q += 1
+                if tb[i] < e_b[j]:
+                    i += 1
+                else:
+                    j += 1
+            for t in range(q):
+                ta[t], tb[t] = ua[t], ub[t]
+            m = q
+            if m == 0:
+                break
+        for t in range(m):
+            c_r[nc], c_a[nc], c_b[nc] = y, ta[t], tb[t]
+            nc += 1
+    if nc == 0:
+        return np.empty(0, np.int64), np.empty(0, np.int64)
+    # dilation along rows: each interval widened by r (clipped), those that meet joined
+    d_r = np.empty(nc, np.int64)
+    d_a = np.empty(nc, np.int64)
+    d_b = np.empty(nc, np.int64)
+    nd = 0
+    for k in range(nc):
+        a, b = max(0, c_a[k] - r), min(W - 1, c_b[k] + r)
+        if nd > 0 and d_r[nd - 1] == c_r[k] and a <= d_b[nd - 1] + 1:
+            d_b[nd - 1] = max(d_b[nd - 1], b)
+        else:
+            d_r[nd], d_a[nd], d_b[nd] = c_r[k], a, b
+            nd += 1
+    doff = np.zeros(H + 1, np.int64)
+    for k in range(nd):
+        doff[d_r[k] + 1] += 1
+    for y in range(H):
+        doff[y + 1] += doff[y]
+    # dilation along columns: row y's pixels are the union of the rows y - r .. y + r's
+    # intervals (merged in order of their first column)
+    y0, y1 = d_r[0], d_r[nd - 1]
+    o_r = np.empty(span * nd + 1, np.int64)
+    o_a = np.empty(span * nd + 1, np.int64)
+    o_b = np.empty(span * nd + 1, np.int64)
+    no = 0
+    total = 0
+    for y in range(max(0, y0 - r), min(H - 1, y1 + r) + 1):
+        m = 0
+        for yy in range(max(0, y - r), min(H - 1, y + r) + 1):
+            for k in range(doff[yy], doff[yy + 1]):
+                # insertion by first column (a few intervals a row)
+                t = m
+                while t > 0 and ta[t - 1] > d_a[k]:
+                    ta[t], tb[t] = ta[t - 1], tb[t - 1]
+                    t -= 1
+                ta[t], tb[t] = d_a[k], d_b[k]
+                m += 1
+        t = 0
+        while t < m:
+            a, b = ta[t], tb[t]
+            t += 1
+            while t < m and ta[t] <= b + 1:
+                b = max(b, tb[t])
+                t += 1
+            o_r[no], o_a[no], o_b[no] = y, a, b
+            total += b - a + 1
+            no += 1
+    ro = np.empty(total, np.int64)
+    co = np.empty(total, np.int64)
+    m = 0
+    for k in range(no):
+        for x in range(o_a[k], o_b[k] + 1):
+            ro[m], co[m] = o_r[k], x
+            m += 1
+    return ro, co
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _open_tail(e1, rowany, H, W, r):
     """:func:`unexplained_open` after the erosion along rows: the erosion along columns, the
     dilation and the pixel list."""

@@ -552,7 +552,7 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
         list_areas,
         list_components,
         open_mask,
-        open_pixels,
+        open_pixel_list,
         unexplained_mask,
         unexplained_open,
     )
@@ -576,7 +576,8 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
         sup = [x for x in support if x >= 0]
         drop = np.zeros(max(sup, default=-1) + 1, bool)
         drop[sup] = True
-        un, rows, cols = open_pixels(pixels[0], pixels[1], lab, drop, lab.shape[0], lab.shape[1],
+        # (open_pixel_list: open_pixels' list from the rows' runs, without its images)
+        rows, cols = open_pixel_list(pixels[0], pixels[1], lab, drop, lab.shape[0], lab.shape[1],
                                      int(params.open_px))
     elif isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
         # the mask, its opening and its pixels in one pass (sparse: a few % of the image)
@@ -587,7 +588,7 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
     if not len(rows):
         return [], []
     # the components from the pixel list (grid_components of the mask, without its map)
-    ids, k = list_components(rows, cols, xyz, float(params.edge_depth), un.shape[0])
+    ids, k = list_components(rows, cols, xyz, float(params.edge_depth), lab.shape[0])
     pitch = _pitches_at(xyz, rows, cols)
     area = list_areas(xyz, rows, cols, ids, pitch[0], pitch[1], k)
     lim = np.full(k, float(params.min_area))
@@ -601,7 +602,7 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
     rep = np.where(area >= lim, np.arange(k), -1)
     kept_with = np.full(k, -1, np.int64)  # the credited plane a kept group was kept with
     if params.nest_depth > 0 and params.near_depth > 0 and (k > 1 or (k and credit)):
-        _nested_groups(rep, ids, rows, cols, xyz, area, lim, zc, params, un.shape, lab,
+        _nested_groups(rep, ids, rows, cols, xyz, area, lim, zc, params, lab.shape, lab,
                        credit or {}, kept_with)
     kept = np.nonzero(rep >= 0)[0]
     gmin = np.full(k, k, np.int64)
@@ -647,14 +648,14 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
                                         int(np.count_nonzero(full)))
         gs = np.unique(grp)
         for g in gs:  # the smallest member's id: their first opened pixel's order
-            m = np.zeros(un.shape, bool)
+            m = np.zeros(lab.shape, bool)
             s = grp == g
             m[gr[s], gc[s]] = True
             out.append(m)
         return out, [int(plane_of[g]) for g in gs]
     kid = cluster[ids]
     for c in keep:
-        m = np.zeros(un.shape, bool)
+        m = np.zeros(lab.shape, bool)
         sel = kid == c
         m[rows[sel], cols[sel]] = True
         out.append(m)

@@ -223,7 +223,7 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
     list of ndarray (H, W) bool
         One mask per group, ordered by their first pixel (row-major).
     """
-    from planerel.features._curved_kernels import list_areas, list_components, open_pixels
+    from planerel.features._curved_kernels import list_areas, list_components, open_pixel_list
     from planerel.features._defaults import defaults
     from planerel.features.curved import _pitches_at, _shift_all
     from planerel.segment._label_kernels import mask_pixels
@@ -250,13 +250,14 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
         box = (slice(r0, r1), slice(c0, c1))
         on, raw, weak, h = _raised_on(p, xyz, lab, f, up, params)
         # the raw pixels' list (a few of the grid's pixels, most often none) opened from the
-        # list (open_pixels: the pixels of open_mask(raw), row-major, without its passes
-        # over the whole grid), less any pixel not of the plane (none: raw is on the plane)
+        # list (open_pixel_list: the pixels of open_mask(raw), row-major, from the rows' runs
+        # without passes over the whole grid), less any pixel not of the plane (none: raw is
+        # on the plane)
         rows, cols = mask_pixels(raw)
         if not len(rows):
             continue
-        _, rows, cols = open_pixels(rows, cols, raw.view(np.uint8), _NO_DROP, raw.shape[0],
-                                    raw.shape[1], int(params.open_px))
+        rows, cols = open_pixel_list(rows, cols, raw.view(np.uint8), _NO_DROP, raw.shape[0],
+                                     raw.shape[1], int(params.open_px))
         keep = on[rows, cols]
         rows, cols = rows[keep], cols[keep]
         if not len(rows):

@@ -470,6 +470,9 @@ def leans_towards(top, face, up) -> bool:
 
 
 _new = object.__new__
+#: The setter of a Relation's instance dictionary (``r.__dict__ = d`` without the frozen
+#: class's ``__setattr__``).
+_set_dict = next(c.__dict__["__dict__"] for c in Relation.__mro__ if "__dict__" in c.__dict__).__set__
 
 
 def _relation(a, b, angle, parallel, perpendicular, gap, touching, adjacent, rise, above,
@@ -478,12 +481,13 @@ def _relation(a, b, angle, parallel, perpendicular, gap, touching, adjacent, ris
     writes): the same fields, in the same order, in the instance dictionary."""
     r = _new(Relation)
     # a dict display, not keywords: no keyword dictionary built and unpacked (0.84 against
-    # 1.2 us a relation)
-    r.__dict__.update({"a": a, "b": b, "angle": angle, "parallel": parallel,
-                       "perpendicular": perpendicular, "gap": gap, "touching": touching,
-                       "adjacent": adjacent, "rise": rise, "above": above,
-                       "in_front_of": in_front_of, "skirt": skirt, "corner": corner,
-                       "facing": facing})
+    # 1.2 us a relation); set as the instance dictionary through its descriptor, not copied
+    # into an empty one (1.93 -> 1.72 us)
+    _set_dict(r, {"a": a, "b": b, "angle": angle, "parallel": parallel,
+                  "perpendicular": perpendicular, "gap": gap, "touching": touching,
+                  "adjacent": adjacent, "rise": rise, "above": above,
+                  "in_front_of": in_front_of, "skirt": skirt, "corner": corner,
+                  "facing": facing})
     return r
 
 
