@@ -665,8 +665,8 @@ def _tails(a, k_lo, k_hi):
     """The order statistics ``s(k_lo), s(k_lo + 1), s(k_hi), s(k_hi + 1)`` of ``a`` (0-based,
     ``k_lo + 1 < n``, ``k_hi + 1 < n``, ``n >= _TAILS_SAMPLE``), found in its two tails.
 
-    The 5th smallest and 5th largest of a strided sample of 64 values are the pivots; one
-    pass copies the values below the low pivot and those above the high one aside, and the
+    The 5th smallest and 5th largest of a strided sample of 64 values (selected) are the
+    pivots; one pass copies the values below the low pivot and those above the high one aside, and the
     wanted values are selected there: when at least ``k_lo + 2`` values lie below the low
     pivot they hold the ``k_lo + 2`` smallest (ties with the pivot stay out, so none is
     missed), and likewise at the top.  About 8 % of the values are copied where the whole
@@ -684,13 +684,10 @@ def _tails(a, k_lo, k_hi):
     smp = np.empty(m)
     for i in range(m):
         smp[i] = a[i * step]
-    for i in range(1, m):  # insertion sort of the sample
-        x = smp[i]
-        j = i - 1
-        while j >= 0 and smp[j] > x:
-            smp[j + 1] = smp[j]
-            j -= 1
-        smp[j + 1] = x
+    # the sample's 5th smallest and 5th largest (the values its sorted copy holds there), by
+    # two selections instead of a sort
+    _select(smp, 0, m, 4)
+    _select(smp, 5, m, m - 5)
     p_lo, p_hi = smp[4], smp[m - 5]
     low = np.empty(n)
     high = np.empty(n)
