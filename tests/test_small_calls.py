@@ -391,3 +391,32 @@ def test_open_pixel_list_is_open_pixels():
             got = open_pixel_list(rows, cols, lab, np.zeros(0, np.bool_), H, W, r)
             assert _same(got[0], want[0].astype(np.int64)) and _same(got[1], want[1].astype(np.int64))
     assert kept > 400
+
+
+def test_list_components_spans_is_list_components_then_cluster_spans():
+    from planerel.features._curved_kernels import list_components, list_components_spans
+    from planerel.features._stairfit_kernels import cluster_spans
+    from planerel.features.stairfit import _gather
+
+    rng = np.random.default_rng(2231)
+    multi = 0
+    for _ in range(200):
+        H, W = (int(v) for v in rng.integers(1, 50, 2))
+        xyz = np.stack(np.meshgrid(np.linspace(-1, 1, W), np.linspace(-1, 1, H)), -1)
+        xyz = np.concatenate([xyz, np.full((H, W, 1), 1.5)], -1)
+        xyz[..., 2] += 0.3 * (rng.random((H, W)) < 0.15)  # jumps that cut components
+        xyz[rng.random((H, W)) < 0.03] = np.nan
+        xyz[rng.random((H, W)) < 0.01, 0] = np.inf
+        mask = rng.random((H, W)) < rng.uniform(0.1, 0.9)
+        rr, cc = np.nonzero(mask)
+        rows, cols = rr.astype(np.int64), cc.astype(np.int64)
+        e1 = rng.normal(size=3)
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(e1, [0.0, 0.0, 1.0])
+        for edge in (0.02, 0.1):
+            ids, k = list_components(rows, cols, xyz, edge, H)
+            ids2, k2, span = list_components_spans(rows, cols, xyz, edge, H, e1, e2)
+            assert k2 == k and _same(ids2, ids)
+            assert _same(span, cluster_spans(_gather(xyz, rows, cols), ids, k, e1, e2))
+            multi += k > 3
+    assert multi > 100

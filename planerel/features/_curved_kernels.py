@@ -5,6 +5,8 @@ Import this module only from inside functions: numba itself is a heavy import.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -756,6 +758,95 @@ def _open_tail(e1, rowany, H, W, r):
                 left -= 1
             x += 1
     return out.view(np.bool_), rows, cols
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def list_components_spans(rows, cols, xyz, edge_depth, H, e1, e2):
+    """:func:`list_components` and, per component, its points' horizontal reach: ``hypot``
+    of the ranges of their coordinates along ``e1`` and ``e2``, NaN when one is not finite
+    (:func:`planerel.features._stairfit_kernels.cluster_spans` of the components, from the
+    points as they are read: each tree of the union-find keeps its points' bounds at its
+    root; a minimum or maximum does not depend on the order its values come in, so the
+    same bounds and the same reach).
+
+    Returns
+    -------
+    (ndarray (N,) int64, int, ndarray (k,) float64)
+    """
+    n = rows.shape[0]
+    parent = np.arange(n)
+    lo_u = np.empty(n)
+    hi_u = np.empty(n)
+    lo_v = np.empty(n)
+    hi_v = np.empty(n)
+    bad = np.zeros(n, np.bool_)
+    for t in range(n):
+        r, c = rows[t], cols[t]
+        x, y, z = xyz[r, c, 0], xyz[r, c, 1], xyz[r, c, 2]
+        u = x * e1[0] + y * e1[1] + z * e1[2]
+        v = x * e2[0] + y * e2[1] + z * e2[2]
+        lo_u[t] = u
+        hi_u[t] = u
+        lo_v[t] = v
+        hi_v[t] = v
+        bad[t] = not (math.isfinite(u) and math.isfinite(v))
+    lo = 0  # the first pixel of row r + 1 at or after column c (r, c: the current pixel's)
+    for t in range(n):
+        r, c = rows[t], cols[t]
+        lim = edge_depth * max(1.0, abs(xyz[r, c, 2]))
+        # right neighbour
+        if t + 1 < n and rows[t + 1] == r and cols[t + 1] == c + 1:
+            d0 = xyz[r, c + 1, 0] - xyz[r, c, 0]
+            d1 = xyz[r, c + 1, 1] - xyz[r, c, 1]
+            d2 = xyz[r, c + 1, 2] - xyz[r, c, 2]
+            if np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) <= lim:
+                a, b = _root(parent, t), _root(parent, t + 1)
+                if a != b:
+                    _join_bounds(parent, lo_u, hi_u, lo_v, hi_v, bad, a, b)
+        # lower neighbour
+        if r + 1 < H:
+            if lo <= t:
+                lo = t + 1
+            while lo < n and (rows[lo] == r or (rows[lo] == r + 1 and cols[lo] < c)):
+                lo += 1
+            if lo < n and rows[lo] == r + 1 and cols[lo] == c:
+                d0 = xyz[r + 1, c, 0] - xyz[r, c, 0]
+                d1 = xyz[r + 1, c, 1] - xyz[r, c, 1]
+                d2 = xyz[r + 1, c, 2] - xyz[r, c, 2]
+                if np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) <= lim:
+                    a, b = _root(parent, t), _root(parent, lo)
+                    if a != b:
+                        _join_bounds(parent, lo_u, hi_u, lo_v, hi_v, bad, a, b)
+    ids = np.full(n, -1, np.int64)
+    out = np.empty(n, np.int64)
+    k = 0
+    for t in range(n):
+        a = _root(parent, t)
+        if ids[a] < 0:
+            ids[a] = k
+            k += 1
+        out[t] = ids[a]
+    span = np.zeros(k)
+    for t in range(n):
+        if parent[t] == t:  # a root: its tree's bounds
+            if bad[t]:
+                span[ids[t]] = np.nan
+            else:
+                span[ids[t]] = math.hypot(hi_u[t] - lo_u[t], hi_v[t] - lo_v[t])
+    return out, k, span
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _join_bounds(parent, lo_u, hi_u, lo_v, hi_v, bad, a, b):
+    """Join the trees of roots ``a`` and ``b`` (the smaller root stays, as
+    :func:`list_components` joins them) with their bounds."""
+    keep, gone = min(a, b), max(a, b)
+    parent[gone] = keep
+    lo_u[keep] = min(lo_u[keep], lo_u[gone])
+    hi_u[keep] = max(hi_u[keep], hi_u[gone])
+    lo_v[keep] = min(lo_v[keep], lo_v[gone])
+    hi_v[keep] = max(hi_v[keep], hi_v[gone])
+    bad[keep] = bad[keep] or bad[gone]
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

@@ -422,6 +422,11 @@ def _narrow_clusters(pts, ids, n, e1, e2, min_width, margin=1e-9):
     span = cluster_spans(np.ascontiguousarray(pts, dtype=np.float64),
                          np.ascontiguousarray(ids, dtype=np.int64), int(n),
                          np.asarray(e1, float), np.asarray(e2, float))
+    return _narrow_of(span, min_width, margin)
+
+
+def _narrow_of(span, min_width, margin=1e-9):
+    """Which reaches (:func:`_narrow_clusters`' spans) are below ``min_width`` with the margin."""
     return span * (1 + margin) + margin < min_width
 
 
@@ -437,7 +442,7 @@ def _narrow_clusters_at(xyz, rows, cols, ids, n, e1, e2, min_width, margin=1e-9)
     span = cluster_spans_at(xyz, np.asarray(rows, np.int64), np.asarray(cols, np.int64),
                             np.ascontiguousarray(ids, dtype=np.int64), int(n),
                             np.asarray(e1, float), np.asarray(e2, float))
-    return span * (1 + margin) + margin < min_width
+    return _narrow_of(span, min_width, margin)
 
 
 def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
@@ -458,7 +463,7 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
         for a riser: the orientation the fit assumed and tested); None when no cluster is a
         staircase. Then the unexplained pixels of step 1, ``(rows, cols)`` (row-major).
     """
-    from planerel.features._curved_kernels import list_components, unexplained_pixels
+    from planerel.features._curved_kernels import list_components_spans, unexplained_pixels
     from planerel.features._defaults import defaults
     from planerel.features.planes import label_max
 
@@ -473,8 +478,11 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
     explained[known] = True
     rows, cols = unexplained_pixels(cloud.valid, lab, explained)
     pixels = (rows, cols)
+    e1, e2 = _horizontal_axes(up)
+    spans = None  # the components' horizontal reach (the width test's bound), taken with them
     if len(rows):
-        ids, n_comp = list_components(rows, cols, xyz, float(p.edge_depth), lab.shape[0])
+        ids, n_comp, spans = list_components_spans(rows, cols, xyz, float(p.edge_depth),
+                                                   lab.shape[0], e1, e2)
     else:
         ids, n_comp = np.zeros(0, np.int64), 0
     n_all = n_comp
@@ -506,11 +514,14 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
     big = np.flatnonzero(sizes >= p.min_pixels)
     if not big.size:
         return None, pixels
-    e1, e2 = _horizontal_axes(up)
-    # the clusters that certainly fail the width test (one compiled pass over their pixels'
-    # points) first: when every large cluster does (most frames), nothing below is needed
+    # the clusters that certainly fail the width test first (their reach, measured with the
+    # components; with inclined planes among the candidates, one compiled pass over their
+    # pixels' points): when every large cluster does (most frames), nothing below is needed
     # (no point gathered, no slope; the loop would skip every cluster)
-    narrow = _narrow_clusters_at(xyz, rows, cols, ids, n_all, e1, e2, p.min_width)
+    if spans is not None and n_all == n_comp:
+        narrow = _narrow_of(spans, p.min_width)
+    else:
+        narrow = _narrow_clusters_at(xyz, rows, cols, ids, n_all, e1, e2, p.min_width)
     if narrow[big].all():
         return None, pixels
     pts = _gather(xyz, rows, cols)
