@@ -420,3 +420,34 @@ def test_list_components_spans_is_list_components_then_cluster_spans():
             assert _same(span, cluster_spans(_gather(xyz, rows, cols), ids, k, e1, e2))
             multi += k > 3
     assert multi > 100
+
+
+def test_list_components_pitch_is_list_components_and_pitch_diffs_both():
+    from planerel.features._curved_kernels import (
+        list_areas,
+        list_areas_depths,
+        list_components,
+        list_components_pitch,
+        pitch_diffs_both,
+    )
+
+    rng = np.random.default_rng(2232)
+    for _ in range(200):
+        H, W = (int(v) for v in rng.integers(1, 50, 2))
+        xyz = np.stack(np.meshgrid(np.linspace(-1, 1, W), np.linspace(-1, 1, H)), -1)
+        xyz = np.concatenate([xyz, rng.uniform(0.3, 4.0, (H, W, 1))], -1)
+        xyz[..., 2] += 0.3 * (rng.random((H, W)) < 0.15)
+        xyz[rng.random((H, W)) < 0.05] = np.nan
+        xyz[rng.random((H, W)) < 0.02, 2] = 0.0
+        mask = rng.random((H, W)) < rng.uniform(0.05, 0.9)
+        rr, cc = np.nonzero(mask)
+        rows, cols = rr.astype(np.int64), cc.astype(np.int64)
+        for edge in (0.02, 0.1):
+            ids, k, d1, d0 = list_components_pitch(rows, cols, xyz, edge, H)
+            want_ids, want_k = list_components(rows, cols, xyz, edge, H)
+            w1, w0 = pitch_diffs_both(xyz, rows, cols)
+            assert k == want_k and _same(ids, want_ids) and _same(d1, w1) and _same(d0, w0)
+            area, zs, cnt = list_areas_depths(xyz, rows, cols, ids, 0.0017, 0.0019, k)
+            assert _same(area, list_areas(xyz, rows, cols, ids, 0.0017, 0.0019, k))
+            assert _same(zs, np.bincount(ids, weights=xyz[rows, cols, 2], minlength=k))
+            assert _same(cnt, np.bincount(ids, minlength=k).astype(np.int64))

@@ -761,6 +761,74 @@ def _open_tail(e1, rowany, H, W, r):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def list_components_pitch(rows, cols, xyz, edge_depth, H):
+    """``(*list_components(rows, cols, xyz, edge_depth, H), *pitch_diffs_both(xyz, rows,
+    cols))`` in one pass over the pixels (both read each pixel's point and its right and
+    lower neighbours'): the same components, and the same pitch values in the same order.
+
+    Returns
+    -------
+    (ndarray (N,) int64, int, ndarray float64, ndarray float64)
+    """
+    n = rows.shape[0]
+    W = xyz.shape[1]
+    HX = xyz.shape[0]
+    parent = np.arange(n)
+    out1 = np.empty(n)
+    out0 = np.empty(n)
+    n1 = 0
+    n0 = 0
+    lo = 0  # the first pixel of row r + 1 at or after column c (r, c: the current pixel's)
+    for t in range(n):
+        r, c = rows[t], cols[t]
+        z = xyz[r, c, 2]
+        # the pitches (pitch_diffs_both)
+        if c + 1 < W:
+            d = abs(xyz[r, c + 1, 0] / xyz[r, c + 1, 2] - xyz[r, c, 0] / z)
+            if np.isfinite(d):
+                out1[n1] = d
+                n1 += 1
+        if r + 1 < HX:
+            d = abs(xyz[r + 1, c, 1] / xyz[r + 1, c, 2] - xyz[r, c, 1] / z)
+            if np.isfinite(d):
+                out0[n0] = d
+                n0 += 1
+        # the components (list_components)
+        lim = edge_depth * max(1.0, abs(z))
+        if t + 1 < n and rows[t + 1] == r and cols[t + 1] == c + 1:
+            d0 = xyz[r, c + 1, 0] - xyz[r, c, 0]
+            d1 = xyz[r, c + 1, 1] - xyz[r, c, 1]
+            d2 = xyz[r, c + 1, 2] - xyz[r, c, 2]
+            if np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) <= lim:
+                a, b = _root(parent, t), _root(parent, t + 1)
+                if a != b:
+                    parent[max(a, b)] = min(a, b)
+        if r + 1 < H:
+            if lo <= t:
+                lo = t + 1
+            while lo < n and (rows[lo] == r or (rows[lo] == r + 1 and cols[lo] < c)):
+                lo += 1
+            if lo < n and rows[lo] == r + 1 and cols[lo] == c:
+                d0 = xyz[r + 1, c, 0] - xyz[r, c, 0]
+                d1 = xyz[r + 1, c, 1] - xyz[r, c, 1]
+                d2 = xyz[r + 1, c, 2] - xyz[r, c, 2]
+                if np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) <= lim:
+                    a, b = _root(parent, t), _root(parent, lo)
+                    if a != b:
+                        parent[max(a, b)] = min(a, b)
+    ids = np.full(n, -1, np.int64)
+    comp = np.empty(n, np.int64)
+    k = 0
+    for t in range(n):
+        a = _root(parent, t)
+        if ids[a] < 0:
+            ids[a] = k
+            k += 1
+        comp[t] = ids[a]
+    return comp, k, out1[:n1], out0[:n0]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def list_components_spans(rows, cols, xyz, edge_depth, H, e1, e2):
     """:func:`list_components` and, per component, its points' horizontal reach: ``hypot``
     of the ranges of their coordinates along ``e1`` and ``e2``, NaN when one is not finite
@@ -903,6 +971,24 @@ def list_components(rows, cols, xyz, edge_depth, H):
             k += 1
         out[t] = ids[a]
     return out, k
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def list_areas_depths(xyz, rows, cols, ids, p0, p1, k):
+    """``(list_areas(...), np.bincount(ids, weights=xyz[rows, cols, 2], minlength=k),
+    np.bincount(ids, minlength=k))`` in one pass over the pixels: the same sums in the same
+    order (``bincount`` adds its weights in their order)."""
+    out = np.zeros(k)
+    zs = np.zeros(k)
+    cnt = np.zeros(k, np.int64)
+    for t in range(rows.shape[0]):
+        zz = xyz[rows[t], cols[t], 2]
+        z = abs(zz)
+        c = ids[t]
+        out[c] += z * z * p0 * p1
+        zs[c] += zz
+        cnt[c] += 1
+    return out, zs, cnt
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

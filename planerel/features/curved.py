@@ -432,10 +432,17 @@ def _pitches_at(xyz, r, c) -> tuple[float, float]:
     """``(_pitch_at(xyz, r, c, 1), _pitch_at(xyz, r, c, 0))`` from one pass over the pixels
     (:func:`planerel.features._curved_kernels.pitch_diffs_both`: the same values)."""
     from planerel.features._curved_kernels import pitch_diffs_both
-    from planerel.features._relation_kernels import median
 
     d1, d0 = pitch_diffs_both(np.asarray(xyz, dtype=np.float64), np.asarray(r, dtype=np.int64),
                               np.asarray(c, dtype=np.int64))
+    return _pitches_of(xyz, d1, d0)
+
+
+def _pitches_of(xyz, d1, d0) -> tuple[float, float]:
+    """The pitches along a row and a column from their pixels' values (``pitch_diffs``
+    along axes 1 and 0): their medians, the whole image's where there are none."""
+    from planerel.features._relation_kernels import median
+
     return (float(median(d1)) if d1.size else _pitch(xyz, 1),
             float(median(d0)) if d0.size else _pitch(xyz, 0))
 
@@ -549,8 +556,8 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
     if lab.shape != xyz.shape[:2]:
         raise InputError(f"labels {lab.shape} and cloud {xyz.shape[:2]} differ in shape")
     from planerel.features._curved_kernels import (
-        list_areas,
-        list_components,
+        list_areas_depths,
+        list_components_pitch,
         open_mask,
         open_pixel_list,
         unexplained_mask,
@@ -588,14 +595,16 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
     if not len(rows):
         return [], []
     # the components from the pixel list (grid_components of the mask, without its map)
-    ids, k = list_components(rows, cols, xyz, float(params.edge_depth), lab.shape[0])
-    pitch = _pitches_at(xyz, rows, cols)
-    area = list_areas(xyz, rows, cols, ids, pitch[0], pitch[1], k)
+    # and the pixel pitches (_pitches_at) from the same reads of the points
+    ids, k, d1, d0 = list_components_pitch(rows, cols, xyz, float(params.edge_depth),
+                                           lab.shape[0])
+    pitch = _pitches_of(xyz, d1, d0)
+    # the areas, and each component's depth sum and count, in one pass over the pixels
+    area, zsum, zcnt = list_areas_depths(xyz, rows, cols, ids, pitch[0], pitch[1], k)
     lim = np.full(k, float(params.min_area))
     if params.near_depth > 0 and k:
         # near clusters (mean depth within near_depth) need only near_min_area
-        zc = np.bincount(ids, weights=xyz[rows, cols, 2], minlength=k) / np.maximum(
-            np.bincount(ids, minlength=k), 1)
+        zc = zsum / np.maximum(zcnt, 1)
         lim[zc <= params.near_depth] = min(float(params.near_min_area), float(params.min_area))
     # each kept component's group: the component it is kept with (itself, or the cluster a
     # nested part joins); -1: not kept
