@@ -451,3 +451,73 @@ def test_list_components_pitch_is_list_components_and_pitch_diffs_both():
             assert _same(area, list_areas(xyz, rows, cols, ids, 0.0017, 0.0019, k))
             assert _same(zs, np.bincount(ids, weights=xyz[rows, cols, 2], minlength=k))
             assert _same(cnt, np.bincount(ids, minlength=k).astype(np.int64))
+
+
+def _raised_tests_reference():
+    """_raised_tests as it was (every plane pixel's mean divided out), compiled here."""
+    import math
+
+    from numba import njit
+
+    @njit(cache=False)
+    def ref(xyz, r0, c0, f, on, rs, rc, a, min_rise, k_sigma, r):
+        H, W = on.shape
+        raw = np.zeros((H, W), np.bool_)
+        weak = np.zeros((H, W), np.bool_)
+        cs = np.zeros(W)
+        cc = np.zeros(W, np.int64)
+        for k in range(min(r, H)):
+            for j in range(W):
+                cs[j] += rs[k, j]
+                cc[j] += rc[k, j]
+        for o in range(H):
+            if o + r < H:
+                for j in range(W):
+                    cs[j] += rs[o + r, j]
+                    cc[j] += rc[o + r, j]
+            if o - r - 1 >= 0:
+                for j in range(W):
+                    cs[j] -= rs[o - r - 1, j]
+                    cc[j] -= rc[o - r - 1, j]
+            for j in range(W):
+                c = cc[j]
+                if not on[o, j] or c <= 0:
+                    continue
+                mean = cs[j] / c
+                if mean <= 0.5 * min_rise:
+                    continue
+                z = max(abs(xyz[r0 + o * f, c0 + j * f, 2]), 0.1)
+                lim = max(min_rise, k_sigma * a * z * z / math.sqrt(c))
+                raw[o, j] = mean > lim
+                weak[o, j] = mean > 0.5 * lim
+        return raw, weak
+
+    return ref
+
+
+def test_raised_tests_reject_by_a_product_as_by_the_mean():
+    """The window test's product bound rejects only what the division rejects: random
+    windows, and sums within a few ulps of half the rise times the count."""
+    from planerel.features._raised_kernels import _raised_tests
+
+    ref = _raised_tests_reference()
+    rng = np.random.default_rng(2233)
+    near = 0
+    for _ in range(200):
+        H, W = (int(v) for v in rng.integers(1, 30, 2))
+        r = int(rng.integers(0, 4))
+        min_rise = float(rng.choice([0.006, 0.01, 1e-3]))
+        on = rng.random((H, W)) < 0.8
+        rc = rng.integers(0, 2 * r + 2, (H, W)).astype(np.int32)
+        rs = (rng.normal(size=(H, W)) * 0.004 + 0.003).astype(np.float32)
+        if rng.random() < 0.5:
+            # row sums that put many window sums at about half the rise times their count
+            rs = (rc * np.float32(0.5 * min_rise)).astype(np.float32)
+            rs = np.nextafter(rs, np.float32(rng.choice([-1.0, 1.0])) * np.inf) if rng.random() < 0.5 else rs
+            near += 1
+        xyz = rng.uniform(0.3, 4.0, (H, W, 3))
+        a = float(rng.uniform(0.0, 0.01))
+        got = _raised_tests(xyz, 0, 0, 1, on, rs, rc, a, min_rise, 4.0, r)
+        want = ref(xyz, 0, 0, 1, on, rs, rc, a, min_rise, 4.0, r)
+        assert _same(got[0], want[0]) and _same(got[1], want[1])
+    assert near > 50

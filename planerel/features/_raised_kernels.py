@@ -193,6 +193,12 @@ def _raised_tests(xyz, r0, c0, f, on, rs, rc, a, min_rise, k_sigma, r):
     weak = np.zeros((H, W), np.bool_)
     cs = np.zeros(W)
     cc = np.zeros(W, np.int64)
+    # a window whose sum is at most half_rise * count * (1 - 1e-12) has a mean (cs / c, as
+    # the test below divides) at most half_rise: rejected by a product before the division
+    # (the bound's own two roundings, at most a relative 2.3e-16, stay far inside the
+    # 1e-12; a NaN sum fails this test and takes the division as before)
+    half = 0.5 * min_rise
+    shrink = 1.0 - 1e-12
     for k in range(min(r, H)):
         for j in range(W):
             cs[j] += rs[k, j]
@@ -210,6 +216,8 @@ def _raised_tests(xyz, r0, c0, f, on, rs, rc, a, min_rise, k_sigma, r):
             c = cc[j]
             if not on[o, j] or c <= 0:
                 continue
+            if cs[j] <= half * c * shrink:
+                continue  # mean <= half (below)
             mean = cs[j] / c
             if mean <= 0.5 * min_rise:
                 continue
