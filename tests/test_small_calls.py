@@ -521,3 +521,36 @@ def test_raised_tests_reject_by_a_product_as_by_the_mean():
         want = ref(xyz, 0, 0, 1, on, rs, rc, a, min_rise, 4.0, r)
         assert _same(got[0], want[0]) and _same(got[1], want[1])
     assert near > 50
+
+
+def test_boundary_tiles_remembered_with_the_label_image():
+    """The touch test and the edge sums read one set of boundary tiles, remembered with a
+    PlaneSet's labels: the kernels' own tiles, and the same pairs and sums."""
+    from planerel.features._relation_kernels import (
+        boundary_tiles,
+        edge_sums_pairs,
+        edge_sums_pairs_with_tiles,
+        touch_pairs_tiled,
+        touch_pairs_with_tiles,
+    )
+    from planerel.features.planes import _boundary_pixels, _boundary_tiles, measure_planes
+    from planerel.synth.generator import generate_scene
+
+    for kind, seed in (("box", 1), ("stairs", 2)):
+        sc = generate_scene(kind, seed=seed, subsample=2)
+        planes = measure_planes(sc.cloud, np.asarray(sc.gt_labels))
+        lab = planes.labels
+        brow, bcol = _boundary_pixels(lab)
+        tiles = _boundary_tiles(lab)
+        assert _same(tiles, boundary_tiles(lab, brow, bcol))
+        assert _boundary_tiles(lab) is tiles and not tiles.flags.writeable  # remembered
+        other = np.array(lab)  # writeable: measured, not remembered
+        assert _same(_boundary_tiles(other), tiles) and _boundary_tiles(lab) is tiles
+        xyz = np.ascontiguousarray(sc.cloud.xyz)
+        known = np.ones(int(lab.max()) + 1, bool)
+        assert _same(touch_pairs_with_tiles(xyz, lab, brow, bcol, tiles, 2, 0.02, 0.05, known),
+                     touch_pairs_tiled(xyz, lab, brow, bcol, 2, 0.02, 0.05, known))
+        partner = np.ones((len(known), len(known)), bool)
+        for got, want in zip(edge_sums_pairs_with_tiles(lab, xyz, brow, bcol, tiles, partner, 2, 0.02),
+                             edge_sums_pairs(lab, xyz, brow, bcol, partner, 2, 0.02), strict=True):
+            assert _same(got, want)

@@ -127,10 +127,17 @@ def touch_pairs_tiled(xyz, lab, brow, bcol, g, max_dist, rel_dist, known):
     pair with it is not found yet: a window with none of those can change nothing (the pairs
     found are skipped in the window too).  About half the boundary pixels of the real frames
     border only unassigned pixels or labels already found touching."""
+    return touch_pairs_with_tiles(xyz, lab, brow, bcol, boundary_tiles(lab, brow, bcol), g,
+                                  max_dist, rel_dist, known)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def touch_pairs_with_tiles(xyz, lab, brow, bcol, tiles, g, max_dist, rel_dist, known):
+    """:func:`touch_pairs_tiled` with the tiles given (``boundary_tiles(lab, brow, bcol)``,
+    which :func:`edge_sums_pairs_with_tiles` reads too)."""
     H, W = lab.shape
     nlab = known.shape[0]
     out = np.zeros((nlab, nlab), np.bool_)
-    tiles = boundary_tiles(lab, brow, bcol)
     kmask = np.uint64(0)
     for k in range(nlab):
         if known[k]:
@@ -192,12 +199,19 @@ def edge_sums_pairs(lab, xyz, r0, c0, partner, band, depth):
     columns either side) hold a partner of its label; the support planes, which
     :func:`planerel.features.relations.propose_objects` leaves out of its pairs, border most
     objects' outlines."""
+    return edge_sums_pairs_with_tiles(lab, xyz, r0, c0, boundary_tiles(lab, r0, c0), partner,
+                                      band, depth)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def edge_sums_pairs_with_tiles(lab, xyz, r0, c0, tiles, partner, band, depth):
+    """:func:`edge_sums_pairs` with the tiles given (``boundary_tiles(lab, r0, c0)``, which
+    :func:`touch_pairs_with_tiles` reads too)."""
     H, W = lab.shape
     n = partner.shape[0]
     cnt = np.zeros(n * n)
     acc_lo = np.zeros((n * n, 3))
     acc_hi = np.zeros((n * n, 3))
-    tiles = boundary_tiles(lab, r0, c0)
     pmask = np.zeros(n, np.uint64)
     used = np.zeros(n, np.bool_)
     for a in range(n):

@@ -332,17 +332,18 @@ _LAST_BOUNDARY: list = [None]
 
 
 def _remembered(lab):
-    """The remembered ``(labels, boundary, pixels, top)`` entry of ``lab``, or None."""
+    """The remembered ``(labels, boundary, pixels, top, tiles)`` entry of ``lab``, or None."""
     entry = _LAST_BOUNDARY[0]
     return entry if entry is not None and entry[0] is lab else None
 
 
 def _remember(lab, part: int, value) -> None:
-    """Remember part ``part`` (1 boundary, 2 boundary pixels, 3 largest label) of ``lab``
-    when ``lab`` is a read-only array owning its data (nothing can change it)."""
+    """Remember part ``part`` (1 boundary, 2 boundary pixels, 3 largest label, 4 boundary
+    tiles) of ``lab`` when ``lab`` is a read-only array owning its data (nothing can change
+    it)."""
     if not (isinstance(lab, np.ndarray) and not lab.flags.writeable and lab.base is None):
         return
-    entry = list(_remembered(lab) or (lab, None, None, None))
+    entry = list(_remembered(lab) or (lab, None, None, None, None))
     entry[part] = value
     _LAST_BOUNDARY[0] = tuple(entry)
 
@@ -389,6 +390,24 @@ def _boundary_pixels(lab: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         _remember(lab, 2, rc)
         return rc
     return entry[2]
+
+
+def _boundary_tiles(lab: np.ndarray) -> np.ndarray:
+    """:func:`planerel.features._relation_kernels.boundary_tiles` of ``lab`` and its
+    :func:`_boundary_pixels` (the relations' touch test and the proposals' edge sums read
+    the same tiles: remembered as :func:`_boundary` is)."""
+    from planerel.features._relation_kernels import boundary_tiles
+
+    entry = _remembered(lab)
+    if entry is not None and entry[4] is not None:
+        return entry[4]
+    brow, bcol = _boundary_pixels(lab)
+    tiles = boundary_tiles(np.ascontiguousarray(lab, dtype=np.int32), np.asarray(brow, np.int64),
+                           np.asarray(bcol, np.int64))
+    if _remembered(lab) is not None:
+        tiles.setflags(write=False)
+        _remember(lab, 4, tiles)
+    return tiles
 
 
 def _listed_boundary_pixels(lab):

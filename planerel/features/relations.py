@@ -272,8 +272,8 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
     lab = planes.labels
     if lab is None or lab.shape != xyz.shape[:2]:
         return set()
-    from planerel.features._relation_kernels import touch_pairs_tiled
-    from planerel.features.planes import _boundary_pixels, label_max
+    from planerel.features._relation_kernels import touch_pairs_with_tiles
+    from planerel.features.planes import _boundary_pixels, _boundary_tiles, label_max
 
     top = label_max(lab)
     known = np.zeros(top + 1 if top >= 0 else 1, dtype=bool)
@@ -281,11 +281,13 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
         known[p.label] = True
     brow, bcol = _boundary_pixels(lab)
     # every boundary pixel of lab: touch_pairs' answer, windows that can find nothing new
-    # (no boundary pixel of an untested label in the tiles they meet) not read
-    m = touch_pairs_tiled(np.ascontiguousarray(xyz), np.ascontiguousarray(lab, dtype=np.int32),
-                          np.asarray(brow, np.int64), np.asarray(bcol, np.int64),
-                          int(params.grid_gap), float(params.touch_depth),
-                          float(params.touch_rel), known)
+    # (no boundary pixel of an untested label in the tiles they meet) not read; the tiles
+    # remembered for the proposals' edge sums
+    m = touch_pairs_with_tiles(np.ascontiguousarray(xyz),
+                               np.ascontiguousarray(lab, dtype=np.int32),
+                               np.asarray(brow, np.int64), np.asarray(bcol, np.int64),
+                               _boundary_tiles(lab), int(params.grid_gap),
+                               float(params.touch_depth), float(params.touch_rel), known)
     a, b = np.nonzero(m)  # symmetric: each pair once, a < b
     return {(x, y) for x, y in zip(a.tolist(), b.tolist(), strict=True) if x < y}
 
@@ -1416,8 +1418,8 @@ def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
     want = {(min(a, b), max(a, b)) for a, b in pairs}
     if not want or lab.size == 0:
         return {}
-    from planerel.features._relation_kernels import edge_sums_pairs
-    from planerel.features.planes import _boundary_pixels, label_max
+    from planerel.features._relation_kernels import edge_sums_pairs_with_tiles
+    from planerel.features.planes import _boundary_pixels, _boundary_tiles, label_max
 
     n = label_max(lab) + 1
     sums = {}
@@ -1430,10 +1432,12 @@ def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
     for lo, hi in want:
         if 0 <= lo < n and 0 <= hi < n:
             partner[lo, hi] = partner[hi, lo] = True
-    cnt, acc_a, acc_b = edge_sums_pairs(np.ascontiguousarray(lab),
-                                        np.ascontiguousarray(xyz, dtype=np.float64),
-                                        np.asarray(r0, np.int64), np.asarray(c0, np.int64),
-                                        partner, int(band), float(depth))
+    # (the tiles the relations' touch test read, remembered with the label image)
+    cnt, acc_a, acc_b = edge_sums_pairs_with_tiles(np.ascontiguousarray(lab),
+                                                   np.ascontiguousarray(xyz, dtype=np.float64),
+                                                   np.asarray(r0, np.int64),
+                                                   np.asarray(c0, np.int64), _boundary_tiles(lab),
+                                                   partner, int(band), float(depth))
     for lo, hi in want:
         c = cnt[lo * n + hi] if lo < n and hi < n else 0
         if c > 0:
