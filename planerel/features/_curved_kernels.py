@@ -1038,7 +1038,9 @@ def grow_in_box(rows, cols, ids, k, full, fy, fx, H, W, xyz, edge_depth, steps, 
     nothing), so the same pixels, in the same order, and the same groups."""
     n = rows.shape[0]
     y0, y1, x0, x1 = grow_box(rows, cols, H, W, steps)
-    lab = np.full((y1 - y0, x1 - x0), -1, np.int64)
+    # the box's map of cluster ids (-1 none) in int32: half the bytes to fill (the box is
+    # most of the image on the real frames); ids below k, taken back as they were
+    lab = np.full((y1 - y0, x1 - x0), -1, np.int32)
     parent = np.arange(k)
     R = np.empty(cap, np.int64)
     C = np.empty(cap, np.int64)
