@@ -106,15 +106,17 @@ def _row_any(mask, y, W):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def touching_counts(mask, lab, xyz, edge_depth, nlab):
+def touching_counts(mask, lab, xyz, edge_depth, nlab, y0=0, y1=-1):
     """Per label (``(nlab,)`` int64) the number of (pixel of ``mask``, grid neighbour 1 or 2
     steps right, down, left or up of label ``b >= 0``) pairs whose points lie within
     ``edge_depth * max(1, |z|)`` (``z`` the mask pixel's depth) of each other:
     :func:`planerel.features.curved._touching_labels`.  The distance is summed as
-    ``np.linalg.norm`` sums it, ``(x^2 + y^2) + z^2``."""
+    ``np.linalg.norm`` sums it, ``(x^2 + y^2) + z^2``.  ``y0, y1``: only rows ``y0..y1-1``
+    of ``mask`` are read (the caller knows the mask holds no pixel outside them; ``y1`` -1:
+    ``H``); its pixels' neighbours are read wherever they lie."""
     H, W = mask.shape
     out = np.zeros(nlab, np.int64)
-    for y in range(H):
+    for y in range(y0, H if y1 < 0 else y1):
         if not _row_any(mask, y, W):
             continue  # a cluster's mask holds a few rows of the image
         for x in range(W):
@@ -146,13 +148,13 @@ def touching_counts(mask, lab, xyz, edge_depth, nlab):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def count_outside(mask, lab, member, skip):
+def count_outside(mask, lab, member, skip, y0=0, y1=-1):
     """Pixels of ``mask`` whose label is not a ``member`` (``(K,)`` bool; labels outside
-    0..K-1 are no member) and not ``skip``."""
+    0..K-1 are no member) and not ``skip``; only rows ``y0..y1-1`` read (``y1`` -1: ``H``)."""
     H, W = mask.shape
     n = 0
     K = member.shape[0]
-    for y in range(H):
+    for y in range(y0, H if y1 < 0 else y1):
         if not _row_any(mask, y, W):
             continue
         for x in range(W):
@@ -211,19 +213,21 @@ def pitch_diffs_both(xyz, rows, cols):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def mask_values(mask, lab):
+def mask_values(mask, lab, y0=0, y1=-1):
     """``lab[mask]`` (row-major) reading only the rows of ``mask`` that hold a pixel (a
-    cluster's mask holds a few rows of the image)."""
+    cluster's mask holds a few rows of the image), and of those only rows ``y0..y1-1``
+    (the caller knows the mask holds no pixel outside them; ``y1`` -1: ``H``)."""
     H, W = mask.shape
+    y1 = H if y1 < 0 else y1
     n = 0
-    for y in range(H):
+    for y in range(y0, y1):
         if not _row_any(mask, y, W):
             continue
         for x in range(W):
             n += mask[y, x]
     out = np.empty(n, lab.dtype)
     k = 0
-    for y in range(H):
+    for y in range(y0, y1):
         if not _row_any(mask, y, W):
             continue
         for x in range(W):

@@ -542,13 +542,14 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
 
 
 def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = None, pixels=None,
-              credit=None):
+              credit=None, bounds=None):
     """:func:`unexplained_clusters`, and for each cluster the plane it was kept with.
 
     ``credit`` maps plane labels to areas (m^2): planes that are a proposal alone, small enough
     that near parts too small to keep on their own count with them (``CurvedParams.nest_credit``).
     Returns ``(masks, planes)``: ``planes[i]`` is the credited plane whose area kept cluster ``i``
-    (-1: none).
+    (-1: none).  ``bounds``: a list, given ``(y0, y1)`` per returned mask (its pixels lie in
+    rows ``y0..y1-1``).
     """
     params = params or CurvedParams()
     xyz = np.asarray(cloud.xyz, float)
@@ -659,15 +660,21 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
         for g in gs:  # the smallest member's id: their first opened pixel's order
             m = np.zeros(lab.shape, bool)
             s = grp == g
-            m[gr[s], gc[s]] = True
+            r = gr[s]
+            m[r, gc[s]] = True
             out.append(m)
+            if bounds is not None:
+                bounds.append((int(r.min()), int(r.max()) + 1))
         return out, [int(plane_of[g]) for g in gs]
     kid = cluster[ids]
     for c in keep:
         m = np.zeros(lab.shape, bool)
         sel = kid == c
-        m[rows[sel], cols[sel]] = True
+        r = rows[sel]
+        m[r, cols[sel]] = True
         out.append(m)
+        if bounds is not None:
+            bounds.append((int(r.min()), int(r.max()) + 1))
     return out, [int(x) for x in plane_of]
 
 
@@ -795,17 +802,29 @@ def join_parts(cobjs, xyz, labels, edge_depth: float = 0.02, min_touch: int = 3)
     return out
 
 
-def _touching_labels(mask, lab, xyz, edge_depth: float, nlab: int | None = None) -> dict:
+def _span_union(a, b):
+    """The rows ``(y0, y1)`` two masks' union holds (``None``: no mask)."""
+    if a is None:
+        return b
+    if b is None:
+        return a
+    return (min(a[0], b[0]), max(a[1], b[1]))
+
+
+def _touching_labels(mask, lab, xyz, edge_depth: float, nlab: int | None = None,
+                     rows: tuple = (0, -1)) -> dict:
     """``{label: number of grid neighbour pairs}`` of the planes touching ``mask`` (within
     two pixels, 3-D distance within ``edge_depth * max(1, z)``).  ``nlab``: more than the
     largest label of ``lab`` (default ``label_max(lab) + 1``, a pass over the image when the
-    label image is not remembered: callers with many masks take it once)."""
+    label image is not remembered: callers with many masks take it once).  ``rows``: the mask
+    holds pixels only in rows ``rows[0]..rows[1]-1`` (default: any row)."""
     from planerel.features._curved_kernels import touching_counts
     from planerel.features.planes import label_max
 
     lab = np.asarray(lab)
     n = touching_counts(np.asarray(mask, dtype=np.bool_), lab, np.asarray(xyz, float),
-                        float(edge_depth), label_max(lab) + 1 if nlab is None else int(nlab))
+                        float(edge_depth), label_max(lab) + 1 if nlab is None else int(nlab),
+                        int(rows[0]), int(rows[1]))
     return {int(x): int(n[x]) for x in np.nonzero(n)[0]}
 
 
@@ -882,6 +901,8 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
     if params.join_facets and facets and len(props) > 1:
         props = _join_facet_proposals(props, facets, byl, relations, params)
     masks: list = [None] * len(props)
+    # each mask's rows (y0, y1): the kernels below read only those rows of the masks
+    spans: list = [None] * len(props)
     alone: list = []
     if labels is None:
         labels = getattr(planes, "labels", None)
@@ -894,14 +915,15 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
         # one-plane proposals small enough that near parts count with them (nest_credit)
         credit = {g[0]: byl[g[0]].area for g in props
                   if len(g) == 1 and byl[g[0]].area <= params.nest_credit}
-        masks_, kept_with = _clusters(cloud, lab, planes, support, params, pixels, credit)
+        bounds: list = []
+        masks_, kept_with = _clusters(cloud, lab, planes, support, params, pixels, credit, bounds)
         if masks_:
             from planerel.features.planes import label_max
 
             # once for every cluster's touching planes
             nlab = label_max(lab) + 1 if label_bound is None else int(label_bound)
-        for m, with_plane in zip(masks_, kept_with, strict=True):
-            touch = _touching_labels(m, lab, xyz, params.edge_depth, nlab)
+        for m, with_plane, span in zip(masks_, kept_with, bounds, strict=True):
+            touch = _touching_labels(m, lab, xyz, params.edge_depth, nlab, span)
             joined = sorted({owner[x] for x in touch if x in owner and soft[owner[x]]})
             if not joined and with_plane >= 0 and with_plane in owner:
                 # kept with that plane's area: the rest of its object, across the rim's band
@@ -934,19 +956,22 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
                     props[k0] = tuple(sorted(set(props[k0]) | set(props[k])))
                     if masks[k] is not None:
                         masks[k0] = masks[k] if masks[k0] is None else masks[k0] | masks[k]
-                    props[k], masks[k], soft[k] = (), None, False
+                        spans[k0] = _span_union(spans[k0], spans[k])
+                    props[k], masks[k], spans[k], soft[k] = (), None, None, False
                 for x in props[k0]:
                     owner[x] = k0
                 masks[k0] = m if masks[k0] is None else masks[k0] | m
+                spans[k0] = _span_union(spans[k0], span)
             else:
                 from planerel.features._curved_kernels import mask_values
 
                 # lab[m] from the mask's rows that hold a pixel
-                inside = tuple(sorted(x for x in np.unique(mask_values(m, lab)) if x >= 0 and x in byl
+                vals = mask_values(m, lab, span[0], span[1])
+                inside = tuple(sorted(x for x in np.unique(vals) if x >= 0 and x in byl
                                       and x not in owner and x not in support))
-                alone.append((inside, m))
+                alone.append((inside, m, span))
     out = []
-    for g, m in list(zip(props, masks, strict=True)) + alone:
+    for g, m, span in list(zip(props, masks, spans, strict=True)) + alone:
         if not g and m is None:
             continue
         extra = 0
@@ -957,8 +982,9 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
             # the pixels of m outside the object's planes (np.isin(lab, g or [-2]) before)
             member = np.zeros(max([-1, *g]) + 1, dtype=bool)
             member[list(g)] = True
+            y0, y1 = (0, -1) if span is None else span
             extra = int(count_outside(np.asarray(m, dtype=np.bool_), lab, member,
-                                      -(1 << 40) if g else -2))
+                                      -(1 << 40) if g else -2, y0, y1))
         n_pl = sum(byl[x].n_points for x in g if x in byl)
         n_flat = sum(byl[x].n_points for x in g
                      if x in byl and x not in facets and byl[x].area >= params.tiny_area)
