@@ -19,6 +19,22 @@ def _root(parent, i):
     return i
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def _compact_ids(parent, n):
+    """``(ids, k)``: each of the ``n`` list entries' union-find root numbered 0..k-1 in the
+    order the roots are first met (the list components' ids)."""
+    ids = np.full(n, -1, np.int64)
+    out = np.empty(n, np.int64)
+    k = 0
+    for t in range(n):
+        a = _root(parent, t)
+        if ids[a] < 0:
+            ids[a] = k
+            k += 1
+        out[t] = ids[a]
+    return out, k
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
 def grid_components(mask, xyz, edge_depth):
     """Connected components of ``mask`` over 4-neighbours whose points lie within
@@ -820,15 +836,7 @@ def list_components_pitch(rows, cols, xyz, edge_depth, H):
                     a, b = _root(parent, t), _root(parent, lo)
                     if a != b:
                         parent[max(a, b)] = min(a, b)
-    ids = np.full(n, -1, np.int64)
-    comp = np.empty(n, np.int64)
-    k = 0
-    for t in range(n):
-        a = _root(parent, t)
-        if ids[a] < 0:
-            ids[a] = k
-            k += 1
-        comp[t] = ids[a]
+    comp, k = _compact_ids(parent, n)
     return comp, k, out1[:n1], out0[:n0]
 
 
@@ -889,22 +897,14 @@ def list_components_spans(rows, cols, xyz, edge_depth, H, e1, e2):
                     a, b = _root(parent, t), _root(parent, lo)
                     if a != b:
                         _join_bounds(parent, lo_u, hi_u, lo_v, hi_v, bad, a, b)
-    ids = np.full(n, -1, np.int64)
-    out = np.empty(n, np.int64)
-    k = 0
-    for t in range(n):
-        a = _root(parent, t)
-        if ids[a] < 0:
-            ids[a] = k
-            k += 1
-        out[t] = ids[a]
+    out, k = _compact_ids(parent, n)
     span = np.zeros(k)
     for t in range(n):
-        if parent[t] == t:  # a root: its tree's bounds
+        if parent[t] == t:  # a root (its own id is out[t]): its tree's bounds
             if bad[t]:
-                span[ids[t]] = np.nan
+                span[out[t]] = np.nan
             else:
-                span[ids[t]] = math.hypot(hi_u[t] - lo_u[t], hi_v[t] - lo_v[t])
+                span[out[t]] = math.hypot(hi_u[t] - lo_u[t], hi_v[t] - lo_v[t])
     return out, k, span
 
 
@@ -965,15 +965,7 @@ def list_components(rows, cols, xyz, edge_depth, H):
                     a, b = _root(parent, t), _root(parent, lo)
                     if a != b:
                         parent[max(a, b)] = min(a, b)
-    ids = np.full(n, -1, np.int64)
-    out = np.empty(n, np.int64)
-    k = 0
-    for t in range(n):
-        a = _root(parent, t)
-        if ids[a] < 0:
-            ids[a] = k
-            k += 1
-        out[t] = ids[a]
+    out, k = _compact_ids(parent, n)
     return out, k
 
 
