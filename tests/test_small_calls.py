@@ -80,8 +80,20 @@ def test_pitch_diffs_both_is_pitch_diffs_of_each_axis():
         assert _same(d0, pitch_diffs(xyz, rows, cols, 0))
 
 
+def _pitch_at(xyz, r, c, axis):
+    """The pitch along one axis as the curved stage measured it before ``_pitches_at``: the
+    median of ``pitch_diffs``, the whole image's (``_pitch``) when there is none."""
+    from planerel.features._curved_kernels import pitch_diffs
+    from planerel.features._relation_kernels import median
+    from planerel.features.curved import _pitch
+
+    d = pitch_diffs(np.asarray(xyz, dtype=np.float64), np.asarray(r, dtype=np.int64),
+                    np.asarray(c, dtype=np.int64), int(axis))
+    return float(median(d)) if d.size else _pitch(xyz, axis)
+
+
 def test_pitches_at_is_pitch_at_of_each_axis():
-    from planerel.features.curved import _pitch_at, _pitches_at
+    from planerel.features.curved import _pitches_at
 
     rng = np.random.default_rng(2225)
     xyz = rng.normal(size=(30, 40, 3))

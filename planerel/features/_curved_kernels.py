@@ -185,7 +185,7 @@ def count_outside(mask, lab, member, skip, y0=0, y1=-1):
 def pitch_diffs(xyz, rows, cols, axis):
     """The finite ``|x2 / z2 - x / z|`` (``axis`` 1: ``x``, the next pixel along the row;
     ``axis`` 0: ``y``, the next pixel down) of pixels ``(rows, cols)`` whose next pixel lies
-    in the image, in their order: :func:`planerel.features.curved._pitch_at`'s values."""
+    in the image, in their order (the values the curved stage takes the pitches' medians of)."""
     H, W = xyz.shape[0], xyz.shape[1]
     j = 0 if axis == 1 else 1
     out = np.empty(rows.shape[0])

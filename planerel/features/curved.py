@@ -417,20 +417,10 @@ def _pitch(xyz, axis: int) -> float:
     return float(np.median(d)) if d.size else 0.0
 
 
-def _pitch_at(xyz, r, c, axis: int) -> float:
-    """:func:`_pitch` measured at pixels ``(r, c)`` and their next neighbour along ``axis``
-    (the whole image when none of them has a valid one)."""
-    from planerel.features._curved_kernels import pitch_diffs
-    from planerel.features._relation_kernels import median
-
-    d = pitch_diffs(np.asarray(xyz, dtype=np.float64), np.asarray(r, dtype=np.int64),
-                    np.asarray(c, dtype=np.int64), int(axis))
-    return float(median(d)) if d.size else _pitch(xyz, axis)
-
-
 def _pitches_at(xyz, r, c) -> tuple[float, float]:
-    """``(_pitch_at(xyz, r, c, 1), _pitch_at(xyz, r, c, 0))`` from one pass over the pixels
-    (:func:`planerel.features._curved_kernels.pitch_diffs_both`: the same values)."""
+    """The pitches along a row and a column measured at pixels ``(r, c)`` and their next
+    neighbour along each axis (the whole image's where none has a valid one), from one pass
+    over the pixels (:func:`planerel.features._curved_kernels.pitch_diffs_both`)."""
     from planerel.features._curved_kernels import pitch_diffs_both
 
     d1, d0 = pitch_diffs_both(np.asarray(xyz, dtype=np.float64), np.asarray(r, dtype=np.int64),
