@@ -8,7 +8,8 @@ al.'s OSD, relabelled and cropped to the table for geometric segmentation), whic
 repository PointCloudLibrary/data keeps under ``segmentation/mOSD/{learn,test}/`` (get it with
 ``git clone https://github.com/PointCloudLibrary/data`` and give a folder holding those PCDs;
 they are never copied into planerel). ``../shared/data/mosd`` holds 7 of them (learn0-5,
-test31); issue 22 will be checked on the rest.
+test31); issue 22 will be checked on the rest, so the script also prints the figures of the
+frames that are not among those seven (``rest``).
 
 The frames' object types come from OSD's own scene categories (the set's README): ``learn
 0-16`` / ``test 0-15`` boxes, ``learn 17-24`` / ``test 16-23`` stacked boxes (every object a
@@ -43,6 +44,10 @@ CATEGORIES = (
     ("test", 24, 30, "occluded", None), ("test", 31, 42, "cylindric", "round"),
     ("test", 43, 54, "mixed", None), ("test", 55, 65, "complex", None),
 )
+
+
+#: The frames ``../shared/data/mosd`` holds; the ``rest`` line leaves them out.
+SHARED = ("learn0", "learn1", "learn2", "learn3", "learn4", "learn5", "test31")
 
 
 def category(stem: str) -> tuple[str, str, str | None]:
@@ -114,6 +119,21 @@ def summarize(frames: list[dict], rows: list[dict]) -> dict:
             "seconds_per_frame": float(np.mean([f["seconds"] for f in frames])) if frames else 0.0}
 
 
+def summaries(frames: list[dict], rows: list[dict]) -> dict:
+    """:func:`summarize` of the ``learn`` and ``test`` halves, of ``all`` frames and of the
+    ``rest`` (the frames not in :data:`SHARED`); a group is left out when it is empty or, but
+    for ``all``, when it holds every frame."""
+    groups = (("learn", lambda f: f["split"] == "learn"), ("test", lambda f: f["split"] == "test"),
+              ("all", lambda f: True), ("rest", lambda f: f["frame"] not in SHARED))
+    out = {}
+    for label, keep in groups:
+        fs = [f for f in frames if keep(f)]
+        if fs and (label == "all" or len(fs) < len(frames)):
+            names = {f["frame"] for f in fs}
+            out[label] = summarize(fs, [r for r in rows if r["frame"] in names])
+    return out
+
+
 def print_summary(s: dict, label: str) -> None:
     pct = 100 * s["found_rate"]
     bb = 100 * s["boxes_box"] / max(s["boxes"], 1)
@@ -160,13 +180,9 @@ def main(argv=None) -> int:
             if a.verbose:
                 print(f"{fr['frame']} ({fr['category']}): found {fr['found']}/{fr['objects']}, "
                       f"false {fr['false']}, answers {fr['answers']}", flush=True)
-    out = {}
-    for label, sel in (("learn", "learn"), ("test", "test"), ("all", None)):
-        fs = [f for f in frames if sel is None or f["split"] == sel]
-        if fs and (sel is None or len(fs) < len(frames)):
-            s = summarize(fs, [r for r in rows if sel is None or r["split"] == sel])
-            print_summary(s, label)
-            out[label] = s
+    out = summaries(frames, rows)
+    for label, s in out.items():
+        print_summary(s, label if label != "rest" else f"rest (all but the {len(SHARED)} shared frames)")
     cats = {}
     for f in frames:
         cats.setdefault(f["category"], []).append(f)

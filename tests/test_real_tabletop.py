@@ -170,3 +170,36 @@ def test_real_mosd_test_half(demo_model):  # noqa: F811  (the imported fixture)
     assert s["boxes_box"] >= 54  # 416930a: 55 of 57
     assert s["rounds_stairs_ramp"] == 0 and s["ramp_answers"] == 0
     assert s["stairs_answers"] <= 1  # all false (a pile); b878009: 11, proof22: 1
+
+
+def test_mosd_rest_leaves_out_the_shared_frames():
+    """The ``rest`` figures (issue 22 is checked on the frames the team was not given) are
+    summed over every frame but ``../shared/data/mosd``'s seven, object rows included."""
+    def fr(name, split, false):
+        return {"frame": name, "split": split, "category": "boxes", "objects": 1, "found": 1,
+                "false": false, "merged": 0, "split_objects": 0, "answers": ["box"], "seconds": 1.0}
+
+    def row(name, split, pred):
+        return {"frame": name, "split": split, "category": "boxes", "object": 1, "type": "box",
+                "iou": 0.9, "pred": pred, "held_by": pred}
+
+    frames = [fr("learn0", "learn", 0), fr("learn9", "learn", 2), fr("test31", "test", 0),
+              fr("test50", "test", 1)]
+    rows = [row("learn0", "learn", "box"), row("learn9", "learn", "other"),
+            row("test31", "test", "box"), row("test50", "test", "box")]
+    out = rm.summaries(frames, rows)
+    assert set(out) == {"learn", "test", "all", "rest"}
+    assert (out["all"]["frames"], out["all"]["false"], out["all"]["boxes_box"]) == (4, 3, 3)
+    assert (out["rest"]["frames"], out["rest"]["false"], out["rest"]["false_per_frame"]) == (2, 3, 1.5)
+    assert (out["rest"]["boxes"], out["rest"]["boxes_box"]) == (2, 1)
+    assert (out["learn"]["frames"], out["test"]["frames"]) == (2, 2)
+    # only shared frames: no rest group; one half only: no half group
+    assert set(rm.summaries(frames[:1], rows[:1])) == {"all"}
+    assert set(rm.summaries(frames[:2], rows[:2])) == {"all", "rest"}
+
+
+def test_mosd_shared_names_match_the_shared_folder():
+    shared = Path(__file__).resolve().parents[2] / "shared" / "data" / "mosd"
+    if not shared.is_dir():
+        pytest.skip(f"{shared} absent")
+    assert set(rm.SHARED) == {p.stem for p in shared.glob("*.pcd")}
