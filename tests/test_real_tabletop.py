@@ -154,7 +154,7 @@ def test_real_mosd_learn_half(demo_model):  # noqa: F811  (the imported fixture)
     whole mOSD set") hold."""
     s = _mosd_half(demo_model, "learn", 45)
     assert s["objects"] == 112
-    assert s["found"] >= 106 and s["false_per_frame"] <= 0.3  # 14b64af: 106, 0.33; 416930a: 108, 0.27
+    assert s["found"] >= 108 and s["false_per_frame"] <= 0.25  # 14b64af: 106, 0.33; 416930a: 108, 0.27; occl22: 108, 0.22
     assert s["boxes_box"] >= 55  # 14b64af: 52 of 58
     assert s["rounds_stairs_ramp"] == 0  # proof22 (learn41's two tins: b878009 stairs)
     assert s["stairs_answers"] == 0 and s["ramp_answers"] == 0  # 14b64af: 3 stairs
@@ -166,7 +166,7 @@ def test_real_mosd_test_half(demo_model):  # noqa: F811  (the imported fixture)
     hold; together with the learn half, issue 22's found and false lines on the whole set."""
     s = _mosd_half(demo_model, "test", 65)
     assert s["objects"] == 344
-    assert s["found"] >= 306 and s["false_per_frame"] <= 0.67  # 416930a: 308, 0.65 (d143631: 286, 0.80)
+    assert s["found"] >= 309 and s["false_per_frame"] <= 0.45  # 416930a: 308, 0.65 (d143631: 286, 0.80); occl22: 310, 0.40
     assert s["boxes_box"] >= 54  # 416930a: 55 of 57
     assert s["rounds_stairs_ramp"] == 0 and s["ramp_answers"] == 0
     assert s["stairs_answers"] <= 1  # all false (a pile); b878009: 11, proof22: 1

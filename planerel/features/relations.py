@@ -922,6 +922,26 @@ class ProposalParams:
         needs the cloud and ``cavities``).
     piece_gap : float
         Metres: the largest hull distance of such pieces.
+    occluded_flat : bool
+        With ``occluded_pieces``, horizontal and inclined pieces too (a box's top seen on
+        both sides of a bar lying across it, of a box standing on it), under a stricter test
+        than the vertical ones': within ``piece_depth`` of each other's plane, and on the
+        image lines between them (the pixels next to either piece left out: an occluder's
+        base) at most 2 % of the valid pixels behind the plane through both and either 95 %
+        in front of it or half in front of both by ``gap_in_front``'s margin
+        (:func:`planerel.features.gaps.occluded_piece_pairs`, ``flat``); a plane that is a
+        piece of the support's surface (``skin_height``) is no such piece.  The tops of two
+        boxes of one height with the table seen between them are not joined (occl22,
+        docs/objects.md).  False: vertical pieces only (before 2026-11-30).
+    occluded_near : bool
+        With ``occluded_pieces``, pairs whose hulls come within the relations'
+        ``adjacency_gap`` too (adjacent, but not touching in the image and not joined: a box
+        seen on both sides of a plate standing in front of it, its halves 3-4 cm apart, over
+        ``apart_gap``), under the stricter test.  False: hulls beyond ``adjacency_gap`` only.
+    piece_depth : float
+        Metres at 1 m (scaled by the pair's mean depth beyond 1 m): the stricter test's
+        coplanarity (``coplanar_depth`` for two vertical pieces farther apart than
+        ``adjacency_gap``).
     shared_top : bool
         A horizontal plane joined (convex edges) to two planes that meet each other at a
         clearly concave shared edge, and through which alone their groups are joined, stays
@@ -1088,6 +1108,9 @@ class ProposalParams:
     side_wall_rise_max: float = 1.1
     side_wall_follow: float = 0.5
     occluded_pieces: bool = True
+    occluded_flat: bool = True
+    occluded_near: bool = True
+    piece_depth: float = 0.02
     piece_gap: float = 0.25
     shared_top: bool = True
     concave_cut: float = 0.25
@@ -1112,7 +1135,7 @@ class ProposalParams:
         _check_nonneg(self, ("table_area", "table_height", "table_legs", "support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "wall_floor_behind", "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
-                             "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap",
+                             "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap", "piece_depth",
                              "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max", "riser_min",
                              "side_wall_rise_max", "top_rise", "side_wall_follow", "apart_gap",
                              "touch_gap", "skin_height", "skin_angle"))
@@ -2512,10 +2535,20 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         # pieces of one surface seen on both sides of something in front of it (not adjacent)
         from planerel.features.gaps import occluded_piece_pairs
 
+        exclude = None
+        if params.occluded_flat and params.skin_height > 0 and drop:
+            # a piece of the support's surface (a bend the skin rule drops when alone) is no
+            # piece of an object's top: two such pieces joined would make a proposal
+            byl2 = {p.label: p for p in planes}
+
+            def exclude(k) -> bool:
+                return _support_skin(byl2[k], drop, byl2, relations, params, planes.floor)
         g.add_edges(occluded_piece_pairs(planes, relations, lab, cloud.xyz, drop, params.concave_tol,
                                          params.coplanar_depth or 0.0,
                                          relations.params.adjacency_gap, params.piece_gap,
-                                         together=g.together))
+                                         together=g.together, flat=params.occluded_flat,
+                                         near=params.occluded_near, flat_depth=params.piece_depth,
+                                         exclude=exclude))
     if params.step_chains:
         g.add_edges(step_chain_pairs(
             planes, g.nodes, (params.step_rise_min, params.step_rise_max),
