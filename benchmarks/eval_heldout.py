@@ -55,6 +55,9 @@ def main(argv=None) -> int:
     ap.add_argument("--keep-redundant", action="store_true",
                     help="keep clauses that add only false positives (planerel learn "
                          "--keep-redundant)")
+    ap.add_argument("--members", type=int, default=1, metavar="K",
+                    help="learn K theories on K disjoint parts of TRAIN and score their vote "
+                         "(planerel learn --members; --folds must be 0)")
     args = ap.parse_args(argv)
 
     from planerel.ilp import pipeline as P
@@ -72,6 +75,7 @@ def main(argv=None) -> int:
 
     args.task, settings, args.other_rules = apply_recipe(
         args.recipe, task=args.task, settings=settings, other_rules=args.other_rules)
+    parts = P._member_parts(args.train, None, args.members, args.folds)
     t0 = time.perf_counter()
     descs, _ = describe_scenes(args.train, jobs=args.jobs, progress=False)
     classes = P._classes_arg(None, descs)
@@ -85,9 +89,13 @@ def main(argv=None) -> int:
                                      "open_set_accuracy", "open_set_confusion", "n_examples",
                                      "excluded")}
     t2 = time.perf_counter()
-    model = P.learn_rules(descs, classes, engine="auto", timeout=args.timeout,
-                          settings=settings or None, other_rules=args.other_rules,
-                          keep_redundant=args.keep_redundant, task=args.task)
+    kw = dict(engine="auto", timeout=args.timeout, settings=settings or None,
+              other_rules=args.other_rules, keep_redundant=args.keep_redundant, task=args.task)
+    if parts is None:
+        model = P.learn_rules(descs, classes, **kw)
+    else:
+        model = P.learn_members(descs, classes, parts, args.members, jobs=args.jobs,
+                                log=lambda s: print(s, file=sys.stderr, flush=True), **kw)
     t3 = time.perf_counter()
     held = P.held_out_scores(model, args.held, jobs=args.jobs, progress=False,
                              timeout=args.timeout)
@@ -105,15 +113,18 @@ def main(argv=None) -> int:
 
         out = Path(args.save)
         out.mkdir(parents=True, exist_ok=True)
-        write_text(out / "rules.pl", model.text())
-        # a model folder planerel classify reads as planerel learn's (settings, rule precision,
-        # the classes' planar fractions, the rules' proof scales)
-        from planerel.ilp.model_settings import MODEL_FILE, training_settings
-        from planerel.io.writers import write_json
+        if parts is not None:  # a members model folder (planerel learn --members's layout)
+            P.write_members(out, model, method="regiongrow", seg_params=None)
+        else:
+            write_text(out / "rules.pl", model.text())
+            # a model folder planerel classify reads as planerel learn's (settings, rule
+            # precision, the classes' planar fractions, the rules' proof scales)
+            from planerel.ilp.model_settings import MODEL_FILE, training_settings
+            from planerel.io.writers import write_json
 
-        write_json(out / MODEL_FILE, training_settings("regiongrow", None, rule_stats=model.stats,
-                                                       planar_domain=model.planar_domain,
-                                                       proof_domain=model.proof_domain))
+            write_json(out / MODEL_FILE, training_settings(
+                "regiongrow", None, rule_stats=model.stats, planar_domain=model.planar_domain,
+                proof_domain=model.proof_domain))
         write_text(out / "answers.json", json.dumps(answers, indent=0, sort_keys=True))
     t4 = time.perf_counter()
     for res in (held, *confirm):

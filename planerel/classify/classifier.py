@@ -80,6 +80,13 @@ class ObjectAnswer:
         rule for ``other`` proved through planes far smaller than a class proof's
         (:func:`~planerel.ilp.metrics.veto_refusals`).  The answer is then the next class
         that holds, else ``other``.
+    votes : tuple of ObjectAnswer
+        A members model's answer (``planerel learn --members K``): each member's own answer,
+        in member order; the class is their vote (:func:`planerel.ilp.members.vote`), the
+        rule, bindings, proof planes, fired rules and refusals are :attr:`member`'s.  Empty
+        for a single model.
+    member : int or None
+        The member (1-based) whose rule and proof are given (None: a single model).
     """
 
     object_id: str
@@ -95,16 +102,27 @@ class ObjectAnswer:
     planar_fraction: float | None = None
     curved: bool | None = None
     refused: tuple = ()
+    votes: tuple = ()
+    member: int | None = None
 
     def to_dict(self) -> dict:
-        return {"object": self.object_id, "class": self.klass, "rule": self.rule,
-                "rule_index": self.rule_index,
-                "precision": None if self.precision is None else round(self.precision, 4),
-                "bindings": dict(self.bindings), "proof_planes": list(self.proof_planes),
-                "planes": list(self.planes), "fired": [list(f) for f in self.fired],
-                "planar_fraction": (None if self.planar_fraction is None
-                                    else round(self.planar_fraction, 3)),
-                "curved": self.curved, "refused": [r.to_dict() for r in self.refused]}
+        out = {"object": self.object_id, "class": self.klass, "rule": self.rule,
+               "rule_index": self.rule_index,
+               "precision": None if self.precision is None else round(self.precision, 4),
+               "bindings": dict(self.bindings), "proof_planes": list(self.proof_planes),
+               "planes": list(self.planes), "fired": [list(f) for f in self.fired],
+               "planar_fraction": (None if self.planar_fraction is None
+                                   else round(self.planar_fraction, 3)),
+               "curved": self.curved, "refused": [r.to_dict() for r in self.refused]}
+        if self.votes:
+            out["member"] = self.member
+            out["votes"] = [{"member": n, "class": v.klass, "rule": v.rule,
+                             "rule_index": v.rule_index,
+                             "precision": None if v.precision is None else round(v.precision, 4),
+                             "proof_planes": list(v.proof_planes),
+                             "refused": [r.to_dict() for r in v.refused]}
+                            for n, v in enumerate(self.votes, start=1)]
+        return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -206,6 +224,15 @@ class Classifier:
         self.method = self.settings.method
         self.seg_params = dict(self.settings.seg_params)
         self._describe_kw = self.settings.describe_kwargs()
+        #: a members model's members (``planerel learn --members K``), each a Classifier of
+        #: its own; empty for a single model
+        self.members: tuple = ()
+        from planerel.ilp.members import member_folders
+
+        folders = member_folders(path)
+        if folders is not None:
+            self._init_members(folders, method, seg_params)
+            return
         self.module = f"planerel_model_{next(_MODEL_NUMBERS)}"
         load_support()
         vocab = plist([Term(f"{atom(n)}/{a}") for n, a in model_vocabulary()])
@@ -255,8 +282,32 @@ class Classifier:
                               "so the answers can differ from the model's; keep model.json "
                               "next to rules.pl",)
 
+    def _init_members(self, folders, method, seg_params) -> None:
+        """A members model: one Classifier per member; the scan is described once with the
+        top-level settings (the members were learned on the same descriptions)."""
+        members = []
+        try:
+            for folder in folders:
+                members.append(Classifier(folder, method=method, seg_params=seg_params))
+        except BaseException:
+            for m in members:
+                m.close()
+            raise
+        self.members = tuple(members)
+        self.module = "members"   # open; the members hold the Prolog modules
+        self.classes = tuple(dict.fromkeys(k for m in members for k in m.classes))
+        self.stats = ()
+        self.cofire = ()
+        self.planar_domain = self.proof_domain = ()
+        self.warnings += tuple(dict.fromkeys(w for m in members for w in m.warnings))
+
     def close(self) -> None:
         """Forget this model's rules (the classifier cannot be used afterwards)."""
+        if self.members:
+            for m in self.members:
+                m.close()
+            self.module = None
+            return
         if getattr(self, "module", None):
             query(f"planerel_unload_model({self.module})", "unloading the model")
             self.module = None
@@ -278,7 +329,6 @@ class Classifier:
         """
         from planerel.features.facts import FactParams, describe_scene, facts_text
         from planerel.ilp.aleph_export import PAIRS
-        from planerel.ilp.metrics import decide, laplace
         from planerel.ilp.scenes import segment_cached
 
         if not self.module:
@@ -300,38 +350,10 @@ class Classifier:
                 facts = Path(fh.name)
             try:
                 load_file(facts, "cannot load the scene facts")
-                for o in desc.objects:
-                    hits = []
-                    # the proof scale only when the proof gate or the vetoes' ratio uses it
-                    scale_goal = (f", planerel_proof_scale({self.module}, {_obj_atom(o.id)}, I, S)"
-                                  if self.proof_domain or self.veto_ratio else ", S = none")
-                    for r in query(f"planerel_explain_text({self.module}, {_obj_atom(o.id)}, "
-                                    f"C, I, B, T){scale_goal}",
-                                    f"classifying {o.id}"):
-                        binds = _bindings(_text(r["B"]))
-                        scale = r["S"] if isinstance(r["S"], (int, float)) else None
-                        hits.append((_text(r["C"]), int(r["I"]), binds, _text(r["T"]), scale))
-                    best, refused = decide(hits, self.stats, self.classes, self.cofire,
-                                           planar_fraction=o.planar_fraction,
-                                           domain=self.planar_domain,
-                                           margin=self.planar_margin,
-                                           proofs=self.proof_domain,
-                                           proof_margin=self.proof_margin,
-                                           proof_min_positives=self.proof_min_positives,
-                                           veto_ratio=self.veto_ratio)
-                    fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
-                    pids = tuple(plane_ids[lab] for lab in o.planes)
-                    if best is None:
-                        answers.append(ObjectAnswer(o.id, pids, o.planes, OTHER, fired=fired,
-                                                    planar_fraction=o.planar_fraction,
-                                                    curved=o.curved, refused=refused))
-                    else:
-                        klass, index, binds, rule = best[:4]
-                        proof = tuple(v for v in binds.values() if v in plane_ids.values())
-                        tp, fp = {i: (a, b) for i, _, a, b in self.stats}.get(index, (0, 0))
-                        answers.append(ObjectAnswer(o.id, pids, o.planes, klass, rule, binds,
-                                                    proof, fired, index, laplace(tp, fp),
-                                                    o.planar_fraction, o.curved, refused))
+                if self.members:
+                    answers = _voted([m._answer(desc, plane_ids) for m in self.members])
+                else:
+                    answers = self._answer(desc, plane_ids)
             finally:
                 unload_file(facts, "cannot unload the scene facts")
                 facts.unlink(missing_ok=True)
@@ -339,6 +361,59 @@ class Classifier:
         return SceneAnswer(cloud.source, scene_id, desc.labels, plane_ids, tuple(answers),
                            desc.planes.up_source, time.perf_counter() - t0,
                            desc.planes.up_confidence)
+
+    def _answer(self, desc, plane_ids) -> list:
+        """Each object of ``desc`` (its facts loaded) answered by this model's rules."""
+        from planerel.ilp.metrics import decide, laplace
+
+        answers = []
+        for o in desc.objects:
+            hits = []
+            # the proof scale only when the proof gate or the vetoes' ratio uses it
+            scale_goal = (f", planerel_proof_scale({self.module}, {_obj_atom(o.id)}, I, S)"
+                          if self.proof_domain or self.veto_ratio else ", S = none")
+            for r in query(f"planerel_explain_text({self.module}, {_obj_atom(o.id)}, "
+                            f"C, I, B, T){scale_goal}",
+                            f"classifying {o.id}"):
+                binds = _bindings(_text(r["B"]))
+                scale = r["S"] if isinstance(r["S"], (int, float)) else None
+                hits.append((_text(r["C"]), int(r["I"]), binds, _text(r["T"]), scale))
+            best, refused = decide(hits, self.stats, self.classes, self.cofire,
+                                   planar_fraction=o.planar_fraction,
+                                   domain=self.planar_domain,
+                                   margin=self.planar_margin,
+                                   proofs=self.proof_domain,
+                                   proof_margin=self.proof_margin,
+                                   proof_min_positives=self.proof_min_positives,
+                                   veto_ratio=self.veto_ratio)
+            fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
+            pids = tuple(plane_ids[lab] for lab in o.planes)
+            if best is None:
+                answers.append(ObjectAnswer(o.id, pids, o.planes, OTHER, fired=fired,
+                                            planar_fraction=o.planar_fraction,
+                                            curved=o.curved, refused=refused))
+            else:
+                klass, index, binds, rule = best[:4]
+                proof = tuple(v for v in binds.values() if v in plane_ids.values())
+                tp, fp = {i: (a, b) for i, _, a, b in self.stats}.get(index, (0, 0))
+                answers.append(ObjectAnswer(o.id, pids, o.planes, klass, rule, binds,
+                                            proof, fired, index, laplace(tp, fp),
+                                            o.planar_fraction, o.curved, refused))
+        return answers
+
+
+def _voted(per_member: list) -> list:
+    """The members' answers (one list per member, objects in the same order) joined by the
+    vote (:func:`planerel.ilp.members.vote`)."""
+    from dataclasses import replace
+
+    from planerel.ilp.members import vote
+
+    out = []
+    for answers in zip(*per_member, strict=True):
+        klass, n = vote([(a.klass, a.precision if a.rule else None) for a in answers])
+        out.append(replace(answers[n], klass=klass, votes=tuple(answers), member=n + 1))
+    return out
 
 
 #: where one "Name\tValue" line of planerel_explain_text's bindings starts: a Prolog variable

@@ -68,6 +68,10 @@ def register(sub) -> None:
                    help="keep every clause the learner returned; by default a clause whose "
                         "training positives the class's other clauses all prove, and that "
                         "proves objects of other classes, is left out (docs/learner.md)")
+    p.add_argument("--members", type=int, default=1, metavar="K",
+                   help="learn K theories on K disjoint parts of the data set (stratified by "
+                        "each scene's class) and answer by their vote (docs/learner.md, "
+                        "'Members: a vote of theories'); default 1: one theory on all scenes")
     p.set_defaults(func=run)
 
 
@@ -139,12 +143,35 @@ def run(args) -> int:
                     log=lambda s: print(s, file=sys.stderr), scheduler=args.scheduler,
                     heldout=args.heldout, settings=_settings(args.settings) or None,
                     other_rules=args.other_rules, keep_redundant=args.keep_redundant,
-                    task=args.task, recipe=args.recipe)
+                    task=args.task, recipe=args.recipe, members=args.members)
     print(f"engine: {m['engine']}")
     print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
           f"{', '.join(m['classes'])}"
           + (f"; {m['n_other']} objects of class other (negatives for every class)"
              if m.get("n_other") else ""))
+    if m.get("member_models"):
+        for member in m["member_models"]:
+            print(f"member {member['member']} of {m['members']} ({member['n_scenes']} scenes):")
+            for k in [*m["classes"], "other"]:
+                for r in member["rules"].get(k) or []:
+                    print(f"  {r}" + ("   % none of the classes" if k == "other" else ""))
+        print(f"answers: the vote of the {m['members']} members")
+    else:
+        _print_rules(m)
+    cv = m.get("cross_validation")
+    if cv:
+        print(f"{cv['k']}-fold cross-validation: accuracy {cv['accuracy']:.3f}")
+        _print_scores(cv, m["classes"])
+    held = m.get("heldout")
+    if held:
+        print(f"held out ({held['dataset']}, {held['n_scenes']} scenes): accuracy "
+              f"{held['accuracy']:.3f}")
+        _print_scores(held, m["classes"])
+    print(f"model written to {args.output}")
+    return 0
+
+
+def _print_rules(m: dict) -> None:
     print("rules (trained on all data):")
     for k in m["classes"]:
         rules = m["rules"].get(k) or []
@@ -157,17 +184,6 @@ def run(args) -> int:
     for k, r, tp, fp in m.get("dropped_redundant") or []:
         print(f"  % left out: {r}  (its {tp} training {k} are proved by the other {k} rules; "
               f"it also proved {fp} other objects)")
-    cv = m.get("cross_validation")
-    if cv:
-        print(f"{cv['k']}-fold cross-validation: accuracy {cv['accuracy']:.3f}")
-        _print_scores(cv, m["classes"])
-    held = m.get("heldout")
-    if held:
-        print(f"held out ({held['dataset']}, {held['n_scenes']} scenes): accuracy "
-              f"{held['accuracy']:.3f}")
-        _print_scores(held, m["classes"])
-    print(f"model written to {args.output}")
-    return 0
 
 
 def _print_scores(res: dict, classes) -> None:

@@ -43,7 +43,10 @@ __all__ = [
     "DEFAULT_CLASSES",
     "Prediction",
     "Model",
+    "Members",
     "learn_rules",
+    "learn_members",
+    "write_members",
     "prolog_predict",
     "OTHER",
     "cross_validate",
@@ -174,6 +177,55 @@ class Model:
             lines.append("% planerel_rule_cofire(I, J, Class, N): N training objects of Class on "
                          "which clauses I and J (of two classes) both fired")
             lines += [fact("planerel_rule_cofire", i, j, k, n) for i, j, k, n in self.cofire]
+        return "\n".join(lines) + "\n"
+
+
+@dataclass(frozen=True)
+class Members:
+    """A model of several members (:mod:`planerel.ilp.members`): one :class:`Model` per
+    disjoint part of the training set, their answers joined by
+    :func:`planerel.ilp.members.vote`.  :func:`prolog_predict` and :func:`held_out_scores`
+    take it wherever they take a :class:`Model`.
+
+    Attributes
+    ----------
+    models : tuple of Model
+    """
+
+    models: tuple
+
+    @property
+    def classes(self) -> tuple:
+        """The classes of the members, in order of first appearance."""
+        return tuple(dict.fromkeys(k for m in self.models for k in m.classes))
+
+    @property
+    def stats(self) -> tuple:
+        """``((member, index), class, tp, fp)`` of every member's rules."""
+        return tuple(((n, i), k, tp, fp) for n, m in enumerate(self.models)
+                     for i, k, tp, fp in m.stats)
+
+    def clauses(self) -> list[str]:
+        return [c for m in self.models for c in m.clauses()]
+
+    def text(self, header: str = "") -> str:
+        """Every member's rules, each under a comment header: plain clauses, read as data
+        (the members' statistics are in their own folders, ``members/N/rules.pl``)."""
+        safe = ["".join(ch if 32 <= ord(ch) < 127 else "?" for ch in ln)
+                for ln in header.splitlines()]
+        lines = [f"% {ln}" if ln else "%" for ln in safe]
+        lines += [f"% planerel model of {len(self.models)} members: each learned on its own "
+                  "part of the training set;",
+                  "% an object's class is the members' vote (model.json, 'vote'). Each "
+                  "member's rules,",
+                  "% training statistics and settings are in members/N/; the rules below are "
+                  "for reading.", ""]
+        for n, m in enumerate(self.models, start=1):
+            lines.append(f"% ======== member {n} (members/{n}/rules.pl)")
+            for k in m.targets:
+                lines.append(f"% ---- member {n}: {k}")
+                lines += list(m.rules.get(k, ())) or [f"% (no rule learned for {k})"]
+            lines.append("")
         return "\n".join(lines) + "\n"
 
 
@@ -379,6 +431,12 @@ class Prediction:
     refused : tuple of Refusal
         Classes whose rules proved the object and that the decision refused there (its planar
         fraction far below their training positives', :func:`planerel.ilp.metrics.decide`).
+    votes : tuple of Prediction
+        A :class:`Members` model's answer: each member's own prediction, in member order
+        (the answer's rule, bindings and refusals are those of :attr:`member`'s); empty for a
+        single model.
+    member : int or None
+        Which member (0-based) the rule and bindings come from (None: a single model).
     """
 
     object_id: str
@@ -389,6 +447,8 @@ class Prediction:
     fired: tuple = ()
     precision: float | None = None
     refused: tuple = ()
+    votes: tuple = ()
+    member: int | None = None
 
     @property
     def planes(self) -> list[str]:
@@ -642,12 +702,18 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
     Returns
     -------
     list of Prediction, in the order of ``object_ids``.
+
+    A :class:`Members` model: each member answers as a model of its own, then the members
+    vote (:func:`planerel.ilp.members.vote`; :attr:`Prediction.votes` holds each member's).
     """
     if object_ids is None:
         object_ids = [o.id for d in descs for o in d.objects]
     object_ids = list(object_ids)
     if not object_ids:
         return []
+    if isinstance(model, Members):
+        return _voted([prolog_predict(m, descs, object_ids, timeout=timeout)
+                       for m in model.models])
     if not model.clauses():
         return [Prediction(o, OTHER) for o in object_ids]
     fired = _parse_fired(_prolog_run(model, descs, object_ids, timeout))
@@ -672,6 +738,77 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
             out.append(Prediction(o, klass, text, index, binds, fired_pairs, laplace(*tp_fp),
                                   refused))
     return out
+
+
+def _voted(per_member: list[list[Prediction]]) -> list[Prediction]:
+    """The members' predictions (one list per member, objects in the same order) joined by
+    the vote; ``fired`` names rules as ``(member, index)``, as :attr:`Members.stats` does."""
+    from planerel.ilp.members import vote
+
+    out = []
+    for preds in zip(*per_member, strict=True):
+        klass, n = vote([(p.klass, p.precision if p.rule else None) for p in preds])
+        c = preds[n]
+        fired = tuple((k, (m, i)) for m, p in enumerate(preds) for k, i in p.fired)
+        out.append(Prediction(c.object_id, klass, c.rule, c.rule_index, dict(c.bindings), fired,
+                              c.precision, c.refused, votes=tuple(preds), member=n))
+    return out
+
+
+def learn_members(descs, classes: Sequence[str], parts: dict, members: int, *,
+                  work_dir=None, jobs: int | None = None, log=None, **kw) -> Members:
+    """One theory per part of the scenes (:func:`learn_rules` on each, ``kw`` passed on).
+
+    Parameters
+    ----------
+    parts : dict
+        ``{scene id: part}`` (:func:`planerel.ilp.members.partition_scenes`), parts
+        ``0 .. members - 1``.
+    work_dir : path, optional
+        Member ``n``'s Aleph files go to ``work_dir/n/aleph`` (``n`` from 1); default a
+        temporary folder.
+    jobs : int, optional
+        Members learned at once (None: as many as cores), each one ``swipl`` at a time; the
+        model does not depend on it.
+    log : callable, optional
+        Progress lines, ``[member n/K] ...``.
+    """
+    groups: list[list] = [[] for _ in range(members)]
+    for d in descs:
+        if d.scene_id not in parts:
+            raise InputError(f"scene {d.scene_id} has no part")
+        groups[parts[d.scene_id]].append(d)
+
+    def one(n: int) -> Model:
+        say = None if log is None else (lambda text, n=n: log(f"[member {n + 1}/{members}] {text}"))
+        if say is not None:
+            say(f"learning on {len(groups[n])} scenes")
+        t0 = time.perf_counter()
+        folder = None if work_dir is None else Path(work_dir) / str(n + 1) / "aleph"
+        m = learn_rules(groups[n], classes, work_dir=folder, jobs=1, log=say, **kw)
+        if say is not None:
+            say(f"learned {len(m.clauses())} clause(s) in {time.perf_counter() - t0:.1f} s")
+        return m
+
+    from planerel.batch import resolve_jobs
+
+    n_jobs = max(1, min(resolve_jobs(jobs), members))
+    if n_jobs == 1:
+        return Members(tuple(one(n) for n in range(members)))
+    from concurrent.futures import ThreadPoolExecutor
+
+    from planerel.children import stop_children, wait_result
+
+    pool = ThreadPoolExecutor(n_jobs)      # each member's learners are swipl processes
+    try:
+        futures = [pool.submit(one, n) for n in range(members)]
+        models = tuple(wait_result(f) for f in futures)
+    except BaseException:  # a failed member, Ctrl-C, SIGTERM: stop the others' learners
+        with stop_children():
+            pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    pool.shutdown()
+    return Members(models)
 
 
 def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int = 0,
@@ -778,7 +915,7 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
     return out
 
 
-def held_out_scores(model: Model, dataset_dir, *, method: str = "regiongrow",
+def held_out_scores(model: Model | Members, dataset_dir, *, method: str = "regiongrow",
                     seg_params: dict | None = None, jobs: int | None = 1, cache=None,
                     progress: bool | None = None, timeout: float = 120.0,
                     scheduler=None) -> dict:
@@ -794,6 +931,9 @@ def held_out_scores(model: Model, dataset_dir, *, method: str = "regiongrow",
         ``predictions``, ``excluded`` (:func:`excluded_counts`: objects that are no example,
         by class and reason) and ``errors`` (:func:`~planerel.ilp.metrics.error_kinds`: the
         wrong answers split into lost decisions and objects the rules do not prove).
+
+    A :class:`Members` model answers by its members' vote; ``errors`` then looks at the rules
+    of every member.
     """
     from planerel.ilp.aleph_export import OTHER as OTHER_CLASS
 
@@ -894,7 +1034,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                 progress: bool | None = None, log=print, scheduler=None,
                 heldout=None, settings: dict | None = None, task: str | None = None,
                 other_rules: bool = False, keep_redundant: bool = False,
-                recipe: str | None = None) -> dict:
+                recipe: str | None = None, members: int = 1) -> dict:
     """``planerel learn``: describe a data set, learn the class rules, optionally cross-validate,
     score the model on a held-out data set (``heldout``: :func:`held_out_scores`, in
     ``metrics["heldout"]``), and write a model folder.
@@ -912,6 +1052,14 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     segmentation, gravity and description settings it was learned with and the rules'
     precision, :mod:`planerel.ilp.model_settings`; ``classify`` reuses them), ``aleph/`` (the files
     the final model was learned from), ``metrics.json`` and, with folds, ``confusion.png``.
+
+    ``members`` > 1 (``planerel learn --members K``): the scenes are described once and split
+    into ``members`` disjoint parts, stratified by each scene's class in the manifest
+    (:func:`planerel.ilp.members.partition_scenes`); one theory is learned per part
+    (:func:`learn_members`, ``jobs`` parts at once) and written as a model folder of its own,
+    ``members/N/``; the top-level ``model.json`` names the members and the vote, ``rules.pl``
+    holds every member's rules for a reader (:meth:`Members.text`).  Cross-validation is
+    refused with members (score a held-out set instead).
 
     Returns
     -------
@@ -941,6 +1089,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         from planerel.features.dataset import load_manifest
 
         load_manifest(heldout)
+    parts = _member_parts(dataset_dir, classes, members, folds)
     t0 = time.perf_counter()
     descs, skipped = describe_scenes(dataset_dir, classes=classes, method=method,
                                      seg_params=seg_params, jobs=jobs, cache=cache,
@@ -949,6 +1098,13 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     t_describe = time.perf_counter() - t0
     for s in skipped:
         log(f"note: {s}")
+    if parts is not None:
+        return _learn_members_model(
+            descs, classes, parts, members, out, dataset_dir=dataset_dir, method=method,
+            seg_params=seg_params, seed=seed, settings=settings, task=task, recipe=recipe,
+            other_rules=other_rules, keep_redundant=keep_redundant, engine=engine,
+            timeout=timeout, jobs=jobs, cache=cache, progress=progress, log=log,
+            scheduler=scheduler, heldout=heldout, skipped=skipped, t_describe=t_describe)
     with atomic_dir(out, markers=("rules.pl", "metrics.json")) as tmp:
         metrics: dict = {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
                          "seg_params": dict(seg_params or {}), "seed": seed,
@@ -994,5 +1150,118 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         write_json(tmp / MODEL_FILE, training_settings(method, seg_params, rule_stats=model.stats,
                                                        planar_domain=model.planar_domain,
                                                        proof_domain=model.proof_domain))
+        write_json(tmp / "metrics.json", metrics)
+    return metrics
+
+
+def _member_parts(dataset_dir, classes, members, folds) -> dict | None:
+    """``{scene id: part}`` for ``members`` > 1 (None for a single model), from the
+    manifest, before any scene is described; a bad ``members`` is refused here."""
+    from planerel.ilp.members import check_members, partition_scenes
+
+    if members == 1 and not isinstance(members, bool):
+        return None
+    if isinstance(members, int) and not isinstance(members, bool) and members > 1 and folds:
+        raise InputError(f"--members {members} with --folds: cross-validation of a members "
+                         "model is not supported; score it on a held-out set (--heldout)")
+    from planerel.features.dataset import load_manifest
+
+    rows = [r for r in load_manifest(dataset_dir) if classes is None or r.klass in classes]
+    counts: dict[str, int] = {}
+    for r in rows:
+        if r.klass != OTHER:
+            counts[r.klass] = counts.get(r.klass, 0) + 1
+    check_members(members, counts)
+    return partition_scenes([(r.scene_id, r.klass) for r in rows], members)
+
+
+def write_members(folder, model: Members, *, method: str, seg_params, header: str = "",
+                  member_metrics: Sequence[dict] | None = None) -> None:
+    """Write a members model folder into ``folder`` (which exists): ``members/N/`` (each a
+    model folder: ``rules.pl``, ``model.json``, ``metrics.json`` when ``member_metrics``
+    gives it), the top-level ``rules.pl`` (:meth:`Members.text`) and ``model.json`` (the
+    settings, the member folders and the vote)."""
+    from planerel.atomic import write_text
+    from planerel.ilp.members import VOTE_RULE
+    from planerel.ilp.model_settings import MODEL_FILE, training_settings
+    from planerel.io.writers import write_json
+
+    folder = Path(folder)
+    k = len(model.models)
+    for n, m in enumerate(model.models, start=1):
+        sub = folder / "members" / str(n)
+        sub.mkdir(parents=True, exist_ok=True)
+        write_text(sub / "rules.pl", m.text(f"member {n} of {k}" + (f"; {header}" if header
+                                                                      else "")))
+        write_json(sub / MODEL_FILE, training_settings(method, seg_params, rule_stats=m.stats,
+                                                       planar_domain=m.planar_domain,
+                                                       proof_domain=m.proof_domain))
+        if member_metrics is not None:
+            write_json(sub / "metrics.json", member_metrics[n - 1])
+    write_text(folder / "rules.pl", model.text(header))
+    top = training_settings(method, seg_params)
+    top["members"] = [f"members/{n}" for n in range(1, k + 1)]
+    top["vote"] = VOTE_RULE
+    write_json(folder / MODEL_FILE, top)
+
+
+def _learn_members_model(descs, classes, parts, members, out, *, dataset_dir, method, seg_params,
+                         seed, settings, task, recipe, other_rules, keep_redundant, engine,
+                         timeout, jobs, cache, progress, log, scheduler, heldout, skipped,
+                         t_describe) -> dict:
+    """:func:`learn_model` with ``members`` > 1: the members model folder."""
+    from planerel.atomic import atomic_dir
+    from planerel.ilp.members import VOTE_RULE
+    from planerel.io.writers import write_json
+
+    with atomic_dir(out, markers=("rules.pl", "metrics.json")) as tmp:
+        t2 = time.perf_counter()
+        model = learn_members(descs, classes, parts, members, work_dir=tmp / "members",
+                              jobs=jobs, log=None if progress is False else log, engine=engine,
+                              timeout=timeout, settings=settings, task=task,
+                              other_rules=other_rules, keep_redundant=keep_redundant)
+        t_learn = round(time.perf_counter() - t2, 3)
+        per_member, member_metrics = [], []
+        for n, m in enumerate(model.models, start=1):
+            part = [d for d in descs if parts[d.scene_id] == n - 1]
+            ex = _examples(part)
+            mm = {"dataset": str(dataset_dir), "member": n, "members": members,
+                  "classes": list(classes), "method": method,
+                  "seg_params": dict(seg_params or {}), "seed": seed,
+                  "learner_settings": {k: str(v) for k, v in (settings or {}).items()},
+                  "task": task or "modes_relational.pl", "recipe": recipe,
+                  "other_rules": other_rules, "n_scenes": len(part),
+                  "scenes": [d.scene_id for d in part],
+                  "n_examples": sum(k in classes for _, k in ex),
+                  "n_other": sum(k == OTHER for _, k in ex),
+                  "seconds": {"learn": round(m.seconds, 3)}, "engine": m.engine,
+                  "rules": {k: list(v) for k, v in m.rules.items()},
+                  "rule_stats": [list(s) for s in m.stats], "uncovered": m.uncovered,
+                  "dropped_redundant": [list(d) for d in m.dropped]}
+            member_metrics.append(mm)
+            per_member.append({k: mm[k] for k in ("member", "n_scenes", "n_examples", "n_other",
+                                                  "seconds", "engine", "rules", "rule_stats")})
+        metrics: dict = {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
+                         "seg_params": dict(seg_params or {}), "seed": seed,
+                         "learner_settings": {k: str(v) for k, v in (settings or {}).items()},
+                         "task": task or "modes_relational.pl", "recipe": recipe,
+                         "other_rules": other_rules, "members": members, "vote": VOTE_RULE,
+                         "n_scenes": len(descs),
+                         "n_examples": sum(k in classes for _, k in _examples(descs)),
+                         "n_other": sum(k == "other" for _, k in _examples(descs)),
+                         "skipped": skipped,
+                         "seconds": {"describe": round(t_describe, 3), "learn": t_learn},
+                         "engine": "; ".join(sorted({m.engine for m in model.models})),
+                         "member_models": per_member}
+        if heldout is not None:
+            t3 = time.perf_counter()
+            metrics["heldout"] = held_out_scores(
+                model, heldout, method=method, seg_params=seg_params,
+                jobs=jobs, cache=cache, progress=progress, timeout=timeout, scheduler=scheduler)
+            metrics["seconds"]["heldout"] = round(time.perf_counter() - t3, 3)
+        header = (f"learned by planerel from {dataset_dir} ({len(descs)} scenes in {members} "
+                  f"parts, segmentation: {method}, engine: {metrics['engine']})")
+        write_members(tmp, model, method=method, seg_params=seg_params, header=header,
+                      member_metrics=member_metrics)
         write_json(tmp / "metrics.json", metrics)
     return metrics
