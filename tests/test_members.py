@@ -224,6 +224,12 @@ def test_members_classify_by_vote_with_votes_in_json(members_model, paper_set, c
                 assert o[key] == chosen[key], key
             assert "votes" not in own[0]
     assert n_obj >= 6
+    # the text output names each member's class
+    assert main(["classify", str(out), str(scans[0]), "-j", "1"]) == 0
+    text = capsys.readouterr().out
+    o = answers[0]["objects"][0]
+    assert (f"    votes:  {', '.join(v['class'] for v in o['votes'])} (members 1-3; the rule is "
+            f"member {o['member']}'s)") in text.splitlines()
     with Classifier(out / "rules.pl") as clf:
         assert len(clf.members) == 3
         ans = clf.classify(scans[0], scene_id=scans[0].name.split(".")[0])

@@ -105,6 +105,9 @@ def _classify_task(task: dict):
         if o.planar_fraction is not None:
             shape = f"  (planar fraction {o.planar_fraction:.2f}{', curved' if o.curved else ''})"
         lines.append(f"  {o.object_id}: {o.klass}{shape}")
+        if o.votes:
+            lines.append(f"    votes:  {', '.join(v.klass for v in o.votes)} (members 1-"
+                         f"{len(o.votes)}; the rule is member {o.member}'s)")
         for r in o.refused:
             lines.append(f"    refused {r.klass}: {r.reason}")
         if o.rule:
