@@ -289,3 +289,16 @@ def _load(folder: Path) -> P.Model:
                                        for e in js["planar_domain"]),
                    proof_domain=tuple((e["rule"], e["class"], e["low"], e["high"], e["n"])
                                       for e in js["proof_domain"]))
+
+
+def test_a_members_model_warns_once_what_its_members_warn(members_model):
+    from planerel.classify.classifier import Classifier
+
+    out, _, _ = members_model
+    over = {"decision.planar_margin": "0.5"}
+    with Classifier(out / "members" / "1", seg_params=over) as one:
+        single = one.warnings
+    # learned from ground-truth planes, and an override: each said once, as a member says it
+    assert len(single) == 2
+    with Classifier(out, seg_params=over) as clf:
+        assert clf.warnings == single

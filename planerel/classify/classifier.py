@@ -299,7 +299,8 @@ class Classifier:
         self.stats = ()
         self.cofire = ()
         self.planar_domain = self.proof_domain = ()
-        self.warnings += tuple(dict.fromkeys(w for m in members for w in m.warnings))
+        self.warnings = tuple(dict.fromkeys((*self.warnings, *(w for m in members
+                                                                for w in m.warnings))))
 
     def close(self) -> None:
         """Forget this model's rules (the classifier cannot be used afterwards)."""
