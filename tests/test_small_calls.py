@@ -508,16 +508,17 @@ def _raised_tests_reference():
 
 
 def test_raised_tests_reject_by_a_product_as_by_the_mean():
-    """The window test's product bound rejects only what the division rejects: random
-    windows, and sums within a few ulps of half the rise times the count."""
+    """The window test's product bound rejects only what the division rejects, and the
+    branch-free flags of each row (speed22y) let through what the branchy tests did: random
+    windows, sums within a few ulps of half the rise times the count, non-finite sums."""
     from planerel.features._raised_kernels import _raised_tests
 
     ref = _raised_tests_reference()
     rng = np.random.default_rng(2233)
-    near = 0
-    for _ in range(200):
+    near = odd = hits = 0
+    for _ in range(300):
         H, W = (int(v) for v in rng.integers(1, 30, 2))
-        r = int(rng.integers(0, 4))
+        r = int(rng.integers(0, 6))  # windows taller than the grid too
         min_rise = float(rng.choice([0.006, 0.01, 1e-3]))
         on = rng.random((H, W)) < 0.8
         rc = rng.integers(0, 2 * r + 2, (H, W)).astype(np.int32)
@@ -527,12 +528,18 @@ def test_raised_tests_reject_by_a_product_as_by_the_mean():
             rs = (rc * np.float32(0.5 * min_rise)).astype(np.float32)
             rs = np.nextafter(rs, np.float32(rng.choice([-1.0, 1.0])) * np.inf) if rng.random() < 0.5 else rs
             near += 1
+        if rng.random() < 0.3:
+            # non-finite row sums (the flag lets a NaN window through to the division, as
+            # the branchy test did; infinities either way)
+            rs[rng.random((H, W)) < 0.05] = rng.choice([np.nan, np.inf, -np.inf])
+            odd += 1
         xyz = rng.uniform(0.3, 4.0, (H, W, 3))
         a = float(rng.uniform(0.0, 0.01))
         got = _raised_tests(xyz, 0, 0, 1, on, rs, rc, a, min_rise, 4.0, r)
         want = ref(xyz, 0, 0, 1, on, rs, rc, a, min_rise, 4.0, r)
         assert _same(got[0], want[0]) and _same(got[1], want[1])
-    assert near > 50
+        hits += int(want[0].sum()) + int(want[1].sum())
+    assert near > 50 and odd > 50 and hits > 100
 
 
 def test_boundary_tiles_remembered_with_the_label_image():

@@ -199,25 +199,41 @@ def _raised_tests(xyz, r0, c0, f, on, rs, rc, a, min_rise, k_sigma, r):
     # 1e-12; a NaN sum fails this test and takes the division as before)
     half = 0.5 * min_rise
     shrink = 1.0 - 1e-12
+    # each row's windows that pass the plane, count and product tests, flagged without a
+    # branch (a loop the compiler vectorizes; a few in a thousand pass), then those alone
+    # divided out and tested against the limits
+    flag = np.zeros(W, np.uint8)
     for k in range(min(r, H)):
         for j in range(W):
             cs[j] += rs[k, j]
             cc[j] += rc[k, j]
     for o in range(H):
-        if o + r < H:
+        if o + r < H and o - r - 1 >= 0:
+            # the row below added and the row above taken off in one loop: the same two
+            # roundings in the same order
+            for j in range(W):
+                cs[j] = (cs[j] + rs[o + r, j]) - rs[o - r - 1, j]
+                cc[j] = (cc[j] + rc[o + r, j]) - rc[o - r - 1, j]
+        elif o + r < H:
             for j in range(W):
                 cs[j] += rs[o + r, j]
                 cc[j] += rc[o + r, j]
-        if o - r - 1 >= 0:
+        elif o - r - 1 >= 0:
             for j in range(W):
                 cs[j] -= rs[o - r - 1, j]
                 cc[j] -= rc[o - r - 1, j]
+        n = 0
         for j in range(W):
-            c = cc[j]
-            if not on[o, j] or c <= 0:
+            g = (np.uint8(on[o, j]) & np.uint8(cc[j] > 0)
+                 & np.uint8(not (cs[j] <= half * cc[j] * shrink)))
+            flag[j] = g
+            n += g
+        if n == 0:
+            continue
+        for j in range(W):
+            if not flag[j]:
                 continue
-            if cs[j] <= half * c * shrink:
-                continue  # mean <= half (below)
+            c = cc[j]
             mean = cs[j] / c
             if mean <= 0.5 * min_rise:
                 continue
