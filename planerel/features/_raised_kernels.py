@@ -65,8 +65,10 @@ def _raised_rows(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step):
     (``2r + 1`` columns), and with ``step > 0`` the noise values (:func:`noise_values`) of
     every ``step``-th pixel of every ``step``-th row, read while the block's rows are in
     the cache."""
-    on = np.zeros((H, W), np.bool_)
-    h = np.zeros((H, W), np.float32)
+    # every grid pixel of on, h, rs and rc is written below (off the plane: False and 0):
+    # no zeroing of the four (H, W) arrays first
+    on = np.empty((H, W), np.bool_)
+    h = np.empty((H, W), np.float32)
     # each block of four rows is read (the plane's pixels and their heights, column j + r
     # just before the row sums need it) and summed along the rows with four running sums
     # (four independent chains of adds; each row's sum takes the same values in the same
@@ -75,8 +77,8 @@ def _raised_rows(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step):
     X = xyz.ravel()
     cols = lab.shape[1]
     n0, n1, n2 = n[0], n[1], n[2]
-    rs = np.zeros((H, W), np.float32)
-    rc = np.zeros((H, W), np.int32)
+    rs = np.empty((H, W), np.float32)
+    rc = np.empty((H, W), np.int32)
     # the noise sample: every step-th pixel of every step-th row of the grid
     nv = -(-H // step) * -(-W // step) if step > 0 else 0
     vals = np.empty(nv)
@@ -92,6 +94,9 @@ def _raised_rows(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step):
                 if L[q] == label and math.isfinite(X[3 * q + 2]):
                     on[i + t, j] = True
                     h[i + t, j] = X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0
+                else:
+                    on[i + t, j] = False
+                    h[i + t, j] = 0.0
         if m == 4:
             s0 = 0.0
             s1 = 0.0
@@ -119,6 +124,9 @@ def _raised_rows(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step):
                             on[i + t, jr] = True
                             h[i + t, jr] = (X[3 * q] * n0 + X[3 * q + 1] * n1
                                             + X[3 * q + 2] * n2 - d0)
+                        else:
+                            on[i + t, jr] = False
+                            h[i + t, jr] = 0.0
                     s0 += h[i, jr]
                     s1 += h[i + 1, jr]
                     s2 += h[i + 2, jr]
@@ -158,6 +166,9 @@ def _raised_rows(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step):
                     if L[q] == label and math.isfinite(X[3 * q + 2]):
                         on[i, jr] = True
                         h[i, jr] = X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0
+                    else:
+                        on[i, jr] = False
+                        h[i, jr] = 0.0
                     s += h[i, jr]
                     c += on[i, jr]
                 if j - r - 1 >= 0:
