@@ -52,3 +52,55 @@ def test_box_profile_with_row_prefetch_on_any_layout_and_at_the_edges():
             assert np.array_equal(got, want, equal_nan=True)
         seen += int(np.isfinite(want).all())
     assert seen > 60
+
+
+def _same(a, b) -> bool:
+    a, b = np.asarray(a), np.asarray(b)
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def test_outline_kernels_with_prefetch_ahead_answer_as_their_references():
+    """The touch test, the edge sums and truncated_at ask for the data of the boundary pixel
+    64 places on: on whole synthetic scenes (thousands of boundary pixels, some on the last
+    rows, whose row below is past the image) the same answers as the kernels without it
+    (segment's touch_pairs, the dense edge_sums, truncation_counts), bit for bit."""
+    from planerel.features._relation_kernels import (
+        _AHEAD,
+        edge_sums,
+        edge_sums_pairs_with_tiles,
+        touch_pairs_with_tiles,
+    )
+    from planerel.features._truncated_kernels import truncated_at, truncation_counts
+    from planerel.features.planes import _boundary_pixels, _boundary_tiles, measure_planes
+    from planerel.segment._label_kernels import touch_pairs
+    from planerel.synth.generator import generate_scene
+
+    touching = sums = 0
+    for kind, seed in (("box", 3), ("stairs", 4), ("ramp", 5)):
+        sc = generate_scene(kind, seed=seed, subsample=1)
+        planes = measure_planes(sc.cloud, np.asarray(sc.gt_labels))
+        lab = planes.labels
+        xyz = np.ascontiguousarray(sc.cloud.xyz, dtype=np.float64)
+        brow, bcol = _boundary_pixels(lab)
+        H = lab.shape[0]
+        assert len(brow) > 20 * _AHEAD and (brow >= H - 2).any()
+        n = int(lab.max()) + 1
+        known = np.ones(n, bool)
+        got = touch_pairs_with_tiles(xyz, lab, brow, bcol, _boundary_tiles(lab), 2, 0.02, 0.05,
+                                     known)
+        assert _same(got, touch_pairs(xyz, lab, brow, bcol, 2, 0.02, 0.05, known))
+        touching += int(got.sum())
+        partner = np.ones((n, n), bool)
+        got = edge_sums_pairs_with_tiles(lab, xyz, brow, bcol, _boundary_tiles(lab), partner, 2,
+                                         0.03)
+        want = edge_sums(lab, xyz, brow, bcol, known, 2, 0.03, n)
+        for g, w in zip(got, want, strict=True):
+            assert _same(g, w)
+        sums += int(got[0].sum())
+        ints = np.ascontiguousarray(lab, dtype=np.int64)
+        for share in (0.0, 0.1, 0.5):
+            cut, present = truncated_at(ints, xyz, brow, bcol, 0.05, 2, 1, share, n)
+            n_out, n_hid, at_edge, present_img = truncation_counts(ints, xyz, 0.05, 2, 1, n)
+            want = at_edge | ((n_out > 0) & (n_hid >= share * np.maximum(n_out, 1)))
+            assert _same(present, present_img) and _same(cut & present, want & present_img)
+    assert touching > 10 and sums > 1000

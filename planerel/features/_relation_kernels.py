@@ -10,6 +10,14 @@ from numba import njit
 
 from planerel.segment._intrinsics import prefetch
 
+#: How many boundary pixels ahead the touch test and the edge sums ask for data (speed22y):
+#: the label and point of that pixel and of the pixel ``band`` rows below it (the newest row
+#: of its neighbourhood).  The boundary pixels are read in row order but far apart, and the
+#: hardware's prefetcher does not follow them.  Only when data arrives changes (C-order
+#: arrays assumed for the addresses; any other layout only wastes the hint).  Written out in
+#: each loop: a jitted helper taking the arrays costs their reference counts at every pixel.
+_AHEAD = 64
+
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def edge_sums(lab, xyz, r0, c0, used, band, depth, n):
@@ -151,7 +159,15 @@ def touch_pairs_with_tiles(xyz, lab, brow, bcol, tiles, g, max_dist, rel_dist, k
         open_[k] = kmask & ~_label_bit(k) if k < 63 else kmask
     L = lab.ravel()
     X = xyz.ravel()
-    for i in range(brow.shape[0]):
+    nb = brow.shape[0]
+    for i in range(nb):
+        if i + _AHEAD < nb:
+            pa = brow[i + _AHEAD] * W + bcol[i + _AHEAD]
+            prefetch(L, pa)
+            prefetch(X, 3 * pa)
+            if brow[i + _AHEAD] + g < H:
+                prefetch(L, pa + g * W)
+                prefetch(X, 3 * (pa + g * W))
         v = brow[i]
         u = bcol[i]
         p = np.uint64(v * W + u)
@@ -221,7 +237,15 @@ def edge_sums_pairs_with_tiles(lab, xyz, r0, c0, tiles, partner, band, depth):
             if partner[a, b]:
                 pmask[a] |= _label_bit(b)
                 used[a] = True
-    for t in range(r0.shape[0]):
+    nb = r0.shape[0]
+    for t in range(nb):
+        if t + _AHEAD < nb:
+            pa = r0[t + _AHEAD] * W + c0[t + _AHEAD]
+            prefetch(lab, pa)
+            prefetch(xyz, 3 * pa)
+            if r0[t + _AHEAD] + band < H:
+                prefetch(lab, pa + band * W)
+                prefetch(xyz, 3 * (pa + band * W))
         y0 = r0[t]
         x0 = c0[t]
         a = lab[y0, x0]

@@ -11,6 +11,12 @@ import math
 import numpy as np
 from numba import njit
 
+from planerel.segment._intrinsics import prefetch
+
+#: How many outline pixels ahead :func:`truncated_at` asks for data (speed22y: 64 and 128
+#: measured alike, 16 and 32 less).
+_AHEAD = 64
+
 #: Eight flags of 1 read as one word (unsigned: compared with a signed literal, numba would
 #: go through float64, whose 53 bits cannot tell it from a word with its lowest flag 0).
 _ALL_SAME = np.uint64(0x0101010101010101)
@@ -160,7 +166,13 @@ def truncated_at(lab, xyz, brow, bcol, jump, band, border, share, n):
     L = lab.ravel()
     X = xyz.ravel()
     n_out = np.zeros(n, np.int64)
-    for i in range(brow.shape[0]):
+    nb = brow.shape[0]
+    # the outline pixels are read in row order but far apart: each loop asks for the data of
+    # the pixel _AHEAD places on (its label; its point and the row band rows below it, the
+    # newest its band's box reads) while it works on this one (only when data arrives changes)
+    for i in range(nb):
+        if i + _AHEAD < nb:
+            prefetch(L, brow[i + _AHEAD] * W + bcol[i + _AHEAD])
         lv = L[brow[i] * W + bcol[i]]
         if lv >= 0:
             n_out[lv] += 1
@@ -177,7 +189,14 @@ def truncated_at(lab, xyz, brow, bcol, jump, band, border, share, n):
                 cut[lv] = True
             elif not n_out[lv] < need[lv]:
                 open_[lv] = True
-    for i in range(brow.shape[0]):
+    for i in range(nb):
+        if i + _AHEAD < nb:
+            ra = brow[i + _AHEAD]
+            pa = ra * W + bcol[i + _AHEAD]
+            prefetch(X, 3 * pa)
+            if ra + band < H:
+                prefetch(L, pa + band * W)
+                prefetch(X, 3 * (pa + band * W))
         r = brow[i]
         c = bcol[i]
         p = r * W + c
