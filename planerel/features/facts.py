@@ -321,6 +321,16 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
 
         cobjs = table_objects(planes, support, cobjs, pp, cp.curved_below,
                               np.asarray(cloud.xyz, float))
+    if proposed and pp.legs_apart > 0:
+        # a table's or a chair's legs seen without its top: one object
+        from planerel.features.tables import leg_objects
+
+        cobjs = leg_objects(planes, cobjs, pp, cp.curved_below, np.asarray(cloud.xyz, float))
+    if proposed and pp.open_walls:
+        # an open object's near wall (its outside) and far wall (its inside): one object
+        from planerel.features.open_walls import open_wall_objects
+
+        cobjs = open_wall_objects(planes, cobjs, pp, cp.curved_below, np.asarray(cloud.xyz, float))
     objs = tuple(SceneObject(terms.object_id(scene_id, k + 1), c.planes, klass, c.mask,
                              c.planar_fraction, c.curved)
                  for k, c in enumerate(cobjs))

@@ -1038,6 +1038,21 @@ class ProposalParams:
         or its apron (:mod:`planerel.features.tables`, applied by
         :func:`planerel.features.facts.describe_scene`; table22u).  What stands on the top is
         still proposed apart; a top seen without legs or apron stays support only.
+    legs_apart : float
+        Metres (0 = off): posts standing on the floor (proposals of vertical planes and
+        unexplained pixels at most ``POST_WIDTH`` wide, ``POST_HEIGHT`` tall and three times
+        as tall as wide) whose feet lie at most this far apart seen from above and whose tops
+        are level (within ``POST_LEVEL`` at 1 m, scaled by the range) are one object: the legs
+        of a table or a chair seen without its top (:func:`planerel.features.tables.leg_objects`,
+        applied by :func:`planerel.features.facts.describe_scene` after ``table_legs``;
+        synth22y).  1.8 m: a long table's legs; each leg was a false proposal of its own.
+    open_walls : bool
+        An open object seen over its near wall (the near wall's outside and the far wall's
+        inside: parallel, turned the same way, 5-60 cm apart, tops level and seen, overlapping
+        across, no horizontal plane at that level between them) is one object
+        (:mod:`planerel.features.open_walls`, applied by
+        :func:`planerel.features.facts.describe_scene` after ``legs_apart``; synth22y): an open
+        box, a shelf seen from its side.  False: each wall a proposal of its own.
     skip_missing : bool
         The step chains' two-rise steps (a tread between two faces not seen) only where the
         face between is missing: a face between them in height that makes a one-rise step
@@ -1129,10 +1144,12 @@ class ProposalParams:
     table_area: float = 0.2
     table_height: float = 0.30
     table_legs: float = 0.08
+    legs_apart: float = 1.8
+    open_walls: bool = True
     flight_sides: bool = True
 
     def __post_init__(self) -> None:
-        _check_nonneg(self, ("table_area", "table_height", "table_legs", "support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
+        _check_nonneg(self, ("table_area", "table_height", "table_legs", "legs_apart", "support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "wall_floor_behind", "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap", "piece_depth",

@@ -29,7 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MIN_LEG_PIXELS", "TABLE_MARGIN", "TABLE_REACH", "table_objects"]
+__all__ = ["MIN_LEG_PIXELS", "POST_HEIGHT", "POST_LEVEL", "POST_WIDTH", "TABLE_MARGIN", "TABLE_REACH",
+           "leg_objects", "table_objects"]
 
 #: Metres: a plane under a table top has its centroid within this of the top's outline, seen
 #: from above (the top's edge faces lie on the outline, its legs inside it).
@@ -205,3 +206,124 @@ def table_objects(planes, support, objects, params, curved_below: float = 0.8, x
         members = tuple(sorted({p.label for p in g} | {x for k in mine for x in objects[k].planes}))
         out.append(CurvedObject(members, mask, float(frac), bool(frac < curved_below), int(total)))
     return out
+
+
+#: Metres: a post (a leg seen without its top) is at most this wide across (its points' 5th to
+#: 95th percentile along two horizontal axes; a table's leg 5 cm, a chair's 3.5 cm).
+POST_WIDTH = 0.08
+
+#: Metres: a post is at least this tall (5th to 99th percentile of its heights) and three times
+#: as tall as it is wide.
+POST_HEIGHT = 0.25
+
+#: Metres at 1 m (scaled by the post's range beyond 1 m): a post stands on the floor when its
+#: lowest point lies within this of the floor's plane; two posts are level when their tops are.
+POST_LEVEL = 0.05
+
+
+def _post(pts, up, e1, e2, floor_level) -> tuple[bool, np.ndarray, float, float]:
+    """(a post standing on the floor, its foot seen from above, its top's height, its range)
+    for the points ``pts`` (N, 3) of one proposal or one part of it."""
+    h = pts @ up
+    a, b = pts @ e1, pts @ e2
+    lo, hi = np.percentile(h, (1.0, 99.0))
+    low = h <= 0.5 * (lo + hi)  # the lower half: a leg meets the top's edge or apron above
+    if int(low.sum()) < MIN_LEG_PIXELS:
+        low = np.ones(len(h), bool)
+    wide = max(float(np.subtract(*np.percentile(a[low], (95.0, 5.0)))),
+               float(np.subtract(*np.percentile(b[low], (95.0, 5.0)))))
+    tall = float(hi - lo)
+    rng = max(1.0, float(np.median(np.sqrt((pts * pts).sum(1)))))
+    ok = (wide <= POST_WIDTH and tall >= POST_HEIGHT and tall >= 3.0 * wide
+          and float(h.min()) - floor_level <= POST_LEVEL * rng)
+    return ok, np.array([float(a.mean()), float(b.mean())]), float(hi) - floor_level, rng
+
+
+def leg_objects(planes, objects, params, curved_below: float = 0.8, xyz=None) -> list:
+    """The proposals with the legs of one table or chair seen without its top made one object.
+
+    A low camera sees a table's or a chair's legs with the top out of view (above the image,
+    hidden, or too thin and far to segment): each leg is a proposal of its own, a false one,
+    and the piece of furniture is found by none.  A *post* is a proposal of vertical planes
+    and unexplained pixels (or a part of those pixels, 4-neighbours within ``edge_depth``)
+    no wider than ``POST_WIDTH``, at least ``POST_HEIGHT`` tall and three times as tall as
+    wide, whose lowest point lies on the floor (within ``POST_LEVEL``, scaled by its range).
+    Posts whose feet lie at most ``params.legs_apart`` apart seen from above and whose tops
+    are level (within ``POST_LEVEL``, scaled by the farther one's range) are the legs of one
+    thing: their proposals become one object.  A door's edge (2 m) and a chair's leg (0.4 m)
+    beside a table's (0.7 m) are not level with it.
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    objects : sequence of CurvedObject
+        The proposals (after :func:`table_objects`).
+    params : ProposalParams
+        ``legs_apart`` (0 = off), ``edge_depth``.
+    curved_below : float
+        ``CurvedParams.curved_below``: the joined object is curved below this planar fraction.
+    xyz : ndarray, shape (H, W, 3), optional
+        The organized points; without them nothing is joined.
+
+    Returns
+    -------
+    list of CurvedObject
+        ``objects`` itself when no two posts are joined; else the objects not taken, then one
+        object per group of legs.
+    """
+    from planerel.features.open_walls import join_groups
+    from planerel.features.relations import _horizontal_basis
+
+    if params.legs_apart <= 0 or xyz is None or len(objects) < 2 or planes.floor is None:
+        return objects
+    byl = {p.label: p for p in planes}
+    floor = byl.get(planes.floor)
+    lab = getattr(planes, "labels", None)
+    if floor is None or lab is None or lab.shape != xyz.shape[:2]:
+        return objects
+    up = np.asarray(planes.up, float)
+    e1, e2 = _horizontal_basis(up)
+    floor_level = float(np.asarray(floor.centroid, float) @ up)
+    posts = []  # (object index, foot, top, range)
+    for k, o in enumerate(objects):
+        if not (o.planes or o.mask is not None):
+            continue
+        if any(x not in byl or byl[x].orientation != "vertical" for x in o.planes):
+            continue
+        if o.planes:
+            # a cheap bound first: the planes' outlines no wider than a post and a half
+            hull = np.concatenate([np.asarray(byl[x].hull3d, float) for x in o.planes])
+            if max(float(np.ptp(hull @ e1)), float(np.ptp(hull @ e2))) > 2.0 * POST_WIDTH:
+                continue
+            m = np.isin(lab, o.planes)
+            if o.mask is not None:
+                m |= o.mask
+        else:
+            m = o.mask
+        rows, cols = np.nonzero(m)
+        pts = xyz[rows, cols]
+        fin = np.isfinite(pts).all(1)
+        if int(fin.sum()) < MIN_LEG_PIXELS:
+            continue
+        ok, foot, top, rng = _post(pts[fin], up, e1, e2, floor_level)
+        if not ok and not o.planes:
+            # unexplained pixels only: two legs, one behind the other, are one proposal;
+            # each of its parts a post (as table_objects' parts: 4-neighbours within edge_depth)
+            from planerel.features._curved_kernels import list_components
+
+            ids, n = list_components(rows, cols, xyz, float(params.edge_depth), m.shape[0])
+            parts = [pts[(ids == i) & fin] for i in range(int(n))]
+            parts = [_post(q, up, e1, e2, floor_level) for q in parts if len(q) >= MIN_LEG_PIXELS]
+            if parts and all(p[0] for p in parts):
+                ok = True
+                top = max(p[2] for p in parts)
+        if ok:
+            posts.append((k, foot, top, rng))
+    pairs = []
+    for i in range(len(posts)):
+        for j in range(i + 1, len(posts)):
+            (ka, fa, ta, ra), (kb, fb, tb, rb) = posts[i], posts[j]
+            if (float(np.hypot(*(fa - fb))) <= params.legs_apart
+                    and abs(ta - tb) <= POST_LEVEL * max(ra, rb)):
+                pairs.append((ka, kb))
+    return join_groups(objects, pairs, curved_below) if pairs else objects

@@ -1,0 +1,189 @@
+"""An open object seen over its near wall: the near wall's outside and the far wall's inside.
+
+Seen from above its rim, an open box (a shelf seen from its side, a crate, a bin) shows the
+*outside* of its near wall and, over that wall's rim, the *inside* of its far wall: two
+parallel vertical faces turned the same way (towards the sensor), one behind the other by the
+object's depth, their tops level (the rim all round), overlapping across.  They share no edge:
+the near wall hides the bottom and the foot of the far wall (an occluding edge only), so no
+cavity rule (:mod:`planerel.features.cavities`, whose channels need the faces turned towards
+each other or a bottom between them) and no convexity test joins them: each wall was a
+proposal of its own, the object found by neither.
+
+**Rule** (:func:`open_wall_objects`, ``ProposalParams.open_walls``): two vertical planes of
+different proposals join those proposals when they are parallel (within ``concave_tol``), the
+far one lies ``WALL_DEPTH`` behind the near one along their normal, their tops are level
+(within ``WALL_LEVEL`` at 1 m, scaled by the range), their extents across overlap by
+``WALL_OVERLAP`` (interval IoU), each one's top is seen (at most ``TOP_CUT`` of its highest
+points at the image's border: two faces cut by the border show no rim), no horizontal plane at
+that level lies between them and neither wall's proposal holds one.  Two closed boxes one
+behind the other, as high as each other, show the near one's top between the faces and the far
+one's top on its proposal (mOSD ``test61``: a box's front behind a lower box's side); the open
+object shows nothing but its thin rim.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["TOP_CUT", "WALL_DEPTH", "WALL_LEVEL", "WALL_OVERLAP", "open_wall_objects"]
+
+#: Metres: the far wall lies this far behind the near one along their normal (the object's
+#: depth: a crate's 5 cm walls apart at least, a deep shelf's 0.6 m at most).
+WALL_DEPTH = (0.05, 0.6)
+
+#: Metres at 1 m (scaled by the far wall's range beyond 1 m): the two tops are level.
+WALL_LEVEL = 0.05
+
+#: Interval IoU of the two walls' extents across (along the horizontal in their plane).
+WALL_OVERLAP = 0.5
+
+#: Fraction: a wall's top is seen when at most this of its highest points (the top 5 % of its
+#: heights) lie at the image's border.
+TOP_CUT = 0.25
+
+
+def _joined(members, curved_below):
+    """One CurvedObject of the proposals ``members``: their planes and masks together."""
+    from planerel.features.curved import CurvedObject
+
+    total = sum(o.n_points for o in members)
+    flat = sum(o.planar_fraction * o.n_points for o in members)
+    mask = None
+    for o in members:
+        if o.mask is not None:
+            mask = o.mask.copy() if mask is None else mask | o.mask
+    frac = flat / total if total else 0.0
+    return CurvedObject(tuple(sorted({x for o in members for x in o.planes})), mask,
+                        float(frac), bool(frac < curved_below), int(total))
+
+
+def join_groups(objects, pairs, curved_below) -> list:
+    """``objects`` with the proposals that ``pairs`` (index pairs) link made one object each:
+    the objects not joined, then one object per group."""
+    parent = list(range(len(objects)))
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for i, j in pairs:
+        parent[root(i)] = root(j)
+    groups: dict = {}
+    for k in range(len(objects)):
+        groups.setdefault(root(k), []).append(k)
+    groups = [g for g in groups.values() if len(g) > 1]
+    if not groups:
+        return objects
+    taken = {k for g in groups for k in g}
+    out = [o for k, o in enumerate(objects) if k not in taken]
+    out += [_joined([objects[k] for k in g], curved_below) for g in groups]
+    return out
+
+
+def open_wall_objects(planes, objects, params, curved_below: float = 0.8, xyz=None) -> list:
+    """The proposals with each open object's near and far walls made one (the module's rule).
+
+    Parameters
+    ----------
+    planes : PlaneSet
+        With ``labels`` (the label image) for the tops' border test.
+    objects : sequence of CurvedObject
+    params : ProposalParams
+        ``open_walls`` (False = off), ``concave_tol``.
+    curved_below : float
+        ``CurvedParams.curved_below``: a joined object is curved below this planar fraction.
+    xyz : ndarray, shape (H, W, 3), optional
+        The organized points; without them nothing is joined.
+
+    Returns
+    -------
+    list of CurvedObject
+        ``objects`` itself when nothing is joined.
+    """
+    from planerel.features.cavities import cross3
+
+    lab = getattr(planes, "labels", None)
+    if (not params.open_walls or xyz is None or len(objects) < 2 or lab is None
+            or lab.shape != xyz.shape[:2]):
+        return objects
+    owner = {x: k for k, o in enumerate(objects) for x in o.planes}
+    verts = [p for p in planes if p.orientation == "vertical" and p.label in owner]
+    if len(verts) < 2:
+        return objects
+    up = np.asarray(planes.up, float)
+    flats = [p for p in planes if p.orientation == "horizontal"]
+    byl = {p.label: p for p in planes}
+    cos_par = math.cos(math.radians(params.concave_tol))
+    H, W = lab.shape
+    seen: dict = {}
+
+    def top_seen(p) -> bool:
+        if p.label not in seen:
+            r, c = np.nonzero(lab == p.label)
+            h = xyz[r, c] @ up
+            ok = np.isfinite(h)
+            r, c, h = r[ok], c[ok], h[ok]
+            if not len(h):
+                seen[p.label] = False
+            else:
+                hi = h >= np.percentile(h, 95.0)
+                edge = (r[hi] <= 1) | (r[hi] >= H - 2) | (c[hi] <= 1) | (c[hi] >= W - 2)
+                seen[p.label] = float(edge.mean()) <= TOP_CUT
+        return seen[p.label]
+
+    pairs = []
+    for a in verts:
+        na = np.asarray(a.normal, float)
+        ha = np.asarray(a.hull3d, float)
+        da = abs(float(na @ np.asarray(a.centroid, float)))
+        ta = float((ha @ up).max())
+        across = cross3(up, na)
+        norm = float(np.linalg.norm(across))
+        if norm == 0:
+            continue
+        across = across / norm
+        a0, a1 = float((ha @ across).min()), float((ha @ across).max())
+        for b in verts:
+            if b is a or owner[a.label] == owner[b.label]:
+                continue
+            if float(na @ np.asarray(b.normal, float)) < cos_par:
+                continue  # not parallel, or turned the other way
+            cb = np.asarray(b.centroid, float)
+            depth = abs(float(na @ cb)) - da
+            if not WALL_DEPTH[0] <= depth <= WALL_DEPTH[1]:
+                continue  # b is not behind a
+            hb = np.asarray(b.hull3d, float)
+            tol = WALL_LEVEL * max(1.0, float(np.linalg.norm(cb)))
+            if abs(ta - float((hb @ up).max())) > tol:
+                continue
+            b0, b1 = float((hb @ across).min()), float((hb @ across).max())
+            inter = min(a1, b1) - max(a0, b0)
+            if inter <= 0 or inter / (max(a1, b1) - min(a0, b0)) < WALL_OVERLAP:
+                continue
+            if any(_top_between(f, up, na, da, depth, ta, tol, across, a0, a1) for f in flats):
+                continue  # a closed box's top: two boxes one behind the other
+            if any(abs(float(np.asarray(byl[x].centroid, float) @ up) - ta) <= tol
+                   for x in (*objects[owner[a.label]].planes, *objects[owner[b.label]].planes)
+                   if byl[x].orientation == "horizontal"):
+                continue  # a wall with a top of its own at that level: a closed box's face
+            if not (top_seen(a) and top_seen(b)):
+                continue
+            pairs.append((owner[a.label], owner[b.label]))
+    return join_groups(objects, pairs, curved_below) if pairs else objects
+
+
+def _top_between(f, up, na, da, depth, level, tol, across, a0, a1) -> bool:
+    """Horizontal plane ``f`` at ``level`` (within ``tol``) lies between the near wall (at
+    ``da`` along ``na``) and the far one (``depth`` behind it), across the near wall's extent."""
+    cf = np.asarray(f.centroid, float)
+    if abs(float(cf @ up) - level) > tol:
+        return False
+    d = abs(float(na @ cf)) - da
+    if not -0.02 <= d <= depth + 0.02:
+        return False
+    hf = np.asarray(f.hull3d, float) @ across
+    return min(a1, float(hf.max())) - max(a0, float(hf.min())) > 0
