@@ -78,10 +78,11 @@ def test_a_table_with_legs_in_view_is_an_object_and_its_top_support():
     boxes = _holding(d, objs, 1)
     assert len(boxes) == 1 and all(objs[x] == 1 for x in boxes[0].planes)
     # no table plane in another proposal but legs hidden in part under the top (their visible
-    # top lies more than TABLE_REACH below it: they stay apart as before)
+    # top lies more than TABLE_REACH below it: they stay apart from the table's object; the
+    # two back legs, level posts, are one object of their own: legs_apart, synth22y)
     for o in _holding(d, objs, TABLE):
         if o is not tables[0]:
-            assert len(o.planes) == 1 and not (set(o.planes) & {1, 2})
+            assert len(o.planes) <= 2 and not (set(o.planes) & {1, 2})
     # before (table_legs 0): the top in no proposal; its edge and front legs one of their own
     old, _ = _scene(_table(), params=ProposalParams(table_legs=0))
     assert top in old.support and all(top not in o.planes for o in old.objects)

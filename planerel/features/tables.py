@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MIN_LEG_PIXELS", "POST_HEIGHT", "POST_LEVEL", "POST_WIDTH", "TABLE_MARGIN", "TABLE_REACH",
+__all__ = ["MIN_LEG_PIXELS", "POST_HEIGHT", "POST_LEVEL", "POST_SLICE", "POST_WIDTH", "TABLE_MARGIN", "TABLE_REACH",
            "leg_objects", "table_objects"]
 
 #: Metres: a plane under a table top has its centroid within this of the top's outline, seen
@@ -220,11 +220,23 @@ POST_HEIGHT = 0.25
 #: lowest point lies within this of the floor's plane; two posts are level when their tops are.
 POST_LEVEL = 0.05
 
+#: Metres: a post's top is where its column, in slices this high from its middle up, first
+#: grows wider than 1.5 ``POST_WIDTH`` (its seen top when it never does).
+POST_SLICE = 0.05
 
-def _post(pts, up, e1, e2, floor_level) -> tuple[bool, np.ndarray, float, float]:
-    """(a post standing on the floor, its foot seen from above, its top's height, its range)
-    for the points ``pts`` (N, 3) of one proposal or one part of it."""
+
+def _post(pts, up, e1, e2, floor_level) -> float | bool | None:
+    """The top's height above the floor of the post the points ``pts`` (N, 3) of one proposal
+    or one part of it make; False when they make none, and None when no part of them can
+    (they span less than ``POST_HEIGHT`` or their lowest point is off the floor)."""
     h = pts @ up
+    lo_h = float(h.min())
+    sq = (pts * pts).sum(1)
+    # necessary, and cheap: the percentile spans below are no longer than the whole ones, the
+    # median range no farther than the farthest point
+    if (float(h.max()) - lo_h < POST_HEIGHT
+            or lo_h - floor_level > POST_LEVEL * max(1.0, float(np.sqrt(sq.max())))):
+        return None  # nor a part of them: each would span less, or lie higher, or be nearer
     a, b = pts @ e1, pts @ e2
     lo, hi = np.percentile(h, (1.0, 99.0))
     low = h <= 0.5 * (lo + hi)  # the lower half: a leg meets the top's edge or apron above
@@ -233,10 +245,34 @@ def _post(pts, up, e1, e2, floor_level) -> tuple[bool, np.ndarray, float, float]
     wide = max(float(np.subtract(*np.percentile(a[low], (95.0, 5.0)))),
                float(np.subtract(*np.percentile(b[low], (95.0, 5.0)))))
     tall = float(hi - lo)
-    rng = max(1.0, float(np.median(np.sqrt((pts * pts).sum(1)))))
-    ok = (wide <= POST_WIDTH and tall >= POST_HEIGHT and tall >= 3.0 * wide
-          and float(h.min()) - floor_level <= POST_LEVEL * rng)
-    return ok, np.array([float(a.mean()), float(b.mean())]), float(hi) - floor_level, rng
+    rng = max(1.0, float(np.median(np.sqrt(sq))))
+    if not (wide <= POST_WIDTH and tall >= POST_HEIGHT and tall >= 3.0 * wide
+            and lo_h - floor_level <= POST_LEVEL * rng):
+        return False
+    top = float(hi)
+    # the top of its narrow column: one leg's post may hold a corner of the table's top
+    # (unexplained pixels joined with the leg's), as high as the top's upper face
+    for z in np.arange(0.5 * (lo + hi), hi, POST_SLICE):
+        sl = (h >= z) & (h < z + POST_SLICE)
+        if int(sl.sum()) < MIN_LEG_PIXELS:
+            continue
+        w = max(float(np.subtract(*np.percentile(a[sl], (95.0, 5.0)))),
+                float(np.subtract(*np.percentile(b[sl], (95.0, 5.0)))))
+        if w > 1.5 * POST_WIDTH:
+            top = float(z)
+            break
+    return top - floor_level
+
+
+def _pixels(m) -> tuple[np.ndarray, np.ndarray]:
+    """``np.nonzero(m)`` of a 2-D mask, looked for within its rows' and columns' bounds only
+    (the same pixels in the same order; a cluster covers a small box of a Kinect frame)."""
+    r = np.flatnonzero(m.any(1))
+    if not len(r):
+        return r, r
+    c = np.flatnonzero(m[r[0]:r[-1] + 1].any(0))
+    rows, cols = np.nonzero(m[r[0]:r[-1] + 1, c[0]:c[-1] + 1])
+    return rows + r[0], cols + c[0]
 
 
 def leg_objects(planes, objects, params, curved_below: float = 0.8, xyz=None) -> list:
@@ -300,25 +336,36 @@ def leg_objects(planes, objects, params, curved_below: float = 0.8, xyz=None) ->
                 m |= o.mask
         else:
             m = o.mask
-        rows, cols = np.nonzero(m)
+        rows, cols = _pixels(m)
         pts = xyz[rows, cols]
         fin = np.isfinite(pts).all(1)
         if int(fin.sum()) < MIN_LEG_PIXELS:
             continue
-        ok, foot, top, rng = _post(pts[fin], up, e1, e2, floor_level)
-        if not ok and not o.planes:
+        p = pts[fin]
+        top = _post(p, up, e1, e2, floor_level)
+        if top is False and not o.planes:
             # unexplained pixels only: two legs, one behind the other, are one proposal;
             # each of its parts a post (as table_objects' parts: 4-neighbours within edge_depth)
             from planerel.features._curved_kernels import list_components
 
             ids, n = list_components(rows, cols, xyz, float(params.edge_depth), m.shape[0])
-            parts = [pts[(ids == i) & fin] for i in range(int(n))]
-            parts = [_post(q, up, e1, e2, floor_level) for q in parts if len(q) >= MIN_LEG_PIXELS]
-            if parts and all(p[0] for p in parts):
-                ok = True
-                top = max(p[2] for p in parts)
-        if ok:
-            posts.append((k, foot, top, rng))
+            ids = ids[fin]
+            order = np.argsort(ids, kind="stable")
+            ends = np.cumsum(np.bincount(ids, minlength=int(n)))
+            tops = []
+            for i in range(int(n)):
+                q = p[order[ends[i - 1] if i else 0:ends[i]]]
+                if len(q) < MIN_LEG_PIXELS:
+                    continue
+                t = _post(q, up, e1, e2, floor_level)
+                if t is None or t is False:
+                    tops = []
+                    break
+                tops.append(t)
+            top = max(tops) if tops else None
+        if top is not None and top is not False:
+            foot = np.array([float((p @ e1).mean()), float((p @ e2).mean())])
+            posts.append((k, foot, top, max(1.0, float(np.median(np.sqrt((p * p).sum(1)))))))
     pairs = []
     for i in range(len(posts)):
         for j in range(i + 1, len(posts)):
