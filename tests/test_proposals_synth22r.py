@@ -135,14 +135,17 @@ def test_cluster_between_two_walls_joins_both():
     walls = {p.label for p in on.planes if objs[p.label] == 1}
     assert walls == {1, 2}
     assert any(walls <= set(o.planes) for o in on.objects)
-    off = describe_scene(cloud, lab, curved_params=CurvedParams(bridge_area=0.0))
+    # (open_walls False: synth22y's rule joins two parallel walls, level, one behind the other)
+    off = describe_scene(cloud, lab, curved_params=CurvedParams(bridge_area=0.0),
+                         proposal_params=ProposalParams(open_walls=False))
     assert not any(walls <= set(o.planes) for o in off.objects)
 
 
 def test_bridge_needs_faces_of_room_scale():
     # bridge_min above the walls' areas: the cluster joins neither
     cloud, lab, objs = _open_box()
-    d = describe_scene(cloud, lab, curved_params=CurvedParams(bridge_min=0.4))
+    d = describe_scene(cloud, lab, curved_params=CurvedParams(bridge_min=0.4),
+                       proposal_params=ProposalParams(open_walls=False))
     assert not any({1, 2} <= set(o.planes) for o in d.objects)
 
 
