@@ -135,9 +135,16 @@ def open_wall_objects(planes, objects, params, curved_below: float = 0.8, xyz=No
                 seen[p.label] = float(edge.mean()) <= TOP_CUT
         return seen[p.label]
 
+    normals = np.array([np.asarray(p.normal, float) for p in verts])
+    # a cheap first test of every pair at once: only pairs whose normals come within a hair
+    # of parallel are looked at one by one (the exact test below decides, as before)
+    near = normals @ normals.T >= cos_par - 1e-9
+    np.fill_diagonal(near, False)
     pairs = []
-    for a in verts:
-        na = np.asarray(a.normal, float)
+    for i, a in enumerate(verts):
+        if not near[i].any():
+            continue  # no other wall parallel to it
+        na = normals[i]
         ha = np.asarray(a.hull3d, float)
         da = abs(float(na @ np.asarray(a.centroid, float)))
         ta = float((ha @ up).max())
@@ -147,10 +154,11 @@ def open_wall_objects(planes, objects, params, curved_below: float = 0.8, xyz=No
             continue
         across = across / norm
         a0, a1 = float((ha @ across).min()), float((ha @ across).max())
-        for b in verts:
-            if b is a or owner[a.label] == owner[b.label]:
+        for j in np.flatnonzero(near[i]):
+            b = verts[j]
+            if owner[a.label] == owner[b.label]:
                 continue
-            if float(na @ np.asarray(b.normal, float)) < cos_par:
+            if float(na @ normals[j]) < cos_par:
                 continue  # not parallel, or turned the other way
             cb = np.asarray(b.centroid, float)
             depth = abs(float(na @ cb)) - da
