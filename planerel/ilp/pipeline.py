@@ -1137,11 +1137,9 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         metrics["uncovered"] = model.uncovered
         metrics["dropped_redundant"] = [list(d) for d in model.dropped]
         if heldout is not None:
-            t3 = time.perf_counter()
-            metrics["heldout"] = held_out_scores(
-                model, heldout, method=method, seg_params=seg_params,
-                jobs=jobs, cache=cache, progress=progress, timeout=timeout, scheduler=scheduler)
-            metrics["seconds"]["heldout"] = round(time.perf_counter() - t3, 3)
+            _score_heldout(metrics, model, heldout, method=method, seg_params=seg_params,
+                           jobs=jobs, cache=cache, progress=progress, timeout=timeout,
+                           scheduler=scheduler)
         header = (f"learned by planerel from {dataset_dir} ({len(descs)} scenes, "
                   f"segmentation: {method}, engine: {model.engine})")
         write_text(tmp / "rules.pl", model.text(header))
@@ -1152,6 +1150,14 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                                                        proof_domain=model.proof_domain))
         write_json(tmp / "metrics.json", metrics)
     return metrics
+
+
+def _score_heldout(metrics: dict, model, heldout, **kw) -> None:
+    """``metrics["heldout"]``: :func:`held_out_scores` of ``model`` on ``heldout`` (``kw``
+    its keywords), and the seconds it took in ``metrics["seconds"]["heldout"]``."""
+    t0 = time.perf_counter()
+    metrics["heldout"] = held_out_scores(model, heldout, **kw)
+    metrics["seconds"]["heldout"] = round(time.perf_counter() - t0, 3)
 
 
 def _member_parts(dataset_dir, classes, members, folds) -> dict | None:
@@ -1254,11 +1260,9 @@ def _learn_members_model(descs, classes, parts, members, out, *, dataset_dir, me
                          "engine": "; ".join(sorted({m.engine for m in model.models})),
                          "member_models": per_member}
         if heldout is not None:
-            t3 = time.perf_counter()
-            metrics["heldout"] = held_out_scores(
-                model, heldout, method=method, seg_params=seg_params,
-                jobs=jobs, cache=cache, progress=progress, timeout=timeout, scheduler=scheduler)
-            metrics["seconds"]["heldout"] = round(time.perf_counter() - t3, 3)
+            _score_heldout(metrics, model, heldout, method=method, seg_params=seg_params,
+                           jobs=jobs, cache=cache, progress=progress, timeout=timeout,
+                           scheduler=scheduler)
         header = (f"learned by planerel from {dataset_dir} ({len(descs)} scenes in {members} "
                   f"parts, segmentation: {method}, engine: {metrics['engine']})")
         write_members(tmp, model, method=method, seg_params=seg_params, header=header,
