@@ -131,6 +131,9 @@ def test_members_model_folder(members_model, paper_set):
     top = json.loads((out / "model.json").read_text())
     assert top["members"] == ["members/1", "members/2", "members/3"] and "plurality" in top["vote"]
     assert m["members"] == 3 and m["n_scenes"] == 18
+    # the whole set's counts are the members' counts summed (each scene in one part)
+    assert m["n_examples"] == sum(mm["n_examples"] for mm in m["member_models"]) == 18
+    assert m["n_other"] == sum(mm["n_other"] for mm in m["member_models"])
     assert member_folders(out / "rules.pl") == [out / "members" / str(n) for n in (1, 2, 3)]
     manifest = [ln.split(",")[:2] for ln in (paper_set / "manifest.csv").read_text().splitlines()[1:]]
     parts = partition_scenes([(s, k) for s, k in manifest], 3)

@@ -233,6 +233,23 @@ def _examples(descs):
     return [(o.id, o.klass) for d in descs for o in d.objects if o.klass]
 
 
+def _metrics_head(dataset_dir, classes, method, seg_params, seed, settings, task, recipe,
+                  other_rules) -> dict:
+    """The first keys of a model's ``metrics.json``: what it was learned from and how."""
+    return {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
+            "seg_params": dict(seg_params or {}), "seed": seed,
+            "learner_settings": {k: str(v) for k, v in (settings or {}).items()},
+            "task": task or "modes_relational.pl", "recipe": recipe,
+            "other_rules": other_rules}
+
+
+def _example_counts(descs, classes) -> dict:
+    """``n_scenes``, ``n_examples`` (objects of a learned class) and ``n_other`` of ``descs``."""
+    kinds = [k for _, k in _examples(descs)]
+    return {"n_scenes": len(descs), "n_examples": sum(k in classes for k in kinds),
+            "n_other": sum(k == OTHER for k in kinds)}
+
+
 def excluded_counts(descs) -> dict:
     """``{class: {reason: n}}`` of the ground-truth objects that are no example
     (:func:`planerel.features.truth_examples.judge_objects`), to report beside the scores."""
@@ -1106,14 +1123,9 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
             timeout=timeout, jobs=jobs, cache=cache, progress=progress, log=log,
             scheduler=scheduler, heldout=heldout, skipped=skipped, t_describe=t_describe)
     with atomic_dir(out, markers=("rules.pl", "metrics.json")) as tmp:
-        metrics: dict = {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
-                         "seg_params": dict(seg_params or {}), "seed": seed,
-                         "learner_settings": {k: str(v) for k, v in (settings or {}).items()},
-                         "task": task or "modes_relational.pl", "recipe": recipe,
-                         "other_rules": other_rules,
-                         "n_scenes": len(descs),
-                         "n_examples": sum(k in classes for _, k in _examples(descs)),
-                         "n_other": sum(k == "other" for _, k in _examples(descs)),
+        metrics: dict = {**_metrics_head(dataset_dir, classes, method, seg_params, seed,
+                                         settings, task, recipe, other_rules),
+                         **_example_counts(descs, classes),
                          "skipped": skipped, "seconds": {"describe": round(t_describe, 3)}}
         if folds:
             t1 = time.perf_counter()
@@ -1247,14 +1259,10 @@ def _learn_members_model(descs, classes, parts, members, out, *, dataset_dir, me
             member_metrics.append(mm)
             per_member.append({k: mm[k] for k in ("member", "n_scenes", "n_examples", "n_other",
                                                   "seconds", "engine", "rules", "rule_stats")})
-        metrics: dict = {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
-                         "seg_params": dict(seg_params or {}), "seed": seed,
-                         "learner_settings": {k: str(v) for k, v in (settings or {}).items()},
-                         "task": task or "modes_relational.pl", "recipe": recipe,
-                         "other_rules": other_rules, "members": members, "vote": VOTE_RULE,
-                         "n_scenes": len(descs),
-                         "n_examples": sum(k in classes for _, k in _examples(descs)),
-                         "n_other": sum(k == "other" for _, k in _examples(descs)),
+        metrics: dict = {**_metrics_head(dataset_dir, classes, method, seg_params, seed,
+                                         settings, task, recipe, other_rules),
+                         "members": members, "vote": VOTE_RULE,
+                         **_example_counts(descs, classes),
                          "skipped": skipped,
                          "seconds": {"describe": round(t_describe, 3), "learn": t_learn},
                          "engine": "; ".join(sorted({m.engine for m in model.models})),
