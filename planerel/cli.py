@@ -33,6 +33,7 @@ COMMAND_MODULES = [
     "planerel.commands.export_popper",
     "planerel.commands.learn",
     "planerel.commands.classify",
+    "planerel.commands.evaluate_model",
     "planerel.commands.evaluate_objects",
     "planerel.commands.report",
 ]

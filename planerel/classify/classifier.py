@@ -328,40 +328,64 @@ class Classifier:
         SceneAnswer
             One :class:`ObjectAnswer` per object proposal (none when the scene has no object).
         """
-        from planerel.features.facts import FactParams, describe_scene, facts_text
-        from planerel.ilp.aleph_export import PAIRS
+        from planerel.features.facts import describe_scene
         from planerel.ilp.scenes import segment_cached
 
-        if not self.module:
-            raise InputError(f"{self.rules_path}: this classifier was closed")
+        self._check_open()
         t0 = time.perf_counter()
         cloud = _as_cloud(cloud)
         cloud.require_points(3)
         labels = segment_cached(cloud, method=self.method, params=self.seg_params)
         desc = describe_scene(cloud, labels, scene_id=scene_id, up=up, **self._describe_kw)
         plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
-        answers = []
-        if desc.objects:
-            text = facts_text([desc], FactParams(pairs=PAIRS, planner=False))
-            from planerel.children import temp_prefix
-
-            with tempfile.NamedTemporaryFile("w", suffix=".pl", prefix=temp_prefix("scene"),
-                                             delete=False) as fh:
-                fh.write(text)
-                facts = Path(fh.name)
-            try:
-                load_file(facts, "cannot load the scene facts")
-                if self.members:
-                    answers = _voted([m._answer(desc, plane_ids) for m in self.members])
-                else:
-                    answers = self._answer(desc, plane_ids)
-            finally:
-                unload_file(facts, "cannot unload the scene facts")
-                facts.unlink(missing_ok=True)
+        answers = self.answer_description(desc)
         # the labels the planes refer to (a stepped plane may have been split into levels)
-        return SceneAnswer(cloud.source, scene_id, desc.labels, plane_ids, tuple(answers),
+        return SceneAnswer(cloud.source, scene_id, desc.labels, plane_ids, answers,
                            desc.planes.up_source, time.perf_counter() - t0,
                            desc.planes.up_confidence)
+
+    def answer_description(self, desc) -> tuple:
+        """The answers for the objects of a scene description, in its object order.
+
+        Parameters
+        ----------
+        desc : planerel.features.facts.SceneDescription
+            A scan's description with its object proposals (what :meth:`classify` makes), or
+            a data-set scene's with its ground-truth objects
+            (:func:`planerel.ilp.scenes.describe_scenes`: how :func:`evaluate_model` scores a
+            model on a held-out set).
+
+        Returns
+        -------
+        tuple of ObjectAnswer
+            One per object (empty when the description has none); a members model's answers
+            are its members' vote.
+        """
+        from planerel.children import temp_prefix
+        from planerel.features.facts import FactParams, facts_text
+        from planerel.ilp.aleph_export import PAIRS
+
+        self._check_open()
+        if not desc.objects:
+            return ()
+        plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
+        text = facts_text([desc], FactParams(pairs=PAIRS, planner=False))
+        with tempfile.NamedTemporaryFile("w", suffix=".pl", prefix=temp_prefix("scene"),
+                                         delete=False) as fh:
+            fh.write(text)
+            facts = Path(fh.name)
+        try:
+            load_file(facts, "cannot load the scene facts")
+            if self.members:
+                return tuple(_voted([m._answer(desc, plane_ids) for m in self.members]))
+            return tuple(self._answer(desc, plane_ids))
+        finally:
+            unload_file(facts, "cannot unload the scene facts")
+            facts.unlink(missing_ok=True)
+
+    def _check_open(self) -> None:
+        if not self.module:
+            raise InputError(f"{self.rules_path}: this classifier was closed")
 
     def _answer(self, desc, plane_ids) -> list:
         """Each object of ``desc`` (its facts loaded) answered by this model's rules."""
