@@ -114,10 +114,19 @@ def open_wall_objects(planes, objects, params, curved_below: float = 0.8, xyz=No
     verts = [p for p in planes if p.orientation == "vertical" and p.label in owner]
     if len(verts) < 2:
         return objects
+    cos_par = math.cos(math.radians(params.concave_tol))
+    normals = np.array([np.asarray(p.normal, float) for p in verts])
+    own = np.array([owner[p.label] for p in verts])
+    # a cheap first test of every pair at once: only pairs of two proposals whose normals
+    # come within a hair of parallel are looked at one by one (the exact test below decides,
+    # as before), in the order of the walls and then of the other walls
+    near = (normals @ normals.T >= cos_par - 1e-9) & (own[:, None] != own[None, :])
+    cand_i, cand_j = np.nonzero(near)
+    if not len(cand_i):
+        return objects
     up = np.asarray(planes.up, float)
     flats = [p for p in planes if p.orientation == "horizontal"]
     byl = {p.label: p for p in planes}
-    cos_par = math.cos(math.radians(params.concave_tol))
     H, W = lab.shape
     seen: dict = {}
 
@@ -135,52 +144,51 @@ def open_wall_objects(planes, objects, params, curved_below: float = 0.8, xyz=No
                 seen[p.label] = float(edge.mean()) <= TOP_CUT
         return seen[p.label]
 
-    normals = np.array([np.asarray(p.normal, float) for p in verts])
-    # a cheap first test of every pair at once: only pairs whose normals come within a hair
-    # of parallel are looked at one by one (the exact test below decides, as before)
-    near = normals @ normals.T >= cos_par - 1e-9
-    np.fill_diagonal(near, False)
     pairs = []
-    for i, a in enumerate(verts):
-        if not near[i].any():
-            continue  # no other wall parallel to it
-        na = normals[i]
-        ha = np.asarray(a.hull3d, float)
-        da = abs(float(na @ np.asarray(a.centroid, float)))
-        ta = float((ha @ up).max())
-        across = cross3(up, na)
-        norm = float(np.linalg.norm(across))
-        if norm == 0:
+    i_at = -1
+    for i, j in zip(cand_i.tolist(), cand_j.tolist(), strict=True):
+        if i != i_at:
+            # the near wall's own measures, taken once for all its pairs (when one needs them)
+            i_at, a, na, da, geom = i, verts[i], normals[i], None, None
+        b = verts[j]
+        if float(na @ normals[j]) < cos_par:
+            continue  # not parallel, or turned the other way
+        if da is None:
+            da = abs(float(na @ np.asarray(a.centroid, float)))
+        cb = np.asarray(b.centroid, float)
+        depth = abs(float(na @ cb)) - da
+        if not WALL_DEPTH[0] <= depth <= WALL_DEPTH[1]:
+            continue  # b is not behind a
+        if geom is None:
+            ha = np.asarray(a.hull3d, float)
+            ta = float((ha @ up).max())
+            across = cross3(up, na)
+            norm = float(np.linalg.norm(across))
+            if norm == 0:
+                geom = False
+            else:
+                across = across / norm
+                geom = (ta, across, float((ha @ across).min()), float((ha @ across).max()))
+        if geom is False:
             continue
-        across = across / norm
-        a0, a1 = float((ha @ across).min()), float((ha @ across).max())
-        for j in np.flatnonzero(near[i]):
-            b = verts[j]
-            if owner[a.label] == owner[b.label]:
-                continue
-            if float(na @ normals[j]) < cos_par:
-                continue  # not parallel, or turned the other way
-            cb = np.asarray(b.centroid, float)
-            depth = abs(float(na @ cb)) - da
-            if not WALL_DEPTH[0] <= depth <= WALL_DEPTH[1]:
-                continue  # b is not behind a
-            hb = np.asarray(b.hull3d, float)
-            tol = WALL_LEVEL * max(1.0, float(np.linalg.norm(cb)))
-            if abs(ta - float((hb @ up).max())) > tol:
-                continue
-            b0, b1 = float((hb @ across).min()), float((hb @ across).max())
-            inter = min(a1, b1) - max(a0, b0)
-            if inter <= 0 or inter / (max(a1, b1) - min(a0, b0)) < WALL_OVERLAP:
-                continue
-            if any(_top_between(f, up, na, da, depth, ta, tol, across, a0, a1) for f in flats):
-                continue  # a closed box's top: two boxes one behind the other
-            if any(abs(float(np.asarray(byl[x].centroid, float) @ up) - ta) <= tol
-                   for x in (*objects[owner[a.label]].planes, *objects[owner[b.label]].planes)
-                   if byl[x].orientation == "horizontal"):
-                continue  # a wall with a top of its own at that level: a closed box's face
-            if not (top_seen(a) and top_seen(b)):
-                continue
-            pairs.append((owner[a.label], owner[b.label]))
+        ta, across, a0, a1 = geom
+        hb = np.asarray(b.hull3d, float)
+        tol = WALL_LEVEL * max(1.0, float(np.linalg.norm(cb)))
+        if abs(ta - float((hb @ up).max())) > tol:
+            continue
+        b0, b1 = float((hb @ across).min()), float((hb @ across).max())
+        inter = min(a1, b1) - max(a0, b0)
+        if inter <= 0 or inter / (max(a1, b1) - min(a0, b0)) < WALL_OVERLAP:
+            continue
+        if any(_top_between(f, up, na, da, depth, ta, tol, across, a0, a1) for f in flats):
+            continue  # a closed box's top: two boxes one behind the other
+        if any(abs(float(np.asarray(byl[x].centroid, float) @ up) - ta) <= tol
+               for x in (*objects[owner[a.label]].planes, *objects[owner[b.label]].planes)
+               if byl[x].orientation == "horizontal"):
+            continue  # a wall with a top of its own at that level: a closed box's face
+        if not (top_seen(a) and top_seen(b)):
+            continue
+        pairs.append((owner[a.label], owner[b.label]))
     return join_groups(objects, pairs, curved_below) if pairs else objects
 
 
