@@ -246,3 +246,32 @@ def test_the_scenes_join_open_walls():
             ow.open_wall_objects = orig
         joined += sum(seen)
     assert joined >= 2
+
+
+def test_mask_points_is_nonzero_isfinite_and_the_gather():
+    # leg_objects' one pass over a proposal's mask: np.nonzero, the finite flags and the
+    # finite points, bit for bit (NaN, infinities, signed zeros; empty rows, first and last
+    # rows and columns; sparse and dense masks; a Fortran-ordered mask)
+    from planerel.features._curved_kernels import mask_points
+
+    rng = np.random.default_rng(5)
+    for t in range(300):
+        H, W = int(rng.integers(1, 40)), int(rng.integers(1, 50))
+        mask = rng.random((H, W)) < float(rng.choice([0.0, 0.01, 0.2, 0.9]))
+        if t % 7 == 0:
+            mask[rng.integers(0, H), :] = False
+            mask[-1, -1] = True
+        xyz = rng.normal(size=(H, W, 3))
+        xyz[rng.random((H, W, 3)) < 0.1] = np.nan
+        xyz[rng.random((H, W, 3)) < 0.03] = np.inf
+        xyz[rng.random((H, W, 3)) < 0.03] = -0.0
+        if t % 11 == 0:
+            mask = np.asfortranarray(mask)
+        rows, cols, fin, pts = mask_points(mask, xyz)
+        r0, c0 = np.nonzero(mask)
+        assert np.array_equal(rows, r0) and np.array_equal(cols, c0)
+        want = np.isfinite(xyz[r0, c0]).all(1)
+        assert np.array_equal(fin, want)
+        ref = xyz[r0, c0][want]
+        assert pts.shape == ref.shape
+        assert pts.tobytes() == ref.tobytes()

@@ -254,6 +254,44 @@ def mask_values(mask, lab, y0=0, y1=-1):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def mask_points(mask, xyz):
+    """``(rows, cols, fin, pts)``: ``np.nonzero(mask)`` (int64, row-major), whether each of
+    those pixels' three coordinates are finite and the finite pixels' points (``(n, 3)``, in
+    that order): ``xyz[rows, cols]`` and its rows where ``np.isfinite(...).all(1)``, reading
+    only the rows of ``mask`` that hold a pixel."""
+    H, W = mask.shape
+    n = 0
+    for y in range(H):
+        if not _row_any(mask, y, W):
+            continue
+        for x in range(W):
+            n += mask[y, x]
+    rows = np.empty(n, np.int64)
+    cols = np.empty(n, np.int64)
+    fin = np.empty(n, np.bool_)
+    pts = np.empty((n, 3), xyz.dtype)
+    k = 0
+    m = 0
+    for y in range(H):
+        if not _row_any(mask, y, W):
+            continue
+        for x in range(W):
+            if mask[y, x]:
+                rows[k] = y
+                cols[k] = x
+                a, b, c = xyz[y, x, 0], xyz[y, x, 1], xyz[y, x, 2]
+                ok = np.isfinite(a) and np.isfinite(b) and np.isfinite(c)
+                fin[k] = ok
+                if ok:
+                    pts[m, 0] = a
+                    pts[m, 1] = b
+                    pts[m, 2] = c
+                    m += 1
+                k += 1
+    return rows, cols, fin, pts[:m]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def component_areas(xyz, rows, cols, comp, r0, c0, p0, p1, k):
     """``np.bincount(comp[rows - r0, cols - c0], weights=z^2 p0 p1, minlength=k)`` of
     pixels ``(rows, cols)`` of ``xyz`` (``z`` the depth's magnitude; component ids below

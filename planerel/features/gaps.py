@@ -193,7 +193,7 @@ def _line_pixels(labels, xyz, a, b, lines, max_outline, window, fast: bool = Fal
         order = np.argsort(d2, axis=None)[:lines]
     found = []
     for k in order:
-        i, j = np.unravel_index(k, d2.shape)
+        i, j = divmod(int(k), d2.shape[1])  # np.unravel_index's (row, column) of C order
         (r0, c0), (r1, c1) = pa[i], pb[j]
         steps = int(max(abs(r1 - r0), abs(c1 - c0)))
         if steps < 2:
@@ -299,8 +299,9 @@ def occluded_piece_pairs(planes, relations, labels, xyz, skip=(), angle_tol: flo
                                       for k, pa in enumerate(cand) for pb in cand[k + 1:]):
         return out
     cos_tol = math.cos(math.radians(angle_tol))
-    nrm = np.array([np.asarray(p.normal, float) for p in cand])
-    cen = np.array([np.asarray(p.centroid, float) for p in cand])
+    # (the same values as np.asarray(p.normal, float) row by row, in one conversion)
+    nrm = np.array([p.normal for p in cand], float)
+    cen = np.array([p.centroid for p in cand], float)
     # parallel, and each within coplanar_depth * max(1, z) of the other's plane (one matrix
     # product for all pairs; the pairs left are few)
     par = np.abs(nrm @ nrm.T) >= cos_tol
@@ -308,8 +309,11 @@ def occluded_piece_pairs(planes, relations, labels, xyz, skip=(), angle_tol: flo
     z = np.maximum(1.0, 0.5 * np.abs(cen[:, 2][:, None] + cen[:, 2][None, :]))
     off = np.maximum(off, off.T)
     ok = par & (off <= coplanar_depth * z)
-    for i, j in zip(*np.nonzero(np.triu(ok, 1)), strict=True):
-        pa, pb = cand[int(i)], cand[int(j)]
+    # the pairs above the diagonal, row by row (np.triu's order, without its masks)
+    for i, j in zip(*(x.tolist() for x in np.nonzero(ok)), strict=True):
+        if j <= i:
+            continue
+        pa, pb = cand[i], cand[j]
         a, b = sorted((pa.label, pb.label))
         try:
             r = relations.get(a, b)

@@ -307,6 +307,7 @@ def leg_objects(planes, objects, params, curved_below: float = 0.8, xyz=None) ->
         ``objects`` itself when no two posts are joined; else the objects not taken, then one
         object per group of legs.
     """
+    from planerel.features._curved_kernels import mask_points
     from planerel.features.open_walls import join_groups
     from planerel.features.relations import _horizontal_basis
 
@@ -334,14 +335,18 @@ def leg_objects(planes, objects, params, curved_below: float = 0.8, xyz=None) ->
             m = np.isin(lab, o.planes)
             if o.mask is not None:
                 m |= o.mask
+            rows, cols = _pixels(m)
+            pts = xyz[rows, cols]
+            fin = np.isfinite(pts).all(1)
+            if int(fin.sum()) < MIN_LEG_PIXELS:
+                continue
+            p = pts[fin]
         else:
             m = o.mask
-        rows, cols = _pixels(m)
-        pts = xyz[rows, cols]
-        fin = np.isfinite(pts).all(1)
-        if int(fin.sum()) < MIN_LEG_PIXELS:
-            continue
-        p = pts[fin]
+            # the same pixels, flags and finite points in one pass over the mask's rows
+            rows, cols, fin, p = mask_points(m, xyz)
+            if len(p) < MIN_LEG_PIXELS:
+                continue
         top = _post(p, up, e1, e2, floor_level)
         if top is False and not o.planes:
             # unexplained pixels only: two legs, one behind the other, are one proposal;
