@@ -127,3 +127,21 @@ def test_facing_task_is_the_slope_task_and_one_line():
     # not in the default task nor the slope task (openbox16: the demo's world learns it in
     # place of its corner rule and loses boxes of the judge set)
     assert not any("facing" in ln for ln in default + slope)
+
+
+def test_varied_task_is_the_facing_task_without_incline_thresholds():
+    """aleph/modes_varied.pl (optional, with --recipe varied): every line of the facing task but
+    the two thresholds on incline/2 (docs/results.md, real16b: a bound inside an orientation
+    class splits a generated plane's fit noise and rejects real box tops)."""
+    from importlib.resources import files
+
+    def modes(name):
+        text = files("planerel.aleph").joinpath(name).read_text()
+        return [ln.strip() for ln in text.splitlines() if ln.startswith(":-")]
+
+    facing, varied = modes("modes_facing.pl"), modes("modes_varied.pl")
+    assert [ln for ln in facing if ln not in varied] == [
+        ":- modeb(1, gteq(+incline, #incline)).", ":- modeb(1, lteq(+incline, #incline))."]
+    assert [ln for ln in facing if ln in varied] == varied
+    # slope/2 (an inclined plane's incline) keeps its thresholds
+    assert ":- modeb(1, lteq(+slope, #slope))." in varied
