@@ -25,6 +25,7 @@ import numpy as np
 
 from planerel.errors import InputError, check_bools
 from planerel.features import terms
+from planerel.features.plan_overlap import over_pairs
 
 __all__ = [
     "PREDICATES",
@@ -96,6 +97,9 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
     ("gap", 3, "plane, plane, m", "closest distance between the 3-D hulls"),
     ("rise", 3, "plane, plane, m", "how far the second centroid is above the first"),
     ("above", 2, "plane, plane", "first centroid above the second by more than the tolerance"),
+    ("over", 2, "plane, plane", "both horizontal, the first above the second, their footprints "
+     "seen from above overlapping by at least half the larger one: a shelf's boards, not a "
+     "flight's treads (planerel.features.plan_overlap)"),
     ("skirt", 2, "plane, plane", "the second (vertical) hangs below the first (horizontal) as a "
      "box's side below its top (planerel.features.solid)"),
     ("corner", 2, "plane, plane", "vertical walls of one solid meeting at a right angle, "
@@ -546,9 +550,10 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
                                         terms.plist([float(x) for x in p.normal], round_to=6),
                                         round_to=m))
             out["hull"].append(F("hull", i, [[float(x) for x in v] for v in p.hull3d], round_to=m))
-    for r in _described_pairs(desc, params.pairs):
-        if r.a not in kept or r.b not in kept:
-            continue
+    described = [r for r in _described_pairs(desc, params.pairs)
+                 if r.a in kept and r.b in kept]
+    over = over_pairs(pset, described)
+    for r in described:
         a, b = pid(r.a), pid(r.b)
         out["angle"].append(F("angle", a, b, r.angle, round_to=dg))
         if r.parallel:
@@ -561,6 +566,8 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
         out["rise"].append(F("rise", a, b, r.rise, round_to=m))
         if r.above:
             out["above"].append(F("above", a, b))
+            if (r.a, r.b) in over:
+                out["over"].append(F("over", a, b))
         if r.skirt:
             out["skirt"].append(F("skirt", a, b))
         if r.corner:
