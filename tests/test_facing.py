@@ -70,6 +70,34 @@ def test_walls_of_other_heights_risers_and_posts_do_not_face():
     assert rel.get(1, 2).parallel and not rel.get(1, 2).facing
 
 
+def _strip(cx, cy, half_w, z0, z1, obj=1):
+    """A wall's part from ``z0`` to ``z1`` (the rest hidden or out of view)."""
+    return Rect((cx, cy, (z0 + z1) / 2), (1, 0, 0), (0, 0, 1), half_w, (z1 - z0) / 2, obj)
+
+
+def test_a_narrow_far_wall_faces_the_near_one_when_its_top_is_level():
+    # an open box whose far side shows only a strip 7 cm high above the near side (held16b:
+    # the far wall's inner face seen over the near one): the strip's top is the wall's top
+    near = _wall(0.0, 2.25, 0.4, 0.3)
+    level = _strip(0.0, 2.75, 0.4, 0.23, 0.30)
+    cloud, _, ps, rel = _relate([floor(), near, level], pitch=30)
+    w = {p.label: p.width for p in ps}
+    assert w[2] < RelationParams().corner_width <= w[1]     # narrower than a corner's wall
+    assert rel.get(1, 2).facing and rel.get(2, 1).facing
+    # the narrow wall asked to be as wide as a corner's (the rule before held16b): not facing
+    old = relate(ps, cloud, RelationParams(facing_width=0.08))
+    assert old.get(1, 2).parallel and not old.get(1, 2).facing
+    # the next riser's foot seen as a strip: its top 7 cm above the lower riser's top, within
+    # corner_tol but not within facing_narrow_tol (a strip's top is level or not at all)
+    cloud, _, ps, rel = _relate([floor(), near, _strip(0.0, 2.75, 0.4, 0.30, 0.37)], pitch=30)
+    assert rel.get(1, 2).parallel and not rel.get(1, 2).facing
+    assert relate(ps, cloud, RelationParams(facing_narrow_tol=0.08)).get(1, 2).facing
+    with pytest.raises(InputError, match="facing_width"):
+        RelationParams(facing_width=-0.01)
+    with pytest.raises(InputError, match="facing_narrow_tol"):
+        RelationParams(facing_narrow_tol=-0.01)
+
+
 def test_is_facing_on_profiles():
     along = np.array([1.0, 0.0, 0.0])
 
@@ -88,6 +116,12 @@ def test_is_facing_on_profiles():
         width = 0.04
 
     assert not is_facing(Post, P, a, b)
+    # a narrow wall faces a wide one when narrow_min allows it and its top is within
+    # narrow_tol (both walls narrow: never)
+    assert is_facing(Post, P, a, b._replace(top=0.32), narrow_min=0.04, narrow_tol=0.03)
+    assert not is_facing(Post, P, a, b._replace(top=0.345), narrow_min=0.04, narrow_tol=0.03)
+    assert is_facing(P, P, a, b._replace(top=0.345), narrow_min=0.04, narrow_tol=0.03)
+    assert not is_facing(Post, Post, a, b, narrow_min=0.04, narrow_tol=0.03)
     nan = float("nan")
     assert not is_facing(P, P, a, FaceProfile(nan, nan, along, nan, nan))
     with pytest.raises(InputError, match="facing_overlap"):

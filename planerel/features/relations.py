@@ -37,9 +37,11 @@ For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.pl
                  at least ``corner_width`` wide, their top edges within ``corner_tol`` of
                  each other (:mod:`planerel.features.solid`; needs the cloud)
 ``facing``       p and q are vertical, parallel and *not* adjacent walls facing each other
-                 across one solid or open box: each at least ``corner_width`` wide, their top
-                 edges within ``corner_tol`` of each other, the shorter one's extent along
-                 the walls overlapping the other's by at least ``facing_overlap`` of it
+                 across one solid or open box: one at least ``corner_width`` wide, the other
+                 at least ``facing_width``, their top edges within ``corner_tol`` of each
+                 other (``facing_narrow_tol`` when one is narrower than ``corner_width``),
+                 the shorter one's extent along the walls overlapping the other's by at
+                 least ``facing_overlap`` of it
                  (:mod:`planerel.features.solid`; needs the cloud)
 ================ =========================================================================
 
@@ -127,6 +129,14 @@ class RelationParams:
     corner_tol: float = 0.08
     corner_width: float = 0.08
     facing_overlap: float = 0.5
+    #: m: the narrower of two ``facing`` walls may be this narrow (the wider one at least
+    #: ``corner_width``): an open box's far side seen as a strip over its near side
+    #: (docs/results.md, "Open boxes: the far side seen as a strip", held16b; 0.08 before)
+    facing_width: float = 0.04
+    #: m: with a wall narrower than ``corner_width``, the tops must be within this (not
+    #: ``corner_tol``): a riser's foot seen as a strip is level with the riser below only
+    #: within its own width
+    facing_narrow_tol: float = 0.03
     #: m: planes narrower than this (``plane_width``) do not count in ``oblique_share``
     #: (:func:`planerel.features.facts.oblique_share`); 0 = every plane counts
     oblique_min_width: float = 0.025
@@ -140,7 +150,7 @@ class RelationParams:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width",
-                             "facing_overlap", "skirt_top_tilt", "skirt_tilted", "oblique_min_width"))
+                             "facing_overlap", "facing_width", "facing_narrow_tol", "skirt_top_tilt", "skirt_tilted", "oblique_min_width"))
         if self.skirt_cover > 1:
             raise InputError(f"skirt_cover is a share of the top's extent in 0..1, got {self.skirt_cover!r}")
         if self.facing_overlap > 1:
@@ -432,7 +442,8 @@ class _Solid:
 
         p = self.params
         return is_facing(a, b, self._profile(a), self._profile(b), p.corner_tol,
-                         p.corner_width, p.facing_overlap)
+                         p.corner_width, p.facing_overlap, p.facing_width,
+                         p.facing_narrow_tol)
 
 
 #: Metres: the longest tilted top (``skirt_tilted``): a box one can tip over; a ramp's slope

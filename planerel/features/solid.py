@@ -61,8 +61,8 @@ the right angle are checked by the caller.  Two faces of a box seen without its 
 below it, or an open box whose bottom is not seen) are a corner; defaults 0.08 m and 0.08 m.
 
 **facing(P, Q)**: P and Q are parallel vertical walls, not adjacent, of one solid or open box
-(:func:`is_facing`): each at least ``width_min`` wide, their top edges within ``tol`` of each
-other, and their extents along the walls overlapping by at least half the shorter one's.  An
+(:func:`is_facing`): each at least ``width_min`` wide (or one of them at least ``narrow_min``,
+its top then within ``narrow_tol``), their top edges within ``tol`` of each other, and their extents along the walls overlapping by at least half the shorter one's.  An
 open box seen as its near and far side, both cut by the view, keeps level tops where a
 staircase's risers differ by the rise (openbox16, open16 in docs/results.md).
 """
@@ -368,7 +368,8 @@ def is_corner(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float =
 
 
 def is_facing(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float = 0.08,
-              width_min: float = 0.08, overlap_min: float = 0.5) -> bool:
+              width_min: float = 0.08, overlap_min: float = 0.5,
+              narrow_min: float | None = None, narrow_tol: float | None = None) -> bool:
     """True when parallel vertical faces ``p`` and ``q`` face each other across one solid or
     open box (module rule ``facing``): each at least ``width_min`` m wide (``Plane.width``),
     their top edges (:class:`FaceProfile` ``top``) within ``tol`` m of each other, and the
@@ -389,9 +390,22 @@ def is_facing(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float =
         Metres.
     overlap_min : float
         Share of the shorter face's extent, 0..1.
+    narrow_min : float, optional
+        The narrower face may be this narrow when the other is at least ``width_min`` wide
+        (default: ``width_min`` for both): an open box's far side seen as a strip above its
+        near side (docs/results.md, "Open boxes: the far side seen as a strip").
+    narrow_tol : float, optional
+        With a face narrower than ``width_min``, the tops must be within this (and ``tol``):
+        a strip's top is level with the other's or it is the foot of a higher wall (the
+        next riser of a flight seen to its foot only).
     """
-    if not is_corner(p, q, profile_p, profile_q, tol, width_min):
-        return False  # a wall too narrow, or tops not level: the corner's own two tests
+    narrow = width_min if narrow_min is None else min(narrow_min, width_min)
+    if max(p.width, q.width) < width_min or min(p.width, q.width) < narrow:
+        return False  # a wall too narrow
+    if min(p.width, q.width) < width_min and narrow_tol is not None:
+        tol = min(tol, narrow_tol)
+    if not abs(profile_p.top - profile_q.top) <= tol:
+        return False  # tops not level (or not measured: NaN)
     lo_q, hi_q = profile_q.lo, profile_q.hi
     if float(np.dot(profile_p.along, profile_q.along)) < 0:  # the same direction for both
         lo_q, hi_q = -hi_q, -lo_q
