@@ -169,6 +169,24 @@ def test_clutter_of_every_kind_is_class_other():
     assert set(kinds) == set(CLUTTER)
 
 
+def test_plate_share_makes_the_clutter_plates():
+    # plate_share 1: every further clutter object is a plate (boxes, ramps, stairs as before
+    # the pick); 0 (the default): no draw, the scenes of the default world
+    kinds = {}
+    for seed in range(12):
+        s = generate_world_scene("ramp", seed, **SMALL, ranges=WorldRange(plate_share=1.0))
+        for o in s.objects[2:]:
+            kinds[o["kind"]] = kinds.get(o["kind"], 0) + 1
+            if o["class"] == "other":
+                assert o["kind"] == "plate" and 8.0 <= o["params"]["tilt_deg"] <= 70.0
+    assert kinds.get("plate", 0) >= 4 and not set(kinds) & (set(CLUTTER) - {"plate"})
+    for seed in (3, 7):
+        a = generate_world_scene("box", seed, **SMALL, ranges=WorldRange(plate_share=0.0))
+        b = generate_world_scene("box", seed, **SMALL)
+        assert [o.get("params") for o in a.objects] == [o.get("params") for o in b.objects]
+        np.testing.assert_array_equal(a.depth_mm, b.depth_mm)
+
+
 def test_clutter_builders():
     g = sg.laptop_geometry(0.3, 0.2, 90.0)
     lid = next(p for p in g.polygons if g.planes[p.plane].role == "lid")
@@ -261,6 +279,7 @@ def test_tilted_boxes_lean_by_the_drawn_angle_and_rest_on_the_floor():
     (lambda: WorldRange(clutter_tilt_deg=(-1, 2)), "clutter tilt must be a finite"),
     (lambda: WorldRange(stairs_tilt_deg=(0, 11)), "stairs tilt must lie in 0..10"),
     (lambda: WorldRange(level_share=1.5), "level share must be one number in 0..1"),
+    (lambda: WorldRange(plate_share=-0.1), "plate share must be one number in 0..1"),
     (lambda: WorldRange(descending=(0.0, 0.0)), "descending share must be one number in 0..1"),
     (lambda: WorldRange(camera_roll_deg=(0, 10)), "camera roll must be one number in 0..45"),
     (lambda: WorldRange(descending=True), "descending share must be one number"),

@@ -93,6 +93,13 @@ class WorldRange:
         same (one more draw per object, only when above 0): with every such object tipped,
         level planes belong to the floor, a table under a box and descending flights only,
         and rules learn that (measured, docs/results.md "Every object tipped").
+    plate_share : float
+        The share of the further clutter objects that are plates (small tilted planes), drawn
+        before the uniform pick of a kind (one more draw per clutter object, only when above
+        0).  A plate 0.5-0.7 m wide tilted under 20 degrees is a short ramp by every measure
+        but its length, and the uniform pick makes few of them; a training world with more
+        of them gives the learner negatives to tell a plate seen whole from a ramp cut by
+        the view (docs/results.md, "Plates against short ramps").
     steps : (int, int)
         Number of steps (risers).
     rise, run, stairs_width : (float, float)
@@ -120,6 +127,7 @@ class WorldRange:
     clutter_tilt_deg: tuple = (0.0, 0.0)
     stairs_tilt_deg: tuple = (0.0, 0.0)
     level_share: float = 0.0
+    plate_share: float = 0.0
     steps: tuple = (2, 10)
     rise: tuple = (0.14, 0.21)
     run: tuple = (0.22, 0.35)
@@ -163,6 +171,7 @@ class WorldRange:
         # one number each (``--range descending=0,0`` is a pair: refused with the same message)
         for name, what, hi in (("camera_roll_deg", "camera roll", 45.0),
                                ("level_share", "level share", 1.0),
+                               ("plate_share", "plate share", 1.0),
                                ("descending", "descending share", 1.0)):
             v = getattr(self, name)
             try:
@@ -475,7 +484,11 @@ def _place_extra(rng, r: WorldRange, pose, intr, lay: _Layout, index: int) -> No
     elif u < 0.38:
         geom, info = _draw_stairs_up(rng, r, index)
     else:
-        geom, info = _draw_clutter(rng, CLUTTER[int(rng.integers(len(CLUTTER)))], index)
+        if r.plate_share > 0 and rng.random() < r.plate_share:
+            kind = "plate"
+        else:
+            kind = CLUTTER[int(rng.integers(len(CLUTTER)))]
+        geom, info = _draw_clutter(rng, kind, index)
         geom = _tipped(rng, geom, info["params"], r.clutter_tilt_deg, r.level_share)
     fp_local = _footprint(geom)
     for _ in range(10):
