@@ -15,8 +15,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from planerel.errors import InputError
-
 __all__ = ["evaluate_model"]
 
 
@@ -57,9 +55,7 @@ def evaluate_model(model, dataset_dir, *, jobs: int | None = 1, cache=None,
         classes or of class ``other``.
     """
     from planerel.classify.classifier import Classifier
-    from planerel.ilp.aleph_export import OTHER
-    from planerel.ilp.metrics import error_kinds, score_objects
-    from planerel.ilp.pipeline import excluded_counts
+    from planerel.ilp.pipeline import heldout_examples, heldout_figures
     from planerel.ilp.scenes import describe_scenes
 
     own = not isinstance(model, Classifier)
@@ -73,11 +69,7 @@ def evaluate_model(model, dataset_dir, *, jobs: int | None = 1, cache=None,
         descs, skipped = describe_scenes(dataset_dir, method=method, seg_params=seg_params,
                                          jobs=jobs, cache=cache, progress=progress,
                                          scheduler=scheduler)
-        examples = [(o.id, o.klass) for d in descs for o in d.objects
-                    if o.klass in clf.classes or o.klass == OTHER]
-        if not examples:
-            raise InputError(f"{dataset_dir}: the data set has no object of the model's classes "
-                             f"({', '.join(clf.classes)}) or of class other")
+        examples = heldout_examples(descs, clf.classes, dataset_dir)
         answers = {}
         for d in _bar(descs, progress):
             for a in clf.answer_description(d):
@@ -92,11 +84,9 @@ def evaluate_model(model, dataset_dir, *, jobs: int | None = 1, cache=None,
         else:
             stats = clf.stats
             fired = {o: answers[o].fired for o, _ in examples}
-        out = score_objects(examples, predictions, clf.classes)
-        out.update(dataset=str(dataset_dir), model=str(Path(clf.rules_path).parent),
-                   n_scenes=len(descs), skipped=skipped, predictions=predictions,
-                   excluded=excluded_counts(descs),
-                   errors=error_kinds(examples, predictions, fired, stats))
+        out = heldout_figures(descs, skipped, dataset_dir, clf.classes, examples, predictions,
+                              fired, stats)
+        out["model"] = str(Path(clf.rules_path).parent)
         return out
     finally:
         if own:

@@ -952,22 +952,40 @@ def held_out_scores(model: Model | Members, dataset_dir, *, method: str = "regio
     A :class:`Members` model answers by its members' vote; ``errors`` then looks at the rules
     of every member.
     """
-    from planerel.ilp.aleph_export import OTHER as OTHER_CLASS
-
     descs, skipped = describe_scenes(dataset_dir, method=method, seg_params=seg_params,
                                      jobs=jobs, cache=cache, progress=progress,
                                      scheduler=scheduler)
-    examples = [(o, k) for o, k in _examples(descs) if k in model.classes or k == OTHER_CLASS]
+    examples = heldout_examples(descs, model.classes, dataset_dir)
+    preds = prolog_predict(model, descs, [o for o, _ in examples], timeout=timeout)
+    return heldout_figures(descs, skipped, dataset_dir, model.classes, examples,
+                           {p.object_id: p.klass for p in preds},
+                           {p.object_id: p.fired for p in preds}, model.stats)
+
+
+def heldout_examples(descs, classes, dataset_dir) -> list:
+    """``(object id, class)`` of the held-out set's objects of ``classes`` or of class other.
+
+    Raises
+    ------
+    InputError
+        There is none.
+    """
+    examples = [(o, k) for o, k in _examples(descs) if k in classes or k == OTHER]
     if not examples:
         raise InputError(f"{dataset_dir}: the held-out set has no object of the model's classes "
-                         f"({', '.join(model.classes)}) or of class other")
-    preds = prolog_predict(model, descs, [o for o, _ in examples], timeout=timeout)
-    predictions = {p.object_id: p.klass for p in preds}
-    out = score_objects(examples, predictions, model.classes)
+                         f"({', '.join(classes)}) or of class other")
+    return examples
+
+
+def heldout_figures(descs, skipped, dataset_dir, classes, examples, predictions: dict,
+                    fired: dict, stats) -> dict:
+    """:func:`held_out_scores`' dict from the answers: :func:`score_objects`' figures plus
+    ``dataset``, ``n_scenes``, ``skipped``, ``predictions``, ``excluded`` and ``errors``
+    (``fired``: ``{object: ((class, rule), ...)}``, rules named as in ``stats``)."""
+    out = score_objects(examples, predictions, classes)
     out.update(dataset=str(dataset_dir), n_scenes=len(descs), skipped=skipped,
                predictions=predictions, excluded=excluded_counts(descs),
-               errors=error_kinds(examples, predictions, {p.object_id: p.fired for p in preds},
-                                  model.stats))
+               errors=error_kinds(examples, predictions, fired, stats))
     return out
 
 
