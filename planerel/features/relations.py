@@ -27,7 +27,10 @@ For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.pl
                  along their edge where it can be seen, ending within ``skirt_beyond``
                  of where p ends; not a riser: q does not stand on a step (a horizontal
                  plane at its foot reaching at most ``skirt_step`` out from it) and no
-                 vertical plane parallel to q rises from p (the next riser)
+                 vertical plane parallel to q, at least ``riser_width`` wide, rises
+                 from p (the next riser); a q that stands on the ground (the floor, or a
+                 table reaching farther than a tread, level with its foot) need reach only
+                 ``skirt_grounded_reach`` (a box lying flat)
                  (:mod:`planerel.features.solid`; needs the cloud and its camera); with
                  ``skirt_own_steps``, a step or riser of another object (a riser: of one
                  with a top at the riser's top) does not say so
@@ -126,6 +129,17 @@ class RelationParams:
     skirt_own_steps: bool = True
     skirt_top_tilt: float = 10.0
     skirt_tilted: float = 30.0
+    #: m: the reach asked of a face that stands on the ground (:func:`~planerel.features.solid.grounded`:
+    #: a horizontal plane adjacent to it, level with its foot within this, on the floor or
+    #: reaching more than ``skirt_step`` out from it): a book or a box lying flat on a table, 2-4 cm high,
+    #: whose side is lower than ``skirt_reach_share`` of its top's length.  A slab's edge
+    #: (a table top's, a seat's) has no ground at its foot.  0: the reach of before (flat23)
+    skirt_grounded_reach: float = 0.02
+    #: a plane rising from a skirt's top denies the skirt (the next riser of a flight) only
+    #: when it is at least this wide along the face (or half the face's width when that is
+    #: less): a flight's next riser is as wide as the one below, a bottle or a post standing
+    #: behind a box is not.  0: any width (before flat23)
+    riser_width: float = 0.08
     corner_tol: float = 0.08
     corner_width: float = 0.08
     facing_overlap: float = 0.5
@@ -150,7 +164,8 @@ class RelationParams:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width",
-                             "facing_overlap", "facing_width", "facing_narrow_tol", "skirt_top_tilt", "skirt_tilted", "oblique_min_width"))
+                             "facing_overlap", "facing_width", "facing_narrow_tol", "skirt_top_tilt", "skirt_tilted", "oblique_min_width",
+                             "skirt_grounded_reach", "riser_width"))
         if self.skirt_cover > 1:
             raise InputError(f"skirt_cover is a share of the top's extent in 0..1, got {self.skirt_cover!r}")
         if self.facing_overlap > 1:
@@ -374,6 +389,9 @@ class _Solid:
             return False
         prof = face_profile_of(face, n, self.labels, self.xyz, p.profile_points)
         reach = min(p.skirt_reach, p.skirt_reach_share * top.length) if p.skirt_reach_share else p.skirt_reach
+        if self._grounded(top, face, reach):
+            # a tilted book's side whose low end stands on the table
+            reach = p.skirt_grounded_reach
         # a tilted box's side ends where its top ends; a lying cylinder's end disk reaches
         # past the strip on its top
         ext = np.asarray(top.hull3d, float) @ prof.along
@@ -403,11 +421,14 @@ class _Solid:
         # a low box's side is as low as a slab's edge: the reach asked scales with the top's
         # long side (a table top or a seat is long, a box lying flat is short)
         reach = min(p.skirt_reach, p.skirt_reach_share * top.length) if p.skirt_reach_share else p.skirt_reach
+        near = self.touching.get(face.label, ())
+        if self._grounded(top, face, reach):
+            # a side standing on the floor or a table: a box lying flat, however low
+            reach = p.skirt_grounded_reach
         if not is_skirt(top, face, self.up, prof, self.labels, self.xyz, self.intrinsics,
                         self.normals, p.parallel_tol, p.skirt_tol, reach,
                         p.skirt_cover, p.skirt_beyond):
             return False
-        near = self.touching.get(face.label, ())
         nan = float("nan")
         steps = [(h.label, nan) for h in near if h.label != top.label and h.orientation == "horizontal"
                  and on_step(face, prof, h, self.up, p.skirt_tol, p.skirt_step)]
@@ -417,7 +438,8 @@ class _Solid:
         steps += [(v.label, self._profile(v).top) for v in self.touching.get(top.label, ())
                   if v.label != face.label and v.orientation == "vertical"
                   and abs(float(np.dot(v.normal, face.normal))) >= cos_par
-                  and rises_from(top, self._profile(v), self.up, p.skirt_tol, p.skirt_reach)]
+                  and rises_from(top, self._profile(v), self.up, p.skirt_tol, p.skirt_reach)
+                  and self._riser_wide(self._profile(v), prof)]
         if steps:
             # a riser's side on a tread, unless the step is another object's
             # (:func:`skirts_within_objects`)
@@ -425,6 +447,36 @@ class _Solid:
                 self.steps[(top.label, face.label)] = frozenset(steps)
             return False
         return True
+
+    def _grounded(self, top, face, reach: float) -> bool:
+        """True when ``skirt_grounded_reach`` (less than ``reach``, the reach asked otherwise)
+        is all ``face`` must reach below ``top``: a horizontal plane adjacent to the face other
+        than the top is the ground it stands on (:func:`~planerel.features.solid.grounded`,
+        measured along ``up``)."""
+        from planerel.features.solid import grounded
+
+        p = self.params
+        if not 0 < p.skirt_grounded_reach < reach:
+            return False
+        near = [h for h in self.touching.get(face.label, ())
+                if h.label != top.label and h.orientation == "horizontal"]
+        if not near:
+            return False
+        prof = self._profile(face)
+        return any(grounded(face, prof, h, self.up, p.skirt_grounded_reach, p.skirt_tol,
+                            p.skirt_step) for h in near)
+
+    def _riser_wide(self, riser, face) -> bool:
+        """True when a plane rising from a skirt's top (its :class:`FaceProfile` ``riser``)
+        is wide enough to be a flight's next riser: at least ``riser_width`` along the face,
+        or half as wide as the face (``face``'s profile) when that is less."""
+        w = self.params.riser_width
+        if w <= 0:
+            return True
+        width = riser.hi - riser.lo
+        if not math.isfinite(width):
+            return True
+        return bool(width >= min(w, 0.5 * (face.hi - face.lo)))
 
     def corner(self, a, b) -> bool:
         if self.xyz is None or a.orientation != "vertical" or b.orientation != "vertical":

@@ -30,12 +30,18 @@ horizontal direction in the face (``up x normal``), ``level = up . x``:
   as much as one seen head on, and one half hidden by an object in front as one in full view;
 - ``beyond``: how far the face reaches past the top's extent along ``d`` (its points' 2nd to
   98th percentile against the top's hull, both ends summed): at most ``beyond_max``;
+- a face that stands on the ground (:func:`grounded`: the floor, or a table reaching farther
+  than a tread from it, at its foot) need reach only ``skirt_grounded_reach`` (2 cm): a book
+  or a box lying flat on a table, whose side is lower than the share of its top's length a
+  slab's edge is held to; a slab has open space under its edge (flat23);
 - the face is no riser (checked by :func:`~planerel.features.relations.relate`, which knows
   the planes adjacent to each plane): it does not stand on a step (:func:`on_step`: another
   horizontal plane adjacent to it, above floor level, at its foot, reaching at most ``step``
   = 0.45 m out from it; a tread is 0.22-0.35 m deep, the floor or a table under a box
   reaches farther), and no vertical plane parallel to it rises from the top
-  (:func:`rises_from`: the next riser behind a tread).  A wall behind a box is seen down to
+  (:func:`rises_from`: the next riser behind a tread) at least ``riser_width`` (8 cm) wide
+  along the face, or half the face's width (a bottle or a post standing at a box's back edge
+  is no riser; flat23).  A wall behind a box is seen down to
   the floor beside it and does not count; a taller box touching it, seen only above the
   lower box's top, takes the skirt of the lower box's side parallel to its own.
 
@@ -77,7 +83,7 @@ import numpy as np
 from planerel.features.cavities import lo_hi, vec_norm
 
 __all__ = ["face_points", "FaceProfile", "face_profile", "face_profile_of", "skirt_measures",
-           "is_skirt", "on_step", "rises_from", "is_corner", "is_facing"]
+           "is_skirt", "on_step", "grounded", "rises_from", "is_corner", "is_facing"]
 
 #: Levels of the cover test, as shares of the face's reach below the top.
 _LEVELS = (0.3, 0.5, 0.7)
@@ -332,6 +338,41 @@ def on_step(face, profile: FaceProfile, plane, up, tol: float = 0.08,
         return False
     ext = np.asarray(plane.hull3d, float) @ (n / norm)
     return bool(ext.max() - ext.min() <= step)
+
+
+def grounded(face, profile: FaceProfile, plane, up, foot: float = 0.02, tol: float = 0.08,
+             step: float = 0.45) -> bool:
+    """True when vertical ``face`` stands on horizontal ``plane`` as a solid's side on the
+    ground: the plane's level under the face (where the line along ``up`` through the face's
+    centroid meets it) within ``foot`` metres of the face's bottom (``profile.bottom``, its
+    points' 2nd percentile along ``up``), and the plane on the floor (``Plane.height`` at
+    most ``tol``) or reaching more than ``step`` out from the face (a table, not a tread:
+    :func:`on_step`).  A box or a book lying flat on a table stands so; a table top's or a
+    seat's edge (a slab) has open space at its foot, and a riser stands on a tread.
+    Adjacency is the caller's to check (:attr:`RelationParams.skirt_grounded_reach
+    <planerel.features.relations.RelationParams>` uses it: such a face need reach only
+    ``foot`` below its top)."""
+    up = np.asarray(up, float)
+    if not np.isfinite(profile.bottom):
+        return False
+    # the plane's level under the face (along up from the face's centroid: a large table's
+    # centroid lies far from the face, and its fit may tilt a little against up)
+    pn, c = np.asarray(plane.normal, float), np.asarray(face.centroid, float)
+    den = float(pn @ up)
+    if abs(den) < 0.5:
+        return False
+    level = float(c @ up) + float(pn @ (np.asarray(plane.centroid, float) - c)) / den
+    if abs(level - profile.bottom) > foot:
+        return False
+    if plane.height <= tol:
+        return True
+    n = np.asarray(face.normal, float)
+    n = n - (n @ up) * up
+    norm = float(np.linalg.norm(n))
+    if norm < 1e-9:
+        return False
+    ext = np.asarray(plane.hull3d, float) @ (n / norm)
+    return bool(ext.max() - ext.min() > step)
 
 
 def rises_from(plane, profile: FaceProfile, up, tol: float = 0.08,
