@@ -21,21 +21,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from planerel.features.relations import _horizontal_basis
+
 __all__ = ["OVER_SHARE", "over_pairs", "plan_overlap", "plan_overlap_xy"]
 
 #: The least overlap of two footprints, as a share of the larger one, for ``over``.
 OVER_SHARE = 0.5
-
-
-def _plan_basis(up) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit vectors spanning the plane perpendicular to ``up`` (the plan view)."""
-    up = np.asarray(up, float)
-    up = up / np.linalg.norm(up)
-    e1 = np.cross(up, (1.0, 0.0, 0.0))
-    if np.linalg.norm(e1) < 0.1:
-        e1 = np.cross(up, (0.0, 1.0, 0.0))
-    e1 = e1 / np.linalg.norm(e1)
-    return e1, np.cross(up, e1)
 
 
 def plan_overlap(hull_a, hull_b, up) -> float:
@@ -54,7 +45,8 @@ def plan_overlap(hull_a, hull_b, up) -> float:
         ``area(A ∩ B) / max(area(A), area(B))`` of the plan-view footprints, in 0..1; 0 when
         either footprint has no area.
     """
-    e = np.stack(_plan_basis(up), axis=1)  # (3, 2)
+    up = np.asarray(up, float)
+    e = np.stack(_horizontal_basis(up / np.linalg.norm(up)), axis=1)  # (3, 2)
     return plan_overlap_xy(np.asarray(hull_a, float) @ e, np.asarray(hull_b, float) @ e)
 
 
@@ -81,7 +73,7 @@ def over_pairs(planes, pairs, share: float = OVER_SHARE) -> set:
             and by_label[r.b].orientation == "horizontal"]
     if not todo:
         return set()
-    e = np.stack(_plan_basis(planes.up), axis=1)
+    e = np.stack(_horizontal_basis(planes.up), axis=1)
     flat: dict = {}
 
     def footprint(label):
