@@ -97,3 +97,30 @@ def test_bad_inputs_are_one_line_errors(learned, sets, tmp_path, capsys):
                  str(tmp_path / "file" / "x.json")]) != 0
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "cannot write" in err[0] and "x.json" in err[0]
+
+
+def test_decision_settings_score_as_classify_answers_with_them(learned, sets, capsys):
+    """``--param decision.NAME=VALUE`` scores the model as ``planerel classify --param`` answers
+    with the same settings; anything but a decision setting is refused (the scenes are
+    described with the model's training settings)."""
+    folder, _ = learned["members"]
+    params = {"decision.proof_gate": "false", "decision.veto_ratio": "0"}
+    got = evaluate_model(folder, sets[1], jobs=1, cache="none", params=params)
+    assert got["params"] == params
+    descs = P.describe_scenes(sets[1], method="gt", jobs=1, cache="none")[0]
+    with Classifier(folder, seg_params=params) as clf:
+        assert clf.settings.decision_params().proof_gate is False
+        assert clf.settings.decision_params().veto_ratio == 0
+        want = {a.object_id: a.klass for d in descs for a in clf.answer_description(d)}
+    assert got["predictions"] and all(want[o] == k for o, k in got["predictions"].items())
+    assert main(["evaluate-model", str(folder), str(sets[1]), "-j", "1", "--cache", "none",
+                 "--param", "decision.proof_gate=false", "--param", "decision.veto_ratio=0"]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[0] == "decision: decision.proof_gate=false, decision.veto_ratio=0"
+    assert f"open-set accuracy (all objects, other included): {got['open_set_accuracy']:.3f}" in out
+    with pytest.raises(InputError, match="decision settings only"):
+        evaluate_model(folder, sets[1], params={"theta": "12"})
+    with pytest.raises(InputError, match="has no parameter"):
+        evaluate_model(folder, sets[1], params={"decision.nope": "1"})
+    with Classifier(folder) as clf, pytest.raises(InputError, match="open classifier"):
+        evaluate_model(clf, sets[1], params=params)

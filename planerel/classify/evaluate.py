@@ -15,11 +15,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from planerel.errors import InputError
+
 __all__ = ["evaluate_model"]
 
 
 def evaluate_model(model, dataset_dir, *, jobs: int | None = 1, cache=None,
-                   progress: bool | None = None, scheduler=None) -> dict:
+                   progress: bool | None = None, scheduler=None, params: dict | None = None) -> dict:
     """Open-set accuracy of a learned model on a data set, object by object.
 
     Parameters
@@ -37,6 +39,11 @@ def evaluate_model(model, dataset_dir, *, jobs: int | None = 1, cache=None,
         Progress bars on stderr (default: when stderr is a terminal).
     scheduler : str or distributed.Client, optional
         A Dask scheduler for the describing.
+    params : dict, optional
+        Decision settings to score the model with instead of its own, ``{"decision.NAME":
+        value}`` (:class:`~planerel.ilp.metrics.DecisionParams`, as ``planerel classify
+        --param`` takes them; only with a model folder, not an open classifier).  Nothing
+        else: the scenes are described with the model's training settings.
 
     Returns
     -------
@@ -46,20 +53,30 @@ def evaluate_model(model, dataset_dir, *, jobs: int | None = 1, cache=None,
         objects, ``open_set_accuracy`` over all, ``per_class``, ``confusion``,
         ``open_set_confusion``, ...), ``dataset``, ``model``, ``n_scenes``, ``skipped``,
         ``predictions`` (``{object: class}``), ``excluded`` (objects that are no example, by
-        class and reason) and ``errors`` (:func:`~planerel.ilp.metrics.error_kinds`).
+        class and reason), ``errors`` (:func:`~planerel.ilp.metrics.error_kinds`) and, with
+        ``params``, ``params``.
 
     Raises
     ------
     InputError
-        The model or the data set cannot be read, or the set has no object of the model's
-        classes or of class ``other``.
+        The model or the data set cannot be read, the set has no object of the model's
+        classes or of class ``other``, or ``params`` holds a name that is not ``decision.*``.
     """
     from planerel.classify.classifier import Classifier
     from planerel.ilp.pipeline import heldout_examples, heldout_figures
     from planerel.ilp.scenes import describe_scenes
 
     own = not isinstance(model, Classifier)
-    clf = Classifier(model) if own else model
+    params = dict(params or {})
+    bad = sorted(k for k in params if not str(k).startswith("decision."))
+    if bad:
+        raise InputError(f"evaluate-model takes decision settings only (decision.NAME=VALUE), "
+                         f"got {', '.join(bad)}: the scenes are described with the model's "
+                         f"training settings")
+    if params and not own:
+        raise InputError("decision settings go with a model folder, not an open classifier "
+                         "(open it with them: Classifier(model, seg_params=...))")
+    clf = Classifier(model, seg_params=params or None) if own else model
     try:
         # the training segmentation, as learn --heldout used it (a model learned on a data
         # set's ground-truth planes, method gt, is scored on the held-out set's own)
@@ -87,6 +104,8 @@ def evaluate_model(model, dataset_dir, *, jobs: int | None = 1, cache=None,
         out = heldout_figures(descs, skipped, dataset_dir, clf.classes, examples, predictions,
                               fired, stats)
         out["model"] = str(Path(clf.rules_path).parent)
+        if params:
+            out["params"] = params
         return out
     finally:
         if own:

@@ -30,21 +30,29 @@ def register(sub) -> None:
                    help="describe the scenes on a Dask cluster (docs/batches.md)")
     p.add_argument("--cache", metavar="DIR", help="segmentation cache folder (default "
                    "$PLANEREL_CACHE or ~/.cache/planerel; 'none' disables it)")
+    p.add_argument("--param", action="append", default=[], metavar="decision.NAME=VALUE",
+                   help="score with a decision setting other than the model's (repeatable), as "
+                        "planerel classify --param takes it: decision.proof_gate=false, "
+                        "decision.proof_margin=0.5, decision.planar_gate, decision.veto_ratio, ...")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     from planerel.atomic import check_output_file, write_text
     from planerel.classify.evaluate import evaluate_model
+    from planerel.commands.classify import _params
     from planerel.commands.learn import _check_cache, _print_scores
 
     if args.json is not None:  # a bad --json fails here, not after describing every scene
         check_output_file(args.json, "--json")
     if args.cache is not None and str(args.cache).lower() not in ("", "none", "off"):
         _check_cache(args.cache)
+    params = _params(args.param)
     res = evaluate_model(args.rules, args.dataset, jobs=args.jobs, cache=args.cache,
-                         scheduler=args.scheduler)
+                         scheduler=args.scheduler, params=params)
     n_other = (res.get("other") or {}).get("n", 0)
+    if params:
+        print("decision: " + ", ".join(f"{k}={v}" for k, v in sorted(params.items())))
     print(f"{res['model']} on {res['dataset']}: {res['n_scenes']} scenes, "
           f"{res['n_examples']} class objects" + (f", {n_other} of class other" if n_other else ""))
     print(f"accuracy (class objects) {res['accuracy']:.3f}")
