@@ -164,7 +164,7 @@ def test_facing_task_is_the_slope_task_and_one_line():
 
 
 def test_varied_task_is_the_facing_task_without_incline_thresholds():
-    """aleph/modes_varied.pl (optional, with --recipe varied): every line of the facing task but
+    """aleph/modes_varied.pl (the task of --recipe varied): every line of the facing task but
     the two thresholds on incline/2 (docs/results.md, real16b: a bound inside an orientation
     class splits a generated plane's fit noise and rejects real box tops)."""
     from importlib.resources import files
@@ -178,8 +178,8 @@ def test_varied_task_is_the_facing_task_without_incline_thresholds():
         ":- modeb(1, gteq(+incline, #incline)).", ":- modeb(1, lteq(+incline, #incline))."]
     assert [ln for ln in varied if ln not in facing] == [":- modeb(*, over(+plane, -plane))."]
     assert [ln for ln in facing if ln in varied] == [ln for ln in varied if ln in facing]
-    # over/2 right after facing/2; nowhere else (the demo's task and the recipe's default
-    # were not measured with it)
+    # over/2 right after facing/2; nowhere else (the demo's task and the facing task were
+    # not measured with it)
     assert varied.index(":- modeb(*, over(+plane, -plane)).") == \
         varied.index(":- modeb(*, facing(+plane, -plane)).") + 1
     for name in ("modes_relational.pl", "modes_slope.pl", "modes_facing.pl"):

@@ -136,18 +136,24 @@ class ModelSettings:
 
 
 def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
-                      planar_domain=(), proof_domain=()) -> dict:
+                      planar_domain=(), proof_domain=(), decision: dict | None = None) -> dict:
     """The content of ``model.json`` for a model learned with these settings (the description
     parameters are the defaults ``planerel learn`` describes scenes with; ``planar_domain``,
-    ``proof_domain``: :attr:`planerel.ilp.pipeline.Model.planar_domain`, ``.proof_domain``)."""
+    ``proof_domain``: :attr:`planerel.ilp.pipeline.Model.planar_domain`, ``.proof_domain``;
+    ``decision``: a recipe's decision settings in place of the defaults)."""
     from planerel.ilp.metrics import laplace
 
     seg_params = dict(seg_params or {})
+    sections = {name: dataclasses.asdict(_section_class(name)()) for name in SECTIONS}
+    unknown = sorted(set(decision or {}) - set(sections["decision"]))
+    if unknown:
+        raise InputError(f"unknown decision setting(s) {', '.join(unknown)}")
+    sections["decision"].update(decision or {})
     return {
         "format": FORMAT,
         "segmentation": {"method": method, "params": seg_params,
                          "resolved": _resolved_segmentation(method, seg_params)},
-        **{name: dataclasses.asdict(_section_class(name)()) for name in SECTIONS},
+        **sections,
         "rule_precision": [{"index": i, "class": k, "tp": tp, "fp": fp,
                             "laplace": round(laplace(tp, fp), 6)} for i, k, tp, fp in rule_stats],
         "planar_domain": [{"class": k, "low": lo, "high": hi, "n": n}

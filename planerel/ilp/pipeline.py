@@ -51,6 +51,7 @@ __all__ = [
     "OTHER",
     "cross_validate",
     "held_out_scores",
+    "with_decision",
     "learn_model",
     "evaluate_learning",
     "draw_confusion",
@@ -233,14 +234,27 @@ def _examples(descs):
     return [(o.id, o.klass) for d in descs for o in d.objects if o.klass]
 
 
+def with_decision(model, decision: dict | None):
+    """``model`` (a :class:`Model` or :class:`Members`) with the decision settings ``decision``
+    (``{name: value}``, fields of :class:`Model` such as ``proof_gate``) in place of its own."""
+    if not decision:
+        return model
+    if isinstance(model, Members):
+        return replace(model, models=tuple(replace(m, **decision) for m in model.models))
+    return replace(model, **decision)
+
+
 def _metrics_head(dataset_dir, classes, method, seg_params, seed, settings, task, recipe,
                   other_rules) -> dict:
-    """The first keys of a model's ``metrics.json``: what it was learned from and how."""
+    """The first keys of a model's ``metrics.json``: what it was learned from and how
+    (``decision``: the recipe's decision settings written into the model, ``{}`` for none)."""
+    from planerel.ilp.recipes import recipe_decision
+
     return {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
             "seg_params": dict(seg_params or {}), "seed": seed,
             "learner_settings": {k: str(v) for k, v in (settings or {}).items()},
             "task": task or "modes_relational.pl", "recipe": recipe,
-            "other_rules": other_rules}
+            "other_rules": other_rules, "decision": recipe_decision(recipe)}
 
 
 def _example_counts(descs, classes) -> dict:
@@ -832,7 +846,7 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
                    engine: str = "builtin", timeout: float = 120.0, settings: dict | None = None,
                    progress: bool | None = None, jobs: int | None = 1,
                    task: str | None = None, other_rules: bool = False,
-                   keep_redundant: bool = False) -> dict:
+                   keep_redundant: bool = False, decision: dict | None = None) -> dict:
     """Stratified k-fold cross-validation of the whole learner on described scenes.
 
     Objects of class ``other`` (none of the classes) are split into the folds too: in training
@@ -849,7 +863,8 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         ``open_set_accuracy`` (all objects, ``other`` right when predicted ``other``).
 
     ``jobs`` folds run at once (None: all cores); the result does not depend on it.
-    ``other_rules``, ``keep_redundant``: as in :func:`learn_rules` (in each fold).
+    ``other_rules``, ``keep_redundant``: as in :func:`learn_rules` (in each fold);
+    ``decision``: decision settings each fold's model answers with (:func:`with_decision`).
     """
     from planerel.ilp.aleph_export import OTHER
 
@@ -876,6 +891,7 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         model = learn_rules(train_descs, present, engine=engine, timeout=timeout, settings=settings,
                             jobs=1, task=task, other_rules=other_rules,
                             keep_redundant=keep_redundant)
+        model = with_decision(model, decision)
         test_descs = list({id(scene_of[o]): scene_of[o] for o in test}.values())
         preds = prolog_predict(model, test_descs, test, timeout=timeout)
         scored = [(truth_of[p.object_id], p.klass) for p in preds if truth_of[p.object_id] != OTHER]
@@ -1102,12 +1118,13 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         The metrics written to ``metrics.json``.
     """
     from planerel.atomic import atomic_dir, check_dir_target, write_text
-    from planerel.ilp.recipes import apply_recipe
+    from planerel.ilp.recipes import apply_recipe, recipe_decision
     from planerel.io.writers import write_json
 
     out = Path(out_dir)
     task, settings, other_rules = apply_recipe(recipe, task=task, settings=settings,
                                                other_rules=other_rules)
+    decision = recipe_decision(recipe)
     settings = settings or None
     # what would fail at the end fails first: the task, the settings, the model folder, the
     # held-out set
@@ -1139,7 +1156,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
             seg_params=seg_params, seed=seed, settings=settings, task=task, recipe=recipe,
             other_rules=other_rules, keep_redundant=keep_redundant, engine=engine,
             timeout=timeout, jobs=jobs, cache=cache, progress=progress, log=log,
-            scheduler=scheduler, heldout=heldout, skipped=skipped, t_describe=t_describe)
+            scheduler=scheduler, heldout=heldout, skipped=skipped, t_describe=t_describe,
+            decision=decision)
     with atomic_dir(out, markers=("rules.pl", "metrics.json")) as tmp:
         metrics: dict = {**_metrics_head(dataset_dir, classes, method, seg_params, seed,
                                          settings, task, recipe, other_rules),
@@ -1150,7 +1168,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
             cv = cross_validate(descs, classes, folds=folds, seed=seed, engine=engine,
                                 timeout=timeout, progress=progress, jobs=jobs,
                                 settings=settings, task=task, other_rules=other_rules,
-                                keep_redundant=keep_redundant)
+                                keep_redundant=keep_redundant, decision=decision)
             metrics["cross_validation"] = cv
             metrics["seconds"]["cross_validation"] = round(time.perf_counter() - t1, 3)
             draw_confusion(tmp / "confusion.png", cv["confusion"], list(classes),
@@ -1160,6 +1178,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                             jobs=jobs, log=None if progress is False else log,
                             settings=settings, task=task, other_rules=other_rules,
                             keep_redundant=keep_redundant)
+        model = with_decision(model, decision)
         metrics["seconds"]["learn"] = round(time.perf_counter() - t2, 3)
         metrics["engine"] = model.engine
         metrics["rules"] = {k: list(v) for k, v in model.rules.items()}
@@ -1177,7 +1196,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
 
         write_json(tmp / MODEL_FILE, training_settings(method, seg_params, rule_stats=model.stats,
                                                        planar_domain=model.planar_domain,
-                                                       proof_domain=model.proof_domain))
+                                                       proof_domain=model.proof_domain,
+                                                       decision=decision))
         write_json(tmp / "metrics.json", metrics)
     return metrics
 
@@ -1212,7 +1232,8 @@ def _member_parts(dataset_dir, classes, members, folds) -> dict | None:
 
 
 def write_members(folder, model: Members, *, method: str, seg_params, header: str = "",
-                  member_metrics: Sequence[dict] | None = None) -> None:
+                  member_metrics: Sequence[dict] | None = None,
+                  decision: dict | None = None) -> None:
     """Write a members model folder into ``folder`` (which exists): ``members/N/`` (each a
     model folder: ``rules.pl``, ``model.json``, ``metrics.json`` when ``member_metrics``
     gives it), the top-level ``rules.pl`` (:meth:`Members.text`) and ``model.json`` (the
@@ -1231,11 +1252,12 @@ def write_members(folder, model: Members, *, method: str, seg_params, header: st
                                                                       else "")))
         write_json(sub / MODEL_FILE, training_settings(method, seg_params, rule_stats=m.stats,
                                                        planar_domain=m.planar_domain,
-                                                       proof_domain=m.proof_domain))
+                                                       proof_domain=m.proof_domain,
+                                                       decision=decision))
         if member_metrics is not None:
             write_json(sub / "metrics.json", member_metrics[n - 1])
     write_text(folder / "rules.pl", model.text(header))
-    top = training_settings(method, seg_params)
+    top = training_settings(method, seg_params, decision=decision)
     top["members"] = [f"members/{n}" for n in range(1, k + 1)]
     top["vote"] = VOTE_RULE
     write_json(folder / MODEL_FILE, top)
@@ -1244,7 +1266,7 @@ def write_members(folder, model: Members, *, method: str, seg_params, header: st
 def _learn_members_model(descs, classes, parts, members, out, *, dataset_dir, method, seg_params,
                          seed, settings, task, recipe, other_rules, keep_redundant, engine,
                          timeout, jobs, cache, progress, log, scheduler, heldout, skipped,
-                         t_describe) -> dict:
+                         t_describe, decision=None) -> dict:
     """:func:`learn_model` with ``members`` > 1: the members model folder."""
     from planerel.atomic import atomic_dir
     from planerel.ilp.members import VOTE_RULE
@@ -1256,6 +1278,7 @@ def _learn_members_model(descs, classes, parts, members, out, *, dataset_dir, me
                               jobs=jobs, log=None if progress is False else log, engine=engine,
                               timeout=timeout, settings=settings, task=task,
                               other_rules=other_rules, keep_redundant=keep_redundant)
+        model = with_decision(model, decision)
         t_learn = round(time.perf_counter() - t2, 3)
         per_member, member_metrics = [], []
         for n, m in enumerate(model.models, start=1):
@@ -1292,6 +1315,6 @@ def _learn_members_model(descs, classes, parts, members, out, *, dataset_dir, me
         header = (f"learned by planerel from {dataset_dir} ({len(descs)} scenes in {members} "
                   f"parts, segmentation: {method}, engine: {metrics['engine']})")
         write_members(tmp, model, method=method, seg_params=seg_params, header=header,
-                      member_metrics=member_metrics)
+                      member_metrics=member_metrics, decision=decision)
         write_json(tmp / "metrics.json", metrics)
     return metrics
