@@ -71,10 +71,11 @@ def main(argv=None) -> int:
         except ValueError:  # a word: evalfn=coverage, search=heuristic
             settings[name] = value
 
-    from planerel.ilp.recipes import apply_recipe
+    from planerel.ilp.recipes import apply_recipe, recipe_decision
 
     args.task, settings, args.other_rules = apply_recipe(
         args.recipe, task=args.task, settings=settings, other_rules=args.other_rules)
+    decision = recipe_decision(args.recipe)  # as planerel learn writes it into the model
     parts = P._member_parts(args.train, None, args.members, args.folds)
     t0 = time.perf_counter()
     descs, _ = describe_scenes(args.train, jobs=args.jobs, progress=False)
@@ -84,7 +85,8 @@ def main(argv=None) -> int:
     if args.folds:
         cv = P.cross_validate(descs, classes, folds=args.folds, jobs=args.jobs, progress=False,
                               timeout=args.timeout, settings=settings or None, task=args.task,
-                              other_rules=args.other_rules, keep_redundant=args.keep_redundant)
+                              other_rules=args.other_rules, keep_redundant=args.keep_redundant,
+                              decision=decision)
         cv = {k: cv.get(k) for k in ("accuracy", "per_class", "confusion", "other",
                                      "open_set_accuracy", "open_set_confusion", "n_examples",
                                      "excluded")}
@@ -96,6 +98,7 @@ def main(argv=None) -> int:
     else:
         model = P.learn_members(descs, classes, parts, args.members, jobs=args.jobs,
                                 log=lambda s: print(s, file=sys.stderr, flush=True), **kw)
+    model = P.with_decision(model, decision)
     t3 = time.perf_counter()
     held = P.held_out_scores(model, args.held, jobs=args.jobs, progress=False,
                              timeout=args.timeout)
@@ -114,7 +117,7 @@ def main(argv=None) -> int:
         out = Path(args.save)
         out.mkdir(parents=True, exist_ok=True)
         if parts is not None:  # a members model folder (planerel learn --members's layout)
-            P.write_members(out, model, method="regiongrow", seg_params=None)
+            P.write_members(out, model, method="regiongrow", seg_params=None, decision=decision)
         else:
             write_text(out / "rules.pl", model.text())
             # a model folder planerel classify reads as planerel learn's (settings, rule
@@ -124,7 +127,7 @@ def main(argv=None) -> int:
 
             write_json(out / MODEL_FILE, training_settings(
                 "regiongrow", None, rule_stats=model.stats, planar_domain=model.planar_domain,
-                proof_domain=model.proof_domain))
+                proof_domain=model.proof_domain, decision=decision))
         write_text(out / "answers.json", json.dumps(answers, indent=0, sort_keys=True))
     t4 = time.perf_counter()
     for res in (held, *confirm):
