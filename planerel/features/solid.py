@@ -331,13 +331,20 @@ def on_step(face, profile: FaceProfile, plane, up, tol: float = 0.08,
         return False
     if abs(float(np.asarray(plane.centroid, float) @ up) - profile.bottom) > tol:
         return False
+    out = _reach_out(face, plane, up)
+    return out is not None and out <= step
+
+
+def _reach_out(face, plane, up) -> float | None:
+    """How far horizontal ``plane`` reaches out from vertical ``face``: its hull's extent
+    along the face's normal made horizontal (metres); None when that normal is vertical."""
     n = np.asarray(face.normal, float)
     n = n - (n @ up) * up
     norm = float(np.linalg.norm(n))
     if norm < 1e-9:
-        return False
+        return None
     ext = np.asarray(plane.hull3d, float) @ (n / norm)
-    return bool(ext.max() - ext.min() <= step)
+    return float(ext.max() - ext.min())
 
 
 def grounded(face, profile: FaceProfile, plane, up, foot: float = 0.02, tol: float = 0.08,
@@ -366,13 +373,8 @@ def grounded(face, profile: FaceProfile, plane, up, foot: float = 0.02, tol: flo
         return False
     if plane.height <= tol:
         return True
-    n = np.asarray(face.normal, float)
-    n = n - (n @ up) * up
-    norm = float(np.linalg.norm(n))
-    if norm < 1e-9:
-        return False
-    ext = np.asarray(plane.hull3d, float) @ (n / norm)
-    return bool(ext.max() - ext.min() > step)
+    out = _reach_out(face, plane, up)
+    return out is not None and out > step
 
 
 def rises_from(plane, profile: FaceProfile, up, tol: float = 0.08,
