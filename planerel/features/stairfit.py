@@ -524,10 +524,17 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
         narrow = _narrow_clusters_at(xyz, rows, cols, ids, n_all, e1, e2, p.min_width)
     if narrow[big].all():
         return None, pixels
-    pts = _gather(xyz, rows, cols)
-    z = pts[:, 2]
+    # only the large clusters the width bound leaves are looked at below: their points
+    # gathered (each cluster's in its order: the same points and the same sums, so the same
+    # slopes) and their slopes taken, not every cluster's (a Kinect frame's one wide cluster
+    # of 270); the other clusters' points are gathered only when a fitted flight asks for them
+    look = np.zeros(n_all, bool)
+    look[big[~narrow[big]]] = True
+    at = np.flatnonzero(look[ids])
+    pts = _gather(xyz, rows[at], cols[at])
+    ids_at = ids[at]
     taken = np.zeros(len(rows), bool)
-    maybe = _slope_candidates(pts, ids, n_all, e1, e2, up, p.slope)
+    maybe = _slope_candidates(pts, ids_at, n_all, e1, e2, up, p.slope)
     sigma_z = None  # the sensor's noise along the rays, measured when a cluster is fitted
     out = None
     groups = []
@@ -542,7 +549,7 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
         idx = np.flatnonzero(ids == c)
         if taken[idx].any():
             continue
-        P = pts[idx]
+        P = pts[ids_at == c]  # pts[idx] of every cluster's points: the same rows
         if _surely_narrow(P, e1, e2, up, p.min_width):
             continue  # the width test below fails whatever the exact fit's slope
         h = P @ up
@@ -564,7 +571,7 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
             lim = np.full(len(d), float(p.sigmas))
         else:
             metric = None
-            lim = _tolerance(z[idx], p)
+            lim = _tolerance(P[:, 2], p)
         res = h - X @ coef
         if metric is None:
             plane_share = float((np.abs(res) < lim).mean())
@@ -612,7 +619,8 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
         frame = (f, side, up, (lo_l, hi_l, lo_d, hi_d), fit, sigma_z)
         other = np.flatnonzero((ids != c) & (ids < n_comp) & ~taken)
         if other.size:
-            near, dist2, seg2, lim2 = _on_profile(pts[other], frame, p)
+            near, dist2, seg2, lim2 = _on_profile(_gather(xyz, rows[other], cols[other]),
+                                                  frame, p)
             if near.any():
                 on = dist2 < lim2
                 idx = np.concatenate([idx, other[near][on]])

@@ -321,7 +321,9 @@ def leg_objects(planes, objects, params, curved_below: float = 0.8, xyz=None) ->
     up = np.asarray(planes.up, float)
     e1, e2 = _horizontal_basis(up)
     floor_level = float(np.asarray(floor.centroid, float) @ up)
-    posts = []  # (object index, foot, top, range)
+    # the proposals that may be posts, by the tests that read no point: a join needs two
+    # posts, so with fewer such proposals nothing is joined (no point is read)
+    maybe = []
     for k, o in enumerate(objects):
         if not (o.planes or o.mask is not None):
             continue
@@ -332,6 +334,13 @@ def leg_objects(planes, objects, params, curved_below: float = 0.8, xyz=None) ->
             hull = np.concatenate([np.asarray(byl[x].hull3d, float) for x in o.planes])
             if max(float(np.ptp(hull @ e1)), float(np.ptp(hull @ e2))) > 2.0 * POST_WIDTH:
                 continue
+        maybe.append(k)
+    if len(maybe) < 2:
+        return objects
+    posts = []  # (object index, foot, top, range)
+    for k in maybe:
+        o = objects[k]
+        if o.planes:
             m = np.isin(lab, o.planes)
             if o.mask is not None:
                 m |= o.mask
