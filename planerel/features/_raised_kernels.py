@@ -51,11 +51,234 @@ def raised_noise_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, min_rise, k_sig
     grid: ``1.4826`` times the median of :func:`noise_values` on every ``step``-th pixel of
     every ``step``-th row of the grid (:func:`planerel.features.raised._raised_on`'s, which
     read them in a pass of their own before; the same values, so the same median and the
-    same masks: ``tests/test_shared_work.py`` compares), 0 when there is none."""
-    on, h, rs, rc, vals = _raised_rows(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step)
+    same masks: ``tests/test_shared_work.py`` compares), 0 when there is none.
+
+    The tests' column sums are taken in the pass over the grid, a few rows behind it (the row
+    sums kept for the ``2r + 6`` rows they need, not for the whole grid; each column's sum
+    takes the same values in the same order as :func:`_raised_tests`' pass: the same floats),
+    and the windows the product test cannot reject are kept with their sums; only those are
+    divided out and tested against the limits, once the noise scale is known
+    (``tests/test_fewer_passes.py`` compares with :func:`raised_pixels`)."""
+    on, h, vals, co, cj, csum, ccnt, m = _raised_rows_flagged(xyz, lab, label, r0, c0, H, W, f,
+                                                              n, d0, r, step, min_rise)
     a = 1.4826 * median(vals) if vals.shape[0] else 0.0
-    raw, weak = _raised_tests(xyz, r0, c0, f, on, rs, rc, a, min_rise, k_sigma, r)
+    raw = np.zeros((H, W), np.bool_)
+    weak = np.zeros((H, W), np.bool_)
+    for t in range(m):
+        o, j, c = co[t], cj[t], ccnt[t]
+        mean = csum[t] / c
+        if mean <= 0.5 * min_rise:
+            continue
+        z = max(abs(xyz[r0 + o * f, c0 + j * f, 2]), 0.1)
+        lim = max(min_rise, k_sigma * a * z * z / math.sqrt(c))
+        raw[o, j] = mean > lim
+        weak[o, j] = mean > 0.5 * lim
     return on, raw, weak, h
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _raised_rows_flagged(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step, min_rise):
+    """:func:`_raised_rows` with :func:`_raised_tests`' column sums and product test taken a
+    few rows behind it (:func:`raised_noise_pixels`): ``(on, h, vals, rows, cols, sums,
+    counts, m)``, the first ``m`` entries of the four lists the windows not rejected by the
+    product test.  The row sums live in ``R = 2r + 6`` rows (row ``k`` at ``k % R``): a row
+    is read last for column row ``k + r + 1``, at most ``r + 4`` rows after the block that
+    wrote it, before ``R`` more rows are written."""
+    on = np.empty((H, W), np.bool_)
+    h = np.empty((H, W), np.float32)
+    L = lab.ravel()
+    X = xyz.ravel()
+    cols = lab.shape[1]
+    n0, n1, n2 = n[0], n[1], n[2]
+    R = 2 * r + 6
+    rs = np.empty((R, W), np.float32)
+    rc = np.empty((R, W), np.int32)
+    nv = -(-H // step) * -(-W // step) if step > 0 else 0
+    vals = np.empty(nv)
+    k = 0
+    # the windows kept (a few in a thousand; the lists grown when a row could overfill them:
+    # lists the size of the grid, allocated and freed each call, cost more than the pass saves)
+    cap = 8 * W + 64
+    co = np.empty(cap, np.int32)
+    cj = np.empty(cap, np.int32)
+    csum = np.empty(cap)
+    ccnt = np.empty(cap, np.int64)
+    m = 0
+    cs = np.zeros(W)
+    cc = np.zeros(W, np.int64)
+    flag = np.zeros(W, np.uint8)
+    half = 0.5 * min_rise
+    shrink = 1.0 - 1e-12
+    started = False  # the column sums' first r rows added
+    o = 0  # the next row of column sums
+    rr = min(r, W)
+    i = 0
+    while i < H:
+        m4 = 4 if i + 4 <= H else 1
+        for t in range(m4):
+            base = (r0 + (i + t) * f) * cols + c0
+            for j in range(rr):
+                q = np.uint64(base + j * f)
+                if L[q] == label and math.isfinite(X[3 * q + 2]):
+                    on[i + t, j] = True
+                    h[i + t, j] = X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0
+                else:
+                    on[i + t, j] = False
+                    h[i + t, j] = 0.0
+        if m4 == 4:
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            s3 = 0.0
+            k0 = 0
+            k1 = 0
+            k2 = 0
+            k3 = 0
+            for j in range(rr):
+                s0 += h[i, j]
+                s1 += h[i + 1, j]
+                s2 += h[i + 2, j]
+                s3 += h[i + 3, j]
+                k0 += on[i, j]
+                k1 += on[i + 1, j]
+                k2 += on[i + 2, j]
+                k3 += on[i + 3, j]
+            g0 = i % R
+            g1 = (i + 1) % R
+            g2 = (i + 2) % R
+            g3 = (i + 3) % R
+            for j in range(W):
+                if j + r < W:
+                    jr = j + r
+                    for t in range(4):
+                        q = np.uint64((r0 + (i + t) * f) * cols + c0 + jr * f)
+                        if L[q] == label and math.isfinite(X[3 * q + 2]):
+                            on[i + t, jr] = True
+                            h[i + t, jr] = (X[3 * q] * n0 + X[3 * q + 1] * n1
+                                            + X[3 * q + 2] * n2 - d0)
+                        else:
+                            on[i + t, jr] = False
+                            h[i + t, jr] = 0.0
+                    s0 += h[i, jr]
+                    s1 += h[i + 1, jr]
+                    s2 += h[i + 2, jr]
+                    s3 += h[i + 3, jr]
+                    k0 += on[i, jr]
+                    k1 += on[i + 1, jr]
+                    k2 += on[i + 2, jr]
+                    k3 += on[i + 3, jr]
+                if j - r - 1 >= 0:
+                    s0 -= h[i, j - r - 1]
+                    s1 -= h[i + 1, j - r - 1]
+                    s2 -= h[i + 2, j - r - 1]
+                    s3 -= h[i + 3, j - r - 1]
+                    k0 -= on[i, j - r - 1]
+                    k1 -= on[i + 1, j - r - 1]
+                    k2 -= on[i + 2, j - r - 1]
+                    k3 -= on[i + 3, j - r - 1]
+                rs[g0, j] = s0
+                rs[g1, j] = s1
+                rs[g2, j] = s2
+                rs[g3, j] = s3
+                rc[g0, j] = k0
+                rc[g1, j] = k1
+                rc[g2, j] = k2
+                rc[g3, j] = k3
+        else:
+            s = 0.0
+            c = 0
+            for j in range(rr):
+                s += h[i, j]
+                c += on[i, j]
+            g = i % R
+            base = (r0 + i * f) * cols + c0
+            for j in range(W):
+                if j + r < W:
+                    jr = j + r
+                    q = np.uint64(base + jr * f)
+                    if L[q] == label and math.isfinite(X[3 * q + 2]):
+                        on[i, jr] = True
+                        h[i, jr] = X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0
+                    else:
+                        on[i, jr] = False
+                        h[i, jr] = 0.0
+                    s += h[i, jr]
+                    c += on[i, jr]
+                if j - r - 1 >= 0:
+                    s -= h[i, j - r - 1]
+                    c -= on[i, j - r - 1]
+                rs[g, j] = s
+                rc[g, j] = c
+        if step > 0:
+            for t in range(m4):
+                if (i + t) % step:
+                    continue
+                y = r0 + (i + t) * f
+                for j in range(0, W, step):
+                    if on[i + t, j]:
+                        x = c0 + j * f
+                        z = xyz[y, x, 2]
+                        zs = max(abs(z), 0.1)
+                        hh = xyz[y, x, 0] * n0 + xyz[y, x, 1] * n1 + z * n2
+                        vals[k] = abs(hh - d0) / (zs * zs)
+                        k += 1
+        i += m4
+        # the column sums of every row whose window's rows are all summed now
+        if not started and i >= min(r, H):
+            for g in range(min(r, H)):
+                for j in range(W):
+                    cs[j] += rs[g % R, j]
+                    cc[j] += rc[g % R, j]
+            started = True
+        while started and o < H and i >= min(o + r + 1, H):
+            if m + W > co.shape[0]:
+                cap = max(2 * co.shape[0], m + W)
+                co2 = np.empty(cap, np.int32)
+                cj2 = np.empty(cap, np.int32)
+                csum2 = np.empty(cap)
+                ccnt2 = np.empty(cap, np.int64)
+                co2[:m] = co[:m]
+                cj2[:m] = cj[:m]
+                csum2[:m] = csum[:m]
+                ccnt2[:m] = ccnt[:m]
+                co, cj, csum, ccnt = co2, cj2, csum2, ccnt2
+            # row o of _raised_tests' column sums: the row below added and the row above
+            # taken off as there (written out here: a jitted helper taking the arrays was
+            # slower), then the windows that pass the plane, count and product tests flagged
+            # without a branch (a loop the compiler vectorizes; a few in a thousand pass) and
+            # those alone kept
+            if o + r < H and o - r - 1 >= 0:
+                ga = (o + r) % R
+                gb = (o - r - 1) % R
+                for j in range(W):
+                    cs[j] = (cs[j] + rs[ga, j]) - rs[gb, j]
+                    cc[j] = (cc[j] + rc[ga, j]) - rc[gb, j]
+            elif o + r < H:
+                ga = (o + r) % R
+                for j in range(W):
+                    cs[j] += rs[ga, j]
+                    cc[j] += rc[ga, j]
+            elif o - r - 1 >= 0:
+                gb = (o - r - 1) % R
+                for j in range(W):
+                    cs[j] -= rs[gb, j]
+                    cc[j] -= rc[gb, j]
+            nf = 0
+            for j in range(W):
+                g = (np.uint8(on[o, j]) & np.uint8(cc[j] > 0)
+                     & np.uint8(not (cs[j] <= half * cc[j] * shrink)))
+                flag[j] = g
+                nf += g
+            if nf:
+                for j in range(W):
+                    if flag[j]:
+                        co[m] = o
+                        cj[m] = j
+                        csum[m] = cs[j]
+                        ccnt[m] = cc[j]
+                        m += 1
+            o += 1
+    return on, h, vals[:k], co, cj, csum, ccnt, m
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
