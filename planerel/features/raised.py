@@ -282,18 +282,21 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
             g1 = int(rows[sel].max()) + params.ring_px + 1
             h0 = max(0, int(cols[sel].min()) - params.ring_px)
             h1 = int(cols[sel].max()) + params.ring_px + 1
-            grown = np.zeros(on.shape, bool)
-            part = m[g0:g1, h0:h1]
+            box_g = (slice(g0, g1), slice(h0, h1))
+            part = m[box_g]
             for axis in (0, 1):
                 part = _shift_all(part, params.ring_px, axis, False)
-            grown[g0:g1, h0:h1] = part
             # the ring: plane pixels around the group that are not raised themselves (an open
             # box's bottom, walled in, has none: nothing of the plane around it to bend); they
             # mix the group's edge, which the window mean left below the limit, with the plane
             # around it, hence the ring's lower tenth: a Kinect floor's bend (frame 3 at 1.2 m,
             # 7 mm up) stands 4 mm above its ring, an open box's 1 cm bottom 9-14 mm
-            ring = grown & on & ~raw
-            if ring.any() and float(np.median(h[m]) - np.percentile(h[ring], 10)) < params.min_rise:
+            # (the group and its ring lie in the widened box: their heights taken from it, the
+            # same values in the same row-major order as from the whole grid)
+            ring = part & on[box_g] & ~raw[box_g]
+            hb = h[box_g]
+            if ring.any() and float(np.median(hb[m[box_g]])
+                                    - np.percentile(hb[ring], 10)) < params.min_rise:
                 continue
             steps = params.open_px + params.smooth_px + 1
             if f > 1:
