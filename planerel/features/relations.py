@@ -596,7 +596,7 @@ def relate(planes, cloud=None, params: RelationParams | None = None,
     touch = _touching(planes, params, cloud.xyz) if cloud is not None else set()
     N = np.array([p.normal for p in plist])
     C = np.array([p.centroid for p in plist])
-    cosang = np.clip(np.abs(N @ N.T), 0.0, 1.0)
+    cosang = np.minimum(np.abs(N @ N.T), 1.0)  # (np.clip of values >= 0: the same, faster)
     ang = np.degrees(np.arccos(cosang))
     level = C @ up
     depth = C @ fwd

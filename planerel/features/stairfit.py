@@ -445,7 +445,8 @@ def _narrow_clusters_at(xyz, rows, cols, ids, n, e1, e2, min_width, margin=1e-9)
     return _narrow_of(span, min_width, margin)
 
 
-def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None):
+def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
+                            gather_all: bool = False):
     """Planes for the staircases among the unexplained pixels (rule steps 1-5).
 
     Parameters
@@ -454,6 +455,9 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
         Organized cloud ``(H, W, 3)``.
     planes : PlaneSet
         The measured planes (their label image and up vector).
+    gather_all : bool
+        Every cluster's points gathered and sloped, not only those of the large clusters the
+        width bound leaves (as before 2026-11-30; the same result: the tests compare).
 
     Returns
     -------
@@ -528,7 +532,7 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None)
     # gathered (each cluster's in its order: the same points and the same sums, so the same
     # slopes) and their slopes taken, not every cluster's (a Kinect frame's one wide cluster
     # of 270); the other clusters' points are gathered only when a fitted flight asks for them
-    look = np.zeros(n_all, bool)
+    look = np.full(n_all, bool(gather_all))
     look[big[~narrow[big]]] = True
     at = np.flatnonzero(look[ids])
     pts = _gather(xyz, rows[at], cols[at])
