@@ -337,7 +337,8 @@ def skirt_faces(planes, relations, cloud, tilt: float | None = None,
     up = np.asarray(planes.up, float)
     xyz = np.asarray(cloud.xyz, float)
     out: set = set()
-    for r in relations:
+    # (the skirt pairs first, in their order, when no pair was denied: most relations are none)
+    for r in (relations if denied else [r for r in relations if r.skirt]):
         if not (r.skirt or (r.a, r.b) in denied) or r.a not in byl or r.b not in byl:
             continue
         top, face = byl[r.a], byl[r.b]
