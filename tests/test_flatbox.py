@@ -86,7 +86,7 @@ def test_a_book_leaning_with_its_front_on_the_table_has_a_skirt():
     rects = [Rect((r.center[0], r.center[1], r.center[2] - low + TABLE_Z), r.e1, r.e2, r.a, r.b,
                   r.obj) for r in rects]
     cloud, lab, ps, rel = _relate([_table()] + rects)
-    top, front = ps.by_label(1), ps.by_label(2)
+    top = ps.by_label(1)
     assert top.orientation == "inclined" and top.incline == pytest.approx(15, abs=1.5)
     assert rel.get(1, 2).skirt
     assert not relate(ps, cloud, RelationParams(skirt_grounded_reach=0.0)).get(1, 2).skirt
