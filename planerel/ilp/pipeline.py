@@ -245,16 +245,14 @@ def with_decision(model, decision: dict | None):
 
 
 def _metrics_head(dataset_dir, classes, method, seg_params, seed, settings, task, recipe,
-                  other_rules) -> dict:
+                  other_rules, decision) -> dict:
     """The first keys of a model's ``metrics.json``: what it was learned from and how
     (``decision``: the recipe's decision settings written into the model, ``{}`` for none)."""
-    from planerel.ilp.recipes import recipe_decision
-
     return {"dataset": str(dataset_dir), "classes": list(classes), "method": method,
             "seg_params": dict(seg_params or {}), "seed": seed,
             "learner_settings": {k: str(v) for k, v in (settings or {}).items()},
             "task": task or "modes_relational.pl", "recipe": recipe,
-            "other_rules": other_rules, "decision": recipe_decision(recipe)}
+            "other_rules": other_rules, "decision": dict(decision or {})}
 
 
 def _example_counts(descs, classes) -> dict:
@@ -1160,7 +1158,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
             decision=decision)
     with atomic_dir(out, markers=("rules.pl", "metrics.json")) as tmp:
         metrics: dict = {**_metrics_head(dataset_dir, classes, method, seg_params, seed,
-                                         settings, task, recipe, other_rules),
+                                         settings, task, recipe, other_rules, decision),
                          **_example_counts(descs, classes),
                          "skipped": skipped, "seconds": {"describe": round(t_describe, 3)}}
         if folds:
@@ -1301,7 +1299,7 @@ def _learn_members_model(descs, classes, parts, members, out, *, dataset_dir, me
             per_member.append({k: mm[k] for k in ("member", "n_scenes", "n_examples", "n_other",
                                                   "seconds", "engine", "rules", "rule_stats")})
         metrics: dict = {**_metrics_head(dataset_dir, classes, method, seg_params, seed,
-                                         settings, task, recipe, other_rules),
+                                         settings, task, recipe, other_rules, decision),
                          "members": members, "vote": VOTE_RULE,
                          **_example_counts(descs, classes),
                          "skipped": skipped,

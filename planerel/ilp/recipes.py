@@ -57,8 +57,8 @@ class Recipe:
 #: ahead, a band's lower edge offered, cut-offs loosened by one standard error (not for other),
 #: and rules for ``other`` learned with little noise.  No proof gate: the varied world is rendered
 #: at 160x120, so its rules' smallest training proofs (0.007-0.012 m^2 for a box's top and side)
-#: are four times the pixel pitch of a 640x480 frame, and the gate refused real boxes seen with a
-#: 2-3 cm strip of side; without it two --members 5 models answer the same or better on all nine
+#: are bounded by planes 16 times the area a 640x480 frame resolves at the same range, and the
+#: gate refused real boxes seen with a 2-3 cm strip of side; without it two --members 5 models answer the same or better on all nine
 #: held-out sets and on every real set ("The varied task as the recipe's default").
 VARIED = Recipe(
     name="varied",
@@ -107,9 +107,7 @@ def apply_recipe(name: str | None, *, task: str | None = None, settings: dict | 
     given = dict(settings or {})
     if name is None:
         return task, given, other_rules
-    recipe = RECIPES.get(name)
-    if recipe is None:
-        raise InputError(f"unknown recipe {name!r}; choose from {', '.join(recipe_names())}")
+    recipe = _recipe(name)
     return (task if task is not None else recipe.task, {**recipe.settings, **given},
             other_rules or recipe.other_rules)
 
@@ -122,9 +120,12 @@ def recipe_decision(name: str | None) -> dict:
     InputError
         Unknown recipe name.
     """
-    if name is None:
-        return {}
+    return {} if name is None else dict(_recipe(name).decision)
+
+
+def _recipe(name: str) -> Recipe:
+    """The recipe called ``name``; an unknown name is an :class:`InputError`."""
     recipe = RECIPES.get(name)
     if recipe is None:
         raise InputError(f"unknown recipe {name!r}; choose from {', '.join(recipe_names())}")
-    return dict(recipe.decision)
+    return recipe
