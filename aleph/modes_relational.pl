@@ -61,6 +61,10 @@
 :- modeb(1, area(+plane, -area)).
 :- modeb(1, plane_length(+plane, -plength)).
 :- modeb(1, plane_width(+plane, -pwidth)).
+% a vertical rectangle standing on the ground, its top at or above the sensor's eye level or
+% out of view: a box seen so shows no top (a tall box, a box seen face-on); a chair's back
+% stands on nothing, a ramp's back or a laptop's lid is seen from above (face24)
+:- modeb(1, tall_face(+plane)).
 % a plane seen whole (not cut by the image border, not partly hidden): its sizes are sizes;
 % plane_length / plane_width measure the part in view, a lower bound when it is cut, so they
 % take only gteq ("at least this long") and an upper bound is on seen_length / seen_width

@@ -84,6 +84,9 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
     ("seen_length", 2, "plane, m", "plane_length of a plane seen whole: not cut by the image "
      "border, not partly hidden by a nearer surface (truncated_planes)"),
     ("seen_width", 2, "plane, m", "plane_width of a plane seen whole"),
+    ("tall_face", 1, "plane", "a vertical rectangle standing on the ground (the floor or a table "
+     "at its foot), nothing beside it taller, its top at or above the sensor's eye level or "
+     "out of view: a box seen so shows no top (planerel.features.relations.tall_faces)"),
     ("height", 2, "plane, m", "centroid height above the floor / lowest support"),
     ("distance", 2, "plane, m", "distance from the sensor to the centroid"),
     ("npoints", 2, "plane, int", "number of points"),
@@ -180,6 +183,9 @@ class SceneDescription:
     #: image border or a nearer surface hides part of them, so their extent is a lower bound
     #: and ``seen_length`` / ``seen_width`` are not written for them.
     truncated: frozenset = field(default=frozenset())
+    #: Labels of the vertical planes standing on the ground with their top out of sight
+    #: (:func:`planerel.features.relations.tall_faces`: ``tall_face/1``).
+    tall: frozenset = field(default=frozenset())
 
     @property
     def labels(self):
@@ -239,6 +245,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         relate,
         skirts_within_objects,
         support_planes,
+        tall_faces,
     )
     from planerel.features.stepped import remeasure_stepped
 
@@ -275,6 +282,9 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     # around them): here, right after the relations' grid touch test read the same pixels'
     # neighbourhoods (0.17-0.18 ms a frame on the real frames against 0.24-0.26 at the end)
     cut = truncated_planes(planes.labels, np.asarray(cloud.xyz, float))
+    # the vertical planes standing on the ground with their top out of sight (their profiles
+    # mostly measured by the skirt tests against the floor or the table they stand on)
+    tall = tall_faces(planes, rel, cloud, profiles)
     support = tuple(support_planes(planes, pp, rel, cloud))
     known = {p.label for p in planes}
     if objects is None:
@@ -341,7 +351,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     # a skirt denied only by another object's step (a box on a box) is one after all
     rel = skirts_within_objects(rel, [o.planes for o in objs], planes, support)
     return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
-                            proposed, support, truncated=cut)
+                            proposed, support, truncated=cut, tall=tall)
 
 
 def _label_bound(labels, planes, split) -> int | None:
@@ -541,6 +551,8 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
         if p.label not in desc.truncated:
             out["seen_length"].append(F("seen_length", i, p.length, round_to=m))
             out["seen_width"].append(F("seen_width", i, p.width, round_to=m))
+        if p.label in desc.tall:
+            out["tall_face"].append(F("tall_face", i))
         out["height"].append(F("height", i, p.height, round_to=m))
         out["distance"].append(F("distance", i, p.distance, round_to=m))
         out["npoints"].append(F("npoints", i, p.n_points))

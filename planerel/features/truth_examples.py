@@ -57,12 +57,19 @@ class ExampleRule:
     min_plane_pixels : int
         A ground-truth plane counts as shown when a segmented plane of the object lies
         mostly on it and covers at least this many of its pixels.
+    box_faces : int
+        2 (the default): a box is an example when it shows two of its faces; 1: also a box
+        that shows one side face (a tall box whose top is out of view, a box seen face-on;
+        a box showing only its top still is none).  A data set asks for 1 in its
+        ``dataset.json`` (``"examples": {"box_faces": 1}``; the demo's training world,
+        :func:`planerel.synth.training_world.generate_training_world`, face24).
     """
 
     min_iou: float = 0.5
     min_visible: float = 0.3
     min_plane_pixels: int = 10
     compact: tuple = ("box", "other")
+    box_faces: int = 2
 
     def __post_init__(self) -> None:
         for name in ("min_iou", "min_visible"):
@@ -72,6 +79,9 @@ class ExampleRule:
         v = self.min_plane_pixels
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
             raise InputError(f"min plane pixels must be a positive integer, got {v!r}")
+        v = self.box_faces
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v not in (1, 2):
+            raise InputError(f"box faces must be 1 or 2, got {v!r}")
 
 
 def judge_objects(labels, gt, meta: dict, groups, object_of_group, classes: dict,
@@ -145,7 +155,9 @@ def judge_objects(labels, gt, meta: dict, groups, object_of_group, classes: dict
                     if best[q] >= rule.min_plane_pixels and role_of_plane[q] in roles:
                         shown.add(q)
             per_role = [sum(role_of_plane[q] == r for q in shown) for r in roles]
-            if (max(per_role) if same_role else sum(per_role)) < need:
+            one_side = (klass == "box" and rule.box_faces == 1 and "face" in roles
+                        and per_role[roles.index("face")] >= 1)
+            if (max(per_role) if same_role else sum(per_role)) < need and not one_side:
                 out[k] = reason
                 continue
         out[k] = None

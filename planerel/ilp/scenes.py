@@ -112,7 +112,24 @@ def _describe_one(job):
     else:
         files = [Path(dataset_dir) / row.depth, Path(dataset_dir) / row.meta]
         labels = segment_cached(cloud, method=method, params=params, files=files, cache=cache)
-    return describe_truth_scene(cloud, labels, gt, meta, row.scene_id, row.klass)
+    return describe_truth_scene(cloud, labels, gt, meta, row.scene_id, row.klass,
+                                rule=example_rule(dataset_dir))
+
+
+def example_rule(dataset_dir):
+    """The data set's :class:`~planerel.features.truth_examples.ExampleRule`: the defaults,
+    with the fields its ``dataset.json`` names under ``"examples"`` (the demo's training world
+    asks for boxes seen as one side face, ``{"box_faces": 1}``); None when it names none."""
+    from planerel.features.dataset import load_dataset_info
+    from planerel.features.truth_examples import ExampleRule
+
+    given = load_dataset_info(dataset_dir).get("examples")
+    if not given:
+        return None
+    if not isinstance(given, dict) or set(given) - {"box_faces"}:
+        raise InputError(f"{dataset_dir}: dataset.json's \"examples\" may name only "
+                         f"box_faces, got {given!r}")
+    return ExampleRule(**given)
 
 
 def _progress(iterable, total: int, desc: str, enabled: bool | None):

@@ -36,7 +36,7 @@ from pathlib import Path
 
 from planerel.errors import InputError
 
-__all__ = ["KINECT_ROOM", "ROUND_SETTINGS", "generate_round_scene", "generate_training_world",
+__all__ = ["KINECT_ROOM", "KINECT_FACES", "ROUND_SETTINGS", "generate_round_scene", "generate_training_world",
            "lying_cylinder_geometry"]
 
 #: Ranges of the Kinect-like part (others: :class:`planerel.synth.world.WorldRange` defaults).
@@ -51,9 +51,22 @@ KINECT_ROOM = {
     "descending": 0.6,
 }
 
+#: Ranges of the face part (:func:`generate_training_world`'s ``faces``): the room's box seen
+#: from a camera 0.2-0.5 m above the floor looking nearly level at it, the box 0.6-1.2 m high,
+#: so that it shows one or two side faces and no top (a tall box, a box seen face-on), alone:
+#: with the room's clutter beside it (1-2 doors, chairs, laptops or cylinders a scene) the
+#: learner's stairs rules on the same world became plane counts ("four horizontal planes",
+#: docs/results.md "Boxes seen as one face"), so the one-face clutter is the room part's (face24).
+KINECT_FACES = {**KINECT_ROOM,
+                "camera_height": (0.2, 0.5),
+                "camera_pitch_deg": (0.0, 15.0),
+                "box_height": (0.6, 1.2),
+                "object_range": (1.0, 3.0),
+                "extra_objects": (0, 0)}
+
 
 def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), round_: int = 0,
-                            seed: int = 0, size=(640, 480), subsample: int = 4,
+                            faces: int = 0, seed: int = 0, size=(640, 480), subsample: int = 4,
                             ranges=None) -> Path:
     """Write one data set: ``paper`` box/stairs/ramp scenes of the paper-sized world, then
     ``room`` box/stairs/ramp scenes (primary object) of the Kinect-like varied world.
@@ -73,6 +86,11 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         cylinders, class ``other``), after the room part, seeds ``scene_seed(seed + 2, i)``.
     ranges : WorldRange, optional
         The room part's ranges (default :data:`KINECT_ROOM`).
+    faces : int
+        Scenes of the face part (a box, the scene's class, and the room's clutter, seen from
+        a low camera, :data:`KINECT_FACES`), after the round part, seeds
+        ``scene_seed(seed + 3, i)``.  Every part's boxes seen as one side face are box
+        examples (``dataset.json``'s ``"examples": {"box_faces": 1}``).
 
     Returns
     -------
@@ -106,15 +124,18 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         counts[name] = dict(zip(CLASSES, n, strict=True))
     if isinstance(round_, bool) or not isinstance(round_, int) or round_ < 0:
         raise InputError(f"round scene count must be a non-negative integer, got {round_!r}")
-    if not sum(counts["paper"].values()) + sum(counts["room"].values()) + round_:
+    if isinstance(faces, bool) or not isinstance(faces, int) or faces < 0:
+        raise InputError(f"face scene count must be a non-negative integer, got {faces!r}")
+    if not sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces:
         raise InputError("a data set needs at least one scene (all counts are 0)")
     ranges = WorldRange(**KINECT_ROOM) if ranges is None else ranges
     paper_sensor, room_sensor = SensorModel(), StructuredLight()
     jobs = ([("paper", k) for k in CLASSES for _ in range(counts["paper"][k])]
             + [("room", k) for k in CLASSES for _ in range(counts["room"][k])]
-            + [("round", "box")] * round_)
+            + [("round", "box")] * round_ + [("faces", "box")] * faces)
     n_paper = sum(counts["paper"].values())
     n_before_round = n_paper + sum(counts["room"].values())
+    face_ranges = WorldRange(**KINECT_FACES)
     rows = []
     with atomic_dir(Path(out_dir), markers=("manifest.csv", "dataset.json")) as tmp:
         for i, (part, kind) in enumerate(jobs):
@@ -122,6 +143,10 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             if part == "paper":
                 scene = generate_scene(kind, scene_seed(seed, i), size, subsample, scene_id=sid,
                                        sensor=paper_sensor)
+            elif part == "faces":
+                scene = generate_world_scene(kind, scene_seed(seed + 3, i - n_before_round - round_),
+                                             size, subsample, scene_id=sid, sensor=room_sensor,
+                                             ranges=face_ranges)
             elif part == "round":
                 scene = generate_round_scene(scene_seed(seed + 2, i - n_before_round), size,
                                              max(1, subsample // 2), scene_id=sid,
@@ -134,11 +159,14 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         write_manifest(tmp, rows)
         write_dataset_info(tmp, {
             "format": "planerel-synth-dataset", "version": 1, "seed": seed,
-            "world": "paper+kinect-room" + ("+round" if round_ else ""),
-            "counts": {**counts, "round": round_},
+            "world": "paper+kinect-room" + ("+round" if round_ else "") + ("+faces" if faces else ""),
+            "counts": {**counts, "round": round_, **({"faces": faces} if faces else {})},
             "size": list(_check_size(size)), "subsample": int(subsample),
             "sensor": {"paper": paper_sensor.to_dict(), "room": room_sensor.to_dict()},
             "world_ranges": ranges.to_dict(),
+            # a box seen as one side face (its top out of view) is a box example, and the
+            # one-face clutter (a door, a chair's back, a laptop's lid) stays other (face24)
+            "examples": {"box_faces": 1},
         })
     return Path(out_dir)
 
