@@ -37,6 +37,9 @@ PAPER = (12, 15, 18)
 ROOM = (30, 30, 30)
 #: Scenes of the training world's round part (a box among cylinders; 0: none).
 ROUND = 0
+#: Scenes of the training world's face part (a box and clutter seen from a low camera: boxes
+#: seen as one side face, :data:`planerel.synth.training_world.KINECT_FACES`; 0: none).
+FACES = 25
 #: Learner settings of the model: the score is coverage (positives - negatives), a rule must
 #: cover 8 objects and may take a few negatives, so that boxes seen without their top (one
 #: vertical face: no rule can tell them from a wall) stay uncovered instead of getting a
@@ -83,6 +86,9 @@ def main(argv=None) -> int:
                     help=f"scenes of the training world's round part (a box among standing and "
                          f"lying cylinders, planerel.synth.training_world.generate_round_scene; "
                          f"default {ROUND})")
+    ap.add_argument("--faces", type=int, default=FACES, metavar="N",
+                    help=f"scenes of the training world's face part (a box and clutter seen "
+                         f"from a low camera: boxes seen as one side face; default {FACES})")
     args = ap.parse_args(argv)
 
     from planerel.classify import Classifier, classify_dataset
@@ -100,20 +106,25 @@ def main(argv=None) -> int:
         sd = seeds(args.seed)
         if args.round_ < 0:
             raise InputError(f"--round must be a non-negative integer, got {args.round_}")
+        if args.faces < 0:
+            raise InputError(f"--faces must be a non-negative integer, got {args.faces}")
         train = generate_dataset(out / "data" / "train", n_box=12, n_stairs=15, n_ramp=18,
                                  seed=sd["train"], size=(640, 480), subsample=4)
         held = generate_dataset(out / "data" / "heldout", n_box=12, n_stairs=15, n_ramp=18,
                                 seed=sd["heldout"], size=(640, 480), subsample=4,
                                 camera=CameraRange(height=(0.7, 1.7), distance=(1.0, 2.2)))
         world = generate_training_world(out / "data" / "model_train", paper=PAPER, room=ROOM,
-                                        round_=args.round_, seed=sd["world"], size=(640, 480), subsample=4)
+                                        round_=args.round_, faces=args.faces, seed=sd["world"],
+                                        size=(640, 480), subsample=4)
         if args.seed:
             print(f"--seed {args.seed}: paper-sized set and training world from seed "
                   f"{sd['train']} (the shipped model: 0)")
         print(f"data: {train} (paper-sized set), {held} (held out: seed 1000, other camera "
               f"ranges), {world} (the model's training world: the paper-sized scenes and "
               f"{sum(ROOM)} Kinect-like room scenes with clutter"
-              + (f", {args.round_} round scenes: a box among cylinders)" if args.round_ else ")"))
+              + (f", {args.round_} round scenes: a box among cylinders" if args.round_ else "")
+              + (f", {args.faces} face scenes: a box seen from a low camera)"
+                 if args.faces else ")"))
         descs, _ = describe_scenes(train, jobs=args.jobs, progress=False)
         classes = ["box", "stairs", "ramp"]
         cv = cross_validate(descs, classes, folds=args.folds, seed=sd["folds"], engine=args.engine,
