@@ -3,7 +3,8 @@
 1. Generate the paper-sized synthetic set (12 box, 15 stairs, 18 ramp scenes at 160x120), a
    held-out set with another seed and other camera ranges, and the model's training world:
    the paper-sized scenes plus a Kinect-like room with clutter whose objects are none of the
-   classes (``other``; :mod:`planerel.synth.training_world`).
+   classes (``other``) and a face part, a tall box seen from a low camera (:data:`FACES`
+   scenes; a box seen as one face is a box example; :mod:`planerel.synth.training_world`).
 2. Cross-validate the learner on the paper-sized set (10 folds; the real Aleph when installed,
    else planerel's own learner) and print the confusion matrix.
 3. Learn the model from the training world and print its rules; classify every held-out scene
@@ -41,9 +42,9 @@ ROUND = 0
 #: seen as one side face, :data:`planerel.synth.training_world.KINECT_FACES`; 0: none).
 FACES = 25
 #: Learner settings of the model: the score is coverage (positives - negatives), a rule must
-#: cover 8 objects and may take a few negatives, so that boxes seen without their top (one
-#: vertical face: no rule can tell them from a wall) stay uncovered instead of getting a
-#: narrow rule of their own.  Box takes more noise (12): its positives include boxes seen as one
+#: cover 8 objects and may take a few negatives, so that no narrow rule is kept for a handful
+#: of odd boxes (boxes seen as one face have their rule on ``tall_face/1`` since the face
+#: part, face24; before it, no rule could tell one such face from a wall).  Box takes more noise (12): its positives include boxes seen as one
 #: face or from far, and with 6 the search settled on narrow size bounds (top width <= 0.25 m)
 #: that also passed cylinder tops; with 12 it finds the structural rule (one horizontal plane,
 #: perpendicular to another, little oblique area).  Stairs keep 6: with 12 one parallel pair

@@ -24,9 +24,16 @@ edge fragment) or one horizontal plane (a cylinder's top).  The demo model is le
   and a false box on a real Kinect frame (docs/results.md, "The round part with today's
   code").
 
+* a face part (``faces`` scenes, :data:`KINECT_FACES`): the room's box 0.6-1.2 m high seen
+  from a camera 0.2-0.5 m above the floor, so that it shows one or two side faces and no top.
+  ``make demo`` uses 25 (``examples/demo.py --faces N``).  The data set's ``dataset.json``
+  asks for boxes seen as one side face as box examples (``"examples": {"box_faces": 1}``,
+  :class:`planerel.features.truth_examples.ExampleRule`), in every part (face24, docs/results.md
+  "Boxes seen as one face").
+
 The scenes of one data set share one folder and one manifest; the varied scenes continue the
 numbering (``s0045 ..`` after 45 paper scenes) and use seeds :func:`planerel.synth.generator.scene_seed`
-``(seed + 1, i)`` (the round part ``(seed + 2, i)``), so the parts are deterministic and
+``(seed + 1, i)`` (the round part ``(seed + 2, i)``, the face part ``(seed + 3, i)``), so the parts are deterministic and
 independent of each other's size.
 """
 
