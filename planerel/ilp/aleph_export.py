@@ -418,6 +418,9 @@ def describe_dataset(dataset_dir, *, labels: str = "gt", classes: Sequence[str] 
 
     if labels not in ("gt", "segment"):
         raise InputError(f"labels must be 'gt' or 'segment', got {labels!r}")
+    from planerel.ilp.scenes import example_rule
+
+    rule = example_rule(dataset_dir)
     descs, skipped = [], []
     for row, cloud, gt, meta in iter_scenes(dataset_dir):
         if classes is not None and row.klass not in classes:
@@ -431,7 +434,7 @@ def describe_dataset(dataset_dir, *, labels: str = "gt", classes: Sequence[str] 
             from planerel.segment import segment
 
             lab = segment(cloud, method).labels
-        d = describe_truth_scene(cloud, lab, gt, meta, row.scene_id, row.klass)
+        d = describe_truth_scene(cloud, lab, gt, meta, row.scene_id, row.klass, rule=rule)
         if not d.objects:
             skipped.append(f"{row.scene_id}: no plane of its {row.klass} was measured")
         descs.append(d)
