@@ -8,7 +8,9 @@
 
     Vocabulary (docs/predicates.md): the planes of an object (has_plane), per
     plane its orientation, incline, height and size (area, plane_length,
-    plane_width), per ordered pair of planes the relations adjacent,
+    plane_width) and whether it is a tall face (tall_face: a vertical
+    rectangle standing on the ground with its top out of sight, as a box
+    seen as one face), per ordered pair of planes the relations adjacent,
     parallel, perpendicular, above, skirt (a vertical face hanging below a
     horizontal plane as a box's side below its top), corner (two vertical
     walls of one solid: right angle, level tops, neither a post), and the

@@ -58,6 +58,11 @@ def test_slope_task_is_the_default_task_and_three_lines():
         return [ln.strip() for ln in text.splitlines() if ln.startswith(":-")]
 
     default, slope = modes("modes_relational.pl"), modes("modes_slope.pl")
+    # tall_face/1 (face24) is the default task's alone: the optional tasks (and the varied
+    # recipe's) were not measured with it (docs/results.md "Boxes seen as one face")
+    assert ":- modeb(1, tall_face(+plane))." in default
+    assert not any("tall_face" in ln for ln in slope)
+    default = [ln for ln in default if "tall_face" not in ln]
     added = [ln for ln in slope if ln not in default]
     assert added == [":- modeb(1, slope(+plane, -slope)).",
                      ":- modeb(1, gteq(+slope, #slope)).",
