@@ -100,6 +100,35 @@ def test_a_panel_beside_a_taller_one_is_no_tall_face():
     assert 1 in _tall([floor(), low], view)[1]
 
 
+def test_a_curved_face_grown_into_one_plane_is_no_tall_face():
+    # the tall box's front bent into a half cylinder (radius 0.3 m, its width 0.6 m) bulging
+    # towards the camera, labelled one plane as a coarse segmentation grows a far cylinder:
+    # its fit's RMS is about 0.11 of its width, over tall_flat's 0.07
+    import numpy as np
+
+    from planerel.io.cloud import Cloud
+
+    cloud, lab, _, _ = render([floor()] + box(0.0, 2.0, 0.6, 0.4, 1.0), noise=0.0012, **LOW)
+    xyz = np.array(cloud.xyz, float)
+    front = lab == 2
+    x = xyz[..., 0][front]
+    bulge = 0.3 - np.sqrt(np.clip(0.09 - x * x, 0.0, None))  # depth behind the arc's crown
+    xyz[front] *= (1.0 + bulge / xyz[..., 2][front])[:, None]  # along each pixel's ray
+    bent = Cloud(xyz, cloud.intrinsics, cloud.up, "analytic")
+
+    def tall(params=None):
+        ps = measure_planes(bent, lab)
+        return ps, tall_faces(ps, relate(ps, bent, params), bent)
+
+    ps, faces = tall()
+    face = ps.by_label(2)
+    assert 0.09 < face.rms / face.width < 0.13
+    assert faces == frozenset()
+    assert tall(RelationParams(tall_flat=0.0))[1] == {2}  # without the bound it would be one
+    # the flat front (RMS the sensor's noise, about 0.003 of its width) passes the bound
+    assert _tall([floor()] + box(0.0, 2.0, 0.6, 0.4, 1.0), LOW)[1] == {2}
+
+
 def test_the_fact_is_written_for_a_tall_face_only():
     cloud, lab, _, _ = render([floor()] + box(0.0, 2.0, 0.6, 0.4, 1.0), noise=0.0012, **LOW)
     desc = describe_scene(cloud, lab, scene_id="t")

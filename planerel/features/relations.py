@@ -155,6 +155,11 @@ class RelationParams:
     #: out of the image's top): a box's top is then out of sight; a box seen from above it
     #: shows its top (face24)
     tall_eye: float = 0.1
+    #: a ``tall_face`` is flat: its fit's RMS residual at most this share of its width.  A
+    #: curved surface grown into one plane (a cylinder seen as one face at low resolution)
+    #: deviates from it by about 0.11 of its width (a half circle against its chord: an RMS
+    #: of 0.223 r over a width of 2 r); a box's face by the sensor's noise.  0: no bound
+    tall_flat: float = 0.07
     corner_tol: float = 0.08
     corner_width: float = 0.08
     facing_overlap: float = 0.5
@@ -181,7 +186,7 @@ class RelationParams:
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width",
                              "facing_overlap", "facing_width", "facing_narrow_tol", "skirt_top_tilt", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "standing_foot",
-                             "standing_fill", "tall_eye"))
+                             "standing_fill", "tall_eye", "tall_flat"))
         if self.standing_fill > 1:
             raise InputError(f"standing_fill is a share of the plane's rectangle in 0..1, got "
                              f"{self.standing_fill!r}")
@@ -753,7 +758,9 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
 
     - it is a rectangle at least ``corner_width`` wide (``Plane.width``: a chair's or a
       table's leg, a post, is narrower), its hull's area at least ``standing_fill`` of
-      ``plane_length * plane_width`` (a ramp's side is a triangle);
+      ``plane_length * plane_width`` (a ramp's side is a triangle), and flat: its fit's RMS
+      residual at most ``tall_flat`` of its width (a cylinder that a coarse segmentation grew
+      into one plane deviates from it by about 0.11 of its width);
     - it stands on the ground: a horizontal plane adjacent to it is level with its foot
       (:func:`planerel.features.solid.grounded` with ``foot`` = ``standing_foot``: that
       plane's level under ``f`` within ``foot`` of ``f``'s bottom, the plane on the floor or
@@ -803,7 +810,8 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
             a, b = by_label.get(r.a), by_label.get(r.b)
             if a is not None and b is not None and a.orientation == "vertical" \
                     and a.width >= p.corner_width \
-                    and a.area >= p.standing_fill * a.length * a.width:
+                    and a.area >= p.standing_fill * a.length * a.width \
+                    and (p.tall_flat <= 0 or a.rms <= p.tall_flat * a.width):
                 if b.orientation == "horizontal":
                     near.setdefault(r.a, []).append(b)
                 elif b.orientation == "vertical":
