@@ -30,6 +30,7 @@ from planerel.ilp.prolog import (
     query,
     unload_file,
 )
+from planerel.progress import progress_bar
 
 __all__ = ["Classifier", "ObjectAnswer", "SceneAnswer", "explanation_image", "classify_dataset",
            "OTHER", "UNKNOWN"]
@@ -506,18 +507,13 @@ def classify_dataset(classifier: Classifier, dataset_dir, *, out_dir=None,
         planes, IoU of the chosen proposal), ``proposal_match`` (fraction of scenes whose best
         proposal covers the true object with IoU >= 0.8), ``ms_per_scene``.
     """
-    import sys
 
     from planerel.features.dataset import iter_scenes
     from planerel.ilp.metrics import accuracy_scores, confusion_matrix
 
     rows = []
     times = []
-    it = iter_scenes(dataset_dir)
-    if progress or (progress is None and sys.stderr.isatty()):
-        from tqdm import tqdm
-
-        it = tqdm(it, desc="classifying", unit="scene", leave=False)
+    it = progress_bar(iter_scenes(dataset_dir), desc="classifying", enabled=progress)
     for row, cloud, gt, meta in it:
         ans = classifier.classify(cloud, scene_id=row.scene_id)
         times.append(ans.seconds)

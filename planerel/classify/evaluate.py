@@ -16,6 +16,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from planerel.errors import InputError
+from planerel.progress import progress_bar
 
 __all__ = ["evaluate_model"]
 
@@ -88,7 +89,7 @@ def evaluate_model(model, dataset_dir, *, jobs: int | None = 1, cache=None,
                                          scheduler=scheduler)
         examples = heldout_examples(descs, clf.classes, dataset_dir)
         answers = {}
-        for d in _bar(descs, progress):
+        for d in progress_bar(descs, desc="answering", enabled=progress):
             for a in clf.answer_description(d):
                 answers[a.object_id] = a
         predictions = {o: answers[o].klass for o, _ in examples}
@@ -112,12 +113,3 @@ def evaluate_model(model, dataset_dir, *, jobs: int | None = 1, cache=None,
             clf.close()
 
 
-def _bar(items, progress):
-    """``items`` with a progress bar on stderr when asked (or stderr is a terminal)."""
-    import sys
-
-    if progress or (progress is None and sys.stderr.isatty()):
-        from tqdm import tqdm
-
-        return tqdm(items, desc="answering", unit="scene", leave=False)
-    return items

@@ -10,7 +10,6 @@ import functools
 import hashlib
 import json
 import os
-import sys
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -130,16 +129,6 @@ def example_rule(dataset_dir):
         raise InputError(f"{dataset_dir}: dataset.json's \"examples\" may name only "
                          f"box_faces, got {given!r}")
     return ExampleRule(**given)
-
-
-def _progress(iterable, total: int, desc: str, enabled: bool | None):
-    if enabled is None:
-        enabled = sys.stderr.isatty()
-    if not enabled:
-        return iterable
-    from tqdm import tqdm
-
-    return tqdm(iterable, total=total, desc=desc, unit="scene", leave=False)
 
 
 def _check_seg_params(method: str, seg_params: dict | None) -> None:

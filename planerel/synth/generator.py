@@ -29,6 +29,7 @@ import numpy as np
 
 from planerel.errors import InputError
 from planerel.io.cloud import Cloud, Intrinsics, depth_to_cloud
+from planerel.progress import progress_bar
 
 __all__ = [
     "CLASSES",
@@ -965,11 +966,7 @@ def generate_dataset(out_dir, n_box: int = 12, n_stairs: int = 15, n_ramp: int =
     out = Path(out_dir)
     jobs = [(kind, None) for kind in CLASSES for _ in range(counts[kind])]
     rows = []
-    it = range(len(jobs))
-    if progress:
-        from tqdm import tqdm
-
-        it = tqdm(it, desc="scenes", unit="scene")
+    it = progress_bar(range(len(jobs)), desc="scenes", enabled=bool(progress), leave=True)
     # built aside and swapped in whole: a killed run leaves the previous set or none, never a mix
     with atomic_dir(out, markers=("manifest.csv", "dataset.json")) as tmp:
         for i in it:
