@@ -22,7 +22,7 @@ from planerel.features.facts import describe_scene
 
 def _old_open_wall_objects(planes, objects, params, curved_below=0.8, xyz=None):
     """The rule before speed22z (every wall's measures first, then its parallel pairs)."""
-    from planerel.features.cavities import cross3
+    from planerel.features.vectors import cross3
 
     lab = getattr(planes, "labels", None)
     if (not params.open_walls or xyz is None or len(objects) < 2 or lab is None

@@ -161,7 +161,7 @@ def test_default_parameters_made_once_and_equal_to_new_ones():
 
 
 def test_cross3_is_numpys_cross_bit_for_bit():
-    from planerel.features.cavities import cross3
+    from planerel.features.vectors import cross3
 
     rng = np.random.default_rng(11)
     for _ in range(2000):

@@ -29,7 +29,7 @@ def _vectors(rng, n):
 
 
 def test_vec_norm_is_numpys_norm_bit_for_bit():
-    from planerel.features.cavities import vec_norm
+    from planerel.features.vectors import vec_norm
 
     rng = np.random.default_rng(2222)
     for v in _vectors(rng, 4000):
@@ -44,7 +44,7 @@ def test_vec_norm_is_numpys_norm_bit_for_bit():
 
 
 def test_lo_hi_is_numpys_min_and_max():
-    from planerel.features.cavities import lo_hi
+    from planerel.features.vectors import lo_hi
 
     rng = np.random.default_rng(2223)
     cases = [rng.normal(size=int(rng.integers(1, 30))) * 10.0 ** rng.integers(-6, 7)

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from planerel.features.cavities import cross3
+from planerel.features.vectors import cross3
 
 __all__ = ["footprint_overlap", "stacked_board_pairs"]
 

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from planerel.features.cavities import vec_norm
+from planerel.features.vectors import vec_norm
 
 #: edge pixel pairs a concave edge needs to count (as :data:`relations.MIN_EDGE`)
 MIN_CONCAVE_EDGE = 5

@@ -104,7 +104,7 @@ def open_wall_objects(planes, objects, params, curved_below: float = 0.8, xyz=No
     list of CurvedObject
         ``objects`` itself when nothing is joined.
     """
-    from planerel.features.cavities import cross3
+    from planerel.features.vectors import cross3
 
     lab = getattr(planes, "labels", None)
     if (not params.open_walls or xyz is None or len(objects) < 2 or lab is None

@@ -69,15 +69,13 @@ import numpy as np
 from planerel.errors import InputError, check_bools
 from planerel.features.cavities import (
     cavity_pairs,
-    cross3,
     edge_overlap,
     group_channel_pairs,
-    lo_hi,
     occluded_channel_pairs,
     split_panel_pairs,
-    vec_norm,
 )
 from planerel.features.solid import PROFILE_POINTS
+from planerel.features.vectors import cross3, lo_hi, vec_norm
 
 __all__ = [
     "RelationParams",
@@ -2223,7 +2221,7 @@ _LAST_BASIS: list = [None]
 def _horizontal_basis(up) -> tuple[np.ndarray, np.ndarray]:
     """Two unit vectors ``(3,)`` spanning the horizontal plane (perpendicular to ``up``),
     read-only (remembered for the last ``up``).  The cross products in Python floats
-    (:func:`~planerel.features.cavities.cross3`: the floats ``np.cross`` gives, without its
+    (:func:`~planerel.features.vectors.cross3`: the floats ``np.cross`` gives, without its
     15-40 us a call)."""
     up = np.asarray(up, float)
     key = up.tobytes()

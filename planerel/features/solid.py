@@ -80,7 +80,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from planerel.features.cavities import lo_hi, vec_norm
+from planerel.features.vectors import lo_hi, vec_norm
 
 __all__ = ["face_points", "FaceProfile", "face_profile", "face_profile_of", "skirt_measures",
            "is_skirt", "on_step", "grounded", "rises_from", "is_corner", "is_facing"]

@@ -72,7 +72,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planerel.errors import InputError
-from planerel.features.cavities import vec_norm
+from planerel.features.vectors import vec_norm
 
 #: The grid of :func:`fit_profile`: rise step (metres), slope factors, phases of the levels.
 RISE_STEP = 0.005
