@@ -74,7 +74,16 @@ from planerel.features.cavities import (
     occluded_channel_pairs,
     split_panel_pairs,
 )
-from planerel.features.solid import PROFILE_POINTS
+from planerel.features.solid import (
+    PROFILE_POINTS,
+    face_profile_of,
+    grounded,
+    is_corner,
+    is_facing,
+    is_skirt,
+    on_step,
+    rises_from,
+)
 from planerel.features.vectors import cross3, lo_hi, vec_norm
 
 __all__ = [
@@ -254,11 +263,38 @@ class Relations:
 
     def get(self, a: int, b: int) -> Relation:
         """The relation of ``a`` to ``b`` (``KeyError`` when absent)."""
+        pos = getattr(self, "_pos", None)
+        if pos is None:
+            pos = self._positions()
+        if pos:
+            # every ordered pair of n labels, sorted (as relate makes them): (a, b) at
+            # i (n - 1) + j - (j > i) for the labels' ranks i, j; the relation found there is
+            # checked, any other layout is looked up in the dictionary (a few dozen lookups
+            # a scene: a dictionary of all n (n - 1) pairs cost more than they do)
+            i, j = pos.get(a), pos.get(b)
+            if i is not None and j is not None and i != j:
+                r = self.pairs[i * (len(pos) - 1) + j - (j > i)]
+                if r.a == a and r.b == b:
+                    return r
         idx = getattr(self, "_index", None)
         if idx is None:
             idx = {(r.a, r.b): r for r in self.pairs}
             object.__setattr__(self, "_index", idx)
         return idx[(a, b)]
+
+    def _positions(self) -> dict:
+        """``{label: rank}`` when :attr:`pairs` may be every ordered pair of ``n`` labels
+        sorted by ``(a, b)`` (``n (n - 1)`` of them, the first of each run of ``n - 1`` an
+        increasing label), else ``{}``; remembered."""
+        m = len(self.pairs)
+        n = (1 + math.isqrt(1 + 4 * m)) // 2
+        pos: dict = {}
+        if n >= 2 and n * (n - 1) == m:
+            heads = [self.pairs[k * (n - 1)].a for k in range(n)]
+            if all(heads[k] < heads[k + 1] for k in range(n - 1)):
+                pos = {x: k for k, x in enumerate(heads)}
+        object.__setattr__(self, "_pos", pos)
+        return pos
 
     def adjacent_pairs(self) -> list[tuple[int, int]]:
         """Unordered adjacent pairs ``(a, b)`` with ``a < b``."""
@@ -342,7 +378,9 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
 class _Solid:
     """``skirt``, ``corner`` and ``facing`` of :func:`relate`
     (:func:`planerel.features.solid.is_skirt`, :func:`~planerel.features.solid.is_corner`,
-    :func:`~planerel.features.solid.is_facing`); each face is measured once."""
+    :func:`~planerel.features.solid.is_facing`); each face is measured once.  (Their helpers
+    are imported with the module: an import statement in a method costs about 0.6 us a call,
+    and a scene asks for a face's profile dozens of times.)"""
 
     def __init__(self, planes, cloud, params: RelationParams, profiles: dict | None = None):
         lab = planes.labels
@@ -366,8 +404,6 @@ class _Solid:
                 self.normals[p.label] = p.normal
 
     def _profile(self, face):
-        from planerel.features.solid import face_profile_of
-
         prof = self._profiles.get(face.label)
         if prof is None:
             prof = self._profiles[face.label] = face_profile_of(face, self.up, self.labels,
@@ -401,8 +437,6 @@ class _Solid:
         """The skirt of a tilted box: the module rule (:func:`~planerel.features.solid.is_skirt`)
         in the top's own frame (its upward normal for ``up``), the face perpendicular to the
         top and reaching at most ``TILTED_BEYOND`` of the top's extent past its ends."""
-        from planerel.features.solid import face_profile_of, is_skirt
-
         p = self.params
         n = np.asarray(top.normal, float)
         if n @ self.up < 0:
@@ -436,8 +470,6 @@ class _Solid:
                 return self._tilted(top) and self.tilted_skirt(top, face)
         elif face.orientation != "vertical":
             return False
-        from planerel.features.solid import is_skirt, on_step, rises_from
-
         p = self.params
         prof = self._profile(face)
         # a low box's side is as low as a slab's edge: the reach asked scales with the top's
@@ -475,8 +507,6 @@ class _Solid:
         is all ``face`` must reach below ``top``: a horizontal plane adjacent to the face other
         than the top is the ground it stands on (:func:`~planerel.features.solid.grounded`,
         measured along ``up``)."""
-        from planerel.features.solid import grounded
-
         p = self.params
         if not 0 < p.skirt_grounded_reach < reach:
             return False
@@ -503,8 +533,6 @@ class _Solid:
     def corner(self, a, b) -> bool:
         if self.xyz is None or a.orientation != "vertical" or b.orientation != "vertical":
             return False
-        from planerel.features.solid import is_corner
-
         p = self.params
         return is_corner(a, b, self._profile(a), self._profile(b), p.corner_tol,
                          p.corner_width)
@@ -512,8 +540,6 @@ class _Solid:
     def facing(self, a, b) -> bool:
         if self.xyz is None or a.orientation != "vertical" or b.orientation != "vertical":
             return False
-        from planerel.features.solid import is_facing
-
         p = self.params
         return is_facing(a, b, self._profile(a), self._profile(b), p.corner_tol,
                          p.corner_width, p.facing_overlap, p.facing_width,
