@@ -362,11 +362,13 @@ def label_max(lab: np.ndarray) -> int:
 def _boundary(lab: np.ndarray) -> np.ndarray:
     """``(H, W)`` bool: labelled pixels with a 4-neighbour of another label or at the border
     (read-only when ``lab`` is: remembered for the last such label image)."""
-    from planerel.segment._label_kernels import label_boundary
-
     entry = _remembered(lab)
     if entry is not None and entry[1] is not None:
         return entry[1]
+    # (the kernels' imports after the remembered answers: an import statement costs about
+    # 0.6 us, and each step of a scene's description asks again)
+    from planerel.segment._label_kernels import label_boundary
+
     bnd = label_boundary(np.ascontiguousarray(lab, dtype=np.int32))
     if isinstance(lab, np.ndarray) and not lab.flags.writeable and lab.base is None:
         bnd.setflags(write=False)
@@ -377,10 +379,12 @@ def _boundary(lab: np.ndarray) -> np.ndarray:
 def _boundary_pixels(lab: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``np.nonzero(_boundary(lab))``: rows and columns ``(N,)`` int64, row-major (read-only
     and remembered as :func:`_boundary` is)."""
-    from planerel.segment._label_kernels import mask_pixels
-
     bnd = _boundary(lab)
     entry = _remembered(lab)
+    if entry is not None and entry[1] is bnd and entry[2] is not None:
+        return entry[2]
+    from planerel.segment._label_kernels import mask_pixels
+
     if entry is None or entry[1] is not bnd:
         return mask_pixels(bnd)
     if entry[2] is None:
@@ -396,11 +400,11 @@ def _boundary_tiles(lab: np.ndarray) -> np.ndarray:
     """:func:`planerel.features._relation_kernels.boundary_tiles` of ``lab`` and its
     :func:`_boundary_pixels` (the relations' touch test and the proposals' edge sums read
     the same tiles: remembered as :func:`_boundary` is)."""
-    from planerel.features._relation_kernels import boundary_tiles
-
     entry = _remembered(lab)
     if entry is not None and entry[4] is not None:
         return entry[4]
+    from planerel.features._relation_kernels import boundary_tiles
+
     brow, bcol = _boundary_pixels(lab)
     tiles = boundary_tiles(np.ascontiguousarray(lab, dtype=np.int32), np.asarray(brow, np.int64),
                            np.asarray(bcol, np.int64))

@@ -97,6 +97,22 @@ _LEVELS = (0.3, 0.5, 0.7)
 PROFILE_POINTS = 4000
 
 
+#: :mod:`planerel.features._relation_kernels` once :func:`_kernels` imported it.
+_KERNELS: list = [None]
+
+
+def _kernels():
+    """:mod:`planerel.features._relation_kernels`, imported at the first call (numba is a heavy
+    import: not with this module) and kept: an import statement in a function costs about
+    0.6 us a call, and a scene's relations measure dozens of faces."""
+    k = _KERNELS[0]
+    if k is None:
+        from planerel.features import _relation_kernels as k
+
+        _KERNELS[0] = k
+    return k
+
+
 def face_points(plane, labels, xyz, max_points: int = PROFILE_POINTS
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The finite points of ``plane`` and their pixels, from its pixel box: every pixel, or
@@ -174,11 +190,9 @@ def face_profile_of(face, up, labels, xyz, max_points: int = PROFILE_POINTS) -> 
     that keeps no points (:func:`planerel.features._relation_kernels.box_profile`).  The
     heights are summed in the plain order instead of numpy's matrix product: the same floats
     up to the last bit or so (relative 1e-12; ``tests/test_solid.py`` compares)."""
-    from planerel.features._relation_kernels import box_profile
-
     up = np.asarray(up, float)
     along = _along(up, face.normal)
-    bottom, top, lo, hi = box_profile(labels, xyz, int(face.label),
+    bottom, top, lo, hi = _kernels().box_profile(labels, xyz, int(face.label),
                                       *_face_box(face, labels.shape, max_points),
                                       up, along).tolist()
     return FaceProfile(top, bottom, along, lo, hi)
@@ -209,9 +223,9 @@ def _cover(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
     c = np.asarray(face.centroid, float)
     vert = up - (up @ n) * n  # the face's own "up" (the face is vertical within tolerance)
     vert /= max(vec_norm(vert), 1e-12)
-    from planerel.features._relation_kernels import cover_counts_at, cover_samples, linspace
-
-    s = linspace(float(t0), float(t1), int(samples))
+    k = _kernels()
+    cover_counts_at, cover_samples = k.cover_counts_at, k.cover_samples
+    s = k.linspace(float(t0), float(t1), int(samples))
 
     H, W = labels.shape
     # the samples in the image and their pixels (one compiled pass: elementwise arithmetic,
