@@ -15,9 +15,15 @@ measured 1.00-1.04 (minima) and 0.97-1.01 (medians) at load 2.7-3.0 (speed22s).
     .venv/bin/python benchmarks/ab_describe.py /tmp/refmain [--passes 20] [--rounds 3]
     git archive 29f9aa3^ planerel | tar -x -C /tmp/ref29      # the layout before planerel.features
     .venv/bin/python benchmarks/ab_describe.py /tmp/ref29
+    # the other direction (the script favours "this checkout" by about 2 %, speed23): the old
+    # code as this checkout, this one as the reference, the same labels (this one's segment)
+    git archive HEAD planerel | tar -x -C /tmp/refnew
+    (cd /tmp && PYTHONPATH=/tmp/ref29 CHECKOUT/.venv/bin/python CHECKOUT/benchmarks/ab_describe.py \
+        /tmp/refnew --labels-from-reference)
 
 Frames: the Kinect TIFFs and the mOSD PCDs of ``../shared/data`` (bench_speed_class.py's ten),
-labels from this checkout's ``segment(cloud)``, computed once and given to both sides.
+labels from this checkout's ``segment(cloud)`` (``--labels-from-reference``: the reference's),
+computed once and given to both sides.
 """
 
 from __future__ import annotations
@@ -70,6 +76,10 @@ def main(argv=None) -> int:
     ap.add_argument("reference", help="folder holding the reference planerel/ package")
     ap.add_argument("--passes", type=int, default=20)
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--labels-from-reference", action="store_true",
+                    help="segment with the reference's planerel, not this checkout's: for the "
+                         "other direction (an old checkout given by PYTHONPATH as 'this "
+                         "checkout', the new one as the reference) with the same labels")
     a = ap.parse_args(argv)
     if not (Path(a.reference) / "planerel").is_dir():
         ap.error("give the folder that holds the reference planerel/ package")
@@ -78,12 +88,12 @@ def main(argv=None) -> int:
     renamed_copy(Path(a.reference), Path(tmp.name))
     sys.path.insert(0, tmp.name)
 
-    from planerel.segment import segment
-
     files = kinect_files() + sorted(str(p) for p in data_dir("mosd").glob("*.pcd"))
     sides = [_side("planerel"), _side("planerel_ref")]
     clouds = [[s[1](f) for f in files] for s in sides]
-    labels = [segment(c).labels for c in clouds[0]]
+    seg = 1 if a.labels_from_reference else 0
+    segment = importlib.import_module(("planerel_ref" if seg else "planerel") + ".segment").segment
+    labels = [segment(c).labels for c in clouds[seg]]
     inner = [0.0]
 
     def timed(mod):
