@@ -243,3 +243,41 @@ def test_border_pixels_by_side_match_numpy():
             assert _border_pixels(lab, label, bbox, "rows") == rows
             assert _border_pixels(lab, label, bbox, "cols") == cols
             assert _border_pixels(lab, label, bbox) == every
+
+
+def test_get_finds_each_relation_in_every_layout(stair_scene):
+    """Relations.get takes a relation from its place among every ordered pair of the sorted
+    labels (speed24) and checks it; other layouts (a subset, another order, labels out of
+    order) go through the dictionary; a missing pair is a KeyError either way."""
+    import random
+    from dataclasses import replace as _replace
+
+    from planerel.features.relations import Relations
+
+    _, _, _, _, rel = stair_scene
+    want = {(r.a, r.b): r for r in rel}
+    rng = random.Random(5)
+    shuffled = list(rel.pairs)
+    rng.shuffle(shuffled)
+    labels = sorted({r.a for r in rel})
+    # relabelled so that the runs' first labels are not increasing
+    swap = {labels[0]: labels[1], labels[1]: labels[0]}
+    odd = [_replace(r, a=swap.get(r.a, r.a), b=swap.get(r.b, r.b)) for r in rel]
+    # each run of n - 1 reversed: the runs' first labels still increase, the places do not
+    m = len(labels) - 1
+    runs = tuple(r for k in range(len(labels)) for r in reversed(rel.pairs[k * m:(k + 1) * m]))
+    layouts = [rel, Relations(tuple(shuffled), rel.params), Relations(rel.pairs[:-3], rel.params),
+               Relations(runs, rel.params), Relations(tuple(odd), rel.params),
+               Relations((), rel.params)]
+    for k, rs in enumerate(layouts):
+        have = {(r.a, r.b): r for r in rs}
+        for a in [*labels, 99]:
+            for b in [*labels, 99]:
+                if (a, b) in have:
+                    assert rs.get(a, b) is have[(a, b)]
+                    if k < 4:
+                        assert rs.get(a, b) is want[(a, b)]
+                else:
+                    with pytest.raises(KeyError):
+                        rs.get(a, b)
+    assert rel._pos and layouts[3]._pos and not layouts[4]._pos

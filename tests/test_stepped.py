@@ -149,3 +149,79 @@ def test_stepped_levels_and_its_kernels_are_the_numpy_code():
         else:
             assert np.isnan(lo) and np.isnan(hi)
     assert found > 20
+
+
+# ---------------------------------------------------------------------------------------------
+# The RMS gate (SPLIT_MIN_RMS, speed24): only planes as rough as treads grown into one are
+# looked at.  Not an exact bound: the tests pin what it keeps and what it gives up.
+
+
+def _slope_in_bands(gap=0.15, band=0.03):
+    # a ramp (25 degrees, on its plane within the sensor's noise, 2-3 mm) of which only horizontal
+    # bands one gap apart are labelled, all one label: its points lie on levels
+    cloud, lab, up, _ = render([floor(), *ramp(0.0, 1.6, angle=25.0, length=1.6, width=1.2)],
+                               pitch=35, cam_height=1.6, width=320, height=240, noise=0.0004,
+                               seed=3)
+    h = np.asarray(cloud.xyz) @ up
+    h = h - np.nanmin(np.where(lab == 1, h, np.nan))
+    on = (lab == 1) & (np.mod(h, gap) < band)
+    out = np.where(lab == 1, -1, lab)
+    out[on] = 1
+    return cloud, out.astype(np.int32), up
+
+
+def test_the_rms_gate_keeps_treads_and_leaves_a_slope_seen_in_bands():
+    from planerel.features.planes import measure_planes
+    from planerel.features.stepped import SPLIT_MIN_RMS, split_stepped
+
+    cloud, lab, up = _flight_as_one_plane()
+    planes = measure_planes(cloud, lab, up)
+    steps = [p for p in planes if p.label == 1]
+    # treads grown into one plane: a sawtooth a rise high, far above the gate
+    assert steps[0].orientation == "inclined" and steps[0].rms > 3 * SPLIT_MIN_RMS
+    assert split_stepped(cloud.xyz, planes.labels, planes) is not None
+    # a slope seen in bands lies on levels too, but on its plane: split without the gate
+    # (as before it), left whole with it
+    cloud, lab, up = _slope_in_bands()
+    planes = measure_planes(cloud, lab, up)
+    slope = [p for p in planes if p.label == 1][0]
+    assert slope.orientation == "inclined" and slope.rms < SPLIT_MIN_RMS
+    assert split_stepped(cloud.xyz, planes.labels, planes, min_rms=0.0) is not None
+    assert split_stepped(cloud.xyz, planes.labels, planes) is None
+
+
+def test_the_rms_gate_changes_nothing_on_the_real_frames(monkeypatch):
+    """The shared real frames (three Kinect frames with a 36 000-point plane at 61 degrees the
+    level test read in full, seven mOSD frames) describe the same with and without it."""
+    from pathlib import Path
+
+    import pytest
+
+    from planerel.features import stepped
+    from planerel.io.readers import read
+    from planerel.segment import segment
+
+    data = Path(__file__).resolve().parents[2] / "shared" / "data"
+    files = sorted((data / "kinect").glob("*_depth.tiff")) + sorted((data / "mosd").glob("*.pcd"))
+    if not files:
+        pytest.skip(f"no real frames under {data}")
+    real = stepped.split_stepped
+
+    def ungated(*a, **k):
+        return real(*a, **{**k, "min_rms": 0.0})
+
+    gated = 0
+    for f in files:
+        cloud = read(f)
+        labels = segment(cloud).labels
+        new = describe_scene(cloud, labels)
+        gated += sum(1 for p in new.planes if p.orientation == "inclined" and not p.is_floor
+                     and p.rms < stepped.SPLIT_MIN_RMS)
+        monkeypatch.setattr(stepped, "split_stepped", ungated)
+        old = describe_scene(cloud, labels)
+        monkeypatch.setattr(stepped, "split_stepped", real)
+        assert [repr(r) for r in new.relations] == [repr(r) for r in old.relations], f.name
+        assert [(o.planes, o.curved, o.planar_fraction) for o in new.objects] == \
+            [(o.planes, o.curved, o.planar_fraction) for o in old.objects], f.name
+        assert np.array_equal(new.labels, old.labels)
+    assert gated >= 10
