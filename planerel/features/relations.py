@@ -290,9 +290,9 @@ class Relations:
         n = (1 + math.isqrt(1 + 4 * m)) // 2
         pos: dict = {}
         if n >= 2 and n * (n - 1) == m:
-            heads = [self.pairs[k * (n - 1)].a for k in range(n)]
-            if all(heads[k] < heads[k + 1] for k in range(n - 1)):
-                pos = {x: k for k, x in enumerate(heads)}
+            heads = [r.a for r in self.pairs[::n - 1]]
+            if heads == sorted(heads) and len(set(heads)) == n:
+                pos = dict(zip(heads, range(n), strict=True))
         object.__setattr__(self, "_pos", pos)
         return pos
 
