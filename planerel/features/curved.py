@@ -65,6 +65,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from planerel.errors import InputError, check_bools
+from planerel.features.planes import label_max
+from planerel.features.relations import Components
+from planerel.io.cloud import Cloud
 from planerel.segment.absorb import FACET_MAX_ANGLE, FACET_MIN_ANGLE
 
 __all__ = ["CurvedParams", "CurvedObject", "facet_planes", "skirt_faces", "pixel_areas", "join_parts",
@@ -266,8 +269,6 @@ class CurvedObject:
 def _facet_groups(planes, links, params: CurvedParams) -> set:
     """Planes of the groups that ``links`` (pairs of labels) join with at least
     ``facet_min_planes`` distinct normal directions."""
-    from planerel.features.relations import Components
-
     byl = {p.label: p for p in planes}
     if params.facet_max_width > 0:
         # a plane this wide, and much wider than every plane it links to, is a flat face (a
@@ -565,8 +566,6 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
     explained[known] = True
     # valid pixels (finite depth) of no label or of a label not explained, in one pass,
     # opened (an opening keeps no pixel that was not set: the depth stays finite)
-    from planerel.io.cloud import Cloud
-
     # a Cloud's invalid pixels are all NaN: its valid mask tells a finite depth (one byte a
     # pixel read, not the point)
     if pixels is not None and isinstance(cloud, Cloud) and cloud.valid.shape == lab.shape:
@@ -810,7 +809,6 @@ def _touching_labels(mask, lab, xyz, edge_depth: float, nlab: int | None = None,
     label image is not remembered: callers with many masks take it once).  ``rows``: the mask
     holds pixels only in rows ``rows[0]..rows[1]-1`` (default: any row)."""
     from planerel.features._curved_kernels import touching_counts
-    from planerel.features.planes import label_max
 
     lab = np.asarray(lab)
     n = touching_counts(np.asarray(mask, dtype=np.bool_), lab, np.asarray(xyz, float),
@@ -823,8 +821,6 @@ def _join_facet_proposals(props, facets, byl, relations, params) -> list:
     """``props`` with the proposals made only of facets (or planes under ``small_area``) that
     two linked facets join merged into the first of them (``CurvedParams.join_facets``); the
     merged ones are left empty, so indices keep their meaning."""
-    from planerel.features.relations import Components
-
     owner = {x: k for k, g in enumerate(props) for x in g}
     soft = [len(g) > 0 and all(x in facets or byl[x].area < params.small_area for x in g)
             for g in props]
@@ -909,8 +905,6 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
         bounds: list = []
         masks_, kept_with = _clusters(cloud, lab, planes, support, params, pixels, credit, bounds)
         if masks_:
-            from planerel.features.planes import label_max
-
             # once for every cluster's touching planes
             nlab = label_max(lab) + 1 if label_bound is None else int(label_bound)
         for m, with_plane, span in zip(masks_, kept_with, bounds, strict=True):

@@ -25,7 +25,22 @@ import numpy as np
 
 from planerel.errors import InputError, check_bools
 from planerel.features import terms
+from planerel.features._defaults import defaults
+from planerel.features.curved import CurvedParams, curved_objects
 from planerel.features.plan_overlap import over_pairs
+from planerel.features.planes import _listed_boundary_pixels, label_max
+from planerel.features.raised import RaisedParams, join_raised, raised_clusters, with_raised
+from planerel.features.relations import (
+    ProposalParams,
+    propose_objects,
+    relate,
+    skirts_within_objects,
+    support_planes,
+    tall_faces,
+)
+from planerel.features.stairfit import StairFitParams, _remeasure_stepped_clusters, join_groups
+from planerel.features.stepped import remeasure_stepped
+from planerel.features.tables import leg_objects, table_objects
 
 __all__ = [
     "PREDICATES",
@@ -237,22 +252,13 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     -------
     SceneDescription
     """
-    from planerel.features.curved import curved_objects
+    # (measure_planes, join_parts and open_wall_objects looked up in their modules at each
+    # call, the rest imported with this module: benchmarks/ab_describe.py times measure_planes
+    # there, tests stand in for the other two)
     from planerel.features.planes import measure_planes
-    from planerel.features.relations import (
-        ProposalParams,
-        propose_objects,
-        relate,
-        skirts_within_objects,
-        support_planes,
-        tall_faces,
-    )
-    from planerel.features.stepped import remeasure_stepped
 
     if not isinstance(scene_id, str) or not scene_id:
         raise InputError(f"a scene id must be a non-empty string, got {scene_id!r}")
-    from planerel.features._defaults import defaults
-    from planerel.features.curved import CurvedParams
 
     # the defaults made once (each construction validates every field)
     pp = proposal_params or defaults(ProposalParams)
@@ -268,8 +274,6 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     if objects is None and cp.stepped_clusters:
         # a far flight the region grower left unassigned: its treads and risers from the
         # stepped profile of its points
-        from planerel.features.stairfit import StairFitParams, _remeasure_stepped_clusters
-
         before = planes
         planes, flights, pixels = _remeasure_stepped_clusters(cloud, planes, plane_params)
         if (planes is not before or parent or defaults(StairFitParams).tiny_area != cp.tiny_area
@@ -290,8 +294,6 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     if objects is None:
         groups = propose_objects(planes, rel, pp, cloud, support)
         if flights:
-            from planerel.features.stairfit import join_groups
-
             groups = join_groups(groups, [f - set(support) for f in flights])
         proposed = True
     else:
@@ -306,8 +308,6 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     raised = None
     if proposed and pp.raised_objects:
         # objects the segmentation left in the floor (an open box's bottom, a laptop's base)
-        from planerel.features.raised import join_raised, raised_clusters
-
         lab = planes.labels if (parent or flights) else labels
         groups, extra, alone = join_raised(groups, raised_clusters(cloud, lab, planes, support),
                                            lab, np.asarray(cloud.xyz, float))
@@ -317,8 +317,6 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
                            planes.labels if (parent or flights) else labels, support, cp,
                            pixels, profiles, _label_bound(labels, planes, parent or flights))
     if raised is not None:
-        from planerel.features.raised import RaisedParams, with_raised
-
         rp = defaults(RaisedParams)
         cobjs = with_raised(cobjs, *raised, cp.curved_below,
                             np.asarray(cloud.xyz, float) if rp.join_clusters else None,
@@ -331,14 +329,10 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
                            cp.edge_depth)
     if proposed and pp.table_legs > 0 and support:
         # a table standing in the room: its top support for what stands on it, and an object
-        from planerel.features.tables import table_objects
-
         cobjs = table_objects(planes, support, cobjs, pp, cp.curved_below,
                               np.asarray(cloud.xyz, float))
     if proposed and pp.legs_apart > 0:
         # a table's or a chair's legs seen without its top: one object
-        from planerel.features.tables import leg_objects
-
         cobjs = leg_objects(planes, cobjs, pp, cp.curved_below, np.asarray(cloud.xyz, float))
     if proposed and pp.open_walls:
         # an open object's near wall (its outside) and far wall (its inside): one object
@@ -361,8 +355,6 @@ def _label_bound(labels, planes, split) -> int | None:
     invalid pixels to -1) and remembers its largest label.  None (the curved stage takes the
     image's own) when the planes were split again (``split``: their labels are the ones
     asked) or when ``labels`` may hold values int32 does not (their copy then differs)."""
-    from planerel.features.planes import label_max
-
     lab = np.asarray(labels)
     if split or planes.labels is None or lab.dtype.kind not in "iu" or lab.dtype.itemsize > 4 \
             or (lab.dtype.kind == "u" and lab.dtype.itemsize == 4):
@@ -404,7 +396,6 @@ def truncated_planes(labels, xyz, *, jump: float = TRUNC_JUMP, band: int = TRUNC
     frozenset of int
     """
     from planerel.features._truncated_kernels import truncated_at, truncation_counts
-    from planerel.features.planes import _listed_boundary_pixels, label_max
 
     lab = np.asarray(labels)
     if lab.ndim != 2 or lab.size == 0:

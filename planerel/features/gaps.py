@@ -283,8 +283,6 @@ def occluded_piece_pairs(planes, relations, labels, xyz, skip=(), angle_tol: flo
     set of (int, int)
         The joined pairs ``(a, b)``, ``a < b``.
     """
-    import math
-
     skip = set(skip)
     kinds = ("vertical", "horizontal", "inclined") if flat else ("vertical",)
     cand = [p for p in planes if p.label not in skip and p.orientation in kinds]

@@ -27,6 +27,9 @@ import math
 
 import numpy as np
 
+from planerel.features.curved import CurvedObject
+from planerel.features.vectors import cross3
+
 __all__ = ["TOP_CUT", "WALL_DEPTH", "WALL_LEVEL", "WALL_OVERLAP", "open_wall_objects"]
 
 #: Metres: the far wall lies this far behind the near one along their normal (the object's
@@ -46,8 +49,6 @@ TOP_CUT = 0.25
 
 def _joined(members, curved_below):
     """One CurvedObject of the proposals ``members``: their planes and masks together."""
-    from planerel.features.curved import CurvedObject
-
     total = sum(o.n_points for o in members)
     flat = sum(o.planar_fraction * o.n_points for o in members)
     mask = None
@@ -104,8 +105,6 @@ def open_wall_objects(planes, objects, params, curved_below: float = 0.8, xyz=No
     list of CurvedObject
         ``objects`` itself when nothing is joined.
     """
-    from planerel.features.vectors import cross3
-
     lab = getattr(planes, "labels", None)
     if (not params.open_walls or xyz is None or len(objects) < 2 or lab is None
             or lab.shape != xyz.shape[:2]):

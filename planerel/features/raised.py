@@ -50,6 +50,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from planerel.errors import InputError, check_bools
+from planerel.features._defaults import defaults
+from planerel.features.curved import CurvedObject, _pitches_at, _shift_all, _touching_labels
+from planerel.features.planes import label_max
 
 __all__ = ["RaisedParams", "raised_clusters"]
 
@@ -224,8 +227,6 @@ def raised_clusters(cloud, labels, planes, support=(), params: RaisedParams | No
         One mask per group, ordered by their first pixel (row-major).
     """
     from planerel.features._curved_kernels import list_areas, list_components, open_pixel_list
-    from planerel.features._defaults import defaults
-    from planerel.features.curved import _pitches_at, _shift_all
     from planerel.segment._label_kernels import mask_pixels
 
     params = params or defaults(RaisedParams)
@@ -342,9 +343,6 @@ def join_raised(groups, masks, labels, xyz, edge_depth: float = 0.02, min_touch:
         The proposals (those a group joined are one proposal now, in the place of the first),
         each one's raised pixels (None: none), and the groups that touch no proposal.
     """
-    from planerel.features.curved import _touching_labels
-    from planerel.features.planes import label_max
-
     groups = [tuple(g) for g in groups]
     extra: list = [None] * len(groups)
     alone = []
@@ -381,8 +379,6 @@ def with_raised(cobjs, groups, extra, alone, curved_below: float = 0.8, xyz=None
     at ``min_touch`` or more grid neighbour pairs within ``edge_depth * max(1, z)`` (the one
     with the most such pairs): an open box whose bottom is raised and whose inner walls were
     not segmented."""
-    from planerel.features.curved import CurvedObject, _touching_labels
-
     out = list(cobjs)
     if xyz is not None and alone and any(c.mask is not None for c in out):
         H, W = np.asarray(alone[0]).shape

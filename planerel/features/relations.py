@@ -67,6 +67,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from planerel.errors import InputError, check_bools
+from planerel.features._defaults import defaults
+from planerel.features.boards import stacked_board_pairs
 from planerel.features.cavities import (
     cavity_pairs,
     edge_overlap,
@@ -74,6 +76,9 @@ from planerel.features.cavities import (
     occluded_channel_pairs,
     split_panel_pairs,
 )
+from planerel.features.concave_cut import concave_cuts
+from planerel.features.gaps import gap_in_front, occluded_piece_pairs
+from planerel.features.planes import _boundary, _boundary_pixels, _boundary_tiles, label_max
 from planerel.features.solid import (
     PROFILE_POINTS,
     face_profile_of,
@@ -85,6 +90,7 @@ from planerel.features.solid import (
     rises_from,
 )
 from planerel.features.vectors import cross3, lo_hi, vec_norm
+from planerel.features.walls import flight_side, stepped_side, top_line
 
 __all__ = [
     "RelationParams",
@@ -356,7 +362,6 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
     if lab is None or lab.shape != xyz.shape[:2]:
         return set()
     from planerel.features._relation_kernels import touch_pairs_with_tiles
-    from planerel.features.planes import _boundary_pixels, _boundary_tiles, label_max
 
     top = label_max(lab)
     known = np.zeros(top + 1 if top >= 0 else 1, dtype=bool)
@@ -396,8 +401,6 @@ class _Solid:
         self.steps: dict = {}
         self.normals = None
         if ok:
-            from planerel.features.planes import label_max
-
             self.normals = np.full((max([label_max(lab) + 1] + [p.label + 1 for p in planes]), 3),
                                    np.nan)
             for p in planes:
@@ -629,8 +632,6 @@ def relate(planes, cloud=None, params: RelationParams | None = None,
     Relations
         ``n * (n - 1)`` relations for ``n`` planes (none for 0 or 1 plane).
     """
-    from planerel.features._defaults import defaults
-
     params = params or defaults(RelationParams)
     plist = list(planes)
     n = len(plist)
@@ -1476,8 +1477,6 @@ def _flight_steps(planes, face, candidates, params) -> list:
 def _flight_side(planes, face, candidates, cloud, params) -> bool:
     """Vertical plane ``face``'s top rises with the flight of the steps among ``candidates``
     (``params.flight_sides``; :func:`planerel.features.walls.flight_side`)."""
-    from planerel.features.walls import flight_side
-
     steps = _flight_steps(planes, face, candidates, params)
     if len(steps) < 2:
         return False
@@ -1619,8 +1618,6 @@ def _shallow_ramp(p, floor, up, params) -> bool:
 
 def _stepped_side(planes, face, support, relations, cloud, params) -> bool:
     """A large vertical, non-floor plane that is the side of a stepped (or sloped) structure."""
-    from planerel.features.walls import stepped_side
-
     if face.orientation != "vertical" or face.is_floor:
         return False
     nbrs = [q for q in planes if q.label not in support and q.label != face.label
@@ -1671,7 +1668,6 @@ def edge_means(labels, xyz, pairs, band: int = 3, depth: float = 0.03) -> dict:
     if not want or lab.size == 0:
         return {}
     from planerel.features._relation_kernels import edge_sums_pairs_with_tiles
-    from planerel.features.planes import _boundary_pixels, _boundary_tiles, label_max
 
     n = label_max(lab) + 1
     sums = {}
@@ -1720,8 +1716,6 @@ def seen_behind(labels, xyz, group, reach: int = 3, margin: float = 0.05) -> flo
     float
         Behind / valid outside pixels looked at (0 when there are none).
     """
-    from planerel.features.planes import _boundary
-
     lab = np.asarray(labels)
     inside = np.isin(lab, list(group))
     H, W = lab.shape
@@ -2697,8 +2691,6 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                 # front of them between them in the image: two coplanar faces side by side
                 # (two boxes in a row), not one surface (whose pieces touch, or have
                 # something in front of it between them)
-                from planerel.features.gaps import gap_in_front
-
                 byl0 = {p.label: p for p in planes}
 
                 def one_surface(a, b) -> bool:
@@ -2759,8 +2751,6 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         if params.concave_cut > 0 and edges is not None:
             # two planes at a clear concave edge joined through other planes: the group is
             # cut where it is weakest between them (planerel.features.concave_cut)
-            from planerel.features.concave_cut import concave_cuts
-
             cc = [(a, b) for a, b in pairs if (a, b) not in joined]
             if cc:
                 joined -= concave_cuts(planes, joined, cc, edges, params.concave_cut)
@@ -2770,8 +2760,6 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     if (params.split_concave and params.cavities and params.occluded_pieces and cloud is not None
             and lab is not None and lab.shape == cloud.xyz.shape[:2]):
         # pieces of one surface seen on both sides of something in front of it (not adjacent)
-        from planerel.features.gaps import occluded_piece_pairs
-
         exclude = None
         if params.occluded_flat and params.skin_height > 0 and drop:
             # a piece of the support's surface (a bend the skin rule drops when alone) is no
@@ -2794,8 +2782,6 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             skip_missing=params.skip_missing, tread_axes=params.step_tread_axes))
     if params.stacked_boards:
         # a shelf's boards, one over another at regular heights (planerel.features.boards)
-        from planerel.features.boards import stacked_board_pairs
-
         g.add_edges(stacked_board_pairs(planes, g.nodes, (params.step_rise_min, params.board_rise_max),
                                         params.board_overlap, params.concave_tol, params.step_tilt))
     if params.split_concave and params.cavities and params.group_channels and concave:
@@ -2811,8 +2797,6 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     if params.flight_sides and cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]:
         # a flight's side face (no support, or under support_min_area: a far balustrade's
         # inside) joins the flight whose nosings its top follows
-        from planerel.features.walls import flight_side, top_line
-
         kept = [p for p in planes if p.label not in drop]
         for v in kept:
             if v.orientation != "vertical" or v.area < params.border_wall_area:

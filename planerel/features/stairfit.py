@@ -67,11 +67,13 @@ those of a segmented one.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from planerel.errors import InputError
+from planerel.features._defaults import defaults
+from planerel.features.planes import label_max
 from planerel.features.vectors import vec_norm
 
 #: The grid of :func:`fit_profile`: rise step (metres), slope factors, phases of the levels.
@@ -468,8 +470,6 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
         staircase. Then the unexplained pixels of step 1, ``(rows, cols)`` (row-major).
     """
     from planerel.features._curved_kernels import list_components_spans, unexplained_pixels
-    from planerel.features._defaults import defaults
-    from planerel.features.planes import label_max
 
     p = params or defaults(StairFitParams)
     xyz = np.asarray(cloud.xyz, float)
@@ -695,9 +695,7 @@ def _remeasure_stepped_clusters(cloud, planes, plane_params=None, params=None):
     valid pixels of no plane of ``tiny_area`` m^2 or more), else None; for
     :func:`planerel.features.curved.unexplained_clusters` to open without scanning the image
     again."""
-    from dataclasses import replace
-
-    from planerel.features.planes import measure_planes
+    from planerel.features.planes import measure_planes  # (looked up at each call: see facts)
 
     got, pixels = _stepped_cluster_labels(cloud, planes, params)
     if got is None:

@@ -11,7 +11,11 @@ points' heights; :func:`split_stepped` gives each level a label of its own.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
+
+from planerel.features.planes import label_max
 
 __all__ = ["stepped_levels", "split_stepped", "remeasure_stepped"]
 
@@ -205,8 +209,6 @@ def split_stepped(xyz: np.ndarray, labels: np.ndarray, planes, rise=(0.08, 0.30)
         others get new labels after the largest one) and ``{new label: split label}``; None
         when no plane was split.
     """
-    from planerel.features.planes import label_max
-
     up = np.asarray(planes.up, float)
     lab = np.asarray(labels)
     out = None
@@ -247,9 +249,7 @@ def remeasure_stepped(cloud, planes, rise=(0.08, 0.30), plane_params=None):
     (PlaneSet, dict)
         The planes (the given ones when nothing was split) and ``{new label: split label}``.
     """
-    from dataclasses import replace
-
-    from planerel.features.planes import measure_planes
+    from planerel.features.planes import measure_planes  # (looked up at each call: see facts)
 
     got = split_stepped(cloud.xyz, planes.labels, planes, rise)
     if got is None:

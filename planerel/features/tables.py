@@ -29,6 +29,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from planerel.features.curved import CurvedObject
+from planerel.features.open_walls import join_groups
+from planerel.features.relations import _floor_offset, _horizontal_basis
+
 __all__ = ["MIN_LEG_PIXELS", "POST_HEIGHT", "POST_LEVEL", "POST_SLICE", "POST_WIDTH", "TABLE_MARGIN", "TABLE_REACH",
            "leg_objects", "table_objects"]
 
@@ -47,8 +51,6 @@ MIN_LEG_PIXELS = 10
 
 def _table_groups(planes, support, params) -> list[list]:
     """Groups of the table tops' support planes (step 1), each ordered largest first."""
-    from planerel.features.relations import _floor_offset
-
     up = np.asarray(planes.up, float)
     byl = {p.label: p for p in planes}
     flat = sorted((byl[s] for s in support if s in byl and byl[s].orientation == "horizontal"
@@ -150,9 +152,6 @@ def table_objects(planes, support, objects, params, curved_below: float = 0.8, x
         object per table (its top's planes and the proposals under it, their masks joined).
     """
     from scipy.spatial import QhullError
-
-    from planerel.features.curved import CurvedObject
-    from planerel.features.relations import _horizontal_basis
 
     if params.table_legs <= 0 or not objects:
         return objects
@@ -308,8 +307,6 @@ def leg_objects(planes, objects, params, curved_below: float = 0.8, xyz=None) ->
         object per group of legs.
     """
     from planerel.features._curved_kernels import mask_points
-    from planerel.features.open_walls import join_groups
-    from planerel.features.relations import _horizontal_basis
 
     if params.legs_apart <= 0 or xyz is None or len(objects) < 2 or planes.floor is None:
         return objects
