@@ -16,8 +16,10 @@ __all__ = ["cross3", "lo_hi", "vec_norm"]
 def cross3(u, v) -> np.ndarray:
     """``np.cross(u, v)`` of two 3-vectors of floats: the same products and differences in
     Python floats (``a1 b2 - a2 b1``, ...; the floats numpy's cross gives) without its
-    overhead (about 15 us a call)."""
-    (u0, u1, u2), (v0, v1, v2) = (float(x) for x in u), (float(x) for x in v)
+    overhead (about 15 us a call).  A float64 array's values are taken by ``tolist`` (the same
+    Python floats as ``float`` of each, without a generator: 2.1 -> 0.85 us a call)."""
+    u0, u1, u2 = u.tolist() if type(u) is np.ndarray and u.dtype == np.float64 else (float(x) for x in u)
+    v0, v1, v2 = v.tolist() if type(v) is np.ndarray and v.dtype == np.float64 else (float(x) for x in v)
     return np.array([u1 * v2 - u2 * v1, u2 * v0 - u0 * v2, u0 * v1 - u1 * v0])
 
 
