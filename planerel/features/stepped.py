@@ -28,14 +28,16 @@ _LEVEL_MIN = 0.01
 #: Metres: :func:`split_stepped` looks only at inclined planes whose RMS residual
 #: (``Plane.rms``) is at least this.  Treads one rise apart grown into one "plane" deviate from
 #: it by a sawtooth a rise high (RMS about ``rise / sqrt(12)``, less where only the tread
-#: strips near the nosings are seen): the flights split on the judge sets and the real
-#: staircases had 13-20 mm (rises of 8 cm and more).  A real slope's points lie on it within
-#: the sensor's noise (the real Kinect and mOSD frames' inclined planes: 0.8-4.5 mm, among them
-#: each Kinect frame's 36 000-point plane at 61 degrees, 1.6-1.9 mm, whose heights the level
-#: test read in full and found no levels).  Not an exact bound: a slope seen in bands (parts
-#: hidden at regular heights) lies on levels with a small RMS, and is no longer split into
-#: "treads" (docs/benchmarks.md, "Twenty-fourth pass").  0: every inclined plane is looked at.
-SPLIT_MIN_RMS = 0.005
+#: strips near the nosings are seen): the planes split on the judge sets and the real
+#: staircases had 13-21 mm, those of ``benchmarks/bench_stairs_from_above.py``'s Kinect-like
+#: flights seen from above 7.0-11 mm.  A real slope's points lie on it within the sensor's
+#: noise: the real Kinect and mOSD frames' inclined planes had 0.8-4.5 mm, among them each
+#: Kinect frame's 36 000-point plane at 61 degrees, 1.6-1.9 mm, whose heights the level test
+#: read in full and found no levels; 3.5 mm lies a factor of about 2 from both.  Not an exact
+#: bound: a slope seen in bands (parts hidden at regular heights) lies on levels with a small
+#: RMS, and is no longer split into "treads" (docs/benchmarks.md, "Twenty-fourth pass").
+#: 0: every inclined plane is looked at.
+SPLIT_MIN_RMS = 0.0035
 
 
 def stepped_levels(heights: np.ndarray, rise=(0.08, 0.30), bin_size: float = _LEVEL_DEFAULTS[0],
