@@ -224,4 +224,4 @@ def test_the_rms_gate_changes_nothing_on_the_real_frames(monkeypatch):
         assert [(o.planes, o.curved, o.planar_fraction) for o in new.objects] == \
             [(o.planes, o.curved, o.planar_fraction) for o in old.objects], f.name
         assert np.array_equal(new.labels, old.labels)
-    assert gated >= 10
+    assert gated >= 10  # 18 of the 20 inclined planes (0.8-3.4 mm)
