@@ -26,9 +26,9 @@ import numpy as np
 from planerel.errors import InputError, check_bools
 from planerel.features import terms
 from planerel.features._defaults import defaults
-from planerel.features.curved import CurvedParams, curved_objects
+from planerel.features.curved import CurvedParams
 from planerel.features.plan_overlap import over_pairs
-from planerel.features.planes import _listed_boundary_pixels, label_max
+from planerel.features.planes import label_max
 from planerel.features.raised import RaisedParams, join_raised, raised_clusters, with_raised
 from planerel.features.relations import (
     ProposalParams,
@@ -252,9 +252,10 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     -------
     SceneDescription
     """
-    # (measure_planes, join_parts and open_wall_objects looked up in their modules at each
-    # call, the rest imported with this module: benchmarks/ab_describe.py times measure_planes
-    # there, tests stand in for the other two)
+    # (measure_planes, curved_objects, join_parts and open_wall_objects looked up in their
+    # modules at each call, the rest imported with this module: benchmarks/ab_describe.py
+    # times measure_planes there, tests stand in for the other three)
+    from planerel.features.curved import curved_objects
     from planerel.features.planes import measure_planes
 
     if not isinstance(scene_id, str) or not scene_id:
@@ -396,6 +397,7 @@ def truncated_planes(labels, xyz, *, jump: float = TRUNC_JUMP, band: int = TRUNC
     frozenset of int
     """
     from planerel.features._truncated_kernels import truncated_at, truncation_counts
+    from planerel.features.planes import _listed_boundary_pixels  # (a test stands in for it)
 
     lab = np.asarray(labels)
     if lab.ndim != 2 or lab.size == 0:
