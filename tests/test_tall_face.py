@@ -186,3 +186,6 @@ def test_the_face_part_makes_boxes_seen_as_one_face_examples(tmp_path):
     (world / "dataset.json").write_text(json.dumps(info))
     with pytest.raises(InputError, match="may name only box_faces"):
         example_rule(world)
+    # ... by describe_scenes too, before any scene is described
+    with pytest.raises(InputError, match="may name only box_faces"):
+        describe_scenes(world, jobs=1, cache="none", progress=False)

@@ -101,7 +101,7 @@ def _describe_one(job):
     ground-truth object.  Top-level so that a process pool can run it."""
     from planerel.features.dataset import describe_truth_scene, load_scene
 
-    dataset_dir, row, method, params, cache = job
+    dataset_dir, row, method, params, cache, rule = job
     cloud, gt, meta = load_scene(dataset_dir, row.scene_id)
     if gt is None:
         raise InputError(f"{dataset_dir}: scene {row.scene_id} has no ground-truth labels, so "
@@ -111,8 +111,7 @@ def _describe_one(job):
     else:
         files = [Path(dataset_dir) / row.depth, Path(dataset_dir) / row.meta]
         labels = segment_cached(cloud, method=method, params=params, files=files, cache=cache)
-    return describe_truth_scene(cloud, labels, gt, meta, row.scene_id, row.klass,
-                                rule=example_rule(dataset_dir))
+    return describe_truth_scene(cloud, labels, gt, meta, row.scene_id, row.klass, rule=rule)
 
 
 def example_rule(dataset_dir):
@@ -188,8 +187,9 @@ def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
     if not rows:
         raise InputError(f"{dataset_dir}: the data set has no scenes")
     _check_seg_params(method, seg_params)
+    rule = example_rule(dataset_dir)  # read (and a bad "examples" refused) once, before any work
     folder = cache_dir(cache) if cache is None or isinstance(cache, (str, Path)) else None
-    jobs_list = [(str(dataset_dir), r, method, dict(seg_params or {}), folder) for r in rows]
+    jobs_list = [(str(dataset_dir), r, method, dict(seg_params or {}), folder, rule) for r in rows]
     from planerel.batch import resolve_jobs, run_batch
 
     n_jobs = resolve_jobs(jobs) if scheduler is None and len(rows) > 4 else 1
