@@ -245,17 +245,17 @@ def _examples(descs):
     return [(o.id, o.klass) for d in descs for o in d.objects if o.klass]
 
 
-def stepped_object(descs, object_id) -> bool:
-    """Whether object ``object_id`` of the descriptions ``descs`` holds a flight's faces in a
-    regular row (:func:`planerel.features.relations.flight_faces`, the default proposal
-    settings ``planerel learn`` describes scenes with)."""
+def stepped_object(where: dict, object_id) -> bool:
+    """Whether object ``object_id`` holds a flight's faces in a regular row
+    (:func:`planerel.features.relations.flight_faces`, with the default proposal settings
+    ``planerel learn`` describes scenes with); ``where``: ``{object id: (description,
+    object)}``."""
     from planerel.features.relations import flight_faces
 
-    for d in descs:
-        for o in d.objects:
-            if o.id == object_id:
-                return flight_faces(d.planes, o.planes)
-    return False
+    if object_id not in where:
+        return False
+    d, o = where[object_id]
+    return flight_faces(d.planes, o.planes)
 
 
 def horizontal_counts(descs) -> dict:
@@ -785,6 +785,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
     fired = _parse_fired(_prolog_run(model, descs, object_ids, timeout))
     planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
     levels = horizontal_counts(descs)
+    where = {o.id: (d, o) for d in descs for o in d.objects}
     out = []
     for o in object_ids:
         hits = fired.get(o, [])
@@ -798,7 +799,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                                veto_ratio=model.veto_ratio,
                                n_horizontal=levels.get(o),
                                levels=model.level_domain if model.level_gate else (),
-                               stepped=lambda o=o: stepped_object(descs, o))
+                               stepped=lambda o=o: stepped_object(where, o))
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
             out.append(Prediction(o, OTHER, fired=fired_pairs, refused=refused))
