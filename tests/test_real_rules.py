@@ -293,6 +293,33 @@ def test_real_staircases_are_one_stairs_answer(demo_model):
             assert treads <= set(flight.labels), f"{f.name}: treads {treads - set(flight.labels)} apart"
 
 
+def test_real_frames_nobody_had_seen(demo_model):
+    """hunt25: organized Kinect clouds of PointCloudLibrary/data (``$PLANEREL_STAIRS_DATA/
+    pcl-pairwise``: a room with an open-riser flight seen from its side, a desk, a chair;
+    ``pcl-tutorials``: a person, a mug on a table, a chair), each with the ``labels.json``
+    benchmarks/real_unseen.py reads.  No frame of the room is answered anything but
+    ``other`` where nothing of a class is (the demo's stairs rule 4 proved a room wall with a
+    banister's posts, and a desk pedestal's faces, ``stairs`` before the level gate,
+    ``decision.level_gate``), and the mug's and the chair's frames have no class answer.  The
+    flight itself is missed (docs/objects.md, "Real frames nobody on the team had seen")."""
+    sets = [STAIRS_DATA / "pcl-pairwise", STAIRS_DATA / "pcl-tutorials"]
+    if not all((s / "labels.json").is_file() for s in sets):
+        pytest.skip(f"no labelled unseen frames under {STAIRS_DATA} (set PLANEREL_STAIRS_DATA; "
+                    "benchmarks/real_unseen.py)")
+    import sys
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from real_unseen import run, totals
+
+    rows = {r["frame"]: r for r in run([str(s) for s in sets], str(demo_model))}
+    assert len(rows) == 8
+    for name in ("capture0001", "capture0002", "capture0003", "capture0004", "capture0005",
+                 "table_scene_mug_stereo_textured", "region_growing_rgb_tutorial"):
+        assert rows[name]["false"] == [], (name, rows[name]["false"])
+    t = totals(rows.values())
+    assert (t["stairs_found"], t["stairs_labelled"], t["false_stairs"], t["false_box"]) == (0, 5, 0, 0)
+
+
 @pytest.mark.parametrize("legs,apron", [(True, 0.0), (False, 0.12), (True, 0.1)])
 def test_a_table_standing_in_the_room_is_other_and_the_box_on_it_box(demo_model, legs, apron):
     """table22u: a table seen with its legs or apron is a proposal of its own (its top still

@@ -72,13 +72,14 @@ class ObjectAnswer:
         Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
     curved : bool or None
         The planar fraction is below the model's ``curved.curved_below``: a round object.
-    refused : tuple of Refusal, ProofRefusal and VetoRefusal
+    refused : tuple of Refusal, ProofRefusal, LevelRefusal and VetoRefusal
         Classes whose rules proved the object and that the decision refused for it: its
         planar fraction lies under ``1 - decision.planar_margin`` times the least planar of
         the class's training positives (with ``decision.planar_gate``;
         :func:`planerel.ilp.metrics.planar_refusals`), a rule whose proof is made of planes far
-        smaller than its training proofs' (:func:`~planerel.ilp.metrics.proof_refusals`), or a
-        rule for ``other`` proved through planes far smaller than a class proof's
+        smaller than its training proofs' (:func:`~planerel.ilp.metrics.proof_refusals`), a
+        class all of whose training positives had more horizontal planes than the object
+        (:func:`~planerel.ilp.metrics.level_refusals`), or a rule for ``other`` proved through planes far smaller than a class proof's
         (:func:`~planerel.ilp.metrics.veto_refusals`).  The answer is then the next class
         that holds, else ``other``.
     votes : tuple of ObjectAnswer
@@ -266,6 +267,9 @@ class Classifier:
         self.proof_domain = (self.settings.proof_domain if decision.proof_gate else ())
         self.proof_margin = decision.proof_margin
         self.proof_min_positives = decision.proof_min_positives
+        #: ``(class, low, n)`` the level gate compares with (empty: no gate; the model keeps
+        #: none, or ``decision.level_gate`` is off)
+        self.level_domain = (self.settings.level_domain if decision.level_gate else ())
         #: vetoes (rules for ``other``) proved through far smaller planes than a class proof
         #: are set aside (0: off; nothing to set aside without rules for ``other``)
         self.veto_ratio = decision.veto_ratio if OTHER in heads else 0.0
@@ -299,7 +303,7 @@ class Classifier:
         self.classes = tuple(dict.fromkeys(k for m in members for k in m.classes))
         self.stats = ()
         self.cofire = ()
-        self.planar_domain = self.proof_domain = ()
+        self.planar_domain = self.proof_domain = self.level_domain = ()
         self.warnings = tuple(dict.fromkeys((*self.warnings, *(w for m in members
                                                                 for w in m.warnings))))
 
@@ -392,7 +396,11 @@ class Classifier:
         """Each object of ``desc`` (its facts loaded) answered by this model's rules."""
         from planerel.ilp.metrics import decide, laplace
 
+        from planerel.features.relations import flight_faces
+
         answers = []
+        orientation = {p.label: p.orientation for p in desc.planes}
+        proposal_params = self._describe_kw.get("proposal_params")
         for o in desc.objects:
             hits = []
             # the proof scale only when the proof gate or the vetoes' ratio uses it
@@ -411,7 +419,12 @@ class Classifier:
                                    proofs=self.proof_domain,
                                    proof_margin=self.proof_margin,
                                    proof_min_positives=self.proof_min_positives,
-                                   veto_ratio=self.veto_ratio)
+                                   veto_ratio=self.veto_ratio,
+                                   n_horizontal=sum(orientation.get(lbl) == "horizontal"
+                                                    for lbl in o.planes),
+                                   levels=self.level_domain,
+                                   stepped=lambda o=o: flight_faces(desc.planes, o.planes,
+                                                                    proposal_params))
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)
             if best is None:

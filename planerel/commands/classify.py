@@ -41,7 +41,8 @@ def register(sub) -> None:
                         "training proofs (decision.proof_margin, decision.proof_min_positives); "
                         "decision.veto_ratio (3; 0 switches it off) sets aside a rule for other "
                         "proved only through planes that many times smaller than a class rule's "
-                        "proof")
+                        "proof; decision.level_gate (on by default) refuses a class for an "
+                        "object with fewer horizontal planes than all of its training positives")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)

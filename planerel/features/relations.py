@@ -112,6 +112,7 @@ __all__ = [
     "edge_overlap",
     "objects_from_truth",
     "proposal_match",
+    "flight_faces",
 ]
 
 
@@ -2365,6 +2366,28 @@ def _some_rise(dv: float, rise, spans) -> bool:
         if rise[0] <= dv / k <= rise[1]:
             return True
     return False
+
+
+def flight_faces(planes, labels, params: ProposalParams | None = None) -> bool:
+    """Whether the planes ``labels`` of one object hold a flight's faces in a regular row: a
+    step of :func:`step_chain_pairs` (three treads or three risers or more, each one rise above
+    and one run beyond the last), with the proposals' step settings ``params``.
+
+    A flight seen from below shows its risers and no tread; a wall with the posts of a banister
+    before it, or a cabinet's faces, hold no such row (hunt25: the decision's level gate,
+    :func:`planerel.ilp.metrics.level_refusals`, keeps ``stairs`` for such an object).
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    labels : iterable of int
+    params : ProposalParams, optional
+    """
+    p = params or ProposalParams()
+    return bool(step_chain_pairs(planes, tuple(labels), (p.step_rise_min, p.step_rise_max),
+                                 (p.step_run_min, p.step_run_max), p.step_overlap or 0.5,
+                                 p.concave_tol, tilt=p.step_tilt, cut_long_side=p.cut_long_side,
+                                 skip_missing=p.skip_missing, tread_axes=p.step_tread_axes))
 
 
 def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),

@@ -7,7 +7,7 @@ and resolved, including the sensor-adaptive switch ``adapt`` of
 :mod:`planerel.segment.adapt`), the gravity estimate's parameters, the plane, relation and
 proposal parameters of the description, the rules' measured precision, and the planar
 fractions of each class's training positives and the proof scales of each rule's, with the
-decision's margins (section ``decision``, ``planar_domain``, ``proof_domain``:
+decision's margins (section ``decision``, ``planar_domain``, ``proof_domain``, ``level_domain``:
 :func:`planerel.ilp.metrics.planar_refusals`, :func:`~planerel.ilp.metrics.proof_refusals`).  ``classify`` reads them back
 and runs with the same settings; ``--param`` overrides one, with a warning when it differs from
 the training value.
@@ -20,7 +20,7 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 :class:`~planerel.features.relations.ProposalParams` and :class:`~planerel.features.curved.CurvedParams`;
 ``decision.NAME`` one of :class:`~planerel.ilp.metrics.DecisionParams` (``decision.planar_gate``,
 ``decision.planar_margin``, ``decision.proof_gate``, ``decision.proof_margin``,
-``decision.veto_ratio``).
+``decision.veto_ratio``, ``decision.level_gate``).
 """
 
 from __future__ import annotations
@@ -97,6 +97,10 @@ class ModelSettings:
         ``(index, class, low, high, n)``: the proof scales of each rule's training positives
         (:func:`planerel.ilp.metrics.proof_domain`; empty for a model written before they
         were kept: no proof gate).
+    level_domain : tuple
+        ``(class, low, n)``: the fewest horizontal planes of each class's training positives
+        (:func:`planerel.ilp.metrics.level_domain`; empty for a model written before they were
+        kept: no level gate).
     """
 
     method: str = "regiongrow"
@@ -108,6 +112,7 @@ class ModelSettings:
     #: when unknown: a parameter added after the model was written is not among them, and its
     #: value is today's default, not a training value.
     seg_recorded: frozenset | None = None
+    level_domain: tuple = ()
 
     def describe_kwargs(self) -> dict:
         """Keyword arguments of :func:`planerel.features.facts.describe_scene` for these settings."""
@@ -136,10 +141,12 @@ class ModelSettings:
 
 
 def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
-                      planar_domain=(), proof_domain=(), decision: dict | None = None) -> dict:
+                      planar_domain=(), proof_domain=(), decision: dict | None = None,
+                      level_domain=()) -> dict:
     """The content of ``model.json`` for a model learned with these settings (the description
     parameters are the defaults ``planerel learn`` describes scenes with; ``planar_domain``,
-    ``proof_domain``: :attr:`planerel.ilp.pipeline.Model.planar_domain`, ``.proof_domain``;
+    ``proof_domain``, ``level_domain``: :attr:`planerel.ilp.pipeline.Model.planar_domain`,
+    ``.proof_domain``, ``.level_domain``;
     ``decision``: a recipe's decision settings in place of the defaults)."""
     from planerel.ilp.metrics import laplace
 
@@ -160,6 +167,7 @@ def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
                           for k, lo, hi, n in planar_domain],
         "proof_domain": [{"rule": i, "class": k, "low": lo, "high": hi, "n": n}
                          for i, k, lo, hi, n in proof_domain],
+        "level_domain": [{"class": k, "low": lo, "n": n} for k, lo, n in level_domain],
     }
 
 
@@ -199,10 +207,18 @@ def read_settings(rules_path) -> ModelSettings | None:
         except (KeyError, TypeError, ValueError):
             raise InputError(f"{path}: proof_domain entry {entry!r} is not "
                              "{rule, class, low, high, n}") from None
+    levels = []
+    for entry in data.get("level_domain") or ():
+        try:
+            levels.append((str(entry["class"]), int(entry["low"]), int(entry["n"])))
+        except (KeyError, TypeError, ValueError):
+            raise InputError(f"{path}: level_domain entry {entry!r} is not "
+                             "{class, low, n}") from None
     resolved = seg.get("resolved")
     return ModelSettings(str(seg.get("method", "regiongrow")), dict(seg.get("params") or {}),
                          sections, tuple(domain), tuple(proofs),
-                         frozenset(resolved) if isinstance(resolved, dict) else None)
+                         frozenset(resolved) if isinstance(resolved, dict) else None,
+                         tuple(levels))
 
 
 def _coerce_like(value, like, name: str):
@@ -287,7 +303,7 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
                             f"does not record {sec}.{key}: it was written before the setting "
                             f"existed)")
     out = ModelSettings(new_method, seg, sections, base.planar_domain, base.proof_domain,
-                        base.seg_recorded)
+                        base.seg_recorded, base.level_domain)
     out.describe_kwargs()  # a bad value fails here, with the dataclass's message
     out.decision_params()
     if settings is not None and new_method == base.method and seg != base.seg_params:

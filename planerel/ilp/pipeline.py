@@ -22,6 +22,7 @@ from planerel.errors import InputError, PrologError
 from planerel.ilp.metrics import (
     OTHER,
     PLANAR_GATE,
+    LEVEL_GATE,
     PLANAR_MARGIN,
     PROOF_GATE,
     PROOF_MARGIN,
@@ -32,6 +33,7 @@ from planerel.ilp.metrics import (
     decide,
     error_kinds,
     laplace,
+    level_domain,
     planar_domain,
     proof_domain,
     score_objects,
@@ -114,6 +116,13 @@ class Model:
     veto_ratio : float
         A rule for ``other`` is set aside for an object a class rule proves with planes more
         than this many times larger (:func:`planerel.ilp.metrics.veto_refusals`; 0 = off).
+    level_domain : tuple
+        ``(class, low, n)``: the fewest horizontal planes of each class's training positives
+        (:func:`planerel.ilp.metrics.level_domain`; ``model.json`` keeps them).  Empty: no
+        level gate (a model from before they were kept).
+    level_gate : bool
+        Whether :func:`prolog_predict` refuses a class for an object with fewer horizontal
+        planes than any of its training positives (:func:`planerel.ilp.metrics.level_refusals`).
     """
 
     classes: tuple
@@ -133,6 +142,8 @@ class Model:
     proof_margin: float = PROOF_MARGIN
     proof_min_positives: int = PROOF_MIN_POSITIVES
     veto_ratio: float = VETO_RATIO
+    level_domain: tuple = ()
+    level_gate: bool = LEVEL_GATE
 
     @property
     def targets(self) -> tuple:
@@ -232,6 +243,31 @@ class Members:
 
 def _examples(descs):
     return [(o.id, o.klass) for d in descs for o in d.objects if o.klass]
+
+
+def stepped_object(where: dict, object_id) -> bool:
+    """Whether object ``object_id`` holds a flight's faces in a regular row
+    (:func:`planerel.features.relations.flight_faces`, with the default proposal settings
+    ``planerel learn`` describes scenes with); ``where``: ``{object id: (description,
+    object)}``."""
+    from planerel.features.relations import flight_faces
+
+    if object_id not in where:
+        return False
+    d, o = where[object_id]
+    return flight_faces(d.planes, o.planes)
+
+
+def horizontal_counts(descs) -> dict:
+    """``{object id: number of its horizontal planes}`` over scene descriptions (the value of
+    the fact ``nhorizontal/2``, :func:`planerel.features.facts.scene_facts`)."""
+    out = {}
+    for d in descs:
+        by_label = {p.label: p for p in d.planes}
+        for o in d.objects:
+            out[o.id] = sum(by_label[lbl].orientation == "horizontal" for lbl in o.planes
+                            if lbl in by_label)
+    return out
 
 
 def with_decision(model, decision: dict | None):
@@ -423,7 +459,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
             engines.add(res.engine_detail or res.engine)
         planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
         model = Model(tuple(classes), rules, (), "; ".join(sorted(engines)), seconds, explored,
-                      uncovered, planar_domain=planar_domain(examples, planar, classes))
+                      uncovered, planar_domain=planar_domain(examples, planar, classes),
+                      level_domain=level_domain(examples, horizontal_counts(descs), classes))
         if not model.clauses():
             return model
         fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
@@ -747,6 +784,8 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
         return [Prediction(o, OTHER) for o in object_ids]
     fired = _parse_fired(_prolog_run(model, descs, object_ids, timeout))
     planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
+    levels = horizontal_counts(descs)
+    where = {o.id: (d, o) for d in descs for o in d.objects}
     out = []
     for o in object_ids:
         hits = fired.get(o, [])
@@ -757,7 +796,10 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                                proofs=model.proof_domain if model.proof_gate else (),
                                proof_margin=model.proof_margin,
                                proof_min_positives=model.proof_min_positives,
-                               veto_ratio=model.veto_ratio)
+                               veto_ratio=model.veto_ratio,
+                               n_horizontal=levels.get(o),
+                               levels=model.level_domain if model.level_gate else (),
+                               stepped=lambda o=o: stepped_object(where, o))
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
             out.append(Prediction(o, OTHER, fired=fired_pairs, refused=refused))
@@ -1195,6 +1237,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         write_json(tmp / MODEL_FILE, training_settings(method, seg_params, rule_stats=model.stats,
                                                        planar_domain=model.planar_domain,
                                                        proof_domain=model.proof_domain,
+                                                       level_domain=model.level_domain,
                                                        decision=decision))
         write_json(tmp / "metrics.json", metrics)
     return metrics
@@ -1251,6 +1294,7 @@ def write_members(folder, model: Members, *, method: str, seg_params, header: st
         write_json(sub / MODEL_FILE, training_settings(method, seg_params, rule_stats=m.stats,
                                                        planar_domain=m.planar_domain,
                                                        proof_domain=m.proof_domain,
+                                                       level_domain=m.level_domain,
                                                        decision=decision))
         if member_metrics is not None:
             write_json(sub / "metrics.json", member_metrics[n - 1])
