@@ -906,8 +906,8 @@ def lying_tops(planes, relations: Relations, cloud=None, support=()) -> frozense
     - a horizontal plane ``g`` adjacent to it (the relations' ``adjacent``), at least
       ``lying_ground`` times its area, lies under it: ``t``'s centroid stands over ``g``'s
       fit (along ``up``, where the line through the centroid meets ``g``) by at least
-      ``lying_rise`` (or twice the sensor's depth noise at ``t``'s distance, when more:
-      :func:`planerel.segment.noise.estimate_noise`) and at most ``lying_rise_max``, and no
+      ``lying_rise`` (or twice ``t``'s RMS fit residual, the sensor's depth noise where it
+      lies, when more) and at most ``lying_rise_max``, and no
       point of ``t``'s hull is more than ``lying_rise`` below ``g`` (``t`` does not cross
       it).
 
@@ -924,8 +924,8 @@ def lying_tops(planes, relations: Relations, cloud=None, support=()) -> frozense
     relations : Relations
         From :func:`relate` on ``planes`` (its ``params`` give the tolerances).
     cloud : Cloud, optional
-        The cloud ``planes`` were measured in; its depth noise raises the least rise at
-        range (without it, or unorganized, ``lying_rise`` alone).
+        The cloud ``planes`` were measured in (unused: the planes carry what is asked; kept
+        for the signature :func:`tall_faces` has).
     support : iterable of int
         Labels of the support planes (:func:`support_planes`): they are grounds, not tops.
 
@@ -940,6 +940,9 @@ def lying_tops(planes, relations: Relations, cloud=None, support=()) -> frozense
     sup = {int(x) for x in support}
     cand: dict[int, list] = {}
     for r in relations:
+        # adjacent only: a top within a few cm of the table but apart from it in the grid
+        # (a tin's lid over its side) is no lying top (top25: with any ground within
+        # lying_rise_max, the mOSD set's round objects got 6 box answers)
         if not r.adjacent:
             continue
         t, g = by_label.get(r.a), by_label.get(r.b)
@@ -954,20 +957,12 @@ def lying_tops(planes, relations: Relations, cloud=None, support=()) -> frozense
     if not cand:
         return frozenset()
     up = np.asarray(planes.up, float)
-    noise = None
-    if cloud is not None and getattr(cloud, "organized", False):
-        from planerel.segment.noise import estimate_noise
-
-        est = estimate_noise(cloud)
-        if est.reliable and est.kind != "none":
-            noise = est
     out = set()
     for lbl, grounds in cand.items():
         t = by_label[lbl]
         c = np.asarray(t.centroid, float)
-        least = p.lying_rise
-        if noise is not None:
-            least = max(least, 2.0 * float(noise.sigma(float(t.distance))))
+        # the sensor's noise where the plane is: its own fit's RMS residual
+        least = max(p.lying_rise, 2.0 * float(t.rms))
         hull = np.asarray(t.hull3d, float)
         for g in grounds:
             gn = np.asarray(g.normal, float)
