@@ -3,8 +3,10 @@
 1. Generate the paper-sized synthetic set (12 box, 15 stairs, 18 ramp scenes at 160x120), a
    held-out set with another seed and other camera ranges, and the model's training world:
    the paper-sized scenes plus a Kinect-like room with clutter whose objects are none of the
-   classes (``other``) and a face part, a tall box seen from a low camera (:data:`FACES`
-   scenes; a box seen as one face is a box example; :mod:`planerel.synth.training_world`).
+   classes (``other``), a face part, a tall box seen from a low camera (:data:`FACES`
+   scenes; a box seen as one face is a box example) and a flat part, a book or a flat box
+   lying on a table (:data:`FLAT` scenes; one showing only its top is a box example;
+   :mod:`planerel.synth.training_world`).
 2. Cross-validate the learner on the paper-sized set (10 folds; the real Aleph when installed,
    else planerel's own learner) and print the confusion matrix.
 3. Learn the model from the training world and print its rules; classify every held-out scene

@@ -31,9 +31,19 @@ edge fragment) or one horizontal plane (a cylinder's top).  The demo model is le
   :class:`planerel.features.truth_examples.ExampleRule`), in every part (face24, docs/results.md
   "Boxes seen as one face").
 
-The scenes of one data set share one folder and one manifest; the varied scenes continue the
+* a flat part (``flat`` scenes, :data:`FLAT_SETTINGS`, :func:`generate_flat_scene`; top25): a
+  book or a flat box 1.5-6 cm thick lying on a table among tins, seen from close by, at the
+  room part's 160x120: often only its top is segmented.  ``make demo`` uses 40
+  (``examples/demo.py --flat N``); with it, ``dataset.json`` also asks for boxes at most 0.12 m
+  high showing only their top as box examples (``"box_top_height": 0.12``), which the
+  ``lying/1`` relation describes (docs/objects.md, "Real table-top boxes: why they are missed").
+
+The scenes of one data set share one folder and one manifest, in the order paper, flat, room,
+round, faces (the flat part before the room part so that the learner's covering meets its books
+before the room's boxes: docs/objects.md); the parts after the paper part continue the
 numbering (``s0045 ..`` after 45 paper scenes) and use seeds :func:`planerel.synth.generator.scene_seed`
-``(seed + 1, i)`` (the round part ``(seed + 2, i)``, the face part ``(seed + 3, i)``), so the parts are deterministic and
+``(seed + 1, i)`` (the round part ``(seed + 2, i)``, the face part ``(seed + 3, i)``, the flat
+part ``(seed + 4, i)``, ``i`` counted within the part), so the parts are deterministic and
 independent of each other's size.
 """
 
@@ -101,10 +111,10 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
     flat : int
         Scenes of the flat part (:func:`generate_flat_scene`: a book or a flat box lying on a
         table), right after the paper part (before the room part), seeds
-        ``scene_seed(seed + 4, i)``, at ``subsample`` as
-        the room part (a book's 2-6 cm sides are then a pixel or two high, as the real
-        table-top frames' are seen edge-on).  With any, every part's boxes at most 0.12 m high that show only
-        their top are box examples too (``"examples": {"box_top_height": 0.12}``, top25).
+        ``scene_seed(seed + 4, i)``, at ``subsample`` as the room part (a book's 2-6 cm sides
+        are then a pixel or two high, as the real table-top frames' are seen edge-on).  With
+        any, every part's boxes at most 0.12 m high that show only their top are box examples
+        too (``"examples": {"box_top_height": 0.12}``, top25).
 
     Returns
     -------
