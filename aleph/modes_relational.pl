@@ -8,9 +8,11 @@
 
     Vocabulary (docs/predicates.md): the planes of an object (has_plane), per
     plane its orientation, incline, height and size (area, plane_length,
-    plane_width) and whether it is a tall face (tall_face: a vertical
+    plane_width), whether it is a tall face (tall_face: a vertical
     rectangle standing on the ground with its top out of sight, as a box
-    seen as one face), per ordered pair of planes the relations adjacent,
+    seen as one face) and whether it lies on a larger plane as a flat
+    thing's top (lying: a book on a table, its sides edge-on), per
+    ordered pair of planes the relations adjacent,
     parallel, perpendicular, above, skirt (a vertical face hanging below a
     horizontal plane as a box's side below its top), corner (two vertical
     walls of one solid: right angle, level tops, neither a post), and the
@@ -67,6 +69,10 @@
 % out of view: a box seen so shows no top (a tall box, a box seen face-on); a chair's back
 % stands on nothing, a ramp's back or a laptop's lid is seen from above (face24)
 :- modeb(1, tall_face(+plane)).
+% a level or tilted plane at most 0.6 m long lying 1.5-12 cm over a larger horizontal plane
+% beside it: the top of a book or a flat box lying on a table, its sides edge-on or hidden;
+% a table's top, a seat, a landing stand higher, a floor's far piece is level (top25)
+:- modeb(1, lying(+plane)).
 % a plane seen whole (not cut by the image border, not partly hidden): its sizes are sizes;
 % plane_length / plane_width measure the part in view, a lower bound when it is cut, so they
 % take only gteq ("at least this long") and an upper bound is on seen_length / seen_width

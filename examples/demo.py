@@ -3,8 +3,10 @@
 1. Generate the paper-sized synthetic set (12 box, 15 stairs, 18 ramp scenes at 160x120), a
    held-out set with another seed and other camera ranges, and the model's training world:
    the paper-sized scenes plus a Kinect-like room with clutter whose objects are none of the
-   classes (``other``) and a face part, a tall box seen from a low camera (:data:`FACES`
-   scenes; a box seen as one face is a box example; :mod:`planerel.synth.training_world`).
+   classes (``other``), a face part, a tall box seen from a low camera (:data:`FACES`
+   scenes; a box seen as one face is a box example) and a flat part, a book or a flat box
+   lying on a table (:data:`FLAT` scenes; one showing only its top is a box example;
+   :mod:`planerel.synth.training_world`).
 2. Cross-validate the learner on the paper-sized set (10 folds; the real Aleph when installed,
    else planerel's own learner) and print the confusion matrix.
 3. Learn the model from the training world and print its rules; classify every held-out scene
@@ -41,6 +43,11 @@ ROUND = 0
 #: Scenes of the training world's face part (a box and clutter seen from a low camera: boxes
 #: seen as one side face, :data:`planerel.synth.training_world.KINECT_FACES`; 0: none).
 FACES = 25
+#: Scenes of the training world's flat part (a book or a flat box lying on a table, level or
+#: resting on one edge, among tins, seen from close by:
+#: :func:`planerel.synth.training_world.generate_flat_scene`; its boxes showing only their top
+#: are box examples; 0: none; top25).
+FLAT = 40
 #: Learner settings of the model: the score is coverage (positives - negatives), a rule must
 #: cover 8 objects and may take a few negatives, so that no narrow rule is kept for a handful
 #: of odd boxes (boxes seen as one face have their rule on ``tall_face/1`` since the face
@@ -90,6 +97,9 @@ def main(argv=None) -> int:
     ap.add_argument("--faces", type=int, default=FACES, metavar="N",
                     help=f"scenes of the training world's face part (a box and clutter seen "
                          f"from a low camera: boxes seen as one side face; default {FACES})")
+    ap.add_argument("--flat", type=int, default=FLAT, metavar="N",
+                    help=f"scenes of the training world's flat part (a book or a flat box lying "
+                         f"on a table, seen from close by; default {FLAT})")
     args = ap.parse_args(argv)
 
     from planerel.classify import Classifier, classify_dataset
@@ -109,13 +119,16 @@ def main(argv=None) -> int:
             raise InputError(f"--round must be a non-negative integer, got {args.round_}")
         if args.faces < 0:
             raise InputError(f"--faces must be a non-negative integer, got {args.faces}")
+        if args.flat < 0:
+            raise InputError(f"--flat must be a non-negative integer, got {args.flat}")
         train = generate_dataset(out / "data" / "train", n_box=12, n_stairs=15, n_ramp=18,
                                  seed=sd["train"], size=(640, 480), subsample=4)
         held = generate_dataset(out / "data" / "heldout", n_box=12, n_stairs=15, n_ramp=18,
                                 seed=sd["heldout"], size=(640, 480), subsample=4,
                                 camera=CameraRange(height=(0.7, 1.7), distance=(1.0, 2.2)))
         world = generate_training_world(out / "data" / "model_train", paper=PAPER, room=ROOM,
-                                        round_=args.round_, faces=args.faces, seed=sd["world"],
+                                        round_=args.round_, faces=args.faces, flat=args.flat,
+                                        seed=sd["world"],
                                         size=(640, 480), subsample=4)
         if args.seed:
             print(f"--seed {args.seed}: paper-sized set and training world from seed "
@@ -124,8 +137,9 @@ def main(argv=None) -> int:
               f"ranges), {world} (the model's training world: the paper-sized scenes and "
               f"{sum(ROOM)} Kinect-like room scenes with clutter"
               + (f", {args.round_} round scenes: a box among cylinders" if args.round_ else "")
-              + (f", {args.faces} face scenes: a box seen from a low camera)"
-                 if args.faces else ")"))
+              + (f", {args.faces} face scenes: a box seen from a low camera" if args.faces else "")
+              + (f", {args.flat} flat scenes: a book or a flat box lying on a table"
+                 if args.flat else "") + ")")
         descs, _ = describe_scenes(train, jobs=args.jobs, progress=False)
         classes = ["box", "stairs", "ramp"]
         cv = cross_validate(descs, classes, folds=args.folds, seed=sd["folds"], engine=args.engine,

@@ -83,7 +83,8 @@ def demo_model(request):
         demo = _demo()
         seeds = demo.seeds()  # the shipped model's (make demo, --seed 0)
         world = generate_training_world(cache / "world", paper=demo.PAPER, room=demo.ROOM,
-                                        round_=demo.ROUND, faces=demo.FACES, seed=seeds["world"],
+                                        round_=demo.ROUND, faces=demo.FACES, flat=demo.FLAT,
+                                        seed=seeds["world"],
                                         size=(640, 480), subsample=4)
         learn_model(world, model, engine="builtin", seed=seeds["learner"], jobs=2,
                     settings=demo.LEARNER,

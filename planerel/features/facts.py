@@ -32,6 +32,7 @@ from planerel.features.planes import label_max
 from planerel.features.raised import RaisedParams, join_raised, raised_clusters, with_raised
 from planerel.features.relations import (
     ProposalParams,
+    lying_tops,
     propose_objects,
     relate,
     skirts_within_objects,
@@ -102,6 +103,9 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
     ("tall_face", 1, "plane", "a vertical rectangle standing on the ground (the floor or a table "
      "at its foot), nothing beside it taller, its top at or above the sensor's eye level or "
      "out of view: a box seen so shows no top (planerel.features.relations.tall_faces)"),
+    ("lying", 1, "plane", "a level or tilted (<= 30 deg) plane at most 0.6 m long lying on a "
+     "larger horizontal plane adjacent to it, 1.5-12 cm over it: the top of a book or a flat "
+     "box lying on a table, its sides edge-on (planerel.features.relations.lying_tops)"),
     ("height", 2, "plane, m", "centroid height above the floor / lowest support"),
     ("distance", 2, "plane, m", "distance from the sensor to the centroid"),
     ("npoints", 2, "plane, int", "number of points"),
@@ -201,6 +205,9 @@ class SceneDescription:
     #: Labels of the vertical planes standing on the ground with their top out of sight
     #: (:func:`planerel.features.relations.tall_faces`: ``tall_face/1``).
     tall: frozenset = field(default=frozenset())
+    #: Labels of the planes lying on a larger horizontal plane as a flat thing's top
+    #: (:func:`planerel.features.relations.lying_tops`: ``lying/1``).
+    lying: frozenset = field(default=frozenset())
 
     @property
     def labels(self):
@@ -291,6 +298,8 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     # mostly measured by the skirt tests against the floor or the table they stand on)
     tall = tall_faces(planes, rel, cloud, profiles)
     support = tuple(support_planes(planes, pp, rel, cloud))
+    # the tops of flat things lying on a table or the floor, their sides edge-on
+    lying = lying_tops(planes, rel, cloud, support)
     known = {p.label for p in planes}
     if objects is None:
         groups = propose_objects(planes, rel, pp, cloud, support)
@@ -346,7 +355,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     # a skirt denied only by another object's step (a box on a box) is one after all
     rel = skirts_within_objects(rel, [o.planes for o in objs], planes, support)
     return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
-                            proposed, support, truncated=cut, tall=tall)
+                            proposed, support, truncated=cut, tall=tall, lying=lying)
 
 
 def _label_bound(labels, planes, split) -> int | None:
@@ -546,6 +555,8 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
             out["seen_width"].append(F("seen_width", i, p.width, round_to=m))
         if p.label in desc.tall:
             out["tall_face"].append(F("tall_face", i))
+        if p.label in desc.lying:
+            out["lying"].append(F("lying", i))
         out["height"].append(F("height", i, p.height, round_to=m))
         out["distance"].append(F("distance", i, p.distance, round_to=m))
         out["npoints"].append(F("npoints", i, p.n_points))

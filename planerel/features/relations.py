@@ -99,6 +99,7 @@ __all__ = [
     "relate",
     "skirts_within_objects",
     "tall_faces",
+    "lying_tops",
     "leans_towards",
     "hull_gap",
     "scene_graph",
@@ -174,6 +175,25 @@ class RelationParams:
     #: deviates from it by about 0.11 of its width (a half circle against its chord: an RMS
     #: of 0.223 r over a width of 2 r); a box's face by the sensor's noise.  0: no bound
     tall_flat: float = 0.07
+    #: m: a ``lying`` plane (:func:`lying_tops`) stands at least this far above the ground
+    #: it lies on (or twice the sensor's depth noise at its range, when more): a book's or
+    #: a flat box's top 2-8 cm over the table; a floor's far piece that the sensor bends is
+    #: level with the floor within its noise.  0: no plane is ``lying`` (top25)
+    lying_rise: float = 0.015
+    #: m: ... and at most this far (a book or a box lying flat; a chair's seat, a shelf's
+    #: board, a landing, a table's top stand higher over what is under them) (top25)
+    lying_rise_max: float = 0.12
+    #: m: a ``lying`` plane is at most this long (``plane_length``): something one can
+    #: lift, not a platform or a low stage (top25)
+    lying_length: float = 0.6
+    #: m: ... and at least this long and ``lying_width`` wide (``plane_length``,
+    #: ``plane_width``): a book or a flat box; a strip along a wall's foot or a step's edge
+    #: is narrower, a shoe's toe shorter (top25)
+    lying_min_length: float = 0.12
+    lying_width: float = 0.05
+    #: the ground a ``lying`` plane lies on is at least this many times its area (a table
+    #: or the floor under a book, not a tread beside a tread) (top25)
+    lying_ground: float = 3.0
     corner_tol: float = 0.08
     corner_width: float = 0.08
     facing_overlap: float = 0.5
@@ -200,7 +220,9 @@ class RelationParams:
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width",
                              "facing_overlap", "facing_width", "facing_narrow_tol", "skirt_top_tilt", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "standing_foot",
-                             "standing_fill", "tall_eye", "tall_flat"))
+                             "standing_fill", "tall_eye", "tall_flat", "lying_rise",
+                             "lying_rise_max", "lying_length", "lying_ground",
+                             "lying_min_length", "lying_width"))
         if self.standing_fill > 1:
             raise InputError(f"standing_fill is a share of the plane's rectangle in 0..1, got "
                              f"{self.standing_fill!r}")
@@ -868,6 +890,95 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
         if any(profile(q).top > prof.top + p.skirt_tol for q in beside.get(lbl, ())):
             continue
         out.add(lbl)
+    return frozenset(out)
+
+
+def lying_tops(planes, relations: Relations, cloud=None, support=()) -> frozenset:
+    """Labels of the planes that lie on the ground as the top of something flat lying there
+    (``lying/1``): what a book or a flat box lying on a table shows when its sides are seen
+    edge-on (a few pixels, unsegmented) or hidden.
+
+    A plane ``t`` is lying when
+
+    - it is horizontal, or inclined by at most ``skirt_tilted`` degrees (a book leaning on
+      another, a box resting on one edge), no support plane itself, ``lying_min_length`` to
+      ``lying_length`` long and at least ``lying_width`` wide (a book, a flat box: something
+      one can lift; a strip along a wall's foot is narrower);
+    - a horizontal plane ``g`` adjacent to it (the relations' ``adjacent``), at least
+      ``lying_ground`` times its area, lies under it: ``t``'s centroid stands over ``g``'s
+      fit (along ``up``, where the line through the centroid meets ``g``) by at least
+      ``lying_rise`` (or twice ``t``'s RMS fit residual, the sensor's depth noise where it
+      lies, when more) and at most ``lying_rise_max``, and no
+      point of ``t``'s hull is more than ``lying_rise`` below ``g`` (``t`` does not cross
+      it).
+
+    A table's top (0.45-0.8 m over the floor), a chair's seat, a shelf's board, a landing or
+    a tread stand higher over what is under them; a far piece of the floor that the sensor
+    bends is level with the floor within the noise; a large platform is too long.  A
+    laptop's base or a tin's lid lying on a table is lying too: what tells a book from them
+    is the learner's to find (the lid, the curved side).
+
+    Parameters
+    ----------
+    planes : PlaneSet
+        Measured planes (``up`` set).
+    relations : Relations
+        From :func:`relate` on ``planes`` (its ``params`` give the tolerances).
+    cloud : Cloud, optional
+        The cloud ``planes`` were measured in (unused: the planes carry what is asked; kept
+        for the signature :func:`tall_faces` has).
+    support : iterable of int
+        Labels of the support planes (:func:`support_planes`): they are grounds, not tops.
+
+    Returns
+    -------
+    frozenset of int
+    """
+    p = relations.params
+    if p.lying_rise <= 0 or p.lying_rise_max <= p.lying_rise:
+        return frozenset()
+    by_label = {q.label: q for q in planes}
+    sup = {int(x) for x in support}
+    cand: dict[int, list] = {}
+    for r in relations:
+        # adjacent only: a top within a few cm of the table but apart from it in the grid
+        # (a tin's lid over its side) is no lying top (top25: with any ground within
+        # lying_rise_max, the mOSD set's round objects got 6 box answers)
+        if not r.adjacent:
+            continue
+        t, g = by_label.get(r.a), by_label.get(r.b)
+        if t is None or g is None or t.label in sup or g.orientation != "horizontal":
+            continue
+        if t.orientation == "vertical" or t.incline > p.skirt_tilted \
+                or not p.lying_min_length <= t.length <= p.lying_length or t.width < p.lying_width:
+            continue
+        if g.area < p.lying_ground * t.area:
+            continue
+        cand.setdefault(t.label, []).append(g)
+    if not cand:
+        return frozenset()
+    up = np.asarray(planes.up, float)
+    out = set()
+    for lbl, grounds in cand.items():
+        t = by_label[lbl]
+        c = np.asarray(t.centroid, float)
+        # the sensor's noise where the plane is: its own fit's RMS residual
+        least = max(p.lying_rise, 2.0 * float(t.rms))
+        hull = np.asarray(t.hull3d, float)
+        for g in grounds:
+            gn = np.asarray(g.normal, float)
+            den = float(gn @ up)
+            if abs(den) < 0.5:
+                continue
+            gc = np.asarray(g.centroid, float)
+            # heights over g's plane, measured along up
+            rise = float(gn @ (c - gc)) / den
+            if not least <= rise <= p.lying_rise_max:
+                continue
+            if hull.size and float(((hull - gc) @ gn).min()) / den < -p.lying_rise:
+                continue
+            out.add(lbl)
+            break
     return frozenset(out)
 
 

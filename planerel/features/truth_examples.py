@@ -63,6 +63,11 @@ class ExampleRule:
         a box showing only its top still is none).  A data set asks for 1 in its
         ``dataset.json`` (``"examples": {"box_faces": 1}``; the demo's training world,
         :func:`planerel.synth.training_world.generate_training_world`, face24).
+    box_top_height : float
+        m; 0 (the default): a box showing only its top is none.  Above 0: a box at most this
+        high (its sidecar's ``params`` ``height``) that shows its top is an example even when
+        no side of it is seen: a book or a flat box lying on a table, its 2-8 cm sides seen
+        edge-on (``"examples": {"box_top_height": 0.12}``; the demo's training world, top25).
     """
 
     min_iou: float = 0.5
@@ -70,6 +75,7 @@ class ExampleRule:
     min_plane_pixels: int = 10
     compact: tuple = ("box", "other")
     box_faces: int = 2
+    box_top_height: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("min_iou", "min_visible"):
@@ -82,6 +88,9 @@ class ExampleRule:
         v = self.box_faces
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v not in (1, 2):
             raise InputError(f"box faces must be 1 or 2, got {v!r}")
+        v = self.box_top_height
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v < 10:
+            raise InputError(f"box top height must be a number of metres in [0, 10), got {v!r}")
 
 
 def judge_objects(labels, gt, meta: dict, groups, object_of_group, classes: dict,
@@ -157,7 +166,11 @@ def judge_objects(labels, gt, meta: dict, groups, object_of_group, classes: dict
             per_role = [sum(role_of_plane[q] == r for q in shown) for r in roles]
             one_side = (klass == "box" and rule.box_faces == 1 and "face" in roles
                         and per_role[roles.index("face")] >= 1)
-            if (max(per_role) if same_role else sum(per_role)) < need and not one_side:
+            flat = (klass == "box" and rule.box_top_height > 0 and "top" in roles
+                    and per_role[roles.index("top")] >= 1
+                    and 0 < float((info.get(k, {}).get("params") or {}).get("height", 0.0))
+                    <= rule.box_top_height)
+            if (max(per_role) if same_role else sum(per_role)) < need and not (one_side or flat):
                 out[k] = reason
                 continue
         out[k] = None

@@ -31,9 +31,19 @@ edge fragment) or one horizontal plane (a cylinder's top).  The demo model is le
   :class:`planerel.features.truth_examples.ExampleRule`), in every part (face24, docs/results.md
   "Boxes seen as one face").
 
-The scenes of one data set share one folder and one manifest; the varied scenes continue the
+* a flat part (``flat`` scenes, :data:`FLAT_SETTINGS`, :func:`generate_flat_scene`; top25): a
+  book or a flat box 1.5-6 cm thick lying on a table among tins, seen from close by, at the
+  room part's 160x120: often only its top is segmented.  ``make demo`` uses 40
+  (``examples/demo.py --flat N``); with it, ``dataset.json`` also asks for boxes at most 0.12 m
+  high showing only their top as box examples (``"box_top_height": 0.12``), which the
+  ``lying/1`` relation describes (docs/objects.md, "Real table-top boxes: why they are missed").
+
+The scenes of one data set share one folder and one manifest, in the order paper, flat, room,
+round, faces (the flat part before the room part so that the learner's covering meets its books
+before the room's boxes: docs/objects.md); the parts after the paper part continue the
 numbering (``s0045 ..`` after 45 paper scenes) and use seeds :func:`planerel.synth.generator.scene_seed`
-``(seed + 1, i)`` (the round part ``(seed + 2, i)``, the face part ``(seed + 3, i)``), so the parts are deterministic and
+``(seed + 1, i)`` (the round part ``(seed + 2, i)``, the face part ``(seed + 3, i)``, the flat
+part ``(seed + 4, i)``, ``i`` counted within the part), so the parts are deterministic and
 independent of each other's size.
 """
 
@@ -43,8 +53,8 @@ from pathlib import Path
 
 from planerel.errors import InputError
 
-__all__ = ["KINECT_ROOM", "KINECT_FACES", "ROUND_SETTINGS", "generate_round_scene", "generate_training_world",
-           "lying_cylinder_geometry"]
+__all__ = ["KINECT_ROOM", "KINECT_FACES", "ROUND_SETTINGS", "FLAT_SETTINGS", "generate_round_scene",
+           "generate_flat_scene", "generate_training_world", "lying_cylinder_geometry"]
 
 #: Ranges of the Kinect-like part (others: :class:`planerel.synth.world.WorldRange` defaults).
 KINECT_ROOM = {
@@ -73,8 +83,8 @@ KINECT_FACES = {**KINECT_ROOM,
 
 
 def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), round_: int = 0,
-                            faces: int = 0, seed: int = 0, size=(640, 480), subsample: int = 4,
-                            ranges=None) -> Path:
+                            faces: int = 0, flat: int = 0, seed: int = 0, size=(640, 480),
+                            subsample: int = 4, ranges=None) -> Path:
     """Write one data set: ``paper`` box/stairs/ramp scenes of the paper-sized world, then
     ``room`` box/stairs/ramp scenes (primary object) of the Kinect-like varied world.
 
@@ -98,6 +108,13 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         a low camera, :data:`KINECT_FACES`), after the round part, seeds
         ``scene_seed(seed + 3, i)``.  Every part's boxes seen as one side face are box
         examples (``dataset.json``'s ``"examples": {"box_faces": 1}``).
+    flat : int
+        Scenes of the flat part (:func:`generate_flat_scene`: a book or a flat box lying on a
+        table), right after the paper part (before the room part), seeds
+        ``scene_seed(seed + 4, i)``, at ``subsample`` as the room part (a book's 2-6 cm sides
+        are then a pixel or two high, as the real table-top frames' are seen edge-on).  With
+        any, every part's boxes at most 0.12 m high that show only their top are box examples
+        too (``"examples": {"box_top_height": 0.12}``, top25).
 
     Returns
     -------
@@ -133,47 +150,58 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         raise InputError(f"round scene count must be a non-negative integer, got {round_!r}")
     if isinstance(faces, bool) or not isinstance(faces, int) or faces < 0:
         raise InputError(f"face scene count must be a non-negative integer, got {faces!r}")
-    if not sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces:
+    if isinstance(flat, bool) or not isinstance(flat, int) or flat < 0:
+        raise InputError(f"flat scene count must be a non-negative integer, got {flat!r}")
+    if not sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces + flat:
         raise InputError("a data set needs at least one scene (all counts are 0)")
     ranges = WorldRange(**KINECT_ROOM) if ranges is None else ranges
     paper_sensor, room_sensor = SensorModel(), StructuredLight()
+    # the flat part right after the paper part: its books are the first box examples the
+    # learner's covering meets after the paper boxes (top25: after the room part, a room box
+    # seeded a "one horizontal plane" rule that took the books showing only their top)
     jobs = ([("paper", k) for k in CLASSES for _ in range(counts["paper"][k])]
+            + [("flat", "box")] * flat
             + [("room", k) for k in CLASSES for _ in range(counts["room"][k])]
             + [("round", "box")] * round_ + [("faces", "box")] * faces)
-    n_paper = sum(counts["paper"].values())
-    n_before_round = n_paper + sum(counts["room"].values())
     face_ranges = WorldRange(**KINECT_FACES)
     rows = []
+    nth: dict = {}  # scenes of each part so far: the part's scene index (its seed)
     with atomic_dir(Path(out_dir), markers=("manifest.csv", "dataset.json")) as tmp:
         for i, (part, kind) in enumerate(jobs):
             sid = f"s{i:04d}"
+            j = nth[part] = nth.get(part, -1) + 1
             if part == "paper":
                 scene = generate_scene(kind, scene_seed(seed, i), size, subsample, scene_id=sid,
                                        sensor=paper_sensor)
             elif part == "faces":
-                scene = generate_world_scene(kind, scene_seed(seed + 3, i - n_before_round - round_),
-                                             size, subsample, scene_id=sid, sensor=room_sensor,
-                                             ranges=face_ranges)
+                scene = generate_world_scene(kind, scene_seed(seed + 3, j), size, subsample,
+                                             scene_id=sid, sensor=room_sensor, ranges=face_ranges)
+            elif part == "flat":
+                scene = generate_flat_scene(scene_seed(seed + 4, j), size, subsample,
+                                            scene_id=sid, sensor=room_sensor)
             elif part == "round":
-                scene = generate_round_scene(scene_seed(seed + 2, i - n_before_round), size,
+                scene = generate_round_scene(scene_seed(seed + 2, j), size,
                                              max(1, subsample // 2), scene_id=sid,
                                              sensor=room_sensor)
             else:
-                scene = generate_world_scene(kind, scene_seed(seed + 1, i - n_paper), size,
+                scene = generate_world_scene(kind, scene_seed(seed + 1, j), size,
                                              subsample, scene_id=sid, sensor=room_sensor,
                                              ranges=ranges)
             rows.append(write_scene(tmp, scene))
         write_manifest(tmp, rows)
         write_dataset_info(tmp, {
             "format": "planerel-synth-dataset", "version": 1, "seed": seed,
-            "world": "paper+kinect-room" + ("+round" if round_ else "") + ("+faces" if faces else ""),
-            "counts": {**counts, "round": round_, **({"faces": faces} if faces else {})},
+            "world": "paper+kinect-room" + ("+round" if round_ else "") + ("+faces" if faces else "")
+                     + ("+flat" if flat else ""),
+            "counts": {**counts, "round": round_, **({"faces": faces} if faces else {}),
+                       **({"flat": flat} if flat else {})},
             "size": list(_check_size(size)), "subsample": int(subsample),
             "sensor": {"paper": paper_sensor.to_dict(), "room": room_sensor.to_dict()},
             "world_ranges": ranges.to_dict(),
             # a box seen as one side face (its top out of view) is a box example, and the
             # one-face clutter (a door, a chair's back, a laptop's lid) stays other (face24)
-            "examples": {"box_faces": 1},
+            # and, with the flat part, a book or a flat box showing only its top (top25)
+            "examples": {"box_faces": 1, **({"box_top_height": FLAT_TOP_HEIGHT} if flat else {})},
         })
     return Path(out_dir)
 
@@ -193,6 +221,20 @@ ROUND_SETTINGS = {
               "box_size": (0.12, 1.0), "box_height": (0.08, 0.8),
               "radius": (0.06, 0.35), "length": (0.2, 1.2)},
 }
+
+#: The flat part (:func:`generate_flat_scene`, top25): a book or a flat box 1.5-6 cm thick lying
+#: on a table, level or (half of them) resting on one edge 8-25 degrees tilted (leaning on
+#: something), among 0-2 standing or lying cylinders (tins, whose lids lie on the table as a
+#: book's top does), seen from close by and above as the OSD and RealSense table-top frames
+#: are: its sides are a few pixels high, often only its top is segmented.
+FLAT_SETTINGS = {"table": {"camera": (0.35, 0.9), "pitch": (35.0, 75.0), "distance": (0.5, 1.2),
+                           "box_size": (0.12, 0.35), "box_height": (0.015, 0.06),
+                           "radius": (0.03, 0.15), "length": (0.04, 0.3)}}
+#: Tilt (degrees) of the flat part's tipped boxes, and the share of its boxes that lie level.
+FLAT_TILT = (8.0, 25.0)
+FLAT_LEVEL = 0.5
+#: m: with the flat part, boxes at most this high showing only their top are box examples.
+FLAT_TOP_HEIGHT = 0.12
 
 
 def lying_cylinder_geometry(radius: float, length: float, *, facets: int = 16,
@@ -219,15 +261,28 @@ def lying_cylinder_geometry(radius: float, length: float, *, facets: int = 16,
     return b.build()
 
 
+def generate_flat_scene(seed: int, size=(640, 480), subsample: int = 4, *,
+                        scene_id: str = "s0000", sensor=None, min_object_fraction: float = 0.01):
+    """One scene of the flat part (:data:`FLAT_SETTINGS`): a book or a flat box (object 1,
+    class box) lying on a table, level or resting on one edge, and 0-2 cylinders of class
+    ``other``, seen by the Kinect-like sensor from close by.  As :func:`generate_round_scene`
+    (the same table and cylinders), with its own box sizes and tilt."""
+    return generate_round_scene(seed, size, subsample, scene_id=scene_id, sensor=sensor,
+                                min_object_fraction=min_object_fraction, flat=True)
+
+
 def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
-                         scene_id: str = "s0000", sensor=None, min_object_fraction: float = 0.02):
+                         scene_id: str = "s0000", sensor=None, min_object_fraction: float = 0.02,
+                         flat: bool = False):
     """One scene of the round part: a box (object 1, the scene's class) and 1-3 cylinders of
     class ``other``, each standing (p = 0.5) or lying, on a table seen from close by (half the
     scenes) or on the floor, seen by the Kinect-like sensor.
 
     Drawn again until the box covers ``min_object_fraction`` of the image.  Returns a
     :class:`planerel.synth.generator.Scene` as :func:`planerel.synth.world.generate_world_scene`
-    does.
+    does.  ``flat``: the flat part's scene instead (:func:`generate_flat_scene`: always on a
+    table, :data:`FLAT_SETTINGS`, the box tipped by :data:`FLAT_TILT` but for a
+    :data:`FLAT_LEVEL` share, 0-2 cylinders).
     """
     import math
 
@@ -245,8 +300,8 @@ def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
     sensor = StructuredLight() if sensor is None else sensor
     rng = np.random.default_rng(seed)
     for _attempt in range(300):
-        where = "table" if rng.random() < 0.5 else "floor"
-        s = ROUND_SETTINGS[where]
+        where = "table" if flat or rng.random() < 0.5 else "floor"
+        s = (FLAT_SETTINGS if flat else ROUND_SETTINGS)[where]
         support = float(rng.uniform(0.68, 0.78)) if where == "table" else 0.0
         cam_h = support + float(rng.uniform(*s["camera"]))
         pitch = float(rng.uniform(*s["pitch"]))
@@ -258,10 +313,13 @@ def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
         lay = sw._Layout()
         r = sw.WorldRange(box_size=s["box_size"], box_height=s["box_height"])
         geom, info = sw._draw_box(rng, r, 1, open_ok=False)
+        if flat:  # a book resting on one edge (leaning on something) or lying level
+            geom = sw._tipped(rng, geom, info["params"], FLAT_TILT, FLAT_LEVEL)
+            info["kind"] = "flat box"
         yaw = float(rng.uniform(-180, 180))
         fp = sw._place_fp(sw._footprint(geom), yaw, anchor)
         lay.add(sg.place(geom, yaw, anchor[:2], support), info, fp)
-        for _ in range(int(rng.integers(1, 4))):
+        for _ in range(int(rng.integers(0, 3) if flat else rng.integers(1, 4))):
             rad = float(math.exp(rng.uniform(*np.log(s["radius"]))))
             length = float(math.exp(rng.uniform(*np.log(s["length"]))))
             standing = bool(rng.random() < 0.5)
@@ -295,7 +353,7 @@ def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
         seen = (obj == 1) & (depth_true <= sensor.max_range) & (depth_true >= sensor.min_range)
         if seen.mean() < min_object_fraction:
             continue
-        params = {"world": "round", "where": where,
+        params = {"world": "flat" if flat else "round", "where": where,
                   "camera": {"height": cam_h, "pitch_deg": pitch},
                   "size": [w, h], "subsample": int(subsample)}
         scene = sw._render_seen(world, pose, intr, sensor, rng, infos, params,
