@@ -132,7 +132,7 @@ def score_frame(answer, frame: dict) -> dict:
         else:
             false.append((o.klass, o.rule_index, round(max(shares, default=0.0), 2)))
     return {"objects": [{"class": o["class"], "what": o.get("what", ""), "found": f, "called": c}
-                        for (o, _), f, c in zip(labelled, found, called)],
+                        for (o, _), f, c in zip(labelled, found, called, strict=True)],
             "right": right, "false": false, "unscored": skipped}
 
 

@@ -394,9 +394,8 @@ class Classifier:
 
     def _answer(self, desc, plane_ids) -> list:
         """Each object of ``desc`` (its facts loaded) answered by this model's rules."""
-        from planerel.ilp.metrics import decide, laplace
-
         from planerel.features.relations import flight_faces
+        from planerel.ilp.metrics import decide, laplace
 
         answers = []
         orientation = {p.label: p.orientation for p in desc.planes}

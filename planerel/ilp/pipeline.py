@@ -20,9 +20,9 @@ from pathlib import Path
 from planerel.children import temp_dir
 from planerel.errors import InputError, PrologError
 from planerel.ilp.metrics import (
+    LEVEL_GATE,
     OTHER,
     PLANAR_GATE,
-    LEVEL_GATE,
     PLANAR_MARGIN,
     PROOF_GATE,
     PROOF_MARGIN,
