@@ -52,7 +52,7 @@ def _lying(rects, params=None, view=TABLE_VIEW):
     cloud, lab, _, _ = render(rects, noise=0.001, **view)
     ps = measure_planes(cloud, lab)
     rel = relate(ps, cloud, params)
-    return ps, lying_tops(ps, rel, cloud, ())
+    return ps, lying_tops(ps, rel, ())
 
 
 def test_a_book_lying_on_a_table_is_lying():
@@ -97,6 +97,13 @@ def test_params_refuse_a_bad_top_height():
         ExampleRule(box_top_height=-0.1)
     with pytest.raises(InputError, match="lying_rise"):
         RelationParams(lying_rise=-1.0)
+    # settings that would switch lying/1 off silently are refused with what is wrong
+    with pytest.raises(InputError, match="lying_rise_max must be above lying_rise"):
+        RelationParams(lying_rise=0.05, lying_rise_max=0.04)
+    with pytest.raises(InputError, match="lying_min_length must be at most lying_length"):
+        RelationParams(lying_min_length=0.7)
+    # lying_rise 0 is the documented switch
+    assert RelationParams(lying_rise=0.0, lying_rise_max=0.0).lying_rise == 0.0
 
 
 def test_the_flat_part_makes_books_showing_only_their_top_examples(tmp_path):

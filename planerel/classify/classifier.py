@@ -395,10 +395,10 @@ class Classifier:
     def _answer(self, desc, plane_ids) -> list:
         """Each object of ``desc`` (its facts loaded) answered by this model's rules."""
         from planerel.features.relations import flight_faces
-        from planerel.ilp.metrics import decide, laplace
+        from planerel.ilp.metrics import decide, horizontal_counts, laplace
 
         answers = []
-        orientation = {p.label: p.orientation for p in desc.planes}
+        levels = horizontal_counts((desc,))
         proposal_params = self._describe_kw.get("proposal_params")
         for o in desc.objects:
             hits = []
@@ -419,8 +419,7 @@ class Classifier:
                                    proof_margin=self.proof_margin,
                                    proof_min_positives=self.proof_min_positives,
                                    veto_ratio=self.veto_ratio,
-                                   n_horizontal=sum(orientation.get(lbl) == "horizontal"
-                                                    for lbl in o.planes),
+                                   n_horizontal=levels.get(o.id),
                                    levels=self.level_domain,
                                    stepped=lambda o=o: flight_faces(desc.planes, o.planes,
                                                                     proposal_params))

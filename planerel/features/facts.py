@@ -299,7 +299,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     tall = tall_faces(planes, rel, cloud, profiles)
     support = tuple(support_planes(planes, pp, rel, cloud))
     # the tops of flat things lying on a table or the floor, their sides edge-on
-    lying = lying_tops(planes, rel, cloud, support)
+    lying = lying_tops(planes, rel, support)
     known = {p.label for p in planes}
     if objects is None:
         groups = propose_objects(planes, rel, pp, cloud, support)

@@ -223,6 +223,12 @@ class RelationParams:
                              "standing_fill", "tall_eye", "tall_flat", "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
                              "lying_min_length", "lying_width"))
+        if self.lying_rise > 0 and self.lying_rise_max <= self.lying_rise:
+            raise InputError(f"lying_rise_max must be above lying_rise ({self.lying_rise!r}), got "
+                             f"{self.lying_rise_max!r} (lying_rise 0 switches lying/1 off)")
+        if self.lying_min_length > self.lying_length:
+            raise InputError(f"lying_min_length must be at most lying_length "
+                             f"({self.lying_length!r}), got {self.lying_min_length!r}")
         if self.standing_fill > 1:
             raise InputError(f"standing_fill is a share of the plane's rectangle in 0..1, got "
                              f"{self.standing_fill!r}")
@@ -893,7 +899,7 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     return frozenset(out)
 
 
-def lying_tops(planes, relations: Relations, cloud=None, support=()) -> frozenset:
+def lying_tops(planes, relations: Relations, support=()) -> frozenset:
     """Labels of the planes that lie on the ground as the top of something flat lying there
     (``lying/1``): what a book or a flat box lying on a table shows when its sides are seen
     edge-on (a few pixels, unsegmented) or hidden.
@@ -924,9 +930,6 @@ def lying_tops(planes, relations: Relations, cloud=None, support=()) -> frozense
         Measured planes (``up`` set).
     relations : Relations
         From :func:`relate` on ``planes`` (its ``params`` give the tolerances).
-    cloud : Cloud, optional
-        The cloud ``planes`` were measured in (unused: the planes carry what is asked; kept
-        for the signature :func:`tall_faces` has).
     support : iterable of int
         Labels of the support planes (:func:`support_planes`): they are grounds, not tops.
 
@@ -935,7 +938,7 @@ def lying_tops(planes, relations: Relations, cloud=None, support=()) -> frozense
     frozenset of int
     """
     p = relations.params
-    if p.lying_rise <= 0 or p.lying_rise_max <= p.lying_rise:
+    if p.lying_rise <= 0:
         return frozenset()
     by_label = {q.label: q for q in planes}
     sup = {int(x) for x in support}

@@ -16,7 +16,7 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "confusion_columns", "confusion_matrix", "accuracy_scores", "score_objects",
            "PLANAR_MARGIN", "PLANAR_GATE", "DecisionParams", "planar_domain", "Refusal", "planar_bound",
            "planar_refusals", "PROOF_MARGIN", "PROOF_GATE", "PROOF_MIN_POSITIVES", "proof_domain", "proof_bound", "ProofRefusal",
-           "LEVEL_GATE", "level_domain", "LevelRefusal", "level_refusals",
+           "LEVEL_GATE", "horizontal_counts", "level_domain", "LevelRefusal", "level_refusals",
            "proof_refusals", "VETO_RATIO", "VetoRefusal", "veto_refusals", "decide"]
 
 #: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
@@ -298,6 +298,18 @@ def planar_refusals(hits, stats: Sequence, planar_fraction, domain: Sequence,
             continue
         kept.append(hit)
     return kept, tuple(refused.values())
+
+
+def horizontal_counts(descs) -> dict:
+    """``{object id: number of its horizontal planes}`` over scene descriptions (the value of
+    the fact ``nhorizontal/2``, :func:`planerel.features.facts.scene_facts`)."""
+    out = {}
+    for d in descs:
+        by_label = {p.label: p for p in d.planes}
+        for o in d.objects:
+            out[o.id] = sum(by_label[lbl].orientation == "horizontal" for lbl in o.planes
+                            if lbl in by_label)
+    return out
 
 
 def level_domain(examples: Sequence, levels: dict, classes: Sequence[str]) -> tuple:

@@ -32,6 +32,7 @@ from planerel.ilp.metrics import (
     confusion_columns,
     decide,
     error_kinds,
+    horizontal_counts,
     laplace,
     level_domain,
     planar_domain,
@@ -256,18 +257,6 @@ def stepped_object(where: dict, object_id) -> bool:
         return False
     d, o = where[object_id]
     return flight_faces(d.planes, o.planes)
-
-
-def horizontal_counts(descs) -> dict:
-    """``{object id: number of its horizontal planes}`` over scene descriptions (the value of
-    the fact ``nhorizontal/2``, :func:`planerel.features.facts.scene_facts`)."""
-    out = {}
-    for d in descs:
-        by_label = {p.label: p for p in d.planes}
-        for o in d.objects:
-            out[o.id] = sum(by_label[lbl].orientation == "horizontal" for lbl in o.planes
-                            if lbl in by_label)
-    return out
 
 
 def with_decision(model, decision: dict | None):
