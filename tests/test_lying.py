@@ -195,3 +195,24 @@ def test_the_demo_model_answers_the_real_books_of_test63_box(demo_model):  # noq
         assert got[name] == "box", (name, got[name])
     s = rt.summarize(rows)
     assert s["round_stairs_ramp"] == 0 and s["stairs_answers"] == 0 and s["ramp_answers"] == 0
+
+
+def test_a_top_within_its_own_noise_of_the_table_is_not_lying():
+    # the top's rise must stand lying_snr (5) times its own fit's RMS clear: a patch 5 cm over
+    # the table measured with 2 cm of depth noise along the ray (a far or curved patch: hunt25's room
+    # frames' rim of a round base, 2.1-3.6 times) is not lying; measured at 1 mm it is
+    def lying_at(noise, params=None):
+        cloud, lab, _, _ = render([floor(), _table(), _top(rise=0.05)], noise=noise,
+                                  seed=3, **TABLE_VIEW)
+        ps = measure_planes(cloud, lab)
+        top = ps.by_label(2)
+        return top.rms, lying_tops(ps, relate(ps, cloud, params), ())
+
+    rms, lying = lying_at(0.001)
+    assert 0.05 / rms > 20 and lying == {2}
+    rms, lying = lying_at(0.02)
+    assert 2.5 < 0.05 / rms < 5 and not lying
+    # the test before 2026-11-30 (twice the RMS) let it pass
+    assert lying_at(0.02, RelationParams(lying_snr=2.0))[1] == {2}
+    with pytest.raises(InputError, match="lying_snr"):
+        RelationParams(lying_snr=-1.0)
