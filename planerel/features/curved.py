@@ -14,7 +14,7 @@ The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
    a linked group with at least ``facet_min_planes`` (3) distinct normal directions (normals
    within ``facet_min_angle`` count once: two pieces of one box face linked through a sliver
    are one direction) is a facet of a curved surface.  A plane at least ``facet_max_width``
-   (0.12 m) wide and ``facet_wide_ratio`` (1.5) times wider than every plane it links to is a
+   (0.05 m) wide and ``facet_wide_ratio`` (1.5) times wider than every plane it links to is a
    flat face, in no link (2026-11-29): a real carpeted stair's rounded nosings are narrow
    strips between its wide treads and risers, and through them the whole flight read as
    round.
@@ -96,7 +96,11 @@ class CurvedParams:
         benchmarks/real_stairs.py).  A round object's strips are alike in width, however
         wide: 2-4 cm on the mOSD cylinders, 0.11-0.13 m on a 0.15 m cylinder at 2 m, 0.137 m
         on the synthetic worlds' 16-sided drums of radius 0.35.  ``facet_max_width`` 0 = no
-        such face (before 2026-11-29).
+        such face (before 2026-11-29).  0.05 since 2026-11-30 (0.12 before): a milk carton's
+        faces (0.096-0.099 m wide at 1 m, a Kinect frame nobody on the team had made) meet
+        at a 1.2-1.4 cm strip the segmentation cuts along their edge, 20-27 degrees from each;
+        linked through it, the carton read as round (planar fraction 0.00, the box answer
+        refused).  The strips of one round surface stay alike in width (ratio under 1.5).
     tiny_area : float
         m^2: planes smaller than this are not flat planes; their pixels count as unexplained.
     open_px : int
@@ -195,7 +199,7 @@ class CurvedParams:
     facet_min_angle: float = FACET_MIN_ANGLE
     facet_max_angle: float = FACET_MAX_ANGLE
     facet_min_planes: int = 3
-    facet_max_width: float = 0.12
+    facet_max_width: float = 0.05
     facet_wide_ratio: float = 1.5
     tiny_area: float = 0.0005
     open_px: int = 2

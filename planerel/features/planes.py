@@ -103,6 +103,20 @@ class PlaneParams:
         When no horizontal plane is the floor, a plane inclined by at most ``horizontal_tol``
         plus the tilt that this many depth-noise sigmas across its width make may be (see
         the module docstring; default 2: one sigma at each edge, opposite signs; 0 = never).
+    tilt_noise_sigmas : float
+        A plane that the camera sees from below (a ceiling) within ``horizontal_tol`` plus an
+        allowance of level is ``horizontal``, and any plane within ``vertical_tol`` plus an
+        allowance of vertical is ``vertical``: the allowance is the tilt this many depth-noise
+        sigmas across its width make at its farthest depth, at most the tolerance itself
+        (:func:`_sensor_tilt`; the floor's rule, ``floor_noise_sigmas``, for the rest).  0 =
+        never (before 2026-11-30).
+    ground_area, ground_ratio : float
+        m^2, a ratio: when neither rule finds a floor, the largest horizontal plane of at
+        least ``ground_area``, seen from above, ``ground_ratio`` times larger than every other
+        horizontal plane and with none of ``floor_min_area`` more than ``floor_tol`` below
+        it, is the ground the scene stands on and counts as its floor
+        (:func:`_ground_floor`): a table top filling a close view whose only lower surfaces
+        are far pieces of the room the sensor bends (``ground_area`` 0 = never; 2026-11-30).
     fit : {"disparity", "pca"}
         How normals are fitted: ``"disparity"`` (default) fits inverse depth, as a
         structured-light sensor errs (along the ray, uniformly in disparity), and falls back
@@ -118,6 +132,9 @@ class PlaneParams:
     floor_tol: float = 0.05
     floor_min_area: float = 0.05
     floor_noise_sigmas: float = 2.0
+    ground_area: float = 0.2
+    ground_ratio: float = 3.0
+    tilt_noise_sigmas: float = 2.0
     fit: str = "disparity"
 
     def __post_init__(self) -> None:
@@ -129,7 +146,8 @@ class PlaneParams:
                 raise InputError(f"{name} must be a number of degrees in [0, 45), got {v!r}")
         if isinstance(self.min_points, bool) or not isinstance(self.min_points, int) or self.min_points < 3:
             raise InputError(f"min_points must be an integer >= 3, got {self.min_points!r}")
-        for name in ("hull_simplify", "floor_tol", "floor_min_area", "floor_noise_sigmas"):
+        for name in ("hull_simplify", "floor_tol", "floor_min_area", "floor_noise_sigmas",
+                     "ground_area", "ground_ratio", "tilt_noise_sigmas"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
                 raise InputError(f"{name} must be a non-negative number, got {v!r}")
@@ -549,6 +567,10 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
         floor = _sensor_floor(cloud, pre, up_v, params)
         if floor is not None:
             next(d for d in pre if d["label"] == floor)["orientation"] = "horizontal"
+    if floor is None and params.ground_area > 0:
+        floor = _ground_floor(pre, up_v, params)
+    if params.tilt_noise_sigmas > 0:
+        _sensor_tilt(cloud, pre, up_v, params)
     floor_level = float(next(d for d in pre if d["label"] == floor)["centroid"] @ up_v) \
         if floor is not None else lowest
     planes = tuple(
@@ -556,6 +578,89 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
         for d in pre
     )
     return PlaneSet(planes, up_v, up_source, floor, floor_level, skipped, lab, params, up_conf)
+
+
+def _sensor_tilt(cloud, pre, up_v, params: PlaneParams) -> None:
+    """Set to ``vertical`` the orientation of each inclined plane within ``vertical_tol``
+    plus an allowance of vertical, and to ``horizontal`` each inclined plane the camera sees
+    from below within ``horizontal_tol`` plus an allowance of level; the allowance is
+    ``atan(tilt_noise_sigmas * sigma(z) / width)`` degrees at most the tolerance (``sigma``
+    from :func:`planerel.segment.noise.estimate_noise` at the plane's farthest hull depth,
+    ``width`` its short side).  ``incline`` stays as measured.
+
+    Why: a structured-light sensor bends far surfaces (its depth errors grow as ``z^2`` and
+    are partly systematic).  Real frames nobody on the team had made showed a basement's wall
+    at 6.4 m measured 79 degrees and a corridor's ceiling at 5.2 m 9 degrees: both
+    ``inclined``, large, and so ``ramp`` by the learned ramp rule.  A walked-on slope faces up
+    and is at most 20 degrees steep, so neither change can take a ramp's incline away; floors
+    and near-level planes seen from above keep the floor's rule (:func:`_sensor_floor`).
+    """
+    vlo = 90.0 - 2 * params.vertical_tol
+    cand = [d for d in pre if d["orientation"] == "inclined" and d["width"] > 0
+            and (d["incline"] >= vlo or (d["incline"] <= 2 * params.horizontal_tol
+                                          and float(d["normal"] @ up_v) < 0
+                                          and float(d["centroid"] @ up_v) > 0))]
+    if not cand or not getattr(cloud, "organized", False):
+        return
+    from planerel.segment.noise import estimate_noise
+
+    noise = estimate_noise(cloud)
+    if not noise.reliable or noise.kind == "none":
+        return
+    for d in cand:
+        z = float(np.max(d["hull3d"][:, 2]))
+        tilt = math.degrees(math.atan(params.tilt_noise_sigmas * float(noise.sigma(z)) / d["width"]))
+        if d["incline"] >= vlo:
+            if d["incline"] >= 90.0 - params.vertical_tol - min(params.vertical_tol, tilt):
+                d["orientation"] = "vertical"
+        elif d["incline"] <= params.horizontal_tol + min(params.horizontal_tol, tilt):
+            d["orientation"] = "horizontal"
+
+
+#: Metres: a plane reaching up to a ground candidate's level from more than this below it
+#: shows the scene going on under it (:func:`_ground_floor`)
+GROUND_DROP = 0.1
+
+
+def _ground_floor(pre, up_v, params: PlaneParams) -> int | None:
+    """The floor of a scene where neither the lowest-plane rule nor :func:`_sensor_floor`
+    finds one: the label of the largest horizontal plane of at least ``ground_area`` m^2 that
+    the camera sees from above, ``ground_ratio`` times larger than every other horizontal
+    plane, that has no horizontal plane of ``floor_min_area`` m^2 with its centroid more
+    than ``floor_tol`` below its own, and no plane of that area reaching up to its level
+    from more than ``GROUND_DROP`` below.  None when there is none.
+
+    Why: a table top filling a close view (a RealSense 0.7 m over a table, PoseCNN's YCB
+    frames) has under it only far pieces of the room that the sensor bends by 12-24 degrees:
+    the lowest-plane rule finds no floor among them, the table was no support (smaller than
+    ``support_min_area``, and ``table_area`` needs a floor), and the table and everything on it
+    became one proposal.  A staircase seen from above has treads under its landing, and its
+    lowest tread in a level view (the floor under the camera's view) is about as large as the
+    next, or is the only tread in view with its riser going down from it (the independent
+    generator's flights seen level from 0.7-1 m, fresh set indep8: the lowest tread taken
+    for the ground cut three flights); a ceiling is seen from below: none is chosen.
+    """
+    flats = [d for d in pre if d["orientation"] == "horizontal"]
+    best, best_area = None, -1.0
+    for d in flats:
+        level = float(d["centroid"] @ up_v)
+        # the camera (the origin) above the plane: up . (0 - c) > 0
+        if d["area"] < params.ground_area or d["area"] <= best_area or level >= 0:
+            continue
+        if any(float(q["centroid"] @ up_v) < level - params.floor_tol
+               and q["area"] >= params.floor_min_area for q in flats if q is not d):
+            continue
+        if any(d["area"] < params.ground_ratio * q["area"] for q in flats if q is not d):
+            continue
+        # a plane reaching up to its level from more than 0.1 m below (a riser under a
+        # tread, a cabinet's side, a wall standing on a floor out of view): the scene goes
+        # on under it
+        if any(float((q["hull3d"] @ up_v).max()) >= level - params.floor_tol
+               and float((q["hull3d"] @ up_v).min()) < level - GROUND_DROP
+               and q["area"] >= params.floor_min_area for q in pre if q is not d):
+            continue
+        best, best_area = d["label"], d["area"]
+    return best
 
 
 def _sensor_floor(cloud, pre, up_v, params: PlaneParams) -> int | None:
