@@ -580,9 +580,17 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     return PlaneSet(planes, up_v, up_source, floor, floor_level, skipped, lab, params, up_conf)
 
 
+#: m^2: only planes at least this large get :func:`_sensor_tilt`'s allowance.  A large
+#: plane's orientation decides the ramp rule and what is support; two small pieces of a far
+#: wall at a frame's edge (0.08 and 0.11 m^2, 0.15 m wide: an allowance of several degrees)
+#: made a ``corner`` by it, and the real staircase frame 0001 (stair-perception) a false box
+TILT_MIN_AREA = 0.25
+
+
 def _sensor_tilt(cloud, pre, up_v, params: PlaneParams) -> None:
-    """Set to ``vertical`` the orientation of each inclined plane within ``vertical_tol``
-    plus an allowance of vertical, and to ``horizontal`` each inclined plane the camera sees
+    """Set to ``vertical`` the orientation of each inclined plane of at least
+    ``TILT_MIN_AREA`` within ``vertical_tol``
+    plus an allowance of vertical, and to ``horizontal`` each such plane the camera sees
     from below within ``horizontal_tol`` plus an allowance of level; the allowance is
     ``atan(tilt_noise_sigmas * sigma(z) / width)`` degrees at most the tolerance (``sigma``
     from :func:`planerel.segment.noise.estimate_noise` at the plane's farthest hull depth,
@@ -597,6 +605,7 @@ def _sensor_tilt(cloud, pre, up_v, params: PlaneParams) -> None:
     """
     vlo = 90.0 - 2 * params.vertical_tol
     cand = [d for d in pre if d["orientation"] == "inclined" and d["width"] > 0
+            and d["area"] >= TILT_MIN_AREA
             and (d["incline"] >= vlo or (d["incline"] <= 2 * params.horizontal_tol
                                           and float(d["normal"] @ up_v) < 0
                                           and float(d["centroid"] @ up_v) > 0))]
