@@ -114,6 +114,9 @@ __all__ = [
     "objects_from_truth",
     "proposal_match",
     "flight_faces",
+    "flight_steps",
+    "flight_evidence",
+    "steps_of_one_flight",
 ]
 
 
@@ -2510,11 +2513,90 @@ def flight_faces(planes, labels, params: ProposalParams | None = None) -> bool:
                                  skip_missing=p.skip_missing, tread_axes=p.step_tread_axes))
 
 
+#: Where :func:`flight_steps` looks for steps (rise and run per step, metres): wider than a
+#: staircase's, so that every level change between parallel faces of an object is found.
+STEP_WINDOW_RISE = (0.05, 0.35)
+STEP_WINDOW_RUN = (0.08, 0.8)
+#: A staircase's step (rise, run; metres): the demo's training flights rise 0.12-0.22 m and
+#: run 0.22-0.36 m (:mod:`planerel.synth.generator`, :class:`planerel.synth.world.WorldRange`),
+#: widened by a third of a rise and of a run for what a sensor measures of them
+#: (:func:`flight_evidence`).
+STAIR_RISE = (0.08, 0.25)
+STAIR_RUN = (0.15, 0.45)
+#: Two steps of one flight: their rises and runs per step within this ratio (the regular row's
+#: tolerance of :func:`step_chain_pairs`).
+STEP_AGREE = 0.7
+
+
+def flight_steps(planes, labels, params: ProposalParams | None = None) -> list:
+    """Every step between parallel faces of the planes ``labels`` of one object: two treads or
+    two risers :data:`STEP_WINDOW_RISE` above and :data:`STEP_WINDOW_RUN` beyond each other
+    (one span, no chain asked: :func:`step_chain_pairs` with ``chain=False``), with the
+    proposals' step settings ``params``.
+
+    Returns
+    -------
+    list of (int, int, float, float)
+        ``(lower label, higher label, rise, run)`` per step, metres.
+    """
+    p = params or ProposalParams()
+    steps = step_chain_pairs(planes, tuple(labels), STEP_WINDOW_RISE, STEP_WINDOW_RUN,
+                             p.step_overlap or 0.5, p.concave_tol, tilt=p.step_tilt, skip=False,
+                             cut_long_side=p.cut_long_side, tread_axes=p.step_tread_axes,
+                             chain=False)
+    return [(int(lo), int(hi), float(r), float(g)) for lo, hi, r, _d, _k, g in steps]
+
+
+def flight_evidence(planes, labels, params: ProposalParams | None = None) -> bool:
+    """Whether the planes ``labels`` of one object show a staircase's steps: a regular row of
+    three faces (:func:`flight_faces`), or steps that are one flight's (pile26).
+
+    Without a row (a flight of two steps: two treads and two risers), the object's steps
+    (:func:`flight_steps`: every level change between two parallel treads or risers) must be
+    one flight's: the lowest step a stair's (:data:`STAIR_RISE`, :data:`STAIR_RUN`), and
+    every other step one, two or three of it, rise and run alike (within :data:`STEP_AGREE`).
+    Cartons packed on a pallet at three heights (a step of 0.10 m beside one of 0.20 m whose
+    run is no longer) and boxes of two heights touching (one step 0.30 m high and 0.67 m
+    deep) are no flight, nor is an object with no step at all (a machine's faces, a room
+    wall's posts).  Two levels one stair rise above and one run beyond each other are a step
+    to this test whatever they are made of: a pile of two heights of stair-like cartons stays
+    a flight.
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    labels : iterable of int
+    params : ProposalParams, optional
+    """
+    labels = tuple(labels)
+    return (flight_faces(planes, labels, params)
+            or steps_of_one_flight(flight_steps(planes, labels, params)))
+
+
+def steps_of_one_flight(steps) -> bool:
+    """Whether ``steps`` (``(lower, higher, rise, run)`` per step, :func:`flight_steps`) are
+    one flight's: at least one, the lowest (least rise) a stair's (:data:`STAIR_RISE`,
+    :data:`STAIR_RUN`), and every other one, two or three of it in rise and run alike, each
+    within :data:`STEP_AGREE` (:func:`flight_evidence`)."""
+    if not steps:
+        return False
+    _lo, _hi, rise, run = min(steps, key=lambda s: (s[2], s[3]))
+    if not (STAIR_RISE[0] <= rise <= STAIR_RISE[1] and STAIR_RUN[0] <= run <= STAIR_RUN[1]):
+        return False
+
+    def agrees(r: float, g: float) -> bool:
+        return any(STEP_AGREE <= r / (k * rise) <= 1 / STEP_AGREE
+                   and STEP_AGREE <= g / (k * run) <= 1 / STEP_AGREE for k in (1, 2, 3))
+
+    return all(agrees(r, g) for _a, _b, r, g in steps)
+
+
 def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_overlap: float = 0.5, angle_tol: float = 10.0,
                      max_ratio: float = 3.0, tilt: float = 12.0, skip: bool = True,
                      min_width: float = 0.5, cut_long_side: bool = True,
-                     skip_missing: bool = False, tread_axes: bool = False) -> set:
+                     skip_missing: bool = False, tread_axes: bool = False,
+                     chain: bool = True):
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
     Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
@@ -2550,6 +2632,11 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     planes : PlaneSet
     labels : iterable of int
         Planes to consider (e.g. the non-support planes); empty = all.
+
+    chain : bool
+        False: return every step found, before the chain test (a list of ``(lower, higher,
+        rise per step, unit horizontal direction (3,), span, run per step)``;
+        :func:`flight_step`).
 
     Returns
     -------
@@ -2624,7 +2711,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             union = max(a1, b1) - min(a0, b0)
             if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < min_overlap:
                 continue
-            steps.append((lo.label, hi.label, dv / k, direction, k))
+            steps.append((lo.label, hi.label, dv / k, direction, k, dist / k))
     cos_dir = math.cos(math.radians(25.0))
     if skip_missing and any(s[4] == 2 for s in steps):
         hgt = {p.label: p.height for p in cands}
@@ -2632,7 +2719,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
         ones = {(s[0], s[1]) for s in one}
 
         def spans_seen(s2) -> bool:
-            lo_l, hi_l, r, dirn, _ = s2
+            lo_l, hi_l, r, dirn = s2[:4]
             for s1 in one:
                 if float(s1[3] @ dirn) < cos_dir:
                     continue
@@ -2651,6 +2738,8 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             return False
 
         steps = [s2 for s2 in steps if s2[4] != 2 or not spans_seen(s2)]
+    if not chain:
+        return steps
     out = set()
     for s1 in steps:
         for s2 in steps:
@@ -2665,7 +2754,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     # proposal), when both treads are flight-like: wide and shallow
     byl = {p.label: p for p in planes}
     anchors = [p for p in planes if kind[p.label] == "tread"]
-    for lo_l, hi_l, dv, direction, k in steps:
+    for lo_l, hi_l, dv, direction, k, _run in steps:
         lo, hi = byl[lo_l], byl[hi_l]
         if (lo_l, hi_l) in out or k != 1 or kind[lo_l] != "tread":
             continue
