@@ -39,6 +39,9 @@ def _model(path: Path, *, levels=LEVELS, gate=True) -> Path:
     (path / "rules.pl").write_text(RULES)
     data = training_settings("regiongrow", {}, rule_stats=STATS, level_domain=levels or ())
     data["decision"]["level_gate"] = gate
+    # this model calls a box stairs: the flight gate (pile26, tests/test_flight_gate.py) would
+    # refuse it before the level gate is asked
+    data["decision"]["flight_gate"] = False
     if levels is None:   # a model.json written before hunt25
         del data["level_domain"]
         del data["decision"]["level_gate"]
@@ -197,7 +200,7 @@ def test_prolog_predict_decides_with_the_same_gate(scene):
     cloud, up = scene
     desc = describe_scene(cloud, segment(cloud).labels, scene_id="s0007", up=up)
     model = P.Model(("stairs",), {"stairs": (RULES.splitlines()[0],)}, stats=tuple(STATS),
-                    level_domain=tuple(LEVELS))
+                    level_domain=tuple(LEVELS), flight_gate=False)
     on = P.prolog_predict(model, [desc])
     off = P.prolog_predict(replace(model, level_gate=False), [desc])
     assert model.level_gate

@@ -270,6 +270,12 @@ class Classifier:
         #: ``(class, low, n)`` the level gate compares with (empty: no gate; the model keeps
         #: none, or ``decision.level_gate`` is off)
         self.level_domain = (self.settings.level_domain if decision.level_gate else ())
+        #: ``stairs`` only for an object whose faces show a staircase's steps
+        #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
+        #: in ``model.json`` since pile26 or given as a param: a model learned before decides
+        #: as before)
+        self.flight_gate = (decision.flight_gate
+                            and "flight_gate" in self.settings.sections.get("decision", {}))
         #: vetoes (rules for ``other``) proved through far smaller planes than a class proof
         #: are set aside (0: off; nothing to set aside without rules for ``other``)
         self.veto_ratio = decision.veto_ratio if OTHER in heads else 0.0
@@ -394,7 +400,7 @@ class Classifier:
 
     def _answer(self, desc, plane_ids) -> list:
         """Each object of ``desc`` (its facts loaded) answered by this model's rules."""
-        from planerel.features.relations import flight_faces
+        from planerel.features.relations import flight_evidence, flight_faces
         from planerel.ilp.metrics import decide, horizontal_counts, laplace
 
         answers = []
@@ -422,7 +428,10 @@ class Classifier:
                                    n_horizontal=levels.get(o.id),
                                    levels=self.level_domain,
                                    stepped=lambda o=o: flight_faces(desc.planes, o.planes,
-                                                                    proposal_params))
+                                                                    proposal_params),
+                                   flight=(lambda o=o: flight_evidence(desc.planes, o.planes,
+                                                                       proposal_params))
+                                   if self.flight_gate else None)
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)
             if best is None:

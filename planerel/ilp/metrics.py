@@ -17,7 +17,8 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "PLANAR_MARGIN", "PLANAR_GATE", "DecisionParams", "planar_domain", "Refusal", "planar_bound",
            "planar_refusals", "PROOF_MARGIN", "PROOF_GATE", "PROOF_MIN_POSITIVES", "proof_domain", "proof_bound", "ProofRefusal",
            "LEVEL_GATE", "horizontal_counts", "level_domain", "LevelRefusal", "level_refusals",
-           "proof_refusals", "VETO_RATIO", "VetoRefusal", "veto_refusals", "decide"]
+           "proof_refusals", "VETO_RATIO", "VetoRefusal", "veto_refusals", "FLIGHT_GATE",
+           "FLIGHT_CLASS", "FlightRefusal", "flight_refusals", "decide"]
 
 #: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
 #: than right on the training objects (the class of the varied world's clutter, too).
@@ -111,6 +112,10 @@ PROOF_MIN_POSITIVES = 10
 VETO_RATIO = 3.0
 #: Default of :attr:`DecisionParams.level_gate`.
 LEVEL_GATE = True
+#: Default of :attr:`DecisionParams.flight_gate`.
+FLIGHT_GATE = True
+#: The class :func:`flight_refusals` asks a flight's steps of.
+FLIGHT_CLASS = "stairs"
 
 
 @dataclass(frozen=True)
@@ -175,6 +180,14 @@ class DecisionParams:
         banister's posts, a desk pedestal's faces (docs/objects.md, "Real frames nobody on the
         team had seen").  The demo's boxes and ramps have positives with no horizontal plane (a
         box seen as one face, a ramp's slope alone): no gate for them.
+    flight_gate : bool
+        Refuse ``stairs`` for an object whose faces show no staircase's steps
+        (:func:`flight_refusals`; :func:`planerel.features.relations.flight_evidence`: a
+        regular row of three faces, or steps of one flight's rise and run).  On by default
+        (pile26, 2026-11-30): the demo's stairs rules ("two parallel planes, one above the
+        other") took cartons packed on a pallet at three heights, boxes of two heights
+        touching and a machine's faces for flights (docs/objects.md, "Carton piles and false
+        answers on unseen frames").
     """
 
     planar_gate: bool = PLANAR_GATE
@@ -184,9 +197,10 @@ class DecisionParams:
     proof_min_positives: int = PROOF_MIN_POSITIVES
     veto_ratio: float = VETO_RATIO
     level_gate: bool = LEVEL_GATE
+    flight_gate: bool = FLIGHT_GATE
 
     def __post_init__(self):
-        for gate in ("planar_gate", "proof_gate", "level_gate"):
+        for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -401,6 +415,50 @@ def level_refusals(hits, stats: Sequence, n_horizontal, domain: Sequence, steppe
     return kept, tuple(refused.values())
 
 
+@dataclass(frozen=True)
+class FlightRefusal:
+    """``stairs`` proved of an object whose faces show no staircase's steps
+    (:func:`flight_refusals`)."""
+
+    klass: str
+
+    @property
+    def reason(self) -> str:
+        return ("no faces in a flight's row and no steps of one flight's rise and run "
+                "(a pile of several heights, boxes touching, no step at all)")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "reason": self.reason}
+
+
+def flight_refusals(hits, stats: Sequence, flight=None):
+    """Leave out the ``stairs`` hits of an object whose faces show no staircase's steps.
+
+    A stairs rule of the demo's model says "two parallel planes, one above the other" (with a
+    third and fourth below, or a level lower one): every flight it was counted on showed its
+    steps in a regular row or the two steps of a short flight, but a pile of cartons at three
+    heights, boxes of two heights touching or a machine's faces satisfy it too.  ``flight``:
+    None (the gate off), a bool, or a callable asked only when a stairs hit is there
+    (:func:`planerel.features.relations.flight_evidence` of the object's planes).
+
+    Returns
+    -------
+    (list, tuple of FlightRefusal)
+        The hits left, and one :class:`FlightRefusal` when stairs is refused by a rule that
+        takes part in the decision (:func:`takes_part`).
+    """
+    if flight is None or not any(h[0] == FLIGHT_CLASS for h in hits):
+        return list(hits), ()
+    if callable(flight):
+        flight = flight()
+    if flight:
+        return list(hits), ()
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    kept = [h for h in hits if h[0] != FLIGHT_CLASS]
+    counted = any(takes_part(*table.get(h[1], (0, 0))) for h in hits if h[0] == FLIGHT_CLASS)
+    return kept, ((FlightRefusal(FLIGHT_CLASS),) if counted else ())
+
+
 def proof_domain(fired: dict, truth: dict) -> tuple:
     """How large the planes are that each rule proved its training positives with:
     ``((index, class, low, high, n), ...)`` per rule of a class (not :data:`OTHER`).
@@ -584,11 +642,12 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            planar_fraction=None, domain: Sequence = (), margin: float = PLANAR_MARGIN,
            proofs: Sequence = (), proof_margin: float = PROOF_MARGIN,
            proof_min_positives: int = PROOF_MIN_POSITIVES, veto_ratio: float = 0.0,
-           n_horizontal=None, levels: Sequence = (), stepped=False):
+           n_horizontal=None, levels: Sequence = (), stepped=False, flight=None):
     """The open-set decision for one object: :func:`proof_refusals` (with ``proofs``, the
     model's :func:`proof_domain`), :func:`planar_refusals` (``domain``),
     :func:`level_refusals` (``levels``, the model's :func:`level_domain`, and the object's
-    ``n_horizontal`` and ``stepped``), :func:`veto_refusals`
+    ``n_horizontal`` and ``stepped``), :func:`flight_refusals` (``flight``; None, the
+    default here, off), :func:`veto_refusals`
     (``veto_ratio``; 0, the default here, off: callers pass the model's setting), then
     :func:`choose_class` among the hits left.  The classifier and the learner's own scoring
     (:func:`planerel.ilp.pipeline.prolog_predict`, whichever engine learned the rules) decide
@@ -596,14 +655,15 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
 
     Returns
     -------
-    (hit or None, tuple of Refusal, ProofRefusal, LevelRefusal and VetoRefusal)
+    (hit or None, tuple of Refusal, ProofRefusal, LevelRefusal, FlightRefusal and VetoRefusal)
         The chosen hit (None: :data:`OTHER`) and the rules and classes refused.
     """
     kept, small = proof_refusals(hits, stats, proofs, proof_margin, proof_min_positives)
     kept, refused = planar_refusals(kept, stats, planar_fraction, domain, margin)
     kept, flat = level_refusals(kept, stats, n_horizontal, levels, stepped)
+    kept, steps = flight_refusals(kept, stats, flight)
     kept, vetoes = veto_refusals(kept, stats, veto_ratio)
-    return choose_class(kept, stats, classes, cofire), small + refused + flat + vetoes
+    return choose_class(kept, stats, classes, cofire), small + refused + flat + steps + vetoes
 
 
 def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:

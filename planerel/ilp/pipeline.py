@@ -20,6 +20,7 @@ from pathlib import Path
 from planerel.children import temp_dir
 from planerel.errors import InputError, PrologError
 from planerel.ilp.metrics import (
+    FLIGHT_GATE,
     LEVEL_GATE,
     OTHER,
     PLANAR_GATE,
@@ -124,6 +125,9 @@ class Model:
     level_gate : bool
         Whether :func:`prolog_predict` refuses a class for an object with fewer horizontal
         planes than any of its training positives (:func:`planerel.ilp.metrics.level_refusals`).
+    flight_gate : bool
+        Whether :func:`prolog_predict` refuses ``stairs`` for an object whose faces show no
+        staircase's steps (:func:`planerel.ilp.metrics.flight_refusals`).
     """
 
     classes: tuple
@@ -145,6 +149,7 @@ class Model:
     veto_ratio: float = VETO_RATIO
     level_domain: tuple = ()
     level_gate: bool = LEVEL_GATE
+    flight_gate: bool = FLIGHT_GATE
 
     @property
     def targets(self) -> tuple:
@@ -257,6 +262,18 @@ def stepped_object(where: dict, object_id) -> bool:
         return False
     d, o = where[object_id]
     return flight_faces(d.planes, o.planes)
+
+
+def flight_object(where: dict, object_id) -> bool:
+    """Whether object ``object_id`` shows a staircase's steps
+    (:func:`planerel.features.relations.flight_evidence`, with the default proposal settings);
+    ``where``: ``{object id: (description, object)}``."""
+    from planerel.features.relations import flight_evidence
+
+    if object_id not in where:
+        return False
+    d, o = where[object_id]
+    return flight_evidence(d.planes, o.planes)
 
 
 def with_decision(model, decision: dict | None):
@@ -788,7 +805,9 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                                veto_ratio=model.veto_ratio,
                                n_horizontal=levels.get(o),
                                levels=model.level_domain if model.level_gate else (),
-                               stepped=lambda o=o: stepped_object(where, o))
+                               stepped=lambda o=o: stepped_object(where, o),
+                               flight=(lambda o=o: flight_object(where, o))
+                               if model.flight_gate else None)
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
             out.append(Prediction(o, OTHER, fired=fired_pairs, refused=refused))
