@@ -83,8 +83,8 @@ KINECT_FACES = {**KINECT_ROOM,
 
 
 def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), round_: int = 0,
-                            faces: int = 0, flat: int = 0, seed: int = 0, size=(640, 480),
-                            subsample: int = 4, ranges=None) -> Path:
+                            faces: int = 0, flat: int = 0, piles: int = 0, seed: int = 0,
+                            size=(640, 480), subsample: int = 4, ranges=None) -> Path:
     """Write one data set: ``paper`` box/stairs/ramp scenes of the paper-sized world, then
     ``room`` box/stairs/ramp scenes (primary object) of the Kinect-like varied world.
 
@@ -115,6 +115,10 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         are then a pixel or two high, as the real table-top frames' are seen edge-on).  With
         any, every part's boxes at most 0.12 m high that show only their top are box examples
         too (``"examples": {"box_top_height": 0.12}``, top25).
+    piles : int
+        Scenes of the pile part (:func:`planerel.synth.piles.generate_pile_scene`: touching
+        cartons of two heights, one box object, seen from above; pile26), after the face part,
+        seeds ``scene_seed(seed + 6, i)``.
 
     Returns
     -------
@@ -131,6 +135,7 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         generate_scene,
         scene_seed,
     )
+    from planerel.synth.piles import generate_pile_scene
     from planerel.synth.sensor import StructuredLight
     from planerel.synth.world import WorldRange, generate_world_scene
 
@@ -152,7 +157,10 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         raise InputError(f"face scene count must be a non-negative integer, got {faces!r}")
     if isinstance(flat, bool) or not isinstance(flat, int) or flat < 0:
         raise InputError(f"flat scene count must be a non-negative integer, got {flat!r}")
-    if not sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces + flat:
+    if isinstance(piles, bool) or not isinstance(piles, int) or piles < 0:
+        raise InputError(f"pile scene count must be a non-negative integer, got {piles!r}")
+    if not (sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces + flat
+            + piles):
         raise InputError("a data set needs at least one scene (all counts are 0)")
     ranges = WorldRange(**KINECT_ROOM) if ranges is None else ranges
     paper_sensor, room_sensor = SensorModel(), StructuredLight()
@@ -162,7 +170,8 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
     jobs = ([("paper", k) for k in CLASSES for _ in range(counts["paper"][k])]
             + [("flat", "box")] * flat
             + [("room", k) for k in CLASSES for _ in range(counts["room"][k])]
-            + [("round", "box")] * round_ + [("faces", "box")] * faces)
+            + [("round", "box")] * round_ + [("faces", "box")] * faces
+            + [("piles", "box")] * piles)
     face_ranges = WorldRange(**KINECT_FACES)
     rows = []
     nth: dict = {}  # scenes of each part so far: the part's scene index (its seed)
@@ -179,6 +188,9 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             elif part == "flat":
                 scene = generate_flat_scene(scene_seed(seed + 4, j), size, subsample,
                                             scene_id=sid, sensor=room_sensor)
+            elif part == "piles":
+                scene = generate_pile_scene(scene_seed(seed + 6, j), size, subsample,
+                                            scene_id=sid, sensor=room_sensor)
             elif part == "round":
                 scene = generate_round_scene(scene_seed(seed + 2, j), size,
                                              max(1, subsample // 2), scene_id=sid,
@@ -192,9 +204,9 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         write_dataset_info(tmp, {
             "format": "planerel-synth-dataset", "version": 1, "seed": seed,
             "world": "paper+kinect-room" + ("+round" if round_ else "") + ("+faces" if faces else "")
-                     + ("+flat" if flat else ""),
+                     + ("+flat" if flat else "") + ("+piles" if piles else ""),
             "counts": {**counts, "round": round_, **({"faces": faces} if faces else {}),
-                       **({"flat": flat} if flat else {})},
+                       **({"flat": flat} if flat else {}), **({"piles": piles} if piles else {})},
             "size": list(_check_size(size)), "subsample": int(subsample),
             "sensor": {"paper": paper_sensor.to_dict(), "room": room_sensor.to_dict()},
             "world_ranges": ranges.to_dict(),
