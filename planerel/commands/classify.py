@@ -42,7 +42,9 @@ def register(sub) -> None:
                         "decision.veto_ratio (3; 0 switches it off) sets aside a rule for other "
                         "proved only through planes that many times smaller than a class rule's "
                         "proof; decision.level_gate (on by default) refuses a class for an "
-                        "object with fewer horizontal planes than all of its training positives")
+                        "object with fewer horizontal planes than all of its training positives; "
+                        "decision.flight_gate (on in models learned since pile26) refuses stairs "
+                        "for an object whose faces show no flight's row or steps")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)

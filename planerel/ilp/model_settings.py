@@ -20,7 +20,7 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 :class:`~planerel.features.relations.ProposalParams` and :class:`~planerel.features.curved.CurvedParams`;
 ``decision.NAME`` one of :class:`~planerel.ilp.metrics.DecisionParams` (``decision.planar_gate``,
 ``decision.planar_margin``, ``decision.proof_gate``, ``decision.proof_margin``,
-``decision.veto_ratio``, ``decision.level_gate``).
+``decision.veto_ratio``, ``decision.level_gate``, ``decision.flight_gate``).
 """
 
 from __future__ import annotations
