@@ -78,6 +78,7 @@ from planerel.features.cavities import (
 )
 from planerel.features.concave_cut import concave_cuts
 from planerel.features.gaps import gap_in_front, occluded_piece_pairs
+from planerel.features.open_treads import open_tread_pairs
 from planerel.features.planes import _boundary, _boundary_pixels, _boundary_tiles, label_max
 from planerel.features.solid import (
     PROFILE_POINTS,
@@ -1410,6 +1411,16 @@ class ProposalParams:
         more whose top follows them (a far balustrade's inside face, seen over the flight).
         (synth22v, docs/objects.md.)  False: support by area, and no such join (before
         2026-11-29).
+    open_treads : bool
+        Join the treads of an open-riser flight (:func:`planerel.features.open_treads.open_tread_pairs`):
+        three or more *slabs* (planes at most ``OPEN_THICK`` m high along up and at most
+        ``OPEN_TILT`` degrees from horizontal: a tread's top, or at range its top and front
+        edge fitted as one tilted strip) whose hull tops lie one rise
+        (``step_rise_min``-``step_rise_max``, or two) above each other, overlapping across the
+        flight, each one's near edge at most ``step_run_max`` per rise beyond the one below
+        and no more than 5 cm before it.  No two treads of such a flight touch, so each was a
+        proposal of its own (riser26, docs/objects.md "Open-riser flights").  False: no such
+        join (before riser26).
     """
 
     support_min_area: float = 2.0
@@ -1484,6 +1495,7 @@ class ProposalParams:
     legs_apart: float = 1.8
     open_walls: bool = True
     flight_sides: bool = True
+    open_treads: bool = True
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("table_area", "table_height", "table_legs", "legs_apart", "support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
@@ -1908,6 +1920,12 @@ def floor_beyond(labels, xyz, plane, floors, margin: float = 0.05) -> float:
 
 #: Fewest edge pixel pairs (:func:`edge_means`) for two planes to share an edge.
 MIN_EDGE = 5
+
+#: An open-riser tread's slab (``ProposalParams.open_treads``): at most this high along up
+#: (metres; the real Kinect room's treads at 2-3 m: 0.01-0.13 with the front edge) and at most
+#: this tilted from horizontal (degrees; their strips: 0-58).
+OPEN_THICK = 0.15
+OPEN_TILT = 60.0
 
 
 def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
@@ -2496,6 +2514,10 @@ def flight_faces(planes, labels, params: ProposalParams | None = None) -> bool:
     step of :func:`step_chain_pairs` (three treads or three risers or more, each one rise above
     and one run beyond the last), with the proposals' step settings ``params``.
 
+    With ``params.open_treads``, three open-riser treads or more in a row
+    (:func:`planerel.features.open_treads.open_tread_pairs`) are such a row too: seen at
+    range their tops and front edges are fitted as strips 15-55 degrees off horizontal, and
+    such a flight can show no horizontal plane at all (riser26).
     A flight seen from below shows its risers and no tread; a wall with the posts of a banister
     before it, or a cabinet's faces, hold no such row (hunt25: the decision's level gate,
     :func:`planerel.ilp.metrics.level_refusals`, keeps ``stairs`` for such an object).
@@ -2507,10 +2529,15 @@ def flight_faces(planes, labels, params: ProposalParams | None = None) -> bool:
     params : ProposalParams, optional
     """
     p = params or ProposalParams()
-    return bool(step_chain_pairs(planes, tuple(labels), (p.step_rise_min, p.step_rise_max),
-                                 (p.step_run_min, p.step_run_max), p.step_overlap or 0.5,
-                                 p.concave_tol, tilt=p.step_tilt, cut_long_side=p.cut_long_side,
-                                 skip_missing=p.skip_missing, tread_axes=p.step_tread_axes))
+    labels = tuple(labels)
+    if step_chain_pairs(planes, labels, (p.step_rise_min, p.step_rise_max),
+                        (p.step_run_min, p.step_run_max), p.step_overlap or 0.5,
+                        p.concave_tol, tilt=p.step_tilt, cut_long_side=p.cut_long_side,
+                        skip_missing=p.skip_missing, tread_axes=p.step_tread_axes):
+        return True
+    # an open-riser flight's treads, fitted as strips tilted off horizontal at range
+    return p.open_treads and bool(open_tread_pairs(planes, labels, (p.step_rise_min, p.step_rise_max),
+                                                   p.step_run_max, OPEN_THICK, OPEN_TILT))
 
 
 #: Where :func:`flight_steps` looks for steps (rise and run per step, metres): wider than a
@@ -3016,6 +3043,11 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         # a shelf's boards, one over another at regular heights (planerel.features.boards)
         g.add_edges(stacked_board_pairs(planes, g.nodes, (params.step_rise_min, params.board_rise_max),
                                         params.board_overlap, params.concave_tol, params.step_tilt))
+    if params.open_treads:
+        # an open-riser flight's treads: slabs at regular levels that do not touch
+        # (planerel.features.open_treads)
+        g.add_edges(open_tread_pairs(planes, g.nodes, (params.step_rise_min, params.step_rise_max),
+                                     params.step_run_max, OPEN_THICK, OPEN_TILT))
     if params.split_concave and params.cavities and params.group_channels and concave:
         # side walls facing each other across a group of joined planes that together span
         # them (a flight between its side walls; planerel.features.cavities)
