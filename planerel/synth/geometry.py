@@ -211,12 +211,21 @@ def box_geometry(length: float, width: float, height: float, object_index: int =
 def stairs_geometry(steps: int, rise: float, tread: float, width: float, *,
                     top_depth: float | None = None, sides: str = "open",
                     rail: float = 0.3, nosing: float = 0.0, nosing_deg: float = 45.0,
+                    open_risers: bool = False, thickness: float = 0.04,
                     object_index: int = 1) -> Geometry:
     """A solid flight of stairs climbing along local +x, centred on the local origin.
 
     Planes (in this order): for each step ``i`` a vertical ``riser``, with ``nosing`` a
     chamfered ``nosing`` strip, then a horizontal ``tread`` at height ``(i + 1) * rise``; the
     vertical ``back`` face; two ``side`` planes.
+
+    With ``open_risers`` an open-riser flight instead (floating treads, nothing between them,
+    nothing under the flight): for each step ``i`` a slab ``thickness`` m thick, its top the
+    ``tread`` at height ``(i + 1) * rise`` from ``x_i`` to ``x_{i+1}``, its front edge (role
+    ``nosing``: a vertical strip ``thickness`` high) and its underside (role ``bottom``);
+    ``sides="open"``: each slab's two end faces (``side``); ``"closed"``: two stringers
+    (``side``), boards along the flight from the floor at the first step to the top, ``rail``
+    metres above the nosings and one rise below them.  No ``back``, no ``nosing`` chamfer.
 
     Parameters
     ----------
@@ -239,6 +248,10 @@ def stairs_geometry(steps: int, rise: float, tread: float, width: float, *,
         degrees, docs/results.md "The proof gate").
     nosing_deg : float
         The chamfer's incline from the horizontal, degrees (0..90, exclusive).
+    open_risers : bool
+        An open-riser flight (above; riser26).
+    thickness : float
+        With ``open_risers``: the treads' thickness, metres, less than ``rise``.
     """
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
         raise InputError(f"stairs need a whole number of steps >= 1, got {steps!r}")
@@ -258,6 +271,8 @@ def stairs_geometry(steps: int, rise: float, tread: float, width: float, *,
     if not math.isfinite(nosing) or nosing < 0 or drop_n >= rise or run_n >= min(tread, top):
         raise InputError(f"stairs nosing must be >= 0 metres and smaller than a step, got "
                          f"{nosing!r}")
+    if open_risers:
+        return _open_flight(steps, rise, tread, width, top, sides, rail, thickness, object_index)
     xs = [i * tread for i in range(steps)] + [(steps - 1) * tread + top]
     length = xs[-1]
     shift = -length / 2
@@ -288,6 +303,39 @@ def stairs_geometry(steps: int, rise: float, tread: float, width: float, *,
             z_end = min(z_end, total + rail)
             pieces = [[(xs[0], y, 0), (xs[-1], y, 0), (xs[-1], y, z_end), (xs[0], y, rise + rail)]]
         b.add("side", *pieces)
+    return b.build()
+
+
+def _open_flight(steps: int, rise: float, tread: float, width: float, top: float, sides: str,
+                 rail: float, thickness, object_index: int) -> Geometry:
+    """The open-riser flight of :func:`stairs_geometry` (its arguments checked there but
+    ``thickness``)."""
+    t = _positive("stairs tread thickness", thickness)
+    if t >= rise:
+        raise InputError(f"stairs tread thickness must be smaller than the rise {rise!r}, got {thickness!r}")
+    xs = [i * tread for i in range(steps)] + [(steps - 1) * tread + top]
+    shift = -xs[-1] / 2
+    xs = [x + shift for x in xs]
+    y0, y1 = -width / 2, width / 2
+    b = _Builder(object_index)
+    for i in range(steps):
+        z = (i + 1) * rise
+        b.add("tread", _rect_z(z, xs[i], xs[i + 1], y0, y1))
+        b.add("nosing", _rect_x(xs[i], y0, y1, z - t, z))
+        b.add("bottom", _rect_z(z - t, xs[i], xs[i + 1], y0, y1))
+    total = steps * rise
+    for y in (y0, y1):
+        if sides == "open":   # the slabs' end faces
+            b.add("side", *[_rect_y(y, xs[i], xs[i + 1], (i + 1) * rise - t, (i + 1) * rise)
+                            for i in range(steps)])
+        else:
+            rail = _positive("stairs rail height", rail)
+            # a stringer: from the floor under the first nosing to the top, its upper edge
+            # `rail` above the line of nosings, its lower edge one rise below it
+            slope = rise / tread
+            z_top = min(rise + slope * (xs[-1] - xs[0]), total)
+            b.add("side", [(xs[0], y, 0.0), (xs[-1], y, z_top - rise), (xs[-1], y, z_top + rail),
+                           (xs[0], y, rise + rail)])
     return b.build()
 
 

@@ -53,7 +53,7 @@ from pathlib import Path
 
 from planerel.errors import InputError
 
-__all__ = ["KINECT_ROOM", "KINECT_FACES", "ROUND_SETTINGS", "FLAT_SETTINGS", "generate_round_scene",
+__all__ = ["KINECT_ROOM", "KINECT_FACES", "KINECT_OPEN", "ROUND_SETTINGS", "FLAT_SETTINGS", "generate_round_scene",
            "generate_flat_scene", "generate_training_world", "lying_cylinder_geometry"]
 
 #: Ranges of the Kinect-like part (others: :class:`planerel.synth.world.WorldRange` defaults).
@@ -82,9 +82,22 @@ KINECT_FACES = {**KINECT_ROOM,
                 "extra_objects": (0, 0)}
 
 
+#: Ranges of the open part (:func:`generate_training_world`'s ``open_``; riser26): the room's
+#: scenes with an open-riser flight (floating treads, no risers) as the primary object, going
+#: up, steep ones too (runs 0.12-0.30 m), seen from a camera looking 5-45 degrees down (the
+#: real Kinect room's flight is steep and seen nearly level from 0.8 m, 1.7-3 m away), among
+#: the room's clutter (shelves are ``other``).
+KINECT_OPEN = {**KINECT_ROOM,
+               "camera_pitch_deg": (5.0, 45.0),
+               "descending": 0.0,
+               "run": (0.12, 0.30),
+               "open_share": 1.0}
+
+
 def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), round_: int = 0,
-                            faces: int = 0, flat: int = 0, piles: int = 0, seed: int = 0,
-                            size=(640, 480), subsample: int = 4, ranges=None) -> Path:
+                            faces: int = 0, flat: int = 0, piles: int = 0, open_: int = 0,
+                            seed: int = 0, size=(640, 480), subsample: int = 4,
+                            ranges=None) -> Path:
     """Write one data set: ``paper`` box/stairs/ramp scenes of the paper-sized world, then
     ``room`` box/stairs/ramp scenes (primary object) of the Kinect-like varied world.
 
@@ -119,6 +132,9 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         Scenes of the pile part (:func:`planerel.synth.piles.generate_pile_scene`: touching
         cartons of two heights, one box object, seen from above; pile26), after the face part,
         seeds ``scene_seed(seed + 6, i)``.
+    open_ : int
+        Scenes of the open part (an open-riser flight, class stairs, among the room's
+        clutter: :data:`KINECT_OPEN`), last, seeds ``scene_seed(seed + 5, i)`` (riser26).
 
     Returns
     -------
@@ -159,8 +175,10 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         raise InputError(f"flat scene count must be a non-negative integer, got {flat!r}")
     if isinstance(piles, bool) or not isinstance(piles, int) or piles < 0:
         raise InputError(f"pile scene count must be a non-negative integer, got {piles!r}")
+    if isinstance(open_, bool) or not isinstance(open_, int) or open_ < 0:
+        raise InputError(f"open scene count must be a non-negative integer, got {open_!r}")
     if not (sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces + flat
-            + piles):
+            + piles + open_):
         raise InputError("a data set needs at least one scene (all counts are 0)")
     ranges = WorldRange(**KINECT_ROOM) if ranges is None else ranges
     paper_sensor, room_sensor = SensorModel(), StructuredLight()
@@ -171,8 +189,9 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             + [("flat", "box")] * flat
             + [("room", k) for k in CLASSES for _ in range(counts["room"][k])]
             + [("round", "box")] * round_ + [("faces", "box")] * faces
-            + [("piles", "box")] * piles)
+            + [("piles", "box")] * piles + [("open", "stairs")] * open_)
     face_ranges = WorldRange(**KINECT_FACES)
+    open_ranges = WorldRange(**KINECT_OPEN)
     rows = []
     nth: dict = {}  # scenes of each part so far: the part's scene index (its seed)
     with atomic_dir(Path(out_dir), markers=("manifest.csv", "dataset.json")) as tmp:
@@ -185,6 +204,9 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             elif part == "faces":
                 scene = generate_world_scene(kind, scene_seed(seed + 3, j), size, subsample,
                                              scene_id=sid, sensor=room_sensor, ranges=face_ranges)
+            elif part == "open":
+                scene = generate_world_scene(kind, scene_seed(seed + 5, j), size, subsample,
+                                             scene_id=sid, sensor=room_sensor, ranges=open_ranges)
             elif part == "flat":
                 scene = generate_flat_scene(scene_seed(seed + 4, j), size, subsample,
                                             scene_id=sid, sensor=room_sensor)
@@ -204,9 +226,11 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         write_dataset_info(tmp, {
             "format": "planerel-synth-dataset", "version": 1, "seed": seed,
             "world": "paper+kinect-room" + ("+round" if round_ else "") + ("+faces" if faces else "")
-                     + ("+flat" if flat else "") + ("+piles" if piles else ""),
+                     + ("+flat" if flat else "") + ("+piles" if piles else "")
+                     + ("+open" if open_ else ""),
             "counts": {**counts, "round": round_, **({"faces": faces} if faces else {}),
-                       **({"flat": flat} if flat else {}), **({"piles": piles} if piles else {})},
+                       **({"flat": flat} if flat else {}), **({"piles": piles} if piles else {}),
+                       **({"open": open_} if open_ else {})},
             "size": list(_check_size(size)), "subsample": int(subsample),
             "sensor": {"paper": paper_sensor.to_dict(), "room": room_sensor.to_dict()},
             "world_ranges": ranges.to_dict(),

@@ -114,6 +114,13 @@ class WorldRange:
         short inclined plane is never part of a staircase (docs/results.md, "The proof gate").
     ramp_angle_deg, ramp_length, ramp_width : (float, float)
         Incline, length along the slope, width.
+    open_share : float
+        Share of the ascending staircases that are open-riser flights (floating treads
+        ``open_thickness`` thick, no risers: :func:`~planerel.synth.geometry.stairs_geometry`'s
+        ``open_risers``); drawn (one more draw per flight, and the thickness) only when above
+        0, so that other worlds keep their scenes (riser26).
+    open_thickness : (float, float)
+        Metres: an open-riser tread's thickness.
     """
 
     camera_height: tuple = (0.3, 2.0)
@@ -137,6 +144,8 @@ class WorldRange:
     ramp_angle_deg: tuple = (4.0, 20.0)
     ramp_length: tuple = (1.0, 4.0)
     ramp_width: tuple = (0.6, 1.6)
+    open_share: float = 0.0
+    open_thickness: tuple = (0.03, 0.06)
 
     def __post_init__(self) -> None:
         for name in ("camera_height", "object_range", "box_size", "box_height", "rise", "run",
@@ -172,7 +181,8 @@ class WorldRange:
         for name, what, hi in (("camera_roll_deg", "camera roll", 45.0),
                                ("level_share", "level share", 1.0),
                                ("plate_share", "plate share", 1.0),
-                               ("descending", "descending share", 1.0)):
+                               ("descending", "descending share", 1.0),
+                               ("open_share", "open-riser share", 1.0)):
             v = getattr(self, name)
             try:
                 x = math.nan if isinstance(v, bool) else float(v)
@@ -186,6 +196,11 @@ class WorldRange:
         if nosing[1] > 0.06:
             raise InputError(f"nosing must lie in 0..0.06 metres, got {self.nosing!r}")
         object.__setattr__(self, "nosing", nosing)
+        thick = _pair("open thickness", self.open_thickness)
+        if thick[0] <= 0 or thick[1] >= self.rise[0]:
+            raise InputError(f"open thickness must lie in (0, {self.rise[0]:g}) metres (under the "
+                             f"least rise), got {self.open_thickness!r}")
+        object.__setattr__(self, "open_thickness", thick)
 
     def to_dict(self) -> dict:
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.__dict__.items()}
@@ -337,10 +352,17 @@ def _draw_stairs_up(rng, r: WorldRange, index: int):
     landing = rng.random() < 0.4
     p["top_depth"] = p["run"] * float(rng.uniform(1.5, 4.0)) if landing else p["run"]
     p.update(landing=bool(landing), **_flight_sides(rng, r), direction="up")
+    if r.open_share > 0 and rng.random() < r.open_share:
+        # an open-riser flight: floating treads (riser26)
+        p.update(open_risers=True, thickness=float(rng.uniform(*r.open_thickness)))
+        p.pop("nosing", None)
+        p.pop("nosing_deg", None)
     geom = sg.stairs_geometry(p["steps"], p["rise"], p["run"], p["width"],
                               top_depth=p["top_depth"], sides=p["sides"], rail=p["rail"],
                               nosing=p.get("nosing", 0.0),
-                              nosing_deg=p.get("nosing_deg", 45.0), object_index=index)
+                              nosing_deg=p.get("nosing_deg", 45.0),
+                              open_risers=p.get("open_risers", False),
+                              thickness=p.get("thickness", 0.04), object_index=index)
     geom = _tipped(rng, geom, p, r.stairs_tilt_deg, r.level_share)
     return geom, {"class": "stairs", "kind": "stairs up", "params": p}
 
