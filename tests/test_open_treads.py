@@ -196,3 +196,15 @@ def test_slab_level_is_the_top_of_the_hull():
                                      else next(p for p in desc.planes if p.label == k),
                                      desc.planes.up), 2) for k in _treads(desc, truth))
     assert levels == pytest.approx([RISE, 2 * RISE, 3 * RISE], abs=0.02)
+
+
+def test_an_open_row_is_a_flight_for_the_level_gate():
+    """``flight_faces`` (the level gate's exception) takes an open row too: the steep flight's
+    treads lie 0.10 m beyond each other, under the step chains' least run, so only the open
+    treads make them a flight's row."""
+    from planerel.features.relations import ProposalParams, flight_faces
+
+    desc, truth = _describe([floor(), wall()] + _flight(5, 0.10))
+    treads = _treads(desc, truth)
+    assert flight_faces(desc.planes, treads)
+    assert not flight_faces(desc.planes, treads, ProposalParams(open_treads=False))
