@@ -28,6 +28,7 @@ import math
 
 import numpy as np
 
+from planerel.features.step_geometry import _cut_lengthwise, _tread_depth_axis
 from planerel.features.vectors import cross3
 
 __all__ = ["slab_level", "open_tread_pairs"]
@@ -69,8 +70,6 @@ def _slabs(planes, want, up, thick: float, tilt: float, min_width: float) -> lis
 def _shallow(p, hor, up, run_max: float) -> bool:
     """A tread is one step deep: its horizontal extent across its depth axis at most
     ``run_max`` (not a landing, a floor the flight goes down to, a table top)."""
-    from planerel.features.relations import _tread_depth_axis
-
     da, _e = _tread_depth_axis(p, up)
     return float(np.ptp(hor @ da)) <= run_max
 
@@ -115,8 +114,6 @@ def open_tread_pairs(planes, labels=(), rise=(0.08, 0.30), run_max: float = 0.60
     set of (int, int)
         ``(lower, upper)`` label pairs of the steps of rows of three levels or more.
     """
-    from planerel.features.relations import _cut_lengthwise, _tread_depth_axis
-
     up = _unit(planes.up)
     want = set(labels)
     slabs = [s for s in _slabs(planes, want, up, thick, tilt, min_width)
