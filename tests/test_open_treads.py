@@ -208,3 +208,17 @@ def test_an_open_row_is_a_flight_for_the_level_gate():
     treads = _treads(desc, truth)
     assert flight_faces(desc.planes, treads)
     assert not flight_faces(desc.planes, treads, ProposalParams(open_treads=False))
+
+
+@pytest.mark.parametrize("lift,row", [(0.05, False), (0.18, True)])
+def test_a_slab_at_floor_level_is_no_first_tread(lift, row):
+    """Three slabs 0.18 m apart whose lowest lies ``lift`` above the floor: at 5 cm it is a
+    piece of the floor (a patch beside a carton pile made a row with two carton tops on the
+    real pallet_b frame), no first step, and two slabs make no row; at 18 cm, a row."""
+    from planerel.features.open_treads import open_tread_pairs
+
+    rects = [floor(), wall()] + [r for k in range(3)
+                                 for r in _slab(2.0 + 0.10 * k, lift + k * RISE, 0.25)]
+    desc, truth = _describe(rects, others=False)
+    pairs = open_tread_pairs(desc.planes, [p.label for p in desc.planes if p.label not in desc.support])
+    assert bool(pairs) is row

@@ -107,7 +107,9 @@ def open_tread_pairs(planes, labels=(), rise=(0.08, 0.30), run_max: float = 0.60
 
     A slab is also at most ``run_max`` deep (its horizontal extent across its own depth
     axis): a landing, the floor a flight goes down to, a table top are no treads; nor is one
-    the image border cuts along its length (``_cut_lengthwise`` of the step chains).
+    the image border cuts along its length (``_cut_lengthwise`` of the step chains), nor one
+    whose level lies within ``rise[0]`` of the floor's (a piece of the floor: a patch beside
+    a carton pile made a row with two carton tops, pallet_b).
 
     Returns
     -------
@@ -122,6 +124,9 @@ def open_tread_pairs(planes, labels=(), rise=(0.08, 0.30), run_max: float = 0.60
     # on, seen to the bottom edge) shows no depth: no tread (as in the step chains)
     cut = _cut_lengthwise([s[0] for s in slabs], True, getattr(planes, "labels", None))
     slabs = [s for s in slabs if s[0].label not in cut]
+    # a tread lies a rise or more above (or below) the floor: a slab at floor level is a piece
+    # of the floor (a patch the segmentation tilted beside a carton pile), not a first step
+    slabs = [s for s in slabs if abs(s[1]) >= rise[0]]
     if len(slabs) < 3:
         return set()
     slabs.sort(key=lambda s: (s[1], s[0].label))
