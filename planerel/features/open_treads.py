@@ -55,6 +55,10 @@ def _slabs(planes, want, up, thick: float, tilt: float, min_width: float) -> lis
             continue
         if abs(float(np.asarray(p.normal, float) @ up)) < cos_t:
             continue
+        # the hull lies in its length x width rectangle: no extent beyond its diagonal (an
+        # exact early out for the many small planes of a table-top frame)
+        if math.hypot(float(p.length), float(p.width)) < min_width:
+            continue
         H = np.asarray(p.hull3d, float).reshape(-1, 3)
         if len(H) < 3 or float(np.ptp(H @ up)) > thick:
             continue
