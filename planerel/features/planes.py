@@ -580,6 +580,25 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     return PlaneSet(planes, up_v, up_source, floor, floor_level, skipped, lab, params, up_conf)
 
 
+def _measured_noise(cloud):
+    """The depth-noise model :func:`planerel.segment.noise.estimate_noise` measures in an
+    organized ``cloud``, or None (unorganized, unreliable or no noise: no allowance)."""
+    if not getattr(cloud, "organized", False):
+        return None
+    from planerel.segment.noise import estimate_noise
+
+    noise = estimate_noise(cloud)
+    return noise if noise.reliable and noise.kind != "none" else None
+
+
+def _noise_tilt(noise, d, sigmas: float, cap: float) -> float:
+    """Degrees a plane ``d`` (its ``hull3d``, ``width``) may measure off its orientation for
+    the sensor's noise: ``atan(sigmas * sigma(z) / width)`` at its farthest hull depth ``z``,
+    at most ``cap``."""
+    z = float(np.max(d["hull3d"][:, 2]))
+    return min(cap, math.degrees(math.atan(sigmas * float(noise.sigma(z)) / d["width"])))
+
+
 #: m^2: only planes at least this large get :func:`_sensor_tilt`'s allowance.  A large
 #: plane's orientation decides the ramp rule and what is support; two small pieces of a far
 #: wall at a frame's edge (0.08 and 0.11 m^2, 0.15 m wide: an allowance of several degrees)
@@ -609,20 +628,16 @@ def _sensor_tilt(cloud, pre, up_v, params: PlaneParams) -> None:
             and (d["incline"] >= vlo or (d["incline"] <= 2 * params.horizontal_tol
                                           and float(d["normal"] @ up_v) < 0
                                           and float(d["centroid"] @ up_v) > 0))]
-    if not cand or not getattr(cloud, "organized", False):
-        return
-    from planerel.segment.noise import estimate_noise
-
-    noise = estimate_noise(cloud)
-    if not noise.reliable or noise.kind == "none":
+    noise = _measured_noise(cloud) if cand else None
+    if noise is None:
         return
     for d in cand:
-        z = float(np.max(d["hull3d"][:, 2]))
-        tilt = math.degrees(math.atan(params.tilt_noise_sigmas * float(noise.sigma(z)) / d["width"]))
         if d["incline"] >= vlo:
-            if d["incline"] >= 90.0 - params.vertical_tol - min(params.vertical_tol, tilt):
+            allow = _noise_tilt(noise, d, params.tilt_noise_sigmas, params.vertical_tol)
+            if d["incline"] >= 90.0 - params.vertical_tol - allow:
                 d["orientation"] = "vertical"
-        elif d["incline"] <= params.horizontal_tol + min(params.horizontal_tol, tilt):
+        elif d["incline"] <= params.horizontal_tol + _noise_tilt(
+                noise, d, params.tilt_noise_sigmas, params.horizontal_tol):
             d["orientation"] = "horizontal"
 
 
@@ -692,19 +707,13 @@ def _sensor_floor(cloud, pre, up_v, params: PlaneParams) -> int | None:
     cand = [d for d in pre if d["area"] >= params.floor_min_area and d["width"] > 0
             and d["orientation"] == "inclined" and float(d["normal"] @ up_v) > 0
             and d["incline"] <= 2 * params.horizontal_tol]
-    if not cand or not getattr(cloud, "organized", False):
-        return None
-    from planerel.segment.noise import estimate_noise
-
-    noise = estimate_noise(cloud)
-    if not noise.reliable or noise.kind == "none":
+    noise = _measured_noise(cloud) if cand else None
+    if noise is None:
         return None
     big = [d for d in pre if d["area"] >= params.floor_min_area]
     best, best_area = None, -1.0
     for d in cand:
-        z = float(np.max(d["hull3d"][:, 2]))
-        allow = min(params.horizontal_tol, math.degrees(math.atan(
-            params.floor_noise_sigmas * float(noise.sigma(z)) / d["width"])))
+        allow = _noise_tilt(noise, d, params.floor_noise_sigmas, params.horizontal_tol)
         if d["incline"] > params.horizontal_tol + allow or d["area"] <= best_area:
             continue
         # n . x + offset: the height above the plane (n faces the camera, which is above)

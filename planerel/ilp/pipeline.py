@@ -251,29 +251,16 @@ def _examples(descs):
     return [(o.id, o.klass) for d in descs for o in d.objects if o.klass]
 
 
-def stepped_object(where: dict, object_id) -> bool:
-    """Whether object ``object_id`` holds a flight's faces in a regular row
-    (:func:`planerel.features.relations.flight_faces`, with the default proposal settings
-    ``planerel learn`` describes scenes with); ``where``: ``{object id: (description,
-    object)}``."""
-    from planerel.features.relations import flight_faces
-
+def object_shows(test, where: dict, object_id) -> bool:
+    """``test(planes, labels)`` of object ``object_id`` (False when it is not in ``where``,
+    ``{object id: (description, object)}``): the level gate's
+    :func:`planerel.features.relations.flight_faces` and the flight gate's
+    :func:`~planerel.features.relations.flight_evidence`, with the default proposal settings
+    ``planerel learn`` describes scenes with."""
     if object_id not in where:
         return False
     d, o = where[object_id]
-    return flight_faces(d.planes, o.planes)
-
-
-def flight_object(where: dict, object_id) -> bool:
-    """Whether object ``object_id`` shows a staircase's steps
-    (:func:`planerel.features.relations.flight_evidence`, with the default proposal settings);
-    ``where``: ``{object id: (description, object)}``."""
-    from planerel.features.relations import flight_evidence
-
-    if object_id not in where:
-        return False
-    d, o = where[object_id]
-    return flight_evidence(d.planes, o.planes)
+    return test(d.planes, o.planes)
 
 
 def with_decision(model, decision: dict | None):
@@ -788,6 +775,8 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                        for m in model.models])
     if not model.clauses():
         return [Prediction(o, OTHER) for o in object_ids]
+    from planerel.features.relations import flight_evidence, flight_faces
+
     fired = _parse_fired(_prolog_run(model, descs, object_ids, timeout))
     planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
     levels = horizontal_counts(descs)
@@ -805,8 +794,8 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                                veto_ratio=model.veto_ratio,
                                n_horizontal=levels.get(o),
                                levels=model.level_domain if model.level_gate else (),
-                               stepped=lambda o=o: stepped_object(where, o),
-                               flight=(lambda o=o: flight_object(where, o))
+                               stepped=lambda o=o: object_shows(flight_faces, where, o),
+                               flight=(lambda o=o: object_shows(flight_evidence, where, o))
                                if model.flight_gate else None)
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
