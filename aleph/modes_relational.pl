@@ -55,12 +55,14 @@
 :- modeb(*, above(+plane, -plane)).
 :- modeb(*, skirt(+plane, -plane)).
 :- modeb(*, corner(+plane, -plane)).
+:- modeb(*, stair_step(+plane, -plane)).
 :- modeb(1, angle(+plane, +plane, -angle)).
 :- modeb(1, gap(+plane, +plane, -gap)).
 :- modeb(1, rise(+plane, +plane, -rise)).
 
 % plane attributes: orientation, height and size
 :- modeb(1, incline(+plane, -incline)).
+:- modeb(1, slope(+plane, -slope)).
 :- modeb(1, height(+plane, -height)).
 :- modeb(1, area(+plane, -area)).
 :- modeb(1, plane_length(+plane, -plength)).
@@ -97,6 +99,8 @@
 :- modeb(1, lteq(+rise, #rise)).
 :- modeb(1, gteq(+incline, #incline)).
 :- modeb(1, lteq(+incline, #incline)).
+:- modeb(1, gteq(+slope, #slope)).
+:- modeb(1, lteq(+slope, #slope)).
 :- modeb(1, gteq(+height, #height)).
 :- modeb(1, lteq(+height, #height)).
 :- modeb(1, gteq(+area, #area)).

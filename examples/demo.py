@@ -60,6 +60,11 @@ PILES = 0
 #: each moved a decision gate's domain or the learned rules and cost a check (docs/objects.md,
 #: "Open-riser flights"); ``examples/demo.py --open N`` adds them.
 OPEN = 0
+#: Scenes of the training world's panel part (a ramp with one or two steep panels beside it,
+#: boards leaning 30-80 degrees, class other: :data:`planerel.synth.training_world.KINECT_PANELS`;
+#: 0: none): the ramp rule learns a ramp's slope from them (docs/objects.md, "Steep planes are
+#: no ramps").
+PANELS = 30
 #: Learner settings of the model: the score is coverage (positives - negatives), a rule must
 #: cover 8 objects and may take a few negatives, so that no narrow rule is kept for a handful
 #: of odd boxes (boxes seen as one face have their rule on ``tall_face/1`` since the face
@@ -118,6 +123,9 @@ def main(argv=None) -> int:
     ap.add_argument("--open", dest="open_", type=int, default=OPEN, metavar="N",
                     help=f"scenes of the training world's open part (an open-riser flight among "
                          f"the room's clutter; default {OPEN})")
+    ap.add_argument("--panels", type=int, default=PANELS, metavar="N",
+                    help=f"scenes of the training world's panel part (a ramp with steep panels "
+                         f"beside it, class other; default {PANELS})")
     args = ap.parse_args(argv)
 
     from planerel.classify import Classifier, classify_dataset
@@ -143,6 +151,8 @@ def main(argv=None) -> int:
             raise InputError(f"--piles must be a non-negative integer, got {args.piles}")
         if args.open_ < 0:
             raise InputError(f"--open must be a non-negative integer, got {args.open_}")
+        if args.panels < 0:
+            raise InputError(f"--panels must be a non-negative integer, got {args.panels}")
         train = generate_dataset(out / "data" / "train", n_box=12, n_stairs=15, n_ramp=18,
                                  seed=sd["train"], size=(640, 480), subsample=4)
         held = generate_dataset(out / "data" / "heldout", n_box=12, n_stairs=15, n_ramp=18,
@@ -151,6 +161,7 @@ def main(argv=None) -> int:
         world = generate_training_world(out / "data" / "model_train", paper=PAPER, room=ROOM,
                                         round_=args.round_, faces=args.faces, flat=args.flat,
                                         piles=args.piles, open_=args.open_,
+                                        panels=args.panels,
                                         seed=sd["world"],
                                         size=(640, 480), subsample=4)
         if args.seed:
@@ -165,7 +176,9 @@ def main(argv=None) -> int:
                  if args.flat else "")
               + (f", {args.piles} pile scenes: touching cartons of two heights"
                  if args.piles else "")
-              + (f", {args.open_} open scenes: an open-riser flight" if args.open_ else "") + ")")
+              + (f", {args.open_} open scenes: an open-riser flight" if args.open_ else "")
+              + (f", {args.panels} panel scenes: a ramp beside steep panels" if args.panels else "")
+              + ")")
         descs, _ = describe_scenes(train, jobs=args.jobs, progress=False)
         classes = ["box", "stairs", "ramp"]
         cv = cross_validate(descs, classes, folds=args.folds, seed=sd["folds"], engine=args.engine,

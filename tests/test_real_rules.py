@@ -341,8 +341,10 @@ def test_a_pallet_of_cartons_is_no_staircase(demo_model):
     faces; the flight gate (``decision.flight_gate``) refuses them: the pile's steps are
     0.10 and 0.20 m on runs that do not grow with them, the machine's none.  The pile of the
     first capture is ``box``; in the second it is one proposal with the machine (43 % of its
-    pixels in the pile: a false box).  With the gate off, the three stairs answers are back
-    (docs/objects.md, "Carton piles and false answers on unseen frames")."""
+    pixels in the pile: a false box).  With the gate off, two stairs answers are back (three
+    before the stairs rule was learned on ``stair_step/2``: the pile's 0.10 m step one stair
+    rise above and one run beyond the next carton; docs/objects.md, "Carton piles and false
+    answers on unseen frames", "A flight's steps as a relation")."""
     sets = [STAIRS_DATA / "palletizer"]
     if not (sets[0] / "labels.json").is_file():
         pytest.skip(f"no labelled palletizer frames under {STAIRS_DATA} (set "
@@ -355,7 +357,7 @@ def test_a_pallet_of_cartons_is_no_staircase(demo_model):
     t = totals(run([str(s) for s in sets], str(demo_model)))
     assert (t["box_found"], t["box_labelled"], t["false_stairs"], t["false_box"]) == (1, 2, 0, 2)
     off = totals(run([str(s) for s in sets], str(demo_model), ["decision.flight_gate=false"]))
-    assert (off["box_found"], off["false_stairs"]) == (0, 3)
+    assert (off["box_found"], off["false_stairs"]) == (0, 2)
 
 
 @pytest.mark.parametrize("legs,apron", [(True, 0.0), (False, 0.12), (True, 0.1)])

@@ -37,6 +37,7 @@ from planerel.features.relations import (
     relate,
     skirts_within_objects,
     support_planes,
+    stair_steps,
     tall_faces,
 )
 from planerel.features.stairfit import StairFitParams, _remeasure_stepped_clusters, join_groups
@@ -126,6 +127,9 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
      "box's side below its top (planerel.features.solid)"),
     ("corner", 2, "plane, plane", "vertical walls of one solid meeting at a right angle, "
      "tops level (planerel.features.solid)"),
+    ("stair_step", 2, "plane, plane", "two parallel treads or risers of one object, the second "
+     "one stair step (0.08-0.25 m) above and (0.15-0.45 m) beyond the first, overlapping across "
+     "(planerel.features.relations.stair_steps)"),
     ("facing", 2, "plane, plane", "parallel vertical walls, not adjacent, tops level, "
      "overlapping along the walls: the two sides of one solid or open box (planerel.features.solid)"),
     ("in_front_of", 2, "plane, plane", "first nearer the sensor along the horizontal view direction"),
@@ -208,6 +212,9 @@ class SceneDescription:
     #: Labels of the planes lying on a larger horizontal plane as a flat thing's top
     #: (:func:`planerel.features.relations.lying_tops`: ``lying/1``).
     lying: frozenset = field(default=frozenset())
+    #: ``(lower, higher)`` labels of two planes of one object one stair step apart
+    #: (:func:`planerel.features.relations.stair_steps`: ``stair_step/2``).
+    steps: frozenset = field(default=frozenset())
 
     @property
     def labels(self):
@@ -354,8 +361,10 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
                  for k, c in enumerate(cobjs))
     # a skirt denied only by another object's step (a box on a box) is one after all
     rel = skirts_within_objects(rel, [o.planes for o in objs], planes, support)
+    steps = frozenset(s for o in objs for s in stair_steps(planes, o.planes, pp))
     return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
-                            proposed, support, truncated=cut, tall=tall, lying=lying)
+                            proposed, support, truncated=cut, tall=tall, lying=lying,
+                            steps=steps)
 
 
 def _label_bound(labels, planes, split) -> int | None:
@@ -588,6 +597,8 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
             out["skirt"].append(F("skirt", a, b))
         if r.corner:
             out["corner"].append(F("corner", a, b))
+        if (r.a, r.b) in desc.steps:
+            out["stair_step"].append(F("stair_step", a, b))
         if r.facing:
             out["facing"].append(F("facing", a, b))
         if r.in_front_of:

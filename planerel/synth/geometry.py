@@ -569,6 +569,45 @@ def plate_geometry(length: float, width: float, tilt_deg: float, *,
     return b.build()
 
 
+def sofa_geometry(width: float, depth: float, seat_height: float, back_height: float,
+                  back_deg: float, seat_tilt_deg: float = 0.0, arm_height: float = 0.6, *,
+                  arm: float = 0.15, object_index: int = 1) -> Geometry:
+    """A sofa (or an armchair, when narrow): a ``face`` under the seat (local +x), the
+    ``seat`` sloping ``seat_tilt_deg`` down towards the back, the ``back`` rest leaning
+    ``back_deg`` from horizontal, two arms (``side`` faces outside and in, a front ``face``,
+    a ``top``) and a vertical rear ``face``.  The back is a large inclined plane next to level and vertical
+    ones: too steep to walk on, no ramp."""
+    w, d, sh, bh = (_positive(n, v) for n, v in (("sofa width", width), ("sofa depth", depth),
+                                                 ("sofa seat height", seat_height),
+                                                 ("sofa back height", back_height)))
+    ah, a = _positive("sofa arm height", arm_height), _positive("sofa arm", arm)
+    bd = math.radians(_float("sofa back angle", back_deg))
+    tilt = math.radians(_float("sofa seat tilt", seat_tilt_deg))
+    if not (0 < bd < math.pi / 2) or not (0 <= tilt < math.radians(30)) or w <= 2 * a:
+        raise InputError(f"sofa back angle must lie in (0, 90) degrees, its seat tilt in "
+                         f"[0, 30) and its width above {2 * a} m, got {back_deg!r}, "
+                         f"{seat_tilt_deg!r}, {width!r}")
+    xb = -d / 2 + bh * math.cos(bd)  # where the back meets the seat
+    if xb >= d / 2:
+        raise InputError(f"sofa depth {depth!r} is too small for its back ({back_height!r} m "
+                         f"at {back_deg!r} degrees)")
+    zb = sh - (d / 2 - xb) * math.tan(tilt)
+    zt = zb + bh * math.sin(bd)
+    y0, y1 = -w / 2 + a, w / 2 - a
+    b = _Builder(object_index)
+    b.add("face", _rect_x(d / 2, y0, y1, 0, sh))
+    b.add("seat", [(xb, y0, zb), (xb, y1, zb), (d / 2, y1, sh), (d / 2, y0, sh)])
+    b.add("back", [(-d / 2, y0, zt), (-d / 2, y1, zt), (xb, y1, zb), (xb, y0, zb)])
+    b.add("face", _rect_x(-d / 2, -w / 2, w / 2, 0, zt))
+    for side in (-1, 1):
+        yo, yi = side * w / 2, side * (w / 2 - a)
+        b.add("side", _rect_y(yo, -d / 2, d / 2, 0, ah))
+        b.add("side", _rect_y(yi, -d / 2, d / 2, sh, ah))
+        b.add("side", _rect_x(d / 2, min(yo, yi), max(yo, yi), 0, ah))
+        b.add("top", _rect_z(ah, -d / 2, d / 2, min(yo, yi), max(yo, yi)))
+    return b.build()
+
+
 def shelf_geometry(width: float, depth: float, height: float, boards: int, *,
                    object_index: int = 1) -> Geometry:
     """An open shelf: a ``back`` panel (local -x), two ``side`` panels and ``boards``

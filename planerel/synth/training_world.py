@@ -53,7 +53,7 @@ from pathlib import Path
 
 from planerel.errors import InputError
 
-__all__ = ["KINECT_ROOM", "KINECT_FACES", "KINECT_OPEN", "ROUND_SETTINGS", "FLAT_SETTINGS", "generate_round_scene",
+__all__ = ["KINECT_ROOM", "KINECT_FACES", "KINECT_OPEN", "KINECT_PANELS", "ROUND_SETTINGS", "FLAT_SETTINGS", "generate_round_scene",
            "generate_flat_scene", "generate_training_world", "lying_cylinder_geometry"]
 
 #: Ranges of the Kinect-like part (others: :class:`planerel.synth.world.WorldRange` defaults).
@@ -93,9 +93,20 @@ KINECT_OPEN = {**KINECT_ROOM,
                "run": (0.12, 0.30),
                "open_share": 1.0}
 
+#: Ranges of the panel part (:func:`generate_training_world`'s ``panels``): the room's ramp
+#: scenes with one or two panels beside the ramp (boards 0.8-2 m long leaning 30-80 degrees
+#: from the floor, class ``other``: :attr:`planerel.synth.world.WorldRange.panel_share`).  A
+#: large inclined plane too steep to walk on is no ramp: real rooms' far upholstered furniture
+#: measured 27-75 degrees and was ``ramp`` by "an inclined plane of 0.4 m^2 or more"
+#: (docs/objects.md, "Steep planes are no ramps").
+KINECT_PANELS = {**KINECT_ROOM,
+                 "extra_objects": (2, 3),
+                 "panel_share": 1.0}
+
 
 def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), round_: int = 0,
                             faces: int = 0, flat: int = 0, piles: int = 0, open_: int = 0,
+                            panels: int = 0,
                             seed: int = 0, size=(640, 480), subsample: int = 4,
                             ranges=None) -> Path:
     """Write one data set: ``paper`` box/stairs/ramp scenes of the paper-sized world, then
@@ -134,7 +145,12 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         seeds ``scene_seed(seed + 6, i)``.
     open_ : int
         Scenes of the open part (an open-riser flight, class stairs, among the room's
-        clutter: :data:`KINECT_OPEN`), last, seeds ``scene_seed(seed + 5, i)`` (riser26).
+        clutter: :data:`KINECT_OPEN`), after the pile part, seeds ``scene_seed(seed + 5, i)``
+        (riser26).
+    panels : int
+        Scenes of the panel part (a ramp, the scene's class, with one or two steep panels of
+        class ``other`` beside it: :data:`KINECT_PANELS`), last, seeds
+        ``scene_seed(seed + 7, i)``.
 
     Returns
     -------
@@ -177,8 +193,10 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         raise InputError(f"pile scene count must be a non-negative integer, got {piles!r}")
     if isinstance(open_, bool) or not isinstance(open_, int) or open_ < 0:
         raise InputError(f"open scene count must be a non-negative integer, got {open_!r}")
+    if isinstance(panels, bool) or not isinstance(panels, int) or panels < 0:
+        raise InputError(f"panel scene count must be a non-negative integer, got {panels!r}")
     if not (sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces + flat
-            + piles + open_):
+            + piles + open_ + panels):
         raise InputError("a data set needs at least one scene (all counts are 0)")
     ranges = WorldRange(**KINECT_ROOM) if ranges is None else ranges
     paper_sensor, room_sensor = SensorModel(), StructuredLight()
@@ -189,9 +207,11 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             + [("flat", "box")] * flat
             + [("room", k) for k in CLASSES for _ in range(counts["room"][k])]
             + [("round", "box")] * round_ + [("faces", "box")] * faces
-            + [("piles", "box")] * piles + [("open", "stairs")] * open_)
+            + [("piles", "box")] * piles + [("open", "stairs")] * open_
+            + [("panels", "ramp")] * panels)
     face_ranges = WorldRange(**KINECT_FACES)
     open_ranges = WorldRange(**KINECT_OPEN)
+    panel_ranges = WorldRange(**KINECT_PANELS)
     rows = []
     nth: dict = {}  # scenes of each part so far: the part's scene index (its seed)
     with atomic_dir(Path(out_dir), markers=("manifest.csv", "dataset.json")) as tmp:
@@ -207,6 +227,9 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             elif part == "open":
                 scene = generate_world_scene(kind, scene_seed(seed + 5, j), size, subsample,
                                              scene_id=sid, sensor=room_sensor, ranges=open_ranges)
+            elif part == "panels":
+                scene = generate_world_scene(kind, scene_seed(seed + 7, j), size, subsample,
+                                             scene_id=sid, sensor=room_sensor, ranges=panel_ranges)
             elif part == "flat":
                 scene = generate_flat_scene(scene_seed(seed + 4, j), size, subsample,
                                             scene_id=sid, sensor=room_sensor)
@@ -227,10 +250,11 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             "format": "planerel-synth-dataset", "version": 1, "seed": seed,
             "world": "paper+kinect-room" + ("+round" if round_ else "") + ("+faces" if faces else "")
                      + ("+flat" if flat else "") + ("+piles" if piles else "")
-                     + ("+open" if open_ else ""),
+                     + ("+open" if open_ else "") + ("+panels" if panels else ""),
             "counts": {**counts, "round": round_, **({"faces": faces} if faces else {}),
                        **({"flat": flat} if flat else {}), **({"piles": piles} if piles else {}),
-                       **({"open": open_} if open_ else {})},
+                       **({"open": open_} if open_ else {}),
+                       **({"panels": panels} if panels else {})},
             "size": list(_check_size(size)), "subsample": int(subsample),
             "sensor": {"paper": paper_sensor.to_dict(), "room": room_sensor.to_dict()},
             "world_ranges": ranges.to_dict(),

@@ -100,6 +100,15 @@ class WorldRange:
         but its length, and the uniform pick makes few of them; a training world with more
         of them gives the learner negatives to tell a plate seen whole from a ramp cut by
         the view (docs/results.md, "Plates against short ramps").
+    panel_share : float
+        The share of the further clutter objects that are panels or sofas (one each way),
+        drawn before the plates' draw (two more draws per such object, only when above 0): a
+        panel is a board 0.8-2 m long and 0.5-1.2 m wide leaning 30-80 degrees from the floor
+        (a board or a mattress against a wall, a drafting table's top), a sofa 0.9-2.2 m wide
+        has its back leaning 60-78 degrees over a level seat between its arms.  Large and inclined like a ramp, but too
+        steep to walk on: negatives that teach the ramp rules a ramp's slope (real rooms'
+        far upholstered furniture measured 27-75 degrees, docs/objects.md "Steep planes are
+        no ramps").
     steps : (int, int)
         Number of steps (risers).
     rise, run, stairs_width : (float, float)
@@ -135,6 +144,7 @@ class WorldRange:
     stairs_tilt_deg: tuple = (0.0, 0.0)
     level_share: float = 0.0
     plate_share: float = 0.0
+    panel_share: float = 0.0
     steps: tuple = (2, 10)
     rise: tuple = (0.14, 0.21)
     run: tuple = (0.22, 0.35)
@@ -181,6 +191,7 @@ class WorldRange:
         for name, what, hi in (("camera_roll_deg", "camera roll", 45.0),
                                ("level_share", "level share", 1.0),
                                ("plate_share", "plate share", 1.0),
+                               ("panel_share", "panel share", 1.0),
                                ("descending", "descending share", 1.0),
                                ("open_share", "open-riser share", 1.0)):
             v = getattr(self, name)
@@ -394,6 +405,14 @@ _CLUTTER_DRAWS = {
                                     ("lid_deg", 90.0, 135.0))),
     "plate": (sg.plate_geometry, (("length", 0.2, 0.7), ("width", 0.2, 0.7),
                                   ("tilt_deg", 8.0, 70.0))),
+    # drawn only by ``WorldRange.panel_share`` (not in CLUTTER's uniform pick)
+    "panel": (sg.plate_geometry, (("length", 0.8, 2.0), ("width", 0.5, 1.2),
+                                  ("tilt_deg", 30.0, 80.0))),
+    # drawn only by ``WorldRange.panel_share`` too: a sofa's back leans 60-78 degrees
+    "sofa": (sg.sofa_geometry, (("width", 0.9, 2.2), ("depth", 0.8, 1.0),
+                                ("seat_height", 0.38, 0.48), ("back_height", 0.45, 0.65),
+                                ("back_deg", 60.0, 78.0), ("seat_tilt_deg", 0.0, 5.0),
+                                ("arm_height", 0.55, 0.7))),
     "shelf": (sg.shelf_geometry, (("width", 0.5, 1.2), ("depth", 0.25, 0.45),
                                   ("height", 0.6, 2.0), ("boards", 2, 6))),
     "door": (sg.door_geometry, (("width", 0.7, 0.95), ("height", 1.9, 2.1))),
@@ -506,7 +525,9 @@ def _place_extra(rng, r: WorldRange, pose, intr, lay: _Layout, index: int) -> No
     elif u < 0.38:
         geom, info = _draw_stairs_up(rng, r, index)
     else:
-        if r.plate_share > 0 and rng.random() < r.plate_share:
+        if r.panel_share > 0 and rng.random() < r.panel_share:
+            kind = ("panel", "sofa")[int(rng.integers(2))]
+        elif r.plate_share > 0 and rng.random() < r.plate_share:
             kind = "plate"
         else:
             kind = CLUTTER[int(rng.integers(len(CLUTTER)))]

@@ -1,0 +1,77 @@
+"""``stair_step/2`` (planerel.features.relations.stair_steps): two parallel treads or risers
+of one object, the second one stair step above and beyond the first.
+
+A pairwise relation the learner may use (the default task's ``modeb(*, stair_step(+plane,
+-plane))``) in place of a hand-written flight detector: ray-cast scenes
+(tests/scenes_analytic.py) are segmented, described and written as facts; the demo's rules are
+learned by the real learner in tests/test_pipeline.py.
+"""
+
+from __future__ import annotations
+
+from scenes_analytic import box, floor, render, stairs
+from test_proposals_cavities import _shelf
+
+from planerel.features.facts import describe_scene, scene_facts
+from planerel.features.relations import STAIR_RISE, STAIR_RUN, stair_steps
+
+VIEW = dict(pitch=25, cam_height=1.6, width=320, height=240, noise=0.001)
+
+
+def _facts(rects, **view):
+    cloud, lab, _up, objs = render(rects, **view)
+    d = describe_scene(cloud, lab)
+    facts = scene_facts(d)
+    obj_of = {d.plane_id(p.label): objs[p.label] for p in d.planes}
+    pairs = [tuple(x.strip() for x in f[len("stair_step("):-2].split(","))
+             for f in facts["stair_step"]]
+    return d, facts, obj_of, pairs
+
+
+def _level(d, pid):
+    (p,) = [p for p in d.planes if d.plane_id(p.label) == pid]
+    return p.height
+
+
+def test_a_flights_steps_are_stair_steps_and_a_shelfs_boards_are_not():
+    # a shelf whose boards are one stair rise apart (0.2 m): parallel, one above the other,
+    # but stacked in plan view; the flight's treads lie one run beyond each other
+    shelf = _shelf(cx=-0.9, cy=2.6, boards=(0.4, 0.6, 0.8, 1.0), height=1.2, obj=1)
+    flight = stairs(0.8, 2.0, n=4, obj=2)
+    d, facts, obj_of, pairs = _facts([floor()] + shelf + flight, **VIEW)
+    assert pairs, "no stair_step fact"
+    assert all(obj_of[a] == 2 and obj_of[b] == 2 for a, b in pairs)
+    # the shelf's boards are an open-riser row to open_tread_pairs (no run asked of it): the
+    # footprints keep them out
+    from planerel.features.open_treads import open_tread_pairs
+
+    (so,) = [o for o in d.objects if {obj_of[d.plane_id(k)] for k in o.planes} == {1}]
+    assert open_tread_pairs(d.planes, so.planes, STAIR_RISE, 0.6)
+    assert stair_steps(d.planes, so.planes) == frozenset()
+    # the lower plane first, one rise (0.17 m) below the higher, both parallel
+    for a, b in pairs:
+        assert STAIR_RISE[0] <= _level(d, b) - _level(d, a) <= STAIR_RISE[1]
+        assert f"parallel({a}, {b})." in facts["parallel"]
+    # every tread in view but the lowest has its lower neighbour: a chain, not a single pair
+    treads = sorted((_level(d, pid), pid) for pid, o in obj_of.items() if o == 2
+                    and f"orientation({pid}, horizontal)." in facts["orientation"])
+    assert len(treads) >= 3
+    lower = {a for a, _ in pairs}
+    assert sum(pid in lower for _, pid in treads[:-1]) >= len(treads) - 2
+
+
+def test_boxes_of_two_heights_make_no_stair_step():
+    # touching boxes 0.25 and 0.55 m high: one level change of 0.30 m, more than a stair's rise
+    rects = [floor()] + box(-0.2, 2.2, 0.4, 0.4, 0.25) + box(-0.2, 2.6, 0.4, 0.4, 0.55, obj=2)
+    d, facts, _obj_of, pairs = _facts(rects, **VIEW)
+    assert len(d.objects) >= 1 and facts["orientation"]
+    assert pairs == []
+
+
+def test_stair_steps_of_one_plane_or_none():
+    cloud, lab, _up, _objs = render([floor()] + stairs(0.0, 2.0, n=3), **VIEW)
+    d = describe_scene(cloud, lab)
+    assert stair_steps(d.planes, ()) == frozenset()
+    assert stair_steps(d.planes, (d.planes[0].label,)) == frozenset()
+    # the windows are a staircase's (docs/predicates.md)
+    assert STAIR_RISE == (0.08, 0.25) and STAIR_RUN == (0.15, 0.45)
