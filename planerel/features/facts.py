@@ -36,8 +36,8 @@ from planerel.features.relations import (
     propose_objects,
     relate,
     skirts_within_objects,
-    support_planes,
     stair_steps,
+    support_planes,
     tall_faces,
 )
 from planerel.features.stairfit import StairFitParams, _remeasure_stepped_clusters, join_groups
