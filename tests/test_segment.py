@@ -122,6 +122,43 @@ def test_unorganized_cloud(stairs160):
     assert s.sparse == 0
 
 
+def test_unorganized_cloud_with_repeated_points(stairs160):
+    # a map that stores each point several times (a terrain map, one copy per layer: the ANYmal
+    # stair cloud of hunt28 repeats 107 772 points over 18 323 places): the same planes as the
+    # distinct points give, each copy labelled as its point; before, the nearest neighbour of
+    # every point was its own copy at distance 0, the linking distance was 0 and no plane grew
+    cloud, gt, _gn, _ = stairs160
+    ok = cloud.valid
+    pts = cloud.xyz[ok]
+    once = segment(Cloud(pts[None], organized=False), min_region_size=200)
+    order = np.random.default_rng(3).permutation(3 * len(pts))
+    many = np.concatenate([pts, pts, pts])[order]
+    nan_row = np.full((1, 3), np.nan)
+    seg = segment(Cloud(np.concatenate([many, nan_row])[None], organized=False),
+                  min_region_size=200)
+    assert seg.labels.shape == (1, len(many) + 1) and seg.labels[0, -1] == -1
+    assert seg.info["repeated_points"] == 2 * len(pts)
+    assert seg.n_planes == once.n_planes >= 4
+    # every copy of a point has the same label and normal
+    lab = seg.labels[0, :-1]
+    back = np.empty_like(lab)
+    back[order] = lab
+    per_copy = back.reshape(3, -1)
+    assert (per_copy == per_copy[0]).all()
+    assert seg.normals.shape == (1, len(many) + 1, 3)
+    # the planes found are the distinct points' planes (up to numbering and a few points at
+    # their borders: the distinct points are grown in the order they first occur)
+    base = once.labels[0]
+    for k in range(seg.n_planes):
+        mine = base[per_copy[0] == k]
+        top = np.bincount(mine[mine >= 0]).max()
+        assert top >= 0.97 * len(mine)
+    # deterministic
+    again = segment(Cloud(np.concatenate([many, nan_row])[None], organized=False),
+                    min_region_size=200)
+    np.testing.assert_array_equal(again.labels, seg.labels)
+
+
 def _cloud_from_points(points, shape=(10, 10)):
     xyz = np.full(shape + (3,), np.nan)
     flat = xyz.reshape(-1, 3)

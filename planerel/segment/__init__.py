@@ -157,6 +157,16 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
 
     if not isinstance(cloud, Cloud):
         raise InputError(f"segment: expected a planerel Cloud, got {type(cloud).__name__}")
+    if not cloud.organized:
+        dup = _unique_points(cloud, normals)
+        if dup is not None:
+            # a map's repeated points (a terrain map stores each cell once per layer): they
+            # would be each other's nearest neighbours at distance 0, and the neighbour
+            # distance that links points (``delta``) would be 0 too
+            sub, sub_normals, where, inverse = dup
+            seg = segment(sub, method, normals=sub_normals, split=split,
+                          split_params=split_params, **params)
+            return _spread_labels(seg, cloud, where, inverse)
     params, split_given = split_fields(params)
     if split_given is not None:
         if split_params is not None:
@@ -212,3 +222,52 @@ def _as_bool(value, *, default: bool) -> bool:
     if text in ("0", "false", "no", "off"):
         return False
     raise InputError(f"split must be true or false, got {value!r}")
+
+
+def _unique_points(cloud, normals):
+    """For an unorganized ``cloud`` with repeated points: ``(cloud of its distinct valid
+    points (1, U, 3), their normals or None, indices (V,) of its valid points, inverse (V,)
+    into the distinct points)``; None when every valid point is distinct."""
+    import numpy as np
+
+    from planerel.io.cloud import Cloud
+
+    flat = np.asarray(cloud.xyz, dtype=np.float64).reshape(-1, 3)
+    where = np.flatnonzero(np.isfinite(flat).all(axis=1))
+    if len(where) < 2:
+        return None
+    uniq, first, inverse = np.unique(flat[where], axis=0, return_index=True,
+                                     return_inverse=True)
+    if len(uniq) == len(where):
+        return None
+    # the distinct points in the order they first occur (region growing seeds in point order)
+    order = np.argsort(first, kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    uniq, first, inverse = uniq[order], first[order], rank[inverse.reshape(-1)]
+    sub_normals = None
+    if normals is not None:
+        sub_normals = np.asarray(normals).reshape(-1, 3)[where[first]][None]
+    sub = Cloud(uniq[None], None, cloud.up, cloud.source, organized=False)
+    return sub, sub_normals, where, inverse.reshape(-1)
+
+
+def _spread_labels(seg, cloud, where, inverse):
+    """``seg`` (of a cloud's distinct points) on ``cloud``'s own points: each repeated point
+    gets its distinct point's label and normal (``info["repeated_points"]`` counts them)."""
+    import dataclasses
+
+    import numpy as np
+
+    n = cloud.xyz.shape[0] * cloud.xyz.shape[1]
+    labels = np.full(n, -1, dtype=np.int32)
+    labels[where] = np.asarray(seg.labels).reshape(-1)[inverse]
+    normals = None
+    if seg.normals is not None:
+        sn = np.asarray(seg.normals).reshape(-1, 3)
+        normals = np.full((n, 3), np.nan, dtype=sn.dtype)
+        normals[where] = sn[inverse]
+        normals = normals.reshape(cloud.xyz.shape)
+    info = {**seg.info, "repeated_points": int(len(where) - int(inverse.max()) - 1)}
+    return dataclasses.replace(seg, labels=labels.reshape(cloud.xyz.shape[:2]),
+                               normals=normals, info=info)
