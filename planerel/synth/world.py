@@ -101,11 +101,12 @@ class WorldRange:
         of them gives the learner negatives to tell a plate seen whole from a ramp cut by
         the view (docs/results.md, "Plates against short ramps").
     panel_share : float
-        The share of the further clutter objects that are panels or sofas (one each way),
-        drawn before the plates' draw (two more draws per such object, only when above 0): a
-        panel is a board 0.8-2 m long and 0.5-1.2 m wide leaning 30-80 degrees from the floor
-        (a board or a mattress against a wall, a drafting table's top), a sofa 0.9-2.2 m wide
-        has its back leaning 60-78 degrees over a level seat between its arms.  Large and inclined like a ramp, but too
+        The share of the further clutter objects that are panels or sofas (a sofa three times
+        in four), drawn before the plates' draw (two more draws per such object, only when
+        above 0): a panel is a board 0.8-2 m long and 0.5-1.2 m wide leaning 30-80 degrees
+        from the floor (a board or a mattress against a wall, a drafting table's top), a sofa
+        1.2-2.4 m wide has its back (0.5-0.8 m with its cushions) leaning 60-78 degrees over a
+        level seat between its arms.  Large and inclined like a ramp, but too
         steep to walk on: negatives that teach the ramp rules a ramp's slope (real rooms'
         far upholstered furniture measured 27-75 degrees, docs/objects.md "Steep planes are
         no ramps").
@@ -393,6 +394,12 @@ def _draw_ramp(rng, r: WorldRange, index: int):
                              "platform": platform, "side_faces": side_faces, "axis": axis}}
 
 
+#: What ``WorldRange.panel_share`` draws, uniformly: a sofa three times in four (with one in
+#: two the demo's second ramp clause, "an inclined plane of 0.5 m^2 next to another plane",
+#: bounded no slope: too few multi-plane negatives reached it; docs/objects.md "A flight's
+#: steps as a relation; steep planes are no ramps").
+_PANEL_KINDS = ("panel", "sofa", "sofa", "sofa")
+
 #: Clutter kinds: the geometry builder and its parameters, drawn in this order (uniform
 #: ``(lo, hi)``; integers from ``range(lo, hi)`` when both are int).
 _CLUTTER_DRAWS = {
@@ -409,8 +416,8 @@ _CLUTTER_DRAWS = {
     "panel": (sg.plate_geometry, (("length", 0.8, 2.0), ("width", 0.5, 1.2),
                                   ("tilt_deg", 30.0, 80.0))),
     # drawn only by ``WorldRange.panel_share`` too: a sofa's back leans 60-78 degrees
-    "sofa": (sg.sofa_geometry, (("width", 0.9, 2.2), ("depth", 0.8, 1.0),
-                                ("seat_height", 0.38, 0.48), ("back_height", 0.45, 0.65),
+    "sofa": (sg.sofa_geometry, (("width", 1.2, 2.4), ("depth", 0.8, 1.0),
+                                ("seat_height", 0.38, 0.48), ("back_height", 0.5, 0.8),
                                 ("back_deg", 60.0, 78.0), ("seat_tilt_deg", 0.0, 5.0),
                                 ("arm_height", 0.55, 0.7))),
     "shelf": (sg.shelf_geometry, (("width", 0.5, 1.2), ("depth", 0.25, 0.45),
@@ -526,7 +533,7 @@ def _place_extra(rng, r: WorldRange, pose, intr, lay: _Layout, index: int) -> No
         geom, info = _draw_stairs_up(rng, r, index)
     else:
         if r.panel_share > 0 and rng.random() < r.panel_share:
-            kind = ("panel", "sofa")[int(rng.integers(2))]
+            kind = _PANEL_KINDS[int(rng.integers(len(_PANEL_KINDS)))]
         elif r.plate_share > 0 and rng.random() < r.plate_share:
             kind = "plate"
         else:
