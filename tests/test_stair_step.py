@@ -1,4 +1,4 @@
-"""``stair_step/2`` (planerel.features.relations.stair_steps): two parallel treads or risers
+"""``stair_step/2`` (planerel.features.stair_step.stair_steps): two parallel treads or risers
 of one object, the second one stair step above and beyond the first.
 
 A pairwise relation the learner may use (the default task's ``modeb(*, stair_step(+plane,
@@ -13,7 +13,8 @@ from scenes_analytic import box, floor, render, stairs
 from test_proposals_cavities import _shelf
 
 from planerel.features.facts import describe_scene, scene_facts
-from planerel.features.relations import STAIR_RISE, STAIR_RUN, stair_steps
+from planerel.features.relations import STAIR_RISE, STAIR_RUN
+from planerel.features.stair_step import stair_steps
 
 VIEW = dict(pitch=25, cam_height=1.6, width=320, height=240, noise=0.001)
 

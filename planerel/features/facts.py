@@ -36,10 +36,10 @@ from planerel.features.relations import (
     propose_objects,
     relate,
     skirts_within_objects,
-    stair_steps,
     support_planes,
     tall_faces,
 )
+from planerel.features.stair_step import stair_steps
 from planerel.features.stairfit import StairFitParams, _remeasure_stepped_clusters, join_groups
 from planerel.features.stepped import remeasure_stepped
 from planerel.features.tables import leg_objects, table_objects
@@ -129,7 +129,7 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
      "tops level (planerel.features.solid)"),
     ("stair_step", 2, "plane, plane", "two parallel treads or risers of one object, the second "
      "one stair step (0.08-0.25 m) above and (0.15-0.45 m) beyond the first, overlapping across "
-     "(planerel.features.relations.stair_steps)"),
+     "(planerel.features.stair_step.stair_steps)"),
     ("facing", 2, "plane, plane", "parallel vertical walls, not adjacent, tops level, "
      "overlapping along the walls: the two sides of one solid or open box (planerel.features.solid)"),
     ("in_front_of", 2, "plane, plane", "first nearer the sensor along the horizontal view direction"),
@@ -213,7 +213,7 @@ class SceneDescription:
     #: (:func:`planerel.features.relations.lying_tops`: ``lying/1``).
     lying: frozenset = field(default=frozenset())
     #: ``(lower, higher)`` labels of two planes of one object one stair step apart
-    #: (:func:`planerel.features.relations.stair_steps`: ``stair_step/2``).
+    #: (:func:`planerel.features.stair_step.stair_steps`: ``stair_step/2``).
     steps: frozenset = field(default=frozenset())
 
     @property

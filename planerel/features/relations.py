@@ -123,7 +123,6 @@ __all__ = [
     "flight_faces",
     "flight_steps",
     "flight_evidence",
-    "stair_steps",
     "steps_of_one_flight",
 ]
 
@@ -2488,58 +2487,6 @@ def flight_evidence(planes, labels, params: ProposalParams | None = None) -> boo
     labels = tuple(labels)
     return (flight_faces(planes, labels, params)
             or steps_of_one_flight(flight_steps(planes, labels, params)))
-
-
-def stair_steps(planes, labels, params: ProposalParams | None = None) -> frozenset:
-    """The ``stair_step/2`` pairs of the planes ``labels`` of one object: ``(lower, higher)``
-    labels of two parallel treads or two risers one staircase step apart, the higher one
-    :data:`STAIR_RISE` above and :data:`STAIR_RUN` beyond the lower one, their extents across
-    that direction overlapping (:func:`step_chain_pairs` without its chain test, the next face
-    only: never one two rises away); with ``params.open_treads``, the
-    consecutive treads of an open-riser flight's row too (:func:`planerel.features.open_treads.
-    open_tread_pairs`: strips 15-55 degrees off horizontal at range); never two whose
-    footprints seen from above overlap by :data:`~planerel.features.plan_overlap.OVER_SHARE`
-    of the larger (a shelf's boards: ``over/2``).  A pairwise relation of two planes, not
-    a class: a carton one stair rise above and one run behind another makes one too.
-
-    Parameters
-    ----------
-    planes : PlaneSet
-    labels : iterable of int
-    params : ProposalParams, optional
-
-    Returns
-    -------
-    frozenset of (int, int)
-    """
-    labels = tuple(labels)
-    if len(labels) < 2:
-        return frozenset()
-    p = params or ProposalParams()
-    # one span only: the next face, not the one after it with a face between
-    out = {(int(lo), int(hi)) for lo, hi, _r, _d, span, _g in step_chain_pairs(
-        planes, labels, STAIR_RISE, STAIR_RUN, p.step_overlap or 0.5, p.concave_tol,
-        tilt=p.step_tilt, skip=False, cut_long_side=p.cut_long_side,
-        tread_axes=p.step_tread_axes, chain=False) if span == 1}
-    if p.open_treads and len(labels) >= 3:
-        # an open-riser flight's treads, fitted as strips tilted off horizontal at range
-        rows = {(int(lo), int(hi)) for lo, hi in open_tread_pairs(
-            planes, labels, (p.step_rise_min, p.step_rise_max), p.step_run_max, OPEN_THICK,
-            OPEN_TILT)}
-        # the next tread only: a pair two rises apart with the tread between also in the row
-        # is no step
-        out |= {(lo, hi) for lo, hi in rows
-                if not any((lo, m) in rows and (m, hi) in rows for _, m in rows)}
-    if not out:
-        return frozenset()
-    from planerel.features.plan_overlap import OVER_SHARE, plan_overlap
-
-    # a shelf's boards lie stacked over each other in plan view, a flight's treads side by side
-    # (an open-riser row lets a slab's near edge lie over the one below it)
-    by_label = {q.label: q for q in planes}
-    return frozenset((lo, hi) for lo, hi in out
-                     if plan_overlap(by_label[lo].hull3d, by_label[hi].hull3d, planes.up)
-                     < OVER_SHARE)
 
 
 def steps_of_one_flight(steps) -> bool:
