@@ -157,6 +157,9 @@ def test_unorganized_cloud_with_repeated_points(stairs160):
     again = segment(Cloud(np.concatenate([many, nan_row])[None], organized=False),
                     min_region_size=200)
     np.testing.assert_array_equal(again.labels, seg.labels)
+    # fifty copies of one point are one point: a clear error, not a plane
+    with pytest.raises(InputError, match="50 valid points but only 1 distinct"):
+        segment(Cloud(np.ones((1, 50, 3)), organized=False, source="same"))
 
 
 def _cloud_from_points(points, shape=(10, 10)):

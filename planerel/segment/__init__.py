@@ -240,6 +240,9 @@ def _unique_points(cloud, normals):
                                      return_inverse=True)
     if len(uniq) == len(where):
         return None
+    if len(uniq) < 3:
+        raise InputError(f"{cloud.source or 'cloud'}: has {len(where)} valid points but only "
+                         f"{len(uniq)} distinct (need at least 3)")
     # the distinct points in the order they first occur (region growing seeds in point order)
     order = np.argsort(first, kind="stable")
     rank = np.empty_like(order)
