@@ -361,7 +361,8 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
                  for k, c in enumerate(cobjs))
     # a skirt denied only by another object's step (a box on a box) is one after all
     rel = skirts_within_objects(rel, [o.planes for o in objs], planes, support)
-    steps = frozenset(s for o in objs for s in stair_steps(planes, o.planes, pp))
+    by_label = {p.label: p for p in planes}
+    steps = frozenset(s for o in objs for s in stair_steps(planes, o.planes, pp, by_label))
     return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
                             proposed, support, truncated=cut, tall=tall, lying=lying,
                             steps=steps)

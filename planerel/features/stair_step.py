@@ -15,29 +15,36 @@ from planerel.features.relations import (
     STAIR_RISE,
     STAIR_RUN,
     ProposalParams,
+    _step_kind,
     step_chain_pairs,
 )
 
 __all__ = ["stair_steps"]
 
 
-def stair_steps(planes, labels, params: ProposalParams | None = None) -> frozenset:
+def stair_steps(planes, labels, params: ProposalParams | None = None,
+                by_label: dict | None = None) -> frozenset:
     """The ``stair_step/2`` pairs of the planes ``labels`` of one object: ``(lower, higher)``
     labels of two parallel treads or two risers one staircase step apart, the higher one
-    :data:`~planerel.features.relations.STAIR_RISE` above and :data:`~planerel.features.relations.STAIR_RUN` beyond the lower one, their extents across
-    that direction overlapping (:func:`~planerel.features.relations.step_chain_pairs` without its chain test, the next face
-    only: never one two rises away); with ``params.open_treads``, the
-    consecutive treads of an open-riser flight's row too (:func:`planerel.features.open_treads.
-    open_tread_pairs`: strips 15-55 degrees off horizontal at range); never two whose
-    footprints seen from above overlap by :data:`~planerel.features.plan_overlap.OVER_SHARE`
-    of the larger (a shelf's boards: ``over/2``).  A pairwise relation of two planes, not
-    a class: a carton one stair rise above and one run behind another makes one too.
+    :data:`~planerel.features.relations.STAIR_RISE` above and
+    :data:`~planerel.features.relations.STAIR_RUN` beyond the lower one, their extents across
+    that direction overlapping (:func:`~planerel.features.relations.step_chain_pairs` without
+    its chain test, the next face only: never one two rises away); with
+    ``params.open_treads``, the consecutive treads of an open-riser flight's row too
+    (:func:`planerel.features.open_treads.open_tread_pairs`: strips 15-55 degrees off
+    horizontal at range); never two whose footprints seen from above overlap by
+    :data:`~planerel.features.plan_overlap.OVER_SHARE` of the larger (a shelf's boards:
+    ``over/2``).  A pairwise relation of two planes, not a class: a carton one stair rise
+    above and one run behind another makes one too.
 
     Parameters
     ----------
     planes : PlaneSet
     labels : iterable of int
     params : ProposalParams, optional
+    by_label : dict, optional
+        ``{label: Plane}`` of ``planes`` (built here when not given; a caller asking for
+        many objects of one scene builds it once).
 
     Returns
     -------
@@ -47,12 +54,25 @@ def stair_steps(planes, labels, params: ProposalParams | None = None) -> frozens
     if len(labels) < 2:
         return frozenset()
     p = params or ProposalParams()
+    if by_label is None:
+        by_label = {q.label: q for q in planes}
+    # an exact early out: a step needs two treads or two risers (within step_tilt of level or
+    # of vertical), an open-riser row three slabs (within OPEN_TILT of level)
+    mine = [by_label[k] for k in labels if k in by_label]
+    kinds = [_step_kind(q, p.step_tilt) for q in mine]
+    treads, risers = kinds.count("tread"), kinds.count("riser")
+    # (the slabs' own test is on |normal . up| >= cos(OPEN_TILT); a hair of slack for rounding)
+    slabs = sum(q.incline <= OPEN_TILT + 1e-6 for q in mine) if p.open_treads else 0
+    if treads < 2 and risers < 2 and slabs < 3:
+        return frozenset()
     # one span only: the next face, not the one after it with a face between
-    out = {(int(lo), int(hi)) for lo, hi, _r, _d, span, _g in step_chain_pairs(
-        planes, labels, STAIR_RISE, STAIR_RUN, p.step_overlap or 0.5, p.concave_tol,
-        tilt=p.step_tilt, skip=False, cut_long_side=p.cut_long_side,
-        tread_axes=p.step_tread_axes, chain=False) if span == 1}
-    if p.open_treads and len(labels) >= 3:
+    out = set()
+    if treads >= 2 or risers >= 2:
+        out = {(int(lo), int(hi)) for lo, hi, _r, _d, span, _g in step_chain_pairs(
+            planes, labels, STAIR_RISE, STAIR_RUN, p.step_overlap or 0.5, p.concave_tol,
+            tilt=p.step_tilt, skip=False, cut_long_side=p.cut_long_side,
+            tread_axes=p.step_tread_axes, chain=False) if span == 1}
+    if slabs >= 3:
         # an open-riser flight's treads, fitted as strips tilted off horizontal at range
         rows = {(int(lo), int(hi)) for lo, hi in open_tread_pairs(
             planes, labels, (p.step_rise_min, p.step_rise_max), p.step_run_max, OPEN_THICK,
@@ -65,7 +85,6 @@ def stair_steps(planes, labels, params: ProposalParams | None = None) -> frozens
         return frozenset()
     # a shelf's boards lie stacked over each other in plan view, a flight's treads side by side
     # (an open-riser row lets a slab's near edge lie over the one below it)
-    by_label = {q.label: q for q in planes}
     return frozenset((lo, hi) for lo, hi in out
                      if plan_overlap(by_label[lo].hull3d, by_label[hi].hull3d, planes.up)
                      < OVER_SHARE)
