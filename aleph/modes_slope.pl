@@ -1,4 +1,4 @@
-/*  planerel task: the default task (aleph/modes_relational.pl) and slope/2.
+/*  planerel task: slope/2 with the default task of before face24, top25 and lead28.
 
     Optional: `--task modes_slope.pl` (planerel export-aleph,
     benchmarks/eval_heldout.py): modeb(1, slope(+plane, -slope)) with gteq
