@@ -18,6 +18,12 @@ The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
    flat face, in no link (2026-11-29): a real carpeted stair's rounded nosings are narrow
    strips between its wide treads and risers, and through them the whole flight read as
    round.
+   **Rough planes** (``flat_bend``, 2026-11-30): a group whose points (every plane's, together)
+   fit a quadric that turns by less than ``flat_bend`` over their extent
+   (:func:`surface_bend`: about 0.02 for a RealSense box top cut into 8 bumps' flanks 5-28
+   degrees apart, 0.16 and more for the round objects of the real table-top frames) and
+   whose planes are all narrower than ``flat_piece_width`` (0.12 m) is one rough plane, not
+   facets.
    **Within objects** (facets22, 2026-11-28): a link between planes of two object proposals
    counts only when both proposals are *soft* (every plane a facet of the links of every pair,
    linked to a plane of its own proposal, or under ``small_area``).  A proposal that holds a
@@ -70,7 +76,7 @@ from planerel.features.relations import Components
 from planerel.io.cloud import Cloud
 from planerel.segment.absorb import FACET_MAX_ANGLE, FACET_MIN_ANGLE
 
-__all__ = ["CurvedParams", "CurvedObject", "facet_planes", "skirt_faces", "pixel_areas", "join_parts",
+__all__ = ["CurvedParams", "CurvedObject", "facet_planes", "surface_bend", "skirt_faces", "pixel_areas", "join_parts",
            "unexplained_clusters", "curved_objects"]
 
 
@@ -101,6 +107,25 @@ class CurvedParams:
         at a 1.2-1.4 cm strip the segmentation cuts along their edge, 20-27 degrees from each;
         linked through it, the carton read as round (planar fraction 0.00, the box answer
         refused).  The strips of one round surface stay alike in width (ratio under 1.5).
+    flat_bend : float
+        Radians (a turn over one standard deviation of extent, :func:`surface_bend`): a facet
+        group whose points turn by less than this is a rough plane in pieces, not facets
+        (0 = no such test, before 2026-11-30).  A RealSense 0.63 m over a wooden block lays
+        bumps of 1.9 mm RMS and ~2 cm across over its top; region growing cut the top into 8
+        pieces 5-28 degrees apart, a fan of facets (planar fraction 0.39: the box answer
+        refused; hidden26's ycb3, a frame nobody on the team had made).  Their points
+        together turn by 0.02; every facet group of a round object in the real table-top
+        frames (mOSD, OSD, UOIS: cans, mugs, bowls) turns by at least 0.16 (most are too
+        thick to be a sheet at all: ``inf``).  A group is measured from at most
+        ``BEND_POINTS`` of its points, only when ``facet_planes`` has the cloud.
+    flat_piece_width : float
+        Metres: a group with a plane at least this wide (``Plane.width``) is never a rough
+        plane (no bump tilts a face that wide; the bumps' flanks of the RealSense top are
+        0.02-0.08 m wide).  The furniture in the corner of the shared Kinect frame
+        ``frame_20121214T142255`` shows two faces 0.18 and 0.21 m wide 6.4 degrees apart and
+        a strip 17-22 degrees from them, at 1.2 m: a crease, over which a quadric turns by
+        0.085 only; without this bound it read flat and the corner rule made it a second
+        ``box`` in that frame.
     tiny_area : float
         m^2: planes smaller than this are not flat planes; their pixels count as unexplained.
     open_px : int
@@ -201,6 +226,8 @@ class CurvedParams:
     facet_min_planes: int = 3
     facet_max_width: float = 0.05
     facet_wide_ratio: float = 1.5
+    flat_bend: float = 0.1
+    flat_piece_width: float = 0.12
     tiny_area: float = 0.0005
     open_px: int = 2
     edge_depth: float = 0.02
@@ -226,7 +253,7 @@ class CurvedParams:
 
     def __post_init__(self) -> None:
         for name in ("facet_min_angle", "facet_max_angle", "facet_max_width", "facet_wide_ratio",
-                     "tiny_area", "edge_depth", "min_area",
+                     "flat_bend", "flat_piece_width", "tiny_area", "edge_depth", "min_area",
                      "small_area", "join_area", "bridge_area", "bridge_min", "curved_below", "near_min_area", "near_depth",
                      "nest_depth", "nest_credit"):
             v = getattr(self, name)
@@ -270,9 +297,86 @@ class CurvedObject:
     n_points: int
 
 
-def _facet_groups(planes, links, params: CurvedParams) -> set:
+#: Largest ratio of a group's thickness to its middle extent (standard deviations along its
+#: least and middle principal axes) that :func:`surface_bend` fits: the bumpy RealSense top
+#: of hidden26's ycb3 block is 0.08, an arc of a cylinder of +-alpha about 0.26 alpha (0.2 at
+#: +-45 degrees); a thicker group is no sheet and turns (``inf``).
+BEND_THICK = 0.2
+
+
+def surface_bend(xyz) -> float:
+    """How far a surface sampled by ``xyz`` may turn over its extent: ``max |k| * s``.
+
+    A quadric ``w = a u^2 + b u v + c v^2 + d u + e v + f`` is fitted by least squares in the
+    points' principal frame (``w`` along the least principal axis, ``u``, ``v`` along the
+    others); ``k`` are the eigenvalues of its Hessian ``[[2a, b], [b, 2c]]`` (the principal
+    curvatures, 1/m) and ``s`` the points' standard deviation along their longest axis (m).
+    The product bounds the angle (radians) the surface's normal turns over one standard
+    deviation of its extent: about ``alpha / sqrt(3)`` for an arc of a cylinder seen over
+    ``+-alpha`` and no longer along its axis than across, whatever its radius (more for a
+    longer one); near 0 for a plane, even a rough one (a rough plane's bumps are no one
+    curvature).
+
+    Parameters
+    ----------
+    xyz : ndarray, shape (N, 3)
+        Finite points, N >= 6.
+
+    Returns
+    -------
+    float
+        Dimensionless; ``inf`` for fewer than 6 points, a degenerate fit, or points thicker
+        than ``BEND_THICK`` times their middle extent (standard deviations along the least
+        and the middle principal axis): no thin sheet, so no height field to fit.
+    """
+    pts = np.asarray(xyz, float)
+    if pts.ndim != 2 or pts.shape[1] != 3 or len(pts) < 6:
+        return float("inf")
+    c = pts - pts.mean(0)
+    ev, vec = np.linalg.eigh(c.T @ c / len(pts))
+    if not ev[2] > 0 or ev[0] > (BEND_THICK ** 2) * ev[1]:
+        # no thin sheet: no height field over its principal plane (a cylinder seen from
+        # above its side turns through 180 degrees)
+        return float("inf")
+    loc = c @ vec
+    w, v, u = loc[:, 0], loc[:, 1], loc[:, 2]
+    a = np.stack([u * u, u * v, v * v, u, v, np.ones_like(u)], 1)
+    # the normal equations (6 x 6): a least-squares solve of the N x 6 system took 4 ms a
+    # group under load
+    coef, _, rank, _ = np.linalg.lstsq(a.T @ a, a.T @ w, rcond=None)
+    if rank < 6:
+        return float("inf")
+    hess = np.array([[2 * coef[0], coef[1]], [coef[1], 2 * coef[2]]])
+    # the larger principal curvature over the longest extent: the most the normal may turn
+    # (each curvature over the spread along its own direction made the far walls of a
+    # RealSense frame, bent by the sensor, rough planes too, and inclined: two more false
+    # ramp answers on UOIS image_0008)
+    return float(np.max(np.abs(np.linalg.eigvalsh(hess))) * np.sqrt(ev[2]))
+
+
+#: Points at most that :func:`surface_bend` reads of one facet group (an even sample).
+BEND_POINTS = 3000
+
+
+def _group_points(comp, byl, labels, xyz) -> np.ndarray:
+    """The finite points of the planes ``comp`` (labels) in ``labels``, read within the
+    planes' pixel boxes, at most about ``BEND_POINTS`` of them (every k-th)."""
+    boxes = np.array([byl[x].bbox for x in comp])
+    r0, c0 = boxes[:, 0].min(), boxes[:, 1].min()
+    r1, c1 = boxes[:, 2].max(), boxes[:, 3].max()
+    lab = labels[r0:r1, c0:c1]
+    sel = np.isin(lab, np.fromiter(comp, dtype=np.int64))
+    pts = xyz[r0:r1, c0:c1][sel]
+    step = max(1, len(pts) // BEND_POINTS)
+    pts = pts[::step]
+    return pts[np.isfinite(pts).all(axis=1)]
+
+
+def _facet_groups(planes, links, params: CurvedParams, surface=None) -> set:
     """Planes of the groups that ``links`` (pairs of labels) join with at least
-    ``facet_min_planes`` distinct normal directions."""
+    ``facet_min_planes`` distinct normal directions, and, with ``surface`` = ``(labels,
+    xyz)`` and ``params.flat_bend`` > 0, whose points turn by at least ``flat_bend``
+    (:func:`surface_bend`)."""
     byl = {p.label: p for p in planes}
     if params.facet_max_width > 0:
         # a plane this wide, and much wider than every plane it links to, is a flat face (a
@@ -296,8 +400,18 @@ def _facet_groups(planes, links, params: CurvedParams) -> set:
             n = np.asarray(byl[x].normal, float)
             if all(abs(float(n @ d)) < cos_min for d in dirs):
                 dirs.append(n)
-        if len(dirs) >= params.facet_min_planes:
-            out.update(comp)
+        if len(dirs) < params.facet_min_planes:
+            continue
+        if (surface is not None and params.flat_bend > 0 and all(x in byl for x in comp)
+                and max(byl[x].width for x in comp) < params.flat_piece_width):
+            # a rough plane cut into pieces (a RealSense box top): its pieces' normals
+            # scatter, but the surface as a whole does not turn; a piece as wide as a face
+            # is tilted by no bump (a Kinect frame's furniture: faces 0.18-0.21 m wide
+            # 6 degrees apart, a crease a quadric hardly bends over)
+            pts = _group_points(comp, byl, *surface)
+            if surface_bend(pts) < params.flat_bend:
+                continue
+        out.update(comp)
     return out
 
 
@@ -362,7 +476,7 @@ def skirt_faces(planes, relations, cloud, tilt: float | None = None,
 
 
 def facet_planes(planes, relations, candidates=None, params: CurvedParams | None = None,
-                 proposals=None, flat=()) -> set:
+                 proposals=None, flat=(), cloud=None, labels=None) -> set:
     """Labels of the planes that are facets of a curved surface (rule step 1).
 
     Parameters
@@ -381,6 +495,12 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
         (facets22).  Links within a proposal, and of planes in no proposal, always count.
     flat : iterable of int, optional
         Labels of planes that are flat faces, never facets (:func:`skirt_faces`).
+    cloud : Cloud, optional
+        With it (organized) a group whose points turn by less than ``params.flat_bend``
+        (:func:`surface_bend`), its planes all narrower than ``params.flat_piece_width``, is
+        a rough plane in pieces, not facets; without it no group is measured.
+    labels : ndarray, shape (H, W), int, optional
+        The plane labels of ``cloud``'s pixels (default ``planes.labels``).
 
     Returns
     -------
@@ -392,7 +512,14 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
     lo, hi = params.facet_min_angle, params.facet_max_angle
     links = [(r.a, r.b) for r in relations
              if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi]
-    out = _facet_groups(planes, links, params)
+    surface = None
+    if labels is None:
+        labels = getattr(planes, "labels", None)
+    if params.flat_bend > 0 and cloud is not None and labels is not None and links:
+        xyz = np.asarray(cloud.xyz, float)
+        if xyz.ndim == 3 and np.shape(labels) == xyz.shape[:2]:
+            surface = (np.asarray(labels), xyz)
+    out = _facet_groups(planes, links, params, surface)
     if proposals is None or not out:
         return out
     byl = {p.label: p for p in planes}
@@ -409,7 +536,7 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
             or (soft[owner[a]] and soft[owner[b]])]
     if len(kept) == len(links):
         return out
-    return _facet_groups(planes, kept, params)
+    return _facet_groups(planes, kept, params, surface)
 
 
 def _pitch(xyz, axis: int) -> float:
@@ -888,7 +1015,8 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
     props = [tuple(sorted(int(x) for x in g)) for g in proposals]
     flat = skirt_faces(planes, relations, cloud, profiles=profiles) if params.skirt_faces else ()
     facets = facet_planes(planes, relations, [p.label for p in planes if p.label not in support],
-                          params, props, flat)
+                          params, props, flat, cloud,
+                          labels if labels is not None else getattr(planes, "labels", None))
     if params.join_facets and facets and len(props) > 1:
         props = _join_facet_proposals(props, facets, byl, relations, params)
     masks: list = [None] * len(props)
