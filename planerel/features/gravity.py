@@ -108,6 +108,15 @@ class GravityParams:
         Two planes make a cross-product candidate when at least this far from parallel.
     low_confidence : float
         Estimates with a lower confidence are flagged.
+    flip : bool
+        Consider a camera held upside down (:func:`_flipped`): the estimate of the frame turned
+        by 180 degrees about the optical axis, from the near planes only, replaces the upright
+        one when it has the camera above clearly more horizontal area.
+    flip_ratio : float
+        The upside-down reading needs this many times the horizontal area seen from above (the
+        camera over it) that the upright reading has.
+    flip_min_area : float
+        ... and at least this many m^2 of it (near planes, see ``max_height``).
     """
 
     tol_deg: float = 5.0
@@ -120,17 +129,23 @@ class GravityParams:
     max_height: float = 3.0
     min_pair_deg: float = 30.0
     low_confidence: float = 0.5
+    flip: bool = True
+    flip_ratio: float = 2.0
+    flip_min_area: float = 0.02
 
     def __post_init__(self) -> None:
         checks = (("tol_deg", 0.5, 20.0), ("min_area", 0.0, 100.0), ("vertical_weight", 0.0, 1.0),
                   ("max_roll_deg", 0.0, 90.0), ("max_up_pitch_deg", 0.0, 90.0),
                   ("max_height", 0.1, 1000.0), ("min_pair_deg", 5.0, 85.0),
-                  ("low_confidence", 0.0, 1.0))
+                  ("low_confidence", 0.0, 1.0), ("flip_ratio", 1.0, 1000.0),
+                  ("flip_min_area", 0.0, 100.0))
         for name, lo, hi in checks:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
                     or not lo <= v <= hi:
                 raise InputError(f"gravity {name} must be a number in [{lo}, {hi}], got {v!r}")
+        if not isinstance(self.flip, bool):
+            raise InputError(f"gravity flip must be true or false, got {self.flip!r}")
         for name in ("min_points", "max_planes"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 3:
@@ -299,7 +314,8 @@ def _choose_sign(c: np.ndarray, normals, weights, params) -> np.ndarray:
     return c if c[2] <= 0 else -c
 
 
-def estimate_gravity(normals, weights, offsets=None, params: GravityParams | None = None) -> UpEstimate:
+def estimate_gravity(normals, weights, offsets=None, params: GravityParams | None = None,
+                     ranges=None) -> UpEstimate:
     """Estimate the up vector from oriented plane normals and their areas.
 
     Parameters
@@ -312,6 +328,10 @@ def estimate_gravity(normals, weights, offsets=None, params: GravityParams | Non
         Distance from the camera centre to each plane, metres (``normal . x + offset = 0``);
         planes farther than ``params.max_height`` count less as horizontal.  Default: all near.
     params : GravityParams, optional
+    ranges : array_like, shape (N,), optional
+        Distance from the camera to each plane's centroid, metres: only the planes within
+        about ``params.max_height`` (1-metre scale) vote for the upside-down reading
+        (``params.flip``).  Default: ``offsets``.
 
     Returns
     -------
@@ -328,18 +348,80 @@ def estimate_gravity(normals, weights, offsets=None, params: GravityParams | Non
     if d.shape[0] != n.shape[0]:
         raise InputError(f"estimate_gravity needs one offset per normal, got {n.shape[0]} normals "
                          f"and {d.shape[0]} offsets")
-    return _estimate(n, w, w * _height_factor(np.abs(d), params), params)
+    hw = w * _height_factor(np.abs(d), params)
+    if ranges is None:
+        near = hw
+    else:
+        r = np.asarray(ranges, dtype=np.float64).reshape(-1)
+        if r.shape[0] != n.shape[0]:
+            raise InputError(f"estimate_gravity needs one range per normal, got {n.shape[0]} "
+                             f"normals and {r.shape[0]} ranges")
+        near = hw * _height_factor(np.abs(r), params)
+    return _estimate(n, w, hw, params, near)
 
 
-def _estimate(n, w, hw, params: GravityParams) -> UpEstimate:
-    """:func:`estimate_gravity` with the horizontal weights ``hw`` given."""
+def _estimate(n, w, hw, params: GravityParams, near=None) -> UpEstimate:
+    """:func:`estimate_gravity` with the horizontal weights ``hw`` given; ``near`` (default
+    ``hw``) are the weights of the upside-down reading (:func:`_flipped`)."""
+    near = hw if near is None else near
     length = np.linalg.norm(n, axis=1)
     keep = np.isfinite(length) & (length > 0) & np.isfinite(w) & (w > 0) & np.isfinite(hw)
     n = n[keep] / length[keep, None]
     w = w[keep]
     hw = hw[keep]
+    near = np.where(np.isfinite(near[keep]), near[keep], 0.0)
     if n.shape[0] == 0:
         return UpEstimate(np.array(DEFAULT_UP), "default", 0.0, 0, True)
+    upright = _upright(n, w, hw, params)
+    if not params.flip:
+        return upright
+    return _flipped(upright, n, near, params)
+
+
+#: Turning the camera by 180 degrees about its optical axis negates x and y.
+_TURN = np.array([-1.0, -1.0, 1.0])
+
+
+def _seen_from_above(c: np.ndarray, n: np.ndarray, hw: np.ndarray, params: GravityParams) -> float:
+    """Area (``hw``) of the planes horizontal w.r.t. up ``c`` that the camera sees from above
+    (the normal, oriented to the sensor, along ``c``): floors, tables, tops."""
+    along = n @ c
+    h = np.degrees(np.arccos(np.clip(np.abs(along), 0.0, 1.0))) <= params.tol_deg
+    return float(hw[h & (along > 0)].sum())
+
+
+def _flipped(upright: UpEstimate, n, hw, params: GravityParams) -> UpEstimate:
+    """The upright estimate, or the upside-down one when the planes say so.
+
+    The upside-down reading is the upright estimate of the frame turned by 180 degrees about
+    the optical axis (so the pose prior reads the turned camera as it reads an upright one),
+    turned back, from the planes near enough to be floors (``hw``: far planes, where a sensor's
+    range error is large, do not vote).  It replaces the upright reading only when it points
+    to the image's bottom and the camera is above at least ``flip_ratio`` times as much
+    horizontal area under it as under the upright one (and ``flip_min_area``): a camera sees
+    floors, tables and box tops from above; held upside down, it sees them on the image's top
+    side, where an upright camera would see ceilings.
+    """
+    if upright.source != "estimated":
+        return upright
+    keep = hw > 0
+    if not keep.any():
+        return upright
+    turned = _upright(n[keep] * _TURN, hw[keep], hw[keep], params)
+    if turned.source != "estimated":
+        return upright
+    c = np.array(turned.vector) * _TURN
+    if c[1] < math.sin(math.radians(12.0)):  # not upside down after all
+        return upright
+    above_flip = _seen_from_above(c, n, hw, params)
+    above_up = _seen_from_above(np.array(upright.vector), n, hw, params)
+    if above_flip < max(params.flip_min_area, params.flip_ratio * above_up):
+        return upright
+    return UpEstimate(c, "estimated", turned.confidence, upright.n_planes, turned.low_confidence)
+
+
+def _upright(n, w, hw, params: GravityParams) -> UpEstimate:
+    """The estimate for a camera that is not upside down (unit normals, positive weights)."""
     cands = _candidates(n, w, params)
     score = _scores(cands, n, w, hw, params)
     best = int(np.argmax(score))
@@ -372,8 +454,8 @@ def _estimate(n, w, hw, params: GravityParams) -> UpEstimate:
 
 
 def _planes_from_labels(cloud, labels, params: GravityParams):
-    """Oriented normals ``(K, 3)``, areas ``(K,)`` and offsets ``(K,)`` of the labelled regions
-    that may vote."""
+    """Oriented normals ``(K, 3)``, areas ``(K,)``, offsets ``(K,)`` and centroid ranges
+    ``(K,)`` of the labelled regions that may vote."""
     from planerel.features.labels import _moments, check_labels
 
     xyz = cloud.xyz
@@ -381,11 +463,11 @@ def _planes_from_labels(cloud, labels, params: GravityParams):
     lab[~cloud.valid] = -1
     nlab = int(lab.max()) + 1 if lab.size else 0
     if nlab <= 0:
-        return np.zeros((0, 3)), np.zeros(0), np.zeros(0)
+        return np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0)
     counts, cent, cov, _ = _moments(xyz, lab, nlab)
     ok = counts >= params.min_points
     if not ok.any():
-        return np.zeros((0, 3)), np.zeros(0), np.zeros(0)
+        return np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0)
     vals, vecs = np.linalg.eigh(cov[ok])
     vals = np.maximum(vals, 0.0)
     nrm = vecs[:, :, 0].copy()
@@ -393,16 +475,18 @@ def _planes_from_labels(cloud, labels, params: GravityParams):
     nrm[flip] *= -1
     area = 12.0 * np.sqrt(vals[:, 1] * vals[:, 2])
     offset = -np.einsum("ij,ij->i", nrm, cent[ok])
+    reach = np.linalg.norm(cent[ok], axis=1)
     flat = np.sqrt(vals[:, 0]) <= 0.25 * np.sqrt(vals[:, 1])
     keep = flat & (area >= params.min_area)
-    return nrm[keep], area[keep], offset[keep]
+    return nrm[keep], area[keep], offset[keep], reach[keep]
 
 
 def _grid_directions(cloud, params: GravityParams):
     """Dominant surface directions of an organized cloud without labels: ``(K, 3)`` oriented
-    unit normals, the area ``(K,)`` each covers and the part of it near enough to the camera to
-    be horizontal (see ``max_height``)."""
-    empty = np.zeros((0, 3)), np.zeros(0), np.zeros(0)
+    unit normals, the area ``(K,)`` each covers, the part of it near enough to the camera to
+    be horizontal (see ``max_height``) and the part of that within about ``max_height`` of the
+    camera (the upside-down reading's votes)."""
+    empty = np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0)
     xyz = cloud.xyz
     W = xyz.shape[1]
     step = max(1, W // 80)
@@ -429,6 +513,7 @@ def _grid_directions(cloud, params: GravityParams):
     flip = np.einsum("ij,ij->i", nrm, ctr) > 0
     nrm[flip] *= -1
     harea = area * _height_factor(-np.einsum("ij,ij->i", nrm, ctr), params)
+    narea = harea * _height_factor(depth[good], params)
     # greedy mode seeking: densest direction (5 deg), its members' mean, remove, repeat
     cos5 = math.cos(math.radians(5.0))
     out = []
@@ -446,12 +531,12 @@ def _grid_directions(cloud, params: GravityParams):
             m = (nrm[mem] * area[mem, None]).sum(axis=0)
             d = m / np.linalg.norm(m)
         mem = idx[(nrm[idx] @ d) >= cos5]
-        out.append((d, float(area[mem].sum()), float(harea[mem].sum())))
+        out.append((d, float(area[mem].sum()), float(harea[mem].sum()), float(narea[mem].sum())))
         left[mem] = False
     if not out:
         return empty
     return (np.array([o[0] for o in out]), np.array([o[1] for o in out]),
-            np.array([o[2] for o in out]))
+            np.array([o[2] for o in out]), np.array([o[3] for o in out]))
 
 
 def up_from_cloud(cloud, labels=None, params: GravityParams | None = None) -> UpEstimate:
@@ -471,10 +556,10 @@ def up_from_cloud(cloud, labels=None, params: GravityParams | None = None) -> Up
     """
     params = params or GravityParams()
     if labels is not None:
-        normals, weights, offsets = _planes_from_labels(cloud, labels, params)
-        return estimate_gravity(normals, weights, offsets, params)
-    normals, weights, hweights = _grid_directions(cloud, params)
-    return _estimate(normals, weights, hweights, params)
+        normals, weights, offsets, ranges = _planes_from_labels(cloud, labels, params)
+        return estimate_gravity(normals, weights, offsets, params, ranges)
+    normals, weights, hweights, near = _grid_directions(cloud, params)
+    return _estimate(normals, weights, hweights, params, near)
 
 
 def resolve_up(cloud, labels=None, up=None, params: GravityParams | None = None) -> UpEstimate:
