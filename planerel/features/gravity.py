@@ -32,6 +32,15 @@ Sign.  Up points to the side of the image's top (``up . (0, -1, 0) > 0``: the ca
 upside down) when that is well defined; when the camera looks (nearly) straight down it points
 to the sensor's side of the largest horizontal planes (the camera is above the floor).
 
+Upside down (``GravityParams.flip``).  A camera mounted upside down sees the floor and the tops
+of things on the image's top side, where an upright camera sees ceilings.  The same estimate is
+made for the frame turned by 180 degrees about the optical axis, from the near planes only
+(within about ``max_height`` of the camera: a stereo sensor's far planes are its least
+reliable), and turned back; it replaces the upright estimate when it points to the image's
+bottom and the camera is above at least ``flip_ratio`` times as much horizontal area under it
+as under the upright one, and at least ``flip_min_area`` (docs/gravity.md, "A camera held
+upside down").
+
 Confidence in [0, 1]: ``sqrt(explained) * separation * checked`` where ``explained`` is the
 fraction of the voting area consistent with the estimate; ``separation = min(1, 2 (1 - rival /
 best))`` with ``rival`` the best score of a candidate more than ``2 tol_deg`` (10 degrees) away
