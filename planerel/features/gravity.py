@@ -125,7 +125,8 @@ class GravityParams:
         The upside-down reading needs this many times the horizontal area seen from above (the
         camera over it) that the upright reading has.
     flip_min_area : float
-        ... and at least this many m^2 of it (near planes, see ``max_height``).
+        ... and at least this many m^2 of it (near planes, see ``max_height``); the default is
+        ``min_area``'s, a single voting plane's.
     """
 
     tol_deg: float = 5.0
@@ -140,7 +141,7 @@ class GravityParams:
     low_confidence: float = 0.5
     flip: bool = True
     flip_ratio: float = 2.0
-    flip_min_area: float = 0.02
+    flip_min_area: float = 0.01
 
     def __post_init__(self) -> None:
         checks = (("tol_deg", 0.5, 20.0), ("min_area", 0.0, 100.0), ("vertical_weight", 0.0, 1.0),
