@@ -37,7 +37,7 @@ def _turned(scene):
 @pytest.mark.parametrize("kind", ["box", "stairs", "ramp"])
 def test_upside_down_camera_true_and_segmented_planes(kind):
     errors = []
-    for pitch in (0, 30, 60, 75):
+    for pitch in (0, 30, 60, 80):
         for roll in (-20, 0, 20):
             s = posed_scene(kind, pitch, roll, seed=pitch * 7 + roll + 100, walls=1)
             cloud, lab, up = _turned(s)

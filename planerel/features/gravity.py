@@ -406,26 +406,39 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams) -> UpEstimate:
     The upside-down reading is the upright estimate of the frame turned by 180 degrees about
     the optical axis (so the pose prior reads the turned camera as it reads an upright one),
     turned back, from the planes near enough to be floors (``hw``: far planes, where a sensor's
-    range error is large, do not vote).  It replaces the upright reading only when it points
-    to the image's bottom and the camera is above at least ``flip_ratio`` times as much
-    horizontal area under it as under the upright one (and ``flip_min_area``): a camera sees
-    floors, tables and box tops from above; held upside down, it sees them on the image's top
-    side, where an upright camera would see ceilings.
+    range error is large, do not vote).  It replaces the upright reading only when
+
+    - it points to the image's bottom (the camera is upside down);
+    - its axis is the upright reading's (within ``2 tol_deg``: only the sign is in question),
+      or it explains the near planes better than the upright reading does, each judged by its
+      own pose prior (the upright reading of an upside-down camera looking steeply down is
+      "looking up", which the prior refuses, so it takes a wall for the floor);
+    - the camera is above at least ``flip_ratio`` times as much near horizontal area under it
+      as under the opposite sign and as under the upright reading (and ``flip_min_area``): a
+      camera sees floors, tables and box tops from above; held upside down, it sees them on
+      the image's top side, where an upright camera would see ceilings.
     """
     if upright.source != "estimated":
         return upright
     keep = hw > 0
     if not keep.any():
         return upright
-    turned = _upright(n[keep] * _TURN, hw[keep], hw[keep], params)
+    nk, wk = n[keep], hw[keep]
+    turned = _upright(nk * _TURN, wk, wk, params)
     if turned.source != "estimated":
         return upright
     c = np.array(turned.vector) * _TURN
-    if c[1] < math.sin(math.radians(12.0)):  # not upside down after all
+    if c[1] <= 0.0:  # not upside down after all
         return upright
+    u = np.array(upright.vector)
+    if abs(float(c @ u)) < math.cos(math.radians(2.0 * params.tol_deg)):
+        s_flip = float(_scores(_orient((c * _TURN)[None]), nk * _TURN, wk, wk, params)[0])
+        s_up = float(_scores(_orient(u[None]), nk, wk, wk, params)[0])
+        if s_flip <= s_up:
+            return upright
     above_flip = _seen_from_above(c, n, hw, params)
-    above_up = _seen_from_above(np.array(upright.vector), n, hw, params)
-    if above_flip < max(params.flip_min_area, params.flip_ratio * above_up):
+    rival = max(_seen_from_above(-c, n, hw, params), _seen_from_above(u, n, hw, params))
+    if above_flip < max(params.flip_min_area, params.flip_ratio * rival):
         return upright
     return UpEstimate(c, "estimated", turned.confidence, upright.n_planes, turned.low_confidence)
 
