@@ -60,7 +60,13 @@ def test_without_the_flip_the_turned_camera_is_read_upright():
     cloud, lab, up = _turned(s)
     est = up_from_cloud(cloud, lab, GravityParams(flip=False))
     assert _deg(est.vector, up) >= 178.0
-    assert _deg(up_from_cloud(cloud, lab).vector, up) <= 0.5
+    est = up_from_cloud(cloud, lab)
+    assert _deg(est.vector, up) <= 0.5
+    assert est.upside_down and est.to_dict()["upside_down"] is True
+    assert est.describe().endswith(", camera upside down")
+    upright = up_from_cloud(s.cloud, s.gt_labels)
+    assert not upright.upside_down and "upside_down" not in upright.to_dict()
+    assert "upside down" not in upright.describe()
 
 
 def test_without_labels_grid_normals():

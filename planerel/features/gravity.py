@@ -178,6 +178,8 @@ class UpEstimate:
         Planes that voted (estimates only).
     low_confidence : bool
         ``confidence`` below :attr:`GravityParams.low_confidence`.
+    upside_down : bool
+        The estimate is the upside-down reading (:attr:`GravityParams.flip`).
     """
 
     vector: np.ndarray
@@ -185,6 +187,7 @@ class UpEstimate:
     confidence: float
     n_planes: int = 0
     low_confidence: bool = False
+    upside_down: bool = False
 
     def __post_init__(self) -> None:
         if self.source not in SOURCES:
@@ -201,13 +204,16 @@ class UpEstimate:
         if self.source == "estimated":
             out["n_planes"] = self.n_planes
             out["low_confidence"] = self.low_confidence
+            if self.upside_down:
+                out["upside_down"] = True
         return out
 
     def describe(self) -> str:
         """``up [0.01, -0.62, -0.78] estimated, confidence 0.78`` (one line)."""
         vec = ", ".join(f"{x:.3f}" for x in self.vector)
         text = f"up [{vec}] {self.source}, confidence {self.confidence:.2f}"
-        return text + (" (low)" if self.low_confidence else "")
+        return (text + (" (low)" if self.low_confidence else "")
+                + (", camera upside down" if self.upside_down else ""))
 
 
 # ----------------------------------------------------------------------------- the estimate
@@ -440,7 +446,8 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams) -> UpEstimate:
     rival = max(_seen_from_above(-c, n, hw, params), _seen_from_above(u, n, hw, params))
     if above_flip < max(params.flip_min_area, params.flip_ratio * rival):
         return upright
-    return UpEstimate(c, "estimated", turned.confidence, upright.n_planes, turned.low_confidence)
+    return UpEstimate(c, "estimated", turned.confidence, upright.n_planes, turned.low_confidence,
+                      upside_down=True)
 
 
 def _upright(n, w, hw, params: GravityParams) -> UpEstimate:
