@@ -32,6 +32,15 @@ Sign.  Up points to the side of the image's top (``up . (0, -1, 0) > 0``: the ca
 upside down) when that is well defined; when the camera looks (nearly) straight down it points
 to the sensor's side of the largest horizontal planes (the camera is above the floor).
 
+Upside down (``GravityParams.flip``).  A camera mounted upside down sees the floor and the tops
+of things on the image's top side, where an upright camera sees ceilings.  The same estimate is
+made for the frame turned by 180 degrees about the optical axis, from the near planes only
+(within about ``max_height`` of the camera: a stereo sensor's far planes are its least
+reliable), and turned back; it replaces the upright estimate when it points to the image's
+bottom and the camera is above at least ``flip_ratio`` times as much horizontal area under it
+as under the upright one, and at least ``flip_min_area`` (docs/gravity.md, "A camera held
+upside down").
+
 Confidence in [0, 1]: ``sqrt(explained) * separation * checked`` where ``explained`` is the
 fraction of the voting area consistent with the estimate; ``separation = min(1, 2 (1 - rival /
 best))`` with ``rival`` the best score of a candidate more than ``2 tol_deg`` (10 degrees) away
@@ -108,6 +117,16 @@ class GravityParams:
         Two planes make a cross-product candidate when at least this far from parallel.
     low_confidence : float
         Estimates with a lower confidence are flagged.
+    flip : bool
+        Consider a camera held upside down (:func:`_flipped`): the estimate of the frame turned
+        by 180 degrees about the optical axis, from the near planes only, replaces the upright
+        one when it has the camera above clearly more horizontal area.
+    flip_ratio : float
+        The upside-down reading needs this many times the horizontal area seen from above (the
+        camera over it) that the upright reading has.
+    flip_min_area : float
+        ... and at least this many m^2 of it (near planes, see ``max_height``); the default is
+        ``min_area``'s, a single voting plane's.
     """
 
     tol_deg: float = 5.0
@@ -120,17 +139,23 @@ class GravityParams:
     max_height: float = 3.0
     min_pair_deg: float = 30.0
     low_confidence: float = 0.5
+    flip: bool = True
+    flip_ratio: float = 2.0
+    flip_min_area: float = 0.01
 
     def __post_init__(self) -> None:
         checks = (("tol_deg", 0.5, 20.0), ("min_area", 0.0, 100.0), ("vertical_weight", 0.0, 1.0),
                   ("max_roll_deg", 0.0, 90.0), ("max_up_pitch_deg", 0.0, 90.0),
                   ("max_height", 0.1, 1000.0), ("min_pair_deg", 5.0, 85.0),
-                  ("low_confidence", 0.0, 1.0))
+                  ("low_confidence", 0.0, 1.0), ("flip_ratio", 1.0, 1000.0),
+                  ("flip_min_area", 0.0, 100.0))
         for name, lo, hi in checks:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
                     or not lo <= v <= hi:
                 raise InputError(f"gravity {name} must be a number in [{lo}, {hi}], got {v!r}")
+        if not isinstance(self.flip, bool):
+            raise InputError(f"gravity flip must be true or false, got {self.flip!r}")
         for name in ("min_points", "max_planes"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 3:
@@ -153,6 +178,8 @@ class UpEstimate:
         Planes that voted (estimates only).
     low_confidence : bool
         ``confidence`` below :attr:`GravityParams.low_confidence`.
+    upside_down : bool
+        The estimate is the upside-down reading (:attr:`GravityParams.flip`).
     """
 
     vector: np.ndarray
@@ -160,6 +187,7 @@ class UpEstimate:
     confidence: float
     n_planes: int = 0
     low_confidence: bool = False
+    upside_down: bool = False
 
     def __post_init__(self) -> None:
         if self.source not in SOURCES:
@@ -176,13 +204,16 @@ class UpEstimate:
         if self.source == "estimated":
             out["n_planes"] = self.n_planes
             out["low_confidence"] = self.low_confidence
+            if self.upside_down:
+                out["upside_down"] = True
         return out
 
     def describe(self) -> str:
         """``up [0.01, -0.62, -0.78] estimated, confidence 0.78`` (one line)."""
         vec = ", ".join(f"{x:.3f}" for x in self.vector)
         text = f"up [{vec}] {self.source}, confidence {self.confidence:.2f}"
-        return text + (" (low)" if self.low_confidence else "")
+        return (text + (" (low)" if self.low_confidence else "")
+                + (", camera upside down" if self.upside_down else ""))
 
 
 # ----------------------------------------------------------------------------- the estimate
@@ -299,7 +330,8 @@ def _choose_sign(c: np.ndarray, normals, weights, params) -> np.ndarray:
     return c if c[2] <= 0 else -c
 
 
-def estimate_gravity(normals, weights, offsets=None, params: GravityParams | None = None) -> UpEstimate:
+def estimate_gravity(normals, weights, offsets=None, params: GravityParams | None = None,
+                     ranges=None) -> UpEstimate:
     """Estimate the up vector from oriented plane normals and their areas.
 
     Parameters
@@ -312,6 +344,10 @@ def estimate_gravity(normals, weights, offsets=None, params: GravityParams | Non
         Distance from the camera centre to each plane, metres (``normal . x + offset = 0``);
         planes farther than ``params.max_height`` count less as horizontal.  Default: all near.
     params : GravityParams, optional
+    ranges : array_like, shape (N,), optional
+        Distance from the camera to each plane's centroid, metres: only the planes within
+        about ``params.max_height`` (1-metre scale) vote for the upside-down reading
+        (``params.flip``).  Default: ``offsets``.
 
     Returns
     -------
@@ -328,18 +364,94 @@ def estimate_gravity(normals, weights, offsets=None, params: GravityParams | Non
     if d.shape[0] != n.shape[0]:
         raise InputError(f"estimate_gravity needs one offset per normal, got {n.shape[0]} normals "
                          f"and {d.shape[0]} offsets")
-    return _estimate(n, w, w * _height_factor(np.abs(d), params), params)
+    hw = w * _height_factor(np.abs(d), params)
+    if ranges is None:
+        near = hw
+    else:
+        r = np.asarray(ranges, dtype=np.float64).reshape(-1)
+        if r.shape[0] != n.shape[0]:
+            raise InputError(f"estimate_gravity needs one range per normal, got {n.shape[0]} "
+                             f"normals and {r.shape[0]} ranges")
+        near = hw * _height_factor(np.abs(r), params)
+    return _estimate(n, w, hw, params, near)
 
 
-def _estimate(n, w, hw, params: GravityParams) -> UpEstimate:
-    """:func:`estimate_gravity` with the horizontal weights ``hw`` given."""
+def _estimate(n, w, hw, params: GravityParams, near=None) -> UpEstimate:
+    """:func:`estimate_gravity` with the horizontal weights ``hw`` given; ``near`` (default
+    ``hw``) are the weights of the upside-down reading (:func:`_flipped`)."""
+    near = hw if near is None else near
     length = np.linalg.norm(n, axis=1)
     keep = np.isfinite(length) & (length > 0) & np.isfinite(w) & (w > 0) & np.isfinite(hw)
     n = n[keep] / length[keep, None]
     w = w[keep]
     hw = hw[keep]
+    near = np.where(np.isfinite(near[keep]), near[keep], 0.0)
     if n.shape[0] == 0:
         return UpEstimate(np.array(DEFAULT_UP), "default", 0.0, 0, True)
+    upright = _upright(n, w, hw, params)
+    if not params.flip:
+        return upright
+    return _flipped(upright, n, near, params)
+
+
+#: Turning the camera by 180 degrees about its optical axis negates x and y.
+_TURN = np.array([-1.0, -1.0, 1.0])
+
+
+def _seen_from_above(c: np.ndarray, n: np.ndarray, hw: np.ndarray, params: GravityParams) -> float:
+    """Area (``hw``) of the planes horizontal w.r.t. up ``c`` that the camera sees from above
+    (the normal, oriented to the sensor, along ``c``): floors, tables, tops."""
+    along = n @ c
+    h = np.degrees(np.arccos(np.clip(np.abs(along), 0.0, 1.0))) <= params.tol_deg
+    return float(hw[h & (along > 0)].sum())
+
+
+def _flipped(upright: UpEstimate, n, hw, params: GravityParams) -> UpEstimate:
+    """The upright estimate, or the upside-down one when the planes say so.
+
+    The upside-down reading is the upright estimate of the frame turned by 180 degrees about
+    the optical axis (so the pose prior reads the turned camera as it reads an upright one),
+    turned back, from the planes near enough to be floors (``hw``: far planes, where a sensor's
+    range error is large, do not vote).  It replaces the upright reading only when
+
+    - it points to the image's bottom (the camera is upside down);
+    - its axis is the upright reading's (within ``2 tol_deg``: only the sign is in question),
+      or it explains the near planes better than the upright reading does, each judged by its
+      own pose prior (the upright reading of an upside-down camera looking steeply down is
+      "looking up", which the prior refuses, so it takes a wall for the floor);
+    - the camera is above at least ``flip_ratio`` times as much near horizontal area under it
+      as under the opposite sign and as under the upright reading (and ``flip_min_area``): a
+      camera sees floors, tables and box tops from above; held upside down, it sees them on
+      the image's top side, where an upright camera would see ceilings.
+    """
+    if upright.source != "estimated":
+        return upright
+    keep = hw > 0
+    if not keep.any():
+        return upright
+    nk, wk = n[keep], hw[keep]
+    turned = _upright(nk * _TURN, wk, wk, params)
+    if turned.source != "estimated":
+        return upright
+    c = np.array(turned.vector) * _TURN
+    if c[1] <= 0.0:  # not upside down after all
+        return upright
+    u = np.array(upright.vector)
+    if abs(float(c @ u)) < math.cos(math.radians(2.0 * params.tol_deg)):
+        s_flip = float(_scores(_orient((c * _TURN)[None]), nk * _TURN, wk, wk, params)[0])
+        s_up = float(_scores(_orient(u[None]), nk, wk, wk, params)[0])
+        if s_flip <= s_up:
+            return upright
+    above_flip = _seen_from_above(c, n, hw, params)
+    rival = max(_seen_from_above(-c, n, hw, params), _seen_from_above(u, n, hw, params))
+    if above_flip < max(params.flip_min_area, params.flip_ratio * rival):
+        return upright
+    return UpEstimate(c, "estimated", turned.confidence, upright.n_planes, turned.low_confidence,
+                      upside_down=True)
+
+
+def _upright(n, w, hw, params: GravityParams) -> UpEstimate:
+    """The estimate for a camera that is not upside down (unit normals, positive weights)."""
     cands = _candidates(n, w, params)
     score = _scores(cands, n, w, hw, params)
     best = int(np.argmax(score))
@@ -372,8 +484,8 @@ def _estimate(n, w, hw, params: GravityParams) -> UpEstimate:
 
 
 def _planes_from_labels(cloud, labels, params: GravityParams):
-    """Oriented normals ``(K, 3)``, areas ``(K,)`` and offsets ``(K,)`` of the labelled regions
-    that may vote."""
+    """Oriented normals ``(K, 3)``, areas ``(K,)``, offsets ``(K,)`` and centroid ranges
+    ``(K,)`` of the labelled regions that may vote."""
     from planerel.features.labels import _moments, check_labels
 
     xyz = cloud.xyz
@@ -381,11 +493,11 @@ def _planes_from_labels(cloud, labels, params: GravityParams):
     lab[~cloud.valid] = -1
     nlab = int(lab.max()) + 1 if lab.size else 0
     if nlab <= 0:
-        return np.zeros((0, 3)), np.zeros(0), np.zeros(0)
+        return np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0)
     counts, cent, cov, _ = _moments(xyz, lab, nlab)
     ok = counts >= params.min_points
     if not ok.any():
-        return np.zeros((0, 3)), np.zeros(0), np.zeros(0)
+        return np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0)
     vals, vecs = np.linalg.eigh(cov[ok])
     vals = np.maximum(vals, 0.0)
     nrm = vecs[:, :, 0].copy()
@@ -393,16 +505,18 @@ def _planes_from_labels(cloud, labels, params: GravityParams):
     nrm[flip] *= -1
     area = 12.0 * np.sqrt(vals[:, 1] * vals[:, 2])
     offset = -np.einsum("ij,ij->i", nrm, cent[ok])
+    reach = np.linalg.norm(cent[ok], axis=1)
     flat = np.sqrt(vals[:, 0]) <= 0.25 * np.sqrt(vals[:, 1])
     keep = flat & (area >= params.min_area)
-    return nrm[keep], area[keep], offset[keep]
+    return nrm[keep], area[keep], offset[keep], reach[keep]
 
 
 def _grid_directions(cloud, params: GravityParams):
     """Dominant surface directions of an organized cloud without labels: ``(K, 3)`` oriented
-    unit normals, the area ``(K,)`` each covers and the part of it near enough to the camera to
-    be horizontal (see ``max_height``)."""
-    empty = np.zeros((0, 3)), np.zeros(0), np.zeros(0)
+    unit normals, the area ``(K,)`` each covers, the part of it near enough to the camera to
+    be horizontal (see ``max_height``) and the part of that within about ``max_height`` of the
+    camera (the upside-down reading's votes)."""
+    empty = np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0)
     xyz = cloud.xyz
     W = xyz.shape[1]
     step = max(1, W // 80)
@@ -429,6 +543,7 @@ def _grid_directions(cloud, params: GravityParams):
     flip = np.einsum("ij,ij->i", nrm, ctr) > 0
     nrm[flip] *= -1
     harea = area * _height_factor(-np.einsum("ij,ij->i", nrm, ctr), params)
+    narea = harea * _height_factor(depth[good], params)
     # greedy mode seeking: densest direction (5 deg), its members' mean, remove, repeat
     cos5 = math.cos(math.radians(5.0))
     out = []
@@ -446,12 +561,12 @@ def _grid_directions(cloud, params: GravityParams):
             m = (nrm[mem] * area[mem, None]).sum(axis=0)
             d = m / np.linalg.norm(m)
         mem = idx[(nrm[idx] @ d) >= cos5]
-        out.append((d, float(area[mem].sum()), float(harea[mem].sum())))
+        out.append((d, float(area[mem].sum()), float(harea[mem].sum()), float(narea[mem].sum())))
         left[mem] = False
     if not out:
         return empty
     return (np.array([o[0] for o in out]), np.array([o[1] for o in out]),
-            np.array([o[2] for o in out]))
+            np.array([o[2] for o in out]), np.array([o[3] for o in out]))
 
 
 def up_from_cloud(cloud, labels=None, params: GravityParams | None = None) -> UpEstimate:
@@ -471,10 +586,10 @@ def up_from_cloud(cloud, labels=None, params: GravityParams | None = None) -> Up
     """
     params = params or GravityParams()
     if labels is not None:
-        normals, weights, offsets = _planes_from_labels(cloud, labels, params)
-        return estimate_gravity(normals, weights, offsets, params)
-    normals, weights, hweights = _grid_directions(cloud, params)
-    return _estimate(normals, weights, hweights, params)
+        normals, weights, offsets, ranges = _planes_from_labels(cloud, labels, params)
+        return estimate_gravity(normals, weights, offsets, params, ranges)
+    normals, weights, hweights, near = _grid_directions(cloud, params)
+    return _estimate(normals, weights, hweights, params, near)
 
 
 def resolve_up(cloud, labels=None, up=None, params: GravityParams | None = None) -> UpEstimate:

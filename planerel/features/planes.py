@@ -229,6 +229,9 @@ class PlaneSet:
         The label image used (invalid cloud points set to -1), read-only.
     up_confidence : float
         Confidence of the up vector in [0, 1] (1 for a given or file vector).
+    up_upside_down : bool
+        The estimated up is the upside-down reading (:attr:`GravityParams.flip
+        <planerel.features.gravity.GravityParams>`).
     """
 
     planes: tuple
@@ -240,6 +243,7 @@ class PlaneSet:
     labels: np.ndarray | None = field(default=None, repr=False)
     params: PlaneParams = field(default_factory=PlaneParams, repr=False)
     up_confidence: float = 1.0
+    up_upside_down: bool = False
 
     @property
     def up_estimate(self) -> UpEstimate:
@@ -248,7 +252,8 @@ class PlaneSet:
 
         low = self.up_source in ("estimated", "default") and \
             self.up_confidence < GravityParams().low_confidence
-        return UpEstimate(self.up, self.up_source, self.up_confidence, 0, low)
+        return UpEstimate(self.up, self.up_source, self.up_confidence, 0, low,
+                          upside_down=self.up_upside_down)
 
     def __len__(self) -> int:
         return len(self.planes)
@@ -480,16 +485,17 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     lab[~cloud.valid] = -1
     gravity = resolve_up(cloud, lab, up, gravity_params)
     up_v, up_source, up_conf = np.array(gravity.vector), gravity.source, gravity.confidence
+    flipped = gravity.upside_down
     lab.setflags(write=False)
     nlab = label_max(lab) + 1
     if nlab == 0:
-        return PlaneSet((), up_v, up_source, None, 0.0, (), lab, params, up_conf)
+        return PlaneSet((), up_v, up_source, None, 0.0, (), lab, params, up_conf, flipped)
     counts, cent, cov, _ = _moments(xyz, lab, nlab)
     present = np.flatnonzero(counts > 0)
     ok = present[counts[present] >= params.min_points]
     skipped = tuple(int(i) for i in present[counts[present] < params.min_points])
     if ok.size == 0:
-        return PlaneSet((), up_v, up_source, None, 0.0, skipped, lab, params, up_conf)
+        return PlaneSet((), up_v, up_source, None, 0.0, skipped, lab, params, up_conf, flipped)
     _evals, evecs = np.linalg.eigh(cov[ok])
     normals = evecs[:, :, 0].copy()
     if params.fit == "disparity":
@@ -577,7 +583,8 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
         Plane(height=float(d["centroid"] @ up_v) - floor_level, is_floor=d["label"] == floor, **d)
         for d in pre
     )
-    return PlaneSet(planes, up_v, up_source, floor, floor_level, skipped, lab, params, up_conf)
+    return PlaneSet(planes, up_v, up_source, floor, floor_level, skipped, lab, params, up_conf,
+                    flipped)
 
 
 def _measured_noise(cloud):

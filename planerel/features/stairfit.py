@@ -702,7 +702,8 @@ def _remeasure_stepped_clusters(cloud, planes, plane_params=None, params=None):
         return planes, [], pixels
     lab, groups, normals = got
     again = measure_planes(cloud, lab, planes.up, plane_params, normals=normals)
-    again = replace(again, up_source=planes.up_source, up_confidence=planes.up_confidence)
+    again = replace(again, up_source=planes.up_source, up_confidence=planes.up_confidence,
+                    up_upside_down=planes.up_upside_down)
     known = {q.label for q in again}
     groups = [g & known for g in groups]
     return again, [g for g in groups if g], None

@@ -258,4 +258,5 @@ def remeasure_stepped(cloud, planes, rise=(0.08, 0.30), plane_params=None):
         return planes, {}
     lab, parent = got
     again = measure_planes(cloud, lab, planes.up, plane_params)
-    return replace(again, up_source=planes.up_source, up_confidence=planes.up_confidence), parent
+    return replace(again, up_source=planes.up_source, up_confidence=planes.up_confidence,
+                    up_upside_down=planes.up_upside_down), parent
