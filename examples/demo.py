@@ -60,10 +60,10 @@ PILES = 0
 #: each moved a decision gate's domain or the learned rules and cost a check (docs/objects.md,
 #: "Open-riser flights"); ``examples/demo.py --open N`` adds them.
 OPEN = 0
-#: Scenes of the training world's panel part (a ramp with one or two steep panels beside it,
-#: boards leaning 30-80 degrees, class other: :data:`planerel.synth.training_world.KINECT_PANELS`;
-#: 0: none): the ramp rule learns a ramp's slope from them (docs/objects.md, "Steep planes are
-#: no ramps").
+#: Scenes of the training world's panel part (a ramp with sofas and boards leaning 30-80 degrees
+#: beside it, class other: :data:`planerel.synth.training_world.KINECT_PANELS`; 0: none): the
+#: ramp rule learns a ramp's slope from them (docs/objects.md, "A flight's steps as a relation
+#: (`stair_step/2`); steep planes are no ramps").
 PANELS = 30
 #: Learner settings of the model: the score is coverage (positives - negatives), a rule must
 #: cover 8 objects and may take a few negatives, so that no narrow rule is kept for a handful
@@ -124,8 +124,8 @@ def main(argv=None) -> int:
                     help=f"scenes of the training world's open part (an open-riser flight among "
                          f"the room's clutter; default {OPEN})")
     ap.add_argument("--panels", type=int, default=PANELS, metavar="N",
-                    help=f"scenes of the training world's panel part (a ramp with steep panels "
-                         f"beside it, class other; default {PANELS})")
+                    help=f"scenes of the training world's panel part (a ramp with sofas and "
+                         f"steep panels beside it, class other; default {PANELS})")
     args = ap.parse_args(argv)
 
     from planerel.classify import Classifier, classify_dataset
@@ -141,18 +141,10 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     try:
         sd = seeds(args.seed)
-        if args.round_ < 0:
-            raise InputError(f"--round must be a non-negative integer, got {args.round_}")
-        if args.faces < 0:
-            raise InputError(f"--faces must be a non-negative integer, got {args.faces}")
-        if args.flat < 0:
-            raise InputError(f"--flat must be a non-negative integer, got {args.flat}")
-        if args.piles < 0:
-            raise InputError(f"--piles must be a non-negative integer, got {args.piles}")
-        if args.open_ < 0:
-            raise InputError(f"--open must be a non-negative integer, got {args.open_}")
-        if args.panels < 0:
-            raise InputError(f"--panels must be a non-negative integer, got {args.panels}")
+        for flag, n in (("round", args.round_), ("faces", args.faces), ("flat", args.flat),
+                        ("piles", args.piles), ("open", args.open_), ("panels", args.panels)):
+            if n < 0:
+                raise InputError(f"--{flag} must be a non-negative integer, got {n}")
         train = generate_dataset(out / "data" / "train", n_box=12, n_stairs=15, n_ramp=18,
                                  seed=sd["train"], size=(640, 480), subsample=4)
         held = generate_dataset(out / "data" / "heldout", n_box=12, n_stairs=15, n_ramp=18,
@@ -177,7 +169,8 @@ def main(argv=None) -> int:
               + (f", {args.piles} pile scenes: touching cartons of two heights"
                  if args.piles else "")
               + (f", {args.open_} open scenes: an open-riser flight" if args.open_ else "")
-              + (f", {args.panels} panel scenes: a ramp beside steep panels" if args.panels else "")
+              + (f", {args.panels} panel scenes: a ramp beside sofas and steep panels"
+                 if args.panels else "")
               + ")")
         descs, _ = describe_scenes(train, jobs=args.jobs, progress=False)
         classes = ["box", "stairs", "ramp"]

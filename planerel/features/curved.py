@@ -372,11 +372,13 @@ def _group_points(comp, byl, labels, xyz) -> np.ndarray:
     return pts[np.isfinite(pts).all(axis=1)]
 
 
-def _facet_groups(planes, links, params: CurvedParams, surface=None) -> set:
+def _facet_groups(planes, links, params: CurvedParams, surface=None, bends=None) -> set:
     """Planes of the groups that ``links`` (pairs of labels) join with at least
     ``facet_min_planes`` distinct normal directions, and, with ``surface`` = ``(labels,
     xyz)`` and ``params.flat_bend`` > 0, whose points turn by at least ``flat_bend``
-    (:func:`surface_bend`)."""
+    (:func:`surface_bend`; ``bends``, ``{frozenset of labels: bend}``, keeps each group's
+    measure for a later call on the same planes)."""
+    bends = {} if bends is None else bends
     byl = {p.label: p for p in planes}
     if params.facet_max_width > 0:
         # a plane this wide, and much wider than every plane it links to, is a flat face (a
@@ -408,8 +410,10 @@ def _facet_groups(planes, links, params: CurvedParams, surface=None) -> set:
             # scatter, but the surface as a whole does not turn; a piece as wide as a face
             # is tilted by no bump (a Kinect frame's furniture: faces 0.18-0.21 m wide
             # 6 degrees apart, a crease a quadric hardly bends over)
-            pts = _group_points(comp, byl, *surface)
-            if surface_bend(pts) < params.flat_bend:
+            key = frozenset(comp)
+            if key not in bends:
+                bends[key] = surface_bend(_group_points(comp, byl, *surface))
+            if bends[key] < params.flat_bend:
                 continue
         out.update(comp)
     return out
@@ -519,7 +523,8 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
         xyz = np.asarray(cloud.xyz, float)
         if xyz.ndim == 3 and np.shape(labels) == xyz.shape[:2]:
             surface = (np.asarray(labels), xyz)
-    out = _facet_groups(planes, links, params, surface)
+    bends: dict = {}  # each group's surface_bend, for the second call below
+    out = _facet_groups(planes, links, params, surface, bends)
     if proposals is None or not out:
         return out
     byl = {p.label: p for p in planes}
@@ -536,7 +541,7 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
             or (soft[owner[a]] and soft[owner[b]])]
     if len(kept) == len(links):
         return out
-    return _facet_groups(planes, kept, params, surface)
+    return _facet_groups(planes, kept, params, surface, bends)
 
 
 def _pitch(xyz, axis: int) -> float:
@@ -1015,8 +1020,7 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
     props = [tuple(sorted(int(x) for x in g)) for g in proposals]
     flat = skirt_faces(planes, relations, cloud, profiles=profiles) if params.skirt_faces else ()
     facets = facet_planes(planes, relations, [p.label for p in planes if p.label not in support],
-                          params, props, flat, cloud,
-                          labels if labels is not None else getattr(planes, "labels", None))
+                          params, props, flat, cloud, labels)
     if params.join_facets and facets and len(props) > 1:
         props = _join_facet_proposals(props, facets, byl, relations, params)
     masks: list = [None] * len(props)

@@ -54,7 +54,7 @@ confidence (``PlaneSet.up_confidence``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -254,6 +254,12 @@ class PlaneSet:
             self.up_confidence < GravityParams().low_confidence
         return UpEstimate(self.up, self.up_source, self.up_confidence, 0, low,
                           upside_down=self.up_upside_down)
+
+    def with_up_of(self, other: PlaneSet) -> PlaneSet:
+        """These planes with ``other``'s gravity reading (source, confidence, upside down):
+        planes measured again along ``other.up`` (:mod:`planerel.features.stepped`)."""
+        return replace(self, up_source=other.up_source, up_confidence=other.up_confidence,
+                       up_upside_down=other.up_upside_down)
 
     def __len__(self) -> int:
         return len(self.planes)

@@ -67,7 +67,7 @@ those of a segmented one.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -702,8 +702,7 @@ def _remeasure_stepped_clusters(cloud, planes, plane_params=None, params=None):
         return planes, [], pixels
     lab, groups, normals = got
     again = measure_planes(cloud, lab, planes.up, plane_params, normals=normals)
-    again = replace(again, up_source=planes.up_source, up_confidence=planes.up_confidence,
-                    up_upside_down=planes.up_upside_down)
+    again = again.with_up_of(planes)
     known = {q.label for q in again}
     groups = [g & known for g in groups]
     return again, [g for g in groups if g], None

@@ -11,8 +11,6 @@ points' heights; :func:`split_stepped` gives each level a label of its own.
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 
 from planerel.features.planes import label_max
@@ -258,5 +256,4 @@ def remeasure_stepped(cloud, planes, rise=(0.08, 0.30), plane_params=None):
         return planes, {}
     lab, parent = got
     again = measure_planes(cloud, lab, planes.up, plane_params)
-    return replace(again, up_source=planes.up_source, up_confidence=planes.up_confidence,
-                    up_upside_down=planes.up_upside_down), parent
+    return again.with_up_of(planes), parent

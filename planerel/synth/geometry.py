@@ -575,8 +575,8 @@ def sofa_geometry(width: float, depth: float, seat_height: float, back_height: f
     """A sofa (or an armchair, when narrow): a ``face`` under the seat (local +x), the
     ``seat`` sloping ``seat_tilt_deg`` down towards the back, the ``back`` rest leaning
     ``back_deg`` from horizontal, two arms (``side`` faces outside and in, a front ``face``,
-    a ``top``) and a vertical rear ``face``.  The back is a large inclined plane next to level and vertical
-    ones: too steep to walk on, no ramp."""
+    a ``top``) and a vertical rear ``face``.  The back is a large inclined plane next to level
+    and vertical ones: too steep to walk on, no ramp."""
     w, d, sh, bh = (_positive(n, v) for n, v in (("sofa width", width), ("sofa depth", depth),
                                                  ("sofa seat height", seat_height),
                                                  ("sofa back height", back_height)))

@@ -94,11 +94,12 @@ KINECT_OPEN = {**KINECT_ROOM,
                "open_share": 1.0}
 
 #: Ranges of the panel part (:func:`generate_training_world`'s ``panels``): the room's ramp
-#: scenes with one or two panels beside the ramp (boards 0.8-2 m long leaning 30-80 degrees
-#: from the floor, class ``other``: :attr:`planerel.synth.world.WorldRange.panel_share`).  A
-#: large inclined plane too steep to walk on is no ramp: real rooms' far upholstered furniture
-#: measured 27-75 degrees and was ``ramp`` by "an inclined plane of 0.4 m^2 or more"
-#: (docs/objects.md, "Steep planes are no ramps").
+#: scenes with two or three more objects, every clutter one a sofa or a panel (a board 0.8-2 m
+#: long leaning 30-80 degrees from the floor), class ``other``
+#: (:attr:`planerel.synth.world.WorldRange.panel_share`).  A large inclined plane too steep to
+#: walk on is no ramp: real rooms' far upholstered furniture measured 27-75 degrees and was
+#: ``ramp`` by "an inclined plane of 0.4 m^2 or more" (docs/objects.md, "A flight's steps as a
+#: relation (`stair_step/2`); steep planes are no ramps").
 KINECT_PANELS = {**KINECT_ROOM,
                  "extra_objects": (2, 3),
                  "panel_share": 1.0}
@@ -148,7 +149,7 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         clutter: :data:`KINECT_OPEN`), after the pile part, seeds ``scene_seed(seed + 5, i)``
         (riser26).
     panels : int
-        Scenes of the panel part (a ramp, the scene's class, with one or two steep panels of
+        Scenes of the panel part (a ramp, the scene's class, with sofas and steep panels of
         class ``other`` beside it: :data:`KINECT_PANELS`), last, seeds
         ``scene_seed(seed + 7, i)``.
 
@@ -183,18 +184,10 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             raise InputError(f"{name} counts must be three non-negative integers (box, stairs, "
                              f"ramp), got {part!r}")
         counts[name] = dict(zip(CLASSES, n, strict=True))
-    if isinstance(round_, bool) or not isinstance(round_, int) or round_ < 0:
-        raise InputError(f"round scene count must be a non-negative integer, got {round_!r}")
-    if isinstance(faces, bool) or not isinstance(faces, int) or faces < 0:
-        raise InputError(f"face scene count must be a non-negative integer, got {faces!r}")
-    if isinstance(flat, bool) or not isinstance(flat, int) or flat < 0:
-        raise InputError(f"flat scene count must be a non-negative integer, got {flat!r}")
-    if isinstance(piles, bool) or not isinstance(piles, int) or piles < 0:
-        raise InputError(f"pile scene count must be a non-negative integer, got {piles!r}")
-    if isinstance(open_, bool) or not isinstance(open_, int) or open_ < 0:
-        raise InputError(f"open scene count must be a non-negative integer, got {open_!r}")
-    if isinstance(panels, bool) or not isinstance(panels, int) or panels < 0:
-        raise InputError(f"panel scene count must be a non-negative integer, got {panels!r}")
+    for what, n in (("round", round_), ("face", faces), ("flat", flat), ("pile", piles),
+                    ("open", open_), ("panel", panels)):
+        if isinstance(n, bool) or not isinstance(n, int) or n < 0:
+            raise InputError(f"{what} scene count must be a non-negative integer, got {n!r}")
     if not (sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces + flat
             + piles + open_ + panels):
         raise InputError("a data set needs at least one scene (all counts are 0)")
@@ -209,9 +202,10 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             + [("round", "box")] * round_ + [("faces", "box")] * faces
             + [("piles", "box")] * piles + [("open", "stairs")] * open_
             + [("panels", "ramp")] * panels)
-    face_ranges = WorldRange(**KINECT_FACES)
-    open_ranges = WorldRange(**KINECT_OPEN)
-    panel_ranges = WorldRange(**KINECT_PANELS)
+    # the parts that are varied-world scenes: (seed offset, ranges)
+    world_parts = {"room": (1, ranges), "faces": (3, WorldRange(**KINECT_FACES)),
+                   "open": (5, WorldRange(**KINECT_OPEN)),
+                   "panels": (7, WorldRange(**KINECT_PANELS))}
     rows = []
     nth: dict = {}  # scenes of each part so far: the part's scene index (its seed)
     with atomic_dir(Path(out_dir), markers=("manifest.csv", "dataset.json")) as tmp:
@@ -221,29 +215,20 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             if part == "paper":
                 scene = generate_scene(kind, scene_seed(seed, i), size, subsample, scene_id=sid,
                                        sensor=paper_sensor)
-            elif part == "faces":
-                scene = generate_world_scene(kind, scene_seed(seed + 3, j), size, subsample,
-                                             scene_id=sid, sensor=room_sensor, ranges=face_ranges)
-            elif part == "open":
-                scene = generate_world_scene(kind, scene_seed(seed + 5, j), size, subsample,
-                                             scene_id=sid, sensor=room_sensor, ranges=open_ranges)
-            elif part == "panels":
-                scene = generate_world_scene(kind, scene_seed(seed + 7, j), size, subsample,
-                                             scene_id=sid, sensor=room_sensor, ranges=panel_ranges)
+            elif part in world_parts:
+                offset, part_ranges = world_parts[part]
+                scene = generate_world_scene(kind, scene_seed(seed + offset, j), size, subsample,
+                                             scene_id=sid, sensor=room_sensor, ranges=part_ranges)
             elif part == "flat":
                 scene = generate_flat_scene(scene_seed(seed + 4, j), size, subsample,
                                             scene_id=sid, sensor=room_sensor)
             elif part == "piles":
                 scene = generate_pile_scene(scene_seed(seed + 6, j), size, subsample,
                                             scene_id=sid, sensor=room_sensor)
-            elif part == "round":
+            else:  # round
                 scene = generate_round_scene(scene_seed(seed + 2, j), size,
                                              max(1, subsample // 2), scene_id=sid,
                                              sensor=room_sensor)
-            else:
-                scene = generate_world_scene(kind, scene_seed(seed + 1, j), size,
-                                             subsample, scene_id=sid, sensor=room_sensor,
-                                             ranges=ranges)
             rows.append(write_scene(tmp, scene))
         write_manifest(tmp, rows)
         write_dataset_info(tmp, {

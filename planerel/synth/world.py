@@ -108,8 +108,8 @@ class WorldRange:
         1.2-2.4 m wide has its back (0.5-0.8 m with its cushions) leaning 60-78 degrees over a
         level seat between its arms.  Large and inclined like a ramp, but too
         steep to walk on: negatives that teach the ramp rules a ramp's slope (real rooms'
-        far upholstered furniture measured 27-75 degrees, docs/objects.md "Steep planes are
-        no ramps").
+        far upholstered furniture measured 27-75 degrees, docs/objects.md "A flight's steps as
+        a relation (`stair_step/2`); steep planes are no ramps").
     steps : (int, int)
         Number of steps (risers).
     rise, run, stairs_width : (float, float)
