@@ -151,8 +151,11 @@ def test_a_table_filling_a_close_view_is_the_ground():
     polys, normals, up = _world_quads(quads, 1.45, 50.0)
     cloud, poly = _cloud(polys, normals)
     lab = _labels(poly, cloud)
+    # the bent far piece is inclined: its low end does not set the scene's lowest point, so
+    # the table is the floor by the lowest-point rule already (before 2026-11-30 evening only
+    # the ground rule, ``ground_area``, made it so)
     old = measure_planes(cloud, lab, up=up, params=PlaneParams(ground_area=0))
-    assert old.floor is None
+    assert old.floor == _on(old, poly, 0).label
     ps = measure_planes(cloud, lab, up=up)
     table = _on(ps, poly, 0)
     assert ps.floor == table.label and table.is_floor and table.height == 0.0

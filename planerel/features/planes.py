@@ -33,7 +33,10 @@ camera's x axis for horizontal planes) and hulled with shapely; collinear sets g
 (area 0, width 0) and a single point gives zeros, never an error.
 
 Floor.  The *floor* is the largest horizontal plane of at least ``floor_min_area`` m^2 whose
-centroid lies within ``floor_tol`` metres of the lowest hull point of the scene (along up).
+lowest hull point lies within ``floor_tol`` metres of the lowest hull point of the scene's
+horizontal and vertical planes (along up; an inclined plane's low end may be a far surface the
+sensor bends below the floor, and a floor measured a degree or two off level reaches below its
+own centroid).
 When no horizontal plane qualifies, a plane whose tilt the sensor cannot tell from level at its
 range may be the floor (:func:`_sensor_floor`, ``floor_noise_sigmas``): the largest plane of
 at least ``floor_min_area`` m^2, facing up with the camera above it, inclined by at most
@@ -96,7 +99,8 @@ class PlaneParams:
     hull_simplify : float
         Tolerance in metres for simplifying the hull written as ``hull3d`` (0 = none).
     floor_tol : float
-        A floor's centroid lies within this many metres of the lowest hull point.
+        A floor's lowest hull point lies within this many metres of the scene's lowest (of
+        its horizontal and vertical planes).
     floor_min_area : float
         Smallest floor area, m^2.
     floor_noise_sigmas : float
@@ -567,11 +571,17 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
                         incline=incline, orientation=orient, distance=float(np.linalg.norm(c)),
                         bbox=bbox))
 
-    lowest = min(float((d["hull3d"] @ up_v).min()) for d in pre)
+    # the scene's lowest point, of its level and vertical planes (a wall's, a box's foot on
+    # the floor): an inclined plane's low end may be the sensor's bend of far surfaces
+    # (RealSense frames of rooms: pieces 5-8 m away reaching 0.2-0.4 m below the floor)
+    lowest = min(float((d["hull3d"] @ up_v).min())
+                 for d in ([d for d in pre if d["orientation"] != "inclined"] or pre))
     floor = None
     best_area = -1.0
     for d in pre:
-        level = float(d["centroid"] @ up_v)
+        # its own lowest point: a floor measured 2 degrees off level over 2 m has its
+        # centroid 3.5 cm above it
+        level = float((d["hull3d"] @ up_v).min())
         if (d["orientation"] == "horizontal" and level <= lowest + params.floor_tol
                 and d["area"] >= params.floor_min_area and d["area"] > best_area):
             floor, best_area = d["label"], d["area"]
