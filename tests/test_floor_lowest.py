@@ -63,6 +63,17 @@ def test_a_near_floor_a_degree_off_level_is_the_floor_despite_a_bent_far_piece()
     assert ps.floor == 0 and near.is_floor and abs(near.height) < 1e-9
 
 
+def test_a_gentle_ramp_larger_than_the_floor_in_view_is_no_floor():
+    """A 4.5-degree ramp is ``horizontal`` by the tolerance and reaches the floor with its low
+    end, but its middle is 0.1 m up: the floor (smaller in view) is the floor."""
+    rise = 2.5 * math.tan(math.radians(4.5))
+    ramp = np.array([[-1.5, H, 3.0], [1.5, H, 3.0], [1.5, H - rise, 5.5], [-1.5, H - rise, 5.5]])
+    cloud, lab = _scene(_floor(2.6, 3.0, 0.0), ramp)
+    ps = measure_planes(cloud, lab, up=UP)
+    assert ps.by_label(1).orientation == "horizontal" and ps.by_label(1).area > ps.by_label(0).area
+    assert ps.floor == 0
+
+
 def test_a_level_floor_and_a_table_top_the_floor_is_the_floor():
     """The rule's purpose is kept: a table top (0.75 m up, larger in view) is no floor when the
     floor is in view, and a wall standing on the floor sets the lowest point."""

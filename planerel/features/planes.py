@@ -36,7 +36,9 @@ Floor.  The *floor* is the largest horizontal plane of at least ``floor_min_area
 lowest hull point lies within ``floor_tol`` metres of the lowest hull point of the scene's
 horizontal and vertical planes (along up; an inclined plane's low end may be a far surface the
 sensor bends below the floor, and a floor measured a degree or two off level reaches below its
-own centroid).
+own centroid), and whose centroid lies within ``floor_tol`` of the lowest centroid of such
+planes (a ramp of 4.5 degrees, level within ``horizontal_tol``, reaches the floor only with
+its low end).
 When no horizontal plane qualifies, a plane whose tilt the sensor cannot tell from level at its
 range may be the floor (:func:`_sensor_floor`, ``floor_noise_sigmas``): the largest plane of
 at least ``floor_min_area`` m^2, facing up with the camera above it, inclined by at most
@@ -576,15 +578,18 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     # (RealSense frames of rooms: pieces 5-8 m away reaching 0.2-0.4 m below the floor)
     lowest = min(float((d["hull3d"] @ up_v).min())
                  for d in ([d for d in pre if d["orientation"] != "inclined"] or pre))
+    # candidates reach the lowest point with their own lowest point (a floor measured 2
+    # degrees off level over 2 m has its centroid 3.5 cm above it); of those, the ones whose
+    # centroids are lowest (a ramp of 4.5 degrees, level by the tolerance, reaches the floor
+    # with its low end but its middle is 8 cm up), the largest
+    cands = [d for d in pre if d["orientation"] == "horizontal"
+             and d["area"] >= params.floor_min_area
+             and float((d["hull3d"] @ up_v).min()) <= lowest + params.floor_tol]
     floor = None
-    best_area = -1.0
-    for d in pre:
-        # its own lowest point: a floor measured 2 degrees off level over 2 m has its
-        # centroid 3.5 cm above it
-        level = float((d["hull3d"] @ up_v).min())
-        if (d["orientation"] == "horizontal" and level <= lowest + params.floor_tol
-                and d["area"] >= params.floor_min_area and d["area"] > best_area):
-            floor, best_area = d["label"], d["area"]
+    if cands:
+        base = min(float(d["centroid"] @ up_v) for d in cands)
+        floor = max((d for d in cands if float(d["centroid"] @ up_v) <= base + params.floor_tol),
+                    key=lambda d: d["area"])["label"]
     if floor is None and params.floor_noise_sigmas > 0:
         floor = _sensor_floor(cloud, pre, up_v, params)
         if floor is not None:
