@@ -339,9 +339,11 @@ def test_a_pallet_of_cartons_is_no_staircase(demo_model):
     palletizer``, MuhammadUsamaSattar/smart_palletizer), its tops at three heights (0.36,
     0.46, 0.56 m over the floor).  The demo's stairs rules prove the pile and a machine's
     faces; the flight gate (``decision.flight_gate``) refuses them: the pile's steps are
-    0.10 and 0.20 m on runs that do not grow with them, the machine's none.  The pile of the
-    first capture is ``box``; in the second it is one proposal with the machine (43 % of its
-    pixels in the pile: a false box).  With the gate off, two stairs answers are back (three
+    0.10 and 0.20 m on runs that do not grow with them, the machine's none.  The pile of
+    both captures is ``box`` (in the second it was one proposal with the machine, a false
+    box, until the floor rule of 2026-11-30 evening took the near floor instead of a piece of
+    it 7 cm higher: docs/gravity.md "The floor's level"); the first capture keeps one false
+    box (a carton by ``lying/1``, 45 % in the pile).  With the gate off, two stairs answers are back (three
     before the stairs rule was learned on ``stair_step/2``: the pile's 0.10 m step one stair
     rise above and one run beyond the next carton; docs/objects.md, "Carton piles and false
     answers on unseen frames", "A flight's steps as a relation")."""
@@ -355,7 +357,7 @@ def test_a_pallet_of_cartons_is_no_staircase(demo_model):
     from real_unseen import run, totals
 
     t = totals(run([str(s) for s in sets], str(demo_model)))
-    assert (t["box_found"], t["box_labelled"], t["false_stairs"], t["false_box"]) == (1, 2, 0, 2)
+    assert (t["box_found"], t["box_labelled"], t["false_stairs"], t["false_box"]) == (2, 2, 0, 1)
     off = totals(run([str(s) for s in sets], str(demo_model), ["decision.flight_gate=false"]))
     assert (off["box_found"], off["false_stairs"]) == (0, 2)
 
