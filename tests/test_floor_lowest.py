@@ -96,3 +96,31 @@ def test_a_table_top_over_a_wall_reaching_lower_is_no_floor():
     cloud, lab = _scene(table, wall)
     ps = measure_planes(cloud, lab, up=UP)
     assert ps.floor is None
+
+
+def test_a_far_wall_the_sensor_bends_below_the_floor_is_only_as_low_as_its_noise():
+    """A structured-light sensor (sigma growing as z^2: 7 cm at 7 m) sees a wall 7 m away
+    reaching 12 cm below the floor's level (where nothing in front hides its foot): a plane's
+    low point counts only as low as the sensor is sure of (raised by ``floor_noise_sigmas``
+    sigma at its far depth), so the floor 2.6-4.3 m away is still the floor (hunt28's dining
+    rooms: Kinect walls 6.5-7.6 m away 10-18 cm below the floor).  With ``floor_noise_sigmas``
+    0 (no allowance) it is not."""
+    from planerel.features.planes import PlaneParams
+    from planerel.synth.generator import cos_incidence
+    from planerel.synth.sensor import StructuredLight
+
+    sensor = StructuredLight(max_range=8.0, shadows=False)
+    floor = _floor(2.6, 4.3, 0.0)
+    wall = np.array([[-3.0, -1.0, 7.0], [3.0, -1.0, 7.0], [3.0, H + 0.12, 7.0],
+                     [-3.0, H + 0.12, 7.0]])
+    depth, poly = raycast([floor, wall], INTR)
+    normals = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, -1.0]])
+    units, _ = sensor.apply(depth, cos_incidence(normals, poly, INTR), INTR,
+                            np.random.default_rng(5), poly)
+    cloud = depth_to_cloud(units, INTR, 1.0 / sensor.depth_unit, source="far wall")
+    lab = np.where((poly >= 0) & np.isfinite(cloud.xyz[..., 2]), poly, -1).astype(np.int32)
+    ps = measure_planes(cloud, lab, up=UP)
+    assert ps.by_label(1).orientation == "vertical"
+    assert ps.floor == 0
+    strict = measure_planes(cloud, lab, up=UP, params=PlaneParams(floor_noise_sigmas=0))
+    assert strict.floor is None

@@ -38,7 +38,9 @@ horizontal and vertical planes (along up; an inclined plane's low end may be a f
 sensor bends below the floor, and a floor measured a degree or two off level reaches below its
 own centroid), and whose centroid lies within ``floor_tol`` of the lowest centroid of such
 planes (a ramp of 4.5 degrees, level within ``horizontal_tol``, reaches the floor only with
-its low end).
+its low end).  On a cloud with measured depth noise each plane's low point counts only as
+low as the sensor is sure of: raised by ``floor_noise_sigmas`` times ``sigma(z)`` at its
+farthest hull depth (a far wall the sensor bends below the floor).
 When no horizontal plane qualifies, a plane whose tilt the sensor cannot tell from level at its
 range may be the floor (:func:`_sensor_floor`, ``floor_noise_sigmas``): the largest plane of
 at least ``floor_min_area`` m^2, facing up with the camera above it, inclined by at most
@@ -109,6 +111,8 @@ class PlaneParams:
         When no horizontal plane is the floor, a plane inclined by at most ``horizontal_tol``
         plus the tilt that this many depth-noise sigmas across its width make may be (see
         the module docstring; default 2: one sigma at each edge, opposite signs; 0 = never).
+        Also: a plane's lowest point counts, for the floor rule, as this many sigmas higher
+        than measured (at its farthest depth; 0 = as measured).
     tilt_noise_sigmas : float
         A plane that the camera sees from below (a ceiling) within ``horizontal_tol`` plus an
         allowance of level is ``horizontal``, and any plane within ``vertical_tol`` plus an
@@ -576,15 +580,23 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     # the scene's lowest point, of its level and vertical planes (a wall's, a box's foot on
     # the floor): an inclined plane's low end may be the sensor's bend of far surfaces
     # (RealSense frames of rooms: pieces 5-8 m away reaching 0.2-0.4 m below the floor)
-    lowest = min(float((d["hull3d"] @ up_v).min())
-                 for d in ([d for d in pre if d["orientation"] != "inclined"] or pre))
+    flat = [d for d in pre if d["orientation"] != "inclined"] or pre
+    lowest = min(float((d["hull3d"] @ up_v).min()) for d in flat)
+    # ... and each plane's low point only as low as the sensor is sure of: raised by
+    # ``floor_noise_sigmas`` sigma(z) at its farthest depth (a Kinect's far wall 7.4 m away,
+    # sigma 4 cm, reached 10-18 cm below a dining room's floor); 0 on a noise-free cloud
+    noise = _measured_noise(cloud) if params.floor_noise_sigmas > 0 else None
+    sure = lowest if noise is None else min(
+        float((d["hull3d"] @ up_v).min())
+        + params.floor_noise_sigmas * float(noise.sigma(float(np.max(d["hull3d"][:, 2]))))
+        for d in flat)
     # candidates reach the lowest point with their own lowest point (a floor measured 2
     # degrees off level over 2 m has its centroid 3.5 cm above it); of those, the ones whose
     # centroids are lowest (a ramp of 4.5 degrees, level by the tolerance, reaches the floor
     # with its low end but its middle is 8 cm up), the largest
     cands = [d for d in pre if d["orientation"] == "horizontal"
              and d["area"] >= params.floor_min_area
-             and float((d["hull3d"] @ up_v).min()) <= lowest + params.floor_tol]
+             and float((d["hull3d"] @ up_v).min()) <= sure + params.floor_tol]
     floor = None
     if cands:
         base = min(float(d["centroid"] @ up_v) for d in cands)
