@@ -585,7 +585,8 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     # ... and each plane's low point only as low as the sensor is sure of: raised by
     # ``floor_noise_sigmas`` sigma(z) at its farthest depth (a Kinect's far wall 7.4 m away,
     # sigma 4 cm, reached 10-18 cm below a dining room's floor); 0 on a noise-free cloud
-    noise = _measured_noise(cloud) if params.floor_noise_sigmas > 0 else None
+    noise_of = _NoiseOnce(cloud)
+    noise = noise_of() if params.floor_noise_sigmas > 0 else None
     sure = lowest if noise is None else min(
         float((d["hull3d"] @ up_v).min())
         + params.floor_noise_sigmas * float(noise.sigma(float(np.max(d["hull3d"][:, 2]))))
@@ -603,13 +604,13 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
         floor = max((d for d in cands if float(d["centroid"] @ up_v) <= base + params.floor_tol),
                     key=lambda d: d["area"])["label"]
     if floor is None and params.floor_noise_sigmas > 0:
-        floor = _sensor_floor(cloud, pre, up_v, params)
+        floor = _sensor_floor(noise_of, pre, up_v, params)
         if floor is not None:
             next(d for d in pre if d["label"] == floor)["orientation"] = "horizontal"
     if floor is None and params.ground_area > 0:
         floor = _ground_floor(pre, up_v, params)
     if params.tilt_noise_sigmas > 0:
-        _sensor_tilt(cloud, pre, up_v, params)
+        _sensor_tilt(noise_of, pre, up_v, params)
     floor_level = float(next(d for d in pre if d["label"] == floor)["centroid"] @ up_v) \
         if floor is not None else lowest
     planes = tuple(
@@ -631,6 +632,19 @@ def _measured_noise(cloud):
     return noise if noise.reliable and noise.kind != "none" else None
 
 
+class _NoiseOnce:
+    """:func:`_measured_noise` of ``cloud``, measured on the first call only (the floor rule
+    and the sensor allowances of one :func:`measure_planes` call share it)."""
+
+    def __init__(self, cloud):
+        self.cloud, self.done, self.noise = cloud, False, None
+
+    def __call__(self):
+        if not self.done:
+            self.noise, self.done = _measured_noise(self.cloud), True
+        return self.noise
+
+
 def _noise_tilt(noise, d, sigmas: float, cap: float) -> float:
     """Degrees a plane ``d`` (its ``hull3d``, ``width``) may measure off its orientation for
     the sensor's noise: ``atan(sigmas * sigma(z) / width)`` at its farthest hull depth ``z``,
@@ -646,7 +660,7 @@ def _noise_tilt(noise, d, sigmas: float, cap: float) -> float:
 TILT_MIN_AREA = 0.25
 
 
-def _sensor_tilt(cloud, pre, up_v, params: PlaneParams) -> None:
+def _sensor_tilt(noise_of, pre, up_v, params: PlaneParams) -> None:
     """Set to ``vertical`` the orientation of each inclined plane of at least
     ``TILT_MIN_AREA`` within ``vertical_tol``
     plus an allowance of vertical, and to ``horizontal`` each such plane the camera sees
@@ -668,7 +682,7 @@ def _sensor_tilt(cloud, pre, up_v, params: PlaneParams) -> None:
             and (d["incline"] >= vlo or (d["incline"] <= 2 * params.horizontal_tol
                                           and float(d["normal"] @ up_v) < 0
                                           and float(d["centroid"] @ up_v) > 0))]
-    noise = _measured_noise(cloud) if cand else None
+    noise = noise_of() if cand else None
     if noise is None:
         return
     for d in cand:
@@ -727,7 +741,7 @@ def _ground_floor(pre, up_v, params: PlaneParams) -> int | None:
     return best
 
 
-def _sensor_floor(cloud, pre, up_v, params: PlaneParams) -> int | None:
+def _sensor_floor(noise_of, pre, up_v, params: PlaneParams) -> int | None:
     """The floor of a scene where no horizontal plane qualifies: the label of the largest plane
     (``>= floor_min_area`` m^2) that faces up with the camera above it, has no plane of that
     area with its centroid more than ``floor_tol`` below its plane, and is inclined by at most
@@ -747,7 +761,7 @@ def _sensor_floor(cloud, pre, up_v, params: PlaneParams) -> int | None:
     cand = [d for d in pre if d["area"] >= params.floor_min_area and d["width"] > 0
             and d["orientation"] == "inclined" and float(d["normal"] @ up_v) > 0
             and d["incline"] <= 2 * params.horizontal_tol]
-    noise = _measured_noise(cloud) if cand else None
+    noise = noise_of() if cand else None
     if noise is None:
         return None
     big = [d for d in pre if d["area"] >= params.floor_min_area]
