@@ -162,3 +162,11 @@ def test_learn_rules_leaves_gated_objects_out_of_the_negatives_only(tmp_path):
     P.learn_rules(descs, ["box", "stairs", "ramp"], engine="builtin", jobs=1, settings=plain,
                   work_dir=tmp_path / "aleph2")
     assert f"box({bent})." in (tmp_path / "aleph2" / "box.n").read_text()
+
+
+def test_export_alone_refuses_gated_negatives_rather_than_ignore_it(tmp_path):
+    from planerel.errors import InputError
+    from planerel.ilp.aleph_export import aleph_files
+
+    with pytest.raises(InputError, match="gated_negatives=true is read by planerel learn"):
+        aleph_files([], "box", classes=["box", "stairs"], settings={"gated_negatives": "true"})

@@ -349,6 +349,10 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     sets, modes, preds, other = load_task(task)
     overrides = {k: check_setting(k, v) for k, v in (settings or {}).items()
                  if k not in PLANEREL_SETTINGS}
+    if str((settings or {}).get("gated_negatives", "false")).strip() == "true":
+        raise InputError("gated_negatives=true is read by planerel learn (learn_rules), which "
+                         "knows the planar gate's domain; the Aleph files alone cannot leave "
+                         "gated objects out (pass skip_negatives, or drop the setting)")
     skip = frozenset(skip_negatives or ())
     if skip and target == "class":
         raise InputError("skip_negatives needs a per-class task, not the multi-class 'class'")
