@@ -87,7 +87,15 @@ _SETTINGS = {
     "cutoff_slack": lambda v: v == "off" or (isinstance(v, (int, float)) and v >= 0),
     # planerel's learner only: gteq also offers a band's lower edge (prolog/compare.pl)
     "lazy_band": lambda v: v in ("true", "false"),
+    # planerel's own, read by planerel.ilp.pipeline.learn_rules and never written to STEM.b: a
+    # class's negatives leave out the objects its decision's planar gate refuses anyway
+    # (planerel.ilp.metrics.gated_negatives; seed29)
+    "gated_negatives": lambda v: v in ("true", "false"),
 }
+
+#: Settings :func:`check_setting` accepts that are planerel's own and no learner's: the caller
+#: acts on them, :func:`aleph_files` never writes them into ``STEM.b``.
+PLANEREL_SETTINGS = ("gated_negatives",)
 
 
 def check_setting(name: str, value):
@@ -304,7 +312,7 @@ def task_examples(descs, target, classes=None):
 
 def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
                 task: str | None = None, settings: dict | None = None,
-                stem: str | None = None) -> dict[str, str]:
+                stem: str | None = None, skip_negatives=()) -> dict[str, str]:
     """The text of ``STEM.b``, ``STEM.f`` and ``STEM.n`` for one target.
 
     Parameters
@@ -323,6 +331,10 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
         Extra ``set/2`` values, checked by :func:`check_setting`; they override the task file.
     stem : str, optional
         File stem (default ``target``).
+    skip_negatives : collection of str, optional
+        Object ids that are no negative example of this target (a per-class task only): the
+        objects the decision refuses the class for whatever the rules say
+        (:func:`planerel.ilp.metrics.gated_negatives`).  Their facts stay in ``STEM.b``.
 
     Returns
     -------
@@ -335,7 +347,15 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     examples = [e for e in examples if e.klass in classes or e.klass == OTHER]
     stem = stem or target
     sets, modes, preds, other = load_task(task)
-    overrides = {k: check_setting(k, v) for k, v in (settings or {}).items()}
+    overrides = {k: check_setting(k, v) for k, v in (settings or {}).items()
+                 if k not in PLANEREL_SETTINGS}
+    if str((settings or {}).get("gated_negatives", "false")).strip() == "true":
+        raise InputError("gated_negatives=true is read by planerel learn (learn_rules), which "
+                         "knows the planar gate's domain; the Aleph files alone cannot leave "
+                         "gated objects out (pass skip_negatives, or drop the setting)")
+    skip = frozenset(skip_negatives or ())
+    if skip and target == "class":
+        raise InputError("skip_negatives needs a per-class task, not the multi-class 'class'")
     set_lines = []
     for s in sets:
         name = _SET.match(s).group(1)
@@ -346,7 +366,7 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     tname, tar = ("class", 2) if multi else (target, 1)
     npos = sum(1 for e in examples if (e.klass in classes if multi else e.klass == target))
     nneg = (sum(len(classes) - (e.klass in classes) for e in examples) if multi
-            else len(examples) - npos)
+            else sum(1 for e in examples if e.klass != target and e.object_id not in skip))
     b = [f"% planerel Aleph task {stem}: {'multi-class' if multi else 'is the object a ' + target}",
          f"% examples: {npos} positive, {nneg} negative; classes: {', '.join(classes)}",
          "% written by planerel export-aleph; vocabulary: docs/predicates.md",
@@ -362,19 +382,23 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
         neg = [F("class", e.object_id, c) for e in examples for c in classes if c != e.klass]
     else:
         pos = [F(target, e.object_id) for e in examples if e.klass == target]
-        neg = [F(target, e.object_id) for e in examples if e.klass != target]
+        neg = [F(target, e.object_id) for e in examples
+               if e.klass != target and e.object_id not in skip]
     return {f"{stem}.b": "\n".join(b) + "\n", f"{stem}.f": "".join(x + "\n" for x in pos),
             f"{stem}.n": "".join(x + "\n" for x in neg)}
 
 
 def export_aleph(descs, out_dir, target: str = "all", *, classes: Sequence[str] | None = None,
                  task: str | None = None, settings: dict | None = None,
-                 class_settings: dict | None = None) -> ExportResult:
+                 class_settings: dict | None = None,
+                 skip_negatives: dict | None = None) -> ExportResult:
     """Write the Aleph files of a target to ``out_dir``.
 
     ``target``: a class name; ``"all"`` (one stem per class); ``"class"`` (one multi-class
     stem ``class``).  ``class_settings`` (``{stem: {name: value}}``) replace ``settings`` in
     that stem's ``.b`` only, so each file says what its class was learned with.
+    ``skip_negatives`` (``{stem: object ids}``): objects that are no negative of that stem
+    (:func:`aleph_files`).
     """
     from planerel.atomic import write_text
 
@@ -386,7 +410,8 @@ def export_aleph(descs, out_dir, target: str = "all", *, classes: Sequence[str] 
     texts: dict[str, str] = {}
     for t in targets:
         own = {**(settings or {}), **(class_settings or {}).get(t, {})}
-        texts.update(aleph_files(descs, t, classes=classes, task=task, settings=own or None))
+        texts.update(aleph_files(descs, t, classes=classes, task=task, settings=own or None,
+                                 skip_negatives=(skip_negatives or {}).get(t, ())))
     out = Path(out_dir)
     paths = tuple(write_text(out / name, text) for name, text in sorted(texts.items()))
     counts = {c: sum(1 for e in examples if e.klass == c) for c in classes}

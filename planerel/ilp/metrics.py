@@ -14,7 +14,8 @@ from planerel.errors import InputError
 
 __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "stratified_folds",
            "confusion_columns", "confusion_matrix", "accuracy_scores", "score_objects",
-           "PLANAR_MARGIN", "PLANAR_GATE", "DecisionParams", "planar_domain", "Refusal", "planar_bound",
+           "PLANAR_MARGIN", "PLANAR_GATE", "DecisionParams", "planar_domain", "gated_negatives",
+           "Refusal", "planar_bound",
            "planar_refusals", "PROOF_MARGIN", "PROOF_GATE", "PROOF_MIN_POSITIVES", "proof_domain", "proof_bound", "ProofRefusal",
            "LEVEL_GATE", "horizontal_counts", "level_domain", "LevelRefusal", "level_refusals",
            "proof_refusals", "VETO_RATIO", "VetoRefusal", "veto_refusals", "FLIGHT_GATE",
@@ -278,6 +279,35 @@ def planar_bound(low: float, margin: float = PLANAR_MARGIN) -> float:
     planar training positive is ``low``: ``low * (1 - margin)`` (falsecls; ``low - margin``
     before, the same for a class of fully planar positives, ``low`` = 1)."""
     return float(low) * (1.0 - float(margin))
+
+
+def gated_negatives(examples: Sequence, planar: dict, domain: Sequence,
+                    margin: float = PLANAR_MARGIN) -> dict:
+    """The objects the planar gate refuses each class for: ``{class: frozenset of object ids}``.
+
+    An object of another class (or ``other``) whose planar fraction lies under the class's
+    :func:`planar_bound` is never answered that class, whatever its rules prove
+    (:func:`planar_refusals`), so it is no negative its rules must leave out: a rule that
+    would otherwise take a size bound or another literal only to exclude a few curved objects
+    (a cylinder's top disc with a facet hanging below it is a ``skirt``) is learned without
+    it, and the bound does not cut real boxes smaller than every training box (seed29,
+    docs/results.md "The demo over training seeds 0-4").  The class's own positives are never
+    left out (none lies under the bound: ``low`` is their minimum).
+
+    Parameters
+    ----------
+    examples : sequence of (object id, class)
+    planar : dict
+        ``{object id: planar fraction or None}`` (an object without one is kept).
+    domain : sequence of (class, low, high, n)
+        :func:`planar_domain` of the same examples.
+    """
+    out = {}
+    for k, low, _, _ in domain:
+        bound = planar_bound(low, margin)
+        out[k] = frozenset(o for o, c in examples
+                           if c != k and planar.get(o) is not None and float(planar[o]) < bound)
+    return out
 
 
 def planar_refusals(hits, stats: Sequence, planar_fraction, domain: Sequence,

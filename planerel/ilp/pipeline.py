@@ -33,6 +33,7 @@ from planerel.ilp.metrics import (
     confusion_columns,
     decide,
     error_kinds,
+    gated_negatives,
     horizontal_counts,
     laplace,
     level_domain,
@@ -385,7 +386,7 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
     Model
         Rules per class, with coverage statistics on the training objects.
     """
-    from planerel.ilp.aleph_export import export_aleph
+    from planerel.ilp.aleph_export import PLANEREL_SETTINGS, export_aleph
     from planerel.ilp.learn import LearnerTimeout, learn
 
     examples = _examples(descs)
@@ -404,8 +405,18 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         targets += (OTHER,)
     try:
         common, per_class = split_class_settings(settings, targets)
+        planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
+        domain = planar_domain(examples, planar, classes)
+        gated = gated_negatives(examples, planar, domain)
+        skip = {k: gated.get(k, ()) for k in targets
+                if str(per_class.get(k, {}).get("gated_negatives",
+                                                 common.get("gated_negatives", "false"))) == "true"}
+        # planerel's own settings are acted on here, never handed to a learner
+        common = {n: v for n, v in common.items() if n not in PLANEREL_SETTINGS}
+        per_class = {k: {n: v for n, v in kv.items() if n not in PLANEREL_SETTINGS}
+                     for k, kv in per_class.items()}
         export_aleph(descs, work_dir, "all", classes=list(targets), task=task, settings=common,
-                     class_settings=per_class)
+                     class_settings=per_class, skip_negatives=skip)
         rules, uncovered, seconds, explored, engines = {}, {}, 0.0, 0, set()
 
         def one(k):
@@ -450,9 +461,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
             seconds += res.seconds
             explored += res.clauses_explored or 0
             engines.add(res.engine_detail or res.engine)
-        planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
         model = Model(tuple(classes), rules, (), "; ".join(sorted(engines)), seconds, explored,
-                      uncovered, planar_domain=planar_domain(examples, planar, classes),
+                      uncovered, planar_domain=domain,
                       level_domain=level_domain(examples, horizontal_counts(descs), classes))
         if not model.clauses():
             return model
