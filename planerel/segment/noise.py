@@ -70,8 +70,8 @@ NONE_PIXELS = 0.02
 #: :data:`WAVE_MIN_WINDOW`); windows on a grid of this step (they do not overlap).
 WAVE_WINDOW = 25
 WAVE_MIN_WINDOW = 7
-#: ``wave`` at or above this makes a frame wavy (Kinect-type and laser frames measure <= 2.3,
-#: active-stereo RealSense / OAK-D frames 3-4.6).
+#: ``wave`` at or above this makes a frame wavy (Kinect-type and laser frames measured 1.2-2.8,
+#: most <= 2.2; the active-stereo RealSense / OAK-D frames that lose boxes 3.05-4.6).
 WAVY_RATIO = 3.0
 
 #: Model kinds.
