@@ -40,7 +40,7 @@ from planerel.segment.absorb import ABSORB_FRACTION, _facets, _touching_pairs
 from planerel.segment.result import Segmentation
 
 __all__ = ["join_pieces", "join_wavy", "merge_coplanar", "WAVE_JOIN_ANGLE", "WAVE_FLAT",
-           "WAVE_SPAN"]
+           "WAVE_SPAN", "WAVE_OWN", "WAVE_MAX_RMS"]
 
 #: Largest angle between the normals of two pieces of one wavy face (degrees): small pieces of
 #: a face whose depth waves by millimetres over centimetres tilt by up to 20 degrees (a carton
@@ -51,8 +51,15 @@ WAVE_JOIN_ANGLE = 20.0
 #: the sensor's waviness far away (two planes of similar size meeting at 10 degrees measure
 #: about 0.07; a carton top's wavy pieces 0.01-0.03).  Pieces within a few windows tilt by
 #: the waves themselves and are judged by the waviness alone.
-WAVE_FLAT = 0.04
+WAVE_FLAT = 0.025
 WAVE_SPAN = 2.0
+#: ... unless the union fits about as well as the worse of its two sides alone (a face that is
+#: wavy itself): RMS at most this factor times the larger of their own RMS.
+WAVE_OWN = 1.2
+#: Largest RMS of a wavy join's union, metres, whatever the waviness: far from an active-stereo
+#: sensor its depth is centimetres off (unions of 16 and 104 mm at 3.9 and 5.6 m made false
+#: ramps), while the pieces of a face joined at 0.4-2 m fit within 2-7 mm.
+WAVE_MAX_RMS = 0.008
 
 
 def merge_coplanar(cloud, seg: Segmentation, params=None, *,
@@ -404,9 +411,11 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
         c = (s1[a] + s1[b]) / m
         ev, vec = np.linalg.eigh((s2[a] + s2[b]) / m - np.outer(c, c))
         rms = math.sqrt(max(ev[0], 0.0))
+        if rms > WAVE_MAX_RMS:
+            return None
         z = abs(c[2])
         span = math.sqrt(max(ev[2], 0.0))
-        if span > WAVE_SPAN * win * z and rms > WAVE_FLAT * span:
+        if span > WAVE_SPAN * win * z and rms > WAVE_FLAT * span and rms > WAVE_OWN * max(own[a], own[b]):
             return None
         # the waves' RMS grows with the extent beyond the window's (as measured on the
         # RealSense frames: x1.2-1.6 from 25 to 50 px), up to WAVE_SPAN windows
@@ -415,6 +424,7 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
         ratio = rms / max(allowed, 1e-12)
         return (ratio, vec[:, 0]) if ratio <= 1.0 else None
 
+    own = {i: float(x) for i, x in enumerate(_rms_of(np.maximum(cnt, 1), s1, s2))}
     parent = np.arange(n)
     joined = 0
     tested = {e: test(*e) for e in sorted(edges)}  # pair -> result; redone when a side changes
@@ -436,6 +446,7 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
         s1[keep] += s1[drop]
         s2[keep] += s2[drop]
         normal[keep] = nv
+        own[keep] = float(_rms_of(cnt[keep:keep + 1], s1[keep:keep + 1], s2[keep:keep + 1])[0])
         tested = {e: r for e, r in tested.items() if keep not in e and drop not in e}
         joined += 1
     if not joined:
