@@ -51,7 +51,7 @@ WAVE_JOIN_ANGLE = 20.0
 #: the sensor's waviness far away (two planes of similar size meeting at 10 degrees measure
 #: about 0.07; a carton top's wavy pieces 0.01-0.03).  Pieces within a few windows tilt by
 #: the waves themselves and are judged by the waviness alone.
-WAVE_FLAT = 0.025
+WAVE_FLAT = 0.04
 WAVE_SPAN = 2.0
 #: ... unless the union fits about as well as the worse of its two sides alone (a face that is
 #: wavy itself): RMS at most this factor times the larger of their own RMS.
@@ -351,10 +351,12 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
     the least-squares plane of their union fits it within ``tolerance x wave x sigma(z) x
     g`` RMS: ``z`` the union's centroid depth, ``sigma`` the small-patch noise model and
     ``g = sqrt(min(WAVE_SPAN, span / window))`` the waves' growth with the union's extent
-    (``span`` its largest in-plane std, ``window`` that of a waviness window at ``z``).  A
-    union longer than :data:`WAVE_SPAN` windows must also be a flat sheet: RMS at most
-    :data:`WAVE_FLAT` x its span (a large union far away, where ``sigma`` is centimetres,
-    would otherwise take in a slope).  Best-fitting pair first, greedily, from per-region
+    (``span`` its largest in-plane std, ``window`` that of a waviness window at ``z``), and
+    within :data:`WAVE_MAX_RMS` (8 mm) whatever the waviness (far from the sensor the depth is
+    centimetres off: such unions made false ramps).  A union longer than :data:`WAVE_SPAN`
+    windows must also be a flat sheet, RMS at most :data:`WAVE_FLAT` x its span, or fit
+    about as well as its worse side alone (:data:`WAVE_OWN` x the larger own RMS: a face that
+    is wavy itself).  Best-fitting pair first, greedily, from per-region
     sums on the merge's sample (a pair is re-tested only when one side changed).  Two faces
     of a box (90 degrees), a tread and its riser, a ramp and the floor over their extent, or
     a book on a table (a step of its thickness) do not fit within it.
