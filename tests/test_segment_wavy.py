@@ -78,17 +78,18 @@ def _largest_share(labels, face, fid):
 
 
 def test_waviness_is_measured_from_the_frame():
-    flat = estimate_noise(_scene(0.0)[0])
+    flat = estimate_noise(_scene(0.0)[0], waviness=True)
     assert flat.wave == pytest.approx(1.0, abs=0.1) and not flat.wavy
     assert flat.wave_window == 25
-    wavy = estimate_noise(_scene(**WAVY)[0])
+    wavy = estimate_noise(_scene(**WAVY)[0], waviness=True)
     assert wavy.wave > 5.0 and wavy.wavy
     d = wavy.to_dict()
     assert d["wave"] == pytest.approx(wavy.wave, abs=1e-4) and d["wave_window"] == 25
     # at 160x120 the windows are 7 px
     sub = _scene(**WAVY)[0]
     small = Cloud(np.ascontiguousarray(sub.xyz[::4, ::4]), Intrinsics.kinect(160, 120))
-    assert estimate_noise(small).wave_window == 7
+    assert estimate_noise(small, waviness=True).wave_window == 7
+    assert estimate_noise(small).wave == 0.0  # not asked for
 
 
 @pytest.mark.parametrize("seed", [0, 1])
@@ -155,7 +156,7 @@ def test_real_kinect_and_mosd_frames_are_not_wavy():
     files = sorted(glob.glob(os.path.join(SHARED, "kinect", "frame_*_depth.tiff")))
     files += sorted(glob.glob(os.path.join(SHARED, "mosd", "*.pcd")))
     for f in files:
-        m = estimate_noise(planerel.read(f))
+        m = estimate_noise(planerel.read(f), waviness=True)
         assert 1.3 < m.wave < 2.5 and not m.wavy, f  # measured 1.50-1.64 (Kinect 1.53-1.56)
 
 
@@ -165,5 +166,5 @@ def test_real_realsense_frames_are_wavy():
     import planerel
 
     for f in sorted(glob.glob(os.path.join(EXT, "palletizer", "*_depth.png"))):
-        m = estimate_noise(planerel.read(f))
+        m = estimate_noise(planerel.read(f), waviness=True)
         assert m.wave > 4.0 and m.wavy, f  # measured 4.46, 4.63

@@ -31,7 +31,9 @@ The model's ``kind`` names the term that dominates at the median depth: ``"z2"``
    ``sigma`` at its depth; ``wave`` is the :data:`QUANTILE` quantile of these ratios (the
    flatter windows: those across edges fall above it).  White noise gives about 1; the
    Kinect v1 frames 1.5-1.6, mOSD 1.5-2.2, SegComp ABW 1.2-1.4; RealSense and OAK-D frames
-   3-4.6 (docs/segmentation.md, "Wavy sensors").  A frame is *wavy* when ``wave`` reaches
+   3-4.6 (docs/segmentation.md, "Wavy sensors").  Measured when asked
+   (``estimate_noise(cloud, waviness=True)``: region growing asks; the planes' and stair
+   fits' callers do not pay for it).  A frame is *wavy* when ``wave`` reaches
    :data:`WAVY_RATIO`; the merge then joins pieces of one face whose union fits a plane
    within ``wave x sigma`` (:func:`planerel.segment.merge.join_wavy`).
 """
@@ -170,7 +172,8 @@ def _slopes(k: int) -> np.ndarray:
     return q
 
 
-def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES) -> NoiseModel:
+def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES,
+                   waviness: bool = False) -> NoiseModel:
     """Estimate the depth-noise model of an organized cloud.
 
     Parameters
@@ -181,6 +184,9 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES)
         Patch side in pixels (>= 3).
     max_patches : int
         Patches sampled at most.
+    waviness : bool
+        Also measure the waviness (``NoiseModel.wave``; about 1 ms at 640x480).  Region
+        growing asks for it; without it ``wave`` is 0 (not measured).
 
     Returns
     -------
@@ -246,7 +252,7 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES)
     else:
         kind = "uniform"
     wave, wk = 0.0, 0
-    if kind != "none":
+    if waviness and kind != "none":
         wave, wk = _waviness(xyz[:, :, 2], w, const, quad)
     return NoiseModel(kind, const, quad, zmed, model.z_min, model.z_max, pa, n, model.bands,
                       wave, wk)
