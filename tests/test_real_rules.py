@@ -343,7 +343,8 @@ def test_a_pallet_of_cartons_is_no_staircase(demo_model):
     both captures is ``box`` (in the second it was one proposal with the machine, a false
     box, until the floor rule of 2026-11-30 evening took the near floor instead of a piece of
     it 7 cm higher: docs/gravity.md "The floor's level"); the first capture keeps one false
-    box (a carton by ``lying/1``, 45 % in the pile).  With the gate off, two stairs answers are back (three
+    box (a carton by ``lying/1``, 45 % in the pile).  With the gate off, one stairs answer is back (two
+    before wavy29's join of the carton tops' wavy pieces, docs/segmentation.md "Wavy sensors"; three
     before the stairs rule was learned on ``stair_step/2``: the pile's 0.10 m step one stair
     rise above and one run beyond the next carton; docs/objects.md, "Carton piles and false
     answers on unseen frames", "A flight's steps as a relation")."""
@@ -359,7 +360,9 @@ def test_a_pallet_of_cartons_is_no_staircase(demo_model):
     t = totals(run([str(s) for s in sets], str(demo_model)))
     assert (t["box_found"], t["box_labelled"], t["false_stairs"], t["false_box"]) == (2, 2, 0, 1)
     off = totals(run([str(s) for s in sets], str(demo_model), ["decision.flight_gate=false"]))
-    assert (off["box_found"], off["false_stairs"]) == (0, 2)
+    # (0, 2) before wavy29's join of the RealSense's wavy carton tops (docs/segmentation.md,
+    # "Wavy sensors"): the first capture's pile is `box` even without the gate
+    assert (off["box_found"], off["false_stairs"]) == (1, 1)
 
 
 @pytest.mark.parametrize("legs,apron", [(True, 0.0), (False, 0.12), (True, 0.1)])

@@ -198,7 +198,7 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
         raise InputError(f"unknown segmentation method {method!r}; choose one of {', '.join(METHODS)}")
     if not do_split:
         return seg
-    from planerel.segment.merge import join_pieces, merge_coplanar
+    from planerel.segment.merge import join_pieces, join_wavy, merge_coplanar
     from planerel.segment.split import split_bent_regions
 
     seg = split_bent_regions(cloud, seg, normals=normals, params=split_params)
@@ -207,7 +207,9 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
               and (split_params is None or split_params.absorb))
     seg = merge_coplanar(cloud, seg, split_params,
                          absorb_factor=p.refine_factor if absorb else None)
-    return join_pieces(cloud, seg, split_params)  # itself off at piece_offset 0
+    seg = join_pieces(cloud, seg, split_params)  # itself off at piece_offset 0
+    # pieces of faces cut by a wavy sensor's depth (only where the noise model measures it)
+    return join_wavy(cloud, seg, split_params)
 
 
 def _as_bool(value, *, default: bool) -> bool:

@@ -23,6 +23,10 @@ plane.  A learner counting horizontal planes then sees two box tops.
 
 The merged region takes the smaller label; labels are renumbered ``0 .. n-1`` in the order of
 the regions' smallest original labels, and planes are refitted.
+
+:func:`join_pieces` then joins pieces of a face a sensor bends slightly (Kinect, mOSD), and
+:func:`join_wavy` the pieces of faces an active-stereo sensor's wavy depth cuts apart, on
+frames whose noise model measures that waviness only.
 """
 
 from __future__ import annotations
@@ -35,7 +39,27 @@ from planerel.errors import InputError
 from planerel.segment.absorb import ABSORB_FRACTION, _facets, _touching_pairs
 from planerel.segment.result import Segmentation
 
-__all__ = ["join_pieces", "merge_coplanar"]
+__all__ = ["join_pieces", "join_wavy", "merge_coplanar", "WAVE_JOIN_ANGLE", "WAVE_FLAT",
+           "WAVE_SPAN", "WAVE_OWN", "WAVE_MAX_RMS"]
+
+#: Largest angle between the normals of two pieces of one wavy face (degrees): small pieces of
+#: a face whose depth waves by millimetres over centimetres tilt by up to 20 degrees (a carton
+#: top of the RealSense palletizer frames, pieces of 400-900 px at 1.5 m: 10-20 degrees).
+WAVE_JOIN_ANGLE = 20.0
+#: Largest RMS of a wavy join's union relative to its largest in-plane std, for a union
+#: longer than :data:`WAVE_SPAN` waviness windows: a large union must be a flat sheet, whatever
+#: the sensor's waviness far away (two planes of similar size meeting at 10 degrees measure
+#: about 0.07; a carton top's wavy pieces 0.01-0.03).  Pieces within a few windows tilt by
+#: the waves themselves and are judged by the waviness alone.
+WAVE_FLAT = 0.04
+WAVE_SPAN = 2.0
+#: ... unless the union fits about as well as the worse of its two sides alone (a face that is
+#: wavy itself): RMS at most this factor times the larger of their own RMS.
+WAVE_OWN = 1.2
+#: Largest RMS of a wavy join's union, metres, whatever the waviness: far from an active-stereo
+#: sensor its depth is centimetres off (unions of 16 and 104 mm at 3.9 and 5.6 m made false
+#: ramps), while the pieces of a face joined at 0.4-2 m fit within 2-7 mm.
+WAVE_MAX_RMS = 0.008
 
 
 def merge_coplanar(cloud, seg: Segmentation, params=None, *,
@@ -310,6 +334,127 @@ def join_pieces(cloud, seg: Segmentation, params=None) -> Segmentation:
         return same
     out, planes, _ = _apply_groups(labels, cloud.xyz, seg.planes, parent)
     info["joined"] = joined
+    return Segmentation(out, planes, seg.method, seg.params, seg.normals, info)
+
+
+def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
+    """Join the pieces of faces that a wavy sensor's depth cuts apart (after :func:`join_pieces`).
+
+    Active-stereo sensors (RealSense D4xx, OAK-D) bend a flat face by millimetres over a few
+    centimetres, far more than the noise of small patches, so region growing on normals cuts
+    the face into pieces that tilt 5-20 degrees against each other.  The noise model measures
+    that waviness from the frame itself (:attr:`planerel.segment.noise.NoiseModel.wave`: the
+    plane-fit std over 25 px windows relative to the small-patch ``sigma``; ``info
+    ["noise_model"]``).  Only on a wavy frame (``wave >= WAVY_RATIO``; Kinect, laser and
+    synthetic frames measure far less and are returned unchanged): two touching regions (the
+    merge's test) whose normals lie within :data:`WAVE_JOIN_ANGLE` degrees are joined when
+    the least-squares plane of their union fits it within ``tolerance x wave x sigma(z) x
+    g`` RMS: ``z`` the union's centroid depth, ``sigma`` the small-patch noise model and
+    ``g = sqrt(min(WAVE_SPAN, span / window))`` the waves' growth with the union's extent
+    (``span`` its largest in-plane std, ``window`` that of a waviness window at ``z``), and
+    within :data:`WAVE_MAX_RMS` (8 mm) whatever the waviness (far from the sensor the depth is
+    centimetres off: such unions made false ramps).  A union longer than :data:`WAVE_SPAN`
+    windows must also be a flat sheet, RMS at most :data:`WAVE_FLAT` x its span, or fit
+    about as well as its worse side alone (:data:`WAVE_OWN` x the larger own RMS: a face that
+    is wavy itself).  Best-fitting pair first, greedily, from per-region
+    sums on the merge's sample (a pair is re-tested only when one side changed).  Two faces
+    of a box (90 degrees), a tread and its riser, a ramp and the floor over their extent, or
+    a book on a table (a step of its thickness) do not fit within it.
+
+    Parameters
+    ----------
+    cloud : Cloud
+        The organized cloud ``seg`` was computed from (unorganized clouds: unchanged).
+    seg : Segmentation
+        With ``info["noise_model"]`` as region growing reports it (none: unchanged).
+    params : SplitParams, optional
+        ``wavy_join`` (False: off), ``tolerance``, ``merge_gap``, ``merge_jump``.
+
+    Returns
+    -------
+    Segmentation
+        ``seg`` itself when the frame is not wavy or nothing was joined; else with ``info``
+        adding ``wavy_joined`` (number of joins).
+    """
+    from planerel.segment._post_kernels import merge_stats
+    from planerel.segment.noise import WAVY_RATIO
+    from planerel.segment.split import _TEST_PIXELS, SplitParams
+
+    p = params if params is not None else SplitParams()
+    if not isinstance(p, SplitParams):
+        raise InputError(f"join_wavy: params must be SplitParams, got {type(p).__name__}")
+    nm = seg.info.get("noise_model") if isinstance(seg.info, dict) else None
+    n = seg.n_planes
+    if (not p.wavy_join or not nm or nm.get("kind") == "none" or nm.get("wave", 0.0) < WAVY_RATIO
+            or nm.get("n_patches", 0) <= 0 or n < 2 or not cloud.organized):
+        return seg
+    wave, c0, q = float(nm["wave"]), float(nm["const_m"]), float(nm["quad_per_m"])
+    # a waviness window's std along one side per metre of depth (its side: wave_window pixels)
+    win = float(nm.get("wave_window", 0)) * float(nm.get("pixel_angle", 0.0)) / math.sqrt(12.0)
+    labels = seg.labels
+    h, w = labels.shape
+    st = max(1, int(math.sqrt(h * w / _TEST_PIXELS)))
+    Ls = np.ascontiguousarray(labels[::st, ::st], dtype=np.int32)
+    Xs = np.ascontiguousarray(cloud.xyz[::st, ::st], dtype=np.float64)
+    edges = set(_touching_pairs(Ls, Xs, n, p.merge_gap, p.merge_jump))
+    if not edges:
+        return seg
+    normal = np.array([pl.normal for pl in seg.planes], dtype=np.float64)
+    cnt, s1, s2, _ = merge_stats(Xs.reshape(-1, 3), Ls.reshape(-1), normal, n, 0.0, 0.0, 0.0,
+                                 0.0)
+    cos_max = math.cos(math.radians(WAVE_JOIN_ANGLE))
+    sig2 = (c0 * c0, q * q)
+
+    def test(a, b):
+        """``(ratio, union normal)`` of a pair passing the tests, else None."""
+        if cnt[a] < 3 or cnt[b] < 3 or abs(normal[a] @ normal[b]) < cos_max:
+            return None
+        m = cnt[a] + cnt[b]
+        c = (s1[a] + s1[b]) / m
+        ev, vec = np.linalg.eigh((s2[a] + s2[b]) / m - np.outer(c, c))
+        rms = math.sqrt(max(ev[0], 0.0))
+        if rms > WAVE_MAX_RMS:
+            return None
+        z = abs(c[2])
+        span = math.sqrt(max(ev[2], 0.0))
+        if span > WAVE_SPAN * win * z and rms > WAVE_FLAT * span and rms > WAVE_OWN * max(own[a], own[b]):
+            return None
+        # the waves' RMS grows with the extent beyond the window's (as measured on the
+        # RealSense frames: x1.2-1.6 from 25 to 50 px), up to WAVE_SPAN windows
+        grow = math.sqrt(min(WAVE_SPAN, max(1.0, span / max(win * z, 1e-12))))
+        allowed = p.tolerance * wave * math.sqrt(sig2[0] + sig2[1] * z ** 4) * grow
+        ratio = rms / max(allowed, 1e-12)
+        return (ratio, vec[:, 0]) if ratio <= 1.0 else None
+
+    own = {i: float(x) for i, x in enumerate(_rms_of(np.maximum(cnt, 1), s1, s2))}
+    parent = np.arange(n)
+    joined = 0
+    tested = {e: test(*e) for e in sorted(edges)}  # pair -> result; redone when a side changes
+    while True:
+        best = None
+        for e in sorted(edges):
+            r = tested.get(e, False)
+            if r is False:
+                r = tested[e] = test(*e)
+            if r is not None and (best is None or r[0] < best[0]):
+                best = (r[0], e[0], e[1], r[1])
+        if best is None:
+            break
+        _, a, b, nv = best
+        keep, drop = min(a, b), max(a, b)
+        parent[parent == drop] = keep
+        _rename(edges, keep, drop)
+        cnt[keep] += cnt[drop]
+        s1[keep] += s1[drop]
+        s2[keep] += s2[drop]
+        normal[keep] = nv
+        own[keep] = float(_rms_of(cnt[keep:keep + 1], s1[keep:keep + 1], s2[keep:keep + 1])[0])
+        tested = {e: r for e, r in tested.items() if keep not in e and drop not in e}
+        joined += 1
+    if not joined:
+        return seg
+    out, planes, _ = _apply_groups(labels, cloud.xyz, seg.planes, parent)
+    info = dict(seg.info, wavy_joined=joined)
     return Segmentation(out, planes, seg.method, seg.params, seg.normals, info)
 
 

@@ -22,6 +22,20 @@ none.  :func:`estimate_noise` measures it from the data itself:
 The model's ``kind`` names the term that dominates at the median depth: ``"z2"``
 (disparity-type, Kinect), ``"uniform"`` (constant depth noise or depth steps, laser / ABW) or
 ``"none"`` (below :data:`NONE_PIXELS` of a pixel's footprint: clean synthetic data).
+
+5. **Waviness** (``NoiseModel.wave``).  Active-stereo sensors (Intel RealSense D4xx, Luxonis
+   OAK-D) are smooth pixel to pixel but wavy over a few centimetres: the residual of a plane
+   grows with the window it is fitted over, far beyond what the 5 x 5 patches measure.  The
+   same fit over :data:`WAVE_WINDOW` x :data:`WAVE_WINDOW` windows (at 640 px width, scaled
+   with the image width) on a regular grid, each window's std divided by the model's
+   ``sigma`` at its depth; ``wave`` is the :data:`QUANTILE` quantile of these ratios (the
+   flatter windows: those across edges fall above it).  White noise gives about 1; the
+   Kinect v1 frames 1.5-1.6, mOSD 1.5-2.2, SegComp ABW 1.2-1.4; RealSense and OAK-D frames
+   3-4.6 (docs/segmentation.md, "Wavy sensors").  Measured when asked
+   (``estimate_noise(cloud, waviness=True)``: region growing asks; the planes' and stair
+   fits' callers do not pay for it).  A frame is *wavy* when ``wave`` reaches
+   :data:`WAVY_RATIO`; the merge then joins pieces of one face whose union fits a plane
+   within ``wave x sigma`` (:func:`planerel.segment.merge.join_wavy`).
 """
 
 from __future__ import annotations
@@ -35,7 +49,8 @@ import numpy as np
 from planerel.errors import InputError
 
 __all__ = ["NoiseModel", "estimate_noise", "PATCH", "MAX_PATCHES", "MAX_BANDS", "MIN_PER_BAND",
-           "NONE_PIXELS", "QUANTILE", "QUANTILE_TO_MEDIAN"]
+           "NONE_PIXELS", "QUANTILE", "QUANTILE_TO_MEDIAN", "WAVE_WINDOW", "WAVE_MIN_WINDOW",
+           "WAVY_RATIO"]
 
 #: Side of the square patches, pixels.
 PATCH = 5
@@ -52,6 +67,14 @@ QUANTILE = 0.35
 QUANTILE_TO_MEDIAN = 1.0614
 #: Noise below this fraction of a pixel's footprint (``z / f``) counts as none.
 NONE_PIXELS = 0.02
+
+#: Side of the waviness windows at 640 px image width, pixels (scaled with the width, at least
+#: :data:`WAVE_MIN_WINDOW`); windows on a grid of this step (they do not overlap).
+WAVE_WINDOW = 25
+WAVE_MIN_WINDOW = 7
+#: ``wave`` at or above this makes a frame wavy (Kinect-type and laser frames measured 1.2-2.8,
+#: most <= 2.2; the active-stereo RealSense / OAK-D frames that lose boxes 3.05-4.6).
+WAVY_RATIO = 3.0
 
 #: Model kinds.
 KINDS = ("z2", "uniform", "none")
@@ -78,6 +101,12 @@ class NoiseModel:
         with zero noise, and ``reliable`` is False).
     bands : tuple of (float, float)
         ``(depth, std)`` of each depth band, metres.
+    wave : float
+        Waviness: the plane-fit std over ``wave_window`` windows relative to ``sigma`` at
+        their depth (the :data:`QUANTILE` quantile over the windows); 0 when not measured
+        (fewer than :data:`MIN_PER_BAND` complete windows).
+    wave_window : int
+        Side of those windows, pixels (0: not measured).
     """
 
     kind: str
@@ -89,6 +118,13 @@ class NoiseModel:
     pixel_angle: float
     n_patches: int
     bands: tuple = ()
+    wave: float = 0.0
+    wave_window: int = 0
+
+    @property
+    def wavy(self) -> bool:
+        """Whether the depth is wavy (``wave >= WAVY_RATIO``, measured on a reliable model)."""
+        return self.reliable and self.kind != "none" and self.wave >= WAVY_RATIO
 
     @property
     def reliable(self) -> bool:
@@ -114,7 +150,8 @@ class NoiseModel:
                 "sigma_median_m": round(float(self.sigma(self.z_median)), 7),
                 "noise_pixels": round(self.pixels(), 4), "z_median_m": round(self.z_median, 4),
                 "z_range_m": [round(self.z_min, 4), round(self.z_max, 4)],
-                "n_patches": self.n_patches}
+                "n_patches": self.n_patches, "wave": round(self.wave, 4),
+                "wave_window": self.wave_window, "pixel_angle": float(f"{self.pixel_angle:.6g}")}
 
     def describe(self) -> str:
         """One line: kind, sigma at the median depth (mm and pixels), coefficients."""
@@ -135,7 +172,8 @@ def _slopes(k: int) -> np.ndarray:
     return q
 
 
-def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES) -> NoiseModel:
+def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES,
+                   waviness: bool = False) -> NoiseModel:
     """Estimate the depth-noise model of an organized cloud.
 
     Parameters
@@ -146,6 +184,9 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES)
         Patch side in pixels (>= 3).
     max_patches : int
         Patches sampled at most.
+    waviness : bool
+        Also measure the waviness (``NoiseModel.wave``; about 1 ms at 640x480).  Region
+        growing asks for it; without it ``wave`` is 0 (not measured).
 
     Returns
     -------
@@ -210,7 +251,42 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES)
         kind = "z2"
     else:
         kind = "uniform"
-    return NoiseModel(kind, const, quad, zmed, model.z_min, model.z_max, pa, n, model.bands)
+    wave, wk = 0.0, 0
+    if waviness and kind != "none":
+        wave, wk = _waviness(xyz[:, :, 2], w, const, quad)
+    return NoiseModel(kind, const, quad, zmed, model.z_min, model.z_max, pa, n, model.bands,
+                      wave, wk)
+
+
+def _waviness(z, width: int, const: float, quad: float) -> tuple[float, int]:
+    """``(wave, window)``: the :data:`QUANTILE` quantile over non-overlapping windows of
+    :data:`WAVE_WINDOW` px (scaled with ``width`` / 640) of their plane-fit std relative to
+    the model ``sqrt(const^2 + (quad z^2)^2)`` at their depth; ``(0.0, 0)`` with fewer than
+    :data:`MIN_PER_BAND` complete windows.
+
+    Parameters
+    ----------
+    z : (H, W) float array
+        Depth, metres (NaN invalid).
+    width : int
+        Image width, pixels.
+    const, quad : float
+        The fitted small-patch model.
+    """
+    from planerel.segment._noise_kernels import patch_noise
+
+    h = z.shape[0]
+    k = max(WAVE_MIN_WINDOW, int(round(WAVE_WINDOW * width / 640.0)))
+    if h < k or width < k:
+        return 0.0, 0
+    zc, sd = patch_noise(z, int(k), int(k), _slopes(k))
+    if len(zc) < MIN_PER_BAND:
+        return 0.0, 0
+    sig = np.sqrt(const * const + (quad * zc * zc) ** 2)
+    ok = sig > 0
+    if ok.sum() < MIN_PER_BAND:
+        return 0.0, 0
+    return float(np.quantile(sd[ok] / sig[ok], QUANTILE)), k
 
 
 def _fit(z: np.ndarray, s: np.ndarray) -> tuple[float, float]:

@@ -128,7 +128,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None,
         from planerel.segment.noise import estimate_noise
 
         cloud.require_points(3)
-        model = estimate_noise(cloud)
+        model = estimate_noise(cloud, waviness=True)
     given = p  # the Segmentation keeps the parameters as given; info["settings"] the used ones
     p, chosen = adapt_params(p, model, (h, w))
     min_size = resolve_min_region_size(p.min_region_size, n_pix, p.min_region_scale)

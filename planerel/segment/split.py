@@ -153,6 +153,11 @@ class SplitParams:
         ``piece_offset`` metres RMS of the larger one's plane (0.005): pieces of one face a
         real sensor bends by more than its noise (:func:`planerel.segment.merge.join_pieces`).
         0 turns it off.
+    wavy_join : bool
+        Then, on a frame whose noise model measures wavy depth (an active-stereo sensor's:
+        :attr:`planerel.segment.noise.NoiseModel.wavy`), join touching pieces of one face
+        whose union fits a plane within that waviness (True;
+        :func:`planerel.segment.merge.join_wavy`).  Frames that are not wavy are unchanged.
     """
 
     tolerance: float = 1.5
@@ -181,6 +186,7 @@ class SplitParams:
     min_split_angle: float = 3.0
     parallel_gap: float = 0.02
     piece_offset: float = 0.005
+    wavy_join: bool = True
 
     def __post_init__(self) -> None:
         o = "split"
@@ -221,6 +227,7 @@ class SplitParams:
         s(self, "merge_gap", _int(o, "merge_gap", self.merge_gap, 1))
         s(self, "merge_jump", _num(o, "merge_jump", self.merge_jump, lo=0.0, lo_open=True))
         s(self, "piece_offset", _num(o, "piece_offset", self.piece_offset, lo=0.0))
+        s(self, "wavy_join", _bool(o, "wavy_join", self.wavy_join))
         s(self, "min_split_angle", _num(o, "min_split_angle", self.min_split_angle, lo=0.0,
                                         hi=90.0))
         s(self, "parallel_gap", _num(o, "parallel_gap", self.parallel_gap, lo=0.0))
