@@ -272,8 +272,7 @@ def join_pieces(cloud, seg: Segmentation, params=None) -> Segmentation:
     Segmentation
         ``info`` adds ``joined`` (number of joins); ``seg``'s labels and planes when none.
     """
-    from planerel.segment._post_kernels import merge_stats
-    from planerel.segment.split import _TEST_PIXELS, SplitParams
+    from planerel.segment.split import SplitParams
 
     p = params if params is not None else SplitParams()
     if not isinstance(p, SplitParams):
@@ -284,16 +283,10 @@ def join_pieces(cloud, seg: Segmentation, params=None) -> Segmentation:
     if p.piece_offset <= 0 or n < 2 or not cloud.organized:
         return same
     labels = seg.labels
-    h, w = labels.shape
-    st = max(1, int(math.sqrt(h * w / _TEST_PIXELS)))
-    Ls = np.ascontiguousarray(labels[::st, ::st], dtype=np.int32)
-    Xs = np.ascontiguousarray(cloud.xyz[::st, ::st], dtype=np.float64)
-    edges = set(_touching_pairs(Ls, Xs, n, p.merge_gap, p.merge_jump))
-    if not edges:
+    sums = _touching_sums(cloud, seg, p)
+    if sums is None:
         return same
-    normal = np.array([pl.normal for pl in seg.planes], dtype=np.float64)
-    cnt, s1, s2, _ = merge_stats(Xs.reshape(-1, 3), Ls.reshape(-1), normal, n, 0.0, 0.0, 0.0,
-                                 0.0)
+    edges, normal, cnt, s1, s2 = sums
     cos_max = math.cos(math.radians(p.merge_angle))
     # pieces within min_split_angle of each other are the merge's: it judges their union
     # against their own noise, and a step of a few noise widths between two such pieces is
@@ -337,6 +330,29 @@ def join_pieces(cloud, seg: Segmentation, params=None) -> Segmentation:
     return Segmentation(out, planes, seg.method, seg.params, seg.normals, info)
 
 
+def _touching_sums(cloud, seg: Segmentation, p):
+    """``(edges, normal, cnt, s1, s2)`` of :func:`join_pieces` and :func:`join_wavy` on the
+    merge's sample (every ``st``-th pixel, about ``_TEST_PIXELS`` of them): the touching pairs
+    of ``seg``'s regions (``merge_gap``, ``merge_jump`` of SplitParams ``p``), each region's
+    unit normal ``(n, 3)``, point count ``(n,)``, sum of points ``(n, 3)`` and of their outer
+    products ``(n, 3, 3)``; None when no pair touches."""
+    from planerel.segment._post_kernels import merge_stats
+    from planerel.segment.split import _TEST_PIXELS
+
+    labels, n = seg.labels, seg.n_planes
+    h, w = labels.shape
+    st = max(1, int(math.sqrt(h * w / _TEST_PIXELS)))
+    Ls = np.ascontiguousarray(labels[::st, ::st], dtype=np.int32)
+    Xs = np.ascontiguousarray(cloud.xyz[::st, ::st], dtype=np.float64)
+    edges = set(_touching_pairs(Ls, Xs, n, p.merge_gap, p.merge_jump))
+    if not edges:
+        return None
+    normal = np.array([pl.normal for pl in seg.planes], dtype=np.float64)
+    cnt, s1, s2, _ = merge_stats(Xs.reshape(-1, 3), Ls.reshape(-1), normal, n, 0.0, 0.0, 0.0,
+                                 0.0)
+    return edges, normal, cnt, s1, s2
+
+
 def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
     """Join the pieces of faces that a wavy sensor's depth cuts apart (after :func:`join_pieces`).
 
@@ -376,9 +392,8 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
         ``seg`` itself when the frame is not wavy or nothing was joined; else with ``info``
         adding ``wavy_joined`` (number of joins).
     """
-    from planerel.segment._post_kernels import merge_stats
     from planerel.segment.noise import WAVY_RATIO
-    from planerel.segment.split import _TEST_PIXELS, SplitParams
+    from planerel.segment.split import SplitParams
 
     p = params if params is not None else SplitParams()
     if not isinstance(p, SplitParams):
@@ -392,16 +407,10 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
     # a waviness window's std along one side per metre of depth (its side: wave_window pixels)
     win = float(nm.get("wave_window", 0)) * float(nm.get("pixel_angle", 0.0)) / math.sqrt(12.0)
     labels = seg.labels
-    h, w = labels.shape
-    st = max(1, int(math.sqrt(h * w / _TEST_PIXELS)))
-    Ls = np.ascontiguousarray(labels[::st, ::st], dtype=np.int32)
-    Xs = np.ascontiguousarray(cloud.xyz[::st, ::st], dtype=np.float64)
-    edges = set(_touching_pairs(Ls, Xs, n, p.merge_gap, p.merge_jump))
-    if not edges:
+    sums = _touching_sums(cloud, seg, p)
+    if sums is None:
         return seg
-    normal = np.array([pl.normal for pl in seg.planes], dtype=np.float64)
-    cnt, s1, s2, _ = merge_stats(Xs.reshape(-1, 3), Ls.reshape(-1), normal, n, 0.0, 0.0, 0.0,
-                                 0.0)
+    edges, normal, cnt, s1, s2 = sums
     cos_max = math.cos(math.radians(WAVE_JOIN_ANGLE))
     sig2 = (c0 * c0, q * q)
 
