@@ -60,6 +60,7 @@ confidence (``PlaneSet.up_confidence``).
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, replace
 
@@ -580,24 +581,30 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     # the scene's lowest point, of its level and vertical planes (a wall's, a box's foot on
     # the floor): an inclined plane's low end may be the sensor's bend of far surfaces
     # (RealSense frames of rooms: pieces 5-8 m away reaching 0.2-0.4 m below the floor)
+    low = {d["label"]: float((d["hull3d"] @ up_v).min()) for d in pre}
     flat = [d for d in pre if d["orientation"] != "inclined"] or pre
-    lowest = min(float((d["hull3d"] @ up_v).min()) for d in flat)
-    # ... and each plane's low point only as low as the sensor is sure of: raised by
-    # ``floor_noise_sigmas`` sigma(z) at its farthest depth (a Kinect's far wall 7.4 m away,
-    # sigma 4 cm, reached 10-18 cm below a dining room's floor); 0 on a noise-free cloud
-    noise_of = _NoiseOnce(cloud)
-    noise = noise_of() if params.floor_noise_sigmas > 0 else None
-    sure = lowest if noise is None else min(
-        float((d["hull3d"] @ up_v).min())
-        + params.floor_noise_sigmas * float(noise.sigma(float(np.max(d["hull3d"][:, 2]))))
-        for d in flat)
+    lowest = min(low[d["label"]] for d in flat)
+    # the depth-noise model, measured at most once a call (the floor's and the sensor
+    # allowances' rules share it)
+    noise_of = functools.cache(functools.partial(_measured_noise, cloud))
     # candidates reach the lowest point with their own lowest point (a floor measured 2
-    # degrees off level over 2 m has its centroid 3.5 cm above it); of those, the ones whose
-    # centroids are lowest (a ramp of 4.5 degrees, level by the tolerance, reaches the floor
-    # with its low end but its middle is 8 cm up), the largest
-    cands = [d for d in pre if d["orientation"] == "horizontal"
-             and d["area"] >= params.floor_min_area
-             and float((d["hull3d"] @ up_v).min()) <= sure + params.floor_tol]
+    # degrees off level over 2 m has its centroid 3.5 cm above it) ...
+    level = [d for d in pre if d["orientation"] == "horizontal"
+             and d["area"] >= params.floor_min_area]
+    sure = lowest
+    if params.floor_noise_sigmas > 0 and any(low[d["label"]] > lowest + params.floor_tol
+                                             for d in level):
+        # ... each plane's low point counted only as low as the sensor is sure of: raised by
+        # ``floor_noise_sigmas`` sigma(z) at its farthest depth (a Kinect's far wall 7.4 m
+        # away, sigma 4 cm, reached 10-18 cm below a dining room's floor); measured only when
+        # a level plane is left out without it
+        noise = noise_of()
+        if noise is not None:
+            sure = min(low[d["label"]] + params.floor_noise_sigmas
+                       * float(noise.sigma(float(np.max(d["hull3d"][:, 2])))) for d in flat)
+    # of the candidates, the ones whose centroids are lowest (a ramp of 4.5 degrees, level by
+    # the tolerance, reaches the floor with its low end but its middle is 8 cm up), the largest
+    cands = [d for d in level if low[d["label"]] <= sure + params.floor_tol]
     floor = None
     if cands:
         base = min(float(d["centroid"] @ up_v) for d in cands)
@@ -632,19 +639,6 @@ def _measured_noise(cloud):
     return noise if noise.reliable and noise.kind != "none" else None
 
 
-class _NoiseOnce:
-    """:func:`_measured_noise` of ``cloud``, measured on the first call only (the floor rule
-    and the sensor allowances of one :func:`measure_planes` call share it)."""
-
-    def __init__(self, cloud):
-        self.cloud, self.done, self.noise = cloud, False, None
-
-    def __call__(self):
-        if not self.done:
-            self.noise, self.done = _measured_noise(self.cloud), True
-        return self.noise
-
-
 def _noise_tilt(noise, d, sigmas: float, cap: float) -> float:
     """Degrees a plane ``d`` (its ``hull3d``, ``width``) may measure off its orientation for
     the sensor's noise: ``atan(sigmas * sigma(z) / width)`` at its farthest hull depth ``z``,
@@ -667,7 +661,8 @@ def _sensor_tilt(noise_of, pre, up_v, params: PlaneParams) -> None:
     from below within ``horizontal_tol`` plus an allowance of level; the allowance is
     ``atan(tilt_noise_sigmas * sigma(z) / width)`` degrees at most the tolerance (``sigma``
     from :func:`planerel.segment.noise.estimate_noise` at the plane's farthest hull depth,
-    ``width`` its short side).  ``incline`` stays as measured.
+    ``width`` its short side).  ``incline`` stays as measured.  ``noise_of()`` gives the
+    cloud's noise model (:func:`_measured_noise`), measured on the first call.
 
     Why: a structured-light sensor bends far surfaces (its depth errors grow as ``z^2`` and
     are partly systematic).  Real frames nobody on the team had made showed a basement's wall
@@ -748,7 +743,8 @@ def _sensor_floor(noise_of, pre, up_v, params: PlaneParams) -> int | None:
     ``horizontal_tol`` plus the tilt the sensor's depth noise allows at its range:
     ``atan(floor_noise_sigmas * sigma(z) / width)`` (``sigma`` from
     :func:`planerel.segment.noise.estimate_noise` at the plane's farthest hull depth ``z``;
-    at most ``horizontal_tol``).  None when no plane qualifies or the noise is not measured.
+    at most ``horizontal_tol``).  None when no plane qualifies or the noise is not measured
+    (``noise_of()``, as for :func:`_sensor_tilt`).
 
     Why: a structured-light sensor's depth errors grow as ``z^2`` and are partly systematic
     (a depth bias that varies across the image), so a far floor can measure several degrees
