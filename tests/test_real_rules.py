@@ -393,3 +393,40 @@ def test_a_table_standing_in_the_room_is_other_and_the_box_on_it_box(demo_model,
     assert n_box > 0.8 * (truth == 1).sum() and box_.klass == "box", (box_.klass, box_.rule)
     assert table is not box_
     assert not any(o.klass in ("stairs", "ramp") for o in ans.objects)
+
+
+def _hidden_set(name: str) -> Path | None:
+    """The development hunt's set ``name`` (hunt26 / hunt28: ``/work/hidden26``,
+    ``/work/hidden28``, outside the repository) under one of the folders of
+    ``$PLANEREL_HIDDEN_DATA`` (``os.pathsep``-separated), or None."""
+    for root in os.environ.get("PLANEREL_HIDDEN_DATA", "").split(os.pathsep):
+        if root and (Path(root) / name / "labels.json").is_file():
+            return Path(root) / name
+    return None
+
+
+def test_realsense_boxes_whose_faces_come_in_pieces(demo_model):
+    """frag31: two RealSense boxes nobody on the team had made, lost to a face in pieces.
+    hidden26's ycb4 (a Cheez-It box lying under a drill, the wall behind at 1 m): the wall's
+    and the box top's pieces tilt 20-31 degrees against each other, beyond the wavy join's 20;
+    the wall's fragments then joined the box and the drill through ``open_walls`` (one
+    proposal of 41 planes, a false box 28 % in the box).  Small pieces now join up to 30
+    degrees (``WAVE_TILT``, docs/segmentation.md "Wavy sensors"): the box is ``box``.
+    hidden28's graspnet cracker box: its top and its broad side, a skirt pair, lie 2.5 cm
+    apart (the smeared edge's band), beyond ``touch_gap`` (8 px, 0.5 cm there): two
+    proposals, neither a box.  On a wavy frame a skirt pair within ``skirt_gap`` stays one
+    object: ``box``."""
+    ycb, grasp = _hidden_set("posecnn-ycb"), _hidden_set("graspnet-table")
+    if ycb is None or grasp is None:
+        pytest.skip("set PLANEREL_HIDDEN_DATA to the folders holding posecnn-ycb/ and "
+                    "graspnet-table/ (/work/hidden26, /work/hidden28)")
+    import sys
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from real_unseen import run
+
+    rows = {r["frame"]: r for r in run([str(ycb), str(grasp)], str(demo_model))}
+    ycb4, box = rows["ycb4-depth"], rows["example_depth"]
+    assert [o["found"] for o in ycb4["objects"]] == [True]
+    assert [o["found"] for o in box["objects"]] == [True]
+    assert not box["false"]

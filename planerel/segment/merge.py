@@ -40,7 +40,7 @@ from planerel.segment.absorb import ABSORB_FRACTION, _facets, _touching_pairs
 from planerel.segment.result import Segmentation
 
 __all__ = ["join_pieces", "join_wavy", "merge_coplanar", "WAVE_JOIN_ANGLE", "WAVE_FLAT",
-           "WAVE_SPAN", "WAVE_OWN", "WAVE_MAX_RMS"]
+           "WAVE_SPAN", "WAVE_OWN", "WAVE_MAX_RMS", "WAVE_JOIN_MAX", "WAVE_TILT"]
 
 #: Largest angle between the normals of two pieces of one wavy face (degrees): small pieces of
 #: a face whose depth waves by millimetres over centimetres tilt by up to 20 degrees (a carton
@@ -60,6 +60,15 @@ WAVE_OWN = 1.2
 #: sensor its depth is centimetres off (unions of 16 and 104 mm at 3.9 and 5.6 m made false
 #: ramps), while the pieces of a face joined at 0.4-2 m fit within 2-7 mm.
 WAVE_MAX_RMS = 0.008
+#: Beyond :data:`WAVE_JOIN_ANGLE`, up to this angle (degrees), two pieces may still join when
+#: the smaller is small against the waves: the tangent of their angle at most
+#: :data:`WAVE_TILT` x the waves' RMS (``wave x sigma(z)``) / its largest in-plane std (a piece
+#: of std ``s`` on a face waving by ``w`` tilts by about ``atan(w / s)``).  hidden26's ycb4
+#: (RealSense): a box top's and a wall's pieces of 1-2 cm std 20-31 degrees apart need 3.3-9.7;
+#: a carton pile's long pieces (std 6-15 cm, the palletizer frames), which a fixed bound of 35
+#: degrees joined into a false staircase, 17-40 (frag31, docs/segmentation.md).
+WAVE_JOIN_MAX = 30.0
+WAVE_TILT = 8.0
 
 
 def merge_coplanar(cloud, seg: Segmentation, params=None, *,
@@ -363,7 +372,9 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
     plane-fit std over 25 px windows relative to the small-patch ``sigma``; ``info
     ["noise_model"]``).  Only on a wavy frame (``wave >= WAVY_RATIO``; Kinect, laser and
     synthetic frames measure far less and are returned unchanged): two touching regions (the
-    merge's test) whose normals lie within :data:`WAVE_JOIN_ANGLE` degrees are joined when
+    merge's test) whose normals lie within :data:`WAVE_JOIN_ANGLE` degrees (up to
+    :data:`WAVE_JOIN_MAX` when the smaller piece is small against the waves,
+    :data:`WAVE_TILT`) are joined when
     the least-squares plane of their union fits it within ``tolerance x wave x sigma(z) x
     g`` RMS: ``z`` the union's centroid depth, ``sigma`` the small-patch noise model and
     ``g = sqrt(min(WAVE_SPAN, span / window))`` the waves' growth with the union's extent
@@ -416,7 +427,10 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
 
     def test(a, b):
         """``(ratio, union normal)`` of a pair passing the tests, else None."""
-        if cnt[a] < 3 or cnt[b] < 3 or abs(normal[a] @ normal[b]) < cos_max:
+        if cnt[a] < 3 or cnt[b] < 3:
+            return None
+        cos_ab = abs(float(normal[a] @ normal[b]))
+        if cos_ab < cos_wide:
             return None
         m = cnt[a] + cnt[b]
         c = (s1[a] + s1[b]) / m
@@ -425,6 +439,12 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
         if rms > WAVE_MAX_RMS:
             return None
         z = abs(c[2])
+        if cos_ab < cos_max:
+            # beyond WAVE_JOIN_ANGLE only pieces small against the waves: a piece of in-plane
+            # std s on a face waving by wave x sigma(z) tilts by about atan(that / s)
+            tilt = WAVE_TILT * wave * math.sqrt(sig2[0] + sig2[1] * z ** 4) / max(min(ext[a], ext[b]), 1e-12)
+            if cos_ab < math.cos(math.atan(tilt)):
+                return None
         span = math.sqrt(max(ev[2], 0.0))
         if span > WAVE_SPAN * win * z and rms > WAVE_FLAT * span and rms > WAVE_OWN * max(own[a], own[b]):
             return None
@@ -436,6 +456,8 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
         return (ratio, vec[:, 0]) if ratio <= 1.0 else None
 
     own = {i: float(x) for i, x in enumerate(_rms_of(np.maximum(cnt, 1), s1, s2))}
+    ext = {i: float(x) for i, x in enumerate(_span_of(np.maximum(cnt, 1), s1, s2))}
+    cos_wide = math.cos(math.radians(max(WAVE_JOIN_ANGLE, WAVE_JOIN_MAX)))
     parent = np.arange(n)
     joined = 0
     tested = {e: test(*e) for e in sorted(edges)}  # pair -> result; redone when a side changes
@@ -458,6 +480,7 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
         s2[keep] += s2[drop]
         normal[keep] = nv
         own[keep] = float(_rms_of(cnt[keep:keep + 1], s1[keep:keep + 1], s2[keep:keep + 1])[0])
+        ext[keep] = float(_span_of(cnt[keep:keep + 1], s1[keep:keep + 1], s2[keep:keep + 1])[0])
         tested = {e: r for e, r in tested.items() if keep not in e and drop not in e}
         joined += 1
     if not joined:
@@ -465,6 +488,14 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
     out, planes, _ = _apply_groups(labels, cloud.xyz, seg.planes, parent)
     info = dict(seg.info, wavy_joined=joined)
     return Segmentation(out, planes, seg.method, seg.params, seg.normals, info)
+
+
+def _span_of(m, s1, s2) -> np.ndarray:
+    """Largest in-plane std of each group (the square root of its covariance's largest
+    eigenvalue) from its sums (k,)."""
+    c = s1 / m[:, None]
+    cov = s2 / m[:, None, None] - np.einsum("ki,kj->kij", c, c)
+    return np.sqrt(np.maximum(np.linalg.eigvalsh(cov)[:, 2], 0.0))
 
 
 def _rms_of(m, s1, s2) -> np.ndarray:
