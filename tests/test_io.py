@@ -195,6 +195,30 @@ def test_npy_xyz_and_depth(tmp_path):
     assert np.nanmax(np.abs(d.depth - cloud.depth)) < 1e-6
 
 
+def test_npy_point_list(tmp_path):
+    """``np.save(points)`` of an (N, 3) cloud reads as points: a depth frame's valid points go
+    back on their pixel grid (as an unorganized PCD does), scattered points stay a list, and an
+    empty list is a clear error, never a depth image three pixels wide."""
+    depth, intr = _plane_depth()
+    cloud = depth_to_cloud(depth, intr)
+    pts = cloud.xyz[np.isfinite(cloud.xyz[..., 2])]
+    rng = np.random.default_rng(5)
+    np.save(tmp_path / "frame.npy", pts[rng.permutation(len(pts))])
+    back = io.read(tmp_path / "frame.npy")
+    assert back.organized and back.n_valid == len(pts)
+    assert back.intrinsics.fx == pytest.approx(intr.fx, abs=1e-2)
+    rows = np.flatnonzero(np.isfinite(cloud.xyz[..., 2]).any(axis=1))
+    assert np.allclose(back.xyz, cloud.xyz[rows[0]:rows[-1] + 1], atol=1e-6, equal_nan=True)
+    scattered = rng.normal(size=(400, 3)) + [0, 0, 4]
+    np.save(tmp_path / "scattered.npy", scattered.astype(np.float32))
+    s = io.read(tmp_path / "scattered.npy")
+    assert not s.organized and s.shape == (1, 400)
+    assert np.allclose(s.points(), scattered.astype(np.float32))
+    np.save(tmp_path / "none.npy", np.zeros((0, 3)))
+    with pytest.raises(InputError, match="no points"):
+        io.read(tmp_path / "none.npy")
+
+
 def test_read_picks_reader_by_content(tmp_path):
     depth, intr = _plane_depth()
     write_depth_png(tmp_path / "frame.bin", depth)
@@ -261,7 +285,7 @@ def test_bad_depth_scale(scale):
 
 def test_wrong_shapes_and_dtypes(tmp_path):
     np.save(tmp_path / "four.npy", np.zeros((4, 5, 4)))
-    with pytest.raises(InputError, match=r"\(H, W, 3\) XYZ or \(H, W\) depth"):
+    with pytest.raises(InputError, match=r"\(H, W, 3\) XYZ, \(H, W\) depth or \(N, 3\) points"):
         io.read(tmp_path / "four.npy")
     np.save(tmp_path / "str.npy", np.array([["a", "b"]]))
     with pytest.raises(InputError, match="numeric"):

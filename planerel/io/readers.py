@@ -857,16 +857,31 @@ def _load_npy(path: Path, max_points=None) -> np.ndarray:
 @_reader
 def read_npy(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
              max_points: int | None = None) -> Cloud:
-    """Read a ``.npy`` array: ``(H, W, 3)`` XYZ in metres (NaN invalid) or ``(H, W)`` depth.
+    """Read a ``.npy`` array: ``(H, W, 3)`` XYZ in metres (NaN invalid), ``(H, W)`` depth, or
+    ``(N, 3)`` XYZ points (an unorganized cloud, as ``np.save(points)`` writes it).
 
     A depth array needs intrinsics (argument or sidecar); its scale defaults to 1 for float
     arrays (metres) and 1000 for integer arrays (millimetres).  An XYZ array gets intrinsics
-    from the argument or, if it is an exact pinhole back-projection, from the points.
+    from the argument or, if it is an exact pinhole back-projection, from the points.  A point
+    list that is a depth frame's back-projection is put back on its pixel grid, as
+    :func:`read_pcd` does; any other stays ``(1, N, 3)`` with ``organized=False``.  An ``(N, 3)``
+    array is always read as points (never as a depth image three pixels wide), and the
+    ``intrinsics`` argument does not apply to it (a point list carries its own geometry).
     """
     p = _existing(path)
     arr = _load_npy(p, max_points)
     if not isinstance(arr, np.ndarray) or arr.dtype.kind not in "iuf":
         raise InputError(f"{p}: .npy must hold a numeric array, got dtype {getattr(arr, 'dtype', '?')}")
+    if arr.ndim == 2 and arr.shape[1] == 3:
+        if arr.shape[0] == 0:
+            raise InputError(f"{p}: .npy holds no points (shape {arr.shape})")
+        xyz = np.asarray(arr, dtype=np.float64)
+        info = find_camera_info(p)
+        up_ = up if up is not None else info.get("up")
+        grid = pinhole_grid(xyz)
+        if grid is not None:
+            return Cloud(_on_grid(xyz, grid, np.nan), grid[2], up_, str(p))
+        return Cloud(xyz.reshape(1, -1, 3), None, up_, str(p), organized=False)
     if arr.ndim == 3 and arr.shape[2] == 3:
         info = find_camera_info(p)
         value = intrinsics if intrinsics is not None else info.get("intrinsics")
@@ -888,7 +903,8 @@ def read_npy(path, *, intrinsics=None, depth_scale: float | None = None, up=None
             depth_scale = 1.0 if arr.dtype.kind == "f" else DEFAULT_DEPTH_SCALE
         return depth_to_cloud(arr, intr, depth_scale, up=up if up is not None else info.get("up"),
                               source=str(p))
-    raise InputError(f"{p}: .npy must hold (H, W, 3) XYZ or (H, W) depth, got shape {arr.shape}")
+    raise InputError(f"{p}: .npy must hold (H, W, 3) XYZ, (H, W) depth or (N, 3) points, "
+                     f"got shape {arr.shape}")
 
 
 # --------------------------------------------------------------------------- SegComp ABW
