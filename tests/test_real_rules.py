@@ -405,8 +405,8 @@ def test_furniture_longer_than_any_box_is_no_box(demo_model):
     """fbox31: the demo's box rules proved furniture and a door's jamb on real rooms: a
     wardrobe's 1.6 m side and the jamb (NYU basement), an office cabinet's 1.65 m side (SUN
     corridor; ``tall_face``), a dining table's 2.2 m top over its apron (``skirt``).  The size
-    gate (``decision.size_gate``) refuses a box proof binding a plane over 1.2 times the longest
-    of the training box proofs (1.26 m).  The sideboard of dining3-5 (its top 0.5-1.2 m, its
+    gate (``decision.size_gate``) refuses a box proof binding a plane (a face's height, a top's
+    length) over 1.2 times the furthest of the training box proofs' (1.23 m).  The sideboard of dining3-5 (its top 0.5-1.2 m, its
     front 0.9 m: box-shaped furniture the labels mark no class) stays a false box
     (docs/objects.md, "False boxes on real rooms")."""
     sets = [HUNT_DATA / "hidden26" / "open3d-rgbd", HUNT_DATA / "hidden28" / "nyu-slambook"]

@@ -411,11 +411,11 @@ class Classifier:
     def _answer(self, desc, plane_ids) -> list:
         """Each object of ``desc`` (its facts loaded) answered by this model's rules."""
         from planerel.features.relations import flight_evidence, flight_faces
-        from planerel.ilp.metrics import decide, horizontal_counts, laplace, plane_lengths
+        from planerel.ilp.metrics import decide, horizontal_counts, laplace, plane_extents
 
         answers = []
         levels = horizontal_counts((desc,))
-        lengths = (functools.cache(lambda: plane_lengths((desc,))) if self.size_domain
+        extents = (functools.cache(lambda: plane_extents((desc,))) if self.size_domain
                    else None)
         proposal_params = self._describe_kw.get("proposal_params")
         for o in desc.objects:
@@ -444,7 +444,7 @@ class Classifier:
                                    flight=(lambda o=o: flight_evidence(desc.planes, o.planes,
                                                                        proposal_params))
                                    if self.flight_gate else None,
-                                   lengths=lengths, sizes=self.size_domain,
+                                   extents=extents, sizes=self.size_domain,
                                    size_margin=self.size_margin)
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)

@@ -20,7 +20,7 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "LEVEL_GATE", "horizontal_counts", "level_domain", "LevelRefusal", "level_refusals",
            "proof_refusals", "VETO_RATIO", "VetoRefusal", "veto_refusals", "FLIGHT_GATE",
            "FLIGHT_CLASS", "FlightRefusal", "flight_refusals", "SIZE_GATE", "SIZE_MARGIN",
-           "SIZE_CLASSES", "size_gated", "proof_extent", "plane_lengths", "size_domain", "SizeRefusal", "size_refusals",
+           "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
            "decide"]
 
 #: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
@@ -198,9 +198,10 @@ class DecisionParams:
         touching and a machine's faces for flights (docs/objects.md, "Carton piles and false
         answers on unseen frames").
     size_gate : bool
-        Refuse a rule whose proof of an object binds a plane longer than ``1 + size_margin``
-        times the longest plane of the class's training proofs (:func:`size_refusals`; the
-        model keeps the longest, ``size_domain``).  On by default (fbox31, 2026-11-30): on
+        Refuse a rule whose proof of an object binds a plane reaching further than ``1 +
+        size_margin`` times the planes of the class's training proofs (a face's height,
+        another plane's length: :func:`plane_extents`; :func:`size_refusals`; the model keeps
+        the furthest, ``size_domain``).  On by default (fbox31, 2026-11-30): on
         real rooms nobody on the team had seen, the demo's box rules proved a dining table's
         2.2 m top with its apron (``skirt``), a wardrobe's 1.6 m side, an office cabinet's
         1.65 m side and a door's jamb (``tall_face``); the demo world's boxes are at most
@@ -480,24 +481,35 @@ def level_refusals(hits, stats: Sequence, n_horizontal, domain: Sequence, steppe
     return kept, tuple(refused.values())
 
 
-def plane_lengths(descs) -> dict:
-    """``{plane id: plane_length}`` (m, the fact ``plane_length/2``: the long side of the
-    hull's minimum rectangle, a lower bound for a plane the view cuts) over scene
-    descriptions."""
-    return {d.plane_id(p.label): float(p.length) for d in descs for p in d.planes}
+def plane_extents(descs) -> dict:
+    """``{plane id: extent}`` (m) over scene descriptions: how far each plane reaches where a
+    box's size is bounded.  A vertical plane's extent is its height (the span of its hull
+    along ``up``): a row of boxes side by side makes one long front, but no face taller than
+    its boxes; any other plane's is ``plane_length/2`` (the long side of its hull's minimum
+    rectangle).  Both are lower bounds for a plane the view cuts."""
+    out = {}
+    for d in descs:
+        up = np.asarray(d.planes.up, dtype=float)
+        for p in d.planes:
+            extent = float(p.length)
+            hull = np.asarray(p.hull3d, dtype=float)
+            if p.orientation == "vertical" and hull.ndim == 2 and len(hull) >= 2:
+                h = hull @ up
+                extent = float(h.max() - h.min())
+            out[d.plane_id(p.label)] = extent
+    return out
 
 
-def proof_extent(bindings: dict, lengths: dict):
-    """The longest of the planes a proof binds: the largest ``plane_length`` (m) among the
-    bindings' values that are plane ids of ``lengths`` (:func:`plane_lengths`), or None when
-    the proof binds none."""
-    values = [lengths[v] for v in (bindings or {}).values() if isinstance(v, str) and v in lengths]
+def proof_extent(bindings: dict, extents: dict):
+    """The largest extent among the planes a proof binds (m; :func:`plane_extents`), or None
+    when the proof binds no plane of ``extents``."""
+    values = [extents[v] for v in (bindings or {}).values() if isinstance(v, str) and v in extents]
     return max(values) if values else None
 
 
-def size_domain(fired: dict, truth: dict, lengths: dict) -> tuple:
-    """How long the planes are that each class's rules proved its training positives with:
-    ``((class, high, n), ...)``.
+def size_domain(fired: dict, truth: dict, extents: dict) -> tuple:
+    """How far the planes reach that each class's rules proved its training positives with
+    (:func:`plane_extents`): ``((class, high, n), ...)``.
 
     A positive's extent is the least, over the hits of its class, of :func:`proof_extent`
     (its most compact proof); ``high`` is the largest extent over the class's positives, so
@@ -510,15 +522,15 @@ def size_domain(fired: dict, truth: dict, lengths: dict) -> tuple:
         ``{object: [(class, index, bindings, text, scale), ...]}``.
     truth : dict
         ``{object: class}`` of the training objects.
-    lengths : dict
-        ``{plane id: plane_length}`` (:func:`plane_lengths`).
+    extents : dict
+        ``{plane id: extent}`` (:func:`plane_extents`).
     """
     per: dict = {}
     for obj, hits in fired.items():
         k = truth.get(obj)
         if k is None or k == OTHER:
             continue
-        ext = [proof_extent(h[2], lengths) for h in hits if h[0] == k]
+        ext = [proof_extent(h[2], extents) for h in hits if h[0] == k]
         ext = [e for e in ext if e is not None]
         if ext:
             per.setdefault(k, []).append(min(ext))
@@ -534,8 +546,9 @@ def size_gated(domain: Sequence, classes: str = SIZE_CLASSES) -> tuple:
 
 @dataclass(frozen=True)
 class SizeRefusal:
-    """A rule whose proof of an object binds a plane far longer than any plane of the class's
-    training proofs (:func:`size_refusals`)."""
+    """A rule whose proof of an object binds a plane reaching far further than any plane of
+    the class's training proofs (:func:`size_refusals`; a face's height, another plane's
+    length: :func:`plane_extents`)."""
 
     klass: str
     rule: int
@@ -550,34 +563,34 @@ class SizeRefusal:
 
     @property
     def reason(self) -> str:
-        return (f"rule {self.rule} proves it with a plane {self.extent:.2f} m long, over "
-                f"{self.bound:.2f} m: the longest plane of the training {self.klass} proofs "
-                f"is {self.high:.2f} m, margin {self.margin:g}")
+        return (f"rule {self.rule} proves it with a plane reaching {self.extent:.2f} m, over "
+                f"{self.bound:.2f} m: the training {self.klass} proofs' planes reach at most "
+                f"{self.high:.2f} m, margin {self.margin:g}")
 
     def to_dict(self) -> dict:
         return {"class": self.klass, "rule": self.rule, "proof_extent": round(self.extent, 4),
                 "proofs_high": self.high, "margin": self.margin, "reason": self.reason}
 
 
-def size_refusals(hits, stats: Sequence, lengths, domain: Sequence,
+def size_refusals(hits, stats: Sequence, extents, domain: Sequence,
                   margin: float = SIZE_MARGIN, min_positives: int = PROOF_MIN_POSITIVES):
-    """Leave out the hits whose proof binds a plane far longer than the planes of the class's
-    training proofs.
+    """Leave out the hits whose proof binds a plane reaching far further than the planes of
+    the class's training proofs.
 
     A class with an entry ``(class, high, n)`` in ``domain`` (:func:`size_domain`, measured on
     at least ``min_positives`` positives) refuses a hit of its class whose
-    :func:`proof_extent` exceeds ``high * (1 + margin)``.  ``plane_length`` is a lower bound
-    (a plane the view cuts goes on), so a plane measured longer than that is longer than
-    any plane a training positive was proved with: a dining table's 2 m top over its apron
-    (``skirt``), a wardrobe's 1.6 m side or a door's jamb seen to the image's top
-    (``tall_face``) say "box" of something no box of the training world is the size of
-    (docs/objects.md, "False boxes on real rooms").  No domain, no lengths or a class without
-    an entry: nothing is refused.
+    :func:`proof_extent` (a face's height, another plane's length: :func:`plane_extents`)
+    exceeds ``high * (1 + margin)``.  Extents are lower bounds (a plane the view cuts goes
+    on), so a plane reaching further than that is larger than any plane a training positive
+    was proved with: a dining table's 2 m top over its apron (``skirt``), a wardrobe's 1.6 m
+    side or a door's jamb seen to the image's top (``tall_face``) say "box" of something no
+    box of the training world is the size of (docs/objects.md, "False boxes on real
+    rooms").  No domain, no extents or a class without an entry: nothing is refused.
 
     Parameters
     ----------
-    lengths : dict or callable
-        ``{plane id: plane_length}`` (:func:`plane_lengths`), or a callable returning it
+    extents : dict or callable
+        ``{plane id: extent}`` (:func:`plane_extents`), or a callable returning it
         (asked only when a class with an entry fired).
 
     Returns
@@ -586,19 +599,19 @@ def size_refusals(hits, stats: Sequence, lengths, domain: Sequence,
         The hits left, and one :class:`SizeRefusal` per refused rule that takes part in the
         decision (:func:`takes_part`).
     """
-    if not domain or lengths is None:
+    if not domain or extents is None:
         return list(hits), ()
     highs = {k: float(hi) for k, hi, n in domain if n >= min_positives}
     if not any(h[0] in highs for h in hits):
         return list(hits), ()
-    if callable(lengths):
-        lengths = lengths()
+    if callable(extents):
+        extents = extents()
     table = {i: (tp, fp) for i, _, tp, fp in stats}
     kept, refused = [], {}
     for hit in hits:
         k = hit[0]
         if k in highs:
-            ext = proof_extent(hit[2], lengths)
+            ext = proof_extent(hit[2], extents)
             if ext is not None and ext > highs[k] * (1.0 + float(margin)):
                 if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
                     refused[hit[1]] = SizeRefusal(k, hit[1], float(ext), highs[k], float(margin))
@@ -835,10 +848,10 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            proofs: Sequence = (), proof_margin: float = PROOF_MARGIN,
            proof_min_positives: int = PROOF_MIN_POSITIVES, veto_ratio: float = 0.0,
            n_horizontal=None, levels: Sequence = (), stepped=False, flight=None,
-           lengths=None, sizes: Sequence = (), size_margin: float = SIZE_MARGIN):
+           extents=None, sizes: Sequence = (), size_margin: float = SIZE_MARGIN):
     """The open-set decision for one object: :func:`proof_refusals` (with ``proofs``, the
     model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
-    :func:`size_domain`, and the scene's plane ``lengths``), :func:`planar_refusals` (``domain``),
+    :func:`size_domain`, and the scene's plane ``extents``), :func:`planar_refusals` (``domain``),
     :func:`level_refusals` (``levels``, the model's :func:`level_domain`, and the object's
     ``n_horizontal`` and ``stepped``), :func:`flight_refusals` (``flight``; None, the
     default here, off), :func:`veto_refusals`
@@ -854,7 +867,7 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
         The chosen hit (None: :data:`OTHER`) and the rules and classes refused.
     """
     kept, small = proof_refusals(hits, stats, proofs, proof_margin, proof_min_positives)
-    kept, large = size_refusals(kept, stats, lengths, sizes, size_margin, proof_min_positives)
+    kept, large = size_refusals(kept, stats, extents, sizes, size_margin, proof_min_positives)
     kept, refused = planar_refusals(kept, stats, planar_fraction, domain, margin)
     kept, flat = level_refusals(kept, stats, n_horizontal, levels, stepped)
     kept, steps = flight_refusals(kept, stats, flight)

@@ -41,7 +41,7 @@ from planerel.ilp.metrics import (
     laplace,
     level_domain,
     planar_domain,
-    plane_lengths,
+    plane_extents,
     proof_domain,
     score_objects,
     size_domain,
@@ -493,7 +493,7 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         stats, cofire = _stats_from_fired(model, fired, dict(examples))
         return replace(model, stats=stats, cofire=cofire,
                        proof_domain=proof_domain(fired, dict(examples)),
-                       size_domain=size_domain(fired, dict(examples), plane_lengths(descs)))
+                       size_domain=size_domain(fired, dict(examples), plane_extents(descs)))
     finally:
         if tmp is not None:
             tmp.cleanup()
@@ -813,7 +813,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
     planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
     levels = horizontal_counts(descs)
     where = {o.id: (d, o) for d in descs for o in d.objects}
-    lengths = plane_lengths(descs) if model.size_gate and model.size_domain else None
+    extents = plane_extents(descs) if model.size_gate and model.size_domain else None
     out = []
     for o in object_ids:
         hits = fired.get(o, [])
@@ -830,7 +830,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                                stepped=lambda o=o: object_shows(flight_faces, where, o),
                                flight=(lambda o=o: object_shows(flight_evidence, where, o))
                                if model.flight_gate else None,
-                               lengths=lengths,
+                               extents=extents,
                                sizes=(size_gated(model.size_domain, model.size_classes)
                                       if model.size_gate else ()),
                                size_margin=model.size_margin)
