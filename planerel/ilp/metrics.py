@@ -208,9 +208,9 @@ class DecisionParams:
         1.2 m long and no real box answer's proof plane is longer than 0.6 m
         (docs/objects.md, "False boxes on real rooms").
     size_margin : float
-        The share of the longest training proof plane a proof may exceed it by (>= 0).  0.2:
-        the demo's longest box proof plane is 1.26 m (a 1.2 m box's side), refused over
-        1.51 m; the wardrobe's 1.60 m side is refused with any margin under 0.27.
+        The share of the furthest-reaching training proof plane a proof may exceed it by
+        (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
+        over 1.48 m; the wardrobe's side (1.61 m high) is refused with any margin under 0.31.
     size_classes : str
         The classes the size gate holds for, comma-separated (``box``).  A box is a thing of
         bounded size; a staircase or a ramp is part of a building and as wide as the building
