@@ -176,7 +176,7 @@ def _roof(width_px, height_px, angle, z0=0.65, seed=0):
     ``width_px`` x ``height_px`` pixels, 0.1 mm of white noise.  Returns a Segmentation of the
     two labels with a wavy frame's noise model (``wave`` 4, ``sigma`` 0.3 mm: a waviness RMS of
     1.2 mm) and the cloud."""
-    from planerel.segment.result import SegPlane, Segmentation
+    from planerel.segment.result import Segmentation, SegPlane
 
     w, h = W, H
     intr = INTR

@@ -11,6 +11,7 @@ must be used from the main thread.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import re
 import tempfile
@@ -72,14 +73,16 @@ class ObjectAnswer:
         Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
     curved : bool or None
         The planar fraction is below the model's ``curved.curved_below``: a round object.
-    refused : tuple of Refusal, ProofRefusal, LevelRefusal and VetoRefusal
+    refused : tuple of Refusal, ProofRefusal, SizeRefusal, LevelRefusal and VetoRefusal
         Classes whose rules proved the object and that the decision refused for it: its
         planar fraction lies under ``1 - decision.planar_margin`` times the least planar of
         the class's training positives (with ``decision.planar_gate``;
         :func:`planerel.ilp.metrics.planar_refusals`), a rule whose proof is made of planes far
         smaller than its training proofs' (:func:`~planerel.ilp.metrics.proof_refusals`), a
         class all of whose training positives had more horizontal planes than the object
-        (:func:`~planerel.ilp.metrics.level_refusals`), or a rule for ``other`` proved through planes far smaller than a class proof's
+        (:func:`~planerel.ilp.metrics.level_refusals`), a rule whose proof binds a plane far
+        longer than its class's training proofs' (:func:`~planerel.ilp.metrics.size_refusals`),
+        or a rule for ``other`` proved through planes far smaller than a class proof's
         (:func:`~planerel.ilp.metrics.veto_refusals`).  The answer is then the next class
         that holds, else ``other``.
     votes : tuple of ObjectAnswer
@@ -258,6 +261,8 @@ class Classifier:
             f"{self.module}:planerel_cofire(I, J, C, N)", "reading the rule statistics"))
         if not self.classes:
             raise InputError(f"{path}: the model has no rules")
+        from planerel.ilp.metrics import size_gated
+
         decision = self.settings.decision_params()
         #: ``(class, low, high, n)`` the gate compares with (empty: no gate; the model keeps
         #: none, or ``decision.planar_gate`` is off)
@@ -270,6 +275,11 @@ class Classifier:
         #: ``(class, low, n)`` the level gate compares with (empty: no gate; the model keeps
         #: none, or ``decision.level_gate`` is off)
         self.level_domain = (self.settings.level_domain if decision.level_gate else ())
+        #: ``(class, high, n)`` the size gate compares with (empty: no gate; the model keeps
+        #: none, or ``decision.size_gate`` is off)
+        self.size_domain = (size_gated(self.settings.size_domain, decision.size_classes)
+                            if decision.size_gate else ())
+        self.size_margin = decision.size_margin
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -309,7 +319,7 @@ class Classifier:
         self.classes = tuple(dict.fromkeys(k for m in members for k in m.classes))
         self.stats = ()
         self.cofire = ()
-        self.planar_domain = self.proof_domain = self.level_domain = ()
+        self.planar_domain = self.proof_domain = self.level_domain = self.size_domain = ()
         self.warnings = tuple(dict.fromkeys((*self.warnings, *(w for m in members
                                                                 for w in m.warnings))))
 
@@ -401,10 +411,12 @@ class Classifier:
     def _answer(self, desc, plane_ids) -> list:
         """Each object of ``desc`` (its facts loaded) answered by this model's rules."""
         from planerel.features.relations import flight_evidence, flight_faces
-        from planerel.ilp.metrics import decide, horizontal_counts, laplace
+        from planerel.ilp.metrics import decide, horizontal_counts, laplace, plane_extents
 
         answers = []
         levels = horizontal_counts((desc,))
+        extents = (functools.cache(lambda: plane_extents((desc,))) if self.size_domain
+                   else None)
         proposal_params = self._describe_kw.get("proposal_params")
         for o in desc.objects:
             hits = []
@@ -431,7 +443,9 @@ class Classifier:
                                                                     proposal_params),
                                    flight=(lambda o=o: flight_evidence(desc.planes, o.planes,
                                                                        proposal_params))
-                                   if self.flight_gate else None)
+                                   if self.flight_gate else None,
+                                   extents=extents, sizes=self.size_domain,
+                                   size_margin=self.size_margin)
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)
             if best is None:

@@ -44,7 +44,11 @@ def register(sub) -> None:
                         "proof; decision.level_gate (on by default) refuses a class for an "
                         "object with fewer horizontal planes than all of its training positives; "
                         "decision.flight_gate (on in models learned since pile26) refuses stairs "
-                        "for an object whose faces show no flight's row or steps")
+                        "for an object whose faces show no flight's row or steps; "
+                        "decision.size_gate (on in models learned since fbox31) refuses a box "
+                        "rule whose proof binds a plane (a face's height, another plane's "
+                        "length) over 1 + decision.size_margin times the training box proofs' "
+                        "(decision.size_classes: the classes gated, box)")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)

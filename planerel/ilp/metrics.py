@@ -19,7 +19,9 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "planar_refusals", "PROOF_MARGIN", "PROOF_GATE", "PROOF_MIN_POSITIVES", "proof_domain", "proof_bound", "ProofRefusal",
            "LEVEL_GATE", "horizontal_counts", "level_domain", "LevelRefusal", "level_refusals",
            "proof_refusals", "VETO_RATIO", "VetoRefusal", "veto_refusals", "FLIGHT_GATE",
-           "FLIGHT_CLASS", "FlightRefusal", "flight_refusals", "decide"]
+           "FLIGHT_CLASS", "FlightRefusal", "flight_refusals", "SIZE_GATE", "SIZE_MARGIN",
+           "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
+           "decide"]
 
 #: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
 #: than right on the training objects (the class of the varied world's clutter, too).
@@ -117,6 +119,12 @@ LEVEL_GATE = True
 FLIGHT_GATE = True
 #: The class :func:`flight_refusals` asks a flight's steps of.
 FLIGHT_CLASS = "stairs"
+#: Default of :attr:`DecisionParams.size_gate`.
+SIZE_GATE = True
+#: Default of :attr:`DecisionParams.size_margin`.
+SIZE_MARGIN = 0.2
+#: Default of :attr:`DecisionParams.size_classes`.
+SIZE_CLASSES = "box"
 
 
 @dataclass(frozen=True)
@@ -189,6 +197,25 @@ class DecisionParams:
         other") took cartons packed on a pallet at three heights, boxes of two heights
         touching and a machine's faces for flights (docs/objects.md, "Carton piles and false
         answers on unseen frames").
+    size_gate : bool
+        Refuse a rule whose proof of an object binds a plane reaching further than ``1 +
+        size_margin`` times the planes of the class's training proofs (a face's height,
+        another plane's length: :func:`plane_extents`; :func:`size_refusals`; the model keeps
+        the furthest, ``size_domain``).  On by default (fbox31, 2026-11-30): on
+        real rooms nobody on the team had seen, the demo's box rules proved a dining table's
+        2.2 m top with its apron (``skirt``), a wardrobe's 1.6 m side, an office cabinet's
+        1.65 m side and a door's jamb (``tall_face``); the demo world's boxes are at most
+        1.2 m long and no real box answer's proof plane is longer than 0.6 m
+        (docs/objects.md, "False boxes on real rooms").
+    size_margin : float
+        The share of the furthest-reaching training proof plane a proof may exceed it by
+        (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
+        over 1.48 m; the wardrobe's side (1.61 m high) is refused with any margin under 0.31.
+    size_classes : str
+        The classes the size gate holds for, comma-separated (``box``).  A box is a thing of
+        bounded size; a staircase or a ramp is part of a building and as wide as the building
+        makes it (the demo's flights are at most 1.6 m wide, real ones often wider), so their
+        domains are kept in ``model.json`` but not used unless named here.
     """
 
     planar_gate: bool = PLANAR_GATE
@@ -199,9 +226,12 @@ class DecisionParams:
     veto_ratio: float = VETO_RATIO
     level_gate: bool = LEVEL_GATE
     flight_gate: bool = FLIGHT_GATE
+    size_gate: bool = SIZE_GATE
+    size_margin: float = SIZE_MARGIN
+    size_classes: str = SIZE_CLASSES
 
     def __post_init__(self):
-        for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate"):
+        for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate", "size_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -210,6 +240,12 @@ class DecisionParams:
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or not 0 <= m <= 1):
                 raise InputError(f"decision.{name} must be a number in 0..1, got {m!r}")
+        if not isinstance(self.size_classes, str):
+            raise InputError(f"decision.size_classes must be class names separated by commas, "
+                             f"got {self.size_classes!r}")
+        m = self.size_margin
+        if isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m) or m < 0:
+            raise InputError(f"decision.size_margin must be a number >= 0, got {m!r}")
         n = self.proof_min_positives
         if isinstance(n, bool) or not isinstance(n, int) or n < 1:
             raise InputError(f"decision.proof_min_positives must be a whole number >= 1, got {n!r}")
@@ -445,6 +481,145 @@ def level_refusals(hits, stats: Sequence, n_horizontal, domain: Sequence, steppe
     return kept, tuple(refused.values())
 
 
+def plane_extents(descs) -> dict:
+    """``{plane id: extent}`` (m) over scene descriptions: how far each plane reaches where a
+    box's size is bounded.  A vertical plane's extent is its height (the span of its hull
+    along ``up``): a row of boxes side by side makes one long front, but no face taller than
+    its boxes; any other plane's is ``plane_length/2`` (the long side of its hull's minimum
+    rectangle).  Both are lower bounds for a plane the view cuts."""
+    out = {}
+    for d in descs:
+        up = np.asarray(d.planes.up, dtype=float)
+        for p in d.planes:
+            extent = float(p.length)
+            hull = np.asarray(p.hull3d, dtype=float)
+            if p.orientation == "vertical" and hull.ndim == 2 and len(hull) >= 2:
+                h = hull @ up
+                extent = float(h.max() - h.min())
+            out[d.plane_id(p.label)] = extent
+    return out
+
+
+def proof_extent(bindings: dict, extents: dict):
+    """The largest extent among the planes a proof binds (m; :func:`plane_extents`), or None
+    when the proof binds no plane of ``extents``."""
+    values = [extents[v] for v in (bindings or {}).values() if isinstance(v, str) and v in extents]
+    return max(values) if values else None
+
+
+def size_domain(fired: dict, truth: dict, extents: dict) -> tuple:
+    """How far the planes reach that each class's rules proved its training positives with
+    (:func:`plane_extents`): ``((class, high, n), ...)``.
+
+    A positive's extent is the least, over the hits of its class, of :func:`proof_extent`
+    (its most compact proof); ``high`` is the largest extent over the class's positives, so
+    the gate of :func:`size_refusals` refuses no proof as compact as a training one and the
+    rules' ``tp`` hold under it; ``n`` counts the positives with an extent.
+
+    Parameters
+    ----------
+    fired : dict
+        ``{object: [(class, index, bindings, text, scale), ...]}``.
+    truth : dict
+        ``{object: class}`` of the training objects.
+    extents : dict
+        ``{plane id: extent}`` (:func:`plane_extents`).
+    """
+    per: dict = {}
+    for obj, hits in fired.items():
+        k = truth.get(obj)
+        if k is None or k == OTHER:
+            continue
+        ext = [proof_extent(h[2], extents) for h in hits if h[0] == k]
+        ext = [e for e in ext if e is not None]
+        if ext:
+            per.setdefault(k, []).append(min(ext))
+    return tuple((k, round(max(v), 4), len(v)) for k, v in sorted(per.items()))
+
+
+def size_gated(domain: Sequence, classes: str = SIZE_CLASSES) -> tuple:
+    """The entries of a :func:`size_domain` whose class is among ``classes`` (comma-separated
+    names, :attr:`DecisionParams.size_classes`): the domain the size gate uses."""
+    names = {c.strip() for c in str(classes).split(",") if c.strip()}
+    return tuple(e for e in domain if e[0] in names)
+
+
+@dataclass(frozen=True)
+class SizeRefusal:
+    """A rule whose proof of an object binds a plane reaching far further than any plane of
+    the class's training proofs (:func:`size_refusals`; a face's height, another plane's
+    length: :func:`plane_extents`)."""
+
+    klass: str
+    rule: int
+    extent: float
+    high: float
+    margin: float
+
+    @property
+    def bound(self) -> float:
+        """The proof extent (m) over which the rule is refused: ``high * (1 + margin)``."""
+        return self.high * (1.0 + self.margin)
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it with a plane reaching {self.extent:.2f} m, over "
+                f"{self.bound:.2f} m: the training {self.klass} proofs' planes reach at most "
+                f"{self.high:.2f} m, margin {self.margin:g}")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "proof_extent": round(self.extent, 4),
+                "proofs_high": self.high, "margin": self.margin, "reason": self.reason}
+
+
+def size_refusals(hits, stats: Sequence, extents, domain: Sequence,
+                  margin: float = SIZE_MARGIN, min_positives: int = PROOF_MIN_POSITIVES):
+    """Leave out the hits whose proof binds a plane reaching far further than the planes of
+    the class's training proofs.
+
+    A class with an entry ``(class, high, n)`` in ``domain`` (:func:`size_domain`, measured on
+    at least ``min_positives`` positives) refuses a hit of its class whose
+    :func:`proof_extent` (a face's height, another plane's length: :func:`plane_extents`)
+    exceeds ``high * (1 + margin)``.  Extents are lower bounds (a plane the view cuts goes
+    on), so a plane reaching further than that is larger than any plane a training positive
+    was proved with: a dining table's 2 m top over its apron (``skirt``), a wardrobe's 1.6 m
+    side or a door's jamb seen to the image's top (``tall_face``) say "box" of something no
+    box of the training world is the size of (docs/objects.md, "False boxes on real
+    rooms").  No domain, no extents or a class without an entry: nothing is refused.
+
+    Parameters
+    ----------
+    extents : dict or callable
+        ``{plane id: extent}`` (:func:`plane_extents`), or a callable returning it
+        (asked only when a class with an entry fired).
+
+    Returns
+    -------
+    (list, tuple of SizeRefusal)
+        The hits left, and one :class:`SizeRefusal` per refused rule that takes part in the
+        decision (:func:`takes_part`).
+    """
+    if not domain or extents is None:
+        return list(hits), ()
+    highs = {k: float(hi) for k, hi, n in domain if n >= min_positives}
+    if not any(h[0] in highs for h in hits):
+        return list(hits), ()
+    if callable(extents):
+        extents = extents()
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    kept, refused = [], {}
+    for hit in hits:
+        k = hit[0]
+        if k in highs:
+            ext = proof_extent(hit[2], extents)
+            if ext is not None and ext > highs[k] * (1.0 + float(margin)):
+                if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
+                    refused[hit[1]] = SizeRefusal(k, hit[1], float(ext), highs[k], float(margin))
+                continue
+        kept.append(hit)
+    return kept, tuple(refused.values())
+
+
 @dataclass(frozen=True)
 class FlightRefusal:
     """``stairs`` proved of an object whose faces show no staircase's steps
@@ -672,9 +847,11 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            planar_fraction=None, domain: Sequence = (), margin: float = PLANAR_MARGIN,
            proofs: Sequence = (), proof_margin: float = PROOF_MARGIN,
            proof_min_positives: int = PROOF_MIN_POSITIVES, veto_ratio: float = 0.0,
-           n_horizontal=None, levels: Sequence = (), stepped=False, flight=None):
+           n_horizontal=None, levels: Sequence = (), stepped=False, flight=None,
+           extents=None, sizes: Sequence = (), size_margin: float = SIZE_MARGIN):
     """The open-set decision for one object: :func:`proof_refusals` (with ``proofs``, the
-    model's :func:`proof_domain`), :func:`planar_refusals` (``domain``),
+    model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
+    :func:`size_domain`, and the scene's plane ``extents``), :func:`planar_refusals` (``domain``),
     :func:`level_refusals` (``levels``, the model's :func:`level_domain`, and the object's
     ``n_horizontal`` and ``stepped``), :func:`flight_refusals` (``flight``; None, the
     default here, off), :func:`veto_refusals`
@@ -685,15 +862,18 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
 
     Returns
     -------
-    (hit or None, tuple of Refusal, ProofRefusal, LevelRefusal, FlightRefusal and VetoRefusal)
+    (hit or None, tuple of Refusal, ProofRefusal, SizeRefusal, LevelRefusal, FlightRefusal and
+    VetoRefusal)
         The chosen hit (None: :data:`OTHER`) and the rules and classes refused.
     """
     kept, small = proof_refusals(hits, stats, proofs, proof_margin, proof_min_positives)
+    kept, large = size_refusals(kept, stats, extents, sizes, size_margin, proof_min_positives)
     kept, refused = planar_refusals(kept, stats, planar_fraction, domain, margin)
     kept, flat = level_refusals(kept, stats, n_horizontal, levels, stepped)
     kept, steps = flight_refusals(kept, stats, flight)
     kept, vetoes = veto_refusals(kept, stats, veto_ratio)
-    return choose_class(kept, stats, classes, cofire), small + refused + flat + steps + vetoes
+    return (choose_class(kept, stats, classes, cofire),
+            small + large + refused + flat + steps + vetoes)
 
 
 def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:

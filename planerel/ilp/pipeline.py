@@ -28,6 +28,9 @@ from planerel.ilp.metrics import (
     PROOF_GATE,
     PROOF_MARGIN,
     PROOF_MIN_POSITIVES,
+    SIZE_CLASSES,
+    SIZE_GATE,
+    SIZE_MARGIN,
     VETO_RATIO,
     accuracy_scores,
     confusion_columns,
@@ -38,8 +41,11 @@ from planerel.ilp.metrics import (
     laplace,
     level_domain,
     planar_domain,
+    plane_extents,
     proof_domain,
     score_objects,
+    size_domain,
+    size_gated,
     stratified_folds,
 )
 from planerel.ilp.scenes import describe_scenes
@@ -129,6 +135,17 @@ class Model:
     flight_gate : bool
         Whether :func:`prolog_predict` refuses ``stairs`` for an object whose faces show no
         staircase's steps (:func:`planerel.ilp.metrics.flight_refusals`).
+    size_domain : tuple
+        ``(class, high, n)``: the longest plane each class's rules proved its training
+        positives with (:func:`planerel.ilp.metrics.size_domain`; ``model.json`` keeps it).
+        Empty: no size gate (a model from before it was kept).
+    size_gate : bool
+        Whether :func:`prolog_predict` refuses a rule whose proof binds a plane far longer
+        than the class's training proofs' (:func:`planerel.ilp.metrics.size_refusals`).
+    size_margin : float
+        That gate's margin above ``high`` (a share of it).
+    size_classes : str
+        The classes that gate holds for, comma-separated.
     """
 
     classes: tuple
@@ -151,6 +168,10 @@ class Model:
     level_domain: tuple = ()
     level_gate: bool = LEVEL_GATE
     flight_gate: bool = FLIGHT_GATE
+    size_domain: tuple = ()
+    size_gate: bool = SIZE_GATE
+    size_margin: float = SIZE_MARGIN
+    size_classes: str = SIZE_CLASSES
 
     @property
     def targets(self) -> tuple:
@@ -471,7 +492,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
             model, fired = drop_redundant(model, fired, dict(examples))
         stats, cofire = _stats_from_fired(model, fired, dict(examples))
         return replace(model, stats=stats, cofire=cofire,
-                       proof_domain=proof_domain(fired, dict(examples)))
+                       proof_domain=proof_domain(fired, dict(examples)),
+                       size_domain=size_domain(fired, dict(examples), plane_extents(descs)))
     finally:
         if tmp is not None:
             tmp.cleanup()
@@ -791,6 +813,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
     planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
     levels = horizontal_counts(descs)
     where = {o.id: (d, o) for d in descs for o in d.objects}
+    extents = plane_extents(descs) if model.size_gate and model.size_domain else None
     out = []
     for o in object_ids:
         hits = fired.get(o, [])
@@ -806,7 +829,11 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                                levels=model.level_domain if model.level_gate else (),
                                stepped=lambda o=o: object_shows(flight_faces, where, o),
                                flight=(lambda o=o: object_shows(flight_evidence, where, o))
-                               if model.flight_gate else None)
+                               if model.flight_gate else None,
+                               extents=extents,
+                               sizes=(size_gated(model.size_domain, model.size_classes)
+                                      if model.size_gate else ()),
+                               size_margin=model.size_margin)
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
             out.append(Prediction(o, OTHER, fired=fired_pairs, refused=refused))
@@ -1245,6 +1272,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                                                        planar_domain=model.planar_domain,
                                                        proof_domain=model.proof_domain,
                                                        level_domain=model.level_domain,
+                                                       size_domain=model.size_domain,
                                                        decision=decision))
         write_json(tmp / "metrics.json", metrics)
     return metrics
@@ -1302,6 +1330,7 @@ def write_members(folder, model: Members, *, method: str, seg_params, header: st
                                                        planar_domain=m.planar_domain,
                                                        proof_domain=m.proof_domain,
                                                        level_domain=m.level_domain,
+                                                       size_domain=m.size_domain,
                                                        decision=decision))
         if member_metrics is not None:
             write_json(sub / "metrics.json", member_metrics[n - 1])
