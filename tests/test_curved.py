@@ -991,3 +991,15 @@ def test_surface_bend_centring_and_terms_are_numpys():
                     continue
         assert bend == np.inf
     assert finite > 300
+
+
+def test_distinct_ids_are_numpys_unique():
+    # speed31: _clusters takes the distinct cluster ids by counting, not by numpy's sort
+    from planerel.features.curved import _distinct
+
+    rng = np.random.default_rng(31)
+    for n in (0, 1, 2, 7, 100, 3387):
+        for hi in (1, 3, 50, 5000):
+            ids = rng.integers(0, hi, n).astype(np.int64)
+            got, want = _distinct(ids), np.unique(ids)
+            assert got.dtype == want.dtype and got.tolist() == want.tolist()

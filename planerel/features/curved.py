@@ -706,6 +706,13 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     return _clusters(cloud, labels, planes, support, params, pixels)[0]
 
 
+def _distinct(ids: np.ndarray) -> np.ndarray:
+    """``np.unique(ids)`` of a 1-D array of non-negative integers below a small bound (a
+    frame's cluster ids): the ids whose count is not zero, ascending, int64 (the same array
+    without numpy's sort; ``tests/test_curved.py`` compares)."""
+    return np.flatnonzero(np.bincount(ids))
+
+
 def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = None, pixels=None,
               credit=None, bounds=None):
     """:func:`unexplained_clusters`, and for each cluster the plane it was kept with.
@@ -780,7 +787,7 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
     kept = np.nonzero(rep >= 0)[0]
     gmin = np.full(k, k, np.int64)
     np.minimum.at(gmin, rep[kept], kept)  # a group's first opened pixel: its smallest id
-    order = np.unique(rep[kept])
+    order = _distinct(rep[kept])
     order = order[np.argsort(gmin[order], kind="stable")]
     index = np.full(k, -1, np.int64)
     index[order] = np.arange(len(order))
@@ -819,7 +826,7 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
             gr, gc, grp = grow_clusters(rows[sel], cols[sel], kid[sel], len(keep), full, xyz,
                                         float(params.edge_depth), steps,
                                         int(np.count_nonzero(full)))
-        gs = np.unique(grp)
+        gs = _distinct(grp)
         for g in gs:  # the smallest member's id: their first opened pixel's order
             m = np.zeros(lab.shape, bool)
             s = grp == g

@@ -703,10 +703,10 @@ def relate(planes, cloud=None, params: RelationParams | None = None,
         if a in pos and b in pos:
             A[pos[a], pos[b]] = A[pos[b], pos[a]] = True
     np.fill_diagonal(A, False)
-    for i, j in zip(*np.nonzero(A), strict=True):  # row-major: i, then j, as the planes
+    for i, j in zip(*(x.tolist() for x in np.nonzero(A)), strict=True):  # row-major: i, then j
         solid.touching.setdefault(plist[i].label, []).append(plist[j])
-    # per pair the same floats as numpy's (Python floats of the same float64 operations)
-    Gl, angl, Al = G.tolist(), ang.tolist(), A.tolist()
+    # per pair the same floats as numpy's (Python floats of the same float64 operations; of
+    # each row only the part right of the diagonal, taken row by row)
     lev, dep = level.tolist(), depth.tolist()
     perp_min = 90.0 - params.perpendicular_tol
     # (i, j) in row-major order without the diagonal: index i (n - 1) + j - (j > i)
@@ -724,13 +724,14 @@ def relate(planes, cloud=None, params: RelationParams | None = None,
         pi = plist[i]
         li = pi.label
         hi, vi = horiz[i], vert[i]
+        Gi, angi, Ai = G[i, i + 1:].tolist(), ang[i, i + 1:].tolist(), A[i, i + 1:].tolist()
         for j in range(i + 1, n):
             pj = plist[j]
             lj = pj.label
-            gap = Gl[i][j]
+            gap = Gi[j - i - 1]
             t = (li, lj) in touch
-            adj = Al[i][j]  # touching, or hulls within adjacency_gap
-            a = angl[i][j]
+            adj = Ai[j - i - 1]  # touching, or hulls within adjacency_gap
+            a = angi[j - i - 1]
             par = a <= par_tol
             perp = a >= perp_min
             rise = lev[j] - lev[i]
