@@ -72,7 +72,7 @@ import numpy as np
 
 from planerel.errors import InputError, check_bools
 from planerel.features.planes import label_max
-from planerel.features.relations import Components
+from planerel.features.relations import Components, adjacent_only
 from planerel.io.cloud import Cloud
 from planerel.segment.absorb import FACET_MAX_ANGLE, FACET_MIN_ANGLE
 
@@ -551,7 +551,7 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
     cand = {p.label for p in planes} if candidates is None else set(candidates)
     cand -= set(flat)
     lo, hi = params.facet_min_angle, params.facet_max_angle
-    links = [(r.a, r.b) for r in relations
+    links = [(r.a, r.b) for r in adjacent_only(relations)
              if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi]
     surface = None
     if labels is None:
@@ -1006,7 +1006,7 @@ def _join_facet_proposals(props, facets, byl, relations, params) -> list:
             for g in props]
     lo, hi = params.facet_min_angle, params.facet_max_angle
     g = Components(range(len(props)))
-    g.add_edges((owner[r.a], owner[r.b]) for r in relations
+    g.add_edges((owner[r.a], owner[r.b]) for r in adjacent_only(relations)
                 if r.a < r.b and r.adjacent and lo <= r.angle <= hi
                 and r.a in facets and r.b in facets and r.a in owner and r.b in owner
                 and owner[r.a] != owner[r.b] and soft[owner[r.a]] and soft[owner[r.b]])
