@@ -44,8 +44,8 @@ def _h(a) -> str:
     return hashlib.sha1(str((a.dtype, a.shape)).encode() + a.tobytes()).hexdigest()[:16]
 
 
-def _clouds(folder: Path, n: int):
-    """``(name, cloud)`` of every scene checked."""
+def _clouds(folder: Path, n: int, extra: tuple = ()):
+    """``(name, cloud)`` of every scene checked (``extra``: more files read as they are)."""
     from planerel.cli import main as cli
     from planerel.features import dataset
     from planerel.io.readers import read
@@ -57,6 +57,8 @@ def _clouds(folder: Path, n: int):
         yield "kinect office1.pcd", read(f)
     for f in sorted(glob.glob(str(data_dir("mosd") / "*.pcd"))):
         yield f"mosd {Path(f).name}", read(f)
+    for f in extra:
+        yield f"extra {f}", read(f)
     for world, seed, sensor in SETS:
         ds = folder / f"{world}-{seed}-{sensor}-{n}"
         if not (ds / "manifest.csv").exists() and not any(ds.glob("manifest*")):
@@ -117,6 +119,8 @@ def main(argv=None) -> int:
     ap.add_argument("--n", type=int, default=12, help="scenes per synthetic set")
     ap.add_argument("--rel-tol", type=float, default=0.0,
                     help="relative tolerance of the relations' floats (0: exact)")
+    ap.add_argument("--extra", nargs="*", default=[],
+                    help="more real frames to check (e.g. 20 of /work/extdata/mosd)")
     args = ap.parse_args(argv)
     from planerel.features.facts import describe_scene
     from planerel.segment import segment
@@ -127,7 +131,7 @@ def main(argv=None) -> int:
     npz = path.with_suffix(".labels.npz")
     if args.save:
         out, labels = {}, {}
-        for i, (name, cloud) in enumerate(_clouds(folder, args.n)):
+        for i, (name, cloud) in enumerate(_clouds(folder, args.n, tuple(args.extra))):
             lab = segment(cloud).labels
             labels[f"l{i}"] = lab
             out[name] = {"index": i, **_record(describe_scene(cloud, lab))}
@@ -138,7 +142,7 @@ def main(argv=None) -> int:
     ref = json.loads(path.read_text())
     saved = np.load(npz)
     bad = seen = 0
-    for name, cloud in _clouds(folder, args.n):
+    for name, cloud in _clouds(folder, args.n, tuple(args.extra)):
         if name not in ref:
             print(f"{name:45s} not in {path}")
             bad += 1

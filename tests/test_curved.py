@@ -907,3 +907,99 @@ def test_faces_at_a_shallow_crease_are_no_rough_plane():
     assert facet_planes(d.planes, d.relations, cand, CurvedParams(), None, (), cloud) == {1, 2, 3}
     assert facet_planes(d.planes, d.relations, cand, CurvedParams(flat_piece_width=1.0), None, (),
                         cloud) == set()
+
+
+def test_group_points_lookup_table_is_the_isin_selection():
+    # speed31: _group_points reads a group's points in one compiled pass with a label lookup
+    # table; the points, their order and their bits are numpy's isin selection's, sampled
+    # every k-th and the non-finite dropped (random labels with negatives and labels the
+    # table does not hold, NaN coordinates, boxes reaching past the image and negative
+    # bounds, several label dtypes and sample sizes)
+    from types import SimpleNamespace
+
+    from planerel.features import curved
+
+    rng = np.random.default_rng(31)
+    kept = 0
+    for _ in range(300):
+        H, W = (int(v) for v in rng.integers(1, 60, 2))
+        lab = rng.integers(-2, 9, (H, W)).astype(rng.choice([np.int16, np.int32, np.int64]))
+        xyz = rng.normal(size=(H, W, 3))
+        xyz[rng.random((H, W)) < 0.2, int(rng.integers(0, 3))] = np.nan
+        comp = {int(x) for x in rng.choice(8, int(rng.integers(1, 5)), replace=False)}
+        byl = {}
+        for x in comp:
+            a, b = sorted(int(v) for v in rng.integers(-3, H + 3, 2))
+            c, d = sorted(int(v) for v in rng.integers(-3, W + 3, 2))
+            byl[x] = SimpleNamespace(bbox=(a, c, b, d))
+        box = np.array([byl[x].bbox for x in comp])
+        box = (box[:, 0].min(), box[:, 1].min(), box[:, 2].max(), box[:, 3].max())
+        old = curved.BEND_POINTS
+        try:
+            curved.BEND_POINTS = int(rng.integers(1, 50))
+            got = curved._group_points(comp, byl, lab, xyz)
+            want = curved._group_points_isin(comp, lab, xyz, box)
+        finally:
+            curved.BEND_POINTS = old
+        assert got.dtype == want.dtype and got.shape == want.shape
+        assert got.tobytes() == want.tobytes()
+        assert curved.surface_bend(got) == curved.surface_bend(want) or len(got) < 6
+        kept += len(got)
+    assert kept > 1000
+
+
+def test_surface_bend_centring_and_terms_are_numpys():
+    # speed31: surface_bend centres the points and fills the quadric's terms in compiled
+    # loops; numpy's mean over the rows of a C-contiguous (N, 3) array adds them in order,
+    # so the centred points, the terms and the bend are numpy's bit for bit (strided input
+    # takes numpy's own path)
+    from planerel.features import curved
+    from planerel.features._curved_kernels import center_rows, quadric_terms
+
+    rng = np.random.default_rng(31)
+    finite = 0
+    for k in range(400):
+        n = int(rng.integers(6, 20000)) if k % 10 else int(rng.integers(1, 12))
+        t = rng.uniform(-1, 1, n)
+        pts = np.stack([rng.uniform(-0.2, 0.2, n), rng.uniform(-0.2, 0.2, n),
+                        rng.uniform(0, 0.05) * t * t + rng.normal(0, 0.003, n)], 1)
+        pts = pts @ np.linalg.qr(rng.normal(size=(3, 3)))[0].T + rng.normal(size=3) * 5 * rng.random()
+        c = np.empty_like(pts)
+        center_rows(pts, c)
+        assert c.tobytes() == (pts - pts.mean(0)).tobytes()
+        loc = c @ np.linalg.qr(rng.normal(size=(3, 3)))[0]
+        a = np.empty((n, 6))
+        quadric_terms(loc, a)
+        v, u = loc[:, 1], loc[:, 2]
+        assert a.tobytes() == np.stack([u * u, u * v, v * v, u, v, np.ones_like(u)], 1).tobytes()
+        if k % 5 == 0:
+            pts = pts[::2]
+        bend = curved.surface_bend(pts)
+        if len(pts) >= 6:
+            c = pts - pts.mean(0)
+            ev, vec = np.linalg.eigh(c.T @ c / len(pts))
+            if ev[2] > 0 and ev[0] <= curved.BEND_THICK ** 2 * ev[1]:
+                loc = c @ vec
+                w, v, u = loc[:, 0], loc[:, 1], loc[:, 2]
+                a = np.stack([u * u, u * v, v * v, u, v, np.ones_like(u)], 1)
+                coef, _, rank, _ = np.linalg.lstsq(a.T @ a, a.T @ w, rcond=None)
+                if rank == 6:
+                    hess = np.array([[2 * coef[0], coef[1]], [coef[1], 2 * coef[2]]])
+                    want = float(np.max(np.abs(np.linalg.eigvalsh(hess))) * np.sqrt(ev[2]))
+                    assert bend == want
+                    finite += 1
+                    continue
+        assert bend == np.inf
+    assert finite > 300
+
+
+def test_distinct_ids_are_numpys_unique():
+    # speed31: _clusters takes the distinct cluster ids by counting, not by numpy's sort
+    from planerel.features.curved import _distinct
+
+    rng = np.random.default_rng(31)
+    for n in (0, 1, 2, 7, 100, 3387):
+        for hi in (1, 3, 50, 5000):
+            ids = rng.integers(0, hi, n).astype(np.int64)
+            got, want = _distinct(ids), np.unique(ids)
+            assert got.dtype == want.dtype and got.tolist() == want.tolist()

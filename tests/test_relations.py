@@ -281,3 +281,19 @@ def test_get_finds_each_relation_in_every_layout(stair_scene):
                     with pytest.raises(KeyError):
                         rs.get(a, b)
     assert rel._pos and layouts[3]._pos and not layouts[4]._pos
+
+
+def test_adjacent_only_is_the_adjacent_relations_in_order():
+    # speed31: the loops that look at adjacent planes only take the remembered list of their
+    # relations; the same relations in the same order as filtering every pair
+    from planerel.features.relations import Relation, Relations, adjacent_only
+
+    rng = np.random.default_rng(31)
+    pairs = tuple(Relation(a, b, 0.0, False, False, 0.0, False, bool(rng.random() < 0.3), 0.0,
+                           False, False, False, False)
+                  for a in range(6) for b in range(6) if a != b)
+    rel = Relations(pairs, RelationParams())
+    want = [r for r in pairs if r.adjacent]
+    assert list(adjacent_only(rel)) == want and adjacent_only(rel) is adjacent_only(rel)
+    assert list(adjacent_only(list(pairs))) == list(pairs)  # a plain sequence: itself
+    assert rel.adjacent_pairs() == [(r.a, r.b) for r in pairs if r.adjacent and r.a < r.b]

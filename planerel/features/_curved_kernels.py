@@ -1379,3 +1379,84 @@ def join_part_targets(rows, cols, own, xyz, edge_depth, npts, min_touch):
     for t in range(kept):
         dest[src[t]] = target[pid[t]]
     return dest, out_n
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def group_points(lab, xyz, r0, r1, c0, c1, lut, max_points):
+    """The finite points of the pixels of box ``[r0, r1) x [c0, c1)`` whose label ``v`` has
+    ``lut[v]`` (labels outside ``0 <= v < len(lut)``: not), every ``k``-th of them in row-major
+    order with ``k = max(1, n // max_points)`` for ``n`` such pixels, then those with three
+    finite coordinates: ``pts = xyz[box][np.isin(lab[box], comp)]; pts = pts[::k];
+    pts[np.isfinite(pts).all(axis=1)]`` (:func:`planerel.features.curved._group_points`
+    before) without the box's mask and its gathered copy (the same values in the same
+    order).
+
+    Returns
+    -------
+    ndarray (M, 3) float64
+    """
+    m = lut.shape[0]
+    n = 0
+    for y in range(r0, r1):
+        for x in range(c0, c1):
+            v = lab[y, x]
+            if v >= 0 and v < m and lut[v]:
+                n += 1
+    k = max(1, n // max_points)
+    out = np.empty((n // k + 1, 3))
+    t = 0
+    j = 0
+    for y in range(r0, r1):
+        for x in range(c0, c1):
+            v = lab[y, x]
+            if v >= 0 and v < m and lut[v]:
+                if t % k == 0:
+                    p0 = xyz[y, x, 0]
+                    p1 = xyz[y, x, 1]
+                    p2 = xyz[y, x, 2]
+                    if math.isfinite(p0) and math.isfinite(p1) and math.isfinite(p2):
+                        out[j, 0] = p0
+                        out[j, 1] = p1
+                        out[j, 2] = p2
+                        j += 1
+                t += 1
+    return out[:j]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def center_rows(pts, out):
+    """``out[:] = pts - pts.mean(0)`` for C-contiguous ``(N, 3)`` float64 ``pts`` (``N >= 1``):
+    numpy's mean over the rows of such an array adds them one after the other (its inner
+    loop runs along the three columns) and divides by ``N``; the same sums and the same
+    quotient here, then the same differences (:func:`planerel.features.curved.surface_bend`;
+    ``tests/test_curved.py`` compares bit for bit)."""
+    n = pts.shape[0]
+    s0 = 0.0
+    s1 = 0.0
+    s2 = 0.0
+    for i in range(n):
+        s0 += pts[i, 0]
+        s1 += pts[i, 1]
+        s2 += pts[i, 2]
+    m0 = s0 / n
+    m1 = s1 / n
+    m2 = s2 / n
+    for i in range(n):
+        out[i, 0] = pts[i, 0] - m0
+        out[i, 1] = pts[i, 1] - m1
+        out[i, 2] = pts[i, 2] - m2
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def quadric_terms(loc, out):
+    """``out[:] = np.stack([u * u, u * v, v * v, u, v, 1], 1)`` with ``v, u = loc[:, 1],
+    loc[:, 2]`` (``out`` ``(N, 6)``): the same products."""
+    for i in range(loc.shape[0]):
+        v = loc[i, 1]
+        u = loc[i, 2]
+        out[i, 0] = u * u
+        out[i, 1] = u * v
+        out[i, 2] = v * v
+        out[i, 3] = u
+        out[i, 4] = v
+        out[i, 5] = 1.0

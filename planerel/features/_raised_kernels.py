@@ -147,26 +147,65 @@ def _raised_rows_flagged(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step, min_r
             g1 = (i + 1) % R
             g2 = (i + 2) % R
             g3 = (i + 3) % R
+            # the four rows' first flat indices (each row's pixel jr at + jr f)
+            b0 = (r0 + i * f) * cols + c0
+            b1 = b0 + f * cols
+            b2 = b1 + f * cols
+            b3 = b2 + f * cols
             for j in range(W):
                 if j + r < W:
                     jr = j + r
-                    for t in range(4):
-                        q = np.uint64((r0 + (i + t) * f) * cols + c0 + jr * f)
-                        if L[q] == label and math.isfinite(X[3 * q + 2]):
-                            on[i + t, jr] = True
-                            h[i + t, jr] = (X[3 * q] * n0 + X[3 * q + 1] * n1
-                                            + X[3 * q + 2] * n2 - d0)
-                        else:
-                            on[i + t, jr] = False
-                            h[i + t, jr] = 0.0
-                    s0 += h[i, jr]
-                    s1 += h[i + 1, jr]
-                    s2 += h[i + 2, jr]
-                    s3 += h[i + 3, jr]
-                    k0 += on[i, jr]
-                    k1 += on[i + 1, jr]
-                    k2 += on[i + 2, jr]
-                    k3 += on[i + 3, jr]
+                    # each pixel's flag and height kept in locals for the row sums (the
+                    # height rounded to float32 as its store rounds it: the same values
+                    # summed in the same order as read back from h)
+                    q = np.uint64(b0 + jr * f)
+                    if L[q] == label and math.isfinite(X[3 * q + 2]):
+                        o0 = True
+                        v0 = np.float32(X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2
+                                        - d0)
+                    else:
+                        o0 = False
+                        v0 = np.float32(0.0)
+                    q = np.uint64(b1 + jr * f)
+                    if L[q] == label and math.isfinite(X[3 * q + 2]):
+                        o1 = True
+                        v1 = np.float32(X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2
+                                        - d0)
+                    else:
+                        o1 = False
+                        v1 = np.float32(0.0)
+                    q = np.uint64(b2 + jr * f)
+                    if L[q] == label and math.isfinite(X[3 * q + 2]):
+                        o2 = True
+                        v2 = np.float32(X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2
+                                        - d0)
+                    else:
+                        o2 = False
+                        v2 = np.float32(0.0)
+                    q = np.uint64(b3 + jr * f)
+                    if L[q] == label and math.isfinite(X[3 * q + 2]):
+                        o3 = True
+                        v3 = np.float32(X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2
+                                        - d0)
+                    else:
+                        o3 = False
+                        v3 = np.float32(0.0)
+                    on[i, jr] = o0
+                    on[i + 1, jr] = o1
+                    on[i + 2, jr] = o2
+                    on[i + 3, jr] = o3
+                    h[i, jr] = v0
+                    h[i + 1, jr] = v1
+                    h[i + 2, jr] = v2
+                    h[i + 3, jr] = v3
+                    s0 += v0
+                    s1 += v1
+                    s2 += v2
+                    s3 += v3
+                    k0 += o0
+                    k1 += o1
+                    k2 += o2
+                    k3 += o3
                 if j - r - 1 >= 0:
                     s0 -= h[i, j - r - 1]
                     s1 -= h[i + 1, j - r - 1]

@@ -72,7 +72,7 @@ import numpy as np
 
 from planerel.errors import InputError, check_bools
 from planerel.features.planes import label_max
-from planerel.features.relations import Components
+from planerel.features.relations import Components, adjacent_only
 from planerel.io.cloud import Cloud
 from planerel.segment.absorb import FACET_MAX_ANGLE, FACET_MIN_ANGLE
 
@@ -332,15 +332,30 @@ def surface_bend(xyz) -> float:
     pts = np.asarray(xyz, float)
     if pts.ndim != 2 or pts.shape[1] != 3 or len(pts) < 6:
         return float("inf")
-    c = pts - pts.mean(0)
+    # (the centred points and the quadric's terms filled in compiled loops, into arrays
+    # numpy allocates: the same floats as numpy's mean, differences and products, about
+    # 0.2 ms a group less; a layout those loops do not reproduce takes numpy's own)
+    fast = pts.flags.c_contiguous
+    if fast:
+        from planerel.features._curved_kernels import center_rows, quadric_terms
+
+        c = np.empty_like(pts)
+        center_rows(pts, c)
+    else:
+        c = pts - pts.mean(0)
     ev, vec = np.linalg.eigh(c.T @ c / len(pts))
     if not ev[2] > 0 or ev[0] > (BEND_THICK ** 2) * ev[1]:
         # no thin sheet: no height field over its principal plane (a cylinder seen from
         # above its side turns through 180 degrees)
         return float("inf")
     loc = c @ vec
-    w, v, u = loc[:, 0], loc[:, 1], loc[:, 2]
-    a = np.stack([u * u, u * v, v * v, u, v, np.ones_like(u)], 1)
+    w = loc[:, 0]
+    if fast and loc.flags.c_contiguous:
+        a = np.empty((len(loc), 6))
+        quadric_terms(loc, a)
+    else:
+        v, u = loc[:, 1], loc[:, 2]
+        a = np.stack([u * u, u * v, v * v, u, v, np.ones_like(u)], 1)
     # the normal equations (6 x 6): a least-squares solve of the N x 6 system took 4 ms a
     # group under load
     coef, _, rank, _ = np.linalg.lstsq(a.T @ a, a.T @ w, rcond=None)
@@ -360,10 +375,32 @@ BEND_POINTS = 3000
 
 def _group_points(comp, byl, labels, xyz) -> np.ndarray:
     """The finite points of the planes ``comp`` (labels) in ``labels``, read within the
-    planes' pixel boxes, at most about ``BEND_POINTS`` of them (every k-th)."""
-    boxes = np.array([byl[x].bbox for x in comp])
-    r0, c0 = boxes[:, 0].min(), boxes[:, 1].min()
-    r1, c1 = boxes[:, 2].max(), boxes[:, 3].max()
+    planes' pixel boxes, at most about ``BEND_POINTS`` of them (every k-th).
+
+    One compiled pass with a label lookup table
+    (:func:`planerel.features._curved_kernels.group_points`) for labels of non-negative
+    integers and float64 points; :func:`_group_points_isin` (numpy's ``isin``, the same
+    points in the same order: ``tests/test_curved.py`` compares) otherwise."""
+    boxes = [byl[x].bbox for x in comp]
+    r0, c0 = min(b[0] for b in boxes), min(b[1] for b in boxes)
+    r1, c1 = max(b[2] for b in boxes), max(b[3] for b in boxes)
+    ids = [int(x) for x in comp]
+    if (ids and min(ids) >= 0 and labels.ndim == 2 and labels.dtype.kind in "iu"
+            and xyz.dtype == np.float64 and xyz.ndim == 3 and xyz.shape[:2] == labels.shape):
+        from planerel.features._curved_kernels import group_points
+
+        lut = np.zeros(max(ids) + 1, np.bool_)
+        lut[ids] = True
+        # the box as slicing takes it (negative bounds from the end, clipped to the image)
+        y0, y1, _ = slice(int(r0), int(r1)).indices(labels.shape[0])
+        x0, x1, _ = slice(int(c0), int(c1)).indices(labels.shape[1])
+        return group_points(labels, xyz, y0, y1, x0, x1, lut, BEND_POINTS)
+    return _group_points_isin(comp, labels, xyz, (r0, c0, r1, c1))
+
+
+def _group_points_isin(comp, labels, xyz, box) -> np.ndarray:
+    """:func:`_group_points` with numpy's ``isin`` over the box ``(r0, c0, r1, c1)``."""
+    r0, c0, r1, c1 = box
     lab = labels[r0:r1, c0:c1]
     sel = np.isin(lab, np.fromiter(comp, dtype=np.int64))
     pts = xyz[r0:r1, c0:c1][sel]
@@ -514,7 +551,7 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
     cand = {p.label for p in planes} if candidates is None else set(candidates)
     cand -= set(flat)
     lo, hi = params.facet_min_angle, params.facet_max_angle
-    links = [(r.a, r.b) for r in relations
+    links = [(r.a, r.b) for r in adjacent_only(relations)
              if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi]
     surface = None
     if labels is None:
@@ -669,6 +706,13 @@ def unexplained_clusters(cloud, labels, planes, support=(), params: CurvedParams
     return _clusters(cloud, labels, planes, support, params, pixels)[0]
 
 
+def _distinct(ids: np.ndarray) -> np.ndarray:
+    """``np.unique(ids)`` of a 1-D array of non-negative integers below a small bound (a
+    frame's cluster ids): the ids whose count is not zero, ascending, int64 (the same array
+    without numpy's sort; ``tests/test_curved.py`` compares)."""
+    return np.flatnonzero(np.bincount(ids))
+
+
 def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = None, pixels=None,
               credit=None, bounds=None):
     """:func:`unexplained_clusters`, and for each cluster the plane it was kept with.
@@ -743,7 +787,7 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
     kept = np.nonzero(rep >= 0)[0]
     gmin = np.full(k, k, np.int64)
     np.minimum.at(gmin, rep[kept], kept)  # a group's first opened pixel: its smallest id
-    order = np.unique(rep[kept])
+    order = _distinct(rep[kept])
     order = order[np.argsort(gmin[order], kind="stable")]
     index = np.full(k, -1, np.int64)
     index[order] = np.arange(len(order))
@@ -782,7 +826,7 @@ def _clusters(cloud, labels, planes, support=(), params: CurvedParams | None = N
             gr, gc, grp = grow_clusters(rows[sel], cols[sel], kid[sel], len(keep), full, xyz,
                                         float(params.edge_depth), steps,
                                         int(np.count_nonzero(full)))
-        gs = np.unique(grp)
+        gs = _distinct(grp)
         for g in gs:  # the smallest member's id: their first opened pixel's order
             m = np.zeros(lab.shape, bool)
             s = grp == g
@@ -962,7 +1006,7 @@ def _join_facet_proposals(props, facets, byl, relations, params) -> list:
             for g in props]
     lo, hi = params.facet_min_angle, params.facet_max_angle
     g = Components(range(len(props)))
-    g.add_edges((owner[r.a], owner[r.b]) for r in relations
+    g.add_edges((owner[r.a], owner[r.b]) for r in adjacent_only(relations)
                 if r.a < r.b and r.adjacent and lo <= r.angle <= hi
                 and r.a in facets and r.b in facets and r.a in owner and r.b in owner
                 and owner[r.a] != owner[r.b] and soft[owner[r.a]] and soft[owner[r.b]])

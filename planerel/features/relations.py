@@ -113,6 +113,7 @@ __all__ = [
     "ProposalParams",
     "propose_objects",
     "Components",
+    "adjacent_only",
     "shares_edge",
     "support_planes",
     "edge_means",
@@ -349,7 +350,24 @@ class Relations:
 
     def adjacent_pairs(self) -> list[tuple[int, int]]:
         """Unordered adjacent pairs ``(a, b)`` with ``a < b``."""
-        return [(r.a, r.b) for r in self.pairs if r.adjacent and r.a < r.b]
+        return [(r.a, r.b) for r in self.adjacent_only() if r.a < r.b]
+
+    def adjacent_only(self) -> tuple:
+        """The relations of adjacent planes, in :attr:`pairs`' order (remembered: a scene's
+        steps each look at these alone, a third or less of every ordered pair)."""
+        adj = getattr(self, "_adj", None)
+        if adj is None:
+            adj = tuple(r for r in self.pairs if r.adjacent)
+            object.__setattr__(self, "_adj", adj)
+        return adj
+
+
+def adjacent_only(relations):
+    """``relations``' relations of adjacent planes, in order (:meth:`Relations.adjacent_only`),
+    or ``relations`` itself when it is a plain sequence (its callers test ``adjacent``
+    anyway: the same relations either way)."""
+    f = getattr(relations, "adjacent_only", None)
+    return f() if f is not None else relations
 
 
 def hull_gap(pa, pb) -> float:
@@ -703,10 +721,10 @@ def relate(planes, cloud=None, params: RelationParams | None = None,
         if a in pos and b in pos:
             A[pos[a], pos[b]] = A[pos[b], pos[a]] = True
     np.fill_diagonal(A, False)
-    for i, j in zip(*np.nonzero(A), strict=True):  # row-major: i, then j, as the planes
+    for i, j in zip(*(x.tolist() for x in np.nonzero(A)), strict=True):  # row-major: i, then j
         solid.touching.setdefault(plist[i].label, []).append(plist[j])
-    # per pair the same floats as numpy's (Python floats of the same float64 operations)
-    Gl, angl, Al = G.tolist(), ang.tolist(), A.tolist()
+    # per pair the same floats as numpy's (Python floats of the same float64 operations; of
+    # each row only the part right of the diagonal, taken row by row)
     lev, dep = level.tolist(), depth.tolist()
     perp_min = 90.0 - params.perpendicular_tol
     # (i, j) in row-major order without the diagonal: index i (n - 1) + j - (j > i)
@@ -724,13 +742,14 @@ def relate(planes, cloud=None, params: RelationParams | None = None,
         pi = plist[i]
         li = pi.label
         hi, vi = horiz[i], vert[i]
+        Gi, angi, Ai = G[i, i + 1:].tolist(), ang[i, i + 1:].tolist(), A[i, i + 1:].tolist()
         for j in range(i + 1, n):
             pj = plist[j]
             lj = pj.label
-            gap = Gl[i][j]
+            gap = Gi[j - i - 1]
             t = (li, lj) in touch
-            adj = Al[i][j]  # touching, or hulls within adjacency_gap
-            a = angl[i][j]
+            adj = Ai[j - i - 1]  # touching, or hulls within adjacency_gap
+            a = angi[j - i - 1]
             par = a <= par_tol
             perp = a >= perp_min
             rise = lev[j] - lev[i]
@@ -875,7 +894,7 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     by_label = {q.label: q for q in planes}
     near: dict[int, list] = {}
     beside: dict[int, list] = {}
-    for r in relations:
+    for r in adjacent_only(relations):
         if r.adjacent:
             a, b = by_label.get(r.a), by_label.get(r.b)
             if a is not None and b is not None and a.orientation == "vertical" \
@@ -959,7 +978,7 @@ def lying_tops(planes, relations: Relations, support=()) -> frozenset:
     by_label = {q.label: q for q in planes}
     sup = {int(x) for x in support}
     cand: dict[int, list] = {}
-    for r in relations:
+    for r in adjacent_only(relations):
         # adjacent only: a top within a few cm of the table but apart from it in the grid
         # (a tin's lid over its side) is no lying top (top25: with any ground within
         # lying_rise_max, the mOSD set's round objects got 6 box answers)
