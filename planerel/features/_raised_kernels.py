@@ -13,6 +13,16 @@ from numba import njit
 from planerel.features._relation_kernels import median
 
 
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def _on_plane(L, X, q, label, n0, n1, n2, d0):
+    """``(on, height)`` of flat pixel ``q``: whether it is the plane's (its label, a finite
+    depth) and its height over the plane ``n . x - d0`` rounded to float32 as ``h`` stores it
+    (0 when it is not the plane's).  Inlined: the four rows' reads stay in registers."""
+    if L[q] == label and math.isfinite(X[3 * q + 2]):
+        return True, np.float32(X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0)
+    return False, np.float32(0.0)
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
 def raised_pixels(xyz, lab, label, r0, c0, H, W, f, n, d0, a, min_rise, k_sigma, r):
     """Raised and weakly raised pixels of one support plane, and each pixel's height above it,
@@ -158,38 +168,10 @@ def _raised_rows_flagged(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step, min_r
                     # each pixel's flag and height kept in locals for the row sums (the
                     # height rounded to float32 as its store rounds it: the same values
                     # summed in the same order as read back from h)
-                    q = np.uint64(b0 + jr * f)
-                    if L[q] == label and math.isfinite(X[3 * q + 2]):
-                        o0 = True
-                        v0 = np.float32(X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2
-                                        - d0)
-                    else:
-                        o0 = False
-                        v0 = np.float32(0.0)
-                    q = np.uint64(b1 + jr * f)
-                    if L[q] == label and math.isfinite(X[3 * q + 2]):
-                        o1 = True
-                        v1 = np.float32(X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2
-                                        - d0)
-                    else:
-                        o1 = False
-                        v1 = np.float32(0.0)
-                    q = np.uint64(b2 + jr * f)
-                    if L[q] == label and math.isfinite(X[3 * q + 2]):
-                        o2 = True
-                        v2 = np.float32(X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2
-                                        - d0)
-                    else:
-                        o2 = False
-                        v2 = np.float32(0.0)
-                    q = np.uint64(b3 + jr * f)
-                    if L[q] == label and math.isfinite(X[3 * q + 2]):
-                        o3 = True
-                        v3 = np.float32(X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2
-                                        - d0)
-                    else:
-                        o3 = False
-                        v3 = np.float32(0.0)
+                    o0, v0 = _on_plane(L, X, np.uint64(b0 + jr * f), label, n0, n1, n2, d0)
+                    o1, v1 = _on_plane(L, X, np.uint64(b1 + jr * f), label, n0, n1, n2, d0)
+                    o2, v2 = _on_plane(L, X, np.uint64(b2 + jr * f), label, n0, n1, n2, d0)
+                    o3, v3 = _on_plane(L, X, np.uint64(b3 + jr * f), label, n0, n1, n2, d0)
                     on[i, jr] = o0
                     on[i + 1, jr] = o1
                     on[i + 2, jr] = o2
