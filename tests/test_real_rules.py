@@ -85,7 +85,7 @@ def demo_model(request):
         world = generate_training_world(cache / "world", paper=demo.PAPER, room=demo.ROOM,
                                         round_=demo.ROUND, faces=demo.FACES, flat=demo.FLAT,
                                         piles=demo.PILES, open_=demo.OPEN,
-                                        seed=seeds["world"],
+                                        panels=demo.PANELS, seed=seeds["world"],
                                         size=(640, 480), subsample=4)
         learn_model(world, model, engine="builtin", seed=seeds["learner"], jobs=2,
                     settings=demo.LEARNER,
