@@ -91,6 +91,14 @@ CV_LEARNER = {"evalfn": "coverage", "minpos": 3, "noise": 1}
 MAX_SEED = 99
 
 
+def default_parts() -> dict:
+    """The training world's part counts of the shipped model (keyword arguments of
+    :func:`planerel.synth.training_world.generate_training_world`; the flags' defaults), for
+    whatever learns the same model elsewhere (the tests' ``demo_model`` fixture)."""
+    return {"round_": ROUND, "faces": FACES, "flat": FLAT, "piles": PILES, "open_": OPEN,
+            "panels": PANELS}
+
+
 def seeds(n: int = 0) -> dict:
     """The seeds of a run with ``--seed n``.
 

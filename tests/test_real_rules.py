@@ -65,6 +65,22 @@ def _code_hash() -> str:
     return h.hexdigest()[:16]
 
 
+def test_the_demo_model_fixture_learns_every_part_of_make_demos_world():
+    """The fixture below learns what ``make demo`` ships: every part of the training world
+    (a part added to the world and to demo.py's flags but not here made the data-gated tests
+    check another model: the panel part, 2026-11-30), with demo.py's default counts."""
+    import inspect
+
+    from planerel.synth.training_world import generate_training_world
+
+    demo = _demo()
+    sig = inspect.signature(generate_training_world).parameters
+    parts = {n for n, p in sig.items() if p.kind == p.KEYWORD_ONLY} - {
+        "paper", "room", "seed", "size", "subsample", "ranges"}
+    assert set(demo.default_parts()) == parts
+    assert demo.default_parts()["panels"] == demo.PANELS > 0
+
+
 @pytest.fixture(scope="module")
 def demo_model(request):
     """The demo's model folder (learned here, or from the cache for this code)."""
@@ -83,9 +99,7 @@ def demo_model(request):
         demo = _demo()
         seeds = demo.seeds()  # the shipped model's (make demo, --seed 0)
         world = generate_training_world(cache / "world", paper=demo.PAPER, room=demo.ROOM,
-                                        round_=demo.ROUND, faces=demo.FACES, flat=demo.FLAT,
-                                        piles=demo.PILES, open_=demo.OPEN,
-                                        panels=demo.PANELS, seed=seeds["world"],
+                                        **demo.default_parts(), seed=seeds["world"],
                                         size=(640, 480), subsample=4)
         learn_model(world, model, engine="builtin", seed=seeds["learner"], jobs=2,
                     settings=demo.LEARNER,
