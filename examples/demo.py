@@ -65,6 +65,9 @@ OPEN = 0
 #: ramp rule learns a ramp's slope from them (docs/objects.md, "A flight's steps as a relation
 #: (`stair_step/2`); steep planes are no ramps").
 PANELS = 30
+#: Scenes of the training world's small-face part (a small box seen as one side face, its top
+#: out of sight: :data:`planerel.synth.training_world.KINECT_SMALL_FACES`; 0: none; face31).
+SMALL_FACES = 0
 #: Learner settings of the model: the score is coverage (positives - negatives), a rule must
 #: cover 8 objects and may take a few negatives, so that no narrow rule is kept for a handful
 #: of odd boxes (boxes seen as one face have their rule on ``tall_face/1`` since the face
@@ -144,6 +147,9 @@ def main(argv=None) -> int:
     ap.add_argument("--panels", type=int, default=PANELS, metavar="N",
                     help=f"scenes of the training world's panel part (a ramp with sofas and "
                          f"steep panels beside it, class other; default {PANELS})")
+    ap.add_argument("--small-faces", dest="small_faces", type=int, default=SMALL_FACES,
+                    metavar="N", help=f"scenes of the training world's small-face part (a small "
+                    f"box seen as one side face; default {SMALL_FACES})")
     args = ap.parse_args(argv)
 
     from planerel.classify import Classifier, classify_dataset
@@ -160,7 +166,8 @@ def main(argv=None) -> int:
     try:
         sd = seeds(args.seed)
         for flag, n in (("round", args.round_), ("faces", args.faces), ("flat", args.flat),
-                        ("piles", args.piles), ("open", args.open_), ("panels", args.panels)):
+                        ("piles", args.piles), ("open", args.open_), ("panels", args.panels),
+                        ("small-faces", args.small_faces)):
             if n < 0:
                 raise InputError(f"--{flag} must be a non-negative integer, got {n}")
         train = generate_dataset(out / "data" / "train", n_box=12, n_stairs=15, n_ramp=18,
@@ -171,7 +178,7 @@ def main(argv=None) -> int:
         world = generate_training_world(out / "data" / "model_train", paper=PAPER, room=ROOM,
                                         round_=args.round_, faces=args.faces, flat=args.flat,
                                         piles=args.piles, open_=args.open_,
-                                        panels=args.panels,
+                                        panels=args.panels, small_faces=args.small_faces,
                                         seed=sd["world"],
                                         size=(640, 480), subsample=4)
         if args.seed:

@@ -53,7 +53,7 @@ from pathlib import Path
 
 from planerel.errors import InputError
 
-__all__ = ["KINECT_ROOM", "KINECT_FACES", "KINECT_OPEN", "KINECT_PANELS", "ROUND_SETTINGS", "FLAT_SETTINGS", "generate_round_scene",
+__all__ = ["KINECT_ROOM", "KINECT_FACES", "KINECT_OPEN", "KINECT_PANELS", "KINECT_SMALL_FACES", "ROUND_SETTINGS", "FLAT_SETTINGS", "generate_round_scene",
            "generate_flat_scene", "generate_training_world", "lying_cylinder_geometry"]
 
 #: Ranges of the Kinect-like part (others: :class:`planerel.synth.world.WorldRange` defaults).
@@ -82,6 +82,17 @@ KINECT_FACES = {**KINECT_ROOM,
                 "extra_objects": (0, 0)}
 
 
+#: Ranges of the small-face part (:func:`generate_training_world`'s ``small_faces``): the face
+#: part's view of a small box (0.15-0.45 m high, 0.12-0.4 m wide: a cracker box, a carton)
+#: from a camera 0.1-0.3 m above the floor and 0.5-1.5 m away, its top out of sight: one side
+#: face of 0.02-0.15 m^2, the size a table-top box shows a RealSense (face31).
+KINECT_SMALL_FACES = {**KINECT_FACES,
+                      "camera_height": (0.1, 0.3),
+                      "box_height": (0.15, 0.45),
+                      "box_size": (0.12, 0.4),
+                      "object_range": (0.5, 1.5)}
+
+
 #: Ranges of the open part (:func:`generate_training_world`'s ``open_``; riser26): the room's
 #: scenes with an open-riser flight (floating treads, no risers) as the primary object, going
 #: up, steep ones too (runs 0.12-0.30 m), seen from a camera looking 5-45 degrees down (the
@@ -107,7 +118,7 @@ KINECT_PANELS = {**KINECT_ROOM,
 
 def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), round_: int = 0,
                             faces: int = 0, flat: int = 0, piles: int = 0, open_: int = 0,
-                            panels: int = 0,
+                            panels: int = 0, small_faces: int = 0,
                             seed: int = 0, size=(640, 480), subsample: int = 4,
                             ranges=None) -> Path:
     """Write one data set: ``paper`` box/stairs/ramp scenes of the paper-sized world, then
@@ -150,8 +161,12 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         (riser26).
     panels : int
         Scenes of the panel part (a ramp, the scene's class, with sofas and steep panels of
-        class ``other`` beside it: :data:`KINECT_PANELS`), last, seeds
+        class ``other`` beside it: :data:`KINECT_PANELS`), after the open part, seeds
         ``scene_seed(seed + 7, i)``.
+    small_faces : int
+        Scenes of the small-face part (a small box seen as one side face from a camera near
+        the floor: :data:`KINECT_SMALL_FACES`), last, seeds ``scene_seed(seed + 8, i)``
+        (face31).
 
     Returns
     -------
@@ -185,11 +200,11 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
                              f"ramp), got {part!r}")
         counts[name] = dict(zip(CLASSES, n, strict=True))
     for what, n in (("round", round_), ("face", faces), ("flat", flat), ("pile", piles),
-                    ("open", open_), ("panel", panels)):
+                    ("open", open_), ("panel", panels), ("small-face", small_faces)):
         if isinstance(n, bool) or not isinstance(n, int) or n < 0:
             raise InputError(f"{what} scene count must be a non-negative integer, got {n!r}")
     if not (sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces + flat
-            + piles + open_ + panels):
+            + piles + open_ + panels + small_faces):
         raise InputError("a data set needs at least one scene (all counts are 0)")
     ranges = WorldRange(**KINECT_ROOM) if ranges is None else ranges
     paper_sensor, room_sensor = SensorModel(), StructuredLight()
@@ -201,11 +216,12 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             + [("room", k) for k in CLASSES for _ in range(counts["room"][k])]
             + [("round", "box")] * round_ + [("faces", "box")] * faces
             + [("piles", "box")] * piles + [("open", "stairs")] * open_
-            + [("panels", "ramp")] * panels)
+            + [("panels", "ramp")] * panels + [("small_faces", "box")] * small_faces)
     # the parts that are varied-world scenes: (seed offset, ranges)
     world_parts = {"room": (1, ranges), "faces": (3, WorldRange(**KINECT_FACES)),
                    "open": (5, WorldRange(**KINECT_OPEN)),
-                   "panels": (7, WorldRange(**KINECT_PANELS))}
+                   "panels": (7, WorldRange(**KINECT_PANELS)),
+                   "small_faces": (8, WorldRange(**KINECT_SMALL_FACES))}
     rows = []
     nth: dict = {}  # scenes of each part so far: the part's scene index (its seed)
     with atomic_dir(Path(out_dir), markers=("manifest.csv", "dataset.json")) as tmp:
@@ -235,11 +251,13 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             "format": "planerel-synth-dataset", "version": 1, "seed": seed,
             "world": "paper+kinect-room" + ("+round" if round_ else "") + ("+faces" if faces else "")
                      + ("+flat" if flat else "") + ("+piles" if piles else "")
-                     + ("+open" if open_ else "") + ("+panels" if panels else ""),
+                     + ("+open" if open_ else "") + ("+panels" if panels else "")
+                     + ("+small-faces" if small_faces else ""),
             "counts": {**counts, "round": round_, **({"faces": faces} if faces else {}),
                        **({"flat": flat} if flat else {}), **({"piles": piles} if piles else {}),
                        **({"open": open_} if open_ else {}),
-                       **({"panels": panels} if panels else {})},
+                       **({"panels": panels} if panels else {}),
+                       **({"small_faces": small_faces} if small_faces else {})},
             "size": list(_check_size(size)), "subsample": int(subsample),
             "sensor": {"paper": paper_sensor.to_dict(), "room": room_sensor.to_dict()},
             "world_ranges": ranges.to_dict(),
