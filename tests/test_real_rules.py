@@ -309,6 +309,28 @@ def test_real_staircases_are_one_stairs_answer(demo_model):
             assert treads <= set(flight.labels), f"{f.name}: treads {treads - set(flight.labels)} apart"
 
 
+def _unseen_rows(sets, model, var: str, params=()) -> dict:
+    """``{frame: row}`` of benchmarks/real_unseen.py over the labelled set folders ``sets``
+    (``Path``s) with ``model`` (and ``--param`` overrides), or a skip naming the variable
+    ``var`` that points at them when a set is missing."""
+    if not all((s / "labels.json").is_file() for s in sets):
+        pytest.skip(f"no labelled frames in {', '.join(str(s) for s in sets)} (set {var}; "
+                    "benchmarks/real_unseen.py)")
+    import sys
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from real_unseen import run
+
+    return {r["frame"]: r for r in run([str(s) for s in sets], str(model), list(params))}
+
+
+def _totals(rows: dict) -> dict:
+    """benchmarks/real_unseen.py's totals over ``rows`` (:func:`_unseen_rows`)."""
+    from real_unseen import totals
+
+    return totals(rows.values())
+
+
 def test_real_frames_nobody_had_seen(demo_model):
     """hunt25: organized Kinect clouds of PointCloudLibrary/data (``$PLANEREL_STAIRS_DATA/
     pcl-pairwise``: a room with an open-riser flight seen from its side, a desk, a chair;
@@ -325,15 +347,7 @@ def test_real_frames_nobody_had_seen(demo_model):
     (``ProposalParams.open_treads``) the treads of 0002-0005 are one proposal and ``stairs``;
     0001 shows two tread levels only (docs/objects.md, "Open-riser flights")."""
     sets = [STAIRS_DATA / "pcl-pairwise", STAIRS_DATA / "pcl-tutorials"]
-    if not all((s / "labels.json").is_file() for s in sets):
-        pytest.skip(f"no labelled unseen frames under {STAIRS_DATA} (set PLANEREL_STAIRS_DATA; "
-                    "benchmarks/real_unseen.py)")
-    import sys
-
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    from real_unseen import run, totals
-
-    rows = {r["frame"]: r for r in run([str(s) for s in sets], str(demo_model))}
+    rows = _unseen_rows(sets, demo_model, "PLANEREL_STAIRS_DATA")
     assert len(rows) == 8
     false_boxes = 0
     for name in ("capture0001", "capture0002", "capture0003", "capture0004", "capture0005",
@@ -341,7 +355,7 @@ def test_real_frames_nobody_had_seen(demo_model):
         assert all(f[0] == "box" for f in rows[name]["false"]), (name, rows[name]["false"])
         false_boxes += len(rows[name]["false"])
     assert rows["table_scene_mug_stereo_textured"]["false"] == []
-    t = totals(rows.values())
+    t = _totals(rows)
     assert (t["stairs_found"], t["stairs_labelled"], t["false_stairs"]) == (4, 5, 0)
     assert [rows[f"capture000{i}"]["objects"][0]["found"] for i in range(1, 6)] == [
         False, True, True, True, True]
@@ -363,17 +377,10 @@ def test_a_pallet_of_cartons_is_no_staircase(demo_model):
     rise above and one run beyond the next carton; docs/objects.md, "Carton piles and false
     answers on unseen frames", "A flight's steps as a relation")."""
     sets = [STAIRS_DATA / "palletizer"]
-    if not (sets[0] / "labels.json").is_file():
-        pytest.skip(f"no labelled palletizer frames under {STAIRS_DATA} (set "
-                    "PLANEREL_STAIRS_DATA; benchmarks/real_unseen.py)")
-    import sys
-
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    from real_unseen import run, totals
-
-    t = totals(run([str(s) for s in sets], str(demo_model)))
+    t = _totals(_unseen_rows(sets, demo_model, "PLANEREL_STAIRS_DATA"))
     assert (t["box_found"], t["box_labelled"], t["false_stairs"], t["false_box"]) == (2, 2, 0, 1)
-    off = totals(run([str(s) for s in sets], str(demo_model), ["decision.flight_gate=false"]))
+    off = _totals(_unseen_rows(sets, demo_model, "PLANEREL_STAIRS_DATA",
+                               ["decision.flight_gate=false"]))
     # (0, 2) before wavy29's join of the RealSense's wavy carton tops (docs/segmentation.md,
     # "Wavy sensors"): the first capture's pile is `box` even without the gate
     assert (off["box_found"], off["false_stairs"]) == (1, 1)
@@ -424,16 +431,9 @@ def test_furniture_longer_than_any_box_is_no_box(demo_model):
     front 0.9 m: box-shaped furniture the labels mark no class) stays a false box
     (docs/objects.md, "False boxes on real rooms")."""
     sets = [HUNT_DATA / "hidden26" / "open3d-rgbd", HUNT_DATA / "hidden28" / "nyu-slambook"]
-    if not all((s / "labels.json").is_file() for s in sets):
-        pytest.skip(f"no hunt frames under {HUNT_DATA} (set PLANEREL_HUNT_DATA; "
-                    "benchmarks/real_unseen.py)")
-    import sys
-
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    from real_unseen import run
-
-    rows = {r["frame"]: r for r in run([str(s) for s in sets], str(demo_model))}
+    rows = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA")
     assert len(rows) == 8
+
     def boxes(row):
         return [f[:2] for f in row["false"] if f[0] == "box"]
 
@@ -441,8 +441,7 @@ def test_furniture_longer_than_any_box_is_no_box(demo_model):
         assert boxes(rows[name]) == [], (name, rows[name]["false"])
     for name in ("dining3_depth", "dining4_depth", "dining5_depth"):   # the sideboard
         assert boxes(rows[name]) == [("box", 1)], (name, rows[name]["false"])
-    off = {r["frame"]: r for r in run([str(s) for s in sets[:1]], str(demo_model),
-                                      ["decision.size_gate=false"])}
+    off = _unseen_rows(sets[:1], demo_model, "PLANEREL_HUNT_DATA", ["decision.size_gate=false"])
     assert boxes(off["nyu_basement_depth"]) == [("box", 2), ("box", 2)]
     assert boxes(off["sun_corridor_depth"]) == [("box", 2)]
 
@@ -459,15 +458,7 @@ def test_realsense_boxes_whose_faces_come_in_pieces(demo_model):
     proposals, neither a box.  On a wavy frame a skirt pair within ``skirt_gap`` stays one
     object: ``box``."""
     ycb, grasp = HUNT_DATA / "hidden26" / "posecnn-ycb", HUNT_DATA / "hidden28" / "graspnet-table"
-    if not all((s / "labels.json").is_file() for s in (ycb, grasp)):
-        pytest.skip(f"no hunt frames under {HUNT_DATA} (set PLANEREL_HUNT_DATA; "
-                    "benchmarks/real_unseen.py)")
-    import sys
-
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    from real_unseen import run
-
-    rows = {r["frame"]: r for r in run([str(ycb), str(grasp)], str(demo_model))}
+    rows = _unseen_rows([ycb, grasp], demo_model, "PLANEREL_HUNT_DATA")
     ycb4, box = rows["ycb4-depth"], rows["example_depth"]
     assert [o["found"] for o in ycb4["objects"]] == [True]
     assert [o["found"] for o in box["objects"]] == [True]
