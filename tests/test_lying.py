@@ -216,3 +216,65 @@ def test_a_top_within_its_own_noise_of_the_table_is_not_lying():
     assert lying_at(0.02, RelationParams(lying_snr=2.0))[1] == {2}
     with pytest.raises(InputError, match="lying_snr"):
         RelationParams(lying_snr=-1.0)
+
+
+#: straight down from 0.8 m over the floor (a robot's wrist camera over a tray, a camera over
+#: a conveyor): a box's sides are out of sight, its top and the floor never touch
+TOP_DOWN = {"pitch": 90.0, "cam_height": 0.8, "width": 640, "height": 480}
+
+
+def _box_on_floor(sides, rise=0.08, sx=0.2, sy=0.14, y=0.0):
+    rects = [Rect((0.0, 0.0, 0.0), (1, 0, 0), (0, 1, 0), 3.0, 3.0)]
+    top = Rect((0.0, y, rise), (1, 0, 0), (0, 1, 0), sx / 2, sy / 2, 1)
+    if not sides:
+        return rects + [top]
+    return rects + [top] + [
+        Rect((0.0, y - sy / 2, rise / 2), (1, 0, 0), (0, 0, 1), sx / 2, rise / 2, 1),
+        Rect((-sx / 2, y, rise / 2), (0, 1, 0), (0, 0, 1), sy / 2, rise / 2, 1),
+        Rect((sx / 2, y, rise / 2), (0, 1, 0), (0, 0, 1), sy / 2, rise / 2, 1),
+        Rect((0.0, y + sy / 2, rise / 2), (1, 0, 0), (0, 0, 1), sx / 2, rise / 2, 1)]
+
+
+def _lying_in(rects, view, params=None):
+    cloud, lab, _, _ = render(rects, noise=0.001, **view)
+    ps = measure_planes(cloud, lab)
+    rel = relate(ps, cloud, params)
+    return ps, rel, cloud
+
+
+def test_a_box_seen_from_straight_above_lies_on_the_floor_around_it():
+    """lie32 (hidden32's pharmacy cartons and tray box, RealSense from above): the top 8 cm over
+    the floor, its sides out of sight, is adjacent to nothing; the floor shows all around it
+    across the depth jump, nothing in between: ``lying``.  Without the cloud (or with
+    ``lying_ring`` 0) only adjacent grounds count, as before."""
+    ps, rel, cloud = _lying_in(_box_on_floor(sides=False), TOP_DOWN)
+    top = ps.by_label(1)
+    assert top.orientation == "horizontal" and not any(
+        r.adjacent for r in rel if {r.a, r.b} == {0, 1})
+    assert lying_tops(ps, rel, (), cloud) == {1}
+    assert lying_tops(ps, rel, ()) == frozenset()
+    off = RelationParams(lying_ring=0.0)
+    assert lying_tops(ps, relate(ps, cloud, off), (), cloud) == frozenset()
+    # a board 20 cm up (a shelf over the floor) is still too high, ring or not
+    ps, rel, cloud = _lying_in(_box_on_floor(sides=False, rise=0.2), TOP_DOWN)
+    assert lying_tops(ps, rel, (), cloud) == frozenset()
+
+
+def test_a_top_whose_side_shows_between_it_and_the_floor_is_not_lying_by_the_ring():
+    """Seen from the side (45 degrees down, 1.1 m away) the box's near side stands between its
+    top and the floor, as a tin's wall under its lid: the points around the top are not at the
+    floor's level or the top's, so the ring test does not make it ``lying`` (the box rules
+    prove such a box by its top and side, ``skirt``)."""
+    view = {"pitch": 45.0, "cam_height": 0.8, "width": 640, "height": 480}
+    ps, rel, cloud = _lying_in(_box_on_floor(sides=True, y=0.8), view)
+    top = ps.by_label(1)
+    assert top.orientation == "horizontal" and top.n_points > 2000
+    assert 1 not in lying_tops(ps, rel, (), cloud)
+    # the same top with its sides left out (seen edge-on) lies there by the ring
+    ps, rel, cloud = _lying_in(_box_on_floor(sides=False, y=0.8), view)
+    assert 1 in lying_tops(ps, rel, (), cloud)
+
+
+def test_ring_params_are_checked():
+    with pytest.raises(InputError, match="lying_ring"):
+        RelationParams(lying_ring=-1.0)

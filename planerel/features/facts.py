@@ -306,7 +306,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     tall = tall_faces(planes, rel, cloud, profiles)
     support = tuple(support_planes(planes, pp, rel, cloud))
     # the tops of flat things lying on a table or the floor, their sides edge-on
-    lying = lying_tops(planes, rel, support)
+    lying = lying_tops(planes, rel, support, cloud)
     known = {p.label for p in planes}
     if objects is None:
         groups = propose_objects(planes, rel, pp, cloud, support)

@@ -211,6 +211,16 @@ class RelationParams:
     #: the ground a ``lying`` plane lies on is at least this many times its area (a table
     #: or the floor under a book, not a tread beside a tread) (top25)
     lying_ground: float = 3.0
+    #: pixels (at 640 image columns, scaled with the width): a plane with no ``adjacent``
+    #: ground is ``lying`` on a horizontal plane that shows around it across a depth jump:
+    #: within this many pixels of its outline, the measured points are at the ground's level
+    #: (at least ``lying_ring_ground`` of them) or the top's own, at most
+    #: ``lying_ring_between`` in between.  A box seen from straight above hides its sides,
+    #: so its top and the board under it never touch; a tin's lid seen from the side has its
+    #: wall in between (lie32).  0: adjacent grounds only
+    lying_ring: float = 6.0
+    lying_ring_ground: float = 0.2
+    lying_ring_between: float = 0.05
     corner_tol: float = 0.08
     corner_width: float = 0.08
     facing_overlap: float = 0.5
@@ -239,7 +249,8 @@ class RelationParams:
                              "skirt_grounded_reach", "riser_width", "standing_foot",
                              "standing_fill", "tall_eye", "tall_flat", "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
-                             "lying_min_length", "lying_width", "lying_snr"))
+                             "lying_min_length", "lying_width", "lying_snr", "lying_ring",
+                             "lying_ring_ground", "lying_ring_between"))
         if self.lying_rise > 0 and self.lying_rise_max <= self.lying_rise:
             raise InputError(f"lying_rise_max must be above lying_rise ({self.lying_rise!r}), got "
                              f"{self.lying_rise_max!r} (lying_rise 0 switches lying/1 off)")
@@ -934,7 +945,7 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     return frozenset(out)
 
 
-def lying_tops(planes, relations: Relations, support=()) -> frozenset:
+def lying_tops(planes, relations: Relations, support=(), cloud=None) -> frozenset:
     """Labels of the planes that lie on the ground as the top of something flat lying there
     (``lying/1``): what a book or a flat box lying on a table shows when its sides are seen
     edge-on (a few pixels, unsegmented) or hidden.
@@ -945,13 +956,15 @@ def lying_tops(planes, relations: Relations, support=()) -> frozenset:
       another, a box resting on one edge), no support plane itself, ``lying_min_length`` to
       ``lying_length`` long and at least ``lying_width`` wide (a book, a flat box: something
       one can lift; a strip along a wall's foot is narrower);
-    - a horizontal plane ``g`` adjacent to it (the relations' ``adjacent``), at least
-      ``lying_ground`` times its area, lies under it: ``t``'s centroid stands over ``g``'s
-      fit (along ``up``, where the line through the centroid meets ``g``) by at least
-      ``lying_rise`` (or ``lying_snr`` times ``t``'s RMS fit residual, the sensor's depth
-      noise where it lies, when more) and at most ``lying_rise_max``, and no
-      point of ``t``'s hull is more than ``lying_rise`` below ``g`` (``t`` does not cross
-      it).
+    - a horizontal plane ``g``, at least ``lying_ground`` times its area, lies under it:
+      ``t``'s centroid stands over ``g``'s fit (along ``up``, where the line through the
+      centroid meets ``g``) by at least ``lying_rise`` (or ``lying_snr`` times ``t``'s RMS
+      fit residual, the sensor's depth noise where it lies, when more) and at most
+      ``lying_rise_max``, and no point of ``t``'s hull is more than ``lying_rise`` below
+      ``g`` (``t`` does not cross it);
+    - ``g`` is adjacent to it (the relations' ``adjacent``), or, when no adjacent ground
+      passes and ``cloud`` is given, ``g`` shows around it across a depth jump
+      (:func:`_ground_around`): a box seen from straight above, its sides hidden.
 
     A table's top (0.45-0.8 m over the floor), a chair's seat, a shelf's board, a landing or
     a tread stand higher over what is under them; a far piece of the floor that the sensor
@@ -962,11 +975,14 @@ def lying_tops(planes, relations: Relations, support=()) -> frozenset:
     Parameters
     ----------
     planes : PlaneSet
-        Measured planes (``up`` set).
+        Measured planes (``up`` set; its ``labels`` image for the ring test).
     relations : Relations
         From :func:`relate` on ``planes`` (its ``params`` give the tolerances).
     support : iterable of int
         Labels of the support planes (:func:`support_planes`): they are grounds, not tops.
+    cloud : Cloud, optional
+        The organized cloud (``xyz`` (H, W, 3)): with it, a top with no adjacent ground may
+        lie on one around it (``lying_ring``).
 
     Returns
     -------
@@ -977,6 +993,12 @@ def lying_tops(planes, relations: Relations, support=()) -> frozenset:
         return frozenset()
     by_label = {q.label: q for q in planes}
     sup = {int(x) for x in support}
+
+    def top_like(t):
+        return (t is not None and t.label not in sup and t.orientation != "vertical"
+                and t.incline <= p.skirt_tilted
+                and p.lying_min_length <= t.length <= p.lying_length and t.width >= p.lying_width)
+
     cand: dict[int, list] = {}
     for r in adjacent_only(relations):
         # adjacent only: a top within a few cm of the table but apart from it in the grid
@@ -985,39 +1007,92 @@ def lying_tops(planes, relations: Relations, support=()) -> frozenset:
         if not r.adjacent:
             continue
         t, g = by_label.get(r.a), by_label.get(r.b)
-        if t is None or g is None or t.label in sup or g.orientation != "horizontal":
-            continue
-        if t.orientation == "vertical" or t.incline > p.skirt_tilted \
-                or not p.lying_min_length <= t.length <= p.lying_length or t.width < p.lying_width:
+        if not top_like(t) or g is None or g.orientation != "horizontal":
             continue
         if g.area < p.lying_ground * t.area:
             continue
         cand.setdefault(t.label, []).append(g)
-    if not cand:
-        return frozenset()
     up = np.asarray(planes.up, float)
-    out = set()
-    for lbl, grounds in cand.items():
-        t = by_label[lbl]
-        c = np.asarray(t.centroid, float)
-        # the sensor's noise where the plane is: its own fit's RMS residual
-        least = max(p.lying_rise, p.lying_snr * float(t.rms))
-        hull = np.asarray(t.hull3d, float)
+    out = {lbl for lbl, grounds in cand.items()
+           if any(_lies_on(by_label[lbl], g, up, p) for g in grounds)}
+    if cloud is None or p.lying_ring <= 0 or planes.labels is None:
+        return frozenset(out)
+    grounds = [g for g in planes if g.orientation == "horizontal"]
+    for t in planes:
+        if t.label in out or not top_like(t):
+            continue
         for g in grounds:
-            gn = np.asarray(g.normal, float)
-            den = float(gn @ up)
-            if abs(den) < 0.5:
-                continue
-            gc = np.asarray(g.centroid, float)
-            # heights over g's plane, measured along up
-            rise = float(gn @ (c - gc)) / den
-            if not least <= rise <= p.lying_rise_max:
-                continue
-            if hull.size and float(((hull - gc) @ gn).min()) / den < -p.lying_rise:
-                continue
-            out.add(lbl)
-            break
+            if g.label != t.label and g.area >= p.lying_ground * t.area \
+                    and _lies_on(t, g, up, p) and _ground_around(t, g, up, planes.labels, cloud, p, by_label):
+                out.add(t.label)
+                break
     return frozenset(out)
+
+
+def _lies_on(t, g, up: np.ndarray, p) -> bool:
+    """True when ``t``'s centroid rises over ``g``'s fit (along ``up``) within
+    ``[max(lying_rise, lying_snr x t.rms), lying_rise_max]`` and no point of ``t``'s hull is
+    more than ``lying_rise`` below ``g`` (:func:`lying_tops`)."""
+    gn = np.asarray(g.normal, float)
+    den = float(gn @ up)
+    if abs(den) < 0.5:
+        return False
+    gc = np.asarray(g.centroid, float)
+    # the sensor's noise where the plane is: its own fit's RMS residual
+    least = max(p.lying_rise, p.lying_snr * float(t.rms))
+    rise = float(gn @ (np.asarray(t.centroid, float) - gc)) / den
+    if not least <= rise <= p.lying_rise_max:
+        return False
+    hull = np.asarray(t.hull3d, float)
+    return not (hull.size and float(((hull - gc) @ gn).min()) / den < -p.lying_rise)
+
+
+def _ground_around(t, g, up: np.ndarray, labels: np.ndarray, cloud, p, by_label) -> bool:
+    """True when ``g`` shows around ``t`` across a depth jump: of the measured points within
+    ``lying_ring`` pixels (scaled from 640 columns to the image's width) of ``t``'s pixels,
+    at least ``lying_ring_ground`` lie at ``g``'s level and at most ``lying_ring_between``
+    between ``g``'s level and ``t``'s (a side in view: a tin's wall, a box seen from the
+    side), each level within 3 times ``t``'s RMS (at least 5 mm, at most a quarter of ``t``'s
+    rise over ``g``)."""
+    H, W = labels.shape
+    k = max(2, int(round(p.lying_ring * W / 640.0)))
+    r0, c0, r1, c1 = (int(v) for v in t.bbox)
+    r0, c0, r1, c1 = max(r0 - k, 0), max(c0 - k, 0), min(r1 + k + 1, H), min(c1 + k + 1, W)
+    own = labels[r0:r1, c0:c1] == t.label
+    if not own.any():
+        return False
+    from scipy.ndimage import binary_dilation
+
+    xyz = np.asarray(cloud.xyz[r0:r1, c0:c1], float)
+    lab = labels[r0:r1, c0:c1]
+    ring = binary_dilation(own, iterations=k) & ~own & np.isfinite(xyz[..., 2])
+    gn = np.asarray(g.normal, float)
+    den = float(gn @ up)
+    gc = np.asarray(g.centroid, float)
+    tc = np.asarray(t.centroid, float)
+    tn = np.asarray(t.normal, float)
+    rise = float(gn @ (tc - gc)) / den
+    # the top's own pieces (a sliver tilted off it, a top in two pieces: planes within
+    # skirt_tilted of its normal whose centroid is nearer its level than the ground's) are
+    # the top, not what lies around it
+    cos_tilt = math.cos(math.radians(p.skirt_tilted))
+    for lbl in np.unique(lab[ring]):
+        q = by_label.get(int(lbl))
+        if q is not None and q.label != t.label \
+                and abs(float(np.asarray(q.normal, float) @ tn)) >= cos_tilt \
+                and abs(float((np.asarray(q.centroid, float) - tc) @ tn)) < 0.5 * rise:
+            ring &= lab != q.label
+    if not ring.any():
+        return False
+    pts = xyz[ring]
+    h = ((pts - gc) @ gn) / den                      # heights over g, along up
+    # a level is a fit within the sensor's noise there (3 x the top's RMS, at least 5 mm),
+    # never past a quarter of the rise: a side in view is "between" but for its last rows
+    tol = min(0.25 * rise, max(0.005, 3.0 * float(t.rms)))
+    at_ground = np.abs(h) <= tol
+    at_top = np.abs((pts - tc) @ tn) <= tol
+    between = ~at_ground & ~at_top & (h > 0) & (h < rise + tol)
+    return bool(at_ground.mean() >= p.lying_ring_ground and between.mean() <= p.lying_ring_between)
 
 
 def _reaches_top_row(face, rows: int = 2) -> bool:
