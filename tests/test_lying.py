@@ -278,3 +278,16 @@ def test_a_top_whose_side_shows_between_it_and_the_floor_is_not_lying_by_the_rin
 def test_ring_params_are_checked():
     with pytest.raises(InputError, match="lying_ring"):
         RelationParams(lying_ring=-1.0)
+
+
+def test_the_ring_grows_a_mask_as_a_square_window_does():
+    from scipy.ndimage import maximum_filter
+
+    from planerel.features.relations import _dilate_square
+
+    rng = np.random.default_rng(5)
+    for _ in range(30):
+        m = rng.random((int(rng.integers(1, 50)), int(rng.integers(1, 50)))) > 0.96
+        k = int(rng.integers(1, 9))
+        grown = _dilate_square(_dilate_square(m, k, 0), k, 1)
+        assert (grown == maximum_filter(m, size=2 * k + 1, mode="constant")).all()

@@ -1021,11 +1021,12 @@ def lying_tops(planes, relations: Relations, support=(), cloud=None) -> frozense
     for t in planes:
         if t.label in out or not top_like(t):
             continue
-        for g in grounds:
-            if g.label != t.label and g.area >= p.lying_ground * t.area \
-                    and _lies_on(t, g, up, p) and _ground_around(t, g, up, planes.labels, cloud, p, by_label):
+        under = [g for g in grounds if g.label != t.label and g.area >= p.lying_ground * t.area
+                 and _lies_on(t, g, up, p)]
+        if under:
+            pts = _ring_points(t, planes.labels, cloud, p, by_label)
+            if any(_ground_around(t, g, up, pts, p) for g in under):
                 out.add(t.label)
-                break
     return frozenset(out)
 
 
@@ -1047,50 +1048,60 @@ def _lies_on(t, g, up: np.ndarray, p) -> bool:
     return not (hull.size and float(((hull - gc) @ gn).min()) / den < -p.lying_rise)
 
 
-def _ground_around(t, g, up: np.ndarray, labels: np.ndarray, cloud, p, by_label) -> bool:
-    """True when ``g`` shows around ``t`` across a depth jump: of the measured points within
-    ``lying_ring`` pixels (scaled from 640 columns to the image's width) of ``t``'s pixels,
-    at least ``lying_ring_ground`` lie at ``g``'s level and at most ``lying_ring_between``
-    between ``g``'s level and ``t``'s (a side in view: a tin's wall, a box seen from the
-    side), each level within 3 times ``t``'s RMS (at least 5 mm, at most a quarter of ``t``'s
-    rise over ``g``)."""
+def _dilate_square(mask: np.ndarray, k: int, axis: int) -> np.ndarray:
+    """``mask`` (bool, 2-D) grown by ``k`` pixels along ``axis`` (a running window sum; the
+    square neighbourhood is both axes in turn)."""
+    m = np.moveaxis(mask, axis, 0).astype(np.int32)
+    c = np.concatenate([np.zeros((1,) + m.shape[1:], np.int32), np.cumsum(m, axis=0)])
+    n = m.shape[0]
+    i = np.arange(n)
+    hi, lo = np.minimum(i + k + 1, n), np.maximum(i - k, 0)
+    return np.moveaxis(c[hi] - c[lo] > 0, 0, axis)
+
+
+def _ring_points(t, labels: np.ndarray, cloud, p, by_label) -> np.ndarray:
+    """``(M, 3)`` measured points within ``lying_ring`` pixels (scaled from 640 columns to the
+    image's width; a square neighbourhood) of ``t``'s pixels, ``t``'s own pieces left out: a
+    sliver tilted off it, a top in two pieces (planes within ``skirt_tilted`` of its normal
+    whose centroid lies within ``lying_rise`` of its fit)."""
     H, W = labels.shape
     k = max(2, int(round(p.lying_ring * W / 640.0)))
     r0, c0, r1, c1 = (int(v) for v in t.bbox)
     r0, c0, r1, c1 = max(r0 - k, 0), max(c0 - k, 0), min(r1 + k + 1, H), min(c1 + k + 1, W)
-    own = labels[r0:r1, c0:c1] == t.label
-    if not own.any():
-        return False
-    from scipy.ndimage import binary_dilation
-
-    xyz = np.asarray(cloud.xyz[r0:r1, c0:c1], float)
     lab = labels[r0:r1, c0:c1]
-    ring = binary_dilation(own, iterations=k) & ~own & np.isfinite(xyz[..., 2])
-    gn = np.asarray(g.normal, float)
-    den = float(gn @ up)
-    gc = np.asarray(g.centroid, float)
-    tc = np.asarray(t.centroid, float)
-    tn = np.asarray(t.normal, float)
-    rise = float(gn @ (tc - gc)) / den
-    # the top's own pieces (a sliver tilted off it, a top in two pieces: planes within
-    # skirt_tilted of its normal whose centroid is nearer its level than the ground's) are
-    # the top, not what lies around it
+    own = lab == t.label
+    xyz = np.asarray(cloud.xyz[r0:r1, c0:c1], float)
+    ring = _dilate_square(_dilate_square(own, k, 0), k, 1) & ~own & np.isfinite(xyz[..., 2])
+    tn, tc = np.asarray(t.normal, float), np.asarray(t.centroid, float)
     cos_tilt = math.cos(math.radians(p.skirt_tilted))
     for lbl in np.unique(lab[ring]):
         q = by_label.get(int(lbl))
         if q is not None and q.label != t.label \
                 and abs(float(np.asarray(q.normal, float) @ tn)) >= cos_tilt \
-                and abs(float((np.asarray(q.centroid, float) - tc) @ tn)) < 0.5 * rise:
+                and abs(float((np.asarray(q.centroid, float) - tc) @ tn)) <= p.lying_rise:
             ring &= lab != q.label
-    if not ring.any():
+    return xyz[ring]
+
+
+def _ground_around(t, g, up: np.ndarray, pts: np.ndarray, p) -> bool:
+    """True when ``g`` shows around ``t`` across a depth jump: of the points ``pts`` around it
+    (:func:`_ring_points`), at least ``lying_ring_ground`` lie at ``g``'s level and at most
+    ``lying_ring_between`` between ``g``'s level and ``t``'s (a side in view: a tin's wall, a
+    box seen from the side), each level within 3 times ``t``'s RMS (at least 5 mm, at most a
+    quarter of ``t``'s rise over ``g``)."""
+    if not len(pts):
         return False
-    pts = xyz[ring]
+    gn = np.asarray(g.normal, float)
+    den = float(gn @ up)
+    gc = np.asarray(g.centroid, float)
+    tc = np.asarray(t.centroid, float)
     h = ((pts - gc) @ gn) / den                      # heights over g, along up
+    rise = float(gn @ (tc - gc)) / den
     # a level is a fit within the sensor's noise there (3 x the top's RMS, at least 5 mm),
     # never past a quarter of the rise: a side in view is "between" but for its last rows
     tol = min(0.25 * rise, max(0.005, 3.0 * float(t.rms)))
     at_ground = np.abs(h) <= tol
-    at_top = np.abs((pts - tc) @ tn) <= tol
+    at_top = np.abs((pts - tc) @ np.asarray(t.normal, float)) <= tol
     between = ~at_ground & ~at_top & (h > 0) & (h < rise + tol)
     return bool(at_ground.mean() >= p.lying_ring_ground and between.mean() <= p.lying_ring_between)
 
