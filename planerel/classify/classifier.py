@@ -280,6 +280,10 @@ class Classifier:
         self.size_domain = (size_gated(self.settings.size_domain, decision.size_classes)
                             if decision.size_gate else ())
         self.size_margin = decision.size_margin
+        #: ``ramp`` only for a slope standing on the floor (:func:`~planerel.ilp.metrics.foot_refusals`;
+        #: ``decision.foot_gate``): needs the scan's points, so only :meth:`classify` applies it
+        self.foot_gate = decision.foot_gate
+        self.foot_bounds = (decision.foot_above, decision.foot_below, decision.foot_hidden)
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -359,13 +363,13 @@ class Classifier:
         labels = segment_cached(cloud, method=self.method, params=self.seg_params)
         desc = describe_scene(cloud, labels, scene_id=scene_id, up=up, **self._describe_kw)
         plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
-        answers = self.answer_description(desc)
+        answers = self.answer_description(desc, xyz=cloud.xyz)
         # the labels the planes refer to (a stepped plane may have been split into levels)
         return SceneAnswer(cloud.source, scene_id, desc.labels, plane_ids, answers,
                            desc.planes.up_source, time.perf_counter() - t0,
                            desc.planes.up_confidence)
 
-    def answer_description(self, desc) -> tuple:
+    def answer_description(self, desc, xyz=None) -> tuple:
         """The answers for the objects of a scene description, in its object order.
 
         Parameters
@@ -375,6 +379,10 @@ class Classifier:
             a data-set scene's with its ground-truth objects
             (:func:`planerel.ilp.scenes.describe_scenes`: how :func:`evaluate_model` scores a
             model on a held-out set).
+        xyz : ndarray, shape (H, W, 3), optional
+            The scan's organized points (what the description's labels index): the foot gate
+            (``decision.foot_gate``) looks at where a sloping plane's low end lies only with
+            them.
 
         Returns
         -------
@@ -398,8 +406,8 @@ class Classifier:
         try:
             load_file(facts, "cannot load the scene facts")
             if self.members:
-                return tuple(_voted([m._answer(desc, plane_ids) for m in self.members]))
-            return tuple(self._answer(desc, plane_ids))
+                return tuple(_voted([m._answer(desc, plane_ids, xyz) for m in self.members]))
+            return tuple(self._answer(desc, plane_ids, xyz))
         finally:
             unload_file(facts, "cannot unload the scene facts")
             facts.unlink(missing_ok=True)
@@ -408,8 +416,9 @@ class Classifier:
         if not self.module:
             raise InputError(f"{self.rules_path}: this classifier was closed")
 
-    def _answer(self, desc, plane_ids) -> list:
-        """Each object of ``desc`` (its facts loaded) answered by this model's rules."""
+    def _answer(self, desc, plane_ids, xyz=None) -> list:
+        """Each object of ``desc`` (its facts loaded) answered by this model's rules (``xyz``:
+        the scan's points, for the foot gate)."""
         from planerel.features.relations import flight_evidence, flight_faces
         from planerel.ilp.metrics import decide, horizontal_counts, laplace, plane_extents
 
@@ -417,6 +426,19 @@ class Classifier:
         levels = horizontal_counts((desc,))
         extents = (functools.cache(lambda: plane_extents((desc,))) if self.size_domain
                    else None)
+        foot = None
+        if self.foot_gate and xyz is not None and "ramp" in self.classes:
+            from planerel.features.foot import slope_foot
+
+            by_id = {pid: lab for lab, pid in plane_ids.items()}
+            ps = desc.planes
+
+            @functools.cache
+            def foot(pid):
+                lab = by_id.get(pid)
+                if lab is None or ps.by_label(lab).orientation != "inclined":
+                    return None
+                return slope_foot(ps, lab, xyz, labels=desc.labels)
         proposal_params = self._describe_kw.get("proposal_params")
         for o in desc.objects:
             hits = []
@@ -445,7 +467,10 @@ class Classifier:
                                                                        proposal_params))
                                    if self.flight_gate else None,
                                    extents=extents, sizes=self.size_domain,
-                                   size_margin=self.size_margin)
+                                   size_margin=self.size_margin, foot=foot,
+                                   foot_above=self.foot_bounds[0],
+                                   foot_below=self.foot_bounds[1],
+                                   foot_hidden=self.foot_bounds[2])
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)
             if best is None:

@@ -48,7 +48,10 @@ def register(sub) -> None:
                         "decision.size_gate (on in models learned since fbox31) refuses a box "
                         "rule whose proof binds a plane (a face's height, another plane's "
                         "length) over 1 + decision.size_margin times the training box proofs' "
-                        "(decision.size_classes: the classes gated, box)")
+                        "(decision.size_classes: the classes gated, box); decision.foot_gate "
+                        "(on by default) refuses ramp for a slope whose low end lies over "
+                        "decision.foot_above metres above the floor in plain view "
+                        "(decision.foot_hidden) or decision.foot_below under it")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)

@@ -19,7 +19,9 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "planar_refusals", "PROOF_MARGIN", "PROOF_GATE", "PROOF_MIN_POSITIVES", "proof_domain", "proof_bound", "ProofRefusal",
            "LEVEL_GATE", "horizontal_counts", "level_domain", "LevelRefusal", "level_refusals",
            "proof_refusals", "VETO_RATIO", "VetoRefusal", "veto_refusals", "FLIGHT_GATE",
-           "FLIGHT_CLASS", "FlightRefusal", "flight_refusals", "SIZE_GATE", "SIZE_MARGIN",
+           "FLIGHT_CLASS", "FlightRefusal", "flight_refusals", "FOOT_GATE", "FOOT_ABOVE",
+           "FOOT_BELOW", "FOOT_HIDDEN", "FOOT_CLASS", "FootRefusal", "foot_refusals",
+           "SIZE_GATE", "SIZE_MARGIN",
            "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
            "decide"]
 
@@ -125,6 +127,16 @@ SIZE_GATE = True
 SIZE_MARGIN = 0.2
 #: Default of :attr:`DecisionParams.size_classes`.
 SIZE_CLASSES = "box"
+#: Default of :attr:`DecisionParams.foot_gate`.
+FOOT_GATE = True
+#: Default of :attr:`DecisionParams.foot_above` (metres).
+FOOT_ABOVE = 0.15
+#: Default of :attr:`DecisionParams.foot_below` (metres).
+FOOT_BELOW = 0.06
+#: Default of :attr:`DecisionParams.foot_hidden` (0..1).
+FOOT_HIDDEN = 0.75
+#: The class :func:`foot_refusals` asks a sloping plane's low end of.
+FOOT_CLASS = "ramp"
 
 
 @dataclass(frozen=True)
@@ -207,6 +219,33 @@ class DecisionParams:
         1.65 m side and a door's jamb (``tall_face``); the demo world's boxes are at most
         1.2 m long and no real box answer's proof plane is longer than 0.6 m
         (docs/objects.md, "False boxes on real rooms").
+    foot_gate : bool
+        Refuse ``ramp`` for an object whose proof's inclined planes all stand on no floor
+        (:func:`foot_refusals`; :func:`planerel.features.foot.slope_foot`): the plane's lowest
+        point is more than ``foot_above`` over the floor's level with its low end in plain view
+        (under ``foot_hidden`` of it next to the image border, missing depth or a nearer
+        surface), or more than ``foot_below`` under the floor.  A ramp is a slope that rises
+        from the floor.  On by default (ramp32, 2026-12-01): on real rooms nobody on the team
+        had seen, the demo's ramp rule ("a plane of 0.53 m^2 or more at most 28 degrees
+        steep") proved the top of a sofa's back, a far table top and far shelves the sensor
+        bends (low ends 0.26-0.84 m over the floor, at most 47 % of the low end's outline
+        hidden) and a far floor strip bent through the floor (0.11 m under it); the training
+        world's and the independent generator's ramps stand on the floor or have their low
+        end out of sight (docs/results.md, "A ramp stands on the floor").  Only classify,
+        which has the scan's points, applies it.
+    foot_above : float
+        Metres over the floor a ramp's seen low end may lie (0.15: the floor's tolerance
+        ``floor_tol`` 0.05 and as much again twice; the real false ramps' low ends lie
+        0.26-0.84 m up).
+    foot_below : float
+        Metres under the floor a ramp's lowest point may lie (0.06: the independent
+        generator's and the training world's ramps reach at most 0.026 m under it, the real
+        far floor strip 0.11 m).
+    foot_hidden : float
+        The share of a low end's outline out of sight (0..1) from which its height says
+        nothing: the plane may go on down to the floor behind (0.75: every training-world and
+        independent ramp whose seen low end lies over 0.1 m up has 0.88-1.0 of it hidden, the
+        real false ramps 0-0.47).
     size_margin : float
         The share of the furthest-reaching training proof plane a proof may exceed it by
         (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
@@ -229,13 +268,18 @@ class DecisionParams:
     size_gate: bool = SIZE_GATE
     size_margin: float = SIZE_MARGIN
     size_classes: str = SIZE_CLASSES
+    foot_gate: bool = FOOT_GATE
+    foot_above: float = FOOT_ABOVE
+    foot_below: float = FOOT_BELOW
+    foot_hidden: float = FOOT_HIDDEN
 
     def __post_init__(self):
-        for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate", "size_gate"):
+        for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate", "size_gate",
+                     "foot_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
-        for name in ("planar_margin", "proof_margin"):
+        for name in ("planar_margin", "proof_margin", "foot_hidden"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or not 0 <= m <= 1):
@@ -243,6 +287,11 @@ class DecisionParams:
         if not isinstance(self.size_classes, str):
             raise InputError(f"decision.size_classes must be class names separated by commas, "
                              f"got {self.size_classes!r}")
+        for name in ("foot_above", "foot_below"):
+            m = getattr(self, name)
+            if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
+                    or m < 0):
+                raise InputError(f"decision.{name} must be a number >= 0 (metres), got {m!r}")
         m = self.size_margin
         if isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m) or m < 0:
             raise InputError(f"decision.size_margin must be a number >= 0, got {m!r}")
@@ -664,6 +713,74 @@ def flight_refusals(hits, stats: Sequence, flight=None):
     return kept, ((FlightRefusal(FLIGHT_CLASS),) if counted else ())
 
 
+@dataclass(frozen=True)
+class FootRefusal:
+    """``ramp`` proved of an object whose sloping proof plane stands on no floor
+    (:func:`foot_refusals`)."""
+
+    klass: str
+    rule: int
+    low: float
+    hidden: float
+    above: float
+    below: float
+
+    @property
+    def reason(self) -> str:
+        if self.low < 0:
+            return (f"rule {self.rule} proves it with a sloping plane reaching {-self.low:.2f} m "
+                    f"under the floor (more than {self.below:.2f} m)")
+        return (f"rule {self.rule} proves it with a sloping plane whose low end lies "
+                f"{self.low:.2f} m over the floor (more than {self.above:.2f} m) in plain view "
+                f"({self.hidden:.0%} of it out of sight)")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "low": round(self.low, 4),
+                "hidden": round(self.hidden, 3), "above": self.above, "below": self.below,
+                "reason": self.reason}
+
+
+def foot_refusals(hits, stats: Sequence, foot=None, above: float = FOOT_ABOVE,
+                  below: float = FOOT_BELOW, hidden: float = FOOT_HIDDEN):
+    """Leave out the ``ramp`` hits whose proof's sloping planes all stand on no floor.
+
+    A ramp rises from the floor: its slope's low end meets the floor's level.  A hit of
+    :data:`FOOT_CLASS` is refused when every plane of its proof that ``foot`` measures (the
+    inclined ones) has its lowest point more than ``below`` under the floor, or more than
+    ``above`` over it with under ``hidden`` of its low end out of sight
+    (:class:`planerel.features.foot.Foot`).  A proof without a measured plane is kept.
+
+    Parameters
+    ----------
+    foot : callable or None
+        ``foot(plane id) -> Foot or None`` (None for a plane that is not inclined or not
+        measured); None: the gate is off.
+
+    Returns
+    -------
+    (list, tuple of FootRefusal)
+        The hits left, and one :class:`FootRefusal` per refused rule that takes part in the
+        decision (:func:`takes_part`).
+    """
+    if foot is None or not any(h[0] == FOOT_CLASS for h in hits):
+        return list(hits), ()
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    kept, refused = [], {}
+    for hit in hits:
+        if hit[0] == FOOT_CLASS:
+            feet = [f for f in (foot(v) for v in dict(hit[2]).values()) if f is not None]
+            bad = [f for f in feet
+                   if f.low < -float(below) or (f.low > float(above) and f.hidden < float(hidden))]
+            if feet and len(bad) == len(feet):
+                if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
+                    f = max(bad, key=lambda f: abs(f.low))
+                    refused[hit[1]] = FootRefusal(FOOT_CLASS, hit[1], f.low, f.hidden,
+                                                  float(above), float(below))
+                continue
+        kept.append(hit)
+    return kept, tuple(refused.values())
+
+
 def proof_domain(fired: dict, truth: dict) -> tuple:
     """How large the planes are that each rule proved its training positives with:
     ``((index, class, low, high, n), ...)`` per rule of a class (not :data:`OTHER`).
@@ -848,8 +965,11 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            proofs: Sequence = (), proof_margin: float = PROOF_MARGIN,
            proof_min_positives: int = PROOF_MIN_POSITIVES, veto_ratio: float = 0.0,
            n_horizontal=None, levels: Sequence = (), stepped=False, flight=None,
-           extents=None, sizes: Sequence = (), size_margin: float = SIZE_MARGIN):
-    """The open-set decision for one object: :func:`proof_refusals` (with ``proofs``, the
+           extents=None, sizes: Sequence = (), size_margin: float = SIZE_MARGIN,
+           foot=None, foot_above: float = FOOT_ABOVE, foot_below: float = FOOT_BELOW,
+           foot_hidden: float = FOOT_HIDDEN):
+    """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
+    default, off), :func:`proof_refusals` (with ``proofs``, the
     model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
     :func:`size_domain`, and the scene's plane ``extents``), :func:`planar_refusals` (``domain``),
     :func:`level_refusals` (``levels``, the model's :func:`level_domain`, and the object's
@@ -871,9 +991,10 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
     kept, refused = planar_refusals(kept, stats, planar_fraction, domain, margin)
     kept, flat = level_refusals(kept, stats, n_horizontal, levels, stepped)
     kept, steps = flight_refusals(kept, stats, flight)
+    kept, feet = foot_refusals(kept, stats, foot, foot_above, foot_below, foot_hidden)
     kept, vetoes = veto_refusals(kept, stats, veto_ratio)
     return (choose_class(kept, stats, classes, cofire),
-            small + large + refused + flat + steps + vetoes)
+            small + large + refused + flat + steps + feet + vetoes)
 
 
 def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:
