@@ -190,3 +190,44 @@ def test_classify_refuses_a_slope_through_the_floor(tmp_path, through_floor):
     _ans, ramps = _ramps(_model(tmp_path / "m"), *through_floor)
     assert not ramps
 
+
+# --------------------------------------------------------------------------- gentle slopes
+
+
+def _planes(cloud, up, **params):
+    from planerel.features.planes import PlaneParams, measure_planes
+    from planerel.segment import segment
+
+    return measure_planes(cloud, segment(cloud).labels, up=up, params=PlaneParams(**params))
+
+
+@pytest.fixture(scope="module")
+def gentle():
+    """A 4.5-degree ramp 2.5 m long and 1.2 m wide rising from the floor 1.5 m ahead (a
+    wheelchair ramp's slope), and a 4.5-degree board of 0.5 x 0.6 m on a low table 0.4 m up to
+    its left, seen from 1.4 m."""
+    return _scene([floor()] + ramp(0.3, 1.5, 4.5, 2.5, 1.2) + [_raised(1.8, 0.4, 4.5, 0.5, 0.6, cx=-1.2)])
+
+
+def _on(planes, area_low, area_high):
+    (p,) = [p for p in planes if area_low <= p.area <= area_high]
+    return p
+
+
+def test_a_gentle_ramp_is_inclined(gentle):
+    """The ramp (3 m^2) measures 4.5 degrees: ``inclined`` by ``gentle_tol`` (3.5 plus the
+    noise's allowance), ``horizontal`` without it (``gentle_tol`` 0: the 5-degree tolerance);
+    the board (0.3 m^2, under ``gentle_area``) and the floor stay level."""
+    ps = _planes(*gentle)
+    slope = _on(ps, 2.0, 4.0)
+    assert slope.incline == pytest.approx(4.5, abs=0.3) and slope.orientation == "inclined"
+    assert _on(ps, 0.2, 0.4).orientation == "horizontal"
+    assert ps.by_label(ps.floor).orientation == "horizontal"
+    off = _planes(*gentle, gentle_tol=0)
+    assert _on(off, 2.0, 4.0).orientation == "horizontal"
+    assert [p.label for p in off if p.orientation == "inclined"] == []
+
+
+def test_a_gentle_ramp_is_a_ramp(tmp_path, gentle):
+    ans, ramps = _ramps(_model(tmp_path / "m"), *gentle)
+    assert len(ramps) == 1 and len(ramps[0].labels) == 1
