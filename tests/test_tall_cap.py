@@ -152,3 +152,18 @@ def test_the_demo_model_answers_a_staircase_side_wall_not_box(demo_model, tmp_pa
     # a strip 6-9 cm deep (answered `box` before tall_cap_depth)
     ans = _answers(demo_model, 3203, 133, tmp_path)
     assert ans and all(k != "box" for k, _r, _obj in ans)
+
+
+def test_a_real_milk_carton_seen_from_above_is_box(demo_model):  # noqa: F811
+    """hidden28's xtion-table (``$PLANEREL_HUNT_DATA/hidden28``, a development set kept
+    outside the repository): a 1 L milk carton standing on a table, an Asus Xtion above its
+    top; the top (7 cm deep) is no plane, its front a tall face by the strip.  Called
+    nothing before (hunt28 boxes 6/7), no false answer in the frame either way."""
+    from test_real_rules import HUNT_DATA, _unseen_rows
+
+    sets = [HUNT_DATA / "hidden28" / "xtion-table"]
+    row = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA")["carton_depth"]
+    assert row["objects"][0]["found"] and row["right"] == [("box", 2)]
+    assert row["false"] == []
+    off = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", ["relations.tall_cap=0"])
+    assert not off["carton_depth"]["objects"][0]["found"]
