@@ -64,19 +64,19 @@ def test_a_near_floor_a_degree_off_level_is_the_floor_despite_a_bent_far_piece()
 
 
 def test_a_gentle_ramp_larger_than_the_floor_in_view_is_no_floor():
-    """A 4.5-degree ramp is ``horizontal`` by the tolerance (``gentle_tol`` 0, as before
-    ramp32) and reaches the floor with its low end, but its middle is 0.1 m up: the floor
-    (smaller in view) is the floor.  With ``gentle_tol`` (3.5 degrees, the plane no floor and
-    larger than ``gentle_area``) the ramp is ``inclined``, and the floor the same."""
+    """A 4.5-degree ramp is ``horizontal`` by the tolerance (``gentle_tol`` 0, the default)
+    and reaches the floor with its low end, but its middle is 0.1 m up: the floor (smaller in
+    view) is the floor.  With ``gentle_tol`` 3.5 (the plane no floor and larger than
+    ``gentle_area``) the ramp is ``inclined``, and the floor the same."""
     from planerel.features.planes import PlaneParams
 
     rise = 2.5 * math.tan(math.radians(4.5))
     ramp = np.array([[-1.5, H, 3.0], [1.5, H, 3.0], [1.5, H - rise, 5.5], [-1.5, H - rise, 5.5]])
     cloud, lab = _scene(_floor(2.6, 3.0, 0.0), ramp)
-    ps = measure_planes(cloud, lab, up=UP, params=PlaneParams(gentle_tol=0))
+    ps = measure_planes(cloud, lab, up=UP)
     assert ps.by_label(1).orientation == "horizontal" and ps.by_label(1).area > ps.by_label(0).area
     assert ps.floor == 0
-    ps = measure_planes(cloud, lab, up=UP)
+    ps = measure_planes(cloud, lab, up=UP, params=PlaneParams(gentle_tol=3.5))
     assert ps.by_label(1).orientation == "inclined" and ps.floor == 0
 
 

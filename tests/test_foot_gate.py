@@ -194,11 +194,14 @@ def test_classify_refuses_a_slope_through_the_floor(tmp_path, through_floor):
 # --------------------------------------------------------------------------- gentle slopes
 
 
-def _planes(cloud, up, **params):
+def _planes(cloud, up, gentle_tol=3.5, **params):
+    """Planes measured with ``gentle_tol`` 3.5 degrees (the option ramp32 measured; 0, the
+    default, is off)."""
     from planerel.features.planes import PlaneParams, measure_planes
     from planerel.segment import segment
 
-    return measure_planes(cloud, segment(cloud).labels, up=up, params=PlaneParams(**params))
+    return measure_planes(cloud, segment(cloud).labels, up=up,
+                          params=PlaneParams(gentle_tol=gentle_tol, **params))
 
 
 @pytest.fixture(scope="module")
@@ -228,6 +231,14 @@ def test_a_gentle_ramp_is_inclined(gentle):
     assert [p.label for p in off if p.orientation == "inclined"] == []
 
 
-def test_a_gentle_ramp_is_a_ramp(tmp_path, gentle):
-    ans, ramps = _ramps(_model(tmp_path / "m"), *gentle)
+def test_a_gentle_ramp_is_a_ramp_with_gentle_tol(tmp_path, gentle):
+    """With ``planes.gentle_tol`` 3.5 in the model the gentle ramp is ``ramp``; with the
+    default (0, off) it is a level plane and no ramp."""
+    model = _model(tmp_path / "m")
+    _ans, ramps = _ramps(model, *gentle)
+    assert not ramps
+    data = json.loads((model / "model.json").read_text())
+    data["planes"]["gentle_tol"] = 3.5
+    (model / "model.json").write_text(json.dumps(data))
+    _ans, ramps = _ramps(model, *gentle)
     assert len(ramps) == 1 and len(ramps[0].labels) == 1
