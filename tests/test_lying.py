@@ -280,14 +280,34 @@ def test_ring_params_are_checked():
         RelationParams(lying_ring=-1.0)
 
 
-def test_the_ring_grows_a_mask_as_a_square_window_does():
+def test_the_ring_is_the_pixels_a_square_window_reaches():
+    """The ring kernels (``_top_kernels``) against numpy and scipy's square maximum filter:
+    the pixels within ``k`` of the label, neither of it nor of a skipped label, with a
+    measured point, counted at a ground's level and between it and the top's."""
     from scipy.ndimage import maximum_filter
 
-    from planerel.features.relations import _dilate_square
+    from planerel.features._top_kernels import _near_label, ring_counts
 
     rng = np.random.default_rng(5)
     for _ in range(30):
-        m = rng.random((int(rng.integers(1, 50)), int(rng.integers(1, 50)))) > 0.96
+        h, w = int(rng.integers(1, 50)), int(rng.integers(1, 50))
+        lab = rng.choice(np.array([-1, 3, 7], np.int32), size=(h, w), p=[0.9, 0.06, 0.04])
+        xyz = rng.normal(0.0, 0.05, (h, w, 3)).astype(np.float32)
+        xyz[rng.random((h, w)) > 0.8] = np.nan
         k = int(rng.integers(1, 9))
-        grown = _dilate_square(_dilate_square(m, k, 0), k, 1)
-        assert (grown == maximum_filter(m, size=2 * k + 1, mode="constant")).all()
+        grown = maximum_filter(lab == 7, size=2 * k + 1, mode="constant")
+        assert (_near_label(lab, 0, h, 0, w, 7, k) == grown).all()
+        ring = grown & (lab != 7) & (lab != 3) & np.isfinite(xyz[..., 2])
+        pts = xyz[ring].astype(float)
+        up, tn, tc = np.array([0.0, 0.0, 1.0]), np.array([0.0, 0.0, 1.0]), np.array([0, 0, 0.04])
+        gn, gc = np.array([[0.0, 0.1, 0.995]]), np.array([[0.0, 0.0, -0.03]])
+        den = gn @ up
+        rise = ((tc - gc) * gn).sum(axis=1) / den
+        tol = np.array([0.01])
+        got = ring_counts(lab, xyz, 0, h, 0, w, 7, k, np.array([3], np.int64), tn, tc, gn, gc,
+                          den, rise, tol)
+        hh = ((pts - gc[0]) @ gn[0]) / den[0]
+        at_g = np.abs(hh) <= tol[0]
+        at_t = np.abs((pts - tc) @ tn) <= tol[0]
+        between = ~at_g & ~at_t & (hh > 0) & (hh < rise[0] + tol[0])
+        assert got.tolist() == [[len(pts), int(at_g.sum()), int(between.sum())]]

@@ -962,8 +962,17 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
         face = by_label[lbl]
         prof = profile(face)
         hidden = prof.top >= -p.tall_eye or _reaches_top_row(face)
-        if not hidden and p.tall_cap <= 0:
-            continue  # a box's top would be in view
+        if not hidden:
+            # seen from above its top: a box's top is in view, but may be too thin a strip
+            # to have become a plane; a lid, a ramp's back or a panel shows what lies behind
+            # it (the strip first: one compiled pass over the face's columns, where the
+            # tests below read profiles)
+            if p.tall_cap <= 0:
+                continue  # a box's top would be in view
+            share, depth = cap_strip(face, lab, cloud.xyz, up, prof.top, p.tall_cap_tol)
+            if share < p.tall_cap or not depth >= min(p.tall_cap_depth,
+                                                      p.tall_cap_ratio * (prof.hi - prof.lo)):
+                continue
         if not any(grounded(face, prof, g, up, p.standing_foot, p.skirt_tol, p.skirt_step)
                    for g in grounds):
             continue
@@ -971,14 +980,8 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
         # partition it leans on, a cabinet it is part of)
         if any(profile(q).top > prof.top + p.skirt_tol for q in beside.get(lbl, ())):
             continue
-        # seen from above its top: a box's top is in view, but may be too thin a strip to
-        # have become a plane; a lid, a ramp's back or a panel shows what lies behind it
-        if not hidden:
-            share, depth = cap_strip(face, lab, cloud.xyz, up, prof.top, p.tall_cap_tol)
-            deep = min(p.tall_cap_depth, p.tall_cap_ratio * (prof.hi - prof.lo))
-            if share < p.tall_cap or not depth >= deep \
-                    or _next_riser(face, prof, planes, profile, p):
-                continue
+        if not hidden and _next_riser(face, prof, planes, profile, p):
+            continue  # the strip is a flight's tread
         out.add(lbl)
     return frozenset(out)
 
@@ -1002,7 +1005,8 @@ def lying_tops(planes, relations: Relations, support=(), cloud=None) -> frozense
       ``g`` (``t`` does not cross it);
     - ``g`` is adjacent to it (the relations' ``adjacent``), or, when no adjacent ground
       passes and ``cloud`` is given, ``g`` shows around it across a depth jump
-      (:func:`_ground_around`): a box seen from straight above, its sides hidden.
+      (:func:`_ground_around`; its pixel box within ``lying_ring`` pixels of the top's): a
+      box seen from straight above, its sides hidden.
 
     A table's top (0.45-0.8 m over the floor), a chair's seat, a shelf's board, a landing or
     a tread stand higher over what is under them; a far piece of the floor that the sensor
@@ -1056,15 +1060,16 @@ def lying_tops(planes, relations: Relations, support=(), cloud=None) -> frozense
     if cloud is None or p.lying_ring <= 0 or planes.labels is None:
         return frozenset(out)
     grounds = [g for g in planes if g.orientation == "horizontal"]
+    k = _ring_width(planes.labels, p)
     for t in planes:
         if t.label in out or not top_like(t):
             continue
+        # a ground shows around the top: its pixel box meets the top's grown by the ring
+        box = (t.bbox[0] - k, t.bbox[1] - k, t.bbox[2] + k, t.bbox[3] + k)
         under = [g for g in grounds if g.label != t.label and g.area >= p.lying_ground * t.area
-                 and _lies_on(t, g, up, p)]
-        if under:
-            pts = _ring_points(t, planes.labels, cloud, p, by_label)
-            if any(_ground_around(t, g, up, pts, p) for g in under):
-                out.add(t.label)
+                 and _boxes_meet(g.bbox, box) and _lies_on(t, g, up, p)]
+        if under and _ground_around(t, under, up, planes, cloud, p):
+            out.add(t.label)
     return frozenset(out)
 
 
@@ -1086,62 +1091,53 @@ def _lies_on(t, g, up: np.ndarray, p) -> bool:
     return not (hull.size and float(((hull - gc) @ gn).min()) / den < -p.lying_rise)
 
 
-def _dilate_square(mask: np.ndarray, k: int, axis: int) -> np.ndarray:
-    """``mask`` (bool, 2-D) grown by ``k`` pixels along ``axis`` (a running window sum; the
-    square neighbourhood is both axes in turn)."""
-    m = np.moveaxis(mask, axis, 0).astype(np.int32)
-    c = np.concatenate([np.zeros((1,) + m.shape[1:], np.int32), np.cumsum(m, axis=0)])
-    n = m.shape[0]
-    i = np.arange(n)
-    hi, lo = np.minimum(i + k + 1, n), np.maximum(i - k, 0)
-    return np.moveaxis(c[hi] - c[lo] > 0, 0, axis)
+def _ground_around(t, grounds, up: np.ndarray, planes, cloud, p) -> bool:
+    """True when one of ``grounds`` shows around ``t`` across a depth jump: of the measured
+    points within ``lying_ring`` pixels (scaled from 640 columns to the image's width; a
+    square neighbourhood) of ``t``'s pixels, ``t``'s own pieces left out (a sliver tilted off
+    it, a top in two pieces: planes within ``skirt_tilted`` of its normal whose centroid lies
+    within ``lying_rise`` of its fit), at least ``lying_ring_ground`` lie at the ground's
+    level and at most ``lying_ring_between`` between the ground's level and ``t``'s (a side
+    in view: a tin's wall, a box seen from the side), each level within 3 times ``t``'s RMS
+    (at least 5 mm, at most a quarter of ``t``'s rise over the ground).  The points are read
+    once for every ground (``_top_kernels.ring_counts``)."""
+    from planerel.features._top_kernels import ring_counts
 
-
-def _ring_points(t, labels: np.ndarray, cloud, p, by_label) -> np.ndarray:
-    """``(M, 3)`` measured points within ``lying_ring`` pixels (scaled from 640 columns to the
-    image's width; a square neighbourhood) of ``t``'s pixels, ``t``'s own pieces left out: a
-    sliver tilted off it, a top in two pieces (planes within ``skirt_tilted`` of its normal
-    whose centroid lies within ``lying_rise`` of its fit)."""
+    labels = planes.labels
     H, W = labels.shape
-    k = max(2, int(round(p.lying_ring * W / 640.0)))
+    k = _ring_width(labels, p)
     r0, c0, r1, c1 = (int(v) for v in t.bbox)
     r0, c0, r1, c1 = max(r0 - k, 0), max(c0 - k, 0), min(r1 + k + 1, H), min(c1 + k + 1, W)
-    lab = labels[r0:r1, c0:c1]
-    own = lab == t.label
-    xyz = np.asarray(cloud.xyz[r0:r1, c0:c1], float)
-    ring = _dilate_square(_dilate_square(own, k, 0), k, 1) & ~own & np.isfinite(xyz[..., 2])
     tn, tc = np.asarray(t.normal, float), np.asarray(t.centroid, float)
     cos_tilt = math.cos(math.radians(p.skirt_tilted))
-    for lbl in np.unique(lab[ring]):
-        q = by_label.get(int(lbl))
-        if q is not None and q.label != t.label \
-                and abs(float(np.asarray(q.normal, float) @ tn)) >= cos_tilt \
-                and abs(float((np.asarray(q.centroid, float) - tc) @ tn)) <= p.lying_rise:
-            ring &= lab != q.label
-    return xyz[ring]
-
-
-def _ground_around(t, g, up: np.ndarray, pts: np.ndarray, p) -> bool:
-    """True when ``g`` shows around ``t`` across a depth jump: of the points ``pts`` around it
-    (:func:`_ring_points`), at least ``lying_ring_ground`` lie at ``g``'s level and at most
-    ``lying_ring_between`` between ``g``'s level and ``t``'s (a side in view: a tin's wall, a
-    box seen from the side), each level within 3 times ``t``'s RMS (at least 5 mm, at most a
-    quarter of ``t``'s rise over ``g``)."""
-    if not len(pts):
-        return False
-    gn = np.asarray(g.normal, float)
-    den = float(gn @ up)
-    gc = np.asarray(g.centroid, float)
-    tc = np.asarray(t.centroid, float)
-    h = ((pts - gc) @ gn) / den                      # heights over g, along up
-    rise = float(gn @ (tc - gc)) / den
+    own = [q.label for q in planes
+           if q.label != t.label and _boxes_meet(q.bbox, (r0, c0, r1, c1))
+           and abs(float(np.asarray(q.normal, float) @ tn)) >= cos_tilt
+           and abs(float((np.asarray(q.centroid, float) - tc) @ tn)) <= p.lying_rise]
+    gn = np.array([g.normal for g in grounds], float).reshape(-1, 3)
+    gc = np.array([g.centroid for g in grounds], float).reshape(-1, 3)
+    den = gn @ up
+    rise = ((tc - gc) * gn).sum(axis=1) / den
     # a level is a fit within the sensor's noise there (3 x the top's RMS, at least 5 mm),
     # never past a quarter of the rise: a side in view is "between" but for its last rows
-    tol = min(0.25 * rise, max(0.005, 3.0 * float(t.rms)))
-    at_ground = np.abs(h) <= tol
-    at_top = np.abs((pts - tc) @ np.asarray(t.normal, float)) <= tol
-    between = ~at_ground & ~at_top & (h > 0) & (h < rise + tol)
-    return bool(at_ground.mean() >= p.lying_ring_ground and between.mean() <= p.lying_ring_between)
+    tol = np.minimum(0.25 * rise, max(0.005, 3.0 * float(t.rms)))
+    counts = ring_counts(labels, cloud.xyz, r0, r1, c0, c1, int(t.label), k,
+                         np.asarray(own, np.int64), tn, tc, gn, gc, den, rise, tol)
+    n = np.maximum(counts[:, 0], 1)
+    return bool(((counts[:, 0] > 0) & (counts[:, 1] >= p.lying_ring_ground * n)
+                 & (counts[:, 2] <= p.lying_ring_between * n)).any())
+
+
+def _ring_width(labels: np.ndarray, p) -> int:
+    """Pixels: ``lying_ring`` (given at 640 columns) at the image's width, at least 2."""
+    return max(2, int(round(p.lying_ring * labels.shape[1] / 640.0)))
+
+
+def _boxes_meet(a, b) -> bool:
+    """True when two pixel boxes ``(row0, col0, row1, col1)`` overlap."""
+    return a[0] <= b[2] and b[0] <= a[2] and a[1] <= b[3] and b[1] <= a[3]
+
+
 #: m: how far behind a vertical face (away from the sensor) a ``tall_cap`` strip's points
 #: and a next riser (:func:`_next_riser`) lie: a box's top reaches 0.1-1 m back
 CAP_BEHIND = (0.02, 1.5)
@@ -1187,36 +1183,19 @@ def cap_strip(face, labels, xyz, up, top: float, tol: float = 0.03,
         m: how far behind the face the strip reaches: the 90th percentile, over the columns
         that hold it, of the farthest strip point (0 without any).
     """
+    from planerel.features._top_kernels import cap_columns
+
     H, _W = labels.shape
     k = max(3, round(H / 24)) if rows is None else int(rows)
     r0, c0, r1, c1 = (int(v) for v in face.bbox)
-    mask = labels[r0:r1, c0:c1] == face.label
-    has = mask.any(axis=0)
-    n_cols = int(has.sum())
-    if not n_cols:
-        return 0.0, 0.0
-    first = r0 + np.argmax(mask, axis=0)           # (C,) top pixel row of each column
     n = np.asarray(face.normal, float)
     cen = np.asarray(face.centroid, float)
     if n @ cen < 0:
         n = -n                                      # pointing away from the sensor
-    d0 = float(n @ cen)
-    up = np.asarray(up, float)
-    cols = np.nonzero(has)[0]
-    rows = first[cols][:, None] - np.arange(k, 0, -1)[None, :]      # (C, k) rows above
-    inside = rows >= 0
-    rr = np.where(inside, rows, 0)
-    cc = np.broadcast_to((c0 + cols)[:, None], rr.shape)
-    pts = xyz[rr, cc].astype(float, copy=False)                      # (C, k, 3)
-    ok = inside & (labels[rr, cc] < 0) & np.isfinite(pts).all(axis=2)
-    pts = np.where(ok[..., None], pts, 0.0)
-    beh = pts @ n - d0
-    on = ok & (np.abs(pts @ up - top) <= tol) & (beh >= behind[0]) & (beh <= behind[1])
-    hit = on.any(axis=1)
-    if not hit.any():
-        return 0.0, 0.0
-    far = np.where(on, beh, -np.inf).max(axis=1)[hit]
-    return float(hit.sum()) / n_cols, float(np.percentile(far, 90))
+    share, depth = cap_columns(labels, xyz, r0, r1, c0, c1, int(face.label), k, n,
+                               float(n @ cen), np.asarray(up, float), float(top), float(tol),
+                               float(behind[0]), float(behind[1]))
+    return float(share), float(depth)
 
 
 def _next_riser(face, prof, planes, profile, p) -> bool:
