@@ -46,7 +46,10 @@ def read(source, *, intrinsics=None, depth_scale: float | None = None, up=None,
         ``depth_scale`` says otherwise); or a Cloud (returned, subsampled when asked).
     intrinsics : str, Intrinsics, 6-sequence, dict or 3x3 K, optional
         ``"kinect"`` (scaled to the image size) or ``"W,H,fx,fy,cx,cy"`` as on the command
-        line.  Files: overrides a sidecar.  XYZ arrays: recorded with the cloud.
+        line.  Files: overrides a sidecar.  XYZ arrays: recorded with the cloud; without
+        it, fitted to the points as for an ``.npy`` file (:func:`planerel.io.readers.
+        estimate_intrinsics`: exact, or approximate with a :class:`~planerel.errors.
+        PlanerelWarning`, or none).
     depth_scale : float, optional
         Depth units per metre.
     up : 3-sequence, optional
@@ -75,9 +78,12 @@ def read(source, *, intrinsics=None, depth_scale: float | None = None, up=None,
         if arr.ndim == 3 and arr.shape[2] == 3:
             if not np.issubdtype(arr.dtype, np.floating):
                 raise InputError(f"an XYZ array must hold floats (metres), got dtype {arr.dtype}")
-            intr = (io.resolve_intrinsics(camera, arr.shape[1], arr.shape[0], "XYZ array")
-                    if camera is not None else None)
             xyz = np.array(arr, dtype=np.float64)
+            # as for an .npy file: the intrinsics that reproduce the points (a warning when
+            # only approximately), so the measures that project planes into the image hold
+            intr = (io.resolve_intrinsics(camera, arr.shape[1], arr.shape[0], "XYZ array")
+                    if camera is not None else io.estimate_intrinsics(
+                        xyz, approximate=io.APPROX_FIT_PX, where="XYZ array"))
             if max_range is not None:
                 with np.errstate(invalid="ignore"):
                     xyz[xyz[..., 2] > max_range] = np.nan

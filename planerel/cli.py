@@ -16,9 +16,10 @@ import contextlib
 import importlib
 import signal
 import sys
+import warnings
 
 from planerel._version import __version__
-from planerel.errors import PlanerelError, user_message
+from planerel.errors import PlanerelError, PlanerelWarning, user_message
 
 __all__ = ["main", "build_parser"]
 
@@ -66,6 +67,8 @@ def main(argv: list[str] | None = None) -> int:
     from planerel.compile_notice import watch
 
     watch()  # one line on a terminal if numba compiles the kernels (first run after install)
+    shown = warnings.showwarning
+    warnings.showwarning = _note_or(shown)
     try:
         result = args.func(args)
     except (PlanerelError, OSError, MemoryError, UnicodeError) as exc:
@@ -81,9 +84,23 @@ def main(argv: list[str] | None = None) -> int:
         print(f"planerel {args.command}: interrupted", file=sys.stderr)
         return 130
     finally:
+        warnings.showwarning = shown
         for signum, handler in previous.items():
             signal.signal(signum, handler)
     return int(result or 0)
+
+
+def _note_or(show):
+    """A ``warnings.showwarning`` that prints a :class:`PlanerelWarning` as one ``note:`` line
+    on stderr (as the CLI's other notes) and hands every other warning to ``show``."""
+
+    def note(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, PlanerelWarning):
+            print(f"note: {message}", file=sys.stderr)
+        else:
+            show(message, category, filename, lineno, file, line)
+
+    return note
 
 
 class _Terminated(KeyboardInterrupt):

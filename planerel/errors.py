@@ -12,7 +12,7 @@ exits with code 2.  Subclasses say which stage failed:
 from __future__ import annotations
 
 __all__ = ["PlanerelError", "InputError", "PrologError", "LearnerError", "DependencyError",
-           "user_message", "check_bools"]
+           "user_message", "check_bools", "PlanerelWarning"]
 
 
 class PlanerelError(Exception):
@@ -33,6 +33,12 @@ class LearnerError(PlanerelError):
 
 class DependencyError(PlanerelError):
     """A needed program or package is missing; the message gives the install command."""
+
+
+class PlanerelWarning(UserWarning):
+    """Something planerel decided in the user's place that the user should know about (a
+    camera's intrinsics fitted to points that are no exact pinhole back-projection); the CLI
+    prints it as a ``note:`` line, Python code gets a :mod:`warnings` warning."""
 
 
 def check_bools(params) -> None:

@@ -40,10 +40,12 @@ def test_read_depth_array_with_the_kinect_preset_back_projects_by_hand():
 def test_read_xyz_array_path_and_cloud(tmp_path):
     xyz = planerel.read(_depth_mm(), intrinsics="kinect").xyz
     c1 = planerel.read(xyz)
-    assert np.array_equal(c1.xyz, xyz, equal_nan=True) and c1.intrinsics is None
+    assert np.array_equal(c1.xyz, xyz, equal_nan=True)
     np.save(tmp_path / "scan.npy", xyz)
     c2 = planerel.read(tmp_path / "scan.npy")
     assert np.array_equal(c2.xyz, xyz, equal_nan=True)
+    # the array's intrinsics are recovered from its points, as the file's are
+    assert c1.intrinsics == c2.intrinsics and c1.intrinsics.fx == pytest.approx(525, abs=1e-3)
     assert planerel.read(c2) is c2
 
 

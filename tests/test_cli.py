@@ -123,3 +123,16 @@ def test_bad_option_on_the_command_line_exits_2_with_one_line(tmp_path, opt, val
     assert r.returncode == 2, r.stderr
     assert r.stderr.strip().count("\n") == 0 and phrase in r.stderr
     assert "Traceback" not in r.stderr
+
+
+def test_fitted_intrinsics_are_one_note_line(tmp_path, capsys):
+    # points that are no exact pinhole back-projection (a Kinect v2's undistorted points on
+    # its pixel grid): the command goes on with fitted intrinsics and says so in one line
+    from test_io import _undistorted_on_distorted_grid
+
+    xyz, *_ = _undistorted_on_distorted_grid()
+    np.save(tmp_path / "k2.npy", xyz)
+    assert main(["convert", str(tmp_path / "k2.npy"), "-o", str(tmp_path / "k2.pcd")]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("note: ") and "k2.npy" in err[0]
+    assert "fitted" in err[0] and "--intrinsics" in err[0]

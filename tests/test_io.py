@@ -448,3 +448,51 @@ def test_pinhole_grid_refuses_clouds_off_any_grid():
     assert io.pinhole_grid(twice) is None
     assert io.pinhole_grid(pts[:50]) is None  # too few points to tell
     assert io.pinhole_grid(np.full((300, 3), np.nan)) is None
+
+
+def _undistorted_on_distorted_grid(h=120, w=160, k1=0.09):
+    """A wall 2 m away as a Kinect v2 SDK saves it: each point is where pixel ``(u, v)``'s ray
+    goes once the lens's radial distortion (``k1``) is taken out, kept at ``(u, v)``; so the
+    points are no exact pinhole back-projection of their grid (hunt33's kinect2box frames)."""
+    f, cx, cy = 0.72 * w, w / 2 - 0.5, h / 2 + 3.0
+    v, u = np.mgrid[0:h, 0:w].astype(float)
+    a, b = (u - cx) / f, (v - cy) / f
+    r2 = a * a + b * b
+    a, b = a * (1 + k1 * r2), b * (1 + k1 * r2)
+    z = np.full((h, w), 2.0)
+    return np.stack([a * z, b * z, z], axis=-1), f, cx, cy
+
+
+def test_an_approximate_pinhole_cloud_gets_fitted_intrinsics_with_a_warning(tmp_path):
+    from planerel.errors import PlanerelWarning
+
+    xyz, f, cx, cy = _undistorted_on_distorted_grid()
+    assert io.estimate_intrinsics(xyz) is None  # no exact fit
+    with pytest.warns(PlanerelWarning, match=r"scan\.npy: the points are no exact pinhole"):
+        intr = io.estimate_intrinsics(xyz, approximate=io.APPROX_FIT_PX, where="scan.npy")
+    assert intr.fx == pytest.approx(f, rel=0.05) and intr.cy == pytest.approx(cy, abs=1.0)
+    # the readers ask for it: an .npy of such points and an organized PCD of them
+    np.save(tmp_path / "k2.npy", xyz)
+    with pytest.warns(PlanerelWarning, match="k2.npy"):
+        assert io.read(tmp_path / "k2.npy").intrinsics is not None
+    # more distortion than a lens gives a pinhole fit: no intrinsics, and no warning
+    far, *_ = _undistorted_on_distorted_grid(k1=1.5)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert io.estimate_intrinsics(far, approximate=io.APPROX_FIT_PX) is None
+        # an exact back-projection is silent
+        depth, intr0 = _plane_depth()
+        assert io.estimate_intrinsics(depth_to_cloud(depth, intr0).xyz,
+                                      approximate=io.APPROX_FIT_PX).fx == pytest.approx(intr0.fx, abs=1e-3)
+
+
+def test_a_rotated_cloud_is_no_pinhole_image():
+    # an organized cloud turned 30 degrees about the x axis (a levelled frame): x/z and y/z
+    # no longer follow the pixel grid
+    depth, intr = _plane_depth()
+    xyz = depth_to_cloud(depth, intr).xyz
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    rot = xyz @ np.array([[1, 0, 0], [0, c, -s], [0, s, c]]).T
+    assert io.estimate_intrinsics(rot, approximate=io.APPROX_FIT_PX) is None
