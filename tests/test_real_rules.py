@@ -371,14 +371,17 @@ def test_a_pallet_of_cartons_is_no_staircase(demo_model):
     both captures is ``box`` (in the second it was one proposal with the machine, a false
     box, until the floor rule of 2026-11-30 evening took the near floor instead of a piece of
     it 7 cm higher: docs/gravity.md "The floor's level"); the first capture keeps one false
-    box (a carton by ``lying/1``, 45 % in the pile).  With the gate off, one stairs answer is back (two
+    box (a floor patch beside the tall carton by ``lying/1``, at the pile's edge: 45 % in the
+    pile's rectangle as hunt25 drew it, 89 % in the rectangle redrawn after the machine's reset
+    of 2026-12-01, whose left edge is 5 px further out; so at most one).  With the gate off, one stairs answer is back (two
     before wavy29's join of the carton tops' wavy pieces, docs/segmentation.md "Wavy sensors"; three
     before the stairs rule was learned on ``stair_step/2``: the pile's 0.10 m step one stair
     rise above and one run beyond the next carton; docs/objects.md, "Carton piles and false
     answers on unseen frames", "A flight's steps as a relation")."""
     sets = [STAIRS_DATA / "palletizer"]
     t = _totals(_unseen_rows(sets, demo_model, "PLANEREL_STAIRS_DATA"))
-    assert (t["box_found"], t["box_labelled"], t["false_stairs"], t["false_box"]) == (2, 2, 0, 1)
+    assert (t["box_found"], t["box_labelled"], t["false_stairs"]) == (2, 2, 0)
+    assert t["false_box"] <= 1
     off = _totals(_unseen_rows(sets, demo_model, "PLANEREL_STAIRS_DATA",
                                ["decision.flight_gate=false"]))
     # (0, 2) before wavy29's join of the RealSense's wavy carton tops (docs/segmentation.md,
