@@ -136,3 +136,20 @@ def test_fitted_intrinsics_are_one_note_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("note: ") and "k2.npy" in err[0]
     assert "fitted" in err[0] and "--intrinsics" in err[0]
+
+
+def test_a_cloud_in_another_frame_is_one_note_line(tmp_path, capsys):
+    # an organized cloud turned into a levelled frame (its x axis pointing down, as
+    # stair-perception's clouds): no intrinsics, and the note says what is lost and what to give
+    from test_io import _plane_depth
+
+    from planerel.io.cloud import depth_to_cloud
+
+    depth, intr = _plane_depth()
+    xyz = depth_to_cloud(depth, intr).xyz
+    turned = np.stack([xyz[..., 1], -xyz[..., 0], xyz[..., 2]], axis=-1)  # 90 degrees about z
+    np.save(tmp_path / "levelled.npy", turned)
+    assert main(["convert", str(tmp_path / "levelled.npy"), "-o", str(tmp_path / "l.pcd")]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("note: ") and "no pinhole image" in err[0]
+    assert "skirt" in err[0] and "--intrinsics" in err[0]

@@ -475,24 +475,30 @@ def test_an_approximate_pinhole_cloud_gets_fitted_intrinsics_with_a_warning(tmp_
     np.save(tmp_path / "k2.npy", xyz)
     with pytest.warns(PlanerelWarning, match="k2.npy"):
         assert io.read(tmp_path / "k2.npy").intrinsics is not None
-    # more distortion than a lens gives a pinhole fit: no intrinsics, and no warning
+    # more distortion than a lens gives a pinhole fit: no intrinsics, and a warning that says so
     far, *_ = _undistorted_on_distorted_grid(k1=1.5)
+    with pytest.warns(PlanerelWarning, match="no pinhole image of their pixel grid"):
+        assert io.estimate_intrinsics(far, approximate=io.APPROX_FIT_PX) is None
     import warnings
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        assert io.estimate_intrinsics(far, approximate=io.APPROX_FIT_PX) is None
-        # an exact back-projection is silent
+        # an exact back-projection is silent, and so is asking for an exact fit only
+        assert io.estimate_intrinsics(far) is None
         depth, intr0 = _plane_depth()
         assert io.estimate_intrinsics(depth_to_cloud(depth, intr0).xyz,
                                       approximate=io.APPROX_FIT_PX).fx == pytest.approx(intr0.fx, abs=1e-3)
 
 
-def test_a_rotated_cloud_is_no_pinhole_image():
+def test_a_rotated_cloud_is_no_pinhole_image(tmp_path):
     # an organized cloud turned 30 degrees about the x axis (a levelled frame): x/z and y/z
-    # no longer follow the pixel grid
+    # no longer follow the pixel grid; reading it says why its projected measures are missing
+    from planerel.errors import PlanerelWarning
+
     depth, intr = _plane_depth()
     xyz = depth_to_cloud(depth, intr).xyz
     c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
     rot = xyz @ np.array([[1, 0, 0], [0, c, -s], [0, s, c]]).T
-    assert io.estimate_intrinsics(rot, approximate=io.APPROX_FIT_PX) is None
+    np.save(tmp_path / "levelled.npy", rot)
+    with pytest.warns(PlanerelWarning, match=r"levelled\.npy: the points are no pinhole image.*--intrinsics"):
+        assert io.read(tmp_path / "levelled.npy").intrinsics is None

@@ -379,7 +379,8 @@ def estimate_intrinsics(xyz: np.ndarray, tolerance: float = 0.05, *,
     90 % of the residuals are below ``approximate`` pixels: then a :class:`PlanerelWarning`
     names ``where`` and the fit's residuals (the measures that project planes into the image,
     such as a skirt's cover, need intrinsics; without them no box rule on a top and its side
-    can hold).
+    can hold).  With ``approximate`` given, a cloud that fits neither is warned about too (a
+    cloud turned into another frame: no intrinsics, no projected measures).
 
     Parameters
     ----------
@@ -408,11 +409,20 @@ def estimate_intrinsics(xyz: np.ndarray, tolerance: float = 0.05, *,
     by = np.stack([b, np.ones_like(b)], axis=1)
     (fx, cx), *_ = np.linalg.lstsq(ax, uu.astype(float), rcond=None)
     (fy, cy), *_ = np.linalg.lstsq(by, vv.astype(float), rcond=None)
-    if fx <= 0 or fy <= 0:
-        return None
     res = np.maximum(np.abs(ax @ [fx, cx] - uu), np.abs(by @ [fy, cy] - vv))
-    if res.max() > tolerance:
-        if approximate is None or not np.percentile(res, 90) <= approximate:
+    if fx <= 0 or fy <= 0 or res.max() > tolerance:
+        if approximate is None:
+            return None
+        if fx <= 0 or fy <= 0 or not np.percentile(res, 90) <= approximate:
+            # x/z falling with the column (a mirrored or turned frame) is no camera either
+            off = "its axes do not follow the grid" if fx <= 0 or fy <= 0 else (
+                f"90 % of them within {np.percentile(res, 90):.0f} px of the best fit")
+            warnings.warn(
+                f"{where}: the points are no pinhole image of their pixel grid ({off}: a cloud "
+                f"turned into a robot's or a levelled frame?); its planes are found, but the measures that "
+                f"project a plane into the image (a box's skirt) are not taken: give the "
+                f"camera-frame cloud, or its depth image with --intrinsics", PlanerelWarning,
+                stacklevel=2)
             return None
         warnings.warn(
             f"{where}: the points are no exact pinhole back-projection of their pixel grid; "

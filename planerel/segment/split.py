@@ -259,7 +259,10 @@ def expected_sigma(xyz, normal, params: SplitParams | None = None) -> np.ndarray
     xyz = np.asarray(xyz, dtype=np.float64)
     z = xyz[:, 2]
     nrm = np.asarray(normal, dtype=np.float64)
-    proj = np.abs(xyz @ nrm if nrm.ndim == 1 else np.einsum("ij,ij->i", xyz, nrm)) / z
+    # z <= 0 only in a cloud that is not in its camera's frame (read warns of it): no noise
+    # model holds there, and the NaN it gives is no user's error to print
+    with np.errstate(divide="ignore", invalid="ignore"):
+        proj = np.abs(xyz @ nrm if nrm.ndim == 1 else np.einsum("ij,ij->i", xyz, nrm)) / z
     return np.sqrt(p.depth_sigma2(z)) * proj
 
 
