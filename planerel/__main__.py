@@ -1,0 +1,7 @@
+"""``python -m planerel``: the ``planerel`` command (:func:`planerel.cli.main`)."""
+
+import sys
+
+from planerel.cli import main
+
+sys.exit(main())
