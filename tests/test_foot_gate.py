@@ -162,10 +162,25 @@ def test_foot_refusals():
     assert len(M.foot_refusals(hits, stats, None)[0]) == 2
 
 
+def test_a_hidden_low_end_far_over_the_floor_is_refused_too():
+    # a slope whose seen low end is 1.6 m up cannot reach the floor out of sight at 28 degrees
+    # or less within what hides it (hunt35: a tree's canopy on densified LiDAR)
+    hits = [("ramp", 1, {"A": "o1", "B": "p3"}, "ramp(A) :- ...", None)]
+    stats = [(1, "ramp", 73, 0)]
+    high = {"p3": Foot(1.6, 0.9, 100, 4.0)}
+    kept, refused = M.foot_refusals(hits, stats, high.get)
+    assert not kept and "cannot reach the floor" in refused[0].reason
+    assert refused[0].to_dict()["float"] == M.FOOT_FLOAT == 1.0
+    # under the bound, hidden: kept (the training world's hidden low ends reach 0.49 m);
+    # the bound off (0): kept
+    assert len(M.foot_refusals(hits, stats, {"p3": Foot(0.9, 0.9, 100, 4.0)}.get)[0]) == 1
+    assert len(M.foot_refusals(hits, stats, high.get, float_=0.0)[0]) == 1
+
+
 def test_decision_settings_are_checked():
     assert M.DecisionParams().foot_gate is True
     for bad in ({"foot_gate": 1}, {"foot_above": -0.1}, {"foot_below": "x"},
-                {"foot_hidden": 1.5}):
+                {"foot_hidden": 1.5}, {"foot_float": -1.0}):
         with pytest.raises(InputError):
             M.DecisionParams(**bad)
 

@@ -283,7 +283,8 @@ class Classifier:
         #: ``ramp`` only for a slope standing on the floor (:func:`~planerel.ilp.metrics.foot_refusals`;
         #: ``decision.foot_gate``): needs the scan's points, so only :meth:`classify` applies it
         self.foot_gate = decision.foot_gate
-        self.foot_bounds = (decision.foot_above, decision.foot_below, decision.foot_hidden)
+        self.foot_bounds = (decision.foot_above, decision.foot_below, decision.foot_hidden,
+                            decision.foot_float)
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -470,7 +471,8 @@ class Classifier:
                                    size_margin=self.size_margin, foot=foot,
                                    foot_above=self.foot_bounds[0],
                                    foot_below=self.foot_bounds[1],
-                                   foot_hidden=self.foot_bounds[2])
+                                   foot_hidden=self.foot_bounds[2],
+                                   foot_float=self.foot_bounds[3])
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)
             if best is None:

@@ -20,7 +20,7 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "LEVEL_GATE", "horizontal_counts", "level_domain", "LevelRefusal", "level_refusals",
            "proof_refusals", "VETO_RATIO", "VetoRefusal", "veto_refusals", "FLIGHT_GATE",
            "FLIGHT_CLASS", "FlightRefusal", "flight_refusals", "FOOT_GATE", "FOOT_ABOVE",
-           "FOOT_BELOW", "FOOT_HIDDEN", "FOOT_CLASS", "FootRefusal", "foot_refusals",
+           "FOOT_BELOW", "FOOT_HIDDEN", "FOOT_FLOAT", "FOOT_CLASS", "FootRefusal", "foot_refusals",
            "SIZE_GATE", "SIZE_MARGIN",
            "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
            "decide"]
@@ -135,6 +135,8 @@ FOOT_ABOVE = 0.15
 FOOT_BELOW = 0.06
 #: Default of :attr:`DecisionParams.foot_hidden` (0..1).
 FOOT_HIDDEN = 0.75
+#: Default of :attr:`DecisionParams.foot_float` (metres).
+FOOT_FLOAT = 1.0
 #: The class :func:`foot_refusals` asks a sloping plane's low end of.
 FOOT_CLASS = "ramp"
 
@@ -246,6 +248,12 @@ class DecisionParams:
         nothing: the plane may go on down to the floor behind (0.75: every training-world and
         independent ramp whose seen low end lies over 0.1 m up has 0.88-1.0 of it hidden, the
         real false ramps 0-0.47).
+    foot_float : float
+        Metres over the floor beyond which a ramp's seen low end is refused even when hidden:
+        to reach the floor behind what hides it, a slope of at most 28 degrees would go on for
+        twice that and more out of sight (1.0: the training world's ramps with a hidden low end
+        reach 0.49 m up at most, the independent generator's 0.17 m; outdoor false ramps of
+        hunt35, a tree's canopy and a far strip on densified LiDAR, 1.4-2.6 m up). 0: off.
     size_margin : float
         The share of the furthest-reaching training proof plane a proof may exceed it by
         (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
@@ -272,6 +280,7 @@ class DecisionParams:
     foot_above: float = FOOT_ABOVE
     foot_below: float = FOOT_BELOW
     foot_hidden: float = FOOT_HIDDEN
+    foot_float: float = FOOT_FLOAT
 
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate", "size_gate",
@@ -287,7 +296,7 @@ class DecisionParams:
         if not isinstance(self.size_classes, str):
             raise InputError(f"decision.size_classes must be class names separated by commas, "
                              f"got {self.size_classes!r}")
-        for name in ("foot_above", "foot_below"):
+        for name in ("foot_above", "foot_below", "foot_float"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
@@ -724,12 +733,18 @@ class FootRefusal:
     hidden: float
     above: float
     below: float
+    #: the bound past which a hidden low end is refused too (0: none)
+    float_: float = 0.0
 
     @property
     def reason(self) -> str:
         if self.low < 0:
             return (f"rule {self.rule} proves it with a sloping plane reaching {-self.low:.2f} m "
                     f"under the floor (more than {self.below:.2f} m)")
+        if self.float_ > 0 and self.low > self.float_:
+            return (f"rule {self.rule} proves it with a sloping plane whose low end lies "
+                    f"{self.low:.2f} m over the floor (more than {self.float_:.2f} m: it cannot "
+                    f"reach the floor out of sight; {self.hidden:.0%} of it hidden)")
         return (f"rule {self.rule} proves it with a sloping plane whose low end lies "
                 f"{self.low:.2f} m over the floor (more than {self.above:.2f} m) in plain view "
                 f"({self.hidden:.0%} of it out of sight)")
@@ -737,17 +752,19 @@ class FootRefusal:
     def to_dict(self) -> dict:
         return {"class": self.klass, "rule": self.rule, "low": round(self.low, 4),
                 "hidden": round(self.hidden, 3), "above": self.above, "below": self.below,
-                "reason": self.reason}
+                "float": self.float_, "reason": self.reason}
 
 
 def foot_refusals(hits, stats: Sequence, foot=None, above: float = FOOT_ABOVE,
-                  below: float = FOOT_BELOW, hidden: float = FOOT_HIDDEN):
+                  below: float = FOOT_BELOW, hidden: float = FOOT_HIDDEN,
+                  float_: float = FOOT_FLOAT):
     """Leave out the ``ramp`` hits whose proof's sloping planes all stand on no floor.
 
     A ramp rises from the floor: its slope's low end meets the floor's level.  A hit of
     :data:`FOOT_CLASS` is refused when every plane of its proof that ``foot`` measures (the
     inclined ones) has its lowest point more than ``below`` under the floor, or more than
-    ``above`` over it with under ``hidden`` of its low end out of sight
+    ``above`` over it with under ``hidden`` of its low end out of sight, or more than
+    ``float_`` over it however much is out of sight (0: no such bound)
     (:class:`planerel.features.foot.Foot`).  A proof without a measured plane is kept.
 
     Parameters
@@ -770,12 +787,13 @@ def foot_refusals(hits, stats: Sequence, foot=None, above: float = FOOT_ABOVE,
         if hit[0] == FOOT_CLASS:
             feet = [f for f in (foot(v) for v in dict(hit[2]).values()) if f is not None]
             bad = [f for f in feet
-                   if f.low < -float(below) or (f.low > float(above) and f.hidden < float(hidden))]
+                   if f.low < -float(below) or (f.low > float(above) and f.hidden < float(hidden))
+                   or (float_ > 0 and f.low > float(float_))]
             if feet and len(bad) == len(feet):
                 if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
                     f = max(bad, key=lambda f: abs(f.low))
                     refused[hit[1]] = FootRefusal(FOOT_CLASS, hit[1], f.low, f.hidden,
-                                                  float(above), float(below))
+                                                  float(above), float(below), float(float_))
                 continue
         kept.append(hit)
     return kept, tuple(refused.values())
@@ -967,7 +985,7 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            n_horizontal=None, levels: Sequence = (), stepped=False, flight=None,
            extents=None, sizes: Sequence = (), size_margin: float = SIZE_MARGIN,
            foot=None, foot_above: float = FOOT_ABOVE, foot_below: float = FOOT_BELOW,
-           foot_hidden: float = FOOT_HIDDEN):
+           foot_hidden: float = FOOT_HIDDEN, foot_float: float = FOOT_FLOAT):
     """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
     default, off), :func:`proof_refusals` (with ``proofs``, the
     model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
@@ -991,7 +1009,8 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
     kept, refused = planar_refusals(kept, stats, planar_fraction, domain, margin)
     kept, flat = level_refusals(kept, stats, n_horizontal, levels, stepped)
     kept, steps = flight_refusals(kept, stats, flight)
-    kept, feet = foot_refusals(kept, stats, foot, foot_above, foot_below, foot_hidden)
+    kept, feet = foot_refusals(kept, stats, foot, foot_above, foot_below, foot_hidden,
+                               foot_float)
     kept, vetoes = veto_refusals(kept, stats, veto_ratio)
     return (choose_class(kept, stats, classes, cofire),
             small + large + refused + flat + steps + feet + vetoes)
