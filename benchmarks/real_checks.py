@@ -47,7 +47,7 @@ KEEP = {
     "independent": re.compile(r"^object accuracy|^\s+(box|stairs|ramp|other)\s+\d+/|^\s+by kind:"),
 }
 #: timings a kept line may carry
-TIMING = re.compile(r"\s*[\[(]?\d+(\.\d+)? ?(ms|s)(/scene)?( classify| per scene)?[\])]?")
+TIMING = re.compile(r"\s*[\[(]?\d+(\.\d+)? ?(ms|s)\b(/scene)?( classify| per scene)?[\])]?")
 
 
 def _run(name: str, args: list[str], cwd: Path) -> list[str]:

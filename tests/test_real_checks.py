@@ -16,6 +16,8 @@ import real_checks  # noqa: E402
 
 def test_lines_are_kept_without_timings_and_compared():
     assert real_checks.TIMING.sub("", "i0001_o3: box  [1877 ms]") == "i0001_o3: box"
+    # a count before a word starting with s is no timing
+    assert real_checks.TIMING.sub("", "answers: box 2 stairs 1") == "answers: box 2 stairs 1"
     before = {"mosd": ["all: found 423"], "stairs": ["4 of 4"], "gone": ["x"]}
     now = {"mosd": ["all: found 424"], "stairs": ["4 of 4"], "new": ["y"]}
     assert real_checks.compare(now, before) == [
