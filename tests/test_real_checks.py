@@ -9,9 +9,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-from test_real_rules import demo_model  # noqa: E402,F401  (the fixture)
-
 import real_checks  # noqa: E402
+from test_real_rules import demo_model  # noqa: E402,F401  (the fixture)
 
 
 def test_lines_are_kept_without_timings_and_compared():
@@ -25,7 +24,7 @@ def test_lines_are_kept_without_timings_and_compared():
     assert real_checks.compare(before, before) == []
 
 
-def test_the_shared_frames_and_missing_sets(demo_model, tmp_path):
+def test_the_shared_frames_and_missing_sets(demo_model, tmp_path):  # noqa: F811
     res = real_checks.checks(str(demo_model), [], tmp_path / "none", tmp_path / "none", [tmp_path / "h"],
                              [tmp_path / "indep"])
     # the Kinect frames' box and the mOSD boxes are the only class answers of the shared frames

@@ -410,25 +410,27 @@ def estimate_intrinsics(xyz: np.ndarray, tolerance: float = 0.05, *,
     (fx, cx), *_ = np.linalg.lstsq(ax, uu.astype(float), rcond=None)
     (fy, cy), *_ = np.linalg.lstsq(by, vv.astype(float), rcond=None)
     res = np.maximum(np.abs(ax @ [fx, cx] - uu), np.abs(by @ [fy, cy] - vv))
-    if fx <= 0 or fy <= 0 or res.max() > tolerance:
-        if approximate is None:
-            return None
-        if fx <= 0 or fy <= 0 or not np.percentile(res, 90) <= approximate:
-            # x/z falling with the column (a mirrored or turned frame) is no camera either
-            off = "its axes do not follow the grid" if fx <= 0 or fy <= 0 else (
-                f"90 % of them within {np.percentile(res, 90):.0f} px of the best fit")
-            warnings.warn(
-                f"{where}: the points are no pinhole image of their pixel grid ({off}: a cloud "
-                f"turned into a robot's or a levelled frame?); its planes are found, but the measures that "
-                f"project a plane into the image (a box's skirt) are not taken: give the "
-                f"camera-frame cloud, or its depth image with --intrinsics", PlanerelWarning,
-                stacklevel=2)
-            return None
+    mirrored = fx <= 0 or fy <= 0  # x/z falling with the column: a mirrored or turned frame
+    if not mirrored and res.max() <= tolerance:
+        return Intrinsics(w, h, round(fx, 3), round(fy, 3), round(cx, 3), round(cy, 3))
+    if approximate is None:
+        return None
+    p90 = float(np.percentile(res, 90))
+    if mirrored or p90 > approximate:
+        off = "its axes do not follow the grid" if mirrored else (
+            f"90 % of them within {p90:.0f} px of the best fit")
         warnings.warn(
-            f"{where}: the points are no exact pinhole back-projection of their pixel grid; "
-            f"using intrinsics fitted to them (fx {fx:.2f}, fy {fy:.2f}, cx {cx:.2f}, cy {cy:.2f}: "
-            f"residual median {np.median(res):.2f} px, 90 % {np.percentile(res, 90):.2f} px); "
-            f"give the camera's own with --intrinsics when known", PlanerelWarning, stacklevel=2)
+            f"{where}: the points are no pinhole image of their pixel grid ({off}: a cloud "
+            f"turned into a robot's or a levelled frame?); its planes are found, but the measures "
+            f"that project a plane into the image (a box's skirt) are not taken: give the "
+            f"camera-frame cloud, or its depth image with --intrinsics", PlanerelWarning,
+            stacklevel=2)
+        return None
+    warnings.warn(
+        f"{where}: the points are no exact pinhole back-projection of their pixel grid; "
+        f"using intrinsics fitted to them (fx {fx:.2f}, fy {fy:.2f}, cx {cx:.2f}, cy {cy:.2f}: "
+        f"residual median {np.median(res):.2f} px, 90 % {p90:.2f} px); "
+        f"give the camera's own with --intrinsics when known", PlanerelWarning, stacklevel=2)
     return Intrinsics(w, h, round(fx, 3), round(fy, 3), round(cx, 3), round(cy, 3))
 
 
