@@ -545,3 +545,18 @@ def test_outdoor_slopes_far_over_the_floor_are_no_ramp(demo_model):
     rows = _unseen_rows(sets or [HUNT_DATA / "hunt35" / "none"], demo_model, "PLANEREL_HUNT_DATA")
     off = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", ["decision.foot_float=0"])
     assert (_totals(off)["false_ramp"], _totals(rows)["false_ramp"]) == (7, 5)
+
+
+def test_a_box_cut_at_a_registered_depth_images_blank_margin(demo_model):
+    """margin36 (``$PLANEREL_HUNT_DATA/hunt33/ucn``: NVlabs/UnseenObjectClustering's RealSense
+    frames, depth registered to colour, the first two rows blank).  In 000003 the cracker box
+    standing at the back is seen as its front only, cut by the image's top edge at row 3 (the
+    first measured row is 2): the top-row test allowed rows 0-2, so its top counted as in
+    view and ``tall_face`` did not hold.  Counted from the first measured row
+    (``_blank_top_rows``) it is ``box``; the set's other answers are unchanged (the tapered cup
+    of 000008 stays the one false box; docs/objects.md, "A blank margin at the image's top")."""
+    rows = _unseen_rows([HUNT_DATA / "hunt33" / "ucn"], demo_model, "PLANEREL_HUNT_DATA")
+    assert len(rows) == 9
+    assert [o["found"] for o in rows["000003-depth"]["objects"]] == [True]
+    assert sum(o["found"] for r in rows.values() for o in r["objects"]) == 4
+    assert [name for name, r in rows.items() if r["false"]] == ["000008-depth"]

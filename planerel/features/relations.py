@@ -958,10 +958,11 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
         return prof
 
     out = set()
+    margin = _blank_top_rows(cloud.xyz)
     for lbl, grounds in near.items():
         face = by_label[lbl]
         prof = profile(face)
-        hidden = prof.top >= -p.tall_eye or _reaches_top_row(face)
+        hidden = prof.top >= -p.tall_eye or _reaches_top_row(face, 2 + margin)
         if not hidden:
             # seen from above its top: a box's top is in view, but may be too thin a strip
             # to have become a plane; a lid, a ramp's back or a panel shows what lies behind
@@ -1238,6 +1239,32 @@ def _reaches_top_row(face, rows: int = 2) -> bool:
     """True when ``face``'s pixels reach the image's first ``rows`` + 1 rows (its pixel box,
     ``Plane.bbox``): its top edge is out of view."""
     return int(face.bbox[0]) <= rows
+
+
+#: At most this many blank rows at the top of a scan count as its margin (:func:`_blank_top_rows`).
+BLANK_MARGIN_MAX = 8
+#: A margin's rows hold at most this share of measured points (a registration margin's edge
+#: may be ragged by a pixel) and the row under it at least :data:`BLANK_MARGIN_EDGE`.
+BLANK_MARGIN_SPARSE = 0.05
+BLANK_MARGIN_EDGE = 0.5
+
+
+def _blank_top_rows(xyz) -> int:
+    """How many rows at the top of the organized cloud ``xyz`` (``(H, W, 3)``) are (nearly)
+    blank: the margin a depth image registered to a colour camera leaves (a RealSense's
+    aligned depth: 2 rows), where the image's view of the scene really begins.  The margin's
+    rows hold at most :data:`BLANK_MARGIN_SPARSE` of their width measured, the row under it at
+    least :data:`BLANK_MARGIN_EDGE` (a straight edge), and it is at most
+    :data:`BLANK_MARGIN_MAX` rows; otherwise 0 (rows that fill in gradually are the scene out
+    of the sensor's range, no margin)."""
+    head = xyz[:BLANK_MARGIN_MAX + 1, :, 2]
+    share = (np.isfinite(head) & (head > 0)).mean(axis=1)
+    for row, s in enumerate(share):
+        if s >= BLANK_MARGIN_EDGE:
+            return row
+        if s > BLANK_MARGIN_SPARSE:
+            return 0
+    return 0
 
 
 def scene_graph(planes, relations: Relations, *, edges: str = "adjacent"):
