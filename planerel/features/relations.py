@@ -20,7 +20,9 @@ For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.pl
 ``in_front_of``  p is nearer the sensor than q along the horizontal viewing direction
                  (the camera's optical axis with its up component removed) by ``front_tol``
 ``skirt``        p is horizontal (or inclined at most ``skirt_top_tilt`` towards q: a
-                 narrow top whose fit the rounded edge above q tilts), q vertical and
+                 narrow top whose fit the rounded edge above q tilts; plus, on a cloud with
+                 measured depth noise, the tilt ``skirt_top_noise`` sigmas across p's width
+                 make, at most ``skirt_top_tilt`` more), q vertical and
                  adjacent, and q hangs below p as a box's side below its top: q's top edge at p's level, q reaching down at least
                  ``skirt_reach``, or ``skirt_reach_share`` of p's length when that is less
                  (a box lying flat on a table), and, halfway down, covering ``skirt_cover`` of p's extent
@@ -155,6 +157,7 @@ class RelationParams:
     skirt_step: float = 0.45
     skirt_own_steps: bool = True
     skirt_top_tilt: float = 10.0
+    skirt_top_noise: float = 2.0
     skirt_tilted: float = 30.0
     #: m: the reach asked of a face that stands on the ground (:func:`~planerel.features.solid.grounded`:
     #: a horizontal plane adjacent to it, level with its foot within this, on the floor or
@@ -260,7 +263,7 @@ class RelationParams:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width",
-                             "facing_overlap", "facing_width", "facing_narrow_tol", "skirt_top_tilt", "skirt_tilted", "oblique_min_width",
+                             "facing_overlap", "facing_width", "facing_narrow_tol", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "standing_foot",
                              "standing_fill", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
                              "lying_rise",
@@ -486,6 +489,8 @@ class _Solid:
         self.xyz = cloud.xyz if ok else None
         self.intrinsics = getattr(cloud, "intrinsics", None) if ok else None
         self.labels, self.up, self.params = lab, np.asarray(planes.up, float), params
+        self._cloud = cloud if ok else None
+        self._noise = False  # the cloud's depth-noise model, measured when first asked
         #: ``{face label: FaceProfile}`` along ``planes.up`` (:func:`relate`'s ``profiles``)
         self._profiles: dict = {} if profiles is None else profiles
         #: ``{label: [planes adjacent to it]}``, filled by :func:`relate`
@@ -513,13 +518,31 @@ class _Solid:
         return (top.orientation == "inclined" and top.incline <= self.params.skirt_tilted
                 and top.length <= TILTED_MAX_LENGTH)
 
+    def top_tilt(self, top) -> float:
+        """Degrees a narrow top may be inclined towards its face: ``skirt_top_tilt`` plus the
+        tilt ``skirt_top_noise`` depth-noise sigmas across its width make (``atan(k sigma(z) /
+        width)`` at its farthest depth, at most ``skirt_top_tilt`` more; the cloud's measured
+        noise model, none on a noise-free or unorganized cloud)."""
+        p = self.params
+        if p.skirt_top_noise <= 0 or self._cloud is None or top.width <= 0:
+            return p.skirt_top_tilt
+        if self._noise is False:
+            from planerel.features.planes import _measured_noise
+
+            self._noise = _measured_noise(self._cloud)
+        if self._noise is None:
+            return p.skirt_top_tilt
+        z = float(np.max(np.asarray(top.hull3d, float)[:, 2]))
+        extra = np.degrees(np.arctan(p.skirt_top_noise * float(self._noise.sigma(z)) / top.width))
+        return p.skirt_top_tilt + min(p.skirt_top_tilt, float(extra))
+
     def top_candidate(self, top) -> bool:
         """True when ``top`` can be a skirt's top: horizontal, inclined at most
         ``skirt_top_tilt`` degrees (whether it leans towards the face is :meth:`skirt`'s), or
         a tilted box's top (:meth:`_tilted`)."""
         if top.orientation == "horizontal":
             return True
-        return (top.orientation == "inclined" and top.incline <= self.params.skirt_top_tilt) \
+        return (top.orientation == "inclined" and top.incline <= self.top_tilt(top)) \
             or self._tilted(top)
 
     def face_candidate(self, face) -> bool:
@@ -561,7 +584,7 @@ class _Solid:
         if top.orientation != "horizontal":
             # a narrow top whose fit the rounded edge tilts towards its face: the level rule;
             # else a tilted box's (in its top's frame)
-            if not (face.orientation == "vertical" and top.incline <= self.params.skirt_top_tilt
+            if not (face.orientation == "vertical" and top.incline <= self.top_tilt(top)
                     and leans_towards(top, face, self.up)):
                 return self._tilted(top) and self.tilted_skirt(top, face)
         elif face.orientation != "vertical":
