@@ -73,7 +73,7 @@ class ObjectAnswer:
         Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
     curved : bool or None
         The planar fraction is below the model's ``curved.curved_below``: a round object.
-    refused : tuple of Refusal, ProofRefusal, SizeRefusal, LevelRefusal and VetoRefusal
+    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, LevelRefusal and VetoRefusal
         Classes whose rules proved the object and that the decision refused for it: its
         planar fraction lies under ``1 - decision.planar_margin`` times the least planar of
         the class's training positives (with ``decision.planar_gate``;
@@ -82,7 +82,8 @@ class ObjectAnswer:
         class all of whose training positives had more horizontal planes than the object
         (:func:`~planerel.ilp.metrics.level_refusals`), a rule whose proof binds a plane far
         longer than its class's training proofs' (:func:`~planerel.ilp.metrics.size_refusals`),
-        or a rule for ``other`` proved through planes far smaller than a class proof's
+        a rule whose proof binds a top far more slender than its class's training proofs'
+        tops (:func:`~planerel.ilp.metrics.slender_refusals`), or a rule for ``other`` proved through planes far smaller than a class proof's
         (:func:`~planerel.ilp.metrics.veto_refusals`).  The answer is then the next class
         that holds, else ``other``.
     votes : tuple of ObjectAnswer
@@ -280,6 +281,11 @@ class Classifier:
         self.size_domain = (size_gated(self.settings.size_domain, decision.size_classes)
                             if decision.size_gate else ())
         self.size_margin = decision.size_margin
+        #: ``(class, high, n)`` the slenderness gate compares with (empty: no gate; the model
+        #: keeps none, or ``decision.slender_gate`` is off)
+        self.slender_domain = (size_gated(self.settings.slender_domain, decision.slender_classes)
+                               if decision.slender_gate else ())
+        self.slender_margin = decision.slender_margin
         #: ``ramp`` only for a slope standing on the floor (:func:`~planerel.ilp.metrics.foot_refusals`;
         #: ``decision.foot_gate``): needs the scan's points, so only :meth:`classify` applies it
         self.foot_gate = decision.foot_gate
@@ -325,6 +331,7 @@ class Classifier:
         self.stats = ()
         self.cofire = ()
         self.planar_domain = self.proof_domain = self.level_domain = self.size_domain = ()
+        self.slender_domain = ()
         self.warnings = tuple(dict.fromkeys((*self.warnings, *(w for m in members
                                                                 for w in m.warnings))))
 
@@ -421,11 +428,19 @@ class Classifier:
         """Each object of ``desc`` (its facts loaded) answered by this model's rules (``xyz``:
         the scan's points, for the foot gate)."""
         from planerel.features.relations import flight_evidence, flight_faces
-        from planerel.ilp.metrics import decide, horizontal_counts, laplace, plane_extents
+        from planerel.ilp.metrics import (
+            decide,
+            horizontal_counts,
+            laplace,
+            plane_extents,
+            plane_slenderness,
+        )
 
         answers = []
         levels = horizontal_counts((desc,))
         extents = (functools.cache(lambda: plane_extents((desc,))) if self.size_domain
+                   else None)
+        slender = (functools.cache(lambda: plane_slenderness((desc,))) if self.slender_domain
                    else None)
         foot = None
         if self.foot_gate and xyz is not None and "ramp" in self.classes:
@@ -468,7 +483,9 @@ class Classifier:
                                                                        proposal_params))
                                    if self.flight_gate else None,
                                    extents=extents, sizes=self.size_domain,
-                                   size_margin=self.size_margin, foot=foot,
+                                   size_margin=self.size_margin, slender=slender,
+                                   slenders=self.slender_domain,
+                                   slender_margin=self.slender_margin, foot=foot,
                                    foot_above=self.foot_bounds[0],
                                    foot_below=self.foot_bounds[1],
                                    foot_hidden=self.foot_bounds[2],

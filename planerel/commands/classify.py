@@ -48,7 +48,12 @@ def register(sub) -> None:
                         "decision.size_gate (on in models learned since fbox31) refuses a box "
                         "rule whose proof binds a plane (a face's height, another plane's "
                         "length) over 1 + decision.size_margin times the training box proofs' "
-                        "(decision.size_classes: the classes gated, box); decision.foot_gate "
+                        "(decision.size_classes: the classes gated, box); "
+                        "decision.slender_gate (on in models learned since slab36) refuses a box "
+                        "rule whose proof binds a top (a horizontal or inclined plane) more "
+                        "than 1 + decision.slender_margin times as slender (length over width) "
+                        "as the training box proofs' tops (decision.slender_classes); "
+                        "decision.foot_gate "
                         "(on by default) refuses ramp for a slope whose low end lies over "
                         "decision.foot_above metres above the floor in plain view "
                         "(decision.foot_hidden) or decision.foot_below under it")

@@ -23,6 +23,8 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "FOOT_BELOW", "FOOT_HIDDEN", "FOOT_FLOAT", "FOOT_CLASS", "FootRefusal", "foot_refusals",
            "SIZE_GATE", "SIZE_MARGIN",
            "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
+           "SLENDER_GATE", "SLENDER_MARGIN", "SLENDER_CLASSES", "plane_slenderness",
+           "proof_slenderness", "slender_domain", "SlenderRefusal", "slender_refusals",
            "decide"]
 
 #: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
@@ -127,6 +129,12 @@ SIZE_GATE = True
 SIZE_MARGIN = 0.2
 #: Default of :attr:`DecisionParams.size_classes`.
 SIZE_CLASSES = "box"
+#: Default of :attr:`DecisionParams.slender_gate`.
+SLENDER_GATE = True
+#: Default of :attr:`DecisionParams.slender_margin`.
+SLENDER_MARGIN = 0.5
+#: Default of :attr:`DecisionParams.slender_classes`.
+SLENDER_CLASSES = "box"
 #: Default of :attr:`DecisionParams.foot_gate`.
 FOOT_GATE = True
 #: Default of :attr:`DecisionParams.foot_above` (metres).
@@ -221,6 +229,27 @@ class DecisionParams:
         1.65 m side and a door's jamb (``tall_face``); the demo world's boxes are at most
         1.2 m long and no real box answer's proof plane is longer than 0.6 m
         (docs/objects.md, "False boxes on real rooms").
+    slender_gate : bool
+        Refuse a rule whose proof of an object binds a top (a horizontal or inclined plane)
+        far more slender than any top of the class's training proofs: its ``plane_length``
+        over its ``plane_width`` more than ``1 + slender_margin`` times theirs
+        (:func:`plane_slenderness`; :func:`slender_refusals`; the model keeps the most slender,
+        ``slender_domain``).  A box's top is a rectangle whose sides are of a box's
+        proportions; the top of a thin wall, a parapet, a sill or a shelf's edge is a strip
+        many times longer than wide.  On by default (slab36, 2026-12-01): on the independent
+        development sets the demo's box rule ``skirt`` proved the 8 cm top strips of a
+        staircase's side walls (0.95-1.37 m long: 11-16.5 times their width) with a face
+        below them; the demo world's box proofs' tops are at most 5.97 times as long as wide,
+        the independent sets' true boxes' 4.4, the real box answers' 7.9 (an mOSD flat box
+        standing on its 2 cm edge) (docs/objects.md, "Thin walls and slabs are
+        no boxes").  A wall's end face seen alone (``tall_face``, ``corner``) is not gated: a
+        narrow face is a tall narrow box's too.
+    slender_margin : float
+        The share of the most slender training top a proof's top may exceed it by (>= 0).
+        0.5: the demo's box proofs' tops reach 5.97, refused over 8.95; 0.2 would refuse the
+        mOSD box standing on its edge (7.9); the slabs' tops start at 11.1.
+    slender_classes : str
+        The classes the slenderness gate holds for, comma-separated (``box``).
     foot_gate : bool
         Refuse ``ramp`` for an object whose proof's inclined planes all stand on no floor
         (:func:`foot_refusals`; :func:`planerel.features.foot.slope_foot`): the plane's lowest
@@ -276,6 +305,9 @@ class DecisionParams:
     size_gate: bool = SIZE_GATE
     size_margin: float = SIZE_MARGIN
     size_classes: str = SIZE_CLASSES
+    slender_gate: bool = SLENDER_GATE
+    slender_margin: float = SLENDER_MARGIN
+    slender_classes: str = SLENDER_CLASSES
     foot_gate: bool = FOOT_GATE
     foot_above: float = FOOT_ABOVE
     foot_below: float = FOOT_BELOW
@@ -284,7 +316,7 @@ class DecisionParams:
 
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate", "size_gate",
-                     "foot_gate"):
+                     "slender_gate", "foot_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -293,17 +325,20 @@ class DecisionParams:
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or not 0 <= m <= 1):
                 raise InputError(f"decision.{name} must be a number in 0..1, got {m!r}")
-        if not isinstance(self.size_classes, str):
-            raise InputError(f"decision.size_classes must be class names separated by commas, "
-                             f"got {self.size_classes!r}")
+        for name in ("size_classes", "slender_classes"):
+            if not isinstance(getattr(self, name), str):
+                raise InputError(f"decision.{name} must be class names separated by commas, "
+                                 f"got {getattr(self, name)!r}")
         for name in ("foot_above", "foot_below", "foot_float"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0 (metres), got {m!r}")
-        m = self.size_margin
-        if isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m) or m < 0:
-            raise InputError(f"decision.size_margin must be a number >= 0, got {m!r}")
+        for name in ("size_margin", "slender_margin"):
+            m = getattr(self, name)
+            if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
+                    or m < 0):
+                raise InputError(f"decision.{name} must be a number >= 0, got {m!r}")
         n = self.proof_min_positives
         if isinstance(n, bool) or not isinstance(n, int) or n < 1:
             raise InputError(f"decision.proof_min_positives must be a whole number >= 1, got {n!r}")
@@ -678,6 +713,122 @@ def size_refusals(hits, stats: Sequence, extents, domain: Sequence,
     return kept, tuple(refused.values())
 
 
+def plane_slenderness(descs) -> dict:
+    """``{plane id: slenderness}`` over scene descriptions: each *top*'s (a horizontal or
+    inclined plane's) ``plane_length`` over its ``plane_width`` (the sides of its hull's
+    minimum rectangle).  Vertical planes have none: a narrow face is a tall narrow box's as
+    well as a wall's end.  A plane the view cuts along its length is a lower bound (it is
+    more slender still); one cut across its width is measured more slender than it is."""
+    out = {}
+    for d in descs:
+        for p in d.planes:
+            if p.orientation == "vertical":
+                continue
+            out[d.plane_id(p.label)] = float(p.length) / max(float(p.width), 1e-3)
+    return out
+
+
+def proof_slenderness(bindings: dict, slender: dict):
+    """The largest slenderness among the tops a proof binds (:func:`plane_slenderness`), or
+    None when the proof binds no top."""
+    values = [slender[v] for v in (bindings or {}).values() if isinstance(v, str) and v in slender]
+    return max(values) if values else None
+
+
+def slender_domain(fired: dict, truth: dict, slender: dict) -> tuple:
+    """How slender the tops are that each class's rules proved its training positives with
+    (:func:`plane_slenderness`): ``((class, high, n), ...)``, as :func:`size_domain`.
+
+    A positive's slenderness is the least, over the hits of its class that bind a top, of
+    :func:`proof_slenderness`; ``high`` is the largest over the class's positives, so the gate
+    of :func:`slender_refusals` refuses no proof whose top is as compact as a training one's;
+    ``n`` counts the positives proved with a top."""
+    per: dict = {}
+    for obj, hits in fired.items():
+        k = truth.get(obj)
+        if k is None or k == OTHER:
+            continue
+        values = [proof_slenderness(h[2], slender) for h in hits if h[0] == k]
+        values = [v for v in values if v is not None]
+        if values:
+            per.setdefault(k, []).append(min(values))
+    return tuple((k, round(max(v), 4), len(v)) for k, v in sorted(per.items()))
+
+
+@dataclass(frozen=True)
+class SlenderRefusal:
+    """A rule whose proof of an object binds a top far more slender than any top of the
+    class's training proofs (:func:`slender_refusals`): a thin wall's or a slab's strip."""
+
+    klass: str
+    rule: int
+    slenderness: float
+    high: float
+    margin: float
+
+    @property
+    def bound(self) -> float:
+        """The slenderness over which the rule is refused: ``high * (1 + margin)``."""
+        return self.high * (1.0 + self.margin)
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it with a top {self.slenderness:.1f} times as long as "
+                f"wide, over {self.bound:.1f}: the training {self.klass} proofs' tops reach "
+                f"{self.high:.1f}, margin {self.margin:g} (a thin wall's or a slab's strip)")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule,
+                "proof_slenderness": round(self.slenderness, 4), "proofs_high": self.high,
+                "margin": self.margin, "reason": self.reason}
+
+
+def slender_refusals(hits, stats: Sequence, slender, domain: Sequence,
+                     margin: float = SLENDER_MARGIN, min_positives: int = PROOF_MIN_POSITIVES):
+    """Leave out the hits whose proof binds a top far more slender than the tops of the
+    class's training proofs.
+
+    A class with an entry ``(class, high, n)`` in ``domain`` (:func:`slender_domain`, measured
+    on at least ``min_positives`` positives) refuses a hit of its class whose
+    :func:`proof_slenderness` exceeds ``high * (1 + margin)``: the top strip of an 8 cm thick
+    wall seen with its side or its end face below it (``skirt``) says "box" of something no
+    box of the training world is the shape of (docs/objects.md, "Thin walls and slabs are no
+    boxes").  No domain, no slenderness, or a class without an entry: nothing is refused.
+
+    Parameters
+    ----------
+    slender : dict or callable
+        ``{plane id: slenderness}`` (:func:`plane_slenderness`), or a callable returning it
+        (asked only when a class with an entry fired).
+
+    Returns
+    -------
+    (list, tuple of SlenderRefusal)
+        The hits left, and one :class:`SlenderRefusal` per refused rule that takes part in
+        the decision (:func:`takes_part`).
+    """
+    if not domain or slender is None:
+        return list(hits), ()
+    highs = {k: float(hi) for k, hi, n in domain if n >= min_positives}
+    if not any(h[0] in highs for h in hits):
+        return list(hits), ()
+    if callable(slender):
+        slender = slender()
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    kept, refused = [], {}
+    for hit in hits:
+        k = hit[0]
+        if k in highs:
+            value = proof_slenderness(hit[2], slender)
+            if value is not None and value > highs[k] * (1.0 + float(margin)):
+                if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
+                    refused[hit[1]] = SlenderRefusal(k, hit[1], float(value), highs[k],
+                                                     float(margin))
+                continue
+        kept.append(hit)
+    return kept, tuple(refused.values())
+
+
 @dataclass(frozen=True)
 class FlightRefusal:
     """``stairs`` proved of an object whose faces show no staircase's steps
@@ -984,12 +1135,15 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            proof_min_positives: int = PROOF_MIN_POSITIVES, veto_ratio: float = 0.0,
            n_horizontal=None, levels: Sequence = (), stepped=False, flight=None,
            extents=None, sizes: Sequence = (), size_margin: float = SIZE_MARGIN,
+           slender=None, slenders: Sequence = (), slender_margin: float = SLENDER_MARGIN,
            foot=None, foot_above: float = FOOT_ABOVE, foot_below: float = FOOT_BELOW,
            foot_hidden: float = FOOT_HIDDEN, foot_float: float = FOOT_FLOAT):
     """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
     default, off), :func:`proof_refusals` (with ``proofs``, the
     model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
-    :func:`size_domain`, and the scene's plane ``extents``), :func:`planar_refusals` (``domain``),
+    :func:`size_domain`, and the scene's plane ``extents``), :func:`slender_refusals`
+    (``slenders``, the model's :func:`slender_domain`, and the scene's tops' ``slender``),
+    :func:`planar_refusals` (``domain``),
     :func:`level_refusals` (``levels``, the model's :func:`level_domain`, and the object's
     ``n_horizontal`` and ``stepped``), :func:`flight_refusals` (``flight``; None, the
     default here, off), :func:`veto_refusals`
@@ -1000,12 +1154,14 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
 
     Returns
     -------
-    (hit or None, tuple of Refusal, ProofRefusal, SizeRefusal, LevelRefusal, FlightRefusal and
-    VetoRefusal)
+    (hit or None, tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, LevelRefusal,
+    FlightRefusal and VetoRefusal)
         The chosen hit (None: :data:`OTHER`) and the rules and classes refused.
     """
     kept, small = proof_refusals(hits, stats, proofs, proof_margin, proof_min_positives)
     kept, large = size_refusals(kept, stats, extents, sizes, size_margin, proof_min_positives)
+    kept, thin = slender_refusals(kept, stats, slender, slenders, slender_margin,
+                                  proof_min_positives)
     kept, refused = planar_refusals(kept, stats, planar_fraction, domain, margin)
     kept, flat = level_refusals(kept, stats, n_horizontal, levels, stepped)
     kept, steps = flight_refusals(kept, stats, flight)
@@ -1013,7 +1169,7 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
                                foot_float)
     kept, vetoes = veto_refusals(kept, stats, veto_ratio)
     return (choose_class(kept, stats, classes, cofire),
-            small + large + refused + flat + steps + feet + vetoes)
+            small + large + thin + refused + flat + steps + feet + vetoes)
 
 
 def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:

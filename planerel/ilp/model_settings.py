@@ -8,7 +8,7 @@ and resolved, including the sensor-adaptive switch ``adapt`` of
 proposal parameters of the description, the rules' measured precision, and the planar
 fractions of each class's training positives and the proof scales of each rule's, with the
 decision's margins (section ``decision``, ``planar_domain``, ``proof_domain``, ``level_domain``,
-``size_domain``:
+``size_domain``, ``slender_domain``:
 :func:`planerel.ilp.metrics.planar_refusals`, :func:`~planerel.ilp.metrics.proof_refusals`).  ``classify`` reads them back
 and runs with the same settings; ``--param`` overrides one, with a warning when it differs from
 the training value.
@@ -22,7 +22,8 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 ``decision.NAME`` one of :class:`~planerel.ilp.metrics.DecisionParams` (``decision.planar_gate``,
 ``decision.planar_margin``, ``decision.proof_gate``, ``decision.proof_margin``,
 ``decision.veto_ratio``, ``decision.level_gate``, ``decision.flight_gate``,
-``decision.size_gate``, ``decision.size_margin``).
+``decision.size_gate``, ``decision.size_margin``, ``decision.slender_gate``,
+``decision.slender_margin``).
 """
 
 from __future__ import annotations
@@ -107,6 +108,10 @@ class ModelSettings:
         ``(class, high, n)``: the longest plane of each class's training proofs
         (:func:`planerel.ilp.metrics.size_domain`; empty for a model written before it was
         kept: no size gate).
+    slender_domain : tuple
+        ``(class, high, n)``: the most slender top of each class's training proofs
+        (:func:`planerel.ilp.metrics.slender_domain`; empty for a model written before it was
+        kept: no slenderness gate).
     """
 
     method: str = "regiongrow"
@@ -120,6 +125,7 @@ class ModelSettings:
     seg_recorded: frozenset | None = None
     level_domain: tuple = ()
     size_domain: tuple = ()
+    slender_domain: tuple = ()
 
     def describe_kwargs(self) -> dict:
         """Keyword arguments of :func:`planerel.features.facts.describe_scene` for these settings."""
@@ -149,12 +155,12 @@ class ModelSettings:
 
 def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
                       planar_domain=(), proof_domain=(), decision: dict | None = None,
-                      level_domain=(), size_domain=()) -> dict:
+                      level_domain=(), size_domain=(), slender_domain=()) -> dict:
     """The content of ``model.json`` for a model learned with these settings (the description
     parameters are the defaults ``planerel learn`` describes scenes with; ``planar_domain``,
-    ``proof_domain``, ``level_domain``, ``size_domain``:
+    ``proof_domain``, ``level_domain``, ``size_domain``, ``slender_domain``:
     :attr:`planerel.ilp.pipeline.Model.planar_domain`, ``.proof_domain``, ``.level_domain``,
-    ``.size_domain``;
+    ``.size_domain``, ``.slender_domain``;
     ``decision``: a recipe's decision settings in place of the defaults)."""
     from planerel.ilp.metrics import laplace
 
@@ -177,6 +183,7 @@ def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
                          for i, k, lo, hi, n in proof_domain],
         "level_domain": [{"class": k, "low": lo, "n": n} for k, lo, n in level_domain],
         "size_domain": [{"class": k, "high": hi, "n": n} for k, hi, n in size_domain],
+        "slender_domain": [{"class": k, "high": hi, "n": n} for k, hi, n in slender_domain],
     }
 
 
@@ -223,18 +230,19 @@ def read_settings(rules_path) -> ModelSettings | None:
         except (KeyError, TypeError, ValueError):
             raise InputError(f"{path}: level_domain entry {entry!r} is not "
                              "{class, low, n}") from None
-    sizes = []
-    for entry in data.get("size_domain") or ():
-        try:
-            sizes.append((str(entry["class"]), float(entry["high"]), int(entry["n"])))
-        except (KeyError, TypeError, ValueError):
-            raise InputError(f"{path}: size_domain entry {entry!r} is not "
-                             "{class, high, n}") from None
+    sizes, slenders = [], []
+    for key, out in (("size_domain", sizes), ("slender_domain", slenders)):
+        for entry in data.get(key) or ():
+            try:
+                out.append((str(entry["class"]), float(entry["high"]), int(entry["n"])))
+            except (KeyError, TypeError, ValueError):
+                raise InputError(f"{path}: {key} entry {entry!r} is not "
+                                 "{class, high, n}") from None
     resolved = seg.get("resolved")
     return ModelSettings(str(seg.get("method", "regiongrow")), dict(seg.get("params") or {}),
                          sections, tuple(domain), tuple(proofs),
                          frozenset(resolved) if isinstance(resolved, dict) else None,
-                         tuple(levels), tuple(sizes))
+                         tuple(levels), tuple(sizes), tuple(slenders))
 
 
 def _coerce_like(value, like, name: str):
@@ -319,7 +327,8 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
                             f"does not record {sec}.{key}: it was written before the setting "
                             f"existed)")
     out = ModelSettings(new_method, seg, sections, base.planar_domain, base.proof_domain,
-                        base.seg_recorded, base.level_domain, base.size_domain)
+                        base.seg_recorded, base.level_domain, base.size_domain,
+                        base.slender_domain)
     out.describe_kwargs()  # a bad value fails here, with the dataclass's message
     out.decision_params()
     if settings is not None and new_method == base.method and seg != base.seg_params:

@@ -31,6 +31,9 @@ from planerel.ilp.metrics import (
     SIZE_CLASSES,
     SIZE_GATE,
     SIZE_MARGIN,
+    SLENDER_CLASSES,
+    SLENDER_GATE,
+    SLENDER_MARGIN,
     VETO_RATIO,
     accuracy_scores,
     confusion_columns,
@@ -42,10 +45,12 @@ from planerel.ilp.metrics import (
     level_domain,
     planar_domain,
     plane_extents,
+    plane_slenderness,
     proof_domain,
     score_objects,
     size_domain,
     size_gated,
+    slender_domain,
     stratified_folds,
 )
 from planerel.ilp.scenes import describe_scenes
@@ -146,6 +151,17 @@ class Model:
         That gate's margin above ``high`` (a share of it).
     size_classes : str
         The classes that gate holds for, comma-separated.
+    slender_domain : tuple
+        ``(class, high, n)``: the most slender top each class's rules proved its training
+        positives with (:func:`planerel.ilp.metrics.slender_domain`; ``model.json`` keeps it).
+        Empty: no slenderness gate (a model from before it was kept).
+    slender_gate : bool
+        Whether :func:`prolog_predict` refuses a rule whose proof binds a top far more slender
+        than the class's training proofs' (:func:`planerel.ilp.metrics.slender_refusals`).
+    slender_margin : float
+        That gate's margin above ``high`` (a share of it).
+    slender_classes : str
+        The classes that gate holds for, comma-separated.
     """
 
     classes: tuple
@@ -172,6 +188,10 @@ class Model:
     size_gate: bool = SIZE_GATE
     size_margin: float = SIZE_MARGIN
     size_classes: str = SIZE_CLASSES
+    slender_domain: tuple = ()
+    slender_gate: bool = SLENDER_GATE
+    slender_margin: float = SLENDER_MARGIN
+    slender_classes: str = SLENDER_CLASSES
 
     @property
     def targets(self) -> tuple:
@@ -493,7 +513,9 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         stats, cofire = _stats_from_fired(model, fired, dict(examples))
         return replace(model, stats=stats, cofire=cofire,
                        proof_domain=proof_domain(fired, dict(examples)),
-                       size_domain=size_domain(fired, dict(examples), plane_extents(descs)))
+                       size_domain=size_domain(fired, dict(examples), plane_extents(descs)),
+                       slender_domain=slender_domain(fired, dict(examples),
+                                                     plane_slenderness(descs)))
     finally:
         if tmp is not None:
             tmp.cleanup()
@@ -814,6 +836,8 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
     levels = horizontal_counts(descs)
     where = {o.id: (d, o) for d in descs for o in d.objects}
     extents = plane_extents(descs) if model.size_gate and model.size_domain else None
+    slender = (plane_slenderness(descs) if model.slender_gate and model.slender_domain
+               else None)
     out = []
     for o in object_ids:
         hits = fired.get(o, [])
@@ -833,7 +857,11 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                                extents=extents,
                                sizes=(size_gated(model.size_domain, model.size_classes)
                                       if model.size_gate else ()),
-                               size_margin=model.size_margin)
+                               size_margin=model.size_margin,
+                               slender=slender,
+                               slenders=(size_gated(model.slender_domain, model.slender_classes)
+                                         if model.slender_gate else ()),
+                               slender_margin=model.slender_margin)
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
             out.append(Prediction(o, OTHER, fired=fired_pairs, refused=refused))
@@ -1273,6 +1301,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                                                        proof_domain=model.proof_domain,
                                                        level_domain=model.level_domain,
                                                        size_domain=model.size_domain,
+                                                       slender_domain=model.slender_domain,
                                                        decision=decision))
         write_json(tmp / "metrics.json", metrics)
     return metrics
@@ -1331,6 +1360,7 @@ def write_members(folder, model: Members, *, method: str, seg_params, header: st
                                                        proof_domain=m.proof_domain,
                                                        level_domain=m.level_domain,
                                                        size_domain=m.size_domain,
+                                                       slender_domain=m.slender_domain,
                                                        decision=decision))
         if member_metrics is not None:
             write_json(sub / "metrics.json", member_metrics[n - 1])
