@@ -560,3 +560,22 @@ def test_a_box_cut_at_a_registered_depth_images_blank_margin(demo_model):
     assert [o["found"] for o in rows["000003-depth"]["objects"]] == [True]
     assert sum(o["found"] for r in rows.values() for o in r["objects"]) == 4
     assert [name for name, r in rows.items() if r["false"]] == ["000008-depth"]
+
+
+def test_hunt36_narrow_tops_of_noisy_frames_and_slender_tops(demo_model):
+    """hunt36 (``$PLANEREL_HUNT_DATA/hunt36``: a development set of 2026-12-01).  tilt36:
+    NVlabs/M2T2's RealSense scene02 shows a fruit-snacks box 1 m away whose 5 cm top strip
+    fits at 11 degrees, past ``skirt_top_tilt``'s 10; the allowance the measured noise makes
+    across the strip (``relations.skirt_top_noise``) lets it be the skirt's top: ``box``.
+    slab36: andyzeng/apc-vision-toolbox's bin_b_12 (an F200 frame whose up is read 91 degrees
+    off) made a leaning book's long strip a box top; the slenderness gate
+    (``decision.slender_gate``) refuses it (docs/objects.md, "A narrow top tilted by the
+    sensor's noise", "Thin walls and slabs are no boxes")."""
+    m2t2, apc = HUNT_DATA / "hunt36" / "m2t2-real", HUNT_DATA / "hunt36" / "apc-shelf"
+    rows = _unseen_rows([m2t2, apc], demo_model, "PLANEREL_HUNT_DATA")
+    flat = _unseen_rows([m2t2], demo_model, "PLANEREL_HUNT_DATA", ["relations.skirt_top_noise=0"])
+    assert [o["found"] for o in rows["scene02_depth"]["objects"]] == [False, True, False, False]
+    assert [o["found"] for o in flat["scene02_depth"]["objects"]] == [False] * 4
+    assert not rows["bin_b_12_depth"]["false"]
+    off = _unseen_rows([apc], demo_model, "PLANEREL_HUNT_DATA", ["decision.slender_gate=false"])
+    assert [f[0] for f in off["bin_b_12_depth"]["false"]] == ["box"]
