@@ -34,7 +34,7 @@ def _camera(intrinsics):
 
 
 def read(source, *, intrinsics=None, depth_scale: float | None = None, up=None,
-         subsample: int = 1, max_range: float | None = None) -> Cloud:
+         subsample: int = 1, max_range: float | None = None, organize: bool = True) -> Cloud:
     """A scan as a :class:`~planerel.io.cloud.Cloud`, from a file, an array or a cloud.
 
     Parameters
@@ -58,6 +58,12 @@ def read(source, *, intrinsics=None, depth_scale: float | None = None, up=None,
         Keep every k-th row and column (intrinsics scaled to match).
     max_range : float, optional
         Depth images: depths beyond this many metres are invalid.
+    organize : bool
+        Put an unorganized cloud (a PLY, a PCD with HEIGHT 1, an ``(N, 3)`` ``.npy``, an
+        unorganized Cloud) on an image grid seen from the sensor
+        (:func:`planerel.io.organize.organize`, said in a
+        :class:`~planerel.errors.PlanerelWarning`; ``intrinsics`` give its camera); False
+        keeps it unorganized.
 
     Returns
     -------
@@ -70,9 +76,13 @@ def read(source, *, intrinsics=None, depth_scale: float | None = None, up=None,
     camera = _camera(intrinsics)
     if isinstance(source, Cloud):
         cloud = source.with_up(up) if up is not None else source
+        if organize and not cloud.organized:
+            where = cloud.source or "cloud"
+            grid = io._organize(np.asarray(cloud.xyz).reshape(-1, 3), where, camera)
+            cloud = Cloud(grid.xyz, grid.intrinsics, cloud.up, cloud.source)
     elif isinstance(source, (str, Path)):
         cloud = io.read(source, intrinsics=camera, depth_scale=depth_scale, up=up,
-                        max_range=max_range)
+                        max_range=max_range, organize=organize)
     elif isinstance(source, np.ndarray):
         arr = source
         if arr.ndim == 3 and arr.shape[2] == 3:

@@ -54,9 +54,13 @@ def test_convert_npy_to_ply_and_back(tmp_path):
     xyz[2:, :, :] = [0.1, 0.2, 1.5]
     np.save(tmp_path / "in.npy", xyz)
     assert main(["convert", str(tmp_path / "in.npy"), "-o", str(tmp_path / "out.ply")]) == 0
-    assert main(["convert", str(tmp_path / "out.ply"), "-o", str(tmp_path / "back.npy")]) == 0
+    assert main(["convert", str(tmp_path / "out.ply"), "-o", str(tmp_path / "back.npy"),
+                 "--no-organize"]) == 0
     back = np.load(tmp_path / "back.npy")
     assert back.shape == (1, 32, 3)
+    # put on an image grid (the default): 32 points on one ray are one pixel
+    assert main(["convert", str(tmp_path / "out.ply"), "-o", str(tmp_path / "grid.npy")]) == 0
+    assert np.load(tmp_path / "grid.npy").shape == (1, 1, 3)
 
 
 # ------------------------------------------------------------------ option parsing

@@ -97,9 +97,18 @@ def test_input_colours_are_kept_in_segment_and_convert(tmp_path):
     arr["x"], arr["y"], arr["z"] = [0, 1, 0], [0, 0, 1], [2, 2, 2]
     arr["red"], arr["green"], arr["blue"] = [255, 0, 0], [0, 255, 0], [0, 0, 255]
     PlyData([PlyElement.describe(arr, "vertex")]).write(str(tmp_path / "tri.ply"))
-    assert main(["convert", str(tmp_path / "tri.ply"), "-o", str(tmp_path / "tri.pcd")]) == 0
+    assert main(["convert", str(tmp_path / "tri.ply"), "-o", str(tmp_path / "tri.pcd"),
+                 "--no-organize"]) == 0
     _, f3 = _pcd_fields(tmp_path / "tri.pcd")
     assert PointCloud.decode_rgb(f3["rgb"]).tolist() == [[255, 0, 0], [0, 255, 0], [0, 0, 255]]
+    # put on an image grid (the default, planerel.io.organize): each colour stays with its point
+    assert main(["convert", str(tmp_path / "tri.ply"), "-o", str(tmp_path / "grid.pcd")]) == 0
+    _, f4 = _pcd_fields(tmp_path / "grid.pcd")
+    seen = np.isfinite(f4["z"])
+    got = {(float(x), float(y)): c for x, y, c in zip(f4["x"][seen], f4["y"][seen],
+                                                      PointCloud.decode_rgb(f4["rgb"][seen]).tolist(),
+                                                      strict=True)}
+    assert got == {(0.0, 0.0): [255, 0, 0], (1.0, 0.0): [0, 255, 0], (0.0, 1.0): [0, 0, 255]}
 
 
 @pytest.mark.parametrize("fmt", ["ply", "glb"])

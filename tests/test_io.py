@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from planerel.errors import InputError, PlanerelError
+from planerel.errors import InputError, PlanerelError, PlanerelWarning
 from planerel.io import readers as io
 from planerel.io.cloud import KINECT, Cloud, Intrinsics, depth_to_cloud, subsample
 from planerel.io.writers import (
@@ -178,7 +178,7 @@ def test_ply_round_trip(tmp_path):
     pts = rng.normal(size=(50, 3))
     write_ply(tmp_path / "p.ply", pts, colours=np.full((50, 3), 200, np.uint8),
               labels=np.arange(50))
-    cloud = io.read(tmp_path / "p.ply")
+    cloud = io.read(tmp_path / "p.ply", organize=False)  # points all around: no one view
     assert not cloud.organized and cloud.shape == (1, 50)
     assert np.allclose(cloud.points(), pts.astype(np.float32))
 
@@ -197,8 +197,9 @@ def test_npy_xyz_and_depth(tmp_path):
 
 def test_npy_point_list(tmp_path):
     """``np.save(points)`` of an (N, 3) cloud reads as points: a depth frame's valid points go
-    back on their pixel grid (as an unorganized PCD does), scattered points stay a list, and an
-    empty list is a clear error, never a depth image three pixels wide."""
+    back on their pixel grid (as an unorganized PCD does), scattered points go on an image grid
+    (planerel.io.organize) or with organize=False stay a list, and an empty list is a clear
+    error, never a depth image three pixels wide."""
     depth, intr = _plane_depth()
     cloud = depth_to_cloud(depth, intr)
     pts = cloud.xyz[np.isfinite(cloud.xyz[..., 2])]
@@ -211,8 +212,11 @@ def test_npy_point_list(tmp_path):
     assert np.allclose(back.xyz, cloud.xyz[rows[0]:rows[-1] + 1], atol=1e-6, equal_nan=True)
     scattered = rng.normal(size=(400, 3)) + [0, 0, 4]
     np.save(tmp_path / "scattered.npy", scattered.astype(np.float32))
-    s = io.read(tmp_path / "scattered.npy")
+    s = io.read(tmp_path / "scattered.npy", organize=False)
     assert not s.organized and s.shape == (1, 400)
+    with pytest.warns(PlanerelWarning, match="image grid"):
+        g = io.read(tmp_path / "scattered.npy")
+    assert g.organized and 0 < g.n_valid <= 400 and g.intrinsics is not None
     assert np.allclose(s.points(), scattered.astype(np.float32))
     np.save(tmp_path / "none.npy", np.zeros((0, 3)))
     with pytest.raises(InputError, match="no points"):

@@ -195,18 +195,21 @@ def test_float_depth_in_millimetres_gets_a_note(tmp_path):
 
 
 def test_classify_says_when_a_cloud_is_unorganized(scan, tmp_path, capsys):
+    # read with --no-organize (else it is put on an image grid, tests/test_organize.py),
     # describe refuses an unorganized cloud (its relations need the image grid); classify
-    # takes it and now says what is missing instead of answering as if nothing were
+    # takes it and says what is missing instead of answering as if nothing were
     assert main(["convert", str(scan), "-o", str(tmp_path / "box_points.ply")]) == 0
     rules = tmp_path / "rules.pl"
     rules.write_text("box(A) :- nvertical(A, B), B >= 2.\n")
     capsys.readouterr()
-    assert main(["classify", str(rules), str(tmp_path / "box_points.ply"), str(scan), "-j", "1"]) == 0
+    assert main(["classify", str(rules), str(tmp_path / "box_points.ply"), str(scan), "-j", "1",
+                 "--no-organize"]) == 0
     out = capsys.readouterr().out
     ply, npy = out.split(str(scan) + ":")
     assert "note: an unorganized cloud" in ply and "skirt/2" in ply
     assert "unorganized" not in npy
-    assert main(["describe", str(tmp_path / "box_points.ply"), "-o", str(tmp_path / "f.pl")]) == 2
+    assert main(["describe", str(tmp_path / "box_points.ply"), "-o", str(tmp_path / "f.pl"),
+                 "--no-organize"]) == 2
     assert "needs an organized cloud" in capsys.readouterr().err
     assert not (tmp_path / "f.pl").exists()
 

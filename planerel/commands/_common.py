@@ -94,6 +94,11 @@ def add_input_options(parser: argparse.ArgumentParser) -> None:
                         "them (default 20,000,000 or $PLANEREL_MAX_POINTS)")
     g.add_argument("--subsample", type=int, default=1, metavar="K",
                    help="keep every K-th row and column (the paper's 640x480 -> 160x120 is 4)")
+    g.add_argument("--no-organize", dest="organize", action="store_false",
+                   help="keep an unorganized cloud (PLY, PCD with HEIGHT 1, (N, 3) .npy) "
+                        "unorganized instead of putting it on an image grid seen from the "
+                        "sensor (default; --intrinsics then gives the grid's camera): relations "
+                        "that look through the image are then not found")
 
 
 def add_batch_options(parser: argparse.ArgumentParser, *, keep_going: bool = True) -> None:
@@ -128,7 +133,8 @@ def read_input(path, args: argparse.Namespace):
     """Read one scan with the options of :func:`add_input_options`.
 
     Depth images with no camera information anywhere fall back to the Kinect preset, and
-    the fallback is printed.  ``--up`` is checked here but not put into the cloud: the
+    the fallback is printed.  Unorganized clouds are put on an image grid unless
+    ``--no-organize`` (:func:`planerel.io.organize.organize`; a ``note:`` says so).  ``--up`` is checked here but not put into the cloud: the
     commands pass :func:`given_up` on, so the source of the up vector stays known
     (``given`` vs ``file``).
     """
@@ -140,7 +146,8 @@ def read_input(path, args: argparse.Namespace):
     intr = parse_intrinsics(getattr(args, "intrinsics", None))
     given_up(args)
     kwargs = dict(depth_scale=getattr(args, "depth_scale", None),
-                  max_points=getattr(args, "max_points", None))
+                  max_points=getattr(args, "max_points", None),
+                  organize=getattr(args, "organize", True))
     try:
         cloud = io.read(path, intrinsics=intr, **kwargs)
     except InputError as exc:

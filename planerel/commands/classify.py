@@ -110,9 +110,10 @@ def _classify_task(task: dict):
     lines = [f"{path}: {ans.n_planes} planes, {len(ans.objects)} object(s) "
              f"[{ans.seconds * 1000:.0f} ms]"]
     if not cloud.organized:
-        lines.append("  note: an unorganized cloud (no image grid): relations that look through "
-                     "the image (skirt/2, a tilted floor) are not found; a depth image or an "
-                     "organized cloud of the scene gives the model what it was trained on")
+        lines.append("  note: an unorganized cloud (no image grid: --no-organize): relations "
+                     "that look through the image (skirt/2, a tilted floor) are not found; read "
+                     "without --no-organize, a depth image or an organized cloud of the scene "
+                     "gives the model what it was trained on")
     if not ans.objects:
         lines.append("  no object proposal (only support planes, or no plane at all)")
     for o in ans.objects:

@@ -4,7 +4,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from planerel.commands._common import add_input_options, check_input_options, read_input
+from planerel.commands._common import (
+    add_input_options,
+    check_input_options,
+    parse_intrinsics,
+    read_input,
+)
 from planerel.errors import InputError
 
 __all__ = ["register"]
@@ -42,7 +47,9 @@ def run(args) -> int:
     if cloud.n_valid == 0:
         raise InputError(f"{args.input}: has no valid point (every depth is 0 or NaN); "
                          "nothing to convert")
-    rgb = input_colours(args.input, cloud.shape, args.subsample or 1)
+    rgb = input_colours(args.input, cloud.shape, args.subsample or 1,
+                        organize=getattr(args, "organize", True),
+                        intrinsics=parse_intrinsics(getattr(args, "intrinsics", None)))
     if kind == ".npy":
         with atomic_path(out, suffix=".npy") as tmp:
             np.save(tmp, cloud.xyz, allow_pickle=False)

@@ -76,8 +76,9 @@ def _describe_task(task: dict):
     note = ""
     cloud = read_input(path, task["read"])
     if not cloud.organized:
-        raise InputError(f"{path}: describe needs an organized cloud (a depth image or an "
-                         "organized PCD / .npy), got an unorganized one")
+        raise InputError(f"{path}: describe needs an organized cloud (a depth image, an "
+                         "organized PCD / .npy, or an unorganized cloud read without "
+                         "--no-organize), got an unorganized one")
     if task["labels"] is not None:
         labels = io.read_label_image(task["labels"])
     else:

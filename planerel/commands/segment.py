@@ -9,6 +9,7 @@ from planerel.commands._common import (
     add_input_options,
     check_input_options,
     given_up,
+    parse_intrinsics,
     read_input,
 )
 from planerel.errors import InputError
@@ -123,7 +124,10 @@ def _segment_task(task: dict) -> str:
         )
 
         if "pcd" in formats:
-            rgb = input_colours(path, cloud.shape, getattr(task["read"], "subsample", 1) or 1)
+            rgb = input_colours(path, cloud.shape, getattr(task["read"], "subsample", 1) or 1,
+                                organize=getattr(task["read"], "organize", True),
+                                intrinsics=parse_intrinsics(getattr(task["read"], "intrinsics",
+                                                                    None)))
             write_pcd(out / f"{stem}.pcd", cloud.xyz, labels=seg.labels,
                       colours=rgb if rgb is not None else plane_colours(seg.labels))
         if "ply" in formats:

@@ -5,7 +5,8 @@ In: depth images (PNG, TIFF, ABW), point clouds (PCD, PLY, NPY), label images, J
 Out: ``Cloud`` (organized ``(H, W, 3)`` points with intrinsics and up), and the writers' files.
 Modules: :mod:`~planerel.io.cloud` (the ``Cloud`` type), :mod:`~planerel.io.readers` (every
 reader; re-exported here, so ``planerel.io.read`` keeps working), :mod:`~planerel.io.writers`,
-:mod:`~planerel.io.exports` (segmentation exports), :mod:`~planerel.io.naming` (scene names).
+:mod:`~planerel.io.exports` (segmentation exports), :mod:`~planerel.io.naming` (scene names),
+:mod:`~planerel.io.organize` (an image grid for an unorganized cloud, by z-buffer).
 """
 
 from planerel.io.readers import *  # noqa: F401,F403  (the documented planerel.io.read & co.)

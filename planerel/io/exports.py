@@ -44,10 +44,13 @@ def unpack_rgb(values) -> np.ndarray:
     return np.stack([(v >> 16) & 255, (v >> 8) & 255, v & 255], axis=-1).astype(np.uint8)
 
 
-def input_colours(path, shape: tuple[int, int], subsample: int = 1) -> np.ndarray | None:
+def input_colours(path, shape: tuple[int, int], subsample: int = 1, *,
+                  organize: bool = True, intrinsics=None) -> np.ndarray | None:
     """The per-point colours of a scan file, ``(H, W, 3)`` uint8 matching the read cloud's
-    ``shape`` (after ``subsample``), or None when the file has none (depth images, XYZ
-    arrays, clouds without colour fields) or they do not line up with the points."""
+    ``shape`` (after ``subsample``; an unorganized cloud's on the image grid the readers put
+    it on, as ``organize`` and ``intrinsics`` say), or None when the file has none (depth
+    images, XYZ arrays, clouds without colour fields) or they do not line up with the
+    points."""
     p = Path(path)
     low = p.name.lower()
     cols = None
@@ -57,7 +60,8 @@ def input_colours(path, shape: tuple[int, int], subsample: int = 1) -> np.ndarra
 
             for name in ("rgb", "rgba"):
                 try:
-                    cols = unpack_rgb(read_pcd_field(p, name))
+                    cols = unpack_rgb(read_pcd_field(p, name, organize=organize,
+                                                     intrinsics=intrinsics))
                     break
                 except InputError:
                     continue
@@ -67,8 +71,15 @@ def input_colours(path, shape: tuple[int, int], subsample: int = 1) -> np.ndarra
             v = PlyData.read(str(p))["vertex"].data
             names = v.dtype.names or ()
             if {"red", "green", "blue"} <= set(names):
-                cols = np.stack([v["red"], v["green"], v["blue"]], axis=-1).astype(np.uint8)[None]
-    except (OSError, ValueError, KeyError):
+                cols = np.stack([v["red"], v["green"], v["blue"]], axis=-1).astype(np.uint8)
+                if organize and tuple(shape) != (1, len(cols)):
+                    from planerel.io.readers import ply_grid_place
+
+                    xyz = np.stack([np.asarray(v[c], np.float64) for c in "xyz"], axis=1)
+                    cols = ply_grid_place(xyz, cols, 0, p, intrinsics)
+                else:
+                    cols = cols[None]
+    except (OSError, ValueError, KeyError):  # InputError is a ValueError
         return None
     if cols is None:
         return None

@@ -7,11 +7,16 @@ extension.  Every reader is public:
 ``read_depth_image``   16-bit PNG / TIFF depth frames (+ intrinsics from an argument, a
                        sidecar JSON, or the OpenNI/PCL XML that sits next to the frame)
 ``read_pcd``           PCD v0.7 ascii / binary / binary_compressed (LZF), organized or not
-``read_ply``           PLY vertices (ascii or binary), unorganized
+``read_ply``           PLY vertices (ascii or binary), put on an image grid
 ``read_npy``           ``.npy`` holding ``(H, W, 3)`` XYZ (metres) or ``(H, W)`` depth
 ``read_abw``           SegComp ABW ``.range`` structured-light images (Sun rasterfile)
 ``read_abw_gt``        their ``.gt-seg`` ground-truth label images
 =====================  ================================================================
+
+Unorganized clouds (PLY, PCD with ``HEIGHT 1``, ``(N, 3)`` ``.npy``) go back on their own pixel
+grid when they are an exact pinhole back-projection (:func:`pinhole_grid`), else on an image grid
+seen from the sensor (:func:`planerel.io.organize.organize`, said in a ``PlanerelWarning``);
+``organize=False`` keeps them unorganized.
 
 Libraries do the parsing where they read the format correctly (Pillow, tifffile, pypcd4,
 plyfile); planerel adds validation and a clear :class:`~planerel.errors.InputError` that names
@@ -173,7 +178,8 @@ def _sniff(path: Path) -> str | None:
 
 @_reader
 def read(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
-         max_range: float | None = None, max_points: int | None = None) -> Cloud:
+         max_range: float | None = None, max_points: int | None = None,
+         organize: bool = True) -> Cloud:
     """Read any supported file into a :class:`~planerel.io.cloud.Cloud`.
 
     Parameters
@@ -184,7 +190,8 @@ def read(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
         otherwise.
     intrinsics : Intrinsics, 6-sequence, dict or "kinect", optional
         For depth images: overrides any sidecar; ``"kinect"`` is the Kinect preset scaled to the
-        image size.
+        image size.  For unorganized clouds: the camera of the image grid they are put on
+        (``"kinect"``: 640x480).
     depth_scale : float, optional
         Depth units per metre for depth images (default: sidecar / XML value, else 1000 for
         integer images and 1 for float images).
@@ -195,11 +202,17 @@ def read(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
     max_points : int, optional
         Refuse files that declare more points (pixels) than this, before reading them
         (default :func:`max_points_limit`).
+    organize : bool
+        Put an unorganized cloud (PLY, PCD with HEIGHT 1, ``(N, 3)`` ``.npy``) that is no exact
+        pinhole back-projection on an image grid seen from the sensor's origin
+        (:func:`planerel.io.organize.organize`, with a :class:`PlanerelWarning` saying so);
+        False keeps it ``(1, N, 3)`` unorganized.
 
     Raises
     ------
     InputError
-        One sentence naming the file, for every way the file can be wrong.
+        One sentence naming the file, for every way the file can be wrong (also an
+        unorganized cloud that cannot be one view, unless ``organize=False``).
     """
     p = _existing(path)
     kind = _sniff(p) or p.suffix.lower()
@@ -207,12 +220,14 @@ def read(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
         return read_depth_image(p, intrinsics=intrinsics, depth_scale=depth_scale, up=up,
                                 max_range=max_range, max_points=max_points)
     if kind == ".pcd":
-        return read_pcd(p, up=up, max_points=max_points)
+        return read_pcd(p, up=up, max_points=max_points, organize=organize,
+                        intrinsics=intrinsics)
     if kind == ".ply":
-        return read_ply(p, up=up, max_points=max_points)
+        return read_ply(p, up=up, max_points=max_points, organize=organize,
+                        intrinsics=intrinsics)
     if kind == ".npy":
         return read_npy(p, intrinsics=intrinsics, depth_scale=depth_scale, up=up,
-                        max_points=max_points)
+                        max_points=max_points, organize=organize)
     if kind == ".range":
         return read_abw(p, max_points=max_points)
     known = ", ".join(sorted(FORMATS))
@@ -510,6 +525,30 @@ def _on_grid(values: np.ndarray, grid, fill) -> np.ndarray:
     return out
 
 
+def _grid_camera(intrinsics, where: str):
+    """A user's camera for the grid of an unorganized cloud (``"kinect"``: 640x480), or None."""
+    if intrinsics is None:
+        return None
+    if isinstance(intrinsics, str):
+        return resolve_intrinsics(intrinsics, 640, 480, where)
+    if isinstance(intrinsics, dict) and ("width" not in intrinsics or "height" not in intrinsics):
+        raise InputError(f"{where}: the intrinsics for an unorganized cloud need the image size "
+                         "(width, height, fx, fy, cx, cy)")
+    return resolve_intrinsics(intrinsics, 0, 0, where)
+
+
+def _organize(points: np.ndarray, where: str, intrinsics=None, viewpoint=None, *,
+              say: bool = True):
+    """:func:`planerel.io.organize.organize` of an unorganized cloud's points, said in a
+    :class:`PlanerelWarning` (``say``)."""
+    from planerel.io.organize import organize
+
+    grid = organize(points, _grid_camera(intrinsics, where), viewpoint=viewpoint, where=where)
+    if say:
+        warnings.warn(grid.note(where), PlanerelWarning, stacklevel=3)
+    return grid
+
+
 # --------------------------------------------------------------------------- depth images
 
 
@@ -743,7 +782,8 @@ def _sidecar_up(path: Path):
 
 
 @_reader
-def read_pcd(path, *, up=None, max_points: int | None = None, regrid: bool = True) -> Cloud:
+def read_pcd(path, *, up=None, max_points: int | None = None, regrid: bool = True,
+             organize: bool = True, intrinsics=None) -> Cloud:
     """Read a PCD file (ascii, binary or binary_compressed).
 
     An organized cloud (HEIGHT > 1) keeps its ``(H, W)`` grid, and its intrinsics are recovered
@@ -751,8 +791,11 @@ def read_pcd(path, *, up=None, max_points: int | None = None, regrid: bool = Tru
     An unorganized cloud whose valid points are such a back-projection (a depth camera's frame
     saved without its invalid points) is put back on its pixel grid (:func:`pinhole_grid`;
     ``regrid=False`` keeps it as it is); any other unorganized cloud becomes ``(1, N, 3)`` with
-    ``organized=False``.  The up vector is ``up``, else the ``up`` of a sidecar ``STEM.json``,
-    else unknown.
+    ``organized=False`` when ``organize`` (or ``regrid``: the cloud as stored) is False; else
+    it is put on an image grid seen from
+    the sensor (its ``VIEWPOINT`` when that is not the identity; ``intrinsics`` when given):
+    :func:`planerel.io.organize.organize`, said in a :class:`PlanerelWarning`.  The up vector
+    is ``up``, else the ``up`` of a sidecar ``STEM.json``, else unknown.
     """
     p = _existing(path)
     pc = _load_pcd(p, max_points)
@@ -769,14 +812,43 @@ def read_pcd(path, *, up=None, max_points: int | None = None, regrid: bool = Tru
     grid = pinhole_grid(xyz[0]) if regrid and not organized else None
     if grid is not None:
         xyz, intr, organized = _on_grid(xyz[0], grid, np.nan), grid[2], True
+    elif regrid and organize and not organized:
+        og = _pcd_organize(pc, xyz[0], p, intrinsics)
+        xyz, intr, organized = og.xyz, og.intrinsics, True
     return Cloud(xyz, intr, up if up is not None else _sidecar_up(p), str(p), organized)
 
 
+def _pcd_organize(pc, points: np.ndarray, p: Path, intrinsics, say: bool = True):
+    """An unorganized PCD's image grid: from its VIEWPOINT when that is not the identity,
+    or, when that puts the points behind the sensor but the stored frame does not, from the
+    stored frame (said)."""
+    from planerel.io.organize import is_identity_viewpoint
+
+    vp = getattr(pc.metadata, "viewpoint", None)
+    if vp is None or is_identity_viewpoint(vp):
+        return _organize(points, str(p), intrinsics, say=say)
+    try:
+        return _organize(points, str(p), intrinsics, vp, say=say)
+    except InputError as exc:
+        try:
+            grid = _organize(points, str(p), intrinsics, say=False)
+        except InputError:
+            raise exc from None
+        if say:
+            warnings.warn(f"{p}: its VIEWPOINT {' '.join(f'{v:g}' for v in vp)} puts points "
+                          "behind the sensor or beyond one view; the points are used as stored "
+                          "(camera frame)", PlanerelWarning, stacklevel=3)
+            warnings.warn(grid.note(str(p)), PlanerelWarning, stacklevel=3)
+        return grid
+
+
 @_reader
-def read_pcd_field(path, name: str, *, regrid: bool = True) -> np.ndarray:
+def read_pcd_field(path, name: str, *, regrid: bool = True, organize: bool = True,
+                   intrinsics=None) -> np.ndarray:
     """One field of a PCD file (e.g. ``label``), shaped ``(H, W)`` as :func:`read_pcd` shapes
-    the points (``(1, N)`` if unorganized; on the recovered grid, with 0 or NaN where no point
-    is, when :func:`read_pcd` regrids the cloud)."""
+    the points with the same arguments (``(1, N)`` if unorganized; on the recovered or the
+    z-buffer grid, with 0 or NaN where no point is, when :func:`read_pcd` regrids or organizes
+    the cloud: each pixel's value is its point's)."""
     p = _existing(path)
     pc = _load_pcd(p)
     md = pc.metadata
@@ -784,9 +856,13 @@ def read_pcd_field(path, name: str, *, regrid: bool = True) -> np.ndarray:
         raise InputError(f"{p}: PCD has no field {name!r} (fields: {' '.join(md.fields)})")
     values = np.asarray(pc.pc_data[name])
     if md.height == 1 and regrid:
-        grid = pinhole_grid(np.asarray(pc.numpy(("x", "y", "z")), dtype=np.float64))
+        pts = np.asarray(pc.numpy(("x", "y", "z")), dtype=np.float64)
+        grid = pinhole_grid(pts)
+        fill = np.nan if values.dtype.kind == "f" else 0
         if grid is not None:
-            return _on_grid(values, grid, np.nan if values.dtype.kind == "f" else 0)
+            return _on_grid(values, grid, fill)
+        if organize:
+            return _pcd_organize(pc, pts, p, intrinsics, say=False).place(values, fill)
     return values.reshape(md.height, md.width)
 
 
@@ -842,9 +918,14 @@ def _check_ply_header(path: Path, max_points=None) -> None:
 
 
 @_reader
-def read_ply(path, *, up=None, max_points: int | None = None) -> Cloud:
-    """Read the vertices of a PLY file (ascii or binary) as an unorganized cloud ``(1, N, 3)``;
-    the up vector is ``up``, else the ``up`` of a sidecar ``STEM.json``, else unknown."""
+def read_ply(path, *, up=None, max_points: int | None = None, organize: bool = True,
+             intrinsics=None) -> Cloud:
+    """Read the vertices of a PLY file (ascii or binary): put on an image grid seen from the
+    sensor's origin (:func:`planerel.io.organize.organize`, ``intrinsics`` when given, said in
+    a :class:`PlanerelWarning`; a vertex list that is an exact pinhole back-projection goes
+    back on its own grid, :func:`pinhole_grid`), or with ``organize=False`` an unorganized
+    cloud ``(1, N, 3)``.  The up vector is ``up``, else the ``up`` of a sidecar
+    ``STEM.json``, else unknown."""
     from plyfile import PlyData
 
     p = _existing(path)
@@ -860,8 +941,23 @@ def read_ply(path, *, up=None, max_points: int | None = None) -> Cloud:
                          f"{_one_line(exc, 200)})") from None
     if len(xyz) == 0:
         raise InputError(f"{p}: PLY holds no vertices")
-    return Cloud(xyz.reshape(1, -1, 3), None, up if up is not None else _sidecar_up(p), str(p),
-                 organized=False)
+    up_ = up if up is not None else _sidecar_up(p)
+    if organize:
+        grid = pinhole_grid(xyz)
+        if grid is not None:
+            return Cloud(_on_grid(xyz, grid, np.nan), grid[2], up_, str(p))
+        og = _organize(xyz, str(p), intrinsics)
+        return Cloud(og.xyz, og.intrinsics, up_, str(p))
+    return Cloud(xyz.reshape(1, -1, 3), None, up_, str(p), organized=False)
+
+
+def ply_grid_place(points: np.ndarray, values: np.ndarray, fill, path, intrinsics=None):
+    """``values`` ``(N, ...)`` of a PLY's vertices ``points`` on the image grid
+    :func:`read_ply` puts them on (its own pinhole grid, else the z-buffer grid)."""
+    grid = pinhole_grid(points)
+    if grid is not None:
+        return _on_grid(np.asarray(values), grid, fill)
+    return _organize(points, str(path), intrinsics, say=False).place(values, fill)
 
 
 def _load_npy(path: Path, max_points=None) -> np.ndarray:
@@ -894,7 +990,7 @@ def _load_npy(path: Path, max_points=None) -> np.ndarray:
 
 @_reader
 def read_npy(path, *, intrinsics=None, depth_scale: float | None = None, up=None,
-             max_points: int | None = None) -> Cloud:
+             max_points: int | None = None, organize: bool = True) -> Cloud:
     """Read a ``.npy`` array: ``(H, W, 3)`` XYZ in metres (NaN invalid), ``(H, W)`` depth, or
     ``(N, 3)`` XYZ points (an unorganized cloud, as ``np.save(points)`` writes it).
 
@@ -902,9 +998,11 @@ def read_npy(path, *, intrinsics=None, depth_scale: float | None = None, up=None
     arrays (metres) and 1000 for integer arrays (millimetres).  An XYZ array gets intrinsics
     from the argument or, if it is an exact pinhole back-projection, from the points.  A point
     list that is a depth frame's back-projection is put back on its pixel grid, as
-    :func:`read_pcd` does; any other stays ``(1, N, 3)`` with ``organized=False``.  An ``(N, 3)``
-    array is always read as points (never as a depth image three pixels wide), and the
-    ``intrinsics`` argument does not apply to it (a point list carries its own geometry).
+    :func:`read_pcd` does; any other is put on an image grid seen from the sensor's origin
+    (:func:`planerel.io.organize.organize`, with ``intrinsics`` when given, said in a
+    :class:`PlanerelWarning`), or with ``organize=False`` stays ``(1, N, 3)`` with
+    ``organized=False``.  An ``(N, 3)`` array is always read as points (never as a depth image
+    three pixels wide).
     """
     p = _existing(path)
     arr = _load_npy(p, max_points)
@@ -919,6 +1017,9 @@ def read_npy(path, *, intrinsics=None, depth_scale: float | None = None, up=None
         grid = pinhole_grid(xyz)
         if grid is not None:
             return Cloud(_on_grid(xyz, grid, np.nan), grid[2], up_, str(p))
+        if organize:
+            og = _organize(xyz, str(p), intrinsics)
+            return Cloud(og.xyz, og.intrinsics, up_, str(p))
         return Cloud(xyz.reshape(1, -1, 3), None, up_, str(p), organized=False)
     if arr.ndim == 3 and arr.shape[2] == 3:
         info = find_camera_info(p)
