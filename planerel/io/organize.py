@@ -8,10 +8,11 @@ is projected here onto a pinhole image seen from the camera's origin (x right, y
 z forward): every pixel holds the nearest point along its ray, pixels no point falls in are
 NaN.  The points keep their coordinates (they are not moved onto the pixel rays).
 
-The intrinsics are the user's when given; else chosen from the points: the pixel is the median
-angular spacing of neighbouring points (a depth frame's points come back on about its own
-grid), the image spans the points' angular extent, and the larger side is capped at
-``max_side`` pixels (:data:`MAX_SIDE`).  A cloud that cannot be one view is refused with an
+The intrinsics are the user's when given; else chosen from the points: the pixel is the
+points' angular spacing measured from their local density (:func:`_spacing`: a depth frame's
+points come back on about its own grid), widened by the least of :data:`PIXEL_FACTORS` that
+leaves at most :data:`MAX_PINHOLES` one-pixel holes; the image spans the points' angular
+extent, and the larger side is capped at ``max_side`` pixels (:data:`MAX_SIDE`).  A cloud that cannot be one view is refused with an
 :class:`~planerel.errors.InputError` that says what to do: points at or behind the viewpoint
 (``z <= 0``), or a field of view over :data:`MAX_FOV_DEG` degrees (a 360-degree LiDAR sweep).
 """
