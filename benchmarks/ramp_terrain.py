@@ -144,6 +144,13 @@ def measure(clf, cloud, truth=None, classes=None, false_all=False, name=""):
     return rows
 
 
+def _emit(rows: list, found) -> None:
+    """Print each measured row (one JSON line) as it comes and keep it in ``rows``."""
+    for r in found:
+        print(json.dumps(r), flush=True)
+        rows.append(r)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--model", required=True)
@@ -169,18 +176,14 @@ def main(argv=None):
                 truth = obj[gt]
                 classes = {o["index"] + 1: o["class"] for o in side["objects"]}
                 cloud = planerel.read(str(p))
-                for r in measure(clf, cloud, truth, classes, name=f"train/{p.stem}"):
-                    print(json.dumps(r), flush=True)
-                    rows.append(r)
+                _emit(rows, measure(clf, cloud, truth, classes, name=f"train/{p.stem}"))
         for d in a.independent:
             for p in sorted(Path(d).glob("i[0-9][0-9][0-9][0-9].npy")):
                 side = json.loads(p.with_suffix(".json").read_text())
                 truth = np.load(p.with_name(p.stem + ".objects.npy")).astype(int)
                 classes = {o["index"]: o["class"] for o in side["objects"]}
                 cloud = planerel.read(str(p))
-                for r in measure(clf, cloud, truth, classes, name=f"{Path(d).name}/{p.stem}"):
-                    print(json.dumps(r), flush=True)
-                    rows.append(r)
+                _emit(rows, measure(clf, cloud, truth, classes, name=f"{Path(d).name}/{p.stem}"))
         for h in a.hunts:
             for lj in sorted(Path(h).glob("*/labels.json")):
                 doc = json.loads(lj.read_text())
@@ -188,10 +191,8 @@ def main(argv=None):
                     path = lj.parent / fr["file"]
                     cloud = planerel.read(str(path), intrinsics=fr.get("intrinsics"),
                                           depth_scale=fr.get("depth_scale"))
-                    for r in measure(clf, cloud, false_all=True,
-                                     name=f"{Path(h).name}/{lj.parent.name}/{fr['file']}"):
-                        print(json.dumps(r), flush=True)
-                        rows.append(r)
+                    _emit(rows, measure(clf, cloud, false_all=True,
+                                     name=f"{Path(h).name}/{lj.parent.name}/{fr['file']}"))
     if a.json:
         Path(a.json).write_text(json.dumps(rows, indent=1))
     summarize(rows)

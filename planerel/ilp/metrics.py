@@ -593,11 +593,17 @@ def plane_extents(descs) -> dict:
     return out
 
 
+def _proof_max(bindings: dict, measure: dict):
+    """The largest of ``measure`` (``{plane id: value}``) over the planes a proof binds, or
+    None when it binds none of them."""
+    values = [measure[v] for v in (bindings or {}).values() if isinstance(v, str) and v in measure]
+    return max(values) if values else None
+
+
 def proof_extent(bindings: dict, extents: dict):
     """The largest extent among the planes a proof binds (m; :func:`plane_extents`), or None
     when the proof binds no plane of ``extents``."""
-    values = [extents[v] for v in (bindings or {}).values() if isinstance(v, str) and v in extents]
-    return max(values) if values else None
+    return _proof_max(bindings, extents)
 
 
 def size_domain(fired: dict, truth: dict, extents: dict) -> tuple:
@@ -618,15 +624,22 @@ def size_domain(fired: dict, truth: dict, extents: dict) -> tuple:
     extents : dict
         ``{plane id: extent}`` (:func:`plane_extents`).
     """
+    return _proof_domain(fired, truth, extents)
+
+
+def _proof_domain(fired: dict, truth: dict, measure: dict) -> tuple:
+    """``((class, high, n), ...)``: per class, the largest over its training positives of
+    the least :func:`_proof_max` of ``measure`` over the positive's hits of its class
+    (:func:`size_domain`, :func:`slender_domain`); ``n`` the positives with a value."""
     per: dict = {}
     for obj, hits in fired.items():
         k = truth.get(obj)
         if k is None or k == OTHER:
             continue
-        ext = [proof_extent(h[2], extents) for h in hits if h[0] == k]
-        ext = [e for e in ext if e is not None]
-        if ext:
-            per.setdefault(k, []).append(min(ext))
+        values = [_proof_max(h[2], measure) for h in hits if h[0] == k]
+        values = [v for v in values if v is not None]
+        if values:
+            per.setdefault(k, []).append(min(values))
     return tuple((k, round(max(v), 4), len(v)) for k, v in sorted(per.items()))
 
 
@@ -692,22 +705,32 @@ def size_refusals(hits, stats: Sequence, extents, domain: Sequence,
         The hits left, and one :class:`SizeRefusal` per refused rule that takes part in the
         decision (:func:`takes_part`).
     """
-    if not domain or extents is None:
+    return _bound_refusals(hits, stats, extents, domain, margin, min_positives, SizeRefusal)
+
+
+def _bound_refusals(hits, stats: Sequence, measure, domain: Sequence, margin: float,
+                    min_positives: int, refusal):
+    """The hits left and the ``refusal(class, rule, value, high, margin)`` of every rule
+    (taking part in the decision) whose proof's :func:`_proof_max` of ``measure`` (a dict, or
+    a callable asked only when a gated class fired) exceeds its class's ``high * (1 +
+    margin)`` in ``domain`` (classes measured on at least ``min_positives`` positives):
+    :func:`size_refusals`, :func:`slender_refusals`."""
+    if not domain or measure is None:
         return list(hits), ()
     highs = {k: float(hi) for k, hi, n in domain if n >= min_positives}
     if not any(h[0] in highs for h in hits):
         return list(hits), ()
-    if callable(extents):
-        extents = extents()
+    if callable(measure):
+        measure = measure()
     table = {i: (tp, fp) for i, _, tp, fp in stats}
     kept, refused = [], {}
     for hit in hits:
         k = hit[0]
         if k in highs:
-            ext = proof_extent(hit[2], extents)
-            if ext is not None and ext > highs[k] * (1.0 + float(margin)):
+            value = _proof_max(hit[2], measure)
+            if value is not None and value > highs[k] * (1.0 + float(margin)):
                 if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
-                    refused[hit[1]] = SizeRefusal(k, hit[1], float(ext), highs[k], float(margin))
+                    refused[hit[1]] = refusal(k, hit[1], float(value), highs[k], float(margin))
                 continue
         kept.append(hit)
     return kept, tuple(refused.values())
@@ -731,8 +754,7 @@ def plane_slenderness(descs) -> dict:
 def proof_slenderness(bindings: dict, slender: dict):
     """The largest slenderness among the tops a proof binds (:func:`plane_slenderness`), or
     None when the proof binds no top."""
-    values = [slender[v] for v in (bindings or {}).values() if isinstance(v, str) and v in slender]
-    return max(values) if values else None
+    return _proof_max(bindings, slender)
 
 
 def slender_domain(fired: dict, truth: dict, slender: dict) -> tuple:
@@ -743,16 +765,7 @@ def slender_domain(fired: dict, truth: dict, slender: dict) -> tuple:
     :func:`proof_slenderness`; ``high`` is the largest over the class's positives, so the gate
     of :func:`slender_refusals` refuses no proof whose top is as compact as a training one's;
     ``n`` counts the positives proved with a top."""
-    per: dict = {}
-    for obj, hits in fired.items():
-        k = truth.get(obj)
-        if k is None or k == OTHER:
-            continue
-        values = [proof_slenderness(h[2], slender) for h in hits if h[0] == k]
-        values = [v for v in values if v is not None]
-        if values:
-            per.setdefault(k, []).append(min(values))
-    return tuple((k, round(max(v), 4), len(v)) for k, v in sorted(per.items()))
+    return _proof_domain(fired, truth, slender)
 
 
 @dataclass(frozen=True)
@@ -807,26 +820,7 @@ def slender_refusals(hits, stats: Sequence, slender, domain: Sequence,
         The hits left, and one :class:`SlenderRefusal` per refused rule that takes part in
         the decision (:func:`takes_part`).
     """
-    if not domain or slender is None:
-        return list(hits), ()
-    highs = {k: float(hi) for k, hi, n in domain if n >= min_positives}
-    if not any(h[0] in highs for h in hits):
-        return list(hits), ()
-    if callable(slender):
-        slender = slender()
-    table = {i: (tp, fp) for i, _, tp, fp in stats}
-    kept, refused = [], {}
-    for hit in hits:
-        k = hit[0]
-        if k in highs:
-            value = proof_slenderness(hit[2], slender)
-            if value is not None and value > highs[k] * (1.0 + float(margin)):
-                if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
-                    refused[hit[1]] = SlenderRefusal(k, hit[1], float(value), highs[k],
-                                                     float(margin))
-                continue
-        kept.append(hit)
-    return kept, tuple(refused.values())
+    return _bound_refusals(hits, stats, slender, domain, margin, min_positives, SlenderRefusal)
 
 
 @dataclass(frozen=True)
