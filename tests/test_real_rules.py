@@ -229,8 +229,9 @@ OFFICE_FLOOR_STRIP = ((240, 410), (420, 460))
 
 
 def test_office_floor_strip_is_the_floor_and_no_ramp(demo_model):
-    """The PCL office cloud (an office 1.8-5.4 m away: walls, a door, desks; no box, stairs or
-    ramp).  Its floor shows only as a strip 3.1-3.9 m away that measures 6.2 degrees off the up
+    """The PCL office cloud (an office 1.8-5.4 m away: walls, a door, desks, an archive box
+    against a cabinet (hunt36's label, :func:`test_office_box_against_a_cabinet_is_a_box`); no
+    stairs or ramp).  Its floor shows only as a strip 3.1-3.9 m away that measures 6.2 degrees off the up
     the walls give; it was a ``ramp`` (the inclined-plane rule).  It is the floor now (the
     sensor's depth noise at that range allows the tilt over its width), so it is in no proposal,
     and no proposal of the frame is stairs or ramp."""
@@ -579,3 +580,34 @@ def test_hunt36_narrow_tops_of_noisy_frames_and_slender_tops(demo_model):
     assert not rows["bin_b_12_depth"]["false"]
     off = _unseen_rows([apc], demo_model, "PLANEREL_HUNT_DATA", ["decision.slender_gate=false"])
     assert [f[0] for f in off["bin_b_12_depth"]["false"]] == ["box"]
+
+
+#: The archive box on the floor of office1.pcd, ~2 m away, standing against a tall cabinet
+#: (hunt36's label): (column range, row range), full resolution.
+OFFICE_BOX = ((475, 580), (370, 460))
+
+
+def test_office_box_against_a_cabinet_is_a_box(demo_model):
+    """skirt36: office1.pcd's white archive box stands against a tall cabinet whose front,
+    parallel to the box's front, rises 1.2 m from the box's top with no tread on it.  It was
+    read as a flight's next riser and denied the box's skirt; a plane rising more than
+    ``relations.riser_rise_max`` with nothing at its top edge is no riser now: ``box``
+    (docs/objects.md, "A wall behind a box is no next riser")."""
+    if not OFFICE.is_file():
+        pytest.skip(f"the office cloud is not at {OFFICE} (../shared/data/README.md)")
+    from planerel.classify import Classifier
+    from planerel.commands.classify import _params
+    from planerel.io import read
+
+    (c0, c1), (r0, r1) = OFFICE_BOX
+    got = {}
+    for name, params in (("now", []), ("off", ["relations.riser_rise_max=0"])):
+        with Classifier(demo_model, seg_params=_params(params)) as clf:
+            ans = clf.classify(read(OFFICE), scene_id="office1")
+        on = [o for o in ans.objects
+              if np.sum(_pixels(ans, o)[r0:r1, c0:c1]) > 0.5 * np.sum(_pixels(ans, o))
+              and np.sum(_pixels(ans, o)) > 0]
+        got[name] = sorted(o.klass for o in on)
+        assert not {"stairs", "ramp"} & {o.klass for o in ans.objects}
+        assert [o.klass for o in ans.objects].count("box") == len([k for k in got[name] if k == "box"])
+    assert got["now"] == ["box"] and got["off"] == ["other"], got

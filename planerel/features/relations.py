@@ -170,6 +170,14 @@ class RelationParams:
     #: less): a flight's next riser is as wide as the one below, a bottle or a post standing
     #: behind a box is not.  0: any width (before flat23)
     riser_width: float = 0.08
+    #: m: a plane rising from a skirt's top more than this above it (its
+    #: :class:`~planerel.features.solid.FaceProfile` top over the top's level) denies the
+    #: skirt only when a horizontal plane adjacent to it lies at its top edge (within
+    #: ``skirt_tol``): a flight's next riser rises one step (:data:`STAIR_RISE`, at most
+    #: :data:`STEP_WINDOW_RISE`'s 0.35 m) to the next tread; a wall or a cabinet standing behind
+    #: a box rises far above its top with no tread on it, or out of view.  0: any rise
+    #: (before skirt36)
+    riser_rise_max: float = 0.5
     #: m: a ``tall_face`` (:func:`tall_faces`) stands on the ground: a horizontal plane
     #: adjacent to it is level with its foot within this
     #: (:func:`~planerel.features.solid.grounded`: the floor, or a table reaching farther
@@ -264,7 +272,7 @@ class RelationParams:
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width",
                              "facing_overlap", "facing_width", "facing_narrow_tol", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
-                             "skirt_grounded_reach", "riser_width", "standing_foot",
+                             "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
                              "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
@@ -612,7 +620,8 @@ class _Solid:
                   if v.label != face.label and v.orientation == "vertical"
                   and abs(float(np.dot(v.normal, face.normal))) >= cos_par
                   and rises_from(top, self._profile(v), self.up, p.skirt_tol, p.skirt_reach)
-                  and self._riser_wide(self._profile(v), prof)]
+                  and self._riser_wide(self._profile(v), prof)
+                  and self._riser_step(top, v)]
         if steps:
             # a riser's side on a tread, unless the step is another object's
             # (:func:`skirts_within_objects`)
@@ -636,6 +645,24 @@ class _Solid:
         prof = self._profile(face)
         return any(grounded(face, prof, h, self.up, p.skirt_grounded_reach, p.skirt_tol,
                             p.skirt_step) for h in near)
+
+    def _riser_step(self, top, riser) -> bool:
+        """True when ``riser`` (a vertical plane rising from ``top``) may be a flight's next
+        riser by its height: it rises at most ``riser_rise_max`` above the top's level, or a
+        horizontal plane adjacent to it lies at its top edge (within ``skirt_tol``, the next
+        tread or another solid's top).  A wall or a cabinet behind a box rises far higher,
+        with nothing on it or its top out of view (skirt36)."""
+        p = self.params
+        if p.riser_rise_max <= 0:
+            return True
+        prof = self._profile(riser)
+        up = self.up
+        level = float(np.asarray(top.centroid, float) @ up)
+        if not math.isfinite(prof.top) or prof.top - level <= p.riser_rise_max:
+            return True
+        return any(h.orientation == "horizontal" and h.label != top.label
+                   and abs(float(np.asarray(h.centroid, float) @ up) - prof.top) <= p.skirt_tol
+                   for h in self.touching.get(riser.label, ()))
 
     def _riser_wide(self, riser, face) -> bool:
         """True when a plane rising from a skirt's top (its :class:`FaceProfile` ``riser``)
