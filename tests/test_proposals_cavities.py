@@ -188,7 +188,8 @@ def test_room_walls_beside_a_flight_stay_apart_from_it(cam_height):
     view = dict(pitch=30, cam_height=cam_height, width=320, height=240, noise=0.001)
     props, seen = _proposals(rects, **view)
     assert len(seen[1]) >= 8 and seen[1] in props
-    joined, _ = _proposals(rects, ProposalParams(side_wall_rise_max=0.0), **view)
+    # (their tops out of view at cam_height 1.6: channel_room_walls alone keeps them apart too)
+    joined, _ = _proposals(rects, ProposalParams(side_wall_rise_max=0.0, channel_room_walls=False), **view)
     assert seen[1] not in joined and seen[1] | seen[2] | seen[3] in joined
 
 

@@ -99,7 +99,7 @@ from planerel.features.step_geometry import (  # noqa: F401 (re-exported: tables
     _tread_depth_axis,
 )
 from planerel.features.vectors import cross3, lo_hi, vec_norm
-from planerel.features.walls import flight_side, stepped_side, top_line
+from planerel.features.walls import flight_side, room_wall, stepped_side, top_line
 
 __all__ = [
     "RelationParams",
@@ -1747,6 +1747,15 @@ class ProposalParams:
         and no more than 5 cm before it.  No two treads of such a flight touch, so each was a
         proposal of its own (riser26, docs/objects.md "Open-riser flights").  False: no such
         join (before riser26).
+    channel_room_walls : bool
+        Of two walls facing each other across a flight (``group_channels``), one that is a
+        stairwell's room wall (:func:`planerel.features.walls.room_wall`: no top edge seen and
+        at least half its top at the image border; it goes on out of view, as the walls of a
+        stairwell seen from the flight's top do) does not join it, and left alone (with small
+        vertical pieces at most) it is no proposal.  A person's rectangle around a flight in a
+        stairwell leaves the walls out; a balustrade or string whose top is seen (level or
+        following the steps) joins as before (walls36, docs/objects.md "A stairwell's walls
+        are no flight's sides").  False: both walls join (before walls36).
     """
 
     support_min_area: float = 2.0
@@ -1823,6 +1832,7 @@ class ProposalParams:
     open_walls: bool = True
     flight_sides: bool = True
     open_treads: bool = True
+    channel_room_walls: bool = True
 
     def __post_init__(self) -> None:
         _check_nonneg(self, ("table_area", "table_height", "table_legs", "legs_apart", "support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
@@ -1934,6 +1944,22 @@ def _flight_steps(planes, face, candidates, params) -> list:
             continue
         if float(np.abs((hull - c) @ n).min()) <= FLIGHT_SIDE_REACH:
             out.append(q)
+    return out
+
+
+def _without_room_walls(planes, pairs, cloud) -> set:
+    """``pairs`` (wall, member) of :func:`group_channel_pairs` without those whose wall is a
+    room wall beside the flight (``ProposalParams.channel_room_walls``,
+    :func:`planerel.features.walls.room_wall`): its top out of view at the image border."""
+    byl = {p.label: p for p in planes}
+    verdict: dict = {}
+    out = set()
+    for w, m in pairs:
+        if w not in verdict:
+            face = byl[w]
+            verdict[w] = face.orientation == "vertical" and room_wall(face, planes.up, cloud.xyz, planes.labels)
+        if not verdict[w]:
+            out.add((w, m))
     return out
 
 
@@ -3122,6 +3148,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     params = params or ProposalParams()
     drop = set(support_planes(planes, params, relations, cloud) if support is None else support)
     concave: list = []
+    room_walls: set = set()  # walls a flight's channel test found to be a stairwell's (walls36)
     g = Components(p.label for p in planes if p.label not in drop)
     pairs = [(a, b) for a, b in relations.adjacent_pairs() if a not in drop and b not in drop]
     if params.split_concave and pairs:
@@ -3277,11 +3304,19 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         # side walls facing each other across a group of joined planes that together span
         # them (a flight between its side walls; planerel.features.cavities)
         group_of = {k: i for i, c in enumerate(g.groups()) for k in c}
-        g.add_edges(group_channel_pairs(planes, concave, group_of, params.concave_tol,
-                                        params.cavity_overlap, params.side_wall_members,
-                                        params.side_wall_rise_max, params.side_wall_follow,
-                                        None if cloud is None else cloud.xyz,
-                                        params.step_rise_min, params.wall_window))
+        chan = group_channel_pairs(planes, concave, group_of, params.concave_tol,
+                                   params.cavity_overlap, params.side_wall_members,
+                                   params.side_wall_rise_max, params.side_wall_follow,
+                                   None if cloud is None else cloud.xyz,
+                                   params.step_rise_min, params.wall_window)
+        if (params.channel_room_walls and chan and cloud is not None and lab is not None
+                and lab.shape == cloud.xyz.shape[:2] and getattr(planes, "up", None) is not None):
+            # a stairwell's room walls (their top out of view at the image border) are no
+            # sides of the flight they face across (walls36)
+            kept = _without_room_walls(planes, chan, cloud)
+            room_walls = {w for w, _m in chan} - {w for w, _m in kept}
+            chan = kept
+        g.add_edges(chan)
     byl = {p.label: p for p in planes}
     if params.flight_sides and cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]:
         # a flight's side face (no support, or under support_min_area: a far balustrade's
@@ -3311,6 +3346,10 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                     g.add_edges([(v.label, steps[0].label)])
     comps = [tuple(sorted(c)) for c in g.groups()]
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
+    if room_walls:
+        # a stairwell's room wall left alone (with small vertical pieces at most): environment
+        comps = [c for c in comps if not (room_walls.intersection(c)
+                                          and all(byl[x].orientation == "vertical" for x in c))]
     if params.drop_border_walls:
         lab = getattr(planes, "labels", None)
         grid = cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]

@@ -270,3 +270,49 @@ def flight_side(face, steps, up, xyz, labels, follow: float = 0.5, rise_min: flo
     span = float(np.ptp(tops))
     return (span >= rise_min and float(np.ptp(above)) <= follow * span
             and float(above.min()) >= -tol and float(above.max()) <= rise_max)
+
+
+def top_at_border(face, up, xyz, labels, bin_width: float = 0.05, band: int = 2) -> float:
+    """The share of vertical plane ``face``'s top that lies at the image border: its points
+    binned along the face (``bin_width`` metres, horizontal) as in :func:`top_line`, the
+    fraction of bins whose highest points (within ``bin_width`` of the bin's highest) come
+    within ``band + 1`` pixels of the border (there the face may go on out of view)."""
+    up = np.asarray(up, float)
+    along = np.cross(up, np.asarray(face.normal, float))
+    norm = float(np.linalg.norm(along))
+    if norm < 1e-6:
+        return 0.0
+    along /= norm
+    lab = np.asarray(labels)
+    h, w = lab.shape
+    r0, c0, r1, c1 = (int(v) for v in face.bbox)
+    rr, cc = np.nonzero(lab[r0:r1, c0:c1] == face.label)
+    rr, cc = rr + r0, cc + c0
+    pts = np.asarray(np.asarray(xyz)[rr, cc], float)
+    ok = np.isfinite(pts).all(axis=1)
+    rr, cc, pts = rr[ok], cc[ok], pts[ok]
+    if len(pts) < 3:
+        return 0.0
+    pa, ph = pts @ along, pts @ up
+    b = np.floor((pa - pa.min()) / bin_width).astype(np.int64)
+    m = band + 1
+    edge = (rr <= m) | (rr >= h - 1 - m) | (cc <= m) | (cc >= w - 1 - m)
+    top = np.full(int(b.max()) + 1, -np.inf)
+    np.maximum.at(top, b, ph)
+    near_top = ph >= top[b] - bin_width
+    at = np.zeros(len(top), bool)
+    np.logical_or.at(at, b, edge & near_top)
+    filled = np.isfinite(top)
+    return float(at[filled].mean()) if filled.any() else 0.0
+
+
+def room_wall(face, up, xyz, labels, at_border: float = 0.5) -> bool:
+    """True when vertical plane ``face`` beside a flight is a room wall by its top: no top edge
+    is seen (:func:`top_line`) and at least ``at_border`` of its top lies at the image border
+    (:func:`top_at_border`): it goes on out of view, up past where a flight's balustrade or
+    string would end in view (a stairwell's walls seen from the flight's top).  A top hidden by
+    something in front, or seen (level or not), tells nothing here: walls up to
+    ``side_wall_rise_max`` above the flight stay its sides (``group_channel_pairs``)."""
+    if top_line(face, up, xyz, labels) is not None:
+        return False
+    return top_at_border(face, up, xyz, labels) >= at_border
