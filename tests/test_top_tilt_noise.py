@@ -3,8 +3,8 @@
 ``skirt/2`` takes a narrow top inclined at most ``skirt_top_tilt`` (10) degrees towards its
 face (the rounded edge tilts its fit).  On hunt36's RealSense frames a product box's 5 cm top
 strip 1 m away fitted at 11-13 degrees.  The allowance now grows by the tilt that
-``skirt_top_noise`` (2) depth-noise sigmas across the top's width make (the cloud's measured
-noise model; at most ``skirt_top_tilt`` more), as the floor's rule allows a noisy narrow floor
+``skirt_top_noise`` (2) times the top's fit RMS across its width makes (at most
+``skirt_top_tilt`` more), as the floor's rule allows a noisy narrow floor
 (docs/objects.md, "A narrow top tilted by the sensor's noise").  Rendered analytic scenes: a
 box 0.3 m wide, 6 cm deep, 0.3 m high, 1 m away, its top tilted towards its front.
 """
@@ -45,7 +45,7 @@ def test_a_narrow_top_tilted_past_the_bound_on_a_noisy_cloud_is_a_skirts_top(til
 
 
 def test_a_noise_free_cloud_gets_no_allowance():
-    # nothing to measure: the bound stays 10 degrees
+    # a fit with no residual: the bound stays 10 degrees
     top, skirts = _skirts(12.0, 0.0, 2.0)
     assert top.incline > 10.0 and skirts == set()
     assert _skirts(8.0, 0.0, 2.0)[1] == {(TOP, FRONT)}

@@ -20,9 +20,9 @@ For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.pl
 ``in_front_of``  p is nearer the sensor than q along the horizontal viewing direction
                  (the camera's optical axis with its up component removed) by ``front_tol``
 ``skirt``        p is horizontal (or inclined at most ``skirt_top_tilt`` towards q: a
-                 narrow top whose fit the rounded edge above q tilts; plus, on a cloud with
-                 measured depth noise, the tilt ``skirt_top_noise`` sigmas across p's width
-                 make, at most ``skirt_top_tilt`` more), q vertical and
+                 narrow top whose fit the rounded edge above q tilts; plus the tilt
+                 ``skirt_top_noise`` times p's fit RMS across its width makes, at most
+                 ``skirt_top_tilt`` more), q vertical and
                  adjacent, and q hangs below p as a box's side below its top: q's top edge at p's level, q reaching down at least
                  ``skirt_reach``, or ``skirt_reach_share`` of p's length when that is less
                  (a box lying flat on a table), and, halfway down, covering ``skirt_cover`` of p's extent
@@ -497,8 +497,6 @@ class _Solid:
         self.xyz = cloud.xyz if ok else None
         self.intrinsics = getattr(cloud, "intrinsics", None) if ok else None
         self.labels, self.up, self.params = lab, np.asarray(planes.up, float), params
-        self._cloud = cloud if ok else None
-        self._noise = False  # the cloud's depth-noise model, measured when first asked
         #: ``{face label: FaceProfile}`` along ``planes.up`` (:func:`relate`'s ``profiles``)
         self._profiles: dict = {} if profiles is None else profiles
         #: ``{label: [planes adjacent to it]}``, filled by :func:`relate`
@@ -526,23 +524,23 @@ class _Solid:
         return (top.orientation == "inclined" and top.incline <= self.params.skirt_tilted
                 and top.length <= TILTED_MAX_LENGTH)
 
+    def narrow_top(self, top) -> bool:
+        """True when ``top``'s incline is within :meth:`top_tilt` (the noise's allowance is
+        measured only for a top past ``skirt_top_tilt`` and within twice it)."""
+        bound = self.params.skirt_top_tilt
+        return top.incline <= bound or (top.incline <= 2.0 * bound
+                                        and top.incline <= self.top_tilt(top))
+
     def top_tilt(self, top) -> float:
         """Degrees a narrow top may be inclined towards its face: ``skirt_top_tilt`` plus the
-        tilt ``skirt_top_noise`` depth-noise sigmas across its width make (``atan(k sigma(z) /
-        width)`` at its farthest depth, at most ``skirt_top_tilt`` more; the cloud's measured
-        noise model, none on a noise-free or unorganized cloud)."""
+        tilt that ``skirt_top_noise`` times the top's own fit RMS across its width makes
+        (``atan(k rms / width)``: on a noisy sensor a 5 cm strip's fit says little of its
+        tilt), at most ``skirt_top_tilt`` more; a noise-free top gets none."""
         p = self.params
-        if p.skirt_top_noise <= 0 or self._cloud is None or top.width <= 0:
+        if p.skirt_top_noise <= 0 or top.width <= 0:
             return p.skirt_top_tilt
-        if self._noise is False:
-            from planerel.features.planes import _measured_noise
-
-            self._noise = _measured_noise(self._cloud)
-        if self._noise is None:
-            return p.skirt_top_tilt
-        z = float(np.max(np.asarray(top.hull3d, float)[:, 2]))
-        extra = np.degrees(np.arctan(p.skirt_top_noise * float(self._noise.sigma(z)) / top.width))
-        return p.skirt_top_tilt + min(p.skirt_top_tilt, float(extra))
+        extra = math.degrees(math.atan(p.skirt_top_noise * float(top.rms) / float(top.width)))
+        return p.skirt_top_tilt + min(p.skirt_top_tilt, extra)
 
     def top_candidate(self, top) -> bool:
         """True when ``top`` can be a skirt's top: horizontal, inclined at most
@@ -550,7 +548,7 @@ class _Solid:
         a tilted box's top (:meth:`_tilted`)."""
         if top.orientation == "horizontal":
             return True
-        return (top.orientation == "inclined" and top.incline <= self.top_tilt(top)) \
+        return (top.orientation == "inclined" and self.narrow_top(top)) \
             or self._tilted(top)
 
     def face_candidate(self, face) -> bool:
@@ -592,7 +590,7 @@ class _Solid:
         if top.orientation != "horizontal":
             # a narrow top whose fit the rounded edge tilts towards its face: the level rule;
             # else a tilted box's (in its top's frame)
-            if not (face.orientation == "vertical" and top.incline <= self.top_tilt(top)
+            if not (face.orientation == "vertical" and self.narrow_top(top)
                     and leans_towards(top, face, self.up)):
                 return self._tilted(top) and self.tilted_skirt(top, face)
         elif face.orientation != "vertical":
