@@ -566,7 +566,7 @@ def test_a_box_cut_at_a_registered_depth_images_blank_margin(demo_model):
 def test_hunt36_narrow_tops_of_noisy_frames_and_slender_tops(demo_model):
     """hunt36 (``$PLANEREL_HUNT_DATA/hunt36``: a development set of 2026-12-01).  tilt36:
     NVlabs/M2T2's RealSense scene02 shows a fruit-snacks box 1 m away whose 5 cm top strip
-    fits at 11 degrees, past ``skirt_top_tilt``'s 10; the allowance the measured noise makes
+    fits at 11 degrees, past ``skirt_top_tilt``'s 10; the allowance its fit's RMS makes
     across the strip (``relations.skirt_top_noise``) lets it be the skirt's top: ``box``.
     slab36: andyzeng/apc-vision-toolbox's bin_b_12 (an F200 frame whose up is read 91 degrees
     off) made a leaning book's long strip a box top; the slenderness gate
