@@ -63,6 +63,7 @@ candidate object, except components made only of vertical planes that reach the 
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, replace
 
@@ -1006,11 +1007,14 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
         return prof
 
     out = set()
-    margin = _blank_top_rows(cloud.xyz)
+    # the scan's blank top rows, measured only for a face that starts within them
+    margin = functools.cache(lambda: _blank_top_rows(cloud.xyz))
     for lbl, grounds in near.items():
         face = by_label[lbl]
         prof = profile(face)
-        hidden = prof.top >= -p.tall_eye or _reaches_top_row(face, 2 + margin)
+        hidden = (prof.top >= -p.tall_eye or _reaches_top_row(face)
+                  or (_reaches_top_row(face, 2 + BLANK_MARGIN_MAX)
+                      and _reaches_top_row(face, 2 + margin())))
         if not hidden:
             # seen from above its top: a box's top is in view, but may be too thin a strip
             # to have become a plane; a lid, a ramp's back or a panel shows what lies behind
