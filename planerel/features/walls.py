@@ -143,6 +143,31 @@ def stepped_side(face, neighbours, up, xyz, labels, tol: float = 0.10, window: f
     return len(tops) >= 2 and max(tops) - min(tops) >= rise_min
 
 
+def _face_bins(face, up, xyz, labels, bin_width: float):
+    """A vertical plane's measured points binned along it (:func:`top_line`,
+    :func:`top_at_border`): ``(rows, cols, points (N, 3), along-coordinate, height, bin,
+    (H, W), along)``, ``along`` the unit horizontal direction in the face; None when the face
+    is level (no such direction) or holds fewer than three measured points."""
+    up = np.asarray(up, float)
+    along = np.cross(up, np.asarray(face.normal, float))
+    norm = float(np.linalg.norm(along))
+    if norm < 1e-6:
+        return None
+    along /= norm
+    lab = np.asarray(labels)
+    r0, c0, r1, c1 = (int(v) for v in face.bbox)
+    rr, cc = np.nonzero(lab[r0:r1, c0:c1] == face.label)
+    rr, cc = rr + r0, cc + c0
+    pts = np.asarray(np.asarray(xyz)[rr, cc], float)
+    ok = np.isfinite(pts).all(axis=1)
+    rr, cc, pts = rr[ok], cc[ok], pts[ok]
+    if len(pts) < 3:
+        return None
+    pa, ph = pts @ along, pts @ up
+    b = np.floor((pa - pa.min()) / bin_width).astype(np.int64)
+    return rr, cc, pts, pa, ph, b, lab.shape, along
+
+
 def top_line(face, up, xyz, labels, bin_width: float = 0.05, jump: float = 0.05, band: int = 2):
     """The line along a vertical plane's top edge, where the edge is seen.
 
@@ -162,25 +187,11 @@ def top_line(face, up, xyz, labels, bin_width: float = 0.05, jump: float = 0.05,
         the edge points, their residual RMS (metres); None when fewer than three bins
         ``2 * bin_width`` apart hold an edge point.
     """
-    up = np.asarray(up, float)
-    along = np.cross(up, np.asarray(face.normal, float))
-    norm = float(np.linalg.norm(along))
-    if norm < 1e-6:
+    bins = _face_bins(face, up, xyz, labels, bin_width)
+    if bins is None:
         return None
-    along /= norm
-    lab = np.asarray(labels)
-    h, w = lab.shape
-    r0, c0, r1, c1 = (int(v) for v in face.bbox)
-    rr, cc = np.nonzero(lab[r0:r1, c0:c1] == face.label)
-    rr, cc = rr + r0, cc + c0
-    xyz = np.asarray(xyz)
-    pts = np.asarray(xyz[rr, cc], float)
-    ok = np.isfinite(pts).all(axis=1)
-    rr, cc, pts = rr[ok], cc[ok], pts[ok]
-    if len(pts) < 3:
-        return None
-    pa, ph = pts @ along, pts @ up
-    b = np.floor((pa - pa.min()) / bin_width).astype(np.int64)
+    rr, cc, pts, pa, ph, b, (h, w), along = bins
+    lab, xyz = np.asarray(labels), np.asarray(xyz)
     order = np.lexsort((ph, b))  # by bin, then height: each bin's last is its highest
     last = np.nonzero(np.diff(np.append(b[order], -1)) != 0)[0]
     m = band + 1
@@ -277,24 +288,10 @@ def top_at_border(face, up, xyz, labels, bin_width: float = 0.05, band: int = 2)
     binned along the face (``bin_width`` metres, horizontal) as in :func:`top_line`, the
     fraction of bins whose highest points (within ``bin_width`` of the bin's highest) come
     within ``band + 1`` pixels of the border (there the face may go on out of view)."""
-    up = np.asarray(up, float)
-    along = np.cross(up, np.asarray(face.normal, float))
-    norm = float(np.linalg.norm(along))
-    if norm < 1e-6:
+    bins = _face_bins(face, up, xyz, labels, bin_width)
+    if bins is None:
         return 0.0
-    along /= norm
-    lab = np.asarray(labels)
-    h, w = lab.shape
-    r0, c0, r1, c1 = (int(v) for v in face.bbox)
-    rr, cc = np.nonzero(lab[r0:r1, c0:c1] == face.label)
-    rr, cc = rr + r0, cc + c0
-    pts = np.asarray(np.asarray(xyz)[rr, cc], float)
-    ok = np.isfinite(pts).all(axis=1)
-    rr, cc, pts = rr[ok], cc[ok], pts[ok]
-    if len(pts) < 3:
-        return 0.0
-    pa, ph = pts @ along, pts @ up
-    b = np.floor((pa - pa.min()) / bin_width).astype(np.int64)
+    rr, cc, pts, pa, ph, b, (h, w), _along = bins
     m = band + 1
     edge = (rr <= m) | (rr >= h - 1 - m) | (cc <= m) | (cc >= w - 1 - m)
     top = np.full(int(b.max()) + 1, -np.inf)
