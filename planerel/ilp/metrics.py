@@ -650,8 +650,21 @@ def size_gated(domain: Sequence, classes: str = SIZE_CLASSES) -> tuple:
     return tuple(e for e in domain if e[0] in names)
 
 
+class _Bounded:
+    """What a gate with a training domain refused over: ``bound = high * (1 + margin)``
+    (:class:`SizeRefusal`, :class:`SlenderRefusal`)."""
+
+    high: float
+    margin: float
+
+    @property
+    def bound(self) -> float:
+        """The value over which the rule is refused: ``high * (1 + margin)``."""
+        return self.high * (1.0 + self.margin)
+
+
 @dataclass(frozen=True)
-class SizeRefusal:
+class SizeRefusal(_Bounded):
     """A rule whose proof of an object binds a plane reaching far further than any plane of
     the class's training proofs (:func:`size_refusals`; a face's height, another plane's
     length: :func:`plane_extents`)."""
@@ -661,11 +674,6 @@ class SizeRefusal:
     extent: float
     high: float
     margin: float
-
-    @property
-    def bound(self) -> float:
-        """The proof extent (m) over which the rule is refused: ``high * (1 + margin)``."""
-        return self.high * (1.0 + self.margin)
 
     @property
     def reason(self) -> str:
@@ -769,7 +777,7 @@ def slender_domain(fired: dict, truth: dict, slender: dict) -> tuple:
 
 
 @dataclass(frozen=True)
-class SlenderRefusal:
+class SlenderRefusal(_Bounded):
     """A rule whose proof of an object binds a top far more slender than any top of the
     class's training proofs (:func:`slender_refusals`): a thin wall's or a slab's strip."""
 
@@ -778,11 +786,6 @@ class SlenderRefusal:
     slenderness: float
     high: float
     margin: float
-
-    @property
-    def bound(self) -> float:
-        """The slenderness over which the rule is refused: ``high * (1 + margin)``."""
-        return self.high * (1.0 + self.margin)
 
     @property
     def reason(self) -> str:
