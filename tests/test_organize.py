@@ -115,6 +115,19 @@ def test_a_360_degree_cloud_and_points_behind_are_refused_clearly():
         organize(front)
 
 
+def test_points_at_the_origin_are_invalid_not_behind():
+    # exports write an invalid pixel as 0 0 0: left out, like NaN rows, not "behind the sensor"
+    cloud, _ = _scene(160, 120)
+    pts = _unorganized(cloud, seed=4)
+    zeros = np.vstack([np.zeros((40, 3)), pts])
+    a, b = organize(pts), organize(zeros)
+    assert a.intrinsics == b.intrinsics and a.n_points == b.n_points
+    assert np.array_equal(a.xyz, b.xyz, equal_nan=True)
+    assert (b.rows[:40] == -1).all()
+    with pytest.raises(InputError, match="no valid point"):
+        organize(np.zeros((5, 3)))
+
+
 def test_viewpoint_moves_the_points_into_the_sensor_frame():
     cloud, _ = _scene(160, 120)
     pts = _unorganized(cloud, jitter=0.0)

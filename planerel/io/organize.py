@@ -244,12 +244,14 @@ def organize(points, intrinsics=None, *, viewpoint=None, max_side: int = MAX_SID
     Parameters
     ----------
     points : ndarray, shape (N, 3)
-        XYZ in metres (NaN rows: invalid, left out).  In the camera frame (x right, y down,
+        XYZ in metres (NaN rows and points exactly at the origin, ``0 0 0``: invalid, left
+        out).  In the camera frame (x right, y down,
         z forward) unless ``viewpoint`` says where the sensor was.
     intrinsics : Intrinsics, optional
         The grid's camera; points outside its image are left out.  Default: chosen from the
-        points: pixel = the median angular spacing of neighbouring points, the image just
-        spans them, its larger side at most ``max_side`` pixels.
+        points (:func:`_choose_camera`: the pixel from their angular spacing, widened against
+        one-pixel holes; the image just spans them, its larger side at most ``max_side``
+        pixels).
     viewpoint : 7-sequence, optional
         A PCD ``VIEWPOINT`` (``tx ty tz qw qx qy qz``, the sensor's pose in the cloud's
         frame); the points are moved into the sensor's frame first.
@@ -272,7 +274,9 @@ def organize(points, intrinsics=None, *, viewpoint=None, max_side: int = MAX_SID
     p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     if viewpoint is not None and not is_identity_viewpoint(viewpoint):
         p = viewpoint_transform(p, viewpoint)
-    valid = np.all(np.isfinite(p), axis=1)
+    # NaN rows, and points exactly at the origin: the "no return" that depth cameras' and
+    # point-cloud libraries' exports write for an invalid pixel
+    valid = np.all(np.isfinite(p), axis=1) & np.any(p != 0.0, axis=1)
     n_valid = int(valid.sum())
     if n_valid == 0:
         raise InputError(f"{where}: the cloud holds no valid point")
