@@ -1753,8 +1753,8 @@ class ProposalParams:
         Of two walls facing each other across a flight (``group_channels``), one that is a
         stairwell's room wall (:func:`planerel.features.walls.room_wall`: no top edge seen and
         at least half its top at the image border; it goes on out of view, as the walls of a
-        stairwell seen from the flight's top do) does not join it, and left alone (with small
-        vertical pieces at most) it is no proposal.  A person's rectangle around a flight in a
+        stairwell seen from the flight's top do) does not join it, and left alone (with vertical
+        pieces under ``border_wall_area`` at most) it is no proposal.  A person's rectangle around a flight in a
         stairwell leaves the walls out; a balustrade or string whose top is seen (level or
         following the steps) joins as before (walls36, docs/objects.md "A stairwell's walls
         are no flight's sides").  False: both walls join (before walls36).
@@ -3350,8 +3350,9 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
     comps = [c for c in comps if sum(byl[x].n_points for x in c) >= params.min_points]
     if room_walls:
         # a stairwell's room wall left alone (with small vertical pieces at most): environment
-        comps = [c for c in comps if not (room_walls.intersection(c)
-                                          and all(byl[x].orientation == "vertical" for x in c))]
+        comps = [c for c in comps if not (room_walls.intersection(c) and all(
+            x in room_walls or (byl[x].orientation == "vertical"
+                                and byl[x].area < params.border_wall_area) for x in c))]
     if params.drop_border_walls:
         lab = getattr(planes, "labels", None)
         grid = cloud is not None and lab is not None and lab.shape == cloud.xyz.shape[:2]
