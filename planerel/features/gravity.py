@@ -32,6 +32,12 @@ Sign.  Up points to the side of the image's top (``up . (0, -1, 0) > 0``: the ca
 upside down) when that is well defined; when the camera looks (nearly) straight down it points
 to the sensor's side of the largest horizontal planes (the camera is above the floor).
 
+Drafted walls (``GravityParams.mirror_pairs``).  A tote's or bin's walls lean out by a draft
+angle, so seen from above none of them is vertical within ``tol_deg``.  Two walls facing each
+other, leaning alike from a level floor below them, vote for their mirror axis (the bisector of
+their normals) as a horizontal plane of their area does: a symmetric pair fixes one direction,
+as a horizontal plane does (docs/gravity.md, "A bin seen from above").
+
 Upside down (``GravityParams.flip``).  A camera mounted upside down sees the floor and the tops
 of things on the image's top side, where an upright camera sees ceilings.  The same estimate is
 made for the frame turned by 180 degrees about the optical axis, from the near planes only
@@ -127,6 +133,15 @@ class GravityParams:
     flip_min_area : float
         ... and at least this many m^2 of it (near planes, see ``max_height``); the default is
         ``min_area``'s, a single voting plane's.
+    mirror_pairs : bool
+        Two planes that face each other across a cavity, each tilted by the same angle between
+        ``tol_deg`` and ``max_draft_deg`` from vertical w.r.t. their bisector, with a plane
+        level w.r.t. that bisector below both (the drafted walls and floor of a tote or bin
+        seen from above), vote for the bisector as a horizontal plane of their area does
+        (:func:`_mirror_pairs`; docs/gravity.md, "A bin seen from above").  Needs the planes'
+        centroids (the label path); ``False``: the estimate before.
+    max_draft_deg : float
+        The largest tilt from vertical of such a wall.
     """
 
     tol_deg: float = 5.0
@@ -142,20 +157,23 @@ class GravityParams:
     flip: bool = True
     flip_ratio: float = 2.0
     flip_min_area: float = 0.01
+    mirror_pairs: bool = True
+    max_draft_deg: float = 30.0
 
     def __post_init__(self) -> None:
         checks = (("tol_deg", 0.5, 20.0), ("min_area", 0.0, 100.0), ("vertical_weight", 0.0, 1.0),
                   ("max_roll_deg", 0.0, 90.0), ("max_up_pitch_deg", 0.0, 90.0),
                   ("max_height", 0.1, 1000.0), ("min_pair_deg", 5.0, 85.0),
                   ("low_confidence", 0.0, 1.0), ("flip_ratio", 1.0, 1000.0),
-                  ("flip_min_area", 0.0, 100.0))
+                  ("flip_min_area", 0.0, 100.0), ("max_draft_deg", 0.0, 45.0))
         for name, lo, hi in checks:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
                     or not lo <= v <= hi:
                 raise InputError(f"gravity {name} must be a number in [{lo}, {hi}], got {v!r}")
-        if not isinstance(self.flip, bool):
-            raise InputError(f"gravity flip must be true or false, got {self.flip!r}")
+        for name in ("flip", "mirror_pairs"):
+            if not isinstance(getattr(self, name), bool):
+                raise InputError(f"gravity {name} must be true or false, got {getattr(self, name)!r}")
         for name in ("min_points", "max_planes"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 3:
@@ -286,10 +304,64 @@ def _height_factor(offsets: np.ndarray, params: GravityParams) -> np.ndarray:
     return np.exp(-(excess ** 2))
 
 
-def _scores(cands, normals, weights, hweights, params):
+def _mirror_pairs(n: np.ndarray, cent, params: GravityParams):
+    """Drafted walls facing each other: ``(I, J, B)``, plane indices and the unit bisector of
+    each pair's normals (oriented to the sensor, as the normals are), or ``None``.
+
+    A pair qualifies when the angle between its normals is ``180 - 2 d`` for a draft ``d``
+    between ``tol_deg`` (below that both walls are vertical to the bisector already) and
+    ``max_draft_deg``; the walls face each other: each normal points towards the other
+    plane's centroid (a cavity seen from inside, not a ridge or a box's corner seen from
+    outside); and a plane level w.r.t. their bisector (within ``tol_deg``) lies lower along
+    it than both walls' centroids: the container's floor.  The bisector is then the one up
+    for which both walls lean out alike from a level floor: the mirror axis of a tote's or
+    bin's walls."""
+    if not params.mirror_pairs or cent is None or n.shape[0] < 2:
+        return None
+    cent = np.asarray(cent, dtype=np.float64)
+    k = n.shape[0]
+    i, j = np.nonzero(np.arange(k)[:, None] < np.arange(k)[None, :])
+    cos_ij = np.einsum("ij,ij->i", n[i], n[j])
+    lo = math.cos(math.radians(180.0 - 2.0 * params.tol_deg))
+    hi = math.cos(math.radians(180.0 - 2.0 * params.max_draft_deg))
+    d = cent[j] - cent[i]
+    facing = (np.einsum("ij,ij->i", n[i], d) > 0) & (np.einsum("ij,ij->i", n[j], -d) > 0)
+    ok = (cos_ij >= lo) & (cos_ij <= hi) & facing
+    if not ok.any():
+        return None
+    i, j = i[ok], j[ok]
+    b = n[i] + n[j]
+    b /= np.linalg.norm(b, axis=1)[:, None]
+    # the container's floor: a plane level w.r.t. the bisector, lower than both walls' middles
+    level = np.abs(b @ n.T) >= math.cos(math.radians(params.tol_deg))  # (P, N)
+    below_i = np.einsum("pk,nk->pn", b, cent) < np.einsum("pk,pk->p", b, cent[i])[:, None]
+    below_j = np.einsum("pk,nk->pn", b, cent) < np.einsum("pk,pk->p", b, cent[j])[:, None]
+    floor = (level & below_i & below_j).any(axis=1)
+    if not floor.any():
+        return None
+    return i[floor], j[floor], b[floor]
+
+
+def _pair_votes(cands, weights, pairs, params) -> np.ndarray:
+    """``(C,)``: the area of the planes that belong to a mirror pair whose bisector is within
+    ``tol_deg`` of the candidate (each plane once, through the kernel of its best pair)."""
+    out = np.zeros(cands.shape[0])
+    if pairs is None:
+        return out
+    i, j, b = pairs
+    ang = np.degrees(np.arccos(np.clip(np.abs(cands @ b.T), 0.0, 1.0)))
+    k = _kernel(ang, params.tol_deg)  # (C, P)
+    for p in np.unique(np.concatenate([i, j])):
+        sel = (i == p) | (j == p)
+        out += weights[p] * k[:, sel].max(axis=1)
+    return out
+
+
+def _scores(cands, normals, weights, hweights, params, pairs=None):
     from_h, from_v = _angles(cands, normals)
     tol = params.tol_deg
     score = _kernel(from_h, tol) @ hweights + params.vertical_weight * (_kernel(from_v, tol) @ weights)
+    score = score + _pair_votes(cands, hweights, pairs, params)
     return score * _pose_prior(cands, params)
 
 
@@ -331,7 +403,7 @@ def _choose_sign(c: np.ndarray, normals, weights, params) -> np.ndarray:
 
 
 def estimate_gravity(normals, weights, offsets=None, params: GravityParams | None = None,
-                     ranges=None) -> UpEstimate:
+                     ranges=None, centroids=None) -> UpEstimate:
     """Estimate the up vector from oriented plane normals and their areas.
 
     Parameters
@@ -348,6 +420,9 @@ def estimate_gravity(normals, weights, offsets=None, params: GravityParams | Non
         Distance from the camera to each plane's centroid, metres: only the planes within
         about ``params.max_height`` (1-metre scale) vote for the upside-down reading
         (``params.flip``).  Default: ``offsets``.
+    centroids : array_like, shape (N, 3), optional
+        Each plane's centroid, metres: walls facing each other across a cavity, tilted alike,
+        vote for their bisector (``params.mirror_pairs``).  Default: no such votes.
 
     Returns
     -------
@@ -373,12 +448,19 @@ def estimate_gravity(normals, weights, offsets=None, params: GravityParams | Non
             raise InputError(f"estimate_gravity needs one range per normal, got {n.shape[0]} "
                              f"normals and {r.shape[0]} ranges")
         near = hw * _height_factor(np.abs(r), params)
-    return _estimate(n, w, hw, params, near)
+    cent = None
+    if centroids is not None:
+        cent = np.asarray(centroids, dtype=np.float64).reshape(-1, 3)
+        if cent.shape[0] != n.shape[0]:
+            raise InputError(f"estimate_gravity needs one centroid per normal, got {n.shape[0]} "
+                             f"normals and {cent.shape[0]} centroids")
+    return _estimate(n, w, hw, params, near, cent)
 
 
-def _estimate(n, w, hw, params: GravityParams, near=None) -> UpEstimate:
+def _estimate(n, w, hw, params: GravityParams, near=None, cent=None) -> UpEstimate:
     """:func:`estimate_gravity` with the horizontal weights ``hw`` given; ``near`` (default
-    ``hw``) are the weights of the upside-down reading (:func:`_flipped`)."""
+    ``hw``) are the weights of the upside-down reading (:func:`_flipped`); ``cent`` the
+    planes' centroids (:func:`_mirror_pairs`), optional."""
     near = hw if near is None else near
     length = np.linalg.norm(n, axis=1)
     keep = np.isfinite(length) & (length > 0) & np.isfinite(w) & (w > 0) & np.isfinite(hw)
@@ -386,12 +468,14 @@ def _estimate(n, w, hw, params: GravityParams, near=None) -> UpEstimate:
     w = w[keep]
     hw = hw[keep]
     near = np.where(np.isfinite(near[keep]), near[keep], 0.0)
+    if cent is not None:
+        cent = cent[keep]
     if n.shape[0] == 0:
         return UpEstimate(np.array(DEFAULT_UP), "default", 0.0, 0, True)
-    upright = _upright(n, w, hw, params)
+    upright = _upright(n, w, hw, params, _mirror_pairs(n, cent, params))
     if not params.flip:
         return upright
-    return _flipped(upright, n, near, params)
+    return _flipped(upright, n, near, params, cent)
 
 
 #: Turning the camera by 180 degrees about its optical axis negates x and y.
@@ -406,7 +490,7 @@ def _seen_from_above(c: np.ndarray, n: np.ndarray, hw: np.ndarray, params: Gravi
     return float(hw[h & (along > 0)].sum())
 
 
-def _flipped(upright: UpEstimate, n, hw, params: GravityParams) -> UpEstimate:
+def _flipped(upright: UpEstimate, n, hw, params: GravityParams, cent=None) -> UpEstimate:
     """The upright estimate, or the upside-down one when the planes say so.
 
     The upside-down reading is the upright estimate of the frame turned by 180 degrees about
@@ -430,7 +514,9 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams) -> UpEstimate:
     if not keep.any():
         return upright
     nk, wk = n[keep], hw[keep]
-    turned = _upright(nk * _TURN, wk, wk, params)
+    pairs = _mirror_pairs(nk, None if cent is None else cent[keep], params)
+    turned_pairs = None if pairs is None else (pairs[0], pairs[1], pairs[2] * _TURN)
+    turned = _upright(nk * _TURN, wk, wk, params, turned_pairs)
     if turned.source != "estimated":
         return upright
     c = np.array(turned.vector) * _TURN
@@ -438,8 +524,9 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams) -> UpEstimate:
         return upright
     u = np.array(upright.vector)
     if abs(float(c @ u)) < math.cos(math.radians(2.0 * params.tol_deg)):
-        s_flip = float(_scores(_orient((c * _TURN)[None]), nk * _TURN, wk, wk, params)[0])
-        s_up = float(_scores(_orient(u[None]), nk, wk, wk, params)[0])
+        s_flip = float(_scores(_orient((c * _TURN)[None]), nk * _TURN, wk, wk, params,
+                               turned_pairs)[0])
+        s_up = float(_scores(_orient(u[None]), nk, wk, wk, params, pairs)[0])
         if s_flip <= s_up:
             return upright
     above_flip = _seen_from_above(c, n, hw, params)
@@ -450,21 +537,29 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams) -> UpEstimate:
                       upside_down=True)
 
 
-def _upright(n, w, hw, params: GravityParams) -> UpEstimate:
-    """The estimate for a camera that is not upside down (unit normals, positive weights)."""
+def _upright(n, w, hw, params: GravityParams, pairs=None) -> UpEstimate:
+    """The estimate for a camera that is not upside down (unit normals, positive weights;
+    ``pairs``: :func:`_mirror_pairs`'s)."""
     cands = _candidates(n, w, params)
-    score = _scores(cands, n, w, hw, params)
+    if pairs is not None:
+        cands = np.concatenate([cands, _orient(pairs[2])], axis=0)
+    score = _scores(cands, n, w, hw, params, pairs)
     best = int(np.argmax(score))
     c = _refine(cands[best], n, w, hw, params)
     c = _choose_sign(c / np.linalg.norm(c), n, hw, params)
     # confidence
-    s_best = float(_scores(_orient(c[None]), n, w, hw, params)[0])
+    s_best = float(_scores(_orient(c[None]), n, w, hw, params, pairs)[0])
     s_best = max(s_best, float(score[best]))
     far = np.abs(cands @ c) < math.cos(math.radians(2.0 * params.tol_deg))
     rival = float(score[far].max()) if far.any() else 0.0
     from_h, from_v = (a[0] for a in _angles(c[None], n))
     h = from_h <= params.tol_deg
     v = from_v <= params.tol_deg
+    if pairs is not None:  # walls of a mirror pair about the estimate are explained
+        near_b = np.degrees(np.arccos(np.clip(np.abs(pairs[2] @ c), 0.0, 1.0))) <= params.tol_deg
+        v = v.copy()
+        v[pairs[0][near_b]] = True
+        v[pairs[1][near_b]] = True
     explained = float(w[h | v].sum() / w.sum())
     ratio = rival / s_best if s_best > 0 else 1.0
     # cross-checked: the consistent planes point in two directions at least min_pair_deg apart
@@ -484,8 +579,8 @@ def _upright(n, w, hw, params: GravityParams) -> UpEstimate:
 
 
 def _planes_from_labels(cloud, labels, params: GravityParams):
-    """Oriented normals ``(K, 3)``, areas ``(K,)``, offsets ``(K,)`` and centroid ranges
-    ``(K,)`` of the labelled regions that may vote."""
+    """Oriented normals ``(K, 3)``, areas ``(K,)``, offsets ``(K,)``, centroid ranges
+    ``(K,)`` and centroids ``(K, 3)`` of the labelled regions that may vote."""
     from planerel.features.labels import _moments, check_labels
 
     xyz = cloud.xyz
@@ -493,11 +588,11 @@ def _planes_from_labels(cloud, labels, params: GravityParams):
     lab[~cloud.valid] = -1
     nlab = int(lab.max()) + 1 if lab.size else 0
     if nlab <= 0:
-        return np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0)
+        return np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3))
     counts, cent, cov, _ = _moments(xyz, lab, nlab)
     ok = counts >= params.min_points
     if not ok.any():
-        return np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0)
+        return np.zeros((0, 3)), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3))
     vals, vecs = np.linalg.eigh(cov[ok])
     vals = np.maximum(vals, 0.0)
     nrm = vecs[:, :, 0].copy()
@@ -508,7 +603,7 @@ def _planes_from_labels(cloud, labels, params: GravityParams):
     reach = np.linalg.norm(cent[ok], axis=1)
     flat = np.sqrt(vals[:, 0]) <= 0.25 * np.sqrt(vals[:, 1])
     keep = flat & (area >= params.min_area)
-    return nrm[keep], area[keep], offset[keep], reach[keep]
+    return nrm[keep], area[keep], offset[keep], reach[keep], cent[ok][keep]
 
 
 def _grid_directions(cloud, params: GravityParams):
@@ -586,8 +681,8 @@ def up_from_cloud(cloud, labels=None, params: GravityParams | None = None) -> Up
     """
     params = params or GravityParams()
     if labels is not None:
-        normals, weights, offsets, ranges = _planes_from_labels(cloud, labels, params)
-        return estimate_gravity(normals, weights, offsets, params, ranges)
+        normals, weights, offsets, ranges, cent = _planes_from_labels(cloud, labels, params)
+        return estimate_gravity(normals, weights, offsets, params, ranges, cent)
     normals, weights, hweights, near = _grid_directions(cloud, params)
     return _estimate(normals, weights, hweights, params, near)
 
