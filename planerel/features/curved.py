@@ -18,6 +18,9 @@ The rule (:func:`curved_objects`), with the parameters of :class:`CurvedParams`:
    flat face, in no link (2026-11-29): a real carpeted stair's rounded nosings are narrow
    strips between its wide treads and risers, and through them the whole flight read as
    round.
+   **Islands** (``island_faces``, 2026-12-01): so is a plane at least ``facet_max_width`` wide
+   that touches none of the planes it links to in the grid (a depth step all round: a
+   carton's top lying on a pile in a bin); a round surface's strips touch each other.
    **Rough planes** (``flat_bend``, 2026-11-30): a group whose points (every plane's, together)
    fit a quadric that turns by less than ``flat_bend`` over their extent
    (:func:`surface_bend`: about 0.02 for a RealSense box top cut into 8 bumps' flanks 5-28
@@ -219,6 +222,13 @@ class CurvedParams:
         linked by the facet rule (adjacent, ``facet_min_angle``-``facet_max_angle`` apart) are
         one proposal: the strips of a bowl's inside meet at concave edges, which the proposal
         rule cuts, and each was a curved proposal of its own (tabletop22).
+    island_faces : bool
+        A plane at least ``facet_max_width`` wide that touches none of the planes the facet
+        rule links it to (every link across a depth step, through the hulls' adjacency gap
+        only) is a flat face, in no link: a carton's top lying on a pile in a bin, 1.5-3 cm
+        above the tilted pieces around it, was a facet of the pile and the carton one of 18
+        proposals merged into one curved object (bin37, docs/objects.md "A carton's top on a
+        pile").  A round surface's strips touch each other.  False: the rule before.
     """
 
     facet_min_angle: float = FACET_MIN_ANGLE
@@ -250,6 +260,7 @@ class CurvedParams:
     nest_credit: float = 0.008
     join_parts: bool = False
     skirt_faces: bool = True
+    island_faces: bool = True
 
     def __post_init__(self) -> None:
         for name in ("facet_min_angle", "facet_max_angle", "facet_max_width", "facet_wide_ratio",
@@ -551,8 +562,19 @@ def facet_planes(planes, relations, candidates=None, params: CurvedParams | None
     cand = {p.label for p in planes} if candidates is None else set(candidates)
     cand -= set(flat)
     lo, hi = params.facet_min_angle, params.facet_max_angle
-    links = [(r.a, r.b) for r in adjacent_only(relations)
-             if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi]
+    rels = [r for r in adjacent_only(relations)
+            if r.a < r.b and r.adjacent and r.a in cand and r.b in cand and lo <= r.angle <= hi]
+    if params.island_faces and params.facet_max_width > 0 and rels:
+        # a face at least facet_max_width wide that touches none of the planes it links to (a
+        # depth step all round: a carton's top lying on a pile) is a flat face, in no link
+        touches: dict = {}
+        for r in rels:
+            for x in (r.a, r.b):
+                touches[x] = touches.get(x, False) or bool(r.touching)
+        width = {p.label: p.width for p in planes if p.label in touches}
+        island = {x for x, t in touches.items() if not t and width.get(x, 0.0) >= params.facet_max_width}
+        rels = [r for r in rels if r.a not in island and r.b not in island]
+    links = [(r.a, r.b) for r in rels]
     surface = None
     if labels is None:
         labels = getattr(planes, "labels", None)
