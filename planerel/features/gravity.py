@@ -557,7 +557,6 @@ def _upright(n, w, hw, params: GravityParams, pairs=None) -> UpEstimate:
     v = from_v <= params.tol_deg
     if pairs is not None:  # walls of a mirror pair about the estimate are explained
         near_b = np.degrees(np.arccos(np.clip(np.abs(pairs[2] @ c), 0.0, 1.0))) <= params.tol_deg
-        v = v.copy()
         v[pairs[0][near_b]] = True
         v[pairs[1][near_b]] = True
     explained = float(w[h | v].sum() / w.sum())
