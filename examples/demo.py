@@ -72,6 +72,15 @@ PANELS = 30
 #: 0.16-0.94 m^2).  15, not more: with 20-30 the fourth box clause lost its right-angle bound
 #: and answered the Kinect frames' corner furniture ``box`` (docs/results.md "Small faces").
 SMALL_FACES = 15
+#: Scenes of the training world's product part (YCB-like product boxes, 3-27 cm a side,
+#: standing, on their side or lying flat on a table among mugs, cans, bottles, bowls, plates and
+#: thin boards: :func:`planerel.synth.training_world.generate_product_scene`; 0: none;
+#: product37).  Learned as an extension of the rest of the world's theory (extend40,
+#: :func:`learn_shipped`): the product part added to the world moved box rules 3-4 and the ramp
+#: rule and added false answers on real frames (docs/objects.md "Product-size boxes in the
+#: training world"); as an extension the rules stay and their proof domains reach product-size
+#: faces (docs/objects.md "Product boxes as an extension of the theory").
+PRODUCTS = 60
 #: Learner settings of the model: the score is coverage (positives - negatives), a rule must
 #: cover 8 objects and may take a few negatives, so that no narrow rule is kept for a handful
 #: of odd boxes (boxes seen as one face have their rule on ``tall_face/1`` since the face
@@ -103,7 +112,41 @@ def default_parts() -> dict:
     :func:`planerel.synth.training_world.generate_training_world`; the flags' defaults), for
     whatever learns the same model elsewhere (the tests' ``demo_model`` fixture)."""
     return {"round_": ROUND, "faces": FACES, "flat": FLAT, "piles": PILES, "open_": OPEN,
-            "panels": PANELS, "small_faces": SMALL_FACES}
+            "panels": PANELS, "small_faces": SMALL_FACES, "products": PRODUCTS}
+
+
+def learn_shipped(data_dir, model_dir, *, parts: dict, world_seed: int, learner_seed: int,
+                  engine: str = "auto", jobs=None, log=print, cache=None, progress=None):
+    """Generate the training world and learn the shipped model from it, in two stages.
+
+    The world without its product part (``parts["products"]`` scenes) is learned first, into
+    ``MODEL_DIR_base``; the model proper is that theory extended on the whole world
+    (:func:`planerel.ilp.pipeline.learn_rules`' ``prior``): its clauses are kept as they are, the
+    learner is given the positives they do not prove, and the statistics and the decision's
+    domains are measured on every scene.  With no product part: one stage, ``model_dir``.
+
+    Returns
+    -------
+    (Path, dict)
+        The whole world's data set folder and the model's metrics.
+    """
+    from planerel.ilp.pipeline import learn_model, prior_rules
+    from planerel.synth.training_world import generate_training_world
+
+    data_dir, model_dir = Path(data_dir), Path(model_dir)
+    world_kw = {"paper": PAPER, "room": ROOM, "seed": world_seed, "size": (640, 480),
+                "subsample": 4}
+    learn_kw = {"engine": engine, "seed": learner_seed, "jobs": jobs, "settings": LEARNER,
+                "timeout": 900, "log": log, "cache": cache, "progress": progress}
+    if not parts.get("products"):
+        world = generate_training_world(data_dir / "model_train", **parts, **world_kw)
+        return world, learn_model(world, model_dir, **learn_kw)
+    base = generate_training_world(data_dir / "model_base", **{**parts, "products": 0},
+                                   **world_kw)
+    base_model = model_dir.with_name(model_dir.name + "_base")
+    learn_model(base, base_model, **learn_kw)
+    world = generate_training_world(data_dir / "model_train", **parts, **world_kw)
+    return world, learn_model(world, model_dir, prior=prior_rules(base_model), **learn_kw)
 
 
 def seeds(n: int = 0) -> dict:
@@ -154,15 +197,17 @@ def main(argv=None) -> int:
     ap.add_argument("--small-faces", dest="small_faces", type=int, default=SMALL_FACES,
                     metavar="N", help=f"scenes of the training world's small-face part (a small "
                     f"box seen as one side face; default {SMALL_FACES})")
+    ap.add_argument("--products", type=int, default=PRODUCTS, metavar="N",
+                    help=f"scenes of the training world's product part (YCB-like product boxes "
+                         f"on a table among table-top clutter; default {PRODUCTS})")
     args = ap.parse_args(argv)
 
     from planerel.classify import Classifier, classify_dataset
     from planerel.compile_notice import watch
     from planerel.errors import InputError, PlanerelError
-    from planerel.ilp.pipeline import cross_validate, describe_scenes, draw_confusion, learn_model
+    from planerel.ilp.pipeline import cross_validate, describe_scenes, draw_confusion
     from planerel.io.writers import write_json
     from planerel.synth import CameraRange, generate_dataset
-    from planerel.synth.training_world import generate_training_world
 
     watch()  # one line on a terminal while numba compiles the kernels (the first run only)
     out = Path(args.out)
@@ -171,7 +216,7 @@ def main(argv=None) -> int:
         sd = seeds(args.seed)
         for flag, n in (("round", args.round_), ("faces", args.faces), ("flat", args.flat),
                         ("piles", args.piles), ("open", args.open_), ("panels", args.panels),
-                        ("small-faces", args.small_faces)):
+                        ("small-faces", args.small_faces), ("products", args.products)):
             if n < 0:
                 raise InputError(f"--{flag} must be a non-negative integer, got {n}")
         train = generate_dataset(out / "data" / "train", n_box=12, n_stairs=15, n_ramp=18,
@@ -179,17 +224,11 @@ def main(argv=None) -> int:
         held = generate_dataset(out / "data" / "heldout", n_box=12, n_stairs=15, n_ramp=18,
                                 seed=sd["heldout"], size=(640, 480), subsample=4,
                                 camera=CameraRange(height=(0.7, 1.7), distance=(1.0, 2.2)))
-        world = generate_training_world(out / "data" / "model_train", paper=PAPER, room=ROOM,
-                                        round_=args.round_, faces=args.faces, flat=args.flat,
-                                        piles=args.piles, open_=args.open_,
-                                        panels=args.panels, small_faces=args.small_faces,
-                                        seed=sd["world"],
-                                        size=(640, 480), subsample=4)
         if args.seed:
             print(f"--seed {args.seed}: paper-sized set and training world from seed "
                   f"{sd['train']} (the shipped model: 0)")
         print(f"data: {train} (paper-sized set), {held} (held out: seed 1000, other camera "
-              f"ranges), {world} (the model's training world: the paper-sized scenes and "
+              f"ranges), {out / 'data' / 'model_train'} (the model's training world: the paper-sized scenes and "
               f"{sum(ROOM)} Kinect-like room scenes with clutter"
               + (f", {args.round_} round scenes: a box among cylinders" if args.round_ else "")
               + (f", {args.faces} face scenes: a box seen from a low camera" if args.faces else "")
@@ -202,6 +241,9 @@ def main(argv=None) -> int:
                  if args.panels else "")
               + (f", {args.small_faces} small-face scenes: a small box seen as one side face"
                  if args.small_faces else "")
+              + (f", {args.products} product scenes: product boxes on a table among table-top "
+                 f"clutter, learned as an extension of the rest's theory ({out / 'model_base'})"
+                 if args.products else "")
               + ")")
         descs, _ = describe_scenes(train, jobs=args.jobs, progress=False)
         classes = ["box", "stairs", "ramp"]
@@ -212,8 +254,13 @@ def main(argv=None) -> int:
         _print_confusion(cv["confusion"], classes)
         draw_confusion(out / "cv_confusion.png", cv["confusion"], classes,
                        title=f"paper-sized set, {args.folds}-fold CV, accuracy {cv['accuracy']:.3f}")
-        m = learn_model(world, out / "model", engine=args.engine, seed=sd["learner"], jobs=args.jobs,
-                        settings=LEARNER, timeout=900, log=lambda s: print(s, file=sys.stderr))
+        parts = {"round_": args.round_, "faces": args.faces, "flat": args.flat,
+                 "piles": args.piles, "open_": args.open_, "panels": args.panels,
+                 "small_faces": args.small_faces, "products": args.products}
+        world, m = learn_shipped(out / "data", out / "model", parts=parts,
+                                 world_seed=sd["world"], learner_seed=sd["learner"],
+                                 engine=args.engine, jobs=args.jobs,
+                                 log=lambda s: print(s, file=sys.stderr))
         print(f"engine: {m['engine']}")
         print(f"model {out / 'model'} ({m['n_scenes']} scenes, {m['n_examples']} class "
               f"objects and {m['n_other']} other objects; {_settings_text(LEARNER)}; learning "

@@ -85,8 +85,6 @@ def test_the_demo_model_fixture_learns_every_part_of_make_demos_world():
 def demo_model(request):
     """The demo's model folder (learned here, or from the cache for this code)."""
     _need_data()
-    from planerel.ilp.pipeline import learn_model
-    from planerel.synth.training_world import generate_training_world
 
     cache = Path(request.config.cache.mkdir("planerel-demo-model"))
     model = cache / _code_hash()
@@ -98,12 +96,10 @@ def demo_model(request):
                 shutil.rmtree(old, ignore_errors=True)
         demo = _demo()
         seeds = demo.seeds()  # the shipped model's (make demo, --seed 0)
-        world = generate_training_world(cache / "world", paper=demo.PAPER, room=demo.ROOM,
-                                        **demo.default_parts(), seed=seeds["world"],
-                                        size=(640, 480), subsample=4)
-        learn_model(world, model, engine="builtin", seed=seeds["learner"], jobs=2,
-                    settings=demo.LEARNER,
-                    cache="none", log=lambda s: None, progress=False)
+        demo.learn_shipped(cache / "world", model, parts=demo.default_parts(),
+                           world_seed=seeds["world"], learner_seed=seeds["learner"],
+                           engine="builtin", jobs=2, cache="none", log=lambda s: None,
+                           progress=False)
     return model
 
 

@@ -72,6 +72,11 @@ def register(sub) -> None:
                    help="learn K theories on K disjoint parts of the data set (stratified by "
                         "each scene's class) and answer by their vote (docs/learner.md, "
                         "'Members: a vote of theories'); default 1: one theory on all scenes")
+    p.add_argument("--extend", metavar="MODEL_DIR",
+                   help="keep that model's rules as they are and learn only clauses for the "
+                        "positives they do not prove (every negative stays): new kinds of "
+                        "objects added to a data set without the old rules' bounds moving "
+                        "(docs/learner.md, 'Extending a theory')")
     p.set_defaults(func=run)
 
 
@@ -137,13 +142,18 @@ def run(args) -> int:
         raise InputError(f"--classes names no class, got {args.classes!r}; e.g. --classes box,stairs")
     if args.cache is not None and str(args.cache).lower() not in ("", "none", "off"):
         _check_cache(args.cache)
+    prior = None
+    if args.extend:
+        from planerel.ilp.pipeline import prior_rules
+
+        prior = prior_rules(args.extend)
     m = learn_model(args.dataset, args.output, classes=classes, engine=args.engine,
                     folds=args.folds, seed=args.seed, timeout=args.timeout, jobs=args.jobs,
                     method=args.method, seg_params=_params(args.param), cache=args.cache,
                     log=lambda s: print(s, file=sys.stderr), scheduler=args.scheduler,
                     heldout=args.heldout, settings=_settings(args.settings) or None,
                     other_rules=args.other_rules, keep_redundant=args.keep_redundant,
-                    task=args.task, recipe=args.recipe, members=args.members)
+                    task=args.task, recipe=args.recipe, members=args.members, prior=prior)
     print(f"engine: {m['engine']}")
     print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
           f"{', '.join(m['classes'])}"

@@ -312,7 +312,7 @@ def task_examples(descs, target, classes=None):
 
 def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
                 task: str | None = None, settings: dict | None = None,
-                stem: str | None = None, skip_negatives=()) -> dict[str, str]:
+                stem: str | None = None, skip_negatives=(), skip_positives=()) -> dict[str, str]:
     """The text of ``STEM.b``, ``STEM.f`` and ``STEM.n`` for one target.
 
     Parameters
@@ -335,6 +335,10 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
         Object ids that are no negative example of this target (a per-class task only): the
         objects the decision refuses the class for whatever the rules say
         (:func:`planerel.ilp.metrics.gated_negatives`).  Their facts stay in ``STEM.b``.
+    skip_positives : collection of str, optional
+        Object ids of this target left out of ``STEM.f`` (a per-class task only): the
+        positives a prior theory already proves, when extending it
+        (:func:`planerel.ilp.pipeline.learn_rules`' ``prior``).  Their facts stay in ``STEM.b``.
 
     Returns
     -------
@@ -356,6 +360,9 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     skip = frozenset(skip_negatives or ())
     if skip and target == "class":
         raise InputError("skip_negatives needs a per-class task, not the multi-class 'class'")
+    have = frozenset(skip_positives or ())
+    if have and target == "class":
+        raise InputError("skip_positives needs a per-class task, not the multi-class 'class'")
     set_lines = []
     for s in sets:
         name = _SET.match(s).group(1)
@@ -364,7 +371,8 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     set_lines += [f":- set({k}, {v})." for k, v in overrides.items()]
     head = "class(+obj, #cls)" if multi else f"{target}(+obj)"
     tname, tar = ("class", 2) if multi else (target, 1)
-    npos = sum(1 for e in examples if (e.klass in classes if multi else e.klass == target))
+    npos = sum(1 for e in examples if (e.klass in classes if multi
+                                       else e.klass == target and e.object_id not in have))
     nneg = (sum(len(classes) - (e.klass in classes) for e in examples) if multi
             else sum(1 for e in examples if e.klass != target and e.object_id not in skip))
     b = [f"% planerel Aleph task {stem}: {'multi-class' if multi else 'is the object a ' + target}",
@@ -381,7 +389,8 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
         pos = [F("class", e.object_id, e.klass) for e in examples if e.klass in classes]
         neg = [F("class", e.object_id, c) for e in examples for c in classes if c != e.klass]
     else:
-        pos = [F(target, e.object_id) for e in examples if e.klass == target]
+        pos = [F(target, e.object_id) for e in examples
+               if e.klass == target and e.object_id not in have]
         neg = [F(target, e.object_id) for e in examples
                if e.klass != target and e.object_id not in skip]
     return {f"{stem}.b": "\n".join(b) + "\n", f"{stem}.f": "".join(x + "\n" for x in pos),
@@ -391,7 +400,8 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
 def export_aleph(descs, out_dir, target: str = "all", *, classes: Sequence[str] | None = None,
                  task: str | None = None, settings: dict | None = None,
                  class_settings: dict | None = None,
-                 skip_negatives: dict | None = None) -> ExportResult:
+                 skip_negatives: dict | None = None,
+                 skip_positives: dict | None = None) -> ExportResult:
     """Write the Aleph files of a target to ``out_dir``.
 
     ``target``: a class name; ``"all"`` (one stem per class); ``"class"`` (one multi-class
@@ -411,7 +421,8 @@ def export_aleph(descs, out_dir, target: str = "all", *, classes: Sequence[str] 
     for t in targets:
         own = {**(settings or {}), **(class_settings or {}).get(t, {})}
         texts.update(aleph_files(descs, t, classes=classes, task=task, settings=own or None,
-                                 skip_negatives=(skip_negatives or {}).get(t, ())))
+                                 skip_negatives=(skip_negatives or {}).get(t, ()),
+                                 skip_positives=(skip_positives or {}).get(t, ())))
     out = Path(out_dir)
     paths = tuple(write_text(out / name, text) for name, text in sorted(texts.items()))
     counts = {c: sum(1 for e in examples if e.klass == c) for c in classes}

@@ -384,7 +384,7 @@ def split_class_settings(settings: dict | None, classes: Sequence[str]) -> tuple
 def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeout: float = 120.0,
                 settings: dict | None = None, work_dir=None, task: str | None = None,
                 jobs: int | None = None, log=None, other_rules: bool = False,
-                keep_redundant: bool = False) -> Model:
+                keep_redundant: bool = False, prior: dict | None = None) -> Model:
     """Learn one theory per class from described scenes (one Aleph run per class).
 
     With ``other_rules`` and objects of class ``other`` among the examples (clutter: none of
@@ -421,6 +421,14 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         Keep every clause the learner returned.  By default a clause whose training positives
         the other clauses of its class all prove, and that proves some objects of other
         classes, is left out (:func:`drop_redundant`).
+    prior : dict, optional
+        ``{class: clauses}``: a theory to extend, not to learn again (``learn --extend``).
+        Its clauses are kept as they are and come first; the learner is given only the
+        positives they do not prove (every negative stays), as Aleph's cover loop does after
+        each clause it adds, so the clauses it adds describe what the prior theory misses
+        (new kinds of objects in the data) and no prior clause's bounds move.  The
+        statistics and domains are measured on every training object, prior clauses
+        included; :func:`drop_redundant` never leaves a prior clause out.
 
     Returns
     -------
@@ -456,8 +464,10 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         common = {n: v for n, v in common.items() if n not in PLANEREL_SETTINGS}
         per_class = {k: {n: v for n, v in kv.items() if n not in PLANEREL_SETTINGS}
                      for k, kv in per_class.items()}
+        prior = {k: tuple(v) for k, v in (prior or {}).items() if v}
+        proved = _prior_proved(prior, classes, descs, examples, timeout) if prior else {}
         export_aleph(descs, work_dir, "all", classes=list(targets), task=task, settings=common,
-                     class_settings=per_class, skip_negatives=skip)
+                     class_settings=per_class, skip_negatives=skip, skip_positives=proved)
         rules, uncovered, seconds, explored, engines = {}, {}, 0.0, 0, set()
 
         def one(k):
@@ -495,7 +505,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
                 raise
             pool.shutdown()
         for k, res in zip(targets, results, strict=True):
-            rules[k] = tuple(r for r in res.rules if ":-" in r)
+            rules[k] = prior.get(k, ()) + tuple(r for r in res.rules if ":-" in r
+                                                 and r not in prior.get(k, ()))
             # unit clauses (seeds Aleph keeps as facts when minpos =< 1) and the positives
             # the theory leaves out (seeds without a clause when minpos > 1)
             uncovered[k] = len(res.rules) - len(rules[k]) + res.train.fn
@@ -509,7 +520,9 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
             return model
         fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
         if not keep_redundant:
-            model, fired = drop_redundant(model, fired, dict(examples))
+            fixed = {i for i, k in _index_class(model)
+                     if model.clauses()[i - 1] in prior.get(k, ())}
+            model, fired = drop_redundant(model, fired, dict(examples), fixed=fixed)
         stats, cofire = _stats_from_fired(model, fired, dict(examples))
         return replace(model, stats=stats, cofire=cofire,
                        proof_domain=proof_domain(fired, dict(examples)),
@@ -519,6 +532,53 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
     finally:
         if tmp is not None:
             tmp.cleanup()
+
+
+def prior_rules(model_dir) -> dict:
+    """``{class: clauses}`` of a model folder written by :func:`learn_model` (its
+    ``metrics.json``), to extend with ``learn_model(prior=...)`` (``planerel learn --extend``).
+
+    Raises
+    ------
+    InputError
+        No such model folder, a members model (several theories: extend one member's
+        folder), or a model with no rule.
+    """
+    import json
+
+    path = Path(model_dir) / "metrics.json"
+    try:
+        metrics = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(f"--extend {model_dir}: no model folder there (no metrics.json)") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"--extend {model_dir}: cannot read {path}: {exc}") from None
+    if not isinstance(metrics, dict) or metrics.get("members"):
+        raise InputError(f"--extend {model_dir}: a members model holds several theories; "
+                         f"extend one member's folder ({model_dir}/members/N)")
+    rules = metrics.get("rules")
+    if not isinstance(rules, dict) or not any(rules.values()):
+        raise InputError(f"--extend {model_dir}: the model has no rule to extend")
+    return {str(k): tuple(str(c) for c in v) for k, v in rules.items() if v}
+
+
+def _prior_proved(prior: dict, classes, descs, examples, timeout: float) -> dict:
+    """``{class: object ids}``: the training positives of each class that ``prior``'s clauses
+    of that class prove (:func:`learn_rules`' ``prior``)."""
+    unknown = sorted(set(prior) - set(classes))
+    if unknown:
+        raise InputError(f"the prior theory has rules for {', '.join(unknown)}, which the "
+                         f"training data has no example of")
+    model = Model(tuple(k for k in classes if k in prior), dict(prior))
+    fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
+    truth = dict(examples)
+    class_of = dict(_index_class(model))
+    out: dict = {}
+    for obj, hits in fired.items():
+        for h in hits:
+            if truth.get(obj) == class_of[h[1]]:
+                out.setdefault(truth[obj], set()).add(obj)
+    return out
 
 
 # ----------------------------------------------------------------------------- logic queries
@@ -738,7 +798,7 @@ def _stats_from_fired(model: Model, fired: dict, truth: dict) -> tuple[tuple, tu
     return stats, tuple((a, b, k, n) for (a, b, k), n in sorted(together.items()))
 
 
-def drop_redundant(model: Model, fired: dict, truth: dict) -> tuple[Model, dict]:
+def drop_redundant(model: Model, fired: dict, truth: dict, fixed=()) -> tuple[Model, dict]:
     """Leave out the clauses that add only false positives on the training objects.
 
     Aleph's cover loop adds clauses one after another and never looks back: a later, more
@@ -760,6 +820,8 @@ def drop_redundant(model: Model, fired: dict, truth: dict) -> tuple[Model, dict]
         (:func:`_parse_fired`), indices of ``model``'s clauses.
     truth : dict
         ``{object: class}`` of the training objects (``other`` included).
+    fixed : collection of int
+        Clause indices never left out (a prior theory's, :func:`learn_rules`).
 
     Returns
     -------
@@ -780,7 +842,7 @@ def drop_redundant(model: Model, fired: dict, truth: dict) -> tuple[Model, dict]
         worst = None
         for i in keep:
             tp, fp = proves[i]
-            if not fp:
+            if not fp or i in fixed:
                 continue
             others = set().union(*(proves[j][0] for j in keep if j != i and class_of[j] == class_of[i]))
             if tp <= others and (worst is None or len(fp) >= len(proves[worst][1])):
@@ -1187,7 +1249,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                 progress: bool | None = None, log=print, scheduler=None,
                 heldout=None, settings: dict | None = None, task: str | None = None,
                 other_rules: bool = False, keep_redundant: bool = False,
-                recipe: str | None = None, members: int = 1) -> dict:
+                recipe: str | None = None, members: int = 1, prior: dict | None = None) -> dict:
     """``planerel learn``: describe a data set, learn the class rules, optionally cross-validate,
     score the model on a held-out data set (``heldout``: :func:`held_out_scores`, in
     ``metrics["heldout"]``), and write a model folder.
@@ -1195,7 +1257,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     ``jobs`` worker processes describe the scenes (or the Dask ``scheduler``'s workers), and
     ``jobs`` cross-validation folds run at once; the result does not depend on either.
     ``settings`` (Aleph ``set/2`` values), ``task`` (a task file), ``other_rules`` and
-    ``keep_redundant`` go to :func:`learn_rules`.  ``recipe`` names a
+    ``keep_redundant`` and ``prior`` (a theory to extend) go to :func:`learn_rules`.  ``recipe`` names a
     :mod:`planerel.ilp.recipes` entry (a task, settings and ``other_rules`` measured together);
     a task or setting given explicitly replaces the recipe's.
 
@@ -1243,6 +1305,10 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         from planerel.features.dataset import load_manifest
 
         load_manifest(heldout)
+    if prior is not None and (members > 1 or folds):
+        raise InputError("extending a theory (--extend) learns one theory on the whole data set: "
+                         "no --members, no --folds (the prior theory has seen every fold; "
+                         "score a --heldout set instead)")
     parts = _member_parts(dataset_dir, classes, members, folds)
     t0 = time.perf_counter()
     descs, skipped = describe_scenes(dataset_dir, classes=classes, method=method,
@@ -1279,9 +1345,11 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         model = learn_rules(descs, classes, engine=engine, timeout=timeout, work_dir=tmp / "aleph",
                             jobs=jobs, log=None if progress is False else log,
                             settings=settings, task=task, other_rules=other_rules,
-                            keep_redundant=keep_redundant)
+                            keep_redundant=keep_redundant, prior=prior)
         model = with_decision(model, decision)
         metrics["seconds"]["learn"] = round(time.perf_counter() - t2, 3)
+        if prior is not None:
+            metrics["prior_rules"] = {k: list(v) for k, v in prior.items()}
         metrics["engine"] = model.engine
         metrics["rules"] = {k: list(v) for k, v in model.rules.items()}
         metrics["rule_stats"] = [list(s) for s in model.stats]
@@ -1292,7 +1360,9 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                            jobs=jobs, cache=cache, progress=progress, timeout=timeout,
                            scheduler=scheduler)
         header = (f"learned by planerel from {dataset_dir} ({len(descs)} scenes, "
-                  f"segmentation: {method}, engine: {model.engine})")
+                  f"segmentation: {method}, engine: {model.engine})"
+                  + (f"\nextending a prior theory of {sum(len(v) for v in prior.values())} "
+                     f"clause(s), kept first and unchanged" if prior else ""))
         write_text(tmp / "rules.pl", model.text(header))
         from planerel.ilp.model_settings import MODEL_FILE, training_settings
 

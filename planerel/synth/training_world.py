@@ -38,6 +38,14 @@ edge fragment) or one horizontal plane (a cylinder's top).  The demo model is le
   high showing only their top as box examples (``"box_top_height": 0.12``), which the
   ``lying/1`` relation describes (docs/objects.md, "Real table-top boxes: why they are missed").
 
+* a product part (``products`` scenes, :func:`generate_product_scene`; product37): YCB-like
+  product boxes 3-27 cm a side (:data:`PRODUCT_SHAPES`), standing, on their side or lying flat
+  on a table among mugs, cans, bottles, bowls, plates and thin boards (class ``other``), seen
+  from 0.4-1.5 m, level with the table to 60 degrees down.  ``make demo`` does not use it
+  (``examples/demo.py --products N`` does): measured with 10, 20 and 40 scenes, every N moved
+  the learned box rules and added false answers on the real sets (docs/objects.md
+  "Product-size boxes in the training world").
+
 The scenes of one data set share one folder and one manifest, in the order paper, flat, room,
 round, faces (the flat part before the room part so that the learner's covering meets its books
 before the room's boxes: docs/objects.md); the parts after the paper part continue the
@@ -53,8 +61,8 @@ from pathlib import Path
 
 from planerel.errors import InputError
 
-__all__ = ["KINECT_ROOM", "KINECT_FACES", "KINECT_OPEN", "KINECT_PANELS", "KINECT_SMALL_FACES", "ROUND_SETTINGS", "FLAT_SETTINGS", "generate_round_scene",
-           "generate_flat_scene", "generate_training_world", "lying_cylinder_geometry"]
+__all__ = ["PRODUCT_SETTINGS", "PRODUCT_SHAPES", "KINECT_ROOM", "KINECT_FACES", "KINECT_OPEN", "KINECT_PANELS", "KINECT_SMALL_FACES", "ROUND_SETTINGS", "FLAT_SETTINGS", "generate_round_scene",
+           "generate_flat_scene", "generate_product_scene", "generate_training_world", "lying_cylinder_geometry"]
 
 #: Ranges of the Kinect-like part (others: :class:`planerel.synth.world.WorldRange` defaults).
 KINECT_ROOM = {
@@ -118,7 +126,7 @@ KINECT_PANELS = {**KINECT_ROOM,
 
 def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), round_: int = 0,
                             faces: int = 0, flat: int = 0, piles: int = 0, open_: int = 0,
-                            panels: int = 0, small_faces: int = 0,
+                            panels: int = 0, small_faces: int = 0, products: int = 0,
                             seed: int = 0, size=(640, 480), subsample: int = 4,
                             ranges=None) -> Path:
     """Write one data set: ``paper`` box/stairs/ramp scenes of the paper-sized world, then
@@ -167,6 +175,12 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         Scenes of the small-face part (a small box seen as one side face from a camera near
         the floor: :data:`KINECT_SMALL_FACES`), last, seeds ``scene_seed(seed + 8, i)``
         (face31).
+    products : int
+        Scenes of the product part (:func:`generate_product_scene`: YCB-like product boxes
+        standing, on their side or lying flat on a table among mugs, cans, bottles, bowls,
+        plates and thin boards of class ``other``, seen from 0.4-1.5 m), after the small-face
+        part, seeds ``scene_seed(seed + 9, i)``, at half the room part's ``subsample`` (as the
+        round part's table tops; product37).
 
     Returns
     -------
@@ -200,11 +214,12 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
                              f"ramp), got {part!r}")
         counts[name] = dict(zip(CLASSES, n, strict=True))
     for what, n in (("round", round_), ("face", faces), ("flat", flat), ("pile", piles),
-                    ("open", open_), ("panel", panels), ("small-face", small_faces)):
+                    ("open", open_), ("panel", panels), ("small-face", small_faces),
+                    ("product", products)):
         if isinstance(n, bool) or not isinstance(n, int) or n < 0:
             raise InputError(f"{what} scene count must be a non-negative integer, got {n!r}")
     if not (sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces + flat
-            + piles + open_ + panels + small_faces):
+            + piles + open_ + panels + small_faces + products):
         raise InputError("a data set needs at least one scene (all counts are 0)")
     ranges = WorldRange(**KINECT_ROOM) if ranges is None else ranges
     paper_sensor, room_sensor = SensorModel(), StructuredLight()
@@ -216,7 +231,8 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             + [("room", k) for k in CLASSES for _ in range(counts["room"][k])]
             + [("round", "box")] * round_ + [("faces", "box")] * faces
             + [("piles", "box")] * piles + [("open", "stairs")] * open_
-            + [("panels", "ramp")] * panels + [("small_faces", "box")] * small_faces)
+            + [("panels", "ramp")] * panels + [("small_faces", "box")] * small_faces
+            + [("products", "box")] * products)
     # the parts that are varied-world scenes: (seed offset, ranges)
     world_parts = {"room": (1, ranges), "faces": (3, WorldRange(**KINECT_FACES)),
                    "open": (5, WorldRange(**KINECT_OPEN)),
@@ -238,6 +254,10 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             elif part == "flat":
                 scene = generate_flat_scene(scene_seed(seed + 4, j), size, subsample,
                                             scene_id=sid, sensor=room_sensor)
+            elif part == "products":
+                scene = generate_product_scene(scene_seed(seed + 9, j), size,
+                                               max(1, subsample // 2), scene_id=sid,
+                                               sensor=room_sensor)
             elif part == "piles":
                 scene = generate_pile_scene(scene_seed(seed + 6, j), size, subsample,
                                             scene_id=sid, sensor=room_sensor)
@@ -252,12 +272,14 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             "world": "paper+kinect-room" + ("+round" if round_ else "") + ("+faces" if faces else "")
                      + ("+flat" if flat else "") + ("+piles" if piles else "")
                      + ("+open" if open_ else "") + ("+panels" if panels else "")
-                     + ("+small-faces" if small_faces else ""),
+                     + ("+small-faces" if small_faces else "")
+                     + ("+products" if products else ""),
             "counts": {**counts, "round": round_, **({"faces": faces} if faces else {}),
                        **({"flat": flat} if flat else {}), **({"piles": piles} if piles else {}),
                        **({"open": open_} if open_ else {}),
                        **({"panels": panels} if panels else {}),
-                       **({"small_faces": small_faces} if small_faces else {})},
+                       **({"small_faces": small_faces} if small_faces else {}),
+                       **({"products": products} if products else {})},
             "size": list(_check_size(size)), "subsample": int(subsample),
             "sensor": {"paper": paper_sensor.to_dict(), "room": room_sensor.to_dict()},
             "world_ranges": ranges.to_dict(),
@@ -426,3 +448,166 @@ def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
         if scene is not None:
             return scene
     raise InputError(f"could not make a round-clutter scene (seed {seed})")
+
+
+# ----------------------------------------------------------------------- product boxes
+
+#: The product part (:func:`generate_product_scene`, product37): YCB-like product boxes, sides
+#: (m) before a random scale: cracker 16x6x21, sugar 9x4x17.5, pudding 11x9x3.5, gelatin 9x7x3,
+#: a tea or snack box 12x7x7, cereal 19x7x27, tissues 12x12x13, LINEMOD's small carton 6x6x10
+#: and a tall snack carton 9x6x25.
+PRODUCT_SHAPES = ((0.16, 0.06, 0.21), (0.09, 0.04, 0.175), (0.11, 0.09, 0.035),
+                  (0.09, 0.07, 0.03), (0.12, 0.07, 0.07), (0.19, 0.07, 0.27),
+                  (0.12, 0.12, 0.13), (0.06, 0.06, 0.10), (0.09, 0.06, 0.25))
+#: The product part's draws: each side of a shape times exp(U(-scale, scale)); the pose
+#: (``standing``: the longest side up, ``side``: the middle one, ``flat``: the shortest) by
+#: these shares; on a table 0.68-0.78 m high (``table`` share) or the floor; the camera
+#: ``distance`` (m) from the primary box, ``pitch`` degrees down (0: level), the box
+#: ``below`` degrees under the optical axis (negative: above it), ``roll`` degrees; 0-2 more
+#: product boxes and 1-4 table-top clutter objects of class ``other``.
+PRODUCT_SETTINGS = {"scale": 0.25, "poses": {"standing": 0.4, "side": 0.3, "flat": 0.3},
+                    "table": 0.8, "distance": (0.4, 1.5), "pitch": (0.0, 60.0),
+                    "below": (-5.0, 12.0), "roll": (-8.0, 8.0), "more_boxes": (0, 2),
+                    "clutter": (1, 4)}
+#: Table-top clutter (class ``other``) of the product part: radius / height ranges (m) of the
+#: cylinders (mug, can, bottle; a bowl is a cylinder without its top, a plate a thin disc) and
+#: of a thin board (a tablet, a cutting board: length, width, thickness).  Books are not among
+#: them: the flat part makes books box examples.
+PRODUCT_CLUTTER = {"mug": ((0.035, 0.05), (0.08, 0.11)), "can": ((0.03, 0.04), (0.1, 0.13)),
+                   "bottle": ((0.03, 0.05), (0.15, 0.3)), "bowl": ((0.06, 0.1), (0.04, 0.08)),
+                   "plate": ((0.09, 0.14), (0.01, 0.025)),
+                   "board": ((0.15, 0.35), (0.1, 0.25), (0.005, 0.012))}
+
+
+def _product_box(rng, index: int = 1):
+    """A product box's geometry and record: one of :data:`PRODUCT_SHAPES`, scaled, standing,
+    on its side or lying flat."""
+    import math
+
+    import numpy as np
+
+    from planerel.synth import geometry as sg
+
+    s = PRODUCT_SETTINGS
+    shape = PRODUCT_SHAPES[int(rng.integers(len(PRODUCT_SHAPES)))]
+    sides = sorted(float(v * math.exp(rng.uniform(-s["scale"], s["scale"]))) for v in shape)
+    poses = list(s["poses"])
+    pose = poses[int(rng.choice(len(poses), p=np.array(list(s["poses"].values()))))]
+    height = {"standing": sides[2], "side": sides[1], "flat": sides[0]}[pose]
+    rest = list(sides)
+    rest.remove(height)
+    if rng.random() < 0.5:
+        rest.reverse()
+    geom = sg.box_geometry(rest[0], rest[1], height, index)
+    return geom, {"class": "box", "kind": f"product box {pose}",
+                  "params": {"length": rest[0], "width": rest[1], "height": height, "top": True,
+                             "pose": pose}}
+
+
+def _product_clutter(rng, index: int):
+    """One table-top clutter object of :data:`PRODUCT_CLUTTER` (class ``other``)."""
+    from planerel.synth import geometry as sg
+
+    kinds = list(PRODUCT_CLUTTER)
+    kind = kinds[int(rng.integers(len(kinds)))]
+    if kind == "board":
+        (l0, l1), (w0, w1), (t0, t1) = PRODUCT_CLUTTER[kind]
+        length, width, thick = (float(rng.uniform(l0, l1)), float(rng.uniform(w0, w1)),
+                                float(rng.uniform(t0, t1)))
+        return (sg.box_geometry(length, width, thick, index),
+                {"class": "other", "kind": "thin board",
+                 "params": {"length": length, "width": width, "height": thick}})
+    (r0, r1), (h0, h1) = PRODUCT_CLUTTER[kind]
+    rad, h = float(rng.uniform(r0, r1)), float(rng.uniform(h0, h1))
+    lying = kind in ("can", "bottle") and rng.random() < 0.25
+    if lying:
+        geom = lying_cylinder_geometry(rad, h, object_index=index)
+    else:
+        geom = sg.cylinder_geometry(rad, h, object_index=index)
+        if kind == "bowl":
+            geom = sg.drop_planes(geom, ["top"])
+    return geom, {"class": "other", "kind": kind + (" lying" if lying else ""),
+                  "params": {"radius": rad, "length": h, "standing": not lying}}
+
+
+def generate_product_scene(seed: int, size=(640, 480), subsample: int = 4, *,
+                           scene_id: str = "s0000", sensor=None,
+                           min_object_fraction: float = 0.004):
+    """One scene of the product part (:data:`PRODUCT_SETTINGS`; product37): a YCB-like product
+    box (object 1, class box: :data:`PRODUCT_SHAPES`, standing, on its side or lying flat) on a
+    table (or the floor), 0-2 more product boxes and 1-4 table-top clutter objects of class
+    ``other`` (:data:`PRODUCT_CLUTTER`), seen by the Kinect-like sensor from 0.4-1.5 m, level
+    with the table to 60 degrees down.
+
+    Drawn again until the box covers ``min_object_fraction`` of the image.  Returns a
+    :class:`planerel.synth.generator.Scene` as :func:`generate_round_scene` does.
+    """
+    import math
+
+    import numpy as np
+
+    from planerel.synth import geometry as sg
+    from planerel.synth import world as sw
+    from planerel.synth.generator import _scene_setup, cast_world
+    from planerel.synth.sensor import StructuredLight
+
+    seed, w, h, intr = _scene_setup("box", seed, size, subsample)
+    sensor = StructuredLight() if sensor is None else sensor
+    rng = np.random.default_rng(seed)
+    s = PRODUCT_SETTINGS
+    for _attempt in range(300):
+        where = "table" if rng.random() < s["table"] else "floor"
+        support = float(rng.uniform(0.68, 0.78)) if where == "table" else 0.0
+        pitch = float(rng.uniform(*s["pitch"]))
+        below = float(np.clip(pitch + rng.uniform(*s["below"]), 0.0, 75.0))
+        dist = float(rng.uniform(*s["distance"]))
+        cam_h = support + max(0.02, dist * math.sin(math.radians(below)))
+        ahead = dist * math.cos(math.radians(below))
+        side = ahead * math.tan(math.radians(rng.uniform(-15.0, 15.0)))
+        pose = sw._camera_pose(cam_h, pitch, float(rng.uniform(*s["roll"])))
+        anchor = np.array([ahead, side, support])
+        lay = sw._Layout()
+        geom, info = _product_box(rng, 1)
+        yaw = float(rng.uniform(-180, 180))
+        lay.add(sg.place(geom, yaw, anchor[:2], support), info,
+                sw._place_fp(sw._footprint(geom), yaw, anchor))
+        n_more = int(rng.integers(s["more_boxes"][0], s["more_boxes"][1] + 1))
+        n_clutter = int(rng.integers(s["clutter"][0], s["clutter"][1] + 1))
+        for k in range(n_more + n_clutter):
+            g, i = _product_box(rng) if k < n_more else _product_clutter(rng, 1)
+            for _try in range(10):  # near the primary box, in front of the camera
+                r_ = float(rng.uniform(0.12, 0.45))
+                a = float(rng.uniform(0, 2 * math.pi))
+                p = anchor + np.array([r_ * math.cos(a), r_ * math.sin(a), 0.0])
+                if p[0] < 0.25:
+                    continue
+                cyaw = float(rng.uniform(-180, 180))
+                cfp = sw._place_fp(sw._footprint(g), cyaw, p)
+                if lay.free(cfp, margin=0.02):
+                    lay.add(sg.place(g, cyaw, p[:2], support), i, cfp)
+                    break
+        parts = [sg.floor_geometry(10.0)]
+        infos = [{"index": 0, "id": f"{scene_id}_o0", "class": "environment",
+                  "kind": "floor" if where == "floor" else "floor and table"}]
+        if where == "table":  # the table top: a slab under everything (environment), as the
+            tb = sg._Builder(0)  # round part's
+            c = anchor[:2]
+            tb.add("floor", [(c[0] + dx, c[1] + dy, support) for dx, dy in
+                             ((-3, -3), (3, -3), (3, 3), (-3, 3))])
+            parts.append(tb.build())
+        sw._add_objects(parts, infos, lay, scene_id)
+        world = sg.combine(*parts)
+        depth_true, poly_index, _plane, obj = cast_world(world, pose, intr)
+        seen = (obj == 1) & (depth_true <= sensor.max_range) & (depth_true >= sensor.min_range)
+        if seen.mean() < min_object_fraction:
+            continue
+        params = {"world": "product", "where": where,
+                  "camera": {"height": cam_h, "pitch_deg": pitch, "distance": dist},
+                  "size": [w, h], "subsample": int(subsample)}
+        scene = sw._render_seen(world, pose, intr, sensor, rng, infos, params,
+                                scene_id=scene_id, klass="box", seed=seed,
+                                depth_true=depth_true, poly_index=poly_index, seen=seen,
+                                min_object_fraction=min_object_fraction)
+        if scene is not None:
+            return scene
+    raise InputError(f"could not make a product scene (seed {seed})")

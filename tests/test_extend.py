@@ -1,0 +1,104 @@
+"""Extending a learned theory (``learn_rules(prior=...)``): the prior clauses are kept as they
+are, the learner sees only the positives they do not prove, every negative stays."""
+
+from __future__ import annotations
+
+import pytest
+
+from planerel.errors import InputError
+from planerel.ilp import pipeline as P
+from planerel.ilp import scenes as S
+from planerel.ilp.aleph_export import aleph_files
+from planerel.synth.generator import generate_dataset
+
+CLASSES = ["box", "stairs", "ramp"]
+
+
+@pytest.fixture(scope="module")
+def gt_descs(tmp_path_factory):
+    """4 box, 4 stairs, 4 ramp scenes at 160x120, ground-truth planes."""
+    out = tmp_path_factory.mktemp("ds") / "train"
+    generate_dataset(out, n_box=4, n_stairs=4, n_ramp=4, seed=3, size=(640, 480), subsample=4)
+    descs, skipped = S.describe_scenes(out, method="gt", jobs=1, cache="none")
+    assert not skipped
+    return descs
+
+
+@pytest.fixture(autouse=True)
+def _private_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("PLANEREL_CACHE", str(tmp_path / "cache"))
+
+
+def _positives(text: str) -> set:
+    return {ln.strip() for ln in text.splitlines() if ln.strip()}
+
+
+def test_skip_positives_leaves_them_out_of_the_examples_file_only(gt_descs):
+    full = aleph_files(gt_descs, "box", classes=CLASSES)
+    boxes = sorted(_positives(full["box.f"]))
+    assert len(boxes) >= 2
+    gone = boxes[0][len("box("):-len(").")]
+    part = aleph_files(gt_descs, "box", classes=CLASSES, skip_positives={gone})
+    assert _positives(part["box.f"]) == set(boxes[1:])
+    assert part["box.n"] == full["box.n"]
+    # the object's facts stay in the background: only its example is gone
+    assert f"has_plane({gone}," in part["box.b"]
+    assert f"examples: {len(boxes) - 1} positive" in part["box.b"]
+    with pytest.raises(InputError, match="per-class task"):
+        aleph_files(gt_descs, "class", classes=CLASSES, skip_positives={gone})
+
+
+def test_extending_a_theory_with_itself_learns_nothing_new(gt_descs):
+    base = P.learn_rules(gt_descs, CLASSES, engine="builtin", jobs=1)
+    assert base.clauses()
+    again = P.learn_rules(gt_descs, CLASSES, engine="builtin", jobs=1, prior=base.rules)
+    assert again.rules == base.rules
+    assert again.stats == base.stats
+    assert again.proof_domain == base.proof_domain
+
+
+def test_prior_clauses_come_first_and_are_never_left_out(gt_descs):
+    # a prior that proves every object (boxes, stairs and ramps alike): its false positives
+    # would make drop_redundant leave it out once a learned clause proves the boxes too
+    loose = "box(A) :- has_plane(A,B)."
+    model = P.learn_rules(gt_descs, CLASSES, engine="builtin", jobs=1,
+                          prior={"box": (loose,)})
+    assert model.rules["box"][0] == loose
+    assert not any(d[1] == loose for d in model.dropped)
+    stats = {i: (k, tp, fp) for i, k, tp, fp in model.stats}
+    assert stats[1][0] == "box" and stats[1][2] > 0        # its false positives are counted
+
+
+def test_a_prior_for_a_class_without_examples_is_refused(gt_descs):
+    with pytest.raises(InputError, match="prior theory has rules for door"):
+        P.learn_rules(gt_descs, CLASSES, engine="builtin", jobs=1,
+                      prior={"door": ("door(A) :- has_plane(A,B).",)})
+
+
+def test_learn_cli_extends_a_model_and_refuses_what_it_cannot(tmp_path, capsys):
+    from planerel.cli import main
+
+    ds = tmp_path / "ds"
+    generate_dataset(ds, n_box=3, n_stairs=3, n_ramp=3, seed=5, size=(640, 480), subsample=4)
+    base, ext = tmp_path / "base", tmp_path / "ext"
+    assert main(["learn", str(ds), "-o", str(base), "--method", "gt", "--cache", "none",
+                 "--engine", "builtin"]) == 0
+    assert main(["learn", str(ds), "-o", str(ext), "--method", "gt", "--cache", "none",
+                 "--engine", "builtin", "--extend", str(base)]) == 0
+    import json
+
+    m_base = json.loads((base / "metrics.json").read_text())
+    m_ext = json.loads((ext / "metrics.json").read_text())
+    assert m_ext["prior_rules"] == m_base["rules"]
+    for k, clauses in m_base["rules"].items():
+        assert m_ext["rules"][k][:len(clauses)] == clauses
+    assert "extending a prior theory" in (ext / "rules.pl").read_text()
+    capsys.readouterr()
+    # no model there; --folds with --extend: one line each, no model written
+    assert main(["learn", str(ds), "-o", str(tmp_path / "x"), "--method", "gt",
+                 "--extend", str(tmp_path / "nowhere")]) == 2
+    assert "no model folder there" in capsys.readouterr().err
+    assert main(["learn", str(ds), "-o", str(tmp_path / "y"), "--method", "gt",
+                 "--extend", str(base), "--folds", "3"]) == 2
+    assert "no --folds" in capsys.readouterr().err
+    assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
