@@ -154,6 +154,9 @@ def main(argv=None) -> int:
     ap.add_argument("--small-faces", dest="small_faces", type=int, default=SMALL_FACES,
                     metavar="N", help=f"scenes of the training world's small-face part (a small "
                     f"box seen as one side face; default {SMALL_FACES})")
+    ap.add_argument("--window", type=float, default=None, metavar="PX",
+                    help="the training world's structured-light block-matching window, physical "
+                         "pixels (default planerel.synth.training_world.KINECT_WINDOW; 0 = off)")
     args = ap.parse_args(argv)
 
     from planerel.classify import Classifier, classify_dataset
@@ -183,7 +186,7 @@ def main(argv=None) -> int:
                                         round_=args.round_, faces=args.faces, flat=args.flat,
                                         piles=args.piles, open_=args.open_,
                                         panels=args.panels, small_faces=args.small_faces,
-                                        seed=sd["world"],
+                                        seed=sd["world"], window=args.window,
                                         size=(640, 480), subsample=4)
         if args.seed:
             print(f"--seed {args.seed}: paper-sized set and training world from seed "
