@@ -116,7 +116,8 @@ def default_parts() -> dict:
 
 
 def learn_shipped(data_dir, model_dir, *, parts: dict, world_seed: int, learner_seed: int,
-                  engine: str = "auto", jobs=None, log=print, cache=None, progress=None):
+                  engine: str = "auto", jobs=None, log=print, cache=None, progress=None,
+                  window: float | None = None):
     """Generate the training world and learn the shipped model from it, in two stages.
 
     The world without its product part (``parts["products"]`` scenes) is learned first, into
@@ -124,6 +125,9 @@ def learn_shipped(data_dir, model_dir, *, parts: dict, world_seed: int, learner_
     (:func:`planerel.ilp.pipeline.learn_rules`' ``prior``): its clauses are kept as they are, the
     learner is given the positives they do not prove, and the statistics and the decision's
     domains are measured on every scene.  With no product part: one stage, ``model_dir``.
+
+    ``window`` is the training world's block-matching window (``generate_training_world``'s;
+    None: its default).
 
     Returns
     -------
@@ -135,7 +139,7 @@ def learn_shipped(data_dir, model_dir, *, parts: dict, world_seed: int, learner_
 
     data_dir, model_dir = Path(data_dir), Path(model_dir)
     world_kw = {"paper": PAPER, "room": ROOM, "seed": world_seed, "size": (640, 480),
-                "subsample": 4}
+                "subsample": 4, "window": window}
     learn_kw = {"engine": engine, "seed": learner_seed, "jobs": jobs, "settings": LEARNER,
                 "timeout": 900, "log": log, "cache": cache, "progress": progress}
     if not parts.get("products"):
@@ -200,6 +204,9 @@ def main(argv=None) -> int:
     ap.add_argument("--products", type=int, default=PRODUCTS, metavar="N",
                     help=f"scenes of the training world's product part (YCB-like product boxes "
                          f"on a table among table-top clutter; default {PRODUCTS})")
+    ap.add_argument("--window", type=float, default=None, metavar="PX",
+                    help="the training world's structured-light block-matching window, physical "
+                         "pixels (default planerel.synth.training_world.KINECT_WINDOW; 0 = off)")
     args = ap.parse_args(argv)
 
     from planerel.classify import Classifier, classify_dataset
@@ -259,7 +266,7 @@ def main(argv=None) -> int:
                  "small_faces": args.small_faces, "products": args.products}
         world, m = learn_shipped(out / "data", out / "model", parts=parts,
                                  world_seed=sd["world"], learner_seed=sd["learner"],
-                                 engine=args.engine, jobs=args.jobs,
+                                 engine=args.engine, jobs=args.jobs, window=args.window,
                                  log=lambda s: print(s, file=sys.stderr))
         print(f"engine: {m['engine']}")
         print(f"model {out / 'model'} ({m['n_scenes']} scenes, {m['n_examples']} class "
