@@ -73,7 +73,7 @@ class ObjectAnswer:
         Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
     curved : bool or None
         The planar fraction is below the model's ``curved.curved_below``: a round object.
-    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, LevelRefusal and VetoRefusal
+    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal, LevelRefusal, FlightRefusal, FootRefusal and VetoRefusal
         Classes whose rules proved the object and that the decision refused for it: its
         planar fraction lies under ``1 - decision.planar_margin`` times the least planar of
         the class's training positives (with ``decision.planar_gate``;
@@ -83,7 +83,9 @@ class ObjectAnswer:
         (:func:`~planerel.ilp.metrics.level_refusals`), a rule whose proof binds a plane far
         longer than its class's training proofs' (:func:`~planerel.ilp.metrics.size_refusals`),
         a rule whose proof binds a top far more slender than its class's training proofs'
-        tops (:func:`~planerel.ilp.metrics.slender_refusals`), or a rule for ``other`` proved through planes far smaller than a class proof's
+        tops (:func:`~planerel.ilp.metrics.slender_refusals`), a rule whose proof binds a
+        plane far farther from the sensor than its class's training proofs' planes
+        (:func:`~planerel.ilp.metrics.range_refusals`), or a rule for ``other`` proved through planes far smaller than a class proof's
         (:func:`~planerel.ilp.metrics.veto_refusals`).  The answer is then the next class
         that holds, else ``other``.
     votes : tuple of ObjectAnswer
@@ -286,6 +288,11 @@ class Classifier:
         self.slender_domain = (size_gated(self.settings.slender_domain, decision.slender_classes)
                                if decision.slender_gate else ())
         self.slender_margin = decision.slender_margin
+        #: ``(class, high, n)`` the range gate compares with (empty: no gate; the model keeps
+        #: none, or ``decision.range_gate`` is off)
+        self.range_domain = (size_gated(self.settings.range_domain, decision.range_classes)
+                             if decision.range_gate else ())
+        self.range_margin = decision.range_margin
         #: ``ramp`` only for a slope standing on the floor (:func:`~planerel.ilp.metrics.foot_refusals`;
         #: ``decision.foot_gate``): needs the scan's points, so only :meth:`classify` applies it
         self.foot_gate = decision.foot_gate
@@ -331,7 +338,7 @@ class Classifier:
         self.stats = ()
         self.cofire = ()
         self.planar_domain = self.proof_domain = self.level_domain = self.size_domain = ()
-        self.slender_domain = ()
+        self.slender_domain = self.range_domain = ()
         self.warnings = tuple(dict.fromkeys((*self.warnings, *(w for m in members
                                                                 for w in m.warnings))))
 
@@ -433,6 +440,7 @@ class Classifier:
             horizontal_counts,
             laplace,
             plane_extents,
+            plane_ranges,
             plane_slenderness,
         )
 
@@ -442,6 +450,8 @@ class Classifier:
                    else None)
         slender = (functools.cache(lambda: plane_slenderness((desc,))) if self.slender_domain
                    else None)
+        distances = (functools.cache(lambda: plane_ranges((desc,))) if self.range_domain
+                     else None)
         foot = None
         if self.foot_gate and xyz is not None and "ramp" in self.classes:
             from planerel.features.foot import slope_foot
@@ -485,7 +495,9 @@ class Classifier:
                                    extents=extents, sizes=self.size_domain,
                                    size_margin=self.size_margin, slender=slender,
                                    slenders=self.slender_domain,
-                                   slender_margin=self.slender_margin, foot=foot,
+                                   slender_margin=self.slender_margin,
+                                   distances=distances, ranges=self.range_domain,
+                                   range_margin=self.range_margin, foot=foot,
                                    foot_above=self.foot_bounds[0],
                                    foot_below=self.foot_bounds[1],
                                    foot_hidden=self.foot_bounds[2],

@@ -25,7 +25,8 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
            "SLENDER_GATE", "SLENDER_MARGIN", "SLENDER_CLASSES", "plane_slenderness",
            "proof_slenderness", "slender_domain", "SlenderRefusal", "slender_refusals",
-           "decide"]
+           "RANGE_GATE", "RANGE_MARGIN", "RANGE_CLASSES", "plane_ranges", "proof_range",
+           "range_domain", "RangeRefusal", "range_refusals", "decide"]
 
 #: The answer "none of the classes": no rule fires, or every rule that fires is wrong more often
 #: than right on the training objects (the class of the varied world's clutter, too).
@@ -135,6 +136,12 @@ SLENDER_GATE = True
 SLENDER_MARGIN = 0.5
 #: Default of :attr:`DecisionParams.slender_classes`.
 SLENDER_CLASSES = "box"
+#: Default of :attr:`DecisionParams.range_gate`.
+RANGE_GATE = True
+#: Default of :attr:`DecisionParams.range_margin`.
+RANGE_MARGIN = 1.0
+#: Default of :attr:`DecisionParams.range_classes`.
+RANGE_CLASSES = "box,stairs,ramp"
 #: Default of :attr:`DecisionParams.foot_gate`.
 FOOT_GATE = True
 #: Default of :attr:`DecisionParams.foot_above` (metres).
@@ -250,6 +257,35 @@ class DecisionParams:
         mOSD box standing on its edge (7.9); the slabs' tops start at 11.1.
     slender_classes : str
         The classes the slenderness gate holds for, comma-separated (``box``).
+    range_gate : bool
+        Refuse a rule whose proof of an object binds a plane farther from the sensor (its
+        centroid's distance, the ``distance/2`` fact: :func:`plane_ranges`) than ``1 +
+        range_margin`` times the farthest plane of the class's training proofs
+        (:func:`range_refusals`; the model keeps the farthest, ``range_domain``).  The rules'
+        facts at 15 m on stereo or densified LiDAR (coarse depth, planes cut into pieces,
+        slopes smeared) are not what the learner saw: the model has no evidence there.  On by
+        default (range40, 2026-12-01): on real outdoor frames the demo's ramp rule ("a plane
+        of 0.53 m^2 or more at most 28 degrees steep") proved verges, lawns, a planting bed
+        and road-side strips 10.5-17.4 m away (hunt35, hunt39, hunt40); the demo world's ramp
+        proofs' planes lie 0.85-3.54 m away, the independent development sets' true ramps'
+        0.59-3.93 m (docs/results.md, "Proofs farther away than any training proof").
+    range_margin : float
+        The share of the farthest training proof plane's range a proof may exceed it by
+        (>= 0).  1.0: the demo's ramp proofs reach 3.54 m, refused beyond 7.07 m; the true
+        ramps of the independent sets reach 3.93 m (a margin of 0.11 would keep them), the
+        nearest far false ramp lies 10.49 m away (a margin up to 1.96 refuses it); 1.0 allows
+        twice the training range.
+    range_classes : str
+        The classes the range gate holds for, comma-separated (``box,stairs,ramp``).  The
+        demo's domains: box 4.08 m (refused beyond 8.16 m), stairs 2.90 m (5.79 m), ramp 3.54 m
+        (7.07 m); the independent development sets' true answers reach 3.72, 3.94 and 3.93 m,
+        the real frames' true ones less.  Named ``ramp`` alone the gate refuses the far false
+        ramps of hunt35 (4) and hunt40 (1) and an unscored one of hunt39; with box and stairs
+        it refuses as well a box and 6 stairs that the 6 cm-baseline stereo frames of hunt40
+        gave 9.4-17.8 m away (disparity terraces), and loses no answer on any real or
+        independent check (docs/results.md,
+        "Proofs farther away than any training proof").  A flight or a box farther away than
+        that is answered ``other``: the model has no evidence there.
     foot_gate : bool
         Refuse ``ramp`` for an object whose proof's inclined planes all stand on no floor
         (:func:`foot_refusals`; :func:`planerel.features.foot.slope_foot`): the plane's lowest
@@ -308,6 +344,9 @@ class DecisionParams:
     slender_gate: bool = SLENDER_GATE
     slender_margin: float = SLENDER_MARGIN
     slender_classes: str = SLENDER_CLASSES
+    range_gate: bool = RANGE_GATE
+    range_margin: float = RANGE_MARGIN
+    range_classes: str = RANGE_CLASSES
     foot_gate: bool = FOOT_GATE
     foot_above: float = FOOT_ABOVE
     foot_below: float = FOOT_BELOW
@@ -316,7 +355,7 @@ class DecisionParams:
 
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate", "size_gate",
-                     "slender_gate", "foot_gate"):
+                     "slender_gate", "range_gate", "foot_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -325,7 +364,7 @@ class DecisionParams:
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or not 0 <= m <= 1):
                 raise InputError(f"decision.{name} must be a number in 0..1, got {m!r}")
-        for name in ("size_classes", "slender_classes"):
+        for name in ("size_classes", "slender_classes", "range_classes"):
             if not isinstance(getattr(self, name), str):
                 raise InputError(f"decision.{name} must be class names separated by commas, "
                                  f"got {getattr(self, name)!r}")
@@ -334,7 +373,7 @@ class DecisionParams:
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0 (metres), got {m!r}")
-        for name in ("size_margin", "slender_margin"):
+        for name in ("size_margin", "slender_margin", "range_margin"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
@@ -630,7 +669,8 @@ def size_domain(fired: dict, truth: dict, extents: dict) -> tuple:
 def _proof_domain(fired: dict, truth: dict, measure: dict) -> tuple:
     """``((class, high, n), ...)``: per class, the largest over its training positives of
     the least :func:`_proof_max` of ``measure`` over the positive's hits of its class
-    (:func:`size_domain`, :func:`slender_domain`); ``n`` the positives with a value."""
+    (:func:`size_domain`, :func:`slender_domain`, :func:`range_domain`); ``n`` the positives
+    with a value."""
     per: dict = {}
     for obj, hits in fired.items():
         k = truth.get(obj)
@@ -652,7 +692,7 @@ def size_gated(domain: Sequence, classes: str = SIZE_CLASSES) -> tuple:
 
 class _Bounded:
     """What a gate with a training domain refused over: ``bound = high * (1 + margin)``
-    (:class:`SizeRefusal`, :class:`SlenderRefusal`)."""
+    (:class:`SizeRefusal`, :class:`SlenderRefusal`, :class:`RangeRefusal`)."""
 
     high: float
     margin: float
@@ -722,7 +762,7 @@ def _bound_refusals(hits, stats: Sequence, measure, domain: Sequence, margin: fl
     (taking part in the decision) whose proof's :func:`_proof_max` of ``measure`` (a dict, or
     a callable asked only when a gated class fired) exceeds its class's ``high * (1 +
     margin)`` in ``domain`` (classes measured on at least ``min_positives`` positives):
-    :func:`size_refusals`, :func:`slender_refusals`."""
+    :func:`size_refusals`, :func:`slender_refusals`, :func:`range_refusals`."""
     if not domain or measure is None:
         return list(hits), ()
     highs = {k: float(hi) for k, hi, n in domain if n >= min_positives}
@@ -824,6 +864,83 @@ def slender_refusals(hits, stats: Sequence, slender, domain: Sequence,
         the decision (:func:`takes_part`).
     """
     return _bound_refusals(hits, stats, slender, domain, margin, min_positives, SlenderRefusal)
+
+
+def plane_ranges(descs) -> dict:
+    """``{plane id: range}`` (m) over scene descriptions: each plane's centroid distance from
+    the sensor (the ``distance/2`` fact)."""
+    return {d.plane_id(p.label): float(p.distance) for d in descs for p in d.planes}
+
+
+def proof_range(bindings: dict, ranges: dict):
+    """The farthest from the sensor among the planes a proof binds (m; :func:`plane_ranges`),
+    or None when the proof binds no plane of ``ranges``."""
+    return _proof_max(bindings, ranges)
+
+
+def range_domain(fired: dict, truth: dict, ranges: dict) -> tuple:
+    """How far from the sensor the planes lie that each class's rules proved its training
+    positives with (:func:`plane_ranges`): ``((class, high, n), ...)``, as :func:`size_domain`.
+
+    A positive's range is the least, over the hits of its class, of :func:`proof_range` (its
+    nearest proof's farthest plane); ``high`` is the largest over the class's positives, so
+    the gate of :func:`range_refusals` refuses no proof made as near as a training one; ``n``
+    counts the positives with a range."""
+    return _proof_domain(fired, truth, ranges)
+
+
+@dataclass(frozen=True)
+class RangeRefusal(_Bounded):
+    """A rule whose proof of an object binds a plane farther from the sensor than any plane
+    of the class's training proofs, by more than the margin (:func:`range_refusals`): the
+    rule's facts were never seen that far away, where depth is coarse and planes are cut."""
+
+    klass: str
+    rule: int
+    distance: float
+    high: float
+    margin: float
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it with a plane {self.distance:.2f} m from the "
+                f"sensor, over {self.bound:.2f} m: the training {self.klass} proofs' planes "
+                f"lie at most {self.high:.2f} m away, margin {self.margin:g} (no evidence "
+                f"that far)")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule,
+                "proof_distance": round(self.distance, 4), "proofs_high": self.high,
+                "margin": self.margin, "reason": self.reason}
+
+
+def range_refusals(hits, stats: Sequence, ranges, domain: Sequence,
+                   margin: float = RANGE_MARGIN, min_positives: int = PROOF_MIN_POSITIVES):
+    """Leave out the hits whose proof binds a plane farther from the sensor than the planes
+    of the class's training proofs.
+
+    A class with an entry ``(class, high, n)`` in ``domain`` (:func:`range_domain`, measured on
+    at least ``min_positives`` positives) refuses a hit of its class whose
+    :func:`proof_range` exceeds ``high * (1 + margin)``: the demo's ramp rule ("a plane of
+    0.53 m^2 or more at most 28 degrees steep") proved far verges, lawns and road strips
+    10.5-17.4 m away on stereo and densified LiDAR, where the training world's ramps lie at
+    most 3.54 m away, and its stairs rule proved disparity terraces of a loading hall 9-18 m
+    away (docs/results.md, "Proofs farther away than any training proof").  No
+    domain, no ranges, or a class without an entry: nothing is refused.
+
+    Parameters
+    ----------
+    ranges : dict or callable
+        ``{plane id: range}`` (:func:`plane_ranges`), or a callable returning it (asked only
+        when a class with an entry fired).
+
+    Returns
+    -------
+    (list, tuple of RangeRefusal)
+        The hits left, and one :class:`RangeRefusal` per refused rule that takes part in the
+        decision (:func:`takes_part`).
+    """
+    return _bound_refusals(hits, stats, ranges, domain, margin, min_positives, RangeRefusal)
 
 
 @dataclass(frozen=True)
@@ -1133,6 +1250,7 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            n_horizontal=None, levels: Sequence = (), stepped=False, flight=None,
            extents=None, sizes: Sequence = (), size_margin: float = SIZE_MARGIN,
            slender=None, slenders: Sequence = (), slender_margin: float = SLENDER_MARGIN,
+           distances=None, ranges: Sequence = (), range_margin: float = RANGE_MARGIN,
            foot=None, foot_above: float = FOOT_ABOVE, foot_below: float = FOOT_BELOW,
            foot_hidden: float = FOOT_HIDDEN, foot_float: float = FOOT_FLOAT):
     """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
@@ -1140,6 +1258,8 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
     model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
     :func:`size_domain`, and the scene's plane ``extents``), :func:`slender_refusals`
     (``slenders``, the model's :func:`slender_domain`, and the scene's tops' ``slender``),
+    :func:`range_refusals` (``ranges``, the model's :func:`range_domain`, and the scene's
+    planes' ``distances``),
     :func:`planar_refusals` (``domain``),
     :func:`level_refusals` (``levels``, the model's :func:`level_domain`, and the object's
     ``n_horizontal`` and ``stepped``), :func:`flight_refusals` (``flight``; None, the
@@ -1151,14 +1271,16 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
 
     Returns
     -------
-    (hit or None, tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, LevelRefusal,
-    FlightRefusal and VetoRefusal)
+    (hit or None, tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal,
+    LevelRefusal, FlightRefusal, FootRefusal and VetoRefusal)
         The chosen hit (None: :data:`OTHER`) and the rules and classes refused.
     """
     kept, small = proof_refusals(hits, stats, proofs, proof_margin, proof_min_positives)
     kept, large = size_refusals(kept, stats, extents, sizes, size_margin, proof_min_positives)
     kept, thin = slender_refusals(kept, stats, slender, slenders, slender_margin,
                                   proof_min_positives)
+    kept, far = range_refusals(kept, stats, distances, ranges, range_margin,
+                               proof_min_positives)
     kept, refused = planar_refusals(kept, stats, planar_fraction, domain, margin)
     kept, flat = level_refusals(kept, stats, n_horizontal, levels, stepped)
     kept, steps = flight_refusals(kept, stats, flight)
@@ -1166,7 +1288,7 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
                                foot_float)
     kept, vetoes = veto_refusals(kept, stats, veto_ratio)
     return (choose_class(kept, stats, classes, cofire),
-            small + large + thin + refused + flat + steps + feet + vetoes)
+            small + large + thin + far + refused + flat + steps + feet + vetoes)
 
 
 def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:

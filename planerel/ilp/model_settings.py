@@ -8,7 +8,7 @@ and resolved, including the sensor-adaptive switch ``adapt`` of
 proposal parameters of the description, the rules' measured precision, and the planar
 fractions of each class's training positives and the proof scales of each rule's, with the
 decision's margins (section ``decision``, ``planar_domain``, ``proof_domain``, ``level_domain``,
-``size_domain``, ``slender_domain``:
+``size_domain``, ``slender_domain``, ``range_domain``:
 :func:`planerel.ilp.metrics.planar_refusals`, :func:`~planerel.ilp.metrics.proof_refusals`).  ``classify`` reads them back
 and runs with the same settings; ``--param`` overrides one, with a warning when it differs from
 the training value.
@@ -23,7 +23,8 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 ``decision.planar_margin``, ``decision.proof_gate``, ``decision.proof_margin``,
 ``decision.veto_ratio``, ``decision.level_gate``, ``decision.flight_gate``,
 ``decision.size_gate``, ``decision.size_margin``, ``decision.slender_gate``,
-``decision.slender_margin``).
+``decision.slender_margin``, ``decision.range_gate``, ``decision.range_margin``,
+``decision.range_classes``).
 """
 
 from __future__ import annotations
@@ -112,6 +113,10 @@ class ModelSettings:
         ``(class, high, n)``: the most slender top of each class's training proofs
         (:func:`planerel.ilp.metrics.slender_domain`; empty for a model written before it was
         kept: no slenderness gate).
+    range_domain : tuple
+        ``(class, high, n)``: the farthest plane from the sensor of each class's training
+        proofs (:func:`planerel.ilp.metrics.range_domain`; empty for a model written before it
+        was kept: no range gate).
     """
 
     method: str = "regiongrow"
@@ -126,6 +131,7 @@ class ModelSettings:
     level_domain: tuple = ()
     size_domain: tuple = ()
     slender_domain: tuple = ()
+    range_domain: tuple = ()
 
     def describe_kwargs(self) -> dict:
         """Keyword arguments of :func:`planerel.features.facts.describe_scene` for these settings."""
@@ -155,12 +161,13 @@ class ModelSettings:
 
 def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
                       planar_domain=(), proof_domain=(), decision: dict | None = None,
-                      level_domain=(), size_domain=(), slender_domain=()) -> dict:
+                      level_domain=(), size_domain=(), slender_domain=(),
+                      range_domain=()) -> dict:
     """The content of ``model.json`` for a model learned with these settings (the description
     parameters are the defaults ``planerel learn`` describes scenes with; ``planar_domain``,
-    ``proof_domain``, ``level_domain``, ``size_domain``, ``slender_domain``:
+    ``proof_domain``, ``level_domain``, ``size_domain``, ``slender_domain``, ``range_domain``:
     :attr:`planerel.ilp.pipeline.Model.planar_domain`, ``.proof_domain``, ``.level_domain``,
-    ``.size_domain``, ``.slender_domain``;
+    ``.size_domain``, ``.slender_domain``, ``.range_domain``;
     ``decision``: a recipe's decision settings in place of the defaults)."""
     from planerel.ilp.metrics import laplace
 
@@ -184,6 +191,7 @@ def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
         "level_domain": [{"class": k, "low": lo, "n": n} for k, lo, n in level_domain],
         "size_domain": [{"class": k, "high": hi, "n": n} for k, hi, n in size_domain],
         "slender_domain": [{"class": k, "high": hi, "n": n} for k, hi, n in slender_domain],
+        "range_domain": [{"class": k, "high": hi, "n": n} for k, hi, n in range_domain],
     }
 
 
@@ -230,8 +238,9 @@ def read_settings(rules_path) -> ModelSettings | None:
         except (KeyError, TypeError, ValueError):
             raise InputError(f"{path}: level_domain entry {entry!r} is not "
                              "{class, low, n}") from None
-    sizes, slenders = [], []
-    for key, out in (("size_domain", sizes), ("slender_domain", slenders)):
+    sizes, slenders, ranges = [], [], []
+    for key, out in (("size_domain", sizes), ("slender_domain", slenders),
+                     ("range_domain", ranges)):
         for entry in data.get(key) or ():
             try:
                 out.append((str(entry["class"]), float(entry["high"]), int(entry["n"])))
@@ -242,7 +251,7 @@ def read_settings(rules_path) -> ModelSettings | None:
     return ModelSettings(str(seg.get("method", "regiongrow")), dict(seg.get("params") or {}),
                          sections, tuple(domain), tuple(proofs),
                          frozenset(resolved) if isinstance(resolved, dict) else None,
-                         tuple(levels), tuple(sizes), tuple(slenders))
+                         tuple(levels), tuple(sizes), tuple(slenders), tuple(ranges))
 
 
 def _coerce_like(value, like, name: str):
@@ -328,7 +337,7 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
                             f"existed)")
     out = ModelSettings(new_method, seg, sections, base.planar_domain, base.proof_domain,
                         base.seg_recorded, base.level_domain, base.size_domain,
-                        base.slender_domain)
+                        base.slender_domain, base.range_domain)
     out.describe_kwargs()  # a bad value fails here, with the dataclass's message
     out.decision_params()
     if settings is not None and new_method == base.method and seg != base.seg_params:

@@ -28,6 +28,9 @@ from planerel.ilp.metrics import (
     PROOF_GATE,
     PROOF_MARGIN,
     PROOF_MIN_POSITIVES,
+    RANGE_CLASSES,
+    RANGE_GATE,
+    RANGE_MARGIN,
     SIZE_CLASSES,
     SIZE_GATE,
     SIZE_MARGIN,
@@ -45,8 +48,10 @@ from planerel.ilp.metrics import (
     level_domain,
     planar_domain,
     plane_extents,
+    plane_ranges,
     plane_slenderness,
     proof_domain,
+    range_domain,
     score_objects,
     size_domain,
     size_gated,
@@ -162,6 +167,17 @@ class Model:
         That gate's margin above ``high`` (a share of it).
     slender_classes : str
         The classes that gate holds for, comma-separated.
+    range_domain : tuple
+        ``(class, high, n)``: the farthest plane from the sensor each class's rules proved its
+        training positives with (:func:`planerel.ilp.metrics.range_domain`; ``model.json``
+        keeps it).  Empty: no range gate (a model from before it was kept).
+    range_gate : bool
+        Whether :func:`prolog_predict` refuses a rule whose proof binds a plane far farther
+        from the sensor than the class's training proofs' (:func:`planerel.ilp.metrics.range_refusals`).
+    range_margin : float
+        That gate's margin above ``high`` (a share of it).
+    range_classes : str
+        The classes that gate holds for, comma-separated.
     """
 
     classes: tuple
@@ -192,6 +208,10 @@ class Model:
     slender_gate: bool = SLENDER_GATE
     slender_margin: float = SLENDER_MARGIN
     slender_classes: str = SLENDER_CLASSES
+    range_domain: tuple = ()
+    range_gate: bool = RANGE_GATE
+    range_margin: float = RANGE_MARGIN
+    range_classes: str = RANGE_CLASSES
 
     @property
     def targets(self) -> tuple:
@@ -528,7 +548,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
                        proof_domain=proof_domain(fired, dict(examples)),
                        size_domain=size_domain(fired, dict(examples), plane_extents(descs)),
                        slender_domain=slender_domain(fired, dict(examples),
-                                                     plane_slenderness(descs)))
+                                                     plane_slenderness(descs)),
+                       range_domain=range_domain(fired, dict(examples), plane_ranges(descs)))
     finally:
         if tmp is not None:
             tmp.cleanup()
@@ -900,6 +921,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
     extents = plane_extents(descs) if model.size_gate and model.size_domain else None
     slender = (plane_slenderness(descs) if model.slender_gate and model.slender_domain
                else None)
+    distances = plane_ranges(descs) if model.range_gate and model.range_domain else None
     out = []
     for o in object_ids:
         hits = fired.get(o, [])
@@ -923,7 +945,11 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                                slender=slender,
                                slenders=(size_gated(model.slender_domain, model.slender_classes)
                                          if model.slender_gate else ()),
-                               slender_margin=model.slender_margin)
+                               slender_margin=model.slender_margin,
+                               distances=distances,
+                               ranges=(size_gated(model.range_domain, model.range_classes)
+                                       if model.range_gate else ()),
+                               range_margin=model.range_margin)
         fired_pairs = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
         if best is None:
             out.append(Prediction(o, OTHER, fired=fired_pairs, refused=refused))
@@ -1372,6 +1398,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                                                        level_domain=model.level_domain,
                                                        size_domain=model.size_domain,
                                                        slender_domain=model.slender_domain,
+                                                       range_domain=model.range_domain,
                                                        decision=decision))
         write_json(tmp / "metrics.json", metrics)
     return metrics
@@ -1431,6 +1458,7 @@ def write_members(folder, model: Members, *, method: str, seg_params, header: st
                                                        level_domain=m.level_domain,
                                                        size_domain=m.size_domain,
                                                        slender_domain=m.slender_domain,
+                                                       range_domain=m.range_domain,
                                                        decision=decision))
         if member_metrics is not None:
             write_json(sub / "metrics.json", member_metrics[n - 1])
