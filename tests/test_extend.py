@@ -102,3 +102,11 @@ def test_learn_cli_extends_a_model_and_refuses_what_it_cannot(tmp_path, capsys):
                  "--extend", str(base), "--folds", "3"]) == 2
     assert "no --folds" in capsys.readouterr().err
     assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
+
+
+def test_a_prior_with_rules_for_other_needs_other_rules(gt_descs):
+    """A model learned with --other-rules has rules for ``other``: extending it without them
+    would drop those rules without a word."""
+    prior = {"box": ("box(A) :- has_plane(A,B).",), "other": ("other(A) :- has_plane(A,B).",)}
+    with pytest.raises(InputError, match="--other-rules"):
+        P.learn_rules(gt_descs, CLASSES, engine="builtin", jobs=1, prior=prior)

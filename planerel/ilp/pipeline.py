@@ -485,6 +485,9 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         per_class = {k: {n: v for n, v in kv.items() if n not in PLANEREL_SETTINGS}
                      for k, kv in per_class.items()}
         prior = {k: tuple(v) for k, v in (prior or {}).items() if v}
+        if OTHER in prior and OTHER not in targets:
+            raise InputError("the prior theory has rules for other: extend it with other rules "
+                             "too (--other-rules), or they would be lost")
         proved = _prior_proved(prior, classes, descs, examples, timeout) if prior else {}
         export_aleph(descs, work_dir, "all", classes=list(targets), task=task, settings=common,
                      class_settings=per_class, skip_negatives=skip, skip_positives=proved)
@@ -586,7 +589,7 @@ def prior_rules(model_dir) -> dict:
 def _prior_proved(prior: dict, classes, descs, examples, timeout: float) -> dict:
     """``{class: object ids}``: the training positives of each class that ``prior``'s clauses
     of that class prove (:func:`learn_rules`' ``prior``)."""
-    unknown = sorted(set(prior) - set(classes))
+    unknown = sorted(set(prior) - set(classes) - {OTHER})
     if unknown:
         raise InputError(f"the prior theory has rules for {', '.join(unknown)}, which the "
                          f"training data has no example of")
