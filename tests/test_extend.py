@@ -3,6 +3,8 @@ are, the learner sees only the positives they do not prove, every negative stays
 
 from __future__ import annotations
 
+import os
+
 import pytest
 
 from planerel.errors import InputError
@@ -110,3 +112,19 @@ def test_a_prior_with_rules_for_other_needs_other_rules(gt_descs):
     prior = {"box": ("box(A) :- has_plane(A,B).",), "other": ("other(A) :- has_plane(A,B).",)}
     with pytest.raises(InputError, match="--other-rules"):
         P.learn_rules(gt_descs, CLASSES, engine="builtin", jobs=1, prior=prior)
+
+
+@pytest.mark.real_aleph
+@pytest.mark.skipif(not os.environ.get("PLANEREL_ALEPH"),
+                    reason="PLANEREL_ALEPH not set (path to the real aleph.pl)")
+def test_the_real_aleph_extends_a_theory_from_the_same_files(gt_descs):
+    """The extension's files are ordinary Aleph files (the proved positives left out of
+    ``.f``): the real Aleph learns from them, and the prior clause stays first."""
+    narrow = "box(A) :- has_plane(A,B), orientation(B,inclined)."
+    model = P.learn_rules(gt_descs, CLASSES, engine="aleph", jobs=1, prior={"box": (narrow,)})
+    assert "aleph" in model.engine.lower()
+    assert model.rules["box"][0] == narrow
+    assert len(model.rules["box"]) >= 2            # the boxes it leaves get clauses of their own
+    preds = P.prolog_predict(model, gt_descs)
+    truth = {o.id: o.klass for d in gt_descs for o in d.objects}
+    assert sum(p.klass == truth[p.object_id] == "box" for p in preds) >= 3
