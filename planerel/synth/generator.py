@@ -607,6 +607,12 @@ def _scene_setup(kind: str, seed, size, subsample) -> tuple[int, int, int, Intri
     return seed, w, h, intr
 
 
+def primary_seen(obj, depth_true, sensor):
+    """``(H, W)`` bool: the pixels that see the scene's primary object (object 1, ``obj`` of
+    :func:`cast_world`) within ``sensor``'s range."""
+    return (obj == 1) & (depth_true <= sensor.max_range) & (depth_true >= sensor.min_range)
+
+
 def cast_world(world, pose, intr: Intrinsics):
     """Ray-cast a world seen from ``pose``: ``(depth_true, poly_index, plane, obj)``, the last
     two ``(H, W)`` images of the plane and the object each pixel sees (-1: nothing)."""

@@ -128,7 +128,7 @@ def generate_pile_scene(seed: int, size=(640, 480), subsample: int = 4, *,
 
     from planerel.synth import geometry as sg
     from planerel.synth import world as sw
-    from planerel.synth.generator import _scene_setup, cast_world
+    from planerel.synth.generator import _scene_setup, cast_world, primary_seen
     from planerel.synth.sensor import StructuredLight
 
     seed, w, h, intr = _scene_setup("box", seed, size, subsample)
@@ -153,7 +153,7 @@ def generate_pile_scene(seed: int, size=(640, 480), subsample: int = 4, *,
         sw._add_objects(parts, infos, lay, scene_id)
         world = sg.combine(*parts)
         depth_true, poly_index, _plane, obj = cast_world(world, pose, intr)
-        seen = (obj == 1) & (depth_true <= sensor.max_range) & (depth_true >= sensor.min_range)
+        seen = primary_seen(obj, depth_true, sensor)
         if seen.mean() < min_object_fraction:
             continue
         scene_params = {"world": "pile", "camera": {"height": cam_h, "pitch_deg": pitch},

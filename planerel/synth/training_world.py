@@ -366,6 +366,18 @@ def generate_flat_scene(seed: int, size=(640, 480), subsample: int = 4, *,
                                 min_object_fraction=min_object_fraction, flat=True)
 
 
+
+def _table_top(anchor, support: float):
+    """The table top of a round, flat or product scene: a 6 x 6 m level slab ``support`` m up,
+    centred under ``anchor`` (environment: it stands in for the table the objects lie on)."""
+    from planerel.synth import geometry as sg
+
+    tb = sg._Builder(0)
+    c = anchor[:2]
+    tb.add("floor", [(c[0] + dx, c[1] + dy, support) for dx, dy in
+                     ((-3, -3), (3, -3), (3, 3), (-3, 3))])
+    return tb.build()
+
 def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
                          scene_id: str = "s0000", sensor=None, min_object_fraction: float = 0.02,
                          flat: bool = False):
@@ -385,10 +397,7 @@ def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
 
     from planerel.synth import geometry as sg
     from planerel.synth import world as sw
-    from planerel.synth.generator import (
-        _scene_setup,
-        cast_world,
-    )
+    from planerel.synth.generator import _scene_setup, cast_world, primary_seen
     from planerel.synth.sensor import StructuredLight
 
     seed, w, h, intr = _scene_setup("box", seed, size, subsample)
@@ -437,15 +446,11 @@ def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
         infos = [{"index": 0, "id": f"{scene_id}_o0", "class": "environment",
                   "kind": "floor" if where == "floor" else "floor and table"}]
         if where == "table":  # the table top: a large slab under everything (environment)
-            tb = sg._Builder(0)
-            c = anchor[:2]
-            tb.add("floor", [(c[0] + dx, c[1] + dy, support) for dx, dy in
-                             ((-3, -3), (3, -3), (3, 3), (-3, 3))])
-            parts.append(tb.build())
+            parts.append(_table_top(anchor, support))
         sw._add_objects(parts, infos, lay, scene_id)
         world = sg.combine(*parts)
         depth_true, poly_index, _plane, obj = cast_world(world, pose, intr)
-        seen = (obj == 1) & (depth_true <= sensor.max_range) & (depth_true >= sensor.min_range)
+        seen = primary_seen(obj, depth_true, sensor)
         if seen.mean() < min_object_fraction:
             continue
         params = {"world": "flat" if flat else "round", "where": where,
@@ -558,7 +563,7 @@ def generate_product_scene(seed: int, size=(640, 480), subsample: int = 4, *,
 
     from planerel.synth import geometry as sg
     from planerel.synth import world as sw
-    from planerel.synth.generator import _scene_setup, cast_world
+    from planerel.synth.generator import _scene_setup, cast_world, primary_seen
     from planerel.synth.sensor import StructuredLight
 
     seed, w, h, intr = _scene_setup("box", seed, size, subsample)
@@ -599,16 +604,12 @@ def generate_product_scene(seed: int, size=(640, 480), subsample: int = 4, *,
         parts = [sg.floor_geometry(10.0)]
         infos = [{"index": 0, "id": f"{scene_id}_o0", "class": "environment",
                   "kind": "floor" if where == "floor" else "floor and table"}]
-        if where == "table":  # the table top: a slab under everything (environment), as the
-            tb = sg._Builder(0)  # round part's
-            c = anchor[:2]
-            tb.add("floor", [(c[0] + dx, c[1] + dy, support) for dx, dy in
-                             ((-3, -3), (3, -3), (3, 3), (-3, 3))])
-            parts.append(tb.build())
+        if where == "table":  # the table top under everything, as the round part's
+            parts.append(_table_top(anchor, support))
         sw._add_objects(parts, infos, lay, scene_id)
         world = sg.combine(*parts)
         depth_true, poly_index, _plane, obj = cast_world(world, pose, intr)
-        seen = (obj == 1) & (depth_true <= sensor.max_range) & (depth_true >= sensor.min_range)
+        seen = primary_seen(obj, depth_true, sensor)
         if seen.mean() < min_object_fraction:
             continue
         params = {"world": "product", "where": where,

@@ -710,6 +710,7 @@ def generate_world_scene(kind: str, seed: int = 0, size=(640, 480), subsample: i
         camera_planes,
         cast_world,
         cos_incidence,
+        primary_seen,
     )
     from planerel.synth.sensor import StructuredLight
 
@@ -738,7 +739,7 @@ def generate_world_scene(kind: str, seed: int = 0, size=(640, 480), subsample: i
         _add_objects(parts, infos, lay, scene_id)
         world = sg.combine(*parts)
         depth_true, poly_index, plane, obj = cast_world(world, pose, intr)
-        seen = (obj == 1) & (depth_true <= sensor.max_range) & (depth_true >= sensor.min_range)
+        seen = primary_seen(obj, depth_true, sensor)
         if sensor.grazing_deg is not None:
             cos = cos_incidence(camera_planes(world, pose)[0], plane, intr)
             seen &= cos >= math.cos(math.radians(sensor.grazing_deg))
