@@ -156,15 +156,6 @@ def test_the_domain_is_the_farthest_plane_of_the_nearest_proofs():
     best, refused = M.decide(hits[:2], stats, ["box", "ramp"], distances=ranges, ranges=dom)
     assert best[0] == "box" and [type(r) for r in refused] == [M.RangeRefusal]
     assert M.decide(hits[:2], stats, ["box", "ramp"], distances=ranges)[0][0] == "ramp"
-    p = M.DecisionParams()
-    assert M.RANGE_GATE is p.range_gate is True
-    assert p.range_margin == 1.0 and p.range_classes == "box,stairs,ramp"
-    with pytest.raises(InputError, match="range_gate must be true or false"):
-        M.DecisionParams(range_gate="on")
-    with pytest.raises(InputError, match="range_margin must be a number >= 0"):
-        M.DecisionParams(range_margin=-0.1)
-    with pytest.raises(InputError, match="range_classes must be class names"):
-        M.DecisionParams(range_classes=["ramp"])
 
 
 def test_model_json_keeps_the_domain(tmp_path):
@@ -209,3 +200,22 @@ def test_prolog_predict_decides_with_the_same_gate(scene):
                 and o.id in fired)
     (entry,) = M.range_domain(fired, {near: "ramp"}, ranges)
     assert entry[0] == "ramp" and 1.5 < entry[1] < 3.0 and entry[2] == 1
+
+
+@pytest.mark.parametrize("gate, default, margin, classes", [
+    ("size", M.SIZE_GATE, 0.2, "box"),
+    ("slender", M.SLENDER_GATE, 0.5, "box"),
+    ("range", M.RANGE_GATE, 1.0, "box,stairs,ramp"),
+])
+def test_the_bounded_gates_settings_and_their_checks(gate, default, margin, classes):
+    """The three gates over a training domain's high (size, slenderness, range): defaults,
+    and a one-line error for a bad value of each setting."""
+    p = M.DecisionParams()
+    assert default is getattr(p, f"{gate}_gate") is True
+    assert getattr(p, f"{gate}_margin") == margin and getattr(p, f"{gate}_classes") == classes
+    with pytest.raises(InputError, match=f"{gate}_gate must be true or false"):
+        M.DecisionParams(**{f"{gate}_gate": "on"})
+    with pytest.raises(InputError, match=f"{gate}_margin must be a number >= 0"):
+        M.DecisionParams(**{f"{gate}_margin": -0.1})
+    with pytest.raises(InputError, match=f"{gate}_classes must be class names"):
+        M.DecisionParams(**{f"{gate}_classes": ["box"]})

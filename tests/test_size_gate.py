@@ -182,14 +182,6 @@ def test_the_domain_is_the_longest_compact_proof_of_the_class_positives():
     best, refused = M.decide(hits[:2], stats, ["box", "stairs"], extents=extents, sizes=dom)
     assert best[0] == "stairs" and [r.klass for r in refused] == ["box"]
     assert M.decide(hits[:2], stats, ["box", "stairs"], extents=extents)[0][0] == "box"
-    assert M.SIZE_GATE is M.DecisionParams().size_gate is True
-    assert M.DecisionParams().size_margin == 0.2 and M.DecisionParams().size_classes == "box"
-    with pytest.raises(InputError, match="size_gate must be true or false"):
-        M.DecisionParams(size_gate="on")
-    with pytest.raises(InputError, match="size_margin must be a number >= 0"):
-        M.DecisionParams(size_margin=-0.1)
-    with pytest.raises(InputError, match="size_classes must be class names"):
-        M.DecisionParams(size_classes=["box"])
 
 
 def test_model_json_keeps_the_domain(tmp_path):

@@ -144,15 +144,6 @@ def test_the_domain_is_the_most_slender_top_of_the_least_slender_proofs():
     best, refused = M.decide(hits[:2], stats, ["box", "stairs"], slender=slender, slenders=dom)
     assert best[0] == "stairs" and [type(r) for r in refused] == [M.SlenderRefusal]
     assert M.decide(hits[:2], stats, ["box", "stairs"], slender=slender)[0][0] == "box"
-    p = M.DecisionParams()
-    assert M.SLENDER_GATE is p.slender_gate is True
-    assert p.slender_margin == 0.5 and p.slender_classes == "box"
-    with pytest.raises(InputError, match="slender_gate must be true or false"):
-        M.DecisionParams(slender_gate="on")
-    with pytest.raises(InputError, match="slender_margin must be a number >= 0"):
-        M.DecisionParams(slender_margin=-0.1)
-    with pytest.raises(InputError, match="slender_classes must be class names"):
-        M.DecisionParams(slender_classes=["box"])
 
 
 def test_model_json_keeps_the_domain(tmp_path):
