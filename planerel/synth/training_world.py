@@ -397,7 +397,7 @@ def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
 
     from planerel.synth import geometry as sg
     from planerel.synth import world as sw
-    from planerel.synth.generator import _scene_setup, cast_world, primary_seen
+    from planerel.synth.generator import _scene_setup
     from planerel.synth.sensor import StructuredLight
 
     seed, w, h, intr = _scene_setup("box", seed, size, subsample)
@@ -449,17 +449,12 @@ def generate_round_scene(seed: int, size=(640, 480), subsample: int = 4, *,
             parts.append(_table_top(anchor, support))
         sw._add_objects(parts, infos, lay, scene_id)
         world = sg.combine(*parts)
-        depth_true, poly_index, _plane, obj = cast_world(world, pose, intr)
-        seen = primary_seen(obj, depth_true, sensor)
-        if seen.mean() < min_object_fraction:
-            continue
         params = {"world": "flat" if flat else "round", "where": where,
                   "camera": {"height": cam_h, "pitch_deg": pitch},
                   "size": [w, h], "subsample": int(subsample)}
-        scene = sw._render_seen(world, pose, intr, sensor, rng, infos, params,
-                                scene_id=scene_id, klass="box", seed=seed,
-                                depth_true=depth_true, poly_index=poly_index, seen=seen,
-                                min_object_fraction=min_object_fraction)
+        scene = sw.render_box_scene(world, pose, intr, sensor, rng, infos, params,
+                                    scene_id=scene_id, seed=seed,
+                                    min_object_fraction=min_object_fraction)
         if scene is not None:
             return scene
     raise InputError(f"could not make a round-clutter scene (seed {seed})")
@@ -563,7 +558,7 @@ def generate_product_scene(seed: int, size=(640, 480), subsample: int = 4, *,
 
     from planerel.synth import geometry as sg
     from planerel.synth import world as sw
-    from planerel.synth.generator import _scene_setup, cast_world, primary_seen
+    from planerel.synth.generator import _scene_setup
     from planerel.synth.sensor import StructuredLight
 
     seed, w, h, intr = _scene_setup("box", seed, size, subsample)
@@ -608,17 +603,12 @@ def generate_product_scene(seed: int, size=(640, 480), subsample: int = 4, *,
             parts.append(_table_top(anchor, support))
         sw._add_objects(parts, infos, lay, scene_id)
         world = sg.combine(*parts)
-        depth_true, poly_index, _plane, obj = cast_world(world, pose, intr)
-        seen = primary_seen(obj, depth_true, sensor)
-        if seen.mean() < min_object_fraction:
-            continue
         params = {"world": "product", "where": where,
                   "camera": {"height": cam_h, "pitch_deg": pitch, "distance": dist},
                   "size": [w, h], "subsample": int(subsample)}
-        scene = sw._render_seen(world, pose, intr, sensor, rng, infos, params,
-                                scene_id=scene_id, klass="box", seed=seed,
-                                depth_true=depth_true, poly_index=poly_index, seen=seen,
-                                min_object_fraction=min_object_fraction)
+        scene = sw.render_box_scene(world, pose, intr, sensor, rng, infos, params,
+                                    scene_id=scene_id, seed=seed,
+                                    min_object_fraction=min_object_fraction)
         if scene is not None:
             return scene
     raise InputError(f"could not make a product scene (seed {seed})")

@@ -628,6 +628,24 @@ def _render_seen(world, pose, intr: Intrinsics, sensor, rng, infos: list, params
     return None
 
 
+def render_box_scene(world, pose, intr: Intrinsics, sensor, rng, infos: list, params: dict, *,
+                     scene_id: str, seed: int, min_object_fraction: float):
+    """Ray-cast a drawn box scene (its primary object, object 1, a box) and render it through
+    ``sensor`` (:func:`_render_seen`), or None when the primary object covers less than
+    ``min_object_fraction`` of the image within the sensor's range, or the sensor model leaves
+    it less than half of that: the caller then draws the scene again (the round, flat, product
+    and pile parts of the training world)."""
+    from planerel.synth.generator import cast_world, primary_seen
+
+    depth_true, poly_index, _plane, obj = cast_world(world, pose, intr)
+    seen = primary_seen(obj, depth_true, sensor)
+    if seen.mean() < min_object_fraction:
+        return None
+    return _render_seen(world, pose, intr, sensor, rng, infos, params, scene_id=scene_id,
+                        klass="box", seed=seed, depth_true=depth_true, poly_index=poly_index,
+                        seen=seen, min_object_fraction=min_object_fraction)
+
+
 def _characteristic(world, plane: np.ndarray, seen: np.ndarray) -> bool:
     """The primary object shows what makes its class: two steps (treads or risers) of a
     staircase, the slope of a ramp (each on at least 0.5 % of the image)."""
