@@ -81,6 +81,9 @@ SMALL_FACES = 15
 #: training world"); as an extension the rules stay and their proof domains reach product-size
 #: faces (docs/objects.md "Product boxes as an extension of the theory").
 PRODUCTS = 60
+#: The extension stage's task (pair41): modes_relational.pl and face_pair/2, so the base stage's
+#: rules, learned with the default task, do not move.  None: the default task for both.
+EXTEND_TASK = "modes_pair.pl"
 #: Learner settings of the model: the score is coverage (positives - negatives), a rule must
 #: cover 8 objects and may take a few negatives, so that no narrow rule is kept for a handful
 #: of odd boxes (boxes seen as one face have their rule on ``tall_face/1`` since the face
@@ -150,7 +153,8 @@ def learn_shipped(data_dir, model_dir, *, parts: dict, world_seed: int, learner_
     base_model = model_dir.with_name(model_dir.name + "_base")
     learn_model(base, base_model, **learn_kw)
     world = generate_training_world(data_dir / "model_train", **parts, **world_kw)
-    return world, learn_model(world, model_dir, prior=prior_rules(base_model), **learn_kw)
+    return world, learn_model(world, model_dir, prior=prior_rules(base_model), task=EXTEND_TASK,
+                              **learn_kw)
 
 
 def seeds(n: int = 0) -> dict:

@@ -127,6 +127,9 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
      "box's side below its top (planerel.features.solid)"),
     ("corner", 2, "plane, plane", "vertical walls of one solid meeting at a right angle, "
      "tops level (planerel.features.solid)"),
+    ("face_pair", 2, "plane, plane", "vertical walls of one solid meeting at an outside corner "
+     "(>= 85 deg), tops level and bottoms level, narrow walls allowed (2 cm): a box seen level "
+     "as two faces (planerel.features.solid.is_face_pair)"),
     ("stair_step", 2, "plane, plane", "two parallel treads or risers of one object, the second "
      "one stair step (0.08-0.25 m) above and (0.15-0.45 m) beyond the first, overlapping across "
      "(planerel.features.stair_step.stair_steps)"),
@@ -598,6 +601,8 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
             out["skirt"].append(F("skirt", a, b))
         if r.corner:
             out["corner"].append(F("corner", a, b))
+        if getattr(r, "face_pair", False):
+            out["face_pair"].append(F("face_pair", a, b))
         if (r.a, r.b) in desc.steps:
             out["stair_step"].append(F("stair_step", a, b))
         if r.facing:

@@ -41,6 +41,12 @@ For every unordered pair of planes ``(p, q)`` of a :class:`~planerel.features.pl
 ``corner``       p and q are vertical, adjacent and perpendicular walls of one solid: each
                  at least ``corner_width`` wide, their top edges within ``corner_tol`` of
                  each other (:mod:`planerel.features.solid`; needs the cloud)
+``face_pair``    p and q are vertical, adjacent walls of one solid meeting at an outside
+                 corner of at least ``face_pair_angle`` degrees, each at least
+                 ``face_pair_width`` wide, their tops and their bottoms each within
+                 ``face_pair_level`` of each other and within ``face_pair_level_share`` of
+                 the shorter face's height: a narrow box seen level, no top and no
+                 ground in view (pair41; :mod:`planerel.features.solid`; needs the cloud)
 ``facing``       p and q are vertical, parallel and *not* adjacent walls facing each other
                  across one solid or open box: one at least ``corner_width`` wide, the other
                  at least ``facing_width``, their top edges within ``corner_tol`` of each
@@ -88,6 +94,7 @@ from planerel.features.solid import (
     face_profile_of,
     grounded,
     is_corner,
+    is_face_pair,
     is_facing,
     is_skirt,
     on_step,
@@ -263,6 +270,19 @@ class RelationParams:
     #: ``corner_tol``): a riser's foot seen as a strip is level with the riser below only
     #: within its own width
     facing_narrow_tol: float = 0.03
+    #: ``face_pair`` (pair41): two upright faces of one solid seen without a top or ground,
+    #: narrow faces allowed: each at least ``face_pair_width`` m wide (``Plane.width``), the
+    #: angle between them at least ``face_pair_angle`` degrees (real corners open by 1-4
+    #: degrees: docs/synthetic-world.md "Block-matching window"; ryesw's carton 86.5-88.9),
+    #: their tops and their bottoms each within ``face_pair_level`` m of each other and within
+    #: ``face_pair_level_share`` of the shorter face's height (its 2nd-98th percentile span):
+    #: two faces of one upright solid span the same heights (a translucent cup's two facets,
+    #: hunt33 ucn 000006: tops 1.8 cm apart on a 4.3 cm span; ryesw's carton: at most 1.2 cm
+    #: on 22 cm)
+    face_pair_width: float = 0.02
+    face_pair_angle: float = 85.0
+    face_pair_level: float = 0.03
+    face_pair_level_share: float = 0.25
     #: m: planes narrower than this (``plane_width``) do not count in ``oblique_share``
     #: (:func:`planerel.features.facts.oblique_share`); 0 = every plane counts
     oblique_min_width: float = 0.025
@@ -276,7 +296,7 @@ class RelationParams:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width",
-                             "facing_overlap", "facing_width", "facing_narrow_tol", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
+                             "facing_overlap", "facing_width", "facing_narrow_tol", "face_pair_width", "face_pair_angle", "face_pair_level", "face_pair_level_share", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
                              "lying_rise",
@@ -332,6 +352,7 @@ class Relation:
     skirt: bool = False
     corner: bool = False
     facing: bool = False
+    face_pair: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -686,6 +707,14 @@ class _Solid:
         return is_corner(a, b, self._profile(a), self._profile(b), p.corner_tol,
                          p.corner_width)
 
+    def face_pair(self, a, b, angle) -> bool:
+        if self.xyz is None or a.orientation != "vertical" or b.orientation != "vertical":
+            return False
+        p = self.params
+        return angle >= p.face_pair_angle and is_face_pair(
+            a, b, self._profile(a), self._profile(b), p.face_pair_level, p.face_pair_width,
+            p.face_pair_level_share)
+
     def facing(self, a, b) -> bool:
         if self.xyz is None or a.orientation != "vertical" or b.orientation != "vertical":
             return False
@@ -738,7 +767,7 @@ _set_dict = next(c.__dict__["__dict__"] for c in Relation.__mro__ if "__dict__" 
 
 
 def _relation(a, b, angle, parallel, perpendicular, gap, touching, adjacent, rise, above,
-              in_front_of, skirt, corner, facing=False) -> Relation:
+              in_front_of, skirt, corner, facing=False, face_pair=False) -> Relation:
     """``Relation(...)`` without the frozen dataclass's ``__init__`` (14 guarded attribute
     writes): the same fields, in the same order, in the instance dictionary."""
     r = _new(Relation)
@@ -749,7 +778,7 @@ def _relation(a, b, angle, parallel, perpendicular, gap, touching, adjacent, ris
                   "perpendicular": perpendicular, "gap": gap, "touching": touching,
                   "adjacent": adjacent, "rise": rise, "above": above,
                   "in_front_of": in_front_of, "skirt": skirt, "corner": corner,
-                  "facing": facing})
+                  "facing": facing, "face_pair": face_pair})
     return r
 
 
@@ -815,6 +844,7 @@ def relate(planes, cloud=None, params: RelationParams | None = None,
     m = n - 1
     par_tol, above_tol, front_tol = params.parallel_tol, params.above_tol, params.front_tol
     skirt, corner_of, facing_of = solid.skirt, solid.corner, solid.facing
+    pair_of = solid.face_pair
     # who can be a skirt's top or face, a corner's wall (``_Solid`` answers False otherwise:
     # its calls are left out, not its answers)
     seen = solid.xyz is not None
@@ -839,14 +869,15 @@ def relate(planes, cloud=None, params: RelationParams | None = None,
             dd = dep[j] - dep[i]
             corner = adj and perp and vi and vert[j] and corner_of(pi, pj)
             facing = not adj and par and vi and vert[j] and facing_of(pi, pj)
+            fpair = adj and perp and vi and vert[j] and pair_of(pi, pj, a)
             out[i * m + j - 1] = _relation(li, lj, a, par, perp, gap, t, adj, rise,
                                            -rise > above_tol, dd > front_tol,
                                            adj and hi and fcand[j] and skirt(pi, pj), corner,
-                                           facing)
+                                           facing, fpair)
             out[j * m + i] = _relation(lj, li, a, par, perp, gap, t, adj, -rise,
                                        rise > above_tol, -dd > front_tol,
                                        adj and fcand[i] and horiz[j] and skirt(pj, pi), corner,
-                                       facing)
+                                       facing, fpair)
     if any(plist[k].label >= plist[k + 1].label for k in range(n - 1)):
         out.sort(key=lambda r: (r.a, r.b))
     return Relations(tuple(out), params, solid.steps)

@@ -424,6 +424,31 @@ def is_corner(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float =
     return bool(abs(profile_p.top - profile_q.top) <= tol)
 
 
+def is_face_pair(p, q, profile_p: FaceProfile, profile_q: FaceProfile, level: float = 0.03,
+                 width_min: float = 0.02, level_share: float = 0.25) -> bool:
+    """True when vertical faces ``p`` and ``q`` are two upright faces of one solid seen from
+    outside (module rule ``face_pair``, pair41): each at least ``width_min`` m wide
+    (``Plane.width``), their top edges and their bottom edges (:class:`FaceProfile` ``top``,
+    ``bottom``) each within ``level`` m of each other and within ``level_share`` of the shorter
+    face's height (``top - bottom``: two faces of one upright solid span the same heights), and
+    the corner convex: each face's
+    centroid behind the other's plane as the sensor sees it (normals point towards the
+    sensor; a room's inside corner has each wall in front of the other).
+
+    Orientation, adjacency and the angle are the caller's to check.
+    """
+    if min(p.width, q.width) < width_min:
+        return False
+    span = min(profile_p.top - profile_p.bottom, profile_q.top - profile_q.bottom)
+    tol = min(level, level_share * span)
+    if not (abs(profile_p.top - profile_q.top) <= tol
+            and abs(profile_p.bottom - profile_q.bottom) <= tol):
+        return False  # not level (or not measured: NaN)
+    cp, cq = np.asarray(p.centroid, float), np.asarray(q.centroid, float)
+    return bool(float((cq - cp) @ np.asarray(p.normal, float)) < 0.0
+                and float((cp - cq) @ np.asarray(q.normal, float)) < 0.0)
+
+
 def is_facing(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float = 0.08,
               width_min: float = 0.08, overlap_min: float = 0.5,
               narrow_min: float | None = None, narrow_tol: float | None = None) -> bool:
