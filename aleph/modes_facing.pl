@@ -10,81 +10,16 @@
     each other.  Not the default: openbox16 measured the demo's training world
     learning facing/2 in place of its corner rule and losing boxes of the
     judge set.  tests/test_facing.py keeps this file equal to
-    aleph/modes_slope.pl plus that line.
+    aleph/modes_slope.pl plus that line (its lines expanded: both are written as the
+    four parts every task shares, aleph/part1_relations.pl, and their own lines).
 */
 
-:- set(search, heuristic).
-:- set(evalfn, laplace).
-:- set(clauselength, 6).
-:- set(i, 3).
-:- set(nodes, 3000).
-:- set(minpos, 2).
-:- set(noise, 0).
-
-% planes and their pairwise relations
-:- modeb(*, has_plane(+obj, -plane)).
-:- modeb(1, orientation(+plane, #orient)).
-:- modeb(*, adjacent(+plane, -plane)).
-:- modeb(*, parallel(+plane, -plane)).
-:- modeb(*, perpendicular(+plane, -plane)).
-:- modeb(*, above(+plane, -plane)).
-:- modeb(*, skirt(+plane, -plane)).
-:- modeb(*, corner(+plane, -plane)).
+:- planerel_include('part1_relations.pl').
 % two parallel vertical walls of one object facing each other (not adjacent, tops level,
 % overlapping along the walls): an open box's near and far side
 :- modeb(*, facing(+plane, -plane)).
-:- modeb(1, angle(+plane, +plane, -angle)).
-:- modeb(1, gap(+plane, +plane, -gap)).
-:- modeb(1, rise(+plane, +plane, -rise)).
-
-% plane attributes: orientation, height and size
-:- modeb(1, incline(+plane, -incline)).
-% the incline of an inclined plane only: "an inclined plane at most 20 degrees steep" is one
-% literal and its threshold, so a clause can bound it and the plane's size too (a ramp seen
-% close, cut by the view: its size in view is small, its slope gentle)
-:- modeb(1, slope(+plane, -slope)).
-:- modeb(1, height(+plane, -height)).
-:- modeb(1, area(+plane, -area)).
-:- modeb(1, plane_length(+plane, -plength)).
-:- modeb(1, plane_width(+plane, -pwidth)).
-% a plane seen whole (not cut by the image border, not partly hidden): its sizes are sizes;
-% plane_length / plane_width measure the part in view, a lower bound when it is cut, so they
-% take only gteq ("at least this long") and an upper bound is on seen_length / seen_width
-:- modeb(1, seen_length(+plane, -slength)).
-:- modeb(1, seen_width(+plane, -swidth)).
-
-% object measures: the number of horizontal planes as a constant ("exactly one
-% horizontal plane" is one literal), the oblique share with a threshold
-:- modeb(1, nhorizontal(+obj, #nhorizontal)).
-:- modeb(1, oblique_share(+obj, -oblique)).
-
-% how much of the object flat planes explain (planerel.curved): round objects are curved
-:- modeb(1, planar_fraction(+obj, -pfrac)).
-:- modeb(1, curved(+obj)).
-
-% lazily evaluated thresholds, one pair per measure
-:- modeb(1, gteq(+angle, #angle)).
-:- modeb(1, lteq(+angle, #angle)).
-:- modeb(1, gteq(+gap, #gap)).
-:- modeb(1, lteq(+gap, #gap)).
-:- modeb(1, gteq(+rise, #rise)).
-:- modeb(1, lteq(+rise, #rise)).
+:- planerel_include('part2_measures.pl').
+:- planerel_include('part3_objects.pl').
 :- modeb(1, gteq(+incline, #incline)).
 :- modeb(1, lteq(+incline, #incline)).
-:- modeb(1, gteq(+slope, #slope)).
-:- modeb(1, lteq(+slope, #slope)).
-:- modeb(1, gteq(+height, #height)).
-:- modeb(1, lteq(+height, #height)).
-:- modeb(1, gteq(+area, #area)).
-:- modeb(1, lteq(+area, #area)).
-:- modeb(1, gteq(+plength, #plength)).
-:- modeb(1, gteq(+pwidth, #pwidth)).
-:- modeb(1, lteq(+slength, #slength)).
-:- modeb(1, lteq(+swidth, #swidth)).
-:- modeb(1, gteq(+pfrac, #pfrac)).
-:- modeb(1, lteq(+pfrac, #pfrac)).
-:- modeb(1, gteq(+oblique, #oblique)).
-:- modeb(1, lteq(+oblique, #oblique)).
-
-:- lazy_evaluate(lteq/2).
-:- lazy_evaluate(gteq/2).
+:- planerel_include('part4_thresholds.pl').

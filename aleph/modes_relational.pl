@@ -4,7 +4,7 @@
     Read by `planerel export-aleph`, which writes it into STEM.b after the
     target's mode head (modeh(1, Class(+obj)), or modeh(1, class(+obj, #cls))
     for a multi-class task) and adds one determination from the target to
-    every predicate declared below with modeb.
+    every predicate declared below with modeb (in this file and its parts).
 
     Vocabulary (docs/predicates.md): the planes of an object (has_plane), per
     plane its orientation, incline, height and size (area, plane_length,
@@ -36,37 +36,21 @@
 
     No hand-written detector: step_up/2 stays in prolog/derived.pl as
     background and is a mode only in aleph/modes_objects.pl.
+
+    Written as the four parts every task shares (aleph/part1_relations.pl ..
+    part4_thresholds.pl, taken with planerel_include, which planerel expands
+    when it reads the task) and this task's own lines between them, each where
+    the bottom clause has always had it: stair_step/2 after the relations,
+    tall_face/1 and lying/1 after the plane attributes, the thresholds on
+    incline/2 after those on the pair measures.  The task written out line by
+    line is the modes section of any STEM.b that planerel export-aleph writes
+    with it (docs/learner.md "A task that extends another").
 */
 
-:- set(search, heuristic).
-:- set(evalfn, laplace).
-:- set(clauselength, 6).
-:- set(i, 3).
-:- set(nodes, 3000).
-:- set(minpos, 2).
-:- set(noise, 0).
-
-% planes and their pairwise relations
-:- modeb(*, has_plane(+obj, -plane)).
-:- modeb(1, orientation(+plane, #orient)).
-:- modeb(*, adjacent(+plane, -plane)).
-:- modeb(*, parallel(+plane, -plane)).
-:- modeb(*, perpendicular(+plane, -plane)).
-:- modeb(*, above(+plane, -plane)).
-:- modeb(*, skirt(+plane, -plane)).
-:- modeb(*, corner(+plane, -plane)).
+:- planerel_include('part1_relations.pl').
+% two treads or two risers one stair step apart (lead28)
 :- modeb(*, stair_step(+plane, -plane)).
-:- modeb(1, angle(+plane, +plane, -angle)).
-:- modeb(1, gap(+plane, +plane, -gap)).
-:- modeb(1, rise(+plane, +plane, -rise)).
-
-% plane attributes: orientation, height and size
-:- modeb(1, incline(+plane, -incline)).
-:- modeb(1, slope(+plane, -slope)).
-:- modeb(1, height(+plane, -height)).
-:- modeb(1, area(+plane, -area)).
-:- modeb(1, plane_length(+plane, -plength)).
-:- modeb(1, plane_width(+plane, -pwidth)).
+:- planerel_include('part2_measures.pl').
 % a vertical rectangle standing on the ground, its top at or above the sensor's eye level or
 % out of view: a box seen so shows no top (a tall box, a box seen face-on); a chair's back
 % stands on nothing, a ramp's back or a laptop's lid is seen from above (face24)
@@ -75,44 +59,7 @@
 % beside it: the top of a book or a flat box lying on a table, its sides edge-on or hidden;
 % a table's top, a seat, a landing stand higher, a floor's far piece is level (top25)
 :- modeb(1, lying(+plane)).
-% a plane seen whole (not cut by the image border, not partly hidden): its sizes are sizes;
-% plane_length / plane_width measure the part in view, a lower bound when it is cut, so they
-% take only gteq ("at least this long") and an upper bound is on seen_length / seen_width
-:- modeb(1, seen_length(+plane, -slength)).
-:- modeb(1, seen_width(+plane, -swidth)).
-
-% object measures: the number of horizontal planes as a constant ("exactly one
-% horizontal plane" is one literal), the oblique share with a threshold
-:- modeb(1, nhorizontal(+obj, #nhorizontal)).
-:- modeb(1, oblique_share(+obj, -oblique)).
-
-% how much of the object flat planes explain (planerel.curved): round objects are curved
-:- modeb(1, planar_fraction(+obj, -pfrac)).
-:- modeb(1, curved(+obj)).
-
-% lazily evaluated thresholds, one pair per measure
-:- modeb(1, gteq(+angle, #angle)).
-:- modeb(1, lteq(+angle, #angle)).
-:- modeb(1, gteq(+gap, #gap)).
-:- modeb(1, lteq(+gap, #gap)).
-:- modeb(1, gteq(+rise, #rise)).
-:- modeb(1, lteq(+rise, #rise)).
+:- planerel_include('part3_objects.pl').
 :- modeb(1, gteq(+incline, #incline)).
 :- modeb(1, lteq(+incline, #incline)).
-:- modeb(1, gteq(+slope, #slope)).
-:- modeb(1, lteq(+slope, #slope)).
-:- modeb(1, gteq(+height, #height)).
-:- modeb(1, lteq(+height, #height)).
-:- modeb(1, gteq(+area, #area)).
-:- modeb(1, lteq(+area, #area)).
-:- modeb(1, gteq(+plength, #plength)).
-:- modeb(1, gteq(+pwidth, #pwidth)).
-:- modeb(1, lteq(+slength, #slength)).
-:- modeb(1, lteq(+swidth, #swidth)).
-:- modeb(1, gteq(+pfrac, #pfrac)).
-:- modeb(1, lteq(+pfrac, #pfrac)).
-:- modeb(1, gteq(+oblique, #oblique)).
-:- modeb(1, lteq(+oblique, #oblique)).
-
-:- lazy_evaluate(lteq/2).
-:- lazy_evaluate(gteq/2).
+:- planerel_include('part4_thresholds.pl').

@@ -69,8 +69,11 @@ def aleph_search_seconds(output: str) -> float | None:
 def counts_as_thresholds(src: Path, dest: Path) -> Path:
     """A harder variant of a task file: the plane counts as numbers compared with lazily
     evaluated lteq/gteq thresholds (``nhorizontal(+obj, -nhorizontal)``, ``lteq(+nhorizontal,
-    #nhorizontal)``) instead of constants; bottom clauses grow and searches run longer."""
-    text = src.read_text()
+    #nhorizontal)``) instead of constants; bottom clauses grow and searches run longer.  The
+    variant holds the task's directive lines with its includes expanded (``task_directives``)."""
+    from planerel.ilp.aleph_export import task_directives
+
+    text = "\n".join(task_directives(str(src))) + "\n"
     extra = []
     for name in ("nhorizontal", "nvertical", "ninclined"):
         text = text.replace(f"{name}(+obj, #{name})", f"{name}(+obj, -{name})")

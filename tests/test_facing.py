@@ -149,11 +149,10 @@ def test_facing_facts_in_prolog(tmp_path):
 
 
 def test_facing_task_is_the_slope_task_and_one_line():
-    from importlib.resources import files
+    from planerel.ilp.aleph_export import task_directives
 
-    def modes(name):
-        text = files("planerel.aleph").joinpath(name).read_text()
-        return [ln.strip() for ln in text.splitlines() if ln.startswith(":-")]
+    def modes(name):  # the task's directive lines, its parts expanded (planerel_include)
+        return task_directives(name)
 
     slope, facing, default = modes("modes_slope.pl"), modes("modes_facing.pl"), modes("modes_relational.pl")
     assert [ln for ln in facing if ln not in slope] == [":- modeb(*, facing(+plane, -plane))."]
@@ -167,11 +166,10 @@ def test_varied_task_is_the_facing_task_without_incline_thresholds():
     """aleph/modes_varied.pl (the task of --recipe varied): every line of the facing task but
     the two thresholds on incline/2 (docs/results.md, real16b: a bound inside an orientation
     class splits a generated plane's fit noise and rejects real box tops)."""
-    from importlib.resources import files
+    from planerel.ilp.aleph_export import task_directives
 
-    def modes(name):
-        text = files("planerel.aleph").joinpath(name).read_text()
-        return [ln.strip() for ln in text.splitlines() if ln.startswith(":-")]
+    def modes(name):  # the task's directive lines, its parts expanded (planerel_include)
+        return task_directives(name)
 
     facing, varied = modes("modes_facing.pl"), modes("modes_varied.pl")
     assert [ln for ln in facing if ln not in varied] == [

@@ -51,11 +51,10 @@ def test_slope_only_for_inclined_planes_and_equal_to_their_incline(tmp_path):
 
 
 def test_slope_task_is_the_default_task_and_three_lines():
-    from importlib.resources import files
+    from planerel.ilp.aleph_export import task_directives
 
-    def modes(name):
-        text = files("planerel.aleph").joinpath(name).read_text()
-        return [ln.strip() for ln in text.splitlines() if ln.startswith(":-")]
+    def modes(name):  # the task's directive lines, its parts expanded (planerel_include)
+        return task_directives(name)
 
     default, slope = modes("modes_relational.pl"), modes("modes_slope.pl")
     # tall_face/1 (face24), lying/1 (top25) and stair_step/2 (lead28) are the default task's

@@ -76,10 +76,9 @@ def test_seen_sizes_only_for_planes_seen_whole(tmp_path):
 
 
 def test_default_task_bounds_sizes_in_the_sound_direction():
-    from importlib.resources import files
+    from planerel.ilp.aleph_export import task_directives
 
-    task = files("planerel.aleph").joinpath("modes_relational.pl").read_text()
-    modes = {ln.strip() for ln in task.splitlines() if ln.startswith(":- modeb(")}
+    modes = {ln for ln in task_directives("modes_relational.pl") if ln.startswith(":- modeb(")}
     # a size in view is a lower bound: "at least" on it, "at most" only on a plane seen whole
     assert ":- modeb(1, gteq(+pwidth, #pwidth))." in modes
     assert ":- modeb(1, gteq(+plength, #plength))." in modes

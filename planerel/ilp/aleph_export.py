@@ -41,6 +41,7 @@ __all__ = [
     "TASK_FILE",
     "PAIRS",
     "load_task",
+    "task_directives",
     "examples_of",
     "example_facts",
     "aleph_files",
@@ -150,27 +151,115 @@ def _resource_text(package: str, name: str) -> str:
         raise InputError(f"cannot read {name} from package {package}: {exc}") from None
 
 
+#: ``:- planerel_include('FILE').`` in a task file: FILE's lines stand where the directive is.
+#: planerel expands it when it reads the task; it is never written into ``STEM.b`` (the real
+#: Aleph knows no such directive).
+_INCLUDE = re.compile(r"^:-\s*planerel_include\(\s*'([^'\\]+)'\s*\)\.\s*$")
+_INCLUDE_WORD = re.compile(r"^:-\s*planerel_include\b")
+
+
+@dataclass(frozen=True)
+class _TaskSource:
+    """One task file as read: its identity (include cycles), its name in messages, its text, and
+    the folder its relative includes are looked up in (None: the package ``planerel.aleph``)."""
+
+    key: str
+    where: str
+    text: str
+    folder: Path | None
+
+
+def _package_task(name: str) -> _TaskSource:
+    from importlib.resources import files
+
+    res = files("planerel.aleph").joinpath(name)
+    text = _resource_text("planerel.aleph", name)
+    key = str(Path(str(res)).resolve()) if isinstance(res, Path) else f"planerel.aleph/{name}"
+    return _TaskSource(key, name, text, None)
+
+
+def _path_task(p: Path) -> _TaskSource:
+    try:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{p}: cannot read the task file ({exc})") from None
+    return _TaskSource(str(p.resolve()), str(p), text, p.parent)
+
+
+def _task_source(task: str | None) -> _TaskSource:
+    if task is None or ("/" not in str(task) and not Path(str(task)).exists()):
+        return _package_task(task or TASK_FILE)
+    return _path_task(Path(task))
+
+
+def _included(name: str, parent: _TaskSource, at: str) -> _TaskSource:
+    """The file ``planerel_include(name)`` names in ``parent``: relative to the including file's
+    folder, else (a bare name) planerel's ``aleph/`` folder (package ``planerel.aleph``)."""
+    from importlib.resources import files
+
+    looked = []
+    if parent.folder is not None:
+        p = parent.folder / name
+        if p.is_file():
+            return _path_task(p)
+        looked.append(f"for {p}")
+    if "/" not in name and "\\" not in name:
+        res = files("planerel.aleph").joinpath(name)
+        if res.is_file():
+            return _package_task(name)
+        looked.append("in planerel's aleph/ folder")
+    raise InputError(f"{at}: planerel_include: no task file {name!r}"
+                     + (f" (looked {' and '.join(looked)})" if looked else ""))
+
+
+def _directives(src: _TaskSource, chain: tuple = ()) -> list[tuple[str, int, str]]:
+    """The directive lines of a task file, ``(where, line number, line)``, each include expanded in
+    its place."""
+    chain = chain + (src,)
+    out = []
+    for lineno, line in enumerate(src.text.splitlines(), 1):
+        s = line.strip()
+        if not s.startswith(":-"):
+            continue
+        if not _INCLUDE_WORD.match(s):
+            out.append((src.where, lineno, s))
+            continue
+        at = f"{src.where}:{lineno}"
+        m = _INCLUDE.match(s)
+        if not m:
+            raise InputError(f"{at}: planerel_include takes one file name in single quotes, as in "
+                             ":- planerel_include('modes_relational.pl').")
+        inc = _included(m.group(1), src, at)
+        keys = [c.key for c in chain]
+        if inc.key in keys:
+            loop = [c.where for c in chain[keys.index(inc.key):]] + [inc.where]
+            raise InputError(f"{at}: planerel_include cycle: {' -> '.join(loop)}")
+        out += _directives(inc, chain)
+    return out
+
+
+def task_directives(task: str | None = None) -> list[str]:
+    """The directive lines (``:- ...``) of a task file in order, with every
+    ``:- planerel_include('FILE').`` replaced by FILE's directive lines: the lines
+    :func:`load_task` sorts into settings, modes and other declarations.
+
+    ``task`` as for :func:`load_task`.  An included name is looked up in the including file's
+    folder, and a bare name (no ``/``) that is not there in planerel's ``aleph/`` folder; a
+    missing or cyclic include is an :class:`InputError` naming the file and line.
+    """
+    return [s for _, _, s in _directives(_task_source(task))]
+
+
 def load_task(task: str | None = None) -> tuple[list[str], list[str], list[tuple[str, int]], list[str]]:
     """Read a task file: (set lines, modeb lines, body predicates (name, arity), other lines).
 
     ``task`` is a file path, or the name of a file in the package ``planerel.aleph``
-    (default :data:`TASK_FILE`).
+    (default :data:`TASK_FILE`).  ``:- planerel_include('FILE').`` lines are expanded in place
+    (:func:`task_directives`).
     """
-    if task is None or ("/" not in str(task) and not Path(str(task)).exists()):
-        text = _resource_text("planerel.aleph", task or TASK_FILE)
-        where = task or TASK_FILE
-    else:
-        p = Path(task)
-        try:
-            text = p.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"{p}: cannot read the task file ({exc})") from None
-        where = str(p)
+    src = _task_source(task)
     sets, modes, preds, other = [], [], [], []
-    for lineno, line in enumerate(text.splitlines(), 1):
-        s = line.strip()
-        if not s.startswith(":-"):
-            continue
+    for where, lineno, s in _directives(src):
         m = _MODEB.match(s)
         if m:
             args = [a for a in m.group(3).split(",") if a.strip()]
@@ -186,7 +275,7 @@ def load_task(task: str | None = None) -> tuple[list[str], list[str], list[tuple
         else:
             other.append(s)
     if not modes:
-        raise InputError(f"{where}: no modeb declarations found")
+        raise InputError(f"{src.where}: no modeb declarations found")
     return sets, modes, preds, other
 
 
