@@ -92,6 +92,25 @@ def test_waviness_is_measured_from_the_frame():
     assert estimate_noise(small).wave == 0.0  # not asked for
 
 
+def test_waviness_needs_enough_complete_windows():
+    # split42: the apc-shelf F200 frames (hunt36, 37-41 % of the pixels measured) hold only
+    # 20-39 complete 25 px windows, under MIN_PER_BAND (60): their waviness is not measured
+    # (0.0) and join_wavy leaves their faces in pieces (docs/objects.md, "One real box's faces
+    # cut apart"). The same wavy frame with only a 150 x 150 px patch measured (36 windows)
+    # reads 0.0, not wavy; the whole frame reads wavy.
+    from planerel.segment.noise import MIN_PER_BAND
+
+    cloud, _ = _scene(**WAVY)
+    assert estimate_noise(cloud, waviness=True).wavy
+    xyz = np.array(cloud.xyz, copy=True)
+    keep = np.zeros(xyz.shape[:2], bool)
+    keep[165:315, 245:395] = True
+    xyz[~keep] = np.nan
+    part = estimate_noise(Cloud(xyz, INTR), waviness=True)
+    assert (150 // 25) ** 2 < MIN_PER_BAND
+    assert part.wave == 0.0 and part.wave_window == 0 and not part.wavy
+
+
 @pytest.mark.parametrize("seed", [0, 1])
 def test_faces_of_a_wavy_frame_come_out_whole(seed):
     cloud, face = _scene(seed=seed, **WAVY)
