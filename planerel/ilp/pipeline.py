@@ -1391,7 +1391,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         header = (f"learned by planerel from {dataset_dir} ({len(descs)} scenes, "
                   f"segmentation: {method}, engine: {model.engine})"
                   + (f"\nextending a prior theory of {sum(len(v) for v in prior.values())} "
-                     f"clause(s), kept first and unchanged" if prior else ""))
+                     f"clause(s), kept first and unchanged (the clauses that theory's own "
+                     f"learning left out are listed in its rules.pl)" if prior else ""))
         write_text(tmp / "rules.pl", model.text(header))
         from planerel.ilp.model_settings import MODEL_FILE, training_settings
 
