@@ -251,9 +251,13 @@ def build_scene(kind, rng):
 # ----------------------------------------------------------------------------- camera + rays
 
 
-def camera_pose(target, look_yaw, eye_floor, rng, tall=False):
-    """Eye position and camera axes (right, down, forward as rows of R: x_cam = R (p - eye))."""
-    h = rng.uniform(0.3, 0.5) if tall else rng.uniform(0.3, 2.0)
+def camera_pose(target, look_yaw, eye_floor, rng, tall=False, heights=None):
+    """Eye position and camera axes (right, down, forward as rows of R: x_cam = R (p - eye)).
+
+    ``heights``: ``(low, high)`` eye heights over the floor in metres instead of 0.3-2.0 (0.3-0.5
+    for a tall box): the same random draws, so a set made without it is unchanged."""
+    lo, hi = heights if heights is not None else ((0.3, 0.5) if tall else (0.3, 2.0))
+    h = rng.uniform(lo, hi)
     eye_z = eye_floor + h
     for _ in range(50):
         D = rng.uniform(0.8, 4.0)
@@ -468,10 +472,12 @@ def _edge_band(zp, width, rng):
 KINDS = ("box", "stairs", "ramp", "stairs_top")
 
 
-def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ramp"), sensor="plain"):
+def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ramp"), sensor="plain",
+               heights=None):
     """Scene ``i`` of the set of ``seed``: (xyz, truth, sidecar dict, meshes, eye, R, plane ids).
 
-    ``kinds``: the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``)."""
+    ``kinds``: the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``);
+    ``heights``: the camera's eye heights (:func:`camera_pose`; not for ``stairs_top``)."""
     rng = np.random.default_rng([seed, i])
     kind = kinds[i % len(kinds)]
     if kind not in KINDS:
@@ -481,7 +487,7 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
         eye, R, cam = landing_pose(info, rng)
     else:
         eye, R, cam = camera_pose(target, info["look_yaw"], info["eye_floor"], rng,
-                                  tall=bool(info.get("tall")))
+                                  tall=bool(info.get("tall")), heights=heights)
     W, H = size
     hfov = np.radians(rng.uniform(55, 70))
     fx = (W / 2) / np.tan(hfov / 2)
@@ -512,12 +518,13 @@ def _write_npy(path, arr):
     tmp.replace(path)
 
 
-def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain"):
+def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain", heights=None):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     for i in range(n):
-        xyz, truth, side, *_, pid = make_scene(i, seed, size, kinds=kinds, sensor=sensor)
+        xyz, truth, side, *_, pid = make_scene(i, seed, size, kinds=kinds, sensor=sensor,
+                                               heights=heights)
         sid = side["scene_id"]
         _write_npy(out / f"{sid}.planes.npy", pid)
         _write_npy(out / f"{sid}.npy", xyz)
@@ -527,6 +534,8 @@ def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain"
     meta = {"seed": seed, "n": n, "size": list(size)}
     if tuple(kinds) != ("box", "stairs", "ramp") or sensor != "plain":
         meta.update(kinds=list(kinds), sensor=sensor)
+    if heights is not None:
+        meta["heights"] = list(heights)
     _write_json(out / "independent.json", meta)
     print(f"made {n} scenes ({size[0]}x{size[1]}) in {dt:.1f} s, {1000 * dt / max(n, 1):.0f} ms/scene -> {out}")
 
@@ -715,6 +724,9 @@ def main(argv=None):
     m.add_argument("--kinds", default="box,stairs,ramp",
                    help=f"comma-separated cycle of primary kinds, of {', '.join(KINDS)} (a kind may repeat)")
     m.add_argument("--sensor", default="plain", choices=SENSORS)
+    m.add_argument("--heights", default=None, metavar="LOW,HIGH",
+                   help="camera eye heights over the floor, metres (default 0.3,2.0; 0.3,0.5 for "
+                        "a tall box): e.g. 0.1,0.3 for a camera near the floor")
     s = sub.add_parser("score")
     s.add_argument("out")
     s.add_argument("models", nargs="+")
@@ -730,7 +742,9 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if a.cmd == "make":
         W, H = (int(v) for v in a.size.lower().split("x"))
-        make_set(a.out, a.n, a.seed, (W, H), kinds=tuple(a.kinds.split(",")), sensor=a.sensor)
+        heights = None if a.heights is None else tuple(float(v) for v in a.heights.split(","))
+        make_set(a.out, a.n, a.seed, (W, H), kinds=tuple(a.kinds.split(",")), sensor=a.sensor,
+                 heights=heights)
     else:
         res = score_set(a.out, a.models, a.figures, min_pixels=a.min_pixels, by_planes=a.by_planes)
         if a.true_planes:

@@ -216,3 +216,16 @@ def test_judged_objects_need_150_pixels_at_160x120_scaled_with_the_image(tmp_pat
     assert ind.default_min_pixels(tmp_path) == round(150 * 64 * 48 / (160 * 120))
     (tmp_path / "independent.json").write_text(json.dumps({"size": [640, 480]}))
     assert ind.default_min_pixels(tmp_path) == 2400
+
+
+def test_camera_heights_option_sets_the_eye_and_leaves_the_default_draws_alone():
+    # --heights 0.1,0.3 (dev_low: a camera near the floor): the eye stands in the range given;
+    # without it a scene is what it was (same draws: the height is one uniform either way)
+    for i in range(4):
+        low = ind.make_scene(i, 9, (40, 30), kinds=("box",), heights=(0.1, 0.3))
+        assert 0.1 <= low[2]["params"]["camera"]["height"] <= 0.3
+        assert 0.1 <= low[4][2] - low[2]["params"]["eye_floor"] <= 0.3
+    a = ind.make_scene(2, 9, (40, 30), kinds=("box",))
+    b = ind.make_scene(2, 9, (40, 30), kinds=("box",), heights=None)
+    np.testing.assert_array_equal(a[0], b[0])
+    assert 0.3 <= a[2]["params"]["camera"]["height"] <= 2.0
