@@ -220,6 +220,21 @@ class RelationParams:
     #: wide) is no lid.  Either 0: no depth asked
     tall_cap_depth: float = 0.1
     tall_cap_ratio: float = 0.3
+    #: m: a vertical face that no adjacent horizontal plane grounds still stands on the floor
+    #: (:func:`floor_foot`) when its foot is level with the floor plane's fit (extrapolated
+    #: under it) within this: a box seen from a camera 0.1-0.3 m over the floor, which sees the
+    #: floor at a grazing angle and segments it only nearer (low42: true boxes of dev_low
+    #: 0.003-0.029 m, one 0.047; a chair's back over its seat 0.05-0.07).  0: off (before low42)
+    tall_floor_fit: float = 0.03
+    #: ... when at least this share of its middle pixel columns show, in the rows under its
+    #: lowest pixel, the floor (within ``standing_foot`` of the fit, no farther than the face)
+    #: or nothing measured (the grazing floor); a table's or a chair's open space shows the
+    #: room behind, a riser the tread in front of it above the floor
+    tall_floor_share: float = 0.5
+    #: ... and when its pixels fill at least this share of each of its rows' spans (a solid
+    #: face; a table's legs that the region grower took as one plane fill 0.2, a chair's
+    #: back and legs 0.3-0.7)
+    tall_floor_solid: float = 0.8
     #: m: a ``lying`` plane (:func:`lying_tops`) stands at least this far above the ground
     #: it lies on (or ``lying_snr`` times its own fit's RMS, when more): a book's or
     #: a flat box's top 2-8 cm over the table; a floor's far piece that the sensor bends is
@@ -299,7 +314,7 @@ class RelationParams:
                              "facing_overlap", "facing_width", "facing_narrow_tol", "face_pair_width", "face_pair_angle", "face_pair_level", "face_pair_level_share", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
-                             "lying_rise",
+                             "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
                              "lying_min_length", "lying_width", "lying_snr", "lying_ring",
                              "lying_ring_ground", "lying_ring_between"))
@@ -309,6 +324,9 @@ class RelationParams:
         if self.lying_min_length > self.lying_length:
             raise InputError(f"lying_min_length must be at most lying_length "
                              f"({self.lying_length!r}), got {self.lying_min_length!r}")
+        for name in ("tall_floor_share", "tall_floor_solid"):
+            if getattr(self, name) > 1:
+                raise InputError(f"{name} is a share in 0..1, got {getattr(self, name)!r}")
         if self.tall_cap > 1:
             raise InputError(f"tall_cap is a share of the face's pixel columns in 0..1, got "
                              f"{self.tall_cap!r}")
@@ -1018,17 +1036,29 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     by_label = {q.label: q for q in planes}
     near: dict[int, list] = {}
     beside: dict[int, list] = {}
+
+    def shaped(a):
+        return a.orientation == "vertical" and a.width >= p.corner_width \
+            and a.area >= p.standing_fill * a.length * a.width \
+            and (p.tall_flat <= 0 or a.rms <= p.tall_flat * a.width)
+
     for r in adjacent_only(relations):
         if r.adjacent:
             a, b = by_label.get(r.a), by_label.get(r.b)
-            if a is not None and b is not None and a.orientation == "vertical" \
-                    and a.width >= p.corner_width \
-                    and a.area >= p.standing_fill * a.length * a.width \
-                    and (p.tall_flat <= 0 or a.rms <= p.tall_flat * a.width):
+            if a is not None and b is not None and shaped(a):
                 if b.orientation == "horizontal":
                     near.setdefault(r.a, []).append(b)
                 elif b.orientation == "vertical":
                     beside.setdefault(r.a, []).append(b)
+    # the floor's fit, for the faces no adjacent plane grounds (low42: a low camera sees the
+    # floor at a grazing angle and segments it only nearer than the face)
+    floor = by_label.get(getattr(planes, "floor", None))
+    if floor is not None and floor.orientation != "horizontal":
+        floor = None
+    if floor is not None and p.tall_floor_fit > 0:
+        for q in planes:
+            if q.label not in near and q.label != floor.label and shaped(q):
+                near[q.label] = []
     if not near:
         return frozenset()
     up = np.asarray(planes.up, float)
@@ -1062,7 +1092,9 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
                                                       p.tall_cap_ratio * (prof.hi - prof.lo)):
                 continue
         if not any(grounded(face, prof, g, up, p.standing_foot, p.skirt_tol, p.skirt_step)
-                   for g in grounds):
+                   for g in grounds) and not (
+                floor is not None and p.tall_floor_fit > 0
+                and floor_foot(face, prof, floor, lab, cloud.xyz, up, p)):
             continue
         # free-standing: no vertical plane beside it rises above its top (a wall or a
         # partition it leans on, a cabinet it is part of)
@@ -1320,6 +1352,75 @@ def _next_riser(face, prof, planes, profile, p) -> bool:
         if overlap > 0 and hi - lo >= min(p.riser_width, 0.5 * (prof.hi - prof.lo)):
             return True
     return False
+
+
+#: the rows under a face's lowest pixel that :func:`floor_foot` looks at: this share of the
+#: image's height (at least 3): at 480 rows, 19
+FLOOR_FOOT_ROWS = 0.04
+#: :func:`floor_foot` looks at the middle of the face's columns: this share cut off each side
+FLOOR_FOOT_MARGIN = 0.15
+
+
+def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
+    """True when vertical ``face`` stands on the floor plane ``floor`` although they are not
+    adjacent (low42): a camera 0.1-0.3 m over the floor sees it at a grazing angle (3-8
+    degrees), where the sensor's noise keeps the region grower from the floor's far part, or
+    measures nothing; the floor plane then ends short of a box's foot.
+
+    - its foot (``prof.bottom``) is level with ``floor``'s fit under the face's centroid
+      (along ``up``) within ``params.tall_floor_fit``;
+    - in at least ``tall_floor_share`` of its middle pixel columns (:data:`FLOOR_FOOT_MARGIN`
+      cut off each side), the first measured point in the :data:`FLOOR_FOOT_ROWS` rows under
+      its lowest pixel lies on the floor's fit (within ``standing_foot``) no farther out than
+      the face, or none is measured: the floor in front of its foot.  A table's or a chair's
+      open space shows the room behind, a riser the tread in front of it over the floor;
+    - its pixels fill at least ``tall_floor_solid`` of each row's span (summed over its rows):
+      a solid face; a table's legs that the region grower took as one plane fill 0.2 of it.
+    """
+    if not np.isfinite(prof.bottom):
+        return False
+    pn, c = np.asarray(floor.normal, float), np.asarray(face.centroid, float)
+    den = float(pn @ up)
+    if abs(den) < 0.5:
+        return False
+    fc = np.asarray(floor.centroid, float)
+    level = float(c @ up) + float(pn @ (fc - c)) / den
+    if abs(prof.bottom - level) > params.tall_floor_fit:
+        return False
+    r0, c0, r1, c1 = (int(v) for v in face.bbox)
+    m = labels[r0:r1, c0:c1] == face.label
+    cols = np.flatnonzero(m.any(axis=0))
+    rows = np.flatnonzero(m.any(axis=1))
+    if cols.size < 3 or rows.size < 2:
+        return False
+    # solid: pixels over the summed spans of the rows
+    first = np.argmax(m, axis=1)[rows]
+    last = m.shape[1] - 1 - np.argmax(m[:, ::-1], axis=1)[rows]
+    if m.sum() < params.tall_floor_solid * float((last - first + 1).sum()):
+        return False
+    cut = FLOOR_FOOT_MARGIN * (cols[-1] - cols[0])
+    cols = cols[(cols >= cols[0] + cut) & (cols <= cols[-1] - cut)]
+    if cols.size == 0:
+        return False
+    height = labels.shape[0]
+    k = max(3, int(round(FLOOR_FOOT_ROWS * height)))
+    bottom = r0 + m.shape[0] - 1 - np.argmax(m[::-1, cols], axis=0)  # lowest pixel per column
+    # the face's horizontal range from the sensor (at the origin)
+    horiz = np.linalg.norm(c - (c @ up) * up)
+    good = 0
+    for col, rb in zip(cols + c0, bottom, strict=True):
+        if rb + 1 >= height:
+            continue  # its foot out of the image's bottom: unseen
+        seg = xyz[rb + 1:min(height, rb + 1 + k), col]
+        ok = np.isfinite(seg).all(axis=1) & (seg[:, 2] > 0)
+        if not ok.any():
+            good += 1  # nothing measured: the grazing floor
+            continue
+        q = seg[int(np.argmax(ok))]
+        h = float(pn @ (q - fc)) / den
+        if abs(h) <= params.standing_foot and np.linalg.norm(q - (q @ up) * up) <= horiz + params.skirt_tol:
+            good += 1
+    return good >= params.tall_floor_share * cols.size
 
 
 def _reaches_top_row(face, rows: int = 2) -> bool:
