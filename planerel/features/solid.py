@@ -65,6 +65,11 @@ table's leg, 3.5-5 cm, a door's or a table top's edge, 4 cm, are narrower) and t
 edges (98th percentile of their points' levels) within ``tol`` of each other.  Adjacency and
 the right angle are checked by the caller.  Two faces of a box seen without its top (camera
 below it, or an open box whose bottom is not seen) are a corner; defaults 0.08 m and 0.08 m.
+With :class:`~planerel.features.relations.RelationParams` ``corner_slope`` set (ramp42; 0,
+off, by default: docs/results.md "A ramp seen from its side") the relation also asks that neither face's top edge, where the camera sees it (:func:`top_edge`), rise 8
+degrees or more over 0.5 m or more, straight within 0.01 m (:func:`sloped_top`): a wedge (a
+ramp) seen from its side with its high end, the camera below its top, shows two such walls,
+but the side's top edge is the slope.
 
 **facing(P, Q)**: P and Q are parallel vertical walls, not adjacent, of one solid or open box
 (:func:`is_facing`): each at least ``width_min`` wide (or one of them at least ``narrow_min``,
@@ -401,6 +406,96 @@ def rises_from(plane, profile: FaceProfile, up, tol: float = 0.08,
         return False
     level = float(np.asarray(plane.centroid, float) @ np.asarray(up, float))
     return bool(abs(profile.bottom - level) <= tol and profile.top - level >= reach_min)
+
+
+#: Bins along a face in which :func:`top_edge` takes the highest point.
+TOP_EDGE_BINS = 16
+
+
+class TopEdge(NamedTuple):
+    """A vertical face's exposed top edge (:func:`top_edge`): ``slope`` in degrees from level,
+    ``span`` the metres along the face it was measured over, ``rms`` the metres its points lie
+    off the fitted line, ``n`` how many bins gave a point."""
+
+    slope: float
+    span: float
+    rms: float
+    n: int
+
+
+def top_edge(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.97
+             ) -> TopEdge | None:
+    """The slope of ``face``'s top edge where the edge is seen (ramp42).
+
+    Along the face's horizontal direction (``up x normal``, its points' 2nd to 98th
+    percentile) in ``bins`` equal bins, the highest point of each bin; a bin counts only when
+    that point is an edge of the face the camera sees: not in the image's first row, first or
+    last column, the pixel above it is not the face's, and that pixel is either a surface not
+    nearer than ``near`` times the point's range or without depth in a row that has some
+    depth (an object in front, the image's border or a blank margin at its top cut the face
+    there, and its outline is not its edge; beyond the sensor's range there is no depth).  The slope is the
+    median of the slopes between the counted points (Theil-Sen).  A box's upright face has a
+    level top edge; a ramp's side face (a wedge's triangle) has one that rises with the
+    slope.  None with fewer than 4 bins counted or a face without a horizontal direction.
+    """
+    up = np.asarray(up, float)
+    along = _along(up, face.normal)
+    if not along.any():
+        return None
+    r0, c0, r1, c1 = _face_box(face, labels.shape, max(1, int(face.n_points)))[:4]
+    rr, cc = np.nonzero(labels[r0:r1, c0:c1] == face.label)
+    rr, cc = rr + r0, cc + c0
+    pts = xyz[rr, cc].astype(np.float64)
+    ok = np.isfinite(pts).all(axis=1)
+    rr, cc, pts = rr[ok], cc[ok], pts[ok]
+    if pts.shape[0] < 3 * bins:
+        return None
+    u, h = pts @ along, pts @ up
+    lo, hi = np.percentile(u, 2), np.percentile(u, 98)
+    if hi - lo <= 1e-6:
+        return None
+    W = labels.shape[1]
+    us, hs = [], []
+    where = np.floor((u - lo) / (hi - lo) * bins).astype(np.int64)
+    for b in range(bins):
+        sel = np.flatnonzero(where == b)
+        if sel.size < 3:
+            continue
+        j = sel[np.argmax(h[sel])]
+        r, c = int(rr[j]), int(cc[j])
+        if r <= 0 or c <= 0 or c >= W - 1:
+            continue
+        if labels[r - 1, c] == face.label:
+            continue
+        above = xyz[r - 1, c]
+        if np.isfinite(above).all():
+            if np.linalg.norm(above) < near * np.linalg.norm(pts[j]):
+                continue
+        elif not np.isfinite(xyz[r - 1, :, 2]).any():
+            continue
+        us.append(float(u[j]))
+        hs.append(float(h[j]))
+    if len(us) < 4:
+        return None
+    ua, ha = np.array(us), np.array(hs)
+    i, k = np.triu_indices(len(ua), 1)
+    du = ua[k] - ua[i]
+    keep = np.abs(du) > 1e-6
+    if not keep.any():
+        return None
+    s = float(np.median((ha[k] - ha[i])[keep] / du[keep]))
+    res = ha - s * ua
+    res -= np.median(res)
+    return TopEdge(math.degrees(math.atan(abs(s))), float(ua.max() - ua.min()),
+                   float(np.sqrt(np.mean(res * res))), len(us))
+
+
+def sloped_top(edge: TopEdge | None, slope: float, span: float, rms: float) -> bool:
+    """True when a face's :func:`top_edge` rises at least ``slope`` degrees, measured over at
+    least ``span`` m along the face and straight within ``rms`` m: no box's upright face
+    (``corner``'s walls, ramp42).  ``slope`` 0: never."""
+    return bool(slope > 0 and edge is not None and edge.slope >= slope and edge.span >= span
+                and edge.rms <= rms)
 
 
 def is_corner(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float = 0.08,

@@ -1,0 +1,81 @@
+"""corner(P, Q) needs level top edges (ramp42): a wedge (a ramp) seen from its side with its
+high end shows two vertical, adjacent, perpendicular faces as a box's corner does, but the
+side's top edge rises with the slope; a box's faces have level top edges."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scenes_analytic import Rect, floor, render
+
+from planerel.features.planes import measure_planes
+from planerel.features.relations import CORNER_SLOPE, RelationParams, relate
+from planerel.features.solid import TopEdge, sloped_top, top_edge
+from planerel.io.cloud import Cloud
+
+BACK = Rect((0.0, 6.0, 1.5), (1, 0, 0), (0, 0, 1), 6.0, 1.5)  # a wall behind, 6 m away
+
+
+def _wedge_or_box(angle, wedge=True, length=2.0, width=1.0, x1=-0.4, y_side=2.2,
+                  cam_height=0.35, pitch=4.0):
+    """A solid whose side (plane y = y_side, facing the camera) runs from x1 - length to x1
+    and whose end (plane x = x1, facing +x, the camera's side) is ``width`` deep.  A wedge's
+    side is a right triangle rising from 0 at x1 - length to ``length * tan(angle)`` at x1
+    (pixels above its slope see the wall behind); a box's is that height's rectangle."""
+    h = length * math.tan(math.radians(angle))
+    side = Rect((x1 - length / 2, y_side, h / 2), (1, 0, 0), (0, 0, 1), length / 2, h / 2, 1)
+    end = Rect((x1, y_side + width / 2, h / 2), (0, 1, 0), (0, 0, 1), width / 2, h / 2, 1)
+    rects = [floor(), BACK, side, end]
+    cloud, lab, _, _ = render(rects, pitch=pitch, cam_height=cam_height, noise=0.0012)
+    if wedge:
+        behind, blab, _, _ = render([floor(), BACK, end], pitch=pitch, cam_height=cam_height,
+                                    noise=0.0012)
+        up = np.asarray(cloud.up, float)
+        xyz = np.array(cloud.xyz)
+        # the world point's height and x: the camera is at (0, 0, cam_height), x along camera x
+        height = xyz @ up + cam_height
+        x = xyz[..., 0]
+        over = (lab == 2) & (height > np.tan(np.radians(angle)) * (x - (x1 - length)))
+        xyz[over] = behind.xyz[over]
+        lab = np.where(over, np.where(blab == 2, 3, blab), lab).astype(np.int32)
+        cloud = Cloud(xyz, cloud.intrinsics, cloud.up, "analytic")
+    ps = measure_planes(cloud, lab)
+    return cloud, lab, ps
+
+
+@pytest.mark.parametrize("angle", [10.0, 15.0])
+def test_a_wedge_seen_from_its_side_is_no_corner_a_box_is(angle):
+    for wedge in (True, False):
+        cloud, lab, ps = _wedge_or_box(angle, wedge)
+        side, end = ps.by_label(2), ps.by_label(3)
+        assert side.orientation == "vertical" and end.orientation == "vertical"
+        edge = top_edge(side, ps.up, lab, cloud.xyz)
+        assert edge is not None and edge.span > 0.5 and edge.rms < 0.01
+        assert edge.slope == pytest.approx(angle if wedge else 0.0, abs=1.5)
+        # the end's top edge is level for both
+        assert top_edge(end, ps.up, lab, cloud.xyz).slope < 2.0
+        rel = relate(ps, cloud, RelationParams(corner_slope=CORNER_SLOPE)).get(2, 3)
+        assert rel.adjacent and rel.perpendicular
+        assert rel.corner == (not wedge)
+        # off (the default, as before ramp42): both are corners
+        assert relate(ps, cloud).get(2, 3).corner
+
+
+def test_sloped_top_needs_slope_span_and_a_straight_edge():
+    assert sloped_top(TopEdge(13.0, 0.71, 0.004, 13), 8.0, 0.5, 0.01)
+    assert not sloped_top(TopEdge(15.9, 0.31, 0.018, 16), 8.0, 0.5, 0.01)  # too short
+    assert not sloped_top(TopEdge(29.0, 2.30, 0.067, 16), 8.0, 0.5, 0.01)  # a stepped edge
+    assert not sloped_top(TopEdge(3.6, 0.84, 0.007, 16), 8.0, 0.5, 0.01)  # level enough
+    assert not sloped_top(None, 8.0, 0.5, 0.01)
+    assert not sloped_top(TopEdge(13.0, 0.71, 0.004, 13), 0.0, 0.5, 0.01)  # off
+
+
+def test_a_face_cut_by_something_nearer_or_the_image_top_measures_no_edge_there():
+    # a box face whose top is hidden by a panel nearer the camera: no bin counts, no edge
+    side = Rect((-1.4, 2.2, 0.3), (1, 0, 0), (0, 0, 1), 1.0, 0.3, 1)
+    panel = Rect((-1.4, 1.5, 0.55), (1, 0, 0), (0, 0, 1), 1.5, 0.15, 2)
+    cloud, lab, _, _ = render([floor(), BACK, side, panel], pitch=4.0, cam_height=0.35)
+    ps = measure_planes(cloud, lab)
+    assert top_edge(ps.by_label(2), ps.up, lab, cloud.xyz) is None
