@@ -101,6 +101,7 @@ from planerel.features.solid import (
     is_face_pair,
     is_facing,
     is_skirt,
+    level_under,
     on_step,
     rises_from,
     sloped_top,
@@ -1413,14 +1414,12 @@ def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
     """
     if not np.isfinite(prof.bottom):
         return False
-    pn, c = np.asarray(floor.normal, float), np.asarray(face.centroid, float)
+    level = level_under(floor, face.centroid, up)
+    if level is None or abs(prof.bottom - level) > params.tall_floor_fit:
+        return False
+    c = np.asarray(face.centroid, float)
+    pn, fc = np.asarray(floor.normal, float), np.asarray(floor.centroid, float)
     den = float(pn @ up)
-    if abs(den) < 0.5:
-        return False
-    fc = np.asarray(floor.centroid, float)
-    level = float(c @ up) + float(pn @ (fc - c)) / den
-    if abs(prof.bottom - level) > params.tall_floor_fit:
-        return False
     r0, c0, r1, c1 = (int(v) for v in face.bbox)
     m = labels[r0:r1, c0:c1] == face.label
     cols = np.flatnonzero(m.any(axis=0))

@@ -366,6 +366,18 @@ def _reach_out(face, plane, up) -> float | None:
     return float(ext.max() - ext.min())
 
 
+def level_under(plane, point, up) -> float | None:
+    """The level along ``up`` of ``plane``'s fit where the line along ``up`` through ``point``
+    (3,) meets it, or None when the plane stands more than 60 degrees off level (no such
+    meeting worth the name).  :func:`grounded`; ``relations.floor_foot``."""
+    up = np.asarray(up, float)
+    pn, c = np.asarray(plane.normal, float), np.asarray(point, float)
+    den = float(pn @ up)
+    if abs(den) < 0.5:
+        return None
+    return float(c @ up) + float(pn @ (np.asarray(plane.centroid, float) - c)) / den
+
+
 def grounded(face, profile: FaceProfile, plane, up, foot: float = 0.02, tol: float = 0.08,
              step: float = 0.45) -> bool:
     """True when vertical ``face`` stands on horizontal ``plane`` as a solid's side on the
@@ -383,12 +395,8 @@ def grounded(face, profile: FaceProfile, plane, up, foot: float = 0.02, tol: flo
         return False
     # the plane's level under the face (along up from the face's centroid: a large table's
     # centroid lies far from the face, and its fit may tilt a little against up)
-    pn, c = np.asarray(plane.normal, float), np.asarray(face.centroid, float)
-    den = float(pn @ up)
-    if abs(den) < 0.5:
-        return False
-    level = float(c @ up) + float(pn @ (np.asarray(plane.centroid, float) - c)) / den
-    if abs(level - profile.bottom) > foot:
+    level = level_under(plane, face.centroid, up)
+    if level is None or abs(level - profile.bottom) > foot:
         return False
     if plane.height <= tol:
         return True
