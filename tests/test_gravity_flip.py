@@ -116,6 +116,44 @@ def test_far_planes_do_not_vote_for_the_flip():
     assert _deg(est.vector, (0.0, 1.0, 0.0)) <= 1.0
 
 
+def _level_camera_facing_a_wall(pitch, roll):
+    """Planes of a camera 0.1-0.2 m over the floor, nearly level, facing a wall behind boxes
+    (the independent generator's dev_low i0002, i0010): a small grazing floor piece, a large
+    wall and box fronts parallel to it, with the true up."""
+    p, r = math.radians(pitch), math.radians(roll)
+    up = np.array([0.0, -math.cos(p), -math.sin(p)])
+    turn = np.array([[math.cos(r), -math.sin(r), 0.0], [math.sin(r), math.cos(r), 0.0],
+                     [0.0, 0.0, 1.0]])
+    up = turn @ up
+    fwd = np.array([0.0, 0.0, 1.0]) - up[2] * up
+    wall = -fwd / np.linalg.norm(fwd)
+    return [up, wall, wall], [0.48, 5.2, 1.0], [0.12, 2.4, 2.3], [1.0, 2.4, 2.3], up
+
+
+@pytest.mark.parametrize("pitch, roll", [(0.3, 9.0), (0.6, 0.0), (1.4, 9.7), (2.0, -10.0)])
+def test_looking_straight_down_is_never_upside_down(pitch, roll):
+    # ramp44: the upside-down reading of a nearly level camera takes the wall for the floor
+    # under a camera looking straight down; its up points only 0.3-2 degrees to the image's
+    # bottom, where roll, and so upside down, is undefined: the upright estimate stays
+    normals, areas, offsets, ranges, up = _level_camera_facing_a_wall(pitch, roll)
+    est = estimate_gravity(normals, areas, offsets, ranges=ranges)
+    assert not est.upside_down and _deg(est.vector, up) <= 0.5
+    # the rule before (any tilt to the image's bottom): 90 degrees off
+    old = estimate_gravity(normals, areas, offsets, GravityParams(flip_min_tilt_deg=0.0),
+                           ranges=ranges)
+    assert old.upside_down and _deg(old.vector, up) >= 85.0
+
+
+def test_the_steepest_turned_camera_is_still_read_upside_down():
+    # the turned pose sweep's steepest camera (pitch 80, roll 20) points 9.4 degrees to the
+    # image's bottom, over flip_min_tilt_deg (5)
+    s = posed_scene("box", 80, 20, seed=80 * 7 + 20 + 100, walls=1)
+    cloud, lab, up = _turned(s)
+    assert math.degrees(math.asin(up[1])) == pytest.approx(9.4, abs=0.2)
+    est = up_from_cloud(cloud, lab)
+    assert est.upside_down and _deg(est.vector, up) <= 2.0
+
+
 def test_bad_parameters():
     with pytest.raises(InputError, match="flip"):
         GravityParams(flip=1)
@@ -123,6 +161,8 @@ def test_bad_parameters():
         GravityParams(flip_ratio=0.5)
     with pytest.raises(InputError, match="flip_min_area"):
         GravityParams(flip_min_area=-1.0)
+    with pytest.raises(InputError, match="flip_min_tilt_deg"):
+        GravityParams(flip_min_tilt_deg=50.0)
     with pytest.raises(InputError, match="range"):
         estimate_gravity([(0, 1, 0)], [1.0], [0.5], ranges=[1.0, 2.0])
 

@@ -73,7 +73,7 @@ class ObjectAnswer:
         Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
     curved : bool or None
         The planar fraction is below the model's ``curved.curved_below``: a round object.
-    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal, LevelRefusal, FlightRefusal, FootRefusal and VetoRefusal
+    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal, LevelRefusal, FlightRefusal, FootRefusal, SideRefusal and VetoRefusal
         Classes whose rules proved the object and that the decision refused for it: its
         planar fraction lies under ``1 - decision.planar_margin`` times the least planar of
         the class's training positives (with ``decision.planar_gate``;
@@ -298,6 +298,9 @@ class Classifier:
         self.foot_gate = decision.foot_gate
         self.foot_bounds = (decision.foot_above, decision.foot_below, decision.foot_hidden,
                             decision.foot_float)
+        #: ``ramp`` only for a slope seen from above (:func:`~planerel.ilp.metrics.side_refusals`;
+        #: ``decision.side_gate``)
+        self.side_gate = decision.side_gate
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -465,6 +468,19 @@ class Classifier:
                 if lab is None or ps.by_label(lab).orientation != "inclined":
                     return None
                 return slope_foot(ps, lab, xyz, labels=desc.labels)
+        side = None  # as the foot gate: classify's own (a scan's) decision, not the learner's
+        if self.side_gate and xyz is not None and "ramp" in self.classes:
+            side_by_id = {pid: lab for lab, pid in plane_ids.items()}
+            up_v = np.asarray(desc.planes.up, dtype=np.float64)
+
+            def side(pid):
+                lab = side_by_id.get(pid)
+                if lab is None:
+                    return None
+                p = desc.planes.by_label(lab)
+                if p.orientation != "inclined":
+                    return None
+                return float(np.asarray(p.normal, dtype=np.float64) @ up_v)
         proposal_params = self._describe_kw.get("proposal_params")
         for o in desc.objects:
             hits = []
@@ -501,7 +517,7 @@ class Classifier:
                                    foot_above=self.foot_bounds[0],
                                    foot_below=self.foot_bounds[1],
                                    foot_hidden=self.foot_bounds[2],
-                                   foot_float=self.foot_bounds[3])
+                                   foot_float=self.foot_bounds[3], side=side)
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)
             if best is None:

@@ -133,6 +133,17 @@ class GravityParams:
     flip_min_area : float
         ... and at least this many m^2 of it (near planes, see ``max_height``); the default is
         ``min_area``'s, a single voting plane's.
+    flip_min_tilt_deg : float
+        ... and its up must point to the image's bottom by at least this many degrees (its
+        component along the image's down axis at least ``sin`` of it).  Within that angle of
+        the optical axis a camera looks straight down, its roll is undefined and upside down
+        means nothing: the upright reading's sign rule (the camera above the horizontal planes)
+        decides there.  5 (ramp44): on the independent low-camera set dev_low a level camera
+        facing a wall over a grazing floor had its correct upright estimate replaced by an
+        "upside-down" reading that took the wall for the floor (up 0.3 and 1.4 degrees to the
+        image's bottom: 90 degrees off); the turned pose sweep's steepest upside-down camera
+        (pitch 80, roll 20) points 9.4 degrees to it.  0: the rule before (any positive
+        component).
     mirror_pairs : bool
         Two planes that face each other across a cavity, each tilted by the same angle between
         ``tol_deg`` and ``max_draft_deg`` from vertical w.r.t. their bisector, with a plane
@@ -157,6 +168,7 @@ class GravityParams:
     flip: bool = True
     flip_ratio: float = 2.0
     flip_min_area: float = 0.01
+    flip_min_tilt_deg: float = 5.0
     mirror_pairs: bool = True
     max_draft_deg: float = 30.0
 
@@ -165,7 +177,8 @@ class GravityParams:
                   ("max_roll_deg", 0.0, 90.0), ("max_up_pitch_deg", 0.0, 90.0),
                   ("max_height", 0.1, 1000.0), ("min_pair_deg", 5.0, 85.0),
                   ("low_confidence", 0.0, 1.0), ("flip_ratio", 1.0, 1000.0),
-                  ("flip_min_area", 0.0, 100.0), ("max_draft_deg", 0.0, 45.0))
+                  ("flip_min_area", 0.0, 100.0), ("flip_min_tilt_deg", 0.0, 45.0),
+                  ("max_draft_deg", 0.0, 45.0))
         for name, lo, hi in checks:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
@@ -498,7 +511,8 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams, cent=None) -> Up
     turned back, from the planes near enough to be floors (``hw``: far planes, where a sensor's
     range error is large, do not vote).  It replaces the upright reading only when
 
-    - it points to the image's bottom (the camera is upside down);
+    - it points to the image's bottom (the camera is upside down) by at least
+      ``flip_min_tilt_deg`` (looking straight down, upside down is no different from upright);
     - its axis is the upright reading's (within ``2 tol_deg``: only the sign is in question),
       or it explains the near planes better than the upright reading does, each judged by its
       own pose prior (the upright reading of an upside-down camera looking steeply down is
@@ -520,8 +534,8 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams, cent=None) -> Up
     if turned.source != "estimated":
         return upright
     c = np.array(turned.vector) * _TURN
-    if c[1] <= 0.0:  # not upside down after all
-        return upright
+    if c[1] <= math.sin(math.radians(params.flip_min_tilt_deg)):
+        return upright  # not upside down after all, or looking straight down (roll undefined)
     u = np.array(upright.vector)
     if abs(float(c @ u)) < math.cos(math.radians(2.0 * params.tol_deg)):
         s_flip = float(_scores(_orient((c * _TURN)[None]), nk * _TURN, wk, wk, params,

@@ -21,6 +21,7 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "proof_refusals", "VETO_RATIO", "VetoRefusal", "veto_refusals", "FLIGHT_GATE",
            "FLIGHT_CLASS", "FlightRefusal", "flight_refusals", "FOOT_GATE", "FOOT_ABOVE",
            "FOOT_BELOW", "FOOT_HIDDEN", "FOOT_FLOAT", "FOOT_CLASS", "FootRefusal", "foot_refusals",
+           "SIDE_GATE", "SideRefusal", "side_refusals",
            "SIZE_GATE", "SIZE_MARGIN",
            "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
            "SLENDER_GATE", "SLENDER_MARGIN", "SLENDER_CLASSES", "plane_slenderness",
@@ -154,6 +155,8 @@ FOOT_HIDDEN = 0.75
 FOOT_FLOAT = 1.0
 #: The class :func:`foot_refusals` asks a sloping plane's low end of.
 FOOT_CLASS = "ramp"
+#: Default of :attr:`DecisionParams.side_gate`.
+SIDE_GATE = True
 
 
 @dataclass(frozen=True)
@@ -319,6 +322,18 @@ class DecisionParams:
         twice that and more out of sight (1.0: the training world's ramps with a hidden low end
         reach 0.49 m up at most, the independent generator's 0.17 m; outdoor false ramps of
         hunt35, a tree's canopy and a far strip on densified LiDAR, 1.4-2.6 m up). 0: off.
+    side_gate : bool
+        Refuse ``ramp`` for an object whose proof's inclined planes are all seen from below
+        (:func:`side_refusals`): the normal turned to the sensor points down (``normal . up <
+        0``), the camera is under the plane.  A ramp is walked on: its walked-on side faces
+        up, and a camera sees that side only from above its plane; what a camera sees from
+        below is an underside (a table's, a shelf's, a ceiling's).  No threshold: a plane at
+        most 28 degrees steep has ``|normal . up| >= 0.88``, so the sign is never in doubt
+        unless the up vector itself is wrong.  It holds with or without a floor in view (the
+        foot gate needs one).  On by default (ramp44, 2026-12-01): a camera near the floor
+        sees undersides and often no floor (the Kinect returns nothing at grazing incidence);
+        on the independent low-camera ramps a gravity estimate read upside down called the
+        floor a ramp seen from below.  Only classify applies it.
     size_margin : float
         The share of the furthest-reaching training proof plane a proof may exceed it by
         (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
@@ -352,10 +367,11 @@ class DecisionParams:
     foot_below: float = FOOT_BELOW
     foot_hidden: float = FOOT_HIDDEN
     foot_float: float = FOOT_FLOAT
+    side_gate: bool = SIDE_GATE
 
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate", "size_gate",
-                     "slender_gate", "range_gate", "foot_gate"):
+                     "slender_gate", "range_gate", "foot_gate", "side_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -1064,6 +1080,64 @@ def foot_refusals(hits, stats: Sequence, foot=None, above: float = FOOT_ABOVE,
     return kept, tuple(refused.values())
 
 
+@dataclass(frozen=True)
+class SideRefusal:
+    """``ramp`` proved of an object whose sloping proof planes are all seen from below
+    (:func:`side_refusals`)."""
+
+    klass: str
+    rule: int
+    #: the proof plane's ``normal . up`` (normal turned to the sensor) nearest to facing up
+    facing: float
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it with a sloping plane the camera sees from below "
+                f"(its normal towards the sensor . up = {self.facing:.2f}): an underside, "
+                f"no walked-on slope")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "facing": round(self.facing, 4),
+                "reason": self.reason}
+
+
+def side_refusals(hits, stats: Sequence, side=None):
+    """Leave out the ``ramp`` hits whose proof's sloping planes are all seen from below.
+
+    A ramp's walked-on side faces up, and a camera sees that side only from above the plane;
+    a sloping plane the camera sees from below (its normal, turned to the sensor, points
+    down) is an underside.  A hit of :data:`FOOT_CLASS` is refused when every plane of its
+    proof that ``side`` measures has ``side(plane) < 0``.  A proof without a measured plane
+    is kept.
+
+    Parameters
+    ----------
+    side : callable or None
+        ``side(plane id) -> float or None``: the inclined plane's ``normal . up`` with the
+        normal turned to the sensor (None for a plane that is not inclined or not measured);
+        None: the gate is off.
+
+    Returns
+    -------
+    (list, tuple of SideRefusal)
+        The hits left, and one :class:`SideRefusal` per refused rule that takes part in the
+        decision (:func:`takes_part`).
+    """
+    if side is None or not any(h[0] == FOOT_CLASS for h in hits):
+        return list(hits), ()
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    kept, refused = [], {}
+    for hit in hits:
+        if hit[0] == FOOT_CLASS:
+            facing = [f for f in (side(v) for v in dict(hit[2]).values()) if f is not None]
+            if facing and max(facing) < 0:
+                if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
+                    refused[hit[1]] = SideRefusal(FOOT_CLASS, hit[1], float(max(facing)))
+                continue
+        kept.append(hit)
+    return kept, tuple(refused.values())
+
+
 def proof_domain(fired: dict, truth: dict) -> tuple:
     """How large the planes are that each rule proved its training positives with:
     ``((index, class, low, high, n), ...)`` per rule of a class (not :data:`OTHER`).
@@ -1252,9 +1326,10 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            slender=None, slenders: Sequence = (), slender_margin: float = SLENDER_MARGIN,
            distances=None, ranges: Sequence = (), range_margin: float = RANGE_MARGIN,
            foot=None, foot_above: float = FOOT_ABOVE, foot_below: float = FOOT_BELOW,
-           foot_hidden: float = FOOT_HIDDEN, foot_float: float = FOOT_FLOAT):
+           foot_hidden: float = FOOT_HIDDEN, foot_float: float = FOOT_FLOAT, side=None):
     """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
-    default, off), :func:`proof_refusals` (with ``proofs``, the
+    default, off), :func:`side_refusals` (``side``; None, the default, off),
+    :func:`proof_refusals` (with ``proofs``, the
     model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
     :func:`size_domain`, and the scene's plane ``extents``), :func:`slender_refusals`
     (``slenders``, the model's :func:`slender_domain`, and the scene's tops' ``slender``),
@@ -1272,7 +1347,7 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
     Returns
     -------
     (hit or None, tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal,
-    LevelRefusal, FlightRefusal, FootRefusal and VetoRefusal)
+    LevelRefusal, FlightRefusal, FootRefusal, SideRefusal and VetoRefusal)
         The chosen hit (None: :data:`OTHER`) and the rules and classes refused.
     """
     kept, small = proof_refusals(hits, stats, proofs, proof_margin, proof_min_positives)
@@ -1286,9 +1361,10 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
     kept, steps = flight_refusals(kept, stats, flight)
     kept, feet = foot_refusals(kept, stats, foot, foot_above, foot_below, foot_hidden,
                                foot_float)
+    kept, under = side_refusals(kept, stats, side)
     kept, vetoes = veto_refusals(kept, stats, veto_ratio)
     return (choose_class(kept, stats, classes, cofire),
-            small + large + thin + far + refused + flat + steps + feet + vetoes)
+            small + large + thin + far + refused + flat + steps + feet + under + vetoes)
 
 
 def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:
