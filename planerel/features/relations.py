@@ -1706,6 +1706,12 @@ class ProposalParams:
         than a step and narrower than a flight (the real Kinect v2 staircase seen from above,
         stair-perception ``0000``, benchmarks/real_stairs.py).  False: the centroids' line
         (before 2026-11-29).
+    step_cut_top : bool
+        In the step chains' two-tread case the higher tread may be one the image border cuts
+        along its length, when it lies between the camera and the lower tread and the two are
+        seen edge to edge (a flight going down from the landing the camera stands on, its
+        risers facing away: :func:`_cut_top_steps`; tread44).  False: a cut tread is never a
+        member (before 2026-12-01).
     riser_pieces : bool
         The tread-and-riser exception's regularity test (a tread's riser below and riser
         above rise alike, within 30 %) measures the riser below in all its pieces together
@@ -1972,6 +1978,7 @@ class ProposalParams:
     concave_band: float = 0.0
     cut_long_side: bool = True
     step_tread_axes: bool = True
+    step_cut_top: bool = True
     riser_pieces: bool = True
     floor_tread: bool = True
     side_wall_members: int = 0
@@ -2940,7 +2947,8 @@ def flight_faces(planes, labels, params: ProposalParams | None = None) -> bool:
     if step_chain_pairs(planes, labels, (p.step_rise_min, p.step_rise_max),
                         (p.step_run_min, p.step_run_max), p.step_overlap or 0.5,
                         p.concave_tol, tilt=p.step_tilt, cut_long_side=p.cut_long_side,
-                        skip_missing=p.skip_missing, tread_axes=p.step_tread_axes):
+                        skip_missing=p.skip_missing, tread_axes=p.step_tread_axes,
+                        cut_top=p.step_cut_top):
         return True
     # an open-riser flight's treads, fitted as strips tilted off horizontal at range
     return p.open_treads and bool(open_tread_pairs(planes, labels, (p.step_rise_min, p.step_rise_max),
@@ -3030,7 +3038,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      max_ratio: float = 3.0, tilt: float = 12.0, skip: bool = True,
                      min_width: float = 0.5, cut_long_side: bool = True,
                      skip_missing: bool = False, tread_axes: bool = False,
-                     chain: bool = True):
+                     chain: bool = True, cut_top: bool = False):
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
     Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
@@ -3059,7 +3067,12 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     a step that counts when both are at least ``min_width`` wide across the flight and 1.5
     times wider than deep, and a third horizontal plane (any: the landing, the floor) lies
     one more rise (within 30 %) above or below and comes within ``run[1]`` of them
-    horizontally, on the flight's line: a short flight seen from above.
+    horizontally, on the flight's line: a short flight seen from above.  With ``cut_top``, the
+    higher of those two treads may be one the border cuts along its length (a flight going
+    down from the landing the camera stands on: the top tread, nearest the camera, runs out of
+    the image's bottom edge; :func:`_cut_top_steps`), counted only when the lower tread is in
+    no step already counted (above a row of treads the cut strip may be the landing); with
+    ``chain=False`` such steps are listed too.
 
     Parameters
     ----------
@@ -3172,8 +3185,14 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             return False
 
         steps = [s2 for s2 in steps if s2[4] != 2 or not spans_seen(s2)]
+    extra = []
+    if cut_top and cut:
+        tops = [p for p in planes if p.label in cut and (not want or p.label in want)]
+        lows = [p for p in cands if kind[p.label] == "tread"]
+        extra = _cut_top_steps(lows, tops, up, rise, run, min_overlap, max_ratio, cos_tol,
+                               tread_axis)
     if not chain:
-        return steps
+        return steps + extra
     out = set()
     for s1 in steps:
         for s2 in steps:
@@ -3188,8 +3207,18 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     # proposal), when both treads are flight-like: wide and shallow
     byl = {p.label: p for p in planes}
     anchors = [p for p in planes if kind[p.label] == "tread"]
-    for lo_l, hi_l, dv, direction, k, _run in steps:
+    members: set = set()
+    n_steps = len(steps)
+    for i, (lo_l, hi_l, dv, direction, k, _run) in enumerate(steps + extra):
         lo, hi = byl[lo_l], byl[hi_l]
+        if i == n_steps:
+            # a cut top tread only where the lower one is in no counted step: with a row of
+            # treads found, the strip the border cuts above its top may be the landing the
+            # camera stands on as well as the top tread (dev_st i0001, dev_sr i0020), and
+            # its seen part tells them apart by nothing
+            members = {x for pr in out for x in pr}
+        if i >= n_steps and lo_l in members:
+            continue
         if (lo_l, hi_l) in out or k != 1 or kind[lo_l] != "tread":
             continue
         across = cross3(up, direction)
@@ -3209,6 +3238,87 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                 continue
             out.add((lo_l, hi_l))
             break
+    return out
+
+
+#: Metres: how far the plan gap between a cut top tread's far edge and the lower tread's near
+#: edge may lie off the band the top tread's nosing hides (:func:`_cut_top_steps`)
+CUT_TOP_SLACK = 0.05
+
+
+def _cut_top_steps(lows, tops, up, rise, run, min_overlap: float, max_ratio: float,
+                   cos_tol: float, tread_axis) -> list:
+    """One-rise steps from a tread the image border cuts along its length (``tops``: the top
+    tread of a flight going down from the camera's landing, its near part out of the image) to
+    a whole tread (``lows``) one rise lower and one run *farther from the camera*, its riser
+    hidden: the top tread's far edge (the nosing) occludes the lower tread's back.
+
+    A pair counts when both treads are long (1.5 times longer than deep) with step directions
+    within 25 degrees (the run is measured across them, between their centroids, within
+    ``run``: the cut tread's centroid lies nearer its nosing), their extents across the flight
+    overlap by ``min_overlap`` (interval IoU), each is at most ``run[1]`` deep as seen, the cut
+    tread's seen area is at most ``max_ratio`` times the whole one's (a landing's seen piece is
+    larger; no lower bound: the border leaves a strip of the top tread), and the plan gap from
+    the top tread's far edge to the lower tread's near edge lies within ``CUT_TOP_SLACK`` of
+    the band the nosing hides from the camera (rise times the nosing's distance from the camera
+    along the flight over its depth under the camera; the camera at the origin): the two are
+    seen edge to edge, no
+    floor between them.  The caller asks of these pairs what it asks of two treads alone (wide,
+    shallow, a third level one more rise up or down).
+
+    Returns
+    -------
+    list of tuple
+        ``(lower, higher, rise, unit horizontal direction (3,), 1, run)`` as
+        :func:`step_chain_pairs` lists its steps (``chain=False``).
+    """
+    out = []
+    cos_dir = math.cos(math.radians(25.0))
+    for hi in tops:
+        nh = np.asarray(hi.normal, float)
+        ch = np.asarray(hi.centroid, float)
+        for lo in lows:
+            dv = hi.height - lo.height
+            if not rise[0] <= dv <= rise[1] or hi.area > max_ratio * lo.area:
+                continue
+            if abs(float(nh @ np.asarray(lo.normal, float))) < cos_tol:
+                continue
+            (da, ea), (db, eb) = tread_axis(lo), tread_axis(hi)
+            if min(ea, eb) < 1.5 or abs(float(da @ db)) < cos_dir:
+                continue
+            cl = np.asarray(lo.centroid, float)
+            d = ch - cl
+            dh = d - (d @ up) * up
+            along = float(dh @ da)
+            direction = da if along >= 0 else -da  # from the lower tread to the top one
+            dist = abs(along)
+            if not run[0] <= dist <= run[1]:
+                continue
+            # the camera (at the origin) stands on the top tread's side: the flight goes down
+            # away from it, the lower tread beyond the top one
+            if float(ch @ direction) >= 0.0:
+                continue
+            if any(np.ptp(np.asarray(q.hull3d, float) @ direction) > run[1] for q in (lo, hi)):
+                continue
+            across = cross3(up, direction)
+            a0, a1 = _extent(lo, across)
+            b0, b1 = _extent(hi, across)
+            union = max(a1, b1) - min(a0, b0)
+            if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < min_overlap:
+                continue
+            # edge to edge: the plan gap is the band the top tread's nosing hides
+            H = np.asarray(hi.hull3d, float)
+            t = H @ direction
+            nose = H[int(np.argmin(t))]
+            below = -float(nose @ up)  # the nosing's depth under the camera
+            if below <= 0:
+                continue  # the camera is not above the top tread: not seen from the landing
+            # the sight line over the nosing drops one rise over this much of the flight
+            band = dv * -float(nose @ direction) / below
+            gap = float(t.min()) - float((np.asarray(lo.hull3d, float) @ direction).max())
+            if abs(gap - band) > CUT_TOP_SLACK:
+                continue
+            out.append((lo.label, hi.label, dv, direction, 1, dist))
     return out
 
 
@@ -3461,7 +3571,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             planes, g.nodes, (params.step_rise_min, params.step_rise_max),
             (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
             params.concave_tol, tilt=params.step_tilt, cut_long_side=params.cut_long_side,
-            skip_missing=params.skip_missing, tread_axes=params.step_tread_axes))
+            skip_missing=params.skip_missing, tread_axes=params.step_tread_axes,
+            cut_top=params.step_cut_top))
     if params.stacked_boards:
         # a shelf's boards, one over another at regular heights (planerel.features.boards)
         g.add_edges(stacked_board_pairs(planes, g.nodes, (params.step_rise_min, params.board_rise_max),
