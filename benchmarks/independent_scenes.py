@@ -11,12 +11,13 @@ install), the camera poses, dimensions and sensor noise are drawn here.  Each sc
 ``iNNNN.planes.npy``   ``(H, W)`` int32 true plane id (coplanar faces of one object), -1 missing
 
 which :func:`planerel.io.readers.read` reads as is (the sidecar gives the up vector).  Classes: ``box``,
-``stairs``, ``ramp`` and ``other`` (tables, chairs, cylinders, laptops).
+``stairs``, ``ramp`` and ``other`` (tables, chairs, cylinders, laptops; with ``--furniture`` also
+room furniture).
 
 Usage::
 
     python benchmarks/independent_scenes.py make OUT_DIR [--n 60] [--seed 7] [--size 160x120]
-        [--kinds box,stairs,ramp] [--sensor plain|kinect]
+        [--kinds box,stairs,ramp] [--sensor plain|kinect] [--heights LOW,HIGH] [--furniture]
     python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150] [--by-planes]
 
 ``--kinds`` is the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``; a kind may
@@ -28,6 +29,22 @@ quantises depth as the real Kinect frames of ``../shared/data/kinect`` do (3 mm 
 band of ``W / 160`` pixels (4 at 640x480) at depth jumps; ``plain`` (the default) is the original
 sensor, unchanged.  ``score``'s ``--min-pixels`` defaults to 150 pixels scaled with the image area (150 at
 160x120, 2 400 at 640x480).
+
+``--furniture`` (furn44) adds 1-3 pieces of room furniture of class ``other`` to each scene, in
+the camera's view (:func:`add_furniture`; a piece that finds no free place in 80 draws is left
+out, so some scenes get none): cabinets (doors) and chests of drawers 0.4-1.2 m wide, 0.5-1.1 m
+high, 0.35-0.6 m deep, half of them on a recessed plinth (6-10 cm high, 3-6 cm back), half
+with an overhanging top, most with door or drawer fronts 18 mm proud and handles; wardrobes
+0.8-2.0 m wide, 1.6-2.0 m high; open bookcases 0.8-2.0 m high with shelves and rows of books;
+sofas (seat 0.42-0.48 m, back 0.75-0.9 m, arms, legs or a base to the floor); beds (0.43-0.6
+m, a headboard, seen from the foot or the side); radiators on brackets; waste bins (an open box
+or round); closed doors recessed 0-4 cm in a wall of their own with a frame.  Pieces of 1.4 m
+or narrower stand against a wall of their own half of the time.  The pieces are drawn from a
+generator of their own (``[seed, i, 44]``): a scene with them is the scene without them plus
+the pieces (same camera, same primary objects and clutter); without the option every scene is
+byte-identical to what the generator made before it (tests/test_independent_scenes.py).  The
+sidecar's ``params.furniture`` lists each piece's kind, object index, dimensions, place and
+yaw.
 
 ``score`` classifies every scene with each model (:class:`planerel.classify.classifier.Classifier`, the code
 behind ``planerel classify --json``), matches the proposals to the labelled objects
@@ -126,6 +143,302 @@ def laptop(rng):
     lid.apply_transform(T)
     lid.apply_translation([-d / 2, 0, 0.02])
     return trimesh.util.concatenate([base, lid])
+
+
+# ----------------------------------------------------------------------------- room furniture (--furniture)
+#
+# Pieces of class ``other`` a robot near the floor sees most: their fronts are upright rectangles
+# standing on the floor.  Each builder returns the piece built at the origin, standing on z = 0,
+# its front facing -y (front face at y = -depth / 2, back at +depth / 2), with its width (x),
+# depth (y), height and the details drawn; the door builder also returns its wall.
+
+FURNITURE = ("cabinet", "chest", "wardrobe", "bookcase", "sofa", "bed", "radiator", "bin", "door")
+
+
+def _front_panels(w, h, z0, d, cols, rows, rng, proud=0.018, gap=0.003):
+    """Door or drawer fronts over the front ``x in [-w/2, w/2]``, ``z in [z0, z0 + h]`` of a body
+    whose front is at ``y = -d/2``: ``cols x rows`` panels ``proud`` in front, ``gap`` apart, with a
+    handle (2 cm proud) on each at random."""
+    parts = []
+    pw, ph = (w - (cols + 1) * gap) / cols, (h - (rows + 1) * gap) / rows
+    handles = rng.random() < 0.7
+    for ci in range(cols):
+        for ri in range(rows):
+            cx = -w / 2 + gap + pw / 2 + ci * (pw + gap)
+            cz = z0 + gap + ph / 2 + ri * (ph + gap)
+            parts.append(_box((pw, proud, ph), (cx, -d / 2 - proud / 2, cz)))
+            if handles:
+                if rows > 1:  # a drawer: a bar across its upper middle
+                    size, at = (min(0.16, 0.5 * pw), 0.02, 0.02), (cx, cz + 0.25 * ph)
+                else:  # a door: an upright bar near its free edge
+                    size, at = (0.02, 0.02, 0.14), (cx + (0.4 if ci % 2 == 0 else -0.4) * pw, cz)
+                parts.append(_box(size, (at[0], -d / 2 - proud - 0.01, at[1])))
+    return parts
+
+
+def _carcass(rng, w, d, h, cols, rows):
+    """A cabinet body: optional recessed plinth (kick board), optional overhanging top, door or
+    drawer fronts.  Returns (parts, details)."""
+    plinth = rng.random() < 0.5
+    pz = rng.uniform(0.06, 0.10) if plinth else 0.0
+    recess = rng.uniform(0.03, 0.06) if plinth else 0.0
+    top = rng.random() < 0.5
+    tt = rng.uniform(0.02, 0.03) if top else 0.0
+    over = rng.uniform(0.01, 0.03) if top else 0.0
+    body_h = h - pz - tt
+    parts = [_box((w, d, body_h), (0, 0, pz + body_h / 2))]
+    if plinth:
+        parts.append(_box((w - 2 * recess, d - recess, pz), (0, recess / 2, pz / 2)))
+    if top:
+        parts.append(_box((w + 2 * over, d + over, tt), (0, -over / 2, h - tt / 2)))
+    fronts = rng.random() < 0.8
+    if fronts:
+        parts += _front_panels(w, body_h, pz, d, cols, rows, rng)
+    return parts, {"plinth": round(pz, 3), "top_overhang": round(over, 3),
+                   "fronts": f"{cols}x{rows}" if fronts else "plain"}
+
+
+def furniture_piece(sub, rng):
+    """One piece of room furniture of kind ``sub`` (one of :data:`FURNITURE`), built at the origin
+    (front facing -y, standing on the floor).
+
+    Returns
+    -------
+    mesh : trimesh.Trimesh
+        The piece (the object: class ``other``).
+    env : list of trimesh.Trimesh
+        Environment parts that come with it (a door's wall and frame).
+    dims : dict
+        ``width``, ``depth``, ``height`` and the details drawn.
+    """
+    env = []
+    if sub == "cabinet":  # cupboard, sideboard, low cabinet: doors
+        w, h, d = rng.uniform(0.4, 1.2), rng.uniform(0.5, 1.1), rng.uniform(0.35, 0.6)
+        parts, det = _carcass(rng, w, d, h, cols=1 if w < 0.6 else 2, rows=1)
+    elif sub == "chest":  # chest of drawers, nightstand
+        w, h, d = rng.uniform(0.4, 1.2), rng.uniform(0.5, 1.1), rng.uniform(0.35, 0.6)
+        parts, det = _carcass(rng, w, d, h, cols=1 if w < 0.8 else 2, rows=int(rng.integers(2, 6)))
+    elif sub == "wardrobe":
+        w, h, d = rng.uniform(0.8, 2.0), rng.uniform(1.6, 2.0), rng.uniform(0.5, 0.62)
+        parts, det = _carcass(rng, w, d, h, cols=2 if w < 1.3 else 3, rows=1)
+    elif sub == "bookcase":  # open shelves, a back panel, rows of books
+        w, h, d = rng.uniform(0.6, 1.0), rng.uniform(0.8, 2.0), rng.uniform(0.25, 0.35)
+        t = 0.018
+        parts = [_box((t, d, h), (s * (w / 2 - t / 2), 0, h / 2)) for s in (-1, 1)]
+        parts.append(_box((w - 2 * t, t, h), (0, d / 2 - t / 2, h / 2)))  # back
+        parts.append(_box((w - 2 * t, d, t), (0, 0, h - t / 2)))  # top
+        kick = rng.uniform(0.05, 0.08)
+        parts.append(_box((w - 2 * t, t, kick), (0, -d / 2 + 0.02 + t / 2, kick / 2)))
+        levels = [kick] + list(np.arange(kick + rng.uniform(0.28, 0.38), h - 0.2, rng.uniform(0.28, 0.38)))
+        books = 0
+        for z in levels:
+            parts.append(_box((w - 2 * t, d - t, t), (0, -t / 2, z + t / 2)))
+            x = -w / 2 + t
+            while x < w / 2 - t - 0.05:  # groups of books, or a gap
+                gw = min(rng.uniform(0.05, 0.3), w / 2 - t - x)
+                if rng.random() < 0.7:
+                    bh = rng.uniform(0.15, 0.26)
+                    bd = min(rng.uniform(0.15, 0.22), d - t - 0.01)
+                    parts.append(_box((gw, bd, bh), (x + gw / 2, d / 2 - t - bd / 2, z + t + bh / 2)))
+                    books += 1
+                x += gw
+        det = {"shelves": len(levels), "book_groups": books}
+    elif sub == "sofa":  # seat at ~0.45 m, a back, arms, legs or a base to the floor
+        w, d = rng.uniform(1.4, 2.2), rng.uniform(0.8, 0.95)
+        seat = rng.uniform(0.42, 0.48)
+        h = rng.uniform(0.75, 0.9)
+        arm_w, arm_h = rng.uniform(0.1, 0.25), rng.uniform(0.55, 0.65)
+        legs = rng.random() < 0.5
+        lz = rng.uniform(0.05, 0.15) if legs else 0.0
+        back_d = rng.uniform(0.15, 0.25)
+        parts = [_box((w - 2 * arm_w, d - back_d, seat - lz), (0, -back_d / 2, lz + (seat - lz) / 2)),
+                 _box((w, back_d, h - lz), (0, d / 2 - back_d / 2, lz + (h - lz) / 2))]
+        parts += [_box((arm_w, d - back_d, arm_h - lz), (s * (w / 2 - arm_w / 2), -back_d / 2,
+                                                           lz + (arm_h - lz) / 2)) for s in (-1, 1)]
+        if legs:
+            parts += [_box((0.04, 0.04, lz), (sx * (w / 2 - 0.05), sy * (d / 2 - 0.05), lz / 2))
+                      for sx in (-1, 1) for sy in (-1, 1)]
+        det = {"seat": round(seat, 3), "legs": round(lz, 3)}
+    elif sub == "bed":  # base and mattress ~0.5 m, a headboard; seen from its foot or its side
+        bw, bl = rng.uniform(0.9, 1.8), rng.uniform(1.9, 2.1)
+        base = rng.uniform(0.25, 0.35)
+        mat = rng.uniform(0.18, 0.25)
+        parts = [_box((bw, bl, base), (0, 0, base / 2)),
+                 _box((bw - 0.02, bl - 0.02, mat), (0, 0, base + mat / 2))]
+        head = rng.random() < 0.7
+        if head:
+            hh = rng.uniform(0.9, 1.2)
+            parts.append(_box((bw + 0.04, 0.05, hh), (0, bl / 2 + 0.025, hh / 2)))
+        h = base + mat
+        if rng.random() < 0.5:  # seen from its side: the long side is the front
+            m = trimesh.util.concatenate(parts)
+            m.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 0, 1]))
+            parts = [m]
+            w, d = bl + (0.05 if head else 0.0), bw + 0.04 * head
+            det = {"seen_from": "side", "headboard": head}
+        else:
+            w, d = bw + 0.04 * head, bl + (0.05 if head else 0.0)
+            det = {"seen_from": "foot", "headboard": head}
+    elif sub == "radiator":  # a panel on brackets, 10-15 cm over the floor
+        w, hh, d = rng.uniform(0.5, 1.2), rng.uniform(0.4, 0.7), rng.uniform(0.07, 0.11)
+        lift = rng.uniform(0.1, 0.15)
+        parts = [_box((w, d, hh), (0, 0, lift + hh / 2))]
+        parts += [_box((0.03, 0.03, lift), (s * (w / 2 - 0.08), 0.0, lift / 2)) for s in (-1, 1)]
+        h = lift + hh
+        det = {"lift": round(lift, 3)}
+    elif sub == "bin":  # waste bin: an open box or a round one
+        if rng.random() < 0.5:
+            w, d, h = rng.uniform(0.25, 0.4), rng.uniform(0.2, 0.3), rng.uniform(0.3, 0.6)
+            t = 0.01
+            parts = [_box((w, t, h), (0, s * (d / 2 - t / 2), h / 2)) for s in (-1, 1)]
+            parts += [_box((t, d - 2 * t, h), (s * (w / 2 - t / 2), 0, h / 2)) for s in (-1, 1)]
+            parts.append(_box((w - 2 * t, d - 2 * t, t), (0, 0, t / 2)))
+            det = {"shape": "open box"}
+        else:
+            r, h = rng.uniform(0.12, 0.2), rng.uniform(0.3, 0.6)
+            c = trimesh.creation.cylinder(radius=r, height=h, sections=24)
+            c.apply_translation([0, 0, h / 2])
+            parts, w, d = [c], 2 * r, 2 * r
+            det = {"shape": "round"}
+    elif sub == "door":  # a closed door in a wall, recessed in its opening, with a frame
+        w, h, d = rng.uniform(0.78, 0.9), rng.uniform(1.98, 2.05), 0.04
+        wl = rng.uniform(2.0, 4.0)  # the wall's length
+        off = rng.uniform(-0.3, 0.3) * (wl - w - 0.3)  # the door's place along it
+        wt = 0.1
+        rec = rng.uniform(0.0, 0.04)  # the door's face behind the wall's face
+        # the wall's front face at y = -d / 2 - rec, so the door's face is rec behind it
+        wy = -d / 2 - rec + wt / 2
+        left = (off - w / 2) - (-wl / 2)
+        right = wl / 2 - (off + w / 2)
+        env += [_box((left, wt, 2.5), (-wl / 2 + left / 2, wy, 1.25)),
+                _box((right, wt, 2.5), (off + w / 2 + right / 2, wy, 1.25)),
+                _box((w, wt, 2.5 - h), (off, wy, h + (2.5 - h) / 2))]
+        if rng.random() < 0.7:  # architrave: a frame 6-8 cm wide, 1.5 cm proud of the wall
+            a = rng.uniform(0.06, 0.08)
+            fy = -d / 2 - rec - 0.0075
+            env += [_box((a, 0.015, h + a), (s * (w / 2 + a / 2) + off, fy, (h + a) / 2)) for s in (-1, 1)]
+            env.append(_box((w, 0.015, a), (off, fy, h + a / 2)))
+        parts = [_box((w, d, h), (off, 0, h / 2)),
+                 _box((0.12, 0.05, 0.02), (off + 0.35 * w, -d / 2 - 0.025, 1.0))]  # handle
+        det = {"recess": round(rec, 3), "wall_length": round(wl, 3), "along": round(off, 3),
+               "frame": len(env) > 3}
+        d = d + rec  # the piece's front as placed is the wall's face
+    else:
+        raise ValueError(f"furniture {sub!r}: one of {FURNITURE}")
+    dims = {"width": round(float(w), 3), "depth": round(float(d), 3), "height": round(float(h), 3), **det}
+    return trimesh.util.concatenate(parts), env, dims
+
+
+def _hull2(points):
+    """Counter-clockwise convex hull of 2-D points (monotone chain)."""
+    pts = sorted(set(map(tuple, np.round(points, 6).tolist())))
+    if len(pts) < 3:
+        return np.asarray(pts, float)
+
+    def half(seq):
+        out = []
+        for p in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                                     - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+
+    lo, hi = half(pts), half(pts[::-1])
+    return np.asarray(lo[:-1] + hi[:-1], float)
+
+
+def _overlap2(a, b, margin=0.0):
+    """True when the convex polygons ``a`` and ``b`` (2-D points) come within ``margin``
+    (separating axis test)."""
+    for poly in (a, b):
+        n = len(poly)
+        if n < 2:
+            continue
+        for k in range(n):
+            e = poly[(k + 1) % n] - poly[k]
+            ax = np.array([-e[1], e[0]])
+            norm = np.linalg.norm(ax)
+            if norm == 0:
+                continue
+            ax /= norm
+            pa, pb = a @ ax, b @ ax
+            if pa.max() + margin < pb.min() or pb.max() + margin < pa.min():
+                return False
+    return True
+
+
+def add_furniture(meshes, objects, eye, R, intr, rng, target, n_range=(1, 3)):
+    """Place 1-3 pieces of room furniture (:func:`furniture_piece`) in the camera's view.
+
+    A piece stands 1-5 m from the eye within the middle of the image's width, its front turned
+    to the camera (+-0.35 rad), clear of every mesh already placed (their footprints' convex
+    hulls, 5 cm apart), off the line of sight to the primary object and 0.4 m or more from the
+    eye; pieces 1.4 m or narrower stand against a wall of their own (2.5 m high, 0.1 m thick,
+    1-3 m longer than the piece, 0-2 cm behind it) half of the time (a door always does).
+    Drawn from ``rng`` only (the scene's own draws are untouched).
+
+    Returns
+    -------
+    meshes, objects : list
+        The scene's, with the pieces (class ``other``, their kind as ``kind``) and walls added.
+    placed : list of dict
+        Each piece's kind, index, dimensions, place, yaw and ``wall``.
+    """
+    meshes, objects = list(meshes), list(objects)
+    W, H, fx, fy, cx, cy = intr
+    hull = [_hull2(m.vertices[:, :2]) for m, _k in meshes[1:]]  # meshes[0]: the floor
+    fwd = R[2, :2] / max(np.linalg.norm(R[2, :2]), 1e-9)
+    look = float(np.arctan2(fwd[1], fwd[0]))
+    half_fov = float(np.arctan((W / 2) / fx))
+    sight = np.array([eye[:2], np.asarray(target)[:2]])
+    placed = []
+    for _ in range(int(rng.integers(n_range[0], n_range[1] + 1))):
+        sub = FURNITURE[int(rng.integers(0, len(FURNITURE)))]
+        mesh, env, dims = furniture_piece(sub, rng)
+        walled = sub == "door" or (dims["width"] <= 1.4 and rng.random() < 0.5)
+        if walled and sub != "door":
+            wl = dims["width"] + rng.uniform(1.0, 3.0)
+            gap = rng.uniform(0.0, 0.02)
+            env = [_box((wl, 0.1, 2.5), (rng.uniform(-0.3, 0.3) * (wl - dims["width"]),
+                                         dims["depth"] / 2 + gap + 0.05, 1.25))]
+        for _try in range(80):
+            bearing = look + rng.uniform(-0.7, 0.7) * half_fov
+            dist = rng.uniform(1.0, 5.0)
+            x, y = eye[0] + dist * np.cos(bearing), eye[1] + dist * np.sin(bearing)
+            to_eye = np.arctan2(eye[1] - y, eye[0] - x)
+            yaw = float(np.arctan2(np.cos(to_eye), -np.sin(to_eye)) + rng.uniform(-0.35, 0.35))
+            T = trimesh.transformations.rotation_matrix(yaw, [0, 0, 1])
+            T[:3, 3] = [x, y, 0.0]
+            parts = [mesh.copy().apply_transform(T)] + [e.copy().apply_transform(T) for e in env]
+            feet = [_hull2(p.vertices[:, :2]) for p in parts]
+            if any(_overlap2(f, h, 0.05) for f in feet for h in hull):
+                continue
+            if any(_overlap2(f, sight, 0.1) for f in feet):
+                continue
+            if any(_overlap2(f, eye[None, :2], 0.4) for f in feet):
+                continue
+            # the piece's front middle must fall inside the image, in front of the camera
+            front = T[:3, :3] @ np.array([0.0, -dims["depth"] / 2, min(dims["height"] / 2, eye[2])]) + T[:3, 3]
+            pc = R @ (front - eye)
+            if pc[2] < 0.5:
+                continue
+            u, v = fx * pc[0] / pc[2] + cx, fy * pc[1] / pc[2] + cy
+            if not (0 <= u < W and 0 <= v < H):
+                continue
+            view = np.array([eye[:2], front[:2] + 0.05 * (eye[:2] - front[:2]) / np.linalg.norm(eye[:2] - front[:2])])
+            if any(_overlap2(h, view) for h in hull):  # something already placed hides its front
+                continue
+            break
+        else:
+            continue
+        objects.append({"index": len(objects) + 1, "class": "other", "kind": sub})
+        meshes.append((parts[0], len(objects)))
+        meshes += [(p, 0) for p in parts[1:]]
+        hull += feet
+        placed.append({"kind": sub, "index": len(objects), **dims, "x": round(float(x), 3),
+                       "y": round(float(y), 3), "yaw": round(yaw, 3), "wall": bool(walled)})
+    return meshes, objects, placed
 
 
 # ----------------------------------------------------------------------------- scenes
@@ -473,11 +786,13 @@ KINDS = ("box", "stairs", "ramp", "stairs_top")
 
 
 def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ramp"), sensor="plain",
-               heights=None):
+               heights=None, furniture=False):
     """Scene ``i`` of the set of ``seed``: (xyz, truth, sidecar dict, meshes, eye, R, plane ids).
 
     ``kinds``: the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``);
-    ``heights``: the camera's eye heights (:func:`camera_pose`; not for ``stairs_top``)."""
+    ``heights``: the camera's eye heights (:func:`camera_pose`; not for ``stairs_top``);
+    ``furniture``: add 1-3 pieces of room furniture in view (:func:`add_furniture`, drawn from
+    a generator of its own, ``[seed, i, 44]``: the scene without them is the same scene)."""
     rng = np.random.default_rng([seed, i])
     kind = kinds[i % len(kinds)]
     if kind not in KINDS:
@@ -492,6 +807,10 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
     hfov = np.radians(rng.uniform(55, 70))
     fx = (W / 2) / np.tan(hfov / 2)
     intr = (W, H, fx, fx, (W - 1) / 2, (H - 1) / 2)
+    placed = None
+    if furniture:
+        meshes, objects, placed = add_furniture(meshes, objects, eye, R, intr,
+                                                np.random.default_rng([seed, i, 44]), target)
     xyz, truth, pid = render(meshes, eye, R, intr, rng, noise=noise, planes=True, sensor=sensor)
     up = R @ np.array([0.0, 0.0, 1.0])
     side = {"format": "independent-scene", "version": 1, "scene_id": f"i{i:04d}",
@@ -503,6 +822,8 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
             "objects": objects, "params": {**info, "camera": cam}}
     if sensor != "plain":
         side["params"]["sensor"] = sensor
+    if placed is not None:
+        side["params"]["furniture"] = placed
     return xyz, truth, side, meshes, eye, R, pid
 
 
@@ -518,13 +839,14 @@ def _write_npy(path, arr):
     tmp.replace(path)
 
 
-def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain", heights=None):
+def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain", heights=None,
+             furniture=False):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     for i in range(n):
         xyz, truth, side, *_, pid = make_scene(i, seed, size, kinds=kinds, sensor=sensor,
-                                               heights=heights)
+                                               heights=heights, furniture=furniture)
         sid = side["scene_id"]
         _write_npy(out / f"{sid}.planes.npy", pid)
         _write_npy(out / f"{sid}.npy", xyz)
@@ -536,6 +858,8 @@ def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain"
         meta.update(kinds=list(kinds), sensor=sensor)
     if heights is not None:
         meta["heights"] = list(heights)
+    if furniture:
+        meta["furniture"] = True
     _write_json(out / "independent.json", meta)
     print(f"made {n} scenes ({size[0]}x{size[1]}) in {dt:.1f} s, {1000 * dt / max(n, 1):.0f} ms/scene -> {out}")
 
@@ -727,6 +1051,10 @@ def main(argv=None):
     m.add_argument("--heights", default=None, metavar="LOW,HIGH",
                    help="camera eye heights over the floor, metres (default 0.3,2.0; 0.3,0.5 for "
                         "a tall box): e.g. 0.1,0.3 for a camera near the floor")
+    m.add_argument("--furniture", action="store_true",
+                   help="add 1-3 pieces of room furniture (class other: cabinets, chests, wardrobes, "
+                        "bookcases, sofas, beds, radiators, bins, doors) in view; off: the same "
+                        "scenes as before the option")
     s = sub.add_parser("score")
     s.add_argument("out")
     s.add_argument("models", nargs="+")
@@ -744,7 +1072,7 @@ def main(argv=None):
         W, H = (int(v) for v in a.size.lower().split("x"))
         heights = None if a.heights is None else tuple(float(v) for v in a.heights.split(","))
         make_set(a.out, a.n, a.seed, (W, H), kinds=tuple(a.kinds.split(",")), sensor=a.sensor,
-                 heights=heights)
+                 heights=heights, furniture=a.furniture)
     else:
         res = score_set(a.out, a.models, a.figures, min_pixels=a.min_pixels, by_planes=a.by_planes)
         if a.true_planes:

@@ -229,3 +229,71 @@ def test_camera_heights_option_sets_the_eye_and_leaves_the_default_draws_alone()
     b = ind.make_scene(2, 9, (40, 30), kinds=("box",), heights=None)
     np.testing.assert_array_equal(a[0], b[0])
     assert 0.3 <= a[2]["params"]["camera"]["height"] <= 2.0
+
+
+def _digest(scenes):
+    import hashlib
+
+    h = hashlib.sha256()
+    for xyz, truth, side, *_rest, pid in scenes:
+        for a in (xyz, truth, pid):
+            h.update(a.tobytes())
+        h.update(json.dumps(side, sort_keys=True).encode())
+    return h.hexdigest()
+
+
+def test_without_furniture_the_scenes_are_byte_identical_to_those_made_before_the_option():
+    # the digest of these twelve scenes as the generator made them before --furniture existed
+    # (main d437b15; numpy's generator and this platform's float arithmetic)
+    scenes = []
+    for i in range(6):
+        for kinds, sensor, heights in ((("box", "stairs", "ramp"), "plain", None),
+                                       (("box",), "kinect", (0.1, 0.3))):
+            scenes.append(ind.make_scene(i, 11, (40, 30), kinds=kinds, sensor=sensor, heights=heights))
+    assert _digest(scenes) == "bf33ca85cef8ad3ab5d14d3e39c5c8376e099ed4d72510bf8838cae56d0cf378"
+    scenes_off = [ind.make_scene(i, 11, (40, 30), furniture=False) for i in range(3)]
+    assert _digest(scenes_off) == _digest([ind.make_scene(i, 11, (40, 30)) for i in range(3)])
+
+
+@pytest.mark.parametrize("sub", ind.FURNITURE)
+def test_each_furniture_piece_stands_on_the_floor_with_its_front_to_minus_y(sub):
+    for s in range(4):
+        mesh, env, dims = ind.furniture_piece(sub, np.random.default_rng([s, 1]))
+        lo, hi = mesh.bounds
+        assert abs(lo[2]) < 1e-9  # on the floor
+        assert hi[2] == pytest.approx(dims["height"], abs=2e-3) or sub in ("door", "bed")
+        # (a bed's depth counts its headboard, 5 cm, behind the frame it is centred on)
+        assert lo[1] <= -dims["depth"] / 2 + (0.03 if sub == "bed" else 2e-3) or sub == "door"
+        assert 0.2 <= dims["width"] <= 2.3 and 0.3 <= dims["height"] <= 2.05
+        if sub == "door":  # the wall with its opening comes with the door: environment
+            assert env and all(e.bounds[1][2] == pytest.approx(2.5) for e in env[:3])
+        else:
+            assert env == []
+
+
+def test_furniture_adds_pieces_of_class_other_to_the_same_scene():
+    seen = 0
+    for i in range(4):
+        a = ind.make_scene(i, 3, (80, 60), kinds=("box",), heights=(0.1, 0.3))
+        b = ind.make_scene(i, 3, (80, 60), kinds=("box",), heights=(0.1, 0.3), furniture=True)
+        # the scene's own objects, camera and draws are untouched; the pieces come after them
+        assert b[2]["objects"][:len(a[2]["objects"])] == a[2]["objects"]
+        assert b[2]["params"]["camera"] == a[2]["params"]["camera"]
+        np.testing.assert_array_equal(a[5], b[5])
+        placed = b[2]["params"]["furniture"]
+        extra = b[2]["objects"][len(a[2]["objects"]):]
+        assert [o["index"] for o in extra] == [f["index"] for f in placed]
+        assert all(o["class"] == "other" and o["kind"] in ind.FURNITURE for o in extra)
+        seen += sum(int((b[1] == o["index"]).sum()) > 0 for o in extra)
+    assert seen >= 2  # pieces are placed in the camera's view
+
+
+def test_convex_overlap_separates_and_meets():
+    sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    assert ind._overlap2(sq, sq + 0.5)
+    assert not ind._overlap2(sq, sq + [1.2, 0])
+    assert ind._overlap2(sq, sq + [1.2, 0], margin=0.3)
+    seg = np.array([[-1.0, 0.5], [2.0, 0.5]])
+    assert ind._overlap2(sq, seg) and not ind._overlap2(sq, seg + [0, 1.0])
+    np.testing.assert_allclose(sorted(map(tuple, ind._hull2(np.vstack([sq, [[0.5, 0.5]]])))),
+                               sorted(map(tuple, sq)))

@@ -242,6 +242,14 @@ class RelationParams:
     #: face; a table's legs that the region grower took as one plane fill 0.2, a chair's
     #: back and legs 0.3-0.7)
     tall_floor_solid: float = 0.8
+    #: m: a skirt's top (:meth:`_Solid.top_candidate`) lies at most this far above the
+    #: sensor's eye (its points' median level along ``up``, the camera at the origin): a plane
+    #: seen from below is an underside -- a shelf's, a table's, a seat's -- and a box's top is
+    #: never seen from below (furn44: a bookcase's shelves over its books 0.64 and 1.17 m above
+    #: the eye, a table's top 0.48 m, seen from 0.1-2 m; every true box's top on the
+    #: independent sets 0.087 m or more below it; a real carton's top read 0.21 m above it under
+    #: a gravity estimated 15 degrees off, gqcnn PhoXi).  0: off (before furn44)
+    skirt_top_eye: float = 0.3
     #: m: a ``lying`` plane (:func:`lying_tops`) stands at least this far above the ground
     #: it lies on (or ``lying_snr`` times its own fit's RMS, when more): a book's or
     #: a flat box's top 2-8 cm over the table; a floor's far piece that the sensor bends is
@@ -334,7 +342,7 @@ class RelationParams:
                              "facing_overlap", "facing_width", "facing_narrow_tol", "face_pair_width", "face_pair_angle", "face_pair_level", "face_pair_level_share", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
-                             "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "lying_rise",
+                             "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "skirt_top_eye", "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
                              "lying_min_length", "lying_width", "lying_snr", "lying_ring",
                              "lying_ring_ground", "lying_ring_between"))
@@ -611,7 +619,11 @@ class _Solid:
     def top_candidate(self, top) -> bool:
         """True when ``top`` can be a skirt's top: horizontal, inclined at most
         ``skirt_top_tilt`` degrees (whether it leans towards the face is :meth:`skirt`'s), or
-        a tilted box's top (:meth:`_tilted`)."""
+        a tilted box's top (:meth:`_tilted`); and not seen from below: its level at most
+        ``skirt_top_eye`` above the sensor's eye (a shelf's or a table's underside)."""
+        lim = self.params.skirt_top_eye
+        if lim > 0 and float(np.asarray(top.centroid, float) @ self.up) > lim:
+            return False
         if top.orientation == "horizontal":
             return True
         return (top.orientation == "inclined" and self.narrow_top(top)) \
