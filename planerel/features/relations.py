@@ -243,7 +243,7 @@ class RelationParams:
     #: back and legs 0.3-0.7)
     tall_floor_solid: float = 0.8
     #: m: a skirt's top (:meth:`_Solid.top_candidate`) lies at most this far above the
-    #: sensor's eye (its points' median level along ``up``, the camera at the origin): a plane
+    #: sensor's eye (its centroid's level along ``up``, the camera at the origin): a plane
     #: seen from below is an underside -- a shelf's, a table's, a seat's -- and a box's top is
     #: never seen from below (furn44: a bookcase's shelves over its books 0.64 and 1.17 m above
     #: the eye, a table's top 0.48 m, seen from 0.1-2 m; every true box's top on the
