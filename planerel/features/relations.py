@@ -76,6 +76,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field, replace
+from typing import NamedTuple
 
 import numpy as np
 
@@ -250,6 +251,14 @@ class RelationParams:
     #: independent sets 0.087 m or more below it; a real carton's top read 0.21 m above it under
     #: a gravity estimated 15 degrees off, gqcnn PhoXi).  0: off (before furn44)
     skirt_top_eye: float = 0.3
+    #: m: with no floor plane found at all (a camera lying on the floor: the floor returns no
+    #: depth), a virtual floor level at the lowest level shared within this by the feet
+    #: (``FaceProfile.bottom``) of at least ``tall_feet_min`` shaped upright planes below the
+    #: eye (:func:`feet_level`) stands in for the floor plane in :func:`floor_foot` (feet44).
+    #: 0: off (measured in docs/objects.md, "A floor level from the feet of upright faces")
+    tall_feet_level: float = 0.0
+    #: ... the number of upright planes whose feet must share that level
+    tall_feet_min: int = 2
     #: m: a ``lying`` plane (:func:`lying_tops`) stands at least this far above the ground
     #: it lies on (or ``lying_snr`` times its own fit's RMS, when more): a book's or
     #: a flat box's top 2-8 cm over the table; a floor's far piece that the sensor bends is
@@ -342,7 +351,8 @@ class RelationParams:
                              "facing_overlap", "facing_width", "facing_narrow_tol", "face_pair_width", "face_pair_angle", "face_pair_level", "face_pair_level_share", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
-                             "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "skirt_top_eye", "lying_rise",
+                             "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "skirt_top_eye", "tall_feet_level",
+                             "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
                              "lying_min_length", "lying_width", "lying_snr", "lying_ring",
                              "lying_ring_ground", "lying_ring_between"))
@@ -352,6 +362,9 @@ class RelationParams:
         if self.lying_min_length > self.lying_length:
             raise InputError(f"lying_min_length must be at most lying_length "
                              f"({self.lying_length!r}), got {self.lying_min_length!r}")
+        if not isinstance(self.tall_feet_min, int) or self.tall_feet_min < 2:
+            raise InputError(f"tall_feet_min is a count of planes, at least 2, got "
+                             f"{self.tall_feet_min!r}")
         for name in ("tall_floor_share", "tall_floor_solid"):
             if getattr(self, name) > 1:
                 raise InputError(f"{name} is a share in 0..1, got {getattr(self, name)!r}")
@@ -1102,12 +1115,6 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     floor = by_label.get(getattr(planes, "floor", None))
     if floor is not None and floor.orientation != "horizontal":
         floor = None
-    if floor is not None and p.tall_floor_fit > 0:
-        for q in planes:
-            if q.label not in near and q.label != floor.label and shaped(q):
-                near[q.label] = []
-    if not near:
-        return frozenset()
     up = np.asarray(planes.up, float)
     profiles = {} if profiles is None else profiles
 
@@ -1117,6 +1124,20 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
             prof = profiles[face.label] = face_profile_of(face, up, lab, cloud.xyz,
                                                           p.profile_points)
         return prof
+
+    if floor is None and p.tall_feet_level > 0 and p.tall_floor_fit > 0 \
+            and getattr(planes, "floor", None) is None:
+        # feet44: no floor plane at all; the level the feet of upright faces share
+        found = feet_level([profile(q).bottom for q in planes if shaped(q)],
+                           p.tall_feet_level, p.tall_feet_min)
+        if found is not None:
+            floor = VirtualFloor(up, found[0])
+    if floor is not None and p.tall_floor_fit > 0:
+        for q in planes:
+            if q.label not in near and q.label != floor.label and shaped(q):
+                near[q.label] = []
+    if not near:
+        return frozenset()
 
     out = set()
     # the scan's blank top rows, measured only for a face that starts within them
@@ -1406,6 +1427,43 @@ def _next_riser(face, prof, planes, profile, p) -> bool:
 FLOOR_FOOT_ROWS = 0.04
 #: :func:`floor_foot` looks at the middle of the face's columns: this share cut off each side
 FLOOR_FOOT_MARGIN = 0.15
+
+
+class VirtualFloor(NamedTuple):
+    """A level plane (normal ``up``) at ``level`` along ``up``: the floor :func:`feet_level`
+    finds where no floor plane was segmented; what :func:`floor_foot` reads of a plane."""
+
+    normal: np.ndarray
+    level: float
+    label: int = -1
+    orientation: str = "horizontal"
+
+    @property
+    def centroid(self) -> np.ndarray:
+        return np.asarray(self.normal, float) * self.level
+
+
+def feet_level(bottoms, tol: float, at_least: int = 2) -> tuple[float, float, int] | None:
+    """The lowest level (along up, the camera at 0) shared by the feet ``bottoms`` (each a
+    face's ``FaceProfile.bottom``) of at least ``at_least`` faces below the eye, all within
+    ``tol`` m of each other: ``(median of those feet, their spread, how many)``, or None.
+
+    Parameters
+    ----------
+    bottoms : iterable of float
+        Feet levels (m); ``nan`` and those at or above the eye (>= 0) are ignored.
+    tol : float
+        Largest spread (max - min) of the feet sharing a level.
+    at_least : int
+        Fewest feet sharing it.
+    """
+    b = np.sort(np.asarray([v for v in bottoms if np.isfinite(v) and v < 0], float))
+    for i in range(b.size):
+        j = int(np.searchsorted(b, b[i] + tol, side="right"))
+        if j - i >= at_least:
+            grp = b[i:j]
+            return float(np.median(grp)), float(grp[-1] - grp[0]), int(grp.size)
+    return None
 
 
 def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
