@@ -24,23 +24,8 @@ from planerel.features.foot import Foot, slope_foot
 from planerel.ilp import metrics as M
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ramp_model import ramp_model as _model  # noqa: E402
 from scenes_analytic import Rect, box, floor, ramp, render  # noqa: E402
-
-STATS = [(1, "ramp", 73, 0)]
-# the demo model's ramp clause, by hand
-RULES = ("ramp(A) :- has_plane(A,B), slope(B,C), area(B,D), gteq(D,0.53), lteq(C,28).\n"
-         + "".join(f"planerel_rule_stats({i}, {k}, {tp}, {fp}).\n" for i, k, tp, fp in STATS))
-
-
-def _model(path: Path, **decision) -> Path:
-    from planerel.ilp.model_settings import training_settings
-
-    path.mkdir(parents=True, exist_ok=True)
-    (path / "rules.pl").write_text(RULES)
-    data = training_settings("regiongrow", {}, rule_stats=STATS)
-    data["decision"].update(decision)
-    (path / "model.json").write_text(json.dumps(data))
-    return path
 
 
 def _raised(y0, lift, angle=15.0, length=1.5, width=1.0, cx=0.0):

@@ -10,7 +10,6 @@ segmented and described for real; Prolog runs for real (swipl through pyswip).
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
@@ -20,23 +19,8 @@ from planerel.errors import InputError
 from planerel.ilp import metrics as M
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ramp_model import ramp_model as _model  # noqa: E402
 from scenes_analytic import Rect, floor, ramp, render  # noqa: E402
-
-STATS = [(1, "ramp", 73, 0)]
-# the demo model's ramp clause, by hand
-RULES = ("ramp(A) :- has_plane(A,B), slope(B,C), area(B,D), gteq(D,0.53), lteq(C,28).\n"
-         + "".join(f"planerel_rule_stats({i}, {k}, {tp}, {fp}).\n" for i, k, tp, fp in STATS))
-
-
-def _model(path: Path, **decision) -> Path:
-    from planerel.ilp.model_settings import training_settings
-
-    path.mkdir(parents=True, exist_ok=True)
-    (path / "rules.pl").write_text(RULES)
-    data = training_settings("regiongrow", {}, rule_stats=STATS)
-    data["decision"].update(decision)
-    (path / "model.json").write_text(json.dumps(data))
-    return path
 
 
 def _ramps(model, rects, **view):

@@ -3222,11 +3222,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             limit = run[1] if kind[lo.label] == "tread" else rise[1]
             if any(np.ptp(np.asarray(q.hull3d, float) @ depth_axis) > limit for q in (lo, hi)):
                 continue
-            across = cross3(up, direction)
-            a0, a1 = _extent(lo, across)
-            b0, b1 = _extent(hi, across)
-            union = max(a1, b1) - min(a0, b0)
-            if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < min_overlap:
+            if _across_overlap(lo, hi, up, direction) < min_overlap:
                 continue
             steps.append((lo.label, hi.label, dv / k, direction, k, dist / k))
     cos_dir = math.cos(math.radians(25.0))
@@ -3370,11 +3366,7 @@ def _cut_top_steps(lows, tops, up, rise, run, min_overlap: float, max_ratio: flo
                 continue
             if any(np.ptp(np.asarray(q.hull3d, float) @ direction) > run[1] for q in (lo, hi)):
                 continue
-            across = cross3(up, direction)
-            a0, a1 = _extent(lo, across)
-            b0, b1 = _extent(hi, across)
-            union = max(a1, b1) - min(a0, b0)
-            if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < min_overlap:
+            if _across_overlap(lo, hi, up, direction) < min_overlap:
                 continue
             # edge to edge: the plan gap is the band the top tread's nosing hides
             H = np.asarray(hi.hull3d, float)
@@ -3395,6 +3387,16 @@ def _cut_top_steps(lows, tops, up, rise, run, min_overlap: float, max_ratio: flo
 def _extent(p, axis) -> tuple[float, float]:
     t = np.asarray(p.hull3d, float) @ axis
     return float(t.min()), float(t.max())
+
+
+def _across_overlap(lo, hi, up, direction) -> float:
+    """Interval IoU of planes ``lo`` and ``hi`` across the horizontal ``direction`` (their
+    hulls' extents along ``up x direction``: one flight's width); -1 when the union is empty."""
+    across = cross3(up, direction)
+    a0, a1 = _extent(lo, across)
+    b0, b1 = _extent(hi, across)
+    union = max(a1, b1) - min(a0, b0)
+    return (min(a1, b1) - max(a0, b0)) / union if union > 0 else -1.0
 
 
 def _step_like(pa, pb, min_overlap: float, up=None, riser_max: float | None = None,
