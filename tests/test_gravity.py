@@ -256,3 +256,39 @@ def test_classify_reports_the_up_source_and_confidence(tmp_path):
         given = clf.classify(s.cloud, scene_id="s0002", up=s.up).to_dict()
     assert est["up"] == "estimated" and 0.5 <= est["up_confidence"] <= 1.0
     assert given["up"] == "given" and given["up_confidence"] == 1.0
+    # the up vector used, and the floor plane the answer stands on
+    assert np.allclose(given["up_vector"], s.up / np.linalg.norm(s.up), atol=1e-6)
+    assert abs(np.linalg.norm(est["up_vector"]) - 1.0) < 1e-6
+    assert np.degrees(np.arccos(np.clip(np.dot(est["up_vector"], given["up_vector"]), -1, 1))) < 5
+    for d in (est, given):
+        assert d["up_low_confidence"] is False and d["up_upside_down"] is False
+        assert d["floor"] is not None and d["floor"].startswith(d["scene"] + "_p")
+
+
+def test_classify_says_when_no_floor_is_in_view(tmp_path, capsys):
+    """A camera near the floor whose floor returns no depth (a Kinect lying on the floor):
+    a wall and a box's front, no floor plane, and the answer says what that costs, in the
+    JSON and in the text (a note under the scan's line).  The camera's up is given: estimated,
+    a level camera facing only upright planes reads the wall as a floor under a camera
+    looking straight down (docs/gravity.md)."""
+    from planerel.classify.classifier import Classifier
+
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(O) :- nplanes(O, N), gteq(N, 1).\n")
+    cloud, _, _, _ = render([wall(y=2.0)] + box(0.0, 1.6, 0.4, 0.3, 0.5), pitch=0,
+                            cam_height=0.3, width=320, height=240, with_up=False)
+    with Classifier(rules) as clf:
+        ans = clf.classify(cloud, scene_id="w", up=np.array([0.0, -1.0, 0.0]))
+    d = ans.to_dict()
+    assert d["floor"] is None and any("no floor plane" in n for n in ans.notes())
+    np.save(tmp_path / "wall.npy", cloud.xyz)
+    assert main(["classify", str(rules), str(tmp_path / "wall.npy"), "--up", "0,-1,0"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert "up given" in out[0] and out[0].endswith("no floor plane")
+    assert out[1].startswith("  note: no floor plane in view")
+    # with a floor under the box there is one, and no note
+    cloud, _, _, _ = render([floor(), wall(y=2.0)] + box(0.0, 1.6, 0.4, 0.3, 0.5), pitch=20,
+                            cam_height=1.0, width=320, height=240, with_up=False)
+    with Classifier(rules) as clf:
+        ans = clf.classify(cloud, scene_id="f")
+    assert ans.floor is not None and ans.notes() == []

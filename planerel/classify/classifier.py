@@ -145,16 +145,42 @@ class SceneAnswer:
     up_source: str
     seconds: float
     up_confidence: float = 1.0
+    #: the up vector used, shape (3,), in the sensor's frame (None: not recorded)
+    up_vector: tuple | None = None
+    #: the estimate is flagged low (under ``gravity.low_confidence``; never for a given up)
+    up_low: bool = False
+    #: the estimate is the upside-down reading (``gravity.flip``)
+    up_upside_down: bool = False
+    #: the floor plane's id (None: no floor plane in view, e.g. a camera near the floor or
+    #: looking level over a desk; rules that need the ground, such as a box seen as one
+    #: upright face, cannot hold then)
+    floor: str | None = None
 
     @property
     def n_planes(self) -> int:
         return len(self.plane_ids)
 
     def to_dict(self) -> dict:
+        up = None if self.up_vector is None else [round(float(v), 6) for v in self.up_vector]
         return {"input": self.source, "scene": self.scene_id, "n_planes": self.n_planes,
                 "up": self.up_source, "up_confidence": round(self.up_confidence, 3),
+                "up_vector": up, "up_low_confidence": self.up_low,
+                "up_upside_down": self.up_upside_down, "floor": self.floor,
                 "objects": [o.to_dict() for o in self.objects],
                 "seconds": round(self.seconds, 4)}
+
+    def notes(self) -> list:
+        """What the scan's frame leaves out, in words: a low-confidence up vector, no floor
+        plane (empty when neither)."""
+        out = []
+        if self.up_low:
+            out.append(f"the up vector is a guess (estimated, confidence {self.up_confidence:.2f}): "
+                       "level and upright tests may be wrong; pass --up X,Y,Z when the "
+                       "camera's up is known")
+        if self.floor is None and self.plane_ids:
+            out.append("no floor plane in view: a box seen as one upright face cannot be "
+                       "proved (its foot needs the floor), and no slope's foot is checked")
+        return out
 
 
 _MODEL_NUMBERS = itertools.count(1)
@@ -383,9 +409,16 @@ class Classifier:
         plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
         answers = self.answer_description(desc, xyz=cloud.xyz)
         # the labels the planes refer to (a stepped plane may have been split into levels)
+        from planerel.features.gravity import GravityParams
+
+        ps = desc.planes
+        low = ps.up_source in ("estimated", "default") and \
+            ps.up_confidence < self._describe_kw.get("gravity_params", GravityParams()).low_confidence
         return SceneAnswer(cloud.source, scene_id, desc.labels, plane_ids, answers,
-                           desc.planes.up_source, time.perf_counter() - t0,
-                           desc.planes.up_confidence)
+                           ps.up_source, time.perf_counter() - t0, ps.up_confidence,
+                           up_vector=tuple(float(v) for v in ps.up), up_low=bool(low),
+                           up_upside_down=bool(ps.up_upside_down),
+                           floor=None if ps.floor is None else plane_ids.get(ps.floor))
 
     def answer_description(self, desc, xyz=None) -> tuple:
         """The answers for the objects of a scene description, in its object order.

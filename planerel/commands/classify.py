@@ -113,8 +113,13 @@ def _classify_task(task: dict):
         with atomic_path(out / f"{stem}.classified.png", suffix=".png") as tmp:
             Image.fromarray(explanation_picture(ans, cloud.depth)).save(tmp, format="PNG")
         write_json(out / f"{stem}.classified.json", ans.to_dict())
+    up = f"up {ans.up_source}" + (f" (confidence {ans.up_confidence:.2f})"
+                                  if ans.up_source in ("estimated", "default") else "") \
+        + (", upside down" if ans.up_upside_down else "")
+    floor = f"floor {ans.floor}" if ans.floor else "no floor plane"
     lines = [f"{path}: {ans.n_planes} planes, {len(ans.objects)} object(s) "
-             f"[{ans.seconds * 1000:.0f} ms]"]
+             f"[{ans.seconds * 1000:.0f} ms]; {up}, {floor}"]
+    lines += [f"  note: {n}" for n in ans.notes()]
     if not cloud.organized:
         lines.append("  note: an unorganized cloud (no image grid: --no-organize): relations "
                      "that look through the image (skirt/2, a tilted floor) are not found; read "
