@@ -1,5 +1,5 @@
-"""The demo's ramp clause as a one-rule model, for the tests of the decision's ramp gates
-(tests/test_foot_gate.py, tests/test_side_gate.py)."""
+"""The demo's ramp clause (and its stairs clause) as one-rule models, for the tests of the
+decision's ramp and stairs gates (tests/test_foot_gate.py, tests/test_side_gate.py)."""
 
 from __future__ import annotations
 
@@ -12,14 +12,32 @@ RULES = ("ramp(A) :- has_plane(A,B), slope(B,C), area(B,D), gteq(D,0.53), lteq(C
          + "".join(f"planerel_rule_stats({i}, {k}, {tp}, {fp}).\n" for i, k, tp, fp in STATS))
 
 
+# the demo model's stairs clause (a flight's risers one step apart), by hand
+STAIRS_STATS = [(1, "stairs", 60, 0)]
+STAIRS_RULES = ("stairs(A) :- has_plane(A,B), parallel(B,C), stair_step(C,B).\n"
+                + "".join(f"planerel_rule_stats({i}, {k}, {tp}, {fp}).\n"
+                          for i, k, tp, fp in STAIRS_STATS))
+
+
 def ramp_model(path: Path, **decision) -> Path:
-    """Write the one-rule model into ``path`` (its ``decision`` settings updated with
+    """Write the one-rule ramp model into ``path`` (its ``decision`` settings updated with
     ``decision``) and return ``path``."""
+    return one_rule_model(path, RULES, STATS, **decision)
+
+
+def stairs_model(path: Path, **decision) -> Path:
+    """The one-rule stairs model, as :func:`ramp_model`."""
+    return one_rule_model(path, STAIRS_RULES, STAIRS_STATS, **decision)
+
+
+def one_rule_model(path: Path, rules: str, stats, **decision) -> Path:
+    """Write ``rules`` with their ``stats`` as a model into ``path`` (its ``decision``
+    settings updated with ``decision``) and return ``path``."""
     from planerel.ilp.model_settings import training_settings
 
     path.mkdir(parents=True, exist_ok=True)
-    (path / "rules.pl").write_text(RULES)
-    data = training_settings("regiongrow", {}, rule_stats=STATS)
+    (path / "rules.pl").write_text(rules)
+    data = training_settings("regiongrow", {}, rule_stats=stats)
     data["decision"].update(decision)
     (path / "model.json").write_text(json.dumps(data))
     return path

@@ -324,7 +324,7 @@ class Classifier:
         self.foot_gate = decision.foot_gate
         self.foot_bounds = (decision.foot_above, decision.foot_below, decision.foot_hidden,
                             decision.foot_float)
-        #: ``ramp`` only for a slope seen from above (:func:`~planerel.ilp.metrics.side_refusals`;
+        #: ``ramp`` (``stairs``) only for a slope (treads) seen from above (:func:`~planerel.ilp.metrics.side_refusals`;
         #: ``decision.side_gate``)
         self.side_gate = decision.side_gate
         #: ``stairs`` only for an object whose faces show a staircase's steps
@@ -472,6 +472,7 @@ class Classifier:
         the scan's points, for the foot gate)."""
         from planerel.features.relations import flight_evidence, flight_faces
         from planerel.ilp.metrics import (
+            SIDE_PLANES,
             decide,
             horizontal_counts,
             laplace,
@@ -502,7 +503,7 @@ class Classifier:
                     return None
                 return slope_foot(ps, lab, xyz, labels=desc.labels)
         side = None  # as the foot gate: classify's own (a scan's) decision, not the learner's
-        if self.side_gate and xyz is not None and "ramp" in self.classes:
+        if self.side_gate and xyz is not None and set(SIDE_PLANES) & set(self.classes):
             side_by_id = {pid: lab for lab, pid in plane_ids.items()}
             up_v = np.asarray(desc.planes.up, dtype=np.float64)
 
@@ -511,9 +512,7 @@ class Classifier:
                 if lab is None:
                     return None
                 p = desc.planes.by_label(lab)
-                if p.orientation != "inclined":
-                    return None
-                return float(np.asarray(p.normal, dtype=np.float64) @ up_v)
+                return p.orientation, float(np.asarray(p.normal, dtype=np.float64) @ up_v)
         proposal_params = self._describe_kw.get("proposal_params")
         for o in desc.objects:
             hits = []
@@ -550,7 +549,11 @@ class Classifier:
                                    foot_above=self.foot_bounds[0],
                                    foot_below=self.foot_bounds[1],
                                    foot_hidden=self.foot_bounds[2],
-                                   foot_float=self.foot_bounds[3], side=side)
+                                   foot_float=self.foot_bounds[3], side=side,
+                                   treads=() if side is None else
+                                   [f[1] for f in (side(plane_ids.get(lab))
+                                                   for lab in o.planes)
+                                    if f is not None and f[0] == "horizontal"])
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)
             if best is None:

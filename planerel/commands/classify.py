@@ -61,8 +61,8 @@ def register(sub) -> None:
                         "(on by default) refuses ramp for a slope whose low end lies over "
                         "decision.foot_above metres above the floor in plain view "
                         "(decision.foot_hidden) or decision.foot_below under it; "
-                        "decision.side_gate (on by default) refuses ramp for a slope the "
-                        "camera sees from below (an underside)")
+                        "decision.side_gate (on by default) refuses ramp for a slope, and "
+                        "stairs for treads, the camera sees only from below (an underside)")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)

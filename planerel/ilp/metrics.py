@@ -21,7 +21,7 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "proof_refusals", "VETO_RATIO", "VetoRefusal", "veto_refusals", "FLIGHT_GATE",
            "FLIGHT_CLASS", "FlightRefusal", "flight_refusals", "FOOT_GATE", "FOOT_ABOVE",
            "FOOT_BELOW", "FOOT_HIDDEN", "FOOT_FLOAT", "FOOT_CLASS", "FootRefusal", "foot_refusals",
-           "SIDE_GATE", "SideRefusal", "side_refusals",
+           "SIDE_GATE", "SIDE_PLANES", "SideRefusal", "side_refusals",
            "SIZE_GATE", "SIZE_MARGIN",
            "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
            "SLENDER_GATE", "SLENDER_MARGIN", "SLENDER_CLASSES", "plane_slenderness",
@@ -157,6 +157,10 @@ FOOT_FLOAT = 1.0
 FOOT_CLASS = "ramp"
 #: Default of :attr:`DecisionParams.side_gate`.
 SIDE_GATE = True
+#: The classes :func:`side_refusals` asks of, with the orientation of the proof planes it
+#: looks at: a ramp's slope and a flight's treads are walked on, so a camera sees them from
+#: above their planes.
+SIDE_PLANES = {"ramp": "inclined", "stairs": "horizontal"}
 
 
 @dataclass(frozen=True)
@@ -323,7 +327,8 @@ class DecisionParams:
         reach 0.49 m up at most, the independent generator's 0.17 m; outdoor false ramps of
         hunt35, a tree's canopy and a far strip on densified LiDAR, 1.4-2.6 m up). 0: off.
     side_gate : bool
-        Refuse ``ramp`` for an object whose proof's inclined planes are all seen from below
+        Refuse ``ramp`` (``stairs``) for an object whose proof's inclined (horizontal)
+        planes are all seen from below
         (:func:`side_refusals`): the normal turned to the sensor points down (``normal . up <
         0``), the camera is under the plane.  A ramp is walked on: its walked-on side faces
         up, and a camera sees that side only from above its plane; what a camera sees from
@@ -333,7 +338,10 @@ class DecisionParams:
         foot gate needs one).  On by default (ramp44, 2026-12-01): a camera near the floor
         sees undersides and often no floor (the Kinect returns nothing at grazing incidence);
         on the independent low-camera ramps a gravity estimate read upside down called the
-        floor a ramp seen from below.  Only classify applies it.
+        floor a ramp seen from below.  A flight's treads are walked on too: since
+        2026-12-01 16:45 UTC (hunt45: a ceiling's terraces seen from 0.1 m answered
+        ``stairs``) ``stairs`` is refused when its proof's and its object's horizontal
+        planes are all seen from below.  Only classify applies it.
     size_margin : float
         The share of the furthest-reaching training proof plane a proof may exceed it by
         (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
@@ -1082,8 +1090,8 @@ def foot_refusals(hits, stats: Sequence, foot=None, above: float = FOOT_ABOVE,
 
 @dataclass(frozen=True)
 class SideRefusal:
-    """``ramp`` proved of an object whose sloping proof planes are all seen from below
-    (:func:`side_refusals`)."""
+    """``ramp`` (``stairs``) proved of an object whose sloping (level) proof planes are all
+    seen from below (:func:`side_refusals`)."""
 
     klass: str
     rule: int
@@ -1092,30 +1100,38 @@ class SideRefusal:
 
     @property
     def reason(self) -> str:
-        return (f"rule {self.rule} proves it with a sloping plane the camera sees from below "
-                f"(its normal towards the sensor . up = {self.facing:.2f}): an underside, "
-                f"no walked-on slope")
+        what = ("level planes", "no flight's treads") if self.klass == "stairs" else \
+            ("a sloping plane", "no walked-on slope")
+        return (f"rule {self.rule} proves it with {what[0]} the camera sees from below "
+                f"(normal towards the sensor . up = {self.facing:.2f} at most): an underside, "
+                f"{what[1]}")
 
     def to_dict(self) -> dict:
         return {"class": self.klass, "rule": self.rule, "facing": round(self.facing, 4),
                 "reason": self.reason}
 
 
-def side_refusals(hits, stats: Sequence, side=None):
-    """Leave out the ``ramp`` hits whose proof's sloping planes are all seen from below.
+def side_refusals(hits, stats: Sequence, side=None, treads=()):
+    """Leave out the ``ramp`` and ``stairs`` hits whose proof's walked-on planes are all seen
+    from below.
 
-    A ramp's walked-on side faces up, and a camera sees that side only from above the plane;
-    a sloping plane the camera sees from below (its normal, turned to the sensor, points
-    down) is an underside.  A hit of :data:`FOOT_CLASS` is refused when every plane of its
-    proof that ``side`` measures has ``side(plane) < 0``.  A proof without a measured plane
-    is kept.
+    A ramp's slope and a flight's treads are walked on: their walked-on side faces up, and a
+    camera sees that side only from above the plane.  A plane the camera sees from below (its
+    normal, turned to the sensor, points down) is an underside: a table's, a shelf's, a
+    ceiling's (a ceiling's disparity terraces seen from 0.1 m, hunt45).  A hit of a class of
+    :data:`SIDE_PLANES` is refused when every plane of its proof of that class's orientation
+    (inclined for ``ramp``, horizontal for ``stairs``) has ``side(plane) < 0``; for
+    ``stairs`` the object's own level planes (``treads``) count too, since a flight's rule may
+    bind its risers only.  A proof without such a measured plane is kept.
 
     Parameters
     ----------
     side : callable or None
-        ``side(plane id) -> float or None``: the inclined plane's ``normal . up`` with the
-        normal turned to the sensor (None for a plane that is not inclined or not measured);
+        ``side(plane id) -> (orientation, float) or None``: the plane's orientation and its
+        ``normal . up`` with the normal turned to the sensor (None for a plane not measured);
         None: the gate is off.
+    treads : sequence of float
+        ``normal . up`` (normal turned to the sensor) of the object's horizontal planes.
 
     Returns
     -------
@@ -1123,16 +1139,20 @@ def side_refusals(hits, stats: Sequence, side=None):
         The hits left, and one :class:`SideRefusal` per refused rule that takes part in the
         decision (:func:`takes_part`).
     """
-    if side is None or not any(h[0] == FOOT_CLASS for h in hits):
+    if side is None or not any(h[0] in SIDE_PLANES for h in hits):
         return list(hits), ()
     table = {i: (tp, fp) for i, _, tp, fp in stats}
     kept, refused = [], {}
     for hit in hits:
-        if hit[0] == FOOT_CLASS:
-            facing = [f for f in (side(v) for v in dict(hit[2]).values()) if f is not None]
+        want = SIDE_PLANES.get(hit[0])
+        if want is not None:
+            measured = (side(v) for v in dict(hit[2]).values())
+            facing = [m[1] for m in measured if m is not None and m[0] == want]
+            if hit[0] == "stairs":
+                facing += [float(f) for f in treads]
             if facing and max(facing) < 0:
                 if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
-                    refused[hit[1]] = SideRefusal(FOOT_CLASS, hit[1], float(max(facing)))
+                    refused[hit[1]] = SideRefusal(hit[0], hit[1], float(max(facing)))
                 continue
         kept.append(hit)
     return kept, tuple(refused.values())
@@ -1326,9 +1346,11 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            slender=None, slenders: Sequence = (), slender_margin: float = SLENDER_MARGIN,
            distances=None, ranges: Sequence = (), range_margin: float = RANGE_MARGIN,
            foot=None, foot_above: float = FOOT_ABOVE, foot_below: float = FOOT_BELOW,
-           foot_hidden: float = FOOT_HIDDEN, foot_float: float = FOOT_FLOAT, side=None):
+           foot_hidden: float = FOOT_HIDDEN, foot_float: float = FOOT_FLOAT, side=None,
+           treads=()):
     """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
-    default, off), :func:`side_refusals` (``side``; None, the default, off),
+    default, off), :func:`side_refusals` (``side``, and the object's ``treads``; None,
+    the default, off),
     :func:`proof_refusals` (with ``proofs``, the
     model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
     :func:`size_domain`, and the scene's plane ``extents``), :func:`slender_refusals`
@@ -1361,7 +1383,7 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
     kept, steps = flight_refusals(kept, stats, flight)
     kept, feet = foot_refusals(kept, stats, foot, foot_above, foot_below, foot_hidden,
                                foot_float)
-    kept, under = side_refusals(kept, stats, side)
+    kept, under = side_refusals(kept, stats, side, treads)
     kept, vetoes = veto_refusals(kept, stats, veto_ratio)
     return (choose_class(kept, stats, classes, cofire),
             small + large + thin + far + refused + flat + steps + feet + under + vetoes)
