@@ -38,6 +38,14 @@ other, leaning alike from a level floor below them, vote for their mirror axis (
 their normals) as a horizontal plane of their area does: a symmetric pair fixes one direction,
 as a horizontal plane does (docs/gravity.md, "A bin seen from above").
 
+Near the floor (``GravityParams.mirror_pairs_near``, ``steep_support``).  A camera a few
+centimetres over a floor sees the floor as a small plane and the sensor's far planes, bent, as
+many m^2.  A mirror pair's walls vote with their near weight (a tote is seen from within
+reach), and a reading in which the camera looks down by more than ``steep_pitch_deg`` counts
+its vertical votes only up to ``steep_support`` times its horizontal ones (a camera looking
+steeply down sees what is under it; docs/gravity.md, "A camera near the floor: which reading
+wins").
+
 Upside down (``GravityParams.flip``).  A camera mounted upside down sees the floor and the tops
 of things on the image's top side, where an upright camera sees ceilings.  The same estimate is
 made for the frame turned by 180 degrees about the optical axis, from the near planes only
