@@ -6,7 +6,8 @@ answer path, and per scene:
 
 - the up vector used, its source and confidence, whether it was read upside down, and (with
   ``--est`` on an independent scene: its sidecar ``up`` is dropped so that the estimate decides)
-  its angle to the generator's true up;
+  its angle to the generator's true up; with ``--truth FILE`` a labelled real frame's up is
+  measured against the floor normal the file gives for it (grav45: hunt45's measured floors);
 - whether a floor plane was found (the foot gate measures nothing without one);
 - every inclined plane of at least 0.5 m^2 at most 28 degrees steep (what the demo's ramp rule
   can bind): its area, incline, range, ``facing`` (its normal turned to the sensor, dotted with
@@ -58,7 +59,8 @@ def scenes_of(folder: Path):
         yield p, None, None, False
 
 
-def scene_record(clf, path: Path, intrinsics, depth_scale, labelled: bool, est: bool) -> dict:
+def scene_record(clf, path: Path, intrinsics, depth_scale, labelled: bool, est: bool,
+                 truth_up=None) -> dict:
     import planerel
     from planerel.features.facts import describe_scene
     from planerel.features.foot import slope_foot
@@ -88,6 +90,9 @@ def scene_record(clf, path: Path, intrinsics, depth_scale, labelled: bool, est: 
     rec = {"scene": str(path), "up": up.round(4).tolist(), "source": ps.up_source,
            "confidence": round(float(ps.up_confidence), 3),
            "upside_down": bool(ps.up_upside_down), "floor": ps.floor is not None, "planes": []}
+    if truth_up is not None:  # a labelled real frame's measured floor normal (--truth)
+        true_up, est = np.asarray(truth_up, dtype=np.float64), True
+        true_up = true_up / np.linalg.norm(true_up)
     if true_up is not None and est:
         c = float(np.clip(up @ true_up, -1.0, 1.0))
         rec["up_error"] = round(math.degrees(math.acos(c)), 2)
@@ -149,6 +154,8 @@ def main(argv=None) -> int:
                     help="drop an independent scene's sidecar up: the estimate decides")
     ap.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
                     help="model setting override (classify's --param), e.g. decision.side_gate=false")
+    ap.add_argument("--truth", help="JSON file {\"up\": {\"SET/FRAME_FILE\": [x, y, z]}}: a labelled "
+                    "real frame's measured floor normal, against which its up is measured")
     ap.add_argument("--scenes", action="store_true", help="a line per scene and plane")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
@@ -158,12 +165,14 @@ def main(argv=None) -> int:
     for item in args.param:
         key, _, val = item.partition("=")
         overrides[key.strip()] = _value(val.strip())
+    truth = json.loads(Path(args.truth).read_text())["up"] if args.truth else {}
     out = {}
     with Classifier(args.model, seg_params=overrides or None) as clf:
         for folder in args.folders:
             recs = []
             for path, intr, scale, labelled in scenes_of(Path(folder)):
-                r = scene_record(clf, path, intr, scale, labelled, args.est)
+                r = scene_record(clf, path, intr, scale, labelled, args.est,
+                                 truth.get(f"{Path(folder).name}/{path.name}"))
                 recs.append(r)
                 if args.scenes:
                     err = f" error {r['up_error']}" if "up_error" in r else ""

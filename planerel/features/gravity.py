@@ -38,6 +38,14 @@ other, leaning alike from a level floor below them, vote for their mirror axis (
 their normals) as a horizontal plane of their area does: a symmetric pair fixes one direction,
 as a horizontal plane does (docs/gravity.md, "A bin seen from above").
 
+Near the floor (``GravityParams.mirror_pairs_near``, ``steep_support``).  A camera a few
+centimetres over a floor sees the floor as a small plane and the sensor's far planes, bent, as
+many m^2.  A mirror pair's walls vote with their near weight (a tote is seen from within
+reach), and a reading in which the camera looks down by more than ``steep_pitch_deg`` counts
+its vertical votes only up to ``steep_support`` times its horizontal ones (a camera looking
+steeply down sees what is under it; docs/gravity.md, "A camera near the floor: which reading
+wins").
+
 Upside down (``GravityParams.flip``).  A camera mounted upside down sees the floor and the tops
 of things on the image's top side, where an upright camera sees ceilings.  The same estimate is
 made for the frame turned by 180 degrees about the optical axis, from the near planes only
@@ -153,6 +161,25 @@ class GravityParams:
         centroids (the label path); ``False``: the estimate before.
     max_draft_deg : float
         The largest tilt from vertical of such a wall.
+    mirror_pairs_near : bool
+        A mirror pair's walls vote with their near weight (faded as the horizontal votes are
+        by ``max_height``, and by their centroids' range as the upside-down reading's are): a
+        tote or bin is seen from within reach.  ``True`` (grav45): on a D435i 0.10 m over a
+        corridor floor, an 8.7 m^2 wall 4.1 m away paired with a far fragment 5.3 m away (both
+        bent by the sensor) voted for their bisector, 50 degrees from the floor's normal, over
+        the segmented floor (docs/gravity.md, "A camera near the floor: which reading wins").
+        ``False``: the rule before (far walls vote with their whole area).
+    steep_pitch_deg : float
+        A reading in which the camera looks down by more than this many degrees ...
+    steep_support : float
+        ... counts its vertical votes only up to this many times its horizontal ones (mirror
+        pairs included): a camera looking steeply down sees what is under it, so a reading
+        explained by vertical planes alone is no such view.  2 (grav45): on a D435i 0.10 m over
+        a corridor floor, pitched 10 degrees up, "looking straight down" won with 15.3 m^2 of
+        vertical votes (the corridor's walls, vertical under it as under the true up, and far
+        pieces the sensor bent to right angles with the optical axis) against 0.4 m^2 of
+        horizontal ones, over the floor reading (docs/gravity.md, "A camera near the floor:
+        which reading wins").  0: the rule before (no cap).
     """
 
     tol_deg: float = 5.0
@@ -171,6 +198,9 @@ class GravityParams:
     flip_min_tilt_deg: float = 5.0
     mirror_pairs: bool = True
     max_draft_deg: float = 30.0
+    mirror_pairs_near: bool = True
+    steep_pitch_deg: float = 60.0
+    steep_support: float = 2.0
 
     def __post_init__(self) -> None:
         checks = (("tol_deg", 0.5, 20.0), ("min_area", 0.0, 100.0), ("vertical_weight", 0.0, 1.0),
@@ -178,13 +208,14 @@ class GravityParams:
                   ("max_height", 0.1, 1000.0), ("min_pair_deg", 5.0, 85.0),
                   ("low_confidence", 0.0, 1.0), ("flip_ratio", 1.0, 1000.0),
                   ("flip_min_area", 0.0, 100.0), ("flip_min_tilt_deg", 0.0, 45.0),
-                  ("max_draft_deg", 0.0, 45.0))
+                  ("max_draft_deg", 0.0, 45.0), ("steep_pitch_deg", 0.0, 90.0),
+                  ("steep_support", 0.0, 1000.0))
         for name, lo, hi in checks:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
                     or not lo <= v <= hi:
                 raise InputError(f"gravity {name} must be a number in [{lo}, {hi}], got {v!r}")
-        for name in ("flip", "mirror_pairs"):
+        for name in ("flip", "mirror_pairs", "mirror_pairs_near"):
             if not isinstance(getattr(self, name), bool):
                 raise InputError(f"gravity {name} must be true or false, got {getattr(self, name)!r}")
         for name in ("min_points", "max_planes"):
@@ -370,12 +401,21 @@ def _pair_votes(cands, weights, pairs, params) -> np.ndarray:
     return out
 
 
-def _scores(cands, normals, weights, hweights, params, pairs=None):
+def _scores(cands, normals, weights, hweights, params, pairs=None, pair_weights=None, cap=True):
+    """``(C,)`` score of each candidate: horizontal votes (mirror pairs included) plus vertical
+    ones, times the pose prior; with ``cap``, a candidate looking down by more than
+    ``steep_pitch_deg`` counts its vertical votes only up to ``steep_support`` times its
+    horizontal ones."""
     from_h, from_v = _angles(cands, normals)
     tol = params.tol_deg
-    score = _kernel(from_h, tol) @ hweights + params.vertical_weight * (_kernel(from_v, tol) @ weights)
-    score = score + _pair_votes(cands, hweights, pairs, params)
-    return score * _pose_prior(cands, params)
+    pw = hweights if pair_weights is None else pair_weights
+    level = _kernel(from_h, tol) @ hweights + _pair_votes(cands, pw, pairs, params)
+    upright = params.vertical_weight * (_kernel(from_v, tol) @ weights)
+    if cap and params.steep_support > 0:  # looking steeply down: something must be under it
+        pitch = np.degrees(np.arcsin(np.clip(-cands[:, 2], -1.0, 1.0)))
+        steep = pitch > params.steep_pitch_deg
+        upright = np.where(steep, np.minimum(upright, params.steep_support * level), upright)
+    return (level + upright) * _pose_prior(cands, params)
 
 
 def _refine(c: np.ndarray, normals, weights, hweights, params) -> np.ndarray:
@@ -485,7 +525,8 @@ def _estimate(n, w, hw, params: GravityParams, near=None, cent=None) -> UpEstima
         cent = cent[keep]
     if n.shape[0] == 0:
         return UpEstimate(np.array(DEFAULT_UP), "default", 0.0, 0, True)
-    upright = _upright(n, w, hw, params, _mirror_pairs(n, cent, params))
+    upright = _upright(n, w, hw, params, _mirror_pairs(n, cent, params),
+                       near if params.mirror_pairs_near else None)
     if not params.flip:
         return upright
     return _flipped(upright, n, near, params, cent)
@@ -551,21 +592,27 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams, cent=None) -> Up
                       upside_down=True)
 
 
-def _upright(n, w, hw, params: GravityParams, pairs=None) -> UpEstimate:
+def _upright(n, w, hw, params: GravityParams, pairs=None, pair_w=None) -> UpEstimate:
     """The estimate for a camera that is not upside down (unit normals, positive weights;
-    ``pairs``: :func:`_mirror_pairs`'s)."""
+    ``pairs``: :func:`_mirror_pairs`'s; ``pair_w``: the walls' votes for their bisector,
+    default ``hw``: :func:`_estimate` gives the near weights, so that only walls within about
+    ``max_height`` of the camera vote as a tote's or bin's drafted walls)."""
     cands = _candidates(n, w, params)
     if pairs is not None:
         cands = np.concatenate([cands, _orient(pairs[2])], axis=0)
-    score = _scores(cands, n, w, hw, params, pairs)
+    score = _scores(cands, n, w, hw, params, pairs, pair_w)
     best = int(np.argmax(score))
     c = _refine(cands[best], n, w, hw, params)
     c = _choose_sign(c / np.linalg.norm(c), n, hw, params)
     # confidence
-    s_best = float(_scores(_orient(c[None]), n, w, hw, params, pairs)[0])
+    s_best = float(_scores(_orient(c[None]), n, w, hw, params, pairs, pair_w)[0])
     s_best = max(s_best, float(score[best]))
     far = np.abs(cands @ c) < math.cos(math.radians(2.0 * params.tol_deg))
-    rival = float(score[far].max()) if far.any() else 0.0
+    # the rival as the planes alone rank it: a steep reading the cap refused still says the
+    # planes fit another reading (the cap picks the winner, it does not add certainty)
+    raw = _scores(cands, n, w, hw, params, pairs, pair_w, cap=False) \
+        if params.steep_support > 0 else score
+    rival = float(raw[far].max()) if far.any() else 0.0
     from_h, from_v = (a[0] for a in _angles(c[None], n))
     h = from_h <= params.tol_deg
     v = from_v <= params.tol_deg
