@@ -280,6 +280,27 @@ def test_all_invalid_depth(tmp_path):
         io.read(tmp_path / "zero.png", intrinsics="kinect" if False else (12, 10, 10, 10, 6, 5))
 
 
+def test_16_bit_no_data_is_invalid(tmp_path):
+    """65535 in a 16-bit depth image is the no-data (saturated) value some drivers write, not
+    a depth of 65.5 m: invalid, as 0 is; the same value in a float image is a depth."""
+    from PIL import Image
+
+    depth = np.full((10, 12), 1500, np.uint16)
+    depth[2:4, 3:6] = 65535
+    Image.fromarray(depth).save(tmp_path / "gaps.png")  # as a driver wrote it
+    cloud = io.read(tmp_path / "gaps.png", intrinsics=(12, 10, 10, 10, 6, 5))
+    assert not cloud.valid[2:4, 3:6].any() and cloud.valid.sum() == 120 - 6
+    assert np.allclose(cloud.xyz[cloud.valid][:, 2], 1.5)
+    Image.fromarray(np.full((10, 12), 65535, np.uint16)).save(tmp_path / "none.png")
+    with pytest.raises(InputError, match="every pixel is invalid"):
+        io.read(tmp_path / "none.png", intrinsics=(12, 10, 10, 10, 6, 5))
+    far = depth_to_cloud(depth.astype(np.float64), (12, 10, 10, 10, 6, 5), 1000)
+    assert far.valid.all()
+    # planerel never writes the no-data value as a depth
+    with pytest.raises(InputError, match="0..65534"):
+        write_depth_png(tmp_path / "max.png", depth)
+
+
 @pytest.mark.parametrize("scale", [0, -1000, float("nan")])
 def test_bad_depth_scale(scale):
     depth, intr = _plane_depth()

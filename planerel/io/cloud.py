@@ -271,6 +271,10 @@ class Cloud:
             raise InputError(f"{self.source or 'cloud'}: has {what} (need at least {minimum})")
 
 
+#: The no-data value of 16-bit depth images (the type's largest): invalid, as 0 is.
+NO_DATA_16 = 65535
+
+
 def depth_to_cloud(
     depth,
     intrinsics,
@@ -285,7 +289,10 @@ def depth_to_cloud(
     Parameters
     ----------
     depth : array_like, shape (H, W)
-        Raw depth values; ``depth / depth_scale`` is metres.  0 and NaN are invalid.
+        Raw depth values; ``depth / depth_scale`` is metres.  0 and NaN are invalid, and so
+        is 65535 in a 16-bit image: the no-data (or saturated) value some drivers and
+        exporters write (a RealSense D435i's frames read 65.5 m there at 1000 units per metre,
+        hunt45), never a measured depth.
     intrinsics : Intrinsics or 6-sequence or dict
         Camera of the image; its size must be ``W x H``.
     depth_scale : float
@@ -318,11 +325,13 @@ def depth_to_cloud(
     z = d.astype(np.float64) / scale
     with np.errstate(invalid="ignore"):
         invalid = ~np.isfinite(z) | (z <= 0)
+        if d.dtype == np.uint16:
+            invalid |= d == NO_DATA_16
         if max_range is not None:
             invalid |= z > max_range
     z[invalid] = np.nan
     if invalid.all():
-        raise InputError(f"{name}: every pixel is invalid (0, NaN or out of range)")
+        raise InputError(f"{name}: every pixel is invalid (0, NaN, 65535 or out of range)")
     h, w = d.shape
     u = np.arange(w, dtype=np.float64)[None, :]
     v = np.arange(h, dtype=np.float64)[:, None]

@@ -111,8 +111,9 @@ def write_depth_png(path, depth_units) -> Path:
         if not np.all(np.isfinite(d)):
             raise InputError("depth units must be finite (use 0 for invalid)")
         d = np.round(d)
-    if d.min(initial=0) < 0 or d.max(initial=0) > 65535:
-        raise InputError("depth units must lie in 0..65535 for a 16-bit PNG")
+    if d.min(initial=0) < 0 or d.max(initial=0) > 65534:
+        raise InputError("depth units must lie in 0..65534 for a 16-bit PNG (0 and 65535 "
+                         "are read back as no data)")
     img = Image.fromarray(d.astype(np.uint16))
     with atomic_path(path, suffix=".png") as tmp:
         img.save(tmp, format="PNG")

@@ -146,7 +146,7 @@ class SensorModel:
         _number("sensor max range", self.max_range, 0.0, 65.0, lo_strict=True)
         if self.max_range <= self.min_range:
             raise InputError(f"sensor max range {self.max_range} must exceed min range {self.min_range}")
-        if self.max_range / self.depth_unit > 65535:
+        if self.max_range / self.depth_unit > 65534:
             raise InputError(f"sensor max range {self.max_range} m does not fit 16 bits at a depth "
                              f"unit of {self.depth_unit} m")
         _number("sensor dropout", self.dropout, 0.0, 1.0)

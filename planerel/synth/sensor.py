@@ -54,7 +54,7 @@ def _check_common(s) -> None:
     _num("sensor max range", s.max_range, 0.0, lo_strict=True)
     if s.max_range <= s.min_range:
         raise InputError(f"sensor max range {s.max_range} must exceed min range {s.min_range}")
-    if s.max_range / s.depth_unit > 65535:
+    if s.max_range / s.depth_unit > 65534:
         raise InputError(f"sensor max range {s.max_range} m does not fit 16 bits at a depth unit "
                          f"of {s.depth_unit} m")
     for name in ("dropout", "edge_dropout", "flying"):
