@@ -409,11 +409,9 @@ class Classifier:
         plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
         answers = self.answer_description(desc, xyz=cloud.xyz)
         # the labels the planes refer to (a stepped plane may have been split into levels)
-        from planerel.features.gravity import GravityParams
-
         ps = desc.planes
-        low = ps.up_source in ("estimated", "default") and \
-            ps.up_confidence < self._describe_kw.get("gravity_params", GravityParams()).low_confidence
+        gravity = self._describe_kw.get("gravity_params")
+        low = ps.up_low(None if gravity is None else gravity.low_confidence)
         return SceneAnswer(cloud.source, scene_id, desc.labels, plane_ids, answers,
                            ps.up_source, time.perf_counter() - t0, ps.up_confidence,
                            up_vector=tuple(float(v) for v in ps.up), up_low=bool(low),

@@ -276,12 +276,18 @@ class PlaneSet:
     @property
     def up_estimate(self) -> UpEstimate:
         """The up vector with its source and confidence."""
-        from planerel.features.gravity import GravityParams
-
-        low = self.up_source in ("estimated", "default") and \
-            self.up_confidence < GravityParams().low_confidence
-        return UpEstimate(self.up, self.up_source, self.up_confidence, 0, low,
+        return UpEstimate(self.up, self.up_source, self.up_confidence, 0, self.up_low(),
                           upside_down=self.up_upside_down)
+
+    def up_low(self, low_confidence: float | None = None) -> bool:
+        """True when the up vector is an estimate (or the default) under ``low_confidence``
+        (default :attr:`GravityParams.low_confidence
+        <planerel.features.gravity.GravityParams>`); a given or file vector never is."""
+        if low_confidence is None:
+            from planerel.features.gravity import GravityParams
+
+            low_confidence = GravityParams().low_confidence
+        return self.up_source in ("estimated", "default") and self.up_confidence < low_confidence
 
     def with_up_of(self, other: PlaneSet) -> PlaneSet:
         """These planes with ``other``'s gravity reading (source, confidence, upside down):

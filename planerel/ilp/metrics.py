@@ -338,10 +338,11 @@ class DecisionParams:
         foot gate needs one).  On by default (ramp44, 2026-12-01): a camera near the floor
         sees undersides and often no floor (the Kinect returns nothing at grazing incidence);
         on the independent low-camera ramps a gravity estimate read upside down called the
-        floor a ramp seen from below.  A flight's treads are walked on too: since
-        2026-12-01 16:45 UTC (hunt45: a ceiling's terraces seen from 0.1 m answered
-        ``stairs``) ``stairs`` is refused when its proof's and its object's horizontal
-        planes are all seen from below.  Only classify applies it.
+        floor a ramp seen from below.  A flight's treads are walked on too: ``stairs`` is
+        refused when its proof's and its object's horizontal planes are all seen from below
+        (built for hunt45's ceiling terraces seen from 0.1 m; since 16-bit no-data is read
+        as such that ceiling proves no flight either way, so no real answer it refuses is
+        measured).  Only classify applies it.
     size_margin : float
         The share of the furthest-reaching training proof plane a proof may exceed it by
         (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
