@@ -44,7 +44,10 @@ many m^2.  A mirror pair's walls vote with their near weight (a tote is seen fro
 reach), and a reading in which the camera looks down by more than ``steep_pitch_deg`` counts
 its vertical votes only up to ``steep_support`` times its horizontal ones (a camera looking
 steeply down sees what is under it; docs/gravity.md, "A camera near the floor: which reading
-wins").
+wins").  When the vote is still not clear (a flagged estimate), the floor the camera stands
+over decides: the largest plane seen from above within ``near_floor`` metres of the camera and
+``near_floor_deg`` of the estimate sets the up (docs/gravity.md, "The floor under a low
+camera").
 
 Upside down (``GravityParams.flip``).  A camera mounted upside down sees the floor and the tops
 of things on the image's top side, where an upright camera sees ceilings.  The same estimate is
@@ -73,6 +76,7 @@ directions (greedy mode seeking on the sphere, 5-degree radius) which then vote 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -180,6 +184,19 @@ class GravityParams:
         pieces the sensor bent to right angles with the optical axis) against 0.4 m^2 of
         horizontal ones, over the floor reading (docs/gravity.md, "A camera near the floor:
         which reading wins").  0: the rule before (no cap).
+    near_floor : float
+        A flagged estimate (below ``low_confidence``) gives way to the floor the camera stands
+        over: the largest plane within ``near_floor_deg`` of the estimated up, seen from above
+        (the camera on its normal's side), at most this many metres from the camera (its
+        plane offset) and of at least ``near_floor_area`` m^2 sets the up (its normal).  A
+        camera a few centimetres to a few decimetres over a floor sees that floor near and
+        measured well, and the sensor's far walls and floor, bent by its range error, as many
+        more m^2 (docs/gravity.md, "The floor under a low camera").  0: off (the estimate as
+        voted).
+    near_floor_area : float
+        The least area of that plane, m^2.
+    near_floor_deg : float
+        The largest angle between that plane's normal and the flagged estimate, degrees.
     """
 
     tol_deg: float = 5.0
@@ -201,6 +218,9 @@ class GravityParams:
     mirror_pairs_near: bool = True
     steep_pitch_deg: float = 60.0
     steep_support: float = 2.0
+    near_floor: float = 0.35
+    near_floor_area: float = 0.3
+    near_floor_deg: float = 30.0
 
     def __post_init__(self) -> None:
         checks = (("tol_deg", 0.5, 20.0), ("min_area", 0.0, 100.0), ("vertical_weight", 0.0, 1.0),
@@ -209,7 +229,8 @@ class GravityParams:
                   ("low_confidence", 0.0, 1.0), ("flip_ratio", 1.0, 1000.0),
                   ("flip_min_area", 0.0, 100.0), ("flip_min_tilt_deg", 0.0, 45.0),
                   ("max_draft_deg", 0.0, 45.0), ("steep_pitch_deg", 0.0, 90.0),
-                  ("steep_support", 0.0, 1000.0))
+                  ("steep_support", 0.0, 1000.0), ("near_floor", 0.0, 10.0),
+                  ("near_floor_area", 0.0, 1000.0), ("near_floor_deg", 0.0, 60.0))
         for name, lo, hi in checks:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
@@ -507,7 +528,34 @@ def estimate_gravity(normals, weights, offsets=None, params: GravityParams | Non
         if cent.shape[0] != n.shape[0]:
             raise InputError(f"estimate_gravity needs one centroid per normal, got {n.shape[0]} "
                              f"normals and {cent.shape[0]} centroids")
-    return _estimate(n, w, hw, params, near, cent)
+    est = _estimate(n, w, hw, params, near, cent)
+    if offsets is None:
+        return est
+    return _near_floor(est, n, w, d, params)
+
+
+def _near_floor(est: UpEstimate, n, w, d, params: GravityParams) -> UpEstimate:
+    """``est``, or, when it is flagged, the normal of the floor the camera stands over
+    (:attr:`GravityParams.near_floor`): ``n`` ``(N, 3)`` normals oriented to the sensor, ``w``
+    ``(N,)`` areas, ``d`` ``(N,)`` plane offsets (m)."""
+    if params.near_floor <= 0 or est.source != "estimated" or not est.low_confidence:
+        return est
+    length = np.linalg.norm(n, axis=1)
+    ok = np.isfinite(length) & (length > 0) & np.isfinite(w) & np.isfinite(d)
+    if not ok.any():
+        return est
+    unit = np.zeros_like(n)
+    unit[ok] = n[ok] / length[ok, None]
+    up = np.asarray(est.vector, dtype=np.float64)
+    cand = ok & (unit @ up >= math.cos(math.radians(params.near_floor_deg))) \
+        & (np.abs(d) <= params.near_floor) & (w >= params.near_floor_area)
+    if not cand.any():
+        return est
+    k = int(np.argmax(np.where(cand, w, -np.inf)))
+    # the floor's pieces (within tol_deg of the largest), by area
+    same = cand & (unit @ unit[k] >= math.cos(math.radians(params.tol_deg)))
+    v = (w[same, None] * unit[same]).sum(axis=0)
+    return dataclasses.replace(est, vector=v / np.linalg.norm(v))
 
 
 def _estimate(n, w, hw, params: GravityParams, near=None, cent=None) -> UpEstimate:
