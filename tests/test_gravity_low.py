@@ -158,8 +158,11 @@ def test_a_flagged_estimate_gives_way_to_the_floor_under_the_camera(tilt):
     assert before.low_confidence and _deg(before.vector, UP) == pytest.approx(tilt, abs=0.5)
     now = estimate_gravity(n, w, d, ranges=r, centroids=c)
     assert _deg(now.vector, UP) <= 0.1
-    # the estimate is still a guess, and says so
+    # the estimate is still a guess, and says so, and where its vector came from
     assert now.low_confidence and now.confidence == before.confidence
+    assert now.near_floor and not before.near_floor
+    assert now.to_dict()["near_floor"] is True and "near_floor" not in before.to_dict()
+    assert now.describe().endswith("from the floor under the camera")
 
 
 def test_the_floor_under_the_camera_only_replaces_a_flagged_estimate():

@@ -151,6 +151,8 @@ class SceneAnswer:
     up_low: bool = False
     #: the estimate is the upside-down reading (``gravity.flip``)
     up_upside_down: bool = False
+    #: the vote was not clear and the floor under the camera set the up (``gravity.near_floor``)
+    up_near_floor: bool = False
     #: the floor plane's id (None: no floor plane in view, e.g. a camera near the floor or
     #: looking level over a desk; rules that need the ground, such as a box seen as one
     #: upright face, cannot hold then)
@@ -165,7 +167,8 @@ class SceneAnswer:
         return {"input": self.source, "scene": self.scene_id, "n_planes": self.n_planes,
                 "up": self.up_source, "up_confidence": round(self.up_confidence, 3),
                 "up_vector": up, "up_low_confidence": self.up_low,
-                "up_upside_down": self.up_upside_down, "floor": self.floor,
+                "up_upside_down": self.up_upside_down, "up_near_floor": self.up_near_floor,
+                "floor": self.floor,
                 "objects": [o.to_dict() for o in self.objects],
                 "seconds": round(self.seconds, 4)}
 
@@ -174,8 +177,10 @@ class SceneAnswer:
         plane (empty when neither)."""
         out = []
         if self.up_low:
-            out.append(f"the up vector is a guess (estimated, confidence {self.up_confidence:.2f}): "
-                       "level and upright tests may be wrong; pass --up X,Y,Z when the "
+            how = ("; the planes' vote was unclear, so the floor under the camera set it"
+                   if self.up_near_floor else "")
+            out.append(f"the up vector is a guess (estimated, confidence {self.up_confidence:.2f}"
+                       f"{how}): level and upright tests may be wrong; pass --up X,Y,Z when the "
                        "camera's up is known")
         if self.floor is None and self.plane_ids:
             out.append("no floor plane in view: a box seen as one upright face cannot be "
@@ -416,6 +421,7 @@ class Classifier:
                            ps.up_source, time.perf_counter() - t0, ps.up_confidence,
                            up_vector=tuple(float(v) for v in ps.up), up_low=bool(low),
                            up_upside_down=bool(ps.up_upside_down),
+                           up_near_floor=bool(ps.up_near_floor),
                            floor=None if ps.floor is None else plane_ids.get(ps.floor))
 
     def answer_description(self, desc, xyz=None) -> tuple:

@@ -263,6 +263,9 @@ class UpEstimate:
         ``confidence`` below :attr:`GravityParams.low_confidence`.
     upside_down : bool
         The estimate is the upside-down reading (:attr:`GravityParams.flip`).
+    near_floor : bool
+        The vote was not clear and the floor under the camera set the vector
+        (:attr:`GravityParams.near_floor`).
     """
 
     vector: np.ndarray
@@ -271,6 +274,7 @@ class UpEstimate:
     n_planes: int = 0
     low_confidence: bool = False
     upside_down: bool = False
+    near_floor: bool = False
 
     def __post_init__(self) -> None:
         if self.source not in SOURCES:
@@ -289,6 +293,8 @@ class UpEstimate:
             out["low_confidence"] = self.low_confidence
             if self.upside_down:
                 out["upside_down"] = True
+            if self.near_floor:
+                out["near_floor"] = True
         return out
 
     def describe(self) -> str:
@@ -296,7 +302,8 @@ class UpEstimate:
         vec = ", ".join(f"{x:.3f}" for x in self.vector)
         text = f"up [{vec}] {self.source}, confidence {self.confidence:.2f}"
         return (text + (" (low)" if self.low_confidence else "")
-                + (", camera upside down" if self.upside_down else ""))
+                + (", camera upside down" if self.upside_down else "")
+                + (", from the floor under the camera" if self.near_floor else ""))
 
 
 # ----------------------------------------------------------------------------- the estimate
@@ -555,7 +562,7 @@ def _near_floor(est: UpEstimate, n, w, d, params: GravityParams) -> UpEstimate:
     # the floor's pieces (within tol_deg of the largest), by area
     same = cand & (unit @ unit[k] >= math.cos(math.radians(params.tol_deg)))
     v = (w[same, None] * unit[same]).sum(axis=0)
-    return dataclasses.replace(est, vector=v / np.linalg.norm(v))
+    return dataclasses.replace(est, vector=v / np.linalg.norm(v), near_floor=True)
 
 
 def _estimate(n, w, hw, params: GravityParams, near=None, cent=None) -> UpEstimate:
