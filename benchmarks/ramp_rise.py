@@ -42,7 +42,14 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 
 def scenes_of(folder: Path):
-    """``(path, frame entry or None)`` of each scene of a folder."""
+    """``(path, frame entry or None)`` of each scene of a folder (a training world's folder:
+    its ``s*.depth.png`` scenes with a ramp)."""
+    if (folder / "dataset.json").exists():
+        for p in sorted(folder.glob("s*.depth.png")):
+            side = json.loads(p.with_name(p.name.replace(".depth.png", ".json")).read_text())
+            if any(o["class"] == "ramp" for o in side["objects"]):
+                yield p, None
+        return
     lab = folder / "labels.json"
     if lab.exists():
         from real_unseen import read_labels
@@ -130,7 +137,19 @@ def scene_records(clf, path: Path, frame, everything: bool, est: bool = False) -
                                     else "unscored" if sc["unscored"] else "-")
         del ans
     truth = side = None
-    if frame is None:
+    if frame is None and path.name.endswith(".depth.png"):  # a training world's scene
+        from PIL import Image
+
+        tside = json.loads(path.with_name(path.name.replace(".depth.png", ".json")).read_text())
+        gt = np.array(Image.open(path.with_name(tside["files"]["labels"]))).astype(int)
+        # the ground truth labels planes (value = plane index + 1): to objects
+        obj = np.zeros(max(gt.max(), len(tside["planes"])) + 1, int)
+        for pl in tside["planes"]:
+            obj[pl["index"] + 1] = pl["object_index"] + 1
+        truth = obj[gt]
+        side = {"objects": [{"index": o["index"] + 1, "class": o["class"]}
+                            for o in tside["objects"]]}
+    elif frame is None:
         t = path.with_name(path.stem + ".objects.npy")
         truth = np.load(t) if t.exists() else None
         sj = path.with_suffix(".json")
