@@ -361,8 +361,8 @@ class DecisionParams:
         false ramps on the development frames; with the estimated up on the independent
         development sets every true ramp answered under a low-confidence up (23 of 62) has
         a floor in view, and 4 false ones (a ramp taken for the ground, the floor then
-        "inclined") have none.  A given or file up is never low: only estimated ups are
-        gated.  Only classify applies it.
+        "inclined") have none.  A given or file up is never low: only an estimate (or the
+        default level guess, confidence 0) is gated.  Only classify applies it.
     size_margin : float
         The share of the furthest-reaching training proof plane a proof may exceed it by
         (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
