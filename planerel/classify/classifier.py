@@ -73,7 +73,7 @@ class ObjectAnswer:
         Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
     curved : bool or None
         The planar fraction is below the model's ``curved.curved_below``: a round object.
-    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal, LevelRefusal, FlightRefusal, FootRefusal, SideRefusal and VetoRefusal
+    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal, LevelRefusal, FlightRefusal, FootRefusal, SideRefusal, UnsureRefusal and VetoRefusal
         Classes whose rules proved the object and that the decision refused for it: its
         planar fraction lies under ``1 - decision.planar_margin`` times the least planar of
         the class's training positives (with ``decision.planar_gate``;
@@ -332,6 +332,10 @@ class Classifier:
         #: ``ramp`` (``stairs``) only for a slope (treads) seen from above (:func:`~planerel.ilp.metrics.side_refusals`;
         #: ``decision.side_gate``)
         self.side_gate = decision.side_gate
+        #: no ``ramp`` under a low-confidence estimated up with no floor in view
+        #: (:func:`~planerel.ilp.metrics.unsure_refusals`; ``decision.unsure_gate``): a scan's
+        #: decision, as the foot and side gates
+        self.unsure_gate = decision.unsure_gate
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -477,6 +481,7 @@ class Classifier:
         from planerel.features.relations import flight_evidence, flight_faces
         from planerel.ilp.metrics import (
             SIDE_PLANES,
+            UNSURE_CLASS,
             decide,
             horizontal_counts,
             laplace,
@@ -517,6 +522,12 @@ class Classifier:
                     return None
                 p = desc.planes.by_label(lab)
                 return p.orientation, float(np.asarray(p.normal, dtype=np.float64) @ up_v)
+        unsure = None  # as the foot gate: classify's own (a scan's) decision
+        if (self.unsure_gate and xyz is not None and UNSURE_CLASS in self.classes
+                and desc.planes.floor is None):
+            gravity = self._describe_kw.get("gravity_params")
+            if desc.planes.up_low(None if gravity is None else gravity.low_confidence):
+                unsure = float(desc.planes.up_confidence)
         proposal_params = self._describe_kw.get("proposal_params")
         for o in desc.objects:
             hits = []
@@ -557,7 +568,8 @@ class Classifier:
                                    treads=() if side is None else
                                    [f[1] for f in (side(plane_ids.get(lab))
                                                    for lab in o.planes)
-                                    if f is not None and f[0] == "horizontal"])
+                                    if f is not None and f[0] == "horizontal"],
+                                   unsure=unsure)
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)
             if best is None:

@@ -62,7 +62,9 @@ def register(sub) -> None:
                         "decision.foot_above metres above the floor in plain view "
                         "(decision.foot_hidden) or decision.foot_below under it; "
                         "decision.side_gate (on by default) refuses ramp for a slope, and "
-                        "stairs for treads, the camera sees only from below (an underside)")
+                        "stairs for treads, the camera sees only from below (an underside); "
+                        "decision.unsure_gate (on by default) refuses ramp when the up is a "
+                        "low-confidence estimate and no floor is in view")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)

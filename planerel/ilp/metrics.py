@@ -22,6 +22,7 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "FLIGHT_CLASS", "FlightRefusal", "flight_refusals", "FOOT_GATE", "FOOT_ABOVE",
            "FOOT_BELOW", "FOOT_HIDDEN", "FOOT_FLOAT", "FOOT_CLASS", "FootRefusal", "foot_refusals",
            "SIDE_GATE", "SIDE_PLANES", "SideRefusal", "side_refusals",
+           "UNSURE_GATE", "UNSURE_CLASS", "UnsureRefusal", "unsure_refusals",
            "SIZE_GATE", "SIZE_MARGIN",
            "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
            "SLENDER_GATE", "SLENDER_MARGIN", "SLENDER_CLASSES", "plane_slenderness",
@@ -161,6 +162,10 @@ SIDE_GATE = True
 #: looks at: a ramp's slope and a flight's treads are walked on, so a camera sees them from
 #: above their planes.
 SIDE_PLANES = {"ramp": "inclined", "stairs": "horizontal"}
+#: Default of :attr:`DecisionParams.unsure_gate`.
+UNSURE_GATE = True
+#: The class :func:`unsure_refusals` refuses under an unconfirmed up.
+UNSURE_CLASS = "ramp"
 
 
 @dataclass(frozen=True)
@@ -343,6 +348,21 @@ class DecisionParams:
         (built for hunt45's ceiling terraces seen from 0.1 m; since 16-bit no-data is read
         as such that ceiling proves no flight either way, so no real answer it refuses is
         measured).  Only classify applies it.
+    unsure_gate : bool
+        Refuse ``ramp`` when the scene's up is an estimate flagged low-confidence
+        (``gravity.low_confidence``) and no floor plane is in view (:func:`unsure_refusals`).
+        A slope is inclined only against the up; a ramp rises from a floor.  With no floor
+        nothing in the scene attests the up, and the estimator itself doubts it (no two
+        directions cross-checked, or a rival reading 10 degrees or more away nearly as
+        good): the "slope" may be the ground under a wrong up, and the foot gate, which
+        needs a floor, cannot tell.  No threshold of its own.  On by default (ramp48,
+        2026-12-01): hunt45's D435i 0.10 m over the floor (tub3_418, confidence 0.27, no
+        floor: the near floor and two other planes inclined 23-26 degrees) gave 3 of the 6
+        false ramps on the development frames; with the estimated up on the independent
+        development sets every true ramp answered under a low-confidence up (23 of 62) has
+        a floor in view, and 4 false ones (a ramp taken for the ground, the floor then
+        "inclined") have none.  A given or file up is never low: only an estimate (or the
+        default level guess, confidence 0) is gated.  Only classify applies it.
     size_margin : float
         The share of the furthest-reaching training proof plane a proof may exceed it by
         (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
@@ -377,10 +397,11 @@ class DecisionParams:
     foot_hidden: float = FOOT_HIDDEN
     foot_float: float = FOOT_FLOAT
     side_gate: bool = SIDE_GATE
+    unsure_gate: bool = UNSURE_GATE
 
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate", "size_gate",
-                     "slender_gate", "range_gate", "foot_gate", "side_gate"):
+                     "slender_gate", "range_gate", "foot_gate", "side_gate", "unsure_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -1159,6 +1180,61 @@ def side_refusals(hits, stats: Sequence, side=None, treads=()):
     return kept, tuple(refused.values())
 
 
+@dataclass(frozen=True)
+class UnsureRefusal:
+    """``ramp`` proved in a scene whose up is a low-confidence estimate with no floor in view
+    (:func:`unsure_refusals`)."""
+
+    klass: str
+    rule: int
+    #: the up estimate's confidence (under ``gravity.low_confidence``)
+    confidence: float
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it with a slope measured against an up estimated "
+                f"with low confidence ({self.confidence:.2f}) and no floor in view: nothing "
+                f"confirms that the plane is not the ground itself under a wrong up")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule,
+                "confidence": round(self.confidence, 4), "reason": self.reason}
+
+
+def unsure_refusals(hits, stats: Sequence, unsure=None):
+    """Leave out the ``ramp`` hits of a scene whose up is unconfirmed.
+
+    A slope is inclined only against the up vector, and a ramp rises from a floor.  When the
+    up is an estimate the estimator flags as low-confidence and no floor plane is in view,
+    nothing confirms that a large "inclined" plane is not the ground itself seen under a
+    wrong up (a camera 0.1 m over the floor whose estimate a far, bent floor wins: hunt45).
+    Every hit of :data:`UNSURE_CLASS` is then refused.
+
+    Parameters
+    ----------
+    unsure : float or None
+        The up estimate's confidence when the scene's up is low-confidence and it has no
+        floor plane; None: the gate is off or the scene's up is not in doubt.
+
+    Returns
+    -------
+    (list, tuple of UnsureRefusal)
+        The hits left, and one :class:`UnsureRefusal` per refused rule that takes part in the
+        decision (:func:`takes_part`).
+    """
+    if unsure is None or not any(h[0] == UNSURE_CLASS for h in hits):
+        return list(hits), ()
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    kept, refused = [], {}
+    for hit in hits:
+        if hit[0] == UNSURE_CLASS:
+            if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
+                refused[hit[1]] = UnsureRefusal(UNSURE_CLASS, hit[1], float(unsure))
+            continue
+        kept.append(hit)
+    return kept, tuple(refused.values())
+
+
 def proof_domain(fired: dict, truth: dict) -> tuple:
     """How large the planes are that each rule proved its training positives with:
     ``((index, class, low, high, n), ...)`` per rule of a class (not :data:`OTHER`).
@@ -1348,10 +1424,10 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            distances=None, ranges: Sequence = (), range_margin: float = RANGE_MARGIN,
            foot=None, foot_above: float = FOOT_ABOVE, foot_below: float = FOOT_BELOW,
            foot_hidden: float = FOOT_HIDDEN, foot_float: float = FOOT_FLOAT, side=None,
-           treads=()):
+           treads=(), unsure=None):
     """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
     default, off), :func:`side_refusals` (``side``, and the object's ``treads``; None,
-    the default, off),
+    the default, off), :func:`unsure_refusals` (``unsure``; None, the default, off),
     :func:`proof_refusals` (with ``proofs``, the
     model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
     :func:`size_domain`, and the scene's plane ``extents``), :func:`slender_refusals`
@@ -1370,7 +1446,7 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
     Returns
     -------
     (hit or None, tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal,
-    LevelRefusal, FlightRefusal, FootRefusal, SideRefusal and VetoRefusal)
+    LevelRefusal, FlightRefusal, FootRefusal, SideRefusal, UnsureRefusal and VetoRefusal)
         The chosen hit (None: :data:`OTHER`) and the rules and classes refused.
     """
     kept, small = proof_refusals(hits, stats, proofs, proof_margin, proof_min_positives)
@@ -1385,9 +1461,11 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
     kept, feet = foot_refusals(kept, stats, foot, foot_above, foot_below, foot_hidden,
                                foot_float)
     kept, under = side_refusals(kept, stats, side, treads)
+    kept, doubt = unsure_refusals(kept, stats, unsure)
     kept, vetoes = veto_refusals(kept, stats, veto_ratio)
     return (choose_class(kept, stats, classes, cofire),
-            small + large + thin + far + refused + flat + steps + feet + under + vetoes)
+            small + large + thin + far + refused + flat + steps + feet + under + doubt
+            + vetoes)
 
 
 def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:
