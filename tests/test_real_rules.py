@@ -767,20 +767,25 @@ def test_a_ceiling_seen_from_the_floor_is_no_flight(demo_model):
 
 
 def test_a_low_camera_under_an_unsure_up_with_no_floor_proves_no_ramp(demo_model):
-    """ramp48 (``$PLANEREL_HUNT_DATA/hunt45``): in donkeycar tub3_418 (a D435i 0.10 m over an
-    office floor) the up estimate (confidence 0.27, flagged low) is won by the far floor the
-    sensor bends, no floor plane is left in view, and the near floor and two other planes are
-    "inclined" 23-26 degrees: three false ramps the foot gate cannot check (no floor).
-    ``decision.unsure_gate`` refuses ``ramp`` under a low-confidence up with no floor in
-    view; xtion_1's false ramp stays (its estimate takes a wall for the floor, so a floor is in
+    """ramp48 and the lead (``$PLANEREL_HUNT_DATA/hunt45``): in donkeycar tub3_418 (a D435i
+    0.10 m over an office floor) the voted up (confidence 0.27, flagged low) is won by the far
+    floor the sensor bends, no floor plane is left in view, and the near floor and two other
+    planes are "inclined" 23-26 degrees: three false ramps the foot gate cannot check (no
+    floor).  Each of two rules takes them alone: the floor under the camera sets a flagged up
+    (``gravity.near_floor``, docs/gravity.md "The floor under a low camera"), and
+    ``decision.unsure_gate`` refuses ``ramp`` under a low-confidence up with no floor in view.
+    xtion_1's false ramp stays (its estimate takes a wall for the floor, so a floor is in
     view: docs/results.md "False ramps on real sensors")."""
     sets = sorted(p.parent for p in (HUNT_DATA / "hunt45").glob("*/labels.json"))
     rows = _unseen_rows(sets or [HUNT_DATA / "hunt45" / "none"], demo_model,
                         "PLANEREL_HUNT_DATA")
-    off = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", ["decision.unsure_gate=false"])
-    assert (_totals(off)["false_ramp"], _totals(rows)["false_ramp"]) == (4, 1)
-    assert [n for n, r in rows.items() if any(f[0] == "ramp" for f in r["false"])] == [
-        "xtion_1_depth"]
-    assert sum(f[0] == "ramp" for f in off["tub3_418_depth"]["false"]) == 3
-    assert {k: v for k, v in _totals(off).items() if k != "false_ramp"} == {
-        k: v for k, v in _totals(rows).items() if k != "false_ramp"}
+    neither = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA",
+                           ["decision.unsure_gate=false", "gravity.near_floor=0"])
+    gate = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", ["gravity.near_floor=0"])
+    assert [_totals(r)["false_ramp"] for r in (neither, gate, rows)] == [4, 1, 1]
+    for r in (gate, rows):
+        assert [n for n, x in r.items() if any(f[0] == "ramp" for f in x["false"])] == [
+            "xtion_1_depth"]
+    assert sum(f[0] == "ramp" for f in neither["tub3_418_depth"]["false"]) == 3
+    assert {k: v for k, v in _totals(neither).items() if k != "false_ramp"} == {
+        k: v for k, v in _totals(gate).items() if k != "false_ramp"}
