@@ -17,6 +17,7 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from planerel.errors import InputError
@@ -208,3 +209,99 @@ def test_the_setting():
     assert M.FLIGHT_GATE is M.DecisionParams().flight_gate is True
     with pytest.raises(InputError, match="flight_gate must be true or false"):
         M.DecisionParams(flight_gate="on")
+
+
+# --------------------------------------------------------------------------- fragments (flight48)
+
+
+@pytest.fixture(scope="module")
+def fragmented_flight():
+    """A flight of three steps (rise 0.17 m, run 0.28 m) seen from 0.9 m pitched 55 degrees
+    down, its first riser 0.9 m ahead: the image's top row cuts the second riser a few
+    centimetres over its foot (the varied world's 160x120 flights so, accept45).  The planes
+    of every proposal: the first riser, the first tread, a strip of the second riser."""
+    from scenes_analytic import stairs as flight
+
+    _cloud, _up, desc = _describe([floor()] + flight(0.0, 0.9, n=3), pitch=55, cam_height=0.9)
+    return desc, sorted({lab for o in desc.objects for lab in o.planes})
+
+
+def test_a_flight_seen_in_fragments_shows_its_steps(fragmented_flight):
+    desc, planes = fragmented_flight
+    kinds = sorted(desc.planes.by_label(lab).orientation for lab in planes)
+    assert kinds == ["horizontal", "vertical", "vertical"]
+    # one tread, and the risers' areas differ more than 3 times: no step of whole faces
+    assert R.flight_steps(desc.planes, planes) == []
+    assert not R.flight_evidence(desc.planes, planes, fragments=False)
+    # the strip stands on the first riser's top edge: one step of the flight's rise and run
+    ((lo, hi, rise, run),) = R.stacked_riser_steps(desc.planes, planes)
+    assert desc.planes.by_label(lo).height < desc.planes.by_label(hi).height
+    assert rise == pytest.approx(0.17, abs=0.01) and run == pytest.approx(0.28, abs=0.01)
+    assert R.flight_fragments(desc.planes, planes)
+    assert R.flight_evidence(desc.planes, planes)
+
+
+def test_a_pile_of_two_heights_is_still_no_flight():
+    """A carton 0.25 m high and 0.3 m deep before one 0.55 m high (touching), seen from 1.2 m
+    pitched 35 degrees down: the back carton's face is seen from the front one's top up,
+    0.30 m of it, more than a rise (0.25 m) over its foot: no stacked riser; the tops 0.30 m
+    apart are no stair's rise either."""
+    pile = box(0.0, 1.15, 0.6, 0.3, 0.25) + box(0.0, 1.5, 0.6, 0.4, 0.55)
+    _cloud, _up, desc = _describe([floor()] + pile, pitch=35, cam_height=1.2)
+    (o,) = [o for o in desc.objects if len(o.planes) >= 2]
+    assert sorted(round(desc.planes.by_label(lab).height, 2) for lab in o.planes
+                  if desc.planes.by_label(lab).orientation == "horizontal") == [0.25, 0.55]
+    assert R.stacked_riser_steps(desc.planes, o.planes) == []
+    assert not R.flight_fragments(desc.planes, o.planes)
+    assert not R.flight_evidence(desc.planes, o.planes)
+
+
+def test_stacked_risers_ask_a_stair_and_a_foot_on_the_top_edge():
+    """:func:`stacked_riser_steps` on hand-made planes: two risers of 1.0 and 0.2 m width."""
+    from planerel.features.planes import PlaneSet
+
+    def riser(label, y, z0, z1, x0=-0.5, x1=0.5):
+        return _vertical(label, y, z0, z1, x0, x1)
+
+    def steps(*planes):
+        ps = PlaneSet(tuple(planes), np.array([0.0, 0.0, 1.0]), "given", None, 0.0)
+        return R.stacked_riser_steps(ps, [p.label for p in planes])
+
+    low = riser(1, 1.0, 0.0, 0.17)
+    ((_a, _b, rise, run),) = steps(low, riser(2, 1.28, 0.17, 0.22, 0.1, 0.3))
+    assert (round(rise, 2), round(run, 2)) == (0.17, 0.28)
+    assert steps(low, riser(2, 1.28, 0.0, 0.34, 0.1, 0.3)) == []    # a face from the floor
+    assert steps(low, riser(2, 1.28, 0.21, 0.3, 0.1, 0.3)) == []    # its foot over the top edge
+    assert steps(low, riser(2, 1.28, 0.17, 0.40, 0.1, 0.3)) == []   # taller than a rise
+    assert steps(low, riser(2, 1.70, 0.17, 0.34, 0.1, 0.3)) == []   # 0.70 m on: no stair's run
+    assert steps(low, riser(2, 1.28, 0.17, 0.34, 0.6, 0.9)) == []   # beside it, not above
+    assert steps(riser(1, 1.0, 0.0, 0.05), riser(2, 1.28, 0.05, 0.1)) == []  # 5 cm: no rise
+
+
+def _vertical(label, y, z0, z1, x0, x1):
+    """A plane facing -y at ``y``, ``x0..x1`` wide and ``z0..z1`` high (z up, floor at 0)."""
+    from planerel.features.planes import Plane
+
+    hull3d = np.array([[x0, y, z0], [x1, y, z0], [x1, y, z1], [x0, y, z1]], float)
+    c = hull3d.mean(0)
+    return Plane(label=label, n_points=100, normal=np.array([0.0, -1.0, 0.0]), offset=-y,
+                 centroid=c, rms=0.001, axes=np.array([[1.0, 0, 0], [0, 0, 1.0]]),
+                 hull=np.array([[x0, z0], [x1, z0], [x1, z1], [x0, z1]]) - [c[0], c[2]],
+                 hull3d=hull3d, area=(x1 - x0) * (z1 - z0), length=max(x1 - x0, z1 - z0),
+                 width=min(x1 - x0, z1 - z0), incline=90.0, orientation="vertical",
+                 height=float(c[2]), distance=float(np.linalg.norm(c)), bbox=(0, 0, 10, 10))
+
+
+def test_the_fragments_setting(tmp_path, low_box):
+    assert M.FLIGHT_FRAGMENTS is M.DecisionParams().flight_fragments is True
+    with pytest.raises(InputError, match="flight_fragments must be true or false"):
+        M.DecisionParams(flight_fragments="on")
+    from planerel.classify.classifier import Classifier
+    from planerel.ilp import pipeline as P
+
+    model = _model(tmp_path / "m")
+    with Classifier(model) as clf:
+        assert clf.flight_gate and clf.flight_fragments
+    with Classifier(model, seg_params={"decision.flight_fragments": "false"}) as clf:
+        assert clf.flight_gate and not clf.flight_fragments
+    assert P.Model(("stairs",), {}).flight_fragments

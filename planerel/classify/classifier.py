@@ -342,6 +342,9 @@ class Classifier:
         #: as before)
         self.flight_gate = (decision.flight_gate
                             and "flight_gate" in self.settings.sections.get("decision", {}))
+        #: that test reads a flight seen in fragments too (``decision.flight_fragments``,
+        #: flight48: on unless the model or a param says false)
+        self.flight_fragments = decision.flight_fragments
         #: vetoes (rules for ``other``) proved through far smaller planes than a class proof
         #: are set aside (0: off; nothing to set aside without rules for ``other``)
         self.veto_ratio = decision.veto_ratio if OTHER in heads else 0.0
@@ -552,8 +555,9 @@ class Classifier:
                                    levels=self.level_domain,
                                    stepped=lambda o=o: flight_faces(desc.planes, o.planes,
                                                                     proposal_params),
-                                   flight=(lambda o=o: flight_evidence(desc.planes, o.planes,
-                                                                       proposal_params))
+                                   flight=(lambda o=o: flight_evidence(
+                                       desc.planes, o.planes, proposal_params,
+                                       fragments=self.flight_fragments))
                                    if self.flight_gate else None,
                                    extents=extents, sizes=self.size_domain,
                                    size_margin=self.size_margin, slender=slender,

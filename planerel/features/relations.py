@@ -143,6 +143,8 @@ __all__ = [
     "flight_steps",
     "flight_evidence",
     "steps_of_one_flight",
+    "stacked_riser_steps",
+    "flight_fragments",
 ]
 
 
@@ -3040,11 +3042,13 @@ STAIR_RUN = (0.15, 0.45)
 STEP_AGREE = 0.7
 
 
-def flight_steps(planes, labels, params: ProposalParams | None = None) -> list:
+def flight_steps(planes, labels, params: ProposalParams | None = None, *,
+                 keep_cut: bool = False) -> list:
     """Every step between parallel faces of the planes ``labels`` of one object: two treads or
     two risers :data:`STEP_WINDOW_RISE` above and :data:`STEP_WINDOW_RUN` beyond each other
     (one span, no chain asked: :func:`step_chain_pairs` with ``chain=False``), with the
-    proposals' step settings ``params``.
+    proposals' step settings ``params``.  With ``keep_cut``, treads the image border cuts
+    along their length take part too (:func:`flight_fragments`).
 
     Returns
     -------
@@ -3055,11 +3059,12 @@ def flight_steps(planes, labels, params: ProposalParams | None = None) -> list:
     steps = step_chain_pairs(planes, tuple(labels), STEP_WINDOW_RISE, STEP_WINDOW_RUN,
                              p.step_overlap or 0.5, p.concave_tol, tilt=p.step_tilt, skip=False,
                              cut_long_side=p.cut_long_side, tread_axes=p.step_tread_axes,
-                             chain=False)
+                             chain=False, drop_cut=not keep_cut)
     return [(int(lo), int(hi), float(r), float(g)) for lo, hi, r, _d, _k, g in steps]
 
 
-def flight_evidence(planes, labels, params: ProposalParams | None = None) -> bool:
+def flight_evidence(planes, labels, params: ProposalParams | None = None, *,
+                    fragments: bool = True) -> bool:
     """Whether the planes ``labels`` of one object show a staircase's steps: a regular row of
     three faces (:func:`flight_faces`), or steps that are one flight's (pile26).
 
@@ -3072,17 +3077,22 @@ def flight_evidence(planes, labels, params: ProposalParams | None = None) -> boo
     deep) are no flight, nor is an object with no step at all (a machine's faces, a room
     wall's posts).  Two levels one stair rise above and one run beyond each other are a step
     to this test whatever they are made of: a pile of two heights of stair-like cartons stays
-    a flight.
+    a flight.  With ``fragments`` (``decision.flight_fragments``), a flight seen in fragments
+    counts too (:func:`flight_fragments`: risers stacked one on the other, treads the image
+    border cuts; flight48).
 
     Parameters
     ----------
     planes : PlaneSet
     labels : iterable of int
     params : ProposalParams, optional
+    fragments : bool
+        Ask :func:`flight_fragments` when the steps above are not one flight's.
     """
     labels = tuple(labels)
     return (flight_faces(planes, labels, params)
-            or steps_of_one_flight(flight_steps(planes, labels, params)))
+            or steps_of_one_flight(flight_steps(planes, labels, params))
+            or (fragments and flight_fragments(planes, labels, params)))
 
 
 def steps_of_one_flight(steps) -> bool:
@@ -3103,12 +3113,115 @@ def steps_of_one_flight(steps) -> bool:
     return all(agrees(r, g) for _a, _b, r, g in steps)
 
 
+#: Two risers of one flight are stacked: the higher one's foot lies within this fraction of a
+#: rise of the lower one's top edge, and the higher one is at most this fraction taller than a
+#: rise (:func:`stacked_riser_steps`; on the varied world's fragmented flights the foot lies
+#: within 0.08 of a rise and the higher riser at most 1.07 rises high, flight48).
+STACK_TOL = 0.15
+#: ... and they overlap across the flight by at least this fraction of the narrower one's
+#: width (a riser seen in part, cut by the image border or hidden, lies within its flight).
+STACK_OVERLAP = 0.5
+
+
+def stacked_riser_steps(planes, labels, params: ProposalParams | None = None) -> list:
+    """Steps between two risers of the planes ``labels`` (faces within ``params.step_tilt``
+    degrees of vertical, normals within ``params.concave_tol``) that stand one on the other:
+    a flight's risers, however much of their width is seen.
+
+    The varied world's flights at 160x120 come in fragments (accept45, flight48): a riser's
+    width seen in part (the border, a rail, too few pixels) makes two risers' areas differ
+    more than :func:`step_chain_pairs` allows (3 times), and the centroid of a riser whose top
+    the image cuts lies under its middle.  What a fragment keeps is its height: a flight's
+    riser is one rise high and the next one starts where it ends.  So two risers are a step
+    when the higher one's foot lies within :data:`STACK_TOL` of a rise of the lower one's top
+    edge, the rise (foot to foot) is a stair's (:data:`STAIR_RISE`), the higher one is no
+    taller than a rise (within :data:`STACK_TOL`; it may be cut shorter), their horizontal
+    offset along the lower one's normal is a stair's run (:data:`STAIR_RUN`) and they overlap
+    across the flight by :data:`STACK_OVERLAP` of the narrower one.  Boxes standing on the
+    floor side by side or one behind the other have their faces' feet at one level: no step;
+    a carton behind a lower one shows its face from the lower one's top up, a step only when
+    no taller than the lower one (a pile of two heights 0.25 and 0.55 m is none).
+
+    Returns
+    -------
+    list of (int, int, float, float)
+        ``(lower label, higher label, rise, run)`` per step, metres (as :func:`flight_steps`).
+    """
+    p = params or ProposalParams()
+    up = np.asarray(planes.up, float)
+    cos_tol = math.cos(math.radians(p.concave_tol))
+    want = set(labels)
+    risers = []
+    for q in planes:
+        if q.label not in want or _step_kind(q, p.step_tilt) != "riser":
+            continue
+        h = np.asarray(q.hull3d, float)
+        if len(h) < 2:
+            continue
+        t = h @ up
+        n = np.asarray(q.normal, float)
+        nh = n - (n @ up) * up
+        norm = float(np.linalg.norm(nh))
+        if norm < 1e-9:
+            continue
+        risers.append((q, float(t.min()), float(t.max()), nh / norm, h))
+    out = []
+    for i, (a, a0, a1, na, ha) in enumerate(risers):
+        for b, b0, b1, nb, hb in risers[i + 1:]:
+            if abs(float(np.asarray(a.normal, float) @ np.asarray(b.normal, float))) < cos_tol:
+                continue
+            lo, l0, l1, nl, hl, hi, h0, h1, hh = ((a, a0, a1, na, ha, b, b0, b1, hb) if a0 <= b0
+                                                  else (b, b0, b1, nb, hb, a, a0, a1, ha))
+            rise = h0 - l0
+            if not STAIR_RISE[0] <= rise <= STAIR_RISE[1]:
+                continue
+            if abs(h0 - l1) > STACK_TOL * rise or h1 - h0 > (1.0 + STACK_TOL) * rise:
+                continue
+            d = np.asarray(hi.centroid, float) - np.asarray(lo.centroid, float)
+            run = abs(float(d @ nl))
+            if not STAIR_RUN[0] <= run <= STAIR_RUN[1]:
+                continue
+            across = cross3(up, nl)
+            pl, ph = hl @ across, hh @ across
+            inter = min(pl.max(), ph.max()) - max(pl.min(), ph.min())
+            if inter < STACK_OVERLAP * min(np.ptp(pl), np.ptp(ph)) or inter <= 0:
+                continue
+            out.append((int(lo.label), int(hi.label), float(rise), float(run)))
+    return out
+
+
+def flight_fragments(planes, labels, params: ProposalParams | None = None) -> bool:
+    """Whether the planes ``labels`` of one object show a flight seen in fragments
+    (flight48): its stacked risers (:func:`stacked_riser_steps`) are one flight's steps
+    (:func:`steps_of_one_flight`), or its steps with the treads the image border cuts along
+    their length (:func:`flight_steps` with ``keep_cut``; a flight seen from its top, the far
+    treads running out of the image) are.
+
+    The second part of :func:`flight_evidence`'s test, asked when the object's faces make no
+    regular row and its whole faces' steps are not one flight's: accept45 measured 27-52 true
+    160x120 flights a varied model refused so (risers whose areas differ more than 3 times,
+    treads cut by the border); each list must still be one flight's as a whole, so a pile's
+    unequal steps keep it out.
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    labels : iterable of int
+    params : ProposalParams, optional
+    """
+    labels = tuple(labels)
+    stacked = stacked_riser_steps(planes, labels, params)
+    if stacked and steps_of_one_flight(stacked):
+        return True
+    return steps_of_one_flight(flight_steps(planes, labels, params, keep_cut=True))
+
+
 def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_overlap: float = 0.5, angle_tol: float = 10.0,
                      max_ratio: float = 3.0, tilt: float = 12.0, skip: bool = True,
                      min_width: float = 0.5, cut_long_side: bool = True,
                      skip_missing: bool = False, tread_axes: bool = False,
-                     chain: bool = True, cut_top: bool = False):
+                     chain: bool = True, cut_top: bool = False, drop_cut: bool = True):
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
     Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
@@ -3154,6 +3267,9 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
         False: return every step found, before the chain test (a list of ``(lower, higher,
         rise per step, unit horizontal direction (3,), span, run per step)``;
         :func:`flight_step`).
+    drop_cut : bool
+        False: treads the image border cuts along their length take part like any other
+        (:func:`flight_fragments`; no ``cut_top`` steps then).
 
     Returns
     -------
@@ -3167,7 +3283,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     # the border cut is asked of the candidate treads only (the same candidates)
     cut = _cut_lengthwise([p for p in planes if (not want or p.label in want)
                            and kind[p.label] == "tread"], cut_long_side,
-                          getattr(planes, "labels", None))
+                          getattr(planes, "labels", None)) if drop_cut else set()
     cands = [p for p in planes if (not want or p.label in want) and kind[p.label]
              and not (kind[p.label] == "tread" and p.label in cut)]
     steps = []  # (lower, higher, rise per step, unit horizontal direction)

@@ -11,6 +11,7 @@ which says for every object which rules prove which class (:func:`prolog_predict
 
 from __future__ import annotations
 
+import functools
 import sys
 import time
 from collections.abc import Sequence
@@ -20,6 +21,7 @@ from pathlib import Path
 from planerel.children import temp_dir
 from planerel.errors import InputError, PrologError
 from planerel.ilp.metrics import (
+    FLIGHT_FRAGMENTS,
     FLIGHT_GATE,
     LEVEL_GATE,
     OTHER,
@@ -145,6 +147,9 @@ class Model:
     flight_gate : bool
         Whether :func:`prolog_predict` refuses ``stairs`` for an object whose faces show no
         staircase's steps (:func:`planerel.ilp.metrics.flight_refusals`).
+    flight_fragments : bool
+        Whether that test reads a flight seen in fragments too
+        (:func:`planerel.features.relations.flight_fragments`).
     size_domain : tuple
         ``(class, high, n)``: the longest plane each class's rules proved its training
         positives with (:func:`planerel.ilp.metrics.size_domain`; ``model.json`` keeps it).
@@ -200,6 +205,7 @@ class Model:
     level_domain: tuple = ()
     level_gate: bool = LEVEL_GATE
     flight_gate: bool = FLIGHT_GATE
+    flight_fragments: bool = FLIGHT_FRAGMENTS
     size_domain: tuple = ()
     size_gate: bool = SIZE_GATE
     size_margin: float = SIZE_MARGIN
@@ -918,6 +924,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
     from planerel.features.relations import flight_evidence, flight_faces
 
     fired = _parse_fired(_prolog_run(model, descs, object_ids, timeout))
+    flight_test = functools.partial(flight_evidence, fragments=model.flight_fragments)
     planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
     levels = horizontal_counts(descs)
     where = {o.id: (d, o) for d in descs for o in d.objects}
@@ -939,7 +946,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                                n_horizontal=levels.get(o),
                                levels=model.level_domain if model.level_gate else (),
                                stepped=lambda o=o: object_shows(flight_faces, where, o),
-                               flight=(lambda o=o: object_shows(flight_evidence, where, o))
+                               flight=(lambda o=o: object_shows(flight_test, where, o))
                                if model.flight_gate else None,
                                extents=extents,
                                sizes=(size_gated(model.size_domain, model.size_classes)
