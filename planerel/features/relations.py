@@ -261,6 +261,22 @@ class RelationParams:
     tall_feet_level: float = 0.0
     #: ... the number of upright planes whose feet must share that level
     tall_feet_min: int = 2
+    #: a taller upright plane adjacent to a ``tall_face`` candidate refuses it (the face is
+    #: no free-standing solid's: a wall, a partition or a taller cabinet it belongs to)
+    #: unless it is a solid standing beside the face (:func:`_stands_beside`): its foot
+    #: level with the face's within ``standing_foot``, and its extent along the face
+    #: (2nd-98th percentile of its points on the face's horizontal axis) overlapping the
+    #: face's by at most this share of the face's width.  A taller box touching a lower
+    #: one's end, or a wall meeting a box's side at its end, stands beside the face (ibox48:
+    #: 0.00-0.10 on the independent sets, feet 0-0.02 m apart for boxes); a wall behind a
+    #: box or a cabinet's body over its plinth overlaps it (0.5-1.0); a sofa's back, a bed's
+    #: headboard, a cabinet over an alcove's doors rise from 0.34-0.65 m higher.  0: every
+    #: taller plane refuses (before ibox48)
+    tall_beside_overlap: float = 0.25
+    #: m: ... and a parallel plane within this of the face's plane (its centroid along the
+    #: face's normal) is the same surface going on (a wall in two pieces) and refuses it
+    #: wherever it lies
+    tall_beside_step: float = 0.02
     #: m: a ``lying`` plane (:func:`lying_tops`) stands at least this far above the ground
     #: it lies on (or ``lying_snr`` times its own fit's RMS, when more): a book's or
     #: a flat box's top 2-8 cm over the table; a floor's far piece that the sensor bends is
@@ -354,6 +370,7 @@ class RelationParams:
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
                              "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "skirt_top_eye", "tall_feet_level",
+                             "tall_beside_overlap", "tall_beside_step",
                              "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
                              "lying_min_length", "lying_width", "lying_snr", "lying_ring",
@@ -370,6 +387,9 @@ class RelationParams:
         for name in ("tall_floor_share", "tall_floor_solid"):
             if getattr(self, name) > 1:
                 raise InputError(f"{name} is a share in 0..1, got {getattr(self, name)!r}")
+        if self.tall_beside_overlap > 1:
+            raise InputError(f"tall_beside_overlap is a share of the face's width in 0..1, got "
+                             f"{self.tall_beside_overlap!r}")
         if self.tall_cap > 1:
             raise InputError(f"tall_cap is a share of the face's pixel columns in 0..1, got "
                              f"{self.tall_cap!r}")
@@ -1050,7 +1070,12 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
       reaching more than ``skirt_step`` out from ``f``, as a table does and a tread does
       not).  A chair's back or a table's apron has open space under it;
     - it is free-standing: no vertical plane adjacent to it has its top more than
-      ``skirt_tol`` above its own (a wall, a partition or a taller cabinet it belongs to);
+      ``skirt_tol`` above its own (a wall, a partition or a taller cabinet it belongs to)
+      unless that plane is a solid standing beside it (:func:`_stands_beside`: its foot
+      level with the face's within ``standing_foot``, its extent along the face overlapping
+      the face's by at most ``tall_beside_overlap`` of its width, and no parallel plane within
+      ``tall_beside_step`` of the face's: a taller box touching a lower one's end, a wall
+      meeting a box's side at its end; ibox48);
     - its top edge (:class:`~planerel.features.solid.FaceProfile` ``top``, the 98th
       percentile of its points' levels) is at most ``tall_eye`` below the sensor's level
       (the camera at the origin), or its pixels reach the image's top rows (out of view):
@@ -1166,14 +1191,48 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
                 floor is not None and p.tall_floor_fit > 0
                 and floor_foot(face, prof, floor, lab, cloud.xyz, up, p)):
             continue
-        # free-standing: no vertical plane beside it rises above its top (a wall or a
-        # partition it leans on, a cabinet it is part of)
-        if any(profile(q).top > prof.top + p.skirt_tol for q in beside.get(lbl, ())):
+        # free-standing: no vertical plane adjacent to it rises above its top behind or over
+        # it (a wall or a partition it leans on, a cabinet it is part of); a taller solid
+        # standing beside it (ibox48) does not make it part of that solid
+        if any(profile(q).top > prof.top + p.skirt_tol
+               and not _stands_beside(face, prof, q, profile(q), lab, cloud.xyz, p)
+               for q in beside.get(lbl, ())):
             continue
         if not hidden and _next_riser(face, prof, planes, profile, p):
             continue  # the strip is a flight's tread
         out.add(lbl)
     return frozenset(out)
+
+
+def _stands_beside(face, prof, other, other_prof, labels, xyz, p) -> bool:
+    """Whether the upright plane ``other`` (its profile ``other_prof``) is a solid standing
+    beside the vertical face ``face`` (its :class:`~planerel.features.solid.FaceProfile`
+    ``prof``), not behind or over it: its foot is level with the face's within
+    ``standing_foot``, its points' extent along the face's horizontal axis (2nd-98th
+    percentile) overlaps the face's ``[lo, hi]`` by at most ``tall_beside_overlap`` of the
+    face's width, and it is no parallel plane within ``tall_beside_step`` of the face's plane
+    (the same surface).  With ``tall_beside_overlap`` 0, never (:func:`tall_faces` before
+    ibox48)."""
+    from planerel.features.solid import _percentiles_2_98, face_points
+
+    if p.tall_beside_overlap <= 0:
+        return False
+    # a solid of its own stands on the ground the face stands on: its foot level with the
+    # face's within ``standing_foot`` (a sofa's back or a bed's headboard behind the seat's
+    # front, a cabinet over an alcove's doors rise from higher up: 0.34-0.65 m)
+    if not abs(other_prof.bottom - prof.bottom) <= p.standing_foot:
+        return False
+    n = np.asarray(face.normal, float)
+    if abs(float(np.dot(n, np.asarray(other.normal, float)))) >= math.cos(math.radians(p.parallel_tol)) \
+            and abs(float((np.asarray(other.centroid, float) - np.asarray(face.centroid, float)) @ n)) \
+            <= p.tall_beside_step:
+        return False
+    width = prof.hi - prof.lo
+    pts = face_points(other, labels, xyz, p.profile_points)[0]
+    if pts.shape[0] < 3 or not width > 0:
+        return False
+    (lo, hi), = _percentiles_2_98([pts @ np.asarray(prof.along, float)])
+    return max(0.0, min(prof.hi, hi) - max(prof.lo, lo)) <= p.tall_beside_overlap * width
 
 
 def lying_tops(planes, relations: Relations, support=(), cloud=None) -> frozenset:
