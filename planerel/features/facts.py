@@ -102,8 +102,7 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
      "border, not partly hidden by a nearer surface (truncated_planes)"),
     ("seen_width", 2, "plane, m", "plane_width of a plane seen whole"),
     ("tall_face", 1, "plane", "a vertical rectangle standing on the ground (the floor or a table "
-     "at its foot), nothing taller behind or over it (a taller solid may stand beside it), its "
-     "top at or above the sensor's eye level or "
+     "at its foot), nothing beside it taller, its top at or above the sensor's eye level or "
      "out of view: a box seen so shows no top (planerel.features.relations.tall_faces)"),
     ("lying", 1, "plane", "a level or tilted (<= 30 deg) plane at most 0.6 m long lying on a "
      "larger horizontal plane adjacent to it, 1.5-12 cm over it: the top of a book or a flat "
