@@ -42,6 +42,22 @@ def laplace(tp: int, fp: int) -> float:
     return (tp + 1) / (tp + fp + 2)
 
 
+def _refuse_hits(hits, stats: Sequence, refuse):
+    """The hits a gate keeps, and its refusals: ``refuse(hit)`` is None for a hit kept, else
+    the refusal that leaves it out; one refusal is reported per rule, and only for a rule
+    that takes part in the decision (:func:`takes_part`; a rule that does not is left out
+    all the same)."""
+    table = {i: (tp, fp) for i, _, tp, fp in stats}
+    kept, refused = [], {}
+    for hit in hits:
+        why = refuse(hit)
+        if why is None:
+            kept.append(hit)
+        elif hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
+            refused[hit[1]] = why
+    return kept, tuple(refused.values())
+
+
 def takes_part(tp: int, fp: int) -> bool:
     """Whether a rule with ``tp`` right and ``fp`` wrong training objects takes part in the
     decision: not when it was wrong at least as often as right (``fp >= tp``, ``fp > 0``)."""
@@ -368,7 +384,9 @@ class DecisionParams:
         needs a floor, cannot tell.  No threshold of its own.  On by default (ramp48,
         2026-12-01): hunt45's D435i 0.10 m over the floor (tub3_418, confidence 0.27, no
         floor: the near floor and two other planes inclined 23-26 degrees) gave 3 of the 6
-        false ramps on the development frames; with the estimated up on the independent
+        false ramps on the development frames (since ``gravity.near_floor`` rights that
+        frame's up, the gate refuses nothing on the real development frames); with the
+        estimated up on the independent
         development sets every true ramp answered under a low-confidence up (23 of 62) has
         a floor in view, and 4 false ones (a ramp taken for the ground, the floor then
         "inclined") have none.  A given or file up is never low: only an estimate (or the
@@ -828,18 +846,17 @@ def _bound_refusals(hits, stats: Sequence, measure, domain: Sequence, margin: fl
         return list(hits), ()
     if callable(measure):
         measure = measure()
-    table = {i: (tp, fp) for i, _, tp, fp in stats}
-    kept, refused = [], {}
-    for hit in hits:
+
+    def refuse(hit):
         k = hit[0]
-        if k in highs:
-            value = _proof_max(hit[2], measure)
-            if value is not None and value > highs[k] * (1.0 + float(margin)):
-                if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
-                    refused[hit[1]] = refusal(k, hit[1], float(value), highs[k], float(margin))
-                continue
-        kept.append(hit)
-    return kept, tuple(refused.values())
+        if k not in highs:
+            return None
+        value = _proof_max(hit[2], measure)
+        if value is None or value <= highs[k] * (1.0 + float(margin)):
+            return None
+        return refusal(k, hit[1], float(value), highs[k], float(margin))
+
+    return _refuse_hits(hits, stats, refuse)
 
 
 def plane_slenderness(descs) -> dict:
@@ -1104,22 +1121,21 @@ def foot_refusals(hits, stats: Sequence, foot=None, above: float = FOOT_ABOVE,
     """
     if foot is None or not any(h[0] == FOOT_CLASS for h in hits):
         return list(hits), ()
-    table = {i: (tp, fp) for i, _, tp, fp in stats}
-    kept, refused = [], {}
-    for hit in hits:
-        if hit[0] == FOOT_CLASS:
-            feet = [f for f in (foot(v) for v in dict(hit[2]).values()) if f is not None]
-            bad = [f for f in feet
-                   if f.low < -float(below) or (f.low > float(above) and f.hidden < float(hidden))
-                   or (float_ > 0 and f.low > float(float_))]
-            if feet and len(bad) == len(feet):
-                if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
-                    f = max(bad, key=lambda f: abs(f.low))
-                    refused[hit[1]] = FootRefusal(FOOT_CLASS, hit[1], f.low, f.hidden,
-                                                  float(above), float(below), float(float_))
-                continue
-        kept.append(hit)
-    return kept, tuple(refused.values())
+
+    def refuse(hit):
+        if hit[0] != FOOT_CLASS:
+            return None
+        feet = [f for f in (foot(v) for v in dict(hit[2]).values()) if f is not None]
+        bad = [f for f in feet
+               if f.low < -float(below) or (f.low > float(above) and f.hidden < float(hidden))
+               or (float_ > 0 and f.low > float(float_))]
+        if not feet or len(bad) != len(feet):
+            return None
+        f = max(bad, key=lambda f: abs(f.low))
+        return FootRefusal(FOOT_CLASS, hit[1], f.low, f.hidden, float(above), float(below),
+                           float(float_))
+
+    return _refuse_hits(hits, stats, refuse)
 
 
 @dataclass(frozen=True)
@@ -1175,21 +1191,20 @@ def side_refusals(hits, stats: Sequence, side=None, treads=()):
     """
     if side is None or not any(h[0] in SIDE_PLANES for h in hits):
         return list(hits), ()
-    table = {i: (tp, fp) for i, _, tp, fp in stats}
-    kept, refused = [], {}
-    for hit in hits:
+
+    def refuse(hit):
         want = SIDE_PLANES.get(hit[0])
-        if want is not None:
-            measured = (side(v) for v in dict(hit[2]).values())
-            facing = [m[1] for m in measured if m is not None and m[0] == want]
-            if hit[0] == "stairs":
-                facing += [float(f) for f in treads]
-            if facing and max(facing) < 0:
-                if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
-                    refused[hit[1]] = SideRefusal(hit[0], hit[1], float(max(facing)))
-                continue
-        kept.append(hit)
-    return kept, tuple(refused.values())
+        if want is None:
+            return None
+        measured = (side(v) for v in dict(hit[2]).values())
+        facing = [m[1] for m in measured if m is not None and m[0] == want]
+        if hit[0] == "stairs":
+            facing += [float(f) for f in treads]
+        if not facing or max(facing) >= 0:
+            return None
+        return SideRefusal(hit[0], hit[1], float(max(facing)))
+
+    return _refuse_hits(hits, stats, refuse)
 
 
 @dataclass(frozen=True)
@@ -1236,15 +1251,8 @@ def unsure_refusals(hits, stats: Sequence, unsure=None):
     """
     if unsure is None or not any(h[0] == UNSURE_CLASS for h in hits):
         return list(hits), ()
-    table = {i: (tp, fp) for i, _, tp, fp in stats}
-    kept, refused = [], {}
-    for hit in hits:
-        if hit[0] == UNSURE_CLASS:
-            if hit[1] not in refused and takes_part(*table.get(hit[1], (0, 0))):
-                refused[hit[1]] = UnsureRefusal(UNSURE_CLASS, hit[1], float(unsure))
-            continue
-        kept.append(hit)
-    return kept, tuple(refused.values())
+    return _refuse_hits(hits, stats, lambda hit: UnsureRefusal(UNSURE_CLASS, hit[1], float(unsure))
+                        if hit[0] == UNSURE_CLASS else None)
 
 
 def proof_domain(fired: dict, truth: dict) -> tuple:
