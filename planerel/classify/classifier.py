@@ -153,6 +153,8 @@ class SceneAnswer:
     up_upside_down: bool = False
     #: the vote was not clear and the floor under the camera set the up (``gravity.near_floor``)
     up_near_floor: bool = False
+    #: a floor measured only as speckle voted for the up (``gravity.sparse_floor``)
+    up_sparse_floor: bool = False
     #: the floor plane's id (None: no floor plane in view, e.g. a camera near the floor or
     #: looking level over a desk; rules that need the ground, such as a box seen as one
     #: upright face, cannot hold then)
@@ -168,6 +170,7 @@ class SceneAnswer:
                 "up": self.up_source, "up_confidence": round(self.up_confidence, 3),
                 "up_vector": up, "up_low_confidence": self.up_low,
                 "up_upside_down": self.up_upside_down, "up_near_floor": self.up_near_floor,
+                "up_sparse_floor": self.up_sparse_floor,
                 "floor": self.floor,
                 "objects": [o.to_dict() for o in self.objects],
                 "seconds": round(self.seconds, 4)}
@@ -429,6 +432,7 @@ class Classifier:
                            up_vector=tuple(float(v) for v in ps.up), up_low=bool(low),
                            up_upside_down=bool(ps.up_upside_down),
                            up_near_floor=bool(ps.up_near_floor),
+                           up_sparse_floor=bool(ps.up_sparse_floor),
                            floor=None if ps.floor is None else plane_ids.get(ps.floor))
 
     def answer_description(self, desc, xyz=None) -> tuple:

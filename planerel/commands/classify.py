@@ -118,7 +118,8 @@ def _classify_task(task: dict):
     up = f"up {ans.up_source}" + (f" (confidence {ans.up_confidence:.2f})"
                                   if ans.up_source in ("estimated", "default") else "") \
         + (", upside down" if ans.up_upside_down else "") \
-        + (", from the floor under the camera" if ans.up_near_floor else "")
+        + (", from the floor under the camera" if ans.up_near_floor else "") \
+        + (", with the floor's speckle" if ans.up_sparse_floor else "")
     floor = f"floor {ans.floor}" if ans.floor else "no floor plane"
     lines = [f"{path}: {ans.n_planes} planes, {len(ans.objects)} object(s) "
              f"[{ans.seconds * 1000:.0f} ms]; {up}, {floor}"]

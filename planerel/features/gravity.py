@@ -197,6 +197,31 @@ class GravityParams:
         The least area of that plane, m^2.
     near_floor_deg : float
         The largest angle between that plane's normal and the flagged estimate, degrees.
+    sparse_floor : float
+        A floor measured only as speckle votes too (:func:`_sparse_floor`): a camera a few
+        decimetres over a floor sees it at grazing incidence, where structured light and
+        active stereo return scattered pixels that no region grows over.  The unassigned
+        valid points of the image's lower half are fitted by a plane (a seeded RANSAC within
+        ``sparse_floor_tol`` m) whose normal lies within ``sparse_floor_deg`` of the image's
+        up axis and which passes at most this many metres under the camera; when enough of
+        them fit it (``sparse_floor_share``, at least ``sparse_floor_min`` of the image's
+        pixels) over at least ``sparse_floor_reach`` m of range and no segmented plane is
+        that floor already, it votes as a plane of the area its inliers measure (their
+        pixels' footprints).  0: off (only segmented planes vote).
+    sparse_floor_deg : float
+        The largest angle between that floor's normal and the image's up axis, degrees.
+    sparse_floor_tol : float
+        The inlier distance, m.
+    sparse_floor_share : float
+        The least share of the lower half's unassigned points that fit it.
+    sparse_floor_min : float
+        The least number of inliers, as a share of the image's pixels.
+    sparse_floor_reach : float
+        The least spread of the inliers' ranges (2nd to 98th percentile), m.
+    sparse_floor_area : float
+        The least extent of that floor, m^2 (measured as a segmented plane's area is): a floor
+        under a low camera reaches metres away; unassigned points of a cluttered table seen
+        from close by fit planes of well under a square metre.
     """
 
     tol_deg: float = 5.0
@@ -221,6 +246,13 @@ class GravityParams:
     near_floor: float = 0.35
     near_floor_area: float = 0.3
     near_floor_deg: float = 30.0
+    sparse_floor: float = 0.35
+    sparse_floor_deg: float = 35.0
+    sparse_floor_tol: float = 0.02
+    sparse_floor_share: float = 0.3
+    sparse_floor_min: float = 0.002
+    sparse_floor_reach: float = 0.5
+    sparse_floor_area: float = 1.5
 
     def __post_init__(self) -> None:
         checks = (("tol_deg", 0.5, 20.0), ("min_area", 0.0, 100.0), ("vertical_weight", 0.0, 1.0),
@@ -230,7 +262,10 @@ class GravityParams:
                   ("flip_min_area", 0.0, 100.0), ("flip_min_tilt_deg", 0.0, 45.0),
                   ("max_draft_deg", 0.0, 45.0), ("steep_pitch_deg", 0.0, 90.0),
                   ("steep_support", 0.0, 1000.0), ("near_floor", 0.0, 10.0),
-                  ("near_floor_area", 0.0, 1000.0), ("near_floor_deg", 0.0, 60.0))
+                  ("near_floor_area", 0.0, 1000.0), ("near_floor_deg", 0.0, 60.0),
+                  ("sparse_floor", 0.0, 10.0), ("sparse_floor_deg", 0.0, 90.0),
+                  ("sparse_floor_tol", 0.001, 1.0), ("sparse_floor_share", 0.0, 1.0),
+                  ("sparse_floor_min", 0.0, 1.0), ("sparse_floor_reach", 0.0, 100.0), ("sparse_floor_area", 0.0, 1000.0))
         for name, lo, hi in checks:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
@@ -266,6 +301,9 @@ class UpEstimate:
     near_floor : bool
         The vote was not clear and the floor under the camera set the vector
         (:attr:`GravityParams.near_floor`).
+    sparse_floor : bool
+        A floor measured only as speckle voted and changed the reading
+        (:attr:`GravityParams.sparse_floor`).
     """
 
     vector: np.ndarray
@@ -275,6 +313,7 @@ class UpEstimate:
     low_confidence: bool = False
     upside_down: bool = False
     near_floor: bool = False
+    sparse_floor: bool = False
 
     def __post_init__(self) -> None:
         if self.source not in SOURCES:
@@ -295,6 +334,8 @@ class UpEstimate:
                 out["upside_down"] = True
             if self.near_floor:
                 out["near_floor"] = True
+            if self.sparse_floor:
+                out["sparse_floor"] = True
         return out
 
     def describe(self) -> str:
@@ -303,7 +344,8 @@ class UpEstimate:
         text = f"up [{vec}] {self.source}, confidence {self.confidence:.2f}"
         return (text + (" (low)" if self.low_confidence else "")
                 + (", camera upside down" if self.upside_down else "")
-                + (", from the floor under the camera" if self.near_floor else ""))
+                + (", from the floor under the camera" if self.near_floor else "")
+                + (", with the floor's speckle" if self.sparse_floor else ""))
 
 
 # ----------------------------------------------------------------------------- the estimate
@@ -721,6 +763,100 @@ def _planes_from_labels(cloud, labels, params: GravityParams):
     return nrm[keep], area[keep], offset[keep], reach[keep], cent[ok][keep]
 
 
+def speckle_floor(cloud, labels, axis=DEFAULT_UP, max_deg: float | None = None,
+                  params: GravityParams | None = None):
+    """A floor under a low camera that only speckle measures (:attr:`GravityParams.sparse_floor`):
+    a plane through the unassigned valid points of the image's lower half.
+
+    Parameters
+    ----------
+    cloud : Cloud
+        Organized ``(H, W, 3)``.
+    labels : array_like, shape (H, W)
+        Plane labels, -1 unassigned.
+    axis : array_like, shape (3,)
+        The floor's normal lies within ``max_deg`` of it: the image's up axis (the default)
+        for the estimate, the estimated up when it is known.
+    max_deg : float, optional
+        Default ``params.sparse_floor_deg``.
+    params : GravityParams, optional
+
+    Returns
+    -------
+    tuple or None
+        ``(normal (3,), area, offset, range, centroid (3,))`` of the floor: its unit normal
+        oriented to the sensor, its extent (m^2), the camera's height over it (m), its inliers'
+        centroid and that centroid's range (m); ``None`` when ``params.sparse_floor`` is 0 or
+        no such floor is found.
+    """
+    from planerel.features.labels import check_labels
+
+    params = params or GravityParams()
+    if params.sparse_floor <= 0:
+        return None
+    max_deg = params.sparse_floor_deg if max_deg is None else max_deg
+    xyz = cloud.xyz
+    H, W = xyz.shape[:2]
+    lab = check_labels(labels, (H, W))
+    low = slice(H // 2, H)
+    free = cloud.valid[low] & (lab[low] < 0)
+    pts = xyz[low][free]
+    rows = np.nonzero(free)[0] + H // 2
+    need = params.sparse_floor_min * H * W
+    if pts.shape[0] < max(30.0, need):
+        return None
+    stride = max(1, pts.shape[0] // 20000)
+    pts, rows = pts[::stride], rows[::stride]
+    rng = np.random.default_rng(0)
+    image_up = np.asarray(axis, dtype=np.float64) / np.linalg.norm(axis)
+    cos_max = math.cos(math.radians(max_deg))
+    best, best_n = 0, None
+    for _ in range(256):
+        tri = pts[rng.choice(pts.shape[0], 3, replace=False)]
+        nrm = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+        length = np.linalg.norm(nrm)
+        if not length > 1e-12:
+            continue
+        nrm = nrm / length
+        d = -float(nrm @ tri[0])
+        if d < 0:  # orient to the sensor: the camera (origin) on the normal's side
+            nrm, d = -nrm, -d
+        if nrm @ image_up < cos_max or d > params.sparse_floor:
+            continue
+        count = int((np.abs(pts @ nrm + d) <= params.sparse_floor_tol).sum())
+        if count > best:
+            best, best_n = count, (nrm, d)
+    if best_n is None:
+        return None
+    nrm, d = best_n
+    for _ in range(2):  # least squares on the inliers
+        inl = np.abs(pts @ nrm + d) <= params.sparse_floor_tol
+        if inl.sum() < 3:
+            return None
+        c = pts[inl].mean(axis=0)
+        nrm = np.linalg.eigh(np.cov((pts[inl] - c).T))[1][:, 0]
+        d = -float(nrm @ c)
+        if d < 0:
+            nrm, d = -nrm, -d
+    inl = np.abs(pts @ nrm + d) <= params.sparse_floor_tol
+    n_in = int(inl.sum()) * stride
+    if nrm @ image_up < cos_max or d > params.sparse_floor or n_in < need \
+            or inl.mean() < params.sparse_floor_share:
+        return None
+    p = pts[inl]
+    r = np.linalg.norm(p, axis=1)
+    lo, hi = np.percentile(r, [2, 98])
+    if hi - lo < params.sparse_floor_reach:
+        return None
+    # its extent, as a segmented plane's area is measured (12 sqrt of the in-plane variances)
+    cent = p.mean(axis=0)
+    vals = np.maximum(np.linalg.eigvalsh(np.cov((p - cent).T)), 0.0)
+    area = 12.0 * math.sqrt(vals[1] * vals[2])
+    if area < params.sparse_floor_area:
+        return None
+    return nrm, area, d, float(np.linalg.norm(cent)), cent
+
+
 def _grid_directions(cloud, params: GravityParams):
     """Dominant surface directions of an organized cloud without labels: ``(K, 3)`` oriented
     unit normals, the area ``(K,)`` each covers, the part of it near enough to the camera to
@@ -797,7 +933,19 @@ def up_from_cloud(cloud, labels=None, params: GravityParams | None = None) -> Up
     params = params or GravityParams()
     if labels is not None:
         normals, weights, offsets, ranges, cent = _planes_from_labels(cloud, labels, params)
-        return estimate_gravity(normals, weights, offsets, params, ranges, cent)
+        est = estimate_gravity(normals, weights, offsets, params, ranges, cent)
+        sparse = speckle_floor(cloud, labels, params=params)
+        # a speckle floor the planes' estimate agrees with adds nothing but its fitting noise;
+        # a segmented plane that is that floor already votes for it
+        if sparse is None or float(np.dot(est.vector, sparse[0])) >= math.cos(math.radians(10.0)) \
+                or ((normals @ sparse[0] >= math.cos(math.radians(10.0)))
+                    & (np.abs(offsets - sparse[2]) <= 0.05)
+                    & (weights >= params.near_floor_area)).any():
+            return est
+        est = estimate_gravity(np.vstack([normals, sparse[0][None]]), np.append(weights, sparse[1]),
+                               np.append(offsets, sparse[2]), params, np.append(ranges, sparse[3]),
+                               np.vstack([cent, sparse[4][None]]))
+        return dataclasses.replace(est, sparse_floor=True)
     normals, weights, hweights, near = _grid_directions(cloud, params)
     return _estimate(normals, weights, hweights, params, near)
 

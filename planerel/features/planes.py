@@ -263,6 +263,9 @@ class PlaneSet:
     up_near_floor : bool
         The estimated up is the floor's under the camera (:attr:`GravityParams.near_floor
         <planerel.features.gravity.GravityParams>`).
+    up_sparse_floor : bool
+        A floor measured only as speckle voted for the estimated up
+        (:attr:`GravityParams.sparse_floor <planerel.features.gravity.GravityParams>`).
     """
 
     planes: tuple
@@ -276,12 +279,14 @@ class PlaneSet:
     up_confidence: float = 1.0
     up_upside_down: bool = False
     up_near_floor: bool = False
+    up_sparse_floor: bool = False
 
     @property
     def up_estimate(self) -> UpEstimate:
         """The up vector with its source and confidence."""
         return UpEstimate(self.up, self.up_source, self.up_confidence, 0, self.up_low(),
-                          upside_down=self.up_upside_down, near_floor=self.up_near_floor)
+                          upside_down=self.up_upside_down, near_floor=self.up_near_floor,
+                          sparse_floor=self.up_sparse_floor)
 
     def up_low(self, low_confidence: float | None = None) -> bool:
         """True when the up vector is an estimate (or the default) under ``low_confidence``
@@ -298,7 +303,8 @@ class PlaneSet:
         floor under the camera):
         planes measured again along ``other.up`` (:mod:`planerel.features.stepped`)."""
         return replace(self, up_source=other.up_source, up_confidence=other.up_confidence,
-                       up_upside_down=other.up_upside_down, up_near_floor=other.up_near_floor)
+                       up_upside_down=other.up_upside_down, up_near_floor=other.up_near_floor,
+                       up_sparse_floor=other.up_sparse_floor)
 
     def __len__(self) -> int:
         return len(self.planes)
@@ -531,17 +537,19 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     gravity = resolve_up(cloud, lab, up, gravity_params)
     up_v, up_source, up_conf = np.array(gravity.vector), gravity.source, gravity.confidence
     flipped, near = gravity.upside_down, gravity.near_floor
+    sparse = {"up_sparse_floor": gravity.sparse_floor}
     lab.setflags(write=False)
     nlab = label_max(lab) + 1
     if nlab == 0:
-        return PlaneSet((), up_v, up_source, None, 0.0, (), lab, params, up_conf, flipped, near)
+        return PlaneSet((), up_v, up_source, None, 0.0, (), lab, params, up_conf, flipped, near,
+                        **sparse)
     counts, cent, cov, _ = _moments(xyz, lab, nlab)
     present = np.flatnonzero(counts > 0)
     ok = present[counts[present] >= params.min_points]
     skipped = tuple(int(i) for i in present[counts[present] < params.min_points])
     if ok.size == 0:
         return PlaneSet((), up_v, up_source, None, 0.0, skipped, lab, params, up_conf, flipped,
-                        near)
+                        near, **sparse)
     _evals, evecs = np.linalg.eigh(cov[ok])
     normals = evecs[:, :, 0].copy()
     if params.fit == "disparity":
@@ -656,7 +664,7 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
         for d in pre
     )
     return PlaneSet(planes, up_v, up_source, floor, floor_level, skipped, lab, params, up_conf,
-                    flipped, near)
+                    flipped, near, **sparse)
 
 
 def _measured_noise(cloud):

@@ -261,6 +261,19 @@ class RelationParams:
     tall_feet_level: float = 0.0
     #: ... the number of upright planes whose feet must share that level
     tall_feet_min: int = 2
+    #: m: with no floor plane found at all, a floor measured only as speckle (a camera a few
+    #: decimetres over it sees it at grazing incidence, where the sensor returns scattered
+    #: pixels no region grows over: :func:`planerel.features.gravity.speckle_floor`, its
+    #: normal within 10 degrees of ``up``, at most this far under the camera) stands in for
+    #: the floor plane in :func:`floor_foot` (sparse49: docs/objects.md "A floor seen only as
+    #: speckle").  0: off
+    tall_speckle_floor: float = 0.35
+    #: m: a ``tall_face`` candidate whose top is hidden (over the eye) is refused when a
+    #: nearer surface covers its top edge: in at least half of its middle pixel columns the
+    #: first point measured over its top pixel is nearer than the face by more than this
+    #: (:func:`top_covered`; a wall's lower part seen under a table's top between its legs,
+    #: sparse49).  A box's top edge shows what lies behind it, or nothing measured.  0: off
+    tall_top_cover: float = 0.1
     #: a taller upright plane adjacent to a ``tall_face`` candidate refuses it (the face is
     #: no free-standing solid's: a wall, a partition or a taller cabinet it belongs to)
     #: unless it is a solid standing beside the face (:func:`_stands_beside`): its foot
@@ -371,7 +384,7 @@ class RelationParams:
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
                              "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "skirt_top_eye", "tall_feet_level",
-                             "tall_beside_overlap", "tall_beside_step",
+                             "tall_speckle_floor", "tall_top_cover", "tall_beside_overlap", "tall_beside_step",
                              "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
                              "lying_min_length", "lying_width", "lying_snr", "lying_ring",
@@ -1161,6 +1174,13 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
                            p.tall_feet_level, p.tall_feet_min)
         if found is not None:
             floor = VirtualFloor(up, found[0])
+    if floor is None and p.tall_speckle_floor > 0 and p.tall_floor_fit > 0 \
+            and getattr(planes, "floor", None) is None:
+        from planerel.features.gravity import GravityParams, speckle_floor
+
+        found = speckle_floor(cloud, lab, up, 10.0, GravityParams(sparse_floor=p.tall_speckle_floor))
+        if found is not None:
+            floor = VirtualFloor(up, -found[2])
     if floor is not None and p.tall_floor_fit > 0:
         for q in planes:
             if q.label not in near and q.label != floor.label and shaped(q):
@@ -1188,6 +1208,9 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
             if share < p.tall_cap or not depth >= min(p.tall_cap_depth,
                                                       p.tall_cap_ratio * (prof.hi - prof.lo)):
                 continue
+        if hidden and p.tall_top_cover > 0 and not _reaches_top_row(face) \
+                and top_covered(face, lab, cloud.xyz, p.tall_top_cover):
+            continue  # its top edge is a nearer thing's: the face may go on behind it
         if not any(grounded(face, prof, g, up, p.standing_foot, p.skirt_tol, p.skirt_step)
                    for g in grounds) and not (
                 floor is not None and p.tall_floor_fit > 0
@@ -1587,6 +1610,44 @@ def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
         if abs(h) <= params.standing_foot and np.linalg.norm(q - (q @ up) * up) <= horiz + params.skirt_tol:
             good += 1
     return good >= params.tall_floor_share * cols.size
+
+
+def top_covered(face, labels, xyz, gap: float) -> bool:
+    """True when a nearer surface covers ``face``'s top edge: in at least half of its middle
+    pixel columns (:data:`FLOOR_FOOT_MARGIN` cut off each side) the first point measured in
+    the :data:`FLOOR_FOOT_ROWS` rows over its highest pixel is nearer to the sensor than
+    that pixel by more than ``gap`` m (a wall seen under a table's top).  Columns with
+    nothing measured over the face count as uncovered.
+
+    Parameters
+    ----------
+    face : Plane
+        A plane (``label``, ``bbox``).
+    labels : ndarray, shape (H, W)
+    xyz : ndarray, shape (H, W, 3)
+    gap : float
+    """
+    r0, c0, r1, c1 = (int(v) for v in face.bbox)
+    m = labels[r0:r1, c0:c1] == face.label
+    cols = np.flatnonzero(m.any(axis=0))
+    if cols.size < 3:
+        return False
+    cut = FLOOR_FOOT_MARGIN * (cols[-1] - cols[0])
+    cols = cols[(cols >= cols[0] + cut) & (cols <= cols[-1] - cut)]
+    if cols.size == 0:
+        return False
+    k = max(3, int(round(FLOOR_FOOT_ROWS * labels.shape[0])))
+    tops = r0 + np.argmax(m[:, cols], axis=0)  # highest pixel per column
+    covered = 0
+    for col, rt in zip(cols + c0, tops, strict=True):
+        if rt == 0:
+            continue
+        own = float(np.linalg.norm(xyz[rt, col]))
+        seg = xyz[max(0, rt - k):rt, col][::-1]  # upwards from the face's top
+        ok = np.isfinite(seg).all(axis=1) & (seg[:, 2] > 0)
+        if ok.any() and float(np.linalg.norm(seg[int(np.argmax(ok))])) < own - gap:
+            covered += 1
+    return covered >= 0.5 * cols.size
 
 
 def _reaches_top_row(face, rows: int = 2) -> bool:
