@@ -801,34 +801,30 @@ def speckle_floor(cloud, labels, axis=DEFAULT_UP, max_deg: float | None = None,
     low = slice(H // 2, H)
     free = cloud.valid[low] & (lab[low] < 0)
     pts = xyz[low][free]
-    rows = np.nonzero(free)[0] + H // 2
     need = params.sparse_floor_min * H * W
     if pts.shape[0] < max(30.0, need):
         return None
     stride = max(1, pts.shape[0] // 20000)
-    pts, rows = pts[::stride], rows[::stride]
+    pts = pts[::stride]
+    # 256 seeded three-point hypotheses at once, scored on at most 4000 of the points
     rng = np.random.default_rng(0)
-    image_up = np.asarray(axis, dtype=np.float64) / np.linalg.norm(axis)
-    cos_max = math.cos(math.radians(max_deg))
-    best, best_n = 0, None
-    for _ in range(256):
-        tri = pts[rng.choice(pts.shape[0], 3, replace=False)]
-        nrm = np.cross(tri[1] - tri[0], tri[2] - tri[0])
-        length = np.linalg.norm(nrm)
-        if not length > 1e-12:
-            continue
-        nrm = nrm / length
-        d = -float(nrm @ tri[0])
-        if d < 0:  # orient to the sensor: the camera (origin) on the normal's side
-            nrm, d = -nrm, -d
-        if nrm @ image_up < cos_max or d > params.sparse_floor:
-            continue
-        count = int((np.abs(pts @ nrm + d) <= params.sparse_floor_tol).sum())
-        if count > best:
-            best, best_n = count, (nrm, d)
-    if best_n is None:
+    tri = pts[rng.integers(0, pts.shape[0], size=(256, 3))]
+    nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    length = np.linalg.norm(nrm, axis=1)
+    good = length > 1e-12
+    nrm = nrm[good] / length[good, None]
+    d = -np.einsum("ij,ij->i", nrm, tri[good, 0])
+    turn = d < 0  # orient to the sensor: the camera (origin) on the normal's side
+    nrm[turn], d[turn] = -nrm[turn], -d[turn]
+    axis = np.asarray(axis, dtype=np.float64) / np.linalg.norm(axis)
+    keep = (nrm @ axis >= math.cos(math.radians(max_deg))) & (d <= params.sparse_floor)
+    if not keep.any():
         return None
-    nrm, d = best_n
+    nrm, d = nrm[keep], d[keep]
+    sample = pts[:: max(1, pts.shape[0] // 4000)]
+    count = (np.abs(sample @ nrm.T + d) <= params.sparse_floor_tol).sum(axis=0)
+    k = int(np.argmax(count))
+    nrm, d = nrm[k], float(d[k])
     for _ in range(2):  # least squares on the inliers
         inl = np.abs(pts @ nrm + d) <= params.sparse_floor_tol
         if inl.sum() < 3:
@@ -840,7 +836,7 @@ def speckle_floor(cloud, labels, axis=DEFAULT_UP, max_deg: float | None = None,
             nrm, d = -nrm, -d
     inl = np.abs(pts @ nrm + d) <= params.sparse_floor_tol
     n_in = int(inl.sum()) * stride
-    if nrm @ image_up < cos_max or d > params.sparse_floor or n_in < need \
+    if nrm @ axis < math.cos(math.radians(max_deg)) or d > params.sparse_floor or n_in < need \
             or inl.mean() < params.sparse_floor_share:
         return None
     p = pts[inl]
