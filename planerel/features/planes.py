@@ -122,8 +122,9 @@ class PlaneParams:
         range error of active-stereo and time-of-flight sensors bends far surfaces, which the
         depth noise measured on small patches does not show (hunt49 vreloc: a D435's wall
         piece 4.4 m away reaching 8.5 cm under a 5.5 m^2 floor 0.34 m under the camera, which
-        left the scene without a floor; D4xx depth RMS error is about 2 % of range at 4 m).
-        0: the rule before (sparse49).
+        left the scene without a floor; D4xx depth RMS error is about 2 % of range at 4 m;
+        docs/gravity.md "The floor beside a far piece the sensor bends").  0: the rule before
+        (slack49).
     tilt_noise_sigmas : float
         A plane that the camera sees from below (a ceiling) within ``horizontal_tol`` plus an
         allowance of level is ``horizontal``, and any plane within ``vertical_tol`` plus an
