@@ -42,7 +42,9 @@ own centroid), and whose centroid lies within ``floor_tol`` of the lowest centro
 planes (a ramp of 4.5 degrees, level within ``horizontal_tol``, reaches the floor only with
 its low end).  On a cloud with measured depth noise each plane's low point counts only as
 low as the sensor is sure of: raised by ``floor_noise_sigmas`` times ``sigma(z)`` at its
-farthest hull depth (a far wall the sensor bends below the floor).
+farthest hull depth (a far wall the sensor bends below the floor) and, for a plane reaching
+beyond 3 m, by ``floor_range_slack`` of that range (the sensor's systematic range error, which
+the noise of small patches does not show).
 When no horizontal plane qualifies, a plane whose tilt the sensor cannot tell from level at its
 range may be the floor (:func:`_sensor_floor`, ``floor_noise_sigmas``): the largest plane of
 at least ``floor_min_area`` m^2, facing up with the camera above it, inclined by at most
