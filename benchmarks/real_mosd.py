@@ -64,7 +64,12 @@ def category(stem: str) -> tuple[str, str, str | None]:
 
 def frame(clf, path: Path, min_iou: float = 0.5) -> tuple[dict, list[dict]]:
     from planerel.features.facts import describe_scene
-    from planerel.features.object_eval import frame_truth, proposal_image, score_objects
+    from planerel.features.object_eval import (
+        answer_masks,
+        frame_truth,
+        proposal_image,
+        score_objects,
+    )
     from planerel.ilp.scenes import segment_cached
 
     split, cat, ty = category(path.stem)
@@ -72,9 +77,15 @@ def frame(clf, path: Path, min_iou: float = 0.5) -> tuple[dict, list[dict]]:
     ans = clf.classify(cloud, scene_id=name)
     desc = describe_scene(cloud, segment_cached(cloud, method=clf.method, params=clf.seg_params),
                           scene_id=name, **clf.settings.describe_kwargs())
-    if [tuple(o.planes) for o in desc.objects] != [tuple(o.labels) for o in ans.objects]:
+    # a box cut from a proposal (decision.cut_boxes) is an answer of its own, with no mask;
+    # the proposal it was cut from keeps its mask and the rest of its planes
+    own = [o for o in ans.objects if o.cut_from is None]
+    if ([o.id for o in desc.objects] != [o.object_id for o in own]
+            or any(not set(a.labels) <= set(o.planes) or (not a.cut_off and a.labels != o.planes)
+                   for o, a in zip(desc.objects, own, strict=True))):
         raise RuntimeError(f"{name}: the description differs from the classifier's")
-    prop = proposal_image(ans.labels, [o.labels for o in ans.objects], [o.mask for o in desc.objects])
+    prop = proposal_image(ans.labels, [o.labels for o in ans.objects],
+                          answer_masks(desc.objects, ans.objects))
     ids = [int(o) for o in np.unique(truth) if o >= 1]
     sc = score_objects(prop, truth, name=name, types={o: ty or "object" for o in ids}, min_iou=min_iou)
     matched = {sc.best_prop[k] for k in sc.best_iou if sc.best_iou[k] >= min_iou}

@@ -146,7 +146,7 @@ def point_answer(prop: np.ndarray, x: int, y: int, half: int = 4) -> int:
 
 def frame(clf, key: str, path: str, intrinsics) -> dict:
     from planerel.features.facts import describe_scene
-    from planerel.features.object_eval import proposal_image
+    from planerel.features.object_eval import answer_masks, proposal_image
     from planerel.ilp.scenes import segment_cached
 
     stem = key.split("/")[1]
@@ -154,7 +154,8 @@ def frame(clf, key: str, path: str, intrinsics) -> dict:
     ans = clf.classify(cloud, scene_id=stem)
     desc = describe_scene(cloud, segment_cached(cloud, method=clf.method, params=clf.seg_params),
                           scene_id=stem, **clf.settings.describe_kwargs())
-    prop = proposal_image(ans.labels, [o.labels for o in ans.objects], [o.mask for o in desc.objects])
+    prop = proposal_image(ans.labels, [o.labels for o in ans.objects],
+                          answer_masks(desc.objects, ans.objects))
     points = []
     for x, y, kind, name in TRUTH[key]:
         k = point_answer(prop, x, y)

@@ -38,6 +38,8 @@ __all__ = ["Classifier", "ObjectAnswer", "SceneAnswer", "explanation_image", "cl
 
 #: The answer "none of the classes" (see :func:`planerel.ilp.metrics.choose_class`).
 OTHER = "other"
+#: The class a merged proposal's solid is cut for (``decision.cut_boxes``).
+BOX = "box"
 #: Former name of :data:`OTHER`.
 UNKNOWN = OTHER
 
@@ -95,6 +97,12 @@ class ObjectAnswer:
         for a single model.
     member : int or None
         The member (1-based) whose rule and proof are given (None: a single model).
+    cut_from : str or None
+        ``decision.cut_boxes``: this box was cut from that proposal (its id): the solid of a
+        box proof's planes, decided as an object of its own (:mod:`planerel.features.box_cut`);
+        its ``rule`` and ``proof_planes`` say which rule and planes.
+    cut_off : tuple of str
+        The ids of the boxes cut from this proposal (its ``planes`` are then the rest).
     """
 
     object_id: str
@@ -112,6 +120,8 @@ class ObjectAnswer:
     refused: tuple = ()
     votes: tuple = ()
     member: int | None = None
+    cut_from: str | None = None
+    cut_off: tuple = ()
 
     def to_dict(self) -> dict:
         out = {"object": self.object_id, "class": self.klass, "rule": self.rule,
@@ -122,6 +132,10 @@ class ObjectAnswer:
                "planar_fraction": (None if self.planar_fraction is None
                                    else round(self.planar_fraction, 3)),
                "curved": self.curved, "refused": [r.to_dict() for r in self.refused]}
+        if self.cut_from is not None:
+            out["cut_from"] = self.cut_from
+        if self.cut_off:
+            out["cut_off"] = list(self.cut_off)
         if self.votes:
             out["member"] = self.member
             out["votes"] = [{"member": n, "class": v.klass, "rule": v.rule,
@@ -339,6 +353,10 @@ class Classifier:
         #: (:func:`~planerel.ilp.metrics.unsure_refusals`; ``decision.unsure_gate``): a scan's
         #: decision, as the foot and side gates
         self.unsure_gate = decision.unsure_gate
+        #: a box inside a merged proposal decided on its own (``decision.cut_boxes``,
+        #: :mod:`planerel.features.box_cut`): ``(reach, margin)``, or None when off
+        self.cut_boxes = ((decision.cut_reach, decision.cut_margin) if decision.cut_boxes
+                          else None)
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -383,6 +401,7 @@ class Classifier:
         self.cofire = ()
         self.planar_domain = self.proof_domain = self.level_domain = self.size_domain = ()
         self.slender_domain = self.range_domain = ()
+        self.cut_boxes = None
         self.warnings = tuple(dict.fromkeys((*self.warnings, *(w for m in members
                                                                 for w in m.warnings))))
 
@@ -473,10 +492,99 @@ class Classifier:
             load_file(facts, "cannot load the scene facts")
             if self.members:
                 return tuple(_voted([m._answer(desc, plane_ids, xyz) for m in self.members]))
-            return tuple(self._answer(desc, plane_ids, xyz))
+            answers = tuple(self._answer(desc, plane_ids, xyz))
         finally:
             unload_file(facts, "cannot unload the scene facts")
             facts.unlink(missing_ok=True)
+        if self.cut_boxes is not None and xyz is not None and BOX in self.classes:
+            answers = self._cut_boxes(desc, answers, plane_ids, xyz)
+        return answers
+
+    def _answer_objects(self, desc, objects, plane_ids, xyz) -> list:
+        """``objects`` (SceneObjects over ``desc``'s planes) answered as :meth:`_answer`
+        answers a description's own."""
+        from dataclasses import replace
+
+        from planerel.children import temp_prefix
+        from planerel.features.facts import FactParams, facts_text
+        from planerel.ilp.aleph_export import PAIRS
+
+        sub = replace(desc, objects=tuple(objects))
+        text = facts_text([sub], FactParams(pairs=PAIRS, planner=False))
+        with tempfile.NamedTemporaryFile("w", suffix=".pl", prefix=temp_prefix("cut"),
+                                         delete=False) as fh:
+            fh.write(text)
+            facts = Path(fh.name)
+        try:
+            load_file(facts, "cannot load the scene facts")
+            return self._answer(sub, plane_ids, xyz)
+        finally:
+            unload_file(facts, "cannot unload the scene facts")
+            facts.unlink(missing_ok=True)
+
+    def _cut_boxes(self, desc, answers, plane_ids, xyz) -> tuple:
+        """``decision.cut_boxes``: each proposal a box rule proves and a gate refuses ``box``
+        for, whose planes hold a box proof's solid (:func:`~planerel.features.box_cut.box_solids`)
+        smaller than itself: the solids decided as objects of their own; those answered
+        ``box`` by a rule that proved the proposal (largest first, sharing no plane) cut from
+        it, and the rest decided again (its class or ``other``)."""
+        from dataclasses import replace
+
+        from planerel.features._defaults import defaults
+        from planerel.features.box_cut import box_solids, cut_object
+        from planerel.features.curved import CurvedParams
+        from planerel.features.facts import SceneObject
+
+        reach, margin = self.cut_boxes
+        cp = self._describe_kw.get("curved_params") or defaults(CurvedParams)
+        facet = (cp.facet_min_angle, cp.facet_max_angle)
+        subs, parent_of, rules_of = [], {}, {}
+        for o, a in zip(desc.objects, answers, strict=True):
+            # only where a box rule proves the proposal and a gate refuses it: a proposal no
+            # box rule proves (a tall face beside a horizontal plane: ``nhorizontal(A,0)``
+            # does not hold) is not cut for a rule that holds on a part of it, and one whose
+            # box proof is answered another class unrefused (a flight's step) stays that class
+            rules_of[o.id] = {i for k, i in a.fired if k == BOX}
+            if (a.klass == BOX or not rules_of[o.id]
+                    or not any(getattr(r, "klass", None) == BOX for r in a.refused)):
+                continue
+            for k, solid in enumerate(box_solids(desc, o.planes, reach, facet), start=1):
+                s = cut_object(desc, o, solid, f"{o.id}_c{k}", xyz, tiny_area=cp.tiny_area,
+                               curved_below=cp.curved_below, margin=margin)
+                subs.append(s)
+                parent_of[s.id] = o.id
+        if not subs:
+            return answers
+        taken: dict[str, list] = {}
+        for s, a in zip(subs, self._answer_objects(desc, subs, plane_ids, xyz), strict=True):
+            if a.klass != BOX or a.rule_index not in rules_of[parent_of[s.id]]:
+                continue
+            mine = taken.setdefault(parent_of[s.id], [])
+            if any(set(s.planes) & set(b.labels) for b in mine):
+                continue
+            mine.append(replace(a, cut_from=parent_of[s.id]))
+        if not taken:
+            return answers
+        rests = []
+        for o in desc.objects:
+            if o.id in taken:
+                cut = {x for b in taken[o.id] for x in b.labels}
+                rests.append(SceneObject(o.id, tuple(x for x in o.planes if x not in cut), None,
+                                         o.mask, o.planar_fraction, o.curved))
+        rest = {r.object_id: r for r in self._answer_objects(desc, rests, plane_ids, xyz)}
+        out = []
+        for o, a in zip(desc.objects, answers, strict=True):
+            if o.id not in taken:
+                out.append(a)
+                continue
+            r = rest[o.id]
+            if r.klass not in (a.klass, OTHER):
+                r = ObjectAnswer(r.object_id, r.planes, r.labels, OTHER, fired=r.fired,
+                                 planar_fraction=r.planar_fraction, curved=r.curved,
+                                 refused=r.refused)
+            out.append(replace(r, cut_off=tuple(b.object_id for b in taken[o.id])))
+            out.extend(taken[o.id])
+        return tuple(out)
 
     def _check_open(self) -> None:
         if not self.module:

@@ -31,7 +31,7 @@ import numpy as np
 
 from planerel.errors import InputError
 
-__all__ = ["mosd_objects", "proposal_image", "score_objects", "FrameScore", "summarize",
+__all__ = ["mosd_objects", "answer_masks", "proposal_image", "score_objects", "FrameScore", "summarize",
            "evaluate_frames", "frame_truth", "miss_kind", "miss_breakdown", "MISS_KINDS",
            "mostly_hidden"]
 
@@ -51,6 +51,18 @@ def mosd_objects(label_field) -> np.ndarray:
     """
     lab = np.asarray(label_field).astype(np.int64)
     return np.where(lab >= 10, lab // 10, np.where(lab >= 1, 0, -1)).astype(np.int32)
+
+
+def answer_masks(objects, answers) -> list:
+    """The unexplained pixels (``SceneObject.mask``) of each answer of a scene, in answer order.
+
+    ``objects`` are the description's objects, ``answers`` the classifier's
+    (:class:`~planerel.classify.classifier.ObjectAnswer`): one per object, in the same order,
+    and with ``decision.cut_boxes`` a box cut from a proposal after it (``cut_from``), whose
+    mask is None (its planes are its pixels); the proposal it was cut from keeps its mask.
+    """
+    masks = {o.id: o.mask for o in objects}
+    return [None if getattr(a, "cut_from", None) else masks.get(a.object_id) for a in answers]
 
 
 def proposal_image(labels, proposals, masks=None) -> np.ndarray:

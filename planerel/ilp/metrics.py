@@ -180,6 +180,10 @@ SIDE_GATE = True
 #: looks at: a ramp's slope and a flight's treads are walked on, so a camera sees them from
 #: above their planes.
 SIDE_PLANES = {"ramp": "inclined", "stairs": "horizontal"}
+#: Defaults of :attr:`DecisionParams.cut_boxes`, ``cut_reach``, ``cut_margin``.
+CUT_BOXES = False
+CUT_REACH = 1.5
+CUT_MARGIN = 0.02
 #: Default of :attr:`DecisionParams.unsure_gate`.
 UNSURE_GATE = True
 #: The class :func:`unsure_refusals` refuses under an unconfirmed up.
@@ -391,6 +395,22 @@ class DecisionParams:
         a floor in view, and 4 false ones (a ramp taken for the ground, the floor then
         "inclined") have none.  A given or file up is never low: only an estimate (or the
         default level guess, confidence 0) is gated.  Only classify applies it.
+    cut_boxes : bool
+        A proposal not answered ``box`` whose planes hold a box proof's seed (a ``skirt`` or
+        ``face_pair`` pair, a ``tall_face``, a ``lying`` top) that is not the whole proposal:
+        the solid of that seed (:func:`planerel.features.box_cut.box_solids`) is decided as
+        an object of its own, with its own planar fraction and every gate; answered ``box``,
+        it is cut from the proposal (the answer's ``cut_from``), and the rest of the proposal
+        is decided again (it keeps the proposal's planar fraction and may keep its class or
+        become ``other``, nothing else).  For a box merged with what it stands on or touches
+        (core49, docs/objects.md "Boxes lost inside a merged proposal").  Only classify
+        applies it (it needs the scan's points); the learner's decision does not.
+    cut_reach : float
+        Metres (>= 0): a solid grows only while the diagonal of its planes' bounding box
+        stays within this.  1.5: the demo's box proofs reach at most 1.23 m.
+    cut_margin : float
+        Metres (>= 0): the proposal's unexplained pixels within this of the solid's planes'
+        bounding box (and in their image rectangle) count against its planar fraction.
     size_margin : float
         The share of the furthest-reaching training proof plane a proof may exceed it by
         (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
@@ -427,11 +447,14 @@ class DecisionParams:
     foot_float: float = FOOT_FLOAT
     side_gate: bool = SIDE_GATE
     unsure_gate: bool = UNSURE_GATE
+    cut_boxes: bool = CUT_BOXES
+    cut_reach: float = CUT_REACH
+    cut_margin: float = CUT_MARGIN
 
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
-                     "side_gate", "unsure_gate"):
+                     "side_gate", "unsure_gate", "cut_boxes"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -449,7 +472,7 @@ class DecisionParams:
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0 (metres), got {m!r}")
-        for name in ("size_margin", "slender_margin", "range_margin"):
+        for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
