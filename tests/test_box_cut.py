@@ -35,7 +35,7 @@ PLANAR = [("box", 1.0, 1.0, 100), ("stairs", 1.0, 1.0, 40)]
 SIZES = [("box", 1.2295, 137)]
 
 
-def _model(path: Path, *, cut=True, reach=None) -> Path:
+def _model(path: Path, *, cut=True, reach=None, corner=None) -> Path:
     from planerel.ilp.model_settings import training_settings
 
     path.mkdir(parents=True, exist_ok=True)
@@ -46,6 +46,8 @@ def _model(path: Path, *, cut=True, reach=None) -> Path:
     data["decision"]["cut_boxes"] = cut
     if reach is not None:
         data["decision"]["cut_reach"] = reach
+    if corner is not None:
+        data["decision"]["cut_corner"] = corner
     (path / "model.json").write_text(json.dumps(data))
     return path
 
@@ -125,17 +127,40 @@ def test_a_pile_answered_another_class_with_box_unrefused_is_not_cut(tmp_path):
     assert ("box", 1) in ans[0].fired
 
 
-def test_a_solid_whose_face_goes_on_into_a_round_surface_is_not_cut(tmp_path):
+def test_faces_going_on_into_a_round_surface_are_not_cut(tmp_path):
     # the price of not cutting two facets of a mug for a box (hunt33 ucn): the box's front
-    # and the pipe's strip are adjacent at 15 degrees, as neighbouring facets are
+    # and the pipe's strip are adjacent at 15 degrees, as neighbouring facets are.  With
+    # decision.cut_corner 3 its top, front and side (three faces at a corner) are cut
     from planerel.features.box_cut import box_solids
 
     cloud, desc, objs = _merged(ROUND_FLUSH)
     o = desc.objects[0]
     assert box_solids(desc, o.planes, 1.5) == []
-    assert {objs[x] for x in box_solids(desc, o.planes, 1.5, facet=(5.0, 10.0))[0]} == {2}
+    (solid,) = box_solids(desc, o.planes, 1.5, corner=3)
+    assert {objs[x] for x in solid} == {2} and len(solid) == 3
+    assert box_solids(desc, o.planes, 1.5, corner=4) == []
+    assert box_solids(desc, o.planes, 1.5, facet=(5.0, 10.0)) == [solid]
     ans = _answer(_model(tmp_path / "on"), cloud, desc)
     assert [a.klass for a in ans] == ["other"] and not ans[0].cut_off
+    ans = _answer(_model(tmp_path / "c3", corner=3), cloud, desc)
+    assert [a.klass for a in ans] == ["other", "box"] and ans[1].labels == solid
+
+
+def test_faces_meeting_as_facets_are_no_solid():
+    # a round thing's top with two side strips 30 degrees apart: skirts both, one solid by
+    # its edges, but its strips meet as facets do
+    from dataclasses import replace
+
+    from planerel.features.box_cut import box_solids
+
+    _cloud, desc, objs = _merged(ROUND)
+    o = desc.objects[0]
+    (solid,) = box_solids(desc, o.planes, 1.5)
+    a, b = [x for x in solid if desc.planes.by_label(x).orientation == "vertical"][:2]
+    pairs = tuple(replace(r, angle=30.0, adjacent=True) if {r.a, r.b} == {a, b} else r
+                  for r in desc.relations)
+    bent = replace(desc, relations=replace(desc.relations, pairs=pairs))
+    assert box_solids(bent, o.planes, 1.5) == []
 
 
 @pytest.mark.parametrize("reach", [None, 5.0])
@@ -176,8 +201,9 @@ def test_the_box_solids_and_the_cut_planar_fraction():
 
 
 @pytest.mark.parametrize("name, value", [("cut_boxes", 1), ("cut_reach", -1.0),
-                                         ("cut_margin", float("nan"))])
+                                         ("cut_margin", float("nan")), ("cut_corner", 1),
+                                         ("cut_corner", -2), ("cut_corner", 3.0)])
 def test_the_settings_are_checked(name, value):
     with pytest.raises(InputError, match=f"decision.{name}"):
         M.DecisionParams(**{name: value})
-    assert M.DecisionParams().cut_boxes is False
+    assert M.DecisionParams().cut_boxes is True and M.DecisionParams().cut_corner == 0

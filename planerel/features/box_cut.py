@@ -11,8 +11,9 @@ two planes of a ``skirt`` or a ``face_pair``; a ``tall_face`` or a ``lying`` top
 none: one plane is no solid) and grows each into the solid it belongs to: the proposal's
 planes that meet it at a convex box edge (``skirt``, ``corner``, ``face_pair`` relations), as
 long as the solid stays within ``reach`` metres (the diagonal of its planes' hulls' bounding
-box).  A solid whose faces go on into the proposal's other planes at a facet's angle (a round
-surface) is none.  :func:`cut_object` makes the solid a
+box).  A solid two of whose faces meet at a facet's angle is none, and so is one whose faces go
+on into the proposal's other planes at a facet's angle (a mug's rim and side; with
+``decision.cut_corner`` a solid of that many planes or more is kept).  :func:`cut_object` makes the solid a
 :class:`~planerel.features.facts.SceneObject` with its own planar fraction: its planes'
 points against the proposal's unexplained pixels that lie within its bounds.  The
 classifier then decides that object with the model's rules and every gate, as any proposal
@@ -23,10 +24,14 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["box_solids", "cut_object", "EDGES", "SEEDS"]
+__all__ = ["box_solids", "cut_object", "EDGES", "PIECES", "SEEDS"]
 
 #: relations that join two faces of one solid at a convex box edge
 EDGES = ("skirt", "corner", "face_pair")
+#: degrees: two planes of a solid at a facet's angle under this are pieces of one face the
+#: sensor's noise broke (hunt48's tops read 5-12 degrees off level, docs/objects.md "tilt36"),
+#: at this or more a round surface's neighbouring strips
+PIECES = 15.0
 #: relations whose two planes seed a solid (a box proof's pairs)
 SEEDS = ("skirt", "face_pair")
 
@@ -38,7 +43,7 @@ def _extent(planes, labels) -> float:
     return float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
 
 
-def box_solids(desc, planes, reach: float, facet: tuple = (5.0, 50.0)) -> list:
+def box_solids(desc, planes, reach: float, facet: tuple = (5.0, 50.0), corner: int = 0) -> list:
     """The solids a box proof's planes make among ``planes`` (labels of one proposal).
 
     Parameters
@@ -49,10 +54,17 @@ def box_solids(desc, planes, reach: float, facet: tuple = (5.0, 50.0)) -> list:
     reach : float
         Metres: a plane joins a solid only while the solid's extent stays within this.
     facet : (float, float)
-        Degrees (``CurvedParams.facet_min_angle``, ``facet_max_angle``): a solid with a plane
-        adjacent to one of the proposal's other planes at an angle in this range is left out:
-        its faces go on into a round surface (two facets of a mug, a bowl's rim) and it is
-        no solid of its own.
+        Degrees (``CurvedParams.facet_min_angle``, ``facet_max_angle``): two adjacent planes
+        at an angle in this range are neighbouring facets of a round surface.  A solid two
+        of whose planes are is left out (at :data:`PIECES` degrees or more: under it they
+        are pieces of one broken face); so is a solid of fewer than ``corner`` planes with a
+        plane adjacent to one of the proposal's other planes at such an angle: two faces that
+        go on into a round surface (a mug's rim and side, a canister's) are no solid of their
+        own.
+    corner : int
+        0 (none) or the number of planes from which a solid (3: a top and two sides, three
+        faces at a box's corner) is kept beside a round neighbour's facets (a container with
+        a toy brick and a marker touching it; ``decision.cut_corner``).
 
     Returns
     -------
@@ -76,10 +88,13 @@ def box_solids(desc, planes, reach: float, facet: tuple = (5.0, 50.0)) -> list:
     # ``oblique_share``) that a part cut out of the proposal would pass by construction
     ps = desc.planes
     smooth: dict[int, set] = {x: set() for x in own}
+    bent: dict[int, set] = {x: set() for x in own}
     for r in desc.relations:
         if (r.a in own and r.b in own and r.a != r.b and r.adjacent
                 and facet[0] <= r.angle <= facet[1]):
             smooth[r.a].add(r.b)
+            if r.angle >= PIECES:
+                bent[r.a].add(r.b)
     out = []
     for seed in seeds:
         solid = set(seed)
@@ -93,8 +108,10 @@ def box_solids(desc, planes, reach: float, facet: tuple = (5.0, 50.0)) -> list:
                     solid.add(x)
                     grown = True
         t = tuple(sorted(solid))
-        if any(smooth[x] - solid for x in solid):
-            continue
+        if any(bent[x] & solid for x in solid):
+            continue   # two of its faces meet as a round surface's facets do
+        if (not corner or len(t) < corner) and any(smooth[x] - solid for x in solid):
+            continue   # two faces going on into the proposal's round surface
         if len(t) < len(own) and t not in out:
             out.append(t)
     out.sort(key=lambda t: (-sum(ps.by_label(x).n_points for x in t), t))

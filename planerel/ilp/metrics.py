@@ -181,9 +181,10 @@ SIDE_GATE = True
 #: above their planes.
 SIDE_PLANES = {"ramp": "inclined", "stairs": "horizontal"}
 #: Defaults of :attr:`DecisionParams.cut_boxes`, ``cut_reach``, ``cut_margin``.
-CUT_BOXES = False
+CUT_BOXES = True
 CUT_REACH = 1.5
 CUT_MARGIN = 0.02
+CUT_CORNER = 0
 #: Default of :attr:`DecisionParams.unsure_gate`.
 UNSURE_GATE = True
 #: The class :func:`unsure_refusals` refuses under an unconfirmed up.
@@ -396,7 +397,7 @@ class DecisionParams:
         "inclined") have none.  A given or file up is never low: only an estimate (or the
         default level guess, confidence 0) is gated.  Only classify applies it.
     cut_boxes : bool
-        A proposal not answered ``box`` whose planes hold a box proof's seed (a ``skirt`` or
+        On by default (core49).  A proposal not answered ``box`` whose planes hold a box proof's seed (a ``skirt`` or
         ``face_pair`` pair, a ``tall_face``, a ``lying`` top) that is not the whole proposal:
         the solid of that seed (:func:`planerel.features.box_cut.box_solids`) is decided as
         an object of its own, with its own planar fraction and every gate; answered ``box``,
@@ -411,6 +412,14 @@ class DecisionParams:
     cut_margin : float
         Metres (>= 0): the proposal's unexplained pixels within this of the solid's planes'
         bounding box (and in their image rectangle) count against its planar fraction.
+    cut_corner : int
+        0 (off) or >= 2: a solid of this many planes or more (3: a top and two sides) is cut
+        even when one of its faces is adjacent to the proposal's other planes at a facet's
+        angle (a container with a toy brick touching it); with 0 no such solid is (two
+        facets of a mug never are).  Off by default: 3 found one real box more (hunt33 ucn's
+        container) and answered one false box more (hunt48 arkit-rooms, a crate's rim and a
+        bed's edge) and one more false object on mOSD's test frames (docs/objects.md "Boxes
+        lost inside a merged proposal").
     size_margin : float
         The share of the furthest-reaching training proof plane a proof may exceed it by
         (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
@@ -450,6 +459,7 @@ class DecisionParams:
     cut_boxes: bool = CUT_BOXES
     cut_reach: float = CUT_REACH
     cut_margin: float = CUT_MARGIN
+    cut_corner: int = CUT_CORNER
 
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
@@ -477,6 +487,10 @@ class DecisionParams:
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0, got {m!r}")
+        n = self.cut_corner
+        if isinstance(n, bool) or not isinstance(n, int) or n < 0 or n == 1:
+            raise InputError(f"decision.cut_corner must be 0 (off) or a whole number >= 2, "
+                             f"got {n!r}")
         n = self.proof_min_positives
         if isinstance(n, bool) or not isinstance(n, int) or n < 1:
             raise InputError(f"decision.proof_min_positives must be a whole number >= 1, got {n!r}")
