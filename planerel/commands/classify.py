@@ -64,7 +64,11 @@ def register(sub) -> None:
                         "decision.side_gate (on by default) refuses ramp for a slope, and "
                         "stairs for treads, the camera sees only from below (an underside); "
                         "decision.unsure_gate (on by default) refuses ramp when the up is a "
-                        "low-confidence estimate and no floor is in view")
+                        "low-confidence estimate and no floor is in view; "
+                        "decision.cut_boxes (on by default) decides the solid of a box "
+                        "proof's planes inside a proposal a gate refused box for as an "
+                        "object of its own (decision.cut_reach, cut_margin, cut_corner) and "
+                        "cuts it off when it is a box (--json: cut_from)")
     add_input_options(p)
     add_batch_options(p)
     p.set_defaults(func=run)
