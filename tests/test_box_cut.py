@@ -161,6 +161,7 @@ def test_faces_meeting_as_facets_are_no_solid():
                   for r in desc.relations)
     bent = replace(desc, relations=replace(desc.relations, pairs=pairs))
     assert box_solids(bent, o.planes, 1.5) == []
+    assert box_solids(bent, o.planes, 1.5, pieces=31.0) == [solid]   # pieces of one face
 
 
 @pytest.mark.parametrize("reach", [None, 5.0])
@@ -202,7 +203,8 @@ def test_the_box_solids_and_the_cut_planar_fraction():
 
 @pytest.mark.parametrize("name, value", [("cut_boxes", 1), ("cut_reach", -1.0),
                                          ("cut_margin", float("nan")), ("cut_corner", 1),
-                                         ("cut_corner", -2), ("cut_corner", 3.0)])
+                                         ("cut_corner", -2), ("cut_corner", 3.0),
+                                         ("cut_pieces", 91.0), ("cut_pieces", True)])
 def test_the_settings_are_checked(name, value):
     with pytest.raises(InputError, match=f"decision.{name}"):
         M.DecisionParams(**{name: value})

@@ -354,9 +354,9 @@ class Classifier:
         #: decision, as the foot and side gates
         self.unsure_gate = decision.unsure_gate
         #: a box inside a merged proposal decided on its own (``decision.cut_boxes``,
-        #: :mod:`planerel.features.box_cut`): ``(reach, margin, corner)``, or None when off
-        self.cut_boxes = ((decision.cut_reach, decision.cut_margin, decision.cut_corner)
-                          if decision.cut_boxes else None)
+        #: :mod:`planerel.features.box_cut`): ``(reach, margin, corner, pieces)``, or None when off
+        self.cut_boxes = ((decision.cut_reach, decision.cut_margin, decision.cut_corner,
+                           decision.cut_pieces) if decision.cut_boxes else None)
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -535,7 +535,7 @@ class Classifier:
         from planerel.features.curved import CurvedParams
         from planerel.features.facts import SceneObject
 
-        reach, margin, corner = self.cut_boxes
+        reach, margin, corner, pieces = self.cut_boxes
         cp = self._describe_kw.get("curved_params") or defaults(CurvedParams)
         facet = (cp.facet_min_angle, cp.facet_max_angle)
         subs, parent_of, rules_of = [], {}, {}
@@ -548,7 +548,8 @@ class Classifier:
             if (a.klass == BOX or not rules_of[o.id]
                     or not any(getattr(r, "klass", None) == BOX for r in a.refused)):
                 continue
-            for k, solid in enumerate(box_solids(desc, o.planes, reach, facet, corner), start=1):
+            solids = box_solids(desc, o.planes, reach, facet, corner, pieces)
+            for k, solid in enumerate(solids, start=1):
                 s = cut_object(desc, o, solid, f"{o.id}_c{k}", xyz, tiny_area=cp.tiny_area,
                                curved_below=cp.curved_below, margin=margin)
                 subs.append(s)

@@ -28,9 +28,7 @@ __all__ = ["box_solids", "cut_object", "EDGES", "PIECES", "SEEDS"]
 
 #: relations that join two faces of one solid at a convex box edge
 EDGES = ("skirt", "corner", "face_pair")
-#: degrees: two planes of a solid at a facet's angle under this are pieces of one face the
-#: sensor's noise broke (hunt48's tops read 5-12 degrees off level, docs/objects.md "tilt36"),
-#: at this or more a round surface's neighbouring strips
+#: default of :func:`box_solids`' ``pieces`` (``decision.cut_pieces``)
 PIECES = 15.0
 #: relations whose two planes seed a solid (a box proof's pairs)
 SEEDS = ("skirt", "face_pair")
@@ -43,7 +41,8 @@ def _extent(planes, labels) -> float:
     return float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
 
 
-def box_solids(desc, planes, reach: float, facet: tuple = (5.0, 50.0), corner: int = 0) -> list:
+def box_solids(desc, planes, reach: float, facet: tuple = (5.0, 50.0), corner: int = 0,
+               pieces: float = PIECES) -> list:
     """The solids a box proof's planes make among ``planes`` (labels of one proposal).
 
     Parameters
@@ -56,8 +55,8 @@ def box_solids(desc, planes, reach: float, facet: tuple = (5.0, 50.0), corner: i
     facet : (float, float)
         Degrees (``CurvedParams.facet_min_angle``, ``facet_max_angle``): two adjacent planes
         at an angle in this range are neighbouring facets of a round surface.  A solid two
-        of whose planes are is left out (at :data:`PIECES` degrees or more: under it they
-        are pieces of one broken face); so is a solid of fewer than ``corner`` planes with a
+        of whose planes are is left out (at ``pieces`` degrees or more: under it they are
+        pieces of one broken face); so is a solid of fewer than ``corner`` planes with a
         plane adjacent to one of the proposal's other planes at such an angle: two faces that
         go on into a round surface (a mug's rim and side, a canister's) are no solid of their
         own.
@@ -65,6 +64,11 @@ def box_solids(desc, planes, reach: float, facet: tuple = (5.0, 50.0), corner: i
         0 (none) or the number of planes from which a solid (3: a top and two sides, three
         faces at a box's corner) is kept beside a round neighbour's facets (a container with
         a toy brick and a marker touching it; ``decision.cut_corner``).
+    pieces : float
+        Degrees: two planes of a solid at a facet's angle under this are pieces of one face
+        the sensor's noise broke (hunt48's tops read 5-12 degrees off level, docs/objects.md
+        "tilt36"); at this or more, a round surface's neighbouring strips
+        (``decision.cut_pieces``).
 
     Returns
     -------
@@ -93,7 +97,7 @@ def box_solids(desc, planes, reach: float, facet: tuple = (5.0, 50.0), corner: i
         if (r.a in own and r.b in own and r.a != r.b and r.adjacent
                 and facet[0] <= r.angle <= facet[1]):
             smooth[r.a].add(r.b)
-            if r.angle >= PIECES:
+            if r.angle >= pieces:
                 bent[r.a].add(r.b)
     out = []
     for seed in seeds:

@@ -185,6 +185,7 @@ CUT_BOXES = True
 CUT_REACH = 1.5
 CUT_MARGIN = 0.02
 CUT_CORNER = 0
+CUT_PIECES = 15.0
 #: Default of :attr:`DecisionParams.unsure_gate`.
 UNSURE_GATE = True
 #: The class :func:`unsure_refusals` refuses under an unconfirmed up.
@@ -420,6 +421,12 @@ class DecisionParams:
         container) and answered one false box more (hunt48 arkit-rooms, a crate's rim and a
         bed's edge) and one more false object on mOSD's test frames (docs/objects.md "Boxes
         lost inside a merged proposal").
+    cut_pieces : float
+        Degrees (0..90): two faces of a solid adjacent at a facet's angle
+        (``curved.facet_min_angle``-``facet_max_angle``) but under this are pieces of one face
+        the sensor's noise broke (hunt48's tops read 5-12 degrees off level; a food
+        container's side in three pieces 2-7 degrees apart), not a round surface's strips,
+        which make the solid none.
     size_margin : float
         The share of the furthest-reaching training proof plane a proof may exceed it by
         (>= 0).  0.2: the demo's box proofs reach at most 1.23 m (a 1.2 m box's top), refused
@@ -460,6 +467,7 @@ class DecisionParams:
     cut_reach: float = CUT_REACH
     cut_margin: float = CUT_MARGIN
     cut_corner: int = CUT_CORNER
+    cut_pieces: float = CUT_PIECES
 
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
@@ -487,6 +495,11 @@ class DecisionParams:
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0, got {m!r}")
+        m = self.cut_pieces
+        if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
+                or not 0 <= m <= 90):
+            raise InputError(f"decision.cut_pieces must be a number of degrees in 0..90, "
+                             f"got {m!r}")
         n = self.cut_corner
         if isinstance(n, bool) or not isinstance(n, int) or n < 0 or n == 1:
             raise InputError(f"decision.cut_corner must be 0 (off) or a whole number >= 2, "
