@@ -11,6 +11,7 @@ must be used from the main thread.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import itertools
 import re
@@ -475,27 +476,14 @@ class Classifier:
             One per object (empty when the description has none); a members model's answers
             are its members' vote.
         """
-        from planerel.children import temp_prefix
-        from planerel.features.facts import FactParams, facts_text
-        from planerel.ilp.aleph_export import PAIRS
-
         self._check_open()
         if not desc.objects:
             return ()
         plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
-        text = facts_text([desc], FactParams(pairs=PAIRS, planner=False))
-        with tempfile.NamedTemporaryFile("w", suffix=".pl", prefix=temp_prefix("scene"),
-                                         delete=False) as fh:
-            fh.write(text)
-            facts = Path(fh.name)
-        try:
-            load_file(facts, "cannot load the scene facts")
+        with _scene_facts(desc, "scene"):
             if self.members:
                 return tuple(_voted([m._answer(desc, plane_ids, xyz) for m in self.members]))
             answers = tuple(self._answer(desc, plane_ids, xyz))
-        finally:
-            unload_file(facts, "cannot unload the scene facts")
-            facts.unlink(missing_ok=True)
         if self.cut_boxes is not None and xyz is not None and BOX in self.classes:
             answers = self._cut_boxes(desc, answers, plane_ids, xyz)
         return answers
@@ -505,22 +493,9 @@ class Classifier:
         answers a description's own."""
         from dataclasses import replace
 
-        from planerel.children import temp_prefix
-        from planerel.features.facts import FactParams, facts_text
-        from planerel.ilp.aleph_export import PAIRS
-
         sub = replace(desc, objects=tuple(objects))
-        text = facts_text([sub], FactParams(pairs=PAIRS, planner=False))
-        with tempfile.NamedTemporaryFile("w", suffix=".pl", prefix=temp_prefix("cut"),
-                                         delete=False) as fh:
-            fh.write(text)
-            facts = Path(fh.name)
-        try:
-            load_file(facts, "cannot load the scene facts")
+        with _scene_facts(sub, "cut"):
             return self._answer(sub, plane_ids, xyz)
-        finally:
-            unload_file(facts, "cannot unload the scene facts")
-            facts.unlink(missing_ok=True)
 
     def _cut_boxes(self, desc, answers, plane_ids, xyz) -> tuple:
         """``decision.cut_boxes``: each proposal a box rule proves and a gate refuses ``box``
@@ -701,6 +676,27 @@ class Classifier:
                                             proof, fired, index, laplace(tp, fp),
                                             o.planar_fraction, o.curved, refused))
         return answers
+
+
+@contextlib.contextmanager
+def _scene_facts(desc, prefix: str):
+    """The Prolog facts of scene description ``desc`` loaded for the ``with`` block (written to
+    a temporary file named with ``prefix``, unloaded and removed after it)."""
+    from planerel.children import temp_prefix
+    from planerel.features.facts import FactParams, facts_text
+    from planerel.ilp.aleph_export import PAIRS
+
+    text = facts_text([desc], FactParams(pairs=PAIRS, planner=False))
+    with tempfile.NamedTemporaryFile("w", suffix=".pl", prefix=temp_prefix(prefix),
+                                     delete=False) as fh:
+        fh.write(text)
+        facts = Path(fh.name)
+    try:
+        load_file(facts, "cannot load the scene facts")
+        yield
+    finally:
+        unload_file(facts, "cannot unload the scene facts")
+        facts.unlink(missing_ok=True)
 
 
 def _voted(per_member: list) -> list:
