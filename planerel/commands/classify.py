@@ -67,7 +67,7 @@ def register(sub) -> None:
                         "low-confidence estimate and no floor is in view; "
                         "decision.cut_boxes (on by default) decides the solid of a box "
                         "proof's planes inside a proposal a gate refused box for as an "
-                        "object of its own (decision.cut_reach, cut_margin, cut_corner) and "
+                        "object of its own (decision.cut_reach, cut_margin, cut_corner, cut_pieces) and "
                         "cuts it off when it is a box (--json: cut_from)")
     add_input_options(p)
     add_batch_options(p)

@@ -99,6 +99,12 @@ __all__ = [
 
 #: Up of a level camera in the optical frame (x right, y down, z forward).
 DEFAULT_UP = (0.0, -1.0, 0.0)
+#: Degrees: a speckle floor (``GravityParams.sparse_floor``) within this of the planes'
+#: estimate adds only its fitting noise and does not vote; a segmented plane within this of it
+#: (and :data:`SPARSE_SAME_OFFSET` of its offset) is that floor already.
+SPARSE_AGREE_DEG = 10.0
+#: Metres: see :data:`SPARSE_AGREE_DEG`.
+SPARSE_SAME_OFFSET = 0.05
 #: Where an up vector came from.
 SOURCES = ("given", "file", "estimated", "default")
 
@@ -198,16 +204,18 @@ class GravityParams:
     near_floor_deg : float
         The largest angle between that plane's normal and the flagged estimate, degrees.
     sparse_floor : float
-        A floor measured only as speckle votes too (:func:`_sparse_floor`): a camera a few
+        A floor measured only as speckle votes too (:func:`speckle_floor`): a camera a few
         decimetres over a floor sees it at grazing incidence, where structured light and
         active stereo return scattered pixels that no region grows over.  The unassigned
         valid points of the image's lower half are fitted by a plane (a seeded RANSAC within
         ``sparse_floor_tol`` m) whose normal lies within ``sparse_floor_deg`` of the image's
         up axis and which passes at most this many metres under the camera; when enough of
         them fit it (``sparse_floor_share``, at least ``sparse_floor_min`` of the image's
-        pixels) over at least ``sparse_floor_reach`` m of range and no segmented plane is
-        that floor already, it votes as a plane of the area its inliers measure (their
-        pixels' footprints).  0: off (only segmented planes vote).
+        pixels) over at least ``sparse_floor_reach`` m of range and ``sparse_floor_area``
+        m^2 of extent, it votes as a plane of that extent, but only when the planes' own
+        estimate is more than :data:`SPARSE_AGREE_DEG` from it and no segmented plane of
+        ``near_floor_area`` is that floor already (within :data:`SPARSE_AGREE_DEG` and
+        :data:`SPARSE_SAME_OFFSET`).  0: off (only segmented planes vote).
     sparse_floor_deg : float
         The largest angle between that floor's normal and the image's up axis, degrees.
     sparse_floor_tol : float
@@ -933,9 +941,10 @@ def up_from_cloud(cloud, labels=None, params: GravityParams | None = None) -> Up
         sparse = speckle_floor(cloud, labels, params=params)
         # a speckle floor the planes' estimate agrees with adds nothing but its fitting noise;
         # a segmented plane that is that floor already votes for it
-        if sparse is None or float(np.dot(est.vector, sparse[0])) >= math.cos(math.radians(10.0)) \
-                or ((normals @ sparse[0] >= math.cos(math.radians(10.0)))
-                    & (np.abs(offsets - sparse[2]) <= 0.05)
+        agree = math.cos(math.radians(SPARSE_AGREE_DEG))
+        if sparse is None or float(np.dot(est.vector, sparse[0])) >= agree \
+                or ((normals @ sparse[0] >= agree)
+                    & (np.abs(offsets - sparse[2]) <= SPARSE_SAME_OFFSET)
                     & (weights >= params.near_floor_area)).any():
             return est
         est = estimate_gravity(np.vstack([normals, sparse[0][None]]), np.append(weights, sparse[1]),

@@ -398,8 +398,9 @@ class DecisionParams:
         "inclined") have none.  A given or file up is never low: only an estimate (or the
         default level guess, confidence 0) is gated.  Only classify applies it.
     cut_boxes : bool
-        On by default (core49).  A proposal not answered ``box`` whose planes hold a box proof's seed (a ``skirt`` or
-        ``face_pair`` pair, a ``tall_face``, a ``lying`` top) that is not the whole proposal:
+        On by default (core49).  A proposal a box rule proves and a gate refuses ``box`` for,
+        whose planes hold a box proof's seed (a ``skirt`` or ``face_pair`` pair; a lone
+        ``tall_face`` or ``lying`` top seeds none) that is not the whole proposal:
         the solid of that seed (:func:`planerel.features.box_cut.box_solids`) is decided as
         an object of its own, with its own planar fraction and every gate; answered ``box``,
         it is cut from the proposal (the answer's ``cut_from``), and the rest of the proposal
