@@ -145,3 +145,14 @@ def test_the_gravity_settings_are_checked(name, value):
 def test_the_relation_settings_are_checked(name):
     with pytest.raises(InputError):
         RelationParams(**{name: -0.1})
+
+
+def test_the_gravity_settings_reach_the_speckle_floor_under_a_face():
+    # ``--param gravity.sparse_floor_area=...`` bounds the floor that grounds a tall face too
+    cloud, lab, up = _speckled(_carton())
+    cloud = Cloud(cloud.xyz, cloud.intrinsics, up, "analytic")
+    ps = measure_planes(cloud, lab)
+    rel = relate(ps, cloud, RelationParams())
+    assert 1 in tall_faces(ps, rel, cloud, gravity_params=GravityParams())
+    strict = GravityParams(sparse_floor_area=100.0)  # no floor this large in view
+    assert 1 not in tall_faces(ps, rel, cloud, gravity_params=strict)

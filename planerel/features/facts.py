@@ -306,7 +306,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     cut = truncated_planes(planes.labels, np.asarray(cloud.xyz, float))
     # the vertical planes standing on the ground with their top out of sight (their profiles
     # mostly measured by the skirt tests against the floor or the table they stand on)
-    tall = tall_faces(planes, rel, cloud, profiles)
+    tall = tall_faces(planes, rel, cloud, profiles, gravity_params)
     support = tuple(support_planes(planes, pp, rel, cloud))
     # the tops of flat things lying on a table or the floor, their sides edge-on
     lying = lying_tops(planes, rel, support, cloud)

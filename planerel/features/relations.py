@@ -1067,7 +1067,8 @@ def skirts_within_objects(relations: Relations, objects, planes, support=()) -> 
     return Relations(pairs, relations.params, relations.skirt_steps)
 
 
-def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None = None) -> frozenset:
+def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None = None,
+               gravity_params=None) -> frozenset:
     """Labels of the vertical planes that stand on the ground as a solid's side whose top the
     sensor cannot see (``tall_face/1``): what a box seen as one face shows.
 
@@ -1124,6 +1125,9 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     profiles : dict, optional
         ``{face label: FaceProfile}`` already measured (:func:`relate`'s); filled with the
         ones measured here.
+    gravity_params : GravityParams, optional
+        The speckle floor's bounds (``sparse_floor_*``) for the floor that grounds a face
+        when no floor plane exists (``tall_speckle_floor``); default the defaults.
 
     Returns
     -------
@@ -1178,7 +1182,10 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
             and getattr(planes, "floor", None) is None:
         from planerel.features.gravity import GravityParams, speckle_floor
 
-        found = speckle_floor(cloud, lab, up, 10.0, GravityParams(sparse_floor=p.tall_speckle_floor))
+        # the gravity stage's speckle bounds (``--param gravity.sparse_floor_*`` reaches here
+        # too), the depth under the camera this stage's own
+        gp = replace(gravity_params or GravityParams(), sparse_floor=p.tall_speckle_floor)
+        found = speckle_floor(cloud, lab, up, 10.0, gp)
         if found is not None:
             floor = VirtualFloor(up, -found[2])
     if floor is not None and p.tall_floor_fit > 0:
