@@ -156,3 +156,41 @@ def test_the_gravity_settings_reach_the_speckle_floor_under_a_face():
     assert 1 in tall_faces(ps, rel, cloud, gravity_params=GravityParams())
     strict = GravityParams(sparse_floor_area=100.0)  # no floor this large in view
     assert 1 not in tall_faces(ps, rel, cloud, gravity_params=strict)
+
+
+def _ceiling_over_speckle(stray=0.15):
+    """A camera 0.2 m over a floor measured as 5 % speckle plus stray returns 0.1-1 m over it
+    (a share of about 0.25 of the lower half's unassigned points on the floor), a low ceiling
+    over it, a far wall: the planes' estimate reads the camera upside down (hunt45 xtion_2)."""
+    ceiling = Rect((0, 2.0, 1.0), (1, 0, 0), (0, 1, 0), 1.0, 1.5, 3)
+    cloud, lab, up, _ = render([floor(), wall(y=5.0, w=6.0, h=2.4), ceiling], noise=0.0012,
+                               pitch=0.0, cam_height=0.2, width=320, height=240)
+    rng = np.random.default_rng(3)
+    on_floor = lab == 0
+    drop = on_floor & (rng.random(lab.shape) > 0.05)
+    off = drop & (rng.random(lab.shape) < stray)
+    xyz = cloud.xyz.copy()
+    xyz[off] *= rng.uniform(0.6, 1.0, (int(off.sum()), 1))
+    xyz[off, 1] -= rng.uniform(0.1, 1.0, int(off.sum()))
+    xyz[drop & ~off] = np.nan
+    lab = lab.copy()
+    lab[on_floor] = -1
+    return Cloud(xyz, cloud.intrinsics, None, "analytic"), lab, up
+
+
+def test_a_speckle_floor_under_an_upside_down_reading_needs_a_smaller_share():
+    cloud, lab, up = _ceiling_over_speckle()
+    assert speckle_floor(cloud, lab, params=GravityParams(sparse_floor_share=0.3)) is None
+    assert speckle_floor(cloud, lab, params=GravityParams(sparse_floor_share=0.2)) is not None
+    assert up_from_cloud(cloud, lab, GravityParams(sparse_floor=0.0)).upside_down
+    same = up_from_cloud(cloud, lab, GravityParams(sparse_floor_flip_share=0.3))
+    assert same.upside_down and _deg(same.vector, up) > 170
+    est = up_from_cloud(cloud, lab, GravityParams())  # the default flip share, 0.2
+    assert not est.upside_down and est.sparse_floor and _deg(est.vector, up) < 2
+
+
+def test_the_flip_share_is_checked():
+    with pytest.raises(InputError):
+        GravityParams(sparse_floor_flip_share=1.5)
+    with pytest.raises(InputError):
+        GravityParams(sparse_floor_tries=2)

@@ -230,6 +230,14 @@ class GravityParams:
         The least extent of that floor, m^2 (measured as a segmented plane's area is): a floor
         under a low camera reaches metres away; unassigned points of a cluttered table seen
         from close by fit planes of well under a square metre.
+    sparse_floor_flip_share : float
+        ``sparse_floor_share`` when the planes' estimate reads the camera upside down
+        (``UpEstimate.upside_down``: a ceiling taken for the floor): a floor in the image's
+        lower half contradicts that reading, so a smaller share of the speckle suffices.
+        Equal to ``sparse_floor_share``: no difference.
+    sparse_floor_tries : int
+        The seeded three-point hypotheses of that fit.  A floor holding a share ``s`` of the
+        points is hit by about ``tries * s**3`` of them (4.5 at 256 tries and ``s`` 0.26).
     """
 
     tol_deg: float = 5.0
@@ -261,6 +269,8 @@ class GravityParams:
     sparse_floor_min: float = 0.002
     sparse_floor_reach: float = 0.5
     sparse_floor_area: float = 1.5
+    sparse_floor_flip_share: float = 0.2
+    sparse_floor_tries: int = 256
 
     def __post_init__(self) -> None:
         checks = (("tol_deg", 0.5, 20.0), ("min_area", 0.0, 100.0), ("vertical_weight", 0.0, 1.0),
@@ -273,7 +283,8 @@ class GravityParams:
                   ("near_floor_area", 0.0, 1000.0), ("near_floor_deg", 0.0, 60.0),
                   ("sparse_floor", 0.0, 10.0), ("sparse_floor_deg", 0.0, 90.0),
                   ("sparse_floor_tol", 0.001, 1.0), ("sparse_floor_share", 0.0, 1.0),
-                  ("sparse_floor_min", 0.0, 1.0), ("sparse_floor_reach", 0.0, 100.0), ("sparse_floor_area", 0.0, 1000.0))
+                  ("sparse_floor_min", 0.0, 1.0), ("sparse_floor_reach", 0.0, 100.0), ("sparse_floor_area", 0.0, 1000.0),
+                  ("sparse_floor_flip_share", 0.0, 1.0))
         for name, lo, hi in checks:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
@@ -282,7 +293,7 @@ class GravityParams:
         for name in ("flip", "mirror_pairs", "mirror_pairs_near"):
             if not isinstance(getattr(self, name), bool):
                 raise InputError(f"gravity {name} must be true or false, got {getattr(self, name)!r}")
-        for name in ("min_points", "max_planes"):
+        for name in ("min_points", "max_planes", "sparse_floor_tries"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 3:
                 raise InputError(f"gravity {name} must be an integer >= 3, got {v!r}")
@@ -814,9 +825,9 @@ def speckle_floor(cloud, labels, axis=DEFAULT_UP, max_deg: float | None = None,
         return None
     stride = max(1, pts.shape[0] // 20000)
     pts = pts[::stride]
-    # 256 seeded three-point hypotheses at once, scored on at most 4000 of the points
+    # ``sparse_floor_tries`` seeded three-point hypotheses at once, scored on at most 4000 of the points
     rng = np.random.default_rng(0)
-    tri = pts[rng.integers(0, pts.shape[0], size=(256, 3))]
+    tri = pts[rng.integers(0, pts.shape[0], size=(params.sparse_floor_tries, 3))]
     nrm = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     length = np.linalg.norm(nrm, axis=1)
     good = length > 1e-12
@@ -938,7 +949,9 @@ def up_from_cloud(cloud, labels=None, params: GravityParams | None = None) -> Up
     if labels is not None:
         normals, weights, offsets, ranges, cent = _planes_from_labels(cloud, labels, params)
         est = estimate_gravity(normals, weights, offsets, params, ranges, cent)
-        sparse = speckle_floor(cloud, labels, params=params)
+        sparse = speckle_floor(cloud, labels, params=params if not est.upside_down else
+                               dataclasses.replace(params, sparse_floor_share=min(
+                                   params.sparse_floor_share, params.sparse_floor_flip_share)))
         # a speckle floor the planes' estimate agrees with adds nothing but its fitting noise;
         # a segmented plane that is that floor already votes for it
         agree = math.cos(math.radians(SPARSE_AGREE_DEG))
