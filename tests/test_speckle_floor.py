@@ -194,3 +194,28 @@ def test_the_flip_share_is_checked():
         GravityParams(sparse_floor_flip_share=1.5)
     with pytest.raises(InputError):
         GravityParams(sparse_floor_tries=2)
+
+
+def test_real_xtion_doorway_is_read_upright():
+    """hunt45 mbot xtion_2 (``$PLANEREL_HUNT_DATA/hunt45/mbot``: an Xtion 0.2 m over a
+    corridor's floor, a low ceiling seen from below): read upside down with the speckle's
+    share bound at 0.3, upright with the flip share (0.2; 1.4 degrees from its floor's up)."""
+    import json
+    import os
+    from pathlib import Path
+
+    import planerel
+    from planerel.segment import segment
+
+    folder = Path(os.environ.get("PLANEREL_HUNT_DATA", "/nonexistent")) / "hunt45" / "mbot"
+    if not (folder / "labels.json").is_file():
+        pytest.skip(f"no frames in {folder} (set PLANEREL_HUNT_DATA)")
+    fr = next(f for f in json.loads((folder / "labels.json").read_text())["frames"]
+              if f["file"] == "xtion_2_depth.png")
+    cloud = planerel.read(str(folder / fr["file"]), intrinsics=fr["intrinsics"],
+                          depth_scale=fr["depth_scale"])
+    labels = segment(cloud).labels
+    now = up_from_cloud(cloud, labels)
+    before = up_from_cloud(cloud, labels, GravityParams(sparse_floor_flip_share=0.3))
+    assert before.upside_down and not now.upside_down and now.sparse_floor
+    assert _deg(now.vector, before.vector) > 170
