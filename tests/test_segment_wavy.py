@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter
 
+from planerel.errors import InputError
 from planerel.io.cloud import Cloud, Intrinsics
 from planerel.segment import segment
 from planerel.segment.merge import join_wavy
@@ -293,3 +294,64 @@ def test_a_box_top_and_its_side_apart_by_a_smeared_edge_are_one_object_on_a_wavy
     assert not estimate_noise(cloud, waviness=True).wavy
     cut = propose_objects(planes, rel, ProposalParams(), cloud)
     assert (TOP,) in cut and (FRONT,) in cut
+
+
+#: A wavier scene, whose floor region growing leaves mostly unassigned (wave 3.9-4.0): white
+#: noise 0.0006 z^2 and a 3 px field of 0.004 z^2 (hunt49's SUN RealSense frames: wave 3.6-4.3,
+#: their floors 40-80 % unassigned).
+ROUGH = dict(wave_amp=0.004, white=0.0006, corr=3.0)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_wavy_floor_left_unassigned_is_one_plane(seed):
+    # region growing leaves half the floor unassigned; the leftover step's plane fails the
+    # noise model's planarity test and passes the waviness test (wavy_leftover)
+    cloud, face = _scene(seed=seed, **ROUGH)
+    off = segment(cloud, **{"split.wavy_leftover": False})
+    on = segment(cloud)
+    assert on.info["noise_model"]["wave"] >= WAVY_RATIO
+    assert on.info["leftover_wavy"] >= 1
+    assert _largest_share(off.labels, face, FLOOR) < 0.6
+    assert _largest_share(on.labels, face, FLOOR) > 0.95
+    # the box's faces do not go into the floor, and they stay as they were
+    lab = on.labels
+    k = lab[face == FLOOR]
+    floor = np.bincount(k[k >= 0]).argmax()
+    assert ((lab == floor) & (face > 0)).sum() < 0.005 * (lab == floor).sum()
+    for fid in (TOP, FRONT):
+        assert _largest_share(on.labels, face, fid) == pytest.approx(
+            _largest_share(off.labels, face, fid), abs=0.02)
+
+
+def test_wavy_leftover_leaves_frames_that_are_not_wavy_unchanged():
+    cloud, _ = _scene(0.0, white=0.0015)  # white noise only: wave ~1
+    on = segment(cloud)
+    off = segment(cloud, **{"split.wavy_leftover": False})
+    assert on.info["noise_model"]["wave"] < WAVY_RATIO
+    assert on.info.get("leftover_wavy", 0) == 0
+    np.testing.assert_array_equal(on.labels, off.labels)
+
+
+def test_wavy_sheet_fits():
+    from planerel.segment.merge import WAVE_MAX_RMS, wavy_sheet_fits
+
+    nm = {"wave": 4.0, "const_m": 0.0, "quad_per_m": 0.0007, "wave_window": 27,
+          "pixel_angle": 0.00145}
+    rng = np.random.default_rng(0)
+    xy = rng.uniform(-0.5, 0.5, size=(4000, 2))
+    flat = np.column_stack([xy, 2.0 + 0.006 * rng.standard_normal(4000)])  # 6 mm at 2 m
+    assert wavy_sheet_fits(flat, nm, 1.5)
+    assert not wavy_sheet_fits(flat, {**nm, "wave": 0.5}, 1.5)  # the waves do not cover it
+    assert not wavy_sheet_fits(flat, nm, 1.5, max_rms=0.005)
+    # a fold of 90 degrees (a box's two faces) is no sheet
+    fold = np.column_stack([xy[:, 0], np.minimum(xy[:, 1], 0.0), 2.0 + np.maximum(xy[:, 1], 0.0)])
+    assert not wavy_sheet_fits(fold, nm, 1.5, max_rms=1.0)
+    assert not wavy_sheet_fits(flat[:2], nm, 1.5)
+    assert WAVE_MAX_RMS == 0.008
+
+
+def test_wavy_leftover_param():
+    assert SplitParams().wavy_leftover is True
+    assert SplitParams(wavy_leftover=False).wavy_leftover is False
+    with pytest.raises(InputError, match="wavy_leftover"):
+        SplitParams(wavy_leftover="maybe")

@@ -158,6 +158,12 @@ class SplitParams:
         :attr:`planerel.segment.noise.NoiseModel.wavy`), join touching pieces of one face
         whose union fits a plane within that waviness (True;
         :func:`planerel.segment.merge.join_wavy`).  Frames that are not wavy are unchanged.
+    wavy_leftover : bool
+        On a wavy frame, a plane found in an unassigned patch (the ``leftover`` step) that
+        fails the planarity test against the noise model is still kept when it fits within the
+        measured waviness as :func:`join_wavy` judges a union (:func:`planerel.segment.merge.
+        wavy_sheet_fits`: ``tolerance x wave x sigma(z)`` grown with the extent, at most 8 mm,
+        a flat sheet when long).  True; frames that are not wavy are unchanged.
     """
 
     tolerance: float = 1.5
@@ -187,6 +193,7 @@ class SplitParams:
     parallel_gap: float = 0.02
     piece_offset: float = 0.005
     wavy_join: bool = True
+    wavy_leftover: bool = True
 
     def __post_init__(self) -> None:
         o = "split"
@@ -228,6 +235,7 @@ class SplitParams:
         s(self, "merge_jump", _num(o, "merge_jump", self.merge_jump, lo=0.0, lo_open=True))
         s(self, "piece_offset", _num(o, "piece_offset", self.piece_offset, lo=0.0))
         s(self, "wavy_join", _bool(o, "wavy_join", self.wavy_join))
+        s(self, "wavy_leftover", _bool(o, "wavy_leftover", self.wavy_leftover))
         s(self, "min_split_angle", _num(o, "min_split_angle", self.min_split_angle, lo=0.0,
                                         hi=90.0))
         s(self, "parallel_gap", _num(o, "parallel_gap", self.parallel_gap, lo=0.0))
@@ -405,6 +413,9 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
 
     leftover_ids: list[int] = []
     if p.leftover and cloud.organized:
+        # the measured waviness (None: not a wavy frame, or off), for the planarity test
+        wavy = _wavy_model(seg.info) if p.wavy_leftover else None
+        info["leftover_wavy"] = 0
         cur = lab if new_lab is None else new_lab
         lo_size = max(3, int(round(min_size * p.leftover_scale)))
         floor = (seg.info.get("settings") or {}).get("min_region_floor")
@@ -424,7 +435,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
                                np.random.default_rng([p.seed, n + t]), min_parts=1)
             if piece is not None:
                 P = xyz_flat.take(pix, axis=0)
-                piece = _keep_planar(piece, P, sensor_scale, p)
+                piece = _keep_planar(piece, P, sensor_scale, p, wavy, info)
                 if piece is not None and lo_size < min_size:
                     piece = _drop_small_on_found(piece, P, min_size, big_planes, p)
             if piece is None:
@@ -536,11 +547,33 @@ def _surfaces(planes, Q, part, p: SplitParams) -> np.ndarray:
     return np.array([first.index(r) for r in roots], dtype=np.int64)
 
 
-def _keep_planar(piece, P, scale, p: SplitParams):
+#: The largest RMS (m) of a plane kept from an unassigned patch of a wavy frame by the waviness
+#: test (``wavy_leftover``), whatever the waviness.
+WAVE_LEFTOVER_MAX_RMS = 0.008
+
+
+def _wavy_model(info) -> dict | None:
+    """The noise model of ``info`` (region growing's) when it measures a wavy frame, else
+    None."""
+    from planerel.segment.noise import WAVY_RATIO
+
+    nm = info.get("noise_model") if isinstance(info, dict) else None
+    if (not nm or nm.get("kind") == "none" or nm.get("n_patches", 0) <= 0
+            or nm.get("wave", 0.0) < WAVY_RATIO):
+        return None
+    return nm
+
+
+def _keep_planar(piece, P, scale, p: SplitParams, wavy: dict | None = None, stats=None):
     """Pieces found in an unassigned patch that pass the split test themselves (RMS residual
     within ``tolerance`` x the expected RMS), renumbered ``0..``; None when none does.  Far
     from the sensor a plane through the nosings of several thin stair steps can hold enough
-    points within the noise band to win RANSAC, but its points spread over the whole band."""
+    points within the noise band to win RANSAC, but its points spread over the whole band.
+    ``wavy``: the noise model of a wavy frame; a piece failing that test is still kept when it
+    fits within the measured waviness (:func:`planerel.segment.merge.wavy_sheet_fits`; counted
+    in ``stats["leftover_wavy"]``)."""
+    from planerel.segment.merge import wavy_sheet_fits
+
     k = int(piece.max()) + 1
     new = np.full(k, -1, dtype=np.int64)
     kept = 0
@@ -549,7 +582,13 @@ def _keep_planar(piece, P, scale, p: SplitParams):
         nr, off = _fit(Q)
         rms = math.sqrt(float(np.mean((Q @ nr + off) ** 2)))
         exp = scale * math.sqrt(float(np.mean(expected_sigma(Q, nr, p) ** 2)))
-        if rms <= p.tolerance * exp:
+        ok = rms <= p.tolerance * exp
+        if not ok and wavy is not None and wavy_sheet_fits(Q, wavy, p.tolerance,
+                                                           WAVE_LEFTOVER_MAX_RMS):
+            ok = True
+            if stats is not None:
+                stats["leftover_wavy"] = stats.get("leftover_wavy", 0) + 1
+        if ok:
             new[q] = kept
             kept += 1
     if kept == 0:

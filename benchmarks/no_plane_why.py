@@ -1,0 +1,171 @@
+"""Why region growing leaves a labelled area of a real frame without a plane (wave50).
+
+For each target (a labelled rectangle of a real development frame: the boxes that
+``real_census.py --json`` scores "no plane in it", and any extra rectangles such as a floor),
+prints one JSON line: the share of valid and unassigned pixels, the median depth, the noise
+model (5x5-patch sigma at that depth, ``wave``), the settings region growing used (normal
+window, minimum region, the median delta of the depth bands), the median RMS of 3-D plane fits
+over square windows of 5 / 9 / 15 pixels lying in the rectangle (>= 90 % valid, grid step half
+a window), how far the pixels' normals lie from their 15 px window's plane (median / 90 %
+quantile, degrees), the share of valid pixels with fewer than ``min_neighbour_num`` (4)
+delta-neighbours and the share passing the seed test (every delta-neighbour's normal within
+``theta * angle_mf``); then, for the default (``split.wavy_leftover`` off, as main before
+wave50) and one relaxed setting at a time, the share of the rectangle's valid pixels in
+planes lying >= 50 % inside it (a floor target: in any plane) and the largest such plane's
+share.  A setting that gives planes where the default gives none names the test that stops
+the growth.
+
+Usage::
+
+    python benchmarks/real_census.py SET... --model MODEL --json census.json
+    python benchmarks/no_plane_why.py --census census.json [--extra extra.json]
+
+``extra.json``: a list of ``{"set": DIR, "file": NAME, "rect": [x0, y0, x1, y1], "name": TEXT,
+"kind": "floor"}``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from real_unseen import rect_mask  # noqa: E402
+
+import planerel  # noqa: E402
+from planerel.segment import segment  # noqa: E402
+from planerel.segment._workspace import _workspace  # noqa: E402
+
+#: The default as main had it, then one relaxed setting at a time, then the default.
+OFF = {"split.wavy_leftover": False}
+VARIANTS = (("main", OFF), ("min_region_scale 0.25", {**OFF, "min_region_scale": 0.25}),
+            ("theta 25", {**OFF, "theta": 25.0}), ("delta_factor 12", {**OFF, "delta_factor": 12.0}),
+            ("min_neighbour_num 2", {**OFF, "min_neighbour_num": 2}),
+            ("normal window 6", {**OFF, "normal_smooth": 6, "normal_radius": 6}),
+            ("split off", {**OFF, "split": False}), ("default", {}))
+#: Grid steps of the eight neighbours, in the delta graph's bit order.
+DV = (0, 1, 1, 1, 0, -1, -1, -1)
+DU = (1, -1, 0, 1, -1, 1, 0, -1)
+
+
+def census_targets(path):
+    """The census rows scored "no plane in it" as targets."""
+    out = []
+    for row in json.load(open(path)):
+        if not row["stage"].startswith("no plane"):
+            continue
+        folder = row["set"] if os.path.isabs(row["set"]) else os.path.join("/work", row["set"])
+        doc = json.load(open(os.path.join(folder, "labels.json")))
+        names = [fr["file"] for fr in doc["frames"]
+                 if os.path.splitext(fr["file"])[0] == row["frame"]]
+        out.append({"set": folder, "file": names[0], "rect": row["box"],
+                    "name": f"{row['set']} {row['frame']} box {row['box']}"})
+    return out
+
+
+def load(folder, name):
+    doc = json.load(open(os.path.join(folder, "labels.json")))
+    fr = [x for x in doc["frames"] if x["file"] == name][0]
+    return planerel.read(os.path.join(folder, name), intrinsics=fr.get("intrinsics"),
+                         depth_scale=fr.get("depth_scale"))
+
+
+def window_fits(xyz, m, k):
+    """``(rms, normal, y, x)`` of the 3-D plane fit of every k x k window inside ``m``."""
+    ys, xs = np.nonzero(m)
+    out = []
+    st = max(1, k // 2)
+    for y in range(ys.min(), ys.max() + 2 - k, st):
+        for x in range(xs.min(), xs.max() + 2 - k, st):
+            if not m[y:y + k, x:x + k].all():
+                continue
+            p = xyz[y:y + k, x:x + k].reshape(-1, 3)
+            p = p[np.isfinite(p).all(1)]
+            if len(p) < 0.9 * k * k:
+                continue
+            c = p - p.mean(0)
+            ev, vec = np.linalg.eigh(c.T @ c / len(p))
+            out.append((math.sqrt(max(ev[0], 0.0)), vec[:, 0], y, x))
+    return out
+
+
+def seedable(mask, nrm, cos_seed):
+    """Pixels whose delta-neighbours' normals all lie within ``cos_seed`` of their own."""
+    h, w = mask.shape
+    ok = np.ones((h, w), bool)
+    for b in range(8):
+        has = ((mask >> b) & 1).astype(bool)
+        sh = np.full_like(nrm, np.nan)
+        dv, du = DV[b], DU[b]
+        sh[max(0, -dv):h - max(0, dv), max(0, -du):w - max(0, du)] = \
+            nrm[max(0, dv):h - max(0, -dv), max(0, du):w - max(0, -du)]
+        dot = np.nan_to_num((nrm * sh).sum(2), nan=-2.0)
+        ok &= ~has | (dot >= cos_seed)
+    return ok
+
+
+def measure(t):
+    cloud = load(t["set"], t["file"])
+    xyz = cloud.xyz
+    m = rect_mask(xyz.shape[:2], t["rect"])
+    valid = cloud.valid & m
+    zz = float(np.median(xyz[..., 2][valid]))
+    seg = segment(cloud, **OFF)
+    mask = _workspace(*xyz.shape[:2]).mask.copy()  # the delta graph of that call
+    info, nm, st = seg.info, seg.info["noise_model"], seg.info["settings"]
+    nrm = np.asarray(seg.normals, float)
+    nb = sum(((mask >> b) & 1).astype(int) for b in range(8))
+    nval = np.isfinite(nrm).all(2)
+    lab = np.asarray(seg.labels)
+    r = {"name": t["name"], "px": int(m.sum()), "valid": round(float(valid.sum() / m.sum()), 2),
+         "z": round(zz, 2)}
+    sig = math.sqrt(nm["const_m"] ** 2 + (nm["quad_per_m"] * zz * zz) ** 2)
+    r["model"] = f"{nm['kind']} sigma {1000 * sig:.2f} mm, wave {nm['wave']:.1f}"
+    r["window/min/delta"] = (f"{st['normal_smooth']}/{st['normal_radius']} {info['min_region_size']} "
+                             f"{1000 * info['delta']:.0f} mm")
+    r["unassigned"] = round(float(((lab < 0) & valid).sum() / valid.sum()), 2)
+    for k in (5, 9, 15):
+        f = window_fits(xyz, valid, k)
+        r[f"rms{k}"] = round(1000 * float(np.median([a[0] for a in f])), 2) if f else None
+    angs = []
+    for _rms, n, y, x in window_fits(xyz, valid, 15):
+        nn = nrm[y:y + 15, x:x + 15].reshape(-1, 3)
+        nn = nn[np.isfinite(nn).all(1)]
+        angs.extend(np.degrees(np.arccos(np.clip(np.abs(nn @ n), 0, 1))).tolist())
+    r["normals_off"] = f"{np.median(angs):.1f}/{np.percentile(angs, 90):.1f}" if angs else None
+    r["few_neighbours"] = round(float((valid & (nb < 4)).sum() / valid.sum()), 2)
+    ok = seedable(mask, nrm, math.cos(math.radians(7.5)))
+    r["seedable"] = round(float((valid & nval & (nb >= 4) & ok).sum() / valid.sum()), 2)
+    res = {}
+    for name, kw in VARIANTS:
+        lab2 = lab if name == "main" else np.asarray(segment(cloud, **kw).labels)
+        ids, cnt = np.unique(lab2[valid & (lab2 >= 0)], return_counts=True)
+        tot = big = 0
+        for i, c in zip(ids, cnt, strict=True):
+            if t.get("kind") == "floor" or c / (lab2 == i).sum() >= 0.5:
+                tot += int(c)
+                big = max(big, int(c))
+        res[name] = f"{tot / valid.sum():.2f}/{big / valid.sum():.2f}"
+    r["planes_in_rect"] = res
+    return r
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--census", help="real_census.py --json output")
+    ap.add_argument("--extra", help="a JSON list of further targets")
+    a = ap.parse_args(argv)
+    targets = (census_targets(a.census) if a.census else []) + \
+        (json.load(open(a.extra)) if a.extra else [])
+    for t in targets:
+        print(json.dumps(measure(t)), flush=True)
+
+
+if __name__ == "__main__":
+    main()
