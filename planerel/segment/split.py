@@ -161,9 +161,10 @@ class SplitParams:
     wavy_leftover : bool
         On a wavy frame, a plane found in an unassigned patch (the ``leftover`` step) that
         fails the planarity test against the noise model is still kept when it fits within the
-        measured waviness as :func:`join_wavy` judges a union (:func:`planerel.segment.merge.
-        wavy_sheet_fits`: ``tolerance x wave x sigma(z)`` grown with the extent, at most 8 mm,
-        a flat sheet when long).  True; frames that are not wavy are unchanged.
+        measured waviness as :func:`planerel.segment.merge.join_wavy` judges a union
+        (:func:`planerel.segment.merge.wavy_sheet_fits`: ``tolerance x wave x sigma(z)`` grown
+        with the extent, at most ``WAVE_LEFTOVER_MAX_RMS`` = 8 mm, a flat sheet when long;
+        ``info["leftover_wavy"]`` counts them).  True; frames that are not wavy are unchanged.
     """
 
     tolerance: float = 1.5
@@ -307,7 +308,8 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
         docstring), planes refitted; ``info`` adds ``split_tested`` (regions over the residual
         tolerance), ``split_regions`` (regions split), ``split_new_regions`` (regions added),
         ``split_unassigned`` (points left unassigned by splits), ``leftover_patches`` /
-        ``leftover_regions`` (unassigned patches searched, planes found in them) and
+        ``leftover_regions`` (unassigned patches searched, planes found in them; on a wavy frame
+        ``leftover_wavy``, those kept by the waviness test) and
         ``noise_scale`` (median ratio of the measured to the modelled noise of the regions).
         Planes found in unassigned patches are numbered after all others.  ``seg`` itself
         when nothing changed, with the same ``info`` additions.
@@ -415,7 +417,8 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     if p.leftover and cloud.organized:
         # the measured waviness (None: not a wavy frame, or off), for the planarity test
         wavy = _wavy_model(seg.info) if p.wavy_leftover else None
-        info["leftover_wavy"] = 0
+        if wavy is not None:  # (frames that are not wavy: info as before)
+            info["leftover_wavy"] = 0
         cur = lab if new_lab is None else new_lab
         lo_size = max(3, int(round(min_size * p.leftover_scale)))
         floor = (seg.info.get("settings") or {}).get("min_region_floor")
