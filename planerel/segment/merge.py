@@ -38,6 +38,7 @@ import numpy as np
 from planerel.errors import InputError
 from planerel.segment.absorb import ABSORB_FRACTION, _facets, _touching_pairs
 from planerel.segment.result import Segmentation
+from planerel.segment.wavy_fit import WAVE_FLAT, WAVE_MAX_RMS, WAVE_SPAN, wavy_sheet_fits
 
 __all__ = ["join_pieces", "join_wavy", "merge_coplanar", "wavy_sheet_fits", "WAVE_JOIN_ANGLE", "WAVE_FLAT",
            "WAVE_SPAN", "WAVE_OWN", "WAVE_MAX_RMS", "WAVE_JOIN_MAX", "WAVE_TILT"]
@@ -46,20 +47,10 @@ __all__ = ["join_pieces", "join_wavy", "merge_coplanar", "wavy_sheet_fits", "WAV
 #: a face whose depth waves by millimetres over centimetres tilt by up to 20 degrees (a carton
 #: top of the RealSense palletizer frames, pieces of 400-900 px at 1.5 m: 10-20 degrees).
 WAVE_JOIN_ANGLE = 20.0
-#: Largest RMS of a wavy join's union relative to its largest in-plane std, for a union
-#: longer than :data:`WAVE_SPAN` waviness windows: a large union must be a flat sheet, whatever
-#: the sensor's waviness far away (two planes of similar size meeting at 10 degrees measure
-#: about 0.07; a carton top's wavy pieces 0.01-0.03).  Pieces within a few windows tilt by
-#: the waves themselves and are judged by the waviness alone.
-WAVE_FLAT = 0.04
-WAVE_SPAN = 2.0
-#: ... unless the union fits about as well as the worse of its two sides alone (a face that is
+#: A long union that is no flat sheet (:data:`WAVE_FLAT`) still joins when it fits about as
+#: well as the worse of its two sides alone (a face that is
 #: wavy itself): RMS at most this factor times the larger of their own RMS.
 WAVE_OWN = 1.2
-#: Largest RMS of a wavy join's union, metres, whatever the waviness: far from an active-stereo
-#: sensor its depth is centimetres off (unions of 16 and 104 mm at 3.9 and 5.6 m made false
-#: ramps), while the pieces of a face joined at 0.4-2 m fit within 2-7 mm.
-WAVE_MAX_RMS = 0.008
 #: Beyond :data:`WAVE_JOIN_ANGLE`, up to this angle (degrees), two pieces may still join when
 #: the smaller is small against the waves: the tangent of their angle at most
 #: :data:`WAVE_TILT` x the waves' RMS (``wave x sigma(z)``) / its largest in-plane std (a piece
@@ -488,52 +479,6 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
     out, planes, _ = _apply_groups(labels, cloud.xyz, seg.planes, parent)
     info = dict(seg.info, wavy_joined=joined)
     return Segmentation(out, planes, seg.method, seg.params, seg.normals, info)
-
-
-def wavy_sheet_fits(P, noise_model: dict, tolerance: float, max_rms: float = WAVE_MAX_RMS) -> bool:
-    """Whether points ``P`` (m, 3) fit one plane within a wavy frame's measured waviness, as
-    :func:`join_wavy` judges the union of two pieces: the RMS to their least-squares plane is
-    at most ``tolerance x wave x sigma(z) x g`` (``z`` the centroid's depth, ``sigma`` the
-    small-patch noise model, ``g = sqrt(min(WAVE_SPAN, span / window))`` the waves' growth with
-    the extent) and at most ``max_rms`` (:data:`WAVE_MAX_RMS`), and, when longer than :data:`WAVE_SPAN`
-    waviness windows, a flat sheet (RMS at most :data:`WAVE_FLAT` x its largest in-plane std).
-
-    Parameters
-    ----------
-    P : ndarray, shape (m, 3)
-        The points (metres), all finite.
-    noise_model : dict
-        ``info["noise_model"]`` of region growing (``wave``, ``const_m``, ``quad_per_m``,
-        ``wave_window``, ``pixel_angle``).
-    tolerance : float
-        ``SplitParams.tolerance``.
-    max_rms : float
-        The largest RMS (m) accepted whatever the waviness.
-
-    Returns
-    -------
-    bool
-        False for fewer than 3 points.
-    """
-    P = np.asarray(P, dtype=np.float64)
-    if len(P) < 3:
-        return False
-    c = P.mean(axis=0)
-    D = P - c
-    ev = np.linalg.eigvalsh(D.T @ D / len(P))
-    rms = math.sqrt(max(ev[0], 0.0))
-    if rms > max_rms:
-        return False
-    wave = float(noise_model["wave"])
-    c0, q = float(noise_model["const_m"]), float(noise_model["quad_per_m"])
-    win = (float(noise_model.get("wave_window", 0)) * float(noise_model.get("pixel_angle", 0.0))
-           / math.sqrt(12.0))
-    z = abs(float(c[2]))
-    span = math.sqrt(max(ev[2], 0.0))
-    if span > WAVE_SPAN * win * z and rms > WAVE_FLAT * span:
-        return False
-    grow = math.sqrt(min(WAVE_SPAN, max(1.0, span / max(win * z, 1e-12))))
-    return rms <= tolerance * wave * math.sqrt(c0 * c0 + q * q * z ** 4) * grow
 
 
 def _span_of(m, s1, s2) -> np.ndarray:

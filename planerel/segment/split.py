@@ -162,7 +162,7 @@ class SplitParams:
         On a wavy frame, a plane found in an unassigned patch (the ``leftover`` step) that
         fails the planarity test against the noise model is still kept when it fits within the
         measured waviness as :func:`planerel.segment.merge.join_wavy` judges a union
-        (:func:`planerel.segment.merge.wavy_sheet_fits`: ``tolerance x wave x sigma(z)`` grown
+        (:func:`planerel.segment.wavy_fit.wavy_sheet_fits`: ``tolerance x wave x sigma(z)`` grown
         with the extent, at most ``WAVE_LEFTOVER_MAX_RMS`` = 8 mm, a flat sheet when long;
         ``info["leftover_wavy"]`` counts them).  True; frames that are not wavy are unchanged.
     """
@@ -573,9 +573,9 @@ def _keep_planar(piece, P, scale, p: SplitParams, wavy: dict | None = None, stat
     from the sensor a plane through the nosings of several thin stair steps can hold enough
     points within the noise band to win RANSAC, but its points spread over the whole band.
     ``wavy``: the noise model of a wavy frame; a piece failing that test is still kept when it
-    fits within the measured waviness (:func:`planerel.segment.merge.wavy_sheet_fits`; counted
+    fits within the measured waviness (:func:`planerel.segment.wavy_fit.wavy_sheet_fits`; counted
     in ``stats["leftover_wavy"]``)."""
-    from planerel.segment.merge import wavy_sheet_fits
+    from planerel.segment.wavy_fit import wavy_sheet_fits
 
     k = int(piece.max()) + 1
     new = np.full(k, -1, dtype=np.int64)
