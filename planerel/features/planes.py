@@ -152,6 +152,14 @@ class PlaneParams:
         it, is the ground the scene stands on and counts as its floor
         (:func:`_ground_floor`): a table top filling a close view whose only lower surfaces
         are far pieces of the room the sensor bends (``ground_area`` 0 = never; 2026-11-30).
+    ground_reach : float
+        Metres: a plane reaching up to a ground candidate's level from more than
+        ``GROUND_DROP`` below it (a riser under a tread, a cabinet's side) keeps the candidate
+        from being the ground only when its hull comes within this horizontal distance of the
+        candidate's hull; 0 = at any distance (the rule before table50).  The room's walls
+        seen 1.9-3.5 m beyond a table (M2T2's four frames) stand on a floor out of view but
+        are not under the table: they no longer keep a table top filling a close view from
+        being the ground (docs/gravity.md "A table's ground and the room's far walls").
     fit : {"disparity", "pca"}
         How normals are fitted: ``"disparity"`` (default) fits inverse depth, as a
         structured-light sensor errs (along the ray, uniformly in disparity), and falls back
@@ -169,6 +177,7 @@ class PlaneParams:
     floor_noise_sigmas: float = 2.0
     ground_area: float = 0.2
     ground_ratio: float = 3.0
+    ground_reach: float = 0.5
     tilt_noise_sigmas: float = 2.0
     gentle_tol: float = 0.0
     gentle_area: float = 0.5
@@ -185,7 +194,7 @@ class PlaneParams:
         if isinstance(self.min_points, bool) or not isinstance(self.min_points, int) or self.min_points < 3:
             raise InputError(f"min_points must be an integer >= 3, got {self.min_points!r}")
         for name in ("hull_simplify", "floor_tol", "floor_min_area", "floor_noise_sigmas",
-                     "ground_area", "ground_ratio", "tilt_noise_sigmas", "gentle_tol",
+                     "ground_area", "ground_ratio", "ground_reach", "tilt_noise_sigmas", "gentle_tol",
                      "gentle_area", "floor_range_slack"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
@@ -779,7 +788,8 @@ def _ground_floor(pre, up_v, params: PlaneParams) -> int | None:
     the camera sees from above, ``ground_ratio`` times larger than every other horizontal
     plane, that has no horizontal plane of ``floor_min_area`` m^2 with its centroid more
     than ``floor_tol`` below its own, and no plane of that area reaching up to its level
-    from more than ``GROUND_DROP`` below.  None when there is none.
+    from more than ``GROUND_DROP`` below within ``ground_reach`` of its hull (horizontally;
+    ``ground_reach`` 0: at any distance).  None when there is none.
 
     Why: a table top filling a close view (a RealSense 0.7 m over a table, PoseCNN's YCB
     frames) has under it only far pieces of the room that the sensor bends by 12-24 degrees:
@@ -804,11 +814,15 @@ def _ground_floor(pre, up_v, params: PlaneParams) -> int | None:
         if any(d["area"] < params.ground_ratio * q["area"] for q in flats if q is not d):
             continue
         # a plane reaching up to its level from more than 0.1 m below (a riser under a
-        # tread, a cabinet's side, a wall standing on a floor out of view): the scene goes
-        # on under it
+        # tread, a cabinet's side, a wall standing on a floor out of view) within
+        # ground_reach of it: the scene goes on under it.  The room's walls seen metres
+        # beyond a table top stand on a floor out of view too, but not under the table
         if any(float((q["hull3d"] @ up_v).max()) >= level - params.floor_tol
                and float((q["hull3d"] @ up_v).min()) < level - GROUND_DROP
-               and q["area"] >= params.floor_min_area for q in pre if q is not d):
+               and q["area"] >= params.floor_min_area
+               and (params.ground_reach <= 0
+                    or _horizontal_gap(d["hull3d"], q["hull3d"], up_v) <= params.ground_reach)
+               for q in pre if q is not d):
             continue
         best, best_area = d["label"], d["area"]
     return best
@@ -817,6 +831,19 @@ def _ground_floor(pre, up_v, params: PlaneParams) -> int | None:
 #: m: the range beyond which :attr:`PlaneParams.floor_range_slack` applies (a sensor's range
 #: error bends surfaces metres away; a flight's riser 1.4 m away is where it is)
 RANGE_SLACK_FROM = 3.0
+
+
+def _horizontal_gap(hull_a: np.ndarray, hull_b: np.ndarray, up_v: np.ndarray) -> float:
+    """Metres between the convex hulls of two 3-D hulls projected onto the level plane
+    (perpendicular to ``up_v``); 0 when they overlap."""
+    import shapely
+
+    ax = _in_plane_axes(np.asarray(up_v, float), np.asarray(up_v, float))
+    hulls = []
+    for h in (hull_a, hull_b):
+        pts = np.asarray(h, float) @ ax.T
+        hulls.append(shapely.convex_hull(shapely.multipoints(pts)))
+    return float(shapely.distance(hulls[0], hulls[1]))
 
 
 def _range_slack(d: dict, params: PlaneParams) -> float:
