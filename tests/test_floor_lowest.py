@@ -95,13 +95,24 @@ def test_a_level_floor_and_a_table_top_the_floor_is_the_floor():
 
 def test_a_table_top_over_a_wall_reaching_lower_is_no_floor():
     """No floor in view, a wall reaching 1.2 m below the table top: the table is not the
-    floor (the vertical plane's foot is the scene's lowest point)."""
+    floor by the lowest-point rule (the vertical plane's foot is the scene's lowest point).
+
+    The ground rule is isolated off here (``ground_reach=0``, its riser test at any distance):
+    the wall stands 0.6 m beyond the table's far edge, farther than ``ground_reach`` (0.5 m,
+    table50), so by default the table is the ground, as a table top filling a close view with
+    the room's wall beyond it is; the same wall at the table's edge still keeps it from that."""
+    from planerel.features.planes import PlaneParams
+
     table = np.array([[-0.8, H - 0.75, 1.2], [0.8, H - 0.75, 1.2], [0.8, H - 0.75, 2.4],
                       [-0.8, H - 0.75, 2.4]])
     wall = np.array([[-3.0, -1.0, 3.0], [3.0, -1.0, 3.0], [3.0, H, 3.0], [-3.0, H, 3.0]])
     cloud, lab = _scene(table, wall)
-    ps = measure_planes(cloud, lab, up=UP)
-    assert ps.floor is None
+    assert measure_planes(cloud, lab, up=UP, params=PlaneParams(ground_reach=0.0)).floor is None
+    assert measure_planes(cloud, lab, up=UP).floor == 0
+    near = wall.copy()
+    near[:, 2] = 2.45
+    cloud, lab = _scene(table, near)
+    assert measure_planes(cloud, lab, up=UP).floor is None
 
 
 def test_a_far_wall_the_sensor_bends_below_the_floor_is_only_as_low_as_its_noise():
@@ -128,5 +139,10 @@ def test_a_far_wall_the_sensor_bends_below_the_floor_is_only_as_low_as_its_noise
     ps = measure_planes(cloud, lab, up=UP)
     assert ps.by_label(1).orientation == "vertical"
     assert ps.floor == 0
-    strict = measure_planes(cloud, lab, up=UP, params=PlaneParams(floor_noise_sigmas=0))
+    # the floor rule alone (the ground rule's riser test at any distance, ``ground_reach=0``):
+    # with the default the ground rule takes the floor, the wall standing 2.7 m beyond it
+    strict = measure_planes(cloud, lab, up=UP, params=PlaneParams(floor_noise_sigmas=0,
+                                                                   ground_reach=0.0))
     assert strict.floor is None
+    ground = measure_planes(cloud, lab, up=UP, params=PlaneParams(floor_noise_sigmas=0))
+    assert ground.floor == 0
