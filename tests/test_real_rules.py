@@ -537,8 +537,11 @@ def test_outdoor_slopes_far_over_the_floor_are_no_ramp(demo_model):
     LiDAR's densified depth, RealSense D415 sidewalks): two false ramps stood 1.4-2.6 m over
     the floor with their low end out of sight (a tree's canopy, a far strip at the top of the
     LiDAR band), which the foot gate let pass; ``decision.foot_float`` (1.0 m) refuses them.
-    The other five false ramps (ground strips beside the floor starting at its level, a
-    parked car smeared into a slope) stay (docs/results.md "A ramp stands on the floor").
+    The other false ramps (ground strips beside the floor starting at its level, a parked car
+    smeared into a slope) stay (docs/results.md "A ramp stands on the floor"), but the D415
+    grass strip by a hedge (gmrpd sample2), which wave50's ``split.wavy_leftover`` makes part
+    of the ground's plane (docs/segmentation.md "Large flat areas a wavy sensor leaves
+    unassigned"): 7 and 5 before it.
     Measured with the range gate off: it refuses the far ones too
     (:func:`test_outdoor_slopes_farther_than_any_training_ramp_are_no_ramp`)."""
     sets = sorted(p.parent for p in (HUNT_DATA / "hunt35").glob("*/labels.json"))
@@ -548,7 +551,7 @@ def test_outdoor_slopes_far_over_the_floor_are_no_ramp(demo_model):
     rows = _unseen_rows(sets or [HUNT_DATA / "hunt35" / "none"], demo_model, "PLANEREL_HUNT_DATA",
                         far)
     off = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", ["decision.foot_float=0", *far])
-    assert (_totals(off)["false_ramp"], _totals(rows)["false_ramp"]) == (7, 5)
+    assert (_totals(off)["false_ramp"], _totals(rows)["false_ramp"]) == (6, 4)
 
 
 def test_outdoor_slopes_farther_than_any_training_ramp_are_no_ramp(demo_model):
@@ -557,15 +560,16 @@ def test_outdoor_slopes_farther_than_any_training_ramp_are_no_ramp(demo_model):
     LiDAR's densified depth (a kerbed planting bed, a parked car's front, a soil mound, a
     bushy verge); the demo's ramp proofs' planes lie at most 3.54 m away.  The range gate
     (``decision.range_gate``, beyond 1 + ``decision.range_margin`` = 2 times that) refuses
-    them; the D415 grass strip by a hedge, 3.8 m away, stays (docs/results.md, "Proofs
-    farther away than any training proof")."""
+    them (docs/results.md, "Proofs farther away than any training proof"); the fifth, the
+    D415 grass strip by a hedge 3.8 m away that the gate let pass, is no ramp since wave50's
+    ``split.wavy_leftover`` (the ground's plane takes it: 5 and 1 before)."""
     sets = sorted(p.parent for p in (HUNT_DATA / "hunt35").glob("*/labels.json"))
     rows = _unseen_rows(sets or [HUNT_DATA / "hunt35" / "none"], demo_model, "PLANEREL_HUNT_DATA")
     off = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", ["decision.range_gate=false"])
-    assert (_totals(off)["false_ramp"], _totals(rows)["false_ramp"]) == (5, 1)
-    assert [n for n, r in rows.items() if r["false"]] == ["sample2_depth"]
+    assert (_totals(off)["false_ramp"], _totals(rows)["false_ramp"]) == (4, 0)
+    assert [n for n, r in rows.items() if r["false"]] == []
     assert sorted(n for n, r in off.items() if r["false"]) == [
-        "1623721492790_depth", "sample2_depth", "uu_000000_depth", "uu_000001_depth"]
+        "1623721492790_depth", "uu_000000_depth", "uu_000001_depth"]
 
 
 def test_a_box_cut_at_a_registered_depth_images_blank_margin(demo_model):
