@@ -32,6 +32,47 @@ FLOOR, TOP, FRONT = 0, 1, 2
 WAVY = dict(wave_amp=0.003, white=0.0003, corr=4.0)
 
 
+def _rays():
+    """Each pixel's ray in the world (camera 1 m over the floor, pitched 40 degrees down; the
+    camera's z = 1): ``(rx, ry, d (H, W, 3), t (H, W))``, ``t`` the floor's hit (inf: none)."""
+    u, v = np.meshgrid(np.arange(W, dtype=float), np.arange(H, dtype=float))
+    rx, ry = (u - INTR.cx) / INTR.fx, (v - INTR.cy) / INTR.fy
+    c, s = math.cos(math.radians(40)), math.sin(math.radians(40))
+    d = (rx[..., None] * np.array([1.0, 0, 0]) + ry[..., None] * np.array([0, -s, -c])
+         + np.array([0, c, -s]))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(d[..., 2] < 0, 1.0 / -d[..., 2], np.inf)
+    return rx, ry, d, t
+
+
+def _add_box(d, t, face, box, front, top):
+    """Ray-cast an axis-aligned box ``((x0, x1), (y0, y1), (z0, z1))`` by slabs (the face
+    entered last is the one hit) into the hits ``t`` and faces ``face`` (its front, the
+    side facing the camera, ``front``; its top ``top``): the new ``(t, face)``."""
+    o = (0.0, 0.0, 1.0)
+    tmin, tmax = np.full((H, W), -np.inf), np.full((H, W), np.inf)
+    enter = np.full((H, W), -1)
+    for ax, (lo, hi), (f_lo, f_hi) in ((0, box[0], (-1, -1)), (1, box[1], (front, -1)),
+                                       (2, box[2], (-1, top))):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t1, t2 = (lo - o[ax]) / d[..., ax], (hi - o[ax]) / d[..., ax]
+        near = np.minimum(t1, t2)
+        enter = np.where(near > tmin, np.where(t1 < t2, f_lo, f_hi), enter)
+        tmin, tmax = np.maximum(tmin, near), np.minimum(tmax, np.maximum(t1, t2))
+    hit = (tmin <= tmax) & (tmin > 0) & (tmin < t)
+    return np.where(hit, tmin, t), np.where(hit, enter, face)
+
+
+def _wavy_cloud(rx, ry, t, seed, wave_amp, white, corr):
+    """The cloud of hits ``t`` with depth noise ``white * z^2`` (white) plus a smooth random
+    field ``wave_amp * z^2`` (Gaussian-filtered with ``corr`` px, unit std), 0.3-4 m kept."""
+    rng = np.random.default_rng(seed)
+    f = gaussian_filter(rng.standard_normal((H, W)), corr)
+    z = t + (wave_amp * f / f.std() + white * rng.standard_normal((H, W))) * t * t
+    z = np.where((z > 0.3) & (z < 4.0), z, np.nan)
+    return Cloud(np.stack([rx * z, ry * z, z], axis=2), INTR)
+
+
 def _scene(wave_amp, seed=0, white=0.0005, corr=4.0):
     """A box on a floor at 640x480.  Depth noise ``white * z^2`` (white) plus a smooth random
     field ``wave_amp * z^2`` (Gaussian-filtered with ``corr`` px, unit std): low-frequency
@@ -42,33 +83,9 @@ def _scene(wave_amp, seed=0, white=0.0005, corr=4.0):
     (Cloud, ndarray (H, W) int)
         The cloud and each pixel's true face (0 floor, 1 the box's top, 2 its front; -1 none).
     """
-    u, v = np.meshgrid(np.arange(W, dtype=float), np.arange(H, dtype=float))
-    rx, ry = (u - INTR.cx) / INTR.fx, (v - INTR.cy) / INTR.fy
-    c, s = math.cos(math.radians(40)), math.sin(math.radians(40))
-    xc, yc, zc = np.array([1.0, 0, 0]), np.array([0, -s, -c]), np.array([0, c, -s])
-    d = rx[..., None] * xc + ry[..., None] * yc + zc  # world direction of each ray (camera z = 1)
-    o = np.array([0.0, 0.0, 1.0])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(d[..., 2] < 0, -o[2] / d[..., 2], np.inf)
-    face = np.where(np.isfinite(t), FLOOR, -1)
-    # the box by slabs: the face entered last is the one hit
-    tmin, tmax = np.full((H, W), -np.inf), np.full((H, W), np.inf)
-    enter = np.full((H, W), -1)
-    for ax, (lo, hi), (f_lo, f_hi) in ((0, BOX[0], (-1, -1)), (1, BOX[1], (FRONT, -1)),
-                                       (2, BOX[2], (-1, TOP))):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t1, t2 = (lo - o[ax]) / d[..., ax], (hi - o[ax]) / d[..., ax]
-        near = np.minimum(t1, t2)
-        enter = np.where(near > tmin, np.where(t1 < t2, f_lo, f_hi), enter)
-        tmin, tmax = np.maximum(tmin, near), np.minimum(tmax, np.maximum(t1, t2))
-    hit = (tmin <= tmax) & (tmin > 0) & (tmin < t)
-    z = np.where(hit, tmin, t)
-    face = np.where(hit, enter, face)
-    rng = np.random.default_rng(seed)
-    f = gaussian_filter(rng.standard_normal((H, W)), corr)
-    z = z + (wave_amp * f / f.std() + white * rng.standard_normal((H, W))) * z * z
-    z = np.where((z > 0.3) & (z < 4.0), z, np.nan)
-    return Cloud(np.stack([rx * z, ry * z, z], axis=2), INTR), face
+    rx, ry, d, t = _rays()
+    t, face = _add_box(d, t, np.where(np.isfinite(t), FLOOR, -1), BOX, FRONT, TOP)
+    return _wavy_cloud(rx, ry, t, seed, wave_amp, white, corr), face
 
 
 def _largest_share(labels, face, fid):
@@ -361,34 +378,11 @@ def _two_boxes(seed, wave_amp=0.004, white=0.0006, corr=3.0):
     """Two boxes on the floor side by side, their fronts coplanar and 10 cm apart, camera as in
     :func:`_scene`; per pixel the true face: 0 floor, 1 / 2 the left box's top / front, 3 / 4
     the right box's."""
-    u, v = np.meshgrid(np.arange(W, dtype=float), np.arange(H, dtype=float))
-    rx, ry = (u - INTR.cx) / INTR.fx, (v - INTR.cy) / INTR.fy
-    c, s = math.cos(math.radians(40)), math.sin(math.radians(40))
-    d = (rx[..., None] * np.array([1.0, 0, 0]) + ry[..., None] * np.array([0, -s, -c])
-         + np.array([0, c, -s]))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(d[..., 2] < 0, 1.0 / -d[..., 2], np.inf)
+    rx, ry, d, t = _rays()
     face = np.where(np.isfinite(t), FLOOR, -1)
     for k, xs in enumerate(((-0.35, -0.05), (0.05, 0.35))):
-        box = (xs, (1.0, 1.35), (0.0, 0.3))
-        tmin, tmax = np.full((H, W), -np.inf), np.full((H, W), np.inf)
-        enter = np.full((H, W), -1)
-        for ax, (lo, hi), (f_lo, f_hi) in ((0, box[0], (-1, -1)), (1, box[1], (2 + 2 * k, -1)),
-                                           (2, box[2], (-1, 1 + 2 * k))):
-            o = 1.0 if ax == 2 else 0.0
-            with np.errstate(divide="ignore", invalid="ignore"):
-                t1, t2 = (lo - o) / d[..., ax], (hi - o) / d[..., ax]
-            near = np.minimum(t1, t2)
-            enter = np.where(near > tmin, np.where(t1 < t2, f_lo, f_hi), enter)
-            tmin, tmax = np.maximum(tmin, near), np.minimum(tmax, np.maximum(t1, t2))
-        hit = (tmin <= tmax) & (tmin > 0) & (tmin < t)
-        t = np.where(hit, tmin, t)
-        face = np.where(hit, enter, face)
-    rng = np.random.default_rng(seed)
-    f = gaussian_filter(rng.standard_normal((H, W)), corr)
-    z = t + (wave_amp * f / f.std() + white * rng.standard_normal((H, W))) * t * t
-    z = np.where((z > 0.3) & (z < 4.0), z, np.nan)
-    return Cloud(np.stack([rx * z, ry * z, z], axis=2), INTR), face
+        t, face = _add_box(d, t, face, (xs, (1.0, 1.35), (0.0, 0.3)), 2 + 2 * k, 1 + 2 * k)
+    return _wavy_cloud(rx, ry, t, seed, wave_amp, white, corr), face
 
 
 @pytest.mark.parametrize("seed", [0, 1])
