@@ -269,12 +269,9 @@ def _box_rows(desc, cloud, row, lab):
 
 
 def main(argv=None) -> int:
-    from real_unseen import read_labels
+    from real_unseen import describe_frame, read_labels
 
-    import planerel
     from planerel.classify.classifier import Classifier
-    from planerel.features.facts import describe_scene
-    from planerel.ilp.scenes import segment_cached
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("census")
@@ -294,14 +291,7 @@ def main(argv=None) -> int:
             doc = read_labels(folder)
             fr = next(f for f in doc["frames"]
                       if os.path.splitext(os.path.basename(f["file"]))[0] == stem)
-            cloud = planerel.read(os.path.join(folder, fr["file"]),
-                                  intrinsics=fr.get("intrinsics"),
-                                  depth_scale=fr.get("depth_scale"))
-            labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
-            up = fr.get("up")
-            desc = describe_scene(cloud, labels, scene_id="s",
-                                  up=None if up is None else np.asarray(up, float),
-                                  **clf._describe_kw)
+            cloud, desc = describe_frame(clf, folder, fr)
             ps = desc.planes
             print(f"==== {st}/{stem}: {cloud.xyz.shape[1]}x{cloud.xyz.shape[0]}, floor "
                   f"{desc.plane_id(ps.floor) if ps.floor is not None else None}, up "
