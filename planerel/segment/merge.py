@@ -38,7 +38,14 @@ import numpy as np
 from planerel.errors import InputError
 from planerel.segment.absorb import ABSORB_FRACTION, _facets, _touching_pairs
 from planerel.segment.result import Segmentation
-from planerel.segment.wavy_fit import WAVE_FLAT, WAVE_MAX_RMS, WAVE_SPAN, wavy_sheet_fits
+from planerel.segment.wavy_fit import (
+    WAVE_FLAT,
+    WAVE_MAX_RMS,
+    WAVE_SPAN,
+    wavy_model,
+    wavy_ratio,
+    wavy_sheet_fits,
+)
 
 __all__ = ["join_pieces", "join_wavy", "merge_coplanar", "wavy_sheet_fits", "WAVE_JOIN_ANGLE", "WAVE_FLAT",
            "WAVE_SPAN", "WAVE_OWN", "WAVE_MAX_RMS", "WAVE_JOIN_MAX", "WAVE_TILT"]
@@ -394,20 +401,16 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
         ``seg`` itself when the frame is not wavy or nothing was joined; else with ``info``
         adding ``wavy_joined`` (number of joins).
     """
-    from planerel.segment.noise import WAVY_RATIO
     from planerel.segment.split import SplitParams
 
     p = params if params is not None else SplitParams()
     if not isinstance(p, SplitParams):
         raise InputError(f"join_wavy: params must be SplitParams, got {type(p).__name__}")
-    nm = seg.info.get("noise_model") if isinstance(seg.info, dict) else None
+    nm = wavy_model(seg.info)
     n = seg.n_planes
-    if (not p.wavy_join or not nm or nm.get("kind") == "none" or nm.get("wave", 0.0) < WAVY_RATIO
-            or nm.get("n_patches", 0) <= 0 or n < 2 or not cloud.organized):
+    if not p.wavy_join or nm is None or n < 2 or not cloud.organized:
         return seg
     wave, c0, q = float(nm["wave"]), float(nm["const_m"]), float(nm["quad_per_m"])
-    # a waviness window's std along one side per metre of depth (its side: wave_window pixels)
-    win = float(nm.get("wave_window", 0)) * float(nm.get("pixel_angle", 0.0)) / math.sqrt(12.0)
     labels = seg.labels
     sums = _touching_sums(cloud, seg, p)
     if sums is None:
@@ -436,14 +439,7 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
             tilt = WAVE_TILT * wave * math.sqrt(sig2[0] + sig2[1] * z ** 4) / max(min(ext[a], ext[b]), 1e-12)
             if cos_ab < math.cos(math.atan(tilt)):
                 return None
-        span = math.sqrt(max(ev[2], 0.0))
-        if span > WAVE_SPAN * win * z and rms > WAVE_FLAT * span and rms > WAVE_OWN * max(own[a], own[b]):
-            return None
-        # the waves' RMS grows with the extent beyond the window's (as measured on the
-        # RealSense frames: x1.2-1.6 from 25 to 50 px), up to WAVE_SPAN windows
-        grow = math.sqrt(min(WAVE_SPAN, max(1.0, span / max(win * z, 1e-12))))
-        allowed = p.tolerance * wave * math.sqrt(sig2[0] + sig2[1] * z ** 4) * grow
-        ratio = rms / max(allowed, 1e-12)
+        ratio = wavy_ratio(ev, c, nm, p.tolerance, WAVE_OWN * max(own[a], own[b]))
         return (ratio, vec[:, 0]) if ratio <= 1.0 else None
 
     own = {i: float(x) for i, x in enumerate(_rms_of(np.maximum(cnt, 1), s1, s2))}

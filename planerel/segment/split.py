@@ -42,6 +42,7 @@ import numpy as np
 from planerel.errors import InputError
 from planerel.segment.params import _bool, _int, _num, coerce_params, scaled_min_region_size
 from planerel.segment.result import Segmentation, SegPlane
+from planerel.segment.wavy_fit import wavy_model, wavy_sheet_fits
 
 __all__ = ["SplitParams", "split_bent_regions", "expected_sigma"]
 
@@ -416,7 +417,7 @@ def split_bent_regions(cloud, seg: Segmentation, *, normals=None, params: SplitP
     leftover_ids: list[int] = []
     if p.leftover and cloud.organized:
         # the measured waviness (None: not a wavy frame, or off), for the planarity test
-        wavy = _wavy_model(seg.info) if p.wavy_leftover else None
+        wavy = wavy_model(seg.info) if p.wavy_leftover else None
         if wavy is not None:  # (frames that are not wavy: info as before)
             info["leftover_wavy"] = 0
         cur = lab if new_lab is None else new_lab
@@ -555,18 +556,6 @@ def _surfaces(planes, Q, part, p: SplitParams) -> np.ndarray:
 WAVE_LEFTOVER_MAX_RMS = 0.008
 
 
-def _wavy_model(info) -> dict | None:
-    """The noise model of ``info`` (region growing's) when it measures a wavy frame, else
-    None."""
-    from planerel.segment.noise import WAVY_RATIO
-
-    nm = info.get("noise_model") if isinstance(info, dict) else None
-    if (not nm or nm.get("kind") == "none" or nm.get("n_patches", 0) <= 0
-            or nm.get("wave", 0.0) < WAVY_RATIO):
-        return None
-    return nm
-
-
 def _keep_planar(piece, P, scale, p: SplitParams, wavy: dict | None = None, stats=None):
     """Pieces found in an unassigned patch that pass the split test themselves (RMS residual
     within ``tolerance`` x the expected RMS), renumbered ``0..``; None when none does.  Far
@@ -575,8 +564,6 @@ def _keep_planar(piece, P, scale, p: SplitParams, wavy: dict | None = None, stat
     ``wavy``: the noise model of a wavy frame; a piece failing that test is still kept when it
     fits within the measured waviness (:func:`planerel.segment.wavy_fit.wavy_sheet_fits`; counted
     in ``stats["leftover_wavy"]``)."""
-    from planerel.segment.wavy_fit import wavy_sheet_fits
-
     k = int(piece.max()) + 1
     new = np.full(k, -1, dtype=np.int64)
     kept = 0
