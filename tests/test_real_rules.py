@@ -23,10 +23,12 @@ only on the shipped seed 0 (the corner furniture became ``box`` or ``stairs`` on
 
 from __future__ import annotations
 
+import fcntl
 import hashlib
 import importlib.util
 import json
 import os
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -89,18 +91,22 @@ def demo_model(request):
 
     cache = Path(request.config.cache.mkdir("planerel-demo-model"))
     model = cache / _code_hash()
-    if not (model / "rules.pl").is_file():
-        for old in cache.iterdir():  # models of older code
-            if old.is_dir():
-                import shutil
-
-                shutil.rmtree(old, ignore_errors=True)
-        demo = _demo()
-        seeds = demo.seeds()  # the shipped model's (make demo, --seed 0)
-        demo.learn_shipped(cache / "world", model, parts=demo.default_parts(),
-                           world_seed=seeds["world"], learner_seed=seeds["learner"],
-                           engine="builtin", jobs=2, cache="none", log=lambda s: None,
-                           progress=False)
+    # one learner at a time (pytest -n: every worker needs the model; the first learns it,
+    # the others wait and read it), into a temporary folder renamed when whole
+    with open(cache / ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (model / "rules.pl").is_file():
+            for old in cache.iterdir():  # models of older code, a broken run's leftovers
+                if old.is_dir():
+                    shutil.rmtree(old, ignore_errors=True)
+            demo = _demo()
+            seeds = demo.seeds()  # the shipped model's (make demo, --seed 0)
+            tmp = cache / f".learning-{os.getpid()}"
+            demo.learn_shipped(cache / "world", tmp, parts=demo.default_parts(),
+                               world_seed=seeds["world"], learner_seed=seeds["learner"],
+                               engine="builtin", jobs=2, cache="none", log=lambda s: None,
+                               progress=False)
+            os.replace(tmp, model)
     return model
 
 
