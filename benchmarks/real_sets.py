@@ -2,6 +2,7 @@
 
     .venv/bin/python benchmarks/real_sets.py build DEST --mirrors DIR [--only NAME ...]
     .venv/bin/python benchmarks/real_sets.py capture SET_DIR NAME --mirrors DIR [--role R]
+    .venv/bin/python benchmarks/real_sets.py check DEST
     .venv/bin/python benchmarks/real_sets.py list
 
 The real frames planerel is checked on (``real_unseen.py``'s hunts, ``real_tabletop.py``'s and
@@ -20,11 +21,17 @@ lacks a blob is named in the error, with the path to get; nothing is written for
 (files are written to a temporary folder that replaces the set's only when all are there).
 
 ``capture SET_DIR NAME`` writes the manifest of a labelled folder made by hand: each file is
-looked up by its blob id among the repositories of ``DIR``. A file that is in none of them
-and is no small text file (a sidecar of ours, kept inline: intrinsics, an up vector) is
-listed and the capture refused: a set whose data cannot be fetched
-back is not reproducible; convert at read time instead (``planerel.io`` reads PNG/TIFF depth,
-PCD, PLY, NPY).
+looked up by its blob id among the repositories of ``DIR`` (in ``HEAD``'s tree, else in the
+commit that added it). A file made from a repository's file is named in the folder's
+``MADE.json`` (``{"FILE": {"repo": "owner/name", "path": P, "convert": C}}``, ``C`` one of
+``CONVERTERS``: a dict pickled in a ``.npy`` reduced to its depth array, RealSense F200 depth
+decoded; ``{"FILE": {"skip": "why"}}`` leaves a file out): the capture makes it again and
+checks it. A file that is in no repository, not made, and no small text file (a sidecar of
+ours, kept inline: intrinsics, an up vector) is listed and the capture refused: a set whose
+data cannot be fetched back is not reproducible.
+
+``check DEST`` says which sets under ``DEST`` are not bit for bit their manifest's (a file
+missing or changed, the labels redrawn).
 
 Why: the machine these sets lived on was reset twice, and each time the sets (frames, labels,
 notes) had to be found and labelled again by hand, hours of work, with figures that moved
@@ -45,7 +52,7 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 MANIFESTS = os.path.join(HERE, "real_sets")
 #: files of a set folder that are ours, kept in the manifest itself
-OWN = ("labels.json", "NOTES.md")
+OWN = ("labels.json", "NOTES.md", "MADE.json")
 
 
 class SetError(Exception):
@@ -102,49 +109,234 @@ def tree_index(git_dir: str) -> tuple[str, dict]:
     return commit, index
 
 
+def _scan_commits(git_dir: str, sha: str):
+    """``(commit, path)`` of the newest commit whose tree holds blob ``sha``, trees read one
+    by one (those that cannot be read skipped), or None."""
+    for commit in _git(git_dir, "rev-list", "--all").split():
+        res = subprocess.run(["git", f"--git-dir={git_dir}", "ls-tree", "-r", "-z", commit],
+                             capture_output=True, text=True)
+        for line in res.stdout.split("\0"):
+            if "\t" in line and line.split("\t", 1)[0].split()[2] == sha:
+                return commit, line.split("\t", 1)[1]
+    return None
+
+
+def _find_blobs(shas: set, repos: dict) -> dict:
+    """``{blob id: (repo, commit, path)}`` for the blobs found in ``repos``: in the tree of
+    ``HEAD`` first, else in any commit that added it (a file a later commit removed)."""
+    found = {}
+    for repo, git_dir in repos.items():
+        left = sorted(shas - set(found))
+        if not left:
+            break
+        try:
+            commit, index = tree_index(git_dir)
+        except SetError as e:   # a snapshot still being copied in: not a repository yet
+            print(f"warning: {repo} skipped: {e}", file=sys.stderr)
+            continue
+        for sha in left:
+            if sha in index:
+                found[sha] = (repo, commit, index[sha])
+        left = [sha for sha in left if sha not in found]
+        if not left:
+            continue
+        res = subprocess.run(["git", f"--git-dir={git_dir}", "cat-file", "--batch-check"],
+                             input="\n".join(left) + "\n", capture_output=True, text=True)
+        for line in res.stdout.splitlines():
+            sha, kind = (line.split() + ["", ""])[:2]
+            if kind != "blob":
+                continue
+            try:
+                log = _git(git_dir, "log", "--all", "--format=commit %H", "--raw",
+                           "--no-abbrev", f"--find-object={sha}")
+            except SetError:   # a snapshot lacking some objects (files of 4 MiB and more)
+                hit = _scan_commits(git_dir, sha)
+                if hit:
+                    found[sha] = (repo, *hit)
+                continue
+            commit = None
+            for ln in log.splitlines():
+                if ln.startswith("commit "):
+                    commit = ln.split()[1]
+                elif ln.startswith(":") and "\t" in ln:
+                    meta, path = ln.split("\t", 1)
+                    if meta.split()[3] == sha:   # the commit that added it (its new side)
+                        found[sha] = (repo, commit, path)
+                        break
+    return found
+
+
+def _restricted_npy_object(data: bytes):
+    """The object of a pickled ``.npy`` (``np.save`` of a dict), unpickled with numpy's array
+    classes only: a repository's file is data, and a pickle could run anything."""
+    import io
+    import pickle
+
+    import numpy as np
+    from numpy.lib import format as npf
+
+    class Arrays(pickle.Unpickler):
+        def find_class(self, module, name):
+            if module.split(".")[0] == "numpy" and name in (
+                    "_reconstruct", "ndarray", "dtype", "scalar", "_frombuffer"):
+                if module.startswith("numpy.core") and hasattr(np, "_core"):
+                    module = "numpy._core" + module[len("numpy.core"):]   # numpy 2's name
+                return super().find_class(module, name)
+            raise SetError(f"a pickled .npy asks for {module}.{name}: refused")
+
+    f = io.BytesIO(data)
+    version = npf.read_magic(f)
+    header = npf.read_array_header_1_0 if version == (1, 0) else npf.read_array_header_2_0
+    shape, _, dtype = header(f)
+    if dtype != np.dtype(object):
+        raise SetError("not a pickled .npy")
+    arr = Arrays(f, encoding="latin1").load()
+    return arr.item() if shape == () else arr
+
+
+def _npy_bytes(arr) -> bytes:
+    import io
+
+    import numpy as np
+
+    buf = io.BytesIO()
+    np.save(buf, np.asarray(arr))
+    return buf.getvalue()
+
+
+def _png_uint16(img) -> bytes:
+    import io
+
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.fromarray(img).save(buf, format="PNG")
+    return buf.getvalue()
+
+
+def _f200_depth(data: bytes) -> bytes:
+    """andyzeng/apc-vision-toolbox's RealSense F200 depth PNG as 16-bit depth (0.1 mm): the
+    toolbox's encoding (a circular 3-bit left shift) undone, and the one-pixel holes of the
+    depth-to-colour registration grid filled (a hole between two valid pixels within 3 % of
+    each other, along the row then the column, two passes; 26 % of the pixels valid before,
+    44-46 % after). Unfilled, no plane grows on these frames (docs/objects.md, hunt36)."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    raw = np.array(Image.open(io.BytesIO(data))).astype(np.uint16)
+    d = ((raw >> 3) | (raw << 13)).astype(np.float64)
+    for _ in range(2):
+        out = d.copy()
+        left, right, up, down = (np.zeros_like(d) for _ in range(4))
+        left[:, 1:], right[:, :-1] = d[:, :-1], d[:, 1:]
+        up[1:, :], down[:-1, :] = d[:-1, :], d[1:, :]
+        hole = d <= 0
+        row = hole & (left > 0) & (right > 0) & (np.abs(left - right) < 0.03 * np.maximum(left, right))
+        out[row] = (left[row] + right[row]) / 2
+        col = hole & ~row & (up > 0) & (down > 0) & (np.abs(up - down) < 0.03 * np.maximum(up, down))
+        out[col] = (up[col] + down[col]) / 2
+        d = out
+    return _png_uint16(np.round(d).astype(np.uint16))
+
+
+#: how a file of a set is made from a repository's file (``MADE.json``'s ``convert``)
+CONVERTERS = {
+    "npy_dict:depth": lambda data: _npy_bytes(_restricted_npy_object(data)["depth"]),
+    "f200_depth": _f200_depth,
+}
+
+
+def _digest(data: bytes, fname: str) -> str:
+    """SHA-1 of a made file's decoded array (a PNG's pixels or a ``.npy``'s values with shape
+    and dtype), so a PNG written by another Pillow version still checks."""
+    import io
+
+    import numpy as np
+
+    if fname.endswith(".npy"):
+        arr = np.load(io.BytesIO(data), allow_pickle=False)
+    else:
+        from PIL import Image
+
+        arr = np.array(Image.open(io.BytesIO(data)))
+    return hashlib.sha1(f"{arr.dtype.str}{arr.shape}".encode() + arr.tobytes()).hexdigest()
+
+
+def _made_files(set_dir: str, repos: dict) -> dict:
+    """``{file: manifest entry or None}`` for the files ``MADE.json`` says were made from a
+    repository's file (``{"file": {"repo": R, "path": P, "convert": NAME}}``, checked by
+    making them again here) or are left out (``{"file": {"skip": "why"}}``: an image kept
+    only to look at)."""
+    path = os.path.join(set_dir, "MADE.json")
+    if not os.path.exists(path):
+        return {}
+    with open(path) as fh:
+        spec = json.load(fh)
+    out = {}
+    for fname, how in sorted(spec.items()):
+        if how.get("skip"):
+            out[fname] = None
+            continue
+        if how.get("convert") not in CONVERTERS or how.get("repo") not in repos:
+            raise SetError(f"{path}: {fname}: needs a 'convert' of {', '.join(CONVERTERS)} "
+                           f"and a 'repo' among the mirrors")
+        git_dir = repos[how["repo"]]
+        commit = how.get("commit") or _git(git_dir, "rev-parse", "HEAD").strip()
+        src = _git(git_dir, "show", f"{commit}:{how['path']}", binary=True)
+        with open(os.path.join(set_dir, fname), "rb") as fh:
+            have = fh.read()
+        made = CONVERTERS[how["convert"]](src)
+        if _digest(made, fname) != _digest(have, fname):
+            raise SetError(f"{set_dir}: {fname} is not {how['convert']} of {how['path']}")
+        out[fname] = {"file": fname, "repo": how["repo"], "commit": commit,
+                      "path": how["path"], "blob": blob_id(src), "convert": how["convert"],
+                      "digest": _digest(made, fname)}
+    return out
+
+
 def capture(set_dir: str, name: str, mirrors: str, role: str = "development") -> dict:
     """The manifest of a labelled set folder, each file found by content in ``mirrors``.
 
     Raises
     ------
     SetError
-        No ``labels.json``, or files found in no repository (listed).
+        No such folder, or data files found in no repository (listed).
     """
-    if not os.path.exists(os.path.join(set_dir, "labels.json")):
-        raise SetError(f"{set_dir}: no labels.json")
-    indexes = {}
-    for r, g in git_dirs(mirrors).items():
-        try:
-            indexes[r] = tree_index(g)
-        except SetError as e:   # a snapshot still being copied in: not a repository yet
-            print(f"warning: {r} skipped: {e}", file=sys.stderr)
-    files, missing = [], []
+    if not os.path.isdir(set_dir):
+        raise SetError(f"{set_dir}: no such folder")
+    repos = git_dirs(mirrors)
+    made = _made_files(set_dir, repos)
+    shas = {}
     for fname in _walk(set_dir):
-        path = os.path.join(set_dir, fname)
-        if fname in OWN:
-            continue
-        with open(path, "rb") as fh:
-            data = fh.read()
-        sha = blob_id(data)
-        hit = next(((r, c, idx[sha]) for r, (c, idx) in indexes.items() if sha in idx), None)
-        if hit is not None:
-            files.append({"file": fname, "repo": hit[0], "commit": hit[1], "path": hit[2],
+        if fname not in OWN and fname not in made:
+            with open(os.path.join(set_dir, fname), "rb") as fh:
+                data = fh.read()
+            shas[fname] = (blob_id(data), _own_text(data))
+    where = _find_blobs({sha for sha, _ in shas.values()}, repos)
+    files, missing = [f for f in made.values() if f is not None], []
+    for fname, (sha, text) in shas.items():
+        if sha in where:
+            repo, commit, path = where[sha]
+            files.append({"file": fname, "repo": repo, "commit": commit, "path": path,
                           "blob": sha})
-            continue
-        text = _own_text(data)
-        if text is None:
-            missing.append(fname)
-        else:   # a sidecar written with the labels (intrinsics, an up vector): ours, kept inline
+        elif text is not None:   # a sidecar written with the labels (intrinsics, an up): ours
             files.append({"file": fname, "text": text})
+        else:
+            missing.append(fname)
     if missing:
         raise SetError(f"{set_dir}: {len(missing)} file(s) in no repository of {mirrors}: "
                        f"{', '.join(missing[:8])}{' ...' if len(missing) > 8 else ''}")
-    with open(os.path.join(set_dir, "labels.json")) as fh:
-        labels = json.load(fh)
+    labels = None   # a set scored by its script's own truth (real_tabletop.py, real_mosd.py)
+    if os.path.exists(os.path.join(set_dir, "labels.json")):
+        with open(os.path.join(set_dir, "labels.json")) as fh:
+            labels = json.load(fh)
     notes = None
     if os.path.exists(os.path.join(set_dir, "NOTES.md")):
         with open(os.path.join(set_dir, "NOTES.md")) as fh:
             notes = fh.read()
+    files.sort(key=lambda f: f["file"])
     return {"name": name, "role": role, "files": files, "labels": labels, "notes": notes}
 
 
@@ -225,9 +417,16 @@ def build(doc: dict, dest: str, repos: dict) -> str:
             if res.returncode != 0 or blob_id(res.stdout) != f["blob"]:
                 raise SetError(f"{doc['name']}: {f['repo']} lacks {f['path']} (blob {f['blob'][:10]},"
                                f" commit {f['commit'][:10]}); a newer snapshot may have moved it")
+            data = res.stdout
+            if "convert" in f:
+                data = CONVERTERS[f["convert"]](data)
+                if _digest(data, f["file"]) != f["digest"]:
+                    raise SetError(f"{doc['name']}: {f['file']} made by {f['convert']} "
+                                   f"differs from the captured one")
             with open(target, "wb") as fh:
-                fh.write(res.stdout)
-        write_json(os.path.join(tmp, "labels.json"), doc["labels"])
+                fh.write(data)
+        if doc.get("labels") is not None:
+            write_json(os.path.join(tmp, "labels.json"), doc["labels"])
         if doc.get("notes"):
             with open(os.path.join(tmp, "NOTES.md"), "w") as fh:
                 fh.write(doc["notes"])
@@ -238,6 +437,36 @@ def build(doc: dict, dest: str, repos: dict) -> str:
         if os.path.exists(tmp):
             shutil.rmtree(tmp)
     return out
+
+
+def check(doc: dict, dest: str) -> list:
+    """What differs between a manifest and its folder under ``dest``: files missing or not
+    bit for bit the manifest's (``[]`` when the folder is the set as captured)."""
+    out = os.path.join(dest, doc["name"])
+    bad = []
+    for f in doc["files"]:
+        path = os.path.join(out, f["file"])
+        if not os.path.isfile(path):
+            bad.append(f"{f['file']}: missing")
+            continue
+        with open(path, "rb") as fh:
+            data = fh.read()
+        if "text" in f:
+            same = data.decode("utf-8", "replace") == f["text"]
+        elif "convert" in f:
+            same = _digest(data, f["file"]) == f["digest"]
+        else:
+            same = blob_id(data) == f["blob"]
+        if not same:
+            bad.append(f"{f['file']}: differs")
+    if doc.get("labels") is not None:
+        try:
+            with open(os.path.join(out, "labels.json")) as fh:
+                if json.load(fh) != doc["labels"]:
+                    bad.append("labels.json: differs")
+        except (OSError, ValueError):
+            bad.append("labels.json: missing or not JSON")
+    return bad
 
 
 def main(argv=None) -> int:
@@ -253,18 +482,28 @@ def main(argv=None) -> int:
     c.add_argument("--mirrors", required=True)
     c.add_argument("--role", default="development")
     sub.add_parser("list", help="the manifests and the repositories each needs")
+    k = sub.add_parser("check", help="is every set under DEST the manifest's, bit for bit")
+    k.add_argument("dest")
+    k.add_argument("--only", nargs="*", default=())
     args = ap.parse_args(argv)
     try:
         if args.cmd == "capture":
             doc = capture(args.set_dir, args.name, args.mirrors, args.role)
             write_json(manifest_path(args.name), doc)
             print(f"{manifest_path(args.name)}: {len(doc['files'])} files, "
-                  f"{len(doc['labels'].get('frames', []))} frames")
+                  f"{len((doc['labels'] or {}).get('frames', []))} labelled frames")
         elif args.cmd == "list":
             for doc in load_manifests():
                 repos = sorted({f["repo"] for f in doc["files"] if "repo" in f})
                 print(f"{doc['name']} ({doc['role']}): {len(doc['files'])} files from "
                       f"{', '.join(repos)}")
+        elif args.cmd == "check":
+            bad = 0
+            for doc in load_manifests(args.only):
+                diff = check(doc, args.dest)
+                bad += bool(diff)
+                print(f"{doc['name']}: " + ("ok" if not diff else "; ".join(diff[:5])))
+            return 1 if bad else 0
         else:
             repos = git_dirs(args.mirrors)
             docs = load_manifests(args.only)

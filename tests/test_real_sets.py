@@ -113,3 +113,103 @@ def test_the_command_line_writes_and_lists_manifests(world, tmp_path, monkeypatc
     assert real_sets.main(["build", str(tmp_path / "d"), "--mirrors", str(mirrors)]) == 0
     assert real_sets.main(["build", str(tmp_path / "d"), "--mirrors", str(tmp_path / "none")]) == 1
     assert "no such folder" in capsys.readouterr().err
+
+
+def test_a_file_a_later_commit_removed_is_found_in_the_commit_that_had_it(world):
+    tmp, mirrors, folder, _ = world
+    top = mirrors / "lab" / "frames"
+    git = ["git", "-C", str(top), "-c", "user.name=t", "-c", "user.email=t@t"]
+    old = subprocess.run(git + ["rev-parse", "HEAD"], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    subprocess.run(git + ["rm", "-q", "data/scene0/depth.png"], check=True)
+    subprocess.run(git + ["commit", "-qm", "moved away"], check=True)
+    doc = real_sets.capture(str(folder), "huntX/s", str(mirrors))
+    f = next(f for f in doc["files"] if f["file"] == "depth.png")
+    assert (f["repo"], f["commit"], f["path"]) == ("lab/frames", old, "data/scene0/depth.png")
+    out = Path(real_sets.build(doc, str(tmp / "dest"), real_sets.git_dirs(str(mirrors))))
+    assert (out / "depth.png").read_bytes() == (folder / "depth.png").read_bytes()
+
+
+def test_check_says_which_file_of_a_built_set_differs(world):
+    tmp, mirrors, folder, _ = world
+    (folder / "labels.json").unlink()                 # a set its script scores: no labels
+    doc = real_sets.capture(str(folder), "huntX/s", str(mirrors))
+    assert doc["labels"] is None
+    real_sets.build(doc, str(tmp / "dest"), real_sets.git_dirs(str(mirrors)))
+    assert real_sets.check(doc, str(tmp / "dest")) == []
+    assert not (tmp / "dest" / "huntX" / "s" / "labels.json").exists()
+    (tmp / "dest" / "huntX" / "s" / "sub" / "a.pcd").write_bytes(b"changed")
+    (tmp / "dest" / "huntX" / "s" / "depth.json").unlink()
+    assert real_sets.check(doc, str(tmp / "dest")) == ["depth.json: missing", "sub/a.pcd: differs"]
+
+
+def test_a_made_file_is_rebuilt_from_its_source_by_its_converter(tmp_path):
+    import io
+
+    import numpy as np
+
+    depth = np.linspace(0.3, 1.2, 64 * 48, dtype=np.float32).reshape(48, 64)
+    buf = io.BytesIO()
+    np.save(buf, np.array({"depth": depth, "image": np.zeros((48, 64, 3), np.uint8)}),
+            allow_pickle=True)
+    mirrors = tmp_path / "mirrors"
+    _repo(mirrors, "lab", "dicts", {"demo/frame.npy": buf.getvalue()})
+    folder = tmp_path / "set"
+    folder.mkdir()
+    np.save(folder / "frame_depth.npy", depth)
+    (folder / "frame_rgb.png").write_bytes(b"\x89PNG not kept")
+    (folder / "MADE.json").write_text(json.dumps({
+        "frame_depth.npy": {"repo": "lab/dicts", "path": "demo/frame.npy",
+                            "convert": "npy_dict:depth"},
+        "frame_rgb.png": {"skip": "to look at"}}))
+    doc = real_sets.capture(str(folder), "huntX/d", str(mirrors))
+    assert [f["file"] for f in doc["files"]] == ["frame_depth.npy"]
+    assert doc["files"][0]["convert"] == "npy_dict:depth"
+    out = Path(real_sets.build(doc, str(tmp_path / "dest"), real_sets.git_dirs(str(mirrors))))
+    assert np.array_equal(np.load(out / "frame_depth.npy"), depth)
+    assert real_sets.check(doc, str(tmp_path / "dest")) == []
+    # a file the converter does not make from that source is refused at capture
+    np.save(folder / "frame_depth.npy", depth + 1)
+    with pytest.raises(real_sets.SetError, match="is not npy_dict:depth"):
+        real_sets.capture(str(folder), "huntX/d", str(mirrors))
+
+
+def test_a_pickle_that_asks_for_more_than_arrays_is_refused():
+    import pickle
+
+    import numpy as np
+
+    class Boom:
+        def __reduce__(self):
+            return (print, ("ran",))
+
+    header = b"\x93NUMPY\x01\x00"
+    text = "{'descr': '|O', 'fortran_order': False, 'shape': (), }"
+    text += " " * (64 - 10 - 1 - len(text)) + "\n"
+    data = header + len(text).to_bytes(2, "little") + text.encode() + pickle.dumps(
+        np.array(Boom(), dtype=object))
+    with pytest.raises(real_sets.SetError, match="refused"):
+        real_sets._restricted_npy_object(data)
+
+
+def test_the_f200_decoding_undoes_the_rotation_and_fills_only_smooth_holes():
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    depth = np.full((6, 8), 8000, np.uint16)          # 0.8 m in 0.1 mm
+    depth[:, 4:] = 8100
+    depth[2, 2] = 0                                     # a grid hole on a smooth surface
+    depth[4, 4] = 0                                     # a hole between 0.8 and 0.81 m: filled
+    depth[:2, :4] = 3000                                # a step of 0.5 m beside a hole ...
+    depth[0, 4] = 3000
+    depth[1, 4] = 0                                     # ... bridged neither way
+    stored = ((depth << 3) | (depth >> 13)).astype(np.uint16)   # the toolbox's encoding
+    buf = io.BytesIO()
+    Image.fromarray(stored).save(buf, format="PNG")
+    got = np.array(Image.open(io.BytesIO(real_sets._f200_depth(buf.getvalue()))))
+    want = depth.copy()
+    want[2, 2] = 8000
+    want[4, 4] = 8050
+    assert want[1, 4] == 0 and np.array_equal(got, want)
