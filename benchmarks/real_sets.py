@@ -241,9 +241,31 @@ def _f200_depth(data: bytes) -> bytes:
     return _png_uint16(np.round(d).astype(np.uint16))
 
 
+def _npy(data: bytes):
+    import io
+
+    import numpy as np
+
+    return np.load(io.BytesIO(data), allow_pickle=False)
+
+
+def _kinect_raw_depth(data: bytes) -> bytes:
+    """A Kinect v1's raw 11-bit disparity (``uint16``, 2047 = none) as metres (``float32``, 0 =
+    none), by PascalLeMerrer/Bug-Arena's own formula (``gui/kinect.py``: cm = tan(raw / 1024 +
+    0.5) * 33.825 + 5.7, kept within its 80-400 cm table)."""
+    import numpy as np
+
+    raw = _npy(data)
+    cm = np.tan(raw.astype(np.float64) / 1024 + 0.5) * 33.825 + 5.7
+    keep = (raw != 2047) & (cm >= 80) & (cm <= 400)
+    return _npy_bytes(np.where(keep, cm / 100, 0).astype(np.float32))
+
+
 #: how a file of a set is made from a repository's file (``MADE.json``'s ``convert``)
 CONVERTERS = {
     "npy_dict:depth": lambda data: _npy_bytes(_restricted_npy_object(data)["depth"]),
+    "npy_nan_to_zero": lambda data: _npy_bytes(__import__("numpy").nan_to_num(_npy(data), nan=0.0)),
+    "kinect_raw_depth": _kinect_raw_depth,
     "f200_depth": _f200_depth,
 }
 

@@ -213,3 +213,23 @@ def test_the_f200_decoding_undoes_the_rotation_and_fills_only_smooth_holes():
     want[2, 2] = 8000
     want[4, 4] = 8050
     assert want[1, 4] == 0 and np.array_equal(got, want)
+
+
+def test_the_kinect_raw_disparity_becomes_metres_by_the_repositorys_formula():
+    import io
+
+    import numpy as np
+
+    raw = np.array([[2047, 696, 900], [1000, 1084, 300]], np.uint16)
+    buf = io.BytesIO()
+    np.save(buf, raw)
+    got = real_sets._npy(real_sets.CONVERTERS["kinect_raw_depth"](buf.getvalue()))
+    cm = np.tan(raw / 1024 + 0.5) * 33.825 + 5.7          # gui/kinect.py's formula
+    assert got.dtype == np.float32
+    assert got[0, 0] == 0 and got[1, 2] == 0              # no data; nearer than its 80 cm table
+    assert 0.8 <= cm[0, 1] / 100 and np.isclose(got[0, 1], cm[0, 1] / 100)
+    assert np.allclose(got[1, :2], cm[1, :2] / 100) and got[0, 2] > got[0, 1]
+    nan = np.array([[np.nan, 1.5]], np.float32)
+    buf = io.BytesIO()
+    np.save(buf, nan)
+    assert real_sets._npy(real_sets.CONVERTERS["npy_nan_to_zero"](buf.getvalue())).tolist() == [[0.0, 1.5]]
