@@ -227,8 +227,9 @@ def test_the_kinect_raw_disparity_becomes_metres_by_the_repositorys_formula():
     cm = np.tan(raw / 1024 + 0.5) * 33.825 + 5.7          # gui/kinect.py's formula
     assert got.dtype == np.float32
     assert got[0, 0] == 0 and got[1, 2] == 0              # no data; nearer than its 80 cm table
+    assert cm[1, 1] > 400 and got[1, 1] == 0              # farther than its 4 m table
     assert 0.8 <= cm[0, 1] / 100 and np.isclose(got[0, 1], cm[0, 1] / 100)
-    assert np.allclose(got[1, :2], cm[1, :2] / 100) and got[0, 2] > got[0, 1]
+    assert np.isclose(got[1, 0], cm[1, 0] / 100) and got[0, 2] > got[0, 1]
     nan = np.array([[np.nan, 1.5]], np.float32)
     buf = io.BytesIO()
     np.save(buf, nan)
