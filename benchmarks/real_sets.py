@@ -261,13 +261,37 @@ def _kinect_raw_depth(data: bytes) -> bytes:
     return _npy_bytes(np.where(keep, cm / 100, 0).astype(np.float32))
 
 
-#: how a file of a set is made from a repository's file (``MADE.json``'s ``convert``)
+def _mat_cloud(data: bytes, var: str) -> bytes:
+    """An organized cloud stored as a MATLAB variable ``var`` (``(H, W, 3)`` metres; points at
+    the origin mean no data) as a float64 ``.npy`` with NaN for no data."""
+    import io
+
+    import numpy as np
+    from scipy.io import loadmat
+
+    cloud = np.asarray(loadmat(io.BytesIO(data))[var], dtype=np.float64)
+    cloud[~(cloud[..., 2] > 0)] = np.nan
+    return _npy_bytes(cloud)
+
+
+#: how a file of a set is made from a repository's file (``MADE.json``'s ``convert``:
+#: ``NAME`` or ``NAME:ARGUMENT``)
 CONVERTERS = {
-    "npy_dict:depth": lambda data: _npy_bytes(_restricted_npy_object(data)["depth"]),
-    "npy_nan_to_zero": lambda data: _npy_bytes(__import__("numpy").nan_to_num(_npy(data), nan=0.0)),
-    "kinect_raw_depth": _kinect_raw_depth,
-    "f200_depth": _f200_depth,
+    "npy_dict": lambda data, key: _npy_bytes(_restricted_npy_object(data)[key]),
+    "npy_nan_to_zero": lambda data, _: _npy_bytes(__import__("numpy").nan_to_num(_npy(data), nan=0.0)),
+    "npy_squeeze": lambda data, _: _npy_bytes(_npy(data)[..., 0]),
+    "mat_cloud": _mat_cloud,
+    "kinect_raw_depth": lambda data, _: _kinect_raw_depth(data),
+    "f200_depth": lambda data, _: _f200_depth(data),
 }
+
+
+def convert(name: str, data: bytes) -> bytes:
+    """``data`` made into a set's file by the converter ``name`` (``NAME[:ARGUMENT]``)."""
+    base, _, arg = name.partition(":")
+    if base not in CONVERTERS:
+        raise SetError(f"no converter {base!r} (known: {', '.join(CONVERTERS)})")
+    return CONVERTERS[base](data, arg)
 
 
 def _digest(data: bytes, fname: str) -> str:
@@ -301,7 +325,7 @@ def _made_files(set_dir: str, repos: dict) -> dict:
         if how.get("skip"):
             out[fname] = None
             continue
-        if how.get("convert") not in CONVERTERS or how.get("repo") not in repos:
+        if str(how.get("convert")).partition(":")[0] not in CONVERTERS or how.get("repo") not in repos:
             raise SetError(f"{path}: {fname}: needs a 'convert' of {', '.join(CONVERTERS)} "
                            f"and a 'repo' among the mirrors")
         git_dir = repos[how["repo"]]
@@ -309,7 +333,7 @@ def _made_files(set_dir: str, repos: dict) -> dict:
         src = _git(git_dir, "show", f"{commit}:{how['path']}", binary=True)
         with open(os.path.join(set_dir, fname), "rb") as fh:
             have = fh.read()
-        made = CONVERTERS[how["convert"]](src)
+        made = convert(how["convert"], src)
         if _digest(made, fname) != _digest(have, fname):
             raise SetError(f"{set_dir}: {fname} is not {how['convert']} of {how['path']}")
         out[fname] = {"file": fname, "repo": how["repo"], "commit": commit,
@@ -441,7 +465,7 @@ def build(doc: dict, dest: str, repos: dict) -> str:
                                f" commit {f['commit'][:10]}); a newer snapshot may have moved it")
             data = res.stdout
             if "convert" in f:
-                data = CONVERTERS[f["convert"]](data)
+                data = convert(f["convert"], data)
                 if _digest(data, f["file"]) != f["digest"]:
                     raise SetError(f"{doc['name']}: {f['file']} made by {f['convert']} "
                                    f"differs from the captured one")

@@ -223,7 +223,7 @@ def test_the_kinect_raw_disparity_becomes_metres_by_the_repositorys_formula():
     raw = np.array([[2047, 696, 900], [1000, 1084, 300]], np.uint16)
     buf = io.BytesIO()
     np.save(buf, raw)
-    got = real_sets._npy(real_sets.CONVERTERS["kinect_raw_depth"](buf.getvalue()))
+    got = real_sets._npy(real_sets.convert("kinect_raw_depth", buf.getvalue()))
     cm = np.tan(raw / 1024 + 0.5) * 33.825 + 5.7          # gui/kinect.py's formula
     assert got.dtype == np.float32
     assert got[0, 0] == 0 and got[1, 2] == 0              # no data; nearer than its 80 cm table
@@ -233,4 +233,23 @@ def test_the_kinect_raw_disparity_becomes_metres_by_the_repositorys_formula():
     nan = np.array([[np.nan, 1.5]], np.float32)
     buf = io.BytesIO()
     np.save(buf, nan)
-    assert real_sets._npy(real_sets.CONVERTERS["npy_nan_to_zero"](buf.getvalue())).tolist() == [[0.0, 1.5]]
+    assert real_sets._npy(real_sets.convert("npy_nan_to_zero", buf.getvalue())).tolist() == [[0.0, 1.5]]
+
+
+def test_a_matlab_cloud_and_a_one_channel_array_are_converted(tmp_path):
+    import io
+
+    import numpy as np
+    from scipy.io import savemat
+
+    cloud = np.zeros((4, 5, 3))
+    cloud[1:, :, 2] = 1.5
+    cloud[1:, :, 0] = 0.25
+    savemat(tmp_path / "c.mat", {"cloud2": cloud})
+    got = real_sets._npy(real_sets.convert("mat_cloud:cloud2", (tmp_path / "c.mat").read_bytes()))
+    assert np.isnan(got[0]).all() and np.array_equal(got[1:], cloud[1:])   # (0, 0, 0): no data
+    buf = io.BytesIO()
+    np.save(buf, np.arange(6, dtype=np.float32).reshape(2, 3, 1))
+    assert real_sets._npy(real_sets.convert("npy_squeeze", buf.getvalue())).shape == (2, 3)
+    with pytest.raises(real_sets.SetError, match="no converter"):
+        real_sets.convert("gzip", b"")
