@@ -42,8 +42,11 @@ $(STAMP): pyproject.toml
 demo: setup
 	$(PY) examples/demo.py --out out
 
+# the suite runs on PYTEST_WORKERS processes (pytest-xdist; 2 = the CI machine's cores)
+PYTEST_WORKERS ?= 2
+
 test: setup chromium
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n $(PYTEST_WORKERS)
 
 bench: setup
 	$(PY) benchmarks/run_all.py

@@ -106,6 +106,9 @@ def demo_model(request):
                                world_seed=seeds["world"], learner_seed=seeds["learner"],
                                engine="builtin", jobs=2, cache="none", log=lambda s: None,
                                progress=False)
+            base = tmp.with_name(tmp.name + "_base")   # learn_shipped's first stage
+            if base.is_dir():
+                os.replace(base, model.with_name(model.name + "_base"))
             os.replace(tmp, model)
     return model
 
