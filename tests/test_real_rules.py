@@ -812,9 +812,12 @@ def test_a_face_on_a_floor_measured_as_speckle_is_a_box(demo_model):
     0.17-0.24 m over the floor, which they measure only as scattered pixels): r200_dc4's carton
     front, the frame's only large plane, was read as the floor (88 degrees off); the floor's
     speckle rights the up (``gravity.sparse_floor``) and grounds the face (``relations.
-    tall_speckle_floor``): the carton is found by ``tall_face``.  xtion_1's wall seen under a
-    table's top between its legs would be a false box but for ``relations.tall_top_cover``.
-    Each switch off loses what it gives (docs/objects.md "A floor seen only as speckle")."""
+    tall_speckle_floor``): the carton is found by ``tall_face``; off, it is lost (docs/objects.md
+    "A floor seen only as speckle").  In the set as first labelled, xtion_1's wall seen under a
+    table's top between its legs was a false box but for ``relations.tall_top_cover``; the set
+    rebuilt after the machine's reset of 2026-12-02 (the frame read with the Xtion's standard
+    intrinsics, 13 planes where the first build had 11) shows no such face, and the switch moves
+    nothing here (its case is made in code in tests/test_speckle_floor.py)."""
     folder = HUNT_DATA / "hunt45" / "mbot"
     rows = _unseen_rows([folder], demo_model, "PLANEREL_HUNT_DATA")
     assert rows["r200_dc4_170421_depth"]["objects"][0]["found"]
@@ -824,5 +827,4 @@ def test_a_face_on_a_floor_measured_as_speckle_is_a_box(demo_model):
     assert not no_ground["r200_dc4_170421_depth"]["objects"][0]["found"]
     no_cover = _unseen_rows([folder], demo_model, "PLANEREL_HUNT_DATA",
                             ["relations.tall_top_cover=0"])
-    assert [n for n, x in no_cover.items() if any(f[0] == "box" for f in x["false"])] == [
-        "xtion_1_depth"]
+    assert _totals(no_cover) == _totals(rows)
