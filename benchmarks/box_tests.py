@@ -106,15 +106,18 @@ def tall_face_tests(planes, relations, cloud, label, plane_id=str) -> list:
         return profiles[q.label]
 
     def shaped(a):
-        return a.orientation == "vertical" and a.width >= p.corner_width \
-            and a.area >= p.standing_fill * a.length * a.width \
-            and (p.tall_flat <= 0 or a.rms <= p.tall_flat * a.width)
+        return R.tall_shaped(a, p, lab, cloud.xyz, up)
 
     out = []
     fill = face.area / max(1e-12, face.length * face.width)
     out.append(("shape", bool(shaped(face)),
                 f"vertical {face.orientation == 'vertical'}, width {face.width:.3f} "
-                f"(>= {p.corner_width}), fill {fill:.3f} (>= {p.standing_fill}), RMS/width "
+                f"(>= {p.corner_width}"
+                + (f", or >= {p.tall_narrow_width} and bend "
+                   f"{R.face_bend(face, lab, cloud.xyz, up, p.profile_points):.2f} "
+                   f"<= {p.tall_narrow_bend}" if 0 < p.tall_narrow_width <= face.width
+                   < p.corner_width else "")
+                + f"), fill {fill:.3f} (>= {p.standing_fill}), RMS/width "
                 f"{face.rms / max(face.width, 1e-12):.3f} (<= {p.tall_flat})"))
     near, beside = [], []
     for r in R.adjacent_only(relations):

@@ -60,7 +60,8 @@ def test_a_narrow_post_fails_its_shape_and_a_box_seen_from_above_its_top():
 
 
 def test_the_tests_follow_the_settings():
-    off = RelationParams(standing_foot=0.05, corner_width=0.6)
+    # (tall_narrow_width 0: a flat face narrower than corner_width passes otherwise, face52)
+    off = RelationParams(standing_foot=0.05, corner_width=0.6, tall_narrow_width=0.0)
     v = _verdicts([floor(), *box(0.0, 1.5, 0.5, 0.4, 0.5)], off, pitch=0.0, cam_height=0.2)
     _agree(v)
     assert "shape" in v[2][2]

@@ -206,6 +206,17 @@ class RelationParams:
     #: rectangle's (``plane_length * plane_width``); a ramp's side is a triangle (0.5), a box's
     #: face 0.9-1.0 (face24)
     standing_fill: float = 0.8
+    #: m: a ``tall_face`` narrower than ``corner_width`` but at least this wide passes the
+    #: shape test when it is flat *across* its width (:func:`face_bend` at most
+    #: ``tall_narrow_bend``): a small product box's face (6-8 cm: hunt43's 7 cm cube, bend
+    #: 0.19) is flat, a can's, a bottle's or a mug's facet of the same size bends by its
+    #: sagitta (0.48-2.7 on the real development frames); the rooms' legs and posts are
+    #: under 6 cm (product37).  0: ``corner_width`` for every tall face (before face52;
+    #: docs/objects.md "Narrow product faces flat across")
+    tall_narrow_width: float = 0.06
+    #: the largest :func:`face_bend` (the parabola's sagitta across the face's width over
+    #: the fit's residual RMS, unsigned) of a narrow tall face (``tall_narrow_width``)
+    tall_narrow_bend: float = 0.3
     #: m: a ``tall_face``'s top edge is no more than this below the sensor's eye level (or
     #: out of the image's top): a box's top is then out of sight; a box seen from above it
     #: shows its top (face24)
@@ -382,7 +393,7 @@ class RelationParams:
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width", "corner_slope", "corner_slope_span", "corner_slope_rms",
                              "facing_overlap", "facing_width", "facing_narrow_tol", "face_pair_width", "face_pair_angle", "face_pair_level", "face_pair_level_share", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
-                             "standing_fill", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
+                             "standing_fill", "tall_narrow_width", "tall_narrow_bend", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
                              "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "skirt_top_eye", "tall_feet_level",
                              "tall_speckle_floor", "tall_top_cover", "tall_beside_overlap", "tall_beside_step",
                              "lying_rise",
@@ -1075,7 +1086,9 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     A vertical plane ``f`` is a tall face when
 
     - it is a rectangle at least ``corner_width`` wide (``Plane.width``: a chair's or a
-      table's leg, a post, is narrower), its hull's area at least ``standing_fill`` of
+      table's leg, a post, is narrower; with ``tall_narrow_width`` > 0, at least that wide
+      and flat across its width, :func:`face_bend` at most ``tall_narrow_bend``: a small
+      product box's face, not a can's facet; :func:`tall_shaped`), its hull's area at least ``standing_fill`` of
       ``plane_length * plane_width`` (a ramp's side is a triangle), and flat: its fit's RMS
       residual at most ``tall_flat`` of its width (a cylinder that a coarse segmentation grew
       into one plane deviates from it by about 0.11 of its width);
@@ -1143,10 +1156,12 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     near: dict[int, list] = {}
     beside: dict[int, list] = {}
 
-    def shaped(a):
-        return a.orientation == "vertical" and a.width >= p.corner_width \
-            and a.area >= p.standing_fill * a.length * a.width \
-            and (p.tall_flat <= 0 or a.rms <= p.tall_flat * a.width)
+    shape_of: dict[int, bool] = {}
+
+    def shaped(a):  # once a plane (the narrow clause fits its points)
+        if a.label not in shape_of:
+            shape_of[a.label] = tall_shaped(a, p, lab, cloud.xyz, planes.up)
+        return shape_of[a.label]
 
     for r in adjacent_only(relations):
         if r.adjacent:
@@ -1234,6 +1249,54 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
             continue  # the strip is a flight's tread
         out.add(lbl)
     return frozenset(out)
+
+
+def face_bend(face, labels, xyz, up, max_points: int = PROFILE_POINTS) -> float:
+    """How much the vertical plane ``face`` bends across its width, against its noise: the
+    points' offsets ``d`` from their mean along the face's normal fitted as ``a u^2 + b u +
+    c + e v`` (``u`` along the face's horizontal axis ``up x normal``, ``v`` along ``up``),
+    the parabola's sagitta over the face's width (2nd-98th percentile of ``u``),
+    ``|a| (w / 2)^2``, divided by the fit's residual RMS.  A box's face is flat (its bend is
+    the noise's, about 0-0.2), a cylinder's facet (a can, a bottle, a mug) bends by
+    ``w^2 / 8r`` (0.5-3 on the real frames of face52); ``inf`` with fewer than 8 points.
+    """
+    from planerel.features.solid import face_points
+
+    pts = face_points(face, labels, xyz, max_points)[0]
+    if pts.shape[0] < 8:
+        return math.inf
+    up = np.asarray(up, float)
+    n = np.asarray(face.normal, float)
+    n = n / np.linalg.norm(n)
+    along = np.cross(up, n)
+    norm = float(np.linalg.norm(along))
+    if not norm > 1e-9:
+        return math.inf
+    along = along / norm
+    c = pts.mean(axis=0)
+    d, u, v = (pts - c) @ n, (pts - c) @ along, (pts - c) @ up
+    design = np.stack([u * u, u, np.ones_like(u), v], axis=1)
+    coef, *_ = np.linalg.lstsq(design, d, rcond=None)
+    lo, hi = np.percentile(u, [2, 98])
+    res = float(np.sqrt(np.mean((d - design @ coef) ** 2)))
+    sag = abs(float(coef[0])) * ((hi - lo) / 2) ** 2
+    return sag / max(res, 1e-9)
+
+
+def tall_shaped(a, p, labels=None, xyz=None, up=None) -> bool:
+    """:func:`tall_faces`' shape test of the plane ``a`` under the :class:`RelationParams`
+    ``p``: vertical, at least ``corner_width`` wide (or, with ``tall_narrow_width`` > 0 and
+    ``labels``, ``xyz``, ``up`` given, at least ``tall_narrow_width`` wide and flat across,
+    :func:`face_bend` at most ``tall_narrow_bend``), its hull at least ``standing_fill`` of
+    its rectangle, its RMS at most ``tall_flat`` of its width."""
+    if not (a.orientation == "vertical" and a.area >= p.standing_fill * a.length * a.width
+            and (p.tall_flat <= 0 or a.rms <= p.tall_flat * a.width)):
+        return False
+    if a.width >= p.corner_width:
+        return True
+    return (p.tall_narrow_width > 0 and a.width >= p.tall_narrow_width and labels is not None
+            and xyz is not None and up is not None
+            and face_bend(a, labels, xyz, up, p.profile_points) <= p.tall_narrow_bend)
 
 
 def _stands_beside(face, prof, other, other_prof, labels, xyz, p) -> bool:

@@ -1,0 +1,86 @@
+"""A narrow upright face is a ``tall_face`` when flat across its width (face52,
+docs/objects.md "Narrow faces flat across"): :func:`face_bend` tells a box's face from a
+cylinder's facet of the same size, and ``tall_narrow_width`` (default 0.06 m; 0: off, as
+before face52) admits the flat ones narrower than ``corner_width``."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from scenes_analytic import box, floor, render
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+import box_tests  # noqa: E402
+
+from planerel.errors import InputError  # noqa: E402
+from planerel.features.planes import measure_planes  # noqa: E402
+from planerel.features.relations import (RelationParams, face_bend, relate,  # noqa: E402
+                                         tall_faces)
+
+UP = np.array([0.0, 0.0, 1.0])
+
+
+def _face(surface, half=0.02, height=0.15, noise=0.0012, seed=0):
+    """An organized grid of points ``y = surface(x)`` (x across, z up), all labelled 1, and
+    a plane record facing -y."""
+    rng = np.random.default_rng(seed)
+    x, z = np.meshgrid(np.linspace(-half, half, 24), np.linspace(0.0, height, 60))
+    y = surface(x) + rng.normal(0.0, noise, x.shape)
+    xyz = np.stack([x, y, z], axis=-1)
+    labels = np.ones(x.shape, dtype=np.int32)
+    face = SimpleNamespace(label=1, normal=(0.0, -1.0, 0.0), bbox=(0, 0, *x.shape),
+                           n_points=x.size)
+    return face, labels, xyz
+
+
+def test_a_flat_face_bends_by_its_noise_and_a_cylinder_facet_by_its_sagitta():
+    flat = face_bend(*_face(lambda x: 1.0 + 0.0 * x), UP)
+    # a mug's front (radius 4 cm) as a 4 cm strip: 5 mm sagitta against 1.2 mm noise
+    r = 0.04
+    can = face_bend(*_face(lambda x: 1.0 + r - np.sqrt(r * r - x * x)), UP)
+    assert flat < 0.3 < 1.5 < can
+    # a tilted flat face (a box turned about the vertical) is flat as well
+    assert face_bend(*_face(lambda x: 1.0 + 0.5 * x), UP) < 0.3
+
+
+def _verdicts(rects, params=None, **view):
+    cloud, lab, _, _ = render(rects, noise=0.0012, width=320, height=240, **view)
+    ps = measure_planes(cloud, lab)
+    rel = relate(ps, cloud, params)
+    tall = tall_faces(ps, rel, cloud)
+    out = {}
+    for q in ps:
+        if q.orientation == "vertical":
+            tests = box_tests.tall_face_tests(ps, rel, cloud, q.label)
+            out[q.label] = (q.label in tall, all(ok for _, ok, _ in tests),
+                            [n for n, ok, _ in tests if not ok], q.width)
+    return out
+
+
+def test_a_narrow_flat_box_face_is_tall_only_with_the_narrow_width():
+    # a 7 cm wide, 15 cm high product box 1.2 m before a low camera: its front (label 2)
+    rects = [floor(), *box(0.0, 1.2, 0.07, 0.07, 0.15)]
+    off = _verdicts(rects, RelationParams(tall_narrow_width=0.0), pitch=0.0, cam_height=0.2)
+    on = _verdicts(rects, pitch=0.0, cam_height=0.2)  # the default, 0.06
+    for v in (off, on):
+        assert all(a == b for a, b, _, _ in v.values()), v  # box_tests agrees
+    assert off[2][3] < 0.08 and not off[2][0] and off[2][2] == ["shape"]
+    assert on[2][0] and on[2][2] == []
+    # under the narrow width it stays refused
+    under = _verdicts(rects, RelationParams(tall_narrow_width=0.075), pitch=0.0, cam_height=0.2)
+    assert not under[2][0] and under[2][2] == ["shape"]
+
+
+def test_the_narrow_settings_are_checked():
+    with pytest.raises(InputError):
+        RelationParams(tall_narrow_width=-0.01)
+    with pytest.raises(InputError):
+        RelationParams(tall_narrow_bend=-1.0)
+
+
+def test_the_default_admits_the_narrow_flat_faces():
+    assert RelationParams().tall_narrow_width == 0.06 and RelationParams().tall_narrow_bend == 0.3
