@@ -17,7 +17,7 @@ from planerel.features.relations import RelationParams, relate, tall_faces  # no
 
 
 def _verdicts(rects, params=None, **view):
-    """``{label: (tall_faces says, every test passes, failed tests)}`` of the vertical
+    """``{label: (tall_faces says, every test passes, failed tests, width)}`` of the vertical
     planes."""
     cloud, lab, _, _ = render(rects, noise=0.0012, width=320, height=240, **view)
     ps = measure_planes(cloud, lab)
@@ -28,12 +28,12 @@ def _verdicts(rects, params=None, **view):
         if q.orientation == "vertical":
             tests = box_tests.tall_face_tests(ps, rel, cloud, q.label)
             out[q.label] = (q.label in tall, all(ok for _, ok, _ in tests),
-                            [n for n, ok, _ in tests if not ok])
+                            [n for n, ok, _ in tests if not ok], q.width)
     return out
 
 
 def _agree(v):
-    assert v and all(a == b for a, b, _ in v.values()), v
+    assert v and all(a == b for a, b, *_ in v.values()), v
 
 
 def test_a_box_face_on_the_floor_passes_every_test():

@@ -5,21 +5,15 @@ before face52) admits the flat ones narrower than ``corner_width``."""
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from scenes_analytic import box, floor, render
+from scenes_analytic import box, floor
+from test_box_tests import _verdicts  # tall_faces' verdict and box_tests' tests, per plane
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import box_tests  # noqa: E402
-
-from planerel.errors import InputError  # noqa: E402
-from planerel.features.planes import measure_planes  # noqa: E402
-from planerel.features.relations import (RelationParams, face_bend, relate,  # noqa: E402
-                                         tall_faces)
+from planerel.errors import InputError
+from planerel.features.relations import RelationParams, face_bend
 
 UP = np.array([0.0, 0.0, 1.0])
 
@@ -45,20 +39,6 @@ def test_a_flat_face_bends_by_its_noise_and_a_cylinder_facet_by_its_sagitta():
     assert flat < 0.3 < 1.5 < can
     # a tilted flat face (a box turned about the vertical) is flat as well
     assert face_bend(*_face(lambda x: 1.0 + 0.5 * x), UP) < 0.3
-
-
-def _verdicts(rects, params=None, **view):
-    cloud, lab, _, _ = render(rects, noise=0.0012, width=320, height=240, **view)
-    ps = measure_planes(cloud, lab)
-    rel = relate(ps, cloud, params)
-    tall = tall_faces(ps, rel, cloud)
-    out = {}
-    for q in ps:
-        if q.orientation == "vertical":
-            tests = box_tests.tall_face_tests(ps, rel, cloud, q.label)
-            out[q.label] = (q.label in tall, all(ok for _, ok, _ in tests),
-                            [n for n, ok, _ in tests if not ok], q.width)
-    return out
 
 
 def test_a_narrow_flat_box_face_is_tall_only_with_the_narrow_width():
