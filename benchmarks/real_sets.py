@@ -291,7 +291,13 @@ def convert(name: str, data: bytes) -> bytes:
     base, _, arg = name.partition(":")
     if base not in CONVERTERS:
         raise SetError(f"no converter {base!r} (known: {', '.join(CONVERTERS)})")
-    return CONVERTERS[base](data, arg)
+    try:
+        return CONVERTERS[base](data, arg)
+    except SetError:
+        raise
+    except Exception as exc:   # a source file the converter cannot read: say which, no traceback
+        raise SetError(f"converter {name!r} could not read its source: "
+                       f"{type(exc).__name__}: {exc}") from None
 
 
 def _digest(data: bytes, fname: str) -> str:
@@ -476,9 +482,13 @@ def build(doc: dict, dest: str, repos: dict) -> str:
         if doc.get("notes"):
             with open(os.path.join(tmp, "NOTES.md"), "w") as fh:
                 fh.write(doc["notes"])
-        if os.path.exists(out):
-            shutil.rmtree(out)
+        old = None
+        if os.path.exists(out):   # swapped, not deleted first: the set is never missing
+            old = tempfile.mkdtemp(dir=os.path.dirname(out), prefix=".replaced-")
+            os.replace(out, os.path.join(old, "set"))
         os.replace(tmp, out)
+        if old is not None:
+            shutil.rmtree(old)
     finally:
         if os.path.exists(tmp):
             shutil.rmtree(tmp)
@@ -565,6 +575,9 @@ def main(argv=None) -> int:
             return 1 if failed else 0
     except SetError as e:
         print(f"error: {e}", file=sys.stderr)
+        return 1
+    except (OSError, ValueError) as e:   # an unreadable or corrupt manifest, MADE.json, folder
+        print(f"error: {type(e).__name__}: {e}", file=sys.stderr)
         return 1
     return 0
 

@@ -253,3 +253,23 @@ def test_a_matlab_cloud_and_a_one_channel_array_are_converted(tmp_path):
     assert real_sets._npy(real_sets.convert("npy_squeeze", buf.getvalue())).shape == (2, 3)
     with pytest.raises(real_sets.SetError, match="no converter"):
         real_sets.convert("gzip", b"")
+
+
+def test_a_corrupt_manifest_or_source_is_one_line_and_the_built_set_is_kept(world, tmp_path,
+                                                                             monkeypatch, capsys):
+    _, mirrors, folder, _ = world
+    with pytest.raises(real_sets.SetError, match="could not read its source"):
+        real_sets.convert("f200_depth", b"not a PNG")
+    manifests = tmp_path / "manifests"
+    monkeypatch.setattr(real_sets, "MANIFESTS", str(manifests))
+    assert real_sets.main(["capture", str(folder), "huntX/s", "--mirrors", str(mirrors)]) == 0
+    assert real_sets.main(["build", str(tmp_path / "d"), "--mirrors", str(mirrors)]) == 0
+    built = (tmp_path / "d" / "huntX" / "s" / "depth.png").read_bytes()
+    # built again over itself: replaced whole
+    assert real_sets.main(["build", str(tmp_path / "d"), "--mirrors", str(mirrors)]) == 0
+    assert (tmp_path / "d" / "huntX" / "s" / "depth.png").read_bytes() == built
+    assert sorted(p.name for p in (tmp_path / "d" / "huntX").iterdir()) == ["s"]
+    capsys.readouterr()
+    (manifests / "huntX--s.json").write_text('{"name": "huntX/s", "files": [')
+    assert real_sets.main(["list"]) == 1
+    assert capsys.readouterr().err.startswith("error: JSONDecodeError")
