@@ -53,8 +53,10 @@ def test_the_verdict_on_one_plane():
 
 def test_the_settings_are_checked():
     assert (M.DecisionParams().facet_gate, M.DecisionParams().facet_min,
-            M.DecisionParams().facet_max) == (True, 25.0, 70.0)
-    for bad in ({"facet_gate": 1}, {"facet_min": -1.0}, {"facet_max": float("nan")}):
+            M.DecisionParams().facet_max, M.DecisionParams().facet_bridge) == (True, 25.0, 70.0,
+                                                                               True)
+    for bad in ({"facet_gate": 1}, {"facet_min": -1.0}, {"facet_max": float("nan")},
+                {"facet_bridge": "yes"}):
         with pytest.raises(InputError):
             M.DecisionParams(**bad)
 
@@ -87,13 +89,13 @@ def _chamfered_box(cx, cy, half, height, cut, obj=3):
                  (0, 0, 1), cut * s2, height / 2, obj)]
 
 
-def _faces_of_objects(rects, **widths):
+def _faces_of_objects(rects, width=320, height=240, pitch=30.0, cam_height=1.0, **widths):
     from planerel.classify.classifier import _facet_angles
     from planerel.features.facts import describe_scene
     from planerel.segment import segment
 
-    cloud, _lab, up, _objs = render(rects, width=320, height=240, pitch=30.0, cam_height=1.0,
-                                    noise=0.0003)
+    cloud, _lab, up, _objs = render(rects, width=width, height=height, pitch=pitch,
+                                    cam_height=cam_height, noise=0.0003)
     labels = segment(cloud).labels
     desc = describe_scene(cloud, labels, scene_id="s", up=up)
     pid = {p.label: desc.plane_id(p.label) for p in desc.planes}
@@ -146,3 +148,23 @@ def test_a_box_face_with_a_chamfer_strip_is_no_facet():
     assert all(_facet_of(f, 25.0, 70.0) is None for f in objs), objs
     (same,) = [v for c, v in _faces_of_objects(rects, wide_ratio=100.0) if c[0] < -0.2]
     assert sum(_facet_of(f, 25.0, 70.0) is not None for f in same) >= 2, same
+
+
+def test_a_fan_of_three_strips_is_round_though_its_ends_meet_at_a_corner_angle():
+    """Three upright strips 4.1, 2.8 and 4.1 cm wide, 45 degrees apart (a 6 cm block whose
+    edge is cut by a 2 cm chamfer: the geometry of rs-booth 1025_test9's can, strips 4.0, 2.4
+    and 3.1 cm, 53.9 and 40.9 degrees apart, its ends 85.2), seen from 0.8 m: the two ends
+    meet at 90 degrees, a box corner's angle, but the strip between them is a facet
+    neighbour of both, alike in width (``decision.facet_bridge``): every strip is a facet.
+    Without the bridge the ends read as a box's corner.  Under 5 cm wide
+    (``curved.facet_max_width``) a bevelled block and a can's fan are the same planes: the
+    bridge cannot tell them apart (docs/objects.md)."""
+    from planerel.classify.classifier import _facet_of
+
+    rects = [floor(), *_chamfered_box(-0.45, 0.75, 0.03, 0.12, 0.02)]
+    kw = {"width": 640, "height": 480, "pitch": 35.0, "cam_height": 0.6}
+    (bridged,) = [v for c, v in _faces_of_objects(rects, bridge=(25.0, 70.0), **kw)]
+    (plain,) = [v for c, v in _faces_of_objects(rects, **kw)]
+    assert len(bridged) == 3 and len(plain) == 3, (bridged, plain)
+    assert all(_facet_of(f, 25.0, 70.0) is not None for f in bridged), bridged
+    assert sum(f[1] for f in plain) == 2 and sum(f[1] for f in bridged) == 0, plain

@@ -359,6 +359,7 @@ class Classifier:
         #: high)`` degrees, or None when off; a scan's decision, as the foot and side gates
         self.facet_gate = ((decision.facet_min, decision.facet_max) if decision.facet_gate
                            else None)
+        self.facet_bridge = decision.facet_bridge
         #: a box inside a merged proposal decided on its own (``decision.cut_boxes``,
         #: :mod:`planerel.features.box_cut`): ``(reach, margin, corner, pieces)``, or None when off
         self.cut_boxes = ((decision.cut_reach, decision.cut_margin, decision.cut_corner,
@@ -636,7 +637,8 @@ class Classifier:
 
             cp = self._describe_kw.get("curved_params") or defaults(CurvedParams)
             facet_angles = _facet_angles(desc, xyz, plane_ids, cp.facet_max_width,
-                                         cp.facet_wide_ratio)
+                                         cp.facet_wide_ratio,
+                                         self.facet_gate if self.facet_bridge else None)
         for o in desc.objects:
             facet = None
             if facet_angles is not None:
@@ -699,7 +701,8 @@ class Classifier:
         return answers
 
 
-def _facet_angles(desc, xyz, plane_ids, wide_width: float = 0.05, wide_ratio: float = 1.5):
+def _facet_angles(desc, xyz, plane_ids, wide_width: float = 0.05, wide_ratio: float = 1.5,
+                  bridge=None):
     """``angles(plane id, object's plane labels) -> (facet angles, corner)`` for a scene: the
     angles (degrees) to the plane of every adjacent upright plane of the object that meets it
     as ``face_pair``'s shape test asks (widths, level tops and bottoms, convex), and whether
@@ -709,7 +712,10 @@ def _facet_angles(desc, xyz, plane_ids, wide_width: float = 0.05, wide_ratio: fl
     As in :func:`planerel.features.curved.facet_planes`, strips of one round surface are alike
     in width: a neighbour below the corner angle counts only when the wider of the two is under
     ``wide_width`` m or less than ``wide_ratio`` times the narrower (``curved.facet_max_width``,
-    ``curved.facet_wide_ratio``); a box face with a bevel strip along its edge is no facet."""
+    ``curved.facet_wide_ratio``); a box face with a bevel strip along its edge is no facet.
+    With ``bridge`` ``(low, high)`` degrees (``decision.facet_bridge``), a corner partner is no
+    corner when a third plane of the object meets both, each as such a facet at ``low``-``high``
+    degrees: the two ends of a round side's fan of three strips, not two faces of a box."""
     from planerel.features.solid import face_profile_of, is_face_pair
 
     ps = desc.planes
@@ -719,12 +725,10 @@ def _facet_angles(desc, xyz, plane_ids, wide_width: float = 0.05, wide_ratio: fl
     profile = functools.cache(lambda lab: face_profile_of(ps.by_label(lab), up, ps.labels, xyz))
 
     @functools.cache
-    def angles(pid, mine):
-        lab = by_id.get(pid)
-        if lab is None or lab not in mine or ps.by_label(lab).orientation != "vertical":
-            return (), False
+    def links(lab, mine):
+        """``((other, angle, corner), ...)`` over the object's upright planes ``lab`` meets."""
         a = ps.by_label(lab)
-        out, corner = [], False
+        out = []
         for other in sorted(mine):
             if other == lab:
                 continue
@@ -737,14 +741,28 @@ def _facet_angles(desc, xyz, plane_ids, wide_width: float = 0.05, wide_ratio: fl
             if not is_face_pair(a, b, profile(lab), profile(other), p.face_pair_level,
                                 p.face_pair_width, p.face_pair_level_share):
                 continue
-            if r.angle >= p.face_pair_angle:
-                corner = True
-            else:
+            if r.angle < p.face_pair_angle:
                 wide, narrow = max(a.width, b.width), min(a.width, b.width)
                 if wide >= wide_width and wide >= wide_ratio * narrow:
                     continue
-            out.append(float(r.angle))
-        return tuple(out), corner
+            out.append((other, float(r.angle), r.angle >= p.face_pair_angle))
+        return tuple(out)
+
+    def facets(lab, mine):
+        low, high = bridge
+        return {o for o, ang, c in links(lab, mine) if not c and low <= ang <= high}
+
+    @functools.cache
+    def angles(pid, mine):
+        lab = by_id.get(pid)
+        if lab is None or lab not in mine or ps.by_label(lab).orientation != "vertical":
+            return (), False
+        mine_links = links(lab, mine)
+        corner = False
+        for other, _ang, c in mine_links:
+            if c and not (bridge is not None and facets(lab, mine) & facets(other, mine)):
+                corner = True
+        return tuple(ang for _o, ang, _c in mine_links), corner
 
     return angles
 

@@ -185,6 +185,8 @@ SIDE_PLANES = {"ramp": "inclined", "stairs": "horizontal"}
 FACET_GATE = True
 FACET_MIN = 25.0
 FACET_MAX = 70.0
+#: Default of :attr:`DecisionParams.facet_bridge`.
+FACET_BRIDGE = True
 #: The class :func:`facet_refusals` asks of.
 FACET_CLASS = "box"
 #: Defaults of :attr:`DecisionParams.cut_boxes`, ``cut_reach``, ``cut_margin``.
@@ -415,6 +417,10 @@ class DecisionParams:
         at under 20.  Needs the scan's points (only :meth:`Classifier.classify` applies it).
     facet_min, facet_max : float
         Degrees: the angle range of :attr:`facet_gate`'s facet neighbour (25, 70).
+    facet_bridge : bool
+        A corner partner is no box corner when a third upright plane of the object is a facet
+        neighbour of both (a round side's fan of three strips whose ends are 85 degrees
+        apart: rs-booth 1025_test9's can).
     cut_boxes : bool
         On by default (core49).  A proposal a box rule proves and a gate refuses ``box`` for,
         whose planes hold a box proof's seed (a ``skirt`` or ``face_pair`` pair; a lone
@@ -485,6 +491,7 @@ class DecisionParams:
     facet_gate: bool = FACET_GATE
     facet_min: float = FACET_MIN
     facet_max: float = FACET_MAX
+    facet_bridge: bool = FACET_BRIDGE
     cut_boxes: bool = CUT_BOXES
     cut_reach: float = CUT_REACH
     cut_margin: float = CUT_MARGIN
@@ -494,7 +501,7 @@ class DecisionParams:
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
-                     "side_gate", "unsure_gate", "facet_gate", "cut_boxes"):
+                     "side_gate", "unsure_gate", "facet_gate", "facet_bridge", "cut_boxes"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
