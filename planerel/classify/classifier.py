@@ -76,7 +76,7 @@ class ObjectAnswer:
         Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
     curved : bool or None
         The planar fraction is below the model's ``curved.curved_below``: a round object.
-    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal, LevelRefusal, FlightRefusal, FootRefusal, SideRefusal, UnsureRefusal and VetoRefusal
+    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal, LevelRefusal, FlightRefusal, FootRefusal, SideRefusal, UnsureRefusal, FacetRefusal and VetoRefusal
         Classes whose rules proved the object and that the decision refused for it: its
         planar fraction lies under ``1 - decision.planar_margin`` times the least planar of
         the class's training positives (with ``decision.planar_gate``;
@@ -354,6 +354,12 @@ class Classifier:
         #: (:func:`~planerel.ilp.metrics.unsure_refusals`; ``decision.unsure_gate``): a scan's
         #: decision, as the foot and side gates
         self.unsure_gate = decision.unsure_gate
+        #: no ``box`` through an upright plane that is a facet of a round side
+        #: (:func:`~planerel.ilp.metrics.facet_refusals`; ``decision.facet_gate``): ``(low,
+        #: high)`` degrees, or None when off; a scan's decision, as the foot and side gates
+        self.facet_gate = ((decision.facet_min, decision.facet_max) if decision.facet_gate
+                           else None)
+        self.facet_bridge = decision.facet_bridge
         #: a box inside a merged proposal decided on its own (``decision.cut_boxes``,
         #: :mod:`planerel.features.box_cut`): ``(reach, margin, corner, pieces)``, or None when off
         self.cut_boxes = ((decision.cut_reach, decision.cut_margin, decision.cut_corner,
@@ -509,6 +515,7 @@ class Classifier:
         from planerel.features.box_cut import box_solids, cut_object
         from planerel.features.curved import CurvedParams
         from planerel.features.facts import SceneObject
+        from planerel.ilp.metrics import FacetRefusal
 
         reach, margin, corner, pieces = self.cut_boxes
         cp = self._describe_kw.get("curved_params") or defaults(CurvedParams)
@@ -520,8 +527,11 @@ class Classifier:
             # does not hold) is not cut for a rule that holds on a part of it, and one whose
             # box proof is answered another class unrefused (a flight's step) stays that class
             rules_of[o.id] = {i for k, i in a.fired if k == BOX}
+            # a facet refusal (``decision.facet_gate``) is about the proposal's own round
+            # side: cutting the proof's cap and facet from their neighbour facet would undo it
             if (a.klass == BOX or not rules_of[o.id]
-                    or not any(getattr(r, "klass", None) == BOX for r in a.refused)):
+                    or not any(getattr(r, "klass", None) == BOX
+                               and not isinstance(r, FacetRefusal) for r in a.refused)):
                 continue
             solids = box_solids(desc, o.planes, reach, facet, corner, pieces)
             for k, solid in enumerate(solids, start=1):
@@ -620,7 +630,20 @@ class Classifier:
             if desc.planes.up_low(None if gravity is None else gravity.low_confidence):
                 unsure = float(desc.planes.up_confidence)
         proposal_params = self._describe_kw.get("proposal_params")
+        facet_angles = None
+        if self.facet_gate is not None and xyz is not None and "box" in self.classes:
+            from planerel.features._defaults import defaults
+            from planerel.features.curved import CurvedParams
+
+            cp = self._describe_kw.get("curved_params") or defaults(CurvedParams)
+            facet_angles = _facet_angles(desc, xyz, plane_ids, cp.facet_max_width,
+                                         cp.facet_wide_ratio,
+                                         self.facet_gate if self.facet_bridge else None)
         for o in desc.objects:
+            facet = None
+            if facet_angles is not None:
+                def facet(pid, mine=frozenset(o.planes), table=facet_angles):
+                    return _facet_of(table(pid, mine), *self.facet_gate)
             hits = []
             # the proof scale only when the proof gate or the vetoes' ratio uses it
             scale_goal = (f", planerel_proof_scale({self.module}, {_obj_atom(o.id)}, I, S)"
@@ -661,7 +684,7 @@ class Classifier:
                                    [f[1] for f in (side(plane_ids.get(lab))
                                                    for lab in o.planes)
                                     if f is not None and f[0] == "horizontal"],
-                                   unsure=unsure)
+                                   unsure=unsure, facet=facet)
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)
             if best is None:
@@ -676,6 +699,81 @@ class Classifier:
                                             proof, fired, index, laplace(tp, fp),
                                             o.planar_fraction, o.curved, refused))
         return answers
+
+
+def _facet_angles(desc, xyz, plane_ids, wide_width: float = 0.05, wide_ratio: float = 1.5,
+                  bridge=None):
+    """``angles(plane id, object's plane labels) -> (facet angles, corner)`` for a scene: the
+    angles (degrees) to the plane of every adjacent upright plane of the object that meets it
+    as ``face_pair``'s shape test asks (widths, level tops and bottoms, convex), and whether
+    one of them meets it at ``relations.face_pair_angle`` or more (a box's corner); ``((),
+    False)`` for a plane that is not upright (:attr:`~planerel.ilp.metrics.DecisionParams.facet_gate`).
+
+    As in :func:`planerel.features.curved.facet_planes`, strips of one round surface are alike
+    in width: a neighbour below the corner angle counts only when the wider of the two is under
+    ``wide_width`` m or less than ``wide_ratio`` times the narrower (``curved.facet_max_width``,
+    ``curved.facet_wide_ratio``); a box face with a bevel strip along its edge is no facet.
+    With ``bridge`` ``(low, high)`` degrees (``decision.facet_bridge``), a corner partner is no
+    corner when a third plane of the object meets both, each as such a facet at ``low``-``high``
+    degrees: the two ends of a round side's fan of three strips, not two faces of a box."""
+    from planerel.features.solid import face_profile_of, is_face_pair
+
+    ps = desc.planes
+    p = desc.relations.params
+    up = np.asarray(ps.up, dtype=np.float64)
+    by_id = {pid: lab for lab, pid in plane_ids.items()}
+    profile = functools.cache(lambda lab: face_profile_of(ps.by_label(lab), up, ps.labels, xyz))
+
+    @functools.cache
+    def links(lab, mine):
+        """``((other, angle, corner), ...)`` over the object's upright planes ``lab`` meets."""
+        a = ps.by_label(lab)
+        out = []
+        for other in sorted(mine):
+            if other == lab:
+                continue
+            b = ps.by_label(other)
+            if b is None or b.orientation != "vertical":
+                continue
+            r = desc.relations.get(lab, other)
+            if r is None or not r.adjacent:
+                continue
+            if not is_face_pair(a, b, profile(lab), profile(other), p.face_pair_level,
+                                p.face_pair_width, p.face_pair_level_share):
+                continue
+            if r.angle < p.face_pair_angle:
+                wide, narrow = max(a.width, b.width), min(a.width, b.width)
+                if wide >= wide_width and wide >= wide_ratio * narrow:
+                    continue
+            out.append((other, float(r.angle), r.angle >= p.face_pair_angle))
+        return tuple(out)
+
+    def facets(lab, mine):
+        low, high = bridge
+        return {o for o, ang, c in links(lab, mine) if not c and low <= ang <= high}
+
+    @functools.cache
+    def angles(pid, mine):
+        lab = by_id.get(pid)
+        if lab is None or lab not in mine or ps.by_label(lab).orientation != "vertical":
+            return (), False
+        mine_links = links(lab, mine)
+        corner = False
+        for other, _ang, c in mine_links:
+            if c and not (bridge is not None and facets(lab, mine) & facets(other, mine)):
+                corner = True
+        return tuple(ang for _o, ang, _c in mine_links), corner
+
+    return angles
+
+
+def _facet_of(found, low: float, high: float):
+    """The facet gate's verdict on one plane from :func:`_facet_angles`' ``(angles, corner)``:
+    the first angle in ``low``-``high`` degrees when the plane has no corner partner, else None."""
+    angles, corner = found
+    if corner:
+        return None
+    return next((a for a in angles if low <= a <= high), None)
 
 
 @contextlib.contextmanager

@@ -22,6 +22,7 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "FLIGHT_FRAGMENTS", "FLIGHT_CLASS", "FlightRefusal", "flight_refusals", "FOOT_GATE", "FOOT_ABOVE",
            "FOOT_BELOW", "FOOT_HIDDEN", "FOOT_FLOAT", "FOOT_CLASS", "FootRefusal", "foot_refusals",
            "SIDE_GATE", "SIDE_PLANES", "SideRefusal", "side_refusals",
+           "FACET_GATE", "FACET_MIN", "FACET_MAX", "FACET_CLASS", "FacetRefusal", "facet_refusals",
            "UNSURE_GATE", "UNSURE_CLASS", "UnsureRefusal", "unsure_refusals",
            "SIZE_GATE", "SIZE_MARGIN",
            "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
@@ -180,6 +181,14 @@ SIDE_GATE = True
 #: looks at: a ramp's slope and a flight's treads are walked on, so a camera sees them from
 #: above their planes.
 SIDE_PLANES = {"ramp": "inclined", "stairs": "horizontal"}
+#: Defaults of :attr:`DecisionParams.facet_gate`, ``facet_min``, ``facet_max`` (cube53).
+FACET_GATE = True
+FACET_MIN = 25.0
+FACET_MAX = 70.0
+#: Default of :attr:`DecisionParams.facet_bridge`.
+FACET_BRIDGE = True
+#: The class :func:`facet_refusals` asks of.
+FACET_CLASS = "box"
 #: Defaults of :attr:`DecisionParams.cut_boxes`, ``cut_reach``, ``cut_margin``.
 CUT_BOXES = True
 CUT_REACH = 1.5
@@ -397,6 +406,21 @@ class DecisionParams:
         a floor in view, and 4 false ones (a ramp taken for the ground, the floor then
         "inclined") have none.  A given or file up is never low: only an estimate (or the
         default level guess, confidence 0) is gated.  Only classify applies it.
+    facet_gate : bool
+        Refuse ``box`` for a proof whose upright plane is a facet of a round side
+        (:func:`facet_refusals`, cube53, 2026-12-02): an adjacent upright plane of the same
+        object meets it convexly, with level tops and bottoms (``face_pair``'s shape test),
+        at ``facet_min``-``facet_max`` degrees, and no upright plane meets it at
+        ``relations.face_pair_angle`` or more.  A can seen by a RealSense at 0.6-0.8 m shows
+        its side as two or three planes 40-69 degrees apart under its cap; a box's two faces
+        meet at 79-90 (the D435 rounds a small box's corner to 79-82), a box face's bevel strip
+        at under 20.  Needs the scan's points (only :meth:`Classifier.classify` applies it).
+    facet_min, facet_max : float
+        Degrees: the angle range of :attr:`facet_gate`'s facet neighbour (25, 70).
+    facet_bridge : bool
+        A corner partner is no box corner when a third upright plane of the object is a facet
+        neighbour of both (a round side's fan of three strips whose ends are 85 degrees
+        apart: rs-booth 1025_test9's can).
     cut_boxes : bool
         On by default (core49).  A proposal a box rule proves and a gate refuses ``box`` for,
         whose planes hold a box proof's seed (a ``skirt`` or ``face_pair`` pair; a lone
@@ -464,6 +488,10 @@ class DecisionParams:
     foot_float: float = FOOT_FLOAT
     side_gate: bool = SIDE_GATE
     unsure_gate: bool = UNSURE_GATE
+    facet_gate: bool = FACET_GATE
+    facet_min: float = FACET_MIN
+    facet_max: float = FACET_MAX
+    facet_bridge: bool = FACET_BRIDGE
     cut_boxes: bool = CUT_BOXES
     cut_reach: float = CUT_REACH
     cut_margin: float = CUT_MARGIN
@@ -473,7 +501,7 @@ class DecisionParams:
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
-                     "side_gate", "unsure_gate", "cut_boxes"):
+                     "side_gate", "unsure_gate", "facet_gate", "facet_bridge", "cut_boxes"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -491,7 +519,8 @@ class DecisionParams:
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0 (metres), got {m!r}")
-        for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin"):
+        for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin",
+                     "facet_min", "facet_max"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
@@ -1485,6 +1514,61 @@ def veto_refusals(hits, stats: Sequence, ratio: float = VETO_RATIO):
     return kept, tuple(refused)
 
 
+
+@dataclass(frozen=True)
+class FacetRefusal:
+    """``box`` proved through an upright plane that is a facet of a round side
+    (:func:`facet_refusals`)."""
+
+    klass: str
+    rule: int
+    #: the proof's plane and its facet neighbour's angle to it (degrees)
+    plane: str
+    angle: float
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it with the upright plane {self.plane}, which meets "
+                f"another upright plane of the object at {self.angle:.1f} degrees, convex and "
+                f"level, and no plane at a box's corner angle: a facet of a round side")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "plane": self.plane,
+                "angle": round(self.angle, 2), "reason": self.reason}
+
+
+def facet_refusals(hits, stats: Sequence, facet=None):
+    """Leave out the ``box`` hits whose proof binds an upright plane that is a facet of a round
+    side (``decision.facet_gate``).
+
+    Parameters
+    ----------
+    facet : callable or None
+        ``facet(plane id) -> float or None``: the angle (degrees) of the plane's facet
+        neighbour when it has one and no box-corner partner (see
+        :attr:`DecisionParams.facet_gate`), else None; None: the gate is off.
+
+    Returns
+    -------
+    (list, tuple of FacetRefusal)
+        The hits left, and one :class:`FacetRefusal` per refused rule that takes part in the
+        decision (:func:`takes_part`).
+    """
+    if facet is None or not any(h[0] == FACET_CLASS for h in hits):
+        return list(hits), ()
+
+    def refuse(hit):
+        if hit[0] != FACET_CLASS:
+            return None
+        for v in dict(hit[2]).values():
+            a = facet(v)
+            if a is not None:
+                return FacetRefusal(hit[0], hit[1], str(v), float(a))
+        return None
+
+    return _refuse_hits(hits, stats, refuse)
+
+
 def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (), *,
            planar_fraction=None, domain: Sequence = (), margin: float = PLANAR_MARGIN,
            proofs: Sequence = (), proof_margin: float = PROOF_MARGIN,
@@ -1495,10 +1579,10 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            distances=None, ranges: Sequence = (), range_margin: float = RANGE_MARGIN,
            foot=None, foot_above: float = FOOT_ABOVE, foot_below: float = FOOT_BELOW,
            foot_hidden: float = FOOT_HIDDEN, foot_float: float = FOOT_FLOAT, side=None,
-           treads=(), unsure=None):
+           treads=(), unsure=None, facet=None):
     """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
     default, off), :func:`side_refusals` (``side``, and the object's ``treads``; None,
-    the default, off), :func:`unsure_refusals` (``unsure``; None, the default, off),
+    the default, off), :func:`facet_refusals` (``facet``; None, the default, off), :func:`unsure_refusals` (``unsure``; None, the default, off),
     :func:`proof_refusals` (with ``proofs``, the
     model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
     :func:`size_domain`, and the scene's plane ``extents``), :func:`slender_refusals`
@@ -1533,10 +1617,11 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
                                foot_float)
     kept, under = side_refusals(kept, stats, side, treads)
     kept, doubt = unsure_refusals(kept, stats, unsure)
+    kept, round_ = facet_refusals(kept, stats, facet)
     kept, vetoes = veto_refusals(kept, stats, veto_ratio)
     return (choose_class(kept, stats, classes, cofire),
             small + large + thin + far + refused + flat + steps + feet + under + doubt
-            + vetoes)
+            + round_ + vetoes)
 
 
 def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:
