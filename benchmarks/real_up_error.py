@@ -60,9 +60,10 @@ APC = {"00": (0, -1, 0), "03": (0, -1, 0), "06": (0, -0.98, -0.17), "09": (0, -0
 
 def frames(root: str):
     """``(key, reader, truth hint)`` of every development frame under ``root``."""
-    import planerel
     from real_stairs import INTRINSICS as SP_INTR
     from real_tabletop import OSD_INTRINSICS, UOIS_INTRINSICS, read_frame
+
+    import planerel
 
     ext = os.path.join(root, "extdata")
     for f in sorted(glob.glob(f"{ext}/mosd/*.pcd")):
