@@ -588,14 +588,17 @@ def test_a_box_cut_at_a_registered_depth_images_blank_margin(demo_model):
     first measured row is 2): the top-row test allowed rows 0-2, so its top counted as in
     view and ``tall_face`` did not hold.  Counted from the first measured row
     (``_blank_top_rows``) it is ``box``; the set's other answers are unchanged (the tapered cup
-    of 000008 stays the one false box; docs/objects.md, "A blank margin at the image's top").
+    of 000008 was the one false box until grav53's ``refine_range``; docs/objects.md, "A blank
+    margin at the image's top").
     Five boxes of the set are found: bin37's island faces added 000006's food container
     (:func:`test_a_flat_lid_with_a_depth_step_all_round_is_no_facet`)."""
     rows = _unseen_rows([HUNT_DATA / "hunt33" / "ucn"], demo_model, "PLANEREL_HUNT_DATA")
     assert len(rows) == 9
     assert [o["found"] for o in rows["000003-depth"]["objects"]] == [True]
     assert sum(o["found"] for r in rows.values() for o in r["objects"]) == 5
-    assert [name for name, r in rows.items() if r["false"]] == ["000008-depth"]
+    # 000008's false box (a tapered cup by ``skirt``) held on an up 2.6 degrees off the table;
+    # grav53's ``gravity.refine_range`` (near planes set the refinement) levels it: none left
+    assert [name for name, r in rows.items() if r["false"]] == []
 
 
 def test_hunt36_narrow_tops_of_noisy_frames_and_slender_tops(demo_model):

@@ -238,6 +238,13 @@ class GravityParams:
     sparse_floor_tries : int
         The seeded three-point hypotheses of that fit.  A floor holding a share ``s`` of the
         points is hit by about ``tries * s**3`` of them (4.5 at 256 tries and ``s`` 0.26).
+    refine_range : float
+        Metres (grav53).  In the least-squares refinement after the vote, each plane's weight
+        is its area times ``min(1, (refine_range / range)^2)``, ``range`` its centroid's
+        distance from the camera: beyond it a plane counts by about its pixels, not its area,
+        so far pieces a depth sensor bends by a few degrees do not tilt the up away from the
+        near floor or table.  The vote, the reading and the confidence are unchanged; it needs
+        the planes' ranges (the label path).  0 = the refinement before.
     """
 
     tol_deg: float = 5.0
@@ -271,6 +278,7 @@ class GravityParams:
     sparse_floor_area: float = 1.5
     sparse_floor_flip_share: float = 0.2
     sparse_floor_tries: int = 256
+    refine_range: float = 1.5
 
     def __post_init__(self) -> None:
         checks = (("tol_deg", 0.5, 20.0), ("min_area", 0.0, 100.0), ("vertical_weight", 0.0, 1.0),
@@ -284,7 +292,7 @@ class GravityParams:
                   ("sparse_floor", 0.0, 10.0), ("sparse_floor_deg", 0.0, 90.0),
                   ("sparse_floor_tol", 0.001, 1.0), ("sparse_floor_share", 0.0, 1.0),
                   ("sparse_floor_min", 0.0, 1.0), ("sparse_floor_reach", 0.0, 100.0), ("sparse_floor_area", 0.0, 1000.0),
-                  ("sparse_floor_flip_share", 0.0, 1.0))
+                  ("sparse_floor_flip_share", 0.0, 1.0), ("refine_range", 0.0, 1000.0))
         for name, lo, hi in checks:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
@@ -507,7 +515,9 @@ def _scores(cands, normals, weights, hweights, params, pairs=None, pair_weights=
     return (level + upright) * _pose_prior(cands, params)
 
 
-def _refine(c: np.ndarray, normals, weights, hweights, params) -> np.ndarray:
+def _refine(c: np.ndarray, normals, weights, hweights, params, rf=None) -> np.ndarray:
+    if rf is not None:  # near planes, measured best, set the vector (``refine_range``)
+        weights, hweights = weights * rf, hweights * rf
     for tol in (params.tol_deg, 0.6 * params.tol_deg):
         from_h, from_v = (a[0] for a in _angles(c[None], normals))
         h = from_h <= tol
@@ -590,13 +600,17 @@ def estimate_gravity(normals, weights, offsets=None, params: GravityParams | Non
             raise InputError(f"estimate_gravity needs one range per normal, got {n.shape[0]} "
                              f"normals and {r.shape[0]} ranges")
         near = hw * _height_factor(np.abs(r), params)
+    rf = None
+    if ranges is not None and params.refine_range > 0:
+        r = np.maximum(np.abs(np.asarray(ranges, dtype=np.float64).reshape(-1)), 1e-6)
+        rf = np.minimum(1.0, (params.refine_range / r) ** 2)
     cent = None
     if centroids is not None:
         cent = np.asarray(centroids, dtype=np.float64).reshape(-1, 3)
         if cent.shape[0] != n.shape[0]:
             raise InputError(f"estimate_gravity needs one centroid per normal, got {n.shape[0]} "
                              f"normals and {cent.shape[0]} centroids")
-    est = _estimate(n, w, hw, params, near, cent)
+    est = _estimate(n, w, hw, params, near, cent, rf)
     if offsets is None:
         return est
     return _near_floor(est, n, w, d, params)
@@ -626,10 +640,11 @@ def _near_floor(est: UpEstimate, n, w, d, params: GravityParams) -> UpEstimate:
     return dataclasses.replace(est, vector=v / np.linalg.norm(v), near_floor=True)
 
 
-def _estimate(n, w, hw, params: GravityParams, near=None, cent=None) -> UpEstimate:
+def _estimate(n, w, hw, params: GravityParams, near=None, cent=None, rf=None) -> UpEstimate:
     """:func:`estimate_gravity` with the horizontal weights ``hw`` given; ``near`` (default
     ``hw``) are the weights of the upside-down reading (:func:`_flipped`); ``cent`` the
-    planes' centroids (:func:`_mirror_pairs`), optional."""
+    planes' centroids (:func:`_mirror_pairs`), optional; ``rf`` each plane's weight factor in
+    the refinement (``refine_range``), optional."""
     near = hw if near is None else near
     length = np.linalg.norm(n, axis=1)
     keep = np.isfinite(length) & (length > 0) & np.isfinite(w) & (w > 0) & np.isfinite(hw)
@@ -639,13 +654,15 @@ def _estimate(n, w, hw, params: GravityParams, near=None, cent=None) -> UpEstima
     near = np.where(np.isfinite(near[keep]), near[keep], 0.0)
     if cent is not None:
         cent = cent[keep]
+    if rf is not None:
+        rf = rf[keep]
     if n.shape[0] == 0:
         return UpEstimate(np.array(DEFAULT_UP), "default", 0.0, 0, True)
     upright = _upright(n, w, hw, params, _mirror_pairs(n, cent, params),
-                       near if params.mirror_pairs_near else None)
+                       near if params.mirror_pairs_near else None, rf=rf)
     if not params.flip:
         return upright
-    return _flipped(upright, n, near, params, cent)
+    return _flipped(upright, n, near, params, cent, rf=rf)
 
 
 #: Turning the camera by 180 degrees about its optical axis negates x and y.
@@ -660,7 +677,7 @@ def _seen_from_above(c: np.ndarray, n: np.ndarray, hw: np.ndarray, params: Gravi
     return float(hw[h & (along > 0)].sum())
 
 
-def _flipped(upright: UpEstimate, n, hw, params: GravityParams, cent=None) -> UpEstimate:
+def _flipped(upright: UpEstimate, n, hw, params: GravityParams, cent=None, rf=None) -> UpEstimate:
     """The upright estimate, or the upside-down one when the planes say so.
 
     The upside-down reading is the upright estimate of the frame turned by 180 degrees about
@@ -687,7 +704,8 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams, cent=None) -> Up
     nk, wk = n[keep], hw[keep]
     pairs = _mirror_pairs(nk, None if cent is None else cent[keep], params)
     turned_pairs = None if pairs is None else (pairs[0], pairs[1], pairs[2] * _TURN)
-    turned = _upright(nk * _TURN, wk, wk, params, turned_pairs)
+    turned = _upright(nk * _TURN, wk, wk, params, turned_pairs,
+                      rf=None if rf is None else rf[keep])
     if turned.source != "estimated":
         return upright
     c = np.array(turned.vector) * _TURN
@@ -708,7 +726,7 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams, cent=None) -> Up
                       upside_down=True)
 
 
-def _upright(n, w, hw, params: GravityParams, pairs=None, pair_w=None) -> UpEstimate:
+def _upright(n, w, hw, params: GravityParams, pairs=None, pair_w=None, rf=None) -> UpEstimate:
     """The estimate for a camera that is not upside down (unit normals, positive weights;
     ``pairs``: :func:`_mirror_pairs`'s; ``pair_w``: the walls' votes for their bisector,
     default ``hw``: :func:`_estimate` gives the near weights, so that only walls within about
@@ -718,7 +736,7 @@ def _upright(n, w, hw, params: GravityParams, pairs=None, pair_w=None) -> UpEsti
         cands = np.concatenate([cands, _orient(pairs[2])], axis=0)
     score = _scores(cands, n, w, hw, params, pairs, pair_w)
     best = int(np.argmax(score))
-    c = _refine(cands[best], n, w, hw, params)
+    c = _refine(cands[best], n, w, hw, params, rf)
     c = _choose_sign(c / np.linalg.norm(c), n, hw, params)
     # confidence
     s_best = float(_scores(_orient(c[None]), n, w, hw, params, pairs, pair_w)[0])
