@@ -69,13 +69,15 @@ def test_the_cup_s_facets_are_two_skirts_of_its_rim_short_of_a_right_angle(demo_
     the top, a facet as the skirt); its rim is the top of two facets 73.5 degrees apart.  Every
     right box answer of the set has no two skirts of one top between 20 and 78 degrees (the
     least over 20 on all development frames: 78.7, an rs-booth cube; the false ones 73.5-76.7:
-    a margin of 2 degrees, so no gate was built)."""
+    a margin of 2 degrees, so no gate was built).  The cup is a false box under the up as it
+    was then (``gravity.refine_range`` 0): grav53's refinement levels its table and the answer
+    goes, so the test pins the old up to keep the measure's case."""
     folder = HUNT_DATA / "hunt33" / "ucn"
     if not (folder / "labels.json").is_file():
         pytest.skip(f"no labelled frames in {folder} (set PLANEREL_HUNT_DATA)")
     from planerel.classify.classifier import Classifier
 
-    with Classifier(str(demo_model)) as clf:
+    with Classifier(str(demo_model), seg_params={"gravity.refine_range": "0"}) as clf:
         rows = list(box_answers.hunt_rows(clf, box_answers._Described(clf), [str(folder)]))
     false = [r for r in rows if r["status"] == "false"]
     assert [r["frame"] for r in false] == ["000008-depth.png"]
