@@ -126,19 +126,14 @@ class _Described:
 
 
 def hunt_rows(clf, seen, folders):
-    from real_unseen import read_labels, rect_mask
-
-    import planerel
+    from real_unseen import read_frame, read_labels, rect_mask
 
     for folder in folders:
         doc = read_labels(folder)
         name = doc.get("set", os.path.basename(os.path.normpath(folder)))
         for frame in doc["frames"]:
-            cloud = planerel.read(os.path.join(folder, frame["file"]),
-                                  intrinsics=frame.get("intrinsics"),
-                                  depth_scale=frame.get("depth_scale"))
-            up = frame.get("up")
-            ans = clf.classify(cloud, scene_id="s", up=None if up is None else np.asarray(up, float))
+            cloud, up = read_frame(folder, frame)
+            ans = clf.classify(cloud, scene_id="s", up=up)
             shape = np.asarray(ans.labels).shape
             boxes = [rect_mask(shape, o["box"]) for o in frame.get("objects", [])
                      if o["class"] == "box"]

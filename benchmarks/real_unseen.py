@@ -136,21 +136,27 @@ def score_frame(answer, frame: dict) -> dict:
             "right": right, "false": false, "unscored": skipped}
 
 
+def read_frame(folder: str, frame: dict):
+    """Read one labelled frame of ``folder`` with its ``intrinsics`` and ``depth_scale``:
+    ``(cloud, up)``, ``up`` the frame's own gravity-up as an array of shape (3,), or None."""
+    import planerel
+
+    cloud = planerel.read(os.path.join(folder, frame["file"]), intrinsics=frame.get("intrinsics"),
+                          depth_scale=frame.get("depth_scale"))
+    up = frame.get("up")
+    return cloud, None if up is None else np.asarray(up, float)
+
+
 def describe_frame(clf, folder: str, frame: dict):
     """Read one labelled frame of ``folder`` (its ``intrinsics``, ``depth_scale`` and ``up``)
     and describe it as ``clf`` (a :class:`planerel.classify.classifier.Classifier`) does:
     ``(cloud, SceneDescription)``."""
-    import planerel
     from planerel.features.facts import describe_scene
     from planerel.ilp.scenes import segment_cached
 
-    cloud = planerel.read(os.path.join(folder, frame["file"]), intrinsics=frame.get("intrinsics"),
-                          depth_scale=frame.get("depth_scale"))
+    cloud, up = read_frame(folder, frame)
     labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
-    up = frame.get("up")
-    return cloud, describe_scene(cloud, labels, scene_id="s",
-                                 up=None if up is None else np.asarray(up, float),
-                                 **clf._describe_kw)
+    return cloud, describe_scene(cloud, labels, scene_id="s", up=up, **clf._describe_kw)
 
 
 def run(folders, model: str, params=()) -> list:
