@@ -56,7 +56,8 @@ def test_the_settings_are_checked():
             M.DecisionParams().facet_max, M.DecisionParams().facet_bridge) == (True, 25.0, 70.0,
                                                                                True)
     for bad in ({"facet_gate": 1}, {"facet_min": -1.0}, {"facet_max": float("nan")},
-                {"facet_bridge": "yes"}):
+                {"facet_bridge": "yes"}, {"facet_max": 120.0},
+                {"facet_min": 80.0, "facet_max": 70.0}):
         with pytest.raises(InputError):
             M.DecisionParams(**bad)
 

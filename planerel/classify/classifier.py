@@ -758,10 +758,10 @@ def _facet_angles(desc, xyz, plane_ids, wide_width: float = 0.05, wide_ratio: fl
         if lab is None or lab not in mine or ps.by_label(lab).orientation != "vertical":
             return (), False
         mine_links = links(lab, mine)
-        corner = False
-        for other, _ang, c in mine_links:
-            if c and not (bridge is not None and facets(lab, mine) & facets(other, mine)):
-                corner = True
+        own = facets(lab, mine) if bridge is not None else set()
+        # (``own`` empty: no bridge, or no facet neighbour to bridge through)
+        corner = any(c and not (own and own & facets(other, mine))
+                     for other, _ang, c in mine_links)
         return tuple(ang for _o, ang, _c in mine_links), corner
 
     return angles

@@ -519,12 +519,20 @@ class DecisionParams:
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0 (metres), got {m!r}")
-        for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin",
-                     "facet_min", "facet_max"):
+        for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0, got {m!r}")
+        for name in ("facet_min", "facet_max"):
+            m = getattr(self, name)
+            if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
+                    or not 0 <= m <= 90):
+                raise InputError(f"decision.{name} must be a number of degrees in 0..90, "
+                                 f"got {m!r}")
+        if self.facet_min > self.facet_max:
+            raise InputError(f"decision.facet_min ({self.facet_min!r}) must not exceed "
+                             f"decision.facet_max ({self.facet_max!r})")
         m = self.cut_pieces
         if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                 or not 0 <= m <= 90):
@@ -1514,7 +1522,6 @@ def veto_refusals(hits, stats: Sequence, ratio: float = VETO_RATIO):
     return kept, tuple(refused)
 
 
-
 @dataclass(frozen=True)
 class FacetRefusal:
     """``box`` proved through an upright plane that is a facet of a round side
@@ -1582,7 +1589,8 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            treads=(), unsure=None, facet=None):
     """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
     default, off), :func:`side_refusals` (``side``, and the object's ``treads``; None,
-    the default, off), :func:`facet_refusals` (``facet``; None, the default, off), :func:`unsure_refusals` (``unsure``; None, the default, off),
+    the default, off), :func:`unsure_refusals` (``unsure``; None, the default, off),
+    :func:`facet_refusals` (``facet``; None, the default, off),
     :func:`proof_refusals` (with ``proofs``, the
     model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
     :func:`size_domain`, and the scene's plane ``extents``), :func:`slender_refusals`
