@@ -23,9 +23,10 @@ lacks a blob is named in the error, with the path to get; nothing is written for
 ``capture SET_DIR NAME`` writes the manifest of a labelled folder made by hand: each file is
 looked up by its blob id among the repositories of ``DIR`` (in ``HEAD``'s tree, else in the
 commit that added it). A file made from a repository's file is named in the folder's
-``MADE.json`` (``{"FILE": {"repo": "owner/name", "path": P, "convert": C}}``, ``C`` one of
-``CONVERTERS``: a dict pickled in a ``.npy`` reduced to its depth array, RealSense F200 depth
-decoded; ``{"FILE": {"skip": "why"}}`` leaves a file out): the capture makes it again and
+``MADE.json`` (``{"FILE": {"repo": "owner/name", "path": P, "convert": C}}``, with an optional
+``"commit"`` when the path held other data at other commits; ``C`` one of ``CONVERTERS``: a dict
+pickled in a ``.npy`` reduced to its depth array, RealSense F200 depth decoded, float64 metres
+as float32, an ``.npz``'s named array; ``{"FILE": {"skip": "why"}}`` leaves a file out): the capture makes it again and
 checks it. A file that is in no repository, not made, and no small text file (a sidecar of
 ours, kept inline: intrinsics, an up vector) is listed and the capture refused: a set whose
 data cannot be fetched back is not reproducible.
@@ -249,6 +250,14 @@ def _npy(data: bytes):
     return np.load(io.BytesIO(data), allow_pickle=False)
 
 
+def _npz(data: bytes):
+    import io
+
+    import numpy as np
+
+    return np.load(io.BytesIO(data), allow_pickle=False)
+
+
 def _kinect_raw_depth(data: bytes) -> bytes:
     """A Kinect v1's raw 11-bit disparity (``uint16``, 2047 = none) as metres (``float32``, 0 =
     none), by PascalLeMerrer/Bug-Arena's own formula (``gui/kinect.py``: cm = tan(raw / 1024 +
@@ -283,6 +292,9 @@ CONVERTERS = {
     "mat_cloud": _mat_cloud,
     "kinect_raw_depth": lambda data, _: _kinect_raw_depth(data),
     "f200_depth": lambda data, _: _f200_depth(data),
+    # float64 metres stored as float32 (the sensor's steps are coarser than float32's)
+    "npy_float32": lambda data, _: _npy_bytes(_npy(data).astype("float32")),
+    "npz_key": lambda data, key: _npy_bytes(_npz(data)[key]),
 }
 
 

@@ -255,6 +255,24 @@ def test_a_matlab_cloud_and_a_one_channel_array_are_converted(tmp_path):
         real_sets.convert("gzip", b"")
 
 
+def test_float64_metres_become_float32_and_an_npz_gives_its_named_array():
+    import io
+
+    import numpy as np
+
+    depth = np.array([[0.0, 0.66025], [0.9435, 1.13025]])   # L515 steps of 0.25 mm
+    buf = io.BytesIO()
+    np.save(buf, depth)
+    got = real_sets._npy(real_sets.convert("npy_float32", buf.getvalue()))
+    assert got.dtype == np.float32 and np.allclose(got, depth, atol=1e-6)
+    buf = io.BytesIO()
+    np.savez(buf, depth=depth.astype(np.float32), rgb=np.zeros((2, 2, 3), np.uint8))
+    got = real_sets._npy(real_sets.convert("npz_key:depth", buf.getvalue()))
+    assert got.dtype == np.float32 and got.shape == (2, 2) and got[1, 1] == np.float32(1.13025)
+    with pytest.raises(real_sets.SetError, match="could not read its source"):
+        real_sets.convert("npz_key:colour", buf.getvalue())   # no such array: one line
+
+
 def test_a_corrupt_manifest_or_source_is_one_line_and_the_built_set_is_kept(world, tmp_path,
                                                                              monkeypatch, capsys):
     _, mirrors, folder, _ = world
