@@ -26,8 +26,8 @@ commit that added it). A file made from a repository's file is named in the fold
 ``MADE.json`` (``{"FILE": {"repo": "owner/name", "path": P, "convert": C}}``, with an optional
 ``"commit"`` when the path held other data at other commits; ``C`` one of ``CONVERTERS``: a dict
 pickled in a ``.npy`` reduced to its depth array, RealSense F200 depth decoded, float64 metres
-as float32, an ``.npz``'s named array; ``{"FILE": {"skip": "why"}}`` leaves a file out): the capture makes it again and
-checks it. A file that is in no repository, not made, and no small text file (a sidecar of
+as float32, an ``.npz``'s named array, 16-bit millimetres as float32 metres;
+``{"FILE": {"skip": "why"}}`` leaves a file out): the capture makes it again and checks it. A file that is in no repository, not made, and no small text file (a sidecar of
 ours, kept inline: intrinsics, an up vector) is listed and the capture refused: a set whose
 data cannot be fetched back is not reproducible.
 
@@ -258,6 +258,19 @@ def _npz(data: bytes):
     return np.load(io.BytesIO(data), allow_pickle=False)
 
 
+def _mm_array(data: bytes):
+    """A 16-bit depth image in millimetres, from a ``.npy`` or a PNG."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    arr = _npy(data) if data[:6] == b"\x93NUMPY" else np.array(Image.open(io.BytesIO(data)))
+    if arr.dtype != np.uint16:
+        raise SetError(f"millimetre depth must be 16-bit, not {arr.dtype}")
+    return arr
+
+
 def _kinect_raw_depth(data: bytes) -> bytes:
     """A Kinect v1's raw 11-bit disparity (``uint16``, 2047 = none) as metres (``float32``, 0 =
     none), by PascalLeMerrer/Bug-Arena's own formula (``gui/kinect.py``: cm = tan(raw / 1024 +
@@ -295,6 +308,8 @@ CONVERTERS = {
     # float64 metres stored as float32 (the sensor's steps are coarser than float32's)
     "npy_float32": lambda data, _: _npy_bytes(_npy(data).astype("float32")),
     "npz_key": lambda data, key: _npy_bytes(_npz(data)[key]),
+    # 16-bit millimetres (a .npy or a PNG) as float32 metres, 0 = no depth
+    "mm_to_m": lambda data, _: _npy_bytes(_mm_array(data).astype("float32") / 1000),
 }
 
 

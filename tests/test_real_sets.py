@@ -255,10 +255,11 @@ def test_a_matlab_cloud_and_a_one_channel_array_are_converted(tmp_path):
         real_sets.convert("gzip", b"")
 
 
-def test_float64_metres_become_float32_and_an_npz_gives_its_named_array():
+def test_float64_metres_npz_arrays_and_millimetres_are_converted():
     import io
 
     import numpy as np
+    from PIL import Image
 
     depth = np.array([[0.0, 0.66025], [0.9435, 1.13025]])   # L515 steps of 0.25 mm
     buf = io.BytesIO()
@@ -271,6 +272,17 @@ def test_float64_metres_become_float32_and_an_npz_gives_its_named_array():
     assert got.dtype == np.float32 and got.shape == (2, 2) and got[1, 1] == np.float32(1.13025)
     with pytest.raises(real_sets.SetError, match="could not read its source"):
         real_sets.convert("npz_key:colour", buf.getvalue())   # no such array: one line
+    buf = io.BytesIO()
+    Image.fromarray(np.array([[0, 943], [1130, 65000]], np.uint16)).save(buf, format="PNG")
+    got = real_sets._npy(real_sets.convert("mm_to_m", buf.getvalue()))
+    assert got.dtype == np.float32 and got[0, 0] == 0 and got[0, 1] == np.float32(0.943)
+    buf = io.BytesIO()
+    np.save(buf, np.array([[500, 0]], np.uint16))
+    assert real_sets._npy(real_sets.convert("mm_to_m", buf.getvalue()))[0, 0] == np.float32(0.5)
+    buf = io.BytesIO()
+    np.save(buf, depth)   # float metres are no millimetres: refused, one line
+    with pytest.raises(real_sets.SetError, match="16-bit"):
+        real_sets.convert("mm_to_m", buf.getvalue())
 
 
 def test_a_corrupt_manifest_or_source_is_one_line_and_the_built_set_is_kept(world, tmp_path,
