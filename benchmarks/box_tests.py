@@ -227,7 +227,10 @@ def _box_rows(desc, cloud, row, lab):
         else:
             top_like = (q.incline <= p.skirt_tilted
                         and p.lying_min_length <= q.length <= p.lying_length
-                        and q.width >= p.lying_width)
+                        and q.width >= p.lying_width) or (
+                p.lying_small_length > 0 and q.incline <= p.lying_small_tilt
+                and p.lying_small_length <= q.length <= p.lying_length
+                and q.width >= p.lying_small_width)
             grounds = []
             for g in ps:
                 if g.orientation != "horizontal" or g.label == q.label:

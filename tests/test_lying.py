@@ -327,3 +327,92 @@ def test_the_ring_is_the_pixels_a_square_window_reaches():
         at_t = np.abs((pts - tc) @ tn) <= tol[0]
         between = ~at_g & ~at_t & (hh > 0) & (hh < rise[0] + tol[0])
         assert got.tolist() == [[len(pts), int(at_g.sum()), int(between.sum())]]
+
+
+def _smeared(cloud, lab, label, width):
+    """``cloud`` with the ``width`` pixels around plane ``label``'s outline turned into a depth
+    edge's mixed pixels (unassigned, their depth stepping from the top's down to what lies
+    beyond, as a sensor that smears the jump does: depth aligned to a colour stream)."""
+    from scipy import ndimage
+
+    top = lab == label
+    dist, idx = ndimage.distance_transform_edt(~top, return_indices=True)
+    xyz = np.array(cloud.xyz, float)
+    lab = lab.copy()
+    band = (dist > 0) & (dist <= width) & np.isfinite(xyz[..., 2])
+    r, c = np.nonzero(band)
+    zt = xyz[idx[0][r, c], idx[1][r, c], 2]          # the top's depth at its nearest pixel
+    zb = xyz[r, c, 2]
+    f = dist[r, c] / (width + 1.0)
+    z = zt + f * (zb - zt)
+    xyz[r, c] *= (z / zb)[:, None]
+    lab[r, c] = -1
+    from planerel.io.cloud import Cloud
+
+    return Cloud(xyz, cloud.intrinsics, cloud.up, cloud.source), lab
+
+
+def test_a_top_whose_depth_edge_is_smeared_lies_on_the_floor_beyond_the_band():
+    """lying56 (hunt55's L515 carton on the floor, 0.86 m from above): the sensor smears the
+    10 cm jump from the top to the floor over 4-6 pixels of mixed depths, half the 6-pixel ring
+    "between" the levels.  The ring starts ``lying_ring_band`` (5) pixels out: ``lying``;
+    hugging the outline (``lying_ring_band`` 0, lie32's ring) it is not.  A side in view from
+    45 degrees is wider than the band and still refuses the top."""
+    cloud, lab, _, _ = render(_box_on_floor(sides=False), noise=0.001, **TOP_DOWN)
+    cloud, lab = _smeared(cloud, lab, 1, 4)
+    ps = measure_planes(cloud, lab)
+    rel = relate(ps, cloud)
+    assert ps.by_label(1).orientation == "horizontal"
+    assert lying_tops(ps, rel, (), cloud) == {1}
+    hug = RelationParams(lying_ring_band=0.0, lying_ring_between=0.05)
+    assert lying_tops(ps, relate(ps, cloud, hug), (), cloud) == frozenset()
+    # the side in view (test above) is refused under the default band as well
+    view = {"pitch": 45.0, "cam_height": 0.8, "width": 640, "height": 480}
+    ps, rel, cloud = _lying_in(_box_on_floor(sides=True, y=0.8), view)
+    assert 1 not in lying_tops(ps, rel, (), cloud)
+
+
+def test_the_banded_ring_is_the_pixels_between_two_square_windows():
+    """``ring_counts`` with ``band``: within ``k + band`` of the label, not within ``band``."""
+    from scipy.ndimage import maximum_filter
+
+    from planerel.features._top_kernels import ring_counts
+
+    rng = np.random.default_rng(7)
+    for _ in range(30):
+        h, w = int(rng.integers(1, 50)), int(rng.integers(1, 50))
+        lab = rng.choice(np.array([-1, 3, 7], np.int32), size=(h, w), p=[0.9, 0.06, 0.04])
+        xyz = rng.normal(0.0, 0.05, (h, w, 3)).astype(np.float32)
+        xyz[rng.random((h, w)) > 0.8] = np.nan
+        k, band = int(rng.integers(1, 9)), int(rng.integers(1, 6))
+        outer = maximum_filter(lab == 7, size=2 * (k + band) + 1, mode="constant")
+        inner = maximum_filter(lab == 7, size=2 * band + 1, mode="constant")
+        ring = outer & ~inner & (lab != 7) & (lab != 3) & np.isfinite(xyz[..., 2])
+        tn, tc = np.array([0.0, 0.0, 1.0]), np.array([0, 0, 0.04])
+        gn, gc = np.array([[0.0, 0.1, 0.995]]), np.array([[0.0, 0.0, -0.03]])
+        den = gn @ np.array([0.0, 0.0, 1.0])
+        rise = ((tc - gc) * gn).sum(axis=1) / den
+        got = ring_counts(lab, xyz, 0, h, 0, w, 7, k, np.array([3], np.int64), tn, tc, gn, gc,
+                          den, rise, np.array([0.01]), band)
+        assert got[0, 0] == int(ring.sum())
+
+
+def test_a_small_product_box_lying_flat_is_lying():
+    """lying56 (hunt55's jh2-suction: candy packs 11-13 x 4 cm, 3 cm over a table): under
+    ``lying_min_length`` and ``lying_width``, a top down to ``lying_small_length`` x
+    ``lying_small_width`` is ``lying`` when level within ``lying_small_tilt`` (5) degrees; the
+    same top tilted 15 degrees (a drill's flank, a sliver at a floor's edge) is not, nor with
+    ``lying_small_length`` 0 (top25's bounds)."""
+    small = _top(sx=0.12, sy=0.045, rise=0.03)
+    ps, lying = _lying([floor(), _table(), small])
+    assert ps.by_label(2).length < 0.12 and ps.by_label(2).width < 0.05
+    assert lying == {2}
+    assert not _lying([floor(), _table(), small], RelationParams(lying_small_length=0.0))[1]
+    tilted = _top(sx=0.12, sy=0.045, rise=0.01, tilt=15.0)
+    assert not _lying([floor(), _table(), tilted])[1]
+    # a big top tilted as much is still lying (a book resting on one edge, skirt_tilted)
+    assert _lying([floor(), _table(), _top(rise=0.01, tilt=15.0)])[1] == {2}
+    # below the small bounds: a strip 8 x 3 cm is no top
+    assert not _lying([floor(), _table(), _top(sx=0.08, sy=0.03, rise=0.03)])[1]
+    with pytest.raises(InputError, match="lying_small_length"):
+        RelationParams(lying_small_length=-0.1)

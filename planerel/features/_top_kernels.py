@@ -41,20 +41,25 @@ def _near_label(labels, r0, r1, c0, c1, label, k):
 
 
 @njit(cache=True, error_model="numpy")
-def ring_counts(labels, xyz, r0, r1, c0, c1, label, k, skip, tn, tc, gn, gc, den, rise, tol):
+def ring_counts(labels, xyz, r0, r1, c0, c1, label, k, skip, tn, tc, gn, gc, den, rise, tol,
+                band=0):
     """The ring around a ``lying`` top read against ``m`` grounds at once: the pixels of
     ``labels[r0:r1, c0:c1]`` within ``k`` pixels (a square neighbourhood) of one labelled
     ``label``, not labelled so themselves nor one of ``skip``, whose point is measured
     (finite z).  ``(m, 3)`` int64 counts of those points, of those at ground ``g``'s
     level (``|h| <= tol[g]``, ``h`` the height over ``g``'s fit along up: ``gn[g] . (p -
     gc[g]) / den[g]``) and of those between (``tol[g] < h < rise[g] + tol[g]``, not within
-    ``tol[g]`` of the top's plane ``tn . (p - tc) = 0``)."""
-    near = _near_label(labels, r0, r1, c0, c1, label, k)
+    ``tol[g]`` of the top's plane ``tn . (p - tc) = 0``).  With ``band`` > 0 the ring is
+    the pixels within ``k + band`` of the label but not within ``band``: the band hugging
+    the top's outline, where a depth edge's mixed pixels and the top's own side lie, is left
+    out (lying56)."""
+    near = _near_label(labels, r0, r1, c0, c1, label, k + band)
+    inner = _near_label(labels, r0, r1, c0, c1, label, band) if band > 0 else near
     m = gn.shape[0]
     out = np.zeros((m, 3), np.int64)
     for i in range(r1 - r0):
         for j in range(c1 - c0):
-            if not near[i, j]:
+            if not near[i, j] or (band > 0 and inner[i, j]):
                 continue
             r, c = r0 + i, c0 + j
             lab = labels[r, c]

@@ -328,6 +328,13 @@ class RelationParams:
     #: is narrower, a shoe's toe shorter (top25)
     lying_min_length: float = 0.12
     lying_width: float = 0.05
+    #: m: a smaller top, down to this long and ``lying_small_width`` wide, is ``lying`` too
+    #: when it is level within ``lying_small_tilt`` degrees (a product box lying flat, 11 x 4
+    #: cm: its top parallel to the board under it; a drill's flank, a sliver at a floor's
+    #: edge are tilted 15-20 degrees).  0: no smaller top (top25's bounds) (lying56)
+    lying_small_length: float = 0.10
+    lying_small_width: float = 0.035
+    lying_small_tilt: float = 5.0
     #: the ground a ``lying`` plane lies on is at least this many times its area (a table
     #: or the floor under a book, not a tread beside a tread) (top25)
     lying_ground: float = 3.0
@@ -340,7 +347,19 @@ class RelationParams:
     #: wall in between (lie32).  0: adjacent grounds only
     lying_ring: float = 6.0
     lying_ring_ground: float = 0.2
-    lying_ring_between: float = 0.05
+    lying_ring_between: float = 0.1
+    #: pixels (at 640 image columns, scaled with the width): the ring starts this far out
+    #: from the top's outline; the band hugging it is left out.  There a depth edge's mixed
+    #: pixels (a sensor that smears the jump from the top to the floor over 3-6 pixels, depth
+    #: aligned to a colour stream) and the top's own side, seen edge-on from above, lie
+    #: between the levels; a side in view from the side is wider than the band.  0: the
+    #: ring hugs the outline (lie32) (lying56)
+    lying_ring_band: float = 5.0
+    #: a level in the ring is within 3 times the larger of the top's and the ground's fit
+    #: RMS (at least 5 mm, at most a quarter of the rise): a floor fitted with 4 mm of RMS
+    #: over a room is that level within its own noise.  False: the top's RMS only (lie32)
+    #: (lying56)
+    lying_ring_ground_noise: bool = False
     corner_tol: float = 0.08
     corner_width: float = 0.08
     #: ``corner`` (ramp42): neither wall's exposed top edge may rise ``corner_slope`` degrees
@@ -399,7 +418,8 @@ class RelationParams:
                              "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
                              "lying_min_length", "lying_width", "lying_snr", "lying_ring",
-                             "lying_ring_ground", "lying_ring_between"))
+                             "lying_ring_ground", "lying_ring_between", "lying_ring_band",
+                             "lying_small_length", "lying_small_width", "lying_small_tilt"))
         if self.lying_rise > 0 and self.lying_rise_max <= self.lying_rise:
             raise InputError(f"lying_rise_max must be above lying_rise ({self.lying_rise!r}), got "
                              f"{self.lying_rise_max!r} (lying_rise 0 switches lying/1 off)")
@@ -1340,7 +1360,9 @@ def lying_tops(planes, relations: Relations, support=(), cloud=None) -> frozense
     - it is horizontal, or inclined by at most ``skirt_tilted`` degrees (a book leaning on
       another, a box resting on one edge), no support plane itself, ``lying_min_length`` to
       ``lying_length`` long and at least ``lying_width`` wide (a book, a flat box: something
-      one can lift; a strip along a wall's foot is narrower);
+      one can lift; a strip along a wall's foot is narrower), or, level within
+      ``lying_small_tilt``, down to ``lying_small_length`` x ``lying_small_width`` (a product
+      pack lying flat);
     - a horizontal plane ``g``, at least ``lying_ground`` times its area, lies under it:
       ``t``'s centroid stands over ``g``'s fit (along ``up``, where the line through the
       centroid meets ``g``) by at least ``lying_rise`` (or ``lying_snr`` times ``t``'s RMS
@@ -1349,8 +1371,9 @@ def lying_tops(planes, relations: Relations, support=(), cloud=None) -> frozense
       ``g`` (``t`` does not cross it);
     - ``g`` is adjacent to it (the relations' ``adjacent``), or, when no adjacent ground
       passes and ``cloud`` is given, ``g`` shows around it across a depth jump
-      (:func:`_ground_around`; its pixel box within ``lying_ring`` pixels of the top's): a
-      box seen from straight above, its sides hidden.
+      (:func:`_ground_around`; its pixel box within ``lying_ring`` pixels of the top's, past
+      the ``lying_ring_band`` hugging its outline): a box seen from straight above, its sides
+      hidden.
 
     A table's top (0.45-0.8 m over the floor), a chair's seat, a shelf's board, a landing or
     a tread stand higher over what is under them; a far piece of the floor that the sensor
@@ -1381,9 +1404,14 @@ def lying_tops(planes, relations: Relations, support=(), cloud=None) -> frozense
     sup = {int(x) for x in support}
 
     def top_like(t):
-        return (t is not None and t.label not in sup and t.orientation != "vertical"
-                and t.incline <= p.skirt_tilted
-                and p.lying_min_length <= t.length <= p.lying_length and t.width >= p.lying_width)
+        if t is None or t.label in sup or t.orientation == "vertical" or t.length > p.lying_length:
+            return False
+        if t.incline <= p.skirt_tilted and t.length >= p.lying_min_length \
+                and t.width >= p.lying_width:
+            return True
+        # a smaller top lying flat (lying56)
+        return (p.lying_small_length > 0 and t.incline <= p.lying_small_tilt
+                and t.length >= p.lying_small_length and t.width >= p.lying_small_width)
 
     cand: dict[int, list] = {}
     for r in adjacent_only(relations):
@@ -1404,7 +1432,7 @@ def lying_tops(planes, relations: Relations, support=(), cloud=None) -> frozense
     if cloud is None or p.lying_ring <= 0 or planes.labels is None:
         return frozenset(out)
     grounds = [g for g in planes if g.orientation == "horizontal"]
-    k = _ring_width(planes.labels, p)
+    k = _ring_width(planes.labels, p) + _ring_band(planes.labels, p)
     for t in planes:
         if t.label in out or not top_like(t):
             continue
@@ -1450,8 +1478,10 @@ def _ground_around(t, grounds, up: np.ndarray, planes, cloud, p) -> bool:
     labels = planes.labels
     H, W = labels.shape
     k = _ring_width(labels, p)
+    band = _ring_band(labels, p)
     r0, c0, r1, c1 = (int(v) for v in t.bbox)
-    r0, c0, r1, c1 = max(r0 - k, 0), max(c0 - k, 0), min(r1 + k + 1, H), min(c1 + k + 1, W)
+    r0, c0 = max(r0 - k - band, 0), max(c0 - k - band, 0)
+    r1, c1 = min(r1 + k + band + 1, H), min(c1 + k + band + 1, W)
     tn, tc = np.asarray(t.normal, float), np.asarray(t.centroid, float)
     cos_tilt = math.cos(math.radians(p.skirt_tilted))
     own = [q.label for q in planes
@@ -1464,12 +1494,22 @@ def _ground_around(t, grounds, up: np.ndarray, planes, cloud, p) -> bool:
     rise = ((tc - gc) * gn).sum(axis=1) / den
     # a level is a fit within the sensor's noise there (3 x the top's RMS, at least 5 mm),
     # never past a quarter of the rise: a side in view is "between" but for its last rows
-    tol = np.minimum(0.25 * rise, max(0.005, 3.0 * float(t.rms)))
+    noise = np.full(len(gn), float(t.rms))
+    if p.lying_ring_ground_noise:
+        noise = np.maximum(noise, np.array([float(g.rms) for g in grounds], float))
+    tol = np.minimum(0.25 * rise, np.maximum(0.005, 3.0 * noise))
     counts = ring_counts(labels, cloud.xyz, r0, r1, c0, c1, int(t.label), k,
-                         np.asarray(own, np.int64), tn, tc, gn, gc, den, rise, tol)
+                         np.asarray(own, np.int64), tn, tc, gn, gc, den, rise, tol, band)
     n = np.maximum(counts[:, 0], 1)
     return bool(((counts[:, 0] > 0) & (counts[:, 1] >= p.lying_ring_ground * n)
                  & (counts[:, 2] <= p.lying_ring_between * n)).any())
+
+
+def _ring_band(labels: np.ndarray, p) -> int:
+    """Pixels: ``lying_ring_band`` (given at 640 columns) at the image's width, 0 when off."""
+    if p.lying_ring_band <= 0:
+        return 0
+    return max(1, int(round(p.lying_ring_band * labels.shape[1] / 640.0)))
 
 
 def _ring_width(labels: np.ndarray, p) -> int:
