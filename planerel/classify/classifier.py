@@ -76,7 +76,7 @@ class ObjectAnswer:
         Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
     curved : bool or None
         The planar fraction is below the model's ``curved.curved_below``: a round object.
-    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal, LevelRefusal, FlightRefusal, FootRefusal, SideRefusal, UnsureRefusal, FacetRefusal and VetoRefusal
+    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal, LevelRefusal, FlightRefusal, FootRefusal, SideRefusal, UnsureRefusal, FacetRefusal, FlightSideRefusal and VetoRefusal
         Classes whose rules proved the object and that the decision refused for it: its
         planar fraction lies under ``1 - decision.planar_margin`` times the least planar of
         the class's training positives (with ``decision.planar_gate``;
@@ -364,6 +364,12 @@ class Classifier:
         #: :mod:`planerel.features.box_cut`): ``(reach, margin, corner, pieces)``, or None when off
         self.cut_boxes = ((decision.cut_reach, decision.cut_margin, decision.cut_corner,
                            decision.cut_pieces) if decision.cut_boxes else None)
+        #: no ``box`` for an object running beside a flight answered ``stairs`` in the scan
+        #: (``decision.flight_side_gate``, :mod:`planerel.features.flight_side`): ``(thick,
+        #: gap, reach, rise, angle)``, or None when off; a scan's decision, as the foot gate
+        self.flight_side = ((decision.flight_side_thick, decision.flight_side_gap,
+                             decision.flight_side_reach, decision.flight_side_rise,
+                             decision.flight_side_angle) if decision.flight_side_gate else None)
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -492,7 +498,39 @@ class Classifier:
             answers = tuple(self._answer(desc, plane_ids, xyz))
         if self.cut_boxes is not None and xyz is not None and BOX in self.classes:
             answers = self._cut_boxes(desc, answers, plane_ids, xyz)
+        if self.flight_side is not None and xyz is not None and BOX in self.classes:
+            answers = self._flight_sides(desc, answers, xyz)
         return answers
+
+    def _flight_sides(self, desc, answers, xyz) -> tuple:
+        """``decision.flight_side_gate``: each ``box`` answer that runs beside a flight
+        answered ``stairs`` in the same scan (:func:`~planerel.features.flight_side.flight_side`)
+        becomes ``other``, with a :class:`~planerel.ilp.metrics.FlightSideRefusal`."""
+        from dataclasses import replace
+
+        from planerel.features.flight_side import flight_side
+        from planerel.ilp.metrics import FlightSideRefusal
+
+        flights = [a for a in answers if a.klass == "stairs"]
+        if not flights or not any(a.klass == BOX for a in answers):
+            return answers
+        thick, gap, reach, rise, angle = self.flight_side
+        out = []
+        for a in answers:
+            if a.klass == BOX:
+                for f in flights:
+                    if set(f.labels) & set(a.labels):
+                        continue
+                    m = flight_side(desc.planes, f.labels, a.labels, xyz, desc.labels)
+                    if m is not None and m.beside(thick, gap, reach, rise, angle):
+                        why = FlightSideRefusal(BOX, a.rule_index or 0, f.object_id, m.thick,
+                                                m.gap, m.rise)
+                        a = replace(a, klass=OTHER, rule=None, bindings={}, proof_planes=(),
+                                    rule_index=None, precision=None,
+                                    refused=tuple(a.refused) + (why,))
+                        break
+            out.append(a)
+        return tuple(out)
 
     def _answer_objects(self, desc, objects, plane_ids, xyz) -> list:
         """``objects`` (SceneObjects over ``desc``'s planes) answered as :meth:`_answer`

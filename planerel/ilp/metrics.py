@@ -24,6 +24,7 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "SIDE_GATE", "SIDE_PLANES", "SideRefusal", "side_refusals",
            "FACET_GATE", "FACET_MIN", "FACET_MAX", "FACET_CLASS", "FacetRefusal", "facet_refusals",
            "UNSURE_GATE", "UNSURE_CLASS", "UnsureRefusal", "unsure_refusals",
+           "FLIGHT_SIDE_GATE", "FlightSideRefusal",
            "SIZE_GATE", "SIZE_MARGIN",
            "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
            "SLENDER_GATE", "SLENDER_MARGIN", "SLENDER_CLASSES", "plane_slenderness",
@@ -189,6 +190,13 @@ FACET_MAX = 70.0
 FACET_BRIDGE = True
 #: The class :func:`facet_refusals` asks of.
 FACET_CLASS = "box"
+#: Defaults of :attr:`DecisionParams.flight_side_gate` and its bounds (wall56).
+FLIGHT_SIDE_GATE = True
+FLIGHT_SIDE_THICK = 0.15
+FLIGHT_SIDE_GAP = 0.35
+FLIGHT_SIDE_REACH = 0.5
+FLIGHT_SIDE_RISE = 0.2
+FLIGHT_SIDE_ANGLE = 15.0
 #: Defaults of :attr:`DecisionParams.cut_boxes`, ``cut_reach``, ``cut_margin``.
 CUT_BOXES = True
 CUT_REACH = 1.5
@@ -421,6 +429,24 @@ class DecisionParams:
         A corner partner is no box corner when a third upright plane of the object is a facet
         neighbour of both (a round side's fan of three strips whose ends are 85 degrees
         apart: rs-booth 1025_test9's can).
+    flight_side_gate : bool
+        On by default (wall56, 2026-12-02).  No ``box`` for an object that runs beside a
+        flight answered ``stairs`` in the same scan: a staircase's side wall, knee wall or
+        string seen in part (its top strip over its end face, or its side cut by the image's
+        border).  Measured by :func:`planerel.features.flight_side.flight_side` against each
+        ``stairs`` answer: the object is at most ``flight_side_thick`` across the flight
+        (along its own upright face parallel to the run, if any), lies beyond the flight's
+        lateral edge by at most ``flight_side_gap`` (and over it by at most 5 cm), within
+        ``flight_side_reach`` of the flight's run interval, its top at least
+        ``flight_side_rise`` over the flight's highest point, and each of its upright planes
+        within ``flight_side_angle`` degrees of parallel or square to the run (no inclined
+        plane).  The answer becomes ``other``.  Only classify applies it (it needs the scan's
+        points and the other answers of the scan).
+    flight_side_thick, flight_side_gap, flight_side_reach, flight_side_rise : float
+        Metres (>= 0): 0.15, 0.3, 0.5, 0.2 (the independent stair sets' walls: 0.06-0.09
+        thick, 0.00-0.25 beyond the treads' ends, tops 0.44-0.89 over the flight's).
+    flight_side_angle : float
+        Degrees in 0..90 (10).
     cut_boxes : bool
         On by default (core49).  A proposal a box rule proves and a gate refuses ``box`` for,
         whose planes hold a box proof's seed (a ``skirt`` or ``face_pair`` pair; a lone
@@ -492,6 +518,12 @@ class DecisionParams:
     facet_min: float = FACET_MIN
     facet_max: float = FACET_MAX
     facet_bridge: bool = FACET_BRIDGE
+    flight_side_gate: bool = FLIGHT_SIDE_GATE
+    flight_side_thick: float = FLIGHT_SIDE_THICK
+    flight_side_gap: float = FLIGHT_SIDE_GAP
+    flight_side_reach: float = FLIGHT_SIDE_REACH
+    flight_side_rise: float = FLIGHT_SIDE_RISE
+    flight_side_angle: float = FLIGHT_SIDE_ANGLE
     cut_boxes: bool = CUT_BOXES
     cut_reach: float = CUT_REACH
     cut_margin: float = CUT_MARGIN
@@ -501,7 +533,8 @@ class DecisionParams:
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
-                     "side_gate", "unsure_gate", "facet_gate", "facet_bridge", "cut_boxes"):
+                     "side_gate", "unsure_gate", "facet_gate", "facet_bridge", "cut_boxes",
+                     "flight_side_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -519,12 +552,14 @@ class DecisionParams:
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0 (metres), got {m!r}")
-        for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin"):
+        for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin",
+                     "flight_side_thick", "flight_side_gap", "flight_side_reach",
+                     "flight_side_rise"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0, got {m!r}")
-        for name in ("facet_min", "facet_max"):
+        for name in ("facet_min", "facet_max", "flight_side_angle"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or not 0 <= m <= 90):
@@ -1542,6 +1577,31 @@ class FacetRefusal:
     def to_dict(self) -> dict:
         return {"class": self.klass, "rule": self.rule, "plane": self.plane,
                 "angle": round(self.angle, 2), "reason": self.reason}
+
+
+@dataclass(frozen=True)
+class FlightSideRefusal:
+    """``box`` for an object that runs beside a flight answered ``stairs`` in the same scan
+    (``decision.flight_side_gate``, :func:`planerel.features.flight_side.flight_side`)."""
+
+    klass: str
+    rule: int
+    #: the ``stairs`` answer's object id
+    flight: str
+    thick: float
+    gap: float
+    rise: float
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it, but it runs beside the flight {self.flight}: "
+                f"{self.thick:.2f} m across it, {self.gap:.2f} m beyond its treads' ends, its "
+                f"top {self.rise:.2f} m over the flight's: the flight's side wall")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "flight": self.flight,
+                "thick": round(self.thick, 3), "gap": round(self.gap, 3),
+                "rise": round(self.rise, 3), "reason": self.reason}
 
 
 def facet_refusals(hits, stats: Sequence, facet=None):

@@ -25,7 +25,9 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 ``decision.flight_fragments``, ``decision.unsure_gate``, ``decision.size_gate``, ``decision.size_margin``, ``decision.slender_gate``,
 ``decision.slender_margin``, ``decision.range_gate``, ``decision.range_margin``,
 ``decision.range_classes``, ``decision.facet_gate``, ``decision.facet_min``,
-``decision.facet_max``, ``decision.facet_bridge``, ``decision.cut_boxes``, ``decision.cut_reach``,
+``decision.facet_max``, ``decision.facet_bridge``, ``decision.flight_side_gate``,
+``decision.flight_side_thick``, ``decision.flight_side_gap``, ``decision.flight_side_reach``,
+``decision.flight_side_rise``, ``decision.flight_side_angle``, ``decision.cut_boxes``, ``decision.cut_reach``,
 ``decision.cut_margin``, ``decision.cut_corner``, ``decision.cut_pieces``).
 """
 

@@ -1,0 +1,149 @@
+"""A solid that runs beside a flight of stairs: the flight's side wall, not a box (wall56).
+
+A staircase is built between walls, knee walls or strings that run along it: their faces are
+parallel to the flight's run (or square to it at their ends), they stand at the treads' ends,
+as long as the flight along the run and higher than its treads.  Seen in part (the wall's top
+strip over its end face, or its side cut by the image's border) such a wall has a box's
+faces; :func:`flight_side` measures an object against a flight found in the same scan.
+
+The flight's frame: ``up``; the run ``r``, the horizontal direction of its risers' normals
+(area-weighted), or, with no riser, square to the largest tread's long axis; the lateral
+``l = up x r``.  The flight's extent along ``l`` and ``r`` is the 2-98 percentile range of
+its planes' points; the object's the 5-95 range of its own.  Across the flight the object is
+measured along its own largest upright face parallel to the run, when it has one (a wall's
+side; a slightly turned estimate of ``r`` would otherwise spread a long side across), else
+along ``l``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["FlightSide", "flight_frame", "flight_side"]
+
+
+@dataclass(frozen=True)
+class FlightSide:
+    """An object measured against a flight (metres, degrees)."""
+
+    #: the object's extent across the flight (its thickness, for a wall)
+    thick: float
+    #: how far the object lies beyond the flight's lateral edge (negative: over the treads)
+    gap: float
+    #: how far the object lies beyond the flight's run interval (0 when they overlap)
+    run_gap: float
+    #: the object's highest point over the flight's highest point
+    rise: float
+    #: the largest angle of an upright plane of the object off the flight's axes (0: parallel
+    #: or square to the run), or 90 when the object has an inclined plane
+    skew: float
+
+    def beside(self, thick: float, gap: float, reach: float, rise: float, angle: float,
+               inside: float = 0.05) -> bool:
+        """Whether this is a flight's side: thin across the flight (``<= thick``), at its
+        edge (``-inside <= gap <= gap``), along its run (``run_gap <= reach``), higher than
+        its treads (``rise >= rise``) and square to it (``skew <= angle``)."""
+        return (self.thick <= thick and -inside <= self.gap <= gap and self.run_gap <= reach
+                and self.rise >= rise and self.skew <= angle)
+
+
+def _horizontal(v, up):
+    v = np.asarray(v, dtype=np.float64)
+    h = v - up * float(v @ up)
+    n = float(np.linalg.norm(h))
+    return None if n < 1e-6 else h / n
+
+
+def _points(xyz, seg_labels, labels):
+    m = np.isin(seg_labels, list(labels))
+    p = xyz[m]
+    return p[np.isfinite(p).all(axis=1)]
+
+
+def flight_frame(planes, flight, xyz, seg_labels):
+    """``(up, r, l)`` of the flight whose planes are the labels ``flight`` (module docstring),
+    or None when it has neither an upright nor a horizontal plane."""
+    up = np.asarray(planes.up, dtype=np.float64)
+    up = up / np.linalg.norm(up)
+    members = [planes.by_label(x) for x in flight]
+    risers = [p for p in members if p.orientation == "vertical"]
+    r = None
+    if risers:
+        acc, ref = np.zeros(3), None
+        for p in risers:
+            n = _horizontal(p.normal, up)
+            if n is None:
+                continue
+            ref = n if ref is None else ref
+            acc += p.n_points * (n if n @ ref >= 0 else -n)
+        r = _horizontal(acc, up) if ref is not None else None
+    if r is None:
+        treads = [p for p in members if p.orientation == "horizontal"]
+        if not treads:
+            return None
+        t = max(treads, key=lambda p: p.area)
+        pts = _points(xyz, seg_labels, (t.label,))
+        if len(pts) < 3:
+            return None
+        q = pts - np.outer(pts @ up, up)
+        q = q - q.mean(axis=0)
+        _w, v = np.linalg.eigh(q.T @ q)
+        r = _horizontal(np.cross(up, v[:, -1]), up)
+        if r is None:
+            return None
+    lat = np.cross(up, r)
+    return up, r, lat / np.linalg.norm(lat)
+
+
+def flight_side(planes, flight, obj, xyz, seg_labels) -> FlightSide | None:
+    """The object whose planes are the labels ``obj`` measured against the flight ``flight``
+    (:class:`FlightSide`), or None when either has too few points or the flight no frame.
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    flight, obj : iterable of int
+        Plane labels of the flight's and the object's proposals.
+    xyz : ndarray (H, W, 3)
+        The scan's organized points.
+    seg_labels : ndarray (H, W)
+        The plane label of each pixel (the description's ``labels``).
+    """
+    flight, obj = tuple(flight), tuple(obj)
+    frame = flight_frame(planes, flight, xyz, seg_labels)
+    if frame is None:
+        return None
+    up, r, lat = frame
+    s = _points(xyz, seg_labels, flight)
+    b = _points(xyz, seg_labels, obj)
+    if len(s) < 3 or len(b) < 3:
+        return None
+    sl = np.percentile(s @ lat, [2, 98])
+    sr = np.percentile(s @ r, [2, 98])
+    bl = np.percentile(b @ lat, [5, 95])
+    br = np.percentile(b @ r, [5, 95])
+    # across the flight along the object's own side face, when it has one parallel to the run
+    skew = 0.0
+    side, side_n = None, 0
+    for x in obj:
+        p = planes.by_label(x)
+        if p.orientation == "inclined":
+            skew = 90.0
+            continue
+        if p.orientation != "vertical":
+            continue
+        n = _horizontal(p.normal, up)
+        if n is None:
+            continue
+        a = float(np.degrees(np.arccos(min(1.0, abs(float(n @ r))))))
+        skew = max(skew, min(a, 90.0 - a))
+        if 90.0 - a <= 10.0 and p.n_points > side_n:
+            side, side_n = (n if n @ lat >= 0 else -n), p.n_points
+    across = side if side is not None else lat
+    ba = np.percentile(b @ across, [5, 95])
+    gap = max(bl[0] - sl[1], sl[0] - bl[1])
+    run_gap = max(0.0, br[0] - sr[1], sr[0] - br[1])
+    rise = float(np.percentile(b @ up, 95) - np.percentile(s @ up, 98))
+    return FlightSide(float(ba[1] - ba[0]), float(gap), float(run_gap), rise, skew)
