@@ -69,8 +69,13 @@ def main(argv: list[str] | None = None) -> int:
     watch()  # one line on a terminal if numba compiles the kernels (first run after install)
     shown = warnings.showwarning
     warnings.showwarning = _note_or(shown)
+    from planerel.atomic import forget_made_folders, remove_made_folders
+
+    forget_made_folders()
+    done = False
     try:
         result = args.func(args)
+        done = True
     except (PlanerelError, OSError, MemoryError, UnicodeError) as exc:
         message = user_message(exc)
         if message is None:  # pragma: no cover - every instance of these classes has one
@@ -84,6 +89,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"planerel {args.command}: interrupted", file=sys.stderr)
         return 130
     finally:
+        if done:
+            forget_made_folders()
+        else:  # a refused or interrupted run leaves no empty output folder it made
+            remove_made_folders()
         warnings.showwarning = shown
         for signum, handler in previous.items():
             signal.signal(signum, handler)

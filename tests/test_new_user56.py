@@ -154,3 +154,30 @@ def test_duplicate_ids_are_not_told_to_give_ids(scan, tmp_path):
     _one_error_line(_run("describe", scan, two, "-o", tmp_path / "f.pl", "--ids", "", "b"),
                     "empty scene id in --ids")
     assert not (tmp_path / "f.pl").exists()
+
+
+def test_a_refused_run_leaves_no_empty_output_folder_behind(scan, tmp_path):
+    # before: segment, classify -o, describe -o DIR/f.pl, report and export-popper made their
+    # output folders up front and left them empty when the run was then refused
+    bad = tmp_path / "nan.npy"
+    np.save(bad, np.full((60, 80, 3), np.nan, np.float32))
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(A) :- nvertical(A, B), B >= 2.\n")
+    ds = tmp_path / "ds"
+    assert main(["dataset", "synth", str(ds), "--n-box", "1", "--n-stairs", "1", "--n-ramp",
+                 "1", "--subsample", "8", "--quiet"]) == 0
+    out = tmp_path / "out"
+    for cmd in (["segment", bad, "-o", out / "a" / "seg", "-j", "1"],
+                ["classify", rules, bad, "-o", out / "cls", "-j", "1"],
+                ["describe", bad, "-o", out / "d" / "f.pl", "--mesh", out / "mesh", "-j", "1"],
+                ["export-popper", ds, out / "pop", "--max-vars", "0"],
+                ["report", ds, "-o", out / "rep", "--methods", "nosuch"]):
+        r = _run(*cmd)
+        assert r.returncode == 2, (cmd, r.stderr)
+        assert not out.exists(), (cmd, sorted(out.rglob("*")))
+    # a folder that was there stays, and so do the folders of a run that succeeded
+    out.mkdir()
+    _one_error_line(_run("segment", bad, "-o", out, "-j", "1"), "has no valid point")
+    assert out.is_dir()
+    r = _run("segment", scan, "-o", out / "new", "-j", "1", "--formats", "json")
+    assert r.returncode == 0 and (out / "new" / "box.planes.json").is_file()
