@@ -76,6 +76,11 @@ def main(argv: list[str] | None = None) -> int:
     try:
         result = args.func(args)
         done = True
+    except BrokenPipeError:
+        # the reader of stdout is gone (`planerel classify ... --json | head`): stop quietly,
+        # as other command-line tools do, not "error: a file: Broken pipe; check the disk"
+        _quiet_stdout()
+        return 128 + signal.SIGPIPE
     except (PlanerelError, OSError, MemoryError, UnicodeError) as exc:
         message = user_message(exc)
         if message is None:  # pragma: no cover - every instance of these classes has one
@@ -97,6 +102,19 @@ def main(argv: list[str] | None = None) -> int:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
     return int(result or 0)
+
+
+def _quiet_stdout() -> None:
+    """Point stdout at /dev/null so that the interpreter's last flush of a closed pipe prints
+    nothing either."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):  # stdout is no file (a test's capture)
+        pass
 
 
 def _note_or(show):

@@ -181,3 +181,68 @@ def test_a_refused_run_leaves_no_empty_output_folder_behind(scan, tmp_path):
     assert out.is_dir()
     r = _run("segment", scan, "-o", out / "new", "-j", "1", "--formats", "json")
     assert r.returncode == 0 and (out / "new" / "box.planes.json").is_file()
+
+
+def test_a_members_model_with_a_member_that_learned_nothing_classifies(scan, tmp_path):
+    # before: `learn --members 2` on a small set wrote the model ("model written to ..."; its
+    # --heldout scores were printed), but classify refused it: "members/2/rules.pl: the model
+    # has no rules" (a member with no rule answers "other" in the vote)
+    ds = tmp_path / "ds"
+    assert main(["dataset", "synth", str(ds), "--n-box", "3", "--n-stairs", "3", "--n-ramp",
+                 "3", "--seed", "3", "--subsample", "8", "--quiet"]) == 0
+    m = tmp_path / "m"
+    assert main(["learn", str(ds), "-o", str(m), "--members", "2", "--engine", "builtin",
+                 "-j", "1", "--cache", "none"]) == 0
+    empty = [d for d in sorted((m / "members").iterdir())
+             if not any(ln and not ln.startswith(("%", ":-", "planerel_"))
+                        for ln in (d / "rules.pl").read_text().splitlines())]
+    if not empty:
+        pytest.skip("both members learned rules with this seed")
+    r = _run("classify", m, scan, "--json")
+    assert r.returncode == 0, r.stderr
+    import json
+
+    answers = json.loads(r.stdout)[0]["objects"]
+    assert answers and all(a["class"] in ("box", "stairs", "ramp", "other") for a in answers)
+    # a members model none of whose members learned a rule is still refused, in one line
+    for d in (m / "members").iterdir():
+        (d / "rules.pl").write_text("% nothing learned\n")
+    _one_error_line(_run("classify", m, scan), "the model has no rules (none of its 2 members")
+
+
+def test_a_closed_stdout_pipe_ends_quietly(tmp_path):
+    # before: `planerel classify ... --json | head -c 10` ended with "planerel classify:
+    # error: a file: Broken pipe; check the path and the disk", exit 2
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(A) :- nvertical(A, B), B >= 2.\n")
+    scans = []
+    for k in range(3):
+        p = tmp_path / f"s{k}.npy"
+        np.save(p, np.asarray(generate_scene("stairs", seed=k, subsample=8).cloud.xyz))
+        scans.append(p)
+    p = subprocess.Popen([sys.executable, "-m", "planerel.cli", "classify", str(rules),
+                          *map(str, scans), "--json", "-j", "1"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    p.stdout.read(5)
+    p.stdout.close()
+    err = p.stderr.read().decode()
+    assert p.wait(timeout=300) in (0, 141) and "Broken pipe" not in err and "Traceback" not in err, err
+
+
+def test_run_all_help_does_not_start_the_benchmarks():
+    # before: `benchmarks/run_all.py --help` ran every bench_*.py (minutes, child processes)
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "run_all.py"
+    import os
+    import signal
+
+    p = subprocess.Popen([sys.executable, str(script), "--help"], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        out, _ = p.communicate(timeout=60)
+    finally:  # a run that started the benchmarks: stop them all (their own children too)
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.wait()
+    assert p.returncode == 0 and "usage" in out and "====" not in out

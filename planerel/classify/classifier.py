@@ -278,7 +278,8 @@ class Classifier:
         The file is not valid Prolog text (syntax error; the message gives the line).
     """
 
-    def __init__(self, rules, *, method: str | None = None, seg_params: dict | None = None):
+    def __init__(self, rules, *, method: str | None = None, seg_params: dict | None = None,
+                 _member: bool = False):
         from planerel.features.terms import atom, plist
         from planerel.ilp.model_settings import read_settings, with_overrides
 
@@ -329,7 +330,9 @@ class Classifier:
             f"{self.module}:planerel_stats(I, C, TP, FP)", "reading the rule statistics"))
         self.cofire = tuple((int(r["I"]), int(r["J"]), _text(r["C"]), int(r["N"])) for r in query(
             f"{self.module}:planerel_cofire(I, J, C, N)", "reading the rule statistics"))
-        if not self.classes:
+        if not self.classes and not _member:
+            # (a member of a members model may have learned none on its part: it answers
+            # "other" in the vote, as in planerel learn's own scoring)
             raise InputError(f"{path}: the model has no rules")
         from planerel.ilp.metrics import size_gated
 
@@ -427,7 +430,8 @@ class Classifier:
         members = []
         try:
             for folder in folders:
-                members.append(Classifier(folder, method=method, seg_params=seg_params))
+                members.append(Classifier(folder, method=method, seg_params=seg_params,
+                                          _member=True))
         except BaseException:
             for m in members:
                 m.close()
@@ -435,6 +439,10 @@ class Classifier:
         self.members = tuple(members)
         self.module = "members"   # open; the members hold the Prolog modules
         self.classes = tuple(dict.fromkeys(k for m in members for k in m.classes))
+        if not self.classes:
+            self.close()
+            raise InputError(f"{self.rules_path}: the model has no rules (none of its "
+                             f"{len(members)} members learned one)")
         self.stats = ()
         self.cofire = ()
         self.planar_domain = self.proof_domain = self.level_domain = self.size_domain = ()
