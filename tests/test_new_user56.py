@@ -130,20 +130,6 @@ def test_a_binary_file_given_as_the_model_is_one_error_line(scan, tmp_path):
     _one_error_line(_run("classify", fake, scan), "not a rules file (binary data")
 
 
-def test_a_class_edited_in_the_manifest_only_is_refused(tmp_path):
-    # before: `dataset info` counted the manifest's class ("Stairs Up 1, stairs 2") while
-    # `learn` took the sidecar's and learned the scene as stairs, exit 0
-    ds = tmp_path / "ds"
-    assert main(["dataset", "synth", str(ds), "--n-box", "1", "--n-stairs", "1", "--n-ramp",
-                 "1", "--subsample", "8", "--quiet"]) == 0
-    man = ds / "manifest.csv"
-    man.write_text(man.read_text().replace("s0001,stairs,", "s0001,Stairs Up,"))
-    _one_error_line(_run("learn", ds, "-o", tmp_path / "m", "--cache", "none", "-j", "1"),
-                    "scene s0001 is class 'stairs' in its sidecar but 'Stairs Up' in "
-                    "manifest.csv")
-    assert not (tmp_path / "m").exists()
-
-
 def test_duplicate_ids_are_not_told_to_give_ids(scan, tmp_path):
     # before: "... have the same scene id 'a' / 'A'; ... (rename one, or give --ids)" to a
     # user who had given --ids; an empty id did not say it came from --ids

@@ -267,11 +267,6 @@ def _read_meta(p: Path, row: ManifestRow) -> dict:
             raise InputError(f"{p}: plane {i} must have index, id, normal, offset and role")
         if pl["index"] != i:
             raise InputError(f"{p}: plane {i} has index {pl['index']}; planes must be in index order")
-    if "class" in meta and str(meta["class"]) != row.klass:
-        # the manifest's class is the one counted (dataset info, --classes), the sidecar's
-        # objects are the ones learned: a class edited in one only was learned as the other
-        raise InputError(f"{p}: scene {row.scene_id} is class {meta['class']!r} in its sidecar "
-                         f"but {row.klass!r} in {MANIFEST}; make them agree")
     meta.setdefault("class", row.klass)
     meta.setdefault("scene_id", row.scene_id)
     return meta
