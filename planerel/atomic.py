@@ -37,11 +37,35 @@ def _file_mode() -> int:
 _FILE_MODE = _file_mode()
 
 
+#: folders this process made for its outputs; a command that then fails removes those still
+#: empty (:func:`remove_made_folders`), so a refused run leaves no empty output folder behind
+_MADE: list[Path] = []
+
+
+def remove_made_folders() -> None:
+    """Remove the folders :func:`_make_folder` made that are still empty (deepest first), and
+    forget them all; the command line calls it when a command fails or is interrupted."""
+    for folder in sorted(set(_MADE), key=lambda f: len(f.parts), reverse=True):
+        with contextlib.suppress(OSError):
+            folder.rmdir()  # only an empty folder goes
+    _MADE.clear()
+
+
+def forget_made_folders() -> None:
+    """Keep the folders made so far (a command that succeeded)."""
+    _MADE.clear()
+
+
 def _make_folder(folder: Path, target: Path) -> None:
     """Create ``folder`` (and its parents) for writing ``target``; a clear error when a file
     stands in the way or the folder cannot be made."""
+    missing, f = [], folder.absolute()
+    while not os.path.lexists(f) and f.parent != f:
+        missing.append(f)
+        f = f.parent
     try:
         folder.mkdir(parents=True, exist_ok=True)
+        _MADE.extend(missing)
     except FileExistsError:
         raise InputError(f"cannot write {target}: {folder} is a file, not a folder") from None
     except OSError as exc:

@@ -69,8 +69,18 @@ def main(argv: list[str] | None = None) -> int:
     watch()  # one line on a terminal if numba compiles the kernels (first run after install)
     shown = warnings.showwarning
     warnings.showwarning = _note_or(shown)
+    from planerel.atomic import forget_made_folders, remove_made_folders
+
+    forget_made_folders()
+    done = False
     try:
         result = args.func(args)
+        done = True
+    except BrokenPipeError:
+        # the reader of stdout is gone (`planerel classify ... --json | head`): stop quietly,
+        # as other command-line tools do, not "error: a file: Broken pipe; check the disk"
+        _quiet_stdout()
+        return 128 + signal.SIGPIPE
     except (PlanerelError, OSError, MemoryError, UnicodeError) as exc:
         message = user_message(exc)
         if message is None:  # pragma: no cover - every instance of these classes has one
@@ -84,10 +94,27 @@ def main(argv: list[str] | None = None) -> int:
         print(f"planerel {args.command}: interrupted", file=sys.stderr)
         return 130
     finally:
+        if done:
+            forget_made_folders()
+        else:  # a refused or interrupted run leaves no empty output folder it made
+            remove_made_folders()
         warnings.showwarning = shown
         for signum, handler in previous.items():
             signal.signal(signum, handler)
     return int(result or 0)
+
+
+def _quiet_stdout() -> None:
+    """Point stdout at /dev/null so that the interpreter's last flush of a closed pipe prints
+    nothing either."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):  # stdout is no file (a test's capture)
+        pass
 
 
 def _note_or(show):

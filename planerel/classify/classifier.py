@@ -225,6 +225,23 @@ def _as_cloud(scan):
                      "make a Cloud with planerel.read(array, intrinsics=...)")
 
 
+def _check_text(path: Path) -> None:
+    """Refuse a rules file that is no UTF-8 text (an image or a .npy given as the model) in
+    one line, before SWI-Prolog reads it and prints its own warnings about every byte."""
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the rules file ({exc.strerror or exc})") from None
+    try:
+        data.decode("utf-8")
+        binary = b"\0" in data
+    except UnicodeDecodeError:
+        binary = True
+    if binary:
+        raise InputError(f"{path}: not a rules file (binary data, not UTF-8 text); give "
+                         "MODEL_DIR or MODEL_DIR/rules.pl from planerel learn")
+
+
 class Classifier:
     """Rules of a model, read as data into their own Prolog module, ready to classify scans.
 
@@ -261,7 +278,8 @@ class Classifier:
         The file is not valid Prolog text (syntax error; the message gives the line).
     """
 
-    def __init__(self, rules, *, method: str | None = None, seg_params: dict | None = None):
+    def __init__(self, rules, *, method: str | None = None, seg_params: dict | None = None,
+                 _member: bool = False):
         from planerel.features.terms import atom, plist
         from planerel.ilp.model_settings import read_settings, with_overrides
 
@@ -274,6 +292,7 @@ class Classifier:
         if not path.is_file():
             raise InputError(f"{path}: no such rules file (give MODEL_DIR or MODEL_DIR/rules.pl)")
         self.rules_path = path
+        _check_text(path)
         self.trained = read_settings(path)
         self.settings, warnings = with_overrides(self.trained, method=method,
                                                  overrides=seg_params)
@@ -311,7 +330,9 @@ class Classifier:
             f"{self.module}:planerel_stats(I, C, TP, FP)", "reading the rule statistics"))
         self.cofire = tuple((int(r["I"]), int(r["J"]), _text(r["C"]), int(r["N"])) for r in query(
             f"{self.module}:planerel_cofire(I, J, C, N)", "reading the rule statistics"))
-        if not self.classes:
+        if not self.classes and not _member:
+            # (a member of a members model may have learned none on its part: it answers
+            # "other" in the vote, as in planerel learn's own scoring)
             raise InputError(f"{path}: the model has no rules")
         from planerel.ilp.metrics import size_gated
 
@@ -389,6 +410,19 @@ class Classifier:
             self.warnings += (f"{path.parent / 'model.json'} keeps no planar fractions of the "
                               "training positives (a model learned before they were kept): "
                               "decision.planar_gate refuses nothing",)
+        recorded = self.trained.rule_stats if self.trained is not None else ()
+        if recorded and sorted(recorded) != sorted(self.stats):
+            # rules.pl cut short (a copy that stopped, a disk that filled) or rules.pl and
+            # model.json of two different runs: it loads and answers with other rules and
+            # precisions than the model learned, in silence (the rules' statistics, written
+            # into both files by planerel learn, tell)
+            n_rules = len(dict.fromkeys(int(r["I"]) for r in query(
+                f"{self.module}:planerel_rule(I, _, _, _, _, _)", "reading the model")))
+            self.warnings += (f"{path} does not match {path.parent / 'model.json'}: it holds "
+                              f"{n_rules} rule(s) and {len(self.stats)} rule statistics, "
+                              f"model.json was written with {len(recorded)} (rules.pl cut "
+                              "short, edited, or copied from another model): the answers "
+                              "are not the model's; copy the model folder again",)
         if self.trained is None and self.stats:
             # rules from planerel learn (they carry its statistics) without their settings
             self.warnings += (f"{path.parent / 'model.json'} is missing: the settings the rules "
@@ -402,7 +436,8 @@ class Classifier:
         members = []
         try:
             for folder in folders:
-                members.append(Classifier(folder, method=method, seg_params=seg_params))
+                members.append(Classifier(folder, method=method, seg_params=seg_params,
+                                          _member=True))
         except BaseException:
             for m in members:
                 m.close()
@@ -410,6 +445,10 @@ class Classifier:
         self.members = tuple(members)
         self.module = "members"   # open; the members hold the Prolog modules
         self.classes = tuple(dict.fromkeys(k for m in members for k in m.classes))
+        if not self.classes:
+            self.close()
+            raise InputError(f"{self.rules_path}: the model has no rules (none of its "
+                             f"{len(members)} members learned one)")
         self.stats = ()
         self.cofire = ()
         self.planar_domain = self.proof_domain = self.level_domain = self.size_domain = ()

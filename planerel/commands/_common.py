@@ -72,9 +72,16 @@ def parse_intrinsics(text: str | None):
         raise InputError(f"--intrinsics must be 'kinect' or W,H,fx,fy,cx,cy; got {text!r}")
     try:
         w, h = int(parts[0]), int(parts[1])
-        return (w, h, *(float(p) for p in parts[2:]))
+        values = (w, h, *(float(p) for p in parts[2:]))
     except ValueError:
         raise InputError(f"--intrinsics must be 'kinect' or W,H,fx,fy,cx,cy; got {text!r}") from None
+    from planerel.io.cloud import Intrinsics
+
+    try:  # a size under 1, a NaN or a focal length <= 0: one error about the option, not
+        Intrinsics(*values)  # a failure of every input in turn (which --keep-going skips)
+    except InputError as exc:
+        raise InputError(f"--intrinsics {text!r}: {exc}") from None
+    return values
 
 
 def add_input_options(parser: argparse.ArgumentParser) -> None:

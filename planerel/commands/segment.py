@@ -165,7 +165,9 @@ def run_segment(args) -> int:
     out = Path(args.output)
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder")
-    out.mkdir(parents=True, exist_ok=True)
+    from planerel.atomic import check_output_dir
+
+    check_output_dir(out, "-o")  # made, and removed again when the run fails while it is empty
     opts = read_options(args)
     formats = _formats(args.formats)
     tasks = [{"path": str(p), "name": n, "out": str(out), "read": opts, "method": args.method,

@@ -136,6 +136,9 @@ class ModelSettings:
     size_domain: tuple = ()
     slender_domain: tuple = ()
     range_domain: tuple = ()
+    #: ``(index, class, tp, fp)`` of each rule, as ``model.json``'s ``rule_precision``
+    #: records them (the ``planerel_rule_stats/4`` facts ``rules.pl`` was written with)
+    rule_stats: tuple = ()
 
     def describe_kwargs(self) -> dict:
         """Keyword arguments of :func:`planerel.features.facts.describe_scene` for these settings."""
@@ -251,11 +254,20 @@ def read_settings(rules_path) -> ModelSettings | None:
             except (KeyError, TypeError, ValueError):
                 raise InputError(f"{path}: {key} entry {entry!r} is not "
                                  "{class, high, n}") from None
+    stats = []
+    for entry in data.get("rule_precision") or ():
+        try:
+            stats.append((int(entry["index"]), str(entry["class"]), int(entry["tp"]),
+                          int(entry["fp"])))
+        except (KeyError, TypeError, ValueError):
+            raise InputError(f"{path}: rule_precision entry {entry!r} is not "
+                             "{index, class, tp, fp}") from None
     resolved = seg.get("resolved")
     return ModelSettings(str(seg.get("method", "regiongrow")), dict(seg.get("params") or {}),
                          sections, tuple(domain), tuple(proofs),
                          frozenset(resolved) if isinstance(resolved, dict) else None,
-                         tuple(levels), tuple(sizes), tuple(slenders), tuple(ranges))
+                         tuple(levels), tuple(sizes), tuple(slenders), tuple(ranges),
+                         tuple(stats))
 
 
 def _coerce_like(value, like, name: str):
@@ -341,7 +353,7 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
                             f"existed)")
     out = ModelSettings(new_method, seg, sections, base.planar_domain, base.proof_domain,
                         base.seg_recorded, base.level_domain, base.size_domain,
-                        base.slender_domain, base.range_domain)
+                        base.slender_domain, base.range_domain, base.rule_stats)
     out.describe_kwargs()  # a bad value fails here, with the dataclass's message
     out.decision_params()
     if settings is not None and new_method == base.method and seg != base.seg_params:

@@ -51,11 +51,15 @@ def input_colours(path, shape: tuple[int, int], subsample: int = 1, *,
     it on, as ``organize`` and ``intrinsics`` say), or None when the file has none (depth
     images, XYZ arrays, clouds without colour fields) or they do not line up with the
     points."""
+    from planerel.io.readers import _sniff
+
     p = Path(path)
-    low = p.name.lower()
     cols = None
     try:
-        if low.endswith(".pcd"):
+        # the content names the format first, as planerel.io.read decides it (a PCD saved as
+        # .ply was read as a PCD, then its colours looked for with plyfile: a traceback)
+        low = _sniff(p) or p.suffix.lower()
+        if low == ".pcd":
             from planerel.io.readers import read_pcd_field
 
             for name in ("rgb", "rgba"):
@@ -65,10 +69,13 @@ def input_colours(path, shape: tuple[int, int], subsample: int = 1, *,
                     break
                 except InputError:
                     continue
-        elif low.endswith(".ply"):
-            from plyfile import PlyData
+        elif low == ".ply":
+            from plyfile import PlyData, PlyParseError
 
-            v = PlyData.read(str(p))["vertex"].data
+            try:
+                v = PlyData.read(str(p))["vertex"].data
+            except PlyParseError:  # not a ValueError: the PLY's own errors say no colours
+                return None
             names = v.dtype.names or ()
             if {"red", "green", "blue"} <= set(names):
                 cols = np.stack([v["red"], v["green"], v["blue"]], axis=-1).astype(np.uint8)

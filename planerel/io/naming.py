@@ -92,7 +92,8 @@ def scene_names(paths: Sequence, ids: Sequence[str] | None = None, *,
     seen: dict[str, int] = {}
     for k, name in enumerate(names):
         if not name:
-            raise InputError(f"{paths[k]}: empty scene id")
+            raise InputError(f"{paths[k]}: empty scene id" + (" in --ids" if ids is not None
+                                                               else ""))
         if prolog and any(0xD800 <= ord(ch) <= 0xDFFF for ch in name):
             shown = str(paths[k]).encode("utf-8", "surrogateescape").decode("utf-8", "replace")
             raise InputError(f"{shown}: the file name is not valid UTF-8, so it cannot be a scene "
@@ -106,6 +107,7 @@ def scene_names(paths: Sequence, ids: Sequence[str] | None = None, *,
                 f"{paths[j]} and {paths[k]} have the same scene {how} {names[j]!r}"
                 + (f" / {name!r}" if names[j] != name else "")
                 + "; their results would overwrite each other ("
-                + ("rename one, or give --ids)" if ids_option else "rename one)"))
+                + ("give each input its own --ids)" if ids is not None
+                   else "rename one, or give --ids)" if ids_option else "rename one)"))
         seen[key] = k
     return names
