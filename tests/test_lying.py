@@ -416,3 +416,40 @@ def test_a_small_product_box_lying_flat_is_lying():
     assert not _lying([floor(), _table(), _top(sx=0.08, sy=0.03, rise=0.03)])[1]
     with pytest.raises(InputError, match="lying_small_length"):
         RelationParams(lying_small_length=-0.1)
+
+
+def _box_on_pieces(drop=0.0, rise=0.08):
+    """From straight above: a 20 x 14 cm top ``rise`` over a floor in two pieces (two 25 x 30 cm
+    boards side by side, the top over their join; nothing else in view), the second piece
+    ``drop`` lower: each piece shows 0.05-0.07 m^2, under ``lying_ground`` (3) x the top's
+    0.028 m^2; together 0.12."""
+    return [Rect((-0.125, 0.0, 0.0), (1, 0, 0), (0, 1, 0), 0.125, 0.15),
+            Rect((0.125, 0.0, -drop), (1, 0, 0), (0, 1, 0), 0.125, 0.15),
+            Rect((0.0, 0.0, rise), (1, 0, 0), (0, 1, 0), 0.10, 0.07, 1)]
+
+
+def test_a_top_over_a_ground_in_pieces_at_one_level_is_lying_with_the_union():
+    """ground56: a top over a tray's floor in pieces lies on the pieces' union
+    (``lying_ground_union``, off: measured, not kept, docs/objects.md "A ground in pieces as
+    one ground").  One piece alone is under ``lying_ground`` x the top's area; the two at one
+    level pass, by the ring (nothing touches the top seen from above) and, without the
+    cloud, not at all (no piece is adjacent)."""
+    ps, rel, cloud = _lying_in(_box_on_pieces(), TOP_DOWN)
+    top = ps.by_label(2)
+    pieces = [ps.by_label(0), ps.by_label(1)]
+    assert all(g.orientation == "horizontal" and g.area < 3.0 * top.area for g in pieces)
+    assert sum(g.area for g in pieces) >= 3.0 * top.area
+    assert lying_tops(ps, rel, (), cloud) == frozenset()
+    assert RelationParams().lying_ground_union is False
+    on = RelationParams(lying_ground_union=True)
+    rel_on = relate(ps, cloud, on)
+    assert lying_tops(ps, rel_on, (), cloud) == {2}
+    assert lying_tops(ps, rel_on, ()) == frozenset()
+
+
+def test_pieces_at_two_levels_are_no_one_ground():
+    """The second board 3 cm lower (beyond 3 x the pieces' RMS and 5 mm) is another level:
+    neither level's pieces reach ``lying_ground`` x the top's area, union or not."""
+    ps, rel, cloud = _lying_in(_box_on_pieces(drop=0.03), TOP_DOWN)
+    on = RelationParams(lying_ground_union=True)
+    assert lying_tops(ps, relate(ps, cloud, on), (), cloud) == frozenset()

@@ -360,6 +360,13 @@ class RelationParams:
     #: over a room is that level within its own noise.  False: the top's RMS only (lie32)
     #: (lying56)
     lying_ring_ground_noise: bool = False
+    #: a top with no single ground of ``lying_ground`` times its area may lie on several
+    #: horizontal pieces at one level under it (a tray's or tote's floor, a pallet that the
+    #: segmentation breaks up): the pieces ``t`` lies on (``_lies_on``) whose level under
+    #: ``t``'s centroid agrees within 3 times the larger fit RMS (at least 5 mm) count as one
+    #: ground of their summed area; one of them adjacent to ``t``, or the ring test against
+    #: them, as for one ground (ground56).  False: one plane is the ground
+    lying_ground_union: bool = False
     corner_tol: float = 0.08
     corner_width: float = 0.08
     #: ``corner`` (ramp42): neither wall's exposed top edge may rise ``corner_slope`` degrees
@@ -1429,9 +1436,12 @@ def lying_tops(planes, relations: Relations, support=(), cloud=None) -> frozense
     up = np.asarray(planes.up, float)
     out = {lbl for lbl, grounds in cand.items()
            if any(_lies_on(by_label[lbl], g, up, p) for g in grounds)}
-    if cloud is None or p.lying_ring <= 0 or planes.labels is None:
-        return frozenset(out)
     grounds = [g for g in planes if g.orientation == "horizontal"]
+    if cloud is None or p.lying_ring <= 0 or planes.labels is None:
+        if p.lying_ground_union:
+            out |= _union_grounded(planes, relations, by_label, top_like, out, grounds, up,
+                                   None, 0, p)
+        return frozenset(out)
     k = _ring_width(planes.labels, p) + _ring_band(planes.labels, p)
     for t in planes:
         if t.label in out or not top_like(t):
@@ -1442,7 +1452,53 @@ def lying_tops(planes, relations: Relations, support=(), cloud=None) -> frozense
                  and _boxes_meet(g.bbox, box) and _lies_on(t, g, up, p)]
         if under and _ground_around(t, under, up, planes, cloud, p):
             out.add(t.label)
+    if p.lying_ground_union:
+        out |= _union_grounded(planes, relations, by_label, top_like, out, grounds, up,
+                               cloud, k, p)
     return frozenset(out)
+
+
+def _union_grounded(planes, relations, by_label, top_like, done, grounds, up, cloud, k, p):
+    """Labels of top-like planes (not in ``done``) that lie on a ground in pieces
+    (``lying_ground_union``): horizontal planes ``t`` lies on (:func:`_lies_on`) whose rise
+    under ``t``'s centroid agrees within ``max(5 mm, 3 x the larger fit RMS)`` of one
+    anchor's form one ground of their summed area (their pixels are disjoint); it must be
+    at least ``lying_ground`` times ``t``'s area, and one piece adjacent to ``t`` or the
+    ring test (:func:`_ground_around`) against the pieces near it passes (ground56)."""
+    adj: dict[int, set] = {}
+    for r in adjacent_only(relations):
+        if r.adjacent:
+            adj.setdefault(r.a, set()).add(r.b)
+            adj.setdefault(r.b, set()).add(r.a)
+    out = set()
+    for t in planes:
+        if t.label in done or not top_like(t):
+            continue
+        box = (t.bbox[0] - k, t.bbox[1] - k, t.bbox[2] + k, t.bbox[3] + k)
+        pieces = [g for g in grounds if g.label != t.label and _lies_on(t, g, up, p)]
+        if not pieces:
+            continue
+        tc = np.asarray(t.centroid, float)
+        rise = {}
+        for g in pieces:
+            gn = np.asarray(g.normal, float)
+            rise[g.label] = float(gn @ (tc - np.asarray(g.centroid, float))) / float(gn @ up)
+        for a in pieces:
+            level = [g for g in pieces
+                     if abs(rise[g.label] - rise[a.label])
+                     <= max(0.005, 3.0 * max(float(g.rms), float(a.rms)))]
+            if sum(g.area for g in level) < p.lying_ground * t.area:
+                continue
+            if any(g.label in adj.get(t.label, ()) for g in level):
+                out.add(t.label)
+                break
+            if cloud is None or p.lying_ring <= 0 or planes.labels is None:
+                continue
+            near = [g for g in level if _boxes_meet(g.bbox, box)]
+            if near and _ground_around(t, near, up, planes, cloud, p):
+                out.add(t.label)
+                break
+    return out
 
 
 def _lies_on(t, g, up: np.ndarray, p) -> bool:
