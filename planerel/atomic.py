@@ -86,12 +86,21 @@ def _probe_folder(folder: Path, target: Path) -> None:
         os.unlink(tmp)
 
 
+def _refuse_dash(path, option: str, what: str) -> None:
+    """No planerel command writes its output file or folder to stdout: ``-`` is refused
+    rather than made into a file or folder named ``-`` (``./-`` names one on purpose)."""
+    if str(path).strip() == "-":
+        raise InputError(f"{option} -: planerel writes no output to stdout with '-'; give a "
+                         f"{what} name (./- for a {what} named '-')")
+
+
 def check_output_file(path, option: str = "output") -> Path:
     """Refuse, before any work, an output file that cannot be written: an empty name, a
     folder, a folder that cannot be made or written to.  Creates the missing parent folders
     (as writing would).  Returns ``path`` as a :class:`Path`."""
     if path is None or not str(path).strip():
         raise InputError(f"{option} needs a file name")
+    _refuse_dash(path, option, "file")
     target = Path(path)
     if target.is_dir():
         raise InputError(f"{option} {target}: is a folder; give a file name")
@@ -104,6 +113,7 @@ def check_output_dir(path, option: str = "output") -> Path:
     can be written in it; refuse an empty name or a path that is a file."""
     if path is None or not str(path).strip():
         raise InputError(f"{option} needs a folder name")
+    _refuse_dash(path, option, "folder")
     folder = Path(path)
     if folder.exists() and not folder.is_dir():
         raise InputError(f"{option} {folder}: exists and is not a folder")

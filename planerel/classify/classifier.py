@@ -225,6 +225,23 @@ def _as_cloud(scan):
                      "make a Cloud with planerel.read(array, intrinsics=...)")
 
 
+def check_gate_classes(overrides, classes) -> None:
+    """``planerel classify``: a class named in ``--param decision.size_classes=...``
+    (``slender_classes``, ``range_classes``) that the model has no rule for is an error, as
+    an unknown class is in ``learn --set CLASS:NAME=VALUE`` (the gate would hold for a class
+    that never answers, in silence).  An empty value (no class gated) passes; the
+    :class:`Classifier` itself takes any names (the gate tests turn a gate off that way)."""
+    for name, value in (overrides or {}).items():
+        sec, _, key = str(name).partition(".")
+        if sec != "decision" or key not in ("size_classes", "slender_classes", "range_classes"):
+            continue
+        unknown = [c.strip() for c in str(value).split(",") if c.strip() and c.strip() not in classes]
+        if unknown:
+            raise InputError(f"--param {name}={value}: {', '.join(map(repr, unknown))} "
+                             f"{'is not a class' if len(unknown) == 1 else 'are not classes'} "
+                             f"of the model ({', '.join(classes)})")
+
+
 def _check_text(path: Path) -> None:
     """Refuse a rules file that is no UTF-8 text (an image or a .npy given as the model) in
     one line, before SWI-Prolog reads it and prints its own warnings about every byte."""

@@ -166,7 +166,15 @@ def read_input(path, args: argparse.Namespace):
             raise
         print(f"note: {path}: no camera information; assuming Kinect intrinsics", file=sys.stderr)
         cloud = io.read(path, intrinsics="kinect", **kwargs)
-    cloud = subsample(cloud, getattr(args, "subsample", 1) or 1)
+    k = getattr(args, "subsample", 1) or 1
+    full = cloud
+    cloud = subsample(full, k)
+    if k > 1 and cloud.n_valid < 3 <= full.n_valid:
+        # the file has points; the subsample left (almost) none: name the option, not the file
+        (h, w), (h2, w2) = full.xyz.shape[:2], cloud.xyz.shape[:2]
+        raise InputError(f"{path}: --subsample {k} leaves {cloud.n_valid} valid point"
+                         f"{'' if cloud.n_valid == 1 else 's'} of {full.n_valid:,} ({w}x{h} -> "
+                         f"{w2}x{h2}; need at least 3): give a smaller --subsample")
     _note_far_depth(path, cloud)
     return cloud
 

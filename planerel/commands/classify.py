@@ -182,6 +182,9 @@ def run(args) -> int:
     # server, so none inherits this process's Prolog engine; each loads the model once.
     params = tuple(sorted(_params(args.param).items()))
     clf = _classifier(rules, args.method, params)
+    from planerel.classify.classifier import check_gate_classes
+
+    check_gate_classes(dict(params), clf.classes)
     for w in clf.warnings:
         print(f"warning: {w}", file=sys.stderr)
     if args.output:  # a bad output folder is one error, not a failure of every scan

@@ -1384,6 +1384,12 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                             keep_redundant=keep_redundant, prior=prior)
         model = with_decision(model, decision)
         metrics["seconds"]["learn"] = round(time.perf_counter() - t2, 3)
+        if not any(model.rules.get(k) for k in classes):
+            # classify refuses a model without a class rule: say so now, and write nothing
+            raise InputError(f"no class learned a rule from {dataset_dir} ({len(descs)} scenes, "
+                             f"classes {', '.join(classes)}); no model written (classify "
+                             "refuses a model without rules); give more scenes of each class "
+                             "or looser learner settings (--set)")
         if prior is not None:
             metrics["prior_rules"] = {k: list(v) for k, v in prior.items()}
         metrics["engine"] = model.engine

@@ -572,6 +572,10 @@ def read_depth_array(path, *, max_points: int | None = None) -> np.ndarray:
                 if not tif.pages:
                     raise InputError(f"{p}: the TIFF holds no image")
                 page = tif.pages[0]
+                if len(tif.pages) > 1:  # a stack or a series: only its first page is the frame
+                    warnings.warn(f"{p}: the TIFF holds {len(tif.pages)} pages; only the first "
+                                  "is read (split the file to read the others)", PlanerelWarning,
+                                  stacklevel=3)
                 _check_points(p, int(np.prod(page.shape[:2])), "the TIFF", max_points)
                 arr = page.asarray()
         elif kind == ".png":
