@@ -6,29 +6,14 @@ Each test runs the real command line in a subprocess (real swipl, no mocks).
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from test_new_user import _one_error_line, _run  # the first pass's helpers
 
 from planerel.cli import main
 from planerel.synth import generate_scene
-
-
-def _run(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "planerel.cli", *map(str, args)],
-                          capture_output=True, text=True, timeout=300, cwd=cwd)
-
-
-def _one_error_line(r, *needles):
-    assert r.returncode == 2, (r.returncode, r.stderr)
-    err = [ln for ln in r.stderr.splitlines() if ln.strip()]
-    assert len(err) == 1 and "Traceback" not in r.stderr, r.stderr
-    for n in needles:
-        assert n in err[0], err[0]
-    return err[0]
 
 
 @pytest.fixture(scope="module")
