@@ -37,23 +37,34 @@ def _file_mode() -> int:
 _FILE_MODE = _file_mode()
 
 
-#: folders this process made for its outputs; a command that then fails removes those still
-#: empty (:func:`remove_made_folders`), so a refused run leaves no empty output folder behind
-_MADE: list[Path] = []
+#: folders made for the outputs of the command line's current command (None: nothing is
+#: recorded, as in the Python API, where a long-lived process would only collect them); a
+#: command that then fails removes those still empty (:func:`remove_made_folders`), so a
+#: refused run leaves no empty output folder behind
+_MADE: list[Path] | None = None
+
+
+def record_made_folders() -> None:
+    """Start recording the folders :func:`_make_folder` makes (the command line, before a
+    command runs)."""
+    global _MADE
+    _MADE = []
 
 
 def remove_made_folders() -> None:
-    """Remove the folders :func:`_make_folder` made that are still empty (deepest first), and
-    forget them all; the command line calls it when a command fails or is interrupted."""
-    for folder in sorted(set(_MADE), key=lambda f: len(f.parts), reverse=True):
+    """Remove the recorded folders that are still empty (deepest first) and stop recording;
+    the command line calls it when a command fails or is interrupted."""
+    global _MADE
+    for folder in sorted(set(_MADE or ()), key=lambda f: len(f.parts), reverse=True):
         with contextlib.suppress(OSError):
             folder.rmdir()  # only an empty folder goes
-    _MADE.clear()
+    _MADE = None
 
 
 def forget_made_folders() -> None:
-    """Keep the folders made so far (a command that succeeded)."""
-    _MADE.clear()
+    """Keep the folders made so far and stop recording (a command that succeeded)."""
+    global _MADE
+    _MADE = None
 
 
 def _make_folder(folder: Path, target: Path) -> None:
@@ -65,7 +76,8 @@ def _make_folder(folder: Path, target: Path) -> None:
         f = f.parent
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        _MADE.extend(missing)
+        if _MADE is not None:
+            _MADE.extend(missing)
     except FileExistsError:
         raise InputError(f"cannot write {target}: {folder} is a file, not a folder") from None
     except OSError as exc:

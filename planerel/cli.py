@@ -69,9 +69,9 @@ def main(argv: list[str] | None = None) -> int:
     watch()  # one line on a terminal if numba compiles the kernels (first run after install)
     shown = warnings.showwarning
     warnings.showwarning = _note_or(shown)
-    from planerel.atomic import forget_made_folders, remove_made_folders
+    from planerel.atomic import forget_made_folders, record_made_folders, remove_made_folders
 
-    forget_made_folders()
+    record_made_folders()
     done = False
     try:
         result = args.func(args)

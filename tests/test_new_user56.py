@@ -219,3 +219,21 @@ def test_run_all_help_does_not_start_the_benchmarks():
             os.killpg(p.pid, signal.SIGKILL)
             p.wait()
     assert p.returncode == 0 and "usage" in out and "====" not in out
+
+
+def test_only_the_command_line_records_the_folders_it_makes(tmp_path):
+    """The Python API writes as before and keeps no list of the folders it made (a long-lived
+    process would only collect them); a command line run records them until it ends."""
+    from planerel import atomic
+
+    atomic.write_text(tmp_path / "a" / "b" / "f.txt", "x")
+    assert atomic._MADE is None and (tmp_path / "a" / "b" / "f.txt").read_text() == "x"
+    atomic.record_made_folders()
+    try:
+        atomic.write_text(tmp_path / "c" / "d" / "f.txt", "x")
+        assert atomic._MADE == [tmp_path / "c" / "d", tmp_path / "c"]
+        (tmp_path / "c" / "d" / "f.txt").unlink()
+        atomic.remove_made_folders()   # what a failed command does: empty folders go
+        assert not (tmp_path / "c").exists() and atomic._MADE is None
+    finally:
+        atomic.forget_made_folders()

@@ -443,10 +443,10 @@ class DecisionParams:
         plane).  The answer becomes ``other``.  Only classify applies it (it needs the scan's
         points and the other answers of the scan).
     flight_side_thick, flight_side_gap, flight_side_reach, flight_side_rise : float
-        Metres (>= 0): 0.15, 0.3, 0.5, 0.2 (the independent stair sets' walls: 0.06-0.09
+        Metres (>= 0): 0.15, 0.35, 0.5, 0.2 (the independent stair sets' walls: 0.06-0.08
         thick, 0.00-0.25 beyond the treads' ends, tops 0.44-0.89 over the flight's).
     flight_side_angle : float
-        Degrees in 0..90 (10).
+        Degrees in 0..90 (15; the walls refused: 0-9).
     cut_boxes : bool
         On by default (core49).  A proposal a box rule proves and a gate refuses ``box`` for,
         whose planes hold a box proof's seed (a ``skirt`` or ``face_pair`` pair; a lone
