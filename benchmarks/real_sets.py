@@ -250,14 +250,6 @@ def _npy(data: bytes):
     return np.load(io.BytesIO(data), allow_pickle=False)
 
 
-def _npz(data: bytes):
-    import io
-
-    import numpy as np
-
-    return np.load(io.BytesIO(data), allow_pickle=False)
-
-
 def _mm_array(data: bytes):
     """A 16-bit depth image in millimetres, from a ``.npy`` or a PNG."""
     import io
@@ -307,7 +299,7 @@ CONVERTERS = {
     "f200_depth": lambda data, _: _f200_depth(data),
     # float64 metres stored as float32 (the sensor's steps are coarser than float32's)
     "npy_float32": lambda data, _: _npy_bytes(_npy(data).astype("float32")),
-    "npz_key": lambda data, key: _npy_bytes(_npz(data)[key]),
+    "npz_key": lambda data, key: _npy_bytes(_npy(data)[key]),   # np.load reads an .npz too
     # 16-bit millimetres (a .npy or a PNG) as float32 metres, 0 = no depth
     "mm_to_m": lambda data, _: _npy_bytes(_mm_array(data).astype("float32") / 1000),
 }

@@ -71,8 +71,8 @@ def _make_folder(folder: Path, target: Path) -> None:
     """Create ``folder`` (and its parents) for writing ``target``; a clear error when a file
     stands in the way or the folder cannot be made."""
     missing, f = [], folder.absolute()
-    while not os.path.lexists(f) and f.parent != f:
-        missing.append(f)
+    while _MADE is not None and not os.path.lexists(f) and f.parent != f:
+        missing.append(f)   # only while a command-line command records them
         f = f.parent
     try:
         folder.mkdir(parents=True, exist_ok=True)

@@ -117,7 +117,7 @@ def test_a_box_beside_a_flight_stays_a_box(tmp_path):
 
 def test_the_measure():
     from planerel.features.facts import describe_scene
-    from planerel.features.flight_side import flight_side
+    from planerel.features.flight_side import beside_flight, flight_geometry
 
     cloud, up, lab, objs = _scene()
     d = describe_scene(cloud, lab, up=up)
@@ -128,7 +128,8 @@ def test_the_measure():
             {p.label for p in d.planes}]
     carton = [x for x in np.unique(lab) if x >= 0 and objs[x] == BOX and x in
               {p.label for p in d.planes}]
-    m = flight_side(d.planes, flight, wall, cloud.xyz, d.labels)
+    geometry = flight_geometry(d.planes, flight, cloud.xyz, d.labels)
+    m = beside_flight(d.planes, geometry, wall, cloud.xyz, d.labels)
     assert m is not None
     assert m.thick == pytest.approx(0.08, abs=0.03)
     assert -0.05 <= m.gap <= 0.05
@@ -138,10 +139,10 @@ def test_the_measure():
     assert m.beside(0.15, 0.35, 0.5, 0.2, 15.0)
     assert not m.beside(0.05, 0.35, 0.5, 0.2, 15.0)   # thicker than asked
     assert not m.beside(0.15, 0.35, 0.5, 1.0, 15.0)   # not high enough over the flight
-    c = flight_side(d.planes, flight, carton, cloud.xyz, d.labels)
+    c = beside_flight(d.planes, geometry, carton, cloud.xyz, d.labels)
     assert c is not None and not c.beside(0.15, 0.35, 0.5, 0.2, 15.0)
     assert c.gap > 0.5   # 1.3 m to the left of a 1 m flight
-    assert flight_side(d.planes, [], wall, cloud.xyz, d.labels) is None
+    assert flight_geometry(d.planes, [], cloud.xyz, d.labels) is None   # no flight, no measure
 
 
 def test_decision_params():

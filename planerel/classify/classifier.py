@@ -560,24 +560,31 @@ class Classifier:
 
     def _flight_sides(self, desc, answers, xyz) -> tuple:
         """``decision.flight_side_gate``: each ``box`` answer that runs beside a flight
-        answered ``stairs`` in the same scan (:func:`~planerel.features.flight_side.flight_side`)
+        answered ``stairs`` in the same scan (:func:`~planerel.features.flight_side.beside_flight`)
         becomes ``other``, with a :class:`~planerel.ilp.metrics.FlightSideRefusal`."""
         from dataclasses import replace
 
-        from planerel.features.flight_side import flight_side
+        from planerel.features.flight_side import beside_flight, flight_geometry
         from planerel.ilp.metrics import FlightSideRefusal
 
         flights = [a for a in answers if a.klass == "stairs"]
         if not flights or not any(a.klass == BOX for a in answers):
             return answers
         thick, gap, reach, rise, angle = self.flight_side
+        geometry = {}   # each flight's frame and points, measured once
         out = []
         for a in answers:
             if a.klass == BOX:
                 for f in flights:
                     if set(f.labels) & set(a.labels):
                         continue
-                    m = flight_side(desc.planes, f.labels, a.labels, xyz, desc.labels)
+                    if f.object_id not in geometry:
+                        geometry[f.object_id] = flight_geometry(desc.planes, f.labels, xyz,
+                                                                desc.labels)
+                    if geometry[f.object_id] is None:
+                        continue
+                    m = beside_flight(desc.planes, geometry[f.object_id], a.labels, xyz,
+                                      desc.labels)
                     if m is not None and m.beside(thick, gap, reach, rise, angle):
                         why = FlightSideRefusal(BOX, a.rule_index or 0, f.object_id, m.thick,
                                                 m.gap, m.rise)

@@ -4,7 +4,11 @@ A staircase is built between walls, knee walls or strings that run along it: the
 parallel to the flight's run (or square to it at their ends), they stand at the treads' ends,
 as long as the flight along the run and higher than its treads.  Seen in part (the wall's top
 strip over its end face, or its side cut by the image's border) such a wall has a box's
-faces; :func:`flight_side` measures an object against a flight found in the same scan.
+faces; :func:`beside_flight` measures an object against a flight found in the same scan
+(:func:`flight_geometry`, once a flight).  Not :func:`planerel.features.walls.flight_side`,
+which asks of one large face, before proposals, whether its top edge follows a flight's
+nosings (a string kept out of the support planes); this asks of a decided ``box`` answer
+where it stands against a decided ``stairs`` answer.
 
 The flight's frame: ``up``; the run ``r``, the horizontal direction of its risers' normals
 (area-weighted), or, with no riser, square to the largest tread's long axis; the lateral
@@ -21,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FlightSide", "flight_frame", "flight_side"]
+__all__ = ["FlightSide", "beside_flight", "flight_frame", "flight_geometry"]
 
 
 @dataclass(frozen=True)
@@ -97,28 +101,38 @@ def flight_frame(planes, flight, xyz, seg_labels):
     return up, r, lat / np.linalg.norm(lat)
 
 
-def flight_side(planes, flight, obj, xyz, seg_labels) -> FlightSide | None:
-    """The object whose planes are the labels ``obj`` measured against the flight ``flight``
-    (:class:`FlightSide`), or None when either has too few points or the flight no frame.
+def flight_geometry(planes, flight, xyz, seg_labels):
+    """``(up, r, l, points)`` of the flight whose planes are the labels ``flight``: its frame
+    (:func:`flight_frame`) and its planes' finite points ``(n, 3)``, or None when it has no
+    frame or fewer than 3 points.  Measured once a flight, for every object against it."""
+    flight = tuple(flight)
+    frame = flight_frame(planes, flight, xyz, seg_labels)
+    if frame is None:
+        return None
+    s = _points(xyz, seg_labels, flight)
+    return None if len(s) < 3 else (*frame, s)
+
+
+def beside_flight(planes, geometry, obj, xyz, seg_labels) -> FlightSide | None:
+    """The object whose planes are the labels ``obj`` measured against a flight
+    (:class:`FlightSide`), or None when the object has fewer than 3 points.
 
     Parameters
     ----------
     planes : PlaneSet
-    flight, obj : iterable of int
-        Plane labels of the flight's and the object's proposals.
+    geometry : tuple
+        The flight's :func:`flight_geometry` (not None).
+    obj : iterable of int
+        Plane labels of the object's proposal.
     xyz : ndarray (H, W, 3)
         The scan's organized points.
     seg_labels : ndarray (H, W)
         The plane label of each pixel (the description's ``labels``).
     """
-    flight, obj = tuple(flight), tuple(obj)
-    frame = flight_frame(planes, flight, xyz, seg_labels)
-    if frame is None:
-        return None
-    up, r, lat = frame
-    s = _points(xyz, seg_labels, flight)
+    obj = tuple(obj)
+    up, r, lat, s = geometry
     b = _points(xyz, seg_labels, obj)
-    if len(s) < 3 or len(b) < 3:
+    if len(b) < 3:
         return None
     sl = np.percentile(s @ lat, [2, 98])
     sr = np.percentile(s @ r, [2, 98])

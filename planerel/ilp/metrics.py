@@ -433,7 +433,7 @@ class DecisionParams:
         On by default (wall56, 2026-12-02).  No ``box`` for an object that runs beside a
         flight answered ``stairs`` in the same scan: a staircase's side wall, knee wall or
         string seen in part (its top strip over its end face, or its side cut by the image's
-        border).  Measured by :func:`planerel.features.flight_side.flight_side` against each
+        border).  Measured by :func:`planerel.features.flight_side.beside_flight` against each
         ``stairs`` answer: the object is at most ``flight_side_thick`` across the flight
         (along its own upright face parallel to the run, if any), lies beyond the flight's
         lateral edge by at most ``flight_side_gap`` (and over it by at most 5 cm), within
@@ -1582,7 +1582,7 @@ class FacetRefusal:
 @dataclass(frozen=True)
 class FlightSideRefusal:
     """``box`` for an object that runs beside a flight answered ``stairs`` in the same scan
-    (``decision.flight_side_gate``, :func:`planerel.features.flight_side.flight_side`)."""
+    (``decision.flight_side_gate``, :func:`planerel.features.flight_side.beside_flight`)."""
 
     klass: str
     rule: int
