@@ -26,7 +26,8 @@ commit that added it). A file made from a repository's file is named in the fold
 ``MADE.json`` (``{"FILE": {"repo": "owner/name", "path": P, "convert": C}}``, with an optional
 ``"commit"`` when the path held other data at other commits; ``C`` one of ``CONVERTERS``: a dict
 pickled in a ``.npy`` reduced to its depth array, RealSense F200 depth decoded, float64 metres
-as float32, an ``.npz``'s named array, 16-bit millimetres as float32 metres;
+as float32, an ``.npz``'s named array, 16-bit millimetres (a ``.npy``, a PNG or a MATLAB variable) as float32
+metres, a MATLAB struct's millimetre cloud as float64 metres;
 ``{"FILE": {"skip": "why"}}`` leaves a file out): the capture makes it again and checks it. A file that is in no repository, not made, and no small text file (a sidecar of
 ours, kept inline: intrinsics, an up vector) is listed and the capture refused: a set whose
 data cannot be fetched back is not reproducible.
@@ -68,8 +69,8 @@ def blob_id(data: bytes) -> str:
 def git_dirs(mirrors: str) -> dict:
     """``{"owner/name": git directory}`` of the repositories under ``mirrors``.
 
-    Both layouts are read: ``owner+name/repo`` (bare) and ``owner/name`` (a clone, its
-    ``.git``).
+    Both layouts are read: ``owner+name/repo`` (bare, or a clone whose ``.git`` is there) and
+    ``owner/name`` (a clone, its ``.git``).
     """
     out = {}
     if not os.path.isdir(mirrors):
@@ -79,7 +80,9 @@ def git_dirs(mirrors: str) -> dict:
         if not os.path.isdir(top):
             continue
         if "+" in entry and os.path.isdir(os.path.join(top, "repo")):
-            out[entry.replace("+", "/", 1)] = os.path.join(top, "repo")
+            repo = os.path.join(top, "repo")   # bare, or (fetched whole) a clone with its .git
+            out[entry.replace("+", "/", 1)] = (os.path.join(repo, ".git")
+                                               if os.path.isdir(os.path.join(repo, ".git")) else repo)
             continue
         for name in sorted(os.listdir(top)):
             git = os.path.join(top, name, ".git")
@@ -278,14 +281,41 @@ def _kinect_raw_depth(data: bytes) -> bytes:
 def _mat_cloud(data: bytes, var: str) -> bytes:
     """An organized cloud stored as a MATLAB variable ``var`` (``(H, W, 3)`` metres; points at
     the origin mean no data) as a float64 ``.npy`` with NaN for no data."""
-    import io
-
     import numpy as np
-    from scipy.io import loadmat
 
-    cloud = np.asarray(loadmat(io.BytesIO(data))[var], dtype=np.float64)
+    cloud = np.asarray(_mat_var(data, var), dtype=np.float64)
     cloud[~(cloud[..., 2] > 0)] = np.nan
     return _npy_bytes(cloud)
+
+
+def _mat_var(data: bytes, var: str):
+    """The MATLAB variable ``var`` of a ``.mat`` file; ``STRUCT.FIELD`` reads a struct's field."""
+    import io
+
+    from scipy.io import loadmat
+
+    name, _, field = var.partition(".")
+    value = loadmat(io.BytesIO(data))[name]
+    return value[field][0, 0] if field else value
+
+
+def _mat_xyz_mm(data: bytes, struct: str) -> bytes:
+    """An organized cloud in a MATLAB struct (``STRUCT.xyz``: ``(H, W, 3)`` millimetres,
+    ``STRUCT.depth`` 0 where there is no data; ai4ce/peac's ``frame.mat``) as float64 metres with
+    NaN for no data."""
+    import numpy as np
+
+    cloud = np.asarray(_mat_var(data, struct + ".xyz"), dtype=np.float64) / 1000
+    cloud[_mat_var(data, struct + ".depth") == 0] = np.nan
+    return _npy_bytes(cloud)
+
+
+def _mat_mm_to_m(data: bytes, var: str) -> bytes:
+    """A MATLAB variable of 16-bit millimetres as float32 metres (0 = no depth)."""
+    arr = _mat_var(data, var)
+    if arr.dtype != "uint16":
+        raise SetError(f"millimetre depth must be 16-bit, not {arr.dtype}")
+    return _npy_bytes(arr.astype("float32") / 1000)
 
 
 #: how a file of a set is made from a repository's file (``MADE.json``'s ``convert``:
@@ -302,6 +332,8 @@ CONVERTERS = {
     "npz_key": lambda data, key: _npy_bytes(_npy(data)[key]),   # np.load reads an .npz too
     # 16-bit millimetres (a .npy or a PNG) as float32 metres, 0 = no depth
     "mm_to_m": lambda data, _: _npy_bytes(_mm_array(data).astype("float32") / 1000),
+    "mat_mm_to_m": _mat_mm_to_m,   # the same, from a MATLAB variable
+    "mat_xyz_mm": _mat_xyz_mm,
 }
 
 

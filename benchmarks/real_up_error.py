@@ -5,7 +5,7 @@
 
 Frames (kept outside the repository, under ``--root``): ``extdata``'s mOSD, OSD, uois,
 stair-perception, El-Masry, palletizer, pcl-pairwise and pcl-tutorials frames, and every
-labelled folder of ``hunt33 36 39 43 45 47 48 49 55 56``.  Each goes through the classifier's own
+labelled folder of ``hunt33 36 39 43 45 47 48 49 55 56 57``.  Each goes through the classifier's own
 segmentation and ``describe`` (the model's settings; ``--param`` as ``classify``'s), and its
 estimated up is compared with a truth (grav53, 2026-12-02), in this order:
 
@@ -82,7 +82,7 @@ def frames(root: str):
     for f in sorted(glob.glob(f"{ext}/elmasry/*.pcd")):
         yield "extdata/elmasry/" + os.path.basename(f), lambda f=f: planerel.read(f), None
     folders = [f"{ext}/{x}" for x in ("palletizer", "pcl-pairwise", "pcl-tutorials")]
-    for h in ("33", "36", "39", "43", "45", "47", "48", "49", "55", "56"):
+    for h in ("33", "36", "39", "43", "45", "47", "48", "49", "55", "56", "57"):
         folders += sorted(d for d in glob.glob(f"{root}/hunt{h}/*")
                           if os.path.isfile(d + "/labels.json"))
     for folder in folders:

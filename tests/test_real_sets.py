@@ -285,6 +285,42 @@ def test_float64_metres_npz_arrays_and_millimetres_are_converted():
         real_sets.convert("mm_to_m", buf.getvalue())
 
 
+def test_matlab_millimetres_and_a_structs_millimetre_cloud_are_converted(tmp_path):
+    import numpy as np
+    from scipy.io import savemat
+
+    depth = np.array([[0, 943], [1130, 65000]], np.uint16)
+    savemat(tmp_path / "d.mat", {"depth_array": depth})
+    got = real_sets._npy(real_sets.convert("mat_mm_to_m:depth_array",
+                                           (tmp_path / "d.mat").read_bytes()))
+    assert got.dtype == np.float32 and got[0, 0] == 0 and got[1, 0] == np.float32(1.13)
+    savemat(tmp_path / "f.mat", {"depth_array": depth.astype(np.float64)})
+    with pytest.raises(real_sets.SetError, match="16-bit"):   # metres are no millimetres
+        real_sets.convert("mat_mm_to_m:depth_array", (tmp_path / "f.mat").read_bytes())
+    xyz = np.zeros((2, 2, 3))
+    xyz[..., 2] = [[0, 1200], [800, 2500]]
+    xyz[..., 0] = 100
+    savemat(tmp_path / "s.mat", {"frame": {"xyz": xyz, "depth": xyz[..., 2].astype(np.uint16)}})
+    got = real_sets._npy(real_sets.convert("mat_xyz_mm:frame", (tmp_path / "s.mat").read_bytes()))
+    assert got.dtype == np.float64 and np.isnan(got[0, 0]).all()   # depth 0: no data
+    assert got[1, 1].tolist() == [0.1, 0.0, 2.5] and got[0, 1, 2] == 1.2
+    with pytest.raises(real_sets.SetError, match="could not read its source"):
+        real_sets.convert("mat_xyz_mm:scene", (tmp_path / "s.mat").read_bytes())   # no such struct
+
+
+def test_a_mirror_fetched_whole_is_read_through_its_git_folder(world):
+    tmp, mirrors, folder, _ = world
+    whole = tmp / "whole"
+    for owner, name in (("lab", "frames"), ("other", "clouds")):
+        subprocess.run(["git", "clone", "-q", str(mirrors / owner / name),
+                        str(whole / f"{owner}+{name}" / "repo")], check=True)
+    repos = real_sets.git_dirs(str(whole))
+    assert repos["lab/frames"].endswith("repo/.git")
+    doc = real_sets.capture(str(folder), "huntX/s", str(whole))
+    out = Path(real_sets.build(doc, str(tmp / "dest"), repos))
+    assert (out / "depth.png").read_bytes() == (folder / "depth.png").read_bytes()
+
+
 def test_a_corrupt_manifest_or_source_is_one_line_and_the_built_set_is_kept(world, tmp_path,
                                                                              monkeypatch, capsys):
     _, mirrors, folder, _ = world

@@ -101,9 +101,11 @@ class ObjectAnswer:
     cut_from : str or None
         ``decision.cut_boxes``: this box was cut from that proposal (its id): the solid of a
         box proof's planes, decided as an object of its own (:mod:`planerel.features.box_cut`);
-        its ``rule`` and ``proof_planes`` say which rule and planes.
+        its ``rule`` and ``proof_planes`` say which rule and planes.  ``decision.flight_trim``:
+        these are the side planes of that ``stairs`` answer's flight (a wall it runs along),
+        decided as an object of their own.
     cut_off : tuple of str
-        The ids of the boxes cut from this proposal (its ``planes`` are then the rest).
+        The ids of the objects cut from this proposal (its ``planes`` are then the rest).
     """
 
     object_id: str
@@ -408,6 +410,11 @@ class Classifier:
         self.flight_side = ((decision.flight_side_thick, decision.flight_side_gap,
                              decision.flight_side_reach, decision.flight_side_rise,
                              decision.flight_side_angle) if decision.flight_side_gate else None)
+        #: a ``stairs`` answer's proposal cut to its flight (``decision.flight_trim``,
+        #: :func:`~planerel.features.flight_side.side_planes`): ``(angle, edge, rise)``, or
+        #: None when off
+        self.flight_trim = ((decision.flight_trim_angle, decision.flight_trim_edge,
+                             decision.flight_trim_rise) if decision.flight_trim else None)
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -554,9 +561,45 @@ class Classifier:
             answers = tuple(self._answer(desc, plane_ids, xyz))
         if self.cut_boxes is not None and xyz is not None and BOX in self.classes:
             answers = self._cut_boxes(desc, answers, plane_ids, xyz)
+        if self.flight_trim is not None and xyz is not None and "stairs" in self.classes:
+            answers = self._trim_flights(desc, answers, plane_ids, xyz)
         if self.flight_side is not None and xyz is not None and BOX in self.classes:
             answers = self._flight_sides(desc, answers, xyz)
         return answers
+
+    def _trim_flights(self, desc, answers, plane_ids, xyz) -> tuple:
+        """``decision.flight_trim``: each ``stairs`` answer whose proposal holds side planes
+        of its flight (:func:`~planerel.features.flight_side.side_planes`) keeps the rest; the
+        side planes are decided as an object of their own (``other`` for a members model),
+        listed after it with ``cut_from``."""
+        from dataclasses import replace
+
+        from planerel.features.facts import SceneObject
+        from planerel.features.flight_side import side_planes
+
+        angle, edge, rise = self.flight_trim
+        objects = {o.id: o for o in desc.objects}
+        out = []
+        for a in answers:
+            o = objects.get(a.object_id)
+            cut = () if a.klass != "stairs" or o is None else side_planes(
+                desc.planes, a.labels, desc.steps, xyz, desc.labels, angle, edge, rise)
+            proof = {x for x in a.labels if plane_ids.get(x) in set(a.proof_planes)}
+            cut = tuple(x for x in cut if x not in proof)
+            if not cut:
+                out.append(a)
+                continue
+            side = SceneObject(f"{a.object_id}_w1", cut, None, None, 1.0, False)
+            if self.members:
+                b = ObjectAnswer(side.id, tuple(plane_ids[x] for x in cut), cut, OTHER,
+                                 planar_fraction=1.0, curved=False)
+            else:
+                b = self._answer_objects(desc, [side], plane_ids, xyz)[0]
+            rest = tuple(x for x in a.labels if x not in set(cut))
+            out.append(replace(a, labels=rest, planes=tuple(plane_ids[x] for x in rest),
+                               cut_off=tuple(a.cut_off) + (side.id,)))
+            out.append(replace(b, cut_from=a.object_id))
+        return tuple(out)
 
     def _flight_sides(self, desc, answers, xyz) -> tuple:
         """``decision.flight_side_gate``: each ``box`` answer that runs beside a flight

@@ -8,7 +8,9 @@ faces; :func:`beside_flight` measures an object against a flight found in the sa
 (:func:`flight_geometry`, once a flight).  Not :func:`planerel.features.walls.flight_side`,
 which asks of one large face, before proposals, whether its top edge follows a flight's
 nosings (a string kept out of the support planes); this asks of a decided ``box`` answer
-where it stands against a decided ``stairs`` answer.
+where it stands against a decided ``stairs`` answer.  :func:`side_planes` finds such walls
+inside a ``stairs`` answer's own proposal (a flight merged with the wall it runs along), so
+the answer's extent is the flight's.
 
 The flight's frame: ``up``; the run ``r``, the horizontal direction of its risers' normals
 (area-weighted), or, with no riser, square to the largest tread's long axis; the lateral
@@ -25,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FlightSide", "beside_flight", "flight_frame", "flight_geometry"]
+__all__ = ["FlightSide", "beside_flight", "flight_frame", "flight_geometry", "side_planes"]
 
 
 @dataclass(frozen=True)
@@ -161,3 +163,91 @@ def beside_flight(planes, geometry, obj, xyz, seg_labels) -> FlightSide | None:
     run_gap = max(0.0, br[0] - sr[1], sr[0] - br[1])
     rise = float(np.percentile(b @ up, 95) - np.percentile(s @ up, 98))
     return FlightSide(float(ba[1] - ba[0]), float(gap), float(run_gap), rise, skew)
+
+
+def side_planes(planes, labels, steps, xyz, seg_labels, angle: float, edge: float,
+                rise: float) -> tuple:
+    """The planes of a ``stairs`` answer's proposal that are a side of the flight, not a step
+    (``decision.flight_trim``).
+
+    The flight is the proposal's step planes (those in a ``stair_step/2`` pair): its run ``r``
+    the area-weighted horizontal normal of its risers, its lateral extent the 2-98 percentile
+    range of its treads' points along ``l = up x r``.  A side plane is an upright plane of the
+    proposal that is in no step pair, whose horizontal normal lies within ``angle`` degrees of
+    ``l`` (parallel to the run: a wall, a knee wall or a string, not a riser), whose points'
+    median along ``l`` lies at or beyond either lateral edge, within ``edge`` m inside it, and
+    which rises at least ``rise`` m over the treads' line (95th percentile of its points' heights
+    over the line through the treads' centroids along the run, or over the treads' top when
+    they are one level): a wall the flight runs along, not the flight's own stepped side face,
+    which stays under its treads.
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    labels : iterable of int
+        Plane labels of the proposal.
+    steps : iterable of (int, int)
+        The scene's ``stair_step/2`` pairs (labels).
+    xyz : ndarray (H, W, 3)
+        The scan's organized points.
+    seg_labels : ndarray (H, W)
+        The plane label of each pixel.
+    angle, edge, rise : float
+        Degrees, metres, metres.
+
+    Returns
+    -------
+    tuple of int
+        The side planes' labels, in the proposal's order (empty: none, or no riser or tread
+        among the step planes).
+    """
+    labels = tuple(labels)
+    mine = set(labels)
+    flight = {x for pair in steps for x in pair if set(pair) <= mine}
+    risers = [planes.by_label(x) for x in flight if planes.by_label(x).orientation == "vertical"]
+    treads = [x for x in flight if planes.by_label(x).orientation == "horizontal"]
+    if not risers or not treads:
+        return ()
+    up = np.asarray(planes.up, dtype=np.float64)
+    up = up / np.linalg.norm(up)
+    acc, ref = np.zeros(3), None
+    for p in sorted(risers, key=lambda p: p.label):
+        n = _horizontal(p.normal, up)
+        if n is None:
+            continue
+        ref = n if ref is None else ref
+        acc += p.n_points * (n if n @ ref >= 0 else -n)
+    r = None if ref is None else _horizontal(acc, up)
+    if r is None:
+        return ()
+    lat = np.cross(up, r)
+    lat = lat / np.linalg.norm(lat)
+    tread_pts = _points(xyz, seg_labels, treads)
+    if len(tread_pts) < 3:
+        return ()
+    lo, hi = np.percentile(tread_pts @ lat, [2, 98])
+    # the treads' line along the run (their centroids' heights against their run positions),
+    # which goes on over steps the segmentation left out of the pairs; one level: flat
+    cent = np.array([[float(q @ r), float(q @ up)] for q in
+                     (_points(xyz, seg_labels, (t,)).mean(axis=0) for t in sorted(treads))])
+    if np.ptp(cent[:, 0]) > 1e-3 and np.ptp(cent[:, 1]) > 1e-3:
+        slope, base = np.polyfit(cent[:, 0], cent[:, 1], 1)
+    else:
+        slope, base = 0.0, float(np.percentile(tread_pts @ up, 98))
+    cos_max = np.cos(np.radians(angle))
+    out = []
+    for x in labels:
+        p = planes.by_label(x)
+        if x in flight or p.orientation != "vertical":
+            continue
+        n = _horizontal(p.normal, up)
+        if n is None or abs(float(n @ lat)) < cos_max:
+            continue
+        q = _points(xyz, seg_labels, (x,))
+        if len(q) < 3:
+            continue
+        med = float(np.median(q @ lat))
+        over = q @ up - (base + slope * (q @ r))   # height over the treads' line
+        if (med <= lo + edge or med >= hi - edge) and np.percentile(over, 95) >= rise:
+            out.append(x)
+    return tuple(out)

@@ -197,6 +197,11 @@ FLIGHT_SIDE_GAP = 0.35
 FLIGHT_SIDE_REACH = 0.5
 FLIGHT_SIDE_RISE = 0.2
 FLIGHT_SIDE_ANGLE = 15.0
+#: Defaults of :attr:`DecisionParams.flight_trim` and its bounds (lead57).
+FLIGHT_TRIM = True
+FLIGHT_TRIM_ANGLE = 25.0
+FLIGHT_TRIM_EDGE = 0.05
+FLIGHT_TRIM_RISE = 0.2
 #: Defaults of :attr:`DecisionParams.cut_boxes`, ``cut_reach``, ``cut_margin``.
 CUT_BOXES = True
 CUT_REACH = 1.5
@@ -447,6 +452,22 @@ class DecisionParams:
         thick, 0.00-0.25 beyond the treads' ends, tops 0.44-0.89 over the flight's).
     flight_side_angle : float
         Degrees in 0..90 (15; the walls refused: 0-9).
+    flight_trim : bool
+        On by default (lead57, 2026-12-02).  A ``stairs`` answer's proposal that holds a side
+        of its flight (a wall, knee wall or string the flight runs along, merged with it) is
+        cut to the flight: the side planes
+        (:func:`planerel.features.flight_side.side_planes`: upright, in no ``stair_step``
+        pair, within ``flight_trim_angle`` degrees of parallel to the run, at or beyond the
+        treads' lateral edge, within ``flight_trim_edge`` m inside it, rising at least
+        ``flight_trim_rise`` m over the treads' line along the run: not the flight's own
+        stepped side face, which stays under its treads) are decided as an
+        object of their own (the answer's ``cut_from``; a members model answers it
+        ``other``), before the flight side gate.  The ``stairs`` answer, its rule and proof
+        are unchanged; its planes are the rest.  Only classify applies it.
+    flight_trim_angle : float
+        Degrees in 0..90 (25; the walls cut on real frames: 0.8-9.8).
+    flight_trim_edge, flight_trim_rise : float
+        Metres (>= 0; 0.05, 0.2).
     cut_boxes : bool
         On by default (core49).  A proposal a box rule proves and a gate refuses ``box`` for,
         whose planes hold a box proof's seed (a ``skirt`` or ``face_pair`` pair; a lone
@@ -524,6 +545,10 @@ class DecisionParams:
     flight_side_reach: float = FLIGHT_SIDE_REACH
     flight_side_rise: float = FLIGHT_SIDE_RISE
     flight_side_angle: float = FLIGHT_SIDE_ANGLE
+    flight_trim: bool = FLIGHT_TRIM
+    flight_trim_angle: float = FLIGHT_TRIM_ANGLE
+    flight_trim_edge: float = FLIGHT_TRIM_EDGE
+    flight_trim_rise: float = FLIGHT_TRIM_RISE
     cut_boxes: bool = CUT_BOXES
     cut_reach: float = CUT_REACH
     cut_margin: float = CUT_MARGIN
@@ -534,7 +559,7 @@ class DecisionParams:
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
                      "side_gate", "unsure_gate", "facet_gate", "facet_bridge", "cut_boxes",
-                     "flight_side_gate"):
+                     "flight_side_gate", "flight_trim"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -554,12 +579,12 @@ class DecisionParams:
                 raise InputError(f"decision.{name} must be a number >= 0 (metres), got {m!r}")
         for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin",
                      "flight_side_thick", "flight_side_gap", "flight_side_reach",
-                     "flight_side_rise"):
+                     "flight_side_rise", "flight_trim_edge", "flight_trim_rise"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0, got {m!r}")
-        for name in ("facet_min", "facet_max", "flight_side_angle"):
+        for name in ("facet_min", "facet_max", "flight_side_angle", "flight_trim_angle"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or not 0 <= m <= 90):
