@@ -133,7 +133,7 @@ KINECT_PANELS = {**KINECT_ROOM,
 def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), round_: int = 0,
                             faces: int = 0, flat: int = 0, piles: int = 0, open_: int = 0,
                             panels: int = 0, small_faces: int = 0, products: int = 0,
-                            seed: int = 0, size=(640, 480), subsample: int = 4,
+                            flat_small: int = 0, seed: int = 0, size=(640, 480), subsample: int = 4,
                             ranges=None, window: float | None = None) -> Path:
     """Write one data set: ``paper`` box/stairs/ramp scenes of the paper-sized world, then
     ``room`` box/stairs/ramp scenes (primary object) of the Kinect-like varied world.
@@ -168,6 +168,12 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         are then a pixel or two high, as the real table-top frames' are seen edge-on).  With
         any, every part's boxes at most 0.12 m high that show only their top are box examples
         too (``"examples": {"box_top_height": 0.12}``, top25).
+    flat_small : int
+        Scenes of the flat part's product-size kind (:func:`generate_flat_scene` ``small``: a
+        product box 6-20 cm long and 2-6 cm thick lying flat among phones, tablets, a mouse,
+        cans and plates of class ``other``; small57), right after the flat part's other scenes,
+        seeds ``scene_seed(seed + 10, i)``, at half ``subsample``.  They count as flat scenes
+        for ``box_top_height``.
     piles : int
         Scenes of the pile part (:func:`planerel.synth.piles.generate_pile_scene`: touching
         cartons of two heights, one box object, seen from above; pile26), after the face part,
@@ -222,13 +228,14 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             raise InputError(f"{name} counts must be three non-negative integers (box, stairs, "
                              f"ramp), got {part!r}")
         counts[name] = dict(zip(CLASSES, n, strict=True))
-    for what, n in (("round", round_), ("face", faces), ("flat", flat), ("pile", piles),
+    for what, n in (("round", round_), ("face", faces), ("flat", flat),
+                    ("small flat", flat_small), ("pile", piles),
                     ("open", open_), ("panel", panels), ("small-face", small_faces),
                     ("product", products)):
         if isinstance(n, bool) or not isinstance(n, int) or n < 0:
             raise InputError(f"{what} scene count must be a non-negative integer, got {n!r}")
     if not (sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces + flat
-            + piles + open_ + panels + small_faces + products):
+            + flat_small + piles + open_ + panels + small_faces + products):
         raise InputError("a data set needs at least one scene (all counts are 0)")
     ranges = WorldRange(**KINECT_ROOM) if ranges is None else ranges
     window = KINECT_WINDOW if window is None else window
@@ -237,7 +244,7 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
     # learner's covering meets after the paper boxes (top25: after the room part, a room box
     # seeded a "one horizontal plane" rule that took the books showing only their top)
     jobs = ([("paper", k) for k in CLASSES for _ in range(counts["paper"][k])]
-            + [("flat", "box")] * flat
+            + [("flat", "box")] * flat + [("flat_small", "box")] * flat_small
             + [("room", k) for k in CLASSES for _ in range(counts["room"][k])]
             + [("round", "box")] * round_ + [("faces", "box")] * faces
             + [("piles", "box")] * piles + [("open", "stairs")] * open_
@@ -264,6 +271,10 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             elif part == "flat":
                 scene = generate_flat_scene(scene_seed(seed + 4, j), size, subsample,
                                             scene_id=sid, sensor=room_sensor)
+            elif part == "flat_small":
+                scene = generate_flat_scene(scene_seed(seed + 10, j), size,
+                                            max(1, subsample // 2), scene_id=sid,
+                                            sensor=room_sensor, small=True)
             elif part == "products":
                 scene = generate_product_scene(scene_seed(seed + 9, j), size,
                                                max(1, subsample // 2), scene_id=sid,
@@ -280,12 +291,15 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         write_dataset_info(tmp, {
             "format": "planerel-synth-dataset", "version": 1, "seed": seed,
             "world": "paper+kinect-room" + ("+round" if round_ else "") + ("+faces" if faces else "")
-                     + ("+flat" if flat else "") + ("+piles" if piles else "")
+                     + ("+flat" if flat else "") + ("+flat-small" if flat_small else "")
+                     + ("+piles" if piles else "")
                      + ("+open" if open_ else "") + ("+panels" if panels else "")
                      + ("+small-faces" if small_faces else "")
                      + ("+products" if products else ""),
             "counts": {**counts, "round": round_, **({"faces": faces} if faces else {}),
-                       **({"flat": flat} if flat else {}), **({"piles": piles} if piles else {}),
+                       **({"flat": flat} if flat else {}),
+                       **({"flat_small": flat_small} if flat_small else {}),
+                       **({"piles": piles} if piles else {}),
                        **({"open": open_} if open_ else {}),
                        **({"panels": panels} if panels else {}),
                        **({"small_faces": small_faces} if small_faces else {}),
@@ -296,7 +310,8 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             # a box seen as one side face (its top out of view) is a box example, and the
             # one-face clutter (a door, a chair's back, a laptop's lid) stays other (face24)
             # and, with the flat part, a book or a flat box showing only its top (top25)
-            "examples": {"box_faces": 1, **({"box_top_height": FLAT_TOP_HEIGHT} if flat else {})},
+            "examples": {"box_faces": 1, **({"box_top_height": FLAT_TOP_HEIGHT}
+                                            if flat or flat_small else {})},
         })
     return Path(out_dir)
 
@@ -330,6 +345,26 @@ FLAT_TILT = (8.0, 25.0)
 FLAT_LEVEL = 0.5
 #: m: with the flat part, boxes at most this high showing only their top are box examples.
 FLAT_TOP_HEIGHT = 0.12
+#: The flat part's product-size scenes (``generate_training_world(flat_small=N)``, small57): a
+#: product box lying flat on a table (a candy pack, a medicine box, a tea box: ``length``
+#: 0.06-0.2 m, ``width`` 0.035-0.09 m, ``height`` 2-6 cm, each drawn on a log scale; the
+#: width at most the length), level but for a ``tipped`` share (the flat part's
+#: :data:`FLAT_TILT`), among 1-3 product-size things that are no box (class ``other``,
+#: :data:`FLAT_SMALL_CLUTTER`), seen as the flat part's boxes are, rendered at half the flat
+#: part's subsample (as the product part: a 4 cm side at 1 m is 5 px at 160x120).
+FLAT_SMALL_SETTINGS = {"camera": (0.35, 0.9), "pitch": (35.0, 75.0), "distance": (0.4, 1.1),
+                       "length": (0.06, 0.2), "width": (0.035, 0.09), "height": (0.02, 0.06),
+                       "tipped": 0.2, "clutter": (1, 3)}
+#: Product-size non-box table-top things (class ``other``) of the flat part's small scenes:
+#: ``phone`` and ``tablet`` slabs (length, width, thickness), a computer ``mouse`` (a faceted
+#: hump: length, width, height), a ``can`` standing (radius, height: its lid lies level as a
+#: pack's top does) and a ``plate`` (a 1-2.5 cm disc: radius, height).  No book: the flat part
+#: makes books box examples.
+FLAT_SMALL_CLUTTER = {"phone": ((0.12, 0.17), (0.06, 0.08), (0.007, 0.011)),
+                      "tablet": ((0.18, 0.26), (0.12, 0.18), (0.006, 0.01)),
+                      "mouse": ((0.09, 0.12), (0.055, 0.07), (0.03, 0.04)),
+                      "can": ((0.03, 0.045), (0.04, 0.12)),
+                      "plate": ((0.08, 0.14), (0.01, 0.025))}
 
 
 def lying_cylinder_geometry(radius: float, length: float, *, facets: int = 16,
@@ -357,13 +392,131 @@ def lying_cylinder_geometry(radius: float, length: float, *, facets: int = 16,
 
 
 def generate_flat_scene(seed: int, size=(640, 480), subsample: int = 4, *,
-                        scene_id: str = "s0000", sensor=None, min_object_fraction: float = 0.01):
+                        scene_id: str = "s0000", sensor=None, min_object_fraction: float = 0.01,
+                        small: bool = False):
     """One scene of the flat part (:data:`FLAT_SETTINGS`): a book or a flat box (object 1,
     class box) lying on a table, level or resting on one edge, and 0-2 cylinders of class
     ``other``, seen by the Kinect-like sensor from close by.  As :func:`generate_round_scene`
-    (the same table and cylinders), with its own box sizes and tilt."""
+    (the same table and cylinders), with its own box sizes and tilt.
+
+    ``small``: a product-size box lying flat among product-size things of class ``other``
+    instead (:data:`FLAT_SMALL_SETTINGS`, :data:`FLAT_SMALL_CLUTTER`; small57); drawn again
+    until the box covers ``min_object_fraction`` / 4 of the image."""
+    if small:
+        return _flat_small_scene(seed, size, subsample, scene_id=scene_id, sensor=sensor,
+                                 min_object_fraction=min_object_fraction / 4)
     return generate_round_scene(seed, size, subsample, scene_id=scene_id, sensor=sensor,
                                 min_object_fraction=min_object_fraction, flat=True)
+
+
+def mouse_geometry(length: float, width: float, height: float, *, facets: int = 8,
+                   object_index: int = 1):
+    """A computer mouse lying on a table: a hump along local x, ``facets`` ``curved`` strips
+    across its width (height ``height`` at the middle, 0 at the sides, an ellipse's arc) and two
+    vertical end pieces (role ``curved``)."""
+    import math
+
+    import numpy as np
+
+    from planerel.synth import geometry as sg
+
+    half, w, h = float(length) / 2, float(width) / 2, float(height)
+    if not (half > 0 and w > 0 and h > 0):
+        raise InputError(f"mouse sides must be positive, got {length!r}, {width!r}, {height!r}")
+    ang = np.linspace(0.0, math.pi, facets + 1)
+    arc = [(w * math.cos(a), h * math.sin(a)) for a in ang]  # y, z from one side to the other
+    b = sg._Builder(object_index)
+    for x in (-half, half):
+        b.add("curved", [(x, y, z) for y, z in arc])
+    for (ya, za), (yb, zb) in zip(arc[:-1], arc[1:], strict=True):
+        b.add("curved", [(-half, ya, za), (half, ya, za), (half, yb, zb), (-half, yb, zb)])
+    return b.build()
+
+
+def _flat_small_clutter(rng, index: int = 1):
+    """One product-size non-box thing of :data:`FLAT_SMALL_CLUTTER` (class ``other``)."""
+    from planerel.synth import geometry as sg
+
+    kinds = list(FLAT_SMALL_CLUTTER)
+    kind = kinds[int(rng.integers(len(kinds)))]
+    r = FLAT_SMALL_CLUTTER[kind]
+    if kind in ("phone", "tablet", "mouse"):
+        length, width, thick = (float(rng.uniform(*r[0])), float(rng.uniform(*r[1])),
+                                float(rng.uniform(*r[2])))
+        geom = (mouse_geometry(length, width, thick, object_index=index) if kind == "mouse"
+                else sg.box_geometry(length, width, thick, index))
+        return geom, {"class": "other", "kind": kind,
+                      "params": {"length": length, "width": width, "height": thick}}
+    rad, h = float(rng.uniform(*r[0])), float(rng.uniform(*r[1]))
+    return (sg.cylinder_geometry(rad, h, object_index=index),
+            {"class": "other", "kind": kind, "params": {"radius": rad, "length": h,
+                                                        "standing": True}})
+
+
+def _flat_small_scene(seed: int, size, subsample: int, *, scene_id: str, sensor,
+                      min_object_fraction: float):
+    """The flat part's product-size scene (:func:`generate_flat_scene` ``small``)."""
+    import math
+
+    import numpy as np
+
+    from planerel.synth import geometry as sg
+    from planerel.synth import world as sw
+    from planerel.synth.generator import _scene_setup
+    from planerel.synth.sensor import StructuredLight
+
+    seed, w, h, intr = _scene_setup("box", seed, size, subsample)
+    sensor = StructuredLight() if sensor is None else sensor
+    rng = np.random.default_rng(seed)
+    s = FLAT_SMALL_SETTINGS
+
+    def logu(lo_hi):
+        return float(math.exp(rng.uniform(*np.log(lo_hi))))
+
+    for _attempt in range(300):
+        support = float(rng.uniform(0.68, 0.78))
+        cam_h = support + float(rng.uniform(*s["camera"]))
+        pitch = float(rng.uniform(*s["pitch"]))
+        pose = sw._camera_pose(cam_h, pitch, float(rng.uniform(-10, 10)))
+        anchor = sw._floor_point(rng, pose, intr, *s["distance"], region=(0.3, 0.7, 0.35, 0.8),
+                                 floor_z=support)
+        if anchor is None:
+            continue
+        length, width, height = logu(s["length"]), logu(s["width"]), logu(s["height"])
+        length, width = max(length, width), min(length, width)
+        params = {"length": length, "width": width, "height": height, "top": True}
+        geom = sg.box_geometry(length, width, height, 1)
+        geom = sw._tipped(rng, geom, params, FLAT_TILT, 1.0 - s["tipped"])
+        info = {"class": "box", "kind": "product box lying flat", "params": params}
+        lay = sw._Layout()
+        yaw = float(rng.uniform(-180, 180))
+        lay.add(sg.place(geom, yaw, anchor[:2], support), info,
+                sw._place_fp(sw._footprint(geom), yaw, anchor))
+        for _ in range(int(rng.integers(s["clutter"][0], s["clutter"][1] + 1))):
+            g, ci = _flat_small_clutter(rng, 1)
+            for _try in range(10):  # near the box, on the table in view
+                r_ = float(rng.uniform(0.1, 0.35))
+                a = float(rng.uniform(0, 2 * math.pi))
+                p = anchor + np.array([r_ * math.cos(a), r_ * math.sin(a), 0.0])
+                cyaw = float(rng.uniform(-180, 180))
+                cfp = sw._place_fp(sw._footprint(g), cyaw, p)
+                if lay.free(cfp, margin=0.02):
+                    lay.add(sg.place(g, cyaw, p[:2], support), ci, cfp)
+                    break
+        parts = [sg.floor_geometry(10.0), _table_top(anchor, support)]
+        infos = [{"index": 0, "id": f"{scene_id}_o0", "class": "environment",
+                  "kind": "floor and table"}]
+        sw._add_objects(parts, infos, lay, scene_id)
+        world = sg.combine(*parts)
+        params = {"world": "flat-small", "where": "table",
+                  "camera": {"height": cam_h, "pitch_deg": pitch},
+                  "size": [w, h], "subsample": int(subsample)}
+        scene = sw.render_box_scene(world, pose, intr, sensor, rng, infos, params,
+                                    scene_id=scene_id, seed=seed,
+                                    min_object_fraction=min_object_fraction)
+        if scene is not None:
+            return scene
+    raise InputError(f"could not make a small flat scene (seed {seed})")
 
 
 
