@@ -158,3 +158,40 @@ def test_real_aleph_reads_the_export_by_hand(tmp_path, descs):
         assert summary and summary.group(2) == "0" and summary.group(3) == "0", out[-1500:]
         driven = learn(tmp_path / stem, engine="aleph", timeout=300)
         assert [re.sub(r"\s+", "", c) for c in driven.rules] == clauses
+
+
+# ------------------------------------ examples of your own on `planerel describe` facts
+
+
+def test_own_examples_on_describe_facts(tmp_path, dataset, descs):
+    """docs/predicates.md, "Examples of your own": describe scans with ``--pairs object``,
+    name objects in STEM.f / STEM.n, take the task's head from an export, consult
+    compare.pl and the facts; planerel's learner (and the real Aleph by hand, when
+    ``PLANEREL_ALEPH`` is set) learns from it with no warning."""
+    import importlib.resources as resources
+
+    from planerel.features.dataset import load_manifest
+
+    rows = load_manifest(dataset)
+    scans = [str(dataset / r.depth) for r in rows]
+    mine = tmp_path / "mine"
+    assert main(["describe", *scans, "--pairs", "object", "-o", str(mine / "scans.pl"),
+                 "-j", "1"]) == 0
+    facts = (mine / "scans.pl").read_text()
+    boxes = [f"{r.scene_id}_o1" for r in rows if r.klass == "box"]
+    others = [f"{r.scene_id}_o1" for r in rows if r.klass != "box"]
+    assert all(f"object({o.split('_')[0]}, {o})." in facts for o in boxes + others)
+    (mine / "box.f").write_text("".join(f"box({o}).\n" for o in boxes))
+    (mine / "box.n").write_text("".join(f"box({o}).\n" for o in others))
+    export_aleph(descs, tmp_path / "task", "box")
+    head = (tmp_path / "task" / "box.b").read_text().split("% ---- dynamic background")[0]
+    compare = resources.files("planerel.prolog") / "compare.pl"
+    (mine / "box.b").write_text(head + f":- consult('{compare}').\n:- consult(scans).\n")
+    r = learn(mine / "box", engine="builtin", timeout=120)
+    assert r.train.accuracy == 1.0 and r.rules and "warning" not in r.output.lower()
+    if ALEPH:
+        (mine / "hook.pl").write_text(_HOOK)
+        proc = _run(_by_hand_goal("box"), [mine / "hook.pl"], mine)
+        out = proc.stdout + proc.stderr
+        assert proc.returncode == 0 and "MSG" not in out and "ERROR" not in out, out[-2000:]
+        assert "[Training set summary] [[3,0,0,6]]" in out, out[-1500:]
