@@ -124,6 +124,11 @@ def test_one_class_and_other_objects_make_a_task(tmp_path, descs):
 
     with pytest.raises(InputError, match="which the Popper task leaves out"):
         popper_files(relabelled, "box")
+    from planerel.ilp.pipeline import _classes_arg
+
+    with pytest.raises(InputError, match="has box and 6 objects of class 'other' \\(planerel "
+                                         "export-aleph writes"):
+        _classes_arg(None, relabelled)   # planerel learn needs two classes; it says what works
 
 
 # ----------------------------------------------------------- the real Aleph, by hand
