@@ -163,6 +163,14 @@ def test_real_aleph_reads_the_export_by_hand(tmp_path, descs):
         assert summary and summary.group(2) == "0" and summary.group(3) == "0", out[-1500:]
         driven = learn(tmp_path / stem, engine="aleph", timeout=300)
         assert [re.sub(r"\s+", "", c) for c in driven.rules] == clauses
+    # several classes in one session, each background unloaded before the next (docs)
+    read = ("aleph:read_all(user:{s})" if aleph_kind(Path(ALEPH)) == "module" else "read_all({s})")
+    goal = _by_hand_goal("box").replace(", ( planerel_msg", ", unload_file('box.b'), "
+                                        + read.format(s="stairs") + ", induce, ( planerel_msg")
+    proc = _run(goal, [tmp_path / "hook.pl"], tmp_path)
+    out = proc.stdout + proc.stderr
+    assert proc.returncode == 0 and "MSG" not in out and "Warning" not in out, out[-2000:]
+    assert len(re.findall(r"\[Training set summary\] \[\[\d+,0,0,\d+\]\]", out)) == 2, out[-1500:]
 
 
 # ------------------------------------ examples of your own on `planerel describe` facts
