@@ -279,6 +279,24 @@ def load_task(task: str | None = None) -> tuple[list[str], list[str], list[tuple
     return sets, modes, preds, other
 
 
+# The SWI-Prolog pack's module file aleph.pl (``library(aleph)``) exports neither ``set/2``
+# nor ``determination/2``, so ``aleph:read_all(user:STEM)`` by hand ran every ``:- set`` and
+# ``:- determination`` of STEM.b as an unknown procedure and learned one fact per example.
+# These lines define the two in the loading module as calls of the module's ``set/3`` and
+# ``determination/3`` when (and only when) that module is loaded and the loading module has
+# no definition of its own: the classic aleph_orig.pl, planerel's learner and planerel's
+# driver of the real Aleph skip them (docs/predicates.md, "The Aleph task").
+PACK_SHIM = [
+    "% ---- for the SWI-Prolog pack's module aleph.pl: set/2 and determination/2 (skipped elsewhere)",
+    ":- if(current_predicate(aleph:set/3)).",
+    ":- prolog_load_context(module, M), ( current_predicate(M:set/2) -> true ; "
+    "assertz((M:set(N, V) :- aleph:set(N, V, M))) ).",
+    ":- prolog_load_context(module, M), ( current_predicate(M:determination/2) -> true ; "
+    "assertz((M:determination(P, Q) :- aleph:determination(P, Q, M))) ).",
+    ":- endif.",
+]
+
+
 def _class_order(names) -> list[str]:
     """Distinct class names: box, stairs, ramp first (in that order), then the rest sorted
     (never :data:`OTHER`)."""
@@ -358,7 +376,7 @@ def _background(descs, examples: list[Example], classes: Sequence[str]) -> list[
 
 
 
-def task_examples(descs, target, classes=None):
+def task_examples(descs, target, classes=None, *, other_negatives: bool = False):
     """The examples of a learning task and its classes, checked (shared by the Aleph and
     Popper exports).
 
@@ -369,6 +387,9 @@ def task_examples(descs, target, classes=None):
         The class to learn, or ``"class"`` for one multi-class task.
     classes : sequence of str, optional
         The task's classes (default: those of the examples, in the usual order).
+    other_negatives : bool
+        Objects of class ``other`` are negatives of the task (the Aleph files): then one
+        class and at least one ``other`` object make a task (box against everything else).
 
     Returns
     -------
@@ -384,9 +405,14 @@ def task_examples(descs, target, classes=None):
     if classes is None:
         classes = _class_order(e.klass for e in examples)
     classes = list(classes)
-    if len(classes) < 2:
+    n_other = sum(1 for e in examples if e.klass == OTHER)
+    if len(classes) < 2 and not (other_negatives and classes and n_other):
         raise InputError(f"a learning task needs objects of at least two classes; found "
-                         f"{', '.join(classes) or 'none'}")
+                         f"{', '.join(classes) or 'none'}"
+                         + (f" (and {n_other} of class {OTHER!r}, which the Popper task "
+                            "leaves out)" if n_other else
+                            f" (objects of class {OTHER!r} would be negatives of every "
+                            "class)"))
     if target != "class":
         if target not in classes:
             raise InputError(f"target class {target!r} has no examples; classes present: "
@@ -434,7 +460,7 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     dict
         ``{"STEM.b": text, "STEM.f": text, "STEM.n": text}``.
     """
-    examples, classes = task_examples(descs, target, classes)
+    examples, classes = task_examples(descs, target, classes, other_negatives=True)
     multi = target == "class"
     check_class_names(classes)
     examples = [e for e in examples if e.klass in classes or e.klass == OTHER]
@@ -467,7 +493,7 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     b = [f"% planerel Aleph task {stem}: {'multi-class' if multi else 'is the object a ' + target}",
          f"% examples: {npos} positive, {nneg} negative; classes: {', '.join(classes)}",
          "% written by planerel export-aleph; vocabulary: docs/predicates.md",
-         ":- op(500, fy, #).", "", "% ---- settings"] + set_lines
+         ":- op(500, fy, #).", ""] + PACK_SHIM + ["", "% ---- settings"] + set_lines
     b += ["", "% ---- modes", f":- modeh(1, {head})."] + modes
     b += ["", "% ---- determinations"]
     b += [f":- determination({tname}/{tar}, {n}/{a})." for n, a in preds]

@@ -1219,8 +1219,12 @@ def _classes_arg(classes, descs) -> tuple:
         raise InputError(f"class {', '.join(missing)} has no example in the data set "
                          f"(classes present: {', '.join(present) or 'none'})")
     if len(classes) < 2:
+        n_other = sum(1 for d in descs for o in d.objects if o.klass == OTHER)
         raise InputError(f"learning needs at least two classes; the data set has "
-                         f"{', '.join(classes) or 'none'}")
+                         f"{', '.join(classes) or 'none'}"
+                         + (f" and {n_other} objects of class {OTHER!r} (planerel export-aleph "
+                            "writes that as one class against the rest, for any learner)"
+                            if n_other and classes else ""))
     return classes
 
 
