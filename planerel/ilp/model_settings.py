@@ -27,7 +27,9 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 ``decision.range_classes``, ``decision.facet_gate``, ``decision.facet_min``,
 ``decision.facet_max``, ``decision.facet_bridge``, ``decision.flight_side_gate``,
 ``decision.flight_side_thick``, ``decision.flight_side_gap``, ``decision.flight_side_reach``,
-``decision.flight_side_rise``, ``decision.flight_side_angle``, ``decision.cut_boxes``, ``decision.cut_reach``,
+``decision.flight_side_rise``, ``decision.flight_side_angle``, ``decision.hang_gate``,
+``decision.hang_share``, ``decision.hang_drop``, ``decision.hang_level``, ``decision.hang_lines``,
+``decision.cut_boxes``, ``decision.cut_reach``,
 ``decision.cut_margin``, ``decision.cut_corner``, ``decision.cut_pieces``).
 """
 
