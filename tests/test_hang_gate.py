@@ -108,6 +108,19 @@ def test_a_box_overhanging_what_carries_it_stays_a_box(tmp_path):
     assert not any(isinstance(r, M.HangRefusal) for r in o.refused)
 
 
+def test_a_table_top_over_its_apron_is_no_box_without_the_size_gate(tmp_path):
+    """fbox31's rendered dining table (its 2 m top over a 13 cm apron, legs left out): with the
+    size gate off, the apron hangs over the space under the top and the hang gate refuses it;
+    the carton standing on the floor in front of it stays a box."""
+    import test_size_gate as S
+
+    model = S._model(tmp_path / "m", gate=False, hang=True)
+    ans = S._answers("table", model)
+    assert ans[S.TABLE].klass == "other"
+    assert any(isinstance(r, M.HangRefusal) for r in ans[S.TABLE].refused)
+    assert ans[1].klass == "box" and ans[1].refused == ()
+
+
 def test_the_measure():
     from planerel.features.facts import describe_scene
     from planerel.features.hang import face_hang, supported

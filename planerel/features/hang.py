@@ -11,8 +11,9 @@ edge (the floor under the sofa, the wall under the radiator).
 
 :func:`face_hang` measures one upright plane: for each image line across the face along the
 image's "down" (gravity's ``-up`` as the image shows it at its centre), the face's lowest
-pixel on that line, and the first few valid pixels of other planes (or none) 3-25 pixels
-further down.  A line is
+pixel on that line when it lies on the face's lower edge (within 5 cm of its level: a thin
+face seen slanted has lines whose lowest pixel is high on the face), and the first few valid
+pixels of other planes (or none) 3-25 pixels further down.  A line is
 
 * ``near`` when they are nearer than the edge (something in front hides the edge or carries
   the face there),
@@ -70,10 +71,12 @@ def _down_step(up):
 
 def face_hang(face: int, up, floor_level: float, xyz, labels, drop: float = 0.12,
               level: float = 0.04, near: float = 0.03, first: int = 3, last: int = 25,
-              samples: int = 6):
+              samples: int = 6, edge: float = 0.05):
     """Measure upright plane ``face`` of an organized scan (``xyz`` shape (H, W, 3),
     ``labels`` shape (H, W)): a :class:`FaceHang`, or None when no image direction is down
-    or the face has no valid pixel."""
+    or the face has no valid pixel.  Only the lines whose lowest pixel lies within ``edge``
+    (metres) of the face's lower edge (the 10th percentile of the lines' lowest pixels'
+    heights) are judged."""
     step = _down_step(up)
     if step is None:
         return None
@@ -96,8 +99,14 @@ def face_hang(face: int, up, floor_level: float, xyz, labels, drop: float = 0.12
     first_of[1:] = line[order][1:] != line[order][:-1]
     seen = unseen = n_hang = n_near = n_level = 0
     offs = np.arange(first, last + 1, dtype=np.float64)
-    bottom = float(np.median(hgt[order[first_of]]))
-    for i in order[first_of]:
+    low = order[first_of]
+    # the lower edge: the lines whose lowest pixel lies within ``edge`` of the face's lowest
+    # level (a box's lower edge is level; a thin face seen slanted, or one whose foot a nearer
+    # thing hides, has lines whose lowest pixel is no point of that edge)
+    ref = float(np.percentile(hgt[low], 10))
+    low = low[hgt[low] <= ref + edge]
+    bottom = float(np.median(hgt[low]))
+    for i in low:
         r0, c0, hb = int(rows[i]), int(cols[i]), float(hgt[i])
         rb = float(rng[r0, c0])
         rr = np.round(r0 + offs * step[1]).astype(np.int64)
