@@ -415,6 +415,11 @@ class Classifier:
         #: None when off
         self.flight_trim = ((decision.flight_trim_angle, decision.flight_trim_edge,
                              decision.flight_trim_rise) if decision.flight_trim else None)
+        #: no ``box`` for an object whose upright proof faces hang over the space beneath
+        #: them (``decision.hang_gate``, :mod:`planerel.features.hang`): ``(share, drop,
+        #: level, lines)``, or None when off
+        self.hang = ((decision.hang_share, decision.hang_drop, decision.hang_level,
+                      decision.hang_lines) if decision.hang_gate else None)
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -565,6 +570,8 @@ class Classifier:
             answers = self._trim_flights(desc, answers, plane_ids, xyz)
         if self.flight_side is not None and xyz is not None and BOX in self.classes:
             answers = self._flight_sides(desc, answers, xyz)
+        if self.hang is not None and xyz is not None and BOX in self.classes:
+            answers = self._hanging(desc, answers, xyz)
         return answers
 
     def _trim_flights(self, desc, answers, plane_ids, xyz) -> tuple:
@@ -599,6 +606,42 @@ class Classifier:
             out.append(replace(a, labels=rest, planes=tuple(plane_ids[x] for x in rest),
                                cut_off=tuple(a.cut_off) + (side.id,)))
             out.append(replace(b, cut_from=a.object_id))
+        return tuple(out)
+
+    def _hanging(self, desc, answers, xyz) -> tuple:
+        """``decision.hang_gate``: each ``box`` answer whose upright proof faces (those with
+        at least ``hang_lines`` image lines showing anything beneath them) all hang
+        (:func:`~planerel.features.hang.face_hang`) with no horizontal plane at their lower
+        edge (:func:`~planerel.features.hang.supported`) becomes ``other``, with a
+        :class:`~planerel.ilp.metrics.HangRefusal`."""
+        from dataclasses import replace
+
+        from planerel.features.hang import face_hang, supported
+        from planerel.ilp.metrics import HangRefusal
+
+        share, drop, level, lines = self.hang
+        planes = {p.label: p for p in desc.planes}
+        ids = {desc.plane_id(p.label): p.label for p in desc.planes}
+        lab = desc.labels
+        if lab is None or np.asarray(lab).shape != np.asarray(xyz).shape[:2]:
+            return answers
+        out = []
+        for a in answers:
+            if a.klass == BOX:
+                faces = [ids[i] for i in a.proof_planes
+                         if i in ids and planes[ids[i]].orientation == "vertical"]
+                hangs = [face_hang(f, desc.planes.up, desc.planes.floor_level, xyz, lab,
+                                   drop=drop, level=level) for f in faces]
+                hangs = [h for h in hangs if h is not None and h.seen >= lines]
+                if hangs and all(h.share >= share for h in hangs) and not any(
+                        supported(desc.planes, h, xyz, lab, level=level) for h in hangs):
+                    why = HangRefusal(BOX, a.rule_index or 0,
+                                      tuple(desc.plane_id(h.face) for h in hangs),
+                                      min(h.share for h in hangs), max(h.bottom for h in hangs))
+                    a = replace(a, klass=OTHER, rule=None, bindings={}, proof_planes=(),
+                                rule_index=None, precision=None,
+                                refused=tuple(a.refused) + (why,))
+            out.append(a)
         return tuple(out)
 
     def _flight_sides(self, desc, answers, xyz) -> tuple:

@@ -202,6 +202,12 @@ FLIGHT_TRIM = True
 FLIGHT_TRIM_ANGLE = 25.0
 FLIGHT_TRIM_EDGE = 0.05
 FLIGHT_TRIM_RISE = 0.2
+#: Defaults of :attr:`DecisionParams.hang_gate` and its bounds (false57).
+HANG_GATE = True
+HANG_SHARE = 0.7
+HANG_DROP = 0.12
+HANG_LEVEL = 0.04
+HANG_LINES = 8
 #: Defaults of :attr:`DecisionParams.cut_boxes`, ``cut_reach``, ``cut_margin``.
 CUT_BOXES = True
 CUT_REACH = 1.5
@@ -468,6 +474,23 @@ class DecisionParams:
         Degrees in 0..90 (25; the walls cut on real frames: 0.8-9.8).
     flight_trim_edge, flight_trim_rise : float
         Metres (>= 0; 0.05, 0.2).
+    hang_gate : bool
+        On by default (false57).  No ``box`` for an object whose upright proof faces all
+        hang: beneath each one's lower edge the camera sees, on at least ``hang_share`` of the
+        image lines across it that show anything there, points farther than the edge by
+        more than ``hang_drop`` and lower by more than ``hang_level`` (the space under a
+        sofa's seat front, a desk's apron, a radiator), and no horizontal plane of the scan
+        lies at the edge's level within ``hang_level`` and 0.3 m of it (a box standing on
+        or overhanging the box below).  A face with fewer than ``hang_lines`` lines that
+        show anything beneath it is not judged.  Measured by
+        :func:`planerel.features.hang.face_hang` and :func:`~planerel.features.hang.supported`.
+        The answer becomes ``other``.  Only classify applies it (it needs the scan's points).
+    hang_share : float
+        In 0..1 (0.7).
+    hang_drop, hang_level : float
+        Metres (>= 0): 0.12, 0.04.
+    hang_lines : int
+        Whole number >= 1 (8).
     cut_boxes : bool
         On by default (core49).  A proposal a box rule proves and a gate refuses ``box`` for,
         whose planes hold a box proof's seed (a ``skirt`` or ``face_pair`` pair; a lone
@@ -549,6 +572,11 @@ class DecisionParams:
     flight_trim_angle: float = FLIGHT_TRIM_ANGLE
     flight_trim_edge: float = FLIGHT_TRIM_EDGE
     flight_trim_rise: float = FLIGHT_TRIM_RISE
+    hang_gate: bool = HANG_GATE
+    hang_share: float = HANG_SHARE
+    hang_drop: float = HANG_DROP
+    hang_level: float = HANG_LEVEL
+    hang_lines: int = HANG_LINES
     cut_boxes: bool = CUT_BOXES
     cut_reach: float = CUT_REACH
     cut_margin: float = CUT_MARGIN
@@ -559,11 +587,11 @@ class DecisionParams:
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
                      "side_gate", "unsure_gate", "facet_gate", "facet_bridge", "cut_boxes",
-                     "flight_side_gate", "flight_trim"):
+                     "flight_side_gate", "flight_trim", "hang_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
-        for name in ("planar_margin", "proof_margin", "foot_hidden"):
+        for name in ("planar_margin", "proof_margin", "foot_hidden", "hang_share"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or not 0 <= m <= 1):
@@ -579,7 +607,8 @@ class DecisionParams:
                 raise InputError(f"decision.{name} must be a number >= 0 (metres), got {m!r}")
         for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin",
                      "flight_side_thick", "flight_side_gap", "flight_side_reach",
-                     "flight_side_rise", "flight_trim_edge", "flight_trim_rise"):
+                     "flight_side_rise", "flight_trim_edge", "flight_trim_rise", "hang_drop",
+                     "hang_level"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
@@ -602,6 +631,9 @@ class DecisionParams:
         if isinstance(n, bool) or not isinstance(n, int) or n < 0 or n == 1:
             raise InputError(f"decision.cut_corner must be 0 (off) or a whole number >= 2, "
                              f"got {n!r}")
+        n = self.hang_lines
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            raise InputError(f"decision.hang_lines must be a whole number >= 1, got {n!r}")
         n = self.proof_min_positives
         if isinstance(n, bool) or not isinstance(n, int) or n < 1:
             raise InputError(f"decision.proof_min_positives must be a whole number >= 1, got {n!r}")
@@ -1627,6 +1659,33 @@ class FlightSideRefusal:
         return {"class": self.klass, "rule": self.rule, "flight": self.flight,
                 "thick": round(self.thick, 3), "gap": round(self.gap, 3),
                 "rise": round(self.rise, 3), "reason": self.reason}
+
+
+@dataclass(frozen=True)
+class HangRefusal:
+    """``box`` for an object whose upright proof faces hang over the space beneath them
+    (``decision.hang_gate``, :func:`planerel.features.hang.face_hang`)."""
+
+    klass: str
+    rule: int
+    #: the hanging faces' plane ids
+    faces: tuple
+    #: the least hanging share among them
+    share: float
+    #: the highest lower edge among them, metres over the floor
+    bottom: float
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it, but its upright faces {', '.join(self.faces)} "
+                f"hang: beneath their lower edges ({self.bottom:.2f} m up) the camera sees "
+                f"farther, lower points on {self.share:.0%} of the lines or more, and no "
+                f"horizontal plane carries them")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "faces": list(self.faces),
+                "share": round(self.share, 3), "bottom": round(self.bottom, 3),
+                "reason": self.reason}
 
 
 def facet_refusals(hits, stats: Sequence, facet=None):
