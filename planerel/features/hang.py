@@ -69,6 +69,15 @@ def _down_step(up):
     return None if n < 0.3 else d / n
 
 
+def _valid(xyz, rows, cols):
+    """The points of pixels ``rows, cols`` of ``xyz`` as float64 ``(n, 3)``, their ranges
+    ``(n,)`` and whether each is a measured point (finite, not at the origin)."""
+    p = xyz[rows, cols].astype(np.float64)
+    ok = np.isfinite(p).all(-1)
+    rng = np.linalg.norm(np.where(ok[:, None], p, 0.0), axis=-1)
+    return p, rng, ok & (rng > 0)
+
+
 def face_hang(face: int, up, floor_level: float, xyz, labels, drop: float = 0.12,
               level: float = 0.04, near: float = 0.03, first: int = 3, last: int = 25,
               samples: int = 6, edge: float = 0.05):
@@ -82,16 +91,15 @@ def face_hang(face: int, up, floor_level: float, xyz, labels, drop: float = 0.12
         return None
     up = np.asarray(up, dtype=np.float64)
     lab = np.asarray(labels)
-    pts = np.asarray(xyz, dtype=np.float64)
+    xyz = np.asarray(xyz)
     h, w = lab.shape
-    valid = np.isfinite(pts).all(-1)
-    rng = np.linalg.norm(np.where(valid[..., None], pts, 0.0), axis=-1)
-    valid &= rng > 0
-    m = (lab == face) & valid
-    rows, cols = np.nonzero(m)
+    # only the face's pixels and the samples beneath it are read (no pass over the image)
+    rows, cols = np.nonzero(lab == face)
+    fpts, frng, ok = _valid(xyz, rows, cols)
+    rows, cols, fpts, frng = rows[ok], cols[ok], fpts[ok], frng[ok]
     if rows.size == 0:
         return None
-    hgt = pts[rows, cols] @ up - floor_level
+    hgt = fpts @ up - floor_level
     perp = np.array([-step[1], step[0]])
     line = np.round(cols * perp[0] + rows * perp[1]).astype(np.int64)
     order = np.lexsort((hgt, line))           # by line, lowest first
@@ -108,19 +116,20 @@ def face_hang(face: int, up, floor_level: float, xyz, labels, drop: float = 0.12
     bottom = float(np.median(hgt[low]))
     for i in low:
         r0, c0, hb = int(rows[i]), int(cols[i]), float(hgt[i])
-        rb = float(rng[r0, c0])
+        rb = float(frng[i])
         rr = np.round(r0 + offs * step[1]).astype(np.int64)
         cc = np.round(c0 + offs * step[0]).astype(np.int64)
         inside = (rr >= 0) & (rr < h) & (cc >= 0) & (cc < w)
         rr, cc = rr[inside], cc[inside]
-        ok = valid[rr, cc] & (lab[rr, cc] != face)
-        rr, cc = rr[ok][:samples], cc[ok][:samples]
-        if rr.size == 0:
+        spts, srng, ok = _valid(xyz, rr, cc)
+        ok &= lab[rr, cc] != face
+        spts, srng = spts[ok][:samples], srng[ok][:samples]
+        if srng.size == 0:
             unseen += 1
             continue
         seen += 1
-        dr = float(np.median(rng[rr, cc])) - rb
-        dh = float(np.median(pts[rr, cc] @ up - floor_level)) - hb
+        dr = float(np.median(srng)) - rb
+        dh = float(np.median(spts @ up - floor_level)) - hb
         if dr < -near:
             n_near += 1
         elif abs(dh) <= level:
