@@ -16,6 +16,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 from dataclasses import replace
 from pathlib import Path
 
@@ -25,6 +26,9 @@ from planerel.cli import main
 from planerel.errors import InputError
 from planerel.ilp.aleph_export import aleph_files, describe_dataset, export_aleph
 from planerel.ilp.learn import aleph_kind, learn
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_real_aleph import dataset  # noqa: E402,F401  (the fixture: 3 scenes a class, seed 5)
 
 SWIPL = shutil.which("swipl") or "/usr/bin/swipl"
 ALEPH = os.environ.get("PLANEREL_ALEPH", "")
@@ -55,15 +59,7 @@ def _run(goal: str, files: list[Path], cwd: Path) -> subprocess.CompletedProcess
 
 
 @pytest.fixture(scope="module")
-def dataset(tmp_path_factory):
-    d = tmp_path_factory.mktemp("ds")
-    assert main(["dataset", "synth", str(d), "--n-box", "3", "--n-stairs", "3", "--n-ramp", "3",
-                 "--seed", "5", "--quiet"]) == 0
-    return d
-
-
-@pytest.fixture(scope="module")
-def descs(dataset):
+def descs(dataset):  # noqa: F811
     descs, skipped = describe_dataset(dataset)
     assert skipped == []
     return descs
@@ -176,7 +172,7 @@ def test_real_aleph_reads_the_export_by_hand(tmp_path, descs):
 # ------------------------------------ examples of your own on `planerel describe` facts
 
 
-def test_own_examples_on_describe_facts(tmp_path, dataset, descs):
+def test_own_examples_on_describe_facts(tmp_path, dataset, descs):  # noqa: F811
     """docs/predicates.md, "Examples of your own": describe scans with ``--pairs object``,
     name objects in STEM.f / STEM.n, take the task's head from an export, consult
     compare.pl and the facts; planerel's learner (and the real Aleph by hand, when

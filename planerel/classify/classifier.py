@@ -585,14 +585,13 @@ class Classifier:
         from planerel.features.flight_side import side_planes
 
         angle, edge, rise = self.flight_trim
-        objects = {o.id: o for o in desc.objects}
+        proposals = {o.id for o in desc.objects}   # not a box cut_boxes made of a part
         out = []
         for a in answers:
-            o = objects.get(a.object_id)
-            cut = () if a.klass != "stairs" or o is None else side_planes(
+            cut = () if a.klass != "stairs" or a.object_id not in proposals else side_planes(
                 desc.planes, a.labels, desc.steps, xyz, desc.labels, angle, edge, rise)
-            proof = {x for x in a.labels if plane_ids.get(x) in set(a.proof_planes)}
-            cut = tuple(x for x in cut if x not in proof)
+            proof = set(a.proof_planes)   # a plane a rule binds stays with the flight
+            cut = tuple(x for x in cut if plane_ids.get(x) not in proof)
             if not cut:
                 out.append(a)
                 continue
