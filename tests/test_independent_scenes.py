@@ -297,3 +297,31 @@ def test_convex_overlap_separates_and_meets():
     assert ind._overlap2(sq, seg) and not ind._overlap2(sq, seg + [0, 1.0])
     np.testing.assert_allclose(sorted(map(tuple, ind._hull2(np.vstack([sq, [[0.5, 0.5]]])))),
                                sorted(map(tuple, sq)))
+
+
+def test_every_development_set_command_parses_and_no_two_sets_share_their_arguments():
+    """``dev`` makes each set of :data:`DEV_SETS` through the ``make`` parser: a typo in the table
+    would only show on a machine that lost its sets."""
+    seen = set()
+    for name, args in ind.DEV_SETS.items():
+        a = ind._parser().parse_args(["make", f"/x/{name}"] + args.split())
+        key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture)
+        assert key not in seen, name
+        seen.add(key)
+    assert len(ind.DEV_SETS) == 10
+
+
+def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path, capsys):
+    """``dev --only dev_lowr`` writes the scenes ``make`` writes with the table's arguments
+    (byte for byte), and a second run leaves them alone."""
+    ind.main(["dev", str(tmp_path / "d"), "--only", "dev_lowr"])
+    a = ind._parser().parse_args(["make", str(tmp_path / "m")] + ind.DEV_SETS["dev_lowr"].split())
+    a.n = 2
+    ind._make(a)
+    made = sorted((tmp_path / "m").glob("i[0-9]*"))  # the scenes (the set's summary names its size)
+    assert len(made) >= 6
+    for f in made:
+        assert (tmp_path / "d" / "dev_lowr" / f.name).read_bytes() == f.read_bytes(), f.name
+    capsys.readouterr()
+    ind.main(["dev", str(tmp_path / "d"), "--only", "dev_lowr"])
+    assert "there already" in capsys.readouterr().out
