@@ -52,6 +52,9 @@ TRUTH = {
     "hunt48/arkit-rooms/a679_6790": ("sign", None, "the ceiling's axis; the phone is upright (RGB)"),
     "hunt48/arkit-rooms/a462_57402": ("sign", None, "the ceiling's axis; the phone is upright (RGB)"),
     "hunt48/arkit-rooms/a473_58528": ("largest", None, "the floor seen from straight above"),
+    "hunt57/piv-office/office_cam2": ("sign", None, "the ceiling's axis: the room seen upright (ceiling "
+                                      "at the image's top, door and chairs below); the support "
+                                      "rule took a 0.03 m^2 chair part (grav58)"),
     "hunt49/sunrgbd-rs/depth_4": ("none", None, "a kitchen counter seen level: no floor or top segmented"),
 }
 APC = {"00": (0, -1, 0), "03": (0, -1, 0), "06": (0, -0.98, -0.17), "09": (0, -0.98, -0.17),
