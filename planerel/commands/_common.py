@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from planerel.errors import InputError
 
@@ -63,18 +64,53 @@ def check_input_options(args: argparse.Namespace) -> None:
     given_up(args)
 
 
+_INTRINSICS_FORMS = "'kinect' or W,H,fx,fy,cx,cy (or a camera JSON file)"
+
+
+def _intrinsics_file(text: str) -> tuple:
+    """The camera of a JSON file: ``{width, height, fx, fy, cx, cy}``, a sidecar's
+    ``{"intrinsics": {...}}``, or ``width``/``height`` with a 3x3 ``K`` (flat or nested, also
+    ``k``, ``camera_matrix`` or ``camera_matrix.data``, as ROS camera_info writes it)."""
+    import numpy as np
+
+    from planerel.io.cloud import Intrinsics
+    from planerel.io.readers import read_json_object
+
+    data = read_json_object(text, "camera JSON given to --intrinsics")
+    if isinstance(data.get("intrinsics"), dict):
+        data = data["intrinsics"]
+    try:
+        if all(k in data for k in ("width", "height", "fx", "fy", "cx", "cy")):
+            i = Intrinsics.from_any(data)
+        else:
+            K = next((data[k] for k in ("K", "k", "camera_matrix") if k in data), None)
+            K = K.get("data") if isinstance(K, dict) else K
+            w = data.get("width", data.get("image_width"))
+            h = data.get("height", data.get("image_height"))
+            if K is None or w is None or h is None:
+                raise InputError("it holds neither width, height, fx, fy, cx, cy nor width, "
+                                 "height and a 3x3 K")
+            i = Intrinsics.from_matrix(np.asarray(K, dtype=float).reshape(3, 3), w, h)
+    except (InputError, TypeError, ValueError) as exc:
+        raise InputError(f"--intrinsics {text}: {exc}") from None
+    return (i.width, i.height, i.fx, i.fy, i.cx, i.cy)
+
+
 def parse_intrinsics(text: str | None):
-    """``"kinect"`` or ``"W,H,fx,fy,cx,cy"`` -> a value :func:`planerel.io.readers.read` accepts."""
+    """``"kinect"``, ``"W,H,fx,fy,cx,cy"`` or a camera JSON file -> a value
+    :func:`planerel.io.readers.read` accepts."""
     if text is None or text.lower() == "kinect":
         return text
     parts = text.split(",")
+    if len(parts) != 6 and (text.lower().endswith(".json") or Path(text).is_file()):
+        return _intrinsics_file(text)
     if len(parts) != 6:
-        raise InputError(f"--intrinsics must be 'kinect' or W,H,fx,fy,cx,cy; got {text!r}")
+        raise InputError(f"--intrinsics must be {_INTRINSICS_FORMS}; got {text!r}")
     try:
         w, h = int(parts[0]), int(parts[1])
         values = (w, h, *(float(p) for p in parts[2:]))
     except ValueError:
-        raise InputError(f"--intrinsics must be 'kinect' or W,H,fx,fy,cx,cy; got {text!r}") from None
+        raise InputError(f"--intrinsics must be {_INTRINSICS_FORMS}; got {text!r}") from None
     from planerel.io.cloud import Intrinsics
 
     try:  # a size under 1, a NaN or a focal length <= 0: one error about the option, not
@@ -87,9 +123,11 @@ def parse_intrinsics(text: str | None):
 def add_input_options(parser: argparse.ArgumentParser) -> None:
     """``--intrinsics``, ``--depth-scale``, ``--up``, ``--subsample`` for commands that read scans."""
     g = parser.add_argument_group("reading scans")
-    g.add_argument("--intrinsics", metavar="kinect|W,H,fx,fy,cx,cy",
-                   help="camera of depth images without a sidecar JSON / OpenNI XML "
-                        "(default: the Kinect preset, scaled to the image size)")
+    g.add_argument("--intrinsics", metavar="kinect|W,H,fx,fy,cx,cy|FILE.json",
+                   help="camera of depth images without a sidecar JSON / OpenNI XML: the "
+                        "preset, six numbers, or a JSON file holding width, height, fx, fy, "
+                        "cx, cy (or width, height and a 3x3 K; only the camera is read from "
+                        "it) (default: the Kinect preset, scaled to the image size)")
     g.add_argument("--depth-scale", type=float, metavar="UNITS_PER_M",
                    help="depth units per metre (default: sidecar value, else 1000 for 16-bit "
                         "images, 1 for float images)")
