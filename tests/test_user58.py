@@ -9,7 +9,6 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -96,3 +95,69 @@ def test_intrinsics_from_a_camera_json_file(frame, tmp_path):
         err = [ln for ln in r.stderr.splitlines() if ln.strip()]
         assert r.returncode == 2 and len(err) == 1 and needle in err[0], r.stderr
     assert not (tmp_path / "f.pl").exists()
+
+
+def test_a_folder_of_depth_and_colour_frames_reads_the_depth_ones(frame, tmp_path):
+    # before: `classify MODEL frames/` stopped at the first colour image beside the depth
+    # frames ("desk1_rgb.png: a depth image must have one channel"), the usual RGB-D layout
+    png, cam = frame
+    d = tmp_path / "frames"
+    d.mkdir()
+    for name in ("a_depth.png", "b_depth.png"):
+        (d / name).write_bytes(png.read_bytes())
+    Image.fromarray(np.zeros((120, 160, 3), np.uint8)).save(d / "a_rgb.png")
+    Image.fromarray(np.zeros((120, 160), np.uint8)).save(d / "a_ir.png")          # 8-bit grey
+    np.save(d / "b_rgb.npy", np.zeros((120, 160, 3), np.uint8))
+    import tifffile
+
+    tifffile.imwrite(d / "c_rgb.tiff", np.zeros((120, 160, 3), np.uint8))
+    rules = tmp_path / "r.pl"
+    rules.write_text("box(A) :- nvertical(A, B), B >= 1.\n")
+    r = _run("classify", rules, d, "--json", "-j", "1", "--intrinsics", ",".join(map(str, cam)))
+    assert r.returncode == 0, r.stderr
+    assert [s["scene"] for s in json.loads(r.stdout)] == ["a", "b"]
+    notes = [ln for ln in r.stderr.splitlines() if "left out" in ln]
+    assert len(notes) == 1 and "left out 4 colour or 8-bit image(s)" in notes[0], r.stderr
+    # named, a colour image is still read and refused in one line
+    r = _run("classify", rules, d / "a_rgb.png", "-j", "1", "--intrinsics", "kinect")
+    assert r.returncode == 2 and "must have one channel" in r.stderr
+    # a folder of colour images only is not emptied in silence: the reader says why
+    only = tmp_path / "only"
+    only.mkdir()
+    Image.fromarray(np.zeros((120, 160, 3), np.uint8)).save(only / "x.png")
+    r = _run("classify", rules, only, "-j", "1", "--intrinsics", "kinect")
+    assert r.returncode == 2 and "must have one channel" in r.stderr
+
+
+def test_a_depth_image_of_no_kinect_size_without_a_camera_says_what_to_give(tmp_path):
+    # before: "note: ...: no camera information; assuming Kinect intrinsics", then "error:
+    # no Kinect preset for 512x424: give the intrinsics explicitly" (which option?)
+    png = tmp_path / "tof_depth.png"
+    Image.fromarray(np.full((424, 512), 1500, np.uint16)).save(png)
+    r = _run("describe", png, "-o", tmp_path / "f.pl", "-j", "1")
+    err = [ln for ln in r.stderr.splitlines() if ln.strip()]
+    assert r.returncode == 2 and len(err) == 1, r.stderr
+    assert "no Kinect size" in err[0] and "--intrinsics W,H,fx,fy,cx,cy or a camera JSON" \
+        in err[0] and "tof.json beside it" in err[0], err[0]
+
+
+def test_a_frame_with_most_pixels_missing_says_why_it_has_no_plane(frame, tmp_path):
+    # before: "0 planes, 0 object(s)" and a note to pass --up, nothing about the 95 % of
+    # pixels without a depth
+    png, cam = frame
+    depth = np.asarray(Image.open(png)).copy()
+    depth[np.random.default_rng(0).random(depth.shape) < 0.95] = 0
+    sparse = tmp_path / "sparse_depth.png"
+    Image.fromarray(depth).save(sparse)
+    rules = tmp_path / "r.pl"
+    rules.write_text("box(A) :- nvertical(A, B), B >= 1.\n")
+    cam = ",".join(map(str, cam))
+    r = _run("classify", rules, sparse, "-j", "1", "--intrinsics", cam)
+    assert r.returncode == 0, r.stderr
+    assert "0 planes" in r.stdout and "note: no plane found: only " in r.stdout, r.stdout
+    assert "% of the pixels hold a depth" in r.stdout and "--up" not in r.stdout
+    r = _run("describe", sparse, "-o", tmp_path / "f.pl", "-j", "1", "--intrinsics", cam)
+    assert r.returncode == 0 and "% of the pixels hold a depth" in r.stderr, r.stderr
+    # a whole frame keeps its planes and says nothing of the kind
+    r = _run("classify", rules, png, "-j", "1", "--intrinsics", cam)
+    assert "pixels hold a depth" not in r.stdout and " 0 planes" not in r.stdout

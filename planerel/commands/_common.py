@@ -8,7 +8,7 @@ from pathlib import Path
 from planerel.errors import InputError
 
 __all__ = ["add_input_options", "add_batch_options", "read_input", "read_options", "inputs_of",
-           "given_up", "check_input_options", "parse_vector", "parse_intrinsics"]
+           "given_up", "check_input_options", "parse_vector", "parse_intrinsics", "sparse_note"]
 
 
 def parse_vector(text: str, name: str = "vector") -> tuple[float, float, float]:
@@ -191,6 +191,7 @@ def read_input(path, args: argparse.Namespace):
 
     from planerel.io import readers as io
     from planerel.io.cloud import subsample
+    from planerel.io.naming import scene_name
 
     intr = parse_intrinsics(getattr(args, "intrinsics", None))
     given_up(args)
@@ -202,8 +203,17 @@ def read_input(path, args: argparse.Namespace):
     except InputError as exc:
         if intr is not None or "no intrinsics" not in str(exc) and "needs intrinsics" not in str(exc):
             raise
+        try:
+            cloud = io.read(path, intrinsics="kinect", **kwargs)
+        except InputError as exc2:
+            if "no Kinect preset" not in str(exc2):
+                raise
+            # not a note then an error about a preset the user never asked for: say what to do
+            raise InputError(f"{path}: no camera information, and the image is no Kinect size "
+                             "(640x480 or a whole-number part of it): give --intrinsics "
+                             "W,H,fx,fy,cx,cy or a camera JSON file, or a sidecar "
+                             f"{scene_name(path)}.json beside it") from None
         print(f"note: {path}: no camera information; assuming Kinect intrinsics", file=sys.stderr)
-        cloud = io.read(path, intrinsics="kinect", **kwargs)
     k = getattr(args, "subsample", 1) or 1
     full = cloud
     cloud = subsample(full, k)
@@ -215,6 +225,24 @@ def read_input(path, args: argparse.Namespace):
                          f"{w2}x{h2}; need at least 3): give a smaller --subsample")
     _note_far_depth(path, cloud)
     return cloud
+
+
+#: Share of measured pixels under which a frame that gives no plane is said to be too sparse.
+SPARSE_SHARE = 0.5
+
+
+def sparse_note(cloud, n_planes: int) -> str | None:
+    """A note for an organized frame that gave no plane and holds a depth at under
+    :data:`SPARSE_SHARE` of its pixels (a frame with most pixels missing); else None."""
+    if n_planes or not cloud.organized:
+        return None
+    h, w = cloud.xyz.shape[:2]
+    share = cloud.n_valid / max(1, h * w)
+    if share >= SPARSE_SHARE:
+        return None
+    return (f"no plane found: only {100 * share:.1f} % of the pixels hold a depth "
+            f"({cloud.n_valid:,} of {h * w:,}); region growing grows planes over neighbouring "
+            "measured pixels, so scattered or few points give none")
 
 
 #: Median depth (metres) beyond which a scan is most likely not in metres (a float image of
