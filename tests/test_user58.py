@@ -196,6 +196,7 @@ def test_own_frames_and_rectangles_make_a_data_set_that_learns(tmp_path):
     assert {"top", "face"} <= {p["role"] for p in meta["planes"]}
     r = _run("dataset", "info", ds)
     assert r.returncode == 0 and "5 scenes; box 3, other 2" in r.stdout, r.stdout + r.stderr
+    assert "made by examples/label_frames.py\n" in r.stdout      # no "with seed ?"
     model = tmp_path / "m"
     r = _run("learn", ds, "-o", model, "--engine", "builtin", "-j", "1", "--cache", "none")
     assert r.returncode == 0, r.stderr
