@@ -208,3 +208,35 @@ def test_own_frames_and_rectangles_make_a_data_set_that_learns(tmp_path):
     r = subprocess.run([sys.executable, str(script), str(frames), str(ds)],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and "exists; give a new folder" in r.stderr
+
+
+def test_classify_json_says_where_each_plane_is(frame, tmp_path):
+    # before: an answer named its proof planes by id only; where they are (for a robot: the
+    # box's top, a tread) needed a second run of describe, whose ids match only under the
+    # model's own segmentation settings
+    png, cam = frame
+    rules = tmp_path / "r.pl"
+    rules.write_text("box(A) :- has_plane(A, B), orientation(B, horizontal).\n")
+    r = _run("classify", rules, png, "--json", "-j", "1", "--intrinsics", ",".join(map(str, cam)))
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)[0]
+    geo = d["planes"]
+    assert len(geo) == d["n_planes"] > 0
+    named = {p for o in d["objects"] for p in o["planes"] + o["proof_planes"]}
+    assert named <= set(geo) and any(o["proof_planes"] for o in d["objects"])
+    depth = np.asarray(Image.open(png)) / 1000.0
+    zmin, zmax = depth[depth > 0].min(), depth[depth > 0].max()
+    for g in geo.values():
+        assert abs(np.linalg.norm(g["normal"]) - 1) < 1e-3
+        assert zmin - 0.01 <= g["centroid"][2] <= zmax + 0.01
+        r0, c0, r1, c1 = g["bbox"]
+        assert 0 <= r0 < r1 <= 120 and 0 <= c0 < c1 <= 160
+        assert g["orientation"] in ("horizontal", "vertical", "inclined") and g["area"] > 0
+    up = np.asarray(d["up_vector"])
+    floor = geo[d["floor"]]
+    assert floor["orientation"] == "horizontal" and abs(np.dot(floor["normal"], up)) > 0.95
+    # the picture's JSON (-o) holds the same
+    r = _run("classify", rules, png, "-o", tmp_path / "o", "-j", "1", "--intrinsics",
+             ",".join(map(str, cam)))
+    saved = json.loads((tmp_path / "o" / "box.classified.json").read_text())
+    assert r.returncode == 0 and saved["planes"] == geo
