@@ -44,6 +44,51 @@ def _is_scan(p: Path) -> bool:
             and not low.startswith("."))
 
 
+def _colour_image(p: Path) -> bool:
+    """True for a file that holds a colour or 8-bit image, no depth: a PNG whose header says
+    8 bits or colour, a TIFF whose first page has several samples or 8 bits, a ``uint8``
+    ``.npy`` (the ``*_rgb`` files beside depth frames).  Reads the header only."""
+    low = p.name.lower()
+    try:
+        if low.endswith(".png"):
+            with open(p, "rb") as fh:
+                head = fh.read(26)
+            # IHDR: bit depth at byte 24, colour type at byte 25 (0 = grey)
+            return (len(head) == 26 and head[:8] == b"\x89PNG\r\n\x1a\n"
+                    and (head[24] <= 8 or head[25] != 0))
+        if low.endswith((".tif", ".tiff")):
+            import tifffile
+
+            with tifffile.TiffFile(p) as tf:
+                page = tf.pages[0]
+                return page.samplesperpixel > 1 or page.dtype.itemsize == 1
+        if low.endswith(".npy"):
+            import numpy as np
+
+            return np.load(p, mmap_mode="r", allow_pickle=False).dtype == np.uint8
+    except Exception:  # noqa: BLE001 -- an unreadable file is the reader's to report
+        return False
+    return False
+
+
+def _folder_scans(p: Path) -> list[Path]:
+    """The scans directly inside a folder that is no data set; colour and 8-bit images
+    beside the depth frames (``*_rgb.png``) are left out, with a note."""
+    found = sorted((q for q in p.iterdir() if _is_scan(q)), key=lambda q: q.name)
+    colour = [q for q in found if _colour_image(q)]
+    if colour and len(colour) < len(found):
+        import warnings
+
+        from planerel.errors import PlanerelWarning
+
+        names = ", ".join(q.name for q in colour[:3]) + (", ..." if len(colour) > 3 else "")
+        warnings.warn(PlanerelWarning(
+            f"{p}: left out {len(colour)} colour or 8-bit image(s) ({names}): no depth; "
+            "name such a file to read it anyway"), stacklevel=3)
+        found = [q for q in found if q not in colour]
+    return found
+
+
 def expand_inputs(items: Iterable) -> list[Path]:
     """Files, folders and glob patterns -> the list of scan files, in a fixed order.
 
@@ -54,8 +99,9 @@ def expand_inputs(items: Iterable) -> list[Path]:
         ``manifest.csv``) gives its scenes' depth images in manifest order; any other folder
         gives the scan files directly inside it (``.png .tif .tiff .pcd .ply .npy .range``,
         without label and result images such as ``*.gt.png`` / ``*.labels.png``), sorted by
-        name.  A pattern with ``* ? [`` that is not an existing path is expanded (``**``
-        recurses), sorted.
+        name; colour and 8-bit images among them (``*_rgb.png`` beside the depth frames)
+        are left out with a note.  A pattern with ``* ? [`` that is not an existing path is
+        expanded (``**`` recurses), sorted.
 
     Raises
     ------
@@ -71,7 +117,7 @@ def expand_inputs(items: Iterable) -> list[Path]:
 
                 found = [p / r.depth for r in load_manifest(p)]
             else:
-                found = sorted((q for q in p.iterdir() if _is_scan(q)), key=lambda q: q.name)
+                found = _folder_scans(p)
             if not found:
                 raise InputError(f"{p}: the folder holds no scan ({', '.join(_exts())})")
             out.extend(found)

@@ -122,9 +122,10 @@ def test_one_class_and_other_objects_make_a_task(tmp_path, descs):
         popper_files(relabelled, "box")
     from planerel.ilp.pipeline import _classes_arg
 
-    with pytest.raises(InputError, match="has box and 6 objects of class 'other' \\(planerel "
-                                         "export-aleph writes"):
-        _classes_arg(None, relabelled)   # planerel learn needs two classes; it says what works
+    # planerel learn takes one class when objects of class other are its negatives (user58)
+    assert _classes_arg(None, relabelled) == ("box",)
+    with pytest.raises(InputError, match="or one and objects of class 'other'"):
+        _classes_arg(None, only_boxes)
 
 
 # ----------------------------------------------------------- the real Aleph, by hand

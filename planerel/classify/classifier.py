@@ -176,6 +176,9 @@ class SceneAnswer:
     #: looking level over a desk; rules that need the ground, such as a box seen as one
     #: upright face, cannot hold then)
     floor: str | None = None
+    #: ``{plane id: geometry}`` of every plane (:func:`plane_geometry`), where the proof
+    #: planes are (None: not recorded)
+    geometry: dict | None = None
 
     @property
     def n_planes(self) -> int:
@@ -190,6 +193,7 @@ class SceneAnswer:
                 "up_sparse_floor": self.up_sparse_floor,
                 "floor": self.floor,
                 "objects": [o.to_dict() for o in self.objects],
+                **({} if self.geometry is None else {"planes": self.geometry}),
                 "seconds": round(self.seconds, 4)}
 
     def notes(self) -> list:
@@ -206,6 +210,25 @@ class SceneAnswer:
             out.append("no floor plane in view: a box seen as one upright face cannot be "
                        "proved (its foot needs the floor), and no slope's foot is checked")
         return out
+
+
+def _num(v, digits: int = 4):
+    v = float(v)
+    return round(v, digits) if np.isfinite(v) else None
+
+
+def plane_geometry(plane) -> dict:
+    """Where a plane is, for a robot: ``centroid`` (m) and unit ``normal`` (towards the
+    sensor) in the camera frame (x right, y down, z forward), ``area`` (m^2), ``length`` and
+    ``width`` (m), ``orientation``, ``incline`` (degrees from level), ``height`` (m above the
+    floor, None when unknown), ``distance`` (m from the sensor) and the pixel ``bbox``
+    ``[row0, col0, row1, col1]`` (end-exclusive), from :class:`planerel.features.planes.Plane`."""
+    return {"centroid": [_num(v) for v in plane.centroid],
+            "normal": [_num(v) for v in plane.normal],
+            "area": _num(plane.area), "length": _num(plane.length),
+            "width": _num(plane.width), "orientation": plane.orientation,
+            "incline": _num(plane.incline, 2), "height": _num(plane.height),
+            "distance": _num(plane.distance), "bbox": [int(v) for v in plane.bbox]}
 
 
 _MODEL_NUMBERS = itertools.count(1)
@@ -533,7 +556,8 @@ class Classifier:
                            up_upside_down=bool(ps.up_upside_down),
                            up_near_floor=bool(ps.up_near_floor),
                            up_sparse_floor=bool(ps.up_sparse_floor),
-                           floor=None if ps.floor is None else plane_ids.get(ps.floor))
+                           floor=None if ps.floor is None else plane_ids.get(ps.floor),
+                           geometry={plane_ids[p.label]: plane_geometry(p) for p in ps})
 
     def answer_description(self, desc, xyz=None) -> tuple:
         """The answers for the objects of a scene description, in its object order.

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from planerel.errors import InputError
 
 __all__ = ["add_input_options", "add_batch_options", "read_input", "read_options", "inputs_of",
-           "given_up", "check_input_options", "parse_vector", "parse_intrinsics"]
+           "given_up", "check_input_options", "parse_vector", "parse_intrinsics", "sparse_note"]
 
 
 def parse_vector(text: str, name: str = "vector") -> tuple[float, float, float]:
@@ -63,18 +64,53 @@ def check_input_options(args: argparse.Namespace) -> None:
     given_up(args)
 
 
+_INTRINSICS_FORMS = "'kinect' or W,H,fx,fy,cx,cy (or a camera JSON file)"
+
+
+def _intrinsics_file(text: str) -> tuple:
+    """The camera of a JSON file: ``{width, height, fx, fy, cx, cy}``, a sidecar's
+    ``{"intrinsics": {...}}``, or ``width``/``height`` with a 3x3 ``K`` (flat or nested, also
+    ``k``, ``camera_matrix`` or ``camera_matrix.data``, as ROS camera_info writes it)."""
+    import numpy as np
+
+    from planerel.io.cloud import Intrinsics
+    from planerel.io.readers import read_json_object
+
+    data = read_json_object(text, "camera JSON given to --intrinsics")
+    if isinstance(data.get("intrinsics"), dict):
+        data = data["intrinsics"]
+    try:
+        if all(k in data for k in ("width", "height", "fx", "fy", "cx", "cy")):
+            i = Intrinsics.from_any(data)
+        else:
+            K = next((data[k] for k in ("K", "k", "camera_matrix") if k in data), None)
+            K = K.get("data") if isinstance(K, dict) else K
+            w = data.get("width", data.get("image_width"))
+            h = data.get("height", data.get("image_height"))
+            if K is None or w is None or h is None:
+                raise InputError("it holds neither width, height, fx, fy, cx, cy nor width, "
+                                 "height and a 3x3 K")
+            i = Intrinsics.from_matrix(np.asarray(K, dtype=float).reshape(3, 3), w, h)
+    except (InputError, TypeError, ValueError) as exc:
+        raise InputError(f"--intrinsics {text}: {exc}") from None
+    return (i.width, i.height, i.fx, i.fy, i.cx, i.cy)
+
+
 def parse_intrinsics(text: str | None):
-    """``"kinect"`` or ``"W,H,fx,fy,cx,cy"`` -> a value :func:`planerel.io.readers.read` accepts."""
+    """``"kinect"``, ``"W,H,fx,fy,cx,cy"`` or a camera JSON file -> a value
+    :func:`planerel.io.readers.read` accepts."""
     if text is None or text.lower() == "kinect":
         return text
     parts = text.split(",")
+    if len(parts) != 6 and (text.lower().endswith(".json") or Path(text).is_file()):
+        return _intrinsics_file(text)
     if len(parts) != 6:
-        raise InputError(f"--intrinsics must be 'kinect' or W,H,fx,fy,cx,cy; got {text!r}")
+        raise InputError(f"--intrinsics must be {_INTRINSICS_FORMS}; got {text!r}")
     try:
         w, h = int(parts[0]), int(parts[1])
         values = (w, h, *(float(p) for p in parts[2:]))
     except ValueError:
-        raise InputError(f"--intrinsics must be 'kinect' or W,H,fx,fy,cx,cy; got {text!r}") from None
+        raise InputError(f"--intrinsics must be {_INTRINSICS_FORMS}; got {text!r}") from None
     from planerel.io.cloud import Intrinsics
 
     try:  # a size under 1, a NaN or a focal length <= 0: one error about the option, not
@@ -87,9 +123,11 @@ def parse_intrinsics(text: str | None):
 def add_input_options(parser: argparse.ArgumentParser) -> None:
     """``--intrinsics``, ``--depth-scale``, ``--up``, ``--subsample`` for commands that read scans."""
     g = parser.add_argument_group("reading scans")
-    g.add_argument("--intrinsics", metavar="kinect|W,H,fx,fy,cx,cy",
-                   help="camera of depth images without a sidecar JSON / OpenNI XML "
-                        "(default: the Kinect preset, scaled to the image size)")
+    g.add_argument("--intrinsics", metavar="kinect|W,H,fx,fy,cx,cy|FILE.json",
+                   help="camera of depth images without a sidecar JSON / OpenNI XML: the "
+                        "preset, six numbers, or a JSON file holding width, height, fx, fy, "
+                        "cx, cy (or width, height and a 3x3 K; only the camera is read from "
+                        "it) (default: the Kinect preset, scaled to the image size)")
     g.add_argument("--depth-scale", type=float, metavar="UNITS_PER_M",
                    help="depth units per metre (default: sidecar value, else 1000 for 16-bit "
                         "images, 1 for float images)")
@@ -153,6 +191,7 @@ def read_input(path, args: argparse.Namespace):
 
     from planerel.io import readers as io
     from planerel.io.cloud import subsample
+    from planerel.io.naming import scene_name
 
     intr = parse_intrinsics(getattr(args, "intrinsics", None))
     given_up(args)
@@ -164,8 +203,17 @@ def read_input(path, args: argparse.Namespace):
     except InputError as exc:
         if intr is not None or "no intrinsics" not in str(exc) and "needs intrinsics" not in str(exc):
             raise
+        try:
+            cloud = io.read(path, intrinsics="kinect", **kwargs)
+        except InputError as exc2:
+            if "no Kinect preset" not in str(exc2):
+                raise
+            # not a note then an error about a preset the user never asked for: say what to do
+            raise InputError(f"{path}: no camera information, and the image is no Kinect size "
+                             "(640x480 or a whole-number part of it): give --intrinsics "
+                             "W,H,fx,fy,cx,cy or a camera JSON file, or a sidecar "
+                             f"{scene_name(path)}.json beside it") from None
         print(f"note: {path}: no camera information; assuming Kinect intrinsics", file=sys.stderr)
-        cloud = io.read(path, intrinsics="kinect", **kwargs)
     k = getattr(args, "subsample", 1) or 1
     full = cloud
     cloud = subsample(full, k)
@@ -177,6 +225,24 @@ def read_input(path, args: argparse.Namespace):
                          f"{w2}x{h2}; need at least 3): give a smaller --subsample")
     _note_far_depth(path, cloud)
     return cloud
+
+
+#: Share of measured pixels under which a frame that gives no plane is said to be too sparse.
+SPARSE_SHARE = 0.5
+
+
+def sparse_note(cloud, n_planes: int) -> str | None:
+    """A note for an organized frame that gave no plane and holds a depth at under
+    :data:`SPARSE_SHARE` of its pixels (a frame with most pixels missing); else None."""
+    if n_planes or not cloud.organized:
+        return None
+    h, w = cloud.xyz.shape[:2]
+    share = cloud.n_valid / max(1, h * w)
+    if share >= SPARSE_SHARE:
+        return None
+    return (f"no plane found: only {100 * share:.1f} % of the pixels hold a depth "
+            f"({cloud.n_valid:,} of {h * w:,}); region growing grows planes over neighbouring "
+            "measured pixels, so scattered or few points give none")
 
 
 #: Median depth (metres) beyond which a scan is most likely not in metres (a float image of

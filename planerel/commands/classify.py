@@ -121,7 +121,7 @@ def _params(items) -> dict:
 def _classify_task(task: dict):
     """Worker: read and classify one scan, write its explanation image and JSON when asked;
     returns ``(answer as a dict, text lines)``."""
-    from planerel.commands._common import given_up, read_input
+    from planerel.commands._common import given_up, read_input, sparse_note
 
     path, stem = task["path"], task["name"]
     clf = _classifier(task["rules"], task["method"], task["params"])
@@ -146,7 +146,8 @@ def _classify_task(task: dict):
     floor = f"floor {ans.floor}" if ans.floor else "no floor plane"
     lines = [f"{path}: {ans.n_planes} planes, {len(ans.objects)} object(s) "
              f"[{ans.seconds * 1000:.0f} ms]; {up}, {floor}"]
-    lines += [f"  note: {n}" for n in ans.notes()]
+    sparse = sparse_note(cloud, ans.n_planes)
+    lines += [f"  note: {n}" for n in ([sparse] if sparse else ans.notes())]
     if not cloud.organized:
         lines.append("  note: an unorganized cloud (no image grid: --no-organize): relations "
                      "that look through the image (skirt/2, a tilted floor) are not found; read "

@@ -186,7 +186,8 @@ def run_info(args) -> int:
     print(f"{args.path}: {len(rows)} scenes; " + ", ".join(f"{k} {v}" for k, v in sorted(classes.items()))
           + "; size " + ", ".join(sorted(sizes)))
     if info:
-        print(f"made by {info.get('format', '?')} with seed {info.get('seed', '?')}")
+        print(f"made by {info.get('format', '?')}"
+              + (f" with seed {info['seed']}" if info.get("seed") is not None else ""))
     roles = Counter()
     objects = Counter()
     seen = 0

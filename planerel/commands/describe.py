@@ -68,7 +68,7 @@ def seg_settings_line(info: dict) -> str:
 def _describe_task(task: dict):
     """Worker: read, segment (or read labels) and describe one scan; returns
     ``(scene_id, facts by predicate, summary line, segmentation note, up comment)``."""
-    from planerel.commands._common import given_up, read_input
+    from planerel.commands._common import given_up, read_input, sparse_note
     from planerel.features.facts import describe_scene, scene_facts, up_comment
     from planerel.io import readers as io
 
@@ -99,7 +99,8 @@ def _describe_task(task: dict):
     line = (f"{path}: {d.scene_id}: {len(d.planes)} planes, {len(d.objects)} object proposals, "
             f"{d.planes.up_estimate.describe()}"
             + ("" if len(d.planes) or len(d.objects)
-               else " (no plane found: only the scene fact is written)"))
+               else f" ({sparse_note(cloud, 0) or 'no plane found'}: only the scene fact is "
+                    "written)"))
     return d.scene_id, scene_facts(d, task["params"]), line, note, up_comment(d)
 
 

@@ -469,7 +469,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
     missing = [k for k in classes if k not in present]
     if missing:
         raise InputError(f"class {', '.join(missing)} has no example to learn from")
-    if len(classes) < 2:
+    # one class is enough when objects of class other give its negatives (box against the rest)
+    if len(classes) < 2 and not (classes and OTHER in present):
         raise InputError(f"learning needs at least two classes, got {', '.join(classes) or 'none'}")
     tmp = None
     if work_dir is None:
@@ -1218,13 +1219,11 @@ def _classes_arg(classes, descs) -> tuple:
     if missing:
         raise InputError(f"class {', '.join(missing)} has no example in the data set "
                          f"(classes present: {', '.join(present) or 'none'})")
-    if len(classes) < 2:
-        n_other = sum(1 for d in descs for o in d.objects if o.klass == OTHER)
-        raise InputError(f"learning needs at least two classes; the data set has "
-                         f"{', '.join(classes) or 'none'}"
-                         + (f" and {n_other} objects of class {OTHER!r} (planerel export-aleph "
-                            "writes that as one class against the rest, for any learner)"
-                            if n_other and classes else ""))
+    n_other = sum(1 for d in descs for o in d.objects if o.klass == OTHER)
+    if len(classes) < 2 and not (classes and n_other):
+        raise InputError(f"learning needs at least two classes, or one and objects of class "
+                         f"{OTHER!r} (its negatives); the data set has "
+                         f"{', '.join(classes) or 'none'}")
     return classes
 
 
