@@ -322,7 +322,8 @@ def _mat_mm_to_m(data: bytes, var: str) -> bytes:
 def _csv_depth(data: bytes, unit: str) -> bytes:
     """A depth grid kept as text (one image row a line, values split by commas or blanks; e.g.
     a RealSense ``z16`` frame written with ``csv.writer``) as float32 metres: each value times
-    ``unit`` metres (default 0.001, millimetres); 0 stays 0 (no depth).
+    ``unit`` metres (default 0.001, millimetres); 0 and 65535 (``z16``'s no-data / saturated value,
+    as :func:`planerel.io.cloud.depth_to_cloud` reads a 16-bit image) are no depth (0).
 
     Returns
     -------
@@ -335,8 +336,10 @@ def _csv_depth(data: bytes, unit: str) -> bytes:
     rows = [r for r in rows if r]
     if not rows or len({len(r) for r in rows}) != 1:
         raise SetError("a depth CSV must be a non-empty grid of equal rows")
-    grid = np.array(rows, dtype=np.float64) * float(unit or 0.001)
-    return _npy_bytes(np.where(np.isfinite(grid) & (grid > 0), grid, 0).astype(np.float32))
+    raw = np.array(rows, dtype=np.float64)
+    grid = raw * float(unit or 0.001)
+    keep = np.isfinite(grid) & (grid > 0) & (raw != 65535)
+    return _npy_bytes(np.where(keep, grid, 0).astype(np.float32))
 
 
 def _disparity_png(data: bytes, arg: str) -> bytes:

@@ -314,7 +314,8 @@ def test_a_depth_csv_becomes_metres_and_a_ragged_one_is_refused():
     text = b"0,1500,2796\r\n65535,0,1111\r\n"   # csv.writer's rows of z16 millimetres
     got = real_sets._npy(real_sets.convert("csv_depth", text))
     assert got.dtype == np.float32 and got.shape == (2, 3)
-    assert got[0, 0] == 0 and got[0, 1] == np.float32(1.5) and got[1, 0] == np.float32(65.535)
+    assert got[0, 0] == 0 and got[0, 1] == np.float32(1.5) and got[1, 2] == np.float32(1.111)
+    assert got[1, 0] == 0   # 65535: z16's no-data value, not 65.5 m
     got = real_sets._npy(real_sets.convert("csv_depth:0.0001", b"0 15000\n20000 5\n"))  # 0.1 mm
     assert got[0, 1] == np.float32(1.5) and got[1, 1] == np.float32(0.0005)
     with pytest.raises(real_sets.SetError, match="equal rows"):
