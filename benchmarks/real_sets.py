@@ -27,7 +27,8 @@ commit that added it). A file made from a repository's file is named in the fold
 ``"commit"`` when the path held other data at other commits; ``C`` one of ``CONVERTERS``: a dict
 pickled in a ``.npy`` reduced to its depth array, RealSense F200 depth decoded, float64 metres
 as float32, an ``.npz``'s named array, 16-bit millimetres (a ``.npy``, a PNG or a MATLAB variable) as float32
-metres, a MATLAB struct's millimetre cloud as float64 metres;
+metres, a MATLAB struct's millimetre cloud as float64 metres, a depth grid kept as CSV/TXT, a
+stereo disparity PNG with its focal length and baseline;
 ``{"FILE": {"skip": "why"}}`` leaves a file out): the capture makes it again and checks it. A file that is in no repository, not made, and no small text file (a sidecar of
 ours, kept inline: intrinsics, an up vector) is listed and the capture refused: a set whose
 data cannot be fetched back is not reproducible.
@@ -318,6 +319,57 @@ def _mat_mm_to_m(data: bytes, var: str) -> bytes:
     return _npy_bytes(arr.astype("float32") / 1000)
 
 
+def _csv_depth(data: bytes, unit: str) -> bytes:
+    """A depth grid kept as text (one image row a line, values split by commas or blanks; e.g.
+    a RealSense ``z16`` frame written with ``csv.writer``) as float32 metres: each value times
+    ``unit`` metres (default 0.001, millimetres); 0 and 65535 (``z16``'s no-data / saturated value,
+    as :func:`planerel.io.cloud.depth_to_cloud` reads a 16-bit image) are no depth (0).
+
+    Returns
+    -------
+    bytes
+        A ``.npy`` of shape ``(rows, columns)``.
+    """
+    import numpy as np
+
+    rows = [line.replace(",", " ").split() for line in data.decode("ascii").splitlines()]
+    rows = [r for r in rows if r]
+    if not rows or len({len(r) for r in rows}) != 1:
+        raise SetError("a depth CSV must be a non-empty grid of equal rows")
+    raw = np.array(rows, dtype=np.float64)
+    grid = raw * float(unit or 0.001)
+    keep = np.isfinite(grid) & (grid > 0) & (raw != 65535)
+    return _npy_bytes(np.where(keep, grid, 0).astype(np.float32))
+
+
+def _disparity_png(data: bytes, arg: str) -> bytes:
+    """A 16-bit disparity PNG (disparity in pixels = value / ``SCALE``) of a rectified stereo
+    pair as float32 metres: ``depth = F * B / disparity`` with ``arg`` = ``"F,B[,SCALE]"`` (focal
+    length in pixels, baseline in metres, ``SCALE`` 256 by default, the KITTI-style encoding);
+    no disparity (0) is no depth (0).
+
+    Returns
+    -------
+    bytes
+        A ``.npy`` of the image's shape ``(H, W)``.
+    """
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    parts = [float(x) for x in arg.split(",")]
+    if len(parts) not in (2, 3) or min(parts) <= 0:
+        raise SetError(f"disparity_png needs F,B[,SCALE] > 0, not {arg!r}")
+    focal, base, scale = (parts + [256.0])[:3]
+    raw = np.array(Image.open(io.BytesIO(data)))
+    if raw.dtype != np.uint16 or raw.ndim != 2:
+        raise SetError(f"a disparity PNG must be one 16-bit channel, not {raw.dtype} {raw.shape}")
+    disp = raw.astype(np.float64) / scale
+    depth = np.where(disp > 0, focal * base / np.where(disp > 0, disp, 1), 0)
+    return _npy_bytes(depth.astype(np.float32))
+
+
 #: how a file of a set is made from a repository's file (``MADE.json``'s ``convert``:
 #: ``NAME`` or ``NAME:ARGUMENT``)
 CONVERTERS = {
@@ -334,6 +386,8 @@ CONVERTERS = {
     "mm_to_m": lambda data, _: _npy_bytes(_mm_array(data).astype("float32") / 1000),
     "mat_mm_to_m": _mat_mm_to_m,   # the same, from a MATLAB variable
     "mat_xyz_mm": _mat_xyz_mm,
+    "csv_depth": _csv_depth,   # a text grid of depth values times UNIT metres (0.001)
+    "disparity_png": _disparity_png,   # stereo disparity (PNG / SCALE px) as F * B / d metres
 }
 
 

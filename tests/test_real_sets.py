@@ -308,6 +308,43 @@ def test_matlab_millimetres_and_a_structs_millimetre_cloud_are_converted(tmp_pat
         real_sets.convert("mat_xyz_mm:scene", (tmp_path / "s.mat").read_bytes())   # no such struct
 
 
+def test_a_depth_csv_becomes_metres_and_a_ragged_one_is_refused():
+    import numpy as np
+
+    text = b"0,1500,2796\r\n65535,0,1111\r\n"   # csv.writer's rows of z16 millimetres
+    got = real_sets._npy(real_sets.convert("csv_depth", text))
+    assert got.dtype == np.float32 and got.shape == (2, 3)
+    assert got[0, 0] == 0 and got[0, 1] == np.float32(1.5) and got[1, 2] == np.float32(1.111)
+    assert got[1, 0] == 0   # 65535: z16's no-data value, not 65.5 m
+    got = real_sets._npy(real_sets.convert("csv_depth:0.0001", b"0 15000\n20000 5\n"))  # 0.1 mm
+    assert got[0, 1] == np.float32(1.5) and got[1, 1] == np.float32(0.0005)
+    with pytest.raises(real_sets.SetError, match="equal rows"):
+        real_sets.convert("csv_depth", b"1,2,3\n4,5\n")
+    with pytest.raises(real_sets.SetError, match="could not read its source"):
+        real_sets.convert("csv_depth", b"1,2\nx,4\n")   # not a number: one line
+
+
+def test_a_disparity_png_becomes_metres_by_its_focal_length_and_baseline():
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    buf = io.BytesIO()   # 256 per pixel of disparity: 0 (none), 10 px, 40.25 px
+    Image.fromarray(np.array([[0, 2560, 10304]], np.uint16)).save(buf, format="PNG")
+    got = real_sets._npy(real_sets.convert("disparity_png:400,0.125", buf.getvalue()))
+    assert got.dtype == np.float32 and got.shape == (1, 3) and got[0, 0] == 0
+    assert got[0, 1] == np.float32(5.0) and np.isclose(got[0, 2], 400 * 0.125 / 40.25)
+    got = real_sets._npy(real_sets.convert("disparity_png:400,0.125,16", buf.getvalue()))
+    assert got[0, 1] == np.float32(400 * 0.125 / 160)
+    with pytest.raises(real_sets.SetError, match="F,B"):
+        real_sets.convert("disparity_png:400", buf.getvalue())
+    buf = io.BytesIO()
+    Image.fromarray(np.zeros((2, 2), np.uint8)).save(buf, format="PNG")
+    with pytest.raises(real_sets.SetError, match="16-bit"):   # an 8-bit picture of disparity
+        real_sets.convert("disparity_png:400,0.125", buf.getvalue())
+
+
 def test_a_mirror_fetched_whole_is_read_through_its_git_folder(world):
     tmp, mirrors, folder, _ = world
     whole = tmp / "whole"
