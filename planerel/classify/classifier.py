@@ -443,6 +443,9 @@ class Classifier:
         #: level, lines)``, or None when off
         self.hang = ((decision.hang_share, decision.hang_drop, decision.hang_level,
                       decision.hang_lines) if decision.hang_gate else None)
+        #: no ``box`` for an object proved by a top alone longer than a lying box's
+        #: (``decision.long_lying_gate``): the bound in metres, or None when off
+        self.long_lying = decision.long_lying_length if decision.long_lying_gate else None
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -596,6 +599,8 @@ class Classifier:
             answers = self._flight_sides(desc, answers, xyz)
         if self.hang is not None and xyz is not None and BOX in self.classes:
             answers = self._hanging(desc, answers, xyz)
+        if self.long_lying is not None and BOX in self.classes:
+            answers = self._long_lying(desc, answers)
         return answers
 
     def _trim_flights(self, desc, answers, plane_ids, xyz) -> tuple:
@@ -664,6 +669,31 @@ class Classifier:
                     a = replace(a, klass=OTHER, rule=None, bindings={}, proof_planes=(),
                                 rule_index=None, precision=None,
                                 refused=tuple(a.refused) + (why,))
+            out.append(a)
+        return tuple(out)
+
+    def _long_lying(self, desc, answers) -> tuple:
+        """``decision.long_lying_gate``: each ``box`` answer whose proof planes hold no
+        upright plane and a top longer than ``long_lying_length`` becomes ``other``, with a
+        :class:`~planerel.ilp.metrics.LongLyingRefusal`."""
+        from dataclasses import replace
+
+        from planerel.ilp.metrics import LongLyingRefusal
+
+        ids = {desc.plane_id(p.label): p for p in desc.planes}
+        out = []
+        for a in answers:
+            if a.klass == BOX:
+                proof = [ids[i] for i in a.proof_planes if i in ids]
+                tops = [p for p in proof if p.orientation != "vertical"]
+                if tops and len(tops) == len(proof):
+                    top = max(tops, key=lambda p: p.length)
+                    if top.length > self.long_lying:
+                        why = LongLyingRefusal(BOX, a.rule_index or 0, desc.plane_id(top.label),
+                                               float(top.length), float(self.long_lying))
+                        a = replace(a, klass=OTHER, rule=None, bindings={}, proof_planes=(),
+                                    rule_index=None, precision=None,
+                                    refused=tuple(a.refused) + (why,))
             out.append(a)
         return tuple(out)
 

@@ -208,6 +208,9 @@ HANG_SHARE = 0.7
 HANG_DROP = 0.12
 HANG_LEVEL = 0.04
 HANG_LINES = 8
+#: Defaults of :attr:`DecisionParams.long_lying_gate` and its bound (fbox58).
+LONG_LYING_GATE = True
+LONG_LYING_LENGTH = 0.4
 #: Defaults of :attr:`DecisionParams.cut_boxes`, ``cut_reach``, ``cut_margin``.
 CUT_BOXES = True
 CUT_REACH = 1.5
@@ -491,6 +494,18 @@ class DecisionParams:
         Metres (>= 0): 0.12, 0.04.
     hang_lines : int
         Whole number >= 1 (8).
+    long_lying_gate : bool
+        On by default (fbox58).  No ``box`` for an object whose proof binds no upright
+        plane and a top (horizontal or inclined) longer than ``long_lying_length``: a
+        ``lying`` top seen alone, its sides unseen.  The box rule that proves a box by its
+        lying top alone was meant for a book-size or flat box (its found tops on the real
+        development frames are 0.11-0.23 m long); a flat carton 0.4 m long shows its sides
+        and is proved by them.  Real frames nobody had tuned on answered ``box`` with such a
+        top: a keyboard (0.49 m, tilted 7 degrees on a desk), a desk's foot bar on the floor
+        (0.53 m), a corridor's floor strip (0.46 m) (docs/objects.md, "hunt58").  The answer
+        becomes ``other``.  Only classify applies it.
+    long_lying_length : float
+        Metres (>= 0): 0.4.
     cut_boxes : bool
         On by default (core49).  A proposal a box rule proves and a gate refuses ``box`` for,
         whose planes hold a box proof's seed (a ``skirt`` or ``face_pair`` pair; a lone
@@ -577,6 +592,8 @@ class DecisionParams:
     hang_drop: float = HANG_DROP
     hang_level: float = HANG_LEVEL
     hang_lines: int = HANG_LINES
+    long_lying_gate: bool = LONG_LYING_GATE
+    long_lying_length: float = LONG_LYING_LENGTH
     cut_boxes: bool = CUT_BOXES
     cut_reach: float = CUT_REACH
     cut_margin: float = CUT_MARGIN
@@ -587,7 +604,7 @@ class DecisionParams:
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
                      "side_gate", "unsure_gate", "facet_gate", "facet_bridge", "cut_boxes",
-                     "flight_side_gate", "flight_trim", "hang_gate"):
+                     "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -608,7 +625,7 @@ class DecisionParams:
         for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin",
                      "flight_side_thick", "flight_side_gap", "flight_side_reach",
                      "flight_side_rise", "flight_trim_edge", "flight_trim_rise", "hang_drop",
-                     "hang_level"):
+                     "hang_level", "long_lying_length"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
@@ -1686,6 +1703,31 @@ class HangRefusal:
         return {"class": self.klass, "rule": self.rule, "faces": list(self.faces),
                 "share": round(self.share, 3), "bottom": round(self.bottom, 3),
                 "reason": self.reason}
+
+
+@dataclass(frozen=True)
+class LongLyingRefusal:
+    """``box`` for an object proved by a top alone that is longer than a lying box's
+    (``decision.long_lying_gate``)."""
+
+    klass: str
+    rule: int
+    #: the top's plane id
+    top: str
+    #: its length, metres
+    length: float
+    #: the gate's bound, metres
+    bound: float
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it by the top {self.top} alone (no upright face), "
+                f"but that top is {self.length:.2f} m long, over {self.bound:.2f} m: a flat "
+                f"box that long shows its sides")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "top": self.top,
+                "length": round(self.length, 3), "bound": self.bound, "reason": self.reason}
 
 
 def facet_refusals(hits, stats: Sequence, facet=None):
