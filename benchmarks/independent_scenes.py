@@ -21,10 +21,10 @@ Usage::
     python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150] [--by-planes]
     python benchmarks/independent_scenes.py dev DEST [--only NAME ...] [--force]
 
-``dev DEST`` makes the team's ten independent development sets (``DEST/dev_i`` ... ``DEST/dev_furn_n``,
+``dev DEST`` makes the team's eleven independent development sets (``DEST/dev_i`` ... ``DEST/dev_furn_n``,
 :data:`DEV_SETS`: the arguments each was made with) that ``DEST`` does not hold yet; the main real
 check (``benchmarks/real_checks.py --independent``) reads them.  Same arguments, same scenes, so a
-machine that lost them gets them back bit for bit (about ten minutes on two cores).
+machine that lost them gets them back bit for bit (about fifteen minutes on two cores).
 
 ``--kinds`` is the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``; a kind may
 repeat to weigh it): ``box``, ``stairs``, ``ramp`` and ``stairs_top`` (a descending flight seen
@@ -1044,15 +1044,17 @@ def print_summary(name, s, rows):
 
 
 #: The independent development sets: name -> ``make`` arguments (docs/benchmarks.md "The
-#: development sets").  ``dev_st`` and ``dev_stk`` were first made without their command written
-#: down; these arguments, found again after the reset of 2026-12-02, give back their recorded
-#: figures (object accuracy 0.813 and 0.971 with ``make demo``'s model).
+#: development sets, made again by one command").  ``dev_st`` and ``dev_stk`` were first made
+#: without their command written down: after the reset of 2026-12-02 they were made anew with
+#: these arguments (other scenes than before); ``dev_srk`` (2026-12-02) is ``dev_sr``'s scenes
+#: seen by the Kinect-like sensor at 640x480.
 DEV_SETS = {
     "dev_i": "--n 60 --seed 3201",
     "dev_k": "--n 40 --seed 3202 --sensor kinect --size 640x480",
     "dev_sr": "--n 60 --seed 3203 --kinds stairs,ramp,stairs_top",
     "dev_st": "--n 80 --seed 3205 --kinds stairs,stairs_top,ramp",
     "dev_stk": "--n 40 --seed 3205 --kinds stairs,stairs_top,ramp --sensor kinect --size 640x480",
+    "dev_srk": "--n 60 --seed 3203 --kinds stairs,ramp,stairs_top --sensor kinect --size 640x480",
     "dev_low": "--n 40 --seed 3206 --sensor kinect --size 640x480 --kinds box --heights 0.1,0.3",
     "dev_lowb": "--n 40 --seed 4401 --sensor kinect --size 640x480 --kinds box --heights 0.1,0.3",
     "dev_lowr": "--n 20 --seed 4402 --sensor kinect --size 640x480 --kinds ramp --heights 0.1,0.3",
