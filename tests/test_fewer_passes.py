@@ -399,3 +399,86 @@ def test_touching_labels_with_the_label_count_given():
             assert _touching_labels(mask, lab, xyz, 0.02, int(lab.max()) + extra) == want
         seen += len(want)
     assert seen > 100
+
+
+def _surely_narrow_numpy(P, e1, e2, up, min_width, margin=1e-3, min_det=1e-3):
+    """_surely_narrow as it was in numpy (before width_bound, 2026-12-02): the reference."""
+    from planerel.features.stairfit import _cross
+
+    u, v, h = P @ e1, P @ e2, P @ up
+    du, dv, dh = u - u.mean(), v - v.mean(), h - h.mean()
+    suu, suv, svv = float(du @ du), float(du @ dv), float(dv @ dv)
+    suh, svh = float(du @ dh), float(dv @ dh)
+    det = suu * svv - suv * suv
+    if not (len(P) >= 3 and det > 0 and det >= min_det * suu * svv):
+        return False, 0.0, 0.0
+    a = (svv * suh - suv * svh) / det
+    b = (suu * svh - suv * suh) / det
+    g = np.hypot(a, b)
+    if not g > 0:
+        return False, 0.0, 0.0
+    lat = P @ _cross(up, (a * np.asarray(e1) + b * np.asarray(e2)) / g)
+    reach = np.hypot(float(np.ptp(u)), float(np.ptp(v)))
+    return float(np.ptp(lat)) + margin * reach < min_width, float(np.ptp(lat)), reach
+
+
+def _width_bound_matches(P, e1, e2, up, min_width, narrow=None):
+    from planerel.features._stairfit_kernels import width_bound
+    from planerel.features.stairfit import _surely_narrow
+
+    _surely_narrow = narrow or _surely_narrow
+
+    ref, w_ref, r_ref = _surely_narrow_numpy(P, e1, e2, up, min_width)
+    ok, w, r = width_bound(np.ascontiguousarray(P, dtype=np.float64), e1, e2, up, 1e-3)
+    assert _surely_narrow(P, e1, e2, up, min_width) == ref
+    if w_ref or r_ref:
+        assert ok and w == pytest.approx(w_ref, rel=1e-9, abs=1e-12)
+        assert r == pytest.approx(r_ref, rel=1e-9, abs=1e-12)
+
+
+def test_width_bound_is_the_numpy_width_test():
+    """width_bound (one compiled function) against the numpy _surely_narrow it replaced: the
+    same answer, the width and the reach equal to 1e-9, on random strips (as above, and
+    degenerate ones: collinear, 2 points, NaN) and on the real frames' clusters."""
+    from planerel.features.stairfit import StairFitParams, _horizontal_axes
+
+    p = StairFitParams()
+    rng = np.random.default_rng(58)
+    for t in range(300):
+        up = rng.normal(size=3) * 0.1 + [0.0, -1.0, 0.0]
+        up /= np.linalg.norm(up)
+        e1, e2 = _horizontal_axes(up)
+        n = int(rng.choice([2, 3, 5, 40, 400, 3000]))
+        ang = rng.uniform(0, 2 * np.pi)
+        f = np.cos(ang) * e1 + np.sin(ang) * e2
+        side = np.cross(up, f)
+        width = p.min_width * float(rng.choice([0.0, 0.3, 0.99, 1.0, 1.2, 2.0]))
+        g = float(rng.choice([0.0, 0.25, 0.7, 1.5]))
+        d = rng.uniform(0, float(rng.uniform(0.05, 2.0)), n)
+        lat = rng.uniform(0, width, n)
+        P = (d[:, None] * f + lat[:, None] * side + (g * d + rng.normal(size=n) * 0.002)[:, None]
+             * up + rng.normal(size=3) * 2.0)
+        if t % 50 == 7:
+            P[0, 1] = np.nan
+        _width_bound_matches(P, e1, e2, up, p.min_width)
+
+
+@pytest.mark.skipif(not (_DATA / "kinect").is_dir(), reason="needs ../shared/data")
+def test_width_bound_on_real_clusters():
+    import planerel.features.stairfit as S
+
+    seen = []
+    real = S._surely_narrow
+
+    def spy(P, e1, e2, up, min_width):
+        _width_bound_matches(P, e1, e2, up, min_width, real)
+        seen.append(len(P))
+        return real(P, e1, e2, up, min_width)
+
+    S._surely_narrow = spy
+    try:
+        for cloud, _labels, planes in [*_real_frames(2), *_staircase_frames()]:
+            S._stepped_cluster_labels(cloud, planes)
+    finally:
+        S._surely_narrow = real
+    assert seen

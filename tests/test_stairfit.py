@@ -475,3 +475,81 @@ def test_gather_is_the_fancy_indexing():
             got, want = _gather(cloud, rows, cols), cloud[rows, cols]
             assert got.dtype == want.dtype and got.shape == want.shape
             assert np.array_equal(got, want, equal_nan=True)
+
+
+def _fits_of(frames):
+    """The arguments of every grid search ``fit_profile`` makes on ``frames`` (``(cloud,
+    planes)``), with the costs the reference kernel gave."""
+    import planerel.features._stairfit_kernels as K
+    from planerel.features.stairfit import _stepped_cluster_labels
+
+    calls, real_vec = [], K.profile_costs_vec
+
+    def spy(*args):
+        calls.append(args)
+        return real_vec(*args)
+
+    K.profile_costs_vec = spy
+    try:
+        for cloud, planes in frames:
+            _stepped_cluster_labels(cloud, planes)
+    finally:
+        K.profile_costs_vec = real_vec
+    return calls
+
+
+def test_the_vectorised_grid_kernel_is_the_reference_bit_for_bit():
+    """profile_costs_vec (float tread index, a vectorised loop into a buffer, then the sum in
+    the points' order) against profile_costs: the same array, bytes compared, on random
+    points with the isotropic and anisotropic metrics, skewed metrics, points far off the
+    profile, ties of truncation, a grid with runs out of range; and on the fits of the
+    staircase scenes the stairfit stage makes."""
+    from planerel.features._stairfit_kernels import profile_costs, profile_costs_vec
+    from planerel.features.stairfit import N_PHASES, RISE_STEP, SLOPE_FACTORS
+
+    rng = np.random.default_rng(58)
+    rises = np.arange(0.08, 0.30 + 1e-9, RISE_STEP)
+    for t in range(40):
+        n = int(rng.choice([1, 2, 7, 100, 400]))
+        slope = float(rng.choice([0.2, 0.5, 0.6, 1.0, 2.5]))
+        d = rng.uniform(-3.0, 4.0, n) + float(rng.choice([0.0, 50.0, -900.0]))
+        h = slope * d + rng.normal(0, float(rng.choice([0.001, 0.05, 0.5])), n)
+        if t % 2:
+            metric = np.column_stack([rng.uniform(1, 9, n), rng.uniform(-2.9, 2.9, n),
+                                      rng.uniform(1, 9, n)])
+            trunc2 = np.full(n, float(rng.choice([1.0, 4.0, 1e-30])))
+        else:
+            metric = np.tile([1.0, 0.0, 1.0], (n, 1))
+            trunc2 = rng.uniform(0.01, 0.04, n) ** 2
+        args = (d, h, metric, trunc2, rises, SLOPE_FACTORS, N_PHASES, slope, 0.12, 0.60)
+        a, b = profile_costs(*args), profile_costs_vec(*args)
+        assert a.tobytes() == b.tobytes(), t
+    frames = []
+    for cloud, lab, up in (_unassigned(_flight(), pitch=10.0, cam_height=1.0),
+                           _descending_view(), _descending_view(keep=(0,))):
+        frames.append((cloud, describe_scene(
+            cloud, lab, up=up, curved_params=CurvedParams(stepped_clusters=False)).planes))
+    calls = _fits_of(frames)
+    assert len(calls) >= 2
+    for args in calls:
+        assert profile_costs(*args).tobytes() == profile_costs_vec(*args).tobytes()
+
+
+def test_fit_profile_keeps_the_reference_kernel_for_far_points():
+    """Points beyond VEC_LIMIT (or not finite) are costed by profile_costs only."""
+    import planerel.features._stairfit_kernels as K
+    from planerel.features.stairfit import VEC_LIMIT
+
+    rng = np.random.default_rng(3)
+    d = rng.uniform(2.0, 3.5, 120)
+    h = 0.6 * d + rng.normal(0, 0.01, 120)
+    assert fit_profile(d, h, np.full(120, 0.02)) is not None
+    real_vec = K.profile_costs_vec
+    K.profile_costs_vec = None  # calling it would raise
+    try:
+        for bad in (VEC_LIMIT * 2, np.nan, -np.inf):
+            d2 = d.copy()
+            d2[0] = bad
+            fit_profile(d2, h, np.full(120, 0.02), slope=0.6)
+    finally:
+        K.profile_costs_vec = real_vec

@@ -66,7 +66,6 @@ those of a segmented one.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -80,6 +79,7 @@ from planerel.features.vectors import vec_norm
 RISE_STEP = 0.005
 SLOPE_FACTORS = np.array([0.75, 0.85, 0.95, 1.05, 1.15, 1.3])
 N_PHASES = 12
+VEC_LIMIT = 1e6  # metres: profile_costs_vec is profile_costs bit for bit below (fit_profile)
 
 __all__ = ["StairFitParams", "ProfileFit", "profile_distance", "fit_profile",
            "stepped_cluster_labels", "remeasure_stepped_clusters", "join_groups"]
@@ -268,7 +268,7 @@ def fit_profile(d, h, tol, params: StairFitParams | None = None, slope=None,
     ProfileFit or None
         None when no rise / slope of the grid gives a run in ``params.run``.
     """
-    from planerel.features._stairfit_kernels import profile_costs
+    from planerel.features._stairfit_kernels import profile_costs, profile_costs_vec
 
     p = params or StairFitParams()
     d = np.ascontiguousarray(d, dtype=np.float64)
@@ -283,8 +283,11 @@ def fit_profile(d, h, tol, params: StairFitParams | None = None, slope=None,
     if not slope > 0 or d.size == 0:
         return None
     rises = np.arange(p.rise[0], p.rise[1] + 1e-9, RISE_STEP)
-    cost = profile_costs(d, h, metric, tol * tol, rises, SLOPE_FACTORS, N_PHASES, float(slope),
-                         float(p.run[0]), float(p.run[1]))
+    # the vectorised kernel where it gives the same costs (points within 1e6 m, finite)
+    costs = (profile_costs_vec if bool(np.all(np.abs(d) < VEC_LIMIT) & np.all(np.abs(h) < VEC_LIMIT))
+             else profile_costs)
+    cost = costs(d, h, metric, tol * tol, rises, SLOPE_FACTORS, N_PHASES, float(slope),
+                 float(p.run[0]), float(p.run[1]))
     k = int(np.argmin(cost))  # the first of equal costs: rise, slope factor, phase order
     if not np.isfinite(cost.flat[k]):
         return None
@@ -391,23 +394,17 @@ def _surely_narrow(P, e1, e2, up, min_width, margin=1e-3, min_det=1e-3) -> bool:
     ``d <= 2 |da, db| / g``: the margin covers coefficients up to ``1.25e-4`` apart at a
     slope ``g`` of 0.25 or more (a smaller one fails the slope test before the width test),
     where the two solutions of one well-conditioned system agree to about 1e-14 (the real
-    frames' clusters).  So the rule's result does not change; the exact fit is skipped."""
-    u, v, h = P @ e1, P @ e2, P @ up
-    du, dv, dh = u - u.mean(), v - v.mean(), h - h.mean()
-    suu, suv, svv = float(du @ du), float(du @ dv), float(dv @ dv)
-    suh, svh = float(du @ dh), float(dv @ dh)
-    det = suu * svv - suv * suv
-    if not (len(P) >= 3 and det > 0 and det >= min_det * suu * svv):
-        return False
-    a = (svv * suh - suv * svh) / det
-    b = (suu * svh - suv * suh) / det
-    g = math.hypot(a, b)
-    if not g > 0:
-        return False
-    side = _cross(up, (a * np.asarray(e1) + b * np.asarray(e2)) / g)
-    lat = P @ side
-    reach = math.hypot(float(np.ptp(u)), float(np.ptp(v)))
-    return float(np.ptp(lat)) + margin * reach < min_width
+    frames' clusters).  So the rule's result does not change; the exact fit is skipped.
+
+    The sums, the plane and the ranges in one compiled function
+    (:func:`planerel.features._stairfit_kernels.width_bound`, three passes over ``P``; its
+    sums in another order than numpy's, well inside the margin)."""
+    from planerel.features._stairfit_kernels import width_bound
+
+    ok, width, reach = width_bound(np.ascontiguousarray(P, dtype=np.float64),
+                                   np.asarray(e1, float), np.asarray(e2, float),
+                                   np.asarray(up, float), float(min_det))
+    return bool(ok) and width + margin * reach < min_width
 
 
 def _narrow_clusters(pts, ids, n, e1, e2, min_width, margin=1e-9):
