@@ -36,6 +36,8 @@ def _model(path: Path, ratio=None) -> Path:
     path.mkdir(parents=True, exist_ok=True)
     (path / "rules.pl").write_text(RULES)
     data = training_settings("regiongrow", {}, rule_stats=STATS)
+    # the slab's box is proved by a top alone: the long-lying gate (fbox58) would refuse it
+    data["decision"]["long_lying_gate"] = False
     if ratio is not None:
         data["decision"]["veto_ratio"] = ratio
     (path / "model.json").write_text(json.dumps(data))

@@ -103,7 +103,7 @@ def profile_costs(d, h, metric, trunc2, rises, factors, nphase, slope, run_lo, r
     return out
 
 
-@njit(inline="always", error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy")
 def _point_distance2_f(d, h, r, t, h0, d0, m11, m12, m22, c1, c2):
     """:func:`_point_distance2` with the tread index a float (``np.floor``, not
     ``math.floor``'s integer): the same value for ``|u + v| < 2**53`` (an integer-valued
