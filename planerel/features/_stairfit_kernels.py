@@ -11,16 +11,11 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def _point_distance2(d, h, r, t, h0, d0, m11, m12, m22, c1, c2):
-    """Squared distance of one point to the staircase polyline in its metric
-    ``[[m11, m12], [m12, m22]]`` (:func:`planerel.features.stairfit.profile_distance` of one
-    point, squared, without the face).  ``c1 = m12 / m11``, ``c2 = m12 / m22``: the nearest
-    point of a horizontal tread is at ``ex + c1 ey`` along it, of a vertical riser at
-    ``ey + c2 ex`` (both clipped to the face)."""
-    u = (d - d0) / t
-    v = (h - h0) / r
-    k0 = math.floor((u + v) / 2.0)
+@njit(cache=True, inline="always", error_model="numpy")
+def _steps_distance2(d, h, k0, r, t, h0, d0, m11, m12, m22, c1, c2):
+    """The least squared distance of the point ``(d, h)`` to treads and risers ``k0 - 1`` ...
+    ``k0 + 2`` of the staircase polyline in the metric ``[[m11, m12], [m12, m22]]``.
+    ``k0`` is an integer or an integer-valued float (the same value either way)."""
     best = math.inf
     for dk in range(-1, 3):
         k = k0 + dk
@@ -42,6 +37,17 @@ def _point_distance2(d, h, r, t, h0, d0, m11, m12, m22, c1, c2):
         if e < best:
             best = e
     return best
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _point_distance2(d, h, r, t, h0, d0, m11, m12, m22, c1, c2):
+    """Squared distance of one point to the staircase polyline in its metric
+    ``[[m11, m12], [m12, m22]]`` (:func:`planerel.features.stairfit.profile_distance` of one
+    point, squared, without the face).  ``c1 = m12 / m11``, ``c2 = m12 / m22``: the nearest
+    point of a horizontal tread is at ``ex + c1 ey`` along it, of a vertical riser at
+    ``ey + c2 ex`` (both clipped to the face)."""
+    k0 = math.floor(((d - d0) / t + (h - h0) / r) / 2.0)
+    return _steps_distance2(d, h, k0, r, t, h0, d0, m11, m12, m22, c1, c2)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
@@ -109,28 +115,8 @@ def _point_distance2_f(d, h, r, t, h0, d0, m11, m12, m22, c1, c2):
     ``math.floor``'s integer): the same value for ``|u + v| < 2**53`` (an integer-valued
     float converts exactly), and a loop over the points of it compiles to vector
     instructions (no float-integer conversions)."""
-    u = (d - d0) / t
-    v = (h - h0) / r
-    k0 = np.floor((u + v) / 2.0)
-    best = math.inf
-    for dk in range(-1, 3):
-        k = k0 + dk
-        a = d0 + k * t
-        top = h0 + k * r
-        ex = d - a
-        ey = h - top
-        s = min(max(ex + c1 * ey, 0.0), t)
-        wx = ex - s
-        e = wx * wx * m11 + 2.0 * wx * ey * m12 + ey * ey * m22
-        if e < best:
-            best = e
-        ey = h - (top - r)
-        s = min(max(ey + c2 * ex, 0.0), r)
-        wy = ey - s
-        e = ex * ex * m11 + 2.0 * ex * wy * m12 + wy * wy * m22
-        if e < best:
-            best = e
-    return best
+    k0 = np.floor(((d - d0) / t + (h - h0) / r) / 2.0)
+    return _steps_distance2(d, h, k0, r, t, h0, d0, m11, m12, m22, c1, c2)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
