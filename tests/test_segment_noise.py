@@ -243,3 +243,45 @@ def test_band_statistics_kernels_equal_numpy():
             want = np.quantile((sd * shape).reshape(nb, size), QUANTILE, axis=1) * 1.0614
             got = band_quantiles(zc, sd, bz, nb, size, const ** 2, quad, QUANTILE, 1.0614)
             np.testing.assert_array_equal(got, want)
+
+
+def test_wide_noise_window_is_off_by_default_and_widens_for_correlated_noise():
+    # noise58: a z2 frame whose 5 px noise is small (nominal window) but whose 15 px noise is
+    # 2 pixel footprints: with the switch the window is round(sqrt(12) * 2 * 1.0186 / 1.0614)
+    # = 7 px; off (the default) the wide estimate is ignored; explicit values are kept
+    from planerel.segment.noise import QUANTILE_TO_MEDIAN, WIDE_QUANTILE_TO_MEDIAN
+
+    foot = 1.0 / INTR.fx
+    small, wide = _model("z2", 0.2 * foot), _model("z2", 2.0 * foot)
+    p = make_params("regiongrow")
+    assert p.wide_noise_window is False
+    out, info = adapt_params(p, small, (H, W), wide=wide)
+    assert out.normal_smooth == "auto" and "wide_noise_pixels" not in info
+    on = make_params("regiongrow", wide_noise_window=True)
+    out, info = adapt_params(on, small, (H, W), wide=wide)
+    want = round(math.sqrt(12) * 2.0 * WIDE_QUANTILE_TO_MEDIAN / QUANTILE_TO_MEDIAN)
+    assert out.normal_smooth == out.normal_radius == want == 7
+    assert out.reference_depth == 2.0
+    out, _ = adapt_params(on, small, (H, W), wide=_model("z2", 0.2 * foot))
+    assert out.normal_smooth == "auto"  # no wider than the nominal window: unchanged
+    out, _ = adapt_params(make_params("regiongrow", wide_noise_window=True, normal_radius=2),
+                          small, (H, W), wide=wide)
+    assert out.normal_smooth == 7 and out.normal_radius == 2
+    with pytest.raises(InputError):
+        make_params("regiongrow", wide_noise_window="maybe")
+
+
+def test_wide_noise_window_sees_smoothed_noise_in_a_segmentation():
+    # a plane at 1.5 m with noise smoothed over 2 px: the 5 px estimate misses most of it, the
+    # switch widens the window (segmentation info), off keeps the nominal window
+    from scipy.ndimage import gaussian_filter
+
+    rng = np.random.default_rng(5)
+    z = _planes((1.5,), tilt_deg=20.0)
+    n = gaussian_filter(rng.standard_normal(z.shape), 2.0)
+    c = _cloud(z + 0.012 * n / n.std())
+    off = segment(c, method="regiongrow")
+    on = segment(c, method="regiongrow", params=make_params("regiongrow", wide_noise_window=True))
+    assert off.info["settings"]["normal_smooth"] == "auto" or off.info["settings"]["normal_smooth"] <= 2
+    assert on.info["settings"]["wide_noise_pixels"] > 1.0
+    assert on.info["settings"]["normal_smooth"] > 2

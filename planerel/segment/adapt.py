@@ -18,6 +18,10 @@ concrete values for the parameters left at ``"auto"``:
   ``smooth = radius = max(nominal, round(sqrt(12) p))``.
 - Kind ``"none"`` (clean data) or too few measurable patches: the fixed defaults.
 
+With ``wide_noise_window`` (off by default; noise58) the same rule is also applied, for every
+kind, to the noise measured over :data:`~planerel.segment.noise.WIDE_PATCH` px patches (noise
+correlated over a few pixels, which the 5 px patches miss), and the larger window is used.
+
 Values given explicitly are never changed.  Presets (``kinect``, ``structured-light``) turn the
 adaptation off.
 """
@@ -42,7 +46,7 @@ MAX_WINDOW = 8
 FIXED_REFERENCE_DEPTH = 2.0
 
 
-def adapt_params(p: RegionGrowParams, model, shape) -> tuple[RegionGrowParams, dict]:
+def adapt_params(p: RegionGrowParams, model, shape, wide=None) -> tuple[RegionGrowParams, dict]:
     """Concrete parameters for one cloud.
 
     Parameters
@@ -53,6 +57,9 @@ def adapt_params(p: RegionGrowParams, model, shape) -> tuple[RegionGrowParams, d
         The cloud's estimated noise (None: unorganized cloud, nothing measured).
     shape : (int, int)
         ``(H, W)`` of the cloud.
+    wide : NoiseModel or None
+        The noise measured over ``WIDE_PATCH`` px patches; used only with
+        ``p.wide_noise_window``.
 
     Returns
     -------
@@ -89,6 +96,20 @@ def adapt_params(p: RegionGrowParams, model, shape) -> tuple[RegionGrowParams, d
                 changes["normal_radius"] = win
             if zref == "auto":
                 zref = None
+        if p.wide_noise_window and wide is not None and wide.reliable:
+            from planerel.segment.noise import QUANTILE_TO_MEDIAN, WIDE_QUANTILE_TO_MEDIAN
+
+            foot = model.z_median * model.pixel_angle
+            pw = float(wide.sigma(model.z_median)) * WIDE_QUANTILE_TO_MEDIAN / QUANTILE_TO_MEDIAN
+            pw /= foot
+            win = min(MAX_WINDOW, int(round(math.sqrt(12.0) * pw)))
+            chosen["wide_noise_pixels"] = round(pw, 3)
+            for i, name in enumerate(("normal_smooth", "normal_radius")):
+                cur = changes.get(name, getattr(p, name))
+                if cur == "auto":
+                    cur = auto_normal_scale(w)[i]
+                if getattr(p, name) == "auto" and win > cur:
+                    changes[name] = win
     if zref == "auto":
         zref = FIXED_REFERENCE_DEPTH
     changes["reference_depth"] = zref

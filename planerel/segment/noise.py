@@ -50,7 +50,7 @@ from planerel.errors import InputError
 
 __all__ = ["NoiseModel", "estimate_noise", "PATCH", "MAX_PATCHES", "MAX_BANDS", "MIN_PER_BAND",
            "NONE_PIXELS", "QUANTILE", "QUANTILE_TO_MEDIAN", "WAVE_WINDOW", "WAVE_MIN_WINDOW",
-           "WAVY_RATIO"]
+           "WAVY_RATIO", "WIDE_PATCH", "WIDE_QUANTILE_TO_MEDIAN"]
 
 #: Side of the square patches, pixels.
 PATCH = 5
@@ -75,6 +75,12 @@ WAVE_MIN_WINDOW = 7
 #: ``wave`` at or above this makes a frame wavy (Kinect-type and laser frames measured 1.2-2.8,
 #: most <= 2.2; the active-stereo RealSense / OAK-D frames that lose boxes 3.05-4.6).
 WAVY_RATIO = 3.0
+
+#: Patch side of the wide estimate (``RegionGrowParams.wide_noise_window``, off by default) and
+#: its median / QUANTILE-quantile ratio of a pure-noise patch's std (222 degrees of freedom:
+#: ``sqrt(chi2.ppf(0.5, 222) / chi2.ppf(0.35, 222))``).
+WIDE_PATCH = 15
+WIDE_QUANTILE_TO_MEDIAN = 1.0186
 
 #: Model kinds.
 KINDS = ("z2", "uniform", "none")

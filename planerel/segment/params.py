@@ -174,6 +174,13 @@ class RegionGrowParams:
         ``"auto"`` values of ``min_region_size``, the normal window and ``reference_depth``
         from it (:mod:`planerel.segment.adapt`); the planar post-processing uses the measured
         model too.  False: the fixed defaults (the ``kinect`` preset).
+    wide_noise_window : bool
+        Off by default (noise58, a trial: docs/segmentation.md "Correlated depth noise").  With
+        ``adapt``, also measure the noise over 15 x 15 px patches (which sees noise correlated
+        over a few pixels, as a stereo sensor's, that the 5 px patches miss) and widen an
+        ``"auto"`` normal window, for every noise kind, to the uniform-noise rule's
+        ``round(sqrt(12) p)`` (at most ``MAX_WINDOW``) of that estimate when it exceeds the
+        window chosen otherwise.
     """
 
     theta: float = 15.0
@@ -196,6 +203,7 @@ class RegionGrowParams:
     min_region_scale: float = 1.0
     leftover_planes: bool = True
     adapt: bool = True
+    wide_noise_window: bool = False
     angle_order: str = "auto"
     seed_test: bool | str = "auto"
 
@@ -236,6 +244,7 @@ class RegionGrowParams:
         s(self, "knn", _int(o, "knn", self.knn, 3))
         s(self, "leftover_planes", _bool(o, "leftover_planes", self.leftover_planes))
         s(self, "adapt", _bool(o, "adapt", self.adapt))
+        s(self, "wide_noise_window", _bool(o, "wide_noise_window", self.wide_noise_window))
         s(self, "min_region_scale", _num(o, "min_region_scale", self.min_region_scale, lo=0,
                                          lo_open=True))
         if self.angle_order not in ("auto", "paper", "reversed"):

@@ -123,14 +123,16 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None,
     xyz = cloud.xyz
     h, w, _ = xyz.shape
     n_pix = h * w
-    model = None
+    model = wide = None
     if cloud.organized and p.adapt:
-        from planerel.segment.noise import estimate_noise
+        from planerel.segment.noise import WIDE_PATCH, estimate_noise
 
         cloud.require_points(3)
         model = estimate_noise(cloud, waviness=True)
+        if p.wide_noise_window:
+            wide = estimate_noise(cloud, patch=WIDE_PATCH)
     given = p  # the Segmentation keeps the parameters as given; info["settings"] the used ones
-    p, chosen = adapt_params(p, model, (h, w))
+    p, chosen = adapt_params(p, model, (h, w), wide=wide)
     min_size = resolve_min_region_size(p.min_region_size, n_pix, p.min_region_scale)
     order, seed_test = p.growing_variant(split)
     cos_theta = math.cos(math.radians(p.theta))
