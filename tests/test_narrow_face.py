@@ -64,3 +64,68 @@ def test_the_narrow_settings_are_checked():
 
 def test_the_default_admits_the_narrow_flat_faces():
     assert RelationParams().tall_narrow_width == 0.06 and RelationParams().tall_narrow_bend == 0.3
+
+
+def _face_bend_numpy(face, labels, xyz, up, max_points=4000):
+    """face_bend as written with numpy's own calls (face52): the reference its faster form
+    (speed58b: cross3, vec_norm, the compiled percentiles) must equal float for float."""
+    from planerel.features.solid import face_points
+
+    pts = face_points(face, labels, xyz, max_points)[0]
+    if pts.shape[0] < 8:
+        return np.inf
+    up = np.asarray(up, float)
+    n = np.asarray(face.normal, float)
+    n = n / np.linalg.norm(n)
+    along = np.cross(up, n)
+    norm = float(np.linalg.norm(along))
+    if not norm > 1e-9:
+        return np.inf
+    along = along / norm
+    c = pts.mean(axis=0)
+    d, u, v = (pts - c) @ n, (pts - c) @ along, (pts - c) @ up
+    design = np.stack([u * u, u, np.ones_like(u), v], axis=1)
+    coef, *_ = np.linalg.lstsq(design, d, rcond=None)
+    lo, hi = np.percentile(u, [2, 98])
+    res = float(np.sqrt(np.mean((d - design @ coef) ** 2)))
+    return abs(float(coef[0])) * ((hi - lo) / 2) ** 2 / max(res, 1e-9)
+
+
+def test_face_bend_equals_numpy_s_on_random_faces():
+    rng = np.random.default_rng(58)
+    for seed in range(40):
+        r = rng.uniform(0.03, 0.5)
+        half = rng.uniform(0.01, 0.2)
+        face, labels, xyz = _face(lambda x, r=r: 1.0 + r - np.sqrt(r * r - np.minimum(x * x, r * r)),
+                                  half=half, noise=rng.uniform(0.0, 0.004), seed=seed)
+        face.normal = tuple(rng.normal(0.0, 0.05, 3) + (0.0, -rng.uniform(0.5, 2.0), 0.0))
+        up = UP + rng.normal(0.0, 0.03, 3)
+        labels[rng.random(labels.shape) < 0.2] = 2  # other planes' pixels left out
+        xyz[rng.random(labels.shape) < 0.05] = np.nan
+        got, ref = face_bend(face, labels, xyz, up), _face_bend_numpy(face, labels, xyz, up)
+        assert got == ref or (np.isinf(got) and np.isinf(ref))
+    face, labels, xyz = _face(lambda x: 1.0 + 0.0 * x)
+    assert face_bend(face, labels, xyz, (0.0, -1.0, 0.0)) == np.inf  # up along the normal
+
+
+def test_face_bend_equals_numpy_s_on_real_frames():
+    from pathlib import Path
+
+    from planerel.features.planes import measure_planes
+    from planerel.io.readers import read
+    from planerel.segment import segment
+
+    files = sorted((Path(__file__).resolve().parents[2] / "shared" / "data" / "kinect")
+                   .glob("*_depth.tiff"))
+    if not files:
+        pytest.skip("no Kinect frames in ../shared/data/kinect")
+    n = 0
+    for f in files:
+        cloud = read(str(f))
+        planes = measure_planes(cloud, segment(cloud).labels)
+        for q in planes:
+            if q.orientation == "vertical":
+                got = face_bend(q, planes.labels, cloud.xyz, planes.up)
+                assert got == _face_bend_numpy(q, planes.labels, cloud.xyz, planes.up)
+                n += 1
+    assert n > 0

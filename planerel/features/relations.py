@@ -1287,24 +1287,26 @@ def face_bend(face, labels, xyz, up, max_points: int = PROFILE_POINTS) -> float:
     the noise's, about 0-0.2), a cylinder's facet (a can, a bottle, a mug) bends by
     ``w^2 / 8r`` (0.5-3 on the real frames of face52); ``inf`` with fewer than 8 points.
     """
-    from planerel.features.solid import face_points
+    from planerel.features.solid import _percentiles_2_98, face_points
 
     pts = face_points(face, labels, xyz, max_points)[0]
     if pts.shape[0] < 8:
         return math.inf
+    # numpy's floats without its overhead (speed58b): cross3, vec_norm and the compiled
+    # percentiles give the same floats as np.cross, np.linalg.norm and np.percentile
     up = np.asarray(up, float)
     n = np.asarray(face.normal, float)
-    n = n / np.linalg.norm(n)
-    along = np.cross(up, n)
-    norm = float(np.linalg.norm(along))
+    n = n / vec_norm(n)
+    along = cross3(up, n)
+    norm = vec_norm(along)
     if not norm > 1e-9:
         return math.inf
     along = along / norm
-    c = pts.mean(axis=0)
-    d, u, v = (pts - c) @ n, (pts - c) @ along, (pts - c) @ up
+    rel = pts - pts.mean(axis=0)
+    d, u, v = rel @ n, rel @ along, rel @ up
     design = np.stack([u * u, u, np.ones_like(u), v], axis=1)
     coef, *_ = np.linalg.lstsq(design, d, rcond=None)
-    lo, hi = np.percentile(u, [2, 98])
+    (lo, hi), = _percentiles_2_98([u])
     res = float(np.sqrt(np.mean((d - design @ coef) ** 2)))
     sag = abs(float(coef[0])) * ((hi - lo) / 2) ** 2
     return sag / max(res, 1e-9)
