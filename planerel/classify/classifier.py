@@ -17,7 +17,7 @@ import itertools
 import re
 import tempfile
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -210,6 +210,13 @@ class SceneAnswer:
             out.append("no floor plane in view: a box seen as one upright face cannot be "
                        "proved (its foot needs the floor), and no slope's foot is checked")
         return out
+
+
+def _refuse(a, why):
+    """The answer ``a`` turned to ``other`` by a decision gate, ``why`` (the gate's refusal)
+    added to its refusals."""
+    return replace(a, klass=OTHER, rule=None, bindings={}, proof_planes=(), rule_index=None,
+                   precision=None, refused=tuple(a.refused) + (why,))
 
 
 def _num(v, digits: int = 4):
@@ -608,8 +615,6 @@ class Classifier:
         of its flight (:func:`~planerel.features.flight_side.side_planes`) keeps the rest; the
         side planes are decided as an object of their own (``other`` for a members model),
         listed after it with ``cut_from``."""
-        from dataclasses import replace
-
         from planerel.features.facts import SceneObject
         from planerel.features.flight_side import side_planes
 
@@ -642,8 +647,6 @@ class Classifier:
         (:func:`~planerel.features.hang.face_hang`) with no horizontal plane at their lower
         edge (:func:`~planerel.features.hang.supported`) becomes ``other``, with a
         :class:`~planerel.ilp.metrics.HangRefusal`."""
-        from dataclasses import replace
-
         from planerel.features.hang import face_hang, supported
         from planerel.ilp.metrics import HangRefusal
 
@@ -666,9 +669,7 @@ class Classifier:
                     why = HangRefusal(BOX, a.rule_index or 0,
                                       tuple(desc.plane_id(h.face) for h in hangs),
                                       min(h.share for h in hangs), max(h.bottom for h in hangs))
-                    a = replace(a, klass=OTHER, rule=None, bindings={}, proof_planes=(),
-                                rule_index=None, precision=None,
-                                refused=tuple(a.refused) + (why,))
+                    a = _refuse(a, why)
             out.append(a)
         return tuple(out)
 
@@ -676,8 +677,6 @@ class Classifier:
         """``decision.long_lying_gate``: each ``box`` answer whose proof planes hold no
         upright plane and a top longer than ``long_lying_length`` becomes ``other``, with a
         :class:`~planerel.ilp.metrics.LongLyingRefusal`."""
-        from dataclasses import replace
-
         from planerel.ilp.metrics import LongLyingRefusal
 
         ids = {desc.plane_id(p.label): p for p in desc.planes}
@@ -691,9 +690,7 @@ class Classifier:
                     if top.length > self.long_lying:
                         why = LongLyingRefusal(BOX, a.rule_index or 0, desc.plane_id(top.label),
                                                float(top.length), float(self.long_lying))
-                        a = replace(a, klass=OTHER, rule=None, bindings={}, proof_planes=(),
-                                    rule_index=None, precision=None,
-                                    refused=tuple(a.refused) + (why,))
+                        a = _refuse(a, why)
             out.append(a)
         return tuple(out)
 
@@ -701,8 +698,6 @@ class Classifier:
         """``decision.flight_side_gate``: each ``box`` answer that runs beside a flight
         answered ``stairs`` in the same scan (:func:`~planerel.features.flight_side.beside_flight`)
         becomes ``other``, with a :class:`~planerel.ilp.metrics.FlightSideRefusal`."""
-        from dataclasses import replace
-
         from planerel.features.flight_side import beside_flight, flight_geometry
         from planerel.ilp.metrics import FlightSideRefusal
 
@@ -727,9 +722,7 @@ class Classifier:
                     if m is not None and m.beside(thick, gap, reach, rise, angle):
                         why = FlightSideRefusal(BOX, a.rule_index or 0, f.object_id, m.thick,
                                                 m.gap, m.rise)
-                        a = replace(a, klass=OTHER, rule=None, bindings={}, proof_planes=(),
-                                    rule_index=None, precision=None,
-                                    refused=tuple(a.refused) + (why,))
+                        a = _refuse(a, why)
                         break
             out.append(a)
         return tuple(out)
@@ -737,8 +730,6 @@ class Classifier:
     def _answer_objects(self, desc, objects, plane_ids, xyz) -> list:
         """``objects`` (SceneObjects over ``desc``'s planes) answered as :meth:`_answer`
         answers a description's own."""
-        from dataclasses import replace
-
         sub = replace(desc, objects=tuple(objects))
         with _scene_facts(sub, "cut"):
             return self._answer(sub, plane_ids, xyz)
@@ -749,8 +740,6 @@ class Classifier:
         smaller than itself: the solids decided as objects of their own; those answered
         ``box`` by a rule that proved the proposal (largest first, sharing no plane) cut from
         it, and the rest decided again (its class or ``other``)."""
-        from dataclasses import replace
-
         from planerel.features._defaults import defaults
         from planerel.features.box_cut import box_solids, cut_object
         from planerel.features.curved import CurvedParams
@@ -1040,8 +1029,6 @@ def _scene_facts(desc, prefix: str):
 def _voted(per_member: list) -> list:
     """The members' answers (one list per member, objects in the same order) joined by the
     vote (:func:`planerel.ilp.members.vote`)."""
-    from dataclasses import replace
-
     from planerel.ilp.members import vote
 
     out = []

@@ -70,28 +70,26 @@ _INTRINSICS_FORMS = "'kinect' or W,H,fx,fy,cx,cy (or a camera JSON file)"
 def _intrinsics_file(text: str) -> tuple:
     """The camera of a JSON file: ``{width, height, fx, fy, cx, cy}``, a sidecar's
     ``{"intrinsics": {...}}``, or ``width``/``height`` with a 3x3 ``K`` (flat or nested, also
-    ``k``, ``camera_matrix`` or ``camera_matrix.data``, as ROS camera_info writes it)."""
+    ``k``, ``camera_matrix`` or ``camera_matrix.data``, as ROS camera_info writes it); checked
+    by :func:`planerel.io.readers.resolve_intrinsics`, as every other camera is."""
     import numpy as np
 
-    from planerel.io.cloud import Intrinsics
-    from planerel.io.readers import read_json_object
+    from planerel.io.readers import read_json_object, resolve_intrinsics
 
     data = read_json_object(text, "camera JSON given to --intrinsics")
     if isinstance(data.get("intrinsics"), dict):
         data = data["intrinsics"]
+    w = data.get("width", data.get("image_width"))
+    h = data.get("height", data.get("image_height"))
+    K = next((data[k] for k in ("K", "k", "camera_matrix") if k in data), None)
+    K = K.get("data") if isinstance(K, dict) else K
+    if w is None or h is None or (K is None and not {"fx", "fy", "cx", "cy"} <= set(data)):
+        raise InputError(f"--intrinsics {text}: it holds neither width, height, fx, fy, cx, cy "
+                         "nor width, height and a 3x3 K")
     try:
-        if all(k in data for k in ("width", "height", "fx", "fy", "cx", "cy")):
-            i = Intrinsics.from_any(data)
-        else:
-            K = next((data[k] for k in ("K", "k", "camera_matrix") if k in data), None)
-            K = K.get("data") if isinstance(K, dict) else K
-            w = data.get("width", data.get("image_width"))
-            h = data.get("height", data.get("image_height"))
-            if K is None or w is None or h is None:
-                raise InputError("it holds neither width, height, fx, fy, cx, cy nor width, "
-                                 "height and a 3x3 K")
-            i = Intrinsics.from_matrix(np.asarray(K, dtype=float).reshape(3, 3), w, h)
-    except (InputError, TypeError, ValueError) as exc:
+        value = data if K is None else np.asarray(K, dtype=float).reshape(3, 3)
+        i = resolve_intrinsics(value, int(w), int(h), where=f"--intrinsics {text}")
+    except (TypeError, ValueError) as exc:
         raise InputError(f"--intrinsics {text}: {exc}") from None
     return (i.width, i.height, i.fx, i.fy, i.cx, i.cy)
 
