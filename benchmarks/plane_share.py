@@ -60,8 +60,9 @@ def frames(dirs=(), stairs_dir=None):
     from real_unseen import read_frame, read_labels
 
     if stairs_dir:
-        import planerel
         from real_stairs import INTRINSICS
+
+        import planerel
 
         for p in sorted(glob.glob(os.path.join(stairs_dir, "*_depth.png"))):
             yield (f"stair-perception/{Path(p).stem}",
