@@ -285,3 +285,35 @@ def test_wide_noise_window_sees_smoothed_noise_in_a_segmentation():
     assert off.info["settings"]["normal_smooth"] == "auto" or off.info["settings"]["normal_smooth"] <= 2
     assert on.info["settings"]["wide_noise_pixels"] > 1.0
     assert on.info["settings"]["normal_smooth"] > 2
+
+
+def _noisy_slope(k, seed=0, w=320, h=240):
+    """A sloping plane 2-2.5 m away with ``k z^2`` depth noise smoothed over 2 px (a stereo
+    sensor's correlated error)."""
+    from scipy.ndimage import gaussian_filter
+
+    intr = Intrinsics.kinect(w, h)
+    u, v = np.meshgrid(np.arange(w), np.arange(h))
+    x, y = (u - intr.cx) / intr.fx, (v - intr.cy) / intr.fy
+    z = 2.0 + 0.5 * y
+    if k:
+        n = gaussian_filter(np.random.default_rng(seed).standard_normal((h, w)), 2.0)
+        z = z + k * z ** 2 * n / n.std()
+    return Cloud(np.stack([x * z, y * z, z], axis=2), intr)
+
+
+def test_wide_fallback_only_where_the_narrow_window_fails():
+    assert make_params("regiongrow").wide_fallback == 0  # off by default
+    clean = _noisy_slope(0.0)
+    a, b = segment(clean), segment(clean, wide_fallback=0.5)
+    assert np.array_equal(a.labels, b.labels) and "wide_fallback" not in b.info
+    noisy = _noisy_slope(0.005)
+    valid = np.asarray(noisy.valid)
+    off = segment(noisy)
+    on = segment(noisy, wide_fallback=0.5)
+    assert (off.labels[valid] >= 0).mean() < 0.5  # the 2 px window: normals of noise
+    share, wide = on.info["wide_fallback"]
+    assert share < 0.5 and wide > 0.9
+    assert (on.labels[valid] >= 0).mean() == pytest.approx(wide, abs=1e-3)
+    with pytest.raises(InputError, match="wide_fallback"):
+        make_params("regiongrow", wide_fallback=1.5)

@@ -227,3 +227,41 @@ def test_leftover_small_piece_on_a_found_surface_is_dropped():
         cloud, labels, _ = _wall_with_patch(z)
         out = split_bent_regions(cloud, _with_labels(cloud, labels), params=HALF)
         assert out.info["leftover_regions"] == regions
+
+
+def _hole_halves(step=0.0, fill_nan=True):
+    """:func:`_plane_halves` with 8 columns between the halves: no depth (``fill_nan``) or
+    valid points that no region holds."""
+    cloud, labels = _plane_halves(gap_cols=8, step=step)
+    xyz = cloud.xyz.copy()
+    if fill_nan:
+        xyz[:, 72:80] = np.nan
+    return Cloud(xyz, cloud.intrinsics), labels
+
+
+def test_hole_pairs_cross_missing_depth_only():
+    from planerel.segment.merge import hole_pairs
+
+    cloud, labels = _hole_halves()
+    assert hole_pairs(labels, cloud.xyz, 4) == [(0, 1)]  # 8 columns: 4 grown from each side
+    assert hole_pairs(labels, cloud.xyz, 3) == []  # too wide for 3
+    assert hole_pairs(labels, cloud.xyz, 0) == []
+    kept, lab = _hole_halves(fill_nan=False)  # valid unassigned pixels stop the growth
+    assert hole_pairs(lab, kept.xyz, 10) == []
+
+
+def test_hole_bridge_joins_a_plane_a_hole_cuts():
+    cloud, labels = _hole_halves()
+    seg = _with_labels(cloud, labels)
+    assert merge_coplanar(cloud, seg).n_planes == 2  # off by default
+    on = merge_coplanar(cloud, seg, SplitParams(hole_bridge=6))
+    _check(on, labels.shape)
+    assert on.n_planes == 1 and on.info["hole_pairs"] == 1
+    # a step of a stair's rise across the hole stays two planes
+    far, lab = _hole_halves(step=0.15)
+    assert merge_coplanar(far, _with_labels(far, lab), SplitParams(hole_bridge=6)).n_planes == 2
+
+
+def test_hole_bridge_is_checked():
+    with pytest.raises(InputError, match="hole_bridge"):
+        SplitParams(hole_bridge=-1)

@@ -198,6 +198,29 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
         raise InputError(f"unknown segmentation method {method!r}; choose one of {', '.join(METHODS)}")
     if not do_split:
         return seg
+    seg = _post_process(cloud, seg, p, normals, split_params)
+    if (method == "regiongrow" and cloud.organized and p.adapt and p.wide_fallback > 0
+            and not p.wide_noise_window and normals is None):
+        # most of the frame in no plane: correlated depth noise (srob59); the wide window
+        import dataclasses
+
+        import numpy as np
+
+        valid = np.asarray(cloud.valid)
+        share = float((seg.labels[valid] >= 0).mean()) if valid.any() else 1.0
+        if share < p.wide_fallback:
+            wp = dataclasses.replace(p, wide_noise_window=True)
+            wide = _post_process(cloud, region_grow(cloud, wp, split=True), wp, None,
+                                 split_params)
+            wshare = float((wide.labels[valid] >= 0).mean())
+            if wshare > share:
+                seg = wide
+            seg.info["wide_fallback"] = (round(share, 3), round(wshare, 3))
+    return seg
+
+
+def _post_process(cloud, seg, p, normals, split_params):
+    """The planar post-processing of :func:`segment` (split, merge, absorb, joins)."""
     from planerel.segment.merge import join_pieces, join_wavy, merge_coplanar
     from planerel.segment.split import split_bent_regions
 

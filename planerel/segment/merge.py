@@ -10,9 +10,11 @@ plane.  A learner counting horizontal planes then sees two box tops.
 
 1. **Candidates.**  Pairs of regions with pixels within ``merge_gap`` pixels of each other in
    the image grid whose 3-D points there lie within ``merge_jump * z`` metres (the same surface,
-   not a near edge in front of a far one).  Candidates and statistics come from a regular grid
-   sample of about 160x120 pixels (every pixel at 160x120, every 4th row and column at
-   640x480), as in the split test, so ``merge_gap`` means the same angle at every resolution.
+   not a near edge in front of a far one).  With ``hole_bridge`` (off by default) also pairs
+   that only a hole in the depth separates (:func:`hole_pairs`).  Candidates and statistics
+   come from a regular grid sample of about 160x120 pixels (every pixel at 160x120, every 4th
+   row and column at 640x480), as in the split test, so ``merge_gap`` means the same angle at
+   every resolution.
 2. **Test.**  The normals differ by at most ``merge_angle`` degrees and the least-squares plane
    of the union fits it within the split test's tolerance: RMS residual <= ``tolerance`` x the
    RMS the noise model expects (raised by the sensor's measured noise, as in the split test).
@@ -123,7 +125,15 @@ def merge_coplanar(cloud, seg: Segmentation, params=None, *,
     Ls = np.ascontiguousarray(labels[::st, ::st], dtype=np.int32)
     Xs = np.ascontiguousarray(xyz[::st, ::st], dtype=np.float64)
     pairs = _touching_pairs(Ls, Xs, n, p.merge_gap, p.merge_jump)
-    if not pairs:
+    if p.hole_bridge > 0:
+        # pieces of one face a hole in the depth cuts apart (srob59): candidates too, for
+        # the same test; the absorb step below keeps the pairs that touch
+        across = sorted(set(hole_pairs(Ls, Xs, p.hole_bridge)) - set(pairs))
+        if across:
+            info["hole_pairs"] = len(across)
+    else:
+        across = []
+    if not pairs and not across:
         return done(Segmentation(labels, seg.planes, seg.method, seg.params, seg.normals, info),
                     Ls, Xs, pairs)
 
@@ -161,7 +171,7 @@ def merge_coplanar(cloud, seg: Segmentation, params=None, *,
     cos_max = math.cos(math.radians(p.merge_angle))
     cos_par = math.cos(math.radians(p.min_split_angle)) if p.min_split_angle > 0 else 2.0
     # the touching pairs of current groups (roots), a < b; a merge renames drop to keep
-    edges = set(pairs)
+    edges = set(pairs) | set(across)
     merged = 0
     while True:
         best = _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, p.tolerance, cos_par)
@@ -193,6 +203,65 @@ def merge_coplanar(cloud, seg: Segmentation, params=None, *,
                                                       for a, b in pairs) if x != y})
     remap = np.concatenate([[-1], gid]).astype(np.int32)
     return done(res, np.ascontiguousarray(remap[Ls + 1]), Xs, pairs)
+
+
+def hole_pairs(labels: np.ndarray, xyz: np.ndarray, steps: int) -> list[tuple[int, int]]:
+    """Label pairs ``(a, b)``, ``a < b``, whose regions a hole in the depth separates: each
+    region grown into the invalid pixels (no depth) beside it, ``steps`` pixels at most
+    (4-neighbours, all regions at once), meets the other's pixels or growth there.
+
+    Valid pixels of no region stop the growth: only a gap with no depth at all is bridged
+    (a stereo sensor's holes, a speckle's dropouts), never a strip the segmentation left.
+
+    Parameters
+    ----------
+    labels : ndarray (H, W) int
+        Region labels, -1 none.
+    xyz : ndarray (H, W, 3)
+        Points; a pixel is invalid when its ``z`` is not finite and positive.
+    steps : int
+        Largest distance grown, pixels of ``labels``' grid.
+
+    Returns
+    -------
+    list of (int, int)
+        Sorted pairs.
+    """
+    z = xyz[..., 2]
+    hole = ~(np.isfinite(z) & (z > 0)) & (labels < 0)
+    if steps < 1 or not hole.any():
+        return []
+    grown = np.asarray(labels, np.int64).copy()
+    h, w = grown.shape
+    found = set()
+    shifts = ((0, 1), (1, 0), (0, -1), (-1, 0))
+    for _ in range(int(steps)):
+        new = grown.copy()
+        for dy, dx in shifts:
+            nb = np.full_like(grown, -1)
+            nb[max(-dy, 0):h - max(dy, 0), max(-dx, 0):w - max(dx, 0)] = \
+                grown[max(dy, 0):h - max(-dy, 0), max(dx, 0):w - max(-dx, 0)]
+            # a hole pixel a region reached meets another region's pixel or growth
+            meet = hole & (grown >= 0) & (nb >= 0) & (nb != grown)
+            if meet.any():
+                a, b = grown[meet], nb[meet]
+                found.update(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(),
+                                 strict=True))
+            take = hole & (new < 0) & (nb >= 0)
+            new[take] = nb[take]
+        if np.array_equal(new, grown):
+            break
+        grown = new
+    # the last growth's meetings
+    for dy, dx in shifts:
+        nb = np.full_like(grown, -1)
+        nb[max(-dy, 0):h - max(dy, 0), max(-dx, 0):w - max(dx, 0)] = \
+            grown[max(dy, 0):h - max(-dy, 0), max(dx, 0):w - max(-dx, 0)]
+        meet = hole & (grown >= 0) & (nb >= 0) & (nb != grown)
+        if meet.any():
+            a, b = grown[meet], nb[meet]
+            found.update(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(), strict=True))
+    return sorted(found)
 
 
 def _rename(edges: set, keep: int, drop: int) -> None:

@@ -181,6 +181,14 @@ class RegionGrowParams:
         ``"auto"`` normal window, for every noise kind, to the uniform-noise rule's
         ``round(sqrt(12) p)`` (at most ``MAX_WINDOW``) of that estimate when it exceeds the
         window chosen otherwise.
+    wide_fallback : float
+        Off (0) by default (srob59: docs/segmentation.md "A wide window where the narrow one
+        fails").  With ``adapt`` and post-processing, a segmentation that leaves more than
+        ``1 - wide_fallback`` of the valid pixels in no plane (correlated depth noise the
+        5 px estimate misses makes most normals noise) is done again with
+        ``wide_noise_window``, and the one assigning more pixels is kept
+        (``info["wide_fallback"]``: both shares).  Frames the narrow window segments are
+        unchanged.
     """
 
     theta: float = 15.0
@@ -204,6 +212,7 @@ class RegionGrowParams:
     leftover_planes: bool = True
     adapt: bool = True
     wide_noise_window: bool = False
+    wide_fallback: float = 0.0
     angle_order: str = "auto"
     seed_test: bool | str = "auto"
 
@@ -245,6 +254,7 @@ class RegionGrowParams:
         s(self, "leftover_planes", _bool(o, "leftover_planes", self.leftover_planes))
         s(self, "adapt", _bool(o, "adapt", self.adapt))
         s(self, "wide_noise_window", _bool(o, "wide_noise_window", self.wide_noise_window))
+        s(self, "wide_fallback", _num(o, "wide_fallback", self.wide_fallback, lo=0, hi=1))
         s(self, "min_region_scale", _num(o, "min_region_scale", self.min_region_scale, lo=0,
                                          lo_open=True))
         if self.angle_order not in ("auto", "paper", "reversed"):

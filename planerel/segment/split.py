@@ -166,6 +166,12 @@ class SplitParams:
         (:func:`planerel.segment.wavy_fit.wavy_sheet_fits`: ``tolerance x wave x sigma(z)`` grown
         with the extent, at most ``WAVE_LEFTOVER_MAX_RMS`` = 8 mm, a flat sheet when long;
         ``info["leftover_wavy"]`` counts them).  True; frames that are not wavy are unchanged.
+    hole_bridge : int
+        The merge also tests regions that a hole in the depth (pixels with no depth, no valid
+        unassigned pixel between) separates by at most ``2 x hole_bridge`` pixels of its
+        160x120 sample grid (:func:`planerel.segment.merge.hole_pairs`): a riser or tread a
+        stereo sensor's holes cut into pieces (srob59, docs/segmentation.md).  The same
+        union test decides.  0 (the default): off.
     """
 
     tolerance: float = 1.5
@@ -196,6 +202,7 @@ class SplitParams:
     piece_offset: float = 0.005
     wavy_join: bool = True
     wavy_leftover: bool = True
+    hole_bridge: int = 0
 
     def __post_init__(self) -> None:
         o = "split"
@@ -238,6 +245,7 @@ class SplitParams:
         s(self, "piece_offset", _num(o, "piece_offset", self.piece_offset, lo=0.0))
         s(self, "wavy_join", _bool(o, "wavy_join", self.wavy_join))
         s(self, "wavy_leftover", _bool(o, "wavy_leftover", self.wavy_leftover))
+        s(self, "hole_bridge", _int(o, "hole_bridge", self.hole_bridge, 0))
         s(self, "min_split_angle", _num(o, "min_split_angle", self.min_split_angle, lo=0.0,
                                         hi=90.0))
         s(self, "parallel_gap", _num(o, "parallel_gap", self.parallel_gap, lo=0.0))
