@@ -94,7 +94,8 @@ def test_the_bound_is_a_setting(tmp_path):
 
 def test_face_extent_and_the_image_border():
     """The measure on a made face: a vertical plane 0.9 m tall and 0.1 m wide 2 m ahead; the
-    same pixels moved to the image's left column are cut (the width a lower bound)."""
+    same pixels moved to the image's left column, or with a nearer surface just beyond an end,
+are cut (the width a lower bound)."""
     from types import SimpleNamespace
 
     from planerel.features.face_shape import face_extent
@@ -118,6 +119,13 @@ def test_face_extent_and_the_image_border():
     assert e.height == pytest.approx(0.87, abs=0.02)
     assert e.width == pytest.approx(0.09, abs=0.01)
     assert not e.cut and e.ratio == pytest.approx(e.height / e.width) and e.ratio > 6.5
+    # a nearer surface just beyond its right end (a tall box partly behind a nearer one):
+    # its width is a lower bound; a farther one (what lies behind) is not
+    for z, hidden in ((1.5, True), (2.6, False)):
+        xyz[10 + rows, 80 + cols] = np.stack([0.1 + cols * 0.01, 0.45 - rows * 0.01,
+                                              np.full(rows.shape, z)], axis=-1)
+        lab[10 + rows, 80 + cols] = 9
+        assert face_extent(face, up, xyz, lab).cut is hidden
     place(0)
     assert face_extent(face, up, xyz, lab).cut
     assert face_extent(SimpleNamespace(label=8, normal=(0.0, 0.0, -1.0)), up, xyz, lab) is None
