@@ -453,6 +453,10 @@ class Classifier:
         #: no ``box`` for an object proved by a top alone longer than a lying box's
         #: (``decision.long_lying_gate``): the bound in metres, or None when off
         self.long_lying = decision.long_lying_length if decision.long_lying_gate else None
+        #: no ``box`` for an object whose upright proof faces are all far taller than wide
+        #: (``decision.narrow_face_gate``, :mod:`planerel.features.face_shape`): the bound
+        #: on height over width, or None when off
+        self.narrow_face = decision.narrow_face_ratio if decision.narrow_face_gate else None
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -608,6 +612,8 @@ class Classifier:
             answers = self._hanging(desc, answers, xyz)
         if self.long_lying is not None and BOX in self.classes:
             answers = self._long_lying(desc, answers)
+        if self.narrow_face is not None and xyz is not None and BOX in self.classes:
+            answers = self._narrow_faces(desc, answers, xyz)
         return answers
 
     def _trim_flights(self, desc, answers, plane_ids, xyz) -> tuple:
@@ -691,6 +697,33 @@ class Classifier:
                         why = LongLyingRefusal(BOX, a.rule_index or 0, desc.plane_id(top.label),
                                                float(top.length), float(self.long_lying))
                         a = _refuse(a, why)
+            out.append(a)
+        return tuple(out)
+
+    def _narrow_faces(self, desc, answers, xyz) -> tuple:
+        """``decision.narrow_face_gate``: each ``box`` answer whose upright proof faces that
+        the image does not cut at its left or right all stand more than ``narrow_face_ratio``
+        times as tall as they are wide (:func:`~planerel.features.face_shape.face_extent`)
+        becomes ``other``, with a :class:`~planerel.ilp.metrics.NarrowFaceRefusal`."""
+        from planerel.features.face_shape import face_extent
+        from planerel.ilp.metrics import NarrowFaceRefusal
+
+        lab = desc.labels
+        if lab is None or np.asarray(lab).shape != np.asarray(xyz).shape[:2]:
+            return answers
+        ids = {desc.plane_id(p.label): p for p in desc.planes}
+        out = []
+        for a in answers:
+            if a.klass == BOX:
+                faces = [ids[i] for i in a.proof_planes
+                         if i in ids and ids[i].orientation == "vertical"]
+                ext = [face_extent(f, desc.planes.up, xyz, lab) for f in faces]
+                ext = [e for e in ext if e is not None and not e.cut]
+                if ext and all(e.ratio > self.narrow_face for e in ext):
+                    why = NarrowFaceRefusal(BOX, a.rule_index or 0,
+                                            tuple(desc.plane_id(e.face) for e in ext),
+                                            min(e.ratio for e in ext), float(self.narrow_face))
+                    a = _refuse(a, why)
             out.append(a)
         return tuple(out)
 

@@ -211,6 +211,9 @@ HANG_LINES = 8
 #: Defaults of :attr:`DecisionParams.long_lying_gate` and its bound (fbox58).
 LONG_LYING_GATE = True
 LONG_LYING_LENGTH = 0.4
+#: Defaults of :attr:`DecisionParams.narrow_face_gate` and its bound (fbox59).
+NARROW_FACE_GATE = True
+NARROW_FACE_RATIO = 6.5
 #: Defaults of :attr:`DecisionParams.cut_boxes`, ``cut_reach``, ``cut_margin``.
 CUT_BOXES = True
 CUT_REACH = 1.5
@@ -506,6 +509,18 @@ class DecisionParams:
         becomes ``other``.  Only classify applies it.
     long_lying_length : float
         Metres (>= 0): 0.4.
+    narrow_face_gate : bool
+        On by default (fbox59).  No ``box`` for an object whose upright proof faces are all
+        more than ``narrow_face_ratio`` times as tall as they are wide
+        (:func:`planerel.features.face_shape.face_extent`: the spread of each face's points
+        along ``up`` and along its horizontal axis): a post's, a door jamb's, a wall's end,
+        a furniture side seen edge-on.  A box's upright faces are compact (the real
+        development frames' found boxes reach 5.6, a product box's narrowest side; the
+        independent sets' 3.9).  A face whose pixels reach the image's left or right column
+        is not judged (its width is then a lower bound); an answer with no judged upright
+        proof face keeps its class.  The answer becomes ``other``.  Only classify applies it.
+    narrow_face_ratio : float
+        Height over width (>= 0): 6.5.
     cut_boxes : bool
         On by default (core49).  A proposal a box rule proves and a gate refuses ``box`` for,
         whose planes hold a box proof's seed (a ``skirt`` or ``face_pair`` pair; a lone
@@ -594,6 +609,8 @@ class DecisionParams:
     hang_lines: int = HANG_LINES
     long_lying_gate: bool = LONG_LYING_GATE
     long_lying_length: float = LONG_LYING_LENGTH
+    narrow_face_gate: bool = NARROW_FACE_GATE
+    narrow_face_ratio: float = NARROW_FACE_RATIO
     cut_boxes: bool = CUT_BOXES
     cut_reach: float = CUT_REACH
     cut_margin: float = CUT_MARGIN
@@ -604,7 +621,8 @@ class DecisionParams:
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
                      "side_gate", "unsure_gate", "facet_gate", "facet_bridge", "cut_boxes",
-                     "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate"):
+                     "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate",
+                     "narrow_face_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -625,7 +643,7 @@ class DecisionParams:
         for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin",
                      "flight_side_thick", "flight_side_gap", "flight_side_reach",
                      "flight_side_rise", "flight_trim_edge", "flight_trim_rise", "hang_drop",
-                     "hang_level", "long_lying_length"):
+                     "hang_level", "long_lying_length", "narrow_face_ratio"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
@@ -1728,6 +1746,31 @@ class LongLyingRefusal:
     def to_dict(self) -> dict:
         return {"class": self.klass, "rule": self.rule, "top": self.top,
                 "length": round(self.length, 3), "bound": self.bound, "reason": self.reason}
+
+
+@dataclass(frozen=True)
+class NarrowFaceRefusal:
+    """``box`` for an object whose upright proof faces are all far taller than wide
+    (``decision.narrow_face_gate``, :func:`planerel.features.face_shape.face_extent`)."""
+
+    klass: str
+    rule: int
+    #: the narrow faces' plane ids
+    faces: tuple
+    #: the least height over width among them
+    ratio: float
+    #: the gate's bound
+    bound: float
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it, but its upright faces {', '.join(self.faces)} "
+                f"are {self.ratio:.1f} times as tall as wide or more, over {self.bound:g}: "
+                f"a post's, a jamb's or a wall's end, not a box's side")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "faces": list(self.faces),
+                "ratio": round(self.ratio, 3), "bound": self.bound, "reason": self.reason}
 
 
 def facet_refusals(hits, stats: Sequence, facet=None):
