@@ -35,7 +35,9 @@ them).  Each frame is read, segmented, described and answered as the census does
     the proposal is the box's, no box rule fires; ``L`` the literal that fails on the closest
     candidate: for an upright plane the ``tall_face/1`` tests it fails
     (:func:`box_tests.tall_face_tests`, the plane failing fewest), else ``no upright face`` and
-    why no plane is ``lying/1``'s top (``top size`` or ``ground``).
+    why no plane is ``lying/1``'s top (``ground`` for a top of its size, ``a face tilted off
+    vertical`` when a plane is inclined :data:`FACE_TILT` (45) degrees or more, else
+    ``top size``).
 
 Each box also gets its *range* (the rectangle's median distance), *size* (the rectangle's
 larger side in metres at that range, through the camera's focal length), the *view* (how far
@@ -62,6 +64,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 #: Share of the holding proposal's pixels in other box rectangles that makes a merge a pile.
 PILE = 0.2
+#: Degrees of incline from which a plane counts as a face measured off vertical.
+FACE_TILT = 45.0
 #: Degrees of up error over which a frame's up is called wrong.
 UP_WRONG = 10.0
 RANGES = ((1.0, "< 1 m"), (2.0, "1-2 m"), (4.0, "2-4 m"), (math.inf, ">= 4 m"))
@@ -95,14 +99,20 @@ def no_plane_cause(valid_share: float, plane_share: float) -> str:
     return "no plane: in a larger plane"
 
 
-def rule_cause(closest, has_upright: bool, top_sized: bool) -> str:
+def rule_cause(closest, has_upright: bool, top_sized: bool, tilted: bool = False) -> str:
     """The literal that fails on a ``no rule fires`` box: ``closest`` is
     :func:`box_tests._box_rows`' closest ``tall_face`` (``{"plane", "fails"}`` or None),
     ``has_upright`` whether the proposal holds a vertical plane, ``top_sized`` whether one of
-    its other planes passes ``lying/1``'s size and incline test."""
+    its other planes passes ``lying/1``'s size and incline test, ``tilted`` whether one is
+    inclined :data:`FACE_TILT` degrees or more (a face measured off vertical: no
+    ``tall_face`` to test, as no ``lying`` top)."""
     if has_upright and closest is not None:
         return "rule: tall_face fails " + (" + ".join(closest["fails"]) or "nothing")
-    return "rule: no upright face, lying fails " + ("ground" if top_sized else "top size")
+    if top_sized:
+        return "rule: no upright face, lying fails ground"
+    if tilted:
+        return "rule: no upright face, a face tilted off vertical"
+    return "rule: no upright face, lying fails top size"
 
 
 def cause(row: dict, extra: dict) -> str:
@@ -121,7 +131,7 @@ def cause(row: dict, extra: dict) -> str:
     if st.startswith(("gate refused", "other class")):
         return st
     return rule_cause(extra.get("closest"), extra.get("upright", False),
-                      extra.get("top_sized", False))
+                      extra.get("top_sized", False), extra.get("tilted", False))
 
 
 def frame_extras(desc, cloud, rows) -> list:
@@ -161,6 +171,8 @@ def frame_extras(desc, cloud, rows) -> list:
             mine = [q for q in ps if q.label in set(o.planes)]
             e["upright"] = any(q.orientation == "vertical" for q in mine)
             e["top_sized"] = any("lying: size and incline True" in s for s in lines)
+            e["tilted"] = any(q.orientation == "inclined" and q.incline >= FACE_TILT
+                              for q in mine)
         out.append(e)
     return out
 

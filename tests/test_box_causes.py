@@ -50,6 +50,8 @@ def test_bands_and_causes_of_census_rows():
         "rule: no upright face, lying fails top size"
     assert c({"stage": "no rule fires"}, {"upright": False, "top_sized": True}) == \
         "rule: no upright face, lying fails ground"
+    assert c({"stage": "no rule fires"}, {"upright": False, "tilted": True}) == \
+        "rule: no upright face, a face tilted off vertical"
 
 
 def _model(path: Path) -> Path:
