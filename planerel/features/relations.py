@@ -402,6 +402,14 @@ class RelationParams:
     #: on 22 cm)
     face_pair_width: float = 0.02
     face_pair_angle: float = 85.0
+    #: degrees (0 = off; on, 20): a face seen within ``face_pair_graze`` of edge-on (the view ray to
+    #: its centroid against its plane) has its normal turned towards the camera by the
+    #: sensor's smear of the convex edge it shares with the other face (top44's section of a
+    #: RealSense cube: a side 11.5 degrees from edge-on fitted 7-9 degrees off square), so the
+    #: pair needs only ``face_pair_graze_angle`` degrees (boxrec59, docs/objects.md "Real
+    #: boxes missed, cause by cause")
+    face_pair_graze: float = 20.0
+    face_pair_graze_angle: float = 80.0
     face_pair_level: float = 0.03
     face_pair_level_share: float = 0.25
     #: m: planes narrower than this (``plane_width``) do not count in ``oblique_share``
@@ -417,7 +425,7 @@ class RelationParams:
         _check_nonneg(self, ("parallel_tol", "perpendicular_tol", "adjacency_gap", "touch_depth",
                              "touch_rel", "above_tol", "front_tol", "skirt_tol", "skirt_reach",
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width", "corner_slope", "corner_slope_span", "corner_slope_rms",
-                             "facing_overlap", "facing_width", "facing_narrow_tol", "face_pair_width", "face_pair_angle", "face_pair_level", "face_pair_level_share", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
+                             "facing_overlap", "facing_width", "facing_narrow_tol", "face_pair_width", "face_pair_angle", "face_pair_graze", "face_pair_graze_angle", "face_pair_level", "face_pair_level_share", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_narrow_width", "tall_narrow_bend", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
                              "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "skirt_top_eye", "tall_feet_level",
@@ -560,6 +568,16 @@ class Relations:
             adj = tuple(r for r in self.pairs if r.adjacent)
             object.__setattr__(self, "_adj", adj)
         return adj
+
+
+def view_angle(plane) -> float:
+    """Degrees between the view ray to ``plane``'s centroid (the camera at the origin) and
+    its plane: 0 seen edge-on, 90 head-on."""
+    c = np.asarray(plane.centroid, float)
+    d = float(np.linalg.norm(c))
+    if d == 0.0:
+        return 90.0
+    return math.degrees(math.asin(min(1.0, abs(float(np.asarray(plane.normal, float) @ c)) / d)))
 
 
 def adjacent_only(relations):
@@ -859,7 +877,10 @@ class _Solid:
         if self.xyz is None or a.orientation != "vertical" or b.orientation != "vertical":
             return False
         p = self.params
-        return angle >= p.face_pair_angle and is_face_pair(
+        bound = p.face_pair_angle
+        if p.face_pair_graze > 0 and min(view_angle(a), view_angle(b)) < p.face_pair_graze:
+            bound = min(bound, p.face_pair_graze_angle)
+        return angle >= bound and is_face_pair(
             a, b, self._profile(a), self._profile(b), p.face_pair_level, p.face_pair_width,
             p.face_pair_level_share)
 
