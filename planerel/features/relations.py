@@ -682,6 +682,8 @@ class _Solid:
         self.steps: dict = {}
         #: ``{face label: TopEdge or None}`` (:meth:`_top_edge`)
         self._edges: dict = {}
+        #: ``{label: bool}`` (:meth:`top_candidate`)
+        self._tops: dict = {}
         self.normals = None
         if ok:
             self.normals = np.full((max([label_max(lab) + 1] + [p.label + 1 for p in planes]), 3),
@@ -725,7 +727,14 @@ class _Solid:
         """True when ``top`` can be a skirt's top: horizontal, inclined at most
         ``skirt_top_tilt`` degrees (whether it leans towards the face is :meth:`skirt`'s), or
         a tilted box's top (:meth:`_tilted`); and not seen from below: its level at most
-        ``skirt_top_eye`` above the sensor's eye (a shelf's or a table's underside)."""
+        ``skirt_top_eye`` above the sensor's eye (a shelf's or a table's underside).
+        Remembered per plane (:func:`relate` asks once a plane, :meth:`skirt` again a pair)."""
+        got = self._tops.get(top.label)
+        if got is None:
+            got = self._tops[top.label] = self._top_candidate(top)
+        return got
+
+    def _top_candidate(self, top) -> bool:
         lim = self.params.skirt_top_eye
         if lim > 0 and float(np.asarray(top.centroid, float) @ self.up) > lim:
             return False
@@ -1024,18 +1033,21 @@ def relate(planes, cloud=None, params: RelationParams | None = None,
     horiz = [seen and solid.top_candidate(p) for p in plist]
     vert = [seen and p.orientation == "vertical" for p in plist]
     fcand = [seen and solid.face_candidate(p) for p in plist]
+    # (the three matrices as nested lists once: the same Python floats and bools as each
+    # row's slice converted, without 3 n conversions)
+    Gl, angl, Al = G.tolist(), ang.tolist(), A.tolist()
     for i in range(n):
         pi = plist[i]
         li = pi.label
         hi, vi = horiz[i], vert[i]
-        Gi, angi, Ai = G[i, i + 1:].tolist(), ang[i, i + 1:].tolist(), A[i, i + 1:].tolist()
+        Gi, angi, Ai = Gl[i], angl[i], Al[i]
         for j in range(i + 1, n):
             pj = plist[j]
             lj = pj.label
-            gap = Gi[j - i - 1]
+            gap = Gi[j]
             t = (li, lj) in touch
-            adj = Ai[j - i - 1]  # touching, or hulls within adjacency_gap
-            a = angi[j - i - 1]
+            adj = Ai[j]  # touching, or hulls within adjacency_gap
+            a = angi[j]
             par = a <= par_tol
             perp = a >= perp_min
             rise = lev[j] - lev[i]
@@ -1211,10 +1223,21 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
             shape_of[a.label] = tall_shaped(a, p, lab, cloud.xyz, planes.up)
         return shape_of[a.label]
 
+    maybe_of: dict[int, bool] = {}
+
+    def may_be_shaped(a):
+        # shaped(a) but the narrow face's bend (face_bend, a fit of its points), which only
+        # a face that passes every other test below is asked for: the same faces out
+        if a.label in shape_of:
+            return shape_of[a.label]
+        if a.label not in maybe_of:
+            maybe_of[a.label] = tall_shaped(a, p, lab, cloud.xyz, planes.up, bend=False)
+        return maybe_of[a.label]
+
     for r in adjacent_only(relations):
         if r.adjacent:
             a, b = by_label.get(r.a), by_label.get(r.b)
-            if a is not None and b is not None and shaped(a):
+            if a is not None and b is not None and may_be_shaped(a):
                 if b.orientation == "horizontal":
                     near.setdefault(r.a, []).append(b)
                 elif b.orientation == "vertical":
@@ -1253,7 +1276,7 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
             floor = VirtualFloor(up, -found[2])
     if floor is not None and p.tall_floor_fit > 0:
         for q in planes:
-            if q.label not in near and q.label != floor.label and shaped(q):
+            if q.label not in near and q.label != floor.label and may_be_shaped(q):
                 near[q.label] = []
     if not near:
         return frozenset()
@@ -1295,7 +1318,8 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
             continue
         if not hidden and _next_riser(face, prof, planes, profile, p):
             continue  # the strip is a flight's tread
-        out.add(lbl)
+        if shaped(face):
+            out.add(lbl)
     return frozenset(out)
 
 
@@ -1333,12 +1357,14 @@ def face_bend(face, labels, xyz, up, max_points: int = PROFILE_POINTS) -> float:
     return sag / max(res, 1e-9)
 
 
-def tall_shaped(a, p, labels=None, xyz=None, up=None) -> bool:
+def tall_shaped(a, p, labels=None, xyz=None, up=None, bend: bool = True) -> bool:
     """:func:`tall_faces`' shape test of the plane ``a`` under the :class:`RelationParams`
     ``p``: vertical, at least ``corner_width`` wide (or, with ``tall_narrow_width`` > 0 and
     ``labels``, ``xyz``, ``up`` given, at least ``tall_narrow_width`` wide and flat across,
     :func:`face_bend` at most ``tall_narrow_bend``), its hull at least ``standing_fill`` of
-    its rectangle, its RMS at most ``tall_flat`` of its width."""
+    its rectangle, its RMS at most ``tall_flat`` of its width.  ``bend=False``: every test
+    but the narrow face's bend (True where the full test may be; its answer when it is
+    False, or when the face needs no bend test)."""
     if not (a.orientation == "vertical" and a.area >= p.standing_fill * a.length * a.width
             and (p.tall_flat <= 0 or a.rms <= p.tall_flat * a.width)):
         return False
@@ -1346,7 +1372,8 @@ def tall_shaped(a, p, labels=None, xyz=None, up=None) -> bool:
         return True
     return (p.tall_narrow_width > 0 and a.width >= p.tall_narrow_width and labels is not None
             and xyz is not None and up is not None
-            and face_bend(a, labels, xyz, up, p.profile_points) <= p.tall_narrow_bend)
+            and (not bend or face_bend(a, labels, xyz, up, p.profile_points)
+                 <= p.tall_narrow_bend))
 
 
 def _stands_beside(face, prof, other, other_prof, labels, xyz, p) -> bool:

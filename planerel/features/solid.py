@@ -147,7 +147,8 @@ def _face_box(plane, shape, max_points: int) -> tuple[int, int, int, int, int]:
     """``(r0, c0, r1, c1, k)``: ``plane``'s pixel box clipped to an image of ``shape`` (as
     slicing clips it) and the step ``k`` that keeps about ``max_points`` of its points."""
     r0, c0, r1, c1 = plane.bbox
-    k = max(1, int(np.sqrt(plane.n_points / max_points)))
+    # (math.sqrt: the same correctly rounded square root as np.sqrt, without a numpy scalar)
+    k = max(1, int(math.sqrt(plane.n_points / max_points)))
     H, W = shape
     r0, c0 = max(0, int(r0)), max(0, int(c0))
     return r0, c0, max(r0, min(int(r1), H)), max(c0, min(int(c1), W)), k

@@ -492,11 +492,13 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
         # above whose treads and risers grew into one sloping region
         # (only planes that could pass the slope and width tests: their incline within a
         # factor 2 of the slopes', their length at least min_width)
-        lo, hi = np.degrees(np.arctan([p.slope[0] / 2, p.slope[1] * 2]))
-        cand = [q.label for q in planes
+        # (the slopes' bounds only for a frame with such a plane: most have none)
+        cand = [q for q in planes
                 if q.orientation == "inclined" and not q.is_floor and q.label >= 0
-                and q.n_points >= p.min_pixels and lo <= q.incline <= hi
-                and q.length >= p.min_width]
+                and q.n_points >= p.min_pixels and q.length >= p.min_width]
+        if cand:
+            lo, hi = np.degrees(np.arctan([p.slope[0] / 2, p.slope[1] * 2]))
+            cand = [q.label for q in cand if lo <= q.incline <= hi]
         if cand:
             lut = np.full(max(label_max(lab), 0) + 1, -1, np.int64)
             lut[cand] = n_comp + np.arange(len(cand))
