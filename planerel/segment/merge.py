@@ -235,32 +235,31 @@ def hole_pairs(labels: np.ndarray, xyz: np.ndarray, steps: int) -> list[tuple[in
     h, w = grown.shape
     found = set()
     shifts = ((0, 1), (1, 0), (0, -1), (-1, 0))
-    for _ in range(int(steps)):
-        new = grown.copy()
+
+    def meet_all(grown, new=None):
+        # each shift's neighbour label; a hole pixel a region reached meets another region's
+        # pixel or growth; with ``new``, the hole pixels a neighbour reaches are taken
         for dy, dx in shifts:
             nb = np.full_like(grown, -1)
             nb[max(-dy, 0):h - max(dy, 0), max(-dx, 0):w - max(dx, 0)] = \
                 grown[max(dy, 0):h - max(-dy, 0), max(dx, 0):w - max(-dx, 0)]
-            # a hole pixel a region reached meets another region's pixel or growth
             meet = hole & (grown >= 0) & (nb >= 0) & (nb != grown)
             if meet.any():
                 a, b = grown[meet], nb[meet]
                 found.update(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(),
                                  strict=True))
-            take = hole & (new < 0) & (nb >= 0)
-            new[take] = nb[take]
+            if new is not None:
+                take = hole & (new < 0) & (nb >= 0)
+                new[take] = nb[take]
+
+    for _ in range(int(steps)):
+        new = grown.copy()
+        meet_all(grown, new)
         if np.array_equal(new, grown):
             break
         grown = new
     # the last growth's meetings
-    for dy, dx in shifts:
-        nb = np.full_like(grown, -1)
-        nb[max(-dy, 0):h - max(dy, 0), max(-dx, 0):w - max(dx, 0)] = \
-            grown[max(dy, 0):h - max(-dy, 0), max(dx, 0):w - max(-dx, 0)]
-        meet = hole & (grown >= 0) & (nb >= 0) & (nb != grown)
-        if meet.any():
-            a, b = grown[meet], nb[meet]
-            found.update(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(), strict=True))
+    meet_all(grown)
     return sorted(found)
 
 
