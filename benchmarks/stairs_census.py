@@ -70,9 +70,12 @@ def flights_of(dirs) -> list:
     return out
 
 
-def flight_row(clf, desc, answers, mask, found, by_iou=False, desc_xyz=None) -> dict:
+def flight_row(clf, desc, answers, mask, found, by_iou=False, desc_xyz=None,
+               why=False) -> dict:
     """The stage that loses one flight (``mask``: ``(H, W)`` bool) of a described scene
-    (``by_iou``: an independent set's flight, split when its proposal's IoU is under 0.5)."""
+    (``by_iou``: an independent set's flight, split when its proposal's IoU is under 0.5;
+    ``why``: a flight at ``no stair_step`` gets its closest pair's sub-tests,
+    :func:`stair_step_why.closest_pair`)."""
     from planerel.features.relations import _step_kind
     from planerel.features.stair_step import stair_steps
 
@@ -108,6 +111,12 @@ def flight_row(clf, desc, answers, mask, found, by_iou=False, desc_xyz=None) -> 
         return r
     if not steps:
         r["stage"] = "no stair_step"
+        if why:
+            from stair_step_why import closest_pair
+
+            from planerel.features.relations import ProposalParams
+
+            r["why"] = closest_pair(desc.planes, inside, pp or ProposalParams())
         return r
     held = sorted(((sum(size[L] for L in inside if L in set(a.labels)), j)
                    for j, a in enumerate(answers)), reverse=True)
@@ -138,8 +147,8 @@ def flight_row(clf, desc, answers, mask, found, by_iou=False, desc_xyz=None) -> 
     return r
 
 
-def census(dirs, model: str, params=(), min_pixels=None) -> list:
-    """One row per labelled or true staircase of ``dirs``."""
+def census(dirs, model: str, params=(), min_pixels=None, why=False) -> list:
+    """One row per labelled or true staircase of ``dirs`` (``why``: :func:`flight_row`'s)."""
     from independent_scenes import default_min_pixels
     from real_unseen import read_frame, read_labels, rect_mask, score_frame
 
@@ -170,7 +179,8 @@ def census(dirs, model: str, params=(), min_pixels=None) -> list:
                         m = rect_mask(np.asarray(desc.labels).shape, o["box"])
                         r = {"set": f"{folder.parent.name}/{folder.name}",
                              "frame": Path(frame["file"]).stem, "what": o.get("what", "")}
-                        r.update(flight_row(clf, desc, answers, m, s["found"], desc_xyz=cloud.xyz))
+                        r.update(flight_row(clf, desc, answers, m, s["found"], desc_xyz=cloud.xyz,
+                                           why=why))
                         rows.append(r)
                     print(f"{folder.name}/{frame['file']}", file=sys.stderr, flush=True)
                 continue
@@ -197,7 +207,7 @@ def census(dirs, model: str, params=(), min_pixels=None) -> list:
                     r = {"set": folder.name, "frame": p.stem, "what": o["kind"],
                          "kind": "independent", "best_iou": round(float(iou), 3)}
                     r.update(flight_row(clf, desc, answers, truth == k, found, by_iou=True,
-                                       desc_xyz=cloud.xyz))
+                                       desc_xyz=cloud.xyz, why=why))
                     rows.append(r)
                 print(f"{folder.name}/{p.stem}", file=sys.stderr, flush=True)
     return rows
