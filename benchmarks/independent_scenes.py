@@ -17,11 +17,11 @@ room furniture).
 Usage::
 
     python benchmarks/independent_scenes.py make OUT_DIR [--n 60] [--seed 7] [--size 160x120]
-        [--kinds box,stairs,ramp] [--sensor plain|kinect] [--heights LOW,HIGH] [--furniture]
+        [--kinds box,stairs,ramp] [--sensor plain|kinect|stereo] [--heights LOW,HIGH] [--furniture]
     python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150] [--by-planes]
     python benchmarks/independent_scenes.py dev DEST [--only NAME ...] [--force]
 
-``dev DEST`` makes the team's eleven independent development sets (``DEST/dev_i`` ... ``DEST/dev_furn_n``,
+``dev DEST`` makes the team's twelve independent development sets (``DEST/dev_i`` ... ``DEST/dev_sts``,
 :data:`DEV_SETS`: the arguments each was made with) that ``DEST`` does not hold yet; the main real
 check (``benchmarks/real_checks.py --independent``) reads them.  Same arguments, same scenes, so a
 machine that lost them gets them back bit for bit (about fifteen minutes on two cores).
@@ -32,8 +32,9 @@ from its landing as a person or a robot standing at the top would: 0.5-1.7 m eye
 0.15-1.0 m back from the landing's nose, pitch 30-60 degrees).  The default cycle
 ``box,stairs,ramp`` makes the same scenes as before the option existed.  ``--sensor kinect``
 quantises depth as the real Kinect frames of ``../shared/data/kinect`` do (3 mm z^2) and drops a
-band of ``W / 160`` pixels (4 at 640x480) at depth jumps; ``plain`` (the default) is the original
-sensor, unchanged.  ``score``'s ``--min-pixels`` defaults to 150 pixels scaled with the image area (150 at
+band of ``W / 160`` pixels (4 at 640x480) at depth jumps; ``--sensor stereo`` is an active stereo
+pair (D435-like: the matcher's disparity noise, correlated over its window, :func:`render`);
+``plain`` (the default) is the original sensor, unchanged.  ``score``'s ``--min-pixels`` defaults to 150 pixels scaled with the image area (150 at
 160x120, 2 400 at 640x480).
 
 ``--furniture`` (furn44) adds 1-3 pieces of room furniture of class ``other`` to each scene, in
@@ -676,7 +677,11 @@ def plane_ids(meshes):
     return np.asarray(out)
 
 
-SENSORS = ("plain", "kinect")
+SENSORS = ("plain", "kinect", "stereo")
+#: the ``stereo`` sensor: baseline (m), disparity noise (px, RMS), disparity step (px) and the
+#: matching window as a share of the image width (D435-like: 50 mm, 0.08 px subpixel RMS,
+#: 1/32 px, a 7 px window at 640 wide)
+STEREO_BASE, STEREO_SIGMA, STEREO_STEP, STEREO_WINDOW = 0.05, 0.08, 1.0 / 32, 7 / 640
 
 
 def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
@@ -699,6 +704,13 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
     limits; and at half the pixels of each depth jump > 4 cm of the noise-free depth, a band
     of ``round(W / 160)`` pixels on its far side dropped (one pixel at 160x120, four at
     640x480; the real frames' invalid runs across a > 4 cm jump: 2-5 px at 640x480).
+
+    ``stereo`` (step60, an active stereo pair such as the D435's): the noise is the matcher's,
+    in disparity ``d = fx b / z`` (``b`` :data:`STEREO_BASE`): unit noise averaged over the
+    matching window (:data:`STEREO_WINDOW` of the width) times :data:`STEREO_SIGMA` px, the
+    disparity on steps of :data:`STEREO_STEP` px, so the depth error grows as ``z^2 / (fx b)``
+    (at 640 wide and 60 degrees: 1.2 cm at 2 m, 2.6 cm at 3 m, 4.6 cm at 4 m, with the window's
+    spatial correlation); no return under a disparity of 2 px; the ``kinect`` edge band.
     """
     if sensor not in SENSORS:
         raise ValueError(f"sensor {sensor!r}: one of {SENSORS}")
@@ -724,11 +736,18 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
         zz = np.where(valid, z, 1.0)
         if sensor == "kinect":
             zz = zz + _correlated_noise(rng, H, W, max(1, round(W / 160))) * 0.0014 * zz ** 2
+        elif sensor == "stereo":
+            disp = fx * STEREO_BASE / zz
+            disp = disp + _correlated_noise(rng, H, W, max(1, round(W * STEREO_WINDOW))) \
+                * STEREO_SIGMA
+            disp = np.round(disp / STEREO_STEP) * STEREO_STEP
+            valid &= disp >= 2.0
+            zz = fx * STEREO_BASE / np.maximum(disp, 2.0)
         else:
             zz = zz + rng.normal(0, 1, len(z)) * (0.0015 + 0.0025 * zz ** 2)
         if sensor == "kinect":  # levels of inverse depth 0.003 / m apart: steps of 3 mm z^2
             zz = 1.0 / (np.maximum(np.round(1.0 / (zz * 0.003)), 1.0) * 0.003)
-        else:
+        elif sensor == "plain":
             step = 0.001 * zz ** 2
             zz = np.round(zz / step) * step
         z = zz
@@ -736,7 +755,7 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
     truth = np.where(valid, truth, -1).reshape(H, W)
     if noise:
         zp = np.nan_to_num(z, nan=1e3)
-        if sensor == "kinect":
+        if sensor in ("kinect", "stereo"):
             drop = _edge_band(z_geo, max(1, round(W / 160)), rng) & np.isfinite(z)
         else:
             jump = np.zeros((H, W), bool)
@@ -1062,6 +1081,9 @@ DEV_SETS = {
                 "--furniture",
     "dev_furn_n": "--n 40 --seed 3207 --sensor kinect --size 640x480 --kinds box --heights 0.3,2.0 "
                   "--furniture",
+    # step60: the same kinds of flights seen by an active stereo pair (D435-like disparity
+    # noise): real flights at 2-4 m whose steps the segmentation does not make planes of
+    "dev_sts": "--n 60 --seed 6002 --kinds stairs,stairs_top,ramp --sensor stereo --size 640x480",
 }
 
 

@@ -208,6 +208,27 @@ def test_kinect_sensor_puts_depth_on_levels_of_inverse_depth_3_mm_z2_apart():
     assert np.median(np.diff(near)) == pytest.approx(0.003 * 4, rel=0.05)  # 12 mm at 2 m
 
 
+def test_stereo_sensor_puts_disparity_on_32nds_of_a_pixel_and_its_error_grows_as_z2():
+    # step60: an active stereo pair: d = fx b / z on steps of 1/32 px, noise in disparity
+    meshes, eye, R = _box_scene()
+    intr = (160, 120, 140.0, 140.0, 79.5, 59.5)
+    rng = np.random.default_rng(3)
+    xyz, truth = ind.render(meshes, eye, R, intr, rng, sensor="stereo")
+    z = xyz[..., 2][truth >= 0].astype(float)
+    d = 140.0 * ind.STEREO_BASE / z
+    np.testing.assert_allclose(d / ind.STEREO_STEP, np.round(d / ind.STEREO_STEP), atol=1e-3)
+    clean, truth0 = ind.render(meshes, eye, R, intr, np.random.default_rng(3), noise=False)
+    both = (truth >= 0) & (truth0 >= 0)
+    err = (xyz[..., 2] - clean[..., 2])[both].astype(float)
+    zc = clean[..., 2][both].astype(float)
+    # the error in disparity units is the matcher's (0.08 px RMS, plus the 1/32 px step)
+    derr = err * 140.0 * ind.STEREO_BASE / zc ** 2
+    assert 0.05 < float(np.std(derr)) < 0.12
+    # the same scene seen by the sensor is the same for the same seed
+    again, _ = ind.render(meshes, eye, R, intr, np.random.default_rng(3), sensor="stereo")
+    np.testing.assert_array_equal(np.nan_to_num(xyz), np.nan_to_num(again))
+
+
 def test_judged_objects_need_150_pixels_at_160x120_scaled_with_the_image(tmp_path):
     assert ind.default_min_pixels(tmp_path) == 150  # no independent.json: 160x120
     ind.make_set(tmp_path, 1, 5, (64, 48), kinds=("ramp",), sensor="kinect")
@@ -308,7 +329,7 @@ def test_every_development_set_command_parses_and_no_two_sets_share_their_argume
         key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture)
         assert key not in seen, name
         seen.add(key)
-    assert len(ind.DEV_SETS) == 11
+    assert len(ind.DEV_SETS) == 12
 
 
 def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path, capsys):
