@@ -78,6 +78,7 @@ def pair_tests(planes, lo, hi, params, cut=frozenset()) -> list:
         STAIR_RUN,
         _across_overlap,
         _step_kind,
+        step_offset,
     )
     from planerel.features.step_geometry import _tread_depth_axis
 
@@ -95,22 +96,8 @@ def pair_tests(planes, lo, hi, params, cut=frozenset()) -> list:
     cosang = abs(float(np.asarray(lo.normal, float) @ np.asarray(hi.normal, float)))
     ang = math.degrees(math.acos(min(1.0, cosang)))
     out.append(("normals", cosang >= math.cos(math.radians(params.concave_tol)), ang))
-    d = np.asarray(hi.centroid, float) - np.asarray(lo.centroid, float)
-    dh = d - (d @ up) * up
-    if kind == "riser":
-        nh = np.asarray(lo.normal, float) - (np.asarray(lo.normal, float) @ up) * up
-        nh /= max(float(np.linalg.norm(nh)), 1e-9)
-        dist = abs(float(dh @ nh))
-        direction = nh if float(dh @ nh) >= 0 else -nh
-    else:
-        dist = float(np.linalg.norm(dh))
-        direction = dh / max(dist, 1e-9)
-        if params.step_tread_axes:
-            (da, ea), (db, eb) = _tread_depth_axis(lo, up), _tread_depth_axis(hi, up)
-            if min(ea, eb) >= 1.5 and abs(float(da @ db)) >= math.cos(math.radians(25.0)):
-                along = float(dh @ da)
-                direction = da if along >= 0 else -da
-                dist = abs(along)
+    dist, direction = step_offset(lo, hi, kind, up, (lambda q: _tread_depth_axis(q, up))
+                                  if params.step_tread_axes else None)
     out.append(("run", STAIR_RUN[0] <= dist <= STAIR_RUN[1], dist))
     axis = direction if kind == "tread" else up
     limit = STAIR_RUN[1] if kind == "tread" else STAIR_RISE[1]

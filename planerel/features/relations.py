@@ -3554,6 +3554,47 @@ def flight_fragments(planes, labels, params: ProposalParams | None = None) -> bo
     return steps_of_one_flight(flight_steps(planes, labels, params, keep_cut=True))
 
 
+def step_offset(lo, hi, kind: str, up, tread_axis=None) -> tuple[float, np.ndarray]:
+    """How far, horizontally, the higher face ``hi`` of a step lies beyond the lower ``lo``,
+    and in which direction: for risers along the lower one's horizontal normal, for treads
+    between their centroids, or (``tread_axis``, a function giving a tread's depth axis and
+    elongation, :func:`_tread_depth_axis`) across two long treads whatever the lateral offset
+    of their centroids (a tread partly hidden by a leg or the image border).
+
+    Parameters
+    ----------
+    lo, hi : Plane
+    kind : str
+        ``"riser"`` or ``"tread"``.
+    up : ndarray, shape (3,)
+    tread_axis : callable, optional
+
+    Returns
+    -------
+    (float, ndarray of shape (3,))
+        The run (m) and the unit horizontal step direction.
+    """
+    d = np.asarray(hi.centroid, float) - np.asarray(lo.centroid, float)
+    dh = d - (d @ up) * up
+    if kind == "riser":
+        nh = np.asarray(lo.normal, float) - (np.asarray(lo.normal, float) @ up) * up
+        nh /= max(float(np.linalg.norm(nh)), 1e-9)
+        dist = abs(float(dh @ nh))
+        return dist, (nh if float(dh @ nh) >= 0 else -nh)
+    dist = float(np.linalg.norm(dh))
+    direction = dh / max(dist, 1e-9)
+    if tread_axis is not None:
+        (da, ea), (db, eb) = tread_axis(lo), tread_axis(hi)
+        if min(ea, eb) >= 1.5 and abs(float(da @ db)) >= _COS_25:
+            along = float(dh @ da)
+            return abs(along), (da if along >= 0 else -da)
+    return dist, direction
+
+
+#: cos 25 degrees: two step directions (or tread axes) that agree
+_COS_25 = math.cos(math.radians(25.0))
+
+
 def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_overlap: float = 0.5, angle_tol: float = 10.0,
                      max_ratio: float = 3.0, tilt: float = 12.0, skip: bool = True,
@@ -3626,7 +3667,6 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
              and not (kind[p.label] == "tread" and p.label in cut)]
     steps = []  # (lower, higher, rise per step, unit horizontal direction)
     spans = (1, 2) if skip else (1,)
-    cos_dir = math.cos(math.radians(25.0))
     axes_of: dict = {}
 
     def tread_axis(q):
@@ -3649,24 +3689,8 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                 continue  # no span's rise: the step test below fails whatever the run
             if abs(float(na @ np.asarray(pb.normal, float))) < cos_tol:
                 continue
-            d = np.asarray(hi.centroid, float) - np.asarray(lo.centroid, float)
-            dh = d - (d @ up) * up
-            if kind[lo.label] == "riser":
-                nh = np.asarray(lo.normal, float) - (np.asarray(lo.normal, float) @ up) * up
-                nh /= max(float(np.linalg.norm(nh)), 1e-9)
-                dist = abs(float(dh @ nh))
-                direction = nh if float(dh @ nh) >= 0 else -nh
-            else:
-                dist = float(np.linalg.norm(dh))
-                direction = dh / max(dist, 1e-9)
-                if tread_axes:
-                    # two long treads: the step runs across them, whatever the lateral offset
-                    # of their centroids (a tread partly hidden by a leg or the image border)
-                    (da, ea), (db, eb) = tread_axis(lo), tread_axis(hi)
-                    if min(ea, eb) >= 1.5 and abs(float(da @ db)) >= cos_dir:
-                        along = float(dh @ da)
-                        direction = da if along >= 0 else -da
-                        dist = abs(along)
+            dist, direction = step_offset(lo, hi, kind[lo.label], up,
+                                          tread_axis if tread_axes else None)
             k = next((k for k in spans if rise[0] <= dv / k <= rise[1]
                       and run[0] <= dist / k <= run[1]), None)
             if k is None:
