@@ -161,6 +161,8 @@ def aggregate(rows) -> tuple[Counter, Counter]:
 def main(argv=None) -> int:
     from stairs_census import census
 
+    from planerel.errors import PlanerelError
+
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("dirs", nargs="+", metavar="DIR")
     ap.add_argument("--model", default="out/model")
@@ -170,7 +172,14 @@ def main(argv=None) -> int:
     ap.add_argument("--aggregate", action="store_true",
                     help="print only the aggregate lines (no frame names or values)")
     a = ap.parse_args(argv)
-    rows = census(a.dirs, a.model, a.param, a.min_pixels, why=True)
+    missing = [d for d in a.dirs if not Path(d).is_dir()]
+    if missing:
+        ap.error(f"no such folder: {', '.join(missing)}")
+    try:
+        rows = census(a.dirs, a.model, a.param, a.min_pixels, why=True)
+    except PlanerelError as e:
+        print(f"stair_step_why: {e}", file=sys.stderr)
+        return 2
     print("all", len(rows), dict(Counter(r["stage"] for r in rows).most_common()))
     first, anyf = aggregate(rows)
     print("why-all", dict(first.most_common()))

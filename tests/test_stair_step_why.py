@@ -101,3 +101,12 @@ def test_the_aggregate_counts_each_flight_once_by_its_first_failure():
     first, anyf = why.aggregate(rows)
     assert first == {"rise": 1, "run": 1}
     assert anyf == {"rise": 1, "run": 2}
+
+
+def test_a_missing_folder_or_model_is_a_one_line_error(tmp_path, capsys):
+    with pytest.raises(SystemExit):
+        why.main([str(tmp_path / "none")])
+    assert "no such folder" in capsys.readouterr().err
+    assert why.main([str(tmp_path), "--model", str(tmp_path / "nomodel")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("stair_step_why: ") and "Traceback" not in err
