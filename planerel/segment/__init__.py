@@ -216,7 +216,63 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
             if wshare > share:
                 seg = wide
             seg.info["wide_fallback"] = (round(share, 3), round(wshare, 3))
+    if (method == "regiongrow" and cloud.organized and p.far_theta > 0 and normals is None):
+        seg = _far_planes(cloud, seg, p, split_params)
     return seg
+
+
+def _far_planes(cloud, seg, p, split_params):
+    """``far_theta``: planes where the first growing left depth beyond ``far_depth`` in no
+    plane, from a second growing with the wider angle (its regions lying for
+    :data:`~planerel.segment.params.FAR_SHARE` or more in that depth); nothing already in a
+    plane changes.  ``info["far_planes"]``: the planes added."""
+    import dataclasses
+
+    import numpy as np
+
+    from planerel.segment.params import FAR_SHARE
+    from planerel.segment.regiongrow import _build, region_grow
+
+    lab = seg.labels
+    z = np.asarray(cloud.xyz[..., 2], float)
+    free = np.asarray(cloud.valid) & (lab < 0) & (np.nan_to_num(z) > p.far_depth)
+    min_size = int(seg.info.get("min_region_size", 0) or 0)
+    if int(free.sum()) < max(min_size, 1):
+        seg.info["far_planes"] = 0
+        return seg
+    wp = dataclasses.replace(p, theta=p.far_theta, far_theta=0.0)
+    wide = _post_process(cloud, region_grow(cloud, wp, split=True), wp, None, split_params)
+    wl = wide.labels
+    ids, total = np.unique(wl[wl >= 0], return_counts=True)
+    inside = np.bincount(wl[free & (wl >= 0)], minlength=int(wl.max()) + 1)
+    out = lab.copy()
+    n = len(seg.planes)
+    added = 0
+    nm = seg.info.get("noise_model") or {}
+    c, q = float(nm.get("const_m") or 0.0), float(nm.get("quad_per_m") or 0.0)
+    xyz = np.asarray(cloud.xyz, float)
+    fit = []
+    for r, t in zip(ids.tolist(), total.tolist(), strict=True):
+        k = int(inside[r])
+        if k >= FAR_SHARE * t and k >= max(min_size, 1):
+            m = (wl == r) & free
+            pts = xyz[m]
+            cen = pts.mean(0)
+            # the plane's RMS against the sensor's noise at its depth
+            rms = float(np.linalg.svd(pts - cen, compute_uv=False)[-1] / np.sqrt(len(pts)))
+            sig = float(np.hypot(c, q * cen[2] ** 2))
+            ratio = rms / sig if sig > 0 else float("inf")
+            fit.append(round(ratio, 2))
+            if ratio > p.far_rms:
+                continue
+            out[m] = n + added
+            added += 1
+    seg.info["far_planes"] = added
+    seg.info["far_fit"] = fit
+    if not added:
+        return seg
+    xyz_flat = np.asarray(cloud.xyz, float).reshape(-1, 3)
+    return _build(out.astype(np.int32), xyz_flat, n + added, seg.params, seg.normals, seg.info)
 
 
 def _post_process(cloud, seg, p, normals, split_params):

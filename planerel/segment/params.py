@@ -59,6 +59,11 @@ def preset_values(name) -> dict:
     return dict(PRESETS[name.lower()])
 
 
+#: ``far_theta``: the share of a second growing's region that must lie in depth the first left
+#: in no plane beyond ``far_depth``
+FAR_SHARE = 0.8
+
+
 def _num(owner: str, name: str, value, *, lo=None, hi=None, lo_open=False, hi_open=False) -> float:
     if isinstance(value, bool):
         raise InputError(f"{owner}: {name} must be a number, got {value!r}")
@@ -189,6 +194,20 @@ class RegionGrowParams:
         ``wide_noise_window``, and the one assigning more pixels is kept
         (``info["wide_fallback"]``: both shares).  Frames the narrow window segments are
         unchanged.
+    far_theta : float
+        Off (0) by default (step60: docs/objects.md "Why the step test fails a real flight").
+        With post-processing, the cloud is grown again with this angle (degrees) and each
+        region of that second growing lying for at least :data:`FAR_SHARE` of its pixels in
+        depth the first left in no plane beyond ``far_depth`` becomes a plane there (steps at
+        2-4 m under a stereo pair's correlated noise), when its least-squares plane's RMS is
+        at most ``far_rms`` times the measured depth noise at its centroid's depth (a wide
+        angle also joins curved and cluttered surfaces, which no plane fits at the noise).
+        Nothing already in a plane changes.  ``info["far_planes"]``: the planes added;
+        ``info["far_fit"]``: every candidate's RMS over the noise.
+    far_depth : float
+        Metres; see ``far_theta``.
+    far_rms : float
+        See ``far_theta`` (no bound by default; 2.5 measured, docs/objects.md).
     """
 
     theta: float = 15.0
@@ -213,6 +232,9 @@ class RegionGrowParams:
     adapt: bool = True
     wide_noise_window: bool = False
     wide_fallback: float = 0.0
+    far_theta: float = 0.0
+    far_depth: float = 2.0
+    far_rms: float = 1e9
     angle_order: str = "auto"
     seed_test: bool | str = "auto"
 
@@ -255,6 +277,10 @@ class RegionGrowParams:
         s(self, "adapt", _bool(o, "adapt", self.adapt))
         s(self, "wide_noise_window", _bool(o, "wide_noise_window", self.wide_noise_window))
         s(self, "wide_fallback", _num(o, "wide_fallback", self.wide_fallback, lo=0, hi=1))
+        s(self, "far_theta", _num(o, "far_theta (degrees)", self.far_theta, lo=0, hi=90,
+                                  hi_open=True))
+        s(self, "far_depth", _num(o, "far_depth", self.far_depth, lo=0))
+        s(self, "far_rms", _num(o, "far_rms", self.far_rms, lo=0, lo_open=True))
         s(self, "min_region_scale", _num(o, "min_region_scale", self.min_region_scale, lo=0,
                                          lo_open=True))
         if self.angle_order not in ("auto", "paper", "reversed"):

@@ -1,0 +1,70 @@
+"""``RegionGrowParams.far_theta`` (step60, off by default): a second growing with a wider
+angle adds planes only where the first left depth beyond ``far_depth`` in no plane; nothing
+already in a plane changes."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+import independent_scenes as ind  # noqa: E402
+
+from planerel.errors import InputError  # noqa: E402
+from planerel.io import readers as io  # noqa: E402
+from planerel.segment import segment  # noqa: E402
+from planerel.segment.params import FAR_SHARE, RegionGrowParams  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def stereo_flights(tmp_path_factory):
+    out = tmp_path_factory.mktemp("far")
+    ind.make_set(out, 6, 6002, (320, 240), kinds=("stairs",), sensor="stereo")
+    return [io.read(p) for p in sorted(out.glob("i[0-9][0-9][0-9][0-9].npy"))]
+
+
+def test_far_planes_fill_only_far_depth_left_in_no_plane(stereo_flights):
+    added = 0
+    for cloud in stereo_flights:
+        a = segment(cloud)
+        b = segment(cloud, far_theta=30.0, far_depth=1.5)
+        assigned = a.labels >= 0
+        # what the first growing put in a plane stays in that plane
+        np.testing.assert_array_equal(b.labels[assigned], a.labels[assigned])
+        new = (b.labels >= 0) & ~assigned
+        z = cloud.xyz[..., 2]
+        assert (z[new] > 1.5).all()
+        assert len(b.planes) == len(a.planes) + b.info["far_planes"]
+        assert all(q.id == i for i, q in enumerate(b.planes))
+        added += b.info["far_planes"]
+    assert added >= 1  # the wider angle makes planes of some steps the first left
+
+
+def test_far_theta_off_is_the_default_segmentation(stereo_flights):
+    cloud = stereo_flights[0]
+    np.testing.assert_array_equal(segment(cloud).labels, segment(cloud, far_theta=0.0).labels)
+    assert "far_planes" not in segment(cloud).info
+    assert 0 < FAR_SHARE <= 1
+
+
+def test_far_theta_out_of_range_is_a_clear_error():
+    with pytest.raises(InputError, match="far_theta"):
+        RegionGrowParams(far_theta=-1)
+    with pytest.raises(InputError, match="far_depth"):
+        RegionGrowParams(far_depth=-0.5)
+
+
+def test_a_far_region_no_plane_fits_at_the_noise_is_not_added(stereo_flights):
+    # far_rms: a candidate whose plane RMS exceeds that many noise sigmas stays out
+    seen = kept = 0
+    for cloud in stereo_flights:
+        b = segment(cloud, far_theta=30.0, far_depth=1.5, far_rms=1e-6)
+        seen += len(b.info["far_fit"])
+        kept += b.info["far_planes"]
+        c = segment(cloud, far_theta=30.0, far_depth=1.5, far_rms=2.5)
+        assert c.info["far_planes"] == sum(r <= 2.5 for r in c.info["far_fit"])
+    assert seen >= 1 and kept == 0
