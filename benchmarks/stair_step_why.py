@@ -40,7 +40,6 @@ fails), with the measured values per flight unless ``--aggregate``.
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import sys
@@ -159,16 +158,11 @@ def aggregate(rows) -> tuple[Counter, Counter]:
 
 
 def main(argv=None) -> int:
-    from stairs_census import census
+    from stairs_census import census, census_parser
 
     from planerel.errors import PlanerelError
 
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("dirs", nargs="+", metavar="DIR")
-    ap.add_argument("--model", default="out/model")
-    ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
-    ap.add_argument("--min-pixels", type=int, default=None)
-    ap.add_argument("--json")
+    ap = census_parser(__doc__.split("\n")[0])
     ap.add_argument("--aggregate", action="store_true",
                     help="print only the aggregate lines (no frame names or values)")
     a = ap.parse_args(argv)

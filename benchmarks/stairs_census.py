@@ -213,14 +213,20 @@ def census(dirs, model: str, params=(), min_pixels=None, why=False) -> list:
     return rows
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def census_parser(description: str) -> argparse.ArgumentParser:
+    """The census's command line (set folders, model, parameters, ``--min-pixels``,
+    ``--json``), shared with ``stair_step_why.py``."""
+    ap = argparse.ArgumentParser(description=description)
     ap.add_argument("dirs", nargs="+", metavar="DIR")
     ap.add_argument("--model", default="out/model")
     ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
     ap.add_argument("--min-pixels", type=int, default=None)
     ap.add_argument("--json")
-    a = ap.parse_args(argv)
+    return ap
+
+
+def main(argv=None) -> int:
+    a = census_parser(__doc__.split("\n")[0]).parse_args(argv)
     rows = census(a.dirs, a.model, a.param, a.min_pixels)
     for s in dict.fromkeys(r["set"] for r in rows):
         these = [r for r in rows if r["set"] == s]
