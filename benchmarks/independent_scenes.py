@@ -710,7 +710,8 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
     matching window (:data:`STEREO_WINDOW` of the width) times :data:`STEREO_SIGMA` px, the
     disparity on steps of :data:`STEREO_STEP` px, so the depth error grows as ``z^2 / (fx b)``
     (at 640 wide and 60 degrees: 1.2 cm at 2 m, 2.6 cm at 3 m, 4.6 cm at 4 m, with the window's
-    spatial correlation); no return under a disparity of 2 px; the ``kinect`` edge band.
+    spatial correlation); no return under a disparity of 2 px; the ``kinect`` edge band;
+    no isolated random dropouts (a matcher's holes come in blobs, not modelled).
     """
     if sensor not in SENSORS:
         raise ValueError(f"sensor {sensor!r}: one of {SENSORS}")
@@ -732,7 +733,9 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
         valid &= z < 6.0
         valid &= cosi > 0.1
         z_geo = np.where(valid, z, 1e3).reshape(H, W)  # noise-free depth, no return = far
-        valid &= rng.random(len(z)) > 0.02
+        kept = rng.random(len(z)) > 0.02
+        if sensor != "stereo":  # a matcher leaves no isolated holes (its holes are blobs)
+            valid &= kept
         zz = np.where(valid, z, 1.0)
         if sensor == "kinect":
             zz = zz + _correlated_noise(rng, H, W, max(1, round(W / 160))) * 0.0014 * zz ** 2
