@@ -68,3 +68,18 @@ def test_a_far_region_no_plane_fits_at_the_noise_is_not_added(stereo_flights):
         c = segment(cloud, far_theta=30.0, far_depth=1.5, far_rms=2.5)
         assert c.info["far_planes"] == sum(r <= 2.5 for r in c.info["far_fit"])
     assert seen >= 1 and kept == 0
+
+
+def test_far_wide_grows_again_with_the_wide_window_and_keeps_the_first_planes(stereo_flights):
+    # far_wide: the second growing at theta with the 15 px window (noise58's), far depth only
+    added = 0
+    for cloud in stereo_flights:
+        a = segment(cloud)
+        b = segment(cloud, far_wide=True, far_depth=1.5, far_rms=2.5)
+        assigned = a.labels >= 0
+        np.testing.assert_array_equal(b.labels[assigned], a.labels[assigned])
+        assert (cloud.xyz[..., 2][(b.labels >= 0) & ~assigned] > 1.5).all()
+        added += b.info["far_planes"]
+    assert added >= 1
+    with pytest.raises(InputError, match="far_wide"):
+        RegionGrowParams(far_wide="maybe")

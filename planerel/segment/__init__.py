@@ -216,7 +216,8 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
             if wshare > share:
                 seg = wide
             seg.info["wide_fallback"] = (round(share, 3), round(wshare, 3))
-    if (method == "regiongrow" and cloud.organized and p.far_theta > 0 and normals is None):
+    if (method == "regiongrow" and cloud.organized and (p.far_theta > 0 or p.far_wide)
+            and normals is None):
         seg = _far_planes(cloud, seg, p, split_params)
     return seg
 
@@ -240,7 +241,8 @@ def _far_planes(cloud, seg, p, split_params):
     if int(free.sum()) < max(min_size, 1):
         seg.info["far_planes"] = 0
         return seg
-    wp = dataclasses.replace(p, theta=p.far_theta, far_theta=0.0)
+    wp = dataclasses.replace(p, theta=p.far_theta or p.theta, far_theta=0.0, far_wide=False,
+                             wide_noise_window=p.wide_noise_window or p.far_wide)
     wide = _post_process(cloud, region_grow(cloud, wp, split=True), wp, None, split_params)
     wl = wide.labels
     ids, total = np.unique(wl[wl >= 0], return_counts=True)

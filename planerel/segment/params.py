@@ -208,6 +208,9 @@ class RegionGrowParams:
         Metres; see ``far_theta``.
     far_rms : float
         See ``far_theta`` (no bound by default; 2.5 measured, docs/objects.md).
+    far_wide : bool
+        Off.  The second growing of ``far_theta`` (or, with ``far_theta`` 0, at ``theta``)
+        uses ``wide_noise_window``'s 15 px normal window.
     """
 
     theta: float = 15.0
@@ -235,6 +238,7 @@ class RegionGrowParams:
     far_theta: float = 0.0
     far_depth: float = 2.0
     far_rms: float = 1e9
+    far_wide: bool = False
     angle_order: str = "auto"
     seed_test: bool | str = "auto"
 
@@ -281,6 +285,7 @@ class RegionGrowParams:
                                   hi_open=True))
         s(self, "far_depth", _num(o, "far_depth", self.far_depth, lo=0))
         s(self, "far_rms", _num(o, "far_rms", self.far_rms, lo=0, lo_open=True))
+        s(self, "far_wide", _bool(o, "far_wide", self.far_wide))
         s(self, "min_region_scale", _num(o, "min_region_scale", self.min_region_scale, lo=0,
                                          lo_open=True))
         if self.angle_order not in ("auto", "paper", "reversed"):
