@@ -1,6 +1,7 @@
-"""``RegionGrowParams.far_theta`` (step60, off by default): a second growing with a wider
-angle adds planes only where the first left depth beyond ``far_depth`` in no plane; nothing
-already in a plane changes."""
+"""``RegionGrowParams.far_theta`` (step60; on by default since lead61: 30 degrees beyond
+1.5 m, RMS within 2.5 noise sigmas): a second growing with a wider angle adds planes only where
+the first left depth beyond ``far_depth`` in no plane; nothing already in a plane changes.  The
+far box gate (``decision.far_box_gate``) refuses a box proved through such a plane."""
 
 from __future__ import annotations
 
@@ -30,8 +31,8 @@ def stereo_flights(tmp_path_factory):
 def test_far_planes_fill_only_far_depth_left_in_no_plane(stereo_flights):
     added = 0
     for cloud in stereo_flights:
-        a = segment(cloud)
-        b = segment(cloud, far_theta=30.0, far_depth=1.5)
+        a = segment(cloud, far_theta=0.0)
+        b = segment(cloud, far_theta=30.0, far_depth=1.5, far_rms=1e9)
         assigned = a.labels >= 0
         # what the first growing put in a plane stays in that plane
         np.testing.assert_array_equal(b.labels[assigned], a.labels[assigned])
@@ -40,14 +41,22 @@ def test_far_planes_fill_only_far_depth_left_in_no_plane(stereo_flights):
         assert (z[new] > 1.5).all()
         assert len(b.planes) == len(a.planes) + b.info["far_planes"]
         assert all(q.id == i for i, q in enumerate(b.planes))
+        assert b.info["far_labels"] == list(range(len(a.planes), len(b.planes)))
         added += b.info["far_planes"]
     assert added >= 1  # the wider angle makes planes of some steps the first left
 
 
-def test_far_theta_off_is_the_default_segmentation(stereo_flights):
+def test_far_theta_is_on_by_default_and_0_turns_it_off(stereo_flights):
+    p = RegionGrowParams()
+    assert (p.far_theta, p.far_depth, p.far_rms) == (30.0, 1.5, 2.5)
     cloud = stereo_flights[0]
-    np.testing.assert_array_equal(segment(cloud).labels, segment(cloud, far_theta=0.0).labels)
-    assert "far_planes" not in segment(cloud).info
+    on = segment(cloud)
+    off = segment(cloud, far_theta=0.0)
+    assert "far_planes" in on.info and "far_planes" not in off.info
+    np.testing.assert_array_equal(on.labels, segment(cloud, far_theta=30.0, far_depth=1.5,
+                                                     far_rms=2.5).labels)
+    # a preset (adapt off) measures no noise, so no far plane could pass far_rms: none is grown
+    assert "far_planes" not in segment(cloud, preset="kinect").info
     assert 0 < FAR_SHARE <= 1
 
 
@@ -74,8 +83,8 @@ def test_far_wide_grows_again_with_the_wide_window_and_keeps_the_first_planes(st
     # far_wide: the second growing at theta with the 15 px window (noise58's), far depth only
     added = 0
     for cloud in stereo_flights:
-        a = segment(cloud)
-        b = segment(cloud, far_wide=True, far_depth=1.5, far_rms=2.5)
+        a = segment(cloud, far_theta=0.0)
+        b = segment(cloud, far_theta=0.0, far_wide=True, far_depth=1.5, far_rms=2.5)
         assigned = a.labels >= 0
         np.testing.assert_array_equal(b.labels[assigned], a.labels[assigned])
         assert (cloud.xyz[..., 2][(b.labels >= 0) & ~assigned] > 1.5).all()

@@ -218,6 +218,10 @@ class SceneDescription:
     #: ``(lower, higher)`` labels of two planes of one object one stair step apart
     #: (:func:`planerel.features.stair_step.stair_steps`: ``stair_step/2``).
     steps: frozenset = field(default=frozenset())
+    #: Labels of the planes found only by the far growing of the segmentation
+    #: (``far_theta``; :func:`planerel.segment.segment`'s ``info["far_labels"]``), set by
+    #: :meth:`planerel.classify.Classifier.classify`: the far box gate's provenance.
+    far: frozenset = field(default=frozenset())
 
     @property
     def labels(self):

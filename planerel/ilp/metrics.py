@@ -211,6 +211,8 @@ HANG_LINES = 8
 #: Defaults of :attr:`DecisionParams.long_lying_gate` and its bound (fbox58).
 LONG_LYING_GATE = True
 LONG_LYING_LENGTH = 0.4
+#: Default of :attr:`DecisionParams.far_box_gate` (lead61).
+FAR_BOX_GATE = True
 #: Defaults of :attr:`DecisionParams.narrow_face_gate` and its bound (fbox59).
 NARROW_FACE_GATE = True
 NARROW_FACE_RATIO = 6.5
@@ -509,6 +511,15 @@ class DecisionParams:
         becomes ``other``.  Only classify applies it.
     long_lying_length : float
         Metres (>= 0): 0.4.
+    far_box_gate : bool
+        On by default (lead61); it refuses something only when the segmentation's far
+        growing (``far_theta``) added planes.  No ``box`` for an object whose proof binds a
+        plane that only the far growing found: that growing joins depth at a wider angle
+        than the first, to recover a far flight's treads and risers under the noise of 2-4 m,
+        and its planes are too coarse to prove a box's faces (on the development frames its
+        planes alone made three false boxes, skirts on far background surfaces,
+        docs/segmentation.md "Far planes").  The answer becomes ``other``.  Only classify
+        applies it.
     narrow_face_gate : bool
         On by default (fbox59).  No ``box`` for an object whose upright proof faces are all
         more than ``narrow_face_ratio`` times as tall as they are wide
@@ -609,6 +620,7 @@ class DecisionParams:
     hang_lines: int = HANG_LINES
     long_lying_gate: bool = LONG_LYING_GATE
     long_lying_length: float = LONG_LYING_LENGTH
+    far_box_gate: bool = FAR_BOX_GATE
     narrow_face_gate: bool = NARROW_FACE_GATE
     narrow_face_ratio: float = NARROW_FACE_RATIO
     cut_boxes: bool = CUT_BOXES
@@ -622,7 +634,7 @@ class DecisionParams:
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
                      "side_gate", "unsure_gate", "facet_gate", "facet_bridge", "cut_boxes",
                      "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate",
-                     "narrow_face_gate"):
+                     "narrow_face_gate", "far_box_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -1746,6 +1758,26 @@ class LongLyingRefusal:
     def to_dict(self) -> dict:
         return {"class": self.klass, "rule": self.rule, "top": self.top,
                 "length": round(self.length, 3), "bound": self.bound, "reason": self.reason}
+
+
+@dataclass(frozen=True)
+class FarPlaneRefusal:
+    """``box`` for an object proved through a plane that only the segmentation's far growing
+    found (``decision.far_box_gate``)."""
+
+    klass: str
+    rule: int
+    #: the far planes' ids among the proof's
+    planes: tuple
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it through {', '.join(self.planes)}, found only by "
+                f"the far growing (far_theta): too coarse a plane to prove a box's face")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "planes": list(self.planes),
+                "reason": self.reason}
 
 
 @dataclass(frozen=True)

@@ -216,8 +216,9 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
             if wshare > share:
                 seg = wide
             seg.info["wide_fallback"] = (round(share, 3), round(wshare, 3))
-    if (method == "regiongrow" and cloud.organized and (p.far_theta > 0 or p.far_wide)
-            and normals is None):
+    if (method == "regiongrow" and cloud.organized and p.adapt
+            and (p.far_theta > 0 or p.far_wide) and normals is None):
+        # (without adapt no noise model measures a far plane's fit: nothing to add)
         seg = _far_planes(cloud, seg, p, split_params)
     return seg
 
@@ -240,6 +241,7 @@ def _far_planes(cloud, seg, p, split_params):
     min_size = int(seg.info.get("min_region_size", 0) or 0)
     if int(free.sum()) < max(min_size, 1):
         seg.info["far_planes"] = 0
+        seg.info["far_labels"] = []
         return seg
     wp = dataclasses.replace(p, theta=p.far_theta or p.theta, far_theta=0.0, far_wide=False,
                              wide_noise_window=p.wide_noise_window or p.far_wide)
@@ -271,6 +273,8 @@ def _far_planes(cloud, seg, p, split_params):
             added += 1
     seg.info["far_planes"] = added
     seg.info["far_fit"] = fit
+    #: the labels of the planes this growing added (the far box gate's provenance)
+    seg.info["far_labels"] = list(range(n, n + added))
     if not added:
         return seg
     xyz_flat = np.asarray(cloud.xyz, float).reshape(-1, 3)

@@ -195,8 +195,9 @@ class RegionGrowParams:
         (``info["wide_fallback"]``: both shares).  Frames the narrow window segments are
         unchanged.
     far_theta : float
-        Off (0) by default (step60: docs/objects.md "Why the step test fails a real flight").
-        With post-processing, the cloud is grown again with this angle (degrees) and each
+        30 degrees by default (lead61; 0 switches it off; added in step60: docs/objects.md
+        "Why the step test fails a real flight"; docs/segmentation.md "Far planes").
+        With ``adapt`` and post-processing, the cloud is grown again with this angle (degrees) and each
         region of that second growing lying for at least :data:`FAR_SHARE` of its pixels in
         depth the first left in no plane beyond ``far_depth`` becomes a plane there (steps at
         2-4 m under a stereo pair's correlated noise), when its least-squares plane's RMS is
@@ -205,9 +206,9 @@ class RegionGrowParams:
         Nothing already in a plane changes.  ``info["far_planes"]``: the planes added;
         ``info["far_fit"]``: every candidate's RMS over the noise.
     far_depth : float
-        Metres; see ``far_theta``.
+        Metres (1.5); see ``far_theta``.
     far_rms : float
-        See ``far_theta`` (no bound by default; 2.5 measured, docs/objects.md).
+        See ``far_theta`` (2.5, measured: docs/segmentation.md "Far planes").
     far_wide : bool
         Off.  The second growing of ``far_theta`` (or, with ``far_theta`` 0, at ``theta``)
         uses ``wide_noise_window``'s 15 px normal window.
@@ -235,9 +236,9 @@ class RegionGrowParams:
     adapt: bool = True
     wide_noise_window: bool = False
     wide_fallback: float = 0.0
-    far_theta: float = 0.0
-    far_depth: float = 2.0
-    far_rms: float = 1e9
+    far_theta: float = 30.0
+    far_depth: float = 1.5
+    far_rms: float = 2.5
     far_wide: bool = False
     angle_order: str = "auto"
     seed_test: bool | str = "auto"
