@@ -22,7 +22,7 @@ from planerel.features.planes import measure_planes
 from planerel.features.relations import RelationParams, relate, tall_faces
 
 VIEW = {"pitch": 0.0, "cam_height": 0.15, "width": 640, "height": 480}
-OFF = RelationParams()  # the default: off
+OFF = RelationParams()  # the default: off (tall_beside_overlap; tall_cut_tops on)
 ON = RelationParams(tall_beside_overlap=0.25, tall_beside_step=0.02)
 
 
@@ -108,3 +108,21 @@ def test_the_overlap_is_a_share(value):
 def test_the_step_is_non_negative():
     with pytest.raises(InputError):
         RelationParams(tall_beside_step=-0.01)
+
+
+def test_faces_cut_by_the_image_top_are_not_refused_by_their_cut_tops():
+    """lead61 (``tall_cut_tops``, on): a box 1.2 m tall 1.35-1.85 m from a camera 0.15 m
+    over the floor runs out of the image's top with its front (label 2) and its right side
+    (label 4); the side's measured top is higher only because the border cuts it farther
+    away: with both cut, it does not refuse the front."""
+    rects = [floor()] + box(-0.5, 1.6, 0.5, 0.5, 1.2, obj=1)
+    ps, tall = _tall(rects, OFF)
+    assert ps.by_label(2).bbox[0] <= 2 and ps.by_label(4).bbox[0] <= 2  # both cut
+    assert {2, 4} <= tall
+    # as before lead61: the side's higher cut refuses the front
+    assert 2 not in _tall(rects, RelationParams(tall_cut_tops=False))[1]
+    # a box whose top is in view (0.4 m) is judged by its edges, as before
+    low = [floor()] + box(-0.5, 1.6, 0.5, 0.5, 0.4, obj=1)
+    ps, tall = _tall(low, OFF)
+    assert all(p.bbox[0] > 2 for p in ps if p.orientation == "vertical")
+    assert tall == _tall(low, RelationParams(tall_cut_tops=False))[1]

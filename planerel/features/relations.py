@@ -302,6 +302,12 @@ class RelationParams:
     #: face's normal) is the same surface going on (a wall in two pieces) and refuses it
     #: wherever it lies
     tall_beside_step: float = 0.02
+    #: a taller upright plane adjacent to a ``tall_face`` candidate does not refuse it when
+    #: both run out of the image's top (their top pixel rows within 2 of it): their measured
+    #: tops are then where the border cuts each, not their edges (lead61: a tall box's two
+    #: faces and the wall behind it seen from a low camera, the border cutting each 0.1 m
+    #: apart).  False: every taller plane refuses, as before
+    tall_cut_tops: bool = True
     #: m: a ``lying`` plane (:func:`lying_tops`) stands at least this far above the ground
     #: it lies on (or ``lying_snr`` times its own fit's RMS, when more): a book's or
     #: a flat box's top 2-8 cm over the table; a floor's far piece that the sensor bends is
@@ -1158,7 +1164,9 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
       reaching more than ``skirt_step`` out from ``f``, as a table does and a tread does
       not).  A chair's back or a table's apron has open space under it;
     - it is free-standing: no vertical plane adjacent to it has its top more than
-      ``skirt_tol`` above its own (a wall, a partition or a taller cabinet it belongs to)
+      ``skirt_tol`` above its own (a wall, a partition or a taller cabinet it belongs to;
+      with ``tall_cut_tops``, not when both run out of the image's top: the border cuts
+      them, their edges unseen)
       unless (``tall_beside_overlap`` > 0; off by default) that plane is a solid standing
       beside it (:func:`_stands_beside`: its foot
       level with the face's within ``standing_foot``, its extent along the face overlapping
@@ -1312,7 +1320,9 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
         # free-standing: no vertical plane adjacent to it rises above its top behind or over
         # it (a wall or a partition it leans on, a cabinet it is part of); a taller solid
         # standing beside it (ibox48) does not make it part of that solid
+        cut = p.tall_cut_tops and _reaches_top_row(face)
         if any(profile(q).top > prof.top + p.skirt_tol
+               and not (cut and _reaches_top_row(q))
                and not _stands_beside(face, prof, q, profile(q), lab, cloud.xyz, p)
                for q in beside.get(lbl, ())):
             continue
