@@ -836,13 +836,14 @@ def speckle_floor(cloud, labels, axis=DEFAULT_UP, max_deg: float | None = None,
     H, W = xyz.shape[:2]
     lab = check_labels(labels, (H, W))
     low = slice(H // 2, H)
-    free = cloud.valid[low] & (lab[low] < 0)
-    pts = xyz[low][free]
+    free = np.flatnonzero(cloud.valid[low] & (lab[low] < 0))
     need = params.sparse_floor_min * H * W
-    if pts.shape[0] < max(30.0, need):
+    if free.size < max(30.0, need):
         return None
-    stride = max(1, pts.shape[0] // 20000)
-    pts = pts[::stride]
+    stride = max(1, free.size // 20000)
+    # every stride-th free point, gathered by index: the same points as taking them all and
+    # then every stride-th, without copying the rest (a third of describe's gravity time)
+    pts = xyz[low].reshape(-1, 3)[free[::stride]]
     # ``sparse_floor_tries`` seeded three-point hypotheses at once, scored on at most 4000 of the points
     rng = np.random.default_rng(0)
     tri = pts[rng.integers(0, pts.shape[0], size=(params.sparse_floor_tries, 3))]
