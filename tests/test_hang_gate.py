@@ -11,7 +11,6 @@ with the demo's model.
 
 from __future__ import annotations
 
-import json
 import os
 import sys
 from pathlib import Path
@@ -23,24 +22,17 @@ from planerel.errors import InputError
 from planerel.ilp import metrics as M
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from rule_models import rule_model, rules_text  # noqa: E402
 from scenes_analytic import Rect, floor, render  # noqa: E402
 from test_real_rules import demo_model  # noqa: E402,F401  (the fixture)
 
 STATS = [(1, "box", 80, 9)]
-RULES = ("box(A) :- has_plane(A,B), skirt(B,C).\n"
-         + "".join(f"planerel_rule_stats({i}, {k}, {tp}, {fp}).\n" for i, k, tp, fp in STATS))
+RULES = rules_text("box(A) :- has_plane(A,B), skirt(B,C).\n", STATS)
 THING, PLATFORM = 1, 2
 
 
 def _model(path: Path, *, gate=True) -> Path:
-    from planerel.ilp.model_settings import training_settings
-
-    path.mkdir(parents=True, exist_ok=True)
-    (path / "rules.pl").write_text(RULES)
-    data = training_settings("regiongrow", {}, rule_stats=STATS)
-    data["decision"]["hang_gate"] = gate
-    (path / "model.json").write_text(json.dumps(data))
-    return path
+    return rule_model(path, RULES, STATS, hang_gate=gate)
 
 
 def _solid(cx, cy, sx, sy, z0, z1, obj):

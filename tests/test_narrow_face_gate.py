@@ -10,7 +10,6 @@ with the demo's model.
 
 from __future__ import annotations
 
-import json
 import os
 import sys
 from pathlib import Path
@@ -22,24 +21,17 @@ from planerel.errors import InputError
 from planerel.ilp import metrics as M
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from rule_models import rule_model, rules_text  # noqa: E402
 from scenes_analytic import box, floor, render  # noqa: E402
 from test_real_rules import demo_model  # noqa: E402,F401  (the fixture)
 
 STATS = [(1, "box", 40, 4)]
-RULES = ("box(A) :- has_plane(A,B), nhorizontal(A,0), tall_face(B).\n"
-         + "".join(f"planerel_rule_stats({i}, {k}, {tp}, {fp}).\n" for i, k, tp, fp in STATS))
+RULES = rules_text("box(A) :- has_plane(A,B), nhorizontal(A,0), tall_face(B).\n", STATS)
 THING = 1
 
 
 def _model(path: Path, *, gate=True) -> Path:
-    from planerel.ilp.model_settings import training_settings
-
-    path.mkdir(parents=True, exist_ok=True)
-    (path / "rules.pl").write_text(RULES)
-    data = training_settings("regiongrow", {}, rule_stats=STATS)
-    data["decision"]["narrow_face_gate"] = gate
-    (path / "model.json").write_text(json.dumps(data))
-    return path
+    return rule_model(path, RULES, STATS, narrow_face_gate=gate)
 
 
 def _scene(width, height):
