@@ -156,8 +156,10 @@ def describe(scan, labels=None, *, scene_id: str | None = None, method: str = "r
     cloud = scan if isinstance(scan, Cloud) else read(scan, intrinsics=intrinsics)
     if scene_id is None:
         scene_id = scene_name(scan) if isinstance(scan, (str, Path)) else "s0000"
+    far = ()
     if labels is None:
-        labels = segment(cloud, method).labels
+        seg = segment(cloud, method)
+        labels, far = seg.labels, seg.info.get("far_labels") or ()
     elif isinstance(labels, (str, Path)):
         labels = io.read_label_image(labels)
-    return describe_scene(cloud, labels, scene_id=scene_id, up=up)
+    return describe_scene(cloud, labels, scene_id=scene_id, up=up, far=far)

@@ -18,7 +18,7 @@ def rules_text(clauses: str, stats) -> str:
 def rule_model(path: Path, rules: str, stats, **decision) -> Path:
     """A model folder at ``path``: ``rules.pl`` holding ``rules``, ``model.json`` the
     training settings of the default segmentation with ``stats`` and the ``decision``
-    settings given (``far_box_gate=False``, ...)."""
+    settings given (``far_gate=False``, ...)."""
     from planerel.ilp.model_settings import training_settings
 
     path.mkdir(parents=True, exist_ok=True)

@@ -1,7 +1,7 @@
 """``RegionGrowParams.far_theta`` (step60; on by default since lead61: 30 degrees beyond
 1.5 m, RMS within 2.5 noise sigmas): a second growing with a wider angle adds planes only where
 the first left depth beyond ``far_depth`` in no plane; nothing already in a plane changes.  The
-far box gate (``decision.far_box_gate``) refuses a box proved through such a plane."""
+far gate (``decision.far_gate``) refuses a box proved through such a plane."""
 
 from __future__ import annotations
 

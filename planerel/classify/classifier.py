@@ -212,32 +212,15 @@ class SceneAnswer:
         return out
 
 
+#: The classes the far gate refuses a proof through a far plane for (``decision.far_gate``).
+FAR_GATED = (BOX, "ramp")
+
+
 def _refuse(a, why):
     """The answer ``a`` turned to ``other`` by a decision gate, ``why`` (the gate's refusal)
     added to its refusals."""
     return replace(a, klass=OTHER, rule=None, bindings={}, proof_planes=(), rule_index=None,
                    precision=None, refused=tuple(a.refused) + (why,))
-
-
-def far_planes(desc, far_mask) -> frozenset:
-    """Labels of ``desc``'s planes lying for half their pixels or more in ``far_mask``.
-
-    Parameters
-    ----------
-    desc : SceneDescription
-        Its label image may differ from the segmentation's (stepped planes split into
-        levels, fitted treads), hence the pixel share rather than the labels themselves.
-    far_mask : ndarray, shape (H, W), bool
-        The pixels of the planes the segmentation's far growing added.
-    """
-    lab = np.asarray(desc.labels)
-    if lab.shape != np.asarray(far_mask).shape:
-        return frozenset()
-    keep = lab >= 0
-    n = int(lab.max()) + 1 if keep.any() else 0
-    total = np.bincount(lab[keep], minlength=n)
-    inside = np.bincount(lab[keep & far_mask], minlength=n)
-    return frozenset(int(i) for i in np.flatnonzero((total > 0) & (2 * inside >= total)))
 
 
 def _num(v, digits: int = 4):
@@ -478,9 +461,9 @@ class Classifier:
         #: (``decision.narrow_face_gate``, :mod:`planerel.features.face_shape`): the bound
         #: on height over width, or None when off
         self.narrow_face = decision.narrow_face_ratio if decision.narrow_face_gate else None
-        #: no ``box`` proved through a plane only the far growing found
-        #: (``decision.far_box_gate``; :meth:`_far_boxes`)
-        self.far_box_gate = decision.far_box_gate
+        #: no ``box`` or ``ramp`` proved through a plane only the far growing found
+        #: (``decision.far_gate``; :meth:`_far_proofs`)
+        self.far_gate = decision.far_gate
         #: ``stairs`` only for an object whose faces show a staircase's steps
         #: (:func:`~planerel.ilp.metrics.flight_refusals`; ``decision.flight_gate``, recorded
         #: in ``model.json`` since pile26 or given as a param: a model learned before decides
@@ -581,10 +564,8 @@ class Classifier:
         cloud = _as_cloud(cloud)
         cloud.require_points(3)
         seg = segment(cloud, self.method, **dict(self.seg_params or {}))
-        desc = describe_scene(cloud, seg.labels, scene_id=scene_id, up=up, **self._describe_kw)
-        far = seg.info.get("far_labels") or ()
-        if far:
-            desc = replace(desc, far=far_planes(desc, np.isin(seg.labels, far)))
+        desc = describe_scene(cloud, seg.labels, scene_id=scene_id, up=up,
+                              far=seg.info.get("far_labels") or (), **self._describe_kw)
         plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
         answers = self.answer_description(desc, xyz=cloud.xyz)
         # the labels the planes refer to (a stepped plane may have been split into levels)
@@ -641,8 +622,8 @@ class Classifier:
             answers = self._long_lying(desc, answers)
         if self.narrow_face is not None and xyz is not None and BOX in self.classes:
             answers = self._narrow_faces(desc, answers, xyz)
-        if self.far_box_gate and desc.far and BOX in self.classes:
-            answers = self._far_boxes(desc, answers)
+        if self.far_gate and desc.far:
+            answers = self._far_proofs(desc, answers)
         return answers
 
     def _trim_flights(self, desc, answers, plane_ids, xyz) -> tuple:
@@ -729,19 +710,19 @@ class Classifier:
             out.append(a)
         return tuple(out)
 
-    def _far_boxes(self, desc, answers) -> tuple:
-        """``decision.far_box_gate``: each ``box`` answer whose proof binds a plane of
+    def _far_proofs(self, desc, answers) -> tuple:
+        """``decision.far_gate``: each ``box`` or ``ramp`` answer whose proof binds a plane of
         ``desc.far`` (found only by the segmentation's far growing) becomes ``other``, with a
-        :class:`~planerel.ilp.metrics.FarPlaneRefusal`."""
+        :class:`~planerel.ilp.metrics.FarPlaneRefusal`; ``stairs`` may use them."""
         from planerel.ilp.metrics import FarPlaneRefusal
 
         far = {desc.plane_id(lab) for lab in desc.far}
         out = []
         for a in answers:
-            if a.klass == BOX:
+            if a.klass in FAR_GATED:
                 hit = tuple(i for i in a.proof_planes if i in far)
                 if hit:
-                    a = _refuse(a, FarPlaneRefusal(BOX, a.rule_index or 0, hit))
+                    a = _refuse(a, FarPlaneRefusal(a.klass, a.rule_index or 0, hit))
             out.append(a)
         return tuple(out)
 

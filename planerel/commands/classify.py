@@ -91,7 +91,7 @@ def register(sub) -> None:
                         "object whose upright proof faces are all more than "
                         "decision.narrow_face_ratio (6.5) times as tall as wide (a post, a "
                         "wall's end, a furniture side seen edge-on); "
-                        "decision.far_box_gate (on by default) refuses box for an object "
+                        "decision.far_gate (on by default) refuses box and ramp for an object "
                         "proved through a plane only the segmentation's far growing found "
                         "(far_theta: depth beyond far_depth left in no plane); "
                         "decision.cut_boxes (on by default) decides the solid of a box "

@@ -74,6 +74,7 @@ def _describe_task(task: dict):
 
     path = task["path"]
     note = ""
+    far = ()  # the far growing's planes (none in a label image read from a file)
     cloud = read_input(path, task["read"])
     if not cloud.organized:
         raise InputError(f"{path}: describe needs an organized cloud (a depth image, an "
@@ -87,7 +88,8 @@ def _describe_task(task: dict):
         seg = segment(cloud, task["method"])
         labels = seg.labels
         note = seg_settings_line(seg.info)
-    d = describe_scene(cloud, labels, scene_id=task["name"], up=given_up(task["read"]))
+        far = seg.info.get("far_labels") or ()
+    d = describe_scene(cloud, labels, scene_id=task["name"], up=given_up(task["read"]), far=far)
     if task.get("mesh") and len(d.planes):
         from planerel.io.exports import write_mesh
 

@@ -18,7 +18,7 @@ adjacent planes anywhere in the scene (``FactParams.pairs`` selects other sets).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -220,7 +220,7 @@ class SceneDescription:
     steps: frozenset = field(default=frozenset())
     #: Labels of the planes found only by the far growing of the segmentation
     #: (``far_theta``; :func:`planerel.segment.segment`'s ``info["far_labels"]``), set by
-    #: :meth:`planerel.classify.Classifier.classify`: the far box gate's provenance.
+    #: :meth:`planerel.classify.Classifier.classify`: the far gate's provenance.
     far: frozenset = field(default=frozenset())
 
     @property
@@ -239,7 +239,7 @@ class SceneDescription:
 def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=None,
                    klass: str | None = None, plane_params=None, relation_params=None,
                    proposal_params=None, gravity_params=None,
-                   curved_params=None) -> SceneDescription:
+                   curved_params=None, far=()) -> SceneDescription:
     """Measure, relate and group the planes of one scene.
 
     Parameters
@@ -268,6 +268,13 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         :class:`~planerel.features.curved.CurvedParams` (defaults when None; a model's are in its
         ``model.json``).  Proposals also take the clusters of points no flat plane explains
         (:func:`planerel.features.curved.curved_objects`); every object gets its planar fraction.
+    far : iterable of int, optional
+        Labels of ``labels``' planes that only the segmentation's far growing found
+        (``far_theta``; :func:`planerel.segment.segment`'s ``info["far_labels"]``).  The up
+        estimate reads the labels without them (a low camera's far floor and walls grown at the
+        wide angle are pieces too small and bent to vote for gravity, lead61), and the
+        description's ``far`` holds the planes lying for half their pixels or more in them
+        (the far gate's provenance).
 
     Returns
     -------
@@ -285,7 +292,11 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     # the defaults made once (each construction validates every field)
     pp = proposal_params or defaults(ProposalParams)
     cp = curved_params or defaults(CurvedParams)
-    planes = measure_planes(cloud, labels, up, plane_params, gravity_params)
+    far = sorted({int(v) for v in far})
+    far_mask = np.isin(np.asarray(labels), far) if far else None
+    planes = measure_planes(cloud, labels, up, plane_params, gravity_params,
+                            gravity_labels=None if far_mask is None
+                            else np.where(far_mask, -1, labels))
     parent = {}
     if pp.split_stepped:
         # treads joined into one sloping "plane" (a flight seen from above) come apart
@@ -370,9 +381,33 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     rel = skirts_within_objects(rel, [o.planes for o in objs], planes, support)
     by_label = {p.label: p for p in planes}
     steps = frozenset(s for o in objs for s in stair_steps(planes, o.planes, pp, by_label))
-    return SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
+    desc = SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
                             proposed, support, truncated=cut, tall=tall, lying=lying,
                             steps=steps)
+    if far_mask is not None:
+        desc = replace(desc, far=far_planes(desc, far_mask))
+    return desc
+
+
+def far_planes(desc, far_mask) -> frozenset:
+    """Labels of ``desc``'s planes lying for half their pixels or more in ``far_mask``.
+
+    Parameters
+    ----------
+    desc : SceneDescription
+        Its label image may differ from the segmentation's (stepped planes split into
+        levels, fitted treads), hence the pixel share rather than the labels themselves.
+    far_mask : ndarray, shape (H, W), bool
+        The pixels of the planes the segmentation's far growing added.
+    """
+    lab = np.asarray(desc.labels)
+    if lab.shape != np.asarray(far_mask).shape:
+        return frozenset()
+    keep = lab >= 0
+    n = int(lab.max()) + 1 if keep.any() else 0
+    total = np.bincount(lab[keep], minlength=n)
+    inside = np.bincount(lab[keep & far_mask], minlength=n)
+    return frozenset(int(i) for i in np.flatnonzero((total > 0) & (2 * inside >= total)))
 
 
 def _label_bound(labels, planes, split) -> int | None:

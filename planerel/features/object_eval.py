@@ -313,12 +313,14 @@ def frame_proposals(cloud, *, method: str = "regiongrow", labels=None):
     ms)`` with ``ms`` the time of describing + proposing (not segmenting)."""
     from planerel.features.facts import describe_scene
 
+    far = ()
     if labels is None:
         from planerel.segment import segment
 
-        labels = segment(cloud, method).labels
+        seg = segment(cloud, method)
+        labels, far = seg.labels, seg.info.get("far_labels") or ()
     t0 = time.perf_counter()
-    desc = describe_scene(cloud, labels)
+    desc = describe_scene(cloud, labels, far=far)
     ms = 1000 * (time.perf_counter() - t0)
     masks = [getattr(o, "mask", None) for o in desc.objects]
     return proposal_image(desc.labels, [o.planes for o in desc.objects], masks), desc, ms

@@ -519,7 +519,7 @@ def _listed_boundary_pixels(lab):
 
 
 def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
-                   gravity_params=None, normals=None) -> PlaneSet:
+                   gravity_params=None, normals=None, gravity_labels=None) -> PlaneSet:
     """Measure the attributes of every labelled plane.
 
     Parameters
@@ -539,6 +539,9 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
         ``{label: normal}``: planes whose orientation is known from a model of their points
         (a fitted staircase's treads and risers, :mod:`planerel.features.stairfit`) take it
         instead of a fitted one (oriented towards the sensor as the others).
+    gravity_labels : array_like, shape (H, W), int, optional
+        The labels the up estimate reads instead of ``labels`` (the segmentation without the
+        far growing's planes: :func:`planerel.features.facts.describe_scene`'s ``far``).
 
     Returns
     -------
@@ -555,7 +558,12 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     H, W = xyz.shape[:2]
     lab = check_labels(labels, (H, W)).copy()
     lab[~cloud.valid] = -1
-    gravity = resolve_up(cloud, lab, up, gravity_params)
+    if gravity_labels is not None:
+        glab = check_labels(gravity_labels, (H, W)).copy()
+        glab[~cloud.valid] = -1
+    else:
+        glab = lab
+    gravity = resolve_up(cloud, glab, up, gravity_params)
     up_v, up_source, up_conf = np.array(gravity.vector), gravity.source, gravity.confidence
     flipped, near = gravity.upside_down, gravity.near_floor
     sparse = {"up_sparse_floor": gravity.sparse_floor}

@@ -211,8 +211,8 @@ HANG_LINES = 8
 #: Defaults of :attr:`DecisionParams.long_lying_gate` and its bound (fbox58).
 LONG_LYING_GATE = True
 LONG_LYING_LENGTH = 0.4
-#: Default of :attr:`DecisionParams.far_box_gate` (lead61).
-FAR_BOX_GATE = True
+#: Default of :attr:`DecisionParams.far_gate` (lead61).
+FAR_GATE = True
 #: Defaults of :attr:`DecisionParams.narrow_face_gate` and its bound (fbox59).
 NARROW_FACE_GATE = True
 NARROW_FACE_RATIO = 6.5
@@ -511,15 +511,16 @@ class DecisionParams:
         becomes ``other``.  Only classify applies it.
     long_lying_length : float
         Metres (>= 0): 0.4.
-    far_box_gate : bool
+    far_gate : bool
         On by default (lead61); it refuses something only when the segmentation's far
-        growing (``far_theta``) added planes.  No ``box`` for an object whose proof binds a
-        plane that only the far growing found: that growing joins depth at a wider angle
-        than the first, to recover a far flight's treads and risers under the noise of 2-4 m,
-        and its planes are too coarse to prove a box's faces (on the development frames its
-        planes alone made three false boxes, skirts on far background surfaces,
-        docs/segmentation.md "Far planes").  The answer becomes ``other``.  Only classify
-        applies it.
+        growing (``far_theta``) added planes.  No ``box`` or ``ramp`` for an object whose proof
+        binds a plane that only the far growing found: that growing joins depth at a wider
+        angle than the first, to recover a far flight's treads and risers under the noise of
+        2-4 m, and its planes are too coarse to prove a box's faces or a slope (on the
+        development frames its planes alone made three false boxes, skirts on far background
+        surfaces, and a false ramp, a 4-row strip of a floor 4.5 m away bent 5 degrees,
+        docs/segmentation.md "Far planes").  The answer becomes ``other``; ``stairs`` may use
+        them.  Only classify applies it.
     narrow_face_gate : bool
         On by default (fbox59).  No ``box`` for an object whose upright proof faces are all
         more than ``narrow_face_ratio`` times as tall as they are wide
@@ -620,7 +621,7 @@ class DecisionParams:
     hang_lines: int = HANG_LINES
     long_lying_gate: bool = LONG_LYING_GATE
     long_lying_length: float = LONG_LYING_LENGTH
-    far_box_gate: bool = FAR_BOX_GATE
+    far_gate: bool = FAR_GATE
     narrow_face_gate: bool = NARROW_FACE_GATE
     narrow_face_ratio: float = NARROW_FACE_RATIO
     cut_boxes: bool = CUT_BOXES
@@ -634,7 +635,7 @@ class DecisionParams:
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
                      "side_gate", "unsure_gate", "facet_gate", "facet_bridge", "cut_boxes",
                      "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate",
-                     "narrow_face_gate", "far_box_gate"):
+                     "narrow_face_gate", "far_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -1762,8 +1763,8 @@ class LongLyingRefusal:
 
 @dataclass(frozen=True)
 class FarPlaneRefusal:
-    """``box`` for an object proved through a plane that only the segmentation's far growing
-    found (``decision.far_box_gate``)."""
+    """``box`` or ``ramp`` for an object proved through a plane that only the segmentation's
+    far growing found (``decision.far_gate``)."""
 
     klass: str
     rule: int
@@ -1773,7 +1774,7 @@ class FarPlaneRefusal:
     @property
     def reason(self) -> str:
         return (f"rule {self.rule} proves it through {', '.join(self.planes)}, found only by "
-                f"the far growing (far_theta): too coarse a plane to prove a box's face")
+                f"the far growing (far_theta): too coarse a plane to prove a {self.klass}")
 
     def to_dict(self) -> dict:
         return {"class": self.klass, "rule": self.rule, "planes": list(self.planes),

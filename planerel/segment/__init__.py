@@ -273,7 +273,7 @@ def _far_planes(cloud, seg, p, split_params):
             added += 1
     seg.info["far_planes"] = added
     seg.info["far_fit"] = fit
-    #: the labels of the planes this growing added (the far box gate's provenance)
+    #: the labels of the planes this growing added (the far gate's provenance)
     seg.info["far_labels"] = list(range(n, n + added))
     if not added:
         return seg

@@ -1,10 +1,11 @@
-"""lead61: the far growing's planes (``far_theta``, on by default) prove no box
-(``decision.far_box_gate``; docs/segmentation.md "Far planes").
+"""lead61: the far growing's planes (``far_theta``, on by default) prove no box and no ramp
+(``decision.far_gate``; docs/segmentation.md "Far planes"); stairs may use them.
 
 That growing joins depth beyond ``far_depth`` that the first growing left in no plane, at a
 wider angle, to recover a far flight's treads and risers; on the development frames its planes
-also made three false boxes (skirts on far background surfaces).  The gate turns a ``box``
-answer whose proof binds such a plane into ``other``.
+also made three false boxes (skirts on far background surfaces) and a false ramp (a strip of a
+far floor the sensor bends).  The gate turns a ``box`` or ``ramp`` answer whose proof binds
+such a plane into ``other``.
 
 Rendered scenes are ray-cast rectangles (tests/scenes_analytic.py); Prolog runs for real.  With
 ``PLANEREL_HUNT_DATA`` the gate is checked on the two real frames it was measured on.
@@ -25,7 +26,7 @@ from planerel.ilp import metrics as M
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from rule_models import rule_model, rules_text  # noqa: E402
-from scenes_analytic import Rect, floor, render  # noqa: E402
+from scenes_analytic import Rect, floor, ramp, render  # noqa: E402
 from test_real_rules import demo_model  # noqa: E402,F401  (the fixture)
 
 STATS = [(1, "box", 40, 4)]
@@ -34,7 +35,7 @@ THING = 1
 
 
 def _model(path: Path, *, gate=True) -> Path:
-    return rule_model(path, RULES, STATS, far_box_gate=gate)
+    return rule_model(path, RULES, STATS, far_gate=gate)
 
 
 def _described():
@@ -80,8 +81,30 @@ def test_a_box_proved_through_a_far_plane_is_refused(tmp_path):
     assert c.klass == "box"
 
 
+def test_a_ramp_proved_through_a_far_plane_is_refused(tmp_path):
+    from planerel.classify.classifier import Classifier
+    from planerel.features.facts import describe_scene
+    from planerel.segment import segment
+
+    stats = [(1, "ramp", 30, 2)]
+    rules = rules_text("ramp(A) :- has_plane(A,B), slope(B,C), lteq(C,28).\n", stats)
+    cloud, lab, up, _ = render([floor(), *ramp(0.0, 1.5, 15.0, 1.5, 1.0)],
+                               pitch=30, cam_height=1.2, width=320, height=240, noise=0.001)
+    desc = describe_scene(cloud, segment(cloud).labels, up=up)
+    slope = [p.label for p in desc.planes if p.orientation == "inclined"]
+    assert len(slope) == 1
+    with Classifier(rule_model(tmp_path / "m", rules, stats)) as clf:
+        a = [x for x in clf.answer_description(desc, xyz=cloud.xyz) if x.klass == "ramp"]
+        assert len(a) == 1
+        far = dataclasses.replace(desc, far=frozenset(slope))
+        b = [x for x in clf.answer_description(far, xyz=cloud.xyz) if slope[0] in x.labels]
+    assert len(b) == 1 and b[0].klass == "other"
+    why = [r for r in b[0].refused if isinstance(r, M.FarPlaneRefusal)]
+    assert len(why) == 1 and why[0].klass == "ramp" and "ramp" in why[0].reason
+
+
 def test_far_planes_are_the_description_s_planes_mostly_in_the_far_mask():
-    from planerel.classify.classifier import far_planes
+    from planerel.features.facts import far_planes
 
     _, desc, top = _described()
     lab = np.asarray(desc.labels)
@@ -97,9 +120,9 @@ def test_far_planes_are_the_description_s_planes_mostly_in_the_far_mask():
 
 
 def test_decision_params():
-    assert M.DecisionParams().far_box_gate is True
-    with pytest.raises(InputError, match="far_box_gate"):
-        M.DecisionParams(far_box_gate="yes")
+    assert M.DecisionParams().far_gate is True
+    with pytest.raises(InputError, match="far_gate"):
+        M.DecisionParams(far_gate="yes")
 
 
 HUNT = Path(os.environ.get("PLANEREL_HUNT_DATA", "/nonexistent"))
@@ -122,7 +145,7 @@ def test_the_development_frames(demo_model, hunt, folder, stem):  # noqa: F811
     cloud, up = read_frame(where, frame)
     with Classifier(str(demo_model)) as clf:
         ans = clf.classify(cloud, up=up)
-    with Classifier(str(demo_model), seg_params={"decision.far_box_gate": "false"}) as clf:
+    with Classifier(str(demo_model), seg_params={"decision.far_gate": "false"}) as clf:
         off = clf.classify(cloud, up=up)
     refused = [(o, r) for o in ans.objects for r in o.refused
                if isinstance(r, M.FarPlaneRefusal)]
