@@ -219,8 +219,8 @@ class SceneDescription:
     #: (:func:`planerel.features.stair_step.stair_steps`: ``stair_step/2``).
     steps: frozenset = field(default=frozenset())
     #: Labels of the planes found only by the far growing of the segmentation
-    #: (``far_theta``; :func:`planerel.segment.segment`'s ``info["far_labels"]``), set by
-    #: :meth:`planerel.classify.Classifier.classify`: the far gate's provenance.
+    #: (``far_theta``; :func:`planerel.segment.segment`'s ``info["far_labels"]``), when the
+    #: caller gives them (:func:`describe_scene`'s ``far``): the far gate's provenance.
     far: frozenset = field(default=frozenset())
 
     @property

@@ -842,7 +842,7 @@ def speckle_floor(cloud, labels, axis=DEFAULT_UP, max_deg: float | None = None,
         return None
     stride = max(1, free.size // 20000)
     # every stride-th free point, gathered by index: the same points as taking them all and
-    # then every stride-th, without copying the rest (a third of describe's gravity time)
+    # then every stride-th, without copying the rest (most of this function's time before)
     pts = xyz[low].reshape(-1, 3)[free[::stride]]
     # ``sparse_floor_tries`` seeded three-point hypotheses at once, scored on at most 4000 of the points
     rng = np.random.default_rng(0)
