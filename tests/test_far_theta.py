@@ -92,3 +92,30 @@ def test_far_wide_grows_again_with_the_wide_window_and_keeps_the_first_planes(st
     assert added >= 1
     with pytest.raises(InputError, match="far_wide"):
         RegionGrowParams(far_wide="maybe")
+
+
+def test_the_segmentation_cache_keeps_the_far_planes(stereo_flights, tmp_path):
+    """``planerel learn``'s describing reads its segmentations from a cache: the far planes'
+    labels are kept beside the labels (``KEY.far.npy``), so a training scene's up is read
+    without them as classify's is; an entry from before (no such file) is segmented again."""
+    from planerel.ilp.scenes import segment_cached, segment_cached_far
+
+    cloud = next(c for c in stereo_flights if segment(c).info["far_planes"])
+    src = tmp_path / "scene.bin"
+    src.write_bytes(b"one scene's files")
+    cache = tmp_path / "cache"
+    labels, far = segment_cached_far(cloud, files=[src], cache=cache)
+    seg = segment(cloud)
+    np.testing.assert_array_equal(labels, seg.labels)
+    assert far == tuple(seg.info["far_labels"]) and far
+    stored = sorted(p.name for p in (cache / "seg").iterdir())
+    assert len(stored) == 2 and stored[0].endswith(".far.npy")
+    # read back; the labels-only call the same
+    again = segment_cached_far(cloud, files=[src], cache=cache)
+    np.testing.assert_array_equal(again[0], labels)
+    assert again[1] == far
+    np.testing.assert_array_equal(segment_cached(cloud, files=[src], cache=cache), labels)
+    # an entry without its far file (written before): segmented again, both written
+    (cache / "seg" / stored[0]).unlink()
+    assert segment_cached_far(cloud, files=[src], cache=cache)[1] == far
+    assert (cache / "seg" / stored[0]).is_file()

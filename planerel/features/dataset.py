@@ -378,7 +378,7 @@ def object_classes(meta: dict, default: str | None = None) -> dict:
 
 
 def describe_truth_scene(cloud, labels, gt, meta: dict, scene_id: str,
-                         default_class: str | None = None, rule=None):
+                         default_class: str | None = None, rule=None, far=()):
     """Describe one data-set scene with its ground-truth objects as the examples.
 
     Segmented (or ground-truth) planes join the ground-truth object whose planes they mostly
@@ -401,6 +401,9 @@ def describe_truth_scene(cloud, labels, gt, meta: dict, scene_id: str,
         Class of the objects when the sidecar has no ``objects`` list (the manifest's class).
     rule : planerel.features.truth_examples.ExampleRule, optional
         Which objects are examples (default thresholds when None).
+    far : iterable of int, optional
+        The far growing's planes among ``labels`` (:func:`planerel.features.facts.describe_scene`'s
+        ``far``: the up estimate reads the labels without them, as classify's does).
 
     Returns
     -------
@@ -438,7 +441,8 @@ def describe_truth_scene(cloud, labels, gt, meta: dict, scene_id: str,
             object_of_label[int(x)] = k
             if verdict.get(k):
                 class_of_label[int(x)] = None
-    desc = describe_scene(cloud, labels, scene_id=scene_id, objects=groups, klass=default_class)
+    desc = describe_scene(cloud, labels, scene_id=scene_id, objects=groups, klass=default_class,
+                          far=far)
     objs = tuple(replace(o, klass=class_of_label.get(o.planes[0], default_class))
                  for o in desc.objects)
     # the described object's id; an object none of whose planes was found has none

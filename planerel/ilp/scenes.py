@@ -17,7 +17,7 @@ import numpy as np
 
 from planerel.errors import InputError
 
-__all__ = ["cache_dir", "segment_cached", "describe_scenes"]
+__all__ = ["cache_dir", "segment_cached", "segment_cached_far", "describe_scenes"]
 
 
 # ----------------------------------------------------------------------------- caching
@@ -69,28 +69,50 @@ def segment_cached(cloud, *, method: str = "regiongrow", params: dict | None = N
     -------
     labels : ndarray, shape (H, W), int32
     """
+    return segment_cached_far(cloud, method=method, params=params, files=files, cache=cache)[0]
+
+
+def segment_cached_far(cloud, *, method: str = "regiongrow", params: dict | None = None,
+                       files: Sequence[Path] = (), cache: Path | None = None) -> tuple:
+    """:func:`segment_cached`'s labels and the labels of the planes the segmentation's far
+    growing added (``info["far_labels"]``: :func:`planerel.features.facts.describe_scene`'s
+    ``far``), both cached (``KEY.npy``, ``KEY.far.npy``; an entry without the second is
+    segmented again).
+
+    Returns
+    -------
+    (labels (H, W) int32, far tuple of int)
+    """
     from planerel.segment import segment
 
     params = dict(params or {})
-    path = None
+    path = far_path = None
     if cache is not None and files:
-        path = Path(cache) / "seg" / f"{_seg_key([Path(f) for f in files], method, params)}.npy"
-        if path.is_file():
+        key = _seg_key([Path(f) for f in files], method, params)
+        path = Path(cache) / "seg" / f"{key}.npy"
+        far_path = path.with_name(f"{key}.far.npy")
+        if path.is_file() and far_path.is_file():
             try:
                 labels = np.load(path, allow_pickle=False)
-                if labels.shape == cloud.shape and labels.dtype == np.int32:
-                    return labels
+                far = np.load(far_path, allow_pickle=False)
+                if (labels.shape == cloud.shape and labels.dtype == np.int32
+                        and far.ndim == 1 and far.dtype == np.int32):
+                    return labels, tuple(int(v) for v in far)
             except (OSError, ValueError):
                 pass  # a damaged cache entry is recomputed and replaced
-    labels = segment(cloud, method, **params).labels
+    seg = segment(cloud, method, **params)
+    labels, far = seg.labels, tuple(int(v) for v in seg.info.get("far_labels") or ())
     if path is not None:
+        from planerel.atomic import atomic_path
         from planerel.io.writers import write_labels_npy
 
         try:
             write_labels_npy(path, labels)
+            with atomic_path(far_path, suffix=".npy") as tmp:
+                np.save(tmp, np.asarray(far, np.int32), allow_pickle=False)
         except (OSError, InputError):
             pass  # an unwritable cache only costs time
-    return labels
+    return labels, far
 
 
 # ----------------------------------------------------------------------------- describing
@@ -106,12 +128,15 @@ def _describe_one(job):
     if gt is None:
         raise InputError(f"{dataset_dir}: scene {row.scene_id} has no ground-truth labels, so "
                          "its object (the training example) is unknown")
+    far = ()
     if method == "gt":
         labels = gt
     else:
         files = [Path(dataset_dir) / row.depth, Path(dataset_dir) / row.meta]
-        labels = segment_cached(cloud, method=method, params=params, files=files, cache=cache)
-    return describe_truth_scene(cloud, labels, gt, meta, row.scene_id, row.klass, rule=rule)
+        labels, far = segment_cached_far(cloud, method=method, params=params, files=files,
+                                         cache=cache)
+    return describe_truth_scene(cloud, labels, gt, meta, row.scene_id, row.klass, rule=rule,
+                                far=far)
 
 
 def example_rule(dataset_dir):
