@@ -1,22 +1,31 @@
 """The demo's ramp clause (and its stairs clause) as one-rule models, for the tests of the
-decision's ramp and stairs gates (tests/test_foot_gate.py, tests/test_side_gate.py)."""
+decision's ramp and stairs gates (tests/test_foot_gate.py, tests/test_side_gate.py), and the
+one-rule model writer the other gates' tests use (:func:`one_rule_model`, :func:`rules_text`:
+tests/test_far_gate.py, test_long_lying_gate.py, test_narrow_face_gate.py, test_hang_gate.py)."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
 
+
+def rules_text(clauses: str, stats) -> str:
+    """``clauses`` (Prolog text) and one ``planerel_rule_stats(I, Class, TP, FP)`` fact per
+    ``(I, Class, TP, FP)`` of ``stats``."""
+    return clauses + "".join(f"planerel_rule_stats({i}, {k}, {tp}, {fp}).\n"
+                             for i, k, tp, fp in stats)
+
+
 STATS = [(1, "ramp", 73, 0)]
 # the demo model's ramp clause, by hand
-RULES = ("ramp(A) :- has_plane(A,B), slope(B,C), area(B,D), gteq(D,0.53), lteq(C,28).\n"
-         + "".join(f"planerel_rule_stats({i}, {k}, {tp}, {fp}).\n" for i, k, tp, fp in STATS))
+RULES = rules_text("ramp(A) :- has_plane(A,B), slope(B,C), area(B,D), gteq(D,0.53), lteq(C,28).\n",
+                   STATS)
 
 
 # the demo model's stairs clause (a flight's risers one step apart), by hand
 STAIRS_STATS = [(1, "stairs", 60, 0)]
-STAIRS_RULES = ("stairs(A) :- has_plane(A,B), parallel(B,C), stair_step(C,B).\n"
-                + "".join(f"planerel_rule_stats({i}, {k}, {tp}, {fp}).\n"
-                          for i, k, tp, fp in STAIRS_STATS))
+STAIRS_RULES = rules_text("stairs(A) :- has_plane(A,B), parallel(B,C), stair_step(C,B).\n",
+                          STAIRS_STATS)
 
 
 def ramp_model(path: Path, **decision) -> Path:

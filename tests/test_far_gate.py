@@ -25,7 +25,7 @@ from planerel.errors import InputError
 from planerel.ilp import metrics as M
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from rule_models import rule_model, rules_text  # noqa: E402
+from ramp_model import one_rule_model, rules_text  # noqa: E402
 from scenes_analytic import Rect, floor, ramp, render  # noqa: E402
 from test_real_rules import demo_model  # noqa: E402,F401  (the fixture)
 
@@ -35,7 +35,7 @@ THING = 1
 
 
 def _model(path: Path, *, gate=True) -> Path:
-    return rule_model(path, RULES, STATS, far_gate=gate)
+    return one_rule_model(path, RULES, STATS, far_gate=gate)
 
 
 def _described():
@@ -93,7 +93,7 @@ def test_a_ramp_proved_through_a_far_plane_is_refused(tmp_path):
     desc = describe_scene(cloud, segment(cloud).labels, up=up)
     slope = [p.label for p in desc.planes if p.orientation == "inclined"]
     assert len(slope) == 1
-    with Classifier(rule_model(tmp_path / "m", rules, stats)) as clf:
+    with Classifier(one_rule_model(tmp_path / "m", rules, stats)) as clf:
         a = [x for x in clf.answer_description(desc, xyz=cloud.xyz) if x.klass == "ramp"]
         assert len(a) == 1
         far = dataclasses.replace(desc, far=frozenset(slope))

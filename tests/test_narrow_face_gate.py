@@ -21,7 +21,7 @@ from planerel.errors import InputError
 from planerel.ilp import metrics as M
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from rule_models import rule_model, rules_text  # noqa: E402
+from ramp_model import one_rule_model, rules_text  # noqa: E402
 from scenes_analytic import box, floor, render  # noqa: E402
 from test_real_rules import demo_model  # noqa: E402,F401  (the fixture)
 
@@ -31,7 +31,7 @@ THING = 1
 
 
 def _model(path: Path, *, gate=True) -> Path:
-    return rule_model(path, RULES, STATS, narrow_face_gate=gate)
+    return one_rule_model(path, RULES, STATS, narrow_face_gate=gate)
 
 
 def _scene(width, height):
