@@ -119,3 +119,36 @@ def test_the_segmentation_cache_keeps_the_far_planes(stereo_flights, tmp_path):
     (cache / "seg" / stored[0]).unlink()
     assert segment_cached_far(cloud, files=[src], cache=cache)[1] == far
     assert (cache / "seg" / stored[0]).is_file()
+
+
+def test_the_second_growing_on_the_first_ones_normals_is_the_same_growing(stereo_flights):
+    """``region_grow(same_window=)`` (the far planes' second growing) takes the first growing's
+    float32 normals instead of computing them again: the same regions, bit for bit, as a growing
+    that computes its own; a window that differs (``far_wide``) computes its own."""
+    import dataclasses
+
+    from planerel.segment import _far_planes, make_params
+    from planerel.segment.regiongrow import region_grow
+
+    p = RegionGrowParams()
+    wp = dataclasses.replace(p, theta=p.far_theta, far_theta=0.0)
+    for cloud in stereo_flights[:3]:
+        first = region_grow(cloud, p, split=True)
+        own = region_grow(cloud, wp, split=True)
+        shared = region_grow(cloud, wp, split=True, same_window=first)
+        np.testing.assert_array_equal(shared.labels, own.labels)
+        assert shared.normals is first.normals  # not measured again
+        np.testing.assert_array_equal(own.normals, first.normals)
+    # another cloud's normals (another shape) are refused
+    crop = cloud.__class__(cloud.xyz[:100])
+    with pytest.raises(InputError, match="same_window"):
+        region_grow(cloud, wp, same_window=region_grow(crop, p))
+    # the whole far pass: the same planes as a second growing that measures its own normals
+    cloud = stereo_flights[0]
+    base = segment(cloud, far_theta=0.0)
+    a = _far_planes(cloud, dataclasses.replace(base, info=dict(base.info)),
+                    make_params("regiongrow"), None)
+    bare = dataclasses.replace(base, normals=None, info=dict(base.info))
+    b = _far_planes(cloud, bare, make_params("regiongrow"), None)
+    np.testing.assert_array_equal(a.labels, b.labels)
+    assert a.info["far_fit"] == b.info["far_fit"]

@@ -92,7 +92,7 @@ def _build(labels, xyz_flat, n, params, normals, info, fits=None) -> Segmentatio
 
 
 def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None,
-                split: bool = False) -> Segmentation:
+                split: bool = False, same_window=None) -> Segmentation:
     """Segment a cloud into planes by region growing.
 
     Parameters
@@ -106,6 +106,11 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None,
     split : bool
         Whether the caller post-processes the result (only resolves ``angle_order`` /
         ``seed_test`` ``"auto"``: see :meth:`RegionGrowParams.growing_variant`).
+    same_window : Segmentation, optional
+        An earlier growing of this organized cloud with the same normal window (the same
+        parameters but the angles): its normals (float32) are used as this growing would
+        compute them, and only the neighbour graph is built again (the far planes' second
+        growing, :func:`planerel.segment._far_planes`).
 
     Returns
     -------
@@ -151,7 +156,8 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None,
     if cloud.organized:
         graph_args = (float(p.delta_factor), delta_fixed, p.delta_mode == "depth", _NBANDS,
                       max(1, h // 120))
-    if cloud.organized and normals is None:
+    reuse = same_window is not None and cloud.organized and normals is None
+    if cloud.organized and normals is None and not reuse:
         cloud.require_points(3)
         ws = _workspace(h, w)
         a = np.ascontiguousarray(xyz, dtype=np.float64)
@@ -167,7 +173,11 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None,
         _check_moments(ws.mom, cloud)
     else:
         check_cloud(cloud)
-        if normals is None:
+        if reuse:
+            nrm = np.asarray(same_window.normals)
+            if nrm.shape != xyz.shape or nrm.dtype != np.float32:
+                raise InputError("regiongrow: same_window's normals are not this cloud's")
+        elif normals is None:
             nrm = nmod.knn_normals(xyz.reshape(-1, 3), k=p.knn).reshape(xyz.shape)
         else:
             nrm = np.asarray(normals, dtype=np.float64)
@@ -186,7 +196,7 @@ def region_grow(cloud, params: RegionGrowParams | None = None, *, normals=None,
         ws = _workspace(h, w)
         pts = np.ascontiguousarray(xyz_flat, dtype=np.float64)
         mask = ws.mask
-        if normals is not None:  # the graph was not made in the normals' pass
+        if normals is not None or reuse:  # the graph was not made in the normals' pass
             table, zmin, zwidth, mean_nn = grid_graph(pts.reshape(h, w, 3), *graph_args, mask)
         tl = sorted(table.tolist())
         info.update(delta=statistics.median(tl), delta_min=tl[0], delta_max=tl[-1],
