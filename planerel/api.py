@@ -133,7 +133,7 @@ def segment(scan, method: str = "regiongrow", *, intrinsics=None, **params):
 
 
 def describe(scan, labels=None, *, scene_id: str | None = None, method: str = "regiongrow",
-             intrinsics=None, up=None):
+             intrinsics=None, up=None, camera_height=None):
     """Planes, relations and object proposals of a scan (what ``planerel describe`` writes).
 
     Parameters
@@ -143,6 +143,11 @@ def describe(scan, labels=None, *, scene_id: str | None = None, method: str = "r
         Plane labels to use instead of segmenting.
     scene_id : str, optional
         Default: the file's scene name (:mod:`planerel.io.naming`), else ``"s0000"``.
+    up : 3 numbers, optional
+        Gravity up in the camera frame (default: the file's own, else estimated).
+    camera_height : float, optional
+        The camera's height over the floor, metres, when known
+        (:func:`planerel.features.facts.describe_scene`).
 
     Returns
     -------
@@ -162,4 +167,5 @@ def describe(scan, labels=None, *, scene_id: str | None = None, method: str = "r
         labels, far = seg.labels, seg.info.get("far_labels") or ()
     elif isinstance(labels, (str, Path)):
         labels = io.read_label_image(labels)
-    return describe_scene(cloud, labels, scene_id=scene_id, up=up, far=far)
+    return describe_scene(cloud, labels, scene_id=scene_id, up=up, far=far,
+                          camera_height=camera_height)

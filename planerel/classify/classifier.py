@@ -176,6 +176,8 @@ class SceneAnswer:
     #: looking level over a desk; rules that need the ground, such as a box seen as one
     #: upright face, cannot hold then)
     floor: str | None = None
+    #: the camera's height over the floor the caller gave, metres (None: not given)
+    camera_height: float | None = None
     #: ``{plane id: geometry}`` of every plane (:func:`plane_geometry`), where the proof
     #: planes are (None: not recorded)
     geometry: dict | None = None
@@ -191,7 +193,7 @@ class SceneAnswer:
                 "up_vector": up, "up_low_confidence": self.up_low,
                 "up_upside_down": self.up_upside_down, "up_near_floor": self.up_near_floor,
                 "up_sparse_floor": self.up_sparse_floor,
-                "floor": self.floor,
+                "floor": self.floor, "camera_height": self.camera_height,
                 "objects": [o.to_dict() for o in self.objects],
                 **({} if self.geometry is None else {"planes": self.geometry}),
                 "seconds": round(self.seconds, 4)}
@@ -207,8 +209,13 @@ class SceneAnswer:
                        f"{how}): level and upright tests may be wrong; pass --up X,Y,Z when the "
                        "camera's up is known")
         if self.floor is None and self.plane_ids:
-            out.append("no floor plane in view: a box seen as one upright face cannot be "
-                       "proved (its foot needs the floor), and no slope's foot is checked")
+            out.append("no floor plane in view: " + (
+                f"a box seen as one upright face stands on the floor {self.camera_height:g} m "
+                "under the camera (--camera-height) or on none, and no slope's foot is checked"
+                if self.camera_height is not None else
+                "a box seen as one upright face cannot be proved (its foot needs the floor; "
+                "pass --camera-height M when the camera's height over the floor is known), "
+                "and no slope's foot is checked"))
         return out
 
 
@@ -547,9 +554,13 @@ class Classifier:
     def __exit__(self, *exc) -> None:
         self.close()
 
-    def classify(self, cloud, *, scene_id: str = "s0000", up=None) -> SceneAnswer:
+    def classify(self, cloud, *, scene_id: str = "s0000", up=None,
+                 camera_height=None) -> SceneAnswer:
         """Segment, describe and classify one cloud (a :class:`~planerel.io.cloud.Cloud`, as
         ``planerel.read`` returns, or the path of a scan file).
+
+        ``up`` (3 numbers) and ``camera_height`` (metres over the floor) are the camera's pose
+        when known: :func:`planerel.features.facts.describe_scene`'s.
 
         Returns
         -------
@@ -565,7 +576,8 @@ class Classifier:
         cloud.require_points(3)
         seg = segment(cloud, self.method, **dict(self.seg_params or {}))
         desc = describe_scene(cloud, seg.labels, scene_id=scene_id, up=up,
-                              far=seg.info.get("far_labels") or (), **self._describe_kw)
+                              far=seg.info.get("far_labels") or (),
+                              camera_height=camera_height, **self._describe_kw)
         plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
         answers = self.answer_description(desc, xyz=cloud.xyz)
         # the labels the planes refer to (a stepped plane may have been split into levels)
@@ -579,6 +591,7 @@ class Classifier:
                            up_near_floor=bool(ps.up_near_floor),
                            up_sparse_floor=bool(ps.up_sparse_floor),
                            floor=None if ps.floor is None else plane_ids.get(ps.floor),
+                           camera_height=ps.camera_height,
                            geometry={plane_ids[p.label]: plane_geometry(p) for p in ps})
 
     def answer_description(self, desc, xyz=None) -> tuple:

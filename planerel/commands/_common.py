@@ -8,7 +8,7 @@ from pathlib import Path
 from planerel.errors import InputError
 
 __all__ = ["add_input_options", "add_batch_options", "read_input", "read_options", "inputs_of",
-           "given_up", "check_input_options", "parse_vector", "parse_intrinsics", "sparse_note"]
+           "given_up", "given_camera_height", "check_input_options", "parse_vector", "parse_intrinsics", "sparse_note"]
 
 
 def parse_vector(text: str, name: str = "vector") -> tuple[float, float, float]:
@@ -41,9 +41,24 @@ def given_up(args: argparse.Namespace):
     return np.array(values) / norm
 
 
+def given_camera_height(args: argparse.Namespace) -> float | None:
+    """The ``--camera-height M`` of the command line in metres, or None; a clear one-line
+    error for anything that is not a finite number above 0."""
+    value = getattr(args, "camera_height", None)
+    if value is None:
+        return None
+    from planerel.features.planes import check_camera_height
+
+    try:
+        return check_camera_height(value)
+    except InputError as e:
+        raise InputError(f"--camera-height: {e}") from None
+
+
 def check_input_options(args: argparse.Namespace) -> None:
     """Check the reading options of :func:`add_input_options` before any work: a bad
-    ``--subsample``, ``--depth-scale``, ``--max-points``, ``--intrinsics`` or ``--up`` is one
+    ``--subsample``, ``--depth-scale``, ``--max-points``, ``--intrinsics``, ``--up`` or
+    ``--camera-height`` is one
     error about the option, not a failure of every input (which ``--keep-going`` would skip)."""
     import math
 
@@ -62,6 +77,7 @@ def check_input_options(args: argparse.Namespace) -> None:
     max_points_limit(limit)  # also a bad $PLANEREL_MAX_POINTS
     parse_intrinsics(getattr(args, "intrinsics", None))
     given_up(args)
+    given_camera_height(args)
 
 
 _INTRINSICS_FORMS = "'kinect' or W,H,fx,fy,cx,cy (or a camera JSON file)"
@@ -132,6 +148,13 @@ def add_input_options(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--up", metavar="X,Y,Z", help="gravity-up vector in the camera frame, e.g. "
                    "0,-1,0 for a level camera (default: the file's own, e.g. 'up' in a sidecar "
                    "STEM.json, else estimated from the planes for any camera pitch and roll)")
+    g.add_argument("--camera-height", type=float, metavar="M",
+                   help="the camera's height over the floor in metres, when known (a robot's "
+                        "mount): with no floor plane in view, a box face whose foot stands "
+                        "that far under the camera is grounded (a camera on or near the floor "
+                        "sees the floor at grazing incidence, where the sensor measures "
+                        "little); give --up too for a level mount or a known tilt (default: "
+                        "not known; docs/objects.md, 'A known camera height')")
     g.add_argument("--max-points", type=int, metavar="N",
                    help="refuse inputs that declare more than N points or pixels, before reading "
                         "them (default 20,000,000 or $PLANEREL_MAX_POINTS)")

@@ -131,12 +131,18 @@ def _params(items) -> dict:
 def _classify_task(task: dict):
     """Worker: read and classify one scan, write its explanation image and JSON when asked;
     returns ``(answer as a dict, text lines)``."""
-    from planerel.commands._common import given_up, read_input, sparse_note
+    from planerel.commands._common import (
+        given_camera_height,
+        given_up,
+        read_input,
+        sparse_note,
+    )
 
     path, stem = task["path"], task["name"]
     clf = _classifier(task["rules"], task["method"], task["params"])
     cloud = read_input(path, task["read"])
-    ans = clf.classify(cloud, scene_id=stem, up=given_up(task["read"]))
+    ans = clf.classify(cloud, scene_id=stem, up=given_up(task["read"]),
+                       camera_height=given_camera_height(task["read"]))
     if task["out"]:
         from PIL import Image
 

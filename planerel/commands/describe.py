@@ -68,7 +68,12 @@ def seg_settings_line(info: dict) -> str:
 def _describe_task(task: dict):
     """Worker: read, segment (or read labels) and describe one scan; returns
     ``(scene_id, facts by predicate, summary line, segmentation note, up comment)``."""
-    from planerel.commands._common import given_up, read_input, sparse_note
+    from planerel.commands._common import (
+        given_camera_height,
+        given_up,
+        read_input,
+        sparse_note,
+    )
     from planerel.features.facts import describe_scene, scene_facts, up_comment
     from planerel.io import readers as io
 
@@ -89,7 +94,8 @@ def _describe_task(task: dict):
         labels = seg.labels
         note = seg_settings_line(seg.info)
         far = seg.info.get("far_labels") or ()
-    d = describe_scene(cloud, labels, scene_id=task["name"], up=given_up(task["read"]), far=far)
+    d = describe_scene(cloud, labels, scene_id=task["name"], up=given_up(task["read"]), far=far,
+                       camera_height=given_camera_height(task["read"]))
     if task.get("mesh") and len(d.planes):
         from planerel.io.exports import write_mesh
 

@@ -239,7 +239,7 @@ class SceneDescription:
 def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=None,
                    klass: str | None = None, plane_params=None, relation_params=None,
                    proposal_params=None, gravity_params=None,
-                   curved_params=None, far=()) -> SceneDescription:
+                   curved_params=None, far=(), camera_height=None) -> SceneDescription:
     """Measure, relate and group the planes of one scene.
 
     Parameters
@@ -275,6 +275,11 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         wide angle are pieces too small and bent to vote for gravity, lead61), and the
         description's ``far`` holds the planes lying for half their pixels or more in them
         (the far gate's provenance).
+    camera_height : float, optional
+        The camera's height over the floor, metres, when known (a robot's mount; give ``up``
+        too when the camera is level or its tilt is known): with no floor plane in view, an
+        upright face whose foot stands that far under the eye is grounded
+        (:attr:`~planerel.features.planes.PlaneSet.camera_height`).  Default: not known.
 
     Returns
     -------
@@ -296,7 +301,7 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     far_mask = np.isin(np.asarray(labels), far) if far else None
     planes = measure_planes(cloud, labels, up, plane_params, gravity_params,
                             gravity_labels=None if far_mask is None
-                            else np.where(far_mask, -1, labels))
+                            else np.where(far_mask, -1, labels), camera_height=camera_height)
     parent = {}
     if pp.split_stepped:
         # treads joined into one sloping "plane" (a flight seen from above) come apart

@@ -287,6 +287,11 @@ class PlaneSet:
     up_sparse_floor : bool
         A floor measured only as speckle voted for the estimated up
         (:attr:`GravityParams.sparse_floor <planerel.features.gravity.GravityParams>`).
+    camera_height : float or None
+        The camera's height over the floor, metres, when the caller knows it (a robot's
+        mount): where no floor plane is found, the floor lies that far under the eye along
+        ``up`` (:func:`planerel.features.relations.tall_faces` grounds a face's foot there).
+        None: not known.
     """
 
     planes: tuple
@@ -301,6 +306,7 @@ class PlaneSet:
     up_upside_down: bool = False
     up_near_floor: bool = False
     up_sparse_floor: bool = False
+    camera_height: float | None = None
 
     @property
     def up_estimate(self) -> UpEstimate:
@@ -321,11 +327,11 @@ class PlaneSet:
 
     def with_up_of(self, other: PlaneSet) -> PlaneSet:
         """These planes with ``other``'s gravity reading (source, confidence, upside down, the
-        floor under the camera):
+        floor under the camera, the eye's height):
         planes measured again along ``other.up`` (:mod:`planerel.features.stepped`)."""
         return replace(self, up_source=other.up_source, up_confidence=other.up_confidence,
                        up_upside_down=other.up_upside_down, up_near_floor=other.up_near_floor,
-                       up_sparse_floor=other.up_sparse_floor)
+                       up_sparse_floor=other.up_sparse_floor, camera_height=other.camera_height)
 
     def __len__(self) -> int:
         return len(self.planes)
@@ -518,8 +524,29 @@ def _listed_boundary_pixels(lab):
     return _boundary_pixels(lab)
 
 
+def check_camera_height(value) -> float | None:
+    """``value`` as a camera height over the floor (metres, finite, > 0), or None for None.
+
+    Raises
+    ------
+    InputError
+        Not a number, not finite, or not above 0.
+    """
+    if value is None:
+        return None
+    try:
+        h = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"the camera height must be a number of metres, got {value!r}") from None
+    if not math.isfinite(h) or h <= 0:
+        raise InputError(f"the camera height must be a finite number of metres above 0 "
+                         f"(the eye over the floor), got {value!r}")
+    return h
+
+
 def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
-                   gravity_params=None, normals=None, gravity_labels=None) -> PlaneSet:
+                   gravity_params=None, normals=None, gravity_labels=None,
+                   camera_height=None) -> PlaneSet:
     """Measure the attributes of every labelled plane.
 
     Parameters
@@ -542,6 +569,9 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     gravity_labels : array_like, shape (H, W), int, optional
         The labels the up estimate reads instead of ``labels`` (the segmentation without the
         far growing's planes: :func:`planerel.features.facts.describe_scene`'s ``far``).
+    camera_height : float, optional
+        The camera's height over the floor, metres (> 0), when known:
+        :attr:`PlaneSet.camera_height`.
 
     Returns
     -------
@@ -566,7 +596,8 @@ def measure_planes(cloud, labels, up=None, params: PlaneParams | None = None,
     gravity = resolve_up(cloud, glab, up, gravity_params)
     up_v, up_source, up_conf = np.array(gravity.vector), gravity.source, gravity.confidence
     flipped, near = gravity.upside_down, gravity.near_floor
-    sparse = {"up_sparse_floor": gravity.sparse_floor}
+    sparse = {"up_sparse_floor": gravity.sparse_floor,
+              "camera_height": check_camera_height(camera_height)}
     lab.setflags(write=False)
     nlab = label_max(lab) + 1
     if nlab == 0:

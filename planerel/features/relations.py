@@ -1282,9 +1282,17 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
         found = speckle_floor(cloud, lab, up, 10.0, gp)
         if found is not None:
             floor = VirtualFloor(up, -found[2])
-    if floor is not None and p.tall_floor_fit > 0:
+    floors = [] if floor is None else [floor]
+    eye = getattr(planes, "camera_height", None)
+    if eye is not None and getattr(planes, "floor", None) is None:
+        # the caller knows how high the camera stands: the floor is that far under the eye
+        # whether or not the sensor measured it (a camera lying on the floor, eye62); a
+        # level the scan itself shows (feet, speckle) stays a floor too, as without it
+        floors.append(VirtualFloor(up, -float(eye), known=True))
+    if floors and p.tall_floor_fit > 0:
         for q in planes:
-            if q.label not in near and q.label != floor.label and may_be_shaped(q):
+            if q.label not in near and q.label not in {f.label for f in floors} \
+                    and may_be_shaped(q):
                 near[q.label] = []
     if not near:
         return frozenset()
@@ -1314,8 +1322,8 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
             continue  # its top edge is a nearer thing's: the face may go on behind it
         if not any(grounded(face, prof, g, up, p.standing_foot, p.skirt_tol, p.skirt_step)
                    for g in grounds) and not (
-                floor is not None and p.tall_floor_fit > 0
-                and floor_foot(face, prof, floor, lab, cloud.xyz, up, p)):
+                p.tall_floor_fit > 0
+                and any(floor_foot(face, prof, f, lab, cloud.xyz, up, p) for f in floors)):
             continue
         # free-standing: no vertical plane adjacent to it rises above its top behind or over
         # it (a wall or a partition it leans on, a cabinet it is part of); a taller solid
@@ -1749,6 +1757,9 @@ class VirtualFloor(NamedTuple):
     level: float
     label: int = -1
     orientation: str = "horizontal"
+    #: the caller gave it (the camera's height over the floor, ``PlaneSet.camera_height``): a
+    #: face running out of the image's bottom row reaches down to it as far as it is seen
+    known: bool = False
 
     @property
     def centroid(self) -> np.ndarray:
@@ -1793,6 +1804,11 @@ def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
       open space shows the room behind, a riser the tread in front of it over the floor;
     - its pixels fill at least ``tall_floor_solid`` of each row's span (summed over its rows):
       a solid face; a table's legs that the region grower took as one plane fill 0.2 of it.
+
+    A column whose lowest pixel is the image's last row shows nothing under the face: it
+    counts for the floor only when the floor is one the caller gave (``floor.known``, the
+    camera's height over it: a box's face close to a low camera runs out of the image's bottom
+    a few centimetres over the floor, eye62).
     """
     if not np.isfinite(prof.bottom):
         return False
@@ -1825,7 +1841,9 @@ def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
     good = 0
     for col, rb in zip(cols + c0, bottom, strict=True):
         if rb + 1 >= height:
-            continue  # its foot out of the image's bottom: unseen
+            # its foot out of the image's bottom: unseen, but at the level a known floor has
+            good += bool(getattr(floor, "known", False))
+            continue
         seg = xyz[rb + 1:min(height, rb + 1 + k), col]
         ok = np.isfinite(seg).all(axis=1) & (seg[:, 2] > 0)
         if not ok.any():
