@@ -11,6 +11,7 @@ Each ``DIR`` holds frames from a public repository (never copied into planerel) 
                  "intrinsics": "W,H,fx,fy,cx,cy",      (optional; else the file's sidecar)
                  "depth_scale": 1000,                   (optional)
                  "up": [x, y, z],                       (optional; else estimated)
+                 "camera_height": 0.06,                 (optional: metres over the floor)
                  "objects": [{"class": "stairs", "box": [x0, y0, x1, y1], "what": "..."}],
                  "unscored": [[x0, y0, x1, y1]]},       (optional)
                 ...]}
@@ -148,15 +149,17 @@ def read_frame(folder: str, frame: dict):
 
 
 def describe_frame(clf, folder: str, frame: dict):
-    """Read one labelled frame of ``folder`` (its ``intrinsics``, ``depth_scale`` and ``up``)
-    and describe it as ``clf`` (a :class:`planerel.classify.classifier.Classifier`) does:
+    """Read one labelled frame of ``folder`` (its ``intrinsics``, ``depth_scale``, ``up`` and
+    ``camera_height``) and describe it as ``clf`` (a
+    :class:`planerel.classify.classifier.Classifier`) does, the far growing's planes marked:
     ``(cloud, SceneDescription)``."""
     from planerel.features.facts import describe_scene
-    from planerel.ilp.scenes import segment_cached
+    from planerel.ilp.scenes import segment_cached_far
 
     cloud, up = read_frame(folder, frame)
-    labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
-    return cloud, describe_scene(cloud, labels, scene_id="s", up=up, **clf._describe_kw)
+    labels, far = segment_cached_far(cloud, method=clf.method, params=clf.seg_params)
+    return cloud, describe_scene(cloud, labels, scene_id="s", up=up, far=far,
+                                 camera_height=frame.get("camera_height"), **clf._describe_kw)
 
 
 def run(folders, model: str, params=()) -> list:
@@ -175,7 +178,9 @@ def run(folders, model: str, params=()) -> list:
                                       depth_scale=frame.get("depth_scale"))
                 stem = os.path.splitext(os.path.basename(path))[0]
                 up = frame.get("up")
-                ans = clf.classify(cloud, scene_id="s", up=None if up is None else np.asarray(up, float))
+                ans = clf.classify(cloud, scene_id="s",
+                                   up=None if up is None else np.asarray(up, float),
+                                   camera_height=frame.get("camera_height"))
                 row = {"set": doc.get("set", os.path.basename(os.path.normpath(folder))),
                        "frame": stem, "objects_proposed": len(ans.objects)}
                 row.update(score_frame(ans, frame))
