@@ -317,3 +317,22 @@ def test_wide_fallback_only_where_the_narrow_window_fails():
     assert (on.labels[valid] >= 0).mean() == pytest.approx(wide, abs=1e-3)
     with pytest.raises(InputError, match="wide_fallback"):
         make_params("regiongrow", wide_fallback=1.5)
+
+
+def test_the_estimate_is_measured_once_a_cloud():
+    """estimate_noise remembers its model per cloud (read-only points): a second call returns
+    the same model; without waviness after a call with it, the same model with ``wave`` 0,
+    what a fresh cloud of the same points measures (eye62)."""
+    rng = np.random.default_rng(3)
+    z = _planes() + rng.normal(0, 0.002, (H, W))
+    a, b = _cloud(z), _cloud(z)
+    wavy = estimate_noise(a, waviness=True)
+    assert estimate_noise(a, waviness=True) is wavy
+    plain = estimate_noise(a)
+    assert plain == estimate_noise(b)  # another cloud object: measured afresh
+    assert plain.wave == 0 and plain.wave_window == 0
+    assert (plain.const, plain.quad, plain.bands) == (wavy.const, wavy.quad, wavy.bands)
+    assert estimate_noise(b, waviness=True) == wavy
+    # other arguments are other measurements
+    seven = estimate_noise(a, patch=7)
+    assert seven is not plain and seven == estimate_noise(b, patch=7)

@@ -42,7 +42,8 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+import weakref
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -178,9 +179,17 @@ def _slopes(k: int) -> np.ndarray:
     return q
 
 
+#: ``{cloud: {(patch, max_patches, waviness): NoiseModel}}``: a cloud's points are read-only
+#: and the estimate is a function of them, so a classify (the segmentation's two growings, the
+#: planes, the stair fit, the relations each ask) measures it once (eye62)
+_MEMO: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES,
                    waviness: bool = False) -> NoiseModel:
-    """Estimate the depth-noise model of an organized cloud.
+    """Estimate the depth-noise model of an organized cloud (measured once a cloud and
+    arguments: the model of an earlier call is returned; without ``waviness`` an earlier
+    model measured with it, its ``wave`` set to 0, as this call would measure it).
 
     Parameters
     ----------
@@ -205,8 +214,6 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES,
     InputError
         An unorganized cloud, or a bad ``patch`` / ``max_patches``.
     """
-    from planerel.segment.normals import pixel_angle
-
     if not getattr(cloud, "organized", False):
         raise InputError("noise estimate: needs an organized cloud (image-grid neighbours)")
     if isinstance(patch, bool) or not isinstance(patch, (int, np.integer)) or patch < 3:
@@ -214,6 +221,25 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES,
     if isinstance(max_patches, bool) or not isinstance(max_patches, (int, np.integer)) \
             or max_patches < 1:
         raise InputError(f"noise estimate: max_patches must be a positive integer, got {max_patches!r}")
+    try:
+        memo = _MEMO.setdefault(cloud, {})
+    except TypeError:  # not weakly referenceable: measured every time
+        memo = {}
+    key = (int(patch), int(max_patches), bool(waviness))
+    got = memo.get(key)
+    if got is None and not waviness:
+        wavy = memo.get((key[0], key[1], True))
+        if wavy is not None:
+            got = replace(wavy, wave=0.0, wave_window=0)
+    if got is None:
+        got = memo[key] = _estimate(cloud, int(patch), int(max_patches), bool(waviness))
+    return got
+
+
+def _estimate(cloud, patch: int, max_patches: int, waviness: bool) -> NoiseModel:
+    """:func:`estimate_noise`'s measurement (arguments checked)."""
+    from planerel.segment.normals import pixel_angle
+
     xyz = cloud.xyz
     h, w, _ = xyz.shape
     pa = pixel_angle(xyz, cloud.intrinsics)
