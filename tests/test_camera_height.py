@@ -158,3 +158,10 @@ def test_the_answer_reports_the_height_and_its_note():
     assert known.to_dict()["camera_height"] == 0.06
     assert "pass --camera-height" in " ".join(unknown.notes())
     assert "0.06 m under the camera" in " ".join(known.notes())
+
+
+def test_only_the_commands_that_describe_take_the_height(tmp_path):
+    """segment and convert would take --camera-height and do nothing with it: they refuse it."""
+    r = _run("segment", "x.npy", "--camera-height", "0.5", "-o", "out", cwd=tmp_path)
+    assert r.returncode != 0 and "--camera-height" in r.stderr
+    assert "Traceback" not in r.stderr

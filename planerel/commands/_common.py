@@ -8,7 +8,8 @@ from pathlib import Path
 from planerel.errors import InputError
 
 __all__ = ["add_input_options", "add_batch_options", "read_input", "read_options", "inputs_of",
-           "given_up", "given_camera_height", "check_input_options", "parse_vector", "parse_intrinsics", "sparse_note"]
+           "given_up", "given_camera_height", "add_camera_height_option", "check_input_options",
+           "parse_vector", "parse_intrinsics", "sparse_note"]
 
 
 def parse_vector(text: str, name: str = "vector") -> tuple[float, float, float]:
@@ -53,6 +54,19 @@ def given_camera_height(args: argparse.Namespace) -> float | None:
         return check_camera_height(value)
     except InputError as e:
         raise InputError(f"--camera-height: {e}") from None
+
+
+def add_camera_height_option(parser: argparse.ArgumentParser) -> None:
+    """``--camera-height`` for the commands that describe a scan (``describe``, ``classify``):
+    the others would take it and do nothing with it."""
+    g = parser.add_argument_group("the camera's pose")
+    g.add_argument("--camera-height", type=float, metavar="M",
+                   help="the camera's height over the floor in metres, when known (a robot's "
+                        "mount): with no floor plane in view, a box face whose foot stands "
+                        "that far under the camera is grounded (a camera on or near the floor "
+                        "sees the floor at grazing incidence, where the sensor measures "
+                        "little); give --up too for a level mount or a known tilt (default: "
+                        "not known; docs/objects.md, 'A known camera height')")
 
 
 def check_input_options(args: argparse.Namespace) -> None:
@@ -148,13 +162,6 @@ def add_input_options(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--up", metavar="X,Y,Z", help="gravity-up vector in the camera frame, e.g. "
                    "0,-1,0 for a level camera (default: the file's own, e.g. 'up' in a sidecar "
                    "STEM.json, else estimated from the planes for any camera pitch and roll)")
-    g.add_argument("--camera-height", type=float, metavar="M",
-                   help="the camera's height over the floor in metres, when known (a robot's "
-                        "mount): with no floor plane in view, a box face whose foot stands "
-                        "that far under the camera is grounded (a camera on or near the floor "
-                        "sees the floor at grazing incidence, where the sensor measures "
-                        "little); give --up too for a level mount or a known tilt (default: "
-                        "not known; docs/objects.md, 'A known camera height')")
     g.add_argument("--max-points", type=int, metavar="N",
                    help="refuse inputs that declare more than N points or pixels, before reading "
                         "them (default 20,000,000 or $PLANEREL_MAX_POINTS)")

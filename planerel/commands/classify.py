@@ -6,7 +6,11 @@ import json
 import sys
 from pathlib import Path
 
-from planerel.commands._common import add_batch_options, add_input_options
+from planerel.commands._common import (
+    add_batch_options,
+    add_camera_height_option,
+    add_input_options,
+)
 
 __all__ = ["register", "run"]
 
@@ -99,6 +103,7 @@ def register(sub) -> None:
                         "object of its own (decision.cut_reach, cut_margin, cut_corner, cut_pieces) and "
                         "cuts it off when it is a box (--json: cut_from)")
     add_input_options(p)
+    add_camera_height_option(p)
     add_batch_options(p)
     p.set_defaults(func=run)
 

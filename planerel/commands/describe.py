@@ -5,7 +5,11 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from planerel.commands._common import add_batch_options, add_input_options
+from planerel.commands._common import (
+    add_batch_options,
+    add_camera_height_option,
+    add_input_options,
+)
 from planerel.errors import InputError
 
 __all__ = ["register", "run", "seg_settings_line"]
@@ -47,6 +51,7 @@ def register(sub) -> None:
     p.add_argument("--graph-format", choices=["graphml", "json"], default="graphml",
                    help="graph file type (default graphml; json = networkx node-link)")
     add_input_options(p)
+    add_camera_height_option(p)
     add_batch_options(p)
     p.set_defaults(func=run)
 

@@ -1290,9 +1290,9 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
         # level the scan itself shows (feet, speckle) stays a floor too, as without it
         floors.append(VirtualFloor(up, -float(eye), known=True))
     if floors and p.tall_floor_fit > 0:
+        floor_labels = {f.label for f in floors}
         for q in planes:
-            if q.label not in near and q.label not in {f.label for f in floors} \
-                    and may_be_shaped(q):
+            if q.label not in near and q.label not in floor_labels and may_be_shaped(q):
                 near[q.label] = []
     if not near:
         return frozenset()

@@ -230,7 +230,7 @@ def estimate_noise(cloud, *, patch: int = PATCH, max_patches: int = MAX_PATCHES,
     if got is None and not waviness:
         wavy = memo.get((key[0], key[1], True))
         if wavy is not None:
-            got = replace(wavy, wave=0.0, wave_window=0)
+            got = memo[key] = replace(wavy, wave=0.0, wave_window=0)
     if got is None:
         got = memo[key] = _estimate(cloud, int(patch), int(max_patches), bool(waviness))
     return got
