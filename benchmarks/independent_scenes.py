@@ -27,7 +27,8 @@ check (``benchmarks/real_checks.py --independent``) reads them.  Same arguments,
 machine that lost them gets them back bit for bit (about fifteen minutes on two cores).
 
 ``--kinds`` is the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``; a kind may
-repeat to weigh it): ``box``, ``stairs``, ``ramp`` and ``stairs_top`` (a descending flight seen
+repeat to weigh it): ``box``, ``stairs``, ``ramp``, ``small_box`` (2-5 boxes of 3-12 cm on a
+table seen from 0.35-0.9 m) and ``stairs_top`` (a descending flight seen
 from its landing as a person or a robot standing at the top would: 0.5-1.7 m eye height,
 0.15-1.0 m back from the landing's nose, pitch 30-60 degrees).  The default cycle
 ``box,stairs,ramp`` makes the same scenes as before the option existed.  ``--sensor kinect``
@@ -546,6 +547,36 @@ def build_scene(kind, rng):
         target = np.array([0.0, 0.0, L * np.tan(np.radians(a)) / 3])
         info.update(length=round(L, 3), angle_deg=round(a, 2), width=round(w, 3))
         taken.append((0.0, 0.0, L / 2 + 0.6))
+    elif kind == "small_box":
+        # 2-5 small boxes (a product, a toy, a parcel: edges 3-12 cm) on a table top, side by
+        # side in a row (touching or a few cm apart), seen from 0.35-0.9 m (close_pose)
+        H = rng.uniform(0.6, 0.8)
+        L, W = rng.uniform(0.8, 1.4), rng.uniform(0.6, 0.9)
+        meshes.append((_box((L, W, 0.03), (0, 0, H - 0.015)), 0))
+        for x in (-L / 2 + 0.05, L / 2 - 0.05):
+            for y in (-W / 2 + 0.05, W / 2 - 0.05):
+                meshes.append((_box((0.05, 0.05, H - 0.03), (x, y, (H - 0.03) / 2)), 0))
+        n = int(rng.integers(2, 6))
+        yaw = rng.uniform(-np.pi, np.pi)
+        c, s = np.cos(yaw), np.sin(yaw)
+        x0, dims = 0.0, []
+        for i in range(n):
+            e = np.array([rng.uniform(0.03, 0.12), rng.uniform(0.03, 0.12), rng.uniform(0.02, 0.10)])
+            touching = i > 0 and rng.random() < 0.5
+            if i > 0:
+                x0 += dims[-1][0] / 2 + (0.0 if touching else rng.uniform(0.02, 0.08)) + e[0] / 2
+            dims.append(e)
+            own = yaw if touching or i == 0 else yaw + rng.uniform(-0.5, 0.5)
+            add(_box(e, np.array([x0 * c, x0 * s, H + e[2] / 2]), own), "box",
+                "touching small box" if touching else "small box")
+        # the row centred on the table
+        shift = np.array([-x0 / 2 * c, -x0 / 2 * s, 0.0])
+        for m, k in meshes:
+            if k > 0:
+                m.apply_translation(shift)
+        target = np.array([0.0, 0.0, H + 0.03])
+        info.update(n_boxes=n, table_height=round(H, 3), dims=[d.round(3).tolist() for d in dims])
+        taken.append((0.0, 0.0, max(L, W) / 2 + 0.6))
     else:
         raise ValueError(kind)
     # clutter: 0-2 objects of no class, to the sides of the primary
@@ -595,6 +626,26 @@ def camera_pose(target, look_yaw, eye_floor, rng, tall=False, heights=None):
     d2 = np.cross(f, r2)
     R = np.stack([r2, d2, f])
     return eye, R, {"height": round(h, 3), "distance": round(D, 3),
+                    "pitch_deg": round(float(np.degrees(pitch)), 2),
+                    "roll_deg": round(float(np.degrees(roll)), 2)}
+
+
+def close_pose(target, look_yaw, rng):
+    """Eye and camera axes of a ``small_box`` scene: 0.35-0.9 m from the table's middle,
+    looking down at it at a pitch of 35-85 degrees (a grasping arm's or a person's view of a
+    table top), yaw +-8 degrees off, roll +-10 degrees."""
+    D = rng.uniform(0.35, 0.9)
+    pitch = np.radians(rng.uniform(35, 85))
+    eye = target - D * np.array([np.cos(pitch) * np.cos(look_yaw), np.cos(pitch) * np.sin(look_yaw),
+                                 -np.sin(pitch)])
+    yaw = look_yaw + np.radians(rng.uniform(-8, 8))
+    f = np.array([np.cos(pitch) * np.cos(yaw), np.cos(pitch) * np.sin(yaw), -np.sin(pitch)])
+    r = np.array([np.sin(yaw), -np.cos(yaw), 0.0])
+    d = np.cross(f, r)
+    roll = np.radians(rng.uniform(-10, 10))
+    r2 = np.cos(roll) * r + np.sin(roll) * d
+    R = np.stack([r2, np.cross(f, r2), f])
+    return eye, R, {"height": round(float(eye[2]), 3), "distance": round(D, 3),
                     "pitch_deg": round(float(np.degrees(pitch)), 2),
                     "roll_deg": round(float(np.degrees(roll)), 2)}
 
@@ -810,7 +861,7 @@ def _edge_band(zp, width, rng):
     return band
 
 
-KINDS = ("box", "stairs", "ramp", "stairs_top")
+KINDS = ("box", "stairs", "ramp", "stairs_top", "small_box")
 
 
 def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ramp"), sensor="plain",
@@ -828,6 +879,8 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
     meshes, objects, target, info = build_scene(kind, rng)
     if kind == "stairs_top":
         eye, R, cam = landing_pose(info, rng)
+    elif kind == "small_box":
+        eye, R, cam = close_pose(target, info["look_yaw"], rng)
     else:
         eye, R, cam = camera_pose(target, info["look_yaw"], info["eye_floor"], rng,
                                   tall=bool(info.get("tall")), heights=heights)
@@ -842,7 +895,7 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
     xyz, truth, pid = render(meshes, eye, R, intr, rng, noise=noise, planes=True, sensor=sensor)
     up = R @ np.array([0.0, 0.0, 1.0])
     side = {"format": "independent-scene", "version": 1, "scene_id": f"i{i:04d}",
-            "class": "stairs" if kind == "stairs_top" else kind,
+            "class": {"stairs_top": "stairs", "small_box": "box"}.get(kind, kind),
             "intrinsics": {"width": W, "height": H, "fx": float(fx), "fy": float(fx),
                            "cx": (W - 1) / 2, "cy": (H - 1) / 2},
             "up": up.round(9).tolist(),
@@ -1087,6 +1140,8 @@ DEV_SETS = {
     # step60: the same kinds of flights seen by an active stereo pair (D435-like disparity
     # noise): real flights at 2-4 m whose steps the segmentation does not make planes of
     "dev_sts": "--n 60 --seed 6002 --kinds stairs,stairs_top,ramp --sensor stereo --size 640x480",
+    # small64: 2-5 small boxes (edges 3-12 cm) on a table seen from 0.35-0.9 m (close_pose)
+    "dev_small": "--n 40 --seed 6401 --kinds small_box --sensor kinect --size 640x480",
 }
 
 

@@ -329,7 +329,7 @@ def test_every_development_set_command_parses_and_no_two_sets_share_their_argume
         key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture)
         assert key not in seen, name
         seen.add(key)
-    assert len(ind.DEV_SETS) == 12
+    assert len(ind.DEV_SETS) == 13
 
 
 def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path, capsys):
@@ -346,3 +346,20 @@ def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path,
     capsys.readouterr()
     ind.main(["dev", str(tmp_path / "d"), "--only", "dev_lowr"])
     assert "there already" in capsys.readouterr().out
+
+
+def test_small_box_scenes_hold_small_boxes_on_a_table_seen_from_close():
+    """``small_box`` (small64): 2-5 boxes with edges of 3-12 cm on a table top, the camera
+    0.35-0.9 m from the table's middle looking down 35-85 degrees; the scene is a box scene."""
+    for i in range(4):
+        _, truth, side, *_ = ind.make_scene(i, 6401, (160, 120), kinds=("small_box",))
+        assert side["class"] == "box"
+        p = side["params"]
+        boxes = [o for o in side["objects"] if o["class"] == "box"]
+        assert 2 <= len(boxes) == p["n_boxes"] <= 5
+        assert all(o["kind"] in ("small box", "touching small box") for o in boxes)
+        assert all(0.02 <= d <= 0.12 for dims in p["dims"] for d in dims)
+        assert 0.35 <= p["camera"]["distance"] <= 0.9
+        assert 35 <= p["camera"]["pitch_deg"] <= 85
+        assert 0.6 <= p["table_height"] <= 0.8
+        assert any((truth == o["index"]).any() for o in boxes)  # in view

@@ -220,7 +220,133 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
             and (p.far_theta > 0 or p.far_wide) and normals is None):
         # (without adapt no noise model measures a far plane's fit: nothing to add)
         seg = _far_planes(cloud, seg, p, split_params)
+    if (method == "regiongrow" and cloud.organized and p.adapt and p.small_scale > 0
+            and normals is None):
+        seg = _small_planes(cloud, seg, p, split_params)
     return seg
+
+
+def _second_growing(cloud, seg, wp, split_params):
+    """The cloud grown again with ``wp`` (and post-processed), on the first growing's float32
+    normals when its window is this one's (the angles or sizes alone differ)."""
+    import numpy as np
+
+    from planerel.segment.regiongrow import region_grow
+
+    same = (seg if seg.normals is not None and seg.normals.dtype == np.float32
+            and getattr(seg.params, "wide_noise_window", None) == wp.wide_noise_window else None)
+    return _post_process(cloud, region_grow(cloud, wp, split=True, same_window=same), wp, None,
+                         split_params)
+
+
+def _free_regions(cloud, seg, wl, free, min_size, rms_max, share):
+    """The regions of a second growing's labels ``wl`` (H, W) lying for at least ``share`` of
+    their pixels, and ``min_size`` pixels or more,
+    in ``free`` (H, W) bool, whose least-squares plane's RMS is at most ``rms_max`` times the
+    measured depth noise at its centroid's depth: ``(labels with them added as planes
+    n, n + 1, ..., the number added, every candidate's RMS over the noise)``."""
+    import numpy as np
+
+    lab = seg.labels
+    grown = wl >= 0
+    total = np.bincount(wl[grown])
+    inside = np.bincount(wl[free & grown], minlength=len(total))
+    out = lab.copy()
+    n = len(seg.planes)
+    added = 0
+    nm = seg.info.get("noise_model") or {}
+    c, q = float(nm.get("const_m") or 0.0), float(nm.get("quad_per_m") or 0.0)
+    fit = []
+    flat = np.asarray(cloud.xyz).reshape(-1, 3)
+    for r in np.flatnonzero(total).tolist():
+        k, t = int(inside[r]), int(total[r])
+        if k >= share * t and k >= max(min_size, 1):
+            m = (wl == r) & free
+            # (the row gather of the flat indices: a boolean mask over (H, W, 3) is 10x slower)
+            pts = np.asarray(flat[np.flatnonzero(m)], float)
+            cen = pts.mean(0)
+            # the plane's RMS against the sensor's noise at its depth
+            rms = float(np.linalg.svd(pts - cen, compute_uv=False)[-1] / np.sqrt(len(pts)))
+            sig = float(np.hypot(c, q * cen[2] ** 2))
+            ratio = rms / sig if sig > 0 else float("inf")
+            fit.append(round(ratio, 2))
+            if ratio > rms_max:
+                continue
+            out[m] = n + added
+            added += 1
+    return out, added, fit
+
+
+def _small_planes(cloud, seg, p, split_params):
+    """``small_scale``: planes too small for the first growing where it left depth nearer than
+    ``far_depth`` in no plane, from a second growing whose minimum region size is
+    ``small_scale`` times the first's (its regions lying for
+    :data:`~planerel.segment.params.SMALL_SHARE` or more in that depth, fitting a plane within
+    ``far_rms`` times the noise); nothing already in a plane changes.
+    ``info["small_planes"]``: the planes added."""
+    import dataclasses
+
+    import numpy as np
+
+    from planerel.segment.params import SMALL_SHARE
+    from planerel.segment.regiongrow import _build
+
+    lab = seg.labels
+    z = np.asarray(cloud.xyz[..., 2], float)
+    free = np.asarray(cloud.valid) & (lab < 0) & (np.nan_to_num(z) <= p.far_depth)
+    size = max(1, round(p.small_scale * int(seg.info.get("min_region_size", 0) or 0)))
+    if int(free.sum()) < size:
+        seg.info["small_planes"] = 0
+        return seg
+    wp = dataclasses.replace(p, min_region_size=size, far_theta=0.0, far_wide=False,
+                             small_scale=0.0)
+    wl = _second_growing(cloud, seg, wp, split_params).labels
+    out, added, fit = _free_regions(cloud, seg, wl, free, size, p.far_rms, SMALL_SHARE)
+    if added:
+        out, added = _at_corners(cloud, seg, out, added)
+    seg.info["small_planes"] = added
+    seg.info["small_fit"] = fit
+    if not added:
+        return seg
+    xyz_flat = np.asarray(cloud.xyz, float).reshape(-1, 3)
+    return _build(out.astype(np.int32), xyz_flat, len(seg.planes) + added, seg.params,
+                  seg.normals, seg.info)
+
+
+def _at_corners(cloud, seg, out, added):
+    """Of the ``added`` planes labelled ``n, n + 1, ...`` in ``out`` (H, W) (``n`` the planes of
+    ``seg``), those meeting another plane at a corner: touching (within 2 px) a plane whose
+    normal lies 60-120 degrees off theirs (a small box's top and side, or a side and the table).
+    A lone small patch, or one meeting its neighbours at a shallow angle (the strips of a
+    curved surface, a crumpled bag's facets), is left unassigned.  Returns ``(labels with the
+    kept planes renumbered n, n + 1, ..., the number kept)``."""
+    import numpy as np
+    from scipy.ndimage import binary_dilation
+
+    n = len(seg.planes)
+    flat = np.asarray(cloud.xyz).reshape(-1, 3)
+    normals = {p.id: np.asarray(p.normal, float) for p in seg.planes}
+    for j in range(n, n + added):
+        pts = np.asarray(flat[np.flatnonzero(out.reshape(-1) == j)], float)
+        normals[j] = np.linalg.svd(pts - pts.mean(0), full_matrices=False)[2][-1]
+    h, w = out.shape
+    keep = []
+    for j in range(n, n + added):
+        rows, cols = np.nonzero(out == j)
+        r0, r1 = max(rows.min() - 2, 0), min(rows.max() + 3, h)
+        c0, c1 = max(cols.min() - 2, 0), min(cols.max() + 3, w)
+        win = out[r0:r1, c0:c1]
+        ring = binary_dilation(win == j, iterations=2) & (win != j) & (win >= 0)
+        near = np.unique(win[ring]).tolist()
+        if any(abs(float(normals[j] @ normals[k])) < 0.5 for k in near):
+            keep.append(j)
+    if len(keep) == added:
+        return out, added
+    remap = np.arange(-1, n + added, dtype=np.int32)  # remap[label + 1]
+    remap[n + 1:] = -1
+    for i, j in enumerate(keep):
+        remap[j + 1] = n + i
+    return remap[out + 1], len(keep)
 
 
 def _far_planes(cloud, seg, p, split_params):
@@ -233,7 +359,7 @@ def _far_planes(cloud, seg, p, split_params):
     import numpy as np
 
     from planerel.segment.params import FAR_SHARE
-    from planerel.segment.regiongrow import _build, region_grow
+    from planerel.segment.regiongrow import _build
 
     lab = seg.labels
     z = np.asarray(cloud.xyz[..., 2], float)
@@ -244,41 +370,10 @@ def _far_planes(cloud, seg, p, split_params):
         seg.info["far_labels"] = []
         return seg
     wp = dataclasses.replace(p, theta=p.far_theta or p.theta, far_theta=0.0, far_wide=False,
-                             wide_noise_window=p.wide_noise_window or p.far_wide)
-    # the first growing's normals when its window is this one's (the angles alone differ):
-    # the same float32 normals the second growing would compute again
-    same = (seg if seg.normals is not None and seg.normals.dtype == np.float32
-            and getattr(seg.params, "wide_noise_window", None) == wp.wide_noise_window else None)
-    wide = _post_process(cloud, region_grow(cloud, wp, split=True, same_window=same), wp, None,
-                         split_params)
-    wl = wide.labels
-    grown = wl >= 0
-    total = np.bincount(wl[grown])
-    inside = np.bincount(wl[free & grown], minlength=len(total))
-    ids = np.flatnonzero(total)
-    out = lab.copy()
+                             wide_noise_window=p.wide_noise_window or p.far_wide, small_scale=0.0)
+    wl = _second_growing(cloud, seg, wp, split_params).labels
+    out, added, fit = _free_regions(cloud, seg, wl, free, min_size, p.far_rms, FAR_SHARE)
     n = len(seg.planes)
-    added = 0
-    nm = seg.info.get("noise_model") or {}
-    c, q = float(nm.get("const_m") or 0.0), float(nm.get("quad_per_m") or 0.0)
-    fit = []
-    flat = np.asarray(cloud.xyz).reshape(-1, 3)
-    for r in ids.tolist():
-        k, t = int(inside[r]), int(total[r])
-        if k >= FAR_SHARE * t and k >= max(min_size, 1):
-            m = (wl == r) & free
-            # (the row gather of the flat indices: a boolean mask over (H, W, 3) is 10x slower)
-            pts = np.asarray(flat[np.flatnonzero(m)], float)
-            cen = pts.mean(0)
-            # the plane's RMS against the sensor's noise at its depth
-            rms = float(np.linalg.svd(pts - cen, compute_uv=False)[-1] / np.sqrt(len(pts)))
-            sig = float(np.hypot(c, q * cen[2] ** 2))
-            ratio = rms / sig if sig > 0 else float("inf")
-            fit.append(round(ratio, 2))
-            if ratio > p.far_rms:
-                continue
-            out[m] = n + added
-            added += 1
     seg.info["far_planes"] = added
     seg.info["far_fit"] = fit
     #: the labels of the planes this growing added (the far gate's provenance)

@@ -1,0 +1,103 @@
+"""``RegionGrowParams.small_scale`` (small64; off by default): a second growing with a smaller
+minimum region size adds planes only where the first left depth nearer than ``far_depth`` in no
+plane, and only those meeting another plane at a corner; nothing already in a plane changes."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+import independent_scenes as ind  # noqa: E402
+
+from planerel.errors import InputError  # noqa: E402
+from planerel.io.cloud import Cloud  # noqa: E402
+from planerel.segment import _at_corners, segment  # noqa: E402
+from planerel.segment.params import RegionGrowParams  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def small_boxes():
+    """dev_small's scene 6 (``independent_scenes.py dev``): four small boxes (3-12 cm) on a
+    table seen by a Kinect-like sensor from under a metre; box 3's thin side face (about 360
+    pixels) is too small for the first growing."""
+    xyz, truth, side, *_ = ind.make_scene(6, 6401, (640, 480), kinds=("small_box",),
+                                          sensor="kinect")
+    intr = side["intrinsics"]
+    cloud = Cloud(xyz, (intr["width"], intr["height"], intr["fx"], intr["fy"], intr["cx"],
+                        intr["cy"]), side["up"])
+    return cloud, truth
+
+
+def test_small_scale_is_off_by_default(small_boxes):
+    cloud, _ = small_boxes
+    assert RegionGrowParams().small_scale == 0.0
+    seg = segment(cloud)
+    assert "small_planes" not in seg.info
+    np.testing.assert_array_equal(seg.labels, segment(cloud, small_scale=0.0).labels)
+
+
+def test_small_planes_fill_only_near_depth_left_in_no_plane(small_boxes):
+    cloud, truth = small_boxes
+    a = segment(cloud)
+    b = segment(cloud, small_scale=0.35)
+    added = b.info["small_planes"]
+    assert added >= 1
+    assert len(b.planes) == len(a.planes) + added
+    kept = a.labels >= 0
+    np.testing.assert_array_equal(b.labels[kept], a.labels[kept])  # nothing planed moves
+    new = b.labels >= len(a.planes)
+    assert not (new & kept).any()
+    z = np.nan_to_num(np.asarray(cloud.xyz[..., 2], float))
+    assert (z[new] <= RegionGrowParams().far_depth).all()
+    # box 3's side face, in no plane before, is one plane now
+    side = (truth == 3) & ~kept
+    assert side.sum() > 200
+    labs, counts = np.unique(b.labels[side], return_counts=True)
+    assert labs[np.argmax(counts)] >= len(a.planes) and counts.max() >= 0.9 * side.sum()
+
+
+def test_small_planes_are_deterministic(small_boxes):
+    cloud, _ = small_boxes
+    np.testing.assert_array_equal(segment(cloud, small_scale=0.35).labels,
+                                  segment(cloud, small_scale=0.35).labels)
+
+
+def _patch_scene():
+    """A floor (plane 0, normal z) and three candidate patches on a 40 x 60 grid: 1 a wall
+    standing on the floor's edge (90 degrees), 2 a patch tilted 20 degrees off the floor on
+    the same edge (10 rows from the wall), 3 a lone patch touching nothing."""
+    h, w = 40, 60
+    yy, xx = np.mgrid[0:h, 0:w].astype(float) * 0.01
+    xyz = np.zeros((h, w, 3))
+    xyz[..., 0], xyz[..., 1] = xx, yy
+    out = np.full((h, w), -1, np.int32)
+    out[:, :20] = 0
+    out[:15, 20:30] = 1
+    xyz[:15, 20:30, 2] = (xx[:15, 20:30] - 0.2) * 50  # near vertical
+    out[25:, 20:30] = 2
+    xyz[25:, 20:30, 2] = (xx[25:, 20:30] - 0.2) * np.tan(np.radians(20))
+    out[10:20, 45:55] = 3
+    xyz[10:20, 45:55, 2] = (xx[10:20, 45:55]) * 50
+    seg = SimpleNamespace(planes=[SimpleNamespace(id=0, normal=np.array([0.0, 0.0, 1.0]))])
+    return SimpleNamespace(xyz=xyz), seg, out
+
+
+def test_only_planes_at_a_corner_are_kept():
+    cloud, seg, out = _patch_scene()
+    lab, kept = _at_corners(cloud, seg, out, 3)
+    assert kept == 1
+    np.testing.assert_array_equal(lab == 1, out == 1)  # the wall meets the floor at 90 degrees
+    assert not np.isin(lab, [2, 3]).any()  # the shallow patch and the lone one are dropped
+    assert ((lab == -1) == ((out == -1) | (out >= 2))).all()
+
+
+@pytest.mark.parametrize("bad", [-0.1, 1.5, "x", True])
+def test_small_scale_must_be_a_factor(bad):
+    with pytest.raises(InputError, match="small_scale"):
+        RegionGrowParams(small_scale=bad)
