@@ -241,8 +241,7 @@ def _second_growing(cloud, seg, wp, split_params):
 
 def _free_regions(cloud, seg, wl, free, min_size, rms_max, share):
     """The regions of a second growing's labels ``wl`` (H, W) lying for at least ``share`` of
-    their pixels, and ``min_size`` pixels or more,
-    in ``free`` (H, W) bool, whose least-squares plane's RMS is at most ``rms_max`` times the
+    their pixels, and ``min_size`` pixels or more, in ``free`` (H, W) bool, whose least-squares plane's RMS is at most ``rms_max`` times the
     measured depth noise at its centroid's depth: ``(labels with them added as planes
     n, n + 1, ..., the number added, every candidate's RMS over the noise)``."""
     import numpy as np
@@ -282,8 +281,9 @@ def _small_planes(cloud, seg, p, split_params):
     ``far_depth`` in no plane, from a second growing whose minimum region size is
     ``small_scale`` times the first's (its regions lying for
     :data:`~planerel.segment.params.SMALL_SHARE` or more in that depth, fitting a plane within
-    ``far_rms`` times the noise); nothing already in a plane changes.
-    ``info["small_planes"]``: the planes added."""
+    ``far_rms`` times the noise, and meeting another plane at a corner: :func:`_at_corners`);
+    nothing already in a plane changes.  ``info["small_planes"]``: the planes added;
+    ``info["small_fit"]``: every candidate's RMS over the noise."""
     import dataclasses
 
     import numpy as np
