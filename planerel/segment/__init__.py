@@ -220,6 +220,9 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
             and (p.far_theta > 0 or p.far_wide) and normals is None):
         # (without adapt no noise model measures a far plane's fit: nothing to add)
         seg = _far_planes(cloud, seg, p, split_params)
+    if (method == "regiongrow" and cloud.organized and p.adapt and p.near_wide > 0
+            and normals is None):
+        seg = _near_planes(cloud, seg, p, split_params)
     if (method == "regiongrow" and cloud.organized and p.adapt and p.small_scale > 0
             and normals is None):
         seg = _small_planes(cloud, seg, p, split_params)
@@ -276,6 +279,64 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share):
     return out, added, fit
 
 
+#: ``near_wide``: a near candidate's fit may be this many times the median fit (RMS over the
+#: measured noise) of the first growing's near planes
+NEAR_RMS = 1.5
+
+
+def _near_planes(cloud, seg, p, split_params):
+    """``near_wide``: planes where the first growing left depth nearer than ``far_depth`` in no
+    plane, from a second growing whose normal window is ``near_wide`` times the first's (its
+    regions of the first's minimum size lying for :data:`~planerel.segment.params.FAR_SHARE` or
+    more in that depth, fitting a plane within ``far_rms`` times the noise); nothing already in
+    a plane changes.  ``info["near_planes"]``: the planes added; ``info["near_fit"]``: every
+    candidate's RMS over the noise."""
+    import dataclasses
+
+    import numpy as np
+
+    from planerel.segment.normals import auto_normal_scale
+    from planerel.segment.params import FAR_SHARE
+    from planerel.segment.regiongrow import _build, region_grow
+
+    lab = seg.labels
+    z = np.asarray(cloud.xyz[..., 2], float)
+    free = np.asarray(cloud.valid) & (lab < 0) & (np.nan_to_num(z) <= p.far_depth)
+    min_size = int(seg.info.get("min_region_size", 0) or 0)
+    if int(free.sum()) < max(min_size, 1):
+        seg.info["near_planes"] = 0
+        return seg
+    # the first growing's window (as adapted), widened
+    settings = seg.info.get("settings") or {}
+    nominal = auto_normal_scale(lab.shape[1])
+    win = []
+    for i, name in enumerate(("normal_smooth", "normal_radius")):
+        v = settings.get(name, getattr(p, name))
+        v = nominal[i] if not isinstance(v, int) else v
+        win.append(max(v + 1, int(round(p.near_wide * v))))
+    wp = dataclasses.replace(p, normal_smooth=win[0], normal_radius=win[1],
+                             min_region_size=max(min_size, 1), far_theta=0.0, far_wide=False,
+                             small_scale=0.0, near_wide=0.0)
+    wl = _post_process(cloud, region_grow(cloud, wp, split=True), wp, None, split_params).labels
+    # the bound: far_rms, or NEAR_RMS times the median fit of the first growing's near planes
+    # when that is looser (a rippled sensor's planes fit at several times the 5 px noise)
+    nm = seg.info.get("noise_model") or {}
+    c, q = float(nm.get("const_m") or 0.0), float(nm.get("quad_per_m") or 0.0)
+    ratios = [pl.rms / s for pl in seg.planes
+              if pl.centroid[2] <= p.far_depth and (s := float(np.hypot(c, q * pl.centroid[2] ** 2))) > 0]
+    rms_max = max(p.far_rms, NEAR_RMS * float(np.median(ratios))) if ratios else p.far_rms
+    out, added, fit = _free_regions(cloud, seg, wl, free, min_size, rms_max, FAR_SHARE)
+    seg.info["near_planes"] = added
+    seg.info["near_rms_max"] = round(rms_max, 2)
+    seg.info["near_fit"] = fit
+    seg.info["near_window"] = tuple(win)
+    if not added:
+        return seg
+    xyz_flat = np.asarray(cloud.xyz, float).reshape(-1, 3)
+    return _build(out.astype(np.int32), xyz_flat, len(seg.planes) + added, seg.params,
+                  seg.normals, seg.info)
+
+
 def _small_planes(cloud, seg, p, split_params):
     """``small_scale``: planes too small for the first growing where it left depth nearer than
     ``far_depth`` in no plane, from a second growing whose minimum region size is
@@ -299,7 +360,7 @@ def _small_planes(cloud, seg, p, split_params):
         seg.info["small_planes"] = 0
         return seg
     wp = dataclasses.replace(p, min_region_size=size, far_theta=0.0, far_wide=False,
-                             small_scale=0.0)
+                             small_scale=0.0, near_wide=0.0)
     wl = _second_growing(cloud, seg, wp, split_params).labels
     out, added, fit = _free_regions(cloud, seg, wl, free, size, p.far_rms, SMALL_SHARE)
     if added:
@@ -370,7 +431,8 @@ def _far_planes(cloud, seg, p, split_params):
         seg.info["far_labels"] = []
         return seg
     wp = dataclasses.replace(p, theta=p.far_theta or p.theta, far_theta=0.0, far_wide=False,
-                             wide_noise_window=p.wide_noise_window or p.far_wide, small_scale=0.0)
+                             wide_noise_window=p.wide_noise_window or p.far_wide, small_scale=0.0,
+                             near_wide=0.0)
     wl = _second_growing(cloud, seg, wp, split_params).labels
     out, added, fit = _free_regions(cloud, seg, wl, free, min_size, p.far_rms, FAR_SHARE)
     n = len(seg.planes)

@@ -225,6 +225,16 @@ class RegionGrowParams:
         faces of small boxes near the camera, too small for the first growing), when its
         least-squares plane's RMS is at most ``far_rms`` times the measured depth noise.
         Nothing already in a plane changes.  ``info["small_planes"]``: the planes added.
+    near_wide : float
+        0 (off) or a factor in (1, 4] (near65, docs/segmentation.md "A wider normal window
+        where near depth is left in no plane").  With ``adapt`` and post-processing, the cloud
+        is grown again with the normal window (smooth and radius) this many times the first
+        growing's, and each region of that growing lying for at least :data:`FAR_SHARE` of its
+        pixels, and the first's minimum region size, in depth the first left in no plane nearer
+        than ``far_depth`` becomes a plane there (a RealSense box's top whose ripples the
+        first window follows), when its least-squares plane's RMS is at most ``far_rms`` times
+        the measured depth noise.  Nothing already in a plane changes.
+        ``info["near_planes"]``: the planes added.
     """
 
     theta: float = 15.0
@@ -254,6 +264,7 @@ class RegionGrowParams:
     far_rms: float = 2.5
     far_wide: bool = False
     small_scale: float = 0.0
+    near_wide: float = 0.0
     angle_order: str = "auto"
     seed_test: bool | str = "auto"
 
@@ -302,6 +313,10 @@ class RegionGrowParams:
         s(self, "far_rms", _num(o, "far_rms", self.far_rms, lo=0, lo_open=True))
         s(self, "far_wide", _bool(o, "far_wide", self.far_wide))
         s(self, "small_scale", _num(o, "small_scale", self.small_scale, lo=0, hi=1))
+        s(self, "near_wide", _num(o, "near_wide", self.near_wide, lo=0, hi=4))
+        if 0 < self.near_wide <= 1:
+            raise InputError(f"{o}: near_wide must be 0 (off) or a factor in (1, 4], "
+                             f"got {self.near_wide!r}")
         s(self, "min_region_scale", _num(o, "min_region_scale", self.min_region_scale, lo=0,
                                          lo_open=True))
         if self.angle_order not in ("auto", "paper", "reversed"):
