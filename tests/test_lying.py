@@ -400,7 +400,7 @@ def test_the_banded_ring_is_the_pixels_between_two_square_windows():
 def test_a_small_product_box_lying_flat_is_lying():
     """lying56 (hunt55's jh2-suction: candy packs 11-13 x 4 cm, 3 cm over a table): under
     ``lying_min_length`` and ``lying_width``, a top down to ``lying_small_length`` x
-    ``lying_small_width`` is ``lying`` when level within ``lying_small_tilt`` (5) degrees; the
+    ``lying_small_width`` (0.05 x 0.03 m since small65, 0.10 x 0.035 before) is ``lying`` when level within ``lying_small_tilt`` (5) degrees; the
     same top tilted 15 degrees (a drill's flank, a sliver at a floor's edge) is not, nor with
     ``lying_small_length`` 0 (top25's bounds)."""
     small = _top(sx=0.12, sy=0.045, rise=0.03)
@@ -412,8 +412,12 @@ def test_a_small_product_box_lying_flat_is_lying():
     assert not _lying([floor(), _table(), tilted])[1]
     # a big top tilted as much is still lying (a book resting on one edge, skirt_tilted)
     assert _lying([floor(), _table(), _top(rise=0.01, tilt=15.0)])[1] == {2}
-    # below the small bounds: a strip 8 x 3 cm is no top
-    assert not _lying([floor(), _table(), _top(sx=0.08, sy=0.03, rise=0.03)])[1]
+    # small65: a pack 8 x 3.5 cm (a pudding box, a cream-cheese box) is a small top too ...
+    assert _lying([floor(), _table(), _top(sx=0.08, sy=0.035, rise=0.03)])[1] == {2}
+    assert not _lying([floor(), _table(), _top(sx=0.08, sy=0.035, rise=0.03)],
+                      RelationParams(lying_small_length=0.10, lying_small_width=0.035))[1]
+    # ... but below the small bounds (0.05 x 0.03 m): a patch 4 x 2.5 cm is no top
+    assert not _lying([floor(), _table(), _top(sx=0.04, sy=0.025, rise=0.03)])[1]
     with pytest.raises(InputError, match="lying_small_length"):
         RelationParams(lying_small_length=-0.1)
 

@@ -337,9 +337,11 @@ class RelationParams:
     #: m: a smaller top, down to this long and ``lying_small_width`` wide, is ``lying`` too
     #: when it is level within ``lying_small_tilt`` degrees (a product box lying flat, 11 x 4
     #: cm: its top parallel to the board under it; a drill's flank, a sliver at a floor's
-    #: edge are tilted 15-20 degrees).  0: no smaller top (top25's bounds) (lying56)
-    lying_small_length: float = 0.10
-    lying_small_width: float = 0.035
+    #: edge are tilted 15-20 degrees).  0: no smaller top (top25's bounds) (lying56; 0.10 x
+    #: 0.035 m until small65 took it down to 0.05 x 0.03 m: product packs of 5-10 cm lying flat,
+    #: docs/objects.md "Small packs lying flat")
+    lying_small_length: float = 0.05
+    lying_small_width: float = 0.03
     lying_small_tilt: float = 5.0
     #: the ground a ``lying`` plane lies on is at least this many times its area (a table
     #: or the floor under a book, not a tread beside a tread) (top25)
