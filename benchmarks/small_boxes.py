@@ -5,6 +5,7 @@ Usage::
 
     small_boxes.py found SET MODEL [MODEL ...] [--param NAME=VALUE ...] [--misses]
     small_boxes.py speed [--pcd DIR] [--frames 12] [--rounds 3] [--small-scale 0.35]
+    small_boxes.py labels SET DEST [--min-pixels 150]
 
 ``found``: every scene of an ``independent_scenes.py`` set (e.g. ``dev_small``) classified by
 each model; a labelled box is *found* when a ``box`` answer has at least half of its pixels in
@@ -15,6 +16,12 @@ in no object of that class is *false*. Objects under 150 valid pixels are not ju
 ``speed``: ``segment()`` of the first ``--frames`` mOSD test frames with ``small_scale`` off
 (the reference) and on, alternated in one process, the median over ``--rounds``; prints the
 two times, their ratio and the small planes added.
+
+``labels``: the set as a labelled folder of rectangles, as the real hunts are (``DEST`` gets a
+``labels.json`` and a link to each scene's ``.npy``): each box of at least ``--min-pixels``
+valid pixels becomes the bounding rectangle of its truth pixels, so that ``real_unseen.py`` and
+``box_causes.py`` score and explain the generated boxes as they do the real ones (small65:
+dev_small's misses by cause).
 """
 
 from __future__ import annotations
@@ -74,6 +81,41 @@ def found(folder: str, model: str, params=(), misses: bool = False) -> dict:
     return out
 
 
+def labels(folder: str, dest: str, min_pixels: int = 150) -> dict:
+    """Write ``dest/labels.json`` (and links to the scenes) for the independent set ``folder``:
+    one frame a scene, one ``box`` rectangle ``[x0, y0, x1, y1]`` (pixels, end exclusive) a
+    labelled box of at least ``min_pixels`` pixels.  Returns the labels document."""
+    from planerel.atomic import write_text
+
+    src, out = Path(folder), Path(dest)
+    scenes = sorted(src.glob("i[0-9][0-9][0-9][0-9].npy"))
+    if not scenes:
+        sys.exit(f"small_boxes: no scene (iNNNN.npy) in {folder}")
+    out.mkdir(parents=True, exist_ok=True)
+    frames = []
+    for p in scenes:
+        side = json.loads(p.with_suffix(".json").read_text())
+        truth = np.load(p.with_name(p.stem + ".objects.npy"))
+        it = side["intrinsics"]
+        objs = []
+        for o in side["objects"]:
+            ys, xs = np.nonzero(truth == o["index"])
+            if o["class"] != "box" or len(ys) < min_pixels:
+                continue
+            objs.append({"class": "box", "what": f"{o['kind']} (object {o['index']})",
+                         "box": [int(xs.min()), int(ys.min()), int(xs.max()) + 1, int(ys.max()) + 1]})
+        link = out / p.name
+        if not link.exists():
+            link.symlink_to(p.resolve())
+        frames.append({"file": p.name, "objects": objs,
+                       "intrinsics": ",".join(str(it[k]) for k in ("width", "height", "fx", "fy",
+                                                                   "cx", "cy"))})
+    doc = {"set": src.name, "source": f"independent_scenes.py set {src.resolve()}",
+           "frames": frames}
+    write_text(out / "labels.json", json.dumps(doc, indent=1) + "\n")
+    return doc
+
+
 def speed(pcd_dir: str, frames: int, rounds: int, scale: float) -> None:
     import planerel
     from planerel.segment import segment
@@ -114,7 +156,16 @@ def main(argv=None) -> int:
     s.add_argument("--frames", type=int, default=12)
     s.add_argument("--rounds", type=int, default=3)
     s.add_argument("--small-scale", type=float, default=0.35)
+    lb = sub.add_parser("labels", help="the set as rectangles for real_unseen.py / box_causes.py")
+    lb.add_argument("set")
+    lb.add_argument("dest")
+    lb.add_argument("--min-pixels", type=int, default=150)
     a = ap.parse_args(argv)
+    if a.cmd == "labels":
+        doc = labels(a.set, a.dest, a.min_pixels)
+        n = sum(len(f["objects"]) for f in doc["frames"])
+        print(f"{a.dest}: {len(doc['frames'])} frames, {n} boxes")
+        return 0
     if a.cmd == "speed":
         speed(a.pcd, a.frames, a.rounds, a.small_scale)
         return 0
