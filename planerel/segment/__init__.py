@@ -279,29 +279,46 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share):
     return out, added, fit
 
 
-#: ``near_wide``: a near candidate's fit may be this many times the median fit (RMS over the
-#: measured noise) of the first growing's near planes
-NEAR_RMS = 1.5
+def _near_free(cloud, seg, far_depth):
+    """``(H, W)`` bool: valid depth nearer than ``far_depth`` that ``seg`` left in no plane
+    (where the near and small passes may add planes)."""
+    import numpy as np
+
+    z = np.asarray(cloud.xyz[..., 2], float)
+    return np.asarray(cloud.valid) & (seg.labels < 0) & (np.nan_to_num(z) <= far_depth)
+
+
+def _with_added(cloud, seg, out, added):
+    """``seg`` rebuilt from the labels ``out`` (H, W) that hold its planes and ``added`` more
+    (labelled ``len(seg.planes)`` on), its normals and info kept."""
+    import numpy as np
+
+    from planerel.segment.regiongrow import _build
+
+    xyz_flat = np.asarray(cloud.xyz, float).reshape(-1, 3)
+    return _build(out.astype(np.int32), xyz_flat, len(seg.planes) + added, seg.params,
+                  seg.normals, seg.info)
 
 
 def _near_planes(cloud, seg, p, split_params):
     """``near_wide``: planes where the first growing left depth nearer than ``far_depth`` in no
     plane, from a second growing whose normal window is ``near_wide`` times the first's (its
     regions of the first's minimum size lying for :data:`~planerel.segment.params.FAR_SHARE` or
-    more in that depth, fitting a plane within ``far_rms`` times the noise); nothing already in
-    a plane changes.  ``info["near_planes"]``: the planes added; ``info["near_fit"]``: every
-    candidate's RMS over the noise."""
+    more in that depth, fitting a plane within ``far_rms`` times the noise, or within
+    :data:`~planerel.segment.params.NEAR_RMS` times the median fit of the first growing's near
+    planes when that is looser); nothing already in a plane changes.  ``info["near_planes"]``:
+    the planes added; ``info["near_fit"]``: every candidate's RMS over the noise;
+    ``info["near_rms_max"]``: the bound used; ``info["near_window"]``: the window."""
     import dataclasses
 
     import numpy as np
 
     from planerel.segment.normals import auto_normal_scale
-    from planerel.segment.params import FAR_SHARE
-    from planerel.segment.regiongrow import _build, region_grow
+    from planerel.segment.params import FAR_SHARE, NEAR_RMS
+    from planerel.segment.regiongrow import region_grow
 
     lab = seg.labels
-    z = np.asarray(cloud.xyz[..., 2], float)
-    free = np.asarray(cloud.valid) & (lab < 0) & (np.nan_to_num(z) <= p.far_depth)
+    free = _near_free(cloud, seg, p.far_depth)
     min_size = int(seg.info.get("min_region_size", 0) or 0)
     if int(free.sum()) < max(min_size, 1):
         seg.info["near_planes"] = 0
@@ -330,11 +347,7 @@ def _near_planes(cloud, seg, p, split_params):
     seg.info["near_rms_max"] = round(rms_max, 2)
     seg.info["near_fit"] = fit
     seg.info["near_window"] = tuple(win)
-    if not added:
-        return seg
-    xyz_flat = np.asarray(cloud.xyz, float).reshape(-1, 3)
-    return _build(out.astype(np.int32), xyz_flat, len(seg.planes) + added, seg.params,
-                  seg.normals, seg.info)
+    return _with_added(cloud, seg, out, added) if added else seg
 
 
 def _small_planes(cloud, seg, p, split_params):
@@ -347,14 +360,9 @@ def _small_planes(cloud, seg, p, split_params):
     ``info["small_fit"]``: every candidate's RMS over the noise."""
     import dataclasses
 
-    import numpy as np
-
     from planerel.segment.params import SMALL_SHARE
-    from planerel.segment.regiongrow import _build
 
-    lab = seg.labels
-    z = np.asarray(cloud.xyz[..., 2], float)
-    free = np.asarray(cloud.valid) & (lab < 0) & (np.nan_to_num(z) <= p.far_depth)
+    free = _near_free(cloud, seg, p.far_depth)
     size = max(1, round(p.small_scale * int(seg.info.get("min_region_size", 0) or 0)))
     if int(free.sum()) < size:
         seg.info["small_planes"] = 0
@@ -367,11 +375,7 @@ def _small_planes(cloud, seg, p, split_params):
         out, added = _at_corners(cloud, seg, out, added)
     seg.info["small_planes"] = added
     seg.info["small_fit"] = fit
-    if not added:
-        return seg
-    xyz_flat = np.asarray(cloud.xyz, float).reshape(-1, 3)
-    return _build(out.astype(np.int32), xyz_flat, len(seg.planes) + added, seg.params,
-                  seg.normals, seg.info)
+    return _with_added(cloud, seg, out, added) if added else seg
 
 
 def _at_corners(cloud, seg, out, added):
@@ -420,7 +424,6 @@ def _far_planes(cloud, seg, p, split_params):
     import numpy as np
 
     from planerel.segment.params import FAR_SHARE
-    from planerel.segment.regiongrow import _build
 
     lab = seg.labels
     z = np.asarray(cloud.xyz[..., 2], float)
@@ -440,10 +443,7 @@ def _far_planes(cloud, seg, p, split_params):
     seg.info["far_fit"] = fit
     #: the labels of the planes this growing added (the far gate's provenance)
     seg.info["far_labels"] = list(range(n, n + added))
-    if not added:
-        return seg
-    xyz_flat = np.asarray(cloud.xyz, float).reshape(-1, 3)
-    return _build(out.astype(np.int32), xyz_flat, n + added, seg.params, seg.normals, seg.info)
+    return _with_added(cloud, seg, out, added) if added else seg
 
 
 def _post_process(cloud, seg, p, normals, split_params):

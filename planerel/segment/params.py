@@ -68,6 +68,11 @@ FAR_SHARE = 0.8
 #: grows a few pixels into the top's plane, which the first growing's completion took)
 SMALL_SHARE = 0.6
 
+#: ``near_wide``: a near candidate's fit (RMS over the measured noise) may be up to this many
+#: times the median fit of the first growing's near planes, when that is looser than
+#: ``far_rms`` (a rippled sensor's planes fit at several times the 5 px noise estimate)
+NEAR_RMS = 1.5
+
 
 def _num(owner: str, name: str, value, *, lo=None, hi=None, lo_open=False, hi_open=False) -> float:
     if isinstance(value, bool):
@@ -233,7 +238,8 @@ class RegionGrowParams:
         pixels, and the first's minimum region size, in depth the first left in no plane nearer
         than ``far_depth`` becomes a plane there (a RealSense box's top whose ripples the
         first window follows), when its least-squares plane's RMS is at most ``far_rms`` times
-        the measured depth noise.  Nothing already in a plane changes.
+        the measured depth noise, or :data:`NEAR_RMS` times the median of that ratio over the
+        first growing's near planes when that is looser.  Nothing already in a plane changes.
         ``info["near_planes"]``: the planes added.
     """
 
