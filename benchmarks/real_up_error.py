@@ -1,7 +1,8 @@
 """The estimated up's error on every real development frame, against a truth taken from the frame.
 
     nice .venv/bin/python benchmarks/real_up_error.py --root /work --model /work/main/out/model \\
-        [--json OUT.json] [--cache DIR] [--param gravity.NAME=VALUE ...]
+        [--json OUT.json] [--cache DIR] [--param gravity.NAME=VALUE ...] [--floors F.json]
+    nice .venv/bin/python benchmarks/real_up_error.py --root /work --write-floors F.json
 
 Frames (kept outside the repository, under ``--root``): ``extdata``'s mOSD, OSD, uois,
 stair-perception, El-Masry, palletizer, pcl-pairwise and pcl-tutorials frames, and every
@@ -9,8 +10,13 @@ labelled folder of ``hunt33 36 39 43 45 47 48 49 55 56 57``.  Each goes through 
 segmentation and ``describe`` (the model's settings; ``--param`` as ``classify``'s), and its
 estimated up is compared with a truth (grav53, 2026-12-02), in this order:
 
-1. ``grav45``: hunt45's measured floor normals (``--floors``, default
-   ``ROOT/notes/grav45_floor_up.json``: a RANSAC plane of the image's bottom third);
+1. ``grav45``: hunt45's floor, measured by :func:`floor_truth` (a seeded RANSAC plane of the
+   image's bottom third within 45 degrees of the camera's down axis; none where no such plane
+   holds: the R200's speckled floor of ``r200_mar_144547``); ``--floors F.json``
+   (``{"up": {"SET/FILE": [x, y, z]}}``) overrides it.  Until 2026-12-04 these normals lived
+   in a file outside the repository (``/work/notes/grav45_floor_up.json``), lost with the
+   machine; re-measured here they agree with the errors docs/gravity.md records against it
+   within about a degree on the frames both cover;
 2. ``pose``: apc-shelf's camera poses (its NOTES.md);
 3. ``levelled``: stair-perception's levelled cloud beside the depth image;
 4. ``TRUTH`` below: a choice made by looking at the frame (a plane, a vector, "the estimate's
@@ -57,6 +63,8 @@ TRUTH = {
                                       "rule took a 0.03 m^2 chair part (grav58)"),
     "hunt49/sunrgbd-rs/depth_4": ("none", None, "a kitchen counter seen level: no floor or top segmented"),
 }
+#: hunt45's sets (low cameras) whose truth is the floor :func:`floor_truth` measures
+GRAV45 = ("donkeycar", "mbot", "morbius")
 APC = {"00": (0, -1, 0), "03": (0, -1, 0), "06": (0, -0.98, -0.17), "09": (0, -0.98, -0.17),
        "12": (0, -0.94, -0.34)}
 
@@ -101,6 +109,58 @@ def frames(root: str):
                                                      depth_scale=fr.get("depth_scale")), hint)
 
 
+def floor_truth(xyz, *, seed: int = 0, tol: float = 0.02, tries: int = 2000,
+                prior_deg: float = 45.0, max_range: float = 4.0):
+    """The floor's up in the camera frame, measured from the image's bottom third.
+
+    A RANSAC plane (``tries`` seeded hypotheses, inliers within ``tol`` m) over the valid
+    points of the bottom third of the rows nearer than ``max_range`` m, among the planes whose
+    normal lies within ``prior_deg`` degrees of the camera's down axis (``-y``: a floor seen by
+    a roughly level camera, not a wall), then refitted by least squares to its inliers three
+    times.  A measuring tool's truth (hunt45's low cameras, whose floor fills the bottom of the
+    image), not the estimate planerel makes.
+
+    Parameters
+    ----------
+    xyz : ndarray, shape (H, W, 3)
+        The organized cloud (metres, NaN where no depth).
+
+    Returns
+    -------
+    ndarray, shape (3,), or None
+        Unit up (``y`` negative), or None with under 50 points or no plane within the prior.
+    """
+    xyz = np.asarray(xyz, float)
+    p = xyz[2 * xyz.shape[0] // 3:].reshape(-1, 3)
+    p = p[np.all(np.isfinite(p), axis=1) & (p[:, 2] > 0) & (p[:, 2] < max_range)]
+    if len(p) < 50:
+        return None
+    cos_prior = math.cos(math.radians(prior_deg))
+    rng = np.random.default_rng(seed)
+    best, most = None, 0
+    for _ in range(tries):
+        a, b, c = p[rng.choice(len(p), 3, replace=False)]
+        n = np.cross(b - a, c - a)
+        s = float(np.linalg.norm(n))
+        if s < 1e-12:
+            continue
+        n = n / s if n[1] < 0 else -n / s
+        if -n[1] < cos_prior:
+            continue
+        k = int(np.count_nonzero(np.abs((p - a) @ n) < tol))
+        if k > most:
+            best, most = (n, a), k
+    if best is None:
+        return None
+    n, a = best
+    for _ in range(3):
+        q = p[np.abs((p - a) @ n) < tol]
+        a = q.mean(axis=0)
+        n = np.linalg.svd(q - a, full_matrices=False)[2][-1]
+        n = n if n[1] < 0 else -n
+    return n if -n[1] >= cos_prior else None
+
+
 def angle(u, v) -> float:
     u, v = np.asarray(u, float), np.asarray(v, float)
     c = float(u @ v) / float(np.linalg.norm(u) * np.linalg.norm(v))
@@ -111,8 +171,14 @@ def truth_of(key, hint, planes, up, cloud, floors):
     """``(vector or None, source)``."""
     from real_stairs import levelled_up
 
-    if hint and hint[0] == "floors" and hint[1] in floors:
-        return np.asarray(floors[hint[1]], float), "grav45"
+    if hint and hint[0] == "floors":
+        if floors is not None:
+            if hint[1] in floors:
+                return np.asarray(floors[hint[1]], float), "grav45"
+        elif hint[1].split("/")[0] in GRAV45:
+            n = floor_truth(cloud.xyz)
+            if n is not None:
+                return n, "grav45"
     if hint and hint[0] == "pose":
         return np.asarray(hint[1], float), "pose"
     if hint and hint[0] == "levelled":
@@ -156,7 +222,11 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--root", default="/work")
     ap.add_argument("--model", default="out/model")
-    ap.add_argument("--floors", help="hunt45's measured floors (default ROOT/notes/grav45_floor_up.json)")
+    ap.add_argument("--floors", help="hunt45's floors as {\"up\": {\"SET/FILE\": [x, y, z]}} "
+                    "(default: measured by floor_truth)")
+    ap.add_argument("--write-floors", metavar="F.json",
+                    help="write floor_truth's hunt45 floors in --floors' form (low_camera_ramps.py's "
+                    "--truth) and stop")
     ap.add_argument("--param", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--cache", help="a folder for the segmentation's labels (reused by a second run)")
     ap.add_argument("--only", help="only frames whose key contains this")
@@ -164,10 +234,20 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     from planerel.classify.classifier import Classifier
     from planerel.features.facts import describe_scene
-    from planerel.ilp.scenes import segment_cached
+    from planerel.ilp.scenes import segment_cached_far
 
-    fl = args.floors or os.path.join(args.root, "notes", "grav45_floor_up.json")
-    floors = json.load(open(fl))["up"] if os.path.exists(fl) else {}
+    if args.write_floors:
+        measured = {}
+        for _key, reader, hint in frames(args.root):
+            if hint and hint[0] == "floors" and hint[1].split("/")[0] in GRAV45:
+                n = floor_truth(reader().xyz)
+                if n is not None:
+                    measured[hint[1]] = np.round(n, 4).tolist()
+        from planerel.atomic import write_text
+        write_text(args.write_floors, json.dumps({"up": measured}, indent=1) + "\n")
+        print(f"{len(measured)} floors written to {args.write_floors}")
+        return 0
+    floors = json.load(open(args.floors))["up"] if args.floors else None
     overrides = {k.strip(): _value(v.strip()) for k, _, v in (p.partition("=") for p in args.param)}
     rows = []
     with Classifier(args.model, seg_params=overrides or None) as clf:
@@ -179,9 +259,10 @@ def main(argv=None) -> int:
                 cloud = dataclasses.replace(cloud, up=None)
             src = getattr(cloud, "source", None)
             files = [src] if args.cache and src and os.path.isfile(str(src)) else []
-            labels = segment_cached(cloud, method=clf.method, params=clf.seg_params,
-                                    files=files, cache=args.cache)
-            ps = describe_scene(cloud, labels, scene_id="s", **clf._describe_kw).planes
+            # the classifier's own path (Classifier.classify): the far growing's planes marked
+            labels, far = segment_cached_far(cloud, method=clf.method, params=clf.seg_params,
+                                             files=files, cache=args.cache)
+            ps = describe_scene(cloud, labels, scene_id="s", far=far, **clf._describe_kw).planes
             up = np.asarray(ps.up, float)
             planes = [{"label": int(p.label), "n": int(p.n_points), "normal": np.asarray(p.normal, float).tolist(),
                        "area": float(p.area), "dist": float(p.distance)} for p in ps]
