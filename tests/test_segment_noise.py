@@ -336,3 +336,26 @@ def test_the_estimate_is_measured_once_a_cloud():
     # other arguments are other measurements
     seven = estimate_noise(a, patch=7)
     assert seven is not plain and seven == estimate_noise(b, patch=7)
+
+
+def test_wide_fallback_takes_the_widest_window_where_no_wide_patch_can_be_measured():
+    # up66: an R200's speckled depth (holes everywhere) leaves no 15 x 15 px patch for the wide
+    # noise estimate, so the fallback's own window would be the narrow one again; it then grows
+    # with MAX_WINDOW
+    from planerel.segment.adapt import MAX_WINDOW
+    from planerel.segment.noise import WIDE_PATCH, estimate_noise
+
+    noisy = _noisy_slope(0.005, seed=2)
+    xyz = np.array(noisy.xyz)
+    xyz[::14, :] = np.nan   # a row and a column without depth every 14 px: no 15 px patch
+    xyz[:, ::14] = np.nan
+    speckled = Cloud(xyz, noisy.intrinsics)
+    assert not estimate_noise(speckled, patch=WIDE_PATCH).reliable
+    valid = np.asarray(speckled.valid)
+    off = segment(speckled)
+    on = segment(speckled, wide_fallback=0.5)
+    share, wide = on.info["wide_fallback"]
+    assert share == pytest.approx(float((off.labels[valid] >= 0).mean()), abs=1e-3) and share < 0.5
+    assert on.info["settings"]["normal_smooth"] == on.info["settings"]["normal_radius"] == MAX_WINDOW
+    assert share < 0.1 and wide > 0.9
+    assert (on.labels[valid] >= 0).mean() == pytest.approx(wide, abs=1e-3)

@@ -181,6 +181,10 @@ class SceneAnswer:
     #: ``{plane id: geometry}`` of every plane (:func:`plane_geometry`), where the proof
     #: planes are (None: not recorded)
     geometry: dict | None = None
+    #: the share of the scan's valid points that lie in a plane (None: not recorded)
+    planar_share: float | None = None
+    #: the segmentation grew the scan again with a wider window (``wide_fallback``)
+    wide_fallback: bool = False
 
     @property
     def n_planes(self) -> int:
@@ -196,6 +200,8 @@ class SceneAnswer:
                 "floor": self.floor, "camera_height": self.camera_height,
                 "objects": [o.to_dict() for o in self.objects],
                 **({} if self.geometry is None else {"planes": self.geometry}),
+                **({} if self.planar_share is None
+                   else {"planar_share": round(self.planar_share, 4)}),
                 "seconds": round(self.seconds, 4)}
 
     def notes(self) -> list:
@@ -208,6 +214,13 @@ class SceneAnswer:
             out.append(f"the up vector is a guess (estimated, confidence {self.up_confidence:.2f}"
                        f"{how}): level and upright tests may be wrong; pass --up X,Y,Z when the "
                        "camera's up is known")
+        if (self.planar_share is not None and self.planar_share < LOW_PLANAR_SHARE
+                and not self.wide_fallback):
+            out.append(f"only {100 * self.planar_share:.0f} % of the depth lies in a plane: "
+                       "depth this rough at the adapted normal window (a stereo sensor's "
+                       "correlated noise, an R200's speckle) gives normals of noise; "
+                       f"--param wide_fallback={LOW_PLANAR_SHARE:g} grows such a scan again "
+                       "with a wider window")
         if self.floor is None and self.plane_ids:
             out.append("no floor plane in view: " + (
                 f"a box seen as one upright face stands on the floor {self.camera_height:g} m "
@@ -219,8 +232,20 @@ class SceneAnswer:
         return out
 
 
+#: Under this share of its valid points in a plane a scan's note points to ``wide_fallback``
+#: (up66: hunt45's R200 frames hold 0-6 %; of 179 other real development frames only two are
+#: under it, an upside-down OAK-D's pallet front at 11 % and a D4xx office at 8 %)
+LOW_PLANAR_SHARE = 0.15
+
 #: The classes the far gate refuses a proof through a far plane for (``decision.far_gate``).
 FAR_GATED = (BOX, "ramp")
+
+
+def _planar_share(cloud, labels) -> float | None:
+    """The share of ``cloud``'s valid points that ``labels`` (H, W) put in a plane (None
+    with no valid point)."""
+    valid = np.asarray(cloud.valid)
+    return float((np.asarray(labels)[valid] >= 0).mean()) if valid.any() else None
 
 
 def _refuse(a, why):
@@ -592,7 +617,9 @@ class Classifier:
                            up_sparse_floor=bool(ps.up_sparse_floor),
                            floor=None if ps.floor is None else plane_ids.get(ps.floor),
                            camera_height=ps.camera_height,
-                           geometry={plane_ids[p.label]: plane_geometry(p) for p in ps})
+                           geometry={plane_ids[p.label]: plane_geometry(p) for p in ps},
+                           planar_share=_planar_share(cloud, seg.labels),
+                           wide_fallback="wide_fallback" in seg.info)
 
     def answer_description(self, desc, xyz=None) -> tuple:
         """The answers for the objects of a scene description, in its object order.

@@ -210,8 +210,15 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
         share = float((seg.labels[valid] >= 0).mean()) if valid.any() else 1.0
         if share < p.wide_fallback:
             wp = dataclasses.replace(p, wide_noise_window=True)
-            wide = _post_process(cloud, region_grow(cloud, wp, split=True), wp, None,
-                                 split_params)
+            wide = region_grow(cloud, wp, split=True)
+            if _window(wide) <= _window(seg):
+                # no wider window from the 15 px estimate (an R200's speckled depth has no
+                # 15 x 15 px patch to measure): the widest adaptive window (up66)
+                from planerel.segment.adapt import MAX_WINDOW
+
+                wp = dataclasses.replace(p, normal_smooth=MAX_WINDOW, normal_radius=MAX_WINDOW)
+                wide = region_grow(cloud, wp, split=True)
+            wide = _post_process(cloud, wide, wp, None, split_params)
             wshare = float((wide.labels[valid] >= 0).mean())
             if wshare > share:
                 seg = wide
@@ -227,6 +234,14 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
             and normals is None):
         seg = _small_planes(cloud, seg, p, split_params)
     return seg
+
+
+def _window(seg) -> int:
+    """The normal window (the larger of smooth and radius, px) a growing ran with (0 when
+    its info does not say)."""
+    st = seg.info.get("settings") or {}
+    vals = [v for v in (st.get("normal_smooth"), st.get("normal_radius")) if isinstance(v, int)]
+    return max(vals) if vals else 0
 
 
 def _second_growing(cloud, seg, wp, split_params):
