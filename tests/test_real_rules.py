@@ -845,6 +845,21 @@ def test_a_low_camera_under_an_unsure_up_with_no_floor_proves_no_ramp(demo_model
         k: v for k, v in _totals(gate).items() if k != "false_ramp"}
 
 
+def test_a_ceiling_panel_under_an_upside_down_up_with_no_floor_is_no_ramp(demo_model):
+    """up66 (``$PLANEREL_HUNT_DATA/hunt58/am-lab``: a Femto Bolt in a lab whose ceiling panels
+    fill the image's top third, no floor in view): the estimate reads the room upside down
+    (confidence 0.56, above ``gravity.low_confidence``) and a rough ceiling panel 22 degrees
+    off under it is a ``ramp``; ``decision.unsure_upside`` counts the upside-down reading as
+    unconfirmed, so the unsure gate refuses it.  Nothing else of the set moves."""
+    sets = [HUNT_DATA / "hunt58" / "am-lab"]
+    rows = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA")
+    off = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", ["decision.unsure_upside=false"])
+    assert [f[0] for f in off["depth"]["false"]] == ["ramp"]
+    assert not any(f[0] == "ramp" for r in rows.values() for f in r["false"])
+    assert {k: v for k, v in _totals(rows).items() if k != "false_ramp"} == {
+        k: v for k, v in _totals(off).items() if k != "false_ramp"}
+
+
 def test_a_face_on_a_floor_measured_as_speckle_is_a_box(demo_model):
     """sparse49 (``$PLANEREL_HUNT_DATA/hunt45/mbot``: an R200 and an Xtion on a small robot
     0.17-0.24 m over the floor, which they measure only as scattered pixels): r200_dc4's carton

@@ -56,8 +56,19 @@ def test_decision_setting_is_checked():
         M.DecisionParams(unsure_gate=1)
 
 
-def _answers(model, rects, *, source="given", confidence=1.0, **view):
-    """The scene's answers with its described up marked as ``source`` of ``confidence``."""
+def test_an_upside_down_reading_is_named_in_the_refusal():
+    kept, (r,) = M.unsure_refusals(HITS, STATS, (0.56, True))
+    assert [h[0] for h in kept] == ["box"] and r.upside_down and r.confidence == 0.56
+    assert "read upside down (0.56)" in r.reason and r.to_dict()["upside_down"] is True
+    assert M.unsure_refusals(HITS, STATS, 0.27)[1][0].upside_down is False
+    assert M.DecisionParams().unsure_upside is True
+    with pytest.raises(InputError, match="unsure_upside"):
+        M.DecisionParams(unsure_upside="yes")
+
+
+def _answers(model, rects, *, source="given", confidence=1.0, upside_down=False, **view):
+    """The scene's answers with its described up marked as ``source`` of ``confidence``
+    (read upside down when ``upside_down``)."""
     from planerel.classify.classifier import Classifier
     from planerel.features.facts import describe_scene
     from planerel.ilp.scenes import segment_cached
@@ -66,7 +77,8 @@ def _answers(model, rects, *, source="given", confidence=1.0, **view):
     with Classifier(model) as clf:
         labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
         desc = describe_scene(cloud, labels, scene_id="s", up=up, **clf._describe_kw)
-        planes = dataclasses.replace(desc.planes, up_source=source, up_confidence=confidence)
+        planes = dataclasses.replace(desc.planes, up_source=source, up_confidence=confidence,
+                                     up_upside_down=upside_down)
         desc = dataclasses.replace(desc, planes=planes)
         answers = clf.answer_description(desc, xyz=cloud.xyz)
     return desc, answers
@@ -104,4 +116,25 @@ def test_a_ramp_on_a_floor_in_view_stays_under_a_doubtful_up(tmp_path):
     under such an up, every one with its floor in view)."""
     desc, answers = _answers(_model(tmp_path / "m"), [floor()] + ramp(0.0, 1.6, 15.0, 1.5, 1.0),
                              source="estimated", confidence=0.27, **VIEW)
+    assert desc.planes.floor is not None and len(_ramps(answers)) == 1
+
+
+def test_a_slope_with_no_floor_under_an_upside_down_reading_is_no_ramp(tmp_path):
+    """up66: an estimate read upside down counts as unconfirmed with no floor in view, however
+    confident (hunt58's lab: a ceiling panel 22 degrees off under the flipped up, confidence
+    0.56); with the floor in view, or ``unsure_upside`` off, the ramp stays."""
+    rects = ramp(0.0, 1.6, 15.0, 1.5, 1.0)
+    model = _model(tmp_path / "m")
+    _desc, answers = _answers(model, rects, source="estimated", confidence=0.9, upside_down=True,
+                              **VIEW)
+    assert not _ramps(answers)
+    (r,) = [r for a in answers for r in a.refused if isinstance(r, M.UnsureRefusal)]
+    assert r.upside_down and r.confidence == pytest.approx(0.9)
+    _desc, answers = _answers(model, rects, source="given", upside_down=True, **VIEW)
+    assert len(_ramps(answers)) == 1   # a given up is never in doubt
+    _desc, answers = _answers(_model(tmp_path / "off", unsure_upside=False), rects,
+                              source="estimated", confidence=0.9, upside_down=True, **VIEW)
+    assert len(_ramps(answers)) == 1
+    desc, answers = _answers(model, [floor()] + rects, source="estimated", confidence=0.9,
+                             upside_down=True, **VIEW)
     assert desc.planes.floor is not None and len(_ramps(answers)) == 1

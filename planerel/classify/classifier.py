@@ -460,6 +460,8 @@ class Classifier:
         #: (:func:`~planerel.ilp.metrics.unsure_refusals`; ``decision.unsure_gate``): a scan's
         #: decision, as the foot and side gates
         self.unsure_gate = decision.unsure_gate
+        #: ... and under an estimated up read upside down (``decision.unsure_upside``)
+        self.unsure_upside = decision.unsure_upside
         #: no ``box`` through an upright plane that is a facet of a round side
         #: (:func:`~planerel.ilp.metrics.facet_refusals`; ``decision.facet_gate``): ``(low,
         #: high)`` degrees, or None when off; a scan's decision, as the foot and side gates
@@ -957,6 +959,9 @@ class Classifier:
             gravity = self._describe_kw.get("gravity_params")
             if desc.planes.up_low(None if gravity is None else gravity.low_confidence):
                 unsure = float(desc.planes.up_confidence)
+            elif (self.unsure_upside and desc.planes.up_upside_down
+                  and desc.planes.up_source == "estimated"):
+                unsure = (float(desc.planes.up_confidence), True)
         proposal_params = self._describe_kw.get("proposal_params")
         facet_angles = None
         if self.facet_gate is not None and xyz is not None and "box" in self.classes:

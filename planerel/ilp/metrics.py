@@ -23,7 +23,7 @@ __all__ = ["OTHER", "laplace", "takes_part", "choose_class", "error_kinds", "str
            "FOOT_BELOW", "FOOT_HIDDEN", "FOOT_FLOAT", "FOOT_CLASS", "FootRefusal", "foot_refusals",
            "SIDE_GATE", "SIDE_PLANES", "SideRefusal", "side_refusals",
            "FACET_GATE", "FACET_MIN", "FACET_MAX", "FACET_CLASS", "FacetRefusal", "facet_refusals",
-           "UNSURE_GATE", "UNSURE_CLASS", "UnsureRefusal", "unsure_refusals",
+           "UNSURE_GATE", "UNSURE_CLASS", "UNSURE_UPSIDE", "UnsureRefusal", "unsure_refusals",
            "FLIGHT_SIDE_GATE", "FlightSideRefusal",
            "SIZE_GATE", "SIZE_MARGIN",
            "SIZE_CLASSES", "size_gated", "proof_extent", "plane_extents", "size_domain", "SizeRefusal", "size_refusals",
@@ -226,6 +226,8 @@ CUT_PIECES = 15.0
 UNSURE_GATE = True
 #: The class :func:`unsure_refusals` refuses under an unconfirmed up.
 UNSURE_CLASS = "ramp"
+#: Default of :attr:`DecisionParams.unsure_upside`.
+UNSURE_UPSIDE = True
 
 
 @dataclass(frozen=True)
@@ -416,6 +418,11 @@ class DecisionParams:
         (built for hunt45's ceiling terraces seen from 0.1 m; since 16-bit no-data is read
         as such that ceiling proves no flight either way, so no real answer it refuses is
         measured).  Only classify applies it.
+    unsure_upside : bool
+        With ``unsure_gate``, an estimated up read upside down (``gravity.flip``) counts as
+        unconfirmed too when no floor plane is in view, whatever its confidence (up66: of the
+        real development frames read upside down, six of eight are wrong, among them hunt58's
+        lab whose ceiling panel became a ``ramp``).
     unsure_gate : bool
         Refuse ``ramp`` when the scene's up is an estimate flagged low-confidence
         (``gravity.low_confidence``) and no floor plane is in view (:func:`unsure_refusals`).
@@ -600,6 +607,7 @@ class DecisionParams:
     foot_float: float = FOOT_FLOAT
     side_gate: bool = SIDE_GATE
     unsure_gate: bool = UNSURE_GATE
+    unsure_upside: bool = UNSURE_UPSIDE
     facet_gate: bool = FACET_GATE
     facet_min: float = FACET_MIN
     facet_max: float = FACET_MAX
@@ -633,7 +641,8 @@ class DecisionParams:
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
-                     "side_gate", "unsure_gate", "facet_gate", "facet_bridge", "cut_boxes",
+                     "side_gate", "unsure_gate", "unsure_upside", "facet_gate", "facet_bridge",
+                     "cut_boxes",
                      "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate",
                      "narrow_face_gate", "far_gate"):
             if not isinstance(getattr(self, gate), bool):
@@ -1442,18 +1451,23 @@ class UnsureRefusal:
 
     klass: str
     rule: int
-    #: the up estimate's confidence (under ``gravity.low_confidence``)
+    #: the up estimate's confidence (under ``gravity.low_confidence``, or any when
+    #: ``upside_down``)
     confidence: float
+    #: the estimate is the upside-down reading (``decision.unsure_upside``)
+    upside_down: bool = False
 
     @property
     def reason(self) -> str:
-        return (f"rule {self.rule} proves it with a slope measured against an up estimated "
-                f"with low confidence ({self.confidence:.2f}) and no floor in view: nothing "
+        how = ("read upside down" if self.upside_down else "estimated with low confidence")
+        return (f"rule {self.rule} proves it with a slope measured against an up {how} "
+                f"({self.confidence:.2f}) and no floor in view: nothing "
                 f"confirms that the plane is not the ground itself under a wrong up")
 
     def to_dict(self) -> dict:
         return {"class": self.klass, "rule": self.rule,
-                "confidence": round(self.confidence, 4), "reason": self.reason}
+                "confidence": round(self.confidence, 4), "upside_down": self.upside_down,
+                "reason": self.reason}
 
 
 def unsure_refusals(hits, stats: Sequence, unsure=None):
@@ -1467,9 +1481,10 @@ def unsure_refusals(hits, stats: Sequence, unsure=None):
 
     Parameters
     ----------
-    unsure : float or None
-        The up estimate's confidence when the scene's up is low-confidence and it has no
-        floor plane; None: the gate is off or the scene's up is not in doubt.
+    unsure : float, (float, bool) or None
+        The up estimate's confidence when the scene's up is low-confidence (or read upside
+        down: then ``(confidence, True)``) and it has no floor plane; None: the gate is off or
+        the scene's up is not in doubt.
 
     Returns
     -------
@@ -1479,7 +1494,9 @@ def unsure_refusals(hits, stats: Sequence, unsure=None):
     """
     if unsure is None or not any(h[0] == UNSURE_CLASS for h in hits):
         return list(hits), ()
-    return _refuse_hits(hits, stats, lambda hit: UnsureRefusal(UNSURE_CLASS, hit[1], float(unsure))
+    conf, upside = unsure if isinstance(unsure, tuple) else (unsure, False)
+    return _refuse_hits(hits, stats, lambda hit: UnsureRefusal(UNSURE_CLASS, hit[1], float(conf),
+                                                               bool(upside))
                         if hit[0] == UNSURE_CLASS else None)
 
 
