@@ -303,13 +303,13 @@ def _noisy_slope(k, seed=0, w=320, h=240):
 
 
 def test_wide_fallback_only_where_the_narrow_window_fails():
-    assert make_params("regiongrow").wide_fallback == 0  # off by default
+    assert make_params("regiongrow").wide_fallback == 0.15  # on by default since up66
     clean = _noisy_slope(0.0)
-    a, b = segment(clean), segment(clean, wide_fallback=0.5)
+    a, b = segment(clean, wide_fallback=0), segment(clean, wide_fallback=0.5)
     assert np.array_equal(a.labels, b.labels) and "wide_fallback" not in b.info
     noisy = _noisy_slope(0.005)
     valid = np.asarray(noisy.valid)
-    off = segment(noisy)
+    off = segment(noisy, wide_fallback=0)
     on = segment(noisy, wide_fallback=0.5)
     assert (off.labels[valid] >= 0).mean() < 0.5  # the 2 px window: normals of noise
     share, wide = on.info["wide_fallback"]
@@ -352,7 +352,7 @@ def test_wide_fallback_takes_the_widest_window_where_no_wide_patch_can_be_measur
     speckled = Cloud(xyz, noisy.intrinsics)
     assert not estimate_noise(speckled, patch=WIDE_PATCH).reliable
     valid = np.asarray(speckled.valid)
-    off = segment(speckled)
+    off = segment(speckled, wide_fallback=0)
     on = segment(speckled, wide_fallback=0.5)
     share, wide = on.info["wide_fallback"]
     assert share == pytest.approx(float((off.labels[valid] >= 0).mean()), abs=1e-3) and share < 0.5

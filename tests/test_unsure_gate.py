@@ -59,7 +59,7 @@ def test_decision_setting_is_checked():
 def test_an_upside_down_reading_is_named_in_the_refusal():
     kept, (r,) = M.unsure_refusals(HITS, STATS, (0.56, True))
     assert [h[0] for h in kept] == ["box"] and r.upside_down and r.confidence == 0.56
-    assert "read upside down (0.56)" in r.reason and r.to_dict()["upside_down"] is True
+    assert "upside down (0.56)" in r.reason and r.to_dict()["upside_down"] is True
     assert M.unsure_refusals(HITS, STATS, 0.27)[1][0].upside_down is False
     assert M.DecisionParams().unsure_upside is True
     with pytest.raises(InputError, match="unsure_upside"):
@@ -119,10 +119,11 @@ def test_a_ramp_on_a_floor_in_view_stays_under_a_doubtful_up(tmp_path):
     assert desc.planes.floor is not None and len(_ramps(answers)) == 1
 
 
-def test_a_slope_with_no_floor_under_an_upside_down_reading_is_no_ramp(tmp_path):
-    """up66: an estimate read upside down counts as unconfirmed with no floor in view, however
-    confident (hunt58's lab: a ceiling panel 22 degrees off under the flipped up, confidence
-    0.56); with the floor in view, or ``unsure_upside`` off, the ramp stays."""
+def test_a_slope_under_an_upside_down_reading_is_no_ramp(tmp_path):
+    """up66: an estimate read upside down counts as unconfirmed however confident, with no floor
+    in view (hunt58's lab: a ceiling panel 22 degrees off under the flipped up, confidence
+    0.56) or one (its office frame: the ceiling taken for the floor); under a given up, or with
+    ``unsure_upside`` off, the ramp stays."""
     rects = ramp(0.0, 1.6, 15.0, 1.5, 1.0)
     model = _model(tmp_path / "m")
     _desc, answers = _answers(model, rects, source="estimated", confidence=0.9, upside_down=True,
@@ -137,4 +138,7 @@ def test_a_slope_with_no_floor_under_an_upside_down_reading_is_no_ramp(tmp_path)
     assert len(_ramps(answers)) == 1
     desc, answers = _answers(model, [floor()] + rects, source="estimated", confidence=0.9,
                              upside_down=True, **VIEW)
-    assert desc.planes.floor is not None and len(_ramps(answers)) == 1
+    assert desc.planes.floor is not None and not _ramps(answers)
+    _desc, answers = _answers(model, [floor()] + rects, source="estimated", confidence=0.9,
+                              **VIEW)
+    assert len(_ramps(answers)) == 1   # the same reading not flipped: a ramp on its floor

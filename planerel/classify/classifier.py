@@ -33,6 +33,7 @@ from planerel.ilp.prolog import (
     unload_file,
 )
 from planerel.progress import progress_bar
+from planerel.segment.params import WIDE_FALLBACK
 
 __all__ = ["Classifier", "ObjectAnswer", "SceneAnswer", "explanation_image", "classify_dataset",
            "OTHER", "UNKNOWN"]
@@ -218,9 +219,10 @@ class SceneAnswer:
                 and not self.wide_fallback):
             out.append(f"only {100 * self.planar_share:.0f} % of the depth lies in a plane: "
                        "depth this rough at the adapted normal window (a stereo sensor's "
-                       "correlated noise, an R200's speckle) gives normals of noise; "
-                       f"--param wide_fallback={LOW_PLANAR_SHARE:g} grows such a scan again "
-                       "with a wider window")
+                       "correlated noise, an R200's speckle) gives normals of noise, and the "
+                       "wider window's fallback is off here; --param "
+                       f"wide_fallback={LOW_PLANAR_SHARE:g} (the default) grows such a scan "
+                       "again with a wider window")
         if self.floor is None and self.plane_ids:
             out.append("no floor plane in view: " + (
                 f"a box seen as one upright face stands on the floor {self.camera_height:g} m "
@@ -232,10 +234,9 @@ class SceneAnswer:
         return out
 
 
-#: Under this share of its valid points in a plane a scan's note points to ``wide_fallback``
-#: (up66: hunt45's R200 frames hold 0-6 %; of 179 other real development frames only two are
-#: under it, an upside-down OAK-D's pallet front at 11 % and a D4xx office at 8 %)
-LOW_PLANAR_SHARE = 0.15
+#: Under this share of its valid points in a plane, with ``wide_fallback`` off, a scan's note
+#: points to it (up66; its default share)
+LOW_PLANAR_SHARE = WIDE_FALLBACK
 
 #: The classes the far gate refuses a proof through a far plane for (``decision.far_gate``).
 FAR_GATED = (BOX, "ramp")
@@ -954,13 +955,14 @@ class Classifier:
                 p = desc.planes.by_label(lab)
                 return p.orientation, float(np.asarray(p.normal, dtype=np.float64) @ up_v)
         unsure = None  # as the foot gate: classify's own (a scan's) decision
-        if (self.unsure_gate and xyz is not None and UNSURE_CLASS in self.classes
-                and desc.planes.floor is None):
+        if self.unsure_gate and xyz is not None and UNSURE_CLASS in self.classes:
             gravity = self._describe_kw.get("gravity_params")
-            if desc.planes.up_low(None if gravity is None else gravity.low_confidence):
+            if (desc.planes.floor is None
+                    and desc.planes.up_low(None if gravity is None else gravity.low_confidence)):
                 unsure = float(desc.planes.up_confidence)
             elif (self.unsure_upside and desc.planes.up_upside_down
                   and desc.planes.up_source == "estimated"):
+                # with or without a floor: under a wrong flip the "floor" is the ceiling
                 unsure = (float(desc.planes.up_confidence), True)
         proposal_params = self._describe_kw.get("proposal_params")
         facet_angles = None

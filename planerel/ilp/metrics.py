@@ -420,9 +420,11 @@ class DecisionParams:
         measured).  Only classify applies it.
     unsure_upside : bool
         With ``unsure_gate``, an estimated up read upside down (``gravity.flip``) counts as
-        unconfirmed too when no floor plane is in view, whatever its confidence (up66: of the
-        real development frames read upside down, six of eight are wrong, among them hunt58's
-        lab whose ceiling panel became a ``ramp``).
+        unconfirmed too, whatever its confidence and whether or not a floor plane is in view
+        (under a wrong flip that "floor" is the ceiling seen from below).  up66: of the real
+        development frames read upside down whose truth is known, six of eight are wrong;
+        hunt58's lab (no floor) had a ceiling panel answered ``ramp``, and its office frame
+        (the ceiling taken for the floor) one under ``wide_fallback``.
     unsure_gate : bool
         Refuse ``ramp`` when the scene's up is an estimate flagged low-confidence
         (``gravity.low_confidence``) and no floor plane is in view (:func:`unsure_refusals`).
@@ -1446,8 +1448,8 @@ def side_refusals(hits, stats: Sequence, side=None, treads=()):
 
 @dataclass(frozen=True)
 class UnsureRefusal:
-    """``ramp`` proved in a scene whose up is a low-confidence estimate with no floor in view
-    (:func:`unsure_refusals`)."""
+    """``ramp`` proved in a scene whose up is a low-confidence estimate with no floor in view,
+    or an estimate read upside down (:func:`unsure_refusals`)."""
 
     klass: str
     rule: int
@@ -1459,9 +1461,13 @@ class UnsureRefusal:
 
     @property
     def reason(self) -> str:
-        how = ("read upside down" if self.upside_down else "estimated with low confidence")
-        return (f"rule {self.rule} proves it with a slope measured against an up {how} "
-                f"({self.confidence:.2f}) and no floor in view: nothing "
+        if self.upside_down:
+            return (f"rule {self.rule} proves it with a slope measured against an up estimated "
+                    f"upside down ({self.confidence:.2f}): such a reading is most often wrong "
+                    f"(its floor a ceiling), and nothing confirms the slope under it; pass --up "
+                    f"when the camera is mounted upside down")
+        return (f"rule {self.rule} proves it with a slope measured against an up estimated "
+                f"with low confidence ({self.confidence:.2f}) and no floor in view: nothing "
                 f"confirms that the plane is not the ground itself under a wrong up")
 
     def to_dict(self) -> dict:
@@ -1482,9 +1488,10 @@ def unsure_refusals(hits, stats: Sequence, unsure=None):
     Parameters
     ----------
     unsure : float, (float, bool) or None
-        The up estimate's confidence when the scene's up is low-confidence (or read upside
-        down: then ``(confidence, True)``) and it has no floor plane; None: the gate is off or
-        the scene's up is not in doubt.
+        The up estimate's confidence when the scene's up is low-confidence and it has no
+        floor plane, or ``(confidence, True)`` when the estimate is read upside down
+        (``decision.unsure_upside``); None: the gate is off or the scene's up is not in
+        doubt.
 
     Returns
     -------

@@ -72,6 +72,10 @@ SMALL_SHARE = 0.6
 #: times the median fit of the first growing's near planes, when that is looser than
 #: ``far_rms`` (a rippled sensor's planes fit at several times the 5 px noise estimate)
 NEAR_RMS = 1.5
+#: Default ``wide_fallback`` (up66): the first growing planes under 15 % of the valid depth
+#: only on hunt45's R200 frames (0-6 %), an upside-down OAK-D's pallet front (11 %) and a D4xx
+#: office at 2-4 m (8 %) among the real development frames; every other one 21 % or more
+WIDE_FALLBACK = 0.15
 
 
 def _num(owner: str, name: str, value, *, lo=None, hi=None, lo_open=False, hi_open=False) -> float:
@@ -197,11 +201,14 @@ class RegionGrowParams:
         ``round(sqrt(12) p)`` (at most ``MAX_WINDOW``) of that estimate when it exceeds the
         window chosen otherwise.
     wide_fallback : float
-        Off (0) by default (srob59: docs/segmentation.md "A wide window where the narrow one
-        fails").  With ``adapt`` and post-processing, a segmentation that leaves more than
-        ``1 - wide_fallback`` of the valid pixels in no plane (correlated depth noise the
-        5 px estimate misses makes most normals noise) is done again with
-        ``wide_noise_window``, and the one assigning more pixels is kept
+        :data:`WIDE_FALLBACK` (0.15) by default since up66 (0 = off; srob59 made it, off:
+        docs/segmentation.md "A wide window where the narrow one fails" and "The widest window
+        where an R200's speckle leaves no patch to measure").  With ``adapt`` and
+        post-processing, a segmentation that leaves more than ``1 - wide_fallback`` of the
+        valid pixels in no plane (correlated depth noise the 5 px estimate misses makes most
+        normals noise) is done again with ``wide_noise_window``, or, where the 15 px estimate
+        gives no wider window (an R200's speckle leaves no 15 px patch), with the widest
+        adaptive window ``MAX_WINDOW``; the one assigning more pixels is kept
         (``info["wide_fallback"]``: both shares).  Frames the narrow window segments are
         unchanged.
     far_theta : float
@@ -264,7 +271,7 @@ class RegionGrowParams:
     leftover_planes: bool = True
     adapt: bool = True
     wide_noise_window: bool = False
-    wide_fallback: float = 0.0
+    wide_fallback: float = WIDE_FALLBACK
     far_theta: float = 30.0
     far_depth: float = 1.5
     far_rms: float = 2.5
