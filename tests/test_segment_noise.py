@@ -359,3 +359,6 @@ def test_wide_fallback_takes_the_widest_window_where_no_wide_patch_can_be_measur
     assert on.info["settings"]["normal_smooth"] == on.info["settings"]["normal_radius"] == MAX_WINDOW
     assert share < 0.1 and wide > 0.9
     assert (on.labels[valid] >= 0).mean() == pytest.approx(wide, abs=1e-3)
+    # a window the caller set is not widened
+    mine = segment(speckled, wide_fallback=0.5, normal_smooth=1, normal_radius=1)
+    assert mine.info["settings"]["normal_smooth"] == mine.info["settings"]["normal_radius"] == 1

@@ -206,17 +206,19 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
 
         import numpy as np
 
+        from planerel.segment.adapt import MAX_WINDOW
+
         valid = np.asarray(cloud.valid)
         share = float((seg.labels[valid] >= 0).mean()) if valid.any() else 1.0
         if share < p.wide_fallback:
             wp = dataclasses.replace(p, wide_noise_window=True)
             wide = region_grow(cloud, wp, split=True)
-            if _window(wide) <= _window(seg):
+            auto = {n: MAX_WINDOW for n in ("normal_smooth", "normal_radius")
+                    if getattr(p, n) == "auto"}   # a window the caller set stays theirs
+            if auto and _window(wide) <= _window(seg):
                 # no wider window from the 15 px estimate (an R200's speckled depth has no
                 # 15 x 15 px patch to measure): the widest adaptive window (up66)
-                from planerel.segment.adapt import MAX_WINDOW
-
-                wp = dataclasses.replace(p, normal_smooth=MAX_WINDOW, normal_radius=MAX_WINDOW)
+                wp = dataclasses.replace(p, **auto)
                 wide = region_grow(cloud, wp, split=True)
             wide = _post_process(cloud, wide, wp, None, split_params)
             wshare = float((wide.labels[valid] >= 0).mean())
