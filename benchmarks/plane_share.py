@@ -48,7 +48,8 @@ def frame_row(name: str, cloud, below: float = 0.5) -> dict:
            "z": round(float(z), 2) if z else None,
            "s5_mm": round(1000 * float(m5.sigma(z)), 2) if z else None,
            "s15_mm": round(1000 * float(m15.sigma(z)), 2) if z and m15.reliable else None,
-           "narrow": round(assigned_share(segment(cloud), cloud), 3)}
+           # the narrow window alone: the fallback (on by default since up66) off
+           "narrow": round(assigned_share(segment(cloud, wide_fallback=0.0), cloud), 3)}
     if row["narrow"] < below:
         row["wide"] = round(assigned_share(segment(cloud, wide_noise_window=True), cloud), 3)
     return row
