@@ -20,7 +20,6 @@ from planerel.io import readers as io  # noqa: E402
 from planerel.segment import segment  # noqa: E402
 from planerel.segment.params import FAR_SHARE, RegionGrowParams  # noqa: E402
 
-
 #: the wide window's fallback off (on by default since up66): these 320x240 stereo flights leave
 #: most of their depth in no plane at the narrow window, and the fallback would grow them again
 #: before the far pass these tests are about
