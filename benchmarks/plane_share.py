@@ -23,17 +23,15 @@ import os
 import sys
 from pathlib import Path
 
-import numpy as np
-
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 
 def assigned_share(seg, cloud) -> float:
-    """Share of ``cloud``'s valid pixels that ``seg`` (a Segmentation) puts in a plane."""
-    valid = np.asarray(cloud.valid)
-    if not valid.any():
-        return 0.0
-    return float((np.asarray(seg.labels)[valid] >= 0).mean())
+    """Share of ``cloud``'s valid pixels that ``seg`` (a Segmentation) puts in a plane (0 with
+    none valid)."""
+    from planerel.segment import planar_share
+
+    return planar_share(cloud, seg.labels) or 0.0
 
 
 def frame_row(name: str, cloud, below: float = 0.5) -> dict:

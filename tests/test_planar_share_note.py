@@ -15,13 +15,9 @@ sys.path.insert(0, str(ROOT / "tests"))
 from test_real_rules import demo_model  # noqa: E402,F401  (the fixture)
 from test_segment_noise import _noisy_slope  # noqa: E402
 
-from planerel.classify.classifier import (  # noqa: E402
-    LOW_PLANAR_SHARE,
-    Classifier,
-    SceneAnswer,
-    _planar_share,
-)
+from planerel.classify.classifier import LOW_PLANAR_SHARE, Classifier, SceneAnswer  # noqa: E402
 from planerel.io.cloud import Cloud  # noqa: E402
+from planerel.segment import planar_share  # noqa: E402
 
 
 def _answer(**extra):
@@ -47,8 +43,8 @@ def test_the_share_counts_valid_points_in_a_plane():
     xyz[0, 0] = np.nan
     cloud = Cloud(xyz, (3, 2, 1.0, 1.0, 1.0, 0.5))
     labels = np.array([[5, -1, 0], [0, -1, -1]], np.int32)
-    assert _planar_share(cloud, labels) == 2 / 5   # the NaN pixel's label does not count
-    assert _planar_share(Cloud(np.full((2, 3, 3), np.nan), (3, 2, 1.0, 1.0, 1.0, 0.5)),
+    assert planar_share(cloud, labels) == 2 / 5   # the NaN pixel's label does not count
+    assert planar_share(Cloud(np.full((2, 3, 3), np.nan), (3, 2, 1.0, 1.0, 1.0, 0.5)),
                          labels) is None
 
 

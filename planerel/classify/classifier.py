@@ -242,13 +242,6 @@ LOW_PLANAR_SHARE = WIDE_FALLBACK
 FAR_GATED = (BOX, "ramp")
 
 
-def _planar_share(cloud, labels) -> float | None:
-    """The share of ``cloud``'s valid points that ``labels`` (H, W) put in a plane (None
-    with no valid point)."""
-    valid = np.asarray(cloud.valid)
-    return float((np.asarray(labels)[valid] >= 0).mean()) if valid.any() else None
-
-
 def _refuse(a, why):
     """The answer ``a`` turned to ``other`` by a decision gate, ``why`` (the gate's refusal)
     added to its refusals."""
@@ -596,7 +589,7 @@ class Classifier:
             One :class:`ObjectAnswer` per object proposal (none when the scene has no object).
         """
         from planerel.features.facts import describe_scene
-        from planerel.segment import segment
+        from planerel.segment import planar_share, segment
 
         self._check_open()
         t0 = time.perf_counter()
@@ -621,7 +614,7 @@ class Classifier:
                            floor=None if ps.floor is None else plane_ids.get(ps.floor),
                            camera_height=ps.camera_height,
                            geometry={plane_ids[p.label]: plane_geometry(p) for p in ps},
-                           planar_share=_planar_share(cloud, seg.labels),
+                           planar_share=planar_share(cloud, seg.labels),
                            wide_fallback="wide_fallback" in seg.info)
 
     def answer_description(self, desc, xyz=None) -> tuple:

@@ -24,6 +24,7 @@ from planerel.segment.result import Segmentation, SegPlane, fit_planes
 
 __all__ = [
     "segment",
+    "planar_share",
     "METHODS",
     "Segmentation",
     "SegPlane",
@@ -204,13 +205,10 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
         # most of the frame in no plane: correlated depth noise (srob59); the wide window
         import dataclasses
 
-        import numpy as np
-
         from planerel.segment.adapt import MAX_WINDOW
 
-        valid = np.asarray(cloud.valid)
-        share = float((seg.labels[valid] >= 0).mean()) if valid.any() else 1.0
-        if share < p.wide_fallback:
+        share = planar_share(cloud, seg.labels)
+        if share is not None and share < p.wide_fallback:
             wp = dataclasses.replace(p, wide_noise_window=True)
             wide = region_grow(cloud, wp, split=True)
             auto = {n: MAX_WINDOW for n in ("normal_smooth", "normal_radius")
@@ -221,7 +219,7 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
                 wp = dataclasses.replace(p, **auto)
                 wide = region_grow(cloud, wp, split=True)
             wide = _post_process(cloud, wide, wp, None, split_params)
-            wshare = float((wide.labels[valid] >= 0).mean())
+            wshare = planar_share(cloud, wide.labels)
             if wshare > share:
                 seg = wide
             seg.info["wide_fallback"] = (round(share, 3), round(wshare, 3))
@@ -236,6 +234,15 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
             and normals is None):
         seg = _small_planes(cloud, seg, p, split_params)
     return seg
+
+
+def planar_share(cloud, labels) -> float | None:
+    """The share of ``cloud``'s valid points that ``labels`` (H, W) put in a plane (label
+    >= 0); None when the cloud has no valid point."""
+    import numpy as np
+
+    valid = np.asarray(cloud.valid)
+    return float((np.asarray(labels)[valid] >= 0).mean()) if valid.any() else None
 
 
 def _window(seg) -> int:
