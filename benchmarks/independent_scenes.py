@@ -21,14 +21,15 @@ Usage::
     python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150] [--by-planes]
     python benchmarks/independent_scenes.py dev DEST [--only NAME ...] [--force]
 
-``dev DEST`` makes the team's twelve independent development sets (``DEST/dev_i`` ... ``DEST/dev_sts``,
+``dev DEST`` makes the team's independent development sets (``DEST/dev_i`` ... ``DEST/dev_tote``,
 :data:`DEV_SETS`: the arguments each was made with) that ``DEST`` does not hold yet; the main real
 check (``benchmarks/real_checks.py --independent``) reads them.  Same arguments, same scenes, so a
-machine that lost them gets them back bit for bit (about fifteen minutes on two cores).
+machine that lost them gets them back bit for bit (about twenty minutes on two cores).
 
 ``--kinds`` is the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``; a kind may
 repeat to weigh it): ``box``, ``stairs``, ``ramp``, ``small_box`` (2-5 boxes of 3-12 cm on a
-table seen from 0.35-0.9 m) and ``stairs_top`` (a descending flight seen
+table seen from 0.35-0.9 m), ``tote_blocks`` (8-22 toy blocks of 2.5-7 cm and 0-2 cartons in
+an open tote, piled, seen from 0.6-0.9 m above: :func:`_tote_blocks`) and ``stairs_top`` (a descending flight seen
 from its landing as a person or a robot standing at the top would: 0.5-1.7 m eye height,
 0.15-1.0 m back from the landing's nose, pitch 30-60 degrees).  The default cycle
 ``box,stairs,ramp`` makes the same scenes as before the option existed.  ``--sensor kinect``
@@ -577,6 +578,9 @@ def build_scene(kind, rng):
         target = np.array([0.0, 0.0, H + 0.03])
         info.update(n_boxes=n, table_height=round(H, 3), dims=[d.round(3).tolist() for d in dims])
         taken.append((0.0, 0.0, max(L, W) / 2 + 0.6))
+    elif kind == "tote_blocks":
+        target = _tote_blocks(rng, meshes, add, info)
+        taken.append((0.0, 0.0, 0.9))
     else:
         raise ValueError(kind)
     # clutter: 0-2 objects of no class, to the sides of the primary
@@ -597,6 +601,101 @@ def build_scene(kind, rng):
     info["look_yaw"] = float(look_yaw)
     info["eye_floor"] = float(eye_floor)
     return meshes, objects, target, info
+
+
+#: ``tote_blocks`` (tote67): the blocks' edges (m), cube or cuboid, and the cartons'
+TOTE_BLOCK_EDGE, TOTE_CARTON_EDGE = (0.025, 0.07), (0.08, 0.22)
+#: the height map's cell (m) the blocks are stacked on
+TOTE_CELL = 0.004
+
+
+def _tote_blocks(rng, meshes, add, info):
+    """A ``tote_blocks`` scene's content (tote67): an open tote (a plastic bin 0.35-0.6 x
+    0.25-0.4 m, walls 0.08-0.2 m high and 1 cm thick) on the floor or on a table, holding 0-2
+    cartons and 8-22 toy blocks (cubes and cuboids with edges of 2.5-7 cm, yawed at random),
+    each dropped at a random place and resting level on whatever is highest under its
+    footprint (the tote's floor or the blocks already in: a height map of
+    :data:`TOTE_CELL` cells), so blocks touch, pile and stand on each other as in a bin of
+    toys.  The tote and the table are environment (object 0); each block and carton is a
+    ``box``.  Returns the point the camera looks at (the tote's middle at its rim)."""
+    on_table = rng.random() < 0.5
+    base = rng.uniform(0.6, 0.8) if on_table else 0.0
+    if on_table:
+        L, W = rng.uniform(0.9, 1.4), rng.uniform(0.7, 0.9)
+        meshes.append((_box((L, W, 0.03), (0, 0, base - 0.015)), 0))
+        for x in (-L / 2 + 0.05, L / 2 - 0.05):
+            for y in (-W / 2 + 0.05, W / 2 - 0.05):
+                meshes.append((_box((0.05, 0.05, base - 0.03), (x, y, (base - 0.03) / 2)), 0))
+    tl, tw, th, t = rng.uniform(0.35, 0.6), rng.uniform(0.25, 0.4), rng.uniform(0.08, 0.2), 0.01
+    yaw = rng.uniform(-np.pi, np.pi)
+    c, s = np.cos(yaw), np.sin(yaw)
+    rot = np.array([[c, -s], [s, c]])
+    parts = [((tl, tw, t), (0.0, 0.0, t / 2))]
+    parts += [((tl, t, th), (0.0, sy * (tw - t) / 2, th / 2)) for sy in (-1, 1)]
+    parts += [((t, tw, th), (sx * (tl - t) / 2, 0.0, th / 2)) for sx in (-1, 1)]
+    for e, (x, y, z) in parts:
+        xy = rot @ np.array([x, y])
+        meshes.append((_box(e, (xy[0], xy[1], base + z), yaw), 0))
+    # the height map over the tote's inside, in the tote's own frame
+    nx, ny = int((tl - 2 * t) / TOTE_CELL), int((tw - 2 * t) / TOTE_CELL)
+    hmap = np.zeros((nx, ny))
+    gx = (np.arange(nx) + 0.5) * TOTE_CELL - (tl - 2 * t) / 2
+    gy = (np.arange(ny) + 0.5) * TOTE_CELL - (tw - 2 * t) / 2
+    GX, GY = np.meshgrid(gx, gy, indexing="ij")
+    n_cartons, n_blocks = int(rng.integers(0, 3)), int(rng.integers(8, 23))
+    dims, placed = [], 0
+    for j in range(n_cartons + n_blocks):
+        carton = j < n_cartons
+        lo, hi = TOTE_CARTON_EDGE if carton else TOTE_BLOCK_EDGE
+        if not carton and rng.random() < 0.5:  # a cube
+            e = np.full(3, rng.uniform(lo, min(hi, 0.05)))
+        else:
+            e = np.array([rng.uniform(lo, hi), rng.uniform(lo, hi), rng.uniform(lo, hi) * 0.7])
+        e[2] = min(e[2], th + 0.02)
+        for _try in range(30):
+            a = rng.uniform(-np.pi, np.pi)
+            r = 0.5 * np.hypot(e[0], e[1])
+            x = rng.uniform(-(tl - 2 * t) / 2 + r * 0.7, (tl - 2 * t) / 2 - r * 0.7)
+            y = rng.uniform(-(tw - 2 * t) / 2 + r * 0.7, (tw - 2 * t) / 2 - r * 0.7)
+            ca, sa = np.cos(a), np.sin(a)
+            u = (GX - x) * ca + (GY - y) * sa
+            v = -(GX - x) * sa + (GY - y) * ca
+            foot = (np.abs(u) <= e[0] / 2) & (np.abs(v) <= e[1] / 2)
+            if not foot.any():
+                continue
+            z0 = float(hmap[foot].max())
+            if z0 + e[2] <= th + 0.03:
+                break
+        else:
+            continue
+        hmap[foot] = z0 + e[2]
+        xy = rot @ np.array([x, y])
+        add(_box(e, (xy[0], xy[1], base + t + z0 + e[2] / 2), yaw + a), "box",
+            "carton" if carton else ("stacked block" if z0 > 0 else "toy block"))
+        dims.append(e.round(3).tolist())
+        placed += 1
+    info.update(on_table=bool(on_table), tote=[round(tl, 3), round(tw, 3), round(th, 3)],
+                base=round(float(base), 3), n_boxes=placed, dims=dims)
+    return np.array([0.0, 0.0, base + th])
+
+
+def above_pose(target, look_yaw, rng):
+    """Eye and camera axes of a ``tote_blocks`` scene: 0.6-0.9 m from the tote's middle,
+    looking down at it at a pitch of 55-90 degrees (a bin-picking camera on a stand or an
+    arm), roll +-10 degrees."""
+    D = rng.uniform(0.6, 0.9)
+    pitch = np.radians(rng.uniform(55, 89.5))
+    eye = target - D * np.array([np.cos(pitch) * np.cos(look_yaw), np.cos(pitch) * np.sin(look_yaw),
+                                 -np.sin(pitch)])
+    f = np.array([np.cos(pitch) * np.cos(look_yaw), np.cos(pitch) * np.sin(look_yaw), -np.sin(pitch)])
+    r = np.array([np.sin(look_yaw), -np.cos(look_yaw), 0.0])
+    d = np.cross(f, r)
+    roll = np.radians(rng.uniform(-10, 10))
+    r2 = np.cos(roll) * r + np.sin(roll) * d
+    R = np.stack([r2, np.cross(f, r2), f])
+    return eye, R, {"height": round(float(eye[2]), 3), "distance": round(D, 3),
+                    "pitch_deg": round(float(np.degrees(pitch)), 2),
+                    "roll_deg": round(float(np.degrees(roll)), 2)}
 
 
 # ----------------------------------------------------------------------------- camera + rays
@@ -861,7 +960,7 @@ def _edge_band(zp, width, rng):
     return band
 
 
-KINDS = ("box", "stairs", "ramp", "stairs_top", "small_box")
+KINDS = ("box", "stairs", "ramp", "stairs_top", "small_box", "tote_blocks")
 
 
 def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ramp"), sensor="plain",
@@ -881,6 +980,8 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
         eye, R, cam = landing_pose(info, rng)
     elif kind == "small_box":
         eye, R, cam = close_pose(target, info["look_yaw"], rng)
+    elif kind == "tote_blocks":
+        eye, R, cam = above_pose(target, info["look_yaw"], rng)
     else:
         eye, R, cam = camera_pose(target, info["look_yaw"], info["eye_floor"], rng,
                                   tall=bool(info.get("tall")), heights=heights)
@@ -895,7 +996,7 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
     xyz, truth, pid = render(meshes, eye, R, intr, rng, noise=noise, planes=True, sensor=sensor)
     up = R @ np.array([0.0, 0.0, 1.0])
     side = {"format": "independent-scene", "version": 1, "scene_id": f"i{i:04d}",
-            "class": {"stairs_top": "stairs", "small_box": "box"}.get(kind, kind),
+            "class": {"stairs_top": "stairs", "small_box": "box", "tote_blocks": "box"}.get(kind, kind),
             "intrinsics": {"width": W, "height": H, "fx": float(fx), "fy": float(fx),
                            "cx": (W - 1) / 2, "cy": (H - 1) / 2},
             "up": up.round(9).tolist(),
@@ -1142,6 +1243,8 @@ DEV_SETS = {
     "dev_sts": "--n 60 --seed 6002 --kinds stairs,stairs_top,ramp --sensor stereo --size 640x480",
     # small64: 2-5 small boxes (edges 3-12 cm) on a table seen from 0.35-0.9 m (close_pose)
     "dev_small": "--n 40 --seed 6401 --kinds small_box --sensor kinect --size 640x480",
+    # tote67: 8-22 toy blocks (2.5-7 cm) and 0-2 cartons in a tote seen from 0.6-0.9 m above
+    "dev_tote": "--n 30 --seed 6701 --kinds tote_blocks --sensor kinect --size 640x480",
 }
 
 

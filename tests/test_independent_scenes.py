@@ -329,7 +329,7 @@ def test_every_development_set_command_parses_and_no_two_sets_share_their_argume
         key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture)
         assert key not in seen, name
         seen.add(key)
-    assert len(ind.DEV_SETS) == 13
+    assert len(ind.DEV_SETS) == 14
 
 
 def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path, capsys):
@@ -363,3 +363,27 @@ def test_small_box_scenes_hold_small_boxes_on_a_table_seen_from_close():
         assert 35 <= p["camera"]["pitch_deg"] <= 85
         assert 0.6 <= p["table_height"] <= 0.8
         assert any((truth == o["index"]).any() for o in boxes)  # in view
+
+
+def test_tote_blocks_scenes_hold_blocks_in_a_tote_seen_from_above():
+    """``tote_blocks`` (tote67): 8-22 toy blocks (edges 2.5-7 cm) and 0-2 cartons in an open
+    tote on the floor or a table, each resting level on the highest thing under it (so some
+    stand on others), the camera 0.6-0.9 m away looking down 55-90 degrees."""
+    stacked = 0
+    for i in range(3):
+        _, truth, side, *_ = ind.make_scene(i, 6701, (160, 120), kinds=("tote_blocks",))
+        assert side["class"] == "box"
+        p = side["params"]
+        boxes = [o for o in side["objects"] if o["class"] == "box"]
+        assert len(boxes) == p["n_boxes"] >= 8
+        kinds = {o["kind"] for o in boxes}
+        assert kinds <= {"toy block", "stacked block", "carton"}
+        stacked += sum(o["kind"] == "stacked block" for o in boxes)
+        blocks = [d for o, d in zip(boxes, p["dims"]) if o["kind"] != "carton"]
+        assert all(0.0175 <= e <= 0.07 for d in blocks for e in d)
+        assert 0.6 <= p["camera"]["distance"] <= 0.9
+        assert 55 <= p["camera"]["pitch_deg"] <= 90
+        assert 0.35 <= p["tote"][0] <= 0.6 and 0.08 <= p["tote"][2] <= 0.2
+        seen = [o for o in boxes if (truth == o["index"]).any()]
+        assert len(seen) >= len(boxes) // 2  # in view from above
+    assert stacked > 0  # blocks pile

@@ -116,6 +116,37 @@ def test_merge_keeps_different_planes_apart(kw):
     assert np.array_equal(out.labels, labels)
 
 
+def _board_with_block(h=240, w=320, rise=0.03, side=16):
+    """A board 1 m under a camera looking straight down (Kinect-like noise), labelled 0, and a
+    ``side`` x ``side`` px block top ``rise`` m nearer in its middle, labelled 1, with one
+    unassigned pixel ring between them (the block's edge)."""
+    rng = np.random.default_rng(3)
+    intr = Intrinsics.kinect(w, h)
+    u, v = np.meshgrid(np.arange(w), np.arange(h))
+    x = (u - intr.cx) / intr.fx
+    y = (v - intr.cy) / intr.fy
+    top = (np.abs(u - w // 2) < side // 2) & (np.abs(v - h // 2) < side // 2)
+    ring = (np.abs(u - w // 2) <= side // 2) & (np.abs(v - h // 2) <= side // 2) & ~top
+    z = np.where(top, 1.0 - rise, 1.0) + rng.normal(0, 0.0012, (h, w))
+    cloud = Cloud(np.stack([x * z, y * z, z], axis=2), intr)
+    labels = np.where(top, 1, np.where(ring, -1, 0)).astype(np.int32)
+    return cloud, labels
+
+
+def test_merge_keeps_a_small_top_off_the_large_plane_under_it():
+    """tote67: a 16 x 16 px block top 3 cm over a large board touches it across its edge; the
+    union's RMS is the board's, so the pooled test alone merged them.  Each side must fit the
+    union's plane too (``merge_side``)."""
+    cloud, labels = _board_with_block()
+    out = merge_coplanar(cloud, _with_labels(cloud, labels))
+    assert out.n_planes == 2 and np.array_equal(out.labels, labels)
+    pooled = merge_coplanar(cloud, _with_labels(cloud, labels), SplitParams(merge_side=0))
+    assert pooled.n_planes == 1  # the old test: the top joined the board
+    # the same board with the "top" level with it (one surface cut by a ring) still merges
+    flat, lab = _board_with_block(rise=0.0)
+    assert merge_coplanar(flat, _with_labels(flat, lab)).n_planes == 1
+
+
 def test_merge_needs_regions_to_touch():
     cloud, labels = _plane_halves(gap_cols=4)  # 5 pixels apart: more than merge_gap = 2
     out = merge_coplanar(cloud, _with_labels(cloud, labels))

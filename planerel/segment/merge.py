@@ -174,7 +174,8 @@ def merge_coplanar(cloud, seg: Segmentation, params=None, *,
     edges = set(pairs) | set(across)
     merged = 0
     while True:
-        best = _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, p.tolerance, cos_par)
+        best = _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, p.tolerance, cos_par,
+                          p.merge_side)
         if best is None:
             break
         _, ra, rb, nv = best
@@ -560,7 +561,16 @@ def _rms_of(m, s1, s2) -> np.ndarray:
     return np.sqrt(np.maximum(np.linalg.eigvalsh(cov)[:, 0], 0.0))
 
 
-def _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0):
+def _side_rms(m, s1, s2, normal, offset) -> np.ndarray:
+    """RMS distance of each group (its sums ``m`` (k,), ``s1`` (k, 3), ``s2`` (k, 3, 3)) to
+    the plane ``normal . x + offset = 0`` given per group (``normal`` (k, 3), ``offset``
+    (k,)), from the sums alone: ``(n' S2 n + 2 d n.S1 + m d^2) / m``."""
+    q = np.einsum("ki,kij,kj->k", normal, s2, normal)
+    q += 2.0 * offset * np.einsum("ki,ki->k", normal, s1) + m * offset * offset
+    return np.sqrt(np.maximum(q / m, 0.0))
+
+
+def _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0, side=0.0):
     """The pair of current groups (``edges``: a set of touching root pairs ``(a, b)``,
     ``a < b``) that passes the merge test with the smallest RMS ratio (the first in pair order
     on a tie): ``(ratio, root_a, root_b, union normal)``, or None.
@@ -569,7 +579,12 @@ def _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0):
     normals lie within ``acos(cos_par)`` (``min_split_angle``) of each other, with the larger
     of that and the groups' own RMS: a real sensor's large plane is bent by more than its
     noise (a Kinect floor), and its pieces are still one surface when their union fits about
-    as well as each piece alone."""
+    as well as each piece alone.
+
+    With ``side`` > 0 each group must also fit the union's plane within ``side x tolerance``
+    times that bound on its own: a union's RMS is its larger side's, so a small region on a
+    parallel plane centimetres off a large one (a block's top over the board it stands on)
+    passed the pooled test (tote67)."""
     if not edges:
         return None
     cand = np.array(sorted(edges), dtype=np.int64)
@@ -594,6 +609,12 @@ def _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0):
         own = _rms_of(cnt[G], s1[G], s2[G])
         ref[par] = np.maximum(ref[par], np.maximum(own[:k], own[k:]))
     ratio = rms / np.maximum(ref, 1e-12)
+    if side > 0:
+        nv = v[:, :, 0]
+        off = -np.einsum("ki,ki->k", nv, c)
+        worst = np.maximum(_side_rms(cnt[A], s1[A], s2[A], nv, off),
+                           _side_rms(cnt[B], s1[B], s2[B], nv, off))
+        ratio = np.where(worst <= side * tolerance * np.maximum(ref, 1e-12), ratio, np.inf)
     j = int(np.argmin(ratio))
     if ratio[j] > tolerance:
         return None

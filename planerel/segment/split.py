@@ -139,6 +139,12 @@ class SplitParams:
         Regions touch when pixels of both lie within this many pixels (2) ...
     merge_jump : float
         ... and their points within ``merge_jump * z`` metres (0.05).
+    merge_side : float
+        ... and each of the two fits the union's plane within ``merge_side`` times the
+        union test's bound on its own (3; 0: the pooled test only).  The union's RMS is
+        mostly its larger side's, so a block's top 2-4 cm over the board it stands on
+        merged into the board (tote67, docs/segmentation.md "A small top over a large
+        plane").
     min_split_angle, parallel_gap : float
         Planar parts of a region whose planes differ by less than ``min_split_angle`` degrees
         (3) and lie within ``parallel_gap`` x depth (0.02: 2 cm at 1 m) of each other's points
@@ -197,6 +203,7 @@ class SplitParams:
     merge_angle: float = 10.0
     merge_gap: int = 2
     merge_jump: float = 0.05
+    merge_side: float = 3.0
     min_split_angle: float = 3.0
     parallel_gap: float = 0.02
     piece_offset: float = 0.005
@@ -242,6 +249,7 @@ class SplitParams:
         s(self, "merge_angle", _num(o, "merge_angle", self.merge_angle, lo=0.0, hi=90.0))
         s(self, "merge_gap", _int(o, "merge_gap", self.merge_gap, 1))
         s(self, "merge_jump", _num(o, "merge_jump", self.merge_jump, lo=0.0, lo_open=True))
+        s(self, "merge_side", _num(o, "merge_side", self.merge_side, lo=0.0))
         s(self, "piece_offset", _num(o, "piece_offset", self.piece_offset, lo=0.0))
         s(self, "wavy_join", _bool(o, "wavy_join", self.wavy_join))
         s(self, "wavy_leftover", _bool(o, "wavy_leftover", self.wavy_leftover))
