@@ -400,7 +400,7 @@ def test_the_banded_ring_is_the_pixels_between_two_square_windows():
 def test_a_small_product_box_lying_flat_is_lying():
     """lying56 (hunt55's jh2-suction: candy packs 11-13 x 4 cm, 3 cm over a table): under
     ``lying_min_length`` and ``lying_width``, a top down to ``lying_small_length`` x
-    ``lying_small_width`` (0.05 x 0.03 m since small65, 0.10 x 0.035 before) is ``lying`` when level within ``lying_small_tilt`` (5) degrees; the
+    ``lying_small_width`` (0.03 x 0.02 m since tote67, 0.05 x 0.03 since small65, 0.10 x 0.035 before) is ``lying`` when level within ``lying_small_tilt`` (5) degrees; the
     same top tilted 15 degrees (a drill's flank, a sliver at a floor's edge) is not, nor with
     ``lying_small_length`` 0 (top25's bounds)."""
     small = _top(sx=0.12, sy=0.045, rise=0.03)
@@ -416,8 +416,14 @@ def test_a_small_product_box_lying_flat_is_lying():
     assert _lying([floor(), _table(), _top(sx=0.08, sy=0.035, rise=0.03)])[1] == {2}
     assert not _lying([floor(), _table(), _top(sx=0.08, sy=0.035, rise=0.03)],
                       RelationParams(lying_small_length=0.10, lying_small_width=0.035))[1]
-    # ... but below the small bounds (0.05 x 0.03 m): a patch 4 x 2.5 cm is no top
-    assert not _lying([floor(), _table(), _top(sx=0.04, sy=0.025, rise=0.03)])[1]
+    # tote67: a wooden cube's top, 4 x 4 cm 3.5 cm over the board, a toy block's 3.5 x 2.5 cm
+    # 2.5 cm over it, is a small top too (0.03 x 0.02 m) ...
+    assert _lying([floor(), _table(), _top(sx=0.04, sy=0.04, rise=0.035)])[1] == {2}
+    assert _lying([floor(), _table(), _top(sx=0.035, sy=0.025, rise=0.025)])[1] == {2}
+    assert not _lying([floor(), _table(), _top(sx=0.04, sy=0.04, rise=0.035)],
+                      RelationParams(lying_small_length=0.05, lying_small_width=0.03))[1]
+    # ... but below the small bounds: a patch 2.5 x 1.5 cm (a thin strip, an eraser) is no top
+    assert not _lying([floor(), _table(), _top(sx=0.025, sy=0.015, rise=0.02)])[1]
     with pytest.raises(InputError, match="lying_small_length"):
         RelationParams(lying_small_length=-0.1)
 

@@ -135,16 +135,17 @@ def _board_with_block(h=240, w=320, rise=0.03, side=16):
 
 def test_merge_keeps_a_small_top_off_the_large_plane_under_it():
     """tote67: a 16 x 16 px block top 3 cm over a large board touches it across its edge; the
-    union's RMS is the board's, so the pooled test alone merged them.  Each side must fit the
-    union's plane too (``merge_side``)."""
+    union's RMS is the board's, so the pooled test alone (the default) merges them.  With
+    ``merge_side`` each side must fit the union's plane too."""
     cloud, labels = _board_with_block()
-    out = merge_coplanar(cloud, _with_labels(cloud, labels))
+    side = SplitParams(merge_side=3.0)
+    out = merge_coplanar(cloud, _with_labels(cloud, labels), side)
     assert out.n_planes == 2 and np.array_equal(out.labels, labels)
-    pooled = merge_coplanar(cloud, _with_labels(cloud, labels), SplitParams(merge_side=0))
-    assert pooled.n_planes == 1  # the old test: the top joined the board
+    pooled = merge_coplanar(cloud, _with_labels(cloud, labels))
+    assert pooled.n_planes == 1  # the default test: the top joins the board
     # the same board with the "top" level with it (one surface cut by a ring) still merges
     flat, lab = _board_with_block(rise=0.0)
-    assert merge_coplanar(flat, _with_labels(flat, lab)).n_planes == 1
+    assert merge_coplanar(flat, _with_labels(flat, lab), side).n_planes == 1
 
 
 def test_merge_needs_regions_to_touch():

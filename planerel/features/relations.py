@@ -339,9 +339,11 @@ class RelationParams:
     #: cm: its top parallel to the board under it; a drill's flank, a sliver at a floor's
     #: edge are tilted 15-20 degrees).  0: no smaller top (top25's bounds) (lying56; 0.10 x
     #: 0.035 m until small65 took it down to 0.05 x 0.03 m: product packs of 5-10 cm lying flat,
-    #: docs/objects.md "Small packs lying flat")
-    lying_small_length: float = 0.05
-    lying_small_width: float = 0.03
+    #: docs/objects.md "Small packs lying flat"; 0.03 x 0.02 m since tote67: the tops of toy
+    #: blocks and wooden cubes of 2.5-4 cm seen from above, docs/objects.md "Blocks seen from
+    #: above")
+    lying_small_length: float = 0.03
+    lying_small_width: float = 0.02
     lying_small_tilt: float = 5.0
     #: the ground a ``lying`` plane lies on is at least this many times its area (a table
     #: or the floor under a book, not a tread beside a tread) (top25)

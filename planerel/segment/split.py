@@ -140,11 +140,12 @@ class SplitParams:
     merge_jump : float
         ... and their points within ``merge_jump * z`` metres (0.05).
     merge_side : float
-        ... and each of the two fits the union's plane within ``merge_side`` times the
-        union test's bound on its own (3; 0: the pooled test only).  The union's RMS is
+        With ``merge_side`` > 0, each of the two must also fit the union's plane within
+        ``merge_side`` times the union test's bound on its own (3 keeps a block's top off
+        the board under it); 0 (the default): the pooled test only.  The union's RMS is
         mostly its larger side's, so a block's top 2-4 cm over the board it stands on
-        merged into the board (tote67, docs/segmentation.md "A small top over a large
-        plane").
+        merges into the board.  Off: the rules re-learned with it lose the lying clause's
+        bound (tote67, docs/segmentation.md "A small top over a large plane").
     min_split_angle, parallel_gap : float
         Planar parts of a region whose planes differ by less than ``min_split_angle`` degrees
         (3) and lie within ``parallel_gap`` x depth (0.02: 2 cm at 1 m) of each other's points
@@ -203,7 +204,7 @@ class SplitParams:
     merge_angle: float = 10.0
     merge_gap: int = 2
     merge_jump: float = 0.05
-    merge_side: float = 3.0
+    merge_side: float = 0.0
     min_split_angle: float = 3.0
     parallel_gap: float = 0.02
     piece_offset: float = 0.005
