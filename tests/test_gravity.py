@@ -118,6 +118,21 @@ def test_sign_looking_straight_down_and_level():
         assert _deg(est.vector, s.up) <= 2.0  # not the flipped vector
 
 
+@pytest.mark.parametrize("tip", [0.003, -0.003, 0.0])
+def test_a_board_seen_from_straight_above_is_the_floor_whichever_way_its_normal_tips(tip):
+    """tote67 (hunt67's armlab frames): a board 1 m under a camera looking straight down, two
+    pieces of it and a small inclined patch.  The normal's image-up component is a few
+    thousandths either way; by its sign the candidate once read the camera as looking
+    straight up, the pose prior refused it, and the board became a wall (up = the image's
+    top).  Within 12 degrees of the optical axis the axis orients the candidate."""
+    board = np.array([0.0, tip, -1.0])
+    board /= np.linalg.norm(board)
+    patch = np.array([0.0, -0.74, -0.67])
+    est = estimate_gravity([board, board, patch / np.linalg.norm(patch)], [1.46, 0.62, 0.035],
+                           [1.0, 0.97, 0.47])
+    assert _deg(est.vector, board) < 1.0, est
+
+
 def test_confidence_high_for_a_room_low_for_degenerate_scenes():
     rects = [floor(), wall()] + box(-0.5, 2.6, 0.6, 0.5, 0.4)
     cloud, lab, _, _ = render(rects, pitch=30, with_up=False)

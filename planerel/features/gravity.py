@@ -726,6 +726,31 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams, cent=None, rf=No
                       upside_down=True)
 
 
+#: A candidate within this many degrees of the optical axis has an image-up component that is
+#: noise (:func:`_looking_down`).
+AXIS_ORIENT_DEG = 12.0
+
+
+def _looking_down(cands: np.ndarray, n: np.ndarray, params: GravityParams) -> np.ndarray:
+    """``cands`` plus, for each candidate within :data:`AXIS_ORIENT_DEG` of the optical axis
+    that :func:`_orient` turned towards the camera looking up, its negation (the camera
+    looking down), when no plane is upright to it.
+
+    A board seen from straight above has a normal whose image-up component is a few
+    thousandths either way; by its sign :func:`_orient` read the camera as looking straight
+    up, the pose prior refused that, and the board became a wall (tote67: hunt67's armlab
+    frames, 90 degrees off).  With an upright plane in view (a level camera facing a wall
+    over a strip of floor) the image's top orients it as before."""
+    on_axis = (np.abs(cands[:, 2]) >= math.cos(math.radians(AXIS_ORIENT_DEG))) & (cands[:, 2] > 0)
+    if not on_axis.any():
+        return cands
+    _, from_v = _angles(cands[on_axis], n)
+    alone = ~(from_v <= params.tol_deg).any(axis=1)
+    if not alone.any():
+        return cands
+    return np.concatenate([cands, -cands[on_axis][alone]], axis=0)
+
+
 def _upright(n, w, hw, params: GravityParams, pairs=None, pair_w=None, rf=None) -> UpEstimate:
     """The estimate for a camera that is not upside down (unit normals, positive weights;
     ``pairs``: :func:`_mirror_pairs`'s; ``pair_w``: the walls' votes for their bisector,
@@ -734,6 +759,7 @@ def _upright(n, w, hw, params: GravityParams, pairs=None, pair_w=None, rf=None) 
     cands = _candidates(n, w, params)
     if pairs is not None:
         cands = np.concatenate([cands, _orient(pairs[2])], axis=0)
+    cands = _looking_down(cands, n, params)
     score = _scores(cands, n, w, hw, params, pairs, pair_w)
     best = int(np.argmax(score))
     c = _refine(cands[best], n, w, hw, params, rf)
