@@ -379,7 +379,7 @@ def test_tote_blocks_scenes_hold_blocks_in_a_tote_seen_from_above():
         kinds = {o["kind"] for o in boxes}
         assert kinds <= {"toy block", "stacked block", "carton"}
         stacked += sum(o["kind"] == "stacked block" for o in boxes)
-        blocks = [d for o, d in zip(boxes, p["dims"]) if o["kind"] != "carton"]
+        blocks = [d for o, d in zip(boxes, p["dims"], strict=True) if o["kind"] != "carton"]
         assert all(0.0175 <= e <= 0.07 for d in blocks for e in d)
         assert 0.6 <= p["camera"]["distance"] <= 0.9
         assert 55 <= p["camera"]["pitch_deg"] <= 90
