@@ -685,17 +685,7 @@ def above_pose(target, look_yaw, rng):
     arm), roll +-10 degrees."""
     D = rng.uniform(0.6, 0.9)
     pitch = np.radians(rng.uniform(55, 89.5))
-    eye = target - D * np.array([np.cos(pitch) * np.cos(look_yaw), np.cos(pitch) * np.sin(look_yaw),
-                                 -np.sin(pitch)])
-    f = np.array([np.cos(pitch) * np.cos(look_yaw), np.cos(pitch) * np.sin(look_yaw), -np.sin(pitch)])
-    r = np.array([np.sin(look_yaw), -np.cos(look_yaw), 0.0])
-    d = np.cross(f, r)
-    roll = np.radians(rng.uniform(-10, 10))
-    r2 = np.cos(roll) * r + np.sin(roll) * d
-    R = np.stack([r2, np.cross(f, r2), f])
-    return eye, R, {"height": round(float(eye[2]), 3), "distance": round(D, 3),
-                    "pitch_deg": round(float(np.degrees(pitch)), 2),
-                    "roll_deg": round(float(np.degrees(roll)), 2)}
+    return _pose_down(target, look_yaw, look_yaw, D, pitch, np.radians(rng.uniform(-10, 10)))
 
 
 # ----------------------------------------------------------------------------- camera + rays
@@ -735,13 +725,19 @@ def close_pose(target, look_yaw, rng):
     table top), yaw +-8 degrees off, roll +-10 degrees."""
     D = rng.uniform(0.35, 0.9)
     pitch = np.radians(rng.uniform(35, 85))
+    yaw = look_yaw + np.radians(rng.uniform(-8, 8))
+    return _pose_down(target, look_yaw, yaw, D, pitch, np.radians(rng.uniform(-10, 10)))
+
+
+def _pose_down(target, look_yaw, yaw, D, pitch, roll):
+    """Eye ``D`` m from ``target`` back along ``look_yaw`` and up at ``pitch`` (radians), the
+    camera's axes looking along ``yaw`` at that pitch and rolled by ``roll``: ``(eye, R,
+    camera dict)`` as :func:`camera_pose` returns them (``close_pose``, ``above_pose``)."""
     eye = target - D * np.array([np.cos(pitch) * np.cos(look_yaw), np.cos(pitch) * np.sin(look_yaw),
                                  -np.sin(pitch)])
-    yaw = look_yaw + np.radians(rng.uniform(-8, 8))
     f = np.array([np.cos(pitch) * np.cos(yaw), np.cos(pitch) * np.sin(yaw), -np.sin(pitch)])
     r = np.array([np.sin(yaw), -np.cos(yaw), 0.0])
     d = np.cross(f, r)
-    roll = np.radians(rng.uniform(-10, 10))
     r2 = np.cos(roll) * r + np.sin(roll) * d
     R = np.stack([r2, np.cross(f, r2), f])
     return eye, R, {"height": round(float(eye[2]), 3), "distance": round(D, 3),
