@@ -404,3 +404,33 @@ def test_wavy_leftover_joins_no_two_boxes_nor_a_box_and_the_floor(seed):
         m = lab == r
         share = np.bincount(obj[m & (obj >= 0)], minlength=3) / m.sum()
         assert np.sort(share)[-2] < 0.02, (r, share)
+
+
+def _top_over_board(rise):
+    """A board 1 m under a camera looking straight down (region 0) and a 10 x 10 px block top
+    ``rise`` metres over it (region 1), touching it in the image grid, on a frame
+    whose noise model measures waviness (a RealSense's, hunt67's armlab frames)."""
+    from planerel.segment.regiongrow import _build
+
+    h = w = 160
+    f = 300.0
+    intr = Intrinsics(w, h, f, f, w / 2, h / 2)
+    vv, uu = np.mgrid[0:h, 0:w].astype(float)
+    z = np.full((h, w), 1.0) + np.random.default_rng(0).normal(0, 0.0008, (h, w))
+    labels = np.zeros((h, w), np.int32)
+    labels[75:85, 75:85] = 1
+    z[75:85, 75:85] -= rise
+    xyz = np.stack([(uu - w / 2) / f * z, (vv - h / 2) / f * z, z], -1)
+    cloud = Cloud(xyz, intr)
+    info = {"noise_model": {"kind": "uniform", "const_m": 0.0003, "quad_per_m": 0.0,
+                            "n_patches": 500, "wave": 4.0, "wave_window": 50}}
+    return cloud, _build(labels, xyz.reshape(-1, 3), 2, None, None, info)
+
+
+@pytest.mark.parametrize("rise", [0.02, 0.0])
+def test_the_side_test_keeps_a_block_top_off_the_wavy_board_under_it(rise):
+    # the union of a top 2 cm over a board fits as the board does (its sums are the board's):
+    # the wavy join took it; with merge_side each side must fit the union's plane itself
+    cloud, seg = _top_over_board(rise)
+    assert join_wavy(cloud, seg, SplitParams()).n_planes == 1
+    assert join_wavy(cloud, seg, SplitParams(merge_side=3.0)).n_planes == (2 if rise else 1)

@@ -266,11 +266,27 @@ def _second_growing(cloud, seg, wp, split_params):
                          split_params)
 
 
-def _free_regions(cloud, seg, wl, free, min_size, rms_max, share):
+def _noise_sigma(seg, fallback=None):
+    """The depth noise (m) at a depth ``z`` (m) as a function of ``z``: the measured noise model
+    of ``seg``'s growing, or, when the frame measured none, ``fallback``'s (a SplitParams:
+    :meth:`~planerel.segment.split.SplitParams.depth_sigma2`, the Kinect model by default;
+    without it 0, so no candidate fits)."""
+    import math
+
+    nm = seg.info.get("noise_model") or {}
+    c, q = float(nm.get("const_m") or 0.0), float(nm.get("quad_per_m") or 0.0)
+    if (c > 0 or q > 0) or fallback is None:
+        return lambda z: math.hypot(c, q * z * z)
+    return lambda z: math.sqrt(float(fallback.depth_sigma2(z)))
+
+
+def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None):
     """The regions of a second growing's labels ``wl`` (H, W) lying for at least ``share`` of
-    their pixels, and ``min_size`` pixels or more, in ``free`` (H, W) bool, whose least-squares plane's RMS is at most ``rms_max`` times the
-    measured depth noise at its centroid's depth: ``(labels with them added as planes
-    n, n + 1, ..., the number added, every candidate's RMS over the noise)``."""
+    their pixels, and ``min_size`` pixels or more, in ``free`` (H, W) bool, whose
+    least-squares plane's RMS is at most ``rms_max`` times the depth noise at its centroid's
+    depth (``sigma``, a function of the depth; default the measured noise,
+    :func:`_noise_sigma`): ``(labels with them added as planes n, n + 1, ..., the number added,
+    every candidate's RMS over the noise)``."""
     import numpy as np
 
     lab = seg.labels
@@ -280,8 +296,7 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share):
     out = lab.copy()
     n = len(seg.planes)
     added = 0
-    nm = seg.info.get("noise_model") or {}
-    c, q = float(nm.get("const_m") or 0.0), float(nm.get("quad_per_m") or 0.0)
+    sigma = sigma if sigma is not None else _noise_sigma(seg)
     fit = []
     flat = np.asarray(cloud.xyz).reshape(-1, 3)
     for r in np.flatnonzero(total).tolist():
@@ -293,7 +308,7 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share):
             cen = pts.mean(0)
             # the plane's RMS against the sensor's noise at its depth
             rms = float(np.linalg.svd(pts - cen, compute_uv=False)[-1] / np.sqrt(len(pts)))
-            sig = float(np.hypot(c, q * cen[2] ** 2))
+            sig = float(sigma(float(cen[2])))
             ratio = rms / sig if sig > 0 else float("inf")
             fit.append(round(ratio, 2))
             if ratio > rms_max:
@@ -324,6 +339,22 @@ def _with_added(cloud, seg, out, added):
                   seg.normals, seg.info)
 
 
+def _near_rms_max(seg, p, sigma=None) -> float:
+    """The fit bound (RMS over the noise ``sigma``, default :func:`_noise_sigma`) of a plane
+    the near and small passes add: ``far_rms``, or :data:`~planerel.segment.params.NEAR_RMS`
+    times the median fit of the first growing's planes nearer than ``far_depth`` when that is
+    looser (a rippled sensor's planes fit at several times the 5 px noise estimate: a
+    RealSense board at 1 m at 5-15, hunt67)."""
+    import numpy as np
+
+    from planerel.segment.params import NEAR_RMS
+
+    sigma = sigma if sigma is not None else _noise_sigma(seg)
+    ratios = [pl.rms / s for pl in seg.planes
+              if pl.centroid[2] <= p.far_depth and (s := float(sigma(float(pl.centroid[2])))) > 0]
+    return max(p.far_rms, NEAR_RMS * float(np.median(ratios))) if ratios else p.far_rms
+
+
 def _near_planes(cloud, seg, p, split_params):
     """``near_wide``: planes where the first growing left depth nearer than ``far_depth`` in no
     plane, from a second growing whose normal window is ``near_wide`` times the first's (its
@@ -338,7 +369,7 @@ def _near_planes(cloud, seg, p, split_params):
     import numpy as np
 
     from planerel.segment.normals import auto_normal_scale
-    from planerel.segment.params import FAR_SHARE, NEAR_RMS
+    from planerel.segment.params import FAR_SHARE
     from planerel.segment.regiongrow import region_grow
 
     lab = seg.labels
@@ -359,13 +390,7 @@ def _near_planes(cloud, seg, p, split_params):
                              min_region_size=max(min_size, 1), far_theta=0.0, far_wide=False,
                              small_scale=0.0, near_wide=0.0)
     wl = _post_process(cloud, region_grow(cloud, wp, split=True), wp, None, split_params).labels
-    # the bound: far_rms, or NEAR_RMS times the median fit of the first growing's near planes
-    # when that is looser (a rippled sensor's planes fit at several times the 5 px noise)
-    nm = seg.info.get("noise_model") or {}
-    c, q = float(nm.get("const_m") or 0.0), float(nm.get("quad_per_m") or 0.0)
-    ratios = [pl.rms / s for pl in seg.planes
-              if pl.centroid[2] <= p.far_depth and (s := float(np.hypot(c, q * pl.centroid[2] ** 2))) > 0]
-    rms_max = max(p.far_rms, NEAR_RMS * float(np.median(ratios))) if ratios else p.far_rms
+    rms_max = _near_rms_max(seg, p)
     out, added, fit = _free_regions(cloud, seg, wl, free, min_size, rms_max, FAR_SHARE)
     seg.info["near_planes"] = added
     seg.info["near_rms_max"] = round(rms_max, 2)
@@ -379,12 +404,18 @@ def _small_planes(cloud, seg, p, split_params):
     ``far_depth`` in no plane, from a second growing whose minimum region size is
     ``small_scale`` times the first's (its regions lying for
     :data:`~planerel.segment.params.SMALL_SHARE` or more in that depth, fitting a plane within
-    ``far_rms`` times the noise, and meeting another plane at a corner: :func:`_at_corners`);
-    nothing already in a plane changes.  ``info["small_planes"]``: the planes added;
-    ``info["small_fit"]``: every candidate's RMS over the noise."""
+    the near pass's bound, :func:`_near_rms_max`, and standing parallel over another plane,
+    or with ``small_corners`` meeting one at a corner: :func:`_at_corners`); nothing already
+    in a plane changes.
+
+    The second growing merges with the side test (``merge_side`` at least
+    :data:`~planerel.segment.params.SMALL_SIDE`): the pooled merge test joins a block's 2 cm
+    top to the board under it, whose pixels are not free (hunt67).  ``info["small_planes"]``:
+    the planes added; ``info["small_fit"]``: every candidate's RMS over the noise."""
     import dataclasses
 
-    from planerel.segment.params import SMALL_SHARE
+    from planerel.segment.params import SMALL_SHARE, SMALL_SIDE
+    from planerel.segment.split import SplitParams
 
     free = _near_free(cloud, seg, p.far_depth)
     size = max(1, round(p.small_scale * int(seg.info.get("min_region_size", 0) or 0)))
@@ -393,42 +424,71 @@ def _small_planes(cloud, seg, p, split_params):
         return seg
     wp = dataclasses.replace(p, min_region_size=size, far_theta=0.0, far_wide=False,
                              small_scale=0.0, near_wide=0.0)
-    wl = _second_growing(cloud, seg, wp, split_params).labels
-    out, added, fit = _free_regions(cloud, seg, wl, free, size, p.far_rms, SMALL_SHARE)
+    sp = split_params if split_params is not None else SplitParams()
+    sp = dataclasses.replace(sp, merge_side=max(sp.merge_side, SMALL_SIDE))
+    wl = _second_growing(cloud, seg, wp, sp).labels
+    # a frame with no measured noise (a Kinect's quantised depth, hunt67) is judged by the
+    # split test's sensor model
+    sigma = _noise_sigma(seg, sp)
+    out, added, fit = _free_regions(cloud, seg, wl, free, size, _near_rms_max(seg, p, sigma),
+                                    SMALL_SHARE, sigma)
     if added:
-        out, added = _at_corners(cloud, seg, out, added)
+        out, added = _at_corners(cloud, seg, out, added, corners=p.small_corners)
     seg.info["small_planes"] = added
     seg.info["small_fit"] = fit
     return _with_added(cloud, seg, out, added) if added else seg
 
 
-def _at_corners(cloud, seg, out, added):
+def _at_corners(cloud, seg, out, added, *, corners=True):
     """Of the ``added`` planes labelled ``n, n + 1, ...`` in ``out`` (H, W) (``n`` the planes of
-    ``seg``), those meeting another plane at a corner: touching (within 2 px) a plane whose
-    normal lies 60-120 degrees off theirs (a small box's top and side, or a side and the table).
-    A lone small patch, or one meeting its neighbours at a shallow angle (the strips of a
-    curved surface, a crumpled bag's facets), is left unassigned.  Returns ``(labels with the
-    kept planes renumbered n, n + 1, ..., the number kept)``."""
+    ``seg``), those meeting another plane at a corner (with ``corners``): touching (within 2
+    px) a plane whose normal lies 60-120 degrees off theirs (a small box's top and side, or a
+    side and the table); or standing over one: near it (within the normal window and 2 px:
+    the edge between them is in no plane), parallel within :data:`~planerel.segment.params.SMALL_PARALLEL` degrees
+    and offset along its normal by :data:`~planerel.segment.params.SMALL_RAISE` times the RMS
+    of the looser of the two or more (a block's top seen from straight above, its sides
+    hidden, hunt67).  A lone small patch, or one meeting its neighbours at a shallow angle (the
+    strips of a curved surface, a crumpled bag's facets), is left unassigned.  Returns
+    ``(labels with the kept planes renumbered n, n + 1, ..., the number kept)``."""
+    import math
+
     import numpy as np
     from scipy.ndimage import binary_dilation
 
+    from planerel.segment.params import SMALL_PARALLEL, SMALL_RAISE
+
     n = len(seg.planes)
     flat = np.asarray(cloud.xyz).reshape(-1, 3)
-    normals = {p.id: np.asarray(p.normal, float) for p in seg.planes}
+    fits = {p.id: (np.asarray(p.normal, float), np.asarray(p.centroid, float), float(p.rms))
+            for p in seg.planes}
     for j in range(n, n + added):
         pts = np.asarray(flat[np.flatnonzero(out.reshape(-1) == j)], float)
-        normals[j] = np.linalg.svd(pts - pts.mean(0), full_matrices=False)[2][-1]
+        cen = pts.mean(0)
+        sv, vt = np.linalg.svd(pts - cen, full_matrices=False)[1:]
+        fits[j] = (vt[-1], cen, float(sv[-1] / math.sqrt(len(pts))))
+    cos_par = math.cos(math.radians(SMALL_PARALLEL))
+    reach = 2 + _window(seg)
     h, w = out.shape
     keep = []
     for j in range(n, n + added):
         rows, cols = np.nonzero(out == j)
-        r0, r1 = max(rows.min() - 2, 0), min(rows.max() + 3, h)
-        c0, c1 = max(cols.min() - 2, 0), min(cols.max() + 3, w)
+        r0, r1 = max(rows.min() - reach, 0), min(rows.max() + reach + 1, h)
+        c0, c1 = max(cols.min() - reach, 0), min(cols.max() + reach + 1, w)
         win = out[r0:r1, c0:c1]
-        ring = binary_dilation(win == j, iterations=2) & (win != j) & (win >= 0)
-        near = np.unique(win[ring]).tolist()
-        if any(abs(float(normals[j] @ normals[k])) < 0.5 for k in near):
+        own = win == j
+        ring = binary_dilation(own, iterations=2) & ~own & (win >= 0)
+        nj, cj, rj = fits[j]
+        if corners and any(abs(float(nj @ fits[k][0])) < 0.5
+                           for k in np.unique(win[ring]).tolist()):
             keep.append(j)
+            continue
+        ring = binary_dilation(own, iterations=reach) & ~own & (win >= 0)
+        for k in np.unique(win[ring]).tolist():
+            nk, ck, rk = fits[k]
+            if (abs(float(nj @ nk)) >= cos_par
+                    and abs(float(nk @ (cj - ck))) >= SMALL_RAISE * max(rj, rk)):
+                keep.append(j)
+                break
     if len(keep) == added:
         return out, added
     remap = np.arange(-1, n + added, dtype=np.int32)  # remap[label + 1]

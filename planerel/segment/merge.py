@@ -462,7 +462,9 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
     seg : Segmentation
         With ``info["noise_model"]`` as region growing reports it (none: unchanged).
     params : SplitParams, optional
-        ``wavy_join`` (False: off), ``tolerance``, ``merge_gap``, ``merge_jump``.
+        ``wavy_join`` (False: off), ``tolerance``, ``merge_gap``, ``merge_jump``; with
+        ``merge_side`` each side must also lie within ``merge_side x tolerance`` times the
+        larger of the union's and the sides' own RMS of the union's plane.
 
     Returns
     -------
@@ -509,7 +511,18 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
             if cos_ab < math.cos(math.atan(tilt)):
                 return None
         ratio = wavy_ratio(ev, c, nm, p.tolerance, WAVE_OWN * max(own[a], own[b]))
-        return (ratio, vec[:, 0]) if ratio <= 1.0 else None
+        if ratio > 1.0:
+            return None
+        if p.merge_side > 0:
+            # each side near the union's plane on its own (the merge's side test): a block's
+            # top 2-4 cm over a wavy board joined it, the union's RMS being the board's
+            nv = vec[:, 0]
+            k = np.array([a, b])
+            side = _side_rms(cnt[k], s1[k], s2[k], np.stack([nv, nv]),
+                             np.full(2, -float(nv @ c)))
+            if side.max() > p.merge_side * p.tolerance * max(rms, own[a], own[b]):
+                return None
+        return ratio, vec[:, 0]
 
     own = {i: float(x) for i, x in enumerate(_rms_of(np.maximum(cnt, 1), s1, s2))}
     ext = {i: float(x) for i, x in enumerate(_span_of(np.maximum(cnt, 1), s1, s2))}

@@ -67,6 +67,15 @@ FAR_SHARE = 0.8
 #: in no plane nearer than ``far_depth`` (lower than FAR_SHARE: a small box's thin side face
 #: grows a few pixels into the top's plane, which the first growing's completion took)
 SMALL_SHARE = 0.6
+#: ``small_scale``: the smallest ``merge_side`` of the small pass's second growing (hunt67: the
+#: pooled merge test joins a block's top 2-4 cm over a board to the board)
+SMALL_SIDE = 3.0
+#: ``small_scale``: a small plane standing over a neighbour is parallel to it within this many
+#: degrees ...
+SMALL_PARALLEL = 10.0
+#: ... and offset from it along its normal by at least this many times the looser plane's RMS
+#: (a 2 cm block top over a RealSense board of RMS 1.5 mm: 13)
+SMALL_RAISE = 5.0
 
 #: ``near_wide``: a near candidate's fit (RMS over the measured noise) may be up to this many
 #: times the median fit of the first growing's near planes, when that is looser than
@@ -231,12 +240,21 @@ class RegionGrowParams:
         uses ``wide_noise_window``'s 15 px normal window.
     small_scale : float
         0 (off) or a factor in (0, 1].  With ``adapt`` and post-processing, the cloud is grown
-        again with a minimum region size of ``small_scale`` times the first growing's, and each
-        region of that growing lying for at least :data:`SMALL_SHARE` of its pixels in depth the
-        first growing left in no plane nearer than ``far_depth`` becomes a plane there (the
-        faces of small boxes near the camera, too small for the first growing), when its
-        least-squares plane's RMS is at most ``far_rms`` times the measured depth noise.
+        again with a minimum region size of ``small_scale`` times the first growing's (its
+        merges with the side test, at least :data:`SMALL_SIDE`), and each region of that growing
+        lying for at least :data:`SMALL_SHARE` of its pixels in depth the first growing left in
+        no plane nearer than ``far_depth`` becomes a plane there when its least-squares plane's
+        RMS is within the near pass's bound (``far_rms`` noise sigmas, or
+        :data:`NEAR_RMS` times the median fit of the first growing's near planes when looser;
+        a frame that measured no noise is judged by the split test's sensor model) and it
+        stands over a plane near it: parallel within :data:`SMALL_PARALLEL` degrees, offset by
+        :data:`SMALL_RAISE` times the looser RMS (a small box's top seen from above, hunt67).
         Nothing already in a plane changes.  ``info["small_planes"]``: the planes added.
+    small_corners : bool
+        Off.  With ``small_scale``, also keep a small plane meeting another at a corner
+        (touching a plane 60-120 degrees off its own: a small box's side face, small64); on the
+        real development frames it took slivers of box tops seen nearly edge-on, which cost
+        boxes their one-face rule (docs/segmentation.md).
     near_wide : float
         0 (off) or a factor in (1, 4] (near65, docs/segmentation.md "A wider normal window
         where near depth is left in no plane").  With ``adapt`` and post-processing, the cloud
@@ -277,6 +295,7 @@ class RegionGrowParams:
     far_rms: float = 2.5
     far_wide: bool = False
     small_scale: float = 0.0
+    small_corners: bool = False
     near_wide: float = 0.0
     angle_order: str = "auto"
     seed_test: bool | str = "auto"
@@ -326,6 +345,7 @@ class RegionGrowParams:
         s(self, "far_rms", _num(o, "far_rms", self.far_rms, lo=0, lo_open=True))
         s(self, "far_wide", _bool(o, "far_wide", self.far_wide))
         s(self, "small_scale", _num(o, "small_scale", self.small_scale, lo=0, hi=1))
+        s(self, "small_corners", _bool(o, "small_corners", self.small_corners))
         s(self, "near_wide", _num(o, "near_wide", self.near_wide, lo=0, hi=4))
         if 0 < self.near_wide <= 1:
             raise InputError(f"{o}: near_wide must be 0 (off) or a factor in (1, 4], "
