@@ -108,7 +108,7 @@ def _own_plane(labels, truth):
         m = truth == t
         labs, counts = np.unique(labels[m], return_counts=True)
         n += any(lab >= 0 and c >= 0.3 * m.sum() and c >= 0.8 * (labels == lab).sum()
-                 for lab, c in zip(labs, counts))
+                 for lab, c in zip(labs, counts, strict=True))
     return n
 
 

@@ -366,8 +366,6 @@ def _near_planes(cloud, seg, p, split_params):
     ``info["near_rms_max"]``: the bound used; ``info["near_window"]``: the window."""
     import dataclasses
 
-    import numpy as np
-
     from planerel.segment.normals import auto_normal_scale
     from planerel.segment.params import FAR_SHARE
     from planerel.segment.regiongrow import region_grow
