@@ -18,7 +18,7 @@ import independent_scenes as ind  # noqa: E402
 
 from planerel.errors import InputError  # noqa: E402
 from planerel.io.cloud import Cloud  # noqa: E402
-from planerel.segment import _at_corners, _noise_sigma, segment  # noqa: E402
+from planerel.segment import _noise_sigma, _small_kept, segment  # noqa: E402
 from planerel.segment.params import RegionGrowParams  # noqa: E402
 
 
@@ -93,7 +93,7 @@ def _patch_scene():
 
 def test_only_planes_at_a_corner_are_kept():
     cloud, seg, out = _patch_scene()
-    lab, kept = _at_corners(cloud, seg, out, 3)
+    lab, kept = _small_kept(cloud, seg, out, 3)
     assert kept == 1
     np.testing.assert_array_equal(lab == 1, out == 1)  # the wall meets the floor at 90 degrees
     assert not np.isin(lab, [2, 3]).any()  # the shallow patch and the lone one are dropped
@@ -158,7 +158,7 @@ def test_a_small_top_standing_over_a_plane_is_kept(rise, kept):
                                                   centroid=np.array([0.2, 0.2, 0.0]),
                                                   rms=0.0005)],
                           info={"settings": {"normal_smooth": 2, "normal_radius": 1}})
-    lab, n = _at_corners(SimpleNamespace(xyz=xyz), seg, out, 1)
+    lab, n = _small_kept(SimpleNamespace(xyz=xyz), seg, out, 1)
     assert n == int(kept)
     assert ((lab == 1) == ((out == 1) & kept)).all()
 

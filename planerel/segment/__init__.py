@@ -403,7 +403,7 @@ def _small_planes(cloud, seg, p, split_params):
     ``small_scale`` times the first's (its regions lying for
     :data:`~planerel.segment.params.SMALL_SHARE` or more in that depth, fitting a plane within
     the near pass's bound, :func:`_near_rms_max`, and standing parallel over another plane,
-    or with ``small_corners`` meeting one at a corner: :func:`_at_corners`); nothing already
+    or with ``small_corners`` meeting one at a corner: :func:`_small_kept`); nothing already
     in a plane changes.
 
     The second growing merges with the side test (``merge_side`` at least
@@ -431,21 +431,21 @@ def _small_planes(cloud, seg, p, split_params):
     out, added, fit = _free_regions(cloud, seg, wl, free, size, _near_rms_max(seg, p, sigma),
                                     SMALL_SHARE, sigma)
     if added:
-        out, added = _at_corners(cloud, seg, out, added, corners=p.small_corners)
+        out, added = _small_kept(cloud, seg, out, added, corners=p.small_corners)
     seg.info["small_planes"] = added
     seg.info["small_fit"] = fit
     return _with_added(cloud, seg, out, added) if added else seg
 
 
-def _at_corners(cloud, seg, out, added, *, corners=True):
+def _small_kept(cloud, seg, out, added, *, corners=True):
     """Of the ``added`` planes labelled ``n, n + 1, ...`` in ``out`` (H, W) (``n`` the planes of
     ``seg``), those meeting another plane at a corner (with ``corners``): touching (within 2
     px) a plane whose normal lies 60-120 degrees off theirs (a small box's top and side, or a
     side and the table); or standing over one: near it (within the normal window and 2 px:
-    the edge between them is in no plane), parallel within :data:`~planerel.segment.params.SMALL_PARALLEL` degrees
-    and offset along its normal by :data:`~planerel.segment.params.SMALL_RAISE` times the RMS
-    of the looser of the two or more (a block's top seen from straight above, its sides
-    hidden, hunt67).  A lone small patch, or one meeting its neighbours at a shallow angle (the
+    the edge between them is in no plane), parallel within
+    :data:`~planerel.segment.params.SMALL_PARALLEL` degrees and offset along its normal by
+    :data:`~planerel.segment.params.SMALL_RAISE` times the RMS of the looser of the two or
+    more (a block's top seen from straight above, its sides hidden, hunt67).  A lone small patch, or one meeting its neighbours at a shallow angle (the
     strips of a curved surface, a crumpled bag's facets), is left unassigned.  Returns
     ``(labels with the kept planes renumbered n, n + 1, ..., the number kept)``."""
     import math
