@@ -27,7 +27,13 @@ def small_boxes():
     """dev_small's scene 6 (``independent_scenes.py dev``): four small boxes (3-12 cm) on a
     table seen by a Kinect-like sensor from under a metre; box 3's thin side face (about 360
     pixels) is too small for the first growing."""
-    xyz, truth, side, *_ = ind.make_scene(6, 6401, (640, 480), kinds=("small_box",),
+    return _scene(6, 6401, "small_box")
+
+
+def _scene(index, seed, kind):
+    """``independent_scenes.py``'s scene ``index`` of ``seed`` with one ``kind``, seen by the
+    Kinect-like sensor at 640x480: ``(cloud, truth (H, W) object ids)``."""
+    xyz, truth, side, *_ = ind.make_scene(index, seed, (640, 480), kinds=(kind,),
                                           sensor="kinect")
     intr = side["intrinsics"]
     cloud = Cloud(xyz, (intr["width"], intr["height"], intr["fx"], intr["fy"], intr["cx"],
@@ -115,11 +121,7 @@ def _own_plane(labels, truth):
 def test_block_tops_seen_from_above_get_their_planes():
     # dev_tote's kind: 19 toy blocks and cartons in a tote seen from 0.6-0.9 m above; the
     # small tops the first growing drops, or merges into the block under them, are planes
-    xyz, truth, side, *_ = ind.make_scene(1, 6801, (640, 480), kinds=("tote_blocks",),
-                                          sensor="kinect")
-    intr = side["intrinsics"]
-    cloud = Cloud(xyz, (intr["width"], intr["height"], intr["fx"], intr["fy"], intr["cx"],
-                        intr["cy"]), side["up"])
+    cloud, truth = _scene(1, 6801, "tote_blocks")
     a, b = segment(cloud), segment(cloud, small_scale=0.35)
     assert b.info["small_planes"] >= 3
     assert _own_plane(b.labels, truth) >= _own_plane(a.labels, truth) + 3
@@ -161,6 +163,12 @@ def test_a_small_top_standing_over_a_plane_is_kept(rise, kept):
     lab, n = _small_kept(SimpleNamespace(xyz=xyz), seg, out, 1)
     assert n == int(kept)
     assert ((lab == 1) == ((out == 1) & kept)).all()
+
+
+@pytest.mark.parametrize("bad", ["x", 1, None])
+def test_small_corners_must_be_a_switch(bad):
+    with pytest.raises(InputError, match="small_corners must be true or false"):
+        RegionGrowParams(small_corners=bad)
 
 
 @pytest.mark.parametrize("bad", [-0.1, 1.5, "x", True])
