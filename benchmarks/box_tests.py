@@ -106,7 +106,7 @@ def tall_face_tests(planes, relations, cloud, label, plane_id=str) -> list:
         return profiles[q.label]
 
     def shaped(a):
-        return R.tall_shaped(a, p, lab, cloud.xyz, up)
+        return R.tall_shaped(a, p, lab, cloud.xyz, up, noise=R.tall_noise(cloud, p))
 
     out = []
     fill = face.area / max(1e-12, face.length * face.width)

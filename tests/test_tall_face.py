@@ -189,3 +189,57 @@ def test_the_face_part_makes_boxes_seen_as_one_face_examples(tmp_path):
     # ... by describe_scenes too, before any scene is described
     with pytest.raises(InputError, match="may name only box_faces"):
         describe_scenes(world, jobs=1, cache="none", progress=False)
+
+
+def _far_face(params=None, noise=0.0015, width=0.2):
+    """A box 0.5 m high, ``width`` wide, 3.5 m before a low camera, the depth noise a
+    Kinect's at that range (``noise`` z^2: 1.8 cm at 3.5 m); its front is label 2."""
+    from planerel.segment.noise import estimate_noise
+
+    cloud, lab, _, _ = render([floor()] + box(0.0, 3.5, width, 0.3, 0.5), noise=noise, seed=3,
+                              pitch=0.0, cam_height=0.3, width=640, height=480)
+    ps = measure_planes(cloud, lab)
+    return ps, tall_faces(ps, relate(ps, cloud, params), cloud), estimate_noise(cloud)
+
+
+def test_a_far_box_face_as_noisy_as_its_sensor_is_flat_with_the_noise_bound():
+    """flat69 (dev_k, dev_low, dev_furn: boxes 3-4 m from a Kinect-like sensor seen as one
+    face, their fits' RMS 1-3 cm, 0.075-0.09 of their width, the sensor's noise there): with
+    ``tall_flat_noise`` a face whose RMS is within that many sigmas of the measured noise at
+    its depth is flat, whatever its width; the default (0) keeps the width bound alone."""
+    ps, faces, noise = _far_face()
+    face = ps.by_label(2)
+    assert noise.reliable
+    sigma = float(noise.sigma(face.centroid[2]))
+    assert face.rms > 0.07 * face.width and face.rms < 2.0 * sigma
+    assert 2 not in faces
+    on = RelationParams(tall_flat_noise=3.0)
+    assert 2 in _far_face(on)[1]
+    # the same box with a quiet sensor passes the width bound anyway
+    assert 2 in _far_face(noise=0.0003)[1]
+    # a face whose RMS is its shape's, not its noise's, stays refused: the half cylinder of
+    # test_a_curved_face_grown_into_one_plane_is_no_tall_face fits at 0.11 of its width,
+    # many sigmas of a 1.2 mm z^2 noise at 2 m (checked there with the bound on)
+
+
+def test_a_curved_face_is_no_tall_face_with_the_noise_bound_either():
+    import numpy as np
+
+    from planerel.io.cloud import Cloud
+
+    cloud, lab, _, _ = render([floor()] + box(0.0, 2.0, 0.6, 0.4, 1.0), noise=0.0012, **LOW)
+    xyz = np.array(cloud.xyz, float)
+    front = lab == 2
+    x = xyz[..., 0][front]
+    xyz[front] *= (1.0 + (0.3 - np.sqrt(np.clip(0.09 - x * x, 0.0, None)))
+                   / xyz[..., 2][front])[:, None]
+    bent = Cloud(xyz, cloud.intrinsics, cloud.up, "analytic")
+    ps = measure_planes(bent, lab)
+    on = RelationParams(tall_flat_noise=3.0)
+    assert tall_faces(ps, relate(ps, bent, on), bent) == frozenset()
+
+
+def test_the_noise_bound_is_checked():
+    assert RelationParams().tall_flat_noise >= 0
+    with pytest.raises(InputError, match="tall_flat_noise"):
+        RelationParams(tall_flat_noise=-1.0)

@@ -226,6 +226,12 @@ class RelationParams:
     #: deviates from it by about 0.11 of its width (a half circle against its chord: an RMS
     #: of 0.223 r over a width of 2 r); a box's face by the sensor's noise.  0: no bound
     tall_flat: float = 0.07
+    #: ... or its RMS at most this many times the sensor's depth noise at its centroid's
+    #: depth (``sigma(z)`` of :func:`planerel.segment.noise.estimate_noise`, when the cloud
+    #: measures one): a box's face 3-4 m from a Kinect fits with 1-3 cm of RMS, its noise,
+    #: over 0.07 of a 0.15-0.35 m width; a round surface's deviation is its shape's, over
+    #: the noise.  0: the width bound only (flat69)
+    tall_flat_noise: float = 0.0
     #: a vertical face whose top edge is below ``tall_eye`` is still a ``tall_face`` when a
     #: level strip that is no plane of its own lies on its top edge (:func:`cap_strip`):
     #: a box's top seen so flat that the region grower took none of it (at 160x120 a box
@@ -437,7 +443,7 @@ class RelationParams:
                              "skirt_reach_share", "skirt_cover", "skirt_beyond", "skirt_step", "corner_tol", "corner_width", "corner_slope", "corner_slope_span", "corner_slope_rms",
                              "facing_overlap", "facing_width", "facing_narrow_tol", "face_pair_width", "face_pair_angle", "face_pair_graze", "face_pair_graze_angle", "face_pair_level", "face_pair_level_share", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
-                             "standing_fill", "tall_narrow_width", "tall_narrow_bend", "tall_eye", "tall_flat", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
+                             "standing_fill", "tall_narrow_width", "tall_narrow_bend", "tall_eye", "tall_flat", "tall_flat_noise", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
                              "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "skirt_top_eye", "tall_feet_level",
                              "tall_speckle_floor", "tall_top_cover", "tall_beside_overlap", "tall_beside_step",
                              "lying_rise",
@@ -1227,12 +1233,13 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     by_label = {q.label: q for q in planes}
     near: dict[int, list] = {}
     beside: dict[int, list] = {}
+    noise = tall_noise(cloud, p)
 
     shape_of: dict[int, bool] = {}
 
     def shaped(a):  # once a plane (the narrow clause fits its points)
         if a.label not in shape_of:
-            shape_of[a.label] = tall_shaped(a, p, lab, cloud.xyz, planes.up)
+            shape_of[a.label] = tall_shaped(a, p, lab, cloud.xyz, planes.up, noise=noise)
         return shape_of[a.label]
 
     maybe_of: dict[int, bool] = {}
@@ -1243,7 +1250,8 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
         if a.label in shape_of:
             return shape_of[a.label]
         if a.label not in maybe_of:
-            maybe_of[a.label] = tall_shaped(a, p, lab, cloud.xyz, planes.up, bend=False)
+            maybe_of[a.label] = tall_shaped(a, p, lab, cloud.xyz, planes.up, bend=False,
+                                            noise=noise)
         return maybe_of[a.label]
 
     for r in adjacent_only(relations):
@@ -1345,6 +1353,27 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     return frozenset(out)
 
 
+def _tall_flat(a, p, noise) -> bool:
+    """:func:`tall_shaped`'s flatness: ``a``'s RMS within ``tall_flat`` of its width, or
+    within ``tall_flat_noise`` sigmas of the measured depth noise at its centroid."""
+    if p.tall_flat <= 0 or a.rms <= p.tall_flat * a.width:
+        return True
+    return (p.tall_flat_noise > 0 and noise is not None
+            and a.rms <= p.tall_flat_noise * float(noise.sigma(abs(float(a.centroid[2])))))
+
+
+def tall_noise(cloud, p):
+    """The depth-noise model :func:`tall_shaped` reads (``tall_flat_noise``): the cloud's
+    measured one when reliable, else None (a noise-free or unorganized cloud: the width
+    bound only)."""
+    if p.tall_flat_noise <= 0 or not getattr(cloud, "organized", False):
+        return None
+    from planerel.segment.noise import estimate_noise
+
+    noise = estimate_noise(cloud)
+    return noise if noise.reliable and noise.kind != "none" else None
+
+
 def face_bend(face, labels, xyz, up, max_points: int = PROFILE_POINTS) -> float:
     """How much the vertical plane ``face`` bends across its width, against its noise: the
     points' offsets ``d`` from their mean along the face's normal fitted as ``a u^2 + b u +
@@ -1379,16 +1408,18 @@ def face_bend(face, labels, xyz, up, max_points: int = PROFILE_POINTS) -> float:
     return sag / max(res, 1e-9)
 
 
-def tall_shaped(a, p, labels=None, xyz=None, up=None, bend: bool = True) -> bool:
+def tall_shaped(a, p, labels=None, xyz=None, up=None, bend: bool = True, noise=None) -> bool:
     """:func:`tall_faces`' shape test of the plane ``a`` under the :class:`RelationParams`
     ``p``: vertical, at least ``corner_width`` wide (or, with ``tall_narrow_width`` > 0 and
     ``labels``, ``xyz``, ``up`` given, at least ``tall_narrow_width`` wide and flat across,
     :func:`face_bend` at most ``tall_narrow_bend``), its hull at least ``standing_fill`` of
-    its rectangle, its RMS at most ``tall_flat`` of its width.  ``bend=False``: every test
-    but the narrow face's bend (True where the full test may be; its answer when it is
-    False, or when the face needs no bend test)."""
+    its rectangle, its RMS at most ``tall_flat`` of its width (or, with ``tall_flat_noise``
+    > 0 and ``noise`` the cloud's measured :class:`~planerel.segment.noise.NoiseModel`, at
+    most ``tall_flat_noise`` times ``noise.sigma(z)`` at its centroid's depth).
+    ``bend=False``: every test but the narrow face's bend (True where the full test may be;
+    its answer when it is False, or when the face needs no bend test)."""
     if not (a.orientation == "vertical" and a.area >= p.standing_fill * a.length * a.width
-            and (p.tall_flat <= 0 or a.rms <= p.tall_flat * a.width)):
+            and _tall_flat(a, p, noise)):
         return False
     if a.width >= p.corner_width:
         return True
