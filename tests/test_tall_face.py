@@ -100,10 +100,10 @@ def test_a_panel_beside_a_taller_one_is_no_tall_face():
     assert 1 in _tall([floor(), low], view)[1]
 
 
-def test_a_curved_face_grown_into_one_plane_is_no_tall_face():
-    # the tall box's front bent into a half cylinder (radius 0.3 m, its width 0.6 m) bulging
-    # towards the camera, labelled one plane as a coarse segmentation grows a far cylinder:
-    # its fit's RMS is about 0.11 of its width, over tall_flat's 0.07
+def _bent_front():
+    """The tall box's front bent into a half cylinder (radius 0.3 m, its width 0.6 m) bulging
+    towards the camera, labelled one plane as a coarse segmentation grows a far cylinder:
+    ``(cloud, labels)``, the front label 2."""
     import numpy as np
 
     from planerel.io.cloud import Cloud
@@ -114,7 +114,12 @@ def test_a_curved_face_grown_into_one_plane_is_no_tall_face():
     x = xyz[..., 0][front]
     bulge = 0.3 - np.sqrt(np.clip(0.09 - x * x, 0.0, None))  # depth behind the arc's crown
     xyz[front] *= (1.0 + bulge / xyz[..., 2][front])[:, None]  # along each pixel's ray
-    bent = Cloud(xyz, cloud.intrinsics, cloud.up, "analytic")
+    return Cloud(xyz, cloud.intrinsics, cloud.up, "analytic"), lab
+
+
+def test_a_curved_face_grown_into_one_plane_is_no_tall_face():
+    # its fit's RMS is about 0.11 of its width, over tall_flat's 0.07
+    bent, lab = _bent_front()
 
     def tall(params=None):
         ps = measure_planes(bent, lab)
@@ -217,29 +222,23 @@ def test_a_far_box_face_as_noisy_as_its_sensor_is_flat_with_the_noise_bound():
     assert 2 in _far_face(on)[1]
     # the same box with a quiet sensor passes the width bound anyway
     assert 2 in _far_face(noise=0.0003)[1]
-    # a face whose RMS is its shape's, not its noise's, stays refused: the half cylinder of
-    # test_a_curved_face_grown_into_one_plane_is_no_tall_face fits at 0.11 of its width,
-    # many sigmas of a 1.2 mm z^2 noise at 2 m (checked there with the bound on)
 
 
 def test_a_curved_face_is_no_tall_face_with_the_noise_bound_either():
-    import numpy as np
+    """The bent front's RMS is its shape's: many sigmas of the noise measured in its frame,
+    so ``tall_flat_noise`` 3 does not make it flat."""
+    from planerel.segment.noise import estimate_noise
 
-    from planerel.io.cloud import Cloud
-
-    cloud, lab, _, _ = render([floor()] + box(0.0, 2.0, 0.6, 0.4, 1.0), noise=0.0012, **LOW)
-    xyz = np.array(cloud.xyz, float)
-    front = lab == 2
-    x = xyz[..., 0][front]
-    xyz[front] *= (1.0 + (0.3 - np.sqrt(np.clip(0.09 - x * x, 0.0, None)))
-                   / xyz[..., 2][front])[:, None]
-    bent = Cloud(xyz, cloud.intrinsics, cloud.up, "analytic")
+    bent, lab = _bent_front()
     ps = measure_planes(bent, lab)
+    face = ps.by_label(2)
+    noise = estimate_noise(bent)
+    assert noise.reliable and face.rms > 5.0 * float(noise.sigma(face.centroid[2]))
     on = RelationParams(tall_flat_noise=3.0)
     assert tall_faces(ps, relate(ps, bent, on), bent) == frozenset()
 
 
 def test_the_noise_bound_is_checked():
-    assert RelationParams().tall_flat_noise >= 0
+    assert RelationParams().tall_flat_noise == 0.0  # off by default
     with pytest.raises(InputError, match="tall_flat_noise"):
         RelationParams(tall_flat_noise=-1.0)
