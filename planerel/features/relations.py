@@ -93,7 +93,13 @@ from planerel.features.cavities import (
 from planerel.features.concave_cut import concave_cuts
 from planerel.features.gaps import gap_in_front, occluded_piece_pairs
 from planerel.features.open_treads import open_tread_pairs
-from planerel.features.planes import _boundary, _boundary_pixels, _boundary_tiles, label_max
+from planerel.features.planes import (
+    _boundary,
+    _boundary_pixels,
+    _boundary_tiles,
+    _measured_noise,
+    label_max,
+)
 from planerel.features.solid import (
     PROFILE_POINTS,
     face_profile_of,
@@ -1364,14 +1370,10 @@ def _tall_flat(a, p, noise) -> bool:
 
 def tall_noise(cloud, p):
     """The depth-noise model :func:`tall_shaped` reads (``tall_flat_noise``): the cloud's
-    measured one when reliable, else None (a noise-free or unorganized cloud: the width
-    bound only)."""
-    if p.tall_flat_noise <= 0 or not getattr(cloud, "organized", False):
-        return None
-    from planerel.segment.noise import estimate_noise
-
-    noise = estimate_noise(cloud)
-    return noise if noise.reliable and noise.kind != "none" else None
+    measured one when reliable, as the planes' tilt allowance reads it
+    (:func:`planerel.features.planes._measured_noise`), else None (a noise-free or
+    unorganized cloud: the width bound only)."""
+    return _measured_noise(cloud) if p.tall_flat_noise > 0 else None
 
 
 def face_bend(face, labels, xyz, up, max_points: int = PROFILE_POINTS) -> float:
