@@ -2187,6 +2187,11 @@ class ProposalParams:
         seen edge to edge (a flight going down from the landing the camera stands on, its
         risers facing away: :func:`_cut_top_steps`; tread44).  False: a cut tread is never a
         member (before 2026-12-01).
+    step_cut_chain : bool
+        In the step chains a tread the border cuts along its length extends a counted row when
+        its step repeats the row's rise and run and passes every other step test (a flight seen
+        at a yaw, its treads running out of the image's bottom edge at a slant:
+        :func:`_cut_chain_steps`; cut70).  False: such a tread is no member (before 2026-12-04).
     riser_pieces : bool
         The tread-and-riser exception's regularity test (a tread's riser below and riser
         above rise alike, within 30 %) measures the riser below in all its pieces together
@@ -2454,6 +2459,7 @@ class ProposalParams:
     cut_long_side: bool = True
     step_tread_axes: bool = True
     step_cut_top: bool = True
+    step_cut_chain: bool = True
     riser_pieces: bool = True
     floor_tread: bool = True
     side_wall_members: int = 0
@@ -3423,7 +3429,7 @@ def flight_faces(planes, labels, params: ProposalParams | None = None) -> bool:
                         (p.step_run_min, p.step_run_max), p.step_overlap or 0.5,
                         p.concave_tol, tilt=p.step_tilt, cut_long_side=p.cut_long_side,
                         skip_missing=p.skip_missing, tread_axes=p.step_tread_axes,
-                        cut_top=p.step_cut_top):
+                        cut_top=p.step_cut_top, cut_chain=p.step_cut_chain):
         return True
     # an open-riser flight's treads, fitted as strips tilted off horizontal at range
     return p.open_treads and bool(open_tread_pairs(planes, labels, (p.step_rise_min, p.step_rise_max),
@@ -3665,7 +3671,8 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      max_ratio: float = 3.0, tilt: float = 12.0, skip: bool = True,
                      min_width: float = 0.5, cut_long_side: bool = True,
                      skip_missing: bool = False, tread_axes: bool = False,
-                     chain: bool = True, cut_top: bool = False, drop_cut: bool = True):
+                     chain: bool = True, cut_top: bool = False, drop_cut: bool = True,
+                     cut_chain: bool = False):
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
     Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
@@ -3707,6 +3714,11 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     labels : iterable of int
         Planes to consider (e.g. the non-support planes); empty = all.
 
+    cut_chain : bool
+        With ``chain``, a tread the border cuts along its length still extends a counted row
+        by one step at either end when the step passes every test a step of whole treads
+        passes and repeats the row's rise and run (:func:`_cut_chain_steps`): a flight seen
+        at a yaw whose treads run out of the image's bottom edge at a slant.
     chain : bool
         False: return every step found, before the chain test (a list of ``(lower, higher,
         rise per step, unit horizontal direction (3,), span, run per step)``;
@@ -3847,6 +3859,95 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                 continue
             out.add((lo_l, hi_l))
             break
+    if cut_chain and cut and out:
+        lab = getattr(planes, "labels", None)
+        tops = [p for p in planes if p.label in cut and (not want or p.label in want)
+                and _border_share(lab, p) < CUT_CHAIN_BORDER]
+        out |= _cut_chain_steps(steps + extra, out, tops, byl, up, run, min_overlap, max_ratio,
+                                cos_tol, tread_axis if tread_axes else None)
+    return out
+
+
+#: A cut tread's step repeats its row's: rise within this share of the row's rise per step,
+#: run within :data:`CUT_CHAIN_RUN` of its run (:func:`_cut_chain_steps`)
+CUT_CHAIN_RISE = 0.15
+CUT_CHAIN_RUN = 0.2
+#: ... and the border holds under this share of the long side of the cut tread's pixel box: a
+#: tread cut at a slant shows an end or part of its near edge (0.55 in dev_st's flights seen
+#: at a yaw), the landing the camera stands on runs out of the image all along (0.94-0.97)
+CUT_CHAIN_BORDER = 0.75
+
+
+def _border_share(lab, p) -> float:
+    """Pixels of ``p`` on the image border (the sides parallel to its pixel box's long side)
+    over that long side (:func:`_cut_lengthwise`'s measure; 0 with no label image)."""
+    if lab is None:
+        return 0.0
+    r0, c0, r1, c1 = p.bbox
+    sides = "rows" if c1 - c0 >= r1 - r0 else "cols"
+    return _border_pixels(lab, p.label, p.bbox, sides) / max(1, max(r1 - r0, c1 - c0))
+
+
+def _cut_chain_steps(steps, counted, cut, by_label, up, run, min_overlap: float,
+                     max_ratio: float, cos_tol: float, tread_axis) -> set:
+    """Steps from a counted row's end tread to a tread the image border cuts along its length
+    (``cut``), one step further along the row.
+
+    The border cuts a tread "along its length" when its pixels on the border's rows (or
+    columns) reach half its pixel box's long side; a flight seen at a yaw has its treads
+    running out of the image's bottom edge at a slant, so whole treads of it are cut so.  Such
+    a tread still extends a row of steps already counted (``counted``, ``(lower, higher)``
+    pairs of ``steps``' entries ``(lower, higher, rise, direction (3,), span, run)``) when the
+    step between it and the row's end tread passes the tests a step of two whole treads passes
+    (normals within ``cos_tol``, areas within ``max_ratio``, each at most ``run[1]`` deep,
+    extents across overlapping by ``min_overlap``) and repeats the row: its rise within
+    :data:`CUT_CHAIN_RISE` of the row's step's rise, its run within :data:`CUT_CHAIN_RUN` of
+    that step's run, its direction within 25 degrees.  The caller passes only treads cut at
+    a slant (:data:`CUT_CHAIN_BORDER`): the landing the camera stands on is a step's rise
+    and, by chance, a run away too, but the border cuts it all along.  Repeated while a tread
+    joins (a row runs on through several cut treads).
+
+    Returns
+    -------
+    set of (int, int)
+        ``(lower, higher)`` label pairs.
+    """
+    cos_dir = math.cos(math.radians(25.0))
+    rows = [s for s in steps if (s[0], s[1]) in counted and s[4] == 1]
+    members = {x for pr in counted for x in pr}
+    left = [c for c in cut if c.label not in members]
+    out: set = set()
+    grown = True
+    while grown and left:
+        grown = False
+        for c in list(left):
+            nc = np.asarray(c.normal, float)
+            for lo_l, hi_l, dv, direction, _k, dist in rows:
+                for end, sign in ((by_label[hi_l], 1.0), (by_label[lo_l], -1.0)):
+                    gap = sign * (c.height - end.height)
+                    if abs(gap - dv) > CUT_CHAIN_RISE * dv:
+                        continue
+                    if max(c.area, end.area) > max_ratio * min(c.area, end.area):
+                        continue
+                    if abs(float(nc @ np.asarray(end.normal, float))) < cos_tol:
+                        continue
+                    lo, hi = (end, c) if sign > 0 else (c, end)
+                    d2, dir2 = step_offset(lo, hi, "tread", up, tread_axis)
+                    if not (run[0] <= d2 <= run[1] and abs(d2 - dist) <= CUT_CHAIN_RUN * dist
+                            and float(dir2 @ direction) >= cos_dir):
+                        continue
+                    if any(np.ptp(np.asarray(q.hull3d, float) @ dir2) > run[1] for q in (lo, hi)):
+                        continue
+                    if _across_overlap(lo, hi, up, dir2) < min_overlap:
+                        continue
+                    out.add((lo.label, hi.label))
+                    rows.append((lo.label, hi.label, dv, direction, 1, dist))
+                    left.remove(c)
+                    grown = True
+                    break
+                else:
+                    continue
+                break
     return out
 
 
@@ -4187,7 +4288,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
             params.concave_tol, tilt=params.step_tilt, cut_long_side=params.cut_long_side,
             skip_missing=params.skip_missing, tread_axes=params.step_tread_axes,
-            cut_top=params.step_cut_top))
+            cut_top=params.step_cut_top, cut_chain=params.step_cut_chain))
     if params.stacked_boards:
         # a shelf's boards, one over another at regular heights (planerel.features.boards)
         g.add_edges(stacked_board_pairs(planes, g.nodes, (params.step_rise_min, params.board_rise_max),
