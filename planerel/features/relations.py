@@ -3861,10 +3861,11 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             break
     if cut_chain and cut and out:
         lab = getattr(planes, "labels", None)
-        tops = [p for p in planes if p.label in cut and (not want or p.label in want)
-                and _border_share(lab, p) < CUT_CHAIN_BORDER]
-        out |= _cut_chain_steps(steps + extra, out, tops, byl, up, run, min_overlap, max_ratio,
-                                cos_tol, tread_axis if tread_axes else None)
+        # treads cut at a slant only: the landing the camera stands on is cut all along
+        slanted = [p for p in planes if p.label in cut and (not want or p.label in want)
+                   and _border_share(lab, p) < CUT_CHAIN_BORDER]
+        out |= _cut_chain_steps(steps + extra, out, slanted, byl, up, run, min_overlap,
+                                max_ratio, cos_tol, tread_axis if tread_axes else None)
     return out
 
 
