@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from planerel.cli import main
+from planerel.commands.classify import measures_line
 from planerel.errors import DependencyError, InputError, LearnerError, PrologError
 from planerel.ilp import metrics as M
 from planerel.ilp import pipeline as P
@@ -168,11 +169,15 @@ def test_learn_cli_then_classify_cli(small_set, tmp_path, capsys):
         # the class, then the object's planar fraction (a generated box/stairs/ramp: flat)
         shape = f"  (planar fraction {o['planar_fraction']:.2f})"
         assert o["curved"] is False and o["planar_fraction"] > 0.9
-        assert lines[n + 1:n + 4] == [f"  {o['object']}: {truth[p]}{shape}",
-                                      f"    rule:   {o['rule']}  (training precision "
-                                      f"{(tp + 1) / (tp + fp + 2):.3f})",
-                                      "    planes: " + (", ".join(o["proof_planes"])
-                                                       or "(the rule binds no plane)")]
+        # a stairs or ramp answer's flight or slope, in words, right under its class
+        measured = ([f"    {measures_line(truth[p], o['measures'])}"] if o.get("measures")
+                    else [])
+        assert bool(measured) == (truth[p] in ("stairs", "ramp") and "measures" in o)
+        want = [f"  {o['object']}: {truth[p]}{shape}", *measured,
+                f"    rule:   {o['rule']}  (training precision "
+                f"{(tp + 1) / (tp + fp + 2):.3f})",
+                "    planes: " + (", ".join(o["proof_planes"]) or "(the rule binds no plane)")]
+        assert lines[n + 1:n + 1 + len(want)] == want
 
 
 def test_classifier_explains_stairs_with_planes(gt_descs, tmp_path):

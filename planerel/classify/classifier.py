@@ -107,6 +107,11 @@ class ObjectAnswer:
         decided as an object of their own.
     cut_off : tuple of str
         The ids of the objects cut from this proposal (its ``planes`` are then the rest).
+    measures : dict or None
+        A ``stairs`` answer's flight (rise, run, rises in view, which way it goes, how far:
+        :func:`~planerel.features.object_measures.flight_measures`) or a ``ramp`` answer's
+        slope (:func:`~planerel.features.object_measures.slope_measures`); None for other
+        classes or when the proof gives none.
     """
 
     object_id: str
@@ -126,6 +131,7 @@ class ObjectAnswer:
     member: int | None = None
     cut_from: str | None = None
     cut_off: tuple = ()
+    measures: dict | None = None
 
     def to_dict(self) -> dict:
         out = {"object": self.object_id, "class": self.klass, "rule": self.rule,
@@ -140,6 +146,8 @@ class ObjectAnswer:
             out["cut_from"] = self.cut_from
         if self.cut_off:
             out["cut_off"] = list(self.cut_off)
+        if self.measures is not None:
+            out["measures"] = dict(self.measures)
         if self.votes:
             out["member"] = self.member
             out["votes"] = [{"member": n, "class": v.klass, "rule": v.rule,
@@ -240,6 +248,33 @@ LOW_PLANAR_SHARE = WIDE_FALLBACK
 
 #: The classes the far gate refuses a proof through a far plane for (``decision.far_gate``).
 FAR_GATED = (BOX, "ramp")
+
+
+def _measured(answers, desc, plane_ids, params) -> tuple:
+    """``answers`` with each ``stairs`` answer's flight and each ``ramp`` answer's slope
+    measured (:mod:`planerel.features.object_measures`): the flight from the scene's
+    ``stair_step/2`` pairs among the answer's planes, the slope from the largest of its proof
+    planes that is not upright."""
+    from planerel.features.object_measures import flight_measures, slope_measures
+    from planerel.features.relations import ProposalParams
+
+    params = params or ProposalParams()
+    label_of = {v: k for k, v in plane_ids.items()}
+    out = []
+    for a in answers:
+        m = None
+        if a.klass == "stairs":
+            m = flight_measures(desc.planes, a.labels, desc.steps, params.step_tread_axes,
+                                params.step_tilt)
+        elif a.klass == "ramp":
+            by_label = {p.label: p for p in desc.planes}
+            cand = [by_label[label_of[x]] for x in a.proof_planes
+                    if x in label_of and label_of[x] in by_label]
+            cand = [p for p in cand if p.orientation != "vertical"]
+            if cand:
+                m = slope_measures(desc.planes, max(cand, key=lambda p: p.area).label)
+        out.append(replace(a, measures=m) if m is not None else a)
+    return tuple(out)
 
 
 def _refuse(a, why):
@@ -600,7 +635,8 @@ class Classifier:
                               far=seg.info.get("far_labels") or (),
                               camera_height=camera_height, **self._describe_kw)
         plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
-        answers = self.answer_description(desc, xyz=cloud.xyz)
+        answers = _measured(self.answer_description(desc, xyz=cloud.xyz), desc, plane_ids,
+                            self._describe_kw.get("proposal_params"))
         # the labels the planes refer to (a stepped plane may have been split into levels)
         ps = desc.planes
         gravity = self._describe_kw.get("gravity_params")

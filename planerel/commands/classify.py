@@ -134,6 +134,17 @@ def _params(items) -> dict:
     return out
 
 
+def measures_line(klass: str, m: dict) -> str:
+    """One line of a ``stairs`` or ``ramp`` answer's measures, in words."""
+    if klass == "stairs":
+        run = "run not seen" if m["run_m"] is None else f"run {m['run_m']:.2f} m"
+        return (f"flight: going {m['going']}, {m['rises_seen']} rise(s) in view, rise "
+                f"{m['rise_m']:.2f} m, {run}, {m['width_m']:.2f} m wide, "
+                f"nearest step {m['distance_m']:.2f} m away")
+    return (f"slope: going {m['going']}, {m['slope_deg']:.1f} degrees, {m['length_m']:.2f} x "
+            f"{m['width_m']:.2f} m seen, nearest point {m['distance_m']:.2f} m away")
+
+
 def _classify_task(task: dict):
     """Worker: read and classify one scan, write its explanation image and JSON when asked;
     returns ``(answer as a dict, text lines)``."""
@@ -182,6 +193,8 @@ def _classify_task(task: dict):
         if o.planar_fraction is not None:
             shape = f"  (planar fraction {o.planar_fraction:.2f}{', curved' if o.curved else ''})"
         lines.append(f"  {o.object_id}: {o.klass}{shape}")
+        if o.measures:
+            lines.append(f"    {measures_line(o.klass, o.measures)}")
         if o.votes:
             lines.append(f"    votes:  {', '.join(v.klass for v in o.votes)} (members 1-"
                          f"{len(o.votes)}; the rule is member {o.member}'s)")
