@@ -102,6 +102,7 @@ from planerel.features.planes import (
 )
 from planerel.features.solid import (
     PROFILE_POINTS,
+    _skirt_geometry,
     face_profile_of,
     grounded,
     is_corner,
@@ -111,6 +112,7 @@ from planerel.features.solid import (
     level_under,
     on_step,
     rises_from,
+    skirt_covered,
     sloped_top,
     top_edge,
 )
@@ -811,17 +813,25 @@ class _Solid:
             return False
         p = self.params
         prof = self._profile(face)
+        # is_skirt's tests in an order of their cost: the offset and the ends first; the
+        # reach asked then, the lower grounded reach (its adjacent planes' tests) asked only
+        # of a face short of the usual one (the grounded reach only lowers the bar: the
+        # same answers); the cover last
+        offset, got, beyond, span = _skirt_geometry(top, self.up, prof)
+        if not (abs(offset) <= p.skirt_tol and beyond <= p.skirt_beyond):
+            return False
         # a low box's side is as low as a slab's edge: the reach asked scales with the top's
         # long side (a table top or a seat is long, a box lying flat is short)
         reach = min(p.skirt_reach, p.skirt_reach_share * top.length) if p.skirt_reach_share else p.skirt_reach
-        near = self.touching.get(face.label, ())
-        if self._grounded(top, face, reach):
-            # a side standing on the floor or a table: a box lying flat, however low
-            reach = p.skirt_grounded_reach
-        if not is_skirt(top, face, self.up, prof, self.labels, self.xyz, self.intrinsics,
-                        self.normals, p.parallel_tol, p.skirt_tol, reach,
-                        p.skirt_cover, p.skirt_beyond):
+        # a side standing on the floor or a table (a box lying flat, however low) need reach
+        # only skirt_grounded_reach
+        if not got >= reach and not (got >= p.skirt_grounded_reach
+                                     and self._grounded(top, face, reach)):
             return False
+        if not skirt_covered(face, self.up, prof, span, self.labels, self.xyz, self.intrinsics,
+                             self.normals, p.parallel_tol, p.skirt_cover):
+            return False
+        near = self.touching.get(face.label, ())
         nan = float("nan")
         steps = [(h.label, nan) for h in near if h.label != top.label and h.orientation == "horizontal"
                  and on_step(face, prof, h, self.up, p.skirt_tol, p.skirt_step)]

@@ -88,7 +88,8 @@ import numpy as np
 from planerel.features.vectors import lo_hi, vec_norm
 
 __all__ = ["face_points", "FaceProfile", "face_profile", "face_profile_of", "skirt_measures",
-           "is_skirt", "on_step", "grounded", "rises_from", "is_corner", "is_facing"]
+           "is_skirt", "skirt_covered", "on_step", "grounded", "rises_from", "is_corner",
+           "is_facing"]
 
 #: Levels of the cover test, as shares of the face's reach below the top.
 _LEVELS = (0.3, 0.5, 0.7)
@@ -332,6 +333,15 @@ def is_skirt(top, face, up, profile: FaceProfile, labels, xyz, intrinsics, norma
     offset, reach, beyond, span = _skirt_geometry(top, up, profile)
     if not (abs(offset) <= tol and reach >= reach_min and beyond <= beyond_max):
         return False
+    return skirt_covered(face, up, profile, span, labels, xyz, intrinsics, normals,
+                         parallel_tol, cover_min)
+
+
+def skirt_covered(face, up, profile: FaceProfile, span, labels, xyz, intrinsics, normals=None,
+                  parallel_tol: float = 10.0, cover_min: float = 0.7) -> bool:
+    """:func:`is_skirt`'s last test, its cover at least ``cover_min``, given the ``span`` of
+    :func:`_skirt_geometry` (the caller has made the cheap tests: ``relations._Solid.skirt``
+    makes them in its own order)."""
     if span is None or intrinsics is None:
         return bool(0.0 >= cover_min)
     return bool(_skirt_cover(face, up, profile, labels, xyz, intrinsics, normals, parallel_tol,
