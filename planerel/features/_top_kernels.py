@@ -41,6 +41,51 @@ def _near_label(labels, r0, r1, c0, c1, label, k):
 
 
 @njit(cache=True, error_model="numpy")
+def _ring_mask(labels, r0, r1, c0, c1, label, k, band):
+    """``(r1 - r0, c1 - c0)`` bool: ``_near_label(..., k) & ~_near_label(..., band)`` (``band``
+    < 0: nothing left out) from one read of the labels: each pixel's distance along its row
+    to the nearest pixel labelled ``label`` (capped at ``k + 1``), then each column's window
+    of ``k`` rows (a row within ``k``) and of ``band`` rows (a row within ``band``)."""
+    h, w = r1 - r0, c1 - c0
+    cap = k + 1
+    dh = np.empty((h, w), np.int64)
+    for i in range(h):
+        d = cap
+        for j in range(w):
+            if labels[r0 + i, c0 + j] == label:
+                d = 0
+            elif d < cap:
+                d += 1
+            dh[i, j] = d
+        d = cap
+        for j in range(w - 1, -1, -1):
+            if dh[i, j] == 0:
+                d = 0
+            elif d < cap:
+                d += 1
+            if d < dh[i, j]:
+                dh[i, j] = d
+    ring = np.zeros((h, w), np.bool_)
+    for j in range(w):
+        # as _near_label's column pass: row i - k's window [i - 2k, i] holds a row within k
+        last = -(2 * k + 1)
+        for i in range(h + k):
+            if i < h and dh[i, j] <= k:
+                last = i
+            if i >= k and i - last <= 2 * k:
+                ring[i - k, j] = True
+        if band < 0:
+            continue
+        last = -(2 * band + 1)
+        for i in range(h + band):
+            if i < h and dh[i, j] <= band:
+                last = i
+            if i >= band and i - last <= 2 * band:
+                ring[i - band, j] = False
+    return ring
+
+
+@njit(cache=True, error_model="numpy")
 def ring_counts(labels, xyz, r0, r1, c0, c1, label, k, skip, tn, tc, gn, gc, den, rise, tol,
                 band=0):
     """The ring around a ``lying`` top read against ``m`` grounds at once: the pixels of
@@ -53,13 +98,12 @@ def ring_counts(labels, xyz, r0, r1, c0, c1, label, k, skip, tn, tc, gn, gc, den
     the pixels within ``k + band`` of the label but not within ``band``: the band hugging
     the top's outline, where a depth edge's mixed pixels and the top's own side lie, is left
     out (lying56)."""
-    near = _near_label(labels, r0, r1, c0, c1, label, k + band)
-    inner = _near_label(labels, r0, r1, c0, c1, label, band) if band > 0 else near
+    ring = _ring_mask(labels, r0, r1, c0, c1, label, k + band, band if band > 0 else -1)
     m = gn.shape[0]
     out = np.zeros((m, 3), np.int64)
     for i in range(r1 - r0):
         for j in range(c1 - c0):
-            if not near[i, j] or (band > 0 and inner[i, j]):
+            if not ring[i, j]:
                 continue
             r, c = r0 + i, c0 + j
             lab = labels[r, c]
