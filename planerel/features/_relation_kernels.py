@@ -628,6 +628,22 @@ def cover_counts_at(labels, label, u, v, X, xyz, normals, n, c, cos_par):
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
+def cover_at(labels, label, xyz, normals, n, c, along, vert, ca, cu, vu, t0, t1, samples,
+             levels, fx, fy, cx, cy, cos_par):
+    """:func:`linspace` of the top's extent, :func:`cover_samples` and
+    :func:`cover_counts_at` in one call (:func:`planerel.features.solid._cover`: the same
+    samples and counts, without two calls' boxed arrays between them): ``(samples in the
+    image, covered, open)``."""
+    H, W = labels.shape
+    s = linspace(t0, t1, samples)
+    X, u, v = cover_samples(c, along, vert, ca, cu, vu, s, levels, fx, fy, cx, cy, H, W)
+    if u.shape[0] == 0:
+        return 0, 0, 0
+    covered, open_ = cover_counts_at(labels, label, u, v, X, xyz, normals, n, c, cos_par)
+    return u.shape[0], covered, open_
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def box_label_count(lab, label, r0, c0, r1, c1):
     """Pixels of ``label`` in the pixel box ``[r0, r1) x [c0, c1)``."""
     n = 0

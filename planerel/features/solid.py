@@ -230,25 +230,20 @@ def _cover(face, labels, xyz, intr, up, along, levels, t0: float, t1: float,
     c = np.asarray(face.centroid, float)
     vert = up - (up @ n) * n  # the face's own "up" (the face is vertical within tolerance)
     vert /= max(vec_norm(vert), 1e-12)
-    k = _kernels()
-    cover_counts_at, cover_samples = k.cover_counts_at, k.cover_samples
-    s = k.linspace(float(t0), float(t1), int(samples))
-
-    H, W = labels.shape
-    # the samples in the image and their pixels (one compiled pass: elementwise arithmetic,
-    # the same floats as numpy's)
-    X, u, v = cover_samples(c, np.asarray(along, float), vert, float(c @ along), float(c @ up),
-                            float(vert @ up), s, np.asarray(levels, float), float(intr.fx),
-                            float(intr.fy), float(intr.cx), float(intr.cy), H, W)
-    if u.size == 0:
-        return 0.0
-    # another piece of the same surface: a plane parallel to the face, its point on the
-    # face's plane (a side split in two by an object standing in front of it); covered: a
+    # the samples in the image and their pixels (elementwise arithmetic, the same floats as
+    # numpy's); another piece of the same surface: a plane parallel to the face, its point on
+    # the face's plane (a side split in two by an object standing in front of it); covered: a
     # pixel of the face within one pixel (the 3x3 neighbourhood, clipped to the image) or
     # that other piece; open: neither, and not hidden behind something nearer (one compiled
-    # pass; its dot products in the plain order, not numpy's BLAS products: within rounding)
-    covered, open_ = cover_counts_at(labels, int(face.label), u, v, X, xyz, normals, n, c,
-                                     float(cos_par))
+    # call, _relation_kernels.cover_at; its dot products in the plain order, not numpy's BLAS
+    # products: within rounding)
+    m, covered, open_ = _kernels().cover_at(
+        labels, int(face.label), xyz, normals, n, c, np.asarray(along, float), vert,
+        float(c @ along), float(c @ up), float(vert @ up), float(t0), float(t1), int(samples),
+        np.asarray(levels, float), float(intr.fx), float(intr.fy), float(intr.cx),
+        float(intr.cy), float(cos_par))
+    if m == 0:
+        return 0.0
     return covered / (covered + open_) if covered + open_ else 0.0
 
 
