@@ -329,6 +329,26 @@ def test_the_ring_is_the_pixels_a_square_window_reaches():
         assert got.tolist() == [[len(pts), int(at_g.sum()), int(between.sum())]]
 
 
+def test_the_ring_mask_is_the_grown_label_less_its_band():
+    """``_ring_mask`` (one read of the labels, speed70) is the pixels within ``k`` of the label
+    less those within ``band`` (``_near_label`` twice; ``band`` < 0: nothing left out), on
+    random label images and sub-boxes, the box's edges included."""
+    from planerel.features._top_kernels import _near_label, _ring_mask
+
+    rng = np.random.default_rng(70)
+    for _ in range(300):
+        h, w = int(rng.integers(1, 40)), int(rng.integers(1, 40))
+        lab = rng.choice(np.array([-1, 2, 7], np.int32), size=(h, w), p=[0.85, 0.1, 0.05])
+        r0, c0 = int(rng.integers(0, h)), int(rng.integers(0, w))
+        r1, c1 = int(rng.integers(r0 + 1, h + 1)), int(rng.integers(c0 + 1, w + 1))
+        k = int(rng.integers(0, 12))
+        band = int(rng.integers(-1, k + 1))
+        want = _near_label(lab, r0, r1, c0, c1, 7, k)
+        if band >= 0:
+            want = want & ~_near_label(lab, r0, r1, c0, c1, 7, band)
+        assert (_ring_mask(lab, r0, r1, c0, c1, 7, k, band) == want).all()
+
+
 def _smeared(cloud, lab, label, width):
     """``cloud`` with the ``width`` pixels around plane ``label``'s outline turned into a depth
     edge's mixed pixels (unassigned, their depth stepping from the top's down to what lies
