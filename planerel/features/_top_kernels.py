@@ -67,22 +67,24 @@ def _ring_mask(labels, r0, r1, c0, c1, label, k, band):
                 dh[i, j] = d
     ring = np.zeros((h, w), np.bool_)
     for j in range(w):
-        # as _near_label's column pass: row i - k's window [i - 2k, i] holds a row within k
-        last = -(2 * k + 1)
-        for i in range(h + k):
-            if i < h and dh[i, j] <= k:
-                last = i
-            if i >= k and i - last <= 2 * k:
-                ring[i - k, j] = True
-        if band < 0:
-            continue
-        last = -(2 * band + 1)
-        for i in range(h + band):
-            if i < h and dh[i, j] <= band:
-                last = i
-            if i >= band and i - last <= 2 * band:
-                ring[i - band, j] = False
+        _mark_within(dh, j, k, ring, True)
+        if band >= 0:
+            _mark_within(dh, j, band, ring, False)
     return ring
+
+
+@njit(cache=True, error_model="numpy")
+def _mark_within(dh, j, k, out, value):
+    """Set ``out[i, j] = value`` where a pixel of column ``j`` within ``k`` rows of row ``i``
+    has a row distance ``dh`` of at most ``k`` (:func:`_near_label`'s column pass: row
+    ``i - k``'s window ``[i - 2k, i]`` holds such a row)."""
+    h = dh.shape[0]
+    last = -(2 * k + 1)
+    for i in range(h + k):
+        if i < h and dh[i, j] <= k:
+            last = i
+        if i >= k and i - last <= 2 * k:
+            out[i - k, j] = value
 
 
 @njit(cache=True, error_model="numpy")
