@@ -138,3 +138,19 @@ def test_the_classify_command_prints_the_flight(model, tmp_path):
     assert out.returncode == 0, out.stderr
     line = next(x for x in out.stdout.splitlines() if x.strip().startswith("flight:"))
     assert "going up" in line and "rise 0.17 m" in line
+
+
+def test_no_finite_hull_point_gives_no_distance():
+    # JSON has no NaN: a distance that cannot be measured is None, and the text leaves it out
+    from dataclasses import replace
+
+    from planerel.commands.classify import measures_line
+    from planerel.features.object_measures import _nearest
+
+    cloud, lab, _up, _objs = _ascending()
+    d = describe_scene(cloud, lab)
+    p = d.planes[0]
+    assert _nearest([replace(p, hull3d=np.full((4, 3), np.nan))], {p.label}) is None
+    assert _nearest(d.planes, {p.label}) > 0
+    m = {"going": "up", "slope_deg": 10.0, "length_m": 1.0, "width_m": 1.0, "distance_m": None}
+    assert measures_line("ramp", m) == "slope: going up, 10.0 degrees, 1.00 x 1.00 m seen"

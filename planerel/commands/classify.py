@@ -136,13 +136,14 @@ def _params(items) -> dict:
 
 def measures_line(klass: str, m: dict) -> str:
     """One line of a ``stairs`` or ``ramp`` answer's measures, in words."""
+    far = m.get("distance_m")
     if klass == "stairs":
         run = "run not seen" if m["run_m"] is None else f"run {m['run_m']:.2f} m"
         return (f"flight: going {m['going']}, {m['rises_seen']} rise(s) in view, rise "
-                f"{m['rise_m']:.2f} m, {run}, {m['width_m']:.2f} m wide, "
-                f"nearest step {m['distance_m']:.2f} m away")
+                f"{m['rise_m']:.2f} m, {run}, {m['width_m']:.2f} m wide"
+                + ("" if far is None else f", nearest step {far:.2f} m away"))
     return (f"slope: going {m['going']}, {m['slope_deg']:.1f} degrees, {m['length_m']:.2f} x "
-            f"{m['width_m']:.2f} m seen, nearest point {m['distance_m']:.2f} m away")
+            f"{m['width_m']:.2f} m seen" + ("" if far is None else f", nearest point {far:.2f} m away"))
 
 
 def _classify_task(task: dict):

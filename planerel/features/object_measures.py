@@ -27,13 +27,13 @@ def _horizontal(v, up) -> np.ndarray:
     return v - float(v @ up) * up
 
 
-def _nearest(planes, labels) -> float:
-    """Distance (m) from the sensor to the nearest hull vertex of the planes ``labels``."""
+def _nearest(planes, labels) -> float | None:
+    """Distance (m, to the millimetre) from the sensor to the nearest finite hull vertex of the
+    planes ``labels``; None when they have none (JSON has no NaN)."""
     pts = [np.asarray(p.hull3d, float).reshape(-1, 3) for p in planes if p.label in labels]
-    pts = [q for q in pts if q.size]
-    if not pts:
-        return float("nan")
-    return float(np.min(np.linalg.norm(np.concatenate(pts), axis=1)))
+    pts = np.concatenate([q for q in pts if q.size] or [np.empty((0, 3))])
+    d = np.linalg.norm(pts[np.isfinite(pts).all(axis=1)], axis=1)
+    return round(float(d.min()), 3) if d.size else None
 
 
 #: ``going`` is ``"across"`` when the way a flight or slope rises lies more than this many
@@ -54,7 +54,8 @@ def _going(direction, centre, up) -> str:
     return "up" if c > limit else ("down" if c < -limit else "across")
 
 
-def flight_measures(planes, labels, steps, tread_axes: bool = True, tilt: float = 12.0) -> dict | None:
+def flight_measures(planes, labels, steps, tread_axes: bool = True,
+                    tilt: float = 12.0) -> dict | None:
     """A flight's measures from its step pairs.
 
     Parameters
@@ -79,12 +80,12 @@ def flight_measures(planes, labels, steps, tread_axes: bool = True, tilt: float 
         :data:`~planerel.features.relations.STAIR_RUN`, None when none is: an open-riser
         row's treads, seen as strips, do not show it), ``steps`` (the pairs measured),
         ``rises_seen`` (rises between the lowest and the highest tread in a step, or riser
-        when that spans more), ``climb_m`` (their height apart), ``width_m`` (the median extent of the step faces
-        across the flight), ``going`` (``"up"``: the flight rises away from the sensor,
-        ``"down"``: it falls away, ``"across"``: it runs across the line of sight,
-        :data:`ACROSS_DEG`), ``direction`` (unit (3,) in the sensor's frame, the way
-        it rises, level), ``distance_m`` (to the nearest step face); None with no step pair
-        among ``labels``.
+        when that spans more), ``climb_m`` (their height apart), ``width_m`` (the median
+        extent of the step faces across the flight), ``going`` (``"up"``: the flight rises
+        away from the sensor, ``"down"``: it falls away, ``"across"``: it runs across the
+        line of sight, :data:`ACROSS_DEG`), ``direction`` (unit (3,) in the sensor's frame,
+        the way it rises, level), ``distance_m`` (to the nearest step face; None when no hull
+        point is finite); None with no step pair among ``labels``.
     """
     mine = set(int(x) for x in labels)
     pairs = [(int(a), int(b)) for a, b in steps if int(a) in mine and int(b) in mine]
@@ -127,7 +128,7 @@ def flight_measures(planes, labels, steps, tread_axes: bool = True, tilt: float 
             "climb_m": round(climb, 3), "width_m": round(float(np.median(widths)), 3),
             "going": _going(direction, centre, up),
             "direction": [round(float(v), 4) for v in direction],
-            "distance_m": round(_nearest(planes, faces), 3)}
+            "distance_m": _nearest(planes, faces)}
 
 
 def slope_measures(planes, label) -> dict | None:
@@ -138,8 +139,9 @@ def slope_measures(planes, label) -> dict | None:
     dict or None
         ``slope_deg`` (the plane's incline), ``length_m`` and ``width_m`` (its seen hull's
         rectangle), ``going`` (``"up"``: it rises away from the sensor, ``"down"``: it falls
-        away, ``"across"``: it rises across the line of sight), ``direction`` (unit (3,), level, the way it rises), ``distance_m`` (to its
-        nearest hull point); None when the plane is not found or is level.
+        away, ``"across"``: it rises across the line of sight), ``direction`` (unit (3,),
+        level, the way it rises), ``distance_m`` (to its nearest hull point, or None); None
+        when the plane is not found or is level.
     """
     p = next((q for q in planes if q.label == label), None)
     if p is None:
@@ -156,4 +158,4 @@ def slope_measures(planes, label) -> dict | None:
             "length_m": round(float(p.length), 3), "width_m": round(float(p.width), 3),
             "going": _going(direction, np.asarray(p.centroid, float), up),
             "direction": [round(float(v), 4) for v in direction],
-            "distance_m": round(_nearest(planes, {p.label}), 3)}
+            "distance_m": _nearest(planes, {p.label})}
