@@ -118,6 +118,7 @@ from planerel.features.solid import (
 )
 from planerel.features.step_geometry import (  # noqa: F401 (re-exported: tables, plan_overlap, tests)
     _border_pixels,
+    _border_share,
     _cut_lengthwise,
     _horizontal_basis,
     _tread_depth_axis,
@@ -3785,9 +3786,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
             # each face is one step deep (treads) or high (risers): not a floor or a landing
             depth_axis = direction if kind[lo.label] == "tread" else up
             limit = run[1] if kind[lo.label] == "tread" else rise[1]
-            if any(np.ptp(np.asarray(q.hull3d, float) @ depth_axis) > limit for q in (lo, hi)):
-                continue
-            if _across_overlap(lo, hi, up, direction) < min_overlap:
+            if not _step_faces(lo, hi, up, direction, depth_axis, limit, min_overlap):
                 continue
             steps.append((lo.label, hi.label, dv / k, direction, k, dist / k))
     cos_dir = math.cos(math.radians(25.0))
@@ -3889,16 +3888,6 @@ CUT_CHAIN_RUN = 0.2
 CUT_CHAIN_BORDER = 0.75
 
 
-def _border_share(lab, p) -> float:
-    """Pixels of ``p`` on the image border (the sides parallel to its pixel box's long side)
-    over that long side (:func:`_cut_lengthwise`'s measure; 0 with no label image)."""
-    if lab is None:
-        return 0.0
-    r0, c0, r1, c1 = p.bbox
-    sides = "rows" if c1 - c0 >= r1 - r0 else "cols"
-    return _border_pixels(lab, p.label, p.bbox, sides) / max(1, max(r1 - r0, c1 - c0))
-
-
 def _cut_chain_steps(steps, counted, cut, by_label, up, run, min_overlap: float,
                      max_ratio: float, cos_tol: float, tread_axis) -> set:
     """Steps from a counted row's end tread to a tread the image border cuts along its length
@@ -3927,39 +3916,49 @@ def _cut_chain_steps(steps, counted, cut, by_label, up, run, min_overlap: float,
     rows = [s for s in steps if (s[0], s[1]) in counted and s[4] == 1]
     members = {x for pr in counted for x in pr}
     left = [c for c in cut if c.label not in members]
+
+    def extends(c, row):
+        """The step ``(lower, higher)`` from ``row``'s lower or higher end to the cut tread
+        ``c`` that repeats the row and passes the step tests, or None."""
+        lo_l, hi_l, dv, direction, _k, dist = row
+        for end, sign in ((by_label[hi_l], 1.0), (by_label[lo_l], -1.0)):
+            if abs(sign * (c.height - end.height) - dv) > CUT_CHAIN_RISE * dv \
+                    or max(c.area, end.area) > max_ratio * min(c.area, end.area) \
+                    or abs(float(np.asarray(c.normal, float) @ np.asarray(end.normal, float))) \
+                    < cos_tol:
+                continue
+            lo, hi = (end, c) if sign > 0 else (c, end)
+            d2, dir2 = step_offset(lo, hi, "tread", up, tread_axis)
+            if (run[0] <= d2 <= run[1] and abs(d2 - dist) <= CUT_CHAIN_RUN * dist
+                    and float(dir2 @ direction) >= cos_dir
+                    and _step_faces(lo, hi, up, dir2, dir2, run[1], min_overlap)):
+                return lo, hi
+        return None
+
     out: set = set()
     grown = True
     while grown and left:
         grown = False
         for c in list(left):
-            nc = np.asarray(c.normal, float)
-            for lo_l, hi_l, dv, direction, _k, dist in rows:
-                for end, sign in ((by_label[hi_l], 1.0), (by_label[lo_l], -1.0)):
-                    gap = sign * (c.height - end.height)
-                    if abs(gap - dv) > CUT_CHAIN_RISE * dv:
-                        continue
-                    if max(c.area, end.area) > max_ratio * min(c.area, end.area):
-                        continue
-                    if abs(float(nc @ np.asarray(end.normal, float))) < cos_tol:
-                        continue
-                    lo, hi = (end, c) if sign > 0 else (c, end)
-                    d2, dir2 = step_offset(lo, hi, "tread", up, tread_axis)
-                    if not (run[0] <= d2 <= run[1] and abs(d2 - dist) <= CUT_CHAIN_RUN * dist
-                            and float(dir2 @ direction) >= cos_dir):
-                        continue
-                    if any(np.ptp(np.asarray(q.hull3d, float) @ dir2) > run[1] for q in (lo, hi)):
-                        continue
-                    if _across_overlap(lo, hi, up, dir2) < min_overlap:
-                        continue
+            for row in rows:
+                step = extends(c, row)
+                if step is not None:
+                    lo, hi = step
                     out.add((lo.label, hi.label))
-                    rows.append((lo.label, hi.label, dv, direction, 1, dist))
+                    rows.append((lo.label, hi.label, row[2], row[3], 1, row[5]))
                     left.remove(c)
                     grown = True
                     break
-                else:
-                    continue
-                break
     return out
+
+
+def _step_faces(lo, hi, up, direction, depth_axis, limit: float, min_overlap: float) -> bool:
+    """The last tests of a step between the faces ``lo`` and ``hi``: each at most ``limit``
+    deep along ``depth_axis`` (one step deep or high: not a floor or a landing), and their
+    extents across ``direction`` overlapping by at least ``min_overlap`` (interval IoU)."""
+    if any(np.ptp(np.asarray(q.hull3d, float) @ depth_axis) > limit for q in (lo, hi)):
+        return False
+    return _across_overlap(lo, hi, up, direction) >= min_overlap
 
 
 #: Metres: how far the plan gap between a cut top tread's far edge and the lower tread's near

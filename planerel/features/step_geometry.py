@@ -29,13 +29,18 @@ def _cut_lengthwise(planes, along_long_side: bool = True, labels=None) -> set:
     lab = getattr(planes, "labels", None) if labels is None else labels
     if lab is None or lab.size == 0:
         return set()
-    out = set()
-    for p in planes:
-        r0, c0, r1, c1 = p.bbox
-        sides = ("rows" if c1 - c0 >= r1 - r0 else "cols") if along_long_side else "all"
-        if _border_pixels(lab, p.label, p.bbox, sides) >= 0.5 * max(r1 - r0, c1 - c0):
-            out.add(p.label)
-    return out
+    return {p.label for p in planes if _border_share(lab, p, along_long_side) >= 0.5}
+
+
+def _border_share(lab, p, along_long_side: bool = True) -> float:
+    """Pixels of the plane ``p`` on the image border over the long side of its pixel box
+    (:func:`_cut_lengthwise`'s measure; with ``along_long_side`` only the border sides
+    parallel to that long side count); 0 with no label image."""
+    if lab is None or lab.size == 0:
+        return 0.0
+    r0, c0, r1, c1 = p.bbox
+    sides = ("rows" if c1 - c0 >= r1 - r0 else "cols") if along_long_side else "all"
+    return _border_pixels(lab, p.label, p.bbox, sides) / max(1, max(r1 - r0, c1 - c0))
 
 
 def _border_pixels(lab, label: int, bbox, sides: str = "all") -> int:
