@@ -260,6 +260,7 @@ def _measured(answers, desc, plane_ids, params) -> tuple:
 
     params = params or ProposalParams()
     label_of = {v: k for k, v in plane_ids.items()}
+    by_label = {p.label: p for p in desc.planes}
     out = []
     for a in answers:
         m = None
@@ -267,7 +268,6 @@ def _measured(answers, desc, plane_ids, params) -> tuple:
             m = flight_measures(desc.planes, a.labels, desc.steps, params.step_tread_axes,
                                 params.step_tilt)
         elif a.klass == "ramp":
-            by_label = {p.label: p for p in desc.planes}
             cand = [by_label[label_of[x]] for x in a.proof_planes
                     if x in label_of and label_of[x] in by_label]
             cand = [p for p in cand if p.orientation != "vertical"]
