@@ -116,6 +116,7 @@ from planerel.features.solid import (
     sloped_top,
     top_edge,
 )
+from planerel.features.tread_pieces import tread_unions
 from planerel.features.step_geometry import (  # noqa: F401 (re-exported: tables, plan_overlap, tests)
     _border_pixels,
     _border_share,
@@ -2203,6 +2204,12 @@ class ProposalParams:
         its step repeats the row's rise and run and passes every other step test (a flight seen
         at a yaw, its treads running out of the image's bottom edge at a slant:
         :func:`_cut_chain_steps`; cut70).  False: such a tread is no member (before 2026-12-04).
+    step_tread_pieces : bool
+        In the step chains, treads lying as coplanar pieces of one tread side by side are also
+        tested as their union, and a step of the union makes each piece a member (a tread the
+        segmentation leaves in two pieces along its length, each half the flight's width:
+        :mod:`planerel.features.tread_pieces`; pieces71).  False: each piece alone (before
+        2026-12-04).
     riser_pieces : bool
         The tread-and-riser exception's regularity test (a tread's riser below and riser
         above rise alike, within 30 %) measures the riser below in all its pieces together
@@ -2471,6 +2478,7 @@ class ProposalParams:
     step_tread_axes: bool = True
     step_cut_top: bool = True
     step_cut_chain: bool = True
+    step_tread_pieces: bool = True
     riser_pieces: bool = True
     floor_tread: bool = True
     side_wall_members: int = 0
@@ -3440,7 +3448,8 @@ def flight_faces(planes, labels, params: ProposalParams | None = None) -> bool:
                         (p.step_run_min, p.step_run_max), p.step_overlap or 0.5,
                         p.concave_tol, tilt=p.step_tilt, cut_long_side=p.cut_long_side,
                         skip_missing=p.skip_missing, tread_axes=p.step_tread_axes,
-                        cut_top=p.step_cut_top, cut_chain=p.step_cut_chain):
+                        cut_top=p.step_cut_top, cut_chain=p.step_cut_chain,
+                        tread_pieces=p.step_tread_pieces):
         return True
     # an open-riser flight's treads, fitted as strips tilted off horizontal at range
     return p.open_treads and bool(open_tread_pairs(planes, labels, (p.step_rise_min, p.step_rise_max),
@@ -3683,7 +3692,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_width: float = 0.5, cut_long_side: bool = True,
                      skip_missing: bool = False, tread_axes: bool = False,
                      chain: bool = True, cut_top: bool = False, drop_cut: bool = True,
-                     cut_chain: bool = False):
+                     cut_chain: bool = False, tread_pieces: bool = False):
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
     Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
@@ -3730,6 +3739,11 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
         by one step at either end when the step passes every test a step of whole treads
         passes and repeats the row's rise and run (:func:`_cut_chain_steps`): a flight seen
         at a yaw whose treads run out of the image's bottom edge at a slant.
+    tread_pieces : bool
+        Treads lying as coplanar pieces of one tread side by side (:func:`planerel.features.
+        tread_pieces.tread_unions`) also take part as their union, and a step or pair of the
+        union names each piece: a tread in two pieces, each half the flight's width, fails
+        the overlap and area tests against the whole tread below it.
     chain : bool
         False: return every step found, before the chain test (a list of ``(lower, higher,
         rise per step, unit horizontal direction (3,), span, run per step)``;
@@ -3753,6 +3767,13 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                           getattr(planes, "labels", None)) if drop_cut else set()
     cands = [p for p in planes if (not want or p.label in want) and kind[p.label]
              and not (kind[p.label] == "tread" and p.label in cut)]
+    unions = {}
+    if tread_pieces:
+        unions = tread_unions([p for p in cands if kind[p.label] == "tread"], up, cos_tol,
+                              max((p.label for p in planes), default=0) + 1)
+        for k, (u, _) in unions.items():
+            cands.append(u)
+            kind[k] = "tread"
     steps = []  # (lower, higher, rise per step, unit horizontal direction)
     spans = (1, 2) if skip else (1,)
     axes_of: dict = {}
@@ -3822,7 +3843,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
         extra = _cut_top_steps(lows, tops, up, rise, run, min_overlap, max_ratio, cos_tol,
                                tread_axis)
     if not chain:
-        return steps + extra
+        return _spread_steps(steps + extra, unions) if unions else steps + extra
     out = set()
     for s1 in steps:
         for s2 in steps:
@@ -3836,6 +3857,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     # run of them (the landing or floor, support or cut by the border; it does not join the
     # proposal), when both treads are flight-like: wide and shallow
     byl = {p.label: p for p in planes}
+    byl.update((k, u) for k, (u, _) in unions.items())
     anchors = [p for p in planes if kind[p.label] == "tread"]
     members: set = set()
     n_steps = len(steps)
@@ -3875,6 +3897,20 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                    and _border_share(lab, p) < CUT_CHAIN_BORDER]
         out |= _cut_chain_steps(steps + extra, out, slanted, byl, up, run, min_overlap,
                                 max_ratio, cos_tol, tread_axis if tread_axes else None)
+    if unions:
+        return {pr[:2] for pr in _spread_steps([(lo, hi) for lo, hi in out], unions)}
+    return out
+
+
+def _spread_steps(steps, unions) -> list:
+    """``steps`` (tuples beginning ``(lower, higher)``) with each union of tread pieces
+    (``unions``, :func:`~planerel.features.tread_pieces.tread_unions`) replaced by its pieces:
+    one tuple a piece (two unions: a tuple a pair of pieces), the rest of the tuple kept."""
+    out = []
+    for s in steps:
+        los = unions[s[0]][1] if s[0] in unions else (s[0],)
+        his = unions[s[1]][1] if s[1] in unions else (s[1],)
+        out.extend((lo, hi) + tuple(s[2:]) for lo in los for hi in his)
     return out
 
 
@@ -4298,7 +4334,8 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
             params.concave_tol, tilt=params.step_tilt, cut_long_side=params.cut_long_side,
             skip_missing=params.skip_missing, tread_axes=params.step_tread_axes,
-            cut_top=params.step_cut_top, cut_chain=params.step_cut_chain))
+            cut_top=params.step_cut_top, cut_chain=params.step_cut_chain,
+            tread_pieces=params.step_tread_pieces))
     if params.stacked_boards:
         # a shelf's boards, one over another at regular heights (planerel.features.boards)
         g.add_edges(stacked_board_pairs(planes, g.nodes, (params.step_rise_min, params.board_rise_max),
