@@ -116,7 +116,6 @@ from planerel.features.solid import (
     sloped_top,
     top_edge,
 )
-from planerel.features.tread_pieces import tread_unions
 from planerel.features.step_geometry import (  # noqa: F401 (re-exported: tables, plan_overlap, tests)
     _border_pixels,
     _border_share,
@@ -124,6 +123,7 @@ from planerel.features.step_geometry import (  # noqa: F401 (re-exported: tables
     _horizontal_basis,
     _tread_depth_axis,
 )
+from planerel.features.tread_pieces import tread_unions
 from planerel.features.vectors import cross3, lo_hi, vec_norm
 from planerel.features.walls import flight_side, room_wall, stepped_side, top_line
 
