@@ -1,0 +1,190 @@
+"""One step face seen as several coplanar pieces side by side, taken whole for the step tests.
+
+A tread (or riser) the segmentation leaves in two or three pieces along its length (a gap of
+missing depth across it, a rail's post, the far end of a long tread at low resolution) fails
+the step tests piece by piece: a piece spans half the flight's width, so its extent across
+the flight overlaps the whole face below it by under half (dev_sr i0008: 0.48), and its area
+is a third of that face's.  :func:`step_face_unions` finds such pieces and gives their union as
+one plane; :func:`planerel.features.relations.step_chain_pairs` tests steps with the union and
+names each piece in the pairs it returns.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from planerel.features.step_geometry import _tread_depth_axis
+from planerel.features.vectors import cross3, vec_norm
+
+__all__ = ["step_face_unions", "PIECE_LEVEL", "PIECE_GAP", "PIECE_DEPTH", "PIECE_SIDE"]
+
+#: Metres: two pieces of one face lie in one plane within this (a tread's height, a riser's
+#: place along its normal; a step rises 8 cm at least, a piece's plane fit is within a
+#: centimetre of the other's)
+PIECE_LEVEL = 0.03
+#: Metres: the gap between two pieces along the face's length (dev_sr i0008: 0.15 of missing
+#: depth between two pieces of a 1.18 m tread)
+PIECE_GAP = 0.25
+#: Their extents across the face's length (a tread's along the step direction, a riser's
+#: along up) overlap by at least this (interval IoU): one strip, not one tread behind the other
+PIECE_DEPTH = 0.5
+#: Their extents along the face's length overlap by at most this share of the shorter one's:
+#: side by side, not one over the other
+PIECE_SIDE = 0.1
+
+
+def _axes(face, kind: str, up) -> tuple[np.ndarray, np.ndarray] | None:
+    """The face's ``(length, depth)`` unit axes ``(3,)``: a tread's depth is its step direction
+    (:func:`~planerel.features.step_geometry._tread_depth_axis`), a riser's is up; the length
+    runs across both (along the nosing).  None for a degenerate face."""
+    up = np.asarray(up, float)
+    if kind == "tread":
+        depth, elong = _tread_depth_axis(face, up)
+        if elong <= 0:
+            return None
+    else:
+        depth = up
+    length = cross3(up, np.asarray(face.normal, float) if kind == "riser" else depth)
+    norm = vec_norm(length)
+    if norm < 1e-6:
+        return None
+    return length / norm, depth
+
+
+def _interval(H, axis) -> tuple[float, float]:
+    v = H @ axis
+    return float(v.min()), float(v.max())
+
+
+def _pieces(a, b, kind: str, up, cos_tol: float) -> bool:
+    """True when the faces ``a`` and ``b`` (both treads or both risers) lie as two pieces of
+    one face side by side."""
+    na, nb = np.asarray(a.normal, float), np.asarray(b.normal, float)
+    cos = float(na @ nb)
+    if abs(cos) < cos_tol:
+        return False
+    big = a if a.area >= b.area else b
+    axes = _axes(big, kind, up)
+    if axes is None:
+        return False
+    if kind == "riser":
+        # the same plane: the other's centroid within PIECE_LEVEL of the larger one's plane
+        small = b if big is a else a
+        off = (np.asarray(small.centroid, float) - np.asarray(big.centroid, float)) \
+            @ np.asarray(big.normal, float)
+        if abs(float(off)) > PIECE_LEVEL:
+            return False
+    elif abs(a.height - b.height) > PIECE_LEVEL:
+        return False
+    length, depth = axes
+    Ha, Hb = np.asarray(a.hull3d, float), np.asarray(b.hull3d, float)
+    (a0, a1), (b0, b1) = _interval(Ha, depth), _interval(Hb, depth)
+    union = max(a1, b1) - min(a0, b0)
+    if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < PIECE_DEPTH:
+        return False
+    (a0, a1), (b0, b1) = _interval(Ha, length), _interval(Hb, length)
+    gap = max(a0, b0) - min(a1, b1)  # > 0: apart; < 0: overlapping by -gap
+    return -PIECE_SIDE * min(a1 - a0, b1 - b0) <= gap <= PIECE_GAP
+
+
+def _union(group, kind: str, up, label: int):
+    """One plane standing for the pieces ``group`` (a list of Plane): the convex hull of their
+    hulls in the larger piece's ``(length, depth)`` frame, their areas summed, centroid and
+    height weighted by area; None when the hull is degenerate."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    w = np.array([p.area for p in group], float)
+    if w.sum() <= 0:
+        return None
+    big = group[int(np.argmax(w))]
+    axes = _axes(big, kind, up)
+    if axes is None:
+        return None
+    length, depth = axes
+    pts = np.concatenate([np.asarray(p.hull3d, float) for p in group])
+    try:
+        order = ConvexHull(np.stack([pts @ length, pts @ depth], 1)).vertices
+    except (QhullError, ValueError):
+        return None
+    normals = np.array([np.asarray(p.normal, float) for p in group])
+    normals *= np.sign(normals @ np.asarray(big.normal, float))[:, None]
+    normal = (w[:, None] * normals).sum(0)
+    normal /= np.linalg.norm(normal)
+    centroid = (w[:, None] * np.array([np.asarray(p.centroid, float) for p in group])).sum(0) \
+        / w.sum()
+    hull3d = pts[order]
+    boxes = np.array([p.bbox for p in group])
+    return dataclasses.replace(
+        big, label=label, n_points=int(sum(p.n_points for p in group)), normal=normal,
+        centroid=centroid, hull3d=hull3d, area=float(w.sum()),
+        height=float((w * [p.height for p in group]).sum() / w.sum()),
+        length=float(np.ptp(hull3d @ length)), width=float(np.ptp(hull3d @ depth)),
+        bbox=(int(boxes[:, 0].min()), int(boxes[:, 1].min()), int(boxes[:, 2].max()),
+              int(boxes[:, 3].max())),
+        touches_border=any(p.touches_border for p in group))
+
+
+def step_face_unions(faces, kind: str, up, cos_tol: float, first_label: int) -> dict:
+    """Groups of step faces lying as pieces of one face side by side, each as one plane.
+
+    Two faces of one kind are pieces of one when their normals agree within ``cos_tol`` (a
+    cosine), they lie in one plane within :data:`PIECE_LEVEL` (treads: their heights; risers:
+    the smaller one's centroid off the larger one's plane), their extents across the larger
+    one's length (a tread's step direction, a riser's up) overlap by :data:`PIECE_DEPTH`
+    (interval IoU), and along its length they lie side by side: a gap of at most
+    :data:`PIECE_GAP`, an overlap of at most :data:`PIECE_SIDE` of the shorter one's extent.
+    Groups are the connected sets of such pairs.
+
+    Parameters
+    ----------
+    faces : sequence of Plane
+        Step faces of one kind.
+    kind : str
+        ``"tread"`` (level faces) or ``"riser"`` (upright ones).
+    up : ndarray, shape (3,)
+    cos_tol : float
+        The cosine two pieces' normals reach at least.
+    first_label : int
+        The label of the first union; the next take the following integers (labels no
+        plane of the scene has).
+
+    Returns
+    -------
+    dict
+        ``{label: (union Plane, tuple of the pieces' labels)}``, in the order of the
+        pieces' first labels.
+    """
+    if kind not in ("tread", "riser"):
+        raise ValueError(f"kind must be 'tread' or 'riser', got {kind!r}")
+    faces = list(faces)
+    n = len(faces)
+    if n < 2:
+        return {}
+    root = list(range(n))
+
+    def find(i):
+        while root[i] != i:
+            root[i] = root[root[i]]
+            i = root[i]
+        return i
+
+    for i in range(n):
+        for j in range(i + 1, n):
+            if _pieces(faces[i], faces[j], kind, up, cos_tol):
+                root[find(j)] = find(i)
+    groups: dict = {}
+    for i in range(n):
+        groups.setdefault(find(i), []).append(faces[i])
+    out: dict = {}
+    label = first_label
+    for members in groups.values():
+        if len(members) < 2:
+            continue
+        u = _union(members, kind, up, label)
+        if u is None:
+            continue
+        out[label] = (u, tuple(p.label for p in members))
+        label += 1
+    return out
