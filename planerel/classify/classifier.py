@@ -14,6 +14,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import itertools
+import math
 import re
 import tempfile
 import time
@@ -277,6 +278,53 @@ def _measured(answers, desc, plane_ids, params) -> tuple:
     return tuple(out)
 
 
+#: Degrees: a slope rises "the flight's way" when its level direction lies within this of the
+#: direction the object's steps rise (``decision.pitch_gate``)
+PITCH_WAY = 30.0
+
+
+def _pitch_gate(desc, plane_ids, params):
+    """``pitch_of(labels) -> pitch(plane id)`` for ``decision.pitch_gate``
+    (:func:`~planerel.ilp.metrics.pitch_refusals`): for an object's planes ``labels``, a
+    function giving an inclined plane's ``(incline, flight pitch)`` in degrees when it rises
+    within :data:`PITCH_WAY` of the way the object's own steps rise (the scene's
+    ``stair_step/2`` pairs among ``labels``, :func:`~planerel.features.object_measures.
+    flight_measures`; the pitch is the arctangent of their median rise over median run), else
+    None (an upright or level plane, another way, no steps or no run measured).  The flight is
+    measured once an object, and only when asked."""
+    from planerel.features.object_measures import flight_measures, slope_measures
+    from planerel.features.relations import ProposalParams
+
+    params = params or ProposalParams()
+    label_of = {v: k for k, v in plane_ids.items()}
+    ps = desc.planes
+    cos_way = math.cos(math.radians(PITCH_WAY))
+
+    def pitch_of(labels):
+        @functools.cache
+        def flight():
+            m = flight_measures(ps, labels, desc.steps, params.step_tread_axes, params.step_tilt)
+            if m is None or not m["run_m"]:
+                return None
+            return math.degrees(math.atan2(m["rise_m"], m["run_m"])), np.asarray(m["direction"])
+
+        def pitch(pid):
+            lab = label_of.get(pid)
+            if lab is None or lab not in labels or ps.by_label(lab).orientation != "inclined":
+                return None
+            f = flight()
+            if f is None:
+                return None
+            slope = slope_measures(ps, lab)
+            if slope is None or float(np.asarray(slope["direction"]) @ f[1]) < cos_way:
+                return None
+            return float(ps.by_label(lab).incline), f[0]
+
+        return pitch
+
+    return pitch_of
+
+
 def _refuse(a, why):
     """The answer ``a`` turned to ``other`` by a decision gate, ``why`` (the gate's refusal)
     added to its refusals."""
@@ -497,6 +545,10 @@ class Classifier:
         self.facet_gate = ((decision.facet_min, decision.facet_max) if decision.facet_gate
                            else None)
         self.facet_bridge = decision.facet_bridge
+        #: no ``ramp`` at the pitch of the object's own flight when a ``stairs`` rule proves it
+        #: too (:func:`~planerel.ilp.metrics.pitch_refusals`; ``decision.pitch_gate``): the
+        #: tolerance in degrees, or None when off; a scan's decision, as the side gate
+        self.pitch_tol = decision.pitch_tol if decision.pitch_gate else None
         #: a box inside a merged proposal decided on its own (``decision.cut_boxes``,
         #: :mod:`planerel.features.box_cut`): ``(reach, margin, corner, pieces)``, or None when off
         self.cut_boxes = ((decision.cut_reach, decision.cut_margin, decision.cut_corner,
@@ -1003,6 +1055,9 @@ class Classifier:
             facet_angles = _facet_angles(desc, xyz, plane_ids, cp.facet_max_width,
                                          cp.facet_wide_ratio,
                                          self.facet_gate if self.facet_bridge else None)
+        pitch_of = None
+        if self.pitch_tol is not None and {"ramp", "stairs"} <= set(self.classes):
+            pitch_of = _pitch_gate(desc, plane_ids, proposal_params)
         for o in desc.objects:
             facet = None
             if facet_angles is not None:
@@ -1048,7 +1103,9 @@ class Classifier:
                                    [f[1] for f in (side(plane_ids.get(lab))
                                                    for lab in o.planes)
                                     if f is not None and f[0] == "horizontal"],
-                                   unsure=unsure, facet=facet)
+                                   unsure=unsure, facet=facet,
+                                   pitch=None if pitch_of is None else pitch_of(o.planes),
+                                   pitch_tol=self.pitch_tol or 0.0)
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)
             if best is None:

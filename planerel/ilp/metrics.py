@@ -197,6 +197,11 @@ FLIGHT_SIDE_GAP = 0.35
 FLIGHT_SIDE_REACH = 0.5
 FLIGHT_SIDE_RISE = 0.2
 FLIGHT_SIDE_ANGLE = 15.0
+#: Defaults of :attr:`DecisionParams.pitch_gate` and ``pitch_tol`` (degrees; pitch71).
+PITCH_GATE = True
+PITCH_TOL = 3.0
+#: The class :func:`pitch_refusals` refuses, and the class whose hit it asks for.
+PITCH_CLASS, PITCH_FLIGHT = "ramp", "stairs"
 #: Defaults of :attr:`DecisionParams.flight_trim` and its bounds (lead57).
 FLIGHT_TRIM = True
 FLIGHT_TRIM_ANGLE = 25.0
@@ -457,6 +462,19 @@ class DecisionParams:
         A corner partner is no box corner when a third upright plane of the object is a facet
         neighbour of both (a round side's fan of three strips whose ends are 85 degrees
         apart: rs-booth 1025_test9's can).
+    pitch_gate : bool
+        On by default (pitch71, 2026-12-04).  No ``ramp`` for an object a ``stairs`` rule
+        proves too when every sloping plane of the ramp's proof rises the way the object's
+        own steps rise (within 30 degrees) at the flight's pitch (the arctangent of its
+        steps' median rise over their median run, :func:`~planerel.features.object_measures.
+        flight_measures`) within ``pitch_tol`` degrees: the flight's far part, whose treads
+        and risers are too small to be planes there, grown as one surface along its nosings
+        (dev_sr i0021: a flight of rise 0.168 m and run 0.338 m, pitch 26.4 degrees, its far
+        part two planes of 26.4 and 26.2 degrees).  A ramp beside a flight at the flight's
+        own pitch is then answered with the flight.  Only classify applies it
+        (:func:`pitch_refusals`).
+    pitch_tol : float
+        Degrees (0..90).
     flight_side_gate : bool
         On by default (wall56, 2026-12-02).  No ``box`` for an object that runs beside a
         flight answered ``stairs`` in the same scan: a staircase's side wall, knee wall or
@@ -614,6 +632,8 @@ class DecisionParams:
     facet_min: float = FACET_MIN
     facet_max: float = FACET_MAX
     facet_bridge: bool = FACET_BRIDGE
+    pitch_gate: bool = PITCH_GATE
+    pitch_tol: float = PITCH_TOL
     flight_side_gate: bool = FLIGHT_SIDE_GATE
     flight_side_thick: float = FLIGHT_SIDE_THICK
     flight_side_gap: float = FLIGHT_SIDE_GAP
@@ -644,7 +664,7 @@ class DecisionParams:
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
                      "side_gate", "unsure_gate", "unsure_upside", "facet_gate", "facet_bridge",
-                     "cut_boxes",
+                     "cut_boxes", "pitch_gate",
                      "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate",
                      "narrow_face_gate", "far_gate"):
             if not isinstance(getattr(self, gate), bool):
@@ -672,7 +692,8 @@ class DecisionParams:
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
                 raise InputError(f"decision.{name} must be a number >= 0, got {m!r}")
-        for name in ("facet_min", "facet_max", "flight_side_angle", "flight_trim_angle"):
+        for name in ("facet_min", "facet_max", "flight_side_angle", "flight_trim_angle",
+                     "pitch_tol"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or not 0 <= m <= 90):
@@ -1447,6 +1468,73 @@ def side_refusals(hits, stats: Sequence, side=None, treads=()):
 
 
 @dataclass(frozen=True)
+class PitchRefusal:
+    """``ramp`` proved with sloping planes at the pitch of the flight a ``stairs`` rule proves
+    of the same object (:func:`pitch_refusals`)."""
+
+    klass: str
+    rule: int
+    #: the proof's sloping plane farthest off the flight's pitch: its incline (degrees)
+    incline: float
+    #: the flight's pitch (degrees) from the object's steps
+    pitch: float
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it with a slope of {self.incline:.1f} degrees, the "
+                f"pitch of the flight the object's own steps make ({self.pitch:.1f}): the "
+                f"flight's far part seen as one surface")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "incline": round(self.incline, 2),
+                "pitch": round(self.pitch, 2), "reason": self.reason}
+
+
+def pitch_refusals(hits, stats: Sequence, pitch=None, tol: float = PITCH_TOL):
+    """Leave out the ``ramp`` hits whose sloping proof planes all lie at the pitch of the flight
+    a ``stairs`` hit proves of the same object.
+
+    A flight seen from far shows its near steps as treads and risers and its far part, whose
+    faces are too small to be planes, as one surface along its nosings: a plane rising the
+    flight's way at the flight's pitch (the arctangent of rise over run).  A hit of
+    :data:`PITCH_CLASS` is refused when a hit of :data:`PITCH_FLIGHT` is among ``hits`` and
+    every plane of its proof that ``pitch`` measures lies within ``tol`` degrees of the
+    flight's pitch.  A proof without a measured plane is kept.
+
+    Parameters
+    ----------
+    pitch : callable or None
+        ``pitch(plane id) -> (incline, flight pitch) or None`` in degrees (None for a plane
+        that is not inclined, that rises another way than the object's steps, or when the
+        object's steps give no pitch); None: the gate is off.
+    tol : float
+        Degrees.
+
+    Returns
+    -------
+    (list, tuple of PitchRefusal)
+        The hits left, and one :class:`PitchRefusal` per refused rule that takes part in the
+        decision (:func:`takes_part`).
+    """
+    if (pitch is None or not any(h[0] == PITCH_CLASS for h in hits)
+            or not any(h[0] == PITCH_FLIGHT for h in hits)):
+        return list(hits), ()
+
+    def refuse(hit):
+        if hit[0] != PITCH_CLASS:
+            return None
+        measured = [m for m in (pitch(v) for v in dict(hit[2]).values()) if m is not None]
+        if not measured:
+            return None
+        worst = max(measured, key=lambda m: abs(m[0] - m[1]))
+        if abs(worst[0] - worst[1]) > float(tol):
+            return None
+        return PitchRefusal(PITCH_CLASS, hit[1], float(worst[0]), float(worst[1]))
+
+    return _refuse_hits(hits, stats, refuse)
+
+
+@dataclass(frozen=True)
 class UnsureRefusal:
     """``ramp`` proved in a scene whose up is a low-confidence estimate with no floor in view,
     or an estimate read upside down (:func:`unsure_refusals`)."""
@@ -1872,12 +1960,13 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            distances=None, ranges: Sequence = (), range_margin: float = RANGE_MARGIN,
            foot=None, foot_above: float = FOOT_ABOVE, foot_below: float = FOOT_BELOW,
            foot_hidden: float = FOOT_HIDDEN, foot_float: float = FOOT_FLOAT, side=None,
-           treads=(), unsure=None, facet=None):
+           treads=(), unsure=None, facet=None, pitch=None, pitch_tol: float = PITCH_TOL):
     """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
     default, off), :func:`side_refusals` (``side``, and the object's ``treads``; None,
     the default, off), :func:`unsure_refusals` (``unsure``; None, the default, off),
-    :func:`facet_refusals` (``facet``; None, the default, off),
-    :func:`proof_refusals` (with ``proofs``, the
+    :func:`facet_refusals` (``facet``; None, the default, off), :func:`pitch_refusals`
+    (``pitch`` and ``pitch_tol``; None, the default, off), :func:`proof_refusals` (with
+    ``proofs``, the
     model's :func:`proof_domain`), :func:`size_refusals` (``sizes``, the model's
     :func:`size_domain`, and the scene's plane ``extents``), :func:`slender_refusals`
     (``slenders``, the model's :func:`slender_domain`, and the scene's tops' ``slender``),
@@ -1895,7 +1984,8 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
     Returns
     -------
     (hit or None, tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal,
-    LevelRefusal, FlightRefusal, FootRefusal, SideRefusal, UnsureRefusal and VetoRefusal)
+    LevelRefusal, FlightRefusal, FootRefusal, SideRefusal, UnsureRefusal,
+    FacetRefusal, PitchRefusal and VetoRefusal)
         The chosen hit (None: :data:`OTHER`) and the rules and classes refused.
     """
     kept, small = proof_refusals(hits, stats, proofs, proof_margin, proof_min_positives)
@@ -1912,10 +2002,11 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
     kept, under = side_refusals(kept, stats, side, treads)
     kept, doubt = unsure_refusals(kept, stats, unsure)
     kept, round_ = facet_refusals(kept, stats, facet)
+    kept, pitched = pitch_refusals(kept, stats, pitch, pitch_tol)
     kept, vetoes = veto_refusals(kept, stats, veto_ratio)
     return (choose_class(kept, stats, classes, cofire),
             small + large + thin + far + refused + flat + steps + feet + under + doubt
-            + round_ + vetoes)
+            + round_ + pitched + vetoes)
 
 
 def error_kinds(examples: Sequence, predictions: dict, fired: dict, stats: Sequence) -> dict:
