@@ -76,6 +76,22 @@ def test_an_ascending_flight_is_measured(model):
                for o in ans.objects if o.klass not in ("stairs", "ramp"))
 
 
+def test_a_pair_two_rises_apart_counts_as_two_steps():
+    # the flight's treads with the step pairs as an open-riser row may give them: the second
+    # pair skips a tread (walrus-stairs: 0.153 and 0.308 m gave a median "rise" of 0.231)
+    cloud, lab, _up, objs = _ascending()
+    desc = describe_scene(cloud, lab)
+    ps = desc.planes
+    treads = sorted((p for p in ps if objs[p.label] == 1 and p.orientation == "horizontal"),
+                    key=lambda p: p.height)
+    assert len(treads) >= 4
+    t = [p.label for p in treads]
+    m = flight_measures(ps, t, [(t[0], t[1]), (t[1], t[3])])
+    assert m["rise_m"] == pytest.approx(RISE, abs=0.01)
+    assert m["run_m"] == pytest.approx(RUN, abs=0.02)
+    assert m["rises_seen"] == 3
+
+
 def test_a_flight_going_down_from_its_landing():
     # the flight turned 25 degrees, seen from its landing: it falls away from the camera
     cloud, lab, _up, objs = _flight(yaw=25)

@@ -74,6 +74,11 @@ def test_a_tread_in_two_pieces_joins_the_flight():
     # each piece makes a step with the lower tread
     low = min(treads, key=lambda k: on.planes.by_label(k).height)
     assert _steps(on, treads, True) == {(low, k) for k in treads - {low}}
+    # the steps themselves (the stair_step/2 facts) name the larger piece only: one step
+    big = max(treads - {low}, key=lambda k: on.planes.by_label(k).area)
+    steps = step_chain_pairs(on.planes, treads, (0.08, 0.3), (0.12, 0.6), face_pieces=True,
+                             chain=False)
+    assert {(s[0], s[1]) for s in steps} == {(low, big)}
 
 
 def test_the_union_stands_for_both_pieces():
@@ -95,9 +100,11 @@ def test_the_union_stands_for_both_pieces():
 
 
 @pytest.mark.parametrize("kw", [dict(lift=2 * PIECE_LEVEL), dict(gap=0.45),
-                                dict(behind=True, gap=0.02, eye=2.0)])
+                                dict(behind=True, gap=0.02, eye=2.0),
+                                dict(gap=0.05, split_at=0.45)])
 def test_no_union_of_what_is_not_one_tread(kw):
-    # pieces at two levels, far apart along the length, or one behind the other are no tread
+    # pieces at two levels, far apart along the length, one behind the other, or a tread and
+    # a sliver beside it (0.125 of 1.15 m: under PIECE_SHARE) are no tread
     cloud, lab, _up, objs = _flight_from_top(**kw)
     desc = describe_scene(cloud, lab)
     ps = desc.planes

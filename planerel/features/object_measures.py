@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from planerel.features.relations import STAIR_RUN, _step_kind, step_offset
+from planerel.features.relations import STAIR_RISE, STAIR_RUN, _step_kind, step_offset
 from planerel.features.step_geometry import _tread_depth_axis
 
 __all__ = ["flight_measures", "slope_measures"]
@@ -76,7 +76,8 @@ def flight_measures(planes, labels, steps, tread_axes: bool = True,
     Returns
     -------
     dict or None
-        ``rise_m`` and ``run_m`` (medians over the steps; the run over those within
+        ``rise_m`` and ``run_m`` (medians over the steps, a pair more than one stair rise
+        apart counted as the rises it spans: :func:`_spans`; the run over those within
         :data:`~planerel.features.relations.STAIR_RUN`, None when none is: an open-riser
         row's treads, seen as strips, do not show it), ``steps`` (the pairs measured),
         ``rises_seen`` (rises between the lowest and the highest tread in a step, or riser
@@ -109,6 +110,11 @@ def flight_measures(planes, labels, steps, tread_axes: bool = True,
         rises.append(float(hi.height - lo.height))
         runs.append(float(dist))
         dirs.append(np.asarray(direction, float))
+    # a pair two rises apart (an open-riser row's slabs with the one between not seen) is
+    # that many steps: its rise and run each spread over them
+    spans = _spans(rises)
+    rises = [r / k for r, k in zip(rises, spans, strict=True)]
+    runs = [r / k for r, k in zip(runs, spans, strict=True)]
     # one way for the flight: the steps' directions summed after turning each to the first's
     ref = dirs[0]
     total = sum((d if float(d @ ref) >= 0 else -d) for d in dirs)
@@ -129,6 +135,26 @@ def flight_measures(planes, labels, steps, tread_axes: bool = True,
             "going": _going(direction, centre, up),
             "direction": [round(float(v), 4) for v in direction],
             "distance_m": _nearest(planes, faces)}
+
+
+def _spans(rises) -> list[int]:
+    """How many rises each of ``rises`` (m, one a step pair) spans: 1 within one stair rise
+    (:data:`~planerel.features.relations.STAIR_RISE`'s upper bound), else the whole number
+    nearest its ratio to the median of those within it (at least 2; with none, as many as
+    that bound needs).  An open-riser row's pair may span two rises when the slab between is
+    not seen (walrus-stairs: rises 0.153 and 0.308 m, the median was 0.231)."""
+    top = STAIR_RISE[1]
+    single = [r for r in rises if r <= top]
+    ref = float(np.median(single)) if single else None
+    out = []
+    for r in rises:
+        if r <= top:
+            out.append(1)
+        elif ref:
+            out.append(max(2, int(round(r / ref))))
+        else:
+            out.append(max(2, math.ceil(r / top)))
+    return out
 
 
 def slope_measures(planes, label) -> dict | None:

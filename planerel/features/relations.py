@@ -3742,9 +3742,10 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     face_pieces : bool
         Treads (or risers) lying as coplanar pieces of one face side by side
         (:func:`planerel.features.step_pieces.step_face_unions`) also take part as their
-        union, and a step or pair of the union names each piece: a tread in two pieces, each
-        half the flight's width, fails the overlap and area tests against the whole tread
-        below it.
+        union: a counted pair of the union names each piece (they join the flight), a step
+        of ``chain=False`` its largest piece only (one step, as a whole face's).  A tread in
+        two pieces, each half the flight's width, fails the overlap and area tests against
+        the whole tread below it.
     chain : bool
         False: return every step found, before the chain test (a list of ``(lower, higher,
         rise per step, unit horizontal direction (3,), span, run per step)``;
@@ -3847,7 +3848,8 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
         extra = _cut_top_steps(lows, tops, up, rise, run, min_overlap, max_ratio, cos_tol,
                                tread_axis)
     if not chain:
-        return _spread_steps(steps + extra, unions) if unions else steps + extra
+        # each union's largest piece only: one step, not one a piece (the stair_step/2 facts)
+        return _spread_steps(steps + extra, unions, largest=True) if unions else steps + extra
     out = set()
     for s1 in steps:
         for s2 in steps:
@@ -3906,14 +3908,16 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     return out
 
 
-def _spread_steps(steps, unions) -> list:
-    """``steps`` (tuples beginning ``(lower, higher)``) with each union of tread pieces
+def _spread_steps(steps, unions, largest: bool = False) -> list:
+    """``steps`` (tuples beginning ``(lower, higher)``) with each union of face pieces
     (``unions``, :func:`~planerel.features.step_pieces.step_face_unions`) replaced by its pieces:
-    one tuple a piece (two unions: a tuple a pair of pieces), the rest of the tuple kept."""
+    one tuple a piece (two unions: a tuple a pair of pieces), the rest of the tuple kept; with
+    ``largest``, by its largest piece only (a step named once, as a whole face's would be)."""
     out = []
+    keep = slice(0, 1) if largest else slice(None)
     for s in steps:
-        los = unions[s[0]][1] if s[0] in unions else (s[0],)
-        his = unions[s[1]][1] if s[1] in unions else (s[1],)
+        los = unions[s[0]][1][keep] if s[0] in unions else (s[0],)
+        his = unions[s[1]][1][keep] if s[1] in unions else (s[1],)
         out.extend((lo, hi) + tuple(s[2:]) for lo in los for hi in his)
     return out
 

@@ -18,7 +18,8 @@ import numpy as np
 from planerel.features.step_geometry import _tread_depth_axis
 from planerel.features.vectors import cross3, vec_norm
 
-__all__ = ["step_face_unions", "PIECE_LEVEL", "PIECE_GAP", "PIECE_DEPTH", "PIECE_SIDE"]
+__all__ = ["step_face_unions", "PIECE_LEVEL", "PIECE_GAP", "PIECE_DEPTH", "PIECE_SIDE",
+           "PIECE_SHARE"]
 
 #: Metres: two pieces of one face lie in one plane within this (a tread's height, a riser's
 #: place along its normal; a step rises 8 cm at least, a piece's plane fit is within a
@@ -33,6 +34,9 @@ PIECE_DEPTH = 0.5
 #: Their extents along the face's length overlap by at most this share of the shorter one's:
 #: side by side, not one over the other
 PIECE_SIDE = 0.1
+#: Each is at least this share of the two's summed length: pieces, not a tread and a sliver
+#: beside it (active-stereo treads break into strips a tenth as long, dev_sts i0028)
+PIECE_SHARE = 0.25
 
 
 def _axes(face, kind: str, up) -> tuple[np.ndarray, np.ndarray] | None:
@@ -85,8 +89,11 @@ def _pieces(a, b, kind: str, up, cos_tol: float) -> bool:
     if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < PIECE_DEPTH:
         return False
     (a0, a1), (b0, b1) = _interval(Ha, length), _interval(Hb, length)
+    short = min(a1 - a0, b1 - b0)
+    if short < PIECE_SHARE * ((a1 - a0) + (b1 - b0)):
+        return False
     gap = max(a0, b0) - min(a1, b1)  # > 0: apart; < 0: overlapping by -gap
-    return -PIECE_SIDE * min(a1 - a0, b1 - b0) <= gap <= PIECE_GAP
+    return -PIECE_SIDE * short <= gap <= PIECE_GAP
 
 
 def _union(group, kind: str, up, label: int):
@@ -134,8 +141,9 @@ def step_face_unions(faces, kind: str, up, cos_tol: float, first_label: int) -> 
     the smaller one's centroid off the larger one's plane), their extents across the larger
     one's length (a tread's step direction, a riser's up) overlap by :data:`PIECE_DEPTH`
     (interval IoU), and along its length they lie side by side: a gap of at most
-    :data:`PIECE_GAP`, an overlap of at most :data:`PIECE_SIDE` of the shorter one's extent.
-    Groups are the connected sets of such pairs.
+    :data:`PIECE_GAP`, an overlap of at most :data:`PIECE_SIDE` of the shorter one's extent,
+    each at least :data:`PIECE_SHARE` of the two's summed length.  Groups are the connected
+    sets of such pairs.
 
     Parameters
     ----------
@@ -153,8 +161,8 @@ def step_face_unions(faces, kind: str, up, cos_tol: float, first_label: int) -> 
     Returns
     -------
     dict
-        ``{label: (union Plane, tuple of the pieces' labels)}``, in the order of the
-        pieces' first labels.
+        ``{label: (union Plane, tuple of the pieces' labels, the largest by area first)}``, in
+        the order of the pieces' first labels.
     """
     if kind not in ("tread", "riser"):
         raise ValueError(f"kind must be 'tread' or 'riser', got {kind!r}")
@@ -185,6 +193,7 @@ def step_face_unions(faces, kind: str, up, cos_tol: float, first_label: int) -> 
         u = _union(members, kind, up, label)
         if u is None:
             continue
-        out[label] = (u, tuple(p.label for p in members))
+        big_first = sorted(members, key=lambda p: (-p.area, p.label))
+        out[label] = (u, tuple(p.label for p in big_first))
         label += 1
     return out
