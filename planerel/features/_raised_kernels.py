@@ -17,9 +17,13 @@ from planerel.features._relation_kernels import median
 def _on_plane(L, X, q, label, n0, n1, n2, d0):
     """``(on, height)`` of flat pixel ``q``: whether it is the plane's (its label, a finite
     depth) and its height over the plane ``n . x - d0`` rounded to float32 as ``h`` stores it
-    (0 when it is not the plane's).  Inlined: the four rows' reads stay in registers."""
-    if L[q] == label and math.isfinite(X[3 * q + 2]):
-        return True, np.float32(X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0)
+    (0 when it is not the plane's).  Inlined: the four rows' reads stay in registers.  The
+    point's offsets unsigned (``3 * q`` with a signed 3 is int64, and numba wraps every
+    signed index around: two more instructions a read)."""
+    p = np.uint64(3) * q
+    if L[q] == label and math.isfinite(X[p + np.uint64(2)]):
+        return True, np.float32(X[p] * n0 + X[p + np.uint64(1)] * n1 + X[p + np.uint64(2)] * n2
+                                - d0)
     return False, np.float32(0.0)
 
 
@@ -115,7 +119,9 @@ def _raised_rows_flagged(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step, min_r
     ccnt = np.empty(cap, np.int64)
     m = 0
     cs = np.zeros(W)
-    cc = np.zeros(W, np.int64)
+    # the windows' pixel counts as floats (whole numbers, exact): the product test's
+    # half * cc * shrink without a conversion of int64 (AVX2 has none for a vector of them)
+    cc = np.zeros(W)
     flag = np.zeros(W, np.uint8)
     half = 0.5 * min_rise
     shrink = 1.0 - 1e-12
@@ -128,13 +134,8 @@ def _raised_rows_flagged(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step, min_r
         for t in range(m4):
             base = (r0 + (i + t) * f) * cols + c0
             for j in range(rr):
-                q = np.uint64(base + j * f)
-                if L[q] == label and math.isfinite(X[3 * q + 2]):
-                    on[i + t, j] = True
-                    h[i + t, j] = X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0
-                else:
-                    on[i + t, j] = False
-                    h[i + t, j] = 0.0
+                on[i + t, j], h[i + t, j] = _on_plane(L, X, np.uint64(base + j * f), label,
+                                                      n0, n1, n2, d0)
         if m4 == 4:
             s0 = 0.0
             s1 = 0.0
@@ -162,16 +163,18 @@ def _raised_rows_flagged(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step, min_r
             b1 = b0 + f * cols
             b2 = b1 + f * cols
             b3 = b2 + f * cols
+            # (the columns as unsigned indices: no wraparound of each read and write)
             for j in range(W):
+                ju = np.uint64(j)
                 if j + r < W:
-                    jr = j + r
+                    jr = np.uint64(j + r)
                     # each pixel's flag and height kept in locals for the row sums (the
                     # height rounded to float32 as its store rounds it: the same values
                     # summed in the same order as read back from h)
-                    o0, v0 = _on_plane(L, X, np.uint64(b0 + jr * f), label, n0, n1, n2, d0)
-                    o1, v1 = _on_plane(L, X, np.uint64(b1 + jr * f), label, n0, n1, n2, d0)
-                    o2, v2 = _on_plane(L, X, np.uint64(b2 + jr * f), label, n0, n1, n2, d0)
-                    o3, v3 = _on_plane(L, X, np.uint64(b3 + jr * f), label, n0, n1, n2, d0)
+                    o0, v0 = _on_plane(L, X, np.uint64(b0 + (j + r) * f), label, n0, n1, n2, d0)
+                    o1, v1 = _on_plane(L, X, np.uint64(b1 + (j + r) * f), label, n0, n1, n2, d0)
+                    o2, v2 = _on_plane(L, X, np.uint64(b2 + (j + r) * f), label, n0, n1, n2, d0)
+                    o3, v3 = _on_plane(L, X, np.uint64(b3 + (j + r) * f), label, n0, n1, n2, d0)
                     on[i, jr] = o0
                     on[i + 1, jr] = o1
                     on[i + 2, jr] = o2
@@ -189,22 +192,23 @@ def _raised_rows_flagged(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step, min_r
                     k2 += o2
                     k3 += o3
                 if j - r - 1 >= 0:
-                    s0 -= h[i, j - r - 1]
-                    s1 -= h[i + 1, j - r - 1]
-                    s2 -= h[i + 2, j - r - 1]
-                    s3 -= h[i + 3, j - r - 1]
-                    k0 -= on[i, j - r - 1]
-                    k1 -= on[i + 1, j - r - 1]
-                    k2 -= on[i + 2, j - r - 1]
-                    k3 -= on[i + 3, j - r - 1]
-                rs[g0, j] = s0
-                rs[g1, j] = s1
-                rs[g2, j] = s2
-                rs[g3, j] = s3
-                rc[g0, j] = k0
-                rc[g1, j] = k1
-                rc[g2, j] = k2
-                rc[g3, j] = k3
+                    jl = np.uint64(j - r - 1)
+                    s0 -= h[i, jl]
+                    s1 -= h[i + 1, jl]
+                    s2 -= h[i + 2, jl]
+                    s3 -= h[i + 3, jl]
+                    k0 -= on[i, jl]
+                    k1 -= on[i + 1, jl]
+                    k2 -= on[i + 2, jl]
+                    k3 -= on[i + 3, jl]
+                rs[g0, ju] = s0
+                rs[g1, ju] = s1
+                rs[g2, ju] = s2
+                rs[g3, ju] = s3
+                rc[g0, ju] = k0
+                rc[g1, ju] = k1
+                rc[g2, ju] = k2
+                rc[g3, ju] = k3
         else:
             s = 0.0
             c = 0
@@ -216,13 +220,8 @@ def _raised_rows_flagged(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step, min_r
             for j in range(W):
                 if j + r < W:
                     jr = j + r
-                    q = np.uint64(base + jr * f)
-                    if L[q] == label and math.isfinite(X[3 * q + 2]):
-                        on[i, jr] = True
-                        h[i, jr] = X[3 * q] * n0 + X[3 * q + 1] * n1 + X[3 * q + 2] * n2 - d0
-                    else:
-                        on[i, jr] = False
-                        h[i, jr] = 0.0
+                    on[i, jr], h[i, jr] = _on_plane(L, X, np.uint64(base + jr * f), label,
+                                                    n0, n1, n2, d0)
                     s += h[i, jr]
                     c += on[i, jr]
                 if j - r - 1 >= 0:
@@ -290,14 +289,17 @@ def _raised_rows_flagged(xyz, lab, label, r0, c0, H, W, f, n, d0, r, step, min_r
                      & np.uint8(not (cs[j] <= half * cc[j] * shrink)))
                 flag[j] = g
                 nf += g
-            if nf:
-                for j in range(W):
-                    if flag[j]:
-                        co[m] = o
-                        cj[m] = j
-                        csum[m] = cs[j]
-                        ccnt[m] = cc[j]
-                        m += 1
+            # (read up to the row's last flagged window only)
+            j = 0
+            while nf:
+                if flag[j]:
+                    co[m] = o
+                    cj[m] = j
+                    csum[m] = cs[j]
+                    ccnt[m] = np.int64(cc[j])
+                    m += 1
+                    nf -= 1
+                j += 1
             o += 1
     return on, h, vals[:k], co, cj, csum, ccnt, m
 
