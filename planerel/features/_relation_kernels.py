@@ -843,7 +843,9 @@ def box_profile(lab, xyz, label, r0, c0, r1, c1, k, up, along):
     :func:`box_points` (the same pixels), in one pass without the points: the face profile
     of :func:`planerel.features.solid.face_profile_of`.  The dot products are summed in the
     plain order ``x u0 + y u1 + z u2`` (numpy's matrix product, BLAS, may round the last bit
-    otherwise: ``tests/test_relation_kernels.py`` compares within 1e-12).
+    otherwise: ``tests/test_relation_kernels.py`` compares within 1e-12).  The box lies in
+    the image (``0 <= r0``, ``0 <= c0``, ``r1 <= H``, ``c1 <= W``: clipped as
+    :func:`planerel.features.solid._face_box` clips it).
 
     Returns
     -------
@@ -860,9 +862,12 @@ def box_profile(lab, xyz, label, r0, c0, r1, c1, k, up, along):
     for r in range(r0, r1, k):
         _prefetch_box_row(lab, xyz, r + k, r1, c0, c1)
         for c in range(c0, c1, k):
-            if lab[r, c] != label:
+            # (an unsigned column, >= 0 as the box is: numba wraps a signed one around at
+            # every read)
+            cu = np.uint64(c)
+            if lab[r, cu] != label:
                 continue
-            x, y, z = xyz[r, c, 0], xyz[r, c, 1], xyz[r, c, 2]
+            x, y, z = xyz[r, cu, 0], xyz[r, cu, 1], xyz[r, cu, 2]
             if np.isfinite(x) and np.isfinite(y) and np.isfinite(z):
                 hu[m] = x * u0 + y * u1 + z * u2
                 ha[m] = x * a0 + y * a1 + z * a2
