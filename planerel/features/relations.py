@@ -123,7 +123,7 @@ from planerel.features.step_geometry import (  # noqa: F401 (re-exported: tables
     _horizontal_basis,
     _tread_depth_axis,
 )
-from planerel.features.step_pieces import step_face_unions
+from planerel.features.tread_pieces import tread_unions
 from planerel.features.vectors import cross3, lo_hi, vec_norm
 from planerel.features.walls import flight_side, room_wall, stepped_side, top_line
 
@@ -2204,11 +2204,11 @@ class ProposalParams:
         its step repeats the row's rise and run and passes every other step test (a flight seen
         at a yaw, its treads running out of the image's bottom edge at a slant:
         :func:`_cut_chain_steps`; cut70).  False: such a tread is no member (before 2026-12-04).
-    step_face_pieces : bool
-        In the step chains, treads (or risers) lying as coplanar pieces of one face side by
-        side are also tested as their union, and a step of the union makes each piece a member
-        (a tread the segmentation leaves in two pieces along its length, each half the flight's
-        width: :mod:`planerel.features.step_pieces`; pieces71).  False: each piece alone (before
+    step_tread_pieces : bool
+        In the step chains, treads lying as coplanar pieces of one tread side by side are also
+        tested as their union, and a step of the union makes each piece a member (a tread the
+        segmentation leaves in two pieces along its length, each half the flight's width:
+        :mod:`planerel.features.tread_pieces`; pieces71).  False: each piece alone (before
         2026-12-04).
     riser_pieces : bool
         The tread-and-riser exception's regularity test (a tread's riser below and riser
@@ -2478,7 +2478,7 @@ class ProposalParams:
     step_tread_axes: bool = True
     step_cut_top: bool = True
     step_cut_chain: bool = True
-    step_face_pieces: bool = True
+    step_tread_pieces: bool = True
     riser_pieces: bool = True
     floor_tread: bool = True
     side_wall_members: int = 0
@@ -3449,7 +3449,7 @@ def flight_faces(planes, labels, params: ProposalParams | None = None) -> bool:
                         p.concave_tol, tilt=p.step_tilt, cut_long_side=p.cut_long_side,
                         skip_missing=p.skip_missing, tread_axes=p.step_tread_axes,
                         cut_top=p.step_cut_top, cut_chain=p.step_cut_chain,
-                        face_pieces=p.step_face_pieces):
+                        tread_pieces=p.step_tread_pieces):
         return True
     # an open-riser flight's treads, fitted as strips tilted off horizontal at range
     return p.open_treads and bool(open_tread_pairs(planes, labels, (p.step_rise_min, p.step_rise_max),
@@ -3692,7 +3692,7 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_width: float = 0.5, cut_long_side: bool = True,
                      skip_missing: bool = False, tread_axes: bool = False,
                      chain: bool = True, cut_top: bool = False, drop_cut: bool = True,
-                     cut_chain: bool = False, face_pieces: bool = False):
+                     cut_chain: bool = False, tread_pieces: bool = False):
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
     Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
@@ -3739,9 +3739,9 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
         by one step at either end when the step passes every test a step of whole treads
         passes and repeats the row's rise and run (:func:`_cut_chain_steps`): a flight seen
         at a yaw whose treads run out of the image's bottom edge at a slant.
-    face_pieces : bool
-        Treads (or risers) lying as coplanar pieces of one face side by side
-        (:func:`planerel.features.step_pieces.step_face_unions`) also take part as their
+    tread_pieces : bool
+        Treads lying as coplanar pieces of one tread side by side
+        (:func:`planerel.features.tread_pieces.tread_unions`) also take part as their
         union: a counted pair of the union names each piece (they join the flight), a step
         of ``chain=False`` its largest piece only (one step, as a whole face's).  A tread in
         two pieces, each half the flight's width, fails the overlap and area tests against
@@ -3770,15 +3770,12 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     cands = [p for p in planes if (not want or p.label in want) and kind[p.label]
              and not (kind[p.label] == "tread" and p.label in cut)]
     unions: dict = {}
-    if face_pieces:
-        for face_kind in ("tread", "riser"):
-            first = max([p.label for p in planes] + list(unions), default=0) + 1
-            made = step_face_unions([p for p in cands if kind[p.label] == face_kind],
-                                    face_kind, up, cos_tol, first)
-            for k, (u, _) in made.items():
-                cands.append(u)
-                kind[k] = face_kind
-            unions.update(made)
+    if tread_pieces:
+        unions = tread_unions([p for p in cands if kind[p.label] == "tread"], up, cos_tol,
+                              max((p.label for p in planes), default=0) + 1)
+        for k, (u, _) in unions.items():
+            cands.append(u)
+            kind[k] = "tread"
     steps = []  # (lower, higher, rise per step, unit horizontal direction)
     spans = (1, 2) if skip else (1,)
     axes_of: dict = {}
@@ -3909,8 +3906,8 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
 
 
 def _spread_steps(steps, unions, largest: bool = False) -> list:
-    """``steps`` (tuples beginning ``(lower, higher)``) with each union of face pieces
-    (``unions``, :func:`~planerel.features.step_pieces.step_face_unions`) replaced by its pieces:
+    """``steps`` (tuples beginning ``(lower, higher)``) with each union of tread pieces
+    (``unions``, :func:`~planerel.features.tread_pieces.tread_unions`) replaced by its pieces:
     one tuple a piece (two unions: a tuple a pair of pieces), the rest of the tuple kept; with
     ``largest``, by its largest piece only (a step named once, as a whole face's would be)."""
     out = []
@@ -4343,7 +4340,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             params.concave_tol, tilt=params.step_tilt, cut_long_side=params.cut_long_side,
             skip_missing=params.skip_missing, tread_axes=params.step_tread_axes,
             cut_top=params.step_cut_top, cut_chain=params.step_cut_chain,
-            face_pieces=params.step_face_pieces))
+            tread_pieces=params.step_tread_pieces))
     if params.stacked_boards:
         # a shelf's boards, one over another at regular heights (planerel.features.boards)
         g.add_edges(stacked_board_pairs(planes, g.nodes, (params.step_rise_min, params.board_rise_max),

@@ -72,7 +72,7 @@ def stair_steps(planes, labels, params: ProposalParams | None = None,
             planes, labels, STAIR_RISE, STAIR_RUN, p.step_overlap or 0.5, p.concave_tol,
             tilt=p.step_tilt, skip=False, cut_long_side=p.cut_long_side,
             tread_axes=p.step_tread_axes, chain=False, cut_top=p.step_cut_top,
-            face_pieces=p.step_face_pieces) if span == 1}
+            tread_pieces=p.step_tread_pieces) if span == 1}
     if slabs >= 3:
         # an open-riser flight's treads, fitted as strips tilted off horizontal at range
         rows = {(int(lo), int(hi)) for lo, hi in open_tread_pairs(

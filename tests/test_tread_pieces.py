@@ -1,6 +1,6 @@
-"""pieces71: a tread (or riser) seen as two coplanar pieces side by side is tested whole in the
-step chains (``ProposalParams.step_face_pieces``, :mod:`planerel.features.step_pieces`;
-docs/results.md "A tread in pieces")."""
+"""pieces71: a tread seen as two coplanar pieces side by side is tested whole in the step chains
+(``ProposalParams.step_tread_pieces``, :mod:`planerel.features.tread_pieces`; docs/results.md
+"A tread in pieces")."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from scenes_analytic import Rect, floor, render
 from planerel.errors import InputError
 from planerel.features.facts import describe_scene
 from planerel.features.relations import ProposalParams, step_chain_pairs
-from planerel.features.step_pieces import PIECE_LEVEL, step_face_unions
+from planerel.features.tread_pieces import PIECE_LEVEL, tread_unions
 
 RISE, RUN, WIDTH, NOSE = 0.2, 0.3, 1.2, 0.8
 
@@ -58,25 +58,25 @@ def _treads(desc, objs):
 
 
 def _steps(desc, treads, on):
-    return step_chain_pairs(desc.planes, treads, (0.08, 0.3), (0.12, 0.6), face_pieces=on)
+    return step_chain_pairs(desc.planes, treads, (0.08, 0.3), (0.12, 0.6), tread_pieces=on)
 
 
 def test_a_tread_in_two_pieces_joins_the_flight():
     cloud, lab, _up, objs = _flight_from_top()
-    off = describe_scene(cloud, lab, proposal_params=ProposalParams(step_face_pieces=False))
+    off = describe_scene(cloud, lab, proposal_params=ProposalParams(step_tread_pieces=False))
     treads = _treads(off, objs)
     assert len(treads) == 3  # two pieces and the lower tread
     # each piece alone spans under half the flight's width: no step, no one proposal
     assert not _steps(off, treads, False)
     assert not any(treads <= set(o.planes) for o in off.objects)
-    on = describe_scene(cloud, lab, proposal_params=ProposalParams(step_face_pieces=True))
+    on = describe_scene(cloud, lab, proposal_params=ProposalParams(step_tread_pieces=True))
     assert any(treads <= set(o.planes) for o in on.objects)
     # each piece makes a step with the lower tread
     low = min(treads, key=lambda k: on.planes.by_label(k).height)
     assert _steps(on, treads, True) == {(low, k) for k in treads - {low}}
     # the steps themselves (the stair_step/2 facts) name the larger piece only: one step
     big = max(treads - {low}, key=lambda k: on.planes.by_label(k).area)
-    steps = step_chain_pairs(on.planes, treads, (0.08, 0.3), (0.12, 0.6), face_pieces=True,
+    steps = step_chain_pairs(on.planes, treads, (0.08, 0.3), (0.12, 0.6), tread_pieces=True,
                              chain=False)
     assert {(s[0], s[1]) for s in steps} == {(low, big)}
 
@@ -86,7 +86,7 @@ def test_the_union_stands_for_both_pieces():
     desc = describe_scene(cloud, lab)
     ps = desc.planes
     treads = [p for p in ps if objs[p.label] == 1 and p.orientation == "horizontal"]
-    unions = step_face_unions(treads, "tread", np.asarray(ps.up), np.cos(np.radians(10.0)), 100)
+    unions = tread_unions(treads, np.asarray(ps.up), np.cos(np.radians(10.0)), 100)
     assert list(unions) == [100]
     u, pieces = unions[100]
     by = {p.label: p for p in treads}
@@ -110,58 +110,17 @@ def test_no_union_of_what_is_not_one_tread(kw):
     ps = desc.planes
     treads = [p for p in ps if objs[p.label] == 1 and p.orientation == "horizontal"]
     assert len(treads) == 3
-    assert step_face_unions(treads, "tread", np.asarray(ps.up), np.cos(np.radians(10.0)), 100) == {}
-
-
-def _flight_from_below(gap=0.15, whole=False):
-    """An ascending flight of four steps seen from 2.5 m before it by a camera 1.2 m up, its
-    second riser (object 1) two pieces side by side ``gap`` m apart (one with ``whole``)."""
-    rects = [floor()]
-    y0 = 2.5
-    for i in range(4):
-        y, z = y0 + i * RUN, (i + 0.5) * RISE
-        if i == 1 and not whole:
-            left = right = WIDTH / 2 - gap / 2  # each 0.44 of the width
-            rects += [Rect((-WIDTH / 2 + left / 2, y, z), (1, 0, 0), (0, 0, 1), left / 2,
-                           RISE / 2, 1),
-                      Rect((WIDTH / 2 - right / 2, y, z), (1, 0, 0), (0, 0, 1), right / 2,
-                           RISE / 2, 1)]
-        else:
-            rects.append(Rect((0, y, z), (1, 0, 0), (0, 0, 1), WIDTH / 2, RISE / 2, 1))
-        rects.append(Rect((0, y + RUN / 2, (i + 1) * RISE), (1, 0, 0), (0, 1, 0), WIDTH / 2,
-                          RUN / 2, 1))
-    return render(rects, pitch=15.0, cam_height=1.2, noise=0.001)
-
-
-def test_a_riser_in_two_pieces_makes_its_steps():
-    cloud, lab, _up, objs = _flight_from_below()
-    desc = describe_scene(cloud, lab)
-    risers = {p.label for p in desc.planes if objs[p.label] == 1
-              and p.orientation == "vertical"}
-    assert len(risers) == 5  # four risers, the second in two pieces
-    ps = desc.planes
-    unions = step_face_unions([ps.by_label(k) for k in risers], "riser", np.asarray(ps.up),
-                              np.cos(np.radians(10.0)), 100)
-    assert len(unions) == 1
-    (_u, pieces), = unions.values()
-    # the risers alone (no treads): each piece is under half the flight's width, so without
-    # the union the row breaks at the second riser
-    off = _steps(desc, risers, False)
-    on = _steps(desc, risers, True)
-    assert not any(k in pr for pr in off for k in pieces)
-    first = min(risers, key=lambda k: ps.by_label(k).height)
-    third = min(risers - set(pieces) - {first}, key=lambda k: ps.by_label(k).height)
-    assert {(first, k) for k in pieces} | {(k, third) for k in pieces} <= on
+    assert tread_unions(treads, np.asarray(ps.up), np.cos(np.radians(10.0)), 100) == {}
 
 
 def test_a_whole_flight_is_the_same_either_way():
     # one tread, nothing to join: the proposals are the same
     cloud, lab, _up, _objs = _flight_from_top(whole=True)
-    a = describe_scene(cloud, lab, proposal_params=ProposalParams(step_face_pieces=False))
-    b = describe_scene(cloud, lab, proposal_params=ProposalParams(step_face_pieces=True))
+    a = describe_scene(cloud, lab, proposal_params=ProposalParams(step_tread_pieces=False))
+    b = describe_scene(cloud, lab, proposal_params=ProposalParams(step_tread_pieces=True))
     assert [sorted(o.planes) for o in a.objects] == [sorted(o.planes) for o in b.objects]
 
 
 def test_a_bad_value_is_refused():
-    with pytest.raises(InputError, match="step_face_pieces"):
-        ProposalParams(step_face_pieces="yes")
+    with pytest.raises(InputError, match="step_tread_pieces"):
+        ProposalParams(step_tread_pieces="yes")

@@ -1,12 +1,17 @@
-"""One step face seen as several coplanar pieces side by side, taken whole for the step tests.
+"""One tread seen as several coplanar pieces side by side, taken whole for the step tests.
 
-A tread (or riser) the segmentation leaves in two or three pieces along its length (a gap of
-missing depth across it, a rail's post, the far end of a long tread at low resolution) fails
-the step tests piece by piece: a piece spans half the flight's width, so its extent across
-the flight overlaps the whole face below it by under half (dev_sr i0008: 0.48), and its area
-is a third of that face's.  :func:`step_face_unions` finds such pieces and gives their union as
-one plane; :func:`planerel.features.relations.step_chain_pairs` tests steps with the union and
-names each piece in the pairs it returns.
+A tread the segmentation leaves in two or three pieces along its length (a gap of missing
+depth across it, a rail's post, the far end of a long tread at low resolution) fails the step
+tests piece by piece: a piece spans half the flight's width, so its extent across the flight
+overlaps the whole tread below it by under half (dev_sr i0008: 0.48), and its area is a third
+of that tread's.  :func:`tread_unions` finds such pieces and gives their union as one plane;
+:func:`planerel.features.relations.step_chain_pairs` tests steps with the union and names the
+pieces in the pairs it returns.
+
+Risers were tested the same way too (a riser's length and up as its frame) and left out: no
+line of the main check moved, they were nine in ten of the pairs tested on the shared frames
+(a room's upright faces are many and parallel), and flush carton fronts in a row would make
+one "riser" of them.
 """
 
 from __future__ import annotations
@@ -18,20 +23,19 @@ import numpy as np
 from planerel.features.step_geometry import _tread_depth_axis
 from planerel.features.vectors import cross3, vec_norm
 
-__all__ = ["step_face_unions", "PIECE_LEVEL", "PIECE_GAP", "PIECE_DEPTH", "PIECE_SIDE",
+__all__ = ["tread_unions", "PIECE_LEVEL", "PIECE_GAP", "PIECE_DEPTH", "PIECE_SIDE",
            "PIECE_SHARE"]
 
-#: Metres: two pieces of one face lie in one plane within this (a tread's height, a riser's
-#: place along its normal; a step rises 8 cm at least, a piece's plane fit is within a
-#: centimetre of the other's)
+#: Metres: two pieces of one tread lie level within this (a step rises 8 cm at least, a
+#: piece's plane fit is within a centimetre of the other's)
 PIECE_LEVEL = 0.03
-#: Metres: the gap between two pieces along the face's length (dev_sr i0008: 0.15 of missing
+#: Metres: the gap between two pieces along the tread's length (dev_sr i0008: 0.15 of missing
 #: depth between two pieces of a 1.18 m tread)
 PIECE_GAP = 0.25
-#: Their extents across the face's length (a tread's along the step direction, a riser's
-#: along up) overlap by at least this (interval IoU): one strip, not one tread behind the other
+#: Their extents along the step direction overlap by at least this (interval IoU): one strip,
+#: not one tread behind the other
 PIECE_DEPTH = 0.5
-#: Their extents along the face's length overlap by at most this share of the shorter one's:
+#: Their extents along the tread's length overlap by at most this share of the shorter one's:
 #: side by side, not one over the other
 PIECE_SIDE = 0.1
 #: Each is at least this share of the two's summed length: pieces, not a tread and a sliver
@@ -39,22 +43,35 @@ PIECE_SIDE = 0.1
 PIECE_SHARE = 0.25
 
 
-def _axes(face, kind: str, up) -> tuple[np.ndarray, np.ndarray] | None:
-    """The face's ``(length, depth)`` unit axes ``(3,)``: a tread's depth is its step direction
-    (:func:`~planerel.features.step_geometry._tread_depth_axis`), a riser's is up; the length
-    runs across both (along the nosing).  None for a degenerate face."""
+def _axes(tread, up) -> tuple[np.ndarray, np.ndarray] | None:
+    """The tread's ``(length, depth)`` unit axes ``(3,)``: its step direction
+    (:func:`~planerel.features.step_geometry._tread_depth_axis`) and the level line across it
+    (along the nosing).  None for a degenerate tread."""
     up = np.asarray(up, float)
-    if kind == "tread":
-        depth, elong = _tread_depth_axis(face, up)
-        if elong <= 0:
-            return None
-    else:
-        depth = up
-    length = cross3(up, np.asarray(face.normal, float) if kind == "riser" else depth)
+    depth, elong = _tread_depth_axis(tread, up)
+    if elong <= 0:
+        return None
+    length = cross3(up, depth)
     norm = vec_norm(length)
     if norm < 1e-6:
         return None
     return length / norm, depth
+
+
+#: Verdicts and unions already computed, keyed by the Plane objects themselves (identity: a
+#: scene's step chains ask the same faces four or five times, over other label subsets);
+#: emptied past :data:`_MEMO_SIZE` entries.
+_MEMO: dict = {}
+_MEMO_SIZE = 4096
+
+
+def _remembered(key, make):
+    """``_MEMO[key]``, made by ``make()`` the first time."""
+    if key not in _MEMO:
+        if len(_MEMO) >= _MEMO_SIZE:
+            _MEMO.clear()
+        _MEMO[key] = make()
+    return _MEMO[key]
 
 
 def _interval(H, axis) -> tuple[float, float]:
@@ -62,25 +79,18 @@ def _interval(H, axis) -> tuple[float, float]:
     return float(v.min()), float(v.max())
 
 
-def _pieces(a, b, kind: str, up, cos_tol: float) -> bool:
-    """True when the faces ``a`` and ``b`` (both treads or both risers) lie as two pieces of
-    one face side by side."""
-    na, nb = np.asarray(a.normal, float), np.asarray(b.normal, float)
-    cos = float(na @ nb)
-    if abs(cos) < cos_tol:
+def _pieces(a, b, cos_tol: float, axes_of) -> bool:
+    """True when the treads ``a`` and ``b`` lie as two pieces of one tread side by side
+    (``axes_of(tread)``: :func:`_axes`, remembered a tread).  The tests on Python floats come
+    first: most pairs of a scene fail the level or the normals."""
+    if abs(a.height - b.height) > PIECE_LEVEL:
         return False
-    big = a if a.area >= b.area else b
-    axes = _axes(big, kind, up)
+    na, nb = a.normal, b.normal
+    if abs(float(na[0]) * float(nb[0]) + float(na[1]) * float(nb[1])
+           + float(na[2]) * float(nb[2])) < cos_tol:
+        return False
+    axes = axes_of(a if a.area >= b.area else b)
     if axes is None:
-        return False
-    if kind == "riser":
-        # the same plane: the other's centroid within PIECE_LEVEL of the larger one's plane
-        small = b if big is a else a
-        off = (np.asarray(small.centroid, float) - np.asarray(big.centroid, float)) \
-            @ np.asarray(big.normal, float)
-        if abs(float(off)) > PIECE_LEVEL:
-            return False
-    elif abs(a.height - b.height) > PIECE_LEVEL:
         return False
     length, depth = axes
     Ha, Hb = np.asarray(a.hull3d, float), np.asarray(b.hull3d, float)
@@ -96,7 +106,7 @@ def _pieces(a, b, kind: str, up, cos_tol: float) -> bool:
     return -PIECE_SIDE * short <= gap <= PIECE_GAP
 
 
-def _union(group, kind: str, up, label: int):
+def _union(group, up, label: int):
     """One plane standing for the pieces ``group`` (a list of Plane): the convex hull of their
     hulls in the larger piece's ``(length, depth)`` frame, their areas summed, centroid and
     height weighted by area; None when the hull is degenerate."""
@@ -106,7 +116,7 @@ def _union(group, kind: str, up, label: int):
     if w.sum() <= 0:
         return None
     big = group[int(np.argmax(w))]
-    axes = _axes(big, kind, up)
+    axes = _axes(big, up)
     if axes is None:
         return None
     length, depth = axes
@@ -133,24 +143,21 @@ def _union(group, kind: str, up, label: int):
         touches_border=any(p.touches_border for p in group))
 
 
-def step_face_unions(faces, kind: str, up, cos_tol: float, first_label: int) -> dict:
-    """Groups of step faces lying as pieces of one face side by side, each as one plane.
+def tread_unions(treads, up, cos_tol: float, first_label: int) -> dict:
+    """Groups of treads lying as pieces of one tread side by side, each as one plane.
 
-    Two faces of one kind are pieces of one when their normals agree within ``cos_tol`` (a
-    cosine), they lie in one plane within :data:`PIECE_LEVEL` (treads: their heights; risers:
-    the smaller one's centroid off the larger one's plane), their extents across the larger
-    one's length (a tread's step direction, a riser's up) overlap by :data:`PIECE_DEPTH`
-    (interval IoU), and along its length they lie side by side: a gap of at most
+    Two treads are pieces of one when they lie level within :data:`PIECE_LEVEL`, their normals
+    agree within ``cos_tol`` (a cosine), their extents along the larger one's step direction
+    overlap by :data:`PIECE_DEPTH` (interval IoU), and along its length they lie side by side:
+    a gap of at most
     :data:`PIECE_GAP`, an overlap of at most :data:`PIECE_SIDE` of the shorter one's extent,
     each at least :data:`PIECE_SHARE` of the two's summed length.  Groups are the connected
     sets of such pairs.
 
     Parameters
     ----------
-    faces : sequence of Plane
-        Step faces of one kind.
-    kind : str
-        ``"tread"`` (level faces) or ``"riser"`` (upright ones).
+    treads : sequence of Plane
+        Level faces (the step candidates that are treads).
     up : ndarray, shape (3,)
     cos_tol : float
         The cosine two pieces' normals reach at least.
@@ -164,9 +171,7 @@ def step_face_unions(faces, kind: str, up, cos_tol: float, first_label: int) -> 
         ``{label: (union Plane, tuple of the pieces' labels, the largest by area first)}``, in
         the order of the pieces' first labels.
     """
-    if kind not in ("tread", "riser"):
-        raise ValueError(f"kind must be 'tread' or 'riser', got {kind!r}")
-    faces = list(faces)
+    faces = list(treads)
     n = len(faces)
     if n < 2:
         return {}
@@ -178,9 +183,16 @@ def step_face_unions(faces, kind: str, up, cos_tol: float, first_label: int) -> 
             i = root[i]
         return i
 
+    upkey = np.asarray(up, float).tobytes()
+
+    def axes_of(face):
+        return _remembered(("axes", face, upkey), lambda: _axes(face, up))
+
     for i in range(n):
         for j in range(i + 1, n):
-            if _pieces(faces[i], faces[j], kind, up, cos_tol):
+            a, b = faces[i], faces[j]
+            if _remembered(("pair", a, b, cos_tol, upkey),
+                           lambda a=a, b=b: _pieces(a, b, cos_tol, axes_of)):
                 root[find(j)] = find(i)
     groups: dict = {}
     for i in range(n):
@@ -190,7 +202,8 @@ def step_face_unions(faces, kind: str, up, cos_tol: float, first_label: int) -> 
     for members in groups.values():
         if len(members) < 2:
             continue
-        u = _union(members, kind, up, label)
+        u = _remembered(("union", tuple(members), label, upkey),
+                        lambda m=members, k=label: _union(m, up, k))
         if u is None:
             continue
         big_first = sorted(members, key=lambda p: (-p.area, p.label))
