@@ -120,6 +120,7 @@ from planerel.features.step_geometry import (  # noqa: F401 (re-exported: tables
     _border_pixels,
     _border_share,
     _cut_lengthwise,
+    _extent,
     _horizontal_basis,
     _tread_depth_axis,
 )
@@ -4077,11 +4078,6 @@ def _cut_top_steps(lows, tops, up, rise, run, min_overlap: float, max_ratio: flo
                 continue
             out.append((lo.label, hi.label, dv, direction, 1, dist))
     return out
-
-
-def _extent(p, axis) -> tuple[float, float]:
-    t = np.asarray(p.hull3d, float) @ axis
-    return float(t.min()), float(t.max())
 
 
 def _across_overlap(lo, hi, up, direction) -> float:

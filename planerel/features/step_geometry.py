@@ -74,6 +74,12 @@ def _border_pixels(lab, label: int, bbox, sides: str = "all") -> int:
     return n
 
 
+def _extent(p, axis) -> tuple[float, float]:
+    """``(lowest, highest)`` of the plane ``p``'s hull vertices along ``axis`` (3,)."""
+    t = np.asarray(p.hull3d, float) @ axis
+    return float(t.min()), float(t.max())
+
+
 #: The last ``up``'s horizontal basis, ``(up bytes, (e1, e2))`` (:func:`_horizontal_basis`:
 #: a scene's steps ask for the same up two to six times).
 _LAST_BASIS: list = [None]

@@ -20,7 +20,7 @@ import dataclasses
 
 import numpy as np
 
-from planerel.features.step_geometry import _tread_depth_axis
+from planerel.features.step_geometry import _extent, _tread_depth_axis
 from planerel.features.vectors import cross3, vec_norm
 
 __all__ = ["tread_unions", "PIECE_LEVEL", "PIECE_GAP", "PIECE_DEPTH", "PIECE_SIDE",
@@ -74,11 +74,6 @@ def _remembered(key, make):
     return _MEMO[key]
 
 
-def _interval(H, axis) -> tuple[float, float]:
-    v = H @ axis
-    return float(v.min()), float(v.max())
-
-
 def _pieces(a, b, cos_tol: float, axes_of) -> bool:
     """True when the treads ``a`` and ``b`` lie as two pieces of one tread side by side
     (``axes_of(tread)``: :func:`_axes`, remembered a tread).  The tests on Python floats come
@@ -93,12 +88,11 @@ def _pieces(a, b, cos_tol: float, axes_of) -> bool:
     if axes is None:
         return False
     length, depth = axes
-    Ha, Hb = np.asarray(a.hull3d, float), np.asarray(b.hull3d, float)
-    (a0, a1), (b0, b1) = _interval(Ha, depth), _interval(Hb, depth)
+    (a0, a1), (b0, b1) = _extent(a, depth), _extent(b, depth)
     union = max(a1, b1) - min(a0, b0)
     if union <= 0 or (min(a1, b1) - max(a0, b0)) / union < PIECE_DEPTH:
         return False
-    (a0, a1), (b0, b1) = _interval(Ha, length), _interval(Hb, length)
+    (a0, a1), (b0, b1) = _extent(a, length), _extent(b, length)
     short = min(a1 - a0, b1 - b0)
     if short < PIECE_SHARE * ((a1 - a0) + (b1 - b0)):
         return False
@@ -106,17 +100,18 @@ def _pieces(a, b, cos_tol: float, axes_of) -> bool:
     return -PIECE_SIDE * short <= gap <= PIECE_GAP
 
 
-def _union(group, up, label: int):
+def _union(group, label: int, axes_of):
     """One plane standing for the pieces ``group`` (a list of Plane): the convex hull of their
-    hulls in the larger piece's ``(length, depth)`` frame, their areas summed, centroid and
-    height weighted by area; None when the hull is degenerate."""
+    hulls in the larger piece's ``(length, depth)`` frame (``axes_of``, as :func:`_pieces`),
+    their areas summed, centroid and height weighted by area; None when the hull is
+    degenerate."""
     from scipy.spatial import ConvexHull, QhullError
 
     w = np.array([p.area for p in group], float)
     if w.sum() <= 0:
         return None
     big = group[int(np.argmax(w))]
-    axes = _axes(big, up)
+    axes = axes_of(big)
     if axes is None:
         return None
     length, depth = axes
@@ -149,10 +144,10 @@ def tread_unions(treads, up, cos_tol: float, first_label: int) -> dict:
     Two treads are pieces of one when they lie level within :data:`PIECE_LEVEL`, their normals
     agree within ``cos_tol`` (a cosine), their extents along the larger one's step direction
     overlap by :data:`PIECE_DEPTH` (interval IoU), and along its length they lie side by side:
-    a gap of at most
-    :data:`PIECE_GAP`, an overlap of at most :data:`PIECE_SIDE` of the shorter one's extent,
-    each at least :data:`PIECE_SHARE` of the two's summed length.  Groups are the connected
-    sets of such pairs.
+    a gap of at most :data:`PIECE_GAP`, an overlap of at most :data:`PIECE_SIDE` of the
+    shorter one's extent, each at least :data:`PIECE_SHARE` of the two's summed length.
+    Groups are the connected sets of such pairs
+    (:class:`~planerel.features.relations.Components`).
 
     Parameters
     ----------
@@ -171,39 +166,30 @@ def tread_unions(treads, up, cos_tol: float, first_label: int) -> dict:
         ``{label: (union Plane, tuple of the pieces' labels, the largest by area first)}``, in
         the order of the pieces' first labels.
     """
+    # relations imports this module: its union-find only once it is loaded
+    from planerel.features.relations import Components
+
     faces = list(treads)
     n = len(faces)
     if n < 2:
         return {}
-    root = list(range(n))
-
-    def find(i):
-        while root[i] != i:
-            root[i] = root[root[i]]
-            i = root[i]
-        return i
-
     upkey = np.asarray(up, float).tobytes()
 
     def axes_of(face):
         return _remembered(("axes", face, upkey), lambda: _axes(face, up))
 
-    for i in range(n):
-        for j in range(i + 1, n):
-            a, b = faces[i], faces[j]
-            if _remembered(("pair", a, b, cos_tol, upkey),
-                           lambda a=a, b=b: _pieces(a, b, cos_tol, axes_of)):
-                root[find(j)] = find(i)
-    groups: dict = {}
-    for i in range(n):
-        groups.setdefault(find(i), []).append(faces[i])
+    g = Components(range(n))
+    g.add_edges((i, j) for i in range(n) for j in range(i + 1, n)
+                if _remembered(("pair", faces[i], faces[j], cos_tol, upkey),
+                               lambda a=faces[i], b=faces[j]: _pieces(a, b, cos_tol, axes_of)))
     out: dict = {}
     label = first_label
-    for members in groups.values():
+    for group in g.groups():
+        members = [faces[i] for i in group]
         if len(members) < 2:
             continue
         u = _remembered(("union", tuple(members), label, upkey),
-                        lambda m=members, k=label: _union(m, up, k))
+                        lambda m=members, k=label: _union(m, k, axes_of))
         if u is None:
             continue
         big_first = sorted(members, key=lambda p: (-p.area, p.label))
