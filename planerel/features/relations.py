@@ -90,6 +90,7 @@ from planerel.features.cavities import (
     occluded_channel_pairs,
     split_panel_pairs,
 )
+from planerel.features.components import Components
 from planerel.features.concave_cut import concave_cuts
 from planerel.features.gaps import gap_in_front, occluded_piece_pairs
 from planerel.features.open_treads import open_tread_pairs
@@ -4112,54 +4113,6 @@ def _step_like(pa, pb, min_overlap: float, up=None, riser_max: float | None = No
                 riser_max, 1.5 * float(np.ptp(np.asarray(other.hull3d, float) @ u))):
             return False
     return edge_overlap(pa, pb) >= min_overlap
-
-
-class Components:
-    """Connected components of an undirected graph grown by nodes and edges (union-find; the
-    components networkx's ``connected_components`` gives, without building its graph)."""
-
-    def __init__(self, nodes=()):
-        #: node -> parent, in the order the nodes came
-        self.parent: dict = {}
-        for k in nodes:
-            self.parent.setdefault(k, k)
-
-    @property
-    def nodes(self) -> list:
-        """The nodes, in the order they came."""
-        return list(self.parent)
-
-    def _root(self, k):
-        parent = self.parent
-        r = k
-        while parent[r] != r:
-            r = parent[r]
-        while parent[k] != r:  # path compression
-            parent[k], k = r, parent[k]
-        return r
-
-    def add_edges(self, pairs) -> None:
-        """Join the two ends of each pair (a node seen first here is added)."""
-        parent = self.parent
-        for a, b in pairs:
-            parent.setdefault(a, a)
-            parent.setdefault(b, b)
-            ra, rb = self._root(a), self._root(b)
-            if ra != rb:
-                parent[rb] = ra
-
-    def together(self, a, b) -> bool:
-        """Whether ``a`` and ``b`` are in one component (False for a node not seen)."""
-        if a not in self.parent or b not in self.parent:
-            return False
-        return self._root(a) == self._root(b)
-
-    def groups(self) -> list[list]:
-        """The components, each a list of its nodes in the order they came."""
-        out: dict = {}
-        for k in self.parent:
-            out.setdefault(self._root(k), []).append(k)
-        return list(out.values())
 
 
 def shares_edge(n_edge: int, gap: float, adjacency_gap: float, apart_edge: int = 0) -> bool:

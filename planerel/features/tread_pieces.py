@@ -20,6 +20,7 @@ import dataclasses
 
 import numpy as np
 
+from planerel.features.components import Components
 from planerel.features.step_geometry import _extent, _tread_depth_axis
 from planerel.features.vectors import cross3, vec_norm
 
@@ -147,7 +148,7 @@ def tread_unions(treads, up, cos_tol: float, first_label: int) -> dict:
     a gap of at most :data:`PIECE_GAP`, an overlap of at most :data:`PIECE_SIDE` of the
     shorter one's extent, each at least :data:`PIECE_SHARE` of the two's summed length.
     Groups are the connected sets of such pairs
-    (:class:`~planerel.features.relations.Components`).
+    (:class:`~planerel.features.components.Components`).
 
     Parameters
     ----------
@@ -166,9 +167,6 @@ def tread_unions(treads, up, cos_tol: float, first_label: int) -> dict:
         ``{label: (union Plane, tuple of the pieces' labels, the largest by area first)}``, in
         the order of the pieces' first labels.
     """
-    # relations imports this module: its union-find only once it is loaded
-    from planerel.features.relations import Components
-
     faces = list(treads)
     n = len(faces)
     if n < 2:
