@@ -17,11 +17,11 @@ room furniture).
 Usage::
 
     python benchmarks/independent_scenes.py make OUT_DIR [--n 60] [--seed 7] [--size 160x120]
-        [--kinds box,stairs,ramp] [--sensor plain|kinect|stereo] [--heights LOW,HIGH] [--furniture]
+        [--kinds box,stairs,ramp] [--sensor plain|kinect|stereo|tof] [--heights LOW,HIGH] [--furniture]
     python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150] [--by-planes]
     python benchmarks/independent_scenes.py dev DEST [--only NAME ...] [--force]
 
-``dev DEST`` makes the team's independent development sets (``DEST/dev_i`` ... ``DEST/dev_tote``,
+``dev DEST`` makes the team's independent development sets (``DEST/dev_i`` ... ``DEST/dev_tof``,
 :data:`DEV_SETS`: the arguments each was made with) that ``DEST`` does not hold yet; the main real
 check (``benchmarks/real_checks.py --independent``) reads them.  Same arguments, same scenes, so a
 machine that lost them gets them back bit for bit (about twenty minutes on two cores).
@@ -36,6 +36,8 @@ from its landing as a person or a robot standing at the top would: 0.5-1.7 m eye
 quantises depth as the real Kinect frames of ``../shared/data/kinect`` do (3 mm z^2) and drops a
 band of ``W / 160`` pixels (4 at 640x480) at depth jumps; ``--sensor stereo`` is an active stereo
 pair (D435-like: the matcher's disparity noise, correlated over its window, :func:`render`);
+``--sensor tof`` a Kinect v2-like time-of-flight camera whose dark objects' upright faces are
+five times as noisy and holed (tof72, measured on hunt71's stairwell: :func:`render`);
 ``plain`` (the default) is the original sensor, unchanged.  ``score``'s ``--min-pixels`` defaults to 150 pixels scaled with the image area (150 at
 160x120, 2 400 at 640x480).
 
@@ -823,7 +825,15 @@ def plane_ids(meshes):
     return np.asarray(out)
 
 
-SENSORS = ("plain", "kinect", "stereo")
+SENSORS = ("plain", "kinect", "stereo", "tof")
+#: the ``tof`` sensor (tof72, measured on hunt71's Kinect v2 stairwell frames, 960 wide, with
+#: 12 px patch plane fits): depth noise sigma (m per m of depth) of an ordinary surface (1.2-2.4
+#: mm at 1.4-2.2 m) and of a dark one (10-11 mm at 2.0-2.25 m: the flight's risers), each
+#: correlated over a square of ``W / TOF_CORR`` px (neighbour correlation 0.5-0.8 ordinary, 0.9
+#: dark); a dark surface's holes cover :data:`TOF_DARK_HOLES` of it in blobs (18-31 %, blobs of
+#: 3 px median, 15 px at the 90th percentile); the chance that an object is dark
+TOF_SIGMA, TOF_DARK_SIGMA, TOF_DARK_HOLES, TOF_DARK_P = 0.0008, 0.005, 0.25, 0.5
+TOF_CORR, TOF_DARK_CORR, TOF_HOLE_CORR = 320, 120, 320
 #: the ``stereo`` sensor: baseline (m), disparity noise (px, RMS), disparity step (px) and the
 #: matching window as a share of the image width (D435-like: 50 mm, 0.08 px subpixel RMS,
 #: 1/32 px, a 7 px window at 640 wide)
@@ -858,6 +868,15 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
     (at 640 wide and 60 degrees: 1.2 cm at 2 m, 2.6 cm at 3 m, 4.6 cm at 4 m, with the window's
     spatial correlation); no return under a disparity of 2 px; the ``kinect`` edge band;
     no isolated random dropouts (a matcher's holes come in blobs, not modelled).
+
+    ``tof`` (tof72, a Kinect v2-like time-of-flight camera, measured on hunt71's stairwell
+    frames): depth noise sigma = :data:`TOF_SIGMA` * z correlated over ``W / TOF_CORR`` px, no
+    quantisation; each object (not the room) is *dark* with chance :data:`TOF_DARK_P`, and a
+    dark object's upright faces (a flight's risers, a box's sides: low infrared return) get
+    :data:`TOF_DARK_SIGMA` * z correlated over ``W / TOF_DARK_CORR`` px and holes in blobs over
+    :data:`TOF_DARK_HOLES` of them; the same random dropouts, range and grazing limits; no
+    shadow band, but at half the pixels on the far side of a depth jump > 4 cm a *flying
+    pixel*: a depth drawn between the near and the far surface (the pixel's truth: none).
     """
     if sensor not in SENSORS:
         raise ValueError(f"sensor {sensor!r}: one of {SENSORS}")
@@ -885,6 +904,15 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
         zz = np.where(valid, z, 1.0)
         if sensor == "kinect":
             zz = zz + _correlated_noise(rng, H, W, max(1, round(W / 160))) * 0.0014 * zz ** 2
+        elif sensor == "tof":
+            k = max(1, round(W / TOF_CORR))
+            zz = zz + _correlated_noise(rng, H, W, k) * TOF_SIGMA * zz
+            dark = _tof_dark(owner, normals, face, valid, rng)
+            kd = max(1, round(W / TOF_DARK_CORR))
+            zz = np.where(dark, zz + _correlated_noise(rng, H, W, kd) * TOF_DARK_SIGMA * zz, zz)
+            # holes in blobs: a smoothed unit noise above its (1 - TOF_DARK_HOLES) quantile
+            blob = _correlated_noise(rng, H, W, max(1, round(W / TOF_HOLE_CORR)))
+            valid &= ~(dark & (blob > _normal_quantile(1.0 - TOF_DARK_HOLES)))
         elif sensor == "stereo":
             disp = fx * STEREO_BASE / zz
             disp = disp + _correlated_noise(rng, H, W, max(1, round(W * STEREO_WINDOW))) \
@@ -904,7 +932,15 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
     truth = np.where(valid, truth, -1).reshape(H, W)
     if noise:
         zp = np.nan_to_num(z, nan=1e3)
-        if sensor in ("kinect", "stereo"):
+        if sensor == "tof":
+            fly = _flying(z_geo, rng) & np.isfinite(z)
+            near = _near_side(z_geo)
+            z[fly] = near[fly] + rng.random(int(fly.sum())) * (z_geo[fly] - near[fly])
+            truth[fly] = -1
+            if planes:
+                pid = np.where(fly.reshape(-1), -1, pid)
+            drop = np.zeros((H, W), bool)
+        elif sensor in ("kinect", "stereo"):
             drop = _edge_band(z_geo, max(1, round(W / 160)), rng) & np.isfinite(z)
         else:
             jump = np.zeros((H, W), bool)
@@ -930,6 +966,41 @@ def _correlated_noise(rng, H, W, k):
     if k > 1:
         n = uniform_filter(n, size=k, mode="reflect") * k
     return n.reshape(-1)
+
+
+def _tof_dark(owner, normals, face, valid, rng):
+    """``(H * W,)`` bool: the pixels on an upright face (``|n_z| < 0.3``, world z up) of a dark
+    object (``tof``: each object ``k >= 1`` dark with chance :data:`TOF_DARK_P`, drawn in the
+    order of the object ids)."""
+    ids = np.unique(owner)
+    dark_ids = ids[(ids >= 1) & (rng.random(len(ids)) < TOF_DARK_P)]
+    f = np.maximum(face, 0)
+    return valid & np.isin(owner[f], dark_ids) & (np.abs(normals[f][:, 2]) < 0.3)
+
+
+def _normal_quantile(q):
+    """The standard normal's ``q`` quantile."""
+    from scipy.stats import norm
+
+    return float(norm.ppf(q))
+
+
+def _near_side(zp):
+    """``(H, W)``: the nearest of each pixel's four neighbours' noise-free depths (its own at
+    the border)."""
+    near = zp.copy()
+    near[:, 1:] = np.minimum(near[:, 1:], zp[:, :-1])
+    near[:, :-1] = np.minimum(near[:, :-1], zp[:, 1:])
+    near[1:, :] = np.minimum(near[1:, :], zp[:-1, :])
+    near[:-1, :] = np.minimum(near[:-1, :], zp[1:, :])
+    return near
+
+
+def _flying(zp, rng):
+    """``(H, W)`` bool: half of the pixels more than 4 cm beyond a neighbour (the far side of a
+    depth jump of the noise-free depth ``zp``), where a time-of-flight pixel mixes the two
+    surfaces' returns."""
+    return (zp - _near_side(zp) > 0.04) & (rng.random(zp.shape) < 0.5)
 
 
 def _edge_band(zp, width, rng):
@@ -1241,6 +1312,9 @@ DEV_SETS = {
     "dev_small": "--n 40 --seed 6401 --kinds small_box --sensor kinect --size 640x480",
     # tote67: 8-22 toy blocks (2.5-7 cm) and 0-2 cartons in a tote seen from 0.6-0.9 m above
     "dev_tote": "--n 30 --seed 6701 --kinds tote_blocks --sensor kinect --size 640x480",
+    # tof72: flights, ramps and boxes seen by a Kinect v2-like time-of-flight camera whose dark
+    # objects' upright faces (risers, box sides) are noisy and holed (hunt71's stairwell)
+    "dev_tof": "--n 60 --seed 7201 --kinds stairs,stairs_top,ramp,box --sensor tof --size 512x424",
 }
 
 

@@ -329,7 +329,7 @@ def test_every_development_set_command_parses_and_no_two_sets_share_their_argume
         key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture)
         assert key not in seen, name
         seen.add(key)
-    assert len(ind.DEV_SETS) == 14
+    assert len(ind.DEV_SETS) == 15  # dev_tof (tof72) the latest
 
 
 def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path, capsys):
@@ -387,3 +387,45 @@ def test_tote_blocks_scenes_hold_blocks_in_a_tote_seen_from_above():
         seen = [o for o in boxes if (truth == o["index"]).any()]
         assert len(seen) >= len(boxes) // 2  # in view from above
     assert stacked > 0  # blocks pile
+
+
+@pytest.mark.parametrize("dark", [0.0, 1.0])
+def test_tof_sensor_noise_and_holes_follow_its_model_on_dark_and_ordinary_faces(dark, monkeypatch):
+    # tof72: a Kinect v2-like camera: sigma TOF_SIGMA * z on ordinary faces, TOF_DARK_SIGMA * z
+    # and holes over TOF_DARK_HOLES of a dark object's upright faces; the top stays ordinary
+    monkeypatch.setattr(ind, "TOF_DARK_P", dark)
+    meshes, eye, R = _box_scene()
+    intr = (640, 480, 560.0, 560.0, 319.5, 239.5)
+    xyz, truth = ind.render(meshes, eye, R, intr, np.random.default_rng(3), sensor="tof")
+    clean, truth0 = ind.render(meshes, eye, R, intr, np.random.default_rng(3), noise=False)
+    world = _cam_to_world(clean, R, eye).reshape(480, 640, 3)
+    both = (truth == 1) & (truth0 == 1)
+    rel = (xyz[..., 2] - clean[..., 2]) / clean[..., 2]
+    top = both & (world[..., 2] > 0.4995)  # (a side reaches up to the top's 0.5 m too)
+    side = both & (world[..., 2] < 0.45)
+    assert float(np.std(rel[top])) == pytest.approx(ind.TOF_SIGMA, rel=0.3)
+    want = ind.TOF_DARK_SIGMA if dark else ind.TOF_SIGMA
+    assert float(np.std(rel[side])) == pytest.approx(want, rel=0.3)
+    # holes: the random 2 % everywhere, and TOF_DARK_HOLES more on a dark object's sides
+    seen_side = (truth0 == 1) & (world[..., 2] < 0.45)
+    holes = float(np.isnan(xyz[..., 2][seen_side]).mean())
+    assert holes == pytest.approx(0.02 + (ind.TOF_DARK_HOLES if dark else 0.0), abs=0.05)
+    # no depth on quantised levels (a time-of-flight camera measures phase, not disparity)
+    assert len(np.unique(np.round(xyz[..., 2][side], 5))) > 0.5 * side.sum()
+
+
+def test_tof_flying_pixels_lie_between_the_two_surfaces_of_a_jump():
+    zp = np.ones((100, 40))
+    zp[:, 20:] = 2.0
+    fly = ind._flying(zp, np.random.default_rng(0))
+    assert not fly[:, :20].any() and not fly[:, 21:].any()  # the far side's jump pixel only
+    assert 0.35 < fly[:, 20].mean() < 0.65
+    np.testing.assert_array_equal(ind._near_side(zp)[:, 20], 1.0)
+    # in a rendered scene the flying pixels carry no truth and lie between near and far
+    meshes, eye, R = _box_scene()
+    intr = (320, 240, 280.0, 280.0, 159.5, 119.5)
+    xyz, truth = ind.render(meshes, eye, R, intr, np.random.default_rng(5), sensor="tof")
+    clean, truth0 = ind.render(meshes, eye, R, intr, np.random.default_rng(5), noise=False)
+    mixed = np.isfinite(xyz[..., 2]) & (truth == -1) & (truth0 >= 0)
+    assert mixed.sum() > 20
+    assert np.all(xyz[..., 2][mixed] <= clean[..., 2][mixed] + 1e-5)
