@@ -280,13 +280,17 @@ def _noise_sigma(seg, fallback=None):
     return lambda z: math.sqrt(float(fallback.depth_sigma2(z)))
 
 
-def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None):
+def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, local=0.0):
     """The regions of a second growing's labels ``wl`` (H, W) lying for at least ``share`` of
     their pixels, and ``min_size`` pixels or more, in ``free`` (H, W) bool, whose
     least-squares plane's RMS is at most ``rms_max`` times the depth noise at its centroid's
     depth (``sigma``, a function of the depth; default the measured noise,
     :func:`_noise_sigma`): ``(labels with them added as planes n, n + 1, ..., the number added,
-    every candidate's RMS over the noise)``."""
+    every candidate's RMS over the noise)``.  With ``local`` (``far_local``), a candidate
+    failing ``rms_max`` is kept when its RMS is at most ``local`` times its own patch noise
+    (:func:`~planerel.segment.patch_noise.patch_noise`), itself at most
+    :data:`~planerel.segment.params.FAR_LOCAL_NOISE` per metre of its depth; ``seg.info
+    ["far_local"]`` counts them."""
     import numpy as np
 
     lab = seg.labels
@@ -311,11 +315,26 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None):
             sig = float(sigma(float(cen[2])))
             ratio = rms / sig if sig > 0 else float("inf")
             fit.append(round(ratio, 2))
-            if ratio > rms_max:
+            if ratio > rms_max and not (local > 0 and _locally_flat(cloud, m, rms, cen, local)):
                 continue
+            if ratio > rms_max:
+                seg.info["far_local"] = seg.info.get("far_local", 0) + 1
             out[m] = n + added
             added += 1
     return out, added, fit
+
+
+def _locally_flat(cloud, mask, rms, cen, local) -> bool:
+    """``far_local``'s test: the region ``mask`` (H, W), whose plane fits at ``rms`` (m) with its
+    centroid ``cen`` (3,), fits within ``local`` times its own patch noise, which is at most
+    :data:`~planerel.segment.params.FAR_LOCAL_NOISE` per metre of depth."""
+    from planerel.segment.params import FAR_LOCAL_NOISE
+    from planerel.segment.patch_noise import patch_noise, patch_size
+
+    own = patch_noise(cloud.xyz, mask, patch_size(mask.shape[1]))
+    if own is None or own > FAR_LOCAL_NOISE * float(cen[2]):
+        return False
+    return rms <= local * own
 
 
 def _near_free(cloud, seg, far_depth):
@@ -516,10 +535,12 @@ def _far_planes(cloud, seg, p, split_params):
         seg.info["far_labels"] = []
         return seg
     wp = dataclasses.replace(p, theta=p.far_theta or p.theta, far_theta=0.0, far_wide=False,
+                             far_local=0.0,
                              wide_noise_window=p.wide_noise_window or p.far_wide, small_scale=0.0,
                              near_wide=0.0)
     wl = _second_growing(cloud, seg, wp, split_params).labels
-    out, added, fit = _free_regions(cloud, seg, wl, free, min_size, p.far_rms, FAR_SHARE)
+    out, added, fit = _free_regions(cloud, seg, wl, free, min_size, p.far_rms, FAR_SHARE,
+                                    local=p.far_local)
     n = len(seg.planes)
     seg.info["far_planes"] = added
     seg.info["far_fit"] = fit

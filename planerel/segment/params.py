@@ -63,6 +63,10 @@ def preset_values(name) -> dict:
 #: in no plane beyond ``far_depth``
 FAR_SHARE = 0.8
 
+#: ``far_local``: the largest patch noise (m per metre of depth) of a candidate it keeps
+#: (hunt71's dark risers: 0.005; a foliage or cloth surface is rougher)
+FAR_LOCAL_NOISE = 0.008
+
 #: ``small_scale``: the share of a second growing's region that must lie in depth the first left
 #: in no plane nearer than ``far_depth`` (lower than FAR_SHARE: a small box's thin side face
 #: grows a few pixels into the top's plane, which the first growing's completion took)
@@ -235,6 +239,14 @@ class RegionGrowParams:
         Metres (1.5); see ``far_theta``.
     far_rms : float
         See ``far_theta`` (2.5, measured: docs/segmentation.md "Far planes").
+    far_local : float
+        0 (off) or a factor in [1, 10] (tof72, docs/segmentation.md "Dark surfaces of a
+        time-of-flight camera").  A far candidate that fails ``far_rms`` is still a plane when
+        its RMS is at most this many times its own noise, the median RMS of plane fits to its
+        small patches (:func:`planerel.segment.patch_noise.patch_noise`), and that noise is at
+        most :data:`FAR_LOCAL_NOISE` per metre of depth: flat at its own scale as at the
+        patches', only noisier than the frame (a Kinect v2's dark risers).
+        ``info["far_local"]``: the planes it added.
     far_wide : bool
         Off.  The second growing of ``far_theta`` (or, with ``far_theta`` 0, at ``theta``)
         uses ``wide_noise_window``'s 15 px normal window.
@@ -294,6 +306,7 @@ class RegionGrowParams:
     far_depth: float = 1.5
     far_rms: float = 2.5
     far_wide: bool = False
+    far_local: float = 0.0
     small_scale: float = 0.0
     small_corners: bool = False
     near_wide: float = 0.0
@@ -344,6 +357,10 @@ class RegionGrowParams:
         s(self, "far_depth", _num(o, "far_depth", self.far_depth, lo=0))
         s(self, "far_rms", _num(o, "far_rms", self.far_rms, lo=0, lo_open=True))
         s(self, "far_wide", _bool(o, "far_wide", self.far_wide))
+        s(self, "far_local", _num(o, "far_local", self.far_local, lo=0, hi=10))
+        if 0 < self.far_local < 1:
+            raise InputError(f"{o}: far_local must be 0 (off) or a factor in [1, 10], "
+                             f"got {self.far_local!r}")
         s(self, "small_scale", _num(o, "small_scale", self.small_scale, lo=0, hi=1))
         s(self, "small_corners", _bool(o, "small_corners", self.small_corners))
         s(self, "near_wide", _num(o, "near_wide", self.near_wide, lo=0, hi=4))
