@@ -78,7 +78,7 @@ def test_far_local_makes_planes_of_dark_faces_and_each_lies_on_one_true_plane(to
             on = on[on >= 0]
             # a plane the pass adds lies on one true face (a riser), not across a nosing
             assert np.bincount(on).max() >= 0.8 * len(on)
-    assert added >= 3  # one on scene 18, two risers on scene 36 (measured)
+    assert added >= 2  # scene 36's two dark risers (measured)
 
 
 def test_far_local_takes_no_region_rougher_than_its_bound(tof_scenes, monkeypatch):
@@ -95,3 +95,14 @@ def test_far_local_is_off_by_default_and_checks_its_value():
     for bad in (0.5, 11, -1, "x"):
         with pytest.raises(InputError, match="far_local"):
             RegionGrowParams(far_local=bad)
+
+
+def test_far_local_keeps_nothing_where_the_frame_measured_no_noise(tmp_path):
+    # dev_sr i0021 (160x120): no noise measured; the far part of a nine-step flight is a rough
+    # surface at the flight's pitch, no plane seen through noise
+    xyz, _, side, *_ = ind.make_scene(21, 3203, (160, 120), kinds=("stairs", "ramp", "stairs_top"))
+    ind._write_npy(tmp_path / "i0021.npy", xyz)
+    ind._write_json(tmp_path / "i0021.json", side)
+    seg = segment(io.read(tmp_path / "i0021.npy"), far_local=2.0)
+    assert seg.info["noise_model"]["kind"] == "none"
+    assert seg.info.get("far_local", 0) == 0

@@ -288,7 +288,8 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, lo
     :func:`_noise_sigma`): ``(labels with them added as planes n, n + 1, ..., the number added,
     every candidate's RMS over the noise)``.  With ``local`` (``far_local``), a candidate
     failing ``rms_max`` is kept when its RMS is at most ``local`` times its own patch noise
-    (:func:`~planerel.segment.patch_noise.patch_noise`), itself at most
+    (:func:`~planerel.segment.patch_noise.patch_noise`), itself above ``rms_max`` times the
+    frame's noise (a frame that measured none keeps nothing this way) and at most
     :data:`~planerel.segment.params.FAR_LOCAL_NOISE` per metre of its depth; ``seg.info
     ["far_local"]`` counts them."""
     import numpy as np
@@ -315,7 +316,8 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, lo
             sig = float(sigma(float(cen[2])))
             ratio = rms / sig if sig > 0 else float("inf")
             fit.append(round(ratio, 2))
-            if ratio > rms_max and not (local > 0 and _locally_flat(cloud, m, rms, cen, local)):
+            if ratio > rms_max and not (local > 0 and sig > 0
+                                        and _locally_flat(cloud, m, rms, cen, local, rms_max * sig)):
                 continue
             if ratio > rms_max:
                 seg.info["far_local"] = seg.info.get("far_local", 0) + 1
@@ -324,15 +326,16 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, lo
     return out, added, fit
 
 
-def _locally_flat(cloud, mask, rms, cen, local) -> bool:
+def _locally_flat(cloud, mask, rms, cen, local, floor) -> bool:
     """``far_local``'s test: the region ``mask`` (H, W), whose plane fits at ``rms`` (m) with its
-    centroid ``cen`` (3,), fits within ``local`` times its own patch noise, which is at most
-    :data:`~planerel.segment.params.FAR_LOCAL_NOISE` per metre of depth."""
+    centroid ``cen`` (3,), fits within ``local`` times its own patch noise, which is above
+    ``floor`` (m: the frame's bound, so the region is noisier than the frame, not folded) and at
+    most :data:`~planerel.segment.params.FAR_LOCAL_NOISE` per metre of depth."""
     from planerel.segment.params import FAR_LOCAL_NOISE
     from planerel.segment.patch_noise import patch_noise, patch_size
 
     own = patch_noise(cloud.xyz, mask, patch_size(mask.shape[1]))
-    if own is None or own > FAR_LOCAL_NOISE * float(cen[2]):
+    if own is None or own <= floor or own > FAR_LOCAL_NOISE * float(cen[2]):
         return False
     return rms <= local * own
 

@@ -243,9 +243,10 @@ class RegionGrowParams:
         0 (off) or a factor in [1, 10] (tof72, docs/segmentation.md "Dark surfaces of a
         time-of-flight camera").  A far candidate that fails ``far_rms`` is still a plane when
         its RMS is at most this many times its own noise, the median RMS of plane fits to its
-        small patches (:func:`planerel.segment.patch_noise.patch_noise`), and that noise is at
-        most :data:`FAR_LOCAL_NOISE` per metre of depth: flat at its own scale as at the
-        patches', only noisier than the frame (a Kinect v2's dark risers).
+        small patches (:func:`planerel.segment.patch_noise.patch_noise`), and that noise is
+        above ``far_rms`` times the frame's measured noise (a frame that measured none keeps
+        nothing this way) and at most :data:`FAR_LOCAL_NOISE` per metre of depth: flat at its
+        own scale as at the patches', only noisier than the frame (a Kinect v2's dark risers).
         ``info["far_local"]``: the planes it added.
     far_wide : bool
         Off.  The second growing of ``far_theta`` (or, with ``far_theta`` 0, at ``theta``)
