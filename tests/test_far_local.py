@@ -1,4 +1,4 @@
-"""``RegionGrowParams.far_local`` (tof72): a far candidate that fails ``far_rms`` against the
+"""``RegionGrowParams.far_local`` (tof72, on by default at 2): a far candidate that fails ``far_rms`` against the
 frame's noise is still a plane when it fits within ``far_local`` times its own patch noise
 (:func:`planerel.segment.patch_noise.patch_noise`), a time-of-flight camera's dark risers."""
 
@@ -65,7 +65,7 @@ def tof_scenes(tmp_path_factory):
 def test_far_local_makes_planes_of_dark_faces_and_each_lies_on_one_true_plane(tof_scenes):
     added = 0
     for cloud, truth in tof_scenes:
-        a = segment(cloud)
+        a = segment(cloud, far_local=0.0)
         b = segment(cloud, far_local=2.0)
         assigned = a.labels >= 0
         np.testing.assert_array_equal(b.labels[assigned], a.labels[assigned])  # kept as grown
@@ -90,8 +90,11 @@ def test_far_local_takes_no_region_rougher_than_its_bound(tof_scenes, monkeypatc
     assert segment(cloud, far_local=2.0).info.get("far_local", 0) == 0
 
 
-def test_far_local_is_off_by_default_and_checks_its_value():
-    assert RegionGrowParams().far_local == 0.0
+def test_far_local_is_on_by_default_at_2_and_checks_its_value(tof_scenes):
+    assert RegionGrowParams().far_local == 2.0
+    cloud, _ = tof_scenes[1]
+    assert segment(cloud).info.get("far_local", 0) == 2
+    assert "far_local" not in segment(cloud, far_local=0.0).info
     for bad in (0.5, 11, -1, "x"):
         with pytest.raises(InputError, match="far_local"):
             RegionGrowParams(far_local=bad)

@@ -73,13 +73,14 @@ def test_far_theta_out_of_range_is_a_clear_error():
 
 
 def test_a_far_region_no_plane_fits_at_the_noise_is_not_added(stereo_flights):
-    # far_rms: a candidate whose plane RMS exceeds that many noise sigmas stays out
+    # far_rms: a candidate whose plane RMS exceeds that many noise sigmas stays out (far_local,
+    # its own-noise test, off: tests/test_far_local.py)
     seen = kept = 0
     for cloud in stereo_flights:
-        b = segment(cloud, far_theta=30.0, far_depth=1.5, far_rms=1e-6, **OFF)
+        b = segment(cloud, far_theta=30.0, far_depth=1.5, far_rms=1e-6, far_local=0.0, **OFF)
         seen += len(b.info["far_fit"])
         kept += b.info["far_planes"]
-        c = segment(cloud, far_theta=30.0, far_depth=1.5, far_rms=2.5, **OFF)
+        c = segment(cloud, far_theta=30.0, far_depth=1.5, far_rms=2.5, far_local=0.0, **OFF)
         assert c.info["far_planes"] == sum(r <= 2.5 for r in c.info["far_fit"])
     assert seen >= 1 and kept == 0
 

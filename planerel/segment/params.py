@@ -240,8 +240,8 @@ class RegionGrowParams:
     far_rms : float
         See ``far_theta`` (2.5, measured: docs/segmentation.md "Far planes").
     far_local : float
-        0 (off) or a factor in [1, 10] (tof72, docs/segmentation.md "Dark surfaces of a
-        time-of-flight camera").  A far candidate that fails ``far_rms`` is still a plane when
+        2 (tof72; 0 switches it off), or a factor in [1, 10] (docs/segmentation.md "Dark
+        surfaces of a time-of-flight camera").  A far candidate that fails ``far_rms`` is still a plane when
         its RMS is at most this many times its own noise, the median RMS of plane fits to its
         small patches (:func:`planerel.segment.patch_noise.patch_noise`), and that noise is
         above ``far_rms`` times the frame's measured noise (a frame that measured none keeps
@@ -307,7 +307,7 @@ class RegionGrowParams:
     far_depth: float = 1.5
     far_rms: float = 2.5
     far_wide: bool = False
-    far_local: float = 0.0
+    far_local: float = 2.0
     small_scale: float = 0.0
     small_corners: bool = False
     near_wide: float = 0.0
