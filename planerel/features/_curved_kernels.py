@@ -10,6 +10,15 @@ import math
 import numpy as np
 from numba import njit
 
+from planerel.segment._intrinsics import prefetch
+
+#: How many pixels of a pixel list ahead the list kernels ask for their data
+#: (:func:`list_components_spans`, :func:`list_components_pitch`, :func:`open_pixel_list`): the
+#: pixels of a list lie scattered over the image, where the hardware's prefetcher does not
+#: follow them.  Only when the data arrives changes (C-order arrays assumed for the addresses;
+#: any other layout only wastes the hint).
+_AHEAD = 32
+
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def _root(parent, i):
@@ -614,7 +623,10 @@ def open_pixel_list(rows, cols, lab, drop, H, W, r):
     e_b = np.empty(n + 1, np.int64)
     ne = 0
     py, s, px = -1, 0, -2
+    LW = lab.shape[1]
     for i in range(n + 1):
+        if i + _AHEAD < n:
+            prefetch(lab, rows[i + _AHEAD] * LW + cols[i + _AHEAD])  # scattered pixels' labels
         if i < n:
             y, x = rows[i], cols[i]
             a = lab[y, x]
@@ -838,6 +850,11 @@ def list_components_pitch(rows, cols, xyz, edge_depth, H):
     n0 = 0
     lo = 0  # the first pixel of row r + 1 at or after column c (r, c: the current pixel's)
     for t in range(n):
+        if t + _AHEAD < n:
+            # the point of a pixel ahead and its lower neighbour's
+            q = rows[t + _AHEAD] * W + cols[t + _AHEAD]
+            prefetch(xyz, 3 * q)
+            prefetch(xyz, 3 * (q + W))
         r, c = rows[t], cols[t]
         z = xyz[r, c, 2]
         # the pitches (pitch_diffs_both)
@@ -898,7 +915,10 @@ def list_components_spans(rows, cols, xyz, edge_depth, H, e1, e2):
     lo_v = np.empty(n)
     hi_v = np.empty(n)
     bad = np.zeros(n, np.bool_)
+    W = xyz.shape[1]
     for t in range(n):
+        if t + _AHEAD < n:
+            prefetch(xyz, 3 * (rows[t + _AHEAD] * W + cols[t + _AHEAD]))
         r, c = rows[t], cols[t]
         x, y, z = xyz[r, c, 0], xyz[r, c, 1], xyz[r, c, 2]
         u = x * e1[0] + y * e1[1] + z * e1[2]

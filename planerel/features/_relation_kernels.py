@@ -111,7 +111,10 @@ def boundary_tiles(lab, brow, bcol):
     the tiles a box meets has no pixel in that box (next to a pixel of another label)."""
     H, W = lab.shape
     out = np.zeros((((H - 1) >> TILE_SHIFT) + 1, ((W - 1) >> TILE_SHIFT) + 1), np.uint64)
-    for i in range(brow.shape[0]):
+    nb = brow.shape[0]
+    for i in range(nb):
+        if i + _AHEAD < nb:
+            prefetch(lab, brow[i + _AHEAD] * W + bcol[i + _AHEAD])
         k = lab[brow[i], bcol[i]]
         if k >= 0:
             out[brow[i] >> TILE_SHIFT, bcol[i] >> TILE_SHIFT] |= _label_bit(k)
