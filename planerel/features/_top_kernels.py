@@ -14,6 +14,8 @@ import math
 import numpy as np
 from numba import njit
 
+from planerel.segment._intrinsics import prefetch
+
 
 @njit(cache=True, error_model="numpy")
 def _near_label(labels, r0, r1, c0, c1, label, k):
@@ -103,7 +105,13 @@ def ring_counts(labels, xyz, r0, r1, c0, c1, label, k, skip, tn, tc, gn, gc, den
     ring = _ring_mask(labels, r0, r1, c0, c1, label, k + band, band if band > 0 else -1)
     m = gn.shape[0]
     out = np.zeros((m, 3), np.int64)
+    W = labels.shape[1]
     for i in range(r1 - r0):
+        if r0 + i + 1 < r1:
+            # the next row's points asked for while this one is read (a box's rows are short
+            # pieces of the image's rows: the hardware's prefetcher starts each anew)
+            for c in range(c0, c1, 2):
+                prefetch(xyz, 3 * ((r0 + i + 1) * W + c))
         for j in range(c1 - c0):
             if not ring[i, j]:
                 continue
