@@ -316,10 +316,10 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, lo
             sig = float(sigma(float(cen[2])))
             ratio = rms / sig if sig > 0 else float("inf")
             fit.append(round(ratio, 2))
-            if ratio > rms_max and not (local > 0 and sig > 0
-                                        and _locally_flat(cloud, m, rms, cen, local, rms_max * sig)):
-                continue
             if ratio > rms_max:
+                if not (local > 0 and sig > 0
+                        and _locally_flat(cloud, m, rms, cen, local, rms_max * sig)):
+                    continue
                 seg.info["far_local"] = seg.info.get("far_local", 0) + 1
             out[m] = n + added
             added += 1

@@ -48,21 +48,25 @@ def patch_noise(xyz: np.ndarray, mask: np.ndarray, size: int) -> float | None:
     float or None
         None when fewer than :data:`PATCH_MIN` patches are measured.
     """
+    from planerel.segment._kernels import planes_from_sums, region_sums_into
+
     rows = np.flatnonzero(mask.any(axis=1))
     cols = np.flatnonzero(mask.any(axis=0))
     if rows.size == 0:
         return None
-    need = PATCH_FILL * size * size
-    rms = []
-    for r in range(int(rows[0]), int(rows[-1]) + 1, size):
-        for c in range(int(cols[0]), int(cols[-1]) + 1, size):
-            m = mask[r:r + size, c:c + size]
-            if m.sum() < need:
-                continue
-            pts = np.asarray(xyz[r:r + size, c:c + size][m], float)
-            cen = pts.mean(0)
-            # the smallest singular value over sqrt(n): the RMS distance to the best plane
-            rms.append(float(np.linalg.svd(pts - cen, compute_uv=False)[-1] / np.sqrt(len(pts))))
-    if len(rms) < PATCH_MIN:
+    r0, r1, c0, c1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
+    # each pixel of the region labelled by its patch of the grid over the bounding box; the
+    # patches' plane fits from their moments, as the region growing fits its regions
+    nr, nc = -(-(r1 - r0) // size), -(-(c1 - c0) // size)
+    rr, cc = np.mgrid[0:r1 - r0, 0:c1 - c0]
+    tile = ((rr // size) * nc + cc // size).astype(np.int32)
+    tile[~mask[r0:r1, c0:c1]] = -1
+    pts = np.ascontiguousarray(xyz[r0:r1, c0:c1], dtype=np.float64).reshape(-1, 3)
+    n = nr * nc
+    sums, ref = np.zeros((n, 10)), np.zeros((n, 3))
+    region_sums_into(pts, tile.reshape(-1), n, sums, ref, True)
+    full = sums[:, 0] >= PATCH_FILL * size * size
+    if int(full.sum()) < PATCH_MIN:
         return None
-    return float(np.median(rms))
+    rms = planes_from_sums(sums, ref, n)[4]
+    return float(np.median(rms[full]))
