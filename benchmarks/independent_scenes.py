@@ -1315,6 +1315,10 @@ DEV_SETS = {
     # tof72: flights, ramps and boxes seen by a Kinect v2-like time-of-flight camera whose dark
     # objects' upright faces (risers, box sides) are noisy and holed (hunt71's stairwell)
     "dev_tof": "--n 60 --seed 7201 --kinds stairs,stairs_top,ramp,box --sensor tof --size 512x424",
+    # riser73: flights and ramps seen by a low robot's Kinect-like camera 0.25-0.5 m over the
+    # floor (a tracked rescue robot): risers seen, treads edge on
+    "dev_lows": "--n 40 --seed 7301 --kinds stairs,ramp --sensor kinect --size 640x480 "
+                "--heights 0.25,0.5",
 }
 
 

@@ -329,7 +329,7 @@ def test_every_development_set_command_parses_and_no_two_sets_share_their_argume
         key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture)
         assert key not in seen, name
         seen.add(key)
-    assert len(ind.DEV_SETS) == 15  # dev_tof (tof72) the latest
+    assert len(ind.DEV_SETS) == 16  # dev_lows (riser73) the latest
 
 
 def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path, capsys):

@@ -2212,6 +2212,13 @@ class ProposalParams:
         segmentation leaves in two pieces along its length, each half the flight's width:
         :mod:`planerel.features.tread_pieces`; pieces71).  False: each piece alone (before
         2026-12-04).
+    step_two_risers : bool
+        In the step chains, two risers alone make a step that counts when both are flight-like
+        (wider across the flight than ``min_width`` and 1.5 times their height) and the lower
+        one stands on a horizontal plane that reaches to its foot from the side the flight
+        rises from (:func:`_two_riser_steps`: a two-step flight, or a longer one whose upper
+        risers a low camera does not separate, seen level from a low robot, its treads edge
+        on; riser73).  False: three risers in a row at least (before 2026-12-04).
     riser_pieces : bool
         The tread-and-riser exception's regularity test (a tread's riser below and riser
         above rise alike, within 30 %) measures the riser below in all its pieces together
@@ -2481,6 +2488,7 @@ class ProposalParams:
     step_cut_top: bool = True
     step_cut_chain: bool = True
     step_tread_pieces: bool = True
+    step_two_risers: bool = True
     riser_pieces: bool = True
     floor_tread: bool = True
     side_wall_members: int = 0
@@ -3451,7 +3459,7 @@ def flight_faces(planes, labels, params: ProposalParams | None = None) -> bool:
                         p.concave_tol, tilt=p.step_tilt, cut_long_side=p.cut_long_side,
                         skip_missing=p.skip_missing, tread_axes=p.step_tread_axes,
                         cut_top=p.step_cut_top, cut_chain=p.step_cut_chain,
-                        tread_pieces=p.step_tread_pieces):
+                        tread_pieces=p.step_tread_pieces, two_risers=p.step_two_risers):
         return True
     # an open-riser flight's treads, fitted as strips tilted off horizontal at range
     return p.open_treads and bool(open_tread_pairs(planes, labels, (p.step_rise_min, p.step_rise_max),
@@ -3694,7 +3702,8 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_width: float = 0.5, cut_long_side: bool = True,
                      skip_missing: bool = False, tread_axes: bool = False,
                      chain: bool = True, cut_top: bool = False, drop_cut: bool = True,
-                     cut_chain: bool = False, tread_pieces: bool = False):
+                     cut_chain: bool = False, tread_pieces: bool = False,
+                     two_risers: bool = False):
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
     Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
@@ -3748,6 +3757,9 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
         of ``chain=False`` its largest piece only (one step, as a whole face's).  A tread in
         two pieces, each half the flight's width, fails the overlap and area tests against
         the whole tread below it.
+    two_risers : bool
+        With ``chain``, two risers alone make a step that counts when both are flight-like
+        and the lower one stands on a horizontal plane (:func:`_two_riser_steps`).
     chain : bool
         False: return every step found, before the chain test (a list of ``(lower, higher,
         rise per step, unit horizontal direction (3,), span, run per step)``;
@@ -3895,6 +3907,8 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                 continue
             out.add((lo_l, hi_l))
             break
+    if two_risers:
+        out |= _two_riser_steps(steps, out, byl, planes, kind, up, run, min_width)
     if cut_chain and cut and out:
         lab = getattr(planes, "labels", None)
         # treads cut at a slant only: the landing the camera stands on is cut all along
@@ -3904,6 +3918,76 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                                 max_ratio, cos_tol, tread_axis if tread_axes else None)
     if unions:
         return {pr[:2] for pr in _spread_steps([(lo, hi) for lo, hi in out], unions)}
+    return out
+
+
+#: A two-riser step's ground: a horizontal plane level with the lower riser's foot within this
+#: share of the step's rise (:func:`_two_riser_steps`)
+TWO_RISER_FOOT = 0.3
+
+
+def _two_riser_steps(steps, counted, by_label, planes, kind, up, run, min_width: float) -> set:
+    """Steps of two risers alone that count: a flight seen level from a low camera.
+
+    A camera 0.3-0.5 m over the floor (a tracked rescue robot, a low service robot) sees an
+    ascending flight's risers and its treads edge on: no tread is a plane, and the row of
+    three risers that a step needs to count may be two (a two-step flight; the upper risers
+    partly hidden behind the treads' noses, too unlike in size to pair).  A step of two
+    risers (``steps``' entries ``(lower, higher, rise, direction (3,), span, run)``, one span)
+    that is not counted yet counts when
+
+    - both risers are flight-like: their extent across the flight at least ``min_width`` and
+      1.5 times their height (a box's face or a cabinet's door is narrower than tall);
+    - no horizontal plane lies level with the lower riser's top edge within ``run[1]`` of it:
+      the tread between them is not seen (two boxes of two heights seen from above show the
+      lower one's top, and stay two proposals, as the issue asks of touching boxes);
+    - the lower riser stands on a horizontal plane (the floor, a landing): a plane within
+      ``tilt`` of level whose level lies within :data:`TWO_RISER_FOOT` of a rise of the
+      riser's lowest hull point, and whose hull comes within ``run[1]`` of the riser's
+      centroid horizontally, on the side the flight rises from (a box on a table before a
+      wall's skirting has no ground under its face at that level).
+
+    Two boxes, the farther one a step taller, standing a run apart on the floor and seen so
+    low that the nearer one's top is no plane, are such a step too: that is the geometry of a
+    two-step flight seen so.
+
+    Returns
+    -------
+    set of (int, int)
+        ``(lower, higher)`` label pairs.
+    """
+    cos_dir = math.cos(math.radians(25.0))
+    out: set = set()
+    grounds = [p for p in planes if kind.get(p.label) == "tread"
+               or getattr(p, "orientation", None) == "horizontal"]
+    if not grounds:
+        return out
+    for lo_l, hi_l, dv, direction, k, _run in steps:
+        if k != 1 or (lo_l, hi_l) in counted or kind.get(lo_l) != "riser":
+            continue
+        lo, hi = by_label[lo_l], by_label[hi_l]
+        across = cross3(up, direction)
+        if any(np.ptp(np.asarray(q.hull3d, float) @ across) < max(
+                min_width, 1.5 * np.ptp(np.asarray(q.hull3d, float) @ up)) for q in (lo, hi)):
+            continue
+        levels = np.asarray(lo.hull3d, float) @ up
+        foot, top = float(levels.min()), float(levels.max())
+        if any(abs(float(np.asarray(g.centroid, float) @ up) - top) <= TWO_RISER_FOOT * dv
+               and float(np.linalg.norm(_anchor_offset(lo, g, up))) <= run[1]
+               for g in grounds if g.label not in (lo_l, hi_l)):
+            continue  # the tread between them is seen: a row of three decides, as before
+        for g in grounds:
+            if g.label in (lo_l, hi_l):
+                continue
+            if abs(float(np.asarray(g.centroid, float) @ up) - foot) > TWO_RISER_FOOT * dv:
+                continue
+            off = _anchor_offset(lo, g, up)
+            dist = float(np.linalg.norm(off))
+            # within a run, and before the riser (against the flight's direction)
+            if dist > run[1] or (dist >= 0.5 * run[0] and -float(off @ direction) < cos_dir * dist):
+                continue
+            out.add((lo_l, hi_l))
+            break
     return out
 
 
@@ -4289,7 +4373,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
             params.concave_tol, tilt=params.step_tilt, cut_long_side=params.cut_long_side,
             skip_missing=params.skip_missing, tread_axes=params.step_tread_axes,
             cut_top=params.step_cut_top, cut_chain=params.step_cut_chain,
-            tread_pieces=params.step_tread_pieces))
+            tread_pieces=params.step_tread_pieces, two_risers=params.step_two_risers))
     if params.stacked_boards:
         # a shelf's boards, one over another at regular heights (planerel.features.boards)
         g.add_edges(stacked_board_pairs(planes, g.nodes, (params.step_rise_min, params.board_rise_max),
