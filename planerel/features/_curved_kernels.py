@@ -438,9 +438,13 @@ def unexplained_pixels(valid, lab, explained):
     if K > 32:
         return _unexplained_pixels_any(valid, lab, explained)
     bits = np.uint32(0)
+    every = True  # every label below K explains its pixels (every call on the real frames)
     for a in range(K):
         if explained[a]:
             bits |= np.uint32(1) << np.uint32(a)
+        else:
+            every = False
+    k32 = np.int32(K)  # (an int32 bound: int32 labels compared in 32-bit lanes)
     cap = max(1024, H * W // 32)
     rows = np.empty(cap, np.int64)
     cols = np.empty(cap, np.int64)
@@ -450,8 +454,16 @@ def unexplained_pixels(valid, lab, explained):
     ones = np.uint64(0x0101010101010101)
     k = 0
     for y in range(H):
-        for x in range(W):
-            buf[x] = np.uint8(_unexplained_flag(lab[y, x], valid[y, x], bits))
+        if every:
+            # a pixel is unexplained when valid and its label outside [0, K): two compares
+            # (the bit test's shift is widened to 64-bit lanes by numba's integer typing:
+            # about half the pass's time; the same flags)
+            for x in range(W):
+                a = lab[y, x]
+                buf[x] = np.uint8(valid[y, x]) & np.uint8((a < 0) | (a >= k32))
+        else:
+            for x in range(W):
+                buf[x] = np.uint8(_unexplained_flag(lab[y, x], valid[y, x], bits))
         s = 0
         for w in range(nw):
             # the word's bytes are 0 or 1: their sum is the top byte of the product
