@@ -81,6 +81,17 @@ def test_side_refusals_of_stairs():
     # an inclined plane seen from below is the ramp's business, not the flight's
     slope = {"p1": ("inclined", -0.9), "p2": ("vertical", 0.0)}
     assert M.side_refusals(hit, stats, slope.get)[0] == hit
+    # riser73: an object reaching under the camera's eye (a flight rising before a low
+    # robot: its lower risers under the eye, the stair fit's level pieces on the upper risers'
+    # edges seen from below) keeps the answer; a ramp is judged as before
+    assert M.side_refusals(hit, stats, under.get, under_eye=True)[0] == []  # treads in the proof
+    risers = {"p1": ("vertical", 0.0), "p2": ("vertical", 0.01)}
+    hit2 = [("stairs", 5, {"A": "o1", "B": "p1", "C": "p2"}, "stairs(A) :- ...", None)]
+    assert M.side_refusals(hit2, stats, risers.get, treads=[-1.0], under_eye=True)[0] == hit2
+    assert M.side_refusals(hit2, stats, risers.get, treads=[-1.0])[0] == []
+    ramp_hit = [("ramp", 1, {"A": "o1", "B": "p3"}, "ramp(A) :- ...", None)]
+    assert M.side_refusals(ramp_hit, [(1, "ramp", 73, 0)], {"p3": ("inclined", -0.97)}.get,
+                           under_eye=True)[0] == []
 
 
 def test_decision_settings_are_checked():
@@ -141,3 +152,22 @@ def test_a_flight_seen_from_a_low_or_a_high_camera_stays(tmp_path, view):
     _ans, flights = _flights(stairs_model(tmp_path / "m"),
                              [floor()] + stairs(0.0, 1.4, n=4, width=1.6), **view)
     assert len(flights) == 1
+
+
+
+def test_a_flight_rising_over_a_low_cameras_eye_stays(tmp_path):
+    """riser73: eight steps rising 1.5 m before a camera 0.3 m up, looking level, depth noise
+    0.002 z^2.  Its lower risers lie under the eye; over it the stair fit puts level pieces on
+    the risers' top edges, seen from below, which made the side gate refuse the flight (it
+    did with this scene before ``under_eye``; measured with ``classifier._under_eye``
+    patched to False).  The stepped ceiling, wholly over the eye, is still refused
+    (:func:`test_a_stepped_ceiling_is_no_flight`)."""
+    from planerel.classify.classifier import Classifier
+
+    rects = [floor(size=12.0, y=4.0)] + stairs(0.0, 2.0, n=8, rise=0.19, run=0.28, width=1.4)
+    cloud, _lab, up, _objs = render(rects, width=320, height=240, noise=0.002, pitch=0.0,
+                                    cam_height=0.3, seed=3)
+    with Classifier(stairs_model(tmp_path / "m")) as clf:
+        ans = clf.classify(cloud, up=up, scene_id="s")
+    assert sum(o.klass == "stairs" for o in ans.objects) == 1
+    assert not [r for o in ans.objects for r in o.refused if isinstance(r, M.SideRefusal)]

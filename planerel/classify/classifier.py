@@ -325,6 +325,14 @@ def _pitch_gate(desc, plane_ids, params):
     return pitch_of
 
 
+def _under_eye(planes, labels) -> bool:
+    """Whether a plane ``labels`` of ``planes`` has its centroid under the camera's eye (the
+    origin) along the planes' up (the side gate's ``under_eye``)."""
+    up = np.asarray(planes.up, dtype=np.float64)
+    return any(float(np.asarray(planes.by_label(lab).centroid, dtype=np.float64) @ up) < 0
+               for lab in labels)
+
+
 def _refuse(a, why):
     """The answer ``a`` turned to ``other`` by a decision gate, ``why`` (the gate's refusal)
     added to its refusals."""
@@ -1103,6 +1111,8 @@ class Classifier:
                                    [f[1] for f in (side(plane_ids.get(lab))
                                                    for lab in o.planes)
                                     if f is not None and f[0] == "horizontal"],
+                                   under_eye=side is not None and _under_eye(desc.planes,
+                                                                             o.planes),
                                    unsure=unsure, facet=facet,
                                    pitch=None if pitch_of is None else pitch_of(o.planes),
                                    pitch_tol=self.pitch_tol or 0.0)

@@ -1421,7 +1421,7 @@ class SideRefusal:
                 "reason": self.reason}
 
 
-def side_refusals(hits, stats: Sequence, side=None, treads=()):
+def side_refusals(hits, stats: Sequence, side=None, treads=(), under_eye: bool = False):
     """Leave out the ``ramp`` and ``stairs`` hits whose proof's walked-on planes are all seen
     from below.
 
@@ -1442,6 +1442,15 @@ def side_refusals(hits, stats: Sequence, side=None, treads=()):
         None: the gate is off.
     treads : sequence of float
         ``normal . up`` (normal turned to the sensor) of the object's horizontal planes.
+    under_eye : bool
+        Some plane of the object lies (its centroid) under the camera's eye: then ``stairs``
+        proved by risers only (every measured proof plane vertical) is not refused.  A flight
+        rising before a low camera (a robot's, 0.3 m up) has its lower risers under the eye
+        and shows no tread from above (those under the eye are seen edge on); the stair fit of
+        its far part (:mod:`planerel.features.stairfit`) puts level pieces on its risers' top
+        edges, which are seen from below.  A ceiling's or a shelf's underside lies wholly over
+        the eye; a scene read with a wrong up proves its "steps" with tilted planes
+        (riser73: dev_lows i0012; hunt57 sg-lab-box).
 
     Returns
     -------
@@ -1456,9 +1465,11 @@ def side_refusals(hits, stats: Sequence, side=None, treads=()):
         want = SIDE_PLANES.get(hit[0])
         if want is None:
             return None
-        measured = (side(v) for v in dict(hit[2]).values())
-        facing = [m[1] for m in measured if m is not None and m[0] == want]
+        measured = [m for m in (side(v) for v in dict(hit[2]).values()) if m is not None]
+        facing = [m[1] for m in measured if m[0] == want]
         if hit[0] == "stairs":
+            if under_eye and measured and all(m[0] == "vertical" for m in measured):
+                return None  # a flight's risers rising over a low camera's eye (riser73)
             facing += [float(f) for f in treads]
         if not facing or max(facing) >= 0:
             return None
@@ -1960,10 +1971,11 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            distances=None, ranges: Sequence = (), range_margin: float = RANGE_MARGIN,
            foot=None, foot_above: float = FOOT_ABOVE, foot_below: float = FOOT_BELOW,
            foot_hidden: float = FOOT_HIDDEN, foot_float: float = FOOT_FLOAT, side=None,
-           treads=(), unsure=None, facet=None, pitch=None, pitch_tol: float = PITCH_TOL):
+           treads=(), under_eye: bool = False, unsure=None, facet=None, pitch=None,
+           pitch_tol: float = PITCH_TOL):
     """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
-    default, off), :func:`side_refusals` (``side``, and the object's ``treads``; None,
-    the default, off), :func:`unsure_refusals` (``unsure``; None, the default, off),
+    default, off), :func:`side_refusals` (``side``, and the object's ``treads`` and
+    ``under_eye``; None, the default, off), :func:`unsure_refusals` (``unsure``; None, the default, off),
     :func:`facet_refusals` (``facet``; None, the default, off), :func:`pitch_refusals`
     (``pitch`` and ``pitch_tol``; None, the default, off), :func:`proof_refusals` (with
     ``proofs``, the
@@ -1999,7 +2011,7 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
     kept, steps = flight_refusals(kept, stats, flight)
     kept, feet = foot_refusals(kept, stats, foot, foot_above, foot_below, foot_hidden,
                                foot_float)
-    kept, under = side_refusals(kept, stats, side, treads)
+    kept, under = side_refusals(kept, stats, side, treads, under_eye)
     kept, doubt = unsure_refusals(kept, stats, unsure)
     kept, round_ = facet_refusals(kept, stats, facet)
     kept, pitched = pitch_refusals(kept, stats, pitch, pitch_tol)
