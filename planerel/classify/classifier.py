@@ -1111,8 +1111,9 @@ class Classifier:
                                    [f[1] for f in (side(plane_ids.get(lab))
                                                    for lab in o.planes)
                                     if f is not None and f[0] == "horizontal"],
-                                   under_eye=side is not None and _under_eye(desc.planes,
-                                                                             o.planes),
+                                   under_eye=side is not None
+                                   and any(h[0] == "stairs" for h in hits)
+                                   and _under_eye(desc.planes, o.planes),
                                    unsure=unsure, facet=facet,
                                    pitch=None if pitch_of is None else pitch_of(o.planes),
                                    pitch_tol=self.pitch_tol or 0.0)

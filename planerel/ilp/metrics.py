@@ -1975,7 +1975,8 @@ def decide(hits, stats: Sequence, classes: Sequence[str], cofire: Sequence = (),
            pitch_tol: float = PITCH_TOL):
     """The open-set decision for one object: :func:`foot_refusals` (``foot``; None, the
     default, off), :func:`side_refusals` (``side``, and the object's ``treads`` and
-    ``under_eye``; None, the default, off), :func:`unsure_refusals` (``unsure``; None, the default, off),
+    ``under_eye``; None, the default, off), :func:`unsure_refusals` (``unsure``; None, the
+    default, off),
     :func:`facet_refusals` (``facet``; None, the default, off), :func:`pitch_refusals`
     (``pitch`` and ``pitch_tol``; None, the default, off), :func:`proof_refusals` (with
     ``proofs``, the
