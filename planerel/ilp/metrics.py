@@ -422,7 +422,9 @@ class DecisionParams:
         refused when its proof's and its object's horizontal planes are all seen from below
         (built for hunt45's ceiling terraces seen from 0.1 m; since 16-bit no-data is read
         as such that ceiling proves no flight either way, so no real answer it refuses is
-        measured).  Only classify applies it.
+        measured), unless the proof's planes are all risers and a plane of the object lies
+        under the camera's eye (a flight rising over a low robot's camera: riser73,
+        ``under_eye`` of :func:`side_refusals`).  Only classify applies it.
     unsure_upside : bool
         With ``unsure_gate``, an estimated up read upside down (``gravity.flip``) counts as
         unconfirmed too, whatever its confidence and whether or not a floor plane is in view
