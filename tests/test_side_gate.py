@@ -154,7 +154,6 @@ def test_a_flight_seen_from_a_low_or_a_high_camera_stays(tmp_path, view):
     assert len(flights) == 1
 
 
-
 def test_a_flight_rising_over_a_low_cameras_eye_stays(tmp_path):
     """riser73: eight steps rising 1.5 m before a camera 0.3 m up, looking level, depth noise
     0.002 z^2.  Its lower risers lie under the eye; over it the stair fit puts level pieces on

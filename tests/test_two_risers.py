@@ -1,6 +1,6 @@
 """riser73: two risers alone make a counted step when both are flight-like and the lower one
 stands on a horizontal plane (``ProposalParams.step_two_risers``,
-:func:`planerel.features.relations._two_riser_steps`; docs/objects.md "A flight seen level
+:func:`planerel.features.relations._two_riser_steps`; docs/results.md "A flight seen level
 from a low robot: two risers")."""
 
 from __future__ import annotations
@@ -58,6 +58,18 @@ def test_a_two_step_flight_seen_level_is_one_proposal():
     # the stair_step/2 fact between them is there either way (no chain asked)
     assert (lo, hi) in {s[:2] for s in step_chain_pairs(on.planes, risers, (0.08, 0.3),
                                                         (0.12, 0.6), chain=False)}
+
+
+def test_the_tread_between_seen_leaves_it_to_the_rows():
+    # the same flight with its lower tread a plane (a camera that sees it): the two risers
+    # are no two-riser step; whatever the rows of three make is made either way
+    rects = [floor()] + stairs(0.0, 1.6, n=2, rise=RISE, run=RUN, width=1.2)
+    cloud, lab, _up, objs = render(rects, pitch=0.0, cam_height=0.3, noise=0.0005)
+    desc = describe_scene(cloud, lab)
+    treads = [p for p in desc.planes if objs[p.label] == 1 and p.orientation == "horizontal"]
+    assert treads  # the lower tread (0.18 m, under the eye) is seen
+    labels = [p.label for p in desc.planes if objs[p.label] == 1]
+    assert _steps(desc, labels, True) == _steps(desc, labels, False)
 
 
 def test_two_narrow_faces_are_no_flight():
