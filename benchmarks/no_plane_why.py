@@ -18,7 +18,10 @@ the growth.
 Usage::
 
     python benchmarks/real_census.py SET... --model MODEL --json census.json
-    python benchmarks/no_plane_why.py --census census.json [--extra extra.json]
+    python benchmarks/no_plane_why.py --census census.json [--extra extra.json] [--aggregate]
+
+``--aggregate`` prints only medians and counts over the targets (no frame names or values):
+for a judge set, whose frames are not read one by one.
 
 ``extra.json``: a list of ``{"set": DIR, "file": NAME, "rect": [x0, y0, x1, y1], "name": TEXT,
 "kind": "floor"}``.
@@ -48,7 +51,8 @@ VARIANTS = (("main", OFF), ("min_region_scale 0.25", {**OFF, "min_region_scale":
             ("theta 25", {**OFF, "theta": 25.0}), ("delta_factor 12", {**OFF, "delta_factor": 12.0}),
             ("min_neighbour_num 2", {**OFF, "min_neighbour_num": 2}),
             ("normal window 6", {**OFF, "normal_smooth": 6, "normal_radius": 6}),
-            ("split off", {**OFF, "split": False}), ("default", {}))
+            ("split off", {**OFF, "split": False}), ("small_scale 0.35", {"small_scale": 0.35}),
+            ("default", {}))
 #: Grid steps of the eight neighbours, in the delta graph's bit order.
 DV = (0, 1, 1, 1, 0, -1, -1, -1)
 DU = (1, -1, 0, 1, -1, 1, 0, -1)
@@ -156,15 +160,54 @@ def measure(t):
     return r
 
 
+def _num(v):
+    """The leading number of a measured value (``"1.2/3.4"`` -> 1.2), None if there is none."""
+    if isinstance(v, (int, float)):
+        return float(v)
+    try:
+        return float(str(v).split("/")[0].split()[0])
+    except (ValueError, IndexError):
+        return None
+
+
+def aggregate(rows) -> list[str]:
+    """Lines of medians (with the 10-90 % range) over the targets, and per setting the
+    number of targets whose rectangle's valid depth lies half or more in planes."""
+    out = [f"targets {len(rows)}"]
+    if not rows:
+        return out
+    for key in ("px", "valid", "z", "unassigned", "rms5", "rms9", "rms15", "normals_off",
+                "few_neighbours", "seedable"):
+        v = [x for x in (_num(r.get(key)) for r in rows) if x is not None]
+        if v:
+            out.append(f"{key}: median {np.median(v):.3g} (10-90 % {np.percentile(v, 10):.3g}"
+                       f"-{np.percentile(v, 90):.3g}, {len(v)} values)")
+    sig = [_num(r["model"].split("sigma")[1]) for r in rows]
+    out.append(f"noise sigma at the box (mm): median {np.median(sig):.3g}")
+    out.append("window/min/delta: " + ", ".join(sorted({r["window/min/delta"] for r in rows})))
+    for name, _kw in VARIANTS:
+        share = [_num(r["planes_in_rect"][name]) for r in rows]
+        out.append(f"{name}: in planes >= 0.5 for {sum(s >= 0.5 for s in share)} of {len(rows)}, "
+                   f"median share {np.median(share):.2f}")
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--census", help="real_census.py --json output")
     ap.add_argument("--extra", help="a JSON list of further targets")
+    ap.add_argument("--aggregate", action="store_true",
+                    help="print only medians and counts over the targets (for a judge set)")
     a = ap.parse_args(argv)
     targets = (census_targets(a.census) if a.census else []) + \
         (json.load(open(a.extra)) if a.extra else [])
+    rows = []
     for t in targets:
-        print(json.dumps(measure(t)), flush=True)
+        rows.append(measure(t))
+        if not a.aggregate:
+            print(json.dumps(rows[-1]), flush=True)
+    if a.aggregate:
+        print("\n".join(aggregate(rows)))
 
 
 if __name__ == "__main__":
