@@ -23,6 +23,12 @@ Usage::
 ``--aggregate`` prints only medians and counts over the targets (no frame names or values):
 for a judge set, whose frames are not read one by one.
 
+``--small-pass`` follows each target through the small pass (``small_scale`` 0.35, docs/
+segmentation.md "Block tops seen from above") instead: the stage that loses it
+(:func:`small_stage`: no region of the second growing mostly in the rectangle; the region not
+lying in depth the first growing left free; its fit over the bound; not kept by the
+standing-over test, and whether ``small_corners`` would keep it; kept).
+
 ``extra.json``: a list of ``{"set": DIR, "file": NAME, "rect": [x0, y0, x1, y1], "name": TEXT,
 "kind": "floor"}``.
 """
@@ -34,6 +40,7 @@ import json
 import math
 import os
 import sys
+from collections import Counter
 
 import numpy as np
 
@@ -160,6 +167,77 @@ def measure(t):
     return r
 
 
+SMALL_STAGES = ("no region", "not free", "fit over bound", "not kept", "kept")
+
+
+def small_stage(cloud, rect, small_scale=0.35, seg=None):
+    """``(stage, measures)``: where the small pass (``small_scale``) loses the box in ``rect``
+    ((x0, y0, x1, y1)) of ``cloud``, the pass's own steps (:func:`planerel.segment.
+    _small_growing`, ``_free_regions``, ``_small_kept``) run on the first growing ``seg``
+    (default :func:`segment` of the cloud).  ``stage`` is one of :data:`SMALL_STAGES`; the
+    region followed is the second growing's with the most pixels in the rectangle among those
+    lying half or more in it.  ``measures``: its pixels, free share, fit over the noise and
+    bound, whether ``small_corners`` keeps it, and the angle (degrees) to the closest plane
+    within the standing-over reach."""
+    import dataclasses
+
+    import planerel.segment as S
+    from planerel.segment.params import SMALL_SHARE
+
+    seg = seg if seg is not None else segment(cloud)
+    p = dataclasses.replace(seg.params, small_scale=small_scale)
+    free = S._near_free(cloud, seg, p.far_depth)
+    size = max(1, round(small_scale * int(seg.info.get("min_region_size", 0) or 0)))
+    wl, sigma = S._small_growing(cloud, seg, p, None, size)
+    m = rect_mask(wl.shape, rect) & np.asarray(cloud.valid)
+    ids, cnt = np.unique(wl[m & (wl >= 0)], return_counts=True)
+    total = np.bincount(wl[wl >= 0], minlength=int(ids.max()) + 1 if len(ids) else 0)
+    mostly = [(c, i) for i, c in zip(ids.tolist(), cnt.tolist(), strict=True) if c >= 0.5 * total[i]]
+    if not mostly:
+        return "no region", {"largest_in_rect": int(cnt.max()) if len(cnt) else 0}
+    r = max(mostly)[1]
+    reg = wl == r
+    out = {"px": int(total[r]), "free": round(float((reg & free).sum() / total[r]), 2)}
+    one = np.where(reg, wl, -1)  # the region alone, through the pass's own tests
+    bound = S._near_rms_max(seg, p, sigma)
+    lab2, added, fit = S._free_regions(cloud, seg, one, free, size, bound, SMALL_SHARE, sigma)
+    out["bound"] = round(float(bound), 2)
+    if fit:
+        out["fit"] = fit[0]
+    if not fit:
+        return "not free", out
+    if not added:
+        return "fit over bound", out
+    # kept or not among every candidate of the pass, as the pass judges them (a block's top
+    # may stand over, or meet at a corner, another block's new plane)
+    n = len(seg.planes)
+    full, added_all, _fit = S._free_regions(cloud, seg, wl, free, size, bound, SMALL_SHARE, sigma)
+    label = int(full[reg & free].max())
+
+    def keeps(corners):
+        kept_lab = S._small_kept(cloud, seg, full, added_all, corners=corners)[0]
+        return bool((kept_lab[full == label] >= n).any())
+
+    kept = keeps(False)
+    out["corners_keep"] = keeps(True)
+    from scipy.ndimage import binary_dilation
+
+    own = full == label
+    ring = binary_dilation(own, iterations=2 + S._window(seg)) & (full >= 0) & ~own
+    near = np.unique(full[ring]).tolist()
+    if near:
+        def normal(k):
+            if k < n:
+                return np.asarray(seg.planes[k].normal, float)
+            pts = np.asarray(cloud.xyz)[full == k].astype(float)
+            return np.linalg.svd(pts - pts.mean(0), full_matrices=False)[2][-1]
+
+        nj = normal(label)
+        out["closest_angle"] = round(min(math.degrees(math.acos(min(1.0, abs(float(
+            nj @ normal(k)))))) for k in near), 1)
+    return ("kept" if kept else "not kept"), out
+
+
 def _num(v):
     """The leading number of a measured value (``"1.2/3.4"`` -> 1.2), None if there is none."""
     if isinstance(v, (int, float)):
@@ -196,11 +274,27 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--census", help="real_census.py --json output")
     ap.add_argument("--extra", help="a JSON list of further targets")
+    ap.add_argument("--small-pass", action="store_true",
+                    help="the stage of the small pass (small_scale 0.35) that loses each target")
     ap.add_argument("--aggregate", action="store_true",
                     help="print only medians and counts over the targets (for a judge set)")
     a = ap.parse_args(argv)
     targets = (census_targets(a.census) if a.census else []) + \
         (json.load(open(a.extra)) if a.extra else [])
+    if a.small_pass:
+        stages, measures = Counter(), {}
+        for t in targets:
+            st, ms = small_stage(load(t["set"], t["file"]), t["rect"])
+            stages[st] += 1
+            stages["  small_corners keeps"] += bool(ms.get("corners_keep"))
+            for k, v in ms.items():
+                measures.setdefault(k, []).append(float(v))
+            if not a.aggregate:
+                print(json.dumps({"name": t["name"], "stage": st, **ms}), flush=True)
+        print(f"targets {len(targets)}: " + ", ".join(f"{k} {v}" for k, v in stages.items()))
+        for k, v in measures.items():
+            print(f"{k}: median {np.median(v):.3g} ({len(v)} values)")
+        return
     rows = []
     for t in targets:
         rows.append(measure(t))

@@ -432,24 +432,14 @@ def _small_planes(cloud, seg, p, split_params):
     :data:`~planerel.segment.params.SMALL_SIDE`): the pooled merge test joins a block's 2 cm
     top to the board under it, whose pixels are not free (hunt67).  ``info["small_planes"]``:
     the planes added; ``info["small_fit"]``: every candidate's RMS over the noise."""
-    import dataclasses
-
-    from planerel.segment.params import SMALL_SHARE, SMALL_SIDE
-    from planerel.segment.split import SplitParams
+    from planerel.segment.params import SMALL_SHARE
 
     free = _near_free(cloud, seg, p.far_depth)
     size = max(1, round(p.small_scale * int(seg.info.get("min_region_size", 0) or 0)))
     if int(free.sum()) < size:
         seg.info["small_planes"] = 0
         return seg
-    wp = dataclasses.replace(p, min_region_size=size, far_theta=0.0, far_wide=False,
-                             small_scale=0.0, near_wide=0.0)
-    sp = split_params if split_params is not None else SplitParams()
-    sp = dataclasses.replace(sp, merge_side=max(sp.merge_side, SMALL_SIDE))
-    wl = _second_growing(cloud, seg, wp, sp).labels
-    # a frame with no measured noise (a Kinect's quantised depth, hunt67) is judged by the
-    # split test's sensor model
-    sigma = _noise_sigma(seg, sp)
+    wl, sigma = _small_growing(cloud, seg, p, split_params, size)
     out, added, fit = _free_regions(cloud, seg, wl, free, size, _near_rms_max(seg, p, sigma),
                                     SMALL_SHARE, sigma)
     if added:
@@ -457,6 +447,25 @@ def _small_planes(cloud, seg, p, split_params):
     seg.info["small_planes"] = added
     seg.info["small_fit"] = fit
     return _with_added(cloud, seg, out, added) if added else seg
+
+
+def _small_growing(cloud, seg, p, split_params, size):
+    """The small pass's second growing: ``(labels (H, W), sigma)``, its regions of ``size``
+    pixels or more and the depth noise (m) as a function of depth its candidates are judged
+    by (:func:`_small_planes`; ``benchmarks/no_plane_why.py --small-pass`` follows a box
+    through the same steps)."""
+    import dataclasses
+
+    from planerel.segment.params import SMALL_SIDE
+    from planerel.segment.split import SplitParams
+
+    wp = dataclasses.replace(p, min_region_size=size, far_theta=0.0, far_wide=False,
+                             small_scale=0.0, near_wide=0.0)
+    sp = split_params if split_params is not None else SplitParams()
+    sp = dataclasses.replace(sp, merge_side=max(sp.merge_side, SMALL_SIDE))
+    # a frame with no measured noise (a Kinect's quantised depth, hunt67) is judged by the
+    # split test's sensor model
+    return _second_growing(cloud, seg, wp, sp).labels, _noise_sigma(seg, sp)
 
 
 def _small_kept(cloud, seg, out, added, *, corners=True):
