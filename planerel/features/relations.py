@@ -2357,6 +2357,11 @@ class ProposalParams:
         Metres (0 = off): a vertical plane sharing no edge with a horizontal one is not joined
         to it when its top rises more than this above the horizontal plane (``top_rise`` of
         :func:`convex_pairs`; tabletop22b).
+    top_rise_edge : float
+        Metres (0 = off; on at 0.02 since lead74): the same for a vertical plane sharing an
+        edge with a horizontal one under the camera's eye, joined to it by the edge's convex
+        sign alone (``top_rise_edge`` of :func:`convex_pairs`): a tote's wall seen over its
+        rim and a block's top inside it, a lower top seen past a higher face's top edge.
     riser_min : float
         Metres (0 = off): the tread-and-riser exception of :func:`convex_pairs` needs the
         vertical plane over a horizontal one at least this high (its hull along up; 0.08 =
@@ -2510,6 +2515,7 @@ class ProposalParams:
     stacked_faces: float = 0.3
     stacked_parallel: bool = True
     top_rise: float = 0.02
+    top_rise_edge: float = 0.02
     riser_min: float = 0.08
     riser_floor: bool = True
     skip_missing: bool = True
@@ -2528,7 +2534,7 @@ class ProposalParams:
                              "step_rise_min", "step_rise_max",
                              "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap", "piece_depth",
                              "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max", "riser_min",
-                             "side_wall_rise_max", "top_rise", "side_wall_follow", "apart_gap",
+                             "side_wall_rise_max", "top_rise", "top_rise_edge", "side_wall_follow", "apart_gap",
                              "touch_gap", "skin_height", "skin_angle"))
         if not 0 <= self.concave_band <= 1:
             raise InputError(f"concave_band must be in 0..1, got {self.concave_band!r}")
@@ -2976,7 +2982,8 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
                  seat_depth: float | None = None, stacked_overlap: float = 0.0,
                  stacked_parallel: bool = False, top_rise: float = 0.0,
                  riser_min: float = 0.0, riser_floor: bool = False,
-                 riser_pieces: bool = False, concave_band: float = 1.0) -> set:
+                 riser_pieces: bool = False, concave_band: float = 1.0,
+                 top_rise_edge: float = 0.0) -> set:
     """The pairs whose shared edge is convex seen from outside (LCCP's rule, Stein et al. 2014).
 
     For planes ``a`` and ``b`` with unit normals ``n_a``, ``n_b`` turned towards the sensor
@@ -3038,7 +3045,7 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
     byl = {p.label: p for p in planes}
     up_v = getattr(planes, "up", None)
     stacked = stacked_overlap > 0 and up_v is not None
-    if stacked or (top_rise > 0 and up_v is not None):
+    if stacked or ((top_rise > 0 or top_rise_edge > 0) and up_v is not None):
         up_l = np.asarray(up_v, float).tolist()
         spans: dict = {}
 
@@ -3110,7 +3117,15 @@ def convex_pairs(planes, pairs, edges=None, concave_tol: float = 10.0,
         # two objects touching at a corner have their points' offset along it
         sane = (sanity_angle <= 0 or (e is not None and abs(sign) > scale)
                 or _crossing_angle_f(na, nb, dx) >= _sanity_limit_f(na, nb, sanity_angle))
-        if (sign >= -concave_band * scale and sane) or (step_overlap is not None and shared
+        by_sign = sign >= -concave_band * scale and sane
+        if (by_sign and top_rise_edge > 0 and up_v is not None and e is not None
+                and {pa.orientation, pb.orientation} == {"horizontal", "vertical"}):
+            hp, vp = (pa, pb) if pa.orientation == "horizontal" else (pb, pa)
+            level = _dot(np.asarray(hp.centroid, float).tolist(), up_l)
+            # a top seen from above (under the eye); a table's underside seen from below is
+            # met by its own legs and apron rising to its top
+            by_sign = level >= 0 or span(vp)[1] - level <= top_rise_edge
+        if by_sign or (step_overlap is not None and shared
                                          and _step_like(pa, pb, step_overlap,
                                                         getattr(planes, "up", None), riser_max,
                                                         riser_min)
@@ -4305,6 +4320,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                               stacked_overlap=params.stacked_faces,
                               stacked_parallel=params.stacked_parallel,
                               top_rise=params.top_rise,
+                              top_rise_edge=params.top_rise_edge,
                               riser_min=params.riser_min,
                               riser_floor=params.riser_floor,
                               riser_pieces=params.riser_pieces,
