@@ -1,5 +1,5 @@
-"""``benchmarks/no_plane_why.py --small-pass`` (docs/segmentation.md "Block tops seen from
-above"): the stage it names for a box is what the small pass itself does with it, and the
+"""``benchmarks/no_plane_why.py --small-pass`` (docs/segmentation.md "The judge's blocks, stage
+by stage"): the stage it names for a box is what the small pass itself does with it, and the
 aggregate lines name no frame."""
 
 from __future__ import annotations
