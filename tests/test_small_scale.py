@@ -33,12 +33,18 @@ def small_boxes():
 def _scene(index, seed, kind):
     """``independent_scenes.py``'s scene ``index`` of ``seed`` with one ``kind``, seen by the
     Kinect-like sensor at 640x480: ``(cloud, truth (H, W) object ids)``."""
+    return _scene_side(index, seed, kind)[:2]
+
+
+def _scene_side(index, seed, kind, heights=None):
+    """:func:`_scene` with the camera's eye ``heights`` (``independent_scenes.camera_pose``)
+    and the scene's sidecar (its ``objects`` with their kinds): ``(cloud, truth, side)``."""
     xyz, truth, side, *_ = ind.make_scene(index, seed, (640, 480), kinds=(kind,),
-                                          sensor="kinect")
+                                          sensor="kinect", heights=heights)
     intr = side["intrinsics"]
     cloud = Cloud(xyz, (intr["width"], intr["height"], intr["fx"], intr["fy"], intr["cx"],
                         intr["cy"]), side["up"])
-    return cloud, truth
+    return cloud, truth, side
 
 
 def test_small_scale_is_off_by_default(small_boxes):

@@ -14,7 +14,8 @@ from scenes_analytic import box, floor, render, stairs
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
-from test_small_scale import _scene  # noqa: E402
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from test_small_scale import _scene, _scene_side  # noqa: E402
 
 from planerel.errors import InputError  # noqa: E402
 from planerel.features.facts import describe_scene  # noqa: E402
@@ -93,15 +94,7 @@ def _best_iou(desc, truth, index) -> float:
 def test_a_table_seen_from_below_keeps_its_legs():
     # dev_lowb's scene 15 (seed 4401, a camera 0.1-0.3 m up): a table's top seen from under
     # it meets its legs and apron rising to the top; only a top under the eye is cut
-    import independent_scenes as ind
-
-    xyz, truth, side, *_ = ind.make_scene(15, 4401, (640, 480), kinds=("box",), sensor="kinect",
-                                          heights=(0.1, 0.3))
-    from planerel.io.cloud import Cloud
-
-    intr = side["intrinsics"]
-    cloud = Cloud(xyz, (intr["width"], intr["height"], intr["fx"], intr["fy"], intr["cx"],
-                        intr["cy"]), side["up"])
+    cloud, truth, side = _scene_side(15, 4401, "box", heights=(0.1, 0.3))
     table = [o["index"] for o in side["objects"] if o["kind"] == "table"]
     assert table
     labels = segment(cloud).labels
