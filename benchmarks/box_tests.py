@@ -156,9 +156,12 @@ def tall_face_tests(planes, relations, cloud, label, plane_id=str) -> list:
     if floor is not None and p.tall_floor_fit > 0:
         foot = bool(R.floor_foot(face, prof, floor, lab, cloud.xyz, up, p))
     level = None if floor is None else level_under(floor, face.centroid, up)
-    out.append(("grounded", any(g for _, g in on) or bool(foot),
+    ground = bool(getattr(planes, "floor", None) is None
+                  and R.level_ground(face, prof, lab, cloud.xyz, up, p))
+    out.append(("grounded", any(g for _, g in on) or bool(foot) or ground,
                 f"adjacent horizontal planes {on or 'none'}; {source or 'no floor'}"
-                + ("" if level is None else f" at {level:+.3f} m under it, floor_foot {foot}")))
+                + ("" if level is None else f" at {level:+.3f} m under it, floor_foot {foot}")
+                + f"; level unplaned ground {ground}"))
     taller = [(plane_id(q.label), round(profile(q).top - prof.top, 3),
                R._stands_beside(face, prof, q, profile(q), lab, cloud.xyz, p)) for q in beside]
     out.append(("free-standing", not any(d > p.skirt_tol and not s for _, d, s in taller),

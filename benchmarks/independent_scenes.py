@@ -18,6 +18,7 @@ Usage::
 
     python benchmarks/independent_scenes.py make OUT_DIR [--n 60] [--seed 7] [--size 160x120]
         [--kinds box,stairs,ramp] [--sensor plain|kinect|stereo|tof] [--heights LOW,HIGH] [--furniture]
+        [--speckle-floor KEEP]
     python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150] [--by-planes]
     python benchmarks/independent_scenes.py dev DEST [--only NAME ...] [--force]
 
@@ -840,7 +841,7 @@ TOF_CORR, TOF_DARK_CORR, TOF_HOLE_CORR = 320, 120, 320
 STEREO_BASE, STEREO_SIGMA, STEREO_STEP, STEREO_WINDOW = 0.05, 0.08, 1.0 / 32, 7 / 640
 
 
-def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
+def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain", speckle=None):
     """Organized XYZ ``(H, W, 3)`` in the camera frame and the object id per pixel (and with
     ``planes`` the true plane id per pixel, -1 missing, as a third result).
 
@@ -877,6 +878,12 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
     :data:`TOF_DARK_HOLES` of them; the same random dropouts, range and grazing limits; no
     shadow band, but at half the pixels on the far side of a depth jump > 4 cm a *flying
     pixel*: a depth drawn between the near and the far surface (the pixel's truth: none).
+
+    ``speckle`` (ground75, ``--speckle-floor``): ``(keep, generator)``: each pixel of the floor
+    (the room's level faces at floor height) keeps its depth with chance ``keep``, drawn from
+    ``generator`` (its own, so the rest of the scene is the scene without it): a dark floor,
+    or a floor an active sensor sees at a grazing angle, measured as scattered pixels no
+    region grows over (hunt45's R200 frame under a table: 16 % of the floor's pixels).
     """
     if sensor not in SENSORS:
         raise ValueError(f"sensor {sensor!r}: one of {SENSORS}")
@@ -893,6 +900,12 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain"):
     z = t / np.linalg.norm(rays_cam, axis=1)  # range along the ray -> depth along z
     valid = face >= 0
     truth = np.where(valid, owner[np.maximum(face, 0)], -1)
+    if speckle is not None:
+        keep, speckle_rng = speckle
+        f = np.maximum(face, 0)
+        on_floor = valid & (owner[f] == 0) & (normals[f][:, 2] > 0.9) \
+            & (np.abs(tri[f][:, 0, 2]) < 1e-6)
+        valid &= ~(on_floor & (speckle_rng.random(len(valid)) >= keep))
     cosi = np.abs(np.einsum("ij,ij->i", normals[np.maximum(face, 0)], dirs_n))
     if noise:
         valid &= z < 6.0
@@ -1031,13 +1044,15 @@ KINDS = ("box", "stairs", "ramp", "stairs_top", "small_box", "tote_blocks")
 
 
 def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ramp"), sensor="plain",
-               heights=None, furniture=False):
+               heights=None, furniture=False, speckle_floor=None):
     """Scene ``i`` of the set of ``seed``: (xyz, truth, sidecar dict, meshes, eye, R, plane ids).
 
     ``kinds``: the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``);
     ``heights``: the camera's eye heights (:func:`camera_pose`; not for ``stairs_top``);
     ``furniture``: add 1-3 pieces of room furniture in view (:func:`add_furniture`, drawn from
-    a generator of its own, ``[seed, i, 44]``: the scene without them is the same scene)."""
+    a generator of its own, ``[seed, i, 44]``: the scene without them is the same scene);
+    ``speckle_floor``: the share of the floor's pixels measured (:func:`render`'s ``speckle``,
+    drawn from a generator of its own, ``[seed, i, 75]``)."""
     rng = np.random.default_rng([seed, i])
     kind = kinds[i % len(kinds)]
     if kind not in KINDS:
@@ -1060,7 +1075,10 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
     if furniture:
         meshes, objects, placed = add_furniture(meshes, objects, eye, R, intr,
                                                 np.random.default_rng([seed, i, 44]), target)
-    xyz, truth, pid = render(meshes, eye, R, intr, rng, noise=noise, planes=True, sensor=sensor)
+    speckle = None if speckle_floor is None else (
+        float(speckle_floor), np.random.default_rng([seed, i, 75]))
+    xyz, truth, pid = render(meshes, eye, R, intr, rng, noise=noise, planes=True, sensor=sensor,
+                             speckle=speckle)
     up = R @ np.array([0.0, 0.0, 1.0])
     side = {"format": "independent-scene", "version": 1, "scene_id": f"i{i:04d}",
             "class": {"stairs_top": "stairs", "small_box": "box", "tote_blocks": "box"}.get(kind, kind),
@@ -1073,6 +1091,8 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
         side["params"]["sensor"] = sensor
     if placed is not None:
         side["params"]["furniture"] = placed
+    if speckle_floor is not None:
+        side["params"]["speckle_floor"] = float(speckle_floor)
     return xyz, truth, side, meshes, eye, R, pid
 
 
@@ -1089,13 +1109,14 @@ def _write_npy(path, arr):
 
 
 def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain", heights=None,
-             furniture=False):
+             furniture=False, speckle_floor=None):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     for i in range(n):
         xyz, truth, side, *_, pid = make_scene(i, seed, size, kinds=kinds, sensor=sensor,
-                                               heights=heights, furniture=furniture)
+                                               heights=heights, furniture=furniture,
+                                               speckle_floor=speckle_floor)
         sid = side["scene_id"]
         _write_npy(out / f"{sid}.planes.npy", pid)
         _write_npy(out / f"{sid}.npy", xyz)
@@ -1109,6 +1130,8 @@ def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain"
         meta["heights"] = list(heights)
     if furniture:
         meta["furniture"] = True
+    if speckle_floor is not None:
+        meta["speckle_floor"] = float(speckle_floor)
     _write_json(out / "independent.json", meta)
     print(f"made {n} scenes ({size[0]}x{size[1]}) in {dt:.1f} s, {1000 * dt / max(n, 1):.0f} ms/scene -> {out}")
 
@@ -1319,6 +1342,10 @@ DEV_SETS = {
     # floor (a tracked rescue robot): risers seen, treads edge on
     "dev_lows": "--n 40 --seed 7301 --kinds stairs,ramp --sensor kinect --size 640x480 "
                 "--heights 0.25,0.5",
+    # ground75: boxes seen from 0.3-0.8 m over a floor measured only as speckle (15 % of its
+    # pixels): no floor plane, the boxes' faces stand on ground no plane took (hunt45's R200)
+    "dev_speck": "--n 40 --seed 7501 --kinds box --sensor kinect --size 640x480 "
+                 "--heights 0.3,0.8 --speckle-floor 0.15",
 }
 
 
@@ -1327,7 +1354,7 @@ def _make(a) -> None:
     W, H = (int(v) for v in a.size.lower().split("x"))
     heights = None if a.heights is None else tuple(float(v) for v in a.heights.split(","))
     make_set(a.out, a.n, a.seed, (W, H), kinds=tuple(a.kinds.split(",")), sensor=a.sensor,
-             heights=heights, furniture=a.furniture)
+             heights=heights, furniture=a.furniture, speckle_floor=a.speckle_floor)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -1349,6 +1376,10 @@ def _parser() -> argparse.ArgumentParser:
                    help="add 1-3 pieces of room furniture (class other: cabinets, chests, wardrobes, "
                         "bookcases, sofas, beds, radiators, bins, doors) in view; off: the same "
                         "scenes as before the option")
+    m.add_argument("--speckle-floor", type=float, default=None, metavar="KEEP",
+                   help="measure only this share of the floor's pixels, scattered (a dark floor, "
+                        "or one an active sensor sees at a grazing angle: no plane grows on it); "
+                        "off: the same scenes as before the option")
     s = sub.add_parser("score")
     s.add_argument("out")
     s.add_argument("models", nargs="+")

@@ -309,6 +309,27 @@ def test_furniture_adds_pieces_of_class_other_to_the_same_scene():
     assert seen >= 2  # pieces are placed in the camera's view
 
 
+def test_a_speckled_floor_keeps_its_share_of_the_floor_and_leaves_the_rest_alone():
+    # ground75: the floor's pixels measured with chance KEEP from a generator of its own; every
+    # other pixel (the boxes, the walls) is the scene without the option, bit for bit
+    for i in range(3):
+        a = ind.make_scene(i, 7501, (160, 120), kinds=("box",), heights=(0.3, 0.8),
+                           sensor="kinect")
+        b = ind.make_scene(i, 7501, (160, 120), kinds=("box",), heights=(0.3, 0.8),
+                           sensor="kinect", speckle_floor=0.15)
+        assert b[2]["params"]["speckle_floor"] == 0.15 and "speckle_floor" not in a[2]["params"]
+        xyz_a, xyz_b = a[0], b[0]
+        # the floor: the room's pixels whose world height is ~0
+        world = np.einsum("ij,hwj->hwi", a[5].T, xyz_a.astype(float)) + a[4]
+        floor = (a[1] == 0) & (np.abs(world[..., 2]) < 0.05)
+        kept = np.isfinite(xyz_b[..., 2]) & floor
+        assert floor.sum() > 500
+        assert 0.10 < kept.sum() / floor.sum() < 0.20
+        rest = ~floor & np.isfinite(xyz_a[..., 2])
+        np.testing.assert_array_equal(xyz_a[rest], xyz_b[rest])
+        np.testing.assert_array_equal(a[1][rest], b[1][rest])
+
+
 def test_convex_overlap_separates_and_meets():
     sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     assert ind._overlap2(sq, sq + 0.5)
@@ -326,10 +347,10 @@ def test_every_development_set_command_parses_and_no_two_sets_share_their_argume
     seen = set()
     for name, args in ind.DEV_SETS.items():
         a = ind._parser().parse_args(["make", f"/x/{name}"] + args.split())
-        key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture)
+        key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture, a.speckle_floor)
         assert key not in seen, name
         seen.add(key)
-    assert len(ind.DEV_SETS) == 16  # dev_lows (riser73) the latest
+    assert len(ind.DEV_SETS) == 17  # dev_speck (ground75) the latest
 
 
 def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path, capsys):

@@ -105,9 +105,14 @@ def test_a_face_on_a_speckle_floor_is_a_tall_face():
     cloud = Cloud(cloud.xyz, cloud.intrinsics, up, "analytic")
     ps = measure_planes(cloud, lab)
     assert ps.floor is None and ps.by_label(1).orientation == "vertical"
-    on = tall_faces(ps, relate(ps, cloud, RelationParams()), cloud)
-    off = tall_faces(ps, relate(ps, cloud, RelationParams(tall_speckle_floor=0.0)), cloud)
+    # the level ground under its foot (ground75's level_ground) off, the speckle floor alone
+    on = tall_faces(ps, relate(ps, cloud, RelationParams(tall_level_ground=0.0)), cloud)
+    off = tall_faces(ps, relate(ps, cloud, RelationParams(tall_speckle_floor=0.0,
+                                                          tall_level_ground=0.0)), cloud)
     assert 1 in on and 1 not in off
+    # the speckle reaching in front of its foot grounds it too
+    both = tall_faces(ps, relate(ps, cloud, RelationParams(tall_speckle_floor=0.0)), cloud)
+    assert 1 in both
 
 
 def test_a_wall_under_a_table_top_is_no_tall_face():
@@ -152,7 +157,7 @@ def test_the_gravity_settings_reach_the_speckle_floor_under_a_face():
     cloud, lab, up = _speckled(_carton())
     cloud = Cloud(cloud.xyz, cloud.intrinsics, up, "analytic")
     ps = measure_planes(cloud, lab)
-    rel = relate(ps, cloud, RelationParams())
+    rel = relate(ps, cloud, RelationParams(tall_level_ground=0.0))  # the speckle floor alone
     assert 1 in tall_faces(ps, rel, cloud, gravity_params=GravityParams())
     strict = GravityParams(sparse_floor_area=100.0)  # no floor this large in view
     assert 1 not in tall_faces(ps, rel, cloud, gravity_params=strict)

@@ -274,6 +274,12 @@ class RelationParams:
     #: face; a table's legs that the region grower took as one plane fill 0.2, a chair's
     #: back and legs 0.3-0.7)
     tall_floor_solid: float = 0.8
+    #: m: a vertical face that no plane grounds still stands on the ground (:func:`level_ground`,
+    #: ground75) when the points under its foot lie level with it and reach this far nearer
+    #: to the sensor than the face in at least ``tall_floor_share`` of its middle columns:
+    #: a floor the region grower made no plane of (a dark or speckled floor under a level
+    #: view).  ``skirt_step``'s reach for a plane (a tread or a seat reaches less).  0: off
+    tall_level_ground: float = 0.45
     #: m: a skirt's top (:meth:`_Solid.top_candidate`) lies at most this far above the
     #: sensor's eye (its centroid's level along ``up``, the camera at the origin): a plane
     #: seen from below is an underside -- a shelf's, a table's, a seat's -- and a box's top is
@@ -456,7 +462,7 @@ class RelationParams:
                              "facing_overlap", "facing_width", "facing_narrow_tol", "face_pair_width", "face_pair_angle", "face_pair_graze", "face_pair_graze_angle", "face_pair_level", "face_pair_level_share", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_narrow_width", "tall_narrow_bend", "tall_eye", "tall_flat", "tall_flat_noise", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
-                             "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "skirt_top_eye", "tall_feet_level",
+                             "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "tall_level_ground", "skirt_top_eye", "tall_feet_level",
                              "tall_speckle_floor", "tall_top_cover", "tall_beside_overlap", "tall_beside_step",
                              "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
@@ -1192,7 +1198,9 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
       (:func:`planerel.features.solid.grounded` with ``foot`` = ``standing_foot``: that
       plane's level under ``f`` within ``foot`` of ``f``'s bottom, the plane on the floor or
       reaching more than ``skirt_step`` out from ``f``, as a table does and a tread does
-      not).  A chair's back or a table's apron has open space under it;
+      not), or the floor's fit under it (:func:`floor_foot`), or, in a scan with no floor
+      plane at all, level ground no plane took reaching ``tall_level_ground`` in front of
+      it (:func:`level_ground`).  A chair's back or a table's apron has open space under it;
     - it is free-standing: no vertical plane adjacent to it has its top more than
       ``skirt_tol`` above its own (a wall, a partition or a taller cabinet it belongs to;
       with ``tall_cut_tops``, not when both run out of the image's top: the border cuts
@@ -1321,7 +1329,9 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
         # whether or not the sensor measured it (a camera lying on the floor, eye62); a
         # level the scan itself shows (feet, speckle) stays a floor too, as without it
         floors.append(VirtualFloor(up, -float(eye), known=True))
-    if floors and p.tall_floor_fit > 0:
+    no_floor = getattr(planes, "floor", None) is None
+    if (floors and p.tall_floor_fit > 0) or (no_floor and p.tall_level_ground > 0):
+        # faces no adjacent plane grounds may stand on a floor's fit or on unplaned ground
         floor_labels = {f.label for f in floors}
         for q in planes:
             if q.label not in near and q.label not in floor_labels and may_be_shaped(q):
@@ -1355,7 +1365,8 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
         if not any(grounded(face, prof, g, up, p.standing_foot, p.skirt_tol, p.skirt_step)
                    for g in grounds) and not (
                 p.tall_floor_fit > 0
-                and any(floor_foot(face, prof, f, lab, cloud.xyz, up, p) for f in floors)):
+                and any(floor_foot(face, prof, f, lab, cloud.xyz, up, p) for f in floors)) \
+                and not (no_floor and level_ground(face, prof, lab, cloud.xyz, up, p)):
             continue
         # free-standing: no vertical plane adjacent to it rises above its top behind or over
         # it (a wall or a partition it leans on, a cabinet it is part of); a taller solid
@@ -1905,6 +1916,81 @@ def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
         if abs(h) <= params.standing_foot and np.linalg.norm(q - (q @ up) * up) <= horiz + params.skirt_tol:
             good += 1
     return good >= params.tall_floor_share * cols.size
+
+
+def level_ground(face, prof, labels, xyz, up, params) -> bool:
+    """True when vertical ``face`` stands on level ground that no plane took (ground75): in
+    at least ``tall_floor_share`` of its middle pixel columns (:data:`FLOOR_FOOT_MARGIN` cut
+    off each side) the measured points under its lowest pixel lie level with its foot
+    (``prof.bottom``, within ``standing_foot``) and reach at least ``tall_level_ground`` m
+    nearer to the sensor (horizontally) than the face, before two measured rows in a row
+    leave that level; its pixels fill ``tall_floor_solid`` of its rows' spans; and its top
+    is in view (its pixels start below the image's first ``2 +``
+    :data:`BLANK_MARGIN_MAX` rows).  :func:`tall_faces` asks it only in a scan with no floor
+    plane at all, as the feet level and the speckle floor.
+
+    A floor the region grower made no plane of (a dark or speckled floor at 1-2 m under a
+    level view: hunt45's R200 carton, the ground reaching 0.54 m in front of it) grounds a
+    box's face as a floor plane would.  The reach is :func:`~planerel.features.solid.grounded`'s
+    ``skirt_step`` for a plane: a riser's tread (0.22-0.35 m) or a chair's seat does not reach
+    it; a table's or a chair's open space shows the room behind, not a level surface.  Why
+    the two limits: a wall rising out of view over such a floor (hunt45, an R200 facing a
+    wall 1.7 m high) shows no edge a box's face would; and where a floor plane exists, the
+    unplaned level ground is a far floor the plane's own fit (:func:`floor_foot`) judges
+    better (hunt45, a door frame's strip in the next room).
+
+    Parameters
+    ----------
+    face : Plane
+        A vertical plane (``label``, ``bbox``, ``centroid``).
+    prof : FaceProfile
+        Its profile (``bottom``).
+    labels : ndarray, shape (H, W)
+    xyz : ndarray, shape (H, W, 3)
+        Camera at the origin.
+    up : ndarray, shape (3,)
+    params : RelationParams
+    """
+    reach = params.tall_level_ground
+    if reach <= 0 or not np.isfinite(prof.bottom) or prof.bottom >= 0 \
+            or _reaches_top_row(face, 2 + BLANK_MARGIN_MAX):
+        return False
+    r0, c0, r1, c1 = (int(v) for v in face.bbox)
+    m = labels[r0:r1, c0:c1] == face.label
+    cols = np.flatnonzero(m.any(axis=0))
+    rows = np.flatnonzero(m.any(axis=1))
+    if cols.size < 3 or rows.size < 2:
+        return False
+    first = np.argmax(m, axis=1)[rows]
+    last = m.shape[1] - 1 - np.argmax(m[:, ::-1], axis=1)[rows]
+    if m.sum() < params.tall_floor_solid * float((last - first + 1).sum()):
+        return False
+    cut = FLOOR_FOOT_MARGIN * (cols[-1] - cols[0])
+    cols = cols[(cols >= cols[0] + cut) & (cols <= cols[-1] - cut)]
+    if cols.size == 0:
+        return False
+    bottom = r0 + m.shape[0] - 1 - np.argmax(m[::-1, cols], axis=0)  # lowest pixel per column
+    start = int(bottom.min()) + 1
+    if start >= labels.shape[0]:
+        return False
+    up = np.asarray(up, float)
+    block = xyz[start:, cols + c0]  # (rows under the highest foot, columns, 3)
+    below = np.arange(start, labels.shape[0])[:, None] > bottom[None, :]
+    ok = below & np.isfinite(block).all(axis=2) & (block[..., 2] > 0)
+    level = np.where(ok, block @ up, np.nan)
+    on = ok & (np.abs(level - prof.bottom) <= params.standing_foot)
+    # the walk down a column stops where two measured rows in a row leave the level
+    off = ok & ~on
+    brk = np.zeros_like(off)
+    brk[:-1] = off[:-1] & off[1:]
+    stop = np.where(brk.any(axis=0), np.argmax(brk, axis=0), brk.shape[0])
+    on &= np.arange(brk.shape[0])[:, None] < stop[None, :]
+    c = np.asarray(face.centroid, float)
+    horiz = float(np.linalg.norm(c - (c @ up) * up))
+    flat = block - (block @ up)[..., None] * up
+    forward = horiz - np.linalg.norm(np.where(on[..., None], flat, 0.0), axis=2)
+    got = np.where(on, forward, -np.inf).max(axis=0)
+    return int((got >= reach).sum()) >= params.tall_floor_share * cols.size
 
 
 def top_covered(face, labels, xyz, gap: float) -> bool:
