@@ -1883,13 +1883,7 @@ def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
     r0, c0, r1, c1 = (int(v) for v in face.bbox)
     m = labels[r0:r1, c0:c1] == face.label
     cols = np.flatnonzero(m.any(axis=0))
-    rows = np.flatnonzero(m.any(axis=1))
-    if cols.size < 3 or rows.size < 2:
-        return False
-    # solid: pixels over the summed spans of the rows
-    first = np.argmax(m, axis=1)[rows]
-    last = m.shape[1] - 1 - np.argmax(m[:, ::-1], axis=1)[rows]
-    if m.sum() < params.tall_floor_solid * float((last - first + 1).sum()):
+    if not _fills_rows(m, params.tall_floor_solid):
         return False
     cut = FLOOR_FOOT_MARGIN * (cols[-1] - cols[0])
     cols = cols[(cols >= cols[0] + cut) & (cols <= cols[-1] - cut)]
@@ -1916,6 +1910,19 @@ def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
         if abs(h) <= params.standing_foot and np.linalg.norm(q - (q @ up) * up) <= horiz + params.skirt_tol:
             good += 1
     return good >= params.tall_floor_share * cols.size
+
+
+def _fills_rows(m, share: float) -> bool:
+    """True when the mask ``m`` (a face's pixels in its pixel box) spans at least 3 columns
+    and 2 rows and its pixels fill at least ``share`` of its rows' spans summed (a solid face:
+    :func:`floor_foot`, :func:`level_ground`)."""
+    cols = np.flatnonzero(m.any(axis=0))
+    rows = np.flatnonzero(m.any(axis=1))
+    if cols.size < 3 or rows.size < 2:
+        return False
+    first = np.argmax(m, axis=1)[rows]
+    last = m.shape[1] - 1 - np.argmax(m[:, ::-1], axis=1)[rows]
+    return bool(m.sum() >= share * float((last - first + 1).sum()))
 
 
 def level_ground(face, prof, labels, xyz, up, params) -> bool:
@@ -1956,29 +1963,45 @@ def level_ground(face, prof, labels, xyz, up, params) -> bool:
             or _reaches_top_row(face, 2 + BLANK_MARGIN_MAX):
         return False
     r0, c0, r1, c1 = (int(v) for v in face.bbox)
+    if not _fills_rows(labels[r0:r1, c0:c1] == face.label, params.tall_floor_solid):
+        return False
+    got = level_reach(face, prof, labels, xyz, up, params.standing_foot)
+    return got.size > 0 and int((got >= reach).sum()) >= params.tall_floor_share * got.size
+
+
+def level_reach(face, prof, labels, xyz, up, tol: float):
+    """How far the level ground under vertical ``face``'s foot reaches towards the sensor, per
+    middle pixel column (:data:`FLOOR_FOOT_MARGIN` cut off each side): from the row under the
+    column's lowest pixel down, the measured points within ``tol`` of the foot's level
+    (``prof.bottom``) until two measured rows in a row leave it; the largest horizontal
+    distance by which one of them lies nearer to the sensor than the face's centroid.
+    :func:`level_ground`; ``benchmarks/grounded_why.py``.
+
+    Returns
+    -------
+    ndarray, shape (C,)
+        Metres per column, ``-inf`` where no level point lies under the foot; empty when the
+        face has fewer than 3 columns.
+    """
+    r0, c0, r1, c1 = (int(v) for v in face.bbox)
     m = labels[r0:r1, c0:c1] == face.label
     cols = np.flatnonzero(m.any(axis=0))
-    rows = np.flatnonzero(m.any(axis=1))
-    if cols.size < 3 or rows.size < 2:
-        return False
-    first = np.argmax(m, axis=1)[rows]
-    last = m.shape[1] - 1 - np.argmax(m[:, ::-1], axis=1)[rows]
-    if m.sum() < params.tall_floor_solid * float((last - first + 1).sum()):
-        return False
+    if cols.size < 3:
+        return np.zeros(0)
     cut = FLOOR_FOOT_MARGIN * (cols[-1] - cols[0])
     cols = cols[(cols >= cols[0] + cut) & (cols <= cols[-1] - cut)]
     if cols.size == 0:
-        return False
+        return np.zeros(0)
     bottom = r0 + m.shape[0] - 1 - np.argmax(m[::-1, cols], axis=0)  # lowest pixel per column
     start = int(bottom.min()) + 1
     if start >= labels.shape[0]:
-        return False
+        return np.full(cols.size, -np.inf)
     up = np.asarray(up, float)
     block = xyz[start:, cols + c0]  # (rows under the highest foot, columns, 3)
     below = np.arange(start, labels.shape[0])[:, None] > bottom[None, :]
     ok = below & np.isfinite(block).all(axis=2) & (block[..., 2] > 0)
     level = np.where(ok, block @ up, np.nan)
-    on = ok & (np.abs(level - prof.bottom) <= params.standing_foot)
+    on = ok & (np.abs(level - prof.bottom) <= tol)
     # the walk down a column stops where two measured rows in a row leave the level
     off = ok & ~on
     brk = np.zeros_like(off)
@@ -1989,8 +2012,7 @@ def level_ground(face, prof, labels, xyz, up, params) -> bool:
     horiz = float(np.linalg.norm(c - (c @ up) * up))
     flat = block - (block @ up)[..., None] * up
     forward = horiz - np.linalg.norm(np.where(on[..., None], flat, 0.0), axis=2)
-    got = np.where(on, forward, -np.inf).max(axis=0)
-    return int((got >= reach).sum()) >= params.tall_floor_share * cols.size
+    return np.where(on, forward, -np.inf).max(axis=0)
 
 
 def top_covered(face, labels, xyz, gap: float) -> bool:
