@@ -897,8 +897,9 @@ def test_a_face_on_a_floor_measured_as_speckle_is_a_box(demo_model):
     0.17-0.24 m over the floor, which they measure only as scattered pixels): r200_dc4's carton
     front, the frame's only large plane, was read as the floor (88 degrees off); the floor's
     speckle rights the up (``gravity.sparse_floor``) and grounds the face (``relations.
-    tall_speckle_floor``): the carton is found by ``tall_face``; off, it is lost (docs/objects.md
-    "A floor seen only as speckle").  In the set as first labelled, xtion_1's wall seen under a
+    tall_speckle_floor``): the carton is found by ``tall_face``; with that and ground75's level
+    ground (``relations.tall_level_ground``) off, it is lost (docs/objects.md "A floor seen only
+    as speckle", "A box on a floor no plane took").  In the set as first labelled, xtion_1's wall seen under a
     table's top between its legs was a false box but for ``relations.tall_top_cover``; the set
     rebuilt after the machine's reset of 2026-12-02 (the frame read with the Xtion's standard
     intrinsics, 13 planes where the first build had 11) shows no such face, and the switch moves
@@ -907,8 +908,13 @@ def test_a_face_on_a_floor_measured_as_speckle_is_a_box(demo_model):
     rows = _unseen_rows([folder], demo_model, "PLANEREL_HUNT_DATA")
     assert rows["r200_dc4_170421_depth"]["objects"][0]["found"]
     assert _totals(rows)["false_box"] == 0 and _totals(rows)["false_ramp"] == 0
+    # the speckle in front of its foot grounds it too (ground75's tall_level_ground): with
+    # the speckle floor off it is still found, with both off it is lost
+    no_speckle = _unseen_rows([folder], demo_model, "PLANEREL_HUNT_DATA",
+                              ["relations.tall_speckle_floor=0"])
+    assert no_speckle["r200_dc4_170421_depth"]["objects"][0]["found"]
     no_ground = _unseen_rows([folder], demo_model, "PLANEREL_HUNT_DATA",
-                             ["relations.tall_speckle_floor=0"])
+                             ["relations.tall_speckle_floor=0", "relations.tall_level_ground=0"])
     assert not no_ground["r200_dc4_170421_depth"]["objects"][0]["found"]
     no_cover = _unseen_rows([folder], demo_model, "PLANEREL_HUNT_DATA",
                             ["relations.tall_top_cover=0"])
