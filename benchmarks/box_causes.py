@@ -177,16 +177,19 @@ def frame_extras(desc, cloud, rows) -> list:
     return out
 
 
-def run(dirs, model: str, params=()) -> list:
-    """One row per labelled box of ``dirs``: the census's row with ``cause``, ``range``,
-    ``size``, ``pitch`` and the bands."""
+def frames(dirs, model: str, params=()):
+    """Each frame of ``dirs`` with a labelled box, described and answered as the census does:
+    yields ``(folder, frame, stem, cloud, desc, answers, rows)``, ``frame`` the labels' entry,
+    ``answers`` the classifier's per proposal, ``rows`` the census's rows of the frame
+    (:func:`real_census.census_frame`), each with its ``cause`` and the ``extras``
+    (:func:`frame_extras`) it was taken from.  :func:`run`, ``grounded_why.py``,
+    ``merge_why.py``."""
     from real_census import census_frame, set_folders
     from real_unseen import describe_frame, read_labels
 
     from planerel.classify.classifier import Classifier
     from planerel.commands.classify import _params
 
-    rows = []
     with Classifier(model, seg_params=_params(list(params))) as clf:
         for folder in set_folders(dirs):
             for frame in read_labels(str(folder))["frames"]:
@@ -195,15 +198,26 @@ def run(dirs, model: str, params=()) -> list:
                 cloud, desc = describe_frame(clf, str(folder), frame)
                 answers = clf.answer_description(desc, xyz=cloud.xyz)
                 these = census_frame(clf, desc, answers, frame, cloud.xyz)
-                stem = os.path.splitext(os.path.basename(frame["file"]))[0]
                 for r, e in zip(these, frame_extras(desc, cloud, these), strict=True):
-                    rows.append({"set": f"{folder.parent.name}/{folder.name}", "frame": stem,
-                                 "file": frame["file"], **r, "cause": cause(r, e),
-                                 "size": e["size"], "pitch": e["pitch"],
-                                 "range_band": band(r.get("range"), RANGES),
-                                 "size_band": band(e["size"], SIZES),
-                                 "view": band(e["pitch"], VIEWS)})
+                    r["cause"] = cause(r, e)
+                    r["extras"] = e
+                stem = os.path.splitext(os.path.basename(frame["file"]))[0]
+                yield folder, frame, stem, cloud, desc, answers, these
                 print(f"{folder.name}/{stem}", file=sys.stderr, flush=True)
+
+
+def run(dirs, model: str, params=()) -> list:
+    """One row per labelled box of ``dirs``: the census's row with ``cause``, ``range``,
+    ``size``, ``pitch`` and the bands."""
+    rows = []
+    for folder, frame, stem, _, _, _, these in frames(dirs, model, params):
+        for r in these:
+            e = r.pop("extras")
+            rows.append({"set": f"{folder.parent.name}/{folder.name}", "frame": stem,
+                         "file": frame["file"], **r, "size": e["size"], "pitch": e["pitch"],
+                         "range_band": band(r.get("range"), RANGES),
+                         "size_band": band(e["size"], SIZES),
+                         "view": band(e["pitch"], VIEWS)})
     return rows
 
 
@@ -253,11 +267,20 @@ def tables(rows) -> str:
     return "\n".join(out)
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def parser(description: str, aggregate: str | None = None) -> argparse.ArgumentParser:
+    """The command line of this tool and of those built on :func:`frames` (``DIR ...``,
+    ``--model``, ``--param``; with ``aggregate``, an ``--aggregate`` switch helped so)."""
+    ap = argparse.ArgumentParser(description=description)
     ap.add_argument("dirs", nargs="+")
     ap.add_argument("--model", default="out/model")
     ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
+    if aggregate:
+        ap.add_argument("--aggregate", action="store_true", help=aggregate)
+    return ap
+
+
+def main(argv=None) -> int:
+    ap = parser(__doc__.split("\n")[0])
     ap.add_argument("--up-errors", help="benchmarks/real_up_error.py --json output")
     ap.add_argument("--json")
     a = ap.parse_args(argv)

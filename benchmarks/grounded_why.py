@@ -39,8 +39,6 @@ counts and the reaches' medians per kind, no frame named (for judge sets).
 
 from __future__ import annotations
 
-import argparse
-import os
 import sys
 from collections import Counter, defaultdict
 from pathlib import Path
@@ -137,33 +135,19 @@ def kind_of(desc, cloud, face) -> tuple[str, float]:
 def run(dirs, model: str, params=()) -> list:
     """One row per labelled box of ``dirs`` that fails the grounded test: the census's row with
     ``kind`` and ``reach``."""
-    from box_causes import cause, frame_extras
-    from real_census import census_frame, set_folders
-    from real_unseen import describe_frame, read_labels
-
-    from planerel.classify.classifier import Classifier
-    from planerel.commands.classify import _params
+    from box_causes import frames
 
     rows = []
-    with Classifier(model, seg_params=_params(list(params))) as clf:
-        for folder in set_folders(dirs):
-            for frame in read_labels(str(folder))["frames"]:
-                if not any(o["class"] == "box" for o in frame.get("objects", [])):
-                    continue
-                cloud, desc = describe_frame(clf, str(folder), frame)
-                answers = clf.answer_description(desc, xyz=cloud.xyz)
-                these = census_frame(clf, desc, answers, frame, cloud.xyz)
-                by_pid = {desc.plane_id(q.label): q for q in desc.planes}
-                stem = os.path.splitext(os.path.basename(frame["file"]))[0]
-                for r, e in zip(these, frame_extras(desc, cloud, these), strict=True):
-                    c = cause(r, e)
-                    if "grounded" not in c:
-                        continue
-                    kind, reach = kind_of(desc, cloud, by_pid[e["closest"]["plane"]])
-                    rows.append({"set": f"{folder.parent.name}/{folder.name}", "frame": stem,
-                                 "what": r["what"], "cause": c, "kind": kind,
-                                 "reach": None if not np.isfinite(reach) else round(reach, 3),
-                                 "range": r.get("range")})
+    for folder, _, stem, cloud, desc, _, these in frames(dirs, model, params):
+        by_pid = {desc.plane_id(q.label): q for q in desc.planes}
+        for r in these:
+            if "grounded" not in r["cause"]:
+                continue
+            kind, reach = kind_of(desc, cloud, by_pid[r["extras"]["closest"]["plane"]])
+            rows.append({"set": f"{folder.parent.name}/{folder.name}", "frame": stem,
+                         "what": r["what"], "cause": r["cause"], "kind": kind,
+                         "reach": None if not np.isfinite(reach) else round(reach, 3),
+                         "range": r.get("range")})
     return rows
 
 
@@ -183,13 +167,9 @@ def table(rows) -> str:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("dirs", nargs="+")
-    ap.add_argument("--model", default="out/model")
-    ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
-    ap.add_argument("--aggregate", action="store_true",
-                    help="counts and medians only, no frame named (for judge sets)")
-    a = ap.parse_args(argv)
+    from box_causes import parser
+
+    a = parser(__doc__.split("\n")[0], "counts and medians only, no frame named (for judge sets)").parse_args(argv)
     rows = run(a.dirs, a.model, a.param)
     if not a.aggregate:
         for r in rows:

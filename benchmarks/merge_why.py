@@ -18,8 +18,6 @@ orientations (``hv`` a horizontal and a vertical plane, ``iv`` an inclined and a
 
 from __future__ import annotations
 
-import argparse
-import os
 import sys
 from collections import Counter
 from pathlib import Path
@@ -47,46 +45,32 @@ def run(dirs, model: str, params=()) -> list:
     """One row per merged box of ``dirs``: set, frame, what, cause and ``joins`` (sorted
     ``[rule, orientations]``)."""
     import join_reasons
-    from box_causes import cause, frame_extras
-    from real_census import census_frame, set_folders
-    from real_unseen import describe_frame, read_labels, rect_mask
-
-    from planerel.classify.classifier import Classifier
-    from planerel.commands.classify import _params
+    from box_causes import frames
+    from real_unseen import rect_mask
 
     log: list = []
     calls: list = []
     join_reasons._instrument(log, calls)
     rows = []
-    with Classifier(model, seg_params=_params(list(params))) as clf:
-        for folder in set_folders(dirs):
-            for frame in read_labels(str(folder))["frames"]:
-                if not any(o["class"] == "box" for o in frame.get("objects", [])):
+    for folder, _, stem, _, desc, answers, these in frames(dirs, model, params):
+        if calls:
+            planes, rules = calls[-1]
+            orientation = {q.label: q.orientation for q in planes}
+            lab = np.asarray(desc.labels)
+            for r in these:
+                if not r["cause"].startswith("merged"):
                     continue
-                calls.clear()
-                cloud, desc = describe_frame(clf, str(folder), frame)
-                answers = clf.answer_description(desc, xyz=cloud.xyz)
-                these = census_frame(clf, desc, answers, frame, cloud.xyz)
-                if not calls:
-                    continue
-                planes, rules = calls[-1]
-                orientation = {q.label: q.orientation for q in planes}
-                lab = np.asarray(desc.labels)
-                stem = os.path.splitext(os.path.basename(frame["file"]))[0]
-                for r, e in zip(these, frame_extras(desc, cloud, these), strict=True):
-                    c = cause(r, e)
-                    if not c.startswith("merged"):
-                        continue
-                    a = next(x for x in answers if x.object_id == r["proposal"])
-                    m = rect_mask(lab.shape, r["box"])
-                    inside, outside = set(), set()
-                    for k in a.labels:
-                        pl = lab == k
-                        (inside if (pl & m).sum() >= 0.5 * pl.sum() else outside).add(int(k))
-                    joins = joins_across(rules, orientation, inside, outside)
-                    rows.append({"set": f"{folder.parent.name}/{folder.name}", "frame": stem,
-                                 "what": r["what"], "cause": c,
-                                 "joins": sorted([n, o] for n, o in joins)})
+                a = next(x for x in answers if x.object_id == r["proposal"])
+                m = rect_mask(lab.shape, r["box"])
+                inside, outside = set(), set()
+                for k in a.labels:
+                    pl = lab == k
+                    (inside if (pl & m).sum() >= 0.5 * pl.sum() else outside).add(int(k))
+                joins = joins_across(rules, orientation, inside, outside)
+                rows.append({"set": f"{folder.parent.name}/{folder.name}", "frame": stem,
+                             "what": r["what"], "cause": r["cause"],
+                             "joins": sorted([n, o] for n, o in joins)})
+        calls.clear()  # the next frame's proposals only
     return rows
 
 
@@ -101,13 +85,9 @@ def table(rows) -> str:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("dirs", nargs="+")
-    ap.add_argument("--model", default="out/model")
-    ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE")
-    ap.add_argument("--aggregate", action="store_true",
-                    help="counts only, no frame named (for judge sets)")
-    a = ap.parse_args(argv)
+    from box_causes import parser
+
+    a = parser(__doc__.split("\n")[0], "counts only, no frame named (for judge sets)").parse_args(argv)
     rows = run(a.dirs, a.model, a.param)
     if not a.aggregate:
         for r in rows:
