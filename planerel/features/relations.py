@@ -1930,8 +1930,8 @@ def level_ground(face, prof, labels, xyz, up, params) -> bool:
     at least ``tall_floor_share`` of its middle pixel columns (:data:`FLOOR_FOOT_MARGIN` cut
     off each side) the measured points under its lowest pixel lie level with its foot
     (``prof.bottom``, within ``standing_foot``) and reach at least ``tall_level_ground`` m
-    nearer to the sensor (horizontally) than the face, before two measured rows in a row
-    leave that level; its pixels fill ``tall_floor_solid`` of its rows' spans; and its top
+    nearer to the sensor (horizontally) than the face's centroid, before two adjacent rows
+    both hold a point off that level; its pixels fill ``tall_floor_solid`` of its rows' spans; and its top
     is in view (its pixels start below the image's first ``2 +``
     :data:`BLANK_MARGIN_MAX` rows).  :func:`tall_faces` asks it only in a scan with no floor
     plane at all, as the feet level and the speckle floor.
@@ -1973,7 +1973,7 @@ def level_reach(face, prof, labels, xyz, up, tol: float):
     """How far the level ground under vertical ``face``'s foot reaches towards the sensor, per
     middle pixel column (:data:`FLOOR_FOOT_MARGIN` cut off each side): from the row under the
     column's lowest pixel down, the measured points within ``tol`` of the foot's level
-    (``prof.bottom``) until two measured rows in a row leave it; the largest horizontal
+    (``prof.bottom``) until two adjacent rows both hold a point off it; the largest horizontal
     distance by which one of them lies nearer to the sensor than the face's centroid.
     :func:`level_ground`; ``benchmarks/grounded_why.py``.
 
@@ -2002,7 +2002,7 @@ def level_reach(face, prof, labels, xyz, up, tol: float):
     ok = below & np.isfinite(block).all(axis=2) & (block[..., 2] > 0)
     level = np.where(ok, block @ up, np.nan)
     on = ok & (np.abs(level - prof.bottom) <= tol)
-    # the walk down a column stops where two measured rows in a row leave the level
+    # the walk down a column stops where two adjacent rows both hold a point off the level
     off = ok & ~on
     brk = np.zeros_like(off)
     brk[:-1] = off[:-1] & off[1:]
