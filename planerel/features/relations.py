@@ -1931,8 +1931,8 @@ def level_ground(face, prof, labels, xyz, up, params) -> bool:
     off each side) the measured points under its lowest pixel lie level with its foot
     (``prof.bottom``, within ``standing_foot``) and reach at least ``tall_level_ground`` m
     nearer to the sensor (horizontally) than the face's centroid, before two adjacent rows
-    both hold a point off that level; its pixels fill ``tall_floor_solid`` of its rows' spans; and its top
-    is in view (its pixels start below the image's first ``2 +``
+    both hold a point off that level; its pixels fill ``tall_floor_solid`` of its rows'
+    spans; and its top is in view (its pixels start below the image's first ``2 +``
     :data:`BLANK_MARGIN_MAX` rows).  :func:`tall_faces` asks it only in a scan with no floor
     plane at all, as the feet level and the speckle floor.
 
