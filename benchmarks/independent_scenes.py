@@ -1349,6 +1349,17 @@ DEV_SETS = {
 }
 
 
+def _share(text: str) -> float:
+    """``--speckle-floor``'s value: a share in 0..1 (argparse reports anything else)."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = float("nan")
+    if not 0.0 <= v <= 1.0:
+        raise argparse.ArgumentTypeError(f"a share of the floor's pixels in 0..1, got {text!r}")
+    return v
+
+
 def _make(a) -> None:
     """Run ``make`` with parsed arguments ``a``."""
     W, H = (int(v) for v in a.size.lower().split("x"))
@@ -1376,7 +1387,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="add 1-3 pieces of room furniture (class other: cabinets, chests, wardrobes, "
                         "bookcases, sofas, beds, radiators, bins, doors) in view; off: the same "
                         "scenes as before the option")
-    m.add_argument("--speckle-floor", type=float, default=None, metavar="KEEP",
+    m.add_argument("--speckle-floor", type=_share, default=None, metavar="KEEP",
                    help="measure only this share of the floor's pixels, scattered (a dark floor, "
                         "or one an active sensor sees at a grazing angle: no plane grows on it); "
                         "off: the same scenes as before the option")

@@ -450,3 +450,11 @@ def test_tof_flying_pixels_lie_between_the_two_surfaces_of_a_jump():
     mixed = np.isfinite(xyz[..., 2]) & (truth == -1) & (truth0 >= 0)
     assert mixed.sum() > 20
     assert np.all(xyz[..., 2][mixed] <= clean[..., 2][mixed] + 1e-5)
+
+
+@pytest.mark.parametrize("bad", ["1.5", "-0.1", "nan", "lots"])
+def test_speckle_floor_takes_only_a_share(bad, capsys):
+    with pytest.raises(SystemExit):
+        ind._parser().parse_args(["make", "/x/out", "--speckle-floor", bad])
+    assert "share of the floor's pixels" in capsys.readouterr().err
+    assert ind._parser().parse_args(["make", "/x/out", "--speckle-floor", "0.15"]).speckle_floor == 0.15
