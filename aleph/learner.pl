@@ -2583,23 +2583,31 @@ stack_settings :-
 %!  planerel_score_main is det.
 %
 %   `swipl -g planerel_learner:planerel_score_main -t 'halt(3)' learner.pl --
-%   STEM RULES`: the theory in the file RULES (clauses, e.g. those of a
-%   learner run on other data) scored on STEM.f / STEM.n over STEM.b, as in
-%   induce/0; prints `@@score TP FN FP TN`.  Used for held-out accuracy.
+%   STEM RULES [covered]`: the theory in the file RULES (clauses, e.g. those
+%   of a learner run on other data) scored on STEM.f / STEM.n over STEM.b, as
+%   in induce/0; prints `@@score TP FN FP TN`.  Used for held-out accuracy.
+%   With `covered`, also `@@covered pos|neg Atom` for each example the theory
+%   proves (benchmarks/clause_support.py --names).
 planerel_score_main :-
     current_prolog_flag(argv, Argv),
     catch(score_main_(Argv), E, main_error(E)),
     halt(0).
 
-score_main_([Stem, Rules]) :- !,
+score_main_([Stem, Rules|Opt]) :- ( Opt == [] ; Opt == [covered] ), !,
     read_all(Stem),
     setup_extensional,
     retractall(theory_clause(_, _, _, _, _)),
     setup_call_cleanup(open(Rules, read, In), read_theory(In, 1), close(In)),
     confusion(pos_ex, neg_ex, cm(TP, FN, FP, TN)),
-    format("@@score ~w ~w ~w ~w~n", [TP, FN, FP, TN]).
+    format("@@score ~w ~w ~w ~w~n", [TP, FN, FP, TN]),
+    (   Opt == [covered]
+    ->  forall(( member(Kind-Goal, [pos-pos_ex, neg-neg_ex]), call(Goal, _, E),
+                 theory_covers(E) ),
+               format("@@covered ~w ~q~n", [Kind, E]))
+    ;   true
+    ).
 score_main_(_) :-
-    input_error("usage: swipl learner.pl -- STEM RULES", []).
+    input_error("usage: swipl learner.pl -- STEM RULES [covered]", []).
 
 read_theory(In, K) :-
     read_term(In, C, []),

@@ -17,7 +17,10 @@ lteq(C,0.02)``, without ``lying(B)`` and without ``lteq(C,0.02)``; ``has_plane(A
 
 Usage::
 
-    python benchmarks/clause_support.py out/model/rules.pl out/model_base/aleph out/model/aleph
+    python benchmarks/clause_support.py out/model/rules.pl out/model_base/aleph out/model/aleph [--names]
+
+``--names`` also names the negatives each literal keeps out (the learner's ``@@covered``
+lines: :func:`~planerel.ilp.learn.score_theory` with ``covered``).
 
 Each STAGE folder holds the Aleph task ``CLASS.b/.f/.n`` of every class the rules name (the
 ``aleph/`` folder a model is written with; ``make demo`` learns in two stages, the base world
@@ -114,9 +117,10 @@ def clause_text(head: str, body: list[str]) -> str:
     return f"{head} :- {', '.join(body)}." if body else f"{head}."
 
 
-def support(rules_file, stages, *, timeout: float = 600.0) -> list[dict]:
+def support(rules_file, stages, *, timeout: float = 600.0, names: bool = False) -> list[dict]:
     """Rows ``{stage, class, clause, dropped, tp, fp}`` (``dropped`` None: the whole clause),
-    each clause scored alone on each stage's task of its class."""
+    each clause scored alone on each stage's task of its class; with ``names`` also ``neg``,
+    the negative examples the version proves (atoms, e.g. ``box(s0089_o2)``)."""
     from planerel.ilp.learn import score_theory
 
     rows = []
@@ -129,15 +133,35 @@ def support(rules_file, stages, *, timeout: float = 600.0) -> list[dict]:
             if not stem.with_suffix(".b").exists():
                 continue
             for dropped, kept in versions:
-                c = score_theory(stem, [clause_text(head, kept)], timeout=timeout)
-                rows.append({"stage": str(stage), "class": cls, "clause": clause,
-                             "dropped": dropped, "tp": c.tp, "fp": c.fp})
+                got = score_theory(stem, [clause_text(head, kept)], timeout=timeout,
+                                   covered=names)
+                c = got[0] if names else got
+                row = {"stage": str(stage), "class": cls, "clause": clause,
+                       "dropped": dropped, "tp": c.tp, "fp": c.fp}
+                if names:
+                    row["neg"] = got[2]
+                rows.append(row)
     return rows
+
+
+#: Names of kept-out negatives printed per row at most (``--names``).
+MAX_NAMES = 12
+
+
+def _kept_out(row, whole) -> str:
+    """The negatives ``row``'s version proves and the whole clause does not, by object."""
+    if "neg" not in row:
+        return ""
+    out = sorted(set(row["neg"]) - set(whole["neg"]))
+    ids = [re.sub(r"^\w+\((.*)\)$", r"\1", a) for a in out]
+    more = f" (+{len(ids) - MAX_NAMES} more)" if len(ids) > MAX_NAMES else ""
+    return ": " + ", ".join(ids[:MAX_NAMES]) + more if ids else ""
 
 
 def table(rows) -> str:
     """Markdown: each clause's proofs whole and, per dropped literal, the positives and
-    negatives it adds (``+fp`` is what the literal keeps out)."""
+    negatives it adds (``+fp`` is what the literal keeps out; with ``neg`` in the rows, which
+    ones)."""
     lines = ["| stage | clause | without | positives | negatives | the literal keeps out |",
              "|---|---|---|---|---|---|"]
     whole = {}
@@ -150,7 +174,8 @@ def table(rows) -> str:
         else:
             w = whole[key]
             lines.append(f"| | | `{r['dropped']}` | {r['tp']} ({r['tp'] - w['tp']:+d}) | "
-                         f"{r['fp']} ({r['fp'] - w['fp']:+d}) | {r['fp'] - w['fp']} negatives |")
+                         f"{r['fp']} ({r['fp'] - w['fp']:+d}) | {r['fp'] - w['fp']} negatives"
+                         f"{_kept_out(r, w)} |")
     return "\n".join(lines)
 
 
@@ -160,11 +185,13 @@ def main(argv=None) -> int:
     ap.add_argument("rules", help="a model's rules.pl")
     ap.add_argument("stages", nargs="+", help="folders of Aleph tasks CLASS.b/.f/.n")
     ap.add_argument("--timeout", type=float, default=600.0, help="seconds per scoring run")
+    ap.add_argument("--names", action="store_true",
+                    help=f"name the negatives each literal keeps out (at most {MAX_NAMES} a row)")
     args = ap.parse_args(argv)
     for s in args.stages:
         if not Path(s).is_dir():
             ap.error(f"no such folder: {s}")
-    print(table(support(args.rules, args.stages, timeout=args.timeout)))
+    print(table(support(args.rules, args.stages, timeout=args.timeout, names=args.names)))
     return 0
 
 

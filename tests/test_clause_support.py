@@ -72,6 +72,24 @@ def test_support_counts_what_each_literal_keeps_out(tmp_path, capsys):
     assert cs.main([str(rules), str(stage)]) == 0
     out = capsys.readouterr().out
     assert "| | | `lying(B)` | 3 (+0) | 1 (+1) | 1 negatives |" in out
+    # ... and with --names, which negatives: the learner's covered examples
+    assert cs.main([str(rules), str(stage), "--names"]) == 0
+    out = capsys.readouterr().out
+    assert "| 3 (+0) | 2 (+2) | 2 negatives: n1, n2 |" in out
+    assert "| | | `lying(B)` | 3 (+0) | 1 (+1) | 1 negatives: n3 |" in out
     # a stage folder that does not exist is a one-line usage error
     with pytest.raises(SystemExit):
         cs.main([str(rules), str(tmp_path / "missing")])
+
+
+@pytest.mark.skipif(not shutil.which("swipl"), reason="swipl not installed")
+def test_score_theory_names_the_examples_it_proves(tmp_path):
+    from planerel.ilp.learn import score_theory
+
+    (tmp_path / "aleph").mkdir()
+    stem = _task(tmp_path / "aleph") / "box"
+    rules = ["box(A) :- has_plane(A,B), lying(B)."]
+    cm = score_theory(stem, rules)
+    got, pos, neg = score_theory(stem, rules, covered=True)
+    assert got == cm and (cm.tp, cm.fp) == (3, 2)
+    assert pos == ("box(p1)", "box(p2)", "box(p3)") and neg == ("box(n1)", "box(n2)")

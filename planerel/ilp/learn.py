@@ -513,7 +513,8 @@ def learn(
                        seconds=secs, search_seconds=cputime, output=log, warnings=warns)
 
 
-def score_theory(stem, rules, *, timeout: float = 600.0, swipl: str | None = None) -> Confusion:
+def score_theory(stem, rules, *, timeout: float = 600.0, swipl: str | None = None,
+                 covered: bool = False):
     """A theory (e.g. learned on other data) scored on the examples ``STEM.f`` / ``STEM.n``
     over ``STEM.b`` by the builtin learner's own coverage test (held-out accuracy).
 
@@ -523,10 +524,13 @@ def score_theory(stem, rules, *, timeout: float = 600.0, swipl: str | None = Non
         An Aleph problem (its ``.b`` holds the facts of the examples' objects).
     rules : sequence of str
         Clauses, one string each (as :attr:`LearnResult.rules`).
+    covered : bool
+        Also return the examples the theory proves.
 
     Returns
     -------
-    Confusion
+    Confusion, or ``(Confusion, positives, negatives)`` with ``covered``: the proved
+    examples' atoms as the learner writes them (``box(s0089_o2)``), in file order.
     """
     from importlib.resources import as_file, files
 
@@ -539,13 +543,18 @@ def score_theory(stem, rules, *, timeout: float = 600.0, swipl: str | None = Non
         rules_file = Path(tmp) / "rules.pl"
         rules_file.write_text("".join(r + "\n" for r in rules))
         cmd = swipl_command("planerel_learner:planerel_score_main",
-                            [str(Path(stem_text).resolve()), str(rules_file)],
+                            [str(Path(stem_text).resolve()), str(rules_file),
+                             *(["covered"] if covered else [])],
                             exe=exe, support=False, scripts=[pl], halt="halt(3)")
         code, out, err, _ = run_process(cmd, timeout, f"scoring a theory on {stem_text}")
     m = re.search(r"^@@score (\d+) (\d+) (\d+) (\d+)$", out, re.MULTILINE)
     if code != 0 or m is None:
         raise LearnerError(f"scoring a theory on {stem_text} failed: {(err or out).strip()[-400:]}")
-    return Confusion(*(int(g) for g in m.groups()))
+    cm = Confusion(*(int(g) for g in m.groups()))
+    if not covered:
+        return cm
+    found = re.findall(r"^@@covered (pos|neg) (.+)$", out, re.MULTILINE)
+    return (cm, tuple(a for k, a in found if k == "pos"), tuple(a for k, a in found if k == "neg"))
 
 
 def format_report(result: LearnResult, *, with_time: bool = True) -> str:
