@@ -3,11 +3,12 @@
 A learned clause keeps a literal when the clause without it proves more negatives (or the
 search happened to find it first: a tie).  This tool scores every clause of a model's
 ``rules.pl`` on its training tasks, whole and with each literal dropped, by the builtin
-learner's own coverage test (:func:`planerel.ilp.learn.score_theory`), and prints the
+learner's own coverage test (:func:`planerel.ilp.learn.theory_coverage`), and prints the
 positives and negatives each version proves.  A literal whose removal proves no more
 negatives rests on nothing in training: the world the model was learned from does not
-justify it, and a change to that world may drop it (docs/segmentation.md "A small top over a
-large plane": the lying clause's ``oblique_share`` bound, kept by one training can).
+justify it, and a change to that world may drop it; one that keeps out a handful rests on
+those few (docs/segmentation.md "A small top over a large plane": the lying clause's
+``oblique_share`` bound, 2 base and 4 product-part negatives).
 
 A literal can be dropped when no other literal uses a variable it introduces, except
 comparisons (``lteq``, ``gteq``), which are dropped with it: in ``box(A) :- has_plane(A,B),
@@ -20,7 +21,7 @@ Usage::
     python benchmarks/clause_support.py out/model/rules.pl out/model_base/aleph out/model/aleph [--names]
 
 ``--names`` also names the negatives each literal keeps out (the learner's ``@@covered``
-lines: :func:`~planerel.ilp.learn.score_theory` with ``covered``).
+lines: :func:`~planerel.ilp.learn.theory_coverage`).
 
 Each STAGE folder holds the Aleph task ``CLASS.b/.f/.n`` of every class the rules name (the
 ``aleph/`` folder a model is written with; ``make demo`` learns in two stages, the base world
@@ -121,7 +122,7 @@ def support(rules_file, stages, *, timeout: float = 600.0, names: bool = False) 
     """Rows ``{stage, class, clause, dropped, tp, fp}`` (``dropped`` None: the whole clause),
     each clause scored alone on each stage's task of its class; with ``names`` also ``neg``,
     the negative examples the version proves (atoms, e.g. ``box(s0089_o2)``)."""
-    from planerel.ilp.learn import score_theory
+    from planerel.ilp.learn import theory_coverage
 
     rows = []
     for clause in read_rules(rules_file):
@@ -133,13 +134,11 @@ def support(rules_file, stages, *, timeout: float = 600.0, names: bool = False) 
             if not stem.with_suffix(".b").exists():
                 continue
             for dropped, kept in versions:
-                got = score_theory(stem, [clause_text(head, kept)], timeout=timeout,
-                                   covered=names)
-                c = got[0] if names else got
+                c, _, neg = theory_coverage(stem, [clause_text(head, kept)], timeout=timeout)
                 row = {"stage": str(stage), "class": cls, "clause": clause,
                        "dropped": dropped, "tp": c.tp, "fp": c.fp}
                 if names:
-                    row["neg"] = got[2]
+                    row["neg"] = neg
                 rows.append(row)
     return rows
 

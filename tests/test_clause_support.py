@@ -83,13 +83,13 @@ def test_support_counts_what_each_literal_keeps_out(tmp_path, capsys):
 
 
 @pytest.mark.skipif(not shutil.which("swipl"), reason="swipl not installed")
-def test_score_theory_names_the_examples_it_proves(tmp_path):
-    from planerel.ilp.learn import score_theory
+def test_theory_coverage_names_the_examples_it_proves(tmp_path):
+    from planerel.ilp.learn import score_theory, theory_coverage
 
     (tmp_path / "aleph").mkdir()
     stem = _task(tmp_path / "aleph") / "box"
     rules = ["box(A) :- has_plane(A,B), lying(B)."]
     cm = score_theory(stem, rules)
-    got, pos, neg = score_theory(stem, rules, covered=True)
+    got, pos, neg = theory_coverage(stem, rules)
     assert got == cm and (cm.tp, cm.fp) == (3, 2)
     assert pos == ("box(p1)", "box(p2)", "box(p3)") and neg == ("box(n1)", "box(n2)")

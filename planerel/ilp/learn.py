@@ -513,8 +513,7 @@ def learn(
                        seconds=secs, search_seconds=cputime, output=log, warnings=warns)
 
 
-def score_theory(stem, rules, *, timeout: float = 600.0, swipl: str | None = None,
-                 covered: bool = False):
+def score_theory(stem, rules, *, timeout: float = 600.0, swipl: str | None = None) -> Confusion:
     """A theory (e.g. learned on other data) scored on the examples ``STEM.f`` / ``STEM.n``
     over ``STEM.b`` by the builtin learner's own coverage test (held-out accuracy).
 
@@ -524,14 +523,31 @@ def score_theory(stem, rules, *, timeout: float = 600.0, swipl: str | None = Non
         An Aleph problem (its ``.b`` holds the facts of the examples' objects).
     rules : sequence of str
         Clauses, one string each (as :attr:`LearnResult.rules`).
-    covered : bool
-        Also return the examples the theory proves.
 
     Returns
     -------
-    Confusion, or ``(Confusion, positives, negatives)`` with ``covered``: the proved
-    examples' atoms as the learner writes them (``box(s0089_o2)``), in file order.
+    Confusion
     """
+    return _score(stem, rules, timeout, swipl, covered=False)[0]
+
+
+def theory_coverage(stem, rules, *, timeout: float = 600.0,
+                    swipl: str | None = None) -> tuple[Confusion, tuple, tuple]:
+    """:func:`score_theory` with the examples the theory proves.
+
+    Returns
+    -------
+    confusion : Confusion
+    positives, negatives : tuple of str
+        The proved examples' atoms as the learner writes them (``box(s0089_o2)``), in file
+        order (benchmarks/clause_support.py ``--names``).
+    """
+    return _score(stem, rules, timeout, swipl, covered=True)
+
+
+def _score(stem, rules, timeout, swipl, *, covered: bool):
+    """``(Confusion, proved positives, proved negatives)``; the two tuples are empty unless
+    ``covered`` (the learner's ``@@covered`` lines)."""
     from importlib.resources import as_file, files
 
     from planerel.children import temp_dir
@@ -550,11 +566,9 @@ def score_theory(stem, rules, *, timeout: float = 600.0, swipl: str | None = Non
     m = re.search(r"^@@score (\d+) (\d+) (\d+) (\d+)$", out, re.MULTILINE)
     if code != 0 or m is None:
         raise LearnerError(f"scoring a theory on {stem_text} failed: {(err or out).strip()[-400:]}")
-    cm = Confusion(*(int(g) for g in m.groups()))
-    if not covered:
-        return cm
     found = re.findall(r"^@@covered (pos|neg) (.+)$", out, re.MULTILINE)
-    return (cm, tuple(a for k, a in found if k == "pos"), tuple(a for k, a in found if k == "neg"))
+    return (Confusion(*(int(g) for g in m.groups())),
+            tuple(a for k, a in found if k == "pos"), tuple(a for k, a in found if k == "neg"))
 
 
 def format_report(result: LearnResult, *, with_time: bool = True) -> str:
