@@ -36,8 +36,6 @@ import re
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
 #: Comparison literals: dropped with the literal that binds their variable.
 COMPARISONS = frozenset({"lteq", "gteq", "lt", "gt", "<", ">", "=<", ">="})
 
@@ -187,10 +185,19 @@ def main(argv=None) -> int:
     ap.add_argument("--names", action="store_true",
                     help=f"name the negatives each literal keeps out (at most {MAX_NAMES} a row)")
     args = ap.parse_args(argv)
+    if not Path(args.rules).is_file():
+        ap.error(f"no such rules file: {args.rules}")
     for s in args.stages:
         if not Path(s).is_dir():
             ap.error(f"no such folder: {s}")
-    print(table(support(args.rules, args.stages, timeout=args.timeout, names=args.names)))
+    from planerel.errors import PlanerelError
+
+    try:
+        rows = support(args.rules, args.stages, timeout=args.timeout, names=args.names)
+    except PlanerelError as e:  # a task that does not load, a learner over its time
+        print(f"clause_support: {e}", file=sys.stderr)
+        return 1
+    print(table(rows))
     return 0
 
 

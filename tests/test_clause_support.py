@@ -80,6 +80,14 @@ def test_support_counts_what_each_literal_keeps_out(tmp_path, capsys):
     # a stage folder that does not exist is a one-line usage error
     with pytest.raises(SystemExit):
         cs.main([str(rules), str(tmp_path / "missing")])
+    # ... and so is a rules file that does not exist
+    with pytest.raises(SystemExit):
+        cs.main([str(tmp_path / "none.pl"), str(stage)])
+    # a task whose background does not load: one line on stderr, exit 1, no traceback
+    (stage / "box.b").write_text("this is not prolog(.\n")
+    capsys.readouterr()
+    assert cs.main([str(rules), str(stage)]) == 1
+    assert capsys.readouterr().err.startswith("clause_support: ")
 
 
 @pytest.mark.skipif(not shutil.which("swipl"), reason="swipl not installed")
