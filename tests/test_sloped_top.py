@@ -79,3 +79,44 @@ def test_a_face_cut_by_something_nearer_or_the_image_top_measures_no_edge_there(
     cloud, lab, _, _ = render([floor(), BACK, side, panel], pitch=4.0, cam_height=0.35)
     ps = measure_planes(cloud, lab)
     assert top_edge(ps.by_label(2), ps.up, lab, cloud.xyz) is None
+
+
+# ---------------------------------------------------------------- top_slope/2 (ramp77)
+
+
+@pytest.mark.parametrize("angle", [8.0, 15.0])
+def test_top_slope_fact_of_a_wedge_side_and_of_a_box_face(angle):
+    from planerel.features.facts import describe_scene, scene_facts
+    from planerel.features.solid import top_slopes
+
+    for wedge in (True, False):
+        cloud, lab, ps = _wedge_or_box(angle, wedge)
+        slopes = dict(top_slopes(ps, lab, cloud.xyz))
+        assert slopes[2] == pytest.approx(angle if wedge else 0.0, abs=1.5)
+        assert slopes.get(3, 0.0) < 2.0  # the end: level, or under 0.5 m seen
+        desc = describe_scene(cloud, lab, scene_id="w", objects=[(2, 3)], klass="ramp")
+        facts = scene_facts(desc)["top_slope"]
+        written = {f.split("(")[1].split(",")[0]: float(f.split(", ")[1].rstrip(")."))
+                   for f in facts}
+        # whole degrees, as incline and slope are written
+        assert written["w_p02"] == round(slopes[2]) and float(written["w_p02"]).is_integer()
+    # an unorganized cloud measures no edge
+    assert top_slopes(ps, lab, np.asarray(cloud.xyz).reshape(-1, 3)) == ()
+
+
+def test_straight_run_takes_the_slope_of_a_trapezoid_and_no_step():
+    from planerel.features.solid import straight_run
+
+    u = np.linspace(0.0, 3.0, 16)
+    slope = np.tan(np.radians(12.0))
+    # a ramp with a level platform at its top: the slope for 2.2 m, then level
+    h = np.where(u <= 2.2, slope * u, slope * 2.2)
+    run = straight_run(u, h)
+    assert run.slope == pytest.approx(12.0, abs=0.5) and run.span >= 2.0 and run.rms < 0.005
+    level = straight_run(u, np.full_like(u, 0.8))
+    assert level.slope == pytest.approx(0.0, abs=1e-9) and level.span == pytest.approx(3.0)
+    # a flight's side: steps of 0.17 m every 0.28 m, no straight half metre
+    steps = 0.17 * np.floor(np.linspace(0.0, 2.24, 16) / 0.28)
+    assert straight_run(np.linspace(0.0, 2.24, 16), steps) is None
+    # too short a run
+    assert straight_run(u[:3] / 10, h[:3]) is None

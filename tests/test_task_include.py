@@ -18,7 +18,7 @@ import pytest
 from planerel.errors import InputError, PlanerelError
 from planerel.ilp.aleph_export import aleph_files, load_task, task_directives
 
-TASKS = ("modes_relational.pl", "modes_pair.pl", "modes_slope.pl", "modes_facing.pl",
+TASKS = ("modes_relational.pl", "modes_pair.pl", "modes_sides.pl", "modes_slope.pl", "modes_facing.pl",
          "modes_varied.pl", "modes_objects.pl")
 CORNER = ":- modeb(*, corner(+plane, -plane))."
 
@@ -121,6 +121,12 @@ def test_shipped_tasks_keep_their_own_lines_where_they_stood():
     at = rel.index(CORNER) + 1
     assert pair == rel[:at] + [face_pair] + rel[at:]
     assert rel[at] == ":- modeb(*, stair_step(+plane, -plane))."
+    # ramp77's side-view task: modes_pair.pl with top_slope/2 after lying/1, its thresholds last
+    sides = task_directives("modes_sides.pl")
+    ly = pair.index(":- modeb(1, lying(+plane)).") + 1
+    assert sides == (pair[:ly] + [":- modeb(1, top_slope(+plane, -topslope))."] + pair[ly:]
+                     + [":- modeb(1, gteq(+topslope, #topslope)).",
+                        ":- modeb(1, lteq(+topslope, #topslope))."])
     for name in ("modes_facing.pl", "modes_varied.pl"):
         lines = task_directives(name)
         assert lines[lines.index(CORNER) + 1] == ":- modeb(*, facing(+plane, -plane))."

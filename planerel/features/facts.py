@@ -39,6 +39,7 @@ from planerel.features.relations import (
     support_planes,
     tall_faces,
 )
+from planerel.features.solid import top_slopes
 from planerel.features.stair_step import stair_steps
 from planerel.features.stairfit import StairFitParams, _remeasure_stepped_clusters, join_groups
 from planerel.features.stepped import remeasure_stepped
@@ -107,6 +108,9 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
     ("lying", 1, "plane", "a level or tilted (<= 30 deg) plane at most 0.6 m long lying on a "
      "larger horizontal plane adjacent to it, 1.5-12 cm over it: the top of a book or a flat "
      "box lying on a table, its sides edge-on (planerel.features.relations.lying_tops)"),
+    ("top_slope", 2, "plane, deg", "slope from level of an upright plane's top edge where the "
+     "camera sees it straight over 0.5 m or more: a ramp's side face seen from lower than its "
+     "top rises with the ramp, a box's face is level (planerel.features.solid.top_slopes)"),
     ("height", 2, "plane, m", "centroid height above the floor / lowest support"),
     ("distance", 2, "plane, m", "distance from the sensor to the centroid"),
     ("npoints", 2, "plane, int", "number of points"),
@@ -218,6 +222,10 @@ class SceneDescription:
     #: ``(lower, higher)`` labels of two planes of one object one stair step apart
     #: (:func:`planerel.features.stair_step.stair_steps`: ``stair_step/2``).
     steps: frozenset = field(default=frozenset())
+    #: ``((label, degrees), ...)`` of the upright planes whose exposed top edge is seen straight
+    #: over half a metre or more, and its slope from level
+    #: (:func:`planerel.features.solid.top_slopes`: ``top_slope/2``, ramp77).
+    top_slope: tuple = field(default=())
     #: Labels of the planes found only by the far growing of the segmentation
     #: (``far_theta``; :func:`planerel.segment.segment`'s ``info["far_labels"]``), when the
     #: caller gives them (:func:`describe_scene`'s ``far``): the far gate's provenance.
@@ -386,9 +394,12 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     rel = skirts_within_objects(rel, [o.planes for o in objs], planes, support)
     by_label = {p.label: p for p in planes}
     steps = frozenset(s for o in objs for s in stair_steps(planes, o.planes, pp, by_label))
+    # the slope of each upright face's top edge seen over half a metre, for the objects' planes:
+    # a wedge's side rises (ramp77)
+    slopes = top_slopes(planes, planes.labels, cloud.xyz, only={x for o in objs for x in o.planes})
     desc = SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
                             proposed, support, truncated=cut, tall=tall, lying=lying,
-                            steps=steps)
+                            steps=steps, top_slope=slopes)
     if far_mask is not None:
         desc = replace(desc, far=far_planes(desc, far_mask))
     return desc
@@ -598,6 +609,7 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
         if lbl in kept:
             out["support"].append(F("support", pid(lbl)))
     m, dg = DIGITS_M, DIGITS_DEG
+    slope_of = dict(desc.top_slope)
     for p in planes:
         i = pid(p.label)
         out["orientation"].append(F("orientation", i, p.orientation))
@@ -614,6 +626,9 @@ def scene_facts(desc: SceneDescription, params: FactParams | None = None) -> dic
             out["tall_face"].append(F("tall_face", i))
         if p.label in desc.lying:
             out["lying"].append(F("lying", i))
+        if p.label in slope_of:
+            out["top_slope"].append(F("top_slope", i, slope_of[p.label],
+                                      round_to=DIGITS_INCLINE))
         out["height"].append(F("height", i, p.height, round_to=m))
         out["distance"].append(F("distance", i, p.distance, round_to=m))
         out["npoints"].append(F("npoints", i, p.n_points))

@@ -89,7 +89,7 @@ from planerel.features.vectors import lo_hi, vec_norm
 
 __all__ = ["face_points", "FaceProfile", "face_profile", "face_profile_of", "skirt_measures",
            "is_skirt", "skirt_covered", "on_step", "grounded", "rises_from", "is_corner",
-           "is_facing"]
+           "is_facing", "top_slopes"]
 
 #: Levels of the cover test, as shares of the face's reach below the top.
 _LEVELS = (0.3, 0.5, 0.7)
@@ -452,6 +452,13 @@ def top_edge(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.9
     level top edge; a ramp's side face (a wedge's triangle) has one that rises with the
     slope.  None with fewer than 4 bins counted or a face without a horizontal direction.
     """
+    pts = _top_edge_points(face, up, labels, xyz, bins, near)
+    return None if pts is None else _line_fit(*pts)
+
+
+def _top_edge_points(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.97):
+    """:func:`top_edge`'s counted points: ``(u, h)`` arrays, metres along the face's horizontal
+    direction (ascending bins) and along ``up``; None with fewer than 4 or no direction."""
     up = np.asarray(up, float)
     along = _along(up, face.normal)
     if not along.any():
@@ -491,7 +498,12 @@ def top_edge(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.9
         hs.append(float(h[j]))
     if len(us) < 4:
         return None
-    ua, ha = np.array(us), np.array(hs)
+    return np.array(us), np.array(hs)
+
+
+def _line_fit(ua, ha) -> TopEdge | None:
+    """Theil-Sen line through points ``(ua, ha)``: :class:`TopEdge` (None when they share one
+    ``u``)."""
     i, k = np.triu_indices(len(ua), 1)
     du = ua[k] - ua[i]
     keep = np.abs(du) > 1e-6
@@ -501,7 +513,7 @@ def top_edge(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.9
     res = ha - s * ua
     res -= np.median(res)
     return TopEdge(math.degrees(math.atan(abs(s))), float(ua.max() - ua.min()),
-                   float(np.sqrt(np.mean(res * res))), len(us))
+                   float(np.sqrt(np.mean(res * res))), len(ua))
 
 
 def sloped_top(edge: TopEdge | None, slope: float, span: float, rms: float) -> bool:
@@ -510,6 +522,75 @@ def sloped_top(edge: TopEdge | None, slope: float, span: float, rms: float) -> b
     (``corner``'s walls, ramp42).  ``slope`` 0: never."""
     return bool(slope > 0 and edge is not None and edge.slope >= slope and edge.span >= span
                 and edge.rms <= rms)
+
+
+#: ``top_slope/2`` (ramp77): an upright face's exposed top edge is written only when
+#: :func:`top_edge` measured it over at least this many metres along the face (a box's face
+#: measured over 0.3-0.5 m rose up to 15.6 degrees, over 0.5 m or more at most 4.8; a wedge's
+#: side 0.62 m or more: docs/results.md "A wedge seen from its side") ...
+TOP_SLOPE_SPAN = 0.5
+#: ... and straight within this many metres RMS (a stair flight's stepped side: 0.03-0.09)
+TOP_SLOPE_RMS = 0.01
+
+
+def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
+               rms: float = TOP_SLOPE_RMS, only=None) -> tuple:
+    """The slope of each upright face's top edge where the camera sees that edge straight over
+    ``span`` m or more (``top_slope/2``, ramp77): a wedge's side face seen from a camera lower
+    than its top rises with the ramp, a box's face is level.
+
+    Parameters
+    ----------
+    planes : PlaneSet
+        With ``up``; only its ``vertical`` planes are measured.
+    labels : ndarray, shape (H, W), int
+    xyz : ndarray, shape (H, W, 3)
+        Organized points; anything else measures nothing.
+    span, rms : float
+        Metres (:data:`TOP_SLOPE_SPAN`, :data:`TOP_SLOPE_RMS`).
+    only : collection of int, optional
+        Measure only these labels (:func:`planerel.features.facts.describe_scene`: the planes
+        of its objects, whose facts are written; a room's walls are none).
+
+    Returns
+    -------
+    tuple of (int, float)
+        ``(label, degrees from level)`` in label order.
+    """
+    labels = np.asarray(labels)
+    xyz = np.asarray(xyz)  # as read (float32): only the face's points are converted
+    if xyz.ndim != 3 or labels.shape != xyz.shape[:2]:
+        return ()
+    up = np.asarray(planes.up, float)
+    out = []
+    for p in planes:
+        if p.orientation != "vertical" or p.length < span or (only is not None
+                                                               and p.label not in only):
+            continue
+        pts = _top_edge_points(p, up, labels, xyz)
+        e = None if pts is None else straight_run(*pts, span=span, rms=rms)
+        if e is not None:
+            out.append((int(p.label), float(e.slope)))
+    return tuple(sorted(out))
+
+
+def straight_run(u, h, span: float = TOP_SLOPE_SPAN, rms: float = TOP_SLOPE_RMS
+                 ) -> TopEdge | None:
+    """The longest straight run of a top edge's points (:func:`top_edge`'s, ascending ``u``)
+    that starts at one end of the edge: of the runs of consecutive points from either end at
+    least ``span`` m long whose Theil-Sen line they fit within ``rms`` m, the longest (then the
+    steeper).  A ramp's side with a level platform at its top is a trapezoid whose edge is
+    straight from its low end up the slope only; a whole straight edge is its own run.  At
+    most two fits per run length (26 for 16 points).  None when no run qualifies."""
+    n = len(u)
+    for k in range(n, 3, -1):  # longest first
+        runs = [_line_fit(u[:k], h[:k])] + ([_line_fit(u[n - k:], h[n - k:])] if k < n else [])
+        ok = [e for e in runs if e is not None and e.span >= span and e.rms <= rms]
+        if ok:
+            return max(ok, key=lambda e: (e.span, e.slope))
+        if u[k - 1] - u[0] < span and u[-1] - u[n - k] < span:
+            return None
+    return None
 
 
 def is_corner(p, q, profile_p: FaceProfile, profile_q: FaceProfile, tol: float = 0.08,

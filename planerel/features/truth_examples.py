@@ -68,6 +68,11 @@ class ExampleRule:
         high (its sidecar's ``params`` ``height``) that shows its top is an example even when
         no side of it is seen: a book or a flat box lying on a table, its 2-8 cm sides seen
         edge-on (``"examples": {"box_top_height": 0.12}``; the demo's training world, top25).
+    side_faces : int
+        0 (the default): a ramp is an example when its slope shows, a flight when two of its
+        steps do.  1: also a ramp or a flight that shows one of its side faces and not those
+        (seen from its side by a camera lower than its top; ``"examples": {"side_faces": 1}``,
+        the demo's training world with its side-view part, ramp77).
     """
 
     min_iou: float = 0.5
@@ -76,6 +81,7 @@ class ExampleRule:
     compact: tuple = ("box", "other")
     box_faces: int = 2
     box_top_height: float = 0.0
+    side_faces: int = 0
 
     def __post_init__(self) -> None:
         for name in ("min_iou", "min_visible"):
@@ -91,6 +97,9 @@ class ExampleRule:
         v = self.box_top_height
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v < 10:
             raise InputError(f"box top height must be a number of metres in [0, 10), got {v!r}")
+        v = self.side_faces
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v not in (0, 1):
+            raise InputError(f"side faces must be 0 or 1, got {v!r}")
 
 
 def judge_objects(labels, gt, meta: dict, groups, object_of_group, classes: dict,
@@ -155,14 +164,16 @@ def judge_objects(labels, gt, meta: dict, groups, object_of_group, classes: dict
         evidence = _EVIDENCE.get(klass)
         if evidence is not None:
             roles, need, reason, same_role = evidence
-            shown = set()
+            shown, shown_any = set(), set()
             for x in g:
                 on = gsafe[(lab == x) & truth]
                 if on.size:
                     best = np.bincount(on, minlength=n + 1)
                     q = int(best.argmax())
-                    if best[q] >= rule.min_plane_pixels and role_of_plane[q] in roles:
-                        shown.add(q)
+                    if best[q] >= rule.min_plane_pixels:
+                        shown_any.add(q)
+                        if role_of_plane[q] in roles:
+                            shown.add(q)
             per_role = [sum(role_of_plane[q] == r for q in shown) for r in roles]
             one_side = (klass == "box" and rule.box_faces == 1 and "face" in roles
                         and per_role[roles.index("face")] >= 1)
@@ -170,7 +181,10 @@ def judge_objects(labels, gt, meta: dict, groups, object_of_group, classes: dict
                     and per_role[roles.index("top")] >= 1
                     and 0 < float((info.get(k, {}).get("params") or {}).get("height", 0.0))
                     <= rule.box_top_height)
-            if (max(per_role) if same_role else sum(per_role)) < need and not (one_side or flat):
+            side = (klass in ("ramp", "stairs") and rule.side_faces == 1
+                    and any(role_of_plane[q] == "side" for q in shown_any))
+            if ((max(per_role) if same_role else sum(per_role)) < need
+                    and not (one_side or flat or side)):
                 out[k] = reason
                 continue
         out[k] = None

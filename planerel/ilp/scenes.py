@@ -149,9 +149,9 @@ def example_rule(dataset_dir):
     given = load_dataset_info(dataset_dir).get("examples")
     if not given:
         return None
-    if not isinstance(given, dict) or set(given) - {"box_faces", "box_top_height"}:
+    if not isinstance(given, dict) or set(given) - {"box_faces", "box_top_height", "side_faces"}:
         raise InputError(f"{dataset_dir}: dataset.json's \"examples\" may name only "
-                         f"box_faces and box_top_height, got {given!r}")
+                         f"box_faces, box_top_height and side_faces, got {given!r}")
     return ExampleRule(**given)
 
 

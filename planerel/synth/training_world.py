@@ -61,7 +61,7 @@ from pathlib import Path
 
 from planerel.errors import InputError
 
-__all__ = ["PRODUCT_SETTINGS", "PRODUCT_SHAPES", "KINECT_ROOM", "KINECT_FACES", "KINECT_OPEN", "KINECT_PANELS", "KINECT_SMALL_FACES", "ROUND_SETTINGS", "FLAT_SETTINGS", "generate_round_scene",
+__all__ = ["PRODUCT_SETTINGS", "PRODUCT_SHAPES", "KINECT_ROOM", "KINECT_FACES", "KINECT_OPEN", "KINECT_PANELS", "KINECT_SMALL_FACES", "KINECT_SIDE_VIEWS", "ROUND_SETTINGS", "FLAT_SETTINGS", "generate_round_scene",
            "generate_flat_scene", "generate_product_scene", "generate_training_world", "lying_cylinder_geometry"]
 
 #: Block-matching window (physical pixels) of the Kinect-like parts' structured-light sensor
@@ -129,11 +129,31 @@ KINECT_PANELS = {**KINECT_ROOM,
                  "extra_objects": (2, 3),
                  "panel_share": 1.0}
 
+#: Ranges of the side-view part (:func:`generate_training_world`'s ``side_views``; ramp77): a
+#: roll ramp closed by its side faces, 8-20 degrees and 2-4 m long (0.28-1.37 m high), or a
+#: flight of stairs, each placed across the view, seen from a camera 0.1-0.3 m over the floor
+#: looking nearly level, 1.5-4 m away, among 0-1 of the room's clutter: below the top of most
+#: of them, so the camera sees a side face and little or none of the slope or the treads.  A
+#: ramp's side is a triangle whose top edge rises with the slope (4-20 degrees), a flight's
+#: closed side rises at its pitch (30-45 degrees) or in steps (the independent generator's low
+#: views, docs/results.md "A wedge seen from its side").  An object counts as seen when a side
+#: face shows (``side_view``).
+KINECT_SIDE_VIEWS = {**KINECT_ROOM,
+                     "camera_height": (0.1, 0.3),
+                     "camera_pitch_deg": (0.0, 15.0),
+                     "object_range": (1.5, 4.0),
+                     "ramp_angle_deg": (8.0, 20.0),
+                     "ramp_length": (2.0, 4.0),
+                     "extra_objects": (0, 1),
+                     "roll_share": 1.0,
+                     "side_share": 1.0,
+                     "side_view": True}
+
 
 def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), round_: int = 0,
                             faces: int = 0, flat: int = 0, piles: int = 0, open_: int = 0,
                             panels: int = 0, small_faces: int = 0, products: int = 0,
-                            flat_small: int = 0, seed: int = 0, size=(640, 480), subsample: int = 4,
+                            flat_small: int = 0, side_views: int = 0, seed: int = 0, size=(640, 480), subsample: int = 4,
                             ranges=None, window: float | None = None) -> Path:
     """Write one data set: ``paper`` box/stairs/ramp scenes of the paper-sized world, then
     ``room`` box/stairs/ramp scenes (primary object) of the Kinect-like varied world.
@@ -196,6 +216,9 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         plates and thin boards of class ``other``, seen from 0.4-1.5 m), after the small-face
         part, seeds ``scene_seed(seed + 9, i)``, at half the room part's ``subsample`` (as the
         round part's table tops; product37).
+    side_views : int
+        Scenes of the ramp-side part (a roll ramp seen from its side by a low camera:
+        :data:`KINECT_SIDE_VIEWS`), last, seeds ``scene_seed(seed + 11, i)`` (ramp77).
 
     Returns
     -------
@@ -231,11 +254,11 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
     for what, n in (("round", round_), ("face", faces), ("flat", flat),
                     ("small flat", flat_small), ("pile", piles),
                     ("open", open_), ("panel", panels), ("small-face", small_faces),
-                    ("product", products)):
+                    ("product", products), ("side-view", side_views)):
         if isinstance(n, bool) or not isinstance(n, int) or n < 0:
             raise InputError(f"{what} scene count must be a non-negative integer, got {n!r}")
     if not (sum(counts["paper"].values()) + sum(counts["room"].values()) + round_ + faces + flat
-            + flat_small + piles + open_ + panels + small_faces + products):
+            + flat_small + piles + open_ + panels + small_faces + products + side_views):
         raise InputError("a data set needs at least one scene (all counts are 0)")
     ranges = WorldRange(**KINECT_ROOM) if ranges is None else ranges
     window = KINECT_WINDOW if window is None else window
@@ -249,12 +272,15 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             + [("round", "box")] * round_ + [("faces", "box")] * faces
             + [("piles", "box")] * piles + [("open", "stairs")] * open_
             + [("panels", "ramp")] * panels + [("small_faces", "box")] * small_faces
-            + [("products", "box")] * products)
+            + [("products", "box")] * products
+            # the side-view part: ramps and flights by turns, the ramps first
+            + [("side_views", ("ramp", "stairs")[k % 2]) for k in range(side_views)])
     # the parts that are varied-world scenes: (seed offset, ranges)
     world_parts = {"room": (1, ranges), "faces": (3, WorldRange(**KINECT_FACES)),
                    "open": (5, WorldRange(**KINECT_OPEN)),
                    "panels": (7, WorldRange(**KINECT_PANELS)),
-                   "small_faces": (8, WorldRange(**KINECT_SMALL_FACES))}
+                   "small_faces": (8, WorldRange(**KINECT_SMALL_FACES)),
+                   "side_views": (11, WorldRange(**KINECT_SIDE_VIEWS))}
     rows = []
     nth: dict = {}  # scenes of each part so far: the part's scene index (its seed)
     with atomic_dir(Path(out_dir), markers=("manifest.csv", "dataset.json")) as tmp:
@@ -295,7 +321,8 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
                      + ("+piles" if piles else "")
                      + ("+open" if open_ else "") + ("+panels" if panels else "")
                      + ("+small-faces" if small_faces else "")
-                     + ("+products" if products else ""),
+                     + ("+products" if products else "")
+                     + ("+side-views" if side_views else ""),
             "counts": {**counts, "round": round_, **({"faces": faces} if faces else {}),
                        **({"flat": flat} if flat else {}),
                        **({"flat_small": flat_small} if flat_small else {}),
@@ -303,7 +330,8 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
                        **({"open": open_} if open_ else {}),
                        **({"panels": panels} if panels else {}),
                        **({"small_faces": small_faces} if small_faces else {}),
-                       **({"products": products} if products else {})},
+                       **({"products": products} if products else {}),
+                       **({"side_views": side_views} if side_views else {})},
             "size": list(_check_size(size)), "subsample": int(subsample),
             "sensor": {"paper": paper_sensor.to_dict(), "room": room_sensor.to_dict()},
             "world_ranges": ranges.to_dict(),
@@ -311,7 +339,10 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
             # one-face clutter (a door, a chair's back, a laptop's lid) stays other (face24)
             # and, with the flat part, a book or a flat box showing only its top (top25)
             "examples": {"box_faces": 1, **({"box_top_height": FLAT_TOP_HEIGHT}
-                                            if flat or flat_small else {})},
+                                            if flat or flat_small else {}),
+                         # and a ramp or a flight showing a side face, not its slope or
+                         # two steps (ramp77)
+                         **({"side_faces": 1} if side_views else {})},
         })
     return Path(out_dir)
 

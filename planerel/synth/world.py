@@ -131,6 +131,18 @@ class WorldRange:
         0, so that other worlds keep their scenes (riser26).
     open_thickness : (float, float)
         Metres: an open-riser tread's thickness.
+    roll_share : float
+        Share of the ramps drawn as roll ramps (placed across the view, so that the camera
+        sees a side; the rest are pitch ramps rising away from it).
+    side_share : float
+        Share of the ramps closed by their two triangular side faces (the rest are a plate
+        over the floor).  A camera lower than a roll ramp's top sees the side face and not
+        the slope (ramp77's ramp-side part).
+    side_view : bool
+        A ramp or a flight counts as seen when one of its side faces shows, its slope or its
+        steps out of view or not, and a flight stands across the view as a roll ramp does
+        (the side-view part; otherwise a ramp's slope or two steps must show:
+        :func:`_characteristic`).
     """
 
     camera_height: tuple = (0.3, 2.0)
@@ -157,6 +169,9 @@ class WorldRange:
     ramp_width: tuple = (0.6, 1.6)
     open_share: float = 0.0
     open_thickness: tuple = (0.03, 0.06)
+    roll_share: float = 0.5
+    side_share: float = 0.6
+    side_view: bool = False
 
     def __post_init__(self) -> None:
         for name in ("camera_height", "object_range", "box_size", "box_height", "rise", "run",
@@ -194,7 +209,9 @@ class WorldRange:
                                ("plate_share", "plate share", 1.0),
                                ("panel_share", "panel share", 1.0),
                                ("descending", "descending share", 1.0),
-                               ("open_share", "open-riser share", 1.0)):
+                               ("open_share", "open-riser share", 1.0),
+                               ("roll_share", "roll share", 1.0),
+                               ("side_share", "side-face share", 1.0)):
             v = getattr(self, name)
             try:
                 x = math.nan if isinstance(v, bool) else float(v)
@@ -204,6 +221,8 @@ class WorldRange:
                 unit = " degrees" if name == "camera_roll_deg" else ""
                 raise InputError(f"{what} must be one number in 0..{hi:g}{unit}, got {v!r}")
             object.__setattr__(self, name, x)
+        if not isinstance(self.side_view, bool):
+            raise InputError(f"side view must be true or false, got {self.side_view!r}")
         nosing = _pair("nosing", self.nosing)
         if nosing[1] > 0.06:
             raise InputError(f"nosing must lie in 0..0.06 metres, got {self.nosing!r}")
@@ -385,8 +404,8 @@ def _draw_ramp(rng, r: WorldRange, index: int):
     width = float(rng.uniform(*r.ramp_width))
     run = length * math.cos(math.radians(angle))
     platform = float(rng.uniform(0.3, 1.2)) if rng.random() < 0.4 else 0.0
-    side_faces = bool(rng.random() < 0.6)
-    axis = "pitch" if rng.random() < 0.5 else "roll"
+    side_faces = bool(rng.random() < r.side_share)
+    axis = "pitch" if rng.random() < 1.0 - r.roll_share else "roll"
     geom = sg.ramp_geometry(angle, run, width, platform=platform, side_faces=side_faces,
                             object_index=index)
     return geom, {"class": "ramp", "kind": f"{axis} ramp",
@@ -509,7 +528,10 @@ def _place_primary(kind, rng, r: WorldRange, pose, intr, lay: _Layout):
         return True
     if kind == "stairs":
         geom, info = _draw_stairs_up(rng, r, 1)
-        yaw = az + float(rng.uniform(-35, 35))
+        if r.side_view:  # across the view, as a roll ramp (the side-view part, ramp77)
+            yaw = az + (90.0 if rng.random() < 0.5 else -90.0) + float(rng.uniform(-25, 25))
+        else:
+            yaw = az + float(rng.uniform(-35, 35))
     else:
         geom, info = _draw_ramp(rng, r, 1)
         if info["params"]["axis"] == "pitch":
@@ -646,19 +668,23 @@ def render_box_scene(world, pose, intr: Intrinsics, sensor, rng, infos: list, pa
                         seen=seen, min_object_fraction=min_object_fraction)
 
 
-def _characteristic(world, plane: np.ndarray, seen: np.ndarray) -> bool:
+def _characteristic(world, plane: np.ndarray, seen: np.ndarray, side_view: bool = False) -> bool:
     """The primary object shows what makes its class: two steps (treads or risers) of a
-    staircase, the slope of a ramp (each on at least 0.5 % of the image)."""
+    staircase, the slope of a ramp, or with ``side_view`` those or a side face (each on at
+    least 0.5 % of the image)."""
     counts = np.bincount(plane[seen], minlength=len(world.planes))
     least = 0.005 * plane.size
     roles = [sp.role for sp in world.planes]
     steps = sum(1 for k, r in enumerate(roles) if r in ("tread", "riser")
                 and world.planes[k].object_index == 1 and counts[k] >= least)
-    slope = any(r == "slope" and world.planes[k].object_index == 1 and counts[k] >= least
+    shown = ("slope", "side") if side_view else ("slope",)
+    slope = any(r in shown and world.planes[k].object_index == 1 and counts[k] >= least
                 for k, r in enumerate(roles))
     kinds = {r for k, r in enumerate(roles) if world.planes[k].object_index == 1}
     if "tread" in kinds:
-        return steps >= 2
+        return steps >= 2 or (side_view and any(
+            r == "side" and world.planes[k].object_index == 1 and counts[k] >= least
+            for k, r in enumerate(roles)))
     if "slope" in kinds:
         return slope
     return True
@@ -761,7 +787,8 @@ def generate_world_scene(kind: str, seed: int = 0, size=(640, 480), subsample: i
         if sensor.grazing_deg is not None:
             cos = cos_incidence(camera_planes(world, pose)[0], plane, intr)
             seen &= cos >= math.cos(math.radians(sensor.grazing_deg))
-        if not (seen.mean() >= min_object_fraction and _characteristic(world, plane, seen)):
+        if not (seen.mean() >= min_object_fraction and _characteristic(world, plane, seen,
+                                                                      ranges.side_view)):
             continue
         params = {
             "world": "varied",
