@@ -1145,7 +1145,7 @@ def _orientations(clf, cloud, scene_id):
     from planerel.ilp.scenes import segment_cached
 
     labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
-    desc = describe_scene(cloud, labels, scene_id=scene_id, **clf.settings.describe_kwargs())
+    desc = describe_scene(cloud, labels, scene_id=scene_id, **clf._describe_kw)
     return {desc.plane_id(p.label): p.orientation[0] for p in desc.planes}
 
 

@@ -76,7 +76,7 @@ def frame(clf, path: Path, min_iou: float = 0.5) -> tuple[dict, list[dict]]:
     ((name, cloud, truth, _),) = list(frame_truth(path))
     ans = clf.classify(cloud, scene_id=name)
     desc = describe_scene(cloud, segment_cached(cloud, method=clf.method, params=clf.seg_params),
-                          scene_id=name, **clf.settings.describe_kwargs())
+                          scene_id=name, **clf._describe_kw)
     # a box cut from a proposal (decision.cut_boxes) is an answer of its own, with no mask;
     # the proposal it was cut from keeps its mask and the rest of its planes
     own = [o for o in ans.objects if o.cut_from is None]

@@ -97,7 +97,7 @@ def frame(clf, depth: str) -> dict:
         stem = os.path.splitext(os.path.basename(depth))[0]
         cloud = planerel.read(depth)
     labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
-    desc = describe_scene(cloud, labels, scene_id=stem, **clf.settings.describe_kwargs())
+    desc = describe_scene(cloud, labels, scene_id=stem, **clf._describe_kw)
     ans = clf.classify(cloud, scene_id=stem)
     byl = {p.label: p for p in desc.planes}
     up = np.asarray(desc.planes.up, float)

@@ -153,7 +153,7 @@ def frame(clf, key: str, path: str, intrinsics) -> dict:
     cloud = read_frame(path, intrinsics)
     ans = clf.classify(cloud, scene_id=stem)
     desc = describe_scene(cloud, segment_cached(cloud, method=clf.method, params=clf.seg_params),
-                          scene_id=stem, **clf.settings.describe_kwargs())
+                          scene_id=stem, **clf._describe_kw)
     prop = proposal_image(ans.labels, [o.labels for o in ans.objects],
                           answer_masks(desc.objects, ans.objects))
     points = []

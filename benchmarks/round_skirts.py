@@ -210,7 +210,7 @@ def _describe(clf, cloud, up=None):
     from planerel.ilp.scenes import segment_cached
 
     labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
-    kw = dict(clf.settings.describe_kwargs())
+    kw = dict(clf._describe_kw)
     if up is not None:
         kw["up"] = np.asarray(up, float)
     with recording_covers() as covers:

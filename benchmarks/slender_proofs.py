@@ -35,7 +35,7 @@ def _answer(clf, cloud, scene_id, up=None):
 
     labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
     desc = describe_scene(cloud, labels, scene_id=scene_id, up=up,
-                          **clf.settings.describe_kwargs())
+                          **clf._describe_kw)
     return desc, clf.answer_description(desc, xyz=cloud.xyz)
 
 

@@ -470,6 +470,8 @@ class Classifier:
         self.method = self.settings.method
         self.seg_params = dict(self.settings.seg_params)
         self._describe_kw = self.settings.describe_kwargs()
+        # top_slope/2 is measured only for a model whose rules read it (ramp77)
+        self._describe_kw["top_slope"] = "top_slope(" in path.read_text(errors="replace")
         #: a members model's members (``planerel learn --members K``), each a Classifier of
         #: its own; empty for a single model
         self.members: tuple = ()

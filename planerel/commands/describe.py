@@ -50,6 +50,10 @@ def register(sub) -> None:
                         "DIR/NAME.graphml")
     p.add_argument("--graph-format", choices=["graphml", "json"], default="graphml",
                    help="graph file type (default graphml; json = networkx node-link)")
+    p.add_argument("--top-slope", action="store_true",
+                   help="also measure top_slope/2, the slope of each object's upright face's "
+                        "top edge (a ramp's side seen from lower than its top; about 1 ms a "
+                        "frame; docs/predicates.md)")
     add_input_options(p)
     add_camera_height_option(p)
     add_batch_options(p)
@@ -100,7 +104,8 @@ def _describe_task(task: dict):
         note = seg_settings_line(seg.info)
         far = seg.info.get("far_labels") or ()
     d = describe_scene(cloud, labels, scene_id=task["name"], up=given_up(task["read"]), far=far,
-                       camera_height=given_camera_height(task["read"]))
+                       camera_height=given_camera_height(task["read"]),
+                       top_slope=bool(task.get("top_slope")))
     if task.get("mesh") and len(d.planes):
         from planerel.io.exports import write_mesh
 
@@ -142,7 +147,7 @@ def run(args) -> int:
     tasks = [{"path": str(p), "name": i, "read": opts, "method": args.method, "params": params,
               "labels": args.labels[k] if args.labels else None, "mesh": args.mesh,
               "mesh_format": args.mesh_format, "graph": args.graph,
-              "graph_format": args.graph_format}
+              "graph_format": args.graph_format, "top_slope": args.top_slope}
              for k, (p, i) in enumerate(zip(paths, ids, strict=True))]
     shown = ", ".join(str(p) for p in paths[:20]) + (f", ... ({n} inputs)" if n > 20 else "")
     res = BatchResult()

@@ -441,8 +441,9 @@ def describe_truth_scene(cloud, labels, gt, meta: dict, scene_id: str,
             object_of_label[int(x)] = k
             if verdict.get(k):
                 class_of_label[int(x)] = None
+    # a data set with side-face examples (ramp77) has its upright planes' top edges measured
     desc = describe_scene(cloud, labels, scene_id=scene_id, objects=groups, klass=default_class,
-                          far=far)
+                          far=far, top_slope=bool(rule is not None and rule.side_faces))
     objs = tuple(replace(o, klass=class_of_label.get(o.planes[0], default_class))
                  for o in desc.objects)
     # the described object's id; an object none of whose planes was found has none

@@ -247,7 +247,8 @@ class SceneDescription:
 def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=None,
                    klass: str | None = None, plane_params=None, relation_params=None,
                    proposal_params=None, gravity_params=None,
-                   curved_params=None, far=(), camera_height=None) -> SceneDescription:
+                   curved_params=None, far=(), camera_height=None,
+                   top_slope: bool = False) -> SceneDescription:
     """Measure, relate and group the planes of one scene.
 
     Parameters
@@ -283,6 +284,12 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
         wide angle are pieces too small and bent to vote for gravity, lead61), and the
         description's ``far`` holds the planes lying for half their pixels or more in them
         (the far gate's provenance).
+    top_slope : bool
+        Measure the top edges of the objects' upright planes (``top_slope/2``, ramp77; about
+        1 ms a frame): asked by a data set with side-face examples
+        (:func:`planerel.features.dataset.describe_truth_scene`), a model whose rules use
+        it (:class:`planerel.classify.Classifier`) and ``planerel describe --top-slope``;
+        otherwise no ``top_slope`` fact is written.
     camera_height : float, optional
         The camera's height over the floor, metres, when known (a robot's mount; give ``up``
         too when the camera is level or its tilt is known): with no floor plane in view, an
@@ -396,7 +403,8 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     steps = frozenset(s for o in objs for s in stair_steps(planes, o.planes, pp, by_label))
     # the slope of each upright face's top edge seen over half a metre, for the objects' planes:
     # a wedge's side rises (ramp77)
-    slopes = top_slopes(planes, planes.labels, cloud.xyz, only={x for o in objs for x in o.planes})
+    slopes = (top_slopes(planes, planes.labels, cloud.xyz,
+                         only={x for o in objs for x in o.planes}) if top_slope else ())
     desc = SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
                             proposed, support, truncated=cut, tall=tall, lying=lying,
                             steps=steps, top_slope=slopes)

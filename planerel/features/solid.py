@@ -501,19 +501,80 @@ def _top_edge_points(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: flo
     return np.array(us), np.array(hs)
 
 
+def _outline_edge_points(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.97):
+    """:func:`_top_edge_points` from the face's upper outline only (``top_slope/2``, ramp77):
+    the topmost pixel of the face in each image column stands for the column, so each bin's
+    highest point is taken among a few hundred pixels instead of all of the face's (the
+    highest point of a bin lies on that outline for an upright face), then put through the
+    same edge test.  The same ``(u, h)`` or None."""
+    up = np.asarray(up, float)
+    along = _along(up, face.normal)
+    if not along.any():
+        return None
+    r0, c0, r1, c1 = _face_box(face, labels.shape, max(1, int(face.n_points)))[:4]
+    m = labels[r0:r1, c0:c1] == face.label
+    cols = np.flatnonzero(m.any(axis=0))
+    rr = m.argmax(axis=0)[cols] + r0
+    cc = cols + c0
+    pts = xyz[rr, cc].astype(np.float64)
+    ok = np.isfinite(pts).all(axis=1)
+    rr, cc, pts = rr[ok], cc[ok], pts[ok]
+    if pts.shape[0] < 4:
+        return None
+    u, h = pts @ along, pts @ up
+    lo, hi = np.percentile(u, 2), np.percentile(u, 98)
+    if hi - lo <= 1e-6:
+        return None
+    W = labels.shape[1]
+    where = np.floor((u - lo) / (hi - lo) * bins).astype(np.int64)
+    us, hs = [], []
+    for b in range(bins):
+        sel = np.flatnonzero(where == b)
+        if sel.size == 0:
+            continue
+        j = sel[np.argmax(h[sel])]
+        r, c = int(rr[j]), int(cc[j])
+        if r <= 0 or c <= 0 or c >= W - 1 or labels[r - 1, c] == face.label:
+            continue
+        above = xyz[r - 1, c]
+        if np.isfinite(above).all():
+            if np.linalg.norm(above) < near * np.linalg.norm(pts[j]):
+                continue
+        elif not np.isfinite(xyz[r - 1, :, 2]).any():
+            continue
+        us.append(float(u[j]))
+        hs.append(float(h[j]))
+    if len(us) < 4:
+        return None
+    return np.array(us), np.array(hs)
+
+
+_PAIRS: dict = {}
+
+
 def _line_fit(ua, ha) -> TopEdge | None:
     """Theil-Sen line through points ``(ua, ha)``: :class:`TopEdge` (None when they share one
     ``u``)."""
-    i, k = np.triu_indices(len(ua), 1)
+    n = len(ua)
+    if n not in _PAIRS:
+        _PAIRS[n] = np.triu_indices(n, 1)
+    i, k = _PAIRS[n]
     du = ua[k] - ua[i]
     keep = np.abs(du) > 1e-6
     if not keep.any():
         return None
-    s = float(np.median((ha[k] - ha[i])[keep] / du[keep]))
+    s = _median((ha[k] - ha[i])[keep] / du[keep])
     res = ha - s * ua
-    res -= np.median(res)
+    res -= _median(res)
     return TopEdge(math.degrees(math.atan(abs(s))), float(ua.max() - ua.min()),
                    float(np.sqrt(np.mean(res * res))), len(ua))
+
+
+def _median(x) -> float:
+    """``np.median`` of a short 1-D array, without its overhead (the same value)."""
+    x = np.sort(x)
+    n = x.size
+    return float(x[(n - 1) // 2] + x[n // 2]) / 2.0
 
 
 def sloped_top(edge: TopEdge | None, slope: float, span: float, rms: float) -> bool:
@@ -567,7 +628,7 @@ def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
         if p.orientation != "vertical" or p.length < span or (only is not None
                                                                and p.label not in only):
             continue
-        pts = _top_edge_points(p, up, labels, xyz)
+        pts = _outline_edge_points(p, up, labels, xyz)
         e = None if pts is None else straight_run(*pts, span=span, rms=rms)
         if e is not None:
             out.append((int(p.label), float(e.slope)))
