@@ -456,85 +456,49 @@ def top_edge(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.9
     return None if pts is None else _line_fit(*pts)
 
 
-def _top_edge_points(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.97):
+def _top_edge_points(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.97,
+                     outline: bool = False):
     """:func:`top_edge`'s counted points: ``(u, h)`` arrays, metres along the face's horizontal
-    direction (ascending bins) and along ``up``; None with fewer than 4 or no direction."""
-    up = np.asarray(up, float)
-    along = _along(up, face.normal)
-    if not along.any():
-        return None
-    r0, c0, r1, c1 = _face_box(face, labels.shape, max(1, int(face.n_points)))[:4]
-    rr, cc = np.nonzero(labels[r0:r1, c0:c1] == face.label)
-    rr, cc = rr + r0, cc + c0
-    pts = xyz[rr, cc].astype(np.float64)
-    ok = np.isfinite(pts).all(axis=1)
-    rr, cc, pts = rr[ok], cc[ok], pts[ok]
-    if pts.shape[0] < 3 * bins:
-        return None
-    u, h = pts @ along, pts @ up
-    lo, hi = np.percentile(u, 2), np.percentile(u, 98)
-    if hi - lo <= 1e-6:
-        return None
-    W = labels.shape[1]
-    us, hs = [], []
-    where = np.floor((u - lo) / (hi - lo) * bins).astype(np.int64)
-    for b in range(bins):
-        sel = np.flatnonzero(where == b)
-        if sel.size < 3:
-            continue
-        j = sel[np.argmax(h[sel])]
-        r, c = int(rr[j]), int(cc[j])
-        if r <= 0 or c <= 0 or c >= W - 1:
-            continue
-        if labels[r - 1, c] == face.label:
-            continue
-        above = xyz[r - 1, c]
-        if np.isfinite(above).all():
-            if np.linalg.norm(above) < near * np.linalg.norm(pts[j]):
-                continue
-        elif not np.isfinite(xyz[r - 1, :, 2]).any():
-            continue
-        us.append(float(u[j]))
-        hs.append(float(h[j]))
-    if len(us) < 4:
-        return None
-    return np.array(us), np.array(hs)
+    direction (ascending bins) and along ``up``; None with fewer than 4 or no direction.
 
-
-def _outline_edge_points(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.97):
-    """:func:`_top_edge_points` from the face's upper outline only (``top_slope/2``, ramp77):
-    the topmost pixel of the face in each image column stands for the column, so each bin's
-    highest point is taken among a few hundred pixels instead of all of the face's (the
-    highest point of a bin lies on that outline for an upright face), then put through the
-    same edge test.  The same ``(u, h)`` or None."""
+    With ``outline`` (``top_slope/2``, ramp77) the topmost pixel of the face in each image
+    column stands for the column: each bin's highest point is taken among a few hundred
+    pixels instead of all of the face's (it lies on that outline for an upright face) and put
+    through the same edge test; a bin needs one such pixel, not three of the face's."""
     up = np.asarray(up, float)
     along = _along(up, face.normal)
     if not along.any():
         return None
     r0, c0, r1, c1 = _face_box(face, labels.shape, max(1, int(face.n_points)))[:4]
     m = labels[r0:r1, c0:c1] == face.label
-    cols = np.flatnonzero(m.any(axis=0))
-    rr = m.argmax(axis=0)[cols] + r0
-    cc = cols + c0
+    if outline:
+        cols = np.flatnonzero(m.any(axis=0))
+        rr, cc = m.argmax(axis=0)[cols] + r0, cols + c0
+    else:
+        rr, cc = np.nonzero(m)
+        rr, cc = rr + r0, cc + c0
     pts = xyz[rr, cc].astype(np.float64)
     ok = np.isfinite(pts).all(axis=1)
     rr, cc, pts = rr[ok], cc[ok], pts[ok]
-    if pts.shape[0] < 4:
+    least = 1 if outline else 3  # points a bin needs
+    if pts.shape[0] < (4 if outline else 3 * bins):
         return None
     u, h = pts @ along, pts @ up
     lo, hi = np.percentile(u, 2), np.percentile(u, 98)
     if hi - lo <= 1e-6:
         return None
     W = labels.shape[1]
-    where = np.floor((u - lo) / (hi - lo) * bins).astype(np.int64)
     us, hs = [], []
+    where = np.floor((u - lo) / (hi - lo) * bins).astype(np.int64)
     for b in range(bins):
         sel = np.flatnonzero(where == b)
-        if sel.size == 0:
+        if sel.size < least:
             continue
         j = sel[np.argmax(h[sel])]
         r, c = int(rr[j]), int(cc[j])
-        if r <= 0 or c <= 0 or c >= W - 1 or labels[r - 1, c] == face.label:
+        if r <= 0 or c <= 0 or c >= W - 1:
+            continue
+        if labels[r - 1, c] == face.label:
             continue
         above = xyz[r - 1, c]
         if np.isfinite(above).all():
@@ -628,7 +592,7 @@ def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
         if p.orientation != "vertical" or p.length < span or (only is not None
                                                                and p.label not in only):
             continue
-        pts = _outline_edge_points(p, up, labels, xyz)
+        pts = _top_edge_points(p, up, labels, xyz, outline=True)
         e = None if pts is None else straight_run(*pts, span=span, rms=rms)
         if e is not None:
             out.append((int(p.label), float(e.slope)))
