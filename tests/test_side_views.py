@@ -31,9 +31,10 @@ def test_roll_and_side_shares_and_the_default_world_unchanged():
         assert [o.get("params") for o in a.objects] == [o.get("params") for o in b.objects]
         np.testing.assert_array_equal(a.depth_mm, b.depth_mm)
     for bad, what in ((dict(roll_share=1.5), "roll share"), (dict(side_share=-0.1), "side-face share"),
-                      (dict(side_view=1), "side view")):
+                      (dict(side_view=2), "side view"), (dict(side_view="yes"), "side view")):
         with pytest.raises(InputError, match=what):
             WorldRange(**bad)
+    assert WorldRange(side_view=1.0).side_view is True  # as --range side_view=1 gives it
     with pytest.raises(InputError, match="side faces"):
         ExampleRule(side_faces=2)
     # a flight stands across the view in a side-view world

@@ -221,8 +221,11 @@ class WorldRange:
                 unit = " degrees" if name == "camera_roll_deg" else ""
                 raise InputError(f"{what} must be one number in 0..{hi:g}{unit}, got {v!r}")
             object.__setattr__(self, name, x)
-        if not isinstance(self.side_view, bool):
-            raise InputError(f"side view must be true or false, got {self.side_view!r}")
+        if not isinstance(self.side_view, bool):  # --range side_view=1 gives a number
+            if not isinstance(self.side_view, (int, float)) or self.side_view not in (0, 1):
+                raise InputError(f"side view must be true or false (1 or 0), got "
+                                 f"{self.side_view!r}")
+            object.__setattr__(self, "side_view", bool(self.side_view))
         nosing = _pair("nosing", self.nosing)
         if nosing[1] > 0.06:
             raise InputError(f"nosing must lie in 0..0.06 metres, got {self.nosing!r}")
