@@ -158,13 +158,18 @@ def default_parts() -> dict:
 def learn_shipped(data_dir, model_dir, *, parts: dict, world_seed: int, learner_seed: int,
                   engine: str = "auto", jobs=None, log=print, cache=None, progress=None,
                   window: float | None = None, flat_small_extension: bool = FLAT_SMALL_EXTENSION):
-    """Generate the training world and learn the shipped model from it, in two stages.
+    """Generate the training world and learn the shipped model from it, in two stages (three
+    with a side-view part).
 
     The world without its product part (``parts["products"]`` scenes) is learned first, into
     ``MODEL_DIR_base``; the model proper is that theory extended on the whole world
     (:func:`planerel.ilp.pipeline.learn_rules`' ``prior``): its clauses are kept as they are, the
     learner is given the positives they do not prove, and the statistics and the decision's
     domains are measured on every scene.  With no product part: one stage, ``model_dir``.
+    With a side-view part (``parts["side_views"]``, not shipped), three: the product extension
+    goes to ``MODEL_DIR_products`` as it would without one, and the model proper extends that
+    with ramp clauses only (``extend_only``), learned on the whole world with
+    :data:`SIDE_TASK`.
 
     ``window`` is the training world's block-matching window (``generate_training_world``'s;
     None: its default).
@@ -191,11 +196,22 @@ def learn_shipped(data_dir, model_dir, *, parts: dict, world_seed: int, learner_
     base = generate_training_world(data_dir / "model_base", **base_parts, **world_kw)
     base_model = model_dir.with_name(model_dir.name + "_base")
     learn_model(base, base_model, **learn_kw)
+    if not parts.get("side_views"):
+        world = generate_training_world(data_dir / "model_train", **parts, **world_kw)
+        return world, learn_model(world, model_dir, prior=prior_rules(base_model),
+                                  task=EXTEND_TASK, **learn_kw)
+    # a side-view part: the product extension as without one, then ramp clauses only on the
+    # whole world (ramp78: learned in one extension, its flights and ramps as new negatives
+    # moved the product stage's box clause, which lost 3 boxes of the independent sets)
+    products = generate_training_world(data_dir / "model_products",
+                                       **{**parts, "side_views": 0}, **world_kw)
+    products_model = model_dir.with_name(model_dir.name + "_products")
+    learn_model(products, products_model, prior=prior_rules(base_model), task=EXTEND_TASK,
+                **learn_kw)
     world = generate_training_world(data_dir / "model_train", **parts, **world_kw)
-    sides = bool(parts.get("side_views"))
-    return world, learn_model(world, model_dir, prior=prior_rules(base_model),
-                              task=SIDE_TASK if sides else EXTEND_TASK,
-                              **{**learn_kw, "settings": SIDE_LEARNER if sides else LEARNER})
+    return world, learn_model(world, model_dir, prior=prior_rules(products_model),
+                              task=SIDE_TASK, extend_only=("ramp",),
+                              **{**learn_kw, "settings": SIDE_LEARNER})
 
 
 def seeds(n: int = 0) -> dict:

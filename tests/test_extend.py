@@ -71,6 +71,26 @@ def test_prior_clauses_come_first_and_are_never_left_out(gt_descs):
     assert stats[1][0] == "box" and stats[1][2] > 0        # its false positives are counted
 
 
+def test_extend_only_learns_those_classes_and_keeps_the_others_as_they_are(gt_descs):
+    # a narrow prior for box and stairs: extending every class adds clauses to both
+    narrow = {"box": ("box(A) :- has_plane(A,B), nhorizontal(A,9).",),
+              "stairs": ("stairs(A) :- has_plane(A,B), nhorizontal(A,9).",)}
+    every = P.learn_rules(gt_descs, CLASSES, engine="builtin", jobs=1, prior=narrow)
+    assert len(every.rules["box"]) > 1 and every.rules["ramp"]
+    only = P.learn_rules(gt_descs, CLASSES, engine="builtin", jobs=1, prior=narrow,
+                         extend_only=["ramp"])
+    assert only.rules["box"] == narrow["box"] and only.rules["stairs"] == narrow["stairs"]
+    assert only.rules["ramp"] == every.rules["ramp"]  # the same files, the same search
+    # the positives the kept clauses leave unproved are counted as uncovered
+    n_box = sum(o.klass == "box" for d in gt_descs for o in d.objects)
+    assert only.uncovered["box"] == n_box
+    with pytest.raises(InputError, match="needs a prior theory"):
+        P.learn_rules(gt_descs, CLASSES, engine="builtin", jobs=1, extend_only=["ramp"])
+    with pytest.raises(InputError, match="--extend-only names door"):
+        P.learn_rules(gt_descs, CLASSES, engine="builtin", jobs=1, prior=narrow,
+                      extend_only=["door"])
+
+
 def test_a_prior_for_a_class_without_examples_is_refused(gt_descs):
     with pytest.raises(InputError, match="prior theory has rules for door"):
         P.learn_rules(gt_descs, CLASSES, engine="builtin", jobs=1,
@@ -95,6 +115,12 @@ def test_learn_cli_extends_a_model_and_refuses_what_it_cannot(tmp_path, capsys):
     for k, clauses in m_base["rules"].items():
         assert m_ext["rules"][k][:len(clauses)] == clauses
     assert "extending a prior theory" in (ext / "rules.pl").read_text()
+    only = tmp_path / "only"
+    assert main(["learn", str(ds), "-o", str(only), "--method", "gt", "--cache", "none",
+                 "--engine", "builtin", "--extend", str(base), "--extend-only", "ramp"]) == 0
+    m_only = json.loads((only / "metrics.json").read_text())
+    assert m_only["rules"]["box"] == m_base["rules"]["box"]
+    assert m_only["rules"]["stairs"] == m_base["rules"]["stairs"]
     capsys.readouterr()
     # no model there; --folds with --extend: one line each, no model written
     assert main(["learn", str(ds), "-o", str(tmp_path / "x"), "--method", "gt",

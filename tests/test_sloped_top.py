@@ -19,12 +19,14 @@ BACK = Rect((0.0, 6.0, 1.5), (1, 0, 0), (0, 0, 1), 6.0, 1.5)  # a wall behind, 6
 
 
 def _wedge_or_box(angle, wedge=True, length=2.0, width=1.0, x1=-0.4, y_side=2.2,
-                  cam_height=0.35, pitch=4.0):
+                  cam_height=0.35, pitch=4.0, base=0.0):
     """A solid whose side (plane y = y_side, facing the camera) runs from x1 - length to x1
     and whose end (plane x = x1, facing +x, the camera's side) is ``width`` deep.  A wedge's
     side is a right triangle rising from 0 at x1 - length to ``length * tan(angle)`` at x1
-    (pixels above its slope see the wall behind); a box's is that height's rectangle."""
-    h = length * math.tan(math.radians(angle))
+    (pixels above its slope see the wall behind); a box's is that height's rectangle.  With
+    ``base`` the wedge stands on a block of that height whose side is flush with its own: the
+    face is the triangle over a ``base`` high rectangle."""
+    h = length * math.tan(math.radians(angle)) + base
     side = Rect((x1 - length / 2, y_side, h / 2), (1, 0, 0), (0, 0, 1), length / 2, h / 2, 1)
     end = Rect((x1, y_side + width / 2, h / 2), (0, 1, 0), (0, 0, 1), width / 2, h / 2, 1)
     rects = [floor(), BACK, side, end]
@@ -37,7 +39,7 @@ def _wedge_or_box(angle, wedge=True, length=2.0, width=1.0, x1=-0.4, y_side=2.2,
         # the world point's height and x: the camera is at (0, 0, cam_height), x along camera x
         height = xyz @ up + cam_height
         x = xyz[..., 0]
-        over = (lab == 2) & (height > np.tan(np.radians(angle)) * (x - (x1 - length)))
+        over = (lab == 2) & (height > base + np.tan(np.radians(angle)) * (x - (x1 - length)))
         xyz[over] = behind.xyz[over]
         lab = np.where(over, np.where(blab == 2, 3, blab), lab).astype(np.int32)
         cloud = Cloud(xyz, cloud.intrinsics, cloud.up, "analytic")
@@ -90,10 +92,13 @@ def test_top_slope_fact_of_a_wedge_side_and_of_a_box_face(angle):
     from planerel.features.solid import top_slopes
 
     for wedge in (True, False):
-        cloud, lab, ps = _wedge_or_box(angle, wedge)
+        cloud, lab, ps = _wedge_or_box(angle, wedge, **IN_VIEW)
         slopes = dict(top_slopes(ps, lab, cloud.xyz))
-        assert slopes[2] == pytest.approx(angle if wedge else 0.0, abs=1.5)
-        assert slopes.get(3, 0.0) < 2.0  # the end: level, or under 0.5 m seen
+        # a box's face lies far below its level edge (no rise): no wedge's side (ramp78)
+        assert slopes.get(2) == (pytest.approx(angle, abs=1.5) if wedge else None)
+        assert dict(top_slopes(ps, lab, cloud.xyz, depth=math.inf))[2] == pytest.approx(
+            angle if wedge else 0.0, abs=1.5)
+        assert 3 not in slopes  # the end: level, or under 0.5 m seen
         # measured only when asked (about 1 ms a frame)
         assert scene_facts(describe_scene(cloud, lab, scene_id="w", objects=[(2, 3)],
                                           klass="ramp"))["top_slope"] == []
@@ -103,9 +108,73 @@ def test_top_slope_fact_of_a_wedge_side_and_of_a_box_face(angle):
         written = {f.split("(")[1].split(",")[0]: float(f.split(", ")[1].rstrip(")."))
                    for f in facts}
         # whole degrees, as incline and slope are written
-        assert written["w_p02"] == round(slopes[2]) and float(written["w_p02"]).is_integer()
+        if wedge:
+            assert written["w_p02"] == round(slopes[2]) and float(written["w_p02"]).is_integer()
+        else:
+            assert written == {}
     # an unorganized cloud measures no edge
     assert top_slopes(ps, lab, np.asarray(cloud.xyz).reshape(-1, 3)) == ()
+
+
+#: a 1.4 m wedge whose side the camera sees whole (the default's is cut by the image's left
+#: side)
+IN_VIEW = {"length": 1.4, "x1": -0.1, "y_side": 2.6}
+
+
+@pytest.mark.parametrize("angle, base, kept", [(8.0, 0.1, True), (8.0, 0.8, False),
+                                               (15.0, 0.8, False)])
+def test_top_slope_needs_the_face_to_lie_under_its_edge(angle, base, kept):
+    """A face reaching far below its sloped top edge is no wedge's side (ramp78): on real
+    frames such edges were a table's apron under a gravity estimate 6 degrees off and far
+    walls' fragments.  The triangle over a 0.1 m plinth (its height 1.4 times the edge's
+    rise) is kept; over a 0.8 m block (5.2 and 3.1 times) it is not."""
+    from planerel.features.solid import TOP_SLOPE_DEPTH, top_slopes
+
+    cloud, lab, ps = _wedge_or_box(angle, True, base=base, **IN_VIEW)
+    assert 0 < ps.by_label(2).bbox[1] and ps.by_label(2).bbox[3] < lab.shape[1]
+    slopes = dict(top_slopes(ps, lab, cloud.xyz))
+    assert (2 in slopes) == kept
+    for depth in (math.inf, 3 * TOP_SLOPE_DEPTH):
+        assert dict(top_slopes(ps, lab, cloud.xyz, depth=depth))[2] == pytest.approx(
+            angle, abs=1.5)
+    # the same face cut by the image's side: its foot may be out of view, not tested
+    cloud, lab, ps = _wedge_or_box(angle, True, base=base)
+    assert ps.by_label(2).bbox[1] == 0
+    assert (dict(top_slopes(ps, lab, cloud.xyz)).get(2)
+            == dict(top_slopes(ps, lab, cloud.xyz, depth=math.inf)).get(2))
+    if angle == 8.0:
+        assert dict(top_slopes(ps, lab, cloud.xyz))[2] == pytest.approx(angle, abs=1.5)
+
+
+def test_the_foot_test_is_skipped_only_where_the_image_cuts_the_low_end():
+    from planerel.features.solid import _foot_cut, _top_edge_points, depth_bounds, top_slopes
+
+    def cut(cloud, lab, ps):
+        face, xyz = ps.by_label(2), np.asarray(cloud.xyz)
+        edge = _top_edge_points(face, ps.up, lab, xyz, outline=True)
+        return _foot_cut(face, ps.up, lab, xyz, edge, depth_bounds(xyz))
+
+    # cut by the image's left side where the wedge is low; seen whole
+    assert cut(*_wedge_or_box(8.0, True, base=0.8))
+    assert not cut(*_wedge_or_box(8.0, True, base=0.8, **IN_VIEW))
+    # mirrored (the wedge rises to the left, cut on the right): the same
+    cloud, lab, ps = _wedge_or_box(8.0, True, base=0.8)
+    flip = Cloud(np.ascontiguousarray(np.asarray(cloud.xyz)[:, ::-1] * [-1, 1, 1]),
+                 cloud.intrinsics, cloud.up, "analytic")
+    flab = np.ascontiguousarray(lab[:, ::-1])
+    assert cut(flip, flab, measure_planes(flip, flab))
+    # a blank margin over the high end (a registered frame's border): the low end is seen,
+    # so the face is tested, and the triangle over a 0.8 m block is no wedge's side
+    cloud, lab, ps = _wedge_or_box(8.0, True, base=0.8, **IN_VIEW)
+    c1 = ps.by_label(2).bbox[3]
+    xyz = np.array(cloud.xyz)
+    xyz[:, c1 - 8:] = np.nan
+    lab = np.where(np.isfinite(xyz[..., 2]), lab, -1).astype(np.int32)
+    blank = Cloud(xyz, cloud.intrinsics, cloud.up, "analytic")
+    ps = measure_planes(blank, lab)
+    assert not cut(blank, lab, ps)
+    assert 2 not in dict(top_slopes(ps, lab, blank.xyz))
+    assert 2 in dict(top_slopes(ps, lab, blank.xyz, depth=math.inf))
 
 
 def test_straight_run_takes_the_slope_of_a_trapezoid_and_no_step():

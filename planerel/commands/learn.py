@@ -77,6 +77,9 @@ def register(sub) -> None:
                         "positives they do not prove (every negative stays): new kinds of "
                         "objects added to a data set without the old rules' bounds moving "
                         "(docs/learner.md, 'Extending a theory')")
+    p.add_argument("--extend-only", metavar="CLASSES",
+                   help="with --extend: learn clauses for these classes only (comma-separated); "
+                        "every other class keeps the extended model's clauses as they are")
     p.set_defaults(func=run)
 
 
@@ -147,13 +150,16 @@ def run(args) -> int:
         from planerel.ilp.pipeline import prior_rules
 
         prior = prior_rules(args.extend)
+    only = ([c.strip() for c in args.extend_only.split(",") if c.strip()]
+            if args.extend_only is not None else None)
     m = learn_model(args.dataset, args.output, classes=classes, engine=args.engine,
                     folds=args.folds, seed=args.seed, timeout=args.timeout, jobs=args.jobs,
                     method=args.method, seg_params=_params(args.param), cache=args.cache,
                     log=lambda s: print(s, file=sys.stderr), scheduler=args.scheduler,
                     heldout=args.heldout, settings=_settings(args.settings) or None,
                     other_rules=args.other_rules, keep_redundant=args.keep_redundant,
-                    task=args.task, recipe=args.recipe, members=args.members, prior=prior)
+                    task=args.task, recipe=args.recipe, members=args.members, prior=prior,
+                    extend_only=only)
     print(f"engine: {m['engine']}")
     print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
           f"{', '.join(m['classes'])}"

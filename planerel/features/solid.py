@@ -445,10 +445,11 @@ def top_edge(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.9
     percentile) in ``bins`` equal bins, the highest point of each bin; a bin counts only when
     that point is an edge of the face the camera sees: not in the image's first row, first or
     last column, the pixel above it is not the face's, and that pixel is either a surface not
-    nearer than ``near`` times the point's range or without depth in a row that has some
-    depth (an object in front, the image's border or a blank margin at its top cut the face
-    there, and its outline is not its edge; beyond the sensor's range there is no depth).  The slope is the
-    median of the slopes between the counted points (Theil-Sen).  A box's upright face has a
+    nearer than ``near`` times the point's range or without depth outside the image's blank
+    margins (:func:`depth_bounds`; an object in front, the image's border or a blank margin
+    cut the face there, and its outline is not its edge; beyond the sensor's range there is
+    no depth).  The slope is the median of the slopes between the counted points
+    (Theil-Sen).  A box's upright face has a
     level top edge; a ramp's side face (a wedge's triangle) has one that rises with the
     slope.  None with fewer than 4 bins counted or a face without a horizontal direction.
     """
@@ -489,6 +490,7 @@ def _top_edge_points(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: flo
         return None
     W = labels.shape[1]
     us, hs = [], []
+    bounds = None  # depth_bounds(xyz), when a point has no depth above it
     where = np.floor((u - lo) / (hi - lo) * bins).astype(np.int64)
     for b in range(bins):
         sel = np.flatnonzero(where == b)
@@ -504,13 +506,29 @@ def _top_edge_points(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: flo
         if np.isfinite(above).all():
             if np.linalg.norm(above) < near * np.linalg.norm(pts[j]):
                 continue
-        elif not np.isfinite(xyz[r - 1, :, 2]).any():
-            continue
+        else:
+            if bounds is None:
+                bounds = depth_bounds(xyz)
+            if r - 1 < bounds[0] + bounds[3] or not bounds[1] < c < bounds[2]:
+                continue
         us.append(float(u[j]))
         hs.append(float(h[j]))
     if len(us) < 4:
         return None
     return np.array(us), np.array(hs)
+
+
+def depth_bounds(xyz) -> tuple[int, int, int, int]:
+    """Where an organized cloud ``(H, W, 3)`` has depth: ``(first row, first column, last
+    column, margin)`` with any finite point, and how many rows under the first a blank margin's
+    ragged border reaches (1 % of the height, at least 2): a registered depth image's warped
+    border (an OSD frame's first 48 rows and last 64 columns are blank, rows 48-52 part
+    filled) cuts a face there as the image's side does; its outline is no edge."""
+    ok = np.isfinite(xyz[..., 2])
+    rows, cols = np.flatnonzero(ok.any(axis=1)), np.flatnonzero(ok.any(axis=0))
+    if rows.size == 0:
+        return 0, 0, 0, 0
+    return int(rows[0]), int(cols[0]), int(cols[-1]), max(2, xyz.shape[0] // 100)
 
 
 _PAIRS: dict = {}
@@ -554,15 +572,27 @@ def sloped_top(edge: TopEdge | None, slope: float, span: float, rms: float) -> b
 #: measured over 0.3-0.5 m rose up to 15.6 degrees, over 0.5 m or more at most 4.8; a wedge's
 #: side 0.62 m or more: docs/results.md "A wedge seen from its side") ...
 TOP_SLOPE_SPAN = 0.5
-#: ... and straight within this many metres RMS (a stair flight's stepped side: 0.03-0.09)
+#: ... and straight within this many metres RMS (a stair flight's stepped side: 0.03-0.09) ...
 TOP_SLOPE_RMS = 0.01
+#: ... on a face that lies under that edge, as a wedge's side does: the face's height (its
+#: points' 2nd to 98th percentile along up) at most this many times the edge's rise over the
+#: measured run.  Slopes of 6-19.5 degrees: of the independent sets' ramp sides 66 of 81
+#: within 2 (73 with those cut by the image's side, :func:`top_slopes`), of the real
+#: development frames' upright faces (a table's apron under a gravity 6 degrees off, far
+#: walls' fragments at 4-7 m) 3 of 27 (ramp78, docs/results.md "A ramp seen from its side").
+TOP_SLOPE_DEPTH = 2.0
 
 
 def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
-               rms: float = TOP_SLOPE_RMS, only=None) -> tuple:
+               rms: float = TOP_SLOPE_RMS, only=None, depth: float = TOP_SLOPE_DEPTH) -> tuple:
     """The slope of each upright face's top edge where the camera sees that edge straight over
-    ``span`` m or more (``top_slope/2``, ramp77): a wedge's side face seen from a camera lower
-    than its top rises with the ramp, a box's face is level.
+    ``span`` m or more (``top_slope/2``, ramp77) and the face lies under it: a wedge's side
+    face seen from a camera lower than its top rises with the ramp, a box's face is level.
+    A face reaching further below the edge than ``depth`` times the edge's rise over its
+    straight run is no wedge's side: a wall or an apron whose edge only seems to slope (a
+    gravity a few degrees off, a far wall's noisy fragment) gives nothing (ramp78).  A face
+    that the image cuts at the low end of its edge (the first or last column with depth,
+    :func:`depth_bounds`) is not tested: the wedge's foot may be out of view.
 
     Parameters
     ----------
@@ -576,6 +606,8 @@ def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
     only : collection of int, optional
         Measure only these labels (:func:`planerel.features.facts.describe_scene`: the planes
         of its objects, whose facts are written; a room's walls are none).
+    depth : float
+        :data:`TOP_SLOPE_DEPTH`; ``inf`` keeps every face.
 
     Returns
     -------
@@ -588,15 +620,45 @@ def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
         return ()
     up = np.asarray(planes.up, float)
     out = []
+    bounds = None  # depth_bounds(xyz), once a face is tested
     for p in planes:
         if p.orientation != "vertical" or p.length < span or (only is not None
                                                                and p.label not in only):
             continue
         pts = _top_edge_points(p, up, labels, xyz, outline=True)
         e = None if pts is None else straight_run(*pts, span=span, rms=rms)
-        if e is not None:
-            out.append((int(p.label), float(e.slope)))
+        if e is None:
+            continue
+        if math.isfinite(depth):
+            if bounds is None:
+                bounds = depth_bounds(xyz)
+            if not _foot_cut(p, up, labels, xyz, pts, bounds):
+                prof = face_profile_of(p, up, labels, xyz)
+                rise = e.span * math.tan(math.radians(e.slope))
+                if not prof.top - prof.bottom <= depth * rise:  # (nan: too few points)
+                    continue
+        out.append((int(p.label), float(e.slope)))
     return tuple(sorted(out))
+
+
+def _foot_cut(face, up, labels, xyz, edge, bounds) -> bool:
+    """True when the image (or its blank margin, :func:`depth_bounds`) cuts ``face`` at the
+    low end of its top edge (``edge``: :func:`_top_edge_points`' ``(u, h)``): a wedge's side
+    may come down to the floor out of view there, so :func:`top_slopes` cannot ask it to lie
+    under its edge.  The face's points within 5 % of its length of that end decide."""
+    r0, c0, r1, c1 = face.bbox
+    if bounds[1] < c0 and c1 - 1 < bounds[2]:
+        return False
+    u, h = edge
+    pts, _, cols = face_points(face, labels, xyz)
+    if pts.shape[0] == 0:
+        return False
+    k = _face_box(face, labels.shape, PROFILE_POINTS)[4]  # the points' column step
+    along = pts @ _along(np.asarray(up, float), face.normal)
+    lo, hi = float(along.min()), float(along.max())
+    near = along <= lo + 0.05 * (hi - lo) if h[-1] >= h[0] else along >= hi - 0.05 * (hi - lo)
+    c = cols[near]
+    return bool(((c < bounds[1] + k) | (c > bounds[2] - k)).any())
 
 
 def straight_run(u, h, span: float = TOP_SLOPE_SPAN, rms: float = TOP_SLOPE_RMS

@@ -410,7 +410,8 @@ def split_class_settings(settings: dict | None, classes: Sequence[str]) -> tuple
 def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeout: float = 120.0,
                 settings: dict | None = None, work_dir=None, task: str | None = None,
                 jobs: int | None = None, log=None, other_rules: bool = False,
-                keep_redundant: bool = False, prior: dict | None = None) -> Model:
+                keep_redundant: bool = False, prior: dict | None = None,
+                extend_only: Sequence[str] | None = None) -> Model:
     """Learn one theory per class from described scenes (one Aleph run per class).
 
     With ``other_rules`` and objects of class ``other`` among the examples (clutter: none of
@@ -455,6 +456,11 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         (new kinds of objects in the data) and no prior clause's bounds move.  The
         statistics and domains are measured on every training object, prior clauses
         included; :func:`drop_redundant` never leaves a prior clause out.
+    extend_only : sequence of str, optional
+        With ``prior``: only these classes are given to the learner; every other class's
+        clauses are the prior theory's, as they are (``learn --extend M --extend-only ramp``:
+        a part of the data that shows a new kind of ramp adds ramp clauses and no box clause
+        learned from its negatives).  None: every class.
 
     Returns
     -------
@@ -479,6 +485,15 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
     targets = tuple(classes)
     if other_rules and OTHER not in targets and sum(k == OTHER for _, k in examples) >= 2:
         targets += (OTHER,)
+    if extend_only is not None:
+        if prior is None:
+            raise InputError("extend_only (--extend-only) needs a prior theory to extend "
+                             "(--extend MODEL_DIR)")
+        unknown = sorted(set(extend_only) - set(targets))
+        if unknown or not extend_only:
+            raise InputError(f"--extend-only names {', '.join(unknown) or 'no class'}; choose "
+                             f"from {', '.join(targets)}")
+    learned = tuple(k for k in targets if extend_only is None or k in extend_only)
     try:
         common, per_class = split_class_settings(settings, targets)
         planar = {o.id: o.planar_fraction for d in descs for o in d.objects}
@@ -496,6 +511,7 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
             raise InputError("the prior theory has rules for other: extend it with other rules "
                              "too (--other-rules), or they would be lost")
         proved = _prior_proved(prior, classes, descs, examples, timeout) if prior else {}
+        # (every class's files: a class's negatives are the other classes' objects)
         export_aleph(descs, work_dir, "all", classes=list(targets), task=task, settings=common,
                      class_settings=per_class, skip_negatives=skip, skip_positives=proved)
         rules, uncovered, seconds, explored, engines = {}, {}, 0.0, 0, set()
@@ -517,9 +533,9 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
 
         from planerel.batch import resolve_jobs
 
-        n_jobs = max(1, min(resolve_jobs(jobs), len(targets)))
+        n_jobs = max(1, min(resolve_jobs(jobs), len(learned)))
         if n_jobs == 1:
-            results = [one(k) for k in targets]
+            results = [one(k) for k in learned]
         else:
             from concurrent.futures import ThreadPoolExecutor
 
@@ -527,14 +543,18 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
 
             pool = ThreadPoolExecutor(n_jobs)            # each class is its own swipl process
             try:
-                futures = [pool.submit(one, k) for k in targets]
+                futures = [pool.submit(one, k) for k in learned]
                 results = [wait_result(fut) for fut in futures]
             except BaseException:  # a failed class, Ctrl-C, SIGTERM: stop the others' learners
                 with stop_children():
                     pool.shutdown(wait=True, cancel_futures=True)
                 raise
             pool.shutdown()
-        for k, res in zip(targets, results, strict=True):
+        for k in targets:  # not given to the learner (extend_only): the prior's clauses
+            if k not in learned:
+                rules[k] = prior.get(k, ())
+                uncovered[k] = sum(c == k for _, c in examples) - len(proved.get(k, ()))
+        for k, res in zip(learned, results, strict=True):
             rules[k] = prior.get(k, ()) + tuple(r for r in res.rules if ":-" in r
                                                  and r not in prior.get(k, ()))
             # unit clauses (seeds Aleph keeps as facts when minpos =< 1) and the positives
@@ -1288,7 +1308,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                 progress: bool | None = None, log=print, scheduler=None,
                 heldout=None, settings: dict | None = None, task: str | None = None,
                 other_rules: bool = False, keep_redundant: bool = False,
-                recipe: str | None = None, members: int = 1, prior: dict | None = None) -> dict:
+                recipe: str | None = None, members: int = 1, prior: dict | None = None,
+                extend_only: Sequence[str] | None = None) -> dict:
     """``planerel learn``: describe a data set, learn the class rules, optionally cross-validate,
     score the model on a held-out data set (``heldout``: :func:`held_out_scores`, in
     ``metrics["heldout"]``), and write a model folder.
@@ -1296,7 +1317,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     ``jobs`` worker processes describe the scenes (or the Dask ``scheduler``'s workers), and
     ``jobs`` cross-validation folds run at once; the result does not depend on either.
     ``settings`` (Aleph ``set/2`` values), ``task`` (a task file), ``other_rules`` and
-    ``keep_redundant`` and ``prior`` (a theory to extend) go to :func:`learn_rules`.  ``recipe`` names a
+    ``keep_redundant``, ``prior`` (a theory to extend) and ``extend_only`` (the classes it
+    extends) go to :func:`learn_rules`.  ``recipe`` names a
     :mod:`planerel.ilp.recipes` entry (a task, settings and ``other_rules`` measured together);
     a task or setting given explicitly replaces the recipe's.
 
@@ -1384,7 +1406,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         model = learn_rules(descs, classes, engine=engine, timeout=timeout, work_dir=tmp / "aleph",
                             jobs=jobs, log=None if progress is False else log,
                             settings=settings, task=task, other_rules=other_rules,
-                            keep_redundant=keep_redundant, prior=prior)
+                            keep_redundant=keep_redundant, prior=prior, extend_only=extend_only)
         model = with_decision(model, decision)
         metrics["seconds"]["learn"] = round(time.perf_counter() - t2, 3)
         if not any(model.rules.get(k) for k in classes):
