@@ -1,10 +1,11 @@
 /*  planerel task for the extension with the training world's side-view part (ramp77):
     aleph/modes_pair.pl and top_slope/2 (the slope from level of an upright face's top edge
-    where the camera sees it straight over 0.5 m or more: a ramp's side face seen from lower
-    than its top rises with the slope, a box's face is level, a flight's closed side rises at
-    its pitch).  examples/demo.py learn_shipped gives it to the extension stage when the
-    world has a side-view part (--side-views N; the shipped model has none), so the base
-    stage's rules, and the shipped model's extension, are learned as before.
+    where the camera sees it straight over 0.5 m or more, on a face that lies under that edge:
+    a ramp's side face seen from lower than its top rises with the slope, a flight's closed
+    side rises at its pitch; ramp78).  examples/demo.py learn_shipped gives it to its third
+    stage, ramp clauses only, when the world has a side-view part (--side-views N, 30 by
+    default since ramp78), so the base stage's rules and the product extension's are
+    learned as before.
 
     Every line of aleph/modes_pair.pl in its order, top_slope/2 right after lying/1 and its
     thresholds last (tests/test_task_include.py keeps the file so).
