@@ -167,9 +167,9 @@ def learn_shipped(data_dir, model_dir, *, parts: dict, world_seed: int, learner_
     (:func:`planerel.ilp.pipeline.learn_rules`' ``prior``): its clauses are kept as they are, the
     learner is given the positives they do not prove, and the statistics and the decision's
     domains are measured on every scene.  With no product part: one stage, ``model_dir``.
-    With a side-view part (``parts["side_views"]``, not shipped), three: the product extension
-    goes to ``MODEL_DIR_products`` as it would without one, and the model proper extends that
-    with ramp clauses only (``extend_only``), learned on the whole world with
+    With a side-view part (``parts["side_views"]``, shipped since ramp78), three: the product
+    extension goes to ``MODEL_DIR_products`` as it would without one, and the model proper
+    extends that with ramp clauses only (``extend_only``), learned on the whole world with
     :data:`SIDE_TASK`.
 
     ``window`` is the training world's block-matching window (``generate_training_world``'s;

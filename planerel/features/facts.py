@@ -109,8 +109,9 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
      "larger horizontal plane adjacent to it, 1.5-12 cm over it: the top of a book or a flat "
      "box lying on a table, its sides edge-on (planerel.features.relations.lying_tops)"),
     ("top_slope", 2, "plane, deg", "slope from level of an upright plane's top edge where the "
-     "camera sees it straight over 0.5 m or more: a ramp's side face seen from lower than its "
-     "top rises with the ramp, a box's face is level (planerel.features.solid.top_slopes)"),
+     "camera sees it straight over 0.5 m or more, the plane lying under it (at most 2 times "
+     "as high as the edge's rise): a ramp's side face seen from lower than its top rises "
+     "with the ramp (planerel.features.solid.top_slopes)"),
     ("height", 2, "plane, m", "centroid height above the floor / lowest support"),
     ("distance", 2, "plane, m", "distance from the sensor to the centroid"),
     ("npoints", 2, "plane, int", "number of points"),

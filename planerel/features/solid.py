@@ -587,7 +587,8 @@ def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
                rms: float = TOP_SLOPE_RMS, only=None, depth: float = TOP_SLOPE_DEPTH) -> tuple:
     """The slope of each upright face's top edge where the camera sees that edge straight over
     ``span`` m or more (``top_slope/2``, ramp77) and the face lies under it: a wedge's side
-    face seen from a camera lower than its top rises with the ramp, a box's face is level.
+    face seen from a camera lower than its top rises with the ramp; a box's face, level,
+    gives none.
     A face reaching further below the edge than ``depth`` times the edge's rise over its
     straight run is no wedge's side: a wall or an apron whose edge only seems to slope (a
     gravity a few degrees off, a far wall's noisy fragment) gives nothing (ramp78).  A face
