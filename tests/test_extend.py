@@ -129,7 +129,10 @@ def test_learn_cli_extends_a_model_and_refuses_what_it_cannot(tmp_path, capsys):
     assert main(["learn", str(ds), "-o", str(tmp_path / "y"), "--method", "gt",
                  "--extend", str(base), "--folds", "3"]) == 2
     assert "no --folds" in capsys.readouterr().err
-    assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
+    assert main(["learn", str(ds), "-o", str(tmp_path / "z"), "--method", "gt",
+                 "--extend-only", "ramp"]) == 2
+    assert "needs a prior theory" in capsys.readouterr().err
+    assert not any((tmp_path / n).exists() for n in ("x", "y", "z"))
 
 
 def test_a_prior_with_rules_for_other_needs_other_rules(gt_descs):

@@ -1370,6 +1370,9 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         raise InputError("extending a theory (--extend) learns one theory on the whole data set: "
                          "no --members, no --folds (the prior theory has seen every fold; "
                          "score a --heldout set instead)")
+    if extend_only is not None and prior is None:  # (before the scenes are described)
+        raise InputError("extend_only (--extend-only) needs a prior theory to extend "
+                         "(--extend MODEL_DIR)")
     parts = _member_parts(dataset_dir, classes, members, folds)
     t0 = time.perf_counter()
     descs, skipped = describe_scenes(dataset_dir, classes=classes, method=method,
