@@ -449,9 +449,9 @@ def top_edge(face, up, labels, xyz, bins: int = TOP_EDGE_BINS, near: float = 0.9
     margins (:func:`depth_bounds`; an object in front, the image's border or a blank margin
     cut the face there, and its outline is not its edge; beyond the sensor's range there is
     no depth).  The slope is the median of the slopes between the counted points
-    (Theil-Sen).  A box's upright face has a
-    level top edge; a ramp's side face (a wedge's triangle) has one that rises with the
-    slope.  None with fewer than 4 bins counted or a face without a horizontal direction.
+    (Theil-Sen).  A box's upright face has a level top edge; a ramp's side face (a wedge's
+    triangle) has one that rises with the slope.  None with fewer than 4 bins counted or a
+    face without a horizontal direction.
     """
     pts = _top_edge_points(face, up, labels, xyz, bins, near)
     return None if pts is None else _line_fit(*pts)
@@ -577,9 +577,10 @@ TOP_SLOPE_RMS = 0.01
 #: ... on a face that lies under that edge, as a wedge's side does: the face's height (its
 #: points' 2nd to 98th percentile along up) at most this many times the edge's rise over the
 #: measured run.  Slopes of 6-19.5 degrees: of the independent sets' ramp sides 66 of 81
-#: within 2 (73 with those cut by the image's side, :func:`top_slopes`), of the real
-#: development frames' upright faces (a table's apron under a gravity 6 degrees off, far
-#: walls' fragments at 4-7 m) 3 of 27 (ramp78, docs/results.md "A ramp seen from its side").
+#: within 2 (73 with every face the image cuts at a side left untested; :func:`top_slopes`
+#: leaves only those cut at their edge's low end, :func:`_foot_cut`), of the real development
+#: frames' upright faces (a table's apron under a gravity 6 degrees off, far walls' fragments
+#: at 4-7 m) 3 of 27 (ramp78, docs/results.md "The side-view part shipped").
 TOP_SLOPE_DEPTH = 2.0
 
 
@@ -647,10 +648,10 @@ def _foot_cut(face, up, labels, xyz, edge, bounds) -> bool:
     low end of its top edge (``edge``: :func:`_top_edge_points`' ``(u, h)``): a wedge's side
     may come down to the floor out of view there, so :func:`top_slopes` cannot ask it to lie
     under its edge.  The face's points within 5 % of its length of that end decide."""
-    r0, c0, r1, c1 = face.bbox
+    _, c0, _, c1 = face.bbox
     if bounds[1] < c0 and c1 - 1 < bounds[2]:
         return False
-    u, h = edge
+    h = edge[1]
     pts, _, cols = face_points(face, labels, xyz)
     if pts.shape[0] == 0:
         return False
