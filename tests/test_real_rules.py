@@ -687,6 +687,25 @@ def test_hunt36_narrow_tops_of_noisy_frames_and_slender_tops(demo_model):
     assert [f[0] for f in off["bin_b_12_depth"]["false"]] == ["box"]
 
 
+def test_top_slope_is_measured_for_a_model_whose_clauses_read_it(demo_model, tmp_path):
+    """ramp78: the shipped model's side-view clause reads ``top_slope/2``, so classifying
+    measures it; the product stage's model has no such clause, and a comment naming it (a
+    clause learning left out) asks for nothing."""
+    from planerel.classify.classifier import Classifier
+
+    products = demo_model.with_name(demo_model.name + "_products")
+    commented = tmp_path / "commented"
+    shutil.copytree(products, commented)
+    with open(commented / "rules.pl", "a") as f:
+        f.write("% left out: ramp(A) :- has_plane(A,B), top_slope(B,C), gteq(C,5).\n")
+    flags = {}
+    for name, model in (("shipped", demo_model), ("products", products),
+                        ("commented", commented)):
+        with Classifier(model) as clf:
+            flags[name] = clf._describe_kw["top_slope"]
+    assert flags == {"shipped": True, "products": False, "commented": False}
+
+
 def test_product_boxes_small_faces_are_in_the_extended_models_domain(demo_model):
     """extend40: ``make demo`` learns the world without its product part first
     (``out/model_base``) and extends that theory on the product scenes (``learn_rules``'

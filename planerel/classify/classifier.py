@@ -470,8 +470,11 @@ class Classifier:
         self.method = self.settings.method
         self.seg_params = dict(self.settings.seg_params)
         self._describe_kw = self.settings.describe_kwargs()
-        # top_slope/2 is measured only for a model whose rules read it (ramp77)
-        self._describe_kw["top_slope"] = "top_slope(" in path.read_text(errors="replace")
+        # top_slope/2 is measured only for a model whose rules read it (ramp77): a clause's
+        # line, not a comment (rules.pl lists the clauses learning left out as comments)
+        self._describe_kw["top_slope"] = any(
+            "top_slope(" in ln for ln in path.read_text(errors="replace").splitlines()
+            if not ln.lstrip().startswith("%"))
         #: a members model's members (``planerel learn --members K``), each a Classifier of
         #: its own; empty for a single model
         self.members: tuple = ()

@@ -217,8 +217,9 @@ def generate_training_world(out_dir, *, paper=(12, 15, 18), room=(30, 30, 30), r
         part, seeds ``scene_seed(seed + 9, i)``, at half the room part's ``subsample`` (as the
         round part's table tops; product37).
     side_views : int
-        Scenes of the ramp-side part (a roll ramp seen from its side by a low camera:
-        :data:`KINECT_SIDE_VIEWS`), last, seeds ``scene_seed(seed + 11, i)`` (ramp77).
+        Scenes of the side-view part (a roll ramp or a flight, by turns, seen from its side
+        by a low camera: :data:`KINECT_SIDE_VIEWS`), last, seeds ``scene_seed(seed + 11, i)``
+        (ramp77).
 
     Returns
     -------
