@@ -332,6 +332,13 @@ class RelationParams:
     #: faces and the wall behind it seen from a low camera, the border cutting each 0.1 m
     #: apart).  False: every taller plane refuses, as before
     tall_cut_tops: bool = True
+    #: m: an upright plane adjacent to a ``tall_face`` candidate across a corner (their
+    #: normals 45 degrees or more apart) whose foot lies more than this below the face's
+    #: refuses it: the face stands on ground that plane reaches under, the end of a wall
+    #: going on past a floor's edge (a descending flight's side wall seen past its landing,
+    #: sunk79), not a solid on that ground, whose sides share its foot.  A parallel plane
+    #: under it (a shelf's lip under a box's front) does not count.  0: off
+    tall_sunk: float = 0.1
     #: m: a ``lying`` plane (:func:`lying_tops`) stands at least this far above the ground
     #: it lies on (or ``lying_snr`` times its own fit's RMS, when more): a book's or
     #: a flat box's top 2-8 cm over the table; a floor's far piece that the sensor bends is
@@ -463,7 +470,7 @@ class RelationParams:
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_narrow_width", "tall_narrow_bend", "tall_eye", "tall_flat", "tall_flat_noise", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
                              "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "tall_level_ground", "skirt_top_eye", "tall_feet_level",
-                             "tall_speckle_floor", "tall_top_cover", "tall_beside_overlap", "tall_beside_step",
+                             "tall_speckle_floor", "tall_top_cover", "tall_beside_overlap", "tall_beside_step", "tall_sunk",
                              "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
                              "lying_min_length", "lying_width", "lying_snr", "lying_ring",
@@ -1211,6 +1218,10 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
       the face's by at most ``tall_beside_overlap`` of its width, and no parallel plane within
       ``tall_beside_step`` of the face's: a taller box touching a lower one's end, a wall
       meeting a box's side at its end; ibox48);
+    - no vertical plane adjacent to it across a corner (normals 45 degrees or more apart)
+      has its foot more than ``tall_sunk`` below its own (:func:`_sunk_beside`, sunk79): the
+      face is then the end of a wall going on down past a floor's edge (a descending
+      flight's side wall seen from its landing), not a solid's side on that floor;
     - its top edge (:class:`~planerel.features.solid.FaceProfile` ``top``, the 98th
       percentile of its points' levels) is at most ``tall_eye`` below the sensor's level
       (the camera at the origin), or its pixels reach the image's top rows (out of view):
@@ -1377,11 +1388,25 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
                and not _stands_beside(face, prof, q, profile(q), lab, cloud.xyz, p)
                for q in beside.get(lbl, ())):
             continue
+        if p.tall_sunk > 0 and any(_sunk_beside(face, prof, q, profile(q), p.tall_sunk)
+                                   for q in beside.get(lbl, ())):
+            continue
         if not hidden and _next_riser(face, prof, planes, profile, p):
             continue  # the strip is a flight's tread
         if shaped(face):
             out.add(lbl)
     return frozenset(out)
+
+
+def _sunk_beside(face, prof, q, qprof, sunk: float) -> bool:
+    """True when upright plane ``q`` meets ``face`` across a corner (normals 45 degrees or
+    more apart) and its foot (``qprof.bottom``, the 2nd percentile of its levels) lies more
+    than ``sunk`` metres below the face's: ``q`` goes on under the ground the face stands on
+    (``tall_sunk``)."""
+    if not (np.isfinite(prof.bottom) and np.isfinite(qprof.bottom)):
+        return False
+    cos = abs(float(np.dot(np.asarray(face.normal, float), np.asarray(q.normal, float))))
+    return cos <= math.cos(math.radians(45.0)) and qprof.bottom < prof.bottom - sunk
 
 
 def _tall_flat(a, p, noise) -> bool:
