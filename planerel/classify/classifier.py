@@ -47,6 +47,35 @@ BOX = "box"
 UNKNOWN = OTHER
 
 
+#: degrees and metres within which two planes are one surface (``decision.cut_split``)
+SURFACE_ANGLE = 10.0
+SURFACE_OFFSET = 0.02
+
+
+def _one_box_in_pieces(planes, boxes) -> bool:
+    """True when two of ``boxes`` (answers) are one box in pieces: a top of one (a plane not
+    vertical) and a top of the other are one surface (normals within :data:`SURFACE_ANGLE`
+    degrees, each centroid within :data:`SURFACE_OFFSET` m of the other's plane).  A box
+    that a nearer thing cuts in two, or whose top the sensor broke in two, shows one top in
+    both pieces (mOSD's occluded frames, OSD test64); two boxes of a pile have their tops at
+    their own levels (two in a row may share a front, not a top).  Two touching boxes of one
+    height, their tops flush, are not told from one box so: they stay one answer."""
+    cos = float(np.cos(np.radians(SURFACE_ANGLE)))
+
+    def tops(answer):
+        return [p for p in (planes.by_label(x) for x in answer.labels)
+                if p.orientation != "vertical"]
+
+    def same(p, q):
+        n, m = np.asarray(p.normal, float), np.asarray(q.normal, float)
+        d = np.asarray(q.centroid, float) - np.asarray(p.centroid, float)
+        return (abs(float(n @ m)) >= cos and abs(float(n @ d)) <= SURFACE_OFFSET
+                and abs(float(m @ d)) <= SURFACE_OFFSET)
+
+    return any(same(p, q) for i, a in enumerate(boxes) for b in boxes[i + 1:]
+               for p in tops(a) for q in tops(b))
+
+
 @dataclass(frozen=True)
 class ObjectAnswer:
     """The answer for one object proposal.
@@ -566,6 +595,9 @@ class Classifier:
         #: :mod:`planerel.features.box_cut`): ``(reach, margin, corner, pieces)``, or None when off
         self.cut_boxes = ((decision.cut_reach, decision.cut_margin, decision.cut_corner,
                            decision.cut_pieces) if decision.cut_boxes else None)
+        #: a proposal answered ``box`` holding two or more boxes of its own is split into
+        #: them (``decision.cut_split``, with ``cut_boxes``)
+        self.cut_split = decision.cut_split
         #: no ``box`` for an object running beside a flight answered ``stairs`` in the scan
         #: (``decision.flight_side_gate``, :mod:`planerel.features.flight_side`): ``(thick,
         #: gap, reach, rise, angle)``, or None when off; a scan's decision, as the foot gate
@@ -935,7 +967,10 @@ class Classifier:
         for, whose planes hold a box proof's solid (:func:`~planerel.features.box_cut.box_solids`)
         smaller than itself: the solids decided as objects of their own; those answered
         ``box`` by a rule that proved the proposal (largest first, sharing no plane) cut from
-        it, and the rest decided again (its class or ``other``)."""
+        it, and the rest decided again (its class or ``other``).  With ``decision.cut_split``
+        a proposal answered ``box`` is split so too, into two or more solids answered ``box``
+        by any box rule, no two with one top (:func:`_one_box_in_pieces`); fewer leave it
+        whole."""
         from planerel.features._defaults import defaults
         from planerel.features.box_cut import box_solids, cut_object
         from planerel.features.curved import CurvedParams
@@ -945,7 +980,7 @@ class Classifier:
         reach, margin, corner, pieces = self.cut_boxes
         cp = self._describe_kw.get("curved_params") or defaults(CurvedParams)
         facet = (cp.facet_min_angle, cp.facet_max_angle)
-        subs, parent_of, rules_of = [], {}, {}
+        subs, parent_of, rules_of, split = [], {}, {}, set()
         for o, a in zip(desc.objects, answers, strict=True):
             # only where a box rule proves the proposal and a gate refuses it: a proposal no
             # box rule proves (a tall face beside a horizontal plane: ``nhorizontal(A,0)``
@@ -954,11 +989,19 @@ class Classifier:
             rules_of[o.id] = {i for k, i in a.fired if k == BOX}
             # a facet refusal (``decision.facet_gate``) is about the proposal's own round
             # side: cutting the proof's cap and facet from their neighbour facet would undo it
-            if (a.klass == BOX or not rules_of[o.id]
+            if a.klass == BOX:
+                # split79: a box answer is cut only into two or more boxes of its own
+                if not self.cut_split or not rules_of[o.id]:
+                    continue
+                split.add(o.id)
+            elif (not rules_of[o.id]
                     or not any(getattr(r, "klass", None) == BOX
                                and not isinstance(r, FacetRefusal) for r in a.refused)):
                 continue
-            solids = box_solids(desc, o.planes, reach, facet, corner, pieces)
+            # two boxes set at an angle meet as a round surface's facets do: a split keeps a
+            # solid beside them (each solid still passes every gate on its own)
+            solids = box_solids(desc, o.planes, reach, facet, 2 if o.id in split else corner,
+                                pieces)
             for k, solid in enumerate(solids, start=1):
                 s = cut_object(desc, o, solid, f"{o.id}_c{k}", xyz, tiny_area=cp.tiny_area,
                                curved_below=cp.curved_below, margin=margin)
@@ -968,12 +1011,17 @@ class Classifier:
             return answers
         taken: dict[str, list] = {}
         for s, a in zip(subs, self._answer_objects(desc, subs, plane_ids, xyz), strict=True):
-            if a.klass != BOX or a.rule_index not in rules_of[parent_of[s.id]]:
+            if a.klass != BOX or (parent_of[s.id] not in split
+                                  and a.rule_index not in rules_of[parent_of[s.id]]):
                 continue
             mine = taken.setdefault(parent_of[s.id], [])
             if any(set(s.planes) & set(b.labels) for b in mine):
                 continue
             mine.append(replace(a, cut_from=parent_of[s.id]))
+        # a box answer stays whole unless two or more boxes of its own come out of it, no
+        # two of them one box in pieces (an occluder in front of it)
+        taken = {k: v for k, v in taken.items()
+                 if k not in split or (len(v) >= 2 and not _one_box_in_pieces(desc.planes, v))}
         if not taken:
             return answers
         rests = []

@@ -106,7 +106,9 @@ def register(sub) -> None:
                         "decision.cut_boxes (on by default) decides the solid of a box "
                         "proof's planes inside a proposal a gate refused box for as an "
                         "object of its own (decision.cut_reach, cut_margin, cut_corner, cut_pieces) and "
-                        "cuts it off when it is a box (--json: cut_from)")
+                        "cuts it off when it is a box (--json: cut_from); "
+                        "decision.cut_split (off by default) splits a box answer into two "
+                        "or more boxes of its own (touching boxes one proposal holds)")
     add_input_options(p)
     add_camera_height_option(p)
     add_batch_options(p)
