@@ -47,35 +47,6 @@ BOX = "box"
 UNKNOWN = OTHER
 
 
-#: degrees and metres within which two planes are one surface (``decision.cut_split``)
-SURFACE_ANGLE = 10.0
-SURFACE_OFFSET = 0.02
-
-
-def _one_box_in_pieces(planes, boxes) -> bool:
-    """True when two of ``boxes`` (answers) are one box in pieces: a top of one (a plane not
-    vertical) and a top of the other are one surface (normals within :data:`SURFACE_ANGLE`
-    degrees, each centroid within :data:`SURFACE_OFFSET` m of the other's plane).  A box
-    that a nearer thing cuts in two, or whose top the sensor broke in two, shows one top in
-    both pieces (mOSD's occluded frames, OSD test64); two boxes of a pile have their tops at
-    their own levels (two in a row may share a front, not a top).  Two touching boxes of one
-    height, their tops flush, are not told from one box so: they stay one answer."""
-    cos = float(np.cos(np.radians(SURFACE_ANGLE)))
-
-    def tops(answer):
-        return [p for p in (planes.by_label(x) for x in answer.labels)
-                if p.orientation != "vertical"]
-
-    def same(p, q):
-        n, m = np.asarray(p.normal, float), np.asarray(q.normal, float)
-        d = np.asarray(q.centroid, float) - np.asarray(p.centroid, float)
-        return (abs(float(n @ m)) >= cos and abs(float(n @ d)) <= SURFACE_OFFSET
-                and abs(float(m @ d)) <= SURFACE_OFFSET)
-
-    return any(same(p, q) for i, a in enumerate(boxes) for b in boxes[i + 1:]
-               for p in tops(a) for q in tops(b))
-
-
 @dataclass(frozen=True)
 class ObjectAnswer:
     """The answer for one object proposal.
@@ -969,10 +940,11 @@ class Classifier:
         ``box`` by a rule that proved the proposal (largest first, sharing no plane) cut from
         it, and the rest decided again (its class or ``other``).  With ``decision.cut_split``
         a proposal answered ``box`` is split so too, into two or more solids answered ``box``
-        by any box rule, no two with one top (:func:`_one_box_in_pieces`); fewer leave it
+        by any box rule, no two with one top
+        (:func:`~planerel.features.box_cut.one_box_in_pieces`); fewer leave it
         whole."""
         from planerel.features._defaults import defaults
-        from planerel.features.box_cut import box_solids, cut_object
+        from planerel.features.box_cut import box_solids, cut_object, one_box_in_pieces
         from planerel.features.curved import CurvedParams
         from planerel.features.facts import SceneObject
         from planerel.ilp.metrics import FacetRefusal
@@ -1021,7 +993,8 @@ class Classifier:
         # a box answer stays whole unless two or more boxes of its own come out of it, no
         # two of them one box in pieces (an occluder in front of it)
         taken = {k: v for k, v in taken.items()
-                 if k not in split or (len(v) >= 2 and not _one_box_in_pieces(desc.planes, v))}
+                 if k not in split or (len(v) >= 2 and not one_box_in_pieces(
+                     desc, [b.labels for b in v]))}
         if not taken:
             return answers
         rests = []

@@ -24,7 +24,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["box_solids", "cut_object", "EDGES", "PIECES", "SEEDS"]
+__all__ = ["box_solids", "cut_object", "one_box_in_pieces", "EDGES", "PIECES", "SEEDS",
+           "SURFACE_OFFSET"]
 
 #: relations that join two faces of one solid at a convex box edge
 EDGES = ("skirt", "corner", "face_pair")
@@ -32,6 +33,9 @@ EDGES = ("skirt", "corner", "face_pair")
 PIECES = 15.0
 #: relations whose two planes seed a solid (a box proof's pairs)
 SEEDS = ("skirt", "face_pair")
+#: metres: two parallel planes each within this of the other's plane are one surface
+#: (:func:`one_box_in_pieces`)
+SURFACE_OFFSET = 0.02
 
 
 def _extent(planes, labels) -> float:
@@ -171,3 +175,31 @@ def cut_object(desc, parent, solid, object_id: str, xyz, *, tiny_area: float,
     frac = n_flat / total if total else 0.0
     return SceneObject(object_id, tuple(solid), None, None, float(frac),
                        bool(frac < curved_below))
+
+
+def one_box_in_pieces(desc, solids) -> bool:
+    """True when two of ``solids`` (label tuples of boxes cut from one proposal,
+    ``decision.cut_split``) are one box in pieces: a top of one (a plane not vertical) and a
+    top of the other are one surface (``parallel``, the scene's relation, and each centroid
+    within :data:`SURFACE_OFFSET` m of the other's plane).
+
+    A box that a nearer thing cuts in two, or whose top the sensor broke in two, shows one
+    top in both pieces (mOSD's occluded frames, OSD test64); two boxes of a pile have their
+    tops at their own levels (two in a row may share a front, not a top).  Two touching boxes
+    of one height, their tops flush, are not told from one box so: they stay one answer.
+    """
+    ps = desc.planes
+
+    def tops(labels):
+        return [x for x in labels if ps.by_label(x).orientation != "vertical"]
+
+    def same(x, y):
+        if not desc.relations.get(x, y).parallel:
+            return False
+        p, q = ps.by_label(x), ps.by_label(y)
+        d = np.asarray(q.centroid, float) - np.asarray(p.centroid, float)
+        return (abs(float(np.asarray(p.normal, float) @ d)) <= SURFACE_OFFSET
+                and abs(float(np.asarray(q.normal, float) @ d)) <= SURFACE_OFFSET)
+
+    return any(same(x, y) for i, a in enumerate(solids) for b in solids[i + 1:]
+               for x in tops(a) for y in tops(b))

@@ -1398,15 +1398,20 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     return frozenset(out)
 
 
+#: degrees: an upright plane whose normal is this far or more from a face's meets it across a
+#: corner (:func:`_sunk_beside`); nearer to parallel, it is a lip or a step under the face
+SUNK_CORNER = 45.0
+
+
 def _sunk_beside(face, prof, q, qprof, sunk: float) -> bool:
-    """True when upright plane ``q`` meets ``face`` across a corner (normals 45 degrees or
-    more apart) and its foot (``qprof.bottom``, the 2nd percentile of its levels) lies more
+    """True when upright plane ``q`` meets ``face`` across a corner (normals
+    :data:`SUNK_CORNER` degrees or more apart) and its foot (``qprof.bottom``, the 2nd percentile of its levels) lies more
     than ``sunk`` metres below the face's: ``q`` goes on under the ground the face stands on
     (``tall_sunk``)."""
     if not (np.isfinite(prof.bottom) and np.isfinite(qprof.bottom)):
         return False
     cos = abs(float(np.dot(np.asarray(face.normal, float), np.asarray(q.normal, float))))
-    return cos <= math.cos(math.radians(45.0)) and qprof.bottom < prof.bottom - sunk
+    return cos <= math.cos(math.radians(SUNK_CORNER)) and qprof.bottom < prof.bottom - sunk
 
 
 def _tall_flat(a, p, noise) -> bool:
