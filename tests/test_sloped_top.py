@@ -19,21 +19,31 @@ BACK = Rect((0.0, 6.0, 1.5), (1, 0, 0), (0, 0, 1), 6.0, 1.5)  # a wall behind, 6
 
 
 def _wedge_or_box(angle, wedge=True, length=2.0, width=1.0, x1=-0.4, y_side=2.2,
-                  cam_height=0.35, pitch=4.0, base=0.0):
+                  cam_height=0.35, pitch=4.0, base=0.0, lid=None, lid_depth=0.5):
     """A solid whose side (plane y = y_side, facing the camera) runs from x1 - length to x1
     and whose end (plane x = x1, facing +x, the camera's side) is ``width`` deep.  A wedge's
     side is a right triangle rising from 0 at x1 - length to ``length * tan(angle)`` at x1
     (pixels above its slope see the wall behind); a box's is that height's rectangle.  With
     ``base`` the wedge stands on a block of that height whose side is flush with its own: the
-    face is the triangle over a ``base`` high rectangle."""
+    face is the triangle over a ``base`` high rectangle.  With ``lid`` (degrees) a
+    ``lid_depth`` m panel (label 4) is hinged on the wedge's top edge and tilted back by
+    ``lid`` from the edge's own slope: 0 is the ramp's slope seen beside its side, larger
+    makes it steeper than the edge."""
     h = length * math.tan(math.radians(angle)) + base
     side = Rect((x1 - length / 2, y_side, h / 2), (1, 0, 0), (0, 0, 1), length / 2, h / 2, 1)
     end = Rect((x1, y_side + width / 2, h / 2), (0, 1, 0), (0, 0, 1), width / 2, h / 2, 1)
-    rects = [floor(), BACK, side, end]
+    extra = []
+    if lid is not None:
+        a, b = math.radians(angle), math.radians(lid)
+        e1, e2 = (math.cos(a), 0.0, math.sin(a)), (0.0, math.cos(b), math.sin(b))
+        mid = np.array([x1 - length / 2, y_side, base + h / 2 - base / 2])
+        centre = mid + np.asarray(e2) * lid_depth / 2
+        extra = [Rect(tuple(centre), e1, e2, length / 2 / math.cos(a), lid_depth / 2, 1)]
+    rects = [floor(), BACK, side, end] + extra
     cloud, lab, _, _ = render(rects, pitch=pitch, cam_height=cam_height, noise=0.0012)
     if wedge:
-        behind, blab, _, _ = render([floor(), BACK, end], pitch=pitch, cam_height=cam_height,
-                                    noise=0.0012)
+        behind, blab, _, _ = render([floor(), BACK, end] + extra, pitch=pitch,
+                                    cam_height=cam_height, noise=0.0012)
         up = np.asarray(cloud.up, float)
         xyz = np.array(cloud.xyz)
         # the world point's height and x: the camera is at (0, 0, cam_height), x along camera x
@@ -41,7 +51,8 @@ def _wedge_or_box(angle, wedge=True, length=2.0, width=1.0, x1=-0.4, y_side=2.2,
         x = xyz[..., 0]
         over = (lab == 2) & (height > base + np.tan(np.radians(angle)) * (x - (x1 - length)))
         xyz[over] = behind.xyz[over]
-        lab = np.where(over, np.where(blab == 2, 3, blab), lab).astype(np.int32)
+        # the second rendering's end (2) and lid (3) are labels 3 and 4
+        lab = np.where(over, np.where(blab >= 2, blab + 1, blab), lab).astype(np.int32)
         cloud = Cloud(xyz, cloud.intrinsics, cloud.up, "analytic")
     ps = measure_planes(cloud, lab)
     return cloud, lab, ps
@@ -193,3 +204,36 @@ def test_straight_run_takes_the_slope_of_a_trapezoid_and_no_step():
     assert straight_run(np.linspace(0.0, 2.24, 16), steps) is None
     # too short a run
     assert straight_run(u[:3] / 10, h[:3]) is None
+
+
+@pytest.mark.parametrize("lid, kept", [(0.0, True), (35.0, False)])
+def test_top_slope_needs_an_inclined_neighbour_as_steep_as_the_edge(lid, kept):
+    """An inclined plane meeting a wedge's side is its slope, as steep as the side's edge
+    (slope80): a panel hinged on the edge and tilted 35 degrees further back (a cabinet's
+    shelf lip over its plinth, as on a real frame) takes the fact away; the ramp's own slope
+    seen beside its side keeps it.  Without neighbours (the other tests) nothing changes."""
+    from planerel.features.facts import describe_scene, inclined_beside, scene_facts
+    from planerel.features.relations import relate
+    from planerel.features.solid import TOP_SLOPE_AGREE, top_slopes
+
+    angle = 15.0
+    # seen from 1.2 m, looking down 20 degrees: the slope beside the side is in view
+    cloud, lab, ps = _wedge_or_box(angle, True, lid=lid, lid_depth=0.8, cam_height=1.2,
+                                   pitch=20.0, **IN_VIEW)
+    side, panel = ps.by_label(2), ps.by_label(4)
+    assert side.orientation == "vertical" and panel.orientation == "inclined"
+    assert panel.incline == pytest.approx(angle if lid == 0 else 37.0, abs=2.0)
+    beside = inclined_beside(ps, relate(ps, cloud))
+    assert beside[2] == [pytest.approx(panel.incline)]
+    assert 4 not in beside  # only vertical planes are measured
+    slopes = dict(top_slopes(ps, lab, cloud.xyz, beside=beside))
+    assert (2 in slopes) == kept
+    # without the neighbours, or with a tolerance wider than the difference, the edge counts
+    assert dict(top_slopes(ps, lab, cloud.xyz))[2] == pytest.approx(angle, abs=1.5)
+    assert 2 in dict(top_slopes(ps, lab, cloud.xyz, beside=beside, agree=40.0))
+    assert TOP_SLOPE_AGREE == 5.0
+    # the described scene writes it only when kept
+    desc = describe_scene(cloud, lab, scene_id="w", objects=[(2, 3, 4)], klass="ramp",
+                          top_slope=True)
+    written = [f for f in scene_facts(desc)["top_slope"] if f.startswith("top_slope(w_p02,")]
+    assert bool(written) == kept

@@ -405,13 +405,34 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     # the slope of each upright face's top edge seen over half a metre, for the objects' planes:
     # a wedge's side rises (ramp77)
     slopes = (top_slopes(planes, planes.labels, cloud.xyz,
-                         only={x for o in objs for x in o.planes}) if top_slope else ())
+                         only={x for o in objs for x in o.planes},
+                         beside=inclined_beside(planes, rel)) if top_slope else ())
     desc = SceneDescription(scene_id, planes, rel, objs, getattr(cloud, "source", None),
                             proposed, support, truncated=cut, tall=tall, lying=lying,
                             steps=steps, top_slope=slopes)
     if far_mask is not None:
         desc = replace(desc, far=far_planes(desc, far_mask))
     return desc
+
+
+def inclined_beside(planes, rel) -> dict:
+    """``{label: (incline, ...)}``: for each vertical plane, the inclines (degrees) of the
+    ``inclined`` planes adjacent to it (:func:`planerel.features.solid.top_slopes`' ``beside``).
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    rel : Relations
+    """
+    by_label = {p.label: p for p in planes}
+    out: dict = {}
+    for a, b in rel.adjacent_pairs():
+        for v, q in ((a, b), (b, a)):
+            pv, pq = by_label.get(v), by_label.get(q)
+            if pv is not None and pq is not None and pv.orientation == "vertical" \
+                    and pq.orientation == "inclined":
+                out.setdefault(v, []).append(float(pq.incline))
+    return out
 
 
 def far_planes(desc, far_mask) -> frozenset:

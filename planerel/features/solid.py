@@ -582,10 +582,19 @@ TOP_SLOPE_RMS = 0.01
 #: frames' upright faces (a table's apron under a gravity 6 degrees off, far walls' fragments
 #: at 4-7 m) 3 of 27 (ramp78, docs/results.md "The side-view part shipped").
 TOP_SLOPE_DEPTH = 2.0
+#: ... and, when inclined planes are adjacent to the face, one of them at most this many
+#: degrees steeper or shallower than the edge: a wedge's side meets its slope along that
+#: edge.  Independent sets' ramp sides with an inclined neighbour: it is within 1.4 degrees
+#: (2.2 with a second neighbour; 61 of 70 sides of 5-19.5 degrees have one); the real
+#: development faces whose edge passes every other test, 3: their inclined neighbours lie
+#: 25-60 degrees off (a steel cabinet's plinth under its bottom shelf's lip, a product's
+#: bevelled edge; slope80, docs/results.md "A wedge's side meets its slope").
+TOP_SLOPE_AGREE = 5.0
 
 
 def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
-               rms: float = TOP_SLOPE_RMS, only=None, depth: float = TOP_SLOPE_DEPTH) -> tuple:
+               rms: float = TOP_SLOPE_RMS, only=None, depth: float = TOP_SLOPE_DEPTH,
+               beside=None, agree: float = TOP_SLOPE_AGREE) -> tuple:
     """The slope of each upright face's top edge where the camera sees that edge straight over
     ``span`` m or more (``top_slope/2``, ramp77) and the face lies under it: a wedge's side
     face seen from a camera lower than its top rises with the ramp; a box's face, level,
@@ -610,6 +619,13 @@ def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
         of its objects, whose facts are written; a room's walls are none).
     depth : float
         :data:`TOP_SLOPE_DEPTH`; ``inf`` keeps every face.
+    beside : mapping of int to sequence of float, optional
+        For a face's label, the inclines (degrees) of the ``inclined`` planes adjacent to it
+        (:func:`planerel.features.facts.describe_scene` gives them from the relations).  A
+        face with any, none within ``agree`` degrees of its edge's slope, gives nothing: an
+        inclined surface meeting a wedge's side is its slope, as steep as the edge.
+    agree : float
+        Degrees (:data:`TOP_SLOPE_AGREE`).
 
     Returns
     -------
@@ -630,6 +646,9 @@ def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
         pts = _top_edge_points(p, up, labels, xyz, outline=True)
         e = None if pts is None else straight_run(*pts, span=span, rms=rms)
         if e is None:
+            continue
+        near = () if beside is None else beside.get(p.label, ())
+        if near and not any(abs(x - e.slope) <= agree for x in near):
             continue
         if math.isfinite(depth):
             if bounds is None:
