@@ -584,8 +584,8 @@ TOP_SLOPE_RMS = 0.01
 TOP_SLOPE_DEPTH = 2.0
 #: ... and, when inclined planes are adjacent to the face, one of them at most this many
 #: degrees steeper or shallower than the edge: a wedge's side meets its slope along that
-#: edge.  Independent sets' ramp sides with an inclined neighbour: it is within 1.4 degrees
-#: (2.2 with a second neighbour; 61 of 70 sides of 5-19.5 degrees have one); the real
+#: edge.  Independent sets' ramp sides with such a neighbour: it is within 1.9 degrees
+#: (1.0 or less in 56 of 58; 58 of the 69 sides of 5-19.5 degrees have one); the real
 #: development faces whose edge passes every other test, 3: their inclined neighbours lie
 #: 25-60 degrees off (a steel cabinet's plinth under its bottom shelf's lip, a product's
 #: bevelled edge; slope80, docs/results.md "A wedge's side meets its slope").
