@@ -288,6 +288,13 @@ class RelationParams:
     #: independent sets 0.087 m or more below it; a real carton's top read 0.21 m above it under
     #: a gravity estimated 15 degrees off, gqcnn PhoXi).  0: off (before furn44)
     skirt_top_eye: float = 0.3
+    #: a skirt's top whose normal, oriented towards the sensor, points below the horizon
+    #: (``normal . up < 0``) is seen from below: an underside, whatever its level (under80: a
+    #: bookcase's shelf 0.17 m above a camera 0.56 m up, its lip hanging under it, answered
+    #: ``box``).  A gravity estimate off by less than 90 degrees keeps a top seen from above
+    #: on the upper side, where ``skirt_top_eye``'s level can move by the distance times the
+    #: error (gqcnn's carton, above).  False: the level alone (before under80)
+    skirt_underside: bool = True
     #: m: with no floor plane found at all (a camera lying on the floor: the floor returns no
     #: depth), a virtual floor level at the lowest level shared within this by the feet
     #: (``FaceProfile.bottom``) of at least ``tall_feet_min`` shaped upright planes below the
@@ -768,7 +775,8 @@ class _Solid:
         """True when ``top`` can be a skirt's top: horizontal, inclined at most
         ``skirt_top_tilt`` degrees (whether it leans towards the face is :meth:`skirt`'s), or
         a tilted box's top (:meth:`_tilted`); and not seen from below: its level at most
-        ``skirt_top_eye`` above the sensor's eye (a shelf's or a table's underside).
+        ``skirt_top_eye`` above the sensor's eye and (``skirt_underside``) its normal towards
+        the sensor not pointing down (a shelf's or a table's underside).
         Remembered per plane (:func:`relate` asks once a plane, :meth:`skirt` again a pair)."""
         got = self._tops.get(top.label)
         if got is None:
@@ -778,6 +786,8 @@ class _Solid:
     def _top_candidate(self, top) -> bool:
         lim = self.params.skirt_top_eye
         if lim > 0 and float(np.asarray(top.centroid, float) @ self.up) > lim:
+            return False
+        if self.params.skirt_underside and float(np.asarray(top.normal, float) @ self.up) < 0:
             return False
         if top.orientation == "horizontal":
             return True
