@@ -416,8 +416,9 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
 
 
 def inclined_beside(planes, rel) -> dict:
-    """``{label: (incline, ...)}``: for each vertical plane, the inclines (degrees) of the
-    ``inclined`` planes adjacent to it (:func:`planerel.features.solid.top_slopes`' ``beside``).
+    """``{label: [incline, ...]}``: for each vertical plane with any, the inclines (degrees) of
+    the ``inclined`` planes adjacent to it (:func:`planerel.features.solid.top_slopes`'
+    ``beside``; a plane with none is absent).
 
     Parameters
     ----------
