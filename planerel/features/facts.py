@@ -427,12 +427,11 @@ def inclined_beside(planes, rel) -> dict:
     """
     by_label = {p.label: p for p in planes}
     out: dict = {}
-    for a, b in rel.adjacent_pairs():
-        for v, q in ((a, b), (b, a)):
-            pv, pq = by_label.get(v), by_label.get(q)
-            if pv is not None and pq is not None and pv.orientation == "vertical" \
-                    and pq.orientation == "inclined":
-                out.setdefault(v, []).append(float(pq.incline))
+    for r in rel.adjacent_only():  # ordered pairs: each adjacent pair both ways
+        pv, pq = by_label.get(r.a), by_label.get(r.b)
+        if pv is not None and pq is not None and pv.orientation == "vertical" \
+                and pq.orientation == "inclined":
+            out.setdefault(r.a, []).append(float(pq.incline))
     return out
 
 
