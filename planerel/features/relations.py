@@ -295,6 +295,13 @@ class RelationParams:
     #: on the upper side, where ``skirt_top_eye``'s level can move by the distance times the
     #: error (gqcnn's carton, above).  False: the level alone (before under80)
     skirt_underside: bool = True
+    #: share: a skirt's top whose pixels fill less than this of their convex hull in the image
+    #: (:func:`image_solidity`) is a ring, not a top: an open tote's or tray's rim seen from
+    #: above, its inner wall hanging under it (spurious81: the tote's rim and wall answered
+    #: ``box`` in 22 of dev_tote's 30 scenes, their tops filling 0.07-0.21 of their hulls; the
+    #: skirt tops of the boxes answered right on five independent sets fill 0.40-1.0, a box's
+    #: top filling its outline but for what lies on it).  0: off (before spurious81)
+    skirt_top_solid: float = 0.3
     #: m: with no floor plane found at all (a camera lying on the floor: the floor returns no
     #: depth), a virtual floor level at the lowest level shared within this by the feet
     #: (``FaceProfile.bottom``) of at least ``tall_feet_min`` shaped upright planes below the
@@ -476,7 +483,7 @@ class RelationParams:
                              "facing_overlap", "facing_width", "facing_narrow_tol", "face_pair_width", "face_pair_angle", "face_pair_graze", "face_pair_graze_angle", "face_pair_level", "face_pair_level_share", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_narrow_width", "tall_narrow_bend", "tall_eye", "tall_flat", "tall_flat_noise", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
-                             "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "tall_level_ground", "skirt_top_eye", "tall_feet_level",
+                             "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "tall_level_ground", "skirt_top_eye", "skirt_top_solid", "tall_feet_level",
                              "tall_speckle_floor", "tall_top_cover", "tall_beside_overlap", "tall_beside_step", "tall_sunk",
                              "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground",
@@ -492,7 +499,7 @@ class RelationParams:
         if not isinstance(self.tall_feet_min, int) or self.tall_feet_min < 2:
             raise InputError(f"tall_feet_min is a count of planes, at least 2, got "
                              f"{self.tall_feet_min!r}")
-        for name in ("tall_floor_share", "tall_floor_solid"):
+        for name in ("tall_floor_share", "tall_floor_solid", "skirt_top_solid"):
             if getattr(self, name) > 1:
                 raise InputError(f"{name} is a share in 0..1, got {getattr(self, name)!r}")
         if self.tall_beside_overlap > 1:
@@ -709,6 +716,34 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
     return {(x, y) for x, y in zip(a.tolist(), b.tolist(), strict=True) if x < y}
 
 
+def image_solidity(labels, label: int) -> float:
+    """The share of the convex hull, in the image, of plane ``label``'s pixels that they fill
+    (1 for a filled convex region; a ring's, a frame's or a U's is far less).
+
+    Parameters
+    ----------
+    labels : ndarray, shape (H, W), int
+    label : int
+
+    Returns
+    -------
+    float
+        In (0, 1]; 1.0 for fewer than 3 pixels or pixels on one line (no area to fill).
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    r, c = np.nonzero(np.asarray(labels) == label)
+    if r.size < 3:
+        return 1.0
+    # the hull of the pixels' squares (their corners), so a filled rectangle is exactly 1
+    pts = np.concatenate([np.stack([r + dr, c + dc], 1) for dr in (0, 1) for dc in (0, 1)])
+    try:
+        hull = ConvexHull(pts.astype(float))
+    except QhullError:
+        return 1.0
+    return float(min(1.0, r.size / hull.volume)) if hull.volume > 0 else 1.0
+
+
 class _Solid:
     """``skirt``, ``corner`` and ``facing`` of :func:`relate`
     (:func:`planerel.features.solid.is_skirt`, :func:`~planerel.features.solid.is_corner`,
@@ -776,7 +811,8 @@ class _Solid:
         ``skirt_top_tilt`` degrees (whether it leans towards the face is :meth:`skirt`'s), or
         a tilted box's top (:meth:`_tilted`); and not seen from below: its level at most
         ``skirt_top_eye`` above the sensor's eye and (``skirt_underside``) its normal towards
-        the sensor not pointing down (a shelf's or a table's underside).
+        the sensor not pointing down (a shelf's or a table's underside); with
+        ``skirt_top_solid``, its pixels filling their hull in the image (no tote's rim).
         Remembered per plane (:func:`relate` asks once a plane, :meth:`skirt` again a pair)."""
         got = self._tops.get(top.label)
         if got is None:
@@ -788,6 +824,9 @@ class _Solid:
         if lim > 0 and float(np.asarray(top.centroid, float) @ self.up) > lim:
             return False
         if self.params.skirt_underside and float(np.asarray(top.normal, float) @ self.up) < 0:
+            return False
+        if self.params.skirt_top_solid > 0 and self.labels is not None \
+                and image_solidity(self.labels, top.label) < self.params.skirt_top_solid:
             return False
         if top.orientation == "horizontal":
             return True
