@@ -716,7 +716,7 @@ def _touching(planes, params: RelationParams, xyz: np.ndarray) -> set[tuple[int,
     return {(x, y) for x, y in zip(a.tolist(), b.tolist(), strict=True) if x < y}
 
 
-def image_solidity(labels, label: int) -> float:
+def image_solidity(labels, label: int, bbox=None) -> float:
     """The share of the convex hull, in the image, of plane ``label``'s pixels that they fill
     (1 for a filled convex region; a ring's, a frame's or a U's is far less).
 
@@ -724,6 +724,9 @@ def image_solidity(labels, label: int) -> float:
     ----------
     labels : ndarray, shape (H, W), int
     label : int
+    bbox : (row0, col0, row1, col1), optional
+        The plane's pixel box (:class:`~planerel.features.planes.Plane` ``bbox``, ends
+        exclusive): only that window is read.
 
     Returns
     -------
@@ -732,16 +735,27 @@ def image_solidity(labels, label: int) -> float:
     """
     from scipy.spatial import ConvexHull, QhullError
 
-    r, c = np.nonzero(np.asarray(labels) == label)
-    if r.size < 3:
+    labels = np.asarray(labels)
+    r0, c0 = 0, 0
+    if bbox is not None:
+        r0, c0, r1, c1 = (int(v) for v in bbox)
+        labels = labels[max(0, r0):r1, max(0, c0):c1]
+    m = labels == label
+    n = int(m.sum())
+    if n < 3:
         return 1.0
-    # the hull of the pixels' squares (their corners), so a filled rectangle is exactly 1
-    pts = np.concatenate([np.stack([r + dr, c + dc], 1) for dr in (0, 1) for dc in (0, 1)])
+    # the hull of the pixels' squares is the hull of each row's outermost squares' corners
+    rows = np.flatnonzero(m.any(axis=1))
+    sub = m[rows]
+    first = sub.argmax(axis=1)
+    last = sub.shape[1] - 1 - sub[:, ::-1].argmax(axis=1)
+    pts = np.concatenate([np.stack([rows + dr, col + dc], 1)
+                          for dr in (0, 1) for col, dc in ((first, 0), (last, 1))])
     try:
         hull = ConvexHull(pts.astype(float))
     except QhullError:
         return 1.0
-    return float(min(1.0, r.size / hull.volume)) if hull.volume > 0 else 1.0
+    return float(min(1.0, n / hull.volume)) if hull.volume > 0 else 1.0
 
 
 class _Solid:
@@ -767,6 +781,8 @@ class _Solid:
         self._edges: dict = {}
         #: ``{label: bool}`` (:meth:`top_candidate`)
         self._tops: dict = {}
+        #: ``{label: float}`` (:meth:`solidity`)
+        self._solidity: dict = {}
         self.normals = None
         if ok:
             self.normals = np.full((max([label_max(lab) + 1] + [p.label + 1 for p in planes]), 3),
@@ -811,8 +827,7 @@ class _Solid:
         ``skirt_top_tilt`` degrees (whether it leans towards the face is :meth:`skirt`'s), or
         a tilted box's top (:meth:`_tilted`); and not seen from below: its level at most
         ``skirt_top_eye`` above the sensor's eye and (``skirt_underside``) its normal towards
-        the sensor not pointing down (a shelf's or a table's underside); with
-        ``skirt_top_solid``, its pixels filling their hull in the image (no tote's rim).
+        the sensor not pointing down (a shelf's or a table's underside).
         Remembered per plane (:func:`relate` asks once a plane, :meth:`skirt` again a pair)."""
         got = self._tops.get(top.label)
         if got is None:
@@ -825,13 +840,25 @@ class _Solid:
             return False
         if self.params.skirt_underside and float(np.asarray(top.normal, float) @ self.up) < 0:
             return False
-        if self.params.skirt_top_solid > 0 and self.labels is not None \
-                and image_solidity(self.labels, top.label) < self.params.skirt_top_solid:
-            return False
         if top.orientation == "horizontal":
             return True
         return (top.orientation == "inclined" and self.narrow_top(top)) \
             or self._tilted(top)
+
+    def solidity(self, top) -> float:
+        """:func:`image_solidity` of ``top``, or a lower bound of it at least
+        ``skirt_top_solid`` (its pixels' share of their pixel box); measured once, and only
+        for a pair that passes every other test of a level skirt."""
+        got = self._solidity.get(top.label)
+        if got is None:
+            r0, c0, r1, c1 = top.bbox
+            box = max(1, (r1 - r0) * (c1 - c0))
+            # the hull lies in the pixel box, so filling the box's share is a lower bound of
+            # the hull's: a top that fills its box well needs no hull (most tops)
+            got = top.n_points / box if top.n_points >= self.params.skirt_top_solid * box \
+                else image_solidity(self.labels, top.label, top.bbox)
+            self._solidity[top.label] = got
+        return got
 
     def face_candidate(self, face) -> bool:
         """True when ``face`` can be a skirt's face: vertical, or (``skirt_tilted``) steep
@@ -897,6 +924,8 @@ class _Solid:
         if not skirt_covered(face, self.up, prof, span, self.labels, self.xyz, self.intrinsics,
                              self.normals, p.parallel_tol, p.skirt_cover):
             return False
+        if p.skirt_top_solid > 0 and self.solidity(top) < p.skirt_top_solid:
+            return False  # a ring (a tote's rim over its inner wall), not a top
         near = self.touching.get(face.label, ())
         nan = float("nan")
         steps = [(h.label, nan) for h in near if h.label != top.label and h.orientation == "horizontal"
