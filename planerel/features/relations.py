@@ -736,7 +736,6 @@ def image_solidity(labels, label: int, bbox=None) -> float:
     from scipy.spatial import ConvexHull, QhullError
 
     labels = np.asarray(labels)
-    r0, c0 = 0, 0
     if bbox is not None:
         r0, c0, r1, c1 = (int(v) for v in bbox)
         labels = labels[max(0, r0):r1, max(0, c0):c1]
