@@ -744,10 +744,7 @@ def image_solidity(labels, label: int, bbox=None) -> float:
     if n < 3:
         return 1.0
     # the hull of the pixels' squares is the hull of each row's outermost squares' corners
-    rows = np.flatnonzero(m.any(axis=1))
-    sub = m[rows]
-    first = sub.argmax(axis=1)
-    last = sub.shape[1] - 1 - sub[:, ::-1].argmax(axis=1)
+    rows, first, last = _row_spans(m)
     pts = np.concatenate([np.stack([rows + dr, col + dc], 1)
                           for dr in (0, 1) for col, dc in ((first, 0), (last, 1))])
     try:
@@ -2019,16 +2016,21 @@ def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
     return good >= params.tall_floor_share * cols.size
 
 
+def _row_spans(m):
+    """``(rows, first, last)``: the rows of the mask ``m`` holding a pixel and, per such row,
+    its first and last pixel's column."""
+    rows = np.flatnonzero(m.any(axis=1))
+    sub = m[rows]
+    return rows, sub.argmax(axis=1), sub.shape[1] - 1 - sub[:, ::-1].argmax(axis=1)
+
+
 def _fills_rows(m, share: float) -> bool:
     """True when the mask ``m`` (a face's pixels in its pixel box) spans at least 3 columns
     and 2 rows and its pixels fill at least ``share`` of its rows' spans summed (a solid face:
     :func:`floor_foot`, :func:`level_ground`)."""
-    cols = np.flatnonzero(m.any(axis=0))
-    rows = np.flatnonzero(m.any(axis=1))
-    if cols.size < 3 or rows.size < 2:
+    rows, first, last = _row_spans(m)
+    if np.flatnonzero(m.any(axis=0)).size < 3 or rows.size < 2:
         return False
-    first = np.argmax(m, axis=1)[rows]
-    last = m.shape[1] - 1 - np.argmax(m[:, ::-1], axis=1)[rows]
     return bool(m.sum() >= share * float((last - first + 1).sum()))
 
 
