@@ -18,7 +18,7 @@ Usage::
 
     python benchmarks/independent_scenes.py make OUT_DIR [--n 60] [--seed 7] [--size 160x120]
         [--kinds box,stairs,ramp] [--sensor plain|kinect|stereo|tof] [--heights LOW,HIGH] [--furniture]
-        [--speckle-floor KEEP]
+        [--speckle-floor KEEP] [--stereo-sigma PX] [--stereo-wave PX]
     python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150] [--by-planes]
     python benchmarks/independent_scenes.py dev DEST [--only NAME ...] [--force]
 
@@ -36,7 +36,9 @@ from its landing as a person or a robot standing at the top would: 0.5-1.7 m eye
 ``box,stairs,ramp`` makes the same scenes as before the option existed.  ``--sensor kinect``
 quantises depth as the real Kinect frames of ``../shared/data/kinect`` do (3 mm z^2) and drops a
 band of ``W / 160`` pixels (4 at 640x480) at depth jumps; ``--sensor stereo`` is an active stereo
-pair (D435-like: the matcher's disparity noise, correlated over its window, :func:`render`);
+pair (D435-like: the matcher's disparity noise, correlated over its window, :func:`render`;
+``--stereo-sigma`` sets that noise and ``--stereo-wave`` adds a real D4xx camera's undulation
+over tens of pixels, wave82: ``dev_stw``);
 ``--sensor tof`` a Kinect v2-like time-of-flight camera whose dark objects' upright faces are
 five times as noisy and holed (tof72, measured on hunt71's stairwell: :func:`render`);
 ``plain`` (the default) is the original sensor, unchanged.  ``score``'s ``--min-pixels`` defaults to 150 pixels scaled with the image area (150 at
@@ -839,9 +841,17 @@ TOF_CORR, TOF_DARK_CORR, TOF_HOLE_CORR = 320, 120, 320
 #: matching window as a share of the image width (D435-like: 50 mm, 0.08 px subpixel RMS,
 #: 1/32 px, a 7 px window at 640 wide)
 STEREO_BASE, STEREO_SIGMA, STEREO_STEP, STEREO_WINDOW = 0.05, 0.08, 1.0 / 32, 7 / 640
+#: ``--stereo-wave``'s undulation: its correlation length (the Gaussian's sigma) as a share of
+#: the image width (wave82: real D4xx frames are smooth pixel to pixel but wavy over tens of
+#: pixels, ``NoiseModel.wave`` 3.2-4.3 and ``quad`` 0.0006-0.0008 at 640-681 wide on rs-booth,
+#: aims-low, sunrgbd-rs and vreloc, against 2.0 and 0.0012-0.0015 for the ``stereo`` sensor's
+#: matching noise alone; ``--stereo-sigma 0.04 --stereo-wave 0.15`` gives 3.0-4.1 and
+#: 0.0007-0.0008)
+STEREO_WAVE_LENGTH = 6 / 640
 
 
-def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain", speckle=None):
+def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain", speckle=None,
+           wave=None, stereo_sigma=STEREO_SIGMA):
     """Organized XYZ ``(H, W, 3)`` in the camera frame and the object id per pixel (and with
     ``planes`` the true plane id per pixel, -1 missing, as a third result).
 
@@ -884,6 +894,14 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain", 
     ``generator`` (its own, so the rest of the scene is the scene without it): a dark floor,
     or a floor an active sensor sees at a grazing angle, measured as scattered pixels no
     region grows over (hunt45's R200 frame under a table: 16 % of the floor's pixels).
+
+    ``wave`` (wave82, ``--stereo-wave``, ``stereo`` only): ``(sigma, generator)``: a smooth
+    disparity error of ``sigma`` px RMS, correlated over :data:`STEREO_WAVE_LENGTH` of the
+    width (unit white noise under a Gaussian filter), drawn from ``generator`` (its own, so the
+    rest of the scene is the scene without it): the undulation of a real active-stereo
+    camera's depth over a flat surface, which a 5 px patch does not see and a 25 px one does
+    (``NoiseModel.wave`` of real D4xx frames 3-7).  ``stereo_sigma``: the matching noise, px
+    RMS (:data:`STEREO_SIGMA`; the same draws scaled).
     """
     if sensor not in SENSORS:
         raise ValueError(f"sensor {sensor!r}: one of {SENSORS}")
@@ -929,7 +947,9 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain", 
         elif sensor == "stereo":
             disp = fx * STEREO_BASE / zz
             disp = disp + _correlated_noise(rng, H, W, max(1, round(W * STEREO_WINDOW))) \
-                * STEREO_SIGMA
+                * stereo_sigma
+            if wave is not None:
+                disp = disp + _smooth_noise(wave[1], H, W, W * STEREO_WAVE_LENGTH) * wave[0]
             disp = np.round(disp / STEREO_STEP) * STEREO_STEP
             valid &= disp >= 2.0
             zz = fx * STEREO_BASE / np.maximum(disp, 2.0)
@@ -967,6 +987,16 @@ def render(meshes, eye, R, intr, rng, noise=True, planes=False, sensor="plain", 
         pid = np.where(np.isfinite(z), pid.reshape(H, W), -1).astype(np.int32)
         return xyz.astype(np.float32), truth.astype(np.int32), pid
     return xyz.astype(np.float32), truth.astype(np.int32)
+
+
+def _smooth_noise(rng, H, W, s):
+    """Unit-variance noise ``(H * W,)`` correlated over ``s`` pixels: white noise under a
+    Gaussian filter of sigma ``s``, scaled by ``2 sqrt(pi) s`` back to unit variance (the
+    filter's squared weights sum to ``1 / (4 pi s^2)``)."""
+    from scipy.ndimage import gaussian_filter
+
+    n = gaussian_filter(rng.normal(0, 1, (H, W)), s, mode="reflect")
+    return (n * 2.0 * np.sqrt(np.pi) * s).reshape(-1)
 
 
 def _correlated_noise(rng, H, W, k):
@@ -1044,7 +1074,8 @@ KINDS = ("box", "stairs", "ramp", "stairs_top", "small_box", "tote_blocks")
 
 
 def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ramp"), sensor="plain",
-               heights=None, furniture=False, speckle_floor=None):
+               heights=None, furniture=False, speckle_floor=None, stereo_wave=None,
+               stereo_sigma=None):
     """Scene ``i`` of the set of ``seed``: (xyz, truth, sidecar dict, meshes, eye, R, plane ids).
 
     ``kinds``: the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``);
@@ -1052,7 +1083,12 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
     ``furniture``: add 1-3 pieces of room furniture in view (:func:`add_furniture`, drawn from
     a generator of its own, ``[seed, i, 44]``: the scene without them is the same scene);
     ``speckle_floor``: the share of the floor's pixels measured (:func:`render`'s ``speckle``,
-    drawn from a generator of its own, ``[seed, i, 75]``)."""
+    drawn from a generator of its own, ``[seed, i, 75]``); ``stereo_wave``: the ``stereo``
+    sensor's undulation, px of disparity (:func:`render`'s ``wave``, drawn from a generator of
+    its own, ``[seed, i, 82]``); ``stereo_sigma``: its matching noise, px (default
+    :data:`STEREO_SIGMA`)."""
+    if (stereo_wave is not None or stereo_sigma is not None) and sensor != "stereo":
+        raise ValueError("stereo_wave, stereo_sigma: for the stereo sensor only")
     rng = np.random.default_rng([seed, i])
     kind = kinds[i % len(kinds)]
     if kind not in KINDS:
@@ -1077,8 +1113,11 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
                                                 np.random.default_rng([seed, i, 44]), target)
     speckle = None if speckle_floor is None else (
         float(speckle_floor), np.random.default_rng([seed, i, 75]))
+    wave = None if stereo_wave is None else (
+        float(stereo_wave), np.random.default_rng([seed, i, 82]))
     xyz, truth, pid = render(meshes, eye, R, intr, rng, noise=noise, planes=True, sensor=sensor,
-                             speckle=speckle)
+                             speckle=speckle, wave=wave,
+                             stereo_sigma=STEREO_SIGMA if stereo_sigma is None else float(stereo_sigma))
     up = R @ np.array([0.0, 0.0, 1.0])
     side = {"format": "independent-scene", "version": 1, "scene_id": f"i{i:04d}",
             "class": {"stairs_top": "stairs", "small_box": "box", "tote_blocks": "box"}.get(kind, kind),
@@ -1093,6 +1132,10 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
         side["params"]["furniture"] = placed
     if speckle_floor is not None:
         side["params"]["speckle_floor"] = float(speckle_floor)
+    if stereo_wave is not None:
+        side["params"]["stereo_wave"] = float(stereo_wave)
+    if stereo_sigma is not None:
+        side["params"]["stereo_sigma"] = float(stereo_sigma)
     return xyz, truth, side, meshes, eye, R, pid
 
 
@@ -1109,14 +1152,16 @@ def _write_npy(path, arr):
 
 
 def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain", heights=None,
-             furniture=False, speckle_floor=None):
+             furniture=False, speckle_floor=None, stereo_wave=None, stereo_sigma=None):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     for i in range(n):
         xyz, truth, side, *_, pid = make_scene(i, seed, size, kinds=kinds, sensor=sensor,
                                                heights=heights, furniture=furniture,
-                                               speckle_floor=speckle_floor)
+                                               speckle_floor=speckle_floor,
+                                               stereo_wave=stereo_wave,
+                                               stereo_sigma=stereo_sigma)
         sid = side["scene_id"]
         _write_npy(out / f"{sid}.planes.npy", pid)
         _write_npy(out / f"{sid}.npy", xyz)
@@ -1132,6 +1177,10 @@ def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain"
         meta["furniture"] = True
     if speckle_floor is not None:
         meta["speckle_floor"] = float(speckle_floor)
+    if stereo_wave is not None:
+        meta["stereo_wave"] = float(stereo_wave)
+    if stereo_sigma is not None:
+        meta["stereo_sigma"] = float(stereo_sigma)
     _write_json(out / "independent.json", meta)
     print(f"made {n} scenes ({size[0]}x{size[1]}) in {dt:.1f} s, {1000 * dt / max(n, 1):.0f} ms/scene -> {out}")
 
@@ -1346,6 +1395,11 @@ DEV_SETS = {
     # pixels): no floor plane, the boxes' faces stand on ground no plane took (hunt45's R200)
     "dev_speck": "--n 40 --seed 7501 --kinds box --sensor kinect --size 640x480 "
                  "--heights 0.3,0.8 --speckle-floor 0.15",
+    # wave82: dev_sts's scenes seen by a stereo pair with a real D4xx's noise spectrum (less
+    # matching noise, undulation over tens of pixels: NoiseModel.wave 3.0-4.1, as rs-booth,
+    # aims-low, sunrgbd-rs and vreloc measure 3.2-4.3): flights whose steps grow no planes
+    "dev_stw": "--n 60 --seed 6002 --kinds stairs,stairs_top,ramp --sensor stereo --size 640x480 "
+               "--stereo-sigma 0.04 --stereo-wave 0.15",
 }
 
 
@@ -1365,7 +1419,8 @@ def _make(a) -> None:
     W, H = (int(v) for v in a.size.lower().split("x"))
     heights = None if a.heights is None else tuple(float(v) for v in a.heights.split(","))
     make_set(a.out, a.n, a.seed, (W, H), kinds=tuple(a.kinds.split(",")), sensor=a.sensor,
-             heights=heights, furniture=a.furniture, speckle_floor=a.speckle_floor)
+             heights=heights, furniture=a.furniture, speckle_floor=a.speckle_floor,
+             stereo_wave=a.stereo_wave, stereo_sigma=a.stereo_sigma)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -1391,6 +1446,12 @@ def _parser() -> argparse.ArgumentParser:
                    help="measure only this share of the floor's pixels, scattered (a dark floor, "
                         "or one an active sensor sees at a grazing angle: no plane grows on it); "
                         "off: the same scenes as before the option")
+    m.add_argument("--stereo-wave", type=float, default=None, metavar="PX",
+                   help="with --sensor stereo: a smooth disparity error of PX px RMS correlated "
+                        "over tens of pixels (a real D4xx camera's undulation); off: the same "
+                        "scenes as before the option")
+    m.add_argument("--stereo-sigma", type=float, default=None, metavar="PX",
+                   help=f"with --sensor stereo: the matching noise, px RMS (default {STEREO_SIGMA})")
     s = sub.add_parser("score")
     s.add_argument("out")
     s.add_argument("models", nargs="+")

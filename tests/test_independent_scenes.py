@@ -330,6 +330,36 @@ def test_a_speckled_floor_keeps_its_share_of_the_floor_and_leaves_the_rest_alone
         np.testing.assert_array_equal(a[1][rest], b[1][rest])
 
 
+def test_a_wavy_stereo_pair_measures_as_real_d4xx_frames_and_changes_only_the_depth():
+    # wave82: --stereo-sigma 0.04 --stereo-wave 0.15 is calibrated on the real D4xx frames'
+    # noise model (NoiseModel.wave 3.2-4.3 and quad 0.0006-0.0008 per m at 640-681 wide); the
+    # plain stereo sensor measures wave about 2 and quad 0.0012-0.0015
+    from planerel.io.cloud import Cloud
+    from planerel.segment.noise import estimate_noise
+
+    for i in range(2):
+        a = ind.make_scene(i, 6002, (640, 480), kinds=("stairs", "stairs_top"), sensor="stereo")
+        b = ind.make_scene(i, 6002, (640, 480), kinds=("stairs", "stairs_top"), sensor="stereo",
+                           stereo_sigma=0.04, stereo_wave=0.15)
+        assert b[2]["params"]["stereo_wave"] == 0.15 and "stereo_wave" not in a[2]["params"]
+        ma = estimate_noise(Cloud(a[0].astype(float)), waviness=True)
+        mb = estimate_noise(Cloud(b[0].astype(float)), waviness=True)
+        assert 1.8 < ma.wave < 2.3 and ma.quad > 0.001
+        assert 3.0 <= mb.wave <= 4.5 and 0.0005 <= mb.quad <= 0.001
+        # the same scene: the same truth (but for the depth edge band and the disparity floor)
+        same = (a[1] >= 0) & (b[1] >= 0)
+        assert same.sum() > 0.95 * (a[1] >= 0).sum()
+        np.testing.assert_array_equal(a[1][same], b[1][same])
+        # the two differ in disparity by the undulation less half the matching noise (the same
+        # draws at 0.04 px instead of 0.08): RMS (0.04^2 + 0.15^2) ** 0.5 = 0.155 px
+        fx = b[2]["intrinsics"]["fx"]
+        da = fx * ind.STEREO_BASE / a[0][..., 2][same].astype(float)
+        db = fx * ind.STEREO_BASE / b[0][..., 2][same].astype(float)
+        assert 0.13 < float(np.std(db - da)) < 0.18
+    with pytest.raises(ValueError, match="stereo sensor only"):
+        ind.make_scene(0, 6002, (64, 48), sensor="kinect", stereo_wave=0.15)
+
+
 def test_convex_overlap_separates_and_meets():
     sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     assert ind._overlap2(sq, sq + 0.5)
@@ -347,10 +377,11 @@ def test_every_development_set_command_parses_and_no_two_sets_share_their_argume
     seen = set()
     for name, args in ind.DEV_SETS.items():
         a = ind._parser().parse_args(["make", f"/x/{name}"] + args.split())
-        key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture, a.speckle_floor)
+        key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture, a.speckle_floor,
+               a.stereo_sigma, a.stereo_wave)
         assert key not in seen, name
         seen.add(key)
-    assert len(ind.DEV_SETS) == 17  # dev_speck (ground75) the latest
+    assert len(ind.DEV_SETS) == 18  # dev_stw (wave82) the latest
 
 
 def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path, capsys):
