@@ -147,8 +147,10 @@ def flight_row(clf, desc, answers, mask, found, by_iou=False, desc_xyz=None,
     return r
 
 
-def census(dirs, model: str, params=(), min_pixels=None, why=False) -> list:
-    """One row per labelled or true staircase of ``dirs`` (``why``: :func:`flight_row`'s)."""
+def census(dirs, model: str, params=(), min_pixels=None, why=False, extra=None) -> list:
+    """One row per labelled or true staircase of ``dirs`` (``why``: :func:`flight_row`'s;
+    ``extra``: a callable ``(clf, cloud, labels, desc, mask) -> dict`` whose items join each
+    flight's row, ``labels`` the segmentation's and ``mask`` the flight's ``(H, W)``)."""
     from independent_scenes import default_min_pixels
     from real_unseen import read_frame, read_labels, rect_mask, score_frame
 
@@ -181,6 +183,8 @@ def census(dirs, model: str, params=(), min_pixels=None, why=False) -> list:
                              "frame": Path(frame["file"]).stem, "what": o.get("what", "")}
                         r.update(flight_row(clf, desc, answers, m, s["found"], desc_xyz=cloud.xyz,
                                            why=why))
+                        if extra is not None:
+                            r.update(extra(clf, cloud, labels, desc, m))
                         rows.append(r)
                     print(f"{folder.name}/{frame['file']}", file=sys.stderr, flush=True)
                 continue
@@ -208,6 +212,8 @@ def census(dirs, model: str, params=(), min_pixels=None, why=False) -> list:
                          "kind": "independent", "best_iou": round(float(iou), 3)}
                     r.update(flight_row(clf, desc, answers, truth == k, found, by_iou=True,
                                        desc_xyz=cloud.xyz, why=why))
+                    if extra is not None:
+                        r.update(extra(clf, cloud, labels, desc, truth == k))
                     rows.append(r)
                 print(f"{folder.name}/{p.stem}", file=sys.stderr, flush=True)
     return rows

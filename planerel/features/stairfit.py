@@ -445,7 +445,7 @@ def _narrow_clusters_at(xyz, rows, cols, ids, n, e1, e2, min_width, margin=1e-9)
 
 
 def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
-                            gather_all: bool = False):
+                            gather_all: bool = False, why: dict | None = None):
     """Planes for the staircases among the unexplained pixels (rule steps 1-5).
 
     Parameters
@@ -457,6 +457,13 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
     gather_all : bool
         Every cluster's points gathered and sloped, not only those of the large clusters the
         width bound leaves (as before 2026-11-30; the same result: the tests compare).
+    why : dict, optional
+        Filled for a measuring tool (``benchmarks/stairfit_why.py``; the result is the same):
+        ``"clusters"``: ``(rows, cols, ids, n_comp, sizes)`` of the candidate pixels (ids of
+        ``n_comp`` and above: segmented inclined planes), ``"verdicts"``: ``{cluster: (test,
+        measures)}`` for each cluster of ``min_pixels`` or more, the first test of rule steps
+        2-4 it fails (``narrow``, ``slope``, ``taken``, ``plane``, ``no fit``, ``inliers``,
+        ``faces``, ``face width``) or ``kept``.
 
     Returns
     -------
@@ -515,6 +522,14 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
         return None, pixels
     sizes = np.bincount(ids, minlength=n_all)
     big = np.flatnonzero(sizes >= p.min_pixels)
+    if why is not None:
+        why["clusters"] = (np.asarray(rows), np.asarray(cols), np.asarray(ids), n_comp, sizes)
+        why["verdicts"] = verdicts = {int(c): ("narrow", {}) for c in big}
+
+    def note(c, test, **measures):
+        if why is not None:
+            verdicts[int(c)] = (test, {k: round(float(v), 3) for k, v in measures.items()})
+
     if not big.size:
         return None, pixels
     # the clusters that certainly fail the width test first (their reach, measured with the
@@ -526,7 +541,7 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
     else:
         narrow = _narrow_clusters_at(xyz, rows, cols, ids, n_all, e1, e2, p.min_width)
     if narrow[big].all():
-        return None, pixels
+        return None, pixels  # (every verdict "narrow")
     # only the large clusters the width bound leaves are looked at below: their points
     # gathered (each cluster's in its order: the same points and the same sums, so the same
     # slopes) and their slopes taken, not every cluster's (a Kinect frame's one wide cluster
@@ -548,9 +563,11 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
         if narrow[c]:
             continue  # no horizontal direction spans min_width (the width test below fails)
         if not maybe[c]:
+            note(c, "slope")
             continue  # its plane's slope is outside p.slope (step 2), with a margin
         idx = np.flatnonzero(ids == c)
         if taken[idx].any():
+            note(c, "taken")
             continue
         P = pts[ids_at == c]  # pts[idx] of every cluster's points: the same rows
         if _surely_narrow(P, e1, e2, up, p.min_width):
@@ -560,6 +577,7 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
         coef = np.linalg.lstsq(X, h, rcond=None)[0]
         g = float(np.hypot(coef[0], coef[1]))
         if not p.slope[0] <= g <= p.slope[1]:
+            note(c, "slope", slope=g)
             continue
         f = (coef[0] * e1 + coef[1] * e2) / g
         side = _cross(up, f)
@@ -586,6 +604,7 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
             ncn = (m22 * n0 * n0 - 2 * m12 * n0 * n1 + m11 * n1 * n1) / (m11 * m22 - m12 * m12)
             plane_share = float((np.abs(res * n1) / np.sqrt(ncn) < lim).mean())
         if plane_share > p.plane_ratio:
+            note(c, "plane", slope=g, plane=plane_share)
             continue  # the plane test fails whatever the profile's share (at most 1)
         if len(d) > p.max_fit_points:
             # a fixed, evenly spaced subset (row-major order): deterministic
@@ -595,6 +614,7 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
         fit = fit_profile(d[sub], h[sub], lim[sub], p, slope=g,
                           metric=None if metric is None else metric[sub])
         if fit is None:
+            note(c, "no fit", slope=g, plane=plane_share)
             continue
         dist, seg = profile_distance(d, h, fit.rise, fit.run, fit.h0, fit.d0, metric)
         inl = dist < lim
@@ -602,6 +622,9 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
         faces, counts = np.unique(seg[inl], return_counts=True)
         faces = faces[counts >= p.face_pixels]
         if share < p.min_inliers or plane_share > p.plane_ratio * share or len(faces) < p.min_faces:
+            note(c, "inliers" if share < p.min_inliers else "plane" if len(faces) >= p.min_faces
+                 else "faces", slope=g, plane=plane_share, share=share, faces=len(faces),
+                 rise=fit.rise, run=fit.run)
             continue
         if c >= n_comp:
             # a sloping plane's points on the floor's level (the lowest plane's when no floor
@@ -610,10 +633,12 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
             lvl = fit.h0 + (faces // 2) * fit.rise
             faces = faces[(faces % 2 == 1) | (np.abs(lvl - planes.floor_level) >= fit.rise / 2)]
             if len(faces) < p.min_faces:
+                note(c, "faces", slope=g, plane=plane_share, share=share, faces=len(faces))
                 continue
         widths = [float(np.subtract(*np.percentile(lat[inl & (seg == fc)], [98, 2])))
                   for fc in faces]
         if np.median(widths) < p.min_width:
+            note(c, "face width", slope=g, share=share, width=np.median(widths))
             continue
         # the other unexplained pixels within the flight's extent that lie on its profile
         lo_l, hi_l = lat.min() - p.reach, lat.max() + p.reach
@@ -665,6 +690,8 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
                         and (dist2 < lim2).sum() >= p.join_share * len(rr)):
                     new.add(int(q.label))
         groups.append(new)
+        note(c, "kept", slope=g, plane=plane_share, share=share, faces=len(faces),
+             rise=fit.rise, run=fit.run)
     return (None if out is None else (out, groups, normals)), pixels
 
 
