@@ -158,22 +158,11 @@ def aggregate(rows) -> tuple[Counter, Counter]:
 
 
 def main(argv=None) -> int:
-    from stairs_census import census, census_parser
+    from stairs_census import census_cli
 
-    from planerel.errors import PlanerelError
-
-    ap = census_parser(__doc__.split("\n")[0])
-    ap.add_argument("--aggregate", action="store_true",
-                    help="print only the aggregate lines (no frame names or values)")
-    a = ap.parse_args(argv)
-    missing = [d for d in a.dirs if not Path(d).is_dir()]
-    if missing:
-        ap.error(f"no such folder: {', '.join(missing)}")
-    try:
-        rows = census(a.dirs, a.model, a.param, a.min_pixels, why=True)
-    except PlanerelError as e:
-        print(f"stair_step_why: {e}", file=sys.stderr)
-        return 2
+    a, rows = census_cli("stair_step_why", __doc__.split("\n")[0], argv, why=True)
+    if a is None:
+        return rows
     print("all", len(rows), dict(Counter(r["stage"] for r in rows).most_common()))
     first, anyf = aggregate(rows)
     print("why-all", dict(first.most_common()))

@@ -98,22 +98,11 @@ def aggregate(rows) -> tuple[Counter, list]:
 
 
 def main(argv=None) -> int:
-    from stairs_census import census, census_parser
+    from stairs_census import census_cli
 
-    from planerel.errors import PlanerelError
-
-    ap = census_parser(__doc__.split("\n")[0])
-    ap.add_argument("--aggregate", action="store_true",
-                    help="print only the aggregate lines (no frame names)")
-    a = ap.parse_args(argv)
-    missing = [d for d in a.dirs if not Path(d).is_dir()]
-    if missing:
-        ap.error(f"no such folder: {', '.join(missing)}")
-    try:
-        rows = census(a.dirs, a.model, a.param, a.min_pixels, extra=flight_clusters)
-    except PlanerelError as e:
-        print(f"stairfit_why: {e}", file=sys.stderr)
-        return 2
+    a, rows = census_cli("stairfit_why", __doc__.split("\n")[0], argv, extra=flight_clusters)
+    if a is None:
+        return rows
     verdicts, lost = aggregate(rows)
     print("all", len(rows), dict(Counter(r["stage"] for r in rows).most_common()))
     print("largest cluster", {f"{k[0]}: {k[1]}": v for k, v in sorted(verdicts.items())})

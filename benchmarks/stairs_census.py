@@ -231,6 +231,26 @@ def census_parser(description: str) -> argparse.ArgumentParser:
     return ap
 
 
+def census_cli(name: str, description: str, argv=None, **kw):
+    """The command line of a census tool with ``--aggregate`` (``stair_step_why.py``,
+    ``stairfit_why.py``): parse ``argv``, refuse a missing folder, run :func:`census` with
+    ``kw``.  Returns ``(args, rows)``, or ``(None, 2)`` after printing a planerel error."""
+    from planerel.errors import PlanerelError
+
+    ap = census_parser(description)
+    ap.add_argument("--aggregate", action="store_true",
+                    help="print only the aggregate lines (no frame names)")
+    a = ap.parse_args(argv)
+    missing = [d for d in a.dirs if not Path(d).is_dir()]
+    if missing:
+        ap.error(f"no such folder: {', '.join(missing)}")
+    try:
+        return a, census(a.dirs, a.model, a.param, a.min_pixels, **kw)
+    except PlanerelError as e:
+        print(f"{name}: {e}", file=sys.stderr)
+        return None, 2
+
+
 def main(argv=None) -> int:
     a = census_parser(__doc__.split("\n")[0]).parse_args(argv)
     rows = census(a.dirs, a.model, a.param, a.min_pixels)
