@@ -622,9 +622,10 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
         faces, counts = np.unique(seg[inl], return_counts=True)
         faces = faces[counts >= p.face_pixels]
         if share < p.min_inliers or plane_share > p.plane_ratio * share or len(faces) < p.min_faces:
-            note(c, "inliers" if share < p.min_inliers else "plane" if len(faces) >= p.min_faces
-                 else "faces", slope=g, plane=plane_share, share=share, faces=len(faces),
-                 rise=fit.rise, run=fit.run)
+            note(c, "inliers" if share < p.min_inliers
+                 else "plane" if plane_share > p.plane_ratio * share else "faces",
+                 slope=g, plane=plane_share, share=share, faces=len(faces), rise=fit.rise,
+                 run=fit.run)
             continue
         if c >= n_comp:
             # a sloping plane's points on the floor's level (the lowest plane's when no floor
