@@ -1414,6 +1414,17 @@ def _share(text: str) -> float:
     return v
 
 
+def _pixels(text: str) -> float:
+    """``--stereo-wave`` / ``--stereo-sigma``'s value: pixels of disparity, 0 or more."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = float("nan")
+    if not 0.0 <= v < float("inf"):
+        raise argparse.ArgumentTypeError(f"pixels of disparity, 0 or more, got {text!r}")
+    return v
+
+
 def _make(a) -> None:
     """Run ``make`` with parsed arguments ``a``."""
     W, H = (int(v) for v in a.size.lower().split("x"))
@@ -1446,11 +1457,11 @@ def _parser() -> argparse.ArgumentParser:
                    help="measure only this share of the floor's pixels, scattered (a dark floor, "
                         "or one an active sensor sees at a grazing angle: no plane grows on it); "
                         "off: the same scenes as before the option")
-    m.add_argument("--stereo-wave", type=float, default=None, metavar="PX",
+    m.add_argument("--stereo-wave", type=_pixels, default=None, metavar="PX",
                    help="with --sensor stereo: a smooth disparity error of PX px RMS correlated "
                         "over tens of pixels (a real D4xx camera's undulation); off: the same "
                         "scenes as before the option")
-    m.add_argument("--stereo-sigma", type=float, default=None, metavar="PX",
+    m.add_argument("--stereo-sigma", type=_pixels, default=None, metavar="PX",
                    help=f"with --sensor stereo: the matching noise, px RMS (default {STEREO_SIGMA})")
     s = sub.add_parser("score")
     s.add_argument("out")
@@ -1475,6 +1486,8 @@ def main(argv=None):
     ap = _parser()
     a = ap.parse_args(argv)
     if a.cmd == "make":
+        if a.sensor != "stereo" and (a.stereo_wave is not None or a.stereo_sigma is not None):
+            ap.error("--stereo-wave and --stereo-sigma are for --sensor stereo only")
         _make(a)
     elif a.cmd == "dev":
         for name in a.only or DEV_SETS:

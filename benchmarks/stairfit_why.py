@@ -41,31 +41,36 @@ TOP = 3
 MIN_IN = 50
 
 
-def stairfit_input(clf, cloud, labels, up):
-    """The planes the stairfit stage is given in ``describe_scene`` (measured with the
-    classifier's settings, split where stepped)."""
-    from planerel.features.planes import measure_planes
-    from planerel.features.relations import ProposalParams
-    from planerel.features.stepped import remeasure_stepped
+#: The last frame's stairfit verdicts (a frame with two flights is fitted once).
+_LAST: dict = {}
 
+
+def frame_verdicts(clf, cloud, labels, up) -> tuple:
+    """``(planes, why)``: the planes the stairfit stage is given in ``describe_scene``
+    (:func:`planerel.features.facts.measured_planes` with the classifier's settings) and the
+    stage's verdicts on them; the last frame's again for the same cloud."""
+    from planerel.features.facts import measured_planes
+    from planerel.features.relations import ProposalParams
+    from planerel.features.stairfit import _stepped_cluster_labels
+
+    if _LAST.get("cloud") is cloud:
+        return _LAST["got"]
     kw = clf._describe_kw
-    pp = kw.get("proposal_params") or ProposalParams()
-    planes = measure_planes(cloud, labels, up, kw.get("plane_params"), kw.get("gravity_params"))
-    if pp.split_stepped:
-        planes, _ = remeasure_stepped(cloud, planes, (pp.step_rise_min, pp.step_rise_max),
-                                      kw.get("plane_params"))
-    return planes
+    planes, _ = measured_planes(cloud, labels, up, kw.get("plane_params"),
+                                kw.get("gravity_params"),
+                                kw.get("proposal_params") or ProposalParams())
+    why: dict = {}
+    _stepped_cluster_labels(cloud, planes, why=why)
+    _LAST.update(cloud=cloud, got=(planes, why))
+    return planes, why
 
 
 def flight_clusters(clf, cloud, labels, desc, mask) -> dict:
     """:func:`stairs_census.census`'s ``extra``: the stairfit verdicts of the clusters in one
     flight (``mask``, ``(H, W)`` bool)."""
-    from planerel.features.stairfit import _stepped_cluster_labels
     from planerel.segment.noise import estimate_noise
 
-    planes = stairfit_input(clf, cloud, labels, desc.planes.up)
-    why: dict = {}
-    _stepped_cluster_labels(cloud, planes, why=why)
+    planes, why = frame_verdicts(clf, cloud, labels, desc.planes.up)
     valid = np.asarray(cloud.valid) & mask
     lab = np.asarray(planes.labels)
     out = {"unassigned": round(float((valid & (lab < 0)).sum()) / max(1, int(valid.sum())), 2),

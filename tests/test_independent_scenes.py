@@ -483,6 +483,20 @@ def test_tof_flying_pixels_lie_between_the_two_surfaces_of_a_jump():
     assert np.all(xyz[..., 2][mixed] <= clean[..., 2][mixed] + 1e-5)
 
 
+@pytest.mark.parametrize("bad", ["-0.1", "nan", "inf", "x"])
+def test_stereo_options_take_pixels_0_or_more(bad, capsys):
+    for opt in ("--stereo-wave", "--stereo-sigma"):
+        with pytest.raises(SystemExit):
+            ind._parser().parse_args(["make", "/x/out", "--sensor", "stereo", opt, bad])
+        assert "pixels of disparity" in capsys.readouterr().err
+    a = ind._parser().parse_args(["make", "/x/out", "--stereo-wave", "0.15", "--stereo-sigma", "0"])
+    assert (a.stereo_wave, a.stereo_sigma) == (0.15, 0.0)
+    # another sensor: refused before anything is written
+    with pytest.raises(SystemExit):
+        ind.main(["make", "/nonexistent/out", "--sensor", "kinect", "--stereo-wave", "0.1"])
+    assert "for --sensor stereo only" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("bad", ["1.5", "-0.1", "nan", "lots"])
 def test_speckle_floor_takes_only_a_share(bad, capsys):
     with pytest.raises(SystemExit):

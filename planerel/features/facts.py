@@ -301,11 +301,10 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     -------
     SceneDescription
     """
-    # (measure_planes, curved_objects, join_parts and open_wall_objects looked up in their
-    # modules at each call, the rest imported with this module: benchmarks/ab_describe.py
-    # times measure_planes there, tests stand in for the other three)
+    # (curved_objects, join_parts and open_wall_objects looked up in their modules at each
+    # call, as measure_planes is in measured_planes, the rest imported with this module:
+    # benchmarks/ab_describe.py times measure_planes there, tests stand in for the other three)
     from planerel.features.curved import curved_objects
-    from planerel.features.planes import measure_planes
 
     if not isinstance(scene_id, str) or not scene_id:
         raise InputError(f"a scene id must be a non-empty string, got {scene_id!r}")
@@ -315,14 +314,8 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     cp = curved_params or defaults(CurvedParams)
     far = sorted({int(v) for v in far})
     far_mask = np.isin(np.asarray(labels), far) if far else None
-    planes = measure_planes(cloud, labels, up, plane_params, gravity_params,
-                            gravity_labels=None if far_mask is None
-                            else np.where(far_mask, -1, labels), camera_height=camera_height)
-    parent = {}
-    if pp.split_stepped:
-        # treads joined into one sloping "plane" (a flight seen from above) come apart
-        planes, parent = remeasure_stepped(cloud, planes, (pp.step_rise_min, pp.step_rise_max),
-                                           plane_params)
+    planes, parent = measured_planes(cloud, labels, up, plane_params, gravity_params, pp,
+                                     far_mask=far_mask, camera_height=camera_height)
     flights = []
     pixels = None  # the stairfit stage's unexplained pixels, when curved can open from them
     if objects is None and cp.stepped_clusters:
@@ -413,6 +406,30 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     if far_mask is not None:
         desc = replace(desc, far=far_planes(desc, far_mask))
     return desc
+
+
+def measured_planes(cloud, labels, up, plane_params, gravity_params, proposal_params, *,
+                    far_mask=None, camera_height=None):
+    """The planes of ``labels`` measured as :func:`describe_scene` measures them before its
+    stairfit stage: with gravity (the planes ``far_mask`` covers left out of its estimate) and,
+    with ``proposal_params.split_stepped``, treads grown into one sloping plane split apart
+    (:func:`planerel.features.stepped.remeasure_stepped`).
+
+    Returns
+    -------
+    (PlaneSet, dict)
+        The planes and each split plane's parent label.
+    """
+    from planerel.features.planes import measure_planes  # (looked up at each call: see above)
+
+    pp = proposal_params
+    planes = measure_planes(cloud, labels, up, plane_params, gravity_params,
+                            gravity_labels=None if far_mask is None
+                            else np.where(far_mask, -1, labels), camera_height=camera_height)
+    if not pp.split_stepped:
+        return planes, {}
+    # treads joined into one sloping "plane" (a flight seen from above) come apart
+    return remeasure_stepped(cloud, planes, (pp.step_rise_min, pp.step_rise_max), plane_params)
 
 
 def inclined_beside(planes, rel) -> dict:
