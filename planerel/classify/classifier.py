@@ -592,6 +592,10 @@ class Classifier:
         #: (``decision.narrow_face_gate``, :mod:`planerel.features.face_shape`): the bound
         #: on height over width, or None when off
         self.narrow_face = decision.narrow_face_ratio if decision.narrow_face_gate else None
+        #: no ``ramp`` for an object whose sloping proof planes each have a part that does
+        #: not slope as the whole does (``decision.slope_parts_gate``,
+        #: :mod:`planerel.features.slope_parts`): the bound on ``|share - 1|``, or None when off
+        self.slope_parts = decision.slope_parts_tol if decision.slope_parts_gate else None
         #: no ``box`` or ``ramp`` proved through a plane only the far growing found
         #: (``decision.far_gate``; :meth:`_far_proofs`)
         self.far_gate = decision.far_gate
@@ -764,6 +768,8 @@ class Classifier:
             answers = self._narrow_faces(desc, answers, xyz)
         if self.far_gate and desc.far:
             answers = self._far_proofs(desc, answers)
+        if self.slope_parts is not None and xyz is not None and "ramp" in self.classes:
+            answers = self._slope_parts(desc, answers, xyz)
         return answers
 
     def _trim_flights(self, desc, answers, plane_ids, xyz) -> tuple:
@@ -889,6 +895,34 @@ class Classifier:
                     why = NarrowFaceRefusal(BOX, a.rule_index or 0,
                                             tuple(desc.plane_id(e.face) for e in ext),
                                             min(e.ratio for e in ext), float(self.narrow_face))
+                    a = _refuse(a, why)
+            out.append(a)
+        return tuple(out)
+
+    def _slope_parts(self, desc, answers, xyz) -> tuple:
+        """``decision.slope_parts_gate``: each ``ramp`` answer whose sloping proof planes
+        (those :func:`~planerel.features.slope_parts.slope_parts` can judge) each have a part
+        sloping more than ``slope_parts_tol`` off the whole's slope becomes ``other``, with a
+        :class:`~planerel.ilp.metrics.SlopePartsRefusal`."""
+        from planerel.features.slope_parts import slope_parts
+        from planerel.ilp.metrics import SlopePartsRefusal
+
+        lab = desc.labels
+        if lab is None or np.asarray(lab).shape != np.asarray(xyz).shape[:2]:
+            return answers
+        ids = {desc.plane_id(p.label): p for p in desc.planes}
+        out = []
+        for a in answers:
+            if a.klass == "ramp":
+                slopes = [ids[i] for i in a.proof_planes
+                          if i in ids and ids[i].orientation == "inclined"]
+                parts = [slope_parts(p, desc.planes.up, xyz, lab) for p in slopes]
+                parts = [q for q in parts if q is not None]
+                if parts and all(q.worst > self.slope_parts for q in parts):
+                    why = SlopePartsRefusal("ramp", a.rule_index or 0,
+                                            tuple(desc.plane_id(q.plane) for q in parts),
+                                            tuple(q.shares for q in parts),
+                                            float(self.slope_parts))
                     a = _refuse(a, why)
             out.append(a)
         return tuple(out)

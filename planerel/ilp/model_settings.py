@@ -33,6 +33,7 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 ``decision.hang_gate``, ``decision.hang_share``, ``decision.hang_drop``, ``decision.hang_level``,
 ``decision.hang_lines``, ``decision.long_lying_gate``, ``decision.long_lying_length``,
 ``decision.narrow_face_gate``, ``decision.narrow_face_ratio``, ``decision.far_gate``,
+``decision.slope_parts_gate``, ``decision.slope_parts_tol``,
 ``decision.cut_boxes``, ``decision.cut_reach``,
 ``decision.cut_margin``, ``decision.cut_corner``, ``decision.cut_pieces``).
 """

@@ -1,0 +1,116 @@
+"""Whether a sloping plane's parts slope as the whole does (wave83).
+
+A ramp is one flat slope: any part of it rises as steeply as the whole, in the same direction.
+A far floor piece that an active stereo camera's undulating depth tilted (docs/objects.md
+"A stereo pair as wavy as a real D4xx"), or two surfaces grown into one plane (a floor strip
+and the foot of a wall behind it), slopes only as a compromise of parts that do not: one part
+nearly level, another steep or tilted the other way.
+
+:func:`slope_parts` cuts a plane's points into four parts by their medians along its downhill
+direction and across it, fits each part's plane and returns each part's slope along the
+whole's downhill direction as a share of the whole's (1: the same slope).  The whole's slope is
+that of its own fit to the same points.  The decision's ``slope_parts_gate``
+(:meth:`planerel.classify.classifier.Classifier._slope_parts`) refuses ``ramp`` when a part of
+every measured sloping proof plane is off by more than ``slope_parts_tol``.
+
+Measured with the demo's model (docs/objects.md "A ramp's parts slope alike"): the 96 ramps
+it answers on eleven independent sets keep every part within 0.24 of the whole's slope (shares
+0.76-1.16), and 9 of the 12 ramps it answers on no ramp (far floor pieces at 2.7-5.4 m under
+the wavy stereo sensor, a far wall strip) have a part off by 0.52-2.4.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["SlopeParts", "slope_parts", "PARTS_MIN_POINTS"]
+
+#: Points each part needs for its plane to be fitted (fewer: the plane is not judged).
+PARTS_MIN_POINTS = 20
+
+
+@dataclass(frozen=True)
+class SlopeParts:
+    """One sloping plane's parts."""
+
+    #: the plane's label
+    plane: int
+    #: the whole's slope from level, degrees (its own fit to the points)
+    slope: float
+    #: each part's slope along the whole's downhill direction as a share of the whole's
+    #: (tangents; 1: the same slope, 0: level, negative: tilted the other way): the uphill
+    #: half's two quarters, then the downhill half's
+    shares: tuple
+
+    @property
+    def worst(self) -> float:
+        """The largest ``|share - 1|`` over the parts."""
+        return max(abs(s - 1.0) for s in self.shares)
+
+
+def _upward_normal(points: np.ndarray, up: np.ndarray) -> np.ndarray:
+    """The unit normal of the least-squares plane of ``points`` ``(N, 3)``, turned up."""
+    q = points - points.mean(axis=0)
+    _, vecs = np.linalg.eigh(q.T @ q)
+    n = vecs[:, 0]
+    return n if float(n @ up) >= 0 else -n
+
+
+def slope_parts(plane, up, xyz, labels, min_points: int = PARTS_MIN_POINTS,
+                min_slope: float = 1.0) -> SlopeParts | None:
+    """The parts of the sloping plane ``plane`` and how they slope.
+
+    Parameters
+    ----------
+    plane : planerel.features.planes.Plane
+        Its ``label`` is read.
+    up : array_like, shape (3,)
+        Gravity up in the sensor's frame.
+    xyz : ndarray, shape (H, W, 3)
+        Organized points (NaN where there is no depth).
+    labels : ndarray, shape (H, W)
+        The label image the plane's label indexes.
+    min_points : int
+        Points each of the four parts needs.
+    min_slope : float
+        Degrees: a plane whose own fit slopes less is not judged (its downhill direction is
+        noise).
+
+    Returns
+    -------
+    SlopeParts or None
+        None when the plane has too few points, or its fit slopes under ``min_slope``
+        degrees or faces sideways (more than 80 degrees from level).
+    """
+    up = np.asarray(up, dtype=np.float64)
+    up = up / np.linalg.norm(up)
+    xyz = np.asarray(xyz)
+    mask = np.asarray(labels) == plane.label
+    pts = xyz[mask].astype(np.float64, copy=False)
+    pts = pts[np.isfinite(pts).all(axis=1)]
+    if len(pts) < 4 * min_points:
+        return None
+    n = _upward_normal(pts, up)
+    rise = float(n @ up)
+    lean = n - rise * up
+    size = float(np.linalg.norm(lean))
+    slope = float(np.degrees(np.arctan2(size, rise)))
+    if not min_slope <= slope <= 80.0:
+        return None
+    down = lean / size                      # the whole's downhill direction, level
+    across = np.cross(up, down)
+    grade = size / rise                     # the whole's tangent along ``down``
+    q = pts - pts.mean(axis=0)
+    s, t = q @ down, q @ across
+    low, near = s <= np.median(s), t <= np.median(t)
+    shares = []
+    for a in (low, ~low):
+        for b in (near, ~near):
+            part = pts[a & b]
+            if len(part) < min_points:
+                return None
+            m = _upward_normal(part, up)
+            shares.append(float((m @ down) / (m @ up)) / grade)
+    return SlopeParts(int(plane.label), slope, tuple(shares))
