@@ -1213,9 +1213,31 @@ def default_min_pixels(out):
     return max(1, round(150 * W * H / (160 * 120)))
 
 
+def judged_matches(ans, side, truth, min_iou, min_pixels) -> tuple:
+    """How one scene's answer ``ans`` matches its objects (``side``: the scene's sidecar,
+    ``truth``: its object image): ``(scores, judged, matched)``, the
+    :func:`planerel.features.object_eval.score_objects` result, the sidecar's objects that are
+    judged (visible, at least ``min_pixels`` pixels) and the indices of the proposals that
+    match one of them at IoU >= ``min_iou``.  :func:`score_set` and
+    ``spurious_answers.py`` judge with it."""
+    from planerel.features.object_eval import proposal_image, score_objects
+
+    prop = proposal_image(ans.labels, [o.labels for o in ans.objects])
+    types = {o["index"]: o["class"] for o in side["objects"]}
+    sc = score_objects(prop, truth, types=types, min_iou=min_iou)
+    judged, matched = [], set()
+    for o in side["objects"]:
+        k = o["index"]
+        if k not in sc.best_iou or (truth == k).sum() < min_pixels:
+            continue  # not visible, or under min_pixels (1 % of the image): not judged
+        judged.append(o)
+        if sc.best_iou[k] >= min_iou:
+            matched.add(sc.best_prop[k])
+    return sc, judged, matched
+
+
 def score_set(out, models, figures=None, min_iou=0.5, min_pixels=None, by_planes=False):
     from planerel.classify.classifier import Classifier, explanation_image
-    from planerel.features.object_eval import proposal_image, score_objects
     from planerel.io import readers as io
 
     out = Path(out)
@@ -1234,20 +1256,13 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=None, by_planes
                 cloud = io.read(p)
                 ans = clf.classify(cloud, scene_id=p.stem)
                 t_all.append(ans.seconds)
-                prop = proposal_image(ans.labels, [o.labels for o in ans.objects])
-                types = {o["index"]: o["class"] for o in side["objects"]}
-                sc = score_objects(prop, truth, types=types, min_iou=min_iou)
-                matched = set()
+                sc, judged, matched = judged_matches(ans, side, truth, min_iou, min_pixels)
                 bad = False
                 ori = None  # the scene's plane orientations, described once when needed
-                for o in side["objects"]:
+                for o in judged:
                     k = o["index"]
-                    if k not in sc.best_iou or (truth == k).sum() < min_pixels:
-                        continue  # not visible, or under min_pixels (1 % of the image): not judged
                     iou = sc.best_iou[k]
                     pred = ans.objects[sc.best_prop[k]].klass if iou >= min_iou else "none"
-                    if iou >= min_iou:
-                        matched.add(sc.best_prop[k])
                     rows.append({"scene": p.stem, "object": k, "class": o["class"], "kind": o["kind"],
                                  "pred": pred, "iou": round(iou, 3),
                                  "pixels": int((truth == k).sum())})

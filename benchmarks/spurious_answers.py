@@ -27,7 +27,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from independent_scenes import default_min_pixels  # noqa: E402
+from independent_scenes import default_min_pixels, judged_matches  # noqa: E402
 
 
 def _label_of(name) -> int | None:
@@ -51,7 +51,6 @@ def lies_on(mask, truth, kinds: dict) -> tuple[str, float]:
 
 def set_rows(clf, out, min_iou: float = 0.5, min_pixels: int | None = None) -> list[dict]:
     """The answers on unmatched proposals of one set (one dict a answer)."""
-    from planerel.features.object_eval import proposal_image, score_objects
     from planerel.io import readers as io
 
     out = Path(out)
@@ -61,15 +60,9 @@ def set_rows(clf, out, min_iou: float = 0.5, min_pixels: int | None = None) -> l
         side = json.loads(p.with_suffix(".json").read_text())
         truth = np.load(p.with_name(p.stem + ".objects.npy"))
         ans = clf.classify(io.read(p), scene_id=p.stem)
-        prop = proposal_image(ans.labels, [o.labels for o in ans.objects])
-        types = {o["index"]: o["class"] for o in side["objects"]}
         kinds = {o["index"]: o["kind"] for o in side["objects"]}
-        sc = score_objects(prop, truth, types=types, min_iou=min_iou)
-        matched = set()
-        for o in side["objects"]:  # the objects score judges, as independent_scenes.score_set
-            k = o["index"]
-            if k in sc.best_iou and (truth == k).sum() >= min_pixels and sc.best_iou[k] >= min_iou:
-                matched.add(sc.best_prop[k])
+        # the objects score judges and the proposals matching them, as score_set's
+        _sc, _judged, matched = judged_matches(ans, side, truth, min_iou, min_pixels)
         lab = np.asarray(ans.labels)
         for j, o in enumerate(ans.objects):
             if j in matched or o.klass == "other":
