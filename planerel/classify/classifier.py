@@ -333,6 +333,28 @@ def _under_eye(planes, labels) -> bool:
                for lab in labels)
 
 
+def _proof_plane_gate(desc, answers, xyz, klass: str, orientation: str, measure, refusal):
+    """A decision gate on the proof planes of one orientation: each ``klass`` answer's proof
+    planes of ``orientation`` are measured, ``measure(plane, up, xyz, labels)`` (None: the plane
+    is not judged), and ``refusal(answer, measures)`` (over the judged planes, at least one)
+    gives the refusal that turns it to ``other`` (:func:`_refuse`), or None to keep it.  The
+    answers as they are when the description's labels do not index ``xyz``."""
+    lab = desc.labels
+    if lab is None or np.asarray(lab).shape != np.asarray(xyz).shape[:2]:
+        return answers
+    ids = {desc.plane_id(p.label): p for p in desc.planes}
+    out = []
+    for a in answers:
+        if a.klass == klass:
+            planes = [ids[i] for i in a.proof_planes if i in ids and ids[i].orientation == orientation]
+            got = [m for m in (measure(p, desc.planes.up, xyz, lab) for p in planes) if m is not None]
+            why = refusal(a, got) if got else None
+            if why is not None:
+                a = _refuse(a, why)
+        out.append(a)
+    return tuple(out)
+
+
 def _refuse(a, why):
     """The answer ``a`` turned to ``other`` by a decision gate, ``why`` (the gate's refusal)
     added to its refusals."""
@@ -880,24 +902,18 @@ class Classifier:
         from planerel.features.face_shape import face_extent
         from planerel.ilp.metrics import NarrowFaceRefusal
 
-        lab = desc.labels
-        if lab is None or np.asarray(lab).shape != np.asarray(xyz).shape[:2]:
-            return answers
-        ids = {desc.plane_id(p.label): p for p in desc.planes}
-        out = []
-        for a in answers:
-            if a.klass == BOX:
-                faces = [ids[i] for i in a.proof_planes
-                         if i in ids and ids[i].orientation == "vertical"]
-                ext = [face_extent(f, desc.planes.up, xyz, lab) for f in faces]
-                ext = [e for e in ext if e is not None and not e.cut]
-                if ext and all(e.ratio > self.narrow_face for e in ext):
-                    why = NarrowFaceRefusal(BOX, a.rule_index or 0,
-                                            tuple(desc.plane_id(e.face) for e in ext),
-                                            min(e.ratio for e in ext), float(self.narrow_face))
-                    a = _refuse(a, why)
-            out.append(a)
-        return tuple(out)
+        def measure(face, up, xyz, lab):
+            e = face_extent(face, up, xyz, lab)
+            return e if e is not None and not e.cut else None
+
+        def refusal(a, ext):
+            if not all(e.ratio > self.narrow_face for e in ext):
+                return None
+            return NarrowFaceRefusal(BOX, a.rule_index or 0,
+                                     tuple(desc.plane_id(e.face) for e in ext),
+                                     min(e.ratio for e in ext), float(self.narrow_face))
+
+        return _proof_plane_gate(desc, answers, xyz, BOX, "vertical", measure, refusal)
 
     def _slope_parts(self, desc, answers, xyz) -> tuple:
         """``decision.slope_parts_gate``: each ``ramp`` answer whose sloping proof planes
@@ -907,25 +923,14 @@ class Classifier:
         from planerel.features.slope_parts import slope_parts
         from planerel.ilp.metrics import SlopePartsRefusal
 
-        lab = desc.labels
-        if lab is None or np.asarray(lab).shape != np.asarray(xyz).shape[:2]:
-            return answers
-        ids = {desc.plane_id(p.label): p for p in desc.planes}
-        out = []
-        for a in answers:
-            if a.klass == "ramp":
-                slopes = [ids[i] for i in a.proof_planes
-                          if i in ids and ids[i].orientation == "inclined"]
-                parts = [slope_parts(p, desc.planes.up, xyz, lab) for p in slopes]
-                parts = [q for q in parts if q is not None]
-                if parts and all(q.worst > self.slope_parts for q in parts):
-                    why = SlopePartsRefusal("ramp", a.rule_index or 0,
-                                            tuple(desc.plane_id(q.plane) for q in parts),
-                                            tuple(q.shares for q in parts),
-                                            float(self.slope_parts))
-                    a = _refuse(a, why)
-            out.append(a)
-        return tuple(out)
+        def refusal(a, parts):
+            if not all(q.worst > self.slope_parts for q in parts):
+                return None
+            return SlopePartsRefusal("ramp", a.rule_index or 0,
+                                     tuple(desc.plane_id(q.plane) for q in parts),
+                                     tuple(q.shares for q in parts), float(self.slope_parts))
+
+        return _proof_plane_gate(desc, answers, xyz, "ramp", "inclined", slope_parts, refusal)
 
     def _flight_sides(self, desc, answers, xyz) -> tuple:
         """``decision.flight_side_gate``: each ``box`` answer that runs beside a flight
