@@ -53,12 +53,14 @@ class SlopeParts:
         return max(abs(s - 1.0) for s in self.shares)
 
 
-def _upward_normal(points: np.ndarray, up: np.ndarray) -> np.ndarray:
-    """The unit normal of the least-squares plane of ``points`` ``(N, 3)``, turned up."""
-    q = points - points.mean(axis=0)
-    _, vecs = np.linalg.eigh(q.T @ q)
-    n = vecs[:, 0]
-    return n if float(n @ up) >= 0 else -n
+def _upward_normals(points: np.ndarray, part: np.ndarray, n: int, up: np.ndarray) -> np.ndarray:
+    """``(n, 3)``: the unit normals of the least-squares planes of the ``n`` parts of
+    ``points`` ``(N, 3)`` (``part`` ``(N,)``: each point's part, 0 .. n - 1), turned up (the
+    segmentation's plane fit, :func:`planerel.segment.result.fit_planes`)."""
+    from planerel.segment.result import fit_planes
+
+    normals = fit_planes(points, part, n)[0]
+    return normals * np.where(normals @ up >= 0, 1.0, -1.0)[:, None]
 
 
 def slope_parts(plane, up, xyz, labels, min_points: int = PARTS_MIN_POINTS,
@@ -97,7 +99,7 @@ def slope_parts(plane, up, xyz, labels, min_points: int = PARTS_MIN_POINTS,
     pts = pts[np.isfinite(pts).all(axis=1)]
     if len(pts) < 4 * min_points:
         return None
-    n = _upward_normal(pts, up)
+    n = _upward_normals(pts, np.zeros(len(pts), np.int32), 1, up)[0]
     rise = float(n @ up)
     lean = n - rise * up
     size = float(np.linalg.norm(lean))
@@ -109,14 +111,11 @@ def slope_parts(plane, up, xyz, labels, min_points: int = PARTS_MIN_POINTS,
     grade = size / rise                     # the whole's tangent along ``down``
     q = pts - pts.mean(axis=0)
     s, t = q @ down, q @ across
-    uphill, side = s <= np.median(s), t <= np.median(t)
-    shares = []
-    for a in (uphill, ~uphill):
-        for b in (side, ~side):
-            part = pts[a & b]
-            if len(part) < min_points:
-                return None
-            m = _upward_normal(part, up)
-            # an upright part (m . up = 0) slopes without bound: a share of 1e9 or more
-            shares.append(float(m @ down) / max(float(m @ up), 1e-9) / grade)
-    return SlopeParts(int(plane.label), slope, tuple(shares))
+    # the quarters: 0, 1 the uphill half's (its two sides), 2, 3 the downhill half's
+    part = (2 * (s > np.median(s)) + (t > np.median(t))).astype(np.int32)
+    if np.bincount(part, minlength=4).min() < min_points:
+        return None
+    m = _upward_normals(pts, part, 4, up)
+    # an upright part (m . up = 0) slopes without bound: a share of 1e9 or more
+    shares = (m @ down) / np.maximum(m @ up, 1e-9) / grade
+    return SlopeParts(int(plane.label), slope, tuple(float(v) for v in shares))
