@@ -111,10 +111,12 @@ class StairFitParams:
     join_share: float = 0.8
     join_reach: float = 0.35
     inclined_planes: bool = True
+    wavy_noise: bool = True
+    wavy_min_inliers: float = 0.65
 
     def __post_init__(self) -> None:
         for name in ("edge_depth", "tiny_area", "min_inliers", "plane_ratio", "keep", "reach",
-                     "min_width", "join_share", "join_reach"):
+                     "min_width", "join_share", "join_reach", "wavy_min_inliers"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v < 0:
                 raise InputError(f"{name} must be a number >= 0, got {v!r}")
@@ -122,7 +124,7 @@ class StairFitParams:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
                 raise InputError(f"{name} must be a number > 0, got {v!r}")
-        for name in ("ray_noise", "join_planes", "inclined_planes"):
+        for name in ("ray_noise", "join_planes", "inclined_planes", "wavy_noise"):
             if not isinstance(getattr(self, name), (bool, np.bool_)):
                 raise InputError(f"{name} must be True or False, got {getattr(self, name)!r}")
         for name in ("min_pixels", "min_faces", "face_pixels", "max_fit_points"):
@@ -220,7 +222,7 @@ def ray_metric(points, f, up, sigma_z, floor):
     return np.column_stack([(1 - c * vd * vd) / a, -c * vd * vh / a, (1 - c * vh * vh) / a])
 
 
-def depth_sigma(cloud):
+def depth_sigma(cloud, wavy: bool = False):
     """``sigma_z(z)``: the depth noise along the rays of ``cloud`` (rule step 3), or None.
 
     The sensor's noise model measured in the cloud (:func:`planerel.segment.noise.estimate_noise`,
@@ -230,20 +232,29 @@ def depth_sigma(cloud):
     single band at 2 m fits a constant as well as ``z^2``).  None when the cloud is too small
     or too broken to measure it (not ``reliable``): the scale of the noise is then unknown and
     the fit keeps the isotropic tolerance ``tol``.
+
+    With ``wavy``, on a frame whose depth undulates (an active stereo camera's:
+    :attr:`planerel.segment.noise.NoiseModel.wavy`) the noise is that times the frame's
+    ``wave``: the pixel-to-pixel noise the model measures is then a fraction of the error a
+    face's points carry over the tens of pixels a step spans (docs/objects.md, "A staircase
+    profile at a wavy camera's noise").
     """
     from planerel.segment.noise import estimate_noise
 
     if not getattr(cloud, "organized", False):
         return None
-    model = estimate_noise(cloud)
+    model = estimate_noise(cloud, waviness=True) if wavy else estimate_noise(cloud)
     if not model.reliable or model.kind == "none":
         return None
     zb = model.bands[-1][0] if model.bands else model.z_median
     sb = float(model.sigma(zb))
+    k = float(model.wave) if wavy and model.wavy else 1.0
 
     def sigma(z):
         z = np.asarray(z, float)
-        return np.maximum(model.sigma(z), np.where(z > zb, sb * (z / zb) ** 2, 0.0))
+        return k * np.maximum(model.sigma(z), np.where(z > zb, sb * (z / zb) ** 2, 0.0))
+
+    sigma.wavy = k > 1.0
 
     return sigma
 
@@ -297,6 +308,18 @@ def fit_profile(d, h, tol, params: StairFitParams | None = None, slope=None,
     h0 = j / N_PHASES * r
     d0 = (h0 - r / 2 - (float(h.mean()) - s * float(d.mean()))) / s
     return ProfileFit(s, r, r / s, h0, d0, float(cost.flat[k]))
+
+
+def _resolved(P, fit: ProfileFit, sigma_z, sigmas: float) -> bool:
+    """Whether the profile's treads stand apart in the noise (rule step 4, on a wavy frame):
+    each face's points are taken within ``sigmas`` noise sigmas of it, so two treads a rise
+    apart are told apart only when ``rise >= 2 sigmas sigma_z`` at the points' median depth.
+    Under that the bands of the levels cover all heights and any cloud fits some profile (a
+    floor 5-8 m from a D4xx did, at 0.67-0.96 of its points).  ``sigma_z`` along the ray,
+    not its part across the profile: a wavy camera's error moves a face as a whole.
+
+    ``P`` ``(N, 3)`` the cluster's points."""
+    return bool(fit.rise >= 2.0 * sigmas * float(sigma_z(np.median(P[:, 2]))))
 
 
 def _tolerance(z, p: StairFitParams):
@@ -586,7 +609,7 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
             continue  # no face can be min_width wide (step 4), no fit needed
         d = P @ f
         if p.ray_noise and sigma_z is None:
-            sigma_z = depth_sigma(cloud) or False
+            sigma_z = depth_sigma(cloud, p.wavy_noise) or False
         if sigma_z:
             metric = ray_metric(P, f, up, sigma_z(P[:, 2]), p.noise_floor)
             lim = np.full(len(d), float(p.sigmas))
@@ -616,13 +639,18 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
         if fit is None:
             note(c, "no fit", slope=g, plane=plane_share)
             continue
+        wavy = bool(sigma_z) and sigma_z.wavy
+        if wavy and not _resolved(P, fit, sigma_z, p.sigmas):
+            note(c, "resolve", slope=g, plane=plane_share, rise=fit.rise)
+            continue
         dist, seg = profile_distance(d, h, fit.rise, fit.run, fit.h0, fit.d0, metric)
         inl = dist < lim
         share = float(inl.mean())
         faces, counts = np.unique(seg[inl], return_counts=True)
         faces = faces[counts >= p.face_pixels]
-        if share < p.min_inliers or plane_share > p.plane_ratio * share or len(faces) < p.min_faces:
-            note(c, "inliers" if share < p.min_inliers
+        min_in = p.wavy_min_inliers if wavy else p.min_inliers
+        if share < min_in or plane_share > p.plane_ratio * share or len(faces) < p.min_faces:
+            note(c, "inliers" if share < min_in
                  else "plane" if plane_share > p.plane_ratio * share else "faces",
                  slope=g, plane=plane_share, share=share, faces=len(faces), rise=fit.rise,
                  run=fit.run)
