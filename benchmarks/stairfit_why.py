@@ -16,7 +16,8 @@ camera's undulation, 3 or more) and its ``clusters``: the :data:`TOP` candidate 
 most pixels in it (``pixels`` in the flight, ``size``, ``plane``: a segmented inclined plane,
 not unexplained pixels), each with the first test it fails: ``narrow`` (no direction spans the
 least width), ``slope``, ``taken`` (by a flight fitted before), ``plane`` (a plane explains the
-points as well as a profile), ``no fit``, ``inliers`` (under ``min_inliers`` of its points on
+points as well as a profile), ``no fit``, ``resolve`` (on a wavy frame, a rise under the
+noise bands of its levels), ``inliers`` (under ``min_inliers`` of its points on
 the profile), ``faces``, ``face width``, or ``kept``, and the measures it got that far
 (``slope``, ``plane`` and ``share`` within the truncation, ``faces``, ``rise``, ``run``).
 Clusters under ``min_pixels`` are ``small``.

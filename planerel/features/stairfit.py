@@ -39,7 +39,10 @@ The rule (:func:`stepped_cluster_labels`):
    points as well as the profile (docs/results.md, "Far flights ...").  When the cloud's noise
    cannot be measured (``depth_sigma`` None) the distances are metres, truncated at the
    isotropic ``tol(z) = clip(a + b z^2, lo, hi)`` (about two sigmas of a Kinect-like sensor).
-4. **Test.**  The fit is kept when at least ``min_inliers`` of the points lie within the
+   On a wavy frame (an active stereo camera's depth, ``NoiseModel.wavy``) with ``wavy_noise``
+   the noise is the measured one times the frame's ``wave`` (:func:`depth_sigma`).
+4. **Test.**  The fit is kept when at least ``min_inliers`` (``wavy_min_inliers`` on a wavy
+   frame, with the rise at least ``2 sigmas`` noise sigmas: :func:`_resolved`) of the points lie within the
    truncation of the polyline, at most ``plane_ratio`` times that share within it of the plane
    of step 2 (in the same metric; a ramp or a noisy flat patch fits its plane as well as any
    staircase), and at least ``min_faces`` treads or risers hold ``face_pixels`` inliers each,
