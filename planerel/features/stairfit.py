@@ -41,15 +41,15 @@ The rule (:func:`stepped_cluster_labels`):
    isotropic ``tol(z) = clip(a + b z^2, lo, hi)`` (about two sigmas of a Kinect-like sensor).
    On a wavy frame (an active stereo camera's depth, ``NoiseModel.wavy``) with ``wavy_noise``
    the noise is the measured one times the frame's ``wave`` (:func:`depth_sigma`).
-4. **Test.**  The fit is kept when at least ``min_inliers`` (``wavy_min_inliers`` on a wavy
-   frame, with the rise at least ``2 sigmas`` noise sigmas: :func:`_resolved`) of the points lie within the
-   truncation of the polyline, at most ``plane_ratio`` times that share within it of the plane
-   of step 2 (in the same metric; a ramp or a noisy flat patch fits its plane as well as any
-   staircase), and at least ``min_faces`` treads or risers hold ``face_pixels`` inliers each,
-   and the faces are at least ``min_width`` wide across the flight (median over the faces of
-   the 2-98 % range of the inliers' horizontal coordinate across the flight: a flight is at
-   least 0.6 m wide, the stepped pieces of furniture and clutter of a real office are
-   0.07-0.38 m wide).
+4. **Test.**  The fit is kept when at least ``min_inliers`` of the points lie within the
+   truncation of the polyline (on a wavy frame ``wavy_min_inliers``, and the rise must be at
+   least ``2 sigmas`` noise sigmas: :func:`_resolved`), at most ``plane_ratio`` times that
+   share within it of the plane of step 2 (in the same metric; a ramp or a noisy flat patch
+   fits its plane as well as any staircase), and at least ``min_faces`` treads or risers hold
+   ``face_pixels`` inliers each, and the faces are at least ``min_width`` wide across the
+   flight (median over the faces of the 2-98 % range of the inliers' horizontal coordinate
+   across the flight: a flight is at least 0.6 m wide, the stepped pieces of furniture and
+   clutter of a real office are 0.07-0.38 m wide).
 5. **Labels.**  Each such face becomes a plane (new labels after the largest one) of the
    points within ``keep`` truncations of it; then the unexplained pixels of the other clusters
    that lie within the fitted flight's extent (its lateral extent widened by ``reach`` metres,
@@ -241,6 +241,8 @@ def depth_sigma(cloud, wavy: bool = False):
     ``wave``: the pixel-to-pixel noise the model measures is then a fraction of the error a
     face's points carry over the tens of pixels a step spans (docs/objects.md, "A staircase
     profile at a wavy camera's noise").
+
+    The function returned has the attribute ``wavy``: whether it was so scaled.
     """
     from planerel.segment.noise import estimate_noise
 
