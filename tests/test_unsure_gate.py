@@ -50,6 +50,17 @@ def test_decide_applies_it():
     assert best[0] == "ramp" and not refused
 
 
+def test_a_speckle_floor_reading_is_named_in_the_refusal():
+    kept, (r,) = M.unsure_refusals(HITS, STATS, (0.58, False, True))
+    assert [h[0] for h in kept] == ["box"] and r.sparse_floor and not r.upside_down
+    assert "speckle decided (0.58)" in r.reason and r.to_dict()["sparse_floor"] is True
+    assert M.unsure_refusals(HITS, STATS, 0.27)[1][0].sparse_floor is False
+    assert M.unsure_refusals(HITS, STATS, (0.56, True))[1][0].sparse_floor is False
+    assert M.DecisionParams().unsure_sparse is True
+    with pytest.raises(InputError, match="unsure_sparse"):
+        M.DecisionParams(unsure_sparse=0)
+
+
 def test_decision_setting_is_checked():
     assert M.DecisionParams().unsure_gate is True
     with pytest.raises(InputError, match="unsure_gate"):
@@ -66,9 +77,11 @@ def test_an_upside_down_reading_is_named_in_the_refusal():
         M.DecisionParams(unsure_upside="yes")
 
 
-def _answers(model, rects, *, source="given", confidence=1.0, upside_down=False, **view):
+def _answers(model, rects, *, source="given", confidence=1.0, upside_down=False,
+             sparse_floor=False, **view):
     """The scene's answers with its described up marked as ``source`` of ``confidence``
-    (read upside down when ``upside_down``)."""
+    (read upside down when ``upside_down``, decided by a speckle floor when
+    ``sparse_floor``)."""
     from planerel.classify.classifier import Classifier
     from planerel.features.facts import describe_scene
     from planerel.ilp.scenes import segment_cached
@@ -78,7 +91,7 @@ def _answers(model, rects, *, source="given", confidence=1.0, upside_down=False,
         labels = segment_cached(cloud, method=clf.method, params=clf.seg_params)
         desc = describe_scene(cloud, labels, scene_id="s", up=up, **clf._describe_kw)
         planes = dataclasses.replace(desc.planes, up_source=source, up_confidence=confidence,
-                                     up_upside_down=upside_down)
+                                     up_upside_down=upside_down, up_sparse_floor=sparse_floor)
         desc = dataclasses.replace(desc, planes=planes)
         answers = clf.answer_description(desc, xyz=cloud.xyz)
     return desc, answers
@@ -142,3 +155,27 @@ def test_a_slope_under_an_upside_down_reading_is_no_ramp(tmp_path):
     _desc, answers = _answers(model, [floor()] + rects, source="estimated", confidence=0.9,
                               **VIEW)
     assert len(_ramps(answers)) == 1   # the same reading not flipped: a ramp on its floor
+
+
+def test_a_slope_under_a_speckle_floor_reading_with_no_floor_is_no_ramp(tmp_path):
+    """sparse85: an estimate a speckle floor decided counts as unconfirmed however confident
+    when no floor plane is in view (hunt57's workbench from 0.7 m, 18 degrees off at
+    confidence 0.58, its top a "ramp"); with a floor plane in view, under a given up, or with
+    ``unsure_sparse`` off, the ramp stays."""
+    rects = ramp(0.0, 1.6, 15.0, 1.5, 1.0)
+    model = _model(tmp_path / "m")
+    desc, answers = _answers(model, rects, source="estimated", confidence=0.9,
+                             sparse_floor=True, **VIEW)
+    assert desc.planes.floor is None and not _ramps(answers)
+    (r,) = [r for a in answers for r in a.refused if isinstance(r, M.UnsureRefusal)]
+    assert r.sparse_floor and r.confidence == pytest.approx(0.9)
+    _desc, answers = _answers(model, rects, source="estimated", confidence=0.9, **VIEW)
+    assert len(_ramps(answers)) == 1   # the same estimate from planes: not in doubt
+    _desc, answers = _answers(model, rects, source="given", sparse_floor=True, **VIEW)
+    assert len(_ramps(answers)) == 1   # a given up is never in doubt
+    _desc, answers = _answers(_model(tmp_path / "off", unsure_sparse=False), rects,
+                              source="estimated", confidence=0.9, sparse_floor=True, **VIEW)
+    assert len(_ramps(answers)) == 1
+    desc, answers = _answers(model, [floor()] + rects, source="estimated", confidence=0.9,
+                             sparse_floor=True, **VIEW)
+    assert desc.planes.floor is not None and len(_ramps(answers)) == 1

@@ -574,6 +574,9 @@ class Classifier:
         self.unsure_gate = decision.unsure_gate
         #: ... and under an estimated up read upside down (``decision.unsure_upside``)
         self.unsure_upside = decision.unsure_upside
+        #: ... and under an estimated up a speckle floor decided, no floor plane in view
+        #: (``decision.unsure_sparse``)
+        self.unsure_sparse = decision.unsure_sparse
         #: no ``box`` through an upright plane that is a facet of a round side
         #: (:func:`~planerel.ilp.metrics.facet_refusals`; ``decision.facet_gate``): ``(low,
         #: high)`` degrees, or None when off; a scan's decision, as the foot and side gates
@@ -1114,6 +1117,11 @@ class Classifier:
             if (desc.planes.floor is None
                     and desc.planes.up_low(None if gravity is None else gravity.low_confidence)):
                 unsure = float(desc.planes.up_confidence)
+            elif (self.unsure_sparse and desc.planes.floor is None
+                  and desc.planes.up_sparse_floor and desc.planes.up_source == "estimated"):
+                # a speckle fit of the image's low unassigned points decided the up, and no
+                # floor plane attests it
+                unsure = (float(desc.planes.up_confidence), False, True)
             elif (self.unsure_upside and desc.planes.up_upside_down
                   and desc.planes.up_source == "estimated"):
                 # with or without a floor: under a wrong flip the "floor" is the ceiling

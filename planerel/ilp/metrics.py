@@ -237,6 +237,8 @@ UNSURE_GATE = True
 UNSURE_CLASS = "ramp"
 #: Default of :attr:`DecisionParams.unsure_upside`.
 UNSURE_UPSIDE = True
+#: Default of :attr:`DecisionParams.unsure_sparse` (sparse85).
+UNSURE_SPARSE = True
 
 
 @dataclass(frozen=True)
@@ -436,6 +438,14 @@ class DecisionParams:
         development frames read upside down whose truth is known, six of eight are wrong;
         hunt58's lab (no floor) had a ceiling panel answered ``ramp``, and its office frame
         (the ceiling taken for the floor) one under ``wide_fallback``.
+    unsure_sparse : bool
+        With ``unsure_gate``, an estimated up that a floor measured only as speckle decided
+        (``gravity.sparse_floor``, :attr:`~planerel.features.planes.PlaneSet.up_sparse_floor`)
+        counts as unconfirmed too when no floor plane is in view, whatever its confidence: the
+        speckle fit takes whatever unassigned points lie low in the image, and with no floor
+        plane nothing else attests it.  sparse85: hunt57's workbench seen from 0.7 m (no floor
+        in view) was read 18 degrees off by such a fit, at confidence 0.58, and its top answered
+        ``ramp``.
     unsure_gate : bool
         Refuse ``ramp`` when the scene's up is an estimate flagged low-confidence
         (``gravity.low_confidence``) and no floor plane is in view (:func:`unsure_refusals`).
@@ -663,6 +673,7 @@ class DecisionParams:
     side_gate: bool = SIDE_GATE
     unsure_gate: bool = UNSURE_GATE
     unsure_upside: bool = UNSURE_UPSIDE
+    unsure_sparse: bool = UNSURE_SPARSE
     facet_gate: bool = FACET_GATE
     facet_min: float = FACET_MIN
     facet_max: float = FACET_MAX
@@ -701,7 +712,8 @@ class DecisionParams:
     def __post_init__(self):
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
-                     "side_gate", "unsure_gate", "unsure_upside", "facet_gate", "facet_bridge",
+                     "side_gate", "unsure_gate", "unsure_upside", "unsure_sparse", "facet_gate",
+                     "facet_bridge",
                      "cut_boxes", "cut_split", "pitch_gate",
                      "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate",
                      "narrow_face_gate", "far_gate", "slope_parts_gate"):
@@ -1595,9 +1607,16 @@ class UnsureRefusal:
     confidence: float
     #: the estimate is the upside-down reading (``decision.unsure_upside``)
     upside_down: bool = False
+    #: the estimate is a speckle floor's, no floor plane in view (``decision.unsure_sparse``)
+    sparse_floor: bool = False
 
     @property
     def reason(self) -> str:
+        if self.sparse_floor:
+            return (f"rule {self.rule} proves it with a slope measured against an up that a "
+                    f"floor seen only as speckle decided ({self.confidence:.2f}), and no floor "
+                    f"plane is in view: nothing confirms that speckle is the floor; pass --up "
+                    f"when the camera's pose is known")
         if self.upside_down:
             return (f"rule {self.rule} proves it with a slope measured against an up estimated "
                     f"upside down ({self.confidence:.2f}): such a reading is most often wrong "
@@ -1610,7 +1629,7 @@ class UnsureRefusal:
     def to_dict(self) -> dict:
         return {"class": self.klass, "rule": self.rule,
                 "confidence": round(self.confidence, 4), "upside_down": self.upside_down,
-                "reason": self.reason}
+                "sparse_floor": self.sparse_floor, "reason": self.reason}
 
 
 def unsure_refusals(hits, stats: Sequence, unsure=None):
@@ -1624,11 +1643,12 @@ def unsure_refusals(hits, stats: Sequence, unsure=None):
 
     Parameters
     ----------
-    unsure : float, (float, bool) or None
+    unsure : float, (float, bool), (float, bool, bool) or None
         The up estimate's confidence when the scene's up is low-confidence and it has no
-        floor plane, or ``(confidence, True)`` when the estimate is read upside down
-        (``decision.unsure_upside``); None: the gate is off or the scene's up is not in
-        doubt.
+        floor plane, ``(confidence, True)`` when the estimate is read upside down
+        (``decision.unsure_upside``), ``(confidence, False, True)`` when a speckle floor
+        decided it and no floor plane is in view (``decision.unsure_sparse``); None: the gate
+        is off or the scene's up is not in doubt.
 
     Returns
     -------
@@ -1638,9 +1658,10 @@ def unsure_refusals(hits, stats: Sequence, unsure=None):
     """
     if unsure is None or not any(h[0] == UNSURE_CLASS for h in hits):
         return list(hits), ()
-    conf, upside = unsure if isinstance(unsure, tuple) else (unsure, False)
+    conf, upside, sparse = (tuple(unsure) + (False,))[:3] if isinstance(unsure, tuple) else (
+        unsure, False, False)
     return _refuse_hits(hits, stats, lambda hit: UnsureRefusal(UNSURE_CLASS, hit[1], float(conf),
-                                                               bool(upside))
+                                                               bool(upside), bool(sparse))
                         if hit[0] == UNSURE_CLASS else None)
 
 

@@ -22,7 +22,7 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 ``decision.NAME`` one of :class:`~planerel.ilp.metrics.DecisionParams` (``decision.planar_gate``,
 ``decision.planar_margin``, ``decision.proof_gate``, ``decision.proof_margin``,
 ``decision.veto_ratio``, ``decision.level_gate``, ``decision.flight_gate``,
-``decision.flight_fragments``, ``decision.unsure_gate``, ``decision.unsure_upside``, ``decision.size_gate``, ``decision.size_margin``, ``decision.slender_gate``,
+``decision.flight_fragments``, ``decision.unsure_gate``, ``decision.unsure_upside``, ``decision.unsure_sparse``, ``decision.size_gate``, ``decision.size_margin``, ``decision.slender_gate``,
 ``decision.slender_margin``, ``decision.range_gate``, ``decision.range_margin``,
 ``decision.range_classes``, ``decision.facet_gate``, ``decision.facet_min``,
 ``decision.facet_max``, ``decision.facet_bridge``, ``decision.pitch_gate``,
