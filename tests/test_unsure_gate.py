@@ -132,23 +132,31 @@ def test_a_ramp_on_a_floor_in_view_stays_under_a_doubtful_up(tmp_path):
     assert desc.planes.floor is not None and len(_ramps(answers)) == 1
 
 
+def _doubted(tmp_path, switch: str, **reading):
+    """A ray-cast 15-degree slope with no floor in view under an estimate of confidence 0.9
+    read as ``reading``: refused by the unsure gate (its refusal returned, with the model and
+    the slope), kept under a given up and with the model's ``switch`` off."""
+    rects = ramp(0.0, 1.6, 15.0, 1.5, 1.0)
+    model = _model(tmp_path / "m")
+    desc, answers = _answers(model, rects, source="estimated", confidence=0.9, **reading, **VIEW)
+    assert desc.planes.floor is None and not _ramps(answers)
+    (r,) = [r for a in answers for r in a.refused if isinstance(r, M.UnsureRefusal)]
+    assert r.confidence == pytest.approx(0.9)
+    _desc, answers = _answers(model, rects, source="given", **reading, **VIEW)
+    assert len(_ramps(answers)) == 1   # a given up is never in doubt
+    _desc, answers = _answers(_model(tmp_path / "off", **{switch: False}), rects,
+                              source="estimated", confidence=0.9, **reading, **VIEW)
+    assert len(_ramps(answers)) == 1
+    return model, rects, r
+
+
 def test_a_slope_under_an_upside_down_reading_is_no_ramp(tmp_path):
     """up66: an estimate read upside down counts as unconfirmed however confident, with no floor
     in view (hunt58's lab: a ceiling panel 22 degrees off under the flipped up, confidence
     0.56) or one (its office frame: the ceiling taken for the floor); under a given up, or with
     ``unsure_upside`` off, the ramp stays."""
-    rects = ramp(0.0, 1.6, 15.0, 1.5, 1.0)
-    model = _model(tmp_path / "m")
-    _desc, answers = _answers(model, rects, source="estimated", confidence=0.9, upside_down=True,
-                              **VIEW)
-    assert not _ramps(answers)
-    (r,) = [r for a in answers for r in a.refused if isinstance(r, M.UnsureRefusal)]
-    assert r.upside_down and r.confidence == pytest.approx(0.9)
-    _desc, answers = _answers(model, rects, source="given", upside_down=True, **VIEW)
-    assert len(_ramps(answers)) == 1   # a given up is never in doubt
-    _desc, answers = _answers(_model(tmp_path / "off", unsure_upside=False), rects,
-                              source="estimated", confidence=0.9, upside_down=True, **VIEW)
-    assert len(_ramps(answers)) == 1
+    model, rects, r = _doubted(tmp_path, "unsure_upside", upside_down=True)
+    assert r.upside_down and not r.sparse_floor
     desc, answers = _answers(model, [floor()] + rects, source="estimated", confidence=0.9,
                              upside_down=True, **VIEW)
     assert desc.planes.floor is not None and not _ramps(answers)
@@ -162,20 +170,10 @@ def test_a_slope_under_a_speckle_floor_reading_with_no_floor_is_no_ramp(tmp_path
     when no floor plane is in view (hunt57's workbench from 0.7 m, 18 degrees off at
     confidence 0.58, its top a "ramp"); with a floor plane in view, under a given up, or with
     ``unsure_sparse`` off, the ramp stays."""
-    rects = ramp(0.0, 1.6, 15.0, 1.5, 1.0)
-    model = _model(tmp_path / "m")
-    desc, answers = _answers(model, rects, source="estimated", confidence=0.9,
-                             sparse_floor=True, **VIEW)
-    assert desc.planes.floor is None and not _ramps(answers)
-    (r,) = [r for a in answers for r in a.refused if isinstance(r, M.UnsureRefusal)]
-    assert r.sparse_floor and r.confidence == pytest.approx(0.9)
+    model, rects, r = _doubted(tmp_path, "unsure_sparse", sparse_floor=True)
+    assert r.sparse_floor and not r.upside_down
     _desc, answers = _answers(model, rects, source="estimated", confidence=0.9, **VIEW)
     assert len(_ramps(answers)) == 1   # the same estimate from planes: not in doubt
-    _desc, answers = _answers(model, rects, source="given", sparse_floor=True, **VIEW)
-    assert len(_ramps(answers)) == 1   # a given up is never in doubt
-    _desc, answers = _answers(_model(tmp_path / "off", unsure_sparse=False), rects,
-                              source="estimated", confidence=0.9, sparse_floor=True, **VIEW)
-    assert len(_ramps(answers)) == 1
     desc, answers = _answers(model, [floor()] + rects, source="estimated", confidence=0.9,
                              sparse_floor=True, **VIEW)
     assert desc.planes.floor is not None and len(_ramps(answers)) == 1
