@@ -1598,12 +1598,13 @@ def pitch_refusals(hits, stats: Sequence, pitch=None, tol: float = PITCH_TOL):
 @dataclass(frozen=True)
 class UnsureRefusal:
     """``ramp`` proved in a scene whose up is a low-confidence estimate with no floor in view,
-    or an estimate read upside down (:func:`unsure_refusals`)."""
+    an estimate read upside down, or one a speckle floor decided with no floor plane in view
+    (:func:`unsure_refusals`)."""
 
     klass: str
     rule: int
     #: the up estimate's confidence (under ``gravity.low_confidence``, or any when
-    #: ``upside_down``)
+    #: ``upside_down`` or ``sparse_floor``)
     confidence: float
     #: the estimate is the upside-down reading (``decision.unsure_upside``)
     upside_down: bool = False
