@@ -490,8 +490,8 @@ def _stepped_cluster_labels(cloud, planes, params: StairFitParams | None = None,
         ``"clusters"``: ``(rows, cols, ids, n_comp, sizes)`` of the candidate pixels (ids of
         ``n_comp`` and above: segmented inclined planes), ``"verdicts"``: ``{cluster: (test,
         measures)}`` for each cluster of ``min_pixels`` or more, the first test of rule steps
-        2-4 it fails (``narrow``, ``slope``, ``taken``, ``plane``, ``no fit``, ``inliers``,
-        ``faces``, ``face width``) or ``kept``.
+        2-4 it fails (``narrow``, ``slope``, ``taken``, ``plane``, ``no fit``, ``resolve``,
+        ``inliers``, ``faces``, ``face width``) or ``kept``.
 
     Returns
     -------

@@ -1659,8 +1659,8 @@ def unsure_refusals(hits, stats: Sequence, unsure=None):
     """
     if unsure is None or not any(h[0] == UNSURE_CLASS for h in hits):
         return list(hits), ()
-    conf, upside, sparse = (tuple(unsure) + (False,))[:3] if isinstance(unsure, tuple) else (
-        unsure, False, False)
+    # a bare confidence, (confidence, upside down) or (confidence, upside down, speckle floor)
+    conf, upside, sparse = (*(unsure if isinstance(unsure, tuple) else (unsure,)), False, False)[:3]
     return _refuse_hits(hits, stats, lambda hit: UnsureRefusal(UNSURE_CLASS, hit[1], float(conf),
                                                                bool(upside), bool(sparse))
                         if hit[0] == UNSURE_CLASS else None)
