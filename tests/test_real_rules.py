@@ -565,15 +565,24 @@ def test_slopes_standing_on_no_floor_are_no_ramps(demo_model):
     m), the top of a sofa's back (lounge, 0.84 m), each with its low end in plain view, and a
     far floor strip bent through the floor (lab012, 0.11 m under it).  The foot gate
     (``decision.foot_gate``, :func:`planerel.ilp.metrics.foot_refusals`) refuses them; the
-    boxes and staircases found stay (docs/results.md, "A ramp stands on the floor")."""
+    boxes and staircases found stay (docs/results.md, "A ramp stands on the floor").
+    The sets as rebuilt from their repositories on 2026-12-06 (session 86: the first copies
+    were lost with the machine): aims-lab holds a third frame, lab036 (three far slopes the
+    foot gate refuses), and the lounge's sofa back is no ramp with the Kinect v2's usual
+    intrinsics (the first copy's are not known).  The slope-parts gate (wave83, later) refuses
+    all but lab060's shelf on its own, so the foot gate's share is measured with it off."""
     sets = [HUNT_DATA / "hidden28" / n for n in ("aims-lab", "nyu-slambook", "tuinicr-room")]
     rows = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA")
-    off = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", ["decision.foot_gate=false"])
+    off = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA",
+                       ["decision.foot_gate=false", "decision.slope_parts_gate=false"])
+    parts = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", ["decision.foot_gate=false"])
 
     def ramps(rs):
         return sorted(name for name, r in rs.items() for f in r["false"] if f[0] == "ramp")
 
-    assert ramps(off) == ["dining4_depth", "lab012_depth", "lab060_depth", "lounge_k2depth_depth"]
+    assert ramps(off) == ["dining4_depth", "lab012_depth"] + ["lab036_depth"] * 3 \
+        + ["lab060_depth"] * 2
+    assert ramps(parts) == ["lab060_depth"]
     assert ramps(rows) == []
     on, was = _totals(rows), _totals(off)
     assert {k: v for k, v in on.items() if k != "false_ramp"} == \
