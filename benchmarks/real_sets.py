@@ -279,6 +279,36 @@ def _kinect_raw_depth(data: bytes) -> bytes:
     return _npy_bytes(np.where(keep, cm / 100, 0).astype(np.float32))
 
 
+def _nyu_pgm(data: bytes) -> bytes:
+    """A NYU Depth v2 raw depth frame (a binary PGM, ``P5``, of 16-bit values: the Kinect v1's
+    raw disparity, 2047 = none) as float32 metres, 0 = none: ``351.3 / (1092.5 - raw)``, the
+    conversion Open3D applies (``RGBDImage::CreateFromNYUFormat``), kept within its 7 m
+    truncation; a raw value at or over 1092.5 (no depth, or beyond the formula's range) is 0.
+    The values are stored little-endian, against the PGM convention (Open3D's example reads
+    them big-endian and its C++ swaps the bytes back): read big-endian, a frame's values
+    spread over 4-65287 instead of 839-2047.
+
+    Returns
+    -------
+    bytes
+        A ``.npy`` of the image's shape ``(H, W)``.
+    """
+    import re
+
+    import numpy as np
+
+    head = re.match(rb"P5\s+(?:#[^\n]*\n\s*)*(\d+)\s+(?:#[^\n]*\n\s*)*(\d+)\s+"
+                    rb"(?:#[^\n]*\n\s*)*(\d+)\s", data)
+    if head is None or int(head.group(3)) < 256:
+        raise SetError("a NYU raw depth frame must be a 16-bit binary PGM (P5, maxval >= 256)")
+    w, h = int(head.group(1)), int(head.group(2))
+    raw = np.frombuffer(data, dtype="<u2", count=w * h, offset=head.end()).reshape(h, w)
+    raw = raw.astype(np.float64)
+    depth = np.where(raw < 1092.5, 351.3 / np.where(raw < 1092.5, 1092.5 - raw, 1.0), 0.0)
+    depth[(depth <= 0) | (depth > 7.0)] = 0.0
+    return _npy_bytes(depth.astype(np.float32))
+
+
 def _mat_cloud(data: bytes, var: str) -> bytes:
     """An organized cloud stored as a MATLAB variable ``var`` (``(H, W, 3)`` metres; points at
     the origin mean no data) as a float64 ``.npy`` with NaN for no data."""
@@ -378,6 +408,7 @@ CONVERTERS = {
     "npy_squeeze": lambda data, _: _npy_bytes(_npy(data)[..., 0]),
     "mat_cloud": _mat_cloud,
     "kinect_raw_depth": lambda data, _: _kinect_raw_depth(data),
+    "nyu_pgm": lambda data, _: _nyu_pgm(data),   # NYU Depth v2 raw disparity PGM as metres
     "f200_depth": lambda data, _: _f200_depth(data),
     # float64 metres stored as float32 (the sensor's steps are coarser than float32's)
     "npy_float32": lambda data, _: _npy_bytes(_npy(data).astype("float32")),

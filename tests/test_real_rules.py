@@ -443,7 +443,12 @@ def test_furniture_longer_than_any_box_is_no_box(demo_model):
     gate (``decision.size_gate``) refuses a box proof binding a plane (a face's height, a top's
     length) over 1.2 times the furthest of the training box proofs' (1.23 m).  The sideboard of dining3-5 (its top 0.5-1.2 m, its
     front 0.9 m: box-shaped furniture the labels mark no class) stays a false box
-    (docs/objects.md, "False boxes on real rooms")."""
+    (docs/objects.md, "False boxes on real rooms").
+    The sets as rebuilt from their repositories on 2026-12-06 (session 86; the first copies
+    were lost with the machine, and their intrinsics are not known): the rules and gates of
+    today no longer prove the wardrobe, the jamb or the cabinet even with the size gate off, so
+    its refusals are measured here no more (``tests/test_size_gate.py`` tests the gate); what
+    stays is that these rooms' furniture gets no box answer but the sideboard."""
     sets = [HUNT_DATA / "hidden26" / "open3d-rgbd", HUNT_DATA / "hidden28" / "nyu-slambook"]
     rows = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA")
     assert len(rows) == 8
@@ -455,9 +460,7 @@ def test_furniture_longer_than_any_box_is_no_box(demo_model):
         assert boxes(rows[name]) == [], (name, rows[name]["false"])
     for name in ("dining3_depth", "dining4_depth", "dining5_depth"):   # the sideboard
         assert boxes(rows[name]) == [("box", 1)], (name, rows[name]["false"])
-    off = _unseen_rows(sets[:1], demo_model, "PLANEREL_HUNT_DATA", ["decision.size_gate=false"])
-    assert boxes(off["nyu_basement_depth"]) == [("box", 2), ("box", 2)]
-    assert boxes(off["sun_corridor_depth"]) == [("box", 2)]
+    assert boxes(rows["tum_desk_depth"]) == []
 
 
 def test_boxes_seen_from_straight_above_lie_on_the_board_around_them(demo_model):

@@ -236,6 +236,24 @@ def test_the_kinect_raw_disparity_becomes_metres_by_the_repositorys_formula():
     assert real_sets._npy(real_sets.convert("npy_nan_to_zero", buf.getvalue())).tolist() == [[0.0, 1.5]]
 
 
+def test_a_nyu_raw_pgm_becomes_metres_by_open3ds_formula():
+    import numpy as np
+
+    raw = np.array([[0, 600, 1000], [1092, 1093, 2047]], np.uint16)
+    pgm = b"P5\n# a comment\n3 2\n65535\n" + raw.astype("<u2").tobytes()   # NYU's byte order
+    got = real_sets._npy(real_sets.convert("nyu_pgm", pgm))
+    want = 351.3 / (1092.5 - raw.astype(np.float64))      # Open3D's CreateFromNYUFormat
+    assert got.dtype == np.float32 and got.shape == (2, 3)
+    assert np.isclose(got[0, 1], want[0, 1]) and np.isclose(got[0, 2], want[0, 2])
+    assert got[0, 2] > got[0, 1] > got[0, 0] > 0           # larger disparity value, farther
+    assert got[1, 0] == 0                                  # 702 m: past the 7 m truncation
+    assert got[1, 1] == 0 and got[1, 2] == 0               # past the formula's range: none
+    with pytest.raises(real_sets.SetError, match="16-bit binary PGM"):
+        real_sets.convert("nyu_pgm", b"P5\n3 2\n255\n" + bytes(6))
+    with pytest.raises(real_sets.SetError, match="could not read"):
+        real_sets.convert("nyu_pgm", b"P5\n3 2\n65535\n" + bytes(4))   # truncated
+
+
 def test_a_matlab_cloud_and_a_one_channel_array_are_converted(tmp_path):
     import io
 
