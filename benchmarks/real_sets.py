@@ -304,8 +304,10 @@ def _nyu_pgm(data: bytes) -> bytes:
     w, h = int(head.group(1)), int(head.group(2))
     raw = np.frombuffer(data, dtype="<u2", count=w * h, offset=head.end()).reshape(h, w)
     raw = raw.astype(np.float64)
-    depth = np.where(raw < 1092.5, 351.3 / np.where(raw < 1092.5, 1092.5 - raw, 1.0), 0.0)
-    depth[(depth <= 0) | (depth > 7.0)] = 0.0
+    depth = np.zeros_like(raw)
+    ok = raw < 1092.5
+    depth[ok] = 351.3 / (1092.5 - raw[ok])
+    depth[depth > 7.0] = 0.0
     return _npy_bytes(depth.astype(np.float32))
 
 

@@ -446,9 +446,10 @@ def test_furniture_longer_than_any_box_is_no_box(demo_model):
     (docs/objects.md, "False boxes on real rooms").
     The sets as rebuilt from their repositories on 2026-12-06 (session 86; the first copies
     were lost with the machine, and their intrinsics are not known): the rules and gates of
-    today no longer prove the wardrobe, the jamb or the cabinet even with the size gate off, so
-    its refusals are measured here no more (``tests/test_size_gate.py`` tests the gate); what
-    stays is that these rooms' furniture gets no box answer but the sideboard."""
+    today no longer prove the wardrobe, the jamb or the cabinet even with the size gate off (the
+    last assertion), so the gate's refusals are measured here no more
+    (``tests/test_size_gate.py`` tests the gate); what stays is that these rooms' furniture
+    gets no box answer but the sideboard."""
     sets = [HUNT_DATA / "hidden26" / "open3d-rgbd", HUNT_DATA / "hidden28" / "nyu-slambook"]
     rows = _unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA")
     assert len(rows) == 8
@@ -461,6 +462,9 @@ def test_furniture_longer_than_any_box_is_no_box(demo_model):
     for name in ("dining3_depth", "dining4_depth", "dining5_depth"):   # the sideboard
         assert boxes(rows[name]) == [("box", 1)], (name, rows[name]["false"])
     assert boxes(rows["tum_desk_depth"]) == []
+    off = _unseen_rows(sets[:1], demo_model, "PLANEREL_HUNT_DATA", ["decision.size_gate=false"])
+    for name in ("nyu_basement_depth", "sun_corridor_depth"):
+        assert boxes(off[name]) == [], (name, off[name]["false"])
 
 
 def test_boxes_seen_from_straight_above_lie_on_the_board_around_them(demo_model):
