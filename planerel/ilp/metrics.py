@@ -713,8 +713,7 @@ class DecisionParams:
         for gate in ("planar_gate", "proof_gate", "level_gate", "flight_gate",
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
                      "side_gate", "unsure_gate", "unsure_upside", "unsure_sparse", "facet_gate",
-                     "facet_bridge",
-                     "cut_boxes", "cut_split", "pitch_gate",
+                     "facet_bridge", "cut_boxes", "cut_split", "pitch_gate",
                      "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate",
                      "narrow_face_gate", "far_gate", "slope_parts_gate"):
             if not isinstance(getattr(self, gate), bool):
@@ -1659,8 +1658,10 @@ def unsure_refusals(hits, stats: Sequence, unsure=None):
     """
     if unsure is None or not any(h[0] == UNSURE_CLASS for h in hits):
         return list(hits), ()
-    # a bare confidence, (confidence, upside down) or (confidence, upside down, speckle floor)
-    conf, upside, sparse = (*(unsure if isinstance(unsure, tuple) else (unsure,)), False, False)[:3]
+    # a bare confidence, (confidence, upside down) or (confidence, upside down, speckle floor);
+    # the flags left out are False
+    parts = tuple(unsure) if isinstance(unsure, tuple) else (unsure,)
+    conf, upside, sparse = parts + (False,) * (3 - len(parts))
     return _refuse_hits(hits, stats, lambda hit: UnsureRefusal(UNSURE_CLASS, hit[1], float(conf),
                                                                bool(upside), bool(sparse))
                         if hit[0] == UNSURE_CLASS else None)
