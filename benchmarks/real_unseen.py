@@ -13,7 +13,8 @@ Each ``DIR`` holds frames from a public repository (never copied into planerel) 
                  "up": [x, y, z],                       (optional; else estimated)
                  "camera_height": 0.06,                 (optional: metres over the floor)
                  "objects": [{"class": "stairs", "box": [x0, y0, x1, y1], "what": "..."}],
-                 "unscored": [[x0, y0, x1, y1]]},       (optional)
+                 "unscored": [[x0, y0, x1, y1]],        (optional)
+                 "flat": [{"box": [x0, y0, x1, y1], "what": "..."}]},  (optional)
                 ...]}
 
 ``box`` is a pixel rectangle (columns ``x0:x1``, rows ``y0:y1``) around one labelled object of
@@ -22,7 +23,11 @@ class.  An answer (an object ``planerel classify`` calls a class) is *right* whe
 half of its pixels lie in a rectangle of its class, *unscored* when half lie in an
 ``unscored`` rectangle (something whose shape the frame does not tell), and *false*
 otherwise.  A labelled object is *found* when a right answer lies in it, and *called* the
-classes of every answer with half of its pixels in it.
+classes of every answer with half of its pixels in it.  ``flat`` rectangles mark flat things
+that are none of the classes lying on a table or the floor (a keyboard, a shut laptop, a
+plate, a tray, a mat): they are of no class like everything unlabelled, and each is reported
+with the classes and rules of the answers with half of their pixels in it, so the false boxes
+made of flat things are counted apart (the ``hunt88`` sets, docs/objects.md).
 
 The sets of 2026-11-30 (docs/objects.md, "Real frames nobody on the team had seen"):
 
@@ -76,6 +81,11 @@ def read_labels(folder: str) -> dict:
                     or not isinstance(box, list) or len(box) != 4):
                 raise InputError(f"{path}: {f['file']}: an object needs a 'class' of "
                                  f"{', '.join(CLASSES)} and a 'box' [x0, y0, x1, y1]")
+        for o in f.get("flat", []):
+            box = o.get("box") if isinstance(o, dict) else None
+            if not isinstance(box, list) or len(box) != 4:
+                raise InputError(f"{path}: {f['file']}: a flat thing needs a 'box' "
+                                 f"[x0, y0, x1, y1]")
     return doc
 
 
@@ -103,12 +113,15 @@ def score_frame(answer, frame: dict) -> dict:
     dict
         ``objects`` (per labelled object: ``class``, ``found``, ``called``), ``right``,
         ``false`` (``[(class, rule index, share of its pixels in the best labelled
-        rectangle)]``), ``unscored``.
+        rectangle)]``), ``unscored``, ``flat`` (per ``flat`` rectangle: ``what`` and
+        ``called``, ``[(class, rule index)]`` of the answers with half of their pixels in it).
     """
     lab = np.asarray(answer.labels)
     shape = lab.shape
     labelled = [(o, rect_mask(shape, o["box"])) for o in frame.get("objects", [])]
     unscored = [rect_mask(shape, b) for b in frame.get("unscored", [])]
+    flats = [(f, rect_mask(shape, f["box"])) for f in frame.get("flat", [])]
+    flat_called = [[] for _ in flats]
     called = [[] for _ in labelled]
     found = [False] * len(labelled)
     right, false, skipped = [], [], []
@@ -120,6 +133,9 @@ def score_frame(answer, frame: dict) -> dict:
         if n == 0:
             continue
         shares = [float((pix & m).sum()) / n for _, m in labelled]
+        for i, (_, m) in enumerate(flats):
+            if float((pix & m).sum()) / n >= 0.5:
+                flat_called[i].append((o.klass, o.rule_index))
         for i, s in enumerate(shares):
             if s >= 0.5:
                 called[i].append(o.klass)
@@ -134,7 +150,9 @@ def score_frame(answer, frame: dict) -> dict:
             false.append((o.klass, o.rule_index, round(max(shares, default=0.0), 2)))
     return {"objects": [{"class": o["class"], "what": o.get("what", ""), "found": f, "called": c}
                         for (o, _), f, c in zip(labelled, found, called, strict=True)],
-            "right": right, "false": false, "unscored": skipped}
+            "right": right, "false": false, "unscored": skipped,
+            "flat": [{"what": f.get("what", ""), "called": c}
+                     for (f, _), c in zip(flats, flat_called, strict=True)]}
 
 
 def read_frame(folder: str, frame: dict):
@@ -196,6 +214,10 @@ def totals(rows) -> dict:
         out[f"{k}_found"] = sum(o["found"] for o in objs)
         out[f"{k}_labelled"] = len(objs)
         out[f"false_{k}"] = sum(1 for r in rows for f in r["false"] if f[0] == k)
+    flats = [f for r in rows for f in r.get("flat", [])]
+    out["flat_labelled"] = len(flats)
+    for k in CLASSES:
+        out[f"flat_called_{k}"] = sum(1 for f in flats if any(c[0] == k for c in f["called"]))
     return out
 
 
@@ -218,6 +240,11 @@ def main(argv=None) -> int:
     print("found: " + ", ".join(f"{k} {t[f'{k}_found']}/{t[f'{k}_labelled']}" for k in CLASSES)
           + "; false answers: " + ", ".join(f"{k} {t[f'false_{k}']}" for k in CLASSES)
           + f" ({t['frames']} frames)")
+    if t["flat_labelled"]:
+        rules = sorted({c[1] for r in rows for f in r["flat"] for c in f["called"]})
+        print(f"flat things: {t['flat_labelled']}; called " + ", ".join(
+            f"{k} {t[f'flat_called_{k}']}" for k in CLASSES)
+              + (f" (rules {', '.join(map(str, rules))})" if rules else ""))
     if a.json:
         from planerel.atomic import write_text
 

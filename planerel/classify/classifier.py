@@ -78,7 +78,7 @@ class ObjectAnswer:
         Fraction of the object's points in flat planes (:mod:`planerel.features.curved`).
     curved : bool or None
         The planar fraction is below the model's ``curved.curved_below``: a round object.
-    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal, LevelRefusal, FlightRefusal, FootRefusal, SideRefusal, UnsureRefusal, FacetRefusal, FlightSideRefusal and VetoRefusal
+    refused : tuple of Refusal, ProofRefusal, SizeRefusal, SlenderRefusal, RangeRefusal, LevelRefusal, FlightRefusal, FootRefusal, SideRefusal, UnsureRefusal, FacetRefusal, FlightSideRefusal, CrowdRefusal and VetoRefusal
         Classes whose rules proved the object and that the decision refused for it: its
         planar fraction lies under ``1 - decision.planar_margin`` times the least planar of
         the class's training positives (with ``decision.planar_gate``;
@@ -613,6 +613,9 @@ class Classifier:
         #: no ``box`` for an object proved by a top alone longer than a lying box's
         #: (``decision.long_lying_gate``): the bound in metres, or None when off
         self.long_lying = decision.long_lying_length if decision.long_lying_gate else None
+        #: no ``box`` for an object of more planes than a box shows (``decision.crowd_gate``):
+        #: the bound, or None when off
+        self.crowd = decision.crowd_planes if decision.crowd_gate else None
         #: no ``box`` for an object whose upright proof faces are all far taller than wide
         #: (``decision.narrow_face_gate``, :mod:`planerel.features.face_shape`): the bound
         #: on height over width, or None when off
@@ -789,6 +792,8 @@ class Classifier:
             answers = self._hanging(desc, answers, xyz)
         if self.long_lying is not None and BOX in self.classes:
             answers = self._long_lying(desc, answers)
+        if self.crowd is not None and BOX in self.classes:
+            answers = self._crowded(answers)
         if self.narrow_face is not None and xyz is not None and BOX in self.classes:
             answers = self._narrow_faces(desc, answers, xyz)
         if self.far_gate and desc.far:
@@ -880,6 +885,15 @@ class Classifier:
                         a = _refuse(a, why)
             out.append(a)
         return tuple(out)
+
+    def _crowded(self, answers) -> tuple:
+        """``decision.crowd_gate``: each ``box`` answer whose object holds more than
+        ``crowd_planes`` planes becomes ``other``, with a
+        :class:`~planerel.ilp.metrics.CrowdRefusal`."""
+        from planerel.ilp.metrics import CrowdRefusal
+
+        return tuple(_refuse(a, CrowdRefusal(BOX, a.rule_index or 0, len(a.labels), self.crowd))
+                     if a.klass == BOX and len(a.labels) > self.crowd else a for a in answers)
 
     def _far_proofs(self, desc, answers) -> tuple:
         """``decision.far_gate``: each ``box`` or ``ramp`` answer whose proof binds a plane of

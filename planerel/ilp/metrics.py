@@ -216,6 +216,9 @@ HANG_LINES = 8
 #: Defaults of :attr:`DecisionParams.long_lying_gate` and its bound (fbox58).
 LONG_LYING_GATE = True
 LONG_LYING_LENGTH = 0.4
+#: Defaults of :attr:`DecisionParams.crowd_gate` and its bound (crowd88).
+CROWD_GATE = True
+CROWD_PLANES = 20
 #: Default of :attr:`DecisionParams.far_gate` (lead61).
 FAR_GATE = True
 #: Defaults of :attr:`DecisionParams.narrow_face_gate` and its bound (fbox59).
@@ -554,6 +557,19 @@ class DecisionParams:
         becomes ``other``.  Only classify applies it.
     long_lying_length : float
         Metres (>= 0): 0.4.
+    crowd_gate : bool
+        On by default (crowd88, 2026-12-06).  No ``box`` for an object of more than
+        ``crowd_planes`` planes: a box shows at most three faces, which a real sensor's noise
+        and labels cut into pieces, and what stands on it or against it joins it; a proposal
+        of more planes than that is a piece of furniture with what it carries or a desk with
+        everything on it.  On the real development frames the right box answers' proposals
+        hold 1-18 planes (18: a pile of product boxes, ucn 000006; 5 answers of 8-10), the
+        false ones 23-33 in six answers: a chest of drawers with a television and a console
+        on it (three frames), a desk and all on it seen without a floor, a sofa's seat and
+        front, a table-top's far edge with the background behind it (docs/objects.md, "Flat
+        things and crowded proposals (hunt88)").  The answer becomes ``other``.  Only classify applies it.
+    crowd_planes : int
+        Whole number >= 1 (20).
     far_gate : bool
         On by default (lead61); it refuses something only when the segmentation's far
         growing (``far_theta``) added planes.  No ``box`` or ``ramp`` for an object whose proof
@@ -697,6 +713,8 @@ class DecisionParams:
     hang_lines: int = HANG_LINES
     long_lying_gate: bool = LONG_LYING_GATE
     long_lying_length: float = LONG_LYING_LENGTH
+    crowd_gate: bool = CROWD_GATE
+    crowd_planes: int = CROWD_PLANES
     far_gate: bool = FAR_GATE
     narrow_face_gate: bool = NARROW_FACE_GATE
     narrow_face_ratio: float = NARROW_FACE_RATIO
@@ -714,7 +732,7 @@ class DecisionParams:
                      "flight_fragments", "size_gate", "slender_gate", "range_gate", "foot_gate",
                      "side_gate", "unsure_gate", "unsure_upside", "unsure_sparse", "facet_gate",
                      "facet_bridge", "cut_boxes", "cut_split", "pitch_gate",
-                     "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate",
+                     "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate", "crowd_gate",
                      "narrow_face_gate", "far_gate", "slope_parts_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
@@ -763,6 +781,9 @@ class DecisionParams:
         n = self.hang_lines
         if isinstance(n, bool) or not isinstance(n, int) or n < 1:
             raise InputError(f"decision.hang_lines must be a whole number >= 1, got {n!r}")
+        n = self.crowd_planes
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            raise InputError(f"decision.crowd_planes must be a whole number >= 1, got {n!r}")
         n = self.proof_min_positives
         if isinstance(n, bool) or not isinstance(n, int) or n < 1:
             raise InputError(f"decision.proof_min_positives must be a whole number >= 1, got {n!r}")
@@ -1943,6 +1964,28 @@ class LongLyingRefusal:
     def to_dict(self) -> dict:
         return {"class": self.klass, "rule": self.rule, "top": self.top,
                 "length": round(self.length, 3), "bound": self.bound, "reason": self.reason}
+
+
+@dataclass(frozen=True)
+class CrowdRefusal:
+    """``box`` for an object of more planes than a box shows (``decision.crowd_gate``)."""
+
+    klass: str
+    rule: int
+    #: the object's number of planes
+    planes: int
+    #: the gate's bound
+    bound: int
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it, but the object holds {self.planes} planes, over "
+                f"{self.bound}: a box shows at most three faces; so many planes are furniture "
+                f"with what it carries, or a desk with everything on it")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "planes": self.planes,
+                "bound": self.bound, "reason": self.reason}
 
 
 @dataclass(frozen=True)
