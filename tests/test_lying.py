@@ -74,6 +74,18 @@ def test_a_book_resting_on_one_edge_is_lying():
     assert not _lying([floor(), _table(), _top(rise=0.01, tilt=40.0)])[1]
 
 
+def test_lying_tilt_bounds_the_angle_to_the_ground():
+    """``lying_tilt`` (off by default, session 88): a top more than that many degrees off
+    parallel to the ground it lies on is no lying top; a level one still is."""
+    tipped = [floor(), _table(), _top(rise=0.01, tilt=20.0)]
+    assert _lying(tipped, RelationParams(lying_tilt=10.0))[1] == set()
+    assert _lying(tipped, RelationParams(lying_tilt=25.0))[1] == {2}
+    assert _lying([floor(), _table(), _top()], RelationParams(lying_tilt=5.0))[1] == {2}
+    assert RelationParams().lying_tilt == 0.0
+    with pytest.raises(InputError):
+        RelationParams(lying_tilt=-1.0)
+
+
 def test_what_stands_higher_or_level_or_is_long_is_not_lying():
     # a board 20 cm over the table (a shelf's), a piece level with the table within 1 cm, a
     # platform 0.8 m long: none
