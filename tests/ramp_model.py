@@ -1,7 +1,8 @@
 """The demo's ramp clause (and its stairs clause) as one-rule models, for the tests of the
 decision's ramp and stairs gates (tests/test_foot_gate.py, tests/test_side_gate.py), and the
 one-rule model writer the other gates' tests use (:func:`one_rule_model`, :func:`rules_text`:
-tests/test_far_gate.py, test_long_lying_gate.py, test_narrow_face_gate.py, test_hang_gate.py)."""
+tests/test_far_gate.py, test_long_lying_gate.py, test_narrow_face_gate.py, test_hang_gate.py,
+test_crowd_gate.py), and :func:`answer_holding`, the answer a gate test looks at."""
 
 from __future__ import annotations
 
@@ -50,3 +51,23 @@ def one_rule_model(path: Path, rules: str, stats, **decision) -> Path:
     data["decision"].update(decision)
     (path / "model.json").write_text(json.dumps(data))
     return path
+
+
+def answer_holding(model, scene, thing: int, share: float = 0.5, **kw):
+    """Classify a rendered ``scene`` ``(cloud, up, labels, object of each label)`` with
+    ``model`` (``kw`` to the :class:`~planerel.classify.classifier.Classifier`) and return the
+    answer of the proposal holding most of object ``thing``'s pixels, which must hold more
+    than ``share`` of them (the gates' tests)."""
+    import numpy as np
+
+    from planerel.classify.classifier import Classifier
+
+    cloud, up, lab, objs = scene
+    truth = np.where(lab >= 0, np.asarray(objs)[np.maximum(lab, 0)], -1)
+    with Classifier(model, **kw) as clf:
+        ans = clf.classify(cloud, up=up)
+    held = [(int((np.isin(ans.labels, o.labels) & (truth == thing)).sum()), o)
+            for o in ans.objects]
+    n, o = max(held, key=lambda t: t[0])
+    assert n > share * (truth == thing).sum()
+    return o

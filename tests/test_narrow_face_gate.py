@@ -21,7 +21,7 @@ from planerel.errors import InputError
 from planerel.ilp import metrics as M
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from ramp_model import one_rule_model, rules_text  # noqa: E402
+from ramp_model import answer_holding, one_rule_model, rules_text  # noqa: E402
 from scenes_analytic import box, floor, render  # noqa: E402
 from test_real_rules import demo_model  # noqa: E402,F401  (the fixture)
 
@@ -46,17 +46,7 @@ def _scene(width, height):
 
 def _answer(model, scene, **kw):
     """The answer of the proposal holding most of the solid's pixels."""
-    from planerel.classify.classifier import Classifier
-
-    cloud, up, lab, objs = scene
-    truth = np.where(lab >= 0, np.asarray(objs)[np.maximum(lab, 0)], -1)
-    with Classifier(model, **kw) as clf:
-        ans = clf.classify(cloud, up=up)
-    held = [(int((np.isin(ans.labels, o.labels) & (truth == THING)).sum()), o)
-            for o in ans.objects]
-    n, o = max(held, key=lambda t: t[0])
-    assert n > 0.5 * (truth == THING).sum()
-    return o
+    return answer_holding(model, scene, THING, **kw)
 
 
 def test_a_post_is_no_box(tmp_path):
