@@ -67,17 +67,31 @@ def test_a_book_lying_on_a_table_is_lying():
 
 
 def test_a_book_resting_on_one_edge_is_lying():
-    ps, lying = _lying([floor(), _table(), _top(rise=0.01, tilt=20.0)])
+    # a 2.5 cm book leaning on something: its top's low edge 2.5 cm over the table (lean88:
+    # 1 cm before, a top no book this thin lies level as; at least lying_rise now)
+    ps, lying = _lying([floor(), _table(), _top(rise=0.025, tilt=20.0)])
     assert ps.by_label(2).orientation == "inclined"
     assert lying == {2}
     # tipped past skirt_tilted (30 degrees) it is no top lying there
-    assert not _lying([floor(), _table(), _top(rise=0.01, tilt=40.0)])[1]
+    assert not _lying([floor(), _table(), _top(rise=0.025, tilt=40.0)])[1]
+
+
+def test_a_patch_tipped_up_from_the_table_is_not_lying():
+    """lean88: a top more than ``lying_lean`` (5) degrees off its ground whose low edge is
+    under ``lying_rise`` over it rises from the ground (a smeared depth edge, a slope), not
+    the top of a thing leaning there; with ``lying_lean`` 0 it passes as before."""
+    tipped = [floor(), _table(), _top(rise=0.004, tilt=20.0)]
+    assert _lying(tipped)[1] == set()
+    assert _lying(tipped, RelationParams(lying_lean=0.0))[1] == {2}
+    assert RelationParams().lying_lean == 5.0
+    with pytest.raises(InputError):
+        RelationParams(lying_lean=-5.0)
 
 
 def test_lying_tilt_bounds_the_angle_to_the_ground():
     """``lying_tilt`` (off by default, session 88): a top more than that many degrees off
     parallel to the ground it lies on is no lying top; a level one still is."""
-    tipped = [floor(), _table(), _top(rise=0.01, tilt=20.0)]
+    tipped = [floor(), _table(), _top(rise=0.025, tilt=20.0)]
     assert _lying(tipped, RelationParams(lying_tilt=10.0))[1] == set()
     assert _lying(tipped, RelationParams(lying_tilt=25.0))[1] == {2}
     assert _lying([floor(), _table(), _top()], RelationParams(lying_tilt=5.0))[1] == {2}
@@ -181,7 +195,7 @@ def test_the_demo_model_answers_a_book_lying_on_a_table_box(demo_model):  # noqa
     from planerel.classify import Classifier
 
     with Classifier(demo_model) as clf:
-        for top in (_top(), _top(rise=0.01, tilt=20.0)):
+        for top in (_top(), _top(rise=0.025, tilt=20.0)):
             cloud, _, _, _ = render([floor(), _table(), top], noise=0.001, **TABLE_VIEW)
             ans = clf.classify(cloud, scene_id="t")
             assert [o.klass for o in ans.objects] == ["box"], top

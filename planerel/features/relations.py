@@ -400,6 +400,12 @@ class RelationParams:
     #: or 2 false lying boxes (tops 7.7-26.7 degrees off their ground) but OSD test63's green
     #: book (15) and biscuit box (24) are lost with them (docs/objects.md, "hunt88")
     lying_tilt: float = 0.0
+    #: degrees: a ``lying`` top more than this off parallel to its ground leans on something,
+    #: and its whole hull stands at least ``lying_rise`` over the ground (a leaning book's
+    #: top is its thickness over the table at its low edge, 3.2-4.7 cm on the real frames); a
+    #: patch tipped up from the ground (a smeared depth edge) starts at the ground's level.
+    #: 0: off (lean88)
+    lying_lean: float = 5.0
     #: pixels (at 640 image columns, scaled with the width): a plane with no ``adjacent``
     #: ground is ``lying`` on a horizontal plane that shows around it across a depth jump:
     #: within this many pixels of its outline, the measured points are at the ground's level
@@ -493,7 +499,7 @@ class RelationParams:
                              "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "tall_level_ground", "skirt_top_eye", "skirt_top_solid", "tall_feet_level",
                              "tall_speckle_floor", "tall_top_cover", "tall_beside_overlap", "tall_beside_step", "tall_sunk",
                              "lying_rise",
-                             "lying_rise_max", "lying_length", "lying_ground", "lying_tilt",
+                             "lying_rise_max", "lying_length", "lying_ground", "lying_tilt", "lying_lean",
                              "lying_min_length", "lying_width", "lying_snr", "lying_ring",
                              "lying_ring_ground", "lying_ring_between", "lying_ring_band",
                              "lying_small_length", "lying_small_width", "lying_small_tilt"))
@@ -1745,7 +1751,9 @@ def _union_grounded(planes, relations, by_label, top_like, done, grounds, up, cl
 def _lies_on(t, g, up: np.ndarray, p) -> bool:
     """True when ``t``'s centroid rises over ``g``'s fit (along ``up``) within
     ``[max(lying_rise, lying_snr x t.rms), lying_rise_max]`` and no point of ``t``'s hull is
-    more than ``lying_rise`` below ``g`` (:func:`lying_tops`)."""
+    more than ``lying_rise`` below ``g``, or, when ``t`` is more than ``lying_lean`` degrees off
+    parallel to ``g`` (leaning on something), less than ``lying_rise`` above it
+    (:func:`lying_tops`)."""
     gn = np.asarray(g.normal, float)
     den = float(gn @ up)
     if abs(den) < 0.5:
@@ -1760,7 +1768,13 @@ def _lies_on(t, g, up: np.ndarray, p) -> bool:
     if not least <= rise <= p.lying_rise_max:
         return False
     hull = np.asarray(t.hull3d, float)
-    return not (hull.size and float(((hull - gc) @ gn).min()) / den < -p.lying_rise)
+    if not hull.size:
+        return True
+    low = float(((hull - gc) @ gn).min()) / den
+    if p.lying_lean > 0 and abs(float(np.asarray(t.normal, float) @ gn)) < math.cos(
+            math.radians(p.lying_lean)):
+        return low >= p.lying_rise  # leaning: its low edge stands its thickness up
+    return low >= -p.lying_rise
 
 
 def _ground_around(t, grounds, up: np.ndarray, planes, cloud, p) -> bool:
