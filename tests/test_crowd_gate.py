@@ -1,6 +1,6 @@
 """crowd88: an object of more planes than a box shows is no box: a chest of drawers with what
 stands on it, a desk with everything on it (``decision.crowd_gate``; docs/objects.md "Flat
-things and crowded proposals (hunt88)").
+things and crowded proposals").
 
 Rendered scenes are ray-cast rectangles with one label each (tests/scenes_analytic.py); Prolog
 runs for real (swipl through pyswip).  With ``PLANEREL_HUNT_DATA`` (the folder holding the

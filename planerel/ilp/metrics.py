@@ -567,7 +567,7 @@ class DecisionParams:
         false ones 23-33 in six answers: a chest of drawers with a television and a console
         on it (three frames), a desk and all on it seen without a floor, a sofa's seat and
         front, a table-top's far edge with the background behind it (docs/objects.md, "Flat
-        things and crowded proposals (hunt88)").  The answer becomes ``other``.  Only classify applies it.
+        things and crowded proposals").  The answer becomes ``other``.  Only classify applies it.
     crowd_planes : int
         Whole number >= 1 (20).
     far_gate : bool
