@@ -1758,8 +1758,9 @@ def _lies_on(t, g, up: np.ndarray, p) -> bool:
     den = float(gn @ up)
     if abs(den) < 0.5:
         return False
-    if p.lying_tilt > 0 and abs(float(np.asarray(t.normal, float) @ gn)) < math.cos(
-            math.radians(p.lying_tilt)):
+    # cosine of the angle between the top and its ground
+    parallel = abs(float(np.asarray(t.normal, float) @ gn))
+    if p.lying_tilt > 0 and parallel < math.cos(math.radians(p.lying_tilt)):
         return False  # not parallel to the ground: leaning on something, or no flat thing
     gc = np.asarray(g.centroid, float)
     # the sensor's noise where the plane is: its own fit's RMS residual
@@ -1771,8 +1772,7 @@ def _lies_on(t, g, up: np.ndarray, p) -> bool:
     if not hull.size:
         return True
     low = float(((hull - gc) @ gn).min()) / den
-    if p.lying_lean > 0 and abs(float(np.asarray(t.normal, float) @ gn)) < math.cos(
-            math.radians(p.lying_lean)):
+    if p.lying_lean > 0 and parallel < math.cos(math.radians(p.lying_lean)):
         return low >= p.lying_rise  # leaning: its low edge stands its thickness up
     return low >= -p.lying_rise
 
