@@ -32,6 +32,7 @@ import os
 import re
 import shutil
 import signal
+import stat
 import struct
 import subprocess
 import sys
@@ -233,9 +234,28 @@ def part_b(t: Tally, work: Path, dataset: Path) -> None:
                                                                        '"class": "halt"'))
     cases.append(("a class named halt", ["learn", str(bad), "-o", str(work / "m2"), "--method",
                                          "gt"]))
+    # outputs onto the inputs, a FIFO, /dev/stdout (user89): refused, the input unchanged
+    own = work / "own"
+    own.mkdir()
+    mine = own / "scan.pcd"
+    code, err = _cli(["convert", str(scan), "-o", str(mine)], work)
+    _judge(t, "B", "convert a depth PNG to a PCD", code, err, expect_fail=False)
+    fifo = work / "fifo"
+    os.mkfifo(fifo)
+    cases += [
+        ("segment into the scan's own folder", ["segment", str(mine), "-o", str(own),
+                                                "--formats", "pcd"]),
+        ("describe -o the input", ["describe", str(mine), "-o", str(mine)]),
+        ("describe -o a FIFO", ["describe", str(mine), "-o", str(fifo)]),
+        ("describe -o /dev/stdout", ["describe", str(mine), "-o", "/dev/stdout"]),
+    ]
+    before = mine.read_bytes()
     for what, args in cases:
         code, err = _cli(args, work)
         _judge(t, "B", what, code, err)
+    if mine.read_bytes() != before or not stat.S_ISFIFO(os.stat(fifo).st_mode):
+        t.add("B", "unclear errors")
+        t.notes.append("an input or the FIFO was written over")
     # a non-UTF-8 folder name: works end to end (or says why in one sentence)
     odd = Path(os.fsdecode(os.fsencode(str(work)) + b"/set\xff"))
     code, err = _cli(["dataset", "synth", str(odd), "--n-box", "2", "--n-stairs", "2",

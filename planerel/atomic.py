@@ -25,7 +25,7 @@ from planerel.errors import InputError
 
 __all__ = ["atomic_path", "atomic_dir", "recover_dir", "write_bytes", "write_text",
            "check_output_file", "check_output_dir", "check_dir_target", "remove_stale_files",
-           "stale_files_removed"]
+           "stale_files_removed", "check_not_inputs"]
 
 
 def _file_mode() -> int:
@@ -106,18 +106,86 @@ def _refuse_dash(path, option: str, what: str) -> None:
                          f"{what} name (./- for a {what} named '-')")
 
 
+def _special_kind(path: Path) -> str | None:
+    """What ``path`` (followed through symbolic links) is when it exists and is neither a
+    regular file nor a folder: ``"a FIFO"``, ``"a device"``, ``"a socket"``; else None."""
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return None
+    if stat.S_ISFIFO(mode):
+        return "a FIFO (named pipe)"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return None
+
+
+def _via_proc(path: Path) -> bool:
+    """True when the chain of symbolic links from ``path`` passes through ``/proc`` or
+    ``/dev`` (``/dev/stdout -> /proc/self/fd/1 -> a log file``): the file at its end is a
+    process's open stream, which a rename would take from under it."""
+    p = os.path.abspath(path)
+    for _ in range(40):  # the kernel's own bound on a link chain
+        if p.startswith(("/proc/", "/dev/")):
+            return True
+        if not os.path.islink(p):
+            return False
+        p = os.path.normpath(os.path.join(os.path.dirname(p), os.readlink(p)))
+    return True
+
+
+def _write_target(target: Path, option: str | None = None) -> Path:
+    """The file an atomic write of ``target`` replaces: ``target`` itself, or the file a
+    symbolic link at ``target`` points to (the link is written through and stays a link,
+    not replaced by a regular file).  Refuses a target that is a FIFO, a device or a socket,
+    or a link into ``/proc`` or ``/dev`` (``-o /dev/stdout``): a file written whole and then
+    renamed cannot go there, and the rename would replace the special file or link itself
+    (user89)."""
+    where = f"{option} {target}" if option else str(target)
+    kind = _special_kind(target)  # followed as the kernel follows it (/dev/stdout: a pipe)
+    if kind is None and os.path.islink(target):
+        real = os.path.realpath(target)
+        if real.startswith(("/proc/", "/dev/")) or _via_proc(target):
+            kind = "a link to a stream or a process's file"  # /proc/self/fd/1 to a log file
+        elif not os.path.isdir(os.path.dirname(real)):
+            raise InputError(f"{where}: is a link to {real}, whose folder does not exist")
+        target = Path(real)
+    if kind is not None:
+        raise InputError(f"{where}: is {kind}, not a file; planerel writes each output file "
+                         "whole and then renames it into place, so give a regular file name")
+    return target
+
+
 def check_output_file(path, option: str = "output") -> Path:
     """Refuse, before any work, an output file that cannot be written: an empty name, a
-    folder, a folder that cannot be made or written to.  Creates the missing parent folders
-    (as writing would).  Returns ``path`` as a :class:`Path`."""
+    folder, a FIFO or device (:func:`_write_target`), a folder that cannot be made or written
+    to.  Creates the missing parent folders (as writing would).  Returns ``path`` as a
+    :class:`Path`."""
     if path is None or not str(path).strip():
         raise InputError(f"{option} needs a file name")
     _refuse_dash(path, option, "file")
     target = Path(path)
     if target.is_dir():
         raise InputError(f"{option} {target}: is a folder; give a file name")
-    _probe_folder(target.parent if str(target.parent) else Path("."), target)
+    real = _write_target(target, option)
+    _probe_folder(real.parent if str(real.parent) else Path("."), target)
     return target
+
+
+def check_not_inputs(outputs, inputs, option: str = "-o") -> None:
+    """Refuse, before any work, an output file that is one of the inputs (``segment x.pcd -o
+    .`` would write ``./x.pcd`` over the scan; ``describe x.pcd -o x.pcd``): the inputs are
+    never written (user89).  Paths are compared through links (``os.path.realpath``)."""
+    seen = {os.path.realpath(p): p for p in inputs}
+    for out in outputs:
+        hit = seen.get(os.path.realpath(out))
+        if hit is not None:
+            raise InputError(f"{option}: the output {out} is the input {hit}; planerel never "
+                             "writes over its inputs: give another output name or folder")
 
 
 def check_output_dir(path, option: str = "output") -> Path:
@@ -140,11 +208,13 @@ def atomic_path(path, suffix: str | None = None) -> Iterator[Path]:
     ``suffix`` defaults to the target's suffix so that libraries that choose a format by
     extension (Pillow, numpy) still see the right one.
     """
-    target = Path(path)
-    folder = target.parent if str(target.parent) else Path(".")
-    _make_folder(folder, target)
-    if target.is_dir():  # the rename would fail after all the work, naming the temporary file
-        raise InputError(f"{target}: is a folder; give a file name")
+    asked = Path(path)
+    folder = asked.parent if str(asked.parent) else Path(".")
+    _make_folder(folder, asked)
+    if asked.is_dir():  # the rename would fail after all the work, naming the temporary file
+        raise InputError(f"{asked}: is a folder; give a file name")
+    target = _write_target(asked)  # through a symbolic link; never onto a FIFO or device
+    folder = target.parent
     try:
         # the pid in the name lets remove_stale_files tell a killed writer's file
         fd, tmp = tempfile.mkstemp(

@@ -89,6 +89,31 @@ def _folder_scans(p: Path) -> list[Path]:
     return found
 
 
+def _pattern_scans(pattern: str, found: list) -> list[Path]:
+    """The scans among the files a glob pattern matched, as a folder gives them: label and
+    result images (``*.gt.png``, ``*.labels.png``), other files (``README.md``) and colour or
+    8-bit images are left out with a note (user89: ``"data/test/*.png"`` read a data set's
+    label PNGs as depth in millimetres)."""
+    scans = [q for q in found if _is_scan(q)]
+    scans = [q for q in scans if not _colour_image(q)] if len(scans) > 1 else scans
+    left = [q for q in found if q not in scans]
+    if not scans:
+        raise InputError(f"{pattern}: the pattern matches no scan ({len(found)} file(s), e.g. "
+                         f"{found[0].name}: label, result, colour or other files; name a file "
+                         "to read it anyway)")
+    if left:
+        import warnings
+
+        from planerel.errors import PlanerelWarning
+
+        names = ", ".join(q.name for q in left[:3]) + (", ..." if len(left) > 3 else "")
+        warnings.warn(PlanerelWarning(
+            f"{pattern}: left out {len(left)} file(s) the pattern matched that are no depth "
+            f"scans ({names}: label, result, colour or other files); name such a file to read "
+            "it anyway"), stacklevel=3)
+    return scans
+
+
 def expand_inputs(items: Iterable) -> list[Path]:
     """Files, folders and glob patterns -> the list of scan files, in a fixed order.
 
@@ -101,7 +126,8 @@ def expand_inputs(items: Iterable) -> list[Path]:
         without label and result images such as ``*.gt.png`` / ``*.labels.png``), sorted by
         name; colour and 8-bit images among them (``*_rgb.png`` beside the depth frames)
         are left out with a note.  A pattern with ``* ? [`` that is not an existing path is
-        expanded (``**`` recurses), sorted.
+        expanded (``**`` recurses), sorted, and its matches filtered as a folder's are
+        (the files left out named in a note).
 
     Raises
     ------
@@ -128,7 +154,7 @@ def expand_inputs(items: Iterable) -> list[Path]:
             found = [q for q in found if q.is_file()]
             if not found:
                 raise InputError(f"{item}: no file matches the pattern")
-            out.extend(found)
+            out.extend(_pattern_scans(str(item), found))
         else:
             raise InputError(f"{p}: no such file or folder")
     return out

@@ -52,6 +52,22 @@ def test_expand_inputs_files_folders_globs(scans, tmp_path):
         expand_inputs([tmp_path / "empty"])
 
 
+def test_a_glob_leaves_out_label_and_other_files_with_a_note(scans, tmp_path):
+    """user89: ``classify MODEL "data/test/*.png"`` read the data set's ``*.gt.png`` label
+    images as depth in millimetres; a glob's matches are now filtered as a folder's are."""
+    from planerel.errors import PlanerelWarning
+
+    with pytest.warns(PlanerelWarning, match=r"left out 4 file\(s\).*s0000\.gt\.png"):
+        got = expand_inputs([str(scans / "*.png")])
+    assert [p.name for p in got] == [f"s000{i}.depth.png" for i in range(4)]
+    notes = tmp_path / "notes"
+    notes.mkdir()
+    (notes / "README.md").write_text("x")
+    with pytest.raises(InputError, match="matches no scan"):
+        expand_inputs([str(notes / "*")])
+    assert expand_inputs([notes / "README.md"]) == [notes / "README.md"]  # named: taken
+
+
 @pytest.mark.parametrize("jobs", [1, 2])
 def test_run_batch_keeps_order_and_collects_failures(jobs):
     from planerel.batch import BatchResult

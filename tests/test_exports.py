@@ -192,3 +192,66 @@ def test_explanation_image_is_wide_with_a_legend(scenes, tmp_path):
     swatch = binding_colours(ans)[(ans.objects.index(obj), obj.proof_planes[0])]
     legend = img[pic_h:]
     assert np.any(np.all(legend == swatch, axis=-1))  # the inclined plane's swatch
+
+
+def test_a_rule_binding_no_plane_still_shows_its_object(scenes, tmp_path):
+    """user89: a rule on the object alone (``nplanes(A,N)``) proves no plane; the picture
+    colours the object's planes, the legend says so, and a number bound to a variable is a
+    number in the JSON."""
+    from PIL import Image
+
+    from planerel.classify.explain_render import binding_colours, legend_rows, shown_planes
+
+    rules = tmp_path / "rules.pl"
+    rules.write_text("ramp(A) :- ninclined(A, B), gteq(B, 1).\n")
+    out = tmp_path / "cls"
+    scan = scenes / "s0001.depth.png"  # the ramp scene, 160x120
+    assert main(["classify", str(rules), str(scan), "-o", str(out), "--json"]) == 0
+    doc = json.loads((out / "s0001.classified.json").read_text())
+    (obj,) = [o for o in doc["objects"] if o["class"] == "ramp"]
+    assert obj["proof_planes"] == [] and obj["planes"]
+    assert isinstance(obj["bindings"]["B"], int) and obj["bindings"]["B"] >= 1
+    from planerel.classify.classifier import Classifier
+    from planerel.io import readers as io
+
+    with Classifier(rules) as clf:
+        ans = clf.classify(io.read(scan), scene_id="s0001")
+    n, o = next((n, o) for n, o in enumerate(ans.objects) if o.klass == "ramp")
+    assert shown_planes(o) == tuple(o.planes)
+    from planerel.classify.explain_render import _picture
+
+    pic = _picture(ans, io.read(scan).depth).astype(float)
+    for label, pid in zip(o.labels, o.planes, strict=True):
+        swatch = np.array(binding_colours(ans)[(n, pid)], float)
+        mean = pic[np.asarray(ans.labels) == label].mean(axis=0)
+        # 0.75 of the plane's colour over the shading: within a quarter of the range
+        assert np.all(np.abs(mean - swatch) < 0.25 * 255 + 1), (pid, mean, swatch)
+    legend = [t for t, _ in legend_rows(ans)]
+    assert any("binds no plane" in t for t in legend)
+    assert (out / "s0001.classified.png").exists()
+    Image.open(out / "s0001.classified.png").verify()
+
+
+def test_the_legend_says_what_the_text_says_of_a_refused_object():
+    """user89: the text said "refused box: planar fraction ..." while the picture said "no
+    rule fires"; the legend now gives the refusal in the text's words, and the objects no
+    rule proves share one line instead of one each (38 lines on a room frame)."""
+    from planerel.classify.classifier import ObjectAnswer, SceneAnswer
+    from planerel.classify.explain_render import explanation_picture, legend_rows
+    from planerel.ilp.metrics import Refusal
+
+    refusal = Refusal("box", 0.37, 0.9, 1.0, 0.2)
+    refused = ObjectAnswer("s_o1", ("s_p01",), (1,), "other", fired=(("box", 4),),
+                           refused=(refusal,))
+    quiet = [ObjectAnswer(f"s_o{k}", (f"s_p0{k}",), (k,), "other") for k in (2, 3, 4)]
+    labels = np.array([[0, 1], [2, 3], [4, 4]])
+    ans = SceneAnswer(source=None, scene_id="s", labels=labels,
+                      plane_ids={k: f"s_p0{k}" for k in range(5)},
+                      objects=(refused, *quiet), up_source="given", seconds=0.0)
+    text = [t for t, _ in legend_rows(ans)]
+    assert text[0] == "s_o1: other"
+    assert any(t.strip() == f"refused box: {refusal.reason}" for t in text)
+    assert not any("no rule fires" in t and "s_o1" in t for t in text)
+    assert text[-1] == "s_o2, s_o3, s_o4: other, no rule fires (planes tinted blue-grey)"
+    img = explanation_picture(ans, np.ones((3, 2)))
+    assert img.ndim == 3 and img.shape[1] >= 640

@@ -47,6 +47,18 @@ BOX = "box"
 UNKNOWN = OTHER
 
 
+def _binding_value(value):
+    """A rule variable's binding for JSON: a number bound to a numeric variable (``B`` in
+    ``oblique_share(A,B), lteq(B,0.1)``) as a number, a plane or object id as its string
+    (user89: ``"B": "0.0"``)."""
+    if isinstance(value, str) and _NUMBER.fullmatch(value):
+        return int(value) if value.lstrip("+-").isdigit() else float(value)
+    return value
+
+
+_NUMBER = re.compile(r"[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?")
+
+
 @dataclass(frozen=True)
 class ObjectAnswer:
     """The answer for one object proposal.
@@ -138,7 +150,8 @@ class ObjectAnswer:
         out = {"object": self.object_id, "class": self.klass, "rule": self.rule,
                "rule_index": self.rule_index,
                "precision": None if self.precision is None else round(self.precision, 4),
-               "bindings": dict(self.bindings), "proof_planes": list(self.proof_planes),
+               "bindings": {k: _binding_value(v) for k, v in self.bindings.items()},
+               "proof_planes": list(self.proof_planes),
                "planes": list(self.planes), "fired": [list(f) for f in self.fired],
                "planar_fraction": (None if self.planar_fraction is None
                                    else round(self.planar_fraction, 3)),

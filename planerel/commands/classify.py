@@ -28,8 +28,9 @@ def register(sub) -> None:
                     "NAME.classified.png (proof planes highlighted) and NAME.classified.json.",
     )
     p.add_argument("rules", help="the model from planerel learn: MODEL_DIR or MODEL_DIR/rules.pl")
-    p.add_argument("inputs", nargs="+", metavar="INPUT",
-                   help="scans (any format planerel reads): files, folders or glob patterns")
+    p.add_argument("inputs", nargs="*", metavar="INPUT",
+                   help="scans (any format planerel reads): files, folders or glob patterns "
+                        "(one or more)")
     p.add_argument("--json", action="store_true", help="print one JSON document instead of text")
     p.add_argument("-o", "--output", metavar="OUT_DIR", help="write explanation images and JSON")
     p.add_argument("--method", choices=["regiongrow", "sp", "snp"], default=None,
@@ -223,6 +224,30 @@ def _classify_task(task: dict):
     return ans.to_dict(), lines
 
 
+def _check_model_argument(args) -> None:
+    """Say which argument is wrong when the model and the scans are mixed up (user89): the
+    model forgotten (``classify scan.pcd``), the two swapped (``classify scan.pcd MODEL``),
+    or a facts file from ``describe`` given as the model."""
+    from planerel.errors import InputError
+    from planerel.io.naming import SCAN_EXTENSIONS
+
+    usage = "planerel classify MODEL INPUT... (MODEL: a folder from planerel learn, or its rules.pl)"
+    model = Path(args.rules)
+    if model.is_file() and model.name.lower().endswith(SCAN_EXTENSIONS):
+        raise InputError(f"{model}: is a scan, not a model; the model comes first: {usage}")
+    if model.is_dir() and not (model / "rules.pl").is_file():
+        raise InputError(f"{model}: holds no rules.pl, so it is no model; the model comes "
+                         f"first: {usage}")
+    if model.is_file():
+        with open(model, "rb") as fh:
+            head = fh.read(4096).decode("utf-8", "replace")
+        if head.startswith("% planerel describe") or "\nscene(" in head:
+            raise InputError(f"{model}: is a facts file from planerel describe, not a model "
+                             f"(rules); {usage}")
+    if not args.inputs:
+        raise InputError(f"no INPUT: give one or more scans after the model: {usage}")
+
+
 def run(args) -> int:
     from planerel.batch import (
         BatchResult,
@@ -234,6 +259,7 @@ def run(args) -> int:
     from planerel.commands._common import check_input_options, inputs_of, read_options
     from planerel.io.naming import scene_names
 
+    _check_model_argument(args)
     check_input_options(args)  # a bad --up, --subsample, ... fails here, before any work
     paths = inputs_of(args)
     names = scene_names(paths, ids_option=False, prolog=True)
@@ -249,8 +275,10 @@ def run(args) -> int:
     for w in clf.warnings:
         print(f"warning: {w}", file=sys.stderr)
     if args.output:  # a bad output folder is one error, not a failure of every scan
-        from planerel.atomic import check_output_dir
+        from planerel.atomic import check_not_inputs, check_output_dir
 
+        check_not_inputs([Path(args.output) / f"{n}.classified{e}" for n in names
+                          for e in (".png", ".json")], paths)
         check_output_dir(args.output, "-o")
     opts = read_options(args)
     tasks = [{"path": str(p), "name": n, "read": opts, "rules": rules, "method": args.method,

@@ -33,7 +33,7 @@ def register(sub) -> None:
 def run(args) -> int:
     import numpy as np
 
-    from planerel.atomic import atomic_path, check_output_file
+    from planerel.atomic import atomic_path, check_not_inputs, check_output_file
     from planerel.io.exports import input_colours, write_pcd
     from planerel.io.writers import write_ply
 
@@ -43,6 +43,7 @@ def run(args) -> int:
         raise InputError(f"{out}: output must end in .npy, .ply or .pcd")
     check_input_options(args)
     check_output_file(out, "-o")
+    check_not_inputs([out], [args.input])
     cloud = read_input(args.input, args)
     if cloud.n_valid == 0:
         raise InputError(f"{args.input}: has no valid point (every depth is 0 or NaN); "

@@ -31,8 +31,18 @@ def register(sub) -> None:
     p.add_argument("--labels", nargs="+", metavar="LABELS",
                    help="label images (.npy, data-set label PNG, .gt-seg), one per input, used "
                         "instead of segmenting")
-    p.add_argument("--method", default="regiongrow", choices=["regiongrow", "sp", "snp"],
-                   help="segmentation method when no labels are given (default regiongrow)")
+    p.add_argument("--method", default=None, choices=["regiongrow", "sp", "snp"],
+                   help="segmentation method when no labels are given (default: the --model's, "
+                        "else regiongrow)")
+    p.add_argument("--model", metavar="MODEL",
+                   help="segment and measure with the settings a model was learned with (its "
+                        "model.json: segmentation, gravity, planes, relations, proposals, "
+                        "curved), so the facts are the ones 'planerel classify MODEL' reasons on")
+    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="a segmentation parameter (theta=12, split.merge_side=3, "
+                        "small_scale=0.35) or SECTION.NAME of gravity, planes, relations, "
+                        "proposals, curved (relations.lying_rise=0.02); repeatable; over a "
+                        "--model's value it is used and a warning says so")
     p.add_argument("--ids", nargs="+", metavar="ID", help="scene ids, one per input")
     p.add_argument("--no-planner", action="store_true",
                    help="leave out plane_model/3 and hull/2 (the facts for robot planners)")
@@ -99,13 +109,13 @@ def _describe_task(task: dict):
     else:
         from planerel.segment import segment
 
-        seg = segment(cloud, task["method"])
+        seg = segment(cloud, task["method"], **dict(task.get("seg_params") or {}))
         labels = seg.labels
         note = seg_settings_line(seg.info)
         far = seg.info.get("far_labels") or ()
     d = describe_scene(cloud, labels, scene_id=task["name"], up=given_up(task["read"]), far=far,
                        camera_height=given_camera_height(task["read"]),
-                       top_slope=bool(task.get("top_slope")))
+                       top_slope=bool(task.get("top_slope")), **(task.get("describe_kw") or {}))
     if task.get("mesh") and len(d.planes):
         from planerel.io.exports import write_mesh
 
@@ -120,6 +130,45 @@ def _describe_task(task: dict):
                else f" ({sparse_note(cloud, 0) or 'no plane found'}: only the scene fact is "
                     "written)"))
     return d.scene_id, scene_facts(d, task["params"]), line, note, up_comment(d)
+
+
+def _settings(args):
+    """The segmentation and feature settings of this run (a
+    :class:`~planerel.ilp.model_settings.ModelSettings`): ``--model``'s, changed by
+    ``--method`` and ``--param`` (a warning on stderr for each value that differs from the
+    model's), or the defaults changed by them.  ``decision.NAME`` is refused: it changes
+    answers, not facts."""
+    from planerel.commands.classify import _params
+    from planerel.ilp.model_settings import read_settings, with_overrides
+
+    given = _params(args.param)
+    for name in given:
+        if name.startswith("decision."):
+            raise InputError(f"--param {name}: decision parameters change classify's answers, "
+                             "not the facts; describe takes segmentation and feature parameters")
+    base = None
+    if args.model is not None:
+        rules = Path(args.model)
+        rules = rules / "rules.pl" if rules.is_dir() else rules
+        if not rules.is_file():
+            raise InputError(f"--model {args.model}: no such model (give MODEL_DIR or "
+                             "MODEL_DIR/rules.pl)")
+        base = read_settings(rules)
+        if base is None:
+            print(f"warning: --model {args.model}: the model keeps no settings (no "
+                  "model.json); the defaults are used", file=sys.stderr)
+    settings, warnings = with_overrides(base, method=args.method, overrides=given)
+    for w in warnings:
+        print(f"warning: {w}", file=sys.stderr)
+    # the gt method of a model learned on ground truth has nothing to segment with here
+    if settings.method == "gt":
+        settings, _ = with_overrides(settings, method="regiongrow")
+    from planerel.segment import make_params, split_fields
+
+    seg = dict(settings.seg_params)
+    seg.pop("split", None)
+    make_params(settings.method, **split_fields(seg)[0])  # a bad name fails before any work
+    return settings
 
 
 def run(args) -> int:
@@ -139,12 +188,18 @@ def run(args) -> int:
     from planerel.atomic import check_output_dir, check_output_file
 
     check_output_file(args.output, "-o")
+    from planerel.atomic import check_not_inputs
+
+    check_not_inputs([args.output, str(args.output) + ".errors.tsv"], paths)
     for option, folder in (("--mesh", args.mesh), ("--graph", args.graph)):
         if folder is not None:  # "" is refused, not ignored
             check_output_dir(folder, option)
+    settings = _settings(args)
     params = FactParams(pairs=args.pairs, planner=not args.no_planner)
     opts = read_options(args)
-    tasks = [{"path": str(p), "name": i, "read": opts, "method": args.method, "params": params,
+    tasks = [{"path": str(p), "name": i, "read": opts, "method": settings.method,
+              "seg_params": dict(settings.seg_params), "describe_kw": settings.describe_kwargs(),
+              "params": params,
               "labels": args.labels[k] if args.labels else None, "mesh": args.mesh,
               "mesh_format": args.mesh_format, "graph": args.graph,
               "graph_format": args.graph_format, "top_slope": args.top_slope}

@@ -167,9 +167,15 @@ def run_segment(args) -> int:
         raise InputError(f"{out}: exists and is not a folder")
     from planerel.atomic import check_output_dir
 
+    formats = _formats(args.formats)
+    suffixes = {"npy": ".labels.npy", "png": ".labels.png", "json": ".planes.json",
+                "pcd": ".pcd", "ply": ".ply"}
+    from planerel.atomic import check_not_inputs
+
+    # segment x.pcd -o . would write the labelled cloud over the scan (user89)
+    check_not_inputs([out / f"{n}{suffixes[f]}" for n in stems for f in formats], paths)
     check_output_dir(out, "-o")  # made, and removed again when the run fails while it is empty
     opts = read_options(args)
-    formats = _formats(args.formats)
     tasks = [{"path": str(p), "name": n, "out": str(out), "read": opts, "method": args.method,
               "params": params, "split": split, "split_params": split_params,
               "formats": formats} for p, n in zip(paths, stems, strict=True)]

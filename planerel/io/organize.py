@@ -232,6 +232,15 @@ def _choose_camera(a: np.ndarray, b: np.ndarray, max_side: int) -> Intrinsics:
     return Intrinsics(w, h, round(f, 6), round(f, 6), round(cx, 6), round(cy, 6))
 
 
+def _pixel(coord) -> np.ndarray:
+    """Image coordinates rounded to whole pixels, int64; a coordinate that is not finite or
+    lies far outside any image (a point almost in the sensor's plane, under given intrinsics)
+    becomes -1, outside, without numpy's cast warning."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        p = np.floor(np.asarray(coord, float) + 0.5)
+        return np.where(np.isfinite(p) & (np.abs(p) < 2.0**31), p, -1.0).astype(np.int64)
+
+
 def organize(points, intrinsics=None, *, viewpoint=None, max_side: int = MAX_SIDE,
              where: str = "cloud") -> Organized:
     """Project an unorganized cloud onto a pinhole image grid with a z-buffer.
@@ -301,8 +310,8 @@ def organize(points, intrinsics=None, *, viewpoint=None, max_side: int = MAX_SID
         intr = _choose_camera(a, b, max_side)
     else:
         intr = intrinsics
-    u = np.floor(intr.fx * a + intr.cx + 0.5).astype(np.int64)
-    v = np.floor(intr.fy * b + intr.cy + 0.5).astype(np.int64)
+    u = _pixel(intr.fx * a + intr.cx)
+    v = _pixel(intr.fy * b + intr.cy)
     inside = (u >= 0) & (u < intr.width) & (v >= 0) & (v < intr.height)
     n_outside = int((~inside).sum())
     idx = np.nonzero(valid)[0][inside]
