@@ -208,6 +208,9 @@ class SceneAnswer:
     planar_share: float | None = None
     #: the segmentation grew the scan again with a wider window (``wide_fallback``)
     wide_fallback: bool = False
+    #: what the scan says against what the caller gave (:func:`_input_disagreements`): a
+    #: given up far from a confident estimate, a camera height far from the floor in view
+    input_notes: tuple = ()
 
     @property
     def n_planes(self) -> int:
@@ -225,6 +228,7 @@ class SceneAnswer:
                 **({} if self.geometry is None else {"planes": self.geometry}),
                 **({} if self.planar_share is None
                    else {"planar_share": round(self.planar_share, 4)}),
+                **({"input_notes": list(self.input_notes)} if self.input_notes else {}),
                 "seconds": round(self.seconds, 4)}
 
     def notes(self) -> list:
@@ -253,6 +257,7 @@ class SceneAnswer:
                 "a box seen as one upright face cannot be proved (its foot needs the floor; "
                 "pass --camera-height M when the camera's height over the floor is known), "
                 "and no slope's foot is checked"))
+        out.extend(self.input_notes)
         return out
 
 
@@ -262,6 +267,45 @@ LOW_PLANAR_SHARE = WIDE_FALLBACK
 
 #: The classes the far gate refuses a proof through a far plane for (``decision.far_gate``).
 FAR_GATED = (BOX, "ramp")
+
+
+#: degrees: a given up this far from an estimate the planes make with confidence
+#: :data:`UP_SURE` or more gets a note (user89: ``--up 0,1,0`` on a Kinect frame whose up the
+#: planes give with confidence 0.97 lost its box without a word)
+UP_DISAGREE_DEG = 30.0
+UP_SURE = 0.8
+#: a given camera height more than this share (and 0.3 m) off the floor plane's distance under
+#: the camera gets a note
+HEIGHT_DISAGREE = 0.5
+
+
+def _input_disagreements(cloud, labels, planes, up, gravity_params) -> tuple:
+    """Notes where the caller's ``--up`` or ``--camera-height`` disagrees with the scan: the
+    given up more than :data:`UP_DISAGREE_DEG` from the up the planes give with confidence
+    :data:`UP_SURE` or more (estimated only when an up is given: a few milliseconds), the
+    given height more than :data:`HEIGHT_DISAGREE` of the floor plane's distance (and 0.3 m)
+    off it.  The given values are used all the same; the note says what the scan says."""
+    from planerel.features.gravity import up_from_cloud
+
+    out = []
+    if up is not None:
+        est = up_from_cloud(cloud, labels, gravity_params)
+        given = np.asarray(up, float) / np.linalg.norm(np.asarray(up, float))
+        angle = math.degrees(math.acos(max(-1.0, min(1.0, float(given @ est.vector)))))
+        if est.source == "estimated" and est.confidence >= UP_SURE and angle > UP_DISAGREE_DEG:
+            v = ", ".join(f"{x:.2f}" for x in est.vector)
+            out.append(f"the given up is {angle:.0f} degrees from the up the planes give "
+                       f"([{v}], confidence {est.confidence:.2f}); it is used as given: check "
+                       "--up's axes (the camera's x right, y down, z forward)")
+    height = planes.camera_height
+    if height is not None and planes.floor is not None:
+        floor = next((p for p in planes if p.label == planes.floor), None)
+        if floor is not None:
+            below = -float(np.asarray(floor.centroid, float) @ np.asarray(planes.up, float))
+            if abs(below - height) > max(0.3, HEIGHT_DISAGREE * below):
+                out.append(f"--camera-height {height:g} m, but the floor plane in view lies "
+                           f"{below:.2f} m under the camera; the given height is used")
+    return tuple(out)
 
 
 def _measured(answers, desc, plane_ids, params) -> tuple:
@@ -764,7 +808,8 @@ class Classifier:
                            camera_height=ps.camera_height,
                            geometry={plane_ids[p.label]: plane_geometry(p) for p in ps},
                            planar_share=planar_share(cloud, seg.labels),
-                           wide_fallback="wide_fallback" in seg.info)
+                           wide_fallback="wide_fallback" in seg.info,
+                           input_notes=_input_disagreements(cloud, seg.labels, ps, up, gravity))
 
     def answer_description(self, desc, xyz=None) -> tuple:
         """The answers for the objects of a scene description, in its object order.
