@@ -11,7 +11,7 @@ exits with code 2.  Subclasses say which stage failed:
 
 from __future__ import annotations
 
-__all__ = ["PlanerelError", "InputError", "PrologError", "LearnerError", "DependencyError",
+__all__ = ["did_you_mean", "PlanerelError", "InputError", "PrologError", "LearnerError", "DependencyError",
            "user_message", "check_bools", "PlanerelWarning"]
 
 
@@ -39,6 +39,15 @@ class PlanerelWarning(UserWarning):
     """Something planerel decided in the user's place that the user should know about (a
     camera's intrinsics fitted to points that are no exact pinhole back-projection); the CLI
     prints it as a ``note:`` line, Python code gets a :mod:`warnings` warning."""
+
+
+def did_you_mean(name: str, choices) -> str:
+    """`` (did you mean X?)`` for the closest of ``choices`` to a mistyped ``name`` (difflib's
+    ratio 0.75 or more), else ``""``: for the messages that refuse an unknown name."""
+    import difflib
+
+    close = difflib.get_close_matches(str(name), [str(c) for c in choices], n=1, cutoff=0.75)
+    return f" (did you mean {close[0]}?)" if close else ""
 
 
 def check_bools(params) -> None:

@@ -148,7 +148,22 @@ def test_split_fields_are_settings_of_the_model(model_dir, tmp_path, capsys):
     np.save(tmp_path / "st.npy", scene.cloud.xyz)
     assert main(["classify", str(model_dir / "rules.pl"), str(tmp_path / "st.npy"),
                  "--param", "split.smal_faces=150"]) == 2
-    assert "unknown parameter(s) smal_faces for SplitParams" in capsys.readouterr().err
+    # the closest known name is offered (user89)
+    assert ("unknown parameter(s) smal_faces (did you mean small_faces?) for SplitParams"
+            in capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("given,said", [
+    ({"relations.lying_ris": "0.02"}, "'lying_ris' (did you mean lying_rise?)"),
+    ({"relation.lying_rise": "0.02"}, "'relation' (did you mean relations?)"),
+    ({"gravity.nope": "1"}, "gravity has no parameter 'nope' (it has"),  # nothing close
+])
+def test_a_mistyped_name_is_offered_the_closest_one(given, said):
+    from planerel.ilp.model_settings import with_overrides
+
+    with pytest.raises(InputError) as err:
+        with_overrides(None, overrides=given)
+    assert said in str(err.value)
 
 
 def test_a_setting_the_model_predates_is_not_called_a_training_value(model_dir, tmp_path):

@@ -46,7 +46,7 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from planerel.errors import InputError
+from planerel.errors import InputError, did_you_mean
 
 __all__ = ["MODEL_FILE", "FORMAT", "SECTIONS", "ModelSettings", "training_settings",
            "read_settings", "with_overrides"]
@@ -339,11 +339,13 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
         sec, dot, key = str(name).partition(".")
         if dot and sec != "split":  # split.NAME is a segmentation parameter
             if sec not in SECTIONS:
-                raise InputError(f"--param {name}: unknown section {sec!r} (use a segmentation "
+                raise InputError(f"--param {name}: unknown section {sec!r}"
+                                 f"{did_you_mean(sec, SECTIONS)} (use a segmentation "
                                  f"parameter, split.NAME or one of {', '.join(f'{s}.NAME' for s in SECTIONS)})")
             fields = {f.name: f for f in dataclasses.fields(_section_class(sec))}
             if key not in fields:
-                raise InputError(f"--param {name}: {sec} has no parameter {key!r} (it has "
+                raise InputError(f"--param {name}: {sec} has no parameter {key!r}"
+                                 f"{did_you_mean(key, fields)} (it has "
                                  f"{', '.join(fields)})")
             current = sections.get(sec, {}).get(key, dataclasses.asdict(_section_class(sec)())[key])
             section_over.append((sec, key, _coerce_like(value, current, name)))

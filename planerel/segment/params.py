@@ -456,9 +456,11 @@ def coerce_params(cls, params: dict):
     names = {f.name for f in fields(cls)}
     unknown = sorted(set(params) - names)
     if unknown:
+        from planerel.errors import did_you_mean
+
         raise InputError(
-            f"unknown parameter(s) {', '.join(unknown)} for {cls.__name__}; "
-            f"known: {', '.join(sorted(names))}"
+            f"unknown parameter(s) {', '.join(u + did_you_mean(u, names) for u in unknown)} "
+            f"for {cls.__name__}; known: {', '.join(sorted(names))}"
         )
     # fields whose values are words (delta_mode, angle_order) keep them
     words = {f.name for f in fields(cls) if isinstance(f.default, str) and f.default != "auto"
