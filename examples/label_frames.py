@@ -35,6 +35,7 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -46,6 +47,40 @@ ROLES = {
     "stairs": {"horizontal": "tread", "vertical": "riser", "inclined": "side"},
     "ramp": {"horizontal": "top", "vertical": "side", "inclined": "slope"},
 }
+
+
+#: A class name: a lower-case Prolog atom (``box``, ``stairs``, ``ramp`` or one of yours);
+#: ``Box`` would be a class of its own and a Prolog variable
+CLASS_NAME = re.compile(r"[a-z][a-z0-9_]*")
+
+
+def check_frames(frames: list, folder: Path) -> None:
+    """Refuse, before anything is written, a ``labels.json`` whose frames or objects are not
+    what :func:`label_frame` needs: a missing frame file, a class that is not a lower-case
+    Prolog atom (``"Box"``), a rectangle that is not four numbers ``x0 < x1``, ``y0 < y1``
+    (user89: each passed in silence, or failed after part of the data set was written)."""
+    from planerel.errors import InputError
+
+    for n, f in enumerate(frames):
+        where = f"labels.json frame {n}"
+        if not isinstance(f, dict) or not isinstance(f.get("file"), str):
+            raise InputError(f"{where}: needs a 'file'")
+        if not (folder / f["file"]).is_file():
+            raise InputError(f"{where}: {folder / f['file']}: no such file")
+        objects = f.get("objects") or []
+        if not isinstance(objects, list):
+            raise InputError(f"{where} ({f['file']}): 'objects' must be a list")
+        for o in objects:
+            klass = o.get("class") if isinstance(o, dict) else None
+            if not isinstance(klass, str) or not CLASS_NAME.fullmatch(klass):
+                raise InputError(f"{where} ({f['file']}): class {klass!r} is not a lower-case "
+                                 "name (box, stairs, ramp, or one of yours: a-z, 0-9, _)")
+            box = o.get("box")
+            ok = (isinstance(box, list) and len(box) == 4
+                  and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in box))
+            if not ok or not (box[0] < box[2] and box[1] < box[3]):
+                raise InputError(f"{where} ({f['file']}): {klass} rectangle {box!r} is not "
+                                 "[x0, y0, x1, y1] with x0 < x1 and y0 < y1 (pixels)")
 
 
 def _class_of(mask: np.ndarray, objects: list) -> str:
@@ -68,6 +103,12 @@ def label_frame(path: Path, frame: dict, scene_id: str, out: Path) -> list:
                           depth_scale=frame.get("depth_scale"), up=frame.get("up"))
     if cloud.intrinsics is None or not cloud.organized:
         raise InputError(f"{path}: no camera: give the frame's intrinsics in labels.json")
+    h, w = cloud.shape
+    for o in frame.get("objects") or []:
+        x0, y0, x1, y1 = o["box"]
+        if x1 <= 0 or y1 <= 0 or x0 >= w or y0 >= h:
+            raise InputError(f"{path}: the {o['class']} rectangle {o['box']} lies outside the "
+                             f"{w}x{h} image")
     labels = planerel.segment(cloud).labels
     desc = planerel.describe(cloud, labels, scene_id=scene_id)
     objects = [{"index": 0, "id": f"{scene_id}_o0", "class": "environment"}]
@@ -77,6 +118,12 @@ def label_frame(path: Path, frame: dict, scene_id: str, out: Path) -> list:
         objects.append({"index": k, "id": f"{scene_id}_o{k}", "class": klass})
         for p in o.planes:
             object_of[p], class_of[p] = k, klass
+    for o in frame.get("objects") or []:
+        if not any(_class_of(np.isin(labels, d.planes), [o]) == o["class"]
+                   for d in desc.objects):
+            print(f"note: {path}: no proposal lies mostly in the {o['class']} rectangle "
+                  f"{o['box']}: that object is not learned (its planes are merged with what it "
+                  "touches, or it has none; check the segmentation)", file=sys.stderr)
     planes = []
     for p in desc.planes:
         role = ROLES.get(class_of.get(p.label, ""), {}).get(p.orientation, "surface")
@@ -124,19 +171,24 @@ def main(argv=None) -> int:
             raise PlanerelError(f"{args.frames / 'labels.json'}: no 'frames' list")
         if args.out.exists():
             raise PlanerelError(f"{args.out}: exists; give a new folder")
-        args.out.mkdir(parents=True)
-        rows = [label_frame(args.frames / f["file"], f, f"s{n:04d}", args.out)
-                for n, f in enumerate(frames)]
+        check_frames(frames, args.frames)
+        from planerel.atomic import atomic_dir
+
+        # the data set appears whole or not at all: a frame that fails leaves no folder
+        with atomic_dir(args.out) as tmp:
+            rows = [label_frame(args.frames / f["file"], f, f"s{n:04d}", tmp)
+                    for n, f in enumerate(frames)]
+            with open(tmp / "manifest.csv", "w", newline="") as fh:
+                w = csv.writer(fh)
+                w.writerow(["scene_id", "class", "seed", "width", "height", "depth", "labels",
+                            "meta"])
+                w.writerows(rows)
+            (tmp / "dataset.json").write_text(json.dumps(
+                {"format": "examples/label_frames.py", "source": str(args.frames)},
+                indent=1) + "\n")
     except PlanerelError as exc:
         print(f"label_frames: error: {exc}", file=sys.stderr)
         return 2
-    with open(args.out / "manifest.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["scene_id", "class", "seed", "width", "height", "depth", "labels", "meta"])
-        w.writerows(rows)
-    (args.out / "dataset.json").write_text(json.dumps(
-        {"format": "examples/label_frames.py", "source": str(args.frames)},
-        indent=1) + "\n")
     print(f"{len(rows)} scenes -> {args.out} (planerel dataset info {args.out}; "
           f"planerel learn {args.out} -o MODEL)")
     return 0

@@ -242,3 +242,39 @@ def test_classify_json_says_where_each_plane_is(frame, tmp_path):
              ",".join(map(str, cam)))
     saved = json.loads((tmp_path / "o" / "box.classified.json").read_text())
     assert r.returncode == 0 and saved["planes"] == geo
+
+
+def test_label_frames_refuses_bad_labels_before_writing_anything(tmp_path):
+    """user89: a class typo ("Box") became a class of its own, a rectangle outside the image
+    was accepted, a rectangle over no proposal made everything `other` in silence, and a
+    missing frame failed after part of the output folder was written."""
+    frames = tmp_path / "frames"
+    frames.mkdir()
+    s = generate_scene("box", seed=1, subsample=4)
+    Image.fromarray(np.asarray(s.depth_mm, dtype=np.uint16)).save(frames / "b_depth.png")
+    cam = "160,120,131.25,131.25,79.875,59.875"
+    script = Path(__file__).resolve().parents[1] / "examples" / "label_frames.py"
+
+    def run(objects, files=("b_depth.png",)):
+        spec = [{"file": f, "intrinsics": cam, "objects": objects} for f in files]
+        (frames / "labels.json").write_text(json.dumps({"frames": spec}))
+        out = tmp_path / f"ds{len(list(tmp_path.iterdir()))}"
+        r = subprocess.run([sys.executable, str(script), str(frames), str(out)],
+                           capture_output=True, text=True, timeout=300)
+        return r, out
+
+    box = _object_box(s)
+    for objects, files, said in (
+            ([{"class": "Box", "box": box}], ("b_depth.png",), "class 'Box' is not a lower-case"),
+            ([{"class": "box", "box": [50, 10, 20, 40]}], ("b_depth.png",), "x0 < x1"),
+            ([{"class": "box", "box": [5000, 10, 5100, 40]}], ("b_depth.png",),
+             "lies outside the 160x120 image"),
+            ([], ("b_depth.png", "missing.png"), "missing.png: no such file")):
+        r, out = run(objects, files)
+        assert r.returncode == 2 and said in r.stderr, r.stderr
+        assert r.stderr.count("\n") == 1 and not out.exists()
+    r, out = run([{"class": "box", "box": [0, 0, 4, 4]}])  # a corner holding no proposal
+    assert r.returncode == 0 and "no proposal lies mostly in the box rectangle" in r.stderr
+    r, out = run([{"class": "box", "box": box}])
+    assert r.returncode == 0 and "no proposal" not in r.stderr
+    assert (out / "manifest.csv").is_file() and not list(tmp_path.glob(".ds*"))
