@@ -124,13 +124,17 @@ def _special_kind(path: Path) -> str | None:
     return None
 
 
+#: Paths whose files are a process's open streams (``/dev/stdout -> /proc/self/fd/1``)
+_STREAM_PATHS = ("/proc/", "/dev/fd/", "/dev/stdin", "/dev/stdout", "/dev/stderr")
+
+
 def _via_proc(path: Path) -> bool:
-    """True when the chain of symbolic links from ``path`` passes through ``/proc`` or
-    ``/dev`` (``/dev/stdout -> /proc/self/fd/1 -> a log file``): the file at its end is a
-    process's open stream, which a rename would take from under it."""
+    """True when the chain of symbolic links from ``path`` passes through :data:`_STREAM_PATHS`
+    (``/dev/stdout -> /proc/self/fd/1 -> a log file``): the file at its end is a process's
+    open stream, which a rename would take from under it."""
     p = os.path.abspath(path)
     for _ in range(40):  # the kernel's own bound on a link chain
-        if p.startswith(("/proc/", "/dev/")):
+        if p.startswith(_STREAM_PATHS):
             return True
         if not os.path.islink(p):
             return False
@@ -142,14 +146,14 @@ def _write_target(target: Path, option: str | None = None) -> Path:
     """The file an atomic write of ``target`` replaces: ``target`` itself, or the file a
     symbolic link at ``target`` points to (the link is written through and stays a link,
     not replaced by a regular file).  Refuses a target that is a FIFO, a device or a socket,
-    or a link into ``/proc`` or ``/dev`` (``-o /dev/stdout``): a file written whole and then
+    or a link to a process's stream (:data:`_STREAM_PATHS`: ``-o /dev/stdout``): a file written whole and then
     renamed cannot go there, and the rename would replace the special file or link itself
     (user89)."""
     where = f"{option} {target}" if option else str(target)
     kind = _special_kind(target)  # followed as the kernel follows it (/dev/stdout: a pipe)
     if kind is None and os.path.islink(target):
         real = os.path.realpath(target)
-        if real.startswith(("/proc/", "/dev/")) or _via_proc(target):
+        if real.startswith(_STREAM_PATHS) or _via_proc(target):
             kind = "a link to a stream or a process's file"  # /proc/self/fd/1 to a log file
         elif not os.path.isdir(os.path.dirname(real)):
             raise InputError(f"{where}: is a link to {real}, whose folder does not exist")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -110,3 +111,19 @@ def test_a_regular_output_is_still_replaced_whole(tmp_path):
     assert out.read_text() == "new" and not out.is_symlink()
     np.save(tmp_path / "x.npy", np.zeros(3))  # nothing else in the folder is touched
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "x.npy"]
+
+
+def test_a_link_to_a_plain_file_under_dev_is_written_through(tmp_path):
+    """Only a process's streams are refused (``/proc``, ``/dev/fd``, ``/dev/stdout``): a link
+    to a file on ``/dev/shm`` is a file like any other."""
+    shm = Path("/dev/shm")
+    if not (shm.is_dir() and os.access(shm, os.W_OK)):
+        pytest.skip("no writable /dev/shm")
+    target = shm / f"planerel-test-{os.getpid()}.txt"
+    link = tmp_path / "out.txt"
+    link.symlink_to(target)
+    try:
+        write_text(link, "ok\n")
+        assert target.read_text() == "ok\n" and link.is_symlink()
+    finally:
+        target.unlink(missing_ok=True)
