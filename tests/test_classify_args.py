@@ -91,3 +91,20 @@ def test_a_camera_height_far_from_the_floor_in_view_is_noted(setup):
     lies = float(note.split("lies ")[1].split(" m")[0])
     assert 0.3 < lies < 3.0
     assert _classify(rules, cloud, camera_height=lies).input_notes == ()
+
+
+def test_intrinsics_an_organized_cloud_does_not_use_are_noted(setup, tmp_path, capsys):
+    """user89: ``--intrinsics`` on an organized PCD was ignored without a word."""
+    _, scan, _, _ = setup
+    pcd = tmp_path / "scan.pcd"
+    assert main(["convert", str(scan), "-o", str(pcd)]) == 0
+    capsys.readouterr()
+    other = "160,120,100,100,80,60"
+    assert main(["describe", str(pcd), "-o", str(tmp_path / "f.pl"), "--intrinsics",
+                 other]) == 0
+    assert "an organized cloud carries its own points; --intrinsics is not used" in \
+        capsys.readouterr().err
+    # a depth image takes them: no note
+    assert main(["describe", str(scan), "-o", str(tmp_path / "g.pl"), "--intrinsics",
+                 other]) == 0
+    assert "is not used" not in capsys.readouterr().err
