@@ -95,8 +95,11 @@ def _pattern_scans(pattern: str, found: list) -> list[Path]:
     8-bit images are left out with a note (user89: ``"data/test/*.png"`` read a data set's
     label PNGs as depth in millimetres)."""
     scans = [q for q in found if _is_scan(q)]
-    scans = [q for q in scans if not _colour_image(q)] if len(scans) > 1 else scans
-    left = [q for q in found if q not in scans]
+    colour = {q for q in scans if _colour_image(q)}
+    if colour and len(colour) < len(scans):  # as _folder_scans: all colour, all kept
+        scans = [q for q in scans if q not in colour]
+    kept = set(scans)
+    left = [q for q in found if q not in kept]
     if not scans:
         raise InputError(f"{pattern}: the pattern matches no scan ({len(found)} file(s), e.g. "
                          f"{found[0].name}: label, result, colour or other files; name a file "

@@ -86,8 +86,9 @@ def legend_rows(answer, chars: int = 100) -> list:
             var = plane_of.get(pid, "?")
             rows.append((f"{var} = {pid}", colours.get((n, pid), (0, 0, 0))))
         if o.klass != "other" and not o.proof_planes:
+            first = shown_planes(o)[:1]
             rows.append(("    the rule binds no plane: the object's planes are coloured",
-                         colours.get((n, (shown_planes(o) or ("",))[0]), None)))
+                         colours.get((n, first[0])) if first else None))
         if o.klass == "other":
             if o.fired and not o.refused:
                 fired = ", ".join(f"{k} {i}" for k, i in o.fired)

@@ -257,23 +257,19 @@ def read_input(path, args: argparse.Namespace):
 
 
 def _note_unused_intrinsics(path, cloud, given) -> None:
-    """A note when ``--intrinsics`` was given and the scan was read with another camera: an
-    organized cloud (a PCD, an ``(H, W, 3)`` ``.npy``) carries its own points, so the option
-    does not change them (user89: it was ignored without a word)."""
+    """A note when ``--intrinsics`` (:func:`parse_intrinsics`' six numbers) was given and the
+    scan was read with another camera: an organized cloud (a PCD, an ``(H, W, 3)`` ``.npy``)
+    carries its own points, so the option does not change them (user89: it was ignored
+    without a word)."""
     import sys
 
     import numpy as np
 
-    if given is None or isinstance(given, str) or cloud.intrinsics is None:
+    if not isinstance(given, tuple) or cloud.intrinsics is None:  # None or "kinect"
         return
     c = cloud.intrinsics
-    try:
-        want = np.array([float(v) for v in (given if isinstance(given, (tuple, list)) else (
-            given.width, given.height, given.fx, given.fy, given.cx, given.cy))])
-    except (AttributeError, TypeError, ValueError):
-        return
     have = np.array([c.width, c.height, c.fx, c.fy, c.cx, c.cy], float)
-    if not np.allclose(have, want, rtol=1e-6, atol=1e-6):
+    if not np.allclose(have, np.asarray(given, float), rtol=1e-6, atol=1e-6):
         print(f"note: {path}: an organized cloud carries its own points; --intrinsics is not "
               f"used (its grid's camera: {c.width}x{c.height}, fx {c.fx:g}, fy {c.fy:g}, "
               f"cx {c.cx:g}, cy {c.cy:g})", file=sys.stderr)

@@ -239,8 +239,11 @@ def _check_model_argument(args) -> None:
         raise InputError(f"{model}: holds no rules.pl, so it is no model; the model comes "
                          f"first: {usage}")
     if model.is_file():
-        with open(model, "rb") as fh:
-            head = fh.read(4096).decode("utf-8", "replace")
+        try:
+            with open(model, "rb") as fh:
+                head = fh.read(4096).decode("utf-8", "replace")
+        except OSError:  # unreadable: the model's loader says so in its own words
+            head = ""
         if head.startswith("% planerel describe") or "\nscene(" in head:
             raise InputError(f"{model}: is a facts file from planerel describe, not a model "
                              f"(rules); {usage}")

@@ -185,11 +185,9 @@ def run(args) -> int:
                          f"{len(args.labels)} label images")
     ids = scene_names(paths, args.ids, prolog=True)
     # the outputs, after the inputs (a refused input creates nothing), before any work
-    from planerel.atomic import check_output_dir, check_output_file
+    from planerel.atomic import check_not_inputs, check_output_dir, check_output_file
 
     check_output_file(args.output, "-o")
-    from planerel.atomic import check_not_inputs
-
     check_not_inputs([args.output, str(args.output) + ".errors.tsv"], paths)
     for option, folder in (("--mesh", args.mesh), ("--graph", args.graph)):
         if folder is not None:  # "" is refused, not ignored

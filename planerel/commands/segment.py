@@ -83,6 +83,9 @@ def register(sub) -> None:
 
 
 FORMATS = ("npy", "png", "json", "pcd", "ply")
+#: the file each format writes, ``NAME + suffix`` in the output folder
+SUFFIXES = {"npy": ".labels.npy", "png": ".labels.png", "json": ".planes.json", "pcd": ".pcd",
+            "ply": ".ply"}
 
 
 def _formats(text: str) -> tuple:
@@ -111,10 +114,10 @@ def _segment_task(task: dict) -> str:
     gravity = resolve_up(cloud, seg.labels, given_up(task["read"]))
     formats = task["formats"]
     if "npy" in formats:
-        write_labels_npy(out / f"{stem}.labels.npy", seg.labels)
+        write_labels_npy(out / f"{stem}{SUFFIXES['npy']}", seg.labels)
     if "png" in formats:
         depth = cloud.depth if cloud.organized else None
-        write_labels_png(out / f"{stem}.labels.png", seg.labels, depth)
+        write_labels_png(out / f"{stem}{SUFFIXES['png']}", seg.labels, depth)
     if "pcd" in formats or "ply" in formats:
         from planerel.io.exports import (
             input_colours,
@@ -128,12 +131,12 @@ def _segment_task(task: dict) -> str:
                                 organize=getattr(task["read"], "organize", True),
                                 intrinsics=parse_intrinsics(getattr(task["read"], "intrinsics",
                                                                     None)))
-            write_pcd(out / f"{stem}.pcd", cloud.xyz, labels=seg.labels,
+            write_pcd(out / f"{stem}{SUFFIXES['pcd']}", cloud.xyz, labels=seg.labels,
                       colours=rgb if rgb is not None else plane_colours(seg.labels))
         if "ply" in formats:
-            write_segmentation_ply(out / f"{stem}.ply", cloud.xyz, seg.labels)
+            write_segmentation_ply(out / f"{stem}{SUFFIXES['ply']}", cloud.xyz, seg.labels)
     if "json" in formats:
-        write_json(out / f"{stem}.planes.json", {
+        write_json(out / f"{stem}{SUFFIXES['json']}", {
         "source": str(path),
         "method": seg.method,
         "shape": list(seg.labels.shape),
@@ -168,12 +171,10 @@ def run_segment(args) -> int:
     from planerel.atomic import check_output_dir
 
     formats = _formats(args.formats)
-    suffixes = {"npy": ".labels.npy", "png": ".labels.png", "json": ".planes.json",
-                "pcd": ".pcd", "ply": ".ply"}
     from planerel.atomic import check_not_inputs
 
     # segment x.pcd -o . would write the labelled cloud over the scan (user89)
-    check_not_inputs([out / f"{n}{suffixes[f]}" for n in stems for f in formats], paths)
+    check_not_inputs([out / f"{n}{SUFFIXES[f]}" for n in stems for f in formats], paths)
     check_output_dir(out, "-o")  # made, and removed again when the run fails while it is empty
     opts = read_options(args)
     tasks = [{"path": str(p), "name": n, "out": str(out), "read": opts, "method": args.method,
