@@ -1236,8 +1236,12 @@ def judged_matches(ans, side, truth, min_iou, min_pixels) -> tuple:
     return sc, judged, matched
 
 
-def score_set(out, models, figures=None, min_iou=0.5, min_pixels=None, by_planes=False):
+def score_set(out, models, figures=None, min_iou=0.5, min_pixels=None, by_planes=False,
+              params=()):
+    """Score every model of ``models`` on the scenes under ``out``; ``params`` (``NAME=VALUE``
+    strings, as ``planerel classify --param`` takes them) override the models' settings."""
     from planerel.classify.classifier import Classifier, explanation_image
+    from planerel.commands.classify import _params
     from planerel.io import readers as io
 
     out = Path(out)
@@ -1249,7 +1253,7 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=None, by_planes
         t_all = []
         spurious = 0  # proposals matching no labelled object that got a class
         spurious_at = {}  # scene -> those proposals' classes (in the --json output)
-        with Classifier(mdir) as clf:
+        with Classifier(mdir, seg_params=_params(list(params))) as clf:
             for p in scenes:
                 side = json.loads(p.with_suffix(".json").read_text())
                 truth = np.load(p.with_name(p.stem + ".objects.npy"))
@@ -1490,6 +1494,9 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--min-pixels", type=int, default=None,
                    help="judge only objects with at least this many valid pixels "
                         "(default 150 scaled with the image area: 150 at 160x120, 2400 at 640x480)")
+    s.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a setting of the models, as planerel classify --param does "
+                        "(repeatable)")
     d = sub.add_parser("dev")
     d.add_argument("dest")
     d.add_argument("--only", nargs="+", choices=sorted(DEV_SETS), default=None)
@@ -1514,7 +1521,8 @@ def main(argv=None):
             _make(ap.parse_args(["make", str(out)] + DEV_SETS[name].split()))
             print(f"{out}: made ({DEV_SETS[name]}) in {time.perf_counter() - t0:.0f} s")
     else:
-        res = score_set(a.out, a.models, a.figures, min_pixels=a.min_pixels, by_planes=a.by_planes)
+        res = score_set(a.out, a.models, a.figures, min_pixels=a.min_pixels, by_planes=a.by_planes,
+                        params=a.param)
         if a.true_planes:
             res["proposals_found"] = proposals_on_true_planes(a.out, min_pixels=a.min_pixels)
         if a.json:

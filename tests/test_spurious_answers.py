@@ -80,3 +80,26 @@ def test_lies_on_names_the_kind_holding_most_of_a_plane():
     assert spur.lies_on(np.array([[1, 1, 0], [0, 0, 0]], bool), truth, kinds) == ("environment", 1.0)
     assert spur.lies_on(np.zeros((2, 3), bool), truth, kinds) == ("none", 0.0)
     assert spur._label_of("i0006_p03") == 3 and spur._label_of(7) == 7 and spur._label_of("x") is None
+
+
+def test_score_takes_the_models_settings_overrides(tmp_path):
+    """``independent_scenes.py score --param`` reaches the classifier as ``planerel classify
+    --param`` does (real_checks.py passes its ``--param`` to the independent sets): a minimum
+    region larger than the image grows no plane, so the box found by default is not; a
+    misspelled name is refused with the classifier's message."""
+    import pytest
+
+    from planerel.errors import InputError
+
+    _write_scene(tmp_path, 0, False)
+    rules = tmp_path / "rules.pl"
+    rules.write_text("box(A) :- has_plane(A,B), orientation(B,vertical).\n")
+
+    def preds(params):
+        res = ind.score_set(tmp_path, [rules], params=params)[str(rules)]
+        return [r["pred"] for r in res["rows"] if r["class"] == "box"]
+
+    assert preds(()) == ["box"]
+    assert preds(["min_region_size=100000"]) == ["none"]
+    with pytest.raises(InputError):
+        ind.score_set(tmp_path, [rules], params=["min_region_sise=10"])
