@@ -37,6 +37,7 @@ COMMAND_MODULES = [
     "planerel.commands.evaluate_model",
     "planerel.commands.evaluate_objects",
     "planerel.commands.report",
+    "planerel.commands.params",
 ]
 
 

@@ -4,7 +4,8 @@ stage imports a later one.
 Every module's imports are read with ``ast`` -- at the top of the module and inside functions --
 and resolved to the module they name.  The allowed order is stated here, not read from the code:
 
-    base (errors, atomic, children, compile_notice, progress, _version)
+    base (errors, atomic, children, compile_notice, progress, _version, parameters: the
+    --param sections' names; it loads their classes by name, on demand)
       < io < segment < features < batch < ilp < classify < report < commands < api, cli, __main__, planerel
 
 with ``synth`` beside ilp: it may use base, io, segment and features (it builds data-set
@@ -37,7 +38,7 @@ ALLOWED = {
 }
 #: top-level modules and the group they belong to (subpackages are their own group).
 TOP_LEVEL = {"errors": "base", "atomic": "base", "children": "base", "compile_notice": "base", "progress": "base",
-             "_version": "base",
+             "_version": "base", "parameters": "base",
              "batch": "batch", "api": "top", "cli": "top", "__main__": "top", "__init__": "top"}
 
 

@@ -184,7 +184,8 @@ def run_info(args) -> int:
     classes = Counter(r.klass for r in rows)
     sizes = Counter(f"{r.width}x{r.height}" for r in rows)
     print(f"{args.path}: {len(rows)} scenes; " + ", ".join(f"{k} {v}" for k, v in sorted(classes.items()))
-          + "; size " + ", ".join(sorted(sizes)))
+          + " (scenes by the class of their main object, manifest.csv); size "
+          + ", ".join(sorted(sizes)))
     if info:
         print(f"made by {info.get('format', '?')}"
               + (f" with seed {info['seed']}" if info.get("seed") is not None else ""))
@@ -202,6 +203,8 @@ def run_info(args) -> int:
                 objects[f"{o.get('class')} ({o['kind']})"] += 1
     print(f"{seen} visible ground-truth planes: " + ", ".join(f"{k} {v}" for k, v in sorted(roles.items())))
     if objects:
-        print(f"{sum(objects.values())} visible objects: "
+        print(f"{sum(objects.values())} ground-truth objects with pixels in view: "
               + ", ".join(f"{k} {v}" for k, v in sorted(objects.items())))
+    print("planerel learn takes as examples only the objects whose segmented planes show their "
+          "class, and says how many\nit left out and why (docs/formats.md, \"Counting objects\")")
     return 0

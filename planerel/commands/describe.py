@@ -42,7 +42,8 @@ def register(sub) -> None:
                    help="a segmentation parameter (theta=12, split.merge_side=3, "
                         "small_scale=0.35) or SECTION.NAME of gravity, planes, relations, "
                         "proposals, curved (relations.lying_rise=0.02); repeatable; over a "
-                        "--model's value it is used and a warning says so")
+                        "--model's value it is used and a warning says so; 'planerel params' "
+                        "lists the sections and their parameters")
     p.add_argument("--ids", nargs="+", metavar="ID", help="scene ids, one per input")
     p.add_argument("--no-planner", action="store_true",
                    help="leave out plane_model/3 and hull/2 (the facts for robot planners)")

@@ -33,7 +33,8 @@ def register(sub) -> None:
     p.add_argument("--param", action="append", default=[], metavar="decision.NAME=VALUE",
                    help="score with a decision setting other than the model's (repeatable), as "
                         "planerel classify --param takes it: decision.proof_gate=false, "
-                        "decision.proof_margin=0.5, decision.planar_gate, decision.veto_ratio, ...")
+                        "decision.proof_margin=0.5, decision.planar_gate, decision.veto_ratio, "
+                        "...; 'planerel params decision' lists them")
     p.set_defaults(func=run)
 
 

@@ -45,7 +45,8 @@ def register(sub) -> None:
                    help="planes from region growing (default), a RANSAC baseline, or the "
                         "ground-truth labels (gt)")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
-                   help="segmentation parameter (repeatable)")
+                   help="a segmentation parameter, NAME or split.NAME (repeatable); 'planerel "
+                        "params segmentation' and 'planerel params split' list them")
     p.add_argument("--cache", metavar="DIR", help="segmentation cache folder (default "
                    "$PLANEREL_CACHE or ~/.cache/planerel; 'none' disables it)")
     p.add_argument("--set", action="append", default=[], metavar="[CLASS:]NAME=VALUE",
@@ -85,20 +86,30 @@ def register(sub) -> None:
 
 def _params(items) -> dict:
     from planerel.errors import InputError
-    from planerel.ilp.model_settings import SECTIONS
+    from planerel.parameters import segmentation_only
 
     out = {}
     for item in items:
         name, sep, value = item.partition("=")
         if not sep or not name:
             raise InputError(f"--param takes NAME=VALUE, got {item!r}")
-        section = name.strip().partition(".")[0]
-        if "." in name and section in SECTIONS:
-            raise InputError(f"--param {name.strip()}: learn takes segmentation parameters "
-                             f"(NAME or split.NAME); {section}.NAME is a setting of "
-                             f"'planerel classify MODEL --param {name.strip()}=VALUE'")
         out[name.strip()] = value.strip()
+    segmentation_only(out, "learn")
     return out
+
+
+def _excluded_line(excluded: dict) -> str:
+    """One line on the ground-truth objects that are no example (``{class: {reason: n}}``,
+    :func:`planerel.ilp.pipeline.excluded_counts`), "" when there are none: why ``learn``
+    counts fewer objects than ``planerel dataset info``."""
+    n = sum(sum(v.values()) for v in excluded.values())
+    if not n:
+        return ""
+    parts = [f"{k} {sum(v.values())} ({', '.join(f'{why} {c}' for why, c in v.items())})"
+             for k, v in excluded.items()]
+    return (f"not examples: {n} ground-truth object(s) whose segmented planes do not show their "
+            f"class: {'; '.join(parts)} ('planerel dataset info' counts every scene and every "
+            "object in view; docs/formats.md, \"Counting objects\")")
 
 
 def _settings(items) -> dict:
@@ -165,6 +176,13 @@ def run(args) -> int:
           f"{', '.join(m['classes'])}"
           + (f"; {m['n_other']} objects of class other (negatives for every class)"
              if m.get("n_other") else ""))
+    per_class = m.get("examples") or {}
+    if per_class:
+        print("examples per class: " + ", ".join(f"{k} {per_class.get(k, 0)}" for k in m["classes"])
+              + " (the objects whose segmented planes show their class)")
+    left = _excluded_line(m.get("excluded") or {})
+    if left:
+        print(left)
     if m.get("member_models"):
         for member in m["member_models"]:
             print(f"member {member['member']} of {m['members']} ({member['n_scenes']} scenes):")

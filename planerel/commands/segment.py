@@ -52,7 +52,8 @@ def register(sub) -> None:
                         "snp (RANSAC plane with normals)")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="a method parameter, e.g. --param theta=12 --param threshold=0.03 "
-                        "(see docs/segmentation.md); repeat for more.  Region growing also "
+                        "('planerel params segmentation', 'planerel params ransac' list them; "
+                        "docs/segmentation.md); repeat for more.  Region growing also "
                         "takes --param preset=structured-light for high-resolution range "
                         "images with coarse depth steps (e.g. SegComp ABW); --param "
                         "split=false skips the planar post-processing (split=true runs it, "
@@ -151,9 +152,11 @@ def run_segment(args) -> int:
     from planerel.batch import BatchResult, report_failures, run_batch, write_errors
     from planerel.commands._common import inputs_of, read_options
     from planerel.io.naming import scene_names
+    from planerel.parameters import segmentation_only
     from planerel.segment import make_params, split_fields
 
     given = parse_params(args.param)
+    segmentation_only(given, "segment")
     # split is segment()'s keyword (the post-processing), not a parameter-class field
     split = given.pop("split", None)
     if split is not None:

@@ -46,7 +46,9 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from planerel.errors import InputError, did_you_mean
+from planerel.errors import InputError
+from planerel.parameters import SECTIONS as _PARAM_SECTIONS
+from planerel.parameters import unknown_parameters, unknown_section
 
 __all__ = ["MODEL_FILE", "FORMAT", "SECTIONS", "ModelSettings", "training_settings",
            "read_settings", "with_overrides"]
@@ -54,12 +56,8 @@ __all__ = ["MODEL_FILE", "FORMAT", "SECTIONS", "ModelSettings", "training_settin
 MODEL_FILE = "model.json"
 FORMAT = "planerel-model/1"
 #: Description settings besides the segmentation: section name -> dataclass (import path).
-SECTIONS = {"gravity": ("planerel.features.gravity", "GravityParams"),
-            "planes": ("planerel.features.planes", "PlaneParams"),
-            "relations": ("planerel.features.relations", "RelationParams"),
-            "proposals": ("planerel.features.relations", "ProposalParams"),
-            "curved": ("planerel.features.curved", "CurvedParams"),
-            "decision": ("planerel.ilp.metrics", "DecisionParams")}
+SECTIONS = {name: (module, cls) for name, (module, cls, _) in _PARAM_SECTIONS.items()
+            if name not in ("segmentation", "ransac", "split")}
 #: Sections that are not settings of the description (:meth:`ModelSettings.describe_kwargs`).
 _DECISION_SECTIONS = ("decision",)
 #: Segmentation keywords of :func:`planerel.segment.segment` that are not parameter fields.
@@ -339,14 +337,10 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
         sec, dot, key = str(name).partition(".")
         if dot and sec != "split":  # split.NAME is a segmentation parameter
             if sec not in SECTIONS:
-                raise InputError(f"--param {name}: unknown section {sec!r}"
-                                 f"{did_you_mean(sec, SECTIONS)} (use a segmentation "
-                                 f"parameter, split.NAME or one of {', '.join(f'{s}.NAME' for s in SECTIONS)})")
+                raise unknown_section(name)
             fields = {f.name: f for f in dataclasses.fields(_section_class(sec))}
             if key not in fields:
-                raise InputError(f"--param {name}: {sec} has no parameter {key!r}"
-                                 f"{did_you_mean(key, fields)} (it has "
-                                 f"{', '.join(fields)})")
+                raise unknown_parameters(sec, [key])
             current = sections.get(sec, {}).get(key, dataclasses.asdict(_section_class(sec)())[key])
             section_over.append((sec, key, _coerce_like(value, current, name)))
         else:
@@ -366,6 +360,7 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
                         base.slender_domain, base.range_domain, base.rule_stats)
     out.describe_kwargs()  # a bad value fails here, with the dataclass's message
     out.decision_params()
+    out.resolved()  # and a bad segmentation name, before any scan (a model with no model.json too)
     if settings is not None and new_method == base.method and seg != base.seg_params:
         before, after = base.resolved() or {}, out.resolved() or {}
         known = base.seg_recorded

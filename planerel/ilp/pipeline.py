@@ -353,10 +353,13 @@ def _metrics_head(dataset_dir, classes, method, seg_params, seed, settings, task
 
 
 def _example_counts(descs, classes) -> dict:
-    """``n_scenes``, ``n_examples`` (objects of a learned class) and ``n_other`` of ``descs``."""
+    """``n_scenes``, ``n_examples`` (objects of a learned class), ``examples`` (those per
+    class), ``n_other`` and ``excluded`` (:func:`excluded_counts`: the ground-truth objects
+    that are no example, by class and reason) of ``descs``."""
     kinds = [k for _, k in _examples(descs)]
     return {"n_scenes": len(descs), "n_examples": sum(k in classes for k in kinds),
-            "n_other": sum(k == OTHER for k in kinds)}
+            "examples": {k: kinds.count(k) for k in classes},
+            "n_other": sum(k == OTHER for k in kinds), "excluded": excluded_counts(descs)}
 
 
 def excluded_counts(descs) -> dict:

@@ -451,17 +451,18 @@ class RansacParams:
 
 
 def coerce_params(cls, params: dict):
-    """Build ``cls`` from keyword parameters, naming unknown ones; strings from the command line
-    ("15", "auto", "true") become numbers / booleans."""
+    """Build ``cls`` from keyword parameters, naming unknown ones in the user's words
+    (:func:`planerel.parameters.unknown_parameters`); strings from the command line ("15",
+    "auto", "true") become numbers / booleans."""
     names = {f.name for f in fields(cls)}
     unknown = sorted(set(params) - names)
     if unknown:
-        from planerel.errors import did_you_mean
+        from planerel.parameters import section_of, unknown_parameters
 
-        raise InputError(
-            f"unknown parameter(s) {', '.join(u + did_you_mean(u, names) for u in unknown)} "
-            f"for {cls.__name__}; known: {', '.join(sorted(names))}"
-        )
+        section = section_of(cls)
+        if section is None:  # a class no --param section holds: name it
+            raise InputError(f"unknown parameter(s) {', '.join(unknown)} for {cls.__name__}")
+        raise unknown_parameters(section, unknown)
     # fields whose values are words (delta_mode, angle_order) keep them
     words = {f.name for f in fields(cls) if isinstance(f.default, str) and f.default != "auto"
              or f.name == "angle_order"}
