@@ -1353,12 +1353,12 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     settings = settings or None
     # what would fail at the end fails first: the task, the settings, the model folder, the
     # held-out set
-    from planerel.ilp.aleph_export import check_setting, load_task
+    from planerel.ilp.aleph_export import check_setting, check_task_vocabulary
     from planerel.ilp.learn import check_engine, check_timeout
 
     check_timeout(timeout)
     check_engine(engine)
-    load_task(task)
+    check_task_vocabulary(task)
     for name, value in (settings or {}).items():
         check_setting(name.rpartition(":")[2], value)
     check_dir_target(out, markers=("rules.pl", "metrics.json"))
