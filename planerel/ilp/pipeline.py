@@ -19,7 +19,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from planerel.children import temp_dir
-from planerel.errors import InputError, PrologError
+from planerel.errors import InputError, LearnerError, PrologError
 from planerel.ilp.metrics import (
     FLIGHT_FRAGMENTS,
     FLIGHT_GATE,
@@ -527,6 +527,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
                     f"learning the {k} rules timed out after {timeout:g} s and was stopped "
                     "(the time limit of each class's learner: --timeout, or timeout= in "
                     "Python)") from None
+            except LearnerError as exc:  # which class failed (ilp90: the demo's "Aleph failed")
+                raise LearnerError(f"learning the {k} rules: {exc}") from None
             if log is not None:
                 log(f"[{k}] learned {len(res.rules)} clause(s) in {time.perf_counter() - t0:.1f} s")
             return res
