@@ -47,3 +47,21 @@ def test_the_default_tasks_modes_and_types_as_documented():
     both = sorted(t for t, ops in thresholds.items() if ops == {"gteq", "lteq"})
     listed = re.search(r"for every measure\s+T ∈ \{([^}]*)\}", compare).group(1)
     assert sorted(x.strip() for x in listed.split(",")) == both
+
+
+def test_the_scene_id_row_gives_the_naming_rule():
+    """ilp90: the Ids table said a scene id is the file name "up to its first dot"; the real
+    Kinect frames (``frame_20121214T142256.068683_depth.tiff``) keep their dot.  Every example
+    the row gives is what :func:`planerel.io.naming.scene_name` makes of the file name, and the
+    quoted atom it shows is how the facts write it."""
+    from planerel.features import terms
+    from planerel.io.naming import scene_name
+
+    row = next(ln for ln in DOC.splitlines() if ln.startswith("| scene |"))
+    assert "first dot" not in row.split("until ilp90")[0]
+    pairs = re.findall(r"`([^`]+)` → `([^`]+)`", row)
+    assert len(pairs) >= 2
+    for path, name in pairs:
+        assert scene_name(path) == name
+    quoted = re.findall(r"written `([^`]+)`", row)
+    assert quoted == [str(terms.atom(pairs[-1][1]))]

@@ -49,6 +49,7 @@ __all__ = [
     "describe_dataset",
     "export_dataset",
     "check_setting",
+    "check_task_vocabulary",
 ]
 
 #: The default task file (package ``planerel.aleph``).
@@ -212,15 +213,62 @@ def _included(name: str, parent: _TaskSource, at: str) -> _TaskSource:
                      + (f" (looked {' and '.join(looked)})" if looked else ""))
 
 
+#: The end of a directive written on one line: its full stop, then at most a ``%`` comment.
+_DIRECTIVE_END = re.compile(r"\.\s*(%.*)?$")
+
+
+def _code_lines(src: _TaskSource):
+    """``(line number, text)`` of each line of a task file that holds more than a comment or
+    blank space, with its ``/* ... */`` comments taken out (a block comment may span lines)."""
+    in_block = False
+    for lineno, line in enumerate(src.text.splitlines(), 1):
+        code, rest = [], line
+        while rest:
+            if in_block:
+                end = rest.find("*/")
+                if end < 0:
+                    rest = ""
+                else:
+                    in_block, rest = False, rest[end + 2:]
+            else:
+                start = rest.find("/*")
+                if start < 0:
+                    code.append(rest)
+                    rest = ""
+                else:
+                    code.append(rest[:start])
+                    in_block, rest = True, rest[start + 2:]
+        s = " ".join(code).strip()
+        if s and not s.startswith("%"):
+            yield lineno, s
+
+
 def _directives(src: _TaskSource, chain: tuple = ()) -> list[tuple[str, int, str]]:
     """The directive lines of a task file, ``(where, line number, line)``, each include expanded in
-    its place."""
+    its place.
+
+    A task file holds one-line directives only (they are copied into ``STEM.b`` line by line):
+    a directive that goes on to the next line, or a line that is no directive (a clause of a
+    background predicate of one's own), is an :class:`InputError` naming the file and line
+    rather than a line left out or cut short in ``STEM.b`` (ilp90)."""
     chain = chain + (src,)
     out = []
-    for lineno, line in enumerate(src.text.splitlines(), 1):
-        s = line.strip()
+    for lineno, s in _code_lines(src):
         if not s.startswith(":-"):
-            continue
+            raise InputError(
+                f"{src.where}:{lineno}: a task file holds directives only (lines starting with "
+                f"':-', each on one line); this line is not one, and would not reach STEM.b: "
+                f"{s[:60]!r}. planerel learns and classifies with its own vocabulary "
+                f"(docs/predicates.md); a background predicate of your own goes into the "
+                f"exported STEM.b by hand (docs/learner.md, 'Background predicates of your own')")
+        end = _DIRECTIVE_END.search(s)
+        if not end:
+            raise InputError(
+                f"{src.where}:{lineno}: a directive of a task file must stand on one line and "
+                f"end with its full stop: {s[:60]!r}")
+        # a comment after the full stop is no part of the directive: a modeb with one is a mode
+        # (with its determination), not an unknown directive copied as it stands
+        s = s[:end.start() + 1].rstrip()
         if not _INCLUDE_WORD.match(s):
             out.append((src.where, lineno, s))
             continue
@@ -277,6 +325,24 @@ def load_task(task: str | None = None) -> tuple[list[str], list[str], list[tuple
     if not modes:
         raise InputError(f"{src.where}: no modeb declarations found")
     return sets, modes, preds, other
+
+
+def check_task_vocabulary(task: str | None = None) -> None:
+    """Refuse a task (:func:`load_task`) with a ``modeb`` on a predicate that is not planerel's
+    vocabulary (the scene facts and ``prolog/derived.pl``, ``compare.pl``): a model whose rule
+    calls it is refused by ``classify`` (and by ``learn`` when it writes the model, after the
+    whole run).  ``export-aleph`` writes such a task for the learners by hand (ilp90)."""
+    from planerel.ilp.prolog import model_vocabulary
+
+    _, _, preds, _ = load_task(task)
+    vocabulary = set(model_vocabulary())
+    unknown = [f"{n}/{a}" for n, a in preds if (n, a) not in vocabulary]
+    if unknown:
+        raise InputError(
+            f"{_task_source(task).where}: modeb on {', '.join(unknown)}, which "
+            f"{'is' if len(unknown) == 1 else 'are'} not planerel's vocabulary (docs/predicates.md): "
+            "a model whose rules call it could not classify a scene. export-aleph writes such a "
+            "task for Aleph by hand (docs/learner.md, 'Background predicates of your own')")
 
 
 # The SWI-Prolog pack's module file aleph.pl (``library(aleph)``) exports neither ``set/2``

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from planerel.children import temp_dir
-from planerel.errors import InputError, PrologError
+from planerel.errors import InputError, LearnerError, PrologError
 from planerel.ilp.metrics import (
     FLIGHT_FRAGMENTS,
     FLIGHT_GATE,
@@ -530,6 +530,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
                     f"learning the {k} rules timed out after {timeout:g} s and was stopped "
                     "(the time limit of each class's learner: --timeout, or timeout= in "
                     "Python)") from None
+            except LearnerError as exc:  # which class failed (ilp90: the demo's "Aleph failed")
+                raise LearnerError(f"learning the {k} rules: {exc}") from None
             if log is not None:
                 log(f"[{k}] learned {len(res.rules)} clause(s) in {time.perf_counter() - t0:.1f} s")
             return res
@@ -1356,12 +1358,12 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     settings = settings or None
     # what would fail at the end fails first: the task, the settings, the model folder, the
     # held-out set
-    from planerel.ilp.aleph_export import check_setting, load_task
+    from planerel.ilp.aleph_export import check_setting, check_task_vocabulary
     from planerel.ilp.learn import check_engine, check_timeout
 
     check_timeout(timeout)
     check_engine(engine)
-    load_task(task)
+    check_task_vocabulary(task)
     for name, value in (settings or {}).items():
         check_setting(name.rpartition(":")[2], value)
     check_dir_target(out, markers=("rules.pl", "metrics.json"))
