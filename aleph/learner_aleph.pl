@@ -100,8 +100,19 @@ apply_setting(Kind, Text) :-
 
 %   induce fails in the module file when no positive example is left to cover
 %   (and in either when a problem has none): the theory is then empty.
-learn(classic) :- ( user:induce -> true ; true ).
-learn(module)  :- ( aleph:induce(user:_) -> true ; true ).
+%   Float division by zero gives infinity and 0/0 NaN rather than an error:
+%   Aleph's clause-length check (maxlength_neg_ok/4) computes P/(P+N) for a
+%   clause covering no example at all, and with minacc set that 0/0 stopped
+%   the whole run (make demo's box task, samplesize 8).  NaN < MinAcc is
+%   false, so such a clause is judged by its negatives alone, as a clause
+%   covering nothing can be; a run that divides by no zero is unchanged.
+learn(Kind) :-
+    set_prolog_flag(float_zero_div, infinity),
+    set_prolog_flag(float_undefined, nan),
+    induce(Kind).
+
+induce(classic) :- ( user:induce -> true ; true ).
+induce(module)  :- ( aleph:induce(user:_) -> true ; true ).
 
 %   collect_theory(+Kind): the clauses of the theory, in the order Aleph
 %   found them, from the store Aleph's write_rules/1 prints from
