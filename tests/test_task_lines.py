@@ -12,11 +12,15 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
 from planerel.errors import InputError
 from planerel.ilp.aleph_export import aleph_files, check_task_vocabulary, load_task, task_directives
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_task_include import descs  # noqa: E402,F401  (the fixture: a small described data set)
 
 DEFAULT = ":- planerel_include('modes_relational.pl').\n"
 
@@ -55,19 +59,7 @@ def test_comments_of_every_kind_are_still_no_lines(tmp_path):
         check_task_vocabulary(name)
 
 
-@pytest.fixture(scope="module")
-def descs(tmp_path_factory):
-    from planerel.ilp.aleph_export import describe_dataset
-    from planerel.synth.generator import generate_dataset
-
-    d = tmp_path_factory.mktemp("ds") / "ds"
-    generate_dataset(d, n_box=2, n_stairs=2, n_ramp=2, seed=3, size=(640, 480), subsample=8)
-    descs, skipped = describe_dataset(d)
-    assert skipped == []
-    return descs
-
-
-def test_a_modeb_with_a_comment_after_it_is_a_mode_with_its_determination(tmp_path, descs):
+def test_a_modeb_with_a_comment_after_it_is_a_mode_with_its_determination(tmp_path, descs):  # noqa: F811
     task = _task(tmp_path, DEFAULT + ":- modeb(*, facing(+plane, -plane)).   % facing walls\n")
     _, modes, preds, other = load_task(task)
     assert modes[-1] == ":- modeb(*, facing(+plane, -plane))." and ("facing", 2) in preds
@@ -77,7 +69,7 @@ def test_a_modeb_with_a_comment_after_it_is_a_mode_with_its_determination(tmp_pa
     assert "% facing walls" not in b
 
 
-def test_a_predicate_of_ones_own_by_a_one_line_directive_reaches_the_learner(tmp_path, descs):
+def test_a_predicate_of_ones_own_by_a_one_line_directive_reaches_the_learner(tmp_path, descs):  # noqa: F811
     """The documented way: ``:- assertz((...)).`` on one line; the builtin learner reads it with
     no "mode declaration but no definition" warning and the predicate holds in the background."""
     from planerel.ilp.aleph_export import export_aleph
