@@ -140,6 +140,8 @@ format("~w ~w~n", [TP, FP])
     # a box has one horizontal plane, a ramp at most its platform
     ("stairs", "stairs(A) :- has_plane(A,B), horizontal(B), above(B,C), horizontal(C)"),
     ("ramp", "ramp(A) :- has_plane(A,B), inclined(B)"),
+    # the shipped model's stairs rule, through the relations the bias declares since ilp90
+    ("stairs", "stairs(A) :- has_plane(A,B), parallel(B,C), stair_step(C,B)"),
 ])
 def test_the_bias_admits_rules_that_separate_the_classes(tasks, target, rule):
     """Rules within the bias (its predicates, types, directions and bounds) derived from the
@@ -170,3 +172,18 @@ def test_command_and_errors(dataset, tmp_path, capsys, tasks):
         popper_files(descs, "cat")
     a = popper_files(descs, "ramp")
     assert a == popper_files(descs, "ramp")                  # deterministic
+
+
+def test_the_bias_declares_the_relations_the_learned_rules_rest_on(tasks):
+    """Every relation of planerel's box, stairs and ramp vocabulary that ``bk.pl`` holds and the
+    Aleph task's modes offer (skirt, corner, face_pair, stair_step, tall_face, lying, curved) is
+    a body predicate of the bias with its types (ilp90: the bias had none of them)."""
+    _, folders = tasks
+    atoms = _bias_atoms(folders["box"] / "bias.pl")
+    body = {str(a[0]): a[1].number for a in atoms["body_pred"]}
+    for name, arity in (("skirt", 2), ("corner", 2), ("face_pair", 2), ("stair_step", 2),
+                        ("tall_face", 1), ("lying", 1), ("curved", 1)):
+        assert body.get(name) == arity, name
+    bk = (folders["box"] / "bk.pl").read_text()
+    for name in ("skirt", "corner", "stair_step"):
+        assert re.search(rf"^{name}\(", bk, re.MULTILINE), name

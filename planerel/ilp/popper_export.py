@@ -42,6 +42,16 @@ BODY_PREDICATES: tuple[tuple[str, int, tuple[str, ...], tuple[str, ...]], ...] =
     ("parallel", 2, ("plane", "plane"), ("in", "out")),
     ("perpendicular", 2, ("plane", "plane"), ("in", "out")),
     ("above", 2, ("plane", "plane"), ("in", "out")),
+    # the relations the Aleph task's rules and the shipped model rest on (docs/predicates.md):
+    # a top and a face hanging from it, two faces at a box's corner, two risers a step apart,
+    # and the one-plane box literals (ilp90: without them Popper could not learn those rules)
+    ("skirt", 2, ("plane", "plane"), ("in", "out")),
+    ("corner", 2, ("plane", "plane"), ("in", "out")),
+    ("face_pair", 2, ("plane", "plane"), ("in", "out")),
+    ("stair_step", 2, ("plane", "plane"), ("in", "out")),
+    ("tall_face", 1, ("plane",), ("in",)),
+    ("lying", 1, ("plane",), ("in",)),
+    ("curved", 1, ("obj",), ("in",)),
     ("nhorizontal", 2, ("obj", "count"), ("in", "out")),
     ("nvertical", 2, ("obj", "count"), ("in", "out")),
     ("ninclined", 2, ("obj", "count"), ("in", "out")),
