@@ -95,6 +95,9 @@ def test_an_object_without_a_horizontal_plane_is_refused(tmp_path, scene):
     assert (r.klass, r.horizontal, r.low) == ("stairs", 0, 1)
     assert r.reason == ("0 horizontal plane(s) and no faces in a flight's row: every training "
                         "stairs has at least 1")
+    # another class's refusal does not speak of flights (ilp90)
+    assert M.LevelRefusal("round", 0, 1).reason == ("0 horizontal plane(s): every training "
+                                                    "round has at least 1")
     d = tall.to_dict()["refused"][0]
     assert d == {"class": "stairs", "horizontal_planes": 0, "positives_low": 1,
                  "reason": r.reason}

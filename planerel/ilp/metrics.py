@@ -968,8 +968,11 @@ class LevelRefusal:
 
     @property
     def reason(self) -> str:
-        return (f"{self.horizontal} horizontal plane(s) and no faces in a flight's row: every "
-                f"training {self.klass} has at least {self.low}")
+        # the row of faces (a flight seen from below) is what would have let a stairs answer
+        # through; for another class it only puzzles (ilp90: "refused round: ... flight's row")
+        row = " and no faces in a flight's row" if self.klass == FLIGHT_CLASS else ""
+        return (f"{self.horizontal} horizontal plane(s){row}: every training {self.klass} has "
+                f"at least {self.low}")
 
     def to_dict(self) -> dict:
         return {"class": self.klass, "horizontal_planes": self.horizontal,
