@@ -88,7 +88,7 @@ def run(args) -> int:
         print("--param NAME=VALUE: a bare NAME is a segmentation parameter, SECTION.NAME a "
               "parameter of another section (repeat --param for more). Sections:")
         for name, (_, _, what) in SECTIONS.items():
-            how = "NAME" if name in ("segmentation", "ransac") else f"{name}.NAME"
+            how = written(name, "NAME")
             print(f"  {name:<13} {how:<15} {len(names_of(name)):>3}  {what}")
         print("segment and learn take segmentation (or ransac) and split parameters; describe "
               "every section but\ndecision; classify every section; evaluate-model decision "
@@ -111,9 +111,9 @@ def run(args) -> int:
     what = SECTIONS[section][2]
     source = (f"the values of {args.model}" if values is not None else
               "default values" + (" (the model keeps no settings)" if args.model else ""))
-    how = "NAME" if section in ("segmentation", "ransac") else f"{section}.NAME"
+    how = written(section, "NAME")
     print(f"{section}: {what}\n--param {how}=VALUE ({_TAKEN_BY.get(section, _DESCRIPTION)}); "
-          f"{source}; 'planerel params {written(section, 'NAME')}' gives one whole:")
+          f"{source}; 'planerel params {how}' gives one whole:")
     for shown, value, meaning in rows:
         print(f"  {shown} = {value}")
         meaning = meaning or _UNSAID.get(section, "")
