@@ -19,6 +19,12 @@
     module, so any number of models coexist in one process: each is named by
     the module the caller chooses and answers with its own rules.
 
+    A model may come with a background file of the user's own
+    (planerel_load_model/5, planerel_load_background/5): plain clauses over
+    the same vocabulary and safe built-ins, read as data and checked the
+    same way, then asserted into the model's module, where its rule bodies
+    run (that module sees the scene facts and support predicates of user).
+
     Written for planerel.
 */
 
@@ -37,18 +43,35 @@
 %   Name/Arity a rule body may call.  Status is ok, or error(Line, Message)
 %   for the first clause that is refused (the model is then left empty).
 planerel_load_model(Model, File, Vocabulary, Status) :-
+    planerel_load_model(Model, File, none, Vocabulary, Status).
+
+%   planerel_load_model(+Model, +File, +Background, +Vocabulary, -Status)
+%   As planerel_load_model/4, after the clauses of Background (a file, or
+%   none) are read into Model by planerel_load_background/5: a rule body may
+%   then call the predicates it defines too.  Status is ok, error(Line,
+%   Message) for File, or background_error(Line, Message) for Background
+%   (the model is then left empty).
+planerel_load_model(Model, File, Background, Vocabulary, Status) :-
     must_be(atom, Model),
     planerel_unload_model(Model),
-    catch(setup_call_cleanup(
-              open(File, read, In),
-              planerel_read_model(In, Model, Vocabulary, 1),
-              close(In)),
-          E,
-          planerel_load_error(E, Status0)),
-    (   var(Status0)
-    ->  Status = ok
-    ;   planerel_unload_model(Model),
-        Status = Status0
+    (   Background == none
+    ->  Defined = [], BgStatus = ok
+    ;   planerel_load_background(Model, Background, Vocabulary, Defined, BgStatus)
+    ),
+    (   BgStatus = error(BgLine, BgMsg)
+    ->  Status = background_error(BgLine, BgMsg)
+    ;   append(Vocabulary, Defined, Vocabulary1),
+        catch(setup_call_cleanup(
+                  open(File, read, In),
+                  planerel_read_model(In, Model, Vocabulary1, 1),
+                  close(In)),
+              E,
+              planerel_load_error(E, Status0)),
+        (   var(Status0)
+        ->  Status = ok
+        ;   planerel_unload_model(Model),
+            Status = Status0
+        )
     ).
 
 planerel_load_error(planerel_refused(Line, Msg), error(Line, Msg)) :- !.
@@ -64,11 +87,15 @@ planerel_load_error(E, error(0, Msg)) :-
             normalize_space(atom(Msg), S) ), _,
           format(atom(Msg), '~q', [E])).
 
-%   planerel_unload_model(+Model): forget Model's rules and statistics.
+%   planerel_unload_model(+Model): forget Model's rules, statistics and
+%   background clauses.
 planerel_unload_model(Model) :-
     retractall(Model:planerel_rule(_, _, _, _, _, _)),
     retractall(Model:planerel_stats(_, _, _, _)),
-    retractall(Model:planerel_cofire(_, _, _, _)).
+    retractall(Model:planerel_cofire(_, _, _, _)),
+    dynamic(Model:planerel_bg_pred/2),       % (so that retract/1 fails, not raises, without one)
+    forall(retract(Model:planerel_bg_pred(N, A)),
+           ( functor(H, N, A), retractall(Model:H) )).
 
 planerel_read_model(In, Model, Vocabulary, I) :-
     read_term(In, Term, [variable_names(Names), syntax_errors(error),
@@ -145,6 +172,12 @@ planerel_head_class(Head, _, _, Line) :-
 %   or part of planerel's support code, so it may not name a class.
 planerel_reserved_class(Name) :-
     functor(H, Name, 1),
+    planerel_reserved_head(H).
+
+%   planerel_reserved_head(+Head): Head's predicate is a built-in or library
+%   predicate or part of planerel's support code.
+planerel_reserved_head(H) :-
+    functor(H, Name, _),
     (   predicate_property(system:H, defined)
     ;   predicate_property(user:H, defined)
     ;   '$autoload':library_index(H, _, _)
@@ -158,15 +191,20 @@ planerel_check_class(Class, Line) :-
     ).
 
 %   planerel_check_body(+Body, +Vocabulary, +Line)
-planerel_check_body(G, _, Line) :-
+planerel_check_body(Body, Vocabulary, Line) :-
+    planerel_check_body(Body, Vocabulary, 'planerel\'s vocabulary', Line).
+
+%   planerel_check_body(+Body, +Vocabulary, +Known, +Line): Known says what
+%   Vocabulary is, in the message that refuses a call outside it.
+planerel_check_body(G, _, _, Line) :-
     var(G), !,
     planerel_refuse(Line, 'a rule body may not call a variable').
-planerel_check_body((A, B), V, L) :- !, planerel_check_body(A, V, L), planerel_check_body(B, V, L).
-planerel_check_body((A ; B), V, L) :- !, planerel_check_body(A, V, L), planerel_check_body(B, V, L).
-planerel_check_body((A -> B), V, L) :- !, planerel_check_body(A, V, L), planerel_check_body(B, V, L).
-planerel_check_body(\+ A, V, L) :- !, planerel_check_body(A, V, L).
-planerel_check_body(true, _, _) :- !.
-planerel_check_body(G, V, Line) :-
+planerel_check_body((A, B), V, K, L) :- !, planerel_check_body(A, V, K, L), planerel_check_body(B, V, K, L).
+planerel_check_body((A ; B), V, K, L) :- !, planerel_check_body(A, V, K, L), planerel_check_body(B, V, K, L).
+planerel_check_body((A -> B), V, K, L) :- !, planerel_check_body(A, V, K, L), planerel_check_body(B, V, K, L).
+planerel_check_body(\+ A, V, K, L) :- !, planerel_check_body(A, V, K, L).
+planerel_check_body(true, _, _, _) :- !.
+planerel_check_body(G, V, Known, Line) :-
     (   callable(G) -> true
     ;   planerel_refuse(Line, 'the body goal ~q is not callable'-[G])
     ),
@@ -176,7 +214,98 @@ planerel_check_body(G, V, Line) :-
     ;   planerel_safe_builtin(N/A),
         catch(safe_goal(G), _, fail)
     ->  true
-    ;   planerel_refuse(Line, 'the rule calls ~q, which is neither planerel\'s vocabulary nor a safe built-in'-[N/A])
+    ;   planerel_refuse(Line, 'the rule calls ~q, which is neither ~w nor a safe built-in'-[N/A, Known])
+    ).
+
+%   planerel_load_background(+Model, +File, +Vocabulary, -Defined, -Status)
+%   Read File, a background file of the user's own, as data and check every
+%   clause before any is kept: no directive, a head that is neither in
+%   Vocabulary (planerel's predicates are not redefined) nor a built-in,
+%   library or planerel predicate, and a body that calls only Vocabulary, the
+%   safe built-ins a rule may call (planerel_check_body/3) and the predicates
+%   File defines (recursion is allowed).  The clauses are then asserted into
+%   module Model.  Defined is the sorted list of Name/Arity File defines;
+%   Status is ok or error(Line, Message) for the first clause refused.
+planerel_load_background(Model, File, Vocabulary, Defined, Status) :-
+    must_be(atom, Model),
+    catch(( setup_call_cleanup(open(File, read, In),
+                               planerel_read_background(In, Clauses),
+                               close(In)),
+            planerel_check_background(Clauses, Vocabulary, Defined0) ),
+          E,
+          planerel_load_error(E, Status0)),
+    (   var(Status0)
+    ->  forall(member(c(C, _), Clauses), assertz(Model:C)),
+        forall(member(N/A, Defined0), assertz(Model:planerel_bg_pred(N, A))),
+        Defined = Defined0,
+        Status = ok
+    ;   Defined = [],
+        Status = Status0
+    ).
+
+planerel_read_background(In, Clauses) :-
+    read_term(In, Term, [syntax_errors(error), term_position(Pos), quasi_quotations(QQ)]),
+    stream_position_data(line_count, Pos, Line),
+    (   Term == end_of_file
+    ->  Clauses = []
+    ;   (   QQ == []
+        ->  true
+        ;   planerel_refuse(Line, 'a quasi-quotation has no place in a background file')
+        ),
+        planerel_background_term(Term, Line),
+        Clauses = [c(Term, Line)|Rest],
+        planerel_read_background(In, Rest)
+    ).
+
+planerel_background_term(T, Line) :-
+    var(T), !,
+    planerel_refuse(Line, 'a clause may not be a variable').
+planerel_background_term(T, Line) :-
+    ( T = (:- _) ; T = (?- _) ), !,
+    planerel_refuse(Line, 'directive ~W refused: a background file holds clauses only (facts and rules), nothing in it is run'-
+                    [T, [quoted(true), max_depth(6)]]).
+planerel_background_term((_ --> _), Line) :- !,
+    planerel_refuse(Line, 'a grammar rule (-->) has no place in a background file: write it as clauses').
+planerel_background_term(_, _).
+
+planerel_check_background(Clauses, Vocabulary, Defined) :-
+    findall(N/A, ( member(c(C, Line), Clauses),
+                   planerel_clause_head(C, H),
+                   planerel_check_head(H, Vocabulary, Line),
+                   functor(H, N, A) ),
+            Ps),
+    sort(Ps, Defined),
+    append(Vocabulary, Defined, Callable),
+    forall(member(c((_ :- B), Line), Clauses),
+           planerel_check_body(B, Callable, 'planerel\'s vocabulary nor a predicate this file defines', Line)).
+
+planerel_clause_head((H :- _), H) :- !.
+planerel_clause_head(H, H).
+
+planerel_check_head(H, _, Line) :-
+    ( \+ callable(H) ; H = _:_ ), !,
+    planerel_refuse(Line, 'the head ~q is not a predicate of this file (a name, or a name with arguments)'-[H]).
+planerel_check_head(H, Vocabulary, Line) :-
+    functor(H, N, A),
+    (   memberchk(N/A, Vocabulary)
+    ->  planerel_refuse(Line, 'the clause redefines ~q, which is planerel\'s vocabulary (docs/predicates.md); a background file defines predicates of its own'-[N/A])
+    ;   planerel_reserved_head(H)
+    ->  planerel_refuse(Line, 'the clause defines ~q, a built-in, library or planerel predicate; choose another name'-[N/A])
+    ;   true
+    ).
+
+%   planerel_background_main(+File, +Data)
+%   planerel's check of a background file before learning
+%   (planerel.ilp.background), in its own swipl: Data holds the vocabulary.
+%   Prints "@@defined Name Arity" for every predicate File defines, or
+%   "error: Line: Message" and halts 2.
+planerel_background_main(File, Data) :-
+    setup_call_cleanup(open(Data, read, In), read_term(In, Vocabulary, []), close(In)),
+    planerel_load_background(planerel_background, File, Vocabulary, Defined, Status),
+    (   Status = error(Line, Msg)
+    ->  format(user_error, 'error: ~w: ~w~n', [Line, Msg]),
+        halt(2)
+    ;   forall(member(N/A, Defined), format("@@defined ~q ~q~n", [N, A]))
     ).
 
 % comparisons, arithmetic, unification and type tests: all a learned rule needs
@@ -195,7 +324,7 @@ planerel_explain(Model, Obj, Class, Index, Bindings, Text) :-
     Model:planerel_rule(Index, Class, Obj0, _, Body0, Names0),
     copy_term(t(Obj0, Body0, Names0), t(Obj, Body, Names)),
     planerel_rule_text(Model, Index, Text),
-    catch(once(user:Body), E, (print_message(warning, E), fail)),
+    catch(once(Model:Body), E, (print_message(warning, E), fail)),
     findall(N-VA,
             ( member(N=V, Names), ground(V), format(atom(VA), '~w', [V]) ),
             Bindings).
@@ -220,7 +349,7 @@ planerel_proof_scale(Model, Obj, Index, Scale) :-
     Model:planerel_rule(Index, _, Obj0, _, Body0, Names0),
     copy_term(t(Obj0, Body0, Names0), t(Obj, Body, Names)),
     (   aggregate_all(max(S),
-                      limit(1000, ( catch(user:Body, _, fail),
+                      limit(1000, ( catch(Model:Body, _, fail),
                                     planerel_smallest_plane(Names, S) )),
                       Max)
     ->  Scale = Max
@@ -254,13 +383,23 @@ planerel_explain_text(Model, Obj, Class, Index, BindingsText, Text) :-
 %   list and the vocabulary.  Paths come as data (argv), never pasted into
 %   a goal.  A refused model prints "error: File:Line: Message" and halts 2.
 planerel_predict_main(Facts, Rules, Data) :-
+    planerel_predict_main(Facts, Rules, Data, []).
+
+%   planerel_predict_main(+Facts, +Rules, +Data, +Background)
+%   As planerel_predict_main/3 with the model's background file: Background
+%   is [] or [File] (planerel_load_model/5).
+planerel_predict_main(Facts, Rules, Data, Background) :-
     load_files(Facts, [silent(true)]),
     setup_call_cleanup(open(Data, read, In),
                        ( read_term(In, Objs, []), read_term(In, Vocabulary, []) ),
                        close(In)),
-    planerel_load_model(planerel_predict, Rules, Vocabulary, Status),
+    (   Background = [Bg] -> true ; Bg = none ),
+    planerel_load_model(planerel_predict, Rules, Bg, Vocabulary, Status),
     (   Status = error(Line, Msg)
     ->  format(user_error, 'error: ~w:~w: ~w~n', [Rules, Line, Msg]),
+        halt(2)
+    ;   Status = background_error(Line, Msg)
+    ->  format(user_error, 'error: ~w:~w: ~w~n', [Bg, Line, Msg]),
         halt(2)
     ;   forall(member(O, Objs), planerel_report(O))
     ).

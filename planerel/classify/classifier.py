@@ -24,14 +24,13 @@ from pathlib import Path
 import numpy as np
 
 from planerel.errors import InputError, PrologError
-from planerel.features.terms import Term
 from planerel.ilp.prolog import (
     load_file,
     load_support,
-    model_vocabulary,
     pl_path,
     query,
     unload_file,
+    vocabulary_term,
 )
 from planerel.progress import progress_bar
 from planerel.segment.params import WIDE_FALLBACK
@@ -529,7 +528,6 @@ class Classifier:
 
     def __init__(self, rules, *, method: str | None = None, seg_params: dict | None = None,
                  _member: bool = False):
-        from planerel.features.terms import atom, plist
         from planerel.ilp.model_settings import read_settings, with_overrides
 
         if not isinstance(rules, (str, Path)) and not hasattr(rules, "__fspath__"):
@@ -549,10 +547,18 @@ class Classifier:
         self.method = self.settings.method
         self.seg_params = dict(self.settings.seg_params)
         self._describe_kw = self.settings.describe_kwargs()
-        # top_slope/2 is measured only for a model whose rules read it (ramp77): a clause's
-        # line, not a comment (rules.pl lists the clauses learning left out as comments)
+        from planerel.ilp.background import model_background
+
+        #: the model's background file of the user's own (``learn --background``), checked
+        #: against the SHA-256 model.json records; None for a model without one
+        self.background_path = model_background(
+            path, self.trained.background if self.trained is not None else None)
+        # top_slope/2 is measured only for a model whose rules (or background) read it
+        # (ramp77): a clause's line, not a comment (rules.pl lists the clauses learning left
+        # out as comments)
         self._describe_kw["top_slope"] = any(
-            "top_slope(" in ln for ln in path.read_text(errors="replace").splitlines()
+            "top_slope(" in ln for f in (path, self.background_path) if f is not None
+            for ln in f.read_text(errors="replace").splitlines()
             if not ln.lstrip().startswith("%"))
         #: a members model's members (``planerel learn --members K``), each a Classifier of
         #: its own; empty for a single model
@@ -565,13 +571,16 @@ class Classifier:
             return
         self.module = f"planerel_model_{next(_MODEL_NUMBERS)}"
         load_support()
-        vocab = plist([Term(f"{atom(n)}/{a}") for n, a in model_vocabulary()])
-        answer = query(f"planerel_load_model({self.module}, {pl_path(path)}, {vocab}, S), "
-                        "(S = error(L, M) -> true ; L = 0, M = '')",
-                        f"{path}: cannot read the model")[0]
+        bg = "none" if self.background_path is None else pl_path(self.background_path)
+        answer = query(f"planerel_load_model({self.module}, {pl_path(path)}, {bg}, "
+                       f"{vocabulary_term()}, S), "
+                       "(S = error(L, M) -> B = rules ; S = background_error(L, M) -> "
+                       "B = background ; L = 0, M = '', B = ok)",
+                       f"{path}: cannot read the model")[0]
         if _text(answer["M"]):
             line, msg = int(answer["L"]), _text(answer["M"])
-            where = f"{path}:{line}" if line else f"{path}"
+            file = self.background_path if _text(answer["B"]) == "background" else path
+            where = f"{file}:{line}" if line else f"{file}"
             if msg.startswith("syntax error"):
                 raise PrologError(f"{where}: not a valid rules file: {msg}")
             raise InputError(f"{where}: {msg}")

@@ -30,6 +30,11 @@ def register(sub) -> None:
                    help="a task file with settings and modeb declarations (default: "
                         "planerel's aleph/modes_relational.pl; modes_objects.pl adds the "
                         "hand-written step_up/2)")
+    p.add_argument("--background", metavar="FILE.pl",
+                   help="a Prolog file of clauses (no directives) defining predicates of your "
+                        "own over planerel's vocabulary: checked first, then written into every "
+                        "STEM.b after the derived relations (docs/learner.md, 'Background "
+                        "predicates of your own')")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", dest="settings",
                    help="override an Aleph setting in STEM.b (repeatable), e.g. --set nodes=2000")
     p.set_defaults(func=run)
@@ -45,7 +50,7 @@ def run(args) -> int:
             raise InputError(f"--set needs NAME=VALUE, got {item!r}")
         settings[name.strip()] = value.strip()
     res = export_dataset(args.dataset, args.out_dir, args.target, labels=args.labels,
-                         task=args.task, settings=settings)
+                         task=args.task, settings=settings, background=args.background)
     for s in res.skipped:
         print(f"note: {s}", file=sys.stderr)
     counts = ", ".join(f"{c} {n}" for c, n in res.counts.items())

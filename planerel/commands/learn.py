@@ -57,6 +57,13 @@ def register(sub) -> None:
                    help="task file with settings and modeb declarations (default "
                         "modes_relational.pl; a name in planerel's aleph/ folder such as "
                         "modes_facing.pl, or a path)")
+    p.add_argument("--background", metavar="FILE.pl",
+                   help="a Prolog file of clauses (facts and rules, no directives) defining "
+                        "predicates of your own over planerel's vocabulary, for --task modeb "
+                        "lines to name: checked before any scene is described, given to the "
+                        "learner and copied into the model, which classify loads with the "
+                        "rules (docs/learner.md, 'Background predicates of your own'); one "
+                        "file. With --extend, the extended model's background by default")
     p.add_argument("--recipe", metavar="NAME",
                    help="a named task + settings + --other-rules measured together; "
                         "'varied' for --world varied data sets (docs/learner.md, 'Recipes'); "
@@ -156,11 +163,18 @@ def run(args) -> int:
         raise InputError(f"--classes names no class, got {args.classes!r}; e.g. --classes box,stairs")
     if args.cache is not None and str(args.cache).lower() not in ("", "none", "off"):
         _check_cache(args.cache)
-    prior = None
+    prior, background = None, args.background
     if args.extend:
         from planerel.ilp.pipeline import prior_rules
 
         prior = prior_rules(args.extend)
+        if background is None:  # the prior rules may call the predicates of its background
+            from planerel.ilp.background import model_background
+            from planerel.ilp.model_settings import read_settings
+
+            rules = f"{args.extend}/rules.pl"
+            settings = read_settings(rules)
+            background = model_background(rules, settings.background if settings else None)
     only = ([c.strip() for c in args.extend_only.split(",") if c.strip()]
             if args.extend_only is not None else None)
     m = learn_model(args.dataset, args.output, classes=classes, engine=args.engine,
@@ -170,7 +184,7 @@ def run(args) -> int:
                     heldout=args.heldout, settings=_settings(args.settings) or None,
                     other_rules=args.other_rules, keep_redundant=args.keep_redundant,
                     task=args.task, recipe=args.recipe, members=args.members, prior=prior,
-                    extend_only=only)
+                    extend_only=only, background=background)
     print(f"engine: {m['engine']}")
     print(f"{m['n_examples']} example objects from {m['n_scenes']} scenes; classes: "
           f"{', '.join(m['classes'])}"

@@ -327,22 +327,24 @@ def load_task(task: str | None = None) -> tuple[list[str], list[str], list[tuple
     return sets, modes, preds, other
 
 
-def check_task_vocabulary(task: str | None = None) -> None:
-    """Refuse a task (:func:`load_task`) with a ``modeb`` on a predicate that is not planerel's
-    vocabulary (the scene facts and ``prolog/derived.pl``, ``compare.pl``): a model whose rule
-    calls it is refused by ``classify`` (and by ``learn`` when it writes the model, after the
-    whole run).  ``export-aleph`` writes such a task for the learners by hand (ilp90)."""
+def check_task_vocabulary(task: str | None = None, background=None) -> None:
+    """Refuse a task (:func:`load_task`) with a ``modeb`` on a predicate that is neither
+    planerel's vocabulary (the scene facts and ``prolog/derived.pl``, ``compare.pl``) nor
+    defined by ``background`` (a :class:`planerel.ilp.background.Background`, the run's
+    ``--background`` file): a model whose rule calls it could not classify a scene."""
     from planerel.ilp.prolog import model_vocabulary
 
     _, _, preds, _ = load_task(task)
-    vocabulary = set(model_vocabulary())
+    vocabulary = set(model_vocabulary()) | set(background.predicates if background else ())
     unknown = [f"{n}/{a}" for n, a in preds if (n, a) not in vocabulary]
     if unknown:
         raise InputError(
             f"{_task_source(task).where}: modeb on {', '.join(unknown)}, which "
-            f"{'is' if len(unknown) == 1 else 'are'} not planerel's vocabulary (docs/predicates.md): "
-            "a model whose rules call it could not classify a scene. export-aleph writes such a "
-            "task for Aleph by hand (docs/learner.md, 'Background predicates of your own')")
+            f"{'is' if len(unknown) == 1 else 'are'} not planerel's vocabulary (docs/predicates.md)"
+            + (f" nor defined in {background.where}" if background else "")
+            + ": a model whose rules call it could not classify a scene. Define it in a "
+            "background file of your own, --background FILE (docs/learner.md, 'Background "
+            "predicates of your own')")
 
 
 # The SWI-Prolog pack's module file aleph.pl (``library(aleph)``) exports neither ``set/2``
@@ -421,7 +423,8 @@ def example_facts(descs, examples: list[Example]):
     return names, arity, merged, objs, planes
 
 
-def _background(descs, examples: list[Example], classes: Sequence[str]) -> list[str]:
+def _background(descs, examples: list[Example], classes: Sequence[str],
+                background=None) -> list[str]:
     names, arity, merged, objs, planes = example_facts(descs, examples)
     lines = ["% ---- dynamic background predicates",
              ":- dynamic((" + ", ".join(f"{n}/{arity[n]}" for n in names) + ")).", "",
@@ -433,8 +436,12 @@ def _background(descs, examples: list[Example], classes: Sequence[str]) -> list[
     lines += ["", "% ---- comparison predicates (prolog/compare.pl)",
               _resource_text("planerel.prolog", "compare.pl").rstrip(),
               "", "% ---- derived relations (prolog/derived.pl)",
-              _resource_text("planerel.prolog", "derived.pl").rstrip(),
-              "", "% ---- scene facts of the example objects"]
+              _resource_text("planerel.prolog", "derived.pl").rstrip()]
+    if background is not None:
+        lines += ["", "% ---- background predicates of your own (--background "
+                  + "".join(ch if 32 <= ord(ch) < 127 else "?" for ch in background.where) + ")",
+                  background.text.rstrip()]
+    lines += ["", "% ---- scene facts of the example objects"]
     for n in names:
         if merged.get(n):
             lines += [""] + merged[n]
@@ -493,7 +500,8 @@ def task_examples(descs, target, classes=None, *, other_negatives: bool = False)
 
 def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
                 task: str | None = None, settings: dict | None = None,
-                stem: str | None = None, skip_negatives=(), skip_positives=()) -> dict[str, str]:
+                stem: str | None = None, skip_negatives=(), skip_positives=(),
+                background=None) -> dict[str, str]:
     """The text of ``STEM.b``, ``STEM.f`` and ``STEM.n`` for one target.
 
     Parameters
@@ -520,6 +528,10 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
         Object ids of this target left out of ``STEM.f`` (a per-class task only): the
         positives a prior theory already proves, when extending it
         (:func:`planerel.ilp.pipeline.learn_rules`' ``prior``).  Their facts stay in ``STEM.b``.
+    background : Background, optional
+        Background predicates of the user's own (:func:`planerel.ilp.background.read_background`):
+        its clauses follow the derived relations in ``STEM.b``, and the task's ``modeb`` may name
+        them.
 
     Returns
     -------
@@ -529,6 +541,10 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     examples, classes = task_examples(descs, target, classes, other_negatives=True)
     multi = target == "class"
     check_class_names(classes)
+    clash = [c for c in classes if (c, 1) in (background.predicates if background else ())]
+    if clash or (multi and ("class", 2) in (background.predicates if background else ())):
+        raise InputError(f"{background.where} defines {clash[0] if clash else 'class'}/"
+                         f"{1 if clash else 2}, the target of the learning task; rename it")
     examples = [e for e in examples if e.klass in classes or e.klass == OTHER]
     stem = stem or target
     sets, modes, preds, other = load_task(task)
@@ -564,7 +580,7 @@ def aleph_files(descs, target: str, *, classes: Sequence[str] | None = None,
     b += ["", "% ---- determinations"]
     b += [f":- determination({tname}/{tar}, {n}/{a})." for n, a in preds]
     b += ["", "% ---- other declarations"] + other + [""]
-    b += _background(descs, examples, classes)
+    b += _background(descs, examples, classes, background)
     F = terms.fact
     if multi:
         pos = [F("class", e.object_id, e.klass) for e in examples if e.klass in classes]
@@ -582,13 +598,14 @@ def export_aleph(descs, out_dir, target: str = "all", *, classes: Sequence[str] 
                  task: str | None = None, settings: dict | None = None,
                  class_settings: dict | None = None,
                  skip_negatives: dict | None = None,
-                 skip_positives: dict | None = None) -> ExportResult:
+                 skip_positives: dict | None = None, background=None) -> ExportResult:
     """Write the Aleph files of a target to ``out_dir``.
 
     ``target``: a class name; ``"all"`` (one stem per class); ``"class"`` (one multi-class
     stem ``class``).  ``class_settings`` (``{stem: {name: value}}``) replace ``settings`` in
     that stem's ``.b`` only, so each file says what its class was learned with.
     ``skip_negatives`` (``{stem: object ids}``): objects that are no negative of that stem
+    (:func:`aleph_files`); ``background``: a checked background file of the user's own
     (:func:`aleph_files`).
     """
     from planerel.atomic import write_text
@@ -603,7 +620,8 @@ def export_aleph(descs, out_dir, target: str = "all", *, classes: Sequence[str] 
         own = {**(settings or {}), **(class_settings or {}).get(t, {})}
         texts.update(aleph_files(descs, t, classes=classes, task=task, settings=own or None,
                                  skip_negatives=(skip_negatives or {}).get(t, ()),
-                                 skip_positives=(skip_positives or {}).get(t, ())))
+                                 skip_positives=(skip_positives or {}).get(t, ()),
+                                 background=background))
     out = Path(out_dir)
     paths = tuple(write_text(out / name, text) for name, text in sorted(texts.items()))
     counts = {c: sum(1 for e in examples if e.klass == c) for c in classes}
@@ -659,17 +677,26 @@ def describe_dataset(dataset_dir, *, labels: str = "gt", classes: Sequence[str] 
 
 
 def export_dataset(dataset_dir, out_dir, target: str = "all", *, labels: str = "gt",
-                   task: str | None = None, settings: dict | None = None) -> ExportResult:
+                   task: str | None = None, settings: dict | None = None,
+                   background=None) -> ExportResult:
     """:func:`describe_dataset` then :func:`export_aleph`.
 
-    What would fail after describing every scene fails first: the task file, the settings and
-    the output folder (an empty name, a file, a folder that cannot be written)."""
+    ``background``: a background file of the user's own (a path), checked by
+    :func:`planerel.ilp.background.read_background`; its clauses go into every ``STEM.b``.
+    What would fail after describing every scene fails first: the background file, the task
+    file, the settings and the output folder (an empty name, a file, a folder that cannot be
+    written)."""
+    if background is not None:
+        from planerel.ilp.background import read_background
+
+        background = read_background(background)
     load_task(task)
     for name, value in (settings or {}).items():
         check_setting(name, value)
     check_export_target(dataset_dir, out_dir)
     descs, skipped = describe_dataset(dataset_dir, labels=labels)
-    res = export_aleph(descs, out_dir, target, task=task, settings=settings)
+    res = export_aleph(descs, out_dir, target, task=task, settings=settings,
+                       background=background)
     return ExportResult(res.files, res.stems, res.counts, tuple(skipped))
 
 

@@ -145,6 +145,10 @@ class ModelSettings:
     #: ``(index, class, tp, fp)`` of each rule, as ``model.json``'s ``rule_precision``
     #: records them (the ``planerel_rule_stats/4`` facts ``rules.pl`` was written with)
     rule_stats: tuple = ()
+    #: ``model.json``'s ``background`` entry, ``{"file": ..., "sha256": ...}``: the background
+    #: file of the user's own the rules were learned with (:mod:`planerel.ilp.background`);
+    #: None for a model without one
+    background: dict | None = None
 
     def describe_kwargs(self) -> dict:
         """Keyword arguments of :func:`planerel.features.facts.describe_scene` for these settings."""
@@ -175,13 +179,15 @@ class ModelSettings:
 def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
                       planar_domain=(), proof_domain=(), decision: dict | None = None,
                       level_domain=(), size_domain=(), slender_domain=(),
-                      range_domain=()) -> dict:
+                      range_domain=(), background: dict | None = None) -> dict:
     """The content of ``model.json`` for a model learned with these settings (the description
     parameters are the defaults ``planerel learn`` describes scenes with; ``planar_domain``,
     ``proof_domain``, ``level_domain``, ``size_domain``, ``slender_domain``, ``range_domain``:
     :attr:`planerel.ilp.pipeline.Model.planar_domain`, ``.proof_domain``, ``.level_domain``,
     ``.size_domain``, ``.slender_domain``, ``.range_domain``;
-    ``decision``: a recipe's decision settings in place of the defaults)."""
+    ``decision``: a recipe's decision settings in place of the defaults; ``background``: the
+    entry ``{"file": ..., "sha256": ...}`` of the model's background file of the user's own,
+    written only when given)."""
     from planerel.ilp.metrics import laplace
 
     seg_params = dict(seg_params or {})
@@ -190,7 +196,7 @@ def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
     if unknown:
         raise InputError(f"unknown decision setting(s) {', '.join(unknown)}")
     sections["decision"].update(decision or {})
-    return {
+    out = {
         "format": FORMAT,
         "segmentation": {"method": method, "params": seg_params,
                          "resolved": _resolved_segmentation(method, seg_params)},
@@ -206,6 +212,9 @@ def training_settings(method: str, seg_params: dict | None, *, rule_stats=(),
         "slender_domain": [{"class": k, "high": hi, "n": n} for k, hi, n in slender_domain],
         "range_domain": [{"class": k, "high": hi, "n": n} for k, hi, n in range_domain],
     }
+    if background is not None:
+        out["background"] = dict(background)
+    return out
 
 
 def read_settings(rules_path) -> ModelSettings | None:
@@ -269,11 +278,16 @@ def read_settings(rules_path) -> ModelSettings | None:
             raise InputError(f"{path}: rule_precision entry {entry!r} is not "
                              "{index, class, tp, fp}") from None
     resolved = seg.get("resolved")
+    background = data.get("background")
+    if background is not None and not (isinstance(background, dict)
+                                       and isinstance(background.get("file"), str)
+                                       and isinstance(background.get("sha256"), str)):
+        raise InputError(f"{path}: background entry {background!r} is not {{file, sha256}}")
     return ModelSettings(str(seg.get("method", "regiongrow")), dict(seg.get("params") or {}),
                          sections, tuple(domain), tuple(proofs),
                          frozenset(resolved) if isinstance(resolved, dict) else None,
                          tuple(levels), tuple(sizes), tuple(slenders), tuple(ranges),
-                         tuple(stats))
+                         tuple(stats), background)
 
 
 def _coerce_like(value, like, name: str):
@@ -357,7 +371,8 @@ def with_overrides(settings: ModelSettings | None, *, method: str | None = None,
                             f"existed)")
     out = ModelSettings(new_method, seg, sections, base.planar_domain, base.proof_domain,
                         base.seg_recorded, base.level_domain, base.size_domain,
-                        base.slender_domain, base.range_domain, base.rule_stats)
+                        base.slender_domain, base.range_domain, base.rule_stats,
+                        base.background)
     out.describe_kwargs()  # a bad value fails here, with the dataclass's message
     out.decision_params()
     out.resolved()  # and a bad segmentation name, before any scan (a model with no model.json too)

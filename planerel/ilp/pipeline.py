@@ -183,6 +183,10 @@ class Model:
         That gate's margin above ``high`` (a share of it).
     range_classes : str
         The classes that gate holds for, comma-separated.
+    background : Background or None
+        The background file of the user's own the rules may call
+        (:func:`planerel.ilp.background.read_background`; ``learn --background``): loaded with
+        the rules wherever they are queried.
     """
 
     classes: tuple
@@ -218,6 +222,7 @@ class Model:
     range_gate: bool = RANGE_GATE
     range_margin: float = RANGE_MARGIN
     range_classes: str = RANGE_CLASSES
+    background: object = None
 
     @property
     def targets(self) -> tuple:
@@ -414,7 +419,7 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
                 settings: dict | None = None, work_dir=None, task: str | None = None,
                 jobs: int | None = None, log=None, other_rules: bool = False,
                 keep_redundant: bool = False, prior: dict | None = None,
-                extend_only: Sequence[str] | None = None) -> Model:
+                extend_only: Sequence[str] | None = None, background=None) -> Model:
     """Learn one theory per class from described scenes (one Aleph run per class).
 
     With ``other_rules`` and objects of class ``other`` among the examples (clutter: none of
@@ -464,6 +469,11 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         clauses are the prior theory's, as they are (``learn --extend M --extend-only ramp``:
         a part of the data that shows a new kind of ramp adds ramp clauses and no box clause
         learned from its negatives).  None: every class.
+    background : Background, optional
+        A checked background file of the user's own
+        (:func:`planerel.ilp.background.read_background`): its clauses go into every
+        ``STEM.b``, the rules may call its predicates, and the model carries it
+        (:attr:`Model.background`).
 
     Returns
     -------
@@ -513,10 +523,12 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
         if OTHER in prior and OTHER not in targets:
             raise InputError("the prior theory has rules for other: extend it with other rules "
                              "too (--other-rules), or they would be lost")
-        proved = _prior_proved(prior, classes, descs, examples, timeout) if prior else {}
+        proved = (_prior_proved(prior, classes, descs, examples, timeout, background)
+                  if prior else {})
         # (every class's files: a class's negatives are the other classes' objects)
         export_aleph(descs, work_dir, "all", classes=list(targets), task=task, settings=common,
-                     class_settings=per_class, skip_negatives=skip, skip_positives=proved)
+                     class_settings=per_class, skip_negatives=skip, skip_positives=proved,
+                     background=background)
         rules, uncovered, seconds, explored, engines = {}, {}, 0.0, 0, set()
 
         def one(k):
@@ -570,7 +582,8 @@ def learn_rules(descs, classes: Sequence[str], *, engine: str = "builtin", timeo
             engines.add(res.engine_detail or res.engine)
         model = Model(tuple(classes), rules, (), "; ".join(sorted(engines)), seconds, explored,
                       uncovered, planar_domain=domain,
-                      level_domain=level_domain(examples, horizontal_counts(descs), classes))
+                      level_domain=level_domain(examples, horizontal_counts(descs), classes),
+                      background=background)
         if not model.clauses():
             return model
         fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
@@ -618,14 +631,15 @@ def prior_rules(model_dir) -> dict:
     return {str(k): tuple(str(c) for c in v) for k, v in rules.items() if v}
 
 
-def _prior_proved(prior: dict, classes, descs, examples, timeout: float) -> dict:
+def _prior_proved(prior: dict, classes, descs, examples, timeout: float,
+                  background=None) -> dict:
     """``{class: object ids}``: the training positives of each class that ``prior``'s clauses
-    of that class prove (:func:`learn_rules`' ``prior``)."""
+    of that class prove (:func:`learn_rules`' ``prior``, with its ``background``)."""
     unknown = sorted(set(prior) - set(classes) - {OTHER})
     if unknown:
         raise InputError(f"the prior theory has rules for {', '.join(unknown)}, which the "
                          f"training data has no example of")
-    model = Model(tuple(k for k in classes if k in prior), dict(prior))
+    model = Model(tuple(k for k in classes if k in prior), dict(prior), background=background)
     fired = _parse_fired(_prolog_run(model, descs, [o for o, _ in examples], timeout))
     truth = dict(examples)
     class_of = dict(_index_class(model))
@@ -687,16 +701,18 @@ class Prediction:
 
 # The goal text is constant: every path reaches swipl as data (argv), never inside a goal; the
 # support files come first (the bridge's loading rule, planerel.ilp.prolog).
-_PREDICT_GOAL = "Args = [Facts, Rules, Data], planerel_predict_main(Facts, Rules, Data)"
+_PREDICT_GOAL = ("Args = [Facts, Rules, Data|Background], "
+                 "planerel_predict_main(Facts, Rules, Data, Background)")
 
 
 def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
     """Run the support predicates + facts + rules in swipl; parse ``@@`` lines."""
     from planerel.features.facts import FactParams, facts_text
-    from planerel.features.terms import Term, atom, plist
+    from planerel.features.terms import atom, plist
     from planerel.ilp.aleph_export import PAIRS
+    from planerel.ilp.background import BACKGROUND_FILE
     from planerel.ilp.learn import run_process
-    from planerel.ilp.prolog import model_vocabulary, swipl_command
+    from planerel.ilp.prolog import swipl_command, vocabulary_term
 
     with temp_dir("predict") as tmp:
         facts = Path(tmp) / "facts.pl"
@@ -704,15 +720,19 @@ def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
         rules = Path(tmp) / "rules.pl"
         rules.write_text(model.text())
         data = Path(tmp) / "objects.pl"
-        vocab = plist([Term(f"{atom(n)}/{a}") for n, a in model_vocabulary()])
-        data.write_text(plist([atom(o) for o in object_ids]) + ".\n" + vocab + ".\n")
-        cmd = swipl_command(_PREDICT_GOAL, [facts, rules, data],
+        data.write_text(plist([atom(o) for o in object_ids]) + ".\n" + vocabulary_term() + ".\n")
+        background = Path(tmp) / BACKGROUND_FILE
+        if model.background is not None:
+            background.write_text(model.background.text, encoding="utf-8")
+        cmd = swipl_command(_PREDICT_GOAL, [facts, rules, data]
+                            + ([background] if model.background is not None else []),
                             flags=("--on-error=status", "--on-warning=status"))
         code, out, err, _ = run_process(cmd, timeout, "the rule query")
     if code == 2:
         errors = [ln[len("error: "):] for ln in err.splitlines() if ln.startswith("error: ")]
         if errors:
-            raise InputError(errors[0].replace(str(rules), "the model"))
+            raise InputError(errors[0].replace(str(rules), "the model").replace(
+                str(background), model.background.where if model.background else ""))
     if code != 0:
         raise PrologError(f"the rule query failed: {err.strip()[-600:] or f'exit status {code}'}")
     return out
@@ -1072,7 +1092,8 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
                    engine: str = "builtin", timeout: float = 120.0, settings: dict | None = None,
                    progress: bool | None = None, jobs: int | None = 1,
                    task: str | None = None, other_rules: bool = False,
-                   keep_redundant: bool = False, decision: dict | None = None) -> dict:
+                   keep_redundant: bool = False, decision: dict | None = None,
+                   background=None) -> dict:
     """Stratified k-fold cross-validation of the whole learner on described scenes.
 
     Objects of class ``other`` (none of the classes) are split into the folds too: in training
@@ -1089,7 +1110,8 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         ``open_set_accuracy`` (all objects, ``other`` right when predicted ``other``).
 
     ``jobs`` folds run at once (None: all cores); the result does not depend on it.
-    ``other_rules``, ``keep_redundant``: as in :func:`learn_rules` (in each fold);
+    ``other_rules``, ``keep_redundant``, ``background``: as in :func:`learn_rules` (in each
+    fold);
     ``decision``: decision settings each fold's model answers with (:func:`with_decision`).
     """
     from planerel.ilp.aleph_export import OTHER
@@ -1116,7 +1138,7 @@ def cross_validate(descs, classes: Sequence[str], *, folds: int = 10, seed: int 
         t0 = time.perf_counter()
         model = learn_rules(train_descs, present, engine=engine, timeout=timeout, settings=settings,
                             jobs=1, task=task, other_rules=other_rules,
-                            keep_redundant=keep_redundant)
+                            keep_redundant=keep_redundant, background=background)
         model = with_decision(model, decision)
         test_descs = list({id(scene_of[o]): scene_of[o] for o in test}.values())
         preds = prolog_predict(model, test_descs, test, timeout=timeout)
@@ -1314,7 +1336,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                 heldout=None, settings: dict | None = None, task: str | None = None,
                 other_rules: bool = False, keep_redundant: bool = False,
                 recipe: str | None = None, members: int = 1, prior: dict | None = None,
-                extend_only: Sequence[str] | None = None) -> dict:
+                extend_only: Sequence[str] | None = None, background=None) -> dict:
     """``planerel learn``: describe a data set, learn the class rules, optionally cross-validate,
     score the model on a held-out data set (``heldout``: :func:`held_out_scores`, in
     ``metrics["heldout"]``), and write a model folder.
@@ -1325,7 +1347,11 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     ``keep_redundant``, ``prior`` (a theory to extend) and ``extend_only`` (the classes it
     extends) go to :func:`learn_rules`.  ``recipe`` names a
     :mod:`planerel.ilp.recipes` entry (a task, settings and ``other_rules`` measured together);
-    a task or setting given explicitly replaces the recipe's.
+    a task or setting given explicitly replaces the recipe's.  ``background`` (a path): a
+    background file of the user's own, checked before any scene is described
+    (:func:`planerel.ilp.background.read_background`); the task's ``modeb`` may name its
+    predicates, the learners get its clauses, and the model folder carries a copy
+    (``background.pl``, named with its SHA-256 in ``model.json``).
 
     The folder is built in a temporary sibling and renamed into place when complete, so a run
     that fails or is interrupted never leaves a half-written model.  It holds ``rules.pl``
@@ -1347,7 +1373,7 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
     dict
         The metrics written to ``metrics.json``.
     """
-    from planerel.atomic import atomic_dir, check_dir_target, write_text
+    from planerel.atomic import atomic_dir, check_dir_target
     from planerel.ilp.recipes import apply_recipe, recipe_decision
     from planerel.io.writers import write_json
 
@@ -1363,7 +1389,11 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
 
     check_timeout(timeout)
     check_engine(engine)
-    check_task_vocabulary(task)
+    if background is not None:
+        from planerel.ilp.background import read_background
+
+        background = read_background(background, timeout=timeout)
+    check_task_vocabulary(task, background)
     for name, value in (settings or {}).items():
         check_setting(name.rpartition(":")[2], value)
     check_dir_target(out, markers=("rules.pl", "metrics.json"))
@@ -1394,18 +1424,21 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
             other_rules=other_rules, keep_redundant=keep_redundant, engine=engine,
             timeout=timeout, jobs=jobs, cache=cache, progress=progress, log=log,
             scheduler=scheduler, heldout=heldout, skipped=skipped, t_describe=t_describe,
-            decision=decision)
+            decision=decision, background=background)
     with atomic_dir(out, markers=("rules.pl", "metrics.json")) as tmp:
         metrics: dict = {**_metrics_head(dataset_dir, classes, method, seg_params, seed,
                                          settings, task, recipe, other_rules, decision),
                          **_example_counts(descs, classes),
                          "skipped": skipped, "seconds": {"describe": round(t_describe, 3)}}
+        if background is not None:
+            metrics["background"] = background.where
         if folds:
             t1 = time.perf_counter()
             cv = cross_validate(descs, classes, folds=folds, seed=seed, engine=engine,
                                 timeout=timeout, progress=progress, jobs=jobs,
                                 settings=settings, task=task, other_rules=other_rules,
-                                keep_redundant=keep_redundant, decision=decision)
+                                keep_redundant=keep_redundant, decision=decision,
+                                background=background)
             metrics["cross_validation"] = cv
             metrics["seconds"]["cross_validation"] = round(time.perf_counter() - t1, 3)
             draw_confusion(tmp / "confusion.png", cv["confusion"], list(classes),
@@ -1414,7 +1447,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
         model = learn_rules(descs, classes, engine=engine, timeout=timeout, work_dir=tmp / "aleph",
                             jobs=jobs, log=None if progress is False else log,
                             settings=settings, task=task, other_rules=other_rules,
-                            keep_redundant=keep_redundant, prior=prior, extend_only=extend_only)
+                            keep_redundant=keep_redundant, prior=prior, extend_only=extend_only,
+                            background=background)
         model = with_decision(model, decision)
         metrics["seconds"]["learn"] = round(time.perf_counter() - t2, 3)
         if not any(model.rules.get(k) for k in classes):
@@ -1439,17 +1473,8 @@ def learn_model(dataset_dir, out_dir, *, classes=None, engine: str = "auto", fol
                   + (f"\nextending a prior theory of {sum(len(v) for v in prior.values())} "
                      f"clause(s), kept first and unchanged (the clauses that theory's own "
                      f"learning left out are listed in its rules.pl)" if prior else ""))
-        write_text(tmp / "rules.pl", model.text(header))
-        from planerel.ilp.model_settings import MODEL_FILE, training_settings
-
-        write_json(tmp / MODEL_FILE, training_settings(method, seg_params, rule_stats=model.stats,
-                                                       planar_domain=model.planar_domain,
-                                                       proof_domain=model.proof_domain,
-                                                       level_domain=model.level_domain,
-                                                       size_domain=model.size_domain,
-                                                       slender_domain=model.slender_domain,
-                                                       range_domain=model.range_domain,
-                                                       decision=decision))
+        _write_model(tmp, model, method=method, seg_params=seg_params, header=header,
+                     decision=decision)
         write_json(tmp / "metrics.json", metrics)
     return metrics
 
@@ -1487,8 +1512,8 @@ def write_members(folder, model: Members, *, method: str, seg_params, header: st
                   member_metrics: Sequence[dict] | None = None,
                   decision: dict | None = None) -> None:
     """Write a members model folder into ``folder`` (which exists): ``members/N/`` (each a
-    model folder: ``rules.pl``, ``model.json``, ``metrics.json`` when ``member_metrics``
-    gives it), the top-level ``rules.pl`` (:meth:`Members.text`) and ``model.json`` (the
+    model folder: ``rules.pl``, ``background.pl`` when learned with one, ``model.json``,
+    ``metrics.json`` when ``member_metrics`` gives it), the top-level ``rules.pl`` (:meth:`Members.text`) and ``model.json`` (the
     settings, the member folders and the vote)."""
     from planerel.atomic import write_text
     from planerel.ilp.members import VOTE_RULE
@@ -1500,16 +1525,8 @@ def write_members(folder, model: Members, *, method: str, seg_params, header: st
     for n, m in enumerate(model.models, start=1):
         sub = folder / "members" / str(n)
         sub.mkdir(parents=True, exist_ok=True)
-        write_text(sub / "rules.pl", m.text(f"member {n} of {k}" + (f"; {header}" if header
-                                                                      else "")))
-        write_json(sub / MODEL_FILE, training_settings(method, seg_params, rule_stats=m.stats,
-                                                       planar_domain=m.planar_domain,
-                                                       proof_domain=m.proof_domain,
-                                                       level_domain=m.level_domain,
-                                                       size_domain=m.size_domain,
-                                                       slender_domain=m.slender_domain,
-                                                       range_domain=m.range_domain,
-                                                       decision=decision))
+        _write_model(sub, m, method=method, seg_params=seg_params, decision=decision,
+                     header=f"member {n} of {k}" + (f"; {header}" if header else ""))
         if member_metrics is not None:
             write_json(sub / "metrics.json", member_metrics[n - 1])
     write_text(folder / "rules.pl", model.text(header))
@@ -1519,10 +1536,35 @@ def write_members(folder, model: Members, *, method: str, seg_params, header: st
     write_json(folder / MODEL_FILE, top)
 
 
+def _write_model(folder: Path, model: Model, *, method: str, seg_params, header: str,
+                 decision: dict | None) -> None:
+    """One model's files in ``folder``: ``rules.pl``, its background file when it has one
+    (:data:`planerel.ilp.background.BACKGROUND_FILE`) and ``model.json``, each written
+    atomically."""
+    from planerel.atomic import write_bytes, write_text
+    from planerel.ilp.background import BACKGROUND_FILE
+    from planerel.ilp.model_settings import MODEL_FILE, training_settings
+    from planerel.io.writers import write_json
+
+    write_text(folder / "rules.pl", model.text(header))
+    entry = None
+    if model.background is not None:
+        write_bytes(folder / BACKGROUND_FILE, model.background.text.encode("utf-8"))
+        entry = {"file": BACKGROUND_FILE, "sha256": model.background.sha256}
+    write_json(folder / MODEL_FILE, training_settings(method, seg_params, rule_stats=model.stats,
+                                                      planar_domain=model.planar_domain,
+                                                      proof_domain=model.proof_domain,
+                                                      level_domain=model.level_domain,
+                                                      size_domain=model.size_domain,
+                                                      slender_domain=model.slender_domain,
+                                                      range_domain=model.range_domain,
+                                                      decision=decision, background=entry))
+
+
 def _learn_members_model(descs, classes, parts, members, out, *, dataset_dir, method, seg_params,
                          seed, settings, task, recipe, other_rules, keep_redundant, engine,
                          timeout, jobs, cache, progress, log, scheduler, heldout, skipped,
-                         t_describe, decision=None) -> dict:
+                         t_describe, decision=None, background=None) -> dict:
     """:func:`learn_model` with ``members`` > 1: the members model folder."""
     from planerel.atomic import atomic_dir
     from planerel.ilp.members import VOTE_RULE
@@ -1533,7 +1575,8 @@ def _learn_members_model(descs, classes, parts, members, out, *, dataset_dir, me
         model = learn_members(descs, classes, parts, members, work_dir=tmp / "members",
                               jobs=jobs, log=None if progress is False else log, engine=engine,
                               timeout=timeout, settings=settings, task=task,
-                              other_rules=other_rules, keep_redundant=keep_redundant)
+                              other_rules=other_rules, keep_redundant=keep_redundant,
+                              background=background)
         model = with_decision(model, decision)
         t_learn = round(time.perf_counter() - t2, 3)
         per_member, member_metrics = [], []
@@ -1564,6 +1607,8 @@ def _learn_members_model(descs, classes, parts, members, out, *, dataset_dir, me
                          "seconds": {"describe": round(t_describe, 3), "learn": t_learn},
                          "engine": "; ".join(sorted({m.engine for m in model.models})),
                          "member_models": per_member}
+        if background is not None:
+            metrics["background"] = background.where
         if heldout is not None:
             _score_heldout(metrics, model, heldout, method=method, seg_params=seg_params,
                            jobs=jobs, cache=cache, progress=progress, timeout=timeout,

@@ -33,6 +33,7 @@ __all__ = [
     "DERIVED_PREDICATES",
     "support_files",
     "model_vocabulary",
+    "vocabulary_term",
     "find_swipl",
     "load_support_goal",
     "swipl_command",
@@ -67,6 +68,14 @@ def model_vocabulary() -> list[tuple[str, int]]:
     from planerel.features.facts import PREDICATES
 
     return [(n, a) for n, a, _, _ in PREDICATES] + list(DERIVED_PREDICATES)
+
+
+def vocabulary_term() -> str:
+    """:func:`model_vocabulary` as the Prolog list ``[Name/Arity, ...]`` that
+    ``planerel_load_model`` and ``planerel_load_background`` (``prolog/classify.pl``) take."""
+    from planerel.features.terms import Term, atom, plist
+
+    return plist([Term(f"{atom(n)}/{a}") for n, a in model_vocabulary()])
 
 
 def find_swipl(swipl: str | None = None) -> str:
