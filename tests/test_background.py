@@ -219,6 +219,61 @@ def test_extending_a_model_keeps_its_background(learned, tmp_path):
     assert json.loads((out / "metrics.json").read_text())["rules"] == RULES
 
 
+def test_a_members_model_carries_the_background_in_every_member(learned, tmp_path):
+    out = tmp_path / "mm"
+    assert main(["learn", str(learned / "ds"), "-o", str(out), "--task", str(learned / "task.pl"),
+                 "--background", str(learned / "bg.pl"), "--engine", "builtin", "-j", "1",
+                 "--method", "gt", "--cache", str(learned / "cache"), "--members", "3",
+                 "--set", "minpos=1"]) == 0
+    data = (learned / "bg.pl").read_bytes()
+    for n in (1, 2, 3):
+        member = out / "members" / str(n)
+        assert (member / "background.pl").read_bytes() == data
+        assert json.loads((member / "model.json").read_text())["background"]["sha256"] == \
+            hashlib.sha256(data).hexdigest()
+        assert json.loads((member / "metrics.json").read_text())["rules"] == RULES
+    assert not (out / "background.pl").exists()  # the members' folders are the models
+    r = _cli("classify", out, learned / "ds" / "s0006.depth.png", "--json")
+    assert r.returncode == 0, r.stderr
+    [[answer]] = [s["objects"] for s in json.loads(r.stdout)]
+    assert (answer["class"], answer["rule"]) == ("ramp", "ramp(A) :- has_plane(A,B),sloped(B).")
+
+
+def _hand_model(folder: Path, rules: str, background: str) -> Path:
+    from planerel.ilp.model_settings import training_settings
+
+    folder.mkdir()
+    (folder / "rules.pl").write_text(rules)
+    (folder / "background.pl").write_text(background)
+    entry = {"file": "background.pl", "sha256": hashlib.sha256(background.encode()).hexdigest()}
+    (folder / "model.json").write_text(json.dumps(training_settings("regiongrow", {},
+                                                                    background=entry)))
+    return folder
+
+
+def test_two_models_with_one_predicate_name_each_answer_with_their_own(tmp_path):
+    """Each model's background lives in its model's module: two definitions of mine/1 in one
+    process, used in turn, and one model closed."""
+    from planerel.classify.classifier import Classifier
+    from planerel.synth.generator import generate_scene
+
+    cloud = generate_scene("stairs", seed=11, size=(640, 480), subsample=4, steps=4,
+                           sides="open", walls=0).cloud
+    rules = "box(A) :- mine(A).\n"
+    yes = _hand_model(tmp_path / "yes", rules, "mine(O) :- nplanes(O, N), N >= 1.\n")
+    no = _hand_model(tmp_path / "no", rules, "mine(O) :- nplanes(O, N), N >= 1000.\n")
+    a, b = Classifier(yes), Classifier(no)
+    for clf, klass in [(a, "box"), (b, "other"), (a, "box"), (b, "other")]:
+        objects = clf.classify(cloud, scene_id="s0001").objects
+        assert objects and {o.klass for o in objects} == {klass}
+    a.close()
+    assert {o.klass for o in b.classify(cloud).objects} == {"other"}
+    c = Classifier(yes)
+    assert {o.klass for o in c.classify(cloud).objects} == {"box"}
+    for clf in (b, c):
+        clf.close()
+
+
 @pytest.mark.real_aleph
 @pytest.mark.skipif(not os.environ.get("PLANEREL_ALEPH"), reason="the real Aleph is not installed "
                     "here: set PLANEREL_ALEPH=/path/to/aleph.pl to run this test")

@@ -509,6 +509,9 @@ class Classifier:
         ``Class(Obj) :- ...`` or ``class(Obj, Class) :- ...`` and optional
         ``planerel_rule_stats/4`` facts.  The settings the model was learned with
         (``model.json`` next to it, :mod:`planerel.ilp.model_settings`) are used for scans.
+        A background file of the user's own that ``model.json`` names (``background.pl``,
+        ``learn --background``) is read and checked the same way, first, into the model's
+        module: the rules may call its predicates.
     method : str, optional
         Segmentation method for scans (default: the model's, else ``regiongrow``).
     seg_params : dict, optional
@@ -521,7 +524,8 @@ class Classifier:
     Raises
     ------
     InputError
-        The file is missing or holds a clause that is refused.
+        The file is missing or holds a clause that is refused; the model's background file
+        is missing, changed since learning (its SHA-256) or holds a clause that is refused.
     PrologError
         The file is not valid Prolog text (syntax error; the message gives the line).
     """

@@ -17,6 +17,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from planerel.children import temp_dir
 from planerel.errors import InputError, LearnerError, PrologError
@@ -61,6 +62,9 @@ from planerel.ilp.metrics import (
     stratified_folds,
 )
 from planerel.ilp.scenes import describe_scenes
+
+if TYPE_CHECKING:
+    from planerel.ilp.background import Background
 
 __all__ = [
     "DEFAULT_CLASSES",
@@ -222,7 +226,7 @@ class Model:
     range_gate: bool = RANGE_GATE
     range_margin: float = RANGE_MARGIN
     range_classes: str = RANGE_CLASSES
-    background: object = None
+    background: Background | None = None
 
     @property
     def targets(self) -> tuple:
@@ -731,8 +735,10 @@ def _prolog_run(model: Model, descs, object_ids: Sequence[str], timeout: float):
     if code == 2:
         errors = [ln[len("error: "):] for ln in err.splitlines() if ln.startswith("error: ")]
         if errors:
-            raise InputError(errors[0].replace(str(rules), "the model").replace(
-                str(background), model.background.where if model.background else ""))
+            error = errors[0].replace(str(rules), "the model")
+            if model.background is not None:
+                error = error.replace(str(background), model.background.where)
+            raise InputError(error)
     if code != 0:
         raise PrologError(f"the rule query failed: {err.strip()[-600:] or f'exit status {code}'}")
     return out
