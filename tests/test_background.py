@@ -167,6 +167,19 @@ def test_the_commands_refuse_a_bad_background_before_describing(tmp_path, comman
     assert not out.exists()
 
 
+def test_export_aleph_writes_the_background_into_every_stem(learned, tmp_path):
+    out = tmp_path / "out"
+    assert main(["export-aleph", str(learned / "ds"), str(out), "--task", str(learned / "task.pl"),
+                 "--background", str(learned / "bg.pl")]) == 0
+    assert sorted(p.name for p in out.iterdir()) == [f"{s}.{e}" for s in ("box", "ramp", "stairs")
+                                                     for e in ("b", "f", "n")]
+    for stem in ("box", "ramp", "stairs"):
+        b = (out / f"{stem}.b").read_text()
+        assert f"% ---- background predicates of your own (--background {learned / 'bg.pl'})\n" \
+               + BACKGROUND.rstrip() + "\n" in b
+        assert f":- determination({stem}/1, sloped/1)." in b
+
+
 def _copy(learned, tmp_path) -> Path:
     model = tmp_path / "model"
     shutil.copytree(learned / "model", model)

@@ -13,9 +13,10 @@ def register(sub) -> None:
         help="learn box/stairs/ramp rules from a data set (with k-fold cross-validation)",
         description="Segment every scene of a data set (cached), describe its planes and "
                     "relations, write the Aleph files, learn one theory per class and write "
-                    "MODEL_DIR/rules.pl, the Aleph files used, metrics.json and (with --folds) "
-                    "a cross-validated confusion matrix (confusion.png). The model folder is "
-                    "written whole or not at all.",
+                    "MODEL_DIR/rules.pl, the Aleph files used, metrics.json, model.json, "
+                    "(with --background) background.pl and (with --folds) a cross-validated "
+                    "confusion matrix (confusion.png). The model folder is written whole or not "
+                    "at all (docs/formats.md, 'The model folder').",
     )
     p.add_argument("dataset", help="a data set folder (planerel dataset synth, docs/formats.md)")
     p.add_argument("-o", "--output", required=True, metavar="MODEL_DIR", help="model folder")
