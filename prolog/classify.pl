@@ -324,10 +324,29 @@ planerel_explain(Model, Obj, Class, Index, Bindings, Text) :-
     Model:planerel_rule(Index, Class, Obj0, _, Body0, Names0),
     copy_term(t(Obj0, Body0, Names0), t(Obj, Body, Names)),
     planerel_rule_text(Model, Index, Text),
-    catch(once(Model:Body), E, (print_message(warning, E), fail)),
+    catch(once(planerel_prove(Model, Body)), E, (print_message(warning, E), fail)),
     findall(N-VA,
             ( member(N=V, Names), ground(V), format(atom(VA), '~w', [V]) ),
             Bindings).
+
+%   planerel_prove(+Model, +Body): prove a rule body of Model in Model's
+%   module.  The predicates of a background file of the user's own may
+%   recurse, so a model with one proves each body within
+%   planerel_inference_limit/1 inferences: a proof that does not end is a
+%   warning and no proof, never a classify that hangs.
+planerel_prove(Model, Body) :-
+    (   catch(Model:planerel_bg_pred(_, _), _, fail)
+    ->  planerel_inference_limit(Limit),
+        call_with_inference_limit(Model:Body, Limit, Result),
+        (   Result == inference_limit_exceeded
+        ->  print_message(warning, format("planerel: a proof of ~q was stopped after ~D inferences (does a background predicate of the model never end?)", [Model, Limit])),
+            fail
+        ;   true
+        )
+    ;   Model:Body
+    ).
+
+planerel_inference_limit(10000000).
 
 planerel_rule_text(Model, Index, Text) :-
     Model:planerel_rule(Index, _, _, Head, Body, Names),
@@ -349,7 +368,7 @@ planerel_proof_scale(Model, Obj, Index, Scale) :-
     Model:planerel_rule(Index, _, Obj0, _, Body0, Names0),
     copy_term(t(Obj0, Body0, Names0), t(Obj, Body, Names)),
     (   aggregate_all(max(S),
-                      limit(1000, ( catch(Model:Body, _, fail),
+                      limit(1000, ( catch(planerel_prove(Model, Body), _, fail),
                                     planerel_smallest_plane(Names, S) )),
                       Max)
     ->  Scale = Max

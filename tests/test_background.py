@@ -264,14 +264,20 @@ def _hand_model(folder: Path, rules: str, background: str) -> Path:
     return folder
 
 
-def test_two_models_with_one_predicate_name_each_answer_with_their_own(tmp_path):
+@pytest.fixture(scope="module")
+def stairs_scene():
+    from planerel.synth.generator import generate_scene
+
+    return generate_scene("stairs", seed=11, size=(640, 480), subsample=4, steps=4,
+                          sides="open", walls=0)
+
+
+def test_two_models_with_one_predicate_name_each_answer_with_their_own(tmp_path, stairs_scene):
     """Each model's background lives in its model's module: two definitions of mine/1 in one
     process, used in turn, and one model closed."""
     from planerel.classify.classifier import Classifier
-    from planerel.synth.generator import generate_scene
 
-    cloud = generate_scene("stairs", seed=11, size=(640, 480), subsample=4, steps=4,
-                           sides="open", walls=0).cloud
+    cloud = stairs_scene.cloud
     rules = "box(A) :- mine(A).\n"
     yes = _hand_model(tmp_path / "yes", rules, "mine(O) :- nplanes(O, N), N >= 1.\n")
     no = _hand_model(tmp_path / "no", rules, "mine(O) :- nplanes(O, N), N >= 1000.\n")
@@ -285,6 +291,29 @@ def test_two_models_with_one_predicate_name_each_answer_with_their_own(tmp_path)
     assert {o.klass for o in c.classify(cloud).objects} == {"box"}
     for clf in (b, c):
         clf.close()
+
+
+def test_a_background_predicate_that_never_ends_is_stopped(tmp_path, stairs_scene, capfd):
+    """Recursion is allowed, so a proof may not end: classify stops it (an inference limit, a
+    warning) and answers with the other rules; the rule query of learning says so."""
+    from planerel.classify.classifier import Classifier
+    from planerel.errors import PrologError
+    from planerel.features.facts import describe_scene
+    from planerel.ilp import pipeline as P
+    from planerel.ilp.background import Background
+
+    loop = "deep(X) :- deep(X).\n"
+    rules = "box(A) :- deep(A).\nramp(A) :- nplanes(A, N), N >= 1.\n"
+    with Classifier(_hand_model(tmp_path / "m", rules, loop)) as clf:
+        objects = clf.classify(stairs_scene.cloud).objects
+    assert objects and {(o.klass, o.rule) for o in objects} == {
+        ("ramp", "ramp(A) :- nplanes(A,N),N>=1.")}
+    assert "stopped after 10,000,000 inferences" in capfd.readouterr().err
+    model = P.Model(("box", "ramp"), {"box": ("box(A) :- deep(A).",), "ramp": ()},
+                    background=Background("mine.pl", loop, (("deep", 1),)))
+    desc = describe_scene(stairs_scene.cloud, stairs_scene.gt_labels, scene_id="s0001")
+    with pytest.raises(PrologError, match="stopped after 10,000,000 inferences"):
+        P.prolog_predict(model, [desc], [o.id for o in desc.objects])
 
 
 @pytest.mark.real_aleph
