@@ -180,6 +180,23 @@ def test_export_aleph_writes_the_background_into_every_stem(learned, tmp_path):
         assert f":- determination({stem}/1, sloped/1)." in b
 
 
+def test_a_background_predicate_named_as_a_target_is_refused(learned):
+    """A class C of the task is the learner's predicate C/1 (class/2 for the multi-class task):
+    the background may not define it."""
+    from planerel.ilp.aleph_export import aleph_files, describe_dataset
+    from planerel.ilp.background import Background
+
+    descs, _ = describe_dataset(learned / "ds")
+    box = Background("mine.pl", "box(O) :- nplanes(O, N), N >= 1.\n", (("box", 1),))
+    with pytest.raises(InputError, match=r"^mine\.pl defines box/1, the target of the learning "
+                                         r"task; rename it$"):
+        aleph_files(descs, "stairs", background=box)
+    klass = Background("mine.pl", "class(O, box) :- nplanes(O, N), N >= 1.\n", (("class", 2),))
+    with pytest.raises(InputError, match=r"^mine\.pl defines class/2, the target"):
+        aleph_files(descs, "class", background=klass)
+    assert "class(O, box) :-" in aleph_files(descs, "box", background=klass)["box.b"]
+
+
 def _copy(learned, tmp_path) -> Path:
     model = tmp_path / "model"
     shutil.copytree(learned / "model", model)
