@@ -141,11 +141,30 @@ def test_merge_keeps_a_small_top_off_the_large_plane_under_it():
     side = SplitParams(merge_side=3.0)
     out = merge_coplanar(cloud, _with_labels(cloud, labels), side)
     assert out.n_planes == 2 and np.array_equal(out.labels, labels)
-    pooled = merge_coplanar(cloud, _with_labels(cloud, labels))
-    assert pooled.n_planes == 1  # the default test: the top joins the board
+    pooled = merge_coplanar(cloud, _with_labels(cloud, labels), SplitParams(merge_side=0.0))
+    assert pooled.n_planes == 1  # the pooled test alone: the top joins the board
     # the same board with the "top" level with it (one surface cut by a ring) still merges
     flat, lab = _board_with_block(rise=0.0)
     assert merge_coplanar(flat, _with_labels(flat, lab), side).n_planes == 1
+
+
+def test_the_side_test_holds_for_small_tops_only_with_a_span():
+    """span91: with ``merge_side_span`` the side test holds for a pair whose smaller region
+    spans at most that (its largest in-plane std): a 6 cm block's top (16 px at 1 m, std
+    1.8 cm) stays off the board 3 cm under it; a 19 cm top (a book, a laptop's base: 50 px,
+    std 5.5 cm) 1 cm over it merges by the pooled test as without the side test, and with
+    span 0 (every pair) it stays apart."""
+    span = SplitParams(merge_side=3.0, merge_side_span=0.02)
+    cloud, labels = _board_with_block()
+    assert merge_coplanar(cloud, _with_labels(cloud, labels), span).n_planes == 2
+    cloud, labels = _board_with_block(rise=0.01, side=50)
+    pooled = merge_coplanar(cloud, _with_labels(cloud, labels), SplitParams(merge_side=0.0))
+    assert pooled.n_planes == 1
+    assert merge_coplanar(cloud, _with_labels(cloud, labels), span).n_planes == 1
+    every = SplitParams(merge_side=3.0, merge_side_span=0.0)
+    assert merge_coplanar(cloud, _with_labels(cloud, labels), every).n_planes == 2
+    with pytest.raises(InputError, match="merge_side_span"):
+        SplitParams(merge_side_span=-0.01)
 
 
 def test_merge_needs_regions_to_touch():

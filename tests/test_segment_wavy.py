@@ -432,5 +432,8 @@ def test_the_side_test_keeps_a_block_top_off_the_wavy_board_under_it(rise):
     # the union of a top 2 cm over a board fits as the board does (its sums are the board's):
     # the wavy join took it; with merge_side each side must fit the union's plane itself
     cloud, seg = _top_over_board(rise)
-    assert join_wavy(cloud, seg, SplitParams()).n_planes == 1
+    assert join_wavy(cloud, seg, SplitParams(merge_side=0.0)).n_planes == 1
     assert join_wavy(cloud, seg, SplitParams(merge_side=3.0)).n_planes == (2 if rise else 1)
+    # span91: a top spanning more than merge_side_span joins as without the side test
+    wide = SplitParams(merge_side=3.0, merge_side_span=0.005)
+    assert join_wavy(cloud, seg, wide).n_planes == 1

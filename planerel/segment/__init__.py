@@ -462,7 +462,7 @@ def _small_growing(cloud, seg, p, split_params, size):
     wp = dataclasses.replace(p, min_region_size=size, far_theta=0.0, far_wide=False,
                              small_scale=0.0, near_wide=0.0)
     sp = split_params if split_params is not None else SplitParams()
-    sp = dataclasses.replace(sp, merge_side=max(sp.merge_side, SMALL_SIDE))
+    sp = dataclasses.replace(sp, merge_side=max(sp.merge_side, SMALL_SIDE), merge_side_span=0.0)
     # a frame with no measured noise (a Kinect's quantised depth, hunt67) is judged by the
     # split test's sensor model
     return _second_growing(cloud, seg, wp, sp).labels, _noise_sigma(seg, sp)

@@ -175,7 +175,7 @@ def merge_coplanar(cloud, seg: Segmentation, params=None, *,
     merged = 0
     while True:
         best = _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, p.tolerance, cos_par,
-                          p.merge_side)
+                          p.merge_side, p.merge_side_span)
         if best is None:
             break
         _, ra, rb, nv = best
@@ -520,7 +520,8 @@ def join_wavy(cloud, seg: Segmentation, params=None) -> Segmentation:
             k = np.array([a, b])
             side = _side_rms(cnt[k], s1[k], s2[k], np.stack([nv, nv]),
                              np.full(2, -float(nv @ c)))
-            if side.max() > p.merge_side * p.tolerance * max(rms, own[a], own[b]):
+            if side.max() > p.merge_side * p.tolerance * max(rms, own[a], own[b]) and (
+                    p.merge_side_span <= 0 or min(ext[a], ext[b]) <= p.merge_side_span):
                 return None
         return ratio, vec[:, 0]
 
@@ -583,7 +584,8 @@ def _side_rms(m, s1, s2, normal, offset) -> np.ndarray:
     return np.sqrt(np.maximum(q / m, 0.0))
 
 
-def _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0, side=0.0):
+def _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0, side=0.0,
+               side_span=0.0):
     """The pair of current groups (``edges``: a set of touching root pairs ``(a, b)``,
     ``a < b``) that passes the merge test with the smallest RMS ratio (the first in pair order
     on a tie): ``(ratio, root_a, root_b, union normal)``, or None.
@@ -597,7 +599,8 @@ def _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0, 
     With ``side`` > 0 each group must also fit the union's plane within ``side x tolerance``
     times that bound on its own: a union's RMS is its larger side's, so a small region on a
     parallel plane centimetres off a large one (a block's top over the board it stands on)
-    passed the pooled test (tote67)."""
+    passed the pooled test (tote67).  With ``side_span`` > 0 only for the pairs whose
+    smaller group spans at most that (its largest in-plane std, metres; span91)."""
     if not edges:
         return None
     cand = np.array(sorted(edges), dtype=np.int64)
@@ -627,7 +630,11 @@ def _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0, 
         off = -np.einsum("ki,ki->k", nv, c)
         worst = np.maximum(_side_rms(cnt[A], s1[A], s2[A], nv, off),
                            _side_rms(cnt[B], s1[B], s2[B], nv, off))
-        ratio = np.where(worst <= side * tolerance * np.maximum(ref, 1e-12), ratio, np.inf)
+        held = worst > side * tolerance * np.maximum(ref, 1e-12)
+        if side_span > 0:
+            held &= np.minimum(_span_of(cnt[A], s1[A], s2[A]),
+                               _span_of(cnt[B], s1[B], s2[B])) <= side_span
+        ratio = np.where(held, np.inf, ratio)
     j = int(np.argmin(ratio))
     if ratio[j] > tolerance:
         return None

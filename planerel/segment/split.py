@@ -146,6 +146,12 @@ class SplitParams:
         mostly its larger side's, so a block's top 2-4 cm over the board it stands on
         merges into the board.  Off: the rules re-learned with it lose the lying clause's
         bound (tote67, docs/segmentation.md "A small top over a large plane").
+    merge_side_span : float
+        With ``merge_side`` > 0, the side test holds for a pair whose smaller region's
+        largest in-plane standard deviation is at most this (metres; a square top of side
+        ``s`` has ``0.29 s``): 0.02 keeps a block's top of up to about 7 cm off the board
+        while a laptop's base or a book 2 cm over a table still merges by the pooled test
+        as before; 0: every pair (span91).
     min_split_angle, parallel_gap : float
         Planar parts of a region whose planes differ by less than ``min_split_angle`` degrees
         (3) and lie within ``parallel_gap`` x depth (0.02: 2 cm at 1 m) of each other's points
@@ -204,7 +210,8 @@ class SplitParams:
     merge_angle: float = 10.0
     merge_gap: int = 2
     merge_jump: float = 0.05
-    merge_side: float = 0.0
+    merge_side: float = 3.0
+    merge_side_span: float = 0.02
     min_split_angle: float = 3.0
     parallel_gap: float = 0.02
     piece_offset: float = 0.005
@@ -251,6 +258,7 @@ class SplitParams:
         s(self, "merge_gap", _int(o, "merge_gap", self.merge_gap, 1))
         s(self, "merge_jump", _num(o, "merge_jump", self.merge_jump, lo=0.0, lo_open=True))
         s(self, "merge_side", _num(o, "merge_side", self.merge_side, lo=0.0))
+        s(self, "merge_side_span", _num(o, "merge_side_span", self.merge_side_span, lo=0.0))
         s(self, "piece_offset", _num(o, "piece_offset", self.piece_offset, lo=0.0))
         s(self, "wavy_join", _bool(o, "wavy_join", self.wavy_join))
         s(self, "wavy_leftover", _bool(o, "wavy_leftover", self.wavy_leftover))
