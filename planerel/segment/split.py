@@ -140,18 +140,18 @@ class SplitParams:
     merge_jump : float
         ... and their points within ``merge_jump * z`` metres (0.05).
     merge_side : float
-        With ``merge_side`` > 0, each of the two must also fit the union's plane within
-        ``merge_side`` times the union test's bound on its own (3 keeps a block's top off
-        the board under it); 0 (the default): the pooled test only.  The union's RMS is
-        mostly its larger side's, so a block's top 2-4 cm over the board it stands on
-        merges into the board.  Off: the rules re-learned with it lose the lying clause's
-        bound (tote67, docs/segmentation.md "A small top over a large plane").
+        With ``merge_side`` > 0 (3, the default since span91), each of the two must also
+        fit the union's plane within ``merge_side`` times the union test's bound on its own;
+        0: the pooled test only.  The union's RMS is mostly its larger side's, so with the
+        pooled test alone a block's top 2-4 cm over the board it stands on merges into the
+        board (tote67, docs/segmentation.md "A small top over a large plane").
     merge_side_span : float
         With ``merge_side`` > 0, the side test holds for a pair whose smaller region's
         largest in-plane standard deviation is at most this (metres; a square top of side
-        ``s`` has ``0.29 s``): 0.02 keeps a block's top of up to about 7 cm off the board
-        while a laptop's base or a book 2 cm over a table still merges by the pooled test
-        as before; 0: every pair (span91).
+        ``s`` has ``0.29 s``): 0.02 (the default) keeps a block's top of up to about 7 cm
+        off the board, while a laptop's base or a book 2 cm over a table still merges by the
+        pooled test (for every pair, 0, the rules re-learned lose the lying clause's bound:
+        the laptops' bases split off as flat tops; span91).
     min_split_angle, parallel_gap : float
         Planar parts of a region whose planes differ by less than ``min_split_angle`` degrees
         (3) and lie within ``parallel_gap`` x depth (0.02: 2 cm at 1 m) of each other's points
