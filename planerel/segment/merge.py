@@ -631,9 +631,11 @@ def _best_pair(edges, normal, cnt, s1, s2, sv, cos_max, tolerance, cos_par=2.0, 
         worst = np.maximum(_side_rms(cnt[A], s1[A], s2[A], nv, off),
                            _side_rms(cnt[B], s1[B], s2[B], nv, off))
         held = worst > side * tolerance * np.maximum(ref, 1e-12)
-        if side_span > 0:
-            held &= np.minimum(_span_of(cnt[A], s1[A], s2[A]),
-                               _span_of(cnt[B], s1[B], s2[B])) <= side_span
+        if side_span > 0 and held.any():
+            # the spans of the held pairs only (most pairs fit on both sides)
+            h = np.flatnonzero(held)
+            held[h] = np.minimum(_span_of(cnt[A[h]], s1[A[h]], s2[A[h]]),
+                                 _span_of(cnt[B[h]], s1[B[h]], s2[B[h]])) <= side_span
         ratio = np.where(held, np.inf, ratio)
     j = int(np.argmin(ratio))
     if ratio[j] > tolerance:
