@@ -58,12 +58,12 @@ def _commands(d):
     ("standing_fill=0.7", ["standing_fill (did you mean relations.standing_fill?)",
                            "not a segmentation parameter", "a bare NAME is a segmentation "
                            "parameter, SECTION.NAME one of the sections split, gravity",
-                           "'planerel params segmentation' lists its 32 parameters"], []),
+                           f"'planerel params segmentation' lists its {len(names_of('segmentation'))} parameters"], []),
     ("thetaa=12", ["thetaa (did you mean theta?)", "'planerel params segmentation'"], []),
     ("foo=1", ["unknown parameter(s) foo: not a segmentation parameter"], ["did you mean"]),
     ("split.smal_faces=150", ["split.smal_faces (did you mean split.small_faces?)",
                               "split has no parameter 'smal_faces'",
-                              "'planerel params split' lists its 30 parameters"], []),
+                              f"'planerel params split' lists its {len(names_of('split'))} parameters"], []),
     ("colour.x=1", ["unknown section 'colour'", "'planerel params' lists the sections"], []),
 ])
 def test_every_command_says_an_unknown_segmentation_name_the_same_way(files, given, said,
@@ -83,7 +83,7 @@ def test_every_command_says_an_unknown_segmentation_name_the_same_way(files, giv
     # before: "--param relations.foo: relations has no parameter 'foo' (it has parallel_tol,
     # perpendicular_tol, ... (81 names))"
     ("relations.foo=1", ["relations has no parameter 'foo'",
-                         "'planerel params relations' lists its 81 parameters"]),
+                         f"'planerel params relations' lists its {len(names_of('relations'))} parameters"]),
     ("relations.tol_deg=3", ["relations.tol_deg (did you mean gravity.tol_deg?)"]),
     ("planes.nope=1", ["planes has no parameter 'nope'; its parameters: horizontal_tol, "
                        "vertical_tol,", "'planerel params planes' says what they do"]),
