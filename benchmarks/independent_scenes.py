@@ -18,7 +18,7 @@ Usage::
 
     python benchmarks/independent_scenes.py make OUT_DIR [--n 60] [--seed 7] [--size 160x120]
         [--kinds box,stairs,ramp] [--sensor plain|kinect|stereo|tof] [--heights LOW,HIGH] [--furniture]
-        [--speckle-floor KEEP] [--stereo-sigma PX] [--stereo-wave PX]
+        [--speckle-floor KEEP] [--stereo-sigma PX] [--stereo-wave PX] [--riser-lean LOW,HIGH]
     python benchmarks/independent_scenes.py score OUT_DIR MODEL_DIR [MODEL_DIR ...] [--figures DIR] [--min-pixels 150] [--by-planes]
     python benchmarks/independent_scenes.py dev DEST [--only NAME ...] [--force]
 
@@ -38,7 +38,8 @@ quantises depth as the real Kinect frames of ``../shared/data/kinect`` do (3 mm 
 band of ``W / 160`` pixels (4 at 640x480) at depth jumps; ``--sensor stereo`` is an active stereo
 pair (D435-like: the matcher's disparity noise, correlated over its window, :func:`render`;
 ``--stereo-sigma`` sets that noise and ``--stereo-wave`` adds a real D4xx camera's undulation
-over tens of pixels, wave82: ``dev_stw``);
+over tens of pixels, wave82: ``dev_stw``); ``--riser-lean LOW,HIGH`` leans each flight's risers
+back from their nosings, as carpeted risers lean (riser92: ``dev_rake``, :func:`staircase`);
 ``--sensor tof`` a Kinect v2-like time-of-flight camera whose dark objects' upright faces are
 five times as noisy and holed (tof72, measured on hunt71's stairwell: :func:`render`);
 ``plain`` (the default) is the original sensor, unchanged.  ``score``'s ``--min-pixels`` defaults to 150 pixels scaled with the image area (150 at
@@ -98,12 +99,24 @@ def _place(mesh, x, y, yaw):
     return mesh
 
 
-def staircase(n, rise, run, width, side_walls):
+def staircase(n, rise, run, width, side_walls, lean=0.0):
     """Stairs ascending along +x from x = 0; each step a solid block to the floor.
+
+    ``lean`` (degrees): each riser leans back this much from its nosing, as a carpeted
+    riser does (the carpet runs from the nosing back to the tread below; building codes
+    allow up to 30 degrees): a wedge in front of each block's face, its nosing
+    ``rise * tan(lean)`` nearer than its foot, the run from nosing to nosing unchanged.
 
     Returns (stairs mesh, list of environment meshes (side walls))."""
     steps = [_box((run, width, (i + 1) * rise), ((i + 0.5) * run, 0.0, (i + 1) * rise / 2))
              for i in range(n)]
+    if lean:
+        d, w = rise * np.tan(np.radians(lean)), width / 2
+        for i in range(n):
+            x, lo, hi = i * run, i * rise, (i + 1) * rise
+            steps.append(trimesh.convex.convex_hull(np.array(
+                [[x, y, lo] for y in (-w, w)] + [[x, y, hi] for y in (-w, w)]
+                + [[x - d, y, hi] for y in (-w, w)], float)))
     walls = []
     if side_walls:
         h = n * rise + 0.9
@@ -458,8 +471,9 @@ def add_furniture(meshes, objects, eye, R, intr, rng, target, n_range=(1, 3)):
 # ----------------------------------------------------------------------------- scenes
 
 
-def build_scene(kind, rng):
-    """Meshes of one scene around a primary object of class ``kind``.
+def build_scene(kind, rng, lean=0.0):
+    """Meshes of one scene around a primary object of class ``kind`` (a flight's risers
+    leaning back ``lean`` degrees: :func:`staircase`).
 
     Returns
     -------
@@ -519,7 +533,7 @@ def build_scene(kind, rng):
         width = rng.uniform(0.8, 1.6)
         walls = rng.random() < 0.5
         down = rng.random() < 0.35 or kind == "stairs_top"
-        st, ws = staircase(n, rise, run, width, walls)
+        st, ws = staircase(n, rise, run, width, walls, lean)
         yaw = rng.uniform(-np.pi, np.pi)
         _place(st, 0, 0, yaw)
         add(st, "stairs", "stairs from the top" if kind == "stairs_top"
@@ -540,6 +554,8 @@ def build_scene(kind, rng):
             target = np.array([n * run / 2 * c, n * run / 2 * s, n * rise / 2])
         info.update(steps=n, rise=round(rise, 3), run=round(run, 3), width=round(width, 3),
                     side_walls=walls, descending=down)
+        if lean:
+            info["riser_lean"] = round(float(lean), 2)
         if kind == "stairs_top":  # the camera stands on the landing (see landing_pose)
             info.update(flight_yaw=float(yaw), nose_x=float(n * run), landing_z=float((n + 1) * rise))
         taken.append((target[0], target[1], n * run / 2 + width / 2 + 0.6))
@@ -1075,7 +1091,7 @@ KINDS = ("box", "stairs", "ramp", "stairs_top", "small_box", "tote_blocks")
 
 def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ramp"), sensor="plain",
                heights=None, furniture=False, speckle_floor=None, stereo_wave=None,
-               stereo_sigma=None):
+               stereo_sigma=None, riser_lean=None):
     """Scene ``i`` of the set of ``seed``: (xyz, truth, sidecar dict, meshes, eye, R, plane ids).
 
     ``kinds``: the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``);
@@ -1086,14 +1102,18 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
     drawn from a generator of its own, ``[seed, i, 75]``); ``stereo_wave``: the ``stereo``
     sensor's undulation, px of disparity (:func:`render`'s ``wave``, drawn from a generator of
     its own, ``[seed, i, 82]``); ``stereo_sigma``: its matching noise, px (default
-    :data:`STEREO_SIGMA`)."""
+    :data:`STEREO_SIGMA`); ``riser_lean``: ``(low, high)`` degrees, a flight's risers lean
+    back by an angle drawn in it (:func:`staircase`; a generator of its own, ``[seed, i, 92]``:
+    the scene is otherwise the same scene)."""
     if (stereo_wave is not None or stereo_sigma is not None) and sensor != "stereo":
         raise ValueError("stereo_wave, stereo_sigma: for the stereo sensor only")
     rng = np.random.default_rng([seed, i])
     kind = kinds[i % len(kinds)]
     if kind not in KINDS:
         raise ValueError(f"kind {kind!r}: one of {KINDS}")
-    meshes, objects, target, info = build_scene(kind, rng)
+    lean = 0.0 if riser_lean is None else float(
+        np.random.default_rng([seed, i, 92]).uniform(*riser_lean))
+    meshes, objects, target, info = build_scene(kind, rng, lean)
     if kind == "stairs_top":
         eye, R, cam = landing_pose(info, rng)
     elif kind == "small_box":
@@ -1152,7 +1172,8 @@ def _write_npy(path, arr):
 
 
 def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain", heights=None,
-             furniture=False, speckle_floor=None, stereo_wave=None, stereo_sigma=None):
+             furniture=False, speckle_floor=None, stereo_wave=None, stereo_sigma=None,
+             riser_lean=None):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
@@ -1161,7 +1182,8 @@ def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain"
                                                heights=heights, furniture=furniture,
                                                speckle_floor=speckle_floor,
                                                stereo_wave=stereo_wave,
-                                               stereo_sigma=stereo_sigma)
+                                               stereo_sigma=stereo_sigma,
+                                               riser_lean=riser_lean)
         sid = side["scene_id"]
         _write_npy(out / f"{sid}.planes.npy", pid)
         _write_npy(out / f"{sid}.npy", xyz)
@@ -1181,6 +1203,8 @@ def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain"
         meta["stereo_wave"] = float(stereo_wave)
     if stereo_sigma is not None:
         meta["stereo_sigma"] = float(stereo_sigma)
+    if riser_lean is not None:
+        meta["riser_lean"] = [float(v) for v in riser_lean]
     _write_json(out / "independent.json", meta)
     print(f"made {n} scenes ({size[0]}x{size[1]}) in {dt:.1f} s, {1000 * dt / max(n, 1):.0f} ms/scene -> {out}")
 
@@ -1419,6 +1443,10 @@ DEV_SETS = {
     # aims-low, sunrgbd-rs and vreloc measure 3.2-4.3): flights whose steps grow no planes
     "dev_stw": "--n 60 --seed 6002 --kinds stairs,stairs_top,ramp --sensor stereo --size 640x480 "
                "--stereo-sigma 0.04 --stereo-wave 0.15",
+    # riser92: dev_stk's flights (the same scenes) with carpeted risers leaning back 5-25
+    # degrees from their nosings (a real carpeted flight's measure 11-13: hunt92 depth_21)
+    "dev_rake": "--n 40 --seed 3205 --kinds stairs,stairs_top,ramp --sensor kinect --size 640x480 "
+                "--riser-lean 5,25",
 }
 
 
@@ -1444,13 +1472,24 @@ def _pixels(text: str) -> float:
     return v
 
 
+def _degrees(text: str) -> tuple:
+    """``--riser-lean``'s value: ``LOW,HIGH`` degrees, 0 <= LOW <= HIGH < 45."""
+    try:
+        lo, hi = (float(v) for v in text.split(","))
+    except ValueError:
+        lo = hi = float("nan")
+    if not 0.0 <= lo <= hi < 45.0:
+        raise argparse.ArgumentTypeError(f"LOW,HIGH degrees, 0 <= LOW <= HIGH < 45, got {text!r}")
+    return lo, hi
+
+
 def _make(a) -> None:
     """Run ``make`` with parsed arguments ``a``."""
     W, H = (int(v) for v in a.size.lower().split("x"))
     heights = None if a.heights is None else tuple(float(v) for v in a.heights.split(","))
     make_set(a.out, a.n, a.seed, (W, H), kinds=tuple(a.kinds.split(",")), sensor=a.sensor,
              heights=heights, furniture=a.furniture, speckle_floor=a.speckle_floor,
-             stereo_wave=a.stereo_wave, stereo_sigma=a.stereo_sigma)
+             stereo_wave=a.stereo_wave, stereo_sigma=a.stereo_sigma, riser_lean=a.riser_lean)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -1482,6 +1521,10 @@ def _parser() -> argparse.ArgumentParser:
                         "scenes as before the option")
     m.add_argument("--stereo-sigma", type=_pixels, default=None, metavar="PX",
                    help=f"with --sensor stereo: the matching noise, px RMS (default {STEREO_SIGMA})")
+    m.add_argument("--riser-lean", type=_degrees, default=None, metavar="LOW,HIGH",
+                   help="a flight's risers lean back from their nosings by an angle drawn in "
+                        "LOW..HIGH degrees (a carpeted flight's); off: the same scenes as "
+                        "before the option")
     s = sub.add_parser("score")
     s.add_argument("out")
     s.add_argument("models", nargs="+")

@@ -360,6 +360,28 @@ def test_a_wavy_stereo_pair_measures_as_real_d4xx_frames_and_changes_only_the_de
         ind.make_scene(0, 6002, (64, 48), sensor="kinect", stereo_wave=0.15)
 
 
+def test_leaning_risers_change_only_the_flight_and_lean_as_drawn():
+    # riser92: --riser-lean draws each flight's lean from a generator of its own; the scene is
+    # the same scene, its risers' true planes tilted back by the drawn angle
+    for i in range(2):
+        a = ind.make_scene(i, 3205, (160, 120), kinds=("stairs", "stairs_top"))
+        b = ind.make_scene(i, 3205, (160, 120), kinds=("stairs", "stairs_top"),
+                           riser_lean=(10.0, 20.0))
+        lean = b[2]["params"]["riser_lean"]
+        assert 10.0 <= lean <= 20.0 and "riser_lean" not in a[2]["params"]
+        assert {k: v for k, v in b[2]["params"].items() if k != "riser_lean"} == a[2]["params"]
+        # the flight's faces: a plane whose normal is lean degrees off horizontal (a riser),
+        # none vertical any more but the back and the sides
+        flight = next(m for m, k in b[3] if k == 1)
+        tilt = np.degrees(np.arcsin(np.clip(np.abs(flight.face_normals[:, 2]), 0, 1)))
+        assert np.isclose(tilt, lean, atol=0.01).any()
+        old = next(m for m, k in a[3] if k == 1)
+        assert not np.isclose(np.degrees(np.arcsin(np.abs(old.face_normals[:, 2]))), lean,
+                              atol=0.5).any()
+    with pytest.raises(SystemExit):
+        ind._parser().parse_args(["make", "/x", "--riser-lean", "20,10"])
+
+
 def test_convex_overlap_separates_and_meets():
     sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     assert ind._overlap2(sq, sq + 0.5)
@@ -378,10 +400,10 @@ def test_every_development_set_command_parses_and_no_two_sets_share_their_argume
     for name, args in ind.DEV_SETS.items():
         a = ind._parser().parse_args(["make", f"/x/{name}"] + args.split())
         key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture, a.speckle_floor,
-               a.stereo_sigma, a.stereo_wave)
+               a.stereo_sigma, a.stereo_wave, a.riser_lean)
         assert key not in seen, name
         seen.add(key)
-    assert len(ind.DEV_SETS) == 18  # dev_stw (wave82) the latest
+    assert len(ind.DEV_SETS) == 19  # dev_rake (riser92) the latest
 
 
 def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path, capsys):

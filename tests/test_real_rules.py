@@ -1076,3 +1076,21 @@ def test_a_ground_in_pieces_as_one_ground_finds_no_box_and_adds_a_false_one(demo
         assert [o["found"] for o in rows["tray_flat_depth"]["objects"]] == [True]
     assert _totals(on)["false_box"] == _totals(off)["false_box"] + 1
     assert _totals(on)["box_found"] == _totals(off)["box_found"]
+
+
+def test_a_carpeted_flights_leaning_risers_make_its_steps(demo_model):
+    """riser92: hunt92's carpeted flight (BundleFusion's apt0 stairs via fdp0525/G2LTex,
+    Structure Sensor) seen close from its foot (depth_21: the lowest tread runs out of the
+    image's bottom edge, the top tread is the landing). Its risers measure 11-13 degrees off
+    vertical (the carpet runs from the nosing back to the tread below), beyond the treads'
+    12-degree tilt: no step was seen.  Within ``proposals.riser_tilt`` (20) they are risers and
+    the flight is ``stairs``; the other four frames' answers do not change and no false answer
+    appears."""
+    g2l = HUNT_DATA / "hunt92" / "g2l-apt0-stairs"
+    now = _unseen_rows([g2l], demo_model, "PLANEREL_HUNT_DATA")
+    old = _unseen_rows([g2l], demo_model, "PLANEREL_HUNT_DATA", ["proposals.riser_tilt=12"])
+    assert [o["found"] for o in now["depth_21"]["objects"]] == [True]
+    assert [o["found"] for o in old["depth_21"]["objects"]] == [False]
+    for name in ("depth_01", "depth_25", "depth_28"):
+        assert [o["found"] for o in now[name]["objects"]] == [True], name
+    assert _totals(now)["false_box"] == _totals(old)["false_box"] == 0

@@ -9,11 +9,13 @@ learned by the real learner in tests/test_pipeline.py.
 
 from __future__ import annotations
 
-from scenes_analytic import box, floor, render, stairs
+import math
+
+from scenes_analytic import Rect, box, floor, render, stairs
 from test_proposals_cavities import _shelf
 
 from planerel.features.facts import describe_scene, scene_facts
-from planerel.features.relations import STAIR_RISE, STAIR_RUN
+from planerel.features.relations import STAIR_RISE, STAIR_RUN, ProposalParams
 from planerel.features.stair_step import stair_steps
 
 VIEW = dict(pitch=25, cam_height=1.6, width=320, height=240, noise=0.001)
@@ -76,3 +78,51 @@ def test_stair_steps_of_one_plane_or_none():
     assert stair_steps(d.planes, (d.planes[0].label,)) == frozenset()
     # the windows are a staircase's (docs/predicates.md)
     assert STAIR_RISE == (0.08, 0.25) and STAIR_RUN == (0.15, 0.45)
+
+
+def _raked_stairs(cx, y0, n=4, rise=0.18, run=0.28, width=1.0, lean=13.0, obj=1):
+    """A carpeted flight: each riser leans back ``lean`` degrees from its nosing (its foot
+    ``rise * tan(lean)`` further from the camera than its top), each tread runs from its
+    nosing to the next riser's foot."""
+    t = math.tan(math.radians(lean))
+    out = []
+    for k in range(n):
+        y = y0 + k * run  # the nosing of step k
+        e2 = (0.0, -math.sin(math.radians(lean)), math.cos(math.radians(lean)))
+        out.append(Rect((cx, y + rise * t / 2, (k + 0.5) * rise), (1, 0, 0), e2, width / 2,
+                        rise / (2 * math.cos(math.radians(lean))), obj))
+        deep = run + rise * t
+        out.append(Rect((cx, y + deep / 2, (k + 1) * rise), (1, 0, 0), (0, 1, 0), width / 2,
+                        deep / 2, obj))
+    return out
+
+
+def test_risers_leaning_back_are_stair_steps_within_riser_tilt():
+    # a real carpeted flight's risers measure 11-13 degrees off vertical (hunt92 depth_21:
+    # the carpet runs from the nosing back to the tread below); seen level from a low camera
+    # the treads are edge on and the risers are what shows
+    rects = [floor()] + _raked_stairs(0.0, 1.6, n=4, lean=15.0)
+    cloud, lab, _up, objs = render(rects, pitch=0, cam_height=0.35, width=320, height=240,
+                                   noise=0.0005)
+    d = describe_scene(cloud, lab)
+    risers = [p.label for p in d.planes if objs[p.label] == 1 and 70 < p.incline < 85]
+    assert len(risers) >= 3
+    leaning = stair_steps(d.planes, risers, ProposalParams(riser_tilt=20.0))
+    assert len(leaning) >= 2 and all(a in risers and b in risers for a, b in leaning)
+    # a riser within riser_tilt only: at 12 degrees (the treads' tilt) none of them counts
+    assert stair_steps(d.planes, risers, ProposalParams(riser_tilt=12.0)) == frozenset()
+    # the default admits them
+    assert stair_steps(d.planes, risers) == leaning
+
+
+def test_step_kind_takes_a_tread_and_a_riser_tilt():
+    from types import SimpleNamespace
+
+    from planerel.features.relations import _step_kind
+
+    face = SimpleNamespace(orientation="inclined", incline=76.0)
+    assert _step_kind(face, 12.0) is None
+    assert _step_kind(face, (12.0, 16.0)) == "riser"
+    slab = SimpleNamespace(orientation="inclined", incline=14.0)
+    assert _step_kind(slab, (12.0, 16.0)) is None   # the riser tilt does not widen the treads'
+    assert ProposalParams(step_tilt=10.0, riser_tilt=18.0).step_tilts == (10.0, 18.0)

@@ -323,7 +323,7 @@ def _measured(answers, desc, plane_ids, params) -> tuple:
         m = None
         if a.klass == "stairs":
             m = flight_measures(desc.planes, a.labels, desc.steps, params.step_tread_axes,
-                                params.step_tilt)
+                                params.step_tilts)
         elif a.klass == "ramp":
             cand = [by_label[label_of[x]] for x in a.proof_planes
                     if x in label_of and label_of[x] in by_label]
@@ -359,7 +359,7 @@ def _pitch_gate(desc, plane_ids, params):
     def pitch_of(labels):
         @functools.cache
         def flight():
-            m = flight_measures(ps, labels, desc.steps, params.step_tread_axes, params.step_tilt)
+            m = flight_measures(ps, labels, desc.steps, params.step_tread_axes, params.step_tilts)
             if m is None or not m["run_m"]:
                 return None
             return math.degrees(math.atan2(m["rise_m"], m["run_m"])), np.asarray(m["direction"])

@@ -55,7 +55,7 @@ def _going(direction, centre, up) -> str:
 
 
 def flight_measures(planes, labels, steps, tread_axes: bool = True,
-                    tilt: float = 12.0) -> dict | None:
+                    tilt=12.0) -> dict | None:
     """A flight's measures from its step pairs.
 
     Parameters
@@ -69,9 +69,9 @@ def flight_measures(planes, labels, steps, tread_axes: bool = True,
         planes among ``labels`` count.
     tread_axes : bool
         Measure a tread step's run across the treads (``ProposalParams.step_tread_axes``).
-    tilt : float
+    tilt : float or (float, float)
         Degrees off level (off vertical) within which a face is a tread (a riser):
-        ``ProposalParams.step_tilt``.
+        ``ProposalParams.step_tilts``.
 
     Returns
     -------

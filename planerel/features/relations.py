@@ -2318,8 +2318,13 @@ class ProposalParams:
     step_rise_min, step_rise_max, step_run_min, step_run_max : float
         Metres: the range of the height and of the horizontal offset between two such faces.
     step_tilt : float
-        Degrees: a face within this of horizontal (vertical) counts as a tread (riser) in a
-        step chain: the far treads of a flight measure a few degrees off.
+        Degrees: a face within this of horizontal counts as a tread in a step chain (the far
+        treads of a flight measure a few degrees off).
+    riser_tilt : float
+        Degrees: a face within this of vertical counts as a riser in a step chain.  A carpeted riser runs from the nosing above back to the tread
+        below, and building codes allow a riser up to 30 degrees off vertical: a real
+        carpeted flight's risers measure 11-13 degrees (docs/objects.md "Risers that lean
+        back").
     split_stepped : bool
         Before proposing, split an inclined plane whose points lie on horizontal levels one
         rise apart (treads joined into one sloping plane, a flight seen from above) into one
@@ -2710,6 +2715,7 @@ class ProposalParams:
     step_run_min: float = 0.12
     step_run_max: float = 0.60
     step_tilt: float = 12.0
+    riser_tilt: float = 20.0
     split_stepped: bool = True
     raised_objects: bool = True
     coplanar_depth: float | None = 0.03
@@ -2769,11 +2775,17 @@ class ProposalParams:
     open_treads: bool = True
     channel_room_walls: bool = True
 
+    @property
+    def step_tilts(self) -> tuple:
+        """``(tread tilt, riser tilt)`` in degrees: ``step_tilt`` and ``riser_tilt``, as
+        :func:`_step_kind` takes them."""
+        return (self.step_tilt, self.riser_tilt)
+
     def __post_init__(self) -> None:
         _check_nonneg(self, ("table_area", "table_height", "table_legs", "legs_apart", "support_min_area", "wall_tol", "wall_window", "floor_gap", "min_points", "concave_tol", "border_wall_area",
                              "wall_floor_behind", "edge_depth", "step_overlap", "min_border_area", "wall_behind",
                              "step_rise_min", "step_rise_max",
-                             "step_run_min", "step_run_max", "step_tilt", "cavity_overlap", "piece_gap", "piece_depth",
+                             "step_run_min", "step_run_max", "step_tilt", "riser_tilt", "cavity_overlap", "piece_gap", "piece_depth",
                              "ramp_tilt", "ramp_rise", "concave_cut", "board_rise_max", "riser_max", "riser_min",
                              "side_wall_rise_max", "top_rise", "top_rise_edge", "side_wall_follow", "apart_gap",
                              "touch_gap", "skin_height", "skin_angle"))
@@ -3609,12 +3621,15 @@ def _regular_step(pa, pb, byl, nbrs, cos_tol, flight_riser_max: float | None = N
     return True
 
 
-def _step_kind(p, tilt: float) -> str | None:
+def _step_kind(p, tilt) -> str | None:
     """``"tread"`` for a face within ``tilt`` degrees of horizontal, ``"riser"`` within ``tilt``
-    of vertical, else None (a far tread's strip measures a few degrees off horizontal)."""
-    if p.orientation == "horizontal" or p.incline <= tilt:
+    of vertical, else None (a far tread's strip measures a few degrees off horizontal).
+    ``tilt`` is one angle for both or a pair ``(tread tilt, riser tilt)``
+    (:attr:`ProposalParams.step_tilts`: a carpeted or raked riser leans back from its nosing)."""
+    tread, riser = (tilt, tilt) if isinstance(tilt, (int, float)) else tilt
+    if p.orientation == "horizontal" or p.incline <= tread:
         return "tread"
-    if p.orientation == "vertical" or p.incline >= 90.0 - tilt:
+    if p.orientation == "vertical" or p.incline >= 90.0 - riser:
         return "riser"
     return None
 
@@ -3712,7 +3727,7 @@ def flight_faces(planes, labels, params: ProposalParams | None = None) -> bool:
     labels = tuple(labels)
     if step_chain_pairs(planes, labels, (p.step_rise_min, p.step_rise_max),
                         (p.step_run_min, p.step_run_max), p.step_overlap or 0.5,
-                        p.concave_tol, tilt=p.step_tilt, cut_long_side=p.cut_long_side,
+                        p.concave_tol, tilt=p.step_tilts, cut_long_side=p.cut_long_side,
                         skip_missing=p.skip_missing, tread_axes=p.step_tread_axes,
                         cut_top=p.step_cut_top, cut_chain=p.step_cut_chain,
                         tread_pieces=p.step_tread_pieces, two_risers=p.step_two_risers):
@@ -3752,7 +3767,7 @@ def flight_steps(planes, labels, params: ProposalParams | None = None, *,
     """
     p = params or ProposalParams()
     steps = step_chain_pairs(planes, tuple(labels), STEP_WINDOW_RISE, STEP_WINDOW_RUN,
-                             p.step_overlap or 0.5, p.concave_tol, tilt=p.step_tilt, skip=False,
+                             p.step_overlap or 0.5, p.concave_tol, tilt=p.step_tilts, skip=False,
                              cut_long_side=p.cut_long_side, tread_axes=p.step_tread_axes,
                              chain=False, drop_cut=not keep_cut)
     return [(int(lo), int(hi), float(r), float(g)) for lo, hi, r, _d, _k, g in steps]
@@ -3848,7 +3863,7 @@ def stacked_riser_steps(planes, labels, params: ProposalParams | None = None) ->
     want = set(labels)
     risers = []
     for q in planes:
-        if q.label not in want or _step_kind(q, p.step_tilt) != "riser":
+        if q.label not in want or _step_kind(q, p.step_tilts) != "riser":
             continue
         h = np.asarray(q.hull3d, float)
         if len(h) < 2:
@@ -3954,7 +3969,7 @@ _COS_25 = math.cos(math.radians(25.0))
 
 def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
                      min_overlap: float = 0.5, angle_tol: float = 10.0,
-                     max_ratio: float = 3.0, tilt: float = 12.0, skip: bool = True,
+                     max_ratio: float = 3.0, tilt=12.0, skip: bool = True,
                      min_width: float = 0.5, cut_long_side: bool = True,
                      skip_missing: bool = False, tread_axes: bool = False,
                      chain: bool = True, cut_top: bool = False, drop_cut: bool = True,
@@ -3963,7 +3978,8 @@ def step_chain_pairs(planes, labels=(), rise=(0.08, 0.30), run=(0.12, 0.60),
     """Pairs of parallel faces that are consecutive steps of a staircase (in a chain of >= 3).
 
     Two treads (faces within ``tilt`` degrees of horizontal) or two risers (within ``tilt`` of
-    vertical) with normals within ``angle_tol`` degrees are a *step* when the higher one's
+    vertical; ``tilt`` one angle or ``(tread, riser)`` angles: :attr:`ProposalParams.step_tilts`)
+    with normals within ``angle_tol`` degrees are a *step* when the higher one's
     centroid lies ``rise`` above and ``run`` beyond the lower one's (horizontally; for risers
     along their normal), their extents across that direction overlap by at least
     ``min_overlap`` (interval IoU: one flight's width), their areas differ by at most
@@ -4627,7 +4643,7 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
         g.add_edges(step_chain_pairs(
             planes, g.nodes, (params.step_rise_min, params.step_rise_max),
             (params.step_run_min, params.step_run_max), params.step_overlap or 0.5,
-            params.concave_tol, tilt=params.step_tilt, cut_long_side=params.cut_long_side,
+            params.concave_tol, tilt=params.step_tilts, cut_long_side=params.cut_long_side,
             skip_missing=params.skip_missing, tread_axes=params.step_tread_axes,
             cut_top=params.step_cut_top, cut_chain=params.step_cut_chain,
             tread_pieces=params.step_tread_pieces, two_risers=params.step_two_risers))

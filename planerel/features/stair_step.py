@@ -59,7 +59,7 @@ def stair_steps(planes, labels, params: ProposalParams | None = None,
     # an exact early out: a step needs two treads or two risers (within step_tilt of level or
     # of vertical), an open-riser row three slabs (within OPEN_TILT of level)
     mine = [by_label[k] for k in labels if k in by_label]
-    kinds = [_step_kind(q, p.step_tilt) for q in mine]
+    kinds = [_step_kind(q, p.step_tilts) for q in mine]
     treads, risers = kinds.count("tread"), kinds.count("riser")
     # (the slabs' own test is on |normal . up| >= cos(OPEN_TILT); a hair of slack for rounding)
     slabs = sum(q.incline <= OPEN_TILT + 1e-6 for q in mine) if p.open_treads else 0
@@ -70,7 +70,7 @@ def stair_steps(planes, labels, params: ProposalParams | None = None,
     if treads >= 2 or risers >= 2:
         out = {(int(lo), int(hi)) for lo, hi, _r, _d, span, _g in step_chain_pairs(
             planes, labels, STAIR_RISE, STAIR_RUN, p.step_overlap or 0.5, p.concave_tol,
-            tilt=p.step_tilt, skip=False, cut_long_side=p.cut_long_side,
+            tilt=p.step_tilts, skip=False, cut_long_side=p.cut_long_side,
             tread_axes=p.step_tread_axes, chain=False, cut_top=p.step_cut_top,
             tread_pieces=p.step_tread_pieces) if span == 1}
     if slabs >= 3:
