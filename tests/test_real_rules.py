@@ -1094,3 +1094,17 @@ def test_a_carpeted_flights_leaning_risers_make_its_steps(demo_model):
     for name in ("depth_01", "depth_25", "depth_28"):
         assert [o["found"] for o in now[name]["objects"]] == [True], name
     assert _totals(now)["false_box"] == _totals(old)["false_box"] == 0
+
+
+def test_an_open_baskets_two_walls_are_no_flight(demo_model):
+    """riser92: hidden26's wicker basket (boofcv-kinect, Kinect v1, seen from above its rim)
+    was `stairs`: the near wall's outside, its face in pieces, paired its lower strip with the
+    far wall's inside one stair rise and run away.  The near wall's surface goes on up to the
+    rim the far wall ends at, where a flight's riser ends a rise under the next one's top
+    (``proposals.riser_walls``): no false answer, and none with the old behaviour but that."""
+    basket = HUNT_DATA / "hidden26" / "boofcv-kinect"
+    now = _totals(_unseen_rows([basket], demo_model, "PLANEREL_HUNT_DATA"))
+    off = _totals(_unseen_rows([basket], demo_model, "PLANEREL_HUNT_DATA",
+                               ["proposals.riser_walls=false"]))
+    assert now["false_stairs"] == 0 and off["false_stairs"] == 1, (now, off)
+    assert now["false_box"] == off["false_box"] == 0

@@ -126,3 +126,55 @@ def test_step_kind_takes_a_tread_and_a_riser_tilt():
     slab = SimpleNamespace(orientation="inclined", incline=14.0)
     assert _step_kind(slab, (12.0, 16.0)) is None   # the riser tilt does not widen the treads'
     assert ProposalParams(step_tilt=10.0, riser_tilt=18.0).step_tilts == (10.0, 18.0)
+
+
+def _open_basket(cx, y0, w=0.6, depth=0.44, h=0.3, strip=0.1, obj=1):
+    """An open basket on the floor: its near wall's outside in two coplanar pieces (a lower
+    strip ``strip`` high and the rest up to the rim), its far wall's inside, its floor."""
+    return [
+        Rect((cx, y0, strip / 2), (1, 0, 0), (0, 0, 1), w / 2, strip / 2, obj),
+        Rect((cx, y0, (strip + h) / 2), (1, 0, 0), (0, 0, 1), w / 2, (h - strip) / 2, obj),
+        Rect((cx, y0 + depth, h / 2), (1, 0, 0), (0, 0, 1), w / 2, h / 2, obj),
+        Rect((cx, y0 + depth / 2, 0.02), (1, 0, 0), (0, 1, 0), w / 2, depth / 2, obj),
+    ]
+
+
+def test_an_open_baskets_walls_are_no_risers_when_the_near_one_rises_to_the_rim():
+    # riser92: hidden26's wicker basket seen from above its rim: the near wall's outside (its
+    # face in pieces, a lower strip pairing) and the far wall's inside, one stair rise and run
+    # apart by their centroids, made a false `stairs`; the near wall's surface goes on up to
+    # the rim the far wall ends at, where a flight's riser ends one rise under the next one's
+    # top
+    from planerel.features.relations import _step_kind
+
+    rects = [floor()] + _open_basket(0.0, 1.4)
+    cloud, lab, _up, objs = render(rects, pitch=30, cam_height=0.9, width=320, height=240,
+                                   noise=0.0005)
+    d = describe_scene(cloud, lab)
+    mine = [p.label for p in d.planes if objs[p.label] == 1]
+    risers = [p.label for p in d.planes if p.label in mine and _step_kind(p, 12.0) == "riser"]
+    assert len(risers) == 3
+    import numpy as np
+
+    xyz = np.asarray(cloud.xyz, float)
+    off = stair_steps(d.planes, mine, ProposalParams(riser_walls=False), xyz=xyz)
+    assert off, "the strip and the far wall make no step: the case is not built"
+    assert stair_steps(d.planes, mine, xyz=xyz) == frozenset()
+    # without the points nothing is refused
+    assert stair_steps(d.planes, mine) == off
+
+
+def test_a_flights_risers_are_no_wall_pair():
+    # every riser of a flight seen level from its foot ends at its nosing: none rises to the
+    # next one's top, so riser_walls keeps every pair
+    import numpy as np
+
+    rects = [floor()] + _raked_stairs(0.0, 1.6, n=4, lean=0.0)
+    cloud, lab, _up, objs = render(rects, pitch=0, cam_height=0.35, width=320, height=240,
+                                   noise=0.0005)
+    d = describe_scene(cloud, lab)
+    mine = [p.label for p in d.planes if objs[p.label] == 1]
+    xyz = np.asarray(cloud.xyz, float)
+    with_walls = stair_steps(d.planes, mine, xyz=xyz)
+    assert len(with_walls) >= 2
+    assert with_walls == stair_steps(d.planes, mine, ProposalParams(riser_walls=False), xyz=xyz)

@@ -30,7 +30,7 @@ import numpy as np
 from planerel.features.curved import CurvedObject
 from planerel.features.vectors import cross3
 
-__all__ = ["TOP_CUT", "WALL_DEPTH", "WALL_LEVEL", "WALL_OVERLAP", "open_wall_objects"]
+__all__ = ["TOP_CUT", "WALL_DEPTH", "WALL_LEVEL", "WALL_OVERLAP", "open_wall_objects", "top_level"]
 
 #: Metres: the far wall lies this far behind the near one along their normal (the object's
 #: depth: a crate's 5 cm walls apart at least, a deep shelf's 0.6 m at most).
@@ -126,21 +126,11 @@ def open_wall_objects(planes, objects, params, curved_below: float = 0.8, xyz=No
     up = np.asarray(planes.up, float)
     flats = [p for p in planes if p.orientation == "horizontal"]
     byl = {p.label: p for p in planes}
-    H, W = lab.shape
     seen: dict = {}
 
     def top_seen(p) -> bool:
         if p.label not in seen:
-            r, c = np.nonzero(lab == p.label)
-            h = xyz[r, c] @ up
-            ok = np.isfinite(h)
-            r, c, h = r[ok], c[ok], h[ok]
-            if not len(h):
-                seen[p.label] = False
-            else:
-                hi = h >= np.percentile(h, 95.0)
-                edge = (r[hi] <= 1) | (r[hi] >= H - 2) | (c[hi] <= 1) | (c[hi] >= W - 2)
-                seen[p.label] = float(edge.mean()) <= TOP_CUT
+            seen[p.label] = top_level(lab, xyz, up, p.label)[1]
         return seen[p.label]
 
     pairs = []
@@ -189,6 +179,34 @@ def open_wall_objects(planes, objects, params, curved_below: float = 0.8, xyz=No
             continue
         pairs.append((owner[a.label], owner[b.label]))
     return join_groups(objects, pairs, curved_below) if pairs else objects
+
+
+def top_level(lab, xyz, up, label: int) -> tuple[float | None, bool]:
+    """``(level, seen)`` of the plane ``label``'s top: the 95th percentile of its points'
+    heights along ``up`` (None with no finite point), and whether that top is seen (at most
+    :data:`TOP_CUT` of its points at or over that level lie within a pixel of the image's
+    border: a face the border cuts shows no top).
+
+    Parameters
+    ----------
+    lab : ndarray (H, W) int
+        The label image.
+    xyz : ndarray (H, W, 3)
+        The organized points.
+    up : ndarray (3,)
+    label : int
+    """
+    H, W = lab.shape
+    r, c = np.nonzero(lab == label)
+    h = xyz[r, c] @ up
+    ok = np.isfinite(h)
+    r, c, h = r[ok], c[ok], h[ok]
+    if not len(h):
+        return None, False
+    level = float(np.percentile(h, 95.0))
+    hi = h >= level
+    edge = (r[hi] <= 1) | (r[hi] >= H - 2) | (c[hi] <= 1) | (c[hi] >= W - 2)
+    return level, float(edge.mean()) <= TOP_CUT
 
 
 def _top_between(f, up, na, da, depth, level, tol, across, a0, a1) -> bool:

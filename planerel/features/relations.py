@@ -2325,6 +2325,11 @@ class ProposalParams:
         below, and building codes allow a riser up to 30 degrees off vertical: a real
         carpeted flight's risers measure 11-13 degrees (docs/objects.md "Risers that lean
         back").
+    riser_walls : bool
+        ``stair_step/2`` refuses two risers when the lower one's surface (a coplanar piece of
+        the object) rises to the higher one's top (:func:`planerel.features.stair_step.
+        stair_steps`): an open basket's near and far walls end at one rim, a flight's risers
+        a rise apart.
     split_stepped : bool
         Before proposing, split an inclined plane whose points lie on horizontal levels one
         rise apart (treads joined into one sloping plane, a flight seen from above) into one
@@ -2716,6 +2721,7 @@ class ProposalParams:
     step_run_max: float = 0.60
     step_tilt: float = 12.0
     riser_tilt: float = 20.0
+    riser_walls: bool = True
     split_stepped: bool = True
     raised_objects: bool = True
     coplanar_depth: float | None = 0.03
