@@ -126,6 +126,13 @@ def test_step_kind_takes_a_tread_and_a_riser_tilt():
     slab = SimpleNamespace(orientation="inclined", incline=14.0)
     assert _step_kind(slab, (12.0, 16.0)) is None   # the riser tilt does not widen the treads'
     assert ProposalParams(step_tilt=10.0, riser_tilt=18.0).step_tilts == (10.0, 18.0)
+    import pytest
+
+    from planerel.errors import InputError
+
+    for bad in (-1.0, 50.0):
+        with pytest.raises(InputError, match="riser_tilt"):
+            ProposalParams(riser_tilt=bad)
 
 
 def _open_basket(cx, y0, w=0.6, depth=0.44, h=0.3, strip=0.1, obj=1):

@@ -2327,9 +2327,9 @@ class ProposalParams:
         back, and a basket's walls that are no risers").
     riser_walls : bool
         ``stair_step/2`` refuses two risers when the lower one's surface (a coplanar piece of
-        the object) rises to the higher one's top (:func:`planerel.features.stair_step.
-        stair_steps`): an open basket's near and far walls end at one rim, a flight's risers
-        a rise apart.
+        the object) rises to the higher one's top
+        (:func:`~planerel.features.stair_step.stair_steps`): an open basket's near and far walls
+        end at one rim, a flight's risers a rise apart.
     split_stepped : bool
         Before proposing, split an inclined plane whose points lie on horizontal levels one
         rise apart (treads joined into one sloping plane, a flight seen from above) into one
@@ -2808,6 +2808,8 @@ class ProposalParams:
         if self.coplanar_depth is not None:
             _check_nonneg(self, ("coplanar_depth",))
         _check_nonneg(self, ("sanity_angle",))
+        if self.riser_tilt > 45:
+            raise InputError(f"riser_tilt must be in 0..45 degrees (off vertical), got {self.riser_tilt!r}")
         if self.sanity_angle > 90:
             raise InputError(f"sanity_angle must be in 0..90 degrees, got {self.sanity_angle!r}")
         for name in ("side_wall_members", "apart_edge"):
