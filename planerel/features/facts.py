@@ -394,8 +394,8 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     # a skirt denied only by another object's step (a box on a box) is one after all
     rel = skirts_within_objects(rel, [o.planes for o in objs], planes, support)
     by_label = {p.label: p for p in planes}
-    pts = np.asarray(cloud.xyz, float)
-    steps = frozenset(s for o in objs for s in stair_steps(planes, o.planes, pp, by_label, pts))
+    steps = frozenset(s for o in objs
+                      for s in stair_steps(planes, o.planes, pp, by_label, cloud.xyz))
     # the slope of each upright face's top edge seen over half a metre, for the objects' planes:
     # a wedge's side rises (ramp77)
     slopes = (top_slopes(planes, planes.labels, cloud.xyz,

@@ -2321,10 +2321,11 @@ class ProposalParams:
         Degrees: a face within this of horizontal counts as a tread in a step chain (the far
         treads of a flight measure a few degrees off).
     riser_tilt : float
-        Degrees: a face within this of vertical counts as a riser in a step chain.  A carpeted riser runs from the nosing above back to the tread
-        below, and building codes allow a riser up to 30 degrees off vertical: a real
-        carpeted flight's risers measure 11-13 degrees (docs/objects.md "Risers that lean
-        back, and a basket's walls that are no risers").
+        Degrees (0-45): a face within this of vertical counts as a riser in a step chain.  A
+        carpeted riser runs from the nosing above back to the tread below, and building
+        codes allow a riser up to 30 degrees off vertical: a real carpeted flight's risers
+        measure 11-13 degrees (docs/objects.md "Risers that lean back, and a basket's walls
+        that are no risers").
     riser_walls : bool
         ``stair_step/2`` refuses two risers when the lower one's surface (a coplanar piece of
         the object) rises to the higher one's top

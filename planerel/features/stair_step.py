@@ -7,9 +7,12 @@ relations).  See docs/predicates.md and docs/objects.md "A flight's steps as a r
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from planerel.features.open_treads import open_tread_pairs
+from planerel.features.open_walls import top_level
 from planerel.features.plan_overlap import OVER_SHARE, plan_overlap
 from planerel.features.relations import (
     OPEN_THICK,
@@ -65,7 +68,7 @@ def stair_steps(planes, labels, params: ProposalParams | None = None,
     if by_label is None:
         by_label = {q.label: q for q in planes}
     # an exact early out: a step needs two treads or two risers (within step_tilt of level or
-    # of vertical), an open-riser row three slabs (within OPEN_TILT of level)
+    # riser_tilt of vertical), an open-riser row three slabs (within OPEN_TILT of level)
     mine = [by_label[k] for k in labels if k in by_label]
     kinds = [_step_kind(q, p.step_tilts) for q in mine]
     treads, risers = kinds.count("tread"), kinds.count("riser")
@@ -122,10 +125,6 @@ def _wall_pair(planes, by_label, labels, pair, params, lab, xyz, tops) -> bool:
     (tops: :func:`planerel.features.open_walls.top_level`, cached in ``tops``).  A flight's
     riser ends at its nosing, one rise under the next riser's top; an open basket's near wall,
     whose face may come in pieces, goes up to the rim its far wall ends at."""
-    import math
-
-    from planerel.features.open_walls import top_level
-
     lo, hi = by_label[pair[0]], by_label[pair[1]]
     if (_step_kind(lo, params.step_tilts) != "riser"
             or _step_kind(hi, params.step_tilts) != "riser"):
