@@ -124,6 +124,12 @@ class ObjectAnswer:
         :func:`~planerel.features.object_measures.flight_measures`) or a ``ramp`` answer's
         slope (:func:`~planerel.features.object_measures.slope_measures`); None for other
         classes or when the proof gives none.
+    runner_up : ObjectAnswer or None
+        The answer the decision gives with this answer's class left out, when that is a
+        class (not ``other``): what a gate applied after the decision (``decision.crowd_gate``,
+        ``decision.slope_parts_gate``, ...) falls back to when it refuses this class, as a
+        refusal inside the decision does (the next class that holds).  None for a members
+        model's vote.  Not part of :meth:`to_dict`.
     """
 
     object_id: str
@@ -144,6 +150,7 @@ class ObjectAnswer:
     cut_from: str | None = None
     cut_off: tuple = ()
     measures: dict | None = None
+    runner_up: ObjectAnswer | None = None
 
     def to_dict(self) -> dict:
         out = {"object": self.object_id, "class": self.klass, "rule": self.rule,
@@ -412,10 +419,17 @@ def _proof_plane_gate(desc, answers, xyz, klass: str, orientation: str, measure,
 
 
 def _refuse(a, why):
-    """The answer ``a`` turned to ``other`` by a decision gate, ``why`` (the gate's refusal)
-    added to its refusals."""
+    """The answer ``a`` refused by a decision gate applied after the decision, ``why`` (the
+    gate's refusal) added to its refusals: its :attr:`~ObjectAnswer.runner_up` (the next
+    class that holds, as a refusal inside the decision gives; fallback93) on the same planes,
+    else ``other``."""
+    refused = tuple(a.refused) + (why,)
+    nxt = a.runner_up
+    if nxt is not None:
+        return replace(nxt, planes=a.planes, labels=a.labels, fired=a.fired, refused=refused,
+                       cut_from=a.cut_from, cut_off=a.cut_off)
     return replace(a, klass=OTHER, rule=None, bindings={}, proof_planes=(), rule_index=None,
-                   precision=None, refused=tuple(a.refused) + (why,))
+                   precision=None, refused=refused)
 
 
 def _num(v, digits: int = 4):
@@ -857,6 +871,19 @@ class Classifier:
             answers = self._cut_boxes(desc, answers, plane_ids, xyz)
         if self.flight_trim is not None and xyz is not None and "stairs" in self.classes:
             answers = self._trim_flights(desc, answers, plane_ids, xyz)
+        # a gate that refuses a class falls back to the answer's runner-up (:func:`_refuse`),
+        # which the gates before it have not seen: once more until no answer changes class
+        for _ in range(len(self.classes)):
+            before = [a.klass for a in answers]
+            answers = self._answer_gates(desc, answers, xyz)
+            if all(a.klass in (OTHER, k) for a, k in zip(answers, before, strict=True)):
+                break
+        return answers
+
+    def _answer_gates(self, desc, answers, xyz) -> tuple:
+        """The decision gates that judge each answer as it is (none makes objects), in
+        order: flight sides, hanging, long lying, crowded, narrow faces, far proofs, slope
+        parts (:meth:`answer_description`)."""
         if self.flight_side is not None and xyz is not None and BOX in self.classes:
             answers = self._flight_sides(desc, answers, xyz)
         if self.hang is not None and xyz is not None and BOX in self.classes:
@@ -1158,7 +1185,6 @@ class Classifier:
             UNSURE_CLASS,
             decide,
             horizontal_counts,
-            laplace,
             plane_extents,
             plane_ranges,
             plane_slenderness,
@@ -1239,57 +1265,68 @@ class Classifier:
                 binds = _bindings(_text(r["B"]))
                 scale = r["S"] if isinstance(r["S"], (int, float)) else None
                 hits.append((_text(r["C"]), int(r["I"]), binds, _text(r["T"]), scale))
-            best, refused = decide(hits, self.stats, self.classes, self.cofire,
-                                   planar_fraction=o.planar_fraction,
-                                   domain=self.planar_domain,
-                                   margin=self.planar_margin,
-                                   proofs=self.proof_domain,
-                                   proof_margin=self.proof_margin,
-                                   proof_min_positives=self.proof_min_positives,
-                                   veto_ratio=self.veto_ratio,
-                                   n_horizontal=levels.get(o.id),
-                                   levels=self.level_domain,
-                                   stepped=lambda o=o: flight_faces(desc.planes, o.planes,
-                                                                    proposal_params),
-                                   flight=(lambda o=o: flight_evidence(
-                                       desc.planes, o.planes, proposal_params,
-                                       fragments=self.flight_fragments))
-                                   if self.flight_gate else None,
-                                   extents=extents, sizes=self.size_domain,
-                                   size_margin=self.size_margin, slender=slender,
-                                   slenders=self.slender_domain,
-                                   slender_margin=self.slender_margin,
-                                   distances=distances, ranges=self.range_domain,
-                                   range_margin=self.range_margin, foot=foot,
-                                   foot_above=self.foot_bounds[0],
-                                   foot_below=self.foot_bounds[1],
-                                   foot_hidden=self.foot_bounds[2],
-                                   foot_float=self.foot_bounds[3], side=side,
-                                   treads=() if side is None else
-                                   [f[1] for f in (side(plane_ids.get(lab))
-                                                   for lab in o.planes)
-                                    if f is not None and f[0] == "horizontal"],
-                                   under_eye=side is not None
-                                   and any(h[0] == "stairs" for h in hits)
-                                   and _under_eye(desc.planes, o.planes),
-                                   unsure=unsure, facet=facet,
-                                   pitch=None if pitch_of is None else pitch_of(o.planes),
-                                   pitch_tol=self.pitch_tol or 0.0)
+            def decided(hs, o=o, facet=facet):
+                return decide(hs, self.stats, self.classes, self.cofire,
+                              planar_fraction=o.planar_fraction,
+                              domain=self.planar_domain,
+                              margin=self.planar_margin,
+                              proofs=self.proof_domain,
+                              proof_margin=self.proof_margin,
+                              proof_min_positives=self.proof_min_positives,
+                              veto_ratio=self.veto_ratio,
+                              n_horizontal=levels.get(o.id),
+                              levels=self.level_domain,
+                              stepped=lambda o=o: flight_faces(desc.planes, o.planes,
+                                                               proposal_params),
+                              flight=(lambda o=o: flight_evidence(
+                                  desc.planes, o.planes, proposal_params,
+                                  fragments=self.flight_fragments))
+                              if self.flight_gate else None,
+                              extents=extents, sizes=self.size_domain,
+                              size_margin=self.size_margin, slender=slender,
+                              slenders=self.slender_domain,
+                              slender_margin=self.slender_margin,
+                              distances=distances, ranges=self.range_domain,
+                              range_margin=self.range_margin, foot=foot,
+                              foot_above=self.foot_bounds[0],
+                              foot_below=self.foot_bounds[1],
+                              foot_hidden=self.foot_bounds[2],
+                              foot_float=self.foot_bounds[3], side=side,
+                              treads=() if side is None else
+                              [f[1] for f in (side(plane_ids.get(lab))
+                                              for lab in o.planes)
+                               if f is not None and f[0] == "horizontal"],
+                              under_eye=side is not None
+                              and any(h[0] == "stairs" for h in hs)
+                              and _under_eye(desc.planes, o.planes),
+                              unsure=unsure, facet=facet,
+                              pitch=None if pitch_of is None else pitch_of(o.planes),
+                              pitch_tol=self.pitch_tol or 0.0)
             fired = tuple(sorted({(h[0], h[1]) for h in hits}, key=lambda t: t[1]))
             pids = tuple(plane_ids[lab] for lab in o.planes)
-            if best is None:
-                answers.append(ObjectAnswer(o.id, pids, o.planes, OTHER, fired=fired,
-                                            planar_fraction=o.planar_fraction,
-                                            curved=o.curved, refused=refused))
-            else:
-                klass, index, binds, rule = best[:4]
-                proof = tuple(v for v in binds.values() if v in plane_ids.values())
-                tp, fp = {i: (a, b) for i, _, a, b in self.stats}.get(index, (0, 0))
-                answers.append(ObjectAnswer(o.id, pids, o.planes, klass, rule, binds,
-                                            proof, fired, index, laplace(tp, fp),
-                                            o.planar_fraction, o.curved, refused))
+            answers.append(self._decided(decided, hits, o, pids, fired, plane_ids))
         return answers
 
+
+    def _decided(self, decided, hits, o, pids, fired, plane_ids) -> ObjectAnswer:
+        """The answer ``decided(hits)`` (:func:`~planerel.ilp.metrics.decide` with the object's
+        gates) gives object ``o``, with its runner-up: the answer without the chosen class's
+        hits (a class, or None), for a gate after the decision to fall back to."""
+        from planerel.ilp.metrics import laplace
+
+        best, refused = decided(hits)
+        if best is None:
+            return ObjectAnswer(o.id, pids, o.planes, OTHER, fired=fired,
+                                planar_fraction=o.planar_fraction, curved=o.curved,
+                                refused=refused)
+        klass, index, binds, rule = best[:4]
+        proof = tuple(v for v in binds.values() if v in plane_ids.values())
+        tp, fp = {i: (a, b) for i, _, a, b in self.stats}.get(index, (0, 0))
+        rest = [h for h in hits if h[0] != klass]
+        nxt = self._decided(decided, rest, o, pids, fired, plane_ids) if rest else None
+        return ObjectAnswer(o.id, pids, o.planes, klass, rule, binds, proof, fired, index,
+                            laplace(tp, fp), o.planar_fraction, o.curved, refused,
+                            runner_up=nxt if nxt is not None and nxt.klass != OTHER else None)
 
 def _facet_angles(desc, xyz, plane_ids, wide_width: float = 0.05, wide_ratio: float = 1.5,
                   bridge=None):
@@ -1395,7 +1432,8 @@ def _voted(per_member: list) -> list:
     out = []
     for answers in zip(*per_member, strict=True):
         klass, n = vote([(a.klass, a.precision if a.rule else None) for a in answers])
-        out.append(replace(answers[n], klass=klass, votes=tuple(answers), member=n + 1))
+        out.append(replace(answers[n], klass=klass, votes=tuple(answers), member=n + 1,
+                           runner_up=None))
     return out
 
 
