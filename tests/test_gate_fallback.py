@@ -109,3 +109,40 @@ def test_a_flight_from_its_top_whose_ramp_is_refused_is_stairs(demo_model):  # n
     flight = max(ans.objects, key=lambda o: int((np.isin(ans.labels, o.labels) & (truth == 1)).sum()))
     assert flight.klass == "stairs" and flight.rule_index is not None
     assert any(isinstance(r, M.SlopePartsRefusal) and r.klass == "ramp" for r in flight.refused)
+
+
+def _members_model(path: Path, **decision) -> Path:
+    """A members model of two members, each the two clauses above (its ``decision`` settings
+    updated with ``decision``)."""
+    import json
+
+    for n in (1, 2):
+        one_rule_model(path / "members" / str(n), RULES, STATS, **decision)
+    one_rule_model(path, RULES, STATS, **decision)
+    data = json.loads((path / "model.json").read_text())
+    data["members"] = ["members/1", "members/2"]
+    (path / "model.json").write_text(json.dumps(data))
+    return path
+
+
+def test_a_members_vote_meets_the_gates_after_the_decision(tmp_path):
+    """members93: a members model's vote is judged by the gates after the decision, as a single
+    model's answer is (before, the vote returned before them)."""
+    from planerel.classify.classifier import Classifier
+
+    cloud, desc, top = _described()
+    top_id = desc.plane_id(top)
+    with Classifier(_members_model(tmp_path / "m")) as clf:
+        assert clf.members and clf.long_lying is not None and clf.far_gate
+        a = _box_answer(clf.answer_description(desc, xyz=cloud.xyz), top_id)
+    assert a.klass == "box" and len(a.votes) == 2
+    with Classifier(_members_model(tmp_path / "g", long_lying_length=0.1)) as clf:
+        b = _box_answer(clf.answer_description(desc, xyz=cloud.xyz), top_id)
+    # the vote keeps no runner-up: the refused box gives other
+    assert b.klass == "other" and len(b.votes) == 2
+    assert [type(r) for r in b.refused if isinstance(r, M.LongLyingRefusal)] == [M.LongLyingRefusal]
+    far = dataclasses.replace(desc, far=frozenset({top}))
+    with Classifier(_members_model(tmp_path / "f")) as clf:
+        c = _box_answer(clf.answer_description(far, xyz=cloud.xyz), top_id)
+    assert c.klass == "other"
+    assert any(isinstance(r, M.FarPlaneRefusal) for r in c.refused)

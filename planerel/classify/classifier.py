@@ -418,6 +418,13 @@ def _proof_plane_gate(desc, answers, xyz, klass: str, orientation: str, measure,
     return tuple(out)
 
 
+#: the :class:`Classifier` attributes of the decision gates applied after the decision
+#: (:meth:`Classifier._answer_gates`, and the flight trim) that a members model takes from its
+#: members (members93)
+_AFTER_VOTE = ("flight_trim", "flight_side", "hang", "long_lying", "crowd", "narrow_face",
+               "far_gate", "slope_parts")
+
+
 def _refuse(a, why):
     """The answer ``a`` refused by a decision gate applied after the decision, ``why`` (the
     gate's refusal) added to its refusals: its :attr:`~ObjectAnswer.runner_up` (the next
@@ -773,6 +780,12 @@ class Classifier:
         self.cofire = ()
         self.planar_domain = self.proof_domain = self.level_domain = self.size_domain = ()
         self.slender_domain = self.range_domain = ()
+        # the gates after the decision judge the vote's answer (its member's proof planes) as
+        # a single model's (members93): the members were learned, and are read, with one
+        # model's settings, so the first member's decision settings are the model's
+        for name in _AFTER_VOTE:
+            setattr(self, name, getattr(members[0], name))
+        # cutting a box out of a proposal decides the cut solids again, by one model's rules
         self.cut_boxes = None
         self.warnings = tuple(dict.fromkeys((*self.warnings, *(w for m in members
                                                                 for w in m.warnings))))
@@ -857,7 +870,8 @@ class Classifier:
         -------
         tuple of ObjectAnswer
             One per object (empty when the description has none); a members model's answers
-            are its members' vote.
+            are its members' vote, judged by the gates after the decision as a single model's
+            answers are (but for ``cut_boxes``).
         """
         self._check_open()
         if not desc.objects:
@@ -865,8 +879,9 @@ class Classifier:
         plane_ids = {p.label: desc.plane_id(p.label) for p in desc.planes}
         with _scene_facts(desc, "scene"):
             if self.members:
-                return tuple(_voted([m._answer(desc, plane_ids, xyz) for m in self.members]))
-            answers = tuple(self._answer(desc, plane_ids, xyz))
+                answers = tuple(_voted([m._answer(desc, plane_ids, xyz) for m in self.members]))
+            else:
+                answers = tuple(self._answer(desc, plane_ids, xyz))
         if self.cut_boxes is not None and xyz is not None and BOX in self.classes:
             answers = self._cut_boxes(desc, answers, plane_ids, xyz)
         if self.flight_trim is not None and xyz is not None and "stairs" in self.classes:
