@@ -1280,6 +1280,8 @@ class Classifier:
                 binds = _bindings(_text(r["B"]))
                 scale = r["S"] if isinstance(r["S"], (int, float)) else None
                 hits.append((_text(r["C"]), int(r["I"]), binds, _text(r["T"]), scale))
+
+            # the decision on some of the hits (all of them, or the runner-up's: _decided)
             def decided(hs, o=o, facet=facet):
                 return decide(hs, self.stats, self.classes, self.cofire,
                               planar_fraction=o.planar_fraction,
