@@ -73,3 +73,34 @@ def test_the_split_is_a_switch():
     assert M.DecisionParams().cut_split is False   # off by default (a judge's false box)
     with pytest.raises(InputError):
         M.DecisionParams(cut_split="yes")
+
+
+def _members(path: Path, one) -> Path:
+    """A members model of two members, each the model ``one(folder)`` writes (members93)."""
+    for n in (1, 2):
+        one(path / "members" / str(n))
+    top = one(path)
+    data = json.loads((top / "model.json").read_text())
+    data["members"] = ["members/1", "members/2"]
+    (top / "model.json").write_text(json.dumps(data))
+    return top
+
+
+def test_a_members_model_cuts_and_splits_as_a_single_model(tmp_path):
+    """cutm93: ``cut_boxes`` and ``cut_split`` for a members model's vote, the rules that proved
+    the proposal compared member by member (a rule index names one member's rule)."""
+    from test_box_cut import ROUND
+
+    cloud, desc, objs = _merged(PAIR)
+    ans = _answer(_members(tmp_path / "split", lambda p: _box_model(p, True)), cloud, desc)
+    rest, *boxes = ans
+    assert [a.klass for a in boxes] == ["box", "box"] and len(boxes[0].votes) == 2
+    assert sorted(min(objs[x] for x in b.labels) for b in boxes) == [2, 3]
+    assert all(b.cut_from == rest.object_id for b in boxes) and rest.klass == "other"
+    off = _answer(_members(tmp_path / "whole", lambda p: _box_model(p, False)), cloud, desc)
+    assert [a.klass for a in off] == ["box"] and not off[0].cut_off
+    # a box touching a round thing: the planar gate refuses the whole, its solid is cut
+    cloud, desc, objs = _merged(ROUND)
+    cut = _answer(_members(tmp_path / "cut", _model), cloud, desc)
+    assert [a.klass for a in cut] == ["other", "box"]
+    assert cut[1].cut_from == cut[0].object_id and len(cut[1].votes) == 2

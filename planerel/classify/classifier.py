@@ -421,8 +421,21 @@ def _proof_plane_gate(desc, answers, xyz, klass: str, orientation: str, measure,
 #: the :class:`Classifier` attributes of the decision gates applied after the decision
 #: (:meth:`Classifier._answer_gates`, and the flight trim) that a members model takes from its
 #: members (members93)
-_AFTER_VOTE = ("flight_trim", "flight_side", "hang", "long_lying", "crowd", "narrow_face",
-               "far_gate", "slope_parts")
+_AFTER_VOTE = ("cut_boxes", "cut_split", "flight_trim", "flight_side", "hang", "long_lying",
+               "crowd", "narrow_face", "far_gate", "slope_parts")
+
+
+def _box_rules(a, chosen: bool = False) -> set:
+    """The box rules that proved answer ``a`` (``chosen``: the box rule that answered it), as
+    rule indices, or for a members model's vote as ``(member, index)`` over its votes (a rule
+    index names a rule of one member only): what :meth:`Classifier._cut_boxes` compares."""
+    if not a.votes:
+        if chosen:
+            return {a.rule_index} if a.klass == BOX else set()
+        return {i for k, i in a.fired if k == BOX}
+    if chosen:
+        return {(n, v.rule_index) for n, v in enumerate(a.votes) if v.klass == BOX}
+    return {(n, i) for n, v in enumerate(a.votes) for k, i in v.fired if k == BOX}
 
 
 def _refuse(a, why):
@@ -785,8 +798,6 @@ class Classifier:
         # model's settings, so the first member's decision settings are the model's
         for name in _AFTER_VOTE:
             setattr(self, name, getattr(members[0], name))
-        # cutting a box out of a proposal decides the cut solids again, by one model's rules
-        self.cut_boxes = None
         self.warnings = tuple(dict.fromkeys((*self.warnings, *(w for m in members
                                                                 for w in m.warnings))))
 
@@ -871,7 +882,7 @@ class Classifier:
         tuple of ObjectAnswer
             One per object (empty when the description has none); a members model's answers
             are its members' vote, judged by the gates after the decision as a single model's
-            answers are (but for ``cut_boxes``).
+            answers are.
         """
         self._check_open()
         if not desc.objects:
@@ -1100,6 +1111,8 @@ class Classifier:
         answers a description's own."""
         sub = replace(desc, objects=tuple(objects))
         with _scene_facts(sub, "cut"):
+            if self.members:
+                return _voted([m._answer(sub, plane_ids, xyz) for m in self.members])
             return self._answer(sub, plane_ids, xyz)
 
     def _cut_boxes(self, desc, answers, plane_ids, xyz) -> tuple:
@@ -1127,7 +1140,7 @@ class Classifier:
             # box rule proves (a tall face beside a horizontal plane: ``nhorizontal(A,0)``
             # does not hold) is not cut for a rule that holds on a part of it, and one whose
             # box proof is answered another class unrefused (a flight's step) stays that class
-            rules_of[o.id] = {i for k, i in a.fired if k == BOX}
+            rules_of[o.id] = _box_rules(a)
             # a facet refusal (``decision.facet_gate``) is about the proposal's own round
             # side: cutting the proof's cap and facet from their neighbour facet would undo it
             if a.klass == BOX:
@@ -1137,7 +1150,8 @@ class Classifier:
                 split.add(o.id)
             elif (not rules_of[o.id]
                     or not any(getattr(r, "klass", None) == BOX
-                               and not isinstance(r, FacetRefusal) for r in a.refused)):
+                               and not isinstance(r, FacetRefusal)
+                               for v in (a.votes or (a,)) for r in v.refused)):
                 continue
             # two boxes set at an angle meet as a round surface's facets do: a split keeps a
             # solid beside them (each solid still passes every gate on its own)
@@ -1153,7 +1167,7 @@ class Classifier:
         taken: dict[str, list] = {}
         for s, a in zip(subs, self._answer_objects(desc, subs, plane_ids, xyz), strict=True):
             if a.klass != BOX or (parent_of[s.id] not in split
-                                  and a.rule_index not in rules_of[parent_of[s.id]]):
+                                  and not _box_rules(a, chosen=True) & rules_of[parent_of[s.id]]):
                 continue
             mine = taken.setdefault(parent_of[s.id], [])
             if any(set(s.planes) & set(b.labels) for b in mine):
