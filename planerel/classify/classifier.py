@@ -1338,7 +1338,6 @@ class Classifier:
             answers.append(self._decided(decided, hits, o, pids, fired, plane_ids))
         return answers
 
-
     def _decided(self, decided, hits, o, pids, fired, plane_ids) -> ObjectAnswer:
         """The answer ``decided(hits)`` (:func:`~planerel.ilp.metrics.decide` with the object's
         gates) gives object ``o``, with its runner-up: the answer without the chosen class's
@@ -1358,6 +1357,7 @@ class Classifier:
         return ObjectAnswer(o.id, pids, o.planes, klass, rule, binds, proof, fired, index,
                             laplace(tp, fp), o.planar_fraction, o.curved, refused,
                             runner_up=nxt if nxt is not None and nxt.klass != OTHER else None)
+
 
 def _facet_angles(desc, xyz, plane_ids, wide_width: float = 0.05, wide_ratio: float = 1.5,
                   bridge=None):
