@@ -418,9 +418,9 @@ def _proof_plane_gate(desc, answers, xyz, klass: str, orientation: str, measure,
     return tuple(out)
 
 
-#: the :class:`Classifier` attributes of the decision gates applied after the decision
-#: (:meth:`Classifier._answer_gates`, and the flight trim) that a members model takes from its
-#: members (members93)
+#: the :class:`Classifier` attributes of the decision gates applied after the decision (the
+#: box cut, the flight trim and :meth:`Classifier._answer_gates`) that a members model takes
+#: from its first member (members93, cutm93)
 _AFTER_VOTE = ("cut_boxes", "cut_split", "flight_trim", "flight_side", "hang", "long_lying",
                "crowd", "narrow_face", "far_gate", "slope_parts")
 
@@ -794,8 +794,9 @@ class Classifier:
         self.planar_domain = self.proof_domain = self.level_domain = self.size_domain = ()
         self.slender_domain = self.range_domain = ()
         # the gates after the decision judge the vote's answer (its member's proof planes) as
-        # a single model's (members93): the members were learned, and are read, with one
-        # model's settings, so the first member's decision settings are the model's
+        # a single model's (members93; the box cut decides its solids by the vote, cutm93):
+        # the members were learned, and are read, with one model's settings, so the first
+        # member's decision settings are the model's
         for name in _AFTER_VOTE:
             setattr(self, name, getattr(members[0], name))
         self.warnings = tuple(dict.fromkeys((*self.warnings, *(w for m in members
