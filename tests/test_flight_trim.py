@@ -176,3 +176,41 @@ def test_a_flights_own_side_face_is_not_cut(demo_model):  # noqa: F811
         ans = clf.classify(io.read(path), scene_id="i0018")
     (flight,) = [o for o in ans.objects if o.klass == "stairs"]
     assert flight.cut_off == () and not any(o.cut_from for o in ans.objects)
+
+
+def test_a_flight_fallen_back_to_is_cut_too(tmp_path):
+    """trim94: a ``stairs`` answer a gate after the decision fell back to (here the crowd gate
+    refusing a box clause that beat the flight's) is cut to its flight as a flight decided at
+    once is (before, the trim ran once, before those gates)."""
+    from planerel.classify.classifier import Classifier
+
+    cloud, lab, up, objs = _scene()
+    merged, d = _merged(cloud, lab, up, objs)
+    wall = set(_labels_of(d, lab, objs, WALL))
+    stats = [*STATS, (4, "box", 500, 0)]   # Laplace 0.998 against the flight's 0.977
+    rules = (RULES.split("planerel_rule_stats")[0]
+             + "box(A) :- has_plane(A,B), parallel(B,C), stair_step(C,B).\n"
+             + "".join(f"planerel_rule_stats({i}, {k}, {tp}, {fp}).\n" for i, k, tp, fp in stats))
+
+    def answers(path, **decision):
+        from planerel.ilp.model_settings import training_settings
+
+        path.mkdir(parents=True, exist_ok=True)
+        (path / "rules.pl").write_text(rules)
+        data = training_settings("regiongrow", {}, rule_stats=stats)
+        data["decision"].update(flight_trim=True, **decision)
+        (path / "model.json").write_text(json.dumps(data))
+        with Classifier(path) as clf:
+            return clf.answer_description(merged, xyz=cloud.xyz)
+
+    # no crowd gate: the box clause wins; a box is not trimmed
+    (whole,) = answers(tmp_path / "box", crowd_gate=False)
+    assert whole.klass == "box" and whole.rule_index == 4
+    assert whole.runner_up is not None and whole.runner_up.klass == "stairs"
+    # the crowd gate refuses the box (more than 3 planes): the flight, cut to its treads
+    flight, side = answers(tmp_path / "crowd", crowd_gate=True, crowd_planes=3)
+    assert flight.klass == "stairs" and flight.rule_index == 3
+    assert any(isinstance(r, M.CrowdRefusal) for r in flight.refused)
+    assert not set(flight.labels) & wall and flight.cut_off == (side.object_id,)
+    assert set(side.labels) == wall and side.cut_from == flight.object_id
+    assert side.klass == "other"

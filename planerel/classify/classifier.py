@@ -896,15 +896,21 @@ class Classifier:
                 answers = tuple(self._answer(desc, plane_ids, xyz))
         if self.cut_boxes is not None and xyz is not None and BOX in self.classes:
             answers = self._cut_boxes(desc, answers, plane_ids, xyz)
-        if self.flight_trim is not None and xyz is not None and "stairs" in self.classes:
+        trim = self.flight_trim is not None and xyz is not None and "stairs" in self.classes
+        if trim:
             answers = self._trim_flights(desc, answers, plane_ids, xyz)
         # a gate that refuses a class falls back to the answer's runner-up (:func:`_refuse`),
         # which the gates before it have not seen: once more until no answer changes class
+        # (a flight fallen back to is trimmed as a flight decided at once is; trim94)
         for _ in range(len(self.classes)):
             before = [a.klass for a in answers]
             answers = self._answer_gates(desc, answers, xyz)
-            if all(a.klass in (OTHER, k) for a, k in zip(answers, before, strict=True)):
+            changed = {a.object_id for a, k in zip(answers, before, strict=True)
+                       if a.klass not in (OTHER, k)}
+            if not changed:
                 break
+            if trim:
+                answers = self._trim_flights(desc, answers, plane_ids, xyz, only=changed)
         return answers
 
     def _answer_gates(self, desc, answers, xyz) -> tuple:
@@ -927,11 +933,12 @@ class Classifier:
             answers = self._slope_parts(desc, answers, xyz)
         return answers
 
-    def _trim_flights(self, desc, answers, plane_ids, xyz) -> tuple:
-        """``decision.flight_trim``: each ``stairs`` answer whose proposal holds side planes
-        of its flight (:func:`~planerel.features.flight_side.side_planes`) keeps the rest; the
-        side planes are decided as an object of their own (``other`` for a members model),
-        listed after it with ``cut_from``."""
+    def _trim_flights(self, desc, answers, plane_ids, xyz, only=None) -> tuple:
+        """``decision.flight_trim``: each ``stairs`` answer (of the object ids ``only``, when
+        given) whose proposal holds side planes of its flight
+        (:func:`~planerel.features.flight_side.side_planes`) keeps the rest; the side planes
+        are decided as an object of their own (a members model's by its vote), listed after
+        it with ``cut_from``."""
         from planerel.features.facts import SceneObject
         from planerel.features.flight_side import side_planes
 
@@ -939,7 +946,9 @@ class Classifier:
         proposals = {o.id for o in desc.objects}   # not a box cut_boxes made of a part
         out = []
         for a in answers:
-            cut = () if a.klass != "stairs" or a.object_id not in proposals else side_planes(
+            skip = a.klass != "stairs" or a.object_id not in proposals or (
+                only is not None and a.object_id not in only)
+            cut = () if skip else side_planes(
                 desc.planes, a.labels, desc.steps, xyz, desc.labels, angle, edge, rise)
             proof = set(a.proof_planes)   # a plane a rule binds stays with the flight
             cut = tuple(x for x in cut if plane_ids.get(x) not in proof)
@@ -947,11 +956,7 @@ class Classifier:
                 out.append(a)
                 continue
             side = SceneObject(f"{a.object_id}_w1", cut, None, None, 1.0, False)
-            if self.members:
-                b = ObjectAnswer(side.id, tuple(plane_ids[x] for x in cut), cut, OTHER,
-                                 planar_fraction=1.0, curved=False)
-            else:
-                b = self._answer_objects(desc, [side], plane_ids, xyz)[0]
+            b = self._answer_objects(desc, [side], plane_ids, xyz)[0]
             rest = tuple(x for x in a.labels if x not in set(cut))
             out.append(replace(a, labels=rest, planes=tuple(plane_ids[x] for x in rest),
                                cut_off=tuple(a.cut_off) + (side.id,)))
