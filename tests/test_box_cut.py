@@ -209,3 +209,38 @@ def test_the_settings_are_checked(name, value):
     with pytest.raises(InputError, match=f"decision.{name}"):
         M.DecisionParams(**{name: value})
     assert M.DecisionParams().cut_boxes is True and M.DecisionParams().cut_corner == 0
+
+
+def test_a_box_a_gate_after_the_decision_refused_is_cut_too(tmp_path):
+    """cutpost94: two boxes in one proposal proved ``box`` and refused by a gate after the
+    decision (here the crowd gate, bound under the pair's six planes) are cut into their own
+    solids, as a refusal inside the decision cuts them; each meets the gates in turn, and a
+    proposal none of whose solids stays a box is left whole."""
+    two = [floor()] + box(-0.35, 1.4, 0.3, 0.3, 0.25, obj=2) + box(0.35, 1.4, 0.3, 0.3, 0.25,
+                                                                   obj=3)
+    cloud, desc, objs = _merged(two)
+    assert len(desc.objects[0].planes) == 6
+
+    def model(name, crowd, cut=True):
+        path = _model(tmp_path / name, cut=cut)
+        data = json.loads((path / "model.json").read_text())
+        data["decision"].update(crowd_gate=True, crowd_planes=crowd)
+        (path / "model.json").write_text(json.dumps(data))
+        return path
+
+    (whole,) = _answer(model("wide", 20), cloud, desc)
+    assert whole.klass == "box" and not whole.cut_off
+    (refused,) = _answer(model("off", 4, cut=False), cloud, desc)
+    assert refused.klass == "other"
+    assert [type(r) for r in refused.refused] == [M.CrowdRefusal]
+    rest, *boxes = _answer(model("on", 4), cloud, desc)
+    assert rest.klass == "other" and rest.cut_off == tuple(b.object_id for b in boxes)
+    assert [b.klass for b in boxes] == ["box", "box"]
+    assert sorted({objs[x] for x in b.labels} for b in boxes) == [{2}, {3}]
+    assert all(b.cut_from == rest.object_id and b.rule_index == 1 for b in boxes)
+    # a bound under one box's three planes refuses the cut boxes too: no box comes out, and
+    # the proposal stays whole, refused as before
+    (tight,) = _answer(model("tight", 2), cloud, desc)
+    assert tight.klass == "other" and not tight.cut_off
+    assert set(tight.labels) == set(desc.objects[0].planes)
+    assert [type(r) for r in tight.refused] == [M.CrowdRefusal]

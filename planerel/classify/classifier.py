@@ -894,14 +894,44 @@ class Classifier:
                 answers = tuple(_voted([m._answer(desc, plane_ids, xyz) for m in self.members]))
             else:
                 answers = tuple(self._answer(desc, plane_ids, xyz))
-        if self.cut_boxes is not None and xyz is not None and BOX in self.classes:
+        cut = self.cut_boxes is not None and xyz is not None and BOX in self.classes
+        if cut:
             answers = self._cut_boxes(desc, answers, plane_ids, xyz)
         trim = self.flight_trim is not None and xyz is not None and "stairs" in self.classes
         if trim:
             answers = self._trim_flights(desc, answers, plane_ids, xyz)
-        # a gate that refuses a class falls back to the answer's runner-up (:func:`_refuse`),
-        # which the gates before it have not seen: once more until no answer changes class
-        # (a flight fallen back to is trimmed as a flight decided at once is; trim94)
+        early = {a.object_id: len(a.refused) for a in answers}
+        answers = self._gated(desc, answers, plane_ids, xyz, trim)
+        if cut:
+            # a box a gate after the decision refused is cut as one the decision's own gates
+            # refused (cutpost94); what comes out meets those gates in turn
+            late = {a.object_id for a in answers
+                    if a.klass != BOX and a.object_id in early
+                    and any(getattr(r, "klass", None) == BOX
+                            for r in a.refused[early[a.object_id]:])}
+            if late:
+                answers = self._cut_late(desc, answers, plane_ids, xyz, trim, late)
+        return answers
+
+    def _cut_late(self, desc, answers, plane_ids, xyz, trim: bool, late: set) -> tuple:
+        """``answers`` with the proposals ``late`` (answers a gate after the decision refused
+        ``box`` for) cut by :meth:`_cut_boxes` and the result judged by :meth:`_gated`; a
+        proposal none of whose cut solids stays ``box`` through those gates keeps its answer
+        uncut (cutpost94)."""
+        cut = self._cut_boxes(desc, answers, plane_ids, xyz, only=late)
+        if len(cut) == len(answers):
+            return answers
+        cut = self._gated(desc, cut, plane_ids, xyz, trim)
+        was = {a.object_id: a for a in answers}
+        kept = {a.cut_from for a in cut if a.object_id not in was and a.klass == BOX}
+        return tuple(was[a.object_id] if a.object_id in late - kept else a
+                     for a in cut if a.object_id in was or a.cut_from in kept)
+
+    def _gated(self, desc, answers, plane_ids, xyz, trim: bool) -> tuple:
+        """``answers`` judged by :meth:`_answer_gates`: a gate that refuses a class falls back
+        to the answer's runner-up (:func:`_refuse`), which the gates before it have not seen,
+        so once more until no answer changes class (a flight fallen back to is trimmed, with
+        ``trim``, as a flight decided at once is; trim94)."""
         for _ in range(len(self.classes)):
             before = [a.klass for a in answers]
             answers = self._answer_gates(desc, answers, xyz)
@@ -1121,9 +1151,9 @@ class Classifier:
                 return _voted([m._answer(sub, plane_ids, xyz) for m in self.members])
             return self._answer(sub, plane_ids, xyz)
 
-    def _cut_boxes(self, desc, answers, plane_ids, xyz) -> tuple:
-        """``decision.cut_boxes``: each proposal a box rule proves and a gate refuses ``box``
-        for, whose planes hold a box proof's solid (:func:`~planerel.features.box_cut.box_solids`)
+    def _cut_boxes(self, desc, answers, plane_ids, xyz, only=None) -> tuple:
+        """``decision.cut_boxes``: each proposal (of the object ids ``only``, when given; one
+        not cut already) a box rule proves and a gate refuses ``box`` for, whose planes hold a box proof's solid (:func:`~planerel.features.box_cut.box_solids`)
         smaller than itself: the solids decided as objects of their own; those answered
         ``box`` by a rule that proved the proposal (largest first, sharing no plane) cut from
         it, and the rest decided again (its class or ``other``).  With ``decision.cut_split``
@@ -1141,7 +1171,13 @@ class Classifier:
         cp = self._describe_kw.get("curved_params") or defaults(CurvedParams)
         facet = (cp.facet_min_angle, cp.facet_max_angle)
         subs, parent_of, rules_of, split = [], {}, {}, set()
-        for o, a in zip(desc.objects, answers, strict=True):
+        # the proposals as answered (a flight's trim or an earlier cut may have added parts)
+        objects = {o.id: o for o in desc.objects}
+        for a in answers:
+            o = objects.get(a.object_id)
+            if o is None or a.cut_from is not None or a.cut_off or (
+                    only is not None and o.id not in only):
+                continue
             # only where a box rule proves the proposal and a gate refuses it: a proposal no
             # box rule proves (a tall face beside a horizontal plane: ``nhorizontal(A,0)``
             # does not hold) is not cut for a rule that holds on a part of it, and one whose
@@ -1157,7 +1193,7 @@ class Classifier:
             elif (not rules_of[o.id]
                     or not any(getattr(r, "klass", None) == BOX
                                and not isinstance(r, FacetRefusal)
-                               for v in (a.votes or (a,)) for r in v.refused)):
+                               for v in (a, *a.votes) for r in v.refused)):
                 continue
             # two boxes set at an angle meet as a round surface's facets do: a split keeps a
             # solid beside them (each solid still passes every gate on its own)
@@ -1187,24 +1223,24 @@ class Classifier:
         if not taken:
             return answers
         rests = []
-        for o in desc.objects:
-            if o.id in taken:
-                cut = {x for b in taken[o.id] for x in b.labels}
-                rests.append(SceneObject(o.id, tuple(x for x in o.planes if x not in cut), None,
-                                         o.mask, o.planar_fraction, o.curved))
+        for k, boxes in taken.items():
+            o = objects[k]
+            cut = {x for b in boxes for x in b.labels}
+            rests.append(SceneObject(o.id, tuple(x for x in o.planes if x not in cut), None,
+                                     o.mask, o.planar_fraction, o.curved))
         rest = {r.object_id: r for r in self._answer_objects(desc, rests, plane_ids, xyz)}
         out = []
-        for o, a in zip(desc.objects, answers, strict=True):
-            if o.id not in taken:
+        for a in answers:
+            if a.object_id not in taken or a.cut_from is not None:
                 out.append(a)
                 continue
-            r = rest[o.id]
+            r = rest[a.object_id]
             if r.klass not in (a.klass, OTHER):
                 r = ObjectAnswer(r.object_id, r.planes, r.labels, OTHER, fired=r.fired,
                                  planar_fraction=r.planar_fraction, curved=r.curved,
                                  refused=r.refused)
-            out.append(replace(r, cut_off=tuple(b.object_id for b in taken[o.id])))
-            out.extend(taken[o.id])
+            out.append(replace(r, cut_off=tuple(b.object_id for b in taken[a.object_id])))
+            out.extend(taken[a.object_id])
         return tuple(out)
 
     def _check_open(self) -> None:
