@@ -1153,14 +1153,14 @@ class Classifier:
 
     def _cut_boxes(self, desc, answers, plane_ids, xyz, only=None) -> tuple:
         """``decision.cut_boxes``: each proposal (of the object ids ``only``, when given; one
-        not cut already) a box rule proves and a gate refuses ``box`` for, whose planes hold a box proof's solid (:func:`~planerel.features.box_cut.box_solids`)
-        smaller than itself: the solids decided as objects of their own; those answered
-        ``box`` by a rule that proved the proposal (largest first, sharing no plane) cut from
-        it, and the rest decided again (its class or ``other``).  With ``decision.cut_split``
-        a proposal answered ``box`` is split so too, into two or more solids answered ``box``
-        by any box rule, no two with one top
-        (:func:`~planerel.features.box_cut.one_box_in_pieces`); fewer leave it
-        whole."""
+        not cut already) a box rule proves and a gate refuses ``box`` for, whose planes hold a
+        box proof's solid (:func:`~planerel.features.box_cut.box_solids`) smaller than itself:
+        the solids decided as objects of their own; those answered ``box`` by a rule that
+        proved the proposal (largest first, sharing no plane) cut from it, and the rest
+        decided again (its class or ``other``).  With ``decision.cut_split`` a proposal
+        answered ``box`` is split so too, into two or more solids answered ``box`` by any box
+        rule, no two with one top (:func:`~planerel.features.box_cut.one_box_in_pieces`);
+        fewer leave it whole."""
         from planerel.features._defaults import defaults
         from planerel.features.box_cut import box_solids, cut_object, one_box_in_pieces
         from planerel.features.curved import CurvedParams
