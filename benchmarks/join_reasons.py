@@ -8,7 +8,7 @@ SCENE: an independent-generator scene (``independent_scenes.py make``: ``iNNNN.n
 ``.json`` and ``.objects.npy``).  For each labelled object: the proposal with the best pixel
 IoU, its class, and each of its planes (pixels, share on the object, orientation, area, at the
 border); for each plane with under half its pixels on the object, the join rules of
-:func:`planerel.features.relations.propose_objects` whose pairs hold it (``convex_pairs``,
+:func:`planerel.features.proposals.propose_objects` whose pairs hold it (``convex_pairs``,
 ``cavity_pairs``, ``group_channel_pairs``, ``step_chain_pairs``, ``flight_sides``, ...).
 The rules are wrapped in this process only (walls36, docs/objects.md "A stairwell's walls are
 no flight's sides").
@@ -30,7 +30,7 @@ RULES = ("convex_pairs", "cavity_pairs", "occluded_channel_pairs", "split_panel_
 
 def _instrument(log: list, calls: list) -> None:
     import planerel.features.facts as F
-    import planerel.features.relations as R
+    import planerel.features.proposals as R
 
     def wrap(name):
         f = getattr(R, name)

@@ -210,7 +210,7 @@ def test_edge_means_on_real_frames_are_the_old_sums():
 def test_step_chains_skip_only_pairs_no_span_can_take(monkeypatch):
     from scenes_analytic import floor, render, stairs
 
-    import planerel.features.relations as R
+    import planerel.features.step_chains as R
     from planerel.features.facts import describe_scene
 
     view = dict(pitch=30, cam_height=1.6, width=320, height=240, noise=0.001)
