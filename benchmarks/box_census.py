@@ -33,7 +33,7 @@ description are those :class:`planerel.classify.classifier.Classifier` makes.  S
     ``i`` planes) and its ``skirt``, ``tall_face``, ``face_pair``, ``lying`` facts.
 
 With ``--tall``, each vertical plane of a ``no rule fires`` box is put through
-:func:`planerel.features.relations.tall_faces`' tests one by one and the ones it fails are
+:func:`planerel.features.tall_face.tall_faces`' tests one by one and the ones it fails are
 listed: ``shape:w`` (narrower than ``corner_width``), ``shape:f`` (fills less than
 ``standing_fill`` of its rectangle), ``shape:r`` (RMS over ``tall_flat`` of its width),
 ``top-in-view`` (top edge below ``tall_eye`` and no cap strip), ``not-grounded`` (no adjacent
@@ -81,7 +81,7 @@ def _group(kind):
 
 
 def tall_tests(desc, cloud, plane):
-    """The :func:`~planerel.features.relations.tall_faces` tests ``plane`` fails (a list of
+    """The :func:`~planerel.features.tall_face.tall_faces` tests ``plane`` fails (a list of
     the names of the module docstring)."""
     from planerel.features import relations as R
     from planerel.features.solid import face_profile_of, grounded

@@ -14,7 +14,7 @@ listed (orientation, pixels, share inside the rectangle, size, the box-proof ato
 it could prove:
 
 - every vertical plane: ``tall_face/1``'s tests (:func:`tall_face_tests`, in
-  :func:`planerel.features.relations.tall_faces`' order, each measured whatever the others
+  :func:`planerel.features.tall_face.tall_faces`' order, each measured whatever the others
   say: shape, top hidden or capped by a strip, top not covered, grounded, free-standing, no
   next riser);
 - every adjacent pair of vertical planes: ``face_pair/2``'s (angle, widths, level tops and

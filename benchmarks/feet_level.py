@@ -14,7 +14,7 @@ scene's sidecar up; ``--up`` forces one, camera frame).  On the frames where no 
 found, per shaped upright plane (``tall_faces``' shape tests): its kind (``box`` when half its
 pixels lie in a ``box`` rectangle, ``uns`` in an ``unscored`` one, else ``non``; on an
 independent scene the generator's majority object), its foot and top levels; and per ``--tol``:
-the shared feet level (:func:`planerel.features.relations.feet_level`: level, spread, count),
+the shared feet level (:func:`planerel.features.tall_face.feet_level`: level, spread, count),
 the share of the frame's measured points more than 5 cm under it, and the tall faces the switch
 adds.  The last line totals the added tall faces by kind.
 """

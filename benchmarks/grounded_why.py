@@ -20,10 +20,10 @@ foot (:func:`under_foot`):
     a horizontal plane adjacent to the face does not ground it (a seat, a tread, a rim);
 ``level ground no plane took, reaching R m``
     in half of its middle columns the level ground under its foot reaches ``R`` m in front
-    of it (:func:`planerel.features.relations.level_reach`; ``R`` the model's
+    of it (:func:`planerel.features.tall_face.level_reach`; ``R`` the model's
     ``tall_level_ground``, or ``skirt_step`` when that is off), with whether the scan has a
     floor plane and whether the face's top is out of view (the limits of
-    :func:`~planerel.features.relations.level_ground`);
+    :func:`~planerel.features.tall_face.level_ground`);
 ``nothing measured under the foot``
     in half of its columns the rows under its lowest pixel hold no depth (or the image ends);
 ``level points no plane took, reaching less``
@@ -33,7 +33,7 @@ foot (:func:`under_foot`):
     the rest.
 
 Each box also gets the median over its columns of how far that level ground reaches in front
-of the foot (:func:`planerel.features.relations.level_reach`).  ``--aggregate`` prints only the
+of the foot (:func:`planerel.features.tall_face.level_reach`).  ``--aggregate`` prints only the
 counts and the reaches' medians per kind, no frame named (for judge sets).
 """
 

@@ -1,6 +1,6 @@
 """Which join rules of the object proposals hold a real box merged with other things: for each
 labelled box that :mod:`box_causes` calls ``merged`` (with what it stands on, or with other
-boxes), the rules of :func:`planerel.features.relations.propose_objects` whose pairs join a
+boxes), the rules of :func:`planerel.features.proposals.propose_objects` whose pairs join a
 plane inside its rectangle to a plane of the same proposal outside it.  A measuring tool:
 nothing of it is used by the classifier.
 

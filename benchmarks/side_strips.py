@@ -23,7 +23,7 @@ Usage::
         one line per vertical plane of >= 100 px of every labelled frame (benchmarks/real_unseen.py
         folders), with the plane's proposal, its class answer, the labelled rectangle it lies in
         (>= 50 % of its pixels), the two ends' strips and the top-edge strip of
-        planerel.features.relations.cap_strip; --summary: per tag (box / none / unscored /
+        planerel.features.tall_face.cap_strip; --summary: per tag (box / none / unscored /
         stairs / ramp), how many single-plane proposals of at most 0.3 m (plane width and
         height span) carry a strip (a side whose view <= -5, share >= 0.5, depth >= 0.03)
     side_strips.py fit MODEL SETDIR FILE PLANE_ID [PLANE_ID ...]

@@ -9,7 +9,7 @@ Usage::
 It runs :func:`stairs_census.census` and, for each flight at the stage ``no stair_step``
 (treads or risers lie in it, but no pair of them is a step), puts every pair of its treads
 (and of its risers) through the sub-tests of the step test in the order the code asks them
-(:func:`planerel.features.relations.step_chain_pairs` with the parameters
+(:func:`planerel.features.step_chains.step_chain_pairs` with the parameters
 :func:`planerel.features.stair_step.stair_steps` passes, then the plan-view overlap):
 
 ``cut by border``
@@ -17,12 +17,12 @@ It runs :func:`stairs_census.census` and, for each flight at the stage ``no stai
 ``area ratio``
     the larger face at most ``max_ratio`` (3) times the smaller;
 ``rise``
-    the higher face's centroid :data:`~planerel.features.relations.STAIR_RISE` above the lower's;
+    the higher face's centroid :data:`~planerel.features.step_chains.STAIR_RISE` above the lower's;
 ``normals``
     normals within ``concave_tol`` degrees;
 ``run``
     the horizontal offset (across the treads' long axis, along a riser's normal)
-    :data:`~planerel.features.relations.STAIR_RUN`;
+    :data:`~planerel.features.step_chains.STAIR_RUN`;
 ``too deep``
     each face at most one run deep (tread) or one rise high (riser): no landing, no floor;
 ``overlap across``

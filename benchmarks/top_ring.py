@@ -53,7 +53,7 @@ def top_like(t, floor=None) -> bool:
 
 def ring_shares(planes, params, xyz, t) -> dict | None:
     """The ring around plane ``t`` (``lying_ring`` pixels at the image's width, ``t``'s own
-    pieces left out as :func:`planerel.features.relations._ground_around` does): the shares
+    pieces left out as :func:`planerel.features.lying._ground_around` does): the shares
     of its measured points that drop below ``t``'s level, lie above it or level with it, the
     median drop (m), the share of ring pixels without depth and ``t``'s fill.  None when the
     ring holds fewer than 20 measured points."""

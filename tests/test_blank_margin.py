@@ -3,7 +3,7 @@
 A RealSense's depth registered to its colour camera leaves the first rows blank (two on hunt33's
 UnseenObjectClustering frames and UOIS's).  A box's front cut there by the image's top edge has
 its top out of view as much as one cut at row 0, and ``tall_face/1`` takes it so: the top-row
-test counts from the first row the sensor measures (:func:`planerel.features.relations._blank_top_rows`).
+test counts from the first row the sensor measures (:func:`planerel.features.tall_face._blank_top_rows`).
 Rows that fill in gradually are the scene out of range, not a margin.  Rendered analytic scenes:
 a camera 1.2 m up looking 60 degrees down at a 0.6 x 0.4 x 0.6 m box 1.1 m away, its front cut
 by the image's top edge, its top out of view (docs/objects.md, "A blank margin at the image's top").

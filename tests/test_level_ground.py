@@ -4,7 +4,7 @@ floor no plane took").
 A level view of a carton 1-2 m away on a dark or speckled floor: the sensor measures the floor
 in front of the carton, but the region grower makes no plane of it, so no horizontal plane is
 adjacent to the carton's face and no floor plane exists to extrapolate.  ``tall_face/1`` then
-asks :func:`planerel.features.relations.level_ground`: the points under the face's foot lie
+asks :func:`planerel.features.tall_face.level_ground`: the points under the face's foot lie
 level with it and reach ``tall_level_ground`` (0.45 m) nearer to the sensor, the face's top is
 in view, and the scan has no floor plane at all.
 

@@ -2,7 +2,7 @@
 
 Each scene is ray-cast from rectangles that carry their object id (tests/scenes_analytic.py);
 the planes are the true ones (one label per rectangle), so what is tested is the proposal rule
-(planerel.features.relations.propose_objects), not the segmentation.  Expected proposals follow from
+(planerel.features.proposals.propose_objects), not the segmentation.  Expected proposals follow from
 the scene's construction: every object's visible faces in one proposal of their own.
 """
 

@@ -2,7 +2,7 @@
 docs/results.md "Boxes whose top is too thin a strip to be a plane"): ``tall_face/1`` also
 holds for a vertical face standing on the ground when a level strip that no plane took lies
 on its top edge, reaches at least ``tall_cap_depth`` behind it and no next riser rises from
-it (:func:`planerel.features.relations.cap_strip`).
+it (:func:`planerel.features.tall_face.cap_strip`).
 
 Rendered analytic scenes with the top's pixels left unassigned, as the region grower leaves
 a box's top 2-10 rows high at 160x120; then scenes of the independent generator

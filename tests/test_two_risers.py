@@ -1,6 +1,6 @@
 """riser73: two risers alone make a counted step when both are flight-like and the lower one
 stands on a horizontal plane (``ProposalParams.step_two_risers``,
-:func:`planerel.features.relations._two_riser_steps`; docs/results.md "A flight seen level
+:func:`planerel.features.step_chains._two_riser_steps`; docs/results.md "A flight seen level
 from a low robot: two risers")."""
 
 from __future__ import annotations

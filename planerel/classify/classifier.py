@@ -320,7 +320,7 @@ def _measured(answers, desc, plane_ids, params) -> tuple:
     ``stair_step/2`` pairs among the answer's planes, the slope from the largest of its proof
     planes that is not upright."""
     from planerel.features.object_measures import flight_measures, slope_measures
-    from planerel.features.relations import ProposalParams
+    from planerel.features.proposal_params import ProposalParams
 
     params = params or ProposalParams()
     label_of = {v: k for k, v in plane_ids.items()}
@@ -356,7 +356,7 @@ def _pitch_gate(desc, plane_ids, params):
     None (an upright or level plane, another way, no steps or no run measured).  The flight is
     measured once an object, and only when asked."""
     from planerel.features.object_measures import flight_measures, slope_measures
-    from planerel.features.relations import ProposalParams
+    from planerel.features.proposal_params import ProposalParams
 
     params = params or ProposalParams()
     label_of = {v: k for k, v in plane_ids.items()}
@@ -1250,7 +1250,7 @@ class Classifier:
     def _answer(self, desc, plane_ids, xyz=None) -> list:
         """Each object of ``desc`` (its facts loaded) answered by this model's rules (``xyz``:
         the scan's points, for the foot gate)."""
-        from planerel.features.relations import flight_evidence, flight_faces
+        from planerel.features.step_chains import flight_evidence, flight_faces
         from planerel.ilp.metrics import (
             SIDE_PLANES,
             UNSURE_CLASS,

@@ -21,7 +21,7 @@ _AHEAD = 64
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def edge_sums(lab, xyz, r0, c0, used, band, depth, n):
-    """Sums of :func:`planerel.features.relations.edge_means` in one pass.
+    """Sums of :func:`planerel.features.proposals.edge_means` in one pass.
 
     The flow calls :func:`edge_sums_pairs` (the same sums for the asked pairs, windows proved
     empty skipped); this plainer form of every pair is kept as the reference it is tested
@@ -218,7 +218,7 @@ def edge_sums_pairs(lab, xyz, r0, c0, partner, band, depth):
     order for those pairs (other pairs' entries stay 0).  A boundary pixel is read only when
     the tiles its band's box meets (:func:`boundary_tiles`: ``band`` rows down, ``band``
     columns either side) hold a partner of its label; the support planes, which
-    :func:`planerel.features.relations.propose_objects` leaves out of its pairs, border most
+    :func:`planerel.features.proposals.propose_objects` leaves out of its pairs, border most
     objects' outlines."""
     return edge_sums_pairs_with_tiles(lab, xyz, r0, c0, boundary_tiles(lab, r0, c0), partner,
                                       band, depth)

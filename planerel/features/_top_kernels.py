@@ -1,7 +1,7 @@
 """numba kernels of two tests on what lies around a plane's top edge (compiled at first call,
 cached on disk): the ring of pixels around a ``lying`` top
-(:func:`planerel.features.relations._ground_around`) and the level strip on a tall face's top
-edge (:func:`planerel.features.relations.cap_strip`).  Both read a few thousand pixels of one
+(:func:`planerel.features.lying._ground_around`) and the level strip on a tall face's top
+edge (:func:`planerel.features.tall_face.cap_strip`).  Both read a few thousand pixels of one
 plane's pixel box; in numpy each cost 0.1-0.3 ms a call in temporaries (speed32).
 
 Import this module only from inside functions: numba itself is a heavy import.

@@ -5,7 +5,7 @@ back panels are thin, far, or hidden by the boards, so the boards often share no
 anything and each became a proposal of its own (seed 34 ``s0021``: five boards 0.154 m apart,
 five proposals).  The treads of a staircase are horizontal planes at regular heights too, but
 each lies one run *beyond* the one below, and the step chains
-(:func:`planerel.features.relations.step_chain_pairs`) join them.  A shelf's boards lie *over*
+(:func:`planerel.features.step_chains.step_chain_pairs`) join them.  A shelf's boards lie *over*
 each other: seen from the top, the footprint of each board lies on the one above or below it
 (the lower boards show the strip in front of the next board up, which lies inside that
 board's footprint).  :func:`stacked_board_pairs` joins such planes when at least three of them

@@ -1,6 +1,6 @@
 """Concave cavities: the inside of one open object, seen through its open side.
 
-The locally-convex rule of :func:`planerel.features.relations.convex_pairs` cuts every concave
+The locally-convex rule of :func:`planerel.features.proposals.convex_pairs` cuts every concave
 edge: a box against a wall, a box on a box come apart.  An open object (a shelf, an open box,
 a drawer) is concave *inside*: its back panel meets each side panel and each board at a concave
 edge, and the rule cuts it into its panels.  What tells the inside of one object from two
@@ -34,7 +34,7 @@ near wall is seen from outside and shares no edge with the bottom, only an occlu
 
 Parameters: ``angle_tol`` (degrees; ``ProposalParams.concave_tol``, 10) for "parallel";
 shared edges are those with at least ``MIN_EDGE`` pixel pairs of
-:func:`~planerel.features.relations.edge_means`.
+:func:`~planerel.features.proposals.edge_means`.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Connected components by union-find: the proposals' plane graph
-(:func:`planerel.features.relations.propose_objects`), the curved clusters and the pieces of one
+(:func:`planerel.features.proposals.propose_objects`), the curved clusters and the pieces of one
 tread (:mod:`planerel.features.tread_pieces`) group their nodes with it.  Moved out of
 ``relations`` (review71) so that ``tread_pieces``, which ``relations`` imports, needs no import
 of ``relations``; ``relations.Components`` is the same class.

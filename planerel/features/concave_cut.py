@@ -5,7 +5,7 @@ One convex object has no two faces meeting at a concave edge.  When two planes `
 stands against) but end up in one group through other joins (the lower box's top touching
 the taller box's other face at a corner, a few pixel pairs whose sign lies just outside the
 noise band), the group is cut where it is weakest between them: a minimum cut of the joined
-pairs weighted by their shared edge pixel pairs (:func:`planerel.features.relations.edge_means`),
+pairs weighted by their shared edge pixel pairs (:func:`planerel.features.proposals.edge_means`),
 kept only when it weighs less than ``ratio`` times the concave edge.  Faces of one object are
 joined along whole edges (hundreds of pixel pairs); two objects touching at a corner share a
 few.
@@ -30,7 +30,7 @@ def _normal_out(p) -> np.ndarray:
 
 def concave_cos(pa, pb, e) -> float:
     """The cosine between ``n_a - n_b`` and the edge points' offset ``x_a - x_b`` (the sign
-    of the convexity test of :func:`planerel.features.relations.convex_pairs`; -1 clearly
+    of the convexity test of :func:`planerel.features.proposals.convex_pairs`; -1 clearly
     concave, +1 clearly convex); ``e`` = ``(x_lo, x_hi, n)`` of the pair ``(min, max)``."""
     xa, xb = (e[0], e[1]) if pa.label < pb.label else (e[1], e[0])
     dx = np.asarray(xa, float) - np.asarray(xb, float)
@@ -92,7 +92,7 @@ def concave_cuts(planes, joined, concave, edges, ratio: float = 0.25, max_cos: f
     concave : iterable of (int, int)
         Adjacent pairs not joined (concave edges).
     edges : dict
-        :func:`planerel.features.relations.edge_means` of the pairs: ``(min, max) -> (x_min,
+        :func:`planerel.features.proposals.edge_means` of the pairs: ``(min, max) -> (x_min,
         x_max, n)``.
     ratio : float
         A cut is made when its weight (edge pixel pairs of the pairs cut; a pair without a

@@ -1055,7 +1055,7 @@ def curved_objects(planes, relations, proposals, cloud=None, labels=None, suppor
     planes : PlaneSet
     relations : Relations
     proposals : sequence of sequence of int
-        Plane labels per proposal (e.g. :func:`planerel.features.relations.propose_objects`).
+        Plane labels per proposal (e.g. :func:`planerel.features.proposals.propose_objects`).
     cloud : Cloud, optional
         Without it (or without ``labels``) no clusters are made; planar fractions count plane
         points only.

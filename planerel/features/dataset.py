@@ -382,7 +382,7 @@ def describe_truth_scene(cloud, labels, gt, meta: dict, scene_id: str,
     """Describe one data-set scene with its ground-truth objects as the examples.
 
     Segmented (or ground-truth) planes join the ground-truth object whose planes they mostly
-    cover (:func:`planerel.features.relations.objects_from_truth`); every object gets its own class from
+    cover (:func:`planerel.features.proposals.objects_from_truth`); every object gets its own class from
     the sidecar (:func:`object_classes`: ``box``, ``stairs``, ``ramp`` or ``other``), so a scene
     of the varied world gives one example per object.  An object whose planes do not let one
     decide its class (:func:`planerel.features.truth_examples.judge_objects`: planes not matching it,
@@ -412,7 +412,7 @@ def describe_truth_scene(cloud, labels, gt, meta: dict, scene_id: str,
     from dataclasses import replace
 
     from planerel.features.facts import describe_scene
-    from planerel.features.relations import objects_from_truth
+    from planerel.features.proposals import objects_from_truth
     from planerel.features.truth_examples import judge_objects
 
     obj_of = {int(p["index"]): (int(p.get("object_index", 0)) if int(p.get("object_index", 0)) > 0 else -1)

@@ -27,23 +27,19 @@ from planerel.errors import InputError, check_bools
 from planerel.features import terms
 from planerel.features._defaults import defaults
 from planerel.features.curved import CurvedParams
+from planerel.features.lying import lying_tops
 from planerel.features.plan_overlap import over_pairs
 from planerel.features.planes import label_max
+from planerel.features.proposal_params import ProposalParams
+from planerel.features.proposals import propose_objects, support_planes
 from planerel.features.raised import RaisedParams, join_raised, raised_clusters, with_raised
-from planerel.features.relations import (
-    ProposalParams,
-    lying_tops,
-    propose_objects,
-    relate,
-    skirts_within_objects,
-    support_planes,
-    tall_faces,
-)
+from planerel.features.relations import relate, skirts_within_objects
 from planerel.features.solid import top_slopes
 from planerel.features.stair_step import stair_steps
 from planerel.features.stairfit import StairFitParams, _remeasure_stepped_clusters, join_groups
 from planerel.features.stepped import remeasure_stepped
 from planerel.features.tables import leg_objects, table_objects
+from planerel.features.tall_face import tall_faces
 
 __all__ = [
     "PREDICATES",
@@ -104,10 +100,10 @@ PREDICATES: tuple[tuple[str, int, str, str], ...] = (
     ("seen_width", 2, "plane, m", "plane_width of a plane seen whole"),
     ("tall_face", 1, "plane", "a vertical rectangle standing on the ground (the floor or a table "
      "at its foot), nothing beside it taller, its top at or above the sensor's eye level or "
-     "out of view: a box seen so shows no top (planerel.features.relations.tall_faces)"),
+     "out of view: a box seen so shows no top (planerel.features.tall_face.tall_faces)"),
     ("lying", 1, "plane", "a level or tilted (<= 30 deg) plane at most 0.6 m long lying on a "
      "larger horizontal plane adjacent to it, 1.5-12 cm over it: the top of a book or a flat "
-     "box lying on a table, its sides edge-on (planerel.features.relations.lying_tops)"),
+     "box lying on a table, its sides edge-on (planerel.features.lying.lying_tops)"),
     ("top_slope", 2, "plane, deg", "slope from level of an upright plane's top edge where the "
      "camera sees it straight over 0.5 m or more, the plane lying under it (at most 2 times "
      "as high as the edge's rise): a ramp's side face seen from lower than its top rises "
@@ -215,10 +211,10 @@ class SceneDescription:
     #: and ``seen_length`` / ``seen_width`` are not written for them.
     truncated: frozenset = field(default=frozenset())
     #: Labels of the vertical planes standing on the ground with their top out of sight
-    #: (:func:`planerel.features.relations.tall_faces`: ``tall_face/1``).
+    #: (:func:`planerel.features.tall_face.tall_faces`: ``tall_face/1``).
     tall: frozenset = field(default=frozenset())
     #: Labels of the planes lying on a larger horizontal plane as a flat thing's top
-    #: (:func:`planerel.features.relations.lying_tops`: ``lying/1``).
+    #: (:func:`planerel.features.lying.lying_tops`: ``lying/1``).
     lying: frozenset = field(default=frozenset())
     #: ``(lower, higher)`` labels of two planes of one object one stair step apart
     #: (:func:`planerel.features.stair_step.stair_steps`: ``stair_step/2``).
@@ -267,14 +263,14 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     up : 3 numbers, optional
         Gravity up; default the cloud's sidecar value, else estimated.
     objects : sequence of sequences of int, optional
-        Plane labels per object (e.g. from :func:`planerel.features.relations.objects_from_truth`);
-        default: :func:`planerel.features.relations.propose_objects`.  Labels without a measured plane
+        Plane labels per object (e.g. from :func:`planerel.features.proposals.objects_from_truth`);
+        default: :func:`planerel.features.proposals.propose_objects`.  Labels without a measured plane
         are dropped; objects left empty are dropped.
     klass : str, optional
         Class of the objects (for training data: the scene's class).
     plane_params, relation_params, proposal_params, gravity_params, curved_params : optional
         :class:`~planerel.features.planes.PlaneParams`, :class:`~planerel.features.relations.RelationParams`,
-        :class:`~planerel.features.relations.ProposalParams`, :class:`~planerel.features.gravity.GravityParams`,
+        :class:`~planerel.features.proposal_params.ProposalParams`, :class:`~planerel.features.gravity.GravityParams`,
         :class:`~planerel.features.curved.CurvedParams` (defaults when None; a model's are in its
         ``model.json``).  Proposals also take the clusters of points no flat plane explains
         (:func:`planerel.features.curved.curved_objects`); every object gets its planar fraction.

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from planerel.features.relations import STAIR_RISE, STAIR_RUN, _step_kind, step_offset
+from planerel.features.step_chains import STAIR_RISE, STAIR_RUN, _step_kind, step_offset
 from planerel.features.step_geometry import _tread_depth_axis
 
 __all__ = ["flight_measures", "slope_measures"]
@@ -78,7 +78,7 @@ def flight_measures(planes, labels, steps, tread_axes: bool = True,
     dict or None
         ``rise_m`` and ``run_m`` (medians over the steps, a pair more than one stair rise
         apart counted as the rises it spans: :func:`_spans`; the run over those within
-        :data:`~planerel.features.relations.STAIR_RUN`, None when none is: an open-riser
+        :data:`~planerel.features.step_chains.STAIR_RUN`, None when none is: an open-riser
         row's treads, seen as strips, do not show it), ``steps`` (the pairs measured),
         ``rises_seen`` (rises between the lowest and the highest tread in a step, or riser
         when that spans more), ``climb_m`` (their height apart), ``width_m`` (the median
@@ -139,7 +139,7 @@ def flight_measures(planes, labels, steps, tread_axes: bool = True,
 
 def _spans(rises) -> list[int]:
     """How many rises each of ``rises`` (m, one a step pair) spans: 1 within one stair rise
-    (:data:`~planerel.features.relations.STAIR_RISE`'s upper bound), else the whole number
+    (:data:`~planerel.features.step_chains.STAIR_RISE`'s upper bound), else the whole number
     nearest its ratio to the median of those within it (at least 2; with none, as many as
     that bound needs).  An open-riser row's pair may span two rises when the slab between is
     not seen (walrus-stairs: rises 0.153 and 0.308 m, the median was 0.231)."""

@@ -6,7 +6,7 @@ underside.  No two treads share an edge, so each is a proposal of its own, and s
 (the PCL Kinect room, ``tutorials/pairwise/capture0001-0005``, 1.7-3 m: docs/objects.md "Open-riser
 flights") the top and the front edge of a tread near the sensor's level are fitted as one
 strip tilted 25-55 degrees from horizontal, so the step chains
-(:func:`planerel.features.relations.step_chain_pairs`, treads within ``step_tilt`` of
+(:func:`planerel.features.step_chains.step_chain_pairs`, treads within ``step_tilt`` of
 horizontal) and the shelf boards (:func:`planerel.features.boards.stacked_board_pairs`) see no
 row.  :func:`open_tread_pairs` takes any plane that is a *slab*: at most ``thick`` metres high
 along ``up`` and at most ``tilt`` degrees from horizontal, wide across; it measures each

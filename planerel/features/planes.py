@@ -290,7 +290,7 @@ class PlaneSet:
     camera_height : float or None
         The camera's height over the floor, metres, when the caller knows it (a robot's
         mount): where no floor plane is found, the floor lies that far under the eye along
-        ``up`` (:func:`planerel.features.relations.tall_faces` grounds a face's foot there).
+        ``up`` (:func:`planerel.features.tall_face.tall_faces` grounds a face's foot there).
         None: not known.
     """
 

@@ -14,12 +14,12 @@ import numpy as np
 from planerel.features.open_treads import open_tread_pairs
 from planerel.features.open_walls import top_level
 from planerel.features.plan_overlap import OVER_SHARE, plan_overlap
-from planerel.features.relations import (
+from planerel.features.proposal_params import ProposalParams
+from planerel.features.step_chains import (
     OPEN_THICK,
     OPEN_TILT,
     STAIR_RISE,
     STAIR_RUN,
-    ProposalParams,
     _step_kind,
     step_chain_pairs,
 )
@@ -31,9 +31,9 @@ def stair_steps(planes, labels, params: ProposalParams | None = None,
                 by_label: dict | None = None, xyz=None) -> frozenset:
     """The ``stair_step/2`` pairs of the planes ``labels`` of one object: ``(lower, higher)``
     labels of two parallel treads or two risers one staircase step apart, the higher one
-    :data:`~planerel.features.relations.STAIR_RISE` above and
-    :data:`~planerel.features.relations.STAIR_RUN` beyond the lower one, their extents across
-    that direction overlapping (:func:`~planerel.features.relations.step_chain_pairs` without
+    :data:`~planerel.features.step_chains.STAIR_RISE` above and
+    :data:`~planerel.features.step_chains.STAIR_RUN` beyond the lower one, their extents across
+    that direction overlapping (:func:`~planerel.features.step_chains.step_chain_pairs` without
     its chain test, the next face only: never one two rises away); with
     ``params.open_treads``, the consecutive treads of an open-riser flight's row too
     (:func:`planerel.features.open_treads.open_tread_pairs`: strips 15-55 degrees off
@@ -113,7 +113,7 @@ def stair_steps(planes, labels, params: ProposalParams | None = None,
 #: within :data:`RISER_TOPS_LEVEL` of that top.
 WALL_COPLANAR = 0.03
 
-#: Metres: half the lowest stair rise (:data:`~planerel.features.relations.STAIR_RISE`).
+#: Metres: half the lowest stair rise (:data:`~planerel.features.step_chains.STAIR_RISE`).
 RISER_TOPS_LEVEL = 0.5 * STAIR_RISE[0]
 
 

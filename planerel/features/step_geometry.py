@@ -1,7 +1,7 @@
 """Geometry of step faces shared by the proposal steps: a horizontal basis, a tread's depth
 axis, and whether the image border cuts a plane along its length.
 
-Used by :mod:`planerel.features.relations` (the step chains, :func:`~planerel.features.relations.step_chain_pairs`)
+Used by :mod:`planerel.features.relations` (the step chains, :func:`~planerel.features.step_chains.step_chain_pairs`)
 and :mod:`planerel.features.open_treads` (an open-riser flight's treads); moved here from
 ``relations`` (riser26) so that ``open_treads`` needs no import of ``relations``, which imports
 it.  ``relations`` imports these names, so ``relations._tread_depth_axis`` etc. still work.

@@ -1,13 +1,13 @@
 """A table standing in the room: its top is support for what stands on it and an object too.
 
-:func:`~planerel.features.relations.support_planes` makes a table top seen with the room's floor
+:func:`~planerel.features.proposals.support_planes` makes a table top seen with the room's floor
 in view support (``ProposalParams.table_area``): what stands on it is proposed apart, as on the
 floor.  The table itself is then in no proposal, though it is an object in the room (a robot
 walks around it, a chair is pushed under it).  This module gives it back its proposal without
 taking the top's support role away (``ProposalParams.table_legs``):
 
 1. **Tables.**  The horizontal support planes at least ``table_height`` above the floor and
-   under ``support_min_area`` (only :func:`~planerel.features.relations.support_planes`' table
+   under ``support_min_area`` (only :func:`~planerel.features.proposals.support_planes`' table
    rule makes such planes support), grouped by their plane (within ``floor_gap``: a top cut in
    pieces by the objects on it); a group whose largest plane has ``table_area`` or more is a
    table top.
@@ -31,7 +31,8 @@ import numpy as np
 
 from planerel.features.curved import CurvedObject
 from planerel.features.open_walls import join_groups
-from planerel.features.relations import _floor_offset, _horizontal_basis
+from planerel.features.proposals import _floor_offset
+from planerel.features.relations import _horizontal_basis
 
 __all__ = ["MIN_LEG_PIXELS", "POST_HEIGHT", "POST_LEVEL", "POST_SLICE", "POST_WIDTH", "TABLE_MARGIN", "TABLE_REACH",
            "leg_objects", "table_objects"]
@@ -132,7 +133,7 @@ def table_objects(planes, support, objects, params, curved_below: float = 0.8, x
     ----------
     planes : PlaneSet
     support : iterable of int
-        Support plane labels (:func:`~planerel.features.relations.support_planes`).
+        Support plane labels (:func:`~planerel.features.proposals.support_planes`).
     objects : sequence of CurvedObject
         The proposals (:func:`~planerel.features.curved.curved_objects`, raised and joined parts
         included).

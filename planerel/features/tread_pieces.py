@@ -5,7 +5,7 @@ depth across it, a rail's post, the far end of a long tread at low resolution) f
 tests piece by piece: a piece spans half the flight's width, so its extent across the flight
 overlaps the whole tread below it by under half (dev_sr i0008: 0.48), and its area is a third
 of that tread's.  :func:`tread_unions` finds such pieces and gives their union as one plane;
-:func:`planerel.features.relations.step_chain_pairs` tests steps with the union and names the
+:func:`planerel.features.step_chains.step_chain_pairs` tests steps with the union and names the
 pieces in the pairs it returns.
 
 Risers were tested the same way too (a riser's length and up as its frame) and left out: no

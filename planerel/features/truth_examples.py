@@ -114,7 +114,7 @@ def judge_objects(labels, gt, meta: dict, groups, object_of_group, classes: dict
         The scene's sidecar (``planes`` with ``index``, ``role``, ``object_index``; ``objects``
         with ``index``, ``n_pixels`` and, in the varied world, ``n_pixels_full``).
     groups : sequence of tuple of int
-        Plane labels per object (:func:`planerel.features.relations.objects_from_truth`).
+        Plane labels per object (:func:`planerel.features.proposals.objects_from_truth`).
     object_of_group : sequence of int
         The ground-truth object index of each group.
     classes : dict

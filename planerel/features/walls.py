@@ -1,6 +1,6 @@
 """Is a large vertical plane a wall?  The wall test of the support planes.
 
-:func:`planerel.features.relations.support_planes` takes every vertical plane of at least
+:func:`planerel.features.proposals.support_planes` takes every vertical plane of at least
 ``support_min_area`` m^2 for a wall and drops it from the proposals.  A solid staircase's side
 face is as large (a 10-step flight's is 3 m^2) and is no wall: dropping it cuts the flight
 into pieces.  The two differ at their top edge.  A wall reaches above the objects that touch

@@ -298,7 +298,7 @@ class DecisionParams:
         Refuse a class for an object with fewer horizontal planes than every one of the
         class's training positives (:func:`level_refusals`; the model keeps the least count,
         ``level_domain``), unless the object's faces make a flight's regular row
-        (:func:`planerel.features.relations.flight_faces`: a flight seen from below shows risers
+        (:func:`planerel.features.step_chains.flight_faces`: a flight seen from below shows risers
         only).  On by default (hunt25, 2026-11-30): every stairs positive of the demo's
         training world has a horizontal plane (a tread, 1-6 of them), and on real Kinect frames
         nobody on the team had seen, the demo's stairs rule 4 ("two parallel planes above a
@@ -308,7 +308,7 @@ class DecisionParams:
         box seen as one face, a ramp's slope alone): no gate for them.
     flight_gate : bool
         Refuse ``stairs`` for an object whose faces show no staircase's steps
-        (:func:`flight_refusals`; :func:`planerel.features.relations.flight_evidence`: a
+        (:func:`flight_refusals`; :func:`planerel.features.step_chains.flight_evidence`: a
         regular row of three faces, or steps of one flight's rise and run).  On by default
         (pile26, 2026-11-30): the demo's stairs rules ("two parallel planes, one above the
         other") took cartons packed on a pallet at three heights, boxes of two heights
@@ -316,7 +316,7 @@ class DecisionParams:
         answers on unseen frames").
     flight_fragments : bool
         With ``flight_gate``: a flight seen in fragments shows its steps too
-        (:func:`planerel.features.relations.flight_fragments`: risers stacked one on the
+        (:func:`planerel.features.step_chains.flight_fragments`: risers stacked one on the
         other whatever their width seen, treads the image border cuts; their steps one
         flight's).  On by default (flight48, 2026-12-01): the varied world's 160x120 flights
         come in fragments, and the gate refused 27-52 true ones a model (accept45); on the
@@ -988,7 +988,7 @@ def level_refusals(hits, stats: Sequence, n_horizontal, domain: Sequence, steppe
     that says "two parallel planes above a third, above a fourth" was only ever counted on
     flights with a tread in view, and said of a wall and the posts before it, or a cabinet's
     faces, it says nothing about stairs.  A flight seen from below (its risers in a regular
-    row, :func:`planerel.features.relations.flight_faces`; ``stepped`` true, or a callable
+    row, :func:`planerel.features.step_chains.flight_faces`; ``stepped`` true, or a callable
     asked only when the count is short) is the structure the positives showed from another
     side, and is not refused: the independent judge sets hold such flights, ``stairs`` by the
     same rule.  No domain, no count, or a class without an entry: nothing is refused (a model
@@ -1375,7 +1375,7 @@ def flight_refusals(hits, stats: Sequence, flight=None):
     steps in a regular row or the two steps of a short flight, but a pile of cartons at three
     heights, boxes of two heights touching or a machine's faces satisfy it too.  ``flight``:
     None (the gate off), a bool, or a callable asked only when a stairs hit is there
-    (:func:`planerel.features.relations.flight_evidence` of the object's planes).
+    (:func:`planerel.features.step_chains.flight_evidence` of the object's planes).
 
     Returns
     -------

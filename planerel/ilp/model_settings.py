@@ -18,7 +18,7 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 (:class:`~planerel.segment.split.SplitParams`, e.g. ``split.small_faces=150``); ``gravity.NAME``, ``planes.NAME``, ``relations.NAME`` and
 ``proposals.NAME`` and ``curved.NAME`` set a field of :class:`~planerel.features.gravity.GravityParams`,
 :class:`~planerel.features.planes.PlaneParams`, :class:`~planerel.features.relations.RelationParams`,
-:class:`~planerel.features.relations.ProposalParams` and :class:`~planerel.features.curved.CurvedParams`;
+:class:`~planerel.features.proposal_params.ProposalParams` and :class:`~planerel.features.curved.CurvedParams`;
 ``decision.NAME`` one of :class:`~planerel.ilp.metrics.DecisionParams` (``decision.planar_gate``,
 ``decision.planar_margin``, ``decision.proof_gate``, ``decision.proof_margin``,
 ``decision.veto_ratio``, ``decision.level_gate``, ``decision.flight_gate``,

@@ -153,7 +153,7 @@ class Model:
         staircase's steps (:func:`planerel.ilp.metrics.flight_refusals`).
     flight_fragments : bool
         Whether that test reads a flight seen in fragments too
-        (:func:`planerel.features.relations.flight_fragments`).
+        (:func:`planerel.features.step_chains.flight_fragments`).
     size_domain : tuple
         ``(class, high, n)``: the longest plane each class's rules proved its training
         positives with (:func:`planerel.ilp.metrics.size_domain`; ``model.json`` keeps it).
@@ -331,8 +331,8 @@ def _examples(descs):
 def object_shows(test, where: dict, object_id) -> bool:
     """``test(planes, labels)`` of object ``object_id`` (False when it is not in ``where``,
     ``{object id: (description, object)}``): the level gate's
-    :func:`planerel.features.relations.flight_faces` and the flight gate's
-    :func:`~planerel.features.relations.flight_evidence`, with the default proposal settings
+    :func:`planerel.features.step_chains.flight_faces` and the flight gate's
+    :func:`~planerel.features.step_chains.flight_evidence`, with the default proposal settings
     ``planerel learn`` describes scenes with."""
     if object_id not in where:
         return False
@@ -973,7 +973,7 @@ def prolog_predict(model: Model, descs, object_ids: Sequence[str] | None = None,
                        for m in model.models])
     if not model.clauses():
         return [Prediction(o, OTHER) for o in object_ids]
-    from planerel.features.relations import flight_evidence, flight_faces
+    from planerel.features.step_chains import flight_evidence, flight_faces
 
     fired = _parse_fired(_prolog_run(model, descs, object_ids, timeout))
     flight_test = functools.partial(flight_evidence, fragments=model.flight_fragments)
