@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from planerel.features.relations import _horizontal_basis
+from planerel.features.step_geometry import _horizontal_basis
 
 __all__ = ["OVER_SHARE", "over_pairs", "plan_overlap", "plan_overlap_xy"]
 

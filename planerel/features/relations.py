@@ -98,11 +98,10 @@ from planerel.features.solid import (
     sloped_top,
     top_edge,
 )
-from planerel.features.step_geometry import (  # noqa: F401 (re-exported: tables, plan_overlap, tests)
+from planerel.features.step_geometry import (  # noqa: F401 (re-exported: tests, scripts written before)
     _border_pixels,
     _border_share,
     _cut_lengthwise,
-    _extent,
     _horizontal_basis,
     _tread_depth_axis,
 )

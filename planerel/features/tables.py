@@ -32,7 +32,7 @@ import numpy as np
 from planerel.features.curved import CurvedObject
 from planerel.features.open_walls import join_groups
 from planerel.features.proposals import _floor_offset
-from planerel.features.relations import _horizontal_basis
+from planerel.features.step_geometry import _horizontal_basis
 
 __all__ = ["MIN_LEG_PIXELS", "POST_HEIGHT", "POST_LEVEL", "POST_SLICE", "POST_WIDTH", "TABLE_MARGIN", "TABLE_REACH",
            "leg_objects", "table_objects"]
