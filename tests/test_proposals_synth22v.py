@@ -98,8 +98,13 @@ def test_a_top_rising_at_another_pitch_is_no_side():
     # a face whose top rises at 15 degrees beside a 31-degree flight: its height above the
     # nosings changes by 0.6 m along the flight
     cloud, lab, _objs = _scene(rail=15.0)
-    d = describe_scene(cloud, lab)
+    d = describe_scene(cloud, lab, proposal_params=ProposalParams(wedge_side_max=0.0))
     assert NEAR in d.support and FAR in d.support
+    # with the wedge-side test (wedge96) such a face, lying under a straight 15-degree edge, is
+    # a wedge's side: no support, a proposal of its own, still not the flight's
+    d = describe_scene(cloud, lab)
+    assert NEAR not in d.support and FAR not in d.support
+    assert not ({NEAR, FAR} & _flight(d)) and {(NEAR,), (FAR,)} <= {o.planes for o in d.objects}
 
 
 def test_top_line_and_caps_measure_the_rail():

@@ -146,8 +146,13 @@ def test_ramp_side_face_is_no_wall():
     assert face.label not in d.support
     ramp_px = lab >= 1
     assert _best_iou(d, ramp_px) >= 0.9
-    old = describe_scene(cloud, lab, proposal_params=ProposalParams(wall_test=False))
+    old = describe_scene(cloud, lab, proposal_params=ProposalParams(wall_test=False,
+                                                                    wedge_side_max=0.0))
     assert face.label in old.support and _best_iou(old, ramp_px) < 0.9
+    # the wedge-side test (wedge96) alone keeps it too: its top edge rises straight at 15
+    # degrees and the face lies under it
+    wedge = describe_scene(cloud, lab, proposal_params=ProposalParams(wall_test=False))
+    assert face.label not in wedge.support
 
 
 def test_wall_beside_a_ramp_stays_support():

@@ -34,7 +34,7 @@ from planerel.features.proposal_params import ProposalParams
 from planerel.features.proposals import propose_objects, support_planes
 from planerel.features.raised import RaisedParams, join_raised, raised_clusters, with_raised
 from planerel.features.relations import relate, skirts_within_objects
-from planerel.features.solid import top_slopes
+from planerel.features.solid import inclined_beside, top_slopes
 from planerel.features.stair_step import stair_steps
 from planerel.features.stairfit import StairFitParams, _remeasure_stepped_clusters, join_groups
 from planerel.features.stepped import remeasure_stepped
@@ -427,26 +427,6 @@ def measured_planes(cloud, labels, up, plane_params, gravity_params, proposal_pa
         return planes, {}
     # treads joined into one sloping "plane" (a flight seen from above) come apart
     return remeasure_stepped(cloud, planes, (pp.step_rise_min, pp.step_rise_max), plane_params)
-
-
-def inclined_beside(planes, rel) -> dict:
-    """``{label: [incline, ...]}``: for each vertical plane with any, the inclines (degrees) of
-    the ``inclined`` planes adjacent to it (:func:`planerel.features.solid.top_slopes`'
-    ``beside``; a plane with none is absent).
-
-    Parameters
-    ----------
-    planes : PlaneSet
-    rel : Relations
-    """
-    by_label = {p.label: p for p in planes}
-    out: dict = {}
-    for r in rel.adjacent_only():  # ordered pairs: each adjacent pair both ways
-        pv, pq = by_label.get(r.a), by_label.get(r.b)
-        if pv is not None and pq is not None and pv.orientation == "vertical" \
-                and pq.orientation == "inclined":
-            out.setdefault(r.a, []).append(float(pq.incline))
-    return out
 
 
 def far_planes(desc, far_mask) -> frozenset:

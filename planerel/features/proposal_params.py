@@ -448,6 +448,14 @@ class ProposalParams:
         more whose top follows them (a far balustrade's inside face, seen over the flight).
         (synth22v, docs/objects.md.)  False: support by area, and no such join (before
         2026-11-29).
+    wedge_side_max : float
+        Degrees (0 = off): a vertical plane whose top edge is seen straight over half a metre
+        or more (in at least half its bins), sloping at most this much, with the face lying
+        under it (the test of ``top_slope/2``, :func:`planerel.features.proposals.wedge_sides`)
+        is a wedge's side, not a room wall: no support at ``support_min_area`` or more, and no
+        border wall (``drop_border_walls``), so it can be a proposal (wedge96: a ramp seen
+        from its side by a camera lower than its top shows only that triangle; docs/objects.md
+        "A ramp seen only from its side").  Ramps slope 4-20 degrees; 25.
     open_treads : bool
         Join the treads of an open-riser flight (:func:`planerel.features.open_treads.open_tread_pairs`):
         three or more *slabs* (planes at most ``OPEN_THICK`` m high along up and at most
@@ -549,6 +557,7 @@ class ProposalParams:
     legs_apart: float = 1.8
     open_walls: bool = True
     flight_sides: bool = True
+    wedge_side_max: float = 25.0
     open_treads: bool = True
     channel_room_walls: bool = True
 
@@ -578,7 +587,7 @@ class ProposalParams:
                              f"{self.step_run_min!r}-{self.step_run_max!r}")
         if self.coplanar_depth is not None:
             _check_nonneg(self, ("coplanar_depth",))
-        _check_nonneg(self, ("sanity_angle",))
+        _check_nonneg(self, ("sanity_angle", "wedge_side_max"))
         if self.riser_tilt > 45:
             raise InputError(f"riser_tilt must be in 0..45 degrees (off vertical), got {self.riser_tilt!r}")
         if self.sanity_angle > 90:

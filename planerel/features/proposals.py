@@ -37,6 +37,7 @@ from planerel.features.open_treads import open_tread_pairs
 from planerel.features.planes import _boundary, _boundary_pixels, _boundary_tiles, label_max
 from planerel.features.proposal_params import ProposalParams
 from planerel.features.relations import Relations
+from planerel.features.solid import inclined_beside, top_slopes
 from planerel.features.step_chains import (
     OPEN_THICK,
     OPEN_TILT,
@@ -99,7 +100,49 @@ def support_planes(planes, params: ProposalParams | None = None, relations: Rela
                if not (byl[x].orientation == "vertical" and byl[x].area >= params.support_min_area
                        and _flight_side(planes, byl[x], [q for q in planes if q.label not in sup],
                                         cloud, params))]
+    if params.wedge_side_max > 0 and cloud is not None and lab is not None \
+            and lab.shape == cloud.xyz.shape[:2]:
+        sides = wedge_sides(planes, [x for x in out if byl[x].orientation == "vertical"],
+                            relations, cloud, params.wedge_side_max)
+        out = [x for x in out if x not in sides]
     return out
+
+
+#: A wedge's side (:func:`wedge_sides`) has its straight top edge measured in at least this many
+#: of the edge's :data:`planerel.features.solid.TOP_EDGE_BINS` (16) bins: half of them.  The
+#: independent sets' ramp sides seen from a low camera: 11-16; a descending flight's side wall
+#: seen from its landing, its edge seen in 6 bins: a run of 4 (wedge96).
+WEDGE_SIDE_POINTS = 8
+
+
+def wedge_sides(planes, candidates, relations, cloud, max_slope: float) -> set:
+    """Of the vertical planes ``candidates``, those that are a wedge's side
+    (``ProposalParams.wedge_side_max``, wedge96): the top edge seen straight over half a metre
+    or more and in :data:`WEDGE_SIDE_POINTS` of its bins or more, sloping at most
+    ``max_slope`` degrees, and the face lying under it
+    (:func:`planerel.features.solid.top_slopes`, the test of ``top_slope/2``).  A ramp seen
+    from its side by a camera lower than its top shows that triangle and nothing of its slope;
+    a room wall's top is level or out of view.  Neither support nor a border wall.
+
+    Parameters
+    ----------
+    planes : PlaneSet
+        With ``labels`` of ``cloud``'s grid.
+    candidates : iterable of int
+    relations : Relations or None
+        For the inclined planes adjacent to a face (``top_slopes``' ``beside``).
+    cloud : Cloud
+        Organized.
+    max_slope : float
+        Degrees.
+    """
+    only = set(candidates)
+    if not only:
+        return set()
+    beside = inclined_beside(planes, relations) if relations is not None else None
+    return {x for x, slope in top_slopes(planes, planes.labels, cloud.xyz, only=only,
+                                         beside=beside, min_points=WEDGE_SIDE_POINTS)
+            if slope <= max_slope}
 
 
 #: Metres: a step counts towards a flight's side face (``ProposalParams.flight_sides``) when its
@@ -1036,12 +1079,19 @@ def propose_objects(planes, relations: Relations, params: ProposalParams | None 
                     and any(floor_beyond(lab, cloud.xyz, byl[x], floors) >= params.wall_floor_behind
                             for x in c if byl[x].area >= params.border_wall_area))
 
+        def wedge_side(c) -> bool:
+            """A wall-sized plane of ``c`` is a wedge's side (wedge_side_max)."""
+            return (params.wedge_side_max > 0 and grid
+                    and bool(wedge_sides(planes, [x for x in c
+                                                  if byl[x].area >= params.border_wall_area],
+                                         relations, cloud, params.wedge_side_max)))
+
         def border_wall(c) -> bool:
             return (all(byl[x].orientation == "vertical" for x in c)
                     and any(byl[x].touches_border for x in c)
                     and max(byl[x].area for x in c) >= params.border_wall_area
                     and (not look or seen_behind(lab, cloud.xyz, c) <= params.wall_behind)
-                    and not floor_behind(c))
+                    and not floor_behind(c) and not wedge_side(c))
 
         comps = [c for c in comps if not border_wall(c)]
     if params.min_border_area > 0:

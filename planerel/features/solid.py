@@ -89,7 +89,7 @@ from planerel.features.vectors import lo_hi, vec_norm
 
 __all__ = ["face_points", "FaceProfile", "face_profile", "face_profile_of", "skirt_measures",
            "is_skirt", "skirt_covered", "on_step", "grounded", "rises_from", "is_corner",
-           "is_facing", "top_slopes"]
+           "is_facing", "top_slopes", "inclined_beside"]
 
 #: Levels of the cover test, as shares of the face's reach below the top.
 _LEVELS = (0.3, 0.5, 0.7)
@@ -594,7 +594,7 @@ TOP_SLOPE_AGREE = 5.0
 
 def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
                rms: float = TOP_SLOPE_RMS, only=None, depth: float = TOP_SLOPE_DEPTH,
-               beside=None, agree: float = TOP_SLOPE_AGREE) -> tuple:
+               beside=None, agree: float = TOP_SLOPE_AGREE, min_points: int = 0) -> tuple:
     """The slope of each upright face's top edge where the camera sees that edge straight over
     ``span`` m or more (``top_slope/2``, ramp77) and the face lies under it: a wedge's side
     face seen from a camera lower than its top rises with the ramp; a box's face, level,
@@ -626,6 +626,9 @@ def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
         inclined surface meeting a wedge's side is its slope, as steep as the edge.
     agree : float
         Degrees (:data:`TOP_SLOPE_AGREE`).
+    min_points : int
+        The straight run must hold at least this many of the edge's points (0: any run;
+        :func:`planerel.features.proposals.wedge_sides` asks for half the bins).
 
     Returns
     -------
@@ -645,7 +648,7 @@ def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
             continue
         pts = _top_edge_points(p, up, labels, xyz, outline=True)
         e = None if pts is None else straight_run(*pts, span=span, rms=rms)
-        if e is None:
+        if e is None or e.n < min_points:
             continue
         near = () if beside is None else beside.get(p.label, ())
         if near and not any(abs(x - e.slope) <= agree for x in near):
@@ -660,6 +663,26 @@ def top_slopes(planes, labels, xyz, span: float = TOP_SLOPE_SPAN,
                     continue
         out.append((int(p.label), float(e.slope)))
     return tuple(sorted(out))
+
+
+def inclined_beside(planes, rel) -> dict:
+    """``{label: [incline, ...]}``: for each vertical plane with any, the inclines (degrees) of
+    the ``inclined`` planes adjacent to it (:func:`planerel.features.solid.top_slopes`'
+    ``beside``; a plane with none is absent).
+
+    Parameters
+    ----------
+    planes : PlaneSet
+    rel : Relations
+    """
+    by_label = {p.label: p for p in planes}
+    out: dict = {}
+    for r in rel.adjacent_only():  # ordered pairs: each adjacent pair both ways
+        pv, pq = by_label.get(r.a), by_label.get(r.b)
+        if pv is not None and pq is not None and pv.orientation == "vertical" \
+                and pq.orientation == "inclined":
+            out.setdefault(r.a, []).append(float(pq.incline))
+    return out
 
 
 def _foot_cut(face, up, labels, xyz, edge, bounds) -> bool:
