@@ -10,17 +10,23 @@ not: it is a proposal now, and ``top_slope/2`` is written for it.
 from __future__ import annotations
 
 import math
+import os
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
-from scenes_analytic import Rect, floor, render
 
-from planerel.features.facts import describe_scene, scene_facts
-from planerel.features.planes import measure_planes
-from planerel.features.proposal_params import ProposalParams
-from planerel.features.proposals import propose_objects, support_planes, wedge_sides
-from planerel.features.relations import relate
-from planerel.io.cloud import Cloud
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from scenes_analytic import Rect, floor, render  # noqa: E402
+from test_real_rules import demo_model  # noqa: E402,F401  (the fixture)
+
+from planerel.features.facts import describe_scene, scene_facts  # noqa: E402
+from planerel.features.planes import measure_planes  # noqa: E402
+from planerel.features.proposal_params import ProposalParams  # noqa: E402
+from planerel.features.proposals import propose_objects, support_planes, wedge_sides  # noqa: E402
+from planerel.features.relations import relate  # noqa: E402
+from planerel.io.cloud import Cloud  # noqa: E402
 
 CAM = {"pitch": 0.0, "cam_height": 0.3, "noise": 0.0012}
 
@@ -117,3 +123,35 @@ def test_wedge_side_max_must_not_be_negative():
 
     with pytest.raises(InputError, match="wedge_side_max"):
         ProposalParams(wedge_side_max=-1.0)
+
+
+_DEV = os.environ.get("PLANEREL_INDEPENDENT_DATA")
+
+
+@pytest.mark.skipif(not _DEV, reason="PLANEREL_INDEPENDENT_DATA not set")
+@pytest.mark.parametrize("scene", ["i0006", "i0007", "i0009", "i0013"])
+def test_dev_lowr_ramps_seen_from_their_side(demo_model, scene):  # noqa: F811
+    """dev_lowr (a Kinect 0.1-0.3 m over the floor): four ramps seen only from their side, each
+    one vertical plane, had no proposal; the demo's model answers ``ramp`` on it now (the
+    side-view rule, ``top_slope/2``), and nothing with the test off."""
+    from planerel.classify.classifier import Classifier
+    from planerel.io import readers as io
+
+    path = Path(_DEV) / "dev_lowr" / f"{scene}.npy"
+    if not path.exists():
+        pytest.skip(f"{path} missing")
+    cloud = io.read(path)
+    ramp_px = np.load(path.with_name(path.stem + ".objects.npy")) == 1
+
+    def ramp_answers(**params):
+        with Classifier(str(demo_model), seg_params=params) as clf:
+            ans = clf.classify(cloud, scene_id=scene)
+        out = []
+        for o in ans.objects:
+            held = np.isin(ans.labels, o.labels)
+            iou = (held & ramp_px).sum() / max(1, (held | ramp_px).sum())
+            out.append((o.klass, iou))
+        return out
+
+    assert any(k == "ramp" and iou >= 0.5 for k, iou in ramp_answers())
+    assert not any(iou >= 0.5 for _k, iou in ramp_answers(**{"proposals.wedge_side_max": "0"}))
