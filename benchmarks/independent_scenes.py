@@ -30,7 +30,9 @@ machine that lost them gets them back bit for bit (about twenty minutes on two c
 ``--kinds`` is the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``; a kind may
 repeat to weigh it): ``box``, ``stairs``, ``ramp``, ``small_box`` (2-5 boxes of 3-12 cm on a
 table seen from 0.35-0.9 m), ``tote_blocks`` (8-22 toy blocks of 2.5-7 cm and 0-2 cartons in
-an open tote, piled, seen from 0.6-0.9 m above: :func:`_tote_blocks`) and ``stairs_top`` (a descending flight seen
+an open tote, piled, seen from 0.6-0.9 m above: :func:`_tote_blocks`), ``pallet`` (one to three
+EUR-built pallets in a row holding a wrapped load, one to three cartons set apart, or nothing:
+:func:`_pallets`) and ``stairs_top`` (a descending flight seen
 from its landing as a person or a robot standing at the top would: 0.5-1.7 m eye height,
 0.15-1.0 m back from the landing's nose, pitch 30-60 degrees).  The default cycle
 ``box,stairs,ramp`` makes the same scenes as before the option existed.  ``--sensor kinect``
@@ -132,6 +134,37 @@ def ramp(length, angle_deg, width):
     pts = np.array([[0, -w, 0], [0, w, 0], [length, -w, 0], [length, w, 0],
                     [length, -w, h], [length, w, h]], float)
     return trimesh.convex.convex_hull(pts)
+
+
+#: ``pallet`` (pallet97): a pallet's deck height (m) and board thickness, as an EUR / ISO
+#: pallet's (EN 13698-1: 144 mm, boards 22 mm, blocks 78 mm)
+PALLET_HEIGHT, PALLET_BOARD = 0.144, 0.022
+
+
+def pallet(length, width, rng):
+    """A wooden block pallet ``length`` x ``width`` (along x, y), its deck at
+    :data:`PALLET_HEIGHT`, centred on the origin: five deck boards along x with gaps between
+    them, three cross boards under them, nine blocks and three bottom boards (the EUR
+    pallet's build, the boards' widths drawn around its 100-145 mm), one mesh."""
+    t, h = PALLET_BOARD, PALLET_HEIGHT
+    parts = []
+    # deck boards: the outer two wider, the five spread over the width
+    wide, narrow = rng.uniform(0.12, 0.145), rng.uniform(0.08, 0.1)
+    widths = [wide, narrow, wide, narrow, wide]
+    gap = (width - sum(widths)) / 4
+    y = -width / 2
+    for w in widths:
+        parts.append(_box((length, w, t), (0.0, y + w / 2, h - t / 2)))
+        y += w + gap
+    xs = (-length / 2 + 0.0725, 0.0, length / 2 - 0.0725)
+    ys = (-width / 2 + 0.05, 0.0, width / 2 - 0.05)
+    for x in xs:  # cross boards under the deck
+        parts.append(_box((0.145, width, t), (x, 0.0, h - 1.5 * t)))
+        for yb in ys:  # blocks
+            parts.append(_box((0.145, 0.1, h - 3 * t), (x, yb, t + (h - 3 * t) / 2)))
+    for yb in ys:  # bottom boards
+        parts.append(_box((length, 0.1, t), (0.0, yb, t / 2)))
+    return trimesh.util.concatenate(parts)
 
 
 def table(rng):
@@ -599,6 +632,10 @@ def build_scene(kind, rng, lean=0.0):
         target = np.array([0.0, 0.0, H + 0.03])
         info.update(n_boxes=n, table_height=round(H, 3), dims=[d.round(3).tolist() for d in dims])
         taken.append((0.0, 0.0, max(L, W) / 2 + 0.6))
+    elif kind == "pallet":
+        target = _pallets(rng, meshes, add, info)
+        look_yaw = info.pop("look_yaw_pallet")
+        taken.append((target[0], target[1], info.pop("radius")))
     elif kind == "tote_blocks":
         target = _tote_blocks(rng, meshes, add, info)
         taken.append((0.0, 0.0, 0.9))
@@ -622,6 +659,81 @@ def build_scene(kind, rng, lean=0.0):
     info["look_yaw"] = float(look_yaw)
     info["eye_floor"] = float(eye_floor)
     return meshes, objects, target, info
+
+
+def _pallets(rng, meshes, add, info):
+    """A ``pallet`` scene's content (pallet97): one to three pallets (:func:`pallet`,
+    1.0-1.25 x 0.8-1.2 m) side by side 0.05-0.5 m apart on a warehouse floor, a wall behind
+    them half of the time.  A pallet holds a load wrapped into one block (``pallet load``,
+    0.3-1.5 m high, inset 0-4 cm from the deck's edges: a stack of cartons whose faces lie
+    flush is one cuboid to a depth sensor), one to three cartons of 0.2-0.6 m set apart on
+    its deck (``carton on pallet``), or nothing (an ``empty pallet``, class ``other``: a
+    low slatted platform, no box).  The first pallet is loaded.  The pallets are environment
+    (object 0) under a load; each load and carton is a ``box``.  Returns the point the
+    camera looks at (the first load's middle); sets ``info``'s ``look_yaw_pallet`` (the
+    camera looks at the row's long side or an end, 0-45 degrees off square) and
+    ``radius`` (the clutter's keep-out)."""
+    n = int(rng.integers(1, 4))
+    yaw = rng.uniform(-np.pi, np.pi)
+    c, s = np.cos(yaw), np.sin(yaw)
+    x0, loads, prev = 0.0, [], None
+    target = None
+    for i in range(n):
+        L, W = rng.uniform(1.0, 1.25), rng.uniform(0.8, 1.2)
+        if i > 0:
+            x0 += prev / 2 + rng.uniform(0.05, 0.5) + L / 2
+        prev = L
+        u = rng.random()
+        what = "pallet load" if (i == 0 and u < 0.6) or (i > 0 and u < 0.45) else (
+            "carton on pallet" if i == 0 or u < 0.8 else "empty pallet")
+        cx, cy = x0 * c, x0 * s
+        p = _place(pallet(L, W, rng), cx, cy, yaw)
+        if what == "empty pallet":
+            add(p, "other", what)
+            loads.append({"kind": what, "pallet": [round(L, 3), round(W, 3)]})
+            continue
+        meshes.append((p, 0))
+        if what == "pallet load":
+            inset = rng.uniform(0.0, 0.04, size=2)
+            e = np.array([L - 2 * inset[0], W - 2 * inset[1], rng.uniform(0.3, 1.5)])
+            add(_box(e, (cx, cy, PALLET_HEIGHT + e[2] / 2), yaw), "box", what)
+            loads.append({"kind": what, "pallet": [round(L, 3), round(W, 3)],
+                          "load": e.round(3).tolist()})
+            if target is None:
+                target = np.array([cx, cy, PALLET_HEIGHT + e[2] / 2])
+            continue
+        # one to three cartons in a row along the pallet, apart, each within the deck
+        k = int(rng.integers(1, 4))
+        ex = [rng.uniform(0.2, min(0.6, L / k - 0.06)) for _ in range(k)]
+        free = L - sum(ex)
+        gaps = rng.dirichlet(np.ones(k + 1)) * free
+        x, dims = -L / 2 + gaps[0], []
+        for j in range(k):
+            e = np.array([ex[j], rng.uniform(0.2, min(0.5, W - 0.02)), rng.uniform(0.15, 0.6)])
+            off = rng.uniform(-(W - e[1]) / 2, (W - e[1]) / 2)
+            lx = x + e[0] / 2
+            ctr = (cx + lx * c - off * s, cy + lx * s + off * c, PALLET_HEIGHT + e[2] / 2)
+            add(_box(e, ctr, yaw + rng.uniform(-0.15, 0.15)), "box", what)
+            dims.append(e.round(3).tolist())
+            x += e[0] + gaps[j + 1]
+            if target is None:
+                target = np.array([ctr[0], ctr[1], PALLET_HEIGHT + e[2] / 2])
+        loads.append({"kind": what, "pallet": [round(L, 3), round(W, 3)], "cartons": dims})
+    # the row's middle, for the wall and the camera
+    mid = np.array([x0 / 2 * c, x0 / 2 * s])
+    wall = rng.random() < 0.5
+    if wall:  # a warehouse wall behind the row, 0.1-0.6 m past the deepest pallet's back
+        depth = 1.2 / 2 + rng.uniform(0.1, 0.6)
+        wc = mid + np.array([-s, c]) * depth
+        meshes.append((_box((x0 + 4.0, 0.2, 3.0), (wc[0], wc[1], 1.5), yaw), 0))
+    side = rng.random() < 0.7  # the row's long side, or an end
+    look = yaw + np.pi / 2 if side else yaw + (0.0 if rng.random() < 0.5 else np.pi)
+    if wall and not side:
+        look = yaw + np.pi / 2
+    info.update(n_pallets=n, pallets=loads, wall=bool(wall),
+                look_yaw_pallet=float(look + np.radians(rng.uniform(-45, 45))),
+                radius=float(x0 / 2 + 1.3))
+    return target
 
 
 #: ``tote_blocks`` (tote67): the blocks' edges (m), cube or cuboid, and the cartons'
@@ -1086,7 +1198,7 @@ def _edge_band(zp, width, rng):
     return band
 
 
-KINDS = ("box", "stairs", "ramp", "stairs_top", "small_box", "tote_blocks")
+KINDS = ("box", "stairs", "ramp", "stairs_top", "small_box", "tote_blocks", "pallet")
 
 
 def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ramp"), sensor="plain",
@@ -1140,7 +1252,8 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
                              stereo_sigma=STEREO_SIGMA if stereo_sigma is None else float(stereo_sigma))
     up = R @ np.array([0.0, 0.0, 1.0])
     side = {"format": "independent-scene", "version": 1, "scene_id": f"i{i:04d}",
-            "class": {"stairs_top": "stairs", "small_box": "box", "tote_blocks": "box"}.get(kind, kind),
+            "class": {"stairs_top": "stairs", "small_box": "box", "tote_blocks": "box",
+                      "pallet": "box"}.get(kind, kind),
             "intrinsics": {"width": W, "height": H, "fx": float(fx), "fy": float(fx),
                            "cx": (W - 1) / 2, "cy": (H - 1) / 2},
             "up": up.round(9).tolist(),
@@ -1447,6 +1560,11 @@ DEV_SETS = {
     # degrees from their nosings (a real carpeted flight's measure 11-13: hunt92 depth_21)
     "dev_rake": "--n 40 --seed 3205 --kinds stairs,stairs_top,ramp --sensor kinect --size 640x480 "
                 "--riser-lean 5,25",
+    # pallet97: loads and cartons on pallets in a warehouse, seen by a time-of-flight camera
+    # (a forklift's or a logistics robot's) and by a Kinect-like one: faces whose foot stands
+    # a pallet's height over the floor
+    "dev_pal": "--n 40 --seed 9702 --kinds pallet --sensor tof --size 640x480",
+    "dev_palk": "--n 40 --seed 9703 --kinds pallet --sensor kinect --size 640x480",
 }
 
 

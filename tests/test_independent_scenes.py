@@ -403,7 +403,7 @@ def test_every_development_set_command_parses_and_no_two_sets_share_their_argume
                a.stereo_sigma, a.stereo_wave, a.riser_lean)
         assert key not in seen, name
         seen.add(key)
-    assert len(ind.DEV_SETS) == 19  # dev_rake (riser92) the latest
+    assert len(ind.DEV_SETS) == 21  # dev_pal, dev_palk (pallet97) the latest
 
 
 def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path, capsys):
@@ -461,6 +461,47 @@ def test_tote_blocks_scenes_hold_blocks_in_a_tote_seen_from_above():
         seen = [o for o in boxes if (truth == o["index"]).any()]
         assert len(seen) >= len(boxes) // 2  # in view from above
     assert stacked > 0  # blocks pile
+
+
+def test_a_pallet_stands_on_the_floor_with_its_deck_at_144_mm_and_gaps_between_its_boards():
+    """``pallet`` (pallet97): the EUR build's heights; rays straight down meet the deck's
+    top in its boards and pass through its gaps (to the cross boards or the floor)."""
+    rng = np.random.default_rng(3)
+    m = ind.pallet(1.2, 0.8, rng)
+    lo, hi = m.bounds
+    assert lo[2] == pytest.approx(0.0) and hi[2] == pytest.approx(ind.PALLET_HEIGHT)
+    assert hi[0] - lo[0] == pytest.approx(1.2) and hi[1] - lo[1] == pytest.approx(0.8)
+    tri = np.asarray(m.triangles)
+    down = np.array([[0.0, 0.0, -1.0]])
+    z = np.array([1.0 - ind.cast(tri, np.array([0.3, y, 1.0]), down)[0][0]
+                  for y in np.linspace(-0.39, 0.39, 157)])  # the height each ray meets first
+    on_deck = np.isclose(z, ind.PALLET_HEIGHT, atol=1e-6)
+    assert 0.6 < on_deck.mean() < 0.9  # five boards, four gaps
+    assert (~on_deck).any()  # a gap: through to a board below or the floor
+
+
+def test_pallet_scenes_hold_loads_and_cartons_resting_on_their_decks():
+    """``pallet`` (pallet97): one to three pallets in a row; each load or carton is a ``box``
+    standing on its pallet's deck, an empty pallet is ``other``; the scene is a box scene."""
+    kinds = set()
+    for i in range(6):
+        _, truth, side, meshes, *_ = ind.make_scene(i, 9702, (160, 120), kinds=("pallet",))
+        assert side["class"] == "box"
+        p = side["params"]
+        assert 1 <= p["n_pallets"] == len(p["pallets"]) <= 3
+        assert p["pallets"][0]["kind"] != "empty pallet"
+        by_index = {k: m for m, k in meshes if k > 0}
+        for o in side["objects"]:
+            if o["kind"] in ("pallet load", "carton on pallet"):
+                assert o["class"] == "box"
+                assert by_index[o["index"]].bounds[0][2] == pytest.approx(ind.PALLET_HEIGHT, abs=1e-9)
+            elif o["kind"] == "empty pallet":
+                assert o["class"] == "other"
+                assert by_index[o["index"]].bounds[1][2] == pytest.approx(ind.PALLET_HEIGHT)
+            kinds.add(o["kind"])
+        loads = [o for o in side["objects"] if o["class"] == "box"]
+        assert any((truth == o["index"]).any() for o in loads)  # in view
+    assert {"pallet load", "carton on pallet"} <= kinds
 
 
 @pytest.mark.parametrize("dark", [0.0, 1.0])

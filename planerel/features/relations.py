@@ -254,6 +254,20 @@ class RelationParams:
     #: face; a table's legs that the region grower took as one plane fill 0.2, a chair's
     #: back and legs 0.3-0.7)
     tall_floor_solid: float = 0.8
+    #: m: a vertical face that no plane grounds still stands on the floor when it stands on a
+    #: low base with openings there, a pallet (:func:`~planerel.features.tall_face.base_foot`,
+    #: pallet97): its foot more than ``tall_floor_fit`` and at most this over the floor's fit,
+    #: the base's edge right under it flush with it (at most ``tall_base_back`` behind its
+    #: plane, at most ``tall_base_front`` in front), the floor reached at the base's foot, and
+    #: the base's openings (fork pockets) seen between: a load or a carton on a pallet (EUR
+    #: 0.144 m, others 0.10-0.16).  0: off
+    tall_base: float = 0.2
+    #: m: ... the base's edge at most this behind the face's plane (a cabinet's plinth is
+    #: recessed 3-6 cm behind its doors)
+    tall_base_back: float = 0.02
+    #: m: ... and at most this in front of it (a pallet a few cm larger than its load; a
+    #: flight's first riser lies a run, 0.22 m or more, in front of the second)
+    tall_base_front: float = 0.15
     #: m: a vertical face that no plane grounds still stands on the ground (:func:`level_ground`,
     #: ground75) when the points under its foot lie level with it and reach this far nearer
     #: to the sensor than the face in at least ``tall_floor_share`` of its middle columns:
@@ -476,7 +490,7 @@ class RelationParams:
                              "facing_overlap", "facing_width", "facing_narrow_tol", "face_pair_width", "face_pair_angle", "face_pair_graze", "face_pair_graze_angle", "face_pair_level", "face_pair_level_share", "skirt_top_tilt", "skirt_top_noise", "skirt_tilted", "oblique_min_width",
                              "skirt_grounded_reach", "riser_width", "riser_rise_max", "standing_foot",
                              "standing_fill", "tall_narrow_width", "tall_narrow_bend", "tall_eye", "tall_flat", "tall_flat_noise", "tall_cap", "tall_cap_tol", "tall_cap_depth", "tall_cap_ratio",
-                             "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "tall_level_ground", "skirt_top_eye", "skirt_top_solid", "tall_feet_level",
+                             "tall_floor_fit", "tall_floor_share", "tall_floor_solid", "tall_level_ground", "tall_base", "tall_base_back", "tall_base_front", "skirt_top_eye", "skirt_top_solid", "tall_feet_level",
                              "tall_speckle_floor", "tall_top_cover", "tall_beside_overlap", "tall_beside_step", "tall_sunk",
                              "lying_rise",
                              "lying_rise_max", "lying_length", "lying_ground", "lying_tilt", "lying_lean",

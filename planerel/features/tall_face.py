@@ -3,7 +3,8 @@ the sensor cannot see (:func:`tall_faces`), with the tests it is made of.
 
 The face's shape (:func:`tall_shaped`, :func:`face_bend`, :func:`tall_noise`), the ground at
 its foot (:func:`floor_foot` on the floor's fit or a :class:`VirtualFloor` at the
-:func:`feet_level`, :func:`level_ground` and :func:`level_reach` where no plane took it), a
+:func:`feet_level`, :func:`level_ground` and :func:`level_reach` where no plane took it,
+:func:`base_foot` on a pallet), a
 top no plane took (:func:`cap_strip`, :func:`top_covered`), the planes beside it and a scan's
 blank top rows (:func:`_blank_top_rows`).  The settings are
 :class:`~planerel.features.relations.RelationParams`' (``tall_*``, ``standing_*``, ...).  Moved
@@ -47,7 +48,10 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
       reaching more than ``skirt_step`` out from ``f``, as a table does and a tread does
       not), or the floor's fit under it (:func:`floor_foot`), or, in a scan with no floor
       plane at all, level ground no plane took reaching ``tall_level_ground`` in front of
-      it (:func:`level_ground`).  A chair's back or a table's apron has open space under it;
+      it (:func:`level_ground`), or a pallet on the floor (:func:`base_foot`, ``tall_base``:
+      its foot up to 0.2 m over the floor's fit, the pallet's edge flush under it, its fork
+      pockets and its foot on the floor seen).  A chair's back or a table's apron has open
+      space under it;
     - it is free-standing: no vertical plane adjacent to it has its top more than
       ``skirt_tol`` above its own (a wall, a partition or a taller cabinet it belongs to;
       with ``tall_cut_tops``, not when both run out of the image's top: the border cuts
@@ -217,7 +221,9 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
                    for g in grounds) and not (
                 p.tall_floor_fit > 0
                 and any(floor_foot(face, prof, f, lab, cloud.xyz, up, p) for f in floors)) \
-                and not (no_floor and level_ground(face, prof, lab, cloud.xyz, up, p)):
+                and not (no_floor and level_ground(face, prof, lab, cloud.xyz, up, p)) \
+                and not (p.tall_base > 0
+                         and any(base_foot(face, prof, f, lab, cloud.xyz, up, p) for f in floors)):
             continue
         # free-standing: no vertical plane adjacent to it rises above its top behind or over
         # it (a wall or a partition it leans on, a cabinet it is part of); a taller solid
@@ -561,14 +567,141 @@ def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
     return good >= params.tall_floor_share * cols.size
 
 
-def _fills_rows(m, share: float) -> bool:
+#: :func:`base_foot` walks down each column at most this share of the image's height under
+#: the face's lowest pixel for the floor (a pallet's 0.144 m at 1 m and more away: under 60
+#: of 480 rows)
+BASE_FOOT_ROWS = 0.25
+#: :func:`base_foot`: the base is solid (its edge right under the face) in at least this share
+#: of the columns judged (an EUR pallet's blocks take 0.36 of its long side, 0.54 of its end,
+#: 0.15-0.2 of a load's middle columns where a Kinect's edge band takes the deck's edge
+#: (dev_palk); a sofa's or a radiator's legs and brackets a few per cent)
+BASE_FOOT_SOLID = 0.15
+#: m: :func:`base_foot`: a point more than this behind the face's plane, over the base's
+#: foot, is seen through an opening of the base (a pallet's fork pockets show its inner blocks
+#: and the floor under its deck 0.1-0.4 m behind its edge); a cabinet's plinth is recessed 5-8
+#: cm behind its doors (a kitchen's toe kick 5-7.5 cm; dev_furn's plinths 3-6 cm behind doors
+#: 18 mm proud), a cylinder's side under a facet of it curves away by 1-3 cm
+BASE_FOOT_OPENING = 0.1
+#: m: :func:`base_foot`'s first point under the foot lies within this of the foot's level
+#: (along ``up``): the base's top edge, not a gap under the face
+BASE_FOOT_LEVEL = 0.05
+
+
+def base_foot(face, prof, floor, labels, xyz, up, params) -> bool:
+    """True when vertical ``face`` stands on a low base on the floor ``floor`` (pallet97): a
+    load or a carton on a pallet, whose foot stands the pallet's height (0.144 m for an EUR
+    pallet) over the floor on a deck whose edge runs flush with it or a little out.
+
+    - its foot (``prof.bottom``) stands more than ``tall_floor_fit`` (where
+      :func:`floor_foot` takes it) and at most ``tall_base`` over ``floor``'s fit under the
+      face's centroid (along ``up``);
+    - its pixels, with the pixels without depth among them, fill ``tall_floor_solid`` of its
+      rows' spans (a solid face; a time-of-flight camera leaves holes in a dark one);
+    - of its middle pixel columns (:data:`FLOOR_FOOT_MARGIN` cut off each side), walking
+      down from the row under each one's lowest pixel (at most :data:`BASE_FOOT_ROWS` of the
+      image's rows), those whose first measured point lies more than ``tall_base_front`` in
+      front of the face's plane are not judged (a nearer thing hides the foot there); at
+      least ``tall_floor_share`` of the columns are judged; in at least that share of the
+      judged ones a point of the column lies on the floor (within ``standing_foot`` of its
+      fit) between ``tall_base_front`` in front of the face's plane and ``tall_base_back``
+      behind it (the base's foot); in at least :data:`BASE_FOOT_SOLID` of them the first
+      point also lies at most ``tall_base_back`` behind the face's plane and at most
+      :data:`BASE_FOOT_LEVEL` over its foot (the base's edge, flush with the face or a
+      little out, or the floor where the face's plane takes the base's front too); and in
+      at least that share, over the base's foot, a point lies more than
+      :data:`BASE_FOOT_OPENING` behind the face's plane (the column sees into the base
+      through an opening: a pallet's fork pockets).  A solid base is part of what stands on
+      it (a cabinet's lower drawer, a cylinder's lower part under a facet): only a base with
+      openings tells a pallet's load from the face of something taller.
+
+    A sofa's, a bed's or a radiator's face has open space under it (its first point under the
+    foot lies on the wall or the floor behind it); a cabinet's plinth is recessed 3-6 cm
+    behind its doors; a flight's second riser stands a run (0.22 m or more) behind the first
+    one, the floor at its foot a run in front of the second; a chair's back or a table's
+    apron stands 0.4 m and more over the floor.
+
+    Parameters
+    ----------
+    face : Plane
+        A vertical plane (``label``, ``bbox``, ``centroid``, ``normal``).
+    prof : FaceProfile
+        Its profile (``bottom``).
+    floor : Plane or VirtualFloor
+        The floor (``normal``, ``centroid``).
+    labels : ndarray, shape (H, W)
+    xyz : ndarray, shape (H, W, 3)
+        Camera at the origin.
+    up : ndarray, shape (3,)
+    params : RelationParams
+    """
+    if params.tall_base <= 0 or not np.isfinite(prof.bottom):
+        return False
+    level = level_under(floor, face.centroid, up)
+    if level is None:
+        return False
+    rise = prof.bottom - level
+    if not params.tall_floor_fit < rise <= params.tall_base:
+        return False
+    r0, c0, r1, c1 = (int(v) for v in face.bbox)
+    m = labels[r0:r1, c0:c1] == face.label
+    cols = np.flatnonzero(m.any(axis=0))
+    holes = ~np.isfinite(xyz[r0:r1, c0:c1]).all(axis=2)
+    if cols.size < 3 or not _fills_rows(m, params.tall_floor_solid, holes):
+        return False
+    cut = FLOOR_FOOT_MARGIN * (cols[-1] - cols[0])
+    cols = cols[(cols >= cols[0] + cut) & (cols <= cols[-1] - cut)]
+    if cols.size == 0:
+        return False
+    c = np.asarray(face.centroid, float)
+    n = np.asarray(face.normal, float)
+    n = n / np.linalg.norm(n)
+    if float(n @ c) < 0:
+        n = -n  # away from the sensor: positive behind the face's plane
+    pn, fc = np.asarray(floor.normal, float), np.asarray(floor.centroid, float)
+    den = float(pn @ up)
+    height = labels.shape[0]
+    k = max(3, int(round(BASE_FOOT_ROWS * height)))
+    bottom = r0 + m.shape[0] - 1 - np.argmax(m[::-1, cols], axis=0)  # lowest pixel per column
+    back, front = params.tall_base_back, params.tall_base_front
+    solid = open_ = footed = judged = 0
+    for col, rb in zip(cols + c0, bottom, strict=True):
+        seg = xyz[rb + 1:min(height, rb + 1 + k), col]
+        ok = np.isfinite(seg).all(axis=1) & (seg[:, 2] > 0)
+        pts = seg[ok]
+        h = (pts - fc) @ pn / den  # over the floor's fit
+        d = (pts - c) @ n  # behind the face's plane
+        if d.size and d[0] < -front:
+            continue  # a nearer thing hides what is under the face here: not judged
+        judged += 1
+        # the floor at the base's foot, flush with the face or a little out
+        at_foot = (np.abs(h) <= params.standing_foot) & (d <= back) & (d >= -front)
+        if not at_foot.any():
+            continue
+        footed += 1
+        solid += bool(d[0] <= back and h[0] <= rise + BASE_FOOT_LEVEL)  # the base's edge
+        # between the face and the base's foot the column sees into the base (a pallet's
+        # fork pocket, the floor under its deck)
+        open_ += bool((d[:int(np.argmax(at_foot))] > BASE_FOOT_OPENING).any())
+    return (judged >= params.tall_floor_share * cols.size
+            and footed >= params.tall_floor_share * judged
+            and min(solid, open_) >= BASE_FOOT_SOLID * judged)
+
+
+def _fills_rows(m, share: float, holes=None) -> bool:
     """True when the mask ``m`` (a face's pixels in its pixel box) spans at least 3 columns
     and 2 rows and its pixels fill at least ``share`` of its rows' spans summed (a solid face:
-    :func:`floor_foot`, :func:`level_ground`)."""
+    :func:`floor_foot`, :func:`level_ground`).  ``holes`` (the same shape, optional): pixels
+    the sensor measured nothing at, counted as the face's inside its rows' spans (a
+    time-of-flight camera's holes in a dark face: :func:`base_foot`)."""
     rows, first, last = _row_spans(m)
     if np.flatnonzero(m.any(axis=0)).size < 3 or rows.size < 2:
         return False
-    return bool(m.sum() >= share * float((last - first + 1).sum()))
+    got = float(m.sum())
+    if holes is not None:
+        cols = np.arange(m.shape[1])
+        inside = (cols >= first[:, None]) & (cols <= last[:, None])
+        got += float((holes[rows] & ~m[rows] & inside).sum())
+    return bool(got >= share * float((last - first + 1).sum()))
 
 
 def level_ground(face, prof, labels, xyz, up, params) -> bool:
