@@ -568,8 +568,8 @@ def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
 
 
 #: :func:`base_foot` walks down each column at most this share of the image's height under
-#: the face's lowest pixel for the floor (a pallet's 0.144 m at 1 m and more away: under 60
-#: of 480 rows)
+#: the face's lowest pixel for the floor (a pallet's 0.144 m seen from 0.65 m and more: at
+#: most 120 of 480 rows at a 525-px focal length)
 BASE_FOOT_ROWS = 0.25
 #: :func:`base_foot`: the base is solid (its edge right under the face) in at least this share
 #: of the columns judged (an EUR pallet's blocks take 0.36 of its long side, 0.54 of its end,
@@ -615,7 +615,7 @@ def base_foot(face, prof, floor, labels, xyz, up, params) -> bool:
       openings tells a pallet's load from the face of something taller.
 
     A sofa's, a bed's or a radiator's face has open space under it (its first point under the
-    foot lies on the wall or the floor behind it); a cabinet's plinth is recessed 3-6 cm
+    foot lies on the wall or the floor behind it); a cabinet's plinth is recessed 5-8 cm
     behind its doors; a flight's second riser stands a run (0.22 m or more) behind the first
     one, the floor at its foot a run in front of the second; a chair's back or a table's
     apron stands 0.4 m and more over the floor.
