@@ -633,9 +633,8 @@ def build_scene(kind, rng, lean=0.0):
         info.update(n_boxes=n, table_height=round(H, 3), dims=[d.round(3).tolist() for d in dims])
         taken.append((0.0, 0.0, max(L, W) / 2 + 0.6))
     elif kind == "pallet":
-        target = _pallets(rng, meshes, add, info)
-        look_yaw = info.pop("look_yaw_pallet")
-        taken.append((target[0], target[1], info.pop("radius")))
+        target, look_yaw, radius = _pallets(rng, meshes, add, info)
+        taken.append((target[0], target[1], radius))
     elif kind == "tote_blocks":
         target = _tote_blocks(rng, meshes, add, info)
         taken.append((0.0, 0.0, 0.9))
@@ -669,10 +668,10 @@ def _pallets(rng, meshes, add, info):
     flush is one cuboid to a depth sensor), one to three cartons of 0.2-0.6 m set apart on
     its deck (``carton on pallet``), or nothing (an ``empty pallet``, class ``other``: a
     low slatted platform, no box).  The first pallet is loaded.  The pallets are environment
-    (object 0) under a load; each load and carton is a ``box``.  Returns the point the
-    camera looks at (the first load's middle); sets ``info``'s ``look_yaw_pallet`` (the
-    camera looks at the row's long side or an end, 0-45 degrees off square) and
-    ``radius`` (the clutter's keep-out)."""
+    (object 0) under a load; each load and carton is a ``box``.  Returns ``(target,
+    look_yaw, radius)``: the point the camera looks at (the first load's middle), the yaw it
+    looks along (at the row's long side or an end, 0-45 degrees off square) and the
+    clutter's keep-out radius."""
     n = int(rng.integers(1, 4))
     yaw = rng.uniform(-np.pi, np.pi)
     c, s = np.cos(yaw), np.sin(yaw)
@@ -730,10 +729,8 @@ def _pallets(rng, meshes, add, info):
     look = yaw + np.pi / 2 if side else yaw + (0.0 if rng.random() < 0.5 else np.pi)
     if wall and not side:
         look = yaw + np.pi / 2
-    info.update(n_pallets=n, pallets=loads, wall=bool(wall),
-                look_yaw_pallet=float(look + np.radians(rng.uniform(-45, 45))),
-                radius=float(x0 / 2 + 1.3))
-    return target
+    info.update(n_pallets=n, pallets=loads, wall=bool(wall))
+    return target, float(look + np.radians(rng.uniform(-45, 45))), float(x0 / 2 + 1.3)
 
 
 #: ``tote_blocks`` (tote67): the blocks' edges (m), cube or cuboid, and the cartons'

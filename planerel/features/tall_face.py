@@ -537,11 +537,9 @@ def floor_foot(face, prof, floor, labels, xyz, up, params) -> bool:
     den = float(pn @ up)
     r0, c0, r1, c1 = (int(v) for v in face.bbox)
     m = labels[r0:r1, c0:c1] == face.label
-    cols = np.flatnonzero(m.any(axis=0))
     if not _fills_rows(m, params.tall_floor_solid):
         return False
-    cut = FLOOR_FOOT_MARGIN * (cols[-1] - cols[0])
-    cols = cols[(cols >= cols[0] + cut) & (cols <= cols[-1] - cut)]
+    cols = _middle_columns(m)
     if cols.size == 0:
         return False
     height = labels.shape[0]
@@ -644,12 +642,10 @@ def base_foot(face, prof, floor, labels, xyz, up, params) -> bool:
         return False
     r0, c0, r1, c1 = (int(v) for v in face.bbox)
     m = labels[r0:r1, c0:c1] == face.label
-    cols = np.flatnonzero(m.any(axis=0))
     holes = ~np.isfinite(xyz[r0:r1, c0:c1]).all(axis=2)
-    if cols.size < 3 or not _fills_rows(m, params.tall_floor_solid, holes):
+    if not _fills_rows(m, params.tall_floor_solid, holes):
         return False
-    cut = FLOOR_FOOT_MARGIN * (cols[-1] - cols[0])
-    cols = cols[(cols >= cols[0] + cut) & (cols <= cols[-1] - cut)]
+    cols = _middle_columns(m)
     if cols.size == 0:
         return False
     c = np.asarray(face.centroid, float)
@@ -685,6 +681,17 @@ def base_foot(face, prof, floor, labels, xyz, up, params) -> bool:
     return (judged >= params.tall_floor_share * cols.size
             and footed >= params.tall_floor_share * judged
             and min(solid, open_) >= BASE_FOOT_SOLID * judged)
+
+
+def _middle_columns(m) -> np.ndarray:
+    """The columns of the mask ``m`` (a face's pixels in its pixel box) that hold a pixel,
+    :data:`FLOOR_FOOT_MARGIN` of their span cut off each side; empty when fewer than 3 hold
+    one (:func:`floor_foot`, :func:`base_foot`, :func:`level_reach`, :func:`top_covered`)."""
+    cols = np.flatnonzero(m.any(axis=0))
+    if cols.size < 3:
+        return cols[:0]
+    cut = FLOOR_FOOT_MARGIN * (cols[-1] - cols[0])
+    return cols[(cols >= cols[0] + cut) & (cols <= cols[-1] - cut)]
 
 
 def _fills_rows(m, share: float, holes=None) -> bool:
@@ -764,11 +771,7 @@ def level_reach(face, prof, labels, xyz, up, tol: float):
     """
     r0, c0, r1, c1 = (int(v) for v in face.bbox)
     m = labels[r0:r1, c0:c1] == face.label
-    cols = np.flatnonzero(m.any(axis=0))
-    if cols.size < 3:
-        return np.zeros(0)
-    cut = FLOOR_FOOT_MARGIN * (cols[-1] - cols[0])
-    cols = cols[(cols >= cols[0] + cut) & (cols <= cols[-1] - cut)]
+    cols = _middle_columns(m)
     if cols.size == 0:
         return np.zeros(0)
     bottom = r0 + m.shape[0] - 1 - np.argmax(m[::-1, cols], axis=0)  # lowest pixel per column
@@ -811,11 +814,7 @@ def top_covered(face, labels, xyz, gap: float) -> bool:
     """
     r0, c0, r1, c1 = (int(v) for v in face.bbox)
     m = labels[r0:r1, c0:c1] == face.label
-    cols = np.flatnonzero(m.any(axis=0))
-    if cols.size < 3:
-        return False
-    cut = FLOOR_FOOT_MARGIN * (cols[-1] - cols[0])
-    cols = cols[(cols >= cols[0] + cut) & (cols <= cols[-1] - cut)]
+    cols = _middle_columns(m)
     if cols.size == 0:
         return False
     k = max(3, int(round(FLOOR_FOOT_ROWS * labels.shape[0])))
