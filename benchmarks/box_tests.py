@@ -92,6 +92,7 @@ def tall_face_tests(planes, relations, cloud, label, plane_id=str) -> list:
     """
     from planerel.features import relations as R
     from planerel.features.solid import face_profile_of, grounded, level_under
+    from planerel.features.tall_face import base_foot
 
     p = relations.params
     lab = planes.labels
@@ -158,9 +159,14 @@ def tall_face_tests(planes, relations, cloud, label, plane_id=str) -> list:
     level = None if floor is None else level_under(floor, face.centroid, up)
     ground = bool(getattr(planes, "floor", None) is None
                   and R.level_ground(face, prof, lab, cloud.xyz, up, p))
-    out.append(("grounded", any(g for _, g in on) or bool(foot) or ground,
+    # a pallet under it (pallet97): asked of the same floor as floor_foot
+    base = None
+    if floor is not None and p.tall_base > 0:
+        base = bool(base_foot(face, prof, floor, lab, cloud.xyz, up, p))
+    out.append(("grounded", any(g for _, g in on) or bool(foot) or ground or bool(base),
                 f"adjacent horizontal planes {on or 'none'}; {source or 'no floor'}"
                 + ("" if level is None else f" at {level:+.3f} m under it, floor_foot {foot}")
+                + ("" if base is None else f", base_foot {base}")
                 + f"; level unplaned ground {ground}"))
     taller = [(plane_id(q.label), round(profile(q).top - prof.top, 3),
                R._stands_beside(face, prof, q, profile(q), lab, cloud.xyz, p)) for q in beside]

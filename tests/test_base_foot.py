@@ -146,3 +146,20 @@ def test_dev_palk_loads_seen_without_their_top(demo_model, scene, obj):  # noqa:
 
     assert answer() == "box"
     assert answer(**{"relations.tall_base": "0"}) != "box"
+
+
+def test_box_tests_say_what_tall_faces_says_on_a_pallet():
+    """``benchmarks/box_tests.py`` (the per-test census) grounds the load on its pallet as
+    :func:`tall_faces` does (its grounded test asks ``base_foot`` too)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import box_tests
+
+    cloud, lab, _, _ = render(_load() + _pallet(), noise=0.0012, **VIEW)
+    ps = measure_planes(cloud, lab)
+    rel = relate(ps, cloud, RelationParams())
+    assert FRONT in tall_faces(ps, rel, cloud)
+    tests = dict((n, ok) for n, ok, _ in box_tests.tall_face_tests(ps, rel, cloud, FRONT))
+    assert all(tests.values()), tests
+    off = relate(ps, cloud, RelationParams(tall_base=0.0))
+    tests = dict((n, ok) for n, ok, _ in box_tests.tall_face_tests(ps, off, cloud, FRONT))
+    assert tests["grounded"] is False and FRONT not in tall_faces(ps, off, cloud)
