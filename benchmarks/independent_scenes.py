@@ -66,7 +66,10 @@ yaw.
 ``score`` classifies every scene with each model (:class:`planerel.classify.classifier.Classifier`, the code
 behind ``planerel classify --json``), matches the proposals to the labelled objects
 (:func:`planerel.features.object_eval.score_objects`, IoU >= 0.5) and prints per model, over the objects with at least ``--min-pixels`` valid pixels, the object
-accuracy per class, the confusion matrix, and how many objects got no proposal.  Same seed, same scenes.
+accuracy per class, the confusion matrix, and how many objects got no proposal; and the class
+answers on proposals matching no judged object, with how many of them lie on a labelled object
+too small to judge (:func:`small_matches`: a toy block in a tote, 207 of dev_tote's 225 in
+session 98) and how many of those name its class.  Same seed, same scenes.
 """
 
 from __future__ import annotations
@@ -1370,6 +1373,20 @@ def judged_matches(ans, side, truth, min_iou, min_pixels) -> tuple:
     return sc, judged, matched
 
 
+def small_matches(sc, side, truth, min_iou, min_pixels) -> dict:
+    """``{proposal index: class}`` of the proposals that match (IoU >= ``min_iou``, the
+    object's best) a labelled object too small to be judged (under ``min_pixels``;
+    ``sc`` :func:`judged_matches`' scores): an answer there lies on a real object (a toy
+    block in a tote), so it is no answer on nothing, but it is not scored either."""
+    out = {}
+    for o in side["objects"]:
+        k = o["index"]
+        if (k in sc.best_iou and sc.best_iou[k] >= min_iou
+                and (truth == k).sum() < min_pixels):
+            out.setdefault(sc.best_prop[k], o["class"])
+    return out
+
+
 def score_set(out, models, figures=None, min_iou=0.5, min_pixels=None, by_planes=False,
               params=()):
     """Score every model of ``models`` on the scenes under ``out``; ``params`` (``NAME=VALUE``
@@ -1386,6 +1403,7 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=None, by_planes
         rows = []
         t_all = []
         spurious = 0  # proposals matching no labelled object that got a class
+        small = [0, 0]  # of those, on a labelled object under min_pixels: answers, class right
         spurious_at = {}  # scene -> those proposals' classes (in the --json output)
         with Classifier(mdir, seg_params=_params(list(params))) as clf:
             for p in scenes:
@@ -1412,6 +1430,11 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=None, by_planes
                 extra = [o.klass for j, o in enumerate(ans.objects)
                          if j not in matched and o.klass != "other"]
                 spurious += len(extra)
+                tiny = small_matches(sc, side, truth, min_iou, min_pixels)
+                for j, o in enumerate(ans.objects):
+                    if j not in matched and o.klass != "other" and j in tiny:
+                        small[0] += 1
+                        small[1] += o.klass == tiny[j]
                 if extra:
                     spurious_at[p.stem] = extra
                 if figures and (bad or extra):
@@ -1420,7 +1443,9 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=None, by_planes
                     fd.mkdir(parents=True, exist_ok=True)
                     Image.fromarray(explanation_image(ans, cloud.depth)).save(fd / f"{p.stem}.png")
         results[str(mdir)] = {**summarize(rows, spurious, len(scenes), t_all), "rows": rows,
-                              "spurious_at": spurious_at}
+                              "spurious_at": spurious_at,
+                              "spurious_on_small": {"answers": small[0], "class_right": small[1],
+                                                    "min_pixels": min_pixels}}
         print_summary(str(mdir), results[str(mdir)], rows)
         if by_planes:
             print_by_planes(rows)
@@ -1495,6 +1520,10 @@ def print_summary(name, s, rows):
           f"{s['ms_per_scene']:.0f} ms/scene classify")
     print(f"object accuracy {s['accuracy']:.3f} (box/stairs/ramp only {s['accuracy_classes']:.3f}); "
           f"class answers on proposals matching no object: {s['spurious_class_answers']}")
+    tiny = s.get("spurious_on_small")
+    if tiny:
+        print(f"  of those, on labelled objects too small to judge (under {tiny['min_pixels']} "
+              f"pixels): {tiny['answers']}, their class right {tiny['class_right']}")
     for c, p in s["per_class"].items():
         acc = "-" if p["accuracy"] is None else f"{p['accuracy']:.3f}"
         print(f"  {c:7s} {p['correct']:3d}/{p['objects']:3d} = {acc}   no proposal: {p['no_proposal']}")

@@ -46,7 +46,7 @@ KEEP = {
     "tabletop": re.compile(r"^all:"),
     "stairs": re.compile(r"^frames whose flight"),
     "unseen": re.compile(r"^found:|false answers"),
-    "independent": re.compile(r"^object accuracy|^\s+(box|stairs|ramp|other)\s+\d+/|^\s+by kind:"),
+    "independent": re.compile(r"^object accuracy|^\s+of those, on labelled objects|^\s+(box|stairs|ramp|other)\s+\d+/|^\s+by kind:"),
 }
 #: timings a kept line may carry
 TIMING = re.compile(r"\s*[\[(]?\d+(\.\d+)? ?(ms|s)\b(/scene)?( classify| per scene)?[\])]?")

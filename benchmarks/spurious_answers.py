@@ -7,7 +7,8 @@ rule that gave it and what its proof planes lie on.  A measuring tool.
 sidecar and truth images).  Scenes are classified and matched exactly as ``independent_scenes.py
 score`` does (a proposal matches an object at IoU >= 0.5; objects under the set's minimum pixel
 count are not judged), so the answers listed per set are the ones ``score`` counts on its line
-"class answers on proposals matching no object".  Each is printed with its class, the learned
+"class answers on proposals matching no object".  An answer on a labelled object under that
+size (:func:`independent_scenes.small_matches`: a toy block in a tote) is marked so.  Each is printed with its class, the learned
 rule's number (as ``planerel classify --json`` gives it, ``rule_index``: 1 is the model's first rule) and every proof plane's orientation,
 pixels and the truth it lies on: the object kind holding most of its pixels (``environment`` for
 the floor, walls and landings, label 0) and that share.  The summary counts answers by class and
@@ -27,7 +28,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from independent_scenes import default_min_pixels, judged_matches  # noqa: E402
+from independent_scenes import default_min_pixels, judged_matches, small_matches  # noqa: E402
 
 
 def _label_of(name) -> int | None:
@@ -62,7 +63,8 @@ def set_rows(clf, out, min_iou: float = 0.5, min_pixels: int | None = None) -> l
         ans = clf.classify(io.read(p), scene_id=p.stem)
         kinds = {o["index"]: o["kind"] for o in side["objects"]}
         # the objects score judges and the proposals matching them, as score_set's
-        _sc, _judged, matched = judged_matches(ans, side, truth, min_iou, min_pixels)
+        sc, _judged, matched = judged_matches(ans, side, truth, min_iou, min_pixels)
+        tiny = small_matches(sc, side, truth, min_iou, min_pixels)
         lab = np.asarray(ans.labels)
         for j, o in enumerate(ans.objects):
             if j in matched or o.klass == "other":
@@ -75,7 +77,7 @@ def set_rows(clf, out, min_iou: float = 0.5, min_pixels: int | None = None) -> l
                 planes.append({"plane": str(name), "pixels": int(m.sum()), "lies_on": kind,
                                "share": round(share, 3)})
             rows.append({"set": out.name, "scene": p.stem, "object": j + 1, "class": o.klass,
-                         "rule": o.rule_index,
+                         "rule": o.rule_index, "on_small": tiny.get(j),
                          "proof_planes": planes})
     return rows
 
@@ -90,7 +92,10 @@ def summary(rows: list[dict]) -> dict:
         for q in r["proof_planes"]:
             px[q["lies_on"]] += q["pixels"]
         by_truth[f"{r['class']} on {px.most_common(1)[0][0] if px else 'none'}"] += 1
-    return {"answers": len(rows), "by_rule": dict(by_rule.most_common()),
+    return {"answers": len(rows),
+            "on_small": sum(r.get("on_small") is not None for r in rows),
+            "on_small_right": sum(r.get("on_small") == r["class"] for r in rows),
+            "by_rule": dict(by_rule.most_common()),
             "by_truth": dict(by_truth.most_common())}
 
 
@@ -110,10 +115,15 @@ def main(argv=None) -> int:
             for r in these:
                 planes = " ".join(f"{q['plane']} {q['pixels']} px on {q['lies_on']} ({q['share']:.2f})"
                                   for q in r["proof_planes"])
-                print(f"{r['set']} {r['scene']} o{r['object']}: {r['class']} by rule {r['rule']}: {planes}")
+                small = (f" (on a labelled {r['on_small']} too small to judge)"
+                         if r.get("on_small") else "")
+                print(f"{r['set']} {r['scene']} o{r['object']}: {r['class']} by rule {r['rule']}"
+                      f"{small}: {planes}")
             print(f"{Path(d).name}: {len(these)} class answers on proposals matching no object")
     s = summary(rows)
-    print(f"all: {s['answers']} answers; by rule {s['by_rule']}; by what they lie on {s['by_truth']}")
+    print(f"all: {s['answers']} answers ({s['on_small']} on labelled objects too small to judge, "
+          f"{s['on_small_right']} of them of their class); by rule {s['by_rule']}; "
+          f"by what they lie on {s['by_truth']}")
     if a.json:
         Path(a.json).write_text(json.dumps({"rows": rows, "summary": s}, indent=1))
     return 0

@@ -566,3 +566,25 @@ def test_speckle_floor_takes_only_a_share(bad, capsys):
         ind._parser().parse_args(["make", "/x/out", "--speckle-floor", bad])
     assert "share of the floor's pixels" in capsys.readouterr().err
     assert ind._parser().parse_args(["make", "/x/out", "--speckle-floor", "0.15"]).speckle_floor == 0.15
+
+
+def test_an_answer_on_a_labelled_object_too_small_to_judge_is_told_apart_from_one_on_nothing():
+    """``score``'s "class answers on proposals matching no object" counts answers on labelled
+    objects under the judged size too (a toy block in a tote: dev_tote's 225, 207 of them
+    right); :func:`small_matches` names those proposals and the class of what they lie on."""
+    from types import SimpleNamespace
+
+    lab = np.zeros((60, 80), int)
+    lab[0:50, 0:50] = 1  # a large object's plane: 2 500 pixels
+    lab[52:58, 60:66] = 2  # a small object's plane: 36 pixels
+    lab[52:58, 70:76] = 3  # a plane on the floor: no object
+    truth = np.where(lab == 3, 0, lab)
+    side = {"objects": [{"index": 1, "class": "box", "kind": "carton"},
+                        {"index": 2, "class": "box", "kind": "toy block"}]}
+    ans = SimpleNamespace(labels=lab, objects=[SimpleNamespace(labels=(x,)) for x in (1, 2, 3)])
+    sc, judged, matched = ind.judged_matches(ans, side, truth, 0.5, 100)
+    assert [o["index"] for o in judged] == [1] and matched == {0}
+    assert ind.small_matches(sc, side, truth, 0.5, 100) == {1: "box"}
+    # judged at a smaller size, the block is no longer "too small"
+    sc, judged, matched = ind.judged_matches(ans, side, truth, 0.5, 30)
+    assert matched == {0, 1} and ind.small_matches(sc, side, truth, 0.5, 30) == {}
