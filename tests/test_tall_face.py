@@ -242,3 +242,36 @@ def test_the_noise_bound_is_checked():
     assert RelationParams().tall_flat_noise == 0.0  # off by default
     with pytest.raises(InputError, match="tall_flat_noise"):
         RelationParams(tall_flat_noise=-1.0)
+
+
+def test_a_face_the_image_top_cuts_far_under_the_eye_has_no_hidden_top():
+    """top98 (`tall_cut_eye`, off by default): at 0.4 a face whose pixels reach the image's
+    top counts as having its top out of view only when its top edge lies at most 0.4 m under
+    the eye.  A 1.0 m high box
+    1.1 m away seen from 1.5 m up, 50 degrees down: its front reaches the image's first row
+    with its top edge 0.53 m under the eye (what real frames show so is walls and cabinets,
+    docs/objects.md "Session 98"); a 0.9 m box seen from 1.0 m up, 30 degrees down, reaches it
+    0.11 m under the eye: a tall face either way."""
+    from planerel.features.solid import face_profile_of
+
+    def front(height, y, cam, pitch, params=None):
+        view = {"pitch": pitch, "cam_height": cam, "width": 640, "height": 480}
+        cloud, lab, _, _ = render([floor()] + box(0.0, y, 0.6, 0.4, height), noise=0.0012,
+                                  **view)
+        ps = measure_planes(cloud, lab)
+        face = ps.by_label(2)
+        top = face_profile_of(face, ps.up, ps.labels, cloud.xyz).top
+        return face.bbox[0], top, 2 in tall_faces(ps, relate(ps, cloud, params), cloud)
+
+    bound = RelationParams(tall_cut_eye=0.4)
+    row, top, tall = front(1.0, 1.3, 1.5, 50.0, bound)
+    assert row == 0 and -0.6 < top < -0.45 and not tall
+    assert front(1.0, 1.3, 1.5, 50.0)[2]  # off by default: the image's top alone
+    row, top, tall = front(0.9, 1.3, 1.0, 30.0, bound)
+    assert row == 0 and -0.2 < top < -0.1 and tall
+
+
+def test_the_cut_eye_bound_is_checked():
+    assert RelationParams().tall_cut_eye == 0.0  # off: learned with it the box theory moves
+    with pytest.raises(InputError, match="tall_cut_eye"):
+        RelationParams(tall_cut_eye=-0.1)

@@ -68,7 +68,10 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
       flight's side wall seen from its landing), not a solid's side on that floor;
     - its top edge (:class:`~planerel.features.solid.FaceProfile` ``top``, the 98th
       percentile of its points' levels) is at most ``tall_eye`` below the sensor's level
-      (the camera at the origin), or its pixels reach the image's top rows (out of view):
+      (the camera at the origin), or its pixels reach the image's top rows (out of view),
+      with ``tall_cut_eye`` > 0 (off by default) only when its top edge lies at most that
+      below the eye level (a face the image's top cuts while the sensor looks down on it from
+      higher is a wall's or a cabinet's more often than a box's):
       were it a box's side, the box's top could not be seen.  A ramp's back, a laptop's lid
       or a low cylinder's facet seen from above is no tall face; a box seen from above shows
       its top (and its sides are ``skirt``);
@@ -200,9 +203,10 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     for lbl, grounds in near.items():
         face = by_label[lbl]
         prof = profile(face)
-        hidden = (prof.top >= -p.tall_eye or _reaches_top_row(face)
-                  or (_reaches_top_row(face, 2 + BLANK_MARGIN_MAX)
-                      and _reaches_top_row(face, 2 + margin())))
+        hidden = prof.top >= -p.tall_eye or (
+            _cut_eye_ok(prof, p) and (_reaches_top_row(face)
+                                      or (_reaches_top_row(face, 2 + BLANK_MARGIN_MAX)
+                                          and _reaches_top_row(face, 2 + margin()))))
         if not hidden:
             # seen from above its top: a box's top is in view, but may be too thin a strip
             # to have become a plane; a lid, a ramp's back or a panel shows what lies behind
@@ -829,6 +833,13 @@ def top_covered(face, labels, xyz, gap: float) -> bool:
         if ok.any() and float(np.linalg.norm(seg[int(np.argmax(ok))])) < own - gap:
             covered += 1
     return covered >= 0.5 * cols.size
+
+
+def _cut_eye_ok(prof, p) -> bool:
+    """True when a face whose pixels reach the image's top may have its top out of view
+    (:func:`tall_faces`): its top edge (``prof.top``, along up from the eye) lies at most
+    ``tall_cut_eye`` under the sensor's eye, or that bound is off (top98)."""
+    return p.tall_cut_eye <= 0 or prof.top >= -p.tall_cut_eye
 
 
 def _reaches_top_row(face, rows: int = 2) -> bool:
