@@ -137,7 +137,8 @@ def tall_face_tests(planes, relations, cloud, label, plane_id=str) -> list:
                   or (cut_ok and (top_row or (R._reaches_top_row(face, 2 + R.BLANK_MARGIN_MAX)
                                               and R._reaches_top_row(face, 2 + margin())))))
     top = (f"top {prof.top:+.3f} m (hidden at >= {-p.tall_eye}), bottom {prof.bottom:+.3f} m, "
-           f"reaches the image's top {top_row} (counts at >= {-p.tall_cut_eye}: {cut_ok})")
+           f"reaches the image's top {top_row}"
+           + (f" (counts at >= {-p.tall_cut_eye}: {cut_ok})" if p.tall_cut_eye > 0 else ""))
     capped = False
     if not hidden:
         if p.tall_cap <= 0:
