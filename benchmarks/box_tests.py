@@ -92,7 +92,7 @@ def tall_face_tests(planes, relations, cloud, label, plane_id=str) -> list:
     """
     from planerel.features import relations as R
     from planerel.features.solid import face_profile_of, grounded, level_under
-    from planerel.features.tall_face import _cut_eye_ok, base_foot
+    from planerel.features.tall_face import _cut_eye_ok, _top_cut, base_foot
 
     p = relations.params
     lab = planes.labels
@@ -133,9 +133,7 @@ def tall_face_tests(planes, relations, cloud, label, plane_id=str) -> list:
     margin = functools.cache(lambda: R._blank_top_rows(cloud.xyz))
     top_row = R._reaches_top_row(face)
     cut_ok = _cut_eye_ok(prof, p)
-    hidden = bool(prof.top >= -p.tall_eye
-                  or (cut_ok and (top_row or (R._reaches_top_row(face, 2 + R.BLANK_MARGIN_MAX)
-                                              and R._reaches_top_row(face, 2 + margin())))))
+    hidden = bool(prof.top >= -p.tall_eye or _top_cut(face, prof, p, margin))
     top = (f"top {prof.top:+.3f} m (hidden at >= {-p.tall_eye}), bottom {prof.bottom:+.3f} m, "
            f"reaches the image's top {top_row}"
            + (f" (counts at >= {-p.tall_cut_eye}: {cut_ok})" if p.tall_cut_eye > 0 else ""))

@@ -1378,11 +1378,12 @@ def small_matches(sc, side, truth, min_iou, min_pixels) -> dict:
     object's best) a labelled object too small to be judged (under ``min_pixels``;
     ``sc`` :func:`judged_matches`' scores): an answer there lies on a real object (a toy
     block in a tote), so it is no answer on nothing, but it is not scored either."""
+    sizes = np.bincount(np.asarray(truth).ravel().clip(min=0))
     out = {}
     for o in side["objects"]:
         k = o["index"]
-        if (k in sc.best_iou and sc.best_iou[k] >= min_iou
-                and (truth == k).sum() < min_pixels):
+        small = k >= len(sizes) or sizes[k] < min_pixels
+        if k in sc.best_iou and sc.best_iou[k] >= min_iou and small:
             out.setdefault(sc.best_prop[k], o["class"])
     return out
 
@@ -1427,14 +1428,15 @@ def score_set(out, models, figures=None, min_iou=0.5, min_pixels=None, by_planes
                         rows[-1]["shows"] = _shows(ori, ans.objects[sc.best_prop[k]].planes)
                     ok = pred == o["class"] or (o["class"] == "other" and pred == "none")
                     bad |= not ok
-                extra = [o.klass for j, o in enumerate(ans.objects)
-                         if j not in matched and o.klass != "other"]
-                spurious += len(extra)
                 tiny = small_matches(sc, side, truth, min_iou, min_pixels)
+                extra = []
                 for j, o in enumerate(ans.objects):
-                    if j not in matched and o.klass != "other" and j in tiny:
-                        small[0] += 1
-                        small[1] += o.klass == tiny[j]
+                    if j not in matched and o.klass != "other":
+                        extra.append(o.klass)
+                        if j in tiny:  # on a labelled object too small to judge
+                            small[0] += 1
+                            small[1] += o.klass == tiny[j]
+                spurious += len(extra)
                 if extra:
                     spurious_at[p.stem] = extra
                 if figures and (bad or extra):

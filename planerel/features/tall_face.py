@@ -203,10 +203,7 @@ def tall_faces(planes, relations: Relations, cloud=None, profiles: dict | None =
     for lbl, grounds in near.items():
         face = by_label[lbl]
         prof = profile(face)
-        hidden = prof.top >= -p.tall_eye or (
-            _cut_eye_ok(prof, p) and (_reaches_top_row(face)
-                                      or (_reaches_top_row(face, 2 + BLANK_MARGIN_MAX)
-                                          and _reaches_top_row(face, 2 + margin()))))
+        hidden = prof.top >= -p.tall_eye or _top_cut(face, prof, p, margin)
         if not hidden:
             # seen from above its top: a box's top is in view, but may be too thin a strip
             # to have become a plane; a lid, a ramp's back or a panel shows what lies behind
@@ -840,6 +837,16 @@ def _cut_eye_ok(prof, p) -> bool:
     (:func:`tall_faces`): its top edge (``prof.top``, along up from the eye) lies at most
     ``tall_cut_eye`` under the sensor's eye, or that bound is off (top98)."""
     return p.tall_cut_eye <= 0 or prof.top >= -p.tall_cut_eye
+
+
+def _top_cut(face, prof, p, margin) -> bool:
+    """True when the image's top hides ``face``'s top edge (:func:`tall_faces`): its pixels
+    reach the image's first rows, or the scan's blank top margin (``margin()``: the number
+    of blank rows, measured only when asked), within ``tall_cut_eye`` (:func:`_cut_eye_ok`).
+    ``benchmarks/box_tests.py`` asks the same."""
+    return _cut_eye_ok(prof, p) and (
+        _reaches_top_row(face)
+        or (_reaches_top_row(face, 2 + BLANK_MARGIN_MAX) and _reaches_top_row(face, 2 + margin())))
 
 
 def _reaches_top_row(face, rows: int = 2) -> bool:
