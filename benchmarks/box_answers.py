@@ -15,7 +15,8 @@ object of a box frame, ``false`` for a cylindric frame's, ``untyped`` in the occ
 and complex frames, whose objects OSD does not type).
 
 Per answer (one JSON line): ``set``, ``frame``, ``object``, ``status``, ``rule`` (index),
-``planar`` (fraction), ``planes`` (count), ``up_confidence``, ``proof`` (each proof plane's
+``planar`` (fraction), ``planes`` (count), ``up_confidence``, ``pitch`` (degrees the
+camera looks under the horizon by the frame's up: ``box_causes.camera_pitch``), ``proof`` (each proof plane's
 label, orientation, incline, length, width, points, RMS in mm, range, height over the floor,
 whether it touches the image's border or is seen in part), and two measures of the vertical
 planes (fbox53):
@@ -87,6 +88,8 @@ def _plane(p, truncated) -> dict:
 
 def records(answer, desc) -> list:
     """``[(ObjectAnswer, pixel mask, record)]`` of the ``box`` answers of one frame."""
+    from box_causes import camera_pitch
+
     planes = {p.label: p for p in desc.planes}
     ids = {desc.plane_id(p.label): p.label for p in desc.planes}
     lab = np.asarray(answer.labels)
@@ -103,6 +106,7 @@ def records(answer, desc) -> list:
         rec = {"object": o.object_id, "rule": o.rule_index,
                "planar": None if o.planar_fraction is None else round(o.planar_fraction, 3),
                "planes": len(o.labels), "up_confidence": round(float(answer.up_confidence), 2),
+               "pitch": round(camera_pitch(desc.planes.up), 1),
                "proof": [_plane(planes[v], desc.truncated) for v in proof],
                "skirt_fans": {str(k): v for k, v in
                               skirt_fans(pairs, o.labels).items()},

@@ -119,17 +119,21 @@ def segment(scan, method: str = "regiongrow", *, intrinsics=None, **params):
     """Segment a scan (path, array or Cloud, as :func:`read` takes) into planes.
 
     ``planerel.segment(...)`` is this function; ``planerel.segment.segment`` is the one that
-    takes a Cloud only.  ``params`` are the method's parameters (docs/segmentation.md).
+    takes a Cloud only.  ``params`` are the method's parameters (docs/segmentation.md); ``up``
+    among them (3 numbers) is the camera's up when known, which the small pass's
+    ``small_pitch`` reads (else the scan's own or the estimated one).
 
     Returns
     -------
     Segmentation
         ``labels`` (H, W) int32 (-1 = unassigned) and ``planes``.
     """
+    from planerel.features.facts import view_up
     from planerel.segment import segment as _segment
 
     cloud = scan if isinstance(scan, Cloud) else read(scan, intrinsics=intrinsics)
-    return _segment(cloud, method, **params)
+    up = params.pop("up", None)
+    return _segment(cloud, method, up=view_up(cloud, up), **params)
 
 
 def describe(scan, labels=None, *, scene_id: str | None = None, method: str = "regiongrow",
@@ -154,7 +158,7 @@ def describe(scan, labels=None, *, scene_id: str | None = None, method: str = "r
     SceneDescription
         ``facts()`` of it: :func:`planerel.features.facts.facts_text`.
     """
-    from planerel.features.facts import describe_scene
+    from planerel.features.facts import describe_scene, view_up
     from planerel.io import readers as io
     from planerel.io.naming import scene_name
 
@@ -163,7 +167,7 @@ def describe(scan, labels=None, *, scene_id: str | None = None, method: str = "r
         scene_id = scene_name(scan) if isinstance(scan, (str, Path)) else "s0000"
     far = ()
     if labels is None:
-        seg = segment(cloud, method)
+        seg = segment(cloud, method, up=view_up(cloud, up))
         labels, far = seg.labels, seg.info.get("far_labels") or ()
     elif isinstance(labels, (str, Path)):
         labels = io.read_label_image(labels)

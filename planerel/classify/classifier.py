@@ -832,14 +832,16 @@ class Classifier:
         SceneAnswer
             One :class:`ObjectAnswer` per object proposal (none when the scene has no object).
         """
-        from planerel.features.facts import describe_scene
+        from planerel.features.facts import describe_scene, view_up
         from planerel.segment import planar_share, segment
 
         self._check_open()
         t0 = time.perf_counter()
         cloud = _as_cloud(cloud)
         cloud.require_points(3)
-        seg = segment(cloud, self.method, **dict(self.seg_params or {}))
+        seg = segment(cloud, self.method,
+                      up=view_up(cloud, up, self._describe_kw.get("gravity_params")),
+                      **dict(self.seg_params or {}))
         desc = describe_scene(cloud, seg.labels, scene_id=scene_id, up=up,
                               far=seg.info.get("far_labels") or (),
                               camera_height=camera_height, **self._describe_kw)

@@ -94,7 +94,7 @@ def _describe_task(task: dict):
         read_input,
         sparse_note,
     )
-    from planerel.features.facts import describe_scene, scene_facts, up_comment
+    from planerel.features.facts import describe_scene, scene_facts, up_comment, view_up
     from planerel.io import readers as io
 
     path = task["path"]
@@ -110,7 +110,10 @@ def _describe_task(task: dict):
     else:
         from planerel.segment import segment
 
-        seg = segment(cloud, task["method"], **dict(task.get("seg_params") or {}))
+        seg = segment(cloud, task["method"],
+                      up=view_up(cloud, given_up(task["read"]),
+                                 (task.get("describe_kw") or {}).get("gravity_params")),
+                      **dict(task.get("seg_params") or {}))
         labels = seg.labels
         note = seg_settings_line(seg.info)
         far = seg.info.get("far_labels") or ()

@@ -102,6 +102,7 @@ def _segment_task(task: dict) -> str:
     """Worker: read, segment and write one scan; returns the line to print."""
     import time
 
+    from planerel.features.facts import view_up
     from planerel.features.gravity import resolve_up
     from planerel.io.writers import write_json, write_labels_npy, write_labels_png
     from planerel.segment import segment
@@ -110,7 +111,8 @@ def _segment_task(task: dict) -> str:
     cloud = read_input(path, task["read"])
     t0 = time.perf_counter()
     seg = segment(cloud, task["method"], params=task["params"], split=task.get("split"),
-                  split_params=task.get("split_params"))
+                  split_params=task.get("split_params"),
+                  up=view_up(cloud, given_up(task["read"])))
     ms = (time.perf_counter() - t0) * 1000.0
     gravity = resolve_up(cloud, seg.labels, given_up(task["read"]))
     formats = task["formats"]

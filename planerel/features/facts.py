@@ -405,6 +405,31 @@ def describe_scene(cloud, labels, *, scene_id: str = "s0000", up=None, objects=N
     return desc
 
 
+def view_up(cloud, up=None, gravity_params=None):
+    """:func:`planerel.segment.segment`'s ``up`` for the small pass's ``small_pitch``
+    (small99): a function of the segmentation so far that gives the up :func:`describe_scene`
+    will describe the scene with: ``up`` when given, else the cloud's own (a sidecar's), else
+    estimated from that segmentation's planes, the far growing's left out as
+    :func:`describe_scene` leaves them out (:func:`planerel.features.gravity.resolve_up`).
+    Called only when the pass asks (``small_scale`` and ``small_pitch`` set).
+
+    Returns
+    -------
+    callable
+        ``f(seg) -> ndarray, shape (3,)``.
+    """
+    def read(seg):
+        from planerel.features.gravity import resolve_up
+
+        lab = np.asarray(seg.labels)
+        far = tuple(seg.info.get("far_labels") or ())
+        if far:
+            lab = np.where(np.isin(lab, far), -1, lab)
+        return np.asarray(resolve_up(cloud, lab, up, gravity_params).vector, float)
+
+    return read
+
+
 def measured_planes(cloud, labels, up, plane_params, gravity_params, proposal_params, *,
                     far_mask=None, camera_height=None):
     """The planes of ``labels`` measured as :func:`describe_scene` measures them before its

@@ -311,13 +311,13 @@ def frame_truth(path, type_name: str | None = None, type_by: str = "class"):
 def frame_proposals(cloud, *, method: str = "regiongrow", labels=None):
     """Segment (unless ``labels`` given), describe and propose; returns ``(prop_img, desc,
     ms)`` with ``ms`` the time of describing + proposing (not segmenting)."""
-    from planerel.features.facts import describe_scene
+    from planerel.features.facts import describe_scene, view_up
 
     far = ()
     if labels is None:
         from planerel.segment import segment
 
-        seg = segment(cloud, method)
+        seg = segment(cloud, method, up=view_up(cloud))
         labels, far = seg.labels, seg.info.get("far_labels") or ()
     t0 = time.perf_counter()
     desc = describe_scene(cloud, labels, far=far)

@@ -83,6 +83,7 @@ def segment_cached_far(cloud, *, method: str = "regiongrow", params: dict | None
     -------
     (labels (H, W) int32, far tuple of int)
     """
+    from planerel.features.facts import view_up
     from planerel.segment import segment
 
     params = dict(params or {})
@@ -100,7 +101,7 @@ def segment_cached_far(cloud, *, method: str = "regiongrow", params: dict | None
                     return labels, tuple(int(v) for v in far)
             except (OSError, ValueError):
                 pass  # a damaged cache entry is recomputed and replaced
-    seg = segment(cloud, method, **params)
+    seg = segment(cloud, method, up=view_up(cloud), **params)
     labels, far = seg.labels, tuple(int(v) for v in seg.info.get("far_labels") or ())
     if path is not None:
         from planerel.atomic import atomic_path

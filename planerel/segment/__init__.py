@@ -112,7 +112,7 @@ def _make_params(method: str, params: dict):
 
 
 def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, split_params=None,
-            **params) -> Segmentation:
+            up=None, **params) -> Segmentation:
     """Segment a cloud into planes.
 
     Parameters
@@ -138,6 +138,11 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
     split_params : SplitParams, optional
         Parameters of the split step (default :class:`SplitParams`); or give single fields as
         ``**{"split.small_faces": 150}`` among ``params`` (not both).
+    up : 3 numbers or callable, optional
+        Gravity up in the camera frame, or a function of the segmentation so far returning it
+        (:func:`planerel.features.facts.view_up`: the given, the file's or the estimated up).
+        Read only by the small pass with ``small_pitch`` (regiongrow), which runs when the
+        camera looks down at least that steeply; without ``up`` it does not run then.
     **params
         Fields of :class:`RegionGrowParams` (regiongrow) or :class:`RansacParams` (sp, snp);
         or ``params=<dataclass instance>``; regiongrow also ``preset="structured-light"`` or
@@ -166,7 +171,7 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
             # distance that links points (``delta``) would be 0 too
             sub, sub_normals, where, inverse = dup
             seg = segment(sub, method, normals=sub_normals, split=split,
-                          split_params=split_params, **params)
+                          split_params=split_params, up=up, **params)
             return _spread_labels(seg, cloud, where, inverse)
     params, split_given = split_fields(params)
     if split_given is not None:
@@ -231,9 +236,36 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
             and normals is None):
         seg = _near_planes(cloud, seg, p, split_params)
     if (method == "regiongrow" and cloud.organized and p.adapt and p.small_scale > 0
-            and normals is None):
+            and normals is None and _steep_enough(seg, p, up)):
         seg = _small_planes(cloud, seg, p, split_params)
     return seg
+
+
+def _steep_enough(seg, p, up) -> bool:
+    """Whether the small pass runs: always without ``small_pitch``; with it, when the camera
+    looks down at least ``small_pitch`` degrees by ``up`` (a vector, or a function of ``seg``
+    returning one; None: unknown, no pass).  ``seg.info["view_pitch"]``: the pitch read."""
+    if p.small_pitch <= 0:
+        return True
+    u = up(seg) if callable(up) else up
+    if u is None:
+        seg.info["view_pitch"] = None
+        return False
+    pitch = view_pitch(u)
+    seg.info["view_pitch"] = round(pitch, 2)
+    return pitch >= p.small_pitch
+
+
+def view_pitch(up) -> float:
+    """Degrees the optical axis (camera +z) looks under the horizon for the gravity ``up``
+    (shape (3,), camera frame): 0 level, 90 straight down, negative looking up."""
+    import numpy as np
+
+    u = np.asarray(up, float).reshape(3)
+    n = float(np.linalg.norm(u))
+    if not np.isfinite(n) or n == 0:
+        raise InputError(f"up vector must be 3 finite numbers, not all zero, got {up!r}")
+    return float(np.degrees(np.arcsin(np.clip(-u[2] / n, -1.0, 1.0))))
 
 
 def planar_share(cloud, labels) -> float | None:

@@ -268,6 +268,12 @@ class RegionGrowParams:
         (touching a plane 60-120 degrees off its own: a small box's side face, small64); on the
         real development frames it took slivers of box tops seen nearly edge-on, which cost
         boxes their one-face rule (docs/segmentation.md).
+    small_pitch : float
+        0 (off: the small pass on every frame) or degrees in (0, 90].  With ``small_scale``,
+        the small pass runs only on a frame whose camera looks down at least this steeply
+        (the pitch of :func:`planerel.segment.segment`'s ``up``: a table, a bin or a tote seen
+        from above, where block tops lie; small99, docs/segmentation.md "The small pass for
+        views from above").  ``info["view_pitch"]``: the pitch read.
     near_wide : float
         0 (off) or a factor in (1, 4] (near65, docs/segmentation.md "A wider normal window
         where near depth is left in no plane").  With ``adapt`` and post-processing, the cloud
@@ -310,6 +316,7 @@ class RegionGrowParams:
     far_local: float = 2.0
     small_scale: float = 0.0
     small_corners: bool = False
+    small_pitch: float = 0.0
     near_wide: float = 0.0
     angle_order: str = "auto"
     seed_test: bool | str = "auto"
@@ -364,6 +371,7 @@ class RegionGrowParams:
                              f"got {self.far_local!r}")
         s(self, "small_scale", _num(o, "small_scale", self.small_scale, lo=0, hi=1))
         s(self, "small_corners", _bool(o, "small_corners", self.small_corners))
+        s(self, "small_pitch", _num(o, "small_pitch (degrees)", self.small_pitch, lo=0, hi=90))
         s(self, "near_wide", _num(o, "near_wide", self.near_wide, lo=0, hi=4))
         if 0 < self.near_wide <= 1:
             raise InputError(f"{o}: near_wide must be 0 (off) or a factor in (1, 4], "
