@@ -58,7 +58,7 @@ VARIANTS = (("main", OFF), ("min_region_scale 0.25", {**OFF, "min_region_scale":
             ("theta 25", {**OFF, "theta": 25.0}), ("delta_factor 12", {**OFF, "delta_factor": 12.0}),
             ("min_neighbour_num 2", {**OFF, "min_neighbour_num": 2}),
             ("normal window 6", {**OFF, "normal_smooth": 6, "normal_radius": 6}),
-            ("split off", {**OFF, "split": False}), ("small_scale 0.35", {"small_scale": 0.35}),
+            ("split off", {**OFF, "split": False}), ("small_scale 0.35", {"small_scale": 0.35, "small_pitch": 0.0}),
             ("default", {}))
 #: Grid steps of the eight neighbours, in the delta graph's bit order.
 DV = (0, 1, 1, 1, 0, -1, -1, -1)

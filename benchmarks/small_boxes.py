@@ -125,16 +125,16 @@ def speed(pcd_dir: str, frames: int, rounds: int, scale: float) -> None:
         sys.exit(f"small_boxes: no test*.pcd under {pcd_dir}")
     clouds = [planerel.read(f) for f in files]
     for c in clouds[:2]:  # compile and warm
-        segment(c)
-        segment(c, small_scale=scale)
+        segment(c, small_scale=0.0)
+        segment(c, small_scale=scale, small_pitch=0.0)
     off, on, added = [], [], []
     for r in range(rounds):
         for c in clouds:
             t = time.perf_counter()
-            segment(c)
+            segment(c, small_scale=0.0)
             off.append(time.perf_counter() - t)
             t = time.perf_counter()
-            s = segment(c, small_scale=scale)
+            s = segment(c, small_scale=scale, small_pitch=0.0)
             on.append(time.perf_counter() - t)
             if r == 0:
                 added.append(int(s.info.get("small_planes", 0)))

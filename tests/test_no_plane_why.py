@@ -24,7 +24,7 @@ def tote():
     """dev_tote's kind (toy blocks and cartons in a tote seen from above), the first growing,
     the small pass's result and each object's bounding rectangle."""
     cloud, truth = _scene(1, 6801, "tote_blocks")
-    first, small = segment(cloud), segment(cloud, small_scale=0.35)
+    first, small = segment(cloud), segment(cloud, small_scale=0.35, small_pitch=0.0)
     rects = {}
     for t in np.unique(truth[truth > 0]).tolist():
         ys, xs = np.nonzero(truth == t)

@@ -1,4 +1,5 @@
-"""``RegionGrowParams.small_pitch`` (small99): the small pass (``small_scale``) only on a frame
+"""``RegionGrowParams.small_pitch`` (small99; 60 by default, with ``small_scale`` 0.35): the
+small pass (``small_scale``) only on a frame
 whose camera looks down at least that steeply, by the up the scene is described with
 (``segment``'s ``up``, :func:`planerel.features.facts.view_up`)."""
 
@@ -38,8 +39,8 @@ def test_the_small_pass_runs_only_where_the_camera_looks_down_steeply(tote):
     cloud, _ = tote
     pitch = view_pitch(cloud.up)
     assert pitch > 45  # the tote is seen from above
-    plain = segment(cloud)
-    small = segment(cloud, small_scale=0.35)
+    plain = segment(cloud, small_scale=0.0)
+    small = segment(cloud, small_scale=0.35, small_pitch=0.0)
     assert small.info["small_planes"] >= 3
     steep = segment(cloud, small_scale=0.35, small_pitch=pitch - 5, up=view_up(cloud))
     assert steep.info["view_pitch"] == pytest.approx(pitch, abs=0.01)
@@ -54,9 +55,24 @@ def test_the_small_pass_runs_only_where_the_camera_looks_down_steeply(tote):
     np.testing.assert_array_equal(given.labels, small.labels)
     unknown = segment(cloud, small_scale=0.35, small_pitch=pitch - 5)
     assert unknown.info["view_pitch"] is None and "small_planes" not in unknown.info
-    # small_pitch 0 (the default): the pass on every frame, whatever the up
-    level = segment(cloud, small_scale=0.35, up=(0.0, -1.0, 0.0))
+    # small_pitch 0: the pass on every frame, whatever the up
+    level = segment(cloud, small_scale=0.35, small_pitch=0.0, up=(0.0, -1.0, 0.0))
     np.testing.assert_array_equal(level.labels, small.labels)
+    # the defaults (0.35, 60 degrees): this tote is seen 59.6 degrees down, just too shallow
+    default = segment(cloud, up=view_up(cloud))
+    assert default.info["view_pitch"] == pytest.approx(59.57, abs=0.01)
+    np.testing.assert_array_equal(default.labels, plain.labels)
+
+
+def test_the_default_small_pass_runs_on_a_tote_seen_73_degrees_down():
+    cloud, _ = _scene(3, 6801, "tote_blocks")
+    seg = segment(cloud, up=view_up(cloud))
+    assert seg.info["view_pitch"] == pytest.approx(72.94, abs=0.01)
+    assert "small_planes" in seg.info
+    np.testing.assert_array_equal(seg.labels,
+                                  segment(cloud, small_scale=0.35, small_pitch=0.0).labels)
+    level = segment(cloud, up=(0.0, -1.0, 0.0))
+    assert "small_planes" not in level.info and level.info["view_pitch"] == 0.0
 
 
 def test_view_up_estimates_the_up_when_the_scan_gives_none(tote):

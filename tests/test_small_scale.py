@@ -1,4 +1,6 @@
-"""``RegionGrowParams.small_scale`` (small64; off by default): a second growing with a smaller
+"""``RegionGrowParams.small_scale`` (small64; on by default since small99, 0.35, but only where
+the camera looks down at least ``small_pitch`` 60 degrees, which :mod:`test_small_pitch` tests;
+here with ``small_pitch`` 0, on every frame): a second growing with a smaller
 minimum region size adds planes only where the first left depth nearer than ``far_depth`` in no
 plane, and only those standing parallel over another plane or, with ``small_corners``, meeting
 one at a corner; nothing already in a plane changes."""
@@ -47,18 +49,19 @@ def _scene_side(index, seed, kind, heights=None):
     return cloud, truth, side
 
 
-def test_small_scale_is_off_by_default(small_boxes):
+def test_small_scale_needs_the_up_by_default(small_boxes):
+    # on by default for steep views only: with no up to judge the view by, no small pass
     cloud, _ = small_boxes
-    assert RegionGrowParams().small_scale == 0.0
+    assert RegionGrowParams().small_scale == 0.35 and RegionGrowParams().small_pitch == 60.0
     seg = segment(cloud)
-    assert "small_planes" not in seg.info
+    assert "small_planes" not in seg.info and seg.info["view_pitch"] is None
     np.testing.assert_array_equal(seg.labels, segment(cloud, small_scale=0.0).labels)
 
 
 def test_small_planes_fill_only_near_depth_left_in_no_plane(small_boxes):
     cloud, truth = small_boxes
     a = segment(cloud)
-    b = segment(cloud, small_scale=0.35, small_corners=True)
+    b = segment(cloud, small_scale=0.35, small_corners=True, small_pitch=0.0)
     added = b.info["small_planes"]
     assert added >= 1
     assert len(b.planes) == len(a.planes) + added
@@ -77,8 +80,8 @@ def test_small_planes_fill_only_near_depth_left_in_no_plane(small_boxes):
 
 def test_small_planes_are_deterministic(small_boxes):
     cloud, _ = small_boxes
-    np.testing.assert_array_equal(segment(cloud, small_scale=0.35).labels,
-                                  segment(cloud, small_scale=0.35).labels)
+    np.testing.assert_array_equal(segment(cloud, small_scale=0.35, small_pitch=0.0).labels,
+                                  segment(cloud, small_scale=0.35, small_pitch=0.0).labels)
 
 
 def _patch_scene():
@@ -128,7 +131,7 @@ def test_block_tops_seen_from_above_get_their_planes():
     # dev_tote's kind: 19 toy blocks and cartons in a tote seen from 0.6-0.9 m above; the
     # small tops the first growing drops, or merges into the block under them, are planes
     cloud, truth = _scene(1, 6801, "tote_blocks")
-    a, b = segment(cloud), segment(cloud, small_scale=0.35)
+    a, b = segment(cloud), segment(cloud, small_scale=0.35, small_pitch=0.0)
     assert b.info["small_planes"] >= 3
     assert _own_plane(b.labels, truth) >= _own_plane(a.labels, truth) + 3
     kept = a.labels >= 0

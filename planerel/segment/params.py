@@ -252,7 +252,8 @@ class RegionGrowParams:
         Off.  The second growing of ``far_theta`` (or, with ``far_theta`` 0, at ``theta``)
         uses ``wide_noise_window``'s 15 px normal window.
     small_scale : float
-        0 (off) or a factor in (0, 1].  With ``adapt`` and post-processing, the cloud is grown
+        0 (off) or a factor in (0, 1]; 0.35, with ``small_pitch`` 60, by default (small99:
+        block tops seen from above; 0 before).  With ``adapt`` and post-processing, the cloud is grown
         again with a minimum region size of ``small_scale`` times the first growing's (its
         merges with the side test, at least :data:`SMALL_SIDE`), and each region of that growing
         lying for at least :data:`SMALL_SHARE` of its pixels in depth the first growing left in
@@ -269,11 +270,12 @@ class RegionGrowParams:
         real development frames it took slivers of box tops seen nearly edge-on, which cost
         boxes their one-face rule (docs/segmentation.md).
     small_pitch : float
-        0 (off: the small pass on every frame) or degrees in (0, 90].  With ``small_scale``,
-        the small pass runs only on a frame whose camera looks down at least this steeply
-        (the pitch of :func:`planerel.segment.segment`'s ``up``: a table, a bin or a tote seen
-        from above, where block tops lie; small99, docs/segmentation.md "The small pass for
-        views from above").  ``info["view_pitch"]``: the pitch read.
+        60 (the default) or other degrees in (0, 90], or 0 (the small pass on every frame).
+        With ``small_scale``, the small pass runs only on a frame whose camera looks down at
+        least this steeply (the pitch of :func:`planerel.segment.segment`'s ``up``: a table, a
+        bin or a tote seen from above, where block tops lie; small99, docs/segmentation.md
+        "The small pass for views from above"); a call with no ``up`` runs no small pass
+        unless this is 0.  ``info["view_pitch"]``: the pitch read.
     near_wide : float
         0 (off) or a factor in (1, 4] (near65, docs/segmentation.md "A wider normal window
         where near depth is left in no plane").  With ``adapt`` and post-processing, the cloud
@@ -314,9 +316,9 @@ class RegionGrowParams:
     far_rms: float = 2.5
     far_wide: bool = False
     far_local: float = 2.0
-    small_scale: float = 0.0
+    small_scale: float = 0.35
     small_corners: bool = False
-    small_pitch: float = 0.0
+    small_pitch: float = 60.0
     near_wide: float = 0.0
     angle_order: str = "auto"
     seed_test: bool | str = "auto"
