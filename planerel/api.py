@@ -158,7 +158,7 @@ def describe(scan, labels=None, *, scene_id: str | None = None, method: str = "r
     SceneDescription
         ``facts()`` of it: :func:`planerel.features.facts.facts_text`.
     """
-    from planerel.features.facts import describe_scene, view_up
+    from planerel.features.facts import describe_scene
     from planerel.io import readers as io
     from planerel.io.naming import scene_name
 
@@ -167,7 +167,7 @@ def describe(scan, labels=None, *, scene_id: str | None = None, method: str = "r
         scene_id = scene_name(scan) if isinstance(scan, (str, Path)) else "s0000"
     far = ()
     if labels is None:
-        seg = segment(cloud, method, up=view_up(cloud, up))
+        seg = segment(cloud, method, up=up)  # this module's segment: the up to view_up
         labels, far = seg.labels, seg.info.get("far_labels") or ()
     elif isinstance(labels, (str, Path)):
         labels = io.read_label_image(labels)

@@ -93,3 +93,14 @@ def test_view_up_estimates_the_up_when_the_scan_gives_none(tote):
 def test_small_pitch_must_be_degrees_from_0_to_90(bad):
     with pytest.raises(InputError, match="small_pitch"):
         RegionGrowParams(small_pitch=bad)
+
+
+def test_the_package_functions_judge_the_view_by_the_scan_s_up():
+    import planerel
+
+    cloud, _ = _scene(3, 6801, "tote_blocks")   # 73 degrees down, its sidecar up
+    seg = planerel.segment(cloud)
+    assert "small_planes" in seg.info
+    assert "small_planes" not in planerel.segment(cloud, up=(0.0, -1.0, 0.0)).info
+    desc = planerel.describe(cloud)              # segments as planerel.segment does
+    assert len(desc.planes) == len(planerel.describe(cloud, seg.labels).planes)
