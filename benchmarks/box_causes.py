@@ -83,10 +83,11 @@ def band(value, bands) -> str:
 
 def camera_pitch(up) -> float:
     """Degrees the optical axis (camera +z) looks under the horizon for the gravity ``up``
-    (shape (3,), camera frame): 0 level, 90 straight down, negative looking up."""
-    u = np.asarray(up, float)
-    u = u / np.linalg.norm(u)
-    return float(np.degrees(np.arcsin(np.clip(-u[2], -1.0, 1.0))))
+    (shape (3,), camera frame): 0 level, 90 straight down, negative looking up (the small
+    pass's own measure, :func:`planerel.segment.view_pitch`)."""
+    from planerel.segment import view_pitch
+
+    return view_pitch(up)
 
 
 def no_plane_cause(valid_share: float, plane_share: float) -> str:

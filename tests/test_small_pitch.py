@@ -31,8 +31,15 @@ def test_view_pitch_reads_how_far_under_the_horizon_the_camera_looks():
     s = np.sin(np.radians(30.0))
     assert view_pitch((0, -np.cos(np.radians(30.0)), -s)) == pytest.approx(30.0)
     assert view_pitch((0, -2, 0)) == pytest.approx(0.0)              # not unit: normalised
-    with pytest.raises(InputError, match="up vector"):
-        view_pitch((0, 0, 0))
+    for bad in ((0, 0, 0), (1.0, 2.0), (0, float("nan"), 1), "up"):
+        with pytest.raises(InputError, match="up vector"):
+            view_pitch(bad)
+
+
+def test_a_bad_up_given_to_segment_is_the_user_s_mistake(tote):
+    cloud, _ = tote
+    with pytest.raises(InputError, match="up vector must be 3 finite numbers"):
+        segment(cloud, small_pitch=60, up=(1.0, 2.0))
 
 
 def test_the_small_pass_runs_only_where_the_camera_looks_down_steeply(tote):

@@ -258,14 +258,14 @@ def _steep_enough(seg, p, up) -> bool:
 
 def view_pitch(up) -> float:
     """Degrees the optical axis (camera +z) looks under the horizon for the gravity ``up``
-    (shape (3,), camera frame): 0 level, 90 straight down, negative looking up."""
+    (shape (3,), camera frame; any length): 0 level, 90 straight down, negative looking up.
+    :class:`InputError` for anything but 3 finite numbers, not all zero."""
     import numpy as np
 
-    u = np.asarray(up, float).reshape(3)
-    n = float(np.linalg.norm(u))
-    if not np.isfinite(n) or n == 0:
-        raise InputError(f"up vector must be 3 finite numbers, not all zero, got {up!r}")
-    return float(np.degrees(np.arcsin(np.clip(-u[2] / n, -1.0, 1.0))))
+    from planerel.io.cloud import unit_up
+
+    u = unit_up(up, "up vector")
+    return float(np.degrees(np.arcsin(np.clip(-u[2], -1.0, 1.0))))
 
 
 def planar_share(cloud, labels) -> float | None:
