@@ -9,8 +9,8 @@ Usage::
 ``BEFORE`` and ``AFTER`` are :mod:`box_answers` ``--jsonl`` outputs over the same frames (the
 model as it is, and with the setting measured, e.g. ``--param small_scale=0.35``).  Each frame
 whose count of ``right``, ``false`` or ``unscored`` answers differs is listed with the camera's
-pitch (degrees under the horizon by the frame's up: ``box_causes.camera_pitch``, read from the
-rows), and the differences are summed in two bands: pitch at least ``--split`` (a camera looking
+pitch (degrees under the horizon by the frame's up: :func:`planerel.segment.view_pitch`, read
+from the rows), and the differences are summed in two bands: pitch at least ``--split`` (a camera looking
 down on a table or a bin) and under it.  A frame with no box answer in either file cannot move
 and is not listed; its pitch is unknown to the rows.
 """

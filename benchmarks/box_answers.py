@@ -16,7 +16,8 @@ and complex frames, whose objects OSD does not type).
 
 Per answer (one JSON line): ``set``, ``frame``, ``object``, ``status``, ``rule`` (index),
 ``planar`` (fraction), ``planes`` (count), ``up_confidence``, ``pitch`` (degrees the
-camera looks under the horizon by the frame's up: ``box_causes.camera_pitch``), ``proof`` (each proof plane's
+camera looks under the horizon by the frame's up: :func:`planerel.segment.view_pitch`, what the
+small pass's ``small_pitch`` reads), ``proof`` (each proof plane's
 label, orientation, incline, length, width, points, RMS in mm, range, height over the floor,
 whether it touches the image's border or is seen in part), and two measures of the vertical
 planes (fbox53):
@@ -88,7 +89,7 @@ def _plane(p, truncated) -> dict:
 
 def records(answer, desc) -> list:
     """``[(ObjectAnswer, pixel mask, record)]`` of the ``box`` answers of one frame."""
-    from box_causes import camera_pitch
+    from planerel.segment import view_pitch
 
     planes = {p.label: p for p in desc.planes}
     ids = {desc.plane_id(p.label): p.label for p in desc.planes}
@@ -106,7 +107,7 @@ def records(answer, desc) -> list:
         rec = {"object": o.object_id, "rule": o.rule_index,
                "planar": None if o.planar_fraction is None else round(o.planar_fraction, 3),
                "planes": len(o.labels), "up_confidence": round(float(answer.up_confidence), 2),
-               "pitch": round(camera_pitch(desc.planes.up), 1),
+               "pitch": round(view_pitch(desc.planes.up), 1),
                "proof": [_plane(planes[v], desc.truncated) for v in proof],
                "skirt_fans": {str(k): v for k, v in
                               skirt_fans(pairs, o.labels).items()},
