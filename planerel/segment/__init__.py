@@ -354,7 +354,7 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, lo
             fit.append(round(ratio, 2))
             if ratio > rms_max:
                 if not (local > 0 and sig > 0
-                        and _locally_flat(cloud, (wl == r) & free, rms, cen, local,
+                        and _locally_flat(xyz[box], m, xyz.shape[1], rms, cen, local,
                                           rms_max * sig)):
                     continue
                 seg.info["far_local"] = seg.info.get("far_local", 0) + 1
@@ -363,15 +363,17 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, lo
     return out, added, fit
 
 
-def _locally_flat(cloud, mask, rms, cen, local, floor) -> bool:
-    """``far_local``'s test: the region ``mask`` (H, W), whose plane fits at ``rms`` (m) with its
-    centroid ``cen`` (3,), fits within ``local`` times its own patch noise, which is above
+def _locally_flat(xyz, mask, width, rms, cen, local, floor) -> bool:
+    """``far_local``'s test: the region ``mask`` (h, w) of the points ``xyz`` (h, w, 3) (a
+    window of a frame ``width`` px wide holding the region: the patches tile the region's
+    bounding box, so the window gives the frame's answer), whose plane fits at ``rms`` (m) with
+    its centroid ``cen`` (3,), fits within ``local`` times its own patch noise, which is above
     ``floor`` (m: the frame's bound, so the region is noisier than the frame, not folded) and at
     most :data:`~planerel.segment.params.FAR_LOCAL_NOISE` per metre of depth."""
     from planerel.segment.params import FAR_LOCAL_NOISE
     from planerel.segment.patch_noise import patch_noise, patch_size
 
-    own = patch_noise(cloud.xyz, mask, patch_size(mask.shape[1]))
+    own = patch_noise(xyz, mask, patch_size(width))
     if own is None or own <= floor or own > FAR_LOCAL_NOISE * float(cen[2]):
         return False
     return rms <= local * own
