@@ -202,6 +202,7 @@ def _box_rows(desc, cloud, row, lab):
     from real_unseen import rect_mask
 
     from planerel.features import relations as R
+    from planerel.features.lying import top_sized
     from planerel.features.solid import face_profile_of, skirt_measures
 
     pid = desc.plane_id
@@ -234,12 +235,7 @@ def _box_rows(desc, cloud, row, lab):
             if best is None or len(failed) < len(best[1]):
                 best = (pid(q.label), failed)
         else:
-            top_like = (q.incline <= p.skirt_tilted
-                        and p.lying_min_length <= q.length <= p.lying_length
-                        and q.width >= p.lying_width) or (
-                p.lying_small_length > 0 and q.incline <= p.lying_small_tilt
-                and p.lying_small_length <= q.length <= p.lying_length
-                and q.width >= p.lying_small_width)
+            top_like = top_sized(q, p)
             grounds = []
             for g in ps:
                 if g.orientation != "horizontal" or g.label == q.label:

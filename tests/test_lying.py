@@ -510,3 +510,46 @@ def test_pieces_at_two_levels_are_no_one_ground():
     ps, rel, cloud = _lying_in(_box_on_pieces(drop=0.03), TOP_DOWN)
     on = RelationParams(lying_ground_union=True)
     assert lying_tops(ps, relate(ps, cloud, on), (), cloud) == frozenset()
+
+
+def test_a_small_top_tilted_within_its_own_noise_is_lying_with_lying_small_noise():
+    """level100 (hunt67's wooden cubes seen from 1 m above: their 2.5-4.6 cm tops measure 3-10
+    degrees off the board with 1.5-2.7 mm of RMS): with ``lying_small_noise`` a smaller top
+    tilted past ``lying_small_tilt`` (5), up to twice that, is level when the rise its tilt
+    makes along its length is at most that many times its RMS; a flat one tilted as much, a
+    top tilted past 10 degrees or longer than ``SMALL_NOISE_LENGTH`` (6 cm) is not."""
+    from planerel.features.lying import SMALL_NOISE_LENGTH
+
+    assert RelationParams().lying_small_noise == 3.0 and SMALL_NOISE_LENGTH == 0.06
+    off = RelationParams(lying_small_noise=0.0)
+
+    def top(sx, tilt, noise):
+        cloud, lab, _, _ = render([floor(), _table(), _top(sx=sx, sy=0.035, rise=0.035,
+                                                           tilt=tilt)],
+                                  noise=noise, **TABLE_VIEW)
+        ps = measure_planes(cloud, lab)
+        t = ps.by_label(2)
+        return t, (lambda params=None: lying_tops(ps, relate(ps, cloud, params), ()))
+
+    # a 4 x 3.5 cm top tipped 8 degrees, with 3 mm of noise: the tilt's rise along it (about
+    # 5.6 mm) is under 3 times its RMS
+    t, lying = top(0.04, 8.0, 0.003)
+    assert 5.0 < t.incline <= 10.0 and t.length <= SMALL_NOISE_LENGTH
+    assert math.tan(math.radians(t.incline)) * t.length <= 3.0 * t.rms
+    assert lying() == {2}
+    assert lying(off) == frozenset()
+    # the same top nearly noise-free: its tilt is its own
+    t, lying = top(0.04, 8.0, 0.0003)
+    assert 5.0 < t.incline <= 10.0
+    assert lying() == frozenset()
+    # tipped 14 degrees, past twice lying_small_tilt, however noisy
+    t, lying = top(0.04, 14.0, 0.004)
+    assert t.incline > 10.0 and lying() == frozenset()
+    # 8 cm long, its tilt's rise within 3 times its RMS: its incline is measured, not its
+    # noise's (SMALL_NOISE_LENGTH)
+    t, lying = top(0.08, 6.0, 0.006)
+    assert t.length > SMALL_NOISE_LENGTH and 5.0 < t.incline <= 10.0
+    assert math.tan(math.radians(t.incline)) * t.length <= 3.0 * t.rms
+    assert lying() == frozenset()
+    with pytest.raises(InputError, match="lying_small_noise"):
+        RelationParams(lying_small_noise=-1.0)

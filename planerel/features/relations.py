@@ -393,6 +393,12 @@ class RelationParams:
     lying_small_length: float = 0.03
     lying_small_width: float = 0.02
     lying_small_tilt: float = 5.0
+    #: a smaller top (``lying_small_length``) tilted more than ``lying_small_tilt`` degrees,
+    #: up to twice that, is level within its own noise when the rise the tilt makes along its
+    #: length, ``tan(incline) x length``, is at most this many times its RMS fit residual: a
+    #: 2.5-4 cm block top seen from 1 m measures 3-10 degrees off the board it stands on
+    #: with 1.5-2.7 mm of RMS, a rise of 1-4 times its RMS (level100).  0: off
+    lying_small_noise: float = 3.0
     #: the ground a ``lying`` plane lies on is at least this many times its area (a table
     #: or the floor under a book, not a tread beside a tread) (top25)
     lying_ground: float = 3.0
@@ -505,7 +511,8 @@ class RelationParams:
                              "lying_rise_max", "lying_length", "lying_ground", "lying_tilt", "lying_lean",
                              "lying_min_length", "lying_width", "lying_snr", "lying_ring",
                              "lying_ring_ground", "lying_ring_between", "lying_ring_band",
-                             "lying_small_length", "lying_small_width", "lying_small_tilt"))
+                             "lying_small_length", "lying_small_width", "lying_small_tilt",
+                             "lying_small_noise"))
         if self.lying_rise > 0 and self.lying_rise_max <= self.lying_rise:
             raise InputError(f"lying_rise_max must be above lying_rise ({self.lying_rise!r}), got "
                              f"{self.lying_rise_max!r} (lying_rise 0 switches lying/1 off)")
