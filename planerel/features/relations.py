@@ -394,10 +394,11 @@ class RelationParams:
     lying_small_width: float = 0.02
     lying_small_tilt: float = 5.0
     #: a smaller top (``lying_small_length``) tilted more than ``lying_small_tilt`` degrees,
-    #: up to twice that, is level within its own noise when the rise the tilt makes along its
-    #: length, ``tan(incline) x length``, is at most this many times its RMS fit residual: a
-    #: 2.5-4 cm block top seen from 1 m measures 3-10 degrees off the board it stands on
-    #: with 1.5-2.7 mm of RMS, a rise of 1-4 times its RMS (level100).  0: off
+    #: up to twice that, and at most ``lying.SMALL_NOISE_LENGTH`` (6 cm) long, is level within
+    #: its own noise when the rise the tilt makes along its length, ``tan(incline) x
+    #: length``, is at most this many times its RMS fit residual: a 2.5-4.6 cm block top seen
+    #: from 1 m measures 3-10 degrees off the board it stands on with 1.5-2.7 mm of RMS, a
+    #: rise of 0.3-4 times its RMS (level100).  0: off
     lying_small_noise: float = 3.0
     #: the ground a ``lying`` plane lies on is at least this many times its area (a table
     #: or the floor under a book, not a tread beside a tread) (top25)
