@@ -117,6 +117,8 @@ __all__ = [
     "skirts_within_objects",
     "tall_faces",
     "lying_tops",
+    "top_sized",
+    "SMALL_NOISE_LENGTH",
     "leans_towards",
     "hull_gap",
     "scene_graph",
@@ -1335,7 +1337,7 @@ _MOVED = {
     ), "tall_face"),
     **dict.fromkeys((
         "lying_tops", "_union_grounded", "_lies_on", "_ground_around", "_ring_band", "_ring_width",
-        "_boxes_meet",
+        "_boxes_meet", "top_sized", "_small_level", "SMALL_NOISE_LENGTH",
     ), "lying"),
     **dict.fromkeys((
         "ProposalParams",
