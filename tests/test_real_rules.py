@@ -541,13 +541,15 @@ def test_the_side_test_keeps_small_cube_tops_off_the_board(demo_model):
     14 -> 37 found, hunt90's (cubes on tables and boards seen from above by RealSense cameras,
     55 boxes) 4 -> 21; no false box more (hunt90's one is the same).  The demo's rules
     re-learned with it are the rules learned without it.  (Without the small pass, on for
-    hunt67's steep views since small99.)"""
+    hunt67's steep views since small99, and without level100's small tops level within their
+    noise: what span91 measured.)"""
     sets = ([HUNT_DATA / "hunt67" / n for n in ("armlab-204", "armlab-kinect", "armlab-rs-grid")]
             + [HUNT_DATA / "hunt90" / n for n in ("bg-tabletop", "leob-armlab", "lg-table",
                                                   "lk-armlab")])
-    now = _totals(_unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", ["small_scale=0"]))
+    base = ["small_scale=0", "relations.lying_small_noise=0"]
+    now = _totals(_unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", base))
     off = _totals(_unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA",
-                               ["split.merge_side=0", "small_scale=0"]))
+                               ["split.merge_side=0", *base]))
     assert now["box_found"] >= 58 and off["box_found"] <= 18, (now, off)
     assert now["false_box"] <= off["false_box"] <= 1, (now, off)
 
