@@ -545,6 +545,7 @@ def test_a_small_top_tilted_within_its_own_noise_is_lying_with_lying_small_noise
     # tipped 14 degrees, past twice lying_small_tilt, however noisy
     t, lying = top(0.04, 14.0, 0.004)
     assert t.incline > 10.0 and lying() == frozenset()
+    assert lying(RelationParams(lying_small_noise=100.0)) == frozenset()
     # 8 cm long, its tilt's rise within 3 times its RMS: its incline is measured, not its
     # noise's (SMALL_NOISE_LENGTH)
     t, lying = top(0.08, 6.0, 0.006)
