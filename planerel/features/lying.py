@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from planerel.features.relations import Relations, adjacent_only
+from planerel.features.relations import Relations, adjacent_only, noise_tilt
 
 __all__ = ["lying_tops", "top_sized", "SMALL_NOISE_LENGTH"]
 
@@ -180,10 +180,9 @@ def _small_level(t, p) -> bool:
     own noise can make)."""
     if t.incline <= p.lying_small_tilt:
         return True
-    if (p.lying_small_noise <= 0 or t.incline > 2.0 * p.lying_small_tilt
-            or t.length > SMALL_NOISE_LENGTH):
+    if t.incline > 2.0 * p.lying_small_tilt or t.length > SMALL_NOISE_LENGTH:
         return False
-    return math.tan(math.radians(t.incline)) * t.length <= p.lying_small_noise * t.rms
+    return t.incline <= noise_tilt(t.rms, t.length, p.lying_small_noise)
 
 
 def _lies_on(t, g, up: np.ndarray, p) -> bool:

@@ -121,6 +121,7 @@ __all__ = [
     "SMALL_NOISE_LENGTH",
     "leans_towards",
     "hull_gap",
+    "noise_tilt",
     "scene_graph",
     "ProposalParams",
     "propose_objects",
@@ -661,6 +662,16 @@ def view_angle(plane) -> float:
     return math.degrees(math.asin(min(1.0, abs(float(np.asarray(plane.normal, float) @ c)) / d)))
 
 
+def noise_tilt(rms: float, extent: float, k: float) -> float:
+    """Degrees a plane's fit may tilt by its noise alone: the tilt ``k`` times its fit RMS
+    (m) makes across ``extent`` (m), ``atan(k rms / extent)``; 0 when ``k`` or ``extent`` is 0
+    (a narrow skirt top across its width, :meth:`_Solid.top_tilt`; a small lying top along its
+    length, :func:`planerel.features.lying.top_sized`)."""
+    if k <= 0 or extent <= 0:
+        return 0.0
+    return math.degrees(math.atan(k * float(rms) / float(extent)))
+
+
 def adjacent_only(relations):
     """``relations``' relations of adjacent planes, in order (:meth:`Relations.adjacent_only`),
     or ``relations`` itself when it is a plain sequence (its callers test ``adjacent``
@@ -839,9 +850,7 @@ class _Solid:
         (``atan(k rms / width)``: on a noisy sensor a 5 cm strip's fit says little of its
         tilt), at most ``skirt_top_tilt`` more; a noise-free top gets none."""
         p = self.params
-        if p.skirt_top_noise <= 0 or top.width <= 0:
-            return p.skirt_top_tilt
-        extra = math.degrees(math.atan(p.skirt_top_noise * float(top.rms) / float(top.width)))
+        extra = noise_tilt(top.rms, top.width, p.skirt_top_noise)
         return p.skirt_top_tilt + min(p.skirt_top_tilt, extra)
 
     def top_candidate(self, top) -> bool:
