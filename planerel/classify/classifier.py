@@ -422,7 +422,7 @@ def _proof_plane_gate(desc, answers, xyz, klass: str, orientation: str, measure,
 #: box cut, the flight trim and :meth:`Classifier._answer_gates`) that a members model takes
 #: from its first member (members93, cutm93)
 _AFTER_VOTE = ("cut_boxes", "cut_split", "flight_trim", "flight_side", "hang", "long_lying",
-               "crowd", "narrow_face", "far_gate", "slope_parts")
+               "slab", "crowd", "narrow_face", "far_gate", "slope_parts")
 
 
 def _box_rules(a, chosen: bool = False) -> set:
@@ -717,6 +717,10 @@ class Classifier:
         #: no ``box`` for an object proved by a top alone longer than a lying box's
         #: (``decision.long_lying_gate``): the bound in metres, or None when off
         self.long_lying = decision.long_lying_length if decision.long_lying_gate else None
+        #: no ``box`` for an object whose proof's top is a slab's edge: narrow, an upright
+        #: plane of the object reaching far below it (``decision.slab_gate``,
+        #: :mod:`planerel.features.slab`): ``(width, drop)``, or None when off
+        self.slab = (decision.slab_width, decision.slab_drop) if decision.slab_gate else None
         #: no ``box`` for an object of more planes than a box shows (``decision.crowd_gate``):
         #: the bound, or None when off
         self.crowd = decision.crowd_planes if decision.crowd_gate else None
@@ -947,7 +951,7 @@ class Classifier:
 
     def _answer_gates(self, desc, answers, xyz) -> tuple:
         """The decision gates that judge each answer as it is (none makes objects), in
-        order: flight sides, hanging, long lying, crowded, narrow faces, far proofs, slope
+        order: flight sides, hanging, long lying, slab edges, crowded, narrow faces, far proofs, slope
         parts (:meth:`answer_description`)."""
         if self.flight_side is not None and xyz is not None and BOX in self.classes:
             answers = self._flight_sides(desc, answers, xyz)
@@ -955,6 +959,8 @@ class Classifier:
             answers = self._hanging(desc, answers, xyz)
         if self.long_lying is not None and BOX in self.classes:
             answers = self._long_lying(desc, answers)
+        if self.slab is not None and xyz is not None and BOX in self.classes:
+            answers = self._slabs(desc, answers, xyz)
         if self.crowd is not None and BOX in self.classes:
             answers = self._crowded(answers)
         if self.narrow_face is not None and xyz is not None and BOX in self.classes:
@@ -1045,6 +1051,36 @@ class Classifier:
                         why = LongLyingRefusal(BOX, a.rule_index or 0, desc.plane_id(top.label),
                                                float(top.length), float(self.long_lying))
                         a = _refuse(a, why)
+            out.append(a)
+        return tuple(out)
+
+    def _slabs(self, desc, answers, xyz) -> tuple:
+        """``decision.slab_gate``: each ``box`` answer whose proof binds a top (a plane not
+        upright) at most ``slab_width`` wide under which an upright plane of its object reaches
+        ``slab_drop`` or more (:func:`~planerel.features.slab.slab_edge`) becomes ``other``,
+        with a :class:`~planerel.ilp.metrics.SlabRefusal`."""
+        from planerel.features.slab import slab_edge
+        from planerel.ilp.metrics import SlabRefusal
+
+        lab = desc.labels
+        if lab is None or np.asarray(lab).shape != np.asarray(xyz).shape[:2]:
+            return answers
+        width, drop = self.slab
+        ids = {desc.plane_id(p.label): p for p in desc.planes}
+        by_label = {p.label: p for p in desc.planes}
+        out = []
+        for a in answers:
+            if a.klass == BOX:
+                tops = [ids[i] for i in a.proof_planes
+                        if i in ids and ids[i].orientation != "vertical"]
+                faces = [by_label[x] for x in a.labels
+                         if x in by_label and by_label[x].orientation == "vertical"]
+                for t in tops:
+                    e = slab_edge(desc.planes, desc.relations, t, faces, xyz, lab, width, drop)
+                    if e is not None:
+                        a = _refuse(a, SlabRefusal(BOX, a.rule_index or 0, desc.plane_id(e.top),
+                                                   desc.plane_id(e.face), e.width, e.drop))
+                        break
             out.append(a)
         return tuple(out)
 

@@ -216,6 +216,10 @@ HANG_LINES = 8
 #: Defaults of :attr:`DecisionParams.long_lying_gate` and its bound (fbox58).
 LONG_LYING_GATE = True
 LONG_LYING_LENGTH = 0.4
+#: Defaults of :attr:`DecisionParams.slab_gate` and its bounds (slab101).
+SLAB_GATE = True
+SLAB_WIDTH = 0.13
+SLAB_DROP = 0.5
 #: Defaults of :attr:`DecisionParams.crowd_gate` and its bound (crowd88).
 CROWD_GATE = True
 CROWD_PLANES = 20
@@ -557,6 +561,18 @@ class DecisionParams:
         becomes ``other``.  Only classify applies it.
     long_lying_length : float
         Metres (>= 0): 0.4.
+    slab_gate : bool
+        On by default (slab101, 2026-12-07).  No ``box`` for an object whose proof binds a top
+        (a plane not upright) at most ``slab_width`` wide under whose edge an upright plane of
+        the object, adjacent to it, reaches ``slab_drop`` or more below the top's level (and
+        does not rise over it): the top strip of a wall, a door or a panel seen over its edge,
+        not a box (:func:`planerel.features.slab.slab_edge`).  On the real development frames
+        the right box answers with a top that narrow have upright faces at most 0.29 m long;
+        the generated stairwells' side walls (an 8 cm cap, the wall 0.9-1.9 m below it) were
+        false boxes where the flight was lost.  The answer becomes ``other``.  Only classify
+        applies it.
+    slab_width, slab_drop : float
+        Metres (>= 0): 0.13, 0.5.
     crowd_gate : bool
         On by default (crowd88, 2026-12-06).  No ``box`` for an object of more than
         ``crowd_planes`` planes: a box shows at most three faces, which a real sensor's noise
@@ -713,6 +729,9 @@ class DecisionParams:
     hang_lines: int = HANG_LINES
     long_lying_gate: bool = LONG_LYING_GATE
     long_lying_length: float = LONG_LYING_LENGTH
+    slab_gate: bool = SLAB_GATE
+    slab_width: float = SLAB_WIDTH
+    slab_drop: float = SLAB_DROP
     crowd_gate: bool = CROWD_GATE
     crowd_planes: int = CROWD_PLANES
     far_gate: bool = FAR_GATE
@@ -733,7 +752,7 @@ class DecisionParams:
                      "side_gate", "unsure_gate", "unsure_upside", "unsure_sparse", "facet_gate",
                      "facet_bridge", "cut_boxes", "cut_split", "pitch_gate",
                      "flight_side_gate", "flight_trim", "hang_gate", "long_lying_gate", "crowd_gate",
-                     "narrow_face_gate", "far_gate", "slope_parts_gate"):
+                     "slab_gate", "narrow_face_gate", "far_gate", "slope_parts_gate"):
             if not isinstance(getattr(self, gate), bool):
                 raise InputError(f"decision.{gate} must be true or false, "
                                  f"got {getattr(self, gate)!r}")
@@ -754,7 +773,8 @@ class DecisionParams:
         for name in ("size_margin", "slender_margin", "range_margin", "cut_reach", "cut_margin",
                      "flight_side_thick", "flight_side_gap", "flight_side_reach",
                      "flight_side_rise", "flight_trim_edge", "flight_trim_rise", "hang_drop",
-                     "hang_level", "long_lying_length", "narrow_face_ratio", "slope_parts_tol"):
+                     "hang_level", "long_lying_length", "slab_width", "slab_drop",
+                     "narrow_face_ratio", "slope_parts_tol"):
             m = getattr(self, name)
             if (isinstance(m, bool) or not isinstance(m, (int, float)) or not np.isfinite(m)
                     or m < 0):
@@ -1967,6 +1987,35 @@ class LongLyingRefusal:
     def to_dict(self) -> dict:
         return {"class": self.klass, "rule": self.rule, "top": self.top,
                 "length": round(self.length, 3), "bound": self.bound, "reason": self.reason}
+
+
+@dataclass(frozen=True)
+class SlabRefusal:
+    """``box`` for an object whose proof's top is a slab's edge: narrow, with an upright plane
+    of the object reaching far below it (``decision.slab_gate``,
+    :func:`planerel.features.slab.slab_edge`)."""
+
+    klass: str
+    rule: int
+    #: the top's plane id
+    top: str
+    #: the upright plane's id
+    face: str
+    #: the top's width, metres
+    width: float
+    #: how far the face reaches below the top, metres
+    drop: float
+
+    @property
+    def reason(self) -> str:
+        return (f"rule {self.rule} proves it, but its top {self.top} is {self.width:.2f} m wide "
+                f"and {self.face} reaches {self.drop:.2f} m below it: the edge of a wall, a "
+                f"door or a panel, not a box")
+
+    def to_dict(self) -> dict:
+        return {"class": self.klass, "rule": self.rule, "top": self.top, "face": self.face,
+                "width": round(self.width, 3), "drop": round(self.drop, 3),
+                "reason": self.reason}
 
 
 @dataclass(frozen=True)

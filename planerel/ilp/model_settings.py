@@ -32,6 +32,7 @@ Override names: a bare name is a segmentation parameter (``theta=12``, ``split=f
 ``decision.flight_trim_angle``, ``decision.flight_trim_edge``, ``decision.flight_trim_rise``,
 ``decision.hang_gate``, ``decision.hang_share``, ``decision.hang_drop``, ``decision.hang_level``,
 ``decision.hang_lines``, ``decision.long_lying_gate``, ``decision.long_lying_length``,
+``decision.slab_gate``, ``decision.slab_width``, ``decision.slab_drop``,
 ``decision.crowd_gate``, ``decision.crowd_planes``,
 ``decision.narrow_face_gate``, ``decision.narrow_face_ratio``, ``decision.far_gate``,
 ``decision.slope_parts_gate``, ``decision.slope_parts_tol``,
