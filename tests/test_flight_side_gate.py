@@ -148,6 +148,46 @@ def test_the_measure():
     assert flight_geometry(d.planes, [], cloud.xyz, d.labels) is None   # no flight, no measure
 
 
+def test_a_sliver_does_not_skew_the_wall():
+    """slab101: a plane of the wall under ``SKEW_SHARE`` of its points (a sliver of its top
+    cut off at an angle, dev_stw i0031) sets no skew; an inclined plane of a tenth of its
+    points does (the object is no upright wall then)."""
+    from types import SimpleNamespace
+
+    from planerel.features.facts import describe_scene
+    from planerel.features.flight_side import SKEW_SHARE, beside_flight, flight_geometry
+
+    cloud, up, lab, objs = _scene()
+    d = describe_scene(cloud, lab, up=up)
+    objs = np.asarray(objs)
+    known = {p.label for p in d.planes}
+    flight = [x for x in np.unique(lab) if x >= 0 and objs[x] == FLIGHT and x in known]
+    wall = [x for x in np.unique(lab) if x >= 0 and objs[x] == WALL and x in known]
+    geometry = flight_geometry(d.planes, flight, cloud.xyz, d.labels)
+    labels = np.asarray(d.labels).copy()
+    big = max(wall, key=lambda x: (labels == x).sum())
+    rows, cols = np.nonzero(labels == big)
+    total = sum(int((labels == x).sum()) for x in wall)
+
+    class Planes:
+        """``d.planes`` with one more plane, an inclined one, labelled 999."""
+        def __init__(self, n):
+            self.extra = SimpleNamespace(label=999, orientation="inclined",
+                                         normal=np.array([0.0, 0.7, 0.7]), n_points=n)
+
+        def by_label(self, x):
+            return self.extra if x == 999 else d.planes.by_label(x)
+
+    for share, skewed in ((0.5 * SKEW_SHARE, False), (0.1, True)):
+        k = int(share * total)
+        lab2 = labels.copy()
+        lab2[rows[:k], cols[:k]] = 999
+        m = beside_flight(Planes(k), geometry, [*wall, 999], cloud.xyz, lab2)
+        assert m is not None
+        assert (m.skew == 90.0) is skewed
+        assert m.beside(0.15, 0.35, 0.5, 0.2, 15.0) is not skewed
+
+
 def test_decision_params():
     p = M.DecisionParams()
     assert p.flight_side_gate is True

@@ -27,7 +27,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FlightSide", "beside_flight", "flight_frame", "flight_geometry", "side_planes"]
+__all__ = ["FlightSide", "SKEW_SHARE", "beside_flight", "flight_frame", "flight_geometry",
+           "side_planes"]
+
+#: A plane of the object under this share of its points sets no :attr:`FlightSide.skew`
+#: (slab101: a 0.0045 m^2 inclined sliver of a 1.4 m^2 side wall's top made the wall "skewed")
+SKEW_SHARE = 0.05
 
 
 @dataclass(frozen=True)
@@ -43,7 +48,8 @@ class FlightSide:
     #: the object's highest point over the flight's highest point
     rise: float
     #: the largest angle of an upright plane of the object off the flight's axes (0: parallel
-    #: or square to the run), or 90 when the object has an inclined plane
+    #: or square to the run), or 90 when the object has an inclined plane (planes under
+    #: :data:`SKEW_SHARE` of its points left out)
     skew: float
 
     def beside(self, thick: float, gap: float, reach: float, rise: float, angle: float,
@@ -143,8 +149,13 @@ def beside_flight(planes, geometry, obj, xyz, seg_labels) -> FlightSide | None:
     # across the flight along the object's own side face, when it has one parallel to the run
     skew = 0.0
     side, side_n = None, 0
+    # a sliver (under SKEW_SHARE of the object's points: a wall's top edge cut off at an angle)
+    # does not make the object skewed
+    least = SKEW_SHARE * sum(planes.by_label(x).n_points for x in obj)
     for x in obj:
         p = planes.by_label(x)
+        if p.n_points < least:
+            continue
         if p.orientation == "inclined":
             skew = 90.0
             continue
