@@ -238,6 +238,9 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
     if (method == "regiongrow" and cloud.organized and p.adapt and p.small_scale > 0
             and normals is None and _steep_enough(seg, p, up)):
         seg = _small_planes(cloud, seg, p, split_params)
+    if (method == "regiongrow" and cloud.organized and p.adapt and p.noisy_wide > 0
+            and normals is None):
+        seg = _noisy_planes(cloud, seg, p, split_params)
     return seg
 
 
@@ -312,7 +315,8 @@ def _noise_sigma(seg, fallback=None):
     return lambda z: math.sqrt(float(fallback.depth_sigma2(z)))
 
 
-def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, local=0.0):
+def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, local=0.0,
+                  within=True):
     """The regions of a second growing's labels ``wl`` (H, W) lying for at least ``share`` of
     their pixels, and ``min_size`` pixels or more, in ``free`` (H, W) bool, whose
     least-squares plane's RMS is at most ``rms_max`` times the depth noise at its centroid's
@@ -323,7 +327,8 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, lo
     (:func:`~planerel.segment.patch_noise.patch_noise`), itself above ``rms_max`` times the
     frame's noise (a frame that measured none keeps nothing this way) and at most
     :data:`~planerel.segment.params.FAR_LOCAL_NOISE` per metre of its depth; ``seg.info
-    ["far_local"]`` counts them."""
+    ["far_local"]`` counts them.  Without ``within`` (the noisy pass) a candidate within
+    ``rms_max`` is not kept: only the ``local`` test keeps one."""
     import numpy as np
     from scipy.ndimage import find_objects
 
@@ -357,7 +362,10 @@ def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, lo
                         and _locally_flat(xyz[box], m, xyz.shape[1], rms, cen, local,
                                           rms_max * sig)):
                     continue
-                seg.info["far_local"] = seg.info.get("far_local", 0) + 1
+                if within:
+                    seg.info["far_local"] = seg.info.get("far_local", 0) + 1
+            elif not within:
+                continue
             out[box][m] = n + added
             added += 1
     return out, added, fit
@@ -427,24 +435,16 @@ def _near_planes(cloud, seg, p, split_params):
     ``info["near_rms_max"]``: the bound used; ``info["near_window"]``: the window."""
     import dataclasses
 
-    from planerel.segment.normals import auto_normal_scale
     from planerel.segment.params import FAR_SHARE
     from planerel.segment.regiongrow import region_grow
 
-    lab = seg.labels
     free = _near_free(cloud, seg, p.far_depth)
     min_size = int(seg.info.get("min_region_size", 0) or 0)
     if int(free.sum()) < max(min_size, 1):
         seg.info["near_planes"] = 0
         return seg
     # the first growing's window (as adapted), widened
-    settings = seg.info.get("settings") or {}
-    nominal = auto_normal_scale(lab.shape[1])
-    win = []
-    for i, name in enumerate(("normal_smooth", "normal_radius")):
-        v = settings.get(name, getattr(p, name))
-        v = nominal[i] if not isinstance(v, int) else v
-        win.append(max(v + 1, int(round(p.near_wide * v))))
+    win = _widened(seg, p, p.near_wide)
     wp = dataclasses.replace(p, normal_smooth=win[0], normal_radius=win[1],
                              min_region_size=max(min_size, 1), far_theta=0.0, far_wide=False,
                              small_scale=0.0, near_wide=0.0)
@@ -455,6 +455,51 @@ def _near_planes(cloud, seg, p, split_params):
     seg.info["near_rms_max"] = round(rms_max, 2)
     seg.info["near_fit"] = fit
     seg.info["near_window"] = tuple(win)
+    return _with_added(cloud, seg, out, added) if added else seg
+
+
+def _widened(seg, p, factor):
+    """``[smooth, radius]``: the first growing's normal window (as adapted) times ``factor``,
+    at least one pixel more (the near and noisy passes)."""
+    from planerel.segment.normals import auto_normal_scale
+
+    settings = seg.info.get("settings") or {}
+    nominal = auto_normal_scale(seg.labels.shape[1])
+    win = []
+    for i, name in enumerate(("normal_smooth", "normal_radius")):
+        v = settings.get(name, getattr(p, name))
+        v = nominal[i] if not isinstance(v, int) else v
+        win.append(max(v + 1, int(round(factor * v))))
+    return win
+
+
+def _noisy_planes(cloud, seg, p, split_params):
+    """``noisy_wide``: planes of faces noisier than the rest of the frame where the first
+    growing left depth in no plane, at any range (:class:`~planerel.segment.params.
+    RegionGrowParams`); nothing already in a plane changes.  ``info["noisy_planes"]``: the
+    planes added."""
+    import dataclasses
+
+    import numpy as np
+
+    from planerel.segment.params import FAR_SHARE, NOISY_LOCAL, NOISY_SIZE, NOISY_THETA
+    from planerel.segment.regiongrow import region_grow
+
+    seg.info["noisy_planes"] = 0
+    free = np.asarray(cloud.valid) & (seg.labels < 0)
+    least = max(int(seg.info.get("min_region_size", 0) or 0), 1)
+    size = int(round(NOISY_SIZE * least))
+    sigma = _noise_sigma(seg)
+    if int(free.sum()) < size or float(sigma(1.0)) <= 0:
+        return seg  # (a frame that measured no noise has nothing noisier than it)
+    win = _widened(seg, p, p.noisy_wide)
+    wp = dataclasses.replace(p, normal_smooth=win[0], normal_radius=win[1], theta=NOISY_THETA,
+                             min_region_size=least, far_theta=0.0, far_wide=False,
+                             small_scale=0.0, near_wide=0.0, noisy_wide=0.0)
+    wl = _post_process(cloud, region_grow(cloud, wp, split=True), wp, None, split_params).labels
+    out, added, _fit = _free_regions(cloud, seg, wl, free, size, _near_rms_max(seg, p, sigma),
+                                     FAR_SHARE, sigma, local=NOISY_LOCAL, within=False)
+    seg.info["noisy_planes"] = added
     return _with_added(cloud, seg, out, added) if added else seg
 
 

@@ -81,6 +81,17 @@ SMALL_PARALLEL = 10.0
 #: (a 2 cm block top over a RealSense board of RMS 1.5 mm: 13)
 SMALL_RAISE = 5.0
 
+#: ``noisy_wide`` (noisy101): the second growing's angle (degrees; a face six times as noisy as
+#: the frame turns its normals this far even over the wider window)
+NOISY_THETA = 25.0
+#: ``noisy_wide``: a candidate has at least this many times the first growing's least region
+#: size (a time-of-flight camera's dark load or carton face: large)
+NOISY_SIZE = 4.0
+#: ``noisy_wide``: a candidate fits within this many times its own patch noise (noise correlated
+#: over 5 px makes a flat face's whole RMS about twice what 8 px patches measure: dev_pal's
+#: loads 2.0-2.1)
+NOISY_LOCAL = 2.5
+
 #: ``near_wide``: a near candidate's fit (RMS over the measured noise) may be up to this many
 #: times the median fit of the first growing's near planes, when that is looser than
 #: ``far_rms`` (a rippled sensor's planes fit at several times the 5 px noise estimate)
@@ -287,6 +298,21 @@ class RegionGrowParams:
         the measured depth noise, or :data:`NEAR_RMS` times the median of that ratio over the
         first growing's near planes when that is looser.  Nothing already in a plane changes.
         ``info["near_planes"]``: the planes added.
+    noisy_wide : float
+        4 (noisy101, on), 0 (off) or a factor in (1, 8].  With ``adapt`` and
+        post-processing, where the first growing left :data:`NOISY_SIZE` times its minimum
+        region size or more in no plane (at any depth), the cloud is grown again with the
+        normal window this many times the first's and an angle of :data:`NOISY_THETA`, and each
+        region of that growing lying for at least :data:`FAR_SHARE` of its pixels, and
+        :data:`NOISY_SIZE` times the first's minimum region size, in that depth becomes a plane
+        when it is noisier than the frame -- its RMS over ``far_rms`` times the measured noise
+        (or the near pass's looser bound), so the first growing would have planed it were it
+        not -- yet flat at its own scale: within :data:`NOISY_LOCAL` times its own patch noise,
+        which lies over that bound and under :data:`FAR_LOCAL_NOISE` per metre of depth
+        (``far_local``'s test).  A time-of-flight camera's dark faces (a wrapped pallet load, a
+        carton: six times the frame's noise, a quarter of their pixels holes) grow no plane at
+        the frame's window (docs/segmentation.md "Noisy faces grown at their own noise").
+        Nothing already in a plane changes.  ``info["noisy_planes"]``: the planes added.
     """
 
     theta: float = 15.0
@@ -320,6 +346,7 @@ class RegionGrowParams:
     small_corners: bool = False
     small_pitch: float = 60.0
     near_wide: float = 0.0
+    noisy_wide: float = 4.0
     angle_order: str = "auto"
     seed_test: bool | str = "auto"
 
@@ -378,6 +405,10 @@ class RegionGrowParams:
         if 0 < self.near_wide <= 1:
             raise InputError(f"{o}: near_wide must be 0 (off) or a factor in (1, 4], "
                              f"got {self.near_wide!r}")
+        s(self, "noisy_wide", _num(o, "noisy_wide", self.noisy_wide, lo=0, hi=8))
+        if 0 < self.noisy_wide <= 1:
+            raise InputError(f"{o}: noisy_wide must be 0 (off) or a factor in (1, 8], "
+                             f"got {self.noisy_wide!r}")
         s(self, "min_region_scale", _num(o, "min_region_scale", self.min_region_scale, lo=0,
                                          lo_open=True))
         if self.angle_order not in ("auto", "paper", "reversed"):
