@@ -951,8 +951,8 @@ class Classifier:
 
     def _answer_gates(self, desc, answers, xyz) -> tuple:
         """The decision gates that judge each answer as it is (none makes objects), in
-        order: flight sides, hanging, long lying, slab edges, crowded, narrow faces, far proofs, slope
-        parts (:meth:`answer_description`)."""
+        order: flight sides, hanging, long lying, slab edges, crowded, narrow faces, far
+        proofs, slope parts (:meth:`answer_description`)."""
         if self.flight_side is not None and xyz is not None and BOX in self.classes:
             answers = self._flight_sides(desc, answers, xyz)
         if self.hang is not None and xyz is not None and BOX in self.classes:

@@ -151,9 +151,9 @@ def beside_flight(planes, geometry, obj, xyz, seg_labels) -> FlightSide | None:
     side, side_n = None, 0
     # a sliver (under SKEW_SHARE of the object's points: a wall's top edge cut off at an angle)
     # does not make the object skewed
-    least = SKEW_SHARE * sum(planes.by_label(x).n_points for x in obj)
-    for x in obj:
-        p = planes.by_label(x)
+    members = [planes.by_label(x) for x in obj]
+    least = SKEW_SHARE * sum(p.n_points for p in members)
+    for p in members:
         if p.n_points < least:
             continue
         if p.orientation == "inclined":
