@@ -133,6 +133,33 @@ def test_a_board_seen_from_straight_above_is_the_floor_whichever_way_its_normal_
     assert _deg(est.vector, board) < 1.0, est
 
 
+@pytest.mark.parametrize("tip", [0.008, -0.008])
+def test_a_board_under_towers_and_a_wall_strip_is_the_floor(tip):
+    """hunt90 lk-armlab stacks (measured planes, rounded): a board 1 m under a camera looking
+    straight down, the wall behind it along the image's top (its normal towards the image's
+    bottom) and the sides of cube towers.  Those planes are upright to the board; they once
+    kept the board's candidate oriented by the image's top (looking up, refused by the prior),
+    and the image's top won: the wall strip a ceiling 0.3 m over a level camera, 91 degrees
+    off.  Only an upright plane facing the image's top (a floor strip under a level camera's
+    wall) keeps that reading now."""
+    board = np.array([-0.016, tip, -1.0])
+    board /= np.linalg.norm(board)
+    normals = [board, (-0.003, 0.998, -0.059), (-0.002, 1.0, 0.013), board,
+               (0.998, 0.044, -0.052), (0.988, -0.024, -0.15), (0.158, 0.987, 0.004)]
+    normals = [np.asarray(n, float) / np.linalg.norm(n) for n in normals]
+    areas = [0.65, 0.35, 0.12, 0.076, 0.037, 0.013, 0.013]
+    offsets = [0.99, 0.29, 0.30, 1.03, 0.69, 0.68, 0.39]
+    est = estimate_gravity(normals, areas, offsets)
+    assert _deg(est.vector, board) < 1.0, est
+    if tip < 0:
+        return  # the candidate already looks down: the image's top never oriented it
+    # the same planes with the strip facing the image's top: a floor strip under a level
+    # camera facing a wall (the board), read as before
+    flipped = [n if i in (0, 3) else n * np.array([1.0, -1.0, 1.0]) for i, n in enumerate(normals)]
+    level = estimate_gravity(flipped, areas, offsets)
+    assert _deg(level.vector, board) > 80.0, level
+
+
 def test_confidence_high_for_a_room_low_for_degenerate_scenes():
     rects = [floor(), wall()] + box(-0.5, 2.6, 0.6, 0.5, 0.4)
     cloud, lab, _, _ = render(rects, pitch=30, with_up=False)

@@ -729,23 +729,34 @@ def _flipped(upright: UpEstimate, n, hw, params: GravityParams, cent=None, rf=No
 #: A candidate within this many degrees of the optical axis has an image-up component that is
 #: noise (:func:`_looking_down`).
 AXIS_ORIENT_DEG = 12.0
+#: An upright plane keeps a near-axis candidate oriented by the image's top only when its
+#: normal lies within this many degrees of the image's top (a floor strip under a level camera
+#: facing a wall), not one facing the image's bottom (a wall behind a board seen from above,
+#: which the image's top reading makes a ceiling with no floor under the camera) nor one
+#: facing sideways (a tower's side: upright in both readings) (:func:`_looking_down`, axis102)
+AXIS_FLOOR_DEG = 45.0
 
 
 def _looking_down(cands: np.ndarray, n: np.ndarray, params: GravityParams) -> np.ndarray:
     """``cands`` plus, for each candidate within :data:`AXIS_ORIENT_DEG` of the optical axis
     that :func:`_orient` turned towards the camera looking up, its negation (the camera
-    looking down), when no plane is upright to it.
+    looking down), when no plane upright to it faces the image's top (within
+    :data:`AXIS_FLOOR_DEG`).
 
     A board seen from straight above has a normal whose image-up component is a few
     thousandths either way; by its sign :func:`_orient` read the camera as looking straight
     up, the pose prior refused that, and the board became a wall (tote67: hunt67's armlab
-    frames, 90 degrees off).  With an upright plane in view (a level camera facing a wall
-    over a strip of floor) the image's top orients it as before."""
+    frames, 90 degrees off).  With an upright plane facing the image's top in view (a level
+    camera facing a wall over a strip of floor) the image's top orients it as before; upright
+    planes facing the image's bottom or sideways (the wall behind a board and the sides of
+    cube towers on it, hunt90 lk-armlab stacks, 91 degrees off before axis102) do not keep
+    it."""
     on_axis = (np.abs(cands[:, 2]) >= math.cos(math.radians(AXIS_ORIENT_DEG))) & (cands[:, 2] > 0)
     if not on_axis.any():
         return cands
     _, from_v = _angles(cands[on_axis], n)
-    alone = ~(from_v <= params.tol_deg).any(axis=1)
+    floorish = -n[:, 1] >= math.sin(math.radians(AXIS_FLOOR_DEG))
+    alone = ~((from_v <= params.tol_deg) & floorish[None, :]).any(axis=1)
     if not alone.any():
         return cands
     return np.concatenate([cands, -cands[on_axis][alone]], axis=0)
