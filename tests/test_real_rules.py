@@ -581,7 +581,8 @@ def test_the_small_pass_runs_where_the_camera_looks_down(demo_model):
     assert now["box_found"] >= 47 and off["box_found"] <= 39, (now, off)
     assert now["false_box"] == off["false_box"] == 0
     lk = [HUNT_DATA / "hunt90" / "lk-armlab"]
-    rows = _unseen_rows(lk, demo_model, "PLANEREL_HUNT_DATA")
+    # (raised102's tops off: they ride on the small pass and find lk-armlab's cubes)
+    rows = _unseen_rows(lk, demo_model, "PLANEREL_HUNT_DATA", ["raised_min=0"])
     plain = _unseen_rows(lk, demo_model, "PLANEREL_HUNT_DATA", ["small_scale=0"])
     for name in ("allblocks_depth", "stacks_depth"):
         assert rows[name]["objects_proposed"] > plain[name]["objects_proposed"], name
@@ -610,6 +611,26 @@ def test_a_board_under_cube_towers_is_seen_from_above(demo_model):
     with Classifier(demo_model) as clf:
         planes = describe_frame(clf, str(lk), frame)[1].planes
     assert view_pitch(planes.up) > 85.0, planes.up
+
+
+def test_domed_cube_tops_raised_over_the_board(demo_model):
+    """raised102: hunt67/hunt90's cube tops that no growing keeps whole (a RealSense smooths a
+    2.5-4 cm top into a dome, its rim 3-9 mm under its centre: the normals turn through the
+    rim) are planes from their height over the board (``raised_min`` 0.012 m): the boards'
+    169 cubes 78 -> 96 found, no false answer more (hunt90's one is the same); a cup's rim, a
+    sphere's cap and the speckle of an R200 stay out (hunt39 sam6d-lm, hunt45 mbot: no false
+    box either way)."""
+    boards = ([HUNT_DATA / "hunt67" / n for n in ("armlab-204", "armlab-kinect", "armlab-rs-grid")]
+              + [HUNT_DATA / "hunt90" / n for n in ("bg-tabletop", "leob-armlab", "lg-table",
+                                                    "lk-armlab")])
+    now = _totals(_unseen_rows(boards, demo_model, "PLANEREL_HUNT_DATA"))
+    off = _totals(_unseen_rows(boards, demo_model, "PLANEREL_HUNT_DATA", ["raised_min=0"]))
+    assert now["box_found"] >= 94 and now["box_found"] >= off["box_found"] + 15, (now, off)
+    assert now["false_box"] == off["false_box"] <= 1, (now, off)
+    others = [HUNT_DATA / "hunt39" / "sam6d-lm", HUNT_DATA / "hunt45" / "mbot"]
+    rows = _totals(_unseen_rows(others, demo_model, "PLANEREL_HUNT_DATA"))
+    plain = _totals(_unseen_rows(others, demo_model, "PLANEREL_HUNT_DATA", ["raised_min=0"]))
+    assert rows["false_box"] == plain["false_box"], (rows, plain)
 
 
 def test_small_tops_level_within_their_own_noise(demo_model):

@@ -236,12 +236,25 @@ def segment(cloud, method: str = "regiongrow", *, normals=None, split=None, spli
             and normals is None):
         seg = _near_planes(cloud, seg, p, split_params)
     if (method == "regiongrow" and cloud.organized and p.adapt and p.small_scale > 0
-            and normals is None and _steep_enough(seg, p, up)):
-        seg = _small_planes(cloud, seg, p, split_params)
+            and normals is None):
+        u = _view_up(seg, up) if (p.small_pitch > 0 or p.raised_min > 0) else None
+        if _steep_enough(seg, p, u):
+            seg = _small_planes(cloud, seg, p, split_params)
+            if p.raised_min > 0 and u is not None:
+                seg = _raised_tops(cloud, seg, p, split_params, u)
     if (method == "regiongrow" and cloud.organized and p.adapt and p.noisy_wide > 0
             and normals is None):
         seg = _noisy_planes(cloud, seg, p, split_params)
     return seg
+
+
+def _view_up(seg, up):
+    """``up`` (3 numbers, a function of ``seg`` returning them, or None) read once: ``(3,)``
+    or None."""
+    import numpy as np
+
+    u = up(seg) if callable(up) else up
+    return None if u is None else np.asarray(u, float)
 
 
 def _steep_enough(seg, p, up) -> bool:
@@ -305,14 +318,14 @@ def _noise_sigma(seg, fallback=None):
     """The depth noise (m) at a depth ``z`` (m) as a function of ``z``: the measured noise model
     of ``seg``'s growing, or, when the frame measured none, ``fallback``'s (a SplitParams:
     :meth:`~planerel.segment.split.SplitParams.depth_sigma2`, the Kinect model by default;
-    without it 0, so no candidate fits)."""
-    import math
+    without it 0, so no candidate fits).  ``z`` may be an array (the noise of each depth)."""
+    import numpy as np
 
     nm = seg.info.get("noise_model") or {}
     c, q = float(nm.get("const_m") or 0.0), float(nm.get("quad_per_m") or 0.0)
     if (c > 0 or q > 0) or fallback is None:
-        return lambda z: math.hypot(c, q * z * z)
-    return lambda z: math.sqrt(float(fallback.depth_sigma2(z)))
+        return lambda z: np.hypot(c, q * np.square(z))
+    return lambda z: np.sqrt(fallback.depth_sigma2(np.asarray(z, float)))
 
 
 def _free_regions(cloud, seg, wl, free, min_size, rms_max, share, sigma=None, local=0.0,
@@ -611,6 +624,143 @@ def _small_kept(cloud, seg, out, added, *, corners=True):
     for i, j in enumerate(keep):
         remap[j + 1] = n + i
     return remap[out + 1], len(keep)
+
+
+def _raised_tops(cloud, seg, p, split_params, up):
+    """``raised_min``: the tops of things standing on the largest level plane (the support,
+    within :data:`~planerel.segment.params.RAISED_LEVEL` degrees of ``up`` (3,)), from the
+    height over it of the depth the growings left in no plane nearer than ``far_depth``.
+    Each 8-connected component of pixels standing ``raised_min`` or more over the support (and
+    :data:`~planerel.segment.params.RAISED_SIGMAS` noise sigmas, at most
+    :data:`~planerel.segment.params.RAISED_MAX`), of
+    :data:`~planerel.segment.params.RAISED_SIZE` times the first growing's least region size
+    or more, gives its top band: the pixels within
+    :data:`~planerel.segment.params.RAISED_BAND` (or 4 sigmas) of its 90th percentile height,
+    their largest 4-connected piece.  The band becomes a plane when it holds
+    :data:`~planerel.segment.params.RAISED_SHARE` of the component or more (a box seen from
+    above is mostly its top; a bottle's or a fruit's upper band is a narrow cap), its plane
+    fits within :data:`~planerel.segment.params.RAISED_RMS` (or 3 sigmas), lies parallel
+    to the support within :data:`~planerel.segment.params.RAISED_PARALLEL` degrees, and it is
+    a top of its own that ends in a drop (:func:`_own_top`).  A frame the wide fallback grew
+    (speckle: the first growing planed little of it) gets no raised top.
+
+    A block's top that the sensor smoothed into a dome (its rim 3-9 mm under its centre over
+    5-10 px, session 101) turns its normals through the rim, so no growing keeps it whole; its
+    height over the board is 2-12 cm and sharp.  Nothing already in a plane changes.
+    ``info["raised_planes"]``: the planes added."""
+    import math
+
+    import numpy as np
+    from scipy.ndimage import find_objects
+    from scipy.ndimage import label as components
+
+    from planerel.segment import params as P
+    from planerel.segment.split import SplitParams
+
+    seg.info["raised_planes"] = 0
+    if "wide_fallback" in seg.info:
+        return seg   # speckle (an R200): the first growing planed under wide_fallback of it
+    u = np.asarray(up, float)
+    u = u / np.linalg.norm(u)
+    cos_level = math.cos(math.radians(P.RAISED_LEVEL))
+    level = [pl for pl in seg.planes if abs(float(np.asarray(pl.normal, float) @ u)) >= cos_level]
+    if not level:
+        return seg
+    support = max(level, key=lambda pl: (pl.n_points, -pl.id))
+    nrm = np.asarray(support.normal, float)      # towards the sensor: heights over it > 0
+    free = _near_free(cloud, seg, p.far_depth)
+    if not free.any():
+        return seg
+    xyz = np.asarray(cloud.xyz, float)
+    valid = np.asarray(cloud.valid)
+    sigma = _noise_sigma(seg, split_params if split_params is not None else SplitParams())
+    pts = xyz[free]
+    h = np.full(free.shape, -np.inf)
+    h[free] = (pts - np.asarray(support.centroid, float)) @ nrm
+    hmin = np.full(free.shape, np.inf)
+    hmin[free] = np.maximum(p.raised_min, P.RAISED_SIGMAS * sigma(pts[:, 2]))
+    raised = free & (h >= hmin) & (h <= P.RAISED_MAX)
+    comp, _ = components(raised, structure=np.ones((3, 3), bool))
+    size = max(1, round(P.RAISED_SIZE * int(seg.info.get("min_region_size", 0) or 0)))
+    cos_par = math.cos(math.radians(P.RAISED_PARALLEL))
+    out = seg.labels.copy()
+    n = len(seg.planes)
+    added = 0
+    for i, box in enumerate(find_objects(comp), start=1):
+        if box is None:
+            continue
+        m = comp[box] == i
+        k = int(m.sum())
+        if k < size:
+            continue
+        hb = h[box]
+        top = float(np.percentile(hb[m], 90))
+        sig = float(sigma(float(np.median(xyz[box][m][:, 2]))))
+        depth = max(P.RAISED_BAND, 4.0 * sig)
+        band, nb = components(m & (hb >= top - depth))
+        if nb == 0:
+            continue
+        count = np.bincount(band.ravel())
+        count[0] = 0
+        keep = band == int(np.argmax(count))
+        kk = int(keep.sum())
+        if kk < size or kk < P.RAISED_SHARE * k:
+            continue
+        q = xyz[box][keep]
+        cen = q.mean(0)
+        sv, vt = np.linalg.svd(q - cen, full_matrices=False)[1:]
+        rms = float(sv[-1] / math.sqrt(kk))
+        if abs(float(vt[-1] @ nrm)) < cos_par or rms > max(P.RAISED_RMS, 3.0 * sig):
+            continue
+        if not _own_top(xyz, valid, seg.labels, box, keep, support, nrm, top, depth):
+            continue
+        out[box][keep] = n + added
+        added += 1
+    seg.info["raised_planes"] = added
+    return _with_added(cloud, seg, out, added) if added else seg
+
+
+def _own_top(xyz, valid, labels, box, keep, support, nrm, top, depth) -> bool:
+    """Whether the top band ``keep`` (a mask over the frame's slice ``box``) is a top of its
+    own that ends in a drop (:func:`_raised_tops`).  Heights are taken over the ``support``
+    plane along its normal ``nrm`` (3,); ``top`` (m) is the band's 90th percentile height and
+    ``depth`` (m) how far under it the band reaches.
+
+    - **A drop:** the valid depth :data:`~planerel.segment.params.RAISED_RING` px outside the
+      band lies, by its median, :data:`~planerel.segment.params.RAISED_DROP` of ``top`` or more
+      under the band's edge.  A box's top ends at its edge (the sensor's smoothing bends it
+      over a few pixels: hunt67/90's cubes drop 0.51-1.0 of their height there); a sphere's
+      upper band runs on into its slope (a 3 cm cap 1 m away: 0.33, a hemisphere less).
+    - **Its own:** under a quarter of the band's 2 px outline lies in a plane (not the
+      support) at the band's level: a band around a plane's pixels is that top's rim.
+    - **Whole:** the band encloses under :data:`~planerel.segment.params.RAISED_HOLES` of its
+      own pixels (a cup's or a bowl's rim goes round its inside: 0.056 on a real LineMOD
+      frame; hunt67/90's cube tops 0.025 or less, noise)."""
+    import numpy as np
+    from scipy.ndimage import binary_dilation, binary_erosion, binary_fill_holes
+
+    from planerel.segment.params import RAISED_DROP, RAISED_HOLES, RAISED_RING
+
+    lo, hi = RAISED_RING
+    h, w = valid.shape
+    r0, r1 = max(box[0].start - hi, 0), min(box[0].stop + hi, h)
+    c0, c1 = max(box[1].start - hi, 0), min(box[1].stop + hi, w)
+    band = np.zeros((r1 - r0, c1 - c0), bool)
+    band[box[0].start - r0:box[0].stop - r0, box[1].start - c0:box[1].stop - c0] = keep
+    ok = valid[r0:r1, c0:c1]
+    height = (np.nan_to_num(xyz[r0:r1, c0:c1]) - np.asarray(support.centroid, float)) @ nrm
+    near = binary_dilation(band, iterations=2) & ~band & ok
+    lab = labels[r0:r1, c0:c1]
+    level = near & (lab >= 0) & (lab != support.id) & (np.abs(height - top) <= depth)
+    if int(level.sum()) >= 0.25 * int(near.sum()):
+        return False
+    if int((binary_fill_holes(band) & ~band).sum()) >= RAISED_HOLES * int(band.sum()):
+        return False
+    ring = binary_dilation(band, iterations=hi) & ~binary_dilation(band, iterations=lo) & ok
+    edge = band & ~binary_erosion(band, iterations=2)
+    if not ring.any() or not edge.any():
+        return False
+    return float(np.median(height[edge]) - np.median(height[ring])) >= RAISED_DROP * top
 
 
 def _far_planes(cloud, seg, p, split_params):

@@ -92,6 +92,42 @@ NOISY_SIZE = 4.0
 #: loads 2.0-2.1)
 NOISY_LOCAL = 2.5
 
+#: ``raised_min`` (raised102): a raised component has at least this share of the first
+#: growing's least region size (a 2.5 cm cube's top 1 m under a 1280 x 720 RealSense: 530 px
+#: against 1 080)
+RAISED_SIZE = 0.25
+#: ``raised_min``: a raised pixel stands over the support by this many times the depth noise at
+#: its depth too (a Kinect v1's 3 mm at 1 m)
+RAISED_SIGMAS = 5.0
+#: ``raised_min``: the highest a raised pixel stands over the support (m): a tower of blocks,
+#: not a shelf or a person
+RAISED_MAX = 0.3
+#: ``raised_min``: the top band reaches this far (m; or 4 noise sigmas when more) under the
+#: component's 90th percentile height (a RealSense top is a dome: its rim 3-9 mm under its
+#: centre, session 101)
+RAISED_BAND = 0.008
+#: ``raised_min``: the top band holds at least this share of its component (a box seen from
+#: above is mostly its top; a bottle's, a fruit's or a bowl's upper band is a cap or crescent
+#: of a gently sloping surface: 0.13-0.46 on hunt90's table clutter)
+RAISED_SHARE = 0.5
+#: ``raised_min``: the band's plane is parallel to the support within this many degrees (the
+#: domed tops measure 3-10 degrees off the board)
+RAISED_PARALLEL = 15.0
+#: ``raised_min``: the band's plane fits within this RMS (m; or 3 noise sigmas when more): the
+#: domed tops fit at 1.4-2.7 mm
+RAISED_RMS = 0.004
+#: ``raised_min``: the ring (px, from, to) outside the top band whose depth must lie ...
+RAISED_RING = (3, 6)
+#: ... this share of the top's height or more under the band's edge (a box's top ends in a
+#: drop: hunt67/90's cubes 0.51 or more; a sphere's cap runs on into its slope: a 3 cm cap
+#: 1 m away 0.33)
+RAISED_DROP = 0.4
+#: ``raised_min``: the top band encloses under this share of its own pixels (a cup's rim
+#: encloses its inside)
+RAISED_HOLES = 0.04
+#: ``raised_min``: the support is the largest plane level within this many degrees
+RAISED_LEVEL = 10.0
+
 #: ``near_wide``: a near candidate's fit (RMS over the measured noise) may be up to this many
 #: times the median fit of the first growing's near planes, when that is looser than
 #: ``far_rms`` (a rippled sensor's planes fit at several times the 5 px noise estimate)
@@ -298,6 +334,20 @@ class RegionGrowParams:
         the measured depth noise, or :data:`NEAR_RMS` times the median of that ratio over the
         first growing's near planes when that is looser.  Nothing already in a plane changes.
         ``info["near_planes"]``: the planes added.
+    raised_min : float
+        0.012 m (raised102, on), 0 (off) or a height in (0, 0.1] m.  With ``small_scale`` and
+        its ``small_pitch`` (a view from above), the depth the growings left in no plane
+        nearer than ``far_depth`` and standing over the largest level plane (within
+        :data:`RAISED_LEVEL` degrees of ``up``) by this much or more (and
+        :data:`RAISED_SIGMAS` noise sigmas, at most :data:`RAISED_MAX`) falls into connected
+        components of :data:`RAISED_SIZE` times the first growing's least region size or
+        more; each component's top band (within :data:`RAISED_BAND` of its 90th percentile
+        height), holding :data:`RAISED_SHARE` of it or more, fitting a plane within
+        :data:`RAISED_RMS` and parallel to the support within :data:`RAISED_PARALLEL`
+        degrees, becomes a plane: a block's top the sensor smoothed into a dome, whose
+        normals turn through its rim so that no growing keeps it whole (docs/segmentation.md
+        "Raised tops").  Nothing already in a plane changes.  ``info["raised_planes"]``: the
+        planes added.
     noisy_wide : float
         4 (noisy101, on), 0 (off) or a factor in (1, 8].  With ``adapt`` and
         post-processing, where the first growing left :data:`NOISY_SIZE` times its minimum
@@ -347,6 +397,7 @@ class RegionGrowParams:
     small_pitch: float = 60.0
     near_wide: float = 0.0
     noisy_wide: float = 4.0
+    raised_min: float = 0.012
     angle_order: str = "auto"
     seed_test: bool | str = "auto"
 
@@ -409,6 +460,7 @@ class RegionGrowParams:
         if 0 < self.noisy_wide <= 1:
             raise InputError(f"{o}: noisy_wide must be 0 (off) or a factor in (1, 8], "
                              f"got {self.noisy_wide!r}")
+        s(self, "raised_min", _num(o, "raised_min (m)", self.raised_min, lo=0, hi=0.1))
         s(self, "min_region_scale", _num(o, "min_region_scale", self.min_region_scale, lo=0,
                                          lo_open=True))
         if self.angle_order not in ("auto", "paper", "reversed"):
