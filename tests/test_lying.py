@@ -468,7 +468,8 @@ def test_a_small_product_box_lying_flat_is_lying():
     assert _lying([floor(), _table(), _top(sx=0.04, sy=0.04, rise=0.035)])[1] == {2}
     assert _lying([floor(), _table(), _top(sx=0.035, sy=0.025, rise=0.025)])[1] == {2}
     assert not _lying([floor(), _table(), _top(sx=0.04, sy=0.04, rise=0.035)],
-                      RelationParams(lying_small_length=0.05, lying_small_width=0.03))[1]
+                      RelationParams(lying_small_length=0.05, lying_small_width=0.03,
+                                     lying_tiny_length=0.0))[1]
     # ... but below the small bounds: a patch 2.5 x 1.5 cm (a thin strip, an eraser) is no top
     assert not _lying([floor(), _table(), _top(sx=0.025, sy=0.015, rise=0.02)])[1]
     with pytest.raises(InputError, match="lying_small_length"):
@@ -554,3 +555,34 @@ def test_a_small_top_tilted_within_its_own_noise_is_lying_with_lying_small_noise
     assert lying() == frozenset()
     with pytest.raises(InputError, match="lying_small_noise"):
         RelationParams(lying_small_noise=-1.0)
+
+
+def test_a_tiny_squat_top_is_lying_a_slender_one_is_not():
+    """tiny102 (hunt67/hunt90's 2.5 cm cubes seen from 1 m above, their tops measured 2.4-3.3
+    cm, raised over the board by raised102): a top under ``lying_small_length`` (3 cm), down to
+    ``lying_tiny_length`` (2.5 cm), is ``lying`` when it rises over its ground at most
+    ``lying_tiny_squat`` (1.5) times its length; a standing cylinder's 2.9 cm top 6 cm up (a
+    peg, a marker; hunt67 armlab-rs-grid grid1) is slender, and no ``lying``."""
+    assert RelationParams().lying_tiny_length == 0.025
+    assert RelationParams().lying_tiny_squat == 1.5
+
+    above = {"pitch": 80.0, "cam_height": 1.45, "width": 640, "height": 480}
+
+    def lying(sx, rise, params=None):
+        ps, tops = _lying([floor(), _table(y=0.13), _top(y=0.12, sx=sx, sy=0.026, rise=rise)],
+                          params, view=above)
+        return ps.by_label(2), tops
+
+    t, tops = lying(0.028, 0.025)
+    assert 0.025 <= t.length < 0.03 and tops == {2}
+    assert lying(0.028, 0.025, RelationParams(lying_tiny_length=0.0))[1] == frozenset()
+    # the same top 4.5 cm up, over 1.5 times its length: slender
+    t, tops = lying(0.028, 0.045)
+    assert 0.025 <= t.length < 0.03 and tops == frozenset()
+    assert lying(0.028, 0.045, RelationParams(lying_tiny_squat=3.0))[1] == {2}
+    # a 3.5 cm top 4.5 cm up is no tiny top: the squat test is not its
+    assert lying(0.035, 0.045)[1] == {2}
+    # a 2 cm top is under lying_tiny_length
+    assert lying(0.02, 0.02)[1] == frozenset()
+    with pytest.raises(InputError, match="lying_tiny_squat"):
+        RelationParams(lying_tiny_squat=-1.0)

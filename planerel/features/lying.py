@@ -169,8 +169,11 @@ def top_sized(t, p) -> bool:
             and t.width >= p.lying_width:
         return True
     # a smaller top lying flat (lying56), level within its own noise (lying_small_noise)
+    least = p.lying_small_length
+    if p.lying_small_length > 0 and 0 < p.lying_tiny_length < least:
+        least = p.lying_tiny_length   # a tiny top: squat over its ground (_lies_on)
     return (p.lying_small_length > 0 and _small_level(t, p)
-            and t.length >= p.lying_small_length and t.width >= p.lying_small_width)
+            and t.length >= least and t.width >= p.lying_small_width)
 
 
 def _small_level(t, p) -> bool:
@@ -205,6 +208,8 @@ def _lies_on(t, g, up: np.ndarray, p) -> bool:
     rise = float(gn @ (np.asarray(t.centroid, float) - gc)) / den
     if not least <= rise <= p.lying_rise_max:
         return False
+    if t.length < p.lying_small_length and rise > p.lying_tiny_squat * t.length:
+        return False   # a tiny top standing tall: a peg, a cylinder, a marker (tiny102)
     hull = np.asarray(t.hull3d, float)
     if not hull.size:
         return True

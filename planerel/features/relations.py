@@ -403,6 +403,13 @@ class RelationParams:
     #: from 1 m measures 3-10 degrees off the board it stands on with 1.5-2.7 mm of RMS, a
     #: rise of 0.3-4 times its RMS (level100).  0: off
     lying_small_noise: float = 3.0
+    #: m: a tiny top, down to this long (and ``lying_small_width`` wide), under
+    #: ``lying_small_length``, is ``lying`` too when it is squat: its rise over its ground at
+    #: most ``lying_tiny_squat`` times its length (a 2.5 cm cube's 2.4-3 cm top, 2-2.5 cm up,
+    #: seen from 1 m; a standing cylinder 2.9 cm across and 6 cm tall, a peg or a marker, is
+    #: slender).  0: off (tiny102)
+    lying_tiny_length: float = 0.025
+    lying_tiny_squat: float = 1.5
     #: the ground a ``lying`` plane lies on is at least this many times its area (a table
     #: or the floor under a book, not a tread beside a tread) (top25)
     lying_ground: float = 3.0
@@ -516,7 +523,7 @@ class RelationParams:
                              "lying_min_length", "lying_width", "lying_snr", "lying_ring",
                              "lying_ring_ground", "lying_ring_between", "lying_ring_band",
                              "lying_small_length", "lying_small_width", "lying_small_tilt",
-                             "lying_small_noise"))
+                             "lying_small_noise", "lying_tiny_length", "lying_tiny_squat"))
         if self.lying_rise > 0 and self.lying_rise_max <= self.lying_rise:
             raise InputError(f"lying_rise_max must be above lying_rise ({self.lying_rise!r}), got "
                              f"{self.lying_rise_max!r} (lying_rise 0 switches lying/1 off)")
