@@ -546,11 +546,13 @@ def test_the_side_test_keeps_small_cube_tops_off_the_board(demo_model):
     sets = ([HUNT_DATA / "hunt67" / n for n in ("armlab-204", "armlab-kinect", "armlab-rs-grid")]
             + [HUNT_DATA / "hunt90" / n for n in ("bg-tabletop", "leob-armlab", "lg-table",
                                                   "lk-armlab")])
-    base = ["small_scale=0", "relations.lying_small_noise=0"]
+    base = ["small_scale=0", "relations.lying_small_noise=0", "relations.lying_tiny_length=0"]
     now = _totals(_unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA", base))
     off = _totals(_unseen_rows(sets, demo_model, "PLANEREL_HUNT_DATA",
                                ["split.merge_side=0", *base]))
-    assert now["box_found"] >= 58 and off["box_found"] <= 18, (now, off)
+    # (off 18 before axis102 read lk-armlab stacks' board as the floor: its purple-topped
+    # tower is found either way since)
+    assert now["box_found"] >= 59 and off["box_found"] <= 19, (now, off)
     assert now["false_box"] <= off["false_box"] <= 1, (now, off)
 
 
@@ -581,9 +583,11 @@ def test_the_small_pass_runs_where_the_camera_looks_down(demo_model):
     assert now["box_found"] >= 47 and off["box_found"] <= 39, (now, off)
     assert now["false_box"] == off["false_box"] == 0
     lk = [HUNT_DATA / "hunt90" / "lk-armlab"]
-    # (raised102's tops off: they ride on the small pass and find lk-armlab's cubes)
-    rows = _unseen_rows(lk, demo_model, "PLANEREL_HUNT_DATA", ["raised_min=0"])
-    plain = _unseen_rows(lk, demo_model, "PLANEREL_HUNT_DATA", ["small_scale=0"])
+    # (raised102's tops and tiny102's tops off: they find lk-armlab's cubes on the small
+    # pass's planes)
+    tiny = "relations.lying_tiny_length=0"
+    rows = _unseen_rows(lk, demo_model, "PLANEREL_HUNT_DATA", ["raised_min=0", tiny])
+    plain = _unseen_rows(lk, demo_model, "PLANEREL_HUNT_DATA", ["small_scale=0", tiny])
     for name in ("allblocks_depth", "stacks_depth"):
         assert rows[name]["objects_proposed"] > plain[name]["objects_proposed"], name
     assert _totals(rows) == _totals(plain)

@@ -208,7 +208,8 @@ def _lies_on(t, g, up: np.ndarray, p) -> bool:
     rise = float(gn @ (np.asarray(t.centroid, float) - gc)) / den
     if not least <= rise <= p.lying_rise_max:
         return False
-    if t.length < p.lying_small_length and rise > p.lying_tiny_squat * t.length:
+    if (p.lying_tiny_length > 0 and t.length < p.lying_small_length
+            and rise > p.lying_tiny_squat * t.length):
         return False   # a tiny top standing tall: a peg, a cylinder, a marker (tiny102)
     hull = np.asarray(t.hull3d, float)
     if not hull.size:

@@ -344,7 +344,9 @@ class RegionGrowParams:
         more; each component's top band (within :data:`RAISED_BAND` of its 90th percentile
         height), holding :data:`RAISED_SHARE` of it or more, fitting a plane within
         :data:`RAISED_RMS` and parallel to the support within :data:`RAISED_PARALLEL`
-        degrees, becomes a plane: a block's top the sensor smoothed into a dome, whose
+        degrees, ending in a drop (:data:`RAISED_DROP` of its height within
+        :data:`RAISED_RING` px), no planed top's rim and enclosing under :data:`RAISED_HOLES`
+        of itself as holes, becomes a plane: a block's top the sensor smoothed into a dome, whose
         normals turn through its rim so that no growing keeps it whole (docs/segmentation.md
         "Raised tops").  Nothing already in a plane changes.  ``info["raised_planes"]``: the
         planes added.
