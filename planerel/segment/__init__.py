@@ -259,15 +259,14 @@ def _view_up(seg, up):
 
 def _steep_enough(seg, p, up) -> bool:
     """Whether the small pass runs: always without ``small_pitch``; with it, when the camera
-    looks down at least ``small_pitch`` degrees by ``up`` (a vector, or a function of ``seg``
-    returning one; None: unknown, no pass).  ``seg.info["view_pitch"]``: the pitch read."""
+    looks down at least ``small_pitch`` degrees by ``up`` (3,) (:func:`_view_up`'s; None:
+    unknown, no pass).  ``seg.info["view_pitch"]``: the pitch read."""
     if p.small_pitch <= 0:
         return True
-    u = up(seg) if callable(up) else up
-    if u is None:
+    if up is None:
         seg.info["view_pitch"] = None
         return False
-    pitch = view_pitch(u)
+    pitch = view_pitch(up)
     seg.info["view_pitch"] = round(pitch, 2)
     return pitch >= p.small_pitch
 
