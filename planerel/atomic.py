@@ -175,6 +175,10 @@ def check_output_file(path, option: str = "output") -> Path:
     target = Path(path)
     if target.is_dir():
         raise InputError(f"{option} {target}: is a folder; give a file name")
+    if str(path).endswith(("/", os.sep)):
+        # Path() drops the slash: "k.pl/" would write the file k.pl, "new/" a file named new
+        raise InputError(f"{option} {path}: ends in a slash, as a folder's name does; give a "
+                         "file name")
     real = _write_target(target, option)
     _probe_folder(real.parent if str(real.parent) else Path("."), target)
     return target

@@ -419,3 +419,84 @@ def test_learn_refuses_a_cache_folder_it_cannot_write(tmp_path):
     r = _run("learn", ds, "-o", tmp_path / "m", "--cache", tmp_path / "c" / "d")
     assert r.returncode == 2 and "--cache" not in r.stderr, r.stderr
     assert not (tmp_path / "c").exists()
+
+
+@pytest.fixture(scope="module")
+def depth_png(tmp_path_factory):
+    """A 160x120 16-bit depth PNG in millimetres: a block 0.2 m in front of a wall 1 m away."""
+    from PIL import Image
+
+    d = tmp_path_factory.mktemp("png") / "scan_depth.png"
+    z = np.full((120, 160), 1000, np.uint16)
+    z[40:80, 50:100] = 800
+    Image.fromarray(z).save(d)
+    return d
+
+
+@pytest.mark.parametrize("cmd", ["describe", "segment"])
+@pytest.mark.parametrize("focal", ["1e300", "1e-300"])
+def test_focal_lengths_beyond_any_camera_are_one_error(depth_png, tmp_path, cmd, focal):
+    # user103: ZeroDivisionError tracebacks from segment/noise.py and segment/normals.py
+    # (classify reads its scans the same way, commands/_common.read_input)
+    out = tmp_path / ("f.pl" if cmd == "describe" else "o")
+    args = [cmd, depth_png, "-o", out, "--intrinsics", f"160,120,{focal},{focal},80,60"]
+    _one_error_line(_run(*args), "focal lengths are pixels", f"fx={float(focal):g}")
+    assert not out.exists()
+
+
+def test_a_depth_scale_beyond_any_range_is_one_error(depth_png, tmp_path):
+    # user103: --depth-scale 1e-30 ended in a numba TypingError (describe) or exit 0
+    # (segment); 1e-6 in "out of memory"
+    for scale in ("1e-30", "1e-6"):
+        for cmd, out in (("describe", tmp_path / "f.pl"), ("segment", tmp_path / "o")):
+            r = _run(cmd, depth_png, "-o", out, "--intrinsics", "160,120,120,120,80,60",
+                     "--depth-scale", scale)
+            err = [ln for ln in r.stderr.splitlines() if ln.strip() and not ln.startswith("note:")]
+            assert r.returncode == 2 and len(err) == 1 and "Traceback" not in r.stderr, r.stderr
+            assert "beyond any depth sensor's range" in err[0] and "--depth-scale" in err[0]
+            assert not out.exists() or not any(out.iterdir())
+
+
+def test_a_focal_length_in_metres_gets_a_note(depth_png, tmp_path):
+    # user103: fx 0.0036 (3.6 mm) ran without a word and gave hundreds of proposals
+    r = _run("segment", depth_png, "-o", tmp_path / "o", "--intrinsics",
+             "160,120,0.0036,0.0036,80,60")
+    assert r.returncode == 0, r.stderr
+    assert "spans 180 x 180 degrees" in r.stderr and "check --intrinsics" in r.stderr
+    r = _run("segment", depth_png, "-o", tmp_path / "o2", "--intrinsics", "160,120,120,120,80,60")
+    assert r.returncode == 0 and "degrees" not in r.stderr, r.stderr
+
+
+def test_an_output_name_ending_in_a_slash_is_refused(depth_png, tmp_path):
+    # user103: "-o k.pl/" wrote over the file k.pl; "-o new/" made a file named "new"
+    old = tmp_path / "k.pl"
+    old.write_text("keep\n")
+    for args in (["describe", depth_png, "-o", f"{old}/"],
+                 ["describe", depth_png, "-o", f"{tmp_path / 'new'}/"],
+                 ["convert", depth_png, "-o", f"{tmp_path / 'x.ply'}/"]):
+        _one_error_line(_run(*args, "--intrinsics", "160,120,120,120,80,60"),
+                        "ends in a slash", "give a file name")
+    assert old.read_text() == "keep\n"
+    assert not (tmp_path / "new").exists() and not (tmp_path / "x.ply").exists()
+
+
+def test_segment_never_writes_over_a_users_cloud(depth_png, tmp_path):
+    # user103: segment scan_depth.png -o . named its labelled cloud scan.pcd and replaced the
+    # user's scan.pcd beside it (no input of that run)
+    import shutil
+
+    scan = tmp_path / "scan_depth.png"
+    shutil.copy(depth_png, scan)
+    mine = tmp_path / "scan.pcd"
+    text = ("# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+            "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n0 0 1\n")
+    mine.write_text(text)
+    intr = ["--intrinsics", "160,120,120,120,80,60"]
+    _one_error_line(_run("segment", scan.name, "-o", ".", *intr, cwd=tmp_path),
+                    "scan.pcd exists and is a point cloud without planerel's labels")
+    assert mine.read_text() == text and not (tmp_path / "scan.labels.npy").exists()
+    mine.unlink()
+    for _ in range(2):  # its own labelled outputs it writes again
+        r = _run("segment", scan.name, "-o", ".", *intr, cwd=tmp_path)
+        assert r.returncode == 0, r.stderr
+    assert "label" in (tmp_path / "scan.pcd").read_text(errors="replace")[:400]

@@ -761,3 +761,18 @@ def test_learn_cli_writes_what_it_left_out(small_set, tmp_path, capsys):
     for k, text, _, _ in pruned["dropped_redundant"]:
         assert text in full["rules"][k] and text not in pruned["rules"][k]
         assert f"% left out: {text}" in out
+
+
+def test_one_class_learned_has_the_others_as_negatives(small_set, tmp_path):
+    """``--classes box`` on a set of boxes, staircases and ramps (user103): every scene is
+    kept, the staircases and ramps as objects of class other, the box task's negatives."""
+    out = tmp_path / "m"
+    m = P.learn_model(small_set, out, classes=["box"], method="gt", jobs=1, engine="builtin")
+    assert m["classes"] == ["box"]
+    assert m["n_scenes"] == 12
+    pos = (out / "aleph" / "box.f").read_text().splitlines()
+    neg = (out / "aleph" / "box.n").read_text().splitlines()
+    assert len(pos) == 4 and len(neg) == 8
+    descs, _ = S.describe_scenes(small_set, classes=["box"], method="gt", jobs=1, cache="none")
+    kinds = sorted(o.klass for d in descs for o in d.objects)
+    assert kinds == ["box"] * 4 + ["other"] * 8

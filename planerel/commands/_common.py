@@ -243,6 +243,7 @@ def read_input(path, args: argparse.Namespace):
                              f"{scene_name(path)}.json beside it") from None
         print(f"note: {path}: no camera information; assuming Kinect intrinsics", file=sys.stderr)
     _note_unused_intrinsics(path, cloud, intr)
+    _note_field_of_view(path, cloud)
     k = getattr(args, "subsample", 1) or 1
     full = cloud
     cloud = subsample(full, k)
@@ -275,6 +276,29 @@ def _note_unused_intrinsics(path, cloud, given) -> None:
               f"cx {c.cx:g}, cy {c.cy:g})", file=sys.stderr)
 
 
+#: Fields of view (degrees) outside which a depth image's camera is most likely mistyped: a
+#: focal length given in metres (0.0036 for 3.6 mm) spans nearly 180 degrees, one in
+#: micrometres a hundredth of a degree; real depth cameras span about 30-120.
+FOV_RANGE = (1.0, 170.0)
+
+
+def _note_field_of_view(path, cloud) -> None:
+    """A note when the camera a scan was read with spans a field of view outside
+    :data:`FOV_RANGE` (user103: ``--intrinsics 640,480,0.0036,...`` ran without a word and
+    gave 967 proposals)."""
+    import sys
+
+    c = cloud.intrinsics
+    if c is None:
+        return
+    fov = c.field_of_view()
+    lo, hi = FOV_RANGE
+    if not all(lo <= f <= hi for f in fov):
+        print(f"note: {path}: its camera (fx {c.fx:g}, fy {c.fy:g} px at {c.width}x{c.height}) "
+              f"spans {fov[0]:.3g} x {fov[1]:.3g} degrees; focal lengths are pixels (a "
+              "depth camera's span 30-120 degrees): check --intrinsics", file=sys.stderr)
+
+
 #: Share of measured pixels under which a frame that gives no plane is said to be too sparse.
 SPARSE_SHARE = 0.5
 
@@ -296,6 +320,10 @@ def sparse_note(cloud, n_planes: int) -> str | None:
 #: Median depth (metres) beyond which a scan is most likely not in metres (a float image of
 #: millimetres read as metres: the Kinect frames' median of ~1.2 m becomes ~1.2 km).
 FAR_MEDIAN_M = 100.0
+#: Median depth (metres) beyond which a scan is refused: no depth sensor measures so far (a
+#: lidar's 200-300 m included); millimetres read as metres stay under it, a depth scale of
+#: 1e-6 does not.
+FAR_LIMIT_M = 1e5
 
 
 def _note_far_depth(path, cloud) -> None:
@@ -314,6 +342,11 @@ def _note_far_depth(path, cloud) -> None:
     if not sample.size:
         sample = z[np.isfinite(z)]
     med = float(np.median(np.abs(sample)))
+    if med > FAR_LIMIT_M:
+        # (segmenting it ran out of memory or overflowed a kernel's integers: user103)
+        raise InputError(f"{path}: the median depth is {med:.3g} m, beyond any depth sensor's "
+                         "range; planerel works in metres: check --depth-scale (the raw value "
+                         "is divided by it: 1000 for millimetres) or the cloud's unit")
     if med > FAR_MEDIAN_M:
         print(f"note: {path}: the median depth is {med:,.0f} m; planerel works in metres: if "
               "the values are millimetres, give --depth-scale 1000 (depth images) or convert "

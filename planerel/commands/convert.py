@@ -42,7 +42,7 @@ def run(args) -> int:
     if kind not in (".npy", ".ply", ".pcd"):
         raise InputError(f"{out}: output must end in .npy, .ply or .pcd")
     check_input_options(args)
-    check_output_file(out, "-o")
+    check_output_file(args.output, "-o")  # the text: Path() drops a trailing slash
     check_not_inputs([out], [args.input])
     cloud = read_input(args.input, args)
     if cloud.n_valid == 0:

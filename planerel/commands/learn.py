@@ -21,7 +21,8 @@ def register(sub) -> None:
     p.add_argument("dataset", help="a data set folder (planerel dataset synth, docs/formats.md)")
     p.add_argument("-o", "--output", required=True, metavar="MODEL_DIR", help="model folder")
     p.add_argument("--classes", metavar="A,B,...",
-                   help="classes to learn (default: all classes of the data set)")
+                   help="classes to learn (default: all classes of the data set); the objects "
+                        "of the other classes are kept as negatives, of class other")
     p.add_argument("--engine", choices=["auto", "aleph", "builtin"], default="auto",
                    help="auto (default): the real Aleph when found (PLANEREL_ALEPH or the SWI "
                         "pack), else planerel's learner; aleph: require the real Aleph; "

@@ -89,6 +89,29 @@ SUFFIXES = {"npy": ".labels.npy", "png": ".labels.png", "json": ".planes.json", 
             "ply": ".ply"}
 
 
+def _unlabelled_cloud(path) -> bool:
+    """Whether ``path`` is an existing PCD or PLY file whose points carry no ``label`` field,
+    so that no ``planerel segment`` wrote it (its PCD has ``label`` among its FIELDS, its PLY a
+    ``label`` vertex property); a file whose header cannot be read is not called one."""
+    path = Path(path)
+    if not path.is_file():
+        return False
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(4096)
+    except OSError:
+        return False
+    text = head.decode("latin-1")
+    if path.suffix.lower() == ".pcd":
+        fields = [ln.split()[1:] for ln in text.splitlines() if ln.upper().startswith("FIELDS")]
+        return bool(fields) and "label" not in fields[0]
+    if text.startswith("ply") and "end_header" in text:
+        header = text.split("end_header", 1)[0]
+        return not any(ln.split()[-1:] == ["label"] for ln in header.splitlines()
+                       if ln.startswith("property"))
+    return False
+
+
 def _formats(text: str) -> tuple:
     """``"npy,pcd"`` -> ``("npy", "pcd")``, refusing unknown names."""
     items = tuple(dict.fromkeys(t.strip().lower() for t in text.split(",") if t.strip()))
@@ -180,6 +203,13 @@ def run_segment(args) -> int:
 
     # segment x.pcd -o . would write the labelled cloud over the scan (user89)
     check_not_inputs([out / f"{n}{SUFFIXES[f]}" for n in stems for f in formats], paths)
+    # nor over a cloud of the user's that is no input of this run (scan_depth.tiff -o . names
+    # its labelled cloud scan.pcd: a scan.pcd beside it was replaced, user103)
+    for path in (out / f"{n}{SUFFIXES[f]}" for n in stems for f in formats if f in ("pcd", "ply")):
+        if _unlabelled_cloud(path):
+            raise InputError(f"-o: {path} exists and is a point cloud without planerel's labels "
+                             "(a scan of yours?); planerel does not write over it: give another "
+                             "output folder")
     check_output_dir(out, "-o")  # made, and removed again when the run fails while it is empty
     opts = read_options(args)
     tasks = [{"path": str(p), "name": n, "out": str(out), "read": opts, "method": args.method,

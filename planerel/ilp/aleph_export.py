@@ -641,7 +641,8 @@ def describe_dataset(dataset_dir, *, labels: str = "gt", classes: Sequence[str] 
         Plane labels from the ground truth, or from :func:`planerel.segment.segment`
         (planes then join the ground-truth object they mostly cover).
     classes : sequence of str, optional
-        Only scenes of these classes.
+        The classes of the task: the objects of the scenes of other classes are objects of
+        class ``other``, every class's negatives (as :func:`planerel.ilp.scenes.describe_scenes`).
 
     Returns
     -------
@@ -657,9 +658,9 @@ def describe_dataset(dataset_dir, *, labels: str = "gt", classes: Sequence[str] 
 
     rule = example_rule(dataset_dir)
     descs, skipped = [], []
+    from planerel.ilp.scenes import unlisted_as_other
+
     for row, cloud, gt, meta in iter_scenes(dataset_dir):
-        if classes is not None and row.klass not in classes:
-            continue
         if gt is None:
             raise InputError(f"{dataset_dir}: scene {row.scene_id} has no ground-truth labels, "
                              "so its object is unknown")
@@ -670,6 +671,8 @@ def describe_dataset(dataset_dir, *, labels: str = "gt", classes: Sequence[str] 
 
             lab = segment(cloud, method).labels
         d = describe_truth_scene(cloud, lab, gt, meta, row.scene_id, row.klass, rule=rule)
+        if classes is not None:
+            d = unlisted_as_other(d, classes)
         if not d.objects:
             skipped.append(f"{row.scene_id}: no plane of its {row.klass} was measured")
         descs.append(d)

@@ -1505,13 +1505,15 @@ def _member_parts(dataset_dir, classes, members, folds) -> dict | None:
                          "model is not supported; score it on a held-out set (--heldout)")
     from planerel.features.dataset import load_manifest
 
-    rows = [r for r in load_manifest(dataset_dir) if classes is None or r.klass in classes]
+    # a scene of a class not learned is one of class other (describe_scenes)
+    rows = [(r.scene_id, r.klass if classes is None or r.klass in classes else OTHER)
+            for r in load_manifest(dataset_dir)]
     counts: dict[str, int] = {}
-    for r in rows:
-        if r.klass != OTHER:
-            counts[r.klass] = counts.get(r.klass, 0) + 1
+    for _sid, k in rows:
+        if k != OTHER:
+            counts[k] = counts.get(k, 0) + 1
     check_members(members, counts)
-    return partition_scenes([(r.scene_id, r.klass) for r in rows], members)
+    return partition_scenes(rows, members)
 
 
 def write_members(folder, model: Members, *, method: str, seg_params, header: str = "",

@@ -184,7 +184,10 @@ def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
     dataset_dir : path
         A data set in planerel's format (``planerel dataset synth``).
     classes : sequence of str, optional
-        Keep only scenes of these classes.
+        The classes learned: every class must have a scene; the objects of the scenes of
+        other classes are kept as objects of class ``other`` (every class's negatives: a box
+        learned alone from a data set of boxes, staircases and ramps has the staircases and
+        ramps as its negatives).
     method : str
         ``"regiongrow"``, ``"sp"``, ``"snp"``, or ``"gt"`` for the ground-truth planes.
     seg_params : dict, optional
@@ -209,7 +212,6 @@ def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
         unknown = sorted(set(classes) - {r.klass for r in rows})
         if unknown:
             raise InputError(f"{dataset_dir}: no scene of class {', '.join(unknown)}")
-        rows = [r for r in rows if r.klass in classes]
     if not rows:
         raise InputError(f"{dataset_dir}: the data set has no scenes")
     _check_seg_params(method, seg_params)
@@ -222,5 +224,21 @@ def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
     descs = [d for _, d in run_batch(_describe_one, jobs_list, jobs=n_jobs, scheduler=scheduler,
                                      label=lambda j: f"{j[0]}: scene {j[1].scene_id}",
                                      desc="describing", progress=progress, hint=None)]
+    if classes is not None:
+        descs = [unlisted_as_other(d, classes) for d in descs]
     skipped = [f"{d.scene_id}: no plane of its object was measured" for d in descs if not d.objects]
     return descs, skipped
+
+
+def unlisted_as_other(desc, classes):
+    """``desc`` with its objects of a class not in ``classes`` as objects of class ``other``
+    (:func:`describe_scenes`)."""
+    import dataclasses
+
+    from planerel.ilp.aleph_export import OTHER
+
+    if all(o.klass in classes or o.klass in (None, OTHER) for o in desc.objects):
+        return desc
+    objs = tuple(o if o.klass in classes or o.klass in (None, OTHER)
+                 else dataclasses.replace(o, klass=OTHER) for o in desc.objects)
+    return dataclasses.replace(desc, objects=objs)

@@ -28,6 +28,13 @@ __all__ = [
 DEFAULT_DEPTH_SCALE = 1000.0
 
 
+#: The focal lengths (pixels) an :class:`Intrinsics` takes: far beyond any camera's (a
+#: fisheye's tens of pixels, a telephoto's tens of thousands) on both sides, and inside what
+#: the projections' arithmetic holds in float64.
+FOCAL_MIN = 1e-6
+FOCAL_MAX = 1e12
+
+
 @dataclass(frozen=True)
 class Intrinsics:
     """Pinhole intrinsics of a depth camera.
@@ -69,6 +76,15 @@ class Intrinsics:
             object.__setattr__(self, name, value)
         if self.fx <= 0 or self.fy <= 0:
             raise InputError(f"focal lengths must be positive, got fx={self.fx}, fy={self.fy}")
+        if not (FOCAL_MIN <= self.fx <= FOCAL_MAX and FOCAL_MIN <= self.fy <= FOCAL_MAX):
+            # (products and quotients of such values under- or overflow: user103)
+            raise InputError(f"focal lengths are pixels, between {FOCAL_MIN:g} and "
+                             f"{FOCAL_MAX:g}; got fx={self.fx:g}, fy={self.fy:g}")
+
+    def field_of_view(self) -> tuple[float, float]:
+        """The horizontal and vertical fields of view (degrees) across the image."""
+        return (math.degrees(2.0 * math.atan2(self.width / 2.0, self.fx)),
+                math.degrees(2.0 * math.atan2(self.height / 2.0, self.fy)))
 
     @classmethod
     def kinect(cls, width: int = 640, height: int = 480) -> Intrinsics:
