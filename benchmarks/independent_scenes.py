@@ -812,12 +812,13 @@ def _tote_blocks(rng, meshes, add, info):
     return np.array([0.0, 0.0, base + th])
 
 
-def above_pose(target, look_yaw, rng):
+def above_pose(target, look_yaw, rng, pitch=None):
     """Eye and camera axes of a ``tote_blocks`` scene: 0.6-0.9 m from the tote's middle,
     looking down at it at a pitch of 55-90 degrees (a bin-picking camera on a stand or an
-    arm), roll +-10 degrees."""
+    arm; ``pitch``: ``(low, high)`` degrees instead, the same draw), roll +-10 degrees."""
     D = rng.uniform(0.6, 0.9)
-    pitch = np.radians(rng.uniform(55, 89.5))
+    lo, hi = (55.0, 89.5) if pitch is None else pitch
+    pitch = np.radians(rng.uniform(lo, hi))
     return _pose_down(target, look_yaw, look_yaw, D, pitch, np.radians(rng.uniform(-10, 10)))
 
 
@@ -1203,7 +1204,7 @@ KINDS = ("box", "stairs", "ramp", "stairs_top", "small_box", "tote_blocks", "pal
 
 def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ramp"), sensor="plain",
                heights=None, furniture=False, speckle_floor=None, stereo_wave=None,
-               stereo_sigma=None, riser_lean=None):
+               stereo_sigma=None, riser_lean=None, view_pitch=None):
     """Scene ``i`` of the set of ``seed``: (xyz, truth, sidecar dict, meshes, eye, R, plane ids).
 
     ``kinds``: the cycle of primary kinds (scene ``i`` is ``kinds[i % len(kinds)]``);
@@ -1216,7 +1217,8 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
     its own, ``[seed, i, 82]``); ``stereo_sigma``: its matching noise, px (default
     :data:`STEREO_SIGMA`); ``riser_lean``: ``(low, high)`` degrees, a flight's risers lean
     back by an angle drawn in it (:func:`staircase`; a generator of its own, ``[seed, i, 92]``:
-    the scene is otherwise the same scene)."""
+    the scene is otherwise the same scene); ``view_pitch``: ``(low, high)`` degrees, a
+    ``tote_blocks`` camera's pitch down (default 55-89.5: :func:`above_pose`)."""
     if (stereo_wave is not None or stereo_sigma is not None) and sensor != "stereo":
         raise ValueError("stereo_wave, stereo_sigma: for the stereo sensor only")
     rng = np.random.default_rng([seed, i])
@@ -1231,7 +1233,7 @@ def make_scene(i, seed, size=(160, 120), noise=True, kinds=("box", "stairs", "ra
     elif kind == "small_box":
         eye, R, cam = close_pose(target, info["look_yaw"], rng)
     elif kind == "tote_blocks":
-        eye, R, cam = above_pose(target, info["look_yaw"], rng)
+        eye, R, cam = above_pose(target, info["look_yaw"], rng, view_pitch)
     else:
         eye, R, cam = camera_pose(target, info["look_yaw"], info["eye_floor"], rng,
                                   tall=bool(info.get("tall")), heights=heights)
@@ -1286,7 +1288,7 @@ def _write_npy(path, arr):
 
 def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain", heights=None,
              furniture=False, speckle_floor=None, stereo_wave=None, stereo_sigma=None,
-             riser_lean=None):
+             riser_lean=None, view_pitch=None):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
@@ -1296,7 +1298,8 @@ def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain"
                                                speckle_floor=speckle_floor,
                                                stereo_wave=stereo_wave,
                                                stereo_sigma=stereo_sigma,
-                                               riser_lean=riser_lean)
+                                               riser_lean=riser_lean,
+                                               view_pitch=view_pitch)
         sid = side["scene_id"]
         _write_npy(out / f"{sid}.planes.npy", pid)
         _write_npy(out / f"{sid}.npy", xyz)
@@ -1318,6 +1321,8 @@ def make_set(out, n, seed, size, kinds=("box", "stairs", "ramp"), sensor="plain"
         meta["stereo_sigma"] = float(stereo_sigma)
     if riser_lean is not None:
         meta["riser_lean"] = [float(v) for v in riser_lean]
+    if view_pitch is not None:
+        meta["view_pitch"] = [float(v) for v in view_pitch]
     _write_json(out / "independent.json", meta)
     print(f"made {n} scenes ({size[0]}x{size[1]}) in {dt:.1f} s, {1000 * dt / max(n, 1):.0f} ms/scene -> {out}")
 
@@ -1568,6 +1573,8 @@ DEV_SETS = {
     "dev_small": "--n 40 --seed 6401 --kinds small_box --sensor kinect --size 640x480",
     # tote67: 8-22 toy blocks (2.5-7 cm) and 0-2 cartons in a tote seen from 0.6-0.9 m above
     "dev_tote": "--n 30 --seed 6701 --kinds tote_blocks --sensor kinect --size 640x480",
+    "dev_toteo": "--n 30 --seed 6711 --kinds tote_blocks --sensor kinect --size 640x480 "
+                 "--view-pitch 20,50",
     # tof72: flights, ramps and boxes seen by a Kinect v2-like time-of-flight camera whose dark
     # objects' upright faces (risers, box sides) are noisy and holed (hunt71's stairwell)
     "dev_tof": "--n 60 --seed 7201 --kinds stairs,stairs_top,ramp,box --sensor tof --size 512x424",
@@ -1629,13 +1636,25 @@ def _degrees(text: str) -> tuple:
     return lo, hi
 
 
+def _pitches(text: str) -> tuple[float, float]:
+    """``--view-pitch``'s ``LOW,HIGH``: degrees down, 0 <= LOW <= HIGH <= 89.5."""
+    try:
+        lo, hi = (float(v) for v in text.split(","))
+    except ValueError:
+        lo = hi = float("nan")
+    if not 0.0 <= lo <= hi <= 89.5:
+        raise argparse.ArgumentTypeError(f"LOW,HIGH degrees, 0 <= LOW <= HIGH <= 89.5, got {text!r}")
+    return lo, hi
+
+
 def _make(a) -> None:
     """Run ``make`` with parsed arguments ``a``."""
     W, H = (int(v) for v in a.size.lower().split("x"))
     heights = None if a.heights is None else tuple(float(v) for v in a.heights.split(","))
     make_set(a.out, a.n, a.seed, (W, H), kinds=tuple(a.kinds.split(",")), sensor=a.sensor,
              heights=heights, furniture=a.furniture, speckle_floor=a.speckle_floor,
-             stereo_wave=a.stereo_wave, stereo_sigma=a.stereo_sigma, riser_lean=a.riser_lean)
+             stereo_wave=a.stereo_wave, stereo_sigma=a.stereo_sigma, riser_lean=a.riser_lean,
+             view_pitch=a.view_pitch)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -1671,6 +1690,11 @@ def _parser() -> argparse.ArgumentParser:
                    help="a flight's risers lean back from their nosings by an angle drawn in "
                         "LOW..HIGH degrees (a carpeted flight's); off: the same scenes as "
                         "before the option")
+    m.add_argument("--view-pitch", type=_pitches, default=None, metavar="LOW,HIGH",
+                   help="tote_blocks scenes: the camera looks down LOW..HIGH degrees (default "
+                        "55,89.5: a bin-picking camera; e.g. 20,50 for one on a robot's head "
+                        "looking into the tote obliquely); off: the same scenes as before the "
+                        "option")
     s = sub.add_parser("score")
     s.add_argument("out")
     s.add_argument("models", nargs="+")

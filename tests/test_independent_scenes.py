@@ -400,10 +400,24 @@ def test_every_development_set_command_parses_and_no_two_sets_share_their_argume
     for name, args in ind.DEV_SETS.items():
         a = ind._parser().parse_args(["make", f"/x/{name}"] + args.split())
         key = (a.n, a.seed, a.size, a.kinds, a.sensor, a.heights, a.furniture, a.speckle_floor,
-               a.stereo_sigma, a.stereo_wave, a.riser_lean)
+               a.stereo_sigma, a.stereo_wave, a.riser_lean, a.view_pitch)
         assert key not in seen, name
         seen.add(key)
-    assert len(ind.DEV_SETS) == 21  # dev_pal, dev_palk (pallet97) the latest
+    assert len(ind.DEV_SETS) == 22  # dev_toteo (solid103) the latest
+
+
+def test_view_pitch_sets_a_tote_camera_s_pitch_and_nothing_else():
+    """``--view-pitch LOW,HIGH`` (solid103): a ``tote_blocks`` scene seen from a pitch drawn
+    in that range, by the same draw, so the tote and its blocks are the same scene."""
+    a = ind.make_scene(0, 6711, (80, 60), kinds=("tote_blocks",), sensor="kinect")
+    b = ind.make_scene(0, 6711, (80, 60), kinds=("tote_blocks",), sensor="kinect",
+                       view_pitch=(20.0, 50.0))
+    pa, pb = a[2]["params"]["camera"]["pitch_deg"], b[2]["params"]["camera"]["pitch_deg"]
+    assert 55.0 <= pa <= 89.5 and 20.0 <= pb <= 50.0
+    assert a[2]["objects"] == b[2]["objects"]
+    for bad in ("50,20", "-1,10", "10,95", "x"):
+        with pytest.raises(SystemExit):
+            ind._parser().parse_args(["make", "/x/s", "--view-pitch", bad])
 
 
 def test_dev_makes_a_missing_set_as_make_does_and_leaves_a_present_one(tmp_path, capsys):

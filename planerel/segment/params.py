@@ -80,6 +80,12 @@ SMALL_PARALLEL = 10.0
 #: ... and offset from it along its normal by at least this many times the looser plane's RMS
 #: (a 2 cm block top over a RealSense board of RMS 1.5 mm: 13)
 SMALL_RAISE = 5.0
+#: ``small_scale``: a small plane is kept only when its pixels fill at least this share of
+#: their convex hull in the image (solid103): a box's top or side is a convex patch (the
+#: small pass's planes on the labelled real blocks fill 0.86-0.97; on the generated piles,
+#: where blocks hide parts of each other, 0.44 and up, 6 of 58 under 0.6), a strip along a
+#: board's edge that joined three Kinect cubes into one object fills 0.17 (hunt67)
+SMALL_SOLID = 0.6
 
 #: ``noisy_wide`` (noisy101): the second growing's angle (degrees; a face six times as noisy as
 #: the frame turns its normals this far even over the wider window)
