@@ -230,12 +230,15 @@ def describe_scenes(dataset_dir, *, classes: Sequence[str] | None = None,
     return descs, skipped
 
 
+#: The class of an object of none of the classes learned (``aleph_export.OTHER``; written out
+#: here, as in ``members`` and ``metrics``: ``aleph_export`` imports this module)
+OTHER = "other"
+
+
 def unlisted_as_other(desc, classes):
     """``desc`` with its objects of a class not in ``classes`` as objects of class ``other``
     (:func:`describe_scenes`)."""
     import dataclasses
-
-    from planerel.ilp.aleph_export import OTHER
 
     if all(o.klass in classes or o.klass in (None, OTHER) for o in desc.objects):
         return desc
