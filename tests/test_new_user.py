@@ -500,3 +500,23 @@ def test_segment_never_writes_over_a_users_cloud(depth_png, tmp_path):
         r = _run("segment", scan.name, "-o", ".", *intr, cwd=tmp_path)
         assert r.returncode == 0, r.stderr
     assert "label" in (tmp_path / "scan.pcd").read_text(errors="replace")[:400]
+
+
+def test_jobs_must_be_a_whole_number_of_workers(depth_png, tmp_path):
+    # user103: -j -1 passed without a word where the scenes were too few for workers
+    for cmd in (["segment", depth_png, "-o", tmp_path / "o"], ["learn", tmp_path, "-o", tmp_path / "m"],
+                ["evaluate-model", tmp_path, tmp_path]):
+        for bad in ("-1", "two"):
+            r = _run(*cmd, "-j", bad)
+            assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr
+            assert "a whole number of worker processes (0: all cores)" in r.stderr, r.stderr
+    assert not (tmp_path / "o").exists() and not (tmp_path / "m").exists()
+
+
+def test_a_camera_file_s_error_names_it_once(depth_png, tmp_path):
+    # user103: "--intrinsics cam.json: --intrinsics cam.json: focal lengths must be positive"
+    cam = tmp_path / "cam.json"
+    cam.write_text('{"width": 160, "height": 120, "fx": -1, "fy": 120, "cx": 80, "cy": 60}')
+    line = _one_error_line(_run("segment", depth_png, "-o", tmp_path / "o", "--intrinsics", cam),
+                           "focal lengths must be positive")
+    assert line.count(str(cam)) == 1, line

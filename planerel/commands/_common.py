@@ -119,6 +119,8 @@ def _intrinsics_file(text: str) -> tuple:
     try:
         value = data if K is None else np.asarray(K, dtype=float).reshape(3, 3)
         i = resolve_intrinsics(value, int(w), int(h), where=f"--intrinsics {text}")
+    except InputError:
+        raise  # it names the option and the file already (user103: they were said twice)
     except (TypeError, ValueError) as exc:
         raise InputError(f"--intrinsics {text}: {exc}") from None
     return (i.width, i.height, i.fx, i.fy, i.cx, i.cy)
@@ -178,11 +180,24 @@ def add_input_options(parser: argparse.ArgumentParser) -> None:
                         "that look through the image are then not found")
 
 
+def jobs_option(text: str) -> int:
+    """``--jobs``: a whole number of workers, 0 for all cores (user103: ``-j -1`` passed
+    without a word where the scenes were too few for workers)."""
+    try:
+        n = int(text)
+    except ValueError:
+        n = -1
+    if n < 0:
+        raise argparse.ArgumentTypeError(f"a whole number of worker processes (0: all cores), "
+                                         f"got {text!r}")
+    return n
+
+
 def add_batch_options(parser: argparse.ArgumentParser, *, keep_going: bool = True) -> None:
     """``--jobs``, ``--scheduler`` and ``--keep-going`` for commands that loop over scenes."""
     g = parser.add_argument_group("batches")
-    g.add_argument("-j", "--jobs", type=int, default=None, metavar="N",
-                   help="worker processes (default: all cores; 1 = this process only)")
+    g.add_argument("-j", "--jobs", type=jobs_option, default=None, metavar="N",
+                   help="worker processes (default or 0: all cores; 1 = this process only)")
     g.add_argument("--scheduler", metavar="tcp://HOST:8786",
                    help="run the scenes on a Dask cluster instead of local processes "
                         "(needs planerel[dask]; the workers must see the input and output "

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 
+from planerel.commands._common import jobs_option
+
 __all__ = ["register", "run"]
 
 
@@ -24,7 +26,7 @@ def register(sub) -> None:
     p.add_argument("dataset", help="a data set with ground truth (planerel dataset synth)")
     p.add_argument("--json", metavar="FILE",
                    help="also write the scores and every object's answer as JSON")
-    p.add_argument("-j", "--jobs", type=int, default=None, metavar="N",
+    p.add_argument("-j", "--jobs", type=jobs_option, default=None, metavar="N",
                    help="worker processes for segmenting and describing (default: all cores)")
     p.add_argument("--scheduler", metavar="tcp://HOST:8786",
                    help="describe the scenes on a Dask cluster (docs/batches.md)")

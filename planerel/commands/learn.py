@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import sys
 
+from planerel.commands._common import jobs_option
+
 __all__ = ["register", "run"]
 
 
@@ -38,7 +40,7 @@ def register(sub) -> None:
                    help="stop a learning run after S seconds of wall time, per class (default "
                         "1800: a 1,000-scene varied set takes 3-11 minutes; the rule query and "
                         "each cross-validation fold get the same limit)")
-    p.add_argument("-j", "--jobs", type=int, default=None, metavar="N",
+    p.add_argument("-j", "--jobs", type=jobs_option, default=None, metavar="N",
                    help="worker processes for segmenting and describing, and folds run at "
                         "once (default: all cores)")
     p.add_argument("--scheduler", metavar="tcp://HOST:8786",
