@@ -10,7 +10,8 @@ import pytest
 
 import planerel.segment.params as P
 from planerel.io.cloud import Cloud, Intrinsics
-from planerel.segment import _solidity, segment
+from planerel.segment import segment
+from planerel.segment.shape import mask_solidity as _solidity
 
 W, H, F = 640, 480, 480.0
 

@@ -268,7 +268,7 @@ def read_input(path, args: argparse.Namespace):
         raise InputError(f"{path}: --subsample {k} leaves {cloud.n_valid} valid point"
                          f"{'' if cloud.n_valid == 1 else 's'} of {full.n_valid:,} ({w}x{h} -> "
                          f"{w2}x{h2}; need at least 3): give a smaller --subsample")
-    _note_far_depth(path, cloud)
+    _check_far_depth(path, cloud)
     return cloud
 
 
@@ -341,8 +341,9 @@ FAR_MEDIAN_M = 100.0
 FAR_LIMIT_M = 1e5
 
 
-def _note_far_depth(path, cloud) -> None:
-    """Print a note when the scan's median depth is beyond :data:`FAR_MEDIAN_M`: the depth unit
+def _check_far_depth(path, cloud) -> None:
+    """Refuse a scan whose median depth is beyond :data:`FAR_LIMIT_M` (an InputError naming
+    ``--depth-scale``), and print a note when it is beyond :data:`FAR_MEDIAN_M`: the depth unit
     is probably wrong (nothing is changed)."""
     import sys
 

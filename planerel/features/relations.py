@@ -777,25 +777,13 @@ def image_solidity(labels, label: int, bbox=None) -> float:
     float
         In (0, 1]; 1.0 for fewer than 3 pixels or pixels on one line (no area to fill).
     """
-    from scipy.spatial import ConvexHull, QhullError
+    from planerel.segment.shape import mask_solidity
 
     labels = np.asarray(labels)
     if bbox is not None:
         r0, c0, r1, c1 = (int(v) for v in bbox)
         labels = labels[max(0, r0):r1, max(0, c0):c1]
-    m = labels == label
-    n = int(m.sum())
-    if n < 3:
-        return 1.0
-    # the hull of the pixels' squares is the hull of each row's outermost squares' corners
-    rows, first, last = _row_spans(m)
-    pts = np.concatenate([np.stack([rows + dr, col + dc], 1)
-                          for dr in (0, 1) for col, dc in ((first, 0), (last, 1))])
-    try:
-        hull = ConvexHull(pts.astype(float))
-    except QhullError:
-        return 1.0
-    return float(min(1.0, n / hull.volume)) if hull.volume > 0 else 1.0
+    return mask_solidity(labels == label)
 
 
 class _Solid:

@@ -575,7 +575,8 @@ def _small_kept(cloud, seg, out, added, *, corners=True):
     more (a block's top seen from straight above, its sides hidden, hunt67).  A lone small patch, or one meeting its neighbours at a shallow angle (the
     strips of a curved surface, a crumpled bag's facets), is left unassigned, and so is one
     whose pixels fill under :data:`~planerel.segment.params.SMALL_SOLID` of their convex hull
-    in the image (:func:`_solidity`: a ring's or a crescent's patch, no face of a box).
+    in the image (:func:`planerel.segment.shape.mask_solidity`: a strip's, a ring's or a
+    crescent's patch, no face of a box).
     Returns ``(labels with the kept planes renumbered n, n + 1, ..., the number kept)``."""
     import math
 
@@ -583,6 +584,7 @@ def _small_kept(cloud, seg, out, added, *, corners=True):
     from scipy.ndimage import binary_dilation, find_objects
 
     from planerel.segment.params import SMALL_PARALLEL, SMALL_RAISE, SMALL_SOLID
+    from planerel.segment.shape import mask_solidity
 
     n = len(seg.planes)
     xyz = np.asarray(cloud.xyz)
@@ -605,7 +607,7 @@ def _small_kept(cloud, seg, out, added, *, corners=True):
         c0, c1 = max(cs.start - reach, 0), min(cs.stop + reach, w)
         win = out[r0:r1, c0:c1]
         own = win == j
-        if _solidity(own) < SMALL_SOLID:
+        if mask_solidity(own) < SMALL_SOLID:
             continue
         ring = binary_dilation(own, iterations=2) & ~own & (win >= 0)
         nj, cj, rj = fits[j]
@@ -627,29 +629,6 @@ def _small_kept(cloud, seg, out, added, *, corners=True):
     for i, j in enumerate(keep):
         remap[j + 1] = n + i
     return remap[out + 1], len(keep)
-
-
-def _solidity(mask) -> float:
-    """The share of its convex hull that the pixels of ``mask`` (2-D bool) fill: their count
-    over the area of the hull of their corners (a full rectangle of pixels: 1.0; a ring's
-    crescent: about 0.6); 1.0 for fewer than 3 pixels or a hull of no area."""
-    import numpy as np
-    from scipy.ndimage import binary_erosion
-    from scipy.spatial import ConvexHull, QhullError
-
-    mask = np.asarray(mask, bool)
-    count = int(mask.sum())
-    if count < 3:
-        return 1.0
-    # only the pixels on the mask's outline can carry the hull's corners
-    ys, xs = np.nonzero(mask & ~binary_erosion(mask))
-    corners = np.concatenate([np.stack([xs + dx, ys + dy], axis=1)
-                              for dx in (-0.5, 0.5) for dy in (-0.5, 0.5)])
-    try:
-        area = ConvexHull(corners).volume   # a 2-D hull's volume is its area
-    except QhullError:
-        return 1.0
-    return float(count / area) if area > 0 else 1.0
 
 
 def _raised_tops(cloud, seg, p, split_params, up):
