@@ -106,6 +106,7 @@ from planerel.features.step_geometry import (  # noqa: F401 (re-exported: tests,
     _tread_depth_axis,
 )
 from planerel.features.vectors import vec_norm
+from planerel.segment.shape import mask_solidity
 
 # __all__ names public names moved out (split95) too: __getattr__ gives them (_MOVED)
 # ruff: noqa: F822
@@ -777,8 +778,6 @@ def image_solidity(labels, label: int, bbox=None) -> float:
     float
         In (0, 1]; 1.0 for fewer than 3 pixels or pixels on one line (no area to fill).
     """
-    from planerel.segment.shape import mask_solidity
-
     labels = np.asarray(labels)
     if bbox is not None:
         r0, c0, r1, c1 = (int(v) for v in bbox)
@@ -1289,14 +1288,6 @@ def skirts_within_objects(relations: Relations, objects, planes, support=()) -> 
         return relations
     pairs = tuple(replace(r, skirt=True) if (r.a, r.b) in now else r for r in relations.pairs)
     return Relations(pairs, relations.params, relations.skirt_steps)
-
-
-def _row_spans(m):
-    """``(rows, first, last)``: the rows of the mask ``m`` holding a pixel and, per such row,
-    its first and last pixel's column."""
-    rows = np.flatnonzero(m.any(axis=1))
-    sub = m[rows]
-    return rows, sub.argmax(axis=1), sub.shape[1] - 1 - sub[:, ::-1].argmax(axis=1)
 
 
 def scene_graph(planes, relations: Relations, *, edges: str = "adjacent"):

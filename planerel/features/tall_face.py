@@ -21,9 +21,10 @@ from typing import NamedTuple
 import numpy as np
 
 from planerel.features.planes import _measured_noise
-from planerel.features.relations import Relations, _row_spans, adjacent_only
+from planerel.features.relations import Relations, adjacent_only
 from planerel.features.solid import PROFILE_POINTS, level_under
 from planerel.features.vectors import cross3, vec_norm
+from planerel.segment.shape import row_spans as _row_spans
 
 __all__ = ["tall_faces"]
 

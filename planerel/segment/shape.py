@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["mask_solidity"]
+__all__ = ["mask_solidity", "row_spans"]
 
 
 def mask_solidity(mask) -> float:
@@ -25,10 +25,7 @@ def mask_solidity(mask) -> float:
     if n < 3:
         return 1.0
     # the hull of the pixels' squares is the hull of each row's outermost squares' corners
-    rows = np.flatnonzero(m.any(axis=1))
-    sub = m[rows]
-    first = sub.argmax(axis=1)
-    last = sub.shape[1] - 1 - sub[:, ::-1].argmax(axis=1)
+    rows, first, last = row_spans(m)
     pts = np.concatenate([np.stack([rows + dr, col + dc], 1)
                           for dr in (0, 1) for col, dc in ((first, 0), (last, 1))])
     try:
@@ -36,3 +33,11 @@ def mask_solidity(mask) -> float:
     except QhullError:
         return 1.0
     return float(min(1.0, n / hull.volume)) if hull.volume > 0 else 1.0
+
+
+def row_spans(m):
+    """``(rows, first, last)``: the rows of the 2-D bool mask ``m`` holding a pixel and, per
+    such row, its first and last pixel's column."""
+    rows = np.flatnonzero(m.any(axis=1))
+    sub = m[rows]
+    return rows, sub.argmax(axis=1), sub.shape[1] - 1 - sub[:, ::-1].argmax(axis=1)
